@@ -1,0 +1,1276 @@
+//! IEEE 1609.2 `Ieee1609Dot2Data` in COER: a zero-copy view of unsecured and signed data, and
+//! an encoder for unsecured data.
+//!
+//! [`Ieee1609Dot2Data::parse`] reads the whole structure (protocol version 3) and exposes the
+//! application data (for V2X radios: the J2735 `MessageFrame`), the PSID and times of the
+//! signed header, the signer and the signature as borrowed slices of the input. Signatures
+//! are not verified. Certificates and encrypted data are walked structurally so that their
+//! extent is known, and handed out as raw COER bytes.
+//!
+//! Strictness: every length is bounded by the bytes that remain, the encoding must be
+//! canonical (minimal lengths and integers, zero padding bits), unknown CHOICE alternatives
+//! in fields this view exposes are errors, and signed data may nest at most
+//! [`MAX_NESTING_DEPTH`] levels deep. Extension additions (of `HeaderInfo`, certificates and
+//! so on) are skipped by their length and kept as raw bytes.
+//!
+//! # Panics
+//!
+//! No function in this module panics on any input.
+
+use core::fmt;
+
+use super::coer::{CoerReader, DecodeResult};
+use super::ieee1609dot2_skip::{skip_certificate, skip_encrypted_data, skip_encryption_key};
+
+/// The only `protocolVersion` defined by IEEE 1609.2.
+pub const PROTOCOL_VERSION: u8 = 3;
+
+/// Most levels of `Ieee1609Dot2Data` accepted, counting the outermost one.
+pub const MAX_NESTING_DEPTH: usize = 4;
+
+/// COER CHOICE tag of `Ieee1609Dot2Content.unsecuredData`.
+const UNSECURED_DATA_TAG: u8 = 0x80;
+
+/// What went wrong while decoding IEEE 1609.2 data.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[non_exhaustive]
+pub enum DecodeErrorKind {
+    /// The input ended before the value did (also: a length or count beyond the input).
+    UnexpectedEnd,
+    /// A `protocolVersion` (or certificate version) other than 3.
+    UnsupportedVersion,
+    /// A CHOICE tag that is not of the context-specific class or is malformed.
+    InvalidTag,
+    /// A CHOICE alternative or ENUMERATED value that this parser does not know.
+    UnknownAlternative,
+    /// Valid OER but not canonical: a non-minimal length or integer, or a set padding bit.
+    NonCanonical,
+    /// A length that no valid encoding has (long form with no digits, empty integer).
+    InvalidLength,
+    /// A length too large to be represented on this platform.
+    LengthTooLarge,
+    /// An integer larger than its field allows (a PSID above 32 bits).
+    ValueOutOfRange,
+    /// A `SignedDataPayload` with neither data, nor a data hash, nor an extension.
+    EmptySignedPayload,
+    /// Signed data nested deeper than [`MAX_NESTING_DEPTH`].
+    NestingTooDeep,
+    /// Bytes remain after a complete value (after the whole input, or inside an open type).
+    TrailingBytes,
+}
+
+impl DecodeErrorKind {
+    /// A short lowercase description.
+    #[must_use]
+    pub const fn as_str(self) -> &'static str {
+        match self {
+            Self::UnexpectedEnd => "unexpected end",
+            Self::UnsupportedVersion => "unsupported protocol version",
+            Self::InvalidTag => "invalid choice tag",
+            Self::UnknownAlternative => "unknown choice alternative",
+            Self::NonCanonical => "non-canonical encoding",
+            Self::InvalidLength => "invalid length",
+            Self::LengthTooLarge => "length too large",
+            Self::ValueOutOfRange => "value out of range",
+            Self::EmptySignedPayload => "signed payload without data or hash",
+            Self::NestingTooDeep => "nesting too deep",
+            Self::TrailingBytes => "trailing bytes",
+        }
+    }
+}
+
+impl fmt::Display for DecodeErrorKind {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.as_str())
+    }
+}
+
+/// A decoding failure: what went wrong and the byte offset in the input where it was found.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct DecodeError {
+    /// What went wrong.
+    pub kind: DecodeErrorKind,
+    /// Byte offset, from the start of the input, of the field where it was detected.
+    pub offset: usize,
+}
+
+impl DecodeError {
+    /// An error of `kind` at byte `offset`.
+    #[cold]
+    #[must_use]
+    pub const fn new(kind: DecodeErrorKind, offset: usize) -> Self {
+        Self { kind, offset }
+    }
+}
+
+impl fmt::Display for DecodeError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "IEEE 1609.2: {} at byte {}", self.kind, self.offset)
+    }
+}
+
+impl core::error::Error for DecodeError {}
+
+/// The output buffer given to an encoder is too small.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct BufferTooSmall {
+    /// Bytes the encoding needs.
+    pub needed: usize,
+    /// Bytes the buffer has.
+    pub available: usize,
+}
+
+impl fmt::Display for BufferTooSmall {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(
+            f,
+            "output buffer too small: {} bytes needed, {} available",
+            self.needed, self.available
+        )
+    }
+}
+
+impl core::error::Error for BufferTooSmall {}
+
+/// A decoded `Ieee1609Dot2Data`: protocol version 3 and its content, borrowing the input.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Ieee1609Dot2Data<'a> {
+    content: Content<'a>,
+    encoded: &'a [u8],
+    offset: usize,
+    application_data: Option<Located<'a>>,
+}
+
+/// A slice of the input and the byte offset where it starts.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+struct Located<'a> {
+    bytes: &'a [u8],
+    offset: usize,
+}
+
+/// `Ieee1609Dot2Content`: what an `Ieee1609Dot2Data` carries.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[non_exhaustive]
+#[allow(clippy::large_enum_variant)] // a borrowed view without heap; boxing would need `alloc`
+pub enum Content<'a> {
+    /// `unsecuredData`: application bytes without protection.
+    Unsecured(&'a [u8]),
+    /// `signedData`: a payload, a header and a signature.
+    Signed(SignedData<'a>),
+    /// `encryptedData`: the raw COER `EncryptedData` (recipients and ciphertext).
+    Encrypted(&'a [u8]),
+    /// `signedCertificateRequest`: the opaque request bytes.
+    SignedCertificateRequest(&'a [u8]),
+    /// `signedX509CertificateRequest` (IEEE 1609.2-2022): the opaque request bytes.
+    SignedX509CertificateRequest(&'a [u8]),
+}
+
+/// `SignedData`: hash algorithm, to-be-signed data, signer and signature.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct SignedData<'a> {
+    /// `hashId`: the hash algorithm of the signature.
+    pub hash_algorithm: HashAlgorithm,
+    /// `tbsData.payload`: the signed payload.
+    pub payload: SignedDataPayload<'a>,
+    /// `tbsData.headerInfo`: PSID, times, location and the rest of the header.
+    pub header: HeaderInfo<'a>,
+    /// The raw COER bytes of `tbsData` (the input to the signature's hash).
+    pub to_be_signed: &'a [u8],
+    /// `signer`: who signed.
+    pub signer: SignerIdentifier<'a>,
+    /// `signature`: the signature value, unverified.
+    pub signature: Signature<'a>,
+}
+
+/// `HashAlgorithm`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[non_exhaustive]
+pub enum HashAlgorithm {
+    /// SHA-256.
+    Sha256,
+    /// SHA-384.
+    Sha384,
+    /// SM3 (IEEE 1609.2-2022).
+    Sm3,
+}
+
+/// `SignedDataPayload`: the data that was signed, or a hash of external data, or both.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct SignedDataPayload<'a> {
+    /// `data`: an inner `Ieee1609Dot2Data` (already checked by the parse).
+    pub data: Option<NestedData<'a>>,
+    /// `extDataHash`: the hash of data carried elsewhere.
+    pub external_data_hash: Option<HashedData<'a>>,
+    /// Raw extension additions (presence bitmap and open types), e.g. 2022's `omitted`.
+    pub extension_additions: Option<&'a [u8]>,
+}
+
+/// An `Ieee1609Dot2Data` nested in a signed payload, kept as its raw bytes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct NestedData<'a> {
+    encoded: &'a [u8],
+    offset: usize,
+}
+
+impl<'a> NestedData<'a> {
+    /// The raw COER bytes of the inner `Ieee1609Dot2Data`.
+    #[must_use]
+    pub fn encoded(&self) -> &'a [u8] {
+        self.encoded
+    }
+
+    /// Byte offset of the inner data in the outermost input.
+    #[must_use]
+    pub fn offset(&self) -> usize {
+        self.offset
+    }
+
+    /// Decodes the inner data (errors report offsets in the outermost input).
+    ///
+    /// # Errors
+    ///
+    /// None for a value produced by a successful parse, which checked the inner data.
+    pub fn parse(&self) -> Result<Ieee1609Dot2Data<'a>, DecodeError> {
+        let mut reader = CoerReader::new(self.encoded, self.offset);
+        let data = parse_data(&mut reader, 0)?;
+        reader.expect_end()?;
+        Ok(data)
+    }
+}
+
+/// `HashedData`: a digest of data that is not carried in the structure.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct HashedData<'a> {
+    /// The algorithm that produced the digest.
+    pub algorithm: HashAlgorithm,
+    /// The digest (32 or 48 bytes).
+    pub digest: &'a [u8],
+}
+
+/// `Time64`: microseconds since 2004-01-01 00:00:00 UTC, counted in TAI (no leap seconds).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct Time64(pub u64);
+
+/// `ThreeDLocation`: where the data was generated.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct ThreeDLocation {
+    /// Latitude in 1e-7 degrees; 900000001 means unavailable.
+    pub latitude: i32,
+    /// Longitude in 1e-7 degrees; 1800000001 means unavailable.
+    pub longitude: i32,
+    /// Elevation in decimetres above -409.5 m (raw `Uint16`).
+    pub elevation: u16,
+}
+
+/// `MissingCrlIdentifier`: a CRL the sender knows about but has not received.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct MissingCrlIdentifier {
+    /// `cracaId`: `HashedId3` of the CRL-issuing authority.
+    pub craca_id: [u8; 3],
+    /// `crlSeries`.
+    pub crl_series: u16,
+}
+
+/// `HeaderInfo`: the signed header. Root components are decoded; extension additions
+/// (`inlineP2pcdRequest`, `requestedCertificate`, ...) are kept raw.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct HeaderInfo<'a> {
+    /// `psid`: the application the payload belongs to (e.g. 0x20 BSM, 0x8002 MAP, 0x8003 TIM).
+    pub psid: u32,
+    /// `generationTime`.
+    pub generation_time: Option<Time64>,
+    /// `expiryTime`.
+    pub expiry_time: Option<Time64>,
+    /// `generationLocation`.
+    pub generation_location: Option<ThreeDLocation>,
+    /// `p2pcdLearningRequest`: `HashedId3` of a certificate the sender wants to learn.
+    pub p2pcd_learning_request: Option<[u8; 3]>,
+    /// `missingCrlIdentifier`.
+    pub missing_crl_identifier: Option<MissingCrlIdentifier>,
+    /// `encryptionKey`, as raw COER `EncryptionKey` bytes.
+    pub encryption_key: Option<&'a [u8]>,
+    /// Raw extension additions (presence bitmap and open types).
+    pub extension_additions: Option<&'a [u8]>,
+}
+
+/// `SignerIdentifier`: how to find the verification key.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SignerIdentifier<'a> {
+    /// `digest`: `HashedId8` of the signing certificate.
+    Digest([u8; 8]),
+    /// `certificate`: the signing certificate first, then its issuers.
+    Certificate(CertificateChain<'a>),
+    /// `self`: self-signed.
+    SelfSigned,
+}
+
+/// A `SequenceOfCertificate`, kept as raw COER bytes (already checked by the parse).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct CertificateChain<'a> {
+    count: usize,
+    encoded: &'a [u8],
+    offset: usize,
+}
+
+impl<'a> CertificateChain<'a> {
+    /// Number of certificates.
+    #[must_use]
+    pub fn len(&self) -> usize {
+        self.count
+    }
+
+    /// Whether the chain holds no certificate.
+    #[must_use]
+    pub fn is_empty(&self) -> bool {
+        self.count == 0
+    }
+
+    /// The certificates' COER bytes, one after the other (without the quantity prefix).
+    #[must_use]
+    pub fn encoded(&self) -> &'a [u8] {
+        self.encoded
+    }
+
+    /// The signing certificate's COER bytes.
+    #[must_use]
+    pub fn first(&self) -> Option<&'a [u8]> {
+        self.iter().next()
+    }
+
+    /// The COER bytes of each certificate, signing certificate first.
+    #[must_use]
+    pub fn iter(&self) -> Certificates<'a> {
+        Certificates {
+            reader: CoerReader::new(self.encoded, self.offset),
+            left: self.count,
+        }
+    }
+}
+
+impl<'a> IntoIterator for &CertificateChain<'a> {
+    type Item = &'a [u8];
+    type IntoIter = Certificates<'a>;
+
+    fn into_iter(self) -> Self::IntoIter {
+        self.iter()
+    }
+}
+
+/// Iterator over the certificates of a [`CertificateChain`], as raw COER bytes.
+#[derive(Clone, Debug)]
+pub struct Certificates<'a> {
+    reader: CoerReader<'a>,
+    left: usize,
+}
+
+impl<'a> Iterator for Certificates<'a> {
+    type Item = &'a [u8];
+
+    fn next(&mut self) -> Option<Self::Item> {
+        self.left = self.left.checked_sub(1)?;
+        let start = self.reader.position();
+        skip_certificate(&mut self.reader).ok()?;
+        Some(self.reader.consumed_since(start))
+    }
+}
+
+/// `Signature`: which scheme, and the raw `r` and `s` values. Not verified.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Signature<'a> {
+    /// The signature scheme and curve.
+    pub scheme: SignatureScheme,
+    /// `rSig`: a curve point (or, for SM2, the scalar `r` given as [`PointForm::XOnly`]).
+    pub r: CurvePoint<'a>,
+    /// `sSig`: 32 bytes (48 for the P-384 curves).
+    pub s: &'a [u8],
+}
+
+/// The alternatives of `Signature`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[non_exhaustive]
+pub enum SignatureScheme {
+    /// `ecdsaNistP256Signature`.
+    EcdsaNistP256,
+    /// `ecdsaBrainpoolP256r1Signature`.
+    EcdsaBrainpoolP256r1,
+    /// `ecdsaBrainpoolP384r1Signature`.
+    EcdsaBrainpoolP384r1,
+    /// `ecdsaNistP384Signature`.
+    EcdsaNistP384,
+    /// `sm2Signature` (IEEE 1609.2-2022).
+    Sm2,
+}
+
+/// An `EccP256CurvePoint` or `EccP384CurvePoint`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct CurvePoint<'a> {
+    /// Which alternative.
+    pub form: PointForm,
+    /// The x coordinate (empty for [`PointForm::Fill`]).
+    pub x: &'a [u8],
+    /// The y coordinate, present only for [`PointForm::Uncompressed`].
+    pub y: Option<&'a [u8]>,
+}
+
+/// The alternatives of a curve point.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum PointForm {
+    /// `x-only`.
+    XOnly,
+    /// `fill`: no coordinates.
+    Fill,
+    /// `compressed-y-0`.
+    CompressedY0,
+    /// `compressed-y-1`.
+    CompressedY1,
+    /// `uncompressedP256` / `uncompressedP384`.
+    Uncompressed,
+}
+
+impl<'a> Ieee1609Dot2Data<'a> {
+    /// Decodes `bytes`, which must hold exactly one `Ieee1609Dot2Data`.
+    ///
+    /// # Errors
+    ///
+    /// A [`DecodeError`] naming what is wrong and where, when `bytes` is not one complete,
+    /// canonical `Ieee1609Dot2Data` (including [`DecodeErrorKind::TrailingBytes`]).
+    pub fn parse(bytes: &'a [u8]) -> Result<Self, DecodeError> {
+        let (data, used) = Self::parse_prefix(bytes)?;
+        if used == bytes.len() {
+            Ok(data)
+        } else {
+            Err(DecodeError::new(DecodeErrorKind::TrailingBytes, used))
+        }
+    }
+
+    /// Decodes the `Ieee1609Dot2Data` at the start of `bytes`; returns it and its length.
+    ///
+    /// # Errors
+    ///
+    /// A [`DecodeError`] when `bytes` does not start with a complete, canonical
+    /// `Ieee1609Dot2Data`. Bytes after it are not looked at.
+    pub fn parse_prefix(bytes: &'a [u8]) -> Result<(Self, usize), DecodeError> {
+        let mut reader = CoerReader::new(bytes, 0);
+        let data = parse_data(&mut reader, 0)?;
+        Ok((data, reader.position()))
+    }
+
+    /// The content.
+    #[must_use]
+    pub fn content(&self) -> &Content<'a> {
+        &self.content
+    }
+
+    /// The raw COER bytes of this structure.
+    #[must_use]
+    pub fn encoded(&self) -> &'a [u8] {
+        self.encoded
+    }
+
+    /// The signed data, when the content is signed.
+    #[must_use]
+    pub fn signed_data(&self) -> Option<&SignedData<'a>> {
+        match &self.content {
+            Content::Signed(signed) => Some(signed),
+            _ => None,
+        }
+    }
+
+    /// The application bytes: the unsecured data, found through any signed layers.
+    ///
+    /// `None` for encrypted data, certificate requests and signatures over external data.
+    #[must_use]
+    pub fn application_data(&self) -> Option<&'a [u8]> {
+        self.application_data.map(|located| located.bytes)
+    }
+
+    /// Byte offset, in the input given to the parse, of [`Self::application_data`].
+    #[must_use]
+    pub fn application_data_offset(&self) -> Option<usize> {
+        self.application_data.map(|located| located.offset)
+    }
+
+    /// Whether the content is signed (only signed data can hold a further layer).
+    #[must_use]
+    pub fn is_signed(&self) -> bool {
+        matches!(self.content, Content::Signed(_))
+    }
+}
+
+/// Whether `bytes` begins like an `Ieee1609Dot2Data`: version 3, then a content tag.
+///
+/// A J2735 `MessageFrame` in UPER starts with `0x00` for every standard message (an extension
+/// bit of 0 and a message id below 256), so it never matches.
+#[must_use]
+pub fn looks_like_ieee1609dot2(bytes: &[u8]) -> bool {
+    matches!(bytes, [PROTOCOL_VERSION, tag, ..] if (0x80..=0x84).contains(tag))
+}
+
+/// Length of the COER encoding of unsecured data around `payload_len` bytes.
+///
+/// Saturates at `usize::MAX` (no real payload comes near it).
+#[must_use]
+pub fn unsecured_encoded_len(payload_len: usize) -> usize {
+    length_determinant_len(payload_len)
+        .saturating_add(2)
+        .saturating_add(payload_len)
+}
+
+/// Writes `payload` as unsecured `Ieee1609Dot2Data` (`03 80 <COER length> <payload>`) to the
+/// start of `out`; returns the number of bytes written.
+///
+/// # Errors
+///
+/// [`BufferTooSmall`] when `out` is shorter than [`unsecured_encoded_len`] of the payload
+/// (then nothing is written).
+pub fn encode_unsecured(payload: &[u8], out: &mut [u8]) -> Result<usize, BufferTooSmall> {
+    let needed = unsecured_encoded_len(payload.len());
+    let too_small = BufferTooSmall {
+        needed,
+        available: out.len(),
+    };
+    let target = out.get_mut(..needed).ok_or(too_small)?;
+    let (header, body) = target.split_at_mut(needed.saturating_sub(payload.len()));
+    let (fixed, length) = header.split_at_mut(2);
+    fixed.copy_from_slice(&[PROTOCOL_VERSION, UNSECURED_DATA_TAG]);
+    write_length_determinant(payload.len(), length);
+    body.copy_from_slice(payload);
+    Ok(needed)
+}
+
+/// Number of bytes of the COER length determinant for `length`.
+fn length_determinant_len(length: usize) -> usize {
+    if length < 0x80 {
+        1
+    } else {
+        significant_bytes(length).saturating_add(1)
+    }
+}
+
+/// Number of bytes needed for `value` in big-endian without leading zero bytes (at least 1).
+fn significant_bytes(value: usize) -> usize {
+    let bits = usize::BITS.saturating_sub(value.leading_zeros());
+    bits.div_ceil(8).max(1) as usize
+}
+
+/// Writes the length determinant of `length` into `out`, sized by [`length_determinant_len`].
+fn write_length_determinant(length: usize, out: &mut [u8]) {
+    if let [only] = out {
+        *only = u8::try_from(length).unwrap_or(0);
+        return;
+    }
+    if let Some((count, digits)) = out.split_first_mut() {
+        *count = 0x80 | u8::try_from(digits.len()).unwrap_or(0);
+        let be = length.to_be_bytes();
+        let skip = be.len().saturating_sub(digits.len());
+        digits.copy_from_slice(be.get(skip..).unwrap_or_default());
+    }
+}
+
+/// Decodes an `Ieee1609Dot2Data` at `depth` levels below the outermost one.
+fn parse_data<'a>(reader: &mut CoerReader<'a>, depth: usize) -> DecodeResult<Ieee1609Dot2Data<'a>> {
+    if depth >= MAX_NESTING_DEPTH {
+        return Err(reader.error(DecodeErrorKind::NestingTooDeep));
+    }
+    let start = reader.position();
+    let offset = reader.offset();
+    let version_reader = *reader;
+    if reader.read_u8()? != PROTOCOL_VERSION {
+        return Err(version_reader.error(DecodeErrorKind::UnsupportedVersion));
+    }
+    let (content, application_data) = parse_content(reader, depth)?;
+    Ok(Ieee1609Dot2Data {
+        content,
+        encoded: reader.consumed_since(start),
+        offset,
+        application_data,
+    })
+}
+
+/// Decodes `Ieee1609Dot2Content`, with the location of the application data if it has one.
+fn parse_content<'a>(
+    reader: &mut CoerReader<'a>,
+    depth: usize,
+) -> DecodeResult<(Content<'a>, Option<Located<'a>>)> {
+    let tag_reader = *reader;
+    match reader.read_choice_tag()? {
+        0 => {
+            let length = reader.read_length()?;
+            let offset = reader.offset();
+            let bytes = reader.read_slice(length)?;
+            Ok((Content::Unsecured(bytes), Some(Located { bytes, offset })))
+        }
+        1 => {
+            let (signed, inner) = parse_signed_data(reader, depth)?;
+            Ok((Content::Signed(signed), inner))
+        }
+        2 => {
+            let start = reader.position();
+            skip_encrypted_data(reader)?;
+            Ok((Content::Encrypted(reader.consumed_since(start)), None))
+        }
+        3 => Ok((
+            Content::SignedCertificateRequest(reader.read_octet_string()?),
+            None,
+        )),
+        4 => {
+            let request = within_open_type(reader, CoerReader::read_octet_string)?;
+            Ok((Content::SignedX509CertificateRequest(request), None))
+        }
+        _ => Err(tag_reader.error(DecodeErrorKind::UnknownAlternative)),
+    }
+}
+
+/// Decodes `SignedData`, with the location of the application data inside it.
+fn parse_signed_data<'a>(
+    reader: &mut CoerReader<'a>,
+    depth: usize,
+) -> DecodeResult<(SignedData<'a>, Option<Located<'a>>)> {
+    let hash_algorithm = parse_hash_algorithm(reader)?;
+    let tbs_start = reader.position();
+    let (payload, application_data) = parse_signed_data_payload(reader, depth)?;
+    let header = parse_header_info(reader)?;
+    let to_be_signed = reader.consumed_since(tbs_start);
+    let signer = parse_signer(reader)?;
+    let signature = parse_signature(reader)?;
+    let signed_data = SignedData {
+        hash_algorithm,
+        payload,
+        header,
+        to_be_signed,
+        signer,
+        signature,
+    };
+    Ok((signed_data, application_data))
+}
+
+/// Decodes the `HashAlgorithm` ENUMERATED.
+fn parse_hash_algorithm(reader: &mut CoerReader<'_>) -> DecodeResult<HashAlgorithm> {
+    let value_reader = *reader;
+    match reader.read_enumerated()? {
+        0 => Ok(HashAlgorithm::Sha256),
+        1 => Ok(HashAlgorithm::Sha384),
+        2 => Ok(HashAlgorithm::Sm3),
+        _ => Err(value_reader.error(DecodeErrorKind::UnknownAlternative)),
+    }
+}
+
+/// Decodes `SignedDataPayload`, parsing (and checking) the nested data if present.
+fn parse_signed_data_payload<'a>(
+    reader: &mut CoerReader<'a>,
+    depth: usize,
+) -> DecodeResult<(SignedDataPayload<'a>, Option<Located<'a>>)> {
+    let preamble_reader = *reader;
+    let preamble = reader.read_preamble(true, 2)?;
+    let mut application_data = None;
+    let mut data = None;
+    if preamble.has_optional(0) {
+        let inner = parse_data(reader, depth.saturating_add(1))?;
+        application_data = inner.application_data;
+        data = Some(NestedData {
+            encoded: inner.encoded,
+            offset: inner.offset,
+        });
+    }
+    let external_data_hash = optional(preamble.has_optional(1), || parse_hashed_data(reader))?;
+    let extension_additions = optional(preamble.has_extensions(), || {
+        reader.skip_extension_additions()
+    })?;
+    if data.is_none() && external_data_hash.is_none() && extension_additions.is_none() {
+        return Err(preamble_reader.error(DecodeErrorKind::EmptySignedPayload));
+    }
+    let payload = SignedDataPayload {
+        data,
+        external_data_hash,
+        extension_additions,
+    };
+    Ok((payload, application_data))
+}
+
+/// Decodes `HashedData`.
+fn parse_hashed_data<'a>(reader: &mut CoerReader<'a>) -> DecodeResult<HashedData<'a>> {
+    let tag_reader = *reader;
+    let (algorithm, digest) = match reader.read_choice_tag()? {
+        0 => (HashAlgorithm::Sha256, reader.read_slice(32)?),
+        1 => (
+            HashAlgorithm::Sha384,
+            within_open_type(reader, |inner| inner.read_slice(48))?,
+        ),
+        2 => (
+            HashAlgorithm::Sm3,
+            within_open_type(reader, |inner| inner.read_slice(32))?,
+        ),
+        _ => return Err(tag_reader.error(DecodeErrorKind::UnknownAlternative)),
+    };
+    Ok(HashedData { algorithm, digest })
+}
+
+/// Decodes `HeaderInfo`: the root components, and the extension additions kept raw.
+fn parse_header_info<'a>(reader: &mut CoerReader<'a>) -> DecodeResult<HeaderInfo<'a>> {
+    let preamble = reader.read_preamble(true, 6)?;
+    let psid = parse_psid(reader)?;
+    let generation_time = optional(preamble.has_optional(0), || reader.read_u64().map(Time64))?;
+    let expiry_time = optional(preamble.has_optional(1), || reader.read_u64().map(Time64))?;
+    let generation_location =
+        optional(preamble.has_optional(2), || parse_three_d_location(reader))?;
+    let p2pcd_learning_request = optional(preamble.has_optional(3), || reader.read_array())?;
+    let missing_crl_identifier = optional(preamble.has_optional(4), || {
+        parse_missing_crl_identifier(reader)
+    })?;
+    let encryption_key = optional(preamble.has_optional(5), || {
+        let start = reader.position();
+        skip_encryption_key(reader)?;
+        Ok(reader.consumed_since(start))
+    })?;
+    let extension_additions = optional(preamble.has_extensions(), || {
+        reader.skip_extension_additions()
+    })?;
+    Ok(HeaderInfo {
+        psid,
+        generation_time,
+        expiry_time,
+        generation_location,
+        p2pcd_learning_request,
+        missing_crl_identifier,
+        encryption_key,
+        extension_additions,
+    })
+}
+
+/// Decodes a `Psid` (`INTEGER (0..MAX)`), which must fit 32 bits.
+fn parse_psid(reader: &mut CoerReader<'_>) -> DecodeResult<u32> {
+    let start = *reader;
+    let value = reader.read_unsigned()?;
+    u32::try_from(value).map_err(|_| start.error(DecodeErrorKind::ValueOutOfRange))
+}
+
+/// Decodes `ThreeDLocation` (4 + 4 + 2 bytes).
+fn parse_three_d_location(reader: &mut CoerReader<'_>) -> DecodeResult<ThreeDLocation> {
+    Ok(ThreeDLocation {
+        latitude: reader.read_i32()?,
+        longitude: reader.read_i32()?,
+        elevation: reader.read_u16()?,
+    })
+}
+
+/// Decodes `MissingCrlIdentifier` (extensible SEQUENCE; additions are skipped).
+fn parse_missing_crl_identifier(reader: &mut CoerReader<'_>) -> DecodeResult<MissingCrlIdentifier> {
+    let preamble = reader.read_preamble(true, 0)?;
+    let craca_id = reader.read_array()?;
+    let crl_series = reader.read_u16()?;
+    if preamble.has_extensions() {
+        reader.skip_extension_additions()?;
+    }
+    Ok(MissingCrlIdentifier {
+        craca_id,
+        crl_series,
+    })
+}
+
+/// Decodes `SignerIdentifier`.
+fn parse_signer<'a>(reader: &mut CoerReader<'a>) -> DecodeResult<SignerIdentifier<'a>> {
+    let tag_reader = *reader;
+    match reader.read_choice_tag()? {
+        0 => Ok(SignerIdentifier::Digest(reader.read_array()?)),
+        1 => parse_certificate_chain(reader).map(SignerIdentifier::Certificate),
+        2 => Ok(SignerIdentifier::SelfSigned),
+        _ => Err(tag_reader.error(DecodeErrorKind::UnknownAlternative)),
+    }
+}
+
+/// Decodes a `SequenceOfCertificate`, walking each certificate to find its end.
+fn parse_certificate_chain<'a>(reader: &mut CoerReader<'a>) -> DecodeResult<CertificateChain<'a>> {
+    let count = reader.read_quantity()?;
+    let start = reader.position();
+    let offset = reader.offset();
+    for _ in 0..count {
+        skip_certificate(reader)?;
+    }
+    Ok(CertificateChain {
+        count,
+        encoded: reader.consumed_since(start),
+        offset,
+    })
+}
+
+/// Decodes `Signature`.
+pub(crate) fn parse_signature<'a>(reader: &mut CoerReader<'a>) -> DecodeResult<Signature<'a>> {
+    let tag_reader = *reader;
+    match reader.read_choice_tag()? {
+        0 => parse_ecdsa(reader, SignatureScheme::EcdsaNistP256, 32),
+        1 => parse_ecdsa(reader, SignatureScheme::EcdsaBrainpoolP256r1, 32),
+        2 => within_open_type(reader, |inner| {
+            parse_ecdsa(inner, SignatureScheme::EcdsaBrainpoolP384r1, 48)
+        }),
+        3 => within_open_type(reader, |inner| {
+            parse_ecdsa(inner, SignatureScheme::EcdsaNistP384, 48)
+        }),
+        4 => within_open_type(reader, parse_sm2),
+        _ => Err(tag_reader.error(DecodeErrorKind::UnknownAlternative)),
+    }
+}
+
+/// Decodes an `EcdsaP256Signature` or `EcdsaP384Signature` with coordinates of `size` bytes.
+fn parse_ecdsa<'a>(
+    reader: &mut CoerReader<'a>,
+    scheme: SignatureScheme,
+    size: usize,
+) -> DecodeResult<Signature<'a>> {
+    let r = parse_curve_point(reader, size)?;
+    let s = reader.read_slice(size)?;
+    Ok(Signature { scheme, r, s })
+}
+
+/// Decodes an `EcsigP256Signature` (SM2): two 32-byte scalars.
+fn parse_sm2<'a>(reader: &mut CoerReader<'a>) -> DecodeResult<Signature<'a>> {
+    let r = CurvePoint {
+        form: PointForm::XOnly,
+        x: reader.read_slice(32)?,
+        y: None,
+    };
+    let s = reader.read_slice(32)?;
+    Ok(Signature {
+        scheme: SignatureScheme::Sm2,
+        r,
+        s,
+    })
+}
+
+/// Decodes an `EccP256CurvePoint` (`size` 32) or `EccP384CurvePoint` (`size` 48).
+pub(crate) fn parse_curve_point<'a>(
+    reader: &mut CoerReader<'a>,
+    size: usize,
+) -> DecodeResult<CurvePoint<'a>> {
+    let tag_reader = *reader;
+    let form = match reader.read_choice_tag()? {
+        0 => PointForm::XOnly,
+        1 => PointForm::Fill,
+        2 => PointForm::CompressedY0,
+        3 => PointForm::CompressedY1,
+        4 => PointForm::Uncompressed,
+        _ => return Err(tag_reader.error(DecodeErrorKind::UnknownAlternative)),
+    };
+    let x = match form {
+        PointForm::Fill => &[],
+        _ => reader.read_slice(size)?,
+    };
+    let y = optional(form == PointForm::Uncompressed, || reader.read_slice(size))?;
+    Ok(CurvePoint { form, x, y })
+}
+
+/// Runs `decode` over the content of an open type, which it must consume entirely.
+pub(crate) fn within_open_type<'a, T>(
+    reader: &mut CoerReader<'a>,
+    decode: impl FnOnce(&mut CoerReader<'a>) -> DecodeResult<T>,
+) -> DecodeResult<T> {
+    let mut inner = reader.read_open_type()?;
+    let value = decode(&mut inner)?;
+    inner.expect_end()?;
+    Ok(value)
+}
+
+/// Runs `decode` when `present`; the value is `None` otherwise.
+fn optional<T>(present: bool, decode: impl FnOnce() -> DecodeResult<T>) -> DecodeResult<Option<T>> {
+    if present {
+        decode().map(Some)
+    } else {
+        Ok(None)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    extern crate std;
+
+    use super::*;
+    use std::vec;
+    use std::vec::Vec;
+
+    /// A made-up UPER payload (not a real J2735 message).
+    const PAYLOAD: [u8; 5] = [0x00, 0x14, 0xaa, 0xbb, 0xcc];
+    const DIGEST: [u8; 8] = [1, 2, 3, 4, 5, 6, 7, 8];
+
+    fn unsecured(payload: &[u8]) -> Vec<u8> {
+        let mut out = vec![0u8; unsecured_encoded_len(payload.len())];
+        let written = encode_unsecured(payload, &mut out).unwrap();
+        assert_eq!(written, out.len());
+        out
+    }
+
+    /// `03 81`, SHA-256, a payload holding `inner`, a header with `psid` and a generation
+    /// time, a digest signer and an x-only NIST P-256 signature.
+    fn signed_with_digest(inner: &[u8], psid: &[u8]) -> Vec<u8> {
+        let mut out = vec![0x03, 0x81, 0x00, 0x40];
+        out.extend_from_slice(inner);
+        out.push(0x40); // HeaderInfo preamble: generationTime present
+        out.extend_from_slice(psid);
+        out.extend_from_slice(&[0, 0, 0, 0x01, 0x02, 0x03, 0x04, 0x05]);
+        out.push(0x80);
+        out.extend_from_slice(&DIGEST);
+        out.extend_from_slice(&[0x80, 0x80]);
+        out.extend_from_slice(&[0x11; 32]);
+        out.extend_from_slice(&[0x22; 32]);
+        out
+    }
+
+    /// An implicit certificate: no id, one `PsidSsp` (0x20), compressed reconstruction value.
+    fn implicit_certificate() -> Vec<u8> {
+        let mut out = vec![0x00, 0x03, 0x01, 0x80];
+        out.extend_from_slice(&DIGEST);
+        out.extend_from_slice(&[0x10, 0x83, 0xaa, 0xbb, 0xcc, 0x00, 0x01]);
+        out.extend_from_slice(&[0x01, 0x02, 0x03, 0x04, 0x84, 0x00, 0x10]);
+        out.extend_from_slice(&[0x01, 0x01, 0x00, 0x01, 0x20]);
+        out.extend_from_slice(&[0x81, 0x82]);
+        out.extend_from_slice(&[0x33; 32]);
+        out
+    }
+
+    /// Signed data with a full header, a one-certificate signer and a compressed-y-1 `r`.
+    fn signed_with_certificate() -> Vec<u8> {
+        let mut out = vec![0x03, 0x81, 0x00, 0x40];
+        out.extend_from_slice(&unsecured(&PAYLOAD));
+        out.push(0x70); // generationTime, expiryTime, generationLocation
+        out.extend_from_slice(&[0x01, 0x20]);
+        out.extend_from_slice(&[0, 0, 0, 0, 0, 0, 0x10, 0x00]);
+        out.extend_from_slice(&[0, 0, 0, 0, 0, 0, 0x20, 0x00]);
+        out.extend_from_slice(&[0x19, 0x08, 0xb1, 0x00, 0xce, 0x87, 0x34, 0x80, 0x01, 0x00]);
+        out.extend_from_slice(&[0x81, 0x01, 0x01]);
+        out.extend_from_slice(&implicit_certificate());
+        out.extend_from_slice(&[0x80, 0x83]);
+        out.extend_from_slice(&[0x44; 32]);
+        out.extend_from_slice(&[0x55; 32]);
+        out
+    }
+
+    fn error_kind(bytes: &[u8]) -> DecodeErrorKind {
+        Ieee1609Dot2Data::parse(bytes).unwrap_err().kind
+    }
+
+    #[test]
+    fn unsecured_short_form() {
+        let bytes = [0x03, 0x80, 0x05, 0x00, 0x14, 0xaa, 0xbb, 0xcc];
+        let data = Ieee1609Dot2Data::parse(&bytes).unwrap();
+        assert_eq!(data.content(), &Content::Unsecured(&PAYLOAD));
+        assert_eq!(data.application_data(), Some(&PAYLOAD[..]));
+        assert_eq!(data.application_data_offset(), Some(3));
+        assert!(!data.is_signed());
+        assert_eq!(data.encoded(), &bytes[..]);
+    }
+
+    #[test]
+    fn unsecured_encoding_uses_canonical_lengths() {
+        assert_eq!(
+            unsecured(&PAYLOAD),
+            [&[0x03, 0x80, 0x05][..], &PAYLOAD].concat()
+        );
+        let long = vec![0x5a; 0x120];
+        let encoded = unsecured(&long);
+        assert_eq!(&encoded[..5], &[0x03, 0x80, 0x82, 0x01, 0x20]);
+        assert_eq!(unsecured_encoded_len(0), 3);
+        assert_eq!(unsecured_encoded_len(127), 130);
+        assert_eq!(unsecured_encoded_len(128), 132);
+        assert_eq!(unsecured_encoded_len(65_536), 65_536 + 6);
+    }
+
+    #[test]
+    fn unsecured_round_trip_at_length_boundaries() {
+        for len in [0usize, 1, 127, 128, 255, 256, 65_535, 65_536] {
+            let payload: Vec<u8> = (0..len).map(|i| i.to_le_bytes()[0]).collect();
+            let encoded = unsecured(&payload);
+            let data = Ieee1609Dot2Data::parse(&encoded).unwrap();
+            assert_eq!(data.application_data(), Some(&payload[..]), "length {len}");
+        }
+    }
+
+    #[test]
+    fn encoder_reports_small_buffer() {
+        let mut out = [0u8; 7];
+        let error = encode_unsecured(&PAYLOAD, &mut out).unwrap_err();
+        assert_eq!(
+            error,
+            BufferTooSmall {
+                needed: 8,
+                available: 7
+            }
+        );
+    }
+
+    #[test]
+    fn signed_with_digest_signer() {
+        let bytes = signed_with_digest(&unsecured(&PAYLOAD), &[0x02, 0x80, 0x03]);
+        let data = Ieee1609Dot2Data::parse(&bytes).unwrap();
+        assert!(data.is_signed());
+        assert_eq!(data.application_data(), Some(&PAYLOAD[..]));
+        assert_eq!(data.application_data_offset(), Some(7));
+        let signed = data.signed_data().unwrap();
+        assert_eq!(signed.hash_algorithm, HashAlgorithm::Sha256);
+        assert_eq!(signed.header.psid, 0x8003);
+        assert_eq!(
+            signed.header.generation_time,
+            Some(Time64(0x0001_0203_0405))
+        );
+        assert_eq!(signed.header.expiry_time, None);
+        assert_eq!(signed.signer, SignerIdentifier::Digest(DIGEST));
+        assert_eq!(signed.signature.scheme, SignatureScheme::EcdsaNistP256);
+        assert_eq!(signed.signature.r.form, PointForm::XOnly);
+        assert_eq!(signed.signature.r.x, &[0x11; 32]);
+        assert_eq!(signed.signature.s, &[0x22; 32]);
+        assert_eq!(signed.to_be_signed, &bytes[3..bytes.len() - 9 - 66]);
+        let inner = signed.payload.data.unwrap();
+        assert_eq!(inner.offset(), 4);
+        assert_eq!(
+            inner.parse().unwrap().content(),
+            &Content::Unsecured(&PAYLOAD)
+        );
+    }
+
+    #[test]
+    fn signed_with_certificate_signer() {
+        let bytes = signed_with_certificate();
+        let data = Ieee1609Dot2Data::parse(&bytes).unwrap();
+        let signed = data.signed_data().unwrap();
+        assert_eq!(data.application_data(), Some(&PAYLOAD[..]));
+        let header = signed.header;
+        assert_eq!(header.psid, 0x20);
+        assert_eq!(header.generation_time, Some(Time64(0x1000)));
+        assert_eq!(header.expiry_time, Some(Time64(0x2000)));
+        let location = header.generation_location.unwrap();
+        assert_eq!(location.latitude, 420_000_000);
+        assert_eq!(location.longitude, -830_000_000);
+        assert_eq!(location.elevation, 0x0100);
+        let SignerIdentifier::Certificate(chain) = signed.signer else {
+            panic!("expected a certificate signer");
+        };
+        assert_eq!(chain.len(), 1);
+        assert_eq!(chain.first(), Some(&implicit_certificate()[..]));
+        assert_eq!(chain.iter().count(), 1);
+        assert_eq!(signed.signature.r.form, PointForm::CompressedY1);
+        assert_eq!(signed.signature.s, &[0x55; 32]);
+    }
+
+    #[test]
+    fn self_signed_and_other_curves() {
+        let mut bytes = vec![0x03, 0x81, 0x01, 0x40];
+        bytes.extend_from_slice(&unsecured(&PAYLOAD));
+        bytes.extend_from_slice(&[0x00, 0x01, 0x20, 0x82]);
+        // ecdsaNistP384Signature is an extension alternative: tag 0x83, open type.
+        bytes.extend_from_slice(&[0x83, 0x81, 0x91, 0x84]);
+        bytes.extend_from_slice(&[0x66; 96]);
+        bytes.extend_from_slice(&[0x77; 48]);
+        let data = Ieee1609Dot2Data::parse(&bytes).unwrap();
+        let signed = data.signed_data().unwrap();
+        assert_eq!(signed.hash_algorithm, HashAlgorithm::Sha384);
+        assert_eq!(signed.signer, SignerIdentifier::SelfSigned);
+        assert_eq!(signed.signature.scheme, SignatureScheme::EcdsaNistP384);
+        assert_eq!(signed.signature.r.form, PointForm::Uncompressed);
+        assert_eq!(signed.signature.r.y, Some(&[0x66; 48][..]));
+        assert_eq!(signed.signature.s, &[0x77; 48]);
+    }
+
+    #[test]
+    fn header_extension_additions_are_kept_raw() {
+        let mut bytes = vec![0x03, 0x81, 0x00, 0x40];
+        bytes.extend_from_slice(&unsecured(&PAYLOAD));
+        // Extension bit set; bitmap of 3 bits with pduFunctionalType (third) present.
+        let extensions = [0x02, 0x05, 0x20, 0x01, 0x01];
+        bytes.extend_from_slice(&[0x80, 0x01, 0x20]);
+        bytes.extend_from_slice(&extensions);
+        bytes.push(0x82);
+        bytes.extend_from_slice(&[0x80, 0x80]);
+        bytes.extend_from_slice(&[0x11; 64]);
+        let data = Ieee1609Dot2Data::parse(&bytes).unwrap();
+        let header = data.signed_data().unwrap().header;
+        assert_eq!(header.extension_additions, Some(&extensions[..]));
+        assert_eq!(header.generation_time, None);
+    }
+
+    #[test]
+    fn nested_signed_layers_reach_the_payload() {
+        let inner = signed_with_digest(&unsecured(&PAYLOAD), &[0x01, 0x20]);
+        let outer = signed_with_digest(&inner, &[0x01, 0x23]);
+        let data = Ieee1609Dot2Data::parse(&outer).unwrap();
+        assert_eq!(data.application_data(), Some(&PAYLOAD[..]));
+        assert_eq!(data.application_data_offset(), Some(4 + 7));
+        assert_eq!(data.signed_data().unwrap().header.psid, 0x23);
+    }
+
+    #[test]
+    fn nesting_is_bounded() {
+        let mut bytes = unsecured(&PAYLOAD);
+        for _ in 1..MAX_NESTING_DEPTH {
+            bytes = signed_with_digest(&bytes, &[0x01, 0x20]);
+        }
+        assert!(Ieee1609Dot2Data::parse(&bytes).is_ok());
+        bytes = signed_with_digest(&bytes, &[0x01, 0x20]);
+        let error = Ieee1609Dot2Data::parse(&bytes).unwrap_err();
+        assert_eq!(error.kind, DecodeErrorKind::NestingTooDeep);
+        assert_eq!(error.offset, 4 * MAX_NESTING_DEPTH);
+    }
+
+    #[test]
+    fn external_hash_without_data() {
+        let mut bytes = vec![0x03, 0x81, 0x00, 0x20, 0x80];
+        bytes.extend_from_slice(&[0x99; 32]);
+        bytes.extend_from_slice(&[0x00, 0x01, 0x20, 0x82, 0x80, 0x80]);
+        bytes.extend_from_slice(&[0x11; 64]);
+        let data = Ieee1609Dot2Data::parse(&bytes).unwrap();
+        let payload = data.signed_data().unwrap().payload;
+        assert_eq!(payload.data, None);
+        let hash = payload.external_data_hash.unwrap();
+        assert_eq!(hash.algorithm, HashAlgorithm::Sha256);
+        assert_eq!(hash.digest, &[0x99; 32]);
+        assert_eq!(data.application_data(), None);
+    }
+
+    #[test]
+    fn empty_signed_payload_is_rejected() {
+        let bytes = [0x03, 0x81, 0x00, 0x00, 0x00, 0x01, 0x20];
+        assert_eq!(error_kind(&bytes), DecodeErrorKind::EmptySignedPayload);
+    }
+
+    #[test]
+    fn encrypted_data_is_walked() {
+        let mut bytes = vec![0x03, 0x82, 0x01, 0x01, 0x80];
+        bytes.extend_from_slice(&DIGEST);
+        bytes.push(0x80);
+        bytes.extend_from_slice(&[0x00; 12]);
+        bytes.extend_from_slice(&[0x03, 0xaa, 0xbb, 0xcc]);
+        let data = Ieee1609Dot2Data::parse(&bytes).unwrap();
+        assert_eq!(data.content(), &Content::Encrypted(&bytes[2..]));
+        assert_eq!(data.application_data(), None);
+    }
+
+    #[test]
+    fn structural_errors_name_kind_and_offset() {
+        let error = Ieee1609Dot2Data::parse(&[0x02, 0x80, 0x00]).unwrap_err();
+        assert_eq!(
+            error,
+            DecodeError::new(DecodeErrorKind::UnsupportedVersion, 0)
+        );
+        let error = Ieee1609Dot2Data::parse(&[0x03, 0x85, 0x00]).unwrap_err();
+        assert_eq!(
+            error,
+            DecodeError::new(DecodeErrorKind::UnknownAlternative, 1)
+        );
+        let error = Ieee1609Dot2Data::parse(&[0x03, 0x80, 0x05, 0x00, 0x14]).unwrap_err();
+        assert_eq!(error, DecodeError::new(DecodeErrorKind::UnexpectedEnd, 3));
+        let error = Ieee1609Dot2Data::parse(&[0x03, 0x80, 0x01, 0x00, 0xff]).unwrap_err();
+        assert_eq!(error, DecodeError::new(DecodeErrorKind::TrailingBytes, 4));
+        let error = Ieee1609Dot2Data::parse(&[0x03, 0x80, 0x81, 0x05]).unwrap_err();
+        assert_eq!(error, DecodeError::new(DecodeErrorKind::NonCanonical, 2));
+        let big_psid = signed_with_digest(&unsecured(&PAYLOAD), &[0x05, 1, 0, 0, 0, 0]);
+        assert_eq!(error_kind(&big_psid), DecodeErrorKind::ValueOutOfRange);
+        assert_eq!(Ieee1609Dot2Data::parse(&[]).unwrap_err().offset, 0);
+    }
+
+    #[test]
+    fn parse_prefix_reports_the_length_used() {
+        let mut bytes = unsecured(&PAYLOAD);
+        let used = bytes.len();
+        bytes.extend_from_slice(&[0xde, 0xad]);
+        let (data, length) = Ieee1609Dot2Data::parse_prefix(&bytes).unwrap();
+        assert_eq!(length, used);
+        assert_eq!(data.application_data(), Some(&PAYLOAD[..]));
+    }
+
+    #[test]
+    fn error_display_names_kind_and_offset() {
+        let text = std::format!("{}", DecodeError::new(DecodeErrorKind::UnexpectedEnd, 7));
+        assert_eq!(text, "IEEE 1609.2: unexpected end at byte 7");
+    }
+
+    #[test]
+    fn detection_by_first_bytes() {
+        assert!(looks_like_ieee1609dot2(&[0x03, 0x80, 0x00]));
+        assert!(looks_like_ieee1609dot2(&[0x03, 0x81]));
+        assert!(!looks_like_ieee1609dot2(&[0x00, 0x14, 0x25]));
+        assert!(!looks_like_ieee1609dot2(&[0x03]));
+        assert!(!looks_like_ieee1609dot2(&[0x03, 0x00]));
+        assert!(!looks_like_ieee1609dot2(&[]));
+    }
+
+    /// Every fixture used by the robustness tests.
+    fn fixtures() -> Vec<Vec<u8>> {
+        let nested = signed_with_digest(
+            &signed_with_digest(&unsecured(&PAYLOAD), &[0x01, 0x20]),
+            &[0x02, 0x80, 0x03],
+        );
+        vec![
+            unsecured(&PAYLOAD),
+            unsecured(&[0x5a; 300]),
+            signed_with_digest(&unsecured(&PAYLOAD), &[0x02, 0x80, 0x03]),
+            signed_with_certificate(),
+            nested,
+        ]
+    }
+
+    #[test]
+    fn every_truncation_is_an_error() {
+        for bytes in fixtures() {
+            assert!(Ieee1609Dot2Data::parse(&bytes).is_ok());
+            for len in 0..bytes.len() {
+                let error = Ieee1609Dot2Data::parse(&bytes[..len]).unwrap_err();
+                assert!(error.offset <= len, "offset {} beyond {len}", error.offset);
+            }
+        }
+    }
+
+    #[test]
+    fn bit_flips_never_panic() {
+        for bytes in fixtures() {
+            for index in 0..bytes.len() {
+                for bit in 0..8 {
+                    let mut flipped = bytes.clone();
+                    flipped[index] ^= 1 << bit;
+                    if let Ok(data) = Ieee1609Dot2Data::parse(&flipped) {
+                        exercise(&data);
+                    }
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn random_inputs_never_panic() {
+        let mut state: u64 = 0x9e37_79b9_7f4a_7c15;
+        let mut next = move || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            state
+        };
+        for _ in 0..20_000 {
+            let len = usize::from(next().to_le_bytes()[0] % 96);
+            let mut bytes: Vec<u8> = (0..len).map(|_| next().to_le_bytes()[0]).collect();
+            if bytes.len() >= 2 {
+                bytes[0] = PROTOCOL_VERSION;
+                bytes[1] = 0x80 | (bytes[1] % 5);
+            }
+            if let Ok(data) = Ieee1609Dot2Data::parse(&bytes) {
+                exercise(&data);
+            }
+        }
+    }
+
+    /// Calls every accessor of a successfully parsed value.
+    fn exercise(data: &Ieee1609Dot2Data<'_>) {
+        let _ = (data.application_data(), data.application_data_offset());
+        if let Some(signed) = data.signed_data() {
+            if let Some(inner) = signed.payload.data {
+                assert!(inner.parse().is_ok());
+            }
+            if let SignerIdentifier::Certificate(chain) = signed.signer {
+                assert_eq!(chain.iter().count(), chain.len());
+            }
+        }
+    }
+}

@@ -1,0 +1,32 @@
+//! SAE J2735 (2020) in Rust: every message type, generated from the standard's type model,
+//! with a UPER codec that needs no heap and reproduces real traffic byte for byte.
+//!
+//! - [`uper`]: the runtime (bit reader/writer, [`uper::Uper`] trait, [`uper::decode`],
+//!   [`uper::encode`]).
+//! - The generated types, one module per ASN.1 module ([`message_frame`], [`map_data`],
+//!   [`traveler_information`], [`common`], ...), with the most used ones re-exported here.
+//!
+//! # Storage
+//! Without features nothing allocates: SEQUENCE OF and strings are bounded by capacities set
+//! per type in `codec/codegen/capacities.toml` (a value over a capacity is a
+//! [`uper::DecodeErrorKind::CapacityExceeded`] error that names the capacity). Feature
+//! `alloc` switches them to `Vec`/`String`, bounded only by the ASN.1 SIZE constraints.
+//!
+//! # Features
+//! - `alloc`: heap storage (see above). `std`: implies `alloc`.
+//! - `serde`: `Serialize`/`Deserialize` on every generated type.
+//! - `defmt`: `defmt::Format` on the error types.
+#![no_std]
+#![forbid(unsafe_code)]
+#![warn(missing_docs)]
+
+#[cfg(feature = "alloc")]
+extern crate alloc;
+#[cfg(feature = "std")]
+extern crate std;
+
+pub mod envelope;
+pub mod uper;
+
+mod generated;
+pub use generated::*;

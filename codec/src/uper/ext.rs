@@ -1,0 +1,269 @@
+//! Extension additions of extensible SEQUENCEs (X.691 19.7-19.9) and open-type helpers.
+//!
+//! J2735 2020 declares `...` in most SEQUENCEs but defines no additions; a newer sender
+//! (J2735 2024) fills them. Additions this build does not know are skipped by their length
+//! on decode and kept as raw octets, with the length of the presence bit-map as received, so
+//! that decode then encode gives the identical bytes.
+
+use super::error::{DecodeError, DecodeErrorKind as DKind, EncodeError, EncodeErrorKind as EKind};
+use super::reader::{DecodeResult, Reader};
+use super::sized::read_octets_into;
+use super::storage::Octets;
+use super::writer::{EncodeResult, Writer};
+
+/// Unknown extension additions of one SEQUENCE value, at most `N` octets of records
+/// without `alloc` (each addition costs 4 octets plus its content).
+#[derive(Clone, PartialEq, Eq, Hash, Default)]
+pub struct Extensions<const N: usize> {
+    /// Length of the presence bit-map as received; 0 when the extension bit was clear.
+    bitmap_len: u16,
+    /// Records: index (u16 BE), content length (u16 BE), content octets.
+    records: Octets<N>,
+}
+
+/// Most extension additions one SEQUENCE value may flag (J2735 2024 adds a handful).
+pub const MAX_BITMAP: u64 = 64;
+
+/// Iterates over stored records: (index after the root, open-type content).
+#[derive(Clone, Debug)]
+pub struct UnknownAdditions<'a> {
+    rest: &'a [u8],
+}
+
+impl<'a> Iterator for UnknownAdditions<'a> {
+    type Item = (usize, &'a [u8]);
+    fn next(&mut self) -> Option<Self::Item> {
+        let [i0, i1, l0, l1, tail @ ..] = self.rest else {
+            return None;
+        };
+        let index = u16::from_be_bytes([*i0, *i1]) as usize;
+        let len = (u16::from_be_bytes([*l0, *l1]) as usize).min(tail.len());
+        self.rest = &tail[len..];
+        Some((index, &tail[..len]))
+    }
+}
+
+/// Calls `f(index, content)` for each stored record until it returns false.
+fn for_each_record<F: FnMut(usize, &[u8]) -> bool>(records: &[u8], mut f: F) {
+    for (i, c) in (UnknownAdditions { rest: records }) {
+        if !f(i, c) {
+            return;
+        }
+    }
+}
+
+impl<const N: usize> Extensions<N> {
+    /// No extension additions (the extension bit is clear).
+    pub const fn new() -> Self {
+        Self { bitmap_len: 0, records: Octets::new() }
+    }
+
+    /// True when the extension bit is to be set (something was received or stored).
+    pub fn is_present(&self) -> bool {
+        self.bitmap_len > 0 || !self.records.is_empty()
+    }
+
+    /// The stored unknown additions: (index after the root, open-type content).
+    pub fn unknown(&self) -> UnknownAdditions<'_> {
+        UnknownAdditions { rest: &self.records }
+    }
+
+    /// Decodes the bit-map and the additions. `known(index, content)` decodes an addition
+    /// the type defines and returns false for one it does not; those are stored.
+    pub fn decode_with<'a, F>(r: &mut Reader<'a>, key: &'static str, mut known: F) -> DecodeResult<Self>
+    where
+        F: FnMut(usize, &mut Reader<'a>) -> DecodeResult<bool>,
+    {
+        let at = r.position();
+        let n = r.read_normally_small()? + 1;
+        if n as usize > r.remaining() {
+            return Err(DecodeError::new(DKind::UnexpectedEnd, at));
+        }
+        let mut ext = Self { bitmap_len: n as u16, records: Octets::new() };
+        let mut present = [0u64; 1];
+        if n > MAX_BITMAP {
+            return Err(DecodeError::new(DKind::LengthTooLarge, at));
+        }
+        for i in 0..n as usize {
+            if r.read_bit()? {
+                present[i / 64] |= 1 << (i % 64);
+            }
+        }
+        for i in (0..n as usize).filter(|i| present[i / 64] & (1 << (i % 64)) != 0) {
+            let mut content = r.read_open()?;
+            let start = content.clone();
+            if known(i, &mut content)? {
+                content.finish_open()?;
+            } else {
+                ext.store(i, start, key)?;
+            }
+        }
+        Ok(ext)
+    }
+
+    /// Decodes the additions of a type that defines none.
+    pub fn decode(r: &mut Reader<'_>, key: &'static str) -> DecodeResult<Self> {
+        Self::decode_with(r, key, |_, _| Ok(false))
+    }
+
+    fn store(&mut self, index: usize, mut content: Reader<'_>, key: &'static str) -> DecodeResult<()> {
+        let len = content.remaining() / 8;
+        let at = content.position();
+        let header = [(index >> 8) as u8, index as u8, (len >> 8) as u8, len as u8];
+        for b in header {
+            self.records.push(b).map_err(|_| DecodeError::at(DKind::CapacityExceeded, at, key))?;
+        }
+        read_octets_into(&mut content, len, &mut self.records, key)
+    }
+
+    /// Encodes the bit-map and the additions. `known_present` flags the additions the type
+    /// defines and holds; `write_known(index, w)` writes one of them.
+    pub fn encode_with<F>(&self, w: &mut Writer<'_>, known_present: &[bool], mut write_known: F) -> EncodeResult
+    where
+        F: FnMut(usize, &mut Writer<'_>) -> EncodeResult,
+    {
+        let mut last = known_present.iter().rposition(|&p| p).map_or(0, |i| i + 1);
+        let mut ordered = true;
+        let mut prev: Option<usize> = None;
+        for_each_record(&self.records, |i, _| {
+            ordered &= prev.is_none_or(|p| p < i) && known_present.get(i) != Some(&true);
+            prev = Some(i);
+            last = last.max(i + 1);
+            true
+        });
+        if !ordered {
+            return Err(EncodeError::new(EKind::InvalidExtensions));
+        }
+        let n = last.max(self.bitmap_len as usize).max(1);
+        w.write_normally_small(n as u64 - 1)?;
+        for i in 0..n {
+            w.write_bit(known_present.get(i) == Some(&true) || self.record(i).is_some())?;
+        }
+        for i in 0..n {
+            if known_present.get(i) == Some(&true) {
+                w.write_open(|w| write_known(i, w))?;
+            } else if let Some(content) = self.record(i) {
+                w.write_open_octets(content)?;
+            }
+        }
+        Ok(())
+    }
+
+    /// Encodes the additions of a type that defines none.
+    pub fn encode(&self, w: &mut Writer<'_>) -> EncodeResult {
+        self.encode_with(w, &[], |_, _| Ok(()))
+    }
+
+    fn record(&self, index: usize) -> Option<&[u8]> {
+        self.unknown().find(|(i, _)| *i == index).map(|(_, c)| c)
+    }
+}
+
+impl<const N: usize> core::fmt::Debug for Extensions<N> {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        let mut l = f.debug_list();
+        for_each_record(&self.records, |i, c| {
+            l.entry(&(i, c));
+            true
+        });
+        l.finish()
+    }
+}
+
+/// Reads the content of an open type whose type is not known here (kept as raw octets).
+pub fn decode_unknown_open<const N: usize>(r: &mut Reader<'_>, key: &'static str) -> DecodeResult<Octets<N>> {
+    let mut content = r.read_open()?;
+    let len = content.remaining() / 8;
+    let mut out = Octets::new();
+    read_octets_into(&mut content, len, &mut out, key)?;
+    Ok(out)
+}
+
+/// Decodes a known open type: the content must fill its length but for padding.
+pub fn decode_open<'a, T, F>(r: &mut Reader<'a>, decode: F) -> DecodeResult<T>
+where
+    F: FnOnce(&mut Reader<'a>) -> DecodeResult<T>,
+{
+    let mut content = r.read_open()?;
+    let v = decode(&mut content)?;
+    content.finish_open()?;
+    Ok(v)
+}
+
+/// Writes stored raw open-type content.
+pub fn encode_unknown_open(w: &mut Writer<'_>, content: &[u8]) -> EncodeResult {
+    if content.is_empty() {
+        return w.write_open(|_| Ok(()));
+    }
+    w.write_open_octets(content)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A SEQUENCE with one known addition (an 8-bit number) and room for unknown ones.
+    fn encode_sample(ext: &Extensions<32>, known: Option<u8>) -> heapless::Vec<u8, 64> {
+        let mut buf = [0u8; 64];
+        let mut w = Writer::new(&mut buf);
+        ext.encode_with(&mut w, &[known.is_some()], |_, w| w.write_bits(known.unwrap_or(0) as u64, 8))
+            .unwrap();
+        let n = w.octets();
+        heapless::Vec::from_slice(&buf[..n]).unwrap()
+    }
+
+    #[test]
+    fn unknown_additions_round_trip_byte_exact() {
+        // bit-map length 3 (normally small 2), bits 101, addition 0: 1 octet 0x2a,
+        // addition 2: 2 octets 0xbeef.
+        let mut buf = [0u8; 16];
+        let mut w = Writer::new(&mut buf);
+        w.write_normally_small(2).unwrap();
+        w.write_bits(0b101, 3).unwrap();
+        w.write_open_octets(&[0x2a]).unwrap();
+        w.write_open_octets(&[0xbe, 0xef]).unwrap();
+        let n = w.octets();
+        let input = &buf[..n];
+
+        let mut r = Reader::new(input);
+        let mut seen = None;
+        let ext = Extensions::<32>::decode_with(&mut r, "T", |i, c| {
+            if i == 0 {
+                seen = Some(c.read_bits(8)? as u8);
+                return Ok(true);
+            }
+            Ok(false)
+        })
+        .unwrap();
+        assert_eq!(seen, Some(0x2a));
+        assert!(ext.unknown().eq([(2usize, &[0xbe, 0xef][..])]));
+        assert_eq!(&encode_sample(&ext, seen)[..], input);
+    }
+
+    #[test]
+    fn empty_bitmap_length_is_kept() {
+        // Extension bit set but nothing present: bit-map of 4 zero bits.
+        let mut buf = [0u8; 4];
+        let mut w = Writer::new(&mut buf);
+        w.write_normally_small(3).unwrap();
+        w.write_bits(0, 4).unwrap();
+        let n = w.octets();
+        let input = &buf[..n];
+        let ext = Extensions::<0>::decode(&mut Reader::new(input), "T").unwrap();
+        assert!(ext.is_present());
+        assert_eq!(&encode_sample(&Extensions::<32>::decode(&mut Reader::new(input), "T").unwrap(), None)[..], input);
+    }
+
+    #[test]
+    fn no_room_names_the_key() {
+        let mut buf = [0u8; 8];
+        let mut w = Writer::new(&mut buf);
+        w.write_normally_small(0).unwrap();
+        w.write_bit(true).unwrap();
+        w.write_open_octets(&[1, 2, 3]).unwrap();
+        let e = Extensions::<0>::decode(&mut Reader::new(&buf), "MapData.MapData.ext").unwrap_err();
+        if !cfg!(feature = "alloc") {
+            assert_eq!((e.kind, e.path), (DKind::CapacityExceeded, "MapData.MapData.ext"));
+        }
+    }
+}

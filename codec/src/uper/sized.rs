@@ -1,0 +1,311 @@
+//! Values with a SIZE constraint: SEQUENCE OF, OCTET STRING, BIT STRING, IA5String.
+//!
+//! One routine reads or writes the length part for all of them (X.691 11.9 and 16-20,
+//! 22 and 30): no length for a fixed size below 64K, a constrained bit field for a bounded
+//! size, and the unconstrained length determinant with 16K fragments otherwise or when an
+//! extensible size lies outside its root. Counts are checked against the no-heap capacity
+//! before any item is stored, and items are taken one at a time, so a hostile length costs
+//! no more than the bits that follow it.
+
+use super::error::{DecodeError, DecodeErrorKind as DKind, EncodeError, EncodeErrorKind as EKind};
+use super::reader::{DecodeResult, Reader};
+use super::storage::{Bits, Ia5, Octets, SeqOf};
+use super::writer::{EncodeResult, Writer};
+use super::Uper;
+
+/// Sizes at or above this use the unconstrained length determinant.
+const K64: usize = 65536;
+/// One fragment unit (X.691 11.9.3.8).
+const K16: usize = 16384;
+
+/// A SIZE constraint: `lb..=ub`, `ub == usize::MAX` when there is no upper bound.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Size {
+    /// Lower bound of the root.
+    pub lb: usize,
+    /// Upper bound of the root (`usize::MAX`: unbounded).
+    pub ub: usize,
+    /// True when the constraint has an extension marker (`SIZE(lb..ub, ...)`).
+    pub extensible: bool,
+}
+
+impl Size {
+    /// `SIZE(lb..ub)`.
+    pub const fn range(lb: usize, ub: usize) -> Self {
+        Self { lb, ub, extensible: false }
+    }
+
+    /// `SIZE(lb..ub, ...)`.
+    pub const fn extensible(lb: usize, ub: usize) -> Self {
+        Self { lb, ub, extensible: true }
+    }
+
+    const fn in_root(&self, n: usize) -> bool {
+        n >= self.lb && n <= self.ub
+    }
+
+    const fn constrained(&self) -> bool {
+        self.ub < K64
+    }
+}
+
+/// Reads the length part of a sized value and calls `chunk(r, n)` for each run of `n`
+/// units (one run, or several for fragments). Returns the total count.
+pub fn read_sized<'a, F>(r: &mut Reader<'a>, size: Size, mut chunk: F) -> DecodeResult<usize>
+where
+    F: FnMut(&mut Reader<'a>, usize) -> DecodeResult<()>,
+{
+    let at = r.position();
+    let in_ext = size.extensible && r.read_bit()?;
+    if !in_ext && size.constrained() {
+        let n = r.read_constrained_len(size.lb, size.ub)?;
+        chunk(r, n)?;
+        return Ok(n);
+    }
+    let mut total = 0usize;
+    loop {
+        let part = r.read_length()?;
+        chunk(r, part.len)?;
+        total += part.len;
+        if !part.more {
+            break;
+        }
+    }
+    if !in_ext && !size.in_root(total) {
+        return Err(DecodeError::new(DKind::SizeOutOfRange, at));
+    }
+    Ok(total)
+}
+
+/// Writes the length part of a sized value of `n` units and calls `chunk(w, start, len)`
+/// for each run of units.
+pub fn write_sized<F>(w: &mut Writer<'_>, size: Size, n: usize, mut chunk: F) -> EncodeResult
+where
+    F: FnMut(&mut Writer<'_>, usize, usize) -> EncodeResult,
+{
+    let in_root = size.in_root(n);
+    if size.extensible {
+        w.write_bit(!in_root)?;
+    } else if !in_root {
+        return Err(EncodeError::new(EKind::SizeOutOfRange));
+    }
+    if in_root && size.constrained() {
+        w.write_constrained_len(n, size.lb, size.ub)?;
+        return chunk(w, 0, n);
+    }
+    let mut start = 0;
+    loop {
+        let left = n - start;
+        if left < K16 {
+            w.write_length(left)?;
+            chunk(w, start, left)?;
+            return Ok(());
+        }
+        let m = (left / K16).min(4);
+        w.write_fragment_header(m as u8)?;
+        chunk(w, start, m * K16)?;
+        start += m * K16;
+    }
+}
+
+#[cold]
+fn over_capacity(at: usize, key: &'static str) -> DecodeError {
+    DecodeError::at(DKind::CapacityExceeded, at, key)
+}
+
+/// Decodes a SEQUENCE OF; `key` names the capacity in errors.
+pub fn decode_seq_of<T: Uper, const N: usize>(
+    r: &mut Reader<'_>,
+    size: Size,
+    key: &'static str,
+) -> DecodeResult<SeqOf<T, N>> {
+    let mut out = SeqOf::new();
+    read_sized(r, size, |r, n| {
+        if out.len() + n > SeqOf::<T, N>::capacity() {
+            return Err(over_capacity(r.position(), key));
+        }
+        for _ in 0..n {
+            let item = T::decode_uper(r)?;
+            out.push(item).map_err(|_| over_capacity(r.position(), key))?;
+        }
+        Ok(())
+    })?;
+    Ok(out)
+}
+
+/// Encodes a SEQUENCE OF.
+pub fn encode_seq_of<T: Uper>(w: &mut Writer<'_>, size: Size, items: &[T]) -> EncodeResult {
+    write_sized(w, size, items.len(), |w, start, n| {
+        items[start..start + n].iter().try_for_each(|it| it.encode_uper(w))
+    })
+}
+
+/// Decodes a variable OCTET STRING.
+pub fn decode_octets<const N: usize>(
+    r: &mut Reader<'_>,
+    size: Size,
+    key: &'static str,
+) -> DecodeResult<Octets<N>> {
+    let mut out = Octets::new();
+    read_sized(r, size, |r, n| read_octets_into(r, n, &mut out, key))?;
+    Ok(out)
+}
+
+/// Appends `n` octets from `r` to `out`.
+pub fn read_octets_into<const N: usize>(
+    r: &mut Reader<'_>,
+    n: usize,
+    out: &mut Octets<N>,
+    key: &'static str,
+) -> DecodeResult<()> {
+    if n.saturating_mul(8) > r.remaining() {
+        return Err(DecodeError::new(DKind::UnexpectedEnd, r.position()));
+    }
+    if out.len() + n > Octets::<N>::capacity() {
+        return Err(over_capacity(r.position(), key));
+    }
+    for _ in 0..n {
+        let b = r.read_bits(8)? as u8;
+        out.push(b).map_err(|_| over_capacity(r.position(), key))?;
+    }
+    Ok(())
+}
+
+/// Encodes a variable OCTET STRING.
+pub fn encode_octets(w: &mut Writer<'_>, size: Size, octets: &[u8]) -> EncodeResult {
+    write_sized(w, size, octets.len(), |w, start, n| w.write_octets(&octets[start..start + n]))
+}
+
+/// Decodes a fixed-size OCTET STRING (`SIZE(K)`, K < 64K).
+pub fn decode_fixed_octets<const K: usize>(r: &mut Reader<'_>) -> DecodeResult<[u8; K]> {
+    let mut out = [0u8; K];
+    r.read_octets(&mut out)?;
+    Ok(out)
+}
+
+/// Decodes a BIT STRING into storage of `NB` octets.
+pub fn decode_bits<const NB: usize>(
+    r: &mut Reader<'_>,
+    size: Size,
+    key: &'static str,
+) -> DecodeResult<Bits<NB>> {
+    let mut buf = [0u8; NB];
+    let mut len = 0usize;
+    read_sized(r, size, |r, n| {
+        if len + n > Bits::<NB>::CAPACITY {
+            return Err(over_capacity(r.position(), key));
+        }
+        if n > r.remaining() {
+            return Err(DecodeError::new(DKind::UnexpectedEnd, r.position()));
+        }
+        for i in len..len + n {
+            if r.read_bit()? {
+                buf[i / 8] |= 0x80 >> (i % 8);
+            }
+        }
+        len += n;
+        Ok(())
+    })?;
+    Bits::from_bytes(&buf, len).ok_or(over_capacity(r.position(), key))
+}
+
+/// Encodes a BIT STRING.
+pub fn encode_bits<const NB: usize>(w: &mut Writer<'_>, size: Size, bits: &Bits<NB>) -> EncodeResult {
+    write_sized(w, size, bits.len(), |w, start, n| {
+        (start..start + n).try_for_each(|i| w.write_bit(bits.get(i)))
+    })
+}
+
+/// Decodes an IA5String (7 bits a character, no permitted-alphabet constraint).
+pub fn decode_ia5<const N: usize>(
+    r: &mut Reader<'_>,
+    size: Size,
+    key: &'static str,
+) -> DecodeResult<Ia5<N>> {
+    let mut out = Ia5::new();
+    read_sized(r, size, |r, n| {
+        if n.saturating_mul(7) > r.remaining() {
+            return Err(DecodeError::new(DKind::UnexpectedEnd, r.position()));
+        }
+        for _ in 0..n {
+            let c = r.read_bits(7)? as u8 as char;
+            out.push(c).map_err(|_| over_capacity(r.position(), key))?;
+        }
+        Ok(())
+    })?;
+    Ok(out)
+}
+
+/// Encodes an IA5String.
+pub fn encode_ia5<const N: usize>(w: &mut Writer<'_>, size: Size, s: &Ia5<N>) -> EncodeResult {
+    let bytes = s.as_str().as_bytes();
+    write_sized(w, size, bytes.len(), |w, start, n| {
+        bytes[start..start + n].iter().try_for_each(|&c| {
+            if c > 0x7f {
+                return Err(EncodeError::new(EKind::InvalidCharacter));
+            }
+            w.write_bits(c as u64, 7)
+        })
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn octets_fragmented_round_trip() {
+        // 40000 octets, unbounded: fragments of 32K then 7232 octets.
+        let data: [u8; 40000] = core::array::from_fn(|i| (i * 7) as u8);
+        let mut buf = [0u8; 40010];
+        let mut w = Writer::new(&mut buf);
+        encode_octets(&mut w, Size::range(0, usize::MAX), &data).unwrap();
+        assert_eq!(w.octets(), 1 + 32768 + 2 + 7232);
+        assert_eq!(buf[0], 0xc2, "fragment header for 2 x 16K");
+        let mut r = Reader::new(&buf);
+        let mut total = 0;
+        let n = read_sized(&mut r, Size::range(0, usize::MAX), |r, n| {
+            for i in 0..n {
+                assert_eq!(r.read_bits(8).unwrap() as u8, data[total + i]);
+            }
+            total += n;
+            Ok(())
+        })
+        .unwrap();
+        assert_eq!(n, 40000);
+    }
+
+    #[test]
+    fn extensible_size_outside_root() {
+        // SIZE(8, ...) with a 0-bit value: extension bit, then length 0.
+        let bits = Bits::<2>::zeros(0).unwrap();
+        let mut buf = [0u8; 4];
+        let mut w = Writer::new(&mut buf);
+        encode_bits(&mut w, Size::extensible(8, 8), &bits).unwrap();
+        assert_eq!(w.position(), 9);
+        assert_eq!(&buf[..2], &[0x80, 0x00]);
+        let mut r = Reader::new(&buf[..2]);
+        let back: Bits<2> = decode_bits(&mut r, Size::extensible(8, 8), "T").unwrap();
+        assert_eq!(back.len(), 0);
+    }
+
+    #[test]
+    fn capacity_is_checked_before_items() {
+        // SIZE(1..255) count 200 with no items following: capacity error, not end of input.
+        let mut r = Reader::new(&[199, 0]);
+        let e = decode_octets::<16>(&mut r, Size::range(1, 256), "Test.Key").unwrap_err();
+        if cfg!(feature = "alloc") {
+            assert_eq!(e.kind, DKind::UnexpectedEnd);
+        } else {
+            assert_eq!((e.kind, e.path), (DKind::CapacityExceeded, "Test.Key"));
+        }
+    }
+
+    #[test]
+    fn size_out_of_root_refused_on_encode() {
+        let mut buf = [0u8; 8];
+        let mut w = Writer::new(&mut buf);
+        let e = encode_octets(&mut w, Size::range(1, 4), &[]).unwrap_err();
+        assert_eq!(e.kind, EKind::SizeOutOfRange);
+    }
+}

@@ -1,0 +1,292 @@
+//! Storage of variable-size values: the one place that switches between no-heap
+//! (`heapless`, fixed capacities) and feature `alloc` (`Vec`/`String`).
+//!
+//! Generated code uses only the API below, so it is the same in both modes. The const
+//! parameter `N` is the no-heap capacity; with `alloc` it is ignored and only the ASN.1 SIZE
+//! constraint bounds a value.
+
+use core::fmt;
+use core::ops::{Deref, DerefMut};
+
+#[cfg(feature = "alloc")]
+use alloc::{string::String, vec::Vec};
+
+/// A SEQUENCE OF (or variable OCTET STRING) value: at most `N` items without `alloc`.
+#[derive(Clone, PartialEq, Eq, Hash)]
+pub struct SeqOf<T, const N: usize> {
+    #[cfg(not(feature = "alloc"))]
+    items: heapless::Vec<T, N>,
+    #[cfg(feature = "alloc")]
+    items: Vec<T>,
+}
+
+/// Variable-size octets (OCTET STRING, unknown open-type content).
+pub type Octets<const N: usize> = SeqOf<u8, N>;
+
+impl<T, const N: usize> SeqOf<T, N> {
+    /// An empty sequence.
+    pub const fn new() -> Self {
+        Self {
+            #[cfg(not(feature = "alloc"))]
+            items: heapless::Vec::new(),
+            #[cfg(feature = "alloc")]
+            items: Vec::new(),
+        }
+    }
+
+    /// Appends an item; gives it back when the no-heap capacity is full.
+    pub fn push(&mut self, item: T) -> Result<(), T> {
+        #[cfg(not(feature = "alloc"))]
+        return self.items.push(item);
+        #[cfg(feature = "alloc")]
+        {
+            self.items.push(item);
+            Ok(())
+        }
+    }
+
+    /// How many items fit: `N` without `alloc`, unbounded (`usize::MAX`) with it.
+    pub const fn capacity() -> usize {
+        if cfg!(feature = "alloc") {
+            usize::MAX
+        } else {
+            N
+        }
+    }
+
+    /// Removes every item.
+    pub fn clear(&mut self) {
+        self.items.clear();
+    }
+
+    /// Removes and returns the last item.
+    pub fn pop(&mut self) -> Option<T> {
+        self.items.pop()
+    }
+}
+
+impl<T: Clone, const N: usize> SeqOf<T, N> {
+    /// A sequence holding a copy of `items`; `None` when they exceed the capacity.
+    pub fn from_slice(items: &[T]) -> Option<Self> {
+        let mut s = Self::new();
+        for it in items {
+            s.push(it.clone()).ok()?;
+        }
+        Some(s)
+    }
+}
+
+impl<T, const N: usize> Default for SeqOf<T, N> {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+impl<T, const N: usize> Deref for SeqOf<T, N> {
+    type Target = [T];
+    fn deref(&self) -> &[T] {
+        &self.items
+    }
+}
+
+impl<T, const N: usize> DerefMut for SeqOf<T, N> {
+    fn deref_mut(&mut self) -> &mut [T] {
+        &mut self.items
+    }
+}
+
+impl<'a, T, const N: usize> IntoIterator for &'a SeqOf<T, N> {
+    type Item = &'a T;
+    type IntoIter = core::slice::Iter<'a, T>;
+    fn into_iter(self) -> Self::IntoIter {
+        self.items.iter()
+    }
+}
+
+impl<T: fmt::Debug, const N: usize> fmt::Debug for SeqOf<T, N> {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.debug_list().entries(self.iter()).finish()
+    }
+}
+
+/// An IA5String value (7-bit ASCII): at most `N` characters without `alloc`.
+#[derive(Clone, PartialEq, Eq, Hash, Default)]
+pub struct Ia5<const N: usize> {
+    #[cfg(not(feature = "alloc"))]
+    text: heapless::String<N>,
+    #[cfg(feature = "alloc")]
+    text: String,
+}
+
+impl<const N: usize> Ia5<N> {
+    /// An empty string.
+    pub const fn new() -> Self {
+        Self {
+            #[cfg(not(feature = "alloc"))]
+            text: heapless::String::new(),
+            #[cfg(feature = "alloc")]
+            text: String::new(),
+        }
+    }
+
+    /// A copy of `s`; `None` when it is not IA5 (7-bit) or exceeds the capacity.
+    pub fn try_from_str(s: &str) -> Option<Self> {
+        let mut t = Self::new();
+        for c in s.chars() {
+            t.push(c).ok()?;
+        }
+        Some(t)
+    }
+
+    /// Appends one character; refuses a non-IA5 character or a full capacity.
+    pub fn push(&mut self, c: char) -> Result<(), char> {
+        if !c.is_ascii() {
+            return Err(c);
+        }
+        #[cfg(not(feature = "alloc"))]
+        return self.text.push(c).map_err(|_| c);
+        #[cfg(feature = "alloc")]
+        {
+            self.text.push(c);
+            Ok(())
+        }
+    }
+
+    /// The text.
+    pub fn as_str(&self) -> &str {
+        &self.text
+    }
+
+    /// Number of characters (= octets, since every character is ASCII).
+    pub fn len(&self) -> usize {
+        self.text.len()
+    }
+
+    /// True when empty.
+    pub fn is_empty(&self) -> bool {
+        self.text.is_empty()
+    }
+}
+
+impl<const N: usize> fmt::Debug for Ia5<N> {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        fmt::Debug::fmt(self.as_str(), f)
+    }
+}
+
+impl<const N: usize> fmt::Display for Ia5<N> {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.as_str())
+    }
+}
+
+/// A BIT STRING value of at most `8 * NBYTES` bits, first bit in the top of `bytes[0]`.
+///
+/// The length is kept as decoded, also for types with named bits, so that decode then
+/// encode reproduces the input (X.691 would let an encoder trim trailing zero bits).
+#[derive(Clone, Copy, PartialEq, Eq, Hash)]
+pub struct Bits<const NBYTES: usize> {
+    len: u16,
+    bytes: [u8; NBYTES],
+}
+
+impl<const NBYTES: usize> Bits<NBYTES> {
+    /// The largest length this storage holds.
+    pub const CAPACITY: usize = NBYTES * 8;
+
+    /// `len` zero bits; `None` when `len` exceeds the storage.
+    pub const fn zeros(len: usize) -> Option<Self> {
+        if len > Self::CAPACITY {
+            return None;
+        }
+        Some(Self { len: len as u16, bytes: [0; NBYTES] })
+    }
+
+    /// Number of bits.
+    pub const fn len(&self) -> usize {
+        self.len as usize
+    }
+
+    /// True when the value has no bits.
+    pub const fn is_empty(&self) -> bool {
+        self.len == 0
+    }
+
+    /// Bit `i` (0 = first); false past the end.
+    pub const fn get(&self, i: usize) -> bool {
+        i < self.len as usize && self.bytes[i / 8] & (0x80 >> (i % 8)) != 0
+    }
+
+    /// Sets bit `i`; returns false (and changes nothing) past the end.
+    pub fn set(&mut self, i: usize, on: bool) -> bool {
+        if i >= self.len() {
+            return false;
+        }
+        let mask = 0x80 >> (i % 8);
+        if on {
+            self.bytes[i / 8] |= mask;
+        } else {
+            self.bytes[i / 8] &= !mask;
+        }
+        true
+    }
+
+    /// The octets holding the bits (the last one zero-padded).
+    pub fn as_bytes(&self) -> &[u8] {
+        &self.bytes[..self.len().div_ceil(8)]
+    }
+
+    /// Bits from octets: the first `len` bits of `bytes`; `None` when too long or short.
+    pub fn from_bytes(bytes: &[u8], len: usize) -> Option<Self> {
+        let mut b = Self::zeros(len)?;
+        let n = len.div_ceil(8);
+        b.bytes[..n].copy_from_slice(bytes.get(..n)?);
+        if len % 8 != 0 {
+            b.bytes[n - 1] &= 0xff << (8 - len % 8);
+        }
+        Some(b)
+    }
+}
+
+impl<const NBYTES: usize> fmt::Debug for Bits<NBYTES> {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str("'")?;
+        for i in 0..self.len() {
+            f.write_str(if self.get(i) { "1" } else { "0" })?;
+        }
+        f.write_str("'B")
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn seq_of_capacity() {
+        let mut s: SeqOf<u8, 2> = SeqOf::new();
+        assert!(s.push(1).is_ok());
+        assert!(s.push(2).is_ok());
+        if cfg!(feature = "alloc") {
+            assert!(s.push(3).is_ok());
+        } else {
+            assert_eq!(s.push(3), Err(3));
+        }
+        assert_eq!(&s[..2], &[1, 2]);
+    }
+
+    #[test]
+    fn ia5_refuses_non_ascii() {
+        assert!(Ia5::<8>::try_from_str("Main St").is_some());
+        assert!(Ia5::<8>::try_from_str("Straße").is_none());
+    }
+
+    #[test]
+    fn bits_are_msb_first_and_masked() {
+        let b = Bits::<2>::from_bytes(&[0b1010_0000, 0xff], 10).unwrap();
+        assert!(b.get(0) && !b.get(1) && b.get(2) && b.get(8) && b.get(9));
+        assert!(!b.get(10));
+        assert_eq!(b.as_bytes(), &[0b1010_0000, 0b1100_0000]);
+        assert!(Bits::<1>::zeros(9).is_none());
+    }
+}
