@@ -170,24 +170,64 @@ impl<const N: usize> core::fmt::Debug for Extensions<N> {
     }
 }
 
-/// Reads the content of an open type whose type is not known here (kept as raw octets).
+/// Reads the content of an open type whose type is not known here (kept as raw octets),
+/// fragmented or not.
 pub fn decode_unknown_open<const N: usize>(r: &mut Reader<'_>, key: &'static str) -> DecodeResult<Octets<N>> {
-    let mut content = r.read_open()?;
-    let len = content.remaining() / 8;
     let mut out = Octets::new();
-    read_octets_into(&mut content, len, &mut out, key)?;
-    Ok(out)
+    loop {
+        let part = r.read_length()?;
+        read_octets_into(r, part.len, &mut out, key)?;
+        if !part.more {
+            return Ok(out);
+        }
+    }
 }
 
 /// Decodes a known open type: the content must fill its length but for padding.
+///
+/// Content of 16K octets or more arrives in fragments; with feature `alloc` it is put back
+/// together and decoded (error positions then count from the start of the content), without
+/// it the value is refused with [`DKind::FragmentedOpenType`]: J2735 messages on the air are
+/// far smaller.
 pub fn decode_open<'a, T, F>(r: &mut Reader<'a>, decode: F) -> DecodeResult<T>
 where
-    F: FnOnce(&mut Reader<'a>) -> DecodeResult<T>,
+    F: for<'b> FnOnce(&mut Reader<'b>) -> DecodeResult<T>,
 {
-    let mut content = r.read_open()?;
-    let v = decode(&mut content)?;
-    content.finish_open()?;
+    let before = r.clone();
+    match r.read_open() {
+        Ok(mut content) => {
+            let v = decode(&mut content)?;
+            content.finish_open()?;
+            Ok(v)
+        }
+        Err(e) if e.kind == DKind::FragmentedOpenType => {
+            *r = before;
+            decode_fragmented(r, decode)
+        }
+        Err(e) => Err(e),
+    }
+}
+
+#[cfg(feature = "alloc")]
+#[cold]
+fn decode_fragmented<T, F>(r: &mut Reader<'_>, decode: F) -> DecodeResult<T>
+where
+    F: for<'b> FnOnce(&mut Reader<'b>) -> DecodeResult<T>,
+{
+    let content: Octets<0> = decode_unknown_open(r, "")?;
+    let mut inner = Reader::new(&content);
+    let v = decode(&mut inner)?;
+    inner.finish_open()?;
     Ok(v)
+}
+
+#[cfg(not(feature = "alloc"))]
+#[cold]
+fn decode_fragmented<T, F>(r: &mut Reader<'_>, _decode: F) -> DecodeResult<T>
+where
+    F: for<'b> FnOnce(&mut Reader<'b>) -> DecodeResult<T>,
+{
+    Err(DecodeError::new(DKind::FragmentedOpenType, r.position()))
 }
 
 /// Writes stored raw open-type content.
@@ -261,9 +301,12 @@ mod tests {
         w.write_normally_small(0).unwrap();
         w.write_bit(true).unwrap();
         w.write_open_octets(&[1, 2, 3]).unwrap();
-        let e = Extensions::<0>::decode(&mut Reader::new(&buf), "MapData.MapData.ext").unwrap_err();
-        if !cfg!(feature = "alloc") {
-            assert_eq!((e.kind, e.path), (DKind::CapacityExceeded, "MapData.MapData.ext"));
+        let got = Extensions::<0>::decode(&mut Reader::new(&buf), "MapData.MapData:ext");
+        if cfg!(feature = "alloc") {
+            assert!(got.unwrap().unknown().eq([(0usize, &[1u8, 2, 3][..])]));
+        } else {
+            let e = got.unwrap_err();
+            assert_eq!((e.kind, e.path), (DKind::CapacityExceeded, "MapData.MapData:ext"));
         }
     }
 }

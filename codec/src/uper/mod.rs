@@ -29,7 +29,7 @@ pub use sized::{
     encode_ia5, encode_octets, encode_seq_of, read_octets_into, read_sized, write_sized, Size,
 };
 pub use storage::{Bits, Ia5, Octets, SeqOf};
-pub use writer::{EncodeResult, Writer, MAX_OPEN_OCTETS};
+pub use writer::{EncodeResult, Writer};
 
 /// A number outside a constrained INTEGER type's range (from `TryFrom`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]

@@ -158,11 +158,11 @@ pub fn read_octets_into<const N: usize>(
     out: &mut Octets<N>,
     key: &'static str,
 ) -> DecodeResult<()> {
-    if n.saturating_mul(8) > r.remaining() {
-        return Err(DecodeError::new(DKind::UnexpectedEnd, r.position()));
-    }
     if out.len() + n > Octets::<N>::capacity() {
         return Err(over_capacity(r.position(), key));
+    }
+    if n.saturating_mul(8) > r.remaining() {
+        return Err(DecodeError::new(DKind::UnexpectedEnd, r.position()));
     }
     for _ in 0..n {
         let b = r.read_bits(8)? as u8;

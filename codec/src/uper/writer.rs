@@ -13,9 +13,6 @@ use super::error::{EncodeError, EncodeErrorKind as Kind};
 /// Result of the encoding primitives.
 pub type EncodeResult<T = ()> = Result<T, EncodeError>;
 
-/// Largest open-type content this writer produces (one length determinant, no fragments).
-pub const MAX_OPEN_OCTETS: usize = 16383;
-
 /// Writes bit fields into a byte buffer, most significant bit first.
 #[derive(Debug)]
 pub struct Writer<'a> {
@@ -178,6 +175,7 @@ impl<'a> Writer<'a> {
 
     /// Writes an open type: `content` writes the value, and this wraps it in a length
     /// determinant and pads it to whole octets (an empty value becomes one zero octet).
+    /// Content of 16K octets or more is split into fragments (X.691 11.9.3.8).
     pub fn write_open<F>(&mut self, content: F) -> EncodeResult
     where
         F: FnOnce(&mut Self) -> EncodeResult,
@@ -191,25 +189,70 @@ impl<'a> Writer<'a> {
         self.write_bits(0, (octets * 8 - bits) as u32)?;
         match octets {
             0..=127 => self.put_at(start, octets as u64, 8),
-            128..=MAX_OPEN_OCTETS => {
-                self.shift_one_octet(body)?;
+            128..=16383 => {
+                self.shift_octets(body, body + octets * 8, 1)?;
                 self.put_at(start, 0x8000 | octets as u64, 16);
             }
-            _ => return Err(EncodeError::new(Kind::OpenTypeTooLarge)),
+            _ => self.fragment(start, octets)?,
         }
         Ok(())
     }
 
-    /// Moves everything written from bit `from` on by 8 bits (one octet) to make room for a
-    /// two-octet length determinant.
-    fn shift_one_octet(&mut self, from: usize) -> EncodeResult {
-        self.reserve(8)?;
-        if !self.counting {
-            let first = from / 8;
-            let last = self.pos.div_ceil(8);
-            self.buf.copy_within(first..last, first + 1);
+    /// Moves the bits `from..to` (whole octets of content) on by `by` octets, making room for
+    /// length determinants before them; the write position moves on by `by` octets when
+    /// `to` is the current end.
+    fn shift_octets(&mut self, from: usize, to: usize, by: usize) -> EncodeResult {
+        let at_end = to == self.pos;
+        if at_end {
+            self.reserve(by * 8)?;
         }
-        self.pos += 8;
+        if !self.counting && by > 0 {
+            let first = from / 8;
+            let last = to.div_ceil(8);
+            self.buf.copy_within(first..last, first + by);
+        }
+        if at_end {
+            self.pos += by * 8;
+        }
+        Ok(())
+    }
+
+    /// Rewrites `octets` (>= 16K) of content written after a one-octet placeholder at `start`
+    /// as fragments: each header and the final length are inserted by whole-octet moves,
+    /// last segment first.
+    fn fragment(&mut self, start: usize, octets: usize) -> EncodeResult {
+        // (header value, header bits, content octets) per segment.
+        let mut segs: heapless::Vec<(u64, u32, usize), 8> = heapless::Vec::new();
+        let mut left = octets;
+        while left >= 16384 {
+            let m = (left / 16384).min(4);
+            segs.push((0xc0 | m as u64, 8, m * 16384)).map_err(|_| EncodeError::new(Kind::OpenTypeTooLarge))?;
+            left -= m * 16384;
+        }
+        let last = if left < 128 { (left as u64, 8, left) } else { (0x8000 | left as u64, 16, left) };
+        segs.push(last).map_err(|_| EncodeError::new(Kind::OpenTypeTooLarge))?;
+        let header_octets: usize = segs.iter().map(|s| s.1 as usize / 8).sum();
+        self.reserve((header_octets - 1) * 8)?;
+        // Original content offset and final header position of each segment.
+        let mut plan: heapless::Vec<(usize, usize, usize), 8> = heapless::Vec::new();
+        let (mut orig, mut dest_hdr) = (start + 8, start);
+        for &(_, hbits, n) in &segs {
+            let _ = plan.push((orig, dest_hdr, n));
+            orig += n * 8;
+            dest_hdr += hbits as usize + n * 8;
+        }
+        let end = self.pos;
+        for (i, &(orig, hdr, n)) in plan.iter().enumerate().rev() {
+            let by = (hdr + segs[i].1 as usize - orig) / 8;
+            let to = if i + 1 == plan.len() { end } else { orig + n * 8 };
+            if !self.counting && by > 0 {
+                self.buf.copy_within(orig / 8..to.div_ceil(8), orig / 8 + by);
+            }
+        }
+        self.pos = end + (header_octets - 1) * 8;
+        for (i, &(_, hdr, _)) in plan.iter().enumerate() {
+            self.put_at(hdr, segs[i].0, segs[i].1);
+        }
         Ok(())
     }
 
@@ -222,9 +265,10 @@ impl<'a> Writer<'a> {
 
 #[cfg(test)]
 mod tests {
+    extern crate std;
     use super::*;
 
-    fn written(f: impl FnOnce(&mut Writer) -> EncodeResult) -> heapless::Vec<u8, 64> {
+    fn written(f: impl Fn(&mut Writer) -> EncodeResult) -> heapless::Vec<u8, 64> {
         let mut buf = [0xa5u8; 64];
         let mut w = Writer::new(&mut buf);
         f(&mut w).unwrap();
@@ -263,7 +307,7 @@ mod tests {
             w.write_bits(1, 1)?;
             w.write_open(|w| w.write_bits(0b101, 3))
         });
-        assert_eq!(&out[..], &[0b1000_0000, 0b1101_0000]);
+        assert_eq!(&out[..], &[0b1000_0000, 0b1101_0000, 0]);
         // 200 octets of content after a 3-bit prefix: two-octet length, content shifted.
         let mut buf = [0xffu8; 260];
         let mut w = Writer::new(&mut buf);
@@ -280,6 +324,43 @@ mod tests {
         }
         assert_eq!(r.read_bits(2).unwrap(), 0b11);
         assert_eq!(r.read_bits(3).unwrap(), 0, "padding is zero");
+    }
+
+    #[test]
+    fn open_type_fragments() {
+        // 3 prefix bits, then 40000 + 17 octets of content: headers C2 (32K), then a
+        // two-octet length for the remaining 7249, all unaligned; then 2 more bits.
+        for total in [16384usize, 40017, 65536 + 300] {
+            let mut buf = vec_of(total + 16);
+            let mut w = Writer::new(&mut buf);
+            w.write_bits(0b101, 3).unwrap();
+            w.write_open(|w| (0..total).try_for_each(|i| w.write_bits((i * 31 % 251) as u64, 8))).unwrap();
+            w.write_bits(0b11, 2).unwrap();
+            let mut counter = Writer::counter();
+            counter.write_bits(0b101, 3).unwrap();
+            counter.write_open(|w| (0..total).try_for_each(|i| w.write_bits((i * 31 % 251) as u64, 8))).unwrap();
+            counter.write_bits(0b11, 2).unwrap();
+            assert_eq!(counter.position(), w.position());
+            let mut r = super::super::reader::Reader::new(&buf);
+            assert_eq!(r.read_bits(3).unwrap(), 0b101);
+            let mut seen = 0usize;
+            loop {
+                let part = r.read_length().unwrap();
+                for _ in 0..part.len {
+                    assert_eq!(r.read_bits(8).unwrap(), (seen * 31 % 251) as u64, "octet {seen} of {total}");
+                    seen += 1;
+                }
+                if !part.more {
+                    break;
+                }
+            }
+            assert_eq!(seen, total);
+            assert_eq!(r.read_bits(2).unwrap(), 0b11);
+        }
+    }
+
+    fn vec_of(n: usize) -> std::vec::Vec<u8> {
+        std::vec![0x5a; n]
     }
 
     #[test]
