@@ -49,14 +49,16 @@ class Emitter:
     def doc(self, td, what):
         return f"/// ASN.1 `{td.asn}` (module `{td.module}`): {what}."
 
-    def uper_impl(self, td, decode, encode):
+    def uper_impl(self, td, decode, encode, placeholder):
         nh, h = self.bits.of(td, heap=False), self.bits.of(td, heap=True)
         opt = lambda v: "None" if v is None else f"Some({v})"  # noqa: E731
         return (
+            f"impl uper::Placeholder for {td.name} {{\n"
+            f"    fn placeholder() -> Self {{\n{indent(placeholder, 8)}\n    }}\n}}\n\n"
             f"impl Uper for {td.name} {{\n"
             f"    const PATH: &'static str = \"{td.key}\";\n"
             f"    const MAX_UPER_BITS: Option<u64> = uper::max_bits({opt(nh)}, {opt(h)});\n"
-            f"    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {{\n{indent(decode, 8)}\n    }}\n"
+            f"    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {{\n{indent(decode, 8)}\n    }}\n"
             f"    fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {{\n{indent(encode, 8)}\n    }}\n"
             f"}}\n"
         )
@@ -106,12 +108,12 @@ class Emitter:
         dec, enc = [], []
         if td.extensible:
             dec.append("if r.read_bit()? {\n    let at = r.position();\n    let i = r.read_normally_small()?;\n"
-                       "    return u16::try_from(i).map(Self::Extension).map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at));\n}")
+                       "    *out = u16::try_from(i).map(Self::Extension).map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at))?;\n    return Ok(());\n}")
             enc.append("if let Self::Extension(i) = self {\n    w.write_bit(true)?;\n    return w.write_normally_small(*i as u64);\n}\nw.write_bit(false)?;")
         dec.append(f"let at = r.position();\nlet i = r.read_constrained(0, {n - 1})?;\n"
-                   "Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))")
+                   "*out = Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))?;\nOk(())")
         enc.append(f"w.write_constrained(self.root_index(), 0, {n - 1})")
-        s.append(self.uper_impl(td, "\n".join(dec), "\n".join(enc)))
+        s.append(self.uper_impl(td, "\n".join(dec), "\n".join(enc), f"Self::{naming.camel(td.items[0][0])}"))
         return "\n".join(s)
 
     def emit_bits(self, td):
@@ -126,21 +128,22 @@ class Emitter:
                  f"        if !{'true' if td.extensible else f'({td.lb}..={td.ub}).contains(&len)'} {{\n            return None;\n        }}\n"
                  "        uper::Bits::zeros(len).map(Self)\n    }")
         s.append("}\n")
-        s.append(self.uper_impl(td, f"uper::decode_bits(r, Self::SIZE, \"{td.key}\").map(Self)",
-                                "uper::encode_bits(w, Self::SIZE, &self.0)"))
+        s.append(self.uper_impl(td, f"out.0 = uper::decode_bits(r, Self::SIZE, \"{td.key}\")?;\nOk(())",
+                                "uper::encode_bits(w, Self::SIZE, &self.0)", "Self(uper::Bits::EMPTY)"))
         return "\n".join(s)
 
     def emit_fixed_octets(self, td):
         s = [self.doc(td, f"OCTET STRING (SIZE({td.lb}))"), DERIVE_COPY, f"pub struct {td.name}(pub [u8; {td.lb}]);\n"]
-        s.append(self.uper_impl(td, "uper::decode_fixed_octets(r).map(Self)", "w.write_octets(&self.0)"))
+        s.append(self.uper_impl(td, "r.read_octets(&mut out.0)", "w.write_octets(&self.0)", f"Self([0; {td.lb}])"))
         return "\n".join(s)
 
     def emit_sized(self, td, what, storage, decode_fn, encode_fn, ctor):
         s = [self.doc(td, f"{what} {size_text(td)}"), DERIVE, f"pub struct {td.name}(pub {storage});\n"]
         s.append(f"crate::__newtype_deref!({td.name}, {storage});\n")
         s.append(f"impl {td.name} {{\n    const SIZE: uper::Size = {size_expr(td)};\n{ctor}}}\n")
-        s.append(self.uper_impl(td, f"uper::{decode_fn}(r, Self::SIZE, \"{td.key}\").map(Self)",
-                                f"uper::{encode_fn}(w, Self::SIZE, &self.0)"))
+        dec = (f"uper::{decode_fn}(r, Self::SIZE, \"{td.key}\", &mut out.0)" if decode_fn.endswith("_into")
+               else f"out.0 = uper::{decode_fn}(r, Self::SIZE, \"{td.key}\")?;\nOk(())")
+        s.append(self.uper_impl(td, dec, f"uper::{encode_fn}(w, Self::SIZE, &self.0)", f"Self({storage.split('<')[0]}::new())"))
         return "\n".join(s)
 
     def emit_octets(self, td):
@@ -149,7 +152,7 @@ class Emitter:
                 "    pub fn new(octets: &[u8]) -> Option<Self> {\n"
                 f"        if !{size_check(td, 'octets.len()')} {{\n            return None;\n        }}\n"
                 "        uper::Octets::from_slice(octets).map(Self)\n    }\n")
-        return self.emit_sized(td, "OCTET STRING", f"uper::Octets<{cap}>", "decode_octets", "encode_octets", ctor)
+        return self.emit_sized(td, "OCTET STRING", f"uper::Octets<{cap}>", "decode_octets_into", "encode_octets", ctor)
 
     def emit_ia5(self, td):
         cap = self.caps.count(td)
@@ -164,8 +167,8 @@ class Emitter:
         cap = self.caps.count(td)
         item = self.rust(td.item, td)
         ctor = ("    /// An empty list (valid for encoding once it holds the minimum number of items).\n"
-                "    pub const fn new() -> Self {\n        Self(uper::SeqOf::new())\n    }\n")
-        return self.emit_sized(td, f"SEQUENCE OF {item}", f"uper::SeqOf<{item}, {cap}>", "decode_seq_of",
+                "    pub fn new() -> Self {\n        Self(uper::SeqOf::new())\n    }\n")
+        return self.emit_sized(td, f"SEQUENCE OF {item}", f"uper::SeqOf<{item}, {cap}>", "decode_seq_of_into",
                                "encode_seq_of", ctor)
 
     def emit_seq(self, td):
@@ -180,8 +183,16 @@ class Emitter:
             s.append(f"    /// Extension additions unknown to J2735 2020, kept to re-encode them.\n"
                      f"    pub extensions: uper::Extensions<{self.caps.ext_octets(td)}>,")
         s.append("}\n")
-        s.append(self.uper_impl(td, self.seq_decode(td), self.seq_encode(td)))
+        inits = [f"{f.rust}: {'None' if f.optional else self.placeholder_of(f.ref, td)}" for f in td.fields]
+        if td.extensible:
+            inits.append("extensions: uper::Extensions::new()")
+        s.append(self.uper_impl(td, self.seq_decode(td), self.seq_encode(td), f"Self {{ {', '.join(inits)} }}"))
         return "\n".join(s)
+
+    def placeholder_of(self, ref, td):
+        if ref.builtin == "crate::uper::Null":
+            return "crate::uper::Null"
+        return f"<{self.rust(ref, td)} as uper::Placeholder>::placeholder()"
 
     def seq_decode(self, td):
         opts = [f for f in td.fields if f.optional]
@@ -191,17 +202,18 @@ class Emitter:
         if opts:
             lines.append(f"let present = r.read_bits({len(opts)})?;")
         for f in td.fields:
-            ty, local = self.rust(f.ref, td), "f_" + f.rust.replace("r#", "")
+            ty = self.rust(f.ref, td)
             if f.optional:
                 bit = len(opts) - 1 - opts.index(f)
-                lines.append(f"let {local} = if present & (1 << {bit}) != 0 {{ Some(<{ty}>::decode_uper(r)?) }} else {{ None }};")
+                lines.append(f"if present & (1 << {bit}) != 0 {{\n"
+                             f"    if out.{f.rust}.is_none() {{\n        uper::fill_option(&mut out.{f.rust});\n    }}\n"
+                             f"    if let Some(v) = &mut out.{f.rust} {{\n        <{ty}>::decode_into(r, v)?;\n    }}\n"
+                             f"}} else {{\n    out.{f.rust} = None;\n}}")
             else:
-                lines.append(f"let {local} = <{ty}>::decode_uper(r)?;")
-        inits = [f"{f.rust}: f_{f.rust.replace('r#', '')}" for f in td.fields]
+                lines.append(f"<{ty}>::decode_into(r, &mut out.{f.rust})?;")
         if td.extensible:
-            lines.append(f"let extensions = if extended {{ uper::Extensions::decode(r, \"{td.key}:ext\")? }} else {{ uper::Extensions::new() }};")
-            inits.append("extensions")
-        lines.append(f"Ok(Self {{ {', '.join(inits)} }})")
+            lines.append(f"out.extensions = if extended {{ uper::Extensions::decode(r, \"{td.key}:ext\")? }} else {{ uper::Extensions::new() }};")
+        lines.append("Ok(())")
         return "\n".join(lines)
 
     def seq_encode(self, td):
@@ -239,14 +251,15 @@ class Emitter:
             dec.append("if r.read_bit()? {\n    let at = r.position();\n"
                        "    let index = u16::try_from(r.read_normally_small()?).map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at))?;\n"
                        f"    let content = uper::decode_unknown_open(r, \"{td.key}:unknown\")?;\n"
-                       "    return Ok(Self::Extension { index, content });\n}")
-        dec.append(f"let at = r.position();\nOk(match r.read_constrained(0, {n - 1})? {{")
+                       "    *out = Self::Extension { index, content };\n    return Ok(());\n}")
+        dec.append(f"let at = r.position();\nmatch r.read_constrained(0, {n - 1})? {{")
         for i, a in enumerate(td.alts):
             if a.ref.builtin == "crate::uper::Null":
-                dec.append(f"    {i} => Self::{a.variant},")
+                dec.append(f"    {i} => *out = Self::{a.variant},")
             else:
-                dec.append(f"    {i} => Self::{a.variant}(<{self.rust(a.ref, td)}>::decode_uper(r)?),")
-        dec.append("    _ => return Err(uper::DecodeError::new(uper::DecodeErrorKind::InvalidChoiceIndex, at)),\n})")
+                ty = self.rust(a.ref, td)
+                dec.append(switch_into(f"Self::{a.variant}", i, ty, f"<{ty}>::decode_into(r, v)?"))
+        dec.append("    _ => return Err(uper::DecodeError::new(uper::DecodeErrorKind::InvalidChoiceIndex, at)),\n}\nOk(())")
         enc.append("match self {")
         pre = "w.write_bit(false)?; " if td.extensible else ""
         for i, a in enumerate(td.alts):
@@ -258,7 +271,9 @@ class Emitter:
             enc.append("    Self::Extension { index, content } => {\n        w.write_bit(true)?;\n"
                        "        w.write_normally_small(*index as u64)?;\n        uper::encode_unknown_open(w, content)\n    }")
         enc.append("}")
-        s.append(self.uper_impl(td, "\n".join(dec), "\n".join(enc)))
+        a = td.alts[0]
+        ph = f"Self::{a.variant}" if a.ref.builtin == "crate::uper::Null" else f"Self::{a.variant}({self.placeholder_of(a.ref, td)})"
+        s.append(self.uper_impl(td, "\n".join(dec), "\n".join(enc), ph))
         return "\n".join(s)
 
     def emit_open(self, td):
@@ -276,18 +291,30 @@ class Emitter:
                        for i, v, _ in td.variants)
         s.append(f"impl {td.name} {{\n    /// The `{td.id_asn}` of the value.\n    pub fn id(&self) -> {id_ty} {{\n"
                  f"        match self {{\n{arms}            Self::Unknown {{ id, .. }} => *id,\n        }}\n    }}\n}}\n")
-        dec = [f"let id = <{id_ty}>::decode_uper(r)?;", "Ok(match id.get() {"]
+        dec = [f"let id = <{id_ty}>::decode_uper(r)?;", "match id.get() {"]
         for i, v, r in td.variants:
-            dec.append(f"    {i} => Self::{v}(uper::decode_open(r, <{self.rust(r, td)}>::decode_uper)?),")
-        dec.append(f"    _ => Self::Unknown {{ id, content: uper::decode_unknown_open(r, \"{td.key}:unknown\")? }},\n}})")
+            ty = self.rust(r, td)
+            dec.append(switch_into(f"Self::{v}", i, ty, f"uper::decode_open(r, |r| <{ty}>::decode_into(r, v))?"))
+        dec.append(f"    _ => *out = Self::Unknown {{ id, content: uper::decode_unknown_open(r, \"{td.key}:unknown\")? }},\n}}\nOk(())")
         enc = ["match self {"]
         for i, v, r in td.variants:
             enc.append(f"    Self::{v}(v) => {{\n        w.write_constrained({i}, {idt.lb}, {idt.ub})?;\n"
                        f"        w.write_open(|w| v.encode_uper(w))\n    }}")
         enc.append("    Self::Unknown { id, content } => {\n        id.encode_uper(w)?;\n"
                    "        uper::encode_unknown_open(w, content)\n    }\n}")
-        s.append(self.uper_impl(td, "\n".join(dec), "\n".join(enc)))
+        ph = f"Self::Unknown {{ id: <{id_ty} as uper::Placeholder>::placeholder(), content: uper::Octets::new() }}"
+        s.append(self.uper_impl(td, "\n".join(dec), "\n".join(enc), ph))
         return "\n".join(s)
+
+
+def switch_into(variant, index, ty, decode):
+    """A match arm that makes `out` the alternative `variant` (out of line when it is not
+    already) and decodes into its payload `v` in place."""
+    return (f"    {index} => {{\n"
+            f"        if !matches!(out, {variant}(_)) {{\n"
+            f"            uper::replace_with(out, || {variant}(<{ty} as uper::Placeholder>::placeholder()));\n"
+            f"        }}\n"
+            f"        if let {variant}(v) = out {{\n            {decode};\n        }}\n    }}")
 
 
 def size_text(td):

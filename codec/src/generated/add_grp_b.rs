@@ -19,16 +19,22 @@ pub struct Position3DAddGrpB {
     pub extensions: uper::Extensions<0>,
 }
 
+impl uper::Placeholder for Position3DAddGrpB {
+    fn placeholder() -> Self {
+        Self { latitude: <LatitudeDMS2 as uper::Placeholder>::placeholder(), longitude: <LongitudeDMS2 as uper::Placeholder>::placeholder(), elevation: <Elevation as uper::Placeholder>::placeholder(), extensions: uper::Extensions::new() }
+    }
+}
+
 impl Uper for Position3DAddGrpB {
     const PATH: &'static str = "AddGrpB.Position3D-addGrpB";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(159), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let extended = r.read_bit()?;
-        let f_latitude = <LatitudeDMS2>::decode_uper(r)?;
-        let f_longitude = <LongitudeDMS2>::decode_uper(r)?;
-        let f_elevation = <Elevation>::decode_uper(r)?;
-        let extensions = if extended { uper::Extensions::decode(r, "AddGrpB.Position3D-addGrpB:ext")? } else { uper::Extensions::new() };
-        Ok(Self { latitude: f_latitude, longitude: f_longitude, elevation: f_elevation, extensions })
+        <LatitudeDMS2>::decode_into(r, &mut out.latitude)?;
+        <LongitudeDMS2>::decode_into(r, &mut out.longitude)?;
+        <Elevation>::decode_into(r, &mut out.elevation)?;
+        out.extensions = if extended { uper::Extensions::decode(r, "AddGrpB.Position3D-addGrpB:ext")? } else { uper::Extensions::new() };
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_bit(self.extensions.is_present())?;
@@ -53,14 +59,20 @@ pub struct LatitudeDMS2 {
     pub s: SecondsAngle,
 }
 
+impl uper::Placeholder for LatitudeDMS2 {
+    fn placeholder() -> Self {
+        Self { d: <DegreesLat as uper::Placeholder>::placeholder(), m: <MinutesAngle as uper::Placeholder>::placeholder(), s: <SecondsAngle as uper::Placeholder>::placeholder() }
+    }
+}
+
 impl Uper for LatitudeDMS2 {
     const PATH: &'static str = "AddGrpB.LatitudeDMS2";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(27), Some(27));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
-        let f_d = <DegreesLat>::decode_uper(r)?;
-        let f_m = <MinutesAngle>::decode_uper(r)?;
-        let f_s = <SecondsAngle>::decode_uper(r)?;
-        Ok(Self { d: f_d, m: f_m, s: f_s })
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+        <DegreesLat>::decode_into(r, &mut out.d)?;
+        <MinutesAngle>::decode_into(r, &mut out.m)?;
+        <SecondsAngle>::decode_into(r, &mut out.s)?;
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         self.d.encode_uper(w)?;
@@ -96,14 +108,20 @@ pub struct LongitudeDMS2 {
     pub s: SecondsAngle,
 }
 
+impl uper::Placeholder for LongitudeDMS2 {
+    fn placeholder() -> Self {
+        Self { d: <DegreesLong as uper::Placeholder>::placeholder(), m: <MinutesAngle as uper::Placeholder>::placeholder(), s: <SecondsAngle as uper::Placeholder>::placeholder() }
+    }
+}
+
 impl Uper for LongitudeDMS2 {
     const PATH: &'static str = "AddGrpB.LongitudeDMS2";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(28), Some(28));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
-        let f_d = <DegreesLong>::decode_uper(r)?;
-        let f_m = <MinutesAngle>::decode_uper(r)?;
-        let f_s = <SecondsAngle>::decode_uper(r)?;
-        Ok(Self { d: f_d, m: f_m, s: f_s })
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+        <DegreesLong>::decode_into(r, &mut out.d)?;
+        <MinutesAngle>::decode_into(r, &mut out.m)?;
+        <SecondsAngle>::decode_into(r, &mut out.s)?;
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         self.d.encode_uper(w)?;
@@ -139,22 +157,44 @@ pub enum NodeOffsetPointXYAddGrpB {
     },
 }
 
+impl uper::Placeholder for NodeOffsetPointXYAddGrpB {
+    fn placeholder() -> Self {
+        Self::PosA(<NodeLLdms48b as uper::Placeholder>::placeholder())
+    }
+}
+
 impl Uper for NodeOffsetPointXYAddGrpB {
     const PATH: &'static str = "AddGrpB.NodeOffsetPointXY-addGrpB";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(162), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         if r.read_bit()? {
             let at = r.position();
             let index = u16::try_from(r.read_normally_small()?).map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at))?;
             let content = uper::decode_unknown_open(r, "AddGrpB.NodeOffsetPointXY-addGrpB:unknown")?;
-            return Ok(Self::Extension { index, content });
+            *out = Self::Extension { index, content };
+            return Ok(());
         }
         let at = r.position();
-        Ok(match r.read_constrained(0, 1)? {
-            0 => Self::PosA(<NodeLLdms48b>::decode_uper(r)?),
-            1 => Self::PosB(<NodeLLdms80b>::decode_uper(r)?),
+        match r.read_constrained(0, 1)? {
+            0 => {
+                if !matches!(out, Self::PosA(_)) {
+                    uper::replace_with(out, || Self::PosA(<NodeLLdms48b as uper::Placeholder>::placeholder()));
+                }
+                if let Self::PosA(v) = out {
+                    <NodeLLdms48b>::decode_into(r, v)?;
+                }
+            }
+            1 => {
+                if !matches!(out, Self::PosB(_)) {
+                    uper::replace_with(out, || Self::PosB(<NodeLLdms80b as uper::Placeholder>::placeholder()));
+                }
+                if let Self::PosB(v) = out {
+                    <NodeLLdms80b>::decode_into(r, v)?;
+                }
+            }
             _ => return Err(uper::DecodeError::new(uper::DecodeErrorKind::InvalidChoiceIndex, at)),
-        })
+        }
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         match self {
@@ -178,13 +218,19 @@ pub struct NodeLLdms48b {
     pub lat: LatitudeDMS,
 }
 
+impl uper::Placeholder for NodeLLdms48b {
+    fn placeholder() -> Self {
+        Self { lon: <LongitudeDMS as uper::Placeholder>::placeholder(), lat: <LatitudeDMS as uper::Placeholder>::placeholder() }
+    }
+}
+
 impl Uper for NodeLLdms48b {
     const PATH: &'static str = "AddGrpB.Node-LLdms-48b";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(53), Some(53));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
-        let f_lon = <LongitudeDMS>::decode_uper(r)?;
-        let f_lat = <LatitudeDMS>::decode_uper(r)?;
-        Ok(Self { lon: f_lon, lat: f_lat })
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+        <LongitudeDMS>::decode_into(r, &mut out.lon)?;
+        <LatitudeDMS>::decode_into(r, &mut out.lat)?;
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         self.lon.encode_uper(w)?;
@@ -212,13 +258,19 @@ pub struct NodeLLdms80b {
     pub lat: LatitudeDMS2,
 }
 
+impl uper::Placeholder for NodeLLdms80b {
+    fn placeholder() -> Self {
+        Self { lon: <LongitudeDMS2 as uper::Placeholder>::placeholder(), lat: <LatitudeDMS2 as uper::Placeholder>::placeholder() }
+    }
+}
+
 impl Uper for NodeLLdms80b {
     const PATH: &'static str = "AddGrpB.Node-LLdms-80b";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(55), Some(55));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
-        let f_lon = <LongitudeDMS2>::decode_uper(r)?;
-        let f_lat = <LatitudeDMS2>::decode_uper(r)?;
-        Ok(Self { lon: f_lon, lat: f_lat })
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+        <LongitudeDMS2>::decode_into(r, &mut out.lon)?;
+        <LatitudeDMS2>::decode_into(r, &mut out.lat)?;
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         self.lon.encode_uper(w)?;
@@ -234,13 +286,19 @@ pub struct LaneDataAttributeAddGrpB {
     pub extensions: uper::Extensions<0>,
 }
 
+impl uper::Placeholder for LaneDataAttributeAddGrpB {
+    fn placeholder() -> Self {
+        Self { extensions: uper::Extensions::new() }
+    }
+}
+
 impl Uper for LaneDataAttributeAddGrpB {
     const PATH: &'static str = "AddGrpB.LaneDataAttribute-addGrpB";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(88), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let extended = r.read_bit()?;
-        let extensions = if extended { uper::Extensions::decode(r, "AddGrpB.LaneDataAttribute-addGrpB:ext")? } else { uper::Extensions::new() };
-        Ok(Self { extensions })
+        out.extensions = if extended { uper::Extensions::decode(r, "AddGrpB.LaneDataAttribute-addGrpB:ext")? } else { uper::Extensions::new() };
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_bit(self.extensions.is_present())?;
@@ -270,20 +328,71 @@ pub struct MovementEventAddGrpB {
     pub extensions: uper::Extensions<0>,
 }
 
+impl uper::Placeholder for MovementEventAddGrpB {
+    fn placeholder() -> Self {
+        Self { start_time: None, min_end_time: <MinTimetoChange as uper::Placeholder>::placeholder(), max_end_time: None, likely_time: None, confidence: None, next_time: None, extensions: uper::Extensions::new() }
+    }
+}
+
 impl Uper for MovementEventAddGrpB {
     const PATH: &'static str = "AddGrpB.MovementEvent-addGrpB";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(163), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let extended = r.read_bit()?;
         let present = r.read_bits(5)?;
-        let f_start_time = if present & (1 << 4) != 0 { Some(<TimeRemaining>::decode_uper(r)?) } else { None };
-        let f_min_end_time = <MinTimetoChange>::decode_uper(r)?;
-        let f_max_end_time = if present & (1 << 3) != 0 { Some(<MaxTimetoChange>::decode_uper(r)?) } else { None };
-        let f_likely_time = if present & (1 << 2) != 0 { Some(<TimeRemaining>::decode_uper(r)?) } else { None };
-        let f_confidence = if present & (1 << 1) != 0 { Some(<super::spat::TimeIntervalConfidence>::decode_uper(r)?) } else { None };
-        let f_next_time = if present & (1 << 0) != 0 { Some(<TimeRemaining>::decode_uper(r)?) } else { None };
-        let extensions = if extended { uper::Extensions::decode(r, "AddGrpB.MovementEvent-addGrpB:ext")? } else { uper::Extensions::new() };
-        Ok(Self { start_time: f_start_time, min_end_time: f_min_end_time, max_end_time: f_max_end_time, likely_time: f_likely_time, confidence: f_confidence, next_time: f_next_time, extensions })
+        if present & (1 << 4) != 0 {
+            if out.start_time.is_none() {
+                uper::fill_option(&mut out.start_time);
+            }
+            if let Some(v) = &mut out.start_time {
+                <TimeRemaining>::decode_into(r, v)?;
+            }
+        } else {
+            out.start_time = None;
+        }
+        <MinTimetoChange>::decode_into(r, &mut out.min_end_time)?;
+        if present & (1 << 3) != 0 {
+            if out.max_end_time.is_none() {
+                uper::fill_option(&mut out.max_end_time);
+            }
+            if let Some(v) = &mut out.max_end_time {
+                <MaxTimetoChange>::decode_into(r, v)?;
+            }
+        } else {
+            out.max_end_time = None;
+        }
+        if present & (1 << 2) != 0 {
+            if out.likely_time.is_none() {
+                uper::fill_option(&mut out.likely_time);
+            }
+            if let Some(v) = &mut out.likely_time {
+                <TimeRemaining>::decode_into(r, v)?;
+            }
+        } else {
+            out.likely_time = None;
+        }
+        if present & (1 << 1) != 0 {
+            if out.confidence.is_none() {
+                uper::fill_option(&mut out.confidence);
+            }
+            if let Some(v) = &mut out.confidence {
+                <super::spat::TimeIntervalConfidence>::decode_into(r, v)?;
+            }
+        } else {
+            out.confidence = None;
+        }
+        if present & (1 << 0) != 0 {
+            if out.next_time.is_none() {
+                uper::fill_option(&mut out.next_time);
+            }
+            if let Some(v) = &mut out.next_time {
+                <TimeRemaining>::decode_into(r, v)?;
+            }
+        } else {
+            out.next_time = None;
+        }
+        out.extensions = if extended { uper::Extensions::decode(r, "AddGrpB.MovementEvent-addGrpB:ext")? } else { uper::Extensions::new() };
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_bit(self.extensions.is_present())?;
@@ -400,13 +509,20 @@ impl DayOfWeek {
     }
 }
 
+impl uper::Placeholder for DayOfWeek {
+    fn placeholder() -> Self {
+        Self::Unknown
+    }
+}
+
 impl Uper for DayOfWeek {
     const PATH: &'static str = "AddGrpB.DayOfWeek";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(3), Some(3));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let at = r.position();
         let i = r.read_constrained(0, 7)?;
-        Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))
+        *out = Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))?;
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_constrained(self.root_index(), 0, 7)
@@ -447,13 +563,20 @@ impl Holiday {
     }
 }
 
+impl uper::Placeholder for Holiday {
+    fn placeholder() -> Self {
+        Self::Weekday
+    }
+}
+
 impl Uper for Holiday {
     const PATH: &'static str = "AddGrpB.Holiday";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(1), Some(1));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let at = r.position();
         let i = r.read_constrained(0, 1)?;
-        Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))
+        *out = Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))?;
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_constrained(self.root_index(), 0, 1)
@@ -519,13 +642,20 @@ impl SummerTime {
     }
 }
 
+impl uper::Placeholder for SummerTime {
+    fn placeholder() -> Self {
+        Self::NotInSummerTime
+    }
+}
+
 impl Uper for SummerTime {
     const PATH: &'static str = "AddGrpB.SummerTime";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(1), Some(1));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let at = r.position();
         let i = r.read_constrained(0, 1)?;
-        Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))
+        *out = Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))?;
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_constrained(self.root_index(), 0, 1)
@@ -567,21 +697,27 @@ pub struct TimeMark {
     pub tenth_second: TenthSecond,
 }
 
+impl uper::Placeholder for TimeMark {
+    fn placeholder() -> Self {
+        Self { year: <Year as uper::Placeholder>::placeholder(), month: <Month as uper::Placeholder>::placeholder(), day: <Day as uper::Placeholder>::placeholder(), summer_time: <SummerTime as uper::Placeholder>::placeholder(), holiday: <Holiday as uper::Placeholder>::placeholder(), dayof_week: <DayOfWeek as uper::Placeholder>::placeholder(), hour: <Hour as uper::Placeholder>::placeholder(), minute: <Minute as uper::Placeholder>::placeholder(), second: <Second as uper::Placeholder>::placeholder(), tenth_second: <TenthSecond as uper::Placeholder>::placeholder() }
+    }
+}
+
 impl Uper for TimeMark {
     const PATH: &'static str = "AddGrpB.TimeMark";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(63), Some(63));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
-        let f_year = <Year>::decode_uper(r)?;
-        let f_month = <Month>::decode_uper(r)?;
-        let f_day = <Day>::decode_uper(r)?;
-        let f_summer_time = <SummerTime>::decode_uper(r)?;
-        let f_holiday = <Holiday>::decode_uper(r)?;
-        let f_dayof_week = <DayOfWeek>::decode_uper(r)?;
-        let f_hour = <Hour>::decode_uper(r)?;
-        let f_minute = <Minute>::decode_uper(r)?;
-        let f_second = <Second>::decode_uper(r)?;
-        let f_tenth_second = <TenthSecond>::decode_uper(r)?;
-        Ok(Self { year: f_year, month: f_month, day: f_day, summer_time: f_summer_time, holiday: f_holiday, dayof_week: f_dayof_week, hour: f_hour, minute: f_minute, second: f_second, tenth_second: f_tenth_second })
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+        <Year>::decode_into(r, &mut out.year)?;
+        <Month>::decode_into(r, &mut out.month)?;
+        <Day>::decode_into(r, &mut out.day)?;
+        <SummerTime>::decode_into(r, &mut out.summer_time)?;
+        <Holiday>::decode_into(r, &mut out.holiday)?;
+        <DayOfWeek>::decode_into(r, &mut out.dayof_week)?;
+        <Hour>::decode_into(r, &mut out.hour)?;
+        <Minute>::decode_into(r, &mut out.minute)?;
+        <Second>::decode_into(r, &mut out.second)?;
+        <TenthSecond>::decode_into(r, &mut out.tenth_second)?;
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         self.year.encode_uper(w)?;

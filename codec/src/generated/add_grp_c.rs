@@ -15,14 +15,20 @@ pub struct Position3DAddGrpC {
     pub extensions: uper::Extensions<0>,
 }
 
+impl uper::Placeholder for Position3DAddGrpC {
+    fn placeholder() -> Self {
+        Self { altitude: <Altitude as uper::Placeholder>::placeholder(), extensions: uper::Extensions::new() }
+    }
+}
+
 impl Uper for Position3DAddGrpC {
     const PATH: &'static str = "AddGrpC.Position3D-addGrpC";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(112), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let extended = r.read_bit()?;
-        let f_altitude = <Altitude>::decode_uper(r)?;
-        let extensions = if extended { uper::Extensions::decode(r, "AddGrpC.Position3D-addGrpC:ext")? } else { uper::Extensions::new() };
-        Ok(Self { altitude: f_altitude, extensions })
+        <Altitude>::decode_into(r, &mut out.altitude)?;
+        out.extensions = if extended { uper::Extensions::decode(r, "AddGrpC.Position3D-addGrpC:ext")? } else { uper::Extensions::new() };
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_bit(self.extensions.is_present())?;
@@ -43,13 +49,19 @@ pub struct Altitude {
     pub confidence: AltitudeConfidence,
 }
 
+impl uper::Placeholder for Altitude {
+    fn placeholder() -> Self {
+        Self { value: <AltitudeValue as uper::Placeholder>::placeholder(), confidence: <AltitudeConfidence as uper::Placeholder>::placeholder() }
+    }
+}
+
 impl Uper for Altitude {
     const PATH: &'static str = "AddGrpC.Altitude";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(24), Some(24));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
-        let f_value = <AltitudeValue>::decode_uper(r)?;
-        let f_confidence = <AltitudeConfidence>::decode_uper(r)?;
-        Ok(Self { value: f_value, confidence: f_confidence })
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+        <AltitudeValue>::decode_into(r, &mut out.value)?;
+        <AltitudeConfidence>::decode_into(r, &mut out.confidence)?;
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         self.value.encode_uper(w)?;
@@ -167,13 +179,20 @@ impl AltitudeConfidence {
     }
 }
 
+impl uper::Placeholder for AltitudeConfidence {
+    fn placeholder() -> Self {
+        Self::Alt000_01
+    }
+}
+
 impl Uper for AltitudeConfidence {
     const PATH: &'static str = "AddGrpC.AltitudeConfidence";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(4), Some(4));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let at = r.position();
         let i = r.read_constrained(0, 15)?;
-        Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))
+        *out = Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))?;
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_constrained(self.root_index(), 0, 15)
@@ -189,15 +208,30 @@ pub struct RestrictionUserTypeAddGrpC {
     pub extensions: uper::Extensions<0>,
 }
 
+impl uper::Placeholder for RestrictionUserTypeAddGrpC {
+    fn placeholder() -> Self {
+        Self { emission: None, extensions: uper::Extensions::new() }
+    }
+}
+
 impl Uper for RestrictionUserTypeAddGrpC {
     const PATH: &'static str = "AddGrpC.RestrictionUserType-addGrpC";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(115), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let extended = r.read_bit()?;
         let present = r.read_bits(1)?;
-        let f_emission = if present & (1 << 0) != 0 { Some(<EmissionType>::decode_uper(r)?) } else { None };
-        let extensions = if extended { uper::Extensions::decode(r, "AddGrpC.RestrictionUserType-addGrpC:ext")? } else { uper::Extensions::new() };
-        Ok(Self { emission: f_emission, extensions })
+        if present & (1 << 0) != 0 {
+            if out.emission.is_none() {
+                uper::fill_option(&mut out.emission);
+            }
+            if let Some(v) = &mut out.emission {
+                <EmissionType>::decode_into(r, v)?;
+            }
+        } else {
+            out.emission = None;
+        }
+        out.extensions = if extended { uper::Extensions::decode(r, "AddGrpC.RestrictionUserType-addGrpC:ext")? } else { uper::Extensions::new() };
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_bit(self.extensions.is_present())?;
@@ -266,18 +300,26 @@ impl EmissionType {
     }
 }
 
+impl uper::Placeholder for EmissionType {
+    fn placeholder() -> Self {
+        Self::TypeA
+    }
+}
+
 impl Uper for EmissionType {
     const PATH: &'static str = "AddGrpC.EmissionType";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(26), Some(26));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         if r.read_bit()? {
             let at = r.position();
             let i = r.read_normally_small()?;
-            return u16::try_from(i).map(Self::Extension).map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at));
+            *out = u16::try_from(i).map(Self::Extension).map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at))?;
+            return Ok(());
         }
         let at = r.position();
         let i = r.read_constrained(0, 4)?;
-        Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))
+        *out = Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))?;
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         if let Self::Extension(i) = self {
@@ -298,15 +340,30 @@ pub struct MapDataAddGrpC {
     pub extensions: uper::Extensions<0>,
 }
 
+impl uper::Placeholder for MapDataAddGrpC {
+    fn placeholder() -> Self {
+        Self { signal_head_locations: None, extensions: uper::Extensions::new() }
+    }
+}
+
 impl Uper for MapDataAddGrpC {
     const PATH: &'static str = "AddGrpC.MapData-addGrpC";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(1226), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let extended = r.read_bit()?;
         let present = r.read_bits(1)?;
-        let f_signal_head_locations = if present & (1 << 0) != 0 { Some(<SignalHeadLocationList>::decode_uper(r)?) } else { None };
-        let extensions = if extended { uper::Extensions::decode(r, "AddGrpC.MapData-addGrpC:ext")? } else { uper::Extensions::new() };
-        Ok(Self { signal_head_locations: f_signal_head_locations, extensions })
+        if present & (1 << 0) != 0 {
+            if out.signal_head_locations.is_none() {
+                uper::fill_option(&mut out.signal_head_locations);
+            }
+            if let Some(v) = &mut out.signal_head_locations {
+                <SignalHeadLocationList>::decode_into(r, v)?;
+            }
+        } else {
+            out.signal_head_locations = None;
+        }
+        out.extensions = if extended { uper::Extensions::decode(r, "AddGrpC.MapData-addGrpC:ext")? } else { uper::Extensions::new() };
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_bit(self.extensions.is_present())?;
@@ -330,7 +387,13 @@ crate::__newtype_deref!(SignalHeadLocationList, uper::SeqOf<SignalHeadLocation, 
 impl SignalHeadLocationList {
     const SIZE: uper::Size = uper::Size::range(1, 20);
     /// An empty list (valid for encoding once it holds the minimum number of items).
-    pub const fn new() -> Self {
+    pub fn new() -> Self {
+        Self(uper::SeqOf::new())
+    }
+}
+
+impl uper::Placeholder for SignalHeadLocationList {
+    fn placeholder() -> Self {
         Self(uper::SeqOf::new())
     }
 }
@@ -338,8 +401,8 @@ impl SignalHeadLocationList {
 impl Uper for SignalHeadLocationList {
     const PATH: &'static str = "AddGrpC.SignalHeadLocationList";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(1137), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
-        uper::decode_seq_of(r, Self::SIZE, "AddGrpC.SignalHeadLocationList").map(Self)
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+        uper::decode_seq_of_into(r, Self::SIZE, "AddGrpC.SignalHeadLocationList", &mut out.0)
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
@@ -357,15 +420,21 @@ pub struct SignalHeadLocation {
     pub extensions: uper::Extensions<0>,
 }
 
+impl uper::Placeholder for SignalHeadLocation {
+    fn placeholder() -> Self {
+        Self { node: <super::common::NodeOffsetPointXY as uper::Placeholder>::placeholder(), signal_group_id: <super::common::SignalGroupID as uper::Placeholder>::placeholder(), extensions: uper::Extensions::new() }
+    }
+}
+
 impl Uper for SignalHeadLocation {
     const PATH: &'static str = "AddGrpC.SignalHeadLocation";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(283), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let extended = r.read_bit()?;
-        let f_node = <super::common::NodeOffsetPointXY>::decode_uper(r)?;
-        let f_signal_group_id = <super::common::SignalGroupID>::decode_uper(r)?;
-        let extensions = if extended { uper::Extensions::decode(r, "AddGrpC.SignalHeadLocation:ext")? } else { uper::Extensions::new() };
-        Ok(Self { node: f_node, signal_group_id: f_signal_group_id, extensions })
+        <super::common::NodeOffsetPointXY>::decode_into(r, &mut out.node)?;
+        <super::common::SignalGroupID>::decode_into(r, &mut out.signal_group_id)?;
+        out.extensions = if extended { uper::Extensions::decode(r, "AddGrpC.SignalHeadLocation:ext")? } else { uper::Extensions::new() };
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_bit(self.extensions.is_present())?;
@@ -387,14 +456,29 @@ pub struct ConnectionManeuverAssistAddGrpC {
     pub rsu_distance_from_anchor: Option<super::common::NodeOffsetPointXY>,
 }
 
+impl uper::Placeholder for ConnectionManeuverAssistAddGrpC {
+    fn placeholder() -> Self {
+        Self { vehicle_to_lane_positions: <VehicleToLanePositionList as uper::Placeholder>::placeholder(), rsu_distance_from_anchor: None }
+    }
+}
+
 impl Uper for ConnectionManeuverAssistAddGrpC {
     const PATH: &'static str = "AddGrpC.ConnectionManeuverAssist-addGrpC";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(703), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let present = r.read_bits(1)?;
-        let f_vehicle_to_lane_positions = <VehicleToLanePositionList>::decode_uper(r)?;
-        let f_rsu_distance_from_anchor = if present & (1 << 0) != 0 { Some(<super::common::NodeOffsetPointXY>::decode_uper(r)?) } else { None };
-        Ok(Self { vehicle_to_lane_positions: f_vehicle_to_lane_positions, rsu_distance_from_anchor: f_rsu_distance_from_anchor })
+        <VehicleToLanePositionList>::decode_into(r, &mut out.vehicle_to_lane_positions)?;
+        if present & (1 << 0) != 0 {
+            if out.rsu_distance_from_anchor.is_none() {
+                uper::fill_option(&mut out.rsu_distance_from_anchor);
+            }
+            if let Some(v) = &mut out.rsu_distance_from_anchor {
+                <super::common::NodeOffsetPointXY>::decode_into(r, v)?;
+            }
+        } else {
+            out.rsu_distance_from_anchor = None;
+        }
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_bits(self.rsu_distance_from_anchor.is_some() as u64, 1)?;
@@ -415,7 +499,13 @@ crate::__newtype_deref!(VehicleToLanePositionList, uper::SeqOf<VehicleToLanePosi
 impl VehicleToLanePositionList {
     const SIZE: uper::Size = uper::Size::range(1, 5);
     /// An empty list (valid for encoding once it holds the minimum number of items).
-    pub const fn new() -> Self {
+    pub fn new() -> Self {
+        Self(uper::SeqOf::new())
+    }
+}
+
+impl uper::Placeholder for VehicleToLanePositionList {
+    fn placeholder() -> Self {
         Self(uper::SeqOf::new())
     }
 }
@@ -423,8 +513,8 @@ impl VehicleToLanePositionList {
 impl Uper for VehicleToLanePositionList {
     const PATH: &'static str = "AddGrpC.VehicleToLanePositionList";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(515), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
-        uper::decode_seq_of(r, Self::SIZE, "AddGrpC.VehicleToLanePositionList").map(Self)
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+        uper::decode_seq_of_into(r, Self::SIZE, "AddGrpC.VehicleToLanePositionList", &mut out.0)
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
@@ -442,15 +532,21 @@ pub struct VehicleToLanePosition {
     pub extensions: uper::Extensions<0>,
 }
 
+impl uper::Placeholder for VehicleToLanePosition {
+    fn placeholder() -> Self {
+        Self { station_id: <super::common::StationID as uper::Placeholder>::placeholder(), lane_id: <super::common::LaneID as uper::Placeholder>::placeholder(), extensions: uper::Extensions::new() }
+    }
+}
+
 impl Uper for VehicleToLanePosition {
     const PATH: &'static str = "AddGrpC.VehicleToLanePosition";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(128), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let extended = r.read_bit()?;
-        let f_station_id = <super::common::StationID>::decode_uper(r)?;
-        let f_lane_id = <super::common::LaneID>::decode_uper(r)?;
-        let extensions = if extended { uper::Extensions::decode(r, "AddGrpC.VehicleToLanePosition:ext")? } else { uper::Extensions::new() };
-        Ok(Self { station_id: f_station_id, lane_id: f_lane_id, extensions })
+        <super::common::StationID>::decode_into(r, &mut out.station_id)?;
+        <super::common::LaneID>::decode_into(r, &mut out.lane_id)?;
+        out.extensions = if extended { uper::Extensions::decode(r, "AddGrpC.VehicleToLanePosition:ext")? } else { uper::Extensions::new() };
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_bit(self.extensions.is_present())?;
@@ -472,15 +568,30 @@ pub struct IntersectionStateAddGrpC {
     pub extensions: uper::Extensions<0>,
 }
 
+impl uper::Placeholder for IntersectionStateAddGrpC {
+    fn placeholder() -> Self {
+        Self { active_prioritizations: None, extensions: uper::Extensions::new() }
+    }
+}
+
 impl Uper for IntersectionStateAddGrpC {
     const PATH: &'static str = "AddGrpC.IntersectionState-addGrpC";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(709), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let extended = r.read_bit()?;
         let present = r.read_bits(1)?;
-        let f_active_prioritizations = if present & (1 << 0) != 0 { Some(<PrioritizationResponseList>::decode_uper(r)?) } else { None };
-        let extensions = if extended { uper::Extensions::decode(r, "AddGrpC.IntersectionState-addGrpC:ext")? } else { uper::Extensions::new() };
-        Ok(Self { active_prioritizations: f_active_prioritizations, extensions })
+        if present & (1 << 0) != 0 {
+            if out.active_prioritizations.is_none() {
+                uper::fill_option(&mut out.active_prioritizations);
+            }
+            if let Some(v) = &mut out.active_prioritizations {
+                <PrioritizationResponseList>::decode_into(r, v)?;
+            }
+        } else {
+            out.active_prioritizations = None;
+        }
+        out.extensions = if extended { uper::Extensions::decode(r, "AddGrpC.IntersectionState-addGrpC:ext")? } else { uper::Extensions::new() };
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_bit(self.extensions.is_present())?;
@@ -504,7 +615,13 @@ crate::__newtype_deref!(PrioritizationResponseList, uper::SeqOf<PrioritizationRe
 impl PrioritizationResponseList {
     const SIZE: uper::Size = uper::Size::range(1, 10);
     /// An empty list (valid for encoding once it holds the minimum number of items).
-    pub const fn new() -> Self {
+    pub fn new() -> Self {
+        Self(uper::SeqOf::new())
+    }
+}
+
+impl uper::Placeholder for PrioritizationResponseList {
+    fn placeholder() -> Self {
         Self(uper::SeqOf::new())
     }
 }
@@ -512,8 +629,8 @@ impl PrioritizationResponseList {
 impl Uper for PrioritizationResponseList {
     const PATH: &'static str = "AddGrpC.PrioritizationResponseList";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(620), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
-        uper::decode_seq_of(r, Self::SIZE, "AddGrpC.PrioritizationResponseList").map(Self)
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+        uper::decode_seq_of_into(r, Self::SIZE, "AddGrpC.PrioritizationResponseList", &mut out.0)
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
@@ -533,16 +650,22 @@ pub struct PrioritizationResponse {
     pub extensions: uper::Extensions<0>,
 }
 
+impl uper::Placeholder for PrioritizationResponse {
+    fn placeholder() -> Self {
+        Self { station_id: <super::common::StationID as uper::Placeholder>::placeholder(), prior_state: <super::common::PrioritizationResponseStatus as uper::Placeholder>::placeholder(), signal_group: <super::common::SignalGroupID as uper::Placeholder>::placeholder(), extensions: uper::Extensions::new() }
+    }
+}
+
 impl Uper for PrioritizationResponse {
     const PATH: &'static str = "AddGrpC.PrioritizationResponse";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(154), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let extended = r.read_bit()?;
-        let f_station_id = <super::common::StationID>::decode_uper(r)?;
-        let f_prior_state = <super::common::PrioritizationResponseStatus>::decode_uper(r)?;
-        let f_signal_group = <super::common::SignalGroupID>::decode_uper(r)?;
-        let extensions = if extended { uper::Extensions::decode(r, "AddGrpC.PrioritizationResponse:ext")? } else { uper::Extensions::new() };
-        Ok(Self { station_id: f_station_id, prior_state: f_prior_state, signal_group: f_signal_group, extensions })
+        <super::common::StationID>::decode_into(r, &mut out.station_id)?;
+        <super::common::PrioritizationResponseStatus>::decode_into(r, &mut out.prior_state)?;
+        <super::common::SignalGroupID>::decode_into(r, &mut out.signal_group)?;
+        out.extensions = if extended { uper::Extensions::decode(r, "AddGrpC.PrioritizationResponse:ext")? } else { uper::Extensions::new() };
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_bit(self.extensions.is_present())?;

@@ -19,17 +19,41 @@ pub struct BasicSafetyMessage {
     pub extensions: uper::Extensions<0>,
 }
 
+impl uper::Placeholder for BasicSafetyMessage {
+    fn placeholder() -> Self {
+        Self { core_data: <super::common::BSMcoreData as uper::Placeholder>::placeholder(), part_ii: None, regional: None, extensions: uper::Extensions::new() }
+    }
+}
+
 impl Uper for BasicSafetyMessage {
     const PATH: &'static str = "BasicSafetyMessage.BasicSafetyMessage";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(138473), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let extended = r.read_bit()?;
         let present = r.read_bits(2)?;
-        let f_core_data = <super::common::BSMcoreData>::decode_uper(r)?;
-        let f_part_ii = if present & (1 << 1) != 0 { Some(<BasicSafetyMessagePartII>::decode_uper(r)?) } else { None };
-        let f_regional = if present & (1 << 0) != 0 { Some(<BasicSafetyMessageRegional>::decode_uper(r)?) } else { None };
-        let extensions = if extended { uper::Extensions::decode(r, "BasicSafetyMessage.BasicSafetyMessage:ext")? } else { uper::Extensions::new() };
-        Ok(Self { core_data: f_core_data, part_ii: f_part_ii, regional: f_regional, extensions })
+        <super::common::BSMcoreData>::decode_into(r, &mut out.core_data)?;
+        if present & (1 << 1) != 0 {
+            if out.part_ii.is_none() {
+                uper::fill_option(&mut out.part_ii);
+            }
+            if let Some(v) = &mut out.part_ii {
+                <BasicSafetyMessagePartII>::decode_into(r, v)?;
+            }
+        } else {
+            out.part_ii = None;
+        }
+        if present & (1 << 0) != 0 {
+            if out.regional.is_none() {
+                uper::fill_option(&mut out.regional);
+            }
+            if let Some(v) = &mut out.regional {
+                <BasicSafetyMessageRegional>::decode_into(r, v)?;
+            }
+        } else {
+            out.regional = None;
+        }
+        out.extensions = if extended { uper::Extensions::decode(r, "BasicSafetyMessage.BasicSafetyMessage:ext")? } else { uper::Extensions::new() };
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_bit(self.extensions.is_present())?;
@@ -57,7 +81,13 @@ crate::__newtype_deref!(BasicSafetyMessagePartII, uper::SeqOf<PartIIcontent, 4>)
 impl BasicSafetyMessagePartII {
     const SIZE: uper::Size = uper::Size::range(1, 8);
     /// An empty list (valid for encoding once it holds the minimum number of items).
-    pub const fn new() -> Self {
+    pub fn new() -> Self {
+        Self(uper::SeqOf::new())
+    }
+}
+
+impl uper::Placeholder for BasicSafetyMessagePartII {
+    fn placeholder() -> Self {
         Self(uper::SeqOf::new())
     }
 }
@@ -65,8 +95,8 @@ impl BasicSafetyMessagePartII {
 impl Uper for BasicSafetyMessagePartII {
     const PATH: &'static str = "BasicSafetyMessage.BasicSafetyMessage.partII";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(137947), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
-        uper::decode_seq_of(r, Self::SIZE, "BasicSafetyMessage.BasicSafetyMessage.partII").map(Self)
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+        uper::decode_seq_of_into(r, Self::SIZE, "BasicSafetyMessage.BasicSafetyMessage.partII", &mut out.0)
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
@@ -91,17 +121,50 @@ pub struct SpecialVehicleExtensions {
     pub extensions: uper::Extensions<0>,
 }
 
+impl uper::Placeholder for SpecialVehicleExtensions {
+    fn placeholder() -> Self {
+        Self { vehicle_alerts: None, description: None, trailers: None, extensions: uper::Extensions::new() }
+    }
+}
+
 impl Uper for SpecialVehicleExtensions {
     const PATH: &'static str = "BasicSafetyMessage.SpecialVehicleExtensions";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(5181), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let extended = r.read_bit()?;
         let present = r.read_bits(3)?;
-        let f_vehicle_alerts = if present & (1 << 2) != 0 { Some(<super::common::EmergencyDetails>::decode_uper(r)?) } else { None };
-        let f_description = if present & (1 << 1) != 0 { Some(<EventDescription>::decode_uper(r)?) } else { None };
-        let f_trailers = if present & (1 << 0) != 0 { Some(<TrailerData>::decode_uper(r)?) } else { None };
-        let extensions = if extended { uper::Extensions::decode(r, "BasicSafetyMessage.SpecialVehicleExtensions:ext")? } else { uper::Extensions::new() };
-        Ok(Self { vehicle_alerts: f_vehicle_alerts, description: f_description, trailers: f_trailers, extensions })
+        if present & (1 << 2) != 0 {
+            if out.vehicle_alerts.is_none() {
+                uper::fill_option(&mut out.vehicle_alerts);
+            }
+            if let Some(v) = &mut out.vehicle_alerts {
+                <super::common::EmergencyDetails>::decode_into(r, v)?;
+            }
+        } else {
+            out.vehicle_alerts = None;
+        }
+        if present & (1 << 1) != 0 {
+            if out.description.is_none() {
+                uper::fill_option(&mut out.description);
+            }
+            if let Some(v) = &mut out.description {
+                <EventDescription>::decode_into(r, v)?;
+            }
+        } else {
+            out.description = None;
+        }
+        if present & (1 << 0) != 0 {
+            if out.trailers.is_none() {
+                uper::fill_option(&mut out.trailers);
+            }
+            if let Some(v) = &mut out.trailers {
+                <TrailerData>::decode_into(r, v)?;
+            }
+        } else {
+            out.trailers = None;
+        }
+        out.extensions = if extended { uper::Extensions::decode(r, "BasicSafetyMessage.SpecialVehicleExtensions:ext")? } else { uper::Extensions::new() };
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_bit(self.extensions.is_present())?;
@@ -141,20 +204,71 @@ pub struct EventDescription {
     pub extensions: uper::Extensions<0>,
 }
 
+impl uper::Placeholder for EventDescription {
+    fn placeholder() -> Self {
+        Self { type_event: <super::itis::ITIScodes as uper::Placeholder>::placeholder(), description: None, priority: None, heading: None, extent: None, regional: None, extensions: uper::Extensions::new() }
+    }
+}
+
 impl Uper for EventDescription {
     const PATH: &'static str = "BasicSafetyMessage.EventDescription";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(350), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let extended = r.read_bit()?;
         let present = r.read_bits(5)?;
-        let f_type_event = <super::itis::ITIScodes>::decode_uper(r)?;
-        let f_description = if present & (1 << 4) != 0 { Some(<EventDescriptionDescription>::decode_uper(r)?) } else { None };
-        let f_priority = if present & (1 << 3) != 0 { Some(<super::common::Priority>::decode_uper(r)?) } else { None };
-        let f_heading = if present & (1 << 2) != 0 { Some(<super::common::HeadingSlice>::decode_uper(r)?) } else { None };
-        let f_extent = if present & (1 << 1) != 0 { Some(<super::common::Extent>::decode_uper(r)?) } else { None };
-        let f_regional = if present & (1 << 0) != 0 { Some(<EventDescriptionRegional>::decode_uper(r)?) } else { None };
-        let extensions = if extended { uper::Extensions::decode(r, "BasicSafetyMessage.EventDescription:ext")? } else { uper::Extensions::new() };
-        Ok(Self { type_event: f_type_event, description: f_description, priority: f_priority, heading: f_heading, extent: f_extent, regional: f_regional, extensions })
+        <super::itis::ITIScodes>::decode_into(r, &mut out.type_event)?;
+        if present & (1 << 4) != 0 {
+            if out.description.is_none() {
+                uper::fill_option(&mut out.description);
+            }
+            if let Some(v) = &mut out.description {
+                <EventDescriptionDescription>::decode_into(r, v)?;
+            }
+        } else {
+            out.description = None;
+        }
+        if present & (1 << 3) != 0 {
+            if out.priority.is_none() {
+                uper::fill_option(&mut out.priority);
+            }
+            if let Some(v) = &mut out.priority {
+                <super::common::Priority>::decode_into(r, v)?;
+            }
+        } else {
+            out.priority = None;
+        }
+        if present & (1 << 2) != 0 {
+            if out.heading.is_none() {
+                uper::fill_option(&mut out.heading);
+            }
+            if let Some(v) = &mut out.heading {
+                <super::common::HeadingSlice>::decode_into(r, v)?;
+            }
+        } else {
+            out.heading = None;
+        }
+        if present & (1 << 1) != 0 {
+            if out.extent.is_none() {
+                uper::fill_option(&mut out.extent);
+            }
+            if let Some(v) = &mut out.extent {
+                <super::common::Extent>::decode_into(r, v)?;
+            }
+        } else {
+            out.extent = None;
+        }
+        if present & (1 << 0) != 0 {
+            if out.regional.is_none() {
+                uper::fill_option(&mut out.regional);
+            }
+            if let Some(v) = &mut out.regional {
+                <EventDescriptionRegional>::decode_into(r, v)?;
+            }
+        } else {
+            out.regional = None;
+        }
+        out.extensions = if extended { uper::Extensions::decode(r, "BasicSafetyMessage.EventDescription:ext")? } else { uper::Extensions::new() };
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_bit(self.extensions.is_present())?;
@@ -191,7 +305,13 @@ crate::__newtype_deref!(EventDescriptionDescription, uper::SeqOf<super::itis::IT
 impl EventDescriptionDescription {
     const SIZE: uper::Size = uper::Size::range(1, 8);
     /// An empty list (valid for encoding once it holds the minimum number of items).
-    pub const fn new() -> Self {
+    pub fn new() -> Self {
+        Self(uper::SeqOf::new())
+    }
+}
+
+impl uper::Placeholder for EventDescriptionDescription {
+    fn placeholder() -> Self {
         Self(uper::SeqOf::new())
     }
 }
@@ -199,8 +319,8 @@ impl EventDescriptionDescription {
 impl Uper for EventDescriptionDescription {
     const PATH: &'static str = "BasicSafetyMessage.EventDescription.description";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(67), Some(131));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
-        uper::decode_seq_of(r, Self::SIZE, "BasicSafetyMessage.EventDescription.description").map(Self)
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+        uper::decode_seq_of_into(r, Self::SIZE, "BasicSafetyMessage.EventDescription.description", &mut out.0)
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
@@ -216,7 +336,13 @@ crate::__newtype_deref!(EventDescriptionRegional, uper::SeqOf<RegEventDescriptio
 impl EventDescriptionRegional {
     const SIZE: uper::Size = uper::Size::range(1, 4);
     /// An empty list (valid for encoding once it holds the minimum number of items).
-    pub const fn new() -> Self {
+    pub fn new() -> Self {
+        Self(uper::SeqOf::new())
+    }
+}
+
+impl uper::Placeholder for EventDescriptionRegional {
+    fn placeholder() -> Self {
         Self(uper::SeqOf::new())
     }
 }
@@ -224,8 +350,8 @@ impl EventDescriptionRegional {
 impl Uper for EventDescriptionRegional {
     const PATH: &'static str = "BasicSafetyMessage.EventDescription.regional";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(146), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
-        uper::decode_seq_of(r, Self::SIZE, "BasicSafetyMessage.EventDescription.regional").map(Self)
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+        uper::decode_seq_of_into(r, Self::SIZE, "BasicSafetyMessage.EventDescription.regional", &mut out.0)
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
@@ -253,14 +379,21 @@ impl RegEventDescription {
     }
 }
 
+impl uper::Placeholder for RegEventDescription {
+    fn placeholder() -> Self {
+        Self::Unknown { id: <super::common::RegionId as uper::Placeholder>::placeholder(), content: uper::Octets::new() }
+    }
+}
+
 impl Uper for RegEventDescription {
     const PATH: &'static str = "BasicSafetyMessage.RegEventDescription";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(144), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let id = <super::common::RegionId>::decode_uper(r)?;
-        Ok(match id.get() {
-            _ => Self::Unknown { id, content: uper::decode_unknown_open(r, "BasicSafetyMessage.RegEventDescription:unknown")? },
-        })
+        match id.get() {
+            _ => *out = Self::Unknown { id, content: uper::decode_unknown_open(r, "BasicSafetyMessage.RegEventDescription:unknown")? },
+        }
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         match self {
@@ -285,16 +418,22 @@ pub struct TrailerData {
     pub extensions: uper::Extensions<0>,
 }
 
+impl uper::Placeholder for TrailerData {
+    fn placeholder() -> Self {
+        Self { not_used: <super::common::SSPindex as uper::Placeholder>::placeholder(), connection: <PivotPointDescription as uper::Placeholder>::placeholder(), units: <TrailerUnitDescriptionList as uper::Placeholder>::placeholder(), extensions: uper::Extensions::new() }
+    }
+}
+
 impl Uper for TrailerData {
     const PATH: &'static str = "BasicSafetyMessage.TrailerData";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(4503), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let extended = r.read_bit()?;
-        let f_not_used = <super::common::SSPindex>::decode_uper(r)?;
-        let f_connection = <PivotPointDescription>::decode_uper(r)?;
-        let f_units = <TrailerUnitDescriptionList>::decode_uper(r)?;
-        let extensions = if extended { uper::Extensions::decode(r, "BasicSafetyMessage.TrailerData:ext")? } else { uper::Extensions::new() };
-        Ok(Self { not_used: f_not_used, connection: f_connection, units: f_units, extensions })
+        <super::common::SSPindex>::decode_into(r, &mut out.not_used)?;
+        <PivotPointDescription>::decode_into(r, &mut out.connection)?;
+        <TrailerUnitDescriptionList>::decode_into(r, &mut out.units)?;
+        out.extensions = if extended { uper::Extensions::decode(r, "BasicSafetyMessage.TrailerData:ext")? } else { uper::Extensions::new() };
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_bit(self.extensions.is_present())?;
@@ -321,16 +460,22 @@ pub struct PivotPointDescription {
     pub extensions: uper::Extensions<0>,
 }
 
+impl uper::Placeholder for PivotPointDescription {
+    fn placeholder() -> Self {
+        Self { pivot_offset: <super::common::OffsetB11 as uper::Placeholder>::placeholder(), pivot_angle: <super::common::Angle as uper::Placeholder>::placeholder(), pivots: <PivotingAllowed as uper::Placeholder>::placeholder(), extensions: uper::Extensions::new() }
+    }
+}
+
 impl Uper for PivotPointDescription {
     const PATH: &'static str = "BasicSafetyMessage.PivotPointDescription";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(115), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let extended = r.read_bit()?;
-        let f_pivot_offset = <super::common::OffsetB11>::decode_uper(r)?;
-        let f_pivot_angle = <super::common::Angle>::decode_uper(r)?;
-        let f_pivots = <PivotingAllowed>::decode_uper(r)?;
-        let extensions = if extended { uper::Extensions::decode(r, "BasicSafetyMessage.PivotPointDescription:ext")? } else { uper::Extensions::new() };
-        Ok(Self { pivot_offset: f_pivot_offset, pivot_angle: f_pivot_angle, pivots: f_pivots, extensions })
+        <super::common::OffsetB11>::decode_into(r, &mut out.pivot_offset)?;
+        <super::common::Angle>::decode_into(r, &mut out.pivot_angle)?;
+        <PivotingAllowed>::decode_into(r, &mut out.pivots)?;
+        out.extensions = if extended { uper::Extensions::decode(r, "BasicSafetyMessage.PivotPointDescription:ext")? } else { uper::Extensions::new() };
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_bit(self.extensions.is_present())?;
@@ -356,7 +501,13 @@ crate::__newtype_deref!(TrailerUnitDescriptionList, uper::SeqOf<TrailerUnitDescr
 impl TrailerUnitDescriptionList {
     const SIZE: uper::Size = uper::Size::range(1, 8);
     /// An empty list (valid for encoding once it holds the minimum number of items).
-    pub const fn new() -> Self {
+    pub fn new() -> Self {
+        Self(uper::SeqOf::new())
+    }
+}
+
+impl uper::Placeholder for TrailerUnitDescriptionList {
+    fn placeholder() -> Self {
         Self(uper::SeqOf::new())
     }
 }
@@ -364,8 +515,8 @@ impl TrailerUnitDescriptionList {
 impl Uper for TrailerUnitDescriptionList {
     const PATH: &'static str = "BasicSafetyMessage.TrailerUnitDescriptionList";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(4295), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
-        uper::decode_seq_of(r, Self::SIZE, "BasicSafetyMessage.TrailerUnitDescriptionList").map(Self)
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+        uper::decode_seq_of_into(r, Self::SIZE, "BasicSafetyMessage.TrailerUnitDescriptionList", &mut out.0)
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
@@ -405,27 +556,105 @@ pub struct TrailerUnitDescription {
     pub extensions: uper::Extensions<0>,
 }
 
+impl uper::Placeholder for TrailerUnitDescription {
+    fn placeholder() -> Self {
+        Self { is_dolly: <IsDolly as uper::Placeholder>::placeholder(), width: <super::common::VehicleWidth as uper::Placeholder>::placeholder(), length: <super::common::VehicleLength as uper::Placeholder>::placeholder(), height: None, mass: None, bumper_heights: None, center_of_gravity: None, front_pivot: <PivotPointDescription as uper::Placeholder>::placeholder(), rear_pivot: None, rear_wheel_offset: None, position_offset: <super::common::NodeXY24b as uper::Placeholder>::placeholder(), elevation_offset: None, crumb_data: None, extensions: uper::Extensions::new() }
+    }
+}
+
 impl Uper for TrailerUnitDescription {
     const PATH: &'static str = "BasicSafetyMessage.TrailerUnitDescription";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(1073), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let extended = r.read_bit()?;
         let present = r.read_bits(8)?;
-        let f_is_dolly = <IsDolly>::decode_uper(r)?;
-        let f_width = <super::common::VehicleWidth>::decode_uper(r)?;
-        let f_length = <super::common::VehicleLength>::decode_uper(r)?;
-        let f_height = if present & (1 << 7) != 0 { Some(<super::common::VehicleHeight>::decode_uper(r)?) } else { None };
-        let f_mass = if present & (1 << 6) != 0 { Some(<TrailerMass>::decode_uper(r)?) } else { None };
-        let f_bumper_heights = if present & (1 << 5) != 0 { Some(<super::common::BumperHeights>::decode_uper(r)?) } else { None };
-        let f_center_of_gravity = if present & (1 << 4) != 0 { Some(<super::common::VehicleHeight>::decode_uper(r)?) } else { None };
-        let f_front_pivot = <PivotPointDescription>::decode_uper(r)?;
-        let f_rear_pivot = if present & (1 << 3) != 0 { Some(<PivotPointDescription>::decode_uper(r)?) } else { None };
-        let f_rear_wheel_offset = if present & (1 << 2) != 0 { Some(<super::common::OffsetB12>::decode_uper(r)?) } else { None };
-        let f_position_offset = <super::common::NodeXY24b>::decode_uper(r)?;
-        let f_elevation_offset = if present & (1 << 1) != 0 { Some(<VertOffsetB07>::decode_uper(r)?) } else { None };
-        let f_crumb_data = if present & (1 << 0) != 0 { Some(<TrailerHistoryPointList>::decode_uper(r)?) } else { None };
-        let extensions = if extended { uper::Extensions::decode(r, "BasicSafetyMessage.TrailerUnitDescription:ext")? } else { uper::Extensions::new() };
-        Ok(Self { is_dolly: f_is_dolly, width: f_width, length: f_length, height: f_height, mass: f_mass, bumper_heights: f_bumper_heights, center_of_gravity: f_center_of_gravity, front_pivot: f_front_pivot, rear_pivot: f_rear_pivot, rear_wheel_offset: f_rear_wheel_offset, position_offset: f_position_offset, elevation_offset: f_elevation_offset, crumb_data: f_crumb_data, extensions })
+        <IsDolly>::decode_into(r, &mut out.is_dolly)?;
+        <super::common::VehicleWidth>::decode_into(r, &mut out.width)?;
+        <super::common::VehicleLength>::decode_into(r, &mut out.length)?;
+        if present & (1 << 7) != 0 {
+            if out.height.is_none() {
+                uper::fill_option(&mut out.height);
+            }
+            if let Some(v) = &mut out.height {
+                <super::common::VehicleHeight>::decode_into(r, v)?;
+            }
+        } else {
+            out.height = None;
+        }
+        if present & (1 << 6) != 0 {
+            if out.mass.is_none() {
+                uper::fill_option(&mut out.mass);
+            }
+            if let Some(v) = &mut out.mass {
+                <TrailerMass>::decode_into(r, v)?;
+            }
+        } else {
+            out.mass = None;
+        }
+        if present & (1 << 5) != 0 {
+            if out.bumper_heights.is_none() {
+                uper::fill_option(&mut out.bumper_heights);
+            }
+            if let Some(v) = &mut out.bumper_heights {
+                <super::common::BumperHeights>::decode_into(r, v)?;
+            }
+        } else {
+            out.bumper_heights = None;
+        }
+        if present & (1 << 4) != 0 {
+            if out.center_of_gravity.is_none() {
+                uper::fill_option(&mut out.center_of_gravity);
+            }
+            if let Some(v) = &mut out.center_of_gravity {
+                <super::common::VehicleHeight>::decode_into(r, v)?;
+            }
+        } else {
+            out.center_of_gravity = None;
+        }
+        <PivotPointDescription>::decode_into(r, &mut out.front_pivot)?;
+        if present & (1 << 3) != 0 {
+            if out.rear_pivot.is_none() {
+                uper::fill_option(&mut out.rear_pivot);
+            }
+            if let Some(v) = &mut out.rear_pivot {
+                <PivotPointDescription>::decode_into(r, v)?;
+            }
+        } else {
+            out.rear_pivot = None;
+        }
+        if present & (1 << 2) != 0 {
+            if out.rear_wheel_offset.is_none() {
+                uper::fill_option(&mut out.rear_wheel_offset);
+            }
+            if let Some(v) = &mut out.rear_wheel_offset {
+                <super::common::OffsetB12>::decode_into(r, v)?;
+            }
+        } else {
+            out.rear_wheel_offset = None;
+        }
+        <super::common::NodeXY24b>::decode_into(r, &mut out.position_offset)?;
+        if present & (1 << 1) != 0 {
+            if out.elevation_offset.is_none() {
+                uper::fill_option(&mut out.elevation_offset);
+            }
+            if let Some(v) = &mut out.elevation_offset {
+                <VertOffsetB07>::decode_into(r, v)?;
+            }
+        } else {
+            out.elevation_offset = None;
+        }
+        if present & (1 << 0) != 0 {
+            if out.crumb_data.is_none() {
+                uper::fill_option(&mut out.crumb_data);
+            }
+            if let Some(v) = &mut out.crumb_data {
+                <TrailerHistoryPointList>::decode_into(r, v)?;
+            }
+        } else {
+            out.crumb_data = None;
+        }
+        out.extensions = if extended { uper::Extensions::decode(r, "BasicSafetyMessage.TrailerUnitDescription:ext")? } else { uper::Extensions::new() };
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_bit(self.extensions.is_present())?;
@@ -488,7 +717,13 @@ crate::__newtype_deref!(TrailerHistoryPointList, uper::SeqOf<TrailerHistoryPoint
 impl TrailerHistoryPointList {
     const SIZE: uper::Size = uper::Size::range(1, 23);
     /// An empty list (valid for encoding once it holds the minimum number of items).
-    pub const fn new() -> Self {
+    pub fn new() -> Self {
+        Self(uper::SeqOf::new())
+    }
+}
+
+impl uper::Placeholder for TrailerHistoryPointList {
+    fn placeholder() -> Self {
         Self(uper::SeqOf::new())
     }
 }
@@ -496,8 +731,8 @@ impl TrailerHistoryPointList {
 impl Uper for TrailerHistoryPointList {
     const PATH: &'static str = "BasicSafetyMessage.TrailerHistoryPointList";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(645), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
-        uper::decode_seq_of(r, Self::SIZE, "BasicSafetyMessage.TrailerHistoryPointList").map(Self)
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+        uper::decode_seq_of_into(r, Self::SIZE, "BasicSafetyMessage.TrailerHistoryPointList", &mut out.0)
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
@@ -521,19 +756,43 @@ pub struct TrailerHistoryPoint {
     pub extensions: uper::Extensions<0>,
 }
 
+impl uper::Placeholder for TrailerHistoryPoint {
+    fn placeholder() -> Self {
+        Self { pivot_angle: <super::common::Angle as uper::Placeholder>::placeholder(), time_offset: <super::common::TimeOffset as uper::Placeholder>::placeholder(), position_offset: <super::common::NodeXY24b as uper::Placeholder>::placeholder(), elevation_offset: None, heading: None, extensions: uper::Extensions::new() }
+    }
+}
+
 impl Uper for TrailerHistoryPoint {
     const PATH: &'static str = "BasicSafetyMessage.TrailerHistoryPoint";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(160), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let extended = r.read_bit()?;
         let present = r.read_bits(2)?;
-        let f_pivot_angle = <super::common::Angle>::decode_uper(r)?;
-        let f_time_offset = <super::common::TimeOffset>::decode_uper(r)?;
-        let f_position_offset = <super::common::NodeXY24b>::decode_uper(r)?;
-        let f_elevation_offset = if present & (1 << 1) != 0 { Some(<VertOffsetB07>::decode_uper(r)?) } else { None };
-        let f_heading = if present & (1 << 0) != 0 { Some(<super::common::CoarseHeading>::decode_uper(r)?) } else { None };
-        let extensions = if extended { uper::Extensions::decode(r, "BasicSafetyMessage.TrailerHistoryPoint:ext")? } else { uper::Extensions::new() };
-        Ok(Self { pivot_angle: f_pivot_angle, time_offset: f_time_offset, position_offset: f_position_offset, elevation_offset: f_elevation_offset, heading: f_heading, extensions })
+        <super::common::Angle>::decode_into(r, &mut out.pivot_angle)?;
+        <super::common::TimeOffset>::decode_into(r, &mut out.time_offset)?;
+        <super::common::NodeXY24b>::decode_into(r, &mut out.position_offset)?;
+        if present & (1 << 1) != 0 {
+            if out.elevation_offset.is_none() {
+                uper::fill_option(&mut out.elevation_offset);
+            }
+            if let Some(v) = &mut out.elevation_offset {
+                <VertOffsetB07>::decode_into(r, v)?;
+            }
+        } else {
+            out.elevation_offset = None;
+        }
+        if present & (1 << 0) != 0 {
+            if out.heading.is_none() {
+                uper::fill_option(&mut out.heading);
+            }
+            if let Some(v) = &mut out.heading {
+                <super::common::CoarseHeading>::decode_into(r, v)?;
+            }
+        } else {
+            out.heading = None;
+        }
+        out.extensions = if extended { uper::Extensions::decode(r, "BasicSafetyMessage.TrailerHistoryPoint:ext")? } else { uper::Extensions::new() };
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_bit(self.extensions.is_present())?;
@@ -581,24 +840,120 @@ pub struct SupplementalVehicleExtensions {
     pub extensions: uper::Extensions<0>,
 }
 
+impl uper::Placeholder for SupplementalVehicleExtensions {
+    fn placeholder() -> Self {
+        Self { classification: None, class_details: None, vehicle_data: None, weather_report: None, weather_probe: None, obstacle: None, status: None, speed_profile: None, the_rtcm: None, regional: None, extensions: uper::Extensions::new() }
+    }
+}
+
 impl Uper for SupplementalVehicleExtensions {
     const PATH: &'static str = "BasicSafetyMessage.SupplementalVehicleExtensions";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(34463), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let extended = r.read_bit()?;
         let present = r.read_bits(10)?;
-        let f_classification = if present & (1 << 9) != 0 { Some(<super::common::BasicVehicleClass>::decode_uper(r)?) } else { None };
-        let f_class_details = if present & (1 << 8) != 0 { Some(<super::common::VehicleClassification>::decode_uper(r)?) } else { None };
-        let f_vehicle_data = if present & (1 << 7) != 0 { Some(<VehicleData>::decode_uper(r)?) } else { None };
-        let f_weather_report = if present & (1 << 6) != 0 { Some(<WeatherReport>::decode_uper(r)?) } else { None };
-        let f_weather_probe = if present & (1 << 5) != 0 { Some(<WeatherProbe>::decode_uper(r)?) } else { None };
-        let f_obstacle = if present & (1 << 4) != 0 { Some(<ObstacleDetection>::decode_uper(r)?) } else { None };
-        let f_status = if present & (1 << 3) != 0 { Some(<DisabledVehicle>::decode_uper(r)?) } else { None };
-        let f_speed_profile = if present & (1 << 2) != 0 { Some(<SpeedProfile>::decode_uper(r)?) } else { None };
-        let f_the_rtcm = if present & (1 << 1) != 0 { Some(<RTCMPackage>::decode_uper(r)?) } else { None };
-        let f_regional = if present & (1 << 0) != 0 { Some(<SupplementalVehicleExtensionsRegional>::decode_uper(r)?) } else { None };
-        let extensions = if extended { uper::Extensions::decode(r, "BasicSafetyMessage.SupplementalVehicleExtensions:ext")? } else { uper::Extensions::new() };
-        Ok(Self { classification: f_classification, class_details: f_class_details, vehicle_data: f_vehicle_data, weather_report: f_weather_report, weather_probe: f_weather_probe, obstacle: f_obstacle, status: f_status, speed_profile: f_speed_profile, the_rtcm: f_the_rtcm, regional: f_regional, extensions })
+        if present & (1 << 9) != 0 {
+            if out.classification.is_none() {
+                uper::fill_option(&mut out.classification);
+            }
+            if let Some(v) = &mut out.classification {
+                <super::common::BasicVehicleClass>::decode_into(r, v)?;
+            }
+        } else {
+            out.classification = None;
+        }
+        if present & (1 << 8) != 0 {
+            if out.class_details.is_none() {
+                uper::fill_option(&mut out.class_details);
+            }
+            if let Some(v) = &mut out.class_details {
+                <super::common::VehicleClassification>::decode_into(r, v)?;
+            }
+        } else {
+            out.class_details = None;
+        }
+        if present & (1 << 7) != 0 {
+            if out.vehicle_data.is_none() {
+                uper::fill_option(&mut out.vehicle_data);
+            }
+            if let Some(v) = &mut out.vehicle_data {
+                <VehicleData>::decode_into(r, v)?;
+            }
+        } else {
+            out.vehicle_data = None;
+        }
+        if present & (1 << 6) != 0 {
+            if out.weather_report.is_none() {
+                uper::fill_option(&mut out.weather_report);
+            }
+            if let Some(v) = &mut out.weather_report {
+                <WeatherReport>::decode_into(r, v)?;
+            }
+        } else {
+            out.weather_report = None;
+        }
+        if present & (1 << 5) != 0 {
+            if out.weather_probe.is_none() {
+                uper::fill_option(&mut out.weather_probe);
+            }
+            if let Some(v) = &mut out.weather_probe {
+                <WeatherProbe>::decode_into(r, v)?;
+            }
+        } else {
+            out.weather_probe = None;
+        }
+        if present & (1 << 4) != 0 {
+            if out.obstacle.is_none() {
+                uper::fill_option(&mut out.obstacle);
+            }
+            if let Some(v) = &mut out.obstacle {
+                <ObstacleDetection>::decode_into(r, v)?;
+            }
+        } else {
+            out.obstacle = None;
+        }
+        if present & (1 << 3) != 0 {
+            if out.status.is_none() {
+                uper::fill_option(&mut out.status);
+            }
+            if let Some(v) = &mut out.status {
+                <DisabledVehicle>::decode_into(r, v)?;
+            }
+        } else {
+            out.status = None;
+        }
+        if present & (1 << 2) != 0 {
+            if out.speed_profile.is_none() {
+                uper::fill_option(&mut out.speed_profile);
+            }
+            if let Some(v) = &mut out.speed_profile {
+                <SpeedProfile>::decode_into(r, v)?;
+            }
+        } else {
+            out.speed_profile = None;
+        }
+        if present & (1 << 1) != 0 {
+            if out.the_rtcm.is_none() {
+                uper::fill_option(&mut out.the_rtcm);
+            }
+            if let Some(v) = &mut out.the_rtcm {
+                <RTCMPackage>::decode_into(r, v)?;
+            }
+        } else {
+            out.the_rtcm = None;
+        }
+        if present & (1 << 0) != 0 {
+            if out.regional.is_none() {
+                uper::fill_option(&mut out.regional);
+            }
+            if let Some(v) = &mut out.regional {
+                <SupplementalVehicleExtensionsRegional>::decode_into(r, v)?;
+            }
+        } else {
+            out.regional = None;
+        }
+        out.extensions = if extended { uper::Extensions::decode(r, "BasicSafetyMessage.SupplementalVehicleExtensions:ext")? } else { uper::Extensions::new() };
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_bit(self.extensions.is_present())?;
@@ -655,18 +1010,60 @@ pub struct VehicleData {
     pub extensions: uper::Extensions<0>,
 }
 
+impl uper::Placeholder for VehicleData {
+    fn placeholder() -> Self {
+        Self { height: None, bumpers: None, mass: None, trailer_weight: None, extensions: uper::Extensions::new() }
+    }
+}
+
 impl Uper for VehicleData {
     const PATH: &'static str = "BasicSafetyMessage.VehicleData";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(137), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let extended = r.read_bit()?;
         let present = r.read_bits(4)?;
-        let f_height = if present & (1 << 3) != 0 { Some(<super::common::VehicleHeight>::decode_uper(r)?) } else { None };
-        let f_bumpers = if present & (1 << 2) != 0 { Some(<super::common::BumperHeights>::decode_uper(r)?) } else { None };
-        let f_mass = if present & (1 << 1) != 0 { Some(<super::common::VehicleMass>::decode_uper(r)?) } else { None };
-        let f_trailer_weight = if present & (1 << 0) != 0 { Some(<super::common::TrailerWeight>::decode_uper(r)?) } else { None };
-        let extensions = if extended { uper::Extensions::decode(r, "BasicSafetyMessage.VehicleData:ext")? } else { uper::Extensions::new() };
-        Ok(Self { height: f_height, bumpers: f_bumpers, mass: f_mass, trailer_weight: f_trailer_weight, extensions })
+        if present & (1 << 3) != 0 {
+            if out.height.is_none() {
+                uper::fill_option(&mut out.height);
+            }
+            if let Some(v) = &mut out.height {
+                <super::common::VehicleHeight>::decode_into(r, v)?;
+            }
+        } else {
+            out.height = None;
+        }
+        if present & (1 << 2) != 0 {
+            if out.bumpers.is_none() {
+                uper::fill_option(&mut out.bumpers);
+            }
+            if let Some(v) = &mut out.bumpers {
+                <super::common::BumperHeights>::decode_into(r, v)?;
+            }
+        } else {
+            out.bumpers = None;
+        }
+        if present & (1 << 1) != 0 {
+            if out.mass.is_none() {
+                uper::fill_option(&mut out.mass);
+            }
+            if let Some(v) = &mut out.mass {
+                <super::common::VehicleMass>::decode_into(r, v)?;
+            }
+        } else {
+            out.mass = None;
+        }
+        if present & (1 << 0) != 0 {
+            if out.trailer_weight.is_none() {
+                uper::fill_option(&mut out.trailer_weight);
+            }
+            if let Some(v) = &mut out.trailer_weight {
+                <super::common::TrailerWeight>::decode_into(r, v)?;
+            }
+        } else {
+            out.trailer_weight = None;
+        }
+        out.extensions = if extended { uper::Extensions::decode(r, "BasicSafetyMessage.VehicleData:ext")? } else { uper::Extensions::new() };
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_bit(self.extensions.is_present())?;
@@ -709,20 +1106,71 @@ pub struct WeatherReport {
     pub extensions: uper::Extensions<0>,
 }
 
+impl uper::Placeholder for WeatherReport {
+    fn placeholder() -> Self {
+        Self { is_raining: <super::ntcip::EssPrecipYesNo as uper::Placeholder>::placeholder(), rain_rate: None, precip_situation: None, solar_radiation: None, friction: None, road_friction: None, extensions: uper::Extensions::new() }
+    }
+}
+
 impl Uper for WeatherReport {
     const PATH: &'static str = "BasicSafetyMessage.WeatherReport";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(144), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let extended = r.read_bit()?;
         let present = r.read_bits(5)?;
-        let f_is_raining = <super::ntcip::EssPrecipYesNo>::decode_uper(r)?;
-        let f_rain_rate = if present & (1 << 4) != 0 { Some(<super::ntcip::EssPrecipRate>::decode_uper(r)?) } else { None };
-        let f_precip_situation = if present & (1 << 3) != 0 { Some(<super::ntcip::EssPrecipSituation>::decode_uper(r)?) } else { None };
-        let f_solar_radiation = if present & (1 << 2) != 0 { Some(<super::ntcip::EssSolarRadiation>::decode_uper(r)?) } else { None };
-        let f_friction = if present & (1 << 1) != 0 { Some(<super::ntcip::EssMobileFriction>::decode_uper(r)?) } else { None };
-        let f_road_friction = if present & (1 << 0) != 0 { Some(<super::common::CoefficientOfFriction>::decode_uper(r)?) } else { None };
-        let extensions = if extended { uper::Extensions::decode(r, "BasicSafetyMessage.WeatherReport:ext")? } else { uper::Extensions::new() };
-        Ok(Self { is_raining: f_is_raining, rain_rate: f_rain_rate, precip_situation: f_precip_situation, solar_radiation: f_solar_radiation, friction: f_friction, road_friction: f_road_friction, extensions })
+        <super::ntcip::EssPrecipYesNo>::decode_into(r, &mut out.is_raining)?;
+        if present & (1 << 4) != 0 {
+            if out.rain_rate.is_none() {
+                uper::fill_option(&mut out.rain_rate);
+            }
+            if let Some(v) = &mut out.rain_rate {
+                <super::ntcip::EssPrecipRate>::decode_into(r, v)?;
+            }
+        } else {
+            out.rain_rate = None;
+        }
+        if present & (1 << 3) != 0 {
+            if out.precip_situation.is_none() {
+                uper::fill_option(&mut out.precip_situation);
+            }
+            if let Some(v) = &mut out.precip_situation {
+                <super::ntcip::EssPrecipSituation>::decode_into(r, v)?;
+            }
+        } else {
+            out.precip_situation = None;
+        }
+        if present & (1 << 2) != 0 {
+            if out.solar_radiation.is_none() {
+                uper::fill_option(&mut out.solar_radiation);
+            }
+            if let Some(v) = &mut out.solar_radiation {
+                <super::ntcip::EssSolarRadiation>::decode_into(r, v)?;
+            }
+        } else {
+            out.solar_radiation = None;
+        }
+        if present & (1 << 1) != 0 {
+            if out.friction.is_none() {
+                uper::fill_option(&mut out.friction);
+            }
+            if let Some(v) = &mut out.friction {
+                <super::ntcip::EssMobileFriction>::decode_into(r, v)?;
+            }
+        } else {
+            out.friction = None;
+        }
+        if present & (1 << 0) != 0 {
+            if out.road_friction.is_none() {
+                uper::fill_option(&mut out.road_friction);
+            }
+            if let Some(v) = &mut out.road_friction {
+                <super::common::CoefficientOfFriction>::decode_into(r, v)?;
+            }
+        } else {
+            out.road_friction = None;
+        }
+        out.extensions = if extended { uper::Extensions::decode(r, "BasicSafetyMessage.WeatherReport:ext")? } else { uper::Extensions::new() };
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_bit(self.extensions.is_present())?;
@@ -763,17 +1211,50 @@ pub struct WeatherProbe {
     pub extensions: uper::Extensions<0>,
 }
 
+impl uper::Placeholder for WeatherProbe {
+    fn placeholder() -> Self {
+        Self { air_temp: None, air_pressure: None, rain_rates: None, extensions: uper::Extensions::new() }
+    }
+}
+
 impl Uper for WeatherProbe {
     const PATH: &'static str = "BasicSafetyMessage.WeatherProbe";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(175), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let extended = r.read_bit()?;
         let present = r.read_bits(3)?;
-        let f_air_temp = if present & (1 << 2) != 0 { Some(<super::common::AmbientAirTemperature>::decode_uper(r)?) } else { None };
-        let f_air_pressure = if present & (1 << 1) != 0 { Some(<super::common::AmbientAirPressure>::decode_uper(r)?) } else { None };
-        let f_rain_rates = if present & (1 << 0) != 0 { Some(<super::common::WiperSet>::decode_uper(r)?) } else { None };
-        let extensions = if extended { uper::Extensions::decode(r, "BasicSafetyMessage.WeatherProbe:ext")? } else { uper::Extensions::new() };
-        Ok(Self { air_temp: f_air_temp, air_pressure: f_air_pressure, rain_rates: f_rain_rates, extensions })
+        if present & (1 << 2) != 0 {
+            if out.air_temp.is_none() {
+                uper::fill_option(&mut out.air_temp);
+            }
+            if let Some(v) = &mut out.air_temp {
+                <super::common::AmbientAirTemperature>::decode_into(r, v)?;
+            }
+        } else {
+            out.air_temp = None;
+        }
+        if present & (1 << 1) != 0 {
+            if out.air_pressure.is_none() {
+                uper::fill_option(&mut out.air_pressure);
+            }
+            if let Some(v) = &mut out.air_pressure {
+                <super::common::AmbientAirPressure>::decode_into(r, v)?;
+            }
+        } else {
+            out.air_pressure = None;
+        }
+        if present & (1 << 0) != 0 {
+            if out.rain_rates.is_none() {
+                uper::fill_option(&mut out.rain_rates);
+            }
+            if let Some(v) = &mut out.rain_rates {
+                <super::common::WiperSet>::decode_into(r, v)?;
+            }
+        } else {
+            out.rain_rates = None;
+        }
+        out.extensions = if extended { uper::Extensions::decode(r, "BasicSafetyMessage.WeatherProbe:ext")? } else { uper::Extensions::new() };
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_bit(self.extensions.is_present())?;
@@ -813,20 +1294,53 @@ pub struct ObstacleDetection {
     pub extensions: uper::Extensions<0>,
 }
 
+impl uper::Placeholder for ObstacleDetection {
+    fn placeholder() -> Self {
+        Self { ob_dist: <super::common::ObstacleDistance as uper::Placeholder>::placeholder(), ob_direct: <ObstacleDirection as uper::Placeholder>::placeholder(), description: None, location_details: None, date_time: <super::common::DDateTime as uper::Placeholder>::placeholder(), vert_event: None, extensions: uper::Extensions::new() }
+    }
+}
+
 impl Uper for ObstacleDetection {
     const PATH: &'static str = "BasicSafetyMessage.ObstacleDetection";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(223), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let extended = r.read_bit()?;
         let present = r.read_bits(3)?;
-        let f_ob_dist = <super::common::ObstacleDistance>::decode_uper(r)?;
-        let f_ob_direct = <ObstacleDirection>::decode_uper(r)?;
-        let f_description = if present & (1 << 2) != 0 { Some(<ObstacleDetectionDescription>::decode_uper(r)?) } else { None };
-        let f_location_details = if present & (1 << 1) != 0 { Some(<super::itis::GenericLocations>::decode_uper(r)?) } else { None };
-        let f_date_time = <super::common::DDateTime>::decode_uper(r)?;
-        let f_vert_event = if present & (1 << 0) != 0 { Some(<super::common::VerticalAccelerationThreshold>::decode_uper(r)?) } else { None };
-        let extensions = if extended { uper::Extensions::decode(r, "BasicSafetyMessage.ObstacleDetection:ext")? } else { uper::Extensions::new() };
-        Ok(Self { ob_dist: f_ob_dist, ob_direct: f_ob_direct, description: f_description, location_details: f_location_details, date_time: f_date_time, vert_event: f_vert_event, extensions })
+        <super::common::ObstacleDistance>::decode_into(r, &mut out.ob_dist)?;
+        <ObstacleDirection>::decode_into(r, &mut out.ob_direct)?;
+        if present & (1 << 2) != 0 {
+            if out.description.is_none() {
+                uper::fill_option(&mut out.description);
+            }
+            if let Some(v) = &mut out.description {
+                <ObstacleDetectionDescription>::decode_into(r, v)?;
+            }
+        } else {
+            out.description = None;
+        }
+        if present & (1 << 1) != 0 {
+            if out.location_details.is_none() {
+                uper::fill_option(&mut out.location_details);
+            }
+            if let Some(v) = &mut out.location_details {
+                <super::itis::GenericLocations>::decode_into(r, v)?;
+            }
+        } else {
+            out.location_details = None;
+        }
+        <super::common::DDateTime>::decode_into(r, &mut out.date_time)?;
+        if present & (1 << 0) != 0 {
+            if out.vert_event.is_none() {
+                uper::fill_option(&mut out.vert_event);
+            }
+            if let Some(v) = &mut out.vert_event {
+                <super::common::VerticalAccelerationThreshold>::decode_into(r, v)?;
+            }
+        } else {
+            out.vert_event = None;
+        }
+        out.extensions = if extended { uper::Extensions::decode(r, "BasicSafetyMessage.ObstacleDetection:ext")? } else { uper::Extensions::new() };
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_bit(self.extensions.is_present())?;
@@ -869,16 +1383,31 @@ pub struct DisabledVehicle {
     pub extensions: uper::Extensions<0>,
 }
 
+impl uper::Placeholder for DisabledVehicle {
+    fn placeholder() -> Self {
+        Self { status_details: <DisabledVehicleStatusDetails as uper::Placeholder>::placeholder(), location_details: None, extensions: uper::Extensions::new() }
+    }
+}
+
 impl Uper for DisabledVehicle {
     const PATH: &'static str = "BasicSafetyMessage.DisabledVehicle";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(120), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let extended = r.read_bit()?;
         let present = r.read_bits(1)?;
-        let f_status_details = <DisabledVehicleStatusDetails>::decode_uper(r)?;
-        let f_location_details = if present & (1 << 0) != 0 { Some(<super::itis::GenericLocations>::decode_uper(r)?) } else { None };
-        let extensions = if extended { uper::Extensions::decode(r, "BasicSafetyMessage.DisabledVehicle:ext")? } else { uper::Extensions::new() };
-        Ok(Self { status_details: f_status_details, location_details: f_location_details, extensions })
+        <DisabledVehicleStatusDetails>::decode_into(r, &mut out.status_details)?;
+        if present & (1 << 0) != 0 {
+            if out.location_details.is_none() {
+                uper::fill_option(&mut out.location_details);
+            }
+            if let Some(v) = &mut out.location_details {
+                <super::itis::GenericLocations>::decode_into(r, v)?;
+            }
+        } else {
+            out.location_details = None;
+        }
+        out.extensions = if extended { uper::Extensions::decode(r, "BasicSafetyMessage.DisabledVehicle:ext")? } else { uper::Extensions::new() };
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_bit(self.extensions.is_present())?;
@@ -908,14 +1437,20 @@ pub struct SpeedProfile {
     pub extensions: uper::Extensions<0>,
 }
 
+impl uper::Placeholder for SpeedProfile {
+    fn placeholder() -> Self {
+        Self { speed_reports: <SpeedProfileMeasurementList as uper::Placeholder>::placeholder(), extensions: uper::Extensions::new() }
+    }
+}
+
 impl Uper for SpeedProfile {
     const PATH: &'static str = "BasicSafetyMessage.SpeedProfile";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(113), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let extended = r.read_bit()?;
-        let f_speed_reports = <SpeedProfileMeasurementList>::decode_uper(r)?;
-        let extensions = if extended { uper::Extensions::decode(r, "BasicSafetyMessage.SpeedProfile:ext")? } else { uper::Extensions::new() };
-        Ok(Self { speed_reports: f_speed_reports, extensions })
+        <SpeedProfileMeasurementList>::decode_into(r, &mut out.speed_reports)?;
+        out.extensions = if extended { uper::Extensions::decode(r, "BasicSafetyMessage.SpeedProfile:ext")? } else { uper::Extensions::new() };
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_bit(self.extensions.is_present())?;
@@ -936,7 +1471,13 @@ crate::__newtype_deref!(SpeedProfileMeasurementList, uper::SeqOf<SpeedProfileMea
 impl SpeedProfileMeasurementList {
     const SIZE: uper::Size = uper::Size::range(1, 20);
     /// An empty list (valid for encoding once it holds the minimum number of items).
-    pub const fn new() -> Self {
+    pub fn new() -> Self {
+        Self(uper::SeqOf::new())
+    }
+}
+
+impl uper::Placeholder for SpeedProfileMeasurementList {
+    fn placeholder() -> Self {
         Self(uper::SeqOf::new())
     }
 }
@@ -944,8 +1485,8 @@ impl SpeedProfileMeasurementList {
 impl Uper for SpeedProfileMeasurementList {
     const PATH: &'static str = "BasicSafetyMessage.SpeedProfileMeasurementList";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(25), Some(105));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
-        uper::decode_seq_of(r, Self::SIZE, "BasicSafetyMessage.SpeedProfileMeasurementList").map(Self)
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+        uper::decode_seq_of_into(r, Self::SIZE, "BasicSafetyMessage.SpeedProfileMeasurementList", &mut out.0)
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
@@ -966,16 +1507,31 @@ pub struct RTCMPackage {
     pub extensions: uper::Extensions<0>,
 }
 
+impl uper::Placeholder for RTCMPackage {
+    fn placeholder() -> Self {
+        Self { rtcm_header: None, msgs: <super::common::RTCMmessageList as uper::Placeholder>::placeholder(), extensions: uper::Extensions::new() }
+    }
+}
+
 impl Uper for RTCMPackage {
     const PATH: &'static str = "BasicSafetyMessage.RTCMPackage";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(32907), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let extended = r.read_bit()?;
         let present = r.read_bits(1)?;
-        let f_rtcm_header = if present & (1 << 0) != 0 { Some(<super::common::RTCMheader>::decode_uper(r)?) } else { None };
-        let f_msgs = <super::common::RTCMmessageList>::decode_uper(r)?;
-        let extensions = if extended { uper::Extensions::decode(r, "BasicSafetyMessage.RTCMPackage:ext")? } else { uper::Extensions::new() };
-        Ok(Self { rtcm_header: f_rtcm_header, msgs: f_msgs, extensions })
+        if present & (1 << 0) != 0 {
+            if out.rtcm_header.is_none() {
+                uper::fill_option(&mut out.rtcm_header);
+            }
+            if let Some(v) = &mut out.rtcm_header {
+                <super::common::RTCMheader>::decode_into(r, v)?;
+            }
+        } else {
+            out.rtcm_header = None;
+        }
+        <super::common::RTCMmessageList>::decode_into(r, &mut out.msgs)?;
+        out.extensions = if extended { uper::Extensions::decode(r, "BasicSafetyMessage.RTCMPackage:ext")? } else { uper::Extensions::new() };
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_bit(self.extensions.is_present())?;
@@ -1000,7 +1556,13 @@ crate::__newtype_deref!(SupplementalVehicleExtensionsRegional, uper::SeqOf<RegSu
 impl SupplementalVehicleExtensionsRegional {
     const SIZE: uper::Size = uper::Size::range(1, 4);
     /// An empty list (valid for encoding once it holds the minimum number of items).
-    pub const fn new() -> Self {
+    pub fn new() -> Self {
+        Self(uper::SeqOf::new())
+    }
+}
+
+impl uper::Placeholder for SupplementalVehicleExtensionsRegional {
+    fn placeholder() -> Self {
         Self(uper::SeqOf::new())
     }
 }
@@ -1008,8 +1570,8 @@ impl SupplementalVehicleExtensionsRegional {
 impl Uper for SupplementalVehicleExtensionsRegional {
     const PATH: &'static str = "BasicSafetyMessage.SupplementalVehicleExtensions.regional";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(146), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
-        uper::decode_seq_of(r, Self::SIZE, "BasicSafetyMessage.SupplementalVehicleExtensions.regional").map(Self)
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+        uper::decode_seq_of_into(r, Self::SIZE, "BasicSafetyMessage.SupplementalVehicleExtensions.regional", &mut out.0)
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
@@ -1037,14 +1599,21 @@ impl RegSupplementalVehicleExtensions {
     }
 }
 
+impl uper::Placeholder for RegSupplementalVehicleExtensions {
+    fn placeholder() -> Self {
+        Self::Unknown { id: <super::common::RegionId as uper::Placeholder>::placeholder(), content: uper::Octets::new() }
+    }
+}
+
 impl Uper for RegSupplementalVehicleExtensions {
     const PATH: &'static str = "BasicSafetyMessage.RegSupplementalVehicleExtensions";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(144), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let id = <super::common::RegionId>::decode_uper(r)?;
-        Ok(match id.get() {
-            _ => Self::Unknown { id, content: uper::decode_unknown_open(r, "BasicSafetyMessage.RegSupplementalVehicleExtensions:unknown")? },
-        })
+        match id.get() {
+            _ => *out = Self::Unknown { id, content: uper::decode_unknown_open(r, "BasicSafetyMessage.RegSupplementalVehicleExtensions:unknown")? },
+        }
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         match self {
@@ -1086,17 +1655,45 @@ impl PartIIcontent {
     }
 }
 
+impl uper::Placeholder for PartIIcontent {
+    fn placeholder() -> Self {
+        Self::Unknown { id: <PartIIId as uper::Placeholder>::placeholder(), content: uper::Octets::new() }
+    }
+}
+
 impl Uper for PartIIcontent {
     const PATH: &'static str = "BasicSafetyMessage.PartIIcontent";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(34486), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let id = <PartIIId>::decode_uper(r)?;
-        Ok(match id.get() {
-            0 => Self::VehicleSafetyExtensions(uper::decode_open(r, <super::common::VehicleSafetyExtensions>::decode_uper)?),
-            1 => Self::SpecialVehicleExtensions(uper::decode_open(r, <SpecialVehicleExtensions>::decode_uper)?),
-            2 => Self::SupplementalVehicleExtensions(uper::decode_open(r, <SupplementalVehicleExtensions>::decode_uper)?),
-            _ => Self::Unknown { id, content: uper::decode_unknown_open(r, "BasicSafetyMessage.PartIIcontent:unknown")? },
-        })
+        match id.get() {
+            0 => {
+                if !matches!(out, Self::VehicleSafetyExtensions(_)) {
+                    uper::replace_with(out, || Self::VehicleSafetyExtensions(<super::common::VehicleSafetyExtensions as uper::Placeholder>::placeholder()));
+                }
+                if let Self::VehicleSafetyExtensions(v) = out {
+                    uper::decode_open(r, |r| <super::common::VehicleSafetyExtensions>::decode_into(r, v))?;
+                }
+            }
+            1 => {
+                if !matches!(out, Self::SpecialVehicleExtensions(_)) {
+                    uper::replace_with(out, || Self::SpecialVehicleExtensions(<SpecialVehicleExtensions as uper::Placeholder>::placeholder()));
+                }
+                if let Self::SpecialVehicleExtensions(v) = out {
+                    uper::decode_open(r, |r| <SpecialVehicleExtensions>::decode_into(r, v))?;
+                }
+            }
+            2 => {
+                if !matches!(out, Self::SupplementalVehicleExtensions(_)) {
+                    uper::replace_with(out, || Self::SupplementalVehicleExtensions(<SupplementalVehicleExtensions as uper::Placeholder>::placeholder()));
+                }
+                if let Self::SupplementalVehicleExtensions(v) = out {
+                    uper::decode_open(r, |r| <SupplementalVehicleExtensions>::decode_into(r, v))?;
+                }
+            }
+            _ => *out = Self::Unknown { id, content: uper::decode_unknown_open(r, "BasicSafetyMessage.PartIIcontent:unknown")? },
+        }
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         match self {
@@ -1129,7 +1726,13 @@ crate::__newtype_deref!(BasicSafetyMessageRegional, uper::SeqOf<RegBasicSafetyMe
 impl BasicSafetyMessageRegional {
     const SIZE: uper::Size = uper::Size::range(1, 4);
     /// An empty list (valid for encoding once it holds the minimum number of items).
-    pub const fn new() -> Self {
+    pub fn new() -> Self {
+        Self(uper::SeqOf::new())
+    }
+}
+
+impl uper::Placeholder for BasicSafetyMessageRegional {
+    fn placeholder() -> Self {
         Self(uper::SeqOf::new())
     }
 }
@@ -1137,8 +1740,8 @@ impl BasicSafetyMessageRegional {
 impl Uper for BasicSafetyMessageRegional {
     const PATH: &'static str = "BasicSafetyMessage.BasicSafetyMessage.regional";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(146), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
-        uper::decode_seq_of(r, Self::SIZE, "BasicSafetyMessage.BasicSafetyMessage.regional").map(Self)
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+        uper::decode_seq_of_into(r, Self::SIZE, "BasicSafetyMessage.BasicSafetyMessage.regional", &mut out.0)
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
@@ -1166,14 +1769,21 @@ impl RegBasicSafetyMessage {
     }
 }
 
+impl uper::Placeholder for RegBasicSafetyMessage {
+    fn placeholder() -> Self {
+        Self::Unknown { id: <super::common::RegionId as uper::Placeholder>::placeholder(), content: uper::Octets::new() }
+    }
+}
+
 impl Uper for RegBasicSafetyMessage {
     const PATH: &'static str = "BasicSafetyMessage.RegBasicSafetyMessage";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(144), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let id = <super::common::RegionId>::decode_uper(r)?;
-        Ok(match id.get() {
-            _ => Self::Unknown { id, content: uper::decode_unknown_open(r, "BasicSafetyMessage.RegBasicSafetyMessage:unknown")? },
-        })
+        match id.get() {
+            _ => *out = Self::Unknown { id, content: uper::decode_unknown_open(r, "BasicSafetyMessage.RegBasicSafetyMessage:unknown")? },
+        }
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         match self {

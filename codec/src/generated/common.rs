@@ -15,11 +15,17 @@ crate::__constrained_int!(MsgCount, u8, 0, 127, "Common.MsgCount");
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub struct TemporaryID(pub [u8; 4]);
 
+impl uper::Placeholder for TemporaryID {
+    fn placeholder() -> Self {
+        Self([0; 4])
+    }
+}
+
 impl Uper for TemporaryID {
     const PATH: &'static str = "Common.TemporaryID";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(32), Some(32));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
-        uper::decode_fixed_octets(r).map(Self)
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+        r.read_octets(&mut out.0)
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_octets(&self.0)
@@ -68,25 +74,31 @@ pub struct BSMcoreData {
     pub size: VehicleSize,
 }
 
+impl uper::Placeholder for BSMcoreData {
+    fn placeholder() -> Self {
+        Self { msg_cnt: <MsgCount as uper::Placeholder>::placeholder(), id: <TemporaryID as uper::Placeholder>::placeholder(), sec_mark: <DSecond as uper::Placeholder>::placeholder(), lat: <Latitude as uper::Placeholder>::placeholder(), long: <Longitude as uper::Placeholder>::placeholder(), elev: <Elevation as uper::Placeholder>::placeholder(), accuracy: <PositionalAccuracy as uper::Placeholder>::placeholder(), transmission: <TransmissionState as uper::Placeholder>::placeholder(), speed: <Speed as uper::Placeholder>::placeholder(), heading: <Heading as uper::Placeholder>::placeholder(), angle: <SteeringWheelAngle as uper::Placeholder>::placeholder(), accel_set: <AccelerationSet4Way as uper::Placeholder>::placeholder(), brakes: <BrakeSystemStatus as uper::Placeholder>::placeholder(), size: <VehicleSize as uper::Placeholder>::placeholder() }
+    }
+}
+
 impl Uper for BSMcoreData {
     const PATH: &'static str = "Common.BSMcoreData";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(290), Some(290));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
-        let f_msg_cnt = <MsgCount>::decode_uper(r)?;
-        let f_id = <TemporaryID>::decode_uper(r)?;
-        let f_sec_mark = <DSecond>::decode_uper(r)?;
-        let f_lat = <Latitude>::decode_uper(r)?;
-        let f_long = <Longitude>::decode_uper(r)?;
-        let f_elev = <Elevation>::decode_uper(r)?;
-        let f_accuracy = <PositionalAccuracy>::decode_uper(r)?;
-        let f_transmission = <TransmissionState>::decode_uper(r)?;
-        let f_speed = <Speed>::decode_uper(r)?;
-        let f_heading = <Heading>::decode_uper(r)?;
-        let f_angle = <SteeringWheelAngle>::decode_uper(r)?;
-        let f_accel_set = <AccelerationSet4Way>::decode_uper(r)?;
-        let f_brakes = <BrakeSystemStatus>::decode_uper(r)?;
-        let f_size = <VehicleSize>::decode_uper(r)?;
-        Ok(Self { msg_cnt: f_msg_cnt, id: f_id, sec_mark: f_sec_mark, lat: f_lat, long: f_long, elev: f_elev, accuracy: f_accuracy, transmission: f_transmission, speed: f_speed, heading: f_heading, angle: f_angle, accel_set: f_accel_set, brakes: f_brakes, size: f_size })
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+        <MsgCount>::decode_into(r, &mut out.msg_cnt)?;
+        <TemporaryID>::decode_into(r, &mut out.id)?;
+        <DSecond>::decode_into(r, &mut out.sec_mark)?;
+        <Latitude>::decode_into(r, &mut out.lat)?;
+        <Longitude>::decode_into(r, &mut out.long)?;
+        <Elevation>::decode_into(r, &mut out.elev)?;
+        <PositionalAccuracy>::decode_into(r, &mut out.accuracy)?;
+        <TransmissionState>::decode_into(r, &mut out.transmission)?;
+        <Speed>::decode_into(r, &mut out.speed)?;
+        <Heading>::decode_into(r, &mut out.heading)?;
+        <SteeringWheelAngle>::decode_into(r, &mut out.angle)?;
+        <AccelerationSet4Way>::decode_into(r, &mut out.accel_set)?;
+        <BrakeSystemStatus>::decode_into(r, &mut out.brakes)?;
+        <VehicleSize>::decode_into(r, &mut out.size)?;
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         self.msg_cnt.encode_uper(w)?;
@@ -154,14 +166,20 @@ pub struct PositionalAccuracy {
     pub orientation: SemiMajorAxisOrientation,
 }
 
+impl uper::Placeholder for PositionalAccuracy {
+    fn placeholder() -> Self {
+        Self { semi_major: <SemiMajorAxisAccuracy as uper::Placeholder>::placeholder(), semi_minor: <SemiMinorAxisAccuracy as uper::Placeholder>::placeholder(), orientation: <SemiMajorAxisOrientation as uper::Placeholder>::placeholder() }
+    }
+}
+
 impl Uper for PositionalAccuracy {
     const PATH: &'static str = "Common.PositionalAccuracy";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(32), Some(32));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
-        let f_semi_major = <SemiMajorAxisAccuracy>::decode_uper(r)?;
-        let f_semi_minor = <SemiMinorAxisAccuracy>::decode_uper(r)?;
-        let f_orientation = <SemiMajorAxisOrientation>::decode_uper(r)?;
-        Ok(Self { semi_major: f_semi_major, semi_minor: f_semi_minor, orientation: f_orientation })
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+        <SemiMajorAxisAccuracy>::decode_into(r, &mut out.semi_major)?;
+        <SemiMinorAxisAccuracy>::decode_into(r, &mut out.semi_minor)?;
+        <SemiMajorAxisOrientation>::decode_into(r, &mut out.orientation)?;
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         self.semi_major.encode_uper(w)?;
@@ -262,13 +280,20 @@ impl TransmissionState {
     }
 }
 
+impl uper::Placeholder for TransmissionState {
+    fn placeholder() -> Self {
+        Self::Neutral
+    }
+}
+
 impl Uper for TransmissionState {
     const PATH: &'static str = "Common.TransmissionState";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(3), Some(3));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let at = r.position();
         let i = r.read_constrained(0, 7)?;
-        Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))
+        *out = Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))?;
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_constrained(self.root_index(), 0, 7)
@@ -315,15 +340,21 @@ pub struct AccelerationSet4Way {
     pub yaw: YawRate,
 }
 
+impl uper::Placeholder for AccelerationSet4Way {
+    fn placeholder() -> Self {
+        Self { long: <Acceleration as uper::Placeholder>::placeholder(), lat: <Acceleration as uper::Placeholder>::placeholder(), vert: <VerticalAcceleration as uper::Placeholder>::placeholder(), yaw: <YawRate as uper::Placeholder>::placeholder() }
+    }
+}
+
 impl Uper for AccelerationSet4Way {
     const PATH: &'static str = "Common.AccelerationSet4Way";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(48), Some(48));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
-        let f_long = <Acceleration>::decode_uper(r)?;
-        let f_lat = <Acceleration>::decode_uper(r)?;
-        let f_vert = <VerticalAcceleration>::decode_uper(r)?;
-        let f_yaw = <YawRate>::decode_uper(r)?;
-        Ok(Self { long: f_long, lat: f_lat, vert: f_vert, yaw: f_yaw })
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+        <Acceleration>::decode_into(r, &mut out.long)?;
+        <Acceleration>::decode_into(r, &mut out.lat)?;
+        <VerticalAcceleration>::decode_into(r, &mut out.vert)?;
+        <YawRate>::decode_into(r, &mut out.yaw)?;
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         self.long.encode_uper(w)?;
@@ -374,17 +405,23 @@ pub struct BrakeSystemStatus {
     pub aux_brakes: AuxiliaryBrakeStatus,
 }
 
+impl uper::Placeholder for BrakeSystemStatus {
+    fn placeholder() -> Self {
+        Self { wheel_brakes: <BrakeAppliedStatus as uper::Placeholder>::placeholder(), traction: <TractionControlStatus as uper::Placeholder>::placeholder(), abs: <AntiLockBrakeStatus as uper::Placeholder>::placeholder(), scs: <StabilityControlStatus as uper::Placeholder>::placeholder(), brake_boost: <BrakeBoostApplied as uper::Placeholder>::placeholder(), aux_brakes: <AuxiliaryBrakeStatus as uper::Placeholder>::placeholder() }
+    }
+}
+
 impl Uper for BrakeSystemStatus {
     const PATH: &'static str = "Common.BrakeSystemStatus";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(15), Some(15));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
-        let f_wheel_brakes = <BrakeAppliedStatus>::decode_uper(r)?;
-        let f_traction = <TractionControlStatus>::decode_uper(r)?;
-        let f_abs = <AntiLockBrakeStatus>::decode_uper(r)?;
-        let f_scs = <StabilityControlStatus>::decode_uper(r)?;
-        let f_brake_boost = <BrakeBoostApplied>::decode_uper(r)?;
-        let f_aux_brakes = <AuxiliaryBrakeStatus>::decode_uper(r)?;
-        Ok(Self { wheel_brakes: f_wheel_brakes, traction: f_traction, abs: f_abs, scs: f_scs, brake_boost: f_brake_boost, aux_brakes: f_aux_brakes })
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+        <BrakeAppliedStatus>::decode_into(r, &mut out.wheel_brakes)?;
+        <TractionControlStatus>::decode_into(r, &mut out.traction)?;
+        <AntiLockBrakeStatus>::decode_into(r, &mut out.abs)?;
+        <StabilityControlStatus>::decode_into(r, &mut out.scs)?;
+        <BrakeBoostApplied>::decode_into(r, &mut out.brake_boost)?;
+        <AuxiliaryBrakeStatus>::decode_into(r, &mut out.aux_brakes)?;
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         self.wheel_brakes.encode_uper(w)?;
@@ -423,11 +460,18 @@ impl BrakeAppliedStatus {
     }
 }
 
+impl uper::Placeholder for BrakeAppliedStatus {
+    fn placeholder() -> Self {
+        Self(uper::Bits::EMPTY)
+    }
+}
+
 impl Uper for BrakeAppliedStatus {
     const PATH: &'static str = "Common.BrakeAppliedStatus";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(5), Some(5));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
-        uper::decode_bits(r, Self::SIZE, "Common.BrakeAppliedStatus").map(Self)
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+        out.0 = uper::decode_bits(r, Self::SIZE, "Common.BrakeAppliedStatus")?;
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_bits(w, Self::SIZE, &self.0)
@@ -478,13 +522,20 @@ impl TractionControlStatus {
     }
 }
 
+impl uper::Placeholder for TractionControlStatus {
+    fn placeholder() -> Self {
+        Self::Unavailable
+    }
+}
+
 impl Uper for TractionControlStatus {
     const PATH: &'static str = "Common.TractionControlStatus";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(2), Some(2));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let at = r.position();
         let i = r.read_constrained(0, 3)?;
-        Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))
+        *out = Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))?;
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_constrained(self.root_index(), 0, 3)
@@ -535,13 +586,20 @@ impl AntiLockBrakeStatus {
     }
 }
 
+impl uper::Placeholder for AntiLockBrakeStatus {
+    fn placeholder() -> Self {
+        Self::Unavailable
+    }
+}
+
 impl Uper for AntiLockBrakeStatus {
     const PATH: &'static str = "Common.AntiLockBrakeStatus";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(2), Some(2));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let at = r.position();
         let i = r.read_constrained(0, 3)?;
-        Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))
+        *out = Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))?;
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_constrained(self.root_index(), 0, 3)
@@ -592,13 +650,20 @@ impl StabilityControlStatus {
     }
 }
 
+impl uper::Placeholder for StabilityControlStatus {
+    fn placeholder() -> Self {
+        Self::Unavailable
+    }
+}
+
 impl Uper for StabilityControlStatus {
     const PATH: &'static str = "Common.StabilityControlStatus";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(2), Some(2));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let at = r.position();
         let i = r.read_constrained(0, 3)?;
-        Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))
+        *out = Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))?;
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_constrained(self.root_index(), 0, 3)
@@ -644,13 +709,20 @@ impl BrakeBoostApplied {
     }
 }
 
+impl uper::Placeholder for BrakeBoostApplied {
+    fn placeholder() -> Self {
+        Self::Unavailable
+    }
+}
+
 impl Uper for BrakeBoostApplied {
     const PATH: &'static str = "Common.BrakeBoostApplied";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(2), Some(2));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let at = r.position();
         let i = r.read_constrained(0, 2)?;
-        Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))
+        *out = Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))?;
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_constrained(self.root_index(), 0, 2)
@@ -701,13 +773,20 @@ impl AuxiliaryBrakeStatus {
     }
 }
 
+impl uper::Placeholder for AuxiliaryBrakeStatus {
+    fn placeholder() -> Self {
+        Self::Unavailable
+    }
+}
+
 impl Uper for AuxiliaryBrakeStatus {
     const PATH: &'static str = "Common.AuxiliaryBrakeStatus";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(2), Some(2));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let at = r.position();
         let i = r.read_constrained(0, 3)?;
-        Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))
+        *out = Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))?;
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_constrained(self.root_index(), 0, 3)
@@ -723,13 +802,19 @@ pub struct VehicleSize {
     pub length: VehicleLength,
 }
 
+impl uper::Placeholder for VehicleSize {
+    fn placeholder() -> Self {
+        Self { width: <VehicleWidth as uper::Placeholder>::placeholder(), length: <VehicleLength as uper::Placeholder>::placeholder() }
+    }
+}
+
 impl Uper for VehicleSize {
     const PATH: &'static str = "Common.VehicleSize";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(22), Some(22));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
-        let f_width = <VehicleWidth>::decode_uper(r)?;
-        let f_length = <VehicleLength>::decode_uper(r)?;
-        Ok(Self { width: f_width, length: f_length })
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+        <VehicleWidth>::decode_into(r, &mut out.width)?;
+        <VehicleLength>::decode_into(r, &mut out.length)?;
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         self.width.encode_uper(w)?;
@@ -769,17 +854,41 @@ pub struct PathHistory {
     pub extensions: uper::Extensions<0>,
 }
 
+impl uper::Placeholder for PathHistory {
+    fn placeholder() -> Self {
+        Self { initial_position: None, curr_gnss_status: None, crumb_data: <PathHistoryPointList as uper::Placeholder>::placeholder(), extensions: uper::Extensions::new() }
+    }
+}
+
 impl Uper for PathHistory {
     const PATH: &'static str = "Common.PathHistory";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(5213), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let extended = r.read_bit()?;
         let present = r.read_bits(2)?;
-        let f_initial_position = if present & (1 << 1) != 0 { Some(<FullPositionVector>::decode_uper(r)?) } else { None };
-        let f_curr_gnss_status = if present & (1 << 0) != 0 { Some(<GNSSstatus>::decode_uper(r)?) } else { None };
-        let f_crumb_data = <PathHistoryPointList>::decode_uper(r)?;
-        let extensions = if extended { uper::Extensions::decode(r, "Common.PathHistory:ext")? } else { uper::Extensions::new() };
-        Ok(Self { initial_position: f_initial_position, curr_gnss_status: f_curr_gnss_status, crumb_data: f_crumb_data, extensions })
+        if present & (1 << 1) != 0 {
+            if out.initial_position.is_none() {
+                uper::fill_option(&mut out.initial_position);
+            }
+            if let Some(v) = &mut out.initial_position {
+                <FullPositionVector>::decode_into(r, v)?;
+            }
+        } else {
+            out.initial_position = None;
+        }
+        if present & (1 << 0) != 0 {
+            if out.curr_gnss_status.is_none() {
+                uper::fill_option(&mut out.curr_gnss_status);
+            }
+            if let Some(v) = &mut out.curr_gnss_status {
+                <GNSSstatus>::decode_into(r, v)?;
+            }
+        } else {
+            out.curr_gnss_status = None;
+        }
+        <PathHistoryPointList>::decode_into(r, &mut out.crumb_data)?;
+        out.extensions = if extended { uper::Extensions::decode(r, "Common.PathHistory:ext")? } else { uper::Extensions::new() };
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_bit(self.extensions.is_present())?;
@@ -825,24 +934,102 @@ pub struct FullPositionVector {
     pub extensions: uper::Extensions<0>,
 }
 
+impl uper::Placeholder for FullPositionVector {
+    fn placeholder() -> Self {
+        Self { utc_time: None, long: <Longitude as uper::Placeholder>::placeholder(), lat: <Latitude as uper::Placeholder>::placeholder(), elevation: None, heading: None, speed: None, pos_accuracy: None, time_confidence: None, pos_confidence: None, speed_confidence: None, extensions: uper::Extensions::new() }
+    }
+}
+
 impl Uper for FullPositionVector {
     const PATH: &'static str = "Common.FullPositionVector";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(326), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let extended = r.read_bit()?;
         let present = r.read_bits(8)?;
-        let f_utc_time = if present & (1 << 7) != 0 { Some(<DDateTime>::decode_uper(r)?) } else { None };
-        let f_long = <Longitude>::decode_uper(r)?;
-        let f_lat = <Latitude>::decode_uper(r)?;
-        let f_elevation = if present & (1 << 6) != 0 { Some(<Elevation>::decode_uper(r)?) } else { None };
-        let f_heading = if present & (1 << 5) != 0 { Some(<Heading>::decode_uper(r)?) } else { None };
-        let f_speed = if present & (1 << 4) != 0 { Some(<TransmissionAndSpeed>::decode_uper(r)?) } else { None };
-        let f_pos_accuracy = if present & (1 << 3) != 0 { Some(<PositionalAccuracy>::decode_uper(r)?) } else { None };
-        let f_time_confidence = if present & (1 << 2) != 0 { Some(<TimeConfidence>::decode_uper(r)?) } else { None };
-        let f_pos_confidence = if present & (1 << 1) != 0 { Some(<PositionConfidenceSet>::decode_uper(r)?) } else { None };
-        let f_speed_confidence = if present & (1 << 0) != 0 { Some(<SpeedandHeadingandThrottleConfidence>::decode_uper(r)?) } else { None };
-        let extensions = if extended { uper::Extensions::decode(r, "Common.FullPositionVector:ext")? } else { uper::Extensions::new() };
-        Ok(Self { utc_time: f_utc_time, long: f_long, lat: f_lat, elevation: f_elevation, heading: f_heading, speed: f_speed, pos_accuracy: f_pos_accuracy, time_confidence: f_time_confidence, pos_confidence: f_pos_confidence, speed_confidence: f_speed_confidence, extensions })
+        if present & (1 << 7) != 0 {
+            if out.utc_time.is_none() {
+                uper::fill_option(&mut out.utc_time);
+            }
+            if let Some(v) = &mut out.utc_time {
+                <DDateTime>::decode_into(r, v)?;
+            }
+        } else {
+            out.utc_time = None;
+        }
+        <Longitude>::decode_into(r, &mut out.long)?;
+        <Latitude>::decode_into(r, &mut out.lat)?;
+        if present & (1 << 6) != 0 {
+            if out.elevation.is_none() {
+                uper::fill_option(&mut out.elevation);
+            }
+            if let Some(v) = &mut out.elevation {
+                <Elevation>::decode_into(r, v)?;
+            }
+        } else {
+            out.elevation = None;
+        }
+        if present & (1 << 5) != 0 {
+            if out.heading.is_none() {
+                uper::fill_option(&mut out.heading);
+            }
+            if let Some(v) = &mut out.heading {
+                <Heading>::decode_into(r, v)?;
+            }
+        } else {
+            out.heading = None;
+        }
+        if present & (1 << 4) != 0 {
+            if out.speed.is_none() {
+                uper::fill_option(&mut out.speed);
+            }
+            if let Some(v) = &mut out.speed {
+                <TransmissionAndSpeed>::decode_into(r, v)?;
+            }
+        } else {
+            out.speed = None;
+        }
+        if present & (1 << 3) != 0 {
+            if out.pos_accuracy.is_none() {
+                uper::fill_option(&mut out.pos_accuracy);
+            }
+            if let Some(v) = &mut out.pos_accuracy {
+                <PositionalAccuracy>::decode_into(r, v)?;
+            }
+        } else {
+            out.pos_accuracy = None;
+        }
+        if present & (1 << 2) != 0 {
+            if out.time_confidence.is_none() {
+                uper::fill_option(&mut out.time_confidence);
+            }
+            if let Some(v) = &mut out.time_confidence {
+                <TimeConfidence>::decode_into(r, v)?;
+            }
+        } else {
+            out.time_confidence = None;
+        }
+        if present & (1 << 1) != 0 {
+            if out.pos_confidence.is_none() {
+                uper::fill_option(&mut out.pos_confidence);
+            }
+            if let Some(v) = &mut out.pos_confidence {
+                <PositionConfidenceSet>::decode_into(r, v)?;
+            }
+        } else {
+            out.pos_confidence = None;
+        }
+        if present & (1 << 0) != 0 {
+            if out.speed_confidence.is_none() {
+                uper::fill_option(&mut out.speed_confidence);
+            }
+            if let Some(v) = &mut out.speed_confidence {
+                <SpeedandHeadingandThrottleConfidence>::decode_into(r, v)?;
+            }
+        } else {
+            out.speed_confidence = None;
+        }
+        out.extensions = if extended { uper::Extensions::decode(r, "Common.FullPositionVector:ext")? } else { uper::Extensions::new() };
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_bit(self.extensions.is_present())?;
@@ -899,19 +1086,88 @@ pub struct DDateTime {
     pub offset: Option<DOffset>,
 }
 
+impl uper::Placeholder for DDateTime {
+    fn placeholder() -> Self {
+        Self { year: None, month: None, day: None, hour: None, minute: None, second: None, offset: None }
+    }
+}
+
 impl Uper for DDateTime {
     const PATH: &'static str = "Common.DDateTime";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(66), Some(66));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let present = r.read_bits(7)?;
-        let f_year = if present & (1 << 6) != 0 { Some(<DYear>::decode_uper(r)?) } else { None };
-        let f_month = if present & (1 << 5) != 0 { Some(<DMonth>::decode_uper(r)?) } else { None };
-        let f_day = if present & (1 << 4) != 0 { Some(<DDay>::decode_uper(r)?) } else { None };
-        let f_hour = if present & (1 << 3) != 0 { Some(<DHour>::decode_uper(r)?) } else { None };
-        let f_minute = if present & (1 << 2) != 0 { Some(<DMinute>::decode_uper(r)?) } else { None };
-        let f_second = if present & (1 << 1) != 0 { Some(<DSecond>::decode_uper(r)?) } else { None };
-        let f_offset = if present & (1 << 0) != 0 { Some(<DOffset>::decode_uper(r)?) } else { None };
-        Ok(Self { year: f_year, month: f_month, day: f_day, hour: f_hour, minute: f_minute, second: f_second, offset: f_offset })
+        if present & (1 << 6) != 0 {
+            if out.year.is_none() {
+                uper::fill_option(&mut out.year);
+            }
+            if let Some(v) = &mut out.year {
+                <DYear>::decode_into(r, v)?;
+            }
+        } else {
+            out.year = None;
+        }
+        if present & (1 << 5) != 0 {
+            if out.month.is_none() {
+                uper::fill_option(&mut out.month);
+            }
+            if let Some(v) = &mut out.month {
+                <DMonth>::decode_into(r, v)?;
+            }
+        } else {
+            out.month = None;
+        }
+        if present & (1 << 4) != 0 {
+            if out.day.is_none() {
+                uper::fill_option(&mut out.day);
+            }
+            if let Some(v) = &mut out.day {
+                <DDay>::decode_into(r, v)?;
+            }
+        } else {
+            out.day = None;
+        }
+        if present & (1 << 3) != 0 {
+            if out.hour.is_none() {
+                uper::fill_option(&mut out.hour);
+            }
+            if let Some(v) = &mut out.hour {
+                <DHour>::decode_into(r, v)?;
+            }
+        } else {
+            out.hour = None;
+        }
+        if present & (1 << 2) != 0 {
+            if out.minute.is_none() {
+                uper::fill_option(&mut out.minute);
+            }
+            if let Some(v) = &mut out.minute {
+                <DMinute>::decode_into(r, v)?;
+            }
+        } else {
+            out.minute = None;
+        }
+        if present & (1 << 1) != 0 {
+            if out.second.is_none() {
+                uper::fill_option(&mut out.second);
+            }
+            if let Some(v) = &mut out.second {
+                <DSecond>::decode_into(r, v)?;
+            }
+        } else {
+            out.second = None;
+        }
+        if present & (1 << 0) != 0 {
+            if out.offset.is_none() {
+                uper::fill_option(&mut out.offset);
+            }
+            if let Some(v) = &mut out.offset {
+                <DOffset>::decode_into(r, v)?;
+            }
+        } else {
+            out.offset = None;
+        }
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_bits(((self.year.is_some() as u64) << 6) | ((self.month.is_some() as u64) << 5) | ((self.day.is_some() as u64) << 4) | ((self.hour.is_some() as u64) << 3) | ((self.minute.is_some() as u64) << 2) | ((self.second.is_some() as u64) << 1) | ((self.offset.is_some() as u64) << 0), 7)?;
@@ -983,13 +1239,19 @@ pub struct TransmissionAndSpeed {
     pub speed: Velocity,
 }
 
+impl uper::Placeholder for TransmissionAndSpeed {
+    fn placeholder() -> Self {
+        Self { transmisson: <TransmissionState as uper::Placeholder>::placeholder(), speed: <Velocity as uper::Placeholder>::placeholder() }
+    }
+}
+
 impl Uper for TransmissionAndSpeed {
     const PATH: &'static str = "Common.TransmissionAndSpeed";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(16), Some(16));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
-        let f_transmisson = <TransmissionState>::decode_uper(r)?;
-        let f_speed = <Velocity>::decode_uper(r)?;
-        Ok(Self { transmisson: f_transmisson, speed: f_speed })
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+        <TransmissionState>::decode_into(r, &mut out.transmisson)?;
+        <Velocity>::decode_into(r, &mut out.speed)?;
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         self.transmisson.encode_uper(w)?;
@@ -1231,13 +1493,20 @@ impl TimeConfidence {
     }
 }
 
+impl uper::Placeholder for TimeConfidence {
+    fn placeholder() -> Self {
+        Self::Unavailable
+    }
+}
+
 impl Uper for TimeConfidence {
     const PATH: &'static str = "Common.TimeConfidence";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(6), Some(6));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let at = r.position();
         let i = r.read_constrained(0, 39)?;
-        Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))
+        *out = Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))?;
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_constrained(self.root_index(), 0, 39)
@@ -1253,13 +1522,19 @@ pub struct PositionConfidenceSet {
     pub elevation: ElevationConfidence,
 }
 
+impl uper::Placeholder for PositionConfidenceSet {
+    fn placeholder() -> Self {
+        Self { pos: <PositionConfidence as uper::Placeholder>::placeholder(), elevation: <ElevationConfidence as uper::Placeholder>::placeholder() }
+    }
+}
+
 impl Uper for PositionConfidenceSet {
     const PATH: &'static str = "Common.PositionConfidenceSet";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(8), Some(8));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
-        let f_pos = <PositionConfidence>::decode_uper(r)?;
-        let f_elevation = <ElevationConfidence>::decode_uper(r)?;
-        Ok(Self { pos: f_pos, elevation: f_elevation })
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+        <PositionConfidence>::decode_into(r, &mut out.pos)?;
+        <ElevationConfidence>::decode_into(r, &mut out.elevation)?;
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         self.pos.encode_uper(w)?;
@@ -1372,13 +1647,20 @@ impl PositionConfidence {
     }
 }
 
+impl uper::Placeholder for PositionConfidence {
+    fn placeholder() -> Self {
+        Self::Unavailable
+    }
+}
+
 impl Uper for PositionConfidence {
     const PATH: &'static str = "Common.PositionConfidence";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(4), Some(4));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let at = r.position();
         let i = r.read_constrained(0, 15)?;
-        Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))
+        *out = Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))?;
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_constrained(self.root_index(), 0, 15)
@@ -1489,13 +1771,20 @@ impl ElevationConfidence {
     }
 }
 
+impl uper::Placeholder for ElevationConfidence {
+    fn placeholder() -> Self {
+        Self::Unavailable
+    }
+}
+
 impl Uper for ElevationConfidence {
     const PATH: &'static str = "Common.ElevationConfidence";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(4), Some(4));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let at = r.position();
         let i = r.read_constrained(0, 15)?;
-        Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))
+        *out = Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))?;
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_constrained(self.root_index(), 0, 15)
@@ -1513,14 +1802,20 @@ pub struct SpeedandHeadingandThrottleConfidence {
     pub throttle: ThrottleConfidence,
 }
 
+impl uper::Placeholder for SpeedandHeadingandThrottleConfidence {
+    fn placeholder() -> Self {
+        Self { heading: <HeadingConfidence as uper::Placeholder>::placeholder(), speed: <SpeedConfidence as uper::Placeholder>::placeholder(), throttle: <ThrottleConfidence as uper::Placeholder>::placeholder() }
+    }
+}
+
 impl Uper for SpeedandHeadingandThrottleConfidence {
     const PATH: &'static str = "Common.SpeedandHeadingandThrottleConfidence";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(8), Some(8));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
-        let f_heading = <HeadingConfidence>::decode_uper(r)?;
-        let f_speed = <SpeedConfidence>::decode_uper(r)?;
-        let f_throttle = <ThrottleConfidence>::decode_uper(r)?;
-        Ok(Self { heading: f_heading, speed: f_speed, throttle: f_throttle })
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+        <HeadingConfidence>::decode_into(r, &mut out.heading)?;
+        <SpeedConfidence>::decode_into(r, &mut out.speed)?;
+        <ThrottleConfidence>::decode_into(r, &mut out.throttle)?;
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         self.heading.encode_uper(w)?;
@@ -1594,13 +1889,20 @@ impl HeadingConfidence {
     }
 }
 
+impl uper::Placeholder for HeadingConfidence {
+    fn placeholder() -> Self {
+        Self::Unavailable
+    }
+}
+
 impl Uper for HeadingConfidence {
     const PATH: &'static str = "Common.HeadingConfidence";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(3), Some(3));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let at = r.position();
         let i = r.read_constrained(0, 7)?;
-        Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))
+        *out = Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))?;
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_constrained(self.root_index(), 0, 7)
@@ -1671,13 +1973,20 @@ impl SpeedConfidence {
     }
 }
 
+impl uper::Placeholder for SpeedConfidence {
+    fn placeholder() -> Self {
+        Self::Unavailable
+    }
+}
+
 impl Uper for SpeedConfidence {
     const PATH: &'static str = "Common.SpeedConfidence";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(3), Some(3));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let at = r.position();
         let i = r.read_constrained(0, 7)?;
-        Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))
+        *out = Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))?;
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_constrained(self.root_index(), 0, 7)
@@ -1728,13 +2037,20 @@ impl ThrottleConfidence {
     }
 }
 
+impl uper::Placeholder for ThrottleConfidence {
+    fn placeholder() -> Self {
+        Self::Unavailable
+    }
+}
+
 impl Uper for ThrottleConfidence {
     const PATH: &'static str = "Common.ThrottleConfidence";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(2), Some(2));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let at = r.position();
         let i = r.read_constrained(0, 3)?;
-        Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))
+        *out = Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))?;
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_constrained(self.root_index(), 0, 3)
@@ -1773,11 +2089,18 @@ impl GNSSstatus {
     }
 }
 
+impl uper::Placeholder for GNSSstatus {
+    fn placeholder() -> Self {
+        Self(uper::Bits::EMPTY)
+    }
+}
+
 impl Uper for GNSSstatus {
     const PATH: &'static str = "Common.GNSSstatus";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(8), Some(8));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
-        uper::decode_bits(r, Self::SIZE, "Common.GNSSstatus").map(Self)
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+        out.0 = uper::decode_bits(r, Self::SIZE, "Common.GNSSstatus")?;
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_bits(w, Self::SIZE, &self.0)
@@ -1793,7 +2116,13 @@ crate::__newtype_deref!(PathHistoryPointList, uper::SeqOf<PathHistoryPoint, 23>)
 impl PathHistoryPointList {
     const SIZE: uper::Size = uper::Size::range(1, 23);
     /// An empty list (valid for encoding once it holds the minimum number of items).
-    pub const fn new() -> Self {
+    pub fn new() -> Self {
+        Self(uper::SeqOf::new())
+    }
+}
+
+impl uper::Placeholder for PathHistoryPointList {
+    fn placeholder() -> Self {
         Self(uper::SeqOf::new())
     }
 }
@@ -1801,8 +2130,8 @@ impl PathHistoryPointList {
 impl Uper for PathHistoryPointList {
     const PATH: &'static str = "Common.PathHistoryPointList";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(4789), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
-        uper::decode_seq_of(r, Self::SIZE, "Common.PathHistoryPointList").map(Self)
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+        uper::decode_seq_of_into(r, Self::SIZE, "Common.PathHistoryPointList", &mut out.0)
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
@@ -1830,21 +2159,54 @@ pub struct PathHistoryPoint {
     pub extensions: uper::Extensions<0>,
 }
 
+impl uper::Placeholder for PathHistoryPoint {
+    fn placeholder() -> Self {
+        Self { lat_offset: <OffsetLLB18 as uper::Placeholder>::placeholder(), lon_offset: <OffsetLLB18 as uper::Placeholder>::placeholder(), elevation_offset: <VertOffsetB12 as uper::Placeholder>::placeholder(), time_offset: <TimeOffset as uper::Placeholder>::placeholder(), speed: None, pos_accuracy: None, heading: None, extensions: uper::Extensions::new() }
+    }
+}
+
 impl Uper for PathHistoryPoint {
     const PATH: &'static str = "Common.PathHistoryPoint";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(208), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let extended = r.read_bit()?;
         let present = r.read_bits(3)?;
-        let f_lat_offset = <OffsetLLB18>::decode_uper(r)?;
-        let f_lon_offset = <OffsetLLB18>::decode_uper(r)?;
-        let f_elevation_offset = <VertOffsetB12>::decode_uper(r)?;
-        let f_time_offset = <TimeOffset>::decode_uper(r)?;
-        let f_speed = if present & (1 << 2) != 0 { Some(<Speed>::decode_uper(r)?) } else { None };
-        let f_pos_accuracy = if present & (1 << 1) != 0 { Some(<PositionalAccuracy>::decode_uper(r)?) } else { None };
-        let f_heading = if present & (1 << 0) != 0 { Some(<CoarseHeading>::decode_uper(r)?) } else { None };
-        let extensions = if extended { uper::Extensions::decode(r, "Common.PathHistoryPoint:ext")? } else { uper::Extensions::new() };
-        Ok(Self { lat_offset: f_lat_offset, lon_offset: f_lon_offset, elevation_offset: f_elevation_offset, time_offset: f_time_offset, speed: f_speed, pos_accuracy: f_pos_accuracy, heading: f_heading, extensions })
+        <OffsetLLB18>::decode_into(r, &mut out.lat_offset)?;
+        <OffsetLLB18>::decode_into(r, &mut out.lon_offset)?;
+        <VertOffsetB12>::decode_into(r, &mut out.elevation_offset)?;
+        <TimeOffset>::decode_into(r, &mut out.time_offset)?;
+        if present & (1 << 2) != 0 {
+            if out.speed.is_none() {
+                uper::fill_option(&mut out.speed);
+            }
+            if let Some(v) = &mut out.speed {
+                <Speed>::decode_into(r, v)?;
+            }
+        } else {
+            out.speed = None;
+        }
+        if present & (1 << 1) != 0 {
+            if out.pos_accuracy.is_none() {
+                uper::fill_option(&mut out.pos_accuracy);
+            }
+            if let Some(v) = &mut out.pos_accuracy {
+                <PositionalAccuracy>::decode_into(r, v)?;
+            }
+        } else {
+            out.pos_accuracy = None;
+        }
+        if present & (1 << 0) != 0 {
+            if out.heading.is_none() {
+                uper::fill_option(&mut out.heading);
+            }
+            if let Some(v) = &mut out.heading {
+                <CoarseHeading>::decode_into(r, v)?;
+            }
+        } else {
+            out.heading = None;
+        }
+        out.extensions = if extended { uper::Extensions::decode(r, "Common.PathHistoryPoint:ext")? } else { uper::Extensions::new() };
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_bit(self.extensions.is_present())?;
@@ -1904,15 +2266,21 @@ pub struct PathPrediction {
     pub extensions: uper::Extensions<0>,
 }
 
+impl uper::Placeholder for PathPrediction {
+    fn placeholder() -> Self {
+        Self { radius_of_curve: <RadiusOfCurvature as uper::Placeholder>::placeholder(), confidence: <Confidence as uper::Placeholder>::placeholder(), extensions: uper::Extensions::new() }
+    }
+}
+
 impl Uper for PathPrediction {
     const PATH: &'static str = "Common.PathPrediction";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(112), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let extended = r.read_bit()?;
-        let f_radius_of_curve = <RadiusOfCurvature>::decode_uper(r)?;
-        let f_confidence = <Confidence>::decode_uper(r)?;
-        let extensions = if extended { uper::Extensions::decode(r, "Common.PathPrediction:ext")? } else { uper::Extensions::new() };
-        Ok(Self { radius_of_curve: f_radius_of_curve, confidence: f_confidence, extensions })
+        <RadiusOfCurvature>::decode_into(r, &mut out.radius_of_curve)?;
+        <Confidence>::decode_into(r, &mut out.confidence)?;
+        out.extensions = if extended { uper::Extensions::decode(r, "Common.PathPrediction:ext")? } else { uper::Extensions::new() };
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_bit(self.extensions.is_present())?;
@@ -1944,14 +2312,29 @@ pub struct IntersectionReferenceID {
     pub id: IntersectionID,
 }
 
+impl uper::Placeholder for IntersectionReferenceID {
+    fn placeholder() -> Self {
+        Self { region: None, id: <IntersectionID as uper::Placeholder>::placeholder() }
+    }
+}
+
 impl Uper for IntersectionReferenceID {
     const PATH: &'static str = "Common.IntersectionReferenceID";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(33), Some(33));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let present = r.read_bits(1)?;
-        let f_region = if present & (1 << 0) != 0 { Some(<RoadRegulatorID>::decode_uper(r)?) } else { None };
-        let f_id = <IntersectionID>::decode_uper(r)?;
-        Ok(Self { region: f_region, id: f_id })
+        if present & (1 << 0) != 0 {
+            if out.region.is_none() {
+                uper::fill_option(&mut out.region);
+            }
+            if let Some(v) = &mut out.region {
+                <RoadRegulatorID>::decode_into(r, v)?;
+            }
+        } else {
+            out.region = None;
+        }
+        <IntersectionID>::decode_into(r, &mut out.id)?;
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_bits(self.region.is_some() as u64, 1)?;
@@ -2025,11 +2408,18 @@ impl VehicleEventFlags {
     }
 }
 
+impl uper::Placeholder for VehicleEventFlags {
+    fn placeholder() -> Self {
+        Self(uper::Bits::EMPTY)
+    }
+}
+
 impl Uper for VehicleEventFlags {
     const PATH: &'static str = "Common.VehicleEventFlags";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(33), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
-        uper::decode_bits(r, Self::SIZE, "Common.VehicleEventFlags").map(Self)
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+        out.0 = uper::decode_bits(r, Self::SIZE, "Common.VehicleEventFlags")?;
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_bits(w, Self::SIZE, &self.0)
@@ -2056,18 +2446,60 @@ pub struct VehicleSafetyExtensions {
     pub extensions: uper::Extensions<0>,
 }
 
+impl uper::Placeholder for VehicleSafetyExtensions {
+    fn placeholder() -> Self {
+        Self { events: None, path_history: None, path_prediction: None, lights: None, extensions: uper::Extensions::new() }
+    }
+}
+
 impl Uper for VehicleSafetyExtensions {
     const PATH: &'static str = "Common.VehicleSafetyExtensions";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(5483), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let extended = r.read_bit()?;
         let present = r.read_bits(4)?;
-        let f_events = if present & (1 << 3) != 0 { Some(<VehicleEventFlags>::decode_uper(r)?) } else { None };
-        let f_path_history = if present & (1 << 2) != 0 { Some(<PathHistory>::decode_uper(r)?) } else { None };
-        let f_path_prediction = if present & (1 << 1) != 0 { Some(<PathPrediction>::decode_uper(r)?) } else { None };
-        let f_lights = if present & (1 << 0) != 0 { Some(<ExteriorLights>::decode_uper(r)?) } else { None };
-        let extensions = if extended { uper::Extensions::decode(r, "Common.VehicleSafetyExtensions:ext")? } else { uper::Extensions::new() };
-        Ok(Self { events: f_events, path_history: f_path_history, path_prediction: f_path_prediction, lights: f_lights, extensions })
+        if present & (1 << 3) != 0 {
+            if out.events.is_none() {
+                uper::fill_option(&mut out.events);
+            }
+            if let Some(v) = &mut out.events {
+                <VehicleEventFlags>::decode_into(r, v)?;
+            }
+        } else {
+            out.events = None;
+        }
+        if present & (1 << 2) != 0 {
+            if out.path_history.is_none() {
+                uper::fill_option(&mut out.path_history);
+            }
+            if let Some(v) = &mut out.path_history {
+                <PathHistory>::decode_into(r, v)?;
+            }
+        } else {
+            out.path_history = None;
+        }
+        if present & (1 << 1) != 0 {
+            if out.path_prediction.is_none() {
+                uper::fill_option(&mut out.path_prediction);
+            }
+            if let Some(v) = &mut out.path_prediction {
+                <PathPrediction>::decode_into(r, v)?;
+            }
+        } else {
+            out.path_prediction = None;
+        }
+        if present & (1 << 0) != 0 {
+            if out.lights.is_none() {
+                uper::fill_option(&mut out.lights);
+            }
+            if let Some(v) = &mut out.lights {
+                <ExteriorLights>::decode_into(r, v)?;
+            }
+        } else {
+            out.lights = None;
+        }
+        out.extensions = if extended { uper::Extensions::decode(r, "Common.VehicleSafetyExtensions:ext")? } else { uper::Extensions::new() };
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_bit(self.extensions.is_present())?;
@@ -2125,11 +2557,18 @@ impl ExteriorLights {
     }
 }
 
+impl uper::Placeholder for ExteriorLights {
+    fn placeholder() -> Self {
+        Self(uper::Bits::EMPTY)
+    }
+}
+
 impl Uper for ExteriorLights {
     const PATH: &'static str = "Common.ExteriorLights";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(33), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
-        uper::decode_bits(r, Self::SIZE, "Common.ExteriorLights").map(Self)
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+        out.0 = uper::decode_bits(r, Self::SIZE, "Common.ExteriorLights")?;
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_bits(w, Self::SIZE, &self.0)
@@ -2155,20 +2594,44 @@ pub struct EmergencyDetails {
     pub extensions: uper::Extensions<0>,
 }
 
+impl uper::Placeholder for EmergencyDetails {
+    fn placeholder() -> Self {
+        Self { not_used: <SSPindex as uper::Placeholder>::placeholder(), siren_use: <SirenInUse as uper::Placeholder>::placeholder(), lights_use: <LightbarInUse as uper::Placeholder>::placeholder(), multi: <MultiVehicleResponse as uper::Placeholder>::placeholder(), events: None, response_type: None, extensions: uper::Extensions::new() }
+    }
+}
+
 impl Uper for EmergencyDetails {
     const PATH: &'static str = "Common.EmergencyDetails";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(237), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let extended = r.read_bit()?;
         let present = r.read_bits(2)?;
-        let f_not_used = <SSPindex>::decode_uper(r)?;
-        let f_siren_use = <SirenInUse>::decode_uper(r)?;
-        let f_lights_use = <LightbarInUse>::decode_uper(r)?;
-        let f_multi = <MultiVehicleResponse>::decode_uper(r)?;
-        let f_events = if present & (1 << 1) != 0 { Some(<PrivilegedEvents>::decode_uper(r)?) } else { None };
-        let f_response_type = if present & (1 << 0) != 0 { Some(<ResponseType>::decode_uper(r)?) } else { None };
-        let extensions = if extended { uper::Extensions::decode(r, "Common.EmergencyDetails:ext")? } else { uper::Extensions::new() };
-        Ok(Self { not_used: f_not_used, siren_use: f_siren_use, lights_use: f_lights_use, multi: f_multi, events: f_events, response_type: f_response_type, extensions })
+        <SSPindex>::decode_into(r, &mut out.not_used)?;
+        <SirenInUse>::decode_into(r, &mut out.siren_use)?;
+        <LightbarInUse>::decode_into(r, &mut out.lights_use)?;
+        <MultiVehicleResponse>::decode_into(r, &mut out.multi)?;
+        if present & (1 << 1) != 0 {
+            if out.events.is_none() {
+                uper::fill_option(&mut out.events);
+            }
+            if let Some(v) = &mut out.events {
+                <PrivilegedEvents>::decode_into(r, v)?;
+            }
+        } else {
+            out.events = None;
+        }
+        if present & (1 << 0) != 0 {
+            if out.response_type.is_none() {
+                uper::fill_option(&mut out.response_type);
+            }
+            if let Some(v) = &mut out.response_type {
+                <ResponseType>::decode_into(r, v)?;
+            }
+        } else {
+            out.response_type = None;
+        }
+        out.extensions = if extended { uper::Extensions::decode(r, "Common.EmergencyDetails:ext")? } else { uper::Extensions::new() };
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_bit(self.extensions.is_present())?;
@@ -2239,13 +2702,20 @@ impl SirenInUse {
     }
 }
 
+impl uper::Placeholder for SirenInUse {
+    fn placeholder() -> Self {
+        Self::Unavailable
+    }
+}
+
 impl Uper for SirenInUse {
     const PATH: &'static str = "Common.SirenInUse";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(2), Some(2));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let at = r.position();
         let i = r.read_constrained(0, 3)?;
-        Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))
+        *out = Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))?;
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_constrained(self.root_index(), 0, 3)
@@ -2316,13 +2786,20 @@ impl LightbarInUse {
     }
 }
 
+impl uper::Placeholder for LightbarInUse {
+    fn placeholder() -> Self {
+        Self::Unavailable
+    }
+}
+
 impl Uper for LightbarInUse {
     const PATH: &'static str = "Common.LightbarInUse";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(3), Some(3));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let at = r.position();
         let i = r.read_constrained(0, 7)?;
-        Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))
+        *out = Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))?;
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_constrained(self.root_index(), 0, 7)
@@ -2373,13 +2850,20 @@ impl MultiVehicleResponse {
     }
 }
 
+impl uper::Placeholder for MultiVehicleResponse {
+    fn placeholder() -> Self {
+        Self::Unavailable
+    }
+}
+
 impl Uper for MultiVehicleResponse {
     const PATH: &'static str = "Common.MultiVehicleResponse";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(2), Some(2));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let at = r.position();
         let i = r.read_constrained(0, 3)?;
-        Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))
+        *out = Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))?;
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_constrained(self.root_index(), 0, 3)
@@ -2397,15 +2881,21 @@ pub struct PrivilegedEvents {
     pub extensions: uper::Extensions<0>,
 }
 
+impl uper::Placeholder for PrivilegedEvents {
+    fn placeholder() -> Self {
+        Self { not_used: <SSPindex as uper::Placeholder>::placeholder(), event: <PrivilegedEventFlags as uper::Placeholder>::placeholder(), extensions: uper::Extensions::new() }
+    }
+}
+
 impl Uper for PrivilegedEvents {
     const PATH: &'static str = "Common.PrivilegedEvents";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(109), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let extended = r.read_bit()?;
-        let f_not_used = <SSPindex>::decode_uper(r)?;
-        let f_event = <PrivilegedEventFlags>::decode_uper(r)?;
-        let extensions = if extended { uper::Extensions::decode(r, "Common.PrivilegedEvents:ext")? } else { uper::Extensions::new() };
-        Ok(Self { not_used: f_not_used, event: f_event, extensions })
+        <SSPindex>::decode_into(r, &mut out.not_used)?;
+        <PrivilegedEventFlags>::decode_into(r, &mut out.event)?;
+        out.extensions = if extended { uper::Extensions::decode(r, "Common.PrivilegedEvents:ext")? } else { uper::Extensions::new() };
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_bit(self.extensions.is_present())?;
@@ -2446,11 +2936,18 @@ impl PrivilegedEventFlags {
     }
 }
 
+impl uper::Placeholder for PrivilegedEventFlags {
+    fn placeholder() -> Self {
+        Self(uper::Bits::EMPTY)
+    }
+}
+
 impl Uper for PrivilegedEventFlags {
     const PATH: &'static str = "Common.PrivilegedEventFlags";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(16), Some(16));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
-        uper::decode_bits(r, Self::SIZE, "Common.PrivilegedEventFlags").map(Self)
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+        out.0 = uper::decode_bits(r, Self::SIZE, "Common.PrivilegedEventFlags")?;
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_bits(w, Self::SIZE, &self.0)
@@ -2521,18 +3018,26 @@ impl ResponseType {
     }
 }
 
+impl uper::Placeholder for ResponseType {
+    fn placeholder() -> Self {
+        Self::NotInUseOrNotEquipped
+    }
+}
+
 impl Uper for ResponseType {
     const PATH: &'static str = "Common.ResponseType";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(26), Some(26));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         if r.read_bit()? {
             let at = r.position();
             let i = r.read_normally_small()?;
-            return u16::try_from(i).map(Self::Extension).map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at));
+            *out = u16::try_from(i).map(Self::Extension).map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at))?;
+            return Ok(());
         }
         let at = r.position();
         let i = r.read_constrained(0, 6)?;
-        Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))
+        *out = Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))?;
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         if let Self::Extension(i) = self {
@@ -2548,11 +3053,17 @@ impl Uper for ResponseType {
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub struct Priority(pub [u8; 1]);
 
+impl uper::Placeholder for Priority {
+    fn placeholder() -> Self {
+        Self([0; 1])
+    }
+}
+
 impl Uper for Priority {
     const PATH: &'static str = "Common.Priority";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(8), Some(8));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
-        uper::decode_fixed_octets(r).map(Self)
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+        r.read_octets(&mut out.0)
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_octets(&self.0)
@@ -2607,11 +3118,18 @@ impl HeadingSlice {
     }
 }
 
+impl uper::Placeholder for HeadingSlice {
+    fn placeholder() -> Self {
+        Self(uper::Bits::EMPTY)
+    }
+}
+
 impl Uper for HeadingSlice {
     const PATH: &'static str = "Common.HeadingSlice";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(16), Some(16));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
-        uper::decode_bits(r, Self::SIZE, "Common.HeadingSlice").map(Self)
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+        out.0 = uper::decode_bits(r, Self::SIZE, "Common.HeadingSlice")?;
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_bits(w, Self::SIZE, &self.0)
@@ -2722,13 +3240,20 @@ impl Extent {
     }
 }
 
+impl uper::Placeholder for Extent {
+    fn placeholder() -> Self {
+        Self::UseInstantlyOnly
+    }
+}
+
 impl Uper for Extent {
     const PATH: &'static str = "Common.Extent";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(4), Some(4));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let at = r.position();
         let i = r.read_constrained(0, 15)?;
-        Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))
+        *out = Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))?;
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_constrained(self.root_index(), 0, 15)
@@ -2763,13 +3288,19 @@ pub struct BumperHeights {
     pub rear: BumperHeight,
 }
 
+impl uper::Placeholder for BumperHeights {
+    fn placeholder() -> Self {
+        Self { front: <BumperHeight as uper::Placeholder>::placeholder(), rear: <BumperHeight as uper::Placeholder>::placeholder() }
+    }
+}
+
 impl Uper for BumperHeights {
     const PATH: &'static str = "Common.BumperHeights";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(14), Some(14));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
-        let f_front = <BumperHeight>::decode_uper(r)?;
-        let f_rear = <BumperHeight>::decode_uper(r)?;
-        Ok(Self { front: f_front, rear: f_rear })
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+        <BumperHeight>::decode_into(r, &mut out.front)?;
+        <BumperHeight>::decode_into(r, &mut out.rear)?;
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         self.front.encode_uper(w)?;
@@ -2797,13 +3328,19 @@ pub struct NodeXY24b {
     pub y: OffsetB12,
 }
 
+impl uper::Placeholder for NodeXY24b {
+    fn placeholder() -> Self {
+        Self { x: <OffsetB12 as uper::Placeholder>::placeholder(), y: <OffsetB12 as uper::Placeholder>::placeholder() }
+    }
+}
+
 impl Uper for NodeXY24b {
     const PATH: &'static str = "Common.Node-XY-24b";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(24), Some(24));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
-        let f_x = <OffsetB12>::decode_uper(r)?;
-        let f_y = <OffsetB12>::decode_uper(r)?;
-        Ok(Self { x: f_x, y: f_y })
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+        <OffsetB12>::decode_into(r, &mut out.x)?;
+        <OffsetB12>::decode_into(r, &mut out.y)?;
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         self.x.encode_uper(w)?;
@@ -2842,23 +3379,110 @@ pub struct VehicleClassification {
     pub extensions: uper::Extensions<0>,
 }
 
+impl uper::Placeholder for VehicleClassification {
+    fn placeholder() -> Self {
+        Self { key_type: None, role: None, iso3883: None, hpms_type: None, vehicle_type: None, response_equip: None, responder_type: None, fuel_type: None, regional: None, extensions: uper::Extensions::new() }
+    }
+}
+
 impl Uper for VehicleClassification {
     const PATH: &'static str = "Common.VehicleClassification";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(392), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let extended = r.read_bit()?;
         let present = r.read_bits(9)?;
-        let f_key_type = if present & (1 << 8) != 0 { Some(<BasicVehicleClass>::decode_uper(r)?) } else { None };
-        let f_role = if present & (1 << 7) != 0 { Some(<BasicVehicleRole>::decode_uper(r)?) } else { None };
-        let f_iso3883 = if present & (1 << 6) != 0 { Some(<Iso3833VehicleType>::decode_uper(r)?) } else { None };
-        let f_hpms_type = if present & (1 << 5) != 0 { Some(<VehicleType>::decode_uper(r)?) } else { None };
-        let f_vehicle_type = if present & (1 << 4) != 0 { Some(<super::itis::VehicleGroupAffected>::decode_uper(r)?) } else { None };
-        let f_response_equip = if present & (1 << 3) != 0 { Some(<super::itis::IncidentResponseEquipment>::decode_uper(r)?) } else { None };
-        let f_responder_type = if present & (1 << 2) != 0 { Some(<super::itis::ResponderGroupAffected>::decode_uper(r)?) } else { None };
-        let f_fuel_type = if present & (1 << 1) != 0 { Some(<FuelType>::decode_uper(r)?) } else { None };
-        let f_regional = if present & (1 << 0) != 0 { Some(<VehicleClassificationRegional>::decode_uper(r)?) } else { None };
-        let extensions = if extended { uper::Extensions::decode(r, "Common.VehicleClassification:ext")? } else { uper::Extensions::new() };
-        Ok(Self { key_type: f_key_type, role: f_role, iso3883: f_iso3883, hpms_type: f_hpms_type, vehicle_type: f_vehicle_type, response_equip: f_response_equip, responder_type: f_responder_type, fuel_type: f_fuel_type, regional: f_regional, extensions })
+        if present & (1 << 8) != 0 {
+            if out.key_type.is_none() {
+                uper::fill_option(&mut out.key_type);
+            }
+            if let Some(v) = &mut out.key_type {
+                <BasicVehicleClass>::decode_into(r, v)?;
+            }
+        } else {
+            out.key_type = None;
+        }
+        if present & (1 << 7) != 0 {
+            if out.role.is_none() {
+                uper::fill_option(&mut out.role);
+            }
+            if let Some(v) = &mut out.role {
+                <BasicVehicleRole>::decode_into(r, v)?;
+            }
+        } else {
+            out.role = None;
+        }
+        if present & (1 << 6) != 0 {
+            if out.iso3883.is_none() {
+                uper::fill_option(&mut out.iso3883);
+            }
+            if let Some(v) = &mut out.iso3883 {
+                <Iso3833VehicleType>::decode_into(r, v)?;
+            }
+        } else {
+            out.iso3883 = None;
+        }
+        if present & (1 << 5) != 0 {
+            if out.hpms_type.is_none() {
+                uper::fill_option(&mut out.hpms_type);
+            }
+            if let Some(v) = &mut out.hpms_type {
+                <VehicleType>::decode_into(r, v)?;
+            }
+        } else {
+            out.hpms_type = None;
+        }
+        if present & (1 << 4) != 0 {
+            if out.vehicle_type.is_none() {
+                uper::fill_option(&mut out.vehicle_type);
+            }
+            if let Some(v) = &mut out.vehicle_type {
+                <super::itis::VehicleGroupAffected>::decode_into(r, v)?;
+            }
+        } else {
+            out.vehicle_type = None;
+        }
+        if present & (1 << 3) != 0 {
+            if out.response_equip.is_none() {
+                uper::fill_option(&mut out.response_equip);
+            }
+            if let Some(v) = &mut out.response_equip {
+                <super::itis::IncidentResponseEquipment>::decode_into(r, v)?;
+            }
+        } else {
+            out.response_equip = None;
+        }
+        if present & (1 << 2) != 0 {
+            if out.responder_type.is_none() {
+                uper::fill_option(&mut out.responder_type);
+            }
+            if let Some(v) = &mut out.responder_type {
+                <super::itis::ResponderGroupAffected>::decode_into(r, v)?;
+            }
+        } else {
+            out.responder_type = None;
+        }
+        if present & (1 << 1) != 0 {
+            if out.fuel_type.is_none() {
+                uper::fill_option(&mut out.fuel_type);
+            }
+            if let Some(v) = &mut out.fuel_type {
+                <FuelType>::decode_into(r, v)?;
+            }
+        } else {
+            out.fuel_type = None;
+        }
+        if present & (1 << 0) != 0 {
+            if out.regional.is_none() {
+                uper::fill_option(&mut out.regional);
+            }
+            if let Some(v) = &mut out.regional {
+                <VehicleClassificationRegional>::decode_into(r, v)?;
+            }
+        } else {
+            out.regional = None;
+        }
+        out.extensions = if extended { uper::Extensions::decode(r, "Common.VehicleClassification:ext")? } else { uper::Extensions::new() };
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_bit(self.extensions.is_present())?;
@@ -3041,18 +3665,26 @@ impl BasicVehicleRole {
     }
 }
 
+impl uper::Placeholder for BasicVehicleRole {
+    fn placeholder() -> Self {
+        Self::BasicVehicle
+    }
+}
+
 impl Uper for BasicVehicleRole {
     const PATH: &'static str = "Common.BasicVehicleRole";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(26), Some(26));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         if r.read_bit()? {
             let at = r.position();
             let i = r.read_normally_small()?;
-            return u16::try_from(i).map(Self::Extension).map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at));
+            *out = u16::try_from(i).map(Self::Extension).map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at))?;
+            return Ok(());
         }
         let at = r.position();
         let i = r.read_constrained(0, 22)?;
-        Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))
+        *out = Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))?;
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         if let Self::Extension(i) = self {
@@ -3178,18 +3810,26 @@ impl VehicleType {
     }
 }
 
+impl uper::Placeholder for VehicleType {
+    fn placeholder() -> Self {
+        Self::None
+    }
+}
+
 impl Uper for VehicleType {
     const PATH: &'static str = "Common.VehicleType";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(26), Some(26));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         if r.read_bit()? {
             let at = r.position();
             let i = r.read_normally_small()?;
-            return u16::try_from(i).map(Self::Extension).map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at));
+            *out = u16::try_from(i).map(Self::Extension).map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at))?;
+            return Ok(());
         }
         let at = r.position();
         let i = r.read_constrained(0, 15)?;
-        Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))
+        *out = Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))?;
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         if let Self::Extension(i) = self {
@@ -3215,7 +3855,13 @@ crate::__newtype_deref!(VehicleClassificationRegional, uper::SeqOf<RegVehicleCla
 impl VehicleClassificationRegional {
     const SIZE: uper::Size = uper::Size::range(1, 4);
     /// An empty list (valid for encoding once it holds the minimum number of items).
-    pub const fn new() -> Self {
+    pub fn new() -> Self {
+        Self(uper::SeqOf::new())
+    }
+}
+
+impl uper::Placeholder for VehicleClassificationRegional {
+    fn placeholder() -> Self {
         Self(uper::SeqOf::new())
     }
 }
@@ -3223,8 +3869,8 @@ impl VehicleClassificationRegional {
 impl Uper for VehicleClassificationRegional {
     const PATH: &'static str = "Common.VehicleClassification.regional";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(146), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
-        uper::decode_seq_of(r, Self::SIZE, "Common.VehicleClassification.regional").map(Self)
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+        uper::decode_seq_of_into(r, Self::SIZE, "Common.VehicleClassification.regional", &mut out.0)
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
@@ -3252,14 +3898,21 @@ impl RegVehicleClassification {
     }
 }
 
+impl uper::Placeholder for RegVehicleClassification {
+    fn placeholder() -> Self {
+        Self::Unknown { id: <RegionId as uper::Placeholder>::placeholder(), content: uper::Octets::new() }
+    }
+}
+
 impl Uper for RegVehicleClassification {
     const PATH: &'static str = "Common.RegVehicleClassification";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(144), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let id = <RegionId>::decode_uper(r)?;
-        Ok(match id.get() {
-            _ => Self::Unknown { id, content: uper::decode_unknown_open(r, "Common.RegVehicleClassification:unknown")? },
-        })
+        match id.get() {
+            _ => *out = Self::Unknown { id, content: uper::decode_unknown_open(r, "Common.RegVehicleClassification:unknown")? },
+        }
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         match self {
@@ -3309,16 +3962,40 @@ pub struct WiperSet {
     pub rate_rear: Option<WiperRate>,
 }
 
+impl uper::Placeholder for WiperSet {
+    fn placeholder() -> Self {
+        Self { status_front: <WiperStatus as uper::Placeholder>::placeholder(), rate_front: <WiperRate as uper::Placeholder>::placeholder(), status_rear: None, rate_rear: None }
+    }
+}
+
 impl Uper for WiperSet {
     const PATH: &'static str = "Common.WiperSet";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(68), Some(68));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let present = r.read_bits(2)?;
-        let f_status_front = <WiperStatus>::decode_uper(r)?;
-        let f_rate_front = <WiperRate>::decode_uper(r)?;
-        let f_status_rear = if present & (1 << 1) != 0 { Some(<WiperStatus>::decode_uper(r)?) } else { None };
-        let f_rate_rear = if present & (1 << 0) != 0 { Some(<WiperRate>::decode_uper(r)?) } else { None };
-        Ok(Self { status_front: f_status_front, rate_front: f_rate_front, status_rear: f_status_rear, rate_rear: f_rate_rear })
+        <WiperStatus>::decode_into(r, &mut out.status_front)?;
+        <WiperRate>::decode_into(r, &mut out.rate_front)?;
+        if present & (1 << 1) != 0 {
+            if out.status_rear.is_none() {
+                uper::fill_option(&mut out.status_rear);
+            }
+            if let Some(v) = &mut out.status_rear {
+                <WiperStatus>::decode_into(r, v)?;
+            }
+        } else {
+            out.status_rear = None;
+        }
+        if present & (1 << 0) != 0 {
+            if out.rate_rear.is_none() {
+                uper::fill_option(&mut out.rate_rear);
+            }
+            if let Some(v) = &mut out.rate_rear {
+                <WiperRate>::decode_into(r, v)?;
+            }
+        } else {
+            out.rate_rear = None;
+        }
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_bits(((self.status_rear.is_some() as u64) << 1) | ((self.rate_rear.is_some() as u64) << 0), 2)?;
@@ -3398,18 +4075,26 @@ impl WiperStatus {
     }
 }
 
+impl uper::Placeholder for WiperStatus {
+    fn placeholder() -> Self {
+        Self::Unavailable
+    }
+}
+
 impl Uper for WiperStatus {
     const PATH: &'static str = "Common.WiperStatus";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(26), Some(26));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         if r.read_bit()? {
             let at = r.position();
             let i = r.read_normally_small()?;
-            return u16::try_from(i).map(Self::Extension).map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at));
+            *out = u16::try_from(i).map(Self::Extension).map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at))?;
+            return Ok(());
         }
         let at = r.position();
         let i = r.read_constrained(0, 6)?;
-        Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))
+        *out = Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))?;
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         if let Self::Extension(i) = self {
@@ -3457,11 +4142,18 @@ impl VerticalAccelerationThreshold {
     }
 }
 
+impl uper::Placeholder for VerticalAccelerationThreshold {
+    fn placeholder() -> Self {
+        Self(uper::Bits::EMPTY)
+    }
+}
+
 impl Uper for VerticalAccelerationThreshold {
     const PATH: &'static str = "Common.VerticalAccelerationThreshold";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(5), Some(5));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
-        uper::decode_bits(r, Self::SIZE, "Common.VerticalAccelerationThreshold").map(Self)
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+        out.0 = uper::decode_bits(r, Self::SIZE, "Common.VerticalAccelerationThreshold")?;
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_bits(w, Self::SIZE, &self.0)
@@ -3482,13 +4174,19 @@ pub struct RTCMheader {
     pub offset_set: AntennaOffsetSet,
 }
 
+impl uper::Placeholder for RTCMheader {
+    fn placeholder() -> Self {
+        Self { status: <GNSSstatus as uper::Placeholder>::placeholder(), offset_set: <AntennaOffsetSet as uper::Placeholder>::placeholder() }
+    }
+}
+
 impl Uper for RTCMheader {
     const PATH: &'static str = "Common.RTCMheader";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(39), Some(39));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
-        let f_status = <GNSSstatus>::decode_uper(r)?;
-        let f_offset_set = <AntennaOffsetSet>::decode_uper(r)?;
-        Ok(Self { status: f_status, offset_set: f_offset_set })
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+        <GNSSstatus>::decode_into(r, &mut out.status)?;
+        <AntennaOffsetSet>::decode_into(r, &mut out.offset_set)?;
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         self.status.encode_uper(w)?;
@@ -3508,14 +4206,20 @@ pub struct AntennaOffsetSet {
     pub ant_offset_z: OffsetB10,
 }
 
+impl uper::Placeholder for AntennaOffsetSet {
+    fn placeholder() -> Self {
+        Self { ant_offset_x: <OffsetB12 as uper::Placeholder>::placeholder(), ant_offset_y: <OffsetB09 as uper::Placeholder>::placeholder(), ant_offset_z: <OffsetB10 as uper::Placeholder>::placeholder() }
+    }
+}
+
 impl Uper for AntennaOffsetSet {
     const PATH: &'static str = "Common.AntennaOffsetSet";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(31), Some(31));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
-        let f_ant_offset_x = <OffsetB12>::decode_uper(r)?;
-        let f_ant_offset_y = <OffsetB09>::decode_uper(r)?;
-        let f_ant_offset_z = <OffsetB10>::decode_uper(r)?;
-        Ok(Self { ant_offset_x: f_ant_offset_x, ant_offset_y: f_ant_offset_y, ant_offset_z: f_ant_offset_z })
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+        <OffsetB12>::decode_into(r, &mut out.ant_offset_x)?;
+        <OffsetB09>::decode_into(r, &mut out.ant_offset_y)?;
+        <OffsetB10>::decode_into(r, &mut out.ant_offset_z)?;
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         self.ant_offset_x.encode_uper(w)?;
@@ -3544,7 +4248,13 @@ crate::__newtype_deref!(RTCMmessageList, uper::SeqOf<RTCMmessage, 4>);
 impl RTCMmessageList {
     const SIZE: uper::Size = uper::Size::range(1, 5);
     /// An empty list (valid for encoding once it holds the minimum number of items).
-    pub const fn new() -> Self {
+    pub fn new() -> Self {
+        Self(uper::SeqOf::new())
+    }
+}
+
+impl uper::Placeholder for RTCMmessageList {
+    fn placeholder() -> Self {
         Self(uper::SeqOf::new())
     }
 }
@@ -3552,8 +4262,8 @@ impl RTCMmessageList {
 impl Uper for RTCMmessageList {
     const PATH: &'static str = "Common.RTCMmessageList";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(32779), Some(40973));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
-        uper::decode_seq_of(r, Self::SIZE, "Common.RTCMmessageList").map(Self)
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+        uper::decode_seq_of_into(r, Self::SIZE, "Common.RTCMmessageList", &mut out.0)
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
@@ -3577,11 +4287,17 @@ impl RTCMmessage {
     }
 }
 
+impl uper::Placeholder for RTCMmessage {
+    fn placeholder() -> Self {
+        Self(uper::Octets::new())
+    }
+}
+
 impl Uper for RTCMmessage {
     const PATH: &'static str = "Common.RTCMmessage";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(8194), Some(8194));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
-        uper::decode_octets(r, Self::SIZE, "Common.RTCMmessage").map(Self)
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+        uper::decode_octets_into(r, Self::SIZE, "Common.RTCMmessage", &mut out.0)
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_octets(w, Self::SIZE, &self.0)
@@ -3606,11 +4322,18 @@ impl DescriptiveName {
     }
 }
 
+impl uper::Placeholder for DescriptiveName {
+    fn placeholder() -> Self {
+        Self(uper::Ia5::new())
+    }
+}
+
 impl Uper for DescriptiveName {
     const PATH: &'static str = "Common.DescriptiveName";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(447), Some(447));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
-        uper::decode_ia5(r, Self::SIZE, "Common.DescriptiveName").map(Self)
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+        out.0 = uper::decode_ia5(r, Self::SIZE, "Common.DescriptiveName")?;
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_ia5(w, Self::SIZE, &self.0)
@@ -3632,18 +4355,42 @@ pub struct Position3D {
     pub extensions: uper::Extensions<0>,
 }
 
+impl uper::Placeholder for Position3D {
+    fn placeholder() -> Self {
+        Self { lat: <Latitude as uper::Placeholder>::placeholder(), long: <Longitude as uper::Placeholder>::placeholder(), elevation: None, regional: None, extensions: uper::Extensions::new() }
+    }
+}
+
 impl Uper for Position3D {
     const PATH: &'static str = "Common.Position3D";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(347), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let extended = r.read_bit()?;
         let present = r.read_bits(2)?;
-        let f_lat = <Latitude>::decode_uper(r)?;
-        let f_long = <Longitude>::decode_uper(r)?;
-        let f_elevation = if present & (1 << 1) != 0 { Some(<Elevation>::decode_uper(r)?) } else { None };
-        let f_regional = if present & (1 << 0) != 0 { Some(<Position3DRegional>::decode_uper(r)?) } else { None };
-        let extensions = if extended { uper::Extensions::decode(r, "Common.Position3D:ext")? } else { uper::Extensions::new() };
-        Ok(Self { lat: f_lat, long: f_long, elevation: f_elevation, regional: f_regional, extensions })
+        <Latitude>::decode_into(r, &mut out.lat)?;
+        <Longitude>::decode_into(r, &mut out.long)?;
+        if present & (1 << 1) != 0 {
+            if out.elevation.is_none() {
+                uper::fill_option(&mut out.elevation);
+            }
+            if let Some(v) = &mut out.elevation {
+                <Elevation>::decode_into(r, v)?;
+            }
+        } else {
+            out.elevation = None;
+        }
+        if present & (1 << 0) != 0 {
+            if out.regional.is_none() {
+                uper::fill_option(&mut out.regional);
+            }
+            if let Some(v) = &mut out.regional {
+                <Position3DRegional>::decode_into(r, v)?;
+            }
+        } else {
+            out.regional = None;
+        }
+        out.extensions = if extended { uper::Extensions::decode(r, "Common.Position3D:ext")? } else { uper::Extensions::new() };
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_bit(self.extensions.is_present())?;
@@ -3672,7 +4419,13 @@ crate::__newtype_deref!(Position3DRegional, uper::SeqOf<RegPosition3D, 1>);
 impl Position3DRegional {
     const SIZE: uper::Size = uper::Size::range(1, 4);
     /// An empty list (valid for encoding once it holds the minimum number of items).
-    pub const fn new() -> Self {
+    pub fn new() -> Self {
+        Self(uper::SeqOf::new())
+    }
+}
+
+impl uper::Placeholder for Position3DRegional {
+    fn placeholder() -> Self {
         Self(uper::SeqOf::new())
     }
 }
@@ -3680,8 +4433,8 @@ impl Position3DRegional {
 impl Uper for Position3DRegional {
     const PATH: &'static str = "Common.Position3D.regional";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(178), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
-        uper::decode_seq_of(r, Self::SIZE, "Common.Position3D.regional").map(Self)
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+        uper::decode_seq_of_into(r, Self::SIZE, "Common.Position3D.regional", &mut out.0)
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
@@ -3715,16 +4468,37 @@ impl RegPosition3D {
     }
 }
 
+impl uper::Placeholder for RegPosition3D {
+    fn placeholder() -> Self {
+        Self::Unknown { id: <RegionId as uper::Placeholder>::placeholder(), content: uper::Octets::new() }
+    }
+}
+
 impl Uper for RegPosition3D {
     const PATH: &'static str = "Common.RegPosition3D";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(176), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let id = <RegionId>::decode_uper(r)?;
-        Ok(match id.get() {
-            2 => Self::AddGrpB(uper::decode_open(r, <super::add_grp_b::Position3DAddGrpB>::decode_uper)?),
-            3 => Self::AddGrpC(uper::decode_open(r, <super::add_grp_c::Position3DAddGrpC>::decode_uper)?),
-            _ => Self::Unknown { id, content: uper::decode_unknown_open(r, "Common.RegPosition3D:unknown")? },
-        })
+        match id.get() {
+            2 => {
+                if !matches!(out, Self::AddGrpB(_)) {
+                    uper::replace_with(out, || Self::AddGrpB(<super::add_grp_b::Position3DAddGrpB as uper::Placeholder>::placeholder()));
+                }
+                if let Self::AddGrpB(v) = out {
+                    uper::decode_open(r, |r| <super::add_grp_b::Position3DAddGrpB>::decode_into(r, v))?;
+                }
+            }
+            3 => {
+                if !matches!(out, Self::AddGrpC(_)) {
+                    uper::replace_with(out, || Self::AddGrpC(<super::add_grp_c::Position3DAddGrpC as uper::Placeholder>::placeholder()));
+                }
+                if let Self::AddGrpC(v) = out {
+                    uper::decode_open(r, |r| <super::add_grp_c::Position3DAddGrpC>::decode_into(r, v))?;
+                }
+            }
+            _ => *out = Self::Unknown { id, content: uper::decode_unknown_open(r, "Common.RegPosition3D:unknown")? },
+        }
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         match self {
@@ -3758,7 +4532,13 @@ crate::__newtype_deref!(SpeedLimitList, uper::SeqOf<RegulatorySpeedLimit, 6>);
 impl SpeedLimitList {
     const SIZE: uper::Size = uper::Size::range(1, 9);
     /// An empty list (valid for encoding once it holds the minimum number of items).
-    pub const fn new() -> Self {
+    pub fn new() -> Self {
+        Self(uper::SeqOf::new())
+    }
+}
+
+impl uper::Placeholder for SpeedLimitList {
+    fn placeholder() -> Self {
         Self(uper::SeqOf::new())
     }
 }
@@ -3766,8 +4546,8 @@ impl SpeedLimitList {
 impl Uper for SpeedLimitList {
     const PATH: &'static str = "Common.SpeedLimitList";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(238), Some(355));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
-        uper::decode_seq_of(r, Self::SIZE, "Common.SpeedLimitList").map(Self)
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+        uper::decode_seq_of_into(r, Self::SIZE, "Common.SpeedLimitList", &mut out.0)
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
@@ -3783,13 +4563,19 @@ pub struct RegulatorySpeedLimit {
     pub speed: Velocity,
 }
 
+impl uper::Placeholder for RegulatorySpeedLimit {
+    fn placeholder() -> Self {
+        Self { r#type: <SpeedLimitType as uper::Placeholder>::placeholder(), speed: <Velocity as uper::Placeholder>::placeholder() }
+    }
+}
+
 impl Uper for RegulatorySpeedLimit {
     const PATH: &'static str = "Common.RegulatorySpeedLimit";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(39), Some(39));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
-        let f_type = <SpeedLimitType>::decode_uper(r)?;
-        let f_speed = <Velocity>::decode_uper(r)?;
-        Ok(Self { r#type: f_type, speed: f_speed })
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+        <SpeedLimitType>::decode_into(r, &mut out.r#type)?;
+        <Velocity>::decode_into(r, &mut out.speed)?;
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         self.r#type.encode_uper(w)?;
@@ -3892,18 +4678,26 @@ impl SpeedLimitType {
     }
 }
 
+impl uper::Placeholder for SpeedLimitType {
+    fn placeholder() -> Self {
+        Self::Unknown
+    }
+}
+
 impl Uper for SpeedLimitType {
     const PATH: &'static str = "Common.SpeedLimitType";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(26), Some(26));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         if r.read_bit()? {
             let at = r.position();
             let i = r.read_normally_small()?;
-            return u16::try_from(i).map(Self::Extension).map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at));
+            *out = u16::try_from(i).map(Self::Extension).map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at))?;
+            return Ok(());
         }
         let at = r.position();
         let i = r.read_constrained(0, 12)?;
-        Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))
+        *out = Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))?;
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         if let Self::Extension(i) = self {
@@ -3931,22 +4725,44 @@ pub enum NodeListXY {
     },
 }
 
+impl uper::Placeholder for NodeListXY {
+    fn placeholder() -> Self {
+        Self::Nodes(<NodeSetXY as uper::Placeholder>::placeholder())
+    }
+}
+
 impl Uper for NodeListXY {
     const PATH: &'static str = "Common.NodeListXY";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(133757), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         if r.read_bit()? {
             let at = r.position();
             let index = u16::try_from(r.read_normally_small()?).map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at))?;
             let content = uper::decode_unknown_open(r, "Common.NodeListXY:unknown")?;
-            return Ok(Self::Extension { index, content });
+            *out = Self::Extension { index, content };
+            return Ok(());
         }
         let at = r.position();
-        Ok(match r.read_constrained(0, 1)? {
-            0 => Self::Nodes(<NodeSetXY>::decode_uper(r)?),
-            1 => Self::Computed(<ComputedLane>::decode_uper(r)?),
+        match r.read_constrained(0, 1)? {
+            0 => {
+                if !matches!(out, Self::Nodes(_)) {
+                    uper::replace_with(out, || Self::Nodes(<NodeSetXY as uper::Placeholder>::placeholder()));
+                }
+                if let Self::Nodes(v) = out {
+                    <NodeSetXY>::decode_into(r, v)?;
+                }
+            }
+            1 => {
+                if !matches!(out, Self::Computed(_)) {
+                    uper::replace_with(out, || Self::Computed(<ComputedLane as uper::Placeholder>::placeholder()));
+                }
+                if let Self::Computed(v) = out {
+                    <ComputedLane>::decode_into(r, v)?;
+                }
+            }
             _ => return Err(uper::DecodeError::new(uper::DecodeErrorKind::InvalidChoiceIndex, at)),
-        })
+        }
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         match self {
@@ -3970,7 +4786,13 @@ crate::__newtype_deref!(NodeSetXY, uper::SeqOf<NodeXY, 63>);
 impl NodeSetXY {
     const SIZE: uper::Size = uper::Size::range(2, 63);
     /// An empty list (valid for encoding once it holds the minimum number of items).
-    pub const fn new() -> Self {
+    pub fn new() -> Self {
+        Self(uper::SeqOf::new())
+    }
+}
+
+impl uper::Placeholder for NodeSetXY {
+    fn placeholder() -> Self {
         Self(uper::SeqOf::new())
     }
 }
@@ -3978,8 +4800,8 @@ impl NodeSetXY {
 impl Uper for NodeSetXY {
     const PATH: &'static str = "Common.NodeSetXY";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(133755), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
-        uper::decode_seq_of(r, Self::SIZE, "Common.NodeSetXY").map(Self)
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+        uper::decode_seq_of_into(r, Self::SIZE, "Common.NodeSetXY", &mut out.0)
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
@@ -3997,16 +4819,31 @@ pub struct NodeXY {
     pub extensions: uper::Extensions<0>,
 }
 
+impl uper::Placeholder for NodeXY {
+    fn placeholder() -> Self {
+        Self { delta: <NodeOffsetPointXY as uper::Placeholder>::placeholder(), attributes: None, extensions: uper::Extensions::new() }
+    }
+}
+
 impl Uper for NodeXY {
     const PATH: &'static str = "Common.NodeXY";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(2123), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let extended = r.read_bit()?;
         let present = r.read_bits(1)?;
-        let f_delta = <NodeOffsetPointXY>::decode_uper(r)?;
-        let f_attributes = if present & (1 << 0) != 0 { Some(<NodeAttributeSetXY>::decode_uper(r)?) } else { None };
-        let extensions = if extended { uper::Extensions::decode(r, "Common.NodeXY:ext")? } else { uper::Extensions::new() };
-        Ok(Self { delta: f_delta, attributes: f_attributes, extensions })
+        <NodeOffsetPointXY>::decode_into(r, &mut out.delta)?;
+        if present & (1 << 0) != 0 {
+            if out.attributes.is_none() {
+                uper::fill_option(&mut out.attributes);
+            }
+            if let Some(v) = &mut out.attributes {
+                <NodeAttributeSetXY>::decode_into(r, v)?;
+            }
+        } else {
+            out.attributes = None;
+        }
+        out.extensions = if extended { uper::Extensions::decode(r, "Common.NodeXY:ext")? } else { uper::Extensions::new() };
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_bit(self.extensions.is_present())?;
@@ -4043,22 +4880,85 @@ pub enum NodeOffsetPointXY {
     Regional(RegNodeOffsetPointXY),
 }
 
+impl uper::Placeholder for NodeOffsetPointXY {
+    fn placeholder() -> Self {
+        Self::NodeXY1(<NodeXY20b as uper::Placeholder>::placeholder())
+    }
+}
+
 impl Uper for NodeOffsetPointXY {
     const PATH: &'static str = "Common.NodeOffsetPointXY";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(187), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let at = r.position();
-        Ok(match r.read_constrained(0, 7)? {
-            0 => Self::NodeXY1(<NodeXY20b>::decode_uper(r)?),
-            1 => Self::NodeXY2(<NodeXY22b>::decode_uper(r)?),
-            2 => Self::NodeXY3(<NodeXY24b>::decode_uper(r)?),
-            3 => Self::NodeXY4(<NodeXY26b>::decode_uper(r)?),
-            4 => Self::NodeXY5(<NodeXY28b>::decode_uper(r)?),
-            5 => Self::NodeXY6(<NodeXY32b>::decode_uper(r)?),
-            6 => Self::NodeLatLon(<NodeLLmD64b>::decode_uper(r)?),
-            7 => Self::Regional(<RegNodeOffsetPointXY>::decode_uper(r)?),
+        match r.read_constrained(0, 7)? {
+            0 => {
+                if !matches!(out, Self::NodeXY1(_)) {
+                    uper::replace_with(out, || Self::NodeXY1(<NodeXY20b as uper::Placeholder>::placeholder()));
+                }
+                if let Self::NodeXY1(v) = out {
+                    <NodeXY20b>::decode_into(r, v)?;
+                }
+            }
+            1 => {
+                if !matches!(out, Self::NodeXY2(_)) {
+                    uper::replace_with(out, || Self::NodeXY2(<NodeXY22b as uper::Placeholder>::placeholder()));
+                }
+                if let Self::NodeXY2(v) = out {
+                    <NodeXY22b>::decode_into(r, v)?;
+                }
+            }
+            2 => {
+                if !matches!(out, Self::NodeXY3(_)) {
+                    uper::replace_with(out, || Self::NodeXY3(<NodeXY24b as uper::Placeholder>::placeholder()));
+                }
+                if let Self::NodeXY3(v) = out {
+                    <NodeXY24b>::decode_into(r, v)?;
+                }
+            }
+            3 => {
+                if !matches!(out, Self::NodeXY4(_)) {
+                    uper::replace_with(out, || Self::NodeXY4(<NodeXY26b as uper::Placeholder>::placeholder()));
+                }
+                if let Self::NodeXY4(v) = out {
+                    <NodeXY26b>::decode_into(r, v)?;
+                }
+            }
+            4 => {
+                if !matches!(out, Self::NodeXY5(_)) {
+                    uper::replace_with(out, || Self::NodeXY5(<NodeXY28b as uper::Placeholder>::placeholder()));
+                }
+                if let Self::NodeXY5(v) = out {
+                    <NodeXY28b>::decode_into(r, v)?;
+                }
+            }
+            5 => {
+                if !matches!(out, Self::NodeXY6(_)) {
+                    uper::replace_with(out, || Self::NodeXY6(<NodeXY32b as uper::Placeholder>::placeholder()));
+                }
+                if let Self::NodeXY6(v) = out {
+                    <NodeXY32b>::decode_into(r, v)?;
+                }
+            }
+            6 => {
+                if !matches!(out, Self::NodeLatLon(_)) {
+                    uper::replace_with(out, || Self::NodeLatLon(<NodeLLmD64b as uper::Placeholder>::placeholder()));
+                }
+                if let Self::NodeLatLon(v) = out {
+                    <NodeLLmD64b>::decode_into(r, v)?;
+                }
+            }
+            7 => {
+                if !matches!(out, Self::Regional(_)) {
+                    uper::replace_with(out, || Self::Regional(<RegNodeOffsetPointXY as uper::Placeholder>::placeholder()));
+                }
+                if let Self::Regional(v) = out {
+                    <RegNodeOffsetPointXY>::decode_into(r, v)?;
+                }
+            }
             _ => return Err(uper::DecodeError::new(uper::DecodeErrorKind::InvalidChoiceIndex, at)),
-        })
+        }
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         match self {
@@ -4083,13 +4983,19 @@ pub struct NodeXY20b {
     pub y: OffsetB10,
 }
 
+impl uper::Placeholder for NodeXY20b {
+    fn placeholder() -> Self {
+        Self { x: <OffsetB10 as uper::Placeholder>::placeholder(), y: <OffsetB10 as uper::Placeholder>::placeholder() }
+    }
+}
+
 impl Uper for NodeXY20b {
     const PATH: &'static str = "Common.Node-XY-20b";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(20), Some(20));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
-        let f_x = <OffsetB10>::decode_uper(r)?;
-        let f_y = <OffsetB10>::decode_uper(r)?;
-        Ok(Self { x: f_x, y: f_y })
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+        <OffsetB10>::decode_into(r, &mut out.x)?;
+        <OffsetB10>::decode_into(r, &mut out.y)?;
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         self.x.encode_uper(w)?;
@@ -4107,13 +5013,19 @@ pub struct NodeXY22b {
     pub y: OffsetB11,
 }
 
+impl uper::Placeholder for NodeXY22b {
+    fn placeholder() -> Self {
+        Self { x: <OffsetB11 as uper::Placeholder>::placeholder(), y: <OffsetB11 as uper::Placeholder>::placeholder() }
+    }
+}
+
 impl Uper for NodeXY22b {
     const PATH: &'static str = "Common.Node-XY-22b";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(22), Some(22));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
-        let f_x = <OffsetB11>::decode_uper(r)?;
-        let f_y = <OffsetB11>::decode_uper(r)?;
-        Ok(Self { x: f_x, y: f_y })
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+        <OffsetB11>::decode_into(r, &mut out.x)?;
+        <OffsetB11>::decode_into(r, &mut out.y)?;
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         self.x.encode_uper(w)?;
@@ -4131,13 +5043,19 @@ pub struct NodeXY26b {
     pub y: OffsetB13,
 }
 
+impl uper::Placeholder for NodeXY26b {
+    fn placeholder() -> Self {
+        Self { x: <OffsetB13 as uper::Placeholder>::placeholder(), y: <OffsetB13 as uper::Placeholder>::placeholder() }
+    }
+}
+
 impl Uper for NodeXY26b {
     const PATH: &'static str = "Common.Node-XY-26b";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(26), Some(26));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
-        let f_x = <OffsetB13>::decode_uper(r)?;
-        let f_y = <OffsetB13>::decode_uper(r)?;
-        Ok(Self { x: f_x, y: f_y })
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+        <OffsetB13>::decode_into(r, &mut out.x)?;
+        <OffsetB13>::decode_into(r, &mut out.y)?;
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         self.x.encode_uper(w)?;
@@ -4160,13 +5078,19 @@ pub struct NodeXY28b {
     pub y: OffsetB14,
 }
 
+impl uper::Placeholder for NodeXY28b {
+    fn placeholder() -> Self {
+        Self { x: <OffsetB14 as uper::Placeholder>::placeholder(), y: <OffsetB14 as uper::Placeholder>::placeholder() }
+    }
+}
+
 impl Uper for NodeXY28b {
     const PATH: &'static str = "Common.Node-XY-28b";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(28), Some(28));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
-        let f_x = <OffsetB14>::decode_uper(r)?;
-        let f_y = <OffsetB14>::decode_uper(r)?;
-        Ok(Self { x: f_x, y: f_y })
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+        <OffsetB14>::decode_into(r, &mut out.x)?;
+        <OffsetB14>::decode_into(r, &mut out.y)?;
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         self.x.encode_uper(w)?;
@@ -4189,13 +5113,19 @@ pub struct NodeXY32b {
     pub y: OffsetB16,
 }
 
+impl uper::Placeholder for NodeXY32b {
+    fn placeholder() -> Self {
+        Self { x: <OffsetB16 as uper::Placeholder>::placeholder(), y: <OffsetB16 as uper::Placeholder>::placeholder() }
+    }
+}
+
 impl Uper for NodeXY32b {
     const PATH: &'static str = "Common.Node-XY-32b";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(32), Some(32));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
-        let f_x = <OffsetB16>::decode_uper(r)?;
-        let f_y = <OffsetB16>::decode_uper(r)?;
-        Ok(Self { x: f_x, y: f_y })
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+        <OffsetB16>::decode_into(r, &mut out.x)?;
+        <OffsetB16>::decode_into(r, &mut out.y)?;
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         self.x.encode_uper(w)?;
@@ -4218,13 +5148,19 @@ pub struct NodeLLmD64b {
     pub lat: Latitude,
 }
 
+impl uper::Placeholder for NodeLLmD64b {
+    fn placeholder() -> Self {
+        Self { lon: <Longitude as uper::Placeholder>::placeholder(), lat: <Latitude as uper::Placeholder>::placeholder() }
+    }
+}
+
 impl Uper for NodeLLmD64b {
     const PATH: &'static str = "Common.Node-LLmD-64b";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(63), Some(63));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
-        let f_lon = <Longitude>::decode_uper(r)?;
-        let f_lat = <Latitude>::decode_uper(r)?;
-        Ok(Self { lon: f_lon, lat: f_lat })
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+        <Longitude>::decode_into(r, &mut out.lon)?;
+        <Latitude>::decode_into(r, &mut out.lat)?;
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         self.lon.encode_uper(w)?;
@@ -4257,15 +5193,29 @@ impl RegNodeOffsetPointXY {
     }
 }
 
+impl uper::Placeholder for RegNodeOffsetPointXY {
+    fn placeholder() -> Self {
+        Self::Unknown { id: <RegionId as uper::Placeholder>::placeholder(), content: uper::Octets::new() }
+    }
+}
+
 impl Uper for RegNodeOffsetPointXY {
     const PATH: &'static str = "Common.RegNodeOffsetPointXY";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(184), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let id = <RegionId>::decode_uper(r)?;
-        Ok(match id.get() {
-            2 => Self::AddGrpB(uper::decode_open(r, <super::add_grp_b::NodeOffsetPointXYAddGrpB>::decode_uper)?),
-            _ => Self::Unknown { id, content: uper::decode_unknown_open(r, "Common.RegNodeOffsetPointXY:unknown")? },
-        })
+        match id.get() {
+            2 => {
+                if !matches!(out, Self::AddGrpB(_)) {
+                    uper::replace_with(out, || Self::AddGrpB(<super::add_grp_b::NodeOffsetPointXYAddGrpB as uper::Placeholder>::placeholder()));
+                }
+                if let Self::AddGrpB(v) = out {
+                    uper::decode_open(r, |r| <super::add_grp_b::NodeOffsetPointXYAddGrpB>::decode_into(r, v))?;
+                }
+            }
+            _ => *out = Self::Unknown { id, content: uper::decode_unknown_open(r, "Common.RegNodeOffsetPointXY:unknown")? },
+        }
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         match self {
@@ -4302,21 +5252,90 @@ pub struct NodeAttributeSetXY {
     pub extensions: uper::Extensions<0>,
 }
 
+impl uper::Placeholder for NodeAttributeSetXY {
+    fn placeholder() -> Self {
+        Self { local_node: None, disabled: None, enabled: None, data: None, d_width: None, d_elevation: None, regional: None, extensions: uper::Extensions::new() }
+    }
+}
+
 impl Uper for NodeAttributeSetXY {
     const PATH: &'static str = "Common.NodeAttributeSetXY";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(1847), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let extended = r.read_bit()?;
         let present = r.read_bits(7)?;
-        let f_local_node = if present & (1 << 6) != 0 { Some(<NodeAttributeXYList>::decode_uper(r)?) } else { None };
-        let f_disabled = if present & (1 << 5) != 0 { Some(<SegmentAttributeXYList>::decode_uper(r)?) } else { None };
-        let f_enabled = if present & (1 << 4) != 0 { Some(<SegmentAttributeXYList>::decode_uper(r)?) } else { None };
-        let f_data = if present & (1 << 3) != 0 { Some(<LaneDataAttributeList>::decode_uper(r)?) } else { None };
-        let f_d_width = if present & (1 << 2) != 0 { Some(<OffsetB10>::decode_uper(r)?) } else { None };
-        let f_d_elevation = if present & (1 << 1) != 0 { Some(<OffsetB10>::decode_uper(r)?) } else { None };
-        let f_regional = if present & (1 << 0) != 0 { Some(<NodeAttributeSetXYRegional>::decode_uper(r)?) } else { None };
-        let extensions = if extended { uper::Extensions::decode(r, "Common.NodeAttributeSetXY:ext")? } else { uper::Extensions::new() };
-        Ok(Self { local_node: f_local_node, disabled: f_disabled, enabled: f_enabled, data: f_data, d_width: f_d_width, d_elevation: f_d_elevation, regional: f_regional, extensions })
+        if present & (1 << 6) != 0 {
+            if out.local_node.is_none() {
+                uper::fill_option(&mut out.local_node);
+            }
+            if let Some(v) = &mut out.local_node {
+                <NodeAttributeXYList>::decode_into(r, v)?;
+            }
+        } else {
+            out.local_node = None;
+        }
+        if present & (1 << 5) != 0 {
+            if out.disabled.is_none() {
+                uper::fill_option(&mut out.disabled);
+            }
+            if let Some(v) = &mut out.disabled {
+                <SegmentAttributeXYList>::decode_into(r, v)?;
+            }
+        } else {
+            out.disabled = None;
+        }
+        if present & (1 << 4) != 0 {
+            if out.enabled.is_none() {
+                uper::fill_option(&mut out.enabled);
+            }
+            if let Some(v) = &mut out.enabled {
+                <SegmentAttributeXYList>::decode_into(r, v)?;
+            }
+        } else {
+            out.enabled = None;
+        }
+        if present & (1 << 3) != 0 {
+            if out.data.is_none() {
+                uper::fill_option(&mut out.data);
+            }
+            if let Some(v) = &mut out.data {
+                <LaneDataAttributeList>::decode_into(r, v)?;
+            }
+        } else {
+            out.data = None;
+        }
+        if present & (1 << 2) != 0 {
+            if out.d_width.is_none() {
+                uper::fill_option(&mut out.d_width);
+            }
+            if let Some(v) = &mut out.d_width {
+                <OffsetB10>::decode_into(r, v)?;
+            }
+        } else {
+            out.d_width = None;
+        }
+        if present & (1 << 1) != 0 {
+            if out.d_elevation.is_none() {
+                uper::fill_option(&mut out.d_elevation);
+            }
+            if let Some(v) = &mut out.d_elevation {
+                <OffsetB10>::decode_into(r, v)?;
+            }
+        } else {
+            out.d_elevation = None;
+        }
+        if present & (1 << 0) != 0 {
+            if out.regional.is_none() {
+                uper::fill_option(&mut out.regional);
+            }
+            if let Some(v) = &mut out.regional {
+                <NodeAttributeSetXYRegional>::decode_into(r, v)?;
+            }
+        } else {
+            out.regional = None;
+        }
+        out.extensions = if extended { uper::Extensions::decode(r, "Common.NodeAttributeSetXY:ext")? } else { uper::Extensions::new() };
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_bit(self.extensions.is_present())?;
@@ -4358,7 +5377,13 @@ crate::__newtype_deref!(NodeAttributeXYList, uper::SeqOf<NodeAttributeXY, 4>);
 impl NodeAttributeXYList {
     const SIZE: uper::Size = uper::Size::range(1, 8);
     /// An empty list (valid for encoding once it holds the minimum number of items).
-    pub const fn new() -> Self {
+    pub fn new() -> Self {
+        Self(uper::SeqOf::new())
+    }
+}
+
+impl uper::Placeholder for NodeAttributeXYList {
+    fn placeholder() -> Self {
         Self(uper::SeqOf::new())
     }
 }
@@ -4366,8 +5391,8 @@ impl NodeAttributeXYList {
 impl Uper for NodeAttributeXYList {
     const PATH: &'static str = "Common.NodeAttributeXYList";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(107), Some(211));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
-        uper::decode_seq_of(r, Self::SIZE, "Common.NodeAttributeXYList").map(Self)
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+        uper::decode_seq_of_into(r, Self::SIZE, "Common.NodeAttributeXYList", &mut out.0)
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
@@ -4463,18 +5488,26 @@ impl NodeAttributeXY {
     }
 }
 
+impl uper::Placeholder for NodeAttributeXY {
+    fn placeholder() -> Self {
+        Self::Reserved
+    }
+}
+
 impl Uper for NodeAttributeXY {
     const PATH: &'static str = "Common.NodeAttributeXY";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(26), Some(26));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         if r.read_bit()? {
             let at = r.position();
             let i = r.read_normally_small()?;
-            return u16::try_from(i).map(Self::Extension).map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at));
+            *out = u16::try_from(i).map(Self::Extension).map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at))?;
+            return Ok(());
         }
         let at = r.position();
         let i = r.read_constrained(0, 11)?;
-        Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))
+        *out = Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))?;
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         if let Self::Extension(i) = self {
@@ -4495,7 +5528,13 @@ crate::__newtype_deref!(SegmentAttributeXYList, uper::SeqOf<SegmentAttributeXY, 
 impl SegmentAttributeXYList {
     const SIZE: uper::Size = uper::Size::range(1, 8);
     /// An empty list (valid for encoding once it holds the minimum number of items).
-    pub const fn new() -> Self {
+    pub fn new() -> Self {
+        Self(uper::SeqOf::new())
+    }
+}
+
+impl uper::Placeholder for SegmentAttributeXYList {
+    fn placeholder() -> Self {
         Self(uper::SeqOf::new())
     }
 }
@@ -4503,8 +5542,8 @@ impl SegmentAttributeXYList {
 impl Uper for SegmentAttributeXYList {
     const PATH: &'static str = "Common.SegmentAttributeXYList";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(133), Some(211));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
-        uper::decode_seq_of(r, Self::SIZE, "Common.SegmentAttributeXYList").map(Self)
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+        uper::decode_seq_of_into(r, Self::SIZE, "Common.SegmentAttributeXYList", &mut out.0)
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
@@ -4730,18 +5769,26 @@ impl SegmentAttributeXY {
     }
 }
 
+impl uper::Placeholder for SegmentAttributeXY {
+    fn placeholder() -> Self {
+        Self::Reserved
+    }
+}
+
 impl Uper for SegmentAttributeXY {
     const PATH: &'static str = "Common.SegmentAttributeXY";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(26), Some(26));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         if r.read_bit()? {
             let at = r.position();
             let i = r.read_normally_small()?;
-            return u16::try_from(i).map(Self::Extension).map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at));
+            *out = u16::try_from(i).map(Self::Extension).map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at))?;
+            return Ok(());
         }
         let at = r.position();
         let i = r.read_constrained(0, 37)?;
-        Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))
+        *out = Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))?;
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         if let Self::Extension(i) = self {
@@ -4762,7 +5809,13 @@ crate::__newtype_deref!(LaneDataAttributeList, uper::SeqOf<LaneDataAttribute, 5>
 impl LaneDataAttributeList {
     const SIZE: uper::Size = uper::Size::range(1, 8);
     /// An empty list (valid for encoding once it holds the minimum number of items).
-    pub const fn new() -> Self {
+    pub fn new() -> Self {
+        Self(uper::SeqOf::new())
+    }
+}
+
+impl uper::Placeholder for LaneDataAttributeList {
+    fn placeholder() -> Self {
         Self(uper::SeqOf::new())
     }
 }
@@ -4770,8 +5823,8 @@ impl LaneDataAttributeList {
 impl Uper for LaneDataAttributeList {
     const PATH: &'static str = "Common.LaneDataAttributeList";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(1213), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
-        uper::decode_seq_of(r, Self::SIZE, "Common.LaneDataAttributeList").map(Self)
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+        uper::decode_seq_of_into(r, Self::SIZE, "Common.LaneDataAttributeList", &mut out.0)
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
@@ -4804,27 +5857,84 @@ pub enum LaneDataAttribute {
     },
 }
 
+impl uper::Placeholder for LaneDataAttribute {
+    fn placeholder() -> Self {
+        Self::PathEndPointAngle(<DeltaAngle as uper::Placeholder>::placeholder())
+    }
+}
+
 impl Uper for LaneDataAttribute {
     const PATH: &'static str = "Common.LaneDataAttribute";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(242), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         if r.read_bit()? {
             let at = r.position();
             let index = u16::try_from(r.read_normally_small()?).map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at))?;
             let content = uper::decode_unknown_open(r, "Common.LaneDataAttribute:unknown")?;
-            return Ok(Self::Extension { index, content });
+            *out = Self::Extension { index, content };
+            return Ok(());
         }
         let at = r.position();
-        Ok(match r.read_constrained(0, 6)? {
-            0 => Self::PathEndPointAngle(<DeltaAngle>::decode_uper(r)?),
-            1 => Self::LaneCrownPointCenter(<RoadwayCrownAngle>::decode_uper(r)?),
-            2 => Self::LaneCrownPointLeft(<RoadwayCrownAngle>::decode_uper(r)?),
-            3 => Self::LaneCrownPointRight(<RoadwayCrownAngle>::decode_uper(r)?),
-            4 => Self::LaneAngle(<MergeDivergeNodeAngle>::decode_uper(r)?),
-            5 => Self::SpeedLimits(<SpeedLimitList>::decode_uper(r)?),
-            6 => Self::Regional(<LaneDataAttributeRegional>::decode_uper(r)?),
+        match r.read_constrained(0, 6)? {
+            0 => {
+                if !matches!(out, Self::PathEndPointAngle(_)) {
+                    uper::replace_with(out, || Self::PathEndPointAngle(<DeltaAngle as uper::Placeholder>::placeholder()));
+                }
+                if let Self::PathEndPointAngle(v) = out {
+                    <DeltaAngle>::decode_into(r, v)?;
+                }
+            }
+            1 => {
+                if !matches!(out, Self::LaneCrownPointCenter(_)) {
+                    uper::replace_with(out, || Self::LaneCrownPointCenter(<RoadwayCrownAngle as uper::Placeholder>::placeholder()));
+                }
+                if let Self::LaneCrownPointCenter(v) = out {
+                    <RoadwayCrownAngle>::decode_into(r, v)?;
+                }
+            }
+            2 => {
+                if !matches!(out, Self::LaneCrownPointLeft(_)) {
+                    uper::replace_with(out, || Self::LaneCrownPointLeft(<RoadwayCrownAngle as uper::Placeholder>::placeholder()));
+                }
+                if let Self::LaneCrownPointLeft(v) = out {
+                    <RoadwayCrownAngle>::decode_into(r, v)?;
+                }
+            }
+            3 => {
+                if !matches!(out, Self::LaneCrownPointRight(_)) {
+                    uper::replace_with(out, || Self::LaneCrownPointRight(<RoadwayCrownAngle as uper::Placeholder>::placeholder()));
+                }
+                if let Self::LaneCrownPointRight(v) = out {
+                    <RoadwayCrownAngle>::decode_into(r, v)?;
+                }
+            }
+            4 => {
+                if !matches!(out, Self::LaneAngle(_)) {
+                    uper::replace_with(out, || Self::LaneAngle(<MergeDivergeNodeAngle as uper::Placeholder>::placeholder()));
+                }
+                if let Self::LaneAngle(v) = out {
+                    <MergeDivergeNodeAngle>::decode_into(r, v)?;
+                }
+            }
+            5 => {
+                if !matches!(out, Self::SpeedLimits(_)) {
+                    uper::replace_with(out, || Self::SpeedLimits(<SpeedLimitList as uper::Placeholder>::placeholder()));
+                }
+                if let Self::SpeedLimits(v) = out {
+                    <SpeedLimitList>::decode_into(r, v)?;
+                }
+            }
+            6 => {
+                if !matches!(out, Self::Regional(_)) {
+                    uper::replace_with(out, || Self::Regional(<LaneDataAttributeRegional as uper::Placeholder>::placeholder()));
+                }
+                if let Self::Regional(v) = out {
+                    <LaneDataAttributeRegional>::decode_into(r, v)?;
+                }
+            }
             _ => return Err(uper::DecodeError::new(uper::DecodeErrorKind::InvalidChoiceIndex, at)),
-        })
+        }
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         match self {
@@ -4868,7 +5978,13 @@ crate::__newtype_deref!(LaneDataAttributeRegional, uper::SeqOf<RegLaneDataAttrib
 impl LaneDataAttributeRegional {
     const SIZE: uper::Size = uper::Size::range(1, 4);
     /// An empty list (valid for encoding once it holds the minimum number of items).
-    pub const fn new() -> Self {
+    pub fn new() -> Self {
+        Self(uper::SeqOf::new())
+    }
+}
+
+impl uper::Placeholder for LaneDataAttributeRegional {
+    fn placeholder() -> Self {
         Self(uper::SeqOf::new())
     }
 }
@@ -4876,8 +5992,8 @@ impl LaneDataAttributeRegional {
 impl Uper for LaneDataAttributeRegional {
     const PATH: &'static str = "Common.LaneDataAttribute.regional";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(146), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
-        uper::decode_seq_of(r, Self::SIZE, "Common.LaneDataAttribute.regional").map(Self)
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+        uper::decode_seq_of_into(r, Self::SIZE, "Common.LaneDataAttribute.regional", &mut out.0)
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
@@ -4908,15 +6024,29 @@ impl RegLaneDataAttribute {
     }
 }
 
+impl uper::Placeholder for RegLaneDataAttribute {
+    fn placeholder() -> Self {
+        Self::Unknown { id: <RegionId as uper::Placeholder>::placeholder(), content: uper::Octets::new() }
+    }
+}
+
 impl Uper for RegLaneDataAttribute {
     const PATH: &'static str = "Common.RegLaneDataAttribute";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(144), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let id = <RegionId>::decode_uper(r)?;
-        Ok(match id.get() {
-            2 => Self::AddGrpB(uper::decode_open(r, <super::add_grp_b::LaneDataAttributeAddGrpB>::decode_uper)?),
-            _ => Self::Unknown { id, content: uper::decode_unknown_open(r, "Common.RegLaneDataAttribute:unknown")? },
-        })
+        match id.get() {
+            2 => {
+                if !matches!(out, Self::AddGrpB(_)) {
+                    uper::replace_with(out, || Self::AddGrpB(<super::add_grp_b::LaneDataAttributeAddGrpB as uper::Placeholder>::placeholder()));
+                }
+                if let Self::AddGrpB(v) = out {
+                    uper::decode_open(r, |r| <super::add_grp_b::LaneDataAttributeAddGrpB>::decode_into(r, v))?;
+                }
+            }
+            _ => *out = Self::Unknown { id, content: uper::decode_unknown_open(r, "Common.RegLaneDataAttribute:unknown")? },
+        }
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         match self {
@@ -4941,7 +6071,13 @@ crate::__newtype_deref!(NodeAttributeSetXYRegional, uper::SeqOf<RegNodeAttribute
 impl NodeAttributeSetXYRegional {
     const SIZE: uper::Size = uper::Size::range(1, 4);
     /// An empty list (valid for encoding once it holds the minimum number of items).
-    pub const fn new() -> Self {
+    pub fn new() -> Self {
+        Self(uper::SeqOf::new())
+    }
+}
+
+impl uper::Placeholder for NodeAttributeSetXYRegional {
+    fn placeholder() -> Self {
         Self(uper::SeqOf::new())
     }
 }
@@ -4949,8 +6085,8 @@ impl NodeAttributeSetXYRegional {
 impl Uper for NodeAttributeSetXYRegional {
     const PATH: &'static str = "Common.NodeAttributeSetXY.regional";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(146), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
-        uper::decode_seq_of(r, Self::SIZE, "Common.NodeAttributeSetXY.regional").map(Self)
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+        uper::decode_seq_of_into(r, Self::SIZE, "Common.NodeAttributeSetXY.regional", &mut out.0)
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
@@ -4978,14 +6114,21 @@ impl RegNodeAttributeSetXY {
     }
 }
 
+impl uper::Placeholder for RegNodeAttributeSetXY {
+    fn placeholder() -> Self {
+        Self::Unknown { id: <RegionId as uper::Placeholder>::placeholder(), content: uper::Octets::new() }
+    }
+}
+
 impl Uper for RegNodeAttributeSetXY {
     const PATH: &'static str = "Common.RegNodeAttributeSetXY";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(144), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let id = <RegionId>::decode_uper(r)?;
-        Ok(match id.get() {
-            _ => Self::Unknown { id, content: uper::decode_unknown_open(r, "Common.RegNodeAttributeSetXY:unknown")? },
-        })
+        match id.get() {
+            _ => *out = Self::Unknown { id, content: uper::decode_unknown_open(r, "Common.RegNodeAttributeSetXY:unknown")? },
+        }
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         match self {
@@ -5018,21 +6161,63 @@ pub struct ComputedLane {
     pub extensions: uper::Extensions<0>,
 }
 
+impl uper::Placeholder for ComputedLane {
+    fn placeholder() -> Self {
+        Self { reference_lane_id: <LaneID as uper::Placeholder>::placeholder(), offset_xaxis: <ComputedLaneOffsetXaxis as uper::Placeholder>::placeholder(), offset_yaxis: <ComputedLaneOffsetYaxis as uper::Placeholder>::placeholder(), rotate_xy: None, scale_xaxis: None, scale_yaxis: None, regional: None, extensions: uper::Extensions::new() }
+    }
+}
+
 impl Uper for ComputedLane {
     const PATH: &'static str = "Common.ComputedLane";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(319), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let extended = r.read_bit()?;
         let present = r.read_bits(4)?;
-        let f_reference_lane_id = <LaneID>::decode_uper(r)?;
-        let f_offset_xaxis = <ComputedLaneOffsetXaxis>::decode_uper(r)?;
-        let f_offset_yaxis = <ComputedLaneOffsetYaxis>::decode_uper(r)?;
-        let f_rotate_xy = if present & (1 << 3) != 0 { Some(<Angle>::decode_uper(r)?) } else { None };
-        let f_scale_xaxis = if present & (1 << 2) != 0 { Some(<ScaleB12>::decode_uper(r)?) } else { None };
-        let f_scale_yaxis = if present & (1 << 1) != 0 { Some(<ScaleB12>::decode_uper(r)?) } else { None };
-        let f_regional = if present & (1 << 0) != 0 { Some(<ComputedLaneRegional>::decode_uper(r)?) } else { None };
-        let extensions = if extended { uper::Extensions::decode(r, "Common.ComputedLane:ext")? } else { uper::Extensions::new() };
-        Ok(Self { reference_lane_id: f_reference_lane_id, offset_xaxis: f_offset_xaxis, offset_yaxis: f_offset_yaxis, rotate_xy: f_rotate_xy, scale_xaxis: f_scale_xaxis, scale_yaxis: f_scale_yaxis, regional: f_regional, extensions })
+        <LaneID>::decode_into(r, &mut out.reference_lane_id)?;
+        <ComputedLaneOffsetXaxis>::decode_into(r, &mut out.offset_xaxis)?;
+        <ComputedLaneOffsetYaxis>::decode_into(r, &mut out.offset_yaxis)?;
+        if present & (1 << 3) != 0 {
+            if out.rotate_xy.is_none() {
+                uper::fill_option(&mut out.rotate_xy);
+            }
+            if let Some(v) = &mut out.rotate_xy {
+                <Angle>::decode_into(r, v)?;
+            }
+        } else {
+            out.rotate_xy = None;
+        }
+        if present & (1 << 2) != 0 {
+            if out.scale_xaxis.is_none() {
+                uper::fill_option(&mut out.scale_xaxis);
+            }
+            if let Some(v) = &mut out.scale_xaxis {
+                <ScaleB12>::decode_into(r, v)?;
+            }
+        } else {
+            out.scale_xaxis = None;
+        }
+        if present & (1 << 1) != 0 {
+            if out.scale_yaxis.is_none() {
+                uper::fill_option(&mut out.scale_yaxis);
+            }
+            if let Some(v) = &mut out.scale_yaxis {
+                <ScaleB12>::decode_into(r, v)?;
+            }
+        } else {
+            out.scale_yaxis = None;
+        }
+        if present & (1 << 0) != 0 {
+            if out.regional.is_none() {
+                uper::fill_option(&mut out.regional);
+            }
+            if let Some(v) = &mut out.regional {
+                <ComputedLaneRegional>::decode_into(r, v)?;
+            }
+        } else {
+            out.regional = None;
+        }
+        out.extensions = if extended { uper::Extensions::decode(r, "Common.ComputedLane:ext")? } else { uper::Extensions::new() };
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_bit(self.extensions.is_present())?;
@@ -5068,16 +6253,37 @@ pub enum ComputedLaneOffsetXaxis {
     Large(DrivenLineOffsetLg),
 }
 
+impl uper::Placeholder for ComputedLaneOffsetXaxis {
+    fn placeholder() -> Self {
+        Self::Small(<DrivenLineOffsetSm as uper::Placeholder>::placeholder())
+    }
+}
+
 impl Uper for ComputedLaneOffsetXaxis {
     const PATH: &'static str = "Common.ComputedLane.offsetXaxis";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(17), Some(17));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let at = r.position();
-        Ok(match r.read_constrained(0, 1)? {
-            0 => Self::Small(<DrivenLineOffsetSm>::decode_uper(r)?),
-            1 => Self::Large(<DrivenLineOffsetLg>::decode_uper(r)?),
+        match r.read_constrained(0, 1)? {
+            0 => {
+                if !matches!(out, Self::Small(_)) {
+                    uper::replace_with(out, || Self::Small(<DrivenLineOffsetSm as uper::Placeholder>::placeholder()));
+                }
+                if let Self::Small(v) = out {
+                    <DrivenLineOffsetSm>::decode_into(r, v)?;
+                }
+            }
+            1 => {
+                if !matches!(out, Self::Large(_)) {
+                    uper::replace_with(out, || Self::Large(<DrivenLineOffsetLg as uper::Placeholder>::placeholder()));
+                }
+                if let Self::Large(v) = out {
+                    <DrivenLineOffsetLg>::decode_into(r, v)?;
+                }
+            }
             _ => return Err(uper::DecodeError::new(uper::DecodeErrorKind::InvalidChoiceIndex, at)),
-        })
+        }
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         match self {
@@ -5106,16 +6312,37 @@ pub enum ComputedLaneOffsetYaxis {
     Large(DrivenLineOffsetLg),
 }
 
+impl uper::Placeholder for ComputedLaneOffsetYaxis {
+    fn placeholder() -> Self {
+        Self::Small(<DrivenLineOffsetSm as uper::Placeholder>::placeholder())
+    }
+}
+
 impl Uper for ComputedLaneOffsetYaxis {
     const PATH: &'static str = "Common.ComputedLane.offsetYaxis";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(17), Some(17));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let at = r.position();
-        Ok(match r.read_constrained(0, 1)? {
-            0 => Self::Small(<DrivenLineOffsetSm>::decode_uper(r)?),
-            1 => Self::Large(<DrivenLineOffsetLg>::decode_uper(r)?),
+        match r.read_constrained(0, 1)? {
+            0 => {
+                if !matches!(out, Self::Small(_)) {
+                    uper::replace_with(out, || Self::Small(<DrivenLineOffsetSm as uper::Placeholder>::placeholder()));
+                }
+                if let Self::Small(v) = out {
+                    <DrivenLineOffsetSm>::decode_into(r, v)?;
+                }
+            }
+            1 => {
+                if !matches!(out, Self::Large(_)) {
+                    uper::replace_with(out, || Self::Large(<DrivenLineOffsetLg as uper::Placeholder>::placeholder()));
+                }
+                if let Self::Large(v) = out {
+                    <DrivenLineOffsetLg>::decode_into(r, v)?;
+                }
+            }
             _ => return Err(uper::DecodeError::new(uper::DecodeErrorKind::InvalidChoiceIndex, at)),
-        })
+        }
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         match self {
@@ -5139,7 +6366,13 @@ crate::__newtype_deref!(ComputedLaneRegional, uper::SeqOf<RegComputedLane, 1>);
 impl ComputedLaneRegional {
     const SIZE: uper::Size = uper::Size::range(1, 4);
     /// An empty list (valid for encoding once it holds the minimum number of items).
-    pub const fn new() -> Self {
+    pub fn new() -> Self {
+        Self(uper::SeqOf::new())
+    }
+}
+
+impl uper::Placeholder for ComputedLaneRegional {
+    fn placeholder() -> Self {
         Self(uper::SeqOf::new())
     }
 }
@@ -5147,8 +6380,8 @@ impl ComputedLaneRegional {
 impl Uper for ComputedLaneRegional {
     const PATH: &'static str = "Common.ComputedLane.regional";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(146), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
-        uper::decode_seq_of(r, Self::SIZE, "Common.ComputedLane.regional").map(Self)
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+        uper::decode_seq_of_into(r, Self::SIZE, "Common.ComputedLane.regional", &mut out.0)
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
@@ -5176,14 +6409,21 @@ impl RegComputedLane {
     }
 }
 
+impl uper::Placeholder for RegComputedLane {
+    fn placeholder() -> Self {
+        Self::Unknown { id: <RegionId as uper::Placeholder>::placeholder(), content: uper::Octets::new() }
+    }
+}
+
 impl Uper for RegComputedLane {
     const PATH: &'static str = "Common.RegComputedLane";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(144), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let id = <RegionId>::decode_uper(r)?;
-        Ok(match id.get() {
-            _ => Self::Unknown { id, content: uper::decode_unknown_open(r, "Common.RegComputedLane:unknown")? },
-        })
+        match id.get() {
+            _ => *out = Self::Unknown { id, content: uper::decode_unknown_open(r, "Common.RegComputedLane:unknown")? },
+        }
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         match self {
@@ -5219,14 +6459,29 @@ pub struct RoadSegmentReferenceID {
     pub id: RoadSegmentID,
 }
 
+impl uper::Placeholder for RoadSegmentReferenceID {
+    fn placeholder() -> Self {
+        Self { region: None, id: <RoadSegmentID as uper::Placeholder>::placeholder() }
+    }
+}
+
 impl Uper for RoadSegmentReferenceID {
     const PATH: &'static str = "Common.RoadSegmentReferenceID";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(33), Some(33));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let present = r.read_bits(1)?;
-        let f_region = if present & (1 << 0) != 0 { Some(<RoadRegulatorID>::decode_uper(r)?) } else { None };
-        let f_id = <RoadSegmentID>::decode_uper(r)?;
-        Ok(Self { region: f_region, id: f_id })
+        if present & (1 << 0) != 0 {
+            if out.region.is_none() {
+                uper::fill_option(&mut out.region);
+            }
+            if let Some(v) = &mut out.region {
+                <RoadRegulatorID>::decode_into(r, v)?;
+            }
+        } else {
+            out.region = None;
+        }
+        <RoadSegmentID>::decode_into(r, &mut out.id)?;
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_bits(self.region.is_some() as u64, 1)?;
@@ -5317,18 +6572,26 @@ impl PrioritizationResponseStatus {
     }
 }
 
+impl uper::Placeholder for PrioritizationResponseStatus {
+    fn placeholder() -> Self {
+        Self::Unknown
+    }
+}
+
 impl Uper for PrioritizationResponseStatus {
     const PATH: &'static str = "Common.PrioritizationResponseStatus";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(26), Some(26));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         if r.read_bit()? {
             let at = r.position();
             let i = r.read_normally_small()?;
-            return u16::try_from(i).map(Self::Extension).map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at));
+            *out = u16::try_from(i).map(Self::Extension).map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at))?;
+            return Ok(());
         }
         let at = r.position();
         let i = r.read_constrained(0, 7)?;
-        Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))
+        *out = Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))?;
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         if let Self::Extension(i) = self {
@@ -5344,11 +6607,17 @@ impl Uper for PrioritizationResponseStatus {
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub struct FurtherInfoID(pub [u8; 2]);
 
+impl uper::Placeholder for FurtherInfoID {
+    fn placeholder() -> Self {
+        Self([0; 2])
+    }
+}
+
 impl Uper for FurtherInfoID {
     const PATH: &'static str = "Common.FurtherInfoID";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(16), Some(16));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
-        uper::decode_fixed_octets(r).map(Self)
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+        r.read_octets(&mut out.0)
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_octets(&self.0)
@@ -5364,16 +6633,37 @@ pub enum VehicleID {
     StationID(StationID),
 }
 
+impl uper::Placeholder for VehicleID {
+    fn placeholder() -> Self {
+        Self::EntityID(<TemporaryID as uper::Placeholder>::placeholder())
+    }
+}
+
 impl Uper for VehicleID {
     const PATH: &'static str = "Common.VehicleID";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(33), Some(33));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let at = r.position();
-        Ok(match r.read_constrained(0, 1)? {
-            0 => Self::EntityID(<TemporaryID>::decode_uper(r)?),
-            1 => Self::StationID(<StationID>::decode_uper(r)?),
+        match r.read_constrained(0, 1)? {
+            0 => {
+                if !matches!(out, Self::EntityID(_)) {
+                    uper::replace_with(out, || Self::EntityID(<TemporaryID as uper::Placeholder>::placeholder()));
+                }
+                if let Self::EntityID(v) = out {
+                    <TemporaryID>::decode_into(r, v)?;
+                }
+            }
+            1 => {
+                if !matches!(out, Self::StationID(_)) {
+                    uper::replace_with(out, || Self::StationID(<StationID as uper::Placeholder>::placeholder()));
+                }
+                if let Self::StationID(v) = out {
+                    <StationID>::decode_into(r, v)?;
+                }
+            }
             _ => return Err(uper::DecodeError::new(uper::DecodeErrorKind::InvalidChoiceIndex, at)),
-        })
+        }
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         match self {
@@ -5406,23 +6696,52 @@ pub enum IntersectionAccessPoint {
     },
 }
 
+impl uper::Placeholder for IntersectionAccessPoint {
+    fn placeholder() -> Self {
+        Self::Lane(<LaneID as uper::Placeholder>::placeholder())
+    }
+}
+
 impl Uper for IntersectionAccessPoint {
     const PATH: &'static str = "Common.IntersectionAccessPoint";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(162), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         if r.read_bit()? {
             let at = r.position();
             let index = u16::try_from(r.read_normally_small()?).map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at))?;
             let content = uper::decode_unknown_open(r, "Common.IntersectionAccessPoint:unknown")?;
-            return Ok(Self::Extension { index, content });
+            *out = Self::Extension { index, content };
+            return Ok(());
         }
         let at = r.position();
-        Ok(match r.read_constrained(0, 2)? {
-            0 => Self::Lane(<LaneID>::decode_uper(r)?),
-            1 => Self::Approach(<ApproachID>::decode_uper(r)?),
-            2 => Self::Connection(<LaneConnectionID>::decode_uper(r)?),
+        match r.read_constrained(0, 2)? {
+            0 => {
+                if !matches!(out, Self::Lane(_)) {
+                    uper::replace_with(out, || Self::Lane(<LaneID as uper::Placeholder>::placeholder()));
+                }
+                if let Self::Lane(v) = out {
+                    <LaneID>::decode_into(r, v)?;
+                }
+            }
+            1 => {
+                if !matches!(out, Self::Approach(_)) {
+                    uper::replace_with(out, || Self::Approach(<ApproachID as uper::Placeholder>::placeholder()));
+                }
+                if let Self::Approach(v) = out {
+                    <ApproachID>::decode_into(r, v)?;
+                }
+            }
+            2 => {
+                if !matches!(out, Self::Connection(_)) {
+                    uper::replace_with(out, || Self::Connection(<LaneConnectionID as uper::Placeholder>::placeholder()));
+                }
+                if let Self::Connection(v) = out {
+                    <LaneConnectionID>::decode_into(r, v)?;
+                }
+            }
             _ => return Err(uper::DecodeError::new(uper::DecodeErrorKind::InvalidChoiceIndex, at)),
-        })
+        }
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         match self {
@@ -5457,20 +6776,71 @@ pub struct RequestorType {
     pub extensions: uper::Extensions<0>,
 }
 
+impl uper::Placeholder for RequestorType {
+    fn placeholder() -> Self {
+        Self { role: <BasicVehicleRole as uper::Placeholder>::placeholder(), subrole: None, request: None, iso3883: None, hpms_type: None, regional: None, extensions: uper::Extensions::new() }
+    }
+}
+
 impl Uper for RequestorType {
     const PATH: &'static str = "Common.RequestorType";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(304), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let extended = r.read_bit()?;
         let present = r.read_bits(5)?;
-        let f_role = <BasicVehicleRole>::decode_uper(r)?;
-        let f_subrole = if present & (1 << 4) != 0 { Some(<RequestSubRole>::decode_uper(r)?) } else { None };
-        let f_request = if present & (1 << 3) != 0 { Some(<RequestImportanceLevel>::decode_uper(r)?) } else { None };
-        let f_iso3883 = if present & (1 << 2) != 0 { Some(<Iso3833VehicleType>::decode_uper(r)?) } else { None };
-        let f_hpms_type = if present & (1 << 1) != 0 { Some(<VehicleType>::decode_uper(r)?) } else { None };
-        let f_regional = if present & (1 << 0) != 0 { Some(<RegRequestorType>::decode_uper(r)?) } else { None };
-        let extensions = if extended { uper::Extensions::decode(r, "Common.RequestorType:ext")? } else { uper::Extensions::new() };
-        Ok(Self { role: f_role, subrole: f_subrole, request: f_request, iso3883: f_iso3883, hpms_type: f_hpms_type, regional: f_regional, extensions })
+        <BasicVehicleRole>::decode_into(r, &mut out.role)?;
+        if present & (1 << 4) != 0 {
+            if out.subrole.is_none() {
+                uper::fill_option(&mut out.subrole);
+            }
+            if let Some(v) = &mut out.subrole {
+                <RequestSubRole>::decode_into(r, v)?;
+            }
+        } else {
+            out.subrole = None;
+        }
+        if present & (1 << 3) != 0 {
+            if out.request.is_none() {
+                uper::fill_option(&mut out.request);
+            }
+            if let Some(v) = &mut out.request {
+                <RequestImportanceLevel>::decode_into(r, v)?;
+            }
+        } else {
+            out.request = None;
+        }
+        if present & (1 << 2) != 0 {
+            if out.iso3883.is_none() {
+                uper::fill_option(&mut out.iso3883);
+            }
+            if let Some(v) = &mut out.iso3883 {
+                <Iso3833VehicleType>::decode_into(r, v)?;
+            }
+        } else {
+            out.iso3883 = None;
+        }
+        if present & (1 << 1) != 0 {
+            if out.hpms_type.is_none() {
+                uper::fill_option(&mut out.hpms_type);
+            }
+            if let Some(v) = &mut out.hpms_type {
+                <VehicleType>::decode_into(r, v)?;
+            }
+        } else {
+            out.hpms_type = None;
+        }
+        if present & (1 << 0) != 0 {
+            if out.regional.is_none() {
+                uper::fill_option(&mut out.regional);
+            }
+            if let Some(v) = &mut out.regional {
+                <RegRequestorType>::decode_into(r, v)?;
+            }
+        } else {
+            out.regional = None;
+        }
+        out.extensions = if extended { uper::Extensions::decode(r, "Common.RequestorType:ext")? } else { uper::Extensions::new() };
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_bit(self.extensions.is_present())?;
@@ -5602,13 +6972,20 @@ impl RequestSubRole {
     }
 }
 
+impl uper::Placeholder for RequestSubRole {
+    fn placeholder() -> Self {
+        Self::RequestSubRoleUnKnown
+    }
+}
+
 impl Uper for RequestSubRole {
     const PATH: &'static str = "Common.RequestSubRole";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(4), Some(4));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let at = r.position();
         let i = r.read_constrained(0, 15)?;
-        Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))
+        *out = Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))?;
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_constrained(self.root_index(), 0, 15)
@@ -5719,13 +7096,20 @@ impl RequestImportanceLevel {
     }
 }
 
+impl uper::Placeholder for RequestImportanceLevel {
+    fn placeholder() -> Self {
+        Self::RequestImportanceLevelUnKnown
+    }
+}
+
 impl Uper for RequestImportanceLevel {
     const PATH: &'static str = "Common.RequestImportanceLevel";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(4), Some(4));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let at = r.position();
         let i = r.read_constrained(0, 15)?;
-        Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))
+        *out = Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))?;
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_constrained(self.root_index(), 0, 15)
@@ -5753,14 +7137,21 @@ impl RegRequestorType {
     }
 }
 
+impl uper::Placeholder for RegRequestorType {
+    fn placeholder() -> Self {
+        Self::Unknown { id: <RegionId as uper::Placeholder>::placeholder(), content: uper::Octets::new() }
+    }
+}
+
 impl Uper for RegRequestorType {
     const PATH: &'static str = "Common.RegRequestorType";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(144), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let id = <RegionId>::decode_uper(r)?;
-        Ok(match id.get() {
-            _ => Self::Unknown { id, content: uper::decode_unknown_open(r, "Common.RegRequestorType:unknown")? },
-        })
+        match id.get() {
+            _ => *out = Self::Unknown { id, content: uper::decode_unknown_open(r, "Common.RegRequestorType:unknown")? },
+        }
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         match self {
@@ -5787,18 +7178,60 @@ pub struct Header {
     pub extensions: uper::Extensions<0>,
 }
 
+impl uper::Placeholder for Header {
+    fn placeholder() -> Self {
+        Self { year: None, time_stamp: None, sec_mark: None, msg_issue_revision: None, extensions: uper::Extensions::new() }
+    }
+}
+
 impl Uper for Header {
     const PATH: &'static str = "Common.Header";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(147), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let extended = r.read_bit()?;
         let present = r.read_bits(4)?;
-        let f_year = if present & (1 << 3) != 0 { Some(<DYear>::decode_uper(r)?) } else { None };
-        let f_time_stamp = if present & (1 << 2) != 0 { Some(<MinuteOfTheYear>::decode_uper(r)?) } else { None };
-        let f_sec_mark = if present & (1 << 1) != 0 { Some(<DSecond>::decode_uper(r)?) } else { None };
-        let f_msg_issue_revision = if present & (1 << 0) != 0 { Some(<MsgCount>::decode_uper(r)?) } else { None };
-        let extensions = if extended { uper::Extensions::decode(r, "Common.Header:ext")? } else { uper::Extensions::new() };
-        Ok(Self { year: f_year, time_stamp: f_time_stamp, sec_mark: f_sec_mark, msg_issue_revision: f_msg_issue_revision, extensions })
+        if present & (1 << 3) != 0 {
+            if out.year.is_none() {
+                uper::fill_option(&mut out.year);
+            }
+            if let Some(v) = &mut out.year {
+                <DYear>::decode_into(r, v)?;
+            }
+        } else {
+            out.year = None;
+        }
+        if present & (1 << 2) != 0 {
+            if out.time_stamp.is_none() {
+                uper::fill_option(&mut out.time_stamp);
+            }
+            if let Some(v) = &mut out.time_stamp {
+                <MinuteOfTheYear>::decode_into(r, v)?;
+            }
+        } else {
+            out.time_stamp = None;
+        }
+        if present & (1 << 1) != 0 {
+            if out.sec_mark.is_none() {
+                uper::fill_option(&mut out.sec_mark);
+            }
+            if let Some(v) = &mut out.sec_mark {
+                <DSecond>::decode_into(r, v)?;
+            }
+        } else {
+            out.sec_mark = None;
+        }
+        if present & (1 << 0) != 0 {
+            if out.msg_issue_revision.is_none() {
+                uper::fill_option(&mut out.msg_issue_revision);
+            }
+            if let Some(v) = &mut out.msg_issue_revision {
+                <MsgCount>::decode_into(r, v)?;
+            }
+        } else {
+            out.msg_issue_revision = None;
+        }
+        out.extensions = if extended { uper::Extensions::decode(r, "Common.Header:ext")? } else { uper::Extensions::new() };
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_bit(self.extensions.is_present())?;
@@ -5833,14 +7266,20 @@ pub struct DDate {
     pub day: DDay,
 }
 
+impl uper::Placeholder for DDate {
+    fn placeholder() -> Self {
+        Self { year: <DYear as uper::Placeholder>::placeholder(), month: <DMonth as uper::Placeholder>::placeholder(), day: <DDay as uper::Placeholder>::placeholder() }
+    }
+}
+
 impl Uper for DDate {
     const PATH: &'static str = "Common.DDate";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(21), Some(21));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
-        let f_year = <DYear>::decode_uper(r)?;
-        let f_month = <DMonth>::decode_uper(r)?;
-        let f_day = <DDay>::decode_uper(r)?;
-        Ok(Self { year: f_year, month: f_month, day: f_day })
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+        <DYear>::decode_into(r, &mut out.year)?;
+        <DMonth>::decode_into(r, &mut out.month)?;
+        <DDay>::decode_into(r, &mut out.day)?;
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         self.year.encode_uper(w)?;
@@ -5865,16 +7304,22 @@ pub struct DFullTime {
     pub minute: DMinute,
 }
 
+impl uper::Placeholder for DFullTime {
+    fn placeholder() -> Self {
+        Self { year: <DYear as uper::Placeholder>::placeholder(), month: <DMonth as uper::Placeholder>::placeholder(), day: <DDay as uper::Placeholder>::placeholder(), hour: <DHour as uper::Placeholder>::placeholder(), minute: <DMinute as uper::Placeholder>::placeholder() }
+    }
+}
+
 impl Uper for DFullTime {
     const PATH: &'static str = "Common.DFullTime";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(32), Some(32));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
-        let f_year = <DYear>::decode_uper(r)?;
-        let f_month = <DMonth>::decode_uper(r)?;
-        let f_day = <DDay>::decode_uper(r)?;
-        let f_hour = <DHour>::decode_uper(r)?;
-        let f_minute = <DMinute>::decode_uper(r)?;
-        Ok(Self { year: f_year, month: f_month, day: f_day, hour: f_hour, minute: f_minute })
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+        <DYear>::decode_into(r, &mut out.year)?;
+        <DMonth>::decode_into(r, &mut out.month)?;
+        <DDay>::decode_into(r, &mut out.day)?;
+        <DHour>::decode_into(r, &mut out.hour)?;
+        <DMinute>::decode_into(r, &mut out.minute)?;
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         self.year.encode_uper(w)?;
@@ -5895,13 +7340,19 @@ pub struct DMonthDay {
     pub day: DDay,
 }
 
+impl uper::Placeholder for DMonthDay {
+    fn placeholder() -> Self {
+        Self { month: <DMonth as uper::Placeholder>::placeholder(), day: <DDay as uper::Placeholder>::placeholder() }
+    }
+}
+
 impl Uper for DMonthDay {
     const PATH: &'static str = "Common.DMonthDay";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(9), Some(9));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
-        let f_month = <DMonth>::decode_uper(r)?;
-        let f_day = <DDay>::decode_uper(r)?;
-        Ok(Self { month: f_month, day: f_day })
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+        <DMonth>::decode_into(r, &mut out.month)?;
+        <DDay>::decode_into(r, &mut out.day)?;
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         self.month.encode_uper(w)?;
@@ -5923,16 +7374,31 @@ pub struct DTime {
     pub offset: Option<DOffset>,
 }
 
+impl uper::Placeholder for DTime {
+    fn placeholder() -> Self {
+        Self { hour: <DHour as uper::Placeholder>::placeholder(), minute: <DMinute as uper::Placeholder>::placeholder(), second: <DSecond as uper::Placeholder>::placeholder(), offset: None }
+    }
+}
+
 impl Uper for DTime {
     const PATH: &'static str = "Common.DTime";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(39), Some(39));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let present = r.read_bits(1)?;
-        let f_hour = <DHour>::decode_uper(r)?;
-        let f_minute = <DMinute>::decode_uper(r)?;
-        let f_second = <DSecond>::decode_uper(r)?;
-        let f_offset = if present & (1 << 0) != 0 { Some(<DOffset>::decode_uper(r)?) } else { None };
-        Ok(Self { hour: f_hour, minute: f_minute, second: f_second, offset: f_offset })
+        <DHour>::decode_into(r, &mut out.hour)?;
+        <DMinute>::decode_into(r, &mut out.minute)?;
+        <DSecond>::decode_into(r, &mut out.second)?;
+        if present & (1 << 0) != 0 {
+            if out.offset.is_none() {
+                uper::fill_option(&mut out.offset);
+            }
+            if let Some(v) = &mut out.offset {
+                <DOffset>::decode_into(r, v)?;
+            }
+        } else {
+            out.offset = None;
+        }
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_bits(self.offset.is_some() as u64, 1)?;
@@ -5955,13 +7421,19 @@ pub struct DYearMonth {
     pub month: DMonth,
 }
 
+impl uper::Placeholder for DYearMonth {
+    fn placeholder() -> Self {
+        Self { year: <DYear as uper::Placeholder>::placeholder(), month: <DMonth as uper::Placeholder>::placeholder() }
+    }
+}
+
 impl Uper for DYearMonth {
     const PATH: &'static str = "Common.DYearMonth";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(16), Some(16));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
-        let f_year = <DYear>::decode_uper(r)?;
-        let f_month = <DMonth>::decode_uper(r)?;
-        Ok(Self { year: f_year, month: f_month })
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+        <DYear>::decode_into(r, &mut out.year)?;
+        <DMonth>::decode_into(r, &mut out.month)?;
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         self.year.encode_uper(w)?;
@@ -5991,22 +7463,85 @@ pub enum VerticalOffset {
     Regional(RegVerticalOffset),
 }
 
+impl uper::Placeholder for VerticalOffset {
+    fn placeholder() -> Self {
+        Self::Offset1(<super::basic_safety_message::VertOffsetB07 as uper::Placeholder>::placeholder())
+    }
+}
+
 impl Uper for VerticalOffset {
     const PATH: &'static str = "Common.VerticalOffset";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(147), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let at = r.position();
-        Ok(match r.read_constrained(0, 7)? {
-            0 => Self::Offset1(<super::basic_safety_message::VertOffsetB07>::decode_uper(r)?),
-            1 => Self::Offset2(<VertOffsetB08>::decode_uper(r)?),
-            2 => Self::Offset3(<VertOffsetB09>::decode_uper(r)?),
-            3 => Self::Offset4(<VertOffsetB10>::decode_uper(r)?),
-            4 => Self::Offset5(<VertOffsetB11>::decode_uper(r)?),
-            5 => Self::Offset6(<VertOffsetB12>::decode_uper(r)?),
-            6 => Self::Elevation(<Elevation>::decode_uper(r)?),
-            7 => Self::Regional(<RegVerticalOffset>::decode_uper(r)?),
+        match r.read_constrained(0, 7)? {
+            0 => {
+                if !matches!(out, Self::Offset1(_)) {
+                    uper::replace_with(out, || Self::Offset1(<super::basic_safety_message::VertOffsetB07 as uper::Placeholder>::placeholder()));
+                }
+                if let Self::Offset1(v) = out {
+                    <super::basic_safety_message::VertOffsetB07>::decode_into(r, v)?;
+                }
+            }
+            1 => {
+                if !matches!(out, Self::Offset2(_)) {
+                    uper::replace_with(out, || Self::Offset2(<VertOffsetB08 as uper::Placeholder>::placeholder()));
+                }
+                if let Self::Offset2(v) = out {
+                    <VertOffsetB08>::decode_into(r, v)?;
+                }
+            }
+            2 => {
+                if !matches!(out, Self::Offset3(_)) {
+                    uper::replace_with(out, || Self::Offset3(<VertOffsetB09 as uper::Placeholder>::placeholder()));
+                }
+                if let Self::Offset3(v) = out {
+                    <VertOffsetB09>::decode_into(r, v)?;
+                }
+            }
+            3 => {
+                if !matches!(out, Self::Offset4(_)) {
+                    uper::replace_with(out, || Self::Offset4(<VertOffsetB10 as uper::Placeholder>::placeholder()));
+                }
+                if let Self::Offset4(v) = out {
+                    <VertOffsetB10>::decode_into(r, v)?;
+                }
+            }
+            4 => {
+                if !matches!(out, Self::Offset5(_)) {
+                    uper::replace_with(out, || Self::Offset5(<VertOffsetB11 as uper::Placeholder>::placeholder()));
+                }
+                if let Self::Offset5(v) = out {
+                    <VertOffsetB11>::decode_into(r, v)?;
+                }
+            }
+            5 => {
+                if !matches!(out, Self::Offset6(_)) {
+                    uper::replace_with(out, || Self::Offset6(<VertOffsetB12 as uper::Placeholder>::placeholder()));
+                }
+                if let Self::Offset6(v) = out {
+                    <VertOffsetB12>::decode_into(r, v)?;
+                }
+            }
+            6 => {
+                if !matches!(out, Self::Elevation(_)) {
+                    uper::replace_with(out, || Self::Elevation(<Elevation as uper::Placeholder>::placeholder()));
+                }
+                if let Self::Elevation(v) = out {
+                    <Elevation>::decode_into(r, v)?;
+                }
+            }
+            7 => {
+                if !matches!(out, Self::Regional(_)) {
+                    uper::replace_with(out, || Self::Regional(<RegVerticalOffset as uper::Placeholder>::placeholder()));
+                }
+                if let Self::Regional(v) = out {
+                    <RegVerticalOffset>::decode_into(r, v)?;
+                }
+            }
             _ => return Err(uper::DecodeError::new(uper::DecodeErrorKind::InvalidChoiceIndex, at)),
-        })
+        }
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         match self {
@@ -6063,14 +7598,21 @@ impl RegVerticalOffset {
     }
 }
 
+impl uper::Placeholder for RegVerticalOffset {
+    fn placeholder() -> Self {
+        Self::Unknown { id: <RegionId as uper::Placeholder>::placeholder(), content: uper::Octets::new() }
+    }
+}
+
 impl Uper for RegVerticalOffset {
     const PATH: &'static str = "Common.RegVerticalOffset";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(144), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let id = <RegionId>::decode_uper(r)?;
-        Ok(match id.get() {
-            _ => Self::Unknown { id, content: uper::decode_unknown_open(r, "Common.RegVerticalOffset:unknown")? },
-        })
+        match id.get() {
+            _ => *out = Self::Unknown { id, content: uper::decode_unknown_open(r, "Common.RegVerticalOffset:unknown")? },
+        }
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         match self {
@@ -6099,11 +7641,17 @@ impl CodeWord {
     }
 }
 
+impl uper::Placeholder for CodeWord {
+    fn placeholder() -> Self {
+        Self(uper::Octets::new())
+    }
+}
+
 impl Uper for CodeWord {
     const PATH: &'static str = "Common.CodeWord";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(132), Some(132));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
-        uper::decode_octets(r, Self::SIZE, "Common.CodeWord").map(Self)
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+        uper::decode_octets_into(r, Self::SIZE, "Common.CodeWord", &mut out.0)
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_octets(w, Self::SIZE, &self.0)
@@ -6184,13 +7732,20 @@ impl LocationQuality {
     }
 }
 
+impl uper::Placeholder for LocationQuality {
+    fn placeholder() -> Self {
+        Self::LocQualBt1m
+    }
+}
+
 impl Uper for LocationQuality {
     const PATH: &'static str = "Common.Location-quality";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(3), Some(3));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let at = r.position();
         let i = r.read_constrained(0, 7)?;
-        Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))
+        *out = Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))?;
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_constrained(self.root_index(), 0, 7)
@@ -6276,18 +7831,26 @@ impl LocationTech {
     }
 }
 
+impl uper::Placeholder for LocationTech {
+    fn placeholder() -> Self {
+        Self::LocTechUnknown
+    }
+}
+
 impl Uper for LocationTech {
     const PATH: &'static str = "Common.Location-tech";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(26), Some(26));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         if r.read_bit()? {
             let at = r.position();
             let i = r.read_normally_small()?;
-            return u16::try_from(i).map(Self::Extension).map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at));
+            *out = u16::try_from(i).map(Self::Extension).map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at))?;
+            return Ok(());
         }
         let at = r.position();
         let i = r.read_constrained(0, 9)?;
-        Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))
+        *out = Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))?;
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         if let Self::Extension(i) = self {
@@ -6316,11 +7879,17 @@ impl MessageBLOB {
     }
 }
 
+impl uper::Placeholder for MessageBLOB {
+    fn placeholder() -> Self {
+        Self(uper::Octets::new())
+    }
+}
+
 impl Uper for MessageBLOB {
     const PATH: &'static str = "Common.MessageBLOB";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(523), Some(16011));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
-        uper::decode_octets(r, Self::SIZE, "Common.MessageBLOB").map(Self)
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+        uper::decode_octets_into(r, Self::SIZE, "Common.MessageBLOB", &mut out.0)
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_octets(w, Self::SIZE, &self.0)
@@ -6344,11 +7913,17 @@ impl PayloadData {
     }
 }
 
+impl uper::Placeholder for PayloadData {
+    fn placeholder() -> Self {
+        Self(uper::Octets::new())
+    }
+}
+
 impl Uper for PayloadData {
     const PATH: &'static str = "Common.PayloadData";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(523), Some(16395));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
-        uper::decode_octets(r, Self::SIZE, "Common.PayloadData").map(Self)
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+        uper::decode_octets_into(r, Self::SIZE, "Common.PayloadData", &mut out.0)
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_octets(w, Self::SIZE, &self.0)
@@ -6359,11 +7934,17 @@ impl Uper for PayloadData {
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub struct SignalReqScheme(pub [u8; 1]);
 
+impl uper::Placeholder for SignalReqScheme {
+    fn placeholder() -> Self {
+        Self([0; 1])
+    }
+}
+
 impl Uper for SignalReqScheme {
     const PATH: &'static str = "Common.SignalReqScheme";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(8), Some(8));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
-        uper::decode_fixed_octets(r).map(Self)
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+        r.read_octets(&mut out.0)
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_octets(&self.0)
@@ -6398,11 +7979,18 @@ impl TransitStatus {
     }
 }
 
+impl uper::Placeholder for TransitStatus {
+    fn placeholder() -> Self {
+        Self(uper::Bits::EMPTY)
+    }
+}
+
 impl Uper for TransitStatus {
     const PATH: &'static str = "Common.TransitStatus";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(6), Some(6));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
-        uper::decode_bits(r, Self::SIZE, "Common.TransitStatus").map(Self)
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+        out.0 = uper::decode_bits(r, Self::SIZE, "Common.TransitStatus")?;
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_bits(w, Self::SIZE, &self.0)
@@ -6427,11 +8015,18 @@ impl URLLink {
     }
 }
 
+impl uper::Placeholder for URLLink {
+    fn placeholder() -> Self {
+        Self(uper::Ia5::new())
+    }
+}
+
 impl Uper for URLLink {
     const PATH: &'static str = "Common.URL-Link";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(449), Some(1793));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
-        uper::decode_ia5(r, Self::SIZE, "Common.URL-Link").map(Self)
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+        out.0 = uper::decode_ia5(r, Self::SIZE, "Common.URL-Link")?;
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_ia5(w, Self::SIZE, &self.0)

@@ -23,19 +23,61 @@ pub struct CommonSafetyRequest {
     pub extensions: uper::Extensions<0>,
 }
 
+impl uper::Placeholder for CommonSafetyRequest {
+    fn placeholder() -> Self {
+        Self { time_stamp: None, msg_cnt: None, id: None, requests: <RequestedItemList as uper::Placeholder>::placeholder(), regional: None, extensions: uper::Extensions::new() }
+    }
+}
+
 impl Uper for CommonSafetyRequest {
     const PATH: &'static str = "CommonSafetyRequest.CommonSafetyRequest";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(406), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let extended = r.read_bit()?;
         let present = r.read_bits(4)?;
-        let f_time_stamp = if present & (1 << 3) != 0 { Some(<super::common::MinuteOfTheYear>::decode_uper(r)?) } else { None };
-        let f_msg_cnt = if present & (1 << 2) != 0 { Some(<super::common::MsgCount>::decode_uper(r)?) } else { None };
-        let f_id = if present & (1 << 1) != 0 { Some(<super::common::TemporaryID>::decode_uper(r)?) } else { None };
-        let f_requests = <RequestedItemList>::decode_uper(r)?;
-        let f_regional = if present & (1 << 0) != 0 { Some(<CommonSafetyRequestRegional>::decode_uper(r)?) } else { None };
-        let extensions = if extended { uper::Extensions::decode(r, "CommonSafetyRequest.CommonSafetyRequest:ext")? } else { uper::Extensions::new() };
-        Ok(Self { time_stamp: f_time_stamp, msg_cnt: f_msg_cnt, id: f_id, requests: f_requests, regional: f_regional, extensions })
+        if present & (1 << 3) != 0 {
+            if out.time_stamp.is_none() {
+                uper::fill_option(&mut out.time_stamp);
+            }
+            if let Some(v) = &mut out.time_stamp {
+                <super::common::MinuteOfTheYear>::decode_into(r, v)?;
+            }
+        } else {
+            out.time_stamp = None;
+        }
+        if present & (1 << 2) != 0 {
+            if out.msg_cnt.is_none() {
+                uper::fill_option(&mut out.msg_cnt);
+            }
+            if let Some(v) = &mut out.msg_cnt {
+                <super::common::MsgCount>::decode_into(r, v)?;
+            }
+        } else {
+            out.msg_cnt = None;
+        }
+        if present & (1 << 1) != 0 {
+            if out.id.is_none() {
+                uper::fill_option(&mut out.id);
+            }
+            if let Some(v) = &mut out.id {
+                <super::common::TemporaryID>::decode_into(r, v)?;
+            }
+        } else {
+            out.id = None;
+        }
+        <RequestedItemList>::decode_into(r, &mut out.requests)?;
+        if present & (1 << 0) != 0 {
+            if out.regional.is_none() {
+                uper::fill_option(&mut out.regional);
+            }
+            if let Some(v) = &mut out.regional {
+                <CommonSafetyRequestRegional>::decode_into(r, v)?;
+            }
+        } else {
+            out.regional = None;
+        }
+        out.extensions = if extended { uper::Extensions::decode(r, "CommonSafetyRequest.CommonSafetyRequest:ext")? } else { uper::Extensions::new() };
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_bit(self.extensions.is_present())?;
@@ -69,7 +111,13 @@ crate::__newtype_deref!(RequestedItemList, uper::SeqOf<RequestedItem, 4>);
 impl RequestedItemList {
     const SIZE: uper::Size = uper::Size::range(1, 32);
     /// An empty list (valid for encoding once it holds the minimum number of items).
-    pub const fn new() -> Self {
+    pub fn new() -> Self {
+        Self(uper::SeqOf::new())
+    }
+}
+
+impl uper::Placeholder for RequestedItemList {
+    fn placeholder() -> Self {
         Self(uper::SeqOf::new())
     }
 }
@@ -77,8 +125,8 @@ impl RequestedItemList {
 impl Uper for RequestedItemList {
     const PATH: &'static str = "CommonSafetyRequest.RequestedItemList";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(109), Some(837));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
-        uper::decode_seq_of(r, Self::SIZE, "CommonSafetyRequest.RequestedItemList").map(Self)
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+        uper::decode_seq_of_into(r, Self::SIZE, "CommonSafetyRequest.RequestedItemList", &mut out.0)
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
@@ -199,18 +247,26 @@ impl RequestedItem {
     }
 }
 
+impl uper::Placeholder for RequestedItem {
+    fn placeholder() -> Self {
+        Self::Reserved
+    }
+}
+
 impl Uper for RequestedItem {
     const PATH: &'static str = "CommonSafetyRequest.RequestedItem";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(26), Some(26));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         if r.read_bit()? {
             let at = r.position();
             let i = r.read_normally_small()?;
-            return u16::try_from(i).map(Self::Extension).map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at));
+            *out = u16::try_from(i).map(Self::Extension).map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at))?;
+            return Ok(());
         }
         let at = r.position();
         let i = r.read_constrained(0, 16)?;
-        Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))
+        *out = Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))?;
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         if let Self::Extension(i) = self {
@@ -231,7 +287,13 @@ crate::__newtype_deref!(CommonSafetyRequestRegional, uper::SeqOf<RegCommonSafety
 impl CommonSafetyRequestRegional {
     const SIZE: uper::Size = uper::Size::range(1, 4);
     /// An empty list (valid for encoding once it holds the minimum number of items).
-    pub const fn new() -> Self {
+    pub fn new() -> Self {
+        Self(uper::SeqOf::new())
+    }
+}
+
+impl uper::Placeholder for CommonSafetyRequestRegional {
+    fn placeholder() -> Self {
         Self(uper::SeqOf::new())
     }
 }
@@ -239,8 +301,8 @@ impl CommonSafetyRequestRegional {
 impl Uper for CommonSafetyRequestRegional {
     const PATH: &'static str = "CommonSafetyRequest.CommonSafetyRequest.regional";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(146), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
-        uper::decode_seq_of(r, Self::SIZE, "CommonSafetyRequest.CommonSafetyRequest.regional").map(Self)
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+        uper::decode_seq_of_into(r, Self::SIZE, "CommonSafetyRequest.CommonSafetyRequest.regional", &mut out.0)
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
@@ -268,14 +330,21 @@ impl RegCommonSafetyRequest {
     }
 }
 
+impl uper::Placeholder for RegCommonSafetyRequest {
+    fn placeholder() -> Self {
+        Self::Unknown { id: <super::common::RegionId as uper::Placeholder>::placeholder(), content: uper::Octets::new() }
+    }
+}
+
 impl Uper for RegCommonSafetyRequest {
     const PATH: &'static str = "CommonSafetyRequest.RegCommonSafetyRequest";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(144), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let id = <super::common::RegionId>::decode_uper(r)?;
-        Ok(match id.get() {
-            _ => Self::Unknown { id, content: uper::decode_unknown_open(r, "CommonSafetyRequest.RegCommonSafetyRequest:unknown")? },
-        })
+        match id.get() {
+            _ => *out = Self::Unknown { id, content: uper::decode_unknown_open(r, "CommonSafetyRequest.RegCommonSafetyRequest:unknown")? },
+        }
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         match self {

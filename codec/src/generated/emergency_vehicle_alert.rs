@@ -35,25 +35,121 @@ pub struct EmergencyVehicleAlert {
     pub extensions: uper::Extensions<0>,
 }
 
+impl uper::Placeholder for EmergencyVehicleAlert {
+    fn placeholder() -> Self {
+        Self { time_stamp: None, id: None, rsa_msg: <super::road_side_alert::RoadSideAlert as uper::Placeholder>::placeholder(), response_type: None, details: None, mass: None, basic_type: None, vehicle_type: None, response_equip: None, responder_type: None, regional: None, extensions: uper::Extensions::new() }
+    }
+}
+
 impl Uper for EmergencyVehicleAlert {
     const PATH: &'static str = "EmergencyVehicleAlert.EmergencyVehicleAlert";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(1393), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let extended = r.read_bit()?;
         let present = r.read_bits(10)?;
-        let f_time_stamp = if present & (1 << 9) != 0 { Some(<super::common::MinuteOfTheYear>::decode_uper(r)?) } else { None };
-        let f_id = if present & (1 << 8) != 0 { Some(<super::common::TemporaryID>::decode_uper(r)?) } else { None };
-        let f_rsa_msg = <super::road_side_alert::RoadSideAlert>::decode_uper(r)?;
-        let f_response_type = if present & (1 << 7) != 0 { Some(<super::common::ResponseType>::decode_uper(r)?) } else { None };
-        let f_details = if present & (1 << 6) != 0 { Some(<super::common::EmergencyDetails>::decode_uper(r)?) } else { None };
-        let f_mass = if present & (1 << 5) != 0 { Some(<super::common::VehicleMass>::decode_uper(r)?) } else { None };
-        let f_basic_type = if present & (1 << 4) != 0 { Some(<super::common::VehicleType>::decode_uper(r)?) } else { None };
-        let f_vehicle_type = if present & (1 << 3) != 0 { Some(<super::itis::VehicleGroupAffected>::decode_uper(r)?) } else { None };
-        let f_response_equip = if present & (1 << 2) != 0 { Some(<super::itis::IncidentResponseEquipment>::decode_uper(r)?) } else { None };
-        let f_responder_type = if present & (1 << 1) != 0 { Some(<super::itis::ResponderGroupAffected>::decode_uper(r)?) } else { None };
-        let f_regional = if present & (1 << 0) != 0 { Some(<EmergencyVehicleAlertRegional>::decode_uper(r)?) } else { None };
-        let extensions = if extended { uper::Extensions::decode(r, "EmergencyVehicleAlert.EmergencyVehicleAlert:ext")? } else { uper::Extensions::new() };
-        Ok(Self { time_stamp: f_time_stamp, id: f_id, rsa_msg: f_rsa_msg, response_type: f_response_type, details: f_details, mass: f_mass, basic_type: f_basic_type, vehicle_type: f_vehicle_type, response_equip: f_response_equip, responder_type: f_responder_type, regional: f_regional, extensions })
+        if present & (1 << 9) != 0 {
+            if out.time_stamp.is_none() {
+                uper::fill_option(&mut out.time_stamp);
+            }
+            if let Some(v) = &mut out.time_stamp {
+                <super::common::MinuteOfTheYear>::decode_into(r, v)?;
+            }
+        } else {
+            out.time_stamp = None;
+        }
+        if present & (1 << 8) != 0 {
+            if out.id.is_none() {
+                uper::fill_option(&mut out.id);
+            }
+            if let Some(v) = &mut out.id {
+                <super::common::TemporaryID>::decode_into(r, v)?;
+            }
+        } else {
+            out.id = None;
+        }
+        <super::road_side_alert::RoadSideAlert>::decode_into(r, &mut out.rsa_msg)?;
+        if present & (1 << 7) != 0 {
+            if out.response_type.is_none() {
+                uper::fill_option(&mut out.response_type);
+            }
+            if let Some(v) = &mut out.response_type {
+                <super::common::ResponseType>::decode_into(r, v)?;
+            }
+        } else {
+            out.response_type = None;
+        }
+        if present & (1 << 6) != 0 {
+            if out.details.is_none() {
+                uper::fill_option(&mut out.details);
+            }
+            if let Some(v) = &mut out.details {
+                <super::common::EmergencyDetails>::decode_into(r, v)?;
+            }
+        } else {
+            out.details = None;
+        }
+        if present & (1 << 5) != 0 {
+            if out.mass.is_none() {
+                uper::fill_option(&mut out.mass);
+            }
+            if let Some(v) = &mut out.mass {
+                <super::common::VehicleMass>::decode_into(r, v)?;
+            }
+        } else {
+            out.mass = None;
+        }
+        if present & (1 << 4) != 0 {
+            if out.basic_type.is_none() {
+                uper::fill_option(&mut out.basic_type);
+            }
+            if let Some(v) = &mut out.basic_type {
+                <super::common::VehicleType>::decode_into(r, v)?;
+            }
+        } else {
+            out.basic_type = None;
+        }
+        if present & (1 << 3) != 0 {
+            if out.vehicle_type.is_none() {
+                uper::fill_option(&mut out.vehicle_type);
+            }
+            if let Some(v) = &mut out.vehicle_type {
+                <super::itis::VehicleGroupAffected>::decode_into(r, v)?;
+            }
+        } else {
+            out.vehicle_type = None;
+        }
+        if present & (1 << 2) != 0 {
+            if out.response_equip.is_none() {
+                uper::fill_option(&mut out.response_equip);
+            }
+            if let Some(v) = &mut out.response_equip {
+                <super::itis::IncidentResponseEquipment>::decode_into(r, v)?;
+            }
+        } else {
+            out.response_equip = None;
+        }
+        if present & (1 << 1) != 0 {
+            if out.responder_type.is_none() {
+                uper::fill_option(&mut out.responder_type);
+            }
+            if let Some(v) = &mut out.responder_type {
+                <super::itis::ResponderGroupAffected>::decode_into(r, v)?;
+            }
+        } else {
+            out.responder_type = None;
+        }
+        if present & (1 << 0) != 0 {
+            if out.regional.is_none() {
+                uper::fill_option(&mut out.regional);
+            }
+            if let Some(v) = &mut out.regional {
+                <EmergencyVehicleAlertRegional>::decode_into(r, v)?;
+            }
+        } else {
+            out.regional = None;
+        }
+        out.extensions = if extended { uper::Extensions::decode(r, "EmergencyVehicleAlert.EmergencyVehicleAlert:ext")? } else { uper::Extensions::new() };
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_bit(self.extensions.is_present())?;
@@ -105,7 +201,13 @@ crate::__newtype_deref!(EmergencyVehicleAlertRegional, uper::SeqOf<RegEmergencyV
 impl EmergencyVehicleAlertRegional {
     const SIZE: uper::Size = uper::Size::range(1, 4);
     /// An empty list (valid for encoding once it holds the minimum number of items).
-    pub const fn new() -> Self {
+    pub fn new() -> Self {
+        Self(uper::SeqOf::new())
+    }
+}
+
+impl uper::Placeholder for EmergencyVehicleAlertRegional {
+    fn placeholder() -> Self {
         Self(uper::SeqOf::new())
     }
 }
@@ -113,8 +215,8 @@ impl EmergencyVehicleAlertRegional {
 impl Uper for EmergencyVehicleAlertRegional {
     const PATH: &'static str = "EmergencyVehicleAlert.EmergencyVehicleAlert.regional";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(146), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
-        uper::decode_seq_of(r, Self::SIZE, "EmergencyVehicleAlert.EmergencyVehicleAlert.regional").map(Self)
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+        uper::decode_seq_of_into(r, Self::SIZE, "EmergencyVehicleAlert.EmergencyVehicleAlert.regional", &mut out.0)
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
@@ -142,14 +244,21 @@ impl RegEmergencyVehicleAlert {
     }
 }
 
+impl uper::Placeholder for RegEmergencyVehicleAlert {
+    fn placeholder() -> Self {
+        Self::Unknown { id: <super::common::RegionId as uper::Placeholder>::placeholder(), content: uper::Octets::new() }
+    }
+}
+
 impl Uper for RegEmergencyVehicleAlert {
     const PATH: &'static str = "EmergencyVehicleAlert.RegEmergencyVehicleAlert";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(144), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let id = <super::common::RegionId>::decode_uper(r)?;
-        Ok(match id.get() {
-            _ => Self::Unknown { id, content: uper::decode_unknown_open(r, "EmergencyVehicleAlert.RegEmergencyVehicleAlert:unknown")? },
-        })
+        match id.get() {
+            _ => *out = Self::Unknown { id, content: uper::decode_unknown_open(r, "EmergencyVehicleAlert.RegEmergencyVehicleAlert:unknown")? },
+        }
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         match self {

@@ -33,24 +33,75 @@ pub struct IntersectionCollision {
     pub extensions: uper::Extensions<0>,
 }
 
+impl uper::Placeholder for IntersectionCollision {
+    fn placeholder() -> Self {
+        Self { msg_cnt: <super::common::MsgCount as uper::Placeholder>::placeholder(), id: <super::common::TemporaryID as uper::Placeholder>::placeholder(), time_stamp: None, part_one: None, path: None, path_prediction: None, intersection_id: <super::common::IntersectionReferenceID as uper::Placeholder>::placeholder(), lane_number: <ApproachOrLane as uper::Placeholder>::placeholder(), event_flag: <super::common::VehicleEventFlags as uper::Placeholder>::placeholder(), regional: None, extensions: uper::Extensions::new() }
+    }
+}
+
 impl Uper for IntersectionCollision {
     const PATH: &'static str = "IntersectionCollision.IntersectionCollision";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(5988), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let extended = r.read_bit()?;
         let present = r.read_bits(5)?;
-        let f_msg_cnt = <super::common::MsgCount>::decode_uper(r)?;
-        let f_id = <super::common::TemporaryID>::decode_uper(r)?;
-        let f_time_stamp = if present & (1 << 4) != 0 { Some(<super::common::MinuteOfTheYear>::decode_uper(r)?) } else { None };
-        let f_part_one = if present & (1 << 3) != 0 { Some(<super::common::BSMcoreData>::decode_uper(r)?) } else { None };
-        let f_path = if present & (1 << 2) != 0 { Some(<super::common::PathHistory>::decode_uper(r)?) } else { None };
-        let f_path_prediction = if present & (1 << 1) != 0 { Some(<super::common::PathPrediction>::decode_uper(r)?) } else { None };
-        let f_intersection_id = <super::common::IntersectionReferenceID>::decode_uper(r)?;
-        let f_lane_number = <ApproachOrLane>::decode_uper(r)?;
-        let f_event_flag = <super::common::VehicleEventFlags>::decode_uper(r)?;
-        let f_regional = if present & (1 << 0) != 0 { Some(<IntersectionCollisionRegional>::decode_uper(r)?) } else { None };
-        let extensions = if extended { uper::Extensions::decode(r, "IntersectionCollision.IntersectionCollision:ext")? } else { uper::Extensions::new() };
-        Ok(Self { msg_cnt: f_msg_cnt, id: f_id, time_stamp: f_time_stamp, part_one: f_part_one, path: f_path, path_prediction: f_path_prediction, intersection_id: f_intersection_id, lane_number: f_lane_number, event_flag: f_event_flag, regional: f_regional, extensions })
+        <super::common::MsgCount>::decode_into(r, &mut out.msg_cnt)?;
+        <super::common::TemporaryID>::decode_into(r, &mut out.id)?;
+        if present & (1 << 4) != 0 {
+            if out.time_stamp.is_none() {
+                uper::fill_option(&mut out.time_stamp);
+            }
+            if let Some(v) = &mut out.time_stamp {
+                <super::common::MinuteOfTheYear>::decode_into(r, v)?;
+            }
+        } else {
+            out.time_stamp = None;
+        }
+        if present & (1 << 3) != 0 {
+            if out.part_one.is_none() {
+                uper::fill_option(&mut out.part_one);
+            }
+            if let Some(v) = &mut out.part_one {
+                <super::common::BSMcoreData>::decode_into(r, v)?;
+            }
+        } else {
+            out.part_one = None;
+        }
+        if present & (1 << 2) != 0 {
+            if out.path.is_none() {
+                uper::fill_option(&mut out.path);
+            }
+            if let Some(v) = &mut out.path {
+                <super::common::PathHistory>::decode_into(r, v)?;
+            }
+        } else {
+            out.path = None;
+        }
+        if present & (1 << 1) != 0 {
+            if out.path_prediction.is_none() {
+                uper::fill_option(&mut out.path_prediction);
+            }
+            if let Some(v) = &mut out.path_prediction {
+                <super::common::PathPrediction>::decode_into(r, v)?;
+            }
+        } else {
+            out.path_prediction = None;
+        }
+        <super::common::IntersectionReferenceID>::decode_into(r, &mut out.intersection_id)?;
+        <ApproachOrLane>::decode_into(r, &mut out.lane_number)?;
+        <super::common::VehicleEventFlags>::decode_into(r, &mut out.event_flag)?;
+        if present & (1 << 0) != 0 {
+            if out.regional.is_none() {
+                uper::fill_option(&mut out.regional);
+            }
+            if let Some(v) = &mut out.regional {
+                <IntersectionCollisionRegional>::decode_into(r, v)?;
+            }
+        } else {
+            out.regional = None;
+        }
+        out.extensions = if extended { uper::Extensions::decode(r, "IntersectionCollision.IntersectionCollision:ext")? } else { uper::Extensions::new() };
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_bit(self.extensions.is_present())?;
@@ -91,16 +142,37 @@ pub enum ApproachOrLane {
     Lane(super::common::LaneID),
 }
 
+impl uper::Placeholder for ApproachOrLane {
+    fn placeholder() -> Self {
+        Self::Approach(<super::common::ApproachID as uper::Placeholder>::placeholder())
+    }
+}
+
 impl Uper for ApproachOrLane {
     const PATH: &'static str = "IntersectionCollision.ApproachOrLane";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(9), Some(9));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let at = r.position();
-        Ok(match r.read_constrained(0, 1)? {
-            0 => Self::Approach(<super::common::ApproachID>::decode_uper(r)?),
-            1 => Self::Lane(<super::common::LaneID>::decode_uper(r)?),
+        match r.read_constrained(0, 1)? {
+            0 => {
+                if !matches!(out, Self::Approach(_)) {
+                    uper::replace_with(out, || Self::Approach(<super::common::ApproachID as uper::Placeholder>::placeholder()));
+                }
+                if let Self::Approach(v) = out {
+                    <super::common::ApproachID>::decode_into(r, v)?;
+                }
+            }
+            1 => {
+                if !matches!(out, Self::Lane(_)) {
+                    uper::replace_with(out, || Self::Lane(<super::common::LaneID as uper::Placeholder>::placeholder()));
+                }
+                if let Self::Lane(v) = out {
+                    <super::common::LaneID>::decode_into(r, v)?;
+                }
+            }
             _ => return Err(uper::DecodeError::new(uper::DecodeErrorKind::InvalidChoiceIndex, at)),
-        })
+        }
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         match self {
@@ -119,7 +191,13 @@ crate::__newtype_deref!(IntersectionCollisionRegional, uper::SeqOf<RegIntersecti
 impl IntersectionCollisionRegional {
     const SIZE: uper::Size = uper::Size::range(1, 4);
     /// An empty list (valid for encoding once it holds the minimum number of items).
-    pub const fn new() -> Self {
+    pub fn new() -> Self {
+        Self(uper::SeqOf::new())
+    }
+}
+
+impl uper::Placeholder for IntersectionCollisionRegional {
+    fn placeholder() -> Self {
         Self(uper::SeqOf::new())
     }
 }
@@ -127,8 +205,8 @@ impl IntersectionCollisionRegional {
 impl Uper for IntersectionCollisionRegional {
     const PATH: &'static str = "IntersectionCollision.IntersectionCollision.regional";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(146), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
-        uper::decode_seq_of(r, Self::SIZE, "IntersectionCollision.IntersectionCollision.regional").map(Self)
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+        uper::decode_seq_of_into(r, Self::SIZE, "IntersectionCollision.IntersectionCollision.regional", &mut out.0)
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
@@ -156,14 +234,21 @@ impl RegIntersectionCollision {
     }
 }
 
+impl uper::Placeholder for RegIntersectionCollision {
+    fn placeholder() -> Self {
+        Self::Unknown { id: <super::common::RegionId as uper::Placeholder>::placeholder(), content: uper::Octets::new() }
+    }
+}
+
 impl Uper for RegIntersectionCollision {
     const PATH: &'static str = "IntersectionCollision.RegIntersectionCollision";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(144), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let id = <super::common::RegionId>::decode_uper(r)?;
-        Ok(match id.get() {
-            _ => Self::Unknown { id, content: uper::decode_unknown_open(r, "IntersectionCollision.RegIntersectionCollision:unknown")? },
-        })
+        match id.get() {
+            _ => *out = Self::Unknown { id, content: uper::decode_unknown_open(r, "IntersectionCollision.RegIntersectionCollision:unknown")? },
+        }
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         match self {

@@ -215,18 +215,26 @@ impl VehicleGroupAffected {
     }
 }
 
+impl uper::Placeholder for VehicleGroupAffected {
+    fn placeholder() -> Self {
+        Self::AllVehicles
+    }
+}
+
 impl Uper for VehicleGroupAffected {
     const PATH: &'static str = "ITIS.VehicleGroupAffected";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(26), Some(26));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         if r.read_bit()? {
             let at = r.position();
             let i = r.read_normally_small()?;
-            return u16::try_from(i).map(Self::Extension).map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at));
+            *out = u16::try_from(i).map(Self::Extension).map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at))?;
+            return Ok(());
         }
         let at = r.position();
         let i = r.read_constrained(0, 34)?;
-        Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))
+        *out = Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))?;
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         if let Self::Extension(i) = self {
@@ -627,18 +635,26 @@ impl IncidentResponseEquipment {
     }
 }
 
+impl uper::Placeholder for IncidentResponseEquipment {
+    fn placeholder() -> Self {
+        Self::GroundFireSuppression
+    }
+}
+
 impl Uper for IncidentResponseEquipment {
     const PATH: &'static str = "ITIS.IncidentResponseEquipment";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(26), Some(26));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         if r.read_bit()? {
             let at = r.position();
             let i = r.read_normally_small()?;
-            return u16::try_from(i).map(Self::Extension).map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at));
+            *out = u16::try_from(i).map(Self::Extension).map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at))?;
+            return Ok(());
         }
         let at = r.position();
         let i = r.read_constrained(0, 71)?;
-        Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))
+        *out = Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))?;
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         if let Self::Extension(i) = self {
@@ -749,18 +765,26 @@ impl ResponderGroupAffected {
     }
 }
 
+impl uper::Placeholder for ResponderGroupAffected {
+    fn placeholder() -> Self {
+        Self::EmergencyVehicleUnits
+    }
+}
+
 impl Uper for ResponderGroupAffected {
     const PATH: &'static str = "ITIS.ResponderGroupAffected";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(26), Some(26));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         if r.read_bit()? {
             let at = r.position();
             let i = r.read_normally_small()?;
-            return u16::try_from(i).map(Self::Extension).map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at));
+            *out = u16::try_from(i).map(Self::Extension).map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at))?;
+            return Ok(());
         }
         let at = r.position();
         let i = r.read_constrained(0, 13)?;
-        Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))
+        *out = Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))?;
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         if let Self::Extension(i) = self {
@@ -1281,18 +1305,26 @@ impl GenericLocations {
     }
 }
 
+impl uper::Placeholder for GenericLocations {
+    fn placeholder() -> Self {
+        Self::OnBridges
+    }
+}
+
 impl Uper for GenericLocations {
     const PATH: &'static str = "ITIS.GenericLocations";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(26), Some(26));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         if r.read_bit()? {
             let at = r.position();
             let i = r.read_normally_small()?;
-            return u16::try_from(i).map(Self::Extension).map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at));
+            *out = u16::try_from(i).map(Self::Extension).map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at))?;
+            return Ok(());
         }
         let at = r.position();
         let i = r.read_constrained(0, 95)?;
-        Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))
+        *out = Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))?;
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         if let Self::Extension(i) = self {
@@ -1313,7 +1345,13 @@ crate::__newtype_deref!(ITIScodesAndText, uper::SeqOf<ITIScodesAndTextItem, 4>);
 impl ITIScodesAndText {
     const SIZE: uper::Size = uper::Size::range(1, 100);
     /// An empty list (valid for encoding once it holds the minimum number of items).
-    pub const fn new() -> Self {
+    pub fn new() -> Self {
+        Self(uper::SeqOf::new())
+    }
+}
+
+impl uper::Placeholder for ITIScodesAndText {
+    fn placeholder() -> Self {
         Self(uper::SeqOf::new())
     }
 }
@@ -1321,8 +1359,8 @@ impl ITIScodesAndText {
 impl Uper for ITIScodesAndText {
     const PATH: &'static str = "ITIS.ITIScodesAndText";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(1811), Some(351007));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
-        uper::decode_seq_of(r, Self::SIZE, "ITIS.ITIScodesAndText").map(Self)
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+        uper::decode_seq_of_into(r, Self::SIZE, "ITIS.ITIScodesAndText", &mut out.0)
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
@@ -1336,12 +1374,18 @@ pub struct ITIScodesAndTextItem {
     pub item: ITIScodesAndTextItemItem,
 }
 
+impl uper::Placeholder for ITIScodesAndTextItem {
+    fn placeholder() -> Self {
+        Self { item: <ITIScodesAndTextItemItem as uper::Placeholder>::placeholder() }
+    }
+}
+
 impl Uper for ITIScodesAndTextItem {
     const PATH: &'static str = "ITIS.ITIScodesAndText[]";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(451), Some(3510));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
-        let f_item = <ITIScodesAndTextItemItem>::decode_uper(r)?;
-        Ok(Self { item: f_item })
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+        <ITIScodesAndTextItemItem>::decode_into(r, &mut out.item)?;
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         self.item.encode_uper(w)?;
@@ -1358,16 +1402,37 @@ pub enum ITIScodesAndTextItemItem {
     Text(ITIStext),
 }
 
+impl uper::Placeholder for ITIScodesAndTextItemItem {
+    fn placeholder() -> Self {
+        Self::Itis(<ITIScodes as uper::Placeholder>::placeholder())
+    }
+}
+
 impl Uper for ITIScodesAndTextItemItem {
     const PATH: &'static str = "ITIS.ITIScodesAndText[].item";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(451), Some(3510));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let at = r.position();
-        Ok(match r.read_constrained(0, 1)? {
-            0 => Self::Itis(<ITIScodes>::decode_uper(r)?),
-            1 => Self::Text(<ITIStext>::decode_uper(r)?),
+        match r.read_constrained(0, 1)? {
+            0 => {
+                if !matches!(out, Self::Itis(_)) {
+                    uper::replace_with(out, || Self::Itis(<ITIScodes as uper::Placeholder>::placeholder()));
+                }
+                if let Self::Itis(v) = out {
+                    <ITIScodes>::decode_into(r, v)?;
+                }
+            }
+            1 => {
+                if !matches!(out, Self::Text(_)) {
+                    uper::replace_with(out, || Self::Text(<ITIStext as uper::Placeholder>::placeholder()));
+                }
+                if let Self::Text(v) = out {
+                    <ITIStext>::decode_into(r, v)?;
+                }
+            }
             _ => return Err(uper::DecodeError::new(uper::DecodeErrorKind::InvalidChoiceIndex, at)),
-        })
+        }
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         match self {
@@ -1395,11 +1460,18 @@ impl ITIStext {
     }
 }
 
+impl uper::Placeholder for ITIStext {
+    fn placeholder() -> Self {
+        Self(uper::Ia5::new())
+    }
+}
+
 impl Uper for ITIStext {
     const PATH: &'static str = "ITIS.ITIStext";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(450), Some(3509));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
-        uper::decode_ia5(r, Self::SIZE, "ITIS.ITIStext").map(Self)
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+        out.0 = uper::decode_ia5(r, Self::SIZE, "ITIS.ITIStext")?;
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_ia5(w, Self::SIZE, &self.0)

@@ -31,23 +31,101 @@ pub struct MapData {
     pub extensions: uper::Extensions<64>,
 }
 
+impl uper::Placeholder for MapData {
+    fn placeholder() -> Self {
+        Self { time_stamp: None, msg_issue_revision: <super::common::MsgCount as uper::Placeholder>::placeholder(), layer_type: None, layer_id: None, intersections: None, road_segments: None, data_parameters: None, restriction_list: None, regional: None, extensions: uper::Extensions::new() }
+    }
+}
+
 impl Uper for MapData {
     const PATH: &'static str = "MapData.MapData";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(22783271), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let extended = r.read_bit()?;
         let present = r.read_bits(8)?;
-        let f_time_stamp = if present & (1 << 7) != 0 { Some(<super::common::MinuteOfTheYear>::decode_uper(r)?) } else { None };
-        let f_msg_issue_revision = <super::common::MsgCount>::decode_uper(r)?;
-        let f_layer_type = if present & (1 << 6) != 0 { Some(<LayerType>::decode_uper(r)?) } else { None };
-        let f_layer_id = if present & (1 << 5) != 0 { Some(<LayerID>::decode_uper(r)?) } else { None };
-        let f_intersections = if present & (1 << 4) != 0 { Some(<IntersectionGeometryList>::decode_uper(r)?) } else { None };
-        let f_road_segments = if present & (1 << 3) != 0 { Some(<RoadSegmentList>::decode_uper(r)?) } else { None };
-        let f_data_parameters = if present & (1 << 2) != 0 { Some(<DataParameters>::decode_uper(r)?) } else { None };
-        let f_restriction_list = if present & (1 << 1) != 0 { Some(<RestrictionClassList>::decode_uper(r)?) } else { None };
-        let f_regional = if present & (1 << 0) != 0 { Some(<MapDataRegional>::decode_uper(r)?) } else { None };
-        let extensions = if extended { uper::Extensions::decode(r, "MapData.MapData:ext")? } else { uper::Extensions::new() };
-        Ok(Self { time_stamp: f_time_stamp, msg_issue_revision: f_msg_issue_revision, layer_type: f_layer_type, layer_id: f_layer_id, intersections: f_intersections, road_segments: f_road_segments, data_parameters: f_data_parameters, restriction_list: f_restriction_list, regional: f_regional, extensions })
+        if present & (1 << 7) != 0 {
+            if out.time_stamp.is_none() {
+                uper::fill_option(&mut out.time_stamp);
+            }
+            if let Some(v) = &mut out.time_stamp {
+                <super::common::MinuteOfTheYear>::decode_into(r, v)?;
+            }
+        } else {
+            out.time_stamp = None;
+        }
+        <super::common::MsgCount>::decode_into(r, &mut out.msg_issue_revision)?;
+        if present & (1 << 6) != 0 {
+            if out.layer_type.is_none() {
+                uper::fill_option(&mut out.layer_type);
+            }
+            if let Some(v) = &mut out.layer_type {
+                <LayerType>::decode_into(r, v)?;
+            }
+        } else {
+            out.layer_type = None;
+        }
+        if present & (1 << 5) != 0 {
+            if out.layer_id.is_none() {
+                uper::fill_option(&mut out.layer_id);
+            }
+            if let Some(v) = &mut out.layer_id {
+                <LayerID>::decode_into(r, v)?;
+            }
+        } else {
+            out.layer_id = None;
+        }
+        if present & (1 << 4) != 0 {
+            if out.intersections.is_none() {
+                uper::fill_option(&mut out.intersections);
+            }
+            if let Some(v) = &mut out.intersections {
+                <IntersectionGeometryList>::decode_into(r, v)?;
+            }
+        } else {
+            out.intersections = None;
+        }
+        if present & (1 << 3) != 0 {
+            if out.road_segments.is_none() {
+                uper::fill_option(&mut out.road_segments);
+            }
+            if let Some(v) = &mut out.road_segments {
+                <RoadSegmentList>::decode_into(r, v)?;
+            }
+        } else {
+            out.road_segments = None;
+        }
+        if present & (1 << 2) != 0 {
+            if out.data_parameters.is_none() {
+                uper::fill_option(&mut out.data_parameters);
+            }
+            if let Some(v) = &mut out.data_parameters {
+                <DataParameters>::decode_into(r, v)?;
+            }
+        } else {
+            out.data_parameters = None;
+        }
+        if present & (1 << 1) != 0 {
+            if out.restriction_list.is_none() {
+                uper::fill_option(&mut out.restriction_list);
+            }
+            if let Some(v) = &mut out.restriction_list {
+                <RestrictionClassList>::decode_into(r, v)?;
+            }
+        } else {
+            out.restriction_list = None;
+        }
+        if present & (1 << 0) != 0 {
+            if out.regional.is_none() {
+                uper::fill_option(&mut out.regional);
+            }
+            if let Some(v) = &mut out.regional {
+                <MapDataRegional>::decode_into(r, v)?;
+            }
+        } else {
+            out.regional = None;
+        }
+        out.extensions = if extended { uper::Extensions::decode(r, "MapData.MapData:ext")? } else { uper::Extensions::new() };
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_bit(self.extensions.is_present())?;
@@ -153,18 +231,26 @@ impl LayerType {
     }
 }
 
+impl uper::Placeholder for LayerType {
+    fn placeholder() -> Self {
+        Self::None
+    }
+}
+
 impl Uper for LayerType {
     const PATH: &'static str = "MapData.LayerType";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(26), Some(26));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         if r.read_bit()? {
             let at = r.position();
             let i = r.read_normally_small()?;
-            return u16::try_from(i).map(Self::Extension).map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at));
+            *out = u16::try_from(i).map(Self::Extension).map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at))?;
+            return Ok(());
         }
         let at = r.position();
         let i = r.read_constrained(0, 7)?;
-        Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))
+        *out = Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))?;
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         if let Self::Extension(i) = self {
@@ -190,7 +276,13 @@ crate::__newtype_deref!(IntersectionGeometryList, uper::SeqOf<IntersectionGeomet
 impl IntersectionGeometryList {
     const SIZE: uper::Size = uper::Size::range(1, 32);
     /// An empty list (valid for encoding once it holds the minimum number of items).
-    pub const fn new() -> Self {
+    pub fn new() -> Self {
+        Self(uper::SeqOf::new())
+    }
+}
+
+impl uper::Placeholder for IntersectionGeometryList {
+    fn placeholder() -> Self {
         Self(uper::SeqOf::new())
     }
 }
@@ -198,8 +290,8 @@ impl IntersectionGeometryList {
 impl Uper for IntersectionGeometryList {
     const PATH: &'static str = "MapData.IntersectionGeometryList";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(17349435), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
-        uper::decode_seq_of(r, Self::SIZE, "MapData.IntersectionGeometryList").map(Self)
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+        uper::decode_seq_of_into(r, Self::SIZE, "MapData.IntersectionGeometryList", &mut out.0)
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
@@ -231,23 +323,74 @@ pub struct IntersectionGeometry {
     pub extensions: uper::Extensions<64>,
 }
 
+impl uper::Placeholder for IntersectionGeometry {
+    fn placeholder() -> Self {
+        Self { name: None, id: <super::common::IntersectionReferenceID as uper::Placeholder>::placeholder(), revision: <super::common::MsgCount as uper::Placeholder>::placeholder(), ref_point: <super::common::Position3D as uper::Placeholder>::placeholder(), lane_width: None, speed_limits: None, lane_set: <LaneList as uper::Placeholder>::placeholder(), preempt_priority_data: None, regional: None, extensions: uper::Extensions::new() }
+    }
+}
+
 impl Uper for IntersectionGeometry {
     const PATH: &'static str = "MapData.IntersectionGeometry";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(8674715), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let extended = r.read_bit()?;
         let present = r.read_bits(5)?;
-        let f_name = if present & (1 << 4) != 0 { Some(<super::common::DescriptiveName>::decode_uper(r)?) } else { None };
-        let f_id = <super::common::IntersectionReferenceID>::decode_uper(r)?;
-        let f_revision = <super::common::MsgCount>::decode_uper(r)?;
-        let f_ref_point = <super::common::Position3D>::decode_uper(r)?;
-        let f_lane_width = if present & (1 << 3) != 0 { Some(<super::common::LaneWidth>::decode_uper(r)?) } else { None };
-        let f_speed_limits = if present & (1 << 2) != 0 { Some(<super::common::SpeedLimitList>::decode_uper(r)?) } else { None };
-        let f_lane_set = <LaneList>::decode_uper(r)?;
-        let f_preempt_priority_data = if present & (1 << 1) != 0 { Some(<PreemptPriorityList>::decode_uper(r)?) } else { None };
-        let f_regional = if present & (1 << 0) != 0 { Some(<IntersectionGeometryRegional>::decode_uper(r)?) } else { None };
-        let extensions = if extended { uper::Extensions::decode(r, "MapData.IntersectionGeometry:ext")? } else { uper::Extensions::new() };
-        Ok(Self { name: f_name, id: f_id, revision: f_revision, ref_point: f_ref_point, lane_width: f_lane_width, speed_limits: f_speed_limits, lane_set: f_lane_set, preempt_priority_data: f_preempt_priority_data, regional: f_regional, extensions })
+        if present & (1 << 4) != 0 {
+            if out.name.is_none() {
+                uper::fill_option(&mut out.name);
+            }
+            if let Some(v) = &mut out.name {
+                <super::common::DescriptiveName>::decode_into(r, v)?;
+            }
+        } else {
+            out.name = None;
+        }
+        <super::common::IntersectionReferenceID>::decode_into(r, &mut out.id)?;
+        <super::common::MsgCount>::decode_into(r, &mut out.revision)?;
+        <super::common::Position3D>::decode_into(r, &mut out.ref_point)?;
+        if present & (1 << 3) != 0 {
+            if out.lane_width.is_none() {
+                uper::fill_option(&mut out.lane_width);
+            }
+            if let Some(v) = &mut out.lane_width {
+                <super::common::LaneWidth>::decode_into(r, v)?;
+            }
+        } else {
+            out.lane_width = None;
+        }
+        if present & (1 << 2) != 0 {
+            if out.speed_limits.is_none() {
+                uper::fill_option(&mut out.speed_limits);
+            }
+            if let Some(v) = &mut out.speed_limits {
+                <super::common::SpeedLimitList>::decode_into(r, v)?;
+            }
+        } else {
+            out.speed_limits = None;
+        }
+        <LaneList>::decode_into(r, &mut out.lane_set)?;
+        if present & (1 << 1) != 0 {
+            if out.preempt_priority_data.is_none() {
+                uper::fill_option(&mut out.preempt_priority_data);
+            }
+            if let Some(v) = &mut out.preempt_priority_data {
+                <PreemptPriorityList>::decode_into(r, v)?;
+            }
+        } else {
+            out.preempt_priority_data = None;
+        }
+        if present & (1 << 0) != 0 {
+            if out.regional.is_none() {
+                uper::fill_option(&mut out.regional);
+            }
+            if let Some(v) = &mut out.regional {
+                <IntersectionGeometryRegional>::decode_into(r, v)?;
+            }
+        } else {
+            out.regional = None;
+        }
+        out.extensions = if extended { uper::Extensions::decode(r, "MapData.IntersectionGeometry:ext")? } else { uper::Extensions::new() };
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_bit(self.extensions.is_present())?;
@@ -287,7 +430,13 @@ crate::__newtype_deref!(LaneList, uper::SeqOf<GenericLane, 64>);
 impl LaneList {
     const SIZE: uper::Size = uper::Size::range(1, 255);
     /// An empty list (valid for encoding once it holds the minimum number of items).
-    pub const fn new() -> Self {
+    pub fn new() -> Self {
+        Self(uper::SeqOf::new())
+    }
+}
+
+impl uper::Placeholder for LaneList {
+    fn placeholder() -> Self {
         Self(uper::SeqOf::new())
     }
 }
@@ -295,8 +444,8 @@ impl LaneList {
 impl Uper for LaneList {
     const PATH: &'static str = "MapData.LaneList";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(8671688), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
-        uper::decode_seq_of(r, Self::SIZE, "MapData.LaneList").map(Self)
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+        uper::decode_seq_of_into(r, Self::SIZE, "MapData.LaneList", &mut out.0)
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
@@ -330,24 +479,93 @@ pub struct GenericLane {
     pub extensions: uper::Extensions<0>,
 }
 
+impl uper::Placeholder for GenericLane {
+    fn placeholder() -> Self {
+        Self { lane_id: <super::common::LaneID as uper::Placeholder>::placeholder(), name: None, ingress_approach: None, egress_approach: None, lane_attributes: <LaneAttributes as uper::Placeholder>::placeholder(), maneuvers: None, node_list: <super::common::NodeListXY as uper::Placeholder>::placeholder(), connects_to: None, overlays: None, regional: None, extensions: uper::Extensions::new() }
+    }
+}
+
 impl Uper for GenericLane {
     const PATH: &'static str = "MapData.GenericLane";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(135495), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let extended = r.read_bit()?;
         let present = r.read_bits(7)?;
-        let f_lane_id = <super::common::LaneID>::decode_uper(r)?;
-        let f_name = if present & (1 << 6) != 0 { Some(<super::common::DescriptiveName>::decode_uper(r)?) } else { None };
-        let f_ingress_approach = if present & (1 << 5) != 0 { Some(<super::common::ApproachID>::decode_uper(r)?) } else { None };
-        let f_egress_approach = if present & (1 << 4) != 0 { Some(<super::common::ApproachID>::decode_uper(r)?) } else { None };
-        let f_lane_attributes = <LaneAttributes>::decode_uper(r)?;
-        let f_maneuvers = if present & (1 << 3) != 0 { Some(<AllowedManeuvers>::decode_uper(r)?) } else { None };
-        let f_node_list = <super::common::NodeListXY>::decode_uper(r)?;
-        let f_connects_to = if present & (1 << 2) != 0 { Some(<ConnectsToList>::decode_uper(r)?) } else { None };
-        let f_overlays = if present & (1 << 1) != 0 { Some(<OverlayLaneList>::decode_uper(r)?) } else { None };
-        let f_regional = if present & (1 << 0) != 0 { Some(<GenericLaneRegional>::decode_uper(r)?) } else { None };
-        let extensions = if extended { uper::Extensions::decode(r, "MapData.GenericLane:ext")? } else { uper::Extensions::new() };
-        Ok(Self { lane_id: f_lane_id, name: f_name, ingress_approach: f_ingress_approach, egress_approach: f_egress_approach, lane_attributes: f_lane_attributes, maneuvers: f_maneuvers, node_list: f_node_list, connects_to: f_connects_to, overlays: f_overlays, regional: f_regional, extensions })
+        <super::common::LaneID>::decode_into(r, &mut out.lane_id)?;
+        if present & (1 << 6) != 0 {
+            if out.name.is_none() {
+                uper::fill_option(&mut out.name);
+            }
+            if let Some(v) = &mut out.name {
+                <super::common::DescriptiveName>::decode_into(r, v)?;
+            }
+        } else {
+            out.name = None;
+        }
+        if present & (1 << 5) != 0 {
+            if out.ingress_approach.is_none() {
+                uper::fill_option(&mut out.ingress_approach);
+            }
+            if let Some(v) = &mut out.ingress_approach {
+                <super::common::ApproachID>::decode_into(r, v)?;
+            }
+        } else {
+            out.ingress_approach = None;
+        }
+        if present & (1 << 4) != 0 {
+            if out.egress_approach.is_none() {
+                uper::fill_option(&mut out.egress_approach);
+            }
+            if let Some(v) = &mut out.egress_approach {
+                <super::common::ApproachID>::decode_into(r, v)?;
+            }
+        } else {
+            out.egress_approach = None;
+        }
+        <LaneAttributes>::decode_into(r, &mut out.lane_attributes)?;
+        if present & (1 << 3) != 0 {
+            if out.maneuvers.is_none() {
+                uper::fill_option(&mut out.maneuvers);
+            }
+            if let Some(v) = &mut out.maneuvers {
+                <AllowedManeuvers>::decode_into(r, v)?;
+            }
+        } else {
+            out.maneuvers = None;
+        }
+        <super::common::NodeListXY>::decode_into(r, &mut out.node_list)?;
+        if present & (1 << 2) != 0 {
+            if out.connects_to.is_none() {
+                uper::fill_option(&mut out.connects_to);
+            }
+            if let Some(v) = &mut out.connects_to {
+                <ConnectsToList>::decode_into(r, v)?;
+            }
+        } else {
+            out.connects_to = None;
+        }
+        if present & (1 << 1) != 0 {
+            if out.overlays.is_none() {
+                uper::fill_option(&mut out.overlays);
+            }
+            if let Some(v) = &mut out.overlays {
+                <OverlayLaneList>::decode_into(r, v)?;
+            }
+        } else {
+            out.overlays = None;
+        }
+        if present & (1 << 0) != 0 {
+            if out.regional.is_none() {
+                uper::fill_option(&mut out.regional);
+            }
+            if let Some(v) = &mut out.regional {
+                <GenericLaneRegional>::decode_into(r, v)?;
+            }
+        } else {
+            out.regional = None;
+        }
+        out.extensions = if extended { uper::Extensions::decode(r, "MapData.GenericLane:ext")? } else { uper::Extensions::new() };
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_bit(self.extensions.is_present())?;
@@ -396,16 +614,31 @@ pub struct LaneAttributes {
     pub regional: Option<RegLaneAttributes>,
 }
 
+impl uper::Placeholder for LaneAttributes {
+    fn placeholder() -> Self {
+        Self { directional_use: <LaneDirection as uper::Placeholder>::placeholder(), shared_with: <LaneSharing as uper::Placeholder>::placeholder(), lane_type: <LaneTypeAttributes as uper::Placeholder>::placeholder(), regional: None }
+    }
+}
+
 impl Uper for LaneAttributes {
     const PATH: &'static str = "MapData.LaneAttributes";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(319), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let present = r.read_bits(1)?;
-        let f_directional_use = <LaneDirection>::decode_uper(r)?;
-        let f_shared_with = <LaneSharing>::decode_uper(r)?;
-        let f_lane_type = <LaneTypeAttributes>::decode_uper(r)?;
-        let f_regional = if present & (1 << 0) != 0 { Some(<RegLaneAttributes>::decode_uper(r)?) } else { None };
-        Ok(Self { directional_use: f_directional_use, shared_with: f_shared_with, lane_type: f_lane_type, regional: f_regional })
+        <LaneDirection>::decode_into(r, &mut out.directional_use)?;
+        <LaneSharing>::decode_into(r, &mut out.shared_with)?;
+        <LaneTypeAttributes>::decode_into(r, &mut out.lane_type)?;
+        if present & (1 << 0) != 0 {
+            if out.regional.is_none() {
+                uper::fill_option(&mut out.regional);
+            }
+            if let Some(v) = &mut out.regional {
+                <RegLaneAttributes>::decode_into(r, v)?;
+            }
+        } else {
+            out.regional = None;
+        }
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_bits(self.regional.is_some() as u64, 1)?;
@@ -439,11 +672,18 @@ impl LaneDirection {
     }
 }
 
+impl uper::Placeholder for LaneDirection {
+    fn placeholder() -> Self {
+        Self(uper::Bits::EMPTY)
+    }
+}
+
 impl Uper for LaneDirection {
     const PATH: &'static str = "MapData.LaneDirection";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(2), Some(2));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
-        uper::decode_bits(r, Self::SIZE, "MapData.LaneDirection").map(Self)
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+        out.0 = uper::decode_bits(r, Self::SIZE, "MapData.LaneDirection")?;
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_bits(w, Self::SIZE, &self.0)
@@ -486,11 +726,18 @@ impl LaneSharing {
     }
 }
 
+impl uper::Placeholder for LaneSharing {
+    fn placeholder() -> Self {
+        Self(uper::Bits::EMPTY)
+    }
+}
+
 impl Uper for LaneSharing {
     const PATH: &'static str = "MapData.LaneSharing";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(10), Some(10));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
-        uper::decode_bits(r, Self::SIZE, "MapData.LaneSharing").map(Self)
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+        out.0 = uper::decode_bits(r, Self::SIZE, "MapData.LaneSharing")?;
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_bits(w, Self::SIZE, &self.0)
@@ -525,28 +772,92 @@ pub enum LaneTypeAttributes {
     },
 }
 
+impl uper::Placeholder for LaneTypeAttributes {
+    fn placeholder() -> Self {
+        Self::Vehicle(<LaneAttributesVehicle as uper::Placeholder>::placeholder())
+    }
+}
+
 impl Uper for LaneTypeAttributes {
     const PATH: &'static str = "MapData.LaneTypeAttributes";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(162), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         if r.read_bit()? {
             let at = r.position();
             let index = u16::try_from(r.read_normally_small()?).map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at))?;
             let content = uper::decode_unknown_open(r, "MapData.LaneTypeAttributes:unknown")?;
-            return Ok(Self::Extension { index, content });
+            *out = Self::Extension { index, content };
+            return Ok(());
         }
         let at = r.position();
-        Ok(match r.read_constrained(0, 7)? {
-            0 => Self::Vehicle(<LaneAttributesVehicle>::decode_uper(r)?),
-            1 => Self::Crosswalk(<LaneAttributesCrosswalk>::decode_uper(r)?),
-            2 => Self::BikeLane(<LaneAttributesBike>::decode_uper(r)?),
-            3 => Self::Sidewalk(<LaneAttributesSidewalk>::decode_uper(r)?),
-            4 => Self::Median(<LaneAttributesBarrier>::decode_uper(r)?),
-            5 => Self::Striping(<LaneAttributesStriping>::decode_uper(r)?),
-            6 => Self::TrackedVehicle(<LaneAttributesTrackedVehicle>::decode_uper(r)?),
-            7 => Self::Parking(<LaneAttributesParking>::decode_uper(r)?),
+        match r.read_constrained(0, 7)? {
+            0 => {
+                if !matches!(out, Self::Vehicle(_)) {
+                    uper::replace_with(out, || Self::Vehicle(<LaneAttributesVehicle as uper::Placeholder>::placeholder()));
+                }
+                if let Self::Vehicle(v) = out {
+                    <LaneAttributesVehicle>::decode_into(r, v)?;
+                }
+            }
+            1 => {
+                if !matches!(out, Self::Crosswalk(_)) {
+                    uper::replace_with(out, || Self::Crosswalk(<LaneAttributesCrosswalk as uper::Placeholder>::placeholder()));
+                }
+                if let Self::Crosswalk(v) = out {
+                    <LaneAttributesCrosswalk>::decode_into(r, v)?;
+                }
+            }
+            2 => {
+                if !matches!(out, Self::BikeLane(_)) {
+                    uper::replace_with(out, || Self::BikeLane(<LaneAttributesBike as uper::Placeholder>::placeholder()));
+                }
+                if let Self::BikeLane(v) = out {
+                    <LaneAttributesBike>::decode_into(r, v)?;
+                }
+            }
+            3 => {
+                if !matches!(out, Self::Sidewalk(_)) {
+                    uper::replace_with(out, || Self::Sidewalk(<LaneAttributesSidewalk as uper::Placeholder>::placeholder()));
+                }
+                if let Self::Sidewalk(v) = out {
+                    <LaneAttributesSidewalk>::decode_into(r, v)?;
+                }
+            }
+            4 => {
+                if !matches!(out, Self::Median(_)) {
+                    uper::replace_with(out, || Self::Median(<LaneAttributesBarrier as uper::Placeholder>::placeholder()));
+                }
+                if let Self::Median(v) = out {
+                    <LaneAttributesBarrier>::decode_into(r, v)?;
+                }
+            }
+            5 => {
+                if !matches!(out, Self::Striping(_)) {
+                    uper::replace_with(out, || Self::Striping(<LaneAttributesStriping as uper::Placeholder>::placeholder()));
+                }
+                if let Self::Striping(v) = out {
+                    <LaneAttributesStriping>::decode_into(r, v)?;
+                }
+            }
+            6 => {
+                if !matches!(out, Self::TrackedVehicle(_)) {
+                    uper::replace_with(out, || Self::TrackedVehicle(<LaneAttributesTrackedVehicle as uper::Placeholder>::placeholder()));
+                }
+                if let Self::TrackedVehicle(v) = out {
+                    <LaneAttributesTrackedVehicle>::decode_into(r, v)?;
+                }
+            }
+            7 => {
+                if !matches!(out, Self::Parking(_)) {
+                    uper::replace_with(out, || Self::Parking(<LaneAttributesParking as uper::Placeholder>::placeholder()));
+                }
+                if let Self::Parking(v) = out {
+                    <LaneAttributesParking>::decode_into(r, v)?;
+                }
+            }
             _ => return Err(uper::DecodeError::new(uper::DecodeErrorKind::InvalidChoiceIndex, at)),
-        })
+        }
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         match self {
@@ -599,11 +910,18 @@ impl LaneAttributesVehicle {
     }
 }
 
+impl uper::Placeholder for LaneAttributesVehicle {
+    fn placeholder() -> Self {
+        Self(uper::Bits::EMPTY)
+    }
+}
+
 impl Uper for LaneAttributesVehicle {
     const PATH: &'static str = "MapData.LaneAttributes-Vehicle";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(33), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
-        uper::decode_bits(r, Self::SIZE, "MapData.LaneAttributes-Vehicle").map(Self)
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+        out.0 = uper::decode_bits(r, Self::SIZE, "MapData.LaneAttributes-Vehicle")?;
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_bits(w, Self::SIZE, &self.0)
@@ -644,11 +962,18 @@ impl LaneAttributesCrosswalk {
     }
 }
 
+impl uper::Placeholder for LaneAttributesCrosswalk {
+    fn placeholder() -> Self {
+        Self(uper::Bits::EMPTY)
+    }
+}
+
 impl Uper for LaneAttributesCrosswalk {
     const PATH: &'static str = "MapData.LaneAttributes-Crosswalk";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(16), Some(16));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
-        uper::decode_bits(r, Self::SIZE, "MapData.LaneAttributes-Crosswalk").map(Self)
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+        out.0 = uper::decode_bits(r, Self::SIZE, "MapData.LaneAttributes-Crosswalk")?;
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_bits(w, Self::SIZE, &self.0)
@@ -685,11 +1010,18 @@ impl LaneAttributesBike {
     }
 }
 
+impl uper::Placeholder for LaneAttributesBike {
+    fn placeholder() -> Self {
+        Self(uper::Bits::EMPTY)
+    }
+}
+
 impl Uper for LaneAttributesBike {
     const PATH: &'static str = "MapData.LaneAttributes-Bike";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(16), Some(16));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
-        uper::decode_bits(r, Self::SIZE, "MapData.LaneAttributes-Bike").map(Self)
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+        out.0 = uper::decode_bits(r, Self::SIZE, "MapData.LaneAttributes-Bike")?;
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_bits(w, Self::SIZE, &self.0)
@@ -720,11 +1052,18 @@ impl LaneAttributesSidewalk {
     }
 }
 
+impl uper::Placeholder for LaneAttributesSidewalk {
+    fn placeholder() -> Self {
+        Self(uper::Bits::EMPTY)
+    }
+}
+
 impl Uper for LaneAttributesSidewalk {
     const PATH: &'static str = "MapData.LaneAttributes-Sidewalk";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(16), Some(16));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
-        uper::decode_bits(r, Self::SIZE, "MapData.LaneAttributes-Sidewalk").map(Self)
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+        out.0 = uper::decode_bits(r, Self::SIZE, "MapData.LaneAttributes-Sidewalk")?;
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_bits(w, Self::SIZE, &self.0)
@@ -767,11 +1106,18 @@ impl LaneAttributesBarrier {
     }
 }
 
+impl uper::Placeholder for LaneAttributesBarrier {
+    fn placeholder() -> Self {
+        Self(uper::Bits::EMPTY)
+    }
+}
+
 impl Uper for LaneAttributesBarrier {
     const PATH: &'static str = "MapData.LaneAttributes-Barrier";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(16), Some(16));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
-        uper::decode_bits(r, Self::SIZE, "MapData.LaneAttributes-Barrier").map(Self)
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+        out.0 = uper::decode_bits(r, Self::SIZE, "MapData.LaneAttributes-Barrier")?;
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_bits(w, Self::SIZE, &self.0)
@@ -806,11 +1152,18 @@ impl LaneAttributesStriping {
     }
 }
 
+impl uper::Placeholder for LaneAttributesStriping {
+    fn placeholder() -> Self {
+        Self(uper::Bits::EMPTY)
+    }
+}
+
 impl Uper for LaneAttributesStriping {
     const PATH: &'static str = "MapData.LaneAttributes-Striping";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(16), Some(16));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
-        uper::decode_bits(r, Self::SIZE, "MapData.LaneAttributes-Striping").map(Self)
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+        out.0 = uper::decode_bits(r, Self::SIZE, "MapData.LaneAttributes-Striping")?;
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_bits(w, Self::SIZE, &self.0)
@@ -843,11 +1196,18 @@ impl LaneAttributesTrackedVehicle {
     }
 }
 
+impl uper::Placeholder for LaneAttributesTrackedVehicle {
+    fn placeholder() -> Self {
+        Self(uper::Bits::EMPTY)
+    }
+}
+
 impl Uper for LaneAttributesTrackedVehicle {
     const PATH: &'static str = "MapData.LaneAttributes-TrackedVehicle";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(16), Some(16));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
-        uper::decode_bits(r, Self::SIZE, "MapData.LaneAttributes-TrackedVehicle").map(Self)
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+        out.0 = uper::decode_bits(r, Self::SIZE, "MapData.LaneAttributes-TrackedVehicle")?;
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_bits(w, Self::SIZE, &self.0)
@@ -884,11 +1244,18 @@ impl LaneAttributesParking {
     }
 }
 
+impl uper::Placeholder for LaneAttributesParking {
+    fn placeholder() -> Self {
+        Self(uper::Bits::EMPTY)
+    }
+}
+
 impl Uper for LaneAttributesParking {
     const PATH: &'static str = "MapData.LaneAttributes-Parking";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(16), Some(16));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
-        uper::decode_bits(r, Self::SIZE, "MapData.LaneAttributes-Parking").map(Self)
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+        out.0 = uper::decode_bits(r, Self::SIZE, "MapData.LaneAttributes-Parking")?;
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_bits(w, Self::SIZE, &self.0)
@@ -916,14 +1283,21 @@ impl RegLaneAttributes {
     }
 }
 
+impl uper::Placeholder for RegLaneAttributes {
+    fn placeholder() -> Self {
+        Self::Unknown { id: <super::common::RegionId as uper::Placeholder>::placeholder(), content: uper::Octets::new() }
+    }
+}
+
 impl Uper for RegLaneAttributes {
     const PATH: &'static str = "MapData.RegLaneAttributes";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(144), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let id = <super::common::RegionId>::decode_uper(r)?;
-        Ok(match id.get() {
-            _ => Self::Unknown { id, content: uper::decode_unknown_open(r, "MapData.RegLaneAttributes:unknown")? },
-        })
+        match id.get() {
+            _ => *out = Self::Unknown { id, content: uper::decode_unknown_open(r, "MapData.RegLaneAttributes:unknown")? },
+        }
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         match self {
@@ -975,11 +1349,18 @@ impl AllowedManeuvers {
     }
 }
 
+impl uper::Placeholder for AllowedManeuvers {
+    fn placeholder() -> Self {
+        Self(uper::Bits::EMPTY)
+    }
+}
+
 impl Uper for AllowedManeuvers {
     const PATH: &'static str = "MapData.AllowedManeuvers";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(12), Some(12));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
-        uper::decode_bits(r, Self::SIZE, "MapData.AllowedManeuvers").map(Self)
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+        out.0 = uper::decode_bits(r, Self::SIZE, "MapData.AllowedManeuvers")?;
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_bits(w, Self::SIZE, &self.0)
@@ -995,7 +1376,13 @@ crate::__newtype_deref!(ConnectsToList, uper::SeqOf<Connection, 8>);
 impl ConnectsToList {
     const SIZE: uper::Size = uper::Size::range(1, 16);
     /// An empty list (valid for encoding once it holds the minimum number of items).
-    pub const fn new() -> Self {
+    pub fn new() -> Self {
+        Self(uper::SeqOf::new())
+    }
+}
+
+impl uper::Placeholder for ConnectsToList {
+    fn placeholder() -> Self {
         Self(uper::SeqOf::new())
     }
 }
@@ -1003,8 +1390,8 @@ impl ConnectsToList {
 impl Uper for ConnectsToList {
     const PATH: &'static str = "MapData.ConnectsToList";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(660), Some(1316));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
-        uper::decode_seq_of(r, Self::SIZE, "MapData.ConnectsToList").map(Self)
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+        uper::decode_seq_of_into(r, Self::SIZE, "MapData.ConnectsToList", &mut out.0)
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
@@ -1026,17 +1413,59 @@ pub struct Connection {
     pub connection_id: Option<super::common::LaneConnectionID>,
 }
 
+impl uper::Placeholder for Connection {
+    fn placeholder() -> Self {
+        Self { connecting_lane: <ConnectingLane as uper::Placeholder>::placeholder(), remote_intersection: None, signal_group: None, user_class: None, connection_id: None }
+    }
+}
+
 impl Uper for Connection {
     const PATH: &'static str = "MapData.Connection";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(82), Some(82));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let present = r.read_bits(4)?;
-        let f_connecting_lane = <ConnectingLane>::decode_uper(r)?;
-        let f_remote_intersection = if present & (1 << 3) != 0 { Some(<super::common::IntersectionReferenceID>::decode_uper(r)?) } else { None };
-        let f_signal_group = if present & (1 << 2) != 0 { Some(<super::common::SignalGroupID>::decode_uper(r)?) } else { None };
-        let f_user_class = if present & (1 << 1) != 0 { Some(<super::common::RestrictionClassID>::decode_uper(r)?) } else { None };
-        let f_connection_id = if present & (1 << 0) != 0 { Some(<super::common::LaneConnectionID>::decode_uper(r)?) } else { None };
-        Ok(Self { connecting_lane: f_connecting_lane, remote_intersection: f_remote_intersection, signal_group: f_signal_group, user_class: f_user_class, connection_id: f_connection_id })
+        <ConnectingLane>::decode_into(r, &mut out.connecting_lane)?;
+        if present & (1 << 3) != 0 {
+            if out.remote_intersection.is_none() {
+                uper::fill_option(&mut out.remote_intersection);
+            }
+            if let Some(v) = &mut out.remote_intersection {
+                <super::common::IntersectionReferenceID>::decode_into(r, v)?;
+            }
+        } else {
+            out.remote_intersection = None;
+        }
+        if present & (1 << 2) != 0 {
+            if out.signal_group.is_none() {
+                uper::fill_option(&mut out.signal_group);
+            }
+            if let Some(v) = &mut out.signal_group {
+                <super::common::SignalGroupID>::decode_into(r, v)?;
+            }
+        } else {
+            out.signal_group = None;
+        }
+        if present & (1 << 1) != 0 {
+            if out.user_class.is_none() {
+                uper::fill_option(&mut out.user_class);
+            }
+            if let Some(v) = &mut out.user_class {
+                <super::common::RestrictionClassID>::decode_into(r, v)?;
+            }
+        } else {
+            out.user_class = None;
+        }
+        if present & (1 << 0) != 0 {
+            if out.connection_id.is_none() {
+                uper::fill_option(&mut out.connection_id);
+            }
+            if let Some(v) = &mut out.connection_id {
+                <super::common::LaneConnectionID>::decode_into(r, v)?;
+            }
+        } else {
+            out.connection_id = None;
+        }
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_bits(((self.remote_intersection.is_some() as u64) << 3) | ((self.signal_group.is_some() as u64) << 2) | ((self.user_class.is_some() as u64) << 1) | ((self.connection_id.is_some() as u64) << 0), 4)?;
@@ -1066,14 +1495,29 @@ pub struct ConnectingLane {
     pub maneuver: Option<AllowedManeuvers>,
 }
 
+impl uper::Placeholder for ConnectingLane {
+    fn placeholder() -> Self {
+        Self { lane: <super::common::LaneID as uper::Placeholder>::placeholder(), maneuver: None }
+    }
+}
+
 impl Uper for ConnectingLane {
     const PATH: &'static str = "MapData.ConnectingLane";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(21), Some(21));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let present = r.read_bits(1)?;
-        let f_lane = <super::common::LaneID>::decode_uper(r)?;
-        let f_maneuver = if present & (1 << 0) != 0 { Some(<AllowedManeuvers>::decode_uper(r)?) } else { None };
-        Ok(Self { lane: f_lane, maneuver: f_maneuver })
+        <super::common::LaneID>::decode_into(r, &mut out.lane)?;
+        if present & (1 << 0) != 0 {
+            if out.maneuver.is_none() {
+                uper::fill_option(&mut out.maneuver);
+            }
+            if let Some(v) = &mut out.maneuver {
+                <AllowedManeuvers>::decode_into(r, v)?;
+            }
+        } else {
+            out.maneuver = None;
+        }
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_bits(self.maneuver.is_some() as u64, 1)?;
@@ -1094,7 +1538,13 @@ crate::__newtype_deref!(OverlayLaneList, uper::SeqOf<super::common::LaneID, 5>);
 impl OverlayLaneList {
     const SIZE: uper::Size = uper::Size::range(1, 5);
     /// An empty list (valid for encoding once it holds the minimum number of items).
-    pub const fn new() -> Self {
+    pub fn new() -> Self {
+        Self(uper::SeqOf::new())
+    }
+}
+
+impl uper::Placeholder for OverlayLaneList {
+    fn placeholder() -> Self {
         Self(uper::SeqOf::new())
     }
 }
@@ -1102,8 +1552,8 @@ impl OverlayLaneList {
 impl Uper for OverlayLaneList {
     const PATH: &'static str = "MapData.OverlayLaneList";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(43), Some(43));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
-        uper::decode_seq_of(r, Self::SIZE, "MapData.OverlayLaneList").map(Self)
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+        uper::decode_seq_of_into(r, Self::SIZE, "MapData.OverlayLaneList", &mut out.0)
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
@@ -1119,7 +1569,13 @@ crate::__newtype_deref!(GenericLaneRegional, uper::SeqOf<RegGenericLane, 1>);
 impl GenericLaneRegional {
     const SIZE: uper::Size = uper::Size::range(1, 4);
     /// An empty list (valid for encoding once it holds the minimum number of items).
-    pub const fn new() -> Self {
+    pub fn new() -> Self {
+        Self(uper::SeqOf::new())
+    }
+}
+
+impl uper::Placeholder for GenericLaneRegional {
+    fn placeholder() -> Self {
         Self(uper::SeqOf::new())
     }
 }
@@ -1127,8 +1583,8 @@ impl GenericLaneRegional {
 impl Uper for GenericLaneRegional {
     const PATH: &'static str = "MapData.GenericLane.regional";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(146), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
-        uper::decode_seq_of(r, Self::SIZE, "MapData.GenericLane.regional").map(Self)
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+        uper::decode_seq_of_into(r, Self::SIZE, "MapData.GenericLane.regional", &mut out.0)
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
@@ -1156,14 +1612,21 @@ impl RegGenericLane {
     }
 }
 
+impl uper::Placeholder for RegGenericLane {
+    fn placeholder() -> Self {
+        Self::Unknown { id: <super::common::RegionId as uper::Placeholder>::placeholder(), content: uper::Octets::new() }
+    }
+}
+
 impl Uper for RegGenericLane {
     const PATH: &'static str = "MapData.RegGenericLane";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(144), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let id = <super::common::RegionId>::decode_uper(r)?;
-        Ok(match id.get() {
-            _ => Self::Unknown { id, content: uper::decode_unknown_open(r, "MapData.RegGenericLane:unknown")? },
-        })
+        match id.get() {
+            _ => *out = Self::Unknown { id, content: uper::decode_unknown_open(r, "MapData.RegGenericLane:unknown")? },
+        }
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         match self {
@@ -1184,7 +1647,13 @@ crate::__newtype_deref!(PreemptPriorityList, uper::SeqOf<SignalControlZone, 4>);
 impl PreemptPriorityList {
     const SIZE: uper::Size = uper::Size::range(1, 32);
     /// An empty list (valid for encoding once it holds the minimum number of items).
-    pub const fn new() -> Self {
+    pub fn new() -> Self {
+        Self(uper::SeqOf::new())
+    }
+}
+
+impl uper::Placeholder for PreemptPriorityList {
+    fn placeholder() -> Self {
         Self(uper::SeqOf::new())
     }
 }
@@ -1192,8 +1661,8 @@ impl PreemptPriorityList {
 impl Uper for PreemptPriorityList {
     const PATH: &'static str = "MapData.PreemptPriorityList";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(933), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
-        uper::decode_seq_of(r, Self::SIZE, "MapData.PreemptPriorityList").map(Self)
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+        uper::decode_seq_of_into(r, Self::SIZE, "MapData.PreemptPriorityList", &mut out.0)
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
@@ -1209,14 +1678,20 @@ pub struct SignalControlZone {
     pub extensions: uper::Extensions<0>,
 }
 
+impl uper::Placeholder for SignalControlZone {
+    fn placeholder() -> Self {
+        Self { zone: <RegSignalControlZone as uper::Placeholder>::placeholder(), extensions: uper::Extensions::new() }
+    }
+}
+
 impl Uper for SignalControlZone {
     const PATH: &'static str = "MapData.SignalControlZone";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(232), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let extended = r.read_bit()?;
-        let f_zone = <RegSignalControlZone>::decode_uper(r)?;
-        let extensions = if extended { uper::Extensions::decode(r, "MapData.SignalControlZone:ext")? } else { uper::Extensions::new() };
-        Ok(Self { zone: f_zone, extensions })
+        <RegSignalControlZone>::decode_into(r, &mut out.zone)?;
+        out.extensions = if extended { uper::Extensions::decode(r, "MapData.SignalControlZone:ext")? } else { uper::Extensions::new() };
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_bit(self.extensions.is_present())?;
@@ -1249,14 +1724,21 @@ impl RegSignalControlZone {
     }
 }
 
+impl uper::Placeholder for RegSignalControlZone {
+    fn placeholder() -> Self {
+        Self::Unknown { id: <super::common::RegionId as uper::Placeholder>::placeholder(), content: uper::Octets::new() }
+    }
+}
+
 impl Uper for RegSignalControlZone {
     const PATH: &'static str = "MapData.RegSignalControlZone";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(144), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let id = <super::common::RegionId>::decode_uper(r)?;
-        Ok(match id.get() {
-            _ => Self::Unknown { id, content: uper::decode_unknown_open(r, "MapData.RegSignalControlZone:unknown")? },
-        })
+        match id.get() {
+            _ => *out = Self::Unknown { id, content: uper::decode_unknown_open(r, "MapData.RegSignalControlZone:unknown")? },
+        }
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         match self {
@@ -1277,7 +1759,13 @@ crate::__newtype_deref!(IntersectionGeometryRegional, uper::SeqOf<RegIntersectio
 impl IntersectionGeometryRegional {
     const SIZE: uper::Size = uper::Size::range(1, 4);
     /// An empty list (valid for encoding once it holds the minimum number of items).
-    pub const fn new() -> Self {
+    pub fn new() -> Self {
+        Self(uper::SeqOf::new())
+    }
+}
+
+impl uper::Placeholder for IntersectionGeometryRegional {
+    fn placeholder() -> Self {
         Self(uper::SeqOf::new())
     }
 }
@@ -1285,8 +1773,8 @@ impl IntersectionGeometryRegional {
 impl Uper for IntersectionGeometryRegional {
     const PATH: &'static str = "MapData.IntersectionGeometry.regional";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(146), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
-        uper::decode_seq_of(r, Self::SIZE, "MapData.IntersectionGeometry.regional").map(Self)
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+        uper::decode_seq_of_into(r, Self::SIZE, "MapData.IntersectionGeometry.regional", &mut out.0)
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
@@ -1314,14 +1802,21 @@ impl RegIntersectionGeometry {
     }
 }
 
+impl uper::Placeholder for RegIntersectionGeometry {
+    fn placeholder() -> Self {
+        Self::Unknown { id: <super::common::RegionId as uper::Placeholder>::placeholder(), content: uper::Octets::new() }
+    }
+}
+
 impl Uper for RegIntersectionGeometry {
     const PATH: &'static str = "MapData.RegIntersectionGeometry";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(144), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let id = <super::common::RegionId>::decode_uper(r)?;
-        Ok(match id.get() {
-            _ => Self::Unknown { id, content: uper::decode_unknown_open(r, "MapData.RegIntersectionGeometry:unknown")? },
-        })
+        match id.get() {
+            _ => *out = Self::Unknown { id, content: uper::decode_unknown_open(r, "MapData.RegIntersectionGeometry:unknown")? },
+        }
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         match self {
@@ -1342,7 +1837,13 @@ crate::__newtype_deref!(RoadSegmentList, uper::SeqOf<RoadSegment, 5>);
 impl RoadSegmentList {
     const SIZE: uper::Size = uper::Size::range(1, 32);
     /// An empty list (valid for encoding once it holds the minimum number of items).
-    pub const fn new() -> Self {
+    pub fn new() -> Self {
+        Self(uper::SeqOf::new())
+    }
+}
+
+impl uper::Placeholder for RoadSegmentList {
+    fn placeholder() -> Self {
         Self(uper::SeqOf::new())
     }
 }
@@ -1350,8 +1851,8 @@ impl RoadSegmentList {
 impl Uper for RoadSegmentList {
     const PATH: &'static str = "MapData.RoadSegmentList";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(5426470), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
-        uper::decode_seq_of(r, Self::SIZE, "MapData.RoadSegmentList").map(Self)
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+        uper::decode_seq_of_into(r, Self::SIZE, "MapData.RoadSegmentList", &mut out.0)
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
@@ -1381,22 +1882,64 @@ pub struct RoadSegment {
     pub extensions: uper::Extensions<0>,
 }
 
+impl uper::Placeholder for RoadSegment {
+    fn placeholder() -> Self {
+        Self { name: None, id: <super::common::RoadSegmentReferenceID as uper::Placeholder>::placeholder(), revision: <super::common::MsgCount as uper::Placeholder>::placeholder(), ref_point: <super::common::Position3D as uper::Placeholder>::placeholder(), lane_width: None, speed_limits: None, road_lane_set: <RoadLaneSetList as uper::Placeholder>::placeholder(), regional: None, extensions: uper::Extensions::new() }
+    }
+}
+
 impl Uper for RoadSegment {
     const PATH: &'static str = "MapData.RoadSegment";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(1085293), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let extended = r.read_bit()?;
         let present = r.read_bits(4)?;
-        let f_name = if present & (1 << 3) != 0 { Some(<super::common::DescriptiveName>::decode_uper(r)?) } else { None };
-        let f_id = <super::common::RoadSegmentReferenceID>::decode_uper(r)?;
-        let f_revision = <super::common::MsgCount>::decode_uper(r)?;
-        let f_ref_point = <super::common::Position3D>::decode_uper(r)?;
-        let f_lane_width = if present & (1 << 2) != 0 { Some(<super::common::LaneWidth>::decode_uper(r)?) } else { None };
-        let f_speed_limits = if present & (1 << 1) != 0 { Some(<super::common::SpeedLimitList>::decode_uper(r)?) } else { None };
-        let f_road_lane_set = <RoadLaneSetList>::decode_uper(r)?;
-        let f_regional = if present & (1 << 0) != 0 { Some(<RoadSegmentRegional>::decode_uper(r)?) } else { None };
-        let extensions = if extended { uper::Extensions::decode(r, "MapData.RoadSegment:ext")? } else { uper::Extensions::new() };
-        Ok(Self { name: f_name, id: f_id, revision: f_revision, ref_point: f_ref_point, lane_width: f_lane_width, speed_limits: f_speed_limits, road_lane_set: f_road_lane_set, regional: f_regional, extensions })
+        if present & (1 << 3) != 0 {
+            if out.name.is_none() {
+                uper::fill_option(&mut out.name);
+            }
+            if let Some(v) = &mut out.name {
+                <super::common::DescriptiveName>::decode_into(r, v)?;
+            }
+        } else {
+            out.name = None;
+        }
+        <super::common::RoadSegmentReferenceID>::decode_into(r, &mut out.id)?;
+        <super::common::MsgCount>::decode_into(r, &mut out.revision)?;
+        <super::common::Position3D>::decode_into(r, &mut out.ref_point)?;
+        if present & (1 << 2) != 0 {
+            if out.lane_width.is_none() {
+                uper::fill_option(&mut out.lane_width);
+            }
+            if let Some(v) = &mut out.lane_width {
+                <super::common::LaneWidth>::decode_into(r, v)?;
+            }
+        } else {
+            out.lane_width = None;
+        }
+        if present & (1 << 1) != 0 {
+            if out.speed_limits.is_none() {
+                uper::fill_option(&mut out.speed_limits);
+            }
+            if let Some(v) = &mut out.speed_limits {
+                <super::common::SpeedLimitList>::decode_into(r, v)?;
+            }
+        } else {
+            out.speed_limits = None;
+        }
+        <RoadLaneSetList>::decode_into(r, &mut out.road_lane_set)?;
+        if present & (1 << 0) != 0 {
+            if out.regional.is_none() {
+                uper::fill_option(&mut out.regional);
+            }
+            if let Some(v) = &mut out.regional {
+                <RoadSegmentRegional>::decode_into(r, v)?;
+            }
+        } else {
+            out.regional = None;
+        }
+        out.extensions = if extended { uper::Extensions::decode(r, "MapData.RoadSegment:ext")? } else { uper::Extensions::new() };
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_bit(self.extensions.is_present())?;
@@ -1433,7 +1976,13 @@ crate::__newtype_deref!(RoadLaneSetList, uper::SeqOf<GenericLane, 8>);
 impl RoadLaneSetList {
     const SIZE: uper::Size = uper::Size::range(1, 255);
     /// An empty list (valid for encoding once it holds the minimum number of items).
-    pub const fn new() -> Self {
+    pub fn new() -> Self {
+        Self(uper::SeqOf::new())
+    }
+}
+
+impl uper::Placeholder for RoadLaneSetList {
+    fn placeholder() -> Self {
         Self(uper::SeqOf::new())
     }
 }
@@ -1441,8 +1990,8 @@ impl RoadLaneSetList {
 impl Uper for RoadLaneSetList {
     const PATH: &'static str = "MapData.RoadLaneSetList";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(1083968), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
-        uper::decode_seq_of(r, Self::SIZE, "MapData.RoadLaneSetList").map(Self)
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+        uper::decode_seq_of_into(r, Self::SIZE, "MapData.RoadLaneSetList", &mut out.0)
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
@@ -1458,7 +2007,13 @@ crate::__newtype_deref!(RoadSegmentRegional, uper::SeqOf<RegRoadSegment, 1>);
 impl RoadSegmentRegional {
     const SIZE: uper::Size = uper::Size::range(1, 4);
     /// An empty list (valid for encoding once it holds the minimum number of items).
-    pub const fn new() -> Self {
+    pub fn new() -> Self {
+        Self(uper::SeqOf::new())
+    }
+}
+
+impl uper::Placeholder for RoadSegmentRegional {
+    fn placeholder() -> Self {
         Self(uper::SeqOf::new())
     }
 }
@@ -1466,8 +2021,8 @@ impl RoadSegmentRegional {
 impl Uper for RoadSegmentRegional {
     const PATH: &'static str = "MapData.RoadSegment.regional";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(146), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
-        uper::decode_seq_of(r, Self::SIZE, "MapData.RoadSegment.regional").map(Self)
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+        uper::decode_seq_of_into(r, Self::SIZE, "MapData.RoadSegment.regional", &mut out.0)
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
@@ -1495,14 +2050,21 @@ impl RegRoadSegment {
     }
 }
 
+impl uper::Placeholder for RegRoadSegment {
+    fn placeholder() -> Self {
+        Self::Unknown { id: <super::common::RegionId as uper::Placeholder>::placeholder(), content: uper::Octets::new() }
+    }
+}
+
 impl Uper for RegRoadSegment {
     const PATH: &'static str = "MapData.RegRoadSegment";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(144), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let id = <super::common::RegionId>::decode_uper(r)?;
-        Ok(match id.get() {
-            _ => Self::Unknown { id, content: uper::decode_unknown_open(r, "MapData.RegRoadSegment:unknown")? },
-        })
+        match id.get() {
+            _ => *out = Self::Unknown { id, content: uper::decode_unknown_open(r, "MapData.RegRoadSegment:unknown")? },
+        }
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         match self {
@@ -1529,18 +2091,60 @@ pub struct DataParameters {
     pub extensions: uper::Extensions<0>,
 }
 
+impl uper::Placeholder for DataParameters {
+    fn placeholder() -> Self {
+        Self { process_method: None, process_agency: None, last_checked_date: None, geoid_used: None, extensions: uper::Extensions::new() }
+    }
+}
+
 impl Uper for DataParameters {
     const PATH: &'static str = "MapData.DataParameters";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(1888), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let extended = r.read_bit()?;
         let present = r.read_bits(4)?;
-        let f_process_method = if present & (1 << 3) != 0 { Some(<DataParametersProcessMethod>::decode_uper(r)?) } else { None };
-        let f_process_agency = if present & (1 << 2) != 0 { Some(<DataParametersProcessAgency>::decode_uper(r)?) } else { None };
-        let f_last_checked_date = if present & (1 << 1) != 0 { Some(<DataParametersLastCheckedDate>::decode_uper(r)?) } else { None };
-        let f_geoid_used = if present & (1 << 0) != 0 { Some(<DataParametersGeoidUsed>::decode_uper(r)?) } else { None };
-        let extensions = if extended { uper::Extensions::decode(r, "MapData.DataParameters:ext")? } else { uper::Extensions::new() };
-        Ok(Self { process_method: f_process_method, process_agency: f_process_agency, last_checked_date: f_last_checked_date, geoid_used: f_geoid_used, extensions })
+        if present & (1 << 3) != 0 {
+            if out.process_method.is_none() {
+                uper::fill_option(&mut out.process_method);
+            }
+            if let Some(v) = &mut out.process_method {
+                <DataParametersProcessMethod>::decode_into(r, v)?;
+            }
+        } else {
+            out.process_method = None;
+        }
+        if present & (1 << 2) != 0 {
+            if out.process_agency.is_none() {
+                uper::fill_option(&mut out.process_agency);
+            }
+            if let Some(v) = &mut out.process_agency {
+                <DataParametersProcessAgency>::decode_into(r, v)?;
+            }
+        } else {
+            out.process_agency = None;
+        }
+        if present & (1 << 1) != 0 {
+            if out.last_checked_date.is_none() {
+                uper::fill_option(&mut out.last_checked_date);
+            }
+            if let Some(v) = &mut out.last_checked_date {
+                <DataParametersLastCheckedDate>::decode_into(r, v)?;
+            }
+        } else {
+            out.last_checked_date = None;
+        }
+        if present & (1 << 0) != 0 {
+            if out.geoid_used.is_none() {
+                uper::fill_option(&mut out.geoid_used);
+            }
+            if let Some(v) = &mut out.geoid_used {
+                <DataParametersGeoidUsed>::decode_into(r, v)?;
+            }
+        } else {
+            out.geoid_used = None;
+        }
+        out.extensions = if extended { uper::Extensions::decode(r, "MapData.DataParameters:ext")? } else { uper::Extensions::new() };
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_bit(self.extensions.is_present())?;
@@ -1582,11 +2186,18 @@ impl DataParametersProcessMethod {
     }
 }
 
+impl uper::Placeholder for DataParametersProcessMethod {
+    fn placeholder() -> Self {
+        Self(uper::Ia5::new())
+    }
+}
+
 impl Uper for DataParametersProcessMethod {
     const PATH: &'static str = "MapData.DataParameters.processMethod";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(449), Some(1793));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
-        uper::decode_ia5(r, Self::SIZE, "MapData.DataParameters.processMethod").map(Self)
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+        out.0 = uper::decode_ia5(r, Self::SIZE, "MapData.DataParameters.processMethod")?;
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_ia5(w, Self::SIZE, &self.0)
@@ -1611,11 +2222,18 @@ impl DataParametersProcessAgency {
     }
 }
 
+impl uper::Placeholder for DataParametersProcessAgency {
+    fn placeholder() -> Self {
+        Self(uper::Ia5::new())
+    }
+}
+
 impl Uper for DataParametersProcessAgency {
     const PATH: &'static str = "MapData.DataParameters.processAgency";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(449), Some(1793));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
-        uper::decode_ia5(r, Self::SIZE, "MapData.DataParameters.processAgency").map(Self)
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+        out.0 = uper::decode_ia5(r, Self::SIZE, "MapData.DataParameters.processAgency")?;
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_ia5(w, Self::SIZE, &self.0)
@@ -1640,11 +2258,18 @@ impl DataParametersLastCheckedDate {
     }
 }
 
+impl uper::Placeholder for DataParametersLastCheckedDate {
+    fn placeholder() -> Self {
+        Self(uper::Ia5::new())
+    }
+}
+
 impl Uper for DataParametersLastCheckedDate {
     const PATH: &'static str = "MapData.DataParameters.lastCheckedDate";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(449), Some(1793));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
-        uper::decode_ia5(r, Self::SIZE, "MapData.DataParameters.lastCheckedDate").map(Self)
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+        out.0 = uper::decode_ia5(r, Self::SIZE, "MapData.DataParameters.lastCheckedDate")?;
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_ia5(w, Self::SIZE, &self.0)
@@ -1669,11 +2294,18 @@ impl DataParametersGeoidUsed {
     }
 }
 
+impl uper::Placeholder for DataParametersGeoidUsed {
+    fn placeholder() -> Self {
+        Self(uper::Ia5::new())
+    }
+}
+
 impl Uper for DataParametersGeoidUsed {
     const PATH: &'static str = "MapData.DataParameters.geoidUsed";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(449), Some(1793));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
-        uper::decode_ia5(r, Self::SIZE, "MapData.DataParameters.geoidUsed").map(Self)
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+        out.0 = uper::decode_ia5(r, Self::SIZE, "MapData.DataParameters.geoidUsed")?;
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_ia5(w, Self::SIZE, &self.0)
@@ -1689,7 +2321,13 @@ crate::__newtype_deref!(RestrictionClassList, uper::SeqOf<RestrictionClassAssign
 impl RestrictionClassList {
     const SIZE: uper::Size = uper::Size::range(1, 254);
     /// An empty list (valid for encoding once it holds the minimum number of items).
-    pub const fn new() -> Self {
+    pub fn new() -> Self {
+        Self(uper::SeqOf::new())
+    }
+}
+
+impl uper::Placeholder for RestrictionClassList {
+    fn placeholder() -> Self {
         Self(uper::SeqOf::new())
     }
 }
@@ -1697,8 +2335,8 @@ impl RestrictionClassList {
 impl Uper for RestrictionClassList {
     const PATH: &'static str = "MapData.RestrictionClassList";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(3296), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
-        uper::decode_seq_of(r, Self::SIZE, "MapData.RestrictionClassList").map(Self)
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+        uper::decode_seq_of_into(r, Self::SIZE, "MapData.RestrictionClassList", &mut out.0)
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
@@ -1714,13 +2352,19 @@ pub struct RestrictionClassAssignment {
     pub users: RestrictionUserTypeList,
 }
 
+impl uper::Placeholder for RestrictionClassAssignment {
+    fn placeholder() -> Self {
+        Self { id: <super::common::RestrictionClassID as uper::Placeholder>::placeholder(), users: <RestrictionUserTypeList as uper::Placeholder>::placeholder() }
+    }
+}
+
 impl Uper for RestrictionClassAssignment {
     const PATH: &'static str = "MapData.RestrictionClassAssignment";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(822), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
-        let f_id = <super::common::RestrictionClassID>::decode_uper(r)?;
-        let f_users = <RestrictionUserTypeList>::decode_uper(r)?;
-        Ok(Self { id: f_id, users: f_users })
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+        <super::common::RestrictionClassID>::decode_into(r, &mut out.id)?;
+        <RestrictionUserTypeList>::decode_into(r, &mut out.users)?;
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         self.id.encode_uper(w)?;
@@ -1738,7 +2382,13 @@ crate::__newtype_deref!(RestrictionUserTypeList, uper::SeqOf<RestrictionUserType
 impl RestrictionUserTypeList {
     const SIZE: uper::Size = uper::Size::range(1, 16);
     /// An empty list (valid for encoding once it holds the minimum number of items).
-    pub const fn new() -> Self {
+    pub fn new() -> Self {
+        Self(uper::SeqOf::new())
+    }
+}
+
+impl uper::Placeholder for RestrictionUserTypeList {
+    fn placeholder() -> Self {
         Self(uper::SeqOf::new())
     }
 }
@@ -1746,8 +2396,8 @@ impl RestrictionUserTypeList {
 impl Uper for RestrictionUserTypeList {
     const PATH: &'static str = "MapData.RestrictionUserTypeList";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(814), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
-        uper::decode_seq_of(r, Self::SIZE, "MapData.RestrictionUserTypeList").map(Self)
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+        uper::decode_seq_of_into(r, Self::SIZE, "MapData.RestrictionUserTypeList", &mut out.0)
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
@@ -1770,22 +2420,44 @@ pub enum RestrictionUserType {
     },
 }
 
+impl uper::Placeholder for RestrictionUserType {
+    fn placeholder() -> Self {
+        Self::BasicType(<RestrictionAppliesTo as uper::Placeholder>::placeholder())
+    }
+}
+
 impl Uper for RestrictionUserType {
     const PATH: &'static str = "MapData.RestrictionUserType";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(162), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         if r.read_bit()? {
             let at = r.position();
             let index = u16::try_from(r.read_normally_small()?).map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at))?;
             let content = uper::decode_unknown_open(r, "MapData.RestrictionUserType:unknown")?;
-            return Ok(Self::Extension { index, content });
+            *out = Self::Extension { index, content };
+            return Ok(());
         }
         let at = r.position();
-        Ok(match r.read_constrained(0, 1)? {
-            0 => Self::BasicType(<RestrictionAppliesTo>::decode_uper(r)?),
-            1 => Self::Regional(<RestrictionUserTypeRegional>::decode_uper(r)?),
+        match r.read_constrained(0, 1)? {
+            0 => {
+                if !matches!(out, Self::BasicType(_)) {
+                    uper::replace_with(out, || Self::BasicType(<RestrictionAppliesTo as uper::Placeholder>::placeholder()));
+                }
+                if let Self::BasicType(v) = out {
+                    <RestrictionAppliesTo>::decode_into(r, v)?;
+                }
+            }
+            1 => {
+                if !matches!(out, Self::Regional(_)) {
+                    uper::replace_with(out, || Self::Regional(<RestrictionUserTypeRegional as uper::Placeholder>::placeholder()));
+                }
+                if let Self::Regional(v) = out {
+                    <RestrictionUserTypeRegional>::decode_into(r, v)?;
+                }
+            }
             _ => return Err(uper::DecodeError::new(uper::DecodeErrorKind::InvalidChoiceIndex, at)),
-        })
+        }
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         match self {
@@ -1899,18 +2571,26 @@ impl RestrictionAppliesTo {
     }
 }
 
+impl uper::Placeholder for RestrictionAppliesTo {
+    fn placeholder() -> Self {
+        Self::None
+    }
+}
+
 impl Uper for RestrictionAppliesTo {
     const PATH: &'static str = "MapData.RestrictionAppliesTo";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(26), Some(26));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         if r.read_bit()? {
             let at = r.position();
             let i = r.read_normally_small()?;
-            return u16::try_from(i).map(Self::Extension).map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at));
+            *out = u16::try_from(i).map(Self::Extension).map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at))?;
+            return Ok(());
         }
         let at = r.position();
         let i = r.read_constrained(0, 13)?;
-        Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))
+        *out = Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))?;
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         if let Self::Extension(i) = self {
@@ -1931,7 +2611,13 @@ crate::__newtype_deref!(RestrictionUserTypeRegional, uper::SeqOf<RegRestrictionU
 impl RestrictionUserTypeRegional {
     const SIZE: uper::Size = uper::Size::range(1, 4);
     /// An empty list (valid for encoding once it holds the minimum number of items).
-    pub const fn new() -> Self {
+    pub fn new() -> Self {
+        Self(uper::SeqOf::new())
+    }
+}
+
+impl uper::Placeholder for RestrictionUserTypeRegional {
+    fn placeholder() -> Self {
         Self(uper::SeqOf::new())
     }
 }
@@ -1939,8 +2625,8 @@ impl RestrictionUserTypeRegional {
 impl Uper for RestrictionUserTypeRegional {
     const PATH: &'static str = "MapData.RestrictionUserType.regional";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(146), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
-        uper::decode_seq_of(r, Self::SIZE, "MapData.RestrictionUserType.regional").map(Self)
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+        uper::decode_seq_of_into(r, Self::SIZE, "MapData.RestrictionUserType.regional", &mut out.0)
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
@@ -1971,15 +2657,29 @@ impl RegRestrictionUserType {
     }
 }
 
+impl uper::Placeholder for RegRestrictionUserType {
+    fn placeholder() -> Self {
+        Self::Unknown { id: <super::common::RegionId as uper::Placeholder>::placeholder(), content: uper::Octets::new() }
+    }
+}
+
 impl Uper for RegRestrictionUserType {
     const PATH: &'static str = "MapData.RegRestrictionUserType";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(144), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let id = <super::common::RegionId>::decode_uper(r)?;
-        Ok(match id.get() {
-            3 => Self::AddGrpC(uper::decode_open(r, <super::add_grp_c::RestrictionUserTypeAddGrpC>::decode_uper)?),
-            _ => Self::Unknown { id, content: uper::decode_unknown_open(r, "MapData.RegRestrictionUserType:unknown")? },
-        })
+        match id.get() {
+            3 => {
+                if !matches!(out, Self::AddGrpC(_)) {
+                    uper::replace_with(out, || Self::AddGrpC(<super::add_grp_c::RestrictionUserTypeAddGrpC as uper::Placeholder>::placeholder()));
+                }
+                if let Self::AddGrpC(v) = out {
+                    uper::decode_open(r, |r| <super::add_grp_c::RestrictionUserTypeAddGrpC>::decode_into(r, v))?;
+                }
+            }
+            _ => *out = Self::Unknown { id, content: uper::decode_unknown_open(r, "MapData.RegRestrictionUserType:unknown")? },
+        }
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         match self {
@@ -2004,7 +2704,13 @@ crate::__newtype_deref!(MapDataRegional, uper::SeqOf<RegMapData, 1>);
 impl MapDataRegional {
     const SIZE: uper::Size = uper::Size::range(1, 4);
     /// An empty list (valid for encoding once it holds the minimum number of items).
-    pub const fn new() -> Self {
+    pub fn new() -> Self {
+        Self(uper::SeqOf::new())
+    }
+}
+
+impl uper::Placeholder for MapDataRegional {
+    fn placeholder() -> Self {
         Self(uper::SeqOf::new())
     }
 }
@@ -2012,8 +2718,8 @@ impl MapDataRegional {
 impl Uper for MapDataRegional {
     const PATH: &'static str = "MapData.MapData.regional";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(1258), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
-        uper::decode_seq_of(r, Self::SIZE, "MapData.MapData.regional").map(Self)
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+        uper::decode_seq_of_into(r, Self::SIZE, "MapData.MapData.regional", &mut out.0)
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
@@ -2044,15 +2750,29 @@ impl RegMapData {
     }
 }
 
+impl uper::Placeholder for RegMapData {
+    fn placeholder() -> Self {
+        Self::Unknown { id: <super::common::RegionId as uper::Placeholder>::placeholder(), content: uper::Octets::new() }
+    }
+}
+
 impl Uper for RegMapData {
     const PATH: &'static str = "MapData.RegMapData";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(1256), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let id = <super::common::RegionId>::decode_uper(r)?;
-        Ok(match id.get() {
-            3 => Self::AddGrpC(uper::decode_open(r, <super::add_grp_c::MapDataAddGrpC>::decode_uper)?),
-            _ => Self::Unknown { id, content: uper::decode_unknown_open(r, "MapData.RegMapData:unknown")? },
-        })
+        match id.get() {
+            3 => {
+                if !matches!(out, Self::AddGrpC(_)) {
+                    uper::replace_with(out, || Self::AddGrpC(<super::add_grp_c::MapDataAddGrpC as uper::Placeholder>::placeholder()));
+                }
+                if let Self::AddGrpC(v) = out {
+                    uper::decode_open(r, |r| <super::add_grp_c::MapDataAddGrpC>::decode_into(r, v))?;
+                }
+            }
+            _ => *out = Self::Unknown { id, content: uper::decode_unknown_open(r, "MapData.RegMapData:unknown")? },
+        }
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         match self {

@@ -15,14 +15,20 @@ pub struct MessageFrame {
     pub extensions: uper::Extensions<0>,
 }
 
+impl uper::Placeholder for MessageFrame {
+    fn placeholder() -> Self {
+        Self { value: <MessageFrameValue as uper::Placeholder>::placeholder(), extensions: uper::Extensions::new() }
+    }
+}
+
 impl Uper for MessageFrame {
     const PATH: &'static str = "MessageFrame.MessageFrame";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(22783391), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let extended = r.read_bit()?;
-        let f_value = <MessageFrameValue>::decode_uper(r)?;
-        let extensions = if extended { uper::Extensions::decode(r, "MessageFrame.MessageFrame:ext")? } else { uper::Extensions::new() };
-        Ok(Self { value: f_value, extensions })
+        <MessageFrameValue>::decode_into(r, &mut out.value)?;
+        out.extensions = if extended { uper::Extensions::decode(r, "MessageFrame.MessageFrame:ext")? } else { uper::Extensions::new() };
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_bit(self.extensions.is_present())?;
@@ -153,45 +159,269 @@ impl MessageFrameValue {
     }
 }
 
+impl uper::Placeholder for MessageFrameValue {
+    fn placeholder() -> Self {
+        Self::Unknown { id: <DSRCmsgID as uper::Placeholder>::placeholder(), content: uper::Octets::new() }
+    }
+}
+
 impl Uper for MessageFrameValue {
     const PATH: &'static str = "MessageFrame.MessageFrame.value";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(22783303), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let id = <DSRCmsgID>::decode_uper(r)?;
-        Ok(match id.get() {
-            18 => Self::MapData(uper::decode_open(r, <super::map_data::MapData>::decode_uper)?),
-            19 => Self::SPAT(uper::decode_open(r, <super::spat::SPAT>::decode_uper)?),
-            20 => Self::BasicSafetyMessage(uper::decode_open(r, <super::basic_safety_message::BasicSafetyMessage>::decode_uper)?),
-            21 => Self::CommonSafetyRequest(uper::decode_open(r, <super::common_safety_request::CommonSafetyRequest>::decode_uper)?),
-            22 => Self::EmergencyVehicleAlert(uper::decode_open(r, <super::emergency_vehicle_alert::EmergencyVehicleAlert>::decode_uper)?),
-            23 => Self::IntersectionCollision(uper::decode_open(r, <super::intersection_collision::IntersectionCollision>::decode_uper)?),
-            24 => Self::NMEAcorrections(uper::decode_open(r, <super::nmea_corrections::NMEAcorrections>::decode_uper)?),
-            25 => Self::ProbeDataManagement(uper::decode_open(r, <super::probe_data_management::ProbeDataManagement>::decode_uper)?),
-            26 => Self::ProbeVehicleData(uper::decode_open(r, <super::probe_vehicle_data::ProbeVehicleData>::decode_uper)?),
-            27 => Self::RoadSideAlert(uper::decode_open(r, <super::road_side_alert::RoadSideAlert>::decode_uper)?),
-            28 => Self::RTCMcorrections(uper::decode_open(r, <super::rtcm_corrections::RTCMcorrections>::decode_uper)?),
-            29 => Self::SignalRequestMessage(uper::decode_open(r, <super::signal_request_message::SignalRequestMessage>::decode_uper)?),
-            30 => Self::SignalStatusMessage(uper::decode_open(r, <super::signal_status_message::SignalStatusMessage>::decode_uper)?),
-            31 => Self::TravelerInformation(uper::decode_open(r, <super::traveler_information::TravelerInformation>::decode_uper)?),
-            32 => Self::PersonalSafetyMessage(uper::decode_open(r, <super::personal_safety_message::PersonalSafetyMessage>::decode_uper)?),
-            240 => Self::TestMessage00(uper::decode_open(r, <super::test_message00::TestMessage00>::decode_uper)?),
-            241 => Self::TestMessage01(uper::decode_open(r, <super::test_message01::TestMessage01>::decode_uper)?),
-            242 => Self::TestMessage02(uper::decode_open(r, <super::test_message02::TestMessage02>::decode_uper)?),
-            243 => Self::TestMessage03(uper::decode_open(r, <super::test_message03::TestMessage03>::decode_uper)?),
-            244 => Self::TestMessage04(uper::decode_open(r, <super::test_message04::TestMessage04>::decode_uper)?),
-            245 => Self::TestMessage05(uper::decode_open(r, <super::test_message05::TestMessage05>::decode_uper)?),
-            246 => Self::TestMessage06(uper::decode_open(r, <super::test_message06::TestMessage06>::decode_uper)?),
-            247 => Self::TestMessage07(uper::decode_open(r, <super::test_message07::TestMessage07>::decode_uper)?),
-            248 => Self::TestMessage08(uper::decode_open(r, <super::test_message08::TestMessage08>::decode_uper)?),
-            249 => Self::TestMessage09(uper::decode_open(r, <super::test_message09::TestMessage09>::decode_uper)?),
-            250 => Self::TestMessage10(uper::decode_open(r, <super::test_message10::TestMessage10>::decode_uper)?),
-            251 => Self::TestMessage11(uper::decode_open(r, <super::test_message11::TestMessage11>::decode_uper)?),
-            252 => Self::TestMessage12(uper::decode_open(r, <super::test_message12::TestMessage12>::decode_uper)?),
-            253 => Self::TestMessage13(uper::decode_open(r, <super::test_message13::TestMessage13>::decode_uper)?),
-            254 => Self::TestMessage14(uper::decode_open(r, <super::test_message14::TestMessage14>::decode_uper)?),
-            255 => Self::TestMessage15(uper::decode_open(r, <super::test_message15::TestMessage15>::decode_uper)?),
-            _ => Self::Unknown { id, content: uper::decode_unknown_open(r, "MessageFrame.MessageFrame.value:unknown")? },
-        })
+        match id.get() {
+            18 => {
+                if !matches!(out, Self::MapData(_)) {
+                    uper::replace_with(out, || Self::MapData(<super::map_data::MapData as uper::Placeholder>::placeholder()));
+                }
+                if let Self::MapData(v) = out {
+                    uper::decode_open(r, |r| <super::map_data::MapData>::decode_into(r, v))?;
+                }
+            }
+            19 => {
+                if !matches!(out, Self::SPAT(_)) {
+                    uper::replace_with(out, || Self::SPAT(<super::spat::SPAT as uper::Placeholder>::placeholder()));
+                }
+                if let Self::SPAT(v) = out {
+                    uper::decode_open(r, |r| <super::spat::SPAT>::decode_into(r, v))?;
+                }
+            }
+            20 => {
+                if !matches!(out, Self::BasicSafetyMessage(_)) {
+                    uper::replace_with(out, || Self::BasicSafetyMessage(<super::basic_safety_message::BasicSafetyMessage as uper::Placeholder>::placeholder()));
+                }
+                if let Self::BasicSafetyMessage(v) = out {
+                    uper::decode_open(r, |r| <super::basic_safety_message::BasicSafetyMessage>::decode_into(r, v))?;
+                }
+            }
+            21 => {
+                if !matches!(out, Self::CommonSafetyRequest(_)) {
+                    uper::replace_with(out, || Self::CommonSafetyRequest(<super::common_safety_request::CommonSafetyRequest as uper::Placeholder>::placeholder()));
+                }
+                if let Self::CommonSafetyRequest(v) = out {
+                    uper::decode_open(r, |r| <super::common_safety_request::CommonSafetyRequest>::decode_into(r, v))?;
+                }
+            }
+            22 => {
+                if !matches!(out, Self::EmergencyVehicleAlert(_)) {
+                    uper::replace_with(out, || Self::EmergencyVehicleAlert(<super::emergency_vehicle_alert::EmergencyVehicleAlert as uper::Placeholder>::placeholder()));
+                }
+                if let Self::EmergencyVehicleAlert(v) = out {
+                    uper::decode_open(r, |r| <super::emergency_vehicle_alert::EmergencyVehicleAlert>::decode_into(r, v))?;
+                }
+            }
+            23 => {
+                if !matches!(out, Self::IntersectionCollision(_)) {
+                    uper::replace_with(out, || Self::IntersectionCollision(<super::intersection_collision::IntersectionCollision as uper::Placeholder>::placeholder()));
+                }
+                if let Self::IntersectionCollision(v) = out {
+                    uper::decode_open(r, |r| <super::intersection_collision::IntersectionCollision>::decode_into(r, v))?;
+                }
+            }
+            24 => {
+                if !matches!(out, Self::NMEAcorrections(_)) {
+                    uper::replace_with(out, || Self::NMEAcorrections(<super::nmea_corrections::NMEAcorrections as uper::Placeholder>::placeholder()));
+                }
+                if let Self::NMEAcorrections(v) = out {
+                    uper::decode_open(r, |r| <super::nmea_corrections::NMEAcorrections>::decode_into(r, v))?;
+                }
+            }
+            25 => {
+                if !matches!(out, Self::ProbeDataManagement(_)) {
+                    uper::replace_with(out, || Self::ProbeDataManagement(<super::probe_data_management::ProbeDataManagement as uper::Placeholder>::placeholder()));
+                }
+                if let Self::ProbeDataManagement(v) = out {
+                    uper::decode_open(r, |r| <super::probe_data_management::ProbeDataManagement>::decode_into(r, v))?;
+                }
+            }
+            26 => {
+                if !matches!(out, Self::ProbeVehicleData(_)) {
+                    uper::replace_with(out, || Self::ProbeVehicleData(<super::probe_vehicle_data::ProbeVehicleData as uper::Placeholder>::placeholder()));
+                }
+                if let Self::ProbeVehicleData(v) = out {
+                    uper::decode_open(r, |r| <super::probe_vehicle_data::ProbeVehicleData>::decode_into(r, v))?;
+                }
+            }
+            27 => {
+                if !matches!(out, Self::RoadSideAlert(_)) {
+                    uper::replace_with(out, || Self::RoadSideAlert(<super::road_side_alert::RoadSideAlert as uper::Placeholder>::placeholder()));
+                }
+                if let Self::RoadSideAlert(v) = out {
+                    uper::decode_open(r, |r| <super::road_side_alert::RoadSideAlert>::decode_into(r, v))?;
+                }
+            }
+            28 => {
+                if !matches!(out, Self::RTCMcorrections(_)) {
+                    uper::replace_with(out, || Self::RTCMcorrections(<super::rtcm_corrections::RTCMcorrections as uper::Placeholder>::placeholder()));
+                }
+                if let Self::RTCMcorrections(v) = out {
+                    uper::decode_open(r, |r| <super::rtcm_corrections::RTCMcorrections>::decode_into(r, v))?;
+                }
+            }
+            29 => {
+                if !matches!(out, Self::SignalRequestMessage(_)) {
+                    uper::replace_with(out, || Self::SignalRequestMessage(<super::signal_request_message::SignalRequestMessage as uper::Placeholder>::placeholder()));
+                }
+                if let Self::SignalRequestMessage(v) = out {
+                    uper::decode_open(r, |r| <super::signal_request_message::SignalRequestMessage>::decode_into(r, v))?;
+                }
+            }
+            30 => {
+                if !matches!(out, Self::SignalStatusMessage(_)) {
+                    uper::replace_with(out, || Self::SignalStatusMessage(<super::signal_status_message::SignalStatusMessage as uper::Placeholder>::placeholder()));
+                }
+                if let Self::SignalStatusMessage(v) = out {
+                    uper::decode_open(r, |r| <super::signal_status_message::SignalStatusMessage>::decode_into(r, v))?;
+                }
+            }
+            31 => {
+                if !matches!(out, Self::TravelerInformation(_)) {
+                    uper::replace_with(out, || Self::TravelerInformation(<super::traveler_information::TravelerInformation as uper::Placeholder>::placeholder()));
+                }
+                if let Self::TravelerInformation(v) = out {
+                    uper::decode_open(r, |r| <super::traveler_information::TravelerInformation>::decode_into(r, v))?;
+                }
+            }
+            32 => {
+                if !matches!(out, Self::PersonalSafetyMessage(_)) {
+                    uper::replace_with(out, || Self::PersonalSafetyMessage(<super::personal_safety_message::PersonalSafetyMessage as uper::Placeholder>::placeholder()));
+                }
+                if let Self::PersonalSafetyMessage(v) = out {
+                    uper::decode_open(r, |r| <super::personal_safety_message::PersonalSafetyMessage>::decode_into(r, v))?;
+                }
+            }
+            240 => {
+                if !matches!(out, Self::TestMessage00(_)) {
+                    uper::replace_with(out, || Self::TestMessage00(<super::test_message00::TestMessage00 as uper::Placeholder>::placeholder()));
+                }
+                if let Self::TestMessage00(v) = out {
+                    uper::decode_open(r, |r| <super::test_message00::TestMessage00>::decode_into(r, v))?;
+                }
+            }
+            241 => {
+                if !matches!(out, Self::TestMessage01(_)) {
+                    uper::replace_with(out, || Self::TestMessage01(<super::test_message01::TestMessage01 as uper::Placeholder>::placeholder()));
+                }
+                if let Self::TestMessage01(v) = out {
+                    uper::decode_open(r, |r| <super::test_message01::TestMessage01>::decode_into(r, v))?;
+                }
+            }
+            242 => {
+                if !matches!(out, Self::TestMessage02(_)) {
+                    uper::replace_with(out, || Self::TestMessage02(<super::test_message02::TestMessage02 as uper::Placeholder>::placeholder()));
+                }
+                if let Self::TestMessage02(v) = out {
+                    uper::decode_open(r, |r| <super::test_message02::TestMessage02>::decode_into(r, v))?;
+                }
+            }
+            243 => {
+                if !matches!(out, Self::TestMessage03(_)) {
+                    uper::replace_with(out, || Self::TestMessage03(<super::test_message03::TestMessage03 as uper::Placeholder>::placeholder()));
+                }
+                if let Self::TestMessage03(v) = out {
+                    uper::decode_open(r, |r| <super::test_message03::TestMessage03>::decode_into(r, v))?;
+                }
+            }
+            244 => {
+                if !matches!(out, Self::TestMessage04(_)) {
+                    uper::replace_with(out, || Self::TestMessage04(<super::test_message04::TestMessage04 as uper::Placeholder>::placeholder()));
+                }
+                if let Self::TestMessage04(v) = out {
+                    uper::decode_open(r, |r| <super::test_message04::TestMessage04>::decode_into(r, v))?;
+                }
+            }
+            245 => {
+                if !matches!(out, Self::TestMessage05(_)) {
+                    uper::replace_with(out, || Self::TestMessage05(<super::test_message05::TestMessage05 as uper::Placeholder>::placeholder()));
+                }
+                if let Self::TestMessage05(v) = out {
+                    uper::decode_open(r, |r| <super::test_message05::TestMessage05>::decode_into(r, v))?;
+                }
+            }
+            246 => {
+                if !matches!(out, Self::TestMessage06(_)) {
+                    uper::replace_with(out, || Self::TestMessage06(<super::test_message06::TestMessage06 as uper::Placeholder>::placeholder()));
+                }
+                if let Self::TestMessage06(v) = out {
+                    uper::decode_open(r, |r| <super::test_message06::TestMessage06>::decode_into(r, v))?;
+                }
+            }
+            247 => {
+                if !matches!(out, Self::TestMessage07(_)) {
+                    uper::replace_with(out, || Self::TestMessage07(<super::test_message07::TestMessage07 as uper::Placeholder>::placeholder()));
+                }
+                if let Self::TestMessage07(v) = out {
+                    uper::decode_open(r, |r| <super::test_message07::TestMessage07>::decode_into(r, v))?;
+                }
+            }
+            248 => {
+                if !matches!(out, Self::TestMessage08(_)) {
+                    uper::replace_with(out, || Self::TestMessage08(<super::test_message08::TestMessage08 as uper::Placeholder>::placeholder()));
+                }
+                if let Self::TestMessage08(v) = out {
+                    uper::decode_open(r, |r| <super::test_message08::TestMessage08>::decode_into(r, v))?;
+                }
+            }
+            249 => {
+                if !matches!(out, Self::TestMessage09(_)) {
+                    uper::replace_with(out, || Self::TestMessage09(<super::test_message09::TestMessage09 as uper::Placeholder>::placeholder()));
+                }
+                if let Self::TestMessage09(v) = out {
+                    uper::decode_open(r, |r| <super::test_message09::TestMessage09>::decode_into(r, v))?;
+                }
+            }
+            250 => {
+                if !matches!(out, Self::TestMessage10(_)) {
+                    uper::replace_with(out, || Self::TestMessage10(<super::test_message10::TestMessage10 as uper::Placeholder>::placeholder()));
+                }
+                if let Self::TestMessage10(v) = out {
+                    uper::decode_open(r, |r| <super::test_message10::TestMessage10>::decode_into(r, v))?;
+                }
+            }
+            251 => {
+                if !matches!(out, Self::TestMessage11(_)) {
+                    uper::replace_with(out, || Self::TestMessage11(<super::test_message11::TestMessage11 as uper::Placeholder>::placeholder()));
+                }
+                if let Self::TestMessage11(v) = out {
+                    uper::decode_open(r, |r| <super::test_message11::TestMessage11>::decode_into(r, v))?;
+                }
+            }
+            252 => {
+                if !matches!(out, Self::TestMessage12(_)) {
+                    uper::replace_with(out, || Self::TestMessage12(<super::test_message12::TestMessage12 as uper::Placeholder>::placeholder()));
+                }
+                if let Self::TestMessage12(v) = out {
+                    uper::decode_open(r, |r| <super::test_message12::TestMessage12>::decode_into(r, v))?;
+                }
+            }
+            253 => {
+                if !matches!(out, Self::TestMessage13(_)) {
+                    uper::replace_with(out, || Self::TestMessage13(<super::test_message13::TestMessage13 as uper::Placeholder>::placeholder()));
+                }
+                if let Self::TestMessage13(v) = out {
+                    uper::decode_open(r, |r| <super::test_message13::TestMessage13>::decode_into(r, v))?;
+                }
+            }
+            254 => {
+                if !matches!(out, Self::TestMessage14(_)) {
+                    uper::replace_with(out, || Self::TestMessage14(<super::test_message14::TestMessage14 as uper::Placeholder>::placeholder()));
+                }
+                if let Self::TestMessage14(v) = out {
+                    uper::decode_open(r, |r| <super::test_message14::TestMessage14>::decode_into(r, v))?;
+                }
+            }
+            255 => {
+                if !matches!(out, Self::TestMessage15(_)) {
+                    uper::replace_with(out, || Self::TestMessage15(<super::test_message15::TestMessage15 as uper::Placeholder>::placeholder()));
+                }
+                if let Self::TestMessage15(v) = out {
+                    uper::decode_open(r, |r| <super::test_message15::TestMessage15>::decode_into(r, v))?;
+                }
+            }
+            _ => *out = Self::Unknown { id, content: uper::decode_unknown_open(r, "MessageFrame.MessageFrame.value:unknown")? },
+        }
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         match self {

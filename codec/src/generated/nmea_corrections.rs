@@ -25,20 +25,71 @@ pub struct NMEAcorrections {
     pub extensions: uper::Extensions<0>,
 }
 
+impl uper::Placeholder for NMEAcorrections {
+    fn placeholder() -> Self {
+        Self { time_stamp: None, rev: None, msg: None, wd_count: None, payload: <NMEAPayload as uper::Placeholder>::placeholder(), regional: None, extensions: uper::Extensions::new() }
+    }
+}
+
 impl Uper for NMEAcorrections {
     const PATH: &'static str = "NMEAcorrections.NMEAcorrections";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(832), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let extended = r.read_bit()?;
         let present = r.read_bits(5)?;
-        let f_time_stamp = if present & (1 << 4) != 0 { Some(<super::common::MinuteOfTheYear>::decode_uper(r)?) } else { None };
-        let f_rev = if present & (1 << 3) != 0 { Some(<NMEARevision>::decode_uper(r)?) } else { None };
-        let f_msg = if present & (1 << 2) != 0 { Some(<NMEAMsgType>::decode_uper(r)?) } else { None };
-        let f_wd_count = if present & (1 << 1) != 0 { Some(<ObjectCount>::decode_uper(r)?) } else { None };
-        let f_payload = <NMEAPayload>::decode_uper(r)?;
-        let f_regional = if present & (1 << 0) != 0 { Some(<NMEAcorrectionsRegional>::decode_uper(r)?) } else { None };
-        let extensions = if extended { uper::Extensions::decode(r, "NMEAcorrections.NMEAcorrections:ext")? } else { uper::Extensions::new() };
-        Ok(Self { time_stamp: f_time_stamp, rev: f_rev, msg: f_msg, wd_count: f_wd_count, payload: f_payload, regional: f_regional, extensions })
+        if present & (1 << 4) != 0 {
+            if out.time_stamp.is_none() {
+                uper::fill_option(&mut out.time_stamp);
+            }
+            if let Some(v) = &mut out.time_stamp {
+                <super::common::MinuteOfTheYear>::decode_into(r, v)?;
+            }
+        } else {
+            out.time_stamp = None;
+        }
+        if present & (1 << 3) != 0 {
+            if out.rev.is_none() {
+                uper::fill_option(&mut out.rev);
+            }
+            if let Some(v) = &mut out.rev {
+                <NMEARevision>::decode_into(r, v)?;
+            }
+        } else {
+            out.rev = None;
+        }
+        if present & (1 << 2) != 0 {
+            if out.msg.is_none() {
+                uper::fill_option(&mut out.msg);
+            }
+            if let Some(v) = &mut out.msg {
+                <NMEAMsgType>::decode_into(r, v)?;
+            }
+        } else {
+            out.msg = None;
+        }
+        if present & (1 << 1) != 0 {
+            if out.wd_count.is_none() {
+                uper::fill_option(&mut out.wd_count);
+            }
+            if let Some(v) = &mut out.wd_count {
+                <ObjectCount>::decode_into(r, v)?;
+            }
+        } else {
+            out.wd_count = None;
+        }
+        <NMEAPayload>::decode_into(r, &mut out.payload)?;
+        if present & (1 << 0) != 0 {
+            if out.regional.is_none() {
+                uper::fill_option(&mut out.regional);
+            }
+            if let Some(v) = &mut out.regional {
+                <NMEAcorrectionsRegional>::decode_into(r, v)?;
+            }
+        } else {
+            out.regional = None;
+        }
+        out.extensions = if extended { uper::Extensions::decode(r, "NMEAcorrections.NMEAcorrections:ext")? } else { uper::Extensions::new() };
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_bit(self.extensions.is_present())?;
@@ -130,18 +181,26 @@ impl NMEARevision {
     }
 }
 
+impl uper::Placeholder for NMEARevision {
+    fn placeholder() -> Self {
+        Self::Unknown
+    }
+}
+
 impl Uper for NMEARevision {
     const PATH: &'static str = "NMEAcorrections.NMEA-Revision";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(26), Some(26));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         if r.read_bit()? {
             let at = r.position();
             let i = r.read_normally_small()?;
-            return u16::try_from(i).map(Self::Extension).map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at));
+            *out = u16::try_from(i).map(Self::Extension).map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at))?;
+            return Ok(());
         }
         let at = r.position();
         let i = r.read_constrained(0, 6)?;
-        Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))
+        *out = Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))?;
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         if let Self::Extension(i) = self {
@@ -180,11 +239,17 @@ impl NMEAPayload {
     }
 }
 
+impl uper::Placeholder for NMEAPayload {
+    fn placeholder() -> Self {
+        Self(uper::Octets::new())
+    }
+}
+
 impl Uper for NMEAPayload {
     const PATH: &'static str = "NMEAcorrections.NMEA-Payload";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(522), Some(8194));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
-        uper::decode_octets(r, Self::SIZE, "NMEAcorrections.NMEA-Payload").map(Self)
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+        uper::decode_octets_into(r, Self::SIZE, "NMEAcorrections.NMEA-Payload", &mut out.0)
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_octets(w, Self::SIZE, &self.0)
@@ -200,7 +265,13 @@ crate::__newtype_deref!(NMEAcorrectionsRegional, uper::SeqOf<RegNMEAcorrections,
 impl NMEAcorrectionsRegional {
     const SIZE: uper::Size = uper::Size::range(1, 4);
     /// An empty list (valid for encoding once it holds the minimum number of items).
-    pub const fn new() -> Self {
+    pub fn new() -> Self {
+        Self(uper::SeqOf::new())
+    }
+}
+
+impl uper::Placeholder for NMEAcorrectionsRegional {
+    fn placeholder() -> Self {
         Self(uper::SeqOf::new())
     }
 }
@@ -208,8 +279,8 @@ impl NMEAcorrectionsRegional {
 impl Uper for NMEAcorrectionsRegional {
     const PATH: &'static str = "NMEAcorrections.NMEAcorrections.regional";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(146), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
-        uper::decode_seq_of(r, Self::SIZE, "NMEAcorrections.NMEAcorrections.regional").map(Self)
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+        uper::decode_seq_of_into(r, Self::SIZE, "NMEAcorrections.NMEAcorrections.regional", &mut out.0)
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
@@ -237,14 +308,21 @@ impl RegNMEAcorrections {
     }
 }
 
+impl uper::Placeholder for RegNMEAcorrections {
+    fn placeholder() -> Self {
+        Self::Unknown { id: <super::common::RegionId as uper::Placeholder>::placeholder(), content: uper::Octets::new() }
+    }
+}
+
 impl Uper for RegNMEAcorrections {
     const PATH: &'static str = "NMEAcorrections.RegNMEAcorrections";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(144), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let id = <super::common::RegionId>::decode_uper(r)?;
-        Ok(match id.get() {
-            _ => Self::Unknown { id, content: uper::decode_unknown_open(r, "NMEAcorrections.RegNMEAcorrections:unknown")? },
-        })
+        match id.get() {
+            _ => *out = Self::Unknown { id, content: uper::decode_unknown_open(r, "NMEAcorrections.RegNMEAcorrections:unknown")? },
+        }
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         match self {

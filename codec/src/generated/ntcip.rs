@@ -45,13 +45,20 @@ impl EssPrecipYesNo {
     }
 }
 
+impl uper::Placeholder for EssPrecipYesNo {
+    fn placeholder() -> Self {
+        Self::Precip
+    }
+}
+
 impl Uper for EssPrecipYesNo {
     const PATH: &'static str = "NTCIP.EssPrecipYesNo";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(2), Some(2));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let at = r.position();
         let i = r.read_constrained(0, 2)?;
-        Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))
+        *out = Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))?;
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_constrained(self.root_index(), 0, 2)
@@ -162,13 +169,20 @@ impl EssPrecipSituation {
     }
 }
 
+impl uper::Placeholder for EssPrecipSituation {
+    fn placeholder() -> Self {
+        Self::Other
+    }
+}
+
 impl Uper for EssPrecipSituation {
     const PATH: &'static str = "NTCIP.EssPrecipSituation";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(4), Some(4));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let at = r.position();
         let i = r.read_constrained(0, 14)?;
-        Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))
+        *out = Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))?;
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_constrained(self.root_index(), 0, 14)

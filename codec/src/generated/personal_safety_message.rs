@@ -65,40 +65,208 @@ pub struct PersonalSafetyMessage {
     pub extensions: uper::Extensions<0>,
 }
 
+impl uper::Placeholder for PersonalSafetyMessage {
+    fn placeholder() -> Self {
+        Self { basic_type: <PersonalDeviceUserType as uper::Placeholder>::placeholder(), sec_mark: <super::common::DSecond as uper::Placeholder>::placeholder(), msg_cnt: <super::common::MsgCount as uper::Placeholder>::placeholder(), id: <super::common::TemporaryID as uper::Placeholder>::placeholder(), position: <super::common::Position3D as uper::Placeholder>::placeholder(), accuracy: <super::common::PositionalAccuracy as uper::Placeholder>::placeholder(), speed: <super::common::Velocity as uper::Placeholder>::placeholder(), heading: <super::common::Heading as uper::Placeholder>::placeholder(), accel_set: None, path_history: None, path_prediction: None, propulsion: None, use_state: None, cross_request: None, cross_state: None, cluster_size: None, cluster_radius: None, event_responder_type: None, activity_type: None, activity_sub_type: None, assist_type: None, sizing: None, attachment: None, attachment_radius: None, animal_type: None, regional: None, extensions: uper::Extensions::new() }
+    }
+}
+
 impl Uper for PersonalSafetyMessage {
     const PATH: &'static str = "PersonalSafetyMessage.PersonalSafetyMessage";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(6561), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let extended = r.read_bit()?;
         let present = r.read_bits(18)?;
-        let f_basic_type = <PersonalDeviceUserType>::decode_uper(r)?;
-        let f_sec_mark = <super::common::DSecond>::decode_uper(r)?;
-        let f_msg_cnt = <super::common::MsgCount>::decode_uper(r)?;
-        let f_id = <super::common::TemporaryID>::decode_uper(r)?;
-        let f_position = <super::common::Position3D>::decode_uper(r)?;
-        let f_accuracy = <super::common::PositionalAccuracy>::decode_uper(r)?;
-        let f_speed = <super::common::Velocity>::decode_uper(r)?;
-        let f_heading = <super::common::Heading>::decode_uper(r)?;
-        let f_accel_set = if present & (1 << 17) != 0 { Some(<super::common::AccelerationSet4Way>::decode_uper(r)?) } else { None };
-        let f_path_history = if present & (1 << 16) != 0 { Some(<super::common::PathHistory>::decode_uper(r)?) } else { None };
-        let f_path_prediction = if present & (1 << 15) != 0 { Some(<super::common::PathPrediction>::decode_uper(r)?) } else { None };
-        let f_propulsion = if present & (1 << 14) != 0 { Some(<PropelledInformation>::decode_uper(r)?) } else { None };
-        let f_use_state = if present & (1 << 13) != 0 { Some(<PersonalDeviceUsageState>::decode_uper(r)?) } else { None };
-        let f_cross_request = if present & (1 << 12) != 0 { Some(<PersonalCrossingRequest>::decode_uper(r)?) } else { None };
-        let f_cross_state = if present & (1 << 11) != 0 { Some(<PersonalCrossingInProgress>::decode_uper(r)?) } else { None };
-        let f_cluster_size = if present & (1 << 10) != 0 { Some(<NumberOfParticipantsInCluster>::decode_uper(r)?) } else { None };
-        let f_cluster_radius = if present & (1 << 9) != 0 { Some(<PersonalClusterRadius>::decode_uper(r)?) } else { None };
-        let f_event_responder_type = if present & (1 << 8) != 0 { Some(<PublicSafetyEventResponderWorkerType>::decode_uper(r)?) } else { None };
-        let f_activity_type = if present & (1 << 7) != 0 { Some(<PublicSafetyAndRoadWorkerActivity>::decode_uper(r)?) } else { None };
-        let f_activity_sub_type = if present & (1 << 6) != 0 { Some(<PublicSafetyDirectingTrafficSubType>::decode_uper(r)?) } else { None };
-        let f_assist_type = if present & (1 << 5) != 0 { Some(<PersonalAssistive>::decode_uper(r)?) } else { None };
-        let f_sizing = if present & (1 << 4) != 0 { Some(<UserSizeAndBehaviour>::decode_uper(r)?) } else { None };
-        let f_attachment = if present & (1 << 3) != 0 { Some(<Attachment>::decode_uper(r)?) } else { None };
-        let f_attachment_radius = if present & (1 << 2) != 0 { Some(<AttachmentRadius>::decode_uper(r)?) } else { None };
-        let f_animal_type = if present & (1 << 1) != 0 { Some(<AnimalType>::decode_uper(r)?) } else { None };
-        let f_regional = if present & (1 << 0) != 0 { Some(<PersonalSafetyMessageRegional>::decode_uper(r)?) } else { None };
-        let extensions = if extended { uper::Extensions::decode(r, "PersonalSafetyMessage.PersonalSafetyMessage:ext")? } else { uper::Extensions::new() };
-        Ok(Self { basic_type: f_basic_type, sec_mark: f_sec_mark, msg_cnt: f_msg_cnt, id: f_id, position: f_position, accuracy: f_accuracy, speed: f_speed, heading: f_heading, accel_set: f_accel_set, path_history: f_path_history, path_prediction: f_path_prediction, propulsion: f_propulsion, use_state: f_use_state, cross_request: f_cross_request, cross_state: f_cross_state, cluster_size: f_cluster_size, cluster_radius: f_cluster_radius, event_responder_type: f_event_responder_type, activity_type: f_activity_type, activity_sub_type: f_activity_sub_type, assist_type: f_assist_type, sizing: f_sizing, attachment: f_attachment, attachment_radius: f_attachment_radius, animal_type: f_animal_type, regional: f_regional, extensions })
+        <PersonalDeviceUserType>::decode_into(r, &mut out.basic_type)?;
+        <super::common::DSecond>::decode_into(r, &mut out.sec_mark)?;
+        <super::common::MsgCount>::decode_into(r, &mut out.msg_cnt)?;
+        <super::common::TemporaryID>::decode_into(r, &mut out.id)?;
+        <super::common::Position3D>::decode_into(r, &mut out.position)?;
+        <super::common::PositionalAccuracy>::decode_into(r, &mut out.accuracy)?;
+        <super::common::Velocity>::decode_into(r, &mut out.speed)?;
+        <super::common::Heading>::decode_into(r, &mut out.heading)?;
+        if present & (1 << 17) != 0 {
+            if out.accel_set.is_none() {
+                uper::fill_option(&mut out.accel_set);
+            }
+            if let Some(v) = &mut out.accel_set {
+                <super::common::AccelerationSet4Way>::decode_into(r, v)?;
+            }
+        } else {
+            out.accel_set = None;
+        }
+        if present & (1 << 16) != 0 {
+            if out.path_history.is_none() {
+                uper::fill_option(&mut out.path_history);
+            }
+            if let Some(v) = &mut out.path_history {
+                <super::common::PathHistory>::decode_into(r, v)?;
+            }
+        } else {
+            out.path_history = None;
+        }
+        if present & (1 << 15) != 0 {
+            if out.path_prediction.is_none() {
+                uper::fill_option(&mut out.path_prediction);
+            }
+            if let Some(v) = &mut out.path_prediction {
+                <super::common::PathPrediction>::decode_into(r, v)?;
+            }
+        } else {
+            out.path_prediction = None;
+        }
+        if present & (1 << 14) != 0 {
+            if out.propulsion.is_none() {
+                uper::fill_option(&mut out.propulsion);
+            }
+            if let Some(v) = &mut out.propulsion {
+                <PropelledInformation>::decode_into(r, v)?;
+            }
+        } else {
+            out.propulsion = None;
+        }
+        if present & (1 << 13) != 0 {
+            if out.use_state.is_none() {
+                uper::fill_option(&mut out.use_state);
+            }
+            if let Some(v) = &mut out.use_state {
+                <PersonalDeviceUsageState>::decode_into(r, v)?;
+            }
+        } else {
+            out.use_state = None;
+        }
+        if present & (1 << 12) != 0 {
+            if out.cross_request.is_none() {
+                uper::fill_option(&mut out.cross_request);
+            }
+            if let Some(v) = &mut out.cross_request {
+                <PersonalCrossingRequest>::decode_into(r, v)?;
+            }
+        } else {
+            out.cross_request = None;
+        }
+        if present & (1 << 11) != 0 {
+            if out.cross_state.is_none() {
+                uper::fill_option(&mut out.cross_state);
+            }
+            if let Some(v) = &mut out.cross_state {
+                <PersonalCrossingInProgress>::decode_into(r, v)?;
+            }
+        } else {
+            out.cross_state = None;
+        }
+        if present & (1 << 10) != 0 {
+            if out.cluster_size.is_none() {
+                uper::fill_option(&mut out.cluster_size);
+            }
+            if let Some(v) = &mut out.cluster_size {
+                <NumberOfParticipantsInCluster>::decode_into(r, v)?;
+            }
+        } else {
+            out.cluster_size = None;
+        }
+        if present & (1 << 9) != 0 {
+            if out.cluster_radius.is_none() {
+                uper::fill_option(&mut out.cluster_radius);
+            }
+            if let Some(v) = &mut out.cluster_radius {
+                <PersonalClusterRadius>::decode_into(r, v)?;
+            }
+        } else {
+            out.cluster_radius = None;
+        }
+        if present & (1 << 8) != 0 {
+            if out.event_responder_type.is_none() {
+                uper::fill_option(&mut out.event_responder_type);
+            }
+            if let Some(v) = &mut out.event_responder_type {
+                <PublicSafetyEventResponderWorkerType>::decode_into(r, v)?;
+            }
+        } else {
+            out.event_responder_type = None;
+        }
+        if present & (1 << 7) != 0 {
+            if out.activity_type.is_none() {
+                uper::fill_option(&mut out.activity_type);
+            }
+            if let Some(v) = &mut out.activity_type {
+                <PublicSafetyAndRoadWorkerActivity>::decode_into(r, v)?;
+            }
+        } else {
+            out.activity_type = None;
+        }
+        if present & (1 << 6) != 0 {
+            if out.activity_sub_type.is_none() {
+                uper::fill_option(&mut out.activity_sub_type);
+            }
+            if let Some(v) = &mut out.activity_sub_type {
+                <PublicSafetyDirectingTrafficSubType>::decode_into(r, v)?;
+            }
+        } else {
+            out.activity_sub_type = None;
+        }
+        if present & (1 << 5) != 0 {
+            if out.assist_type.is_none() {
+                uper::fill_option(&mut out.assist_type);
+            }
+            if let Some(v) = &mut out.assist_type {
+                <PersonalAssistive>::decode_into(r, v)?;
+            }
+        } else {
+            out.assist_type = None;
+        }
+        if present & (1 << 4) != 0 {
+            if out.sizing.is_none() {
+                uper::fill_option(&mut out.sizing);
+            }
+            if let Some(v) = &mut out.sizing {
+                <UserSizeAndBehaviour>::decode_into(r, v)?;
+            }
+        } else {
+            out.sizing = None;
+        }
+        if present & (1 << 3) != 0 {
+            if out.attachment.is_none() {
+                uper::fill_option(&mut out.attachment);
+            }
+            if let Some(v) = &mut out.attachment {
+                <Attachment>::decode_into(r, v)?;
+            }
+        } else {
+            out.attachment = None;
+        }
+        if present & (1 << 2) != 0 {
+            if out.attachment_radius.is_none() {
+                uper::fill_option(&mut out.attachment_radius);
+            }
+            if let Some(v) = &mut out.attachment_radius {
+                <AttachmentRadius>::decode_into(r, v)?;
+            }
+        } else {
+            out.attachment_radius = None;
+        }
+        if present & (1 << 1) != 0 {
+            if out.animal_type.is_none() {
+                uper::fill_option(&mut out.animal_type);
+            }
+            if let Some(v) = &mut out.animal_type {
+                <AnimalType>::decode_into(r, v)?;
+            }
+        } else {
+            out.animal_type = None;
+        }
+        if present & (1 << 0) != 0 {
+            if out.regional.is_none() {
+                uper::fill_option(&mut out.regional);
+            }
+            if let Some(v) = &mut out.regional {
+                <PersonalSafetyMessageRegional>::decode_into(r, v)?;
+            }
+        } else {
+            out.regional = None;
+        }
+        out.extensions = if extended { uper::Extensions::decode(r, "PersonalSafetyMessage.PersonalSafetyMessage:ext")? } else { uper::Extensions::new() };
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_bit(self.extensions.is_present())?;
@@ -226,18 +394,26 @@ impl PersonalDeviceUserType {
     }
 }
 
+impl uper::Placeholder for PersonalDeviceUserType {
+    fn placeholder() -> Self {
+        Self::Unavailable
+    }
+}
+
 impl Uper for PersonalDeviceUserType {
     const PATH: &'static str = "PersonalSafetyMessage.PersonalDeviceUserType";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(26), Some(26));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         if r.read_bit()? {
             let at = r.position();
             let i = r.read_normally_small()?;
-            return u16::try_from(i).map(Self::Extension).map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at));
+            *out = u16::try_from(i).map(Self::Extension).map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at))?;
+            return Ok(());
         }
         let at = r.position();
         let i = r.read_constrained(0, 4)?;
-        Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))
+        *out = Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))?;
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         if let Self::Extension(i) = self {
@@ -267,23 +443,52 @@ pub enum PropelledInformation {
     },
 }
 
+impl uper::Placeholder for PropelledInformation {
+    fn placeholder() -> Self {
+        Self::Human(<HumanPropelledType as uper::Placeholder>::placeholder())
+    }
+}
+
 impl Uper for PropelledInformation {
     const PATH: &'static str = "PersonalSafetyMessage.PropelledInformation";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(162), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         if r.read_bit()? {
             let at = r.position();
             let index = u16::try_from(r.read_normally_small()?).map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at))?;
             let content = uper::decode_unknown_open(r, "PersonalSafetyMessage.PropelledInformation:unknown")?;
-            return Ok(Self::Extension { index, content });
+            *out = Self::Extension { index, content };
+            return Ok(());
         }
         let at = r.position();
-        Ok(match r.read_constrained(0, 2)? {
-            0 => Self::Human(<HumanPropelledType>::decode_uper(r)?),
-            1 => Self::Animal(<AnimalPropelledType>::decode_uper(r)?),
-            2 => Self::Motor(<MotorizedPropelledType>::decode_uper(r)?),
+        match r.read_constrained(0, 2)? {
+            0 => {
+                if !matches!(out, Self::Human(_)) {
+                    uper::replace_with(out, || Self::Human(<HumanPropelledType as uper::Placeholder>::placeholder()));
+                }
+                if let Self::Human(v) = out {
+                    <HumanPropelledType>::decode_into(r, v)?;
+                }
+            }
+            1 => {
+                if !matches!(out, Self::Animal(_)) {
+                    uper::replace_with(out, || Self::Animal(<AnimalPropelledType as uper::Placeholder>::placeholder()));
+                }
+                if let Self::Animal(v) = out {
+                    <AnimalPropelledType>::decode_into(r, v)?;
+                }
+            }
+            2 => {
+                if !matches!(out, Self::Motor(_)) {
+                    uper::replace_with(out, || Self::Motor(<MotorizedPropelledType as uper::Placeholder>::placeholder()));
+                }
+                if let Self::Motor(v) = out {
+                    <MotorizedPropelledType>::decode_into(r, v)?;
+                }
+            }
             _ => return Err(uper::DecodeError::new(uper::DecodeErrorKind::InvalidChoiceIndex, at)),
-        })
+        }
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         match self {
@@ -358,18 +563,26 @@ impl HumanPropelledType {
     }
 }
 
+impl uper::Placeholder for HumanPropelledType {
+    fn placeholder() -> Self {
+        Self::Unavailable
+    }
+}
+
 impl Uper for HumanPropelledType {
     const PATH: &'static str = "PersonalSafetyMessage.HumanPropelledType";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(26), Some(26));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         if r.read_bit()? {
             let at = r.position();
             let i = r.read_normally_small()?;
-            return u16::try_from(i).map(Self::Extension).map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at));
+            *out = u16::try_from(i).map(Self::Extension).map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at))?;
+            return Ok(());
         }
         let at = r.position();
         let i = r.read_constrained(0, 5)?;
-        Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))
+        *out = Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))?;
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         if let Self::Extension(i) = self {
@@ -430,18 +643,26 @@ impl AnimalPropelledType {
     }
 }
 
+impl uper::Placeholder for AnimalPropelledType {
+    fn placeholder() -> Self {
+        Self::Unavailable
+    }
+}
+
 impl Uper for AnimalPropelledType {
     const PATH: &'static str = "PersonalSafetyMessage.AnimalPropelledType";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(26), Some(26));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         if r.read_bit()? {
             let at = r.position();
             let i = r.read_normally_small()?;
-            return u16::try_from(i).map(Self::Extension).map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at));
+            *out = u16::try_from(i).map(Self::Extension).map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at))?;
+            return Ok(());
         }
         let at = r.position();
         let i = r.read_constrained(0, 3)?;
-        Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))
+        *out = Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))?;
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         if let Self::Extension(i) = self {
@@ -512,18 +733,26 @@ impl MotorizedPropelledType {
     }
 }
 
+impl uper::Placeholder for MotorizedPropelledType {
+    fn placeholder() -> Self {
+        Self::Unavailable
+    }
+}
+
 impl Uper for MotorizedPropelledType {
     const PATH: &'static str = "PersonalSafetyMessage.MotorizedPropelledType";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(26), Some(26));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         if r.read_bit()? {
             let at = r.position();
             let i = r.read_normally_small()?;
-            return u16::try_from(i).map(Self::Extension).map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at));
+            *out = u16::try_from(i).map(Self::Extension).map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at))?;
+            return Ok(());
         }
         let at = r.position();
         let i = r.read_constrained(0, 5)?;
-        Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))
+        *out = Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))?;
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         if let Self::Extension(i) = self {
@@ -569,11 +798,18 @@ impl PersonalDeviceUsageState {
     }
 }
 
+impl uper::Placeholder for PersonalDeviceUsageState {
+    fn placeholder() -> Self {
+        Self(uper::Bits::EMPTY)
+    }
+}
+
 impl Uper for PersonalDeviceUsageState {
     const PATH: &'static str = "PersonalSafetyMessage.PersonalDeviceUsageState";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(33), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
-        uper::decode_bits(r, Self::SIZE, "PersonalSafetyMessage.PersonalDeviceUsageState").map(Self)
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+        out.0 = uper::decode_bits(r, Self::SIZE, "PersonalSafetyMessage.PersonalDeviceUsageState")?;
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_bits(w, Self::SIZE, &self.0)
@@ -635,18 +871,26 @@ impl NumberOfParticipantsInCluster {
     }
 }
 
+impl uper::Placeholder for NumberOfParticipantsInCluster {
+    fn placeholder() -> Self {
+        Self::Unavailable
+    }
+}
+
 impl Uper for NumberOfParticipantsInCluster {
     const PATH: &'static str = "PersonalSafetyMessage.NumberOfParticipantsInCluster";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(26), Some(26));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         if r.read_bit()? {
             let at = r.position();
             let i = r.read_normally_small()?;
-            return u16::try_from(i).map(Self::Extension).map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at));
+            *out = u16::try_from(i).map(Self::Extension).map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at))?;
+            return Ok(());
         }
         let at = r.position();
         let i = r.read_constrained(0, 3)?;
-        Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))
+        *out = Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))?;
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         if let Self::Extension(i) = self {
@@ -732,18 +976,26 @@ impl PublicSafetyEventResponderWorkerType {
     }
 }
 
+impl uper::Placeholder for PublicSafetyEventResponderWorkerType {
+    fn placeholder() -> Self {
+        Self::Unavailable
+    }
+}
+
 impl Uper for PublicSafetyEventResponderWorkerType {
     const PATH: &'static str = "PersonalSafetyMessage.PublicSafetyEventResponderWorkerType";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(26), Some(26));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         if r.read_bit()? {
             let at = r.position();
             let i = r.read_normally_small()?;
-            return u16::try_from(i).map(Self::Extension).map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at));
+            *out = u16::try_from(i).map(Self::Extension).map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at))?;
+            return Ok(());
         }
         let at = r.position();
         let i = r.read_constrained(0, 7)?;
-        Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))
+        *out = Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))?;
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         if let Self::Extension(i) = self {
@@ -783,11 +1035,18 @@ impl PublicSafetyAndRoadWorkerActivity {
     }
 }
 
+impl uper::Placeholder for PublicSafetyAndRoadWorkerActivity {
+    fn placeholder() -> Self {
+        Self(uper::Bits::EMPTY)
+    }
+}
+
 impl Uper for PublicSafetyAndRoadWorkerActivity {
     const PATH: &'static str = "PersonalSafetyMessage.PublicSafetyAndRoadWorkerActivity";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(33), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
-        uper::decode_bits(r, Self::SIZE, "PersonalSafetyMessage.PublicSafetyAndRoadWorkerActivity").map(Self)
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+        out.0 = uper::decode_bits(r, Self::SIZE, "PersonalSafetyMessage.PublicSafetyAndRoadWorkerActivity")?;
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_bits(w, Self::SIZE, &self.0)
@@ -824,11 +1083,18 @@ impl PublicSafetyDirectingTrafficSubType {
     }
 }
 
+impl uper::Placeholder for PublicSafetyDirectingTrafficSubType {
+    fn placeholder() -> Self {
+        Self(uper::Bits::EMPTY)
+    }
+}
+
 impl Uper for PublicSafetyDirectingTrafficSubType {
     const PATH: &'static str = "PersonalSafetyMessage.PublicSafetyDirectingTrafficSubType";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(33), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
-        uper::decode_bits(r, Self::SIZE, "PersonalSafetyMessage.PublicSafetyDirectingTrafficSubType").map(Self)
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+        out.0 = uper::decode_bits(r, Self::SIZE, "PersonalSafetyMessage.PublicSafetyDirectingTrafficSubType")?;
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_bits(w, Self::SIZE, &self.0)
@@ -863,11 +1129,18 @@ impl PersonalAssistive {
     }
 }
 
+impl uper::Placeholder for PersonalAssistive {
+    fn placeholder() -> Self {
+        Self(uper::Bits::EMPTY)
+    }
+}
+
 impl Uper for PersonalAssistive {
     const PATH: &'static str = "PersonalSafetyMessage.PersonalAssistive";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(33), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
-        uper::decode_bits(r, Self::SIZE, "PersonalSafetyMessage.PersonalAssistive").map(Self)
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+        out.0 = uper::decode_bits(r, Self::SIZE, "PersonalSafetyMessage.PersonalAssistive")?;
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_bits(w, Self::SIZE, &self.0)
@@ -900,11 +1173,18 @@ impl UserSizeAndBehaviour {
     }
 }
 
+impl uper::Placeholder for UserSizeAndBehaviour {
+    fn placeholder() -> Self {
+        Self(uper::Bits::EMPTY)
+    }
+}
+
 impl Uper for UserSizeAndBehaviour {
     const PATH: &'static str = "PersonalSafetyMessage.UserSizeAndBehaviour";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(33), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
-        uper::decode_bits(r, Self::SIZE, "PersonalSafetyMessage.UserSizeAndBehaviour").map(Self)
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+        out.0 = uper::decode_bits(r, Self::SIZE, "PersonalSafetyMessage.UserSizeAndBehaviour")?;
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_bits(w, Self::SIZE, &self.0)
@@ -975,18 +1255,26 @@ impl Attachment {
     }
 }
 
+impl uper::Placeholder for Attachment {
+    fn placeholder() -> Self {
+        Self::Unavailable
+    }
+}
+
 impl Uper for Attachment {
     const PATH: &'static str = "PersonalSafetyMessage.Attachment";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(26), Some(26));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         if r.read_bit()? {
             let at = r.position();
             let i = r.read_normally_small()?;
-            return u16::try_from(i).map(Self::Extension).map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at));
+            *out = u16::try_from(i).map(Self::Extension).map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at))?;
+            return Ok(());
         }
         let at = r.position();
         let i = r.read_constrained(0, 6)?;
-        Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))
+        *out = Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))?;
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         if let Self::Extension(i) = self {
@@ -1052,18 +1340,26 @@ impl AnimalType {
     }
 }
 
+impl uper::Placeholder for AnimalType {
+    fn placeholder() -> Self {
+        Self::Unavailable
+    }
+}
+
 impl Uper for AnimalType {
     const PATH: &'static str = "PersonalSafetyMessage.AnimalType";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(26), Some(26));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         if r.read_bit()? {
             let at = r.position();
             let i = r.read_normally_small()?;
-            return u16::try_from(i).map(Self::Extension).map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at));
+            *out = u16::try_from(i).map(Self::Extension).map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at))?;
+            return Ok(());
         }
         let at = r.position();
         let i = r.read_constrained(0, 3)?;
-        Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))
+        *out = Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))?;
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         if let Self::Extension(i) = self {
@@ -1084,7 +1380,13 @@ crate::__newtype_deref!(PersonalSafetyMessageRegional, uper::SeqOf<RegPersonalSa
 impl PersonalSafetyMessageRegional {
     const SIZE: uper::Size = uper::Size::range(1, 4);
     /// An empty list (valid for encoding once it holds the minimum number of items).
-    pub const fn new() -> Self {
+    pub fn new() -> Self {
+        Self(uper::SeqOf::new())
+    }
+}
+
+impl uper::Placeholder for PersonalSafetyMessageRegional {
+    fn placeholder() -> Self {
         Self(uper::SeqOf::new())
     }
 }
@@ -1092,8 +1394,8 @@ impl PersonalSafetyMessageRegional {
 impl Uper for PersonalSafetyMessageRegional {
     const PATH: &'static str = "PersonalSafetyMessage.PersonalSafetyMessage.regional";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(146), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
-        uper::decode_seq_of(r, Self::SIZE, "PersonalSafetyMessage.PersonalSafetyMessage.regional").map(Self)
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+        uper::decode_seq_of_into(r, Self::SIZE, "PersonalSafetyMessage.PersonalSafetyMessage.regional", &mut out.0)
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
@@ -1121,14 +1423,21 @@ impl RegPersonalSafetyMessage {
     }
 }
 
+impl uper::Placeholder for RegPersonalSafetyMessage {
+    fn placeholder() -> Self {
+        Self::Unknown { id: <super::common::RegionId as uper::Placeholder>::placeholder(), content: uper::Octets::new() }
+    }
+}
+
 impl Uper for RegPersonalSafetyMessage {
     const PATH: &'static str = "PersonalSafetyMessage.RegPersonalSafetyMessage";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(144), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let id = <super::common::RegionId>::decode_uper(r)?;
-        Ok(match id.get() {
-            _ => Self::Unknown { id, content: uper::decode_unknown_open(r, "PersonalSafetyMessage.RegPersonalSafetyMessage:unknown")? },
-        })
+        match id.get() {
+            _ => *out = Self::Unknown { id, content: uper::decode_unknown_open(r, "PersonalSafetyMessage.RegPersonalSafetyMessage:unknown")? },
+        }
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         match self {

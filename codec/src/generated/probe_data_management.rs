@@ -29,22 +29,55 @@ pub struct ProbeDataManagement {
     pub extensions: uper::Extensions<0>,
 }
 
+impl uper::Placeholder for ProbeDataManagement {
+    fn placeholder() -> Self {
+        Self { time_stamp: None, sample: <Sample as uper::Placeholder>::placeholder(), directions: <super::common::HeadingSlice as uper::Placeholder>::placeholder(), term: <ProbeDataManagementTerm as uper::Placeholder>::placeholder(), snapshot: <ProbeDataManagementSnapshot as uper::Placeholder>::placeholder(), tx_interval: <SecondOfTime as uper::Placeholder>::placeholder(), data_elements: None, regional: None, extensions: uper::Extensions::new() }
+    }
+}
+
 impl Uper for ProbeDataManagement {
     const PATH: &'static str = "ProbeDataManagement.ProbeDataManagement";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(967), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let extended = r.read_bit()?;
         let present = r.read_bits(3)?;
-        let f_time_stamp = if present & (1 << 2) != 0 { Some(<super::common::MinuteOfTheYear>::decode_uper(r)?) } else { None };
-        let f_sample = <Sample>::decode_uper(r)?;
-        let f_directions = <super::common::HeadingSlice>::decode_uper(r)?;
-        let f_term = <ProbeDataManagementTerm>::decode_uper(r)?;
-        let f_snapshot = <ProbeDataManagementSnapshot>::decode_uper(r)?;
-        let f_tx_interval = <SecondOfTime>::decode_uper(r)?;
-        let f_data_elements = if present & (1 << 1) != 0 { Some(<VehicleStatusRequestList>::decode_uper(r)?) } else { None };
-        let f_regional = if present & (1 << 0) != 0 { Some(<ProbeDataManagementRegional>::decode_uper(r)?) } else { None };
-        let extensions = if extended { uper::Extensions::decode(r, "ProbeDataManagement.ProbeDataManagement:ext")? } else { uper::Extensions::new() };
-        Ok(Self { time_stamp: f_time_stamp, sample: f_sample, directions: f_directions, term: f_term, snapshot: f_snapshot, tx_interval: f_tx_interval, data_elements: f_data_elements, regional: f_regional, extensions })
+        if present & (1 << 2) != 0 {
+            if out.time_stamp.is_none() {
+                uper::fill_option(&mut out.time_stamp);
+            }
+            if let Some(v) = &mut out.time_stamp {
+                <super::common::MinuteOfTheYear>::decode_into(r, v)?;
+            }
+        } else {
+            out.time_stamp = None;
+        }
+        <Sample>::decode_into(r, &mut out.sample)?;
+        <super::common::HeadingSlice>::decode_into(r, &mut out.directions)?;
+        <ProbeDataManagementTerm>::decode_into(r, &mut out.term)?;
+        <ProbeDataManagementSnapshot>::decode_into(r, &mut out.snapshot)?;
+        <SecondOfTime>::decode_into(r, &mut out.tx_interval)?;
+        if present & (1 << 1) != 0 {
+            if out.data_elements.is_none() {
+                uper::fill_option(&mut out.data_elements);
+            }
+            if let Some(v) = &mut out.data_elements {
+                <VehicleStatusRequestList>::decode_into(r, v)?;
+            }
+        } else {
+            out.data_elements = None;
+        }
+        if present & (1 << 0) != 0 {
+            if out.regional.is_none() {
+                uper::fill_option(&mut out.regional);
+            }
+            if let Some(v) = &mut out.regional {
+                <ProbeDataManagementRegional>::decode_into(r, v)?;
+            }
+        } else {
+            out.regional = None;
+        }
+        out.extensions = if extended { uper::Extensions::decode(r, "ProbeDataManagement.ProbeDataManagement:ext")? } else { uper::Extensions::new() };
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_bit(self.extensions.is_present())?;
@@ -79,13 +112,19 @@ pub struct Sample {
     pub sample_end: SampleSampleEnd,
 }
 
+impl uper::Placeholder for Sample {
+    fn placeholder() -> Self {
+        Self { sample_start: <SampleSampleStart as uper::Placeholder>::placeholder(), sample_end: <SampleSampleEnd as uper::Placeholder>::placeholder() }
+    }
+}
+
 impl Uper for Sample {
     const PATH: &'static str = "ProbeDataManagement.Sample";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(16), Some(16));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
-        let f_sample_start = <SampleSampleStart>::decode_uper(r)?;
-        let f_sample_end = <SampleSampleEnd>::decode_uper(r)?;
-        Ok(Self { sample_start: f_sample_start, sample_end: f_sample_end })
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+        <SampleSampleStart>::decode_into(r, &mut out.sample_start)?;
+        <SampleSampleEnd>::decode_into(r, &mut out.sample_end)?;
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         self.sample_start.encode_uper(w)?;
@@ -113,16 +152,37 @@ pub enum ProbeDataManagementTerm {
     TermDistance(TermDistance),
 }
 
+impl uper::Placeholder for ProbeDataManagementTerm {
+    fn placeholder() -> Self {
+        Self::Termtime(<TermTime as uper::Placeholder>::placeholder())
+    }
+}
+
 impl Uper for ProbeDataManagementTerm {
     const PATH: &'static str = "ProbeDataManagement.ProbeDataManagement.term";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(16), Some(16));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let at = r.position();
-        Ok(match r.read_constrained(0, 1)? {
-            0 => Self::Termtime(<TermTime>::decode_uper(r)?),
-            1 => Self::TermDistance(<TermDistance>::decode_uper(r)?),
+        match r.read_constrained(0, 1)? {
+            0 => {
+                if !matches!(out, Self::Termtime(_)) {
+                    uper::replace_with(out, || Self::Termtime(<TermTime as uper::Placeholder>::placeholder()));
+                }
+                if let Self::Termtime(v) = out {
+                    <TermTime>::decode_into(r, v)?;
+                }
+            }
+            1 => {
+                if !matches!(out, Self::TermDistance(_)) {
+                    uper::replace_with(out, || Self::TermDistance(<TermDistance as uper::Placeholder>::placeholder()));
+                }
+                if let Self::TermDistance(v) = out {
+                    <TermDistance>::decode_into(r, v)?;
+                }
+            }
             _ => return Err(uper::DecodeError::new(uper::DecodeErrorKind::InvalidChoiceIndex, at)),
-        })
+        }
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         match self {
@@ -151,16 +211,37 @@ pub enum ProbeDataManagementSnapshot {
     SnapshotDistance(SnapshotDistance),
 }
 
+impl uper::Placeholder for ProbeDataManagementSnapshot {
+    fn placeholder() -> Self {
+        Self::SnapshotTime(<SnapshotTime as uper::Placeholder>::placeholder())
+    }
+}
+
 impl Uper for ProbeDataManagementSnapshot {
     const PATH: &'static str = "ProbeDataManagement.ProbeDataManagement.snapshot";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(31), Some(31));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let at = r.position();
-        Ok(match r.read_constrained(0, 1)? {
-            0 => Self::SnapshotTime(<SnapshotTime>::decode_uper(r)?),
-            1 => Self::SnapshotDistance(<SnapshotDistance>::decode_uper(r)?),
+        match r.read_constrained(0, 1)? {
+            0 => {
+                if !matches!(out, Self::SnapshotTime(_)) {
+                    uper::replace_with(out, || Self::SnapshotTime(<SnapshotTime as uper::Placeholder>::placeholder()));
+                }
+                if let Self::SnapshotTime(v) = out {
+                    <SnapshotTime>::decode_into(r, v)?;
+                }
+            }
+            1 => {
+                if !matches!(out, Self::SnapshotDistance(_)) {
+                    uper::replace_with(out, || Self::SnapshotDistance(<SnapshotDistance as uper::Placeholder>::placeholder()));
+                }
+                if let Self::SnapshotDistance(v) = out {
+                    <SnapshotDistance>::decode_into(r, v)?;
+                }
+            }
             _ => return Err(uper::DecodeError::new(uper::DecodeErrorKind::InvalidChoiceIndex, at)),
-        })
+        }
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         match self {
@@ -183,15 +264,21 @@ pub struct SnapshotTime {
     pub time2: SecondOfTime,
 }
 
+impl uper::Placeholder for SnapshotTime {
+    fn placeholder() -> Self {
+        Self { speed1: <super::common::GrossSpeed as uper::Placeholder>::placeholder(), time1: <SecondOfTime as uper::Placeholder>::placeholder(), speed2: <super::common::GrossSpeed as uper::Placeholder>::placeholder(), time2: <SecondOfTime as uper::Placeholder>::placeholder() }
+    }
+}
+
 impl Uper for SnapshotTime {
     const PATH: &'static str = "ProbeDataManagement.SnapshotTime";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(22), Some(22));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
-        let f_speed1 = <super::common::GrossSpeed>::decode_uper(r)?;
-        let f_time1 = <SecondOfTime>::decode_uper(r)?;
-        let f_speed2 = <super::common::GrossSpeed>::decode_uper(r)?;
-        let f_time2 = <SecondOfTime>::decode_uper(r)?;
-        Ok(Self { speed1: f_speed1, time1: f_time1, speed2: f_speed2, time2: f_time2 })
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+        <super::common::GrossSpeed>::decode_into(r, &mut out.speed1)?;
+        <SecondOfTime>::decode_into(r, &mut out.time1)?;
+        <super::common::GrossSpeed>::decode_into(r, &mut out.speed2)?;
+        <SecondOfTime>::decode_into(r, &mut out.time2)?;
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         self.speed1.encode_uper(w)?;
@@ -220,15 +307,21 @@ pub struct SnapshotDistance {
     pub speed2: super::common::GrossSpeed,
 }
 
+impl uper::Placeholder for SnapshotDistance {
+    fn placeholder() -> Self {
+        Self { distance1: <GrossDistance as uper::Placeholder>::placeholder(), speed1: <super::common::GrossSpeed as uper::Placeholder>::placeholder(), distance2: <GrossDistance as uper::Placeholder>::placeholder(), speed2: <super::common::GrossSpeed as uper::Placeholder>::placeholder() }
+    }
+}
+
 impl Uper for SnapshotDistance {
     const PATH: &'static str = "ProbeDataManagement.SnapshotDistance";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(30), Some(30));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
-        let f_distance1 = <GrossDistance>::decode_uper(r)?;
-        let f_speed1 = <super::common::GrossSpeed>::decode_uper(r)?;
-        let f_distance2 = <GrossDistance>::decode_uper(r)?;
-        let f_speed2 = <super::common::GrossSpeed>::decode_uper(r)?;
-        Ok(Self { distance1: f_distance1, speed1: f_speed1, distance2: f_distance2, speed2: f_speed2 })
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+        <GrossDistance>::decode_into(r, &mut out.distance1)?;
+        <super::common::GrossSpeed>::decode_into(r, &mut out.speed1)?;
+        <GrossDistance>::decode_into(r, &mut out.distance2)?;
+        <super::common::GrossSpeed>::decode_into(r, &mut out.speed2)?;
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         self.distance1.encode_uper(w)?;
@@ -253,7 +346,13 @@ crate::__newtype_deref!(VehicleStatusRequestList, uper::SeqOf<VehicleStatusReque
 impl VehicleStatusRequestList {
     const SIZE: uper::Size = uper::Size::range(1, 32);
     /// An empty list (valid for encoding once it holds the minimum number of items).
-    pub const fn new() -> Self {
+    pub fn new() -> Self {
+        Self(uper::SeqOf::new())
+    }
+}
+
+impl uper::Placeholder for VehicleStatusRequestList {
+    fn placeholder() -> Self {
         Self(uper::SeqOf::new())
     }
 }
@@ -261,8 +360,8 @@ impl VehicleStatusRequestList {
 impl Uper for VehicleStatusRequestList {
     const PATH: &'static str = "ProbeDataManagement.VehicleStatusRequestList";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(625), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
-        uper::decode_seq_of(r, Self::SIZE, "ProbeDataManagement.VehicleStatusRequestList").map(Self)
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+        uper::decode_seq_of_into(r, Self::SIZE, "ProbeDataManagement.VehicleStatusRequestList", &mut out.0)
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
@@ -286,19 +385,61 @@ pub struct VehicleStatusRequest {
     pub extensions: uper::Extensions<0>,
 }
 
+impl uper::Placeholder for VehicleStatusRequest {
+    fn placeholder() -> Self {
+        Self { data_type: <VehicleStatusDeviceTypeTag as uper::Placeholder>::placeholder(), sub_type: None, send_on_less_then_value: None, send_on_more_then_value: None, send_all: None, extensions: uper::Extensions::new() }
+    }
+}
+
 impl Uper for VehicleStatusRequest {
     const PATH: &'static str = "ProbeDataManagement.VehicleStatusRequest";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(155), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let extended = r.read_bit()?;
         let present = r.read_bits(4)?;
-        let f_data_type = <VehicleStatusDeviceTypeTag>::decode_uper(r)?;
-        let f_sub_type = if present & (1 << 3) != 0 { Some(<VehicleStatusRequestSubType>::decode_uper(r)?) } else { None };
-        let f_send_on_less_then_value = if present & (1 << 2) != 0 { Some(<VehicleStatusRequestSendOnLessThenValue>::decode_uper(r)?) } else { None };
-        let f_send_on_more_then_value = if present & (1 << 1) != 0 { Some(<VehicleStatusRequestSendOnMoreThenValue>::decode_uper(r)?) } else { None };
-        let f_send_all = if present & (1 << 0) != 0 { Some(<bool>::decode_uper(r)?) } else { None };
-        let extensions = if extended { uper::Extensions::decode(r, "ProbeDataManagement.VehicleStatusRequest:ext")? } else { uper::Extensions::new() };
-        Ok(Self { data_type: f_data_type, sub_type: f_sub_type, send_on_less_then_value: f_send_on_less_then_value, send_on_more_then_value: f_send_on_more_then_value, send_all: f_send_all, extensions })
+        <VehicleStatusDeviceTypeTag>::decode_into(r, &mut out.data_type)?;
+        if present & (1 << 3) != 0 {
+            if out.sub_type.is_none() {
+                uper::fill_option(&mut out.sub_type);
+            }
+            if let Some(v) = &mut out.sub_type {
+                <VehicleStatusRequestSubType>::decode_into(r, v)?;
+            }
+        } else {
+            out.sub_type = None;
+        }
+        if present & (1 << 2) != 0 {
+            if out.send_on_less_then_value.is_none() {
+                uper::fill_option(&mut out.send_on_less_then_value);
+            }
+            if let Some(v) = &mut out.send_on_less_then_value {
+                <VehicleStatusRequestSendOnLessThenValue>::decode_into(r, v)?;
+            }
+        } else {
+            out.send_on_less_then_value = None;
+        }
+        if present & (1 << 1) != 0 {
+            if out.send_on_more_then_value.is_none() {
+                uper::fill_option(&mut out.send_on_more_then_value);
+            }
+            if let Some(v) = &mut out.send_on_more_then_value {
+                <VehicleStatusRequestSendOnMoreThenValue>::decode_into(r, v)?;
+            }
+        } else {
+            out.send_on_more_then_value = None;
+        }
+        if present & (1 << 0) != 0 {
+            if out.send_all.is_none() {
+                uper::fill_option(&mut out.send_all);
+            }
+            if let Some(v) = &mut out.send_all {
+                <bool>::decode_into(r, v)?;
+            }
+        } else {
+            out.send_all = None;
+        }
+        out.extensions = if extended { uper::Extensions::decode(r, "ProbeDataManagement.VehicleStatusRequest:ext")? } else { uper::Extensions::new() };
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_bit(self.extensions.is_present())?;
@@ -497,18 +638,26 @@ impl VehicleStatusDeviceTypeTag {
     }
 }
 
+impl uper::Placeholder for VehicleStatusDeviceTypeTag {
+    fn placeholder() -> Self {
+        Self::Unknown
+    }
+}
+
 impl Uper for VehicleStatusDeviceTypeTag {
     const PATH: &'static str = "ProbeDataManagement.VehicleStatusDeviceTypeTag";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(26), Some(26));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         if r.read_bit()? {
             let at = r.position();
             let i = r.read_normally_small()?;
-            return u16::try_from(i).map(Self::Extension).map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at));
+            *out = u16::try_from(i).map(Self::Extension).map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at))?;
+            return Ok(());
         }
         let at = r.position();
         let i = r.read_constrained(0, 28)?;
-        Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))
+        *out = Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))?;
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         if let Self::Extension(i) = self {
@@ -544,7 +693,13 @@ crate::__newtype_deref!(ProbeDataManagementRegional, uper::SeqOf<RegProbeDataMan
 impl ProbeDataManagementRegional {
     const SIZE: uper::Size = uper::Size::range(1, 4);
     /// An empty list (valid for encoding once it holds the minimum number of items).
-    pub const fn new() -> Self {
+    pub fn new() -> Self {
+        Self(uper::SeqOf::new())
+    }
+}
+
+impl uper::Placeholder for ProbeDataManagementRegional {
+    fn placeholder() -> Self {
         Self(uper::SeqOf::new())
     }
 }
@@ -552,8 +707,8 @@ impl ProbeDataManagementRegional {
 impl Uper for ProbeDataManagementRegional {
     const PATH: &'static str = "ProbeDataManagement.ProbeDataManagement.regional";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(146), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
-        uper::decode_seq_of(r, Self::SIZE, "ProbeDataManagement.ProbeDataManagement.regional").map(Self)
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+        uper::decode_seq_of_into(r, Self::SIZE, "ProbeDataManagement.ProbeDataManagement.regional", &mut out.0)
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
@@ -581,14 +736,21 @@ impl RegProbeDataManagement {
     }
 }
 
+impl uper::Placeholder for RegProbeDataManagement {
+    fn placeholder() -> Self {
+        Self::Unknown { id: <super::common::RegionId as uper::Placeholder>::placeholder(), content: uper::Octets::new() }
+    }
+}
+
 impl Uper for RegProbeDataManagement {
     const PATH: &'static str = "ProbeDataManagement.RegProbeDataManagement";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(144), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let id = <super::common::RegionId>::decode_uper(r)?;
-        Ok(match id.get() {
-            _ => Self::Unknown { id, content: uper::decode_unknown_open(r, "ProbeDataManagement.RegProbeDataManagement:unknown")? },
-        })
+        match id.get() {
+            _ => *out = Self::Unknown { id, content: uper::decode_unknown_open(r, "ProbeDataManagement.RegProbeDataManagement:unknown")? },
+        }
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         match self {

@@ -27,21 +27,63 @@ pub struct ProbeVehicleData {
     pub extensions: uper::Extensions<0>,
 }
 
+impl uper::Placeholder for ProbeVehicleData {
+    fn placeholder() -> Self {
+        Self { time_stamp: None, seg_num: None, probe_id: None, start_vector: <super::common::FullPositionVector as uper::Placeholder>::placeholder(), vehicle_type: <super::common::VehicleClassification as uper::Placeholder>::placeholder(), snapshots: <ProbeVehicleDataSnapshots as uper::Placeholder>::placeholder(), regional: None, extensions: uper::Extensions::new() }
+    }
+}
+
 impl Uper for ProbeVehicleData {
     const PATH: &'static str = "ProbeVehicleData.ProbeVehicleData";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(38806), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let extended = r.read_bit()?;
         let present = r.read_bits(4)?;
-        let f_time_stamp = if present & (1 << 3) != 0 { Some(<super::common::MinuteOfTheYear>::decode_uper(r)?) } else { None };
-        let f_seg_num = if present & (1 << 2) != 0 { Some(<ProbeSegmentNumber>::decode_uper(r)?) } else { None };
-        let f_probe_id = if present & (1 << 1) != 0 { Some(<VehicleIdent>::decode_uper(r)?) } else { None };
-        let f_start_vector = <super::common::FullPositionVector>::decode_uper(r)?;
-        let f_vehicle_type = <super::common::VehicleClassification>::decode_uper(r)?;
-        let f_snapshots = <ProbeVehicleDataSnapshots>::decode_uper(r)?;
-        let f_regional = if present & (1 << 0) != 0 { Some(<ProbeVehicleDataRegional>::decode_uper(r)?) } else { None };
-        let extensions = if extended { uper::Extensions::decode(r, "ProbeVehicleData.ProbeVehicleData:ext")? } else { uper::Extensions::new() };
-        Ok(Self { time_stamp: f_time_stamp, seg_num: f_seg_num, probe_id: f_probe_id, start_vector: f_start_vector, vehicle_type: f_vehicle_type, snapshots: f_snapshots, regional: f_regional, extensions })
+        if present & (1 << 3) != 0 {
+            if out.time_stamp.is_none() {
+                uper::fill_option(&mut out.time_stamp);
+            }
+            if let Some(v) = &mut out.time_stamp {
+                <super::common::MinuteOfTheYear>::decode_into(r, v)?;
+            }
+        } else {
+            out.time_stamp = None;
+        }
+        if present & (1 << 2) != 0 {
+            if out.seg_num.is_none() {
+                uper::fill_option(&mut out.seg_num);
+            }
+            if let Some(v) = &mut out.seg_num {
+                <ProbeSegmentNumber>::decode_into(r, v)?;
+            }
+        } else {
+            out.seg_num = None;
+        }
+        if present & (1 << 1) != 0 {
+            if out.probe_id.is_none() {
+                uper::fill_option(&mut out.probe_id);
+            }
+            if let Some(v) = &mut out.probe_id {
+                <VehicleIdent>::decode_into(r, v)?;
+            }
+        } else {
+            out.probe_id = None;
+        }
+        <super::common::FullPositionVector>::decode_into(r, &mut out.start_vector)?;
+        <super::common::VehicleClassification>::decode_into(r, &mut out.vehicle_type)?;
+        <ProbeVehicleDataSnapshots>::decode_into(r, &mut out.snapshots)?;
+        if present & (1 << 0) != 0 {
+            if out.regional.is_none() {
+                uper::fill_option(&mut out.regional);
+            }
+            if let Some(v) = &mut out.regional {
+                <ProbeVehicleDataRegional>::decode_into(r, v)?;
+            }
+        } else {
+            out.regional = None;
+        }
+        out.extensions = if extended { uper::Extensions::decode(r, "ProbeVehicleData.ProbeVehicleData:ext")? } else { uper::Extensions::new() };
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_bit(self.extensions.is_present())?;
@@ -92,20 +134,80 @@ pub struct VehicleIdent {
     pub extensions: uper::Extensions<0>,
 }
 
+impl uper::Placeholder for VehicleIdent {
+    fn placeholder() -> Self {
+        Self { name: None, vin: None, owner_code: None, id: None, vehicle_type: None, vehicle_class: None, extensions: uper::Extensions::new() }
+    }
+}
+
 impl Uper for VehicleIdent {
     const PATH: &'static str = "ProbeVehicleData.VehicleIdent";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(998), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let extended = r.read_bit()?;
         let present = r.read_bits(6)?;
-        let f_name = if present & (1 << 5) != 0 { Some(<super::common::DescriptiveName>::decode_uper(r)?) } else { None };
-        let f_vin = if present & (1 << 4) != 0 { Some(<VINstring>::decode_uper(r)?) } else { None };
-        let f_owner_code = if present & (1 << 3) != 0 { Some(<VehicleIdentOwnerCode>::decode_uper(r)?) } else { None };
-        let f_id = if present & (1 << 2) != 0 { Some(<super::common::VehicleID>::decode_uper(r)?) } else { None };
-        let f_vehicle_type = if present & (1 << 1) != 0 { Some(<super::common::VehicleType>::decode_uper(r)?) } else { None };
-        let f_vehicle_class = if present & (1 << 0) != 0 { Some(<VehicleIdentVehicleClass>::decode_uper(r)?) } else { None };
-        let extensions = if extended { uper::Extensions::decode(r, "ProbeVehicleData.VehicleIdent:ext")? } else { uper::Extensions::new() };
-        Ok(Self { name: f_name, vin: f_vin, owner_code: f_owner_code, id: f_id, vehicle_type: f_vehicle_type, vehicle_class: f_vehicle_class, extensions })
+        if present & (1 << 5) != 0 {
+            if out.name.is_none() {
+                uper::fill_option(&mut out.name);
+            }
+            if let Some(v) = &mut out.name {
+                <super::common::DescriptiveName>::decode_into(r, v)?;
+            }
+        } else {
+            out.name = None;
+        }
+        if present & (1 << 4) != 0 {
+            if out.vin.is_none() {
+                uper::fill_option(&mut out.vin);
+            }
+            if let Some(v) = &mut out.vin {
+                <VINstring>::decode_into(r, v)?;
+            }
+        } else {
+            out.vin = None;
+        }
+        if present & (1 << 3) != 0 {
+            if out.owner_code.is_none() {
+                uper::fill_option(&mut out.owner_code);
+            }
+            if let Some(v) = &mut out.owner_code {
+                <VehicleIdentOwnerCode>::decode_into(r, v)?;
+            }
+        } else {
+            out.owner_code = None;
+        }
+        if present & (1 << 2) != 0 {
+            if out.id.is_none() {
+                uper::fill_option(&mut out.id);
+            }
+            if let Some(v) = &mut out.id {
+                <super::common::VehicleID>::decode_into(r, v)?;
+            }
+        } else {
+            out.id = None;
+        }
+        if present & (1 << 1) != 0 {
+            if out.vehicle_type.is_none() {
+                uper::fill_option(&mut out.vehicle_type);
+            }
+            if let Some(v) = &mut out.vehicle_type {
+                <super::common::VehicleType>::decode_into(r, v)?;
+            }
+        } else {
+            out.vehicle_type = None;
+        }
+        if present & (1 << 0) != 0 {
+            if out.vehicle_class.is_none() {
+                uper::fill_option(&mut out.vehicle_class);
+            }
+            if let Some(v) = &mut out.vehicle_class {
+                <VehicleIdentVehicleClass>::decode_into(r, v)?;
+            }
+        } else {
+            out.vehicle_class = None;
+        }
+        out.extensions = if extended { uper::Extensions::decode(r, "ProbeVehicleData.VehicleIdent:ext")? } else { uper::Extensions::new() };
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_bit(self.extensions.is_present())?;
@@ -152,11 +254,17 @@ impl VINstring {
     }
 }
 
+impl uper::Placeholder for VINstring {
+    fn placeholder() -> Self {
+        Self(uper::Octets::new())
+    }
+}
+
 impl Uper for VINstring {
     const PATH: &'static str = "ProbeVehicleData.VINstring";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(141), Some(141));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
-        uper::decode_octets(r, Self::SIZE, "ProbeVehicleData.VINstring").map(Self)
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+        uper::decode_octets_into(r, Self::SIZE, "ProbeVehicleData.VINstring", &mut out.0)
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_octets(w, Self::SIZE, &self.0)
@@ -181,11 +289,18 @@ impl VehicleIdentOwnerCode {
     }
 }
 
+impl uper::Placeholder for VehicleIdentOwnerCode {
+    fn placeholder() -> Self {
+        Self(uper::Ia5::new())
+    }
+}
+
 impl Uper for VehicleIdentOwnerCode {
     const PATH: &'static str = "ProbeVehicleData.VehicleIdent.ownerCode";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(229), Some(229));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
-        uper::decode_ia5(r, Self::SIZE, "ProbeVehicleData.VehicleIdent.ownerCode").map(Self)
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+        out.0 = uper::decode_ia5(r, Self::SIZE, "ProbeVehicleData.VehicleIdent.ownerCode")?;
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_ia5(w, Self::SIZE, &self.0)
@@ -203,17 +318,45 @@ pub enum VehicleIdentVehicleClass {
     REquip(super::itis::IncidentResponseEquipment),
 }
 
+impl uper::Placeholder for VehicleIdentVehicleClass {
+    fn placeholder() -> Self {
+        Self::VGroup(<super::itis::VehicleGroupAffected as uper::Placeholder>::placeholder())
+    }
+}
+
 impl Uper for VehicleIdentVehicleClass {
     const PATH: &'static str = "ProbeVehicleData.VehicleIdent.vehicleClass";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(28), Some(28));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let at = r.position();
-        Ok(match r.read_constrained(0, 2)? {
-            0 => Self::VGroup(<super::itis::VehicleGroupAffected>::decode_uper(r)?),
-            1 => Self::RGroup(<super::itis::ResponderGroupAffected>::decode_uper(r)?),
-            2 => Self::REquip(<super::itis::IncidentResponseEquipment>::decode_uper(r)?),
+        match r.read_constrained(0, 2)? {
+            0 => {
+                if !matches!(out, Self::VGroup(_)) {
+                    uper::replace_with(out, || Self::VGroup(<super::itis::VehicleGroupAffected as uper::Placeholder>::placeholder()));
+                }
+                if let Self::VGroup(v) = out {
+                    <super::itis::VehicleGroupAffected>::decode_into(r, v)?;
+                }
+            }
+            1 => {
+                if !matches!(out, Self::RGroup(_)) {
+                    uper::replace_with(out, || Self::RGroup(<super::itis::ResponderGroupAffected as uper::Placeholder>::placeholder()));
+                }
+                if let Self::RGroup(v) = out {
+                    <super::itis::ResponderGroupAffected>::decode_into(r, v)?;
+                }
+            }
+            2 => {
+                if !matches!(out, Self::REquip(_)) {
+                    uper::replace_with(out, || Self::REquip(<super::itis::IncidentResponseEquipment as uper::Placeholder>::placeholder()));
+                }
+                if let Self::REquip(v) = out {
+                    <super::itis::IncidentResponseEquipment>::decode_into(r, v)?;
+                }
+            }
             _ => return Err(uper::DecodeError::new(uper::DecodeErrorKind::InvalidChoiceIndex, at)),
-        })
+        }
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         match self {
@@ -233,7 +376,13 @@ crate::__newtype_deref!(ProbeVehicleDataSnapshots, uper::SeqOf<Snapshot, 4>);
 impl ProbeVehicleDataSnapshots {
     const SIZE: uper::Size = uper::Size::range(1, 32);
     /// An empty list (valid for encoding once it holds the minimum number of items).
-    pub const fn new() -> Self {
+    pub fn new() -> Self {
+        Self(uper::SeqOf::new())
+    }
+}
+
+impl uper::Placeholder for ProbeVehicleDataSnapshots {
+    fn placeholder() -> Self {
         Self(uper::SeqOf::new())
     }
 }
@@ -241,8 +390,8 @@ impl ProbeVehicleDataSnapshots {
 impl Uper for ProbeVehicleDataSnapshots {
     const PATH: &'static str = "ProbeVehicleData.ProbeVehicleData.snapshots";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(36817), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
-        uper::decode_seq_of(r, Self::SIZE, "ProbeVehicleData.ProbeVehicleData.snapshots").map(Self)
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+        uper::decode_seq_of_into(r, Self::SIZE, "ProbeVehicleData.ProbeVehicleData.snapshots", &mut out.0)
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
@@ -262,17 +411,41 @@ pub struct Snapshot {
     pub extensions: uper::Extensions<0>,
 }
 
+impl uper::Placeholder for Snapshot {
+    fn placeholder() -> Self {
+        Self { the_position: <super::common::FullPositionVector as uper::Placeholder>::placeholder(), safety_ext: None, data_set: None, extensions: uper::Extensions::new() }
+    }
+}
+
 impl Uper for Snapshot {
     const PATH: &'static str = "ProbeVehicleData.Snapshot";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(9203), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let extended = r.read_bit()?;
         let present = r.read_bits(2)?;
-        let f_the_position = <super::common::FullPositionVector>::decode_uper(r)?;
-        let f_safety_ext = if present & (1 << 1) != 0 { Some(<super::common::VehicleSafetyExtensions>::decode_uper(r)?) } else { None };
-        let f_data_set = if present & (1 << 0) != 0 { Some(<VehicleStatus>::decode_uper(r)?) } else { None };
-        let extensions = if extended { uper::Extensions::decode(r, "ProbeVehicleData.Snapshot:ext")? } else { uper::Extensions::new() };
-        Ok(Self { the_position: f_the_position, safety_ext: f_safety_ext, data_set: f_data_set, extensions })
+        <super::common::FullPositionVector>::decode_into(r, &mut out.the_position)?;
+        if present & (1 << 1) != 0 {
+            if out.safety_ext.is_none() {
+                uper::fill_option(&mut out.safety_ext);
+            }
+            if let Some(v) = &mut out.safety_ext {
+                <super::common::VehicleSafetyExtensions>::decode_into(r, v)?;
+            }
+        } else {
+            out.safety_ext = None;
+        }
+        if present & (1 << 0) != 0 {
+            if out.data_set.is_none() {
+                uper::fill_option(&mut out.data_set);
+            }
+            if let Some(v) = &mut out.data_set {
+                <VehicleStatus>::decode_into(r, v)?;
+            }
+        } else {
+            out.data_set = None;
+        }
+        out.extensions = if extended { uper::Extensions::decode(r, "ProbeVehicleData.Snapshot:ext")? } else { uper::Extensions::new() };
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_bit(self.extensions.is_present())?;
@@ -342,36 +515,240 @@ pub struct VehicleStatus {
     pub extensions: uper::Extensions<0>,
 }
 
+impl uper::Placeholder for VehicleStatus {
+    fn placeholder() -> Self {
+        Self { lights: None, light_bar: None, wipers: None, brake_status: None, brake_pressure: None, road_friction: None, sun_data: None, rain_data: None, air_temp: None, air_pres: None, steering: None, accel_sets: None, object: None, full_pos: None, throttle_pos: None, speed_head_c: None, speed_c: None, vehicle_data: None, vehicle_ident: None, j1939data: None, weather_report: None, gnss_status: None, extensions: uper::Extensions::new() }
+    }
+}
+
 impl Uper for VehicleStatus {
     const PATH: &'static str = "ProbeVehicleData.VehicleStatus";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(3304), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let extended = r.read_bit()?;
         let present = r.read_bits(22)?;
-        let f_lights = if present & (1 << 21) != 0 { Some(<super::common::ExteriorLights>::decode_uper(r)?) } else { None };
-        let f_light_bar = if present & (1 << 20) != 0 { Some(<super::common::LightbarInUse>::decode_uper(r)?) } else { None };
-        let f_wipers = if present & (1 << 19) != 0 { Some(<super::common::WiperSet>::decode_uper(r)?) } else { None };
-        let f_brake_status = if present & (1 << 18) != 0 { Some(<super::common::BrakeSystemStatus>::decode_uper(r)?) } else { None };
-        let f_brake_pressure = if present & (1 << 17) != 0 { Some(<BrakeAppliedPressure>::decode_uper(r)?) } else { None };
-        let f_road_friction = if present & (1 << 16) != 0 { Some(<super::common::CoefficientOfFriction>::decode_uper(r)?) } else { None };
-        let f_sun_data = if present & (1 << 15) != 0 { Some(<SunSensor>::decode_uper(r)?) } else { None };
-        let f_rain_data = if present & (1 << 14) != 0 { Some(<RainSensor>::decode_uper(r)?) } else { None };
-        let f_air_temp = if present & (1 << 13) != 0 { Some(<super::common::AmbientAirTemperature>::decode_uper(r)?) } else { None };
-        let f_air_pres = if present & (1 << 12) != 0 { Some(<super::common::AmbientAirPressure>::decode_uper(r)?) } else { None };
-        let f_steering = if present & (1 << 11) != 0 { Some(<VehicleStatusSteering>::decode_uper(r)?) } else { None };
-        let f_accel_sets = if present & (1 << 10) != 0 { Some(<VehicleStatusAccelSets>::decode_uper(r)?) } else { None };
-        let f_object = if present & (1 << 9) != 0 { Some(<VehicleStatusObject>::decode_uper(r)?) } else { None };
-        let f_full_pos = if present & (1 << 8) != 0 { Some(<super::common::FullPositionVector>::decode_uper(r)?) } else { None };
-        let f_throttle_pos = if present & (1 << 7) != 0 { Some(<ThrottlePosition>::decode_uper(r)?) } else { None };
-        let f_speed_head_c = if present & (1 << 6) != 0 { Some(<super::common::SpeedandHeadingandThrottleConfidence>::decode_uper(r)?) } else { None };
-        let f_speed_c = if present & (1 << 5) != 0 { Some(<super::common::SpeedConfidence>::decode_uper(r)?) } else { None };
-        let f_vehicle_data = if present & (1 << 4) != 0 { Some(<VehicleStatusVehicleData>::decode_uper(r)?) } else { None };
-        let f_vehicle_ident = if present & (1 << 3) != 0 { Some(<VehicleIdent>::decode_uper(r)?) } else { None };
-        let f_j1939data = if present & (1 << 2) != 0 { Some(<J1939data>::decode_uper(r)?) } else { None };
-        let f_weather_report = if present & (1 << 1) != 0 { Some(<VehicleStatusWeatherReport>::decode_uper(r)?) } else { None };
-        let f_gnss_status = if present & (1 << 0) != 0 { Some(<super::common::GNSSstatus>::decode_uper(r)?) } else { None };
-        let extensions = if extended { uper::Extensions::decode(r, "ProbeVehicleData.VehicleStatus:ext")? } else { uper::Extensions::new() };
-        Ok(Self { lights: f_lights, light_bar: f_light_bar, wipers: f_wipers, brake_status: f_brake_status, brake_pressure: f_brake_pressure, road_friction: f_road_friction, sun_data: f_sun_data, rain_data: f_rain_data, air_temp: f_air_temp, air_pres: f_air_pres, steering: f_steering, accel_sets: f_accel_sets, object: f_object, full_pos: f_full_pos, throttle_pos: f_throttle_pos, speed_head_c: f_speed_head_c, speed_c: f_speed_c, vehicle_data: f_vehicle_data, vehicle_ident: f_vehicle_ident, j1939data: f_j1939data, weather_report: f_weather_report, gnss_status: f_gnss_status, extensions })
+        if present & (1 << 21) != 0 {
+            if out.lights.is_none() {
+                uper::fill_option(&mut out.lights);
+            }
+            if let Some(v) = &mut out.lights {
+                <super::common::ExteriorLights>::decode_into(r, v)?;
+            }
+        } else {
+            out.lights = None;
+        }
+        if present & (1 << 20) != 0 {
+            if out.light_bar.is_none() {
+                uper::fill_option(&mut out.light_bar);
+            }
+            if let Some(v) = &mut out.light_bar {
+                <super::common::LightbarInUse>::decode_into(r, v)?;
+            }
+        } else {
+            out.light_bar = None;
+        }
+        if present & (1 << 19) != 0 {
+            if out.wipers.is_none() {
+                uper::fill_option(&mut out.wipers);
+            }
+            if let Some(v) = &mut out.wipers {
+                <super::common::WiperSet>::decode_into(r, v)?;
+            }
+        } else {
+            out.wipers = None;
+        }
+        if present & (1 << 18) != 0 {
+            if out.brake_status.is_none() {
+                uper::fill_option(&mut out.brake_status);
+            }
+            if let Some(v) = &mut out.brake_status {
+                <super::common::BrakeSystemStatus>::decode_into(r, v)?;
+            }
+        } else {
+            out.brake_status = None;
+        }
+        if present & (1 << 17) != 0 {
+            if out.brake_pressure.is_none() {
+                uper::fill_option(&mut out.brake_pressure);
+            }
+            if let Some(v) = &mut out.brake_pressure {
+                <BrakeAppliedPressure>::decode_into(r, v)?;
+            }
+        } else {
+            out.brake_pressure = None;
+        }
+        if present & (1 << 16) != 0 {
+            if out.road_friction.is_none() {
+                uper::fill_option(&mut out.road_friction);
+            }
+            if let Some(v) = &mut out.road_friction {
+                <super::common::CoefficientOfFriction>::decode_into(r, v)?;
+            }
+        } else {
+            out.road_friction = None;
+        }
+        if present & (1 << 15) != 0 {
+            if out.sun_data.is_none() {
+                uper::fill_option(&mut out.sun_data);
+            }
+            if let Some(v) = &mut out.sun_data {
+                <SunSensor>::decode_into(r, v)?;
+            }
+        } else {
+            out.sun_data = None;
+        }
+        if present & (1 << 14) != 0 {
+            if out.rain_data.is_none() {
+                uper::fill_option(&mut out.rain_data);
+            }
+            if let Some(v) = &mut out.rain_data {
+                <RainSensor>::decode_into(r, v)?;
+            }
+        } else {
+            out.rain_data = None;
+        }
+        if present & (1 << 13) != 0 {
+            if out.air_temp.is_none() {
+                uper::fill_option(&mut out.air_temp);
+            }
+            if let Some(v) = &mut out.air_temp {
+                <super::common::AmbientAirTemperature>::decode_into(r, v)?;
+            }
+        } else {
+            out.air_temp = None;
+        }
+        if present & (1 << 12) != 0 {
+            if out.air_pres.is_none() {
+                uper::fill_option(&mut out.air_pres);
+            }
+            if let Some(v) = &mut out.air_pres {
+                <super::common::AmbientAirPressure>::decode_into(r, v)?;
+            }
+        } else {
+            out.air_pres = None;
+        }
+        if present & (1 << 11) != 0 {
+            if out.steering.is_none() {
+                uper::fill_option(&mut out.steering);
+            }
+            if let Some(v) = &mut out.steering {
+                <VehicleStatusSteering>::decode_into(r, v)?;
+            }
+        } else {
+            out.steering = None;
+        }
+        if present & (1 << 10) != 0 {
+            if out.accel_sets.is_none() {
+                uper::fill_option(&mut out.accel_sets);
+            }
+            if let Some(v) = &mut out.accel_sets {
+                <VehicleStatusAccelSets>::decode_into(r, v)?;
+            }
+        } else {
+            out.accel_sets = None;
+        }
+        if present & (1 << 9) != 0 {
+            if out.object.is_none() {
+                uper::fill_option(&mut out.object);
+            }
+            if let Some(v) = &mut out.object {
+                <VehicleStatusObject>::decode_into(r, v)?;
+            }
+        } else {
+            out.object = None;
+        }
+        if present & (1 << 8) != 0 {
+            if out.full_pos.is_none() {
+                uper::fill_option(&mut out.full_pos);
+            }
+            if let Some(v) = &mut out.full_pos {
+                <super::common::FullPositionVector>::decode_into(r, v)?;
+            }
+        } else {
+            out.full_pos = None;
+        }
+        if present & (1 << 7) != 0 {
+            if out.throttle_pos.is_none() {
+                uper::fill_option(&mut out.throttle_pos);
+            }
+            if let Some(v) = &mut out.throttle_pos {
+                <ThrottlePosition>::decode_into(r, v)?;
+            }
+        } else {
+            out.throttle_pos = None;
+        }
+        if present & (1 << 6) != 0 {
+            if out.speed_head_c.is_none() {
+                uper::fill_option(&mut out.speed_head_c);
+            }
+            if let Some(v) = &mut out.speed_head_c {
+                <super::common::SpeedandHeadingandThrottleConfidence>::decode_into(r, v)?;
+            }
+        } else {
+            out.speed_head_c = None;
+        }
+        if present & (1 << 5) != 0 {
+            if out.speed_c.is_none() {
+                uper::fill_option(&mut out.speed_c);
+            }
+            if let Some(v) = &mut out.speed_c {
+                <super::common::SpeedConfidence>::decode_into(r, v)?;
+            }
+        } else {
+            out.speed_c = None;
+        }
+        if present & (1 << 4) != 0 {
+            if out.vehicle_data.is_none() {
+                uper::fill_option(&mut out.vehicle_data);
+            }
+            if let Some(v) = &mut out.vehicle_data {
+                <VehicleStatusVehicleData>::decode_into(r, v)?;
+            }
+        } else {
+            out.vehicle_data = None;
+        }
+        if present & (1 << 3) != 0 {
+            if out.vehicle_ident.is_none() {
+                uper::fill_option(&mut out.vehicle_ident);
+            }
+            if let Some(v) = &mut out.vehicle_ident {
+                <VehicleIdent>::decode_into(r, v)?;
+            }
+        } else {
+            out.vehicle_ident = None;
+        }
+        if present & (1 << 2) != 0 {
+            if out.j1939data.is_none() {
+                uper::fill_option(&mut out.j1939data);
+            }
+            if let Some(v) = &mut out.j1939data {
+                <J1939data>::decode_into(r, v)?;
+            }
+        } else {
+            out.j1939data = None;
+        }
+        if present & (1 << 1) != 0 {
+            if out.weather_report.is_none() {
+                uper::fill_option(&mut out.weather_report);
+            }
+            if let Some(v) = &mut out.weather_report {
+                <VehicleStatusWeatherReport>::decode_into(r, v)?;
+            }
+        } else {
+            out.weather_report = None;
+        }
+        if present & (1 << 0) != 0 {
+            if out.gnss_status.is_none() {
+                uper::fill_option(&mut out.gnss_status);
+            }
+            if let Some(v) = &mut out.gnss_status {
+                <super::common::GNSSstatus>::decode_into(r, v)?;
+            }
+        } else {
+            out.gnss_status = None;
+        }
+        out.extensions = if extended { uper::Extensions::decode(r, "ProbeVehicleData.VehicleStatus:ext")? } else { uper::Extensions::new() };
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_bit(self.extensions.is_present())?;
@@ -553,13 +930,20 @@ impl BrakeAppliedPressure {
     }
 }
 
+impl uper::Placeholder for BrakeAppliedPressure {
+    fn placeholder() -> Self {
+        Self::Unavailable
+    }
+}
+
 impl Uper for BrakeAppliedPressure {
     const PATH: &'static str = "ProbeVehicleData.BrakeAppliedPressure";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(4), Some(4));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let at = r.position();
         let i = r.read_constrained(0, 15)?;
-        Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))
+        *out = Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))?;
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_constrained(self.root_index(), 0, 15)
@@ -635,13 +1019,20 @@ impl RainSensor {
     }
 }
 
+impl uper::Placeholder for RainSensor {
+    fn placeholder() -> Self {
+        Self::None
+    }
+}
+
 impl Uper for RainSensor {
     const PATH: &'static str = "ProbeVehicleData.RainSensor";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(3), Some(3));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let at = r.position();
         let i = r.read_constrained(0, 7)?;
-        Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))
+        *out = Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))?;
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_constrained(self.root_index(), 0, 7)
@@ -661,16 +1052,49 @@ pub struct VehicleStatusSteering {
     pub wheels: Option<DrivingWheelAngle>,
 }
 
+impl uper::Placeholder for VehicleStatusSteering {
+    fn placeholder() -> Self {
+        Self { angle: <super::common::SteeringWheelAngle as uper::Placeholder>::placeholder(), confidence: None, rate: None, wheels: None }
+    }
+}
+
 impl Uper for VehicleStatusSteering {
     const PATH: &'static str = "ProbeVehicleData.VehicleStatus.steering";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(29), Some(29));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let present = r.read_bits(3)?;
-        let f_angle = <super::common::SteeringWheelAngle>::decode_uper(r)?;
-        let f_confidence = if present & (1 << 2) != 0 { Some(<SteeringWheelAngleConfidence>::decode_uper(r)?) } else { None };
-        let f_rate = if present & (1 << 1) != 0 { Some(<SteeringWheelAngleRateOfChange>::decode_uper(r)?) } else { None };
-        let f_wheels = if present & (1 << 0) != 0 { Some(<DrivingWheelAngle>::decode_uper(r)?) } else { None };
-        Ok(Self { angle: f_angle, confidence: f_confidence, rate: f_rate, wheels: f_wheels })
+        <super::common::SteeringWheelAngle>::decode_into(r, &mut out.angle)?;
+        if present & (1 << 2) != 0 {
+            if out.confidence.is_none() {
+                uper::fill_option(&mut out.confidence);
+            }
+            if let Some(v) = &mut out.confidence {
+                <SteeringWheelAngleConfidence>::decode_into(r, v)?;
+            }
+        } else {
+            out.confidence = None;
+        }
+        if present & (1 << 1) != 0 {
+            if out.rate.is_none() {
+                uper::fill_option(&mut out.rate);
+            }
+            if let Some(v) = &mut out.rate {
+                <SteeringWheelAngleRateOfChange>::decode_into(r, v)?;
+            }
+        } else {
+            out.rate = None;
+        }
+        if present & (1 << 0) != 0 {
+            if out.wheels.is_none() {
+                uper::fill_option(&mut out.wheels);
+            }
+            if let Some(v) = &mut out.wheels {
+                <DrivingWheelAngle>::decode_into(r, v)?;
+            }
+        } else {
+            out.wheels = None;
+        }
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_bits(((self.confidence.is_some() as u64) << 2) | ((self.rate.is_some() as u64) << 1) | ((self.wheels.is_some() as u64) << 0), 3)?;
@@ -732,13 +1156,20 @@ impl SteeringWheelAngleConfidence {
     }
 }
 
+impl uper::Placeholder for SteeringWheelAngleConfidence {
+    fn placeholder() -> Self {
+        Self::Unavailable
+    }
+}
+
 impl Uper for SteeringWheelAngleConfidence {
     const PATH: &'static str = "ProbeVehicleData.SteeringWheelAngleConfidence";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(2), Some(2));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let at = r.position();
         let i = r.read_constrained(0, 3)?;
-        Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))
+        *out = Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))?;
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_constrained(self.root_index(), 0, 3)
@@ -770,17 +1201,68 @@ pub struct VehicleStatusAccelSets {
     pub confidence_set: Option<ConfidenceSet>,
 }
 
+impl uper::Placeholder for VehicleStatusAccelSets {
+    fn placeholder() -> Self {
+        Self { accel4way: None, vert_accel_thres: None, yaw_rate_con: None, hoz_accel_con: None, confidence_set: None }
+    }
+}
+
 impl Uper for VehicleStatusAccelSets {
     const PATH: &'static str = "ProbeVehicleData.VehicleStatus.accelSets";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(196), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let present = r.read_bits(5)?;
-        let f_accel4way = if present & (1 << 4) != 0 { Some(<super::common::AccelerationSet4Way>::decode_uper(r)?) } else { None };
-        let f_vert_accel_thres = if present & (1 << 3) != 0 { Some(<super::common::VerticalAccelerationThreshold>::decode_uper(r)?) } else { None };
-        let f_yaw_rate_con = if present & (1 << 2) != 0 { Some(<YawRateConfidence>::decode_uper(r)?) } else { None };
-        let f_hoz_accel_con = if present & (1 << 1) != 0 { Some(<AccelerationConfidence>::decode_uper(r)?) } else { None };
-        let f_confidence_set = if present & (1 << 0) != 0 { Some(<ConfidenceSet>::decode_uper(r)?) } else { None };
-        Ok(Self { accel4way: f_accel4way, vert_accel_thres: f_vert_accel_thres, yaw_rate_con: f_yaw_rate_con, hoz_accel_con: f_hoz_accel_con, confidence_set: f_confidence_set })
+        if present & (1 << 4) != 0 {
+            if out.accel4way.is_none() {
+                uper::fill_option(&mut out.accel4way);
+            }
+            if let Some(v) = &mut out.accel4way {
+                <super::common::AccelerationSet4Way>::decode_into(r, v)?;
+            }
+        } else {
+            out.accel4way = None;
+        }
+        if present & (1 << 3) != 0 {
+            if out.vert_accel_thres.is_none() {
+                uper::fill_option(&mut out.vert_accel_thres);
+            }
+            if let Some(v) = &mut out.vert_accel_thres {
+                <super::common::VerticalAccelerationThreshold>::decode_into(r, v)?;
+            }
+        } else {
+            out.vert_accel_thres = None;
+        }
+        if present & (1 << 2) != 0 {
+            if out.yaw_rate_con.is_none() {
+                uper::fill_option(&mut out.yaw_rate_con);
+            }
+            if let Some(v) = &mut out.yaw_rate_con {
+                <YawRateConfidence>::decode_into(r, v)?;
+            }
+        } else {
+            out.yaw_rate_con = None;
+        }
+        if present & (1 << 1) != 0 {
+            if out.hoz_accel_con.is_none() {
+                uper::fill_option(&mut out.hoz_accel_con);
+            }
+            if let Some(v) = &mut out.hoz_accel_con {
+                <AccelerationConfidence>::decode_into(r, v)?;
+            }
+        } else {
+            out.hoz_accel_con = None;
+        }
+        if present & (1 << 0) != 0 {
+            if out.confidence_set.is_none() {
+                uper::fill_option(&mut out.confidence_set);
+            }
+            if let Some(v) = &mut out.confidence_set {
+                <ConfidenceSet>::decode_into(r, v)?;
+            }
+        } else {
+            out.confidence_set = None;
+        }
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_bits(((self.accel4way.is_some() as u64) << 4) | ((self.vert_accel_thres.is_some() as u64) << 3) | ((self.yaw_rate_con.is_some() as u64) << 2) | ((self.hoz_accel_con.is_some() as u64) << 1) | ((self.confidence_set.is_some() as u64) << 0), 5)?;
@@ -867,13 +1349,20 @@ impl YawRateConfidence {
     }
 }
 
+impl uper::Placeholder for YawRateConfidence {
+    fn placeholder() -> Self {
+        Self::Unavailable
+    }
+}
+
 impl Uper for YawRateConfidence {
     const PATH: &'static str = "ProbeVehicleData.YawRateConfidence";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(3), Some(3));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let at = r.position();
         let i = r.read_constrained(0, 7)?;
-        Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))
+        *out = Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))?;
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_constrained(self.root_index(), 0, 7)
@@ -944,13 +1433,20 @@ impl AccelerationConfidence {
     }
 }
 
+impl uper::Placeholder for AccelerationConfidence {
+    fn placeholder() -> Self {
+        Self::Unavailable
+    }
+}
+
 impl Uper for AccelerationConfidence {
     const PATH: &'static str = "ProbeVehicleData.AccelerationConfidence";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(3), Some(3));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let at = r.position();
         let i = r.read_constrained(0, 7)?;
-        Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))
+        *out = Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))?;
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_constrained(self.root_index(), 0, 7)
@@ -978,21 +1474,90 @@ pub struct ConfidenceSet {
     pub extensions: uper::Extensions<0>,
 }
 
+impl uper::Placeholder for ConfidenceSet {
+    fn placeholder() -> Self {
+        Self { accel_confidence: None, speed_confidence: None, time_confidence: None, pos_confidence: None, steer_confidence: None, heading_confidence: None, throttle_confidence: None, extensions: uper::Extensions::new() }
+    }
+}
+
 impl Uper for ConfidenceSet {
     const PATH: &'static str = "ProbeVehicleData.ConfidenceSet";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(132), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let extended = r.read_bit()?;
         let present = r.read_bits(7)?;
-        let f_accel_confidence = if present & (1 << 6) != 0 { Some(<AccelSteerYawRateConfidence>::decode_uper(r)?) } else { None };
-        let f_speed_confidence = if present & (1 << 5) != 0 { Some(<super::common::SpeedandHeadingandThrottleConfidence>::decode_uper(r)?) } else { None };
-        let f_time_confidence = if present & (1 << 4) != 0 { Some(<super::common::TimeConfidence>::decode_uper(r)?) } else { None };
-        let f_pos_confidence = if present & (1 << 3) != 0 { Some(<super::common::PositionConfidenceSet>::decode_uper(r)?) } else { None };
-        let f_steer_confidence = if present & (1 << 2) != 0 { Some(<SteeringWheelAngleConfidence>::decode_uper(r)?) } else { None };
-        let f_heading_confidence = if present & (1 << 1) != 0 { Some(<super::common::HeadingConfidence>::decode_uper(r)?) } else { None };
-        let f_throttle_confidence = if present & (1 << 0) != 0 { Some(<super::common::ThrottleConfidence>::decode_uper(r)?) } else { None };
-        let extensions = if extended { uper::Extensions::decode(r, "ProbeVehicleData.ConfidenceSet:ext")? } else { uper::Extensions::new() };
-        Ok(Self { accel_confidence: f_accel_confidence, speed_confidence: f_speed_confidence, time_confidence: f_time_confidence, pos_confidence: f_pos_confidence, steer_confidence: f_steer_confidence, heading_confidence: f_heading_confidence, throttle_confidence: f_throttle_confidence, extensions })
+        if present & (1 << 6) != 0 {
+            if out.accel_confidence.is_none() {
+                uper::fill_option(&mut out.accel_confidence);
+            }
+            if let Some(v) = &mut out.accel_confidence {
+                <AccelSteerYawRateConfidence>::decode_into(r, v)?;
+            }
+        } else {
+            out.accel_confidence = None;
+        }
+        if present & (1 << 5) != 0 {
+            if out.speed_confidence.is_none() {
+                uper::fill_option(&mut out.speed_confidence);
+            }
+            if let Some(v) = &mut out.speed_confidence {
+                <super::common::SpeedandHeadingandThrottleConfidence>::decode_into(r, v)?;
+            }
+        } else {
+            out.speed_confidence = None;
+        }
+        if present & (1 << 4) != 0 {
+            if out.time_confidence.is_none() {
+                uper::fill_option(&mut out.time_confidence);
+            }
+            if let Some(v) = &mut out.time_confidence {
+                <super::common::TimeConfidence>::decode_into(r, v)?;
+            }
+        } else {
+            out.time_confidence = None;
+        }
+        if present & (1 << 3) != 0 {
+            if out.pos_confidence.is_none() {
+                uper::fill_option(&mut out.pos_confidence);
+            }
+            if let Some(v) = &mut out.pos_confidence {
+                <super::common::PositionConfidenceSet>::decode_into(r, v)?;
+            }
+        } else {
+            out.pos_confidence = None;
+        }
+        if present & (1 << 2) != 0 {
+            if out.steer_confidence.is_none() {
+                uper::fill_option(&mut out.steer_confidence);
+            }
+            if let Some(v) = &mut out.steer_confidence {
+                <SteeringWheelAngleConfidence>::decode_into(r, v)?;
+            }
+        } else {
+            out.steer_confidence = None;
+        }
+        if present & (1 << 1) != 0 {
+            if out.heading_confidence.is_none() {
+                uper::fill_option(&mut out.heading_confidence);
+            }
+            if let Some(v) = &mut out.heading_confidence {
+                <super::common::HeadingConfidence>::decode_into(r, v)?;
+            }
+        } else {
+            out.heading_confidence = None;
+        }
+        if present & (1 << 0) != 0 {
+            if out.throttle_confidence.is_none() {
+                uper::fill_option(&mut out.throttle_confidence);
+            }
+            if let Some(v) = &mut out.throttle_confidence {
+                <super::common::ThrottleConfidence>::decode_into(r, v)?;
+            }
+        } else {
+            out.throttle_confidence = None;
+        }
+        out.extensions = if extended { uper::Extensions::decode(r, "ProbeVehicleData.ConfidenceSet:ext")? } else { uper::Extensions::new() };
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_bit(self.extensions.is_present())?;
@@ -1036,14 +1601,20 @@ pub struct AccelSteerYawRateConfidence {
     pub steering_wheel_angle: SteeringWheelAngleConfidence,
 }
 
+impl uper::Placeholder for AccelSteerYawRateConfidence {
+    fn placeholder() -> Self {
+        Self { yaw_rate: <YawRateConfidence as uper::Placeholder>::placeholder(), acceleration: <AccelerationConfidence as uper::Placeholder>::placeholder(), steering_wheel_angle: <SteeringWheelAngleConfidence as uper::Placeholder>::placeholder() }
+    }
+}
+
 impl Uper for AccelSteerYawRateConfidence {
     const PATH: &'static str = "ProbeVehicleData.AccelSteerYawRateConfidence";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(8), Some(8));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
-        let f_yaw_rate = <YawRateConfidence>::decode_uper(r)?;
-        let f_acceleration = <AccelerationConfidence>::decode_uper(r)?;
-        let f_steering_wheel_angle = <SteeringWheelAngleConfidence>::decode_uper(r)?;
-        Ok(Self { yaw_rate: f_yaw_rate, acceleration: f_acceleration, steering_wheel_angle: f_steering_wheel_angle })
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+        <YawRateConfidence>::decode_into(r, &mut out.yaw_rate)?;
+        <AccelerationConfidence>::decode_into(r, &mut out.acceleration)?;
+        <SteeringWheelAngleConfidence>::decode_into(r, &mut out.steering_wheel_angle)?;
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         self.yaw_rate.encode_uper(w)?;
@@ -1064,14 +1635,20 @@ pub struct VehicleStatusObject {
     pub date_time: super::common::DDateTime,
 }
 
+impl uper::Placeholder for VehicleStatusObject {
+    fn placeholder() -> Self {
+        Self { ob_dist: <super::common::ObstacleDistance as uper::Placeholder>::placeholder(), ob_direct: <super::common::Angle as uper::Placeholder>::placeholder(), date_time: <super::common::DDateTime as uper::Placeholder>::placeholder() }
+    }
+}
+
 impl Uper for VehicleStatusObject {
     const PATH: &'static str = "ProbeVehicleData.VehicleStatus.object";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(96), Some(96));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
-        let f_ob_dist = <super::common::ObstacleDistance>::decode_uper(r)?;
-        let f_ob_direct = <super::common::Angle>::decode_uper(r)?;
-        let f_date_time = <super::common::DDateTime>::decode_uper(r)?;
-        Ok(Self { ob_dist: f_ob_dist, ob_direct: f_ob_direct, date_time: f_date_time })
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+        <super::common::ObstacleDistance>::decode_into(r, &mut out.ob_dist)?;
+        <super::common::Angle>::decode_into(r, &mut out.ob_direct)?;
+        <super::common::DDateTime>::decode_into(r, &mut out.date_time)?;
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         self.ob_dist.encode_uper(w)?;
@@ -1101,16 +1678,22 @@ pub struct VehicleStatusVehicleData {
     pub r#type: super::common::VehicleType,
 }
 
+impl uper::Placeholder for VehicleStatusVehicleData {
+    fn placeholder() -> Self {
+        Self { height: <super::common::VehicleHeight as uper::Placeholder>::placeholder(), bumpers: <super::common::BumperHeights as uper::Placeholder>::placeholder(), mass: <super::common::VehicleMass as uper::Placeholder>::placeholder(), trailer_weight: <super::common::TrailerWeight as uper::Placeholder>::placeholder(), r#type: <super::common::VehicleType as uper::Placeholder>::placeholder() }
+    }
+}
+
 impl Uper for VehicleStatusVehicleData {
     const PATH: &'static str = "ProbeVehicleData.VehicleStatus.vehicleData";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(71), Some(71));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
-        let f_height = <super::common::VehicleHeight>::decode_uper(r)?;
-        let f_bumpers = <super::common::BumperHeights>::decode_uper(r)?;
-        let f_mass = <super::common::VehicleMass>::decode_uper(r)?;
-        let f_trailer_weight = <super::common::TrailerWeight>::decode_uper(r)?;
-        let f_type = <super::common::VehicleType>::decode_uper(r)?;
-        Ok(Self { height: f_height, bumpers: f_bumpers, mass: f_mass, trailer_weight: f_trailer_weight, r#type: f_type })
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+        <super::common::VehicleHeight>::decode_into(r, &mut out.height)?;
+        <super::common::BumperHeights>::decode_into(r, &mut out.bumpers)?;
+        <super::common::VehicleMass>::decode_into(r, &mut out.mass)?;
+        <super::common::TrailerWeight>::decode_into(r, &mut out.trailer_weight)?;
+        <super::common::VehicleType>::decode_into(r, &mut out.r#type)?;
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         self.height.encode_uper(w)?;
@@ -1149,24 +1732,120 @@ pub struct J1939data {
     pub extensions: uper::Extensions<0>,
 }
 
+impl uper::Placeholder for J1939data {
+    fn placeholder() -> Self {
+        Self { tires: None, axles: None, trailer_weight: None, cargo_weight: None, steering_axle_temperature: None, drive_axle_location: None, drive_axle_lift_air_pressure: None, drive_axle_temperature: None, drive_axle_lube_pressure: None, steering_axle_lube_pressure: None, extensions: uper::Extensions::new() }
+    }
+}
+
 impl Uper for J1939data {
     const PATH: &'static str = "ProbeVehicleData.J1939data";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(1244), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let extended = r.read_bit()?;
         let present = r.read_bits(10)?;
-        let f_tires = if present & (1 << 9) != 0 { Some(<TireDataList>::decode_uper(r)?) } else { None };
-        let f_axles = if present & (1 << 8) != 0 { Some(<AxleWeightList>::decode_uper(r)?) } else { None };
-        let f_trailer_weight = if present & (1 << 7) != 0 { Some(<super::common::TrailerWeight>::decode_uper(r)?) } else { None };
-        let f_cargo_weight = if present & (1 << 6) != 0 { Some(<CargoWeight>::decode_uper(r)?) } else { None };
-        let f_steering_axle_temperature = if present & (1 << 5) != 0 { Some(<SteeringAxleTemperature>::decode_uper(r)?) } else { None };
-        let f_drive_axle_location = if present & (1 << 4) != 0 { Some(<DriveAxleLocation>::decode_uper(r)?) } else { None };
-        let f_drive_axle_lift_air_pressure = if present & (1 << 3) != 0 { Some(<DriveAxleLiftAirPressure>::decode_uper(r)?) } else { None };
-        let f_drive_axle_temperature = if present & (1 << 2) != 0 { Some(<DriveAxleTemperature>::decode_uper(r)?) } else { None };
-        let f_drive_axle_lube_pressure = if present & (1 << 1) != 0 { Some(<DriveAxleLubePressure>::decode_uper(r)?) } else { None };
-        let f_steering_axle_lube_pressure = if present & (1 << 0) != 0 { Some(<SteeringAxleLubePressure>::decode_uper(r)?) } else { None };
-        let extensions = if extended { uper::Extensions::decode(r, "ProbeVehicleData.J1939data:ext")? } else { uper::Extensions::new() };
-        Ok(Self { tires: f_tires, axles: f_axles, trailer_weight: f_trailer_weight, cargo_weight: f_cargo_weight, steering_axle_temperature: f_steering_axle_temperature, drive_axle_location: f_drive_axle_location, drive_axle_lift_air_pressure: f_drive_axle_lift_air_pressure, drive_axle_temperature: f_drive_axle_temperature, drive_axle_lube_pressure: f_drive_axle_lube_pressure, steering_axle_lube_pressure: f_steering_axle_lube_pressure, extensions })
+        if present & (1 << 9) != 0 {
+            if out.tires.is_none() {
+                uper::fill_option(&mut out.tires);
+            }
+            if let Some(v) = &mut out.tires {
+                <TireDataList>::decode_into(r, v)?;
+            }
+        } else {
+            out.tires = None;
+        }
+        if present & (1 << 8) != 0 {
+            if out.axles.is_none() {
+                uper::fill_option(&mut out.axles);
+            }
+            if let Some(v) = &mut out.axles {
+                <AxleWeightList>::decode_into(r, v)?;
+            }
+        } else {
+            out.axles = None;
+        }
+        if present & (1 << 7) != 0 {
+            if out.trailer_weight.is_none() {
+                uper::fill_option(&mut out.trailer_weight);
+            }
+            if let Some(v) = &mut out.trailer_weight {
+                <super::common::TrailerWeight>::decode_into(r, v)?;
+            }
+        } else {
+            out.trailer_weight = None;
+        }
+        if present & (1 << 6) != 0 {
+            if out.cargo_weight.is_none() {
+                uper::fill_option(&mut out.cargo_weight);
+            }
+            if let Some(v) = &mut out.cargo_weight {
+                <CargoWeight>::decode_into(r, v)?;
+            }
+        } else {
+            out.cargo_weight = None;
+        }
+        if present & (1 << 5) != 0 {
+            if out.steering_axle_temperature.is_none() {
+                uper::fill_option(&mut out.steering_axle_temperature);
+            }
+            if let Some(v) = &mut out.steering_axle_temperature {
+                <SteeringAxleTemperature>::decode_into(r, v)?;
+            }
+        } else {
+            out.steering_axle_temperature = None;
+        }
+        if present & (1 << 4) != 0 {
+            if out.drive_axle_location.is_none() {
+                uper::fill_option(&mut out.drive_axle_location);
+            }
+            if let Some(v) = &mut out.drive_axle_location {
+                <DriveAxleLocation>::decode_into(r, v)?;
+            }
+        } else {
+            out.drive_axle_location = None;
+        }
+        if present & (1 << 3) != 0 {
+            if out.drive_axle_lift_air_pressure.is_none() {
+                uper::fill_option(&mut out.drive_axle_lift_air_pressure);
+            }
+            if let Some(v) = &mut out.drive_axle_lift_air_pressure {
+                <DriveAxleLiftAirPressure>::decode_into(r, v)?;
+            }
+        } else {
+            out.drive_axle_lift_air_pressure = None;
+        }
+        if present & (1 << 2) != 0 {
+            if out.drive_axle_temperature.is_none() {
+                uper::fill_option(&mut out.drive_axle_temperature);
+            }
+            if let Some(v) = &mut out.drive_axle_temperature {
+                <DriveAxleTemperature>::decode_into(r, v)?;
+            }
+        } else {
+            out.drive_axle_temperature = None;
+        }
+        if present & (1 << 1) != 0 {
+            if out.drive_axle_lube_pressure.is_none() {
+                uper::fill_option(&mut out.drive_axle_lube_pressure);
+            }
+            if let Some(v) = &mut out.drive_axle_lube_pressure {
+                <DriveAxleLubePressure>::decode_into(r, v)?;
+            }
+        } else {
+            out.drive_axle_lube_pressure = None;
+        }
+        if present & (1 << 0) != 0 {
+            if out.steering_axle_lube_pressure.is_none() {
+                uper::fill_option(&mut out.steering_axle_lube_pressure);
+            }
+            if let Some(v) = &mut out.steering_axle_lube_pressure {
+                <SteeringAxleLubePressure>::decode_into(r, v)?;
+            }
+        } else {
+            out.steering_axle_lube_pressure = None;
+        }
+        out.extensions = if extended { uper::Extensions::decode(r, "ProbeVehicleData.J1939data:ext")? } else { uper::Extensions::new() };
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_bit(self.extensions.is_present())?;
@@ -1217,7 +1896,13 @@ crate::__newtype_deref!(TireDataList, uper::SeqOf<TireData, 4>);
 impl TireDataList {
     const SIZE: uper::Size = uper::Size::range(1, 16);
     /// An empty list (valid for encoding once it holds the minimum number of items).
-    pub const fn new() -> Self {
+    pub fn new() -> Self {
+        Self(uper::SeqOf::new())
+    }
+}
+
+impl uper::Placeholder for TireDataList {
+    fn placeholder() -> Self {
         Self(uper::SeqOf::new())
     }
 }
@@ -1225,8 +1910,8 @@ impl TireDataList {
 impl Uper for TireDataList {
     const PATH: &'static str = "ProbeVehicleData.TireDataList";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(604), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
-        uper::decode_seq_of(r, Self::SIZE, "ProbeVehicleData.TireDataList").map(Self)
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+        uper::decode_seq_of_into(r, Self::SIZE, "ProbeVehicleData.TireDataList", &mut out.0)
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
@@ -1254,21 +1939,90 @@ pub struct TireData {
     pub extensions: uper::Extensions<0>,
 }
 
+impl uper::Placeholder for TireData {
+    fn placeholder() -> Self {
+        Self { location: None, pressure: None, temp: None, wheel_sensor_status: None, wheel_end_elect_fault: None, leakage_rate: None, detection: None, extensions: uper::Extensions::new() }
+    }
+}
+
 impl Uper for TireData {
     const PATH: &'static str = "ProbeVehicleData.TireData";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(150), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let extended = r.read_bit()?;
         let present = r.read_bits(7)?;
-        let f_location = if present & (1 << 6) != 0 { Some(<TireLocation>::decode_uper(r)?) } else { None };
-        let f_pressure = if present & (1 << 5) != 0 { Some(<TirePressure>::decode_uper(r)?) } else { None };
-        let f_temp = if present & (1 << 4) != 0 { Some(<TireTemp>::decode_uper(r)?) } else { None };
-        let f_wheel_sensor_status = if present & (1 << 3) != 0 { Some(<WheelSensorStatus>::decode_uper(r)?) } else { None };
-        let f_wheel_end_elect_fault = if present & (1 << 2) != 0 { Some(<WheelEndElectFault>::decode_uper(r)?) } else { None };
-        let f_leakage_rate = if present & (1 << 1) != 0 { Some(<TireLeakageRate>::decode_uper(r)?) } else { None };
-        let f_detection = if present & (1 << 0) != 0 { Some(<TirePressureThresholdDetection>::decode_uper(r)?) } else { None };
-        let extensions = if extended { uper::Extensions::decode(r, "ProbeVehicleData.TireData:ext")? } else { uper::Extensions::new() };
-        Ok(Self { location: f_location, pressure: f_pressure, temp: f_temp, wheel_sensor_status: f_wheel_sensor_status, wheel_end_elect_fault: f_wheel_end_elect_fault, leakage_rate: f_leakage_rate, detection: f_detection, extensions })
+        if present & (1 << 6) != 0 {
+            if out.location.is_none() {
+                uper::fill_option(&mut out.location);
+            }
+            if let Some(v) = &mut out.location {
+                <TireLocation>::decode_into(r, v)?;
+            }
+        } else {
+            out.location = None;
+        }
+        if present & (1 << 5) != 0 {
+            if out.pressure.is_none() {
+                uper::fill_option(&mut out.pressure);
+            }
+            if let Some(v) = &mut out.pressure {
+                <TirePressure>::decode_into(r, v)?;
+            }
+        } else {
+            out.pressure = None;
+        }
+        if present & (1 << 4) != 0 {
+            if out.temp.is_none() {
+                uper::fill_option(&mut out.temp);
+            }
+            if let Some(v) = &mut out.temp {
+                <TireTemp>::decode_into(r, v)?;
+            }
+        } else {
+            out.temp = None;
+        }
+        if present & (1 << 3) != 0 {
+            if out.wheel_sensor_status.is_none() {
+                uper::fill_option(&mut out.wheel_sensor_status);
+            }
+            if let Some(v) = &mut out.wheel_sensor_status {
+                <WheelSensorStatus>::decode_into(r, v)?;
+            }
+        } else {
+            out.wheel_sensor_status = None;
+        }
+        if present & (1 << 2) != 0 {
+            if out.wheel_end_elect_fault.is_none() {
+                uper::fill_option(&mut out.wheel_end_elect_fault);
+            }
+            if let Some(v) = &mut out.wheel_end_elect_fault {
+                <WheelEndElectFault>::decode_into(r, v)?;
+            }
+        } else {
+            out.wheel_end_elect_fault = None;
+        }
+        if present & (1 << 1) != 0 {
+            if out.leakage_rate.is_none() {
+                uper::fill_option(&mut out.leakage_rate);
+            }
+            if let Some(v) = &mut out.leakage_rate {
+                <TireLeakageRate>::decode_into(r, v)?;
+            }
+        } else {
+            out.leakage_rate = None;
+        }
+        if present & (1 << 0) != 0 {
+            if out.detection.is_none() {
+                uper::fill_option(&mut out.detection);
+            }
+            if let Some(v) = &mut out.detection {
+                <TirePressureThresholdDetection>::decode_into(r, v)?;
+            }
+        } else {
+            out.detection = None;
+        }
+        out.extensions = if extended { uper::Extensions::decode(r, "ProbeVehicleData.TireData:ext")? } else { uper::Extensions::new() };
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_bit(self.extensions.is_present())?;
@@ -1360,13 +2114,20 @@ impl WheelSensorStatus {
     }
 }
 
+impl uper::Placeholder for WheelSensorStatus {
+    fn placeholder() -> Self {
+        Self::Off
+    }
+}
+
 impl Uper for WheelSensorStatus {
     const PATH: &'static str = "ProbeVehicleData.WheelSensorStatus";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(2), Some(2));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let at = r.position();
         let i = r.read_constrained(0, 3)?;
-        Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))
+        *out = Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))?;
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_constrained(self.root_index(), 0, 3)
@@ -1417,13 +2178,20 @@ impl WheelEndElectFault {
     }
 }
 
+impl uper::Placeholder for WheelEndElectFault {
+    fn placeholder() -> Self {
+        Self::IsOk
+    }
+}
+
 impl Uper for WheelEndElectFault {
     const PATH: &'static str = "ProbeVehicleData.WheelEndElectFault";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(2), Some(2));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let at = r.position();
         let i = r.read_constrained(0, 3)?;
-        Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))
+        *out = Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))?;
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_constrained(self.root_index(), 0, 3)
@@ -1499,13 +2267,20 @@ impl TirePressureThresholdDetection {
     }
 }
 
+impl uper::Placeholder for TirePressureThresholdDetection {
+    fn placeholder() -> Self {
+        Self::NoData
+    }
+}
+
 impl Uper for TirePressureThresholdDetection {
     const PATH: &'static str = "ProbeVehicleData.TirePressureThresholdDetection";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(3), Some(3));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let at = r.position();
         let i = r.read_constrained(0, 7)?;
-        Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))
+        *out = Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))?;
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_constrained(self.root_index(), 0, 7)
@@ -1521,7 +2296,13 @@ crate::__newtype_deref!(AxleWeightList, uper::SeqOf<AxleWeightSet, 4>);
 impl AxleWeightList {
     const SIZE: uper::Size = uper::Size::range(1, 16);
     /// An empty list (valid for encoding once it holds the minimum number of items).
-    pub const fn new() -> Self {
+    pub fn new() -> Self {
+        Self(uper::SeqOf::new())
+    }
+}
+
+impl uper::Placeholder for AxleWeightList {
+    fn placeholder() -> Self {
         Self(uper::SeqOf::new())
     }
 }
@@ -1529,8 +2310,8 @@ impl AxleWeightList {
 impl Uper for AxleWeightList {
     const PATH: &'static str = "ProbeVehicleData.AxleWeightList";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(460), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
-        uper::decode_seq_of(r, Self::SIZE, "ProbeVehicleData.AxleWeightList").map(Self)
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+        uper::decode_seq_of_into(r, Self::SIZE, "ProbeVehicleData.AxleWeightList", &mut out.0)
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
@@ -1548,16 +2329,40 @@ pub struct AxleWeightSet {
     pub extensions: uper::Extensions<0>,
 }
 
+impl uper::Placeholder for AxleWeightSet {
+    fn placeholder() -> Self {
+        Self { location: None, weight: None, extensions: uper::Extensions::new() }
+    }
+}
+
 impl Uper for AxleWeightSet {
     const PATH: &'static str = "ProbeVehicleData.AxleWeightSet";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(114), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let extended = r.read_bit()?;
         let present = r.read_bits(2)?;
-        let f_location = if present & (1 << 1) != 0 { Some(<AxleLocation>::decode_uper(r)?) } else { None };
-        let f_weight = if present & (1 << 0) != 0 { Some(<AxleWeight>::decode_uper(r)?) } else { None };
-        let extensions = if extended { uper::Extensions::decode(r, "ProbeVehicleData.AxleWeightSet:ext")? } else { uper::Extensions::new() };
-        Ok(Self { location: f_location, weight: f_weight, extensions })
+        if present & (1 << 1) != 0 {
+            if out.location.is_none() {
+                uper::fill_option(&mut out.location);
+            }
+            if let Some(v) = &mut out.location {
+                <AxleLocation>::decode_into(r, v)?;
+            }
+        } else {
+            out.location = None;
+        }
+        if present & (1 << 0) != 0 {
+            if out.weight.is_none() {
+                uper::fill_option(&mut out.weight);
+            }
+            if let Some(v) = &mut out.weight {
+                <AxleWeight>::decode_into(r, v)?;
+            }
+        } else {
+            out.weight = None;
+        }
+        out.extensions = if extended { uper::Extensions::decode(r, "ProbeVehicleData.AxleWeightSet:ext")? } else { uper::Extensions::new() };
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_bit(self.extensions.is_present())?;
@@ -1635,17 +2440,59 @@ pub struct VehicleStatusWeatherReport {
     pub friction: Option<super::ntcip::EssMobileFriction>,
 }
 
+impl uper::Placeholder for VehicleStatusWeatherReport {
+    fn placeholder() -> Self {
+        Self { is_raining: <super::ntcip::EssPrecipYesNo as uper::Placeholder>::placeholder(), rain_rate: None, precip_situation: None, solar_radiation: None, friction: None }
+    }
+}
+
 impl Uper for VehicleStatusWeatherReport {
     const PATH: &'static str = "ProbeVehicleData.VehicleStatus.weatherReport";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(49), Some(49));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let present = r.read_bits(4)?;
-        let f_is_raining = <super::ntcip::EssPrecipYesNo>::decode_uper(r)?;
-        let f_rain_rate = if present & (1 << 3) != 0 { Some(<super::ntcip::EssPrecipRate>::decode_uper(r)?) } else { None };
-        let f_precip_situation = if present & (1 << 2) != 0 { Some(<super::ntcip::EssPrecipSituation>::decode_uper(r)?) } else { None };
-        let f_solar_radiation = if present & (1 << 1) != 0 { Some(<super::ntcip::EssSolarRadiation>::decode_uper(r)?) } else { None };
-        let f_friction = if present & (1 << 0) != 0 { Some(<super::ntcip::EssMobileFriction>::decode_uper(r)?) } else { None };
-        Ok(Self { is_raining: f_is_raining, rain_rate: f_rain_rate, precip_situation: f_precip_situation, solar_radiation: f_solar_radiation, friction: f_friction })
+        <super::ntcip::EssPrecipYesNo>::decode_into(r, &mut out.is_raining)?;
+        if present & (1 << 3) != 0 {
+            if out.rain_rate.is_none() {
+                uper::fill_option(&mut out.rain_rate);
+            }
+            if let Some(v) = &mut out.rain_rate {
+                <super::ntcip::EssPrecipRate>::decode_into(r, v)?;
+            }
+        } else {
+            out.rain_rate = None;
+        }
+        if present & (1 << 2) != 0 {
+            if out.precip_situation.is_none() {
+                uper::fill_option(&mut out.precip_situation);
+            }
+            if let Some(v) = &mut out.precip_situation {
+                <super::ntcip::EssPrecipSituation>::decode_into(r, v)?;
+            }
+        } else {
+            out.precip_situation = None;
+        }
+        if present & (1 << 1) != 0 {
+            if out.solar_radiation.is_none() {
+                uper::fill_option(&mut out.solar_radiation);
+            }
+            if let Some(v) = &mut out.solar_radiation {
+                <super::ntcip::EssSolarRadiation>::decode_into(r, v)?;
+            }
+        } else {
+            out.solar_radiation = None;
+        }
+        if present & (1 << 0) != 0 {
+            if out.friction.is_none() {
+                uper::fill_option(&mut out.friction);
+            }
+            if let Some(v) = &mut out.friction {
+                <super::ntcip::EssMobileFriction>::decode_into(r, v)?;
+            }
+        } else {
+            out.friction = None;
+        }
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_bits(((self.rain_rate.is_some() as u64) << 3) | ((self.precip_situation.is_some() as u64) << 2) | ((self.solar_radiation.is_some() as u64) << 1) | ((self.friction.is_some() as u64) << 0), 4)?;
@@ -1675,7 +2522,13 @@ crate::__newtype_deref!(ProbeVehicleDataRegional, uper::SeqOf<RegProbeVehicleDat
 impl ProbeVehicleDataRegional {
     const SIZE: uper::Size = uper::Size::range(1, 4);
     /// An empty list (valid for encoding once it holds the minimum number of items).
-    pub const fn new() -> Self {
+    pub fn new() -> Self {
+        Self(uper::SeqOf::new())
+    }
+}
+
+impl uper::Placeholder for ProbeVehicleDataRegional {
+    fn placeholder() -> Self {
         Self(uper::SeqOf::new())
     }
 }
@@ -1683,8 +2536,8 @@ impl ProbeVehicleDataRegional {
 impl Uper for ProbeVehicleDataRegional {
     const PATH: &'static str = "ProbeVehicleData.ProbeVehicleData.regional";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(146), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
-        uper::decode_seq_of(r, Self::SIZE, "ProbeVehicleData.ProbeVehicleData.regional").map(Self)
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+        uper::decode_seq_of_into(r, Self::SIZE, "ProbeVehicleData.ProbeVehicleData.regional", &mut out.0)
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
@@ -1712,14 +2565,21 @@ impl RegProbeVehicleData {
     }
 }
 
+impl uper::Placeholder for RegProbeVehicleData {
+    fn placeholder() -> Self {
+        Self::Unknown { id: <super::common::RegionId as uper::Placeholder>::placeholder(), content: uper::Octets::new() }
+    }
+}
+
 impl Uper for RegProbeVehicleData {
     const PATH: &'static str = "ProbeVehicleData.RegProbeVehicleData";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(144), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let id = <super::common::RegionId>::decode_uper(r)?;
-        Ok(match id.get() {
-            _ => Self::Unknown { id, content: uper::decode_unknown_open(r, "ProbeVehicleData.RegProbeVehicleData:unknown")? },
-        })
+        match id.get() {
+            _ => *out = Self::Unknown { id, content: uper::decode_unknown_open(r, "ProbeVehicleData.RegProbeVehicleData:unknown")? },
+        }
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         match self {

@@ -33,24 +33,102 @@ pub struct RoadSideAlert {
     pub extensions: uper::Extensions<0>,
 }
 
+impl uper::Placeholder for RoadSideAlert {
+    fn placeholder() -> Self {
+        Self { msg_cnt: <super::common::MsgCount as uper::Placeholder>::placeholder(), time_stamp: None, type_event: <super::itis::ITIScodes as uper::Placeholder>::placeholder(), description: None, priority: None, heading: None, extent: None, position: None, further_info_id: None, regional: None, extensions: uper::Extensions::new() }
+    }
+}
+
 impl Uper for RoadSideAlert {
     const PATH: &'static str = "RoadSideAlert.RoadSideAlert";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(722), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let extended = r.read_bit()?;
         let present = r.read_bits(8)?;
-        let f_msg_cnt = <super::common::MsgCount>::decode_uper(r)?;
-        let f_time_stamp = if present & (1 << 7) != 0 { Some(<super::common::MinuteOfTheYear>::decode_uper(r)?) } else { None };
-        let f_type_event = <super::itis::ITIScodes>::decode_uper(r)?;
-        let f_description = if present & (1 << 6) != 0 { Some(<RoadSideAlertDescription>::decode_uper(r)?) } else { None };
-        let f_priority = if present & (1 << 5) != 0 { Some(<super::common::Priority>::decode_uper(r)?) } else { None };
-        let f_heading = if present & (1 << 4) != 0 { Some(<super::common::HeadingSlice>::decode_uper(r)?) } else { None };
-        let f_extent = if present & (1 << 3) != 0 { Some(<super::common::Extent>::decode_uper(r)?) } else { None };
-        let f_position = if present & (1 << 2) != 0 { Some(<super::common::FullPositionVector>::decode_uper(r)?) } else { None };
-        let f_further_info_id = if present & (1 << 1) != 0 { Some(<super::common::FurtherInfoID>::decode_uper(r)?) } else { None };
-        let f_regional = if present & (1 << 0) != 0 { Some(<RoadSideAlertRegional>::decode_uper(r)?) } else { None };
-        let extensions = if extended { uper::Extensions::decode(r, "RoadSideAlert.RoadSideAlert:ext")? } else { uper::Extensions::new() };
-        Ok(Self { msg_cnt: f_msg_cnt, time_stamp: f_time_stamp, type_event: f_type_event, description: f_description, priority: f_priority, heading: f_heading, extent: f_extent, position: f_position, further_info_id: f_further_info_id, regional: f_regional, extensions })
+        <super::common::MsgCount>::decode_into(r, &mut out.msg_cnt)?;
+        if present & (1 << 7) != 0 {
+            if out.time_stamp.is_none() {
+                uper::fill_option(&mut out.time_stamp);
+            }
+            if let Some(v) = &mut out.time_stamp {
+                <super::common::MinuteOfTheYear>::decode_into(r, v)?;
+            }
+        } else {
+            out.time_stamp = None;
+        }
+        <super::itis::ITIScodes>::decode_into(r, &mut out.type_event)?;
+        if present & (1 << 6) != 0 {
+            if out.description.is_none() {
+                uper::fill_option(&mut out.description);
+            }
+            if let Some(v) = &mut out.description {
+                <RoadSideAlertDescription>::decode_into(r, v)?;
+            }
+        } else {
+            out.description = None;
+        }
+        if present & (1 << 5) != 0 {
+            if out.priority.is_none() {
+                uper::fill_option(&mut out.priority);
+            }
+            if let Some(v) = &mut out.priority {
+                <super::common::Priority>::decode_into(r, v)?;
+            }
+        } else {
+            out.priority = None;
+        }
+        if present & (1 << 4) != 0 {
+            if out.heading.is_none() {
+                uper::fill_option(&mut out.heading);
+            }
+            if let Some(v) = &mut out.heading {
+                <super::common::HeadingSlice>::decode_into(r, v)?;
+            }
+        } else {
+            out.heading = None;
+        }
+        if present & (1 << 3) != 0 {
+            if out.extent.is_none() {
+                uper::fill_option(&mut out.extent);
+            }
+            if let Some(v) = &mut out.extent {
+                <super::common::Extent>::decode_into(r, v)?;
+            }
+        } else {
+            out.extent = None;
+        }
+        if present & (1 << 2) != 0 {
+            if out.position.is_none() {
+                uper::fill_option(&mut out.position);
+            }
+            if let Some(v) = &mut out.position {
+                <super::common::FullPositionVector>::decode_into(r, v)?;
+            }
+        } else {
+            out.position = None;
+        }
+        if present & (1 << 1) != 0 {
+            if out.further_info_id.is_none() {
+                uper::fill_option(&mut out.further_info_id);
+            }
+            if let Some(v) = &mut out.further_info_id {
+                <super::common::FurtherInfoID>::decode_into(r, v)?;
+            }
+        } else {
+            out.further_info_id = None;
+        }
+        if present & (1 << 0) != 0 {
+            if out.regional.is_none() {
+                uper::fill_option(&mut out.regional);
+            }
+            if let Some(v) = &mut out.regional {
+                <RoadSideAlertRegional>::decode_into(r, v)?;
+            }
+        } else {
+            out.regional = None;
+        }
+        out.extensions = if extended { uper::Extensions::decode(r, "RoadSideAlert.RoadSideAlert:ext")? } else { uper::Extensions::new() };
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_bit(self.extensions.is_present())?;
@@ -97,7 +175,13 @@ crate::__newtype_deref!(RoadSideAlertDescription, uper::SeqOf<super::itis::ITISc
 impl RoadSideAlertDescription {
     const SIZE: uper::Size = uper::Size::range(1, 8);
     /// An empty list (valid for encoding once it holds the minimum number of items).
-    pub const fn new() -> Self {
+    pub fn new() -> Self {
+        Self(uper::SeqOf::new())
+    }
+}
+
+impl uper::Placeholder for RoadSideAlertDescription {
+    fn placeholder() -> Self {
         Self(uper::SeqOf::new())
     }
 }
@@ -105,8 +189,8 @@ impl RoadSideAlertDescription {
 impl Uper for RoadSideAlertDescription {
     const PATH: &'static str = "RoadSideAlert.RoadSideAlert.description";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(67), Some(131));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
-        uper::decode_seq_of(r, Self::SIZE, "RoadSideAlert.RoadSideAlert.description").map(Self)
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+        uper::decode_seq_of_into(r, Self::SIZE, "RoadSideAlert.RoadSideAlert.description", &mut out.0)
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
@@ -122,7 +206,13 @@ crate::__newtype_deref!(RoadSideAlertRegional, uper::SeqOf<RegRoadSideAlert, 1>)
 impl RoadSideAlertRegional {
     const SIZE: uper::Size = uper::Size::range(1, 4);
     /// An empty list (valid for encoding once it holds the minimum number of items).
-    pub const fn new() -> Self {
+    pub fn new() -> Self {
+        Self(uper::SeqOf::new())
+    }
+}
+
+impl uper::Placeholder for RoadSideAlertRegional {
+    fn placeholder() -> Self {
         Self(uper::SeqOf::new())
     }
 }
@@ -130,8 +220,8 @@ impl RoadSideAlertRegional {
 impl Uper for RoadSideAlertRegional {
     const PATH: &'static str = "RoadSideAlert.RoadSideAlert.regional";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(146), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
-        uper::decode_seq_of(r, Self::SIZE, "RoadSideAlert.RoadSideAlert.regional").map(Self)
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+        uper::decode_seq_of_into(r, Self::SIZE, "RoadSideAlert.RoadSideAlert.regional", &mut out.0)
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
@@ -159,14 +249,21 @@ impl RegRoadSideAlert {
     }
 }
 
+impl uper::Placeholder for RegRoadSideAlert {
+    fn placeholder() -> Self {
+        Self::Unknown { id: <super::common::RegionId as uper::Placeholder>::placeholder(), content: uper::Octets::new() }
+    }
+}
+
 impl Uper for RegRoadSideAlert {
     const PATH: &'static str = "RoadSideAlert.RegRoadSideAlert";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(144), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let id = <super::common::RegionId>::decode_uper(r)?;
-        Ok(match id.get() {
-            _ => Self::Unknown { id, content: uper::decode_unknown_open(r, "RoadSideAlert.RegRoadSideAlert:unknown")? },
-        })
+        match id.get() {
+            _ => *out = Self::Unknown { id, content: uper::decode_unknown_open(r, "RoadSideAlert.RegRoadSideAlert:unknown")? },
+        }
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         match self {

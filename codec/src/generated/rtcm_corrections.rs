@@ -27,21 +27,63 @@ pub struct RTCMcorrections {
     pub extensions: uper::Extensions<0>,
 }
 
+impl uper::Placeholder for RTCMcorrections {
+    fn placeholder() -> Self {
+        Self { msg_cnt: <super::common::MsgCount as uper::Placeholder>::placeholder(), rev: <RTCMRevision as uper::Placeholder>::placeholder(), time_stamp: None, anchor_point: None, rtcm_header: None, msgs: <super::common::RTCMmessageList as uper::Placeholder>::placeholder(), regional: None, extensions: uper::Extensions::new() }
+    }
+}
+
 impl Uper for RTCMcorrections {
     const PATH: &'static str = "RTCMcorrections.RTCMcorrections";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(33435), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let extended = r.read_bit()?;
         let present = r.read_bits(4)?;
-        let f_msg_cnt = <super::common::MsgCount>::decode_uper(r)?;
-        let f_rev = <RTCMRevision>::decode_uper(r)?;
-        let f_time_stamp = if present & (1 << 3) != 0 { Some(<super::common::MinuteOfTheYear>::decode_uper(r)?) } else { None };
-        let f_anchor_point = if present & (1 << 2) != 0 { Some(<super::common::FullPositionVector>::decode_uper(r)?) } else { None };
-        let f_rtcm_header = if present & (1 << 1) != 0 { Some(<super::common::RTCMheader>::decode_uper(r)?) } else { None };
-        let f_msgs = <super::common::RTCMmessageList>::decode_uper(r)?;
-        let f_regional = if present & (1 << 0) != 0 { Some(<RTCMcorrectionsRegional>::decode_uper(r)?) } else { None };
-        let extensions = if extended { uper::Extensions::decode(r, "RTCMcorrections.RTCMcorrections:ext")? } else { uper::Extensions::new() };
-        Ok(Self { msg_cnt: f_msg_cnt, rev: f_rev, time_stamp: f_time_stamp, anchor_point: f_anchor_point, rtcm_header: f_rtcm_header, msgs: f_msgs, regional: f_regional, extensions })
+        <super::common::MsgCount>::decode_into(r, &mut out.msg_cnt)?;
+        <RTCMRevision>::decode_into(r, &mut out.rev)?;
+        if present & (1 << 3) != 0 {
+            if out.time_stamp.is_none() {
+                uper::fill_option(&mut out.time_stamp);
+            }
+            if let Some(v) = &mut out.time_stamp {
+                <super::common::MinuteOfTheYear>::decode_into(r, v)?;
+            }
+        } else {
+            out.time_stamp = None;
+        }
+        if present & (1 << 2) != 0 {
+            if out.anchor_point.is_none() {
+                uper::fill_option(&mut out.anchor_point);
+            }
+            if let Some(v) = &mut out.anchor_point {
+                <super::common::FullPositionVector>::decode_into(r, v)?;
+            }
+        } else {
+            out.anchor_point = None;
+        }
+        if present & (1 << 1) != 0 {
+            if out.rtcm_header.is_none() {
+                uper::fill_option(&mut out.rtcm_header);
+            }
+            if let Some(v) = &mut out.rtcm_header {
+                <super::common::RTCMheader>::decode_into(r, v)?;
+            }
+        } else {
+            out.rtcm_header = None;
+        }
+        <super::common::RTCMmessageList>::decode_into(r, &mut out.msgs)?;
+        if present & (1 << 0) != 0 {
+            if out.regional.is_none() {
+                uper::fill_option(&mut out.regional);
+            }
+            if let Some(v) = &mut out.regional {
+                <RTCMcorrectionsRegional>::decode_into(r, v)?;
+            }
+        } else {
+            out.regional = None;
+        }
+        out.extensions = if extended { uper::Extensions::decode(r, "RTCMcorrections.RTCMcorrections:ext")? } else { uper::Extensions::new() };
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_bit(self.extensions.is_present())?;
@@ -117,18 +159,26 @@ impl RTCMRevision {
     }
 }
 
+impl uper::Placeholder for RTCMRevision {
+    fn placeholder() -> Self {
+        Self::Unknown
+    }
+}
+
 impl Uper for RTCMRevision {
     const PATH: &'static str = "RTCMcorrections.RTCM-Revision";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(26), Some(26));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         if r.read_bit()? {
             let at = r.position();
             let i = r.read_normally_small()?;
-            return u16::try_from(i).map(Self::Extension).map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at));
+            *out = u16::try_from(i).map(Self::Extension).map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at))?;
+            return Ok(());
         }
         let at = r.position();
         let i = r.read_constrained(0, 3)?;
-        Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))
+        *out = Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))?;
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         if let Self::Extension(i) = self {
@@ -149,7 +199,13 @@ crate::__newtype_deref!(RTCMcorrectionsRegional, uper::SeqOf<RegRTCMcorrections,
 impl RTCMcorrectionsRegional {
     const SIZE: uper::Size = uper::Size::range(1, 4);
     /// An empty list (valid for encoding once it holds the minimum number of items).
-    pub const fn new() -> Self {
+    pub fn new() -> Self {
+        Self(uper::SeqOf::new())
+    }
+}
+
+impl uper::Placeholder for RTCMcorrectionsRegional {
+    fn placeholder() -> Self {
         Self(uper::SeqOf::new())
     }
 }
@@ -157,8 +213,8 @@ impl RTCMcorrectionsRegional {
 impl Uper for RTCMcorrectionsRegional {
     const PATH: &'static str = "RTCMcorrections.RTCMcorrections.regional";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(146), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
-        uper::decode_seq_of(r, Self::SIZE, "RTCMcorrections.RTCMcorrections.regional").map(Self)
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+        uper::decode_seq_of_into(r, Self::SIZE, "RTCMcorrections.RTCMcorrections.regional", &mut out.0)
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
@@ -186,14 +242,21 @@ impl RegRTCMcorrections {
     }
 }
 
+impl uper::Placeholder for RegRTCMcorrections {
+    fn placeholder() -> Self {
+        Self::Unknown { id: <super::common::RegionId as uper::Placeholder>::placeholder(), content: uper::Octets::new() }
+    }
+}
+
 impl Uper for RegRTCMcorrections {
     const PATH: &'static str = "RTCMcorrections.RegRTCMcorrections";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(144), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let id = <super::common::RegionId>::decode_uper(r)?;
-        Ok(match id.get() {
-            _ => Self::Unknown { id, content: uper::decode_unknown_open(r, "RTCMcorrections.RegRTCMcorrections:unknown")? },
-        })
+        match id.get() {
+            _ => *out = Self::Unknown { id, content: uper::decode_unknown_open(r, "RTCMcorrections.RegRTCMcorrections:unknown")? },
+        }
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         match self {

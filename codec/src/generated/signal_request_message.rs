@@ -25,20 +25,62 @@ pub struct SignalRequestMessage {
     pub extensions: uper::Extensions<0>,
 }
 
+impl uper::Placeholder for SignalRequestMessage {
+    fn placeholder() -> Self {
+        Self { time_stamp: None, second: <super::common::DSecond as uper::Placeholder>::placeholder(), sequence_number: None, requests: None, requestor: <RequestorDescription as uper::Placeholder>::placeholder(), regional: None, extensions: uper::Extensions::new() }
+    }
+}
+
 impl Uper for SignalRequestMessage {
     const PATH: &'static str = "SignalRequestMessage.SignalRequestMessage";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(5914), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let extended = r.read_bit()?;
         let present = r.read_bits(4)?;
-        let f_time_stamp = if present & (1 << 3) != 0 { Some(<super::common::MinuteOfTheYear>::decode_uper(r)?) } else { None };
-        let f_second = <super::common::DSecond>::decode_uper(r)?;
-        let f_sequence_number = if present & (1 << 2) != 0 { Some(<super::common::MsgCount>::decode_uper(r)?) } else { None };
-        let f_requests = if present & (1 << 1) != 0 { Some(<SignalRequestList>::decode_uper(r)?) } else { None };
-        let f_requestor = <RequestorDescription>::decode_uper(r)?;
-        let f_regional = if present & (1 << 0) != 0 { Some(<SignalRequestMessageRegional>::decode_uper(r)?) } else { None };
-        let extensions = if extended { uper::Extensions::decode(r, "SignalRequestMessage.SignalRequestMessage:ext")? } else { uper::Extensions::new() };
-        Ok(Self { time_stamp: f_time_stamp, second: f_second, sequence_number: f_sequence_number, requests: f_requests, requestor: f_requestor, regional: f_regional, extensions })
+        if present & (1 << 3) != 0 {
+            if out.time_stamp.is_none() {
+                uper::fill_option(&mut out.time_stamp);
+            }
+            if let Some(v) = &mut out.time_stamp {
+                <super::common::MinuteOfTheYear>::decode_into(r, v)?;
+            }
+        } else {
+            out.time_stamp = None;
+        }
+        <super::common::DSecond>::decode_into(r, &mut out.second)?;
+        if present & (1 << 2) != 0 {
+            if out.sequence_number.is_none() {
+                uper::fill_option(&mut out.sequence_number);
+            }
+            if let Some(v) = &mut out.sequence_number {
+                <super::common::MsgCount>::decode_into(r, v)?;
+            }
+        } else {
+            out.sequence_number = None;
+        }
+        if present & (1 << 1) != 0 {
+            if out.requests.is_none() {
+                uper::fill_option(&mut out.requests);
+            }
+            if let Some(v) = &mut out.requests {
+                <SignalRequestList>::decode_into(r, v)?;
+            }
+        } else {
+            out.requests = None;
+        }
+        <RequestorDescription>::decode_into(r, &mut out.requestor)?;
+        if present & (1 << 0) != 0 {
+            if out.regional.is_none() {
+                uper::fill_option(&mut out.regional);
+            }
+            if let Some(v) = &mut out.regional {
+                <SignalRequestMessageRegional>::decode_into(r, v)?;
+            }
+        } else {
+            out.regional = None;
+        }
+        out.extensions = if extended { uper::Extensions::decode(r, "SignalRequestMessage.SignalRequestMessage:ext")? } else { uper::Extensions::new() };
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_bit(self.extensions.is_present())?;
@@ -73,7 +115,13 @@ crate::__newtype_deref!(SignalRequestList, uper::SeqOf<SignalRequestPackage, 4>)
 impl SignalRequestList {
     const SIZE: uper::Size = uper::Size::range(1, 32);
     /// An empty list (valid for encoding once it holds the minimum number of items).
-    pub const fn new() -> Self {
+    pub fn new() -> Self {
+        Self(uper::SeqOf::new())
+    }
+}
+
+impl uper::Placeholder for SignalRequestList {
+    fn placeholder() -> Self {
         Self(uper::SeqOf::new())
     }
 }
@@ -81,8 +129,8 @@ impl SignalRequestList {
 impl Uper for SignalRequestList {
     const PATH: &'static str = "SignalRequestMessage.SignalRequestList";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(3673), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
-        uper::decode_seq_of(r, Self::SIZE, "SignalRequestMessage.SignalRequestList").map(Self)
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+        uper::decode_seq_of_into(r, Self::SIZE, "SignalRequestMessage.SignalRequestList", &mut out.0)
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
@@ -106,19 +154,61 @@ pub struct SignalRequestPackage {
     pub extensions: uper::Extensions<0>,
 }
 
+impl uper::Placeholder for SignalRequestPackage {
+    fn placeholder() -> Self {
+        Self { request: <SignalRequest as uper::Placeholder>::placeholder(), minute: None, second: None, duration: None, regional: None, extensions: uper::Extensions::new() }
+    }
+}
+
 impl Uper for SignalRequestPackage {
     const PATH: &'static str = "SignalRequestMessage.SignalRequestPackage";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(917), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let extended = r.read_bit()?;
         let present = r.read_bits(4)?;
-        let f_request = <SignalRequest>::decode_uper(r)?;
-        let f_minute = if present & (1 << 3) != 0 { Some(<super::common::MinuteOfTheYear>::decode_uper(r)?) } else { None };
-        let f_second = if present & (1 << 2) != 0 { Some(<super::common::DSecond>::decode_uper(r)?) } else { None };
-        let f_duration = if present & (1 << 1) != 0 { Some(<super::common::DSecond>::decode_uper(r)?) } else { None };
-        let f_regional = if present & (1 << 0) != 0 { Some(<SignalRequestPackageRegional>::decode_uper(r)?) } else { None };
-        let extensions = if extended { uper::Extensions::decode(r, "SignalRequestMessage.SignalRequestPackage:ext")? } else { uper::Extensions::new() };
-        Ok(Self { request: f_request, minute: f_minute, second: f_second, duration: f_duration, regional: f_regional, extensions })
+        <SignalRequest>::decode_into(r, &mut out.request)?;
+        if present & (1 << 3) != 0 {
+            if out.minute.is_none() {
+                uper::fill_option(&mut out.minute);
+            }
+            if let Some(v) = &mut out.minute {
+                <super::common::MinuteOfTheYear>::decode_into(r, v)?;
+            }
+        } else {
+            out.minute = None;
+        }
+        if present & (1 << 2) != 0 {
+            if out.second.is_none() {
+                uper::fill_option(&mut out.second);
+            }
+            if let Some(v) = &mut out.second {
+                <super::common::DSecond>::decode_into(r, v)?;
+            }
+        } else {
+            out.second = None;
+        }
+        if present & (1 << 1) != 0 {
+            if out.duration.is_none() {
+                uper::fill_option(&mut out.duration);
+            }
+            if let Some(v) = &mut out.duration {
+                <super::common::DSecond>::decode_into(r, v)?;
+            }
+        } else {
+            out.duration = None;
+        }
+        if present & (1 << 0) != 0 {
+            if out.regional.is_none() {
+                uper::fill_option(&mut out.regional);
+            }
+            if let Some(v) = &mut out.regional {
+                <SignalRequestPackageRegional>::decode_into(r, v)?;
+            }
+        } else {
+            out.regional = None;
+        }
+        out.extensions = if extended { uper::Extensions::decode(r, "SignalRequestMessage.SignalRequestPackage:ext")? } else { uper::Extensions::new() };
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_bit(self.extensions.is_present())?;
@@ -162,20 +252,44 @@ pub struct SignalRequest {
     pub extensions: uper::Extensions<0>,
 }
 
+impl uper::Placeholder for SignalRequest {
+    fn placeholder() -> Self {
+        Self { id: <super::common::IntersectionReferenceID as uper::Placeholder>::placeholder(), request_id: <super::common::RequestID as uper::Placeholder>::placeholder(), request_type: <PriorityRequestType as uper::Placeholder>::placeholder(), in_bound_lane: <super::common::IntersectionAccessPoint as uper::Placeholder>::placeholder(), out_bound_lane: None, regional: None, extensions: uper::Extensions::new() }
+    }
+}
+
 impl Uper for SignalRequest {
     const PATH: &'static str = "SignalRequestMessage.SignalRequest";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(627), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let extended = r.read_bit()?;
         let present = r.read_bits(2)?;
-        let f_id = <super::common::IntersectionReferenceID>::decode_uper(r)?;
-        let f_request_id = <super::common::RequestID>::decode_uper(r)?;
-        let f_request_type = <PriorityRequestType>::decode_uper(r)?;
-        let f_in_bound_lane = <super::common::IntersectionAccessPoint>::decode_uper(r)?;
-        let f_out_bound_lane = if present & (1 << 1) != 0 { Some(<super::common::IntersectionAccessPoint>::decode_uper(r)?) } else { None };
-        let f_regional = if present & (1 << 0) != 0 { Some(<SignalRequestRegional>::decode_uper(r)?) } else { None };
-        let extensions = if extended { uper::Extensions::decode(r, "SignalRequestMessage.SignalRequest:ext")? } else { uper::Extensions::new() };
-        Ok(Self { id: f_id, request_id: f_request_id, request_type: f_request_type, in_bound_lane: f_in_bound_lane, out_bound_lane: f_out_bound_lane, regional: f_regional, extensions })
+        <super::common::IntersectionReferenceID>::decode_into(r, &mut out.id)?;
+        <super::common::RequestID>::decode_into(r, &mut out.request_id)?;
+        <PriorityRequestType>::decode_into(r, &mut out.request_type)?;
+        <super::common::IntersectionAccessPoint>::decode_into(r, &mut out.in_bound_lane)?;
+        if present & (1 << 1) != 0 {
+            if out.out_bound_lane.is_none() {
+                uper::fill_option(&mut out.out_bound_lane);
+            }
+            if let Some(v) = &mut out.out_bound_lane {
+                <super::common::IntersectionAccessPoint>::decode_into(r, v)?;
+            }
+        } else {
+            out.out_bound_lane = None;
+        }
+        if present & (1 << 0) != 0 {
+            if out.regional.is_none() {
+                uper::fill_option(&mut out.regional);
+            }
+            if let Some(v) = &mut out.regional {
+                <SignalRequestRegional>::decode_into(r, v)?;
+            }
+        } else {
+            out.regional = None;
+        }
+        out.extensions = if extended { uper::Extensions::decode(r, "SignalRequestMessage.SignalRequest:ext")? } else { uper::Extensions::new() };
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_bit(self.extensions.is_present())?;
@@ -246,18 +360,26 @@ impl PriorityRequestType {
     }
 }
 
+impl uper::Placeholder for PriorityRequestType {
+    fn placeholder() -> Self {
+        Self::PriorityRequestTypeReserved
+    }
+}
+
 impl Uper for PriorityRequestType {
     const PATH: &'static str = "SignalRequestMessage.PriorityRequestType";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(26), Some(26));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         if r.read_bit()? {
             let at = r.position();
             let i = r.read_normally_small()?;
-            return u16::try_from(i).map(Self::Extension).map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at));
+            *out = u16::try_from(i).map(Self::Extension).map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at))?;
+            return Ok(());
         }
         let at = r.position();
         let i = r.read_constrained(0, 3)?;
-        Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))
+        *out = Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))?;
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         if let Self::Extension(i) = self {
@@ -278,7 +400,13 @@ crate::__newtype_deref!(SignalRequestRegional, uper::SeqOf<RegSignalRequest, 1>)
 impl SignalRequestRegional {
     const SIZE: uper::Size = uper::Size::range(1, 4);
     /// An empty list (valid for encoding once it holds the minimum number of items).
-    pub const fn new() -> Self {
+    pub fn new() -> Self {
+        Self(uper::SeqOf::new())
+    }
+}
+
+impl uper::Placeholder for SignalRequestRegional {
+    fn placeholder() -> Self {
         Self(uper::SeqOf::new())
     }
 }
@@ -286,8 +414,8 @@ impl SignalRequestRegional {
 impl Uper for SignalRequestRegional {
     const PATH: &'static str = "SignalRequestMessage.SignalRequest.regional";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(146), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
-        uper::decode_seq_of(r, Self::SIZE, "SignalRequestMessage.SignalRequest.regional").map(Self)
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+        uper::decode_seq_of_into(r, Self::SIZE, "SignalRequestMessage.SignalRequest.regional", &mut out.0)
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
@@ -315,14 +443,21 @@ impl RegSignalRequest {
     }
 }
 
+impl uper::Placeholder for RegSignalRequest {
+    fn placeholder() -> Self {
+        Self::Unknown { id: <super::common::RegionId as uper::Placeholder>::placeholder(), content: uper::Octets::new() }
+    }
+}
+
 impl Uper for RegSignalRequest {
     const PATH: &'static str = "SignalRequestMessage.RegSignalRequest";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(144), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let id = <super::common::RegionId>::decode_uper(r)?;
-        Ok(match id.get() {
-            _ => Self::Unknown { id, content: uper::decode_unknown_open(r, "SignalRequestMessage.RegSignalRequest:unknown")? },
-        })
+        match id.get() {
+            _ => *out = Self::Unknown { id, content: uper::decode_unknown_open(r, "SignalRequestMessage.RegSignalRequest:unknown")? },
+        }
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         match self {
@@ -343,7 +478,13 @@ crate::__newtype_deref!(SignalRequestPackageRegional, uper::SeqOf<RegSignalReque
 impl SignalRequestPackageRegional {
     const SIZE: uper::Size = uper::Size::range(1, 4);
     /// An empty list (valid for encoding once it holds the minimum number of items).
-    pub const fn new() -> Self {
+    pub fn new() -> Self {
+        Self(uper::SeqOf::new())
+    }
+}
+
+impl uper::Placeholder for SignalRequestPackageRegional {
+    fn placeholder() -> Self {
         Self(uper::SeqOf::new())
     }
 }
@@ -351,8 +492,8 @@ impl SignalRequestPackageRegional {
 impl Uper for SignalRequestPackageRegional {
     const PATH: &'static str = "SignalRequestMessage.SignalRequestPackage.regional";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(146), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
-        uper::decode_seq_of(r, Self::SIZE, "SignalRequestMessage.SignalRequestPackage.regional").map(Self)
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+        uper::decode_seq_of_into(r, Self::SIZE, "SignalRequestMessage.SignalRequestPackage.regional", &mut out.0)
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
@@ -380,14 +521,21 @@ impl RegSignalRequestPackage {
     }
 }
 
+impl uper::Placeholder for RegSignalRequestPackage {
+    fn placeholder() -> Self {
+        Self::Unknown { id: <super::common::RegionId as uper::Placeholder>::placeholder(), content: uper::Octets::new() }
+    }
+}
+
 impl Uper for RegSignalRequestPackage {
     const PATH: &'static str = "SignalRequestMessage.RegSignalRequestPackage";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(144), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let id = <super::common::RegionId>::decode_uper(r)?;
-        Ok(match id.get() {
-            _ => Self::Unknown { id, content: uper::decode_unknown_open(r, "SignalRequestMessage.RegSignalRequestPackage:unknown")? },
-        })
+        match id.get() {
+            _ => *out = Self::Unknown { id, content: uper::decode_unknown_open(r, "SignalRequestMessage.RegSignalRequestPackage:unknown")? },
+        }
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         match self {
@@ -424,23 +572,101 @@ pub struct RequestorDescription {
     pub extensions: uper::Extensions<0>,
 }
 
+impl uper::Placeholder for RequestorDescription {
+    fn placeholder() -> Self {
+        Self { id: <super::common::VehicleID as uper::Placeholder>::placeholder(), r#type: None, position: None, name: None, route_name: None, transit_status: None, transit_occupancy: None, transit_schedule: None, regional: None, extensions: uper::Extensions::new() }
+    }
+}
+
 impl Uper for RequestorDescription {
     const PATH: &'static str = "SignalRequestMessage.RequestorDescription";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(1960), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let extended = r.read_bit()?;
         let present = r.read_bits(8)?;
-        let f_id = <super::common::VehicleID>::decode_uper(r)?;
-        let f_type = if present & (1 << 7) != 0 { Some(<super::common::RequestorType>::decode_uper(r)?) } else { None };
-        let f_position = if present & (1 << 6) != 0 { Some(<RequestorPositionVector>::decode_uper(r)?) } else { None };
-        let f_name = if present & (1 << 5) != 0 { Some(<super::common::DescriptiveName>::decode_uper(r)?) } else { None };
-        let f_route_name = if present & (1 << 4) != 0 { Some(<super::common::DescriptiveName>::decode_uper(r)?) } else { None };
-        let f_transit_status = if present & (1 << 3) != 0 { Some(<TransitVehicleStatus>::decode_uper(r)?) } else { None };
-        let f_transit_occupancy = if present & (1 << 2) != 0 { Some(<TransitVehicleOccupancy>::decode_uper(r)?) } else { None };
-        let f_transit_schedule = if present & (1 << 1) != 0 { Some(<DeltaTime>::decode_uper(r)?) } else { None };
-        let f_regional = if present & (1 << 0) != 0 { Some(<RequestorDescriptionRegional>::decode_uper(r)?) } else { None };
-        let extensions = if extended { uper::Extensions::decode(r, "SignalRequestMessage.RequestorDescription:ext")? } else { uper::Extensions::new() };
-        Ok(Self { id: f_id, r#type: f_type, position: f_position, name: f_name, route_name: f_route_name, transit_status: f_transit_status, transit_occupancy: f_transit_occupancy, transit_schedule: f_transit_schedule, regional: f_regional, extensions })
+        <super::common::VehicleID>::decode_into(r, &mut out.id)?;
+        if present & (1 << 7) != 0 {
+            if out.r#type.is_none() {
+                uper::fill_option(&mut out.r#type);
+            }
+            if let Some(v) = &mut out.r#type {
+                <super::common::RequestorType>::decode_into(r, v)?;
+            }
+        } else {
+            out.r#type = None;
+        }
+        if present & (1 << 6) != 0 {
+            if out.position.is_none() {
+                uper::fill_option(&mut out.position);
+            }
+            if let Some(v) = &mut out.position {
+                <RequestorPositionVector>::decode_into(r, v)?;
+            }
+        } else {
+            out.position = None;
+        }
+        if present & (1 << 5) != 0 {
+            if out.name.is_none() {
+                uper::fill_option(&mut out.name);
+            }
+            if let Some(v) = &mut out.name {
+                <super::common::DescriptiveName>::decode_into(r, v)?;
+            }
+        } else {
+            out.name = None;
+        }
+        if present & (1 << 4) != 0 {
+            if out.route_name.is_none() {
+                uper::fill_option(&mut out.route_name);
+            }
+            if let Some(v) = &mut out.route_name {
+                <super::common::DescriptiveName>::decode_into(r, v)?;
+            }
+        } else {
+            out.route_name = None;
+        }
+        if present & (1 << 3) != 0 {
+            if out.transit_status.is_none() {
+                uper::fill_option(&mut out.transit_status);
+            }
+            if let Some(v) = &mut out.transit_status {
+                <TransitVehicleStatus>::decode_into(r, v)?;
+            }
+        } else {
+            out.transit_status = None;
+        }
+        if present & (1 << 2) != 0 {
+            if out.transit_occupancy.is_none() {
+                uper::fill_option(&mut out.transit_occupancy);
+            }
+            if let Some(v) = &mut out.transit_occupancy {
+                <TransitVehicleOccupancy>::decode_into(r, v)?;
+            }
+        } else {
+            out.transit_occupancy = None;
+        }
+        if present & (1 << 1) != 0 {
+            if out.transit_schedule.is_none() {
+                uper::fill_option(&mut out.transit_schedule);
+            }
+            if let Some(v) = &mut out.transit_schedule {
+                <DeltaTime>::decode_into(r, v)?;
+            }
+        } else {
+            out.transit_schedule = None;
+        }
+        if present & (1 << 0) != 0 {
+            if out.regional.is_none() {
+                uper::fill_option(&mut out.regional);
+            }
+            if let Some(v) = &mut out.regional {
+                <RequestorDescriptionRegional>::decode_into(r, v)?;
+            }
+        } else {
+            out.regional = None;
+        }
+        out.extensions = if extended { uper::Extensions::decode(r, "SignalRequestMessage.RequestorDescription:ext")? } else { uper::Extensions::new() };
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_bit(self.extensions.is_present())?;
@@ -490,17 +716,41 @@ pub struct RequestorPositionVector {
     pub extensions: uper::Extensions<0>,
 }
 
+impl uper::Placeholder for RequestorPositionVector {
+    fn placeholder() -> Self {
+        Self { position: <super::common::Position3D as uper::Placeholder>::placeholder(), heading: None, speed: None, extensions: uper::Extensions::new() }
+    }
+}
+
 impl Uper for RequestorPositionVector {
     const PATH: &'static str = "SignalRequestMessage.RequestorPositionVector";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(468), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let extended = r.read_bit()?;
         let present = r.read_bits(2)?;
-        let f_position = <super::common::Position3D>::decode_uper(r)?;
-        let f_heading = if present & (1 << 1) != 0 { Some(<super::common::Angle>::decode_uper(r)?) } else { None };
-        let f_speed = if present & (1 << 0) != 0 { Some(<super::common::TransmissionAndSpeed>::decode_uper(r)?) } else { None };
-        let extensions = if extended { uper::Extensions::decode(r, "SignalRequestMessage.RequestorPositionVector:ext")? } else { uper::Extensions::new() };
-        Ok(Self { position: f_position, heading: f_heading, speed: f_speed, extensions })
+        <super::common::Position3D>::decode_into(r, &mut out.position)?;
+        if present & (1 << 1) != 0 {
+            if out.heading.is_none() {
+                uper::fill_option(&mut out.heading);
+            }
+            if let Some(v) = &mut out.heading {
+                <super::common::Angle>::decode_into(r, v)?;
+            }
+        } else {
+            out.heading = None;
+        }
+        if present & (1 << 0) != 0 {
+            if out.speed.is_none() {
+                uper::fill_option(&mut out.speed);
+            }
+            if let Some(v) = &mut out.speed {
+                <super::common::TransmissionAndSpeed>::decode_into(r, v)?;
+            }
+        } else {
+            out.speed = None;
+        }
+        out.extensions = if extended { uper::Extensions::decode(r, "SignalRequestMessage.RequestorPositionVector:ext")? } else { uper::Extensions::new() };
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_bit(self.extensions.is_present())?;
@@ -547,11 +797,18 @@ impl TransitVehicleStatus {
     }
 }
 
+impl uper::Placeholder for TransitVehicleStatus {
+    fn placeholder() -> Self {
+        Self(uper::Bits::EMPTY)
+    }
+}
+
 impl Uper for TransitVehicleStatus {
     const PATH: &'static str = "SignalRequestMessage.TransitVehicleStatus";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(8), Some(8));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
-        uper::decode_bits(r, Self::SIZE, "SignalRequestMessage.TransitVehicleStatus").map(Self)
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+        out.0 = uper::decode_bits(r, Self::SIZE, "SignalRequestMessage.TransitVehicleStatus")?;
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_bits(w, Self::SIZE, &self.0)
@@ -622,13 +879,20 @@ impl TransitVehicleOccupancy {
     }
 }
 
+impl uper::Placeholder for TransitVehicleOccupancy {
+    fn placeholder() -> Self {
+        Self::OccupancyUnknown
+    }
+}
+
 impl Uper for TransitVehicleOccupancy {
     const PATH: &'static str = "SignalRequestMessage.TransitVehicleOccupancy";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(3), Some(3));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let at = r.position();
         let i = r.read_constrained(0, 7)?;
-        Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))
+        *out = Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))?;
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_constrained(self.root_index(), 0, 7)
@@ -649,7 +913,13 @@ crate::__newtype_deref!(RequestorDescriptionRegional, uper::SeqOf<RegRequestorDe
 impl RequestorDescriptionRegional {
     const SIZE: uper::Size = uper::Size::range(1, 4);
     /// An empty list (valid for encoding once it holds the minimum number of items).
-    pub const fn new() -> Self {
+    pub fn new() -> Self {
+        Self(uper::SeqOf::new())
+    }
+}
+
+impl uper::Placeholder for RequestorDescriptionRegional {
+    fn placeholder() -> Self {
         Self(uper::SeqOf::new())
     }
 }
@@ -657,8 +927,8 @@ impl RequestorDescriptionRegional {
 impl Uper for RequestorDescriptionRegional {
     const PATH: &'static str = "SignalRequestMessage.RequestorDescription.regional";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(146), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
-        uper::decode_seq_of(r, Self::SIZE, "SignalRequestMessage.RequestorDescription.regional").map(Self)
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+        uper::decode_seq_of_into(r, Self::SIZE, "SignalRequestMessage.RequestorDescription.regional", &mut out.0)
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
@@ -686,14 +956,21 @@ impl RegRequestorDescription {
     }
 }
 
+impl uper::Placeholder for RegRequestorDescription {
+    fn placeholder() -> Self {
+        Self::Unknown { id: <super::common::RegionId as uper::Placeholder>::placeholder(), content: uper::Octets::new() }
+    }
+}
+
 impl Uper for RegRequestorDescription {
     const PATH: &'static str = "SignalRequestMessage.RegRequestorDescription";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(144), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let id = <super::common::RegionId>::decode_uper(r)?;
-        Ok(match id.get() {
-            _ => Self::Unknown { id, content: uper::decode_unknown_open(r, "SignalRequestMessage.RegRequestorDescription:unknown")? },
-        })
+        match id.get() {
+            _ => *out = Self::Unknown { id, content: uper::decode_unknown_open(r, "SignalRequestMessage.RegRequestorDescription:unknown")? },
+        }
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         match self {
@@ -714,7 +991,13 @@ crate::__newtype_deref!(SignalRequestMessageRegional, uper::SeqOf<RegSignalReque
 impl SignalRequestMessageRegional {
     const SIZE: uper::Size = uper::Size::range(1, 4);
     /// An empty list (valid for encoding once it holds the minimum number of items).
-    pub const fn new() -> Self {
+    pub fn new() -> Self {
+        Self(uper::SeqOf::new())
+    }
+}
+
+impl uper::Placeholder for SignalRequestMessageRegional {
+    fn placeholder() -> Self {
         Self(uper::SeqOf::new())
     }
 }
@@ -722,8 +1005,8 @@ impl SignalRequestMessageRegional {
 impl Uper for SignalRequestMessageRegional {
     const PATH: &'static str = "SignalRequestMessage.SignalRequestMessage.regional";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(146), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
-        uper::decode_seq_of(r, Self::SIZE, "SignalRequestMessage.SignalRequestMessage.regional").map(Self)
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+        uper::decode_seq_of_into(r, Self::SIZE, "SignalRequestMessage.SignalRequestMessage.regional", &mut out.0)
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
@@ -751,14 +1034,21 @@ impl RegSignalRequestMessage {
     }
 }
 
+impl uper::Placeholder for RegSignalRequestMessage {
+    fn placeholder() -> Self {
+        Self::Unknown { id: <super::common::RegionId as uper::Placeholder>::placeholder(), content: uper::Octets::new() }
+    }
+}
+
 impl Uper for RegSignalRequestMessage {
     const PATH: &'static str = "SignalRequestMessage.RegSignalRequestMessage";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(144), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let id = <super::common::RegionId>::decode_uper(r)?;
-        Ok(match id.get() {
-            _ => Self::Unknown { id, content: uper::decode_unknown_open(r, "SignalRequestMessage.RegSignalRequestMessage:unknown")? },
-        })
+        match id.get() {
+            _ => *out = Self::Unknown { id, content: uper::decode_unknown_open(r, "SignalRequestMessage.RegSignalRequestMessage:unknown")? },
+        }
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         match self {

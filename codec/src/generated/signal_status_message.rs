@@ -23,19 +23,52 @@ pub struct SignalStatusMessage {
     pub extensions: uper::Extensions<0>,
 }
 
+impl uper::Placeholder for SignalStatusMessage {
+    fn placeholder() -> Self {
+        Self { time_stamp: None, second: <super::common::DSecond as uper::Placeholder>::placeholder(), sequence_number: None, status: <SignalStatusList as uper::Placeholder>::placeholder(), regional: None, extensions: uper::Extensions::new() }
+    }
+}
+
 impl Uper for SignalStatusMessage {
     const PATH: &'static str = "SignalStatusMessage.SignalStatusMessage";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(29435), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let extended = r.read_bit()?;
         let present = r.read_bits(3)?;
-        let f_time_stamp = if present & (1 << 2) != 0 { Some(<super::common::MinuteOfTheYear>::decode_uper(r)?) } else { None };
-        let f_second = <super::common::DSecond>::decode_uper(r)?;
-        let f_sequence_number = if present & (1 << 1) != 0 { Some(<super::common::MsgCount>::decode_uper(r)?) } else { None };
-        let f_status = <SignalStatusList>::decode_uper(r)?;
-        let f_regional = if present & (1 << 0) != 0 { Some(<SignalStatusMessageRegional>::decode_uper(r)?) } else { None };
-        let extensions = if extended { uper::Extensions::decode(r, "SignalStatusMessage.SignalStatusMessage:ext")? } else { uper::Extensions::new() };
-        Ok(Self { time_stamp: f_time_stamp, second: f_second, sequence_number: f_sequence_number, status: f_status, regional: f_regional, extensions })
+        if present & (1 << 2) != 0 {
+            if out.time_stamp.is_none() {
+                uper::fill_option(&mut out.time_stamp);
+            }
+            if let Some(v) = &mut out.time_stamp {
+                <super::common::MinuteOfTheYear>::decode_into(r, v)?;
+            }
+        } else {
+            out.time_stamp = None;
+        }
+        <super::common::DSecond>::decode_into(r, &mut out.second)?;
+        if present & (1 << 1) != 0 {
+            if out.sequence_number.is_none() {
+                uper::fill_option(&mut out.sequence_number);
+            }
+            if let Some(v) = &mut out.sequence_number {
+                <super::common::MsgCount>::decode_into(r, v)?;
+            }
+        } else {
+            out.sequence_number = None;
+        }
+        <SignalStatusList>::decode_into(r, &mut out.status)?;
+        if present & (1 << 0) != 0 {
+            if out.regional.is_none() {
+                uper::fill_option(&mut out.regional);
+            }
+            if let Some(v) = &mut out.regional {
+                <SignalStatusMessageRegional>::decode_into(r, v)?;
+            }
+        } else {
+            out.regional = None;
+        }
+        out.extensions = if extended { uper::Extensions::decode(r, "SignalStatusMessage.SignalStatusMessage:ext")? } else { uper::Extensions::new() };
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_bit(self.extensions.is_present())?;
@@ -67,7 +100,13 @@ crate::__newtype_deref!(SignalStatusList, uper::SeqOf<SignalStatus, 5>);
 impl SignalStatusList {
     const SIZE: uper::Size = uper::Size::range(1, 32);
     /// An empty list (valid for encoding once it holds the minimum number of items).
-    pub const fn new() -> Self {
+    pub fn new() -> Self {
+        Self(uper::SeqOf::new())
+    }
+}
+
+impl uper::Placeholder for SignalStatusList {
+    fn placeholder() -> Self {
         Self(uper::SeqOf::new())
     }
 }
@@ -75,8 +114,8 @@ impl SignalStatusList {
 impl Uper for SignalStatusList {
     const PATH: &'static str = "SignalStatusMessage.SignalStatusList";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(29155), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
-        uper::decode_seq_of(r, Self::SIZE, "SignalStatusMessage.SignalStatusList").map(Self)
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+        uper::decode_seq_of_into(r, Self::SIZE, "SignalStatusMessage.SignalStatusList", &mut out.0)
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
@@ -98,18 +137,33 @@ pub struct SignalStatus {
     pub extensions: uper::Extensions<0>,
 }
 
+impl uper::Placeholder for SignalStatus {
+    fn placeholder() -> Self {
+        Self { sequence_number: <super::common::MsgCount as uper::Placeholder>::placeholder(), id: <super::common::IntersectionReferenceID as uper::Placeholder>::placeholder(), sig_status: <SignalStatusPackageList as uper::Placeholder>::placeholder(), regional: None, extensions: uper::Extensions::new() }
+    }
+}
+
 impl Uper for SignalStatus {
     const PATH: &'static str = "SignalStatusMessage.SignalStatus";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(5830), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let extended = r.read_bit()?;
         let present = r.read_bits(1)?;
-        let f_sequence_number = <super::common::MsgCount>::decode_uper(r)?;
-        let f_id = <super::common::IntersectionReferenceID>::decode_uper(r)?;
-        let f_sig_status = <SignalStatusPackageList>::decode_uper(r)?;
-        let f_regional = if present & (1 << 0) != 0 { Some(<SignalStatusRegional>::decode_uper(r)?) } else { None };
-        let extensions = if extended { uper::Extensions::decode(r, "SignalStatusMessage.SignalStatus:ext")? } else { uper::Extensions::new() };
-        Ok(Self { sequence_number: f_sequence_number, id: f_id, sig_status: f_sig_status, regional: f_regional, extensions })
+        <super::common::MsgCount>::decode_into(r, &mut out.sequence_number)?;
+        <super::common::IntersectionReferenceID>::decode_into(r, &mut out.id)?;
+        <SignalStatusPackageList>::decode_into(r, &mut out.sig_status)?;
+        if present & (1 << 0) != 0 {
+            if out.regional.is_none() {
+                uper::fill_option(&mut out.regional);
+            }
+            if let Some(v) = &mut out.regional {
+                <SignalStatusRegional>::decode_into(r, v)?;
+            }
+        } else {
+            out.regional = None;
+        }
+        out.extensions = if extended { uper::Extensions::decode(r, "SignalStatusMessage.SignalStatus:ext")? } else { uper::Extensions::new() };
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_bit(self.extensions.is_present())?;
@@ -136,7 +190,13 @@ crate::__newtype_deref!(SignalStatusPackageList, uper::SeqOf<SignalStatusPackage
 impl SignalStatusPackageList {
     const SIZE: uper::Size = uper::Size::range(1, 32);
     /// An empty list (valid for encoding once it holds the minimum number of items).
-    pub const fn new() -> Self {
+    pub fn new() -> Self {
+        Self(uper::SeqOf::new())
+    }
+}
+
+impl uper::Placeholder for SignalStatusPackageList {
+    fn placeholder() -> Self {
         Self(uper::SeqOf::new())
     }
 }
@@ -144,8 +204,8 @@ impl SignalStatusPackageList {
 impl Uper for SignalStatusPackageList {
     const PATH: &'static str = "SignalStatusMessage.SignalStatusPackageList";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(5555), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
-        uper::decode_seq_of(r, Self::SIZE, "SignalStatusMessage.SignalStatusPackageList").map(Self)
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+        uper::decode_seq_of_into(r, Self::SIZE, "SignalStatusMessage.SignalStatusPackageList", &mut out.0)
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
@@ -175,22 +235,82 @@ pub struct SignalStatusPackage {
     pub extensions: uper::Extensions<0>,
 }
 
+impl uper::Placeholder for SignalStatusPackage {
+    fn placeholder() -> Self {
+        Self { requester: None, inbound_on: <super::common::IntersectionAccessPoint as uper::Placeholder>::placeholder(), outbound_on: None, minute: None, second: None, duration: None, status: <super::common::PrioritizationResponseStatus as uper::Placeholder>::placeholder(), regional: None, extensions: uper::Extensions::new() }
+    }
+}
+
 impl Uper for SignalStatusPackage {
     const PATH: &'static str = "SignalStatusMessage.SignalStatusPackage";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(1110), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let extended = r.read_bit()?;
         let present = r.read_bits(6)?;
-        let f_requester = if present & (1 << 5) != 0 { Some(<SignalRequesterInfo>::decode_uper(r)?) } else { None };
-        let f_inbound_on = <super::common::IntersectionAccessPoint>::decode_uper(r)?;
-        let f_outbound_on = if present & (1 << 4) != 0 { Some(<super::common::IntersectionAccessPoint>::decode_uper(r)?) } else { None };
-        let f_minute = if present & (1 << 3) != 0 { Some(<super::common::MinuteOfTheYear>::decode_uper(r)?) } else { None };
-        let f_second = if present & (1 << 2) != 0 { Some(<super::common::DSecond>::decode_uper(r)?) } else { None };
-        let f_duration = if present & (1 << 1) != 0 { Some(<super::common::DSecond>::decode_uper(r)?) } else { None };
-        let f_status = <super::common::PrioritizationResponseStatus>::decode_uper(r)?;
-        let f_regional = if present & (1 << 0) != 0 { Some(<SignalStatusPackageRegional>::decode_uper(r)?) } else { None };
-        let extensions = if extended { uper::Extensions::decode(r, "SignalStatusMessage.SignalStatusPackage:ext")? } else { uper::Extensions::new() };
-        Ok(Self { requester: f_requester, inbound_on: f_inbound_on, outbound_on: f_outbound_on, minute: f_minute, second: f_second, duration: f_duration, status: f_status, regional: f_regional, extensions })
+        if present & (1 << 5) != 0 {
+            if out.requester.is_none() {
+                uper::fill_option(&mut out.requester);
+            }
+            if let Some(v) = &mut out.requester {
+                <SignalRequesterInfo>::decode_into(r, v)?;
+            }
+        } else {
+            out.requester = None;
+        }
+        <super::common::IntersectionAccessPoint>::decode_into(r, &mut out.inbound_on)?;
+        if present & (1 << 4) != 0 {
+            if out.outbound_on.is_none() {
+                uper::fill_option(&mut out.outbound_on);
+            }
+            if let Some(v) = &mut out.outbound_on {
+                <super::common::IntersectionAccessPoint>::decode_into(r, v)?;
+            }
+        } else {
+            out.outbound_on = None;
+        }
+        if present & (1 << 3) != 0 {
+            if out.minute.is_none() {
+                uper::fill_option(&mut out.minute);
+            }
+            if let Some(v) = &mut out.minute {
+                <super::common::MinuteOfTheYear>::decode_into(r, v)?;
+            }
+        } else {
+            out.minute = None;
+        }
+        if present & (1 << 2) != 0 {
+            if out.second.is_none() {
+                uper::fill_option(&mut out.second);
+            }
+            if let Some(v) = &mut out.second {
+                <super::common::DSecond>::decode_into(r, v)?;
+            }
+        } else {
+            out.second = None;
+        }
+        if present & (1 << 1) != 0 {
+            if out.duration.is_none() {
+                uper::fill_option(&mut out.duration);
+            }
+            if let Some(v) = &mut out.duration {
+                <super::common::DSecond>::decode_into(r, v)?;
+            }
+        } else {
+            out.duration = None;
+        }
+        <super::common::PrioritizationResponseStatus>::decode_into(r, &mut out.status)?;
+        if present & (1 << 0) != 0 {
+            if out.regional.is_none() {
+                uper::fill_option(&mut out.regional);
+            }
+            if let Some(v) = &mut out.regional {
+                <SignalStatusPackageRegional>::decode_into(r, v)?;
+            }
+        } else {
+            out.regional = None;
+        }
+        out.extensions = if extended { uper::Extensions::decode(r, "SignalStatusMessage.SignalStatusPackage:ext")? } else { uper::Extensions::new() };
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_bit(self.extensions.is_present())?;
@@ -239,19 +359,43 @@ pub struct SignalRequesterInfo {
     pub extensions: uper::Extensions<0>,
 }
 
+impl uper::Placeholder for SignalRequesterInfo {
+    fn placeholder() -> Self {
+        Self { id: <super::common::VehicleID as uper::Placeholder>::placeholder(), request: <super::common::RequestID as uper::Placeholder>::placeholder(), sequence_number: <super::common::MsgCount as uper::Placeholder>::placeholder(), role: None, type_data: None, extensions: uper::Extensions::new() }
+    }
+}
+
 impl Uper for SignalRequesterInfo {
     const PATH: &'static str = "SignalStatusMessage.SignalRequesterInfo";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(468), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let extended = r.read_bit()?;
         let present = r.read_bits(2)?;
-        let f_id = <super::common::VehicleID>::decode_uper(r)?;
-        let f_request = <super::common::RequestID>::decode_uper(r)?;
-        let f_sequence_number = <super::common::MsgCount>::decode_uper(r)?;
-        let f_role = if present & (1 << 1) != 0 { Some(<super::common::BasicVehicleRole>::decode_uper(r)?) } else { None };
-        let f_type_data = if present & (1 << 0) != 0 { Some(<super::common::RequestorType>::decode_uper(r)?) } else { None };
-        let extensions = if extended { uper::Extensions::decode(r, "SignalStatusMessage.SignalRequesterInfo:ext")? } else { uper::Extensions::new() };
-        Ok(Self { id: f_id, request: f_request, sequence_number: f_sequence_number, role: f_role, type_data: f_type_data, extensions })
+        <super::common::VehicleID>::decode_into(r, &mut out.id)?;
+        <super::common::RequestID>::decode_into(r, &mut out.request)?;
+        <super::common::MsgCount>::decode_into(r, &mut out.sequence_number)?;
+        if present & (1 << 1) != 0 {
+            if out.role.is_none() {
+                uper::fill_option(&mut out.role);
+            }
+            if let Some(v) = &mut out.role {
+                <super::common::BasicVehicleRole>::decode_into(r, v)?;
+            }
+        } else {
+            out.role = None;
+        }
+        if present & (1 << 0) != 0 {
+            if out.type_data.is_none() {
+                uper::fill_option(&mut out.type_data);
+            }
+            if let Some(v) = &mut out.type_data {
+                <super::common::RequestorType>::decode_into(r, v)?;
+            }
+        } else {
+            out.type_data = None;
+        }
+        out.extensions = if extended { uper::Extensions::decode(r, "SignalStatusMessage.SignalRequesterInfo:ext")? } else { uper::Extensions::new() };
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_bit(self.extensions.is_present())?;
@@ -281,7 +425,13 @@ crate::__newtype_deref!(SignalStatusPackageRegional, uper::SeqOf<RegSignalStatus
 impl SignalStatusPackageRegional {
     const SIZE: uper::Size = uper::Size::range(1, 4);
     /// An empty list (valid for encoding once it holds the minimum number of items).
-    pub const fn new() -> Self {
+    pub fn new() -> Self {
+        Self(uper::SeqOf::new())
+    }
+}
+
+impl uper::Placeholder for SignalStatusPackageRegional {
+    fn placeholder() -> Self {
         Self(uper::SeqOf::new())
     }
 }
@@ -289,8 +439,8 @@ impl SignalStatusPackageRegional {
 impl Uper for SignalStatusPackageRegional {
     const PATH: &'static str = "SignalStatusMessage.SignalStatusPackage.regional";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(146), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
-        uper::decode_seq_of(r, Self::SIZE, "SignalStatusMessage.SignalStatusPackage.regional").map(Self)
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+        uper::decode_seq_of_into(r, Self::SIZE, "SignalStatusMessage.SignalStatusPackage.regional", &mut out.0)
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
@@ -318,14 +468,21 @@ impl RegSignalStatusPackage {
     }
 }
 
+impl uper::Placeholder for RegSignalStatusPackage {
+    fn placeholder() -> Self {
+        Self::Unknown { id: <super::common::RegionId as uper::Placeholder>::placeholder(), content: uper::Octets::new() }
+    }
+}
+
 impl Uper for RegSignalStatusPackage {
     const PATH: &'static str = "SignalStatusMessage.RegSignalStatusPackage";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(144), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let id = <super::common::RegionId>::decode_uper(r)?;
-        Ok(match id.get() {
-            _ => Self::Unknown { id, content: uper::decode_unknown_open(r, "SignalStatusMessage.RegSignalStatusPackage:unknown")? },
-        })
+        match id.get() {
+            _ => *out = Self::Unknown { id, content: uper::decode_unknown_open(r, "SignalStatusMessage.RegSignalStatusPackage:unknown")? },
+        }
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         match self {
@@ -346,7 +503,13 @@ crate::__newtype_deref!(SignalStatusRegional, uper::SeqOf<RegSignalStatus, 1>);
 impl SignalStatusRegional {
     const SIZE: uper::Size = uper::Size::range(1, 4);
     /// An empty list (valid for encoding once it holds the minimum number of items).
-    pub const fn new() -> Self {
+    pub fn new() -> Self {
+        Self(uper::SeqOf::new())
+    }
+}
+
+impl uper::Placeholder for SignalStatusRegional {
+    fn placeholder() -> Self {
         Self(uper::SeqOf::new())
     }
 }
@@ -354,8 +517,8 @@ impl SignalStatusRegional {
 impl Uper for SignalStatusRegional {
     const PATH: &'static str = "SignalStatusMessage.SignalStatus.regional";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(146), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
-        uper::decode_seq_of(r, Self::SIZE, "SignalStatusMessage.SignalStatus.regional").map(Self)
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+        uper::decode_seq_of_into(r, Self::SIZE, "SignalStatusMessage.SignalStatus.regional", &mut out.0)
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
@@ -383,14 +546,21 @@ impl RegSignalStatus {
     }
 }
 
+impl uper::Placeholder for RegSignalStatus {
+    fn placeholder() -> Self {
+        Self::Unknown { id: <super::common::RegionId as uper::Placeholder>::placeholder(), content: uper::Octets::new() }
+    }
+}
+
 impl Uper for RegSignalStatus {
     const PATH: &'static str = "SignalStatusMessage.RegSignalStatus";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(144), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let id = <super::common::RegionId>::decode_uper(r)?;
-        Ok(match id.get() {
-            _ => Self::Unknown { id, content: uper::decode_unknown_open(r, "SignalStatusMessage.RegSignalStatus:unknown")? },
-        })
+        match id.get() {
+            _ => *out = Self::Unknown { id, content: uper::decode_unknown_open(r, "SignalStatusMessage.RegSignalStatus:unknown")? },
+        }
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         match self {
@@ -411,7 +581,13 @@ crate::__newtype_deref!(SignalStatusMessageRegional, uper::SeqOf<RegSignalStatus
 impl SignalStatusMessageRegional {
     const SIZE: uper::Size = uper::Size::range(1, 4);
     /// An empty list (valid for encoding once it holds the minimum number of items).
-    pub const fn new() -> Self {
+    pub fn new() -> Self {
+        Self(uper::SeqOf::new())
+    }
+}
+
+impl uper::Placeholder for SignalStatusMessageRegional {
+    fn placeholder() -> Self {
         Self(uper::SeqOf::new())
     }
 }
@@ -419,8 +595,8 @@ impl SignalStatusMessageRegional {
 impl Uper for SignalStatusMessageRegional {
     const PATH: &'static str = "SignalStatusMessage.SignalStatusMessage.regional";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(146), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
-        uper::decode_seq_of(r, Self::SIZE, "SignalStatusMessage.SignalStatusMessage.regional").map(Self)
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+        uper::decode_seq_of_into(r, Self::SIZE, "SignalStatusMessage.SignalStatusMessage.regional", &mut out.0)
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
@@ -448,14 +624,21 @@ impl RegSignalStatusMessage {
     }
 }
 
+impl uper::Placeholder for RegSignalStatusMessage {
+    fn placeholder() -> Self {
+        Self::Unknown { id: <super::common::RegionId as uper::Placeholder>::placeholder(), content: uper::Octets::new() }
+    }
+}
+
 impl Uper for RegSignalStatusMessage {
     const PATH: &'static str = "SignalStatusMessage.RegSignalStatusMessage";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(144), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let id = <super::common::RegionId>::decode_uper(r)?;
-        Ok(match id.get() {
-            _ => Self::Unknown { id, content: uper::decode_unknown_open(r, "SignalStatusMessage.RegSignalStatusMessage:unknown")? },
-        })
+        match id.get() {
+            _ => *out = Self::Unknown { id, content: uper::decode_unknown_open(r, "SignalStatusMessage.RegSignalStatusMessage:unknown")? },
+        }
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         match self {

@@ -21,18 +21,51 @@ pub struct SPAT {
     pub extensions: uper::Extensions<0>,
 }
 
+impl uper::Placeholder for SPAT {
+    fn placeholder() -> Self {
+        Self { time_stamp: None, name: None, intersections: <IntersectionStateList as uper::Placeholder>::placeholder(), regional: None, extensions: uper::Extensions::new() }
+    }
+}
+
 impl Uper for SPAT {
     const PATH: &'static str = "SPAT.SPAT";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(1350209), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let extended = r.read_bit()?;
         let present = r.read_bits(3)?;
-        let f_time_stamp = if present & (1 << 2) != 0 { Some(<super::common::MinuteOfTheYear>::decode_uper(r)?) } else { None };
-        let f_name = if present & (1 << 1) != 0 { Some(<super::common::DescriptiveName>::decode_uper(r)?) } else { None };
-        let f_intersections = <IntersectionStateList>::decode_uper(r)?;
-        let f_regional = if present & (1 << 0) != 0 { Some(<SPATRegional>::decode_uper(r)?) } else { None };
-        let extensions = if extended { uper::Extensions::decode(r, "SPAT.SPAT:ext")? } else { uper::Extensions::new() };
-        Ok(Self { time_stamp: f_time_stamp, name: f_name, intersections: f_intersections, regional: f_regional, extensions })
+        if present & (1 << 2) != 0 {
+            if out.time_stamp.is_none() {
+                uper::fill_option(&mut out.time_stamp);
+            }
+            if let Some(v) = &mut out.time_stamp {
+                <super::common::MinuteOfTheYear>::decode_into(r, v)?;
+            }
+        } else {
+            out.time_stamp = None;
+        }
+        if present & (1 << 1) != 0 {
+            if out.name.is_none() {
+                uper::fill_option(&mut out.name);
+            }
+            if let Some(v) = &mut out.name {
+                <super::common::DescriptiveName>::decode_into(r, v)?;
+            }
+        } else {
+            out.name = None;
+        }
+        <IntersectionStateList>::decode_into(r, &mut out.intersections)?;
+        if present & (1 << 0) != 0 {
+            if out.regional.is_none() {
+                uper::fill_option(&mut out.regional);
+            }
+            if let Some(v) = &mut out.regional {
+                <SPATRegional>::decode_into(r, v)?;
+            }
+        } else {
+            out.regional = None;
+        }
+        out.extensions = if extended { uper::Extensions::decode(r, "SPAT.SPAT:ext")? } else { uper::Extensions::new() };
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_bit(self.extensions.is_present())?;
@@ -63,7 +96,13 @@ crate::__newtype_deref!(IntersectionStateList, uper::SeqOf<IntersectionState, 4>
 impl IntersectionStateList {
     const SIZE: uper::Size = uper::Size::range(1, 32);
     /// An empty list (valid for encoding once it holds the minimum number of items).
-    pub const fn new() -> Self {
+    pub fn new() -> Self {
+        Self(uper::SeqOf::new())
+    }
+}
+
+impl uper::Placeholder for IntersectionStateList {
+    fn placeholder() -> Self {
         Self(uper::SeqOf::new())
     }
 }
@@ -71,8 +110,8 @@ impl IntersectionStateList {
 impl Uper for IntersectionStateList {
     const PATH: &'static str = "SPAT.IntersectionStateList";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(1349505), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
-        uper::decode_seq_of(r, Self::SIZE, "SPAT.IntersectionStateList").map(Self)
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+        uper::decode_seq_of_into(r, Self::SIZE, "SPAT.IntersectionStateList", &mut out.0)
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
@@ -106,24 +145,84 @@ pub struct IntersectionState {
     pub extensions: uper::Extensions<0>,
 }
 
+impl uper::Placeholder for IntersectionState {
+    fn placeholder() -> Self {
+        Self { name: None, id: <super::common::IntersectionReferenceID as uper::Placeholder>::placeholder(), revision: <super::common::MsgCount as uper::Placeholder>::placeholder(), status: <IntersectionStatusObject as uper::Placeholder>::placeholder(), moy: None, time_stamp: None, enabled_lanes: None, states: <MovementList as uper::Placeholder>::placeholder(), maneuver_assist_list: None, regional: None, extensions: uper::Extensions::new() }
+    }
+}
+
 impl Uper for IntersectionState {
     const PATH: &'static str = "SPAT.IntersectionState";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(337375), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let extended = r.read_bit()?;
         let present = r.read_bits(6)?;
-        let f_name = if present & (1 << 5) != 0 { Some(<super::common::DescriptiveName>::decode_uper(r)?) } else { None };
-        let f_id = <super::common::IntersectionReferenceID>::decode_uper(r)?;
-        let f_revision = <super::common::MsgCount>::decode_uper(r)?;
-        let f_status = <IntersectionStatusObject>::decode_uper(r)?;
-        let f_moy = if present & (1 << 4) != 0 { Some(<super::common::MinuteOfTheYear>::decode_uper(r)?) } else { None };
-        let f_time_stamp = if present & (1 << 3) != 0 { Some(<super::common::DSecond>::decode_uper(r)?) } else { None };
-        let f_enabled_lanes = if present & (1 << 2) != 0 { Some(<EnabledLaneList>::decode_uper(r)?) } else { None };
-        let f_states = <MovementList>::decode_uper(r)?;
-        let f_maneuver_assist_list = if present & (1 << 1) != 0 { Some(<ManeuverAssistList>::decode_uper(r)?) } else { None };
-        let f_regional = if present & (1 << 0) != 0 { Some(<IntersectionStateRegional>::decode_uper(r)?) } else { None };
-        let extensions = if extended { uper::Extensions::decode(r, "SPAT.IntersectionState:ext")? } else { uper::Extensions::new() };
-        Ok(Self { name: f_name, id: f_id, revision: f_revision, status: f_status, moy: f_moy, time_stamp: f_time_stamp, enabled_lanes: f_enabled_lanes, states: f_states, maneuver_assist_list: f_maneuver_assist_list, regional: f_regional, extensions })
+        if present & (1 << 5) != 0 {
+            if out.name.is_none() {
+                uper::fill_option(&mut out.name);
+            }
+            if let Some(v) = &mut out.name {
+                <super::common::DescriptiveName>::decode_into(r, v)?;
+            }
+        } else {
+            out.name = None;
+        }
+        <super::common::IntersectionReferenceID>::decode_into(r, &mut out.id)?;
+        <super::common::MsgCount>::decode_into(r, &mut out.revision)?;
+        <IntersectionStatusObject>::decode_into(r, &mut out.status)?;
+        if present & (1 << 4) != 0 {
+            if out.moy.is_none() {
+                uper::fill_option(&mut out.moy);
+            }
+            if let Some(v) = &mut out.moy {
+                <super::common::MinuteOfTheYear>::decode_into(r, v)?;
+            }
+        } else {
+            out.moy = None;
+        }
+        if present & (1 << 3) != 0 {
+            if out.time_stamp.is_none() {
+                uper::fill_option(&mut out.time_stamp);
+            }
+            if let Some(v) = &mut out.time_stamp {
+                <super::common::DSecond>::decode_into(r, v)?;
+            }
+        } else {
+            out.time_stamp = None;
+        }
+        if present & (1 << 2) != 0 {
+            if out.enabled_lanes.is_none() {
+                uper::fill_option(&mut out.enabled_lanes);
+            }
+            if let Some(v) = &mut out.enabled_lanes {
+                <EnabledLaneList>::decode_into(r, v)?;
+            }
+        } else {
+            out.enabled_lanes = None;
+        }
+        <MovementList>::decode_into(r, &mut out.states)?;
+        if present & (1 << 1) != 0 {
+            if out.maneuver_assist_list.is_none() {
+                uper::fill_option(&mut out.maneuver_assist_list);
+            }
+            if let Some(v) = &mut out.maneuver_assist_list {
+                <ManeuverAssistList>::decode_into(r, v)?;
+            }
+        } else {
+            out.maneuver_assist_list = None;
+        }
+        if present & (1 << 0) != 0 {
+            if out.regional.is_none() {
+                uper::fill_option(&mut out.regional);
+            }
+            if let Some(v) = &mut out.regional {
+                <IntersectionStateRegional>::decode_into(r, v)?;
+            }
+        } else {
+            out.regional = None;
+        }
+        out.extensions = if extended { uper::Extensions::decode(r, "SPAT.IntersectionState:ext")? } else { uper::Extensions::new() };
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_bit(self.extensions.is_present())?;
@@ -201,11 +300,18 @@ impl IntersectionStatusObject {
     }
 }
 
+impl uper::Placeholder for IntersectionStatusObject {
+    fn placeholder() -> Self {
+        Self(uper::Bits::EMPTY)
+    }
+}
+
 impl Uper for IntersectionStatusObject {
     const PATH: &'static str = "SPAT.IntersectionStatusObject";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(16), Some(16));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
-        uper::decode_bits(r, Self::SIZE, "SPAT.IntersectionStatusObject").map(Self)
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+        out.0 = uper::decode_bits(r, Self::SIZE, "SPAT.IntersectionStatusObject")?;
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_bits(w, Self::SIZE, &self.0)
@@ -221,7 +327,13 @@ crate::__newtype_deref!(EnabledLaneList, uper::SeqOf<super::common::LaneID, 5>);
 impl EnabledLaneList {
     const SIZE: uper::Size = uper::Size::range(1, 16);
     /// An empty list (valid for encoding once it holds the minimum number of items).
-    pub const fn new() -> Self {
+    pub fn new() -> Self {
+        Self(uper::SeqOf::new())
+    }
+}
+
+impl uper::Placeholder for EnabledLaneList {
+    fn placeholder() -> Self {
         Self(uper::SeqOf::new())
     }
 }
@@ -229,8 +341,8 @@ impl EnabledLaneList {
 impl Uper for EnabledLaneList {
     const PATH: &'static str = "SPAT.EnabledLaneList";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(44), Some(132));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
-        uper::decode_seq_of(r, Self::SIZE, "SPAT.EnabledLaneList").map(Self)
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+        uper::decode_seq_of_into(r, Self::SIZE, "SPAT.EnabledLaneList", &mut out.0)
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
@@ -246,7 +358,13 @@ crate::__newtype_deref!(MovementList, uper::SeqOf<MovementState, 32>);
 impl MovementList {
     const SIZE: uper::Size = uper::Size::range(1, 255);
     /// An empty list (valid for encoding once it holds the minimum number of items).
-    pub const fn new() -> Self {
+    pub fn new() -> Self {
+        Self(uper::SeqOf::new())
+    }
+}
+
+impl uper::Placeholder for MovementList {
+    fn placeholder() -> Self {
         Self(uper::SeqOf::new())
     }
 }
@@ -254,8 +372,8 @@ impl MovementList {
 impl Uper for MovementList {
     const PATH: &'static str = "SPAT.MovementList";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(332552), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
-        uper::decode_seq_of(r, Self::SIZE, "SPAT.MovementList").map(Self)
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+        uper::decode_seq_of_into(r, Self::SIZE, "SPAT.MovementList", &mut out.0)
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
@@ -279,19 +397,52 @@ pub struct MovementState {
     pub extensions: uper::Extensions<0>,
 }
 
+impl uper::Placeholder for MovementState {
+    fn placeholder() -> Self {
+        Self { movement_name: None, signal_group: <super::common::SignalGroupID as uper::Placeholder>::placeholder(), state_time_speed: <MovementEventList as uper::Placeholder>::placeholder(), maneuver_assist_list: None, regional: None, extensions: uper::Extensions::new() }
+    }
+}
+
 impl Uper for MovementState {
     const PATH: &'static str = "SPAT.MovementState";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(10392), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let extended = r.read_bit()?;
         let present = r.read_bits(3)?;
-        let f_movement_name = if present & (1 << 2) != 0 { Some(<super::common::DescriptiveName>::decode_uper(r)?) } else { None };
-        let f_signal_group = <super::common::SignalGroupID>::decode_uper(r)?;
-        let f_state_time_speed = <MovementEventList>::decode_uper(r)?;
-        let f_maneuver_assist_list = if present & (1 << 1) != 0 { Some(<ManeuverAssistList>::decode_uper(r)?) } else { None };
-        let f_regional = if present & (1 << 0) != 0 { Some(<MovementStateRegional>::decode_uper(r)?) } else { None };
-        let extensions = if extended { uper::Extensions::decode(r, "SPAT.MovementState:ext")? } else { uper::Extensions::new() };
-        Ok(Self { movement_name: f_movement_name, signal_group: f_signal_group, state_time_speed: f_state_time_speed, maneuver_assist_list: f_maneuver_assist_list, regional: f_regional, extensions })
+        if present & (1 << 2) != 0 {
+            if out.movement_name.is_none() {
+                uper::fill_option(&mut out.movement_name);
+            }
+            if let Some(v) = &mut out.movement_name {
+                <super::common::DescriptiveName>::decode_into(r, v)?;
+            }
+        } else {
+            out.movement_name = None;
+        }
+        <super::common::SignalGroupID>::decode_into(r, &mut out.signal_group)?;
+        <MovementEventList>::decode_into(r, &mut out.state_time_speed)?;
+        if present & (1 << 1) != 0 {
+            if out.maneuver_assist_list.is_none() {
+                uper::fill_option(&mut out.maneuver_assist_list);
+            }
+            if let Some(v) = &mut out.maneuver_assist_list {
+                <ManeuverAssistList>::decode_into(r, v)?;
+            }
+        } else {
+            out.maneuver_assist_list = None;
+        }
+        if present & (1 << 0) != 0 {
+            if out.regional.is_none() {
+                uper::fill_option(&mut out.regional);
+            }
+            if let Some(v) = &mut out.regional {
+                <MovementStateRegional>::decode_into(r, v)?;
+            }
+        } else {
+            out.regional = None;
+        }
+        out.extensions = if extended { uper::Extensions::decode(r, "SPAT.MovementState:ext")? } else { uper::Extensions::new() };
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_bit(self.extensions.is_present())?;
@@ -323,7 +474,13 @@ crate::__newtype_deref!(MovementEventList, uper::SeqOf<MovementEvent, 4>);
 impl MovementEventList {
     const SIZE: uper::Size = uper::Size::range(1, 16);
     /// An empty list (valid for encoding once it holds the minimum number of items).
-    pub const fn new() -> Self {
+    pub fn new() -> Self {
+        Self(uper::SeqOf::new())
+    }
+}
+
+impl uper::Placeholder for MovementEventList {
+    fn placeholder() -> Self {
         Self(uper::SeqOf::new())
     }
 }
@@ -331,8 +488,8 @@ impl MovementEventList {
 impl Uper for MovementEventList {
     const PATH: &'static str = "SPAT.MovementEventList";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(6284), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
-        uper::decode_seq_of(r, Self::SIZE, "SPAT.MovementEventList").map(Self)
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+        uper::decode_seq_of_into(r, Self::SIZE, "SPAT.MovementEventList", &mut out.0)
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
@@ -354,18 +511,51 @@ pub struct MovementEvent {
     pub extensions: uper::Extensions<0>,
 }
 
+impl uper::Placeholder for MovementEvent {
+    fn placeholder() -> Self {
+        Self { event_state: <MovementPhaseState as uper::Placeholder>::placeholder(), timing: None, speeds: None, regional: None, extensions: uper::Extensions::new() }
+    }
+}
+
 impl Uper for MovementEvent {
     const PATH: &'static str = "SPAT.MovementEvent";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(1570), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let extended = r.read_bit()?;
         let present = r.read_bits(3)?;
-        let f_event_state = <MovementPhaseState>::decode_uper(r)?;
-        let f_timing = if present & (1 << 2) != 0 { Some(<TimeChangeDetails>::decode_uper(r)?) } else { None };
-        let f_speeds = if present & (1 << 1) != 0 { Some(<AdvisorySpeedList>::decode_uper(r)?) } else { None };
-        let f_regional = if present & (1 << 0) != 0 { Some(<MovementEventRegional>::decode_uper(r)?) } else { None };
-        let extensions = if extended { uper::Extensions::decode(r, "SPAT.MovementEvent:ext")? } else { uper::Extensions::new() };
-        Ok(Self { event_state: f_event_state, timing: f_timing, speeds: f_speeds, regional: f_regional, extensions })
+        <MovementPhaseState>::decode_into(r, &mut out.event_state)?;
+        if present & (1 << 2) != 0 {
+            if out.timing.is_none() {
+                uper::fill_option(&mut out.timing);
+            }
+            if let Some(v) = &mut out.timing {
+                <TimeChangeDetails>::decode_into(r, v)?;
+            }
+        } else {
+            out.timing = None;
+        }
+        if present & (1 << 1) != 0 {
+            if out.speeds.is_none() {
+                uper::fill_option(&mut out.speeds);
+            }
+            if let Some(v) = &mut out.speeds {
+                <AdvisorySpeedList>::decode_into(r, v)?;
+            }
+        } else {
+            out.speeds = None;
+        }
+        if present & (1 << 0) != 0 {
+            if out.regional.is_none() {
+                uper::fill_option(&mut out.regional);
+            }
+            if let Some(v) = &mut out.regional {
+                <MovementEventRegional>::decode_into(r, v)?;
+            }
+        } else {
+            out.regional = None;
+        }
+        out.extensions = if extended { uper::Extensions::decode(r, "SPAT.MovementEvent:ext")? } else { uper::Extensions::new() };
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_bit(self.extensions.is_present())?;
@@ -461,13 +651,20 @@ impl MovementPhaseState {
     }
 }
 
+impl uper::Placeholder for MovementPhaseState {
+    fn placeholder() -> Self {
+        Self::Unavailable
+    }
+}
+
 impl Uper for MovementPhaseState {
     const PATH: &'static str = "SPAT.MovementPhaseState";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(4), Some(4));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let at = r.position();
         let i = r.read_constrained(0, 9)?;
-        Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))
+        *out = Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))?;
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_constrained(self.root_index(), 0, 9)
@@ -491,18 +688,69 @@ pub struct TimeChangeDetails {
     pub next_time: Option<TimeMark>,
 }
 
+impl uper::Placeholder for TimeChangeDetails {
+    fn placeholder() -> Self {
+        Self { start_time: None, min_end_time: <TimeMark as uper::Placeholder>::placeholder(), max_end_time: None, likely_time: None, confidence: None, next_time: None }
+    }
+}
+
 impl Uper for TimeChangeDetails {
     const PATH: &'static str = "SPAT.TimeChangeDetails";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(89), Some(89));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let present = r.read_bits(5)?;
-        let f_start_time = if present & (1 << 4) != 0 { Some(<TimeMark>::decode_uper(r)?) } else { None };
-        let f_min_end_time = <TimeMark>::decode_uper(r)?;
-        let f_max_end_time = if present & (1 << 3) != 0 { Some(<TimeMark>::decode_uper(r)?) } else { None };
-        let f_likely_time = if present & (1 << 2) != 0 { Some(<TimeMark>::decode_uper(r)?) } else { None };
-        let f_confidence = if present & (1 << 1) != 0 { Some(<TimeIntervalConfidence>::decode_uper(r)?) } else { None };
-        let f_next_time = if present & (1 << 0) != 0 { Some(<TimeMark>::decode_uper(r)?) } else { None };
-        Ok(Self { start_time: f_start_time, min_end_time: f_min_end_time, max_end_time: f_max_end_time, likely_time: f_likely_time, confidence: f_confidence, next_time: f_next_time })
+        if present & (1 << 4) != 0 {
+            if out.start_time.is_none() {
+                uper::fill_option(&mut out.start_time);
+            }
+            if let Some(v) = &mut out.start_time {
+                <TimeMark>::decode_into(r, v)?;
+            }
+        } else {
+            out.start_time = None;
+        }
+        <TimeMark>::decode_into(r, &mut out.min_end_time)?;
+        if present & (1 << 3) != 0 {
+            if out.max_end_time.is_none() {
+                uper::fill_option(&mut out.max_end_time);
+            }
+            if let Some(v) = &mut out.max_end_time {
+                <TimeMark>::decode_into(r, v)?;
+            }
+        } else {
+            out.max_end_time = None;
+        }
+        if present & (1 << 2) != 0 {
+            if out.likely_time.is_none() {
+                uper::fill_option(&mut out.likely_time);
+            }
+            if let Some(v) = &mut out.likely_time {
+                <TimeMark>::decode_into(r, v)?;
+            }
+        } else {
+            out.likely_time = None;
+        }
+        if present & (1 << 1) != 0 {
+            if out.confidence.is_none() {
+                uper::fill_option(&mut out.confidence);
+            }
+            if let Some(v) = &mut out.confidence {
+                <TimeIntervalConfidence>::decode_into(r, v)?;
+            }
+        } else {
+            out.confidence = None;
+        }
+        if present & (1 << 0) != 0 {
+            if out.next_time.is_none() {
+                uper::fill_option(&mut out.next_time);
+            }
+            if let Some(v) = &mut out.next_time {
+                <TimeMark>::decode_into(r, v)?;
+            }
+        } else {
+            out.next_time = None;
+        }
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_bits(((self.start_time.is_some() as u64) << 4) | ((self.max_end_time.is_some() as u64) << 3) | ((self.likely_time.is_some() as u64) << 2) | ((self.confidence.is_some() as u64) << 1) | ((self.next_time.is_some() as u64) << 0), 5)?;
@@ -545,7 +793,13 @@ crate::__newtype_deref!(AdvisorySpeedList, uper::SeqOf<AdvisorySpeed, 4>);
 impl AdvisorySpeedList {
     const SIZE: uper::Size = uper::Size::range(1, 16);
     /// An empty list (valid for encoding once it holds the minimum number of items).
-    pub const fn new() -> Self {
+    pub fn new() -> Self {
+        Self(uper::SeqOf::new())
+    }
+}
+
+impl uper::Placeholder for AdvisorySpeedList {
+    fn placeholder() -> Self {
         Self(uper::SeqOf::new())
     }
 }
@@ -553,8 +807,8 @@ impl AdvisorySpeedList {
 impl Uper for AdvisorySpeedList {
     const PATH: &'static str = "SPAT.AdvisorySpeedList";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(1200), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
-        uper::decode_seq_of(r, Self::SIZE, "SPAT.AdvisorySpeedList").map(Self)
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+        uper::decode_seq_of_into(r, Self::SIZE, "SPAT.AdvisorySpeedList", &mut out.0)
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
@@ -580,20 +834,71 @@ pub struct AdvisorySpeed {
     pub extensions: uper::Extensions<0>,
 }
 
+impl uper::Placeholder for AdvisorySpeed {
+    fn placeholder() -> Self {
+        Self { r#type: <AdvisorySpeedType as uper::Placeholder>::placeholder(), speed: None, confidence: None, distance: None, class: None, regional: None, extensions: uper::Extensions::new() }
+    }
+}
+
 impl Uper for AdvisorySpeed {
     const PATH: &'static str = "SPAT.AdvisorySpeed";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(299), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let extended = r.read_bit()?;
         let present = r.read_bits(5)?;
-        let f_type = <AdvisorySpeedType>::decode_uper(r)?;
-        let f_speed = if present & (1 << 4) != 0 { Some(<SpeedAdvice>::decode_uper(r)?) } else { None };
-        let f_confidence = if present & (1 << 3) != 0 { Some(<super::common::SpeedConfidence>::decode_uper(r)?) } else { None };
-        let f_distance = if present & (1 << 2) != 0 { Some(<ZoneLength>::decode_uper(r)?) } else { None };
-        let f_class = if present & (1 << 1) != 0 { Some(<super::common::RestrictionClassID>::decode_uper(r)?) } else { None };
-        let f_regional = if present & (1 << 0) != 0 { Some(<AdvisorySpeedRegional>::decode_uper(r)?) } else { None };
-        let extensions = if extended { uper::Extensions::decode(r, "SPAT.AdvisorySpeed:ext")? } else { uper::Extensions::new() };
-        Ok(Self { r#type: f_type, speed: f_speed, confidence: f_confidence, distance: f_distance, class: f_class, regional: f_regional, extensions })
+        <AdvisorySpeedType>::decode_into(r, &mut out.r#type)?;
+        if present & (1 << 4) != 0 {
+            if out.speed.is_none() {
+                uper::fill_option(&mut out.speed);
+            }
+            if let Some(v) = &mut out.speed {
+                <SpeedAdvice>::decode_into(r, v)?;
+            }
+        } else {
+            out.speed = None;
+        }
+        if present & (1 << 3) != 0 {
+            if out.confidence.is_none() {
+                uper::fill_option(&mut out.confidence);
+            }
+            if let Some(v) = &mut out.confidence {
+                <super::common::SpeedConfidence>::decode_into(r, v)?;
+            }
+        } else {
+            out.confidence = None;
+        }
+        if present & (1 << 2) != 0 {
+            if out.distance.is_none() {
+                uper::fill_option(&mut out.distance);
+            }
+            if let Some(v) = &mut out.distance {
+                <ZoneLength>::decode_into(r, v)?;
+            }
+        } else {
+            out.distance = None;
+        }
+        if present & (1 << 1) != 0 {
+            if out.class.is_none() {
+                uper::fill_option(&mut out.class);
+            }
+            if let Some(v) = &mut out.class {
+                <super::common::RestrictionClassID>::decode_into(r, v)?;
+            }
+        } else {
+            out.class = None;
+        }
+        if present & (1 << 0) != 0 {
+            if out.regional.is_none() {
+                uper::fill_option(&mut out.regional);
+            }
+            if let Some(v) = &mut out.regional {
+                <AdvisorySpeedRegional>::decode_into(r, v)?;
+            }
+        } else {
+            out.regional = None;
+        }
+        out.extensions = if extended { uper::Extensions::decode(r, "SPAT.AdvisorySpeed:ext")? } else { uper::Extensions::new() };
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_bit(self.extensions.is_present())?;
@@ -670,18 +975,26 @@ impl AdvisorySpeedType {
     }
 }
 
+impl uper::Placeholder for AdvisorySpeedType {
+    fn placeholder() -> Self {
+        Self::None
+    }
+}
+
 impl Uper for AdvisorySpeedType {
     const PATH: &'static str = "SPAT.AdvisorySpeedType";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(26), Some(26));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         if r.read_bit()? {
             let at = r.position();
             let i = r.read_normally_small()?;
-            return u16::try_from(i).map(Self::Extension).map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at));
+            *out = u16::try_from(i).map(Self::Extension).map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at))?;
+            return Ok(());
         }
         let at = r.position();
         let i = r.read_constrained(0, 3)?;
-        Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))
+        *out = Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))?;
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         if let Self::Extension(i) = self {
@@ -712,7 +1025,13 @@ crate::__newtype_deref!(AdvisorySpeedRegional, uper::SeqOf<RegAdvisorySpeed, 1>)
 impl AdvisorySpeedRegional {
     const SIZE: uper::Size = uper::Size::range(1, 4);
     /// An empty list (valid for encoding once it holds the minimum number of items).
-    pub const fn new() -> Self {
+    pub fn new() -> Self {
+        Self(uper::SeqOf::new())
+    }
+}
+
+impl uper::Placeholder for AdvisorySpeedRegional {
+    fn placeholder() -> Self {
         Self(uper::SeqOf::new())
     }
 }
@@ -720,8 +1039,8 @@ impl AdvisorySpeedRegional {
 impl Uper for AdvisorySpeedRegional {
     const PATH: &'static str = "SPAT.AdvisorySpeed.regional";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(146), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
-        uper::decode_seq_of(r, Self::SIZE, "SPAT.AdvisorySpeed.regional").map(Self)
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+        uper::decode_seq_of_into(r, Self::SIZE, "SPAT.AdvisorySpeed.regional", &mut out.0)
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
@@ -749,14 +1068,21 @@ impl RegAdvisorySpeed {
     }
 }
 
+impl uper::Placeholder for RegAdvisorySpeed {
+    fn placeholder() -> Self {
+        Self::Unknown { id: <super::common::RegionId as uper::Placeholder>::placeholder(), content: uper::Octets::new() }
+    }
+}
+
 impl Uper for RegAdvisorySpeed {
     const PATH: &'static str = "SPAT.RegAdvisorySpeed";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(144), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let id = <super::common::RegionId>::decode_uper(r)?;
-        Ok(match id.get() {
-            _ => Self::Unknown { id, content: uper::decode_unknown_open(r, "SPAT.RegAdvisorySpeed:unknown")? },
-        })
+        match id.get() {
+            _ => *out = Self::Unknown { id, content: uper::decode_unknown_open(r, "SPAT.RegAdvisorySpeed:unknown")? },
+        }
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         match self {
@@ -777,7 +1103,13 @@ crate::__newtype_deref!(MovementEventRegional, uper::SeqOf<RegMovementEvent, 1>)
 impl MovementEventRegional {
     const SIZE: uper::Size = uper::Size::range(1, 4);
     /// An empty list (valid for encoding once it holds the minimum number of items).
-    pub const fn new() -> Self {
+    pub fn new() -> Self {
+        Self(uper::SeqOf::new())
+    }
+}
+
+impl uper::Placeholder for MovementEventRegional {
+    fn placeholder() -> Self {
         Self(uper::SeqOf::new())
     }
 }
@@ -785,8 +1117,8 @@ impl MovementEventRegional {
 impl Uper for MovementEventRegional {
     const PATH: &'static str = "SPAT.MovementEvent.regional";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(186), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
-        uper::decode_seq_of(r, Self::SIZE, "SPAT.MovementEvent.regional").map(Self)
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+        uper::decode_seq_of_into(r, Self::SIZE, "SPAT.MovementEvent.regional", &mut out.0)
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
@@ -817,15 +1149,29 @@ impl RegMovementEvent {
     }
 }
 
+impl uper::Placeholder for RegMovementEvent {
+    fn placeholder() -> Self {
+        Self::Unknown { id: <super::common::RegionId as uper::Placeholder>::placeholder(), content: uper::Octets::new() }
+    }
+}
+
 impl Uper for RegMovementEvent {
     const PATH: &'static str = "SPAT.RegMovementEvent";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(184), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let id = <super::common::RegionId>::decode_uper(r)?;
-        Ok(match id.get() {
-            2 => Self::AddGrpB(uper::decode_open(r, <super::add_grp_b::MovementEventAddGrpB>::decode_uper)?),
-            _ => Self::Unknown { id, content: uper::decode_unknown_open(r, "SPAT.RegMovementEvent:unknown")? },
-        })
+        match id.get() {
+            2 => {
+                if !matches!(out, Self::AddGrpB(_)) {
+                    uper::replace_with(out, || Self::AddGrpB(<super::add_grp_b::MovementEventAddGrpB as uper::Placeholder>::placeholder()));
+                }
+                if let Self::AddGrpB(v) = out {
+                    uper::decode_open(r, |r| <super::add_grp_b::MovementEventAddGrpB>::decode_into(r, v))?;
+                }
+            }
+            _ => *out = Self::Unknown { id, content: uper::decode_unknown_open(r, "SPAT.RegMovementEvent:unknown")? },
+        }
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         match self {
@@ -850,7 +1196,13 @@ crate::__newtype_deref!(ManeuverAssistList, uper::SeqOf<ConnectionManeuverAssist
 impl ManeuverAssistList {
     const SIZE: uper::Size = uper::Size::range(1, 16);
     /// An empty list (valid for encoding once it holds the minimum number of items).
-    pub const fn new() -> Self {
+    pub fn new() -> Self {
+        Self(uper::SeqOf::new())
+    }
+}
+
+impl uper::Placeholder for ManeuverAssistList {
+    fn placeholder() -> Self {
         Self(uper::SeqOf::new())
     }
 }
@@ -858,8 +1210,8 @@ impl ManeuverAssistList {
 impl Uper for ManeuverAssistList {
     const PATH: &'static str = "SPAT.ManeuverAssistList";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(3416), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
-        uper::decode_seq_of(r, Self::SIZE, "SPAT.ManeuverAssistList").map(Self)
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+        uper::decode_seq_of_into(r, Self::SIZE, "SPAT.ManeuverAssistList", &mut out.0)
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
@@ -885,20 +1237,71 @@ pub struct ConnectionManeuverAssist {
     pub extensions: uper::Extensions<0>,
 }
 
+impl uper::Placeholder for ConnectionManeuverAssist {
+    fn placeholder() -> Self {
+        Self { connection_id: <super::common::LaneConnectionID as uper::Placeholder>::placeholder(), queue_length: None, available_storage_length: None, wait_on_stop: None, ped_bicycle_detect: None, regional: None, extensions: uper::Extensions::new() }
+    }
+}
+
 impl Uper for ConnectionManeuverAssist {
     const PATH: &'static str = "SPAT.ConnectionManeuverAssist";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(853), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let extended = r.read_bit()?;
         let present = r.read_bits(5)?;
-        let f_connection_id = <super::common::LaneConnectionID>::decode_uper(r)?;
-        let f_queue_length = if present & (1 << 4) != 0 { Some(<ZoneLength>::decode_uper(r)?) } else { None };
-        let f_available_storage_length = if present & (1 << 3) != 0 { Some(<ZoneLength>::decode_uper(r)?) } else { None };
-        let f_wait_on_stop = if present & (1 << 2) != 0 { Some(<WaitOnStopline>::decode_uper(r)?) } else { None };
-        let f_ped_bicycle_detect = if present & (1 << 1) != 0 { Some(<PedestrianBicycleDetect>::decode_uper(r)?) } else { None };
-        let f_regional = if present & (1 << 0) != 0 { Some(<ConnectionManeuverAssistRegional>::decode_uper(r)?) } else { None };
-        let extensions = if extended { uper::Extensions::decode(r, "SPAT.ConnectionManeuverAssist:ext")? } else { uper::Extensions::new() };
-        Ok(Self { connection_id: f_connection_id, queue_length: f_queue_length, available_storage_length: f_available_storage_length, wait_on_stop: f_wait_on_stop, ped_bicycle_detect: f_ped_bicycle_detect, regional: f_regional, extensions })
+        <super::common::LaneConnectionID>::decode_into(r, &mut out.connection_id)?;
+        if present & (1 << 4) != 0 {
+            if out.queue_length.is_none() {
+                uper::fill_option(&mut out.queue_length);
+            }
+            if let Some(v) = &mut out.queue_length {
+                <ZoneLength>::decode_into(r, v)?;
+            }
+        } else {
+            out.queue_length = None;
+        }
+        if present & (1 << 3) != 0 {
+            if out.available_storage_length.is_none() {
+                uper::fill_option(&mut out.available_storage_length);
+            }
+            if let Some(v) = &mut out.available_storage_length {
+                <ZoneLength>::decode_into(r, v)?;
+            }
+        } else {
+            out.available_storage_length = None;
+        }
+        if present & (1 << 2) != 0 {
+            if out.wait_on_stop.is_none() {
+                uper::fill_option(&mut out.wait_on_stop);
+            }
+            if let Some(v) = &mut out.wait_on_stop {
+                <WaitOnStopline>::decode_into(r, v)?;
+            }
+        } else {
+            out.wait_on_stop = None;
+        }
+        if present & (1 << 1) != 0 {
+            if out.ped_bicycle_detect.is_none() {
+                uper::fill_option(&mut out.ped_bicycle_detect);
+            }
+            if let Some(v) = &mut out.ped_bicycle_detect {
+                <PedestrianBicycleDetect>::decode_into(r, v)?;
+            }
+        } else {
+            out.ped_bicycle_detect = None;
+        }
+        if present & (1 << 0) != 0 {
+            if out.regional.is_none() {
+                uper::fill_option(&mut out.regional);
+            }
+            if let Some(v) = &mut out.regional {
+                <ConnectionManeuverAssistRegional>::decode_into(r, v)?;
+            }
+        } else {
+            out.regional = None;
+        }
+        out.extensions = if extended { uper::Extensions::decode(r, "SPAT.ConnectionManeuverAssist:ext")? } else { uper::Extensions::new() };
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_bit(self.extensions.is_present())?;
@@ -941,7 +1344,13 @@ crate::__newtype_deref!(ConnectionManeuverAssistRegional, uper::SeqOf<RegConnect
 impl ConnectionManeuverAssistRegional {
     const SIZE: uper::Size = uper::Size::range(1, 4);
     /// An empty list (valid for encoding once it holds the minimum number of items).
-    pub const fn new() -> Self {
+    pub fn new() -> Self {
+        Self(uper::SeqOf::new())
+    }
+}
+
+impl uper::Placeholder for ConnectionManeuverAssistRegional {
+    fn placeholder() -> Self {
         Self(uper::SeqOf::new())
     }
 }
@@ -949,8 +1358,8 @@ impl ConnectionManeuverAssistRegional {
 impl Uper for ConnectionManeuverAssistRegional {
     const PATH: &'static str = "SPAT.ConnectionManeuverAssist.regional";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(722), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
-        uper::decode_seq_of(r, Self::SIZE, "SPAT.ConnectionManeuverAssist.regional").map(Self)
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+        uper::decode_seq_of_into(r, Self::SIZE, "SPAT.ConnectionManeuverAssist.regional", &mut out.0)
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
@@ -981,15 +1390,29 @@ impl RegConnectionManeuverAssist {
     }
 }
 
+impl uper::Placeholder for RegConnectionManeuverAssist {
+    fn placeholder() -> Self {
+        Self::Unknown { id: <super::common::RegionId as uper::Placeholder>::placeholder(), content: uper::Octets::new() }
+    }
+}
+
 impl Uper for RegConnectionManeuverAssist {
     const PATH: &'static str = "SPAT.RegConnectionManeuverAssist";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(720), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let id = <super::common::RegionId>::decode_uper(r)?;
-        Ok(match id.get() {
-            3 => Self::AddGrpC(uper::decode_open(r, <super::add_grp_c::ConnectionManeuverAssistAddGrpC>::decode_uper)?),
-            _ => Self::Unknown { id, content: uper::decode_unknown_open(r, "SPAT.RegConnectionManeuverAssist:unknown")? },
-        })
+        match id.get() {
+            3 => {
+                if !matches!(out, Self::AddGrpC(_)) {
+                    uper::replace_with(out, || Self::AddGrpC(<super::add_grp_c::ConnectionManeuverAssistAddGrpC as uper::Placeholder>::placeholder()));
+                }
+                if let Self::AddGrpC(v) = out {
+                    uper::decode_open(r, |r| <super::add_grp_c::ConnectionManeuverAssistAddGrpC>::decode_into(r, v))?;
+                }
+            }
+            _ => *out = Self::Unknown { id, content: uper::decode_unknown_open(r, "SPAT.RegConnectionManeuverAssist:unknown")? },
+        }
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         match self {
@@ -1014,7 +1437,13 @@ crate::__newtype_deref!(MovementStateRegional, uper::SeqOf<RegMovementState, 1>)
 impl MovementStateRegional {
     const SIZE: uper::Size = uper::Size::range(1, 4);
     /// An empty list (valid for encoding once it holds the minimum number of items).
-    pub const fn new() -> Self {
+    pub fn new() -> Self {
+        Self(uper::SeqOf::new())
+    }
+}
+
+impl uper::Placeholder for MovementStateRegional {
+    fn placeholder() -> Self {
         Self(uper::SeqOf::new())
     }
 }
@@ -1022,8 +1451,8 @@ impl MovementStateRegional {
 impl Uper for MovementStateRegional {
     const PATH: &'static str = "SPAT.MovementState.regional";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(146), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
-        uper::decode_seq_of(r, Self::SIZE, "SPAT.MovementState.regional").map(Self)
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+        uper::decode_seq_of_into(r, Self::SIZE, "SPAT.MovementState.regional", &mut out.0)
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
@@ -1051,14 +1480,21 @@ impl RegMovementState {
     }
 }
 
+impl uper::Placeholder for RegMovementState {
+    fn placeholder() -> Self {
+        Self::Unknown { id: <super::common::RegionId as uper::Placeholder>::placeholder(), content: uper::Octets::new() }
+    }
+}
+
 impl Uper for RegMovementState {
     const PATH: &'static str = "SPAT.RegMovementState";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(144), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let id = <super::common::RegionId>::decode_uper(r)?;
-        Ok(match id.get() {
-            _ => Self::Unknown { id, content: uper::decode_unknown_open(r, "SPAT.RegMovementState:unknown")? },
-        })
+        match id.get() {
+            _ => *out = Self::Unknown { id, content: uper::decode_unknown_open(r, "SPAT.RegMovementState:unknown")? },
+        }
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         match self {
@@ -1079,7 +1515,13 @@ crate::__newtype_deref!(IntersectionStateRegional, uper::SeqOf<RegIntersectionSt
 impl IntersectionStateRegional {
     const SIZE: uper::Size = uper::Size::range(1, 4);
     /// An empty list (valid for encoding once it holds the minimum number of items).
-    pub const fn new() -> Self {
+    pub fn new() -> Self {
+        Self(uper::SeqOf::new())
+    }
+}
+
+impl uper::Placeholder for IntersectionStateRegional {
+    fn placeholder() -> Self {
         Self(uper::SeqOf::new())
     }
 }
@@ -1087,8 +1529,8 @@ impl IntersectionStateRegional {
 impl Uper for IntersectionStateRegional {
     const PATH: &'static str = "SPAT.IntersectionState.regional";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(730), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
-        uper::decode_seq_of(r, Self::SIZE, "SPAT.IntersectionState.regional").map(Self)
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+        uper::decode_seq_of_into(r, Self::SIZE, "SPAT.IntersectionState.regional", &mut out.0)
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
@@ -1119,15 +1561,29 @@ impl RegIntersectionState {
     }
 }
 
+impl uper::Placeholder for RegIntersectionState {
+    fn placeholder() -> Self {
+        Self::Unknown { id: <super::common::RegionId as uper::Placeholder>::placeholder(), content: uper::Octets::new() }
+    }
+}
+
 impl Uper for RegIntersectionState {
     const PATH: &'static str = "SPAT.RegIntersectionState";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(728), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let id = <super::common::RegionId>::decode_uper(r)?;
-        Ok(match id.get() {
-            3 => Self::AddGrpC(uper::decode_open(r, <super::add_grp_c::IntersectionStateAddGrpC>::decode_uper)?),
-            _ => Self::Unknown { id, content: uper::decode_unknown_open(r, "SPAT.RegIntersectionState:unknown")? },
-        })
+        match id.get() {
+            3 => {
+                if !matches!(out, Self::AddGrpC(_)) {
+                    uper::replace_with(out, || Self::AddGrpC(<super::add_grp_c::IntersectionStateAddGrpC as uper::Placeholder>::placeholder()));
+                }
+                if let Self::AddGrpC(v) = out {
+                    uper::decode_open(r, |r| <super::add_grp_c::IntersectionStateAddGrpC>::decode_into(r, v))?;
+                }
+            }
+            _ => *out = Self::Unknown { id, content: uper::decode_unknown_open(r, "SPAT.RegIntersectionState:unknown")? },
+        }
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         match self {
@@ -1152,7 +1608,13 @@ crate::__newtype_deref!(SPATRegional, uper::SeqOf<RegSPAT, 1>);
 impl SPATRegional {
     const SIZE: uper::Size = uper::Size::range(1, 4);
     /// An empty list (valid for encoding once it holds the minimum number of items).
-    pub const fn new() -> Self {
+    pub fn new() -> Self {
+        Self(uper::SeqOf::new())
+    }
+}
+
+impl uper::Placeholder for SPATRegional {
+    fn placeholder() -> Self {
         Self(uper::SeqOf::new())
     }
 }
@@ -1160,8 +1622,8 @@ impl SPATRegional {
 impl Uper for SPATRegional {
     const PATH: &'static str = "SPAT.SPAT.regional";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(146), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
-        uper::decode_seq_of(r, Self::SIZE, "SPAT.SPAT.regional").map(Self)
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+        uper::decode_seq_of_into(r, Self::SIZE, "SPAT.SPAT.regional", &mut out.0)
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
@@ -1189,14 +1651,21 @@ impl RegSPAT {
     }
 }
 
+impl uper::Placeholder for RegSPAT {
+    fn placeholder() -> Self {
+        Self::Unknown { id: <super::common::RegionId as uper::Placeholder>::placeholder(), content: uper::Octets::new() }
+    }
+}
+
 impl Uper for RegSPAT {
     const PATH: &'static str = "SPAT.RegSPAT";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(144), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let id = <super::common::RegionId>::decode_uper(r)?;
-        Ok(match id.get() {
-            _ => Self::Unknown { id, content: uper::decode_unknown_open(r, "SPAT.RegSPAT:unknown")? },
-        })
+        match id.get() {
+            _ => *out = Self::Unknown { id, content: uper::decode_unknown_open(r, "SPAT.RegSPAT:unknown")? },
+        }
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         match self {

@@ -17,16 +17,40 @@ pub struct TestMessage09 {
     pub extensions: uper::Extensions<0>,
 }
 
+impl uper::Placeholder for TestMessage09 {
+    fn placeholder() -> Self {
+        Self { header: None, regional: None, extensions: uper::Extensions::new() }
+    }
+}
+
 impl Uper for TestMessage09 {
     const PATH: &'static str = "TestMessage09.TestMessage09";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(381), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let extended = r.read_bit()?;
         let present = r.read_bits(2)?;
-        let f_header = if present & (1 << 1) != 0 { Some(<super::common::Header>::decode_uper(r)?) } else { None };
-        let f_regional = if present & (1 << 0) != 0 { Some(<RegTestMessage09>::decode_uper(r)?) } else { None };
-        let extensions = if extended { uper::Extensions::decode(r, "TestMessage09.TestMessage09:ext")? } else { uper::Extensions::new() };
-        Ok(Self { header: f_header, regional: f_regional, extensions })
+        if present & (1 << 1) != 0 {
+            if out.header.is_none() {
+                uper::fill_option(&mut out.header);
+            }
+            if let Some(v) = &mut out.header {
+                <super::common::Header>::decode_into(r, v)?;
+            }
+        } else {
+            out.header = None;
+        }
+        if present & (1 << 0) != 0 {
+            if out.regional.is_none() {
+                uper::fill_option(&mut out.regional);
+            }
+            if let Some(v) = &mut out.regional {
+                <RegTestMessage09>::decode_into(r, v)?;
+            }
+        } else {
+            out.regional = None;
+        }
+        out.extensions = if extended { uper::Extensions::decode(r, "TestMessage09.TestMessage09:ext")? } else { uper::Extensions::new() };
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_bit(self.extensions.is_present())?;
@@ -65,14 +89,21 @@ impl RegTestMessage09 {
     }
 }
 
+impl uper::Placeholder for RegTestMessage09 {
+    fn placeholder() -> Self {
+        Self::Unknown { id: <super::common::RegionId as uper::Placeholder>::placeholder(), content: uper::Octets::new() }
+    }
+}
+
 impl Uper for RegTestMessage09 {
     const PATH: &'static str = "TestMessage09.RegTestMessage09";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(144), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let id = <super::common::RegionId>::decode_uper(r)?;
-        Ok(match id.get() {
-            _ => Self::Unknown { id, content: uper::decode_unknown_open(r, "TestMessage09.RegTestMessage09:unknown")? },
-        })
+        match id.get() {
+            _ => *out = Self::Unknown { id, content: uper::decode_unknown_open(r, "TestMessage09.RegTestMessage09:unknown")? },
+        }
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         match self {

@@ -25,20 +25,62 @@ pub struct TravelerInformation {
     pub extensions: uper::Extensions<64>,
 }
 
+impl uper::Placeholder for TravelerInformation {
+    fn placeholder() -> Self {
+        Self { msg_cnt: <super::common::MsgCount as uper::Placeholder>::placeholder(), time_stamp: None, packet_id: None, url_b: None, data_frames: <TravelerDataFrameList as uper::Placeholder>::placeholder(), regional: None, extensions: uper::Extensions::new() }
+    }
+}
+
 impl Uper for TravelerInformation {
     const PATH: &'static str = "TravelerInformation.TravelerInformation";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(17353445), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let extended = r.read_bit()?;
         let present = r.read_bits(4)?;
-        let f_msg_cnt = <super::common::MsgCount>::decode_uper(r)?;
-        let f_time_stamp = if present & (1 << 3) != 0 { Some(<super::common::MinuteOfTheYear>::decode_uper(r)?) } else { None };
-        let f_packet_id = if present & (1 << 2) != 0 { Some(<UniqueMSGID>::decode_uper(r)?) } else { None };
-        let f_url_b = if present & (1 << 1) != 0 { Some(<URLBase>::decode_uper(r)?) } else { None };
-        let f_data_frames = <TravelerDataFrameList>::decode_uper(r)?;
-        let f_regional = if present & (1 << 0) != 0 { Some(<TravelerInformationRegional>::decode_uper(r)?) } else { None };
-        let extensions = if extended { uper::Extensions::decode(r, "TravelerInformation.TravelerInformation:ext")? } else { uper::Extensions::new() };
-        Ok(Self { msg_cnt: f_msg_cnt, time_stamp: f_time_stamp, packet_id: f_packet_id, url_b: f_url_b, data_frames: f_data_frames, regional: f_regional, extensions })
+        <super::common::MsgCount>::decode_into(r, &mut out.msg_cnt)?;
+        if present & (1 << 3) != 0 {
+            if out.time_stamp.is_none() {
+                uper::fill_option(&mut out.time_stamp);
+            }
+            if let Some(v) = &mut out.time_stamp {
+                <super::common::MinuteOfTheYear>::decode_into(r, v)?;
+            }
+        } else {
+            out.time_stamp = None;
+        }
+        if present & (1 << 2) != 0 {
+            if out.packet_id.is_none() {
+                uper::fill_option(&mut out.packet_id);
+            }
+            if let Some(v) = &mut out.packet_id {
+                <UniqueMSGID>::decode_into(r, v)?;
+            }
+        } else {
+            out.packet_id = None;
+        }
+        if present & (1 << 1) != 0 {
+            if out.url_b.is_none() {
+                uper::fill_option(&mut out.url_b);
+            }
+            if let Some(v) = &mut out.url_b {
+                <URLBase>::decode_into(r, v)?;
+            }
+        } else {
+            out.url_b = None;
+        }
+        <TravelerDataFrameList>::decode_into(r, &mut out.data_frames)?;
+        if present & (1 << 0) != 0 {
+            if out.regional.is_none() {
+                uper::fill_option(&mut out.regional);
+            }
+            if let Some(v) = &mut out.regional {
+                <TravelerInformationRegional>::decode_into(r, v)?;
+            }
+        } else {
+            out.regional = None;
+        }
+        out.extensions = if extended { uper::Extensions::decode(r, "TravelerInformation.TravelerInformation:ext")? } else { uper::Extensions::new() };
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_bit(self.extensions.is_present())?;
@@ -68,11 +110,17 @@ impl Uper for TravelerInformation {
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub struct UniqueMSGID(pub [u8; 9]);
 
+impl uper::Placeholder for UniqueMSGID {
+    fn placeholder() -> Self {
+        Self([0; 9])
+    }
+}
+
 impl Uper for UniqueMSGID {
     const PATH: &'static str = "TravelerInformation.UniqueMSGID";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(72), Some(72));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
-        uper::decode_fixed_octets(r).map(Self)
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+        r.read_octets(&mut out.0)
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_octets(&self.0)
@@ -97,11 +145,18 @@ impl URLBase {
     }
 }
 
+impl uper::Placeholder for URLBase {
+    fn placeholder() -> Self {
+        Self(uper::Ia5::new())
+    }
+}
+
 impl Uper for URLBase {
     const PATH: &'static str = "TravelerInformation.URL-Base";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(321), Some(321));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
-        uper::decode_ia5(r, Self::SIZE, "TravelerInformation.URL-Base").map(Self)
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+        out.0 = uper::decode_ia5(r, Self::SIZE, "TravelerInformation.URL-Base")?;
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_ia5(w, Self::SIZE, &self.0)
@@ -117,7 +172,13 @@ crate::__newtype_deref!(TravelerDataFrameList, uper::SeqOf<TravelerDataFrame, 8>
 impl TravelerDataFrameList {
     const SIZE: uper::Size = uper::Size::range(1, 8);
     /// An empty list (valid for encoding once it holds the minimum number of items).
-    pub const fn new() -> Self {
+    pub fn new() -> Self {
+        Self(uper::SeqOf::new())
+    }
+}
+
+impl uper::Placeholder for TravelerDataFrameList {
+    fn placeholder() -> Self {
         Self(uper::SeqOf::new())
     }
 }
@@ -125,8 +186,8 @@ impl TravelerDataFrameList {
 impl Uper for TravelerDataFrameList {
     const PATH: &'static str = "TravelerInformation.TravelerDataFrameList";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(17350091), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
-        uper::decode_seq_of(r, Self::SIZE, "TravelerInformation.TravelerDataFrameList").map(Self)
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+        uper::decode_seq_of_into(r, Self::SIZE, "TravelerInformation.TravelerDataFrameList", &mut out.0)
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
@@ -166,27 +227,51 @@ pub struct TravelerDataFrame {
     pub extensions: uper::Extensions<64>,
 }
 
+impl uper::Placeholder for TravelerDataFrame {
+    fn placeholder() -> Self {
+        Self { not_used: <super::common::SSPindex as uper::Placeholder>::placeholder(), frame_type: <TravelerInfoType as uper::Placeholder>::placeholder(), msg_id: <TravelerDataFrameMsgId as uper::Placeholder>::placeholder(), start_year: None, start_time: <super::common::MinuteOfTheYear as uper::Placeholder>::placeholder(), duration_time: <MinutesDuration as uper::Placeholder>::placeholder(), priority: <SignPrority as uper::Placeholder>::placeholder(), not_used1: <super::common::SSPindex as uper::Placeholder>::placeholder(), regions: <TravelerDataFrameRegions as uper::Placeholder>::placeholder(), not_used2: <super::common::SSPindex as uper::Placeholder>::placeholder(), not_used3: <super::common::SSPindex as uper::Placeholder>::placeholder(), content: <TravelerDataFrameContent as uper::Placeholder>::placeholder(), url: None, extensions: uper::Extensions::new() }
+    }
+}
+
 impl Uper for TravelerDataFrame {
     const PATH: &'static str = "TravelerInformation.TravelerDataFrame";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(2168761), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let extended = r.read_bit()?;
         let present = r.read_bits(2)?;
-        let f_not_used = <super::common::SSPindex>::decode_uper(r)?;
-        let f_frame_type = <TravelerInfoType>::decode_uper(r)?;
-        let f_msg_id = <TravelerDataFrameMsgId>::decode_uper(r)?;
-        let f_start_year = if present & (1 << 1) != 0 { Some(<super::common::DYear>::decode_uper(r)?) } else { None };
-        let f_start_time = <super::common::MinuteOfTheYear>::decode_uper(r)?;
-        let f_duration_time = <MinutesDuration>::decode_uper(r)?;
-        let f_priority = <SignPrority>::decode_uper(r)?;
-        let f_not_used1 = <super::common::SSPindex>::decode_uper(r)?;
-        let f_regions = <TravelerDataFrameRegions>::decode_uper(r)?;
-        let f_not_used2 = <super::common::SSPindex>::decode_uper(r)?;
-        let f_not_used3 = <super::common::SSPindex>::decode_uper(r)?;
-        let f_content = <TravelerDataFrameContent>::decode_uper(r)?;
-        let f_url = if present & (1 << 0) != 0 { Some(<URLShort>::decode_uper(r)?) } else { None };
-        let extensions = if extended { uper::Extensions::decode(r, "TravelerInformation.TravelerDataFrame:ext")? } else { uper::Extensions::new() };
-        Ok(Self { not_used: f_not_used, frame_type: f_frame_type, msg_id: f_msg_id, start_year: f_start_year, start_time: f_start_time, duration_time: f_duration_time, priority: f_priority, not_used1: f_not_used1, regions: f_regions, not_used2: f_not_used2, not_used3: f_not_used3, content: f_content, url: f_url, extensions })
+        <super::common::SSPindex>::decode_into(r, &mut out.not_used)?;
+        <TravelerInfoType>::decode_into(r, &mut out.frame_type)?;
+        <TravelerDataFrameMsgId>::decode_into(r, &mut out.msg_id)?;
+        if present & (1 << 1) != 0 {
+            if out.start_year.is_none() {
+                uper::fill_option(&mut out.start_year);
+            }
+            if let Some(v) = &mut out.start_year {
+                <super::common::DYear>::decode_into(r, v)?;
+            }
+        } else {
+            out.start_year = None;
+        }
+        <super::common::MinuteOfTheYear>::decode_into(r, &mut out.start_time)?;
+        <MinutesDuration>::decode_into(r, &mut out.duration_time)?;
+        <SignPrority>::decode_into(r, &mut out.priority)?;
+        <super::common::SSPindex>::decode_into(r, &mut out.not_used1)?;
+        <TravelerDataFrameRegions>::decode_into(r, &mut out.regions)?;
+        <super::common::SSPindex>::decode_into(r, &mut out.not_used2)?;
+        <super::common::SSPindex>::decode_into(r, &mut out.not_used3)?;
+        <TravelerDataFrameContent>::decode_into(r, &mut out.content)?;
+        if present & (1 << 0) != 0 {
+            if out.url.is_none() {
+                uper::fill_option(&mut out.url);
+            }
+            if let Some(v) = &mut out.url {
+                <URLShort>::decode_into(r, v)?;
+            }
+        } else {
+            out.url = None;
+        }
+        out.extensions = if extended { uper::Extensions::decode(r, "TravelerInformation.TravelerDataFrame:ext")? } else { uper::Extensions::new() };
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_bit(self.extensions.is_present())?;
@@ -264,18 +349,26 @@ impl TravelerInfoType {
     }
 }
 
+impl uper::Placeholder for TravelerInfoType {
+    fn placeholder() -> Self {
+        Self::Unknown
+    }
+}
+
 impl Uper for TravelerInfoType {
     const PATH: &'static str = "TravelerInformation.TravelerInfoType";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(26), Some(26));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         if r.read_bit()? {
             let at = r.position();
             let i = r.read_normally_small()?;
-            return u16::try_from(i).map(Self::Extension).map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at));
+            *out = u16::try_from(i).map(Self::Extension).map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at))?;
+            return Ok(());
         }
         let at = r.position();
         let i = r.read_constrained(0, 3)?;
-        Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))
+        *out = Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))?;
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         if let Self::Extension(i) = self {
@@ -296,16 +389,37 @@ pub enum TravelerDataFrameMsgId {
     RoadSignID(RoadSignID),
 }
 
+impl uper::Placeholder for TravelerDataFrameMsgId {
+    fn placeholder() -> Self {
+        Self::FurtherInfoID(<super::common::FurtherInfoID as uper::Placeholder>::placeholder())
+    }
+}
+
 impl Uper for TravelerDataFrameMsgId {
     const PATH: &'static str = "TravelerInformation.TravelerDataFrame.msgId";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(408), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let at = r.position();
-        Ok(match r.read_constrained(0, 1)? {
-            0 => Self::FurtherInfoID(<super::common::FurtherInfoID>::decode_uper(r)?),
-            1 => Self::RoadSignID(<RoadSignID>::decode_uper(r)?),
+        match r.read_constrained(0, 1)? {
+            0 => {
+                if !matches!(out, Self::FurtherInfoID(_)) {
+                    uper::replace_with(out, || Self::FurtherInfoID(<super::common::FurtherInfoID as uper::Placeholder>::placeholder()));
+                }
+                if let Self::FurtherInfoID(v) = out {
+                    <super::common::FurtherInfoID>::decode_into(r, v)?;
+                }
+            }
+            1 => {
+                if !matches!(out, Self::RoadSignID(_)) {
+                    uper::replace_with(out, || Self::RoadSignID(<RoadSignID as uper::Placeholder>::placeholder()));
+                }
+                if let Self::RoadSignID(v) = out {
+                    <RoadSignID>::decode_into(r, v)?;
+                }
+            }
             _ => return Err(uper::DecodeError::new(uper::DecodeErrorKind::InvalidChoiceIndex, at)),
-        })
+        }
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         match self {
@@ -328,16 +442,40 @@ pub struct RoadSignID {
     pub crc: Option<MsgCRC>,
 }
 
+impl uper::Placeholder for RoadSignID {
+    fn placeholder() -> Self {
+        Self { position: <super::common::Position3D as uper::Placeholder>::placeholder(), view_angle: <super::common::HeadingSlice as uper::Placeholder>::placeholder(), mutcd_code: None, crc: None }
+    }
+}
+
 impl Uper for RoadSignID {
     const PATH: &'static str = "TravelerInformation.RoadSignID";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(407), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let present = r.read_bits(2)?;
-        let f_position = <super::common::Position3D>::decode_uper(r)?;
-        let f_view_angle = <super::common::HeadingSlice>::decode_uper(r)?;
-        let f_mutcd_code = if present & (1 << 1) != 0 { Some(<MUTCDCode>::decode_uper(r)?) } else { None };
-        let f_crc = if present & (1 << 0) != 0 { Some(<MsgCRC>::decode_uper(r)?) } else { None };
-        Ok(Self { position: f_position, view_angle: f_view_angle, mutcd_code: f_mutcd_code, crc: f_crc })
+        <super::common::Position3D>::decode_into(r, &mut out.position)?;
+        <super::common::HeadingSlice>::decode_into(r, &mut out.view_angle)?;
+        if present & (1 << 1) != 0 {
+            if out.mutcd_code.is_none() {
+                uper::fill_option(&mut out.mutcd_code);
+            }
+            if let Some(v) = &mut out.mutcd_code {
+                <MUTCDCode>::decode_into(r, v)?;
+            }
+        } else {
+            out.mutcd_code = None;
+        }
+        if present & (1 << 0) != 0 {
+            if out.crc.is_none() {
+                uper::fill_option(&mut out.crc);
+            }
+            if let Some(v) = &mut out.crc {
+                <MsgCRC>::decode_into(r, v)?;
+            }
+        } else {
+            out.crc = None;
+        }
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_bits(((self.mutcd_code.is_some() as u64) << 1) | ((self.crc.is_some() as u64) << 0), 2)?;
@@ -417,18 +555,26 @@ impl MUTCDCode {
     }
 }
 
+impl uper::Placeholder for MUTCDCode {
+    fn placeholder() -> Self {
+        Self::None
+    }
+}
+
 impl Uper for MUTCDCode {
     const PATH: &'static str = "TravelerInformation.MUTCDCode";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(26), Some(26));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         if r.read_bit()? {
             let at = r.position();
             let i = r.read_normally_small()?;
-            return u16::try_from(i).map(Self::Extension).map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at));
+            *out = u16::try_from(i).map(Self::Extension).map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at))?;
+            return Ok(());
         }
         let at = r.position();
         let i = r.read_constrained(0, 6)?;
-        Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))
+        *out = Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))?;
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         if let Self::Extension(i) = self {
@@ -444,11 +590,17 @@ impl Uper for MUTCDCode {
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub struct MsgCRC(pub [u8; 2]);
 
+impl uper::Placeholder for MsgCRC {
+    fn placeholder() -> Self {
+        Self([0; 2])
+    }
+}
+
 impl Uper for MsgCRC {
     const PATH: &'static str = "TravelerInformation.MsgCRC";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(16), Some(16));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
-        uper::decode_fixed_octets(r).map(Self)
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+        r.read_octets(&mut out.0)
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_octets(&self.0)
@@ -478,7 +630,13 @@ crate::__newtype_deref!(TravelerDataFrameRegions, uper::SeqOf<GeographicalPath, 
 impl TravelerDataFrameRegions {
     const SIZE: uper::Size = uper::Size::range(1, 16);
     /// An empty list (valid for encoding once it holds the minimum number of items).
-    pub const fn new() -> Self {
+    pub fn new() -> Self {
+        Self(uper::SeqOf::new())
+    }
+}
+
+impl uper::Placeholder for TravelerDataFrameRegions {
+    fn placeholder() -> Self {
         Self(uper::SeqOf::new())
     }
 }
@@ -486,8 +644,8 @@ impl TravelerDataFrameRegions {
 impl Uper for TravelerDataFrameRegions {
     const PATH: &'static str = "TravelerInformation.TravelerDataFrame.regions";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(2165476), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
-        uper::decode_seq_of(r, Self::SIZE, "TravelerInformation.TravelerDataFrame.regions").map(Self)
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+        uper::decode_seq_of_into(r, Self::SIZE, "TravelerInformation.TravelerDataFrame.regions", &mut out.0)
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
@@ -519,23 +677,110 @@ pub struct GeographicalPath {
     pub extensions: uper::Extensions<0>,
 }
 
+impl uper::Placeholder for GeographicalPath {
+    fn placeholder() -> Self {
+        Self { name: None, id: None, anchor: None, lane_width: None, directionality: None, closed_path: None, direction: None, description: None, regional: None, extensions: uper::Extensions::new() }
+    }
+}
+
 impl Uper for GeographicalPath {
     const PATH: &'static str = "TravelerInformation.GeographicalPath";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(135342), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let extended = r.read_bit()?;
         let present = r.read_bits(9)?;
-        let f_name = if present & (1 << 8) != 0 { Some(<super::common::DescriptiveName>::decode_uper(r)?) } else { None };
-        let f_id = if present & (1 << 7) != 0 { Some(<super::common::RoadSegmentReferenceID>::decode_uper(r)?) } else { None };
-        let f_anchor = if present & (1 << 6) != 0 { Some(<super::common::Position3D>::decode_uper(r)?) } else { None };
-        let f_lane_width = if present & (1 << 5) != 0 { Some(<super::common::LaneWidth>::decode_uper(r)?) } else { None };
-        let f_directionality = if present & (1 << 4) != 0 { Some(<DirectionOfUse>::decode_uper(r)?) } else { None };
-        let f_closed_path = if present & (1 << 3) != 0 { Some(<bool>::decode_uper(r)?) } else { None };
-        let f_direction = if present & (1 << 2) != 0 { Some(<super::common::HeadingSlice>::decode_uper(r)?) } else { None };
-        let f_description = if present & (1 << 1) != 0 { Some(<GeographicalPathDescription>::decode_uper(r)?) } else { None };
-        let f_regional = if present & (1 << 0) != 0 { Some(<GeographicalPathRegional>::decode_uper(r)?) } else { None };
-        let extensions = if extended { uper::Extensions::decode(r, "TravelerInformation.GeographicalPath:ext")? } else { uper::Extensions::new() };
-        Ok(Self { name: f_name, id: f_id, anchor: f_anchor, lane_width: f_lane_width, directionality: f_directionality, closed_path: f_closed_path, direction: f_direction, description: f_description, regional: f_regional, extensions })
+        if present & (1 << 8) != 0 {
+            if out.name.is_none() {
+                uper::fill_option(&mut out.name);
+            }
+            if let Some(v) = &mut out.name {
+                <super::common::DescriptiveName>::decode_into(r, v)?;
+            }
+        } else {
+            out.name = None;
+        }
+        if present & (1 << 7) != 0 {
+            if out.id.is_none() {
+                uper::fill_option(&mut out.id);
+            }
+            if let Some(v) = &mut out.id {
+                <super::common::RoadSegmentReferenceID>::decode_into(r, v)?;
+            }
+        } else {
+            out.id = None;
+        }
+        if present & (1 << 6) != 0 {
+            if out.anchor.is_none() {
+                uper::fill_option(&mut out.anchor);
+            }
+            if let Some(v) = &mut out.anchor {
+                <super::common::Position3D>::decode_into(r, v)?;
+            }
+        } else {
+            out.anchor = None;
+        }
+        if present & (1 << 5) != 0 {
+            if out.lane_width.is_none() {
+                uper::fill_option(&mut out.lane_width);
+            }
+            if let Some(v) = &mut out.lane_width {
+                <super::common::LaneWidth>::decode_into(r, v)?;
+            }
+        } else {
+            out.lane_width = None;
+        }
+        if present & (1 << 4) != 0 {
+            if out.directionality.is_none() {
+                uper::fill_option(&mut out.directionality);
+            }
+            if let Some(v) = &mut out.directionality {
+                <DirectionOfUse>::decode_into(r, v)?;
+            }
+        } else {
+            out.directionality = None;
+        }
+        if present & (1 << 3) != 0 {
+            if out.closed_path.is_none() {
+                uper::fill_option(&mut out.closed_path);
+            }
+            if let Some(v) = &mut out.closed_path {
+                <bool>::decode_into(r, v)?;
+            }
+        } else {
+            out.closed_path = None;
+        }
+        if present & (1 << 2) != 0 {
+            if out.direction.is_none() {
+                uper::fill_option(&mut out.direction);
+            }
+            if let Some(v) = &mut out.direction {
+                <super::common::HeadingSlice>::decode_into(r, v)?;
+            }
+        } else {
+            out.direction = None;
+        }
+        if present & (1 << 1) != 0 {
+            if out.description.is_none() {
+                uper::fill_option(&mut out.description);
+            }
+            if let Some(v) = &mut out.description {
+                <GeographicalPathDescription>::decode_into(r, v)?;
+            }
+        } else {
+            out.description = None;
+        }
+        if present & (1 << 0) != 0 {
+            if out.regional.is_none() {
+                uper::fill_option(&mut out.regional);
+            }
+            if let Some(v) = &mut out.regional {
+                <GeographicalPathRegional>::decode_into(r, v)?;
+            }
+        } else {
+            out.regional = None;
+        }
+        out.extensions = if extended { uper::Extensions::decode(r, "TravelerInformation.GeographicalPath:ext")? } else { uper::Extensions::new() };
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_bit(self.extensions.is_present())?;
@@ -618,13 +863,20 @@ impl DirectionOfUse {
     }
 }
 
+impl uper::Placeholder for DirectionOfUse {
+    fn placeholder() -> Self {
+        Self::Unavailable
+    }
+}
+
 impl Uper for DirectionOfUse {
     const PATH: &'static str = "TravelerInformation.DirectionOfUse";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(2), Some(2));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let at = r.position();
         let i = r.read_constrained(0, 3)?;
-        Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))
+        *out = Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))?;
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_constrained(self.root_index(), 0, 3)
@@ -649,23 +901,52 @@ pub enum GeographicalPathDescription {
     },
 }
 
+impl uper::Placeholder for GeographicalPathDescription {
+    fn placeholder() -> Self {
+        Self::Path(<OffsetSystem as uper::Placeholder>::placeholder())
+    }
+}
+
 impl Uper for GeographicalPathDescription {
     const PATH: &'static str = "TravelerInformation.GeographicalPath.description";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(134238), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         if r.read_bit()? {
             let at = r.position();
             let index = u16::try_from(r.read_normally_small()?).map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at))?;
             let content = uper::decode_unknown_open(r, "TravelerInformation.GeographicalPath.description:unknown")?;
-            return Ok(Self::Extension { index, content });
+            *out = Self::Extension { index, content };
+            return Ok(());
         }
         let at = r.position();
-        Ok(match r.read_constrained(0, 2)? {
-            0 => Self::Path(<OffsetSystem>::decode_uper(r)?),
-            1 => Self::Geometry(<GeometricProjection>::decode_uper(r)?),
-            2 => Self::OldRegion(<ValidRegion>::decode_uper(r)?),
+        match r.read_constrained(0, 2)? {
+            0 => {
+                if !matches!(out, Self::Path(_)) {
+                    uper::replace_with(out, || Self::Path(<OffsetSystem as uper::Placeholder>::placeholder()));
+                }
+                if let Self::Path(v) = out {
+                    <OffsetSystem>::decode_into(r, v)?;
+                }
+            }
+            1 => {
+                if !matches!(out, Self::Geometry(_)) {
+                    uper::replace_with(out, || Self::Geometry(<GeometricProjection as uper::Placeholder>::placeholder()));
+                }
+                if let Self::Geometry(v) = out {
+                    <GeometricProjection>::decode_into(r, v)?;
+                }
+            }
+            2 => {
+                if !matches!(out, Self::OldRegion(_)) {
+                    uper::replace_with(out, || Self::OldRegion(<ValidRegion as uper::Placeholder>::placeholder()));
+                }
+                if let Self::OldRegion(v) = out {
+                    <ValidRegion>::decode_into(r, v)?;
+                }
+            }
             _ => return Err(uper::DecodeError::new(uper::DecodeErrorKind::InvalidChoiceIndex, at)),
-        })
+        }
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         match self {
@@ -690,14 +971,29 @@ pub struct OffsetSystem {
     pub offset: OffsetSystemOffset,
 }
 
+impl uper::Placeholder for OffsetSystem {
+    fn placeholder() -> Self {
+        Self { scale: None, offset: <OffsetSystemOffset as uper::Placeholder>::placeholder() }
+    }
+}
+
 impl Uper for OffsetSystem {
     const PATH: &'static str = "TravelerInformation.OffsetSystem";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(133763), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let present = r.read_bits(1)?;
-        let f_scale = if present & (1 << 0) != 0 { Some(<Zoom>::decode_uper(r)?) } else { None };
-        let f_offset = <OffsetSystemOffset>::decode_uper(r)?;
-        Ok(Self { scale: f_scale, offset: f_offset })
+        if present & (1 << 0) != 0 {
+            if out.scale.is_none() {
+                uper::fill_option(&mut out.scale);
+            }
+            if let Some(v) = &mut out.scale {
+                <Zoom>::decode_into(r, v)?;
+            }
+        } else {
+            out.scale = None;
+        }
+        <OffsetSystemOffset>::decode_into(r, &mut out.offset)?;
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_bits(self.scale.is_some() as u64, 1)?;
@@ -723,16 +1019,37 @@ pub enum OffsetSystemOffset {
     Ll(NodeListLL),
 }
 
+impl uper::Placeholder for OffsetSystemOffset {
+    fn placeholder() -> Self {
+        Self::Xy(<super::common::NodeListXY as uper::Placeholder>::placeholder())
+    }
+}
+
 impl Uper for OffsetSystemOffset {
     const PATH: &'static str = "TravelerInformation.OffsetSystem.offset";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(133758), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let at = r.position();
-        Ok(match r.read_constrained(0, 1)? {
-            0 => Self::Xy(<super::common::NodeListXY>::decode_uper(r)?),
-            1 => Self::Ll(<NodeListLL>::decode_uper(r)?),
+        match r.read_constrained(0, 1)? {
+            0 => {
+                if !matches!(out, Self::Xy(_)) {
+                    uper::replace_with(out, || Self::Xy(<super::common::NodeListXY as uper::Placeholder>::placeholder()));
+                }
+                if let Self::Xy(v) = out {
+                    <super::common::NodeListXY>::decode_into(r, v)?;
+                }
+            }
+            1 => {
+                if !matches!(out, Self::Ll(_)) {
+                    uper::replace_with(out, || Self::Ll(<NodeListLL as uper::Placeholder>::placeholder()));
+                }
+                if let Self::Ll(v) = out {
+                    <NodeListLL>::decode_into(r, v)?;
+                }
+            }
             _ => return Err(uper::DecodeError::new(uper::DecodeErrorKind::InvalidChoiceIndex, at)),
-        })
+        }
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         match self {
@@ -756,21 +1073,36 @@ pub enum NodeListLL {
     },
 }
 
+impl uper::Placeholder for NodeListLL {
+    fn placeholder() -> Self {
+        Self::Nodes(<NodeSetLL as uper::Placeholder>::placeholder())
+    }
+}
+
 impl Uper for NodeListLL {
     const PATH: &'static str = "TravelerInformation.NodeListLL";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(132874), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         if r.read_bit()? {
             let at = r.position();
             let index = u16::try_from(r.read_normally_small()?).map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at))?;
             let content = uper::decode_unknown_open(r, "TravelerInformation.NodeListLL:unknown")?;
-            return Ok(Self::Extension { index, content });
+            *out = Self::Extension { index, content };
+            return Ok(());
         }
         let at = r.position();
-        Ok(match r.read_constrained(0, 0)? {
-            0 => Self::Nodes(<NodeSetLL>::decode_uper(r)?),
+        match r.read_constrained(0, 0)? {
+            0 => {
+                if !matches!(out, Self::Nodes(_)) {
+                    uper::replace_with(out, || Self::Nodes(<NodeSetLL as uper::Placeholder>::placeholder()));
+                }
+                if let Self::Nodes(v) = out {
+                    <NodeSetLL>::decode_into(r, v)?;
+                }
+            }
             _ => return Err(uper::DecodeError::new(uper::DecodeErrorKind::InvalidChoiceIndex, at)),
-        })
+        }
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         match self {
@@ -793,7 +1125,13 @@ crate::__newtype_deref!(NodeSetLL, uper::SeqOf<NodeLL, 63>);
 impl NodeSetLL {
     const SIZE: uper::Size = uper::Size::range(2, 63);
     /// An empty list (valid for encoding once it holds the minimum number of items).
-    pub const fn new() -> Self {
+    pub fn new() -> Self {
+        Self(uper::SeqOf::new())
+    }
+}
+
+impl uper::Placeholder for NodeSetLL {
+    fn placeholder() -> Self {
         Self(uper::SeqOf::new())
     }
 }
@@ -801,8 +1139,8 @@ impl NodeSetLL {
 impl Uper for NodeSetLL {
     const PATH: &'static str = "TravelerInformation.NodeSetLL";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(132873), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
-        uper::decode_seq_of(r, Self::SIZE, "TravelerInformation.NodeSetLL").map(Self)
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+        uper::decode_seq_of_into(r, Self::SIZE, "TravelerInformation.NodeSetLL", &mut out.0)
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
@@ -820,16 +1158,31 @@ pub struct NodeLL {
     pub extensions: uper::Extensions<0>,
 }
 
+impl uper::Placeholder for NodeLL {
+    fn placeholder() -> Self {
+        Self { delta: <NodeOffsetPointLL as uper::Placeholder>::placeholder(), attributes: None, extensions: uper::Extensions::new() }
+    }
+}
+
 impl Uper for NodeLL {
     const PATH: &'static str = "TravelerInformation.NodeLL";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(2109), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let extended = r.read_bit()?;
         let present = r.read_bits(1)?;
-        let f_delta = <NodeOffsetPointLL>::decode_uper(r)?;
-        let f_attributes = if present & (1 << 0) != 0 { Some(<NodeAttributeSetLL>::decode_uper(r)?) } else { None };
-        let extensions = if extended { uper::Extensions::decode(r, "TravelerInformation.NodeLL:ext")? } else { uper::Extensions::new() };
-        Ok(Self { delta: f_delta, attributes: f_attributes, extensions })
+        <NodeOffsetPointLL>::decode_into(r, &mut out.delta)?;
+        if present & (1 << 0) != 0 {
+            if out.attributes.is_none() {
+                uper::fill_option(&mut out.attributes);
+            }
+            if let Some(v) = &mut out.attributes {
+                <NodeAttributeSetLL>::decode_into(r, v)?;
+            }
+        } else {
+            out.attributes = None;
+        }
+        out.extensions = if extended { uper::Extensions::decode(r, "TravelerInformation.NodeLL:ext")? } else { uper::Extensions::new() };
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_bit(self.extensions.is_present())?;
@@ -866,22 +1219,85 @@ pub enum NodeOffsetPointLL {
     Regional(RegNodeOffsetPointLL),
 }
 
+impl uper::Placeholder for NodeOffsetPointLL {
+    fn placeholder() -> Self {
+        Self::NodeLL1(<NodeLL24B as uper::Placeholder>::placeholder())
+    }
+}
+
 impl Uper for NodeOffsetPointLL {
     const PATH: &'static str = "TravelerInformation.NodeOffsetPointLL";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(147), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let at = r.position();
-        Ok(match r.read_constrained(0, 7)? {
-            0 => Self::NodeLL1(<NodeLL24B>::decode_uper(r)?),
-            1 => Self::NodeLL2(<NodeLL28B>::decode_uper(r)?),
-            2 => Self::NodeLL3(<NodeLL32B>::decode_uper(r)?),
-            3 => Self::NodeLL4(<NodeLL36B>::decode_uper(r)?),
-            4 => Self::NodeLL5(<NodeLL44B>::decode_uper(r)?),
-            5 => Self::NodeLL6(<NodeLL48B>::decode_uper(r)?),
-            6 => Self::NodeLatLon(<super::common::NodeLLmD64b>::decode_uper(r)?),
-            7 => Self::Regional(<RegNodeOffsetPointLL>::decode_uper(r)?),
+        match r.read_constrained(0, 7)? {
+            0 => {
+                if !matches!(out, Self::NodeLL1(_)) {
+                    uper::replace_with(out, || Self::NodeLL1(<NodeLL24B as uper::Placeholder>::placeholder()));
+                }
+                if let Self::NodeLL1(v) = out {
+                    <NodeLL24B>::decode_into(r, v)?;
+                }
+            }
+            1 => {
+                if !matches!(out, Self::NodeLL2(_)) {
+                    uper::replace_with(out, || Self::NodeLL2(<NodeLL28B as uper::Placeholder>::placeholder()));
+                }
+                if let Self::NodeLL2(v) = out {
+                    <NodeLL28B>::decode_into(r, v)?;
+                }
+            }
+            2 => {
+                if !matches!(out, Self::NodeLL3(_)) {
+                    uper::replace_with(out, || Self::NodeLL3(<NodeLL32B as uper::Placeholder>::placeholder()));
+                }
+                if let Self::NodeLL3(v) = out {
+                    <NodeLL32B>::decode_into(r, v)?;
+                }
+            }
+            3 => {
+                if !matches!(out, Self::NodeLL4(_)) {
+                    uper::replace_with(out, || Self::NodeLL4(<NodeLL36B as uper::Placeholder>::placeholder()));
+                }
+                if let Self::NodeLL4(v) = out {
+                    <NodeLL36B>::decode_into(r, v)?;
+                }
+            }
+            4 => {
+                if !matches!(out, Self::NodeLL5(_)) {
+                    uper::replace_with(out, || Self::NodeLL5(<NodeLL44B as uper::Placeholder>::placeholder()));
+                }
+                if let Self::NodeLL5(v) = out {
+                    <NodeLL44B>::decode_into(r, v)?;
+                }
+            }
+            5 => {
+                if !matches!(out, Self::NodeLL6(_)) {
+                    uper::replace_with(out, || Self::NodeLL6(<NodeLL48B as uper::Placeholder>::placeholder()));
+                }
+                if let Self::NodeLL6(v) = out {
+                    <NodeLL48B>::decode_into(r, v)?;
+                }
+            }
+            6 => {
+                if !matches!(out, Self::NodeLatLon(_)) {
+                    uper::replace_with(out, || Self::NodeLatLon(<super::common::NodeLLmD64b as uper::Placeholder>::placeholder()));
+                }
+                if let Self::NodeLatLon(v) = out {
+                    <super::common::NodeLLmD64b>::decode_into(r, v)?;
+                }
+            }
+            7 => {
+                if !matches!(out, Self::Regional(_)) {
+                    uper::replace_with(out, || Self::Regional(<RegNodeOffsetPointLL as uper::Placeholder>::placeholder()));
+                }
+                if let Self::Regional(v) = out {
+                    <RegNodeOffsetPointLL>::decode_into(r, v)?;
+                }
+            }
             _ => return Err(uper::DecodeError::new(uper::DecodeErrorKind::InvalidChoiceIndex, at)),
-        })
+        }
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         match self {
@@ -906,13 +1322,19 @@ pub struct NodeLL24B {
     pub lat: OffsetLLB12,
 }
 
+impl uper::Placeholder for NodeLL24B {
+    fn placeholder() -> Self {
+        Self { lon: <OffsetLLB12 as uper::Placeholder>::placeholder(), lat: <OffsetLLB12 as uper::Placeholder>::placeholder() }
+    }
+}
+
 impl Uper for NodeLL24B {
     const PATH: &'static str = "TravelerInformation.Node-LL-24B";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(24), Some(24));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
-        let f_lon = <OffsetLLB12>::decode_uper(r)?;
-        let f_lat = <OffsetLLB12>::decode_uper(r)?;
-        Ok(Self { lon: f_lon, lat: f_lat })
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+        <OffsetLLB12>::decode_into(r, &mut out.lon)?;
+        <OffsetLLB12>::decode_into(r, &mut out.lat)?;
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         self.lon.encode_uper(w)?;
@@ -935,13 +1357,19 @@ pub struct NodeLL28B {
     pub lat: OffsetLLB14,
 }
 
+impl uper::Placeholder for NodeLL28B {
+    fn placeholder() -> Self {
+        Self { lon: <OffsetLLB14 as uper::Placeholder>::placeholder(), lat: <OffsetLLB14 as uper::Placeholder>::placeholder() }
+    }
+}
+
 impl Uper for NodeLL28B {
     const PATH: &'static str = "TravelerInformation.Node-LL-28B";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(28), Some(28));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
-        let f_lon = <OffsetLLB14>::decode_uper(r)?;
-        let f_lat = <OffsetLLB14>::decode_uper(r)?;
-        Ok(Self { lon: f_lon, lat: f_lat })
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+        <OffsetLLB14>::decode_into(r, &mut out.lon)?;
+        <OffsetLLB14>::decode_into(r, &mut out.lat)?;
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         self.lon.encode_uper(w)?;
@@ -964,13 +1392,19 @@ pub struct NodeLL32B {
     pub lat: OffsetLLB16,
 }
 
+impl uper::Placeholder for NodeLL32B {
+    fn placeholder() -> Self {
+        Self { lon: <OffsetLLB16 as uper::Placeholder>::placeholder(), lat: <OffsetLLB16 as uper::Placeholder>::placeholder() }
+    }
+}
+
 impl Uper for NodeLL32B {
     const PATH: &'static str = "TravelerInformation.Node-LL-32B";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(32), Some(32));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
-        let f_lon = <OffsetLLB16>::decode_uper(r)?;
-        let f_lat = <OffsetLLB16>::decode_uper(r)?;
-        Ok(Self { lon: f_lon, lat: f_lat })
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+        <OffsetLLB16>::decode_into(r, &mut out.lon)?;
+        <OffsetLLB16>::decode_into(r, &mut out.lat)?;
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         self.lon.encode_uper(w)?;
@@ -993,13 +1427,19 @@ pub struct NodeLL36B {
     pub lat: super::common::OffsetLLB18,
 }
 
+impl uper::Placeholder for NodeLL36B {
+    fn placeholder() -> Self {
+        Self { lon: <super::common::OffsetLLB18 as uper::Placeholder>::placeholder(), lat: <super::common::OffsetLLB18 as uper::Placeholder>::placeholder() }
+    }
+}
+
 impl Uper for NodeLL36B {
     const PATH: &'static str = "TravelerInformation.Node-LL-36B";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(36), Some(36));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
-        let f_lon = <super::common::OffsetLLB18>::decode_uper(r)?;
-        let f_lat = <super::common::OffsetLLB18>::decode_uper(r)?;
-        Ok(Self { lon: f_lon, lat: f_lat })
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+        <super::common::OffsetLLB18>::decode_into(r, &mut out.lon)?;
+        <super::common::OffsetLLB18>::decode_into(r, &mut out.lat)?;
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         self.lon.encode_uper(w)?;
@@ -1017,13 +1457,19 @@ pub struct NodeLL44B {
     pub lat: OffsetLLB22,
 }
 
+impl uper::Placeholder for NodeLL44B {
+    fn placeholder() -> Self {
+        Self { lon: <OffsetLLB22 as uper::Placeholder>::placeholder(), lat: <OffsetLLB22 as uper::Placeholder>::placeholder() }
+    }
+}
+
 impl Uper for NodeLL44B {
     const PATH: &'static str = "TravelerInformation.Node-LL-44B";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(44), Some(44));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
-        let f_lon = <OffsetLLB22>::decode_uper(r)?;
-        let f_lat = <OffsetLLB22>::decode_uper(r)?;
-        Ok(Self { lon: f_lon, lat: f_lat })
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+        <OffsetLLB22>::decode_into(r, &mut out.lon)?;
+        <OffsetLLB22>::decode_into(r, &mut out.lat)?;
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         self.lon.encode_uper(w)?;
@@ -1046,13 +1492,19 @@ pub struct NodeLL48B {
     pub lat: OffsetLLB24,
 }
 
+impl uper::Placeholder for NodeLL48B {
+    fn placeholder() -> Self {
+        Self { lon: <OffsetLLB24 as uper::Placeholder>::placeholder(), lat: <OffsetLLB24 as uper::Placeholder>::placeholder() }
+    }
+}
+
 impl Uper for NodeLL48B {
     const PATH: &'static str = "TravelerInformation.Node-LL-48B";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(48), Some(48));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
-        let f_lon = <OffsetLLB24>::decode_uper(r)?;
-        let f_lat = <OffsetLLB24>::decode_uper(r)?;
-        Ok(Self { lon: f_lon, lat: f_lat })
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+        <OffsetLLB24>::decode_into(r, &mut out.lon)?;
+        <OffsetLLB24>::decode_into(r, &mut out.lat)?;
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         self.lon.encode_uper(w)?;
@@ -1087,14 +1539,21 @@ impl RegNodeOffsetPointLL {
     }
 }
 
+impl uper::Placeholder for RegNodeOffsetPointLL {
+    fn placeholder() -> Self {
+        Self::Unknown { id: <super::common::RegionId as uper::Placeholder>::placeholder(), content: uper::Octets::new() }
+    }
+}
+
 impl Uper for RegNodeOffsetPointLL {
     const PATH: &'static str = "TravelerInformation.RegNodeOffsetPointLL";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(144), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let id = <super::common::RegionId>::decode_uper(r)?;
-        Ok(match id.get() {
-            _ => Self::Unknown { id, content: uper::decode_unknown_open(r, "TravelerInformation.RegNodeOffsetPointLL:unknown")? },
-        })
+        match id.get() {
+            _ => *out = Self::Unknown { id, content: uper::decode_unknown_open(r, "TravelerInformation.RegNodeOffsetPointLL:unknown")? },
+        }
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         match self {
@@ -1127,21 +1586,90 @@ pub struct NodeAttributeSetLL {
     pub extensions: uper::Extensions<0>,
 }
 
+impl uper::Placeholder for NodeAttributeSetLL {
+    fn placeholder() -> Self {
+        Self { local_node: None, disabled: None, enabled: None, data: None, d_width: None, d_elevation: None, regional: None, extensions: uper::Extensions::new() }
+    }
+}
+
 impl Uper for NodeAttributeSetLL {
     const PATH: &'static str = "TravelerInformation.NodeAttributeSetLL";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(1873), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let extended = r.read_bit()?;
         let present = r.read_bits(7)?;
-        let f_local_node = if present & (1 << 6) != 0 { Some(<NodeAttributeLLList>::decode_uper(r)?) } else { None };
-        let f_disabled = if present & (1 << 5) != 0 { Some(<SegmentAttributeLLList>::decode_uper(r)?) } else { None };
-        let f_enabled = if present & (1 << 4) != 0 { Some(<SegmentAttributeLLList>::decode_uper(r)?) } else { None };
-        let f_data = if present & (1 << 3) != 0 { Some(<super::common::LaneDataAttributeList>::decode_uper(r)?) } else { None };
-        let f_d_width = if present & (1 << 2) != 0 { Some(<super::common::OffsetB10>::decode_uper(r)?) } else { None };
-        let f_d_elevation = if present & (1 << 1) != 0 { Some(<super::common::OffsetB10>::decode_uper(r)?) } else { None };
-        let f_regional = if present & (1 << 0) != 0 { Some(<NodeAttributeSetLLRegional>::decode_uper(r)?) } else { None };
-        let extensions = if extended { uper::Extensions::decode(r, "TravelerInformation.NodeAttributeSetLL:ext")? } else { uper::Extensions::new() };
-        Ok(Self { local_node: f_local_node, disabled: f_disabled, enabled: f_enabled, data: f_data, d_width: f_d_width, d_elevation: f_d_elevation, regional: f_regional, extensions })
+        if present & (1 << 6) != 0 {
+            if out.local_node.is_none() {
+                uper::fill_option(&mut out.local_node);
+            }
+            if let Some(v) = &mut out.local_node {
+                <NodeAttributeLLList>::decode_into(r, v)?;
+            }
+        } else {
+            out.local_node = None;
+        }
+        if present & (1 << 5) != 0 {
+            if out.disabled.is_none() {
+                uper::fill_option(&mut out.disabled);
+            }
+            if let Some(v) = &mut out.disabled {
+                <SegmentAttributeLLList>::decode_into(r, v)?;
+            }
+        } else {
+            out.disabled = None;
+        }
+        if present & (1 << 4) != 0 {
+            if out.enabled.is_none() {
+                uper::fill_option(&mut out.enabled);
+            }
+            if let Some(v) = &mut out.enabled {
+                <SegmentAttributeLLList>::decode_into(r, v)?;
+            }
+        } else {
+            out.enabled = None;
+        }
+        if present & (1 << 3) != 0 {
+            if out.data.is_none() {
+                uper::fill_option(&mut out.data);
+            }
+            if let Some(v) = &mut out.data {
+                <super::common::LaneDataAttributeList>::decode_into(r, v)?;
+            }
+        } else {
+            out.data = None;
+        }
+        if present & (1 << 2) != 0 {
+            if out.d_width.is_none() {
+                uper::fill_option(&mut out.d_width);
+            }
+            if let Some(v) = &mut out.d_width {
+                <super::common::OffsetB10>::decode_into(r, v)?;
+            }
+        } else {
+            out.d_width = None;
+        }
+        if present & (1 << 1) != 0 {
+            if out.d_elevation.is_none() {
+                uper::fill_option(&mut out.d_elevation);
+            }
+            if let Some(v) = &mut out.d_elevation {
+                <super::common::OffsetB10>::decode_into(r, v)?;
+            }
+        } else {
+            out.d_elevation = None;
+        }
+        if present & (1 << 0) != 0 {
+            if out.regional.is_none() {
+                uper::fill_option(&mut out.regional);
+            }
+            if let Some(v) = &mut out.regional {
+                <NodeAttributeSetLLRegional>::decode_into(r, v)?;
+            }
+        } else {
+            out.regional = None;
+        }
+        out.extensions = if extended { uper::Extensions::decode(r, "TravelerInformation.NodeAttributeSetLL:ext")? } else { uper::Extensions::new() };
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_bit(self.extensions.is_present())?;
@@ -1183,7 +1711,13 @@ crate::__newtype_deref!(NodeAttributeLLList, uper::SeqOf<NodeAttributeLL, 5>);
 impl NodeAttributeLLList {
     const SIZE: uper::Size = uper::Size::range(1, 8);
     /// An empty list (valid for encoding once it holds the minimum number of items).
-    pub const fn new() -> Self {
+    pub fn new() -> Self {
+        Self(uper::SeqOf::new())
+    }
+}
+
+impl uper::Placeholder for NodeAttributeLLList {
+    fn placeholder() -> Self {
         Self(uper::SeqOf::new())
     }
 }
@@ -1191,8 +1725,8 @@ impl NodeAttributeLLList {
 impl Uper for NodeAttributeLLList {
     const PATH: &'static str = "TravelerInformation.NodeAttributeLLList";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(133), Some(211));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
-        uper::decode_seq_of(r, Self::SIZE, "TravelerInformation.NodeAttributeLLList").map(Self)
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+        uper::decode_seq_of_into(r, Self::SIZE, "TravelerInformation.NodeAttributeLLList", &mut out.0)
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
@@ -1288,18 +1822,26 @@ impl NodeAttributeLL {
     }
 }
 
+impl uper::Placeholder for NodeAttributeLL {
+    fn placeholder() -> Self {
+        Self::Reserved
+    }
+}
+
 impl Uper for NodeAttributeLL {
     const PATH: &'static str = "TravelerInformation.NodeAttributeLL";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(26), Some(26));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         if r.read_bit()? {
             let at = r.position();
             let i = r.read_normally_small()?;
-            return u16::try_from(i).map(Self::Extension).map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at));
+            *out = u16::try_from(i).map(Self::Extension).map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at))?;
+            return Ok(());
         }
         let at = r.position();
         let i = r.read_constrained(0, 11)?;
-        Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))
+        *out = Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))?;
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         if let Self::Extension(i) = self {
@@ -1320,7 +1862,13 @@ crate::__newtype_deref!(SegmentAttributeLLList, uper::SeqOf<SegmentAttributeLL, 
 impl SegmentAttributeLLList {
     const SIZE: uper::Size = uper::Size::range(1, 8);
     /// An empty list (valid for encoding once it holds the minimum number of items).
-    pub const fn new() -> Self {
+    pub fn new() -> Self {
+        Self(uper::SeqOf::new())
+    }
+}
+
+impl uper::Placeholder for SegmentAttributeLLList {
+    fn placeholder() -> Self {
         Self(uper::SeqOf::new())
     }
 }
@@ -1328,8 +1876,8 @@ impl SegmentAttributeLLList {
 impl Uper for SegmentAttributeLLList {
     const PATH: &'static str = "TravelerInformation.SegmentAttributeLLList";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(133), Some(211));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
-        uper::decode_seq_of(r, Self::SIZE, "TravelerInformation.SegmentAttributeLLList").map(Self)
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+        uper::decode_seq_of_into(r, Self::SIZE, "TravelerInformation.SegmentAttributeLLList", &mut out.0)
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
@@ -1555,18 +2103,26 @@ impl SegmentAttributeLL {
     }
 }
 
+impl uper::Placeholder for SegmentAttributeLL {
+    fn placeholder() -> Self {
+        Self::Reserved
+    }
+}
+
 impl Uper for SegmentAttributeLL {
     const PATH: &'static str = "TravelerInformation.SegmentAttributeLL";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(26), Some(26));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         if r.read_bit()? {
             let at = r.position();
             let i = r.read_normally_small()?;
-            return u16::try_from(i).map(Self::Extension).map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at));
+            *out = u16::try_from(i).map(Self::Extension).map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at))?;
+            return Ok(());
         }
         let at = r.position();
         let i = r.read_constrained(0, 37)?;
-        Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))
+        *out = Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))?;
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         if let Self::Extension(i) = self {
@@ -1587,7 +2143,13 @@ crate::__newtype_deref!(NodeAttributeSetLLRegional, uper::SeqOf<RegNodeAttribute
 impl NodeAttributeSetLLRegional {
     const SIZE: uper::Size = uper::Size::range(1, 4);
     /// An empty list (valid for encoding once it holds the minimum number of items).
-    pub const fn new() -> Self {
+    pub fn new() -> Self {
+        Self(uper::SeqOf::new())
+    }
+}
+
+impl uper::Placeholder for NodeAttributeSetLLRegional {
+    fn placeholder() -> Self {
         Self(uper::SeqOf::new())
     }
 }
@@ -1595,8 +2157,8 @@ impl NodeAttributeSetLLRegional {
 impl Uper for NodeAttributeSetLLRegional {
     const PATH: &'static str = "TravelerInformation.NodeAttributeSetLL.regional";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(146), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
-        uper::decode_seq_of(r, Self::SIZE, "TravelerInformation.NodeAttributeSetLL.regional").map(Self)
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+        uper::decode_seq_of_into(r, Self::SIZE, "TravelerInformation.NodeAttributeSetLL.regional", &mut out.0)
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
@@ -1624,14 +2186,21 @@ impl RegNodeAttributeSetLL {
     }
 }
 
+impl uper::Placeholder for RegNodeAttributeSetLL {
+    fn placeholder() -> Self {
+        Self::Unknown { id: <super::common::RegionId as uper::Placeholder>::placeholder(), content: uper::Octets::new() }
+    }
+}
+
 impl Uper for RegNodeAttributeSetLL {
     const PATH: &'static str = "TravelerInformation.RegNodeAttributeSetLL";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(144), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let id = <super::common::RegionId>::decode_uper(r)?;
-        Ok(match id.get() {
-            _ => Self::Unknown { id, content: uper::decode_unknown_open(r, "TravelerInformation.RegNodeAttributeSetLL:unknown")? },
-        })
+        match id.get() {
+            _ => *out = Self::Unknown { id, content: uper::decode_unknown_open(r, "TravelerInformation.RegNodeAttributeSetLL:unknown")? },
+        }
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         match self {
@@ -1660,19 +2229,52 @@ pub struct GeometricProjection {
     pub extensions: uper::Extensions<0>,
 }
 
+impl uper::Placeholder for GeometricProjection {
+    fn placeholder() -> Self {
+        Self { direction: <super::common::HeadingSlice as uper::Placeholder>::placeholder(), extent: None, lane_width: None, circle: <Circle as uper::Placeholder>::placeholder(), regional: None, extensions: uper::Extensions::new() }
+    }
+}
+
 impl Uper for GeometricProjection {
     const PATH: &'static str = "TravelerInformation.GeometricProjection";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(634), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let extended = r.read_bit()?;
         let present = r.read_bits(3)?;
-        let f_direction = <super::common::HeadingSlice>::decode_uper(r)?;
-        let f_extent = if present & (1 << 2) != 0 { Some(<super::common::Extent>::decode_uper(r)?) } else { None };
-        let f_lane_width = if present & (1 << 1) != 0 { Some(<super::common::LaneWidth>::decode_uper(r)?) } else { None };
-        let f_circle = <Circle>::decode_uper(r)?;
-        let f_regional = if present & (1 << 0) != 0 { Some(<GeometricProjectionRegional>::decode_uper(r)?) } else { None };
-        let extensions = if extended { uper::Extensions::decode(r, "TravelerInformation.GeometricProjection:ext")? } else { uper::Extensions::new() };
-        Ok(Self { direction: f_direction, extent: f_extent, lane_width: f_lane_width, circle: f_circle, regional: f_regional, extensions })
+        <super::common::HeadingSlice>::decode_into(r, &mut out.direction)?;
+        if present & (1 << 2) != 0 {
+            if out.extent.is_none() {
+                uper::fill_option(&mut out.extent);
+            }
+            if let Some(v) = &mut out.extent {
+                <super::common::Extent>::decode_into(r, v)?;
+            }
+        } else {
+            out.extent = None;
+        }
+        if present & (1 << 1) != 0 {
+            if out.lane_width.is_none() {
+                uper::fill_option(&mut out.lane_width);
+            }
+            if let Some(v) = &mut out.lane_width {
+                <super::common::LaneWidth>::decode_into(r, v)?;
+            }
+        } else {
+            out.lane_width = None;
+        }
+        <Circle>::decode_into(r, &mut out.circle)?;
+        if present & (1 << 0) != 0 {
+            if out.regional.is_none() {
+                uper::fill_option(&mut out.regional);
+            }
+            if let Some(v) = &mut out.regional {
+                <GeometricProjectionRegional>::decode_into(r, v)?;
+            }
+        } else {
+            out.regional = None;
+        }
+        out.extensions = if extended { uper::Extensions::decode(r, "TravelerInformation.GeometricProjection:ext")? } else { uper::Extensions::new() };
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_bit(self.extensions.is_present())?;
@@ -1706,14 +2308,20 @@ pub struct Circle {
     pub units: DistanceUnits,
 }
 
+impl uper::Placeholder for Circle {
+    fn placeholder() -> Self {
+        Self { center: <super::common::Position3D as uper::Placeholder>::placeholder(), radius: <RadiusB12 as uper::Placeholder>::placeholder(), units: <DistanceUnits as uper::Placeholder>::placeholder() }
+    }
+}
+
 impl Uper for Circle {
     const PATH: &'static str = "TravelerInformation.Circle";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(362), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
-        let f_center = <super::common::Position3D>::decode_uper(r)?;
-        let f_radius = <RadiusB12>::decode_uper(r)?;
-        let f_units = <DistanceUnits>::decode_uper(r)?;
-        Ok(Self { center: f_center, radius: f_radius, units: f_units })
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+        <super::common::Position3D>::decode_into(r, &mut out.center)?;
+        <RadiusB12>::decode_into(r, &mut out.radius)?;
+        <DistanceUnits>::decode_into(r, &mut out.units)?;
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         self.center.encode_uper(w)?;
@@ -1792,13 +2400,20 @@ impl DistanceUnits {
     }
 }
 
+impl uper::Placeholder for DistanceUnits {
+    fn placeholder() -> Self {
+        Self::Centimeter
+    }
+}
+
 impl Uper for DistanceUnits {
     const PATH: &'static str = "TravelerInformation.DistanceUnits";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(3), Some(3));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let at = r.position();
         let i = r.read_constrained(0, 7)?;
-        Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))
+        *out = Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))?;
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_constrained(self.root_index(), 0, 7)
@@ -1814,7 +2429,13 @@ crate::__newtype_deref!(GeometricProjectionRegional, uper::SeqOf<RegGeometricPro
 impl GeometricProjectionRegional {
     const SIZE: uper::Size = uper::Size::range(1, 4);
     /// An empty list (valid for encoding once it holds the minimum number of items).
-    pub const fn new() -> Self {
+    pub fn new() -> Self {
+        Self(uper::SeqOf::new())
+    }
+}
+
+impl uper::Placeholder for GeometricProjectionRegional {
+    fn placeholder() -> Self {
         Self(uper::SeqOf::new())
     }
 }
@@ -1822,8 +2443,8 @@ impl GeometricProjectionRegional {
 impl Uper for GeometricProjectionRegional {
     const PATH: &'static str = "TravelerInformation.GeometricProjection.regional";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(146), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
-        uper::decode_seq_of(r, Self::SIZE, "TravelerInformation.GeometricProjection.regional").map(Self)
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+        uper::decode_seq_of_into(r, Self::SIZE, "TravelerInformation.GeometricProjection.regional", &mut out.0)
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
@@ -1851,14 +2472,21 @@ impl RegGeometricProjection {
     }
 }
 
+impl uper::Placeholder for RegGeometricProjection {
+    fn placeholder() -> Self {
+        Self::Unknown { id: <super::common::RegionId as uper::Placeholder>::placeholder(), content: uper::Octets::new() }
+    }
+}
+
 impl Uper for RegGeometricProjection {
     const PATH: &'static str = "TravelerInformation.RegGeometricProjection";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(144), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let id = <super::common::RegionId>::decode_uper(r)?;
-        Ok(match id.get() {
-            _ => Self::Unknown { id, content: uper::decode_unknown_open(r, "TravelerInformation.RegGeometricProjection:unknown")? },
-        })
+        match id.get() {
+            _ => *out = Self::Unknown { id, content: uper::decode_unknown_open(r, "TravelerInformation.RegGeometricProjection:unknown")? },
+        }
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         match self {
@@ -1881,15 +2509,30 @@ pub struct ValidRegion {
     pub area: ValidRegionArea,
 }
 
+impl uper::Placeholder for ValidRegion {
+    fn placeholder() -> Self {
+        Self { direction: <super::common::HeadingSlice as uper::Placeholder>::placeholder(), extent: None, area: <ValidRegionArea as uper::Placeholder>::placeholder() }
+    }
+}
+
 impl Uper for ValidRegion {
     const PATH: &'static str = "TravelerInformation.ValidRegion";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(134235), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let present = r.read_bits(1)?;
-        let f_direction = <super::common::HeadingSlice>::decode_uper(r)?;
-        let f_extent = if present & (1 << 0) != 0 { Some(<super::common::Extent>::decode_uper(r)?) } else { None };
-        let f_area = <ValidRegionArea>::decode_uper(r)?;
-        Ok(Self { direction: f_direction, extent: f_extent, area: f_area })
+        <super::common::HeadingSlice>::decode_into(r, &mut out.direction)?;
+        if present & (1 << 0) != 0 {
+            if out.extent.is_none() {
+                uper::fill_option(&mut out.extent);
+            }
+            if let Some(v) = &mut out.extent {
+                <super::common::Extent>::decode_into(r, v)?;
+            }
+        } else {
+            out.extent = None;
+        }
+        <ValidRegionArea>::decode_into(r, &mut out.area)?;
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_bits(self.extent.is_some() as u64, 1)?;
@@ -1913,17 +2556,45 @@ pub enum ValidRegionArea {
     RegionPointSet(RegionPointSet),
 }
 
+impl uper::Placeholder for ValidRegionArea {
+    fn placeholder() -> Self {
+        Self::ShapePointSet(<ShapePointSet as uper::Placeholder>::placeholder())
+    }
+}
+
 impl Uper for ValidRegionArea {
     const PATH: &'static str = "TravelerInformation.ValidRegion.area";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(134214), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let at = r.position();
-        Ok(match r.read_constrained(0, 2)? {
-            0 => Self::ShapePointSet(<ShapePointSet>::decode_uper(r)?),
-            1 => Self::Circle(<Circle>::decode_uper(r)?),
-            2 => Self::RegionPointSet(<RegionPointSet>::decode_uper(r)?),
+        match r.read_constrained(0, 2)? {
+            0 => {
+                if !matches!(out, Self::ShapePointSet(_)) {
+                    uper::replace_with(out, || Self::ShapePointSet(<ShapePointSet as uper::Placeholder>::placeholder()));
+                }
+                if let Self::ShapePointSet(v) = out {
+                    <ShapePointSet>::decode_into(r, v)?;
+                }
+            }
+            1 => {
+                if !matches!(out, Self::Circle(_)) {
+                    uper::replace_with(out, || Self::Circle(<Circle as uper::Placeholder>::placeholder()));
+                }
+                if let Self::Circle(v) = out {
+                    <Circle>::decode_into(r, v)?;
+                }
+            }
+            2 => {
+                if !matches!(out, Self::RegionPointSet(_)) {
+                    uper::replace_with(out, || Self::RegionPointSet(<RegionPointSet as uper::Placeholder>::placeholder()));
+                }
+                if let Self::RegionPointSet(v) = out {
+                    <RegionPointSet>::decode_into(r, v)?;
+                }
+            }
             _ => return Err(uper::DecodeError::new(uper::DecodeErrorKind::InvalidChoiceIndex, at)),
-        })
+        }
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         match self {
@@ -1949,18 +2620,51 @@ pub struct ShapePointSet {
     pub extensions: uper::Extensions<0>,
 }
 
+impl uper::Placeholder for ShapePointSet {
+    fn placeholder() -> Self {
+        Self { anchor: None, lane_width: None, directionality: None, node_list: <super::common::NodeListXY as uper::Placeholder>::placeholder(), extensions: uper::Extensions::new() }
+    }
+}
+
 impl Uper for ShapePointSet {
     const PATH: &'static str = "TravelerInformation.ShapePointSet";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(134212), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let extended = r.read_bit()?;
         let present = r.read_bits(3)?;
-        let f_anchor = if present & (1 << 2) != 0 { Some(<super::common::Position3D>::decode_uper(r)?) } else { None };
-        let f_lane_width = if present & (1 << 1) != 0 { Some(<super::common::LaneWidth>::decode_uper(r)?) } else { None };
-        let f_directionality = if present & (1 << 0) != 0 { Some(<DirectionOfUse>::decode_uper(r)?) } else { None };
-        let f_node_list = <super::common::NodeListXY>::decode_uper(r)?;
-        let extensions = if extended { uper::Extensions::decode(r, "TravelerInformation.ShapePointSet:ext")? } else { uper::Extensions::new() };
-        Ok(Self { anchor: f_anchor, lane_width: f_lane_width, directionality: f_directionality, node_list: f_node_list, extensions })
+        if present & (1 << 2) != 0 {
+            if out.anchor.is_none() {
+                uper::fill_option(&mut out.anchor);
+            }
+            if let Some(v) = &mut out.anchor {
+                <super::common::Position3D>::decode_into(r, v)?;
+            }
+        } else {
+            out.anchor = None;
+        }
+        if present & (1 << 1) != 0 {
+            if out.lane_width.is_none() {
+                uper::fill_option(&mut out.lane_width);
+            }
+            if let Some(v) = &mut out.lane_width {
+                <super::common::LaneWidth>::decode_into(r, v)?;
+            }
+        } else {
+            out.lane_width = None;
+        }
+        if present & (1 << 0) != 0 {
+            if out.directionality.is_none() {
+                uper::fill_option(&mut out.directionality);
+            }
+            if let Some(v) = &mut out.directionality {
+                <DirectionOfUse>::decode_into(r, v)?;
+            }
+        } else {
+            out.directionality = None;
+        }
+        <super::common::NodeListXY>::decode_into(r, &mut out.node_list)?;
+        out.extensions = if extended { uper::Extensions::decode(r, "TravelerInformation.ShapePointSet:ext")? } else { uper::Extensions::new() };
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_bit(self.extensions.is_present())?;
@@ -1995,17 +2699,41 @@ pub struct RegionPointSet {
     pub extensions: uper::Extensions<0>,
 }
 
+impl uper::Placeholder for RegionPointSet {
+    fn placeholder() -> Self {
+        Self { anchor: None, scale: None, node_list: <RegionList as uper::Placeholder>::placeholder(), extensions: uper::Extensions::new() }
+    }
+}
+
 impl Uper for RegionPointSet {
     const PATH: &'static str = "TravelerInformation.RegionPointSet";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(643), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let extended = r.read_bit()?;
         let present = r.read_bits(2)?;
-        let f_anchor = if present & (1 << 1) != 0 { Some(<super::common::Position3D>::decode_uper(r)?) } else { None };
-        let f_scale = if present & (1 << 0) != 0 { Some(<Zoom>::decode_uper(r)?) } else { None };
-        let f_node_list = <RegionList>::decode_uper(r)?;
-        let extensions = if extended { uper::Extensions::decode(r, "TravelerInformation.RegionPointSet:ext")? } else { uper::Extensions::new() };
-        Ok(Self { anchor: f_anchor, scale: f_scale, node_list: f_node_list, extensions })
+        if present & (1 << 1) != 0 {
+            if out.anchor.is_none() {
+                uper::fill_option(&mut out.anchor);
+            }
+            if let Some(v) = &mut out.anchor {
+                <super::common::Position3D>::decode_into(r, v)?;
+            }
+        } else {
+            out.anchor = None;
+        }
+        if present & (1 << 0) != 0 {
+            if out.scale.is_none() {
+                uper::fill_option(&mut out.scale);
+            }
+            if let Some(v) = &mut out.scale {
+                <Zoom>::decode_into(r, v)?;
+            }
+        } else {
+            out.scale = None;
+        }
+        <RegionList>::decode_into(r, &mut out.node_list)?;
+        out.extensions = if extended { uper::Extensions::decode(r, "TravelerInformation.RegionPointSet:ext")? } else { uper::Extensions::new() };
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_bit(self.extensions.is_present())?;
@@ -2033,7 +2761,13 @@ crate::__newtype_deref!(RegionList, uper::SeqOf<RegionOffsets, 4>);
 impl RegionList {
     const SIZE: uper::Size = uper::Size::range(1, 64);
     /// An empty list (valid for encoding once it holds the minimum number of items).
-    pub const fn new() -> Self {
+    pub fn new() -> Self {
+        Self(uper::SeqOf::new())
+    }
+}
+
+impl uper::Placeholder for RegionList {
+    fn placeholder() -> Self {
         Self(uper::SeqOf::new())
     }
 }
@@ -2041,8 +2775,8 @@ impl RegionList {
 impl Uper for RegionList {
     const PATH: &'static str = "TravelerInformation.RegionList";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(202), Some(3142));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
-        uper::decode_seq_of(r, Self::SIZE, "TravelerInformation.RegionList").map(Self)
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+        uper::decode_seq_of_into(r, Self::SIZE, "TravelerInformation.RegionList", &mut out.0)
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
@@ -2060,15 +2794,30 @@ pub struct RegionOffsets {
     pub z_offset: Option<OffsetLLB16>,
 }
 
+impl uper::Placeholder for RegionOffsets {
+    fn placeholder() -> Self {
+        Self { x_offset: <OffsetLLB16 as uper::Placeholder>::placeholder(), y_offset: <OffsetLLB16 as uper::Placeholder>::placeholder(), z_offset: None }
+    }
+}
+
 impl Uper for RegionOffsets {
     const PATH: &'static str = "TravelerInformation.RegionOffsets";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(49), Some(49));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let present = r.read_bits(1)?;
-        let f_x_offset = <OffsetLLB16>::decode_uper(r)?;
-        let f_y_offset = <OffsetLLB16>::decode_uper(r)?;
-        let f_z_offset = if present & (1 << 0) != 0 { Some(<OffsetLLB16>::decode_uper(r)?) } else { None };
-        Ok(Self { x_offset: f_x_offset, y_offset: f_y_offset, z_offset: f_z_offset })
+        <OffsetLLB16>::decode_into(r, &mut out.x_offset)?;
+        <OffsetLLB16>::decode_into(r, &mut out.y_offset)?;
+        if present & (1 << 0) != 0 {
+            if out.z_offset.is_none() {
+                uper::fill_option(&mut out.z_offset);
+            }
+            if let Some(v) = &mut out.z_offset {
+                <OffsetLLB16>::decode_into(r, v)?;
+            }
+        } else {
+            out.z_offset = None;
+        }
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_bits(self.z_offset.is_some() as u64, 1)?;
@@ -2090,7 +2839,13 @@ crate::__newtype_deref!(GeographicalPathRegional, uper::SeqOf<RegGeographicalPat
 impl GeographicalPathRegional {
     const SIZE: uper::Size = uper::Size::range(1, 4);
     /// An empty list (valid for encoding once it holds the minimum number of items).
-    pub const fn new() -> Self {
+    pub fn new() -> Self {
+        Self(uper::SeqOf::new())
+    }
+}
+
+impl uper::Placeholder for GeographicalPathRegional {
+    fn placeholder() -> Self {
         Self(uper::SeqOf::new())
     }
 }
@@ -2098,8 +2853,8 @@ impl GeographicalPathRegional {
 impl Uper for GeographicalPathRegional {
     const PATH: &'static str = "TravelerInformation.GeographicalPath.regional";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(146), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
-        uper::decode_seq_of(r, Self::SIZE, "TravelerInformation.GeographicalPath.regional").map(Self)
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+        uper::decode_seq_of_into(r, Self::SIZE, "TravelerInformation.GeographicalPath.regional", &mut out.0)
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
@@ -2127,14 +2882,21 @@ impl RegGeographicalPath {
     }
 }
 
+impl uper::Placeholder for RegGeographicalPath {
+    fn placeholder() -> Self {
+        Self::Unknown { id: <super::common::RegionId as uper::Placeholder>::placeholder(), content: uper::Octets::new() }
+    }
+}
+
 impl Uper for RegGeographicalPath {
     const PATH: &'static str = "TravelerInformation.RegGeographicalPath";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(144), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let id = <super::common::RegionId>::decode_uper(r)?;
-        Ok(match id.get() {
-            _ => Self::Unknown { id, content: uper::decode_unknown_open(r, "TravelerInformation.RegGeographicalPath:unknown")? },
-        })
+        match id.get() {
+            _ => *out = Self::Unknown { id, content: uper::decode_unknown_open(r, "TravelerInformation.RegGeographicalPath:unknown")? },
+        }
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         match self {
@@ -2161,19 +2923,61 @@ pub enum TravelerDataFrameContent {
     ExitService(ExitService),
 }
 
+impl uper::Placeholder for TravelerDataFrameContent {
+    fn placeholder() -> Self {
+        Self::Advisory(<super::itis::ITIScodesAndText as uper::Placeholder>::placeholder())
+    }
+}
+
 impl Uper for TravelerDataFrameContent {
     const PATH: &'static str = "TravelerInformation.TravelerDataFrame.content";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(1814), Some(351010));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let at = r.position();
-        Ok(match r.read_constrained(0, 4)? {
-            0 => Self::Advisory(<super::itis::ITIScodesAndText>::decode_uper(r)?),
-            1 => Self::WorkZone(<WorkZone>::decode_uper(r)?),
-            2 => Self::GenericSign(<GenericSignage>::decode_uper(r)?),
-            3 => Self::SpeedLimit(<SpeedLimit>::decode_uper(r)?),
-            4 => Self::ExitService(<ExitService>::decode_uper(r)?),
+        match r.read_constrained(0, 4)? {
+            0 => {
+                if !matches!(out, Self::Advisory(_)) {
+                    uper::replace_with(out, || Self::Advisory(<super::itis::ITIScodesAndText as uper::Placeholder>::placeholder()));
+                }
+                if let Self::Advisory(v) = out {
+                    <super::itis::ITIScodesAndText>::decode_into(r, v)?;
+                }
+            }
+            1 => {
+                if !matches!(out, Self::WorkZone(_)) {
+                    uper::replace_with(out, || Self::WorkZone(<WorkZone as uper::Placeholder>::placeholder()));
+                }
+                if let Self::WorkZone(v) = out {
+                    <WorkZone>::decode_into(r, v)?;
+                }
+            }
+            2 => {
+                if !matches!(out, Self::GenericSign(_)) {
+                    uper::replace_with(out, || Self::GenericSign(<GenericSignage as uper::Placeholder>::placeholder()));
+                }
+                if let Self::GenericSign(v) = out {
+                    <GenericSignage>::decode_into(r, v)?;
+                }
+            }
+            3 => {
+                if !matches!(out, Self::SpeedLimit(_)) {
+                    uper::replace_with(out, || Self::SpeedLimit(<SpeedLimit as uper::Placeholder>::placeholder()));
+                }
+                if let Self::SpeedLimit(v) = out {
+                    <SpeedLimit>::decode_into(r, v)?;
+                }
+            }
+            4 => {
+                if !matches!(out, Self::ExitService(_)) {
+                    uper::replace_with(out, || Self::ExitService(<ExitService as uper::Placeholder>::placeholder()));
+                }
+                if let Self::ExitService(v) = out {
+                    <ExitService>::decode_into(r, v)?;
+                }
+            }
             _ => return Err(uper::DecodeError::new(uper::DecodeErrorKind::InvalidChoiceIndex, at)),
-        })
+        }
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         match self {
@@ -2195,7 +2999,13 @@ crate::__newtype_deref!(WorkZone, uper::SeqOf<WorkZoneItem, 4>);
 impl WorkZone {
     const SIZE: uper::Size = uper::Size::range(1, 16);
     /// An empty list (valid for encoding once it holds the minimum number of items).
-    pub const fn new() -> Self {
+    pub fn new() -> Self {
+        Self(uper::SeqOf::new())
+    }
+}
+
+impl uper::Placeholder for WorkZone {
+    fn placeholder() -> Self {
         Self(uper::SeqOf::new())
     }
 }
@@ -2203,8 +3013,8 @@ impl WorkZone {
 impl Uper for WorkZone {
     const PATH: &'static str = "TravelerInformation.WorkZone";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(472), Some(1876));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
-        uper::decode_seq_of(r, Self::SIZE, "TravelerInformation.WorkZone").map(Self)
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+        uper::decode_seq_of_into(r, Self::SIZE, "TravelerInformation.WorkZone", &mut out.0)
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
@@ -2218,12 +3028,18 @@ pub struct WorkZoneItem {
     pub item: WorkZoneItemItem,
 }
 
+impl uper::Placeholder for WorkZoneItem {
+    fn placeholder() -> Self {
+        Self { item: <WorkZoneItemItem as uper::Placeholder>::placeholder() }
+    }
+}
+
 impl Uper for WorkZoneItem {
     const PATH: &'static str = "TravelerInformation.WorkZone[]";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(117), Some(117));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
-        let f_item = <WorkZoneItemItem>::decode_uper(r)?;
-        Ok(Self { item: f_item })
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+        <WorkZoneItemItem>::decode_into(r, &mut out.item)?;
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         self.item.encode_uper(w)?;
@@ -2240,16 +3056,37 @@ pub enum WorkZoneItemItem {
     Text(ITIStextPhrase),
 }
 
+impl uper::Placeholder for WorkZoneItemItem {
+    fn placeholder() -> Self {
+        Self::Itis(<super::itis::ITIScodes as uper::Placeholder>::placeholder())
+    }
+}
+
 impl Uper for WorkZoneItemItem {
     const PATH: &'static str = "TravelerInformation.WorkZone[].item";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(117), Some(117));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let at = r.position();
-        Ok(match r.read_constrained(0, 1)? {
-            0 => Self::Itis(<super::itis::ITIScodes>::decode_uper(r)?),
-            1 => Self::Text(<ITIStextPhrase>::decode_uper(r)?),
+        match r.read_constrained(0, 1)? {
+            0 => {
+                if !matches!(out, Self::Itis(_)) {
+                    uper::replace_with(out, || Self::Itis(<super::itis::ITIScodes as uper::Placeholder>::placeholder()));
+                }
+                if let Self::Itis(v) = out {
+                    <super::itis::ITIScodes>::decode_into(r, v)?;
+                }
+            }
+            1 => {
+                if !matches!(out, Self::Text(_)) {
+                    uper::replace_with(out, || Self::Text(<ITIStextPhrase as uper::Placeholder>::placeholder()));
+                }
+                if let Self::Text(v) = out {
+                    <ITIStextPhrase>::decode_into(r, v)?;
+                }
+            }
             _ => return Err(uper::DecodeError::new(uper::DecodeErrorKind::InvalidChoiceIndex, at)),
-        })
+        }
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         match self {
@@ -2277,11 +3114,18 @@ impl ITIStextPhrase {
     }
 }
 
+impl uper::Placeholder for ITIStextPhrase {
+    fn placeholder() -> Self {
+        Self(uper::Ia5::new())
+    }
+}
+
 impl Uper for ITIStextPhrase {
     const PATH: &'static str = "TravelerInformation.ITIStextPhrase";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(116), Some(116));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
-        uper::decode_ia5(r, Self::SIZE, "TravelerInformation.ITIStextPhrase").map(Self)
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+        out.0 = uper::decode_ia5(r, Self::SIZE, "TravelerInformation.ITIStextPhrase")?;
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_ia5(w, Self::SIZE, &self.0)
@@ -2297,7 +3141,13 @@ crate::__newtype_deref!(GenericSignage, uper::SeqOf<GenericSignageItem, 4>);
 impl GenericSignage {
     const SIZE: uper::Size = uper::Size::range(1, 16);
     /// An empty list (valid for encoding once it holds the minimum number of items).
-    pub const fn new() -> Self {
+    pub fn new() -> Self {
+        Self(uper::SeqOf::new())
+    }
+}
+
+impl uper::Placeholder for GenericSignage {
+    fn placeholder() -> Self {
         Self(uper::SeqOf::new())
     }
 }
@@ -2305,8 +3155,8 @@ impl GenericSignage {
 impl Uper for GenericSignage {
     const PATH: &'static str = "TravelerInformation.GenericSignage";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(472), Some(1876));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
-        uper::decode_seq_of(r, Self::SIZE, "TravelerInformation.GenericSignage").map(Self)
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+        uper::decode_seq_of_into(r, Self::SIZE, "TravelerInformation.GenericSignage", &mut out.0)
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
@@ -2320,12 +3170,18 @@ pub struct GenericSignageItem {
     pub item: GenericSignageItemItem,
 }
 
+impl uper::Placeholder for GenericSignageItem {
+    fn placeholder() -> Self {
+        Self { item: <GenericSignageItemItem as uper::Placeholder>::placeholder() }
+    }
+}
+
 impl Uper for GenericSignageItem {
     const PATH: &'static str = "TravelerInformation.GenericSignage[]";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(117), Some(117));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
-        let f_item = <GenericSignageItemItem>::decode_uper(r)?;
-        Ok(Self { item: f_item })
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+        <GenericSignageItemItem>::decode_into(r, &mut out.item)?;
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         self.item.encode_uper(w)?;
@@ -2342,16 +3198,37 @@ pub enum GenericSignageItemItem {
     Text(ITIStextPhrase),
 }
 
+impl uper::Placeholder for GenericSignageItemItem {
+    fn placeholder() -> Self {
+        Self::Itis(<super::itis::ITIScodes as uper::Placeholder>::placeholder())
+    }
+}
+
 impl Uper for GenericSignageItemItem {
     const PATH: &'static str = "TravelerInformation.GenericSignage[].item";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(117), Some(117));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let at = r.position();
-        Ok(match r.read_constrained(0, 1)? {
-            0 => Self::Itis(<super::itis::ITIScodes>::decode_uper(r)?),
-            1 => Self::Text(<ITIStextPhrase>::decode_uper(r)?),
+        match r.read_constrained(0, 1)? {
+            0 => {
+                if !matches!(out, Self::Itis(_)) {
+                    uper::replace_with(out, || Self::Itis(<super::itis::ITIScodes as uper::Placeholder>::placeholder()));
+                }
+                if let Self::Itis(v) = out {
+                    <super::itis::ITIScodes>::decode_into(r, v)?;
+                }
+            }
+            1 => {
+                if !matches!(out, Self::Text(_)) {
+                    uper::replace_with(out, || Self::Text(<ITIStextPhrase as uper::Placeholder>::placeholder()));
+                }
+                if let Self::Text(v) = out {
+                    <ITIStextPhrase>::decode_into(r, v)?;
+                }
+            }
             _ => return Err(uper::DecodeError::new(uper::DecodeErrorKind::InvalidChoiceIndex, at)),
-        })
+        }
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         match self {
@@ -2370,7 +3247,13 @@ crate::__newtype_deref!(SpeedLimit, uper::SeqOf<SpeedLimitItem, 5>);
 impl SpeedLimit {
     const SIZE: uper::Size = uper::Size::range(1, 16);
     /// An empty list (valid for encoding once it holds the minimum number of items).
-    pub const fn new() -> Self {
+    pub fn new() -> Self {
+        Self(uper::SeqOf::new())
+    }
+}
+
+impl uper::Placeholder for SpeedLimit {
+    fn placeholder() -> Self {
         Self(uper::SeqOf::new())
     }
 }
@@ -2378,8 +3261,8 @@ impl SpeedLimit {
 impl Uper for SpeedLimit {
     const PATH: &'static str = "TravelerInformation.SpeedLimit";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(589), Some(1876));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
-        uper::decode_seq_of(r, Self::SIZE, "TravelerInformation.SpeedLimit").map(Self)
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+        uper::decode_seq_of_into(r, Self::SIZE, "TravelerInformation.SpeedLimit", &mut out.0)
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
@@ -2393,12 +3276,18 @@ pub struct SpeedLimitItem {
     pub item: SpeedLimitItemItem,
 }
 
+impl uper::Placeholder for SpeedLimitItem {
+    fn placeholder() -> Self {
+        Self { item: <SpeedLimitItemItem as uper::Placeholder>::placeholder() }
+    }
+}
+
 impl Uper for SpeedLimitItem {
     const PATH: &'static str = "TravelerInformation.SpeedLimit[]";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(117), Some(117));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
-        let f_item = <SpeedLimitItemItem>::decode_uper(r)?;
-        Ok(Self { item: f_item })
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+        <SpeedLimitItemItem>::decode_into(r, &mut out.item)?;
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         self.item.encode_uper(w)?;
@@ -2415,16 +3304,37 @@ pub enum SpeedLimitItemItem {
     Text(ITIStextPhrase),
 }
 
+impl uper::Placeholder for SpeedLimitItemItem {
+    fn placeholder() -> Self {
+        Self::Itis(<super::itis::ITIScodes as uper::Placeholder>::placeholder())
+    }
+}
+
 impl Uper for SpeedLimitItemItem {
     const PATH: &'static str = "TravelerInformation.SpeedLimit[].item";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(117), Some(117));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let at = r.position();
-        Ok(match r.read_constrained(0, 1)? {
-            0 => Self::Itis(<super::itis::ITIScodes>::decode_uper(r)?),
-            1 => Self::Text(<ITIStextPhrase>::decode_uper(r)?),
+        match r.read_constrained(0, 1)? {
+            0 => {
+                if !matches!(out, Self::Itis(_)) {
+                    uper::replace_with(out, || Self::Itis(<super::itis::ITIScodes as uper::Placeholder>::placeholder()));
+                }
+                if let Self::Itis(v) = out {
+                    <super::itis::ITIScodes>::decode_into(r, v)?;
+                }
+            }
+            1 => {
+                if !matches!(out, Self::Text(_)) {
+                    uper::replace_with(out, || Self::Text(<ITIStextPhrase as uper::Placeholder>::placeholder()));
+                }
+                if let Self::Text(v) = out {
+                    <ITIStextPhrase>::decode_into(r, v)?;
+                }
+            }
             _ => return Err(uper::DecodeError::new(uper::DecodeErrorKind::InvalidChoiceIndex, at)),
-        })
+        }
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         match self {
@@ -2443,7 +3353,13 @@ crate::__newtype_deref!(ExitService, uper::SeqOf<ExitServiceItem, 4>);
 impl ExitService {
     const SIZE: uper::Size = uper::Size::range(1, 16);
     /// An empty list (valid for encoding once it holds the minimum number of items).
-    pub const fn new() -> Self {
+    pub fn new() -> Self {
+        Self(uper::SeqOf::new())
+    }
+}
+
+impl uper::Placeholder for ExitService {
+    fn placeholder() -> Self {
         Self(uper::SeqOf::new())
     }
 }
@@ -2451,8 +3367,8 @@ impl ExitService {
 impl Uper for ExitService {
     const PATH: &'static str = "TravelerInformation.ExitService";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(472), Some(1876));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
-        uper::decode_seq_of(r, Self::SIZE, "TravelerInformation.ExitService").map(Self)
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+        uper::decode_seq_of_into(r, Self::SIZE, "TravelerInformation.ExitService", &mut out.0)
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
@@ -2466,12 +3382,18 @@ pub struct ExitServiceItem {
     pub item: ExitServiceItemItem,
 }
 
+impl uper::Placeholder for ExitServiceItem {
+    fn placeholder() -> Self {
+        Self { item: <ExitServiceItemItem as uper::Placeholder>::placeholder() }
+    }
+}
+
 impl Uper for ExitServiceItem {
     const PATH: &'static str = "TravelerInformation.ExitService[]";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(117), Some(117));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
-        let f_item = <ExitServiceItemItem>::decode_uper(r)?;
-        Ok(Self { item: f_item })
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+        <ExitServiceItemItem>::decode_into(r, &mut out.item)?;
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         self.item.encode_uper(w)?;
@@ -2488,16 +3410,37 @@ pub enum ExitServiceItemItem {
     Text(ITIStextPhrase),
 }
 
+impl uper::Placeholder for ExitServiceItemItem {
+    fn placeholder() -> Self {
+        Self::Itis(<super::itis::ITIScodes as uper::Placeholder>::placeholder())
+    }
+}
+
 impl Uper for ExitServiceItemItem {
     const PATH: &'static str = "TravelerInformation.ExitService[].item";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(117), Some(117));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let at = r.position();
-        Ok(match r.read_constrained(0, 1)? {
-            0 => Self::Itis(<super::itis::ITIScodes>::decode_uper(r)?),
-            1 => Self::Text(<ITIStextPhrase>::decode_uper(r)?),
+        match r.read_constrained(0, 1)? {
+            0 => {
+                if !matches!(out, Self::Itis(_)) {
+                    uper::replace_with(out, || Self::Itis(<super::itis::ITIScodes as uper::Placeholder>::placeholder()));
+                }
+                if let Self::Itis(v) = out {
+                    <super::itis::ITIScodes>::decode_into(r, v)?;
+                }
+            }
+            1 => {
+                if !matches!(out, Self::Text(_)) {
+                    uper::replace_with(out, || Self::Text(<ITIStextPhrase as uper::Placeholder>::placeholder()));
+                }
+                if let Self::Text(v) = out {
+                    <ITIStextPhrase>::decode_into(r, v)?;
+                }
+            }
             _ => return Err(uper::DecodeError::new(uper::DecodeErrorKind::InvalidChoiceIndex, at)),
-        })
+        }
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         match self {
@@ -2525,11 +3468,18 @@ impl URLShort {
     }
 }
 
+impl uper::Placeholder for URLShort {
+    fn placeholder() -> Self {
+        Self(uper::Ia5::new())
+    }
+}
+
 impl Uper for URLShort {
     const PATH: &'static str = "TravelerInformation.URL-Short";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(109), Some(109));
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
-        uper::decode_ia5(r, Self::SIZE, "TravelerInformation.URL-Short").map(Self)
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+        out.0 = uper::decode_ia5(r, Self::SIZE, "TravelerInformation.URL-Short")?;
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_ia5(w, Self::SIZE, &self.0)
@@ -2545,7 +3495,13 @@ crate::__newtype_deref!(TravelerInformationRegional, uper::SeqOf<RegTravelerInfo
 impl TravelerInformationRegional {
     const SIZE: uper::Size = uper::Size::range(1, 4);
     /// An empty list (valid for encoding once it holds the minimum number of items).
-    pub const fn new() -> Self {
+    pub fn new() -> Self {
+        Self(uper::SeqOf::new())
+    }
+}
+
+impl uper::Placeholder for TravelerInformationRegional {
+    fn placeholder() -> Self {
         Self(uper::SeqOf::new())
     }
 }
@@ -2553,8 +3509,8 @@ impl TravelerInformationRegional {
 impl Uper for TravelerInformationRegional {
     const PATH: &'static str = "TravelerInformation.TravelerInformation.regional";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(2074), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
-        uper::decode_seq_of(r, Self::SIZE, "TravelerInformation.TravelerInformation.regional").map(Self)
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+        uper::decode_seq_of_into(r, Self::SIZE, "TravelerInformation.TravelerInformation.regional", &mut out.0)
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
@@ -2582,14 +3538,21 @@ impl RegTravelerInformation {
     }
 }
 
+impl uper::Placeholder for RegTravelerInformation {
+    fn placeholder() -> Self {
+        Self::Unknown { id: <super::common::RegionId as uper::Placeholder>::placeholder(), content: uper::Octets::new() }
+    }
+}
+
 impl Uper for RegTravelerInformation {
     const PATH: &'static str = "TravelerInformation.RegTravelerInformation";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(2072), None);
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let id = <super::common::RegionId>::decode_uper(r)?;
-        Ok(match id.get() {
-            _ => Self::Unknown { id, content: uper::decode_unknown_open(r, "TravelerInformation.RegTravelerInformation:unknown")? },
-        })
+        match id.get() {
+            _ => *out = Self::Unknown { id, content: uper::decode_unknown_open(r, "TravelerInformation.RegTravelerInformation:unknown")? },
+        }
+        Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         match self {

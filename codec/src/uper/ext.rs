@@ -54,7 +54,7 @@ fn for_each_record<F: FnMut(usize, &[u8]) -> bool>(records: &[u8], mut f: F) {
 
 impl<const N: usize> Extensions<N> {
     /// No extension additions (the extension bit is clear).
-    pub const fn new() -> Self {
+    pub fn new() -> Self {
         Self { bitmap_len: 0, records: Octets::new() }
     }
 

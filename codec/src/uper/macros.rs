@@ -34,13 +34,19 @@ macro_rules! __constrained_int {
                 Self::new(v).ok_or($crate::uper::OutOfRange)
             }
         }
+        impl $crate::uper::Placeholder for $name {
+            fn placeholder() -> Self {
+                Self($lb)
+            }
+        }
         impl $crate::uper::Uper for $name {
             const PATH: &'static str = $path;
             const MAX_UPER_BITS: ::core::option::Option<u64> =
                 ::core::option::Option::Some(64 - (($ub as i128 - $lb as i128) as u64).leading_zeros() as u64);
             #[inline]
-            fn decode_body(r: &mut $crate::uper::Reader<'_>) -> $crate::uper::DecodeResult<Self> {
-                ::core::result::Result::Ok(Self(r.read_constrained($lb, $ub)? as $prim))
+            fn decode_body_into(r: &mut $crate::uper::Reader<'_>, out: &mut Self) -> $crate::uper::DecodeResult<()> {
+                *out = Self(r.read_constrained($lb, $ub)? as $prim);
+                ::core::result::Result::Ok(())
             }
             #[inline]
             fn encode_body(&self, w: &mut $crate::uper::Writer<'_>) -> $crate::uper::EncodeResult {

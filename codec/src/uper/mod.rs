@@ -25,7 +25,7 @@ pub use error::{DecodeError, DecodeErrorKind, EncodeError, EncodeErrorKind};
 pub use ext::{decode_open, decode_unknown_open, encode_unknown_open, Extensions, UnknownAdditions};
 pub use reader::{DecodeResult, LengthChunk, Reader};
 pub use sized::{
-    decode_bits, decode_fixed_octets, decode_ia5, decode_octets, decode_seq_of, encode_bits,
+    decode_bits, decode_fixed_octets, decode_ia5, decode_octets, decode_octets_into, decode_seq_of_into, encode_bits,
     encode_ia5, encode_octets, encode_seq_of, read_octets_into, read_sized, write_sized, Size,
 };
 pub use storage::{Bits, Ia5, Octets, SeqOf};
@@ -44,22 +44,48 @@ impl core::fmt::Display for OutOfRange {
 
 impl core::error::Error for OutOfRange {}
 
+/// A cheap value of a type, to be overwritten by decoding in place. It need not satisfy the
+/// type's constraints (a list may be shorter than its minimum size).
+pub trait Placeholder: Sized {
+    /// The placeholder value.
+    fn placeholder() -> Self;
+}
+
+impl Placeholder for u8 {
+    fn placeholder() -> Self {
+        0
+    }
+}
+
 /// A type with a UPER encoding. Implemented by every generated J2735 type.
-pub trait Uper: Sized {
+///
+/// Decoding writes into an existing value ([`Uper::decode_into`]): lists and nested values
+/// are filled where they are, so that a value kept between messages (as a firmware would keep
+/// one static `MapData`) is decoded without moving large no-heap storage around.
+pub trait Uper: Placeholder {
     /// `Module.Type` of the ASN.1 definition (or `Module.Parent.field` for an inline type).
     const PATH: &'static str;
     /// Largest encoding in bits, where the type (with the build's storage) bounds it.
     const MAX_UPER_BITS: Option<u64>;
 
-    /// Decodes the value's encoding (without error context; use [`Uper::decode_uper`]).
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self>;
+    /// Decodes the value's encoding into `out` (without error context; use
+    /// [`Uper::decode_into`]). After an error `out` holds an unspecified valid value.
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()>;
     /// Encodes the value (without error context; use [`Uper::encode_uper`]).
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult;
 
-    /// Decodes one value from `r`; errors name this type if nothing inside it did.
+    /// Decodes one value from `r` into `out`; errors name this type if nothing inside did.
+    #[inline]
+    fn decode_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+        Self::decode_body_into(r, out).map_err(|e| e.in_type(Self::PATH))
+    }
+
+    /// Decodes one value from `r`.
     #[inline]
     fn decode_uper(r: &mut Reader<'_>) -> DecodeResult<Self> {
-        Self::decode_body(r).map_err(|e| e.in_type(Self::PATH))
+        let mut v = Self::placeholder();
+        Self::decode_into(r, &mut v)?;
+        Ok(v)
     }
 
     /// Encodes the value into `w`; errors name this type if nothing inside it did.
@@ -67,6 +93,24 @@ pub trait Uper: Sized {
     fn encode_uper(&self, w: &mut Writer<'_>) -> EncodeResult {
         self.encode_body(w).map_err(|e| e.in_type(Self::PATH))
     }
+}
+
+/// Makes an absent optional value present (a placeholder), out of line: the large
+/// temporary lives in this function's frame, not in the hot decoding function's.
+#[doc(hidden)]
+#[cold]
+#[inline(never)]
+pub fn fill_option<T: Placeholder>(slot: &mut Option<T>) {
+    *slot = Some(T::placeholder());
+}
+
+/// Replaces `out` by `make()`, out of line (as [`fill_option`]); used to switch a CHOICE to
+/// another alternative before decoding into it.
+#[doc(hidden)]
+#[cold]
+#[inline(never)]
+pub fn replace_with<T, F: FnOnce() -> T>(out: &mut T, make: F) {
+    *out = make();
 }
 
 /// Picks the bound of the build's storage: `no_heap` without `alloc`, `heap` with it.
@@ -89,18 +133,32 @@ pub const fn max_octets<T: Uper>() -> Option<usize> {
 
 /// Decodes one complete encoding of `T` that fills `bytes` (see the module docs).
 pub fn decode<T: Uper>(bytes: &[u8]) -> Result<T, DecodeError> {
-    let (v, used) = decode_prefix(bytes)?;
+    let mut v = T::placeholder();
+    decode_into(bytes, &mut v)?;
+    Ok(v)
+}
+
+/// Decodes one complete encoding that fills `bytes` into `out`, reusing its storage.
+pub fn decode_into<T: Uper>(bytes: &[u8], out: &mut T) -> Result<(), DecodeError> {
+    let used = decode_prefix_into(bytes, out)?;
     if used != bytes.len() {
         return Err(DecodeError::new(DecodeErrorKind::TrailingBytes, used * 8));
     }
-    Ok(v)
+    Ok(())
 }
 
 /// Decodes one encoding of `T` from the start of `bytes`; returns it and the octets used.
 pub fn decode_prefix<T: Uper>(bytes: &[u8]) -> Result<(T, usize), DecodeError> {
+    let mut v = T::placeholder();
+    let used = decode_prefix_into(bytes, &mut v)?;
+    Ok((v, used))
+}
+
+/// Decodes one encoding from the start of `bytes` into `out`; returns the octets used.
+pub fn decode_prefix_into<T: Uper>(bytes: &[u8], out: &mut T) -> Result<usize, DecodeError> {
     let mut r = Reader::new(bytes);
-    let v = T::decode_uper(&mut r)?;
-    Ok((v, r.position().div_ceil(8).max(1).min(bytes.len())))
+    T::decode_into(&mut r, out)?;
+    Ok(r.position().div_ceil(8).max(1).min(bytes.len()))
 }
 
 /// The size in octets of the complete encoding of `value`.
@@ -112,20 +170,16 @@ pub fn encoded_len<T: Uper>(value: &T) -> Result<usize, EncodeError> {
 
 /// Encodes `value` as a complete encoding into `buf`; returns the octets written.
 ///
-/// Fails before writing anything when `buf` is too small: a buffer of at least
-/// [`max_octets`] skips the size pass.
+/// A buffer of [`max_octets`] always suffices. When `buf` is too small the result is
+/// [`EncodeErrorKind::BufferTooSmall`] and `buf` holds a partial encoding; [`encoded_len`]
+/// gives the size needed.
 pub fn encode<T: Uper>(value: &T, buf: &mut [u8]) -> Result<usize, EncodeError> {
-    let roomy = matches!(max_octets::<T>(), Some(m) if m <= buf.len());
-    if !roomy && encoded_len(value)? > buf.len() {
-        return Err(EncodeError::new(EncodeErrorKind::BufferTooSmall).in_type(T::PATH));
-    }
     let mut w = Writer::new(buf);
     value.encode_uper(&mut w)?;
-    let n = w.octets();
     if w.position() == 0 {
         w.write_bits(0, 8)?;
     }
-    Ok(n)
+    Ok(w.octets())
 }
 
 /// Encodes `value` into a new vector.
@@ -136,12 +190,19 @@ pub fn encode_to_vec<T: Uper>(value: &T) -> Result<alloc::vec::Vec<u8>, EncodeEr
     Ok(buf)
 }
 
+impl Placeholder for bool {
+    fn placeholder() -> Self {
+        false
+    }
+}
+
 impl Uper for bool {
     const PATH: &'static str = "BOOLEAN";
     const MAX_UPER_BITS: Option<u64> = Some(1);
     #[inline]
-    fn decode_body(r: &mut Reader<'_>) -> DecodeResult<Self> {
-        r.read_bit()
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+        *out = r.read_bit()?;
+        Ok(())
     }
     #[inline]
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -154,12 +215,18 @@ impl Uper for bool {
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct Null;
 
+impl Placeholder for Null {
+    fn placeholder() -> Self {
+        Null
+    }
+}
+
 impl Uper for Null {
     const PATH: &'static str = "NULL";
     const MAX_UPER_BITS: Option<u64> = Some(0);
     #[inline]
-    fn decode_body(_: &mut Reader<'_>) -> DecodeResult<Self> {
-        Ok(Null)
+    fn decode_body_into(_: &mut Reader<'_>, _: &mut Self) -> DecodeResult<()> {
+        Ok(())
     }
     #[inline]
     fn encode_body(&self, _: &mut Writer<'_>) -> EncodeResult {

@@ -113,24 +113,26 @@ fn over_capacity(at: usize, key: &'static str) -> DecodeError {
     DecodeError::at(DKind::CapacityExceeded, at, key)
 }
 
-/// Decodes a SEQUENCE OF; `key` names the capacity in errors.
-pub fn decode_seq_of<T: Uper, const N: usize>(
+/// Decodes a SEQUENCE OF into `out`, reusing its items' storage; `key` names the capacity
+/// in errors.
+pub fn decode_seq_of_into<T: Uper, const N: usize>(
     r: &mut Reader<'_>,
     size: Size,
     key: &'static str,
-) -> DecodeResult<SeqOf<T, N>> {
-    let mut out = SeqOf::new();
+    out: &mut SeqOf<T, N>,
+) -> DecodeResult<()> {
+    out.clear();
     read_sized(r, size, |r, n| {
         if out.len() + n > SeqOf::<T, N>::capacity() {
             return Err(over_capacity(r.position(), key));
         }
         for _ in 0..n {
-            let item = T::decode_uper(r)?;
-            out.push(item).map_err(|_| over_capacity(r.position(), key))?;
+            let slot = out.push_slot().ok_or(over_capacity(r.position(), key))?;
+            T::decode_into(r, slot)?;
         }
         Ok(())
     })?;
-    Ok(out)
+    Ok(())
 }
 
 /// Encodes a SEQUENCE OF.
@@ -151,6 +153,18 @@ pub fn decode_octets<const N: usize>(
     Ok(out)
 }
 
+/// Decodes a variable OCTET STRING into `out`.
+pub fn decode_octets_into<const N: usize>(
+    r: &mut Reader<'_>,
+    size: Size,
+    key: &'static str,
+    out: &mut Octets<N>,
+) -> DecodeResult<()> {
+    out.clear();
+    read_sized(r, size, |r, n| read_octets_into(r, n, out, key))?;
+    Ok(())
+}
+
 /// Appends `n` octets from `r` to `out`.
 pub fn read_octets_into<const N: usize>(
     r: &mut Reader<'_>,
@@ -166,7 +180,7 @@ pub fn read_octets_into<const N: usize>(
     }
     for _ in 0..n {
         let b = r.read_bits(8)? as u8;
-        out.push(b).map_err(|_| over_capacity(r.position(), key))?;
+        *out.push_slot().ok_or(over_capacity(r.position(), key))? = b;
     }
     Ok(())
 }
@@ -198,10 +212,13 @@ pub fn decode_bits<const NB: usize>(
         if n > r.remaining() {
             return Err(DecodeError::new(DKind::UnexpectedEnd, r.position()));
         }
-        for i in len..len + n {
-            if r.read_bit()? {
-                buf[i / 8] |= 0x80 >> (i % 8);
-            }
+        let mut done = 0;
+        while done < n {
+            let take = (n - done).min(8 - (len + done) % 8);
+            let v = r.read_bits(take as u32)? as u8;
+            let at = len + done;
+            buf[at / 8] |= v << (8 - at % 8 - take);
+            done += take;
         }
         len += n;
         Ok(())
@@ -211,8 +228,16 @@ pub fn decode_bits<const NB: usize>(
 
 /// Encodes a BIT STRING.
 pub fn encode_bits<const NB: usize>(w: &mut Writer<'_>, size: Size, bits: &Bits<NB>) -> EncodeResult {
+    let bytes = bits.as_bytes();
     write_sized(w, size, bits.len(), |w, start, n| {
-        (start..start + n).try_for_each(|i| w.write_bit(bits.get(i)))
+        let mut i = start;
+        while i < start + n {
+            let take = (start + n - i).min(8 - i % 8);
+            let v = (bytes[i / 8] >> (8 - i % 8 - take)) & ((1u16 << take) - 1) as u8;
+            w.write_bits(v as u64, take as u32)?;
+            i += take;
+        }
+        Ok(())
     })
 }
 

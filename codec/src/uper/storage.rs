@@ -8,14 +8,23 @@
 use core::fmt;
 use core::ops::{Deref, DerefMut};
 
+use super::Placeholder;
+
 #[cfg(feature = "alloc")]
 use alloc::{string::String, vec::Vec};
 
 /// A SEQUENCE OF (or variable OCTET STRING) value: at most `N` items without `alloc`.
-#[derive(Clone, PartialEq, Eq, Hash)]
+///
+/// Without `alloc` the items live in an array that is always fully initialised (unused
+/// slots hold placeholders), so decoding into a kept value refills the slots in place and
+/// never moves large items. Only the first `len()` items are the value: equality, hashing,
+/// `Debug` and iteration look at those alone.
+#[derive(Clone)]
 pub struct SeqOf<T, const N: usize> {
     #[cfg(not(feature = "alloc"))]
-    items: heapless::Vec<T, N>,
+    len: usize,
+    #[cfg(not(feature = "alloc"))]
+    items: [T; N],
     #[cfg(feature = "alloc")]
     items: Vec<T>,
 }
@@ -23,12 +32,14 @@ pub struct SeqOf<T, const N: usize> {
 /// Variable-size octets (OCTET STRING, unknown open-type content).
 pub type Octets<const N: usize> = SeqOf<u8, N>;
 
-impl<T, const N: usize> SeqOf<T, N> {
+impl<T: Placeholder, const N: usize> SeqOf<T, N> {
     /// An empty sequence.
-    pub const fn new() -> Self {
+    pub fn new() -> Self {
         Self {
             #[cfg(not(feature = "alloc"))]
-            items: heapless::Vec::new(),
+            len: 0,
+            #[cfg(not(feature = "alloc"))]
+            items: core::array::from_fn(|_| T::placeholder()),
             #[cfg(feature = "alloc")]
             items: Vec::new(),
         }
@@ -36,15 +47,45 @@ impl<T, const N: usize> SeqOf<T, N> {
 
     /// Appends an item; gives it back when the no-heap capacity is full.
     pub fn push(&mut self, item: T) -> Result<(), T> {
-        #[cfg(not(feature = "alloc"))]
-        return self.items.push(item);
-        #[cfg(feature = "alloc")]
-        {
-            self.items.push(item);
-            Ok(())
+        match self.push_slot() {
+            Some(slot) => {
+                *slot = item;
+                Ok(())
+            }
+            None => Err(item),
         }
     }
 
+    /// Grows by one item and returns it to be overwritten (it holds a placeholder or a
+    /// former item); `None` when the no-heap capacity is full.
+    pub fn push_slot(&mut self) -> Option<&mut T> {
+        #[cfg(not(feature = "alloc"))]
+        {
+            let slot = self.items.get_mut(self.len)?;
+            self.len += 1;
+            Some(slot)
+        }
+        #[cfg(feature = "alloc")]
+        {
+            self.items.push(T::placeholder());
+            self.items.last_mut()
+        }
+    }
+
+    /// Removes and returns the last item.
+    pub fn pop(&mut self) -> Option<T> {
+        #[cfg(not(feature = "alloc"))]
+        {
+            let last = self.len.checked_sub(1)?;
+            self.len = last;
+            Some(core::mem::replace(&mut self.items[last], T::placeholder()))
+        }
+        #[cfg(feature = "alloc")]
+        self.items.pop()
+    }
+}
+
+impl<T, const N: usize> SeqOf<T, N> {
     /// How many items fit: `N` without `alloc`, unbounded (`usize::MAX`) with it.
     pub const fn capacity() -> usize {
         if cfg!(feature = "alloc") {
@@ -54,18 +95,32 @@ impl<T, const N: usize> SeqOf<T, N> {
         }
     }
 
-    /// Removes every item.
+    /// Removes every item (without `alloc` the slots keep their storage for reuse).
     pub fn clear(&mut self) {
+        #[cfg(not(feature = "alloc"))]
+        {
+            self.len = 0;
+        }
+        #[cfg(feature = "alloc")]
         self.items.clear();
     }
 
-    /// Removes and returns the last item.
-    pub fn pop(&mut self) -> Option<T> {
-        self.items.pop()
+    fn as_slice(&self) -> &[T] {
+        #[cfg(not(feature = "alloc"))]
+        return &self.items[..self.len];
+        #[cfg(feature = "alloc")]
+        &self.items
+    }
+
+    fn as_mut_slice(&mut self) -> &mut [T] {
+        #[cfg(not(feature = "alloc"))]
+        return &mut self.items[..self.len];
+        #[cfg(feature = "alloc")]
+        &mut self.items
     }
 }
 
-impl<T: Clone, const N: usize> SeqOf<T, N> {
+impl<T: Placeholder + Clone, const N: usize> SeqOf<T, N> {
     /// A sequence holding a copy of `items`; `None` when they exceed the capacity.
     pub fn from_slice(items: &[T]) -> Option<Self> {
         let mut s = Self::new();
@@ -76,8 +131,14 @@ impl<T: Clone, const N: usize> SeqOf<T, N> {
     }
 }
 
-impl<T, const N: usize> Default for SeqOf<T, N> {
+impl<T: Placeholder, const N: usize> Default for SeqOf<T, N> {
     fn default() -> Self {
+        Self::new()
+    }
+}
+
+impl<T: Placeholder, const N: usize> Placeholder for SeqOf<T, N> {
+    fn placeholder() -> Self {
         Self::new()
     }
 }
@@ -85,13 +146,27 @@ impl<T, const N: usize> Default for SeqOf<T, N> {
 impl<T, const N: usize> Deref for SeqOf<T, N> {
     type Target = [T];
     fn deref(&self) -> &[T] {
-        &self.items
+        self.as_slice()
     }
 }
 
 impl<T, const N: usize> DerefMut for SeqOf<T, N> {
     fn deref_mut(&mut self) -> &mut [T] {
-        &mut self.items
+        self.as_mut_slice()
+    }
+}
+
+impl<T: PartialEq, const N: usize> PartialEq for SeqOf<T, N> {
+    fn eq(&self, other: &Self) -> bool {
+        self.as_slice() == other.as_slice()
+    }
+}
+
+impl<T: Eq, const N: usize> Eq for SeqOf<T, N> {}
+
+impl<T: core::hash::Hash, const N: usize> core::hash::Hash for SeqOf<T, N> {
+    fn hash<H: core::hash::Hasher>(&self, state: &mut H) {
+        self.as_slice().hash(state)
     }
 }
 
@@ -99,7 +174,7 @@ impl<'a, T, const N: usize> IntoIterator for &'a SeqOf<T, N> {
     type Item = &'a T;
     type IntoIter = core::slice::Iter<'a, T>;
     fn into_iter(self) -> Self::IntoIter {
-        self.items.iter()
+        self.as_slice().iter()
     }
 }
 
@@ -168,6 +243,12 @@ impl<const N: usize> Ia5<N> {
     }
 }
 
+impl<const N: usize> Placeholder for Ia5<N> {
+    fn placeholder() -> Self {
+        Self::new()
+    }
+}
+
 impl<const N: usize> fmt::Debug for Ia5<N> {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         fmt::Debug::fmt(self.as_str(), f)
@@ -193,6 +274,8 @@ pub struct Bits<const NBYTES: usize> {
 impl<const NBYTES: usize> Bits<NBYTES> {
     /// The largest length this storage holds.
     pub const CAPACITY: usize = NBYTES * 8;
+    /// The value with no bits.
+    pub const EMPTY: Self = Self { len: 0, bytes: [0; NBYTES] };
 
     /// `len` zero bits; `None` when `len` exceeds the storage.
     pub const fn zeros(len: usize) -> Option<Self> {

@@ -61,6 +61,17 @@ impl<'a> Writer<'a> {
     #[inline]
     pub fn write_bits(&mut self, value: u64, n: u32) -> EncodeResult {
         self.reserve(n as usize)?;
+        let byte = self.pos / 8;
+        if !self.counting && n <= 56 && byte + 8 <= self.buf.len() {
+            // Fast path: merge into one big-endian word; the bytes after the value are zeroed,
+            // which the invariant allows (they lie past the write position).
+            let used = (self.pos % 8) as u32;
+            let keep = if used == 0 { 0 } else { (self.buf[byte] as u64 >> (8 - used)) << (64 - used) };
+            let bits = if n == 0 { 0 } else { (value << (64 - n)) >> used };
+            self.buf[byte..byte + 8].copy_from_slice(&(keep | bits).to_be_bytes());
+            self.pos += n as usize;
+            return Ok(());
+        }
         if !self.counting {
             let mut left = n;
             while left > 0 {
