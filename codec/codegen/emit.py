@@ -49,6 +49,15 @@ class Emitter:
     def doc(self, td, what):
         return f"/// ASN.1 `{td.asn}` (module `{td.module}`): {what}."
 
+    def random_impl(self, td, body):
+        return (f"#[cfg(feature = \"_random\")]\nimpl uper::random::Random for {td.name} {{\n"
+                f"    fn random(g: &mut uper::random::Gen) -> Self {{\n{indent(body, 8)}\n    }}\n}}\n")
+
+    def random_of(self, ref, td):
+        if ref.builtin == "crate::uper::Null":
+            return "crate::uper::Null"
+        return f"<{self.rust(ref, td)} as uper::random::Random>::random(g)"
+
     def uper_impl(self, td, decode, encode, placeholder):
         nh, h = self.bits.of(td, heap=False), self.bits.of(td, heap=True)
         opt = lambda v: "None" if v is None else f"Some({v})"  # noqa: E731
@@ -114,6 +123,7 @@ class Emitter:
                    "*out = Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))?;\nOk(())")
         enc.append(f"w.write_constrained(self.root_index(), 0, {n - 1})")
         s.append(self.uper_impl(td, "\n".join(dec), "\n".join(enc), f"Self::{naming.camel(td.items[0][0])}"))
+        s.append(self.random_impl(td, f"Self::ALL[g.below({n})]"))
         return "\n".join(s)
 
     def emit_bits(self, td):
@@ -130,11 +140,15 @@ class Emitter:
         s.append("}\n")
         s.append(self.uper_impl(td, f"out.0 = uper::decode_bits(r, Self::SIZE, \"{td.key}\")?;\nOk(())",
                                 "uper::encode_bits(w, Self::SIZE, &self.0)", "Self(uper::Bits::EMPTY)"))
+        s.append(self.random_impl(td, f"let len = g.range({td.lb}, {td.ub}) as usize;\n"
+                                  f"let bytes: [u8; {nb}] = core::array::from_fn(|_| g.octet());\n"
+                                  "Self(uper::Bits::from_bytes(&bytes, len).unwrap_or(uper::Bits::EMPTY))"))
         return "\n".join(s)
 
     def emit_fixed_octets(self, td):
         s = [self.doc(td, f"OCTET STRING (SIZE({td.lb}))"), DERIVE_COPY, f"pub struct {td.name}(pub [u8; {td.lb}]);\n"]
         s.append(self.uper_impl(td, "r.read_octets(&mut out.0)", "w.write_octets(&self.0)", f"Self([0; {td.lb}])"))
+        s.append(self.random_impl(td, "Self(core::array::from_fn(|_| g.octet()))"))
         return "\n".join(s)
 
     def emit_sized(self, td, what, storage, decode_fn, encode_fn, ctor):
@@ -144,6 +158,10 @@ class Emitter:
         dec = (f"uper::{decode_fn}(r, Self::SIZE, \"{td.key}\", &mut out.0)" if decode_fn.endswith("_into")
                else f"out.0 = uper::{decode_fn}(r, Self::SIZE, \"{td.key}\")?;\nOk(())")
         s.append(self.uper_impl(td, dec, f"uper::{encode_fn}(w, Self::SIZE, &self.0)", f"Self({storage.split('<')[0]}::new())"))
+        ub = min(td.ub if td.ub is not None else 1 << 20, self.caps.count(td))
+        item = {"octets": "g.octet()", "ia5": "g.printable()"}.get(td.kind) or self.random_of(td.item, td)
+        s.append(self.random_impl(td, f"let mut v = Self({storage.split('<')[0]}::new());\n"
+                                  f"for _ in 0..g.count({td.lb}, {ub}) {{\n    let _ = v.0.push({item});\n}}\nv"))
         return "\n".join(s)
 
     def emit_octets(self, td):
@@ -187,6 +205,12 @@ class Emitter:
         if td.extensible:
             inits.append("extensions: uper::Extensions::new()")
         s.append(self.uper_impl(td, self.seq_decode(td), self.seq_encode(td), f"Self {{ {', '.join(inits)} }}"))
+        rnd = [f"{f.rust}: {'if g.coin() { Some(' + self.random_of(f.ref, td) + ') } else { None }' if f.optional else self.random_of(f.ref, td)}"
+               for f in td.fields]
+        if td.extensible:
+            rnd.append("extensions: uper::Extensions::new()")
+        body = f"Self {{\n    {(','+chr(10)+'    ').join(rnd)},\n}}" if rnd else "Self {}"
+        s.append(self.random_impl(td, body if td.fields else "let _ = g;\n" + body))
         return "\n".join(s)
 
     def placeholder_of(self, ref, td):
@@ -274,6 +298,9 @@ class Emitter:
         a = td.alts[0]
         ph = f"Self::{a.variant}" if a.ref.builtin == "crate::uper::Null" else f"Self::{a.variant}({self.placeholder_of(a.ref, td)})"
         s.append(self.uper_impl(td, "\n".join(dec), "\n".join(enc), ph))
+        arms = "".join(f"    {i} => Self::{a.variant}{'' if a.ref.builtin == 'crate::uper::Null' else '(' + self.random_of(a.ref, td) + ')'},\n"
+                       for i, a in enumerate(td.alts))
+        s.append(self.random_impl(td, f"match g.below({n}) {{\n{arms}    _ => {ph},\n}}"))
         return "\n".join(s)
 
     def emit_open(self, td):
@@ -304,6 +331,15 @@ class Emitter:
                    "        uper::encode_unknown_open(w, content)\n    }\n}")
         ph = f"Self::Unknown {{ id: <{id_ty} as uper::Placeholder>::placeholder(), content: uper::Octets::new() }}"
         s.append(self.uper_impl(td, "\n".join(dec), "\n".join(enc), ph))
+        if td.variants:
+            arms = "".join(f"    {k} => Self::{v}(<{self.rust(r, td)} as uper::random::Random>::random(g)),\n"
+                           for k, (_, v, r) in enumerate(td.variants))
+            body = f"match g.below({len(td.variants)}) {{\n{arms}    _ => {ph},\n}}"
+        else:
+            body = ("let known = [" + ", ".join(str(i) for i, _, _ in td.variants) + "];\n" if False else "") + \
+                   (f"let mut content = uper::Octets::new();\nfor _ in 0..1 + g.below(4) {{\n    let _ = content.push(g.octet());\n}}\n"
+                    f"Self::Unknown {{ id: <{id_ty} as uper::random::Random>::random(g), content }}")
+        s.append(self.random_impl(td, body))
         return "\n".join(s)
 
 

@@ -48,6 +48,18 @@ impl Uper for Position3DAddGrpB {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for Position3DAddGrpB {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self {
+            latitude: <LatitudeDMS2 as uper::random::Random>::random(g),
+            longitude: <LongitudeDMS2 as uper::random::Random>::random(g),
+            elevation: <Elevation as uper::random::Random>::random(g),
+            extensions: uper::Extensions::new(),
+        }
+    }
+}
+
 /// ASN.1 `LatitudeDMS2` (module `AddGrpB`): SEQUENCE.
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub struct LatitudeDMS2 {
@@ -79,6 +91,17 @@ impl Uper for LatitudeDMS2 {
         self.m.encode_uper(w)?;
         self.s.encode_uper(w)?;
         Ok(())
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for LatitudeDMS2 {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self {
+            d: <DegreesLat as uper::random::Random>::random(g),
+            m: <MinutesAngle as uper::random::Random>::random(g),
+            s: <SecondsAngle as uper::random::Random>::random(g),
+        }
     }
 }
 
@@ -128,6 +151,17 @@ impl Uper for LongitudeDMS2 {
         self.m.encode_uper(w)?;
         self.s.encode_uper(w)?;
         Ok(())
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for LongitudeDMS2 {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self {
+            d: <DegreesLong as uper::random::Random>::random(g),
+            m: <MinutesAngle as uper::random::Random>::random(g),
+            s: <SecondsAngle as uper::random::Random>::random(g),
+        }
     }
 }
 
@@ -209,6 +243,17 @@ impl Uper for NodeOffsetPointXYAddGrpB {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for NodeOffsetPointXYAddGrpB {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        match g.below(2) {
+            0 => Self::PosA(<NodeLLdms48b as uper::random::Random>::random(g)),
+            1 => Self::PosB(<NodeLLdms80b as uper::random::Random>::random(g)),
+            _ => Self::PosA(<NodeLLdms48b as uper::Placeholder>::placeholder()),
+        }
+    }
+}
+
 /// ASN.1 `Node-LLdms-48b` (module `AddGrpB`): SEQUENCE.
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub struct NodeLLdms48b {
@@ -236,6 +281,16 @@ impl Uper for NodeLLdms48b {
         self.lon.encode_uper(w)?;
         self.lat.encode_uper(w)?;
         Ok(())
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for NodeLLdms48b {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self {
+            lon: <LongitudeDMS as uper::random::Random>::random(g),
+            lat: <LatitudeDMS as uper::random::Random>::random(g),
+        }
     }
 }
 
@@ -279,6 +334,16 @@ impl Uper for NodeLLdms80b {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for NodeLLdms80b {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self {
+            lon: <LongitudeDMS2 as uper::random::Random>::random(g),
+            lat: <LatitudeDMS2 as uper::random::Random>::random(g),
+        }
+    }
+}
+
 /// ASN.1 `LaneDataAttribute-addGrpB` (module `AddGrpB`): SEQUENCE (extensible).
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub struct LaneDataAttributeAddGrpB {
@@ -306,6 +371,16 @@ impl Uper for LaneDataAttributeAddGrpB {
             self.extensions.encode(w)?;
         }
         Ok(())
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for LaneDataAttributeAddGrpB {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        let _ = g;
+        Self {
+            extensions: uper::Extensions::new(),
+        }
     }
 }
 
@@ -420,6 +495,21 @@ impl Uper for MovementEventAddGrpB {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for MovementEventAddGrpB {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self {
+            start_time: if g.coin() { Some(<TimeRemaining as uper::random::Random>::random(g)) } else { None },
+            min_end_time: <MinTimetoChange as uper::random::Random>::random(g),
+            max_end_time: if g.coin() { Some(<MaxTimetoChange as uper::random::Random>::random(g)) } else { None },
+            likely_time: if g.coin() { Some(<TimeRemaining as uper::random::Random>::random(g)) } else { None },
+            confidence: if g.coin() { Some(<super::spat::TimeIntervalConfidence as uper::random::Random>::random(g)) } else { None },
+            next_time: if g.coin() { Some(<TimeRemaining as uper::random::Random>::random(g)) } else { None },
+            extensions: uper::Extensions::new(),
+        }
+    }
+}
+
 /// ASN.1 `TimeRemaining` (module `AddGrpB`): INTEGER (0..9001).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub struct TimeRemaining(u16);
@@ -529,6 +619,13 @@ impl Uper for DayOfWeek {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for DayOfWeek {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self::ALL[g.below(8)]
+    }
+}
+
 /// ASN.1 `Holiday` (module `AddGrpB`): ENUMERATED.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum Holiday {
@@ -580,6 +677,13 @@ impl Uper for Holiday {
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_constrained(self.root_index(), 0, 1)
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for Holiday {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self::ALL[g.below(2)]
     }
 }
 
@@ -662,6 +766,13 @@ impl Uper for SummerTime {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for SummerTime {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self::ALL[g.below(2)]
+    }
+}
+
 /// ASN.1 `TenthSecond` (module `AddGrpB`): INTEGER (0..9).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub struct TenthSecond(u8);
@@ -731,5 +842,23 @@ impl Uper for TimeMark {
         self.second.encode_uper(w)?;
         self.tenth_second.encode_uper(w)?;
         Ok(())
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for TimeMark {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self {
+            year: <Year as uper::random::Random>::random(g),
+            month: <Month as uper::random::Random>::random(g),
+            day: <Day as uper::random::Random>::random(g),
+            summer_time: <SummerTime as uper::random::Random>::random(g),
+            holiday: <Holiday as uper::random::Random>::random(g),
+            dayof_week: <DayOfWeek as uper::random::Random>::random(g),
+            hour: <Hour as uper::random::Random>::random(g),
+            minute: <Minute as uper::random::Random>::random(g),
+            second: <Second as uper::random::Random>::random(g),
+            tenth_second: <TenthSecond as uper::random::Random>::random(g),
+        }
     }
 }

@@ -40,6 +40,16 @@ impl Uper for Position3DAddGrpC {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for Position3DAddGrpC {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self {
+            altitude: <Altitude as uper::random::Random>::random(g),
+            extensions: uper::Extensions::new(),
+        }
+    }
+}
+
 /// ASN.1 `Altitude` (module `AddGrpC`): SEQUENCE.
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub struct Altitude {
@@ -67,6 +77,16 @@ impl Uper for Altitude {
         self.value.encode_uper(w)?;
         self.confidence.encode_uper(w)?;
         Ok(())
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for Altitude {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self {
+            value: <AltitudeValue as uper::random::Random>::random(g),
+            confidence: <AltitudeConfidence as uper::random::Random>::random(g),
+        }
     }
 }
 
@@ -199,6 +219,13 @@ impl Uper for AltitudeConfidence {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for AltitudeConfidence {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self::ALL[g.below(16)]
+    }
+}
+
 /// ASN.1 `RestrictionUserType-addGrpC` (module `AddGrpC`): SEQUENCE (extensible).
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub struct RestrictionUserTypeAddGrpC {
@@ -243,6 +270,16 @@ impl Uper for RestrictionUserTypeAddGrpC {
             self.extensions.encode(w)?;
         }
         Ok(())
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for RestrictionUserTypeAddGrpC {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self {
+            emission: if g.coin() { Some(<EmissionType as uper::random::Random>::random(g)) } else { None },
+            extensions: uper::Extensions::new(),
+        }
     }
 }
 
@@ -331,6 +368,13 @@ impl Uper for EmissionType {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for EmissionType {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self::ALL[g.below(5)]
+    }
+}
+
 /// ASN.1 `MapData-addGrpC` (module `AddGrpC`): SEQUENCE (extensible).
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub struct MapDataAddGrpC {
@@ -378,6 +422,16 @@ impl Uper for MapDataAddGrpC {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for MapDataAddGrpC {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self {
+            signal_head_locations: if g.coin() { Some(<SignalHeadLocationList as uper::random::Random>::random(g)) } else { None },
+            extensions: uper::Extensions::new(),
+        }
+    }
+}
+
 /// ASN.1 `SignalHeadLocationList` (module `AddGrpC`): SEQUENCE OF SignalHeadLocation (SIZE(1..20)).
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub struct SignalHeadLocationList(pub uper::SeqOf<SignalHeadLocation, 4>);
@@ -406,6 +460,17 @@ impl Uper for SignalHeadLocationList {
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for SignalHeadLocationList {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        let mut v = Self(uper::SeqOf::new());
+        for _ in 0..g.count(1, 4) {
+            let _ = v.0.push(<SignalHeadLocation as uper::random::Random>::random(g));
+        }
+        v
     }
 }
 
@@ -447,6 +512,17 @@ impl Uper for SignalHeadLocation {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for SignalHeadLocation {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self {
+            node: <super::common::NodeOffsetPointXY as uper::random::Random>::random(g),
+            signal_group_id: <super::common::SignalGroupID as uper::random::Random>::random(g),
+            extensions: uper::Extensions::new(),
+        }
+    }
+}
+
 /// ASN.1 `ConnectionManeuverAssist-addGrpC` (module `AddGrpC`): SEQUENCE.
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub struct ConnectionManeuverAssistAddGrpC {
@@ -464,7 +540,7 @@ impl uper::Placeholder for ConnectionManeuverAssistAddGrpC {
 
 impl Uper for ConnectionManeuverAssistAddGrpC {
     const PATH: &'static str = "AddGrpC.ConnectionManeuverAssist-addGrpC";
-    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(703), None);
+    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(831), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let present = r.read_bits(1)?;
         <VehicleToLanePositionList>::decode_into(r, &mut out.vehicle_to_lane_positions)?;
@@ -490,11 +566,21 @@ impl Uper for ConnectionManeuverAssistAddGrpC {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for ConnectionManeuverAssistAddGrpC {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self {
+            vehicle_to_lane_positions: <VehicleToLanePositionList as uper::random::Random>::random(g),
+            rsu_distance_from_anchor: if g.coin() { Some(<super::common::NodeOffsetPointXY as uper::random::Random>::random(g)) } else { None },
+        }
+    }
+}
+
 /// ASN.1 `VehicleToLanePositionList` (module `AddGrpC`): SEQUENCE OF VehicleToLanePosition (SIZE(1..5)).
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
-pub struct VehicleToLanePositionList(pub uper::SeqOf<VehicleToLanePosition, 4>);
+pub struct VehicleToLanePositionList(pub uper::SeqOf<VehicleToLanePosition, 5>);
 
-crate::__newtype_deref!(VehicleToLanePositionList, uper::SeqOf<VehicleToLanePosition, 4>);
+crate::__newtype_deref!(VehicleToLanePositionList, uper::SeqOf<VehicleToLanePosition, 5>);
 
 impl VehicleToLanePositionList {
     const SIZE: uper::Size = uper::Size::range(1, 5);
@@ -512,12 +598,23 @@ impl uper::Placeholder for VehicleToLanePositionList {
 
 impl Uper for VehicleToLanePositionList {
     const PATH: &'static str = "AddGrpC.VehicleToLanePositionList";
-    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(515), None);
+    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(643), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         uper::decode_seq_of_into(r, Self::SIZE, "AddGrpC.VehicleToLanePositionList", &mut out.0)
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for VehicleToLanePositionList {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        let mut v = Self(uper::SeqOf::new());
+        for _ in 0..g.count(1, 5) {
+            let _ = v.0.push(<VehicleToLanePosition as uper::random::Random>::random(g));
+        }
+        v
     }
 }
 
@@ -556,6 +653,17 @@ impl Uper for VehicleToLanePosition {
             self.extensions.encode(w)?;
         }
         Ok(())
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for VehicleToLanePosition {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self {
+            station_id: <super::common::StationID as uper::random::Random>::random(g),
+            lane_id: <super::common::LaneID as uper::random::Random>::random(g),
+            extensions: uper::Extensions::new(),
+        }
     }
 }
 
@@ -606,6 +714,16 @@ impl Uper for IntersectionStateAddGrpC {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for IntersectionStateAddGrpC {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self {
+            active_prioritizations: if g.coin() { Some(<PrioritizationResponseList as uper::random::Random>::random(g)) } else { None },
+            extensions: uper::Extensions::new(),
+        }
+    }
+}
+
 /// ASN.1 `PrioritizationResponseList` (module `AddGrpC`): SEQUENCE OF PrioritizationResponse (SIZE(1..10)).
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub struct PrioritizationResponseList(pub uper::SeqOf<PrioritizationResponse, 4>);
@@ -634,6 +752,17 @@ impl Uper for PrioritizationResponseList {
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for PrioritizationResponseList {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        let mut v = Self(uper::SeqOf::new());
+        for _ in 0..g.count(1, 4) {
+            let _ = v.0.push(<PrioritizationResponse as uper::random::Random>::random(g));
+        }
+        v
     }
 }
 
@@ -676,5 +805,17 @@ impl Uper for PrioritizationResponse {
             self.extensions.encode(w)?;
         }
         Ok(())
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for PrioritizationResponse {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self {
+            station_id: <super::common::StationID as uper::random::Random>::random(g),
+            prior_state: <super::common::PrioritizationResponseStatus as uper::random::Random>::random(g),
+            signal_group: <super::common::SignalGroupID as uper::random::Random>::random(g),
+            extensions: uper::Extensions::new(),
+        }
     }
 }

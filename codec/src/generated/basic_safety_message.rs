@@ -27,7 +27,7 @@ impl uper::Placeholder for BasicSafetyMessage {
 
 impl Uper for BasicSafetyMessage {
     const PATH: &'static str = "BasicSafetyMessage.BasicSafetyMessage";
-    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(138473), None);
+    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(342017), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let extended = r.read_bit()?;
         let present = r.read_bits(2)?;
@@ -72,11 +72,23 @@ impl Uper for BasicSafetyMessage {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for BasicSafetyMessage {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self {
+            core_data: <super::common::BSMcoreData as uper::random::Random>::random(g),
+            part_ii: if g.coin() { Some(<BasicSafetyMessagePartII as uper::random::Random>::random(g)) } else { None },
+            regional: if g.coin() { Some(<BasicSafetyMessageRegional as uper::random::Random>::random(g)) } else { None },
+            extensions: uper::Extensions::new(),
+        }
+    }
+}
+
 /// ASN.1 `BasicSafetyMessage.partII` (module `BasicSafetyMessage`): SEQUENCE OF PartIIcontent (SIZE(1..8)).
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
-pub struct BasicSafetyMessagePartII(pub uper::SeqOf<PartIIcontent, 4>);
+pub struct BasicSafetyMessagePartII(pub uper::SeqOf<PartIIcontent, 8>);
 
-crate::__newtype_deref!(BasicSafetyMessagePartII, uper::SeqOf<PartIIcontent, 4>);
+crate::__newtype_deref!(BasicSafetyMessagePartII, uper::SeqOf<PartIIcontent, 8>);
 
 impl BasicSafetyMessagePartII {
     const SIZE: uper::Size = uper::Size::range(1, 8);
@@ -94,12 +106,23 @@ impl uper::Placeholder for BasicSafetyMessagePartII {
 
 impl Uper for BasicSafetyMessagePartII {
     const PATH: &'static str = "BasicSafetyMessage.BasicSafetyMessage.partII";
-    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(137947), None);
+    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(341491), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         uper::decode_seq_of_into(r, Self::SIZE, "BasicSafetyMessage.BasicSafetyMessage.partII", &mut out.0)
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for BasicSafetyMessagePartII {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        let mut v = Self(uper::SeqOf::new());
+        for _ in 0..g.count(1, 8) {
+            let _ = v.0.push(<PartIIcontent as uper::random::Random>::random(g));
+        }
+        v
     }
 }
 
@@ -182,6 +205,18 @@ impl Uper for SpecialVehicleExtensions {
             self.extensions.encode(w)?;
         }
         Ok(())
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for SpecialVehicleExtensions {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self {
+            vehicle_alerts: if g.coin() { Some(<super::common::EmergencyDetails as uper::random::Random>::random(g)) } else { None },
+            description: if g.coin() { Some(<EventDescription as uper::random::Random>::random(g)) } else { None },
+            trailers: if g.coin() { Some(<TrailerData as uper::random::Random>::random(g)) } else { None },
+            extensions: uper::Extensions::new(),
+        }
     }
 }
 
@@ -296,6 +331,21 @@ impl Uper for EventDescription {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for EventDescription {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self {
+            type_event: <super::itis::ITIScodes as uper::random::Random>::random(g),
+            description: if g.coin() { Some(<EventDescriptionDescription as uper::random::Random>::random(g)) } else { None },
+            priority: if g.coin() { Some(<super::common::Priority as uper::random::Random>::random(g)) } else { None },
+            heading: if g.coin() { Some(<super::common::HeadingSlice as uper::random::Random>::random(g)) } else { None },
+            extent: if g.coin() { Some(<super::common::Extent as uper::random::Random>::random(g)) } else { None },
+            regional: if g.coin() { Some(<EventDescriptionRegional as uper::random::Random>::random(g)) } else { None },
+            extensions: uper::Extensions::new(),
+        }
+    }
+}
+
 /// ASN.1 `EventDescription.description` (module `BasicSafetyMessage`): SEQUENCE OF super::itis::ITIScodes (SIZE(1..8)).
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub struct EventDescriptionDescription(pub uper::SeqOf<super::itis::ITIScodes, 4>);
@@ -327,6 +377,17 @@ impl Uper for EventDescriptionDescription {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for EventDescriptionDescription {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        let mut v = Self(uper::SeqOf::new());
+        for _ in 0..g.count(1, 4) {
+            let _ = v.0.push(<super::itis::ITIScodes as uper::random::Random>::random(g));
+        }
+        v
+    }
+}
+
 /// ASN.1 `EventDescription.regional` (module `BasicSafetyMessage`): SEQUENCE OF RegEventDescription (SIZE(1..4)).
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub struct EventDescriptionRegional(pub uper::SeqOf<RegEventDescription, 1>);
@@ -355,6 +416,17 @@ impl Uper for EventDescriptionRegional {
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for EventDescriptionRegional {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        let mut v = Self(uper::SeqOf::new());
+        for _ in 0..g.count(1, 1) {
+            let _ = v.0.push(<RegEventDescription as uper::random::Random>::random(g));
+        }
+        v
     }
 }
 
@@ -405,6 +477,17 @@ impl Uper for RegEventDescription {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for RegEventDescription {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        let mut content = uper::Octets::new();
+        for _ in 0..1 + g.below(4) {
+            let _ = content.push(g.octet());
+        }
+        Self::Unknown { id: <super::common::RegionId as uper::random::Random>::random(g), content }
+    }
+}
+
 /// ASN.1 `TrailerData` (module `BasicSafetyMessage`): SEQUENCE (extensible).
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub struct TrailerData {
@@ -444,6 +527,18 @@ impl Uper for TrailerData {
             self.extensions.encode(w)?;
         }
         Ok(())
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for TrailerData {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self {
+            not_used: <super::common::SSPindex as uper::random::Random>::random(g),
+            connection: <PivotPointDescription as uper::random::Random>::random(g),
+            units: <TrailerUnitDescriptionList as uper::random::Random>::random(g),
+            extensions: uper::Extensions::new(),
+        }
     }
 }
 
@@ -489,6 +584,18 @@ impl Uper for PivotPointDescription {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for PivotPointDescription {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self {
+            pivot_offset: <super::common::OffsetB11 as uper::random::Random>::random(g),
+            pivot_angle: <super::common::Angle as uper::random::Random>::random(g),
+            pivots: <PivotingAllowed as uper::random::Random>::random(g),
+            extensions: uper::Extensions::new(),
+        }
+    }
+}
+
 /// ASN.1 `PivotingAllowed` (module `BasicSafetyMessage`): the same type as bool.
 pub type PivotingAllowed = bool;
 
@@ -520,6 +627,17 @@ impl Uper for TrailerUnitDescriptionList {
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for TrailerUnitDescriptionList {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        let mut v = Self(uper::SeqOf::new());
+        for _ in 0..g.count(1, 4) {
+            let _ = v.0.push(<TrailerUnitDescription as uper::random::Random>::random(g));
+        }
+        v
     }
 }
 
@@ -695,6 +813,28 @@ impl Uper for TrailerUnitDescription {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for TrailerUnitDescription {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self {
+            is_dolly: <IsDolly as uper::random::Random>::random(g),
+            width: <super::common::VehicleWidth as uper::random::Random>::random(g),
+            length: <super::common::VehicleLength as uper::random::Random>::random(g),
+            height: if g.coin() { Some(<super::common::VehicleHeight as uper::random::Random>::random(g)) } else { None },
+            mass: if g.coin() { Some(<TrailerMass as uper::random::Random>::random(g)) } else { None },
+            bumper_heights: if g.coin() { Some(<super::common::BumperHeights as uper::random::Random>::random(g)) } else { None },
+            center_of_gravity: if g.coin() { Some(<super::common::VehicleHeight as uper::random::Random>::random(g)) } else { None },
+            front_pivot: <PivotPointDescription as uper::random::Random>::random(g),
+            rear_pivot: if g.coin() { Some(<PivotPointDescription as uper::random::Random>::random(g)) } else { None },
+            rear_wheel_offset: if g.coin() { Some(<super::common::OffsetB12 as uper::random::Random>::random(g)) } else { None },
+            position_offset: <super::common::NodeXY24b as uper::random::Random>::random(g),
+            elevation_offset: if g.coin() { Some(<VertOffsetB07 as uper::random::Random>::random(g)) } else { None },
+            crumb_data: if g.coin() { Some(<TrailerHistoryPointList as uper::random::Random>::random(g)) } else { None },
+            extensions: uper::Extensions::new(),
+        }
+    }
+}
+
 /// ASN.1 `IsDolly` (module `BasicSafetyMessage`): the same type as bool.
 pub type IsDolly = bool;
 
@@ -736,6 +876,17 @@ impl Uper for TrailerHistoryPointList {
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for TrailerHistoryPointList {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        let mut v = Self(uper::SeqOf::new());
+        for _ in 0..g.count(1, 4) {
+            let _ = v.0.push(<TrailerHistoryPoint as uper::random::Random>::random(g));
+        }
+        v
     }
 }
 
@@ -813,6 +964,20 @@ impl Uper for TrailerHistoryPoint {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for TrailerHistoryPoint {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self {
+            pivot_angle: <super::common::Angle as uper::random::Random>::random(g),
+            time_offset: <super::common::TimeOffset as uper::random::Random>::random(g),
+            position_offset: <super::common::NodeXY24b as uper::random::Random>::random(g),
+            elevation_offset: if g.coin() { Some(<VertOffsetB07 as uper::random::Random>::random(g)) } else { None },
+            heading: if g.coin() { Some(<super::common::CoarseHeading as uper::random::Random>::random(g)) } else { None },
+            extensions: uper::Extensions::new(),
+        }
+    }
+}
+
 /// ASN.1 `SupplementalVehicleExtensions` (module `BasicSafetyMessage`): SEQUENCE (extensible).
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub struct SupplementalVehicleExtensions {
@@ -848,7 +1013,7 @@ impl uper::Placeholder for SupplementalVehicleExtensions {
 
 impl Uper for SupplementalVehicleExtensions {
     const PATH: &'static str = "BasicSafetyMessage.SupplementalVehicleExtensions";
-    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(34463), None);
+    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(42657), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let extended = r.read_bit()?;
         let present = r.read_bits(10)?;
@@ -995,6 +1160,25 @@ impl Uper for SupplementalVehicleExtensions {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for SupplementalVehicleExtensions {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self {
+            classification: if g.coin() { Some(<super::common::BasicVehicleClass as uper::random::Random>::random(g)) } else { None },
+            class_details: if g.coin() { Some(<super::common::VehicleClassification as uper::random::Random>::random(g)) } else { None },
+            vehicle_data: if g.coin() { Some(<VehicleData as uper::random::Random>::random(g)) } else { None },
+            weather_report: if g.coin() { Some(<WeatherReport as uper::random::Random>::random(g)) } else { None },
+            weather_probe: if g.coin() { Some(<WeatherProbe as uper::random::Random>::random(g)) } else { None },
+            obstacle: if g.coin() { Some(<ObstacleDetection as uper::random::Random>::random(g)) } else { None },
+            status: if g.coin() { Some(<DisabledVehicle as uper::random::Random>::random(g)) } else { None },
+            speed_profile: if g.coin() { Some(<SpeedProfile as uper::random::Random>::random(g)) } else { None },
+            the_rtcm: if g.coin() { Some(<RTCMPackage as uper::random::Random>::random(g)) } else { None },
+            regional: if g.coin() { Some(<SupplementalVehicleExtensionsRegional as uper::random::Random>::random(g)) } else { None },
+            extensions: uper::Extensions::new(),
+        }
+    }
+}
+
 /// ASN.1 `VehicleData` (module `BasicSafetyMessage`): SEQUENCE (extensible).
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub struct VehicleData {
@@ -1084,6 +1268,19 @@ impl Uper for VehicleData {
             self.extensions.encode(w)?;
         }
         Ok(())
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for VehicleData {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self {
+            height: if g.coin() { Some(<super::common::VehicleHeight as uper::random::Random>::random(g)) } else { None },
+            bumpers: if g.coin() { Some(<super::common::BumperHeights as uper::random::Random>::random(g)) } else { None },
+            mass: if g.coin() { Some(<super::common::VehicleMass as uper::random::Random>::random(g)) } else { None },
+            trailer_weight: if g.coin() { Some(<super::common::TrailerWeight as uper::random::Random>::random(g)) } else { None },
+            extensions: uper::Extensions::new(),
+        }
     }
 }
 
@@ -1198,6 +1395,21 @@ impl Uper for WeatherReport {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for WeatherReport {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self {
+            is_raining: <super::ntcip::EssPrecipYesNo as uper::random::Random>::random(g),
+            rain_rate: if g.coin() { Some(<super::ntcip::EssPrecipRate as uper::random::Random>::random(g)) } else { None },
+            precip_situation: if g.coin() { Some(<super::ntcip::EssPrecipSituation as uper::random::Random>::random(g)) } else { None },
+            solar_radiation: if g.coin() { Some(<super::ntcip::EssSolarRadiation as uper::random::Random>::random(g)) } else { None },
+            friction: if g.coin() { Some(<super::ntcip::EssMobileFriction as uper::random::Random>::random(g)) } else { None },
+            road_friction: if g.coin() { Some(<super::common::CoefficientOfFriction as uper::random::Random>::random(g)) } else { None },
+            extensions: uper::Extensions::new(),
+        }
+    }
+}
+
 /// ASN.1 `WeatherProbe` (module `BasicSafetyMessage`): SEQUENCE (extensible).
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub struct WeatherProbe {
@@ -1272,6 +1484,18 @@ impl Uper for WeatherProbe {
             self.extensions.encode(w)?;
         }
         Ok(())
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for WeatherProbe {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self {
+            air_temp: if g.coin() { Some(<super::common::AmbientAirTemperature as uper::random::Random>::random(g)) } else { None },
+            air_pressure: if g.coin() { Some(<super::common::AmbientAirPressure as uper::random::Random>::random(g)) } else { None },
+            rain_rates: if g.coin() { Some(<super::common::WiperSet as uper::random::Random>::random(g)) } else { None },
+            extensions: uper::Extensions::new(),
+        }
     }
 }
 
@@ -1364,6 +1588,21 @@ impl Uper for ObstacleDetection {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for ObstacleDetection {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self {
+            ob_dist: <super::common::ObstacleDistance as uper::random::Random>::random(g),
+            ob_direct: <ObstacleDirection as uper::random::Random>::random(g),
+            description: if g.coin() { Some(<ObstacleDetectionDescription as uper::random::Random>::random(g)) } else { None },
+            location_details: if g.coin() { Some(<super::itis::GenericLocations as uper::random::Random>::random(g)) } else { None },
+            date_time: <super::common::DDateTime as uper::random::Random>::random(g),
+            vert_event: if g.coin() { Some(<super::common::VerticalAccelerationThreshold as uper::random::Random>::random(g)) } else { None },
+            extensions: uper::Extensions::new(),
+        }
+    }
+}
+
 /// ASN.1 `ObstacleDirection` (module `BasicSafetyMessage`): the same type as super::common::Angle.
 pub type ObstacleDirection = super::common::Angle;
 
@@ -1423,6 +1662,17 @@ impl Uper for DisabledVehicle {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for DisabledVehicle {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self {
+            status_details: <DisabledVehicleStatusDetails as uper::random::Random>::random(g),
+            location_details: if g.coin() { Some(<super::itis::GenericLocations as uper::random::Random>::random(g)) } else { None },
+            extensions: uper::Extensions::new(),
+        }
+    }
+}
+
 /// ASN.1 `DisabledVehicle.statusDetails` (module `BasicSafetyMessage`): INTEGER (523..541).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub struct DisabledVehicleStatusDetails(u16);
@@ -1462,6 +1712,16 @@ impl Uper for SpeedProfile {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for SpeedProfile {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self {
+            speed_reports: <SpeedProfileMeasurementList as uper::random::Random>::random(g),
+            extensions: uper::Extensions::new(),
+        }
+    }
+}
+
 /// ASN.1 `SpeedProfileMeasurementList` (module `BasicSafetyMessage`): SEQUENCE OF SpeedProfileMeasurement (SIZE(1..20)).
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub struct SpeedProfileMeasurementList(pub uper::SeqOf<SpeedProfileMeasurement, 4>);
@@ -1493,6 +1753,17 @@ impl Uper for SpeedProfileMeasurementList {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for SpeedProfileMeasurementList {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        let mut v = Self(uper::SeqOf::new());
+        for _ in 0..g.count(1, 4) {
+            let _ = v.0.push(<SpeedProfileMeasurement as uper::random::Random>::random(g));
+        }
+        v
+    }
+}
+
 /// ASN.1 `SpeedProfileMeasurement` (module `BasicSafetyMessage`): the same type as super::common::GrossSpeed.
 pub type SpeedProfileMeasurement = super::common::GrossSpeed;
 
@@ -1515,7 +1786,7 @@ impl uper::Placeholder for RTCMPackage {
 
 impl Uper for RTCMPackage {
     const PATH: &'static str = "BasicSafetyMessage.RTCMPackage";
-    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(32907), None);
+    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(41101), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let extended = r.read_bit()?;
         let present = r.read_bits(1)?;
@@ -1547,6 +1818,17 @@ impl Uper for RTCMPackage {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for RTCMPackage {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self {
+            rtcm_header: if g.coin() { Some(<super::common::RTCMheader as uper::random::Random>::random(g)) } else { None },
+            msgs: <super::common::RTCMmessageList as uper::random::Random>::random(g),
+            extensions: uper::Extensions::new(),
+        }
+    }
+}
+
 /// ASN.1 `SupplementalVehicleExtensions.regional` (module `BasicSafetyMessage`): SEQUENCE OF RegSupplementalVehicleExtensions (SIZE(1..4)).
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub struct SupplementalVehicleExtensionsRegional(pub uper::SeqOf<RegSupplementalVehicleExtensions, 1>);
@@ -1575,6 +1857,17 @@ impl Uper for SupplementalVehicleExtensionsRegional {
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for SupplementalVehicleExtensionsRegional {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        let mut v = Self(uper::SeqOf::new());
+        for _ in 0..g.count(1, 1) {
+            let _ = v.0.push(<RegSupplementalVehicleExtensions as uper::random::Random>::random(g));
+        }
+        v
     }
 }
 
@@ -1625,6 +1918,17 @@ impl Uper for RegSupplementalVehicleExtensions {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for RegSupplementalVehicleExtensions {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        let mut content = uper::Octets::new();
+        for _ in 0..1 + g.below(4) {
+            let _ = content.push(g.octet());
+        }
+        Self::Unknown { id: <super::common::RegionId as uper::random::Random>::random(g), content }
+    }
+}
+
 /// ASN.1 `PartIIcontent` (module `BasicSafetyMessage`): `partII-Id` and the `partII-Value` it selects (open type over an object set).
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub enum PartIIcontent {
@@ -1663,7 +1967,7 @@ impl uper::Placeholder for PartIIcontent {
 
 impl Uper for PartIIcontent {
     const PATH: &'static str = "BasicSafetyMessage.PartIIcontent";
-    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(34486), None);
+    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(42686), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let id = <PartIIId>::decode_uper(r)?;
         match id.get() {
@@ -1717,6 +2021,18 @@ impl Uper for PartIIcontent {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for PartIIcontent {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        match g.below(3) {
+            0 => Self::VehicleSafetyExtensions(<super::common::VehicleSafetyExtensions as uper::random::Random>::random(g)),
+            1 => Self::SpecialVehicleExtensions(<SpecialVehicleExtensions as uper::random::Random>::random(g)),
+            2 => Self::SupplementalVehicleExtensions(<SupplementalVehicleExtensions as uper::random::Random>::random(g)),
+            _ => Self::Unknown { id: <PartIIId as uper::Placeholder>::placeholder(), content: uper::Octets::new() },
+        }
+    }
+}
+
 /// ASN.1 `BasicSafetyMessage.regional` (module `BasicSafetyMessage`): SEQUENCE OF RegBasicSafetyMessage (SIZE(1..4)).
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub struct BasicSafetyMessageRegional(pub uper::SeqOf<RegBasicSafetyMessage, 1>);
@@ -1745,6 +2061,17 @@ impl Uper for BasicSafetyMessageRegional {
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for BasicSafetyMessageRegional {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        let mut v = Self(uper::SeqOf::new());
+        for _ in 0..g.count(1, 1) {
+            let _ = v.0.push(<RegBasicSafetyMessage as uper::random::Random>::random(g));
+        }
+        v
     }
 }
 
@@ -1792,5 +2119,16 @@ impl Uper for RegBasicSafetyMessage {
                 uper::encode_unknown_open(w, content)
             }
         }
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for RegBasicSafetyMessage {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        let mut content = uper::Octets::new();
+        for _ in 0..1 + g.below(4) {
+            let _ = content.push(g.octet());
+        }
+        Self::Unknown { id: <super::common::RegionId as uper::random::Random>::random(g), content }
     }
 }

@@ -32,6 +32,13 @@ impl Uper for TemporaryID {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for TemporaryID {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self(core::array::from_fn(|_| g.octet()))
+    }
+}
+
 /// ASN.1 `MinuteOfTheYear` (module `Common`): INTEGER (0..527040).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub struct MinuteOfTheYear(u32);
@@ -119,6 +126,28 @@ impl Uper for BSMcoreData {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for BSMcoreData {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self {
+            msg_cnt: <MsgCount as uper::random::Random>::random(g),
+            id: <TemporaryID as uper::random::Random>::random(g),
+            sec_mark: <DSecond as uper::random::Random>::random(g),
+            lat: <Latitude as uper::random::Random>::random(g),
+            long: <Longitude as uper::random::Random>::random(g),
+            elev: <Elevation as uper::random::Random>::random(g),
+            accuracy: <PositionalAccuracy as uper::random::Random>::random(g),
+            transmission: <TransmissionState as uper::random::Random>::random(g),
+            speed: <Speed as uper::random::Random>::random(g),
+            heading: <Heading as uper::random::Random>::random(g),
+            angle: <SteeringWheelAngle as uper::random::Random>::random(g),
+            accel_set: <AccelerationSet4Way as uper::random::Random>::random(g),
+            brakes: <BrakeSystemStatus as uper::random::Random>::random(g),
+            size: <VehicleSize as uper::random::Random>::random(g),
+        }
+    }
+}
+
 /// ASN.1 `DSecond` (module `Common`): INTEGER (0..65535).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub struct DSecond(u16);
@@ -186,6 +215,17 @@ impl Uper for PositionalAccuracy {
         self.semi_minor.encode_uper(w)?;
         self.orientation.encode_uper(w)?;
         Ok(())
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for PositionalAccuracy {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self {
+            semi_major: <SemiMajorAxisAccuracy as uper::random::Random>::random(g),
+            semi_minor: <SemiMinorAxisAccuracy as uper::random::Random>::random(g),
+            orientation: <SemiMajorAxisOrientation as uper::random::Random>::random(g),
+        }
     }
 }
 
@@ -300,6 +340,13 @@ impl Uper for TransmissionState {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for TransmissionState {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self::ALL[g.below(8)]
+    }
+}
+
 /// ASN.1 `Speed` (module `Common`): INTEGER (0..8191).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub struct Speed(u16);
@@ -362,6 +409,18 @@ impl Uper for AccelerationSet4Way {
         self.vert.encode_uper(w)?;
         self.yaw.encode_uper(w)?;
         Ok(())
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for AccelerationSet4Way {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self {
+            long: <Acceleration as uper::random::Random>::random(g),
+            lat: <Acceleration as uper::random::Random>::random(g),
+            vert: <VerticalAcceleration as uper::random::Random>::random(g),
+            yaw: <YawRate as uper::random::Random>::random(g),
+        }
     }
 }
 
@@ -434,6 +493,20 @@ impl Uper for BrakeSystemStatus {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for BrakeSystemStatus {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self {
+            wheel_brakes: <BrakeAppliedStatus as uper::random::Random>::random(g),
+            traction: <TractionControlStatus as uper::random::Random>::random(g),
+            abs: <AntiLockBrakeStatus as uper::random::Random>::random(g),
+            scs: <StabilityControlStatus as uper::random::Random>::random(g),
+            brake_boost: <BrakeBoostApplied as uper::random::Random>::random(g),
+            aux_brakes: <AuxiliaryBrakeStatus as uper::random::Random>::random(g),
+        }
+    }
+}
+
 /// ASN.1 `BrakeAppliedStatus` (module `Common`): BIT STRING (SIZE(5)).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub struct BrakeAppliedStatus(pub uper::Bits<1>);
@@ -475,6 +548,15 @@ impl Uper for BrakeAppliedStatus {
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_bits(w, Self::SIZE, &self.0)
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for BrakeAppliedStatus {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        let len = g.range(5, 5) as usize;
+        let bytes: [u8; 1] = core::array::from_fn(|_| g.octet());
+        Self(uper::Bits::from_bytes(&bytes, len).unwrap_or(uper::Bits::EMPTY))
     }
 }
 
@@ -542,6 +624,13 @@ impl Uper for TractionControlStatus {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for TractionControlStatus {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self::ALL[g.below(4)]
+    }
+}
+
 /// ASN.1 `AntiLockBrakeStatus` (module `Common`): ENUMERATED.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum AntiLockBrakeStatus {
@@ -603,6 +692,13 @@ impl Uper for AntiLockBrakeStatus {
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_constrained(self.root_index(), 0, 3)
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for AntiLockBrakeStatus {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self::ALL[g.below(4)]
     }
 }
 
@@ -670,6 +766,13 @@ impl Uper for StabilityControlStatus {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for StabilityControlStatus {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self::ALL[g.below(4)]
+    }
+}
+
 /// ASN.1 `BrakeBoostApplied` (module `Common`): ENUMERATED.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum BrakeBoostApplied {
@@ -726,6 +829,13 @@ impl Uper for BrakeBoostApplied {
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_constrained(self.root_index(), 0, 2)
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for BrakeBoostApplied {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self::ALL[g.below(3)]
     }
 }
 
@@ -793,6 +903,13 @@ impl Uper for AuxiliaryBrakeStatus {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for AuxiliaryBrakeStatus {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self::ALL[g.below(4)]
+    }
+}
+
 /// ASN.1 `VehicleSize` (module `Common`): SEQUENCE.
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub struct VehicleSize {
@@ -820,6 +937,16 @@ impl Uper for VehicleSize {
         self.width.encode_uper(w)?;
         self.length.encode_uper(w)?;
         Ok(())
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for VehicleSize {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self {
+            width: <VehicleWidth as uper::random::Random>::random(g),
+            length: <VehicleLength as uper::random::Random>::random(g),
+        }
     }
 }
 
@@ -904,6 +1031,18 @@ impl Uper for PathHistory {
             self.extensions.encode(w)?;
         }
         Ok(())
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for PathHistory {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self {
+            initial_position: if g.coin() { Some(<FullPositionVector as uper::random::Random>::random(g)) } else { None },
+            curr_gnss_status: if g.coin() { Some(<GNSSstatus as uper::random::Random>::random(g)) } else { None },
+            crumb_data: <PathHistoryPointList as uper::random::Random>::random(g),
+            extensions: uper::Extensions::new(),
+        }
     }
 }
 
@@ -1067,6 +1206,25 @@ impl Uper for FullPositionVector {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for FullPositionVector {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self {
+            utc_time: if g.coin() { Some(<DDateTime as uper::random::Random>::random(g)) } else { None },
+            long: <Longitude as uper::random::Random>::random(g),
+            lat: <Latitude as uper::random::Random>::random(g),
+            elevation: if g.coin() { Some(<Elevation as uper::random::Random>::random(g)) } else { None },
+            heading: if g.coin() { Some(<Heading as uper::random::Random>::random(g)) } else { None },
+            speed: if g.coin() { Some(<TransmissionAndSpeed as uper::random::Random>::random(g)) } else { None },
+            pos_accuracy: if g.coin() { Some(<PositionalAccuracy as uper::random::Random>::random(g)) } else { None },
+            time_confidence: if g.coin() { Some(<TimeConfidence as uper::random::Random>::random(g)) } else { None },
+            pos_confidence: if g.coin() { Some(<PositionConfidenceSet as uper::random::Random>::random(g)) } else { None },
+            speed_confidence: if g.coin() { Some(<SpeedandHeadingandThrottleConfidence as uper::random::Random>::random(g)) } else { None },
+            extensions: uper::Extensions::new(),
+        }
+    }
+}
+
 /// ASN.1 `DDateTime` (module `Common`): SEQUENCE.
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub struct DDateTime {
@@ -1196,6 +1354,21 @@ impl Uper for DDateTime {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for DDateTime {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self {
+            year: if g.coin() { Some(<DYear as uper::random::Random>::random(g)) } else { None },
+            month: if g.coin() { Some(<DMonth as uper::random::Random>::random(g)) } else { None },
+            day: if g.coin() { Some(<DDay as uper::random::Random>::random(g)) } else { None },
+            hour: if g.coin() { Some(<DHour as uper::random::Random>::random(g)) } else { None },
+            minute: if g.coin() { Some(<DMinute as uper::random::Random>::random(g)) } else { None },
+            second: if g.coin() { Some(<DSecond as uper::random::Random>::random(g)) } else { None },
+            offset: if g.coin() { Some(<DOffset as uper::random::Random>::random(g)) } else { None },
+        }
+    }
+}
+
 /// ASN.1 `DYear` (module `Common`): INTEGER (0..4095).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub struct DYear(u16);
@@ -1257,6 +1430,16 @@ impl Uper for TransmissionAndSpeed {
         self.transmisson.encode_uper(w)?;
         self.speed.encode_uper(w)?;
         Ok(())
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for TransmissionAndSpeed {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self {
+            transmisson: <TransmissionState as uper::random::Random>::random(g),
+            speed: <Velocity as uper::random::Random>::random(g),
+        }
     }
 }
 
@@ -1513,6 +1696,13 @@ impl Uper for TimeConfidence {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for TimeConfidence {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self::ALL[g.below(40)]
+    }
+}
+
 /// ASN.1 `PositionConfidenceSet` (module `Common`): SEQUENCE.
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub struct PositionConfidenceSet {
@@ -1540,6 +1730,16 @@ impl Uper for PositionConfidenceSet {
         self.pos.encode_uper(w)?;
         self.elevation.encode_uper(w)?;
         Ok(())
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for PositionConfidenceSet {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self {
+            pos: <PositionConfidence as uper::random::Random>::random(g),
+            elevation: <ElevationConfidence as uper::random::Random>::random(g),
+        }
     }
 }
 
@@ -1667,6 +1867,13 @@ impl Uper for PositionConfidence {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for PositionConfidence {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self::ALL[g.below(16)]
+    }
+}
+
 /// ASN.1 `ElevationConfidence` (module `Common`): ENUMERATED.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum ElevationConfidence {
@@ -1791,6 +1998,13 @@ impl Uper for ElevationConfidence {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for ElevationConfidence {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self::ALL[g.below(16)]
+    }
+}
+
 /// ASN.1 `SpeedandHeadingandThrottleConfidence` (module `Common`): SEQUENCE.
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub struct SpeedandHeadingandThrottleConfidence {
@@ -1822,6 +2036,17 @@ impl Uper for SpeedandHeadingandThrottleConfidence {
         self.speed.encode_uper(w)?;
         self.throttle.encode_uper(w)?;
         Ok(())
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for SpeedandHeadingandThrottleConfidence {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self {
+            heading: <HeadingConfidence as uper::random::Random>::random(g),
+            speed: <SpeedConfidence as uper::random::Random>::random(g),
+            throttle: <ThrottleConfidence as uper::random::Random>::random(g),
+        }
     }
 }
 
@@ -1909,6 +2134,13 @@ impl Uper for HeadingConfidence {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for HeadingConfidence {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self::ALL[g.below(8)]
+    }
+}
+
 /// ASN.1 `SpeedConfidence` (module `Common`): ENUMERATED.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum SpeedConfidence {
@@ -1993,6 +2225,13 @@ impl Uper for SpeedConfidence {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for SpeedConfidence {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self::ALL[g.below(8)]
+    }
+}
+
 /// ASN.1 `ThrottleConfidence` (module `Common`): ENUMERATED.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum ThrottleConfidence {
@@ -2057,6 +2296,13 @@ impl Uper for ThrottleConfidence {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for ThrottleConfidence {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self::ALL[g.below(4)]
+    }
+}
+
 /// ASN.1 `GNSSstatus` (module `Common`): BIT STRING (SIZE(8)).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub struct GNSSstatus(pub uper::Bits<1>);
@@ -2107,6 +2353,15 @@ impl Uper for GNSSstatus {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for GNSSstatus {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        let len = g.range(8, 8) as usize;
+        let bytes: [u8; 1] = core::array::from_fn(|_| g.octet());
+        Self(uper::Bits::from_bytes(&bytes, len).unwrap_or(uper::Bits::EMPTY))
+    }
+}
+
 /// ASN.1 `PathHistoryPointList` (module `Common`): SEQUENCE OF PathHistoryPoint (SIZE(1..23)).
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub struct PathHistoryPointList(pub uper::SeqOf<PathHistoryPoint, 23>);
@@ -2135,6 +2390,17 @@ impl Uper for PathHistoryPointList {
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for PathHistoryPointList {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        let mut v = Self(uper::SeqOf::new());
+        for _ in 0..g.count(1, 23) {
+            let _ = v.0.push(<PathHistoryPoint as uper::random::Random>::random(g));
+        }
+        v
     }
 }
 
@@ -2231,6 +2497,22 @@ impl Uper for PathHistoryPoint {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for PathHistoryPoint {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self {
+            lat_offset: <OffsetLLB18 as uper::random::Random>::random(g),
+            lon_offset: <OffsetLLB18 as uper::random::Random>::random(g),
+            elevation_offset: <VertOffsetB12 as uper::random::Random>::random(g),
+            time_offset: <TimeOffset as uper::random::Random>::random(g),
+            speed: if g.coin() { Some(<Speed as uper::random::Random>::random(g)) } else { None },
+            pos_accuracy: if g.coin() { Some(<PositionalAccuracy as uper::random::Random>::random(g)) } else { None },
+            heading: if g.coin() { Some(<CoarseHeading as uper::random::Random>::random(g)) } else { None },
+            extensions: uper::Extensions::new(),
+        }
+    }
+}
+
 /// ASN.1 `OffsetLL-B18` (module `Common`): INTEGER (-131072..131071).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub struct OffsetLLB18(i32);
@@ -2293,6 +2575,17 @@ impl Uper for PathPrediction {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for PathPrediction {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self {
+            radius_of_curve: <RadiusOfCurvature as uper::random::Random>::random(g),
+            confidence: <Confidence as uper::random::Random>::random(g),
+            extensions: uper::Extensions::new(),
+        }
+    }
+}
+
 /// ASN.1 `RadiusOfCurvature` (module `Common`): INTEGER (-32767..32767).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub struct RadiusOfCurvature(i16);
@@ -2343,6 +2636,16 @@ impl Uper for IntersectionReferenceID {
         }
         self.id.encode_uper(w)?;
         Ok(())
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for IntersectionReferenceID {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self {
+            region: if g.coin() { Some(<RoadRegulatorID as uper::random::Random>::random(g)) } else { None },
+            id: <IntersectionID as uper::random::Random>::random(g),
+        }
     }
 }
 
@@ -2423,6 +2726,15 @@ impl Uper for VehicleEventFlags {
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_bits(w, Self::SIZE, &self.0)
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for VehicleEventFlags {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        let len = g.range(13, 13) as usize;
+        let bytes: [u8; 2] = core::array::from_fn(|_| g.octet());
+        Self(uper::Bits::from_bytes(&bytes, len).unwrap_or(uper::Bits::EMPTY))
     }
 }
 
@@ -2523,6 +2835,19 @@ impl Uper for VehicleSafetyExtensions {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for VehicleSafetyExtensions {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self {
+            events: if g.coin() { Some(<VehicleEventFlags as uper::random::Random>::random(g)) } else { None },
+            path_history: if g.coin() { Some(<PathHistory as uper::random::Random>::random(g)) } else { None },
+            path_prediction: if g.coin() { Some(<PathPrediction as uper::random::Random>::random(g)) } else { None },
+            lights: if g.coin() { Some(<ExteriorLights as uper::random::Random>::random(g)) } else { None },
+            extensions: uper::Extensions::new(),
+        }
+    }
+}
+
 /// ASN.1 `ExteriorLights` (module `Common`): BIT STRING (SIZE(9, ...)).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub struct ExteriorLights(pub uper::Bits<2>);
@@ -2572,6 +2897,15 @@ impl Uper for ExteriorLights {
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_bits(w, Self::SIZE, &self.0)
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for ExteriorLights {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        let len = g.range(9, 9) as usize;
+        let bytes: [u8; 2] = core::array::from_fn(|_| g.octet());
+        Self(uper::Bits::from_bytes(&bytes, len).unwrap_or(uper::Bits::EMPTY))
     }
 }
 
@@ -2653,6 +2987,21 @@ impl Uper for EmergencyDetails {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for EmergencyDetails {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self {
+            not_used: <SSPindex as uper::random::Random>::random(g),
+            siren_use: <SirenInUse as uper::random::Random>::random(g),
+            lights_use: <LightbarInUse as uper::random::Random>::random(g),
+            multi: <MultiVehicleResponse as uper::random::Random>::random(g),
+            events: if g.coin() { Some(<PrivilegedEvents as uper::random::Random>::random(g)) } else { None },
+            response_type: if g.coin() { Some(<ResponseType as uper::random::Random>::random(g)) } else { None },
+            extensions: uper::Extensions::new(),
+        }
+    }
+}
+
 /// ASN.1 `SSPindex` (module `Common`): INTEGER (0..31).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub struct SSPindex(u8);
@@ -2719,6 +3068,13 @@ impl Uper for SirenInUse {
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_constrained(self.root_index(), 0, 3)
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for SirenInUse {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self::ALL[g.below(4)]
     }
 }
 
@@ -2806,6 +3162,13 @@ impl Uper for LightbarInUse {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for LightbarInUse {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self::ALL[g.below(8)]
+    }
+}
+
 /// ASN.1 `MultiVehicleResponse` (module `Common`): ENUMERATED.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum MultiVehicleResponse {
@@ -2870,6 +3233,13 @@ impl Uper for MultiVehicleResponse {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for MultiVehicleResponse {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self::ALL[g.below(4)]
+    }
+}
+
 /// ASN.1 `PrivilegedEvents` (module `Common`): SEQUENCE (extensible).
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub struct PrivilegedEvents {
@@ -2905,6 +3275,17 @@ impl Uper for PrivilegedEvents {
             self.extensions.encode(w)?;
         }
         Ok(())
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for PrivilegedEvents {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self {
+            not_used: <SSPindex as uper::random::Random>::random(g),
+            event: <PrivilegedEventFlags as uper::random::Random>::random(g),
+            extensions: uper::Extensions::new(),
+        }
     }
 }
 
@@ -2951,6 +3332,15 @@ impl Uper for PrivilegedEventFlags {
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_bits(w, Self::SIZE, &self.0)
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for PrivilegedEventFlags {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        let len = g.range(16, 16) as usize;
+        let bytes: [u8; 2] = core::array::from_fn(|_| g.octet());
+        Self(uper::Bits::from_bytes(&bytes, len).unwrap_or(uper::Bits::EMPTY))
     }
 }
 
@@ -3049,6 +3439,13 @@ impl Uper for ResponseType {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for ResponseType {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self::ALL[g.below(7)]
+    }
+}
+
 /// ASN.1 `Priority` (module `Common`): OCTET STRING (SIZE(1)).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub struct Priority(pub [u8; 1]);
@@ -3067,6 +3464,13 @@ impl Uper for Priority {
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_octets(&self.0)
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for Priority {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self(core::array::from_fn(|_| g.octet()))
     }
 }
 
@@ -3133,6 +3537,15 @@ impl Uper for HeadingSlice {
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_bits(w, Self::SIZE, &self.0)
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for HeadingSlice {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        let len = g.range(16, 16) as usize;
+        let bytes: [u8; 2] = core::array::from_fn(|_| g.octet());
+        Self(uper::Bits::from_bytes(&bytes, len).unwrap_or(uper::Bits::EMPTY))
     }
 }
 
@@ -3260,6 +3673,13 @@ impl Uper for Extent {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for Extent {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self::ALL[g.below(16)]
+    }
+}
+
 /// ASN.1 `Offset-B11` (module `Common`): INTEGER (-1024..1023).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub struct OffsetB11(i16);
@@ -3309,6 +3729,16 @@ impl Uper for BumperHeights {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for BumperHeights {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self {
+            front: <BumperHeight as uper::random::Random>::random(g),
+            rear: <BumperHeight as uper::random::Random>::random(g),
+        }
+    }
+}
+
 /// ASN.1 `BumperHeight` (module `Common`): INTEGER (0..127).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub struct BumperHeight(u8);
@@ -3346,6 +3776,16 @@ impl Uper for NodeXY24b {
         self.x.encode_uper(w)?;
         self.y.encode_uper(w)?;
         Ok(())
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for NodeXY24b {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self {
+            x: <OffsetB12 as uper::random::Random>::random(g),
+            y: <OffsetB12 as uper::random::Random>::random(g),
+        }
     }
 }
 
@@ -3518,6 +3958,24 @@ impl Uper for VehicleClassification {
             self.extensions.encode(w)?;
         }
         Ok(())
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for VehicleClassification {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self {
+            key_type: if g.coin() { Some(<BasicVehicleClass as uper::random::Random>::random(g)) } else { None },
+            role: if g.coin() { Some(<BasicVehicleRole as uper::random::Random>::random(g)) } else { None },
+            iso3883: if g.coin() { Some(<Iso3833VehicleType as uper::random::Random>::random(g)) } else { None },
+            hpms_type: if g.coin() { Some(<VehicleType as uper::random::Random>::random(g)) } else { None },
+            vehicle_type: if g.coin() { Some(<super::itis::VehicleGroupAffected as uper::random::Random>::random(g)) } else { None },
+            response_equip: if g.coin() { Some(<super::itis::IncidentResponseEquipment as uper::random::Random>::random(g)) } else { None },
+            responder_type: if g.coin() { Some(<super::itis::ResponderGroupAffected as uper::random::Random>::random(g)) } else { None },
+            fuel_type: if g.coin() { Some(<FuelType as uper::random::Random>::random(g)) } else { None },
+            regional: if g.coin() { Some(<VehicleClassificationRegional as uper::random::Random>::random(g)) } else { None },
+            extensions: uper::Extensions::new(),
+        }
     }
 }
 
@@ -3696,6 +4154,13 @@ impl Uper for BasicVehicleRole {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for BasicVehicleRole {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self::ALL[g.below(23)]
+    }
+}
+
 /// ASN.1 `Iso3833VehicleType` (module `Common`): INTEGER (0..100).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub struct Iso3833VehicleType(u8);
@@ -3841,6 +4306,13 @@ impl Uper for VehicleType {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for VehicleType {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self::ALL[g.below(16)]
+    }
+}
+
 /// ASN.1 `FuelType` (module `Common`): INTEGER (0..15).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub struct FuelType(u8);
@@ -3874,6 +4346,17 @@ impl Uper for VehicleClassificationRegional {
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for VehicleClassificationRegional {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        let mut v = Self(uper::SeqOf::new());
+        for _ in 0..g.count(1, 1) {
+            let _ = v.0.push(<RegVehicleClassification as uper::random::Random>::random(g));
+        }
+        v
     }
 }
 
@@ -3921,6 +4404,17 @@ impl Uper for RegVehicleClassification {
                 uper::encode_unknown_open(w, content)
             }
         }
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for RegVehicleClassification {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        let mut content = uper::Octets::new();
+        for _ in 0..1 + g.below(4) {
+            let _ = content.push(g.octet());
+        }
+        Self::Unknown { id: <RegionId as uper::random::Random>::random(g), content }
     }
 }
 
@@ -4008,6 +4502,18 @@ impl Uper for WiperSet {
             v.encode_uper(w)?;
         }
         Ok(())
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for WiperSet {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self {
+            status_front: <WiperStatus as uper::random::Random>::random(g),
+            rate_front: <WiperRate as uper::random::Random>::random(g),
+            status_rear: if g.coin() { Some(<WiperStatus as uper::random::Random>::random(g)) } else { None },
+            rate_rear: if g.coin() { Some(<WiperRate as uper::random::Random>::random(g)) } else { None },
+        }
     }
 }
 
@@ -4106,6 +4612,13 @@ impl Uper for WiperStatus {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for WiperStatus {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self::ALL[g.below(7)]
+    }
+}
+
 /// ASN.1 `WiperRate` (module `Common`): INTEGER (0..127).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub struct WiperRate(u8);
@@ -4160,6 +4673,15 @@ impl Uper for VerticalAccelerationThreshold {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for VerticalAccelerationThreshold {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        let len = g.range(5, 5) as usize;
+        let bytes: [u8; 1] = core::array::from_fn(|_| g.octet());
+        Self(uper::Bits::from_bytes(&bytes, len).unwrap_or(uper::Bits::EMPTY))
+    }
+}
+
 /// ASN.1 `GrossSpeed` (module `Common`): INTEGER (0..31).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub struct GrossSpeed(u8);
@@ -4192,6 +4714,16 @@ impl Uper for RTCMheader {
         self.status.encode_uper(w)?;
         self.offset_set.encode_uper(w)?;
         Ok(())
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for RTCMheader {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self {
+            status: <GNSSstatus as uper::random::Random>::random(g),
+            offset_set: <AntennaOffsetSet as uper::random::Random>::random(g),
+        }
     }
 }
 
@@ -4229,6 +4761,17 @@ impl Uper for AntennaOffsetSet {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for AntennaOffsetSet {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self {
+            ant_offset_x: <OffsetB12 as uper::random::Random>::random(g),
+            ant_offset_y: <OffsetB09 as uper::random::Random>::random(g),
+            ant_offset_z: <OffsetB10 as uper::random::Random>::random(g),
+        }
+    }
+}
+
 /// ASN.1 `Offset-B09` (module `Common`): INTEGER (-256..255).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub struct OffsetB09(i16);
@@ -4241,9 +4784,9 @@ crate::__constrained_int!(OffsetB10, i16, -512, 511, "Common.Offset-B10");
 
 /// ASN.1 `RTCMmessageList` (module `Common`): SEQUENCE OF RTCMmessage (SIZE(1..5)).
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
-pub struct RTCMmessageList(pub uper::SeqOf<RTCMmessage, 4>);
+pub struct RTCMmessageList(pub uper::SeqOf<RTCMmessage, 5>);
 
-crate::__newtype_deref!(RTCMmessageList, uper::SeqOf<RTCMmessage, 4>);
+crate::__newtype_deref!(RTCMmessageList, uper::SeqOf<RTCMmessage, 5>);
 
 impl RTCMmessageList {
     const SIZE: uper::Size = uper::Size::range(1, 5);
@@ -4261,12 +4804,23 @@ impl uper::Placeholder for RTCMmessageList {
 
 impl Uper for RTCMmessageList {
     const PATH: &'static str = "Common.RTCMmessageList";
-    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(32779), Some(40973));
+    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(40973), Some(40973));
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         uper::decode_seq_of_into(r, Self::SIZE, "Common.RTCMmessageList", &mut out.0)
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for RTCMmessageList {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        let mut v = Self(uper::SeqOf::new());
+        for _ in 0..g.count(1, 5) {
+            let _ = v.0.push(<RTCMmessage as uper::random::Random>::random(g));
+        }
+        v
     }
 }
 
@@ -4301,6 +4855,17 @@ impl Uper for RTCMmessage {
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_octets(w, Self::SIZE, &self.0)
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for RTCMmessage {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        let mut v = Self(uper::Octets::new());
+        for _ in 0..g.count(1, 1023) {
+            let _ = v.0.push(g.octet());
+        }
+        v
     }
 }
 
@@ -4340,6 +4905,17 @@ impl Uper for DescriptiveName {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for DescriptiveName {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        let mut v = Self(uper::Ia5::new());
+        for _ in 0..g.count(1, 63) {
+            let _ = v.0.push(g.printable());
+        }
+        v
+    }
+}
+
 /// ASN.1 `Position3D` (module `Common`): SEQUENCE (extensible).
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub struct Position3D {
@@ -4363,7 +4939,7 @@ impl uper::Placeholder for Position3D {
 
 impl Uper for Position3D {
     const PATH: &'static str = "Common.Position3D";
-    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(347), None);
+    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(875), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let extended = r.read_bit()?;
         let present = r.read_bits(2)?;
@@ -4410,11 +4986,24 @@ impl Uper for Position3D {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for Position3D {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self {
+            lat: <Latitude as uper::random::Random>::random(g),
+            long: <Longitude as uper::random::Random>::random(g),
+            elevation: if g.coin() { Some(<Elevation as uper::random::Random>::random(g)) } else { None },
+            regional: if g.coin() { Some(<Position3DRegional as uper::random::Random>::random(g)) } else { None },
+            extensions: uper::Extensions::new(),
+        }
+    }
+}
+
 /// ASN.1 `Position3D.regional` (module `Common`): SEQUENCE OF RegPosition3D (SIZE(1..4)).
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
-pub struct Position3DRegional(pub uper::SeqOf<RegPosition3D, 1>);
+pub struct Position3DRegional(pub uper::SeqOf<RegPosition3D, 4>);
 
-crate::__newtype_deref!(Position3DRegional, uper::SeqOf<RegPosition3D, 1>);
+crate::__newtype_deref!(Position3DRegional, uper::SeqOf<RegPosition3D, 4>);
 
 impl Position3DRegional {
     const SIZE: uper::Size = uper::Size::range(1, 4);
@@ -4432,12 +5021,23 @@ impl uper::Placeholder for Position3DRegional {
 
 impl Uper for Position3DRegional {
     const PATH: &'static str = "Common.Position3D.regional";
-    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(178), None);
+    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(706), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         uper::decode_seq_of_into(r, Self::SIZE, "Common.Position3D.regional", &mut out.0)
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for Position3DRegional {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        let mut v = Self(uper::SeqOf::new());
+        for _ in 0..g.count(1, 4) {
+            let _ = v.0.push(<RegPosition3D as uper::random::Random>::random(g));
+        }
+        v
     }
 }
 
@@ -4518,6 +5118,17 @@ impl Uper for RegPosition3D {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for RegPosition3D {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        match g.below(2) {
+            0 => Self::AddGrpB(<super::add_grp_b::Position3DAddGrpB as uper::random::Random>::random(g)),
+            1 => Self::AddGrpC(<super::add_grp_c::Position3DAddGrpC as uper::random::Random>::random(g)),
+            _ => Self::Unknown { id: <RegionId as uper::Placeholder>::placeholder(), content: uper::Octets::new() },
+        }
+    }
+}
+
 /// ASN.1 `LaneWidth` (module `Common`): INTEGER (0..32767).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub struct LaneWidth(u16);
@@ -4554,6 +5165,17 @@ impl Uper for SpeedLimitList {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for SpeedLimitList {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        let mut v = Self(uper::SeqOf::new());
+        for _ in 0..g.count(1, 6) {
+            let _ = v.0.push(<RegulatorySpeedLimit as uper::random::Random>::random(g));
+        }
+        v
+    }
+}
+
 /// ASN.1 `RegulatorySpeedLimit` (module `Common`): SEQUENCE.
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub struct RegulatorySpeedLimit {
@@ -4581,6 +5203,16 @@ impl Uper for RegulatorySpeedLimit {
         self.r#type.encode_uper(w)?;
         self.speed.encode_uper(w)?;
         Ok(())
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for RegulatorySpeedLimit {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self {
+            r#type: <SpeedLimitType as uper::random::Random>::random(g),
+            speed: <Velocity as uper::random::Random>::random(g),
+        }
     }
 }
 
@@ -4709,6 +5341,13 @@ impl Uper for SpeedLimitType {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for SpeedLimitType {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self::ALL[g.below(13)]
+    }
+}
+
 /// ASN.1 `NodeListXY` (module `Common`): CHOICE (extensible).
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub enum NodeListXY {
@@ -4733,7 +5372,7 @@ impl uper::Placeholder for NodeListXY {
 
 impl Uper for NodeListXY {
     const PATH: &'static str = "Common.NodeListXY";
-    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(133757), None);
+    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(179495), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         if r.read_bit()? {
             let at = r.position();
@@ -4777,6 +5416,17 @@ impl Uper for NodeListXY {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for NodeListXY {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        match g.below(2) {
+            0 => Self::Nodes(<NodeSetXY as uper::random::Random>::random(g)),
+            1 => Self::Computed(<ComputedLane as uper::random::Random>::random(g)),
+            _ => Self::Nodes(<NodeSetXY as uper::Placeholder>::placeholder()),
+        }
+    }
+}
+
 /// ASN.1 `NodeSetXY` (module `Common`): SEQUENCE OF NodeXY (SIZE(2..63)).
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub struct NodeSetXY(pub uper::SeqOf<NodeXY, 63>);
@@ -4799,12 +5449,23 @@ impl uper::Placeholder for NodeSetXY {
 
 impl Uper for NodeSetXY {
     const PATH: &'static str = "Common.NodeSetXY";
-    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(133755), None);
+    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(179493), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         uper::decode_seq_of_into(r, Self::SIZE, "Common.NodeSetXY", &mut out.0)
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for NodeSetXY {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        let mut v = Self(uper::SeqOf::new());
+        for _ in 0..g.count(2, 63) {
+            let _ = v.0.push(<NodeXY as uper::random::Random>::random(g));
+        }
+        v
     }
 }
 
@@ -4827,7 +5488,7 @@ impl uper::Placeholder for NodeXY {
 
 impl Uper for NodeXY {
     const PATH: &'static str = "Common.NodeXY";
-    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(2123), None);
+    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(2849), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let extended = r.read_bit()?;
         let present = r.read_bits(1)?;
@@ -4856,6 +5517,17 @@ impl Uper for NodeXY {
             self.extensions.encode(w)?;
         }
         Ok(())
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for NodeXY {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self {
+            delta: <NodeOffsetPointXY as uper::random::Random>::random(g),
+            attributes: if g.coin() { Some(<NodeAttributeSetXY as uper::random::Random>::random(g)) } else { None },
+            extensions: uper::Extensions::new(),
+        }
     }
 }
 
@@ -4974,6 +5646,23 @@ impl Uper for NodeOffsetPointXY {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for NodeOffsetPointXY {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        match g.below(8) {
+            0 => Self::NodeXY1(<NodeXY20b as uper::random::Random>::random(g)),
+            1 => Self::NodeXY2(<NodeXY22b as uper::random::Random>::random(g)),
+            2 => Self::NodeXY3(<NodeXY24b as uper::random::Random>::random(g)),
+            3 => Self::NodeXY4(<NodeXY26b as uper::random::Random>::random(g)),
+            4 => Self::NodeXY5(<NodeXY28b as uper::random::Random>::random(g)),
+            5 => Self::NodeXY6(<NodeXY32b as uper::random::Random>::random(g)),
+            6 => Self::NodeLatLon(<NodeLLmD64b as uper::random::Random>::random(g)),
+            7 => Self::Regional(<RegNodeOffsetPointXY as uper::random::Random>::random(g)),
+            _ => Self::NodeXY1(<NodeXY20b as uper::Placeholder>::placeholder()),
+        }
+    }
+}
+
 /// ASN.1 `Node-XY-20b` (module `Common`): SEQUENCE.
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub struct NodeXY20b {
@@ -5001,6 +5690,16 @@ impl Uper for NodeXY20b {
         self.x.encode_uper(w)?;
         self.y.encode_uper(w)?;
         Ok(())
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for NodeXY20b {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self {
+            x: <OffsetB10 as uper::random::Random>::random(g),
+            y: <OffsetB10 as uper::random::Random>::random(g),
+        }
     }
 }
 
@@ -5034,6 +5733,16 @@ impl Uper for NodeXY22b {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for NodeXY22b {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self {
+            x: <OffsetB11 as uper::random::Random>::random(g),
+            y: <OffsetB11 as uper::random::Random>::random(g),
+        }
+    }
+}
+
 /// ASN.1 `Node-XY-26b` (module `Common`): SEQUENCE.
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub struct NodeXY26b {
@@ -5061,6 +5770,16 @@ impl Uper for NodeXY26b {
         self.x.encode_uper(w)?;
         self.y.encode_uper(w)?;
         Ok(())
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for NodeXY26b {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self {
+            x: <OffsetB13 as uper::random::Random>::random(g),
+            y: <OffsetB13 as uper::random::Random>::random(g),
+        }
     }
 }
 
@@ -5099,6 +5818,16 @@ impl Uper for NodeXY28b {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for NodeXY28b {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self {
+            x: <OffsetB14 as uper::random::Random>::random(g),
+            y: <OffsetB14 as uper::random::Random>::random(g),
+        }
+    }
+}
+
 /// ASN.1 `Offset-B14` (module `Common`): INTEGER (-8192..8191).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub struct OffsetB14(i16);
@@ -5134,6 +5863,16 @@ impl Uper for NodeXY32b {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for NodeXY32b {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self {
+            x: <OffsetB16 as uper::random::Random>::random(g),
+            y: <OffsetB16 as uper::random::Random>::random(g),
+        }
+    }
+}
+
 /// ASN.1 `Offset-B16` (module `Common`): INTEGER (-32768..32767).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub struct OffsetB16(i16);
@@ -5166,6 +5905,16 @@ impl Uper for NodeLLmD64b {
         self.lon.encode_uper(w)?;
         self.lat.encode_uper(w)?;
         Ok(())
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for NodeLLmD64b {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self {
+            lon: <Longitude as uper::random::Random>::random(g),
+            lat: <Latitude as uper::random::Random>::random(g),
+        }
     }
 }
 
@@ -5231,6 +5980,16 @@ impl Uper for RegNodeOffsetPointXY {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for RegNodeOffsetPointXY {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        match g.below(1) {
+            0 => Self::AddGrpB(<super::add_grp_b::NodeOffsetPointXYAddGrpB as uper::random::Random>::random(g)),
+            _ => Self::Unknown { id: <RegionId as uper::Placeholder>::placeholder(), content: uper::Octets::new() },
+        }
+    }
+}
+
 /// ASN.1 `NodeAttributeSetXY` (module `Common`): SEQUENCE (extensible).
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub struct NodeAttributeSetXY {
@@ -5260,7 +6019,7 @@ impl uper::Placeholder for NodeAttributeSetXY {
 
 impl Uper for NodeAttributeSetXY {
     const PATH: &'static str = "Common.NodeAttributeSetXY";
-    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(1847), None);
+    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(2573), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let extended = r.read_bit()?;
         let present = r.read_bits(7)?;
@@ -5368,6 +6127,22 @@ impl Uper for NodeAttributeSetXY {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for NodeAttributeSetXY {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self {
+            local_node: if g.coin() { Some(<NodeAttributeXYList as uper::random::Random>::random(g)) } else { None },
+            disabled: if g.coin() { Some(<SegmentAttributeXYList as uper::random::Random>::random(g)) } else { None },
+            enabled: if g.coin() { Some(<SegmentAttributeXYList as uper::random::Random>::random(g)) } else { None },
+            data: if g.coin() { Some(<LaneDataAttributeList as uper::random::Random>::random(g)) } else { None },
+            d_width: if g.coin() { Some(<OffsetB10 as uper::random::Random>::random(g)) } else { None },
+            d_elevation: if g.coin() { Some(<OffsetB10 as uper::random::Random>::random(g)) } else { None },
+            regional: if g.coin() { Some(<NodeAttributeSetXYRegional as uper::random::Random>::random(g)) } else { None },
+            extensions: uper::Extensions::new(),
+        }
+    }
+}
+
 /// ASN.1 `NodeAttributeXYList` (module `Common`): SEQUENCE OF NodeAttributeXY (SIZE(1..8)).
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub struct NodeAttributeXYList(pub uper::SeqOf<NodeAttributeXY, 4>);
@@ -5396,6 +6171,17 @@ impl Uper for NodeAttributeXYList {
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for NodeAttributeXYList {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        let mut v = Self(uper::SeqOf::new());
+        for _ in 0..g.count(1, 4) {
+            let _ = v.0.push(<NodeAttributeXY as uper::random::Random>::random(g));
+        }
+        v
     }
 }
 
@@ -5519,6 +6305,13 @@ impl Uper for NodeAttributeXY {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for NodeAttributeXY {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self::ALL[g.below(12)]
+    }
+}
+
 /// ASN.1 `SegmentAttributeXYList` (module `Common`): SEQUENCE OF SegmentAttributeXY (SIZE(1..8)).
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub struct SegmentAttributeXYList(pub uper::SeqOf<SegmentAttributeXY, 5>);
@@ -5547,6 +6340,17 @@ impl Uper for SegmentAttributeXYList {
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for SegmentAttributeXYList {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        let mut v = Self(uper::SeqOf::new());
+        for _ in 0..g.count(1, 5) {
+            let _ = v.0.push(<SegmentAttributeXY as uper::random::Random>::random(g));
+        }
+        v
     }
 }
 
@@ -5800,11 +6604,18 @@ impl Uper for SegmentAttributeXY {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for SegmentAttributeXY {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self::ALL[g.below(38)]
+    }
+}
+
 /// ASN.1 `LaneDataAttributeList` (module `Common`): SEQUENCE OF LaneDataAttribute (SIZE(1..8)).
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
-pub struct LaneDataAttributeList(pub uper::SeqOf<LaneDataAttribute, 5>);
+pub struct LaneDataAttributeList(pub uper::SeqOf<LaneDataAttribute, 8>);
 
-crate::__newtype_deref!(LaneDataAttributeList, uper::SeqOf<LaneDataAttribute, 5>);
+crate::__newtype_deref!(LaneDataAttributeList, uper::SeqOf<LaneDataAttribute, 8>);
 
 impl LaneDataAttributeList {
     const SIZE: uper::Size = uper::Size::range(1, 8);
@@ -5822,12 +6633,23 @@ impl uper::Placeholder for LaneDataAttributeList {
 
 impl Uper for LaneDataAttributeList {
     const PATH: &'static str = "Common.LaneDataAttributeList";
-    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(1213), None);
+    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(1939), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         uper::decode_seq_of_into(r, Self::SIZE, "Common.LaneDataAttributeList", &mut out.0)
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for LaneDataAttributeList {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        let mut v = Self(uper::SeqOf::new());
+        for _ in 0..g.count(1, 8) {
+            let _ = v.0.push(<LaneDataAttribute as uper::random::Random>::random(g));
+        }
+        v
     }
 }
 
@@ -5954,6 +6776,22 @@ impl Uper for LaneDataAttribute {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for LaneDataAttribute {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        match g.below(7) {
+            0 => Self::PathEndPointAngle(<DeltaAngle as uper::random::Random>::random(g)),
+            1 => Self::LaneCrownPointCenter(<RoadwayCrownAngle as uper::random::Random>::random(g)),
+            2 => Self::LaneCrownPointLeft(<RoadwayCrownAngle as uper::random::Random>::random(g)),
+            3 => Self::LaneCrownPointRight(<RoadwayCrownAngle as uper::random::Random>::random(g)),
+            4 => Self::LaneAngle(<MergeDivergeNodeAngle as uper::random::Random>::random(g)),
+            5 => Self::SpeedLimits(<SpeedLimitList as uper::random::Random>::random(g)),
+            6 => Self::Regional(<LaneDataAttributeRegional as uper::random::Random>::random(g)),
+            _ => Self::PathEndPointAngle(<DeltaAngle as uper::Placeholder>::placeholder()),
+        }
+    }
+}
+
 /// ASN.1 `DeltaAngle` (module `Common`): INTEGER (-150..150).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub struct DeltaAngle(i16);
@@ -5997,6 +6835,17 @@ impl Uper for LaneDataAttributeRegional {
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for LaneDataAttributeRegional {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        let mut v = Self(uper::SeqOf::new());
+        for _ in 0..g.count(1, 1) {
+            let _ = v.0.push(<RegLaneDataAttribute as uper::random::Random>::random(g));
+        }
+        v
     }
 }
 
@@ -6062,6 +6911,16 @@ impl Uper for RegLaneDataAttribute {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for RegLaneDataAttribute {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        match g.below(1) {
+            0 => Self::AddGrpB(<super::add_grp_b::LaneDataAttributeAddGrpB as uper::random::Random>::random(g)),
+            _ => Self::Unknown { id: <RegionId as uper::Placeholder>::placeholder(), content: uper::Octets::new() },
+        }
+    }
+}
+
 /// ASN.1 `NodeAttributeSetXY.regional` (module `Common`): SEQUENCE OF RegNodeAttributeSetXY (SIZE(1..4)).
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub struct NodeAttributeSetXYRegional(pub uper::SeqOf<RegNodeAttributeSetXY, 1>);
@@ -6090,6 +6949,17 @@ impl Uper for NodeAttributeSetXYRegional {
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for NodeAttributeSetXYRegional {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        let mut v = Self(uper::SeqOf::new());
+        for _ in 0..g.count(1, 1) {
+            let _ = v.0.push(<RegNodeAttributeSetXY as uper::random::Random>::random(g));
+        }
+        v
     }
 }
 
@@ -6137,6 +7007,17 @@ impl Uper for RegNodeAttributeSetXY {
                 uper::encode_unknown_open(w, content)
             }
         }
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for RegNodeAttributeSetXY {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        let mut content = uper::Octets::new();
+        for _ in 0..1 + g.below(4) {
+            let _ = content.push(g.octet());
+        }
+        Self::Unknown { id: <RegionId as uper::random::Random>::random(g), content }
     }
 }
 
@@ -6244,6 +7125,22 @@ impl Uper for ComputedLane {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for ComputedLane {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self {
+            reference_lane_id: <LaneID as uper::random::Random>::random(g),
+            offset_xaxis: <ComputedLaneOffsetXaxis as uper::random::Random>::random(g),
+            offset_yaxis: <ComputedLaneOffsetYaxis as uper::random::Random>::random(g),
+            rotate_xy: if g.coin() { Some(<Angle as uper::random::Random>::random(g)) } else { None },
+            scale_xaxis: if g.coin() { Some(<ScaleB12 as uper::random::Random>::random(g)) } else { None },
+            scale_yaxis: if g.coin() { Some(<ScaleB12 as uper::random::Random>::random(g)) } else { None },
+            regional: if g.coin() { Some(<ComputedLaneRegional as uper::random::Random>::random(g)) } else { None },
+            extensions: uper::Extensions::new(),
+        }
+    }
+}
+
 /// ASN.1 `ComputedLane.offsetXaxis` (module `Common`): CHOICE.
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub enum ComputedLaneOffsetXaxis {
@@ -6289,6 +7186,17 @@ impl Uper for ComputedLaneOffsetXaxis {
         match self {
             Self::Small(v) => { w.write_constrained(0, 0, 1)?; v.encode_uper(w) }
             Self::Large(v) => { w.write_constrained(1, 0, 1)?; v.encode_uper(w) }
+        }
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for ComputedLaneOffsetXaxis {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        match g.below(2) {
+            0 => Self::Small(<DrivenLineOffsetSm as uper::random::Random>::random(g)),
+            1 => Self::Large(<DrivenLineOffsetLg as uper::random::Random>::random(g)),
+            _ => Self::Small(<DrivenLineOffsetSm as uper::Placeholder>::placeholder()),
         }
     }
 }
@@ -6352,6 +7260,17 @@ impl Uper for ComputedLaneOffsetYaxis {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for ComputedLaneOffsetYaxis {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        match g.below(2) {
+            0 => Self::Small(<DrivenLineOffsetSm as uper::random::Random>::random(g)),
+            1 => Self::Large(<DrivenLineOffsetLg as uper::random::Random>::random(g)),
+            _ => Self::Small(<DrivenLineOffsetSm as uper::Placeholder>::placeholder()),
+        }
+    }
+}
+
 /// ASN.1 `Scale-B12` (module `Common`): INTEGER (-2048..2047).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub struct ScaleB12(i16);
@@ -6385,6 +7304,17 @@ impl Uper for ComputedLaneRegional {
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for ComputedLaneRegional {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        let mut v = Self(uper::SeqOf::new());
+        for _ in 0..g.count(1, 1) {
+            let _ = v.0.push(<RegComputedLane as uper::random::Random>::random(g));
+        }
+        v
     }
 }
 
@@ -6432,6 +7362,17 @@ impl Uper for RegComputedLane {
                 uper::encode_unknown_open(w, content)
             }
         }
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for RegComputedLane {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        let mut content = uper::Octets::new();
+        for _ in 0..1 + g.below(4) {
+            let _ = content.push(g.octet());
+        }
+        Self::Unknown { id: <RegionId as uper::random::Random>::random(g), content }
     }
 }
 
@@ -6490,6 +7431,16 @@ impl Uper for RoadSegmentReferenceID {
         }
         self.id.encode_uper(w)?;
         Ok(())
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for RoadSegmentReferenceID {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self {
+            region: if g.coin() { Some(<RoadRegulatorID as uper::random::Random>::random(g)) } else { None },
+            id: <RoadSegmentID as uper::random::Random>::random(g),
+        }
     }
 }
 
@@ -6603,6 +7554,13 @@ impl Uper for PrioritizationResponseStatus {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for PrioritizationResponseStatus {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self::ALL[g.below(8)]
+    }
+}
+
 /// ASN.1 `FurtherInfoID` (module `Common`): OCTET STRING (SIZE(2)).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub struct FurtherInfoID(pub [u8; 2]);
@@ -6621,6 +7579,13 @@ impl Uper for FurtherInfoID {
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_octets(&self.0)
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for FurtherInfoID {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self(core::array::from_fn(|_| g.octet()))
     }
 }
 
@@ -6669,6 +7634,17 @@ impl Uper for VehicleID {
         match self {
             Self::EntityID(v) => { w.write_constrained(0, 0, 1)?; v.encode_uper(w) }
             Self::StationID(v) => { w.write_constrained(1, 0, 1)?; v.encode_uper(w) }
+        }
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for VehicleID {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        match g.below(2) {
+            0 => Self::EntityID(<TemporaryID as uper::random::Random>::random(g)),
+            1 => Self::StationID(<StationID as uper::random::Random>::random(g)),
+            _ => Self::EntityID(<TemporaryID as uper::Placeholder>::placeholder()),
         }
     }
 }
@@ -6753,6 +7729,18 @@ impl Uper for IntersectionAccessPoint {
                 w.write_normally_small(*index as u64)?;
                 uper::encode_unknown_open(w, content)
             }
+        }
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for IntersectionAccessPoint {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        match g.below(3) {
+            0 => Self::Lane(<LaneID as uper::random::Random>::random(g)),
+            1 => Self::Approach(<ApproachID as uper::random::Random>::random(g)),
+            2 => Self::Connection(<LaneConnectionID as uper::random::Random>::random(g)),
+            _ => Self::Lane(<LaneID as uper::Placeholder>::placeholder()),
         }
     }
 }
@@ -6865,6 +7853,21 @@ impl Uper for RequestorType {
             self.extensions.encode(w)?;
         }
         Ok(())
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for RequestorType {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self {
+            role: <BasicVehicleRole as uper::random::Random>::random(g),
+            subrole: if g.coin() { Some(<RequestSubRole as uper::random::Random>::random(g)) } else { None },
+            request: if g.coin() { Some(<RequestImportanceLevel as uper::random::Random>::random(g)) } else { None },
+            iso3883: if g.coin() { Some(<Iso3833VehicleType as uper::random::Random>::random(g)) } else { None },
+            hpms_type: if g.coin() { Some(<VehicleType as uper::random::Random>::random(g)) } else { None },
+            regional: if g.coin() { Some(<RegRequestorType as uper::random::Random>::random(g)) } else { None },
+            extensions: uper::Extensions::new(),
+        }
     }
 }
 
@@ -6992,6 +7995,13 @@ impl Uper for RequestSubRole {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for RequestSubRole {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self::ALL[g.below(16)]
+    }
+}
+
 /// ASN.1 `RequestImportanceLevel` (module `Common`): ENUMERATED.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum RequestImportanceLevel {
@@ -7116,6 +8126,13 @@ impl Uper for RequestImportanceLevel {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for RequestImportanceLevel {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self::ALL[g.below(16)]
+    }
+}
+
 /// ASN.1 `RegRequestorType` (module `Common`): `regionId` and the `regExtValue` it selects (open type over an object set).
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub enum RegRequestorType {
@@ -7160,6 +8177,17 @@ impl Uper for RegRequestorType {
                 uper::encode_unknown_open(w, content)
             }
         }
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for RegRequestorType {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        let mut content = uper::Octets::new();
+        for _ in 0..1 + g.below(4) {
+            let _ = content.push(g.octet());
+        }
+        Self::Unknown { id: <RegionId as uper::random::Random>::random(g), content }
     }
 }
 
@@ -7255,6 +8283,19 @@ impl Uper for Header {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for Header {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self {
+            year: if g.coin() { Some(<DYear as uper::random::Random>::random(g)) } else { None },
+            time_stamp: if g.coin() { Some(<MinuteOfTheYear as uper::random::Random>::random(g)) } else { None },
+            sec_mark: if g.coin() { Some(<DSecond as uper::random::Random>::random(g)) } else { None },
+            msg_issue_revision: if g.coin() { Some(<MsgCount as uper::random::Random>::random(g)) } else { None },
+            extensions: uper::Extensions::new(),
+        }
+    }
+}
+
 /// ASN.1 `DDate` (module `Common`): SEQUENCE.
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub struct DDate {
@@ -7286,6 +8327,17 @@ impl Uper for DDate {
         self.month.encode_uper(w)?;
         self.day.encode_uper(w)?;
         Ok(())
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for DDate {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self {
+            year: <DYear as uper::random::Random>::random(g),
+            month: <DMonth as uper::random::Random>::random(g),
+            day: <DDay as uper::random::Random>::random(g),
+        }
     }
 }
 
@@ -7331,6 +8383,19 @@ impl Uper for DFullTime {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for DFullTime {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self {
+            year: <DYear as uper::random::Random>::random(g),
+            month: <DMonth as uper::random::Random>::random(g),
+            day: <DDay as uper::random::Random>::random(g),
+            hour: <DHour as uper::random::Random>::random(g),
+            minute: <DMinute as uper::random::Random>::random(g),
+        }
+    }
+}
+
 /// ASN.1 `DMonthDay` (module `Common`): SEQUENCE.
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub struct DMonthDay {
@@ -7358,6 +8423,16 @@ impl Uper for DMonthDay {
         self.month.encode_uper(w)?;
         self.day.encode_uper(w)?;
         Ok(())
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for DMonthDay {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self {
+            month: <DMonth as uper::random::Random>::random(g),
+            day: <DDay as uper::random::Random>::random(g),
+        }
     }
 }
 
@@ -7412,6 +8487,18 @@ impl Uper for DTime {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for DTime {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self {
+            hour: <DHour as uper::random::Random>::random(g),
+            minute: <DMinute as uper::random::Random>::random(g),
+            second: <DSecond as uper::random::Random>::random(g),
+            offset: if g.coin() { Some(<DOffset as uper::random::Random>::random(g)) } else { None },
+        }
+    }
+}
+
 /// ASN.1 `DYearMonth` (module `Common`): SEQUENCE.
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub struct DYearMonth {
@@ -7439,6 +8526,16 @@ impl Uper for DYearMonth {
         self.year.encode_uper(w)?;
         self.month.encode_uper(w)?;
         Ok(())
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for DYearMonth {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self {
+            year: <DYear as uper::random::Random>::random(g),
+            month: <DMonth as uper::random::Random>::random(g),
+        }
     }
 }
 
@@ -7557,6 +8654,23 @@ impl Uper for VerticalOffset {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for VerticalOffset {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        match g.below(8) {
+            0 => Self::Offset1(<super::basic_safety_message::VertOffsetB07 as uper::random::Random>::random(g)),
+            1 => Self::Offset2(<VertOffsetB08 as uper::random::Random>::random(g)),
+            2 => Self::Offset3(<VertOffsetB09 as uper::random::Random>::random(g)),
+            3 => Self::Offset4(<VertOffsetB10 as uper::random::Random>::random(g)),
+            4 => Self::Offset5(<VertOffsetB11 as uper::random::Random>::random(g)),
+            5 => Self::Offset6(<VertOffsetB12 as uper::random::Random>::random(g)),
+            6 => Self::Elevation(<Elevation as uper::random::Random>::random(g)),
+            7 => Self::Regional(<RegVerticalOffset as uper::random::Random>::random(g)),
+            _ => Self::Offset1(<super::basic_safety_message::VertOffsetB07 as uper::Placeholder>::placeholder()),
+        }
+    }
+}
+
 /// ASN.1 `VertOffset-B08` (module `Common`): INTEGER (-128..127).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub struct VertOffsetB08(i8);
@@ -7624,6 +8738,17 @@ impl Uper for RegVerticalOffset {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for RegVerticalOffset {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        let mut content = uper::Octets::new();
+        for _ in 0..1 + g.below(4) {
+            let _ = content.push(g.octet());
+        }
+        Self::Unknown { id: <RegionId as uper::random::Random>::random(g), content }
+    }
+}
+
 /// ASN.1 `CodeWord` (module `Common`): OCTET STRING (SIZE(1..16)).
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub struct CodeWord(pub uper::Octets<16>);
@@ -7655,6 +8780,17 @@ impl Uper for CodeWord {
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_octets(w, Self::SIZE, &self.0)
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for CodeWord {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        let mut v = Self(uper::Octets::new());
+        for _ in 0..g.count(1, 16) {
+            let _ = v.0.push(g.octet());
+        }
+        v
     }
 }
 
@@ -7749,6 +8885,13 @@ impl Uper for LocationQuality {
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_constrained(self.root_index(), 0, 7)
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for LocationQuality {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self::ALL[g.below(8)]
     }
 }
 
@@ -7862,6 +9005,13 @@ impl Uper for LocationTech {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for LocationTech {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self::ALL[g.below(10)]
+    }
+}
+
 /// ASN.1 `MessageBLOB` (module `Common`): OCTET STRING (SIZE(10..2000)).
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub struct MessageBLOB(pub uper::Octets<64>);
@@ -7893,6 +9043,17 @@ impl Uper for MessageBLOB {
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_octets(w, Self::SIZE, &self.0)
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for MessageBLOB {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        let mut v = Self(uper::Octets::new());
+        for _ in 0..g.count(10, 64) {
+            let _ = v.0.push(g.octet());
+        }
+        v
     }
 }
 
@@ -7930,6 +9091,17 @@ impl Uper for PayloadData {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for PayloadData {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        let mut v = Self(uper::Octets::new());
+        for _ in 0..g.count(1, 64) {
+            let _ = v.0.push(g.octet());
+        }
+        v
+    }
+}
+
 /// ASN.1 `SignalReqScheme` (module `Common`): OCTET STRING (SIZE(1)).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub struct SignalReqScheme(pub [u8; 1]);
@@ -7948,6 +9120,13 @@ impl Uper for SignalReqScheme {
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_octets(&self.0)
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for SignalReqScheme {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self(core::array::from_fn(|_| g.octet()))
     }
 }
 
@@ -7997,6 +9176,15 @@ impl Uper for TransitStatus {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for TransitStatus {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        let len = g.range(6, 6) as usize;
+        let bytes: [u8; 1] = core::array::from_fn(|_| g.octet());
+        Self(uper::Bits::from_bytes(&bytes, len).unwrap_or(uper::Bits::EMPTY))
+    }
+}
+
 /// ASN.1 `URL-Link` (module `Common`): IA5String (SIZE(1..255)).
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub struct URLLink(pub uper::Ia5<63>);
@@ -8030,5 +9218,16 @@ impl Uper for URLLink {
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_ia5(w, Self::SIZE, &self.0)
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for URLLink {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        let mut v = Self(uper::Ia5::new());
+        for _ in 0..g.count(1, 63) {
+            let _ = v.0.push(g.printable());
+        }
+        v
     }
 }

@@ -31,7 +31,7 @@ impl uper::Placeholder for CommonSafetyRequest {
 
 impl Uper for CommonSafetyRequest {
     const PATH: &'static str = "CommonSafetyRequest.CommonSafetyRequest";
-    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(406), None);
+    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(1134), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let extended = r.read_bit()?;
         let present = r.read_bits(4)?;
@@ -102,11 +102,25 @@ impl Uper for CommonSafetyRequest {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for CommonSafetyRequest {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self {
+            time_stamp: if g.coin() { Some(<super::common::MinuteOfTheYear as uper::random::Random>::random(g)) } else { None },
+            msg_cnt: if g.coin() { Some(<super::common::MsgCount as uper::random::Random>::random(g)) } else { None },
+            id: if g.coin() { Some(<super::common::TemporaryID as uper::random::Random>::random(g)) } else { None },
+            requests: <RequestedItemList as uper::random::Random>::random(g),
+            regional: if g.coin() { Some(<CommonSafetyRequestRegional as uper::random::Random>::random(g)) } else { None },
+            extensions: uper::Extensions::new(),
+        }
+    }
+}
+
 /// ASN.1 `RequestedItemList` (module `CommonSafetyRequest`): SEQUENCE OF RequestedItem (SIZE(1..32)).
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
-pub struct RequestedItemList(pub uper::SeqOf<RequestedItem, 4>);
+pub struct RequestedItemList(pub uper::SeqOf<RequestedItem, 32>);
 
-crate::__newtype_deref!(RequestedItemList, uper::SeqOf<RequestedItem, 4>);
+crate::__newtype_deref!(RequestedItemList, uper::SeqOf<RequestedItem, 32>);
 
 impl RequestedItemList {
     const SIZE: uper::Size = uper::Size::range(1, 32);
@@ -124,12 +138,23 @@ impl uper::Placeholder for RequestedItemList {
 
 impl Uper for RequestedItemList {
     const PATH: &'static str = "CommonSafetyRequest.RequestedItemList";
-    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(109), Some(837));
+    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(837), Some(837));
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         uper::decode_seq_of_into(r, Self::SIZE, "CommonSafetyRequest.RequestedItemList", &mut out.0)
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for RequestedItemList {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        let mut v = Self(uper::SeqOf::new());
+        for _ in 0..g.count(1, 32) {
+            let _ = v.0.push(<RequestedItem as uper::random::Random>::random(g));
+        }
+        v
     }
 }
 
@@ -278,6 +303,13 @@ impl Uper for RequestedItem {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for RequestedItem {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self::ALL[g.below(17)]
+    }
+}
+
 /// ASN.1 `CommonSafetyRequest.regional` (module `CommonSafetyRequest`): SEQUENCE OF RegCommonSafetyRequest (SIZE(1..4)).
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub struct CommonSafetyRequestRegional(pub uper::SeqOf<RegCommonSafetyRequest, 1>);
@@ -306,6 +338,17 @@ impl Uper for CommonSafetyRequestRegional {
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for CommonSafetyRequestRegional {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        let mut v = Self(uper::SeqOf::new());
+        for _ in 0..g.count(1, 1) {
+            let _ = v.0.push(<RegCommonSafetyRequest as uper::random::Random>::random(g));
+        }
+        v
     }
 }
 
@@ -353,5 +396,16 @@ impl Uper for RegCommonSafetyRequest {
                 uper::encode_unknown_open(w, content)
             }
         }
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for RegCommonSafetyRequest {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        let mut content = uper::Octets::new();
+        for _ in 0..1 + g.below(4) {
+            let _ = content.push(g.octet());
+        }
+        Self::Unknown { id: <super::common::RegionId as uper::random::Random>::random(g), content }
     }
 }

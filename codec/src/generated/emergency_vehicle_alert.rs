@@ -43,7 +43,7 @@ impl uper::Placeholder for EmergencyVehicleAlert {
 
 impl Uper for EmergencyVehicleAlert {
     const PATH: &'static str = "EmergencyVehicleAlert.EmergencyVehicleAlert";
-    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(1393), None);
+    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(1457), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let extended = r.read_bit()?;
         let present = r.read_bits(10)?;
@@ -192,6 +192,26 @@ impl Uper for EmergencyVehicleAlert {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for EmergencyVehicleAlert {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self {
+            time_stamp: if g.coin() { Some(<super::common::MinuteOfTheYear as uper::random::Random>::random(g)) } else { None },
+            id: if g.coin() { Some(<super::common::TemporaryID as uper::random::Random>::random(g)) } else { None },
+            rsa_msg: <super::road_side_alert::RoadSideAlert as uper::random::Random>::random(g),
+            response_type: if g.coin() { Some(<super::common::ResponseType as uper::random::Random>::random(g)) } else { None },
+            details: if g.coin() { Some(<super::common::EmergencyDetails as uper::random::Random>::random(g)) } else { None },
+            mass: if g.coin() { Some(<super::common::VehicleMass as uper::random::Random>::random(g)) } else { None },
+            basic_type: if g.coin() { Some(<super::common::VehicleType as uper::random::Random>::random(g)) } else { None },
+            vehicle_type: if g.coin() { Some(<super::itis::VehicleGroupAffected as uper::random::Random>::random(g)) } else { None },
+            response_equip: if g.coin() { Some(<super::itis::IncidentResponseEquipment as uper::random::Random>::random(g)) } else { None },
+            responder_type: if g.coin() { Some(<super::itis::ResponderGroupAffected as uper::random::Random>::random(g)) } else { None },
+            regional: if g.coin() { Some(<EmergencyVehicleAlertRegional as uper::random::Random>::random(g)) } else { None },
+            extensions: uper::Extensions::new(),
+        }
+    }
+}
+
 /// ASN.1 `EmergencyVehicleAlert.regional` (module `EmergencyVehicleAlert`): SEQUENCE OF RegEmergencyVehicleAlert (SIZE(1..4)).
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub struct EmergencyVehicleAlertRegional(pub uper::SeqOf<RegEmergencyVehicleAlert, 1>);
@@ -220,6 +240,17 @@ impl Uper for EmergencyVehicleAlertRegional {
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for EmergencyVehicleAlertRegional {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        let mut v = Self(uper::SeqOf::new());
+        for _ in 0..g.count(1, 1) {
+            let _ = v.0.push(<RegEmergencyVehicleAlert as uper::random::Random>::random(g));
+        }
+        v
     }
 }
 
@@ -267,5 +298,16 @@ impl Uper for RegEmergencyVehicleAlert {
                 uper::encode_unknown_open(w, content)
             }
         }
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for RegEmergencyVehicleAlert {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        let mut content = uper::Octets::new();
+        for _ in 0..1 + g.below(4) {
+            let _ = content.push(g.octet());
+        }
+        Self::Unknown { id: <super::common::RegionId as uper::random::Random>::random(g), content }
     }
 }

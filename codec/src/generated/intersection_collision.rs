@@ -133,6 +133,25 @@ impl Uper for IntersectionCollision {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for IntersectionCollision {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self {
+            msg_cnt: <super::common::MsgCount as uper::random::Random>::random(g),
+            id: <super::common::TemporaryID as uper::random::Random>::random(g),
+            time_stamp: if g.coin() { Some(<super::common::MinuteOfTheYear as uper::random::Random>::random(g)) } else { None },
+            part_one: if g.coin() { Some(<super::common::BSMcoreData as uper::random::Random>::random(g)) } else { None },
+            path: if g.coin() { Some(<super::common::PathHistory as uper::random::Random>::random(g)) } else { None },
+            path_prediction: if g.coin() { Some(<super::common::PathPrediction as uper::random::Random>::random(g)) } else { None },
+            intersection_id: <super::common::IntersectionReferenceID as uper::random::Random>::random(g),
+            lane_number: <ApproachOrLane as uper::random::Random>::random(g),
+            event_flag: <super::common::VehicleEventFlags as uper::random::Random>::random(g),
+            regional: if g.coin() { Some(<IntersectionCollisionRegional as uper::random::Random>::random(g)) } else { None },
+            extensions: uper::Extensions::new(),
+        }
+    }
+}
+
 /// ASN.1 `ApproachOrLane` (module `IntersectionCollision`): CHOICE.
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub enum ApproachOrLane {
@@ -182,6 +201,17 @@ impl Uper for ApproachOrLane {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for ApproachOrLane {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        match g.below(2) {
+            0 => Self::Approach(<super::common::ApproachID as uper::random::Random>::random(g)),
+            1 => Self::Lane(<super::common::LaneID as uper::random::Random>::random(g)),
+            _ => Self::Approach(<super::common::ApproachID as uper::Placeholder>::placeholder()),
+        }
+    }
+}
+
 /// ASN.1 `IntersectionCollision.regional` (module `IntersectionCollision`): SEQUENCE OF RegIntersectionCollision (SIZE(1..4)).
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub struct IntersectionCollisionRegional(pub uper::SeqOf<RegIntersectionCollision, 1>);
@@ -210,6 +240,17 @@ impl Uper for IntersectionCollisionRegional {
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for IntersectionCollisionRegional {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        let mut v = Self(uper::SeqOf::new());
+        for _ in 0..g.count(1, 1) {
+            let _ = v.0.push(<RegIntersectionCollision as uper::random::Random>::random(g));
+        }
+        v
     }
 }
 
@@ -257,5 +298,16 @@ impl Uper for RegIntersectionCollision {
                 uper::encode_unknown_open(w, content)
             }
         }
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for RegIntersectionCollision {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        let mut content = uper::Octets::new();
+        for _ in 0..1 + g.below(4) {
+            let _ = content.push(g.octet());
+        }
+        Self::Unknown { id: <super::common::RegionId as uper::random::Random>::random(g), content }
     }
 }

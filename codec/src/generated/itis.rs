@@ -246,6 +246,13 @@ impl Uper for VehicleGroupAffected {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for VehicleGroupAffected {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self::ALL[g.below(35)]
+    }
+}
+
 /// ASN.1 `IncidentResponseEquipment` (module `ITIS`): ENUMERATED (extensible).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum IncidentResponseEquipment {
@@ -666,6 +673,13 @@ impl Uper for IncidentResponseEquipment {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for IncidentResponseEquipment {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self::ALL[g.below(72)]
+    }
+}
+
 /// ASN.1 `ResponderGroupAffected` (module `ITIS`): ENUMERATED (extensible).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum ResponderGroupAffected {
@@ -793,6 +807,13 @@ impl Uper for ResponderGroupAffected {
         }
         w.write_bit(false)?;
         w.write_constrained(self.root_index(), 0, 13)
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for ResponderGroupAffected {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self::ALL[g.below(14)]
     }
 }
 
@@ -1336,6 +1357,13 @@ impl Uper for GenericLocations {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for GenericLocations {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self::ALL[g.below(96)]
+    }
+}
+
 /// ASN.1 `ITIScodesAndText` (module `ITIS`): SEQUENCE OF ITIScodesAndTextItem (SIZE(1..100)).
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub struct ITIScodesAndText(pub uper::SeqOf<ITIScodesAndTextItem, 4>);
@@ -1358,12 +1386,23 @@ impl uper::Placeholder for ITIScodesAndText {
 
 impl Uper for ITIScodesAndText {
     const PATH: &'static str = "ITIS.ITIScodesAndText";
-    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(1811), Some(351007));
+    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(14047), Some(351007));
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         uper::decode_seq_of_into(r, Self::SIZE, "ITIS.ITIScodesAndText", &mut out.0)
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for ITIScodesAndText {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        let mut v = Self(uper::SeqOf::new());
+        for _ in 0..g.count(1, 4) {
+            let _ = v.0.push(<ITIScodesAndTextItem as uper::random::Random>::random(g));
+        }
+        v
     }
 }
 
@@ -1382,7 +1421,7 @@ impl uper::Placeholder for ITIScodesAndTextItem {
 
 impl Uper for ITIScodesAndTextItem {
     const PATH: &'static str = "ITIS.ITIScodesAndText[]";
-    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(451), Some(3510));
+    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(3510), Some(3510));
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         <ITIScodesAndTextItemItem>::decode_into(r, &mut out.item)?;
         Ok(())
@@ -1390,6 +1429,15 @@ impl Uper for ITIScodesAndTextItem {
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         self.item.encode_uper(w)?;
         Ok(())
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for ITIScodesAndTextItem {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self {
+            item: <ITIScodesAndTextItemItem as uper::random::Random>::random(g),
+        }
     }
 }
 
@@ -1410,7 +1458,7 @@ impl uper::Placeholder for ITIScodesAndTextItemItem {
 
 impl Uper for ITIScodesAndTextItemItem {
     const PATH: &'static str = "ITIS.ITIScodesAndText[].item";
-    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(451), Some(3510));
+    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(3510), Some(3510));
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let at = r.position();
         match r.read_constrained(0, 1)? {
@@ -1442,11 +1490,22 @@ impl Uper for ITIScodesAndTextItemItem {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for ITIScodesAndTextItemItem {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        match g.below(2) {
+            0 => Self::Itis(<ITIScodes as uper::random::Random>::random(g)),
+            1 => Self::Text(<ITIStext as uper::random::Random>::random(g)),
+            _ => Self::Itis(<ITIScodes as uper::Placeholder>::placeholder()),
+        }
+    }
+}
+
 /// ASN.1 `ITIStext` (module `ITIS`): IA5String (SIZE(1..500)).
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
-pub struct ITIStext(pub uper::Ia5<63>);
+pub struct ITIStext(pub uper::Ia5<500>);
 
-crate::__newtype_deref!(ITIStext, uper::Ia5<63>);
+crate::__newtype_deref!(ITIStext, uper::Ia5<500>);
 
 impl ITIStext {
     const SIZE: uper::Size = uper::Size::range(1, 500);
@@ -1468,12 +1527,23 @@ impl uper::Placeholder for ITIStext {
 
 impl Uper for ITIStext {
     const PATH: &'static str = "ITIS.ITIStext";
-    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(450), Some(3509));
+    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(3509), Some(3509));
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         out.0 = uper::decode_ia5(r, Self::SIZE, "ITIS.ITIStext")?;
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_ia5(w, Self::SIZE, &self.0)
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for ITIStext {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        let mut v = Self(uper::Ia5::new());
+        for _ in 0..g.count(1, 500) {
+            let _ = v.0.push(g.printable());
+        }
+        v
     }
 }

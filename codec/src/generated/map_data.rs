@@ -39,7 +39,7 @@ impl uper::Placeholder for MapData {
 
 impl Uper for MapData {
     const PATH: &'static str = "MapData.MapData";
-    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(22783271), None);
+    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(30486343), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let extended = r.read_bit()?;
         let present = r.read_bits(8)?;
@@ -162,6 +162,24 @@ impl Uper for MapData {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for MapData {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self {
+            time_stamp: if g.coin() { Some(<super::common::MinuteOfTheYear as uper::random::Random>::random(g)) } else { None },
+            msg_issue_revision: <super::common::MsgCount as uper::random::Random>::random(g),
+            layer_type: if g.coin() { Some(<LayerType as uper::random::Random>::random(g)) } else { None },
+            layer_id: if g.coin() { Some(<LayerID as uper::random::Random>::random(g)) } else { None },
+            intersections: if g.coin() { Some(<IntersectionGeometryList as uper::random::Random>::random(g)) } else { None },
+            road_segments: if g.coin() { Some(<RoadSegmentList as uper::random::Random>::random(g)) } else { None },
+            data_parameters: if g.coin() { Some(<DataParameters as uper::random::Random>::random(g)) } else { None },
+            restriction_list: if g.coin() { Some(<RestrictionClassList as uper::random::Random>::random(g)) } else { None },
+            regional: if g.coin() { Some(<MapDataRegional as uper::random::Random>::random(g)) } else { None },
+            extensions: uper::Extensions::new(),
+        }
+    }
+}
+
 /// ASN.1 `LayerType` (module `MapData`): ENUMERATED (extensible).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum LayerType {
@@ -262,6 +280,13 @@ impl Uper for LayerType {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for LayerType {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self::ALL[g.below(8)]
+    }
+}
+
 /// ASN.1 `LayerID` (module `MapData`): INTEGER (0..100).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub struct LayerID(u8);
@@ -289,12 +314,23 @@ impl uper::Placeholder for IntersectionGeometryList {
 
 impl Uper for IntersectionGeometryList {
     const PATH: &'static str = "MapData.IntersectionGeometryList";
-    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(17349435), None);
+    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(23204955), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         uper::decode_seq_of_into(r, Self::SIZE, "MapData.IntersectionGeometryList", &mut out.0)
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for IntersectionGeometryList {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        let mut v = Self(uper::SeqOf::new());
+        for _ in 0..g.count(1, 2) {
+            let _ = v.0.push(<IntersectionGeometry as uper::random::Random>::random(g));
+        }
+        v
     }
 }
 
@@ -331,7 +367,7 @@ impl uper::Placeholder for IntersectionGeometry {
 
 impl Uper for IntersectionGeometry {
     const PATH: &'static str = "MapData.IntersectionGeometry";
-    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(8674715), None);
+    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(11602475), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let extended = r.read_bit()?;
         let present = r.read_bits(5)?;
@@ -421,6 +457,24 @@ impl Uper for IntersectionGeometry {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for IntersectionGeometry {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self {
+            name: if g.coin() { Some(<super::common::DescriptiveName as uper::random::Random>::random(g)) } else { None },
+            id: <super::common::IntersectionReferenceID as uper::random::Random>::random(g),
+            revision: <super::common::MsgCount as uper::random::Random>::random(g),
+            ref_point: <super::common::Position3D as uper::random::Random>::random(g),
+            lane_width: if g.coin() { Some(<super::common::LaneWidth as uper::random::Random>::random(g)) } else { None },
+            speed_limits: if g.coin() { Some(<super::common::SpeedLimitList as uper::random::Random>::random(g)) } else { None },
+            lane_set: <LaneList as uper::random::Random>::random(g),
+            preempt_priority_data: if g.coin() { Some(<PreemptPriorityList as uper::random::Random>::random(g)) } else { None },
+            regional: if g.coin() { Some(<IntersectionGeometryRegional as uper::random::Random>::random(g)) } else { None },
+            extensions: uper::Extensions::new(),
+        }
+    }
+}
+
 /// ASN.1 `LaneList` (module `MapData`): SEQUENCE OF GenericLane (SIZE(1..255)).
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub struct LaneList(pub uper::SeqOf<GenericLane, 64>);
@@ -443,12 +497,23 @@ impl uper::Placeholder for LaneList {
 
 impl Uper for LaneList {
     const PATH: &'static str = "MapData.LaneList";
-    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(8671688), None);
+    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(11598920), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         uper::decode_seq_of_into(r, Self::SIZE, "MapData.LaneList", &mut out.0)
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for LaneList {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        let mut v = Self(uper::SeqOf::new());
+        for _ in 0..g.count(1, 64) {
+            let _ = v.0.push(<GenericLane as uper::random::Random>::random(g));
+        }
+        v
     }
 }
 
@@ -487,7 +552,7 @@ impl uper::Placeholder for GenericLane {
 
 impl Uper for GenericLane {
     const PATH: &'static str = "MapData.GenericLane";
-    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(135495), None);
+    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(181233), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let extended = r.read_bit()?;
         let present = r.read_bits(7)?;
@@ -601,6 +666,25 @@ impl Uper for GenericLane {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for GenericLane {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self {
+            lane_id: <super::common::LaneID as uper::random::Random>::random(g),
+            name: if g.coin() { Some(<super::common::DescriptiveName as uper::random::Random>::random(g)) } else { None },
+            ingress_approach: if g.coin() { Some(<super::common::ApproachID as uper::random::Random>::random(g)) } else { None },
+            egress_approach: if g.coin() { Some(<super::common::ApproachID as uper::random::Random>::random(g)) } else { None },
+            lane_attributes: <LaneAttributes as uper::random::Random>::random(g),
+            maneuvers: if g.coin() { Some(<AllowedManeuvers as uper::random::Random>::random(g)) } else { None },
+            node_list: <super::common::NodeListXY as uper::random::Random>::random(g),
+            connects_to: if g.coin() { Some(<ConnectsToList as uper::random::Random>::random(g)) } else { None },
+            overlays: if g.coin() { Some(<OverlayLaneList as uper::random::Random>::random(g)) } else { None },
+            regional: if g.coin() { Some(<GenericLaneRegional as uper::random::Random>::random(g)) } else { None },
+            extensions: uper::Extensions::new(),
+        }
+    }
+}
+
 /// ASN.1 `LaneAttributes` (module `MapData`): SEQUENCE.
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub struct LaneAttributes {
@@ -652,6 +736,18 @@ impl Uper for LaneAttributes {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for LaneAttributes {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self {
+            directional_use: <LaneDirection as uper::random::Random>::random(g),
+            shared_with: <LaneSharing as uper::random::Random>::random(g),
+            lane_type: <LaneTypeAttributes as uper::random::Random>::random(g),
+            regional: if g.coin() { Some(<RegLaneAttributes as uper::random::Random>::random(g)) } else { None },
+        }
+    }
+}
+
 /// ASN.1 `LaneDirection` (module `MapData`): BIT STRING (SIZE(2)).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub struct LaneDirection(pub uper::Bits<1>);
@@ -687,6 +783,15 @@ impl Uper for LaneDirection {
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_bits(w, Self::SIZE, &self.0)
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for LaneDirection {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        let len = g.range(2, 2) as usize;
+        let bytes: [u8; 1] = core::array::from_fn(|_| g.octet());
+        Self(uper::Bits::from_bytes(&bytes, len).unwrap_or(uper::Bits::EMPTY))
     }
 }
 
@@ -741,6 +846,15 @@ impl Uper for LaneSharing {
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_bits(w, Self::SIZE, &self.0)
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for LaneSharing {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        let len = g.range(10, 10) as usize;
+        let bytes: [u8; 2] = core::array::from_fn(|_| g.octet());
+        Self(uper::Bits::from_bytes(&bytes, len).unwrap_or(uper::Bits::EMPTY))
     }
 }
 
@@ -878,6 +992,23 @@ impl Uper for LaneTypeAttributes {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for LaneTypeAttributes {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        match g.below(8) {
+            0 => Self::Vehicle(<LaneAttributesVehicle as uper::random::Random>::random(g)),
+            1 => Self::Crosswalk(<LaneAttributesCrosswalk as uper::random::Random>::random(g)),
+            2 => Self::BikeLane(<LaneAttributesBike as uper::random::Random>::random(g)),
+            3 => Self::Sidewalk(<LaneAttributesSidewalk as uper::random::Random>::random(g)),
+            4 => Self::Median(<LaneAttributesBarrier as uper::random::Random>::random(g)),
+            5 => Self::Striping(<LaneAttributesStriping as uper::random::Random>::random(g)),
+            6 => Self::TrackedVehicle(<LaneAttributesTrackedVehicle as uper::random::Random>::random(g)),
+            7 => Self::Parking(<LaneAttributesParking as uper::random::Random>::random(g)),
+            _ => Self::Vehicle(<LaneAttributesVehicle as uper::Placeholder>::placeholder()),
+        }
+    }
+}
+
 /// ASN.1 `LaneAttributes-Vehicle` (module `MapData`): BIT STRING (SIZE(8, ...)).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub struct LaneAttributesVehicle(pub uper::Bits<2>);
@@ -925,6 +1056,15 @@ impl Uper for LaneAttributesVehicle {
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_bits(w, Self::SIZE, &self.0)
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for LaneAttributesVehicle {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        let len = g.range(8, 8) as usize;
+        let bytes: [u8; 2] = core::array::from_fn(|_| g.octet());
+        Self(uper::Bits::from_bytes(&bytes, len).unwrap_or(uper::Bits::EMPTY))
     }
 }
 
@@ -980,6 +1120,15 @@ impl Uper for LaneAttributesCrosswalk {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for LaneAttributesCrosswalk {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        let len = g.range(16, 16) as usize;
+        let bytes: [u8; 2] = core::array::from_fn(|_| g.octet());
+        Self(uper::Bits::from_bytes(&bytes, len).unwrap_or(uper::Bits::EMPTY))
+    }
+}
+
 /// ASN.1 `LaneAttributes-Bike` (module `MapData`): BIT STRING (SIZE(16)).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub struct LaneAttributesBike(pub uper::Bits<2>);
@@ -1028,6 +1177,15 @@ impl Uper for LaneAttributesBike {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for LaneAttributesBike {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        let len = g.range(16, 16) as usize;
+        let bytes: [u8; 2] = core::array::from_fn(|_| g.octet());
+        Self(uper::Bits::from_bytes(&bytes, len).unwrap_or(uper::Bits::EMPTY))
+    }
+}
+
 /// ASN.1 `LaneAttributes-Sidewalk` (module `MapData`): BIT STRING (SIZE(16)).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub struct LaneAttributesSidewalk(pub uper::Bits<2>);
@@ -1067,6 +1225,15 @@ impl Uper for LaneAttributesSidewalk {
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_bits(w, Self::SIZE, &self.0)
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for LaneAttributesSidewalk {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        let len = g.range(16, 16) as usize;
+        let bytes: [u8; 2] = core::array::from_fn(|_| g.octet());
+        Self(uper::Bits::from_bytes(&bytes, len).unwrap_or(uper::Bits::EMPTY))
     }
 }
 
@@ -1124,6 +1291,15 @@ impl Uper for LaneAttributesBarrier {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for LaneAttributesBarrier {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        let len = g.range(16, 16) as usize;
+        let bytes: [u8; 2] = core::array::from_fn(|_| g.octet());
+        Self(uper::Bits::from_bytes(&bytes, len).unwrap_or(uper::Bits::EMPTY))
+    }
+}
+
 /// ASN.1 `LaneAttributes-Striping` (module `MapData`): BIT STRING (SIZE(16)).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub struct LaneAttributesStriping(pub uper::Bits<2>);
@@ -1170,6 +1346,15 @@ impl Uper for LaneAttributesStriping {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for LaneAttributesStriping {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        let len = g.range(16, 16) as usize;
+        let bytes: [u8; 2] = core::array::from_fn(|_| g.octet());
+        Self(uper::Bits::from_bytes(&bytes, len).unwrap_or(uper::Bits::EMPTY))
+    }
+}
+
 /// ASN.1 `LaneAttributes-TrackedVehicle` (module `MapData`): BIT STRING (SIZE(16)).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub struct LaneAttributesTrackedVehicle(pub uper::Bits<2>);
@@ -1211,6 +1396,15 @@ impl Uper for LaneAttributesTrackedVehicle {
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_bits(w, Self::SIZE, &self.0)
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for LaneAttributesTrackedVehicle {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        let len = g.range(16, 16) as usize;
+        let bytes: [u8; 2] = core::array::from_fn(|_| g.octet());
+        Self(uper::Bits::from_bytes(&bytes, len).unwrap_or(uper::Bits::EMPTY))
     }
 }
 
@@ -1262,6 +1456,15 @@ impl Uper for LaneAttributesParking {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for LaneAttributesParking {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        let len = g.range(16, 16) as usize;
+        let bytes: [u8; 2] = core::array::from_fn(|_| g.octet());
+        Self(uper::Bits::from_bytes(&bytes, len).unwrap_or(uper::Bits::EMPTY))
+    }
+}
+
 /// ASN.1 `RegLaneAttributes` (module `MapData`): `regionId` and the `regExtValue` it selects (open type over an object set).
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub enum RegLaneAttributes {
@@ -1306,6 +1509,17 @@ impl Uper for RegLaneAttributes {
                 uper::encode_unknown_open(w, content)
             }
         }
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for RegLaneAttributes {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        let mut content = uper::Octets::new();
+        for _ in 0..1 + g.below(4) {
+            let _ = content.push(g.octet());
+        }
+        Self::Unknown { id: <super::common::RegionId as uper::random::Random>::random(g), content }
     }
 }
 
@@ -1367,6 +1581,15 @@ impl Uper for AllowedManeuvers {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for AllowedManeuvers {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        let len = g.range(12, 12) as usize;
+        let bytes: [u8; 2] = core::array::from_fn(|_| g.octet());
+        Self(uper::Bits::from_bytes(&bytes, len).unwrap_or(uper::Bits::EMPTY))
+    }
+}
+
 /// ASN.1 `ConnectsToList` (module `MapData`): SEQUENCE OF Connection (SIZE(1..16)).
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub struct ConnectsToList(pub uper::SeqOf<Connection, 8>);
@@ -1395,6 +1618,17 @@ impl Uper for ConnectsToList {
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for ConnectsToList {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        let mut v = Self(uper::SeqOf::new());
+        for _ in 0..g.count(1, 8) {
+            let _ = v.0.push(<Connection as uper::random::Random>::random(g));
+        }
+        v
     }
 }
 
@@ -1486,6 +1720,19 @@ impl Uper for Connection {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for Connection {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self {
+            connecting_lane: <ConnectingLane as uper::random::Random>::random(g),
+            remote_intersection: if g.coin() { Some(<super::common::IntersectionReferenceID as uper::random::Random>::random(g)) } else { None },
+            signal_group: if g.coin() { Some(<super::common::SignalGroupID as uper::random::Random>::random(g)) } else { None },
+            user_class: if g.coin() { Some(<super::common::RestrictionClassID as uper::random::Random>::random(g)) } else { None },
+            connection_id: if g.coin() { Some(<super::common::LaneConnectionID as uper::random::Random>::random(g)) } else { None },
+        }
+    }
+}
+
 /// ASN.1 `ConnectingLane` (module `MapData`): SEQUENCE.
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub struct ConnectingLane {
@@ -1529,6 +1776,16 @@ impl Uper for ConnectingLane {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for ConnectingLane {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self {
+            lane: <super::common::LaneID as uper::random::Random>::random(g),
+            maneuver: if g.coin() { Some(<AllowedManeuvers as uper::random::Random>::random(g)) } else { None },
+        }
+    }
+}
+
 /// ASN.1 `OverlayLaneList` (module `MapData`): SEQUENCE OF super::common::LaneID (SIZE(1..5)).
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub struct OverlayLaneList(pub uper::SeqOf<super::common::LaneID, 5>);
@@ -1560,6 +1817,17 @@ impl Uper for OverlayLaneList {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for OverlayLaneList {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        let mut v = Self(uper::SeqOf::new());
+        for _ in 0..g.count(1, 5) {
+            let _ = v.0.push(<super::common::LaneID as uper::random::Random>::random(g));
+        }
+        v
+    }
+}
+
 /// ASN.1 `GenericLane.regional` (module `MapData`): SEQUENCE OF RegGenericLane (SIZE(1..4)).
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub struct GenericLaneRegional(pub uper::SeqOf<RegGenericLane, 1>);
@@ -1588,6 +1856,17 @@ impl Uper for GenericLaneRegional {
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for GenericLaneRegional {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        let mut v = Self(uper::SeqOf::new());
+        for _ in 0..g.count(1, 1) {
+            let _ = v.0.push(<RegGenericLane as uper::random::Random>::random(g));
+        }
+        v
     }
 }
 
@@ -1638,6 +1917,17 @@ impl Uper for RegGenericLane {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for RegGenericLane {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        let mut content = uper::Octets::new();
+        for _ in 0..1 + g.below(4) {
+            let _ = content.push(g.octet());
+        }
+        Self::Unknown { id: <super::common::RegionId as uper::random::Random>::random(g), content }
+    }
+}
+
 /// ASN.1 `PreemptPriorityList` (module `MapData`): SEQUENCE OF SignalControlZone (SIZE(1..32)).
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub struct PreemptPriorityList(pub uper::SeqOf<SignalControlZone, 4>);
@@ -1666,6 +1956,17 @@ impl Uper for PreemptPriorityList {
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for PreemptPriorityList {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        let mut v = Self(uper::SeqOf::new());
+        for _ in 0..g.count(1, 4) {
+            let _ = v.0.push(<SignalControlZone as uper::random::Random>::random(g));
+        }
+        v
     }
 }
 
@@ -1700,6 +2001,16 @@ impl Uper for SignalControlZone {
             self.extensions.encode(w)?;
         }
         Ok(())
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for SignalControlZone {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self {
+            zone: <RegSignalControlZone as uper::random::Random>::random(g),
+            extensions: uper::Extensions::new(),
+        }
     }
 }
 
@@ -1750,6 +2061,17 @@ impl Uper for RegSignalControlZone {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for RegSignalControlZone {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        let mut content = uper::Octets::new();
+        for _ in 0..1 + g.below(4) {
+            let _ = content.push(g.octet());
+        }
+        Self::Unknown { id: <super::common::RegionId as uper::random::Random>::random(g), content }
+    }
+}
+
 /// ASN.1 `IntersectionGeometry.regional` (module `MapData`): SEQUENCE OF RegIntersectionGeometry (SIZE(1..4)).
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub struct IntersectionGeometryRegional(pub uper::SeqOf<RegIntersectionGeometry, 1>);
@@ -1778,6 +2100,17 @@ impl Uper for IntersectionGeometryRegional {
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for IntersectionGeometryRegional {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        let mut v = Self(uper::SeqOf::new());
+        for _ in 0..g.count(1, 1) {
+            let _ = v.0.push(<RegIntersectionGeometry as uper::random::Random>::random(g));
+        }
+        v
     }
 }
 
@@ -1828,6 +2161,17 @@ impl Uper for RegIntersectionGeometry {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for RegIntersectionGeometry {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        let mut content = uper::Octets::new();
+        for _ in 0..1 + g.below(4) {
+            let _ = content.push(g.octet());
+        }
+        Self::Unknown { id: <super::common::RegionId as uper::random::Random>::random(g), content }
+    }
+}
+
 /// ASN.1 `RoadSegmentList` (module `MapData`): SEQUENCE OF RoadSegment (SIZE(1..32)).
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub struct RoadSegmentList(pub uper::SeqOf<RoadSegment, 5>);
@@ -1850,12 +2194,23 @@ impl uper::Placeholder for RoadSegmentList {
 
 impl Uper for RoadSegmentList {
     const PATH: &'static str = "MapData.RoadSegmentList";
-    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(5426470), None);
+    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(7258630), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         uper::decode_seq_of_into(r, Self::SIZE, "MapData.RoadSegmentList", &mut out.0)
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for RoadSegmentList {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        let mut v = Self(uper::SeqOf::new());
+        for _ in 0..g.count(1, 5) {
+            let _ = v.0.push(<RoadSegment as uper::random::Random>::random(g));
+        }
+        v
     }
 }
 
@@ -1890,7 +2245,7 @@ impl uper::Placeholder for RoadSegment {
 
 impl Uper for RoadSegment {
     const PATH: &'static str = "MapData.RoadSegment";
-    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(1085293), None);
+    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(1451725), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let extended = r.read_bit()?;
         let present = r.read_bits(4)?;
@@ -1967,6 +2322,23 @@ impl Uper for RoadSegment {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for RoadSegment {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self {
+            name: if g.coin() { Some(<super::common::DescriptiveName as uper::random::Random>::random(g)) } else { None },
+            id: <super::common::RoadSegmentReferenceID as uper::random::Random>::random(g),
+            revision: <super::common::MsgCount as uper::random::Random>::random(g),
+            ref_point: <super::common::Position3D as uper::random::Random>::random(g),
+            lane_width: if g.coin() { Some(<super::common::LaneWidth as uper::random::Random>::random(g)) } else { None },
+            speed_limits: if g.coin() { Some(<super::common::SpeedLimitList as uper::random::Random>::random(g)) } else { None },
+            road_lane_set: <RoadLaneSetList as uper::random::Random>::random(g),
+            regional: if g.coin() { Some(<RoadSegmentRegional as uper::random::Random>::random(g)) } else { None },
+            extensions: uper::Extensions::new(),
+        }
+    }
+}
+
 /// ASN.1 `RoadLaneSetList` (module `MapData`): SEQUENCE OF GenericLane (SIZE(1..255)).
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub struct RoadLaneSetList(pub uper::SeqOf<GenericLane, 8>);
@@ -1989,12 +2361,23 @@ impl uper::Placeholder for RoadLaneSetList {
 
 impl Uper for RoadLaneSetList {
     const PATH: &'static str = "MapData.RoadLaneSetList";
-    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(1083968), None);
+    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(1449872), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         uper::decode_seq_of_into(r, Self::SIZE, "MapData.RoadLaneSetList", &mut out.0)
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for RoadLaneSetList {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        let mut v = Self(uper::SeqOf::new());
+        for _ in 0..g.count(1, 8) {
+            let _ = v.0.push(<GenericLane as uper::random::Random>::random(g));
+        }
+        v
     }
 }
 
@@ -2026,6 +2409,17 @@ impl Uper for RoadSegmentRegional {
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for RoadSegmentRegional {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        let mut v = Self(uper::SeqOf::new());
+        for _ in 0..g.count(1, 1) {
+            let _ = v.0.push(<RegRoadSegment as uper::random::Random>::random(g));
+        }
+        v
     }
 }
 
@@ -2073,6 +2467,17 @@ impl Uper for RegRoadSegment {
                 uper::encode_unknown_open(w, content)
             }
         }
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for RegRoadSegment {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        let mut content = uper::Octets::new();
+        for _ in 0..1 + g.below(4) {
+            let _ = content.push(g.octet());
+        }
+        Self::Unknown { id: <super::common::RegionId as uper::random::Random>::random(g), content }
     }
 }
 
@@ -2168,6 +2573,19 @@ impl Uper for DataParameters {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for DataParameters {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self {
+            process_method: if g.coin() { Some(<DataParametersProcessMethod as uper::random::Random>::random(g)) } else { None },
+            process_agency: if g.coin() { Some(<DataParametersProcessAgency as uper::random::Random>::random(g)) } else { None },
+            last_checked_date: if g.coin() { Some(<DataParametersLastCheckedDate as uper::random::Random>::random(g)) } else { None },
+            geoid_used: if g.coin() { Some(<DataParametersGeoidUsed as uper::random::Random>::random(g)) } else { None },
+            extensions: uper::Extensions::new(),
+        }
+    }
+}
+
 /// ASN.1 `DataParameters.processMethod` (module `MapData`): IA5String (SIZE(1..255)).
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub struct DataParametersProcessMethod(pub uper::Ia5<63>);
@@ -2201,6 +2619,17 @@ impl Uper for DataParametersProcessMethod {
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_ia5(w, Self::SIZE, &self.0)
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for DataParametersProcessMethod {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        let mut v = Self(uper::Ia5::new());
+        for _ in 0..g.count(1, 63) {
+            let _ = v.0.push(g.printable());
+        }
+        v
     }
 }
 
@@ -2240,6 +2669,17 @@ impl Uper for DataParametersProcessAgency {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for DataParametersProcessAgency {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        let mut v = Self(uper::Ia5::new());
+        for _ in 0..g.count(1, 63) {
+            let _ = v.0.push(g.printable());
+        }
+        v
+    }
+}
+
 /// ASN.1 `DataParameters.lastCheckedDate` (module `MapData`): IA5String (SIZE(1..255)).
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub struct DataParametersLastCheckedDate(pub uper::Ia5<63>);
@@ -2273,6 +2713,17 @@ impl Uper for DataParametersLastCheckedDate {
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_ia5(w, Self::SIZE, &self.0)
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for DataParametersLastCheckedDate {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        let mut v = Self(uper::Ia5::new());
+        for _ in 0..g.count(1, 63) {
+            let _ = v.0.push(g.printable());
+        }
+        v
     }
 }
 
@@ -2312,6 +2763,17 @@ impl Uper for DataParametersGeoidUsed {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for DataParametersGeoidUsed {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        let mut v = Self(uper::Ia5::new());
+        for _ in 0..g.count(1, 63) {
+            let _ = v.0.push(g.printable());
+        }
+        v
+    }
+}
+
 /// ASN.1 `RestrictionClassList` (module `MapData`): SEQUENCE OF RestrictionClassAssignment (SIZE(1..254)).
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub struct RestrictionClassList(pub uper::SeqOf<RestrictionClassAssignment, 4>);
@@ -2334,12 +2796,23 @@ impl uper::Placeholder for RestrictionClassList {
 
 impl Uper for RestrictionClassList {
     const PATH: &'static str = "MapData.RestrictionClassList";
-    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(3296), None);
+    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(11656), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         uper::decode_seq_of_into(r, Self::SIZE, "MapData.RestrictionClassList", &mut out.0)
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for RestrictionClassList {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        let mut v = Self(uper::SeqOf::new());
+        for _ in 0..g.count(1, 4) {
+            let _ = v.0.push(<RestrictionClassAssignment as uper::random::Random>::random(g));
+        }
+        v
     }
 }
 
@@ -2360,7 +2833,7 @@ impl uper::Placeholder for RestrictionClassAssignment {
 
 impl Uper for RestrictionClassAssignment {
     const PATH: &'static str = "MapData.RestrictionClassAssignment";
-    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(822), None);
+    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(2912), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         <super::common::RestrictionClassID>::decode_into(r, &mut out.id)?;
         <RestrictionUserTypeList>::decode_into(r, &mut out.users)?;
@@ -2370,6 +2843,16 @@ impl Uper for RestrictionClassAssignment {
         self.id.encode_uper(w)?;
         self.users.encode_uper(w)?;
         Ok(())
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for RestrictionClassAssignment {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self {
+            id: <super::common::RestrictionClassID as uper::random::Random>::random(g),
+            users: <RestrictionUserTypeList as uper::random::Random>::random(g),
+        }
     }
 }
 
@@ -2395,12 +2878,23 @@ impl uper::Placeholder for RestrictionUserTypeList {
 
 impl Uper for RestrictionUserTypeList {
     const PATH: &'static str = "MapData.RestrictionUserTypeList";
-    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(814), None);
+    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(2904), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         uper::decode_seq_of_into(r, Self::SIZE, "MapData.RestrictionUserTypeList", &mut out.0)
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for RestrictionUserTypeList {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        let mut v = Self(uper::SeqOf::new());
+        for _ in 0..g.count(1, 5) {
+            let _ = v.0.push(<RestrictionUserType as uper::random::Random>::random(g));
+        }
+        v
     }
 }
 
@@ -2428,7 +2922,7 @@ impl uper::Placeholder for RestrictionUserType {
 
 impl Uper for RestrictionUserType {
     const PATH: &'static str = "MapData.RestrictionUserType";
-    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(162), None);
+    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(580), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         if r.read_bit()? {
             let at = r.position();
@@ -2468,6 +2962,17 @@ impl Uper for RestrictionUserType {
                 w.write_normally_small(*index as u64)?;
                 uper::encode_unknown_open(w, content)
             }
+        }
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for RestrictionUserType {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        match g.below(2) {
+            0 => Self::BasicType(<RestrictionAppliesTo as uper::random::Random>::random(g)),
+            1 => Self::Regional(<RestrictionUserTypeRegional as uper::random::Random>::random(g)),
+            _ => Self::BasicType(<RestrictionAppliesTo as uper::Placeholder>::placeholder()),
         }
     }
 }
@@ -2602,11 +3107,18 @@ impl Uper for RestrictionAppliesTo {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for RestrictionAppliesTo {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self::ALL[g.below(14)]
+    }
+}
+
 /// ASN.1 `RestrictionUserType.regional` (module `MapData`): SEQUENCE OF RegRestrictionUserType (SIZE(1..4)).
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
-pub struct RestrictionUserTypeRegional(pub uper::SeqOf<RegRestrictionUserType, 1>);
+pub struct RestrictionUserTypeRegional(pub uper::SeqOf<RegRestrictionUserType, 4>);
 
-crate::__newtype_deref!(RestrictionUserTypeRegional, uper::SeqOf<RegRestrictionUserType, 1>);
+crate::__newtype_deref!(RestrictionUserTypeRegional, uper::SeqOf<RegRestrictionUserType, 4>);
 
 impl RestrictionUserTypeRegional {
     const SIZE: uper::Size = uper::Size::range(1, 4);
@@ -2624,12 +3136,23 @@ impl uper::Placeholder for RestrictionUserTypeRegional {
 
 impl Uper for RestrictionUserTypeRegional {
     const PATH: &'static str = "MapData.RestrictionUserType.regional";
-    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(146), None);
+    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(578), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         uper::decode_seq_of_into(r, Self::SIZE, "MapData.RestrictionUserType.regional", &mut out.0)
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for RestrictionUserTypeRegional {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        let mut v = Self(uper::SeqOf::new());
+        for _ in 0..g.count(1, 4) {
+            let _ = v.0.push(<RegRestrictionUserType as uper::random::Random>::random(g));
+        }
+        v
     }
 }
 
@@ -2695,11 +3218,21 @@ impl Uper for RegRestrictionUserType {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for RegRestrictionUserType {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        match g.below(1) {
+            0 => Self::AddGrpC(<super::add_grp_c::RestrictionUserTypeAddGrpC as uper::random::Random>::random(g)),
+            _ => Self::Unknown { id: <super::common::RegionId as uper::Placeholder>::placeholder(), content: uper::Octets::new() },
+        }
+    }
+}
+
 /// ASN.1 `MapData.regional` (module `MapData`): SEQUENCE OF RegMapData (SIZE(1..4)).
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
-pub struct MapDataRegional(pub uper::SeqOf<RegMapData, 1>);
+pub struct MapDataRegional(pub uper::SeqOf<RegMapData, 4>);
 
-crate::__newtype_deref!(MapDataRegional, uper::SeqOf<RegMapData, 1>);
+crate::__newtype_deref!(MapDataRegional, uper::SeqOf<RegMapData, 4>);
 
 impl MapDataRegional {
     const SIZE: uper::Size = uper::Size::range(1, 4);
@@ -2717,12 +3250,23 @@ impl uper::Placeholder for MapDataRegional {
 
 impl Uper for MapDataRegional {
     const PATH: &'static str = "MapData.MapData.regional";
-    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(1258), None);
+    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(8290), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         uper::decode_seq_of_into(r, Self::SIZE, "MapData.MapData.regional", &mut out.0)
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for MapDataRegional {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        let mut v = Self(uper::SeqOf::new());
+        for _ in 0..g.count(1, 4) {
+            let _ = v.0.push(<RegMapData as uper::random::Random>::random(g));
+        }
+        v
     }
 }
 
@@ -2736,7 +3280,7 @@ pub enum RegMapData {
         /// The `regionId`.
         id: super::common::RegionId,
         /// The value's encoding (open-type content).
-        content: uper::Octets<16>,
+        content: uper::Octets<256>,
     },
 }
 
@@ -2758,7 +3302,7 @@ impl uper::Placeholder for RegMapData {
 
 impl Uper for RegMapData {
     const PATH: &'static str = "MapData.RegMapData";
-    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(1256), None);
+    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(2072), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let id = <super::common::RegionId>::decode_uper(r)?;
         match id.get() {
@@ -2784,6 +3328,16 @@ impl Uper for RegMapData {
                 id.encode_uper(w)?;
                 uper::encode_unknown_open(w, content)
             }
+        }
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for RegMapData {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        match g.below(1) {
+            0 => Self::AddGrpC(<super::add_grp_c::MapDataAddGrpC as uper::random::Random>::random(g)),
+            _ => Self::Unknown { id: <super::common::RegionId as uper::Placeholder>::placeholder(), content: uper::Octets::new() },
         }
     }
 }

@@ -23,7 +23,7 @@ impl uper::Placeholder for MessageFrame {
 
 impl Uper for MessageFrame {
     const PATH: &'static str = "MessageFrame.MessageFrame";
-    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(22783391), None);
+    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(30486463), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let extended = r.read_bit()?;
         <MessageFrameValue>::decode_into(r, &mut out.value)?;
@@ -37,6 +37,16 @@ impl Uper for MessageFrame {
             self.extensions.encode(w)?;
         }
         Ok(())
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for MessageFrame {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self {
+            value: <MessageFrameValue as uper::random::Random>::random(g),
+            extensions: uper::Extensions::new(),
+        }
     }
 }
 
@@ -167,7 +177,7 @@ impl uper::Placeholder for MessageFrameValue {
 
 impl Uper for MessageFrameValue {
     const PATH: &'static str = "MessageFrame.MessageFrame.value";
-    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(22783303), None);
+    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(30486375), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let id = <DSRCmsgID>::decode_uper(r)?;
         match id.get() {
@@ -553,6 +563,46 @@ impl Uper for MessageFrameValue {
                 id.encode_uper(w)?;
                 uper::encode_unknown_open(w, content)
             }
+        }
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for MessageFrameValue {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        match g.below(31) {
+            0 => Self::MapData(<super::map_data::MapData as uper::random::Random>::random(g)),
+            1 => Self::SPAT(<super::spat::SPAT as uper::random::Random>::random(g)),
+            2 => Self::BasicSafetyMessage(<super::basic_safety_message::BasicSafetyMessage as uper::random::Random>::random(g)),
+            3 => Self::CommonSafetyRequest(<super::common_safety_request::CommonSafetyRequest as uper::random::Random>::random(g)),
+            4 => Self::EmergencyVehicleAlert(<super::emergency_vehicle_alert::EmergencyVehicleAlert as uper::random::Random>::random(g)),
+            5 => Self::IntersectionCollision(<super::intersection_collision::IntersectionCollision as uper::random::Random>::random(g)),
+            6 => Self::NMEAcorrections(<super::nmea_corrections::NMEAcorrections as uper::random::Random>::random(g)),
+            7 => Self::ProbeDataManagement(<super::probe_data_management::ProbeDataManagement as uper::random::Random>::random(g)),
+            8 => Self::ProbeVehicleData(<super::probe_vehicle_data::ProbeVehicleData as uper::random::Random>::random(g)),
+            9 => Self::RoadSideAlert(<super::road_side_alert::RoadSideAlert as uper::random::Random>::random(g)),
+            10 => Self::RTCMcorrections(<super::rtcm_corrections::RTCMcorrections as uper::random::Random>::random(g)),
+            11 => Self::SignalRequestMessage(<super::signal_request_message::SignalRequestMessage as uper::random::Random>::random(g)),
+            12 => Self::SignalStatusMessage(<super::signal_status_message::SignalStatusMessage as uper::random::Random>::random(g)),
+            13 => Self::TravelerInformation(<super::traveler_information::TravelerInformation as uper::random::Random>::random(g)),
+            14 => Self::PersonalSafetyMessage(<super::personal_safety_message::PersonalSafetyMessage as uper::random::Random>::random(g)),
+            15 => Self::TestMessage00(<super::test_message00::TestMessage00 as uper::random::Random>::random(g)),
+            16 => Self::TestMessage01(<super::test_message01::TestMessage01 as uper::random::Random>::random(g)),
+            17 => Self::TestMessage02(<super::test_message02::TestMessage02 as uper::random::Random>::random(g)),
+            18 => Self::TestMessage03(<super::test_message03::TestMessage03 as uper::random::Random>::random(g)),
+            19 => Self::TestMessage04(<super::test_message04::TestMessage04 as uper::random::Random>::random(g)),
+            20 => Self::TestMessage05(<super::test_message05::TestMessage05 as uper::random::Random>::random(g)),
+            21 => Self::TestMessage06(<super::test_message06::TestMessage06 as uper::random::Random>::random(g)),
+            22 => Self::TestMessage07(<super::test_message07::TestMessage07 as uper::random::Random>::random(g)),
+            23 => Self::TestMessage08(<super::test_message08::TestMessage08 as uper::random::Random>::random(g)),
+            24 => Self::TestMessage09(<super::test_message09::TestMessage09 as uper::random::Random>::random(g)),
+            25 => Self::TestMessage10(<super::test_message10::TestMessage10 as uper::random::Random>::random(g)),
+            26 => Self::TestMessage11(<super::test_message11::TestMessage11 as uper::random::Random>::random(g)),
+            27 => Self::TestMessage12(<super::test_message12::TestMessage12 as uper::random::Random>::random(g)),
+            28 => Self::TestMessage13(<super::test_message13::TestMessage13 as uper::random::Random>::random(g)),
+            29 => Self::TestMessage14(<super::test_message14::TestMessage14 as uper::random::Random>::random(g)),
+            30 => Self::TestMessage15(<super::test_message15::TestMessage15 as uper::random::Random>::random(g)),
+            _ => Self::Unknown { id: <DSRCmsgID as uper::Placeholder>::placeholder(), content: uper::Octets::new() },
         }
     }
 }

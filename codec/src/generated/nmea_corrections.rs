@@ -33,7 +33,7 @@ impl uper::Placeholder for NMEAcorrections {
 
 impl Uper for NMEAcorrections {
     const PATH: &'static str = "NMEAcorrections.NMEAcorrections";
-    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(832), None);
+    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(8504), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let extended = r.read_bit()?;
         let present = r.read_bits(5)?;
@@ -114,6 +114,21 @@ impl Uper for NMEAcorrections {
             self.extensions.encode(w)?;
         }
         Ok(())
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for NMEAcorrections {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self {
+            time_stamp: if g.coin() { Some(<super::common::MinuteOfTheYear as uper::random::Random>::random(g)) } else { None },
+            rev: if g.coin() { Some(<NMEARevision as uper::random::Random>::random(g)) } else { None },
+            msg: if g.coin() { Some(<NMEAMsgType as uper::random::Random>::random(g)) } else { None },
+            wd_count: if g.coin() { Some(<ObjectCount as uper::random::Random>::random(g)) } else { None },
+            payload: <NMEAPayload as uper::random::Random>::random(g),
+            regional: if g.coin() { Some(<NMEAcorrectionsRegional as uper::random::Random>::random(g)) } else { None },
+            extensions: uper::Extensions::new(),
+        }
     }
 }
 
@@ -212,6 +227,13 @@ impl Uper for NMEARevision {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for NMEARevision {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self::ALL[g.below(7)]
+    }
+}
+
 /// ASN.1 `NMEA-MsgType` (module `NMEAcorrections`): INTEGER (0..32767).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub struct NMEAMsgType(u16);
@@ -224,9 +246,9 @@ crate::__constrained_int!(ObjectCount, u16, 0, 1023, "NMEAcorrections.ObjectCoun
 
 /// ASN.1 `NMEA-Payload` (module `NMEAcorrections`): OCTET STRING (SIZE(1..1023)).
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
-pub struct NMEAPayload(pub uper::Octets<64>);
+pub struct NMEAPayload(pub uper::Octets<1023>);
 
-crate::__newtype_deref!(NMEAPayload, uper::Octets<64>);
+crate::__newtype_deref!(NMEAPayload, uper::Octets<1023>);
 
 impl NMEAPayload {
     const SIZE: uper::Size = uper::Size::range(1, 1023);
@@ -247,12 +269,23 @@ impl uper::Placeholder for NMEAPayload {
 
 impl Uper for NMEAPayload {
     const PATH: &'static str = "NMEAcorrections.NMEA-Payload";
-    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(522), Some(8194));
+    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(8194), Some(8194));
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         uper::decode_octets_into(r, Self::SIZE, "NMEAcorrections.NMEA-Payload", &mut out.0)
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_octets(w, Self::SIZE, &self.0)
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for NMEAPayload {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        let mut v = Self(uper::Octets::new());
+        for _ in 0..g.count(1, 1023) {
+            let _ = v.0.push(g.octet());
+        }
+        v
     }
 }
 
@@ -284,6 +317,17 @@ impl Uper for NMEAcorrectionsRegional {
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for NMEAcorrectionsRegional {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        let mut v = Self(uper::SeqOf::new());
+        for _ in 0..g.count(1, 1) {
+            let _ = v.0.push(<RegNMEAcorrections as uper::random::Random>::random(g));
+        }
+        v
     }
 }
 
@@ -331,5 +375,16 @@ impl Uper for RegNMEAcorrections {
                 uper::encode_unknown_open(w, content)
             }
         }
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for RegNMEAcorrections {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        let mut content = uper::Octets::new();
+        for _ in 0..1 + g.below(4) {
+            let _ = content.push(g.octet());
+        }
+        Self::Unknown { id: <super::common::RegionId as uper::random::Random>::random(g), content }
     }
 }

@@ -65,6 +65,13 @@ impl Uper for EssPrecipYesNo {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for EssPrecipYesNo {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self::ALL[g.below(3)]
+    }
+}
+
 /// ASN.1 `EssPrecipRate` (module `NTCIP`): INTEGER (0..65535).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub struct EssPrecipRate(u16);
@@ -186,6 +193,13 @@ impl Uper for EssPrecipSituation {
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_constrained(self.root_index(), 0, 14)
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for EssPrecipSituation {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self::ALL[g.below(15)]
     }
 }
 

@@ -73,7 +73,7 @@ impl uper::Placeholder for PersonalSafetyMessage {
 
 impl Uper for PersonalSafetyMessage {
     const PATH: &'static str = "PersonalSafetyMessage.PersonalSafetyMessage";
-    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(6561), None);
+    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(7089), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let extended = r.read_bit()?;
         let present = r.read_bits(18)?;
@@ -340,6 +340,41 @@ impl Uper for PersonalSafetyMessage {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for PersonalSafetyMessage {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self {
+            basic_type: <PersonalDeviceUserType as uper::random::Random>::random(g),
+            sec_mark: <super::common::DSecond as uper::random::Random>::random(g),
+            msg_cnt: <super::common::MsgCount as uper::random::Random>::random(g),
+            id: <super::common::TemporaryID as uper::random::Random>::random(g),
+            position: <super::common::Position3D as uper::random::Random>::random(g),
+            accuracy: <super::common::PositionalAccuracy as uper::random::Random>::random(g),
+            speed: <super::common::Velocity as uper::random::Random>::random(g),
+            heading: <super::common::Heading as uper::random::Random>::random(g),
+            accel_set: if g.coin() { Some(<super::common::AccelerationSet4Way as uper::random::Random>::random(g)) } else { None },
+            path_history: if g.coin() { Some(<super::common::PathHistory as uper::random::Random>::random(g)) } else { None },
+            path_prediction: if g.coin() { Some(<super::common::PathPrediction as uper::random::Random>::random(g)) } else { None },
+            propulsion: if g.coin() { Some(<PropelledInformation as uper::random::Random>::random(g)) } else { None },
+            use_state: if g.coin() { Some(<PersonalDeviceUsageState as uper::random::Random>::random(g)) } else { None },
+            cross_request: if g.coin() { Some(<PersonalCrossingRequest as uper::random::Random>::random(g)) } else { None },
+            cross_state: if g.coin() { Some(<PersonalCrossingInProgress as uper::random::Random>::random(g)) } else { None },
+            cluster_size: if g.coin() { Some(<NumberOfParticipantsInCluster as uper::random::Random>::random(g)) } else { None },
+            cluster_radius: if g.coin() { Some(<PersonalClusterRadius as uper::random::Random>::random(g)) } else { None },
+            event_responder_type: if g.coin() { Some(<PublicSafetyEventResponderWorkerType as uper::random::Random>::random(g)) } else { None },
+            activity_type: if g.coin() { Some(<PublicSafetyAndRoadWorkerActivity as uper::random::Random>::random(g)) } else { None },
+            activity_sub_type: if g.coin() { Some(<PublicSafetyDirectingTrafficSubType as uper::random::Random>::random(g)) } else { None },
+            assist_type: if g.coin() { Some(<PersonalAssistive as uper::random::Random>::random(g)) } else { None },
+            sizing: if g.coin() { Some(<UserSizeAndBehaviour as uper::random::Random>::random(g)) } else { None },
+            attachment: if g.coin() { Some(<Attachment as uper::random::Random>::random(g)) } else { None },
+            attachment_radius: if g.coin() { Some(<AttachmentRadius as uper::random::Random>::random(g)) } else { None },
+            animal_type: if g.coin() { Some(<AnimalType as uper::random::Random>::random(g)) } else { None },
+            regional: if g.coin() { Some(<PersonalSafetyMessageRegional as uper::random::Random>::random(g)) } else { None },
+            extensions: uper::Extensions::new(),
+        }
+    }
+}
+
 /// ASN.1 `PersonalDeviceUserType` (module `PersonalSafetyMessage`): ENUMERATED (extensible).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum PersonalDeviceUserType {
@@ -425,6 +460,13 @@ impl Uper for PersonalDeviceUserType {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for PersonalDeviceUserType {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self::ALL[g.below(5)]
+    }
+}
+
 /// ASN.1 `PropelledInformation` (module `PersonalSafetyMessage`): CHOICE (extensible).
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub enum PropelledInformation {
@@ -500,6 +542,18 @@ impl Uper for PropelledInformation {
                 w.write_normally_small(*index as u64)?;
                 uper::encode_unknown_open(w, content)
             }
+        }
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for PropelledInformation {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        match g.below(3) {
+            0 => Self::Human(<HumanPropelledType as uper::random::Random>::random(g)),
+            1 => Self::Animal(<AnimalPropelledType as uper::random::Random>::random(g)),
+            2 => Self::Motor(<MotorizedPropelledType as uper::random::Random>::random(g)),
+            _ => Self::Human(<HumanPropelledType as uper::Placeholder>::placeholder()),
         }
     }
 }
@@ -594,6 +648,13 @@ impl Uper for HumanPropelledType {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for HumanPropelledType {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self::ALL[g.below(6)]
+    }
+}
+
 /// ASN.1 `AnimalPropelledType` (module `PersonalSafetyMessage`): ENUMERATED (extensible).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum AnimalPropelledType {
@@ -671,6 +732,13 @@ impl Uper for AnimalPropelledType {
         }
         w.write_bit(false)?;
         w.write_constrained(self.root_index(), 0, 3)
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for AnimalPropelledType {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self::ALL[g.below(4)]
     }
 }
 
@@ -764,6 +832,13 @@ impl Uper for MotorizedPropelledType {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for MotorizedPropelledType {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self::ALL[g.below(6)]
+    }
+}
+
 /// ASN.1 `PersonalDeviceUsageState` (module `PersonalSafetyMessage`): BIT STRING (SIZE(9, ...)).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub struct PersonalDeviceUsageState(pub uper::Bits<2>);
@@ -813,6 +888,15 @@ impl Uper for PersonalDeviceUsageState {
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_bits(w, Self::SIZE, &self.0)
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for PersonalDeviceUsageState {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        let len = g.range(9, 9) as usize;
+        let bytes: [u8; 2] = core::array::from_fn(|_| g.octet());
+        Self(uper::Bits::from_bytes(&bytes, len).unwrap_or(uper::Bits::EMPTY))
     }
 }
 
@@ -899,6 +983,13 @@ impl Uper for NumberOfParticipantsInCluster {
         }
         w.write_bit(false)?;
         w.write_constrained(self.root_index(), 0, 3)
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for NumberOfParticipantsInCluster {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self::ALL[g.below(4)]
     }
 }
 
@@ -1007,6 +1098,13 @@ impl Uper for PublicSafetyEventResponderWorkerType {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for PublicSafetyEventResponderWorkerType {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self::ALL[g.below(8)]
+    }
+}
+
 /// ASN.1 `PublicSafetyAndRoadWorkerActivity` (module `PersonalSafetyMessage`): BIT STRING (SIZE(6, ...)).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub struct PublicSafetyAndRoadWorkerActivity(pub uper::Bits<2>);
@@ -1050,6 +1148,15 @@ impl Uper for PublicSafetyAndRoadWorkerActivity {
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_bits(w, Self::SIZE, &self.0)
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for PublicSafetyAndRoadWorkerActivity {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        let len = g.range(6, 6) as usize;
+        let bytes: [u8; 2] = core::array::from_fn(|_| g.octet());
+        Self(uper::Bits::from_bytes(&bytes, len).unwrap_or(uper::Bits::EMPTY))
     }
 }
 
@@ -1101,6 +1208,15 @@ impl Uper for PublicSafetyDirectingTrafficSubType {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for PublicSafetyDirectingTrafficSubType {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        let len = g.range(7, 7) as usize;
+        let bytes: [u8; 2] = core::array::from_fn(|_| g.octet());
+        Self(uper::Bits::from_bytes(&bytes, len).unwrap_or(uper::Bits::EMPTY))
+    }
+}
+
 /// ASN.1 `PersonalAssistive` (module `PersonalSafetyMessage`): BIT STRING (SIZE(6, ...)).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub struct PersonalAssistive(pub uper::Bits<2>);
@@ -1147,6 +1263,15 @@ impl Uper for PersonalAssistive {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for PersonalAssistive {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        let len = g.range(6, 6) as usize;
+        let bytes: [u8; 2] = core::array::from_fn(|_| g.octet());
+        Self(uper::Bits::from_bytes(&bytes, len).unwrap_or(uper::Bits::EMPTY))
+    }
+}
+
 /// ASN.1 `UserSizeAndBehaviour` (module `PersonalSafetyMessage`): BIT STRING (SIZE(5, ...)).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub struct UserSizeAndBehaviour(pub uper::Bits<2>);
@@ -1188,6 +1313,15 @@ impl Uper for UserSizeAndBehaviour {
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_bits(w, Self::SIZE, &self.0)
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for UserSizeAndBehaviour {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        let len = g.range(5, 5) as usize;
+        let bytes: [u8; 2] = core::array::from_fn(|_| g.octet());
+        Self(uper::Bits::from_bytes(&bytes, len).unwrap_or(uper::Bits::EMPTY))
     }
 }
 
@@ -1286,6 +1420,13 @@ impl Uper for Attachment {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for Attachment {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self::ALL[g.below(7)]
+    }
+}
+
 /// ASN.1 `AttachmentRadius` (module `PersonalSafetyMessage`): INTEGER (0..200).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub struct AttachmentRadius(u8);
@@ -1371,6 +1512,13 @@ impl Uper for AnimalType {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for AnimalType {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self::ALL[g.below(4)]
+    }
+}
+
 /// ASN.1 `PersonalSafetyMessage.regional` (module `PersonalSafetyMessage`): SEQUENCE OF RegPersonalSafetyMessage (SIZE(1..4)).
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub struct PersonalSafetyMessageRegional(pub uper::SeqOf<RegPersonalSafetyMessage, 1>);
@@ -1399,6 +1547,17 @@ impl Uper for PersonalSafetyMessageRegional {
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for PersonalSafetyMessageRegional {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        let mut v = Self(uper::SeqOf::new());
+        for _ in 0..g.count(1, 1) {
+            let _ = v.0.push(<RegPersonalSafetyMessage as uper::random::Random>::random(g));
+        }
+        v
     }
 }
 
@@ -1446,5 +1605,16 @@ impl Uper for RegPersonalSafetyMessage {
                 uper::encode_unknown_open(w, content)
             }
         }
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for RegPersonalSafetyMessage {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        let mut content = uper::Octets::new();
+        for _ in 0..1 + g.below(4) {
+            let _ = content.push(g.octet());
+        }
+        Self::Unknown { id: <super::common::RegionId as uper::random::Random>::random(g), content }
     }
 }

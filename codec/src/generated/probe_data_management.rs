@@ -37,7 +37,7 @@ impl uper::Placeholder for ProbeDataManagement {
 
 impl Uper for ProbeDataManagement {
     const PATH: &'static str = "ProbeDataManagement.ProbeDataManagement";
-    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(967), None);
+    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(5307), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let extended = r.read_bit()?;
         let present = r.read_bits(3)?;
@@ -103,6 +103,23 @@ impl Uper for ProbeDataManagement {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for ProbeDataManagement {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self {
+            time_stamp: if g.coin() { Some(<super::common::MinuteOfTheYear as uper::random::Random>::random(g)) } else { None },
+            sample: <Sample as uper::random::Random>::random(g),
+            directions: <super::common::HeadingSlice as uper::random::Random>::random(g),
+            term: <ProbeDataManagementTerm as uper::random::Random>::random(g),
+            snapshot: <ProbeDataManagementSnapshot as uper::random::Random>::random(g),
+            tx_interval: <SecondOfTime as uper::random::Random>::random(g),
+            data_elements: if g.coin() { Some(<VehicleStatusRequestList as uper::random::Random>::random(g)) } else { None },
+            regional: if g.coin() { Some(<ProbeDataManagementRegional as uper::random::Random>::random(g)) } else { None },
+            extensions: uper::Extensions::new(),
+        }
+    }
+}
+
 /// ASN.1 `Sample` (module `ProbeDataManagement`): SEQUENCE.
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub struct Sample {
@@ -130,6 +147,16 @@ impl Uper for Sample {
         self.sample_start.encode_uper(w)?;
         self.sample_end.encode_uper(w)?;
         Ok(())
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for Sample {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self {
+            sample_start: <SampleSampleStart as uper::random::Random>::random(g),
+            sample_end: <SampleSampleEnd as uper::random::Random>::random(g),
+        }
     }
 }
 
@@ -188,6 +215,17 @@ impl Uper for ProbeDataManagementTerm {
         match self {
             Self::Termtime(v) => { w.write_constrained(0, 0, 1)?; v.encode_uper(w) }
             Self::TermDistance(v) => { w.write_constrained(1, 0, 1)?; v.encode_uper(w) }
+        }
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for ProbeDataManagementTerm {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        match g.below(2) {
+            0 => Self::Termtime(<TermTime as uper::random::Random>::random(g)),
+            1 => Self::TermDistance(<TermDistance as uper::random::Random>::random(g)),
+            _ => Self::Termtime(<TermTime as uper::Placeholder>::placeholder()),
         }
     }
 }
@@ -251,6 +289,17 @@ impl Uper for ProbeDataManagementSnapshot {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for ProbeDataManagementSnapshot {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        match g.below(2) {
+            0 => Self::SnapshotTime(<SnapshotTime as uper::random::Random>::random(g)),
+            1 => Self::SnapshotDistance(<SnapshotDistance as uper::random::Random>::random(g)),
+            _ => Self::SnapshotTime(<SnapshotTime as uper::Placeholder>::placeholder()),
+        }
+    }
+}
+
 /// ASN.1 `SnapshotTime` (module `ProbeDataManagement`): SEQUENCE.
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub struct SnapshotTime {
@@ -286,6 +335,18 @@ impl Uper for SnapshotTime {
         self.speed2.encode_uper(w)?;
         self.time2.encode_uper(w)?;
         Ok(())
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for SnapshotTime {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self {
+            speed1: <super::common::GrossSpeed as uper::random::Random>::random(g),
+            time1: <SecondOfTime as uper::random::Random>::random(g),
+            speed2: <super::common::GrossSpeed as uper::random::Random>::random(g),
+            time2: <SecondOfTime as uper::random::Random>::random(g),
+        }
     }
 }
 
@@ -332,6 +393,18 @@ impl Uper for SnapshotDistance {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for SnapshotDistance {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self {
+            distance1: <GrossDistance as uper::random::Random>::random(g),
+            speed1: <super::common::GrossSpeed as uper::random::Random>::random(g),
+            distance2: <GrossDistance as uper::random::Random>::random(g),
+            speed2: <super::common::GrossSpeed as uper::random::Random>::random(g),
+        }
+    }
+}
+
 /// ASN.1 `GrossDistance` (module `ProbeDataManagement`): INTEGER (0..1023).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub struct GrossDistance(u16);
@@ -339,9 +412,9 @@ crate::__constrained_int!(GrossDistance, u16, 0, 1023, "ProbeDataManagement.Gros
 
 /// ASN.1 `VehicleStatusRequestList` (module `ProbeDataManagement`): SEQUENCE OF VehicleStatusRequest (SIZE(1..32)).
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
-pub struct VehicleStatusRequestList(pub uper::SeqOf<VehicleStatusRequest, 4>);
+pub struct VehicleStatusRequestList(pub uper::SeqOf<VehicleStatusRequest, 32>);
 
-crate::__newtype_deref!(VehicleStatusRequestList, uper::SeqOf<VehicleStatusRequest, 4>);
+crate::__newtype_deref!(VehicleStatusRequestList, uper::SeqOf<VehicleStatusRequest, 32>);
 
 impl VehicleStatusRequestList {
     const SIZE: uper::Size = uper::Size::range(1, 32);
@@ -359,12 +432,23 @@ impl uper::Placeholder for VehicleStatusRequestList {
 
 impl Uper for VehicleStatusRequestList {
     const PATH: &'static str = "ProbeDataManagement.VehicleStatusRequestList";
-    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(625), None);
+    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(4965), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         uper::decode_seq_of_into(r, Self::SIZE, "ProbeDataManagement.VehicleStatusRequestList", &mut out.0)
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for VehicleStatusRequestList {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        let mut v = Self(uper::SeqOf::new());
+        for _ in 0..g.count(1, 32) {
+            let _ = v.0.push(<VehicleStatusRequest as uper::random::Random>::random(g));
+        }
+        v
     }
 }
 
@@ -461,6 +545,20 @@ impl Uper for VehicleStatusRequest {
             self.extensions.encode(w)?;
         }
         Ok(())
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for VehicleStatusRequest {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self {
+            data_type: <VehicleStatusDeviceTypeTag as uper::random::Random>::random(g),
+            sub_type: if g.coin() { Some(<VehicleStatusRequestSubType as uper::random::Random>::random(g)) } else { None },
+            send_on_less_then_value: if g.coin() { Some(<VehicleStatusRequestSendOnLessThenValue as uper::random::Random>::random(g)) } else { None },
+            send_on_more_then_value: if g.coin() { Some(<VehicleStatusRequestSendOnMoreThenValue as uper::random::Random>::random(g)) } else { None },
+            send_all: if g.coin() { Some(<bool as uper::random::Random>::random(g)) } else { None },
+            extensions: uper::Extensions::new(),
+        }
     }
 }
 
@@ -669,6 +767,13 @@ impl Uper for VehicleStatusDeviceTypeTag {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for VehicleStatusDeviceTypeTag {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self::ALL[g.below(29)]
+    }
+}
+
 /// ASN.1 `VehicleStatusRequest.subType` (module `ProbeDataManagement`): INTEGER (1..15).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub struct VehicleStatusRequestSubType(u8);
@@ -712,6 +817,17 @@ impl Uper for ProbeDataManagementRegional {
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for ProbeDataManagementRegional {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        let mut v = Self(uper::SeqOf::new());
+        for _ in 0..g.count(1, 1) {
+            let _ = v.0.push(<RegProbeDataManagement as uper::random::Random>::random(g));
+        }
+        v
     }
 }
 
@@ -759,5 +875,16 @@ impl Uper for RegProbeDataManagement {
                 uper::encode_unknown_open(w, content)
             }
         }
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for RegProbeDataManagement {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        let mut content = uper::Octets::new();
+        for _ in 0..1 + g.below(4) {
+            let _ = content.push(g.octet());
+        }
+        Self::Unknown { id: <super::common::RegionId as uper::random::Random>::random(g), content }
     }
 }

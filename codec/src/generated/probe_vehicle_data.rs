@@ -110,6 +110,22 @@ impl Uper for ProbeVehicleData {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for ProbeVehicleData {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self {
+            time_stamp: if g.coin() { Some(<super::common::MinuteOfTheYear as uper::random::Random>::random(g)) } else { None },
+            seg_num: if g.coin() { Some(<ProbeSegmentNumber as uper::random::Random>::random(g)) } else { None },
+            probe_id: if g.coin() { Some(<VehicleIdent as uper::random::Random>::random(g)) } else { None },
+            start_vector: <super::common::FullPositionVector as uper::random::Random>::random(g),
+            vehicle_type: <super::common::VehicleClassification as uper::random::Random>::random(g),
+            snapshots: <ProbeVehicleDataSnapshots as uper::random::Random>::random(g),
+            regional: if g.coin() { Some(<ProbeVehicleDataRegional as uper::random::Random>::random(g)) } else { None },
+            extensions: uper::Extensions::new(),
+        }
+    }
+}
+
 /// ASN.1 `ProbeSegmentNumber` (module `ProbeVehicleData`): INTEGER (0..32767).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub struct ProbeSegmentNumber(u16);
@@ -237,6 +253,21 @@ impl Uper for VehicleIdent {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for VehicleIdent {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self {
+            name: if g.coin() { Some(<super::common::DescriptiveName as uper::random::Random>::random(g)) } else { None },
+            vin: if g.coin() { Some(<VINstring as uper::random::Random>::random(g)) } else { None },
+            owner_code: if g.coin() { Some(<VehicleIdentOwnerCode as uper::random::Random>::random(g)) } else { None },
+            id: if g.coin() { Some(<super::common::VehicleID as uper::random::Random>::random(g)) } else { None },
+            vehicle_type: if g.coin() { Some(<super::common::VehicleType as uper::random::Random>::random(g)) } else { None },
+            vehicle_class: if g.coin() { Some(<VehicleIdentVehicleClass as uper::random::Random>::random(g)) } else { None },
+            extensions: uper::Extensions::new(),
+        }
+    }
+}
+
 /// ASN.1 `VINstring` (module `ProbeVehicleData`): OCTET STRING (SIZE(1..17)).
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub struct VINstring(pub uper::Octets<17>);
@@ -268,6 +299,17 @@ impl Uper for VINstring {
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_octets(w, Self::SIZE, &self.0)
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for VINstring {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        let mut v = Self(uper::Octets::new());
+        for _ in 0..g.count(1, 17) {
+            let _ = v.0.push(g.octet());
+        }
+        v
     }
 }
 
@@ -304,6 +346,17 @@ impl Uper for VehicleIdentOwnerCode {
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_ia5(w, Self::SIZE, &self.0)
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for VehicleIdentOwnerCode {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        let mut v = Self(uper::Ia5::new());
+        for _ in 0..g.count(1, 32) {
+            let _ = v.0.push(g.printable());
+        }
+        v
     }
 }
 
@@ -367,6 +420,18 @@ impl Uper for VehicleIdentVehicleClass {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for VehicleIdentVehicleClass {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        match g.below(3) {
+            0 => Self::VGroup(<super::itis::VehicleGroupAffected as uper::random::Random>::random(g)),
+            1 => Self::RGroup(<super::itis::ResponderGroupAffected as uper::random::Random>::random(g)),
+            2 => Self::REquip(<super::itis::IncidentResponseEquipment as uper::random::Random>::random(g)),
+            _ => Self::VGroup(<super::itis::VehicleGroupAffected as uper::Placeholder>::placeholder()),
+        }
+    }
+}
+
 /// ASN.1 `ProbeVehicleData.snapshots` (module `ProbeVehicleData`): SEQUENCE OF Snapshot (SIZE(1..32)).
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub struct ProbeVehicleDataSnapshots(pub uper::SeqOf<Snapshot, 4>);
@@ -395,6 +460,17 @@ impl Uper for ProbeVehicleDataSnapshots {
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for ProbeVehicleDataSnapshots {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        let mut v = Self(uper::SeqOf::new());
+        for _ in 0..g.count(1, 4) {
+            let _ = v.0.push(<Snapshot as uper::random::Random>::random(g));
+        }
+        v
     }
 }
 
@@ -461,6 +537,18 @@ impl Uper for Snapshot {
             self.extensions.encode(w)?;
         }
         Ok(())
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for Snapshot {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self {
+            the_position: <super::common::FullPositionVector as uper::random::Random>::random(g),
+            safety_ext: if g.coin() { Some(<super::common::VehicleSafetyExtensions as uper::random::Random>::random(g)) } else { None },
+            data_set: if g.coin() { Some(<VehicleStatus as uper::random::Random>::random(g)) } else { None },
+            extensions: uper::Extensions::new(),
+        }
     }
 }
 
@@ -826,6 +914,37 @@ impl Uper for VehicleStatus {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for VehicleStatus {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self {
+            lights: if g.coin() { Some(<super::common::ExteriorLights as uper::random::Random>::random(g)) } else { None },
+            light_bar: if g.coin() { Some(<super::common::LightbarInUse as uper::random::Random>::random(g)) } else { None },
+            wipers: if g.coin() { Some(<super::common::WiperSet as uper::random::Random>::random(g)) } else { None },
+            brake_status: if g.coin() { Some(<super::common::BrakeSystemStatus as uper::random::Random>::random(g)) } else { None },
+            brake_pressure: if g.coin() { Some(<BrakeAppliedPressure as uper::random::Random>::random(g)) } else { None },
+            road_friction: if g.coin() { Some(<super::common::CoefficientOfFriction as uper::random::Random>::random(g)) } else { None },
+            sun_data: if g.coin() { Some(<SunSensor as uper::random::Random>::random(g)) } else { None },
+            rain_data: if g.coin() { Some(<RainSensor as uper::random::Random>::random(g)) } else { None },
+            air_temp: if g.coin() { Some(<super::common::AmbientAirTemperature as uper::random::Random>::random(g)) } else { None },
+            air_pres: if g.coin() { Some(<super::common::AmbientAirPressure as uper::random::Random>::random(g)) } else { None },
+            steering: if g.coin() { Some(<VehicleStatusSteering as uper::random::Random>::random(g)) } else { None },
+            accel_sets: if g.coin() { Some(<VehicleStatusAccelSets as uper::random::Random>::random(g)) } else { None },
+            object: if g.coin() { Some(<VehicleStatusObject as uper::random::Random>::random(g)) } else { None },
+            full_pos: if g.coin() { Some(<super::common::FullPositionVector as uper::random::Random>::random(g)) } else { None },
+            throttle_pos: if g.coin() { Some(<ThrottlePosition as uper::random::Random>::random(g)) } else { None },
+            speed_head_c: if g.coin() { Some(<super::common::SpeedandHeadingandThrottleConfidence as uper::random::Random>::random(g)) } else { None },
+            speed_c: if g.coin() { Some(<super::common::SpeedConfidence as uper::random::Random>::random(g)) } else { None },
+            vehicle_data: if g.coin() { Some(<VehicleStatusVehicleData as uper::random::Random>::random(g)) } else { None },
+            vehicle_ident: if g.coin() { Some(<VehicleIdent as uper::random::Random>::random(g)) } else { None },
+            j1939data: if g.coin() { Some(<J1939data as uper::random::Random>::random(g)) } else { None },
+            weather_report: if g.coin() { Some(<VehicleStatusWeatherReport as uper::random::Random>::random(g)) } else { None },
+            gnss_status: if g.coin() { Some(<super::common::GNSSstatus as uper::random::Random>::random(g)) } else { None },
+            extensions: uper::Extensions::new(),
+        }
+    }
+}
+
 /// ASN.1 `BrakeAppliedPressure` (module `ProbeVehicleData`): ENUMERATED.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum BrakeAppliedPressure {
@@ -950,6 +1069,13 @@ impl Uper for BrakeAppliedPressure {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for BrakeAppliedPressure {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self::ALL[g.below(16)]
+    }
+}
+
 /// ASN.1 `SunSensor` (module `ProbeVehicleData`): INTEGER (0..1000).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub struct SunSensor(u16);
@@ -1039,6 +1165,13 @@ impl Uper for RainSensor {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for RainSensor {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self::ALL[g.below(8)]
+    }
+}
+
 /// ASN.1 `VehicleStatus.steering` (module `ProbeVehicleData`): SEQUENCE.
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub struct VehicleStatusSteering {
@@ -1112,6 +1245,18 @@ impl Uper for VehicleStatusSteering {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for VehicleStatusSteering {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self {
+            angle: <super::common::SteeringWheelAngle as uper::random::Random>::random(g),
+            confidence: if g.coin() { Some(<SteeringWheelAngleConfidence as uper::random::Random>::random(g)) } else { None },
+            rate: if g.coin() { Some(<SteeringWheelAngleRateOfChange as uper::random::Random>::random(g)) } else { None },
+            wheels: if g.coin() { Some(<DrivingWheelAngle as uper::random::Random>::random(g)) } else { None },
+        }
+    }
+}
+
 /// ASN.1 `SteeringWheelAngleConfidence` (module `ProbeVehicleData`): ENUMERATED.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum SteeringWheelAngleConfidence {
@@ -1173,6 +1318,13 @@ impl Uper for SteeringWheelAngleConfidence {
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_constrained(self.root_index(), 0, 3)
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for SteeringWheelAngleConfidence {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self::ALL[g.below(4)]
     }
 }
 
@@ -1285,6 +1437,19 @@ impl Uper for VehicleStatusAccelSets {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for VehicleStatusAccelSets {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self {
+            accel4way: if g.coin() { Some(<super::common::AccelerationSet4Way as uper::random::Random>::random(g)) } else { None },
+            vert_accel_thres: if g.coin() { Some(<super::common::VerticalAccelerationThreshold as uper::random::Random>::random(g)) } else { None },
+            yaw_rate_con: if g.coin() { Some(<YawRateConfidence as uper::random::Random>::random(g)) } else { None },
+            hoz_accel_con: if g.coin() { Some(<AccelerationConfidence as uper::random::Random>::random(g)) } else { None },
+            confidence_set: if g.coin() { Some(<ConfidenceSet as uper::random::Random>::random(g)) } else { None },
+        }
+    }
+}
+
 /// ASN.1 `YawRateConfidence` (module `ProbeVehicleData`): ENUMERATED.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum YawRateConfidence {
@@ -1369,6 +1534,13 @@ impl Uper for YawRateConfidence {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for YawRateConfidence {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self::ALL[g.below(8)]
+    }
+}
+
 /// ASN.1 `AccelerationConfidence` (module `ProbeVehicleData`): ENUMERATED.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum AccelerationConfidence {
@@ -1450,6 +1622,13 @@ impl Uper for AccelerationConfidence {
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_constrained(self.root_index(), 0, 7)
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for AccelerationConfidence {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self::ALL[g.below(8)]
     }
 }
 
@@ -1590,6 +1769,22 @@ impl Uper for ConfidenceSet {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for ConfidenceSet {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self {
+            accel_confidence: if g.coin() { Some(<AccelSteerYawRateConfidence as uper::random::Random>::random(g)) } else { None },
+            speed_confidence: if g.coin() { Some(<super::common::SpeedandHeadingandThrottleConfidence as uper::random::Random>::random(g)) } else { None },
+            time_confidence: if g.coin() { Some(<super::common::TimeConfidence as uper::random::Random>::random(g)) } else { None },
+            pos_confidence: if g.coin() { Some(<super::common::PositionConfidenceSet as uper::random::Random>::random(g)) } else { None },
+            steer_confidence: if g.coin() { Some(<SteeringWheelAngleConfidence as uper::random::Random>::random(g)) } else { None },
+            heading_confidence: if g.coin() { Some(<super::common::HeadingConfidence as uper::random::Random>::random(g)) } else { None },
+            throttle_confidence: if g.coin() { Some(<super::common::ThrottleConfidence as uper::random::Random>::random(g)) } else { None },
+            extensions: uper::Extensions::new(),
+        }
+    }
+}
+
 /// ASN.1 `AccelSteerYawRateConfidence` (module `ProbeVehicleData`): SEQUENCE.
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub struct AccelSteerYawRateConfidence {
@@ -1624,6 +1819,17 @@ impl Uper for AccelSteerYawRateConfidence {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for AccelSteerYawRateConfidence {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self {
+            yaw_rate: <YawRateConfidence as uper::random::Random>::random(g),
+            acceleration: <AccelerationConfidence as uper::random::Random>::random(g),
+            steering_wheel_angle: <SteeringWheelAngleConfidence as uper::random::Random>::random(g),
+        }
+    }
+}
+
 /// ASN.1 `VehicleStatus.object` (module `ProbeVehicleData`): SEQUENCE.
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub struct VehicleStatusObject {
@@ -1655,6 +1861,17 @@ impl Uper for VehicleStatusObject {
         self.ob_direct.encode_uper(w)?;
         self.date_time.encode_uper(w)?;
         Ok(())
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for VehicleStatusObject {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self {
+            ob_dist: <super::common::ObstacleDistance as uper::random::Random>::random(g),
+            ob_direct: <super::common::Angle as uper::random::Random>::random(g),
+            date_time: <super::common::DDateTime as uper::random::Random>::random(g),
+        }
     }
 }
 
@@ -1702,6 +1919,19 @@ impl Uper for VehicleStatusVehicleData {
         self.trailer_weight.encode_uper(w)?;
         self.r#type.encode_uper(w)?;
         Ok(())
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for VehicleStatusVehicleData {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self {
+            height: <super::common::VehicleHeight as uper::random::Random>::random(g),
+            bumpers: <super::common::BumperHeights as uper::random::Random>::random(g),
+            mass: <super::common::VehicleMass as uper::random::Random>::random(g),
+            trailer_weight: <super::common::TrailerWeight as uper::random::Random>::random(g),
+            r#type: <super::common::VehicleType as uper::random::Random>::random(g),
+        }
     }
 }
 
@@ -1887,6 +2117,25 @@ impl Uper for J1939data {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for J1939data {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self {
+            tires: if g.coin() { Some(<TireDataList as uper::random::Random>::random(g)) } else { None },
+            axles: if g.coin() { Some(<AxleWeightList as uper::random::Random>::random(g)) } else { None },
+            trailer_weight: if g.coin() { Some(<super::common::TrailerWeight as uper::random::Random>::random(g)) } else { None },
+            cargo_weight: if g.coin() { Some(<CargoWeight as uper::random::Random>::random(g)) } else { None },
+            steering_axle_temperature: if g.coin() { Some(<SteeringAxleTemperature as uper::random::Random>::random(g)) } else { None },
+            drive_axle_location: if g.coin() { Some(<DriveAxleLocation as uper::random::Random>::random(g)) } else { None },
+            drive_axle_lift_air_pressure: if g.coin() { Some(<DriveAxleLiftAirPressure as uper::random::Random>::random(g)) } else { None },
+            drive_axle_temperature: if g.coin() { Some(<DriveAxleTemperature as uper::random::Random>::random(g)) } else { None },
+            drive_axle_lube_pressure: if g.coin() { Some(<DriveAxleLubePressure as uper::random::Random>::random(g)) } else { None },
+            steering_axle_lube_pressure: if g.coin() { Some(<SteeringAxleLubePressure as uper::random::Random>::random(g)) } else { None },
+            extensions: uper::Extensions::new(),
+        }
+    }
+}
+
 /// ASN.1 `TireDataList` (module `ProbeVehicleData`): SEQUENCE OF TireData (SIZE(1..16)).
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub struct TireDataList(pub uper::SeqOf<TireData, 4>);
@@ -1915,6 +2164,17 @@ impl Uper for TireDataList {
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for TireDataList {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        let mut v = Self(uper::SeqOf::new());
+        for _ in 0..g.count(1, 4) {
+            let _ = v.0.push(<TireData as uper::random::Random>::random(g));
+        }
+        v
     }
 }
 
@@ -2055,6 +2315,22 @@ impl Uper for TireData {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for TireData {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self {
+            location: if g.coin() { Some(<TireLocation as uper::random::Random>::random(g)) } else { None },
+            pressure: if g.coin() { Some(<TirePressure as uper::random::Random>::random(g)) } else { None },
+            temp: if g.coin() { Some(<TireTemp as uper::random::Random>::random(g)) } else { None },
+            wheel_sensor_status: if g.coin() { Some(<WheelSensorStatus as uper::random::Random>::random(g)) } else { None },
+            wheel_end_elect_fault: if g.coin() { Some(<WheelEndElectFault as uper::random::Random>::random(g)) } else { None },
+            leakage_rate: if g.coin() { Some(<TireLeakageRate as uper::random::Random>::random(g)) } else { None },
+            detection: if g.coin() { Some(<TirePressureThresholdDetection as uper::random::Random>::random(g)) } else { None },
+            extensions: uper::Extensions::new(),
+        }
+    }
+}
+
 /// ASN.1 `TireLocation` (module `ProbeVehicleData`): INTEGER (0..255).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub struct TireLocation(u8);
@@ -2134,6 +2410,13 @@ impl Uper for WheelSensorStatus {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for WheelSensorStatus {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self::ALL[g.below(4)]
+    }
+}
+
 /// ASN.1 `WheelEndElectFault` (module `ProbeVehicleData`): ENUMERATED.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum WheelEndElectFault {
@@ -2195,6 +2478,13 @@ impl Uper for WheelEndElectFault {
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_constrained(self.root_index(), 0, 3)
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for WheelEndElectFault {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self::ALL[g.below(4)]
     }
 }
 
@@ -2287,6 +2577,13 @@ impl Uper for TirePressureThresholdDetection {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for TirePressureThresholdDetection {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self::ALL[g.below(8)]
+    }
+}
+
 /// ASN.1 `AxleWeightList` (module `ProbeVehicleData`): SEQUENCE OF AxleWeightSet (SIZE(1..16)).
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub struct AxleWeightList(pub uper::SeqOf<AxleWeightSet, 4>);
@@ -2315,6 +2612,17 @@ impl Uper for AxleWeightList {
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for AxleWeightList {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        let mut v = Self(uper::SeqOf::new());
+        for _ in 0..g.count(1, 4) {
+            let _ = v.0.push(<AxleWeightSet as uper::random::Random>::random(g));
+        }
+        v
     }
 }
 
@@ -2377,6 +2685,17 @@ impl Uper for AxleWeightSet {
             self.extensions.encode(w)?;
         }
         Ok(())
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for AxleWeightSet {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self {
+            location: if g.coin() { Some(<AxleLocation as uper::random::Random>::random(g)) } else { None },
+            weight: if g.coin() { Some(<AxleWeight as uper::random::Random>::random(g)) } else { None },
+            extensions: uper::Extensions::new(),
+        }
     }
 }
 
@@ -2513,6 +2832,19 @@ impl Uper for VehicleStatusWeatherReport {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for VehicleStatusWeatherReport {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self {
+            is_raining: <super::ntcip::EssPrecipYesNo as uper::random::Random>::random(g),
+            rain_rate: if g.coin() { Some(<super::ntcip::EssPrecipRate as uper::random::Random>::random(g)) } else { None },
+            precip_situation: if g.coin() { Some(<super::ntcip::EssPrecipSituation as uper::random::Random>::random(g)) } else { None },
+            solar_radiation: if g.coin() { Some(<super::ntcip::EssSolarRadiation as uper::random::Random>::random(g)) } else { None },
+            friction: if g.coin() { Some(<super::ntcip::EssMobileFriction as uper::random::Random>::random(g)) } else { None },
+        }
+    }
+}
+
 /// ASN.1 `ProbeVehicleData.regional` (module `ProbeVehicleData`): SEQUENCE OF RegProbeVehicleData (SIZE(1..4)).
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub struct ProbeVehicleDataRegional(pub uper::SeqOf<RegProbeVehicleData, 1>);
@@ -2541,6 +2873,17 @@ impl Uper for ProbeVehicleDataRegional {
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for ProbeVehicleDataRegional {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        let mut v = Self(uper::SeqOf::new());
+        for _ in 0..g.count(1, 1) {
+            let _ = v.0.push(<RegProbeVehicleData as uper::random::Random>::random(g));
+        }
+        v
     }
 }
 
@@ -2588,5 +2931,16 @@ impl Uper for RegProbeVehicleData {
                 uper::encode_unknown_open(w, content)
             }
         }
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for RegProbeVehicleData {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        let mut content = uper::Octets::new();
+        for _ in 0..1 + g.below(4) {
+            let _ = content.push(g.octet());
+        }
+        Self::Unknown { id: <super::common::RegionId as uper::random::Random>::random(g), content }
     }
 }

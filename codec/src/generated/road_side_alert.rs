@@ -41,7 +41,7 @@ impl uper::Placeholder for RoadSideAlert {
 
 impl Uper for RoadSideAlert {
     const PATH: &'static str = "RoadSideAlert.RoadSideAlert";
-    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(722), None);
+    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(786), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let extended = r.read_bit()?;
         let present = r.read_bits(8)?;
@@ -166,11 +166,30 @@ impl Uper for RoadSideAlert {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for RoadSideAlert {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self {
+            msg_cnt: <super::common::MsgCount as uper::random::Random>::random(g),
+            time_stamp: if g.coin() { Some(<super::common::MinuteOfTheYear as uper::random::Random>::random(g)) } else { None },
+            type_event: <super::itis::ITIScodes as uper::random::Random>::random(g),
+            description: if g.coin() { Some(<RoadSideAlertDescription as uper::random::Random>::random(g)) } else { None },
+            priority: if g.coin() { Some(<super::common::Priority as uper::random::Random>::random(g)) } else { None },
+            heading: if g.coin() { Some(<super::common::HeadingSlice as uper::random::Random>::random(g)) } else { None },
+            extent: if g.coin() { Some(<super::common::Extent as uper::random::Random>::random(g)) } else { None },
+            position: if g.coin() { Some(<super::common::FullPositionVector as uper::random::Random>::random(g)) } else { None },
+            further_info_id: if g.coin() { Some(<super::common::FurtherInfoID as uper::random::Random>::random(g)) } else { None },
+            regional: if g.coin() { Some(<RoadSideAlertRegional as uper::random::Random>::random(g)) } else { None },
+            extensions: uper::Extensions::new(),
+        }
+    }
+}
+
 /// ASN.1 `RoadSideAlert.description` (module `RoadSideAlert`): SEQUENCE OF super::itis::ITIScodes (SIZE(1..8)).
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
-pub struct RoadSideAlertDescription(pub uper::SeqOf<super::itis::ITIScodes, 4>);
+pub struct RoadSideAlertDescription(pub uper::SeqOf<super::itis::ITIScodes, 8>);
 
-crate::__newtype_deref!(RoadSideAlertDescription, uper::SeqOf<super::itis::ITIScodes, 4>);
+crate::__newtype_deref!(RoadSideAlertDescription, uper::SeqOf<super::itis::ITIScodes, 8>);
 
 impl RoadSideAlertDescription {
     const SIZE: uper::Size = uper::Size::range(1, 8);
@@ -188,12 +207,23 @@ impl uper::Placeholder for RoadSideAlertDescription {
 
 impl Uper for RoadSideAlertDescription {
     const PATH: &'static str = "RoadSideAlert.RoadSideAlert.description";
-    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(67), Some(131));
+    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(131), Some(131));
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         uper::decode_seq_of_into(r, Self::SIZE, "RoadSideAlert.RoadSideAlert.description", &mut out.0)
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for RoadSideAlertDescription {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        let mut v = Self(uper::SeqOf::new());
+        for _ in 0..g.count(1, 8) {
+            let _ = v.0.push(<super::itis::ITIScodes as uper::random::Random>::random(g));
+        }
+        v
     }
 }
 
@@ -225,6 +255,17 @@ impl Uper for RoadSideAlertRegional {
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for RoadSideAlertRegional {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        let mut v = Self(uper::SeqOf::new());
+        for _ in 0..g.count(1, 1) {
+            let _ = v.0.push(<RegRoadSideAlert as uper::random::Random>::random(g));
+        }
+        v
     }
 }
 
@@ -272,5 +313,16 @@ impl Uper for RegRoadSideAlert {
                 uper::encode_unknown_open(w, content)
             }
         }
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for RegRoadSideAlert {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        let mut content = uper::Octets::new();
+        for _ in 0..1 + g.below(4) {
+            let _ = content.push(g.octet());
+        }
+        Self::Unknown { id: <super::common::RegionId as uper::random::Random>::random(g), content }
     }
 }

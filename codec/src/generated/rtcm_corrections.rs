@@ -35,7 +35,7 @@ impl uper::Placeholder for RTCMcorrections {
 
 impl Uper for RTCMcorrections {
     const PATH: &'static str = "RTCMcorrections.RTCMcorrections";
-    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(33435), None);
+    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(41629), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let extended = r.read_bit()?;
         let present = r.read_bits(4)?;
@@ -107,6 +107,22 @@ impl Uper for RTCMcorrections {
             self.extensions.encode(w)?;
         }
         Ok(())
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for RTCMcorrections {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self {
+            msg_cnt: <super::common::MsgCount as uper::random::Random>::random(g),
+            rev: <RTCMRevision as uper::random::Random>::random(g),
+            time_stamp: if g.coin() { Some(<super::common::MinuteOfTheYear as uper::random::Random>::random(g)) } else { None },
+            anchor_point: if g.coin() { Some(<super::common::FullPositionVector as uper::random::Random>::random(g)) } else { None },
+            rtcm_header: if g.coin() { Some(<super::common::RTCMheader as uper::random::Random>::random(g)) } else { None },
+            msgs: <super::common::RTCMmessageList as uper::random::Random>::random(g),
+            regional: if g.coin() { Some(<RTCMcorrectionsRegional as uper::random::Random>::random(g)) } else { None },
+            extensions: uper::Extensions::new(),
+        }
     }
 }
 
@@ -190,6 +206,13 @@ impl Uper for RTCMRevision {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for RTCMRevision {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self::ALL[g.below(4)]
+    }
+}
+
 /// ASN.1 `RTCMcorrections.regional` (module `RTCMcorrections`): SEQUENCE OF RegRTCMcorrections (SIZE(1..4)).
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub struct RTCMcorrectionsRegional(pub uper::SeqOf<RegRTCMcorrections, 1>);
@@ -218,6 +241,17 @@ impl Uper for RTCMcorrectionsRegional {
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for RTCMcorrectionsRegional {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        let mut v = Self(uper::SeqOf::new());
+        for _ in 0..g.count(1, 1) {
+            let _ = v.0.push(<RegRTCMcorrections as uper::random::Random>::random(g));
+        }
+        v
     }
 }
 
@@ -265,5 +299,16 @@ impl Uper for RegRTCMcorrections {
                 uper::encode_unknown_open(w, content)
             }
         }
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for RegRTCMcorrections {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        let mut content = uper::Octets::new();
+        for _ in 0..1 + g.below(4) {
+            let _ = content.push(g.octet());
+        }
+        Self::Unknown { id: <super::common::RegionId as uper::random::Random>::random(g), content }
     }
 }

@@ -33,7 +33,7 @@ impl uper::Placeholder for SignalRequestMessage {
 
 impl Uper for SignalRequestMessage {
     const PATH: &'static str = "SignalRequestMessage.SignalRequestMessage";
-    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(5914), None);
+    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(6442), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let extended = r.read_bit()?;
         let present = r.read_bits(4)?;
@@ -106,6 +106,21 @@ impl Uper for SignalRequestMessage {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for SignalRequestMessage {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self {
+            time_stamp: if g.coin() { Some(<super::common::MinuteOfTheYear as uper::random::Random>::random(g)) } else { None },
+            second: <super::common::DSecond as uper::random::Random>::random(g),
+            sequence_number: if g.coin() { Some(<super::common::MsgCount as uper::random::Random>::random(g)) } else { None },
+            requests: if g.coin() { Some(<SignalRequestList as uper::random::Random>::random(g)) } else { None },
+            requestor: <RequestorDescription as uper::random::Random>::random(g),
+            regional: if g.coin() { Some(<SignalRequestMessageRegional as uper::random::Random>::random(g)) } else { None },
+            extensions: uper::Extensions::new(),
+        }
+    }
+}
+
 /// ASN.1 `SignalRequestList` (module `SignalRequestMessage`): SEQUENCE OF SignalRequestPackage (SIZE(1..32)).
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub struct SignalRequestList(pub uper::SeqOf<SignalRequestPackage, 4>);
@@ -134,6 +149,17 @@ impl Uper for SignalRequestList {
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for SignalRequestList {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        let mut v = Self(uper::SeqOf::new());
+        for _ in 0..g.count(1, 4) {
+            let _ = v.0.push(<SignalRequestPackage as uper::random::Random>::random(g));
+        }
+        v
     }
 }
 
@@ -233,6 +259,20 @@ impl Uper for SignalRequestPackage {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for SignalRequestPackage {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self {
+            request: <SignalRequest as uper::random::Random>::random(g),
+            minute: if g.coin() { Some(<super::common::MinuteOfTheYear as uper::random::Random>::random(g)) } else { None },
+            second: if g.coin() { Some(<super::common::DSecond as uper::random::Random>::random(g)) } else { None },
+            duration: if g.coin() { Some(<super::common::DSecond as uper::random::Random>::random(g)) } else { None },
+            regional: if g.coin() { Some(<SignalRequestPackageRegional as uper::random::Random>::random(g)) } else { None },
+            extensions: uper::Extensions::new(),
+        }
+    }
+}
+
 /// ASN.1 `SignalRequest` (module `SignalRequestMessage`): SEQUENCE (extensible).
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub struct SignalRequest {
@@ -308,6 +348,21 @@ impl Uper for SignalRequest {
             self.extensions.encode(w)?;
         }
         Ok(())
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for SignalRequest {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self {
+            id: <super::common::IntersectionReferenceID as uper::random::Random>::random(g),
+            request_id: <super::common::RequestID as uper::random::Random>::random(g),
+            request_type: <PriorityRequestType as uper::random::Random>::random(g),
+            in_bound_lane: <super::common::IntersectionAccessPoint as uper::random::Random>::random(g),
+            out_bound_lane: if g.coin() { Some(<super::common::IntersectionAccessPoint as uper::random::Random>::random(g)) } else { None },
+            regional: if g.coin() { Some(<SignalRequestRegional as uper::random::Random>::random(g)) } else { None },
+            extensions: uper::Extensions::new(),
+        }
     }
 }
 
@@ -391,6 +446,13 @@ impl Uper for PriorityRequestType {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for PriorityRequestType {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self::ALL[g.below(4)]
+    }
+}
+
 /// ASN.1 `SignalRequest.regional` (module `SignalRequestMessage`): SEQUENCE OF RegSignalRequest (SIZE(1..4)).
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub struct SignalRequestRegional(pub uper::SeqOf<RegSignalRequest, 1>);
@@ -419,6 +481,17 @@ impl Uper for SignalRequestRegional {
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for SignalRequestRegional {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        let mut v = Self(uper::SeqOf::new());
+        for _ in 0..g.count(1, 1) {
+            let _ = v.0.push(<RegSignalRequest as uper::random::Random>::random(g));
+        }
+        v
     }
 }
 
@@ -469,6 +542,17 @@ impl Uper for RegSignalRequest {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for RegSignalRequest {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        let mut content = uper::Octets::new();
+        for _ in 0..1 + g.below(4) {
+            let _ = content.push(g.octet());
+        }
+        Self::Unknown { id: <super::common::RegionId as uper::random::Random>::random(g), content }
+    }
+}
+
 /// ASN.1 `SignalRequestPackage.regional` (module `SignalRequestMessage`): SEQUENCE OF RegSignalRequestPackage (SIZE(1..4)).
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub struct SignalRequestPackageRegional(pub uper::SeqOf<RegSignalRequestPackage, 1>);
@@ -497,6 +581,17 @@ impl Uper for SignalRequestPackageRegional {
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for SignalRequestPackageRegional {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        let mut v = Self(uper::SeqOf::new());
+        for _ in 0..g.count(1, 1) {
+            let _ = v.0.push(<RegSignalRequestPackage as uper::random::Random>::random(g));
+        }
+        v
     }
 }
 
@@ -547,6 +642,17 @@ impl Uper for RegSignalRequestPackage {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for RegSignalRequestPackage {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        let mut content = uper::Octets::new();
+        for _ in 0..1 + g.below(4) {
+            let _ = content.push(g.octet());
+        }
+        Self::Unknown { id: <super::common::RegionId as uper::random::Random>::random(g), content }
+    }
+}
+
 /// ASN.1 `RequestorDescription` (module `SignalRequestMessage`): SEQUENCE (extensible).
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub struct RequestorDescription {
@@ -580,7 +686,7 @@ impl uper::Placeholder for RequestorDescription {
 
 impl Uper for RequestorDescription {
     const PATH: &'static str = "SignalRequestMessage.RequestorDescription";
-    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(1960), None);
+    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(2488), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let extended = r.read_bit()?;
         let present = r.read_bits(8)?;
@@ -703,6 +809,24 @@ impl Uper for RequestorDescription {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for RequestorDescription {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self {
+            id: <super::common::VehicleID as uper::random::Random>::random(g),
+            r#type: if g.coin() { Some(<super::common::RequestorType as uper::random::Random>::random(g)) } else { None },
+            position: if g.coin() { Some(<RequestorPositionVector as uper::random::Random>::random(g)) } else { None },
+            name: if g.coin() { Some(<super::common::DescriptiveName as uper::random::Random>::random(g)) } else { None },
+            route_name: if g.coin() { Some(<super::common::DescriptiveName as uper::random::Random>::random(g)) } else { None },
+            transit_status: if g.coin() { Some(<TransitVehicleStatus as uper::random::Random>::random(g)) } else { None },
+            transit_occupancy: if g.coin() { Some(<TransitVehicleOccupancy as uper::random::Random>::random(g)) } else { None },
+            transit_schedule: if g.coin() { Some(<DeltaTime as uper::random::Random>::random(g)) } else { None },
+            regional: if g.coin() { Some(<RequestorDescriptionRegional as uper::random::Random>::random(g)) } else { None },
+            extensions: uper::Extensions::new(),
+        }
+    }
+}
+
 /// ASN.1 `RequestorPositionVector` (module `SignalRequestMessage`): SEQUENCE (extensible).
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub struct RequestorPositionVector {
@@ -724,7 +848,7 @@ impl uper::Placeholder for RequestorPositionVector {
 
 impl Uper for RequestorPositionVector {
     const PATH: &'static str = "SignalRequestMessage.RequestorPositionVector";
-    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(468), None);
+    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(996), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let extended = r.read_bit()?;
         let present = r.read_bits(2)?;
@@ -766,6 +890,18 @@ impl Uper for RequestorPositionVector {
             self.extensions.encode(w)?;
         }
         Ok(())
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for RequestorPositionVector {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self {
+            position: <super::common::Position3D as uper::random::Random>::random(g),
+            heading: if g.coin() { Some(<super::common::Angle as uper::random::Random>::random(g)) } else { None },
+            speed: if g.coin() { Some(<super::common::TransmissionAndSpeed as uper::random::Random>::random(g)) } else { None },
+            extensions: uper::Extensions::new(),
+        }
     }
 }
 
@@ -812,6 +948,15 @@ impl Uper for TransitVehicleStatus {
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_bits(w, Self::SIZE, &self.0)
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for TransitVehicleStatus {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        let len = g.range(8, 8) as usize;
+        let bytes: [u8; 1] = core::array::from_fn(|_| g.octet());
+        Self(uper::Bits::from_bytes(&bytes, len).unwrap_or(uper::Bits::EMPTY))
     }
 }
 
@@ -899,6 +1044,13 @@ impl Uper for TransitVehicleOccupancy {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for TransitVehicleOccupancy {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self::ALL[g.below(8)]
+    }
+}
+
 /// ASN.1 `DeltaTime` (module `SignalRequestMessage`): INTEGER (-122..121).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub struct DeltaTime(i8);
@@ -932,6 +1084,17 @@ impl Uper for RequestorDescriptionRegional {
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for RequestorDescriptionRegional {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        let mut v = Self(uper::SeqOf::new());
+        for _ in 0..g.count(1, 1) {
+            let _ = v.0.push(<RegRequestorDescription as uper::random::Random>::random(g));
+        }
+        v
     }
 }
 
@@ -982,6 +1145,17 @@ impl Uper for RegRequestorDescription {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for RegRequestorDescription {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        let mut content = uper::Octets::new();
+        for _ in 0..1 + g.below(4) {
+            let _ = content.push(g.octet());
+        }
+        Self::Unknown { id: <super::common::RegionId as uper::random::Random>::random(g), content }
+    }
+}
+
 /// ASN.1 `SignalRequestMessage.regional` (module `SignalRequestMessage`): SEQUENCE OF RegSignalRequestMessage (SIZE(1..4)).
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub struct SignalRequestMessageRegional(pub uper::SeqOf<RegSignalRequestMessage, 1>);
@@ -1010,6 +1184,17 @@ impl Uper for SignalRequestMessageRegional {
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for SignalRequestMessageRegional {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        let mut v = Self(uper::SeqOf::new());
+        for _ in 0..g.count(1, 1) {
+            let _ = v.0.push(<RegSignalRequestMessage as uper::random::Random>::random(g));
+        }
+        v
     }
 }
 
@@ -1057,5 +1242,16 @@ impl Uper for RegSignalRequestMessage {
                 uper::encode_unknown_open(w, content)
             }
         }
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for RegSignalRequestMessage {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        let mut content = uper::Octets::new();
+        for _ in 0..1 + g.below(4) {
+            let _ = content.push(g.octet());
+        }
+        Self::Unknown { id: <super::common::RegionId as uper::random::Random>::random(g), content }
     }
 }

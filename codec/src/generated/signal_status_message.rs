@@ -31,7 +31,7 @@ impl uper::Placeholder for SignalStatusMessage {
 
 impl Uper for SignalStatusMessage {
     const PATH: &'static str = "SignalStatusMessage.SignalStatusMessage";
-    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(29435), None);
+    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(179285), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let extended = r.read_bit()?;
         let present = r.read_bits(3)?;
@@ -91,6 +91,20 @@ impl Uper for SignalStatusMessage {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for SignalStatusMessage {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self {
+            time_stamp: if g.coin() { Some(<super::common::MinuteOfTheYear as uper::random::Random>::random(g)) } else { None },
+            second: <super::common::DSecond as uper::random::Random>::random(g),
+            sequence_number: if g.coin() { Some(<super::common::MsgCount as uper::random::Random>::random(g)) } else { None },
+            status: <SignalStatusList as uper::random::Random>::random(g),
+            regional: if g.coin() { Some(<SignalStatusMessageRegional as uper::random::Random>::random(g)) } else { None },
+            extensions: uper::Extensions::new(),
+        }
+    }
+}
+
 /// ASN.1 `SignalStatusList` (module `SignalStatusMessage`): SEQUENCE OF SignalStatus (SIZE(1..32)).
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub struct SignalStatusList(pub uper::SeqOf<SignalStatus, 5>);
@@ -113,12 +127,23 @@ impl uper::Placeholder for SignalStatusList {
 
 impl Uper for SignalStatusList {
     const PATH: &'static str = "SignalStatusMessage.SignalStatusList";
-    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(29155), None);
+    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(179005), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         uper::decode_seq_of_into(r, Self::SIZE, "SignalStatusMessage.SignalStatusList", &mut out.0)
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for SignalStatusList {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        let mut v = Self(uper::SeqOf::new());
+        for _ in 0..g.count(1, 5) {
+            let _ = v.0.push(<SignalStatus as uper::random::Random>::random(g));
+        }
+        v
     }
 }
 
@@ -145,7 +170,7 @@ impl uper::Placeholder for SignalStatus {
 
 impl Uper for SignalStatus {
     const PATH: &'static str = "SignalStatusMessage.SignalStatus";
-    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(5830), None);
+    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(35800), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let extended = r.read_bit()?;
         let present = r.read_bits(1)?;
@@ -181,11 +206,24 @@ impl Uper for SignalStatus {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for SignalStatus {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self {
+            sequence_number: <super::common::MsgCount as uper::random::Random>::random(g),
+            id: <super::common::IntersectionReferenceID as uper::random::Random>::random(g),
+            sig_status: <SignalStatusPackageList as uper::random::Random>::random(g),
+            regional: if g.coin() { Some(<SignalStatusRegional as uper::random::Random>::random(g)) } else { None },
+            extensions: uper::Extensions::new(),
+        }
+    }
+}
+
 /// ASN.1 `SignalStatusPackageList` (module `SignalStatusMessage`): SEQUENCE OF SignalStatusPackage (SIZE(1..32)).
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
-pub struct SignalStatusPackageList(pub uper::SeqOf<SignalStatusPackage, 5>);
+pub struct SignalStatusPackageList(pub uper::SeqOf<SignalStatusPackage, 32>);
 
-crate::__newtype_deref!(SignalStatusPackageList, uper::SeqOf<SignalStatusPackage, 5>);
+crate::__newtype_deref!(SignalStatusPackageList, uper::SeqOf<SignalStatusPackage, 32>);
 
 impl SignalStatusPackageList {
     const SIZE: uper::Size = uper::Size::range(1, 32);
@@ -203,12 +241,23 @@ impl uper::Placeholder for SignalStatusPackageList {
 
 impl Uper for SignalStatusPackageList {
     const PATH: &'static str = "SignalStatusMessage.SignalStatusPackageList";
-    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(5555), None);
+    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(35525), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         uper::decode_seq_of_into(r, Self::SIZE, "SignalStatusMessage.SignalStatusPackageList", &mut out.0)
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for SignalStatusPackageList {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        let mut v = Self(uper::SeqOf::new());
+        for _ in 0..g.count(1, 32) {
+            let _ = v.0.push(<SignalStatusPackage as uper::random::Random>::random(g));
+        }
+        v
     }
 }
 
@@ -342,6 +391,23 @@ impl Uper for SignalStatusPackage {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for SignalStatusPackage {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self {
+            requester: if g.coin() { Some(<SignalRequesterInfo as uper::random::Random>::random(g)) } else { None },
+            inbound_on: <super::common::IntersectionAccessPoint as uper::random::Random>::random(g),
+            outbound_on: if g.coin() { Some(<super::common::IntersectionAccessPoint as uper::random::Random>::random(g)) } else { None },
+            minute: if g.coin() { Some(<super::common::MinuteOfTheYear as uper::random::Random>::random(g)) } else { None },
+            second: if g.coin() { Some(<super::common::DSecond as uper::random::Random>::random(g)) } else { None },
+            duration: if g.coin() { Some(<super::common::DSecond as uper::random::Random>::random(g)) } else { None },
+            status: <super::common::PrioritizationResponseStatus as uper::random::Random>::random(g),
+            regional: if g.coin() { Some(<SignalStatusPackageRegional as uper::random::Random>::random(g)) } else { None },
+            extensions: uper::Extensions::new(),
+        }
+    }
+}
+
 /// ASN.1 `SignalRequesterInfo` (module `SignalStatusMessage`): SEQUENCE (extensible).
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub struct SignalRequesterInfo {
@@ -416,6 +482,20 @@ impl Uper for SignalRequesterInfo {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for SignalRequesterInfo {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self {
+            id: <super::common::VehicleID as uper::random::Random>::random(g),
+            request: <super::common::RequestID as uper::random::Random>::random(g),
+            sequence_number: <super::common::MsgCount as uper::random::Random>::random(g),
+            role: if g.coin() { Some(<super::common::BasicVehicleRole as uper::random::Random>::random(g)) } else { None },
+            type_data: if g.coin() { Some(<super::common::RequestorType as uper::random::Random>::random(g)) } else { None },
+            extensions: uper::Extensions::new(),
+        }
+    }
+}
+
 /// ASN.1 `SignalStatusPackage.regional` (module `SignalStatusMessage`): SEQUENCE OF RegSignalStatusPackage (SIZE(1..4)).
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub struct SignalStatusPackageRegional(pub uper::SeqOf<RegSignalStatusPackage, 1>);
@@ -444,6 +524,17 @@ impl Uper for SignalStatusPackageRegional {
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for SignalStatusPackageRegional {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        let mut v = Self(uper::SeqOf::new());
+        for _ in 0..g.count(1, 1) {
+            let _ = v.0.push(<RegSignalStatusPackage as uper::random::Random>::random(g));
+        }
+        v
     }
 }
 
@@ -494,6 +585,17 @@ impl Uper for RegSignalStatusPackage {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for RegSignalStatusPackage {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        let mut content = uper::Octets::new();
+        for _ in 0..1 + g.below(4) {
+            let _ = content.push(g.octet());
+        }
+        Self::Unknown { id: <super::common::RegionId as uper::random::Random>::random(g), content }
+    }
+}
+
 /// ASN.1 `SignalStatus.regional` (module `SignalStatusMessage`): SEQUENCE OF RegSignalStatus (SIZE(1..4)).
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub struct SignalStatusRegional(pub uper::SeqOf<RegSignalStatus, 1>);
@@ -522,6 +624,17 @@ impl Uper for SignalStatusRegional {
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for SignalStatusRegional {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        let mut v = Self(uper::SeqOf::new());
+        for _ in 0..g.count(1, 1) {
+            let _ = v.0.push(<RegSignalStatus as uper::random::Random>::random(g));
+        }
+        v
     }
 }
 
@@ -572,6 +685,17 @@ impl Uper for RegSignalStatus {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for RegSignalStatus {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        let mut content = uper::Octets::new();
+        for _ in 0..1 + g.below(4) {
+            let _ = content.push(g.octet());
+        }
+        Self::Unknown { id: <super::common::RegionId as uper::random::Random>::random(g), content }
+    }
+}
+
 /// ASN.1 `SignalStatusMessage.regional` (module `SignalStatusMessage`): SEQUENCE OF RegSignalStatusMessage (SIZE(1..4)).
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub struct SignalStatusMessageRegional(pub uper::SeqOf<RegSignalStatusMessage, 1>);
@@ -600,6 +724,17 @@ impl Uper for SignalStatusMessageRegional {
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for SignalStatusMessageRegional {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        let mut v = Self(uper::SeqOf::new());
+        for _ in 0..g.count(1, 1) {
+            let _ = v.0.push(<RegSignalStatusMessage as uper::random::Random>::random(g));
+        }
+        v
     }
 }
 
@@ -647,5 +782,16 @@ impl Uper for RegSignalStatusMessage {
                 uper::encode_unknown_open(w, content)
             }
         }
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for RegSignalStatusMessage {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        let mut content = uper::Octets::new();
+        for _ in 0..1 + g.below(4) {
+            let _ = content.push(g.octet());
+        }
+        Self::Unknown { id: <super::common::RegionId as uper::random::Random>::random(g), content }
     }
 }

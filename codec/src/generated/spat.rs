@@ -29,7 +29,7 @@ impl uper::Placeholder for SPAT {
 
 impl Uper for SPAT {
     const PATH: &'static str = "SPAT.SPAT";
-    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(1350209), None);
+    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(3838049), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let extended = r.read_bit()?;
         let present = r.read_bits(3)?;
@@ -87,6 +87,19 @@ impl Uper for SPAT {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for SPAT {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self {
+            time_stamp: if g.coin() { Some(<super::common::MinuteOfTheYear as uper::random::Random>::random(g)) } else { None },
+            name: if g.coin() { Some(<super::common::DescriptiveName as uper::random::Random>::random(g)) } else { None },
+            intersections: <IntersectionStateList as uper::random::Random>::random(g),
+            regional: if g.coin() { Some(<SPATRegional as uper::random::Random>::random(g)) } else { None },
+            extensions: uper::Extensions::new(),
+        }
+    }
+}
+
 /// ASN.1 `IntersectionStateList` (module `SPAT`): SEQUENCE OF IntersectionState (SIZE(1..32)).
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub struct IntersectionStateList(pub uper::SeqOf<IntersectionState, 4>);
@@ -109,12 +122,23 @@ impl uper::Placeholder for IntersectionStateList {
 
 impl Uper for IntersectionStateList {
     const PATH: &'static str = "SPAT.IntersectionStateList";
-    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(1349505), None);
+    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(3837345), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         uper::decode_seq_of_into(r, Self::SIZE, "SPAT.IntersectionStateList", &mut out.0)
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for IntersectionStateList {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        let mut v = Self(uper::SeqOf::new());
+        for _ in 0..g.count(1, 4) {
+            let _ = v.0.push(<IntersectionState as uper::random::Random>::random(g));
+        }
+        v
     }
 }
 
@@ -153,7 +177,7 @@ impl uper::Placeholder for IntersectionState {
 
 impl Uper for IntersectionState {
     const PATH: &'static str = "SPAT.IntersectionState";
-    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(337375), None);
+    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(959335), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let extended = r.read_bit()?;
         let present = r.read_bits(6)?;
@@ -256,6 +280,25 @@ impl Uper for IntersectionState {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for IntersectionState {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self {
+            name: if g.coin() { Some(<super::common::DescriptiveName as uper::random::Random>::random(g)) } else { None },
+            id: <super::common::IntersectionReferenceID as uper::random::Random>::random(g),
+            revision: <super::common::MsgCount as uper::random::Random>::random(g),
+            status: <IntersectionStatusObject as uper::random::Random>::random(g),
+            moy: if g.coin() { Some(<super::common::MinuteOfTheYear as uper::random::Random>::random(g)) } else { None },
+            time_stamp: if g.coin() { Some(<super::common::DSecond as uper::random::Random>::random(g)) } else { None },
+            enabled_lanes: if g.coin() { Some(<EnabledLaneList as uper::random::Random>::random(g)) } else { None },
+            states: <MovementList as uper::random::Random>::random(g),
+            maneuver_assist_list: if g.coin() { Some(<ManeuverAssistList as uper::random::Random>::random(g)) } else { None },
+            regional: if g.coin() { Some(<IntersectionStateRegional as uper::random::Random>::random(g)) } else { None },
+            extensions: uper::Extensions::new(),
+        }
+    }
+}
+
 /// ASN.1 `IntersectionStatusObject` (module `SPAT`): BIT STRING (SIZE(16)).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub struct IntersectionStatusObject(pub uper::Bits<2>);
@@ -318,6 +361,15 @@ impl Uper for IntersectionStatusObject {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for IntersectionStatusObject {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        let len = g.range(16, 16) as usize;
+        let bytes: [u8; 2] = core::array::from_fn(|_| g.octet());
+        Self(uper::Bits::from_bytes(&bytes, len).unwrap_or(uper::Bits::EMPTY))
+    }
+}
+
 /// ASN.1 `EnabledLaneList` (module `SPAT`): SEQUENCE OF super::common::LaneID (SIZE(1..16)).
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub struct EnabledLaneList(pub uper::SeqOf<super::common::LaneID, 5>);
@@ -349,6 +401,17 @@ impl Uper for EnabledLaneList {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for EnabledLaneList {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        let mut v = Self(uper::SeqOf::new());
+        for _ in 0..g.count(1, 5) {
+            let _ = v.0.push(<super::common::LaneID as uper::random::Random>::random(g));
+        }
+        v
+    }
+}
+
 /// ASN.1 `MovementList` (module `SPAT`): SEQUENCE OF MovementState (SIZE(1..255)).
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub struct MovementList(pub uper::SeqOf<MovementState, 32>);
@@ -371,12 +434,23 @@ impl uper::Placeholder for MovementList {
 
 impl Uper for MovementList {
     const PATH: &'static str = "SPAT.MovementList";
-    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(332552), None);
+    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(951816), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         uper::decode_seq_of_into(r, Self::SIZE, "SPAT.MovementList", &mut out.0)
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for MovementList {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        let mut v = Self(uper::SeqOf::new());
+        for _ in 0..g.count(1, 32) {
+            let _ = v.0.push(<MovementState as uper::random::Random>::random(g));
+        }
+        v
     }
 }
 
@@ -405,7 +479,7 @@ impl uper::Placeholder for MovementState {
 
 impl Uper for MovementState {
     const PATH: &'static str = "SPAT.MovementState";
-    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(10392), None);
+    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(29744), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let extended = r.read_bit()?;
         let present = r.read_bits(3)?;
@@ -465,11 +539,25 @@ impl Uper for MovementState {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for MovementState {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self {
+            movement_name: if g.coin() { Some(<super::common::DescriptiveName as uper::random::Random>::random(g)) } else { None },
+            signal_group: <super::common::SignalGroupID as uper::random::Random>::random(g),
+            state_time_speed: <MovementEventList as uper::random::Random>::random(g),
+            maneuver_assist_list: if g.coin() { Some(<ManeuverAssistList as uper::random::Random>::random(g)) } else { None },
+            regional: if g.coin() { Some(<MovementStateRegional as uper::random::Random>::random(g)) } else { None },
+            extensions: uper::Extensions::new(),
+        }
+    }
+}
+
 /// ASN.1 `MovementEventList` (module `SPAT`): SEQUENCE OF MovementEvent (SIZE(1..16)).
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
-pub struct MovementEventList(pub uper::SeqOf<MovementEvent, 4>);
+pub struct MovementEventList(pub uper::SeqOf<MovementEvent, 16>);
 
-crate::__newtype_deref!(MovementEventList, uper::SeqOf<MovementEvent, 4>);
+crate::__newtype_deref!(MovementEventList, uper::SeqOf<MovementEvent, 16>);
 
 impl MovementEventList {
     const SIZE: uper::Size = uper::Size::range(1, 16);
@@ -487,12 +575,23 @@ impl uper::Placeholder for MovementEventList {
 
 impl Uper for MovementEventList {
     const PATH: &'static str = "SPAT.MovementEventList";
-    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(6284), None);
+    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(25124), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         uper::decode_seq_of_into(r, Self::SIZE, "SPAT.MovementEventList", &mut out.0)
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for MovementEventList {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        let mut v = Self(uper::SeqOf::new());
+        for _ in 0..g.count(1, 16) {
+            let _ = v.0.push(<MovementEvent as uper::random::Random>::random(g));
+        }
+        v
     }
 }
 
@@ -574,6 +673,19 @@ impl Uper for MovementEvent {
             self.extensions.encode(w)?;
         }
         Ok(())
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for MovementEvent {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self {
+            event_state: <MovementPhaseState as uper::random::Random>::random(g),
+            timing: if g.coin() { Some(<TimeChangeDetails as uper::random::Random>::random(g)) } else { None },
+            speeds: if g.coin() { Some(<AdvisorySpeedList as uper::random::Random>::random(g)) } else { None },
+            regional: if g.coin() { Some(<MovementEventRegional as uper::random::Random>::random(g)) } else { None },
+            extensions: uper::Extensions::new(),
+        }
     }
 }
 
@@ -668,6 +780,13 @@ impl Uper for MovementPhaseState {
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_constrained(self.root_index(), 0, 9)
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for MovementPhaseState {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self::ALL[g.below(10)]
     }
 }
 
@@ -774,6 +893,20 @@ impl Uper for TimeChangeDetails {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for TimeChangeDetails {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self {
+            start_time: if g.coin() { Some(<TimeMark as uper::random::Random>::random(g)) } else { None },
+            min_end_time: <TimeMark as uper::random::Random>::random(g),
+            max_end_time: if g.coin() { Some(<TimeMark as uper::random::Random>::random(g)) } else { None },
+            likely_time: if g.coin() { Some(<TimeMark as uper::random::Random>::random(g)) } else { None },
+            confidence: if g.coin() { Some(<TimeIntervalConfidence as uper::random::Random>::random(g)) } else { None },
+            next_time: if g.coin() { Some(<TimeMark as uper::random::Random>::random(g)) } else { None },
+        }
+    }
+}
+
 /// ASN.1 `TimeMark` (module `SPAT`): INTEGER (0..36111).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub struct TimeMark(u16);
@@ -812,6 +945,17 @@ impl Uper for AdvisorySpeedList {
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for AdvisorySpeedList {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        let mut v = Self(uper::SeqOf::new());
+        for _ in 0..g.count(1, 4) {
+            let _ = v.0.push(<AdvisorySpeed as uper::random::Random>::random(g));
+        }
+        v
     }
 }
 
@@ -926,6 +1070,21 @@ impl Uper for AdvisorySpeed {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for AdvisorySpeed {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self {
+            r#type: <AdvisorySpeedType as uper::random::Random>::random(g),
+            speed: if g.coin() { Some(<SpeedAdvice as uper::random::Random>::random(g)) } else { None },
+            confidence: if g.coin() { Some(<super::common::SpeedConfidence as uper::random::Random>::random(g)) } else { None },
+            distance: if g.coin() { Some(<ZoneLength as uper::random::Random>::random(g)) } else { None },
+            class: if g.coin() { Some(<super::common::RestrictionClassID as uper::random::Random>::random(g)) } else { None },
+            regional: if g.coin() { Some(<AdvisorySpeedRegional as uper::random::Random>::random(g)) } else { None },
+            extensions: uper::Extensions::new(),
+        }
+    }
+}
+
 /// ASN.1 `AdvisorySpeedType` (module `SPAT`): ENUMERATED (extensible).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum AdvisorySpeedType {
@@ -1006,6 +1165,13 @@ impl Uper for AdvisorySpeedType {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for AdvisorySpeedType {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self::ALL[g.below(4)]
+    }
+}
+
 /// ASN.1 `SpeedAdvice` (module `SPAT`): INTEGER (0..500).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub struct SpeedAdvice(u16);
@@ -1044,6 +1210,17 @@ impl Uper for AdvisorySpeedRegional {
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for AdvisorySpeedRegional {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        let mut v = Self(uper::SeqOf::new());
+        for _ in 0..g.count(1, 1) {
+            let _ = v.0.push(<RegAdvisorySpeed as uper::random::Random>::random(g));
+        }
+        v
     }
 }
 
@@ -1094,6 +1271,17 @@ impl Uper for RegAdvisorySpeed {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for RegAdvisorySpeed {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        let mut content = uper::Octets::new();
+        for _ in 0..1 + g.below(4) {
+            let _ = content.push(g.octet());
+        }
+        Self::Unknown { id: <super::common::RegionId as uper::random::Random>::random(g), content }
+    }
+}
+
 /// ASN.1 `MovementEvent.regional` (module `SPAT`): SEQUENCE OF RegMovementEvent (SIZE(1..4)).
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub struct MovementEventRegional(pub uper::SeqOf<RegMovementEvent, 1>);
@@ -1122,6 +1310,17 @@ impl Uper for MovementEventRegional {
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for MovementEventRegional {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        let mut v = Self(uper::SeqOf::new());
+        for _ in 0..g.count(1, 1) {
+            let _ = v.0.push(<RegMovementEvent as uper::random::Random>::random(g));
+        }
+        v
     }
 }
 
@@ -1187,6 +1386,16 @@ impl Uper for RegMovementEvent {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for RegMovementEvent {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        match g.below(1) {
+            0 => Self::AddGrpB(<super::add_grp_b::MovementEventAddGrpB as uper::random::Random>::random(g)),
+            _ => Self::Unknown { id: <super::common::RegionId as uper::Placeholder>::placeholder(), content: uper::Octets::new() },
+        }
+    }
+}
+
 /// ASN.1 `ManeuverAssistList` (module `SPAT`): SEQUENCE OF ConnectionManeuverAssist (SIZE(1..16)).
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub struct ManeuverAssistList(pub uper::SeqOf<ConnectionManeuverAssist, 4>);
@@ -1209,12 +1418,23 @@ impl uper::Placeholder for ManeuverAssistList {
 
 impl Uper for ManeuverAssistList {
     const PATH: &'static str = "SPAT.ManeuverAssistList";
-    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(3416), None);
+    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(3928), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         uper::decode_seq_of_into(r, Self::SIZE, "SPAT.ManeuverAssistList", &mut out.0)
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for ManeuverAssistList {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        let mut v = Self(uper::SeqOf::new());
+        for _ in 0..g.count(1, 4) {
+            let _ = v.0.push(<ConnectionManeuverAssist as uper::random::Random>::random(g));
+        }
+        v
     }
 }
 
@@ -1245,7 +1465,7 @@ impl uper::Placeholder for ConnectionManeuverAssist {
 
 impl Uper for ConnectionManeuverAssist {
     const PATH: &'static str = "SPAT.ConnectionManeuverAssist";
-    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(853), None);
+    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(981), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let extended = r.read_bit()?;
         let present = r.read_bits(5)?;
@@ -1329,6 +1549,21 @@ impl Uper for ConnectionManeuverAssist {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for ConnectionManeuverAssist {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self {
+            connection_id: <super::common::LaneConnectionID as uper::random::Random>::random(g),
+            queue_length: if g.coin() { Some(<ZoneLength as uper::random::Random>::random(g)) } else { None },
+            available_storage_length: if g.coin() { Some(<ZoneLength as uper::random::Random>::random(g)) } else { None },
+            wait_on_stop: if g.coin() { Some(<WaitOnStopline as uper::random::Random>::random(g)) } else { None },
+            ped_bicycle_detect: if g.coin() { Some(<PedestrianBicycleDetect as uper::random::Random>::random(g)) } else { None },
+            regional: if g.coin() { Some(<ConnectionManeuverAssistRegional as uper::random::Random>::random(g)) } else { None },
+            extensions: uper::Extensions::new(),
+        }
+    }
+}
+
 /// ASN.1 `WaitOnStopline` (module `SPAT`): the same type as bool.
 pub type WaitOnStopline = bool;
 
@@ -1357,12 +1592,23 @@ impl uper::Placeholder for ConnectionManeuverAssistRegional {
 
 impl Uper for ConnectionManeuverAssistRegional {
     const PATH: &'static str = "SPAT.ConnectionManeuverAssist.regional";
-    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(722), None);
+    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(850), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         uper::decode_seq_of_into(r, Self::SIZE, "SPAT.ConnectionManeuverAssist.regional", &mut out.0)
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for ConnectionManeuverAssistRegional {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        let mut v = Self(uper::SeqOf::new());
+        for _ in 0..g.count(1, 1) {
+            let _ = v.0.push(<RegConnectionManeuverAssist as uper::random::Random>::random(g));
+        }
+        v
     }
 }
 
@@ -1398,7 +1644,7 @@ impl uper::Placeholder for RegConnectionManeuverAssist {
 
 impl Uper for RegConnectionManeuverAssist {
     const PATH: &'static str = "SPAT.RegConnectionManeuverAssist";
-    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(720), None);
+    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(848), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let id = <super::common::RegionId>::decode_uper(r)?;
         match id.get() {
@@ -1424,6 +1670,16 @@ impl Uper for RegConnectionManeuverAssist {
                 id.encode_uper(w)?;
                 uper::encode_unknown_open(w, content)
             }
+        }
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for RegConnectionManeuverAssist {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        match g.below(1) {
+            0 => Self::AddGrpC(<super::add_grp_c::ConnectionManeuverAssistAddGrpC as uper::random::Random>::random(g)),
+            _ => Self::Unknown { id: <super::common::RegionId as uper::Placeholder>::placeholder(), content: uper::Octets::new() },
         }
     }
 }
@@ -1456,6 +1712,17 @@ impl Uper for MovementStateRegional {
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for MovementStateRegional {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        let mut v = Self(uper::SeqOf::new());
+        for _ in 0..g.count(1, 1) {
+            let _ = v.0.push(<RegMovementState as uper::random::Random>::random(g));
+        }
+        v
     }
 }
 
@@ -1506,11 +1773,22 @@ impl Uper for RegMovementState {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for RegMovementState {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        let mut content = uper::Octets::new();
+        for _ in 0..1 + g.below(4) {
+            let _ = content.push(g.octet());
+        }
+        Self::Unknown { id: <super::common::RegionId as uper::random::Random>::random(g), content }
+    }
+}
+
 /// ASN.1 `IntersectionState.regional` (module `SPAT`): SEQUENCE OF RegIntersectionState (SIZE(1..4)).
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
-pub struct IntersectionStateRegional(pub uper::SeqOf<RegIntersectionState, 1>);
+pub struct IntersectionStateRegional(pub uper::SeqOf<RegIntersectionState, 4>);
 
-crate::__newtype_deref!(IntersectionStateRegional, uper::SeqOf<RegIntersectionState, 1>);
+crate::__newtype_deref!(IntersectionStateRegional, uper::SeqOf<RegIntersectionState, 4>);
 
 impl IntersectionStateRegional {
     const SIZE: uper::Size = uper::Size::range(1, 4);
@@ -1528,12 +1806,23 @@ impl uper::Placeholder for IntersectionStateRegional {
 
 impl Uper for IntersectionStateRegional {
     const PATH: &'static str = "SPAT.IntersectionState.regional";
-    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(730), None);
+    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(2914), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         uper::decode_seq_of_into(r, Self::SIZE, "SPAT.IntersectionState.regional", &mut out.0)
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for IntersectionStateRegional {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        let mut v = Self(uper::SeqOf::new());
+        for _ in 0..g.count(1, 4) {
+            let _ = v.0.push(<RegIntersectionState as uper::random::Random>::random(g));
+        }
+        v
     }
 }
 
@@ -1599,6 +1888,16 @@ impl Uper for RegIntersectionState {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for RegIntersectionState {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        match g.below(1) {
+            0 => Self::AddGrpC(<super::add_grp_c::IntersectionStateAddGrpC as uper::random::Random>::random(g)),
+            _ => Self::Unknown { id: <super::common::RegionId as uper::Placeholder>::placeholder(), content: uper::Octets::new() },
+        }
+    }
+}
+
 /// ASN.1 `SPAT.regional` (module `SPAT`): SEQUENCE OF RegSPAT (SIZE(1..4)).
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub struct SPATRegional(pub uper::SeqOf<RegSPAT, 1>);
@@ -1627,6 +1926,17 @@ impl Uper for SPATRegional {
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for SPATRegional {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        let mut v = Self(uper::SeqOf::new());
+        for _ in 0..g.count(1, 1) {
+            let _ = v.0.push(<RegSPAT as uper::random::Random>::random(g));
+        }
+        v
     }
 }
 
@@ -1674,5 +1984,16 @@ impl Uper for RegSPAT {
                 uper::encode_unknown_open(w, content)
             }
         }
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for RegSPAT {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        let mut content = uper::Octets::new();
+        for _ in 0..1 + g.below(4) {
+            let _ = content.push(g.octet());
+        }
+        Self::Unknown { id: <super::common::RegionId as uper::random::Random>::random(g), content }
     }
 }

@@ -68,6 +68,17 @@ impl Uper for TestMessage05 {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for TestMessage05 {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self {
+            header: if g.coin() { Some(<super::common::Header as uper::random::Random>::random(g)) } else { None },
+            regional: if g.coin() { Some(<RegTestMessage05 as uper::random::Random>::random(g)) } else { None },
+            extensions: uper::Extensions::new(),
+        }
+    }
+}
+
 /// ASN.1 `RegTestMessage05` (module `TestMessage05`): `regionId` and the `regExtValue` it selects (open type over an object set).
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub enum RegTestMessage05 {
@@ -112,5 +123,16 @@ impl Uper for RegTestMessage05 {
                 uper::encode_unknown_open(w, content)
             }
         }
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for RegTestMessage05 {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        let mut content = uper::Octets::new();
+        for _ in 0..1 + g.below(4) {
+            let _ = content.push(g.octet());
+        }
+        Self::Unknown { id: <super::common::RegionId as uper::random::Random>::random(g), content }
     }
 }

@@ -68,6 +68,17 @@ impl Uper for TestMessage06 {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for TestMessage06 {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self {
+            header: if g.coin() { Some(<super::common::Header as uper::random::Random>::random(g)) } else { None },
+            regional: if g.coin() { Some(<RegTestMessage06 as uper::random::Random>::random(g)) } else { None },
+            extensions: uper::Extensions::new(),
+        }
+    }
+}
+
 /// ASN.1 `RegTestMessage06` (module `TestMessage06`): `regionId` and the `regExtValue` it selects (open type over an object set).
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub enum RegTestMessage06 {
@@ -112,5 +123,16 @@ impl Uper for RegTestMessage06 {
                 uper::encode_unknown_open(w, content)
             }
         }
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for RegTestMessage06 {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        let mut content = uper::Octets::new();
+        for _ in 0..1 + g.below(4) {
+            let _ = content.push(g.octet());
+        }
+        Self::Unknown { id: <super::common::RegionId as uper::random::Random>::random(g), content }
     }
 }

@@ -68,6 +68,17 @@ impl Uper for TestMessage10 {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for TestMessage10 {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self {
+            header: if g.coin() { Some(<super::common::Header as uper::random::Random>::random(g)) } else { None },
+            regional: if g.coin() { Some(<RegTestMessage10 as uper::random::Random>::random(g)) } else { None },
+            extensions: uper::Extensions::new(),
+        }
+    }
+}
+
 /// ASN.1 `RegTestMessage10` (module `TestMessage10`): `regionId` and the `regExtValue` it selects (open type over an object set).
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub enum RegTestMessage10 {
@@ -112,5 +123,16 @@ impl Uper for RegTestMessage10 {
                 uper::encode_unknown_open(w, content)
             }
         }
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for RegTestMessage10 {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        let mut content = uper::Octets::new();
+        for _ in 0..1 + g.below(4) {
+            let _ = content.push(g.octet());
+        }
+        Self::Unknown { id: <super::common::RegionId as uper::random::Random>::random(g), content }
     }
 }

@@ -33,7 +33,7 @@ impl uper::Placeholder for TravelerInformation {
 
 impl Uper for TravelerInformation {
     const PATH: &'static str = "TravelerInformation.TravelerInformation";
-    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(17353445), None);
+    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(23445189), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let extended = r.read_bit()?;
         let present = r.read_bits(4)?;
@@ -106,6 +106,21 @@ impl Uper for TravelerInformation {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for TravelerInformation {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self {
+            msg_cnt: <super::common::MsgCount as uper::random::Random>::random(g),
+            time_stamp: if g.coin() { Some(<super::common::MinuteOfTheYear as uper::random::Random>::random(g)) } else { None },
+            packet_id: if g.coin() { Some(<UniqueMSGID as uper::random::Random>::random(g)) } else { None },
+            url_b: if g.coin() { Some(<URLBase as uper::random::Random>::random(g)) } else { None },
+            data_frames: <TravelerDataFrameList as uper::random::Random>::random(g),
+            regional: if g.coin() { Some(<TravelerInformationRegional as uper::random::Random>::random(g)) } else { None },
+            extensions: uper::Extensions::new(),
+        }
+    }
+}
+
 /// ASN.1 `UniqueMSGID` (module `TravelerInformation`): OCTET STRING (SIZE(9)).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub struct UniqueMSGID(pub [u8; 9]);
@@ -124,6 +139,13 @@ impl Uper for UniqueMSGID {
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_octets(&self.0)
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for UniqueMSGID {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self(core::array::from_fn(|_| g.octet()))
     }
 }
 
@@ -163,6 +185,17 @@ impl Uper for URLBase {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for URLBase {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        let mut v = Self(uper::Ia5::new());
+        for _ in 0..g.count(1, 45) {
+            let _ = v.0.push(g.printable());
+        }
+        v
+    }
+}
+
 /// ASN.1 `TravelerDataFrameList` (module `TravelerInformation`): SEQUENCE OF TravelerDataFrame (SIZE(1..8)).
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub struct TravelerDataFrameList(pub uper::SeqOf<TravelerDataFrame, 8>);
@@ -185,12 +218,23 @@ impl uper::Placeholder for TravelerDataFrameList {
 
 impl Uper for TravelerDataFrameList {
     const PATH: &'static str = "TravelerInformation.TravelerDataFrameList";
-    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(17350091), None);
+    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(23441835), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         uper::decode_seq_of_into(r, Self::SIZE, "TravelerInformation.TravelerDataFrameList", &mut out.0)
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for TravelerDataFrameList {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        let mut v = Self(uper::SeqOf::new());
+        for _ in 0..g.count(1, 8) {
+            let _ = v.0.push(<TravelerDataFrame as uper::random::Random>::random(g));
+        }
+        v
     }
 }
 
@@ -235,7 +279,7 @@ impl uper::Placeholder for TravelerDataFrame {
 
 impl Uper for TravelerDataFrame {
     const PATH: &'static str = "TravelerInformation.TravelerDataFrame";
-    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(2168761), None);
+    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(2930229), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let extended = r.read_bit()?;
         let present = r.read_bits(2)?;
@@ -297,6 +341,28 @@ impl Uper for TravelerDataFrame {
             self.extensions.encode(w)?;
         }
         Ok(())
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for TravelerDataFrame {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self {
+            not_used: <super::common::SSPindex as uper::random::Random>::random(g),
+            frame_type: <TravelerInfoType as uper::random::Random>::random(g),
+            msg_id: <TravelerDataFrameMsgId as uper::random::Random>::random(g),
+            start_year: if g.coin() { Some(<super::common::DYear as uper::random::Random>::random(g)) } else { None },
+            start_time: <super::common::MinuteOfTheYear as uper::random::Random>::random(g),
+            duration_time: <MinutesDuration as uper::random::Random>::random(g),
+            priority: <SignPrority as uper::random::Random>::random(g),
+            not_used1: <super::common::SSPindex as uper::random::Random>::random(g),
+            regions: <TravelerDataFrameRegions as uper::random::Random>::random(g),
+            not_used2: <super::common::SSPindex as uper::random::Random>::random(g),
+            not_used3: <super::common::SSPindex as uper::random::Random>::random(g),
+            content: <TravelerDataFrameContent as uper::random::Random>::random(g),
+            url: if g.coin() { Some(<URLShort as uper::random::Random>::random(g)) } else { None },
+            extensions: uper::Extensions::new(),
+        }
     }
 }
 
@@ -380,6 +446,13 @@ impl Uper for TravelerInfoType {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for TravelerInfoType {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self::ALL[g.below(4)]
+    }
+}
+
 /// ASN.1 `TravelerDataFrame.msgId` (module `TravelerInformation`): CHOICE.
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub enum TravelerDataFrameMsgId {
@@ -397,7 +470,7 @@ impl uper::Placeholder for TravelerDataFrameMsgId {
 
 impl Uper for TravelerDataFrameMsgId {
     const PATH: &'static str = "TravelerInformation.TravelerDataFrame.msgId";
-    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(408), None);
+    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(936), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let at = r.position();
         match r.read_constrained(0, 1)? {
@@ -429,6 +502,17 @@ impl Uper for TravelerDataFrameMsgId {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for TravelerDataFrameMsgId {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        match g.below(2) {
+            0 => Self::FurtherInfoID(<super::common::FurtherInfoID as uper::random::Random>::random(g)),
+            1 => Self::RoadSignID(<RoadSignID as uper::random::Random>::random(g)),
+            _ => Self::FurtherInfoID(<super::common::FurtherInfoID as uper::Placeholder>::placeholder()),
+        }
+    }
+}
+
 /// ASN.1 `RoadSignID` (module `TravelerInformation`): SEQUENCE.
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub struct RoadSignID {
@@ -450,7 +534,7 @@ impl uper::Placeholder for RoadSignID {
 
 impl Uper for RoadSignID {
     const PATH: &'static str = "TravelerInformation.RoadSignID";
-    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(407), None);
+    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(935), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let present = r.read_bits(2)?;
         <super::common::Position3D>::decode_into(r, &mut out.position)?;
@@ -488,6 +572,18 @@ impl Uper for RoadSignID {
             v.encode_uper(w)?;
         }
         Ok(())
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for RoadSignID {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self {
+            position: <super::common::Position3D as uper::random::Random>::random(g),
+            view_angle: <super::common::HeadingSlice as uper::random::Random>::random(g),
+            mutcd_code: if g.coin() { Some(<MUTCDCode as uper::random::Random>::random(g)) } else { None },
+            crc: if g.coin() { Some(<MsgCRC as uper::random::Random>::random(g)) } else { None },
+        }
     }
 }
 
@@ -586,6 +682,13 @@ impl Uper for MUTCDCode {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for MUTCDCode {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self::ALL[g.below(7)]
+    }
+}
+
 /// ASN.1 `MsgCRC` (module `TravelerInformation`): OCTET STRING (SIZE(2)).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub struct MsgCRC(pub [u8; 2]);
@@ -604,6 +707,13 @@ impl Uper for MsgCRC {
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_octets(&self.0)
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for MsgCRC {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self(core::array::from_fn(|_| g.octet()))
     }
 }
 
@@ -643,12 +753,23 @@ impl uper::Placeholder for TravelerDataFrameRegions {
 
 impl Uper for TravelerDataFrameRegions {
     const PATH: &'static str = "TravelerInformation.TravelerDataFrame.regions";
-    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(2165476), None);
+    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(2914180), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         uper::decode_seq_of_into(r, Self::SIZE, "TravelerInformation.TravelerDataFrame.regions", &mut out.0)
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for TravelerDataFrameRegions {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        let mut v = Self(uper::SeqOf::new());
+        for _ in 0..g.count(1, 16) {
+            let _ = v.0.push(<GeographicalPath as uper::random::Random>::random(g));
+        }
+        v
     }
 }
 
@@ -685,7 +806,7 @@ impl uper::Placeholder for GeographicalPath {
 
 impl Uper for GeographicalPath {
     const PATH: &'static str = "TravelerInformation.GeographicalPath";
-    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(135342), None);
+    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(182136), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let extended = r.read_bit()?;
         let present = r.read_bits(9)?;
@@ -819,6 +940,24 @@ impl Uper for GeographicalPath {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for GeographicalPath {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self {
+            name: if g.coin() { Some(<super::common::DescriptiveName as uper::random::Random>::random(g)) } else { None },
+            id: if g.coin() { Some(<super::common::RoadSegmentReferenceID as uper::random::Random>::random(g)) } else { None },
+            anchor: if g.coin() { Some(<super::common::Position3D as uper::random::Random>::random(g)) } else { None },
+            lane_width: if g.coin() { Some(<super::common::LaneWidth as uper::random::Random>::random(g)) } else { None },
+            directionality: if g.coin() { Some(<DirectionOfUse as uper::random::Random>::random(g)) } else { None },
+            closed_path: if g.coin() { Some(<bool as uper::random::Random>::random(g)) } else { None },
+            direction: if g.coin() { Some(<super::common::HeadingSlice as uper::random::Random>::random(g)) } else { None },
+            description: if g.coin() { Some(<GeographicalPathDescription as uper::random::Random>::random(g)) } else { None },
+            regional: if g.coin() { Some(<GeographicalPathRegional as uper::random::Random>::random(g)) } else { None },
+            extensions: uper::Extensions::new(),
+        }
+    }
+}
+
 /// ASN.1 `DirectionOfUse` (module `TravelerInformation`): ENUMERATED.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum DirectionOfUse {
@@ -883,6 +1022,13 @@ impl Uper for DirectionOfUse {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for DirectionOfUse {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self::ALL[g.below(4)]
+    }
+}
+
 /// ASN.1 `GeographicalPath.description` (module `TravelerInformation`): CHOICE (extensible).
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub enum GeographicalPathDescription {
@@ -909,7 +1055,7 @@ impl uper::Placeholder for GeographicalPathDescription {
 
 impl Uper for GeographicalPathDescription {
     const PATH: &'static str = "TravelerInformation.GeographicalPath.description";
-    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(134238), None);
+    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(180504), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         if r.read_bit()? {
             let at = r.position();
@@ -962,6 +1108,18 @@ impl Uper for GeographicalPathDescription {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for GeographicalPathDescription {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        match g.below(3) {
+            0 => Self::Path(<OffsetSystem as uper::random::Random>::random(g)),
+            1 => Self::Geometry(<GeometricProjection as uper::random::Random>::random(g)),
+            2 => Self::OldRegion(<ValidRegion as uper::random::Random>::random(g)),
+            _ => Self::Path(<OffsetSystem as uper::Placeholder>::placeholder()),
+        }
+    }
+}
+
 /// ASN.1 `OffsetSystem` (module `TravelerInformation`): SEQUENCE.
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub struct OffsetSystem {
@@ -979,7 +1137,7 @@ impl uper::Placeholder for OffsetSystem {
 
 impl Uper for OffsetSystem {
     const PATH: &'static str = "TravelerInformation.OffsetSystem";
-    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(133763), None);
+    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(179501), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let present = r.read_bits(1)?;
         if present & (1 << 0) != 0 {
@@ -1005,6 +1163,16 @@ impl Uper for OffsetSystem {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for OffsetSystem {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self {
+            scale: if g.coin() { Some(<Zoom as uper::random::Random>::random(g)) } else { None },
+            offset: <OffsetSystemOffset as uper::random::Random>::random(g),
+        }
+    }
+}
+
 /// ASN.1 `Zoom` (module `TravelerInformation`): INTEGER (0..15).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub struct Zoom(u8);
@@ -1027,7 +1195,7 @@ impl uper::Placeholder for OffsetSystemOffset {
 
 impl Uper for OffsetSystemOffset {
     const PATH: &'static str = "TravelerInformation.OffsetSystem.offset";
-    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(133758), None);
+    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(179496), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let at = r.position();
         match r.read_constrained(0, 1)? {
@@ -1059,6 +1227,17 @@ impl Uper for OffsetSystemOffset {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for OffsetSystemOffset {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        match g.below(2) {
+            0 => Self::Xy(<super::common::NodeListXY as uper::random::Random>::random(g)),
+            1 => Self::Ll(<NodeListLL as uper::random::Random>::random(g)),
+            _ => Self::Xy(<super::common::NodeListXY as uper::Placeholder>::placeholder()),
+        }
+    }
+}
+
 /// ASN.1 `NodeListLL` (module `TravelerInformation`): CHOICE (extensible).
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub enum NodeListLL {
@@ -1081,7 +1260,7 @@ impl uper::Placeholder for NodeListLL {
 
 impl Uper for NodeListLL {
     const PATH: &'static str = "TravelerInformation.NodeListLL";
-    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(132874), None);
+    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(178612), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         if r.read_bit()? {
             let at = r.position();
@@ -1116,6 +1295,16 @@ impl Uper for NodeListLL {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for NodeListLL {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        match g.below(1) {
+            0 => Self::Nodes(<NodeSetLL as uper::random::Random>::random(g)),
+            _ => Self::Nodes(<NodeSetLL as uper::Placeholder>::placeholder()),
+        }
+    }
+}
+
 /// ASN.1 `NodeSetLL` (module `TravelerInformation`): SEQUENCE OF NodeLL (SIZE(2..63)).
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub struct NodeSetLL(pub uper::SeqOf<NodeLL, 63>);
@@ -1138,12 +1327,23 @@ impl uper::Placeholder for NodeSetLL {
 
 impl Uper for NodeSetLL {
     const PATH: &'static str = "TravelerInformation.NodeSetLL";
-    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(132873), None);
+    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(178611), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         uper::decode_seq_of_into(r, Self::SIZE, "TravelerInformation.NodeSetLL", &mut out.0)
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for NodeSetLL {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        let mut v = Self(uper::SeqOf::new());
+        for _ in 0..g.count(2, 63) {
+            let _ = v.0.push(<NodeLL as uper::random::Random>::random(g));
+        }
+        v
     }
 }
 
@@ -1166,7 +1366,7 @@ impl uper::Placeholder for NodeLL {
 
 impl Uper for NodeLL {
     const PATH: &'static str = "TravelerInformation.NodeLL";
-    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(2109), None);
+    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(2835), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let extended = r.read_bit()?;
         let present = r.read_bits(1)?;
@@ -1195,6 +1395,17 @@ impl Uper for NodeLL {
             self.extensions.encode(w)?;
         }
         Ok(())
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for NodeLL {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self {
+            delta: <NodeOffsetPointLL as uper::random::Random>::random(g),
+            attributes: if g.coin() { Some(<NodeAttributeSetLL as uper::random::Random>::random(g)) } else { None },
+            extensions: uper::Extensions::new(),
+        }
     }
 }
 
@@ -1313,6 +1524,23 @@ impl Uper for NodeOffsetPointLL {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for NodeOffsetPointLL {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        match g.below(8) {
+            0 => Self::NodeLL1(<NodeLL24B as uper::random::Random>::random(g)),
+            1 => Self::NodeLL2(<NodeLL28B as uper::random::Random>::random(g)),
+            2 => Self::NodeLL3(<NodeLL32B as uper::random::Random>::random(g)),
+            3 => Self::NodeLL4(<NodeLL36B as uper::random::Random>::random(g)),
+            4 => Self::NodeLL5(<NodeLL44B as uper::random::Random>::random(g)),
+            5 => Self::NodeLL6(<NodeLL48B as uper::random::Random>::random(g)),
+            6 => Self::NodeLatLon(<super::common::NodeLLmD64b as uper::random::Random>::random(g)),
+            7 => Self::Regional(<RegNodeOffsetPointLL as uper::random::Random>::random(g)),
+            _ => Self::NodeLL1(<NodeLL24B as uper::Placeholder>::placeholder()),
+        }
+    }
+}
+
 /// ASN.1 `Node-LL-24B` (module `TravelerInformation`): SEQUENCE.
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub struct NodeLL24B {
@@ -1340,6 +1568,16 @@ impl Uper for NodeLL24B {
         self.lon.encode_uper(w)?;
         self.lat.encode_uper(w)?;
         Ok(())
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for NodeLL24B {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self {
+            lon: <OffsetLLB12 as uper::random::Random>::random(g),
+            lat: <OffsetLLB12 as uper::random::Random>::random(g),
+        }
     }
 }
 
@@ -1378,6 +1616,16 @@ impl Uper for NodeLL28B {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for NodeLL28B {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self {
+            lon: <OffsetLLB14 as uper::random::Random>::random(g),
+            lat: <OffsetLLB14 as uper::random::Random>::random(g),
+        }
+    }
+}
+
 /// ASN.1 `OffsetLL-B14` (module `TravelerInformation`): INTEGER (-8192..8191).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub struct OffsetLLB14(i16);
@@ -1410,6 +1658,16 @@ impl Uper for NodeLL32B {
         self.lon.encode_uper(w)?;
         self.lat.encode_uper(w)?;
         Ok(())
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for NodeLL32B {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self {
+            lon: <OffsetLLB16 as uper::random::Random>::random(g),
+            lat: <OffsetLLB16 as uper::random::Random>::random(g),
+        }
     }
 }
 
@@ -1448,6 +1706,16 @@ impl Uper for NodeLL36B {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for NodeLL36B {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self {
+            lon: <super::common::OffsetLLB18 as uper::random::Random>::random(g),
+            lat: <super::common::OffsetLLB18 as uper::random::Random>::random(g),
+        }
+    }
+}
+
 /// ASN.1 `Node-LL-44B` (module `TravelerInformation`): SEQUENCE.
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub struct NodeLL44B {
@@ -1475,6 +1743,16 @@ impl Uper for NodeLL44B {
         self.lon.encode_uper(w)?;
         self.lat.encode_uper(w)?;
         Ok(())
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for NodeLL44B {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self {
+            lon: <OffsetLLB22 as uper::random::Random>::random(g),
+            lat: <OffsetLLB22 as uper::random::Random>::random(g),
+        }
     }
 }
 
@@ -1510,6 +1788,16 @@ impl Uper for NodeLL48B {
         self.lon.encode_uper(w)?;
         self.lat.encode_uper(w)?;
         Ok(())
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for NodeLL48B {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self {
+            lon: <OffsetLLB24 as uper::random::Random>::random(g),
+            lat: <OffsetLLB24 as uper::random::Random>::random(g),
+        }
     }
 }
 
@@ -1565,6 +1853,17 @@ impl Uper for RegNodeOffsetPointLL {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for RegNodeOffsetPointLL {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        let mut content = uper::Octets::new();
+        for _ in 0..1 + g.below(4) {
+            let _ = content.push(g.octet());
+        }
+        Self::Unknown { id: <super::common::RegionId as uper::random::Random>::random(g), content }
+    }
+}
+
 /// ASN.1 `NodeAttributeSetLL` (module `TravelerInformation`): SEQUENCE (extensible).
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub struct NodeAttributeSetLL {
@@ -1594,7 +1893,7 @@ impl uper::Placeholder for NodeAttributeSetLL {
 
 impl Uper for NodeAttributeSetLL {
     const PATH: &'static str = "TravelerInformation.NodeAttributeSetLL";
-    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(1873), None);
+    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(2599), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let extended = r.read_bit()?;
         let present = r.read_bits(7)?;
@@ -1702,6 +2001,22 @@ impl Uper for NodeAttributeSetLL {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for NodeAttributeSetLL {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self {
+            local_node: if g.coin() { Some(<NodeAttributeLLList as uper::random::Random>::random(g)) } else { None },
+            disabled: if g.coin() { Some(<SegmentAttributeLLList as uper::random::Random>::random(g)) } else { None },
+            enabled: if g.coin() { Some(<SegmentAttributeLLList as uper::random::Random>::random(g)) } else { None },
+            data: if g.coin() { Some(<super::common::LaneDataAttributeList as uper::random::Random>::random(g)) } else { None },
+            d_width: if g.coin() { Some(<super::common::OffsetB10 as uper::random::Random>::random(g)) } else { None },
+            d_elevation: if g.coin() { Some(<super::common::OffsetB10 as uper::random::Random>::random(g)) } else { None },
+            regional: if g.coin() { Some(<NodeAttributeSetLLRegional as uper::random::Random>::random(g)) } else { None },
+            extensions: uper::Extensions::new(),
+        }
+    }
+}
+
 /// ASN.1 `NodeAttributeLLList` (module `TravelerInformation`): SEQUENCE OF NodeAttributeLL (SIZE(1..8)).
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub struct NodeAttributeLLList(pub uper::SeqOf<NodeAttributeLL, 5>);
@@ -1730,6 +2045,17 @@ impl Uper for NodeAttributeLLList {
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for NodeAttributeLLList {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        let mut v = Self(uper::SeqOf::new());
+        for _ in 0..g.count(1, 5) {
+            let _ = v.0.push(<NodeAttributeLL as uper::random::Random>::random(g));
+        }
+        v
     }
 }
 
@@ -1853,6 +2179,13 @@ impl Uper for NodeAttributeLL {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for NodeAttributeLL {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self::ALL[g.below(12)]
+    }
+}
+
 /// ASN.1 `SegmentAttributeLLList` (module `TravelerInformation`): SEQUENCE OF SegmentAttributeLL (SIZE(1..8)).
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub struct SegmentAttributeLLList(pub uper::SeqOf<SegmentAttributeLL, 5>);
@@ -1881,6 +2214,17 @@ impl Uper for SegmentAttributeLLList {
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for SegmentAttributeLLList {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        let mut v = Self(uper::SeqOf::new());
+        for _ in 0..g.count(1, 5) {
+            let _ = v.0.push(<SegmentAttributeLL as uper::random::Random>::random(g));
+        }
+        v
     }
 }
 
@@ -2134,6 +2478,13 @@ impl Uper for SegmentAttributeLL {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for SegmentAttributeLL {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self::ALL[g.below(38)]
+    }
+}
+
 /// ASN.1 `NodeAttributeSetLL.regional` (module `TravelerInformation`): SEQUENCE OF RegNodeAttributeSetLL (SIZE(1..4)).
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub struct NodeAttributeSetLLRegional(pub uper::SeqOf<RegNodeAttributeSetLL, 1>);
@@ -2162,6 +2513,17 @@ impl Uper for NodeAttributeSetLLRegional {
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for NodeAttributeSetLLRegional {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        let mut v = Self(uper::SeqOf::new());
+        for _ in 0..g.count(1, 1) {
+            let _ = v.0.push(<RegNodeAttributeSetLL as uper::random::Random>::random(g));
+        }
+        v
     }
 }
 
@@ -2212,6 +2574,17 @@ impl Uper for RegNodeAttributeSetLL {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for RegNodeAttributeSetLL {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        let mut content = uper::Octets::new();
+        for _ in 0..1 + g.below(4) {
+            let _ = content.push(g.octet());
+        }
+        Self::Unknown { id: <super::common::RegionId as uper::random::Random>::random(g), content }
+    }
+}
+
 /// ASN.1 `GeometricProjection` (module `TravelerInformation`): SEQUENCE (extensible).
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub struct GeometricProjection {
@@ -2237,7 +2610,7 @@ impl uper::Placeholder for GeometricProjection {
 
 impl Uper for GeometricProjection {
     const PATH: &'static str = "TravelerInformation.GeometricProjection";
-    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(634), None);
+    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(1162), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let extended = r.read_bit()?;
         let present = r.read_bits(3)?;
@@ -2297,6 +2670,20 @@ impl Uper for GeometricProjection {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for GeometricProjection {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self {
+            direction: <super::common::HeadingSlice as uper::random::Random>::random(g),
+            extent: if g.coin() { Some(<super::common::Extent as uper::random::Random>::random(g)) } else { None },
+            lane_width: if g.coin() { Some(<super::common::LaneWidth as uper::random::Random>::random(g)) } else { None },
+            circle: <Circle as uper::random::Random>::random(g),
+            regional: if g.coin() { Some(<GeometricProjectionRegional as uper::random::Random>::random(g)) } else { None },
+            extensions: uper::Extensions::new(),
+        }
+    }
+}
+
 /// ASN.1 `Circle` (module `TravelerInformation`): SEQUENCE.
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub struct Circle {
@@ -2316,7 +2703,7 @@ impl uper::Placeholder for Circle {
 
 impl Uper for Circle {
     const PATH: &'static str = "TravelerInformation.Circle";
-    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(362), None);
+    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(890), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         <super::common::Position3D>::decode_into(r, &mut out.center)?;
         <RadiusB12>::decode_into(r, &mut out.radius)?;
@@ -2328,6 +2715,17 @@ impl Uper for Circle {
         self.radius.encode_uper(w)?;
         self.units.encode_uper(w)?;
         Ok(())
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for Circle {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self {
+            center: <super::common::Position3D as uper::random::Random>::random(g),
+            radius: <RadiusB12 as uper::random::Random>::random(g),
+            units: <DistanceUnits as uper::random::Random>::random(g),
+        }
     }
 }
 
@@ -2420,6 +2818,13 @@ impl Uper for DistanceUnits {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for DistanceUnits {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self::ALL[g.below(8)]
+    }
+}
+
 /// ASN.1 `GeometricProjection.regional` (module `TravelerInformation`): SEQUENCE OF RegGeometricProjection (SIZE(1..4)).
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub struct GeometricProjectionRegional(pub uper::SeqOf<RegGeometricProjection, 1>);
@@ -2448,6 +2853,17 @@ impl Uper for GeometricProjectionRegional {
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for GeometricProjectionRegional {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        let mut v = Self(uper::SeqOf::new());
+        for _ in 0..g.count(1, 1) {
+            let _ = v.0.push(<RegGeometricProjection as uper::random::Random>::random(g));
+        }
+        v
     }
 }
 
@@ -2498,6 +2914,17 @@ impl Uper for RegGeometricProjection {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for RegGeometricProjection {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        let mut content = uper::Octets::new();
+        for _ in 0..1 + g.below(4) {
+            let _ = content.push(g.octet());
+        }
+        Self::Unknown { id: <super::common::RegionId as uper::random::Random>::random(g), content }
+    }
+}
+
 /// ASN.1 `ValidRegion` (module `TravelerInformation`): SEQUENCE.
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub struct ValidRegion {
@@ -2517,7 +2944,7 @@ impl uper::Placeholder for ValidRegion {
 
 impl Uper for ValidRegion {
     const PATH: &'static str = "TravelerInformation.ValidRegion";
-    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(134235), None);
+    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(180501), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let present = r.read_bits(1)?;
         <super::common::HeadingSlice>::decode_into(r, &mut out.direction)?;
@@ -2545,6 +2972,17 @@ impl Uper for ValidRegion {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for ValidRegion {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self {
+            direction: <super::common::HeadingSlice as uper::random::Random>::random(g),
+            extent: if g.coin() { Some(<super::common::Extent as uper::random::Random>::random(g)) } else { None },
+            area: <ValidRegionArea as uper::random::Random>::random(g),
+        }
+    }
+}
+
 /// ASN.1 `ValidRegion.area` (module `TravelerInformation`): CHOICE.
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub enum ValidRegionArea {
@@ -2564,7 +3002,7 @@ impl uper::Placeholder for ValidRegionArea {
 
 impl Uper for ValidRegionArea {
     const PATH: &'static str = "TravelerInformation.ValidRegion.area";
-    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(134214), None);
+    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(180480), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let at = r.position();
         match r.read_constrained(0, 2)? {
@@ -2605,6 +3043,18 @@ impl Uper for ValidRegionArea {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for ValidRegionArea {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        match g.below(3) {
+            0 => Self::ShapePointSet(<ShapePointSet as uper::random::Random>::random(g)),
+            1 => Self::Circle(<Circle as uper::random::Random>::random(g)),
+            2 => Self::RegionPointSet(<RegionPointSet as uper::random::Random>::random(g)),
+            _ => Self::ShapePointSet(<ShapePointSet as uper::Placeholder>::placeholder()),
+        }
+    }
+}
+
 /// ASN.1 `ShapePointSet` (module `TravelerInformation`): SEQUENCE (extensible).
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub struct ShapePointSet {
@@ -2628,7 +3078,7 @@ impl uper::Placeholder for ShapePointSet {
 
 impl Uper for ShapePointSet {
     const PATH: &'static str = "TravelerInformation.ShapePointSet";
-    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(134212), None);
+    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(180478), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let extended = r.read_bit()?;
         let present = r.read_bits(3)?;
@@ -2686,6 +3136,19 @@ impl Uper for ShapePointSet {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for ShapePointSet {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self {
+            anchor: if g.coin() { Some(<super::common::Position3D as uper::random::Random>::random(g)) } else { None },
+            lane_width: if g.coin() { Some(<super::common::LaneWidth as uper::random::Random>::random(g)) } else { None },
+            directionality: if g.coin() { Some(<DirectionOfUse as uper::random::Random>::random(g)) } else { None },
+            node_list: <super::common::NodeListXY as uper::random::Random>::random(g),
+            extensions: uper::Extensions::new(),
+        }
+    }
+}
+
 /// ASN.1 `RegionPointSet` (module `TravelerInformation`): SEQUENCE (extensible).
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub struct RegionPointSet {
@@ -2707,7 +3170,7 @@ impl uper::Placeholder for RegionPointSet {
 
 impl Uper for RegionPointSet {
     const PATH: &'static str = "TravelerInformation.RegionPointSet";
-    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(643), None);
+    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(1171), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let extended = r.read_bit()?;
         let present = r.read_bits(2)?;
@@ -2752,6 +3215,18 @@ impl Uper for RegionPointSet {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for RegionPointSet {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self {
+            anchor: if g.coin() { Some(<super::common::Position3D as uper::random::Random>::random(g)) } else { None },
+            scale: if g.coin() { Some(<Zoom as uper::random::Random>::random(g)) } else { None },
+            node_list: <RegionList as uper::random::Random>::random(g),
+            extensions: uper::Extensions::new(),
+        }
+    }
+}
+
 /// ASN.1 `RegionList` (module `TravelerInformation`): SEQUENCE OF RegionOffsets (SIZE(1..64)).
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub struct RegionList(pub uper::SeqOf<RegionOffsets, 4>);
@@ -2780,6 +3255,17 @@ impl Uper for RegionList {
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for RegionList {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        let mut v = Self(uper::SeqOf::new());
+        for _ in 0..g.count(1, 4) {
+            let _ = v.0.push(<RegionOffsets as uper::random::Random>::random(g));
+        }
+        v
     }
 }
 
@@ -2830,6 +3316,17 @@ impl Uper for RegionOffsets {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for RegionOffsets {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self {
+            x_offset: <OffsetLLB16 as uper::random::Random>::random(g),
+            y_offset: <OffsetLLB16 as uper::random::Random>::random(g),
+            z_offset: if g.coin() { Some(<OffsetLLB16 as uper::random::Random>::random(g)) } else { None },
+        }
+    }
+}
+
 /// ASN.1 `GeographicalPath.regional` (module `TravelerInformation`): SEQUENCE OF RegGeographicalPath (SIZE(1..4)).
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub struct GeographicalPathRegional(pub uper::SeqOf<RegGeographicalPath, 1>);
@@ -2858,6 +3355,17 @@ impl Uper for GeographicalPathRegional {
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for GeographicalPathRegional {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        let mut v = Self(uper::SeqOf::new());
+        for _ in 0..g.count(1, 1) {
+            let _ = v.0.push(<RegGeographicalPath as uper::random::Random>::random(g));
+        }
+        v
     }
 }
 
@@ -2908,6 +3416,17 @@ impl Uper for RegGeographicalPath {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for RegGeographicalPath {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        let mut content = uper::Octets::new();
+        for _ in 0..1 + g.below(4) {
+            let _ = content.push(g.octet());
+        }
+        Self::Unknown { id: <super::common::RegionId as uper::random::Random>::random(g), content }
+    }
+}
+
 /// ASN.1 `TravelerDataFrame.content` (module `TravelerInformation`): CHOICE.
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub enum TravelerDataFrameContent {
@@ -2931,7 +3450,7 @@ impl uper::Placeholder for TravelerDataFrameContent {
 
 impl Uper for TravelerDataFrameContent {
     const PATH: &'static str = "TravelerInformation.TravelerDataFrame.content";
-    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(1814), Some(351010));
+    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(14050), Some(351010));
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let at = r.position();
         match r.read_constrained(0, 4)? {
@@ -2990,11 +3509,25 @@ impl Uper for TravelerDataFrameContent {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for TravelerDataFrameContent {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        match g.below(5) {
+            0 => Self::Advisory(<super::itis::ITIScodesAndText as uper::random::Random>::random(g)),
+            1 => Self::WorkZone(<WorkZone as uper::random::Random>::random(g)),
+            2 => Self::GenericSign(<GenericSignage as uper::random::Random>::random(g)),
+            3 => Self::SpeedLimit(<SpeedLimit as uper::random::Random>::random(g)),
+            4 => Self::ExitService(<ExitService as uper::random::Random>::random(g)),
+            _ => Self::Advisory(<super::itis::ITIScodesAndText as uper::Placeholder>::placeholder()),
+        }
+    }
+}
+
 /// ASN.1 `WorkZone` (module `TravelerInformation`): SEQUENCE OF WorkZoneItem (SIZE(1..16)).
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
-pub struct WorkZone(pub uper::SeqOf<WorkZoneItem, 4>);
+pub struct WorkZone(pub uper::SeqOf<WorkZoneItem, 16>);
 
-crate::__newtype_deref!(WorkZone, uper::SeqOf<WorkZoneItem, 4>);
+crate::__newtype_deref!(WorkZone, uper::SeqOf<WorkZoneItem, 16>);
 
 impl WorkZone {
     const SIZE: uper::Size = uper::Size::range(1, 16);
@@ -3012,12 +3545,23 @@ impl uper::Placeholder for WorkZone {
 
 impl Uper for WorkZone {
     const PATH: &'static str = "TravelerInformation.WorkZone";
-    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(472), Some(1876));
+    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(1876), Some(1876));
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         uper::decode_seq_of_into(r, Self::SIZE, "TravelerInformation.WorkZone", &mut out.0)
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for WorkZone {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        let mut v = Self(uper::SeqOf::new());
+        for _ in 0..g.count(1, 16) {
+            let _ = v.0.push(<WorkZoneItem as uper::random::Random>::random(g));
+        }
+        v
     }
 }
 
@@ -3044,6 +3588,15 @@ impl Uper for WorkZoneItem {
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         self.item.encode_uper(w)?;
         Ok(())
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for WorkZoneItem {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self {
+            item: <WorkZoneItemItem as uper::random::Random>::random(g),
+        }
     }
 }
 
@@ -3096,6 +3649,17 @@ impl Uper for WorkZoneItemItem {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for WorkZoneItemItem {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        match g.below(2) {
+            0 => Self::Itis(<super::itis::ITIScodes as uper::random::Random>::random(g)),
+            1 => Self::Text(<ITIStextPhrase as uper::random::Random>::random(g)),
+            _ => Self::Itis(<super::itis::ITIScodes as uper::Placeholder>::placeholder()),
+        }
+    }
+}
+
 /// ASN.1 `ITIStextPhrase` (module `TravelerInformation`): IA5String (SIZE(1..16)).
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub struct ITIStextPhrase(pub uper::Ia5<16>);
@@ -3132,6 +3696,17 @@ impl Uper for ITIStextPhrase {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for ITIStextPhrase {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        let mut v = Self(uper::Ia5::new());
+        for _ in 0..g.count(1, 16) {
+            let _ = v.0.push(g.printable());
+        }
+        v
+    }
+}
+
 /// ASN.1 `GenericSignage` (module `TravelerInformation`): SEQUENCE OF GenericSignageItem (SIZE(1..16)).
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub struct GenericSignage(pub uper::SeqOf<GenericSignageItem, 4>);
@@ -3163,6 +3738,17 @@ impl Uper for GenericSignage {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for GenericSignage {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        let mut v = Self(uper::SeqOf::new());
+        for _ in 0..g.count(1, 4) {
+            let _ = v.0.push(<GenericSignageItem as uper::random::Random>::random(g));
+        }
+        v
+    }
+}
+
 /// ASN.1 `GenericSignage[]` (module `TravelerInformation`): SEQUENCE.
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub struct GenericSignageItem {
@@ -3186,6 +3772,15 @@ impl Uper for GenericSignageItem {
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         self.item.encode_uper(w)?;
         Ok(())
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for GenericSignageItem {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self {
+            item: <GenericSignageItemItem as uper::random::Random>::random(g),
+        }
     }
 }
 
@@ -3238,6 +3833,17 @@ impl Uper for GenericSignageItemItem {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for GenericSignageItemItem {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        match g.below(2) {
+            0 => Self::Itis(<super::itis::ITIScodes as uper::random::Random>::random(g)),
+            1 => Self::Text(<ITIStextPhrase as uper::random::Random>::random(g)),
+            _ => Self::Itis(<super::itis::ITIScodes as uper::Placeholder>::placeholder()),
+        }
+    }
+}
+
 /// ASN.1 `SpeedLimit` (module `TravelerInformation`): SEQUENCE OF SpeedLimitItem (SIZE(1..16)).
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub struct SpeedLimit(pub uper::SeqOf<SpeedLimitItem, 5>);
@@ -3269,6 +3875,17 @@ impl Uper for SpeedLimit {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for SpeedLimit {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        let mut v = Self(uper::SeqOf::new());
+        for _ in 0..g.count(1, 5) {
+            let _ = v.0.push(<SpeedLimitItem as uper::random::Random>::random(g));
+        }
+        v
+    }
+}
+
 /// ASN.1 `SpeedLimit[]` (module `TravelerInformation`): SEQUENCE.
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub struct SpeedLimitItem {
@@ -3292,6 +3909,15 @@ impl Uper for SpeedLimitItem {
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         self.item.encode_uper(w)?;
         Ok(())
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for SpeedLimitItem {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self {
+            item: <SpeedLimitItemItem as uper::random::Random>::random(g),
+        }
     }
 }
 
@@ -3344,6 +3970,17 @@ impl Uper for SpeedLimitItemItem {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for SpeedLimitItemItem {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        match g.below(2) {
+            0 => Self::Itis(<super::itis::ITIScodes as uper::random::Random>::random(g)),
+            1 => Self::Text(<ITIStextPhrase as uper::random::Random>::random(g)),
+            _ => Self::Itis(<super::itis::ITIScodes as uper::Placeholder>::placeholder()),
+        }
+    }
+}
+
 /// ASN.1 `ExitService` (module `TravelerInformation`): SEQUENCE OF ExitServiceItem (SIZE(1..16)).
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub struct ExitService(pub uper::SeqOf<ExitServiceItem, 4>);
@@ -3375,6 +4012,17 @@ impl Uper for ExitService {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for ExitService {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        let mut v = Self(uper::SeqOf::new());
+        for _ in 0..g.count(1, 4) {
+            let _ = v.0.push(<ExitServiceItem as uper::random::Random>::random(g));
+        }
+        v
+    }
+}
+
 /// ASN.1 `ExitService[]` (module `TravelerInformation`): SEQUENCE.
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub struct ExitServiceItem {
@@ -3398,6 +4046,15 @@ impl Uper for ExitServiceItem {
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         self.item.encode_uper(w)?;
         Ok(())
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for ExitServiceItem {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        Self {
+            item: <ExitServiceItemItem as uper::random::Random>::random(g),
+        }
     }
 }
 
@@ -3450,6 +4107,17 @@ impl Uper for ExitServiceItemItem {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for ExitServiceItemItem {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        match g.below(2) {
+            0 => Self::Itis(<super::itis::ITIScodes as uper::random::Random>::random(g)),
+            1 => Self::Text(<ITIStextPhrase as uper::random::Random>::random(g)),
+            _ => Self::Itis(<super::itis::ITIScodes as uper::Placeholder>::placeholder()),
+        }
+    }
+}
+
 /// ASN.1 `URL-Short` (module `TravelerInformation`): IA5String (SIZE(1..15)).
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub struct URLShort(pub uper::Ia5<15>);
@@ -3486,6 +4154,17 @@ impl Uper for URLShort {
     }
 }
 
+#[cfg(feature = "_random")]
+impl uper::random::Random for URLShort {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        let mut v = Self(uper::Ia5::new());
+        for _ in 0..g.count(1, 15) {
+            let _ = v.0.push(g.printable());
+        }
+        v
+    }
+}
+
 /// ASN.1 `TravelerInformation.regional` (module `TravelerInformation`): SEQUENCE OF RegTravelerInformation (SIZE(1..4)).
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub struct TravelerInformationRegional(pub uper::SeqOf<RegTravelerInformation, 1>);
@@ -3514,6 +4193,17 @@ impl Uper for TravelerInformationRegional {
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for TravelerInformationRegional {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        let mut v = Self(uper::SeqOf::new());
+        for _ in 0..g.count(1, 1) {
+            let _ = v.0.push(<RegTravelerInformation as uper::random::Random>::random(g));
+        }
+        v
     }
 }
 
@@ -3561,5 +4251,16 @@ impl Uper for RegTravelerInformation {
                 uper::encode_unknown_open(w, content)
             }
         }
+    }
+}
+
+#[cfg(feature = "_random")]
+impl uper::random::Random for RegTravelerInformation {
+    fn random(g: &mut uper::random::Gen) -> Self {
+        let mut content = uper::Octets::new();
+        for _ in 0..1 + g.below(4) {
+            let _ = content.push(g.octet());
+        }
+        Self::Unknown { id: <super::common::RegionId as uper::random::Random>::random(g), content }
     }
 }

@@ -39,6 +39,12 @@ macro_rules! __constrained_int {
                 Self($lb)
             }
         }
+        #[cfg(feature = "_random")]
+        impl $crate::uper::random::Random for $name {
+            fn random(g: &mut $crate::uper::random::Gen) -> Self {
+                Self(g.range($lb, $ub) as $prim)
+            }
+        }
         impl $crate::uper::Uper for $name {
             const PATH: &'static str = $path;
             const MAX_UPER_BITS: ::core::option::Option<u64> =

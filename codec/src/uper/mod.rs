@@ -16,6 +16,8 @@
 mod error;
 mod ext;
 mod macros;
+#[cfg(feature = "_random")]
+pub mod random;
 mod reader;
 mod sized;
 mod storage;
