@@ -3,22 +3,10 @@
 
 mod common;
 
-use j2735::uper::random::{Gen, Random};
+use common::random_frame;
 use j2735::uper::{self, Uper};
-use j2735::{BasicSafetyMessage, MapData, MessageFrame, MessageFrameValue, TravelerInformation, SPAT};
+use j2735::MessageFrame;
 use proptest::prelude::*;
-
-/// A random MessageFrame of the message picked by `kind`.
-pub fn random_frame(kind: u8, seed: u64) -> MessageFrame {
-    let mut g = Gen::new(seed);
-    let value = match kind % 4 {
-        0 => MessageFrameValue::MapData(MapData::random(&mut g)),
-        1 => MessageFrameValue::TravelerInformation(TravelerInformation::random(&mut g)),
-        2 => MessageFrameValue::BasicSafetyMessage(BasicSafetyMessage::random(&mut g)),
-        _ => MessageFrameValue::SPAT(SPAT::random(&mut g)),
-    };
-    MessageFrame { value, extensions: uper::Extensions::new() }
-}
 
 fn round_trip(kind: u8, seed: u64) -> Result<(), TestCaseError> {
     let frame = random_frame(kind, seed);

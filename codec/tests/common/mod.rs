@@ -1,7 +1,21 @@
 //! Helpers shared by the integration tests.
 #![allow(dead_code)]
 
+use j2735::uper::random::{Gen, Random};
+use j2735::{BasicSafetyMessage, MapData, MessageFrame, MessageFrameValue, TravelerInformation, SPAT};
 use std::path::PathBuf;
+
+/// A random valid MessageFrame of MAP, TIM, BSM or SPaT (picked by `kind`) from `seed`.
+pub fn random_frame(kind: u8, seed: u64) -> MessageFrame {
+    let mut g = Gen::new(seed);
+    let value = match kind % 4 {
+        0 => MessageFrameValue::MapData(MapData::random(&mut g)),
+        1 => MessageFrameValue::TravelerInformation(TravelerInformation::random(&mut g)),
+        2 => MessageFrameValue::BasicSafetyMessage(BasicSafetyMessage::random(&mut g)),
+        _ => MessageFrameValue::SPAT(SPAT::random(&mut g)),
+    };
+    MessageFrame { value, extensions: j2735::uper::Extensions::new() }
+}
 
 /// Runs `f` on a thread with room for the largest no-heap values (MapData is megabytes).
 pub fn big_stack<T: Send + 'static>(f: impl FnOnce() -> T + Send + 'static) -> T {
