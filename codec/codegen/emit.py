@@ -135,8 +135,8 @@ class Emitter:
         s.append("    /// `len` zero bits, when `len` satisfies the SIZE constraint (or, for an extensible\n"
                  "    /// constraint, fits the storage).\n"
                  "    pub fn zeros(len: usize) -> Option<Self> {\n"
-                 f"        if !{'true' if td.extensible else f'({td.lb}..={td.ub}).contains(&len)'} {{\n            return None;\n        }}\n"
-                 "        uper::Bits::zeros(len).map(Self)\n    }")
+                 + ("" if td.extensible else f"        if !({td.lb}..={td.ub}).contains(&len) {{\n            return None;\n        }}\n")
+                 + "        uper::Bits::zeros(len).map(Self)\n    }")
         s.append("}\n")
         s.append(self.uper_impl(td, f"out.0 = uper::decode_bits(r, Self::SIZE, \"{td.key}\")?;\nOk(())",
                                 "uper::encode_bits(w, Self::SIZE, &self.0)", "Self(uper::Bits::EMPTY)"))
@@ -155,6 +155,8 @@ class Emitter:
         s = [self.doc(td, f"{what} {size_text(td)}"), DERIVE, f"pub struct {td.name}(pub {storage});\n"]
         s.append(f"crate::__newtype_deref!({td.name}, {storage});\n")
         s.append(f"impl {td.name} {{\n    const SIZE: uper::Size = {size_expr(td)};\n{ctor}}}\n")
+        s.append(getattr(self, "extra", ""))
+        self.extra = ""
         dec = (f"uper::{decode_fn}(r, Self::SIZE, \"{td.key}\", &mut out.0)" if decode_fn.endswith("_into")
                else f"out.0 = uper::{decode_fn}(r, Self::SIZE, \"{td.key}\")?;\nOk(())")
         s.append(self.uper_impl(td, dec, f"uper::{encode_fn}(w, Self::SIZE, &self.0)", f"Self({storage.split('<')[0]}::new())"))
@@ -168,7 +170,7 @@ class Emitter:
         cap = self.caps.count(td)
         ctor = ("    /// A copy of `octets` when their number satisfies the SIZE constraint and fits.\n"
                 "    pub fn new(octets: &[u8]) -> Option<Self> {\n"
-                f"        if !{size_check(td, 'octets.len()')} {{\n            return None;\n        }}\n"
+                + size_guard(td, "octets.len()") +
                 "        uper::Octets::from_slice(octets).map(Self)\n    }\n")
         return self.emit_sized(td, "OCTET STRING", f"uper::Octets<{cap}>", "decode_octets_into", "encode_octets", ctor)
 
@@ -177,7 +179,7 @@ class Emitter:
         ctor = ("    /// A copy of `text` when it is 7-bit ASCII, its length satisfies the SIZE\n"
                 "    /// constraint and it fits.\n"
                 "    pub fn new(text: &str) -> Option<Self> {\n"
-                f"        if !{size_check(td, 'text.len()')} {{\n            return None;\n        }}\n"
+                + size_guard(td, "text.len()") +
                 "        uper::Ia5::try_from_str(text).map(Self)\n    }\n")
         return self.emit_sized(td, "IA5String", f"uper::Ia5<{cap}>", "decode_ia5", "encode_ia5", ctor)
 
@@ -186,6 +188,7 @@ class Emitter:
         item = self.rust(td.item, td)
         ctor = ("    /// An empty list (valid for encoding once it holds the minimum number of items).\n"
                 "    pub fn new() -> Self {\n        Self(uper::SeqOf::new())\n    }\n")
+        self.extra = f"impl Default for {td.name} {{\n    fn default() -> Self {{\n        Self::new()\n    }}\n}}\n"
         return self.emit_sized(td, f"SEQUENCE OF {item}", f"uper::SeqOf<{item}, {cap}>", "decode_seq_of_into",
                                "encode_seq_of", ctor)
 
@@ -329,6 +332,9 @@ class Emitter:
                        f"        w.write_open(|w| v.encode_uper(w))\n    }}")
         enc.append("    Self::Unknown { id, content } => {\n        id.encode_uper(w)?;\n"
                    "        uper::encode_unknown_open(w, content)\n    }\n}")
+        if td.key == "MessageFrame.MessageFrame.value":
+            for i, v, r in td.variants:
+                s.append(f"impl crate::frame::Message for {self.rust(r, td)} {{\n    const MESSAGE_ID: u16 = {i};\n}}\n")
         ph = f"Self::Unknown {{ id: <{id_ty} as uper::Placeholder>::placeholder(), content: uper::Octets::new() }}"
         s.append(self.uper_impl(td, "\n".join(dec), "\n".join(enc), ph))
         if td.variants:
@@ -359,12 +365,12 @@ def size_text(td):
     return f"(SIZE({core}{', ...' if td.extensible else ''}))"
 
 
-def size_check(td, expr):
+def size_guard(td, expr):
+    """Lines that return None when `expr` is outside a non-extensible SIZE constraint."""
     if td.extensible:
-        return "true"
-    if td.ub is None:
-        return f"({expr} >= {td.lb})"
-    return f"({td.lb}..={td.ub}).contains(&{expr})"
+        return ""
+    cond = f"{expr} < {td.lb}" if td.ub is None else f"!({td.lb}..={td.ub}).contains(&{expr})"
+    return f"        if {cond} {{\n            return None;\n        }}\n"
 
 
 def indent(text, n):

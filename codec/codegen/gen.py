@@ -12,7 +12,9 @@ Someone holding the SAE ASN.1 files makes the model with
 """
 import argparse
 import os
+import subprocess
 import sys
+import tempfile
 
 here = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, here)
@@ -55,7 +57,7 @@ def render(shared):
         files[naming.module(m) + ".rs"] = em.module_source(m)
     root = [emit.HEADER, "//! The generated J2735 2020 types, one module per ASN.1 module.\n",
             "#![allow(clippy::upper_case_acronyms, clippy::large_enum_variant, clippy::identity_op,\n"
-            "    clippy::needless_borrow, clippy::match_single_binding, missing_docs)]\n"]
+            "    clippy::needless_borrow, clippy::match_single_binding)]\n"]
     for m in mods:
         root.append(f"/// ASN.1 module `{m}`.\n#[allow(non_camel_case_types)]\npub mod {naming.module(m)};")
     root.append("")
@@ -69,7 +71,20 @@ def render(shared):
     unused = caps.unused()
     if unused:
         raise SystemExit(f"capacities.toml names keys that no type has: {unused}")
-    return files
+    return rustfmt(files)
+
+
+def rustfmt(files):
+    """The files as rustfmt (edition 2021, default style) writes them."""
+    with tempfile.TemporaryDirectory() as tmp:
+        paths = []
+        for name, text in files.items():
+            path = os.path.join(tmp, name)
+            with open(path, "w") as f:
+                f.write(text)
+            paths.append(path)
+        subprocess.run(["rustfmt", "--edition", "2021", *paths], check=True)
+        return {name: open(os.path.join(tmp, name)).read() for name in files}
 
 
 def main():

@@ -22,10 +22,11 @@
 
 #[cfg(feature = "alloc")]
 extern crate alloc;
-#[cfg(feature = "std")]
+#[cfg(any(feature = "std", test))]
 extern crate std;
 
 pub mod envelope;
+pub mod frame;
 pub mod uper;
 
 mod generated;

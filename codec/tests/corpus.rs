@@ -23,12 +23,28 @@ fn every_corpus_frame_round_trips_byte_exact() {
             }
             match uper::encode(&*mf, &mut buf) {
                 Ok(n) if &buf[..n] == bytes.as_slice() => {}
-                Ok(n) => failures.push(format!("{name}: re-encoded {n} octets differ from the {}", bytes.len())),
+                Ok(n) => failures.push(format!(
+                    "{name}: re-encoded {n} octets differ from the {}",
+                    bytes.len()
+                )),
                 Err(e) => failures.push(format!("{name}: encode: {e}")),
             }
         }
-        let mode = if cfg!(feature = "alloc") { "alloc" } else { "no-alloc" };
-        println!("{mode}: {}/{} corpus frames round-trip byte-exact", all.len() - failures.len(), all.len());
-        assert!(failures.is_empty(), "{} failures:\n{}", failures.len(), failures.join("\n"));
+        let mode = if cfg!(feature = "alloc") {
+            "alloc"
+        } else {
+            "no-alloc"
+        };
+        println!(
+            "{mode}: {}/{} corpus frames round-trip byte-exact",
+            all.len() - failures.len(),
+            all.len()
+        );
+        assert!(
+            failures.is_empty(),
+            "{} failures:\n{}",
+            failures.len(),
+            failures.join("\n")
+        );
     });
 }

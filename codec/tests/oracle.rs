@@ -12,9 +12,22 @@ use std::process::{Command, Stdio};
 
 fn oracle_python() -> String {
     let setup = common::shared_dir().join("oracle/setup.sh");
-    let out = Command::new("bash").arg(&setup).output().expect("run the oracle setup");
-    assert!(out.status.success(), "oracle setup failed: {}", String::from_utf8_lossy(&out.stderr));
-    String::from_utf8(out.stdout).unwrap().lines().last().unwrap().trim().to_owned()
+    let out = Command::new("bash")
+        .arg(&setup)
+        .output()
+        .expect("run the oracle setup");
+    assert!(
+        out.status.success(),
+        "oracle setup failed: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    String::from_utf8(out.stdout)
+        .unwrap()
+        .lines()
+        .last()
+        .unwrap()
+        .trim()
+        .to_owned()
 }
 
 #[test]
@@ -37,7 +50,12 @@ fn random_frames_agree_with_the_oracle_byte_for_byte() {
         .stdout(Stdio::piped())
         .spawn()
         .expect("start the oracle");
-    child.stdin.take().unwrap().write_all((ours.join("\n") + "\n").as_bytes()).unwrap();
+    child
+        .stdin
+        .take()
+        .unwrap()
+        .write_all((ours.join("\n") + "\n").as_bytes())
+        .unwrap();
     let out = child.wait_with_output().unwrap();
     let theirs: Vec<&str> = std::str::from_utf8(&out.stdout).unwrap().lines().collect();
     assert_eq!(theirs.len(), ours.len(), "the oracle answered every frame");
@@ -48,6 +66,15 @@ fn random_frames_agree_with_the_oracle_byte_for_byte() {
             differ.push(format!("{} #{i}: ours {a}\n  oracle {b}", kinds[i % 4]));
         }
     }
-    println!("{}/{} random frames agree with the oracle", ours.len() - differ.len(), ours.len());
-    assert!(differ.is_empty(), "{} differ:\n{}", differ.len(), differ.join("\n"));
+    println!(
+        "{}/{} random frames agree with the oracle",
+        ours.len() - differ.len(),
+        ours.len()
+    );
+    assert!(
+        differ.is_empty(),
+        "{} differ:\n{}",
+        differ.len(),
+        differ.join("\n")
+    );
 }

@@ -22,13 +22,22 @@ fn vectors() -> Vec<Vector> {
             let v: serde_json::Value = serde_json::from_str(line).unwrap();
             Vector {
                 name: v["name"].as_str().unwrap().to_owned(),
-                covers: v["covers"].as_array().unwrap().iter().map(|c| c.as_str().unwrap().to_owned()).collect(),
+                covers: v["covers"]
+                    .as_array()
+                    .unwrap()
+                    .iter()
+                    .map(|c| c.as_str().unwrap().to_owned())
+                    .collect(),
                 uper: common::from_hex(v["uper"].as_str().unwrap()),
                 message_id: v["jer"]["messageId"].as_i64().unwrap(),
             }
         })
         .collect();
-    assert!(out.len() >= 60, "expected the committed vectors, found {}", out.len());
+    assert!(
+        out.len() >= 60,
+        "expected the committed vectors, found {}",
+        out.len()
+    );
     out
 }
 
@@ -51,9 +60,18 @@ fn oracle_vectors_decode_and_reencode_byte_exact() {
             }
             got.unwrap_or_else(|e| panic!("{}: {e}", v.name));
             assert_eq!(mf.value.id().get() as i64, v.message_id, "{}", v.name);
-            assert!(!matches!(mf.value, MessageFrameValue::Unknown { .. }), "{}: not typed", v.name);
+            assert!(
+                !matches!(mf.value, MessageFrameValue::Unknown { .. }),
+                "{}: not typed",
+                v.name
+            );
             let n = uper::encode(&*mf, &mut buf).unwrap_or_else(|e| panic!("{}: {e}", v.name));
-            assert_eq!(common::to_hex(&buf[..n]), common::to_hex(&v.uper), "{}", v.name);
+            assert_eq!(
+                common::to_hex(&buf[..n]),
+                common::to_hex(&v.uper),
+                "{}",
+                v.name
+            );
             assert_eq!(uper::encoded_len(&*mf).unwrap(), n, "{}: size pass", v.name);
             checked += 1;
         }
@@ -66,18 +84,48 @@ fn vectors_cover_every_message_and_construct() {
     let all = vectors();
     let has = |tag: &str| all.iter().any(|v| v.covers.iter().any(|c| c == tag));
     for id in [18, 19, 20, 21, 22, 23, 24, 25, 26, 27, 28, 29, 30, 31, 32] {
-        assert!(all.iter().any(|v| v.message_id == id), "no vector of message {id}");
+        assert!(
+            all.iter().any(|v| v.message_id == id),
+            "no vector of message {id}"
+        );
     }
     for id in 240..=255 {
-        assert!(all.iter().any(|v| v.message_id == id), "no vector of TestMessage {id}");
+        assert!(
+            all.iter().any(|v| v.message_id == id),
+            "no vector of TestMessage {id}"
+        );
     }
     for tag in [
-        "int:min", "int:max", "int:negative", "enumerated", "choice", "sequence:optional-absent",
-        "sequence:optional-present", "seqof:upper-bound", "bitstring:fixed", "bitstring:extensible-size",
-        "octetstring:fixed", "octetstring:variable", "ia5string", "boolean", "opentype:regional-known",
-        "opentype:regional-unknown", "opentype:length-2byte", "node:node-XY1", "node:node-XY2", "node:node-XY3",
-        "node:node-XY4", "node:node-XY5", "node:node-XY6", "node:node-LatLon", "node:node-LL1", "node:node-LL6",
-        "tim:path-xy", "tim:path-ll", "tim:geometry-circle", "tim:work-zone",
+        "int:min",
+        "int:max",
+        "int:negative",
+        "enumerated",
+        "choice",
+        "sequence:optional-absent",
+        "sequence:optional-present",
+        "seqof:upper-bound",
+        "bitstring:fixed",
+        "bitstring:extensible-size",
+        "octetstring:fixed",
+        "octetstring:variable",
+        "ia5string",
+        "boolean",
+        "opentype:regional-known",
+        "opentype:regional-unknown",
+        "opentype:length-2byte",
+        "node:node-XY1",
+        "node:node-XY2",
+        "node:node-XY3",
+        "node:node-XY4",
+        "node:node-XY5",
+        "node:node-XY6",
+        "node:node-LatLon",
+        "node:node-LL1",
+        "node:node-LL6",
+        "tim:path-xy",
+        "tim:path-ll",
+        "tim:geometry-circle",
+        "tim:work-zone",
     ] {
         assert!(has(tag), "no vector covers {tag}");
     }

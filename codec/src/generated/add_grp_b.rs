@@ -21,7 +21,12 @@ pub struct Position3DAddGrpB {
 
 impl uper::Placeholder for Position3DAddGrpB {
     fn placeholder() -> Self {
-        Self { latitude: <LatitudeDMS2 as uper::Placeholder>::placeholder(), longitude: <LongitudeDMS2 as uper::Placeholder>::placeholder(), elevation: <Elevation as uper::Placeholder>::placeholder(), extensions: uper::Extensions::new() }
+        Self {
+            latitude: <LatitudeDMS2 as uper::Placeholder>::placeholder(),
+            longitude: <LongitudeDMS2 as uper::Placeholder>::placeholder(),
+            elevation: <Elevation as uper::Placeholder>::placeholder(),
+            extensions: uper::Extensions::new(),
+        }
     }
 }
 
@@ -33,7 +38,11 @@ impl Uper for Position3DAddGrpB {
         <LatitudeDMS2>::decode_into(r, &mut out.latitude)?;
         <LongitudeDMS2>::decode_into(r, &mut out.longitude)?;
         <Elevation>::decode_into(r, &mut out.elevation)?;
-        out.extensions = if extended { uper::Extensions::decode(r, "AddGrpB.Position3D-addGrpB:ext")? } else { uper::Extensions::new() };
+        out.extensions = if extended {
+            uper::Extensions::decode(r, "AddGrpB.Position3D-addGrpB:ext")?
+        } else {
+            uper::Extensions::new()
+        };
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -73,7 +82,11 @@ pub struct LatitudeDMS2 {
 
 impl uper::Placeholder for LatitudeDMS2 {
     fn placeholder() -> Self {
-        Self { d: <DegreesLat as uper::Placeholder>::placeholder(), m: <MinutesAngle as uper::Placeholder>::placeholder(), s: <SecondsAngle as uper::Placeholder>::placeholder() }
+        Self {
+            d: <DegreesLat as uper::Placeholder>::placeholder(),
+            m: <MinutesAngle as uper::Placeholder>::placeholder(),
+            s: <SecondsAngle as uper::Placeholder>::placeholder(),
+        }
     }
 }
 
@@ -133,7 +146,11 @@ pub struct LongitudeDMS2 {
 
 impl uper::Placeholder for LongitudeDMS2 {
     fn placeholder() -> Self {
-        Self { d: <DegreesLong as uper::Placeholder>::placeholder(), m: <MinutesAngle as uper::Placeholder>::placeholder(), s: <SecondsAngle as uper::Placeholder>::placeholder() }
+        Self {
+            d: <DegreesLong as uper::Placeholder>::placeholder(),
+            m: <MinutesAngle as uper::Placeholder>::placeholder(),
+            s: <SecondsAngle as uper::Placeholder>::placeholder(),
+        }
     }
 }
 
@@ -203,8 +220,10 @@ impl Uper for NodeOffsetPointXYAddGrpB {
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         if r.read_bit()? {
             let at = r.position();
-            let index = u16::try_from(r.read_normally_small()?).map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at))?;
-            let content = uper::decode_unknown_open(r, "AddGrpB.NodeOffsetPointXY-addGrpB:unknown")?;
+            let index = u16::try_from(r.read_normally_small()?)
+                .map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at))?;
+            let content =
+                uper::decode_unknown_open(r, "AddGrpB.NodeOffsetPointXY-addGrpB:unknown")?;
             *out = Self::Extension { index, content };
             return Ok(());
         }
@@ -212,7 +231,9 @@ impl Uper for NodeOffsetPointXYAddGrpB {
         match r.read_constrained(0, 1)? {
             0 => {
                 if !matches!(out, Self::PosA(_)) {
-                    uper::replace_with(out, || Self::PosA(<NodeLLdms48b as uper::Placeholder>::placeholder()));
+                    uper::replace_with(out, || {
+                        Self::PosA(<NodeLLdms48b as uper::Placeholder>::placeholder())
+                    });
                 }
                 if let Self::PosA(v) = out {
                     <NodeLLdms48b>::decode_into(r, v)?;
@@ -220,20 +241,35 @@ impl Uper for NodeOffsetPointXYAddGrpB {
             }
             1 => {
                 if !matches!(out, Self::PosB(_)) {
-                    uper::replace_with(out, || Self::PosB(<NodeLLdms80b as uper::Placeholder>::placeholder()));
+                    uper::replace_with(out, || {
+                        Self::PosB(<NodeLLdms80b as uper::Placeholder>::placeholder())
+                    });
                 }
                 if let Self::PosB(v) = out {
                     <NodeLLdms80b>::decode_into(r, v)?;
                 }
             }
-            _ => return Err(uper::DecodeError::new(uper::DecodeErrorKind::InvalidChoiceIndex, at)),
+            _ => {
+                return Err(uper::DecodeError::new(
+                    uper::DecodeErrorKind::InvalidChoiceIndex,
+                    at,
+                ))
+            }
         }
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         match self {
-            Self::PosA(v) => { w.write_bit(false)?; w.write_constrained(0, 0, 1)?; v.encode_uper(w) }
-            Self::PosB(v) => { w.write_bit(false)?; w.write_constrained(1, 0, 1)?; v.encode_uper(w) }
+            Self::PosA(v) => {
+                w.write_bit(false)?;
+                w.write_constrained(0, 0, 1)?;
+                v.encode_uper(w)
+            }
+            Self::PosB(v) => {
+                w.write_bit(false)?;
+                w.write_constrained(1, 0, 1)?;
+                v.encode_uper(w)
+            }
             Self::Extension { index, content } => {
                 w.write_bit(true)?;
                 w.write_normally_small(*index as u64)?;
@@ -265,7 +301,10 @@ pub struct NodeLLdms48b {
 
 impl uper::Placeholder for NodeLLdms48b {
     fn placeholder() -> Self {
-        Self { lon: <LongitudeDMS as uper::Placeholder>::placeholder(), lat: <LatitudeDMS as uper::Placeholder>::placeholder() }
+        Self {
+            lon: <LongitudeDMS as uper::Placeholder>::placeholder(),
+            lat: <LatitudeDMS as uper::Placeholder>::placeholder(),
+        }
     }
 }
 
@@ -297,7 +336,13 @@ impl uper::random::Random for NodeLLdms48b {
 /// ASN.1 `LongitudeDMS` (module `AddGrpB`): INTEGER (-64800000..64800000).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub struct LongitudeDMS(i32);
-crate::__constrained_int!(LongitudeDMS, i32, -64800000, 64800000, "AddGrpB.LongitudeDMS");
+crate::__constrained_int!(
+    LongitudeDMS,
+    i32,
+    -64800000,
+    64800000,
+    "AddGrpB.LongitudeDMS"
+);
 
 /// ASN.1 `LatitudeDMS` (module `AddGrpB`): INTEGER (-32400000..32400000).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
@@ -315,7 +360,10 @@ pub struct NodeLLdms80b {
 
 impl uper::Placeholder for NodeLLdms80b {
     fn placeholder() -> Self {
-        Self { lon: <LongitudeDMS2 as uper::Placeholder>::placeholder(), lat: <LatitudeDMS2 as uper::Placeholder>::placeholder() }
+        Self {
+            lon: <LongitudeDMS2 as uper::Placeholder>::placeholder(),
+            lat: <LatitudeDMS2 as uper::Placeholder>::placeholder(),
+        }
     }
 }
 
@@ -353,7 +401,9 @@ pub struct LaneDataAttributeAddGrpB {
 
 impl uper::Placeholder for LaneDataAttributeAddGrpB {
     fn placeholder() -> Self {
-        Self { extensions: uper::Extensions::new() }
+        Self {
+            extensions: uper::Extensions::new(),
+        }
     }
 }
 
@@ -362,7 +412,11 @@ impl Uper for LaneDataAttributeAddGrpB {
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(88), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let extended = r.read_bit()?;
-        out.extensions = if extended { uper::Extensions::decode(r, "AddGrpB.LaneDataAttribute-addGrpB:ext")? } else { uper::Extensions::new() };
+        out.extensions = if extended {
+            uper::Extensions::decode(r, "AddGrpB.LaneDataAttribute-addGrpB:ext")?
+        } else {
+            uper::Extensions::new()
+        };
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -405,7 +459,15 @@ pub struct MovementEventAddGrpB {
 
 impl uper::Placeholder for MovementEventAddGrpB {
     fn placeholder() -> Self {
-        Self { start_time: None, min_end_time: <MinTimetoChange as uper::Placeholder>::placeholder(), max_end_time: None, likely_time: None, confidence: None, next_time: None, extensions: uper::Extensions::new() }
+        Self {
+            start_time: None,
+            min_end_time: <MinTimetoChange as uper::Placeholder>::placeholder(),
+            max_end_time: None,
+            likely_time: None,
+            confidence: None,
+            next_time: None,
+            extensions: uper::Extensions::new(),
+        }
     }
 }
 
@@ -466,12 +528,23 @@ impl Uper for MovementEventAddGrpB {
         } else {
             out.next_time = None;
         }
-        out.extensions = if extended { uper::Extensions::decode(r, "AddGrpB.MovementEvent-addGrpB:ext")? } else { uper::Extensions::new() };
+        out.extensions = if extended {
+            uper::Extensions::decode(r, "AddGrpB.MovementEvent-addGrpB:ext")?
+        } else {
+            uper::Extensions::new()
+        };
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_bit(self.extensions.is_present())?;
-        w.write_bits(((self.start_time.is_some() as u64) << 4) | ((self.max_end_time.is_some() as u64) << 3) | ((self.likely_time.is_some() as u64) << 2) | ((self.confidence.is_some() as u64) << 1) | ((self.next_time.is_some() as u64) << 0), 5)?;
+        w.write_bits(
+            ((self.start_time.is_some() as u64) << 4)
+                | ((self.max_end_time.is_some() as u64) << 3)
+                | ((self.likely_time.is_some() as u64) << 2)
+                | ((self.confidence.is_some() as u64) << 1)
+                | ((self.next_time.is_some() as u64) << 0),
+            5,
+        )?;
         if let Some(v) = &self.start_time {
             v.encode_uper(w)?;
         }
@@ -499,12 +572,32 @@ impl Uper for MovementEventAddGrpB {
 impl uper::random::Random for MovementEventAddGrpB {
     fn random(g: &mut uper::random::Gen) -> Self {
         Self {
-            start_time: if g.coin() { Some(<TimeRemaining as uper::random::Random>::random(g)) } else { None },
+            start_time: if g.coin() {
+                Some(<TimeRemaining as uper::random::Random>::random(g))
+            } else {
+                None
+            },
             min_end_time: <MinTimetoChange as uper::random::Random>::random(g),
-            max_end_time: if g.coin() { Some(<MaxTimetoChange as uper::random::Random>::random(g)) } else { None },
-            likely_time: if g.coin() { Some(<TimeRemaining as uper::random::Random>::random(g)) } else { None },
-            confidence: if g.coin() { Some(<super::spat::TimeIntervalConfidence as uper::random::Random>::random(g)) } else { None },
-            next_time: if g.coin() { Some(<TimeRemaining as uper::random::Random>::random(g)) } else { None },
+            max_end_time: if g.coin() {
+                Some(<MaxTimetoChange as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            likely_time: if g.coin() {
+                Some(<TimeRemaining as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            confidence: if g.coin() {
+                Some(<super::spat::TimeIntervalConfidence as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            next_time: if g.coin() {
+                Some(<TimeRemaining as uper::random::Random>::random(g))
+            } else {
+                None
+            },
             extensions: uper::Extensions::new(),
         }
     }
@@ -558,7 +651,16 @@ pub enum DayOfWeek {
 
 impl DayOfWeek {
     /// Every root value in encoding (ascending number) order.
-    pub const ALL: [Self; 8] = [Self::Unknown, Self::Monday, Self::Tuesday, Self::Wednesday, Self::Thursday, Self::Friday, Self::Saturday, Self::Sunday];
+    pub const ALL: [Self; 8] = [
+        Self::Unknown,
+        Self::Monday,
+        Self::Tuesday,
+        Self::Wednesday,
+        Self::Thursday,
+        Self::Friday,
+        Self::Saturday,
+        Self::Sunday,
+    ];
     /// The ASN.1 number of the value (`None` for an unknown extension value).
     pub const fn number(self) -> Option<i64> {
         match self {
@@ -611,7 +713,13 @@ impl Uper for DayOfWeek {
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let at = r.position();
         let i = r.read_constrained(0, 7)?;
-        *out = Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))?;
+        *out = Self::ALL
+            .get(i as usize)
+            .copied()
+            .ok_or(uper::DecodeError::new(
+                uper::DecodeErrorKind::InvalidEnumIndex,
+                at,
+            ))?;
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -672,7 +780,13 @@ impl Uper for Holiday {
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let at = r.position();
         let i = r.read_constrained(0, 1)?;
-        *out = Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))?;
+        *out = Self::ALL
+            .get(i as usize)
+            .copied()
+            .ok_or(uper::DecodeError::new(
+                uper::DecodeErrorKind::InvalidEnumIndex,
+                at,
+            ))?;
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -758,7 +872,13 @@ impl Uper for SummerTime {
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let at = r.position();
         let i = r.read_constrained(0, 1)?;
-        *out = Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))?;
+        *out = Self::ALL
+            .get(i as usize)
+            .copied()
+            .ok_or(uper::DecodeError::new(
+                uper::DecodeErrorKind::InvalidEnumIndex,
+                at,
+            ))?;
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -810,7 +930,18 @@ pub struct TimeMark {
 
 impl uper::Placeholder for TimeMark {
     fn placeholder() -> Self {
-        Self { year: <Year as uper::Placeholder>::placeholder(), month: <Month as uper::Placeholder>::placeholder(), day: <Day as uper::Placeholder>::placeholder(), summer_time: <SummerTime as uper::Placeholder>::placeholder(), holiday: <Holiday as uper::Placeholder>::placeholder(), dayof_week: <DayOfWeek as uper::Placeholder>::placeholder(), hour: <Hour as uper::Placeholder>::placeholder(), minute: <Minute as uper::Placeholder>::placeholder(), second: <Second as uper::Placeholder>::placeholder(), tenth_second: <TenthSecond as uper::Placeholder>::placeholder() }
+        Self {
+            year: <Year as uper::Placeholder>::placeholder(),
+            month: <Month as uper::Placeholder>::placeholder(),
+            day: <Day as uper::Placeholder>::placeholder(),
+            summer_time: <SummerTime as uper::Placeholder>::placeholder(),
+            holiday: <Holiday as uper::Placeholder>::placeholder(),
+            dayof_week: <DayOfWeek as uper::Placeholder>::placeholder(),
+            hour: <Hour as uper::Placeholder>::placeholder(),
+            minute: <Minute as uper::Placeholder>::placeholder(),
+            second: <Second as uper::Placeholder>::placeholder(),
+            tenth_second: <TenthSecond as uper::Placeholder>::placeholder(),
+        }
     }
 }
 

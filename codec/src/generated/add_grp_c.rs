@@ -17,7 +17,10 @@ pub struct Position3DAddGrpC {
 
 impl uper::Placeholder for Position3DAddGrpC {
     fn placeholder() -> Self {
-        Self { altitude: <Altitude as uper::Placeholder>::placeholder(), extensions: uper::Extensions::new() }
+        Self {
+            altitude: <Altitude as uper::Placeholder>::placeholder(),
+            extensions: uper::Extensions::new(),
+        }
     }
 }
 
@@ -27,7 +30,11 @@ impl Uper for Position3DAddGrpC {
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let extended = r.read_bit()?;
         <Altitude>::decode_into(r, &mut out.altitude)?;
-        out.extensions = if extended { uper::Extensions::decode(r, "AddGrpC.Position3D-addGrpC:ext")? } else { uper::Extensions::new() };
+        out.extensions = if extended {
+            uper::Extensions::decode(r, "AddGrpC.Position3D-addGrpC:ext")?
+        } else {
+            uper::Extensions::new()
+        };
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -61,7 +68,10 @@ pub struct Altitude {
 
 impl uper::Placeholder for Altitude {
     fn placeholder() -> Self {
-        Self { value: <AltitudeValue as uper::Placeholder>::placeholder(), confidence: <AltitudeConfidence as uper::Placeholder>::placeholder() }
+        Self {
+            value: <AltitudeValue as uper::Placeholder>::placeholder(),
+            confidence: <AltitudeConfidence as uper::Placeholder>::placeholder(),
+        }
     }
 }
 
@@ -134,7 +144,24 @@ pub enum AltitudeConfidence {
 
 impl AltitudeConfidence {
     /// Every root value in encoding (ascending number) order.
-    pub const ALL: [Self; 16] = [Self::Alt000_01, Self::Alt000_02, Self::Alt000_05, Self::Alt000_10, Self::Alt000_20, Self::Alt000_50, Self::Alt001_00, Self::Alt002_00, Self::Alt005_00, Self::Alt010_00, Self::Alt020_00, Self::Alt050_00, Self::Alt100_00, Self::Alt200_00, Self::OutOfRange, Self::Unavailable];
+    pub const ALL: [Self; 16] = [
+        Self::Alt000_01,
+        Self::Alt000_02,
+        Self::Alt000_05,
+        Self::Alt000_10,
+        Self::Alt000_20,
+        Self::Alt000_50,
+        Self::Alt001_00,
+        Self::Alt002_00,
+        Self::Alt005_00,
+        Self::Alt010_00,
+        Self::Alt020_00,
+        Self::Alt050_00,
+        Self::Alt100_00,
+        Self::Alt200_00,
+        Self::OutOfRange,
+        Self::Unavailable,
+    ];
     /// The ASN.1 number of the value (`None` for an unknown extension value).
     pub const fn number(self) -> Option<i64> {
         match self {
@@ -211,7 +238,13 @@ impl Uper for AltitudeConfidence {
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let at = r.position();
         let i = r.read_constrained(0, 15)?;
-        *out = Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))?;
+        *out = Self::ALL
+            .get(i as usize)
+            .copied()
+            .ok_or(uper::DecodeError::new(
+                uper::DecodeErrorKind::InvalidEnumIndex,
+                at,
+            ))?;
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -237,7 +270,10 @@ pub struct RestrictionUserTypeAddGrpC {
 
 impl uper::Placeholder for RestrictionUserTypeAddGrpC {
     fn placeholder() -> Self {
-        Self { emission: None, extensions: uper::Extensions::new() }
+        Self {
+            emission: None,
+            extensions: uper::Extensions::new(),
+        }
     }
 }
 
@@ -257,7 +293,11 @@ impl Uper for RestrictionUserTypeAddGrpC {
         } else {
             out.emission = None;
         }
-        out.extensions = if extended { uper::Extensions::decode(r, "AddGrpC.RestrictionUserType-addGrpC:ext")? } else { uper::Extensions::new() };
+        out.extensions = if extended {
+            uper::Extensions::decode(r, "AddGrpC.RestrictionUserType-addGrpC:ext")?
+        } else {
+            uper::Extensions::new()
+        };
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -277,7 +317,11 @@ impl Uper for RestrictionUserTypeAddGrpC {
 impl uper::random::Random for RestrictionUserTypeAddGrpC {
     fn random(g: &mut uper::random::Gen) -> Self {
         Self {
-            emission: if g.coin() { Some(<EmissionType as uper::random::Random>::random(g)) } else { None },
+            emission: if g.coin() {
+                Some(<EmissionType as uper::random::Random>::random(g))
+            } else {
+                None
+            },
             extensions: uper::Extensions::new(),
         }
     }
@@ -302,7 +346,13 @@ pub enum EmissionType {
 
 impl EmissionType {
     /// Every root value in encoding (ascending number) order.
-    pub const ALL: [Self; 5] = [Self::TypeA, Self::TypeB, Self::TypeC, Self::TypeD, Self::TypeE];
+    pub const ALL: [Self; 5] = [
+        Self::TypeA,
+        Self::TypeB,
+        Self::TypeC,
+        Self::TypeD,
+        Self::TypeE,
+    ];
     /// The ASN.1 number of the value (`None` for an unknown extension value).
     pub const fn number(self) -> Option<i64> {
         match self {
@@ -350,12 +400,20 @@ impl Uper for EmissionType {
         if r.read_bit()? {
             let at = r.position();
             let i = r.read_normally_small()?;
-            *out = u16::try_from(i).map(Self::Extension).map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at))?;
+            *out = u16::try_from(i)
+                .map(Self::Extension)
+                .map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at))?;
             return Ok(());
         }
         let at = r.position();
         let i = r.read_constrained(0, 4)?;
-        *out = Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))?;
+        *out = Self::ALL
+            .get(i as usize)
+            .copied()
+            .ok_or(uper::DecodeError::new(
+                uper::DecodeErrorKind::InvalidEnumIndex,
+                at,
+            ))?;
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -386,7 +444,10 @@ pub struct MapDataAddGrpC {
 
 impl uper::Placeholder for MapDataAddGrpC {
     fn placeholder() -> Self {
-        Self { signal_head_locations: None, extensions: uper::Extensions::new() }
+        Self {
+            signal_head_locations: None,
+            extensions: uper::Extensions::new(),
+        }
     }
 }
 
@@ -406,7 +467,11 @@ impl Uper for MapDataAddGrpC {
         } else {
             out.signal_head_locations = None;
         }
-        out.extensions = if extended { uper::Extensions::decode(r, "AddGrpC.MapData-addGrpC:ext")? } else { uper::Extensions::new() };
+        out.extensions = if extended {
+            uper::Extensions::decode(r, "AddGrpC.MapData-addGrpC:ext")?
+        } else {
+            uper::Extensions::new()
+        };
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -426,7 +491,11 @@ impl Uper for MapDataAddGrpC {
 impl uper::random::Random for MapDataAddGrpC {
     fn random(g: &mut uper::random::Gen) -> Self {
         Self {
-            signal_head_locations: if g.coin() { Some(<SignalHeadLocationList as uper::random::Random>::random(g)) } else { None },
+            signal_head_locations: if g.coin() {
+                Some(<SignalHeadLocationList as uper::random::Random>::random(g))
+            } else {
+                None
+            },
             extensions: uper::Extensions::new(),
         }
     }
@@ -443,6 +512,12 @@ impl SignalHeadLocationList {
     /// An empty list (valid for encoding once it holds the minimum number of items).
     pub fn new() -> Self {
         Self(uper::SeqOf::new())
+    }
+}
+
+impl Default for SignalHeadLocationList {
+    fn default() -> Self {
+        Self::new()
     }
 }
 
@@ -468,7 +543,8 @@ impl uper::random::Random for SignalHeadLocationList {
     fn random(g: &mut uper::random::Gen) -> Self {
         let mut v = Self(uper::SeqOf::new());
         for _ in 0..g.count(1, 4) {
-            let _ = v.0.push(<SignalHeadLocation as uper::random::Random>::random(g));
+            let _ =
+                v.0.push(<SignalHeadLocation as uper::random::Random>::random(g));
         }
         v
     }
@@ -487,7 +563,11 @@ pub struct SignalHeadLocation {
 
 impl uper::Placeholder for SignalHeadLocation {
     fn placeholder() -> Self {
-        Self { node: <super::common::NodeOffsetPointXY as uper::Placeholder>::placeholder(), signal_group_id: <super::common::SignalGroupID as uper::Placeholder>::placeholder(), extensions: uper::Extensions::new() }
+        Self {
+            node: <super::common::NodeOffsetPointXY as uper::Placeholder>::placeholder(),
+            signal_group_id: <super::common::SignalGroupID as uper::Placeholder>::placeholder(),
+            extensions: uper::Extensions::new(),
+        }
     }
 }
 
@@ -498,7 +578,11 @@ impl Uper for SignalHeadLocation {
         let extended = r.read_bit()?;
         <super::common::NodeOffsetPointXY>::decode_into(r, &mut out.node)?;
         <super::common::SignalGroupID>::decode_into(r, &mut out.signal_group_id)?;
-        out.extensions = if extended { uper::Extensions::decode(r, "AddGrpC.SignalHeadLocation:ext")? } else { uper::Extensions::new() };
+        out.extensions = if extended {
+            uper::Extensions::decode(r, "AddGrpC.SignalHeadLocation:ext")?
+        } else {
+            uper::Extensions::new()
+        };
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -534,7 +618,11 @@ pub struct ConnectionManeuverAssistAddGrpC {
 
 impl uper::Placeholder for ConnectionManeuverAssistAddGrpC {
     fn placeholder() -> Self {
-        Self { vehicle_to_lane_positions: <VehicleToLanePositionList as uper::Placeholder>::placeholder(), rsu_distance_from_anchor: None }
+        Self {
+            vehicle_to_lane_positions:
+                <VehicleToLanePositionList as uper::Placeholder>::placeholder(),
+            rsu_distance_from_anchor: None,
+        }
     }
 }
 
@@ -570,8 +658,14 @@ impl Uper for ConnectionManeuverAssistAddGrpC {
 impl uper::random::Random for ConnectionManeuverAssistAddGrpC {
     fn random(g: &mut uper::random::Gen) -> Self {
         Self {
-            vehicle_to_lane_positions: <VehicleToLanePositionList as uper::random::Random>::random(g),
-            rsu_distance_from_anchor: if g.coin() { Some(<super::common::NodeOffsetPointXY as uper::random::Random>::random(g)) } else { None },
+            vehicle_to_lane_positions: <VehicleToLanePositionList as uper::random::Random>::random(
+                g,
+            ),
+            rsu_distance_from_anchor: if g.coin() {
+                Some(<super::common::NodeOffsetPointXY as uper::random::Random>::random(g))
+            } else {
+                None
+            },
         }
     }
 }
@@ -590,6 +684,12 @@ impl VehicleToLanePositionList {
     }
 }
 
+impl Default for VehicleToLanePositionList {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
 impl uper::Placeholder for VehicleToLanePositionList {
     fn placeholder() -> Self {
         Self(uper::SeqOf::new())
@@ -600,7 +700,12 @@ impl Uper for VehicleToLanePositionList {
     const PATH: &'static str = "AddGrpC.VehicleToLanePositionList";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(643), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        uper::decode_seq_of_into(r, Self::SIZE, "AddGrpC.VehicleToLanePositionList", &mut out.0)
+        uper::decode_seq_of_into(
+            r,
+            Self::SIZE,
+            "AddGrpC.VehicleToLanePositionList",
+            &mut out.0,
+        )
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
@@ -612,7 +717,8 @@ impl uper::random::Random for VehicleToLanePositionList {
     fn random(g: &mut uper::random::Gen) -> Self {
         let mut v = Self(uper::SeqOf::new());
         for _ in 0..g.count(1, 5) {
-            let _ = v.0.push(<VehicleToLanePosition as uper::random::Random>::random(g));
+            let _ =
+                v.0.push(<VehicleToLanePosition as uper::random::Random>::random(g));
         }
         v
     }
@@ -631,7 +737,11 @@ pub struct VehicleToLanePosition {
 
 impl uper::Placeholder for VehicleToLanePosition {
     fn placeholder() -> Self {
-        Self { station_id: <super::common::StationID as uper::Placeholder>::placeholder(), lane_id: <super::common::LaneID as uper::Placeholder>::placeholder(), extensions: uper::Extensions::new() }
+        Self {
+            station_id: <super::common::StationID as uper::Placeholder>::placeholder(),
+            lane_id: <super::common::LaneID as uper::Placeholder>::placeholder(),
+            extensions: uper::Extensions::new(),
+        }
     }
 }
 
@@ -642,7 +752,11 @@ impl Uper for VehicleToLanePosition {
         let extended = r.read_bit()?;
         <super::common::StationID>::decode_into(r, &mut out.station_id)?;
         <super::common::LaneID>::decode_into(r, &mut out.lane_id)?;
-        out.extensions = if extended { uper::Extensions::decode(r, "AddGrpC.VehicleToLanePosition:ext")? } else { uper::Extensions::new() };
+        out.extensions = if extended {
+            uper::Extensions::decode(r, "AddGrpC.VehicleToLanePosition:ext")?
+        } else {
+            uper::Extensions::new()
+        };
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -678,7 +792,10 @@ pub struct IntersectionStateAddGrpC {
 
 impl uper::Placeholder for IntersectionStateAddGrpC {
     fn placeholder() -> Self {
-        Self { active_prioritizations: None, extensions: uper::Extensions::new() }
+        Self {
+            active_prioritizations: None,
+            extensions: uper::Extensions::new(),
+        }
     }
 }
 
@@ -698,7 +815,11 @@ impl Uper for IntersectionStateAddGrpC {
         } else {
             out.active_prioritizations = None;
         }
-        out.extensions = if extended { uper::Extensions::decode(r, "AddGrpC.IntersectionState-addGrpC:ext")? } else { uper::Extensions::new() };
+        out.extensions = if extended {
+            uper::Extensions::decode(r, "AddGrpC.IntersectionState-addGrpC:ext")?
+        } else {
+            uper::Extensions::new()
+        };
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -718,7 +839,11 @@ impl Uper for IntersectionStateAddGrpC {
 impl uper::random::Random for IntersectionStateAddGrpC {
     fn random(g: &mut uper::random::Gen) -> Self {
         Self {
-            active_prioritizations: if g.coin() { Some(<PrioritizationResponseList as uper::random::Random>::random(g)) } else { None },
+            active_prioritizations: if g.coin() {
+                Some(<PrioritizationResponseList as uper::random::Random>::random(g))
+            } else {
+                None
+            },
             extensions: uper::Extensions::new(),
         }
     }
@@ -738,6 +863,12 @@ impl PrioritizationResponseList {
     }
 }
 
+impl Default for PrioritizationResponseList {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
 impl uper::Placeholder for PrioritizationResponseList {
     fn placeholder() -> Self {
         Self(uper::SeqOf::new())
@@ -748,7 +879,12 @@ impl Uper for PrioritizationResponseList {
     const PATH: &'static str = "AddGrpC.PrioritizationResponseList";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(620), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        uper::decode_seq_of_into(r, Self::SIZE, "AddGrpC.PrioritizationResponseList", &mut out.0)
+        uper::decode_seq_of_into(
+            r,
+            Self::SIZE,
+            "AddGrpC.PrioritizationResponseList",
+            &mut out.0,
+        )
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
@@ -760,7 +896,8 @@ impl uper::random::Random for PrioritizationResponseList {
     fn random(g: &mut uper::random::Gen) -> Self {
         let mut v = Self(uper::SeqOf::new());
         for _ in 0..g.count(1, 4) {
-            let _ = v.0.push(<PrioritizationResponse as uper::random::Random>::random(g));
+            let _ =
+                v.0.push(<PrioritizationResponse as uper::random::Random>::random(g));
         }
         v
     }
@@ -781,7 +918,13 @@ pub struct PrioritizationResponse {
 
 impl uper::Placeholder for PrioritizationResponse {
     fn placeholder() -> Self {
-        Self { station_id: <super::common::StationID as uper::Placeholder>::placeholder(), prior_state: <super::common::PrioritizationResponseStatus as uper::Placeholder>::placeholder(), signal_group: <super::common::SignalGroupID as uper::Placeholder>::placeholder(), extensions: uper::Extensions::new() }
+        Self {
+            station_id: <super::common::StationID as uper::Placeholder>::placeholder(),
+            prior_state:
+                <super::common::PrioritizationResponseStatus as uper::Placeholder>::placeholder(),
+            signal_group: <super::common::SignalGroupID as uper::Placeholder>::placeholder(),
+            extensions: uper::Extensions::new(),
+        }
     }
 }
 
@@ -793,7 +936,11 @@ impl Uper for PrioritizationResponse {
         <super::common::StationID>::decode_into(r, &mut out.station_id)?;
         <super::common::PrioritizationResponseStatus>::decode_into(r, &mut out.prior_state)?;
         <super::common::SignalGroupID>::decode_into(r, &mut out.signal_group)?;
-        out.extensions = if extended { uper::Extensions::decode(r, "AddGrpC.PrioritizationResponse:ext")? } else { uper::Extensions::new() };
+        out.extensions = if extended {
+            uper::Extensions::decode(r, "AddGrpC.PrioritizationResponse:ext")?
+        } else {
+            uper::Extensions::new()
+        };
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -813,7 +960,8 @@ impl uper::random::Random for PrioritizationResponse {
     fn random(g: &mut uper::random::Gen) -> Self {
         Self {
             station_id: <super::common::StationID as uper::random::Random>::random(g),
-            prior_state: <super::common::PrioritizationResponseStatus as uper::random::Random>::random(g),
+            prior_state:
+                <super::common::PrioritizationResponseStatus as uper::random::Random>::random(g),
             signal_group: <super::common::SignalGroupID as uper::random::Random>::random(g),
             extensions: uper::Extensions::new(),
         }

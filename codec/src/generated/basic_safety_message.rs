@@ -21,7 +21,12 @@ pub struct BasicSafetyMessage {
 
 impl uper::Placeholder for BasicSafetyMessage {
     fn placeholder() -> Self {
-        Self { core_data: <super::common::BSMcoreData as uper::Placeholder>::placeholder(), part_ii: None, regional: None, extensions: uper::Extensions::new() }
+        Self {
+            core_data: <super::common::BSMcoreData as uper::Placeholder>::placeholder(),
+            part_ii: None,
+            regional: None,
+            extensions: uper::Extensions::new(),
+        }
     }
 }
 
@@ -52,12 +57,19 @@ impl Uper for BasicSafetyMessage {
         } else {
             out.regional = None;
         }
-        out.extensions = if extended { uper::Extensions::decode(r, "BasicSafetyMessage.BasicSafetyMessage:ext")? } else { uper::Extensions::new() };
+        out.extensions = if extended {
+            uper::Extensions::decode(r, "BasicSafetyMessage.BasicSafetyMessage:ext")?
+        } else {
+            uper::Extensions::new()
+        };
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_bit(self.extensions.is_present())?;
-        w.write_bits(((self.part_ii.is_some() as u64) << 1) | ((self.regional.is_some() as u64) << 0), 2)?;
+        w.write_bits(
+            ((self.part_ii.is_some() as u64) << 1) | ((self.regional.is_some() as u64) << 0),
+            2,
+        )?;
         self.core_data.encode_uper(w)?;
         if let Some(v) = &self.part_ii {
             v.encode_uper(w)?;
@@ -77,8 +89,18 @@ impl uper::random::Random for BasicSafetyMessage {
     fn random(g: &mut uper::random::Gen) -> Self {
         Self {
             core_data: <super::common::BSMcoreData as uper::random::Random>::random(g),
-            part_ii: if g.coin() { Some(<BasicSafetyMessagePartII as uper::random::Random>::random(g)) } else { None },
-            regional: if g.coin() { Some(<BasicSafetyMessageRegional as uper::random::Random>::random(g)) } else { None },
+            part_ii: if g.coin() {
+                Some(<BasicSafetyMessagePartII as uper::random::Random>::random(
+                    g,
+                ))
+            } else {
+                None
+            },
+            regional: if g.coin() {
+                Some(<BasicSafetyMessageRegional as uper::random::Random>::random(g))
+            } else {
+                None
+            },
             extensions: uper::Extensions::new(),
         }
     }
@@ -98,6 +120,12 @@ impl BasicSafetyMessagePartII {
     }
 }
 
+impl Default for BasicSafetyMessagePartII {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
 impl uper::Placeholder for BasicSafetyMessagePartII {
     fn placeholder() -> Self {
         Self(uper::SeqOf::new())
@@ -108,7 +136,12 @@ impl Uper for BasicSafetyMessagePartII {
     const PATH: &'static str = "BasicSafetyMessage.BasicSafetyMessage.partII";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(341491), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        uper::decode_seq_of_into(r, Self::SIZE, "BasicSafetyMessage.BasicSafetyMessage.partII", &mut out.0)
+        uper::decode_seq_of_into(
+            r,
+            Self::SIZE,
+            "BasicSafetyMessage.BasicSafetyMessage.partII",
+            &mut out.0,
+        )
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
@@ -146,7 +179,12 @@ pub struct SpecialVehicleExtensions {
 
 impl uper::Placeholder for SpecialVehicleExtensions {
     fn placeholder() -> Self {
-        Self { vehicle_alerts: None, description: None, trailers: None, extensions: uper::Extensions::new() }
+        Self {
+            vehicle_alerts: None,
+            description: None,
+            trailers: None,
+            extensions: uper::Extensions::new(),
+        }
     }
 }
 
@@ -186,12 +224,21 @@ impl Uper for SpecialVehicleExtensions {
         } else {
             out.trailers = None;
         }
-        out.extensions = if extended { uper::Extensions::decode(r, "BasicSafetyMessage.SpecialVehicleExtensions:ext")? } else { uper::Extensions::new() };
+        out.extensions = if extended {
+            uper::Extensions::decode(r, "BasicSafetyMessage.SpecialVehicleExtensions:ext")?
+        } else {
+            uper::Extensions::new()
+        };
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_bit(self.extensions.is_present())?;
-        w.write_bits(((self.vehicle_alerts.is_some() as u64) << 2) | ((self.description.is_some() as u64) << 1) | ((self.trailers.is_some() as u64) << 0), 3)?;
+        w.write_bits(
+            ((self.vehicle_alerts.is_some() as u64) << 2)
+                | ((self.description.is_some() as u64) << 1)
+                | ((self.trailers.is_some() as u64) << 0),
+            3,
+        )?;
         if let Some(v) = &self.vehicle_alerts {
             v.encode_uper(w)?;
         }
@@ -212,9 +259,21 @@ impl Uper for SpecialVehicleExtensions {
 impl uper::random::Random for SpecialVehicleExtensions {
     fn random(g: &mut uper::random::Gen) -> Self {
         Self {
-            vehicle_alerts: if g.coin() { Some(<super::common::EmergencyDetails as uper::random::Random>::random(g)) } else { None },
-            description: if g.coin() { Some(<EventDescription as uper::random::Random>::random(g)) } else { None },
-            trailers: if g.coin() { Some(<TrailerData as uper::random::Random>::random(g)) } else { None },
+            vehicle_alerts: if g.coin() {
+                Some(<super::common::EmergencyDetails as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            description: if g.coin() {
+                Some(<EventDescription as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            trailers: if g.coin() {
+                Some(<TrailerData as uper::random::Random>::random(g))
+            } else {
+                None
+            },
             extensions: uper::Extensions::new(),
         }
     }
@@ -241,7 +300,15 @@ pub struct EventDescription {
 
 impl uper::Placeholder for EventDescription {
     fn placeholder() -> Self {
-        Self { type_event: <super::itis::ITIScodes as uper::Placeholder>::placeholder(), description: None, priority: None, heading: None, extent: None, regional: None, extensions: uper::Extensions::new() }
+        Self {
+            type_event: <super::itis::ITIScodes as uper::Placeholder>::placeholder(),
+            description: None,
+            priority: None,
+            heading: None,
+            extent: None,
+            regional: None,
+            extensions: uper::Extensions::new(),
+        }
     }
 }
 
@@ -302,12 +369,23 @@ impl Uper for EventDescription {
         } else {
             out.regional = None;
         }
-        out.extensions = if extended { uper::Extensions::decode(r, "BasicSafetyMessage.EventDescription:ext")? } else { uper::Extensions::new() };
+        out.extensions = if extended {
+            uper::Extensions::decode(r, "BasicSafetyMessage.EventDescription:ext")?
+        } else {
+            uper::Extensions::new()
+        };
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_bit(self.extensions.is_present())?;
-        w.write_bits(((self.description.is_some() as u64) << 4) | ((self.priority.is_some() as u64) << 3) | ((self.heading.is_some() as u64) << 2) | ((self.extent.is_some() as u64) << 1) | ((self.regional.is_some() as u64) << 0), 5)?;
+        w.write_bits(
+            ((self.description.is_some() as u64) << 4)
+                | ((self.priority.is_some() as u64) << 3)
+                | ((self.heading.is_some() as u64) << 2)
+                | ((self.extent.is_some() as u64) << 1)
+                | ((self.regional.is_some() as u64) << 0),
+            5,
+        )?;
         self.type_event.encode_uper(w)?;
         if let Some(v) = &self.description {
             v.encode_uper(w)?;
@@ -336,11 +414,33 @@ impl uper::random::Random for EventDescription {
     fn random(g: &mut uper::random::Gen) -> Self {
         Self {
             type_event: <super::itis::ITIScodes as uper::random::Random>::random(g),
-            description: if g.coin() { Some(<EventDescriptionDescription as uper::random::Random>::random(g)) } else { None },
-            priority: if g.coin() { Some(<super::common::Priority as uper::random::Random>::random(g)) } else { None },
-            heading: if g.coin() { Some(<super::common::HeadingSlice as uper::random::Random>::random(g)) } else { None },
-            extent: if g.coin() { Some(<super::common::Extent as uper::random::Random>::random(g)) } else { None },
-            regional: if g.coin() { Some(<EventDescriptionRegional as uper::random::Random>::random(g)) } else { None },
+            description: if g.coin() {
+                Some(<EventDescriptionDescription as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            priority: if g.coin() {
+                Some(<super::common::Priority as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            heading: if g.coin() {
+                Some(<super::common::HeadingSlice as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            extent: if g.coin() {
+                Some(<super::common::Extent as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            regional: if g.coin() {
+                Some(<EventDescriptionRegional as uper::random::Random>::random(
+                    g,
+                ))
+            } else {
+                None
+            },
             extensions: uper::Extensions::new(),
         }
     }
@@ -360,6 +460,12 @@ impl EventDescriptionDescription {
     }
 }
 
+impl Default for EventDescriptionDescription {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
 impl uper::Placeholder for EventDescriptionDescription {
     fn placeholder() -> Self {
         Self(uper::SeqOf::new())
@@ -370,7 +476,12 @@ impl Uper for EventDescriptionDescription {
     const PATH: &'static str = "BasicSafetyMessage.EventDescription.description";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(67), Some(131));
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        uper::decode_seq_of_into(r, Self::SIZE, "BasicSafetyMessage.EventDescription.description", &mut out.0)
+        uper::decode_seq_of_into(
+            r,
+            Self::SIZE,
+            "BasicSafetyMessage.EventDescription.description",
+            &mut out.0,
+        )
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
@@ -382,7 +493,8 @@ impl uper::random::Random for EventDescriptionDescription {
     fn random(g: &mut uper::random::Gen) -> Self {
         let mut v = Self(uper::SeqOf::new());
         for _ in 0..g.count(1, 4) {
-            let _ = v.0.push(<super::itis::ITIScodes as uper::random::Random>::random(g));
+            let _ =
+                v.0.push(<super::itis::ITIScodes as uper::random::Random>::random(g));
         }
         v
     }
@@ -402,6 +514,12 @@ impl EventDescriptionRegional {
     }
 }
 
+impl Default for EventDescriptionRegional {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
 impl uper::Placeholder for EventDescriptionRegional {
     fn placeholder() -> Self {
         Self(uper::SeqOf::new())
@@ -412,7 +530,12 @@ impl Uper for EventDescriptionRegional {
     const PATH: &'static str = "BasicSafetyMessage.EventDescription.regional";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(146), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        uper::decode_seq_of_into(r, Self::SIZE, "BasicSafetyMessage.EventDescription.regional", &mut out.0)
+        uper::decode_seq_of_into(
+            r,
+            Self::SIZE,
+            "BasicSafetyMessage.EventDescription.regional",
+            &mut out.0,
+        )
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
@@ -424,7 +547,8 @@ impl uper::random::Random for EventDescriptionRegional {
     fn random(g: &mut uper::random::Gen) -> Self {
         let mut v = Self(uper::SeqOf::new());
         for _ in 0..g.count(1, 1) {
-            let _ = v.0.push(<RegEventDescription as uper::random::Random>::random(g));
+            let _ =
+                v.0.push(<RegEventDescription as uper::random::Random>::random(g));
         }
         v
     }
@@ -453,7 +577,10 @@ impl RegEventDescription {
 
 impl uper::Placeholder for RegEventDescription {
     fn placeholder() -> Self {
-        Self::Unknown { id: <super::common::RegionId as uper::Placeholder>::placeholder(), content: uper::Octets::new() }
+        Self::Unknown {
+            id: <super::common::RegionId as uper::Placeholder>::placeholder(),
+            content: uper::Octets::new(),
+        }
     }
 }
 
@@ -463,7 +590,15 @@ impl Uper for RegEventDescription {
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let id = <super::common::RegionId>::decode_uper(r)?;
         match id.get() {
-            _ => *out = Self::Unknown { id, content: uper::decode_unknown_open(r, "BasicSafetyMessage.RegEventDescription:unknown")? },
+            _ => {
+                *out = Self::Unknown {
+                    id,
+                    content: uper::decode_unknown_open(
+                        r,
+                        "BasicSafetyMessage.RegEventDescription:unknown",
+                    )?,
+                }
+            }
         }
         Ok(())
     }
@@ -484,7 +619,10 @@ impl uper::random::Random for RegEventDescription {
         for _ in 0..1 + g.below(4) {
             let _ = content.push(g.octet());
         }
-        Self::Unknown { id: <super::common::RegionId as uper::random::Random>::random(g), content }
+        Self::Unknown {
+            id: <super::common::RegionId as uper::random::Random>::random(g),
+            content,
+        }
     }
 }
 
@@ -503,7 +641,12 @@ pub struct TrailerData {
 
 impl uper::Placeholder for TrailerData {
     fn placeholder() -> Self {
-        Self { not_used: <super::common::SSPindex as uper::Placeholder>::placeholder(), connection: <PivotPointDescription as uper::Placeholder>::placeholder(), units: <TrailerUnitDescriptionList as uper::Placeholder>::placeholder(), extensions: uper::Extensions::new() }
+        Self {
+            not_used: <super::common::SSPindex as uper::Placeholder>::placeholder(),
+            connection: <PivotPointDescription as uper::Placeholder>::placeholder(),
+            units: <TrailerUnitDescriptionList as uper::Placeholder>::placeholder(),
+            extensions: uper::Extensions::new(),
+        }
     }
 }
 
@@ -515,7 +658,11 @@ impl Uper for TrailerData {
         <super::common::SSPindex>::decode_into(r, &mut out.not_used)?;
         <PivotPointDescription>::decode_into(r, &mut out.connection)?;
         <TrailerUnitDescriptionList>::decode_into(r, &mut out.units)?;
-        out.extensions = if extended { uper::Extensions::decode(r, "BasicSafetyMessage.TrailerData:ext")? } else { uper::Extensions::new() };
+        out.extensions = if extended {
+            uper::Extensions::decode(r, "BasicSafetyMessage.TrailerData:ext")?
+        } else {
+            uper::Extensions::new()
+        };
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -557,7 +704,12 @@ pub struct PivotPointDescription {
 
 impl uper::Placeholder for PivotPointDescription {
     fn placeholder() -> Self {
-        Self { pivot_offset: <super::common::OffsetB11 as uper::Placeholder>::placeholder(), pivot_angle: <super::common::Angle as uper::Placeholder>::placeholder(), pivots: <PivotingAllowed as uper::Placeholder>::placeholder(), extensions: uper::Extensions::new() }
+        Self {
+            pivot_offset: <super::common::OffsetB11 as uper::Placeholder>::placeholder(),
+            pivot_angle: <super::common::Angle as uper::Placeholder>::placeholder(),
+            pivots: <PivotingAllowed as uper::Placeholder>::placeholder(),
+            extensions: uper::Extensions::new(),
+        }
     }
 }
 
@@ -569,7 +721,11 @@ impl Uper for PivotPointDescription {
         <super::common::OffsetB11>::decode_into(r, &mut out.pivot_offset)?;
         <super::common::Angle>::decode_into(r, &mut out.pivot_angle)?;
         <PivotingAllowed>::decode_into(r, &mut out.pivots)?;
-        out.extensions = if extended { uper::Extensions::decode(r, "BasicSafetyMessage.PivotPointDescription:ext")? } else { uper::Extensions::new() };
+        out.extensions = if extended {
+            uper::Extensions::decode(r, "BasicSafetyMessage.PivotPointDescription:ext")?
+        } else {
+            uper::Extensions::new()
+        };
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -613,6 +769,12 @@ impl TrailerUnitDescriptionList {
     }
 }
 
+impl Default for TrailerUnitDescriptionList {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
 impl uper::Placeholder for TrailerUnitDescriptionList {
     fn placeholder() -> Self {
         Self(uper::SeqOf::new())
@@ -623,7 +785,12 @@ impl Uper for TrailerUnitDescriptionList {
     const PATH: &'static str = "BasicSafetyMessage.TrailerUnitDescriptionList";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(4295), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        uper::decode_seq_of_into(r, Self::SIZE, "BasicSafetyMessage.TrailerUnitDescriptionList", &mut out.0)
+        uper::decode_seq_of_into(
+            r,
+            Self::SIZE,
+            "BasicSafetyMessage.TrailerUnitDescriptionList",
+            &mut out.0,
+        )
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
@@ -635,7 +802,8 @@ impl uper::random::Random for TrailerUnitDescriptionList {
     fn random(g: &mut uper::random::Gen) -> Self {
         let mut v = Self(uper::SeqOf::new());
         for _ in 0..g.count(1, 4) {
-            let _ = v.0.push(<TrailerUnitDescription as uper::random::Random>::random(g));
+            let _ =
+                v.0.push(<TrailerUnitDescription as uper::random::Random>::random(g));
         }
         v
     }
@@ -676,7 +844,22 @@ pub struct TrailerUnitDescription {
 
 impl uper::Placeholder for TrailerUnitDescription {
     fn placeholder() -> Self {
-        Self { is_dolly: <IsDolly as uper::Placeholder>::placeholder(), width: <super::common::VehicleWidth as uper::Placeholder>::placeholder(), length: <super::common::VehicleLength as uper::Placeholder>::placeholder(), height: None, mass: None, bumper_heights: None, center_of_gravity: None, front_pivot: <PivotPointDescription as uper::Placeholder>::placeholder(), rear_pivot: None, rear_wheel_offset: None, position_offset: <super::common::NodeXY24b as uper::Placeholder>::placeholder(), elevation_offset: None, crumb_data: None, extensions: uper::Extensions::new() }
+        Self {
+            is_dolly: <IsDolly as uper::Placeholder>::placeholder(),
+            width: <super::common::VehicleWidth as uper::Placeholder>::placeholder(),
+            length: <super::common::VehicleLength as uper::Placeholder>::placeholder(),
+            height: None,
+            mass: None,
+            bumper_heights: None,
+            center_of_gravity: None,
+            front_pivot: <PivotPointDescription as uper::Placeholder>::placeholder(),
+            rear_pivot: None,
+            rear_wheel_offset: None,
+            position_offset: <super::common::NodeXY24b as uper::Placeholder>::placeholder(),
+            elevation_offset: None,
+            crumb_data: None,
+            extensions: uper::Extensions::new(),
+        }
     }
 }
 
@@ -771,12 +954,26 @@ impl Uper for TrailerUnitDescription {
         } else {
             out.crumb_data = None;
         }
-        out.extensions = if extended { uper::Extensions::decode(r, "BasicSafetyMessage.TrailerUnitDescription:ext")? } else { uper::Extensions::new() };
+        out.extensions = if extended {
+            uper::Extensions::decode(r, "BasicSafetyMessage.TrailerUnitDescription:ext")?
+        } else {
+            uper::Extensions::new()
+        };
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_bit(self.extensions.is_present())?;
-        w.write_bits(((self.height.is_some() as u64) << 7) | ((self.mass.is_some() as u64) << 6) | ((self.bumper_heights.is_some() as u64) << 5) | ((self.center_of_gravity.is_some() as u64) << 4) | ((self.rear_pivot.is_some() as u64) << 3) | ((self.rear_wheel_offset.is_some() as u64) << 2) | ((self.elevation_offset.is_some() as u64) << 1) | ((self.crumb_data.is_some() as u64) << 0), 8)?;
+        w.write_bits(
+            ((self.height.is_some() as u64) << 7)
+                | ((self.mass.is_some() as u64) << 6)
+                | ((self.bumper_heights.is_some() as u64) << 5)
+                | ((self.center_of_gravity.is_some() as u64) << 4)
+                | ((self.rear_pivot.is_some() as u64) << 3)
+                | ((self.rear_wheel_offset.is_some() as u64) << 2)
+                | ((self.elevation_offset.is_some() as u64) << 1)
+                | ((self.crumb_data.is_some() as u64) << 0),
+            8,
+        )?;
         self.is_dolly.encode_uper(w)?;
         self.width.encode_uper(w)?;
         self.length.encode_uper(w)?;
@@ -820,16 +1017,50 @@ impl uper::random::Random for TrailerUnitDescription {
             is_dolly: <IsDolly as uper::random::Random>::random(g),
             width: <super::common::VehicleWidth as uper::random::Random>::random(g),
             length: <super::common::VehicleLength as uper::random::Random>::random(g),
-            height: if g.coin() { Some(<super::common::VehicleHeight as uper::random::Random>::random(g)) } else { None },
-            mass: if g.coin() { Some(<TrailerMass as uper::random::Random>::random(g)) } else { None },
-            bumper_heights: if g.coin() { Some(<super::common::BumperHeights as uper::random::Random>::random(g)) } else { None },
-            center_of_gravity: if g.coin() { Some(<super::common::VehicleHeight as uper::random::Random>::random(g)) } else { None },
+            height: if g.coin() {
+                Some(<super::common::VehicleHeight as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            mass: if g.coin() {
+                Some(<TrailerMass as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            bumper_heights: if g.coin() {
+                Some(<super::common::BumperHeights as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            center_of_gravity: if g.coin() {
+                Some(<super::common::VehicleHeight as uper::random::Random>::random(g))
+            } else {
+                None
+            },
             front_pivot: <PivotPointDescription as uper::random::Random>::random(g),
-            rear_pivot: if g.coin() { Some(<PivotPointDescription as uper::random::Random>::random(g)) } else { None },
-            rear_wheel_offset: if g.coin() { Some(<super::common::OffsetB12 as uper::random::Random>::random(g)) } else { None },
+            rear_pivot: if g.coin() {
+                Some(<PivotPointDescription as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            rear_wheel_offset: if g.coin() {
+                Some(<super::common::OffsetB12 as uper::random::Random>::random(
+                    g,
+                ))
+            } else {
+                None
+            },
             position_offset: <super::common::NodeXY24b as uper::random::Random>::random(g),
-            elevation_offset: if g.coin() { Some(<VertOffsetB07 as uper::random::Random>::random(g)) } else { None },
-            crumb_data: if g.coin() { Some(<TrailerHistoryPointList as uper::random::Random>::random(g)) } else { None },
+            elevation_offset: if g.coin() {
+                Some(<VertOffsetB07 as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            crumb_data: if g.coin() {
+                Some(<TrailerHistoryPointList as uper::random::Random>::random(g))
+            } else {
+                None
+            },
             extensions: uper::Extensions::new(),
         }
     }
@@ -846,7 +1077,13 @@ crate::__constrained_int!(TrailerMass, u8, 0, 255, "BasicSafetyMessage.TrailerMa
 /// ASN.1 `VertOffset-B07` (module `BasicSafetyMessage`): INTEGER (-64..63).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub struct VertOffsetB07(i8);
-crate::__constrained_int!(VertOffsetB07, i8, -64, 63, "BasicSafetyMessage.VertOffset-B07");
+crate::__constrained_int!(
+    VertOffsetB07,
+    i8,
+    -64,
+    63,
+    "BasicSafetyMessage.VertOffset-B07"
+);
 
 /// ASN.1 `TrailerHistoryPointList` (module `BasicSafetyMessage`): SEQUENCE OF TrailerHistoryPoint (SIZE(1..23)).
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
@@ -862,6 +1099,12 @@ impl TrailerHistoryPointList {
     }
 }
 
+impl Default for TrailerHistoryPointList {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
 impl uper::Placeholder for TrailerHistoryPointList {
     fn placeholder() -> Self {
         Self(uper::SeqOf::new())
@@ -872,7 +1115,12 @@ impl Uper for TrailerHistoryPointList {
     const PATH: &'static str = "BasicSafetyMessage.TrailerHistoryPointList";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(645), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        uper::decode_seq_of_into(r, Self::SIZE, "BasicSafetyMessage.TrailerHistoryPointList", &mut out.0)
+        uper::decode_seq_of_into(
+            r,
+            Self::SIZE,
+            "BasicSafetyMessage.TrailerHistoryPointList",
+            &mut out.0,
+        )
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
@@ -884,7 +1132,8 @@ impl uper::random::Random for TrailerHistoryPointList {
     fn random(g: &mut uper::random::Gen) -> Self {
         let mut v = Self(uper::SeqOf::new());
         for _ in 0..g.count(1, 4) {
-            let _ = v.0.push(<TrailerHistoryPoint as uper::random::Random>::random(g));
+            let _ =
+                v.0.push(<TrailerHistoryPoint as uper::random::Random>::random(g));
         }
         v
     }
@@ -909,7 +1158,14 @@ pub struct TrailerHistoryPoint {
 
 impl uper::Placeholder for TrailerHistoryPoint {
     fn placeholder() -> Self {
-        Self { pivot_angle: <super::common::Angle as uper::Placeholder>::placeholder(), time_offset: <super::common::TimeOffset as uper::Placeholder>::placeholder(), position_offset: <super::common::NodeXY24b as uper::Placeholder>::placeholder(), elevation_offset: None, heading: None, extensions: uper::Extensions::new() }
+        Self {
+            pivot_angle: <super::common::Angle as uper::Placeholder>::placeholder(),
+            time_offset: <super::common::TimeOffset as uper::Placeholder>::placeholder(),
+            position_offset: <super::common::NodeXY24b as uper::Placeholder>::placeholder(),
+            elevation_offset: None,
+            heading: None,
+            extensions: uper::Extensions::new(),
+        }
     }
 }
 
@@ -942,12 +1198,20 @@ impl Uper for TrailerHistoryPoint {
         } else {
             out.heading = None;
         }
-        out.extensions = if extended { uper::Extensions::decode(r, "BasicSafetyMessage.TrailerHistoryPoint:ext")? } else { uper::Extensions::new() };
+        out.extensions = if extended {
+            uper::Extensions::decode(r, "BasicSafetyMessage.TrailerHistoryPoint:ext")?
+        } else {
+            uper::Extensions::new()
+        };
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_bit(self.extensions.is_present())?;
-        w.write_bits(((self.elevation_offset.is_some() as u64) << 1) | ((self.heading.is_some() as u64) << 0), 2)?;
+        w.write_bits(
+            ((self.elevation_offset.is_some() as u64) << 1)
+                | ((self.heading.is_some() as u64) << 0),
+            2,
+        )?;
         self.pivot_angle.encode_uper(w)?;
         self.time_offset.encode_uper(w)?;
         self.position_offset.encode_uper(w)?;
@@ -971,8 +1235,16 @@ impl uper::random::Random for TrailerHistoryPoint {
             pivot_angle: <super::common::Angle as uper::random::Random>::random(g),
             time_offset: <super::common::TimeOffset as uper::random::Random>::random(g),
             position_offset: <super::common::NodeXY24b as uper::random::Random>::random(g),
-            elevation_offset: if g.coin() { Some(<VertOffsetB07 as uper::random::Random>::random(g)) } else { None },
-            heading: if g.coin() { Some(<super::common::CoarseHeading as uper::random::Random>::random(g)) } else { None },
+            elevation_offset: if g.coin() {
+                Some(<VertOffsetB07 as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            heading: if g.coin() {
+                Some(<super::common::CoarseHeading as uper::random::Random>::random(g))
+            } else {
+                None
+            },
             extensions: uper::Extensions::new(),
         }
     }
@@ -1007,7 +1279,19 @@ pub struct SupplementalVehicleExtensions {
 
 impl uper::Placeholder for SupplementalVehicleExtensions {
     fn placeholder() -> Self {
-        Self { classification: None, class_details: None, vehicle_data: None, weather_report: None, weather_probe: None, obstacle: None, status: None, speed_profile: None, the_rtcm: None, regional: None, extensions: uper::Extensions::new() }
+        Self {
+            classification: None,
+            class_details: None,
+            vehicle_data: None,
+            weather_report: None,
+            weather_probe: None,
+            obstacle: None,
+            status: None,
+            speed_profile: None,
+            the_rtcm: None,
+            regional: None,
+            extensions: uper::Extensions::new(),
+        }
     }
 }
 
@@ -1117,12 +1401,28 @@ impl Uper for SupplementalVehicleExtensions {
         } else {
             out.regional = None;
         }
-        out.extensions = if extended { uper::Extensions::decode(r, "BasicSafetyMessage.SupplementalVehicleExtensions:ext")? } else { uper::Extensions::new() };
+        out.extensions = if extended {
+            uper::Extensions::decode(r, "BasicSafetyMessage.SupplementalVehicleExtensions:ext")?
+        } else {
+            uper::Extensions::new()
+        };
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_bit(self.extensions.is_present())?;
-        w.write_bits(((self.classification.is_some() as u64) << 9) | ((self.class_details.is_some() as u64) << 8) | ((self.vehicle_data.is_some() as u64) << 7) | ((self.weather_report.is_some() as u64) << 6) | ((self.weather_probe.is_some() as u64) << 5) | ((self.obstacle.is_some() as u64) << 4) | ((self.status.is_some() as u64) << 3) | ((self.speed_profile.is_some() as u64) << 2) | ((self.the_rtcm.is_some() as u64) << 1) | ((self.regional.is_some() as u64) << 0), 10)?;
+        w.write_bits(
+            ((self.classification.is_some() as u64) << 9)
+                | ((self.class_details.is_some() as u64) << 8)
+                | ((self.vehicle_data.is_some() as u64) << 7)
+                | ((self.weather_report.is_some() as u64) << 6)
+                | ((self.weather_probe.is_some() as u64) << 5)
+                | ((self.obstacle.is_some() as u64) << 4)
+                | ((self.status.is_some() as u64) << 3)
+                | ((self.speed_profile.is_some() as u64) << 2)
+                | ((self.the_rtcm.is_some() as u64) << 1)
+                | ((self.regional.is_some() as u64) << 0),
+            10,
+        )?;
         if let Some(v) = &self.classification {
             v.encode_uper(w)?;
         }
@@ -1164,16 +1464,56 @@ impl Uper for SupplementalVehicleExtensions {
 impl uper::random::Random for SupplementalVehicleExtensions {
     fn random(g: &mut uper::random::Gen) -> Self {
         Self {
-            classification: if g.coin() { Some(<super::common::BasicVehicleClass as uper::random::Random>::random(g)) } else { None },
-            class_details: if g.coin() { Some(<super::common::VehicleClassification as uper::random::Random>::random(g)) } else { None },
-            vehicle_data: if g.coin() { Some(<VehicleData as uper::random::Random>::random(g)) } else { None },
-            weather_report: if g.coin() { Some(<WeatherReport as uper::random::Random>::random(g)) } else { None },
-            weather_probe: if g.coin() { Some(<WeatherProbe as uper::random::Random>::random(g)) } else { None },
-            obstacle: if g.coin() { Some(<ObstacleDetection as uper::random::Random>::random(g)) } else { None },
-            status: if g.coin() { Some(<DisabledVehicle as uper::random::Random>::random(g)) } else { None },
-            speed_profile: if g.coin() { Some(<SpeedProfile as uper::random::Random>::random(g)) } else { None },
-            the_rtcm: if g.coin() { Some(<RTCMPackage as uper::random::Random>::random(g)) } else { None },
-            regional: if g.coin() { Some(<SupplementalVehicleExtensionsRegional as uper::random::Random>::random(g)) } else { None },
+            classification: if g.coin() {
+                Some(<super::common::BasicVehicleClass as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            class_details: if g.coin() {
+                Some(<super::common::VehicleClassification as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            vehicle_data: if g.coin() {
+                Some(<VehicleData as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            weather_report: if g.coin() {
+                Some(<WeatherReport as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            weather_probe: if g.coin() {
+                Some(<WeatherProbe as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            obstacle: if g.coin() {
+                Some(<ObstacleDetection as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            status: if g.coin() {
+                Some(<DisabledVehicle as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            speed_profile: if g.coin() {
+                Some(<SpeedProfile as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            the_rtcm: if g.coin() {
+                Some(<RTCMPackage as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            regional: if g.coin() {
+                Some(<SupplementalVehicleExtensionsRegional as uper::random::Random>::random(g))
+            } else {
+                None
+            },
             extensions: uper::Extensions::new(),
         }
     }
@@ -1196,7 +1536,13 @@ pub struct VehicleData {
 
 impl uper::Placeholder for VehicleData {
     fn placeholder() -> Self {
-        Self { height: None, bumpers: None, mass: None, trailer_weight: None, extensions: uper::Extensions::new() }
+        Self {
+            height: None,
+            bumpers: None,
+            mass: None,
+            trailer_weight: None,
+            extensions: uper::Extensions::new(),
+        }
     }
 }
 
@@ -1246,12 +1592,22 @@ impl Uper for VehicleData {
         } else {
             out.trailer_weight = None;
         }
-        out.extensions = if extended { uper::Extensions::decode(r, "BasicSafetyMessage.VehicleData:ext")? } else { uper::Extensions::new() };
+        out.extensions = if extended {
+            uper::Extensions::decode(r, "BasicSafetyMessage.VehicleData:ext")?
+        } else {
+            uper::Extensions::new()
+        };
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_bit(self.extensions.is_present())?;
-        w.write_bits(((self.height.is_some() as u64) << 3) | ((self.bumpers.is_some() as u64) << 2) | ((self.mass.is_some() as u64) << 1) | ((self.trailer_weight.is_some() as u64) << 0), 4)?;
+        w.write_bits(
+            ((self.height.is_some() as u64) << 3)
+                | ((self.bumpers.is_some() as u64) << 2)
+                | ((self.mass.is_some() as u64) << 1)
+                | ((self.trailer_weight.is_some() as u64) << 0),
+            4,
+        )?;
         if let Some(v) = &self.height {
             v.encode_uper(w)?;
         }
@@ -1275,10 +1631,26 @@ impl Uper for VehicleData {
 impl uper::random::Random for VehicleData {
     fn random(g: &mut uper::random::Gen) -> Self {
         Self {
-            height: if g.coin() { Some(<super::common::VehicleHeight as uper::random::Random>::random(g)) } else { None },
-            bumpers: if g.coin() { Some(<super::common::BumperHeights as uper::random::Random>::random(g)) } else { None },
-            mass: if g.coin() { Some(<super::common::VehicleMass as uper::random::Random>::random(g)) } else { None },
-            trailer_weight: if g.coin() { Some(<super::common::TrailerWeight as uper::random::Random>::random(g)) } else { None },
+            height: if g.coin() {
+                Some(<super::common::VehicleHeight as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            bumpers: if g.coin() {
+                Some(<super::common::BumperHeights as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            mass: if g.coin() {
+                Some(<super::common::VehicleMass as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            trailer_weight: if g.coin() {
+                Some(<super::common::TrailerWeight as uper::random::Random>::random(g))
+            } else {
+                None
+            },
             extensions: uper::Extensions::new(),
         }
     }
@@ -1305,7 +1677,15 @@ pub struct WeatherReport {
 
 impl uper::Placeholder for WeatherReport {
     fn placeholder() -> Self {
-        Self { is_raining: <super::ntcip::EssPrecipYesNo as uper::Placeholder>::placeholder(), rain_rate: None, precip_situation: None, solar_radiation: None, friction: None, road_friction: None, extensions: uper::Extensions::new() }
+        Self {
+            is_raining: <super::ntcip::EssPrecipYesNo as uper::Placeholder>::placeholder(),
+            rain_rate: None,
+            precip_situation: None,
+            solar_radiation: None,
+            friction: None,
+            road_friction: None,
+            extensions: uper::Extensions::new(),
+        }
     }
 }
 
@@ -1366,12 +1746,23 @@ impl Uper for WeatherReport {
         } else {
             out.road_friction = None;
         }
-        out.extensions = if extended { uper::Extensions::decode(r, "BasicSafetyMessage.WeatherReport:ext")? } else { uper::Extensions::new() };
+        out.extensions = if extended {
+            uper::Extensions::decode(r, "BasicSafetyMessage.WeatherReport:ext")?
+        } else {
+            uper::Extensions::new()
+        };
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_bit(self.extensions.is_present())?;
-        w.write_bits(((self.rain_rate.is_some() as u64) << 4) | ((self.precip_situation.is_some() as u64) << 3) | ((self.solar_radiation.is_some() as u64) << 2) | ((self.friction.is_some() as u64) << 1) | ((self.road_friction.is_some() as u64) << 0), 5)?;
+        w.write_bits(
+            ((self.rain_rate.is_some() as u64) << 4)
+                | ((self.precip_situation.is_some() as u64) << 3)
+                | ((self.solar_radiation.is_some() as u64) << 2)
+                | ((self.friction.is_some() as u64) << 1)
+                | ((self.road_friction.is_some() as u64) << 0),
+            5,
+        )?;
         self.is_raining.encode_uper(w)?;
         if let Some(v) = &self.rain_rate {
             v.encode_uper(w)?;
@@ -1400,11 +1791,31 @@ impl uper::random::Random for WeatherReport {
     fn random(g: &mut uper::random::Gen) -> Self {
         Self {
             is_raining: <super::ntcip::EssPrecipYesNo as uper::random::Random>::random(g),
-            rain_rate: if g.coin() { Some(<super::ntcip::EssPrecipRate as uper::random::Random>::random(g)) } else { None },
-            precip_situation: if g.coin() { Some(<super::ntcip::EssPrecipSituation as uper::random::Random>::random(g)) } else { None },
-            solar_radiation: if g.coin() { Some(<super::ntcip::EssSolarRadiation as uper::random::Random>::random(g)) } else { None },
-            friction: if g.coin() { Some(<super::ntcip::EssMobileFriction as uper::random::Random>::random(g)) } else { None },
-            road_friction: if g.coin() { Some(<super::common::CoefficientOfFriction as uper::random::Random>::random(g)) } else { None },
+            rain_rate: if g.coin() {
+                Some(<super::ntcip::EssPrecipRate as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            precip_situation: if g.coin() {
+                Some(<super::ntcip::EssPrecipSituation as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            solar_radiation: if g.coin() {
+                Some(<super::ntcip::EssSolarRadiation as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            friction: if g.coin() {
+                Some(<super::ntcip::EssMobileFriction as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            road_friction: if g.coin() {
+                Some(<super::common::CoefficientOfFriction as uper::random::Random>::random(g))
+            } else {
+                None
+            },
             extensions: uper::Extensions::new(),
         }
     }
@@ -1425,7 +1836,12 @@ pub struct WeatherProbe {
 
 impl uper::Placeholder for WeatherProbe {
     fn placeholder() -> Self {
-        Self { air_temp: None, air_pressure: None, rain_rates: None, extensions: uper::Extensions::new() }
+        Self {
+            air_temp: None,
+            air_pressure: None,
+            rain_rates: None,
+            extensions: uper::Extensions::new(),
+        }
     }
 }
 
@@ -1465,12 +1881,21 @@ impl Uper for WeatherProbe {
         } else {
             out.rain_rates = None;
         }
-        out.extensions = if extended { uper::Extensions::decode(r, "BasicSafetyMessage.WeatherProbe:ext")? } else { uper::Extensions::new() };
+        out.extensions = if extended {
+            uper::Extensions::decode(r, "BasicSafetyMessage.WeatherProbe:ext")?
+        } else {
+            uper::Extensions::new()
+        };
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_bit(self.extensions.is_present())?;
-        w.write_bits(((self.air_temp.is_some() as u64) << 2) | ((self.air_pressure.is_some() as u64) << 1) | ((self.rain_rates.is_some() as u64) << 0), 3)?;
+        w.write_bits(
+            ((self.air_temp.is_some() as u64) << 2)
+                | ((self.air_pressure.is_some() as u64) << 1)
+                | ((self.rain_rates.is_some() as u64) << 0),
+            3,
+        )?;
         if let Some(v) = &self.air_temp {
             v.encode_uper(w)?;
         }
@@ -1491,9 +1916,21 @@ impl Uper for WeatherProbe {
 impl uper::random::Random for WeatherProbe {
     fn random(g: &mut uper::random::Gen) -> Self {
         Self {
-            air_temp: if g.coin() { Some(<super::common::AmbientAirTemperature as uper::random::Random>::random(g)) } else { None },
-            air_pressure: if g.coin() { Some(<super::common::AmbientAirPressure as uper::random::Random>::random(g)) } else { None },
-            rain_rates: if g.coin() { Some(<super::common::WiperSet as uper::random::Random>::random(g)) } else { None },
+            air_temp: if g.coin() {
+                Some(<super::common::AmbientAirTemperature as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            air_pressure: if g.coin() {
+                Some(<super::common::AmbientAirPressure as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            rain_rates: if g.coin() {
+                Some(<super::common::WiperSet as uper::random::Random>::random(g))
+            } else {
+                None
+            },
             extensions: uper::Extensions::new(),
         }
     }
@@ -1520,7 +1957,15 @@ pub struct ObstacleDetection {
 
 impl uper::Placeholder for ObstacleDetection {
     fn placeholder() -> Self {
-        Self { ob_dist: <super::common::ObstacleDistance as uper::Placeholder>::placeholder(), ob_direct: <ObstacleDirection as uper::Placeholder>::placeholder(), description: None, location_details: None, date_time: <super::common::DDateTime as uper::Placeholder>::placeholder(), vert_event: None, extensions: uper::Extensions::new() }
+        Self {
+            ob_dist: <super::common::ObstacleDistance as uper::Placeholder>::placeholder(),
+            ob_direct: <ObstacleDirection as uper::Placeholder>::placeholder(),
+            description: None,
+            location_details: None,
+            date_time: <super::common::DDateTime as uper::Placeholder>::placeholder(),
+            vert_event: None,
+            extensions: uper::Extensions::new(),
+        }
     }
 }
 
@@ -1563,12 +2008,21 @@ impl Uper for ObstacleDetection {
         } else {
             out.vert_event = None;
         }
-        out.extensions = if extended { uper::Extensions::decode(r, "BasicSafetyMessage.ObstacleDetection:ext")? } else { uper::Extensions::new() };
+        out.extensions = if extended {
+            uper::Extensions::decode(r, "BasicSafetyMessage.ObstacleDetection:ext")?
+        } else {
+            uper::Extensions::new()
+        };
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_bit(self.extensions.is_present())?;
-        w.write_bits(((self.description.is_some() as u64) << 2) | ((self.location_details.is_some() as u64) << 1) | ((self.vert_event.is_some() as u64) << 0), 3)?;
+        w.write_bits(
+            ((self.description.is_some() as u64) << 2)
+                | ((self.location_details.is_some() as u64) << 1)
+                | ((self.vert_event.is_some() as u64) << 0),
+            3,
+        )?;
         self.ob_dist.encode_uper(w)?;
         self.ob_direct.encode_uper(w)?;
         if let Some(v) = &self.description {
@@ -1594,10 +2048,26 @@ impl uper::random::Random for ObstacleDetection {
         Self {
             ob_dist: <super::common::ObstacleDistance as uper::random::Random>::random(g),
             ob_direct: <ObstacleDirection as uper::random::Random>::random(g),
-            description: if g.coin() { Some(<ObstacleDetectionDescription as uper::random::Random>::random(g)) } else { None },
-            location_details: if g.coin() { Some(<super::itis::GenericLocations as uper::random::Random>::random(g)) } else { None },
+            description: if g.coin() {
+                Some(<ObstacleDetectionDescription as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            location_details: if g.coin() {
+                Some(<super::itis::GenericLocations as uper::random::Random>::random(g))
+            } else {
+                None
+            },
             date_time: <super::common::DDateTime as uper::random::Random>::random(g),
-            vert_event: if g.coin() { Some(<super::common::VerticalAccelerationThreshold as uper::random::Random>::random(g)) } else { None },
+            vert_event: if g.coin() {
+                Some(
+                    <super::common::VerticalAccelerationThreshold as uper::random::Random>::random(
+                        g,
+                    ),
+                )
+            } else {
+                None
+            },
             extensions: uper::Extensions::new(),
         }
     }
@@ -1609,7 +2079,13 @@ pub type ObstacleDirection = super::common::Angle;
 /// ASN.1 `ObstacleDetection.description` (module `BasicSafetyMessage`): INTEGER (523..541).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub struct ObstacleDetectionDescription(u16);
-crate::__constrained_int!(ObstacleDetectionDescription, u16, 523, 541, "BasicSafetyMessage.ObstacleDetection.description");
+crate::__constrained_int!(
+    ObstacleDetectionDescription,
+    u16,
+    523,
+    541,
+    "BasicSafetyMessage.ObstacleDetection.description"
+);
 
 /// ASN.1 `DisabledVehicle` (module `BasicSafetyMessage`): SEQUENCE (extensible).
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
@@ -1624,7 +2100,11 @@ pub struct DisabledVehicle {
 
 impl uper::Placeholder for DisabledVehicle {
     fn placeholder() -> Self {
-        Self { status_details: <DisabledVehicleStatusDetails as uper::Placeholder>::placeholder(), location_details: None, extensions: uper::Extensions::new() }
+        Self {
+            status_details: <DisabledVehicleStatusDetails as uper::Placeholder>::placeholder(),
+            location_details: None,
+            extensions: uper::Extensions::new(),
+        }
     }
 }
 
@@ -1645,7 +2125,11 @@ impl Uper for DisabledVehicle {
         } else {
             out.location_details = None;
         }
-        out.extensions = if extended { uper::Extensions::decode(r, "BasicSafetyMessage.DisabledVehicle:ext")? } else { uper::Extensions::new() };
+        out.extensions = if extended {
+            uper::Extensions::decode(r, "BasicSafetyMessage.DisabledVehicle:ext")?
+        } else {
+            uper::Extensions::new()
+        };
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -1667,7 +2151,11 @@ impl uper::random::Random for DisabledVehicle {
     fn random(g: &mut uper::random::Gen) -> Self {
         Self {
             status_details: <DisabledVehicleStatusDetails as uper::random::Random>::random(g),
-            location_details: if g.coin() { Some(<super::itis::GenericLocations as uper::random::Random>::random(g)) } else { None },
+            location_details: if g.coin() {
+                Some(<super::itis::GenericLocations as uper::random::Random>::random(g))
+            } else {
+                None
+            },
             extensions: uper::Extensions::new(),
         }
     }
@@ -1676,7 +2164,13 @@ impl uper::random::Random for DisabledVehicle {
 /// ASN.1 `DisabledVehicle.statusDetails` (module `BasicSafetyMessage`): INTEGER (523..541).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub struct DisabledVehicleStatusDetails(u16);
-crate::__constrained_int!(DisabledVehicleStatusDetails, u16, 523, 541, "BasicSafetyMessage.DisabledVehicle.statusDetails");
+crate::__constrained_int!(
+    DisabledVehicleStatusDetails,
+    u16,
+    523,
+    541,
+    "BasicSafetyMessage.DisabledVehicle.statusDetails"
+);
 
 /// ASN.1 `SpeedProfile` (module `BasicSafetyMessage`): SEQUENCE (extensible).
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
@@ -1689,7 +2183,10 @@ pub struct SpeedProfile {
 
 impl uper::Placeholder for SpeedProfile {
     fn placeholder() -> Self {
-        Self { speed_reports: <SpeedProfileMeasurementList as uper::Placeholder>::placeholder(), extensions: uper::Extensions::new() }
+        Self {
+            speed_reports: <SpeedProfileMeasurementList as uper::Placeholder>::placeholder(),
+            extensions: uper::Extensions::new(),
+        }
     }
 }
 
@@ -1699,7 +2196,11 @@ impl Uper for SpeedProfile {
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let extended = r.read_bit()?;
         <SpeedProfileMeasurementList>::decode_into(r, &mut out.speed_reports)?;
-        out.extensions = if extended { uper::Extensions::decode(r, "BasicSafetyMessage.SpeedProfile:ext")? } else { uper::Extensions::new() };
+        out.extensions = if extended {
+            uper::Extensions::decode(r, "BasicSafetyMessage.SpeedProfile:ext")?
+        } else {
+            uper::Extensions::new()
+        };
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -1736,6 +2237,12 @@ impl SpeedProfileMeasurementList {
     }
 }
 
+impl Default for SpeedProfileMeasurementList {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
 impl uper::Placeholder for SpeedProfileMeasurementList {
     fn placeholder() -> Self {
         Self(uper::SeqOf::new())
@@ -1746,7 +2253,12 @@ impl Uper for SpeedProfileMeasurementList {
     const PATH: &'static str = "BasicSafetyMessage.SpeedProfileMeasurementList";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(25), Some(105));
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        uper::decode_seq_of_into(r, Self::SIZE, "BasicSafetyMessage.SpeedProfileMeasurementList", &mut out.0)
+        uper::decode_seq_of_into(
+            r,
+            Self::SIZE,
+            "BasicSafetyMessage.SpeedProfileMeasurementList",
+            &mut out.0,
+        )
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
@@ -1758,7 +2270,8 @@ impl uper::random::Random for SpeedProfileMeasurementList {
     fn random(g: &mut uper::random::Gen) -> Self {
         let mut v = Self(uper::SeqOf::new());
         for _ in 0..g.count(1, 4) {
-            let _ = v.0.push(<SpeedProfileMeasurement as uper::random::Random>::random(g));
+            let _ =
+                v.0.push(<SpeedProfileMeasurement as uper::random::Random>::random(g));
         }
         v
     }
@@ -1780,7 +2293,11 @@ pub struct RTCMPackage {
 
 impl uper::Placeholder for RTCMPackage {
     fn placeholder() -> Self {
-        Self { rtcm_header: None, msgs: <super::common::RTCMmessageList as uper::Placeholder>::placeholder(), extensions: uper::Extensions::new() }
+        Self {
+            rtcm_header: None,
+            msgs: <super::common::RTCMmessageList as uper::Placeholder>::placeholder(),
+            extensions: uper::Extensions::new(),
+        }
     }
 }
 
@@ -1801,7 +2318,11 @@ impl Uper for RTCMPackage {
             out.rtcm_header = None;
         }
         <super::common::RTCMmessageList>::decode_into(r, &mut out.msgs)?;
-        out.extensions = if extended { uper::Extensions::decode(r, "BasicSafetyMessage.RTCMPackage:ext")? } else { uper::Extensions::new() };
+        out.extensions = if extended {
+            uper::Extensions::decode(r, "BasicSafetyMessage.RTCMPackage:ext")?
+        } else {
+            uper::Extensions::new()
+        };
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -1822,7 +2343,13 @@ impl Uper for RTCMPackage {
 impl uper::random::Random for RTCMPackage {
     fn random(g: &mut uper::random::Gen) -> Self {
         Self {
-            rtcm_header: if g.coin() { Some(<super::common::RTCMheader as uper::random::Random>::random(g)) } else { None },
+            rtcm_header: if g.coin() {
+                Some(<super::common::RTCMheader as uper::random::Random>::random(
+                    g,
+                ))
+            } else {
+                None
+            },
             msgs: <super::common::RTCMmessageList as uper::random::Random>::random(g),
             extensions: uper::Extensions::new(),
         }
@@ -1831,7 +2358,9 @@ impl uper::random::Random for RTCMPackage {
 
 /// ASN.1 `SupplementalVehicleExtensions.regional` (module `BasicSafetyMessage`): SEQUENCE OF RegSupplementalVehicleExtensions (SIZE(1..4)).
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
-pub struct SupplementalVehicleExtensionsRegional(pub uper::SeqOf<RegSupplementalVehicleExtensions, 1>);
+pub struct SupplementalVehicleExtensionsRegional(
+    pub uper::SeqOf<RegSupplementalVehicleExtensions, 1>,
+);
 
 crate::__newtype_deref!(SupplementalVehicleExtensionsRegional, uper::SeqOf<RegSupplementalVehicleExtensions, 1>);
 
@@ -1840,6 +2369,12 @@ impl SupplementalVehicleExtensionsRegional {
     /// An empty list (valid for encoding once it holds the minimum number of items).
     pub fn new() -> Self {
         Self(uper::SeqOf::new())
+    }
+}
+
+impl Default for SupplementalVehicleExtensionsRegional {
+    fn default() -> Self {
+        Self::new()
     }
 }
 
@@ -1853,7 +2388,12 @@ impl Uper for SupplementalVehicleExtensionsRegional {
     const PATH: &'static str = "BasicSafetyMessage.SupplementalVehicleExtensions.regional";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(146), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        uper::decode_seq_of_into(r, Self::SIZE, "BasicSafetyMessage.SupplementalVehicleExtensions.regional", &mut out.0)
+        uper::decode_seq_of_into(
+            r,
+            Self::SIZE,
+            "BasicSafetyMessage.SupplementalVehicleExtensions.regional",
+            &mut out.0,
+        )
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
@@ -1865,7 +2405,8 @@ impl uper::random::Random for SupplementalVehicleExtensionsRegional {
     fn random(g: &mut uper::random::Gen) -> Self {
         let mut v = Self(uper::SeqOf::new());
         for _ in 0..g.count(1, 1) {
-            let _ = v.0.push(<RegSupplementalVehicleExtensions as uper::random::Random>::random(g));
+            let _ =
+                v.0.push(<RegSupplementalVehicleExtensions as uper::random::Random>::random(g));
         }
         v
     }
@@ -1894,7 +2435,10 @@ impl RegSupplementalVehicleExtensions {
 
 impl uper::Placeholder for RegSupplementalVehicleExtensions {
     fn placeholder() -> Self {
-        Self::Unknown { id: <super::common::RegionId as uper::Placeholder>::placeholder(), content: uper::Octets::new() }
+        Self::Unknown {
+            id: <super::common::RegionId as uper::Placeholder>::placeholder(),
+            content: uper::Octets::new(),
+        }
     }
 }
 
@@ -1904,7 +2448,15 @@ impl Uper for RegSupplementalVehicleExtensions {
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let id = <super::common::RegionId>::decode_uper(r)?;
         match id.get() {
-            _ => *out = Self::Unknown { id, content: uper::decode_unknown_open(r, "BasicSafetyMessage.RegSupplementalVehicleExtensions:unknown")? },
+            _ => {
+                *out = Self::Unknown {
+                    id,
+                    content: uper::decode_unknown_open(
+                        r,
+                        "BasicSafetyMessage.RegSupplementalVehicleExtensions:unknown",
+                    )?,
+                }
+            }
         }
         Ok(())
     }
@@ -1925,7 +2477,10 @@ impl uper::random::Random for RegSupplementalVehicleExtensions {
         for _ in 0..1 + g.below(4) {
             let _ = content.push(g.octet());
         }
-        Self::Unknown { id: <super::common::RegionId as uper::random::Random>::random(g), content }
+        Self::Unknown {
+            id: <super::common::RegionId as uper::random::Random>::random(g),
+            content,
+        }
     }
 }
 
@@ -1951,9 +2506,30 @@ impl PartIIcontent {
     /// The `partII-Id` of the value.
     pub fn id(&self) -> PartIIId {
         match self {
-            Self::VehicleSafetyExtensions(_) => const { match PartIIId::new(0) { Some(id) => id, None => panic!("id out of range") } },
-            Self::SpecialVehicleExtensions(_) => const { match PartIIId::new(1) { Some(id) => id, None => panic!("id out of range") } },
-            Self::SupplementalVehicleExtensions(_) => const { match PartIIId::new(2) { Some(id) => id, None => panic!("id out of range") } },
+            Self::VehicleSafetyExtensions(_) => {
+                const {
+                    match PartIIId::new(0) {
+                        Some(id) => id,
+                        None => panic!("id out of range"),
+                    }
+                }
+            }
+            Self::SpecialVehicleExtensions(_) => {
+                const {
+                    match PartIIId::new(1) {
+                        Some(id) => id,
+                        None => panic!("id out of range"),
+                    }
+                }
+            }
+            Self::SupplementalVehicleExtensions(_) => {
+                const {
+                    match PartIIId::new(2) {
+                        Some(id) => id,
+                        None => panic!("id out of range"),
+                    }
+                }
+            }
             Self::Unknown { id, .. } => *id,
         }
     }
@@ -1961,7 +2537,10 @@ impl PartIIcontent {
 
 impl uper::Placeholder for PartIIcontent {
     fn placeholder() -> Self {
-        Self::Unknown { id: <PartIIId as uper::Placeholder>::placeholder(), content: uper::Octets::new() }
+        Self::Unknown {
+            id: <PartIIId as uper::Placeholder>::placeholder(),
+            content: uper::Octets::new(),
+        }
     }
 }
 
@@ -1973,15 +2552,23 @@ impl Uper for PartIIcontent {
         match id.get() {
             0 => {
                 if !matches!(out, Self::VehicleSafetyExtensions(_)) {
-                    uper::replace_with(out, || Self::VehicleSafetyExtensions(<super::common::VehicleSafetyExtensions as uper::Placeholder>::placeholder()));
+                    uper::replace_with(out, || {
+                        Self::VehicleSafetyExtensions(<super::common::VehicleSafetyExtensions as uper::Placeholder>::placeholder())
+                    });
                 }
                 if let Self::VehicleSafetyExtensions(v) = out {
-                    uper::decode_open(r, |r| <super::common::VehicleSafetyExtensions>::decode_into(r, v))?;
+                    uper::decode_open(r, |r| {
+                        <super::common::VehicleSafetyExtensions>::decode_into(r, v)
+                    })?;
                 }
             }
             1 => {
                 if !matches!(out, Self::SpecialVehicleExtensions(_)) {
-                    uper::replace_with(out, || Self::SpecialVehicleExtensions(<SpecialVehicleExtensions as uper::Placeholder>::placeholder()));
+                    uper::replace_with(out, || {
+                        Self::SpecialVehicleExtensions(
+                            <SpecialVehicleExtensions as uper::Placeholder>::placeholder(),
+                        )
+                    });
                 }
                 if let Self::SpecialVehicleExtensions(v) = out {
                     uper::decode_open(r, |r| <SpecialVehicleExtensions>::decode_into(r, v))?;
@@ -1989,13 +2576,25 @@ impl Uper for PartIIcontent {
             }
             2 => {
                 if !matches!(out, Self::SupplementalVehicleExtensions(_)) {
-                    uper::replace_with(out, || Self::SupplementalVehicleExtensions(<SupplementalVehicleExtensions as uper::Placeholder>::placeholder()));
+                    uper::replace_with(out, || {
+                        Self::SupplementalVehicleExtensions(
+                            <SupplementalVehicleExtensions as uper::Placeholder>::placeholder(),
+                        )
+                    });
                 }
                 if let Self::SupplementalVehicleExtensions(v) = out {
                     uper::decode_open(r, |r| <SupplementalVehicleExtensions>::decode_into(r, v))?;
                 }
             }
-            _ => *out = Self::Unknown { id, content: uper::decode_unknown_open(r, "BasicSafetyMessage.PartIIcontent:unknown")? },
+            _ => {
+                *out = Self::Unknown {
+                    id,
+                    content: uper::decode_unknown_open(
+                        r,
+                        "BasicSafetyMessage.PartIIcontent:unknown",
+                    )?,
+                }
+            }
         }
         Ok(())
     }
@@ -2025,10 +2624,19 @@ impl Uper for PartIIcontent {
 impl uper::random::Random for PartIIcontent {
     fn random(g: &mut uper::random::Gen) -> Self {
         match g.below(3) {
-            0 => Self::VehicleSafetyExtensions(<super::common::VehicleSafetyExtensions as uper::random::Random>::random(g)),
-            1 => Self::SpecialVehicleExtensions(<SpecialVehicleExtensions as uper::random::Random>::random(g)),
-            2 => Self::SupplementalVehicleExtensions(<SupplementalVehicleExtensions as uper::random::Random>::random(g)),
-            _ => Self::Unknown { id: <PartIIId as uper::Placeholder>::placeholder(), content: uper::Octets::new() },
+            0 => Self::VehicleSafetyExtensions(
+                <super::common::VehicleSafetyExtensions as uper::random::Random>::random(g),
+            ),
+            1 => Self::SpecialVehicleExtensions(
+                <SpecialVehicleExtensions as uper::random::Random>::random(g),
+            ),
+            2 => Self::SupplementalVehicleExtensions(
+                <SupplementalVehicleExtensions as uper::random::Random>::random(g),
+            ),
+            _ => Self::Unknown {
+                id: <PartIIId as uper::Placeholder>::placeholder(),
+                content: uper::Octets::new(),
+            },
         }
     }
 }
@@ -2047,6 +2655,12 @@ impl BasicSafetyMessageRegional {
     }
 }
 
+impl Default for BasicSafetyMessageRegional {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
 impl uper::Placeholder for BasicSafetyMessageRegional {
     fn placeholder() -> Self {
         Self(uper::SeqOf::new())
@@ -2057,7 +2671,12 @@ impl Uper for BasicSafetyMessageRegional {
     const PATH: &'static str = "BasicSafetyMessage.BasicSafetyMessage.regional";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(146), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        uper::decode_seq_of_into(r, Self::SIZE, "BasicSafetyMessage.BasicSafetyMessage.regional", &mut out.0)
+        uper::decode_seq_of_into(
+            r,
+            Self::SIZE,
+            "BasicSafetyMessage.BasicSafetyMessage.regional",
+            &mut out.0,
+        )
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
@@ -2069,7 +2688,8 @@ impl uper::random::Random for BasicSafetyMessageRegional {
     fn random(g: &mut uper::random::Gen) -> Self {
         let mut v = Self(uper::SeqOf::new());
         for _ in 0..g.count(1, 1) {
-            let _ = v.0.push(<RegBasicSafetyMessage as uper::random::Random>::random(g));
+            let _ =
+                v.0.push(<RegBasicSafetyMessage as uper::random::Random>::random(g));
         }
         v
     }
@@ -2098,7 +2718,10 @@ impl RegBasicSafetyMessage {
 
 impl uper::Placeholder for RegBasicSafetyMessage {
     fn placeholder() -> Self {
-        Self::Unknown { id: <super::common::RegionId as uper::Placeholder>::placeholder(), content: uper::Octets::new() }
+        Self::Unknown {
+            id: <super::common::RegionId as uper::Placeholder>::placeholder(),
+            content: uper::Octets::new(),
+        }
     }
 }
 
@@ -2108,7 +2731,15 @@ impl Uper for RegBasicSafetyMessage {
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let id = <super::common::RegionId>::decode_uper(r)?;
         match id.get() {
-            _ => *out = Self::Unknown { id, content: uper::decode_unknown_open(r, "BasicSafetyMessage.RegBasicSafetyMessage:unknown")? },
+            _ => {
+                *out = Self::Unknown {
+                    id,
+                    content: uper::decode_unknown_open(
+                        r,
+                        "BasicSafetyMessage.RegBasicSafetyMessage:unknown",
+                    )?,
+                }
+            }
         }
         Ok(())
     }
@@ -2129,6 +2760,9 @@ impl uper::random::Random for RegBasicSafetyMessage {
         for _ in 0..1 + g.below(4) {
             let _ = content.push(g.octet());
         }
-        Self::Unknown { id: <super::common::RegionId as uper::random::Random>::random(g), content }
+        Self::Unknown {
+            id: <super::common::RegionId as uper::random::Random>::random(g),
+            content,
+        }
     }
 }

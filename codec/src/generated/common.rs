@@ -83,7 +83,22 @@ pub struct BSMcoreData {
 
 impl uper::Placeholder for BSMcoreData {
     fn placeholder() -> Self {
-        Self { msg_cnt: <MsgCount as uper::Placeholder>::placeholder(), id: <TemporaryID as uper::Placeholder>::placeholder(), sec_mark: <DSecond as uper::Placeholder>::placeholder(), lat: <Latitude as uper::Placeholder>::placeholder(), long: <Longitude as uper::Placeholder>::placeholder(), elev: <Elevation as uper::Placeholder>::placeholder(), accuracy: <PositionalAccuracy as uper::Placeholder>::placeholder(), transmission: <TransmissionState as uper::Placeholder>::placeholder(), speed: <Speed as uper::Placeholder>::placeholder(), heading: <Heading as uper::Placeholder>::placeholder(), angle: <SteeringWheelAngle as uper::Placeholder>::placeholder(), accel_set: <AccelerationSet4Way as uper::Placeholder>::placeholder(), brakes: <BrakeSystemStatus as uper::Placeholder>::placeholder(), size: <VehicleSize as uper::Placeholder>::placeholder() }
+        Self {
+            msg_cnt: <MsgCount as uper::Placeholder>::placeholder(),
+            id: <TemporaryID as uper::Placeholder>::placeholder(),
+            sec_mark: <DSecond as uper::Placeholder>::placeholder(),
+            lat: <Latitude as uper::Placeholder>::placeholder(),
+            long: <Longitude as uper::Placeholder>::placeholder(),
+            elev: <Elevation as uper::Placeholder>::placeholder(),
+            accuracy: <PositionalAccuracy as uper::Placeholder>::placeholder(),
+            transmission: <TransmissionState as uper::Placeholder>::placeholder(),
+            speed: <Speed as uper::Placeholder>::placeholder(),
+            heading: <Heading as uper::Placeholder>::placeholder(),
+            angle: <SteeringWheelAngle as uper::Placeholder>::placeholder(),
+            accel_set: <AccelerationSet4Way as uper::Placeholder>::placeholder(),
+            brakes: <BrakeSystemStatus as uper::Placeholder>::placeholder(),
+            size: <VehicleSize as uper::Placeholder>::placeholder(),
+        }
     }
 }
 
@@ -197,7 +212,11 @@ pub struct PositionalAccuracy {
 
 impl uper::Placeholder for PositionalAccuracy {
     fn placeholder() -> Self {
-        Self { semi_major: <SemiMajorAxisAccuracy as uper::Placeholder>::placeholder(), semi_minor: <SemiMinorAxisAccuracy as uper::Placeholder>::placeholder(), orientation: <SemiMajorAxisOrientation as uper::Placeholder>::placeholder() }
+        Self {
+            semi_major: <SemiMajorAxisAccuracy as uper::Placeholder>::placeholder(),
+            semi_minor: <SemiMinorAxisAccuracy as uper::Placeholder>::placeholder(),
+            orientation: <SemiMajorAxisOrientation as uper::Placeholder>::placeholder(),
+        }
     }
 }
 
@@ -232,7 +251,13 @@ impl uper::random::Random for PositionalAccuracy {
 /// ASN.1 `SemiMajorAxisAccuracy` (module `Common`): INTEGER (0..255).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub struct SemiMajorAxisAccuracy(u8);
-crate::__constrained_int!(SemiMajorAxisAccuracy, u8, 0, 255, "Common.SemiMajorAxisAccuracy");
+crate::__constrained_int!(
+    SemiMajorAxisAccuracy,
+    u8,
+    0,
+    255,
+    "Common.SemiMajorAxisAccuracy"
+);
 impl SemiMajorAxisAccuracy {
     /// Accuracy unavailable (255).
     pub const UNAVAILABLE: Self = Self(255);
@@ -241,7 +266,13 @@ impl SemiMajorAxisAccuracy {
 /// ASN.1 `SemiMinorAxisAccuracy` (module `Common`): INTEGER (0..255).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub struct SemiMinorAxisAccuracy(u8);
-crate::__constrained_int!(SemiMinorAxisAccuracy, u8, 0, 255, "Common.SemiMinorAxisAccuracy");
+crate::__constrained_int!(
+    SemiMinorAxisAccuracy,
+    u8,
+    0,
+    255,
+    "Common.SemiMinorAxisAccuracy"
+);
 impl SemiMinorAxisAccuracy {
     /// Accuracy unavailable (255).
     pub const UNAVAILABLE: Self = Self(255);
@@ -250,7 +281,13 @@ impl SemiMinorAxisAccuracy {
 /// ASN.1 `SemiMajorAxisOrientation` (module `Common`): INTEGER (0..65535).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub struct SemiMajorAxisOrientation(u16);
-crate::__constrained_int!(SemiMajorAxisOrientation, u16, 0, 65535, "Common.SemiMajorAxisOrientation");
+crate::__constrained_int!(
+    SemiMajorAxisOrientation,
+    u16,
+    0,
+    65535,
+    "Common.SemiMajorAxisOrientation"
+);
 impl SemiMajorAxisOrientation {
     /// Orientation unavailable (65535).
     pub const UNAVAILABLE: Self = Self(65535);
@@ -279,7 +316,16 @@ pub enum TransmissionState {
 
 impl TransmissionState {
     /// Every root value in encoding (ascending number) order.
-    pub const ALL: [Self; 8] = [Self::Neutral, Self::Park, Self::ForwardGears, Self::ReverseGears, Self::Reserved1, Self::Reserved2, Self::Reserved3, Self::Unavailable];
+    pub const ALL: [Self; 8] = [
+        Self::Neutral,
+        Self::Park,
+        Self::ForwardGears,
+        Self::ReverseGears,
+        Self::Reserved1,
+        Self::Reserved2,
+        Self::Reserved3,
+        Self::Unavailable,
+    ];
     /// The ASN.1 number of the value (`None` for an unknown extension value).
     pub const fn number(self) -> Option<i64> {
         match self {
@@ -332,7 +378,13 @@ impl Uper for TransmissionState {
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let at = r.position();
         let i = r.read_constrained(0, 7)?;
-        *out = Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))?;
+        *out = Self::ALL
+            .get(i as usize)
+            .copied()
+            .ok_or(uper::DecodeError::new(
+                uper::DecodeErrorKind::InvalidEnumIndex,
+                at,
+            ))?;
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -368,7 +420,13 @@ impl Heading {
 /// ASN.1 `SteeringWheelAngle` (module `Common`): INTEGER (-126..127).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub struct SteeringWheelAngle(i8);
-crate::__constrained_int!(SteeringWheelAngle, i8, -126, 127, "Common.SteeringWheelAngle");
+crate::__constrained_int!(
+    SteeringWheelAngle,
+    i8,
+    -126,
+    127,
+    "Common.SteeringWheelAngle"
+);
 impl SteeringWheelAngle {
     /// Steering wheel angle unavailable (127).
     pub const UNAVAILABLE: Self = Self(127);
@@ -389,7 +447,12 @@ pub struct AccelerationSet4Way {
 
 impl uper::Placeholder for AccelerationSet4Way {
     fn placeholder() -> Self {
-        Self { long: <Acceleration as uper::Placeholder>::placeholder(), lat: <Acceleration as uper::Placeholder>::placeholder(), vert: <VerticalAcceleration as uper::Placeholder>::placeholder(), yaw: <YawRate as uper::Placeholder>::placeholder() }
+        Self {
+            long: <Acceleration as uper::Placeholder>::placeholder(),
+            lat: <Acceleration as uper::Placeholder>::placeholder(),
+            vert: <VerticalAcceleration as uper::Placeholder>::placeholder(),
+            yaw: <YawRate as uper::Placeholder>::placeholder(),
+        }
     }
 }
 
@@ -436,7 +499,13 @@ impl Acceleration {
 /// ASN.1 `VerticalAcceleration` (module `Common`): INTEGER (-127..127).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub struct VerticalAcceleration(i8);
-crate::__constrained_int!(VerticalAcceleration, i8, -127, 127, "Common.VerticalAcceleration");
+crate::__constrained_int!(
+    VerticalAcceleration,
+    i8,
+    -127,
+    127,
+    "Common.VerticalAcceleration"
+);
 impl VerticalAcceleration {
     /// Vertical acceleration unavailable (-127).
     pub const UNAVAILABLE: Self = Self(-127);
@@ -466,7 +535,14 @@ pub struct BrakeSystemStatus {
 
 impl uper::Placeholder for BrakeSystemStatus {
     fn placeholder() -> Self {
-        Self { wheel_brakes: <BrakeAppliedStatus as uper::Placeholder>::placeholder(), traction: <TractionControlStatus as uper::Placeholder>::placeholder(), abs: <AntiLockBrakeStatus as uper::Placeholder>::placeholder(), scs: <StabilityControlStatus as uper::Placeholder>::placeholder(), brake_boost: <BrakeBoostApplied as uper::Placeholder>::placeholder(), aux_brakes: <AuxiliaryBrakeStatus as uper::Placeholder>::placeholder() }
+        Self {
+            wheel_brakes: <BrakeAppliedStatus as uper::Placeholder>::placeholder(),
+            traction: <TractionControlStatus as uper::Placeholder>::placeholder(),
+            abs: <AntiLockBrakeStatus as uper::Placeholder>::placeholder(),
+            scs: <StabilityControlStatus as uper::Placeholder>::placeholder(),
+            brake_boost: <BrakeBoostApplied as uper::Placeholder>::placeholder(),
+            aux_brakes: <AuxiliaryBrakeStatus as uper::Placeholder>::placeholder(),
+        }
     }
 }
 
@@ -616,7 +692,13 @@ impl Uper for TractionControlStatus {
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let at = r.position();
         let i = r.read_constrained(0, 3)?;
-        *out = Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))?;
+        *out = Self::ALL
+            .get(i as usize)
+            .copied()
+            .ok_or(uper::DecodeError::new(
+                uper::DecodeErrorKind::InvalidEnumIndex,
+                at,
+            ))?;
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -687,7 +769,13 @@ impl Uper for AntiLockBrakeStatus {
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let at = r.position();
         let i = r.read_constrained(0, 3)?;
-        *out = Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))?;
+        *out = Self::ALL
+            .get(i as usize)
+            .copied()
+            .ok_or(uper::DecodeError::new(
+                uper::DecodeErrorKind::InvalidEnumIndex,
+                at,
+            ))?;
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -758,7 +846,13 @@ impl Uper for StabilityControlStatus {
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let at = r.position();
         let i = r.read_constrained(0, 3)?;
-        *out = Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))?;
+        *out = Self::ALL
+            .get(i as usize)
+            .copied()
+            .ok_or(uper::DecodeError::new(
+                uper::DecodeErrorKind::InvalidEnumIndex,
+                at,
+            ))?;
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -824,7 +918,13 @@ impl Uper for BrakeBoostApplied {
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let at = r.position();
         let i = r.read_constrained(0, 2)?;
-        *out = Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))?;
+        *out = Self::ALL
+            .get(i as usize)
+            .copied()
+            .ok_or(uper::DecodeError::new(
+                uper::DecodeErrorKind::InvalidEnumIndex,
+                at,
+            ))?;
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -895,7 +995,13 @@ impl Uper for AuxiliaryBrakeStatus {
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let at = r.position();
         let i = r.read_constrained(0, 3)?;
-        *out = Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))?;
+        *out = Self::ALL
+            .get(i as usize)
+            .copied()
+            .ok_or(uper::DecodeError::new(
+                uper::DecodeErrorKind::InvalidEnumIndex,
+                at,
+            ))?;
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -921,7 +1027,10 @@ pub struct VehicleSize {
 
 impl uper::Placeholder for VehicleSize {
     fn placeholder() -> Self {
-        Self { width: <VehicleWidth as uper::Placeholder>::placeholder(), length: <VehicleLength as uper::Placeholder>::placeholder() }
+        Self {
+            width: <VehicleWidth as uper::Placeholder>::placeholder(),
+            length: <VehicleLength as uper::Placeholder>::placeholder(),
+        }
     }
 }
 
@@ -983,7 +1092,12 @@ pub struct PathHistory {
 
 impl uper::Placeholder for PathHistory {
     fn placeholder() -> Self {
-        Self { initial_position: None, curr_gnss_status: None, crumb_data: <PathHistoryPointList as uper::Placeholder>::placeholder(), extensions: uper::Extensions::new() }
+        Self {
+            initial_position: None,
+            curr_gnss_status: None,
+            crumb_data: <PathHistoryPointList as uper::Placeholder>::placeholder(),
+            extensions: uper::Extensions::new(),
+        }
     }
 }
 
@@ -1014,12 +1128,20 @@ impl Uper for PathHistory {
             out.curr_gnss_status = None;
         }
         <PathHistoryPointList>::decode_into(r, &mut out.crumb_data)?;
-        out.extensions = if extended { uper::Extensions::decode(r, "Common.PathHistory:ext")? } else { uper::Extensions::new() };
+        out.extensions = if extended {
+            uper::Extensions::decode(r, "Common.PathHistory:ext")?
+        } else {
+            uper::Extensions::new()
+        };
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_bit(self.extensions.is_present())?;
-        w.write_bits(((self.initial_position.is_some() as u64) << 1) | ((self.curr_gnss_status.is_some() as u64) << 0), 2)?;
+        w.write_bits(
+            ((self.initial_position.is_some() as u64) << 1)
+                | ((self.curr_gnss_status.is_some() as u64) << 0),
+            2,
+        )?;
         if let Some(v) = &self.initial_position {
             v.encode_uper(w)?;
         }
@@ -1038,8 +1160,16 @@ impl Uper for PathHistory {
 impl uper::random::Random for PathHistory {
     fn random(g: &mut uper::random::Gen) -> Self {
         Self {
-            initial_position: if g.coin() { Some(<FullPositionVector as uper::random::Random>::random(g)) } else { None },
-            curr_gnss_status: if g.coin() { Some(<GNSSstatus as uper::random::Random>::random(g)) } else { None },
+            initial_position: if g.coin() {
+                Some(<FullPositionVector as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            curr_gnss_status: if g.coin() {
+                Some(<GNSSstatus as uper::random::Random>::random(g))
+            } else {
+                None
+            },
             crumb_data: <PathHistoryPointList as uper::random::Random>::random(g),
             extensions: uper::Extensions::new(),
         }
@@ -1075,7 +1205,19 @@ pub struct FullPositionVector {
 
 impl uper::Placeholder for FullPositionVector {
     fn placeholder() -> Self {
-        Self { utc_time: None, long: <Longitude as uper::Placeholder>::placeholder(), lat: <Latitude as uper::Placeholder>::placeholder(), elevation: None, heading: None, speed: None, pos_accuracy: None, time_confidence: None, pos_confidence: None, speed_confidence: None, extensions: uper::Extensions::new() }
+        Self {
+            utc_time: None,
+            long: <Longitude as uper::Placeholder>::placeholder(),
+            lat: <Latitude as uper::Placeholder>::placeholder(),
+            elevation: None,
+            heading: None,
+            speed: None,
+            pos_accuracy: None,
+            time_confidence: None,
+            pos_confidence: None,
+            speed_confidence: None,
+            extensions: uper::Extensions::new(),
+        }
     }
 }
 
@@ -1167,12 +1309,26 @@ impl Uper for FullPositionVector {
         } else {
             out.speed_confidence = None;
         }
-        out.extensions = if extended { uper::Extensions::decode(r, "Common.FullPositionVector:ext")? } else { uper::Extensions::new() };
+        out.extensions = if extended {
+            uper::Extensions::decode(r, "Common.FullPositionVector:ext")?
+        } else {
+            uper::Extensions::new()
+        };
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_bit(self.extensions.is_present())?;
-        w.write_bits(((self.utc_time.is_some() as u64) << 7) | ((self.elevation.is_some() as u64) << 6) | ((self.heading.is_some() as u64) << 5) | ((self.speed.is_some() as u64) << 4) | ((self.pos_accuracy.is_some() as u64) << 3) | ((self.time_confidence.is_some() as u64) << 2) | ((self.pos_confidence.is_some() as u64) << 1) | ((self.speed_confidence.is_some() as u64) << 0), 8)?;
+        w.write_bits(
+            ((self.utc_time.is_some() as u64) << 7)
+                | ((self.elevation.is_some() as u64) << 6)
+                | ((self.heading.is_some() as u64) << 5)
+                | ((self.speed.is_some() as u64) << 4)
+                | ((self.pos_accuracy.is_some() as u64) << 3)
+                | ((self.time_confidence.is_some() as u64) << 2)
+                | ((self.pos_confidence.is_some() as u64) << 1)
+                | ((self.speed_confidence.is_some() as u64) << 0),
+            8,
+        )?;
         if let Some(v) = &self.utc_time {
             v.encode_uper(w)?;
         }
@@ -1210,16 +1366,48 @@ impl Uper for FullPositionVector {
 impl uper::random::Random for FullPositionVector {
     fn random(g: &mut uper::random::Gen) -> Self {
         Self {
-            utc_time: if g.coin() { Some(<DDateTime as uper::random::Random>::random(g)) } else { None },
+            utc_time: if g.coin() {
+                Some(<DDateTime as uper::random::Random>::random(g))
+            } else {
+                None
+            },
             long: <Longitude as uper::random::Random>::random(g),
             lat: <Latitude as uper::random::Random>::random(g),
-            elevation: if g.coin() { Some(<Elevation as uper::random::Random>::random(g)) } else { None },
-            heading: if g.coin() { Some(<Heading as uper::random::Random>::random(g)) } else { None },
-            speed: if g.coin() { Some(<TransmissionAndSpeed as uper::random::Random>::random(g)) } else { None },
-            pos_accuracy: if g.coin() { Some(<PositionalAccuracy as uper::random::Random>::random(g)) } else { None },
-            time_confidence: if g.coin() { Some(<TimeConfidence as uper::random::Random>::random(g)) } else { None },
-            pos_confidence: if g.coin() { Some(<PositionConfidenceSet as uper::random::Random>::random(g)) } else { None },
-            speed_confidence: if g.coin() { Some(<SpeedandHeadingandThrottleConfidence as uper::random::Random>::random(g)) } else { None },
+            elevation: if g.coin() {
+                Some(<Elevation as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            heading: if g.coin() {
+                Some(<Heading as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            speed: if g.coin() {
+                Some(<TransmissionAndSpeed as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            pos_accuracy: if g.coin() {
+                Some(<PositionalAccuracy as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            time_confidence: if g.coin() {
+                Some(<TimeConfidence as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            pos_confidence: if g.coin() {
+                Some(<PositionConfidenceSet as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            speed_confidence: if g.coin() {
+                Some(<SpeedandHeadingandThrottleConfidence as uper::random::Random>::random(g))
+            } else {
+                None
+            },
             extensions: uper::Extensions::new(),
         }
     }
@@ -1246,7 +1434,15 @@ pub struct DDateTime {
 
 impl uper::Placeholder for DDateTime {
     fn placeholder() -> Self {
-        Self { year: None, month: None, day: None, hour: None, minute: None, second: None, offset: None }
+        Self {
+            year: None,
+            month: None,
+            day: None,
+            hour: None,
+            minute: None,
+            second: None,
+            offset: None,
+        }
     }
 }
 
@@ -1328,7 +1524,16 @@ impl Uper for DDateTime {
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
-        w.write_bits(((self.year.is_some() as u64) << 6) | ((self.month.is_some() as u64) << 5) | ((self.day.is_some() as u64) << 4) | ((self.hour.is_some() as u64) << 3) | ((self.minute.is_some() as u64) << 2) | ((self.second.is_some() as u64) << 1) | ((self.offset.is_some() as u64) << 0), 7)?;
+        w.write_bits(
+            ((self.year.is_some() as u64) << 6)
+                | ((self.month.is_some() as u64) << 5)
+                | ((self.day.is_some() as u64) << 4)
+                | ((self.hour.is_some() as u64) << 3)
+                | ((self.minute.is_some() as u64) << 2)
+                | ((self.second.is_some() as u64) << 1)
+                | ((self.offset.is_some() as u64) << 0),
+            7,
+        )?;
         if let Some(v) = &self.year {
             v.encode_uper(w)?;
         }
@@ -1358,13 +1563,41 @@ impl Uper for DDateTime {
 impl uper::random::Random for DDateTime {
     fn random(g: &mut uper::random::Gen) -> Self {
         Self {
-            year: if g.coin() { Some(<DYear as uper::random::Random>::random(g)) } else { None },
-            month: if g.coin() { Some(<DMonth as uper::random::Random>::random(g)) } else { None },
-            day: if g.coin() { Some(<DDay as uper::random::Random>::random(g)) } else { None },
-            hour: if g.coin() { Some(<DHour as uper::random::Random>::random(g)) } else { None },
-            minute: if g.coin() { Some(<DMinute as uper::random::Random>::random(g)) } else { None },
-            second: if g.coin() { Some(<DSecond as uper::random::Random>::random(g)) } else { None },
-            offset: if g.coin() { Some(<DOffset as uper::random::Random>::random(g)) } else { None },
+            year: if g.coin() {
+                Some(<DYear as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            month: if g.coin() {
+                Some(<DMonth as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            day: if g.coin() {
+                Some(<DDay as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            hour: if g.coin() {
+                Some(<DHour as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            minute: if g.coin() {
+                Some(<DMinute as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            second: if g.coin() {
+                Some(<DSecond as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            offset: if g.coin() {
+                Some(<DOffset as uper::random::Random>::random(g))
+            } else {
+                None
+            },
         }
     }
 }
@@ -1414,7 +1647,10 @@ pub struct TransmissionAndSpeed {
 
 impl uper::Placeholder for TransmissionAndSpeed {
     fn placeholder() -> Self {
-        Self { transmisson: <TransmissionState as uper::Placeholder>::placeholder(), speed: <Velocity as uper::Placeholder>::placeholder() }
+        Self {
+            transmisson: <TransmissionState as uper::Placeholder>::placeholder(),
+            speed: <Velocity as uper::Placeholder>::placeholder(),
+        }
     }
 }
 
@@ -1539,7 +1775,48 @@ pub enum TimeConfidence {
 
 impl TimeConfidence {
     /// Every root value in encoding (ascending number) order.
-    pub const ALL: [Self; 40] = [Self::Unavailable, Self::Time100_000, Self::Time050_000, Self::Time020_000, Self::Time010_000, Self::Time002_000, Self::Time001_000, Self::Time000_500, Self::Time000_200, Self::Time000_100, Self::Time000_050, Self::Time000_020, Self::Time000_010, Self::Time000_005, Self::Time000_002, Self::Time000_001, Self::Time000_000_5, Self::Time000_000_2, Self::Time000_000_1, Self::Time000_000_05, Self::Time000_000_02, Self::Time000_000_01, Self::Time000_000_005, Self::Time000_000_002, Self::Time000_000_001, Self::Time000_000_000_5, Self::Time000_000_000_2, Self::Time000_000_000_1, Self::Time000_000_000_05, Self::Time000_000_000_02, Self::Time000_000_000_01, Self::Time000_000_000_005, Self::Time000_000_000_002, Self::Time000_000_000_001, Self::Time000_000_000_000_5, Self::Time000_000_000_000_2, Self::Time000_000_000_000_1, Self::Time000_000_000_000_05, Self::Time000_000_000_000_02, Self::Time000_000_000_000_01];
+    pub const ALL: [Self; 40] = [
+        Self::Unavailable,
+        Self::Time100_000,
+        Self::Time050_000,
+        Self::Time020_000,
+        Self::Time010_000,
+        Self::Time002_000,
+        Self::Time001_000,
+        Self::Time000_500,
+        Self::Time000_200,
+        Self::Time000_100,
+        Self::Time000_050,
+        Self::Time000_020,
+        Self::Time000_010,
+        Self::Time000_005,
+        Self::Time000_002,
+        Self::Time000_001,
+        Self::Time000_000_5,
+        Self::Time000_000_2,
+        Self::Time000_000_1,
+        Self::Time000_000_05,
+        Self::Time000_000_02,
+        Self::Time000_000_01,
+        Self::Time000_000_005,
+        Self::Time000_000_002,
+        Self::Time000_000_001,
+        Self::Time000_000_000_5,
+        Self::Time000_000_000_2,
+        Self::Time000_000_000_1,
+        Self::Time000_000_000_05,
+        Self::Time000_000_000_02,
+        Self::Time000_000_000_01,
+        Self::Time000_000_000_005,
+        Self::Time000_000_000_002,
+        Self::Time000_000_000_001,
+        Self::Time000_000_000_000_5,
+        Self::Time000_000_000_000_2,
+        Self::Time000_000_000_000_1,
+        Self::Time000_000_000_000_05,
+        Self::Time000_000_000_000_02,
+        Self::Time000_000_000_000_01,
+    ];
     /// The ASN.1 number of the value (`None` for an unknown extension value).
     pub const fn number(self) -> Option<i64> {
         match self {
@@ -1688,7 +1965,13 @@ impl Uper for TimeConfidence {
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let at = r.position();
         let i = r.read_constrained(0, 39)?;
-        *out = Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))?;
+        *out = Self::ALL
+            .get(i as usize)
+            .copied()
+            .ok_or(uper::DecodeError::new(
+                uper::DecodeErrorKind::InvalidEnumIndex,
+                at,
+            ))?;
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -1714,7 +1997,10 @@ pub struct PositionConfidenceSet {
 
 impl uper::Placeholder for PositionConfidenceSet {
     fn placeholder() -> Self {
-        Self { pos: <PositionConfidence as uper::Placeholder>::placeholder(), elevation: <ElevationConfidence as uper::Placeholder>::placeholder() }
+        Self {
+            pos: <PositionConfidence as uper::Placeholder>::placeholder(),
+            elevation: <ElevationConfidence as uper::Placeholder>::placeholder(),
+        }
     }
 }
 
@@ -1782,7 +2068,24 @@ pub enum PositionConfidence {
 
 impl PositionConfidence {
     /// Every root value in encoding (ascending number) order.
-    pub const ALL: [Self; 16] = [Self::Unavailable, Self::A500m, Self::A200m, Self::A100m, Self::A50m, Self::A20m, Self::A10m, Self::A5m, Self::A2m, Self::A1m, Self::A50cm, Self::A20cm, Self::A10cm, Self::A5cm, Self::A2cm, Self::A1cm];
+    pub const ALL: [Self; 16] = [
+        Self::Unavailable,
+        Self::A500m,
+        Self::A200m,
+        Self::A100m,
+        Self::A50m,
+        Self::A20m,
+        Self::A10m,
+        Self::A5m,
+        Self::A2m,
+        Self::A1m,
+        Self::A50cm,
+        Self::A20cm,
+        Self::A10cm,
+        Self::A5cm,
+        Self::A2cm,
+        Self::A1cm,
+    ];
     /// The ASN.1 number of the value (`None` for an unknown extension value).
     pub const fn number(self) -> Option<i64> {
         match self {
@@ -1859,7 +2162,13 @@ impl Uper for PositionConfidence {
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let at = r.position();
         let i = r.read_constrained(0, 15)?;
-        *out = Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))?;
+        *out = Self::ALL
+            .get(i as usize)
+            .copied()
+            .ok_or(uper::DecodeError::new(
+                uper::DecodeErrorKind::InvalidEnumIndex,
+                at,
+            ))?;
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -1913,7 +2222,24 @@ pub enum ElevationConfidence {
 
 impl ElevationConfidence {
     /// Every root value in encoding (ascending number) order.
-    pub const ALL: [Self; 16] = [Self::Unavailable, Self::Elev500_00, Self::Elev200_00, Self::Elev100_00, Self::Elev050_00, Self::Elev020_00, Self::Elev010_00, Self::Elev005_00, Self::Elev002_00, Self::Elev001_00, Self::Elev000_50, Self::Elev000_20, Self::Elev000_10, Self::Elev000_05, Self::Elev000_02, Self::Elev000_01];
+    pub const ALL: [Self; 16] = [
+        Self::Unavailable,
+        Self::Elev500_00,
+        Self::Elev200_00,
+        Self::Elev100_00,
+        Self::Elev050_00,
+        Self::Elev020_00,
+        Self::Elev010_00,
+        Self::Elev005_00,
+        Self::Elev002_00,
+        Self::Elev001_00,
+        Self::Elev000_50,
+        Self::Elev000_20,
+        Self::Elev000_10,
+        Self::Elev000_05,
+        Self::Elev000_02,
+        Self::Elev000_01,
+    ];
     /// The ASN.1 number of the value (`None` for an unknown extension value).
     pub const fn number(self) -> Option<i64> {
         match self {
@@ -1990,7 +2316,13 @@ impl Uper for ElevationConfidence {
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let at = r.position();
         let i = r.read_constrained(0, 15)?;
-        *out = Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))?;
+        *out = Self::ALL
+            .get(i as usize)
+            .copied()
+            .ok_or(uper::DecodeError::new(
+                uper::DecodeErrorKind::InvalidEnumIndex,
+                at,
+            ))?;
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -2018,7 +2350,11 @@ pub struct SpeedandHeadingandThrottleConfidence {
 
 impl uper::Placeholder for SpeedandHeadingandThrottleConfidence {
     fn placeholder() -> Self {
-        Self { heading: <HeadingConfidence as uper::Placeholder>::placeholder(), speed: <SpeedConfidence as uper::Placeholder>::placeholder(), throttle: <ThrottleConfidence as uper::Placeholder>::placeholder() }
+        Self {
+            heading: <HeadingConfidence as uper::Placeholder>::placeholder(),
+            speed: <SpeedConfidence as uper::Placeholder>::placeholder(),
+            throttle: <ThrottleConfidence as uper::Placeholder>::placeholder(),
+        }
     }
 }
 
@@ -2073,7 +2409,16 @@ pub enum HeadingConfidence {
 
 impl HeadingConfidence {
     /// Every root value in encoding (ascending number) order.
-    pub const ALL: [Self; 8] = [Self::Unavailable, Self::Prec10deg, Self::Prec05deg, Self::Prec01deg, Self::Prec0_1deg, Self::Prec0_05deg, Self::Prec0_01deg, Self::Prec0_0125deg];
+    pub const ALL: [Self; 8] = [
+        Self::Unavailable,
+        Self::Prec10deg,
+        Self::Prec05deg,
+        Self::Prec01deg,
+        Self::Prec0_1deg,
+        Self::Prec0_05deg,
+        Self::Prec0_01deg,
+        Self::Prec0_0125deg,
+    ];
     /// The ASN.1 number of the value (`None` for an unknown extension value).
     pub const fn number(self) -> Option<i64> {
         match self {
@@ -2126,7 +2471,13 @@ impl Uper for HeadingConfidence {
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let at = r.position();
         let i = r.read_constrained(0, 7)?;
-        *out = Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))?;
+        *out = Self::ALL
+            .get(i as usize)
+            .copied()
+            .ok_or(uper::DecodeError::new(
+                uper::DecodeErrorKind::InvalidEnumIndex,
+                at,
+            ))?;
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -2164,7 +2515,16 @@ pub enum SpeedConfidence {
 
 impl SpeedConfidence {
     /// Every root value in encoding (ascending number) order.
-    pub const ALL: [Self; 8] = [Self::Unavailable, Self::Prec100ms, Self::Prec10ms, Self::Prec5ms, Self::Prec1ms, Self::Prec0_1ms, Self::Prec0_05ms, Self::Prec0_01ms];
+    pub const ALL: [Self; 8] = [
+        Self::Unavailable,
+        Self::Prec100ms,
+        Self::Prec10ms,
+        Self::Prec5ms,
+        Self::Prec1ms,
+        Self::Prec0_1ms,
+        Self::Prec0_05ms,
+        Self::Prec0_01ms,
+    ];
     /// The ASN.1 number of the value (`None` for an unknown extension value).
     pub const fn number(self) -> Option<i64> {
         match self {
@@ -2217,7 +2577,13 @@ impl Uper for SpeedConfidence {
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let at = r.position();
         let i = r.read_constrained(0, 7)?;
-        *out = Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))?;
+        *out = Self::ALL
+            .get(i as usize)
+            .copied()
+            .ok_or(uper::DecodeError::new(
+                uper::DecodeErrorKind::InvalidEnumIndex,
+                at,
+            ))?;
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -2247,7 +2613,12 @@ pub enum ThrottleConfidence {
 
 impl ThrottleConfidence {
     /// Every root value in encoding (ascending number) order.
-    pub const ALL: [Self; 4] = [Self::Unavailable, Self::Prec10percent, Self::Prec1percent, Self::Prec0_5percent];
+    pub const ALL: [Self; 4] = [
+        Self::Unavailable,
+        Self::Prec10percent,
+        Self::Prec1percent,
+        Self::Prec0_5percent,
+    ];
     /// The ASN.1 number of the value (`None` for an unknown extension value).
     pub const fn number(self) -> Option<i64> {
         match self {
@@ -2288,7 +2659,13 @@ impl Uper for ThrottleConfidence {
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let at = r.position();
         let i = r.read_constrained(0, 3)?;
-        *out = Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))?;
+        *out = Self::ALL
+            .get(i as usize)
+            .copied()
+            .ok_or(uper::DecodeError::new(
+                uper::DecodeErrorKind::InvalidEnumIndex,
+                at,
+            ))?;
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -2376,6 +2753,12 @@ impl PathHistoryPointList {
     }
 }
 
+impl Default for PathHistoryPointList {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
 impl uper::Placeholder for PathHistoryPointList {
     fn placeholder() -> Self {
         Self(uper::SeqOf::new())
@@ -2398,7 +2781,8 @@ impl uper::random::Random for PathHistoryPointList {
     fn random(g: &mut uper::random::Gen) -> Self {
         let mut v = Self(uper::SeqOf::new());
         for _ in 0..g.count(1, 23) {
-            let _ = v.0.push(<PathHistoryPoint as uper::random::Random>::random(g));
+            let _ =
+                v.0.push(<PathHistoryPoint as uper::random::Random>::random(g));
         }
         v
     }
@@ -2427,7 +2811,16 @@ pub struct PathHistoryPoint {
 
 impl uper::Placeholder for PathHistoryPoint {
     fn placeholder() -> Self {
-        Self { lat_offset: <OffsetLLB18 as uper::Placeholder>::placeholder(), lon_offset: <OffsetLLB18 as uper::Placeholder>::placeholder(), elevation_offset: <VertOffsetB12 as uper::Placeholder>::placeholder(), time_offset: <TimeOffset as uper::Placeholder>::placeholder(), speed: None, pos_accuracy: None, heading: None, extensions: uper::Extensions::new() }
+        Self {
+            lat_offset: <OffsetLLB18 as uper::Placeholder>::placeholder(),
+            lon_offset: <OffsetLLB18 as uper::Placeholder>::placeholder(),
+            elevation_offset: <VertOffsetB12 as uper::Placeholder>::placeholder(),
+            time_offset: <TimeOffset as uper::Placeholder>::placeholder(),
+            speed: None,
+            pos_accuracy: None,
+            heading: None,
+            extensions: uper::Extensions::new(),
+        }
     }
 }
 
@@ -2471,12 +2864,21 @@ impl Uper for PathHistoryPoint {
         } else {
             out.heading = None;
         }
-        out.extensions = if extended { uper::Extensions::decode(r, "Common.PathHistoryPoint:ext")? } else { uper::Extensions::new() };
+        out.extensions = if extended {
+            uper::Extensions::decode(r, "Common.PathHistoryPoint:ext")?
+        } else {
+            uper::Extensions::new()
+        };
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_bit(self.extensions.is_present())?;
-        w.write_bits(((self.speed.is_some() as u64) << 2) | ((self.pos_accuracy.is_some() as u64) << 1) | ((self.heading.is_some() as u64) << 0), 3)?;
+        w.write_bits(
+            ((self.speed.is_some() as u64) << 2)
+                | ((self.pos_accuracy.is_some() as u64) << 1)
+                | ((self.heading.is_some() as u64) << 0),
+            3,
+        )?;
         self.lat_offset.encode_uper(w)?;
         self.lon_offset.encode_uper(w)?;
         self.elevation_offset.encode_uper(w)?;
@@ -2505,9 +2907,21 @@ impl uper::random::Random for PathHistoryPoint {
             lon_offset: <OffsetLLB18 as uper::random::Random>::random(g),
             elevation_offset: <VertOffsetB12 as uper::random::Random>::random(g),
             time_offset: <TimeOffset as uper::random::Random>::random(g),
-            speed: if g.coin() { Some(<Speed as uper::random::Random>::random(g)) } else { None },
-            pos_accuracy: if g.coin() { Some(<PositionalAccuracy as uper::random::Random>::random(g)) } else { None },
-            heading: if g.coin() { Some(<CoarseHeading as uper::random::Random>::random(g)) } else { None },
+            speed: if g.coin() {
+                Some(<Speed as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            pos_accuracy: if g.coin() {
+                Some(<PositionalAccuracy as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            heading: if g.coin() {
+                Some(<CoarseHeading as uper::random::Random>::random(g))
+            } else {
+                None
+            },
             extensions: uper::Extensions::new(),
         }
     }
@@ -2550,7 +2964,11 @@ pub struct PathPrediction {
 
 impl uper::Placeholder for PathPrediction {
     fn placeholder() -> Self {
-        Self { radius_of_curve: <RadiusOfCurvature as uper::Placeholder>::placeholder(), confidence: <Confidence as uper::Placeholder>::placeholder(), extensions: uper::Extensions::new() }
+        Self {
+            radius_of_curve: <RadiusOfCurvature as uper::Placeholder>::placeholder(),
+            confidence: <Confidence as uper::Placeholder>::placeholder(),
+            extensions: uper::Extensions::new(),
+        }
     }
 }
 
@@ -2561,7 +2979,11 @@ impl Uper for PathPrediction {
         let extended = r.read_bit()?;
         <RadiusOfCurvature>::decode_into(r, &mut out.radius_of_curve)?;
         <Confidence>::decode_into(r, &mut out.confidence)?;
-        out.extensions = if extended { uper::Extensions::decode(r, "Common.PathPrediction:ext")? } else { uper::Extensions::new() };
+        out.extensions = if extended {
+            uper::Extensions::decode(r, "Common.PathPrediction:ext")?
+        } else {
+            uper::Extensions::new()
+        };
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -2589,7 +3011,13 @@ impl uper::random::Random for PathPrediction {
 /// ASN.1 `RadiusOfCurvature` (module `Common`): INTEGER (-32767..32767).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub struct RadiusOfCurvature(i16);
-crate::__constrained_int!(RadiusOfCurvature, i16, -32767, 32767, "Common.RadiusOfCurvature");
+crate::__constrained_int!(
+    RadiusOfCurvature,
+    i16,
+    -32767,
+    32767,
+    "Common.RadiusOfCurvature"
+);
 
 /// ASN.1 `Confidence` (module `Common`): INTEGER (0..200).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
@@ -2607,7 +3035,10 @@ pub struct IntersectionReferenceID {
 
 impl uper::Placeholder for IntersectionReferenceID {
     fn placeholder() -> Self {
-        Self { region: None, id: <IntersectionID as uper::Placeholder>::placeholder() }
+        Self {
+            region: None,
+            id: <IntersectionID as uper::Placeholder>::placeholder(),
+        }
     }
 }
 
@@ -2643,7 +3074,11 @@ impl Uper for IntersectionReferenceID {
 impl uper::random::Random for IntersectionReferenceID {
     fn random(g: &mut uper::random::Gen) -> Self {
         Self {
-            region: if g.coin() { Some(<RoadRegulatorID as uper::random::Random>::random(g)) } else { None },
+            region: if g.coin() {
+                Some(<RoadRegulatorID as uper::random::Random>::random(g))
+            } else {
+                None
+            },
             id: <IntersectionID as uper::random::Random>::random(g),
         }
     }
@@ -2704,9 +3139,6 @@ impl VehicleEventFlags {
     /// `len` zero bits, when `len` satisfies the SIZE constraint (or, for an extensible
     /// constraint, fits the storage).
     pub fn zeros(len: usize) -> Option<Self> {
-        if !true {
-            return None;
-        }
         uper::Bits::zeros(len).map(Self)
     }
 }
@@ -2760,7 +3192,13 @@ pub struct VehicleSafetyExtensions {
 
 impl uper::Placeholder for VehicleSafetyExtensions {
     fn placeholder() -> Self {
-        Self { events: None, path_history: None, path_prediction: None, lights: None, extensions: uper::Extensions::new() }
+        Self {
+            events: None,
+            path_history: None,
+            path_prediction: None,
+            lights: None,
+            extensions: uper::Extensions::new(),
+        }
     }
 }
 
@@ -2810,12 +3248,22 @@ impl Uper for VehicleSafetyExtensions {
         } else {
             out.lights = None;
         }
-        out.extensions = if extended { uper::Extensions::decode(r, "Common.VehicleSafetyExtensions:ext")? } else { uper::Extensions::new() };
+        out.extensions = if extended {
+            uper::Extensions::decode(r, "Common.VehicleSafetyExtensions:ext")?
+        } else {
+            uper::Extensions::new()
+        };
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_bit(self.extensions.is_present())?;
-        w.write_bits(((self.events.is_some() as u64) << 3) | ((self.path_history.is_some() as u64) << 2) | ((self.path_prediction.is_some() as u64) << 1) | ((self.lights.is_some() as u64) << 0), 4)?;
+        w.write_bits(
+            ((self.events.is_some() as u64) << 3)
+                | ((self.path_history.is_some() as u64) << 2)
+                | ((self.path_prediction.is_some() as u64) << 1)
+                | ((self.lights.is_some() as u64) << 0),
+            4,
+        )?;
         if let Some(v) = &self.events {
             v.encode_uper(w)?;
         }
@@ -2839,10 +3287,26 @@ impl Uper for VehicleSafetyExtensions {
 impl uper::random::Random for VehicleSafetyExtensions {
     fn random(g: &mut uper::random::Gen) -> Self {
         Self {
-            events: if g.coin() { Some(<VehicleEventFlags as uper::random::Random>::random(g)) } else { None },
-            path_history: if g.coin() { Some(<PathHistory as uper::random::Random>::random(g)) } else { None },
-            path_prediction: if g.coin() { Some(<PathPrediction as uper::random::Random>::random(g)) } else { None },
-            lights: if g.coin() { Some(<ExteriorLights as uper::random::Random>::random(g)) } else { None },
+            events: if g.coin() {
+                Some(<VehicleEventFlags as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            path_history: if g.coin() {
+                Some(<PathHistory as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            path_prediction: if g.coin() {
+                Some(<PathPrediction as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            lights: if g.coin() {
+                Some(<ExteriorLights as uper::random::Random>::random(g))
+            } else {
+                None
+            },
             extensions: uper::Extensions::new(),
         }
     }
@@ -2875,9 +3339,6 @@ impl ExteriorLights {
     /// `len` zero bits, when `len` satisfies the SIZE constraint (or, for an extensible
     /// constraint, fits the storage).
     pub fn zeros(len: usize) -> Option<Self> {
-        if !true {
-            return None;
-        }
         uper::Bits::zeros(len).map(Self)
     }
 }
@@ -2930,7 +3391,15 @@ pub struct EmergencyDetails {
 
 impl uper::Placeholder for EmergencyDetails {
     fn placeholder() -> Self {
-        Self { not_used: <SSPindex as uper::Placeholder>::placeholder(), siren_use: <SirenInUse as uper::Placeholder>::placeholder(), lights_use: <LightbarInUse as uper::Placeholder>::placeholder(), multi: <MultiVehicleResponse as uper::Placeholder>::placeholder(), events: None, response_type: None, extensions: uper::Extensions::new() }
+        Self {
+            not_used: <SSPindex as uper::Placeholder>::placeholder(),
+            siren_use: <SirenInUse as uper::Placeholder>::placeholder(),
+            lights_use: <LightbarInUse as uper::Placeholder>::placeholder(),
+            multi: <MultiVehicleResponse as uper::Placeholder>::placeholder(),
+            events: None,
+            response_type: None,
+            extensions: uper::Extensions::new(),
+        }
     }
 }
 
@@ -2964,12 +3433,19 @@ impl Uper for EmergencyDetails {
         } else {
             out.response_type = None;
         }
-        out.extensions = if extended { uper::Extensions::decode(r, "Common.EmergencyDetails:ext")? } else { uper::Extensions::new() };
+        out.extensions = if extended {
+            uper::Extensions::decode(r, "Common.EmergencyDetails:ext")?
+        } else {
+            uper::Extensions::new()
+        };
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_bit(self.extensions.is_present())?;
-        w.write_bits(((self.events.is_some() as u64) << 1) | ((self.response_type.is_some() as u64) << 0), 2)?;
+        w.write_bits(
+            ((self.events.is_some() as u64) << 1) | ((self.response_type.is_some() as u64) << 0),
+            2,
+        )?;
         self.not_used.encode_uper(w)?;
         self.siren_use.encode_uper(w)?;
         self.lights_use.encode_uper(w)?;
@@ -2995,8 +3471,16 @@ impl uper::random::Random for EmergencyDetails {
             siren_use: <SirenInUse as uper::random::Random>::random(g),
             lights_use: <LightbarInUse as uper::random::Random>::random(g),
             multi: <MultiVehicleResponse as uper::random::Random>::random(g),
-            events: if g.coin() { Some(<PrivilegedEvents as uper::random::Random>::random(g)) } else { None },
-            response_type: if g.coin() { Some(<ResponseType as uper::random::Random>::random(g)) } else { None },
+            events: if g.coin() {
+                Some(<PrivilegedEvents as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            response_type: if g.coin() {
+                Some(<ResponseType as uper::random::Random>::random(g))
+            } else {
+                None
+            },
             extensions: uper::Extensions::new(),
         }
     }
@@ -3022,7 +3506,12 @@ pub enum SirenInUse {
 
 impl SirenInUse {
     /// Every root value in encoding (ascending number) order.
-    pub const ALL: [Self; 4] = [Self::Unavailable, Self::NotInUse, Self::InUse, Self::Reserved];
+    pub const ALL: [Self; 4] = [
+        Self::Unavailable,
+        Self::NotInUse,
+        Self::InUse,
+        Self::Reserved,
+    ];
     /// The ASN.1 number of the value (`None` for an unknown extension value).
     pub const fn number(self) -> Option<i64> {
         match self {
@@ -3063,7 +3552,13 @@ impl Uper for SirenInUse {
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let at = r.position();
         let i = r.read_constrained(0, 3)?;
-        *out = Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))?;
+        *out = Self::ALL
+            .get(i as usize)
+            .copied()
+            .ok_or(uper::DecodeError::new(
+                uper::DecodeErrorKind::InvalidEnumIndex,
+                at,
+            ))?;
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -3101,7 +3596,16 @@ pub enum LightbarInUse {
 
 impl LightbarInUse {
     /// Every root value in encoding (ascending number) order.
-    pub const ALL: [Self; 8] = [Self::Unavailable, Self::NotInUse, Self::InUse, Self::YellowCautionLights, Self::SchooldBusLights, Self::ArrowSignsActive, Self::SlowMovingVehicle, Self::FreqStops];
+    pub const ALL: [Self; 8] = [
+        Self::Unavailable,
+        Self::NotInUse,
+        Self::InUse,
+        Self::YellowCautionLights,
+        Self::SchooldBusLights,
+        Self::ArrowSignsActive,
+        Self::SlowMovingVehicle,
+        Self::FreqStops,
+    ];
     /// The ASN.1 number of the value (`None` for an unknown extension value).
     pub const fn number(self) -> Option<i64> {
         match self {
@@ -3154,7 +3658,13 @@ impl Uper for LightbarInUse {
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let at = r.position();
         let i = r.read_constrained(0, 7)?;
-        *out = Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))?;
+        *out = Self::ALL
+            .get(i as usize)
+            .copied()
+            .ok_or(uper::DecodeError::new(
+                uper::DecodeErrorKind::InvalidEnumIndex,
+                at,
+            ))?;
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -3184,7 +3694,12 @@ pub enum MultiVehicleResponse {
 
 impl MultiVehicleResponse {
     /// Every root value in encoding (ascending number) order.
-    pub const ALL: [Self; 4] = [Self::Unavailable, Self::SingleVehicle, Self::MultiVehicle, Self::Reserved];
+    pub const ALL: [Self; 4] = [
+        Self::Unavailable,
+        Self::SingleVehicle,
+        Self::MultiVehicle,
+        Self::Reserved,
+    ];
     /// The ASN.1 number of the value (`None` for an unknown extension value).
     pub const fn number(self) -> Option<i64> {
         match self {
@@ -3225,7 +3740,13 @@ impl Uper for MultiVehicleResponse {
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let at = r.position();
         let i = r.read_constrained(0, 3)?;
-        *out = Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))?;
+        *out = Self::ALL
+            .get(i as usize)
+            .copied()
+            .ok_or(uper::DecodeError::new(
+                uper::DecodeErrorKind::InvalidEnumIndex,
+                at,
+            ))?;
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -3253,7 +3774,11 @@ pub struct PrivilegedEvents {
 
 impl uper::Placeholder for PrivilegedEvents {
     fn placeholder() -> Self {
-        Self { not_used: <SSPindex as uper::Placeholder>::placeholder(), event: <PrivilegedEventFlags as uper::Placeholder>::placeholder(), extensions: uper::Extensions::new() }
+        Self {
+            not_used: <SSPindex as uper::Placeholder>::placeholder(),
+            event: <PrivilegedEventFlags as uper::Placeholder>::placeholder(),
+            extensions: uper::Extensions::new(),
+        }
     }
 }
 
@@ -3264,7 +3789,11 @@ impl Uper for PrivilegedEvents {
         let extended = r.read_bit()?;
         <SSPindex>::decode_into(r, &mut out.not_used)?;
         <PrivilegedEventFlags>::decode_into(r, &mut out.event)?;
-        out.extensions = if extended { uper::Extensions::decode(r, "Common.PrivilegedEvents:ext")? } else { uper::Extensions::new() };
+        out.extensions = if extended {
+            uper::Extensions::decode(r, "Common.PrivilegedEvents:ext")?
+        } else {
+            uper::Extensions::new()
+        };
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -3367,7 +3896,15 @@ pub enum ResponseType {
 
 impl ResponseType {
     /// Every root value in encoding (ascending number) order.
-    pub const ALL: [Self; 7] = [Self::NotInUseOrNotEquipped, Self::Emergency, Self::NonEmergency, Self::Pursuit, Self::Stationary, Self::SlowMoving, Self::StopAndGoMovement];
+    pub const ALL: [Self; 7] = [
+        Self::NotInUseOrNotEquipped,
+        Self::Emergency,
+        Self::NonEmergency,
+        Self::Pursuit,
+        Self::Stationary,
+        Self::SlowMoving,
+        Self::StopAndGoMovement,
+    ];
     /// The ASN.1 number of the value (`None` for an unknown extension value).
     pub const fn number(self) -> Option<i64> {
         match self {
@@ -3421,12 +3958,20 @@ impl Uper for ResponseType {
         if r.read_bit()? {
             let at = r.position();
             let i = r.read_normally_small()?;
-            *out = u16::try_from(i).map(Self::Extension).map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at))?;
+            *out = u16::try_from(i)
+                .map(Self::Extension)
+                .map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at))?;
             return Ok(());
         }
         let at = r.position();
         let i = r.read_constrained(0, 6)?;
-        *out = Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))?;
+        *out = Self::ALL
+            .get(i as usize)
+            .copied()
+            .ok_or(uper::DecodeError::new(
+                uper::DecodeErrorKind::InvalidEnumIndex,
+                at,
+            ))?;
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -3588,7 +4133,24 @@ pub enum Extent {
 
 impl Extent {
     /// Every root value in encoding (ascending number) order.
-    pub const ALL: [Self; 16] = [Self::UseInstantlyOnly, Self::UseFor3meters, Self::UseFor10meters, Self::UseFor50meters, Self::UseFor100meters, Self::UseFor500meters, Self::UseFor1000meters, Self::UseFor5000meters, Self::UseFor10000meters, Self::UseFor50000meters, Self::UseFor100000meters, Self::UseFor500000meters, Self::UseFor1000000meters, Self::UseFor5000000meters, Self::UseFor10000000meters, Self::Forever];
+    pub const ALL: [Self; 16] = [
+        Self::UseInstantlyOnly,
+        Self::UseFor3meters,
+        Self::UseFor10meters,
+        Self::UseFor50meters,
+        Self::UseFor100meters,
+        Self::UseFor500meters,
+        Self::UseFor1000meters,
+        Self::UseFor5000meters,
+        Self::UseFor10000meters,
+        Self::UseFor50000meters,
+        Self::UseFor100000meters,
+        Self::UseFor500000meters,
+        Self::UseFor1000000meters,
+        Self::UseFor5000000meters,
+        Self::UseFor10000000meters,
+        Self::Forever,
+    ];
     /// The ASN.1 number of the value (`None` for an unknown extension value).
     pub const fn number(self) -> Option<i64> {
         match self {
@@ -3665,7 +4227,13 @@ impl Uper for Extent {
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let at = r.position();
         let i = r.read_constrained(0, 15)?;
-        *out = Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))?;
+        *out = Self::ALL
+            .get(i as usize)
+            .copied()
+            .ok_or(uper::DecodeError::new(
+                uper::DecodeErrorKind::InvalidEnumIndex,
+                at,
+            ))?;
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -3710,7 +4278,10 @@ pub struct BumperHeights {
 
 impl uper::Placeholder for BumperHeights {
     fn placeholder() -> Self {
-        Self { front: <BumperHeight as uper::Placeholder>::placeholder(), rear: <BumperHeight as uper::Placeholder>::placeholder() }
+        Self {
+            front: <BumperHeight as uper::Placeholder>::placeholder(),
+            rear: <BumperHeight as uper::Placeholder>::placeholder(),
+        }
     }
 }
 
@@ -3760,7 +4331,10 @@ pub struct NodeXY24b {
 
 impl uper::Placeholder for NodeXY24b {
     fn placeholder() -> Self {
-        Self { x: <OffsetB12 as uper::Placeholder>::placeholder(), y: <OffsetB12 as uper::Placeholder>::placeholder() }
+        Self {
+            x: <OffsetB12 as uper::Placeholder>::placeholder(),
+            y: <OffsetB12 as uper::Placeholder>::placeholder(),
+        }
     }
 }
 
@@ -3821,7 +4395,18 @@ pub struct VehicleClassification {
 
 impl uper::Placeholder for VehicleClassification {
     fn placeholder() -> Self {
-        Self { key_type: None, role: None, iso3883: None, hpms_type: None, vehicle_type: None, response_equip: None, responder_type: None, fuel_type: None, regional: None, extensions: uper::Extensions::new() }
+        Self {
+            key_type: None,
+            role: None,
+            iso3883: None,
+            hpms_type: None,
+            vehicle_type: None,
+            response_equip: None,
+            responder_type: None,
+            fuel_type: None,
+            regional: None,
+            extensions: uper::Extensions::new(),
+        }
     }
 }
 
@@ -3921,12 +4506,27 @@ impl Uper for VehicleClassification {
         } else {
             out.regional = None;
         }
-        out.extensions = if extended { uper::Extensions::decode(r, "Common.VehicleClassification:ext")? } else { uper::Extensions::new() };
+        out.extensions = if extended {
+            uper::Extensions::decode(r, "Common.VehicleClassification:ext")?
+        } else {
+            uper::Extensions::new()
+        };
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_bit(self.extensions.is_present())?;
-        w.write_bits(((self.key_type.is_some() as u64) << 8) | ((self.role.is_some() as u64) << 7) | ((self.iso3883.is_some() as u64) << 6) | ((self.hpms_type.is_some() as u64) << 5) | ((self.vehicle_type.is_some() as u64) << 4) | ((self.response_equip.is_some() as u64) << 3) | ((self.responder_type.is_some() as u64) << 2) | ((self.fuel_type.is_some() as u64) << 1) | ((self.regional.is_some() as u64) << 0), 9)?;
+        w.write_bits(
+            ((self.key_type.is_some() as u64) << 8)
+                | ((self.role.is_some() as u64) << 7)
+                | ((self.iso3883.is_some() as u64) << 6)
+                | ((self.hpms_type.is_some() as u64) << 5)
+                | ((self.vehicle_type.is_some() as u64) << 4)
+                | ((self.response_equip.is_some() as u64) << 3)
+                | ((self.responder_type.is_some() as u64) << 2)
+                | ((self.fuel_type.is_some() as u64) << 1)
+                | ((self.regional.is_some() as u64) << 0),
+            9,
+        )?;
         if let Some(v) = &self.key_type {
             v.encode_uper(w)?;
         }
@@ -3965,15 +4565,51 @@ impl Uper for VehicleClassification {
 impl uper::random::Random for VehicleClassification {
     fn random(g: &mut uper::random::Gen) -> Self {
         Self {
-            key_type: if g.coin() { Some(<BasicVehicleClass as uper::random::Random>::random(g)) } else { None },
-            role: if g.coin() { Some(<BasicVehicleRole as uper::random::Random>::random(g)) } else { None },
-            iso3883: if g.coin() { Some(<Iso3833VehicleType as uper::random::Random>::random(g)) } else { None },
-            hpms_type: if g.coin() { Some(<VehicleType as uper::random::Random>::random(g)) } else { None },
-            vehicle_type: if g.coin() { Some(<super::itis::VehicleGroupAffected as uper::random::Random>::random(g)) } else { None },
-            response_equip: if g.coin() { Some(<super::itis::IncidentResponseEquipment as uper::random::Random>::random(g)) } else { None },
-            responder_type: if g.coin() { Some(<super::itis::ResponderGroupAffected as uper::random::Random>::random(g)) } else { None },
-            fuel_type: if g.coin() { Some(<FuelType as uper::random::Random>::random(g)) } else { None },
-            regional: if g.coin() { Some(<VehicleClassificationRegional as uper::random::Random>::random(g)) } else { None },
+            key_type: if g.coin() {
+                Some(<BasicVehicleClass as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            role: if g.coin() {
+                Some(<BasicVehicleRole as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            iso3883: if g.coin() {
+                Some(<Iso3833VehicleType as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            hpms_type: if g.coin() {
+                Some(<VehicleType as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            vehicle_type: if g.coin() {
+                Some(<super::itis::VehicleGroupAffected as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            response_equip: if g.coin() {
+                Some(<super::itis::IncidentResponseEquipment as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            responder_type: if g.coin() {
+                Some(<super::itis::ResponderGroupAffected as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            fuel_type: if g.coin() {
+                Some(<FuelType as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            regional: if g.coin() {
+                Some(<VehicleClassificationRegional as uper::random::Random>::random(g))
+            } else {
+                None
+            },
             extensions: uper::Extensions::new(),
         }
     }
@@ -4034,7 +4670,31 @@ pub enum BasicVehicleRole {
 
 impl BasicVehicleRole {
     /// Every root value in encoding (ascending number) order.
-    pub const ALL: [Self; 23] = [Self::BasicVehicle, Self::PublicTransport, Self::SpecialTransport, Self::DangerousGoods, Self::RoadWork, Self::RoadRescue, Self::Emergency, Self::SafetyCar, Self::NoneUnknown, Self::Truck, Self::Motorcycle, Self::RoadSideSource, Self::Police, Self::Fire, Self::Ambulance, Self::Dot, Self::Transit, Self::SlowMoving, Self::StopNgo, Self::Cyclist, Self::Pedestrian, Self::NonMotorized, Self::Military];
+    pub const ALL: [Self; 23] = [
+        Self::BasicVehicle,
+        Self::PublicTransport,
+        Self::SpecialTransport,
+        Self::DangerousGoods,
+        Self::RoadWork,
+        Self::RoadRescue,
+        Self::Emergency,
+        Self::SafetyCar,
+        Self::NoneUnknown,
+        Self::Truck,
+        Self::Motorcycle,
+        Self::RoadSideSource,
+        Self::Police,
+        Self::Fire,
+        Self::Ambulance,
+        Self::Dot,
+        Self::Transit,
+        Self::SlowMoving,
+        Self::StopNgo,
+        Self::Cyclist,
+        Self::Pedestrian,
+        Self::NonMotorized,
+        Self::Military,
+    ];
     /// The ASN.1 number of the value (`None` for an unknown extension value).
     pub const fn number(self) -> Option<i64> {
         match self {
@@ -4136,12 +4796,20 @@ impl Uper for BasicVehicleRole {
         if r.read_bit()? {
             let at = r.position();
             let i = r.read_normally_small()?;
-            *out = u16::try_from(i).map(Self::Extension).map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at))?;
+            *out = u16::try_from(i)
+                .map(Self::Extension)
+                .map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at))?;
             return Ok(());
         }
         let at = r.position();
         let i = r.read_constrained(0, 22)?;
-        *out = Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))?;
+        *out = Self::ALL
+            .get(i as usize)
+            .copied()
+            .ok_or(uper::DecodeError::new(
+                uper::DecodeErrorKind::InvalidEnumIndex,
+                at,
+            ))?;
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -4207,7 +4875,24 @@ pub enum VehicleType {
 
 impl VehicleType {
     /// Every root value in encoding (ascending number) order.
-    pub const ALL: [Self; 16] = [Self::None, Self::Unknown, Self::Special, Self::Moto, Self::Car, Self::CarOther, Self::Bus, Self::AxleCnt2, Self::AxleCnt3, Self::AxleCnt4, Self::AxleCnt4Trailer, Self::AxleCnt5Trailer, Self::AxleCnt6Trailer, Self::AxleCnt5MultiTrailer, Self::AxleCnt6MultiTrailer, Self::AxleCnt7MultiTrailer];
+    pub const ALL: [Self; 16] = [
+        Self::None,
+        Self::Unknown,
+        Self::Special,
+        Self::Moto,
+        Self::Car,
+        Self::CarOther,
+        Self::Bus,
+        Self::AxleCnt2,
+        Self::AxleCnt3,
+        Self::AxleCnt4,
+        Self::AxleCnt4Trailer,
+        Self::AxleCnt5Trailer,
+        Self::AxleCnt6Trailer,
+        Self::AxleCnt5MultiTrailer,
+        Self::AxleCnt6MultiTrailer,
+        Self::AxleCnt7MultiTrailer,
+    ];
     /// The ASN.1 number of the value (`None` for an unknown extension value).
     pub const fn number(self) -> Option<i64> {
         match self {
@@ -4288,12 +4973,20 @@ impl Uper for VehicleType {
         if r.read_bit()? {
             let at = r.position();
             let i = r.read_normally_small()?;
-            *out = u16::try_from(i).map(Self::Extension).map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at))?;
+            *out = u16::try_from(i)
+                .map(Self::Extension)
+                .map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at))?;
             return Ok(());
         }
         let at = r.position();
         let i = r.read_constrained(0, 15)?;
-        *out = Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))?;
+        *out = Self::ALL
+            .get(i as usize)
+            .copied()
+            .ok_or(uper::DecodeError::new(
+                uper::DecodeErrorKind::InvalidEnumIndex,
+                at,
+            ))?;
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -4332,6 +5025,12 @@ impl VehicleClassificationRegional {
     }
 }
 
+impl Default for VehicleClassificationRegional {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
 impl uper::Placeholder for VehicleClassificationRegional {
     fn placeholder() -> Self {
         Self(uper::SeqOf::new())
@@ -4342,7 +5041,12 @@ impl Uper for VehicleClassificationRegional {
     const PATH: &'static str = "Common.VehicleClassification.regional";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(146), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        uper::decode_seq_of_into(r, Self::SIZE, "Common.VehicleClassification.regional", &mut out.0)
+        uper::decode_seq_of_into(
+            r,
+            Self::SIZE,
+            "Common.VehicleClassification.regional",
+            &mut out.0,
+        )
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
@@ -4354,7 +5058,10 @@ impl uper::random::Random for VehicleClassificationRegional {
     fn random(g: &mut uper::random::Gen) -> Self {
         let mut v = Self(uper::SeqOf::new());
         for _ in 0..g.count(1, 1) {
-            let _ = v.0.push(<RegVehicleClassification as uper::random::Random>::random(g));
+            let _ =
+                v.0.push(<RegVehicleClassification as uper::random::Random>::random(
+                    g,
+                ));
         }
         v
     }
@@ -4383,7 +5090,10 @@ impl RegVehicleClassification {
 
 impl uper::Placeholder for RegVehicleClassification {
     fn placeholder() -> Self {
-        Self::Unknown { id: <RegionId as uper::Placeholder>::placeholder(), content: uper::Octets::new() }
+        Self::Unknown {
+            id: <RegionId as uper::Placeholder>::placeholder(),
+            content: uper::Octets::new(),
+        }
     }
 }
 
@@ -4393,7 +5103,15 @@ impl Uper for RegVehicleClassification {
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let id = <RegionId>::decode_uper(r)?;
         match id.get() {
-            _ => *out = Self::Unknown { id, content: uper::decode_unknown_open(r, "Common.RegVehicleClassification:unknown")? },
+            _ => {
+                *out = Self::Unknown {
+                    id,
+                    content: uper::decode_unknown_open(
+                        r,
+                        "Common.RegVehicleClassification:unknown",
+                    )?,
+                }
+            }
         }
         Ok(())
     }
@@ -4414,7 +5132,10 @@ impl uper::random::Random for RegVehicleClassification {
         for _ in 0..1 + g.below(4) {
             let _ = content.push(g.octet());
         }
-        Self::Unknown { id: <RegionId as uper::random::Random>::random(g), content }
+        Self::Unknown {
+            id: <RegionId as uper::random::Random>::random(g),
+            content,
+        }
     }
 }
 
@@ -4431,12 +5152,24 @@ crate::__constrained_int!(TrailerWeight, u16, 0, 64255, "Common.TrailerWeight");
 /// ASN.1 `CoefficientOfFriction` (module `Common`): INTEGER (0..50).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub struct CoefficientOfFriction(u8);
-crate::__constrained_int!(CoefficientOfFriction, u8, 0, 50, "Common.CoefficientOfFriction");
+crate::__constrained_int!(
+    CoefficientOfFriction,
+    u8,
+    0,
+    50,
+    "Common.CoefficientOfFriction"
+);
 
 /// ASN.1 `AmbientAirTemperature` (module `Common`): INTEGER (0..191).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub struct AmbientAirTemperature(u8);
-crate::__constrained_int!(AmbientAirTemperature, u8, 0, 191, "Common.AmbientAirTemperature");
+crate::__constrained_int!(
+    AmbientAirTemperature,
+    u8,
+    0,
+    191,
+    "Common.AmbientAirTemperature"
+);
 
 /// ASN.1 `AmbientAirPressure` (module `Common`): INTEGER (0..255).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
@@ -4458,7 +5191,12 @@ pub struct WiperSet {
 
 impl uper::Placeholder for WiperSet {
     fn placeholder() -> Self {
-        Self { status_front: <WiperStatus as uper::Placeholder>::placeholder(), rate_front: <WiperRate as uper::Placeholder>::placeholder(), status_rear: None, rate_rear: None }
+        Self {
+            status_front: <WiperStatus as uper::Placeholder>::placeholder(),
+            rate_front: <WiperRate as uper::Placeholder>::placeholder(),
+            status_rear: None,
+            rate_rear: None,
+        }
     }
 }
 
@@ -4492,7 +5230,10 @@ impl Uper for WiperSet {
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
-        w.write_bits(((self.status_rear.is_some() as u64) << 1) | ((self.rate_rear.is_some() as u64) << 0), 2)?;
+        w.write_bits(
+            ((self.status_rear.is_some() as u64) << 1) | ((self.rate_rear.is_some() as u64) << 0),
+            2,
+        )?;
         self.status_front.encode_uper(w)?;
         self.rate_front.encode_uper(w)?;
         if let Some(v) = &self.status_rear {
@@ -4511,8 +5252,16 @@ impl uper::random::Random for WiperSet {
         Self {
             status_front: <WiperStatus as uper::random::Random>::random(g),
             rate_front: <WiperRate as uper::random::Random>::random(g),
-            status_rear: if g.coin() { Some(<WiperStatus as uper::random::Random>::random(g)) } else { None },
-            rate_rear: if g.coin() { Some(<WiperRate as uper::random::Random>::random(g)) } else { None },
+            status_rear: if g.coin() {
+                Some(<WiperStatus as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            rate_rear: if g.coin() {
+                Some(<WiperRate as uper::random::Random>::random(g))
+            } else {
+                None
+            },
         }
     }
 }
@@ -4540,7 +5289,15 @@ pub enum WiperStatus {
 
 impl WiperStatus {
     /// Every root value in encoding (ascending number) order.
-    pub const ALL: [Self; 7] = [Self::Unavailable, Self::Off, Self::Intermittent, Self::Low, Self::High, Self::WasherInUse, Self::AutomaticPresent];
+    pub const ALL: [Self; 7] = [
+        Self::Unavailable,
+        Self::Off,
+        Self::Intermittent,
+        Self::Low,
+        Self::High,
+        Self::WasherInUse,
+        Self::AutomaticPresent,
+    ];
     /// The ASN.1 number of the value (`None` for an unknown extension value).
     pub const fn number(self) -> Option<i64> {
         match self {
@@ -4594,12 +5351,20 @@ impl Uper for WiperStatus {
         if r.read_bit()? {
             let at = r.position();
             let i = r.read_normally_small()?;
-            *out = u16::try_from(i).map(Self::Extension).map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at))?;
+            *out = u16::try_from(i)
+                .map(Self::Extension)
+                .map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at))?;
             return Ok(());
         }
         let at = r.position();
         let i = r.read_constrained(0, 6)?;
-        *out = Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))?;
+        *out = Self::ALL
+            .get(i as usize)
+            .copied()
+            .ok_or(uper::DecodeError::new(
+                uper::DecodeErrorKind::InvalidEnumIndex,
+                at,
+            ))?;
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -4698,7 +5463,10 @@ pub struct RTCMheader {
 
 impl uper::Placeholder for RTCMheader {
     fn placeholder() -> Self {
-        Self { status: <GNSSstatus as uper::Placeholder>::placeholder(), offset_set: <AntennaOffsetSet as uper::Placeholder>::placeholder() }
+        Self {
+            status: <GNSSstatus as uper::Placeholder>::placeholder(),
+            offset_set: <AntennaOffsetSet as uper::Placeholder>::placeholder(),
+        }
     }
 }
 
@@ -4740,7 +5508,11 @@ pub struct AntennaOffsetSet {
 
 impl uper::Placeholder for AntennaOffsetSet {
     fn placeholder() -> Self {
-        Self { ant_offset_x: <OffsetB12 as uper::Placeholder>::placeholder(), ant_offset_y: <OffsetB09 as uper::Placeholder>::placeholder(), ant_offset_z: <OffsetB10 as uper::Placeholder>::placeholder() }
+        Self {
+            ant_offset_x: <OffsetB12 as uper::Placeholder>::placeholder(),
+            ant_offset_y: <OffsetB09 as uper::Placeholder>::placeholder(),
+            ant_offset_z: <OffsetB10 as uper::Placeholder>::placeholder(),
+        }
     }
 }
 
@@ -4793,6 +5565,12 @@ impl RTCMmessageList {
     /// An empty list (valid for encoding once it holds the minimum number of items).
     pub fn new() -> Self {
         Self(uper::SeqOf::new())
+    }
+}
+
+impl Default for RTCMmessageList {
+    fn default() -> Self {
+        Self::new()
     }
 }
 
@@ -4933,7 +5711,13 @@ pub struct Position3D {
 
 impl uper::Placeholder for Position3D {
     fn placeholder() -> Self {
-        Self { lat: <Latitude as uper::Placeholder>::placeholder(), long: <Longitude as uper::Placeholder>::placeholder(), elevation: None, regional: None, extensions: uper::Extensions::new() }
+        Self {
+            lat: <Latitude as uper::Placeholder>::placeholder(),
+            long: <Longitude as uper::Placeholder>::placeholder(),
+            elevation: None,
+            regional: None,
+            extensions: uper::Extensions::new(),
+        }
     }
 }
 
@@ -4965,12 +5749,19 @@ impl Uper for Position3D {
         } else {
             out.regional = None;
         }
-        out.extensions = if extended { uper::Extensions::decode(r, "Common.Position3D:ext")? } else { uper::Extensions::new() };
+        out.extensions = if extended {
+            uper::Extensions::decode(r, "Common.Position3D:ext")?
+        } else {
+            uper::Extensions::new()
+        };
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_bit(self.extensions.is_present())?;
-        w.write_bits(((self.elevation.is_some() as u64) << 1) | ((self.regional.is_some() as u64) << 0), 2)?;
+        w.write_bits(
+            ((self.elevation.is_some() as u64) << 1) | ((self.regional.is_some() as u64) << 0),
+            2,
+        )?;
         self.lat.encode_uper(w)?;
         self.long.encode_uper(w)?;
         if let Some(v) = &self.elevation {
@@ -4992,8 +5783,16 @@ impl uper::random::Random for Position3D {
         Self {
             lat: <Latitude as uper::random::Random>::random(g),
             long: <Longitude as uper::random::Random>::random(g),
-            elevation: if g.coin() { Some(<Elevation as uper::random::Random>::random(g)) } else { None },
-            regional: if g.coin() { Some(<Position3DRegional as uper::random::Random>::random(g)) } else { None },
+            elevation: if g.coin() {
+                Some(<Elevation as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            regional: if g.coin() {
+                Some(<Position3DRegional as uper::random::Random>::random(g))
+            } else {
+                None
+            },
             extensions: uper::Extensions::new(),
         }
     }
@@ -5010,6 +5809,12 @@ impl Position3DRegional {
     /// An empty list (valid for encoding once it holds the minimum number of items).
     pub fn new() -> Self {
         Self(uper::SeqOf::new())
+    }
+}
+
+impl Default for Position3DRegional {
+    fn default() -> Self {
+        Self::new()
     }
 }
 
@@ -5061,8 +5866,22 @@ impl RegPosition3D {
     /// The `regionId` of the value.
     pub fn id(&self) -> RegionId {
         match self {
-            Self::AddGrpB(_) => const { match RegionId::new(2) { Some(id) => id, None => panic!("id out of range") } },
-            Self::AddGrpC(_) => const { match RegionId::new(3) { Some(id) => id, None => panic!("id out of range") } },
+            Self::AddGrpB(_) => {
+                const {
+                    match RegionId::new(2) {
+                        Some(id) => id,
+                        None => panic!("id out of range"),
+                    }
+                }
+            }
+            Self::AddGrpC(_) => {
+                const {
+                    match RegionId::new(3) {
+                        Some(id) => id,
+                        None => panic!("id out of range"),
+                    }
+                }
+            }
             Self::Unknown { id, .. } => *id,
         }
     }
@@ -5070,7 +5889,10 @@ impl RegPosition3D {
 
 impl uper::Placeholder for RegPosition3D {
     fn placeholder() -> Self {
-        Self::Unknown { id: <RegionId as uper::Placeholder>::placeholder(), content: uper::Octets::new() }
+        Self::Unknown {
+            id: <RegionId as uper::Placeholder>::placeholder(),
+            content: uper::Octets::new(),
+        }
     }
 }
 
@@ -5082,21 +5904,40 @@ impl Uper for RegPosition3D {
         match id.get() {
             2 => {
                 if !matches!(out, Self::AddGrpB(_)) {
-                    uper::replace_with(out, || Self::AddGrpB(<super::add_grp_b::Position3DAddGrpB as uper::Placeholder>::placeholder()));
+                    uper::replace_with(out, || {
+                        Self::AddGrpB(
+                            <super::add_grp_b::Position3DAddGrpB as uper::Placeholder>::placeholder(
+                            ),
+                        )
+                    });
                 }
                 if let Self::AddGrpB(v) = out {
-                    uper::decode_open(r, |r| <super::add_grp_b::Position3DAddGrpB>::decode_into(r, v))?;
+                    uper::decode_open(r, |r| {
+                        <super::add_grp_b::Position3DAddGrpB>::decode_into(r, v)
+                    })?;
                 }
             }
             3 => {
                 if !matches!(out, Self::AddGrpC(_)) {
-                    uper::replace_with(out, || Self::AddGrpC(<super::add_grp_c::Position3DAddGrpC as uper::Placeholder>::placeholder()));
+                    uper::replace_with(out, || {
+                        Self::AddGrpC(
+                            <super::add_grp_c::Position3DAddGrpC as uper::Placeholder>::placeholder(
+                            ),
+                        )
+                    });
                 }
                 if let Self::AddGrpC(v) = out {
-                    uper::decode_open(r, |r| <super::add_grp_c::Position3DAddGrpC>::decode_into(r, v))?;
+                    uper::decode_open(r, |r| {
+                        <super::add_grp_c::Position3DAddGrpC>::decode_into(r, v)
+                    })?;
                 }
             }
-            _ => *out = Self::Unknown { id, content: uper::decode_unknown_open(r, "Common.RegPosition3D:unknown")? },
+            _ => {
+                *out = Self::Unknown {
+                    id,
+                    content: uper::decode_unknown_open(r, "Common.RegPosition3D:unknown")?,
+                }
+            }
         }
         Ok(())
     }
@@ -5122,9 +5963,16 @@ impl Uper for RegPosition3D {
 impl uper::random::Random for RegPosition3D {
     fn random(g: &mut uper::random::Gen) -> Self {
         match g.below(2) {
-            0 => Self::AddGrpB(<super::add_grp_b::Position3DAddGrpB as uper::random::Random>::random(g)),
-            1 => Self::AddGrpC(<super::add_grp_c::Position3DAddGrpC as uper::random::Random>::random(g)),
-            _ => Self::Unknown { id: <RegionId as uper::Placeholder>::placeholder(), content: uper::Octets::new() },
+            0 => Self::AddGrpB(
+                <super::add_grp_b::Position3DAddGrpB as uper::random::Random>::random(g),
+            ),
+            1 => Self::AddGrpC(
+                <super::add_grp_c::Position3DAddGrpC as uper::random::Random>::random(g),
+            ),
+            _ => Self::Unknown {
+                id: <RegionId as uper::Placeholder>::placeholder(),
+                content: uper::Octets::new(),
+            },
         }
     }
 }
@@ -5145,6 +5993,12 @@ impl SpeedLimitList {
     /// An empty list (valid for encoding once it holds the minimum number of items).
     pub fn new() -> Self {
         Self(uper::SeqOf::new())
+    }
+}
+
+impl Default for SpeedLimitList {
+    fn default() -> Self {
+        Self::new()
     }
 }
 
@@ -5170,7 +6024,8 @@ impl uper::random::Random for SpeedLimitList {
     fn random(g: &mut uper::random::Gen) -> Self {
         let mut v = Self(uper::SeqOf::new());
         for _ in 0..g.count(1, 6) {
-            let _ = v.0.push(<RegulatorySpeedLimit as uper::random::Random>::random(g));
+            let _ =
+                v.0.push(<RegulatorySpeedLimit as uper::random::Random>::random(g));
         }
         v
     }
@@ -5187,7 +6042,10 @@ pub struct RegulatorySpeedLimit {
 
 impl uper::Placeholder for RegulatorySpeedLimit {
     fn placeholder() -> Self {
-        Self { r#type: <SpeedLimitType as uper::Placeholder>::placeholder(), speed: <Velocity as uper::Placeholder>::placeholder() }
+        Self {
+            r#type: <SpeedLimitType as uper::Placeholder>::placeholder(),
+            speed: <Velocity as uper::Placeholder>::placeholder(),
+        }
     }
 }
 
@@ -5251,7 +6109,21 @@ pub enum SpeedLimitType {
 
 impl SpeedLimitType {
     /// Every root value in encoding (ascending number) order.
-    pub const ALL: [Self; 13] = [Self::Unknown, Self::MaxSpeedInSchoolZone, Self::MaxSpeedInSchoolZoneWhenChildrenArePresent, Self::MaxSpeedInConstructionZone, Self::VehicleMinSpeed, Self::VehicleMaxSpeed, Self::VehicleNightMaxSpeed, Self::TruckMinSpeed, Self::TruckMaxSpeed, Self::TruckNightMaxSpeed, Self::VehiclesWithTrailersMinSpeed, Self::VehiclesWithTrailersMaxSpeed, Self::VehiclesWithTrailersNightMaxSpeed];
+    pub const ALL: [Self; 13] = [
+        Self::Unknown,
+        Self::MaxSpeedInSchoolZone,
+        Self::MaxSpeedInSchoolZoneWhenChildrenArePresent,
+        Self::MaxSpeedInConstructionZone,
+        Self::VehicleMinSpeed,
+        Self::VehicleMaxSpeed,
+        Self::VehicleNightMaxSpeed,
+        Self::TruckMinSpeed,
+        Self::TruckMaxSpeed,
+        Self::TruckNightMaxSpeed,
+        Self::VehiclesWithTrailersMinSpeed,
+        Self::VehiclesWithTrailersMaxSpeed,
+        Self::VehiclesWithTrailersNightMaxSpeed,
+    ];
     /// The ASN.1 number of the value (`None` for an unknown extension value).
     pub const fn number(self) -> Option<i64> {
         match self {
@@ -5276,7 +6148,9 @@ impl SpeedLimitType {
         match self {
             Self::Unknown => "unknown",
             Self::MaxSpeedInSchoolZone => "maxSpeedInSchoolZone",
-            Self::MaxSpeedInSchoolZoneWhenChildrenArePresent => "maxSpeedInSchoolZoneWhenChildrenArePresent",
+            Self::MaxSpeedInSchoolZoneWhenChildrenArePresent => {
+                "maxSpeedInSchoolZoneWhenChildrenArePresent"
+            }
             Self::MaxSpeedInConstructionZone => "maxSpeedInConstructionZone",
             Self::VehicleMinSpeed => "vehicleMinSpeed",
             Self::VehicleMaxSpeed => "vehicleMaxSpeed",
@@ -5323,12 +6197,20 @@ impl Uper for SpeedLimitType {
         if r.read_bit()? {
             let at = r.position();
             let i = r.read_normally_small()?;
-            *out = u16::try_from(i).map(Self::Extension).map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at))?;
+            *out = u16::try_from(i)
+                .map(Self::Extension)
+                .map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at))?;
             return Ok(());
         }
         let at = r.position();
         let i = r.read_constrained(0, 12)?;
-        *out = Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))?;
+        *out = Self::ALL
+            .get(i as usize)
+            .copied()
+            .ok_or(uper::DecodeError::new(
+                uper::DecodeErrorKind::InvalidEnumIndex,
+                at,
+            ))?;
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -5376,7 +6258,8 @@ impl Uper for NodeListXY {
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         if r.read_bit()? {
             let at = r.position();
-            let index = u16::try_from(r.read_normally_small()?).map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at))?;
+            let index = u16::try_from(r.read_normally_small()?)
+                .map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at))?;
             let content = uper::decode_unknown_open(r, "Common.NodeListXY:unknown")?;
             *out = Self::Extension { index, content };
             return Ok(());
@@ -5385,7 +6268,9 @@ impl Uper for NodeListXY {
         match r.read_constrained(0, 1)? {
             0 => {
                 if !matches!(out, Self::Nodes(_)) {
-                    uper::replace_with(out, || Self::Nodes(<NodeSetXY as uper::Placeholder>::placeholder()));
+                    uper::replace_with(out, || {
+                        Self::Nodes(<NodeSetXY as uper::Placeholder>::placeholder())
+                    });
                 }
                 if let Self::Nodes(v) = out {
                     <NodeSetXY>::decode_into(r, v)?;
@@ -5393,20 +6278,35 @@ impl Uper for NodeListXY {
             }
             1 => {
                 if !matches!(out, Self::Computed(_)) {
-                    uper::replace_with(out, || Self::Computed(<ComputedLane as uper::Placeholder>::placeholder()));
+                    uper::replace_with(out, || {
+                        Self::Computed(<ComputedLane as uper::Placeholder>::placeholder())
+                    });
                 }
                 if let Self::Computed(v) = out {
                     <ComputedLane>::decode_into(r, v)?;
                 }
             }
-            _ => return Err(uper::DecodeError::new(uper::DecodeErrorKind::InvalidChoiceIndex, at)),
+            _ => {
+                return Err(uper::DecodeError::new(
+                    uper::DecodeErrorKind::InvalidChoiceIndex,
+                    at,
+                ))
+            }
         }
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         match self {
-            Self::Nodes(v) => { w.write_bit(false)?; w.write_constrained(0, 0, 1)?; v.encode_uper(w) }
-            Self::Computed(v) => { w.write_bit(false)?; w.write_constrained(1, 0, 1)?; v.encode_uper(w) }
+            Self::Nodes(v) => {
+                w.write_bit(false)?;
+                w.write_constrained(0, 0, 1)?;
+                v.encode_uper(w)
+            }
+            Self::Computed(v) => {
+                w.write_bit(false)?;
+                w.write_constrained(1, 0, 1)?;
+                v.encode_uper(w)
+            }
             Self::Extension { index, content } => {
                 w.write_bit(true)?;
                 w.write_normally_small(*index as u64)?;
@@ -5438,6 +6338,12 @@ impl NodeSetXY {
     /// An empty list (valid for encoding once it holds the minimum number of items).
     pub fn new() -> Self {
         Self(uper::SeqOf::new())
+    }
+}
+
+impl Default for NodeSetXY {
+    fn default() -> Self {
+        Self::new()
     }
 }
 
@@ -5482,7 +6388,11 @@ pub struct NodeXY {
 
 impl uper::Placeholder for NodeXY {
     fn placeholder() -> Self {
-        Self { delta: <NodeOffsetPointXY as uper::Placeholder>::placeholder(), attributes: None, extensions: uper::Extensions::new() }
+        Self {
+            delta: <NodeOffsetPointXY as uper::Placeholder>::placeholder(),
+            attributes: None,
+            extensions: uper::Extensions::new(),
+        }
     }
 }
 
@@ -5503,7 +6413,11 @@ impl Uper for NodeXY {
         } else {
             out.attributes = None;
         }
-        out.extensions = if extended { uper::Extensions::decode(r, "Common.NodeXY:ext")? } else { uper::Extensions::new() };
+        out.extensions = if extended {
+            uper::Extensions::decode(r, "Common.NodeXY:ext")?
+        } else {
+            uper::Extensions::new()
+        };
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -5525,7 +6439,11 @@ impl uper::random::Random for NodeXY {
     fn random(g: &mut uper::random::Gen) -> Self {
         Self {
             delta: <NodeOffsetPointXY as uper::random::Random>::random(g),
-            attributes: if g.coin() { Some(<NodeAttributeSetXY as uper::random::Random>::random(g)) } else { None },
+            attributes: if g.coin() {
+                Some(<NodeAttributeSetXY as uper::random::Random>::random(g))
+            } else {
+                None
+            },
             extensions: uper::Extensions::new(),
         }
     }
@@ -5566,7 +6484,9 @@ impl Uper for NodeOffsetPointXY {
         match r.read_constrained(0, 7)? {
             0 => {
                 if !matches!(out, Self::NodeXY1(_)) {
-                    uper::replace_with(out, || Self::NodeXY1(<NodeXY20b as uper::Placeholder>::placeholder()));
+                    uper::replace_with(out, || {
+                        Self::NodeXY1(<NodeXY20b as uper::Placeholder>::placeholder())
+                    });
                 }
                 if let Self::NodeXY1(v) = out {
                     <NodeXY20b>::decode_into(r, v)?;
@@ -5574,7 +6494,9 @@ impl Uper for NodeOffsetPointXY {
             }
             1 => {
                 if !matches!(out, Self::NodeXY2(_)) {
-                    uper::replace_with(out, || Self::NodeXY2(<NodeXY22b as uper::Placeholder>::placeholder()));
+                    uper::replace_with(out, || {
+                        Self::NodeXY2(<NodeXY22b as uper::Placeholder>::placeholder())
+                    });
                 }
                 if let Self::NodeXY2(v) = out {
                     <NodeXY22b>::decode_into(r, v)?;
@@ -5582,7 +6504,9 @@ impl Uper for NodeOffsetPointXY {
             }
             2 => {
                 if !matches!(out, Self::NodeXY3(_)) {
-                    uper::replace_with(out, || Self::NodeXY3(<NodeXY24b as uper::Placeholder>::placeholder()));
+                    uper::replace_with(out, || {
+                        Self::NodeXY3(<NodeXY24b as uper::Placeholder>::placeholder())
+                    });
                 }
                 if let Self::NodeXY3(v) = out {
                     <NodeXY24b>::decode_into(r, v)?;
@@ -5590,7 +6514,9 @@ impl Uper for NodeOffsetPointXY {
             }
             3 => {
                 if !matches!(out, Self::NodeXY4(_)) {
-                    uper::replace_with(out, || Self::NodeXY4(<NodeXY26b as uper::Placeholder>::placeholder()));
+                    uper::replace_with(out, || {
+                        Self::NodeXY4(<NodeXY26b as uper::Placeholder>::placeholder())
+                    });
                 }
                 if let Self::NodeXY4(v) = out {
                     <NodeXY26b>::decode_into(r, v)?;
@@ -5598,7 +6524,9 @@ impl Uper for NodeOffsetPointXY {
             }
             4 => {
                 if !matches!(out, Self::NodeXY5(_)) {
-                    uper::replace_with(out, || Self::NodeXY5(<NodeXY28b as uper::Placeholder>::placeholder()));
+                    uper::replace_with(out, || {
+                        Self::NodeXY5(<NodeXY28b as uper::Placeholder>::placeholder())
+                    });
                 }
                 if let Self::NodeXY5(v) = out {
                     <NodeXY28b>::decode_into(r, v)?;
@@ -5606,7 +6534,9 @@ impl Uper for NodeOffsetPointXY {
             }
             5 => {
                 if !matches!(out, Self::NodeXY6(_)) {
-                    uper::replace_with(out, || Self::NodeXY6(<NodeXY32b as uper::Placeholder>::placeholder()));
+                    uper::replace_with(out, || {
+                        Self::NodeXY6(<NodeXY32b as uper::Placeholder>::placeholder())
+                    });
                 }
                 if let Self::NodeXY6(v) = out {
                     <NodeXY32b>::decode_into(r, v)?;
@@ -5614,7 +6544,9 @@ impl Uper for NodeOffsetPointXY {
             }
             6 => {
                 if !matches!(out, Self::NodeLatLon(_)) {
-                    uper::replace_with(out, || Self::NodeLatLon(<NodeLLmD64b as uper::Placeholder>::placeholder()));
+                    uper::replace_with(out, || {
+                        Self::NodeLatLon(<NodeLLmD64b as uper::Placeholder>::placeholder())
+                    });
                 }
                 if let Self::NodeLatLon(v) = out {
                     <NodeLLmD64b>::decode_into(r, v)?;
@@ -5622,26 +6554,57 @@ impl Uper for NodeOffsetPointXY {
             }
             7 => {
                 if !matches!(out, Self::Regional(_)) {
-                    uper::replace_with(out, || Self::Regional(<RegNodeOffsetPointXY as uper::Placeholder>::placeholder()));
+                    uper::replace_with(out, || {
+                        Self::Regional(<RegNodeOffsetPointXY as uper::Placeholder>::placeholder())
+                    });
                 }
                 if let Self::Regional(v) = out {
                     <RegNodeOffsetPointXY>::decode_into(r, v)?;
                 }
             }
-            _ => return Err(uper::DecodeError::new(uper::DecodeErrorKind::InvalidChoiceIndex, at)),
+            _ => {
+                return Err(uper::DecodeError::new(
+                    uper::DecodeErrorKind::InvalidChoiceIndex,
+                    at,
+                ))
+            }
         }
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         match self {
-            Self::NodeXY1(v) => { w.write_constrained(0, 0, 7)?; v.encode_uper(w) }
-            Self::NodeXY2(v) => { w.write_constrained(1, 0, 7)?; v.encode_uper(w) }
-            Self::NodeXY3(v) => { w.write_constrained(2, 0, 7)?; v.encode_uper(w) }
-            Self::NodeXY4(v) => { w.write_constrained(3, 0, 7)?; v.encode_uper(w) }
-            Self::NodeXY5(v) => { w.write_constrained(4, 0, 7)?; v.encode_uper(w) }
-            Self::NodeXY6(v) => { w.write_constrained(5, 0, 7)?; v.encode_uper(w) }
-            Self::NodeLatLon(v) => { w.write_constrained(6, 0, 7)?; v.encode_uper(w) }
-            Self::Regional(v) => { w.write_constrained(7, 0, 7)?; v.encode_uper(w) }
+            Self::NodeXY1(v) => {
+                w.write_constrained(0, 0, 7)?;
+                v.encode_uper(w)
+            }
+            Self::NodeXY2(v) => {
+                w.write_constrained(1, 0, 7)?;
+                v.encode_uper(w)
+            }
+            Self::NodeXY3(v) => {
+                w.write_constrained(2, 0, 7)?;
+                v.encode_uper(w)
+            }
+            Self::NodeXY4(v) => {
+                w.write_constrained(3, 0, 7)?;
+                v.encode_uper(w)
+            }
+            Self::NodeXY5(v) => {
+                w.write_constrained(4, 0, 7)?;
+                v.encode_uper(w)
+            }
+            Self::NodeXY6(v) => {
+                w.write_constrained(5, 0, 7)?;
+                v.encode_uper(w)
+            }
+            Self::NodeLatLon(v) => {
+                w.write_constrained(6, 0, 7)?;
+                v.encode_uper(w)
+            }
+            Self::Regional(v) => {
+                w.write_constrained(7, 0, 7)?;
+                v.encode_uper(w)
+            }
         }
     }
 }
@@ -5674,7 +6637,10 @@ pub struct NodeXY20b {
 
 impl uper::Placeholder for NodeXY20b {
     fn placeholder() -> Self {
-        Self { x: <OffsetB10 as uper::Placeholder>::placeholder(), y: <OffsetB10 as uper::Placeholder>::placeholder() }
+        Self {
+            x: <OffsetB10 as uper::Placeholder>::placeholder(),
+            y: <OffsetB10 as uper::Placeholder>::placeholder(),
+        }
     }
 }
 
@@ -5714,7 +6680,10 @@ pub struct NodeXY22b {
 
 impl uper::Placeholder for NodeXY22b {
     fn placeholder() -> Self {
-        Self { x: <OffsetB11 as uper::Placeholder>::placeholder(), y: <OffsetB11 as uper::Placeholder>::placeholder() }
+        Self {
+            x: <OffsetB11 as uper::Placeholder>::placeholder(),
+            y: <OffsetB11 as uper::Placeholder>::placeholder(),
+        }
     }
 }
 
@@ -5754,7 +6723,10 @@ pub struct NodeXY26b {
 
 impl uper::Placeholder for NodeXY26b {
     fn placeholder() -> Self {
-        Self { x: <OffsetB13 as uper::Placeholder>::placeholder(), y: <OffsetB13 as uper::Placeholder>::placeholder() }
+        Self {
+            x: <OffsetB13 as uper::Placeholder>::placeholder(),
+            y: <OffsetB13 as uper::Placeholder>::placeholder(),
+        }
     }
 }
 
@@ -5799,7 +6771,10 @@ pub struct NodeXY28b {
 
 impl uper::Placeholder for NodeXY28b {
     fn placeholder() -> Self {
-        Self { x: <OffsetB14 as uper::Placeholder>::placeholder(), y: <OffsetB14 as uper::Placeholder>::placeholder() }
+        Self {
+            x: <OffsetB14 as uper::Placeholder>::placeholder(),
+            y: <OffsetB14 as uper::Placeholder>::placeholder(),
+        }
     }
 }
 
@@ -5844,7 +6819,10 @@ pub struct NodeXY32b {
 
 impl uper::Placeholder for NodeXY32b {
     fn placeholder() -> Self {
-        Self { x: <OffsetB16 as uper::Placeholder>::placeholder(), y: <OffsetB16 as uper::Placeholder>::placeholder() }
+        Self {
+            x: <OffsetB16 as uper::Placeholder>::placeholder(),
+            y: <OffsetB16 as uper::Placeholder>::placeholder(),
+        }
     }
 }
 
@@ -5889,7 +6867,10 @@ pub struct NodeLLmD64b {
 
 impl uper::Placeholder for NodeLLmD64b {
     fn placeholder() -> Self {
-        Self { lon: <Longitude as uper::Placeholder>::placeholder(), lat: <Latitude as uper::Placeholder>::placeholder() }
+        Self {
+            lon: <Longitude as uper::Placeholder>::placeholder(),
+            lat: <Latitude as uper::Placeholder>::placeholder(),
+        }
     }
 }
 
@@ -5936,7 +6917,14 @@ impl RegNodeOffsetPointXY {
     /// The `regionId` of the value.
     pub fn id(&self) -> RegionId {
         match self {
-            Self::AddGrpB(_) => const { match RegionId::new(2) { Some(id) => id, None => panic!("id out of range") } },
+            Self::AddGrpB(_) => {
+                const {
+                    match RegionId::new(2) {
+                        Some(id) => id,
+                        None => panic!("id out of range"),
+                    }
+                }
+            }
             Self::Unknown { id, .. } => *id,
         }
     }
@@ -5944,7 +6932,10 @@ impl RegNodeOffsetPointXY {
 
 impl uper::Placeholder for RegNodeOffsetPointXY {
     fn placeholder() -> Self {
-        Self::Unknown { id: <RegionId as uper::Placeholder>::placeholder(), content: uper::Octets::new() }
+        Self::Unknown {
+            id: <RegionId as uper::Placeholder>::placeholder(),
+            content: uper::Octets::new(),
+        }
     }
 }
 
@@ -5956,13 +6947,22 @@ impl Uper for RegNodeOffsetPointXY {
         match id.get() {
             2 => {
                 if !matches!(out, Self::AddGrpB(_)) {
-                    uper::replace_with(out, || Self::AddGrpB(<super::add_grp_b::NodeOffsetPointXYAddGrpB as uper::Placeholder>::placeholder()));
+                    uper::replace_with(out, || {
+                        Self::AddGrpB(<super::add_grp_b::NodeOffsetPointXYAddGrpB as uper::Placeholder>::placeholder())
+                    });
                 }
                 if let Self::AddGrpB(v) = out {
-                    uper::decode_open(r, |r| <super::add_grp_b::NodeOffsetPointXYAddGrpB>::decode_into(r, v))?;
+                    uper::decode_open(r, |r| {
+                        <super::add_grp_b::NodeOffsetPointXYAddGrpB>::decode_into(r, v)
+                    })?;
                 }
             }
-            _ => *out = Self::Unknown { id, content: uper::decode_unknown_open(r, "Common.RegNodeOffsetPointXY:unknown")? },
+            _ => {
+                *out = Self::Unknown {
+                    id,
+                    content: uper::decode_unknown_open(r, "Common.RegNodeOffsetPointXY:unknown")?,
+                }
+            }
         }
         Ok(())
     }
@@ -5984,8 +6984,13 @@ impl Uper for RegNodeOffsetPointXY {
 impl uper::random::Random for RegNodeOffsetPointXY {
     fn random(g: &mut uper::random::Gen) -> Self {
         match g.below(1) {
-            0 => Self::AddGrpB(<super::add_grp_b::NodeOffsetPointXYAddGrpB as uper::random::Random>::random(g)),
-            _ => Self::Unknown { id: <RegionId as uper::Placeholder>::placeholder(), content: uper::Octets::new() },
+            0 => Self::AddGrpB(
+                <super::add_grp_b::NodeOffsetPointXYAddGrpB as uper::random::Random>::random(g),
+            ),
+            _ => Self::Unknown {
+                id: <RegionId as uper::Placeholder>::placeholder(),
+                content: uper::Octets::new(),
+            },
         }
     }
 }
@@ -6013,7 +7018,16 @@ pub struct NodeAttributeSetXY {
 
 impl uper::Placeholder for NodeAttributeSetXY {
     fn placeholder() -> Self {
-        Self { local_node: None, disabled: None, enabled: None, data: None, d_width: None, d_elevation: None, regional: None, extensions: uper::Extensions::new() }
+        Self {
+            local_node: None,
+            disabled: None,
+            enabled: None,
+            data: None,
+            d_width: None,
+            d_elevation: None,
+            regional: None,
+            extensions: uper::Extensions::new(),
+        }
     }
 }
 
@@ -6093,12 +7107,25 @@ impl Uper for NodeAttributeSetXY {
         } else {
             out.regional = None;
         }
-        out.extensions = if extended { uper::Extensions::decode(r, "Common.NodeAttributeSetXY:ext")? } else { uper::Extensions::new() };
+        out.extensions = if extended {
+            uper::Extensions::decode(r, "Common.NodeAttributeSetXY:ext")?
+        } else {
+            uper::Extensions::new()
+        };
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_bit(self.extensions.is_present())?;
-        w.write_bits(((self.local_node.is_some() as u64) << 6) | ((self.disabled.is_some() as u64) << 5) | ((self.enabled.is_some() as u64) << 4) | ((self.data.is_some() as u64) << 3) | ((self.d_width.is_some() as u64) << 2) | ((self.d_elevation.is_some() as u64) << 1) | ((self.regional.is_some() as u64) << 0), 7)?;
+        w.write_bits(
+            ((self.local_node.is_some() as u64) << 6)
+                | ((self.disabled.is_some() as u64) << 5)
+                | ((self.enabled.is_some() as u64) << 4)
+                | ((self.data.is_some() as u64) << 3)
+                | ((self.d_width.is_some() as u64) << 2)
+                | ((self.d_elevation.is_some() as u64) << 1)
+                | ((self.regional.is_some() as u64) << 0),
+            7,
+        )?;
         if let Some(v) = &self.local_node {
             v.encode_uper(w)?;
         }
@@ -6131,13 +7158,41 @@ impl Uper for NodeAttributeSetXY {
 impl uper::random::Random for NodeAttributeSetXY {
     fn random(g: &mut uper::random::Gen) -> Self {
         Self {
-            local_node: if g.coin() { Some(<NodeAttributeXYList as uper::random::Random>::random(g)) } else { None },
-            disabled: if g.coin() { Some(<SegmentAttributeXYList as uper::random::Random>::random(g)) } else { None },
-            enabled: if g.coin() { Some(<SegmentAttributeXYList as uper::random::Random>::random(g)) } else { None },
-            data: if g.coin() { Some(<LaneDataAttributeList as uper::random::Random>::random(g)) } else { None },
-            d_width: if g.coin() { Some(<OffsetB10 as uper::random::Random>::random(g)) } else { None },
-            d_elevation: if g.coin() { Some(<OffsetB10 as uper::random::Random>::random(g)) } else { None },
-            regional: if g.coin() { Some(<NodeAttributeSetXYRegional as uper::random::Random>::random(g)) } else { None },
+            local_node: if g.coin() {
+                Some(<NodeAttributeXYList as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            disabled: if g.coin() {
+                Some(<SegmentAttributeXYList as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            enabled: if g.coin() {
+                Some(<SegmentAttributeXYList as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            data: if g.coin() {
+                Some(<LaneDataAttributeList as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            d_width: if g.coin() {
+                Some(<OffsetB10 as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            d_elevation: if g.coin() {
+                Some(<OffsetB10 as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            regional: if g.coin() {
+                Some(<NodeAttributeSetXYRegional as uper::random::Random>::random(g))
+            } else {
+                None
+            },
             extensions: uper::Extensions::new(),
         }
     }
@@ -6154,6 +7209,12 @@ impl NodeAttributeXYList {
     /// An empty list (valid for encoding once it holds the minimum number of items).
     pub fn new() -> Self {
         Self(uper::SeqOf::new())
+    }
+}
+
+impl Default for NodeAttributeXYList {
+    fn default() -> Self {
+        Self::new()
     }
 }
 
@@ -6179,7 +7240,8 @@ impl uper::random::Random for NodeAttributeXYList {
     fn random(g: &mut uper::random::Gen) -> Self {
         let mut v = Self(uper::SeqOf::new());
         for _ in 0..g.count(1, 4) {
-            let _ = v.0.push(<NodeAttributeXY as uper::random::Random>::random(g));
+            let _ =
+                v.0.push(<NodeAttributeXY as uper::random::Random>::random(g));
         }
         v
     }
@@ -6218,7 +7280,20 @@ pub enum NodeAttributeXY {
 
 impl NodeAttributeXY {
     /// Every root value in encoding (ascending number) order.
-    pub const ALL: [Self; 12] = [Self::Reserved, Self::StopLine, Self::RoundedCapStyleA, Self::RoundedCapStyleB, Self::MergePoint, Self::DivergePoint, Self::DownstreamStopLine, Self::DownstreamStartNode, Self::ClosedToTraffic, Self::SafeIsland, Self::CurbPresentAtStepOff, Self::HydrantPresent];
+    pub const ALL: [Self; 12] = [
+        Self::Reserved,
+        Self::StopLine,
+        Self::RoundedCapStyleA,
+        Self::RoundedCapStyleB,
+        Self::MergePoint,
+        Self::DivergePoint,
+        Self::DownstreamStopLine,
+        Self::DownstreamStartNode,
+        Self::ClosedToTraffic,
+        Self::SafeIsland,
+        Self::CurbPresentAtStepOff,
+        Self::HydrantPresent,
+    ];
     /// The ASN.1 number of the value (`None` for an unknown extension value).
     pub const fn number(self) -> Option<i64> {
         match self {
@@ -6287,12 +7362,20 @@ impl Uper for NodeAttributeXY {
         if r.read_bit()? {
             let at = r.position();
             let i = r.read_normally_small()?;
-            *out = u16::try_from(i).map(Self::Extension).map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at))?;
+            *out = u16::try_from(i)
+                .map(Self::Extension)
+                .map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at))?;
             return Ok(());
         }
         let at = r.position();
         let i = r.read_constrained(0, 11)?;
-        *out = Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))?;
+        *out = Self::ALL
+            .get(i as usize)
+            .copied()
+            .ok_or(uper::DecodeError::new(
+                uper::DecodeErrorKind::InvalidEnumIndex,
+                at,
+            ))?;
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -6326,6 +7409,12 @@ impl SegmentAttributeXYList {
     }
 }
 
+impl Default for SegmentAttributeXYList {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
 impl uper::Placeholder for SegmentAttributeXYList {
     fn placeholder() -> Self {
         Self(uper::SeqOf::new())
@@ -6348,7 +7437,8 @@ impl uper::random::Random for SegmentAttributeXYList {
     fn random(g: &mut uper::random::Gen) -> Self {
         let mut v = Self(uper::SeqOf::new());
         for _ in 0..g.count(1, 5) {
-            let _ = v.0.push(<SegmentAttributeXY as uper::random::Random>::random(g));
+            let _ =
+                v.0.push(<SegmentAttributeXY as uper::random::Random>::random(g));
         }
         v
     }
@@ -6439,7 +7529,46 @@ pub enum SegmentAttributeXY {
 
 impl SegmentAttributeXY {
     /// Every root value in encoding (ascending number) order.
-    pub const ALL: [Self; 38] = [Self::Reserved, Self::DoNotBlock, Self::WhiteLine, Self::MergingLaneLeft, Self::MergingLaneRight, Self::CurbOnLeft, Self::CurbOnRight, Self::LoadingzoneOnLeft, Self::LoadingzoneOnRight, Self::TurnOutPointOnLeft, Self::TurnOutPointOnRight, Self::AdjacentParkingOnLeft, Self::AdjacentParkingOnRight, Self::AdjacentBikeLaneOnLeft, Self::AdjacentBikeLaneOnRight, Self::SharedBikeLane, Self::BikeBoxInFront, Self::TransitStopOnLeft, Self::TransitStopOnRight, Self::TransitStopInLane, Self::SharedWithTrackedVehicle, Self::SafeIsland, Self::LowCurbsPresent, Self::RumbleStripPresent, Self::AudibleSignalingPresent, Self::AdaptiveTimingPresent, Self::RfSignalRequestPresent, Self::PartialCurbIntrusion, Self::TaperToLeft, Self::TaperToRight, Self::TaperToCenterLine, Self::ParallelParking, Self::HeadInParking, Self::FreeParking, Self::TimeRestrictionsOnParking, Self::CostToPark, Self::MidBlockCurbPresent, Self::UnEvenPavementPresent];
+    pub const ALL: [Self; 38] = [
+        Self::Reserved,
+        Self::DoNotBlock,
+        Self::WhiteLine,
+        Self::MergingLaneLeft,
+        Self::MergingLaneRight,
+        Self::CurbOnLeft,
+        Self::CurbOnRight,
+        Self::LoadingzoneOnLeft,
+        Self::LoadingzoneOnRight,
+        Self::TurnOutPointOnLeft,
+        Self::TurnOutPointOnRight,
+        Self::AdjacentParkingOnLeft,
+        Self::AdjacentParkingOnRight,
+        Self::AdjacentBikeLaneOnLeft,
+        Self::AdjacentBikeLaneOnRight,
+        Self::SharedBikeLane,
+        Self::BikeBoxInFront,
+        Self::TransitStopOnLeft,
+        Self::TransitStopOnRight,
+        Self::TransitStopInLane,
+        Self::SharedWithTrackedVehicle,
+        Self::SafeIsland,
+        Self::LowCurbsPresent,
+        Self::RumbleStripPresent,
+        Self::AudibleSignalingPresent,
+        Self::AdaptiveTimingPresent,
+        Self::RfSignalRequestPresent,
+        Self::PartialCurbIntrusion,
+        Self::TaperToLeft,
+        Self::TaperToRight,
+        Self::TaperToCenterLine,
+        Self::ParallelParking,
+        Self::HeadInParking,
+        Self::FreeParking,
+        Self::TimeRestrictionsOnParking,
+        Self::CostToPark,
+        Self::MidBlockCurbPresent,
+        Self::UnEvenPavementPresent,
+    ];
     /// The ASN.1 number of the value (`None` for an unknown extension value).
     pub const fn number(self) -> Option<i64> {
         match self {
@@ -6586,12 +7715,20 @@ impl Uper for SegmentAttributeXY {
         if r.read_bit()? {
             let at = r.position();
             let i = r.read_normally_small()?;
-            *out = u16::try_from(i).map(Self::Extension).map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at))?;
+            *out = u16::try_from(i)
+                .map(Self::Extension)
+                .map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at))?;
             return Ok(());
         }
         let at = r.position();
         let i = r.read_constrained(0, 37)?;
-        *out = Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))?;
+        *out = Self::ALL
+            .get(i as usize)
+            .copied()
+            .ok_or(uper::DecodeError::new(
+                uper::DecodeErrorKind::InvalidEnumIndex,
+                at,
+            ))?;
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -6625,6 +7762,12 @@ impl LaneDataAttributeList {
     }
 }
 
+impl Default for LaneDataAttributeList {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
 impl uper::Placeholder for LaneDataAttributeList {
     fn placeholder() -> Self {
         Self(uper::SeqOf::new())
@@ -6647,7 +7790,8 @@ impl uper::random::Random for LaneDataAttributeList {
     fn random(g: &mut uper::random::Gen) -> Self {
         let mut v = Self(uper::SeqOf::new());
         for _ in 0..g.count(1, 8) {
-            let _ = v.0.push(<LaneDataAttribute as uper::random::Random>::random(g));
+            let _ =
+                v.0.push(<LaneDataAttribute as uper::random::Random>::random(g));
         }
         v
     }
@@ -6691,7 +7835,8 @@ impl Uper for LaneDataAttribute {
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         if r.read_bit()? {
             let at = r.position();
-            let index = u16::try_from(r.read_normally_small()?).map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at))?;
+            let index = u16::try_from(r.read_normally_small()?)
+                .map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at))?;
             let content = uper::decode_unknown_open(r, "Common.LaneDataAttribute:unknown")?;
             *out = Self::Extension { index, content };
             return Ok(());
@@ -6700,7 +7845,9 @@ impl Uper for LaneDataAttribute {
         match r.read_constrained(0, 6)? {
             0 => {
                 if !matches!(out, Self::PathEndPointAngle(_)) {
-                    uper::replace_with(out, || Self::PathEndPointAngle(<DeltaAngle as uper::Placeholder>::placeholder()));
+                    uper::replace_with(out, || {
+                        Self::PathEndPointAngle(<DeltaAngle as uper::Placeholder>::placeholder())
+                    });
                 }
                 if let Self::PathEndPointAngle(v) = out {
                     <DeltaAngle>::decode_into(r, v)?;
@@ -6708,7 +7855,11 @@ impl Uper for LaneDataAttribute {
             }
             1 => {
                 if !matches!(out, Self::LaneCrownPointCenter(_)) {
-                    uper::replace_with(out, || Self::LaneCrownPointCenter(<RoadwayCrownAngle as uper::Placeholder>::placeholder()));
+                    uper::replace_with(out, || {
+                        Self::LaneCrownPointCenter(
+                            <RoadwayCrownAngle as uper::Placeholder>::placeholder(),
+                        )
+                    });
                 }
                 if let Self::LaneCrownPointCenter(v) = out {
                     <RoadwayCrownAngle>::decode_into(r, v)?;
@@ -6716,7 +7867,11 @@ impl Uper for LaneDataAttribute {
             }
             2 => {
                 if !matches!(out, Self::LaneCrownPointLeft(_)) {
-                    uper::replace_with(out, || Self::LaneCrownPointLeft(<RoadwayCrownAngle as uper::Placeholder>::placeholder()));
+                    uper::replace_with(out, || {
+                        Self::LaneCrownPointLeft(
+                            <RoadwayCrownAngle as uper::Placeholder>::placeholder(),
+                        )
+                    });
                 }
                 if let Self::LaneCrownPointLeft(v) = out {
                     <RoadwayCrownAngle>::decode_into(r, v)?;
@@ -6724,7 +7879,11 @@ impl Uper for LaneDataAttribute {
             }
             3 => {
                 if !matches!(out, Self::LaneCrownPointRight(_)) {
-                    uper::replace_with(out, || Self::LaneCrownPointRight(<RoadwayCrownAngle as uper::Placeholder>::placeholder()));
+                    uper::replace_with(out, || {
+                        Self::LaneCrownPointRight(
+                            <RoadwayCrownAngle as uper::Placeholder>::placeholder(),
+                        )
+                    });
                 }
                 if let Self::LaneCrownPointRight(v) = out {
                     <RoadwayCrownAngle>::decode_into(r, v)?;
@@ -6732,7 +7891,9 @@ impl Uper for LaneDataAttribute {
             }
             4 => {
                 if !matches!(out, Self::LaneAngle(_)) {
-                    uper::replace_with(out, || Self::LaneAngle(<MergeDivergeNodeAngle as uper::Placeholder>::placeholder()));
+                    uper::replace_with(out, || {
+                        Self::LaneAngle(<MergeDivergeNodeAngle as uper::Placeholder>::placeholder())
+                    });
                 }
                 if let Self::LaneAngle(v) = out {
                     <MergeDivergeNodeAngle>::decode_into(r, v)?;
@@ -6740,7 +7901,9 @@ impl Uper for LaneDataAttribute {
             }
             5 => {
                 if !matches!(out, Self::SpeedLimits(_)) {
-                    uper::replace_with(out, || Self::SpeedLimits(<SpeedLimitList as uper::Placeholder>::placeholder()));
+                    uper::replace_with(out, || {
+                        Self::SpeedLimits(<SpeedLimitList as uper::Placeholder>::placeholder())
+                    });
                 }
                 if let Self::SpeedLimits(v) = out {
                     <SpeedLimitList>::decode_into(r, v)?;
@@ -6748,25 +7911,62 @@ impl Uper for LaneDataAttribute {
             }
             6 => {
                 if !matches!(out, Self::Regional(_)) {
-                    uper::replace_with(out, || Self::Regional(<LaneDataAttributeRegional as uper::Placeholder>::placeholder()));
+                    uper::replace_with(out, || {
+                        Self::Regional(
+                            <LaneDataAttributeRegional as uper::Placeholder>::placeholder(),
+                        )
+                    });
                 }
                 if let Self::Regional(v) = out {
                     <LaneDataAttributeRegional>::decode_into(r, v)?;
                 }
             }
-            _ => return Err(uper::DecodeError::new(uper::DecodeErrorKind::InvalidChoiceIndex, at)),
+            _ => {
+                return Err(uper::DecodeError::new(
+                    uper::DecodeErrorKind::InvalidChoiceIndex,
+                    at,
+                ))
+            }
         }
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         match self {
-            Self::PathEndPointAngle(v) => { w.write_bit(false)?; w.write_constrained(0, 0, 6)?; v.encode_uper(w) }
-            Self::LaneCrownPointCenter(v) => { w.write_bit(false)?; w.write_constrained(1, 0, 6)?; v.encode_uper(w) }
-            Self::LaneCrownPointLeft(v) => { w.write_bit(false)?; w.write_constrained(2, 0, 6)?; v.encode_uper(w) }
-            Self::LaneCrownPointRight(v) => { w.write_bit(false)?; w.write_constrained(3, 0, 6)?; v.encode_uper(w) }
-            Self::LaneAngle(v) => { w.write_bit(false)?; w.write_constrained(4, 0, 6)?; v.encode_uper(w) }
-            Self::SpeedLimits(v) => { w.write_bit(false)?; w.write_constrained(5, 0, 6)?; v.encode_uper(w) }
-            Self::Regional(v) => { w.write_bit(false)?; w.write_constrained(6, 0, 6)?; v.encode_uper(w) }
+            Self::PathEndPointAngle(v) => {
+                w.write_bit(false)?;
+                w.write_constrained(0, 0, 6)?;
+                v.encode_uper(w)
+            }
+            Self::LaneCrownPointCenter(v) => {
+                w.write_bit(false)?;
+                w.write_constrained(1, 0, 6)?;
+                v.encode_uper(w)
+            }
+            Self::LaneCrownPointLeft(v) => {
+                w.write_bit(false)?;
+                w.write_constrained(2, 0, 6)?;
+                v.encode_uper(w)
+            }
+            Self::LaneCrownPointRight(v) => {
+                w.write_bit(false)?;
+                w.write_constrained(3, 0, 6)?;
+                v.encode_uper(w)
+            }
+            Self::LaneAngle(v) => {
+                w.write_bit(false)?;
+                w.write_constrained(4, 0, 6)?;
+                v.encode_uper(w)
+            }
+            Self::SpeedLimits(v) => {
+                w.write_bit(false)?;
+                w.write_constrained(5, 0, 6)?;
+                v.encode_uper(w)
+            }
+            Self::Regional(v) => {
+                w.write_bit(false)?;
+                w.write_constrained(6, 0, 6)?;
+                v.encode_uper(w)
+            }
             Self::Extension { index, content } => {
                 w.write_bit(true)?;
                 w.write_normally_small(*index as u64)?;
@@ -6786,7 +7986,9 @@ impl uper::random::Random for LaneDataAttribute {
             3 => Self::LaneCrownPointRight(<RoadwayCrownAngle as uper::random::Random>::random(g)),
             4 => Self::LaneAngle(<MergeDivergeNodeAngle as uper::random::Random>::random(g)),
             5 => Self::SpeedLimits(<SpeedLimitList as uper::random::Random>::random(g)),
-            6 => Self::Regional(<LaneDataAttributeRegional as uper::random::Random>::random(g)),
+            6 => Self::Regional(<LaneDataAttributeRegional as uper::random::Random>::random(
+                g,
+            )),
             _ => Self::PathEndPointAngle(<DeltaAngle as uper::Placeholder>::placeholder()),
         }
     }
@@ -6805,7 +8007,13 @@ crate::__constrained_int!(RoadwayCrownAngle, i8, -128, 127, "Common.RoadwayCrown
 /// ASN.1 `MergeDivergeNodeAngle` (module `Common`): INTEGER (-180..180).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub struct MergeDivergeNodeAngle(i16);
-crate::__constrained_int!(MergeDivergeNodeAngle, i16, -180, 180, "Common.MergeDivergeNodeAngle");
+crate::__constrained_int!(
+    MergeDivergeNodeAngle,
+    i16,
+    -180,
+    180,
+    "Common.MergeDivergeNodeAngle"
+);
 
 /// ASN.1 `LaneDataAttribute.regional` (module `Common`): SEQUENCE OF RegLaneDataAttribute (SIZE(1..4)).
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
@@ -6821,6 +8029,12 @@ impl LaneDataAttributeRegional {
     }
 }
 
+impl Default for LaneDataAttributeRegional {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
 impl uper::Placeholder for LaneDataAttributeRegional {
     fn placeholder() -> Self {
         Self(uper::SeqOf::new())
@@ -6831,7 +8045,12 @@ impl Uper for LaneDataAttributeRegional {
     const PATH: &'static str = "Common.LaneDataAttribute.regional";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(146), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        uper::decode_seq_of_into(r, Self::SIZE, "Common.LaneDataAttribute.regional", &mut out.0)
+        uper::decode_seq_of_into(
+            r,
+            Self::SIZE,
+            "Common.LaneDataAttribute.regional",
+            &mut out.0,
+        )
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
@@ -6843,7 +8062,8 @@ impl uper::random::Random for LaneDataAttributeRegional {
     fn random(g: &mut uper::random::Gen) -> Self {
         let mut v = Self(uper::SeqOf::new());
         for _ in 0..g.count(1, 1) {
-            let _ = v.0.push(<RegLaneDataAttribute as uper::random::Random>::random(g));
+            let _ =
+                v.0.push(<RegLaneDataAttribute as uper::random::Random>::random(g));
         }
         v
     }
@@ -6867,7 +8087,14 @@ impl RegLaneDataAttribute {
     /// The `regionId` of the value.
     pub fn id(&self) -> RegionId {
         match self {
-            Self::AddGrpB(_) => const { match RegionId::new(2) { Some(id) => id, None => panic!("id out of range") } },
+            Self::AddGrpB(_) => {
+                const {
+                    match RegionId::new(2) {
+                        Some(id) => id,
+                        None => panic!("id out of range"),
+                    }
+                }
+            }
             Self::Unknown { id, .. } => *id,
         }
     }
@@ -6875,7 +8102,10 @@ impl RegLaneDataAttribute {
 
 impl uper::Placeholder for RegLaneDataAttribute {
     fn placeholder() -> Self {
-        Self::Unknown { id: <RegionId as uper::Placeholder>::placeholder(), content: uper::Octets::new() }
+        Self::Unknown {
+            id: <RegionId as uper::Placeholder>::placeholder(),
+            content: uper::Octets::new(),
+        }
     }
 }
 
@@ -6887,13 +8117,22 @@ impl Uper for RegLaneDataAttribute {
         match id.get() {
             2 => {
                 if !matches!(out, Self::AddGrpB(_)) {
-                    uper::replace_with(out, || Self::AddGrpB(<super::add_grp_b::LaneDataAttributeAddGrpB as uper::Placeholder>::placeholder()));
+                    uper::replace_with(out, || {
+                        Self::AddGrpB(<super::add_grp_b::LaneDataAttributeAddGrpB as uper::Placeholder>::placeholder())
+                    });
                 }
                 if let Self::AddGrpB(v) = out {
-                    uper::decode_open(r, |r| <super::add_grp_b::LaneDataAttributeAddGrpB>::decode_into(r, v))?;
+                    uper::decode_open(r, |r| {
+                        <super::add_grp_b::LaneDataAttributeAddGrpB>::decode_into(r, v)
+                    })?;
                 }
             }
-            _ => *out = Self::Unknown { id, content: uper::decode_unknown_open(r, "Common.RegLaneDataAttribute:unknown")? },
+            _ => {
+                *out = Self::Unknown {
+                    id,
+                    content: uper::decode_unknown_open(r, "Common.RegLaneDataAttribute:unknown")?,
+                }
+            }
         }
         Ok(())
     }
@@ -6915,8 +8154,13 @@ impl Uper for RegLaneDataAttribute {
 impl uper::random::Random for RegLaneDataAttribute {
     fn random(g: &mut uper::random::Gen) -> Self {
         match g.below(1) {
-            0 => Self::AddGrpB(<super::add_grp_b::LaneDataAttributeAddGrpB as uper::random::Random>::random(g)),
-            _ => Self::Unknown { id: <RegionId as uper::Placeholder>::placeholder(), content: uper::Octets::new() },
+            0 => Self::AddGrpB(
+                <super::add_grp_b::LaneDataAttributeAddGrpB as uper::random::Random>::random(g),
+            ),
+            _ => Self::Unknown {
+                id: <RegionId as uper::Placeholder>::placeholder(),
+                content: uper::Octets::new(),
+            },
         }
     }
 }
@@ -6935,6 +8179,12 @@ impl NodeAttributeSetXYRegional {
     }
 }
 
+impl Default for NodeAttributeSetXYRegional {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
 impl uper::Placeholder for NodeAttributeSetXYRegional {
     fn placeholder() -> Self {
         Self(uper::SeqOf::new())
@@ -6945,7 +8195,12 @@ impl Uper for NodeAttributeSetXYRegional {
     const PATH: &'static str = "Common.NodeAttributeSetXY.regional";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(146), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        uper::decode_seq_of_into(r, Self::SIZE, "Common.NodeAttributeSetXY.regional", &mut out.0)
+        uper::decode_seq_of_into(
+            r,
+            Self::SIZE,
+            "Common.NodeAttributeSetXY.regional",
+            &mut out.0,
+        )
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
@@ -6957,7 +8212,8 @@ impl uper::random::Random for NodeAttributeSetXYRegional {
     fn random(g: &mut uper::random::Gen) -> Self {
         let mut v = Self(uper::SeqOf::new());
         for _ in 0..g.count(1, 1) {
-            let _ = v.0.push(<RegNodeAttributeSetXY as uper::random::Random>::random(g));
+            let _ =
+                v.0.push(<RegNodeAttributeSetXY as uper::random::Random>::random(g));
         }
         v
     }
@@ -6986,7 +8242,10 @@ impl RegNodeAttributeSetXY {
 
 impl uper::Placeholder for RegNodeAttributeSetXY {
     fn placeholder() -> Self {
-        Self::Unknown { id: <RegionId as uper::Placeholder>::placeholder(), content: uper::Octets::new() }
+        Self::Unknown {
+            id: <RegionId as uper::Placeholder>::placeholder(),
+            content: uper::Octets::new(),
+        }
     }
 }
 
@@ -6996,7 +8255,12 @@ impl Uper for RegNodeAttributeSetXY {
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let id = <RegionId>::decode_uper(r)?;
         match id.get() {
-            _ => *out = Self::Unknown { id, content: uper::decode_unknown_open(r, "Common.RegNodeAttributeSetXY:unknown")? },
+            _ => {
+                *out = Self::Unknown {
+                    id,
+                    content: uper::decode_unknown_open(r, "Common.RegNodeAttributeSetXY:unknown")?,
+                }
+            }
         }
         Ok(())
     }
@@ -7017,7 +8281,10 @@ impl uper::random::Random for RegNodeAttributeSetXY {
         for _ in 0..1 + g.below(4) {
             let _ = content.push(g.octet());
         }
-        Self::Unknown { id: <RegionId as uper::random::Random>::random(g), content }
+        Self::Unknown {
+            id: <RegionId as uper::random::Random>::random(g),
+            content,
+        }
     }
 }
 
@@ -7044,7 +8311,16 @@ pub struct ComputedLane {
 
 impl uper::Placeholder for ComputedLane {
     fn placeholder() -> Self {
-        Self { reference_lane_id: <LaneID as uper::Placeholder>::placeholder(), offset_xaxis: <ComputedLaneOffsetXaxis as uper::Placeholder>::placeholder(), offset_yaxis: <ComputedLaneOffsetYaxis as uper::Placeholder>::placeholder(), rotate_xy: None, scale_xaxis: None, scale_yaxis: None, regional: None, extensions: uper::Extensions::new() }
+        Self {
+            reference_lane_id: <LaneID as uper::Placeholder>::placeholder(),
+            offset_xaxis: <ComputedLaneOffsetXaxis as uper::Placeholder>::placeholder(),
+            offset_yaxis: <ComputedLaneOffsetYaxis as uper::Placeholder>::placeholder(),
+            rotate_xy: None,
+            scale_xaxis: None,
+            scale_yaxis: None,
+            regional: None,
+            extensions: uper::Extensions::new(),
+        }
     }
 }
 
@@ -7097,12 +8373,22 @@ impl Uper for ComputedLane {
         } else {
             out.regional = None;
         }
-        out.extensions = if extended { uper::Extensions::decode(r, "Common.ComputedLane:ext")? } else { uper::Extensions::new() };
+        out.extensions = if extended {
+            uper::Extensions::decode(r, "Common.ComputedLane:ext")?
+        } else {
+            uper::Extensions::new()
+        };
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_bit(self.extensions.is_present())?;
-        w.write_bits(((self.rotate_xy.is_some() as u64) << 3) | ((self.scale_xaxis.is_some() as u64) << 2) | ((self.scale_yaxis.is_some() as u64) << 1) | ((self.regional.is_some() as u64) << 0), 4)?;
+        w.write_bits(
+            ((self.rotate_xy.is_some() as u64) << 3)
+                | ((self.scale_xaxis.is_some() as u64) << 2)
+                | ((self.scale_yaxis.is_some() as u64) << 1)
+                | ((self.regional.is_some() as u64) << 0),
+            4,
+        )?;
         self.reference_lane_id.encode_uper(w)?;
         self.offset_xaxis.encode_uper(w)?;
         self.offset_yaxis.encode_uper(w)?;
@@ -7132,10 +8418,26 @@ impl uper::random::Random for ComputedLane {
             reference_lane_id: <LaneID as uper::random::Random>::random(g),
             offset_xaxis: <ComputedLaneOffsetXaxis as uper::random::Random>::random(g),
             offset_yaxis: <ComputedLaneOffsetYaxis as uper::random::Random>::random(g),
-            rotate_xy: if g.coin() { Some(<Angle as uper::random::Random>::random(g)) } else { None },
-            scale_xaxis: if g.coin() { Some(<ScaleB12 as uper::random::Random>::random(g)) } else { None },
-            scale_yaxis: if g.coin() { Some(<ScaleB12 as uper::random::Random>::random(g)) } else { None },
-            regional: if g.coin() { Some(<ComputedLaneRegional as uper::random::Random>::random(g)) } else { None },
+            rotate_xy: if g.coin() {
+                Some(<Angle as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            scale_xaxis: if g.coin() {
+                Some(<ScaleB12 as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            scale_yaxis: if g.coin() {
+                Some(<ScaleB12 as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            regional: if g.coin() {
+                Some(<ComputedLaneRegional as uper::random::Random>::random(g))
+            } else {
+                None
+            },
             extensions: uper::Extensions::new(),
         }
     }
@@ -7164,7 +8466,9 @@ impl Uper for ComputedLaneOffsetXaxis {
         match r.read_constrained(0, 1)? {
             0 => {
                 if !matches!(out, Self::Small(_)) {
-                    uper::replace_with(out, || Self::Small(<DrivenLineOffsetSm as uper::Placeholder>::placeholder()));
+                    uper::replace_with(out, || {
+                        Self::Small(<DrivenLineOffsetSm as uper::Placeholder>::placeholder())
+                    });
                 }
                 if let Self::Small(v) = out {
                     <DrivenLineOffsetSm>::decode_into(r, v)?;
@@ -7172,20 +8476,33 @@ impl Uper for ComputedLaneOffsetXaxis {
             }
             1 => {
                 if !matches!(out, Self::Large(_)) {
-                    uper::replace_with(out, || Self::Large(<DrivenLineOffsetLg as uper::Placeholder>::placeholder()));
+                    uper::replace_with(out, || {
+                        Self::Large(<DrivenLineOffsetLg as uper::Placeholder>::placeholder())
+                    });
                 }
                 if let Self::Large(v) = out {
                     <DrivenLineOffsetLg>::decode_into(r, v)?;
                 }
             }
-            _ => return Err(uper::DecodeError::new(uper::DecodeErrorKind::InvalidChoiceIndex, at)),
+            _ => {
+                return Err(uper::DecodeError::new(
+                    uper::DecodeErrorKind::InvalidChoiceIndex,
+                    at,
+                ))
+            }
         }
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         match self {
-            Self::Small(v) => { w.write_constrained(0, 0, 1)?; v.encode_uper(w) }
-            Self::Large(v) => { w.write_constrained(1, 0, 1)?; v.encode_uper(w) }
+            Self::Small(v) => {
+                w.write_constrained(0, 0, 1)?;
+                v.encode_uper(w)
+            }
+            Self::Large(v) => {
+                w.write_constrained(1, 0, 1)?;
+                v.encode_uper(w)
+            }
         }
     }
 }
@@ -7204,12 +8521,24 @@ impl uper::random::Random for ComputedLaneOffsetXaxis {
 /// ASN.1 `DrivenLineOffsetSm` (module `Common`): INTEGER (-2047..2047).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub struct DrivenLineOffsetSm(i16);
-crate::__constrained_int!(DrivenLineOffsetSm, i16, -2047, 2047, "Common.DrivenLineOffsetSm");
+crate::__constrained_int!(
+    DrivenLineOffsetSm,
+    i16,
+    -2047,
+    2047,
+    "Common.DrivenLineOffsetSm"
+);
 
 /// ASN.1 `DrivenLineOffsetLg` (module `Common`): INTEGER (-32767..32767).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub struct DrivenLineOffsetLg(i16);
-crate::__constrained_int!(DrivenLineOffsetLg, i16, -32767, 32767, "Common.DrivenLineOffsetLg");
+crate::__constrained_int!(
+    DrivenLineOffsetLg,
+    i16,
+    -32767,
+    32767,
+    "Common.DrivenLineOffsetLg"
+);
 
 /// ASN.1 `ComputedLane.offsetYaxis` (module `Common`): CHOICE.
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
@@ -7234,7 +8563,9 @@ impl Uper for ComputedLaneOffsetYaxis {
         match r.read_constrained(0, 1)? {
             0 => {
                 if !matches!(out, Self::Small(_)) {
-                    uper::replace_with(out, || Self::Small(<DrivenLineOffsetSm as uper::Placeholder>::placeholder()));
+                    uper::replace_with(out, || {
+                        Self::Small(<DrivenLineOffsetSm as uper::Placeholder>::placeholder())
+                    });
                 }
                 if let Self::Small(v) = out {
                     <DrivenLineOffsetSm>::decode_into(r, v)?;
@@ -7242,20 +8573,33 @@ impl Uper for ComputedLaneOffsetYaxis {
             }
             1 => {
                 if !matches!(out, Self::Large(_)) {
-                    uper::replace_with(out, || Self::Large(<DrivenLineOffsetLg as uper::Placeholder>::placeholder()));
+                    uper::replace_with(out, || {
+                        Self::Large(<DrivenLineOffsetLg as uper::Placeholder>::placeholder())
+                    });
                 }
                 if let Self::Large(v) = out {
                     <DrivenLineOffsetLg>::decode_into(r, v)?;
                 }
             }
-            _ => return Err(uper::DecodeError::new(uper::DecodeErrorKind::InvalidChoiceIndex, at)),
+            _ => {
+                return Err(uper::DecodeError::new(
+                    uper::DecodeErrorKind::InvalidChoiceIndex,
+                    at,
+                ))
+            }
         }
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         match self {
-            Self::Small(v) => { w.write_constrained(0, 0, 1)?; v.encode_uper(w) }
-            Self::Large(v) => { w.write_constrained(1, 0, 1)?; v.encode_uper(w) }
+            Self::Small(v) => {
+                w.write_constrained(0, 0, 1)?;
+                v.encode_uper(w)
+            }
+            Self::Large(v) => {
+                w.write_constrained(1, 0, 1)?;
+                v.encode_uper(w)
+            }
         }
     }
 }
@@ -7290,6 +8634,12 @@ impl ComputedLaneRegional {
     }
 }
 
+impl Default for ComputedLaneRegional {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
 impl uper::Placeholder for ComputedLaneRegional {
     fn placeholder() -> Self {
         Self(uper::SeqOf::new())
@@ -7312,7 +8662,8 @@ impl uper::random::Random for ComputedLaneRegional {
     fn random(g: &mut uper::random::Gen) -> Self {
         let mut v = Self(uper::SeqOf::new());
         for _ in 0..g.count(1, 1) {
-            let _ = v.0.push(<RegComputedLane as uper::random::Random>::random(g));
+            let _ =
+                v.0.push(<RegComputedLane as uper::random::Random>::random(g));
         }
         v
     }
@@ -7341,7 +8692,10 @@ impl RegComputedLane {
 
 impl uper::Placeholder for RegComputedLane {
     fn placeholder() -> Self {
-        Self::Unknown { id: <RegionId as uper::Placeholder>::placeholder(), content: uper::Octets::new() }
+        Self::Unknown {
+            id: <RegionId as uper::Placeholder>::placeholder(),
+            content: uper::Octets::new(),
+        }
     }
 }
 
@@ -7351,7 +8705,12 @@ impl Uper for RegComputedLane {
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let id = <RegionId>::decode_uper(r)?;
         match id.get() {
-            _ => *out = Self::Unknown { id, content: uper::decode_unknown_open(r, "Common.RegComputedLane:unknown")? },
+            _ => {
+                *out = Self::Unknown {
+                    id,
+                    content: uper::decode_unknown_open(r, "Common.RegComputedLane:unknown")?,
+                }
+            }
         }
         Ok(())
     }
@@ -7372,7 +8731,10 @@ impl uper::random::Random for RegComputedLane {
         for _ in 0..1 + g.below(4) {
             let _ = content.push(g.octet());
         }
-        Self::Unknown { id: <RegionId as uper::random::Random>::random(g), content }
+        Self::Unknown {
+            id: <RegionId as uper::random::Random>::random(g),
+            content,
+        }
     }
 }
 
@@ -7402,7 +8764,10 @@ pub struct RoadSegmentReferenceID {
 
 impl uper::Placeholder for RoadSegmentReferenceID {
     fn placeholder() -> Self {
-        Self { region: None, id: <RoadSegmentID as uper::Placeholder>::placeholder() }
+        Self {
+            region: None,
+            id: <RoadSegmentID as uper::Placeholder>::placeholder(),
+        }
     }
 }
 
@@ -7438,7 +8803,11 @@ impl Uper for RoadSegmentReferenceID {
 impl uper::random::Random for RoadSegmentReferenceID {
     fn random(g: &mut uper::random::Gen) -> Self {
         Self {
-            region: if g.coin() { Some(<RoadRegulatorID as uper::random::Random>::random(g)) } else { None },
+            region: if g.coin() {
+                Some(<RoadRegulatorID as uper::random::Random>::random(g))
+            } else {
+                None
+            },
             id: <RoadSegmentID as uper::random::Random>::random(g),
         }
     }
@@ -7479,7 +8848,16 @@ pub enum PrioritizationResponseStatus {
 
 impl PrioritizationResponseStatus {
     /// Every root value in encoding (ascending number) order.
-    pub const ALL: [Self; 8] = [Self::Unknown, Self::Requested, Self::Processing, Self::WatchOtherTraffic, Self::Granted, Self::Rejected, Self::MaxPresence, Self::ReserviceLocked];
+    pub const ALL: [Self; 8] = [
+        Self::Unknown,
+        Self::Requested,
+        Self::Processing,
+        Self::WatchOtherTraffic,
+        Self::Granted,
+        Self::Rejected,
+        Self::MaxPresence,
+        Self::ReserviceLocked,
+    ];
     /// The ASN.1 number of the value (`None` for an unknown extension value).
     pub const fn number(self) -> Option<i64> {
         match self {
@@ -7536,12 +8914,20 @@ impl Uper for PrioritizationResponseStatus {
         if r.read_bit()? {
             let at = r.position();
             let i = r.read_normally_small()?;
-            *out = u16::try_from(i).map(Self::Extension).map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at))?;
+            *out = u16::try_from(i)
+                .map(Self::Extension)
+                .map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at))?;
             return Ok(());
         }
         let at = r.position();
         let i = r.read_constrained(0, 7)?;
-        *out = Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))?;
+        *out = Self::ALL
+            .get(i as usize)
+            .copied()
+            .ok_or(uper::DecodeError::new(
+                uper::DecodeErrorKind::InvalidEnumIndex,
+                at,
+            ))?;
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -7612,7 +8998,9 @@ impl Uper for VehicleID {
         match r.read_constrained(0, 1)? {
             0 => {
                 if !matches!(out, Self::EntityID(_)) {
-                    uper::replace_with(out, || Self::EntityID(<TemporaryID as uper::Placeholder>::placeholder()));
+                    uper::replace_with(out, || {
+                        Self::EntityID(<TemporaryID as uper::Placeholder>::placeholder())
+                    });
                 }
                 if let Self::EntityID(v) = out {
                     <TemporaryID>::decode_into(r, v)?;
@@ -7620,20 +9008,33 @@ impl Uper for VehicleID {
             }
             1 => {
                 if !matches!(out, Self::StationID(_)) {
-                    uper::replace_with(out, || Self::StationID(<StationID as uper::Placeholder>::placeholder()));
+                    uper::replace_with(out, || {
+                        Self::StationID(<StationID as uper::Placeholder>::placeholder())
+                    });
                 }
                 if let Self::StationID(v) = out {
                     <StationID>::decode_into(r, v)?;
                 }
             }
-            _ => return Err(uper::DecodeError::new(uper::DecodeErrorKind::InvalidChoiceIndex, at)),
+            _ => {
+                return Err(uper::DecodeError::new(
+                    uper::DecodeErrorKind::InvalidChoiceIndex,
+                    at,
+                ))
+            }
         }
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         match self {
-            Self::EntityID(v) => { w.write_constrained(0, 0, 1)?; v.encode_uper(w) }
-            Self::StationID(v) => { w.write_constrained(1, 0, 1)?; v.encode_uper(w) }
+            Self::EntityID(v) => {
+                w.write_constrained(0, 0, 1)?;
+                v.encode_uper(w)
+            }
+            Self::StationID(v) => {
+                w.write_constrained(1, 0, 1)?;
+                v.encode_uper(w)
+            }
         }
     }
 }
@@ -7684,7 +9085,8 @@ impl Uper for IntersectionAccessPoint {
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         if r.read_bit()? {
             let at = r.position();
-            let index = u16::try_from(r.read_normally_small()?).map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at))?;
+            let index = u16::try_from(r.read_normally_small()?)
+                .map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at))?;
             let content = uper::decode_unknown_open(r, "Common.IntersectionAccessPoint:unknown")?;
             *out = Self::Extension { index, content };
             return Ok(());
@@ -7693,7 +9095,9 @@ impl Uper for IntersectionAccessPoint {
         match r.read_constrained(0, 2)? {
             0 => {
                 if !matches!(out, Self::Lane(_)) {
-                    uper::replace_with(out, || Self::Lane(<LaneID as uper::Placeholder>::placeholder()));
+                    uper::replace_with(out, || {
+                        Self::Lane(<LaneID as uper::Placeholder>::placeholder())
+                    });
                 }
                 if let Self::Lane(v) = out {
                     <LaneID>::decode_into(r, v)?;
@@ -7701,7 +9105,9 @@ impl Uper for IntersectionAccessPoint {
             }
             1 => {
                 if !matches!(out, Self::Approach(_)) {
-                    uper::replace_with(out, || Self::Approach(<ApproachID as uper::Placeholder>::placeholder()));
+                    uper::replace_with(out, || {
+                        Self::Approach(<ApproachID as uper::Placeholder>::placeholder())
+                    });
                 }
                 if let Self::Approach(v) = out {
                     <ApproachID>::decode_into(r, v)?;
@@ -7709,21 +9115,40 @@ impl Uper for IntersectionAccessPoint {
             }
             2 => {
                 if !matches!(out, Self::Connection(_)) {
-                    uper::replace_with(out, || Self::Connection(<LaneConnectionID as uper::Placeholder>::placeholder()));
+                    uper::replace_with(out, || {
+                        Self::Connection(<LaneConnectionID as uper::Placeholder>::placeholder())
+                    });
                 }
                 if let Self::Connection(v) = out {
                     <LaneConnectionID>::decode_into(r, v)?;
                 }
             }
-            _ => return Err(uper::DecodeError::new(uper::DecodeErrorKind::InvalidChoiceIndex, at)),
+            _ => {
+                return Err(uper::DecodeError::new(
+                    uper::DecodeErrorKind::InvalidChoiceIndex,
+                    at,
+                ))
+            }
         }
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         match self {
-            Self::Lane(v) => { w.write_bit(false)?; w.write_constrained(0, 0, 2)?; v.encode_uper(w) }
-            Self::Approach(v) => { w.write_bit(false)?; w.write_constrained(1, 0, 2)?; v.encode_uper(w) }
-            Self::Connection(v) => { w.write_bit(false)?; w.write_constrained(2, 0, 2)?; v.encode_uper(w) }
+            Self::Lane(v) => {
+                w.write_bit(false)?;
+                w.write_constrained(0, 0, 2)?;
+                v.encode_uper(w)
+            }
+            Self::Approach(v) => {
+                w.write_bit(false)?;
+                w.write_constrained(1, 0, 2)?;
+                v.encode_uper(w)
+            }
+            Self::Connection(v) => {
+                w.write_bit(false)?;
+                w.write_constrained(2, 0, 2)?;
+                v.encode_uper(w)
+            }
             Self::Extension { index, content } => {
                 w.write_bit(true)?;
                 w.write_normally_small(*index as u64)?;
@@ -7766,7 +9191,15 @@ pub struct RequestorType {
 
 impl uper::Placeholder for RequestorType {
     fn placeholder() -> Self {
-        Self { role: <BasicVehicleRole as uper::Placeholder>::placeholder(), subrole: None, request: None, iso3883: None, hpms_type: None, regional: None, extensions: uper::Extensions::new() }
+        Self {
+            role: <BasicVehicleRole as uper::Placeholder>::placeholder(),
+            subrole: None,
+            request: None,
+            iso3883: None,
+            hpms_type: None,
+            regional: None,
+            extensions: uper::Extensions::new(),
+        }
     }
 }
 
@@ -7827,12 +9260,23 @@ impl Uper for RequestorType {
         } else {
             out.regional = None;
         }
-        out.extensions = if extended { uper::Extensions::decode(r, "Common.RequestorType:ext")? } else { uper::Extensions::new() };
+        out.extensions = if extended {
+            uper::Extensions::decode(r, "Common.RequestorType:ext")?
+        } else {
+            uper::Extensions::new()
+        };
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_bit(self.extensions.is_present())?;
-        w.write_bits(((self.subrole.is_some() as u64) << 4) | ((self.request.is_some() as u64) << 3) | ((self.iso3883.is_some() as u64) << 2) | ((self.hpms_type.is_some() as u64) << 1) | ((self.regional.is_some() as u64) << 0), 5)?;
+        w.write_bits(
+            ((self.subrole.is_some() as u64) << 4)
+                | ((self.request.is_some() as u64) << 3)
+                | ((self.iso3883.is_some() as u64) << 2)
+                | ((self.hpms_type.is_some() as u64) << 1)
+                | ((self.regional.is_some() as u64) << 0),
+            5,
+        )?;
         self.role.encode_uper(w)?;
         if let Some(v) = &self.subrole {
             v.encode_uper(w)?;
@@ -7861,11 +9305,31 @@ impl uper::random::Random for RequestorType {
     fn random(g: &mut uper::random::Gen) -> Self {
         Self {
             role: <BasicVehicleRole as uper::random::Random>::random(g),
-            subrole: if g.coin() { Some(<RequestSubRole as uper::random::Random>::random(g)) } else { None },
-            request: if g.coin() { Some(<RequestImportanceLevel as uper::random::Random>::random(g)) } else { None },
-            iso3883: if g.coin() { Some(<Iso3833VehicleType as uper::random::Random>::random(g)) } else { None },
-            hpms_type: if g.coin() { Some(<VehicleType as uper::random::Random>::random(g)) } else { None },
-            regional: if g.coin() { Some(<RegRequestorType as uper::random::Random>::random(g)) } else { None },
+            subrole: if g.coin() {
+                Some(<RequestSubRole as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            request: if g.coin() {
+                Some(<RequestImportanceLevel as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            iso3883: if g.coin() {
+                Some(<Iso3833VehicleType as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            hpms_type: if g.coin() {
+                Some(<VehicleType as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            regional: if g.coin() {
+                Some(<RegRequestorType as uper::random::Random>::random(g))
+            } else {
+                None
+            },
             extensions: uper::Extensions::new(),
         }
     }
@@ -7910,7 +9374,24 @@ pub enum RequestSubRole {
 
 impl RequestSubRole {
     /// Every root value in encoding (ascending number) order.
-    pub const ALL: [Self; 16] = [Self::RequestSubRoleUnKnown, Self::RequestSubRole1, Self::RequestSubRole2, Self::RequestSubRole3, Self::RequestSubRole4, Self::RequestSubRole5, Self::RequestSubRole6, Self::RequestSubRole7, Self::RequestSubRole8, Self::RequestSubRole9, Self::RequestSubRole10, Self::RequestSubRole11, Self::RequestSubRole12, Self::RequestSubRole13, Self::RequestSubRole14, Self::RequestSubRoleReserved];
+    pub const ALL: [Self; 16] = [
+        Self::RequestSubRoleUnKnown,
+        Self::RequestSubRole1,
+        Self::RequestSubRole2,
+        Self::RequestSubRole3,
+        Self::RequestSubRole4,
+        Self::RequestSubRole5,
+        Self::RequestSubRole6,
+        Self::RequestSubRole7,
+        Self::RequestSubRole8,
+        Self::RequestSubRole9,
+        Self::RequestSubRole10,
+        Self::RequestSubRole11,
+        Self::RequestSubRole12,
+        Self::RequestSubRole13,
+        Self::RequestSubRole14,
+        Self::RequestSubRoleReserved,
+    ];
     /// The ASN.1 number of the value (`None` for an unknown extension value).
     pub const fn number(self) -> Option<i64> {
         match self {
@@ -7987,7 +9468,13 @@ impl Uper for RequestSubRole {
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let at = r.position();
         let i = r.read_constrained(0, 15)?;
-        *out = Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))?;
+        *out = Self::ALL
+            .get(i as usize)
+            .copied()
+            .ok_or(uper::DecodeError::new(
+                uper::DecodeErrorKind::InvalidEnumIndex,
+                at,
+            ))?;
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -8041,7 +9528,24 @@ pub enum RequestImportanceLevel {
 
 impl RequestImportanceLevel {
     /// Every root value in encoding (ascending number) order.
-    pub const ALL: [Self; 16] = [Self::RequestImportanceLevelUnKnown, Self::RequestImportanceLevel1, Self::RequestImportanceLevel2, Self::RequestImportanceLevel3, Self::RequestImportanceLevel4, Self::RequestImportanceLevel5, Self::RequestImportanceLevel6, Self::RequestImportanceLevel7, Self::RequestImportanceLevel8, Self::RequestImportanceLevel9, Self::RequestImportanceLevel10, Self::RequestImportanceLevel11, Self::RequestImportanceLevel12, Self::RequestImportanceLevel13, Self::RequestImportanceLevel14, Self::RequestImportanceReserved];
+    pub const ALL: [Self; 16] = [
+        Self::RequestImportanceLevelUnKnown,
+        Self::RequestImportanceLevel1,
+        Self::RequestImportanceLevel2,
+        Self::RequestImportanceLevel3,
+        Self::RequestImportanceLevel4,
+        Self::RequestImportanceLevel5,
+        Self::RequestImportanceLevel6,
+        Self::RequestImportanceLevel7,
+        Self::RequestImportanceLevel8,
+        Self::RequestImportanceLevel9,
+        Self::RequestImportanceLevel10,
+        Self::RequestImportanceLevel11,
+        Self::RequestImportanceLevel12,
+        Self::RequestImportanceLevel13,
+        Self::RequestImportanceLevel14,
+        Self::RequestImportanceReserved,
+    ];
     /// The ASN.1 number of the value (`None` for an unknown extension value).
     pub const fn number(self) -> Option<i64> {
         match self {
@@ -8118,7 +9622,13 @@ impl Uper for RequestImportanceLevel {
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let at = r.position();
         let i = r.read_constrained(0, 15)?;
-        *out = Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))?;
+        *out = Self::ALL
+            .get(i as usize)
+            .copied()
+            .ok_or(uper::DecodeError::new(
+                uper::DecodeErrorKind::InvalidEnumIndex,
+                at,
+            ))?;
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -8156,7 +9666,10 @@ impl RegRequestorType {
 
 impl uper::Placeholder for RegRequestorType {
     fn placeholder() -> Self {
-        Self::Unknown { id: <RegionId as uper::Placeholder>::placeholder(), content: uper::Octets::new() }
+        Self::Unknown {
+            id: <RegionId as uper::Placeholder>::placeholder(),
+            content: uper::Octets::new(),
+        }
     }
 }
 
@@ -8166,7 +9679,12 @@ impl Uper for RegRequestorType {
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let id = <RegionId>::decode_uper(r)?;
         match id.get() {
-            _ => *out = Self::Unknown { id, content: uper::decode_unknown_open(r, "Common.RegRequestorType:unknown")? },
+            _ => {
+                *out = Self::Unknown {
+                    id,
+                    content: uper::decode_unknown_open(r, "Common.RegRequestorType:unknown")?,
+                }
+            }
         }
         Ok(())
     }
@@ -8187,7 +9705,10 @@ impl uper::random::Random for RegRequestorType {
         for _ in 0..1 + g.below(4) {
             let _ = content.push(g.octet());
         }
-        Self::Unknown { id: <RegionId as uper::random::Random>::random(g), content }
+        Self::Unknown {
+            id: <RegionId as uper::random::Random>::random(g),
+            content,
+        }
     }
 }
 
@@ -8208,7 +9729,13 @@ pub struct Header {
 
 impl uper::Placeholder for Header {
     fn placeholder() -> Self {
-        Self { year: None, time_stamp: None, sec_mark: None, msg_issue_revision: None, extensions: uper::Extensions::new() }
+        Self {
+            year: None,
+            time_stamp: None,
+            sec_mark: None,
+            msg_issue_revision: None,
+            extensions: uper::Extensions::new(),
+        }
     }
 }
 
@@ -8258,12 +9785,22 @@ impl Uper for Header {
         } else {
             out.msg_issue_revision = None;
         }
-        out.extensions = if extended { uper::Extensions::decode(r, "Common.Header:ext")? } else { uper::Extensions::new() };
+        out.extensions = if extended {
+            uper::Extensions::decode(r, "Common.Header:ext")?
+        } else {
+            uper::Extensions::new()
+        };
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_bit(self.extensions.is_present())?;
-        w.write_bits(((self.year.is_some() as u64) << 3) | ((self.time_stamp.is_some() as u64) << 2) | ((self.sec_mark.is_some() as u64) << 1) | ((self.msg_issue_revision.is_some() as u64) << 0), 4)?;
+        w.write_bits(
+            ((self.year.is_some() as u64) << 3)
+                | ((self.time_stamp.is_some() as u64) << 2)
+                | ((self.sec_mark.is_some() as u64) << 1)
+                | ((self.msg_issue_revision.is_some() as u64) << 0),
+            4,
+        )?;
         if let Some(v) = &self.year {
             v.encode_uper(w)?;
         }
@@ -8287,10 +9824,26 @@ impl Uper for Header {
 impl uper::random::Random for Header {
     fn random(g: &mut uper::random::Gen) -> Self {
         Self {
-            year: if g.coin() { Some(<DYear as uper::random::Random>::random(g)) } else { None },
-            time_stamp: if g.coin() { Some(<MinuteOfTheYear as uper::random::Random>::random(g)) } else { None },
-            sec_mark: if g.coin() { Some(<DSecond as uper::random::Random>::random(g)) } else { None },
-            msg_issue_revision: if g.coin() { Some(<MsgCount as uper::random::Random>::random(g)) } else { None },
+            year: if g.coin() {
+                Some(<DYear as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            time_stamp: if g.coin() {
+                Some(<MinuteOfTheYear as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            sec_mark: if g.coin() {
+                Some(<DSecond as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            msg_issue_revision: if g.coin() {
+                Some(<MsgCount as uper::random::Random>::random(g))
+            } else {
+                None
+            },
             extensions: uper::Extensions::new(),
         }
     }
@@ -8309,7 +9862,11 @@ pub struct DDate {
 
 impl uper::Placeholder for DDate {
     fn placeholder() -> Self {
-        Self { year: <DYear as uper::Placeholder>::placeholder(), month: <DMonth as uper::Placeholder>::placeholder(), day: <DDay as uper::Placeholder>::placeholder() }
+        Self {
+            year: <DYear as uper::Placeholder>::placeholder(),
+            month: <DMonth as uper::Placeholder>::placeholder(),
+            day: <DDay as uper::Placeholder>::placeholder(),
+        }
     }
 }
 
@@ -8358,7 +9915,13 @@ pub struct DFullTime {
 
 impl uper::Placeholder for DFullTime {
     fn placeholder() -> Self {
-        Self { year: <DYear as uper::Placeholder>::placeholder(), month: <DMonth as uper::Placeholder>::placeholder(), day: <DDay as uper::Placeholder>::placeholder(), hour: <DHour as uper::Placeholder>::placeholder(), minute: <DMinute as uper::Placeholder>::placeholder() }
+        Self {
+            year: <DYear as uper::Placeholder>::placeholder(),
+            month: <DMonth as uper::Placeholder>::placeholder(),
+            day: <DDay as uper::Placeholder>::placeholder(),
+            hour: <DHour as uper::Placeholder>::placeholder(),
+            minute: <DMinute as uper::Placeholder>::placeholder(),
+        }
     }
 }
 
@@ -8407,7 +9970,10 @@ pub struct DMonthDay {
 
 impl uper::Placeholder for DMonthDay {
     fn placeholder() -> Self {
-        Self { month: <DMonth as uper::Placeholder>::placeholder(), day: <DDay as uper::Placeholder>::placeholder() }
+        Self {
+            month: <DMonth as uper::Placeholder>::placeholder(),
+            day: <DDay as uper::Placeholder>::placeholder(),
+        }
     }
 }
 
@@ -8451,7 +10017,12 @@ pub struct DTime {
 
 impl uper::Placeholder for DTime {
     fn placeholder() -> Self {
-        Self { hour: <DHour as uper::Placeholder>::placeholder(), minute: <DMinute as uper::Placeholder>::placeholder(), second: <DSecond as uper::Placeholder>::placeholder(), offset: None }
+        Self {
+            hour: <DHour as uper::Placeholder>::placeholder(),
+            minute: <DMinute as uper::Placeholder>::placeholder(),
+            second: <DSecond as uper::Placeholder>::placeholder(),
+            offset: None,
+        }
     }
 }
 
@@ -8494,7 +10065,11 @@ impl uper::random::Random for DTime {
             hour: <DHour as uper::random::Random>::random(g),
             minute: <DMinute as uper::random::Random>::random(g),
             second: <DSecond as uper::random::Random>::random(g),
-            offset: if g.coin() { Some(<DOffset as uper::random::Random>::random(g)) } else { None },
+            offset: if g.coin() {
+                Some(<DOffset as uper::random::Random>::random(g))
+            } else {
+                None
+            },
         }
     }
 }
@@ -8510,7 +10085,10 @@ pub struct DYearMonth {
 
 impl uper::Placeholder for DYearMonth {
     fn placeholder() -> Self {
-        Self { year: <DYear as uper::Placeholder>::placeholder(), month: <DMonth as uper::Placeholder>::placeholder() }
+        Self {
+            year: <DYear as uper::Placeholder>::placeholder(),
+            month: <DMonth as uper::Placeholder>::placeholder(),
+        }
     }
 }
 
@@ -8562,7 +10140,9 @@ pub enum VerticalOffset {
 
 impl uper::Placeholder for VerticalOffset {
     fn placeholder() -> Self {
-        Self::Offset1(<super::basic_safety_message::VertOffsetB07 as uper::Placeholder>::placeholder())
+        Self::Offset1(
+            <super::basic_safety_message::VertOffsetB07 as uper::Placeholder>::placeholder(),
+        )
     }
 }
 
@@ -8574,7 +10154,9 @@ impl Uper for VerticalOffset {
         match r.read_constrained(0, 7)? {
             0 => {
                 if !matches!(out, Self::Offset1(_)) {
-                    uper::replace_with(out, || Self::Offset1(<super::basic_safety_message::VertOffsetB07 as uper::Placeholder>::placeholder()));
+                    uper::replace_with(out, || {
+                        Self::Offset1(<super::basic_safety_message::VertOffsetB07 as uper::Placeholder>::placeholder())
+                    });
                 }
                 if let Self::Offset1(v) = out {
                     <super::basic_safety_message::VertOffsetB07>::decode_into(r, v)?;
@@ -8582,7 +10164,9 @@ impl Uper for VerticalOffset {
             }
             1 => {
                 if !matches!(out, Self::Offset2(_)) {
-                    uper::replace_with(out, || Self::Offset2(<VertOffsetB08 as uper::Placeholder>::placeholder()));
+                    uper::replace_with(out, || {
+                        Self::Offset2(<VertOffsetB08 as uper::Placeholder>::placeholder())
+                    });
                 }
                 if let Self::Offset2(v) = out {
                     <VertOffsetB08>::decode_into(r, v)?;
@@ -8590,7 +10174,9 @@ impl Uper for VerticalOffset {
             }
             2 => {
                 if !matches!(out, Self::Offset3(_)) {
-                    uper::replace_with(out, || Self::Offset3(<VertOffsetB09 as uper::Placeholder>::placeholder()));
+                    uper::replace_with(out, || {
+                        Self::Offset3(<VertOffsetB09 as uper::Placeholder>::placeholder())
+                    });
                 }
                 if let Self::Offset3(v) = out {
                     <VertOffsetB09>::decode_into(r, v)?;
@@ -8598,7 +10184,9 @@ impl Uper for VerticalOffset {
             }
             3 => {
                 if !matches!(out, Self::Offset4(_)) {
-                    uper::replace_with(out, || Self::Offset4(<VertOffsetB10 as uper::Placeholder>::placeholder()));
+                    uper::replace_with(out, || {
+                        Self::Offset4(<VertOffsetB10 as uper::Placeholder>::placeholder())
+                    });
                 }
                 if let Self::Offset4(v) = out {
                     <VertOffsetB10>::decode_into(r, v)?;
@@ -8606,7 +10194,9 @@ impl Uper for VerticalOffset {
             }
             4 => {
                 if !matches!(out, Self::Offset5(_)) {
-                    uper::replace_with(out, || Self::Offset5(<VertOffsetB11 as uper::Placeholder>::placeholder()));
+                    uper::replace_with(out, || {
+                        Self::Offset5(<VertOffsetB11 as uper::Placeholder>::placeholder())
+                    });
                 }
                 if let Self::Offset5(v) = out {
                     <VertOffsetB11>::decode_into(r, v)?;
@@ -8614,7 +10204,9 @@ impl Uper for VerticalOffset {
             }
             5 => {
                 if !matches!(out, Self::Offset6(_)) {
-                    uper::replace_with(out, || Self::Offset6(<VertOffsetB12 as uper::Placeholder>::placeholder()));
+                    uper::replace_with(out, || {
+                        Self::Offset6(<VertOffsetB12 as uper::Placeholder>::placeholder())
+                    });
                 }
                 if let Self::Offset6(v) = out {
                     <VertOffsetB12>::decode_into(r, v)?;
@@ -8622,7 +10214,9 @@ impl Uper for VerticalOffset {
             }
             6 => {
                 if !matches!(out, Self::Elevation(_)) {
-                    uper::replace_with(out, || Self::Elevation(<Elevation as uper::Placeholder>::placeholder()));
+                    uper::replace_with(out, || {
+                        Self::Elevation(<Elevation as uper::Placeholder>::placeholder())
+                    });
                 }
                 if let Self::Elevation(v) = out {
                     <Elevation>::decode_into(r, v)?;
@@ -8630,26 +10224,57 @@ impl Uper for VerticalOffset {
             }
             7 => {
                 if !matches!(out, Self::Regional(_)) {
-                    uper::replace_with(out, || Self::Regional(<RegVerticalOffset as uper::Placeholder>::placeholder()));
+                    uper::replace_with(out, || {
+                        Self::Regional(<RegVerticalOffset as uper::Placeholder>::placeholder())
+                    });
                 }
                 if let Self::Regional(v) = out {
                     <RegVerticalOffset>::decode_into(r, v)?;
                 }
             }
-            _ => return Err(uper::DecodeError::new(uper::DecodeErrorKind::InvalidChoiceIndex, at)),
+            _ => {
+                return Err(uper::DecodeError::new(
+                    uper::DecodeErrorKind::InvalidChoiceIndex,
+                    at,
+                ))
+            }
         }
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         match self {
-            Self::Offset1(v) => { w.write_constrained(0, 0, 7)?; v.encode_uper(w) }
-            Self::Offset2(v) => { w.write_constrained(1, 0, 7)?; v.encode_uper(w) }
-            Self::Offset3(v) => { w.write_constrained(2, 0, 7)?; v.encode_uper(w) }
-            Self::Offset4(v) => { w.write_constrained(3, 0, 7)?; v.encode_uper(w) }
-            Self::Offset5(v) => { w.write_constrained(4, 0, 7)?; v.encode_uper(w) }
-            Self::Offset6(v) => { w.write_constrained(5, 0, 7)?; v.encode_uper(w) }
-            Self::Elevation(v) => { w.write_constrained(6, 0, 7)?; v.encode_uper(w) }
-            Self::Regional(v) => { w.write_constrained(7, 0, 7)?; v.encode_uper(w) }
+            Self::Offset1(v) => {
+                w.write_constrained(0, 0, 7)?;
+                v.encode_uper(w)
+            }
+            Self::Offset2(v) => {
+                w.write_constrained(1, 0, 7)?;
+                v.encode_uper(w)
+            }
+            Self::Offset3(v) => {
+                w.write_constrained(2, 0, 7)?;
+                v.encode_uper(w)
+            }
+            Self::Offset4(v) => {
+                w.write_constrained(3, 0, 7)?;
+                v.encode_uper(w)
+            }
+            Self::Offset5(v) => {
+                w.write_constrained(4, 0, 7)?;
+                v.encode_uper(w)
+            }
+            Self::Offset6(v) => {
+                w.write_constrained(5, 0, 7)?;
+                v.encode_uper(w)
+            }
+            Self::Elevation(v) => {
+                w.write_constrained(6, 0, 7)?;
+                v.encode_uper(w)
+            }
+            Self::Regional(v) => {
+                w.write_constrained(7, 0, 7)?;
+                v.encode_uper(w)
+            }
         }
     }
 }
@@ -8658,7 +10283,9 @@ impl Uper for VerticalOffset {
 impl uper::random::Random for VerticalOffset {
     fn random(g: &mut uper::random::Gen) -> Self {
         match g.below(8) {
-            0 => Self::Offset1(<super::basic_safety_message::VertOffsetB07 as uper::random::Random>::random(g)),
+            0 => Self::Offset1(
+                <super::basic_safety_message::VertOffsetB07 as uper::random::Random>::random(g),
+            ),
             1 => Self::Offset2(<VertOffsetB08 as uper::random::Random>::random(g)),
             2 => Self::Offset3(<VertOffsetB09 as uper::random::Random>::random(g)),
             3 => Self::Offset4(<VertOffsetB10 as uper::random::Random>::random(g)),
@@ -8666,7 +10293,9 @@ impl uper::random::Random for VerticalOffset {
             5 => Self::Offset6(<VertOffsetB12 as uper::random::Random>::random(g)),
             6 => Self::Elevation(<Elevation as uper::random::Random>::random(g)),
             7 => Self::Regional(<RegVerticalOffset as uper::random::Random>::random(g)),
-            _ => Self::Offset1(<super::basic_safety_message::VertOffsetB07 as uper::Placeholder>::placeholder()),
+            _ => Self::Offset1(
+                <super::basic_safety_message::VertOffsetB07 as uper::Placeholder>::placeholder(),
+            ),
         }
     }
 }
@@ -8714,7 +10343,10 @@ impl RegVerticalOffset {
 
 impl uper::Placeholder for RegVerticalOffset {
     fn placeholder() -> Self {
-        Self::Unknown { id: <RegionId as uper::Placeholder>::placeholder(), content: uper::Octets::new() }
+        Self::Unknown {
+            id: <RegionId as uper::Placeholder>::placeholder(),
+            content: uper::Octets::new(),
+        }
     }
 }
 
@@ -8724,7 +10356,12 @@ impl Uper for RegVerticalOffset {
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let id = <RegionId>::decode_uper(r)?;
         match id.get() {
-            _ => *out = Self::Unknown { id, content: uper::decode_unknown_open(r, "Common.RegVerticalOffset:unknown")? },
+            _ => {
+                *out = Self::Unknown {
+                    id,
+                    content: uper::decode_unknown_open(r, "Common.RegVerticalOffset:unknown")?,
+                }
+            }
         }
         Ok(())
     }
@@ -8745,7 +10382,10 @@ impl uper::random::Random for RegVerticalOffset {
         for _ in 0..1 + g.below(4) {
             let _ = content.push(g.octet());
         }
-        Self::Unknown { id: <RegionId as uper::random::Random>::random(g), content }
+        Self::Unknown {
+            id: <RegionId as uper::random::Random>::random(g),
+            content,
+        }
     }
 }
 
@@ -8827,7 +10467,16 @@ pub enum LocationQuality {
 
 impl LocationQuality {
     /// Every root value in encoding (ascending number) order.
-    pub const ALL: [Self; 8] = [Self::LocQualBt1m, Self::LocQualBt5m, Self::LocQualBt12m, Self::LocQualBt50m, Self::LocQualBt125m, Self::LocQualBt500m, Self::LocQualBt1250m, Self::LocQualUnknown];
+    pub const ALL: [Self; 8] = [
+        Self::LocQualBt1m,
+        Self::LocQualBt5m,
+        Self::LocQualBt12m,
+        Self::LocQualBt50m,
+        Self::LocQualBt125m,
+        Self::LocQualBt500m,
+        Self::LocQualBt1250m,
+        Self::LocQualUnknown,
+    ];
     /// The ASN.1 number of the value (`None` for an unknown extension value).
     pub const fn number(self) -> Option<i64> {
         match self {
@@ -8880,7 +10529,13 @@ impl Uper for LocationQuality {
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let at = r.position();
         let i = r.read_constrained(0, 7)?;
-        *out = Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))?;
+        *out = Self::ALL
+            .get(i as usize)
+            .copied()
+            .ok_or(uper::DecodeError::new(
+                uper::DecodeErrorKind::InvalidEnumIndex,
+                at,
+            ))?;
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -8924,7 +10579,18 @@ pub enum LocationTech {
 
 impl LocationTech {
     /// Every root value in encoding (ascending number) order.
-    pub const ALL: [Self; 10] = [Self::LocTechUnknown, Self::LocTechGNSS, Self::LocTechDGPS, Self::LocTechRTK, Self::LocTechPPP, Self::LocTechDrGPS, Self::LocTechDrDGPS, Self::LocTechDr, Self::LocTechNav, Self::LocTechFault];
+    pub const ALL: [Self; 10] = [
+        Self::LocTechUnknown,
+        Self::LocTechGNSS,
+        Self::LocTechDGPS,
+        Self::LocTechRTK,
+        Self::LocTechPPP,
+        Self::LocTechDrGPS,
+        Self::LocTechDrDGPS,
+        Self::LocTechDr,
+        Self::LocTechNav,
+        Self::LocTechFault,
+    ];
     /// The ASN.1 number of the value (`None` for an unknown extension value).
     pub const fn number(self) -> Option<i64> {
         match self {
@@ -8987,12 +10653,20 @@ impl Uper for LocationTech {
         if r.read_bit()? {
             let at = r.position();
             let i = r.read_normally_small()?;
-            *out = u16::try_from(i).map(Self::Extension).map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at))?;
+            *out = u16::try_from(i)
+                .map(Self::Extension)
+                .map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at))?;
             return Ok(());
         }
         let at = r.position();
         let i = r.read_constrained(0, 9)?;
-        *out = Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))?;
+        *out = Self::ALL
+            .get(i as usize)
+            .copied()
+            .ok_or(uper::DecodeError::new(
+                uper::DecodeErrorKind::InvalidEnumIndex,
+                at,
+            ))?;
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {

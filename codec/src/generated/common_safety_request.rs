@@ -25,7 +25,14 @@ pub struct CommonSafetyRequest {
 
 impl uper::Placeholder for CommonSafetyRequest {
     fn placeholder() -> Self {
-        Self { time_stamp: None, msg_cnt: None, id: None, requests: <RequestedItemList as uper::Placeholder>::placeholder(), regional: None, extensions: uper::Extensions::new() }
+        Self {
+            time_stamp: None,
+            msg_cnt: None,
+            id: None,
+            requests: <RequestedItemList as uper::Placeholder>::placeholder(),
+            regional: None,
+            extensions: uper::Extensions::new(),
+        }
     }
 }
 
@@ -76,12 +83,22 @@ impl Uper for CommonSafetyRequest {
         } else {
             out.regional = None;
         }
-        out.extensions = if extended { uper::Extensions::decode(r, "CommonSafetyRequest.CommonSafetyRequest:ext")? } else { uper::Extensions::new() };
+        out.extensions = if extended {
+            uper::Extensions::decode(r, "CommonSafetyRequest.CommonSafetyRequest:ext")?
+        } else {
+            uper::Extensions::new()
+        };
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_bit(self.extensions.is_present())?;
-        w.write_bits(((self.time_stamp.is_some() as u64) << 3) | ((self.msg_cnt.is_some() as u64) << 2) | ((self.id.is_some() as u64) << 1) | ((self.regional.is_some() as u64) << 0), 4)?;
+        w.write_bits(
+            ((self.time_stamp.is_some() as u64) << 3)
+                | ((self.msg_cnt.is_some() as u64) << 2)
+                | ((self.id.is_some() as u64) << 1)
+                | ((self.regional.is_some() as u64) << 0),
+            4,
+        )?;
         if let Some(v) = &self.time_stamp {
             v.encode_uper(w)?;
         }
@@ -106,11 +123,27 @@ impl Uper for CommonSafetyRequest {
 impl uper::random::Random for CommonSafetyRequest {
     fn random(g: &mut uper::random::Gen) -> Self {
         Self {
-            time_stamp: if g.coin() { Some(<super::common::MinuteOfTheYear as uper::random::Random>::random(g)) } else { None },
-            msg_cnt: if g.coin() { Some(<super::common::MsgCount as uper::random::Random>::random(g)) } else { None },
-            id: if g.coin() { Some(<super::common::TemporaryID as uper::random::Random>::random(g)) } else { None },
+            time_stamp: if g.coin() {
+                Some(<super::common::MinuteOfTheYear as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            msg_cnt: if g.coin() {
+                Some(<super::common::MsgCount as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            id: if g.coin() {
+                Some(<super::common::TemporaryID as uper::random::Random>::random(g))
+            } else {
+                None
+            },
             requests: <RequestedItemList as uper::random::Random>::random(g),
-            regional: if g.coin() { Some(<CommonSafetyRequestRegional as uper::random::Random>::random(g)) } else { None },
+            regional: if g.coin() {
+                Some(<CommonSafetyRequestRegional as uper::random::Random>::random(g))
+            } else {
+                None
+            },
             extensions: uper::Extensions::new(),
         }
     }
@@ -130,6 +163,12 @@ impl RequestedItemList {
     }
 }
 
+impl Default for RequestedItemList {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
 impl uper::Placeholder for RequestedItemList {
     fn placeholder() -> Self {
         Self(uper::SeqOf::new())
@@ -140,7 +179,12 @@ impl Uper for RequestedItemList {
     const PATH: &'static str = "CommonSafetyRequest.RequestedItemList";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(837), Some(837));
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        uper::decode_seq_of_into(r, Self::SIZE, "CommonSafetyRequest.RequestedItemList", &mut out.0)
+        uper::decode_seq_of_into(
+            r,
+            Self::SIZE,
+            "CommonSafetyRequest.RequestedItemList",
+            &mut out.0,
+        )
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
@@ -201,7 +245,25 @@ pub enum RequestedItem {
 
 impl RequestedItem {
     /// Every root value in encoding (ascending number) order.
-    pub const ALL: [Self; 17] = [Self::Reserved, Self::ItemA, Self::ItemB, Self::ItemC, Self::ItemD, Self::ItemE, Self::ItemF, Self::ItemG, Self::ItemI, Self::ItemJ, Self::ItemK, Self::ItemL, Self::ItemM, Self::ItemN, Self::ItemO, Self::ItemP, Self::ItemQ];
+    pub const ALL: [Self; 17] = [
+        Self::Reserved,
+        Self::ItemA,
+        Self::ItemB,
+        Self::ItemC,
+        Self::ItemD,
+        Self::ItemE,
+        Self::ItemF,
+        Self::ItemG,
+        Self::ItemI,
+        Self::ItemJ,
+        Self::ItemK,
+        Self::ItemL,
+        Self::ItemM,
+        Self::ItemN,
+        Self::ItemO,
+        Self::ItemP,
+        Self::ItemQ,
+    ];
     /// The ASN.1 number of the value (`None` for an unknown extension value).
     pub const fn number(self) -> Option<i64> {
         match self {
@@ -285,12 +347,20 @@ impl Uper for RequestedItem {
         if r.read_bit()? {
             let at = r.position();
             let i = r.read_normally_small()?;
-            *out = u16::try_from(i).map(Self::Extension).map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at))?;
+            *out = u16::try_from(i)
+                .map(Self::Extension)
+                .map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at))?;
             return Ok(());
         }
         let at = r.position();
         let i = r.read_constrained(0, 16)?;
-        *out = Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))?;
+        *out = Self::ALL
+            .get(i as usize)
+            .copied()
+            .ok_or(uper::DecodeError::new(
+                uper::DecodeErrorKind::InvalidEnumIndex,
+                at,
+            ))?;
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -324,6 +394,12 @@ impl CommonSafetyRequestRegional {
     }
 }
 
+impl Default for CommonSafetyRequestRegional {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
 impl uper::Placeholder for CommonSafetyRequestRegional {
     fn placeholder() -> Self {
         Self(uper::SeqOf::new())
@@ -334,7 +410,12 @@ impl Uper for CommonSafetyRequestRegional {
     const PATH: &'static str = "CommonSafetyRequest.CommonSafetyRequest.regional";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(146), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        uper::decode_seq_of_into(r, Self::SIZE, "CommonSafetyRequest.CommonSafetyRequest.regional", &mut out.0)
+        uper::decode_seq_of_into(
+            r,
+            Self::SIZE,
+            "CommonSafetyRequest.CommonSafetyRequest.regional",
+            &mut out.0,
+        )
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
@@ -346,7 +427,8 @@ impl uper::random::Random for CommonSafetyRequestRegional {
     fn random(g: &mut uper::random::Gen) -> Self {
         let mut v = Self(uper::SeqOf::new());
         for _ in 0..g.count(1, 1) {
-            let _ = v.0.push(<RegCommonSafetyRequest as uper::random::Random>::random(g));
+            let _ =
+                v.0.push(<RegCommonSafetyRequest as uper::random::Random>::random(g));
         }
         v
     }
@@ -375,7 +457,10 @@ impl RegCommonSafetyRequest {
 
 impl uper::Placeholder for RegCommonSafetyRequest {
     fn placeholder() -> Self {
-        Self::Unknown { id: <super::common::RegionId as uper::Placeholder>::placeholder(), content: uper::Octets::new() }
+        Self::Unknown {
+            id: <super::common::RegionId as uper::Placeholder>::placeholder(),
+            content: uper::Octets::new(),
+        }
     }
 }
 
@@ -385,7 +470,15 @@ impl Uper for RegCommonSafetyRequest {
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let id = <super::common::RegionId>::decode_uper(r)?;
         match id.get() {
-            _ => *out = Self::Unknown { id, content: uper::decode_unknown_open(r, "CommonSafetyRequest.RegCommonSafetyRequest:unknown")? },
+            _ => {
+                *out = Self::Unknown {
+                    id,
+                    content: uper::decode_unknown_open(
+                        r,
+                        "CommonSafetyRequest.RegCommonSafetyRequest:unknown",
+                    )?,
+                }
+            }
         }
         Ok(())
     }
@@ -406,6 +499,9 @@ impl uper::random::Random for RegCommonSafetyRequest {
         for _ in 0..1 + g.below(4) {
             let _ = content.push(g.octet());
         }
-        Self::Unknown { id: <super::common::RegionId as uper::random::Random>::random(g), content }
+        Self::Unknown {
+            id: <super::common::RegionId as uper::random::Random>::random(g),
+            content,
+        }
     }
 }

@@ -37,7 +37,20 @@ pub struct EmergencyVehicleAlert {
 
 impl uper::Placeholder for EmergencyVehicleAlert {
     fn placeholder() -> Self {
-        Self { time_stamp: None, id: None, rsa_msg: <super::road_side_alert::RoadSideAlert as uper::Placeholder>::placeholder(), response_type: None, details: None, mass: None, basic_type: None, vehicle_type: None, response_equip: None, responder_type: None, regional: None, extensions: uper::Extensions::new() }
+        Self {
+            time_stamp: None,
+            id: None,
+            rsa_msg: <super::road_side_alert::RoadSideAlert as uper::Placeholder>::placeholder(),
+            response_type: None,
+            details: None,
+            mass: None,
+            basic_type: None,
+            vehicle_type: None,
+            response_equip: None,
+            responder_type: None,
+            regional: None,
+            extensions: uper::Extensions::new(),
+        }
     }
 }
 
@@ -148,12 +161,28 @@ impl Uper for EmergencyVehicleAlert {
         } else {
             out.regional = None;
         }
-        out.extensions = if extended { uper::Extensions::decode(r, "EmergencyVehicleAlert.EmergencyVehicleAlert:ext")? } else { uper::Extensions::new() };
+        out.extensions = if extended {
+            uper::Extensions::decode(r, "EmergencyVehicleAlert.EmergencyVehicleAlert:ext")?
+        } else {
+            uper::Extensions::new()
+        };
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_bit(self.extensions.is_present())?;
-        w.write_bits(((self.time_stamp.is_some() as u64) << 9) | ((self.id.is_some() as u64) << 8) | ((self.response_type.is_some() as u64) << 7) | ((self.details.is_some() as u64) << 6) | ((self.mass.is_some() as u64) << 5) | ((self.basic_type.is_some() as u64) << 4) | ((self.vehicle_type.is_some() as u64) << 3) | ((self.response_equip.is_some() as u64) << 2) | ((self.responder_type.is_some() as u64) << 1) | ((self.regional.is_some() as u64) << 0), 10)?;
+        w.write_bits(
+            ((self.time_stamp.is_some() as u64) << 9)
+                | ((self.id.is_some() as u64) << 8)
+                | ((self.response_type.is_some() as u64) << 7)
+                | ((self.details.is_some() as u64) << 6)
+                | ((self.mass.is_some() as u64) << 5)
+                | ((self.basic_type.is_some() as u64) << 4)
+                | ((self.vehicle_type.is_some() as u64) << 3)
+                | ((self.response_equip.is_some() as u64) << 2)
+                | ((self.responder_type.is_some() as u64) << 1)
+                | ((self.regional.is_some() as u64) << 0),
+            10,
+        )?;
         if let Some(v) = &self.time_stamp {
             v.encode_uper(w)?;
         }
@@ -196,17 +225,57 @@ impl Uper for EmergencyVehicleAlert {
 impl uper::random::Random for EmergencyVehicleAlert {
     fn random(g: &mut uper::random::Gen) -> Self {
         Self {
-            time_stamp: if g.coin() { Some(<super::common::MinuteOfTheYear as uper::random::Random>::random(g)) } else { None },
-            id: if g.coin() { Some(<super::common::TemporaryID as uper::random::Random>::random(g)) } else { None },
+            time_stamp: if g.coin() {
+                Some(<super::common::MinuteOfTheYear as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            id: if g.coin() {
+                Some(<super::common::TemporaryID as uper::random::Random>::random(g))
+            } else {
+                None
+            },
             rsa_msg: <super::road_side_alert::RoadSideAlert as uper::random::Random>::random(g),
-            response_type: if g.coin() { Some(<super::common::ResponseType as uper::random::Random>::random(g)) } else { None },
-            details: if g.coin() { Some(<super::common::EmergencyDetails as uper::random::Random>::random(g)) } else { None },
-            mass: if g.coin() { Some(<super::common::VehicleMass as uper::random::Random>::random(g)) } else { None },
-            basic_type: if g.coin() { Some(<super::common::VehicleType as uper::random::Random>::random(g)) } else { None },
-            vehicle_type: if g.coin() { Some(<super::itis::VehicleGroupAffected as uper::random::Random>::random(g)) } else { None },
-            response_equip: if g.coin() { Some(<super::itis::IncidentResponseEquipment as uper::random::Random>::random(g)) } else { None },
-            responder_type: if g.coin() { Some(<super::itis::ResponderGroupAffected as uper::random::Random>::random(g)) } else { None },
-            regional: if g.coin() { Some(<EmergencyVehicleAlertRegional as uper::random::Random>::random(g)) } else { None },
+            response_type: if g.coin() {
+                Some(<super::common::ResponseType as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            details: if g.coin() {
+                Some(<super::common::EmergencyDetails as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            mass: if g.coin() {
+                Some(<super::common::VehicleMass as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            basic_type: if g.coin() {
+                Some(<super::common::VehicleType as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            vehicle_type: if g.coin() {
+                Some(<super::itis::VehicleGroupAffected as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            response_equip: if g.coin() {
+                Some(<super::itis::IncidentResponseEquipment as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            responder_type: if g.coin() {
+                Some(<super::itis::ResponderGroupAffected as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            regional: if g.coin() {
+                Some(<EmergencyVehicleAlertRegional as uper::random::Random>::random(g))
+            } else {
+                None
+            },
             extensions: uper::Extensions::new(),
         }
     }
@@ -226,6 +295,12 @@ impl EmergencyVehicleAlertRegional {
     }
 }
 
+impl Default for EmergencyVehicleAlertRegional {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
 impl uper::Placeholder for EmergencyVehicleAlertRegional {
     fn placeholder() -> Self {
         Self(uper::SeqOf::new())
@@ -236,7 +311,12 @@ impl Uper for EmergencyVehicleAlertRegional {
     const PATH: &'static str = "EmergencyVehicleAlert.EmergencyVehicleAlert.regional";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(146), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        uper::decode_seq_of_into(r, Self::SIZE, "EmergencyVehicleAlert.EmergencyVehicleAlert.regional", &mut out.0)
+        uper::decode_seq_of_into(
+            r,
+            Self::SIZE,
+            "EmergencyVehicleAlert.EmergencyVehicleAlert.regional",
+            &mut out.0,
+        )
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
@@ -248,7 +328,10 @@ impl uper::random::Random for EmergencyVehicleAlertRegional {
     fn random(g: &mut uper::random::Gen) -> Self {
         let mut v = Self(uper::SeqOf::new());
         for _ in 0..g.count(1, 1) {
-            let _ = v.0.push(<RegEmergencyVehicleAlert as uper::random::Random>::random(g));
+            let _ =
+                v.0.push(<RegEmergencyVehicleAlert as uper::random::Random>::random(
+                    g,
+                ));
         }
         v
     }
@@ -277,7 +360,10 @@ impl RegEmergencyVehicleAlert {
 
 impl uper::Placeholder for RegEmergencyVehicleAlert {
     fn placeholder() -> Self {
-        Self::Unknown { id: <super::common::RegionId as uper::Placeholder>::placeholder(), content: uper::Octets::new() }
+        Self::Unknown {
+            id: <super::common::RegionId as uper::Placeholder>::placeholder(),
+            content: uper::Octets::new(),
+        }
     }
 }
 
@@ -287,7 +373,15 @@ impl Uper for RegEmergencyVehicleAlert {
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let id = <super::common::RegionId>::decode_uper(r)?;
         match id.get() {
-            _ => *out = Self::Unknown { id, content: uper::decode_unknown_open(r, "EmergencyVehicleAlert.RegEmergencyVehicleAlert:unknown")? },
+            _ => {
+                *out = Self::Unknown {
+                    id,
+                    content: uper::decode_unknown_open(
+                        r,
+                        "EmergencyVehicleAlert.RegEmergencyVehicleAlert:unknown",
+                    )?,
+                }
+            }
         }
         Ok(())
     }
@@ -308,6 +402,9 @@ impl uper::random::Random for RegEmergencyVehicleAlert {
         for _ in 0..1 + g.below(4) {
             let _ = content.push(g.octet());
         }
-        Self::Unknown { id: <super::common::RegionId as uper::random::Random>::random(g), content }
+        Self::Unknown {
+            id: <super::common::RegionId as uper::random::Random>::random(g),
+            content,
+        }
     }
 }

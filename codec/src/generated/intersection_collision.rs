@@ -35,7 +35,20 @@ pub struct IntersectionCollision {
 
 impl uper::Placeholder for IntersectionCollision {
     fn placeholder() -> Self {
-        Self { msg_cnt: <super::common::MsgCount as uper::Placeholder>::placeholder(), id: <super::common::TemporaryID as uper::Placeholder>::placeholder(), time_stamp: None, part_one: None, path: None, path_prediction: None, intersection_id: <super::common::IntersectionReferenceID as uper::Placeholder>::placeholder(), lane_number: <ApproachOrLane as uper::Placeholder>::placeholder(), event_flag: <super::common::VehicleEventFlags as uper::Placeholder>::placeholder(), regional: None, extensions: uper::Extensions::new() }
+        Self {
+            msg_cnt: <super::common::MsgCount as uper::Placeholder>::placeholder(),
+            id: <super::common::TemporaryID as uper::Placeholder>::placeholder(),
+            time_stamp: None,
+            part_one: None,
+            path: None,
+            path_prediction: None,
+            intersection_id:
+                <super::common::IntersectionReferenceID as uper::Placeholder>::placeholder(),
+            lane_number: <ApproachOrLane as uper::Placeholder>::placeholder(),
+            event_flag: <super::common::VehicleEventFlags as uper::Placeholder>::placeholder(),
+            regional: None,
+            extensions: uper::Extensions::new(),
+        }
     }
 }
 
@@ -100,12 +113,23 @@ impl Uper for IntersectionCollision {
         } else {
             out.regional = None;
         }
-        out.extensions = if extended { uper::Extensions::decode(r, "IntersectionCollision.IntersectionCollision:ext")? } else { uper::Extensions::new() };
+        out.extensions = if extended {
+            uper::Extensions::decode(r, "IntersectionCollision.IntersectionCollision:ext")?
+        } else {
+            uper::Extensions::new()
+        };
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_bit(self.extensions.is_present())?;
-        w.write_bits(((self.time_stamp.is_some() as u64) << 4) | ((self.part_one.is_some() as u64) << 3) | ((self.path.is_some() as u64) << 2) | ((self.path_prediction.is_some() as u64) << 1) | ((self.regional.is_some() as u64) << 0), 5)?;
+        w.write_bits(
+            ((self.time_stamp.is_some() as u64) << 4)
+                | ((self.part_one.is_some() as u64) << 3)
+                | ((self.path.is_some() as u64) << 2)
+                | ((self.path_prediction.is_some() as u64) << 1)
+                | ((self.regional.is_some() as u64) << 0),
+            5,
+        )?;
         self.msg_cnt.encode_uper(w)?;
         self.id.encode_uper(w)?;
         if let Some(v) = &self.time_stamp {
@@ -139,14 +163,35 @@ impl uper::random::Random for IntersectionCollision {
         Self {
             msg_cnt: <super::common::MsgCount as uper::random::Random>::random(g),
             id: <super::common::TemporaryID as uper::random::Random>::random(g),
-            time_stamp: if g.coin() { Some(<super::common::MinuteOfTheYear as uper::random::Random>::random(g)) } else { None },
-            part_one: if g.coin() { Some(<super::common::BSMcoreData as uper::random::Random>::random(g)) } else { None },
-            path: if g.coin() { Some(<super::common::PathHistory as uper::random::Random>::random(g)) } else { None },
-            path_prediction: if g.coin() { Some(<super::common::PathPrediction as uper::random::Random>::random(g)) } else { None },
-            intersection_id: <super::common::IntersectionReferenceID as uper::random::Random>::random(g),
+            time_stamp: if g.coin() {
+                Some(<super::common::MinuteOfTheYear as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            part_one: if g.coin() {
+                Some(<super::common::BSMcoreData as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            path: if g.coin() {
+                Some(<super::common::PathHistory as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            path_prediction: if g.coin() {
+                Some(<super::common::PathPrediction as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            intersection_id:
+                <super::common::IntersectionReferenceID as uper::random::Random>::random(g),
             lane_number: <ApproachOrLane as uper::random::Random>::random(g),
             event_flag: <super::common::VehicleEventFlags as uper::random::Random>::random(g),
-            regional: if g.coin() { Some(<IntersectionCollisionRegional as uper::random::Random>::random(g)) } else { None },
+            regional: if g.coin() {
+                Some(<IntersectionCollisionRegional as uper::random::Random>::random(g))
+            } else {
+                None
+            },
             extensions: uper::Extensions::new(),
         }
     }
@@ -175,7 +220,11 @@ impl Uper for ApproachOrLane {
         match r.read_constrained(0, 1)? {
             0 => {
                 if !matches!(out, Self::Approach(_)) {
-                    uper::replace_with(out, || Self::Approach(<super::common::ApproachID as uper::Placeholder>::placeholder()));
+                    uper::replace_with(out, || {
+                        Self::Approach(
+                            <super::common::ApproachID as uper::Placeholder>::placeholder(),
+                        )
+                    });
                 }
                 if let Self::Approach(v) = out {
                     <super::common::ApproachID>::decode_into(r, v)?;
@@ -183,20 +232,33 @@ impl Uper for ApproachOrLane {
             }
             1 => {
                 if !matches!(out, Self::Lane(_)) {
-                    uper::replace_with(out, || Self::Lane(<super::common::LaneID as uper::Placeholder>::placeholder()));
+                    uper::replace_with(out, || {
+                        Self::Lane(<super::common::LaneID as uper::Placeholder>::placeholder())
+                    });
                 }
                 if let Self::Lane(v) = out {
                     <super::common::LaneID>::decode_into(r, v)?;
                 }
             }
-            _ => return Err(uper::DecodeError::new(uper::DecodeErrorKind::InvalidChoiceIndex, at)),
+            _ => {
+                return Err(uper::DecodeError::new(
+                    uper::DecodeErrorKind::InvalidChoiceIndex,
+                    at,
+                ))
+            }
         }
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         match self {
-            Self::Approach(v) => { w.write_constrained(0, 0, 1)?; v.encode_uper(w) }
-            Self::Lane(v) => { w.write_constrained(1, 0, 1)?; v.encode_uper(w) }
+            Self::Approach(v) => {
+                w.write_constrained(0, 0, 1)?;
+                v.encode_uper(w)
+            }
+            Self::Lane(v) => {
+                w.write_constrained(1, 0, 1)?;
+                v.encode_uper(w)
+            }
         }
     }
 }
@@ -205,7 +267,9 @@ impl Uper for ApproachOrLane {
 impl uper::random::Random for ApproachOrLane {
     fn random(g: &mut uper::random::Gen) -> Self {
         match g.below(2) {
-            0 => Self::Approach(<super::common::ApproachID as uper::random::Random>::random(g)),
+            0 => Self::Approach(<super::common::ApproachID as uper::random::Random>::random(
+                g,
+            )),
             1 => Self::Lane(<super::common::LaneID as uper::random::Random>::random(g)),
             _ => Self::Approach(<super::common::ApproachID as uper::Placeholder>::placeholder()),
         }
@@ -226,6 +290,12 @@ impl IntersectionCollisionRegional {
     }
 }
 
+impl Default for IntersectionCollisionRegional {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
 impl uper::Placeholder for IntersectionCollisionRegional {
     fn placeholder() -> Self {
         Self(uper::SeqOf::new())
@@ -236,7 +306,12 @@ impl Uper for IntersectionCollisionRegional {
     const PATH: &'static str = "IntersectionCollision.IntersectionCollision.regional";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(146), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        uper::decode_seq_of_into(r, Self::SIZE, "IntersectionCollision.IntersectionCollision.regional", &mut out.0)
+        uper::decode_seq_of_into(
+            r,
+            Self::SIZE,
+            "IntersectionCollision.IntersectionCollision.regional",
+            &mut out.0,
+        )
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
@@ -248,7 +323,10 @@ impl uper::random::Random for IntersectionCollisionRegional {
     fn random(g: &mut uper::random::Gen) -> Self {
         let mut v = Self(uper::SeqOf::new());
         for _ in 0..g.count(1, 1) {
-            let _ = v.0.push(<RegIntersectionCollision as uper::random::Random>::random(g));
+            let _ =
+                v.0.push(<RegIntersectionCollision as uper::random::Random>::random(
+                    g,
+                ));
         }
         v
     }
@@ -277,7 +355,10 @@ impl RegIntersectionCollision {
 
 impl uper::Placeholder for RegIntersectionCollision {
     fn placeholder() -> Self {
-        Self::Unknown { id: <super::common::RegionId as uper::Placeholder>::placeholder(), content: uper::Octets::new() }
+        Self::Unknown {
+            id: <super::common::RegionId as uper::Placeholder>::placeholder(),
+            content: uper::Octets::new(),
+        }
     }
 }
 
@@ -287,7 +368,15 @@ impl Uper for RegIntersectionCollision {
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let id = <super::common::RegionId>::decode_uper(r)?;
         match id.get() {
-            _ => *out = Self::Unknown { id, content: uper::decode_unknown_open(r, "IntersectionCollision.RegIntersectionCollision:unknown")? },
+            _ => {
+                *out = Self::Unknown {
+                    id,
+                    content: uper::decode_unknown_open(
+                        r,
+                        "IntersectionCollision.RegIntersectionCollision:unknown",
+                    )?,
+                }
+            }
         }
         Ok(())
     }
@@ -308,6 +397,9 @@ impl uper::random::Random for RegIntersectionCollision {
         for _ in 0..1 + g.below(4) {
             let _ = content.push(g.octet());
         }
-        Self::Unknown { id: <super::common::RegionId as uper::random::Random>::random(g), content }
+        Self::Unknown {
+            id: <super::common::RegionId as uper::random::Random>::random(g),
+            content,
+        }
     }
 }

@@ -90,7 +90,43 @@ pub enum VehicleGroupAffected {
 
 impl VehicleGroupAffected {
     /// Every root value in encoding (ascending number) order.
-    pub const ALL: [Self; 35] = [Self::AllVehicles, Self::Bicycles, Self::Motorcycles, Self::Cars, Self::LightVehicles, Self::CarsAndLightVehicles, Self::CarsWithTrailers, Self::CarsWithRecreationalTrailers, Self::VehiclesWithTrailers, Self::HeavyVehicles, Self::Trucks, Self::Buses, Self::ArticulatedBuses, Self::SchoolBuses, Self::VehiclesWithSemiTrailers, Self::VehiclesWithDoubleTrailers, Self::HighProfileVehicles, Self::WideVehicles, Self::LongVehicles, Self::HazardousLoads, Self::ExceptionalLoads, Self::AbnormalLoads, Self::Convoys, Self::MaintenanceVehicles, Self::DeliveryVehicles, Self::VehiclesWithEvenNumberedLicensePlates, Self::VehiclesWithOddNumberedLicensePlates, Self::VehiclesWithParkingPermits, Self::VehiclesWithCatalyticConverters, Self::VehiclesWithoutCatalyticConverters, Self::GasPoweredVehicles, Self::DieselPoweredVehicles, Self::LPGVehicles, Self::MilitaryConvoys, Self::MilitaryVehicles];
+    pub const ALL: [Self; 35] = [
+        Self::AllVehicles,
+        Self::Bicycles,
+        Self::Motorcycles,
+        Self::Cars,
+        Self::LightVehicles,
+        Self::CarsAndLightVehicles,
+        Self::CarsWithTrailers,
+        Self::CarsWithRecreationalTrailers,
+        Self::VehiclesWithTrailers,
+        Self::HeavyVehicles,
+        Self::Trucks,
+        Self::Buses,
+        Self::ArticulatedBuses,
+        Self::SchoolBuses,
+        Self::VehiclesWithSemiTrailers,
+        Self::VehiclesWithDoubleTrailers,
+        Self::HighProfileVehicles,
+        Self::WideVehicles,
+        Self::LongVehicles,
+        Self::HazardousLoads,
+        Self::ExceptionalLoads,
+        Self::AbnormalLoads,
+        Self::Convoys,
+        Self::MaintenanceVehicles,
+        Self::DeliveryVehicles,
+        Self::VehiclesWithEvenNumberedLicensePlates,
+        Self::VehiclesWithOddNumberedLicensePlates,
+        Self::VehiclesWithParkingPermits,
+        Self::VehiclesWithCatalyticConverters,
+        Self::VehiclesWithoutCatalyticConverters,
+        Self::GasPoweredVehicles,
+        Self::DieselPoweredVehicles,
+        Self::LPGVehicles,
+        Self::MilitaryConvoys,
+        Self::MilitaryVehicles,
+    ];
     /// The ASN.1 number of the value (`None` for an unknown extension value).
     pub const fn number(self) -> Option<i64> {
         match self {
@@ -160,8 +196,12 @@ impl VehicleGroupAffected {
             Self::Convoys => "convoys",
             Self::MaintenanceVehicles => "maintenance-vehicles",
             Self::DeliveryVehicles => "delivery-vehicles",
-            Self::VehiclesWithEvenNumberedLicensePlates => "vehicles-with-even-numbered-license-plates",
-            Self::VehiclesWithOddNumberedLicensePlates => "vehicles-with-odd-numbered-license-plates",
+            Self::VehiclesWithEvenNumberedLicensePlates => {
+                "vehicles-with-even-numbered-license-plates"
+            }
+            Self::VehiclesWithOddNumberedLicensePlates => {
+                "vehicles-with-odd-numbered-license-plates"
+            }
             Self::VehiclesWithParkingPermits => "vehicles-with-parking-permits",
             Self::VehiclesWithCatalyticConverters => "vehicles-with-catalytic-converters",
             Self::VehiclesWithoutCatalyticConverters => "vehicles-without-catalytic-converters",
@@ -228,12 +268,20 @@ impl Uper for VehicleGroupAffected {
         if r.read_bit()? {
             let at = r.position();
             let i = r.read_normally_small()?;
-            *out = u16::try_from(i).map(Self::Extension).map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at))?;
+            *out = u16::try_from(i)
+                .map(Self::Extension)
+                .map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at))?;
             return Ok(());
         }
         let at = r.position();
         let i = r.read_constrained(0, 34)?;
-        *out = Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))?;
+        *out = Self::ALL
+            .get(i as usize)
+            .copied()
+            .ok_or(uper::DecodeError::new(
+                uper::DecodeErrorKind::InvalidEnumIndex,
+                at,
+            ))?;
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -406,7 +454,80 @@ pub enum IncidentResponseEquipment {
 
 impl IncidentResponseEquipment {
     /// Every root value in encoding (ascending number) order.
-    pub const ALL: [Self; 72] = [Self::GroundFireSuppression, Self::HeavyGroundEquipment, Self::Aircraft, Self::MarineEquipment, Self::SupportEquipment, Self::MedicalRescueUnit, Self::Other, Self::GroundFireSuppressionOther, Self::Engine, Self::TruckOrAerial, Self::Quint, Self::TankerPumperCombination, Self::BrushTruck, Self::AircraftRescueFirefighting, Self::HeavyGroundEquipmentOther, Self::DozerOrPlow, Self::Tractor, Self::TankerOrTender, Self::AircraftOther, Self::AircraftFixedWingTanker, Self::Helitanker, Self::Helicopter, Self::MarineEquipmentOther, Self::FireBoatWithPump, Self::BoatNoPump, Self::SupportApparatusOther, Self::BreathingApparatusSupport, Self::LightAndAirUnit, Self::MedicalRescueUnitOther, Self::RescueUnit, Self::UrbanSearchRescueUnit, Self::HighAngleRescue, Self::CrashFireRescue, Self::BLSUnit, Self::ALSUnit, Self::MobileCommandPost, Self::ChiefOfficerCar, Self::HAZMATUnit, Self::TypeIHandCrew, Self::TypeIiHandCrew, Self::PrivatelyOwnedVehicle, Self::OtherApparatusResource, Self::Ambulance, Self::BombSquadVan, Self::CombineHarvester, Self::ConstructionVehicle, Self::FarmTractor, Self::GrassCuttingMachines, Self::HAZMATContainmentTow, Self::HeavyTow, Self::HedgeCuttingMachines, Self::LightTow, Self::MobileCrane, Self::RefuseCollectionVehicle, Self::ResurfacingVehicle, Self::RoadSweeper, Self::RoadsideLitterCollectionCrews, Self::SalvageVehicle, Self::SandTruck, Self::Snowplow, Self::SteamRoller, Self::SwatTeamVan, Self::TrackLayingVehicle, Self::UnknownVehicle, Self::WhiteLiningVehicle, Self::DumpTruck, Self::SupervisorVehicle, Self::SnowBlower, Self::RotarySnowBlower, Self::RoadGrader, Self::SteamTruck, Self::FlatbedTow];
+    pub const ALL: [Self; 72] = [
+        Self::GroundFireSuppression,
+        Self::HeavyGroundEquipment,
+        Self::Aircraft,
+        Self::MarineEquipment,
+        Self::SupportEquipment,
+        Self::MedicalRescueUnit,
+        Self::Other,
+        Self::GroundFireSuppressionOther,
+        Self::Engine,
+        Self::TruckOrAerial,
+        Self::Quint,
+        Self::TankerPumperCombination,
+        Self::BrushTruck,
+        Self::AircraftRescueFirefighting,
+        Self::HeavyGroundEquipmentOther,
+        Self::DozerOrPlow,
+        Self::Tractor,
+        Self::TankerOrTender,
+        Self::AircraftOther,
+        Self::AircraftFixedWingTanker,
+        Self::Helitanker,
+        Self::Helicopter,
+        Self::MarineEquipmentOther,
+        Self::FireBoatWithPump,
+        Self::BoatNoPump,
+        Self::SupportApparatusOther,
+        Self::BreathingApparatusSupport,
+        Self::LightAndAirUnit,
+        Self::MedicalRescueUnitOther,
+        Self::RescueUnit,
+        Self::UrbanSearchRescueUnit,
+        Self::HighAngleRescue,
+        Self::CrashFireRescue,
+        Self::BLSUnit,
+        Self::ALSUnit,
+        Self::MobileCommandPost,
+        Self::ChiefOfficerCar,
+        Self::HAZMATUnit,
+        Self::TypeIHandCrew,
+        Self::TypeIiHandCrew,
+        Self::PrivatelyOwnedVehicle,
+        Self::OtherApparatusResource,
+        Self::Ambulance,
+        Self::BombSquadVan,
+        Self::CombineHarvester,
+        Self::ConstructionVehicle,
+        Self::FarmTractor,
+        Self::GrassCuttingMachines,
+        Self::HAZMATContainmentTow,
+        Self::HeavyTow,
+        Self::HedgeCuttingMachines,
+        Self::LightTow,
+        Self::MobileCrane,
+        Self::RefuseCollectionVehicle,
+        Self::ResurfacingVehicle,
+        Self::RoadSweeper,
+        Self::RoadsideLitterCollectionCrews,
+        Self::SalvageVehicle,
+        Self::SandTruck,
+        Self::Snowplow,
+        Self::SteamRoller,
+        Self::SwatTeamVan,
+        Self::TrackLayingVehicle,
+        Self::UnknownVehicle,
+        Self::WhiteLiningVehicle,
+        Self::DumpTruck,
+        Self::SupervisorVehicle,
+        Self::SnowBlower,
+        Self::RotarySnowBlower,
+        Self::RoadGrader,
+        Self::SteamTruck,
+        Self::FlatbedTow,
+    ];
     /// The ASN.1 number of the value (`None` for an unknown extension value).
     pub const fn number(self) -> Option<i64> {
         match self {
@@ -655,12 +776,20 @@ impl Uper for IncidentResponseEquipment {
         if r.read_bit()? {
             let at = r.position();
             let i = r.read_normally_small()?;
-            *out = u16::try_from(i).map(Self::Extension).map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at))?;
+            *out = u16::try_from(i)
+                .map(Self::Extension)
+                .map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at))?;
             return Ok(());
         }
         let at = r.position();
         let i = r.read_constrained(0, 71)?;
-        *out = Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))?;
+        *out = Self::ALL
+            .get(i as usize)
+            .copied()
+            .ok_or(uper::DecodeError::new(
+                uper::DecodeErrorKind::InvalidEnumIndex,
+                at,
+            ))?;
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -717,7 +846,22 @@ pub enum ResponderGroupAffected {
 
 impl ResponderGroupAffected {
     /// Every root value in encoding (ascending number) order.
-    pub const ALL: [Self; 14] = [Self::EmergencyVehicleUnits, Self::FederalLawEnforcementUnits, Self::StatePoliceUnits, Self::CountyPoliceUnits, Self::LocalPoliceUnits, Self::AmbulanceUnits, Self::RescueUnits, Self::FireUnits, Self::HAZMATUnits, Self::LightTowUnit, Self::HeavyTowUnit, Self::FreewayServicePatrols, Self::TransportationResponseUnits, Self::PrivateContractorResponseUnits];
+    pub const ALL: [Self; 14] = [
+        Self::EmergencyVehicleUnits,
+        Self::FederalLawEnforcementUnits,
+        Self::StatePoliceUnits,
+        Self::CountyPoliceUnits,
+        Self::LocalPoliceUnits,
+        Self::AmbulanceUnits,
+        Self::RescueUnits,
+        Self::FireUnits,
+        Self::HAZMATUnits,
+        Self::LightTowUnit,
+        Self::HeavyTowUnit,
+        Self::FreewayServicePatrols,
+        Self::TransportationResponseUnits,
+        Self::PrivateContractorResponseUnits,
+    ];
     /// The ASN.1 number of the value (`None` for an unknown extension value).
     pub const fn number(self) -> Option<i64> {
         match self {
@@ -792,12 +936,20 @@ impl Uper for ResponderGroupAffected {
         if r.read_bit()? {
             let at = r.position();
             let i = r.read_normally_small()?;
-            *out = u16::try_from(i).map(Self::Extension).map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at))?;
+            *out = u16::try_from(i)
+                .map(Self::Extension)
+                .map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at))?;
             return Ok(());
         }
         let at = r.position();
         let i = r.read_constrained(0, 13)?;
-        *out = Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))?;
+        *out = Self::ALL
+            .get(i as usize)
+            .copied()
+            .ok_or(uper::DecodeError::new(
+                uper::DecodeErrorKind::InvalidEnumIndex,
+                at,
+            ))?;
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -1018,7 +1170,104 @@ pub enum GenericLocations {
 
 impl GenericLocations {
     /// Every root value in encoding (ascending number) order.
-    pub const ALL: [Self; 96] = [Self::OnBridges, Self::InTunnels, Self::EnteringOrLeavingTunnels, Self::OnRamps, Self::InRoadConstructionArea, Self::AroundACurve, Self::OnMinorRoads, Self::InTheOpposingLanes, Self::AdjacentToRoadway, Self::OnBend, Self::EntireIntersection, Self::InTheMedian, Self::MovedToSideOfRoad, Self::MovedToShoulder, Self::OnTheRoadway, Self::InShadedAreas, Self::InLowLyingAreas, Self::InTheDowntownArea, Self::InTheInnerCityArea, Self::InParts, Self::InSomePlaces, Self::InTheDitch, Self::InTheValley, Self::OnHillTop, Self::NearTheFoothills, Self::AtHighAltitudes, Self::NearTheLake, Self::NearTheShore, Self::OverTheCrestOfAHill, Self::OtherThanOnTheRoadway, Self::NearTheBeach, Self::NearBeachAccessPoint, Self::LowerLevel, Self::UpperLevel, Self::Airport, Self::Concourse, Self::Gate, Self::BaggageClaim, Self::CustomsPoint, Self::Station, Self::Platform, Self::Dock, Self::Depot, Self::EvChargingPoint, Self::InformationWelcomePoint, Self::AtRestArea, Self::AtServiceArea, Self::AtWeighStation, Self::PicnicAreas, Self::RestArea, Self::ServiceStations, Self::Toilets, Self::OnTheRight, Self::OnTheLeft, Self::InTheCenter, Self::InTheOppositeDirection, Self::CrossTraffic, Self::NorthboundTraffic, Self::EastboundTraffic, Self::SouthboundTraffic, Self::WestboundTraffic, Self::North, Self::South, Self::East, Self::West, Self::Northeast, Self::Northwest, Self::Southeast, Self::Southwest, Self::MountainPass, Self::ReservationCenter, Self::NearbyBasin, Self::OnTracks, Self::Dip, Self::TrafficCircle, Self::ParkAndRideLot, Self::To, Self::By, Self::Through, Self::AreaOf, Self::Under, Self::Over, Self::From, Self::Approaching, Self::EnteringAt, Self::ExitingAt, Self::AcrossTracks, Self::InStreet, Self::OnCurve, Self::Shoulder, Self::Crossover, Self::CrossRoad, Self::SideRoad, Self::BusStop, Self::Intersection, Self::RoadsidePark];
+    pub const ALL: [Self; 96] = [
+        Self::OnBridges,
+        Self::InTunnels,
+        Self::EnteringOrLeavingTunnels,
+        Self::OnRamps,
+        Self::InRoadConstructionArea,
+        Self::AroundACurve,
+        Self::OnMinorRoads,
+        Self::InTheOpposingLanes,
+        Self::AdjacentToRoadway,
+        Self::OnBend,
+        Self::EntireIntersection,
+        Self::InTheMedian,
+        Self::MovedToSideOfRoad,
+        Self::MovedToShoulder,
+        Self::OnTheRoadway,
+        Self::InShadedAreas,
+        Self::InLowLyingAreas,
+        Self::InTheDowntownArea,
+        Self::InTheInnerCityArea,
+        Self::InParts,
+        Self::InSomePlaces,
+        Self::InTheDitch,
+        Self::InTheValley,
+        Self::OnHillTop,
+        Self::NearTheFoothills,
+        Self::AtHighAltitudes,
+        Self::NearTheLake,
+        Self::NearTheShore,
+        Self::OverTheCrestOfAHill,
+        Self::OtherThanOnTheRoadway,
+        Self::NearTheBeach,
+        Self::NearBeachAccessPoint,
+        Self::LowerLevel,
+        Self::UpperLevel,
+        Self::Airport,
+        Self::Concourse,
+        Self::Gate,
+        Self::BaggageClaim,
+        Self::CustomsPoint,
+        Self::Station,
+        Self::Platform,
+        Self::Dock,
+        Self::Depot,
+        Self::EvChargingPoint,
+        Self::InformationWelcomePoint,
+        Self::AtRestArea,
+        Self::AtServiceArea,
+        Self::AtWeighStation,
+        Self::PicnicAreas,
+        Self::RestArea,
+        Self::ServiceStations,
+        Self::Toilets,
+        Self::OnTheRight,
+        Self::OnTheLeft,
+        Self::InTheCenter,
+        Self::InTheOppositeDirection,
+        Self::CrossTraffic,
+        Self::NorthboundTraffic,
+        Self::EastboundTraffic,
+        Self::SouthboundTraffic,
+        Self::WestboundTraffic,
+        Self::North,
+        Self::South,
+        Self::East,
+        Self::West,
+        Self::Northeast,
+        Self::Northwest,
+        Self::Southeast,
+        Self::Southwest,
+        Self::MountainPass,
+        Self::ReservationCenter,
+        Self::NearbyBasin,
+        Self::OnTracks,
+        Self::Dip,
+        Self::TrafficCircle,
+        Self::ParkAndRideLot,
+        Self::To,
+        Self::By,
+        Self::Through,
+        Self::AreaOf,
+        Self::Under,
+        Self::Over,
+        Self::From,
+        Self::Approaching,
+        Self::EnteringAt,
+        Self::ExitingAt,
+        Self::AcrossTracks,
+        Self::InStreet,
+        Self::OnCurve,
+        Self::Shoulder,
+        Self::Crossover,
+        Self::CrossRoad,
+        Self::SideRoad,
+        Self::BusStop,
+        Self::Intersection,
+        Self::RoadsidePark,
+    ];
     /// The ASN.1 number of the value (`None` for an unknown extension value).
     pub const fn number(self) -> Option<i64> {
         match self {
@@ -1339,12 +1588,20 @@ impl Uper for GenericLocations {
         if r.read_bit()? {
             let at = r.position();
             let i = r.read_normally_small()?;
-            *out = u16::try_from(i).map(Self::Extension).map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at))?;
+            *out = u16::try_from(i)
+                .map(Self::Extension)
+                .map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at))?;
             return Ok(());
         }
         let at = r.position();
         let i = r.read_constrained(0, 95)?;
-        *out = Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))?;
+        *out = Self::ALL
+            .get(i as usize)
+            .copied()
+            .ok_or(uper::DecodeError::new(
+                uper::DecodeErrorKind::InvalidEnumIndex,
+                at,
+            ))?;
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -1378,6 +1635,12 @@ impl ITIScodesAndText {
     }
 }
 
+impl Default for ITIScodesAndText {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
 impl uper::Placeholder for ITIScodesAndText {
     fn placeholder() -> Self {
         Self(uper::SeqOf::new())
@@ -1400,7 +1663,8 @@ impl uper::random::Random for ITIScodesAndText {
     fn random(g: &mut uper::random::Gen) -> Self {
         let mut v = Self(uper::SeqOf::new());
         for _ in 0..g.count(1, 4) {
-            let _ = v.0.push(<ITIScodesAndTextItem as uper::random::Random>::random(g));
+            let _ =
+                v.0.push(<ITIScodesAndTextItem as uper::random::Random>::random(g));
         }
         v
     }
@@ -1415,7 +1679,9 @@ pub struct ITIScodesAndTextItem {
 
 impl uper::Placeholder for ITIScodesAndTextItem {
     fn placeholder() -> Self {
-        Self { item: <ITIScodesAndTextItemItem as uper::Placeholder>::placeholder() }
+        Self {
+            item: <ITIScodesAndTextItemItem as uper::Placeholder>::placeholder(),
+        }
     }
 }
 
@@ -1464,7 +1730,9 @@ impl Uper for ITIScodesAndTextItemItem {
         match r.read_constrained(0, 1)? {
             0 => {
                 if !matches!(out, Self::Itis(_)) {
-                    uper::replace_with(out, || Self::Itis(<ITIScodes as uper::Placeholder>::placeholder()));
+                    uper::replace_with(out, || {
+                        Self::Itis(<ITIScodes as uper::Placeholder>::placeholder())
+                    });
                 }
                 if let Self::Itis(v) = out {
                     <ITIScodes>::decode_into(r, v)?;
@@ -1472,20 +1740,33 @@ impl Uper for ITIScodesAndTextItemItem {
             }
             1 => {
                 if !matches!(out, Self::Text(_)) {
-                    uper::replace_with(out, || Self::Text(<ITIStext as uper::Placeholder>::placeholder()));
+                    uper::replace_with(out, || {
+                        Self::Text(<ITIStext as uper::Placeholder>::placeholder())
+                    });
                 }
                 if let Self::Text(v) = out {
                     <ITIStext>::decode_into(r, v)?;
                 }
             }
-            _ => return Err(uper::DecodeError::new(uper::DecodeErrorKind::InvalidChoiceIndex, at)),
+            _ => {
+                return Err(uper::DecodeError::new(
+                    uper::DecodeErrorKind::InvalidChoiceIndex,
+                    at,
+                ))
+            }
         }
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         match self {
-            Self::Itis(v) => { w.write_constrained(0, 0, 1)?; v.encode_uper(w) }
-            Self::Text(v) => { w.write_constrained(1, 0, 1)?; v.encode_uper(w) }
+            Self::Itis(v) => {
+                w.write_constrained(0, 0, 1)?;
+                v.encode_uper(w)
+            }
+            Self::Text(v) => {
+                w.write_constrained(1, 0, 1)?;
+                v.encode_uper(w)
+            }
         }
     }
 }

@@ -33,7 +33,18 @@ pub struct MapData {
 
 impl uper::Placeholder for MapData {
     fn placeholder() -> Self {
-        Self { time_stamp: None, msg_issue_revision: <super::common::MsgCount as uper::Placeholder>::placeholder(), layer_type: None, layer_id: None, intersections: None, road_segments: None, data_parameters: None, restriction_list: None, regional: None, extensions: uper::Extensions::new() }
+        Self {
+            time_stamp: None,
+            msg_issue_revision: <super::common::MsgCount as uper::Placeholder>::placeholder(),
+            layer_type: None,
+            layer_id: None,
+            intersections: None,
+            road_segments: None,
+            data_parameters: None,
+            restriction_list: None,
+            regional: None,
+            extensions: uper::Extensions::new(),
+        }
     }
 }
 
@@ -124,12 +135,26 @@ impl Uper for MapData {
         } else {
             out.regional = None;
         }
-        out.extensions = if extended { uper::Extensions::decode(r, "MapData.MapData:ext")? } else { uper::Extensions::new() };
+        out.extensions = if extended {
+            uper::Extensions::decode(r, "MapData.MapData:ext")?
+        } else {
+            uper::Extensions::new()
+        };
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_bit(self.extensions.is_present())?;
-        w.write_bits(((self.time_stamp.is_some() as u64) << 7) | ((self.layer_type.is_some() as u64) << 6) | ((self.layer_id.is_some() as u64) << 5) | ((self.intersections.is_some() as u64) << 4) | ((self.road_segments.is_some() as u64) << 3) | ((self.data_parameters.is_some() as u64) << 2) | ((self.restriction_list.is_some() as u64) << 1) | ((self.regional.is_some() as u64) << 0), 8)?;
+        w.write_bits(
+            ((self.time_stamp.is_some() as u64) << 7)
+                | ((self.layer_type.is_some() as u64) << 6)
+                | ((self.layer_id.is_some() as u64) << 5)
+                | ((self.intersections.is_some() as u64) << 4)
+                | ((self.road_segments.is_some() as u64) << 3)
+                | ((self.data_parameters.is_some() as u64) << 2)
+                | ((self.restriction_list.is_some() as u64) << 1)
+                | ((self.regional.is_some() as u64) << 0),
+            8,
+        )?;
         if let Some(v) = &self.time_stamp {
             v.encode_uper(w)?;
         }
@@ -166,15 +191,49 @@ impl Uper for MapData {
 impl uper::random::Random for MapData {
     fn random(g: &mut uper::random::Gen) -> Self {
         Self {
-            time_stamp: if g.coin() { Some(<super::common::MinuteOfTheYear as uper::random::Random>::random(g)) } else { None },
+            time_stamp: if g.coin() {
+                Some(<super::common::MinuteOfTheYear as uper::random::Random>::random(g))
+            } else {
+                None
+            },
             msg_issue_revision: <super::common::MsgCount as uper::random::Random>::random(g),
-            layer_type: if g.coin() { Some(<LayerType as uper::random::Random>::random(g)) } else { None },
-            layer_id: if g.coin() { Some(<LayerID as uper::random::Random>::random(g)) } else { None },
-            intersections: if g.coin() { Some(<IntersectionGeometryList as uper::random::Random>::random(g)) } else { None },
-            road_segments: if g.coin() { Some(<RoadSegmentList as uper::random::Random>::random(g)) } else { None },
-            data_parameters: if g.coin() { Some(<DataParameters as uper::random::Random>::random(g)) } else { None },
-            restriction_list: if g.coin() { Some(<RestrictionClassList as uper::random::Random>::random(g)) } else { None },
-            regional: if g.coin() { Some(<MapDataRegional as uper::random::Random>::random(g)) } else { None },
+            layer_type: if g.coin() {
+                Some(<LayerType as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            layer_id: if g.coin() {
+                Some(<LayerID as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            intersections: if g.coin() {
+                Some(<IntersectionGeometryList as uper::random::Random>::random(
+                    g,
+                ))
+            } else {
+                None
+            },
+            road_segments: if g.coin() {
+                Some(<RoadSegmentList as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            data_parameters: if g.coin() {
+                Some(<DataParameters as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            restriction_list: if g.coin() {
+                Some(<RestrictionClassList as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            regional: if g.coin() {
+                Some(<MapDataRegional as uper::random::Random>::random(g))
+            } else {
+                None
+            },
             extensions: uper::Extensions::new(),
         }
     }
@@ -205,7 +264,16 @@ pub enum LayerType {
 
 impl LayerType {
     /// Every root value in encoding (ascending number) order.
-    pub const ALL: [Self; 8] = [Self::None, Self::MixedContent, Self::GeneralMapData, Self::IntersectionData, Self::CurveData, Self::RoadwaySectionData, Self::ParkingAreaData, Self::SharedLaneData];
+    pub const ALL: [Self; 8] = [
+        Self::None,
+        Self::MixedContent,
+        Self::GeneralMapData,
+        Self::IntersectionData,
+        Self::CurveData,
+        Self::RoadwaySectionData,
+        Self::ParkingAreaData,
+        Self::SharedLaneData,
+    ];
     /// The ASN.1 number of the value (`None` for an unknown extension value).
     pub const fn number(self) -> Option<i64> {
         match self {
@@ -262,12 +330,20 @@ impl Uper for LayerType {
         if r.read_bit()? {
             let at = r.position();
             let i = r.read_normally_small()?;
-            *out = u16::try_from(i).map(Self::Extension).map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at))?;
+            *out = u16::try_from(i)
+                .map(Self::Extension)
+                .map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at))?;
             return Ok(());
         }
         let at = r.position();
         let i = r.read_constrained(0, 7)?;
-        *out = Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))?;
+        *out = Self::ALL
+            .get(i as usize)
+            .copied()
+            .ok_or(uper::DecodeError::new(
+                uper::DecodeErrorKind::InvalidEnumIndex,
+                at,
+            ))?;
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -306,6 +382,12 @@ impl IntersectionGeometryList {
     }
 }
 
+impl Default for IntersectionGeometryList {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
 impl uper::Placeholder for IntersectionGeometryList {
     fn placeholder() -> Self {
         Self(uper::SeqOf::new())
@@ -316,7 +398,12 @@ impl Uper for IntersectionGeometryList {
     const PATH: &'static str = "MapData.IntersectionGeometryList";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(23204955), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        uper::decode_seq_of_into(r, Self::SIZE, "MapData.IntersectionGeometryList", &mut out.0)
+        uper::decode_seq_of_into(
+            r,
+            Self::SIZE,
+            "MapData.IntersectionGeometryList",
+            &mut out.0,
+        )
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
@@ -328,7 +415,8 @@ impl uper::random::Random for IntersectionGeometryList {
     fn random(g: &mut uper::random::Gen) -> Self {
         let mut v = Self(uper::SeqOf::new());
         for _ in 0..g.count(1, 2) {
-            let _ = v.0.push(<IntersectionGeometry as uper::random::Random>::random(g));
+            let _ =
+                v.0.push(<IntersectionGeometry as uper::random::Random>::random(g));
         }
         v
     }
@@ -361,7 +449,18 @@ pub struct IntersectionGeometry {
 
 impl uper::Placeholder for IntersectionGeometry {
     fn placeholder() -> Self {
-        Self { name: None, id: <super::common::IntersectionReferenceID as uper::Placeholder>::placeholder(), revision: <super::common::MsgCount as uper::Placeholder>::placeholder(), ref_point: <super::common::Position3D as uper::Placeholder>::placeholder(), lane_width: None, speed_limits: None, lane_set: <LaneList as uper::Placeholder>::placeholder(), preempt_priority_data: None, regional: None, extensions: uper::Extensions::new() }
+        Self {
+            name: None,
+            id: <super::common::IntersectionReferenceID as uper::Placeholder>::placeholder(),
+            revision: <super::common::MsgCount as uper::Placeholder>::placeholder(),
+            ref_point: <super::common::Position3D as uper::Placeholder>::placeholder(),
+            lane_width: None,
+            speed_limits: None,
+            lane_set: <LaneList as uper::Placeholder>::placeholder(),
+            preempt_priority_data: None,
+            regional: None,
+            extensions: uper::Extensions::new(),
+        }
     }
 }
 
@@ -425,12 +524,23 @@ impl Uper for IntersectionGeometry {
         } else {
             out.regional = None;
         }
-        out.extensions = if extended { uper::Extensions::decode(r, "MapData.IntersectionGeometry:ext")? } else { uper::Extensions::new() };
+        out.extensions = if extended {
+            uper::Extensions::decode(r, "MapData.IntersectionGeometry:ext")?
+        } else {
+            uper::Extensions::new()
+        };
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_bit(self.extensions.is_present())?;
-        w.write_bits(((self.name.is_some() as u64) << 4) | ((self.lane_width.is_some() as u64) << 3) | ((self.speed_limits.is_some() as u64) << 2) | ((self.preempt_priority_data.is_some() as u64) << 1) | ((self.regional.is_some() as u64) << 0), 5)?;
+        w.write_bits(
+            ((self.name.is_some() as u64) << 4)
+                | ((self.lane_width.is_some() as u64) << 3)
+                | ((self.speed_limits.is_some() as u64) << 2)
+                | ((self.preempt_priority_data.is_some() as u64) << 1)
+                | ((self.regional.is_some() as u64) << 0),
+            5,
+        )?;
         if let Some(v) = &self.name {
             v.encode_uper(w)?;
         }
@@ -461,15 +571,37 @@ impl Uper for IntersectionGeometry {
 impl uper::random::Random for IntersectionGeometry {
     fn random(g: &mut uper::random::Gen) -> Self {
         Self {
-            name: if g.coin() { Some(<super::common::DescriptiveName as uper::random::Random>::random(g)) } else { None },
+            name: if g.coin() {
+                Some(<super::common::DescriptiveName as uper::random::Random>::random(g))
+            } else {
+                None
+            },
             id: <super::common::IntersectionReferenceID as uper::random::Random>::random(g),
             revision: <super::common::MsgCount as uper::random::Random>::random(g),
             ref_point: <super::common::Position3D as uper::random::Random>::random(g),
-            lane_width: if g.coin() { Some(<super::common::LaneWidth as uper::random::Random>::random(g)) } else { None },
-            speed_limits: if g.coin() { Some(<super::common::SpeedLimitList as uper::random::Random>::random(g)) } else { None },
+            lane_width: if g.coin() {
+                Some(<super::common::LaneWidth as uper::random::Random>::random(
+                    g,
+                ))
+            } else {
+                None
+            },
+            speed_limits: if g.coin() {
+                Some(<super::common::SpeedLimitList as uper::random::Random>::random(g))
+            } else {
+                None
+            },
             lane_set: <LaneList as uper::random::Random>::random(g),
-            preempt_priority_data: if g.coin() { Some(<PreemptPriorityList as uper::random::Random>::random(g)) } else { None },
-            regional: if g.coin() { Some(<IntersectionGeometryRegional as uper::random::Random>::random(g)) } else { None },
+            preempt_priority_data: if g.coin() {
+                Some(<PreemptPriorityList as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            regional: if g.coin() {
+                Some(<IntersectionGeometryRegional as uper::random::Random>::random(g))
+            } else {
+                None
+            },
             extensions: uper::Extensions::new(),
         }
     }
@@ -486,6 +618,12 @@ impl LaneList {
     /// An empty list (valid for encoding once it holds the minimum number of items).
     pub fn new() -> Self {
         Self(uper::SeqOf::new())
+    }
+}
+
+impl Default for LaneList {
+    fn default() -> Self {
+        Self::new()
     }
 }
 
@@ -546,7 +684,19 @@ pub struct GenericLane {
 
 impl uper::Placeholder for GenericLane {
     fn placeholder() -> Self {
-        Self { lane_id: <super::common::LaneID as uper::Placeholder>::placeholder(), name: None, ingress_approach: None, egress_approach: None, lane_attributes: <LaneAttributes as uper::Placeholder>::placeholder(), maneuvers: None, node_list: <super::common::NodeListXY as uper::Placeholder>::placeholder(), connects_to: None, overlays: None, regional: None, extensions: uper::Extensions::new() }
+        Self {
+            lane_id: <super::common::LaneID as uper::Placeholder>::placeholder(),
+            name: None,
+            ingress_approach: None,
+            egress_approach: None,
+            lane_attributes: <LaneAttributes as uper::Placeholder>::placeholder(),
+            maneuvers: None,
+            node_list: <super::common::NodeListXY as uper::Placeholder>::placeholder(),
+            connects_to: None,
+            overlays: None,
+            regional: None,
+            extensions: uper::Extensions::new(),
+        }
     }
 }
 
@@ -629,12 +779,25 @@ impl Uper for GenericLane {
         } else {
             out.regional = None;
         }
-        out.extensions = if extended { uper::Extensions::decode(r, "MapData.GenericLane:ext")? } else { uper::Extensions::new() };
+        out.extensions = if extended {
+            uper::Extensions::decode(r, "MapData.GenericLane:ext")?
+        } else {
+            uper::Extensions::new()
+        };
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_bit(self.extensions.is_present())?;
-        w.write_bits(((self.name.is_some() as u64) << 6) | ((self.ingress_approach.is_some() as u64) << 5) | ((self.egress_approach.is_some() as u64) << 4) | ((self.maneuvers.is_some() as u64) << 3) | ((self.connects_to.is_some() as u64) << 2) | ((self.overlays.is_some() as u64) << 1) | ((self.regional.is_some() as u64) << 0), 7)?;
+        w.write_bits(
+            ((self.name.is_some() as u64) << 6)
+                | ((self.ingress_approach.is_some() as u64) << 5)
+                | ((self.egress_approach.is_some() as u64) << 4)
+                | ((self.maneuvers.is_some() as u64) << 3)
+                | ((self.connects_to.is_some() as u64) << 2)
+                | ((self.overlays.is_some() as u64) << 1)
+                | ((self.regional.is_some() as u64) << 0),
+            7,
+        )?;
         self.lane_id.encode_uper(w)?;
         if let Some(v) = &self.name {
             v.encode_uper(w)?;
@@ -671,15 +834,47 @@ impl uper::random::Random for GenericLane {
     fn random(g: &mut uper::random::Gen) -> Self {
         Self {
             lane_id: <super::common::LaneID as uper::random::Random>::random(g),
-            name: if g.coin() { Some(<super::common::DescriptiveName as uper::random::Random>::random(g)) } else { None },
-            ingress_approach: if g.coin() { Some(<super::common::ApproachID as uper::random::Random>::random(g)) } else { None },
-            egress_approach: if g.coin() { Some(<super::common::ApproachID as uper::random::Random>::random(g)) } else { None },
+            name: if g.coin() {
+                Some(<super::common::DescriptiveName as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            ingress_approach: if g.coin() {
+                Some(<super::common::ApproachID as uper::random::Random>::random(
+                    g,
+                ))
+            } else {
+                None
+            },
+            egress_approach: if g.coin() {
+                Some(<super::common::ApproachID as uper::random::Random>::random(
+                    g,
+                ))
+            } else {
+                None
+            },
             lane_attributes: <LaneAttributes as uper::random::Random>::random(g),
-            maneuvers: if g.coin() { Some(<AllowedManeuvers as uper::random::Random>::random(g)) } else { None },
+            maneuvers: if g.coin() {
+                Some(<AllowedManeuvers as uper::random::Random>::random(g))
+            } else {
+                None
+            },
             node_list: <super::common::NodeListXY as uper::random::Random>::random(g),
-            connects_to: if g.coin() { Some(<ConnectsToList as uper::random::Random>::random(g)) } else { None },
-            overlays: if g.coin() { Some(<OverlayLaneList as uper::random::Random>::random(g)) } else { None },
-            regional: if g.coin() { Some(<GenericLaneRegional as uper::random::Random>::random(g)) } else { None },
+            connects_to: if g.coin() {
+                Some(<ConnectsToList as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            overlays: if g.coin() {
+                Some(<OverlayLaneList as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            regional: if g.coin() {
+                Some(<GenericLaneRegional as uper::random::Random>::random(g))
+            } else {
+                None
+            },
             extensions: uper::Extensions::new(),
         }
     }
@@ -700,7 +895,12 @@ pub struct LaneAttributes {
 
 impl uper::Placeholder for LaneAttributes {
     fn placeholder() -> Self {
-        Self { directional_use: <LaneDirection as uper::Placeholder>::placeholder(), shared_with: <LaneSharing as uper::Placeholder>::placeholder(), lane_type: <LaneTypeAttributes as uper::Placeholder>::placeholder(), regional: None }
+        Self {
+            directional_use: <LaneDirection as uper::Placeholder>::placeholder(),
+            shared_with: <LaneSharing as uper::Placeholder>::placeholder(),
+            lane_type: <LaneTypeAttributes as uper::Placeholder>::placeholder(),
+            regional: None,
+        }
     }
 }
 
@@ -743,7 +943,11 @@ impl uper::random::Random for LaneAttributes {
             directional_use: <LaneDirection as uper::random::Random>::random(g),
             shared_with: <LaneSharing as uper::random::Random>::random(g),
             lane_type: <LaneTypeAttributes as uper::random::Random>::random(g),
-            regional: if g.coin() { Some(<RegLaneAttributes as uper::random::Random>::random(g)) } else { None },
+            regional: if g.coin() {
+                Some(<RegLaneAttributes as uper::random::Random>::random(g))
+            } else {
+                None
+            },
         }
     }
 }
@@ -898,7 +1102,8 @@ impl Uper for LaneTypeAttributes {
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         if r.read_bit()? {
             let at = r.position();
-            let index = u16::try_from(r.read_normally_small()?).map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at))?;
+            let index = u16::try_from(r.read_normally_small()?)
+                .map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at))?;
             let content = uper::decode_unknown_open(r, "MapData.LaneTypeAttributes:unknown")?;
             *out = Self::Extension { index, content };
             return Ok(());
@@ -907,7 +1112,9 @@ impl Uper for LaneTypeAttributes {
         match r.read_constrained(0, 7)? {
             0 => {
                 if !matches!(out, Self::Vehicle(_)) {
-                    uper::replace_with(out, || Self::Vehicle(<LaneAttributesVehicle as uper::Placeholder>::placeholder()));
+                    uper::replace_with(out, || {
+                        Self::Vehicle(<LaneAttributesVehicle as uper::Placeholder>::placeholder())
+                    });
                 }
                 if let Self::Vehicle(v) = out {
                     <LaneAttributesVehicle>::decode_into(r, v)?;
@@ -915,7 +1122,11 @@ impl Uper for LaneTypeAttributes {
             }
             1 => {
                 if !matches!(out, Self::Crosswalk(_)) {
-                    uper::replace_with(out, || Self::Crosswalk(<LaneAttributesCrosswalk as uper::Placeholder>::placeholder()));
+                    uper::replace_with(out, || {
+                        Self::Crosswalk(
+                            <LaneAttributesCrosswalk as uper::Placeholder>::placeholder(),
+                        )
+                    });
                 }
                 if let Self::Crosswalk(v) = out {
                     <LaneAttributesCrosswalk>::decode_into(r, v)?;
@@ -923,7 +1134,9 @@ impl Uper for LaneTypeAttributes {
             }
             2 => {
                 if !matches!(out, Self::BikeLane(_)) {
-                    uper::replace_with(out, || Self::BikeLane(<LaneAttributesBike as uper::Placeholder>::placeholder()));
+                    uper::replace_with(out, || {
+                        Self::BikeLane(<LaneAttributesBike as uper::Placeholder>::placeholder())
+                    });
                 }
                 if let Self::BikeLane(v) = out {
                     <LaneAttributesBike>::decode_into(r, v)?;
@@ -931,7 +1144,9 @@ impl Uper for LaneTypeAttributes {
             }
             3 => {
                 if !matches!(out, Self::Sidewalk(_)) {
-                    uper::replace_with(out, || Self::Sidewalk(<LaneAttributesSidewalk as uper::Placeholder>::placeholder()));
+                    uper::replace_with(out, || {
+                        Self::Sidewalk(<LaneAttributesSidewalk as uper::Placeholder>::placeholder())
+                    });
                 }
                 if let Self::Sidewalk(v) = out {
                     <LaneAttributesSidewalk>::decode_into(r, v)?;
@@ -939,7 +1154,9 @@ impl Uper for LaneTypeAttributes {
             }
             4 => {
                 if !matches!(out, Self::Median(_)) {
-                    uper::replace_with(out, || Self::Median(<LaneAttributesBarrier as uper::Placeholder>::placeholder()));
+                    uper::replace_with(out, || {
+                        Self::Median(<LaneAttributesBarrier as uper::Placeholder>::placeholder())
+                    });
                 }
                 if let Self::Median(v) = out {
                     <LaneAttributesBarrier>::decode_into(r, v)?;
@@ -947,7 +1164,9 @@ impl Uper for LaneTypeAttributes {
             }
             5 => {
                 if !matches!(out, Self::Striping(_)) {
-                    uper::replace_with(out, || Self::Striping(<LaneAttributesStriping as uper::Placeholder>::placeholder()));
+                    uper::replace_with(out, || {
+                        Self::Striping(<LaneAttributesStriping as uper::Placeholder>::placeholder())
+                    });
                 }
                 if let Self::Striping(v) = out {
                     <LaneAttributesStriping>::decode_into(r, v)?;
@@ -955,7 +1174,11 @@ impl Uper for LaneTypeAttributes {
             }
             6 => {
                 if !matches!(out, Self::TrackedVehicle(_)) {
-                    uper::replace_with(out, || Self::TrackedVehicle(<LaneAttributesTrackedVehicle as uper::Placeholder>::placeholder()));
+                    uper::replace_with(out, || {
+                        Self::TrackedVehicle(
+                            <LaneAttributesTrackedVehicle as uper::Placeholder>::placeholder(),
+                        )
+                    });
                 }
                 if let Self::TrackedVehicle(v) = out {
                     <LaneAttributesTrackedVehicle>::decode_into(r, v)?;
@@ -963,26 +1186,65 @@ impl Uper for LaneTypeAttributes {
             }
             7 => {
                 if !matches!(out, Self::Parking(_)) {
-                    uper::replace_with(out, || Self::Parking(<LaneAttributesParking as uper::Placeholder>::placeholder()));
+                    uper::replace_with(out, || {
+                        Self::Parking(<LaneAttributesParking as uper::Placeholder>::placeholder())
+                    });
                 }
                 if let Self::Parking(v) = out {
                     <LaneAttributesParking>::decode_into(r, v)?;
                 }
             }
-            _ => return Err(uper::DecodeError::new(uper::DecodeErrorKind::InvalidChoiceIndex, at)),
+            _ => {
+                return Err(uper::DecodeError::new(
+                    uper::DecodeErrorKind::InvalidChoiceIndex,
+                    at,
+                ))
+            }
         }
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         match self {
-            Self::Vehicle(v) => { w.write_bit(false)?; w.write_constrained(0, 0, 7)?; v.encode_uper(w) }
-            Self::Crosswalk(v) => { w.write_bit(false)?; w.write_constrained(1, 0, 7)?; v.encode_uper(w) }
-            Self::BikeLane(v) => { w.write_bit(false)?; w.write_constrained(2, 0, 7)?; v.encode_uper(w) }
-            Self::Sidewalk(v) => { w.write_bit(false)?; w.write_constrained(3, 0, 7)?; v.encode_uper(w) }
-            Self::Median(v) => { w.write_bit(false)?; w.write_constrained(4, 0, 7)?; v.encode_uper(w) }
-            Self::Striping(v) => { w.write_bit(false)?; w.write_constrained(5, 0, 7)?; v.encode_uper(w) }
-            Self::TrackedVehicle(v) => { w.write_bit(false)?; w.write_constrained(6, 0, 7)?; v.encode_uper(w) }
-            Self::Parking(v) => { w.write_bit(false)?; w.write_constrained(7, 0, 7)?; v.encode_uper(w) }
+            Self::Vehicle(v) => {
+                w.write_bit(false)?;
+                w.write_constrained(0, 0, 7)?;
+                v.encode_uper(w)
+            }
+            Self::Crosswalk(v) => {
+                w.write_bit(false)?;
+                w.write_constrained(1, 0, 7)?;
+                v.encode_uper(w)
+            }
+            Self::BikeLane(v) => {
+                w.write_bit(false)?;
+                w.write_constrained(2, 0, 7)?;
+                v.encode_uper(w)
+            }
+            Self::Sidewalk(v) => {
+                w.write_bit(false)?;
+                w.write_constrained(3, 0, 7)?;
+                v.encode_uper(w)
+            }
+            Self::Median(v) => {
+                w.write_bit(false)?;
+                w.write_constrained(4, 0, 7)?;
+                v.encode_uper(w)
+            }
+            Self::Striping(v) => {
+                w.write_bit(false)?;
+                w.write_constrained(5, 0, 7)?;
+                v.encode_uper(w)
+            }
+            Self::TrackedVehicle(v) => {
+                w.write_bit(false)?;
+                w.write_constrained(6, 0, 7)?;
+                v.encode_uper(w)
+            }
+            Self::Parking(v) => {
+                w.write_bit(false)?;
+                w.write_constrained(7, 0, 7)?;
+                v.encode_uper(w)
+            }
             Self::Extension { index, content } => {
                 w.write_bit(true)?;
                 w.write_normally_small(*index as u64)?;
@@ -1002,7 +1264,9 @@ impl uper::random::Random for LaneTypeAttributes {
             3 => Self::Sidewalk(<LaneAttributesSidewalk as uper::random::Random>::random(g)),
             4 => Self::Median(<LaneAttributesBarrier as uper::random::Random>::random(g)),
             5 => Self::Striping(<LaneAttributesStriping as uper::random::Random>::random(g)),
-            6 => Self::TrackedVehicle(<LaneAttributesTrackedVehicle as uper::random::Random>::random(g)),
+            6 => Self::TrackedVehicle(
+                <LaneAttributesTrackedVehicle as uper::random::Random>::random(g),
+            ),
             7 => Self::Parking(<LaneAttributesParking as uper::random::Random>::random(g)),
             _ => Self::Vehicle(<LaneAttributesVehicle as uper::Placeholder>::placeholder()),
         }
@@ -1034,9 +1298,6 @@ impl LaneAttributesVehicle {
     /// `len` zero bits, when `len` satisfies the SIZE constraint (or, for an extensible
     /// constraint, fits the storage).
     pub fn zeros(len: usize) -> Option<Self> {
-        if !true {
-            return None;
-        }
         uper::Bits::zeros(len).map(Self)
     }
 }
@@ -1488,7 +1749,10 @@ impl RegLaneAttributes {
 
 impl uper::Placeholder for RegLaneAttributes {
     fn placeholder() -> Self {
-        Self::Unknown { id: <super::common::RegionId as uper::Placeholder>::placeholder(), content: uper::Octets::new() }
+        Self::Unknown {
+            id: <super::common::RegionId as uper::Placeholder>::placeholder(),
+            content: uper::Octets::new(),
+        }
     }
 }
 
@@ -1498,7 +1762,12 @@ impl Uper for RegLaneAttributes {
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let id = <super::common::RegionId>::decode_uper(r)?;
         match id.get() {
-            _ => *out = Self::Unknown { id, content: uper::decode_unknown_open(r, "MapData.RegLaneAttributes:unknown")? },
+            _ => {
+                *out = Self::Unknown {
+                    id,
+                    content: uper::decode_unknown_open(r, "MapData.RegLaneAttributes:unknown")?,
+                }
+            }
         }
         Ok(())
     }
@@ -1519,7 +1788,10 @@ impl uper::random::Random for RegLaneAttributes {
         for _ in 0..1 + g.below(4) {
             let _ = content.push(g.octet());
         }
-        Self::Unknown { id: <super::common::RegionId as uper::random::Random>::random(g), content }
+        Self::Unknown {
+            id: <super::common::RegionId as uper::random::Random>::random(g),
+            content,
+        }
     }
 }
 
@@ -1604,6 +1876,12 @@ impl ConnectsToList {
     }
 }
 
+impl Default for ConnectsToList {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
 impl uper::Placeholder for ConnectsToList {
     fn placeholder() -> Self {
         Self(uper::SeqOf::new())
@@ -1649,7 +1927,13 @@ pub struct Connection {
 
 impl uper::Placeholder for Connection {
     fn placeholder() -> Self {
-        Self { connecting_lane: <ConnectingLane as uper::Placeholder>::placeholder(), remote_intersection: None, signal_group: None, user_class: None, connection_id: None }
+        Self {
+            connecting_lane: <ConnectingLane as uper::Placeholder>::placeholder(),
+            remote_intersection: None,
+            signal_group: None,
+            user_class: None,
+            connection_id: None,
+        }
     }
 }
 
@@ -1702,7 +1986,13 @@ impl Uper for Connection {
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
-        w.write_bits(((self.remote_intersection.is_some() as u64) << 3) | ((self.signal_group.is_some() as u64) << 2) | ((self.user_class.is_some() as u64) << 1) | ((self.connection_id.is_some() as u64) << 0), 4)?;
+        w.write_bits(
+            ((self.remote_intersection.is_some() as u64) << 3)
+                | ((self.signal_group.is_some() as u64) << 2)
+                | ((self.user_class.is_some() as u64) << 1)
+                | ((self.connection_id.is_some() as u64) << 0),
+            4,
+        )?;
         self.connecting_lane.encode_uper(w)?;
         if let Some(v) = &self.remote_intersection {
             v.encode_uper(w)?;
@@ -1725,10 +2015,26 @@ impl uper::random::Random for Connection {
     fn random(g: &mut uper::random::Gen) -> Self {
         Self {
             connecting_lane: <ConnectingLane as uper::random::Random>::random(g),
-            remote_intersection: if g.coin() { Some(<super::common::IntersectionReferenceID as uper::random::Random>::random(g)) } else { None },
-            signal_group: if g.coin() { Some(<super::common::SignalGroupID as uper::random::Random>::random(g)) } else { None },
-            user_class: if g.coin() { Some(<super::common::RestrictionClassID as uper::random::Random>::random(g)) } else { None },
-            connection_id: if g.coin() { Some(<super::common::LaneConnectionID as uper::random::Random>::random(g)) } else { None },
+            remote_intersection: if g.coin() {
+                Some(<super::common::IntersectionReferenceID as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            signal_group: if g.coin() {
+                Some(<super::common::SignalGroupID as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            user_class: if g.coin() {
+                Some(<super::common::RestrictionClassID as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            connection_id: if g.coin() {
+                Some(<super::common::LaneConnectionID as uper::random::Random>::random(g))
+            } else {
+                None
+            },
         }
     }
 }
@@ -1744,7 +2050,10 @@ pub struct ConnectingLane {
 
 impl uper::Placeholder for ConnectingLane {
     fn placeholder() -> Self {
-        Self { lane: <super::common::LaneID as uper::Placeholder>::placeholder(), maneuver: None }
+        Self {
+            lane: <super::common::LaneID as uper::Placeholder>::placeholder(),
+            maneuver: None,
+        }
     }
 }
 
@@ -1781,7 +2090,11 @@ impl uper::random::Random for ConnectingLane {
     fn random(g: &mut uper::random::Gen) -> Self {
         Self {
             lane: <super::common::LaneID as uper::random::Random>::random(g),
-            maneuver: if g.coin() { Some(<AllowedManeuvers as uper::random::Random>::random(g)) } else { None },
+            maneuver: if g.coin() {
+                Some(<AllowedManeuvers as uper::random::Random>::random(g))
+            } else {
+                None
+            },
         }
     }
 }
@@ -1797,6 +2110,12 @@ impl OverlayLaneList {
     /// An empty list (valid for encoding once it holds the minimum number of items).
     pub fn new() -> Self {
         Self(uper::SeqOf::new())
+    }
+}
+
+impl Default for OverlayLaneList {
+    fn default() -> Self {
+        Self::new()
     }
 }
 
@@ -1822,7 +2141,8 @@ impl uper::random::Random for OverlayLaneList {
     fn random(g: &mut uper::random::Gen) -> Self {
         let mut v = Self(uper::SeqOf::new());
         for _ in 0..g.count(1, 5) {
-            let _ = v.0.push(<super::common::LaneID as uper::random::Random>::random(g));
+            let _ =
+                v.0.push(<super::common::LaneID as uper::random::Random>::random(g));
         }
         v
     }
@@ -1839,6 +2159,12 @@ impl GenericLaneRegional {
     /// An empty list (valid for encoding once it holds the minimum number of items).
     pub fn new() -> Self {
         Self(uper::SeqOf::new())
+    }
+}
+
+impl Default for GenericLaneRegional {
+    fn default() -> Self {
+        Self::new()
     }
 }
 
@@ -1864,7 +2190,8 @@ impl uper::random::Random for GenericLaneRegional {
     fn random(g: &mut uper::random::Gen) -> Self {
         let mut v = Self(uper::SeqOf::new());
         for _ in 0..g.count(1, 1) {
-            let _ = v.0.push(<RegGenericLane as uper::random::Random>::random(g));
+            let _ =
+                v.0.push(<RegGenericLane as uper::random::Random>::random(g));
         }
         v
     }
@@ -1893,7 +2220,10 @@ impl RegGenericLane {
 
 impl uper::Placeholder for RegGenericLane {
     fn placeholder() -> Self {
-        Self::Unknown { id: <super::common::RegionId as uper::Placeholder>::placeholder(), content: uper::Octets::new() }
+        Self::Unknown {
+            id: <super::common::RegionId as uper::Placeholder>::placeholder(),
+            content: uper::Octets::new(),
+        }
     }
 }
 
@@ -1903,7 +2233,12 @@ impl Uper for RegGenericLane {
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let id = <super::common::RegionId>::decode_uper(r)?;
         match id.get() {
-            _ => *out = Self::Unknown { id, content: uper::decode_unknown_open(r, "MapData.RegGenericLane:unknown")? },
+            _ => {
+                *out = Self::Unknown {
+                    id,
+                    content: uper::decode_unknown_open(r, "MapData.RegGenericLane:unknown")?,
+                }
+            }
         }
         Ok(())
     }
@@ -1924,7 +2259,10 @@ impl uper::random::Random for RegGenericLane {
         for _ in 0..1 + g.below(4) {
             let _ = content.push(g.octet());
         }
-        Self::Unknown { id: <super::common::RegionId as uper::random::Random>::random(g), content }
+        Self::Unknown {
+            id: <super::common::RegionId as uper::random::Random>::random(g),
+            content,
+        }
     }
 }
 
@@ -1939,6 +2277,12 @@ impl PreemptPriorityList {
     /// An empty list (valid for encoding once it holds the minimum number of items).
     pub fn new() -> Self {
         Self(uper::SeqOf::new())
+    }
+}
+
+impl Default for PreemptPriorityList {
+    fn default() -> Self {
+        Self::new()
     }
 }
 
@@ -1964,7 +2308,8 @@ impl uper::random::Random for PreemptPriorityList {
     fn random(g: &mut uper::random::Gen) -> Self {
         let mut v = Self(uper::SeqOf::new());
         for _ in 0..g.count(1, 4) {
-            let _ = v.0.push(<SignalControlZone as uper::random::Random>::random(g));
+            let _ =
+                v.0.push(<SignalControlZone as uper::random::Random>::random(g));
         }
         v
     }
@@ -1981,7 +2326,10 @@ pub struct SignalControlZone {
 
 impl uper::Placeholder for SignalControlZone {
     fn placeholder() -> Self {
-        Self { zone: <RegSignalControlZone as uper::Placeholder>::placeholder(), extensions: uper::Extensions::new() }
+        Self {
+            zone: <RegSignalControlZone as uper::Placeholder>::placeholder(),
+            extensions: uper::Extensions::new(),
+        }
     }
 }
 
@@ -1991,7 +2339,11 @@ impl Uper for SignalControlZone {
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let extended = r.read_bit()?;
         <RegSignalControlZone>::decode_into(r, &mut out.zone)?;
-        out.extensions = if extended { uper::Extensions::decode(r, "MapData.SignalControlZone:ext")? } else { uper::Extensions::new() };
+        out.extensions = if extended {
+            uper::Extensions::decode(r, "MapData.SignalControlZone:ext")?
+        } else {
+            uper::Extensions::new()
+        };
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -2037,7 +2389,10 @@ impl RegSignalControlZone {
 
 impl uper::Placeholder for RegSignalControlZone {
     fn placeholder() -> Self {
-        Self::Unknown { id: <super::common::RegionId as uper::Placeholder>::placeholder(), content: uper::Octets::new() }
+        Self::Unknown {
+            id: <super::common::RegionId as uper::Placeholder>::placeholder(),
+            content: uper::Octets::new(),
+        }
     }
 }
 
@@ -2047,7 +2402,12 @@ impl Uper for RegSignalControlZone {
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let id = <super::common::RegionId>::decode_uper(r)?;
         match id.get() {
-            _ => *out = Self::Unknown { id, content: uper::decode_unknown_open(r, "MapData.RegSignalControlZone:unknown")? },
+            _ => {
+                *out = Self::Unknown {
+                    id,
+                    content: uper::decode_unknown_open(r, "MapData.RegSignalControlZone:unknown")?,
+                }
+            }
         }
         Ok(())
     }
@@ -2068,7 +2428,10 @@ impl uper::random::Random for RegSignalControlZone {
         for _ in 0..1 + g.below(4) {
             let _ = content.push(g.octet());
         }
-        Self::Unknown { id: <super::common::RegionId as uper::random::Random>::random(g), content }
+        Self::Unknown {
+            id: <super::common::RegionId as uper::random::Random>::random(g),
+            content,
+        }
     }
 }
 
@@ -2086,6 +2449,12 @@ impl IntersectionGeometryRegional {
     }
 }
 
+impl Default for IntersectionGeometryRegional {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
 impl uper::Placeholder for IntersectionGeometryRegional {
     fn placeholder() -> Self {
         Self(uper::SeqOf::new())
@@ -2096,7 +2465,12 @@ impl Uper for IntersectionGeometryRegional {
     const PATH: &'static str = "MapData.IntersectionGeometry.regional";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(146), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        uper::decode_seq_of_into(r, Self::SIZE, "MapData.IntersectionGeometry.regional", &mut out.0)
+        uper::decode_seq_of_into(
+            r,
+            Self::SIZE,
+            "MapData.IntersectionGeometry.regional",
+            &mut out.0,
+        )
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
@@ -2108,7 +2482,8 @@ impl uper::random::Random for IntersectionGeometryRegional {
     fn random(g: &mut uper::random::Gen) -> Self {
         let mut v = Self(uper::SeqOf::new());
         for _ in 0..g.count(1, 1) {
-            let _ = v.0.push(<RegIntersectionGeometry as uper::random::Random>::random(g));
+            let _ =
+                v.0.push(<RegIntersectionGeometry as uper::random::Random>::random(g));
         }
         v
     }
@@ -2137,7 +2512,10 @@ impl RegIntersectionGeometry {
 
 impl uper::Placeholder for RegIntersectionGeometry {
     fn placeholder() -> Self {
-        Self::Unknown { id: <super::common::RegionId as uper::Placeholder>::placeholder(), content: uper::Octets::new() }
+        Self::Unknown {
+            id: <super::common::RegionId as uper::Placeholder>::placeholder(),
+            content: uper::Octets::new(),
+        }
     }
 }
 
@@ -2147,7 +2525,15 @@ impl Uper for RegIntersectionGeometry {
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let id = <super::common::RegionId>::decode_uper(r)?;
         match id.get() {
-            _ => *out = Self::Unknown { id, content: uper::decode_unknown_open(r, "MapData.RegIntersectionGeometry:unknown")? },
+            _ => {
+                *out = Self::Unknown {
+                    id,
+                    content: uper::decode_unknown_open(
+                        r,
+                        "MapData.RegIntersectionGeometry:unknown",
+                    )?,
+                }
+            }
         }
         Ok(())
     }
@@ -2168,7 +2554,10 @@ impl uper::random::Random for RegIntersectionGeometry {
         for _ in 0..1 + g.below(4) {
             let _ = content.push(g.octet());
         }
-        Self::Unknown { id: <super::common::RegionId as uper::random::Random>::random(g), content }
+        Self::Unknown {
+            id: <super::common::RegionId as uper::random::Random>::random(g),
+            content,
+        }
     }
 }
 
@@ -2183,6 +2572,12 @@ impl RoadSegmentList {
     /// An empty list (valid for encoding once it holds the minimum number of items).
     pub fn new() -> Self {
         Self(uper::SeqOf::new())
+    }
+}
+
+impl Default for RoadSegmentList {
+    fn default() -> Self {
+        Self::new()
     }
 }
 
@@ -2239,7 +2634,17 @@ pub struct RoadSegment {
 
 impl uper::Placeholder for RoadSegment {
     fn placeholder() -> Self {
-        Self { name: None, id: <super::common::RoadSegmentReferenceID as uper::Placeholder>::placeholder(), revision: <super::common::MsgCount as uper::Placeholder>::placeholder(), ref_point: <super::common::Position3D as uper::Placeholder>::placeholder(), lane_width: None, speed_limits: None, road_lane_set: <RoadLaneSetList as uper::Placeholder>::placeholder(), regional: None, extensions: uper::Extensions::new() }
+        Self {
+            name: None,
+            id: <super::common::RoadSegmentReferenceID as uper::Placeholder>::placeholder(),
+            revision: <super::common::MsgCount as uper::Placeholder>::placeholder(),
+            ref_point: <super::common::Position3D as uper::Placeholder>::placeholder(),
+            lane_width: None,
+            speed_limits: None,
+            road_lane_set: <RoadLaneSetList as uper::Placeholder>::placeholder(),
+            regional: None,
+            extensions: uper::Extensions::new(),
+        }
     }
 }
 
@@ -2293,12 +2698,22 @@ impl Uper for RoadSegment {
         } else {
             out.regional = None;
         }
-        out.extensions = if extended { uper::Extensions::decode(r, "MapData.RoadSegment:ext")? } else { uper::Extensions::new() };
+        out.extensions = if extended {
+            uper::Extensions::decode(r, "MapData.RoadSegment:ext")?
+        } else {
+            uper::Extensions::new()
+        };
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_bit(self.extensions.is_present())?;
-        w.write_bits(((self.name.is_some() as u64) << 3) | ((self.lane_width.is_some() as u64) << 2) | ((self.speed_limits.is_some() as u64) << 1) | ((self.regional.is_some() as u64) << 0), 4)?;
+        w.write_bits(
+            ((self.name.is_some() as u64) << 3)
+                | ((self.lane_width.is_some() as u64) << 2)
+                | ((self.speed_limits.is_some() as u64) << 1)
+                | ((self.regional.is_some() as u64) << 0),
+            4,
+        )?;
         if let Some(v) = &self.name {
             v.encode_uper(w)?;
         }
@@ -2326,14 +2741,32 @@ impl Uper for RoadSegment {
 impl uper::random::Random for RoadSegment {
     fn random(g: &mut uper::random::Gen) -> Self {
         Self {
-            name: if g.coin() { Some(<super::common::DescriptiveName as uper::random::Random>::random(g)) } else { None },
+            name: if g.coin() {
+                Some(<super::common::DescriptiveName as uper::random::Random>::random(g))
+            } else {
+                None
+            },
             id: <super::common::RoadSegmentReferenceID as uper::random::Random>::random(g),
             revision: <super::common::MsgCount as uper::random::Random>::random(g),
             ref_point: <super::common::Position3D as uper::random::Random>::random(g),
-            lane_width: if g.coin() { Some(<super::common::LaneWidth as uper::random::Random>::random(g)) } else { None },
-            speed_limits: if g.coin() { Some(<super::common::SpeedLimitList as uper::random::Random>::random(g)) } else { None },
+            lane_width: if g.coin() {
+                Some(<super::common::LaneWidth as uper::random::Random>::random(
+                    g,
+                ))
+            } else {
+                None
+            },
+            speed_limits: if g.coin() {
+                Some(<super::common::SpeedLimitList as uper::random::Random>::random(g))
+            } else {
+                None
+            },
             road_lane_set: <RoadLaneSetList as uper::random::Random>::random(g),
-            regional: if g.coin() { Some(<RoadSegmentRegional as uper::random::Random>::random(g)) } else { None },
+            regional: if g.coin() {
+                Some(<RoadSegmentRegional as uper::random::Random>::random(g))
+            } else {
+                None
+            },
             extensions: uper::Extensions::new(),
         }
     }
@@ -2350,6 +2783,12 @@ impl RoadLaneSetList {
     /// An empty list (valid for encoding once it holds the minimum number of items).
     pub fn new() -> Self {
         Self(uper::SeqOf::new())
+    }
+}
+
+impl Default for RoadLaneSetList {
+    fn default() -> Self {
+        Self::new()
     }
 }
 
@@ -2395,6 +2834,12 @@ impl RoadSegmentRegional {
     }
 }
 
+impl Default for RoadSegmentRegional {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
 impl uper::Placeholder for RoadSegmentRegional {
     fn placeholder() -> Self {
         Self(uper::SeqOf::new())
@@ -2417,7 +2862,8 @@ impl uper::random::Random for RoadSegmentRegional {
     fn random(g: &mut uper::random::Gen) -> Self {
         let mut v = Self(uper::SeqOf::new());
         for _ in 0..g.count(1, 1) {
-            let _ = v.0.push(<RegRoadSegment as uper::random::Random>::random(g));
+            let _ =
+                v.0.push(<RegRoadSegment as uper::random::Random>::random(g));
         }
         v
     }
@@ -2446,7 +2892,10 @@ impl RegRoadSegment {
 
 impl uper::Placeholder for RegRoadSegment {
     fn placeholder() -> Self {
-        Self::Unknown { id: <super::common::RegionId as uper::Placeholder>::placeholder(), content: uper::Octets::new() }
+        Self::Unknown {
+            id: <super::common::RegionId as uper::Placeholder>::placeholder(),
+            content: uper::Octets::new(),
+        }
     }
 }
 
@@ -2456,7 +2905,12 @@ impl Uper for RegRoadSegment {
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let id = <super::common::RegionId>::decode_uper(r)?;
         match id.get() {
-            _ => *out = Self::Unknown { id, content: uper::decode_unknown_open(r, "MapData.RegRoadSegment:unknown")? },
+            _ => {
+                *out = Self::Unknown {
+                    id,
+                    content: uper::decode_unknown_open(r, "MapData.RegRoadSegment:unknown")?,
+                }
+            }
         }
         Ok(())
     }
@@ -2477,7 +2931,10 @@ impl uper::random::Random for RegRoadSegment {
         for _ in 0..1 + g.below(4) {
             let _ = content.push(g.octet());
         }
-        Self::Unknown { id: <super::common::RegionId as uper::random::Random>::random(g), content }
+        Self::Unknown {
+            id: <super::common::RegionId as uper::random::Random>::random(g),
+            content,
+        }
     }
 }
 
@@ -2498,7 +2955,13 @@ pub struct DataParameters {
 
 impl uper::Placeholder for DataParameters {
     fn placeholder() -> Self {
-        Self { process_method: None, process_agency: None, last_checked_date: None, geoid_used: None, extensions: uper::Extensions::new() }
+        Self {
+            process_method: None,
+            process_agency: None,
+            last_checked_date: None,
+            geoid_used: None,
+            extensions: uper::Extensions::new(),
+        }
     }
 }
 
@@ -2548,12 +3011,22 @@ impl Uper for DataParameters {
         } else {
             out.geoid_used = None;
         }
-        out.extensions = if extended { uper::Extensions::decode(r, "MapData.DataParameters:ext")? } else { uper::Extensions::new() };
+        out.extensions = if extended {
+            uper::Extensions::decode(r, "MapData.DataParameters:ext")?
+        } else {
+            uper::Extensions::new()
+        };
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_bit(self.extensions.is_present())?;
-        w.write_bits(((self.process_method.is_some() as u64) << 3) | ((self.process_agency.is_some() as u64) << 2) | ((self.last_checked_date.is_some() as u64) << 1) | ((self.geoid_used.is_some() as u64) << 0), 4)?;
+        w.write_bits(
+            ((self.process_method.is_some() as u64) << 3)
+                | ((self.process_agency.is_some() as u64) << 2)
+                | ((self.last_checked_date.is_some() as u64) << 1)
+                | ((self.geoid_used.is_some() as u64) << 0),
+            4,
+        )?;
         if let Some(v) = &self.process_method {
             v.encode_uper(w)?;
         }
@@ -2577,10 +3050,26 @@ impl Uper for DataParameters {
 impl uper::random::Random for DataParameters {
     fn random(g: &mut uper::random::Gen) -> Self {
         Self {
-            process_method: if g.coin() { Some(<DataParametersProcessMethod as uper::random::Random>::random(g)) } else { None },
-            process_agency: if g.coin() { Some(<DataParametersProcessAgency as uper::random::Random>::random(g)) } else { None },
-            last_checked_date: if g.coin() { Some(<DataParametersLastCheckedDate as uper::random::Random>::random(g)) } else { None },
-            geoid_used: if g.coin() { Some(<DataParametersGeoidUsed as uper::random::Random>::random(g)) } else { None },
+            process_method: if g.coin() {
+                Some(<DataParametersProcessMethod as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            process_agency: if g.coin() {
+                Some(<DataParametersProcessAgency as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            last_checked_date: if g.coin() {
+                Some(<DataParametersLastCheckedDate as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            geoid_used: if g.coin() {
+                Some(<DataParametersGeoidUsed as uper::random::Random>::random(g))
+            } else {
+                None
+            },
             extensions: uper::Extensions::new(),
         }
     }
@@ -2788,6 +3277,12 @@ impl RestrictionClassList {
     }
 }
 
+impl Default for RestrictionClassList {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
 impl uper::Placeholder for RestrictionClassList {
     fn placeholder() -> Self {
         Self(uper::SeqOf::new())
@@ -2810,7 +3305,8 @@ impl uper::random::Random for RestrictionClassList {
     fn random(g: &mut uper::random::Gen) -> Self {
         let mut v = Self(uper::SeqOf::new());
         for _ in 0..g.count(1, 4) {
-            let _ = v.0.push(<RestrictionClassAssignment as uper::random::Random>::random(g));
+            let _ =
+                v.0.push(<RestrictionClassAssignment as uper::random::Random>::random(g));
         }
         v
     }
@@ -2827,7 +3323,10 @@ pub struct RestrictionClassAssignment {
 
 impl uper::Placeholder for RestrictionClassAssignment {
     fn placeholder() -> Self {
-        Self { id: <super::common::RestrictionClassID as uper::Placeholder>::placeholder(), users: <RestrictionUserTypeList as uper::Placeholder>::placeholder() }
+        Self {
+            id: <super::common::RestrictionClassID as uper::Placeholder>::placeholder(),
+            users: <RestrictionUserTypeList as uper::Placeholder>::placeholder(),
+        }
     }
 }
 
@@ -2870,6 +3369,12 @@ impl RestrictionUserTypeList {
     }
 }
 
+impl Default for RestrictionUserTypeList {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
 impl uper::Placeholder for RestrictionUserTypeList {
     fn placeholder() -> Self {
         Self(uper::SeqOf::new())
@@ -2892,7 +3397,8 @@ impl uper::random::Random for RestrictionUserTypeList {
     fn random(g: &mut uper::random::Gen) -> Self {
         let mut v = Self(uper::SeqOf::new());
         for _ in 0..g.count(1, 5) {
-            let _ = v.0.push(<RestrictionUserType as uper::random::Random>::random(g));
+            let _ =
+                v.0.push(<RestrictionUserType as uper::random::Random>::random(g));
         }
         v
     }
@@ -2926,7 +3432,8 @@ impl Uper for RestrictionUserType {
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         if r.read_bit()? {
             let at = r.position();
-            let index = u16::try_from(r.read_normally_small()?).map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at))?;
+            let index = u16::try_from(r.read_normally_small()?)
+                .map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at))?;
             let content = uper::decode_unknown_open(r, "MapData.RestrictionUserType:unknown")?;
             *out = Self::Extension { index, content };
             return Ok(());
@@ -2935,7 +3442,9 @@ impl Uper for RestrictionUserType {
         match r.read_constrained(0, 1)? {
             0 => {
                 if !matches!(out, Self::BasicType(_)) {
-                    uper::replace_with(out, || Self::BasicType(<RestrictionAppliesTo as uper::Placeholder>::placeholder()));
+                    uper::replace_with(out, || {
+                        Self::BasicType(<RestrictionAppliesTo as uper::Placeholder>::placeholder())
+                    });
                 }
                 if let Self::BasicType(v) = out {
                     <RestrictionAppliesTo>::decode_into(r, v)?;
@@ -2943,20 +3452,37 @@ impl Uper for RestrictionUserType {
             }
             1 => {
                 if !matches!(out, Self::Regional(_)) {
-                    uper::replace_with(out, || Self::Regional(<RestrictionUserTypeRegional as uper::Placeholder>::placeholder()));
+                    uper::replace_with(out, || {
+                        Self::Regional(
+                            <RestrictionUserTypeRegional as uper::Placeholder>::placeholder(),
+                        )
+                    });
                 }
                 if let Self::Regional(v) = out {
                     <RestrictionUserTypeRegional>::decode_into(r, v)?;
                 }
             }
-            _ => return Err(uper::DecodeError::new(uper::DecodeErrorKind::InvalidChoiceIndex, at)),
+            _ => {
+                return Err(uper::DecodeError::new(
+                    uper::DecodeErrorKind::InvalidChoiceIndex,
+                    at,
+                ))
+            }
         }
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         match self {
-            Self::BasicType(v) => { w.write_bit(false)?; w.write_constrained(0, 0, 1)?; v.encode_uper(w) }
-            Self::Regional(v) => { w.write_bit(false)?; w.write_constrained(1, 0, 1)?; v.encode_uper(w) }
+            Self::BasicType(v) => {
+                w.write_bit(false)?;
+                w.write_constrained(0, 0, 1)?;
+                v.encode_uper(w)
+            }
+            Self::Regional(v) => {
+                w.write_bit(false)?;
+                w.write_constrained(1, 0, 1)?;
+                v.encode_uper(w)
+            }
             Self::Extension { index, content } => {
                 w.write_bit(true)?;
                 w.write_normally_small(*index as u64)?;
@@ -3014,7 +3540,22 @@ pub enum RestrictionAppliesTo {
 
 impl RestrictionAppliesTo {
     /// Every root value in encoding (ascending number) order.
-    pub const ALL: [Self; 14] = [Self::None, Self::EquippedTransit, Self::EquippedTaxis, Self::EquippedOther, Self::EmissionCompliant, Self::EquippedBicycle, Self::WeightCompliant, Self::HeightCompliant, Self::Pedestrians, Self::SlowMovingPersons, Self::WheelchairUsers, Self::VisualDisabilities, Self::AudioDisabilities, Self::OtherUnknownDisabilities];
+    pub const ALL: [Self; 14] = [
+        Self::None,
+        Self::EquippedTransit,
+        Self::EquippedTaxis,
+        Self::EquippedOther,
+        Self::EmissionCompliant,
+        Self::EquippedBicycle,
+        Self::WeightCompliant,
+        Self::HeightCompliant,
+        Self::Pedestrians,
+        Self::SlowMovingPersons,
+        Self::WheelchairUsers,
+        Self::VisualDisabilities,
+        Self::AudioDisabilities,
+        Self::OtherUnknownDisabilities,
+    ];
     /// The ASN.1 number of the value (`None` for an unknown extension value).
     pub const fn number(self) -> Option<i64> {
         match self {
@@ -3089,12 +3630,20 @@ impl Uper for RestrictionAppliesTo {
         if r.read_bit()? {
             let at = r.position();
             let i = r.read_normally_small()?;
-            *out = u16::try_from(i).map(Self::Extension).map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at))?;
+            *out = u16::try_from(i)
+                .map(Self::Extension)
+                .map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at))?;
             return Ok(());
         }
         let at = r.position();
         let i = r.read_constrained(0, 13)?;
-        *out = Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))?;
+        *out = Self::ALL
+            .get(i as usize)
+            .copied()
+            .ok_or(uper::DecodeError::new(
+                uper::DecodeErrorKind::InvalidEnumIndex,
+                at,
+            ))?;
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -3128,6 +3677,12 @@ impl RestrictionUserTypeRegional {
     }
 }
 
+impl Default for RestrictionUserTypeRegional {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
 impl uper::Placeholder for RestrictionUserTypeRegional {
     fn placeholder() -> Self {
         Self(uper::SeqOf::new())
@@ -3138,7 +3693,12 @@ impl Uper for RestrictionUserTypeRegional {
     const PATH: &'static str = "MapData.RestrictionUserType.regional";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(578), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        uper::decode_seq_of_into(r, Self::SIZE, "MapData.RestrictionUserType.regional", &mut out.0)
+        uper::decode_seq_of_into(
+            r,
+            Self::SIZE,
+            "MapData.RestrictionUserType.regional",
+            &mut out.0,
+        )
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
@@ -3150,7 +3710,8 @@ impl uper::random::Random for RestrictionUserTypeRegional {
     fn random(g: &mut uper::random::Gen) -> Self {
         let mut v = Self(uper::SeqOf::new());
         for _ in 0..g.count(1, 4) {
-            let _ = v.0.push(<RegRestrictionUserType as uper::random::Random>::random(g));
+            let _ =
+                v.0.push(<RegRestrictionUserType as uper::random::Random>::random(g));
         }
         v
     }
@@ -3174,7 +3735,14 @@ impl RegRestrictionUserType {
     /// The `regionId` of the value.
     pub fn id(&self) -> super::common::RegionId {
         match self {
-            Self::AddGrpC(_) => const { match super::common::RegionId::new(3) { Some(id) => id, None => panic!("id out of range") } },
+            Self::AddGrpC(_) => {
+                const {
+                    match super::common::RegionId::new(3) {
+                        Some(id) => id,
+                        None => panic!("id out of range"),
+                    }
+                }
+            }
             Self::Unknown { id, .. } => *id,
         }
     }
@@ -3182,7 +3750,10 @@ impl RegRestrictionUserType {
 
 impl uper::Placeholder for RegRestrictionUserType {
     fn placeholder() -> Self {
-        Self::Unknown { id: <super::common::RegionId as uper::Placeholder>::placeholder(), content: uper::Octets::new() }
+        Self::Unknown {
+            id: <super::common::RegionId as uper::Placeholder>::placeholder(),
+            content: uper::Octets::new(),
+        }
     }
 }
 
@@ -3194,13 +3765,25 @@ impl Uper for RegRestrictionUserType {
         match id.get() {
             3 => {
                 if !matches!(out, Self::AddGrpC(_)) {
-                    uper::replace_with(out, || Self::AddGrpC(<super::add_grp_c::RestrictionUserTypeAddGrpC as uper::Placeholder>::placeholder()));
+                    uper::replace_with(out, || {
+                        Self::AddGrpC(<super::add_grp_c::RestrictionUserTypeAddGrpC as uper::Placeholder>::placeholder())
+                    });
                 }
                 if let Self::AddGrpC(v) = out {
-                    uper::decode_open(r, |r| <super::add_grp_c::RestrictionUserTypeAddGrpC>::decode_into(r, v))?;
+                    uper::decode_open(r, |r| {
+                        <super::add_grp_c::RestrictionUserTypeAddGrpC>::decode_into(r, v)
+                    })?;
                 }
             }
-            _ => *out = Self::Unknown { id, content: uper::decode_unknown_open(r, "MapData.RegRestrictionUserType:unknown")? },
+            _ => {
+                *out = Self::Unknown {
+                    id,
+                    content: uper::decode_unknown_open(
+                        r,
+                        "MapData.RegRestrictionUserType:unknown",
+                    )?,
+                }
+            }
         }
         Ok(())
     }
@@ -3222,8 +3805,13 @@ impl Uper for RegRestrictionUserType {
 impl uper::random::Random for RegRestrictionUserType {
     fn random(g: &mut uper::random::Gen) -> Self {
         match g.below(1) {
-            0 => Self::AddGrpC(<super::add_grp_c::RestrictionUserTypeAddGrpC as uper::random::Random>::random(g)),
-            _ => Self::Unknown { id: <super::common::RegionId as uper::Placeholder>::placeholder(), content: uper::Octets::new() },
+            0 => Self::AddGrpC(
+                <super::add_grp_c::RestrictionUserTypeAddGrpC as uper::random::Random>::random(g),
+            ),
+            _ => Self::Unknown {
+                id: <super::common::RegionId as uper::Placeholder>::placeholder(),
+                content: uper::Octets::new(),
+            },
         }
     }
 }
@@ -3239,6 +3827,12 @@ impl MapDataRegional {
     /// An empty list (valid for encoding once it holds the minimum number of items).
     pub fn new() -> Self {
         Self(uper::SeqOf::new())
+    }
+}
+
+impl Default for MapDataRegional {
+    fn default() -> Self {
+        Self::new()
     }
 }
 
@@ -3288,7 +3882,14 @@ impl RegMapData {
     /// The `regionId` of the value.
     pub fn id(&self) -> super::common::RegionId {
         match self {
-            Self::AddGrpC(_) => const { match super::common::RegionId::new(3) { Some(id) => id, None => panic!("id out of range") } },
+            Self::AddGrpC(_) => {
+                const {
+                    match super::common::RegionId::new(3) {
+                        Some(id) => id,
+                        None => panic!("id out of range"),
+                    }
+                }
+            }
             Self::Unknown { id, .. } => *id,
         }
     }
@@ -3296,7 +3897,10 @@ impl RegMapData {
 
 impl uper::Placeholder for RegMapData {
     fn placeholder() -> Self {
-        Self::Unknown { id: <super::common::RegionId as uper::Placeholder>::placeholder(), content: uper::Octets::new() }
+        Self::Unknown {
+            id: <super::common::RegionId as uper::Placeholder>::placeholder(),
+            content: uper::Octets::new(),
+        }
     }
 }
 
@@ -3308,13 +3912,24 @@ impl Uper for RegMapData {
         match id.get() {
             3 => {
                 if !matches!(out, Self::AddGrpC(_)) {
-                    uper::replace_with(out, || Self::AddGrpC(<super::add_grp_c::MapDataAddGrpC as uper::Placeholder>::placeholder()));
+                    uper::replace_with(out, || {
+                        Self::AddGrpC(
+                            <super::add_grp_c::MapDataAddGrpC as uper::Placeholder>::placeholder(),
+                        )
+                    });
                 }
                 if let Self::AddGrpC(v) = out {
-                    uper::decode_open(r, |r| <super::add_grp_c::MapDataAddGrpC>::decode_into(r, v))?;
+                    uper::decode_open(r, |r| {
+                        <super::add_grp_c::MapDataAddGrpC>::decode_into(r, v)
+                    })?;
                 }
             }
-            _ => *out = Self::Unknown { id, content: uper::decode_unknown_open(r, "MapData.RegMapData:unknown")? },
+            _ => {
+                *out = Self::Unknown {
+                    id,
+                    content: uper::decode_unknown_open(r, "MapData.RegMapData:unknown")?,
+                }
+            }
         }
         Ok(())
     }
@@ -3336,8 +3951,13 @@ impl Uper for RegMapData {
 impl uper::random::Random for RegMapData {
     fn random(g: &mut uper::random::Gen) -> Self {
         match g.below(1) {
-            0 => Self::AddGrpC(<super::add_grp_c::MapDataAddGrpC as uper::random::Random>::random(g)),
-            _ => Self::Unknown { id: <super::common::RegionId as uper::Placeholder>::placeholder(), content: uper::Octets::new() },
+            0 => {
+                Self::AddGrpC(<super::add_grp_c::MapDataAddGrpC as uper::random::Random>::random(g))
+            }
+            _ => Self::Unknown {
+                id: <super::common::RegionId as uper::Placeholder>::placeholder(),
+                content: uper::Octets::new(),
+            },
         }
     }
 }

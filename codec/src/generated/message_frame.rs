@@ -17,7 +17,10 @@ pub struct MessageFrame {
 
 impl uper::Placeholder for MessageFrame {
     fn placeholder() -> Self {
-        Self { value: <MessageFrameValue as uper::Placeholder>::placeholder(), extensions: uper::Extensions::new() }
+        Self {
+            value: <MessageFrameValue as uper::Placeholder>::placeholder(),
+            extensions: uper::Extensions::new(),
+        }
     }
 }
 
@@ -27,7 +30,11 @@ impl Uper for MessageFrame {
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let extended = r.read_bit()?;
         <MessageFrameValue>::decode_into(r, &mut out.value)?;
-        out.extensions = if extended { uper::Extensions::decode(r, "MessageFrame.MessageFrame:ext")? } else { uper::Extensions::new() };
+        out.extensions = if extended {
+            uper::Extensions::decode(r, "MessageFrame.MessageFrame:ext")?
+        } else {
+            uper::Extensions::new()
+        };
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -133,45 +140,389 @@ impl MessageFrameValue {
     /// The `messageId` of the value.
     pub fn id(&self) -> DSRCmsgID {
         match self {
-            Self::MapData(_) => const { match DSRCmsgID::new(18) { Some(id) => id, None => panic!("id out of range") } },
-            Self::SPAT(_) => const { match DSRCmsgID::new(19) { Some(id) => id, None => panic!("id out of range") } },
-            Self::BasicSafetyMessage(_) => const { match DSRCmsgID::new(20) { Some(id) => id, None => panic!("id out of range") } },
-            Self::CommonSafetyRequest(_) => const { match DSRCmsgID::new(21) { Some(id) => id, None => panic!("id out of range") } },
-            Self::EmergencyVehicleAlert(_) => const { match DSRCmsgID::new(22) { Some(id) => id, None => panic!("id out of range") } },
-            Self::IntersectionCollision(_) => const { match DSRCmsgID::new(23) { Some(id) => id, None => panic!("id out of range") } },
-            Self::NMEAcorrections(_) => const { match DSRCmsgID::new(24) { Some(id) => id, None => panic!("id out of range") } },
-            Self::ProbeDataManagement(_) => const { match DSRCmsgID::new(25) { Some(id) => id, None => panic!("id out of range") } },
-            Self::ProbeVehicleData(_) => const { match DSRCmsgID::new(26) { Some(id) => id, None => panic!("id out of range") } },
-            Self::RoadSideAlert(_) => const { match DSRCmsgID::new(27) { Some(id) => id, None => panic!("id out of range") } },
-            Self::RTCMcorrections(_) => const { match DSRCmsgID::new(28) { Some(id) => id, None => panic!("id out of range") } },
-            Self::SignalRequestMessage(_) => const { match DSRCmsgID::new(29) { Some(id) => id, None => panic!("id out of range") } },
-            Self::SignalStatusMessage(_) => const { match DSRCmsgID::new(30) { Some(id) => id, None => panic!("id out of range") } },
-            Self::TravelerInformation(_) => const { match DSRCmsgID::new(31) { Some(id) => id, None => panic!("id out of range") } },
-            Self::PersonalSafetyMessage(_) => const { match DSRCmsgID::new(32) { Some(id) => id, None => panic!("id out of range") } },
-            Self::TestMessage00(_) => const { match DSRCmsgID::new(240) { Some(id) => id, None => panic!("id out of range") } },
-            Self::TestMessage01(_) => const { match DSRCmsgID::new(241) { Some(id) => id, None => panic!("id out of range") } },
-            Self::TestMessage02(_) => const { match DSRCmsgID::new(242) { Some(id) => id, None => panic!("id out of range") } },
-            Self::TestMessage03(_) => const { match DSRCmsgID::new(243) { Some(id) => id, None => panic!("id out of range") } },
-            Self::TestMessage04(_) => const { match DSRCmsgID::new(244) { Some(id) => id, None => panic!("id out of range") } },
-            Self::TestMessage05(_) => const { match DSRCmsgID::new(245) { Some(id) => id, None => panic!("id out of range") } },
-            Self::TestMessage06(_) => const { match DSRCmsgID::new(246) { Some(id) => id, None => panic!("id out of range") } },
-            Self::TestMessage07(_) => const { match DSRCmsgID::new(247) { Some(id) => id, None => panic!("id out of range") } },
-            Self::TestMessage08(_) => const { match DSRCmsgID::new(248) { Some(id) => id, None => panic!("id out of range") } },
-            Self::TestMessage09(_) => const { match DSRCmsgID::new(249) { Some(id) => id, None => panic!("id out of range") } },
-            Self::TestMessage10(_) => const { match DSRCmsgID::new(250) { Some(id) => id, None => panic!("id out of range") } },
-            Self::TestMessage11(_) => const { match DSRCmsgID::new(251) { Some(id) => id, None => panic!("id out of range") } },
-            Self::TestMessage12(_) => const { match DSRCmsgID::new(252) { Some(id) => id, None => panic!("id out of range") } },
-            Self::TestMessage13(_) => const { match DSRCmsgID::new(253) { Some(id) => id, None => panic!("id out of range") } },
-            Self::TestMessage14(_) => const { match DSRCmsgID::new(254) { Some(id) => id, None => panic!("id out of range") } },
-            Self::TestMessage15(_) => const { match DSRCmsgID::new(255) { Some(id) => id, None => panic!("id out of range") } },
+            Self::MapData(_) => {
+                const {
+                    match DSRCmsgID::new(18) {
+                        Some(id) => id,
+                        None => panic!("id out of range"),
+                    }
+                }
+            }
+            Self::SPAT(_) => {
+                const {
+                    match DSRCmsgID::new(19) {
+                        Some(id) => id,
+                        None => panic!("id out of range"),
+                    }
+                }
+            }
+            Self::BasicSafetyMessage(_) => {
+                const {
+                    match DSRCmsgID::new(20) {
+                        Some(id) => id,
+                        None => panic!("id out of range"),
+                    }
+                }
+            }
+            Self::CommonSafetyRequest(_) => {
+                const {
+                    match DSRCmsgID::new(21) {
+                        Some(id) => id,
+                        None => panic!("id out of range"),
+                    }
+                }
+            }
+            Self::EmergencyVehicleAlert(_) => {
+                const {
+                    match DSRCmsgID::new(22) {
+                        Some(id) => id,
+                        None => panic!("id out of range"),
+                    }
+                }
+            }
+            Self::IntersectionCollision(_) => {
+                const {
+                    match DSRCmsgID::new(23) {
+                        Some(id) => id,
+                        None => panic!("id out of range"),
+                    }
+                }
+            }
+            Self::NMEAcorrections(_) => {
+                const {
+                    match DSRCmsgID::new(24) {
+                        Some(id) => id,
+                        None => panic!("id out of range"),
+                    }
+                }
+            }
+            Self::ProbeDataManagement(_) => {
+                const {
+                    match DSRCmsgID::new(25) {
+                        Some(id) => id,
+                        None => panic!("id out of range"),
+                    }
+                }
+            }
+            Self::ProbeVehicleData(_) => {
+                const {
+                    match DSRCmsgID::new(26) {
+                        Some(id) => id,
+                        None => panic!("id out of range"),
+                    }
+                }
+            }
+            Self::RoadSideAlert(_) => {
+                const {
+                    match DSRCmsgID::new(27) {
+                        Some(id) => id,
+                        None => panic!("id out of range"),
+                    }
+                }
+            }
+            Self::RTCMcorrections(_) => {
+                const {
+                    match DSRCmsgID::new(28) {
+                        Some(id) => id,
+                        None => panic!("id out of range"),
+                    }
+                }
+            }
+            Self::SignalRequestMessage(_) => {
+                const {
+                    match DSRCmsgID::new(29) {
+                        Some(id) => id,
+                        None => panic!("id out of range"),
+                    }
+                }
+            }
+            Self::SignalStatusMessage(_) => {
+                const {
+                    match DSRCmsgID::new(30) {
+                        Some(id) => id,
+                        None => panic!("id out of range"),
+                    }
+                }
+            }
+            Self::TravelerInformation(_) => {
+                const {
+                    match DSRCmsgID::new(31) {
+                        Some(id) => id,
+                        None => panic!("id out of range"),
+                    }
+                }
+            }
+            Self::PersonalSafetyMessage(_) => {
+                const {
+                    match DSRCmsgID::new(32) {
+                        Some(id) => id,
+                        None => panic!("id out of range"),
+                    }
+                }
+            }
+            Self::TestMessage00(_) => {
+                const {
+                    match DSRCmsgID::new(240) {
+                        Some(id) => id,
+                        None => panic!("id out of range"),
+                    }
+                }
+            }
+            Self::TestMessage01(_) => {
+                const {
+                    match DSRCmsgID::new(241) {
+                        Some(id) => id,
+                        None => panic!("id out of range"),
+                    }
+                }
+            }
+            Self::TestMessage02(_) => {
+                const {
+                    match DSRCmsgID::new(242) {
+                        Some(id) => id,
+                        None => panic!("id out of range"),
+                    }
+                }
+            }
+            Self::TestMessage03(_) => {
+                const {
+                    match DSRCmsgID::new(243) {
+                        Some(id) => id,
+                        None => panic!("id out of range"),
+                    }
+                }
+            }
+            Self::TestMessage04(_) => {
+                const {
+                    match DSRCmsgID::new(244) {
+                        Some(id) => id,
+                        None => panic!("id out of range"),
+                    }
+                }
+            }
+            Self::TestMessage05(_) => {
+                const {
+                    match DSRCmsgID::new(245) {
+                        Some(id) => id,
+                        None => panic!("id out of range"),
+                    }
+                }
+            }
+            Self::TestMessage06(_) => {
+                const {
+                    match DSRCmsgID::new(246) {
+                        Some(id) => id,
+                        None => panic!("id out of range"),
+                    }
+                }
+            }
+            Self::TestMessage07(_) => {
+                const {
+                    match DSRCmsgID::new(247) {
+                        Some(id) => id,
+                        None => panic!("id out of range"),
+                    }
+                }
+            }
+            Self::TestMessage08(_) => {
+                const {
+                    match DSRCmsgID::new(248) {
+                        Some(id) => id,
+                        None => panic!("id out of range"),
+                    }
+                }
+            }
+            Self::TestMessage09(_) => {
+                const {
+                    match DSRCmsgID::new(249) {
+                        Some(id) => id,
+                        None => panic!("id out of range"),
+                    }
+                }
+            }
+            Self::TestMessage10(_) => {
+                const {
+                    match DSRCmsgID::new(250) {
+                        Some(id) => id,
+                        None => panic!("id out of range"),
+                    }
+                }
+            }
+            Self::TestMessage11(_) => {
+                const {
+                    match DSRCmsgID::new(251) {
+                        Some(id) => id,
+                        None => panic!("id out of range"),
+                    }
+                }
+            }
+            Self::TestMessage12(_) => {
+                const {
+                    match DSRCmsgID::new(252) {
+                        Some(id) => id,
+                        None => panic!("id out of range"),
+                    }
+                }
+            }
+            Self::TestMessage13(_) => {
+                const {
+                    match DSRCmsgID::new(253) {
+                        Some(id) => id,
+                        None => panic!("id out of range"),
+                    }
+                }
+            }
+            Self::TestMessage14(_) => {
+                const {
+                    match DSRCmsgID::new(254) {
+                        Some(id) => id,
+                        None => panic!("id out of range"),
+                    }
+                }
+            }
+            Self::TestMessage15(_) => {
+                const {
+                    match DSRCmsgID::new(255) {
+                        Some(id) => id,
+                        None => panic!("id out of range"),
+                    }
+                }
+            }
             Self::Unknown { id, .. } => *id,
         }
     }
 }
 
+impl crate::frame::Message for super::map_data::MapData {
+    const MESSAGE_ID: u16 = 18;
+}
+
+impl crate::frame::Message for super::spat::SPAT {
+    const MESSAGE_ID: u16 = 19;
+}
+
+impl crate::frame::Message for super::basic_safety_message::BasicSafetyMessage {
+    const MESSAGE_ID: u16 = 20;
+}
+
+impl crate::frame::Message for super::common_safety_request::CommonSafetyRequest {
+    const MESSAGE_ID: u16 = 21;
+}
+
+impl crate::frame::Message for super::emergency_vehicle_alert::EmergencyVehicleAlert {
+    const MESSAGE_ID: u16 = 22;
+}
+
+impl crate::frame::Message for super::intersection_collision::IntersectionCollision {
+    const MESSAGE_ID: u16 = 23;
+}
+
+impl crate::frame::Message for super::nmea_corrections::NMEAcorrections {
+    const MESSAGE_ID: u16 = 24;
+}
+
+impl crate::frame::Message for super::probe_data_management::ProbeDataManagement {
+    const MESSAGE_ID: u16 = 25;
+}
+
+impl crate::frame::Message for super::probe_vehicle_data::ProbeVehicleData {
+    const MESSAGE_ID: u16 = 26;
+}
+
+impl crate::frame::Message for super::road_side_alert::RoadSideAlert {
+    const MESSAGE_ID: u16 = 27;
+}
+
+impl crate::frame::Message for super::rtcm_corrections::RTCMcorrections {
+    const MESSAGE_ID: u16 = 28;
+}
+
+impl crate::frame::Message for super::signal_request_message::SignalRequestMessage {
+    const MESSAGE_ID: u16 = 29;
+}
+
+impl crate::frame::Message for super::signal_status_message::SignalStatusMessage {
+    const MESSAGE_ID: u16 = 30;
+}
+
+impl crate::frame::Message for super::traveler_information::TravelerInformation {
+    const MESSAGE_ID: u16 = 31;
+}
+
+impl crate::frame::Message for super::personal_safety_message::PersonalSafetyMessage {
+    const MESSAGE_ID: u16 = 32;
+}
+
+impl crate::frame::Message for super::test_message00::TestMessage00 {
+    const MESSAGE_ID: u16 = 240;
+}
+
+impl crate::frame::Message for super::test_message01::TestMessage01 {
+    const MESSAGE_ID: u16 = 241;
+}
+
+impl crate::frame::Message for super::test_message02::TestMessage02 {
+    const MESSAGE_ID: u16 = 242;
+}
+
+impl crate::frame::Message for super::test_message03::TestMessage03 {
+    const MESSAGE_ID: u16 = 243;
+}
+
+impl crate::frame::Message for super::test_message04::TestMessage04 {
+    const MESSAGE_ID: u16 = 244;
+}
+
+impl crate::frame::Message for super::test_message05::TestMessage05 {
+    const MESSAGE_ID: u16 = 245;
+}
+
+impl crate::frame::Message for super::test_message06::TestMessage06 {
+    const MESSAGE_ID: u16 = 246;
+}
+
+impl crate::frame::Message for super::test_message07::TestMessage07 {
+    const MESSAGE_ID: u16 = 247;
+}
+
+impl crate::frame::Message for super::test_message08::TestMessage08 {
+    const MESSAGE_ID: u16 = 248;
+}
+
+impl crate::frame::Message for super::test_message09::TestMessage09 {
+    const MESSAGE_ID: u16 = 249;
+}
+
+impl crate::frame::Message for super::test_message10::TestMessage10 {
+    const MESSAGE_ID: u16 = 250;
+}
+
+impl crate::frame::Message for super::test_message11::TestMessage11 {
+    const MESSAGE_ID: u16 = 251;
+}
+
+impl crate::frame::Message for super::test_message12::TestMessage12 {
+    const MESSAGE_ID: u16 = 252;
+}
+
+impl crate::frame::Message for super::test_message13::TestMessage13 {
+    const MESSAGE_ID: u16 = 253;
+}
+
+impl crate::frame::Message for super::test_message14::TestMessage14 {
+    const MESSAGE_ID: u16 = 254;
+}
+
+impl crate::frame::Message for super::test_message15::TestMessage15 {
+    const MESSAGE_ID: u16 = 255;
+}
+
 impl uper::Placeholder for MessageFrameValue {
     fn placeholder() -> Self {
-        Self::Unknown { id: <DSRCmsgID as uper::Placeholder>::placeholder(), content: uper::Octets::new() }
+        Self::Unknown {
+            id: <DSRCmsgID as uper::Placeholder>::placeholder(),
+            content: uper::Octets::new(),
+        }
     }
 }
 
@@ -183,7 +534,11 @@ impl Uper for MessageFrameValue {
         match id.get() {
             18 => {
                 if !matches!(out, Self::MapData(_)) {
-                    uper::replace_with(out, || Self::MapData(<super::map_data::MapData as uper::Placeholder>::placeholder()));
+                    uper::replace_with(out, || {
+                        Self::MapData(
+                            <super::map_data::MapData as uper::Placeholder>::placeholder(),
+                        )
+                    });
                 }
                 if let Self::MapData(v) = out {
                     uper::decode_open(r, |r| <super::map_data::MapData>::decode_into(r, v))?;
@@ -191,7 +546,9 @@ impl Uper for MessageFrameValue {
             }
             19 => {
                 if !matches!(out, Self::SPAT(_)) {
-                    uper::replace_with(out, || Self::SPAT(<super::spat::SPAT as uper::Placeholder>::placeholder()));
+                    uper::replace_with(out, || {
+                        Self::SPAT(<super::spat::SPAT as uper::Placeholder>::placeholder())
+                    });
                 }
                 if let Self::SPAT(v) = out {
                     uper::decode_open(r, |r| <super::spat::SPAT>::decode_into(r, v))?;
@@ -199,237 +556,361 @@ impl Uper for MessageFrameValue {
             }
             20 => {
                 if !matches!(out, Self::BasicSafetyMessage(_)) {
-                    uper::replace_with(out, || Self::BasicSafetyMessage(<super::basic_safety_message::BasicSafetyMessage as uper::Placeholder>::placeholder()));
+                    uper::replace_with(out, || {
+                        Self::BasicSafetyMessage(<super::basic_safety_message::BasicSafetyMessage as uper::Placeholder>::placeholder())
+                    });
                 }
                 if let Self::BasicSafetyMessage(v) = out {
-                    uper::decode_open(r, |r| <super::basic_safety_message::BasicSafetyMessage>::decode_into(r, v))?;
+                    uper::decode_open(r, |r| {
+                        <super::basic_safety_message::BasicSafetyMessage>::decode_into(r, v)
+                    })?;
                 }
             }
             21 => {
                 if !matches!(out, Self::CommonSafetyRequest(_)) {
-                    uper::replace_with(out, || Self::CommonSafetyRequest(<super::common_safety_request::CommonSafetyRequest as uper::Placeholder>::placeholder()));
+                    uper::replace_with(out, || {
+                        Self::CommonSafetyRequest(<super::common_safety_request::CommonSafetyRequest as uper::Placeholder>::placeholder())
+                    });
                 }
                 if let Self::CommonSafetyRequest(v) = out {
-                    uper::decode_open(r, |r| <super::common_safety_request::CommonSafetyRequest>::decode_into(r, v))?;
+                    uper::decode_open(r, |r| {
+                        <super::common_safety_request::CommonSafetyRequest>::decode_into(r, v)
+                    })?;
                 }
             }
             22 => {
                 if !matches!(out, Self::EmergencyVehicleAlert(_)) {
-                    uper::replace_with(out, || Self::EmergencyVehicleAlert(<super::emergency_vehicle_alert::EmergencyVehicleAlert as uper::Placeholder>::placeholder()));
+                    uper::replace_with(out, || {
+                        Self::EmergencyVehicleAlert(<super::emergency_vehicle_alert::EmergencyVehicleAlert as uper::Placeholder>::placeholder())
+                    });
                 }
                 if let Self::EmergencyVehicleAlert(v) = out {
-                    uper::decode_open(r, |r| <super::emergency_vehicle_alert::EmergencyVehicleAlert>::decode_into(r, v))?;
+                    uper::decode_open(r, |r| {
+                        <super::emergency_vehicle_alert::EmergencyVehicleAlert>::decode_into(r, v)
+                    })?;
                 }
             }
             23 => {
                 if !matches!(out, Self::IntersectionCollision(_)) {
-                    uper::replace_with(out, || Self::IntersectionCollision(<super::intersection_collision::IntersectionCollision as uper::Placeholder>::placeholder()));
+                    uper::replace_with(out, || {
+                        Self::IntersectionCollision(<super::intersection_collision::IntersectionCollision as uper::Placeholder>::placeholder())
+                    });
                 }
                 if let Self::IntersectionCollision(v) = out {
-                    uper::decode_open(r, |r| <super::intersection_collision::IntersectionCollision>::decode_into(r, v))?;
+                    uper::decode_open(r, |r| {
+                        <super::intersection_collision::IntersectionCollision>::decode_into(r, v)
+                    })?;
                 }
             }
             24 => {
                 if !matches!(out, Self::NMEAcorrections(_)) {
-                    uper::replace_with(out, || Self::NMEAcorrections(<super::nmea_corrections::NMEAcorrections as uper::Placeholder>::placeholder()));
+                    uper::replace_with(out, || {
+                        Self::NMEAcorrections(<super::nmea_corrections::NMEAcorrections as uper::Placeholder>::placeholder())
+                    });
                 }
                 if let Self::NMEAcorrections(v) = out {
-                    uper::decode_open(r, |r| <super::nmea_corrections::NMEAcorrections>::decode_into(r, v))?;
+                    uper::decode_open(r, |r| {
+                        <super::nmea_corrections::NMEAcorrections>::decode_into(r, v)
+                    })?;
                 }
             }
             25 => {
                 if !matches!(out, Self::ProbeDataManagement(_)) {
-                    uper::replace_with(out, || Self::ProbeDataManagement(<super::probe_data_management::ProbeDataManagement as uper::Placeholder>::placeholder()));
+                    uper::replace_with(out, || {
+                        Self::ProbeDataManagement(<super::probe_data_management::ProbeDataManagement as uper::Placeholder>::placeholder())
+                    });
                 }
                 if let Self::ProbeDataManagement(v) = out {
-                    uper::decode_open(r, |r| <super::probe_data_management::ProbeDataManagement>::decode_into(r, v))?;
+                    uper::decode_open(r, |r| {
+                        <super::probe_data_management::ProbeDataManagement>::decode_into(r, v)
+                    })?;
                 }
             }
             26 => {
                 if !matches!(out, Self::ProbeVehicleData(_)) {
-                    uper::replace_with(out, || Self::ProbeVehicleData(<super::probe_vehicle_data::ProbeVehicleData as uper::Placeholder>::placeholder()));
+                    uper::replace_with(out, || {
+                        Self::ProbeVehicleData(<super::probe_vehicle_data::ProbeVehicleData as uper::Placeholder>::placeholder())
+                    });
                 }
                 if let Self::ProbeVehicleData(v) = out {
-                    uper::decode_open(r, |r| <super::probe_vehicle_data::ProbeVehicleData>::decode_into(r, v))?;
+                    uper::decode_open(r, |r| {
+                        <super::probe_vehicle_data::ProbeVehicleData>::decode_into(r, v)
+                    })?;
                 }
             }
             27 => {
                 if !matches!(out, Self::RoadSideAlert(_)) {
-                    uper::replace_with(out, || Self::RoadSideAlert(<super::road_side_alert::RoadSideAlert as uper::Placeholder>::placeholder()));
+                    uper::replace_with(out, || {
+                        Self::RoadSideAlert(<super::road_side_alert::RoadSideAlert as uper::Placeholder>::placeholder())
+                    });
                 }
                 if let Self::RoadSideAlert(v) = out {
-                    uper::decode_open(r, |r| <super::road_side_alert::RoadSideAlert>::decode_into(r, v))?;
+                    uper::decode_open(r, |r| {
+                        <super::road_side_alert::RoadSideAlert>::decode_into(r, v)
+                    })?;
                 }
             }
             28 => {
                 if !matches!(out, Self::RTCMcorrections(_)) {
-                    uper::replace_with(out, || Self::RTCMcorrections(<super::rtcm_corrections::RTCMcorrections as uper::Placeholder>::placeholder()));
+                    uper::replace_with(out, || {
+                        Self::RTCMcorrections(<super::rtcm_corrections::RTCMcorrections as uper::Placeholder>::placeholder())
+                    });
                 }
                 if let Self::RTCMcorrections(v) = out {
-                    uper::decode_open(r, |r| <super::rtcm_corrections::RTCMcorrections>::decode_into(r, v))?;
+                    uper::decode_open(r, |r| {
+                        <super::rtcm_corrections::RTCMcorrections>::decode_into(r, v)
+                    })?;
                 }
             }
             29 => {
                 if !matches!(out, Self::SignalRequestMessage(_)) {
-                    uper::replace_with(out, || Self::SignalRequestMessage(<super::signal_request_message::SignalRequestMessage as uper::Placeholder>::placeholder()));
+                    uper::replace_with(out, || {
+                        Self::SignalRequestMessage(<super::signal_request_message::SignalRequestMessage as uper::Placeholder>::placeholder())
+                    });
                 }
                 if let Self::SignalRequestMessage(v) = out {
-                    uper::decode_open(r, |r| <super::signal_request_message::SignalRequestMessage>::decode_into(r, v))?;
+                    uper::decode_open(r, |r| {
+                        <super::signal_request_message::SignalRequestMessage>::decode_into(r, v)
+                    })?;
                 }
             }
             30 => {
                 if !matches!(out, Self::SignalStatusMessage(_)) {
-                    uper::replace_with(out, || Self::SignalStatusMessage(<super::signal_status_message::SignalStatusMessage as uper::Placeholder>::placeholder()));
+                    uper::replace_with(out, || {
+                        Self::SignalStatusMessage(<super::signal_status_message::SignalStatusMessage as uper::Placeholder>::placeholder())
+                    });
                 }
                 if let Self::SignalStatusMessage(v) = out {
-                    uper::decode_open(r, |r| <super::signal_status_message::SignalStatusMessage>::decode_into(r, v))?;
+                    uper::decode_open(r, |r| {
+                        <super::signal_status_message::SignalStatusMessage>::decode_into(r, v)
+                    })?;
                 }
             }
             31 => {
                 if !matches!(out, Self::TravelerInformation(_)) {
-                    uper::replace_with(out, || Self::TravelerInformation(<super::traveler_information::TravelerInformation as uper::Placeholder>::placeholder()));
+                    uper::replace_with(out, || {
+                        Self::TravelerInformation(<super::traveler_information::TravelerInformation as uper::Placeholder>::placeholder())
+                    });
                 }
                 if let Self::TravelerInformation(v) = out {
-                    uper::decode_open(r, |r| <super::traveler_information::TravelerInformation>::decode_into(r, v))?;
+                    uper::decode_open(r, |r| {
+                        <super::traveler_information::TravelerInformation>::decode_into(r, v)
+                    })?;
                 }
             }
             32 => {
                 if !matches!(out, Self::PersonalSafetyMessage(_)) {
-                    uper::replace_with(out, || Self::PersonalSafetyMessage(<super::personal_safety_message::PersonalSafetyMessage as uper::Placeholder>::placeholder()));
+                    uper::replace_with(out, || {
+                        Self::PersonalSafetyMessage(<super::personal_safety_message::PersonalSafetyMessage as uper::Placeholder>::placeholder())
+                    });
                 }
                 if let Self::PersonalSafetyMessage(v) = out {
-                    uper::decode_open(r, |r| <super::personal_safety_message::PersonalSafetyMessage>::decode_into(r, v))?;
+                    uper::decode_open(r, |r| {
+                        <super::personal_safety_message::PersonalSafetyMessage>::decode_into(r, v)
+                    })?;
                 }
             }
             240 => {
                 if !matches!(out, Self::TestMessage00(_)) {
-                    uper::replace_with(out, || Self::TestMessage00(<super::test_message00::TestMessage00 as uper::Placeholder>::placeholder()));
+                    uper::replace_with(out, || {
+                        Self::TestMessage00(<super::test_message00::TestMessage00 as uper::Placeholder>::placeholder())
+                    });
                 }
                 if let Self::TestMessage00(v) = out {
-                    uper::decode_open(r, |r| <super::test_message00::TestMessage00>::decode_into(r, v))?;
+                    uper::decode_open(r, |r| {
+                        <super::test_message00::TestMessage00>::decode_into(r, v)
+                    })?;
                 }
             }
             241 => {
                 if !matches!(out, Self::TestMessage01(_)) {
-                    uper::replace_with(out, || Self::TestMessage01(<super::test_message01::TestMessage01 as uper::Placeholder>::placeholder()));
+                    uper::replace_with(out, || {
+                        Self::TestMessage01(<super::test_message01::TestMessage01 as uper::Placeholder>::placeholder())
+                    });
                 }
                 if let Self::TestMessage01(v) = out {
-                    uper::decode_open(r, |r| <super::test_message01::TestMessage01>::decode_into(r, v))?;
+                    uper::decode_open(r, |r| {
+                        <super::test_message01::TestMessage01>::decode_into(r, v)
+                    })?;
                 }
             }
             242 => {
                 if !matches!(out, Self::TestMessage02(_)) {
-                    uper::replace_with(out, || Self::TestMessage02(<super::test_message02::TestMessage02 as uper::Placeholder>::placeholder()));
+                    uper::replace_with(out, || {
+                        Self::TestMessage02(<super::test_message02::TestMessage02 as uper::Placeholder>::placeholder())
+                    });
                 }
                 if let Self::TestMessage02(v) = out {
-                    uper::decode_open(r, |r| <super::test_message02::TestMessage02>::decode_into(r, v))?;
+                    uper::decode_open(r, |r| {
+                        <super::test_message02::TestMessage02>::decode_into(r, v)
+                    })?;
                 }
             }
             243 => {
                 if !matches!(out, Self::TestMessage03(_)) {
-                    uper::replace_with(out, || Self::TestMessage03(<super::test_message03::TestMessage03 as uper::Placeholder>::placeholder()));
+                    uper::replace_with(out, || {
+                        Self::TestMessage03(<super::test_message03::TestMessage03 as uper::Placeholder>::placeholder())
+                    });
                 }
                 if let Self::TestMessage03(v) = out {
-                    uper::decode_open(r, |r| <super::test_message03::TestMessage03>::decode_into(r, v))?;
+                    uper::decode_open(r, |r| {
+                        <super::test_message03::TestMessage03>::decode_into(r, v)
+                    })?;
                 }
             }
             244 => {
                 if !matches!(out, Self::TestMessage04(_)) {
-                    uper::replace_with(out, || Self::TestMessage04(<super::test_message04::TestMessage04 as uper::Placeholder>::placeholder()));
+                    uper::replace_with(out, || {
+                        Self::TestMessage04(<super::test_message04::TestMessage04 as uper::Placeholder>::placeholder())
+                    });
                 }
                 if let Self::TestMessage04(v) = out {
-                    uper::decode_open(r, |r| <super::test_message04::TestMessage04>::decode_into(r, v))?;
+                    uper::decode_open(r, |r| {
+                        <super::test_message04::TestMessage04>::decode_into(r, v)
+                    })?;
                 }
             }
             245 => {
                 if !matches!(out, Self::TestMessage05(_)) {
-                    uper::replace_with(out, || Self::TestMessage05(<super::test_message05::TestMessage05 as uper::Placeholder>::placeholder()));
+                    uper::replace_with(out, || {
+                        Self::TestMessage05(<super::test_message05::TestMessage05 as uper::Placeholder>::placeholder())
+                    });
                 }
                 if let Self::TestMessage05(v) = out {
-                    uper::decode_open(r, |r| <super::test_message05::TestMessage05>::decode_into(r, v))?;
+                    uper::decode_open(r, |r| {
+                        <super::test_message05::TestMessage05>::decode_into(r, v)
+                    })?;
                 }
             }
             246 => {
                 if !matches!(out, Self::TestMessage06(_)) {
-                    uper::replace_with(out, || Self::TestMessage06(<super::test_message06::TestMessage06 as uper::Placeholder>::placeholder()));
+                    uper::replace_with(out, || {
+                        Self::TestMessage06(<super::test_message06::TestMessage06 as uper::Placeholder>::placeholder())
+                    });
                 }
                 if let Self::TestMessage06(v) = out {
-                    uper::decode_open(r, |r| <super::test_message06::TestMessage06>::decode_into(r, v))?;
+                    uper::decode_open(r, |r| {
+                        <super::test_message06::TestMessage06>::decode_into(r, v)
+                    })?;
                 }
             }
             247 => {
                 if !matches!(out, Self::TestMessage07(_)) {
-                    uper::replace_with(out, || Self::TestMessage07(<super::test_message07::TestMessage07 as uper::Placeholder>::placeholder()));
+                    uper::replace_with(out, || {
+                        Self::TestMessage07(<super::test_message07::TestMessage07 as uper::Placeholder>::placeholder())
+                    });
                 }
                 if let Self::TestMessage07(v) = out {
-                    uper::decode_open(r, |r| <super::test_message07::TestMessage07>::decode_into(r, v))?;
+                    uper::decode_open(r, |r| {
+                        <super::test_message07::TestMessage07>::decode_into(r, v)
+                    })?;
                 }
             }
             248 => {
                 if !matches!(out, Self::TestMessage08(_)) {
-                    uper::replace_with(out, || Self::TestMessage08(<super::test_message08::TestMessage08 as uper::Placeholder>::placeholder()));
+                    uper::replace_with(out, || {
+                        Self::TestMessage08(<super::test_message08::TestMessage08 as uper::Placeholder>::placeholder())
+                    });
                 }
                 if let Self::TestMessage08(v) = out {
-                    uper::decode_open(r, |r| <super::test_message08::TestMessage08>::decode_into(r, v))?;
+                    uper::decode_open(r, |r| {
+                        <super::test_message08::TestMessage08>::decode_into(r, v)
+                    })?;
                 }
             }
             249 => {
                 if !matches!(out, Self::TestMessage09(_)) {
-                    uper::replace_with(out, || Self::TestMessage09(<super::test_message09::TestMessage09 as uper::Placeholder>::placeholder()));
+                    uper::replace_with(out, || {
+                        Self::TestMessage09(<super::test_message09::TestMessage09 as uper::Placeholder>::placeholder())
+                    });
                 }
                 if let Self::TestMessage09(v) = out {
-                    uper::decode_open(r, |r| <super::test_message09::TestMessage09>::decode_into(r, v))?;
+                    uper::decode_open(r, |r| {
+                        <super::test_message09::TestMessage09>::decode_into(r, v)
+                    })?;
                 }
             }
             250 => {
                 if !matches!(out, Self::TestMessage10(_)) {
-                    uper::replace_with(out, || Self::TestMessage10(<super::test_message10::TestMessage10 as uper::Placeholder>::placeholder()));
+                    uper::replace_with(out, || {
+                        Self::TestMessage10(<super::test_message10::TestMessage10 as uper::Placeholder>::placeholder())
+                    });
                 }
                 if let Self::TestMessage10(v) = out {
-                    uper::decode_open(r, |r| <super::test_message10::TestMessage10>::decode_into(r, v))?;
+                    uper::decode_open(r, |r| {
+                        <super::test_message10::TestMessage10>::decode_into(r, v)
+                    })?;
                 }
             }
             251 => {
                 if !matches!(out, Self::TestMessage11(_)) {
-                    uper::replace_with(out, || Self::TestMessage11(<super::test_message11::TestMessage11 as uper::Placeholder>::placeholder()));
+                    uper::replace_with(out, || {
+                        Self::TestMessage11(<super::test_message11::TestMessage11 as uper::Placeholder>::placeholder())
+                    });
                 }
                 if let Self::TestMessage11(v) = out {
-                    uper::decode_open(r, |r| <super::test_message11::TestMessage11>::decode_into(r, v))?;
+                    uper::decode_open(r, |r| {
+                        <super::test_message11::TestMessage11>::decode_into(r, v)
+                    })?;
                 }
             }
             252 => {
                 if !matches!(out, Self::TestMessage12(_)) {
-                    uper::replace_with(out, || Self::TestMessage12(<super::test_message12::TestMessage12 as uper::Placeholder>::placeholder()));
+                    uper::replace_with(out, || {
+                        Self::TestMessage12(<super::test_message12::TestMessage12 as uper::Placeholder>::placeholder())
+                    });
                 }
                 if let Self::TestMessage12(v) = out {
-                    uper::decode_open(r, |r| <super::test_message12::TestMessage12>::decode_into(r, v))?;
+                    uper::decode_open(r, |r| {
+                        <super::test_message12::TestMessage12>::decode_into(r, v)
+                    })?;
                 }
             }
             253 => {
                 if !matches!(out, Self::TestMessage13(_)) {
-                    uper::replace_with(out, || Self::TestMessage13(<super::test_message13::TestMessage13 as uper::Placeholder>::placeholder()));
+                    uper::replace_with(out, || {
+                        Self::TestMessage13(<super::test_message13::TestMessage13 as uper::Placeholder>::placeholder())
+                    });
                 }
                 if let Self::TestMessage13(v) = out {
-                    uper::decode_open(r, |r| <super::test_message13::TestMessage13>::decode_into(r, v))?;
+                    uper::decode_open(r, |r| {
+                        <super::test_message13::TestMessage13>::decode_into(r, v)
+                    })?;
                 }
             }
             254 => {
                 if !matches!(out, Self::TestMessage14(_)) {
-                    uper::replace_with(out, || Self::TestMessage14(<super::test_message14::TestMessage14 as uper::Placeholder>::placeholder()));
+                    uper::replace_with(out, || {
+                        Self::TestMessage14(<super::test_message14::TestMessage14 as uper::Placeholder>::placeholder())
+                    });
                 }
                 if let Self::TestMessage14(v) = out {
-                    uper::decode_open(r, |r| <super::test_message14::TestMessage14>::decode_into(r, v))?;
+                    uper::decode_open(r, |r| {
+                        <super::test_message14::TestMessage14>::decode_into(r, v)
+                    })?;
                 }
             }
             255 => {
                 if !matches!(out, Self::TestMessage15(_)) {
-                    uper::replace_with(out, || Self::TestMessage15(<super::test_message15::TestMessage15 as uper::Placeholder>::placeholder()));
+                    uper::replace_with(out, || {
+                        Self::TestMessage15(<super::test_message15::TestMessage15 as uper::Placeholder>::placeholder())
+                    });
                 }
                 if let Self::TestMessage15(v) = out {
-                    uper::decode_open(r, |r| <super::test_message15::TestMessage15>::decode_into(r, v))?;
+                    uper::decode_open(r, |r| {
+                        <super::test_message15::TestMessage15>::decode_into(r, v)
+                    })?;
                 }
             }
-            _ => *out = Self::Unknown { id, content: uper::decode_unknown_open(r, "MessageFrame.MessageFrame.value:unknown")? },
+            _ => {
+                *out = Self::Unknown {
+                    id,
+                    content: uper::decode_unknown_open(
+                        r,
+                        "MessageFrame.MessageFrame.value:unknown",
+                    )?,
+                }
+            }
         }
         Ok(())
     }

@@ -3,8 +3,13 @@
 
 //! The generated J2735 2020 types, one module per ASN.1 module.
 
-#![allow(clippy::upper_case_acronyms, clippy::large_enum_variant, clippy::identity_op,
-    clippy::needless_borrow, clippy::match_single_binding, missing_docs)]
+#![allow(
+    clippy::upper_case_acronyms,
+    clippy::large_enum_variant,
+    clippy::identity_op,
+    clippy::needless_borrow,
+    clippy::match_single_binding
+)]
 
 /// ASN.1 module `AddGrpB`.
 #[allow(non_camel_case_types)]
@@ -121,10 +126,21 @@ pub mod test_message15;
 #[allow(non_camel_case_types)]
 pub mod traveler_information;
 
-pub use message_frame::{MessageFrame, MessageFrameValue, DSRCmsgID};
-pub use map_data::{MapData, IntersectionGeometry, RoadSegment, GenericLane, LaneAttributes, LaneTypeAttributes, LaneDirection, Connection, ConnectsToList};
-pub use traveler_information::{TravelerInformation, TravelerDataFrame, GeographicalPath, OffsetSystem, NodeListLL, TravelerDataFrameList};
-pub use common::{Position3D, Latitude, Longitude, Elevation, NodeXY, NodeSetXY, NodeOffsetPointXY, NodeAttributeSetXY, NodeListXY, ComputedLane, LaneID, LaneWidth, SpeedLimitList, RegulatorySpeedLimit, SpeedLimitType, Velocity, HeadingSlice, MsgCount, MinuteOfTheYear, DYear, DescriptiveName, IntersectionReferenceID, RoadSegmentReferenceID, Heading, Speed};
-pub use basic_safety_message::{BasicSafetyMessage};
-pub use spat::{SPAT};
+pub use basic_safety_message::BasicSafetyMessage;
+pub use common::{
+    ComputedLane, DYear, DescriptiveName, Elevation, Heading, HeadingSlice,
+    IntersectionReferenceID, LaneID, LaneWidth, Latitude, Longitude, MinuteOfTheYear, MsgCount,
+    NodeAttributeSetXY, NodeListXY, NodeOffsetPointXY, NodeSetXY, NodeXY, Position3D,
+    RegulatorySpeedLimit, RoadSegmentReferenceID, Speed, SpeedLimitList, SpeedLimitType, Velocity,
+};
 pub use itis::{ITIScodes, ITIScodesAndText};
+pub use map_data::{
+    Connection, ConnectsToList, GenericLane, IntersectionGeometry, LaneAttributes, LaneDirection,
+    LaneTypeAttributes, MapData, RoadSegment,
+};
+pub use message_frame::{DSRCmsgID, MessageFrame, MessageFrameValue};
+pub use spat::SPAT;
+pub use traveler_information::{
+    GeographicalPath, NodeListLL, OffsetSystem, TravelerDataFrame, TravelerDataFrameList,
+    TravelerInformation,
+};

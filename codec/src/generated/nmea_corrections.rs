@@ -27,7 +27,15 @@ pub struct NMEAcorrections {
 
 impl uper::Placeholder for NMEAcorrections {
     fn placeholder() -> Self {
-        Self { time_stamp: None, rev: None, msg: None, wd_count: None, payload: <NMEAPayload as uper::Placeholder>::placeholder(), regional: None, extensions: uper::Extensions::new() }
+        Self {
+            time_stamp: None,
+            rev: None,
+            msg: None,
+            wd_count: None,
+            payload: <NMEAPayload as uper::Placeholder>::placeholder(),
+            regional: None,
+            extensions: uper::Extensions::new(),
+        }
     }
 }
 
@@ -88,12 +96,23 @@ impl Uper for NMEAcorrections {
         } else {
             out.regional = None;
         }
-        out.extensions = if extended { uper::Extensions::decode(r, "NMEAcorrections.NMEAcorrections:ext")? } else { uper::Extensions::new() };
+        out.extensions = if extended {
+            uper::Extensions::decode(r, "NMEAcorrections.NMEAcorrections:ext")?
+        } else {
+            uper::Extensions::new()
+        };
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_bit(self.extensions.is_present())?;
-        w.write_bits(((self.time_stamp.is_some() as u64) << 4) | ((self.rev.is_some() as u64) << 3) | ((self.msg.is_some() as u64) << 2) | ((self.wd_count.is_some() as u64) << 1) | ((self.regional.is_some() as u64) << 0), 5)?;
+        w.write_bits(
+            ((self.time_stamp.is_some() as u64) << 4)
+                | ((self.rev.is_some() as u64) << 3)
+                | ((self.msg.is_some() as u64) << 2)
+                | ((self.wd_count.is_some() as u64) << 1)
+                | ((self.regional.is_some() as u64) << 0),
+            5,
+        )?;
         if let Some(v) = &self.time_stamp {
             v.encode_uper(w)?;
         }
@@ -121,12 +140,32 @@ impl Uper for NMEAcorrections {
 impl uper::random::Random for NMEAcorrections {
     fn random(g: &mut uper::random::Gen) -> Self {
         Self {
-            time_stamp: if g.coin() { Some(<super::common::MinuteOfTheYear as uper::random::Random>::random(g)) } else { None },
-            rev: if g.coin() { Some(<NMEARevision as uper::random::Random>::random(g)) } else { None },
-            msg: if g.coin() { Some(<NMEAMsgType as uper::random::Random>::random(g)) } else { None },
-            wd_count: if g.coin() { Some(<ObjectCount as uper::random::Random>::random(g)) } else { None },
+            time_stamp: if g.coin() {
+                Some(<super::common::MinuteOfTheYear as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            rev: if g.coin() {
+                Some(<NMEARevision as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            msg: if g.coin() {
+                Some(<NMEAMsgType as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            wd_count: if g.coin() {
+                Some(<ObjectCount as uper::random::Random>::random(g))
+            } else {
+                None
+            },
             payload: <NMEAPayload as uper::random::Random>::random(g),
-            regional: if g.coin() { Some(<NMEAcorrectionsRegional as uper::random::Random>::random(g)) } else { None },
+            regional: if g.coin() {
+                Some(<NMEAcorrectionsRegional as uper::random::Random>::random(g))
+            } else {
+                None
+            },
             extensions: uper::Extensions::new(),
         }
     }
@@ -155,7 +194,15 @@ pub enum NMEARevision {
 
 impl NMEARevision {
     /// Every root value in encoding (ascending number) order.
-    pub const ALL: [Self; 7] = [Self::Unknown, Self::Reserved, Self::Rev1, Self::Rev2, Self::Rev3, Self::Rev4, Self::Rev5];
+    pub const ALL: [Self; 7] = [
+        Self::Unknown,
+        Self::Reserved,
+        Self::Rev1,
+        Self::Rev2,
+        Self::Rev3,
+        Self::Rev4,
+        Self::Rev5,
+    ];
     /// The ASN.1 number of the value (`None` for an unknown extension value).
     pub const fn number(self) -> Option<i64> {
         match self {
@@ -209,12 +256,20 @@ impl Uper for NMEARevision {
         if r.read_bit()? {
             let at = r.position();
             let i = r.read_normally_small()?;
-            *out = u16::try_from(i).map(Self::Extension).map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at))?;
+            *out = u16::try_from(i)
+                .map(Self::Extension)
+                .map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at))?;
             return Ok(());
         }
         let at = r.position();
         let i = r.read_constrained(0, 6)?;
-        *out = Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))?;
+        *out = Self::ALL
+            .get(i as usize)
+            .copied()
+            .ok_or(uper::DecodeError::new(
+                uper::DecodeErrorKind::InvalidEnumIndex,
+                at,
+            ))?;
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -303,6 +358,12 @@ impl NMEAcorrectionsRegional {
     }
 }
 
+impl Default for NMEAcorrectionsRegional {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
 impl uper::Placeholder for NMEAcorrectionsRegional {
     fn placeholder() -> Self {
         Self(uper::SeqOf::new())
@@ -313,7 +374,12 @@ impl Uper for NMEAcorrectionsRegional {
     const PATH: &'static str = "NMEAcorrections.NMEAcorrections.regional";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(146), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        uper::decode_seq_of_into(r, Self::SIZE, "NMEAcorrections.NMEAcorrections.regional", &mut out.0)
+        uper::decode_seq_of_into(
+            r,
+            Self::SIZE,
+            "NMEAcorrections.NMEAcorrections.regional",
+            &mut out.0,
+        )
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
@@ -325,7 +391,8 @@ impl uper::random::Random for NMEAcorrectionsRegional {
     fn random(g: &mut uper::random::Gen) -> Self {
         let mut v = Self(uper::SeqOf::new());
         for _ in 0..g.count(1, 1) {
-            let _ = v.0.push(<RegNMEAcorrections as uper::random::Random>::random(g));
+            let _ =
+                v.0.push(<RegNMEAcorrections as uper::random::Random>::random(g));
         }
         v
     }
@@ -354,7 +421,10 @@ impl RegNMEAcorrections {
 
 impl uper::Placeholder for RegNMEAcorrections {
     fn placeholder() -> Self {
-        Self::Unknown { id: <super::common::RegionId as uper::Placeholder>::placeholder(), content: uper::Octets::new() }
+        Self::Unknown {
+            id: <super::common::RegionId as uper::Placeholder>::placeholder(),
+            content: uper::Octets::new(),
+        }
     }
 }
 
@@ -364,7 +434,15 @@ impl Uper for RegNMEAcorrections {
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let id = <super::common::RegionId>::decode_uper(r)?;
         match id.get() {
-            _ => *out = Self::Unknown { id, content: uper::decode_unknown_open(r, "NMEAcorrections.RegNMEAcorrections:unknown")? },
+            _ => {
+                *out = Self::Unknown {
+                    id,
+                    content: uper::decode_unknown_open(
+                        r,
+                        "NMEAcorrections.RegNMEAcorrections:unknown",
+                    )?,
+                }
+            }
         }
         Ok(())
     }
@@ -385,6 +463,9 @@ impl uper::random::Random for RegNMEAcorrections {
         for _ in 0..1 + g.below(4) {
             let _ = content.push(g.octet());
         }
-        Self::Unknown { id: <super::common::RegionId as uper::random::Random>::random(g), content }
+        Self::Unknown {
+            id: <super::common::RegionId as uper::random::Random>::random(g),
+            content,
+        }
     }
 }

@@ -57,7 +57,13 @@ impl Uper for EssPrecipYesNo {
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let at = r.position();
         let i = r.read_constrained(0, 2)?;
-        *out = Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))?;
+        *out = Self::ALL
+            .get(i as usize)
+            .copied()
+            .ok_or(uper::DecodeError::new(
+                uper::DecodeErrorKind::InvalidEnumIndex,
+                at,
+            ))?;
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -114,7 +120,23 @@ pub enum EssPrecipSituation {
 
 impl EssPrecipSituation {
     /// Every root value in encoding (ascending number) order.
-    pub const ALL: [Self; 15] = [Self::Other, Self::Unknown, Self::NoPrecipitation, Self::UnidentifiedSlight, Self::UnidentifiedModerate, Self::UnidentifiedHeavy, Self::SnowSlight, Self::SnowModerate, Self::SnowHeavy, Self::RainSlight, Self::RainModerate, Self::RainHeavy, Self::FrozenPrecipitationSlight, Self::FrozenPrecipitationModerate, Self::FrozenPrecipitationHeavy];
+    pub const ALL: [Self; 15] = [
+        Self::Other,
+        Self::Unknown,
+        Self::NoPrecipitation,
+        Self::UnidentifiedSlight,
+        Self::UnidentifiedModerate,
+        Self::UnidentifiedHeavy,
+        Self::SnowSlight,
+        Self::SnowModerate,
+        Self::SnowHeavy,
+        Self::RainSlight,
+        Self::RainModerate,
+        Self::RainHeavy,
+        Self::FrozenPrecipitationSlight,
+        Self::FrozenPrecipitationModerate,
+        Self::FrozenPrecipitationHeavy,
+    ];
     /// The ASN.1 number of the value (`None` for an unknown extension value).
     pub const fn number(self) -> Option<i64> {
         match self {
@@ -188,7 +210,13 @@ impl Uper for EssPrecipSituation {
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let at = r.position();
         let i = r.read_constrained(0, 14)?;
-        *out = Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))?;
+        *out = Self::ALL
+            .get(i as usize)
+            .copied()
+            .ok_or(uper::DecodeError::new(
+                uper::DecodeErrorKind::InvalidEnumIndex,
+                at,
+            ))?;
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {

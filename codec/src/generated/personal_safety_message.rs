@@ -67,7 +67,35 @@ pub struct PersonalSafetyMessage {
 
 impl uper::Placeholder for PersonalSafetyMessage {
     fn placeholder() -> Self {
-        Self { basic_type: <PersonalDeviceUserType as uper::Placeholder>::placeholder(), sec_mark: <super::common::DSecond as uper::Placeholder>::placeholder(), msg_cnt: <super::common::MsgCount as uper::Placeholder>::placeholder(), id: <super::common::TemporaryID as uper::Placeholder>::placeholder(), position: <super::common::Position3D as uper::Placeholder>::placeholder(), accuracy: <super::common::PositionalAccuracy as uper::Placeholder>::placeholder(), speed: <super::common::Velocity as uper::Placeholder>::placeholder(), heading: <super::common::Heading as uper::Placeholder>::placeholder(), accel_set: None, path_history: None, path_prediction: None, propulsion: None, use_state: None, cross_request: None, cross_state: None, cluster_size: None, cluster_radius: None, event_responder_type: None, activity_type: None, activity_sub_type: None, assist_type: None, sizing: None, attachment: None, attachment_radius: None, animal_type: None, regional: None, extensions: uper::Extensions::new() }
+        Self {
+            basic_type: <PersonalDeviceUserType as uper::Placeholder>::placeholder(),
+            sec_mark: <super::common::DSecond as uper::Placeholder>::placeholder(),
+            msg_cnt: <super::common::MsgCount as uper::Placeholder>::placeholder(),
+            id: <super::common::TemporaryID as uper::Placeholder>::placeholder(),
+            position: <super::common::Position3D as uper::Placeholder>::placeholder(),
+            accuracy: <super::common::PositionalAccuracy as uper::Placeholder>::placeholder(),
+            speed: <super::common::Velocity as uper::Placeholder>::placeholder(),
+            heading: <super::common::Heading as uper::Placeholder>::placeholder(),
+            accel_set: None,
+            path_history: None,
+            path_prediction: None,
+            propulsion: None,
+            use_state: None,
+            cross_request: None,
+            cross_state: None,
+            cluster_size: None,
+            cluster_radius: None,
+            event_responder_type: None,
+            activity_type: None,
+            activity_sub_type: None,
+            assist_type: None,
+            sizing: None,
+            attachment: None,
+            attachment_radius: None,
+            animal_type: None,
+            regional: None,
+            extensions: uper::Extensions::new(),
+        }
     }
 }
 
@@ -265,12 +293,36 @@ impl Uper for PersonalSafetyMessage {
         } else {
             out.regional = None;
         }
-        out.extensions = if extended { uper::Extensions::decode(r, "PersonalSafetyMessage.PersonalSafetyMessage:ext")? } else { uper::Extensions::new() };
+        out.extensions = if extended {
+            uper::Extensions::decode(r, "PersonalSafetyMessage.PersonalSafetyMessage:ext")?
+        } else {
+            uper::Extensions::new()
+        };
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_bit(self.extensions.is_present())?;
-        w.write_bits(((self.accel_set.is_some() as u64) << 17) | ((self.path_history.is_some() as u64) << 16) | ((self.path_prediction.is_some() as u64) << 15) | ((self.propulsion.is_some() as u64) << 14) | ((self.use_state.is_some() as u64) << 13) | ((self.cross_request.is_some() as u64) << 12) | ((self.cross_state.is_some() as u64) << 11) | ((self.cluster_size.is_some() as u64) << 10) | ((self.cluster_radius.is_some() as u64) << 9) | ((self.event_responder_type.is_some() as u64) << 8) | ((self.activity_type.is_some() as u64) << 7) | ((self.activity_sub_type.is_some() as u64) << 6) | ((self.assist_type.is_some() as u64) << 5) | ((self.sizing.is_some() as u64) << 4) | ((self.attachment.is_some() as u64) << 3) | ((self.attachment_radius.is_some() as u64) << 2) | ((self.animal_type.is_some() as u64) << 1) | ((self.regional.is_some() as u64) << 0), 18)?;
+        w.write_bits(
+            ((self.accel_set.is_some() as u64) << 17)
+                | ((self.path_history.is_some() as u64) << 16)
+                | ((self.path_prediction.is_some() as u64) << 15)
+                | ((self.propulsion.is_some() as u64) << 14)
+                | ((self.use_state.is_some() as u64) << 13)
+                | ((self.cross_request.is_some() as u64) << 12)
+                | ((self.cross_state.is_some() as u64) << 11)
+                | ((self.cluster_size.is_some() as u64) << 10)
+                | ((self.cluster_radius.is_some() as u64) << 9)
+                | ((self.event_responder_type.is_some() as u64) << 8)
+                | ((self.activity_type.is_some() as u64) << 7)
+                | ((self.activity_sub_type.is_some() as u64) << 6)
+                | ((self.assist_type.is_some() as u64) << 5)
+                | ((self.sizing.is_some() as u64) << 4)
+                | ((self.attachment.is_some() as u64) << 3)
+                | ((self.attachment_radius.is_some() as u64) << 2)
+                | ((self.animal_type.is_some() as u64) << 1)
+                | ((self.regional.is_some() as u64) << 0),
+            18,
+        )?;
         self.basic_type.encode_uper(w)?;
         self.sec_mark.encode_uper(w)?;
         self.msg_cnt.encode_uper(w)?;
@@ -352,24 +404,98 @@ impl uper::random::Random for PersonalSafetyMessage {
             accuracy: <super::common::PositionalAccuracy as uper::random::Random>::random(g),
             speed: <super::common::Velocity as uper::random::Random>::random(g),
             heading: <super::common::Heading as uper::random::Random>::random(g),
-            accel_set: if g.coin() { Some(<super::common::AccelerationSet4Way as uper::random::Random>::random(g)) } else { None },
-            path_history: if g.coin() { Some(<super::common::PathHistory as uper::random::Random>::random(g)) } else { None },
-            path_prediction: if g.coin() { Some(<super::common::PathPrediction as uper::random::Random>::random(g)) } else { None },
-            propulsion: if g.coin() { Some(<PropelledInformation as uper::random::Random>::random(g)) } else { None },
-            use_state: if g.coin() { Some(<PersonalDeviceUsageState as uper::random::Random>::random(g)) } else { None },
-            cross_request: if g.coin() { Some(<PersonalCrossingRequest as uper::random::Random>::random(g)) } else { None },
-            cross_state: if g.coin() { Some(<PersonalCrossingInProgress as uper::random::Random>::random(g)) } else { None },
-            cluster_size: if g.coin() { Some(<NumberOfParticipantsInCluster as uper::random::Random>::random(g)) } else { None },
-            cluster_radius: if g.coin() { Some(<PersonalClusterRadius as uper::random::Random>::random(g)) } else { None },
-            event_responder_type: if g.coin() { Some(<PublicSafetyEventResponderWorkerType as uper::random::Random>::random(g)) } else { None },
-            activity_type: if g.coin() { Some(<PublicSafetyAndRoadWorkerActivity as uper::random::Random>::random(g)) } else { None },
-            activity_sub_type: if g.coin() { Some(<PublicSafetyDirectingTrafficSubType as uper::random::Random>::random(g)) } else { None },
-            assist_type: if g.coin() { Some(<PersonalAssistive as uper::random::Random>::random(g)) } else { None },
-            sizing: if g.coin() { Some(<UserSizeAndBehaviour as uper::random::Random>::random(g)) } else { None },
-            attachment: if g.coin() { Some(<Attachment as uper::random::Random>::random(g)) } else { None },
-            attachment_radius: if g.coin() { Some(<AttachmentRadius as uper::random::Random>::random(g)) } else { None },
-            animal_type: if g.coin() { Some(<AnimalType as uper::random::Random>::random(g)) } else { None },
-            regional: if g.coin() { Some(<PersonalSafetyMessageRegional as uper::random::Random>::random(g)) } else { None },
+            accel_set: if g.coin() {
+                Some(<super::common::AccelerationSet4Way as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            path_history: if g.coin() {
+                Some(<super::common::PathHistory as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            path_prediction: if g.coin() {
+                Some(<super::common::PathPrediction as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            propulsion: if g.coin() {
+                Some(<PropelledInformation as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            use_state: if g.coin() {
+                Some(<PersonalDeviceUsageState as uper::random::Random>::random(
+                    g,
+                ))
+            } else {
+                None
+            },
+            cross_request: if g.coin() {
+                Some(<PersonalCrossingRequest as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            cross_state: if g.coin() {
+                Some(<PersonalCrossingInProgress as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            cluster_size: if g.coin() {
+                Some(<NumberOfParticipantsInCluster as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            cluster_radius: if g.coin() {
+                Some(<PersonalClusterRadius as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            event_responder_type: if g.coin() {
+                Some(<PublicSafetyEventResponderWorkerType as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            activity_type: if g.coin() {
+                Some(<PublicSafetyAndRoadWorkerActivity as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            activity_sub_type: if g.coin() {
+                Some(<PublicSafetyDirectingTrafficSubType as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            assist_type: if g.coin() {
+                Some(<PersonalAssistive as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            sizing: if g.coin() {
+                Some(<UserSizeAndBehaviour as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            attachment: if g.coin() {
+                Some(<Attachment as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            attachment_radius: if g.coin() {
+                Some(<AttachmentRadius as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            animal_type: if g.coin() {
+                Some(<AnimalType as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            regional: if g.coin() {
+                Some(<PersonalSafetyMessageRegional as uper::random::Random>::random(g))
+            } else {
+                None
+            },
             extensions: uper::Extensions::new(),
         }
     }
@@ -394,7 +520,13 @@ pub enum PersonalDeviceUserType {
 
 impl PersonalDeviceUserType {
     /// Every root value in encoding (ascending number) order.
-    pub const ALL: [Self; 5] = [Self::Unavailable, Self::APEDESTRIAN, Self::APEDALCYCLIST, Self::APUBLICSAFETYWORKER, Self::AnANIMAL];
+    pub const ALL: [Self; 5] = [
+        Self::Unavailable,
+        Self::APEDESTRIAN,
+        Self::APEDALCYCLIST,
+        Self::APUBLICSAFETYWORKER,
+        Self::AnANIMAL,
+    ];
     /// The ASN.1 number of the value (`None` for an unknown extension value).
     pub const fn number(self) -> Option<i64> {
         match self {
@@ -442,12 +574,20 @@ impl Uper for PersonalDeviceUserType {
         if r.read_bit()? {
             let at = r.position();
             let i = r.read_normally_small()?;
-            *out = u16::try_from(i).map(Self::Extension).map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at))?;
+            *out = u16::try_from(i)
+                .map(Self::Extension)
+                .map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at))?;
             return Ok(());
         }
         let at = r.position();
         let i = r.read_constrained(0, 4)?;
-        *out = Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))?;
+        *out = Self::ALL
+            .get(i as usize)
+            .copied()
+            .ok_or(uper::DecodeError::new(
+                uper::DecodeErrorKind::InvalidEnumIndex,
+                at,
+            ))?;
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -497,8 +637,10 @@ impl Uper for PropelledInformation {
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         if r.read_bit()? {
             let at = r.position();
-            let index = u16::try_from(r.read_normally_small()?).map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at))?;
-            let content = uper::decode_unknown_open(r, "PersonalSafetyMessage.PropelledInformation:unknown")?;
+            let index = u16::try_from(r.read_normally_small()?)
+                .map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at))?;
+            let content =
+                uper::decode_unknown_open(r, "PersonalSafetyMessage.PropelledInformation:unknown")?;
             *out = Self::Extension { index, content };
             return Ok(());
         }
@@ -506,7 +648,9 @@ impl Uper for PropelledInformation {
         match r.read_constrained(0, 2)? {
             0 => {
                 if !matches!(out, Self::Human(_)) {
-                    uper::replace_with(out, || Self::Human(<HumanPropelledType as uper::Placeholder>::placeholder()));
+                    uper::replace_with(out, || {
+                        Self::Human(<HumanPropelledType as uper::Placeholder>::placeholder())
+                    });
                 }
                 if let Self::Human(v) = out {
                     <HumanPropelledType>::decode_into(r, v)?;
@@ -514,7 +658,9 @@ impl Uper for PropelledInformation {
             }
             1 => {
                 if !matches!(out, Self::Animal(_)) {
-                    uper::replace_with(out, || Self::Animal(<AnimalPropelledType as uper::Placeholder>::placeholder()));
+                    uper::replace_with(out, || {
+                        Self::Animal(<AnimalPropelledType as uper::Placeholder>::placeholder())
+                    });
                 }
                 if let Self::Animal(v) = out {
                     <AnimalPropelledType>::decode_into(r, v)?;
@@ -522,21 +668,40 @@ impl Uper for PropelledInformation {
             }
             2 => {
                 if !matches!(out, Self::Motor(_)) {
-                    uper::replace_with(out, || Self::Motor(<MotorizedPropelledType as uper::Placeholder>::placeholder()));
+                    uper::replace_with(out, || {
+                        Self::Motor(<MotorizedPropelledType as uper::Placeholder>::placeholder())
+                    });
                 }
                 if let Self::Motor(v) = out {
                     <MotorizedPropelledType>::decode_into(r, v)?;
                 }
             }
-            _ => return Err(uper::DecodeError::new(uper::DecodeErrorKind::InvalidChoiceIndex, at)),
+            _ => {
+                return Err(uper::DecodeError::new(
+                    uper::DecodeErrorKind::InvalidChoiceIndex,
+                    at,
+                ))
+            }
         }
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         match self {
-            Self::Human(v) => { w.write_bit(false)?; w.write_constrained(0, 0, 2)?; v.encode_uper(w) }
-            Self::Animal(v) => { w.write_bit(false)?; w.write_constrained(1, 0, 2)?; v.encode_uper(w) }
-            Self::Motor(v) => { w.write_bit(false)?; w.write_constrained(2, 0, 2)?; v.encode_uper(w) }
+            Self::Human(v) => {
+                w.write_bit(false)?;
+                w.write_constrained(0, 0, 2)?;
+                v.encode_uper(w)
+            }
+            Self::Animal(v) => {
+                w.write_bit(false)?;
+                w.write_constrained(1, 0, 2)?;
+                v.encode_uper(w)
+            }
+            Self::Motor(v) => {
+                w.write_bit(false)?;
+                w.write_constrained(2, 0, 2)?;
+                v.encode_uper(w)
+            }
             Self::Extension { index, content } => {
                 w.write_bit(true)?;
                 w.write_normally_small(*index as u64)?;
@@ -579,7 +744,14 @@ pub enum HumanPropelledType {
 
 impl HumanPropelledType {
     /// Every root value in encoding (ascending number) order.
-    pub const ALL: [Self; 6] = [Self::Unavailable, Self::OtherTypes, Self::OnFoot, Self::Skateboard, Self::PushOrKickScooter, Self::Wheelchair];
+    pub const ALL: [Self; 6] = [
+        Self::Unavailable,
+        Self::OtherTypes,
+        Self::OnFoot,
+        Self::Skateboard,
+        Self::PushOrKickScooter,
+        Self::Wheelchair,
+    ];
     /// The ASN.1 number of the value (`None` for an unknown extension value).
     pub const fn number(self) -> Option<i64> {
         match self {
@@ -630,12 +802,20 @@ impl Uper for HumanPropelledType {
         if r.read_bit()? {
             let at = r.position();
             let i = r.read_normally_small()?;
-            *out = u16::try_from(i).map(Self::Extension).map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at))?;
+            *out = u16::try_from(i)
+                .map(Self::Extension)
+                .map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at))?;
             return Ok(());
         }
         let at = r.position();
         let i = r.read_constrained(0, 5)?;
-        *out = Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))?;
+        *out = Self::ALL
+            .get(i as usize)
+            .copied()
+            .ok_or(uper::DecodeError::new(
+                uper::DecodeErrorKind::InvalidEnumIndex,
+                at,
+            ))?;
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -672,7 +852,12 @@ pub enum AnimalPropelledType {
 
 impl AnimalPropelledType {
     /// Every root value in encoding (ascending number) order.
-    pub const ALL: [Self; 4] = [Self::Unavailable, Self::OtherTypes, Self::AnimalMounted, Self::AnimalDrawnCarriage];
+    pub const ALL: [Self; 4] = [
+        Self::Unavailable,
+        Self::OtherTypes,
+        Self::AnimalMounted,
+        Self::AnimalDrawnCarriage,
+    ];
     /// The ASN.1 number of the value (`None` for an unknown extension value).
     pub const fn number(self) -> Option<i64> {
         match self {
@@ -717,12 +902,20 @@ impl Uper for AnimalPropelledType {
         if r.read_bit()? {
             let at = r.position();
             let i = r.read_normally_small()?;
-            *out = u16::try_from(i).map(Self::Extension).map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at))?;
+            *out = u16::try_from(i)
+                .map(Self::Extension)
+                .map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at))?;
             return Ok(());
         }
         let at = r.position();
         let i = r.read_constrained(0, 3)?;
-        *out = Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))?;
+        *out = Self::ALL
+            .get(i as usize)
+            .copied()
+            .ok_or(uper::DecodeError::new(
+                uper::DecodeErrorKind::InvalidEnumIndex,
+                at,
+            ))?;
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -763,7 +956,14 @@ pub enum MotorizedPropelledType {
 
 impl MotorizedPropelledType {
     /// Every root value in encoding (ascending number) order.
-    pub const ALL: [Self; 6] = [Self::Unavailable, Self::OtherTypes, Self::WheelChair, Self::Bicycle, Self::Scooter, Self::SelfBalancingDevice];
+    pub const ALL: [Self; 6] = [
+        Self::Unavailable,
+        Self::OtherTypes,
+        Self::WheelChair,
+        Self::Bicycle,
+        Self::Scooter,
+        Self::SelfBalancingDevice,
+    ];
     /// The ASN.1 number of the value (`None` for an unknown extension value).
     pub const fn number(self) -> Option<i64> {
         match self {
@@ -814,12 +1014,20 @@ impl Uper for MotorizedPropelledType {
         if r.read_bit()? {
             let at = r.position();
             let i = r.read_normally_small()?;
-            *out = u16::try_from(i).map(Self::Extension).map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at))?;
+            *out = u16::try_from(i)
+                .map(Self::Extension)
+                .map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at))?;
             return Ok(());
         }
         let at = r.position();
         let i = r.read_constrained(0, 5)?;
-        *out = Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))?;
+        *out = Self::ALL
+            .get(i as usize)
+            .copied()
+            .ok_or(uper::DecodeError::new(
+                uper::DecodeErrorKind::InvalidEnumIndex,
+                at,
+            ))?;
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -866,9 +1074,6 @@ impl PersonalDeviceUsageState {
     /// `len` zero bits, when `len` satisfies the SIZE constraint (or, for an extensible
     /// constraint, fits the storage).
     pub fn zeros(len: usize) -> Option<Self> {
-        if !true {
-            return None;
-        }
         uper::Bits::zeros(len).map(Self)
     }
 }
@@ -883,7 +1088,11 @@ impl Uper for PersonalDeviceUsageState {
     const PATH: &'static str = "PersonalSafetyMessage.PersonalDeviceUsageState";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(33), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        out.0 = uper::decode_bits(r, Self::SIZE, "PersonalSafetyMessage.PersonalDeviceUsageState")?;
+        out.0 = uper::decode_bits(
+            r,
+            Self::SIZE,
+            "PersonalSafetyMessage.PersonalDeviceUsageState",
+        )?;
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -968,12 +1177,20 @@ impl Uper for NumberOfParticipantsInCluster {
         if r.read_bit()? {
             let at = r.position();
             let i = r.read_normally_small()?;
-            *out = u16::try_from(i).map(Self::Extension).map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at))?;
+            *out = u16::try_from(i)
+                .map(Self::Extension)
+                .map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at))?;
             return Ok(());
         }
         let at = r.position();
         let i = r.read_constrained(0, 3)?;
-        *out = Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))?;
+        *out = Self::ALL
+            .get(i as usize)
+            .copied()
+            .ok_or(uper::DecodeError::new(
+                uper::DecodeErrorKind::InvalidEnumIndex,
+                at,
+            ))?;
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -996,7 +1213,13 @@ impl uper::random::Random for NumberOfParticipantsInCluster {
 /// ASN.1 `PersonalClusterRadius` (module `PersonalSafetyMessage`): INTEGER (0..100).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub struct PersonalClusterRadius(u8);
-crate::__constrained_int!(PersonalClusterRadius, u8, 0, 100, "PersonalSafetyMessage.PersonalClusterRadius");
+crate::__constrained_int!(
+    PersonalClusterRadius,
+    u8,
+    0,
+    100,
+    "PersonalSafetyMessage.PersonalClusterRadius"
+);
 
 /// ASN.1 `PublicSafetyEventResponderWorkerType` (module `PersonalSafetyMessage`): ENUMERATED (extensible).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -1023,7 +1246,16 @@ pub enum PublicSafetyEventResponderWorkerType {
 
 impl PublicSafetyEventResponderWorkerType {
     /// Every root value in encoding (ascending number) order.
-    pub const ALL: [Self; 8] = [Self::Unavailable, Self::TowOperater, Self::FireAndEMSWorker, Self::ADOTWorker, Self::LawEnforcement, Self::HazmatResponder, Self::AnimalControlWorker, Self::OtherPersonnel];
+    pub const ALL: [Self; 8] = [
+        Self::Unavailable,
+        Self::TowOperater,
+        Self::FireAndEMSWorker,
+        Self::ADOTWorker,
+        Self::LawEnforcement,
+        Self::HazmatResponder,
+        Self::AnimalControlWorker,
+        Self::OtherPersonnel,
+    ];
     /// The ASN.1 number of the value (`None` for an unknown extension value).
     pub const fn number(self) -> Option<i64> {
         match self {
@@ -1080,12 +1312,20 @@ impl Uper for PublicSafetyEventResponderWorkerType {
         if r.read_bit()? {
             let at = r.position();
             let i = r.read_normally_small()?;
-            *out = u16::try_from(i).map(Self::Extension).map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at))?;
+            *out = u16::try_from(i)
+                .map(Self::Extension)
+                .map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at))?;
             return Ok(());
         }
         let at = r.position();
         let i = r.read_constrained(0, 7)?;
-        *out = Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))?;
+        *out = Self::ALL
+            .get(i as usize)
+            .copied()
+            .ok_or(uper::DecodeError::new(
+                uper::DecodeErrorKind::InvalidEnumIndex,
+                at,
+            ))?;
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -1126,9 +1366,6 @@ impl PublicSafetyAndRoadWorkerActivity {
     /// `len` zero bits, when `len` satisfies the SIZE constraint (or, for an extensible
     /// constraint, fits the storage).
     pub fn zeros(len: usize) -> Option<Self> {
-        if !true {
-            return None;
-        }
         uper::Bits::zeros(len).map(Self)
     }
 }
@@ -1143,7 +1380,11 @@ impl Uper for PublicSafetyAndRoadWorkerActivity {
     const PATH: &'static str = "PersonalSafetyMessage.PublicSafetyAndRoadWorkerActivity";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(33), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        out.0 = uper::decode_bits(r, Self::SIZE, "PersonalSafetyMessage.PublicSafetyAndRoadWorkerActivity")?;
+        out.0 = uper::decode_bits(
+            r,
+            Self::SIZE,
+            "PersonalSafetyMessage.PublicSafetyAndRoadWorkerActivity",
+        )?;
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -1183,9 +1424,6 @@ impl PublicSafetyDirectingTrafficSubType {
     /// `len` zero bits, when `len` satisfies the SIZE constraint (or, for an extensible
     /// constraint, fits the storage).
     pub fn zeros(len: usize) -> Option<Self> {
-        if !true {
-            return None;
-        }
         uper::Bits::zeros(len).map(Self)
     }
 }
@@ -1200,7 +1438,11 @@ impl Uper for PublicSafetyDirectingTrafficSubType {
     const PATH: &'static str = "PersonalSafetyMessage.PublicSafetyDirectingTrafficSubType";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(33), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        out.0 = uper::decode_bits(r, Self::SIZE, "PersonalSafetyMessage.PublicSafetyDirectingTrafficSubType")?;
+        out.0 = uper::decode_bits(
+            r,
+            Self::SIZE,
+            "PersonalSafetyMessage.PublicSafetyDirectingTrafficSubType",
+        )?;
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -1238,9 +1480,6 @@ impl PersonalAssistive {
     /// `len` zero bits, when `len` satisfies the SIZE constraint (or, for an extensible
     /// constraint, fits the storage).
     pub fn zeros(len: usize) -> Option<Self> {
-        if !true {
-            return None;
-        }
         uper::Bits::zeros(len).map(Self)
     }
 }
@@ -1291,9 +1530,6 @@ impl UserSizeAndBehaviour {
     /// `len` zero bits, when `len` satisfies the SIZE constraint (or, for an extensible
     /// constraint, fits the storage).
     pub fn zeros(len: usize) -> Option<Self> {
-        if !true {
-            return None;
-        }
         uper::Bits::zeros(len).map(Self)
     }
 }
@@ -1348,7 +1584,15 @@ pub enum Attachment {
 
 impl Attachment {
     /// Every root value in encoding (ascending number) order.
-    pub const ALL: [Self; 7] = [Self::Unavailable, Self::Stroller, Self::BicycleTrailer, Self::Cart, Self::Wheelchair, Self::OtherWalkAssistAttachments, Self::Pet];
+    pub const ALL: [Self; 7] = [
+        Self::Unavailable,
+        Self::Stroller,
+        Self::BicycleTrailer,
+        Self::Cart,
+        Self::Wheelchair,
+        Self::OtherWalkAssistAttachments,
+        Self::Pet,
+    ];
     /// The ASN.1 number of the value (`None` for an unknown extension value).
     pub const fn number(self) -> Option<i64> {
         match self {
@@ -1402,12 +1646,20 @@ impl Uper for Attachment {
         if r.read_bit()? {
             let at = r.position();
             let i = r.read_normally_small()?;
-            *out = u16::try_from(i).map(Self::Extension).map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at))?;
+            *out = u16::try_from(i)
+                .map(Self::Extension)
+                .map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at))?;
             return Ok(());
         }
         let at = r.position();
         let i = r.read_constrained(0, 6)?;
-        *out = Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))?;
+        *out = Self::ALL
+            .get(i as usize)
+            .copied()
+            .ok_or(uper::DecodeError::new(
+                uper::DecodeErrorKind::InvalidEnumIndex,
+                at,
+            ))?;
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -1430,7 +1682,13 @@ impl uper::random::Random for Attachment {
 /// ASN.1 `AttachmentRadius` (module `PersonalSafetyMessage`): INTEGER (0..200).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub struct AttachmentRadius(u8);
-crate::__constrained_int!(AttachmentRadius, u8, 0, 200, "PersonalSafetyMessage.AttachmentRadius");
+crate::__constrained_int!(
+    AttachmentRadius,
+    u8,
+    0,
+    200,
+    "PersonalSafetyMessage.AttachmentRadius"
+);
 
 /// ASN.1 `AnimalType` (module `PersonalSafetyMessage`): ENUMERATED (extensible).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -1494,12 +1752,20 @@ impl Uper for AnimalType {
         if r.read_bit()? {
             let at = r.position();
             let i = r.read_normally_small()?;
-            *out = u16::try_from(i).map(Self::Extension).map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at))?;
+            *out = u16::try_from(i)
+                .map(Self::Extension)
+                .map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at))?;
             return Ok(());
         }
         let at = r.position();
         let i = r.read_constrained(0, 3)?;
-        *out = Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))?;
+        *out = Self::ALL
+            .get(i as usize)
+            .copied()
+            .ok_or(uper::DecodeError::new(
+                uper::DecodeErrorKind::InvalidEnumIndex,
+                at,
+            ))?;
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -1533,6 +1799,12 @@ impl PersonalSafetyMessageRegional {
     }
 }
 
+impl Default for PersonalSafetyMessageRegional {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
 impl uper::Placeholder for PersonalSafetyMessageRegional {
     fn placeholder() -> Self {
         Self(uper::SeqOf::new())
@@ -1543,7 +1815,12 @@ impl Uper for PersonalSafetyMessageRegional {
     const PATH: &'static str = "PersonalSafetyMessage.PersonalSafetyMessage.regional";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(146), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        uper::decode_seq_of_into(r, Self::SIZE, "PersonalSafetyMessage.PersonalSafetyMessage.regional", &mut out.0)
+        uper::decode_seq_of_into(
+            r,
+            Self::SIZE,
+            "PersonalSafetyMessage.PersonalSafetyMessage.regional",
+            &mut out.0,
+        )
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
@@ -1555,7 +1832,10 @@ impl uper::random::Random for PersonalSafetyMessageRegional {
     fn random(g: &mut uper::random::Gen) -> Self {
         let mut v = Self(uper::SeqOf::new());
         for _ in 0..g.count(1, 1) {
-            let _ = v.0.push(<RegPersonalSafetyMessage as uper::random::Random>::random(g));
+            let _ =
+                v.0.push(<RegPersonalSafetyMessage as uper::random::Random>::random(
+                    g,
+                ));
         }
         v
     }
@@ -1584,7 +1864,10 @@ impl RegPersonalSafetyMessage {
 
 impl uper::Placeholder for RegPersonalSafetyMessage {
     fn placeholder() -> Self {
-        Self::Unknown { id: <super::common::RegionId as uper::Placeholder>::placeholder(), content: uper::Octets::new() }
+        Self::Unknown {
+            id: <super::common::RegionId as uper::Placeholder>::placeholder(),
+            content: uper::Octets::new(),
+        }
     }
 }
 
@@ -1594,7 +1877,15 @@ impl Uper for RegPersonalSafetyMessage {
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let id = <super::common::RegionId>::decode_uper(r)?;
         match id.get() {
-            _ => *out = Self::Unknown { id, content: uper::decode_unknown_open(r, "PersonalSafetyMessage.RegPersonalSafetyMessage:unknown")? },
+            _ => {
+                *out = Self::Unknown {
+                    id,
+                    content: uper::decode_unknown_open(
+                        r,
+                        "PersonalSafetyMessage.RegPersonalSafetyMessage:unknown",
+                    )?,
+                }
+            }
         }
         Ok(())
     }
@@ -1615,6 +1906,9 @@ impl uper::random::Random for RegPersonalSafetyMessage {
         for _ in 0..1 + g.below(4) {
             let _ = content.push(g.octet());
         }
-        Self::Unknown { id: <super::common::RegionId as uper::random::Random>::random(g), content }
+        Self::Unknown {
+            id: <super::common::RegionId as uper::random::Random>::random(g),
+            content,
+        }
     }
 }

@@ -31,7 +31,17 @@ pub struct ProbeDataManagement {
 
 impl uper::Placeholder for ProbeDataManagement {
     fn placeholder() -> Self {
-        Self { time_stamp: None, sample: <Sample as uper::Placeholder>::placeholder(), directions: <super::common::HeadingSlice as uper::Placeholder>::placeholder(), term: <ProbeDataManagementTerm as uper::Placeholder>::placeholder(), snapshot: <ProbeDataManagementSnapshot as uper::Placeholder>::placeholder(), tx_interval: <SecondOfTime as uper::Placeholder>::placeholder(), data_elements: None, regional: None, extensions: uper::Extensions::new() }
+        Self {
+            time_stamp: None,
+            sample: <Sample as uper::Placeholder>::placeholder(),
+            directions: <super::common::HeadingSlice as uper::Placeholder>::placeholder(),
+            term: <ProbeDataManagementTerm as uper::Placeholder>::placeholder(),
+            snapshot: <ProbeDataManagementSnapshot as uper::Placeholder>::placeholder(),
+            tx_interval: <SecondOfTime as uper::Placeholder>::placeholder(),
+            data_elements: None,
+            regional: None,
+            extensions: uper::Extensions::new(),
+        }
     }
 }
 
@@ -76,12 +86,21 @@ impl Uper for ProbeDataManagement {
         } else {
             out.regional = None;
         }
-        out.extensions = if extended { uper::Extensions::decode(r, "ProbeDataManagement.ProbeDataManagement:ext")? } else { uper::Extensions::new() };
+        out.extensions = if extended {
+            uper::Extensions::decode(r, "ProbeDataManagement.ProbeDataManagement:ext")?
+        } else {
+            uper::Extensions::new()
+        };
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_bit(self.extensions.is_present())?;
-        w.write_bits(((self.time_stamp.is_some() as u64) << 2) | ((self.data_elements.is_some() as u64) << 1) | ((self.regional.is_some() as u64) << 0), 3)?;
+        w.write_bits(
+            ((self.time_stamp.is_some() as u64) << 2)
+                | ((self.data_elements.is_some() as u64) << 1)
+                | ((self.regional.is_some() as u64) << 0),
+            3,
+        )?;
         if let Some(v) = &self.time_stamp {
             v.encode_uper(w)?;
         }
@@ -107,14 +126,28 @@ impl Uper for ProbeDataManagement {
 impl uper::random::Random for ProbeDataManagement {
     fn random(g: &mut uper::random::Gen) -> Self {
         Self {
-            time_stamp: if g.coin() { Some(<super::common::MinuteOfTheYear as uper::random::Random>::random(g)) } else { None },
+            time_stamp: if g.coin() {
+                Some(<super::common::MinuteOfTheYear as uper::random::Random>::random(g))
+            } else {
+                None
+            },
             sample: <Sample as uper::random::Random>::random(g),
             directions: <super::common::HeadingSlice as uper::random::Random>::random(g),
             term: <ProbeDataManagementTerm as uper::random::Random>::random(g),
             snapshot: <ProbeDataManagementSnapshot as uper::random::Random>::random(g),
             tx_interval: <SecondOfTime as uper::random::Random>::random(g),
-            data_elements: if g.coin() { Some(<VehicleStatusRequestList as uper::random::Random>::random(g)) } else { None },
-            regional: if g.coin() { Some(<ProbeDataManagementRegional as uper::random::Random>::random(g)) } else { None },
+            data_elements: if g.coin() {
+                Some(<VehicleStatusRequestList as uper::random::Random>::random(
+                    g,
+                ))
+            } else {
+                None
+            },
+            regional: if g.coin() {
+                Some(<ProbeDataManagementRegional as uper::random::Random>::random(g))
+            } else {
+                None
+            },
             extensions: uper::Extensions::new(),
         }
     }
@@ -131,7 +164,10 @@ pub struct Sample {
 
 impl uper::Placeholder for Sample {
     fn placeholder() -> Self {
-        Self { sample_start: <SampleSampleStart as uper::Placeholder>::placeholder(), sample_end: <SampleSampleEnd as uper::Placeholder>::placeholder() }
+        Self {
+            sample_start: <SampleSampleStart as uper::Placeholder>::placeholder(),
+            sample_end: <SampleSampleEnd as uper::Placeholder>::placeholder(),
+        }
     }
 }
 
@@ -163,12 +199,24 @@ impl uper::random::Random for Sample {
 /// ASN.1 `Sample.sampleStart` (module `ProbeDataManagement`): INTEGER (0..255).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub struct SampleSampleStart(u8);
-crate::__constrained_int!(SampleSampleStart, u8, 0, 255, "ProbeDataManagement.Sample.sampleStart");
+crate::__constrained_int!(
+    SampleSampleStart,
+    u8,
+    0,
+    255,
+    "ProbeDataManagement.Sample.sampleStart"
+);
 
 /// ASN.1 `Sample.sampleEnd` (module `ProbeDataManagement`): INTEGER (0..255).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub struct SampleSampleEnd(u8);
-crate::__constrained_int!(SampleSampleEnd, u8, 0, 255, "ProbeDataManagement.Sample.sampleEnd");
+crate::__constrained_int!(
+    SampleSampleEnd,
+    u8,
+    0,
+    255,
+    "ProbeDataManagement.Sample.sampleEnd"
+);
 
 /// ASN.1 `ProbeDataManagement.term` (module `ProbeDataManagement`): CHOICE.
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
@@ -193,7 +241,9 @@ impl Uper for ProbeDataManagementTerm {
         match r.read_constrained(0, 1)? {
             0 => {
                 if !matches!(out, Self::Termtime(_)) {
-                    uper::replace_with(out, || Self::Termtime(<TermTime as uper::Placeholder>::placeholder()));
+                    uper::replace_with(out, || {
+                        Self::Termtime(<TermTime as uper::Placeholder>::placeholder())
+                    });
                 }
                 if let Self::Termtime(v) = out {
                     <TermTime>::decode_into(r, v)?;
@@ -201,20 +251,33 @@ impl Uper for ProbeDataManagementTerm {
             }
             1 => {
                 if !matches!(out, Self::TermDistance(_)) {
-                    uper::replace_with(out, || Self::TermDistance(<TermDistance as uper::Placeholder>::placeholder()));
+                    uper::replace_with(out, || {
+                        Self::TermDistance(<TermDistance as uper::Placeholder>::placeholder())
+                    });
                 }
                 if let Self::TermDistance(v) = out {
                     <TermDistance>::decode_into(r, v)?;
                 }
             }
-            _ => return Err(uper::DecodeError::new(uper::DecodeErrorKind::InvalidChoiceIndex, at)),
+            _ => {
+                return Err(uper::DecodeError::new(
+                    uper::DecodeErrorKind::InvalidChoiceIndex,
+                    at,
+                ))
+            }
         }
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         match self {
-            Self::Termtime(v) => { w.write_constrained(0, 0, 1)?; v.encode_uper(w) }
-            Self::TermDistance(v) => { w.write_constrained(1, 0, 1)?; v.encode_uper(w) }
+            Self::Termtime(v) => {
+                w.write_constrained(0, 0, 1)?;
+                v.encode_uper(w)
+            }
+            Self::TermDistance(v) => {
+                w.write_constrained(1, 0, 1)?;
+                v.encode_uper(w)
+            }
         }
     }
 }
@@ -238,7 +301,13 @@ crate::__constrained_int!(TermTime, u16, 1, 1800, "ProbeDataManagement.TermTime"
 /// ASN.1 `TermDistance` (module `ProbeDataManagement`): INTEGER (1..30000).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub struct TermDistance(u16);
-crate::__constrained_int!(TermDistance, u16, 1, 30000, "ProbeDataManagement.TermDistance");
+crate::__constrained_int!(
+    TermDistance,
+    u16,
+    1,
+    30000,
+    "ProbeDataManagement.TermDistance"
+);
 
 /// ASN.1 `ProbeDataManagement.snapshot` (module `ProbeDataManagement`): CHOICE.
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
@@ -263,7 +332,9 @@ impl Uper for ProbeDataManagementSnapshot {
         match r.read_constrained(0, 1)? {
             0 => {
                 if !matches!(out, Self::SnapshotTime(_)) {
-                    uper::replace_with(out, || Self::SnapshotTime(<SnapshotTime as uper::Placeholder>::placeholder()));
+                    uper::replace_with(out, || {
+                        Self::SnapshotTime(<SnapshotTime as uper::Placeholder>::placeholder())
+                    });
                 }
                 if let Self::SnapshotTime(v) = out {
                     <SnapshotTime>::decode_into(r, v)?;
@@ -271,20 +342,35 @@ impl Uper for ProbeDataManagementSnapshot {
             }
             1 => {
                 if !matches!(out, Self::SnapshotDistance(_)) {
-                    uper::replace_with(out, || Self::SnapshotDistance(<SnapshotDistance as uper::Placeholder>::placeholder()));
+                    uper::replace_with(out, || {
+                        Self::SnapshotDistance(
+                            <SnapshotDistance as uper::Placeholder>::placeholder(),
+                        )
+                    });
                 }
                 if let Self::SnapshotDistance(v) = out {
                     <SnapshotDistance>::decode_into(r, v)?;
                 }
             }
-            _ => return Err(uper::DecodeError::new(uper::DecodeErrorKind::InvalidChoiceIndex, at)),
+            _ => {
+                return Err(uper::DecodeError::new(
+                    uper::DecodeErrorKind::InvalidChoiceIndex,
+                    at,
+                ))
+            }
         }
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         match self {
-            Self::SnapshotTime(v) => { w.write_constrained(0, 0, 1)?; v.encode_uper(w) }
-            Self::SnapshotDistance(v) => { w.write_constrained(1, 0, 1)?; v.encode_uper(w) }
+            Self::SnapshotTime(v) => {
+                w.write_constrained(0, 0, 1)?;
+                v.encode_uper(w)
+            }
+            Self::SnapshotDistance(v) => {
+                w.write_constrained(1, 0, 1)?;
+                v.encode_uper(w)
+            }
         }
     }
 }
@@ -315,7 +401,12 @@ pub struct SnapshotTime {
 
 impl uper::Placeholder for SnapshotTime {
     fn placeholder() -> Self {
-        Self { speed1: <super::common::GrossSpeed as uper::Placeholder>::placeholder(), time1: <SecondOfTime as uper::Placeholder>::placeholder(), speed2: <super::common::GrossSpeed as uper::Placeholder>::placeholder(), time2: <SecondOfTime as uper::Placeholder>::placeholder() }
+        Self {
+            speed1: <super::common::GrossSpeed as uper::Placeholder>::placeholder(),
+            time1: <SecondOfTime as uper::Placeholder>::placeholder(),
+            speed2: <super::common::GrossSpeed as uper::Placeholder>::placeholder(),
+            time2: <SecondOfTime as uper::Placeholder>::placeholder(),
+        }
     }
 }
 
@@ -370,7 +461,12 @@ pub struct SnapshotDistance {
 
 impl uper::Placeholder for SnapshotDistance {
     fn placeholder() -> Self {
-        Self { distance1: <GrossDistance as uper::Placeholder>::placeholder(), speed1: <super::common::GrossSpeed as uper::Placeholder>::placeholder(), distance2: <GrossDistance as uper::Placeholder>::placeholder(), speed2: <super::common::GrossSpeed as uper::Placeholder>::placeholder() }
+        Self {
+            distance1: <GrossDistance as uper::Placeholder>::placeholder(),
+            speed1: <super::common::GrossSpeed as uper::Placeholder>::placeholder(),
+            distance2: <GrossDistance as uper::Placeholder>::placeholder(),
+            speed2: <super::common::GrossSpeed as uper::Placeholder>::placeholder(),
+        }
     }
 }
 
@@ -408,7 +504,13 @@ impl uper::random::Random for SnapshotDistance {
 /// ASN.1 `GrossDistance` (module `ProbeDataManagement`): INTEGER (0..1023).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub struct GrossDistance(u16);
-crate::__constrained_int!(GrossDistance, u16, 0, 1023, "ProbeDataManagement.GrossDistance");
+crate::__constrained_int!(
+    GrossDistance,
+    u16,
+    0,
+    1023,
+    "ProbeDataManagement.GrossDistance"
+);
 
 /// ASN.1 `VehicleStatusRequestList` (module `ProbeDataManagement`): SEQUENCE OF VehicleStatusRequest (SIZE(1..32)).
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
@@ -424,6 +526,12 @@ impl VehicleStatusRequestList {
     }
 }
 
+impl Default for VehicleStatusRequestList {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
 impl uper::Placeholder for VehicleStatusRequestList {
     fn placeholder() -> Self {
         Self(uper::SeqOf::new())
@@ -434,7 +542,12 @@ impl Uper for VehicleStatusRequestList {
     const PATH: &'static str = "ProbeDataManagement.VehicleStatusRequestList";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(4965), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        uper::decode_seq_of_into(r, Self::SIZE, "ProbeDataManagement.VehicleStatusRequestList", &mut out.0)
+        uper::decode_seq_of_into(
+            r,
+            Self::SIZE,
+            "ProbeDataManagement.VehicleStatusRequestList",
+            &mut out.0,
+        )
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
@@ -446,7 +559,8 @@ impl uper::random::Random for VehicleStatusRequestList {
     fn random(g: &mut uper::random::Gen) -> Self {
         let mut v = Self(uper::SeqOf::new());
         for _ in 0..g.count(1, 32) {
-            let _ = v.0.push(<VehicleStatusRequest as uper::random::Random>::random(g));
+            let _ =
+                v.0.push(<VehicleStatusRequest as uper::random::Random>::random(g));
         }
         v
     }
@@ -471,7 +585,14 @@ pub struct VehicleStatusRequest {
 
 impl uper::Placeholder for VehicleStatusRequest {
     fn placeholder() -> Self {
-        Self { data_type: <VehicleStatusDeviceTypeTag as uper::Placeholder>::placeholder(), sub_type: None, send_on_less_then_value: None, send_on_more_then_value: None, send_all: None, extensions: uper::Extensions::new() }
+        Self {
+            data_type: <VehicleStatusDeviceTypeTag as uper::Placeholder>::placeholder(),
+            sub_type: None,
+            send_on_less_then_value: None,
+            send_on_more_then_value: None,
+            send_all: None,
+            extensions: uper::Extensions::new(),
+        }
     }
 }
 
@@ -522,12 +643,22 @@ impl Uper for VehicleStatusRequest {
         } else {
             out.send_all = None;
         }
-        out.extensions = if extended { uper::Extensions::decode(r, "ProbeDataManagement.VehicleStatusRequest:ext")? } else { uper::Extensions::new() };
+        out.extensions = if extended {
+            uper::Extensions::decode(r, "ProbeDataManagement.VehicleStatusRequest:ext")?
+        } else {
+            uper::Extensions::new()
+        };
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_bit(self.extensions.is_present())?;
-        w.write_bits(((self.sub_type.is_some() as u64) << 3) | ((self.send_on_less_then_value.is_some() as u64) << 2) | ((self.send_on_more_then_value.is_some() as u64) << 1) | ((self.send_all.is_some() as u64) << 0), 4)?;
+        w.write_bits(
+            ((self.sub_type.is_some() as u64) << 3)
+                | ((self.send_on_less_then_value.is_some() as u64) << 2)
+                | ((self.send_on_more_then_value.is_some() as u64) << 1)
+                | ((self.send_all.is_some() as u64) << 0),
+            4,
+        )?;
         self.data_type.encode_uper(w)?;
         if let Some(v) = &self.sub_type {
             v.encode_uper(w)?;
@@ -553,10 +684,26 @@ impl uper::random::Random for VehicleStatusRequest {
     fn random(g: &mut uper::random::Gen) -> Self {
         Self {
             data_type: <VehicleStatusDeviceTypeTag as uper::random::Random>::random(g),
-            sub_type: if g.coin() { Some(<VehicleStatusRequestSubType as uper::random::Random>::random(g)) } else { None },
-            send_on_less_then_value: if g.coin() { Some(<VehicleStatusRequestSendOnLessThenValue as uper::random::Random>::random(g)) } else { None },
-            send_on_more_then_value: if g.coin() { Some(<VehicleStatusRequestSendOnMoreThenValue as uper::random::Random>::random(g)) } else { None },
-            send_all: if g.coin() { Some(<bool as uper::random::Random>::random(g)) } else { None },
+            sub_type: if g.coin() {
+                Some(<VehicleStatusRequestSubType as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            send_on_less_then_value: if g.coin() {
+                Some(<VehicleStatusRequestSendOnLessThenValue as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            send_on_more_then_value: if g.coin() {
+                Some(<VehicleStatusRequestSendOnMoreThenValue as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            send_all: if g.coin() {
+                Some(<bool as uper::random::Random>::random(g))
+            } else {
+                None
+            },
             extensions: uper::Extensions::new(),
         }
     }
@@ -629,7 +776,37 @@ pub enum VehicleStatusDeviceTypeTag {
 
 impl VehicleStatusDeviceTypeTag {
     /// Every root value in encoding (ascending number) order.
-    pub const ALL: [Self; 29] = [Self::Unknown, Self::Lights, Self::Wipers, Self::Brakes, Self::Stab, Self::Trac, Self::Abs, Self::SunS, Self::RainS, Self::AirTemp, Self::Steering, Self::VertAccelThres, Self::VertAccel, Self::HozAccelLong, Self::HozAccelLat, Self::HozAccelCon, Self::Accel4way, Self::ConfidenceSet, Self::ObDist, Self::ObDirect, Self::Yaw, Self::YawRateCon, Self::DateTime, Self::FullPos, Self::Position2D, Self::Position3D, Self::Vehicle, Self::SpeedHeadC, Self::SpeedC];
+    pub const ALL: [Self; 29] = [
+        Self::Unknown,
+        Self::Lights,
+        Self::Wipers,
+        Self::Brakes,
+        Self::Stab,
+        Self::Trac,
+        Self::Abs,
+        Self::SunS,
+        Self::RainS,
+        Self::AirTemp,
+        Self::Steering,
+        Self::VertAccelThres,
+        Self::VertAccel,
+        Self::HozAccelLong,
+        Self::HozAccelLat,
+        Self::HozAccelCon,
+        Self::Accel4way,
+        Self::ConfidenceSet,
+        Self::ObDist,
+        Self::ObDirect,
+        Self::Yaw,
+        Self::YawRateCon,
+        Self::DateTime,
+        Self::FullPos,
+        Self::Position2D,
+        Self::Position3D,
+        Self::Vehicle,
+        Self::SpeedHeadC,
+        Self::SpeedC,
+    ];
     /// The ASN.1 number of the value (`None` for an unknown extension value).
     pub const fn number(self) -> Option<i64> {
         match self {
@@ -749,12 +926,20 @@ impl Uper for VehicleStatusDeviceTypeTag {
         if r.read_bit()? {
             let at = r.position();
             let i = r.read_normally_small()?;
-            *out = u16::try_from(i).map(Self::Extension).map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at))?;
+            *out = u16::try_from(i)
+                .map(Self::Extension)
+                .map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at))?;
             return Ok(());
         }
         let at = r.position();
         let i = r.read_constrained(0, 28)?;
-        *out = Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))?;
+        *out = Self::ALL
+            .get(i as usize)
+            .copied()
+            .ok_or(uper::DecodeError::new(
+                uper::DecodeErrorKind::InvalidEnumIndex,
+                at,
+            ))?;
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -777,17 +962,35 @@ impl uper::random::Random for VehicleStatusDeviceTypeTag {
 /// ASN.1 `VehicleStatusRequest.subType` (module `ProbeDataManagement`): INTEGER (1..15).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub struct VehicleStatusRequestSubType(u8);
-crate::__constrained_int!(VehicleStatusRequestSubType, u8, 1, 15, "ProbeDataManagement.VehicleStatusRequest.subType");
+crate::__constrained_int!(
+    VehicleStatusRequestSubType,
+    u8,
+    1,
+    15,
+    "ProbeDataManagement.VehicleStatusRequest.subType"
+);
 
 /// ASN.1 `VehicleStatusRequest.sendOnLessThenValue` (module `ProbeDataManagement`): INTEGER (-32767..32767).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub struct VehicleStatusRequestSendOnLessThenValue(i16);
-crate::__constrained_int!(VehicleStatusRequestSendOnLessThenValue, i16, -32767, 32767, "ProbeDataManagement.VehicleStatusRequest.sendOnLessThenValue");
+crate::__constrained_int!(
+    VehicleStatusRequestSendOnLessThenValue,
+    i16,
+    -32767,
+    32767,
+    "ProbeDataManagement.VehicleStatusRequest.sendOnLessThenValue"
+);
 
 /// ASN.1 `VehicleStatusRequest.sendOnMoreThenValue` (module `ProbeDataManagement`): INTEGER (-32767..32767).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub struct VehicleStatusRequestSendOnMoreThenValue(i16);
-crate::__constrained_int!(VehicleStatusRequestSendOnMoreThenValue, i16, -32767, 32767, "ProbeDataManagement.VehicleStatusRequest.sendOnMoreThenValue");
+crate::__constrained_int!(
+    VehicleStatusRequestSendOnMoreThenValue,
+    i16,
+    -32767,
+    32767,
+    "ProbeDataManagement.VehicleStatusRequest.sendOnMoreThenValue"
+);
 
 /// ASN.1 `ProbeDataManagement.regional` (module `ProbeDataManagement`): SEQUENCE OF RegProbeDataManagement (SIZE(1..4)).
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
@@ -803,6 +1006,12 @@ impl ProbeDataManagementRegional {
     }
 }
 
+impl Default for ProbeDataManagementRegional {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
 impl uper::Placeholder for ProbeDataManagementRegional {
     fn placeholder() -> Self {
         Self(uper::SeqOf::new())
@@ -813,7 +1022,12 @@ impl Uper for ProbeDataManagementRegional {
     const PATH: &'static str = "ProbeDataManagement.ProbeDataManagement.regional";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(146), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        uper::decode_seq_of_into(r, Self::SIZE, "ProbeDataManagement.ProbeDataManagement.regional", &mut out.0)
+        uper::decode_seq_of_into(
+            r,
+            Self::SIZE,
+            "ProbeDataManagement.ProbeDataManagement.regional",
+            &mut out.0,
+        )
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
@@ -825,7 +1039,8 @@ impl uper::random::Random for ProbeDataManagementRegional {
     fn random(g: &mut uper::random::Gen) -> Self {
         let mut v = Self(uper::SeqOf::new());
         for _ in 0..g.count(1, 1) {
-            let _ = v.0.push(<RegProbeDataManagement as uper::random::Random>::random(g));
+            let _ =
+                v.0.push(<RegProbeDataManagement as uper::random::Random>::random(g));
         }
         v
     }
@@ -854,7 +1069,10 @@ impl RegProbeDataManagement {
 
 impl uper::Placeholder for RegProbeDataManagement {
     fn placeholder() -> Self {
-        Self::Unknown { id: <super::common::RegionId as uper::Placeholder>::placeholder(), content: uper::Octets::new() }
+        Self::Unknown {
+            id: <super::common::RegionId as uper::Placeholder>::placeholder(),
+            content: uper::Octets::new(),
+        }
     }
 }
 
@@ -864,7 +1082,15 @@ impl Uper for RegProbeDataManagement {
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let id = <super::common::RegionId>::decode_uper(r)?;
         match id.get() {
-            _ => *out = Self::Unknown { id, content: uper::decode_unknown_open(r, "ProbeDataManagement.RegProbeDataManagement:unknown")? },
+            _ => {
+                *out = Self::Unknown {
+                    id,
+                    content: uper::decode_unknown_open(
+                        r,
+                        "ProbeDataManagement.RegProbeDataManagement:unknown",
+                    )?,
+                }
+            }
         }
         Ok(())
     }
@@ -885,6 +1111,9 @@ impl uper::random::Random for RegProbeDataManagement {
         for _ in 0..1 + g.below(4) {
             let _ = content.push(g.octet());
         }
-        Self::Unknown { id: <super::common::RegionId as uper::random::Random>::random(g), content }
+        Self::Unknown {
+            id: <super::common::RegionId as uper::random::Random>::random(g),
+            content,
+        }
     }
 }

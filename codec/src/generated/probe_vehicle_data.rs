@@ -29,7 +29,17 @@ pub struct ProbeVehicleData {
 
 impl uper::Placeholder for ProbeVehicleData {
     fn placeholder() -> Self {
-        Self { time_stamp: None, seg_num: None, probe_id: None, start_vector: <super::common::FullPositionVector as uper::Placeholder>::placeholder(), vehicle_type: <super::common::VehicleClassification as uper::Placeholder>::placeholder(), snapshots: <ProbeVehicleDataSnapshots as uper::Placeholder>::placeholder(), regional: None, extensions: uper::Extensions::new() }
+        Self {
+            time_stamp: None,
+            seg_num: None,
+            probe_id: None,
+            start_vector: <super::common::FullPositionVector as uper::Placeholder>::placeholder(),
+            vehicle_type: <super::common::VehicleClassification as uper::Placeholder>::placeholder(
+            ),
+            snapshots: <ProbeVehicleDataSnapshots as uper::Placeholder>::placeholder(),
+            regional: None,
+            extensions: uper::Extensions::new(),
+        }
     }
 }
 
@@ -82,12 +92,22 @@ impl Uper for ProbeVehicleData {
         } else {
             out.regional = None;
         }
-        out.extensions = if extended { uper::Extensions::decode(r, "ProbeVehicleData.ProbeVehicleData:ext")? } else { uper::Extensions::new() };
+        out.extensions = if extended {
+            uper::Extensions::decode(r, "ProbeVehicleData.ProbeVehicleData:ext")?
+        } else {
+            uper::Extensions::new()
+        };
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_bit(self.extensions.is_present())?;
-        w.write_bits(((self.time_stamp.is_some() as u64) << 3) | ((self.seg_num.is_some() as u64) << 2) | ((self.probe_id.is_some() as u64) << 1) | ((self.regional.is_some() as u64) << 0), 4)?;
+        w.write_bits(
+            ((self.time_stamp.is_some() as u64) << 3)
+                | ((self.seg_num.is_some() as u64) << 2)
+                | ((self.probe_id.is_some() as u64) << 1)
+                | ((self.regional.is_some() as u64) << 0),
+            4,
+        )?;
         if let Some(v) = &self.time_stamp {
             v.encode_uper(w)?;
         }
@@ -114,13 +134,31 @@ impl Uper for ProbeVehicleData {
 impl uper::random::Random for ProbeVehicleData {
     fn random(g: &mut uper::random::Gen) -> Self {
         Self {
-            time_stamp: if g.coin() { Some(<super::common::MinuteOfTheYear as uper::random::Random>::random(g)) } else { None },
-            seg_num: if g.coin() { Some(<ProbeSegmentNumber as uper::random::Random>::random(g)) } else { None },
-            probe_id: if g.coin() { Some(<VehicleIdent as uper::random::Random>::random(g)) } else { None },
+            time_stamp: if g.coin() {
+                Some(<super::common::MinuteOfTheYear as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            seg_num: if g.coin() {
+                Some(<ProbeSegmentNumber as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            probe_id: if g.coin() {
+                Some(<VehicleIdent as uper::random::Random>::random(g))
+            } else {
+                None
+            },
             start_vector: <super::common::FullPositionVector as uper::random::Random>::random(g),
             vehicle_type: <super::common::VehicleClassification as uper::random::Random>::random(g),
             snapshots: <ProbeVehicleDataSnapshots as uper::random::Random>::random(g),
-            regional: if g.coin() { Some(<ProbeVehicleDataRegional as uper::random::Random>::random(g)) } else { None },
+            regional: if g.coin() {
+                Some(<ProbeVehicleDataRegional as uper::random::Random>::random(
+                    g,
+                ))
+            } else {
+                None
+            },
             extensions: uper::Extensions::new(),
         }
     }
@@ -129,7 +167,13 @@ impl uper::random::Random for ProbeVehicleData {
 /// ASN.1 `ProbeSegmentNumber` (module `ProbeVehicleData`): INTEGER (0..32767).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub struct ProbeSegmentNumber(u16);
-crate::__constrained_int!(ProbeSegmentNumber, u16, 0, 32767, "ProbeVehicleData.ProbeSegmentNumber");
+crate::__constrained_int!(
+    ProbeSegmentNumber,
+    u16,
+    0,
+    32767,
+    "ProbeVehicleData.ProbeSegmentNumber"
+);
 
 /// ASN.1 `VehicleIdent` (module `ProbeVehicleData`): SEQUENCE (extensible).
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
@@ -152,7 +196,15 @@ pub struct VehicleIdent {
 
 impl uper::Placeholder for VehicleIdent {
     fn placeholder() -> Self {
-        Self { name: None, vin: None, owner_code: None, id: None, vehicle_type: None, vehicle_class: None, extensions: uper::Extensions::new() }
+        Self {
+            name: None,
+            vin: None,
+            owner_code: None,
+            id: None,
+            vehicle_type: None,
+            vehicle_class: None,
+            extensions: uper::Extensions::new(),
+        }
     }
 }
 
@@ -222,12 +274,24 @@ impl Uper for VehicleIdent {
         } else {
             out.vehicle_class = None;
         }
-        out.extensions = if extended { uper::Extensions::decode(r, "ProbeVehicleData.VehicleIdent:ext")? } else { uper::Extensions::new() };
+        out.extensions = if extended {
+            uper::Extensions::decode(r, "ProbeVehicleData.VehicleIdent:ext")?
+        } else {
+            uper::Extensions::new()
+        };
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_bit(self.extensions.is_present())?;
-        w.write_bits(((self.name.is_some() as u64) << 5) | ((self.vin.is_some() as u64) << 4) | ((self.owner_code.is_some() as u64) << 3) | ((self.id.is_some() as u64) << 2) | ((self.vehicle_type.is_some() as u64) << 1) | ((self.vehicle_class.is_some() as u64) << 0), 6)?;
+        w.write_bits(
+            ((self.name.is_some() as u64) << 5)
+                | ((self.vin.is_some() as u64) << 4)
+                | ((self.owner_code.is_some() as u64) << 3)
+                | ((self.id.is_some() as u64) << 2)
+                | ((self.vehicle_type.is_some() as u64) << 1)
+                | ((self.vehicle_class.is_some() as u64) << 0),
+            6,
+        )?;
         if let Some(v) = &self.name {
             v.encode_uper(w)?;
         }
@@ -257,12 +321,40 @@ impl Uper for VehicleIdent {
 impl uper::random::Random for VehicleIdent {
     fn random(g: &mut uper::random::Gen) -> Self {
         Self {
-            name: if g.coin() { Some(<super::common::DescriptiveName as uper::random::Random>::random(g)) } else { None },
-            vin: if g.coin() { Some(<VINstring as uper::random::Random>::random(g)) } else { None },
-            owner_code: if g.coin() { Some(<VehicleIdentOwnerCode as uper::random::Random>::random(g)) } else { None },
-            id: if g.coin() { Some(<super::common::VehicleID as uper::random::Random>::random(g)) } else { None },
-            vehicle_type: if g.coin() { Some(<super::common::VehicleType as uper::random::Random>::random(g)) } else { None },
-            vehicle_class: if g.coin() { Some(<VehicleIdentVehicleClass as uper::random::Random>::random(g)) } else { None },
+            name: if g.coin() {
+                Some(<super::common::DescriptiveName as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            vin: if g.coin() {
+                Some(<VINstring as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            owner_code: if g.coin() {
+                Some(<VehicleIdentOwnerCode as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            id: if g.coin() {
+                Some(<super::common::VehicleID as uper::random::Random>::random(
+                    g,
+                ))
+            } else {
+                None
+            },
+            vehicle_type: if g.coin() {
+                Some(<super::common::VehicleType as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            vehicle_class: if g.coin() {
+                Some(<VehicleIdentVehicleClass as uper::random::Random>::random(
+                    g,
+                ))
+            } else {
+                None
+            },
             extensions: uper::Extensions::new(),
         }
     }
@@ -385,7 +477,11 @@ impl Uper for VehicleIdentVehicleClass {
         match r.read_constrained(0, 2)? {
             0 => {
                 if !matches!(out, Self::VGroup(_)) {
-                    uper::replace_with(out, || Self::VGroup(<super::itis::VehicleGroupAffected as uper::Placeholder>::placeholder()));
+                    uper::replace_with(out, || {
+                        Self::VGroup(
+                            <super::itis::VehicleGroupAffected as uper::Placeholder>::placeholder(),
+                        )
+                    });
                 }
                 if let Self::VGroup(v) = out {
                     <super::itis::VehicleGroupAffected>::decode_into(r, v)?;
@@ -393,7 +489,12 @@ impl Uper for VehicleIdentVehicleClass {
             }
             1 => {
                 if !matches!(out, Self::RGroup(_)) {
-                    uper::replace_with(out, || Self::RGroup(<super::itis::ResponderGroupAffected as uper::Placeholder>::placeholder()));
+                    uper::replace_with(out, || {
+                        Self::RGroup(
+                            <super::itis::ResponderGroupAffected as uper::Placeholder>::placeholder(
+                            ),
+                        )
+                    });
                 }
                 if let Self::RGroup(v) = out {
                     <super::itis::ResponderGroupAffected>::decode_into(r, v)?;
@@ -401,21 +502,37 @@ impl Uper for VehicleIdentVehicleClass {
             }
             2 => {
                 if !matches!(out, Self::REquip(_)) {
-                    uper::replace_with(out, || Self::REquip(<super::itis::IncidentResponseEquipment as uper::Placeholder>::placeholder()));
+                    uper::replace_with(out, || {
+                        Self::REquip(<super::itis::IncidentResponseEquipment as uper::Placeholder>::placeholder())
+                    });
                 }
                 if let Self::REquip(v) = out {
                     <super::itis::IncidentResponseEquipment>::decode_into(r, v)?;
                 }
             }
-            _ => return Err(uper::DecodeError::new(uper::DecodeErrorKind::InvalidChoiceIndex, at)),
+            _ => {
+                return Err(uper::DecodeError::new(
+                    uper::DecodeErrorKind::InvalidChoiceIndex,
+                    at,
+                ))
+            }
         }
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         match self {
-            Self::VGroup(v) => { w.write_constrained(0, 0, 2)?; v.encode_uper(w) }
-            Self::RGroup(v) => { w.write_constrained(1, 0, 2)?; v.encode_uper(w) }
-            Self::REquip(v) => { w.write_constrained(2, 0, 2)?; v.encode_uper(w) }
+            Self::VGroup(v) => {
+                w.write_constrained(0, 0, 2)?;
+                v.encode_uper(w)
+            }
+            Self::RGroup(v) => {
+                w.write_constrained(1, 0, 2)?;
+                v.encode_uper(w)
+            }
+            Self::REquip(v) => {
+                w.write_constrained(2, 0, 2)?;
+                v.encode_uper(w)
+            }
         }
     }
 }
@@ -424,10 +541,18 @@ impl Uper for VehicleIdentVehicleClass {
 impl uper::random::Random for VehicleIdentVehicleClass {
     fn random(g: &mut uper::random::Gen) -> Self {
         match g.below(3) {
-            0 => Self::VGroup(<super::itis::VehicleGroupAffected as uper::random::Random>::random(g)),
-            1 => Self::RGroup(<super::itis::ResponderGroupAffected as uper::random::Random>::random(g)),
-            2 => Self::REquip(<super::itis::IncidentResponseEquipment as uper::random::Random>::random(g)),
-            _ => Self::VGroup(<super::itis::VehicleGroupAffected as uper::Placeholder>::placeholder()),
+            0 => {
+                Self::VGroup(<super::itis::VehicleGroupAffected as uper::random::Random>::random(g))
+            }
+            1 => Self::RGroup(
+                <super::itis::ResponderGroupAffected as uper::random::Random>::random(g),
+            ),
+            2 => Self::REquip(
+                <super::itis::IncidentResponseEquipment as uper::random::Random>::random(g),
+            ),
+            _ => Self::VGroup(
+                <super::itis::VehicleGroupAffected as uper::Placeholder>::placeholder(),
+            ),
         }
     }
 }
@@ -446,6 +571,12 @@ impl ProbeVehicleDataSnapshots {
     }
 }
 
+impl Default for ProbeVehicleDataSnapshots {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
 impl uper::Placeholder for ProbeVehicleDataSnapshots {
     fn placeholder() -> Self {
         Self(uper::SeqOf::new())
@@ -456,7 +587,12 @@ impl Uper for ProbeVehicleDataSnapshots {
     const PATH: &'static str = "ProbeVehicleData.ProbeVehicleData.snapshots";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(36817), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        uper::decode_seq_of_into(r, Self::SIZE, "ProbeVehicleData.ProbeVehicleData.snapshots", &mut out.0)
+        uper::decode_seq_of_into(
+            r,
+            Self::SIZE,
+            "ProbeVehicleData.ProbeVehicleData.snapshots",
+            &mut out.0,
+        )
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
@@ -489,7 +625,12 @@ pub struct Snapshot {
 
 impl uper::Placeholder for Snapshot {
     fn placeholder() -> Self {
-        Self { the_position: <super::common::FullPositionVector as uper::Placeholder>::placeholder(), safety_ext: None, data_set: None, extensions: uper::Extensions::new() }
+        Self {
+            the_position: <super::common::FullPositionVector as uper::Placeholder>::placeholder(),
+            safety_ext: None,
+            data_set: None,
+            extensions: uper::Extensions::new(),
+        }
     }
 }
 
@@ -520,12 +661,19 @@ impl Uper for Snapshot {
         } else {
             out.data_set = None;
         }
-        out.extensions = if extended { uper::Extensions::decode(r, "ProbeVehicleData.Snapshot:ext")? } else { uper::Extensions::new() };
+        out.extensions = if extended {
+            uper::Extensions::decode(r, "ProbeVehicleData.Snapshot:ext")?
+        } else {
+            uper::Extensions::new()
+        };
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_bit(self.extensions.is_present())?;
-        w.write_bits(((self.safety_ext.is_some() as u64) << 1) | ((self.data_set.is_some() as u64) << 0), 2)?;
+        w.write_bits(
+            ((self.safety_ext.is_some() as u64) << 1) | ((self.data_set.is_some() as u64) << 0),
+            2,
+        )?;
         self.the_position.encode_uper(w)?;
         if let Some(v) = &self.safety_ext {
             v.encode_uper(w)?;
@@ -545,8 +693,16 @@ impl uper::random::Random for Snapshot {
     fn random(g: &mut uper::random::Gen) -> Self {
         Self {
             the_position: <super::common::FullPositionVector as uper::random::Random>::random(g),
-            safety_ext: if g.coin() { Some(<super::common::VehicleSafetyExtensions as uper::random::Random>::random(g)) } else { None },
-            data_set: if g.coin() { Some(<VehicleStatus as uper::random::Random>::random(g)) } else { None },
+            safety_ext: if g.coin() {
+                Some(<super::common::VehicleSafetyExtensions as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            data_set: if g.coin() {
+                Some(<VehicleStatus as uper::random::Random>::random(g))
+            } else {
+                None
+            },
             extensions: uper::Extensions::new(),
         }
     }
@@ -605,7 +761,31 @@ pub struct VehicleStatus {
 
 impl uper::Placeholder for VehicleStatus {
     fn placeholder() -> Self {
-        Self { lights: None, light_bar: None, wipers: None, brake_status: None, brake_pressure: None, road_friction: None, sun_data: None, rain_data: None, air_temp: None, air_pres: None, steering: None, accel_sets: None, object: None, full_pos: None, throttle_pos: None, speed_head_c: None, speed_c: None, vehicle_data: None, vehicle_ident: None, j1939data: None, weather_report: None, gnss_status: None, extensions: uper::Extensions::new() }
+        Self {
+            lights: None,
+            light_bar: None,
+            wipers: None,
+            brake_status: None,
+            brake_pressure: None,
+            road_friction: None,
+            sun_data: None,
+            rain_data: None,
+            air_temp: None,
+            air_pres: None,
+            steering: None,
+            accel_sets: None,
+            object: None,
+            full_pos: None,
+            throttle_pos: None,
+            speed_head_c: None,
+            speed_c: None,
+            vehicle_data: None,
+            vehicle_ident: None,
+            j1939data: None,
+            weather_report: None,
+            gnss_status: None,
+            extensions: uper::Extensions::new(),
+        }
     }
 }
 
@@ -835,12 +1015,40 @@ impl Uper for VehicleStatus {
         } else {
             out.gnss_status = None;
         }
-        out.extensions = if extended { uper::Extensions::decode(r, "ProbeVehicleData.VehicleStatus:ext")? } else { uper::Extensions::new() };
+        out.extensions = if extended {
+            uper::Extensions::decode(r, "ProbeVehicleData.VehicleStatus:ext")?
+        } else {
+            uper::Extensions::new()
+        };
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_bit(self.extensions.is_present())?;
-        w.write_bits(((self.lights.is_some() as u64) << 21) | ((self.light_bar.is_some() as u64) << 20) | ((self.wipers.is_some() as u64) << 19) | ((self.brake_status.is_some() as u64) << 18) | ((self.brake_pressure.is_some() as u64) << 17) | ((self.road_friction.is_some() as u64) << 16) | ((self.sun_data.is_some() as u64) << 15) | ((self.rain_data.is_some() as u64) << 14) | ((self.air_temp.is_some() as u64) << 13) | ((self.air_pres.is_some() as u64) << 12) | ((self.steering.is_some() as u64) << 11) | ((self.accel_sets.is_some() as u64) << 10) | ((self.object.is_some() as u64) << 9) | ((self.full_pos.is_some() as u64) << 8) | ((self.throttle_pos.is_some() as u64) << 7) | ((self.speed_head_c.is_some() as u64) << 6) | ((self.speed_c.is_some() as u64) << 5) | ((self.vehicle_data.is_some() as u64) << 4) | ((self.vehicle_ident.is_some() as u64) << 3) | ((self.j1939data.is_some() as u64) << 2) | ((self.weather_report.is_some() as u64) << 1) | ((self.gnss_status.is_some() as u64) << 0), 22)?;
+        w.write_bits(
+            ((self.lights.is_some() as u64) << 21)
+                | ((self.light_bar.is_some() as u64) << 20)
+                | ((self.wipers.is_some() as u64) << 19)
+                | ((self.brake_status.is_some() as u64) << 18)
+                | ((self.brake_pressure.is_some() as u64) << 17)
+                | ((self.road_friction.is_some() as u64) << 16)
+                | ((self.sun_data.is_some() as u64) << 15)
+                | ((self.rain_data.is_some() as u64) << 14)
+                | ((self.air_temp.is_some() as u64) << 13)
+                | ((self.air_pres.is_some() as u64) << 12)
+                | ((self.steering.is_some() as u64) << 11)
+                | ((self.accel_sets.is_some() as u64) << 10)
+                | ((self.object.is_some() as u64) << 9)
+                | ((self.full_pos.is_some() as u64) << 8)
+                | ((self.throttle_pos.is_some() as u64) << 7)
+                | ((self.speed_head_c.is_some() as u64) << 6)
+                | ((self.speed_c.is_some() as u64) << 5)
+                | ((self.vehicle_data.is_some() as u64) << 4)
+                | ((self.vehicle_ident.is_some() as u64) << 3)
+                | ((self.j1939data.is_some() as u64) << 2)
+                | ((self.weather_report.is_some() as u64) << 1)
+                | ((self.gnss_status.is_some() as u64) << 0),
+            22,
+        )?;
         if let Some(v) = &self.lights {
             v.encode_uper(w)?;
         }
@@ -918,28 +1126,120 @@ impl Uper for VehicleStatus {
 impl uper::random::Random for VehicleStatus {
     fn random(g: &mut uper::random::Gen) -> Self {
         Self {
-            lights: if g.coin() { Some(<super::common::ExteriorLights as uper::random::Random>::random(g)) } else { None },
-            light_bar: if g.coin() { Some(<super::common::LightbarInUse as uper::random::Random>::random(g)) } else { None },
-            wipers: if g.coin() { Some(<super::common::WiperSet as uper::random::Random>::random(g)) } else { None },
-            brake_status: if g.coin() { Some(<super::common::BrakeSystemStatus as uper::random::Random>::random(g)) } else { None },
-            brake_pressure: if g.coin() { Some(<BrakeAppliedPressure as uper::random::Random>::random(g)) } else { None },
-            road_friction: if g.coin() { Some(<super::common::CoefficientOfFriction as uper::random::Random>::random(g)) } else { None },
-            sun_data: if g.coin() { Some(<SunSensor as uper::random::Random>::random(g)) } else { None },
-            rain_data: if g.coin() { Some(<RainSensor as uper::random::Random>::random(g)) } else { None },
-            air_temp: if g.coin() { Some(<super::common::AmbientAirTemperature as uper::random::Random>::random(g)) } else { None },
-            air_pres: if g.coin() { Some(<super::common::AmbientAirPressure as uper::random::Random>::random(g)) } else { None },
-            steering: if g.coin() { Some(<VehicleStatusSteering as uper::random::Random>::random(g)) } else { None },
-            accel_sets: if g.coin() { Some(<VehicleStatusAccelSets as uper::random::Random>::random(g)) } else { None },
-            object: if g.coin() { Some(<VehicleStatusObject as uper::random::Random>::random(g)) } else { None },
-            full_pos: if g.coin() { Some(<super::common::FullPositionVector as uper::random::Random>::random(g)) } else { None },
-            throttle_pos: if g.coin() { Some(<ThrottlePosition as uper::random::Random>::random(g)) } else { None },
-            speed_head_c: if g.coin() { Some(<super::common::SpeedandHeadingandThrottleConfidence as uper::random::Random>::random(g)) } else { None },
-            speed_c: if g.coin() { Some(<super::common::SpeedConfidence as uper::random::Random>::random(g)) } else { None },
-            vehicle_data: if g.coin() { Some(<VehicleStatusVehicleData as uper::random::Random>::random(g)) } else { None },
-            vehicle_ident: if g.coin() { Some(<VehicleIdent as uper::random::Random>::random(g)) } else { None },
-            j1939data: if g.coin() { Some(<J1939data as uper::random::Random>::random(g)) } else { None },
-            weather_report: if g.coin() { Some(<VehicleStatusWeatherReport as uper::random::Random>::random(g)) } else { None },
-            gnss_status: if g.coin() { Some(<super::common::GNSSstatus as uper::random::Random>::random(g)) } else { None },
+            lights: if g.coin() {
+                Some(<super::common::ExteriorLights as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            light_bar: if g.coin() {
+                Some(<super::common::LightbarInUse as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            wipers: if g.coin() {
+                Some(<super::common::WiperSet as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            brake_status: if g.coin() {
+                Some(<super::common::BrakeSystemStatus as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            brake_pressure: if g.coin() {
+                Some(<BrakeAppliedPressure as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            road_friction: if g.coin() {
+                Some(<super::common::CoefficientOfFriction as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            sun_data: if g.coin() {
+                Some(<SunSensor as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            rain_data: if g.coin() {
+                Some(<RainSensor as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            air_temp: if g.coin() {
+                Some(<super::common::AmbientAirTemperature as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            air_pres: if g.coin() {
+                Some(<super::common::AmbientAirPressure as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            steering: if g.coin() {
+                Some(<VehicleStatusSteering as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            accel_sets: if g.coin() {
+                Some(<VehicleStatusAccelSets as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            object: if g.coin() {
+                Some(<VehicleStatusObject as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            full_pos: if g.coin() {
+                Some(<super::common::FullPositionVector as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            throttle_pos: if g.coin() {
+                Some(<ThrottlePosition as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            speed_head_c: if g.coin() {
+                Some(<super::common::SpeedandHeadingandThrottleConfidence as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            speed_c: if g.coin() {
+                Some(<super::common::SpeedConfidence as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            vehicle_data: if g.coin() {
+                Some(<VehicleStatusVehicleData as uper::random::Random>::random(
+                    g,
+                ))
+            } else {
+                None
+            },
+            vehicle_ident: if g.coin() {
+                Some(<VehicleIdent as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            j1939data: if g.coin() {
+                Some(<J1939data as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            weather_report: if g.coin() {
+                Some(<VehicleStatusWeatherReport as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            gnss_status: if g.coin() {
+                Some(<super::common::GNSSstatus as uper::random::Random>::random(
+                    g,
+                ))
+            } else {
+                None
+            },
             extensions: uper::Extensions::new(),
         }
     }
@@ -984,7 +1284,24 @@ pub enum BrakeAppliedPressure {
 
 impl BrakeAppliedPressure {
     /// Every root value in encoding (ascending number) order.
-    pub const ALL: [Self; 16] = [Self::Unavailable, Self::MinPressure, Self::BkLvl2, Self::BkLvl3, Self::BkLvl4, Self::BkLvl5, Self::BkLvl6, Self::BkLvl7, Self::BkLvl8, Self::BkLvl9, Self::BkLvl10, Self::BkLvl11, Self::BkLvl12, Self::BkLvl13, Self::BkLvl14, Self::MaxPressure];
+    pub const ALL: [Self; 16] = [
+        Self::Unavailable,
+        Self::MinPressure,
+        Self::BkLvl2,
+        Self::BkLvl3,
+        Self::BkLvl4,
+        Self::BkLvl5,
+        Self::BkLvl6,
+        Self::BkLvl7,
+        Self::BkLvl8,
+        Self::BkLvl9,
+        Self::BkLvl10,
+        Self::BkLvl11,
+        Self::BkLvl12,
+        Self::BkLvl13,
+        Self::BkLvl14,
+        Self::MaxPressure,
+    ];
     /// The ASN.1 number of the value (`None` for an unknown extension value).
     pub const fn number(self) -> Option<i64> {
         match self {
@@ -1061,7 +1378,13 @@ impl Uper for BrakeAppliedPressure {
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let at = r.position();
         let i = r.read_constrained(0, 15)?;
-        *out = Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))?;
+        *out = Self::ALL
+            .get(i as usize)
+            .copied()
+            .ok_or(uper::DecodeError::new(
+                uper::DecodeErrorKind::InvalidEnumIndex,
+                at,
+            ))?;
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -1104,7 +1427,16 @@ pub enum RainSensor {
 
 impl RainSensor {
     /// Every root value in encoding (ascending number) order.
-    pub const ALL: [Self; 8] = [Self::None, Self::LightMist, Self::HeavyMist, Self::LightRainOrDrizzle, Self::Rain, Self::ModerateRain, Self::HeavyRain, Self::HeavyDownpour];
+    pub const ALL: [Self; 8] = [
+        Self::None,
+        Self::LightMist,
+        Self::HeavyMist,
+        Self::LightRainOrDrizzle,
+        Self::Rain,
+        Self::ModerateRain,
+        Self::HeavyRain,
+        Self::HeavyDownpour,
+    ];
     /// The ASN.1 number of the value (`None` for an unknown extension value).
     pub const fn number(self) -> Option<i64> {
         match self {
@@ -1157,7 +1489,13 @@ impl Uper for RainSensor {
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let at = r.position();
         let i = r.read_constrained(0, 7)?;
-        *out = Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))?;
+        *out = Self::ALL
+            .get(i as usize)
+            .copied()
+            .ok_or(uper::DecodeError::new(
+                uper::DecodeErrorKind::InvalidEnumIndex,
+                at,
+            ))?;
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -1187,7 +1525,12 @@ pub struct VehicleStatusSteering {
 
 impl uper::Placeholder for VehicleStatusSteering {
     fn placeholder() -> Self {
-        Self { angle: <super::common::SteeringWheelAngle as uper::Placeholder>::placeholder(), confidence: None, rate: None, wheels: None }
+        Self {
+            angle: <super::common::SteeringWheelAngle as uper::Placeholder>::placeholder(),
+            confidence: None,
+            rate: None,
+            wheels: None,
+        }
     }
 }
 
@@ -1230,7 +1573,12 @@ impl Uper for VehicleStatusSteering {
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
-        w.write_bits(((self.confidence.is_some() as u64) << 2) | ((self.rate.is_some() as u64) << 1) | ((self.wheels.is_some() as u64) << 0), 3)?;
+        w.write_bits(
+            ((self.confidence.is_some() as u64) << 2)
+                | ((self.rate.is_some() as u64) << 1)
+                | ((self.wheels.is_some() as u64) << 0),
+            3,
+        )?;
         self.angle.encode_uper(w)?;
         if let Some(v) = &self.confidence {
             v.encode_uper(w)?;
@@ -1250,9 +1598,21 @@ impl uper::random::Random for VehicleStatusSteering {
     fn random(g: &mut uper::random::Gen) -> Self {
         Self {
             angle: <super::common::SteeringWheelAngle as uper::random::Random>::random(g),
-            confidence: if g.coin() { Some(<SteeringWheelAngleConfidence as uper::random::Random>::random(g)) } else { None },
-            rate: if g.coin() { Some(<SteeringWheelAngleRateOfChange as uper::random::Random>::random(g)) } else { None },
-            wheels: if g.coin() { Some(<DrivingWheelAngle as uper::random::Random>::random(g)) } else { None },
+            confidence: if g.coin() {
+                Some(<SteeringWheelAngleConfidence as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            rate: if g.coin() {
+                Some(<SteeringWheelAngleRateOfChange as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            wheels: if g.coin() {
+                Some(<DrivingWheelAngle as uper::random::Random>::random(g))
+            } else {
+                None
+            },
         }
     }
 }
@@ -1272,7 +1632,12 @@ pub enum SteeringWheelAngleConfidence {
 
 impl SteeringWheelAngleConfidence {
     /// Every root value in encoding (ascending number) order.
-    pub const ALL: [Self; 4] = [Self::Unavailable, Self::Prec2deg, Self::Prec1deg, Self::Prec0_02deg];
+    pub const ALL: [Self; 4] = [
+        Self::Unavailable,
+        Self::Prec2deg,
+        Self::Prec1deg,
+        Self::Prec0_02deg,
+    ];
     /// The ASN.1 number of the value (`None` for an unknown extension value).
     pub const fn number(self) -> Option<i64> {
         match self {
@@ -1313,7 +1678,13 @@ impl Uper for SteeringWheelAngleConfidence {
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let at = r.position();
         let i = r.read_constrained(0, 3)?;
-        *out = Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))?;
+        *out = Self::ALL
+            .get(i as usize)
+            .copied()
+            .ok_or(uper::DecodeError::new(
+                uper::DecodeErrorKind::InvalidEnumIndex,
+                at,
+            ))?;
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -1331,12 +1702,24 @@ impl uper::random::Random for SteeringWheelAngleConfidence {
 /// ASN.1 `SteeringWheelAngleRateOfChange` (module `ProbeVehicleData`): INTEGER (-127..127).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub struct SteeringWheelAngleRateOfChange(i8);
-crate::__constrained_int!(SteeringWheelAngleRateOfChange, i8, -127, 127, "ProbeVehicleData.SteeringWheelAngleRateOfChange");
+crate::__constrained_int!(
+    SteeringWheelAngleRateOfChange,
+    i8,
+    -127,
+    127,
+    "ProbeVehicleData.SteeringWheelAngleRateOfChange"
+);
 
 /// ASN.1 `DrivingWheelAngle` (module `ProbeVehicleData`): INTEGER (-128..127).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub struct DrivingWheelAngle(i8);
-crate::__constrained_int!(DrivingWheelAngle, i8, -128, 127, "ProbeVehicleData.DrivingWheelAngle");
+crate::__constrained_int!(
+    DrivingWheelAngle,
+    i8,
+    -128,
+    127,
+    "ProbeVehicleData.DrivingWheelAngle"
+);
 
 /// ASN.1 `VehicleStatus.accelSets` (module `ProbeVehicleData`): SEQUENCE.
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
@@ -1355,7 +1738,13 @@ pub struct VehicleStatusAccelSets {
 
 impl uper::Placeholder for VehicleStatusAccelSets {
     fn placeholder() -> Self {
-        Self { accel4way: None, vert_accel_thres: None, yaw_rate_con: None, hoz_accel_con: None, confidence_set: None }
+        Self {
+            accel4way: None,
+            vert_accel_thres: None,
+            yaw_rate_con: None,
+            hoz_accel_con: None,
+            confidence_set: None,
+        }
     }
 }
 
@@ -1417,7 +1806,14 @@ impl Uper for VehicleStatusAccelSets {
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
-        w.write_bits(((self.accel4way.is_some() as u64) << 4) | ((self.vert_accel_thres.is_some() as u64) << 3) | ((self.yaw_rate_con.is_some() as u64) << 2) | ((self.hoz_accel_con.is_some() as u64) << 1) | ((self.confidence_set.is_some() as u64) << 0), 5)?;
+        w.write_bits(
+            ((self.accel4way.is_some() as u64) << 4)
+                | ((self.vert_accel_thres.is_some() as u64) << 3)
+                | ((self.yaw_rate_con.is_some() as u64) << 2)
+                | ((self.hoz_accel_con.is_some() as u64) << 1)
+                | ((self.confidence_set.is_some() as u64) << 0),
+            5,
+        )?;
         if let Some(v) = &self.accel4way {
             v.encode_uper(w)?;
         }
@@ -1441,11 +1837,35 @@ impl Uper for VehicleStatusAccelSets {
 impl uper::random::Random for VehicleStatusAccelSets {
     fn random(g: &mut uper::random::Gen) -> Self {
         Self {
-            accel4way: if g.coin() { Some(<super::common::AccelerationSet4Way as uper::random::Random>::random(g)) } else { None },
-            vert_accel_thres: if g.coin() { Some(<super::common::VerticalAccelerationThreshold as uper::random::Random>::random(g)) } else { None },
-            yaw_rate_con: if g.coin() { Some(<YawRateConfidence as uper::random::Random>::random(g)) } else { None },
-            hoz_accel_con: if g.coin() { Some(<AccelerationConfidence as uper::random::Random>::random(g)) } else { None },
-            confidence_set: if g.coin() { Some(<ConfidenceSet as uper::random::Random>::random(g)) } else { None },
+            accel4way: if g.coin() {
+                Some(<super::common::AccelerationSet4Way as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            vert_accel_thres: if g.coin() {
+                Some(
+                    <super::common::VerticalAccelerationThreshold as uper::random::Random>::random(
+                        g,
+                    ),
+                )
+            } else {
+                None
+            },
+            yaw_rate_con: if g.coin() {
+                Some(<YawRateConfidence as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            hoz_accel_con: if g.coin() {
+                Some(<AccelerationConfidence as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            confidence_set: if g.coin() {
+                Some(<ConfidenceSet as uper::random::Random>::random(g))
+            } else {
+                None
+            },
         }
     }
 }
@@ -1473,7 +1893,16 @@ pub enum YawRateConfidence {
 
 impl YawRateConfidence {
     /// Every root value in encoding (ascending number) order.
-    pub const ALL: [Self; 8] = [Self::Unavailable, Self::DegSec100_00, Self::DegSec010_00, Self::DegSec005_00, Self::DegSec001_00, Self::DegSec000_10, Self::DegSec000_05, Self::DegSec000_01];
+    pub const ALL: [Self; 8] = [
+        Self::Unavailable,
+        Self::DegSec100_00,
+        Self::DegSec010_00,
+        Self::DegSec005_00,
+        Self::DegSec001_00,
+        Self::DegSec000_10,
+        Self::DegSec000_05,
+        Self::DegSec000_01,
+    ];
     /// The ASN.1 number of the value (`None` for an unknown extension value).
     pub const fn number(self) -> Option<i64> {
         match self {
@@ -1526,7 +1955,13 @@ impl Uper for YawRateConfidence {
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let at = r.position();
         let i = r.read_constrained(0, 7)?;
-        *out = Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))?;
+        *out = Self::ALL
+            .get(i as usize)
+            .copied()
+            .ok_or(uper::DecodeError::new(
+                uper::DecodeErrorKind::InvalidEnumIndex,
+                at,
+            ))?;
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -1564,7 +1999,16 @@ pub enum AccelerationConfidence {
 
 impl AccelerationConfidence {
     /// Every root value in encoding (ascending number) order.
-    pub const ALL: [Self; 8] = [Self::Unavailable, Self::Accl100_00, Self::Accl010_00, Self::Accl005_00, Self::Accl001_00, Self::Accl000_10, Self::Accl000_05, Self::Accl000_01];
+    pub const ALL: [Self; 8] = [
+        Self::Unavailable,
+        Self::Accl100_00,
+        Self::Accl010_00,
+        Self::Accl005_00,
+        Self::Accl001_00,
+        Self::Accl000_10,
+        Self::Accl000_05,
+        Self::Accl000_01,
+    ];
     /// The ASN.1 number of the value (`None` for an unknown extension value).
     pub const fn number(self) -> Option<i64> {
         match self {
@@ -1617,7 +2061,13 @@ impl Uper for AccelerationConfidence {
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let at = r.position();
         let i = r.read_constrained(0, 7)?;
-        *out = Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))?;
+        *out = Self::ALL
+            .get(i as usize)
+            .copied()
+            .ok_or(uper::DecodeError::new(
+                uper::DecodeErrorKind::InvalidEnumIndex,
+                at,
+            ))?;
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -1655,7 +2105,16 @@ pub struct ConfidenceSet {
 
 impl uper::Placeholder for ConfidenceSet {
     fn placeholder() -> Self {
-        Self { accel_confidence: None, speed_confidence: None, time_confidence: None, pos_confidence: None, steer_confidence: None, heading_confidence: None, throttle_confidence: None, extensions: uper::Extensions::new() }
+        Self {
+            accel_confidence: None,
+            speed_confidence: None,
+            time_confidence: None,
+            pos_confidence: None,
+            steer_confidence: None,
+            heading_confidence: None,
+            throttle_confidence: None,
+            extensions: uper::Extensions::new(),
+        }
     }
 }
 
@@ -1735,12 +2194,25 @@ impl Uper for ConfidenceSet {
         } else {
             out.throttle_confidence = None;
         }
-        out.extensions = if extended { uper::Extensions::decode(r, "ProbeVehicleData.ConfidenceSet:ext")? } else { uper::Extensions::new() };
+        out.extensions = if extended {
+            uper::Extensions::decode(r, "ProbeVehicleData.ConfidenceSet:ext")?
+        } else {
+            uper::Extensions::new()
+        };
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_bit(self.extensions.is_present())?;
-        w.write_bits(((self.accel_confidence.is_some() as u64) << 6) | ((self.speed_confidence.is_some() as u64) << 5) | ((self.time_confidence.is_some() as u64) << 4) | ((self.pos_confidence.is_some() as u64) << 3) | ((self.steer_confidence.is_some() as u64) << 2) | ((self.heading_confidence.is_some() as u64) << 1) | ((self.throttle_confidence.is_some() as u64) << 0), 7)?;
+        w.write_bits(
+            ((self.accel_confidence.is_some() as u64) << 6)
+                | ((self.speed_confidence.is_some() as u64) << 5)
+                | ((self.time_confidence.is_some() as u64) << 4)
+                | ((self.pos_confidence.is_some() as u64) << 3)
+                | ((self.steer_confidence.is_some() as u64) << 2)
+                | ((self.heading_confidence.is_some() as u64) << 1)
+                | ((self.throttle_confidence.is_some() as u64) << 0),
+            7,
+        )?;
         if let Some(v) = &self.accel_confidence {
             v.encode_uper(w)?;
         }
@@ -1773,13 +2245,41 @@ impl Uper for ConfidenceSet {
 impl uper::random::Random for ConfidenceSet {
     fn random(g: &mut uper::random::Gen) -> Self {
         Self {
-            accel_confidence: if g.coin() { Some(<AccelSteerYawRateConfidence as uper::random::Random>::random(g)) } else { None },
-            speed_confidence: if g.coin() { Some(<super::common::SpeedandHeadingandThrottleConfidence as uper::random::Random>::random(g)) } else { None },
-            time_confidence: if g.coin() { Some(<super::common::TimeConfidence as uper::random::Random>::random(g)) } else { None },
-            pos_confidence: if g.coin() { Some(<super::common::PositionConfidenceSet as uper::random::Random>::random(g)) } else { None },
-            steer_confidence: if g.coin() { Some(<SteeringWheelAngleConfidence as uper::random::Random>::random(g)) } else { None },
-            heading_confidence: if g.coin() { Some(<super::common::HeadingConfidence as uper::random::Random>::random(g)) } else { None },
-            throttle_confidence: if g.coin() { Some(<super::common::ThrottleConfidence as uper::random::Random>::random(g)) } else { None },
+            accel_confidence: if g.coin() {
+                Some(<AccelSteerYawRateConfidence as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            speed_confidence: if g.coin() {
+                Some(<super::common::SpeedandHeadingandThrottleConfidence as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            time_confidence: if g.coin() {
+                Some(<super::common::TimeConfidence as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            pos_confidence: if g.coin() {
+                Some(<super::common::PositionConfidenceSet as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            steer_confidence: if g.coin() {
+                Some(<SteeringWheelAngleConfidence as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            heading_confidence: if g.coin() {
+                Some(<super::common::HeadingConfidence as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            throttle_confidence: if g.coin() {
+                Some(<super::common::ThrottleConfidence as uper::random::Random>::random(g))
+            } else {
+                None
+            },
             extensions: uper::Extensions::new(),
         }
     }
@@ -1798,7 +2298,12 @@ pub struct AccelSteerYawRateConfidence {
 
 impl uper::Placeholder for AccelSteerYawRateConfidence {
     fn placeholder() -> Self {
-        Self { yaw_rate: <YawRateConfidence as uper::Placeholder>::placeholder(), acceleration: <AccelerationConfidence as uper::Placeholder>::placeholder(), steering_wheel_angle: <SteeringWheelAngleConfidence as uper::Placeholder>::placeholder() }
+        Self {
+            yaw_rate: <YawRateConfidence as uper::Placeholder>::placeholder(),
+            acceleration: <AccelerationConfidence as uper::Placeholder>::placeholder(),
+            steering_wheel_angle: <SteeringWheelAngleConfidence as uper::Placeholder>::placeholder(
+            ),
+        }
     }
 }
 
@@ -1843,7 +2348,11 @@ pub struct VehicleStatusObject {
 
 impl uper::Placeholder for VehicleStatusObject {
     fn placeholder() -> Self {
-        Self { ob_dist: <super::common::ObstacleDistance as uper::Placeholder>::placeholder(), ob_direct: <super::common::Angle as uper::Placeholder>::placeholder(), date_time: <super::common::DDateTime as uper::Placeholder>::placeholder() }
+        Self {
+            ob_dist: <super::common::ObstacleDistance as uper::Placeholder>::placeholder(),
+            ob_direct: <super::common::Angle as uper::Placeholder>::placeholder(),
+            date_time: <super::common::DDateTime as uper::Placeholder>::placeholder(),
+        }
     }
 }
 
@@ -1878,7 +2387,13 @@ impl uper::random::Random for VehicleStatusObject {
 /// ASN.1 `ThrottlePosition` (module `ProbeVehicleData`): INTEGER (0..200).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub struct ThrottlePosition(u8);
-crate::__constrained_int!(ThrottlePosition, u8, 0, 200, "ProbeVehicleData.ThrottlePosition");
+crate::__constrained_int!(
+    ThrottlePosition,
+    u8,
+    0,
+    200,
+    "ProbeVehicleData.ThrottlePosition"
+);
 
 /// ASN.1 `VehicleStatus.vehicleData` (module `ProbeVehicleData`): SEQUENCE.
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
@@ -1897,7 +2412,13 @@ pub struct VehicleStatusVehicleData {
 
 impl uper::Placeholder for VehicleStatusVehicleData {
     fn placeholder() -> Self {
-        Self { height: <super::common::VehicleHeight as uper::Placeholder>::placeholder(), bumpers: <super::common::BumperHeights as uper::Placeholder>::placeholder(), mass: <super::common::VehicleMass as uper::Placeholder>::placeholder(), trailer_weight: <super::common::TrailerWeight as uper::Placeholder>::placeholder(), r#type: <super::common::VehicleType as uper::Placeholder>::placeholder() }
+        Self {
+            height: <super::common::VehicleHeight as uper::Placeholder>::placeholder(),
+            bumpers: <super::common::BumperHeights as uper::Placeholder>::placeholder(),
+            mass: <super::common::VehicleMass as uper::Placeholder>::placeholder(),
+            trailer_weight: <super::common::TrailerWeight as uper::Placeholder>::placeholder(),
+            r#type: <super::common::VehicleType as uper::Placeholder>::placeholder(),
+        }
     }
 }
 
@@ -1964,7 +2485,19 @@ pub struct J1939data {
 
 impl uper::Placeholder for J1939data {
     fn placeholder() -> Self {
-        Self { tires: None, axles: None, trailer_weight: None, cargo_weight: None, steering_axle_temperature: None, drive_axle_location: None, drive_axle_lift_air_pressure: None, drive_axle_temperature: None, drive_axle_lube_pressure: None, steering_axle_lube_pressure: None, extensions: uper::Extensions::new() }
+        Self {
+            tires: None,
+            axles: None,
+            trailer_weight: None,
+            cargo_weight: None,
+            steering_axle_temperature: None,
+            drive_axle_location: None,
+            drive_axle_lift_air_pressure: None,
+            drive_axle_temperature: None,
+            drive_axle_lube_pressure: None,
+            steering_axle_lube_pressure: None,
+            extensions: uper::Extensions::new(),
+        }
     }
 }
 
@@ -2074,12 +2607,28 @@ impl Uper for J1939data {
         } else {
             out.steering_axle_lube_pressure = None;
         }
-        out.extensions = if extended { uper::Extensions::decode(r, "ProbeVehicleData.J1939data:ext")? } else { uper::Extensions::new() };
+        out.extensions = if extended {
+            uper::Extensions::decode(r, "ProbeVehicleData.J1939data:ext")?
+        } else {
+            uper::Extensions::new()
+        };
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_bit(self.extensions.is_present())?;
-        w.write_bits(((self.tires.is_some() as u64) << 9) | ((self.axles.is_some() as u64) << 8) | ((self.trailer_weight.is_some() as u64) << 7) | ((self.cargo_weight.is_some() as u64) << 6) | ((self.steering_axle_temperature.is_some() as u64) << 5) | ((self.drive_axle_location.is_some() as u64) << 4) | ((self.drive_axle_lift_air_pressure.is_some() as u64) << 3) | ((self.drive_axle_temperature.is_some() as u64) << 2) | ((self.drive_axle_lube_pressure.is_some() as u64) << 1) | ((self.steering_axle_lube_pressure.is_some() as u64) << 0), 10)?;
+        w.write_bits(
+            ((self.tires.is_some() as u64) << 9)
+                | ((self.axles.is_some() as u64) << 8)
+                | ((self.trailer_weight.is_some() as u64) << 7)
+                | ((self.cargo_weight.is_some() as u64) << 6)
+                | ((self.steering_axle_temperature.is_some() as u64) << 5)
+                | ((self.drive_axle_location.is_some() as u64) << 4)
+                | ((self.drive_axle_lift_air_pressure.is_some() as u64) << 3)
+                | ((self.drive_axle_temperature.is_some() as u64) << 2)
+                | ((self.drive_axle_lube_pressure.is_some() as u64) << 1)
+                | ((self.steering_axle_lube_pressure.is_some() as u64) << 0),
+            10,
+        )?;
         if let Some(v) = &self.tires {
             v.encode_uper(w)?;
         }
@@ -2121,16 +2670,60 @@ impl Uper for J1939data {
 impl uper::random::Random for J1939data {
     fn random(g: &mut uper::random::Gen) -> Self {
         Self {
-            tires: if g.coin() { Some(<TireDataList as uper::random::Random>::random(g)) } else { None },
-            axles: if g.coin() { Some(<AxleWeightList as uper::random::Random>::random(g)) } else { None },
-            trailer_weight: if g.coin() { Some(<super::common::TrailerWeight as uper::random::Random>::random(g)) } else { None },
-            cargo_weight: if g.coin() { Some(<CargoWeight as uper::random::Random>::random(g)) } else { None },
-            steering_axle_temperature: if g.coin() { Some(<SteeringAxleTemperature as uper::random::Random>::random(g)) } else { None },
-            drive_axle_location: if g.coin() { Some(<DriveAxleLocation as uper::random::Random>::random(g)) } else { None },
-            drive_axle_lift_air_pressure: if g.coin() { Some(<DriveAxleLiftAirPressure as uper::random::Random>::random(g)) } else { None },
-            drive_axle_temperature: if g.coin() { Some(<DriveAxleTemperature as uper::random::Random>::random(g)) } else { None },
-            drive_axle_lube_pressure: if g.coin() { Some(<DriveAxleLubePressure as uper::random::Random>::random(g)) } else { None },
-            steering_axle_lube_pressure: if g.coin() { Some(<SteeringAxleLubePressure as uper::random::Random>::random(g)) } else { None },
+            tires: if g.coin() {
+                Some(<TireDataList as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            axles: if g.coin() {
+                Some(<AxleWeightList as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            trailer_weight: if g.coin() {
+                Some(<super::common::TrailerWeight as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            cargo_weight: if g.coin() {
+                Some(<CargoWeight as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            steering_axle_temperature: if g.coin() {
+                Some(<SteeringAxleTemperature as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            drive_axle_location: if g.coin() {
+                Some(<DriveAxleLocation as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            drive_axle_lift_air_pressure: if g.coin() {
+                Some(<DriveAxleLiftAirPressure as uper::random::Random>::random(
+                    g,
+                ))
+            } else {
+                None
+            },
+            drive_axle_temperature: if g.coin() {
+                Some(<DriveAxleTemperature as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            drive_axle_lube_pressure: if g.coin() {
+                Some(<DriveAxleLubePressure as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            steering_axle_lube_pressure: if g.coin() {
+                Some(<SteeringAxleLubePressure as uper::random::Random>::random(
+                    g,
+                ))
+            } else {
+                None
+            },
             extensions: uper::Extensions::new(),
         }
     }
@@ -2147,6 +2740,12 @@ impl TireDataList {
     /// An empty list (valid for encoding once it holds the minimum number of items).
     pub fn new() -> Self {
         Self(uper::SeqOf::new())
+    }
+}
+
+impl Default for TireDataList {
+    fn default() -> Self {
+        Self::new()
     }
 }
 
@@ -2201,7 +2800,16 @@ pub struct TireData {
 
 impl uper::Placeholder for TireData {
     fn placeholder() -> Self {
-        Self { location: None, pressure: None, temp: None, wheel_sensor_status: None, wheel_end_elect_fault: None, leakage_rate: None, detection: None, extensions: uper::Extensions::new() }
+        Self {
+            location: None,
+            pressure: None,
+            temp: None,
+            wheel_sensor_status: None,
+            wheel_end_elect_fault: None,
+            leakage_rate: None,
+            detection: None,
+            extensions: uper::Extensions::new(),
+        }
     }
 }
 
@@ -2281,12 +2889,25 @@ impl Uper for TireData {
         } else {
             out.detection = None;
         }
-        out.extensions = if extended { uper::Extensions::decode(r, "ProbeVehicleData.TireData:ext")? } else { uper::Extensions::new() };
+        out.extensions = if extended {
+            uper::Extensions::decode(r, "ProbeVehicleData.TireData:ext")?
+        } else {
+            uper::Extensions::new()
+        };
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_bit(self.extensions.is_present())?;
-        w.write_bits(((self.location.is_some() as u64) << 6) | ((self.pressure.is_some() as u64) << 5) | ((self.temp.is_some() as u64) << 4) | ((self.wheel_sensor_status.is_some() as u64) << 3) | ((self.wheel_end_elect_fault.is_some() as u64) << 2) | ((self.leakage_rate.is_some() as u64) << 1) | ((self.detection.is_some() as u64) << 0), 7)?;
+        w.write_bits(
+            ((self.location.is_some() as u64) << 6)
+                | ((self.pressure.is_some() as u64) << 5)
+                | ((self.temp.is_some() as u64) << 4)
+                | ((self.wheel_sensor_status.is_some() as u64) << 3)
+                | ((self.wheel_end_elect_fault.is_some() as u64) << 2)
+                | ((self.leakage_rate.is_some() as u64) << 1)
+                | ((self.detection.is_some() as u64) << 0),
+            7,
+        )?;
         if let Some(v) = &self.location {
             v.encode_uper(w)?;
         }
@@ -2319,13 +2940,41 @@ impl Uper for TireData {
 impl uper::random::Random for TireData {
     fn random(g: &mut uper::random::Gen) -> Self {
         Self {
-            location: if g.coin() { Some(<TireLocation as uper::random::Random>::random(g)) } else { None },
-            pressure: if g.coin() { Some(<TirePressure as uper::random::Random>::random(g)) } else { None },
-            temp: if g.coin() { Some(<TireTemp as uper::random::Random>::random(g)) } else { None },
-            wheel_sensor_status: if g.coin() { Some(<WheelSensorStatus as uper::random::Random>::random(g)) } else { None },
-            wheel_end_elect_fault: if g.coin() { Some(<WheelEndElectFault as uper::random::Random>::random(g)) } else { None },
-            leakage_rate: if g.coin() { Some(<TireLeakageRate as uper::random::Random>::random(g)) } else { None },
-            detection: if g.coin() { Some(<TirePressureThresholdDetection as uper::random::Random>::random(g)) } else { None },
+            location: if g.coin() {
+                Some(<TireLocation as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            pressure: if g.coin() {
+                Some(<TirePressure as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            temp: if g.coin() {
+                Some(<TireTemp as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            wheel_sensor_status: if g.coin() {
+                Some(<WheelSensorStatus as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            wheel_end_elect_fault: if g.coin() {
+                Some(<WheelEndElectFault as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            leakage_rate: if g.coin() {
+                Some(<TireLeakageRate as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            detection: if g.coin() {
+                Some(<TirePressureThresholdDetection as uper::random::Random>::random(g))
+            } else {
+                None
+            },
             extensions: uper::Extensions::new(),
         }
     }
@@ -2402,7 +3051,13 @@ impl Uper for WheelSensorStatus {
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let at = r.position();
         let i = r.read_constrained(0, 3)?;
-        *out = Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))?;
+        *out = Self::ALL
+            .get(i as usize)
+            .copied()
+            .ok_or(uper::DecodeError::new(
+                uper::DecodeErrorKind::InvalidEnumIndex,
+                at,
+            ))?;
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -2432,7 +3087,12 @@ pub enum WheelEndElectFault {
 
 impl WheelEndElectFault {
     /// Every root value in encoding (ascending number) order.
-    pub const ALL: [Self; 4] = [Self::IsOk, Self::IsNotDefined, Self::IsError, Self::IsNotSupported];
+    pub const ALL: [Self; 4] = [
+        Self::IsOk,
+        Self::IsNotDefined,
+        Self::IsError,
+        Self::IsNotSupported,
+    ];
     /// The ASN.1 number of the value (`None` for an unknown extension value).
     pub const fn number(self) -> Option<i64> {
         match self {
@@ -2473,7 +3133,13 @@ impl Uper for WheelEndElectFault {
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let at = r.position();
         let i = r.read_constrained(0, 3)?;
-        *out = Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))?;
+        *out = Self::ALL
+            .get(i as usize)
+            .copied()
+            .ok_or(uper::DecodeError::new(
+                uper::DecodeErrorKind::InvalidEnumIndex,
+                at,
+            ))?;
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -2491,7 +3157,13 @@ impl uper::random::Random for WheelEndElectFault {
 /// ASN.1 `TireLeakageRate` (module `ProbeVehicleData`): INTEGER (0..64255).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub struct TireLeakageRate(u16);
-crate::__constrained_int!(TireLeakageRate, u16, 0, 64255, "ProbeVehicleData.TireLeakageRate");
+crate::__constrained_int!(
+    TireLeakageRate,
+    u16,
+    0,
+    64255,
+    "ProbeVehicleData.TireLeakageRate"
+);
 
 /// ASN.1 `TirePressureThresholdDetection` (module `ProbeVehicleData`): ENUMERATED.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -2516,7 +3188,16 @@ pub enum TirePressureThresholdDetection {
 
 impl TirePressureThresholdDetection {
     /// Every root value in encoding (ascending number) order.
-    pub const ALL: [Self; 8] = [Self::NoData, Self::OverPressure, Self::NoWarningPressure, Self::UnderPressure, Self::ExtremeUnderPressure, Self::Undefined, Self::ErrorIndicator, Self::NotAvailable];
+    pub const ALL: [Self; 8] = [
+        Self::NoData,
+        Self::OverPressure,
+        Self::NoWarningPressure,
+        Self::UnderPressure,
+        Self::ExtremeUnderPressure,
+        Self::Undefined,
+        Self::ErrorIndicator,
+        Self::NotAvailable,
+    ];
     /// The ASN.1 number of the value (`None` for an unknown extension value).
     pub const fn number(self) -> Option<i64> {
         match self {
@@ -2569,7 +3250,13 @@ impl Uper for TirePressureThresholdDetection {
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let at = r.position();
         let i = r.read_constrained(0, 7)?;
-        *out = Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))?;
+        *out = Self::ALL
+            .get(i as usize)
+            .copied()
+            .ok_or(uper::DecodeError::new(
+                uper::DecodeErrorKind::InvalidEnumIndex,
+                at,
+            ))?;
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -2595,6 +3282,12 @@ impl AxleWeightList {
     /// An empty list (valid for encoding once it holds the minimum number of items).
     pub fn new() -> Self {
         Self(uper::SeqOf::new())
+    }
+}
+
+impl Default for AxleWeightList {
+    fn default() -> Self {
+        Self::new()
     }
 }
 
@@ -2639,7 +3332,11 @@ pub struct AxleWeightSet {
 
 impl uper::Placeholder for AxleWeightSet {
     fn placeholder() -> Self {
-        Self { location: None, weight: None, extensions: uper::Extensions::new() }
+        Self {
+            location: None,
+            weight: None,
+            extensions: uper::Extensions::new(),
+        }
     }
 }
 
@@ -2669,12 +3366,19 @@ impl Uper for AxleWeightSet {
         } else {
             out.weight = None;
         }
-        out.extensions = if extended { uper::Extensions::decode(r, "ProbeVehicleData.AxleWeightSet:ext")? } else { uper::Extensions::new() };
+        out.extensions = if extended {
+            uper::Extensions::decode(r, "ProbeVehicleData.AxleWeightSet:ext")?
+        } else {
+            uper::Extensions::new()
+        };
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_bit(self.extensions.is_present())?;
-        w.write_bits(((self.location.is_some() as u64) << 1) | ((self.weight.is_some() as u64) << 0), 2)?;
+        w.write_bits(
+            ((self.location.is_some() as u64) << 1) | ((self.weight.is_some() as u64) << 0),
+            2,
+        )?;
         if let Some(v) = &self.location {
             v.encode_uper(w)?;
         }
@@ -2692,8 +3396,16 @@ impl Uper for AxleWeightSet {
 impl uper::random::Random for AxleWeightSet {
     fn random(g: &mut uper::random::Gen) -> Self {
         Self {
-            location: if g.coin() { Some(<AxleLocation as uper::random::Random>::random(g)) } else { None },
-            weight: if g.coin() { Some(<AxleWeight as uper::random::Random>::random(g)) } else { None },
+            location: if g.coin() {
+                Some(<AxleLocation as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            weight: if g.coin() {
+                Some(<AxleWeight as uper::random::Random>::random(g))
+            } else {
+                None
+            },
             extensions: uper::Extensions::new(),
         }
     }
@@ -2717,32 +3429,68 @@ crate::__constrained_int!(CargoWeight, u16, 0, 64255, "ProbeVehicleData.CargoWei
 /// ASN.1 `SteeringAxleTemperature` (module `ProbeVehicleData`): INTEGER (-40..210).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub struct SteeringAxleTemperature(i16);
-crate::__constrained_int!(SteeringAxleTemperature, i16, -40, 210, "ProbeVehicleData.SteeringAxleTemperature");
+crate::__constrained_int!(
+    SteeringAxleTemperature,
+    i16,
+    -40,
+    210,
+    "ProbeVehicleData.SteeringAxleTemperature"
+);
 
 /// ASN.1 `DriveAxleLocation` (module `ProbeVehicleData`): INTEGER (0..255).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub struct DriveAxleLocation(u8);
-crate::__constrained_int!(DriveAxleLocation, u8, 0, 255, "ProbeVehicleData.DriveAxleLocation");
+crate::__constrained_int!(
+    DriveAxleLocation,
+    u8,
+    0,
+    255,
+    "ProbeVehicleData.DriveAxleLocation"
+);
 
 /// ASN.1 `DriveAxleLiftAirPressure` (module `ProbeVehicleData`): INTEGER (0..1000).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub struct DriveAxleLiftAirPressure(u16);
-crate::__constrained_int!(DriveAxleLiftAirPressure, u16, 0, 1000, "ProbeVehicleData.DriveAxleLiftAirPressure");
+crate::__constrained_int!(
+    DriveAxleLiftAirPressure,
+    u16,
+    0,
+    1000,
+    "ProbeVehicleData.DriveAxleLiftAirPressure"
+);
 
 /// ASN.1 `DriveAxleTemperature` (module `ProbeVehicleData`): INTEGER (-40..210).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub struct DriveAxleTemperature(i16);
-crate::__constrained_int!(DriveAxleTemperature, i16, -40, 210, "ProbeVehicleData.DriveAxleTemperature");
+crate::__constrained_int!(
+    DriveAxleTemperature,
+    i16,
+    -40,
+    210,
+    "ProbeVehicleData.DriveAxleTemperature"
+);
 
 /// ASN.1 `DriveAxleLubePressure` (module `ProbeVehicleData`): INTEGER (0..250).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub struct DriveAxleLubePressure(u8);
-crate::__constrained_int!(DriveAxleLubePressure, u8, 0, 250, "ProbeVehicleData.DriveAxleLubePressure");
+crate::__constrained_int!(
+    DriveAxleLubePressure,
+    u8,
+    0,
+    250,
+    "ProbeVehicleData.DriveAxleLubePressure"
+);
 
 /// ASN.1 `SteeringAxleLubePressure` (module `ProbeVehicleData`): INTEGER (0..250).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub struct SteeringAxleLubePressure(u8);
-crate::__constrained_int!(SteeringAxleLubePressure, u8, 0, 250, "ProbeVehicleData.SteeringAxleLubePressure");
+crate::__constrained_int!(
+    SteeringAxleLubePressure,
+    u8,
+    0,
+    250,
+    "ProbeVehicleData.SteeringAxleLubePressure"
+);
 
 /// ASN.1 `VehicleStatus.weatherReport` (module `ProbeVehicleData`): SEQUENCE.
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
@@ -2761,7 +3509,13 @@ pub struct VehicleStatusWeatherReport {
 
 impl uper::Placeholder for VehicleStatusWeatherReport {
     fn placeholder() -> Self {
-        Self { is_raining: <super::ntcip::EssPrecipYesNo as uper::Placeholder>::placeholder(), rain_rate: None, precip_situation: None, solar_radiation: None, friction: None }
+        Self {
+            is_raining: <super::ntcip::EssPrecipYesNo as uper::Placeholder>::placeholder(),
+            rain_rate: None,
+            precip_situation: None,
+            solar_radiation: None,
+            friction: None,
+        }
     }
 }
 
@@ -2814,7 +3568,13 @@ impl Uper for VehicleStatusWeatherReport {
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
-        w.write_bits(((self.rain_rate.is_some() as u64) << 3) | ((self.precip_situation.is_some() as u64) << 2) | ((self.solar_radiation.is_some() as u64) << 1) | ((self.friction.is_some() as u64) << 0), 4)?;
+        w.write_bits(
+            ((self.rain_rate.is_some() as u64) << 3)
+                | ((self.precip_situation.is_some() as u64) << 2)
+                | ((self.solar_radiation.is_some() as u64) << 1)
+                | ((self.friction.is_some() as u64) << 0),
+            4,
+        )?;
         self.is_raining.encode_uper(w)?;
         if let Some(v) = &self.rain_rate {
             v.encode_uper(w)?;
@@ -2837,10 +3597,26 @@ impl uper::random::Random for VehicleStatusWeatherReport {
     fn random(g: &mut uper::random::Gen) -> Self {
         Self {
             is_raining: <super::ntcip::EssPrecipYesNo as uper::random::Random>::random(g),
-            rain_rate: if g.coin() { Some(<super::ntcip::EssPrecipRate as uper::random::Random>::random(g)) } else { None },
-            precip_situation: if g.coin() { Some(<super::ntcip::EssPrecipSituation as uper::random::Random>::random(g)) } else { None },
-            solar_radiation: if g.coin() { Some(<super::ntcip::EssSolarRadiation as uper::random::Random>::random(g)) } else { None },
-            friction: if g.coin() { Some(<super::ntcip::EssMobileFriction as uper::random::Random>::random(g)) } else { None },
+            rain_rate: if g.coin() {
+                Some(<super::ntcip::EssPrecipRate as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            precip_situation: if g.coin() {
+                Some(<super::ntcip::EssPrecipSituation as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            solar_radiation: if g.coin() {
+                Some(<super::ntcip::EssSolarRadiation as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            friction: if g.coin() {
+                Some(<super::ntcip::EssMobileFriction as uper::random::Random>::random(g))
+            } else {
+                None
+            },
         }
     }
 }
@@ -2859,6 +3635,12 @@ impl ProbeVehicleDataRegional {
     }
 }
 
+impl Default for ProbeVehicleDataRegional {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
 impl uper::Placeholder for ProbeVehicleDataRegional {
     fn placeholder() -> Self {
         Self(uper::SeqOf::new())
@@ -2869,7 +3651,12 @@ impl Uper for ProbeVehicleDataRegional {
     const PATH: &'static str = "ProbeVehicleData.ProbeVehicleData.regional";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(146), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        uper::decode_seq_of_into(r, Self::SIZE, "ProbeVehicleData.ProbeVehicleData.regional", &mut out.0)
+        uper::decode_seq_of_into(
+            r,
+            Self::SIZE,
+            "ProbeVehicleData.ProbeVehicleData.regional",
+            &mut out.0,
+        )
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
@@ -2881,7 +3668,8 @@ impl uper::random::Random for ProbeVehicleDataRegional {
     fn random(g: &mut uper::random::Gen) -> Self {
         let mut v = Self(uper::SeqOf::new());
         for _ in 0..g.count(1, 1) {
-            let _ = v.0.push(<RegProbeVehicleData as uper::random::Random>::random(g));
+            let _ =
+                v.0.push(<RegProbeVehicleData as uper::random::Random>::random(g));
         }
         v
     }
@@ -2910,7 +3698,10 @@ impl RegProbeVehicleData {
 
 impl uper::Placeholder for RegProbeVehicleData {
     fn placeholder() -> Self {
-        Self::Unknown { id: <super::common::RegionId as uper::Placeholder>::placeholder(), content: uper::Octets::new() }
+        Self::Unknown {
+            id: <super::common::RegionId as uper::Placeholder>::placeholder(),
+            content: uper::Octets::new(),
+        }
     }
 }
 
@@ -2920,7 +3711,15 @@ impl Uper for RegProbeVehicleData {
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let id = <super::common::RegionId>::decode_uper(r)?;
         match id.get() {
-            _ => *out = Self::Unknown { id, content: uper::decode_unknown_open(r, "ProbeVehicleData.RegProbeVehicleData:unknown")? },
+            _ => {
+                *out = Self::Unknown {
+                    id,
+                    content: uper::decode_unknown_open(
+                        r,
+                        "ProbeVehicleData.RegProbeVehicleData:unknown",
+                    )?,
+                }
+            }
         }
         Ok(())
     }
@@ -2941,6 +3740,9 @@ impl uper::random::Random for RegProbeVehicleData {
         for _ in 0..1 + g.below(4) {
             let _ = content.push(g.octet());
         }
-        Self::Unknown { id: <super::common::RegionId as uper::random::Random>::random(g), content }
+        Self::Unknown {
+            id: <super::common::RegionId as uper::random::Random>::random(g),
+            content,
+        }
     }
 }

@@ -35,7 +35,19 @@ pub struct RoadSideAlert {
 
 impl uper::Placeholder for RoadSideAlert {
     fn placeholder() -> Self {
-        Self { msg_cnt: <super::common::MsgCount as uper::Placeholder>::placeholder(), time_stamp: None, type_event: <super::itis::ITIScodes as uper::Placeholder>::placeholder(), description: None, priority: None, heading: None, extent: None, position: None, further_info_id: None, regional: None, extensions: uper::Extensions::new() }
+        Self {
+            msg_cnt: <super::common::MsgCount as uper::Placeholder>::placeholder(),
+            time_stamp: None,
+            type_event: <super::itis::ITIScodes as uper::Placeholder>::placeholder(),
+            description: None,
+            priority: None,
+            heading: None,
+            extent: None,
+            position: None,
+            further_info_id: None,
+            regional: None,
+            extensions: uper::Extensions::new(),
+        }
     }
 }
 
@@ -127,12 +139,26 @@ impl Uper for RoadSideAlert {
         } else {
             out.regional = None;
         }
-        out.extensions = if extended { uper::Extensions::decode(r, "RoadSideAlert.RoadSideAlert:ext")? } else { uper::Extensions::new() };
+        out.extensions = if extended {
+            uper::Extensions::decode(r, "RoadSideAlert.RoadSideAlert:ext")?
+        } else {
+            uper::Extensions::new()
+        };
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_bit(self.extensions.is_present())?;
-        w.write_bits(((self.time_stamp.is_some() as u64) << 7) | ((self.description.is_some() as u64) << 6) | ((self.priority.is_some() as u64) << 5) | ((self.heading.is_some() as u64) << 4) | ((self.extent.is_some() as u64) << 3) | ((self.position.is_some() as u64) << 2) | ((self.further_info_id.is_some() as u64) << 1) | ((self.regional.is_some() as u64) << 0), 8)?;
+        w.write_bits(
+            ((self.time_stamp.is_some() as u64) << 7)
+                | ((self.description.is_some() as u64) << 6)
+                | ((self.priority.is_some() as u64) << 5)
+                | ((self.heading.is_some() as u64) << 4)
+                | ((self.extent.is_some() as u64) << 3)
+                | ((self.position.is_some() as u64) << 2)
+                | ((self.further_info_id.is_some() as u64) << 1)
+                | ((self.regional.is_some() as u64) << 0),
+            8,
+        )?;
         self.msg_cnt.encode_uper(w)?;
         if let Some(v) = &self.time_stamp {
             v.encode_uper(w)?;
@@ -171,15 +197,49 @@ impl uper::random::Random for RoadSideAlert {
     fn random(g: &mut uper::random::Gen) -> Self {
         Self {
             msg_cnt: <super::common::MsgCount as uper::random::Random>::random(g),
-            time_stamp: if g.coin() { Some(<super::common::MinuteOfTheYear as uper::random::Random>::random(g)) } else { None },
+            time_stamp: if g.coin() {
+                Some(<super::common::MinuteOfTheYear as uper::random::Random>::random(g))
+            } else {
+                None
+            },
             type_event: <super::itis::ITIScodes as uper::random::Random>::random(g),
-            description: if g.coin() { Some(<RoadSideAlertDescription as uper::random::Random>::random(g)) } else { None },
-            priority: if g.coin() { Some(<super::common::Priority as uper::random::Random>::random(g)) } else { None },
-            heading: if g.coin() { Some(<super::common::HeadingSlice as uper::random::Random>::random(g)) } else { None },
-            extent: if g.coin() { Some(<super::common::Extent as uper::random::Random>::random(g)) } else { None },
-            position: if g.coin() { Some(<super::common::FullPositionVector as uper::random::Random>::random(g)) } else { None },
-            further_info_id: if g.coin() { Some(<super::common::FurtherInfoID as uper::random::Random>::random(g)) } else { None },
-            regional: if g.coin() { Some(<RoadSideAlertRegional as uper::random::Random>::random(g)) } else { None },
+            description: if g.coin() {
+                Some(<RoadSideAlertDescription as uper::random::Random>::random(
+                    g,
+                ))
+            } else {
+                None
+            },
+            priority: if g.coin() {
+                Some(<super::common::Priority as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            heading: if g.coin() {
+                Some(<super::common::HeadingSlice as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            extent: if g.coin() {
+                Some(<super::common::Extent as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            position: if g.coin() {
+                Some(<super::common::FullPositionVector as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            further_info_id: if g.coin() {
+                Some(<super::common::FurtherInfoID as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            regional: if g.coin() {
+                Some(<RoadSideAlertRegional as uper::random::Random>::random(g))
+            } else {
+                None
+            },
             extensions: uper::Extensions::new(),
         }
     }
@@ -199,6 +259,12 @@ impl RoadSideAlertDescription {
     }
 }
 
+impl Default for RoadSideAlertDescription {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
 impl uper::Placeholder for RoadSideAlertDescription {
     fn placeholder() -> Self {
         Self(uper::SeqOf::new())
@@ -209,7 +275,12 @@ impl Uper for RoadSideAlertDescription {
     const PATH: &'static str = "RoadSideAlert.RoadSideAlert.description";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(131), Some(131));
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        uper::decode_seq_of_into(r, Self::SIZE, "RoadSideAlert.RoadSideAlert.description", &mut out.0)
+        uper::decode_seq_of_into(
+            r,
+            Self::SIZE,
+            "RoadSideAlert.RoadSideAlert.description",
+            &mut out.0,
+        )
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
@@ -221,7 +292,8 @@ impl uper::random::Random for RoadSideAlertDescription {
     fn random(g: &mut uper::random::Gen) -> Self {
         let mut v = Self(uper::SeqOf::new());
         for _ in 0..g.count(1, 8) {
-            let _ = v.0.push(<super::itis::ITIScodes as uper::random::Random>::random(g));
+            let _ =
+                v.0.push(<super::itis::ITIScodes as uper::random::Random>::random(g));
         }
         v
     }
@@ -241,6 +313,12 @@ impl RoadSideAlertRegional {
     }
 }
 
+impl Default for RoadSideAlertRegional {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
 impl uper::Placeholder for RoadSideAlertRegional {
     fn placeholder() -> Self {
         Self(uper::SeqOf::new())
@@ -251,7 +329,12 @@ impl Uper for RoadSideAlertRegional {
     const PATH: &'static str = "RoadSideAlert.RoadSideAlert.regional";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(146), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        uper::decode_seq_of_into(r, Self::SIZE, "RoadSideAlert.RoadSideAlert.regional", &mut out.0)
+        uper::decode_seq_of_into(
+            r,
+            Self::SIZE,
+            "RoadSideAlert.RoadSideAlert.regional",
+            &mut out.0,
+        )
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
@@ -263,7 +346,8 @@ impl uper::random::Random for RoadSideAlertRegional {
     fn random(g: &mut uper::random::Gen) -> Self {
         let mut v = Self(uper::SeqOf::new());
         for _ in 0..g.count(1, 1) {
-            let _ = v.0.push(<RegRoadSideAlert as uper::random::Random>::random(g));
+            let _ =
+                v.0.push(<RegRoadSideAlert as uper::random::Random>::random(g));
         }
         v
     }
@@ -292,7 +376,10 @@ impl RegRoadSideAlert {
 
 impl uper::Placeholder for RegRoadSideAlert {
     fn placeholder() -> Self {
-        Self::Unknown { id: <super::common::RegionId as uper::Placeholder>::placeholder(), content: uper::Octets::new() }
+        Self::Unknown {
+            id: <super::common::RegionId as uper::Placeholder>::placeholder(),
+            content: uper::Octets::new(),
+        }
     }
 }
 
@@ -302,7 +389,15 @@ impl Uper for RegRoadSideAlert {
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let id = <super::common::RegionId>::decode_uper(r)?;
         match id.get() {
-            _ => *out = Self::Unknown { id, content: uper::decode_unknown_open(r, "RoadSideAlert.RegRoadSideAlert:unknown")? },
+            _ => {
+                *out = Self::Unknown {
+                    id,
+                    content: uper::decode_unknown_open(
+                        r,
+                        "RoadSideAlert.RegRoadSideAlert:unknown",
+                    )?,
+                }
+            }
         }
         Ok(())
     }
@@ -323,6 +418,9 @@ impl uper::random::Random for RegRoadSideAlert {
         for _ in 0..1 + g.below(4) {
             let _ = content.push(g.octet());
         }
-        Self::Unknown { id: <super::common::RegionId as uper::random::Random>::random(g), content }
+        Self::Unknown {
+            id: <super::common::RegionId as uper::random::Random>::random(g),
+            content,
+        }
     }
 }

@@ -29,7 +29,16 @@ pub struct RTCMcorrections {
 
 impl uper::Placeholder for RTCMcorrections {
     fn placeholder() -> Self {
-        Self { msg_cnt: <super::common::MsgCount as uper::Placeholder>::placeholder(), rev: <RTCMRevision as uper::Placeholder>::placeholder(), time_stamp: None, anchor_point: None, rtcm_header: None, msgs: <super::common::RTCMmessageList as uper::Placeholder>::placeholder(), regional: None, extensions: uper::Extensions::new() }
+        Self {
+            msg_cnt: <super::common::MsgCount as uper::Placeholder>::placeholder(),
+            rev: <RTCMRevision as uper::Placeholder>::placeholder(),
+            time_stamp: None,
+            anchor_point: None,
+            rtcm_header: None,
+            msgs: <super::common::RTCMmessageList as uper::Placeholder>::placeholder(),
+            regional: None,
+            extensions: uper::Extensions::new(),
+        }
     }
 }
 
@@ -82,12 +91,22 @@ impl Uper for RTCMcorrections {
         } else {
             out.regional = None;
         }
-        out.extensions = if extended { uper::Extensions::decode(r, "RTCMcorrections.RTCMcorrections:ext")? } else { uper::Extensions::new() };
+        out.extensions = if extended {
+            uper::Extensions::decode(r, "RTCMcorrections.RTCMcorrections:ext")?
+        } else {
+            uper::Extensions::new()
+        };
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_bit(self.extensions.is_present())?;
-        w.write_bits(((self.time_stamp.is_some() as u64) << 3) | ((self.anchor_point.is_some() as u64) << 2) | ((self.rtcm_header.is_some() as u64) << 1) | ((self.regional.is_some() as u64) << 0), 4)?;
+        w.write_bits(
+            ((self.time_stamp.is_some() as u64) << 3)
+                | ((self.anchor_point.is_some() as u64) << 2)
+                | ((self.rtcm_header.is_some() as u64) << 1)
+                | ((self.regional.is_some() as u64) << 0),
+            4,
+        )?;
         self.msg_cnt.encode_uper(w)?;
         self.rev.encode_uper(w)?;
         if let Some(v) = &self.time_stamp {
@@ -116,11 +135,29 @@ impl uper::random::Random for RTCMcorrections {
         Self {
             msg_cnt: <super::common::MsgCount as uper::random::Random>::random(g),
             rev: <RTCMRevision as uper::random::Random>::random(g),
-            time_stamp: if g.coin() { Some(<super::common::MinuteOfTheYear as uper::random::Random>::random(g)) } else { None },
-            anchor_point: if g.coin() { Some(<super::common::FullPositionVector as uper::random::Random>::random(g)) } else { None },
-            rtcm_header: if g.coin() { Some(<super::common::RTCMheader as uper::random::Random>::random(g)) } else { None },
+            time_stamp: if g.coin() {
+                Some(<super::common::MinuteOfTheYear as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            anchor_point: if g.coin() {
+                Some(<super::common::FullPositionVector as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            rtcm_header: if g.coin() {
+                Some(<super::common::RTCMheader as uper::random::Random>::random(
+                    g,
+                ))
+            } else {
+                None
+            },
             msgs: <super::common::RTCMmessageList as uper::random::Random>::random(g),
-            regional: if g.coin() { Some(<RTCMcorrectionsRegional as uper::random::Random>::random(g)) } else { None },
+            regional: if g.coin() {
+                Some(<RTCMcorrectionsRegional as uper::random::Random>::random(g))
+            } else {
+                None
+            },
             extensions: uper::Extensions::new(),
         }
     }
@@ -143,7 +180,12 @@ pub enum RTCMRevision {
 
 impl RTCMRevision {
     /// Every root value in encoding (ascending number) order.
-    pub const ALL: [Self; 4] = [Self::Unknown, Self::RtcmRev2, Self::RtcmRev3, Self::Reserved];
+    pub const ALL: [Self; 4] = [
+        Self::Unknown,
+        Self::RtcmRev2,
+        Self::RtcmRev3,
+        Self::Reserved,
+    ];
     /// The ASN.1 number of the value (`None` for an unknown extension value).
     pub const fn number(self) -> Option<i64> {
         match self {
@@ -188,12 +230,20 @@ impl Uper for RTCMRevision {
         if r.read_bit()? {
             let at = r.position();
             let i = r.read_normally_small()?;
-            *out = u16::try_from(i).map(Self::Extension).map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at))?;
+            *out = u16::try_from(i)
+                .map(Self::Extension)
+                .map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at))?;
             return Ok(());
         }
         let at = r.position();
         let i = r.read_constrained(0, 3)?;
-        *out = Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))?;
+        *out = Self::ALL
+            .get(i as usize)
+            .copied()
+            .ok_or(uper::DecodeError::new(
+                uper::DecodeErrorKind::InvalidEnumIndex,
+                at,
+            ))?;
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -227,6 +277,12 @@ impl RTCMcorrectionsRegional {
     }
 }
 
+impl Default for RTCMcorrectionsRegional {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
 impl uper::Placeholder for RTCMcorrectionsRegional {
     fn placeholder() -> Self {
         Self(uper::SeqOf::new())
@@ -237,7 +293,12 @@ impl Uper for RTCMcorrectionsRegional {
     const PATH: &'static str = "RTCMcorrections.RTCMcorrections.regional";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(146), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        uper::decode_seq_of_into(r, Self::SIZE, "RTCMcorrections.RTCMcorrections.regional", &mut out.0)
+        uper::decode_seq_of_into(
+            r,
+            Self::SIZE,
+            "RTCMcorrections.RTCMcorrections.regional",
+            &mut out.0,
+        )
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
@@ -249,7 +310,8 @@ impl uper::random::Random for RTCMcorrectionsRegional {
     fn random(g: &mut uper::random::Gen) -> Self {
         let mut v = Self(uper::SeqOf::new());
         for _ in 0..g.count(1, 1) {
-            let _ = v.0.push(<RegRTCMcorrections as uper::random::Random>::random(g));
+            let _ =
+                v.0.push(<RegRTCMcorrections as uper::random::Random>::random(g));
         }
         v
     }
@@ -278,7 +340,10 @@ impl RegRTCMcorrections {
 
 impl uper::Placeholder for RegRTCMcorrections {
     fn placeholder() -> Self {
-        Self::Unknown { id: <super::common::RegionId as uper::Placeholder>::placeholder(), content: uper::Octets::new() }
+        Self::Unknown {
+            id: <super::common::RegionId as uper::Placeholder>::placeholder(),
+            content: uper::Octets::new(),
+        }
     }
 }
 
@@ -288,7 +353,15 @@ impl Uper for RegRTCMcorrections {
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let id = <super::common::RegionId>::decode_uper(r)?;
         match id.get() {
-            _ => *out = Self::Unknown { id, content: uper::decode_unknown_open(r, "RTCMcorrections.RegRTCMcorrections:unknown")? },
+            _ => {
+                *out = Self::Unknown {
+                    id,
+                    content: uper::decode_unknown_open(
+                        r,
+                        "RTCMcorrections.RegRTCMcorrections:unknown",
+                    )?,
+                }
+            }
         }
         Ok(())
     }
@@ -309,6 +382,9 @@ impl uper::random::Random for RegRTCMcorrections {
         for _ in 0..1 + g.below(4) {
             let _ = content.push(g.octet());
         }
-        Self::Unknown { id: <super::common::RegionId as uper::random::Random>::random(g), content }
+        Self::Unknown {
+            id: <super::common::RegionId as uper::random::Random>::random(g),
+            content,
+        }
     }
 }

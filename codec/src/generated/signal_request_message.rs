@@ -27,7 +27,15 @@ pub struct SignalRequestMessage {
 
 impl uper::Placeholder for SignalRequestMessage {
     fn placeholder() -> Self {
-        Self { time_stamp: None, second: <super::common::DSecond as uper::Placeholder>::placeholder(), sequence_number: None, requests: None, requestor: <RequestorDescription as uper::Placeholder>::placeholder(), regional: None, extensions: uper::Extensions::new() }
+        Self {
+            time_stamp: None,
+            second: <super::common::DSecond as uper::Placeholder>::placeholder(),
+            sequence_number: None,
+            requests: None,
+            requestor: <RequestorDescription as uper::Placeholder>::placeholder(),
+            regional: None,
+            extensions: uper::Extensions::new(),
+        }
     }
 }
 
@@ -79,12 +87,22 @@ impl Uper for SignalRequestMessage {
         } else {
             out.regional = None;
         }
-        out.extensions = if extended { uper::Extensions::decode(r, "SignalRequestMessage.SignalRequestMessage:ext")? } else { uper::Extensions::new() };
+        out.extensions = if extended {
+            uper::Extensions::decode(r, "SignalRequestMessage.SignalRequestMessage:ext")?
+        } else {
+            uper::Extensions::new()
+        };
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_bit(self.extensions.is_present())?;
-        w.write_bits(((self.time_stamp.is_some() as u64) << 3) | ((self.sequence_number.is_some() as u64) << 2) | ((self.requests.is_some() as u64) << 1) | ((self.regional.is_some() as u64) << 0), 4)?;
+        w.write_bits(
+            ((self.time_stamp.is_some() as u64) << 3)
+                | ((self.sequence_number.is_some() as u64) << 2)
+                | ((self.requests.is_some() as u64) << 1)
+                | ((self.regional.is_some() as u64) << 0),
+            4,
+        )?;
         if let Some(v) = &self.time_stamp {
             v.encode_uper(w)?;
         }
@@ -110,12 +128,28 @@ impl Uper for SignalRequestMessage {
 impl uper::random::Random for SignalRequestMessage {
     fn random(g: &mut uper::random::Gen) -> Self {
         Self {
-            time_stamp: if g.coin() { Some(<super::common::MinuteOfTheYear as uper::random::Random>::random(g)) } else { None },
+            time_stamp: if g.coin() {
+                Some(<super::common::MinuteOfTheYear as uper::random::Random>::random(g))
+            } else {
+                None
+            },
             second: <super::common::DSecond as uper::random::Random>::random(g),
-            sequence_number: if g.coin() { Some(<super::common::MsgCount as uper::random::Random>::random(g)) } else { None },
-            requests: if g.coin() { Some(<SignalRequestList as uper::random::Random>::random(g)) } else { None },
+            sequence_number: if g.coin() {
+                Some(<super::common::MsgCount as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            requests: if g.coin() {
+                Some(<SignalRequestList as uper::random::Random>::random(g))
+            } else {
+                None
+            },
             requestor: <RequestorDescription as uper::random::Random>::random(g),
-            regional: if g.coin() { Some(<SignalRequestMessageRegional as uper::random::Random>::random(g)) } else { None },
+            regional: if g.coin() {
+                Some(<SignalRequestMessageRegional as uper::random::Random>::random(g))
+            } else {
+                None
+            },
             extensions: uper::Extensions::new(),
         }
     }
@@ -135,6 +169,12 @@ impl SignalRequestList {
     }
 }
 
+impl Default for SignalRequestList {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
 impl uper::Placeholder for SignalRequestList {
     fn placeholder() -> Self {
         Self(uper::SeqOf::new())
@@ -145,7 +185,12 @@ impl Uper for SignalRequestList {
     const PATH: &'static str = "SignalRequestMessage.SignalRequestList";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(3673), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        uper::decode_seq_of_into(r, Self::SIZE, "SignalRequestMessage.SignalRequestList", &mut out.0)
+        uper::decode_seq_of_into(
+            r,
+            Self::SIZE,
+            "SignalRequestMessage.SignalRequestList",
+            &mut out.0,
+        )
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
@@ -157,7 +202,8 @@ impl uper::random::Random for SignalRequestList {
     fn random(g: &mut uper::random::Gen) -> Self {
         let mut v = Self(uper::SeqOf::new());
         for _ in 0..g.count(1, 4) {
-            let _ = v.0.push(<SignalRequestPackage as uper::random::Random>::random(g));
+            let _ =
+                v.0.push(<SignalRequestPackage as uper::random::Random>::random(g));
         }
         v
     }
@@ -182,7 +228,14 @@ pub struct SignalRequestPackage {
 
 impl uper::Placeholder for SignalRequestPackage {
     fn placeholder() -> Self {
-        Self { request: <SignalRequest as uper::Placeholder>::placeholder(), minute: None, second: None, duration: None, regional: None, extensions: uper::Extensions::new() }
+        Self {
+            request: <SignalRequest as uper::Placeholder>::placeholder(),
+            minute: None,
+            second: None,
+            duration: None,
+            regional: None,
+            extensions: uper::Extensions::new(),
+        }
     }
 }
 
@@ -233,12 +286,22 @@ impl Uper for SignalRequestPackage {
         } else {
             out.regional = None;
         }
-        out.extensions = if extended { uper::Extensions::decode(r, "SignalRequestMessage.SignalRequestPackage:ext")? } else { uper::Extensions::new() };
+        out.extensions = if extended {
+            uper::Extensions::decode(r, "SignalRequestMessage.SignalRequestPackage:ext")?
+        } else {
+            uper::Extensions::new()
+        };
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_bit(self.extensions.is_present())?;
-        w.write_bits(((self.minute.is_some() as u64) << 3) | ((self.second.is_some() as u64) << 2) | ((self.duration.is_some() as u64) << 1) | ((self.regional.is_some() as u64) << 0), 4)?;
+        w.write_bits(
+            ((self.minute.is_some() as u64) << 3)
+                | ((self.second.is_some() as u64) << 2)
+                | ((self.duration.is_some() as u64) << 1)
+                | ((self.regional.is_some() as u64) << 0),
+            4,
+        )?;
         self.request.encode_uper(w)?;
         if let Some(v) = &self.minute {
             v.encode_uper(w)?;
@@ -264,10 +327,26 @@ impl uper::random::Random for SignalRequestPackage {
     fn random(g: &mut uper::random::Gen) -> Self {
         Self {
             request: <SignalRequest as uper::random::Random>::random(g),
-            minute: if g.coin() { Some(<super::common::MinuteOfTheYear as uper::random::Random>::random(g)) } else { None },
-            second: if g.coin() { Some(<super::common::DSecond as uper::random::Random>::random(g)) } else { None },
-            duration: if g.coin() { Some(<super::common::DSecond as uper::random::Random>::random(g)) } else { None },
-            regional: if g.coin() { Some(<SignalRequestPackageRegional as uper::random::Random>::random(g)) } else { None },
+            minute: if g.coin() {
+                Some(<super::common::MinuteOfTheYear as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            second: if g.coin() {
+                Some(<super::common::DSecond as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            duration: if g.coin() {
+                Some(<super::common::DSecond as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            regional: if g.coin() {
+                Some(<SignalRequestPackageRegional as uper::random::Random>::random(g))
+            } else {
+                None
+            },
             extensions: uper::Extensions::new(),
         }
     }
@@ -294,7 +373,16 @@ pub struct SignalRequest {
 
 impl uper::Placeholder for SignalRequest {
     fn placeholder() -> Self {
-        Self { id: <super::common::IntersectionReferenceID as uper::Placeholder>::placeholder(), request_id: <super::common::RequestID as uper::Placeholder>::placeholder(), request_type: <PriorityRequestType as uper::Placeholder>::placeholder(), in_bound_lane: <super::common::IntersectionAccessPoint as uper::Placeholder>::placeholder(), out_bound_lane: None, regional: None, extensions: uper::Extensions::new() }
+        Self {
+            id: <super::common::IntersectionReferenceID as uper::Placeholder>::placeholder(),
+            request_id: <super::common::RequestID as uper::Placeholder>::placeholder(),
+            request_type: <PriorityRequestType as uper::Placeholder>::placeholder(),
+            in_bound_lane:
+                <super::common::IntersectionAccessPoint as uper::Placeholder>::placeholder(),
+            out_bound_lane: None,
+            regional: None,
+            extensions: uper::Extensions::new(),
+        }
     }
 }
 
@@ -328,12 +416,19 @@ impl Uper for SignalRequest {
         } else {
             out.regional = None;
         }
-        out.extensions = if extended { uper::Extensions::decode(r, "SignalRequestMessage.SignalRequest:ext")? } else { uper::Extensions::new() };
+        out.extensions = if extended {
+            uper::Extensions::decode(r, "SignalRequestMessage.SignalRequest:ext")?
+        } else {
+            uper::Extensions::new()
+        };
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_bit(self.extensions.is_present())?;
-        w.write_bits(((self.out_bound_lane.is_some() as u64) << 1) | ((self.regional.is_some() as u64) << 0), 2)?;
+        w.write_bits(
+            ((self.out_bound_lane.is_some() as u64) << 1) | ((self.regional.is_some() as u64) << 0),
+            2,
+        )?;
         self.id.encode_uper(w)?;
         self.request_id.encode_uper(w)?;
         self.request_type.encode_uper(w)?;
@@ -358,9 +453,19 @@ impl uper::random::Random for SignalRequest {
             id: <super::common::IntersectionReferenceID as uper::random::Random>::random(g),
             request_id: <super::common::RequestID as uper::random::Random>::random(g),
             request_type: <PriorityRequestType as uper::random::Random>::random(g),
-            in_bound_lane: <super::common::IntersectionAccessPoint as uper::random::Random>::random(g),
-            out_bound_lane: if g.coin() { Some(<super::common::IntersectionAccessPoint as uper::random::Random>::random(g)) } else { None },
-            regional: if g.coin() { Some(<SignalRequestRegional as uper::random::Random>::random(g)) } else { None },
+            in_bound_lane: <super::common::IntersectionAccessPoint as uper::random::Random>::random(
+                g,
+            ),
+            out_bound_lane: if g.coin() {
+                Some(<super::common::IntersectionAccessPoint as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            regional: if g.coin() {
+                Some(<SignalRequestRegional as uper::random::Random>::random(g))
+            } else {
+                None
+            },
             extensions: uper::Extensions::new(),
         }
     }
@@ -383,7 +488,12 @@ pub enum PriorityRequestType {
 
 impl PriorityRequestType {
     /// Every root value in encoding (ascending number) order.
-    pub const ALL: [Self; 4] = [Self::PriorityRequestTypeReserved, Self::PriorityRequest, Self::PriorityRequestUpdate, Self::PriorityCancellation];
+    pub const ALL: [Self; 4] = [
+        Self::PriorityRequestTypeReserved,
+        Self::PriorityRequest,
+        Self::PriorityRequestUpdate,
+        Self::PriorityCancellation,
+    ];
     /// The ASN.1 number of the value (`None` for an unknown extension value).
     pub const fn number(self) -> Option<i64> {
         match self {
@@ -428,12 +538,20 @@ impl Uper for PriorityRequestType {
         if r.read_bit()? {
             let at = r.position();
             let i = r.read_normally_small()?;
-            *out = u16::try_from(i).map(Self::Extension).map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at))?;
+            *out = u16::try_from(i)
+                .map(Self::Extension)
+                .map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at))?;
             return Ok(());
         }
         let at = r.position();
         let i = r.read_constrained(0, 3)?;
-        *out = Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))?;
+        *out = Self::ALL
+            .get(i as usize)
+            .copied()
+            .ok_or(uper::DecodeError::new(
+                uper::DecodeErrorKind::InvalidEnumIndex,
+                at,
+            ))?;
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -467,6 +585,12 @@ impl SignalRequestRegional {
     }
 }
 
+impl Default for SignalRequestRegional {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
 impl uper::Placeholder for SignalRequestRegional {
     fn placeholder() -> Self {
         Self(uper::SeqOf::new())
@@ -477,7 +601,12 @@ impl Uper for SignalRequestRegional {
     const PATH: &'static str = "SignalRequestMessage.SignalRequest.regional";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(146), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        uper::decode_seq_of_into(r, Self::SIZE, "SignalRequestMessage.SignalRequest.regional", &mut out.0)
+        uper::decode_seq_of_into(
+            r,
+            Self::SIZE,
+            "SignalRequestMessage.SignalRequest.regional",
+            &mut out.0,
+        )
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
@@ -489,7 +618,8 @@ impl uper::random::Random for SignalRequestRegional {
     fn random(g: &mut uper::random::Gen) -> Self {
         let mut v = Self(uper::SeqOf::new());
         for _ in 0..g.count(1, 1) {
-            let _ = v.0.push(<RegSignalRequest as uper::random::Random>::random(g));
+            let _ =
+                v.0.push(<RegSignalRequest as uper::random::Random>::random(g));
         }
         v
     }
@@ -518,7 +648,10 @@ impl RegSignalRequest {
 
 impl uper::Placeholder for RegSignalRequest {
     fn placeholder() -> Self {
-        Self::Unknown { id: <super::common::RegionId as uper::Placeholder>::placeholder(), content: uper::Octets::new() }
+        Self::Unknown {
+            id: <super::common::RegionId as uper::Placeholder>::placeholder(),
+            content: uper::Octets::new(),
+        }
     }
 }
 
@@ -528,7 +661,15 @@ impl Uper for RegSignalRequest {
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let id = <super::common::RegionId>::decode_uper(r)?;
         match id.get() {
-            _ => *out = Self::Unknown { id, content: uper::decode_unknown_open(r, "SignalRequestMessage.RegSignalRequest:unknown")? },
+            _ => {
+                *out = Self::Unknown {
+                    id,
+                    content: uper::decode_unknown_open(
+                        r,
+                        "SignalRequestMessage.RegSignalRequest:unknown",
+                    )?,
+                }
+            }
         }
         Ok(())
     }
@@ -549,7 +690,10 @@ impl uper::random::Random for RegSignalRequest {
         for _ in 0..1 + g.below(4) {
             let _ = content.push(g.octet());
         }
-        Self::Unknown { id: <super::common::RegionId as uper::random::Random>::random(g), content }
+        Self::Unknown {
+            id: <super::common::RegionId as uper::random::Random>::random(g),
+            content,
+        }
     }
 }
 
@@ -567,6 +711,12 @@ impl SignalRequestPackageRegional {
     }
 }
 
+impl Default for SignalRequestPackageRegional {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
 impl uper::Placeholder for SignalRequestPackageRegional {
     fn placeholder() -> Self {
         Self(uper::SeqOf::new())
@@ -577,7 +727,12 @@ impl Uper for SignalRequestPackageRegional {
     const PATH: &'static str = "SignalRequestMessage.SignalRequestPackage.regional";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(146), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        uper::decode_seq_of_into(r, Self::SIZE, "SignalRequestMessage.SignalRequestPackage.regional", &mut out.0)
+        uper::decode_seq_of_into(
+            r,
+            Self::SIZE,
+            "SignalRequestMessage.SignalRequestPackage.regional",
+            &mut out.0,
+        )
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
@@ -589,7 +744,8 @@ impl uper::random::Random for SignalRequestPackageRegional {
     fn random(g: &mut uper::random::Gen) -> Self {
         let mut v = Self(uper::SeqOf::new());
         for _ in 0..g.count(1, 1) {
-            let _ = v.0.push(<RegSignalRequestPackage as uper::random::Random>::random(g));
+            let _ =
+                v.0.push(<RegSignalRequestPackage as uper::random::Random>::random(g));
         }
         v
     }
@@ -618,7 +774,10 @@ impl RegSignalRequestPackage {
 
 impl uper::Placeholder for RegSignalRequestPackage {
     fn placeholder() -> Self {
-        Self::Unknown { id: <super::common::RegionId as uper::Placeholder>::placeholder(), content: uper::Octets::new() }
+        Self::Unknown {
+            id: <super::common::RegionId as uper::Placeholder>::placeholder(),
+            content: uper::Octets::new(),
+        }
     }
 }
 
@@ -628,7 +787,15 @@ impl Uper for RegSignalRequestPackage {
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let id = <super::common::RegionId>::decode_uper(r)?;
         match id.get() {
-            _ => *out = Self::Unknown { id, content: uper::decode_unknown_open(r, "SignalRequestMessage.RegSignalRequestPackage:unknown")? },
+            _ => {
+                *out = Self::Unknown {
+                    id,
+                    content: uper::decode_unknown_open(
+                        r,
+                        "SignalRequestMessage.RegSignalRequestPackage:unknown",
+                    )?,
+                }
+            }
         }
         Ok(())
     }
@@ -649,7 +816,10 @@ impl uper::random::Random for RegSignalRequestPackage {
         for _ in 0..1 + g.below(4) {
             let _ = content.push(g.octet());
         }
-        Self::Unknown { id: <super::common::RegionId as uper::random::Random>::random(g), content }
+        Self::Unknown {
+            id: <super::common::RegionId as uper::random::Random>::random(g),
+            content,
+        }
     }
 }
 
@@ -680,7 +850,18 @@ pub struct RequestorDescription {
 
 impl uper::Placeholder for RequestorDescription {
     fn placeholder() -> Self {
-        Self { id: <super::common::VehicleID as uper::Placeholder>::placeholder(), r#type: None, position: None, name: None, route_name: None, transit_status: None, transit_occupancy: None, transit_schedule: None, regional: None, extensions: uper::Extensions::new() }
+        Self {
+            id: <super::common::VehicleID as uper::Placeholder>::placeholder(),
+            r#type: None,
+            position: None,
+            name: None,
+            route_name: None,
+            transit_status: None,
+            transit_occupancy: None,
+            transit_schedule: None,
+            regional: None,
+            extensions: uper::Extensions::new(),
+        }
     }
 }
 
@@ -771,12 +952,26 @@ impl Uper for RequestorDescription {
         } else {
             out.regional = None;
         }
-        out.extensions = if extended { uper::Extensions::decode(r, "SignalRequestMessage.RequestorDescription:ext")? } else { uper::Extensions::new() };
+        out.extensions = if extended {
+            uper::Extensions::decode(r, "SignalRequestMessage.RequestorDescription:ext")?
+        } else {
+            uper::Extensions::new()
+        };
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_bit(self.extensions.is_present())?;
-        w.write_bits(((self.r#type.is_some() as u64) << 7) | ((self.position.is_some() as u64) << 6) | ((self.name.is_some() as u64) << 5) | ((self.route_name.is_some() as u64) << 4) | ((self.transit_status.is_some() as u64) << 3) | ((self.transit_occupancy.is_some() as u64) << 2) | ((self.transit_schedule.is_some() as u64) << 1) | ((self.regional.is_some() as u64) << 0), 8)?;
+        w.write_bits(
+            ((self.r#type.is_some() as u64) << 7)
+                | ((self.position.is_some() as u64) << 6)
+                | ((self.name.is_some() as u64) << 5)
+                | ((self.route_name.is_some() as u64) << 4)
+                | ((self.transit_status.is_some() as u64) << 3)
+                | ((self.transit_occupancy.is_some() as u64) << 2)
+                | ((self.transit_schedule.is_some() as u64) << 1)
+                | ((self.regional.is_some() as u64) << 0),
+            8,
+        )?;
         self.id.encode_uper(w)?;
         if let Some(v) = &self.r#type {
             v.encode_uper(w)?;
@@ -814,14 +1009,46 @@ impl uper::random::Random for RequestorDescription {
     fn random(g: &mut uper::random::Gen) -> Self {
         Self {
             id: <super::common::VehicleID as uper::random::Random>::random(g),
-            r#type: if g.coin() { Some(<super::common::RequestorType as uper::random::Random>::random(g)) } else { None },
-            position: if g.coin() { Some(<RequestorPositionVector as uper::random::Random>::random(g)) } else { None },
-            name: if g.coin() { Some(<super::common::DescriptiveName as uper::random::Random>::random(g)) } else { None },
-            route_name: if g.coin() { Some(<super::common::DescriptiveName as uper::random::Random>::random(g)) } else { None },
-            transit_status: if g.coin() { Some(<TransitVehicleStatus as uper::random::Random>::random(g)) } else { None },
-            transit_occupancy: if g.coin() { Some(<TransitVehicleOccupancy as uper::random::Random>::random(g)) } else { None },
-            transit_schedule: if g.coin() { Some(<DeltaTime as uper::random::Random>::random(g)) } else { None },
-            regional: if g.coin() { Some(<RequestorDescriptionRegional as uper::random::Random>::random(g)) } else { None },
+            r#type: if g.coin() {
+                Some(<super::common::RequestorType as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            position: if g.coin() {
+                Some(<RequestorPositionVector as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            name: if g.coin() {
+                Some(<super::common::DescriptiveName as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            route_name: if g.coin() {
+                Some(<super::common::DescriptiveName as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            transit_status: if g.coin() {
+                Some(<TransitVehicleStatus as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            transit_occupancy: if g.coin() {
+                Some(<TransitVehicleOccupancy as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            transit_schedule: if g.coin() {
+                Some(<DeltaTime as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            regional: if g.coin() {
+                Some(<RequestorDescriptionRegional as uper::random::Random>::random(g))
+            } else {
+                None
+            },
             extensions: uper::Extensions::new(),
         }
     }
@@ -842,7 +1069,12 @@ pub struct RequestorPositionVector {
 
 impl uper::Placeholder for RequestorPositionVector {
     fn placeholder() -> Self {
-        Self { position: <super::common::Position3D as uper::Placeholder>::placeholder(), heading: None, speed: None, extensions: uper::Extensions::new() }
+        Self {
+            position: <super::common::Position3D as uper::Placeholder>::placeholder(),
+            heading: None,
+            speed: None,
+            extensions: uper::Extensions::new(),
+        }
     }
 }
 
@@ -873,12 +1105,19 @@ impl Uper for RequestorPositionVector {
         } else {
             out.speed = None;
         }
-        out.extensions = if extended { uper::Extensions::decode(r, "SignalRequestMessage.RequestorPositionVector:ext")? } else { uper::Extensions::new() };
+        out.extensions = if extended {
+            uper::Extensions::decode(r, "SignalRequestMessage.RequestorPositionVector:ext")?
+        } else {
+            uper::Extensions::new()
+        };
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_bit(self.extensions.is_present())?;
-        w.write_bits(((self.heading.is_some() as u64) << 1) | ((self.speed.is_some() as u64) << 0), 2)?;
+        w.write_bits(
+            ((self.heading.is_some() as u64) << 1) | ((self.speed.is_some() as u64) << 0),
+            2,
+        )?;
         self.position.encode_uper(w)?;
         if let Some(v) = &self.heading {
             v.encode_uper(w)?;
@@ -898,8 +1137,16 @@ impl uper::random::Random for RequestorPositionVector {
     fn random(g: &mut uper::random::Gen) -> Self {
         Self {
             position: <super::common::Position3D as uper::random::Random>::random(g),
-            heading: if g.coin() { Some(<super::common::Angle as uper::random::Random>::random(g)) } else { None },
-            speed: if g.coin() { Some(<super::common::TransmissionAndSpeed as uper::random::Random>::random(g)) } else { None },
+            heading: if g.coin() {
+                Some(<super::common::Angle as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            speed: if g.coin() {
+                Some(<super::common::TransmissionAndSpeed as uper::random::Random>::random(g))
+            } else {
+                None
+            },
             extensions: uper::Extensions::new(),
         }
     }
@@ -983,7 +1230,16 @@ pub enum TransitVehicleOccupancy {
 
 impl TransitVehicleOccupancy {
     /// Every root value in encoding (ascending number) order.
-    pub const ALL: [Self; 8] = [Self::OccupancyUnknown, Self::OccupancyEmpty, Self::OccupancyVeryLow, Self::OccupancyLow, Self::OccupancyMed, Self::OccupancyHigh, Self::OccupancyNearlyFull, Self::OccupancyFull];
+    pub const ALL: [Self; 8] = [
+        Self::OccupancyUnknown,
+        Self::OccupancyEmpty,
+        Self::OccupancyVeryLow,
+        Self::OccupancyLow,
+        Self::OccupancyMed,
+        Self::OccupancyHigh,
+        Self::OccupancyNearlyFull,
+        Self::OccupancyFull,
+    ];
     /// The ASN.1 number of the value (`None` for an unknown extension value).
     pub const fn number(self) -> Option<i64> {
         match self {
@@ -1036,7 +1292,13 @@ impl Uper for TransitVehicleOccupancy {
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let at = r.position();
         let i = r.read_constrained(0, 7)?;
-        *out = Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))?;
+        *out = Self::ALL
+            .get(i as usize)
+            .copied()
+            .ok_or(uper::DecodeError::new(
+                uper::DecodeErrorKind::InvalidEnumIndex,
+                at,
+            ))?;
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -1070,6 +1332,12 @@ impl RequestorDescriptionRegional {
     }
 }
 
+impl Default for RequestorDescriptionRegional {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
 impl uper::Placeholder for RequestorDescriptionRegional {
     fn placeholder() -> Self {
         Self(uper::SeqOf::new())
@@ -1080,7 +1348,12 @@ impl Uper for RequestorDescriptionRegional {
     const PATH: &'static str = "SignalRequestMessage.RequestorDescription.regional";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(146), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        uper::decode_seq_of_into(r, Self::SIZE, "SignalRequestMessage.RequestorDescription.regional", &mut out.0)
+        uper::decode_seq_of_into(
+            r,
+            Self::SIZE,
+            "SignalRequestMessage.RequestorDescription.regional",
+            &mut out.0,
+        )
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
@@ -1092,7 +1365,8 @@ impl uper::random::Random for RequestorDescriptionRegional {
     fn random(g: &mut uper::random::Gen) -> Self {
         let mut v = Self(uper::SeqOf::new());
         for _ in 0..g.count(1, 1) {
-            let _ = v.0.push(<RegRequestorDescription as uper::random::Random>::random(g));
+            let _ =
+                v.0.push(<RegRequestorDescription as uper::random::Random>::random(g));
         }
         v
     }
@@ -1121,7 +1395,10 @@ impl RegRequestorDescription {
 
 impl uper::Placeholder for RegRequestorDescription {
     fn placeholder() -> Self {
-        Self::Unknown { id: <super::common::RegionId as uper::Placeholder>::placeholder(), content: uper::Octets::new() }
+        Self::Unknown {
+            id: <super::common::RegionId as uper::Placeholder>::placeholder(),
+            content: uper::Octets::new(),
+        }
     }
 }
 
@@ -1131,7 +1408,15 @@ impl Uper for RegRequestorDescription {
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let id = <super::common::RegionId>::decode_uper(r)?;
         match id.get() {
-            _ => *out = Self::Unknown { id, content: uper::decode_unknown_open(r, "SignalRequestMessage.RegRequestorDescription:unknown")? },
+            _ => {
+                *out = Self::Unknown {
+                    id,
+                    content: uper::decode_unknown_open(
+                        r,
+                        "SignalRequestMessage.RegRequestorDescription:unknown",
+                    )?,
+                }
+            }
         }
         Ok(())
     }
@@ -1152,7 +1437,10 @@ impl uper::random::Random for RegRequestorDescription {
         for _ in 0..1 + g.below(4) {
             let _ = content.push(g.octet());
         }
-        Self::Unknown { id: <super::common::RegionId as uper::random::Random>::random(g), content }
+        Self::Unknown {
+            id: <super::common::RegionId as uper::random::Random>::random(g),
+            content,
+        }
     }
 }
 
@@ -1170,6 +1458,12 @@ impl SignalRequestMessageRegional {
     }
 }
 
+impl Default for SignalRequestMessageRegional {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
 impl uper::Placeholder for SignalRequestMessageRegional {
     fn placeholder() -> Self {
         Self(uper::SeqOf::new())
@@ -1180,7 +1474,12 @@ impl Uper for SignalRequestMessageRegional {
     const PATH: &'static str = "SignalRequestMessage.SignalRequestMessage.regional";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(146), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        uper::decode_seq_of_into(r, Self::SIZE, "SignalRequestMessage.SignalRequestMessage.regional", &mut out.0)
+        uper::decode_seq_of_into(
+            r,
+            Self::SIZE,
+            "SignalRequestMessage.SignalRequestMessage.regional",
+            &mut out.0,
+        )
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
@@ -1192,7 +1491,8 @@ impl uper::random::Random for SignalRequestMessageRegional {
     fn random(g: &mut uper::random::Gen) -> Self {
         let mut v = Self(uper::SeqOf::new());
         for _ in 0..g.count(1, 1) {
-            let _ = v.0.push(<RegSignalRequestMessage as uper::random::Random>::random(g));
+            let _ =
+                v.0.push(<RegSignalRequestMessage as uper::random::Random>::random(g));
         }
         v
     }
@@ -1221,7 +1521,10 @@ impl RegSignalRequestMessage {
 
 impl uper::Placeholder for RegSignalRequestMessage {
     fn placeholder() -> Self {
-        Self::Unknown { id: <super::common::RegionId as uper::Placeholder>::placeholder(), content: uper::Octets::new() }
+        Self::Unknown {
+            id: <super::common::RegionId as uper::Placeholder>::placeholder(),
+            content: uper::Octets::new(),
+        }
     }
 }
 
@@ -1231,7 +1534,15 @@ impl Uper for RegSignalRequestMessage {
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let id = <super::common::RegionId>::decode_uper(r)?;
         match id.get() {
-            _ => *out = Self::Unknown { id, content: uper::decode_unknown_open(r, "SignalRequestMessage.RegSignalRequestMessage:unknown")? },
+            _ => {
+                *out = Self::Unknown {
+                    id,
+                    content: uper::decode_unknown_open(
+                        r,
+                        "SignalRequestMessage.RegSignalRequestMessage:unknown",
+                    )?,
+                }
+            }
         }
         Ok(())
     }
@@ -1252,6 +1563,9 @@ impl uper::random::Random for RegSignalRequestMessage {
         for _ in 0..1 + g.below(4) {
             let _ = content.push(g.octet());
         }
-        Self::Unknown { id: <super::common::RegionId as uper::random::Random>::random(g), content }
+        Self::Unknown {
+            id: <super::common::RegionId as uper::random::Random>::random(g),
+            content,
+        }
     }
 }

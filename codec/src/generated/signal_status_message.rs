@@ -25,7 +25,14 @@ pub struct SignalStatusMessage {
 
 impl uper::Placeholder for SignalStatusMessage {
     fn placeholder() -> Self {
-        Self { time_stamp: None, second: <super::common::DSecond as uper::Placeholder>::placeholder(), sequence_number: None, status: <SignalStatusList as uper::Placeholder>::placeholder(), regional: None, extensions: uper::Extensions::new() }
+        Self {
+            time_stamp: None,
+            second: <super::common::DSecond as uper::Placeholder>::placeholder(),
+            sequence_number: None,
+            status: <SignalStatusList as uper::Placeholder>::placeholder(),
+            regional: None,
+            extensions: uper::Extensions::new(),
+        }
     }
 }
 
@@ -67,12 +74,21 @@ impl Uper for SignalStatusMessage {
         } else {
             out.regional = None;
         }
-        out.extensions = if extended { uper::Extensions::decode(r, "SignalStatusMessage.SignalStatusMessage:ext")? } else { uper::Extensions::new() };
+        out.extensions = if extended {
+            uper::Extensions::decode(r, "SignalStatusMessage.SignalStatusMessage:ext")?
+        } else {
+            uper::Extensions::new()
+        };
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_bit(self.extensions.is_present())?;
-        w.write_bits(((self.time_stamp.is_some() as u64) << 2) | ((self.sequence_number.is_some() as u64) << 1) | ((self.regional.is_some() as u64) << 0), 3)?;
+        w.write_bits(
+            ((self.time_stamp.is_some() as u64) << 2)
+                | ((self.sequence_number.is_some() as u64) << 1)
+                | ((self.regional.is_some() as u64) << 0),
+            3,
+        )?;
         if let Some(v) = &self.time_stamp {
             v.encode_uper(w)?;
         }
@@ -95,11 +111,23 @@ impl Uper for SignalStatusMessage {
 impl uper::random::Random for SignalStatusMessage {
     fn random(g: &mut uper::random::Gen) -> Self {
         Self {
-            time_stamp: if g.coin() { Some(<super::common::MinuteOfTheYear as uper::random::Random>::random(g)) } else { None },
+            time_stamp: if g.coin() {
+                Some(<super::common::MinuteOfTheYear as uper::random::Random>::random(g))
+            } else {
+                None
+            },
             second: <super::common::DSecond as uper::random::Random>::random(g),
-            sequence_number: if g.coin() { Some(<super::common::MsgCount as uper::random::Random>::random(g)) } else { None },
+            sequence_number: if g.coin() {
+                Some(<super::common::MsgCount as uper::random::Random>::random(g))
+            } else {
+                None
+            },
             status: <SignalStatusList as uper::random::Random>::random(g),
-            regional: if g.coin() { Some(<SignalStatusMessageRegional as uper::random::Random>::random(g)) } else { None },
+            regional: if g.coin() {
+                Some(<SignalStatusMessageRegional as uper::random::Random>::random(g))
+            } else {
+                None
+            },
             extensions: uper::Extensions::new(),
         }
     }
@@ -119,6 +147,12 @@ impl SignalStatusList {
     }
 }
 
+impl Default for SignalStatusList {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
 impl uper::Placeholder for SignalStatusList {
     fn placeholder() -> Self {
         Self(uper::SeqOf::new())
@@ -129,7 +163,12 @@ impl Uper for SignalStatusList {
     const PATH: &'static str = "SignalStatusMessage.SignalStatusList";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(179005), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        uper::decode_seq_of_into(r, Self::SIZE, "SignalStatusMessage.SignalStatusList", &mut out.0)
+        uper::decode_seq_of_into(
+            r,
+            Self::SIZE,
+            "SignalStatusMessage.SignalStatusList",
+            &mut out.0,
+        )
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
@@ -164,7 +203,13 @@ pub struct SignalStatus {
 
 impl uper::Placeholder for SignalStatus {
     fn placeholder() -> Self {
-        Self { sequence_number: <super::common::MsgCount as uper::Placeholder>::placeholder(), id: <super::common::IntersectionReferenceID as uper::Placeholder>::placeholder(), sig_status: <SignalStatusPackageList as uper::Placeholder>::placeholder(), regional: None, extensions: uper::Extensions::new() }
+        Self {
+            sequence_number: <super::common::MsgCount as uper::Placeholder>::placeholder(),
+            id: <super::common::IntersectionReferenceID as uper::Placeholder>::placeholder(),
+            sig_status: <SignalStatusPackageList as uper::Placeholder>::placeholder(),
+            regional: None,
+            extensions: uper::Extensions::new(),
+        }
     }
 }
 
@@ -187,7 +232,11 @@ impl Uper for SignalStatus {
         } else {
             out.regional = None;
         }
-        out.extensions = if extended { uper::Extensions::decode(r, "SignalStatusMessage.SignalStatus:ext")? } else { uper::Extensions::new() };
+        out.extensions = if extended {
+            uper::Extensions::decode(r, "SignalStatusMessage.SignalStatus:ext")?
+        } else {
+            uper::Extensions::new()
+        };
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -213,7 +262,11 @@ impl uper::random::Random for SignalStatus {
             sequence_number: <super::common::MsgCount as uper::random::Random>::random(g),
             id: <super::common::IntersectionReferenceID as uper::random::Random>::random(g),
             sig_status: <SignalStatusPackageList as uper::random::Random>::random(g),
-            regional: if g.coin() { Some(<SignalStatusRegional as uper::random::Random>::random(g)) } else { None },
+            regional: if g.coin() {
+                Some(<SignalStatusRegional as uper::random::Random>::random(g))
+            } else {
+                None
+            },
             extensions: uper::Extensions::new(),
         }
     }
@@ -233,6 +286,12 @@ impl SignalStatusPackageList {
     }
 }
 
+impl Default for SignalStatusPackageList {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
 impl uper::Placeholder for SignalStatusPackageList {
     fn placeholder() -> Self {
         Self(uper::SeqOf::new())
@@ -243,7 +302,12 @@ impl Uper for SignalStatusPackageList {
     const PATH: &'static str = "SignalStatusMessage.SignalStatusPackageList";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(35525), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        uper::decode_seq_of_into(r, Self::SIZE, "SignalStatusMessage.SignalStatusPackageList", &mut out.0)
+        uper::decode_seq_of_into(
+            r,
+            Self::SIZE,
+            "SignalStatusMessage.SignalStatusPackageList",
+            &mut out.0,
+        )
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
@@ -255,7 +319,8 @@ impl uper::random::Random for SignalStatusPackageList {
     fn random(g: &mut uper::random::Gen) -> Self {
         let mut v = Self(uper::SeqOf::new());
         for _ in 0..g.count(1, 32) {
-            let _ = v.0.push(<SignalStatusPackage as uper::random::Random>::random(g));
+            let _ =
+                v.0.push(<SignalStatusPackage as uper::random::Random>::random(g));
         }
         v
     }
@@ -286,7 +351,19 @@ pub struct SignalStatusPackage {
 
 impl uper::Placeholder for SignalStatusPackage {
     fn placeholder() -> Self {
-        Self { requester: None, inbound_on: <super::common::IntersectionAccessPoint as uper::Placeholder>::placeholder(), outbound_on: None, minute: None, second: None, duration: None, status: <super::common::PrioritizationResponseStatus as uper::Placeholder>::placeholder(), regional: None, extensions: uper::Extensions::new() }
+        Self {
+            requester: None,
+            inbound_on: <super::common::IntersectionAccessPoint as uper::Placeholder>::placeholder(
+            ),
+            outbound_on: None,
+            minute: None,
+            second: None,
+            duration: None,
+            status: <super::common::PrioritizationResponseStatus as uper::Placeholder>::placeholder(
+            ),
+            regional: None,
+            extensions: uper::Extensions::new(),
+        }
     }
 }
 
@@ -358,12 +435,24 @@ impl Uper for SignalStatusPackage {
         } else {
             out.regional = None;
         }
-        out.extensions = if extended { uper::Extensions::decode(r, "SignalStatusMessage.SignalStatusPackage:ext")? } else { uper::Extensions::new() };
+        out.extensions = if extended {
+            uper::Extensions::decode(r, "SignalStatusMessage.SignalStatusPackage:ext")?
+        } else {
+            uper::Extensions::new()
+        };
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_bit(self.extensions.is_present())?;
-        w.write_bits(((self.requester.is_some() as u64) << 5) | ((self.outbound_on.is_some() as u64) << 4) | ((self.minute.is_some() as u64) << 3) | ((self.second.is_some() as u64) << 2) | ((self.duration.is_some() as u64) << 1) | ((self.regional.is_some() as u64) << 0), 6)?;
+        w.write_bits(
+            ((self.requester.is_some() as u64) << 5)
+                | ((self.outbound_on.is_some() as u64) << 4)
+                | ((self.minute.is_some() as u64) << 3)
+                | ((self.second.is_some() as u64) << 2)
+                | ((self.duration.is_some() as u64) << 1)
+                | ((self.regional.is_some() as u64) << 0),
+            6,
+        )?;
         if let Some(v) = &self.requester {
             v.encode_uper(w)?;
         }
@@ -395,14 +484,40 @@ impl Uper for SignalStatusPackage {
 impl uper::random::Random for SignalStatusPackage {
     fn random(g: &mut uper::random::Gen) -> Self {
         Self {
-            requester: if g.coin() { Some(<SignalRequesterInfo as uper::random::Random>::random(g)) } else { None },
+            requester: if g.coin() {
+                Some(<SignalRequesterInfo as uper::random::Random>::random(g))
+            } else {
+                None
+            },
             inbound_on: <super::common::IntersectionAccessPoint as uper::random::Random>::random(g),
-            outbound_on: if g.coin() { Some(<super::common::IntersectionAccessPoint as uper::random::Random>::random(g)) } else { None },
-            minute: if g.coin() { Some(<super::common::MinuteOfTheYear as uper::random::Random>::random(g)) } else { None },
-            second: if g.coin() { Some(<super::common::DSecond as uper::random::Random>::random(g)) } else { None },
-            duration: if g.coin() { Some(<super::common::DSecond as uper::random::Random>::random(g)) } else { None },
-            status: <super::common::PrioritizationResponseStatus as uper::random::Random>::random(g),
-            regional: if g.coin() { Some(<SignalStatusPackageRegional as uper::random::Random>::random(g)) } else { None },
+            outbound_on: if g.coin() {
+                Some(<super::common::IntersectionAccessPoint as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            minute: if g.coin() {
+                Some(<super::common::MinuteOfTheYear as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            second: if g.coin() {
+                Some(<super::common::DSecond as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            duration: if g.coin() {
+                Some(<super::common::DSecond as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            status: <super::common::PrioritizationResponseStatus as uper::random::Random>::random(
+                g,
+            ),
+            regional: if g.coin() {
+                Some(<SignalStatusPackageRegional as uper::random::Random>::random(g))
+            } else {
+                None
+            },
             extensions: uper::Extensions::new(),
         }
     }
@@ -427,7 +542,14 @@ pub struct SignalRequesterInfo {
 
 impl uper::Placeholder for SignalRequesterInfo {
     fn placeholder() -> Self {
-        Self { id: <super::common::VehicleID as uper::Placeholder>::placeholder(), request: <super::common::RequestID as uper::Placeholder>::placeholder(), sequence_number: <super::common::MsgCount as uper::Placeholder>::placeholder(), role: None, type_data: None, extensions: uper::Extensions::new() }
+        Self {
+            id: <super::common::VehicleID as uper::Placeholder>::placeholder(),
+            request: <super::common::RequestID as uper::Placeholder>::placeholder(),
+            sequence_number: <super::common::MsgCount as uper::Placeholder>::placeholder(),
+            role: None,
+            type_data: None,
+            extensions: uper::Extensions::new(),
+        }
     }
 }
 
@@ -460,12 +582,19 @@ impl Uper for SignalRequesterInfo {
         } else {
             out.type_data = None;
         }
-        out.extensions = if extended { uper::Extensions::decode(r, "SignalStatusMessage.SignalRequesterInfo:ext")? } else { uper::Extensions::new() };
+        out.extensions = if extended {
+            uper::Extensions::decode(r, "SignalStatusMessage.SignalRequesterInfo:ext")?
+        } else {
+            uper::Extensions::new()
+        };
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_bit(self.extensions.is_present())?;
-        w.write_bits(((self.role.is_some() as u64) << 1) | ((self.type_data.is_some() as u64) << 0), 2)?;
+        w.write_bits(
+            ((self.role.is_some() as u64) << 1) | ((self.type_data.is_some() as u64) << 0),
+            2,
+        )?;
         self.id.encode_uper(w)?;
         self.request.encode_uper(w)?;
         self.sequence_number.encode_uper(w)?;
@@ -489,8 +618,16 @@ impl uper::random::Random for SignalRequesterInfo {
             id: <super::common::VehicleID as uper::random::Random>::random(g),
             request: <super::common::RequestID as uper::random::Random>::random(g),
             sequence_number: <super::common::MsgCount as uper::random::Random>::random(g),
-            role: if g.coin() { Some(<super::common::BasicVehicleRole as uper::random::Random>::random(g)) } else { None },
-            type_data: if g.coin() { Some(<super::common::RequestorType as uper::random::Random>::random(g)) } else { None },
+            role: if g.coin() {
+                Some(<super::common::BasicVehicleRole as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            type_data: if g.coin() {
+                Some(<super::common::RequestorType as uper::random::Random>::random(g))
+            } else {
+                None
+            },
             extensions: uper::Extensions::new(),
         }
     }
@@ -510,6 +647,12 @@ impl SignalStatusPackageRegional {
     }
 }
 
+impl Default for SignalStatusPackageRegional {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
 impl uper::Placeholder for SignalStatusPackageRegional {
     fn placeholder() -> Self {
         Self(uper::SeqOf::new())
@@ -520,7 +663,12 @@ impl Uper for SignalStatusPackageRegional {
     const PATH: &'static str = "SignalStatusMessage.SignalStatusPackage.regional";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(146), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        uper::decode_seq_of_into(r, Self::SIZE, "SignalStatusMessage.SignalStatusPackage.regional", &mut out.0)
+        uper::decode_seq_of_into(
+            r,
+            Self::SIZE,
+            "SignalStatusMessage.SignalStatusPackage.regional",
+            &mut out.0,
+        )
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
@@ -532,7 +680,8 @@ impl uper::random::Random for SignalStatusPackageRegional {
     fn random(g: &mut uper::random::Gen) -> Self {
         let mut v = Self(uper::SeqOf::new());
         for _ in 0..g.count(1, 1) {
-            let _ = v.0.push(<RegSignalStatusPackage as uper::random::Random>::random(g));
+            let _ =
+                v.0.push(<RegSignalStatusPackage as uper::random::Random>::random(g));
         }
         v
     }
@@ -561,7 +710,10 @@ impl RegSignalStatusPackage {
 
 impl uper::Placeholder for RegSignalStatusPackage {
     fn placeholder() -> Self {
-        Self::Unknown { id: <super::common::RegionId as uper::Placeholder>::placeholder(), content: uper::Octets::new() }
+        Self::Unknown {
+            id: <super::common::RegionId as uper::Placeholder>::placeholder(),
+            content: uper::Octets::new(),
+        }
     }
 }
 
@@ -571,7 +723,15 @@ impl Uper for RegSignalStatusPackage {
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let id = <super::common::RegionId>::decode_uper(r)?;
         match id.get() {
-            _ => *out = Self::Unknown { id, content: uper::decode_unknown_open(r, "SignalStatusMessage.RegSignalStatusPackage:unknown")? },
+            _ => {
+                *out = Self::Unknown {
+                    id,
+                    content: uper::decode_unknown_open(
+                        r,
+                        "SignalStatusMessage.RegSignalStatusPackage:unknown",
+                    )?,
+                }
+            }
         }
         Ok(())
     }
@@ -592,7 +752,10 @@ impl uper::random::Random for RegSignalStatusPackage {
         for _ in 0..1 + g.below(4) {
             let _ = content.push(g.octet());
         }
-        Self::Unknown { id: <super::common::RegionId as uper::random::Random>::random(g), content }
+        Self::Unknown {
+            id: <super::common::RegionId as uper::random::Random>::random(g),
+            content,
+        }
     }
 }
 
@@ -610,6 +773,12 @@ impl SignalStatusRegional {
     }
 }
 
+impl Default for SignalStatusRegional {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
 impl uper::Placeholder for SignalStatusRegional {
     fn placeholder() -> Self {
         Self(uper::SeqOf::new())
@@ -620,7 +789,12 @@ impl Uper for SignalStatusRegional {
     const PATH: &'static str = "SignalStatusMessage.SignalStatus.regional";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(146), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        uper::decode_seq_of_into(r, Self::SIZE, "SignalStatusMessage.SignalStatus.regional", &mut out.0)
+        uper::decode_seq_of_into(
+            r,
+            Self::SIZE,
+            "SignalStatusMessage.SignalStatus.regional",
+            &mut out.0,
+        )
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
@@ -632,7 +806,8 @@ impl uper::random::Random for SignalStatusRegional {
     fn random(g: &mut uper::random::Gen) -> Self {
         let mut v = Self(uper::SeqOf::new());
         for _ in 0..g.count(1, 1) {
-            let _ = v.0.push(<RegSignalStatus as uper::random::Random>::random(g));
+            let _ =
+                v.0.push(<RegSignalStatus as uper::random::Random>::random(g));
         }
         v
     }
@@ -661,7 +836,10 @@ impl RegSignalStatus {
 
 impl uper::Placeholder for RegSignalStatus {
     fn placeholder() -> Self {
-        Self::Unknown { id: <super::common::RegionId as uper::Placeholder>::placeholder(), content: uper::Octets::new() }
+        Self::Unknown {
+            id: <super::common::RegionId as uper::Placeholder>::placeholder(),
+            content: uper::Octets::new(),
+        }
     }
 }
 
@@ -671,7 +849,15 @@ impl Uper for RegSignalStatus {
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let id = <super::common::RegionId>::decode_uper(r)?;
         match id.get() {
-            _ => *out = Self::Unknown { id, content: uper::decode_unknown_open(r, "SignalStatusMessage.RegSignalStatus:unknown")? },
+            _ => {
+                *out = Self::Unknown {
+                    id,
+                    content: uper::decode_unknown_open(
+                        r,
+                        "SignalStatusMessage.RegSignalStatus:unknown",
+                    )?,
+                }
+            }
         }
         Ok(())
     }
@@ -692,7 +878,10 @@ impl uper::random::Random for RegSignalStatus {
         for _ in 0..1 + g.below(4) {
             let _ = content.push(g.octet());
         }
-        Self::Unknown { id: <super::common::RegionId as uper::random::Random>::random(g), content }
+        Self::Unknown {
+            id: <super::common::RegionId as uper::random::Random>::random(g),
+            content,
+        }
     }
 }
 
@@ -710,6 +899,12 @@ impl SignalStatusMessageRegional {
     }
 }
 
+impl Default for SignalStatusMessageRegional {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
 impl uper::Placeholder for SignalStatusMessageRegional {
     fn placeholder() -> Self {
         Self(uper::SeqOf::new())
@@ -720,7 +915,12 @@ impl Uper for SignalStatusMessageRegional {
     const PATH: &'static str = "SignalStatusMessage.SignalStatusMessage.regional";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(146), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        uper::decode_seq_of_into(r, Self::SIZE, "SignalStatusMessage.SignalStatusMessage.regional", &mut out.0)
+        uper::decode_seq_of_into(
+            r,
+            Self::SIZE,
+            "SignalStatusMessage.SignalStatusMessage.regional",
+            &mut out.0,
+        )
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
@@ -732,7 +932,8 @@ impl uper::random::Random for SignalStatusMessageRegional {
     fn random(g: &mut uper::random::Gen) -> Self {
         let mut v = Self(uper::SeqOf::new());
         for _ in 0..g.count(1, 1) {
-            let _ = v.0.push(<RegSignalStatusMessage as uper::random::Random>::random(g));
+            let _ =
+                v.0.push(<RegSignalStatusMessage as uper::random::Random>::random(g));
         }
         v
     }
@@ -761,7 +962,10 @@ impl RegSignalStatusMessage {
 
 impl uper::Placeholder for RegSignalStatusMessage {
     fn placeholder() -> Self {
-        Self::Unknown { id: <super::common::RegionId as uper::Placeholder>::placeholder(), content: uper::Octets::new() }
+        Self::Unknown {
+            id: <super::common::RegionId as uper::Placeholder>::placeholder(),
+            content: uper::Octets::new(),
+        }
     }
 }
 
@@ -771,7 +975,15 @@ impl Uper for RegSignalStatusMessage {
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let id = <super::common::RegionId>::decode_uper(r)?;
         match id.get() {
-            _ => *out = Self::Unknown { id, content: uper::decode_unknown_open(r, "SignalStatusMessage.RegSignalStatusMessage:unknown")? },
+            _ => {
+                *out = Self::Unknown {
+                    id,
+                    content: uper::decode_unknown_open(
+                        r,
+                        "SignalStatusMessage.RegSignalStatusMessage:unknown",
+                    )?,
+                }
+            }
         }
         Ok(())
     }
@@ -792,6 +1004,9 @@ impl uper::random::Random for RegSignalStatusMessage {
         for _ in 0..1 + g.below(4) {
             let _ = content.push(g.octet());
         }
-        Self::Unknown { id: <super::common::RegionId as uper::random::Random>::random(g), content }
+        Self::Unknown {
+            id: <super::common::RegionId as uper::random::Random>::random(g),
+            content,
+        }
     }
 }

@@ -23,7 +23,13 @@ pub struct SPAT {
 
 impl uper::Placeholder for SPAT {
     fn placeholder() -> Self {
-        Self { time_stamp: None, name: None, intersections: <IntersectionStateList as uper::Placeholder>::placeholder(), regional: None, extensions: uper::Extensions::new() }
+        Self {
+            time_stamp: None,
+            name: None,
+            intersections: <IntersectionStateList as uper::Placeholder>::placeholder(),
+            regional: None,
+            extensions: uper::Extensions::new(),
+        }
     }
 }
 
@@ -64,12 +70,21 @@ impl Uper for SPAT {
         } else {
             out.regional = None;
         }
-        out.extensions = if extended { uper::Extensions::decode(r, "SPAT.SPAT:ext")? } else { uper::Extensions::new() };
+        out.extensions = if extended {
+            uper::Extensions::decode(r, "SPAT.SPAT:ext")?
+        } else {
+            uper::Extensions::new()
+        };
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_bit(self.extensions.is_present())?;
-        w.write_bits(((self.time_stamp.is_some() as u64) << 2) | ((self.name.is_some() as u64) << 1) | ((self.regional.is_some() as u64) << 0), 3)?;
+        w.write_bits(
+            ((self.time_stamp.is_some() as u64) << 2)
+                | ((self.name.is_some() as u64) << 1)
+                | ((self.regional.is_some() as u64) << 0),
+            3,
+        )?;
         if let Some(v) = &self.time_stamp {
             v.encode_uper(w)?;
         }
@@ -91,10 +106,22 @@ impl Uper for SPAT {
 impl uper::random::Random for SPAT {
     fn random(g: &mut uper::random::Gen) -> Self {
         Self {
-            time_stamp: if g.coin() { Some(<super::common::MinuteOfTheYear as uper::random::Random>::random(g)) } else { None },
-            name: if g.coin() { Some(<super::common::DescriptiveName as uper::random::Random>::random(g)) } else { None },
+            time_stamp: if g.coin() {
+                Some(<super::common::MinuteOfTheYear as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            name: if g.coin() {
+                Some(<super::common::DescriptiveName as uper::random::Random>::random(g))
+            } else {
+                None
+            },
             intersections: <IntersectionStateList as uper::random::Random>::random(g),
-            regional: if g.coin() { Some(<SPATRegional as uper::random::Random>::random(g)) } else { None },
+            regional: if g.coin() {
+                Some(<SPATRegional as uper::random::Random>::random(g))
+            } else {
+                None
+            },
             extensions: uper::Extensions::new(),
         }
     }
@@ -111,6 +138,12 @@ impl IntersectionStateList {
     /// An empty list (valid for encoding once it holds the minimum number of items).
     pub fn new() -> Self {
         Self(uper::SeqOf::new())
+    }
+}
+
+impl Default for IntersectionStateList {
+    fn default() -> Self {
+        Self::new()
     }
 }
 
@@ -136,7 +169,8 @@ impl uper::random::Random for IntersectionStateList {
     fn random(g: &mut uper::random::Gen) -> Self {
         let mut v = Self(uper::SeqOf::new());
         for _ in 0..g.count(1, 4) {
-            let _ = v.0.push(<IntersectionState as uper::random::Random>::random(g));
+            let _ =
+                v.0.push(<IntersectionState as uper::random::Random>::random(g));
         }
         v
     }
@@ -171,7 +205,19 @@ pub struct IntersectionState {
 
 impl uper::Placeholder for IntersectionState {
     fn placeholder() -> Self {
-        Self { name: None, id: <super::common::IntersectionReferenceID as uper::Placeholder>::placeholder(), revision: <super::common::MsgCount as uper::Placeholder>::placeholder(), status: <IntersectionStatusObject as uper::Placeholder>::placeholder(), moy: None, time_stamp: None, enabled_lanes: None, states: <MovementList as uper::Placeholder>::placeholder(), maneuver_assist_list: None, regional: None, extensions: uper::Extensions::new() }
+        Self {
+            name: None,
+            id: <super::common::IntersectionReferenceID as uper::Placeholder>::placeholder(),
+            revision: <super::common::MsgCount as uper::Placeholder>::placeholder(),
+            status: <IntersectionStatusObject as uper::Placeholder>::placeholder(),
+            moy: None,
+            time_stamp: None,
+            enabled_lanes: None,
+            states: <MovementList as uper::Placeholder>::placeholder(),
+            maneuver_assist_list: None,
+            regional: None,
+            extensions: uper::Extensions::new(),
+        }
     }
 }
 
@@ -245,12 +291,24 @@ impl Uper for IntersectionState {
         } else {
             out.regional = None;
         }
-        out.extensions = if extended { uper::Extensions::decode(r, "SPAT.IntersectionState:ext")? } else { uper::Extensions::new() };
+        out.extensions = if extended {
+            uper::Extensions::decode(r, "SPAT.IntersectionState:ext")?
+        } else {
+            uper::Extensions::new()
+        };
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_bit(self.extensions.is_present())?;
-        w.write_bits(((self.name.is_some() as u64) << 5) | ((self.moy.is_some() as u64) << 4) | ((self.time_stamp.is_some() as u64) << 3) | ((self.enabled_lanes.is_some() as u64) << 2) | ((self.maneuver_assist_list.is_some() as u64) << 1) | ((self.regional.is_some() as u64) << 0), 6)?;
+        w.write_bits(
+            ((self.name.is_some() as u64) << 5)
+                | ((self.moy.is_some() as u64) << 4)
+                | ((self.time_stamp.is_some() as u64) << 3)
+                | ((self.enabled_lanes.is_some() as u64) << 2)
+                | ((self.maneuver_assist_list.is_some() as u64) << 1)
+                | ((self.regional.is_some() as u64) << 0),
+            6,
+        )?;
         if let Some(v) = &self.name {
             v.encode_uper(w)?;
         }
@@ -284,16 +342,42 @@ impl Uper for IntersectionState {
 impl uper::random::Random for IntersectionState {
     fn random(g: &mut uper::random::Gen) -> Self {
         Self {
-            name: if g.coin() { Some(<super::common::DescriptiveName as uper::random::Random>::random(g)) } else { None },
+            name: if g.coin() {
+                Some(<super::common::DescriptiveName as uper::random::Random>::random(g))
+            } else {
+                None
+            },
             id: <super::common::IntersectionReferenceID as uper::random::Random>::random(g),
             revision: <super::common::MsgCount as uper::random::Random>::random(g),
             status: <IntersectionStatusObject as uper::random::Random>::random(g),
-            moy: if g.coin() { Some(<super::common::MinuteOfTheYear as uper::random::Random>::random(g)) } else { None },
-            time_stamp: if g.coin() { Some(<super::common::DSecond as uper::random::Random>::random(g)) } else { None },
-            enabled_lanes: if g.coin() { Some(<EnabledLaneList as uper::random::Random>::random(g)) } else { None },
+            moy: if g.coin() {
+                Some(<super::common::MinuteOfTheYear as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            time_stamp: if g.coin() {
+                Some(<super::common::DSecond as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            enabled_lanes: if g.coin() {
+                Some(<EnabledLaneList as uper::random::Random>::random(g))
+            } else {
+                None
+            },
             states: <MovementList as uper::random::Random>::random(g),
-            maneuver_assist_list: if g.coin() { Some(<ManeuverAssistList as uper::random::Random>::random(g)) } else { None },
-            regional: if g.coin() { Some(<IntersectionStateRegional as uper::random::Random>::random(g)) } else { None },
+            maneuver_assist_list: if g.coin() {
+                Some(<ManeuverAssistList as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            regional: if g.coin() {
+                Some(<IntersectionStateRegional as uper::random::Random>::random(
+                    g,
+                ))
+            } else {
+                None
+            },
             extensions: uper::Extensions::new(),
         }
     }
@@ -384,6 +468,12 @@ impl EnabledLaneList {
     }
 }
 
+impl Default for EnabledLaneList {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
 impl uper::Placeholder for EnabledLaneList {
     fn placeholder() -> Self {
         Self(uper::SeqOf::new())
@@ -406,7 +496,8 @@ impl uper::random::Random for EnabledLaneList {
     fn random(g: &mut uper::random::Gen) -> Self {
         let mut v = Self(uper::SeqOf::new());
         for _ in 0..g.count(1, 5) {
-            let _ = v.0.push(<super::common::LaneID as uper::random::Random>::random(g));
+            let _ =
+                v.0.push(<super::common::LaneID as uper::random::Random>::random(g));
         }
         v
     }
@@ -423,6 +514,12 @@ impl MovementList {
     /// An empty list (valid for encoding once it holds the minimum number of items).
     pub fn new() -> Self {
         Self(uper::SeqOf::new())
+    }
+}
+
+impl Default for MovementList {
+    fn default() -> Self {
+        Self::new()
     }
 }
 
@@ -473,7 +570,14 @@ pub struct MovementState {
 
 impl uper::Placeholder for MovementState {
     fn placeholder() -> Self {
-        Self { movement_name: None, signal_group: <super::common::SignalGroupID as uper::Placeholder>::placeholder(), state_time_speed: <MovementEventList as uper::Placeholder>::placeholder(), maneuver_assist_list: None, regional: None, extensions: uper::Extensions::new() }
+        Self {
+            movement_name: None,
+            signal_group: <super::common::SignalGroupID as uper::Placeholder>::placeholder(),
+            state_time_speed: <MovementEventList as uper::Placeholder>::placeholder(),
+            maneuver_assist_list: None,
+            regional: None,
+            extensions: uper::Extensions::new(),
+        }
     }
 }
 
@@ -515,12 +619,21 @@ impl Uper for MovementState {
         } else {
             out.regional = None;
         }
-        out.extensions = if extended { uper::Extensions::decode(r, "SPAT.MovementState:ext")? } else { uper::Extensions::new() };
+        out.extensions = if extended {
+            uper::Extensions::decode(r, "SPAT.MovementState:ext")?
+        } else {
+            uper::Extensions::new()
+        };
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_bit(self.extensions.is_present())?;
-        w.write_bits(((self.movement_name.is_some() as u64) << 2) | ((self.maneuver_assist_list.is_some() as u64) << 1) | ((self.regional.is_some() as u64) << 0), 3)?;
+        w.write_bits(
+            ((self.movement_name.is_some() as u64) << 2)
+                | ((self.maneuver_assist_list.is_some() as u64) << 1)
+                | ((self.regional.is_some() as u64) << 0),
+            3,
+        )?;
         if let Some(v) = &self.movement_name {
             v.encode_uper(w)?;
         }
@@ -543,11 +656,23 @@ impl Uper for MovementState {
 impl uper::random::Random for MovementState {
     fn random(g: &mut uper::random::Gen) -> Self {
         Self {
-            movement_name: if g.coin() { Some(<super::common::DescriptiveName as uper::random::Random>::random(g)) } else { None },
+            movement_name: if g.coin() {
+                Some(<super::common::DescriptiveName as uper::random::Random>::random(g))
+            } else {
+                None
+            },
             signal_group: <super::common::SignalGroupID as uper::random::Random>::random(g),
             state_time_speed: <MovementEventList as uper::random::Random>::random(g),
-            maneuver_assist_list: if g.coin() { Some(<ManeuverAssistList as uper::random::Random>::random(g)) } else { None },
-            regional: if g.coin() { Some(<MovementStateRegional as uper::random::Random>::random(g)) } else { None },
+            maneuver_assist_list: if g.coin() {
+                Some(<ManeuverAssistList as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            regional: if g.coin() {
+                Some(<MovementStateRegional as uper::random::Random>::random(g))
+            } else {
+                None
+            },
             extensions: uper::Extensions::new(),
         }
     }
@@ -564,6 +689,12 @@ impl MovementEventList {
     /// An empty list (valid for encoding once it holds the minimum number of items).
     pub fn new() -> Self {
         Self(uper::SeqOf::new())
+    }
+}
+
+impl Default for MovementEventList {
+    fn default() -> Self {
+        Self::new()
     }
 }
 
@@ -612,7 +743,13 @@ pub struct MovementEvent {
 
 impl uper::Placeholder for MovementEvent {
     fn placeholder() -> Self {
-        Self { event_state: <MovementPhaseState as uper::Placeholder>::placeholder(), timing: None, speeds: None, regional: None, extensions: uper::Extensions::new() }
+        Self {
+            event_state: <MovementPhaseState as uper::Placeholder>::placeholder(),
+            timing: None,
+            speeds: None,
+            regional: None,
+            extensions: uper::Extensions::new(),
+        }
     }
 }
 
@@ -653,12 +790,21 @@ impl Uper for MovementEvent {
         } else {
             out.regional = None;
         }
-        out.extensions = if extended { uper::Extensions::decode(r, "SPAT.MovementEvent:ext")? } else { uper::Extensions::new() };
+        out.extensions = if extended {
+            uper::Extensions::decode(r, "SPAT.MovementEvent:ext")?
+        } else {
+            uper::Extensions::new()
+        };
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_bit(self.extensions.is_present())?;
-        w.write_bits(((self.timing.is_some() as u64) << 2) | ((self.speeds.is_some() as u64) << 1) | ((self.regional.is_some() as u64) << 0), 3)?;
+        w.write_bits(
+            ((self.timing.is_some() as u64) << 2)
+                | ((self.speeds.is_some() as u64) << 1)
+                | ((self.regional.is_some() as u64) << 0),
+            3,
+        )?;
         self.event_state.encode_uper(w)?;
         if let Some(v) = &self.timing {
             v.encode_uper(w)?;
@@ -681,9 +827,21 @@ impl uper::random::Random for MovementEvent {
     fn random(g: &mut uper::random::Gen) -> Self {
         Self {
             event_state: <MovementPhaseState as uper::random::Random>::random(g),
-            timing: if g.coin() { Some(<TimeChangeDetails as uper::random::Random>::random(g)) } else { None },
-            speeds: if g.coin() { Some(<AdvisorySpeedList as uper::random::Random>::random(g)) } else { None },
-            regional: if g.coin() { Some(<MovementEventRegional as uper::random::Random>::random(g)) } else { None },
+            timing: if g.coin() {
+                Some(<TimeChangeDetails as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            speeds: if g.coin() {
+                Some(<AdvisorySpeedList as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            regional: if g.coin() {
+                Some(<MovementEventRegional as uper::random::Random>::random(g))
+            } else {
+                None
+            },
             extensions: uper::Extensions::new(),
         }
     }
@@ -716,7 +874,18 @@ pub enum MovementPhaseState {
 
 impl MovementPhaseState {
     /// Every root value in encoding (ascending number) order.
-    pub const ALL: [Self; 10] = [Self::Unavailable, Self::Dark, Self::StopThenProceed, Self::StopAndRemain, Self::PreMovement, Self::PermissiveMovementAllowed, Self::ProtectedMovementAllowed, Self::PermissiveClearance, Self::ProtectedClearance, Self::CautionConflictingTraffic];
+    pub const ALL: [Self; 10] = [
+        Self::Unavailable,
+        Self::Dark,
+        Self::StopThenProceed,
+        Self::StopAndRemain,
+        Self::PreMovement,
+        Self::PermissiveMovementAllowed,
+        Self::ProtectedMovementAllowed,
+        Self::PermissiveClearance,
+        Self::ProtectedClearance,
+        Self::CautionConflictingTraffic,
+    ];
     /// The ASN.1 number of the value (`None` for an unknown extension value).
     pub const fn number(self) -> Option<i64> {
         match self {
@@ -775,7 +944,13 @@ impl Uper for MovementPhaseState {
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let at = r.position();
         let i = r.read_constrained(0, 9)?;
-        *out = Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))?;
+        *out = Self::ALL
+            .get(i as usize)
+            .copied()
+            .ok_or(uper::DecodeError::new(
+                uper::DecodeErrorKind::InvalidEnumIndex,
+                at,
+            ))?;
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -809,7 +984,14 @@ pub struct TimeChangeDetails {
 
 impl uper::Placeholder for TimeChangeDetails {
     fn placeholder() -> Self {
-        Self { start_time: None, min_end_time: <TimeMark as uper::Placeholder>::placeholder(), max_end_time: None, likely_time: None, confidence: None, next_time: None }
+        Self {
+            start_time: None,
+            min_end_time: <TimeMark as uper::Placeholder>::placeholder(),
+            max_end_time: None,
+            likely_time: None,
+            confidence: None,
+            next_time: None,
+        }
     }
 }
 
@@ -872,7 +1054,14 @@ impl Uper for TimeChangeDetails {
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
-        w.write_bits(((self.start_time.is_some() as u64) << 4) | ((self.max_end_time.is_some() as u64) << 3) | ((self.likely_time.is_some() as u64) << 2) | ((self.confidence.is_some() as u64) << 1) | ((self.next_time.is_some() as u64) << 0), 5)?;
+        w.write_bits(
+            ((self.start_time.is_some() as u64) << 4)
+                | ((self.max_end_time.is_some() as u64) << 3)
+                | ((self.likely_time.is_some() as u64) << 2)
+                | ((self.confidence.is_some() as u64) << 1)
+                | ((self.next_time.is_some() as u64) << 0),
+            5,
+        )?;
         if let Some(v) = &self.start_time {
             v.encode_uper(w)?;
         }
@@ -897,12 +1086,32 @@ impl Uper for TimeChangeDetails {
 impl uper::random::Random for TimeChangeDetails {
     fn random(g: &mut uper::random::Gen) -> Self {
         Self {
-            start_time: if g.coin() { Some(<TimeMark as uper::random::Random>::random(g)) } else { None },
+            start_time: if g.coin() {
+                Some(<TimeMark as uper::random::Random>::random(g))
+            } else {
+                None
+            },
             min_end_time: <TimeMark as uper::random::Random>::random(g),
-            max_end_time: if g.coin() { Some(<TimeMark as uper::random::Random>::random(g)) } else { None },
-            likely_time: if g.coin() { Some(<TimeMark as uper::random::Random>::random(g)) } else { None },
-            confidence: if g.coin() { Some(<TimeIntervalConfidence as uper::random::Random>::random(g)) } else { None },
-            next_time: if g.coin() { Some(<TimeMark as uper::random::Random>::random(g)) } else { None },
+            max_end_time: if g.coin() {
+                Some(<TimeMark as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            likely_time: if g.coin() {
+                Some(<TimeMark as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            confidence: if g.coin() {
+                Some(<TimeIntervalConfidence as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            next_time: if g.coin() {
+                Some(<TimeMark as uper::random::Random>::random(g))
+            } else {
+                None
+            },
         }
     }
 }
@@ -915,7 +1124,13 @@ crate::__constrained_int!(TimeMark, u16, 0, 36111, "SPAT.TimeMark");
 /// ASN.1 `TimeIntervalConfidence` (module `SPAT`): INTEGER (0..15).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub struct TimeIntervalConfidence(u8);
-crate::__constrained_int!(TimeIntervalConfidence, u8, 0, 15, "SPAT.TimeIntervalConfidence");
+crate::__constrained_int!(
+    TimeIntervalConfidence,
+    u8,
+    0,
+    15,
+    "SPAT.TimeIntervalConfidence"
+);
 
 /// ASN.1 `AdvisorySpeedList` (module `SPAT`): SEQUENCE OF AdvisorySpeed (SIZE(1..16)).
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
@@ -928,6 +1143,12 @@ impl AdvisorySpeedList {
     /// An empty list (valid for encoding once it holds the minimum number of items).
     pub fn new() -> Self {
         Self(uper::SeqOf::new())
+    }
+}
+
+impl Default for AdvisorySpeedList {
+    fn default() -> Self {
+        Self::new()
     }
 }
 
@@ -980,7 +1201,15 @@ pub struct AdvisorySpeed {
 
 impl uper::Placeholder for AdvisorySpeed {
     fn placeholder() -> Self {
-        Self { r#type: <AdvisorySpeedType as uper::Placeholder>::placeholder(), speed: None, confidence: None, distance: None, class: None, regional: None, extensions: uper::Extensions::new() }
+        Self {
+            r#type: <AdvisorySpeedType as uper::Placeholder>::placeholder(),
+            speed: None,
+            confidence: None,
+            distance: None,
+            class: None,
+            regional: None,
+            extensions: uper::Extensions::new(),
+        }
     }
 }
 
@@ -1041,12 +1270,23 @@ impl Uper for AdvisorySpeed {
         } else {
             out.regional = None;
         }
-        out.extensions = if extended { uper::Extensions::decode(r, "SPAT.AdvisorySpeed:ext")? } else { uper::Extensions::new() };
+        out.extensions = if extended {
+            uper::Extensions::decode(r, "SPAT.AdvisorySpeed:ext")?
+        } else {
+            uper::Extensions::new()
+        };
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_bit(self.extensions.is_present())?;
-        w.write_bits(((self.speed.is_some() as u64) << 4) | ((self.confidence.is_some() as u64) << 3) | ((self.distance.is_some() as u64) << 2) | ((self.class.is_some() as u64) << 1) | ((self.regional.is_some() as u64) << 0), 5)?;
+        w.write_bits(
+            ((self.speed.is_some() as u64) << 4)
+                | ((self.confidence.is_some() as u64) << 3)
+                | ((self.distance.is_some() as u64) << 2)
+                | ((self.class.is_some() as u64) << 1)
+                | ((self.regional.is_some() as u64) << 0),
+            5,
+        )?;
         self.r#type.encode_uper(w)?;
         if let Some(v) = &self.speed {
             v.encode_uper(w)?;
@@ -1075,11 +1315,31 @@ impl uper::random::Random for AdvisorySpeed {
     fn random(g: &mut uper::random::Gen) -> Self {
         Self {
             r#type: <AdvisorySpeedType as uper::random::Random>::random(g),
-            speed: if g.coin() { Some(<SpeedAdvice as uper::random::Random>::random(g)) } else { None },
-            confidence: if g.coin() { Some(<super::common::SpeedConfidence as uper::random::Random>::random(g)) } else { None },
-            distance: if g.coin() { Some(<ZoneLength as uper::random::Random>::random(g)) } else { None },
-            class: if g.coin() { Some(<super::common::RestrictionClassID as uper::random::Random>::random(g)) } else { None },
-            regional: if g.coin() { Some(<AdvisorySpeedRegional as uper::random::Random>::random(g)) } else { None },
+            speed: if g.coin() {
+                Some(<SpeedAdvice as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            confidence: if g.coin() {
+                Some(<super::common::SpeedConfidence as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            distance: if g.coin() {
+                Some(<ZoneLength as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            class: if g.coin() {
+                Some(<super::common::RestrictionClassID as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            regional: if g.coin() {
+                Some(<AdvisorySpeedRegional as uper::random::Random>::random(g))
+            } else {
+                None
+            },
             extensions: uper::Extensions::new(),
         }
     }
@@ -1147,12 +1407,20 @@ impl Uper for AdvisorySpeedType {
         if r.read_bit()? {
             let at = r.position();
             let i = r.read_normally_small()?;
-            *out = u16::try_from(i).map(Self::Extension).map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at))?;
+            *out = u16::try_from(i)
+                .map(Self::Extension)
+                .map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at))?;
             return Ok(());
         }
         let at = r.position();
         let i = r.read_constrained(0, 3)?;
-        *out = Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))?;
+        *out = Self::ALL
+            .get(i as usize)
+            .copied()
+            .ok_or(uper::DecodeError::new(
+                uper::DecodeErrorKind::InvalidEnumIndex,
+                at,
+            ))?;
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -1196,6 +1464,12 @@ impl AdvisorySpeedRegional {
     }
 }
 
+impl Default for AdvisorySpeedRegional {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
 impl uper::Placeholder for AdvisorySpeedRegional {
     fn placeholder() -> Self {
         Self(uper::SeqOf::new())
@@ -1218,7 +1492,8 @@ impl uper::random::Random for AdvisorySpeedRegional {
     fn random(g: &mut uper::random::Gen) -> Self {
         let mut v = Self(uper::SeqOf::new());
         for _ in 0..g.count(1, 1) {
-            let _ = v.0.push(<RegAdvisorySpeed as uper::random::Random>::random(g));
+            let _ =
+                v.0.push(<RegAdvisorySpeed as uper::random::Random>::random(g));
         }
         v
     }
@@ -1247,7 +1522,10 @@ impl RegAdvisorySpeed {
 
 impl uper::Placeholder for RegAdvisorySpeed {
     fn placeholder() -> Self {
-        Self::Unknown { id: <super::common::RegionId as uper::Placeholder>::placeholder(), content: uper::Octets::new() }
+        Self::Unknown {
+            id: <super::common::RegionId as uper::Placeholder>::placeholder(),
+            content: uper::Octets::new(),
+        }
     }
 }
 
@@ -1257,7 +1535,12 @@ impl Uper for RegAdvisorySpeed {
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let id = <super::common::RegionId>::decode_uper(r)?;
         match id.get() {
-            _ => *out = Self::Unknown { id, content: uper::decode_unknown_open(r, "SPAT.RegAdvisorySpeed:unknown")? },
+            _ => {
+                *out = Self::Unknown {
+                    id,
+                    content: uper::decode_unknown_open(r, "SPAT.RegAdvisorySpeed:unknown")?,
+                }
+            }
         }
         Ok(())
     }
@@ -1278,7 +1561,10 @@ impl uper::random::Random for RegAdvisorySpeed {
         for _ in 0..1 + g.below(4) {
             let _ = content.push(g.octet());
         }
-        Self::Unknown { id: <super::common::RegionId as uper::random::Random>::random(g), content }
+        Self::Unknown {
+            id: <super::common::RegionId as uper::random::Random>::random(g),
+            content,
+        }
     }
 }
 
@@ -1293,6 +1579,12 @@ impl MovementEventRegional {
     /// An empty list (valid for encoding once it holds the minimum number of items).
     pub fn new() -> Self {
         Self(uper::SeqOf::new())
+    }
+}
+
+impl Default for MovementEventRegional {
+    fn default() -> Self {
+        Self::new()
     }
 }
 
@@ -1318,7 +1610,8 @@ impl uper::random::Random for MovementEventRegional {
     fn random(g: &mut uper::random::Gen) -> Self {
         let mut v = Self(uper::SeqOf::new());
         for _ in 0..g.count(1, 1) {
-            let _ = v.0.push(<RegMovementEvent as uper::random::Random>::random(g));
+            let _ =
+                v.0.push(<RegMovementEvent as uper::random::Random>::random(g));
         }
         v
     }
@@ -1342,7 +1635,14 @@ impl RegMovementEvent {
     /// The `regionId` of the value.
     pub fn id(&self) -> super::common::RegionId {
         match self {
-            Self::AddGrpB(_) => const { match super::common::RegionId::new(2) { Some(id) => id, None => panic!("id out of range") } },
+            Self::AddGrpB(_) => {
+                const {
+                    match super::common::RegionId::new(2) {
+                        Some(id) => id,
+                        None => panic!("id out of range"),
+                    }
+                }
+            }
             Self::Unknown { id, .. } => *id,
         }
     }
@@ -1350,7 +1650,10 @@ impl RegMovementEvent {
 
 impl uper::Placeholder for RegMovementEvent {
     fn placeholder() -> Self {
-        Self::Unknown { id: <super::common::RegionId as uper::Placeholder>::placeholder(), content: uper::Octets::new() }
+        Self::Unknown {
+            id: <super::common::RegionId as uper::Placeholder>::placeholder(),
+            content: uper::Octets::new(),
+        }
     }
 }
 
@@ -1362,13 +1665,22 @@ impl Uper for RegMovementEvent {
         match id.get() {
             2 => {
                 if !matches!(out, Self::AddGrpB(_)) {
-                    uper::replace_with(out, || Self::AddGrpB(<super::add_grp_b::MovementEventAddGrpB as uper::Placeholder>::placeholder()));
+                    uper::replace_with(out, || {
+                        Self::AddGrpB(<super::add_grp_b::MovementEventAddGrpB as uper::Placeholder>::placeholder())
+                    });
                 }
                 if let Self::AddGrpB(v) = out {
-                    uper::decode_open(r, |r| <super::add_grp_b::MovementEventAddGrpB>::decode_into(r, v))?;
+                    uper::decode_open(r, |r| {
+                        <super::add_grp_b::MovementEventAddGrpB>::decode_into(r, v)
+                    })?;
                 }
             }
-            _ => *out = Self::Unknown { id, content: uper::decode_unknown_open(r, "SPAT.RegMovementEvent:unknown")? },
+            _ => {
+                *out = Self::Unknown {
+                    id,
+                    content: uper::decode_unknown_open(r, "SPAT.RegMovementEvent:unknown")?,
+                }
+            }
         }
         Ok(())
     }
@@ -1390,8 +1702,13 @@ impl Uper for RegMovementEvent {
 impl uper::random::Random for RegMovementEvent {
     fn random(g: &mut uper::random::Gen) -> Self {
         match g.below(1) {
-            0 => Self::AddGrpB(<super::add_grp_b::MovementEventAddGrpB as uper::random::Random>::random(g)),
-            _ => Self::Unknown { id: <super::common::RegionId as uper::Placeholder>::placeholder(), content: uper::Octets::new() },
+            0 => Self::AddGrpB(
+                <super::add_grp_b::MovementEventAddGrpB as uper::random::Random>::random(g),
+            ),
+            _ => Self::Unknown {
+                id: <super::common::RegionId as uper::Placeholder>::placeholder(),
+                content: uper::Octets::new(),
+            },
         }
     }
 }
@@ -1407,6 +1724,12 @@ impl ManeuverAssistList {
     /// An empty list (valid for encoding once it holds the minimum number of items).
     pub fn new() -> Self {
         Self(uper::SeqOf::new())
+    }
+}
+
+impl Default for ManeuverAssistList {
+    fn default() -> Self {
+        Self::new()
     }
 }
 
@@ -1432,7 +1755,10 @@ impl uper::random::Random for ManeuverAssistList {
     fn random(g: &mut uper::random::Gen) -> Self {
         let mut v = Self(uper::SeqOf::new());
         for _ in 0..g.count(1, 4) {
-            let _ = v.0.push(<ConnectionManeuverAssist as uper::random::Random>::random(g));
+            let _ =
+                v.0.push(<ConnectionManeuverAssist as uper::random::Random>::random(
+                    g,
+                ));
         }
         v
     }
@@ -1459,7 +1785,15 @@ pub struct ConnectionManeuverAssist {
 
 impl uper::Placeholder for ConnectionManeuverAssist {
     fn placeholder() -> Self {
-        Self { connection_id: <super::common::LaneConnectionID as uper::Placeholder>::placeholder(), queue_length: None, available_storage_length: None, wait_on_stop: None, ped_bicycle_detect: None, regional: None, extensions: uper::Extensions::new() }
+        Self {
+            connection_id: <super::common::LaneConnectionID as uper::Placeholder>::placeholder(),
+            queue_length: None,
+            available_storage_length: None,
+            wait_on_stop: None,
+            ped_bicycle_detect: None,
+            regional: None,
+            extensions: uper::Extensions::new(),
+        }
     }
 }
 
@@ -1520,12 +1854,23 @@ impl Uper for ConnectionManeuverAssist {
         } else {
             out.regional = None;
         }
-        out.extensions = if extended { uper::Extensions::decode(r, "SPAT.ConnectionManeuverAssist:ext")? } else { uper::Extensions::new() };
+        out.extensions = if extended {
+            uper::Extensions::decode(r, "SPAT.ConnectionManeuverAssist:ext")?
+        } else {
+            uper::Extensions::new()
+        };
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_bit(self.extensions.is_present())?;
-        w.write_bits(((self.queue_length.is_some() as u64) << 4) | ((self.available_storage_length.is_some() as u64) << 3) | ((self.wait_on_stop.is_some() as u64) << 2) | ((self.ped_bicycle_detect.is_some() as u64) << 1) | ((self.regional.is_some() as u64) << 0), 5)?;
+        w.write_bits(
+            ((self.queue_length.is_some() as u64) << 4)
+                | ((self.available_storage_length.is_some() as u64) << 3)
+                | ((self.wait_on_stop.is_some() as u64) << 2)
+                | ((self.ped_bicycle_detect.is_some() as u64) << 1)
+                | ((self.regional.is_some() as u64) << 0),
+            5,
+        )?;
         self.connection_id.encode_uper(w)?;
         if let Some(v) = &self.queue_length {
             v.encode_uper(w)?;
@@ -1554,11 +1899,31 @@ impl uper::random::Random for ConnectionManeuverAssist {
     fn random(g: &mut uper::random::Gen) -> Self {
         Self {
             connection_id: <super::common::LaneConnectionID as uper::random::Random>::random(g),
-            queue_length: if g.coin() { Some(<ZoneLength as uper::random::Random>::random(g)) } else { None },
-            available_storage_length: if g.coin() { Some(<ZoneLength as uper::random::Random>::random(g)) } else { None },
-            wait_on_stop: if g.coin() { Some(<WaitOnStopline as uper::random::Random>::random(g)) } else { None },
-            ped_bicycle_detect: if g.coin() { Some(<PedestrianBicycleDetect as uper::random::Random>::random(g)) } else { None },
-            regional: if g.coin() { Some(<ConnectionManeuverAssistRegional as uper::random::Random>::random(g)) } else { None },
+            queue_length: if g.coin() {
+                Some(<ZoneLength as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            available_storage_length: if g.coin() {
+                Some(<ZoneLength as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            wait_on_stop: if g.coin() {
+                Some(<WaitOnStopline as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            ped_bicycle_detect: if g.coin() {
+                Some(<PedestrianBicycleDetect as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            regional: if g.coin() {
+                Some(<ConnectionManeuverAssistRegional as uper::random::Random>::random(g))
+            } else {
+                None
+            },
             extensions: uper::Extensions::new(),
         }
     }
@@ -1584,6 +1949,12 @@ impl ConnectionManeuverAssistRegional {
     }
 }
 
+impl Default for ConnectionManeuverAssistRegional {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
 impl uper::Placeholder for ConnectionManeuverAssistRegional {
     fn placeholder() -> Self {
         Self(uper::SeqOf::new())
@@ -1594,7 +1965,12 @@ impl Uper for ConnectionManeuverAssistRegional {
     const PATH: &'static str = "SPAT.ConnectionManeuverAssist.regional";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(850), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        uper::decode_seq_of_into(r, Self::SIZE, "SPAT.ConnectionManeuverAssist.regional", &mut out.0)
+        uper::decode_seq_of_into(
+            r,
+            Self::SIZE,
+            "SPAT.ConnectionManeuverAssist.regional",
+            &mut out.0,
+        )
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
@@ -1606,7 +1982,8 @@ impl uper::random::Random for ConnectionManeuverAssistRegional {
     fn random(g: &mut uper::random::Gen) -> Self {
         let mut v = Self(uper::SeqOf::new());
         for _ in 0..g.count(1, 1) {
-            let _ = v.0.push(<RegConnectionManeuverAssist as uper::random::Random>::random(g));
+            let _ =
+                v.0.push(<RegConnectionManeuverAssist as uper::random::Random>::random(g));
         }
         v
     }
@@ -1630,7 +2007,14 @@ impl RegConnectionManeuverAssist {
     /// The `regionId` of the value.
     pub fn id(&self) -> super::common::RegionId {
         match self {
-            Self::AddGrpC(_) => const { match super::common::RegionId::new(3) { Some(id) => id, None => panic!("id out of range") } },
+            Self::AddGrpC(_) => {
+                const {
+                    match super::common::RegionId::new(3) {
+                        Some(id) => id,
+                        None => panic!("id out of range"),
+                    }
+                }
+            }
             Self::Unknown { id, .. } => *id,
         }
     }
@@ -1638,7 +2022,10 @@ impl RegConnectionManeuverAssist {
 
 impl uper::Placeholder for RegConnectionManeuverAssist {
     fn placeholder() -> Self {
-        Self::Unknown { id: <super::common::RegionId as uper::Placeholder>::placeholder(), content: uper::Octets::new() }
+        Self::Unknown {
+            id: <super::common::RegionId as uper::Placeholder>::placeholder(),
+            content: uper::Octets::new(),
+        }
     }
 }
 
@@ -1650,13 +2037,25 @@ impl Uper for RegConnectionManeuverAssist {
         match id.get() {
             3 => {
                 if !matches!(out, Self::AddGrpC(_)) {
-                    uper::replace_with(out, || Self::AddGrpC(<super::add_grp_c::ConnectionManeuverAssistAddGrpC as uper::Placeholder>::placeholder()));
+                    uper::replace_with(out, || {
+                        Self::AddGrpC(<super::add_grp_c::ConnectionManeuverAssistAddGrpC as uper::Placeholder>::placeholder())
+                    });
                 }
                 if let Self::AddGrpC(v) = out {
-                    uper::decode_open(r, |r| <super::add_grp_c::ConnectionManeuverAssistAddGrpC>::decode_into(r, v))?;
+                    uper::decode_open(r, |r| {
+                        <super::add_grp_c::ConnectionManeuverAssistAddGrpC>::decode_into(r, v)
+                    })?;
                 }
             }
-            _ => *out = Self::Unknown { id, content: uper::decode_unknown_open(r, "SPAT.RegConnectionManeuverAssist:unknown")? },
+            _ => {
+                *out = Self::Unknown {
+                    id,
+                    content: uper::decode_unknown_open(
+                        r,
+                        "SPAT.RegConnectionManeuverAssist:unknown",
+                    )?,
+                }
+            }
         }
         Ok(())
     }
@@ -1678,8 +2077,15 @@ impl Uper for RegConnectionManeuverAssist {
 impl uper::random::Random for RegConnectionManeuverAssist {
     fn random(g: &mut uper::random::Gen) -> Self {
         match g.below(1) {
-            0 => Self::AddGrpC(<super::add_grp_c::ConnectionManeuverAssistAddGrpC as uper::random::Random>::random(g)),
-            _ => Self::Unknown { id: <super::common::RegionId as uper::Placeholder>::placeholder(), content: uper::Octets::new() },
+            0 => Self::AddGrpC(
+                <super::add_grp_c::ConnectionManeuverAssistAddGrpC as uper::random::Random>::random(
+                    g,
+                ),
+            ),
+            _ => Self::Unknown {
+                id: <super::common::RegionId as uper::Placeholder>::placeholder(),
+                content: uper::Octets::new(),
+            },
         }
     }
 }
@@ -1695,6 +2101,12 @@ impl MovementStateRegional {
     /// An empty list (valid for encoding once it holds the minimum number of items).
     pub fn new() -> Self {
         Self(uper::SeqOf::new())
+    }
+}
+
+impl Default for MovementStateRegional {
+    fn default() -> Self {
+        Self::new()
     }
 }
 
@@ -1720,7 +2132,8 @@ impl uper::random::Random for MovementStateRegional {
     fn random(g: &mut uper::random::Gen) -> Self {
         let mut v = Self(uper::SeqOf::new());
         for _ in 0..g.count(1, 1) {
-            let _ = v.0.push(<RegMovementState as uper::random::Random>::random(g));
+            let _ =
+                v.0.push(<RegMovementState as uper::random::Random>::random(g));
         }
         v
     }
@@ -1749,7 +2162,10 @@ impl RegMovementState {
 
 impl uper::Placeholder for RegMovementState {
     fn placeholder() -> Self {
-        Self::Unknown { id: <super::common::RegionId as uper::Placeholder>::placeholder(), content: uper::Octets::new() }
+        Self::Unknown {
+            id: <super::common::RegionId as uper::Placeholder>::placeholder(),
+            content: uper::Octets::new(),
+        }
     }
 }
 
@@ -1759,7 +2175,12 @@ impl Uper for RegMovementState {
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let id = <super::common::RegionId>::decode_uper(r)?;
         match id.get() {
-            _ => *out = Self::Unknown { id, content: uper::decode_unknown_open(r, "SPAT.RegMovementState:unknown")? },
+            _ => {
+                *out = Self::Unknown {
+                    id,
+                    content: uper::decode_unknown_open(r, "SPAT.RegMovementState:unknown")?,
+                }
+            }
         }
         Ok(())
     }
@@ -1780,7 +2201,10 @@ impl uper::random::Random for RegMovementState {
         for _ in 0..1 + g.below(4) {
             let _ = content.push(g.octet());
         }
-        Self::Unknown { id: <super::common::RegionId as uper::random::Random>::random(g), content }
+        Self::Unknown {
+            id: <super::common::RegionId as uper::random::Random>::random(g),
+            content,
+        }
     }
 }
 
@@ -1795,6 +2219,12 @@ impl IntersectionStateRegional {
     /// An empty list (valid for encoding once it holds the minimum number of items).
     pub fn new() -> Self {
         Self(uper::SeqOf::new())
+    }
+}
+
+impl Default for IntersectionStateRegional {
+    fn default() -> Self {
+        Self::new()
     }
 }
 
@@ -1820,7 +2250,8 @@ impl uper::random::Random for IntersectionStateRegional {
     fn random(g: &mut uper::random::Gen) -> Self {
         let mut v = Self(uper::SeqOf::new());
         for _ in 0..g.count(1, 4) {
-            let _ = v.0.push(<RegIntersectionState as uper::random::Random>::random(g));
+            let _ =
+                v.0.push(<RegIntersectionState as uper::random::Random>::random(g));
         }
         v
     }
@@ -1844,7 +2275,14 @@ impl RegIntersectionState {
     /// The `regionId` of the value.
     pub fn id(&self) -> super::common::RegionId {
         match self {
-            Self::AddGrpC(_) => const { match super::common::RegionId::new(3) { Some(id) => id, None => panic!("id out of range") } },
+            Self::AddGrpC(_) => {
+                const {
+                    match super::common::RegionId::new(3) {
+                        Some(id) => id,
+                        None => panic!("id out of range"),
+                    }
+                }
+            }
             Self::Unknown { id, .. } => *id,
         }
     }
@@ -1852,7 +2290,10 @@ impl RegIntersectionState {
 
 impl uper::Placeholder for RegIntersectionState {
     fn placeholder() -> Self {
-        Self::Unknown { id: <super::common::RegionId as uper::Placeholder>::placeholder(), content: uper::Octets::new() }
+        Self::Unknown {
+            id: <super::common::RegionId as uper::Placeholder>::placeholder(),
+            content: uper::Octets::new(),
+        }
     }
 }
 
@@ -1864,13 +2305,22 @@ impl Uper for RegIntersectionState {
         match id.get() {
             3 => {
                 if !matches!(out, Self::AddGrpC(_)) {
-                    uper::replace_with(out, || Self::AddGrpC(<super::add_grp_c::IntersectionStateAddGrpC as uper::Placeholder>::placeholder()));
+                    uper::replace_with(out, || {
+                        Self::AddGrpC(<super::add_grp_c::IntersectionStateAddGrpC as uper::Placeholder>::placeholder())
+                    });
                 }
                 if let Self::AddGrpC(v) = out {
-                    uper::decode_open(r, |r| <super::add_grp_c::IntersectionStateAddGrpC>::decode_into(r, v))?;
+                    uper::decode_open(r, |r| {
+                        <super::add_grp_c::IntersectionStateAddGrpC>::decode_into(r, v)
+                    })?;
                 }
             }
-            _ => *out = Self::Unknown { id, content: uper::decode_unknown_open(r, "SPAT.RegIntersectionState:unknown")? },
+            _ => {
+                *out = Self::Unknown {
+                    id,
+                    content: uper::decode_unknown_open(r, "SPAT.RegIntersectionState:unknown")?,
+                }
+            }
         }
         Ok(())
     }
@@ -1892,8 +2342,13 @@ impl Uper for RegIntersectionState {
 impl uper::random::Random for RegIntersectionState {
     fn random(g: &mut uper::random::Gen) -> Self {
         match g.below(1) {
-            0 => Self::AddGrpC(<super::add_grp_c::IntersectionStateAddGrpC as uper::random::Random>::random(g)),
-            _ => Self::Unknown { id: <super::common::RegionId as uper::Placeholder>::placeholder(), content: uper::Octets::new() },
+            0 => Self::AddGrpC(
+                <super::add_grp_c::IntersectionStateAddGrpC as uper::random::Random>::random(g),
+            ),
+            _ => Self::Unknown {
+                id: <super::common::RegionId as uper::Placeholder>::placeholder(),
+                content: uper::Octets::new(),
+            },
         }
     }
 }
@@ -1909,6 +2364,12 @@ impl SPATRegional {
     /// An empty list (valid for encoding once it holds the minimum number of items).
     pub fn new() -> Self {
         Self(uper::SeqOf::new())
+    }
+}
+
+impl Default for SPATRegional {
+    fn default() -> Self {
+        Self::new()
     }
 }
 
@@ -1963,7 +2424,10 @@ impl RegSPAT {
 
 impl uper::Placeholder for RegSPAT {
     fn placeholder() -> Self {
-        Self::Unknown { id: <super::common::RegionId as uper::Placeholder>::placeholder(), content: uper::Octets::new() }
+        Self::Unknown {
+            id: <super::common::RegionId as uper::Placeholder>::placeholder(),
+            content: uper::Octets::new(),
+        }
     }
 }
 
@@ -1973,7 +2437,12 @@ impl Uper for RegSPAT {
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let id = <super::common::RegionId>::decode_uper(r)?;
         match id.get() {
-            _ => *out = Self::Unknown { id, content: uper::decode_unknown_open(r, "SPAT.RegSPAT:unknown")? },
+            _ => {
+                *out = Self::Unknown {
+                    id,
+                    content: uper::decode_unknown_open(r, "SPAT.RegSPAT:unknown")?,
+                }
+            }
         }
         Ok(())
     }
@@ -1994,6 +2463,9 @@ impl uper::random::Random for RegSPAT {
         for _ in 0..1 + g.below(4) {
             let _ = content.push(g.octet());
         }
-        Self::Unknown { id: <super::common::RegionId as uper::random::Random>::random(g), content }
+        Self::Unknown {
+            id: <super::common::RegionId as uper::random::Random>::random(g),
+            content,
+        }
     }
 }

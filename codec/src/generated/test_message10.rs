@@ -19,7 +19,11 @@ pub struct TestMessage10 {
 
 impl uper::Placeholder for TestMessage10 {
     fn placeholder() -> Self {
-        Self { header: None, regional: None, extensions: uper::Extensions::new() }
+        Self {
+            header: None,
+            regional: None,
+            extensions: uper::Extensions::new(),
+        }
     }
 }
 
@@ -49,12 +53,19 @@ impl Uper for TestMessage10 {
         } else {
             out.regional = None;
         }
-        out.extensions = if extended { uper::Extensions::decode(r, "TestMessage10.TestMessage10:ext")? } else { uper::Extensions::new() };
+        out.extensions = if extended {
+            uper::Extensions::decode(r, "TestMessage10.TestMessage10:ext")?
+        } else {
+            uper::Extensions::new()
+        };
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_bit(self.extensions.is_present())?;
-        w.write_bits(((self.header.is_some() as u64) << 1) | ((self.regional.is_some() as u64) << 0), 2)?;
+        w.write_bits(
+            ((self.header.is_some() as u64) << 1) | ((self.regional.is_some() as u64) << 0),
+            2,
+        )?;
         if let Some(v) = &self.header {
             v.encode_uper(w)?;
         }
@@ -72,8 +83,16 @@ impl Uper for TestMessage10 {
 impl uper::random::Random for TestMessage10 {
     fn random(g: &mut uper::random::Gen) -> Self {
         Self {
-            header: if g.coin() { Some(<super::common::Header as uper::random::Random>::random(g)) } else { None },
-            regional: if g.coin() { Some(<RegTestMessage10 as uper::random::Random>::random(g)) } else { None },
+            header: if g.coin() {
+                Some(<super::common::Header as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            regional: if g.coin() {
+                Some(<RegTestMessage10 as uper::random::Random>::random(g))
+            } else {
+                None
+            },
             extensions: uper::Extensions::new(),
         }
     }
@@ -102,7 +121,10 @@ impl RegTestMessage10 {
 
 impl uper::Placeholder for RegTestMessage10 {
     fn placeholder() -> Self {
-        Self::Unknown { id: <super::common::RegionId as uper::Placeholder>::placeholder(), content: uper::Octets::new() }
+        Self::Unknown {
+            id: <super::common::RegionId as uper::Placeholder>::placeholder(),
+            content: uper::Octets::new(),
+        }
     }
 }
 
@@ -112,7 +134,15 @@ impl Uper for RegTestMessage10 {
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let id = <super::common::RegionId>::decode_uper(r)?;
         match id.get() {
-            _ => *out = Self::Unknown { id, content: uper::decode_unknown_open(r, "TestMessage10.RegTestMessage10:unknown")? },
+            _ => {
+                *out = Self::Unknown {
+                    id,
+                    content: uper::decode_unknown_open(
+                        r,
+                        "TestMessage10.RegTestMessage10:unknown",
+                    )?,
+                }
+            }
         }
         Ok(())
     }
@@ -133,6 +163,9 @@ impl uper::random::Random for RegTestMessage10 {
         for _ in 0..1 + g.below(4) {
             let _ = content.push(g.octet());
         }
-        Self::Unknown { id: <super::common::RegionId as uper::random::Random>::random(g), content }
+        Self::Unknown {
+            id: <super::common::RegionId as uper::random::Random>::random(g),
+            content,
+        }
     }
 }

@@ -27,7 +27,15 @@ pub struct TravelerInformation {
 
 impl uper::Placeholder for TravelerInformation {
     fn placeholder() -> Self {
-        Self { msg_cnt: <super::common::MsgCount as uper::Placeholder>::placeholder(), time_stamp: None, packet_id: None, url_b: None, data_frames: <TravelerDataFrameList as uper::Placeholder>::placeholder(), regional: None, extensions: uper::Extensions::new() }
+        Self {
+            msg_cnt: <super::common::MsgCount as uper::Placeholder>::placeholder(),
+            time_stamp: None,
+            packet_id: None,
+            url_b: None,
+            data_frames: <TravelerDataFrameList as uper::Placeholder>::placeholder(),
+            regional: None,
+            extensions: uper::Extensions::new(),
+        }
     }
 }
 
@@ -79,12 +87,22 @@ impl Uper for TravelerInformation {
         } else {
             out.regional = None;
         }
-        out.extensions = if extended { uper::Extensions::decode(r, "TravelerInformation.TravelerInformation:ext")? } else { uper::Extensions::new() };
+        out.extensions = if extended {
+            uper::Extensions::decode(r, "TravelerInformation.TravelerInformation:ext")?
+        } else {
+            uper::Extensions::new()
+        };
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_bit(self.extensions.is_present())?;
-        w.write_bits(((self.time_stamp.is_some() as u64) << 3) | ((self.packet_id.is_some() as u64) << 2) | ((self.url_b.is_some() as u64) << 1) | ((self.regional.is_some() as u64) << 0), 4)?;
+        w.write_bits(
+            ((self.time_stamp.is_some() as u64) << 3)
+                | ((self.packet_id.is_some() as u64) << 2)
+                | ((self.url_b.is_some() as u64) << 1)
+                | ((self.regional.is_some() as u64) << 0),
+            4,
+        )?;
         self.msg_cnt.encode_uper(w)?;
         if let Some(v) = &self.time_stamp {
             v.encode_uper(w)?;
@@ -111,11 +129,27 @@ impl uper::random::Random for TravelerInformation {
     fn random(g: &mut uper::random::Gen) -> Self {
         Self {
             msg_cnt: <super::common::MsgCount as uper::random::Random>::random(g),
-            time_stamp: if g.coin() { Some(<super::common::MinuteOfTheYear as uper::random::Random>::random(g)) } else { None },
-            packet_id: if g.coin() { Some(<UniqueMSGID as uper::random::Random>::random(g)) } else { None },
-            url_b: if g.coin() { Some(<URLBase as uper::random::Random>::random(g)) } else { None },
+            time_stamp: if g.coin() {
+                Some(<super::common::MinuteOfTheYear as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            packet_id: if g.coin() {
+                Some(<UniqueMSGID as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            url_b: if g.coin() {
+                Some(<URLBase as uper::random::Random>::random(g))
+            } else {
+                None
+            },
             data_frames: <TravelerDataFrameList as uper::random::Random>::random(g),
-            regional: if g.coin() { Some(<TravelerInformationRegional as uper::random::Random>::random(g)) } else { None },
+            regional: if g.coin() {
+                Some(<TravelerInformationRegional as uper::random::Random>::random(g))
+            } else {
+                None
+            },
             extensions: uper::Extensions::new(),
         }
     }
@@ -210,6 +244,12 @@ impl TravelerDataFrameList {
     }
 }
 
+impl Default for TravelerDataFrameList {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
 impl uper::Placeholder for TravelerDataFrameList {
     fn placeholder() -> Self {
         Self(uper::SeqOf::new())
@@ -220,7 +260,12 @@ impl Uper for TravelerDataFrameList {
     const PATH: &'static str = "TravelerInformation.TravelerDataFrameList";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(23441835), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        uper::decode_seq_of_into(r, Self::SIZE, "TravelerInformation.TravelerDataFrameList", &mut out.0)
+        uper::decode_seq_of_into(
+            r,
+            Self::SIZE,
+            "TravelerInformation.TravelerDataFrameList",
+            &mut out.0,
+        )
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
@@ -232,7 +277,8 @@ impl uper::random::Random for TravelerDataFrameList {
     fn random(g: &mut uper::random::Gen) -> Self {
         let mut v = Self(uper::SeqOf::new());
         for _ in 0..g.count(1, 8) {
-            let _ = v.0.push(<TravelerDataFrame as uper::random::Random>::random(g));
+            let _ =
+                v.0.push(<TravelerDataFrame as uper::random::Random>::random(g));
         }
         v
     }
@@ -273,7 +319,22 @@ pub struct TravelerDataFrame {
 
 impl uper::Placeholder for TravelerDataFrame {
     fn placeholder() -> Self {
-        Self { not_used: <super::common::SSPindex as uper::Placeholder>::placeholder(), frame_type: <TravelerInfoType as uper::Placeholder>::placeholder(), msg_id: <TravelerDataFrameMsgId as uper::Placeholder>::placeholder(), start_year: None, start_time: <super::common::MinuteOfTheYear as uper::Placeholder>::placeholder(), duration_time: <MinutesDuration as uper::Placeholder>::placeholder(), priority: <SignPrority as uper::Placeholder>::placeholder(), not_used1: <super::common::SSPindex as uper::Placeholder>::placeholder(), regions: <TravelerDataFrameRegions as uper::Placeholder>::placeholder(), not_used2: <super::common::SSPindex as uper::Placeholder>::placeholder(), not_used3: <super::common::SSPindex as uper::Placeholder>::placeholder(), content: <TravelerDataFrameContent as uper::Placeholder>::placeholder(), url: None, extensions: uper::Extensions::new() }
+        Self {
+            not_used: <super::common::SSPindex as uper::Placeholder>::placeholder(),
+            frame_type: <TravelerInfoType as uper::Placeholder>::placeholder(),
+            msg_id: <TravelerDataFrameMsgId as uper::Placeholder>::placeholder(),
+            start_year: None,
+            start_time: <super::common::MinuteOfTheYear as uper::Placeholder>::placeholder(),
+            duration_time: <MinutesDuration as uper::Placeholder>::placeholder(),
+            priority: <SignPrority as uper::Placeholder>::placeholder(),
+            not_used1: <super::common::SSPindex as uper::Placeholder>::placeholder(),
+            regions: <TravelerDataFrameRegions as uper::Placeholder>::placeholder(),
+            not_used2: <super::common::SSPindex as uper::Placeholder>::placeholder(),
+            not_used3: <super::common::SSPindex as uper::Placeholder>::placeholder(),
+            content: <TravelerDataFrameContent as uper::Placeholder>::placeholder(),
+            url: None,
+            extensions: uper::Extensions::new(),
+        }
     }
 }
 
@@ -314,12 +375,19 @@ impl Uper for TravelerDataFrame {
         } else {
             out.url = None;
         }
-        out.extensions = if extended { uper::Extensions::decode(r, "TravelerInformation.TravelerDataFrame:ext")? } else { uper::Extensions::new() };
+        out.extensions = if extended {
+            uper::Extensions::decode(r, "TravelerInformation.TravelerDataFrame:ext")?
+        } else {
+            uper::Extensions::new()
+        };
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_bit(self.extensions.is_present())?;
-        w.write_bits(((self.start_year.is_some() as u64) << 1) | ((self.url.is_some() as u64) << 0), 2)?;
+        w.write_bits(
+            ((self.start_year.is_some() as u64) << 1) | ((self.url.is_some() as u64) << 0),
+            2,
+        )?;
         self.not_used.encode_uper(w)?;
         self.frame_type.encode_uper(w)?;
         self.msg_id.encode_uper(w)?;
@@ -351,7 +419,11 @@ impl uper::random::Random for TravelerDataFrame {
             not_used: <super::common::SSPindex as uper::random::Random>::random(g),
             frame_type: <TravelerInfoType as uper::random::Random>::random(g),
             msg_id: <TravelerDataFrameMsgId as uper::random::Random>::random(g),
-            start_year: if g.coin() { Some(<super::common::DYear as uper::random::Random>::random(g)) } else { None },
+            start_year: if g.coin() {
+                Some(<super::common::DYear as uper::random::Random>::random(g))
+            } else {
+                None
+            },
             start_time: <super::common::MinuteOfTheYear as uper::random::Random>::random(g),
             duration_time: <MinutesDuration as uper::random::Random>::random(g),
             priority: <SignPrority as uper::random::Random>::random(g),
@@ -360,7 +432,11 @@ impl uper::random::Random for TravelerDataFrame {
             not_used2: <super::common::SSPindex as uper::random::Random>::random(g),
             not_used3: <super::common::SSPindex as uper::random::Random>::random(g),
             content: <TravelerDataFrameContent as uper::random::Random>::random(g),
-            url: if g.coin() { Some(<URLShort as uper::random::Random>::random(g)) } else { None },
+            url: if g.coin() {
+                Some(<URLShort as uper::random::Random>::random(g))
+            } else {
+                None
+            },
             extensions: uper::Extensions::new(),
         }
     }
@@ -383,7 +459,12 @@ pub enum TravelerInfoType {
 
 impl TravelerInfoType {
     /// Every root value in encoding (ascending number) order.
-    pub const ALL: [Self; 4] = [Self::Unknown, Self::Advisory, Self::RoadSignage, Self::CommercialSignage];
+    pub const ALL: [Self; 4] = [
+        Self::Unknown,
+        Self::Advisory,
+        Self::RoadSignage,
+        Self::CommercialSignage,
+    ];
     /// The ASN.1 number of the value (`None` for an unknown extension value).
     pub const fn number(self) -> Option<i64> {
         match self {
@@ -428,12 +509,20 @@ impl Uper for TravelerInfoType {
         if r.read_bit()? {
             let at = r.position();
             let i = r.read_normally_small()?;
-            *out = u16::try_from(i).map(Self::Extension).map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at))?;
+            *out = u16::try_from(i)
+                .map(Self::Extension)
+                .map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at))?;
             return Ok(());
         }
         let at = r.position();
         let i = r.read_constrained(0, 3)?;
-        *out = Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))?;
+        *out = Self::ALL
+            .get(i as usize)
+            .copied()
+            .ok_or(uper::DecodeError::new(
+                uper::DecodeErrorKind::InvalidEnumIndex,
+                at,
+            ))?;
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -476,7 +565,11 @@ impl Uper for TravelerDataFrameMsgId {
         match r.read_constrained(0, 1)? {
             0 => {
                 if !matches!(out, Self::FurtherInfoID(_)) {
-                    uper::replace_with(out, || Self::FurtherInfoID(<super::common::FurtherInfoID as uper::Placeholder>::placeholder()));
+                    uper::replace_with(out, || {
+                        Self::FurtherInfoID(
+                            <super::common::FurtherInfoID as uper::Placeholder>::placeholder(),
+                        )
+                    });
                 }
                 if let Self::FurtherInfoID(v) = out {
                     <super::common::FurtherInfoID>::decode_into(r, v)?;
@@ -484,20 +577,33 @@ impl Uper for TravelerDataFrameMsgId {
             }
             1 => {
                 if !matches!(out, Self::RoadSignID(_)) {
-                    uper::replace_with(out, || Self::RoadSignID(<RoadSignID as uper::Placeholder>::placeholder()));
+                    uper::replace_with(out, || {
+                        Self::RoadSignID(<RoadSignID as uper::Placeholder>::placeholder())
+                    });
                 }
                 if let Self::RoadSignID(v) = out {
                     <RoadSignID>::decode_into(r, v)?;
                 }
             }
-            _ => return Err(uper::DecodeError::new(uper::DecodeErrorKind::InvalidChoiceIndex, at)),
+            _ => {
+                return Err(uper::DecodeError::new(
+                    uper::DecodeErrorKind::InvalidChoiceIndex,
+                    at,
+                ))
+            }
         }
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         match self {
-            Self::FurtherInfoID(v) => { w.write_constrained(0, 0, 1)?; v.encode_uper(w) }
-            Self::RoadSignID(v) => { w.write_constrained(1, 0, 1)?; v.encode_uper(w) }
+            Self::FurtherInfoID(v) => {
+                w.write_constrained(0, 0, 1)?;
+                v.encode_uper(w)
+            }
+            Self::RoadSignID(v) => {
+                w.write_constrained(1, 0, 1)?;
+                v.encode_uper(w)
+            }
         }
     }
 }
@@ -506,9 +612,13 @@ impl Uper for TravelerDataFrameMsgId {
 impl uper::random::Random for TravelerDataFrameMsgId {
     fn random(g: &mut uper::random::Gen) -> Self {
         match g.below(2) {
-            0 => Self::FurtherInfoID(<super::common::FurtherInfoID as uper::random::Random>::random(g)),
+            0 => Self::FurtherInfoID(
+                <super::common::FurtherInfoID as uper::random::Random>::random(g),
+            ),
             1 => Self::RoadSignID(<RoadSignID as uper::random::Random>::random(g)),
-            _ => Self::FurtherInfoID(<super::common::FurtherInfoID as uper::Placeholder>::placeholder()),
+            _ => Self::FurtherInfoID(
+                <super::common::FurtherInfoID as uper::Placeholder>::placeholder(),
+            ),
         }
     }
 }
@@ -528,7 +638,12 @@ pub struct RoadSignID {
 
 impl uper::Placeholder for RoadSignID {
     fn placeholder() -> Self {
-        Self { position: <super::common::Position3D as uper::Placeholder>::placeholder(), view_angle: <super::common::HeadingSlice as uper::Placeholder>::placeholder(), mutcd_code: None, crc: None }
+        Self {
+            position: <super::common::Position3D as uper::Placeholder>::placeholder(),
+            view_angle: <super::common::HeadingSlice as uper::Placeholder>::placeholder(),
+            mutcd_code: None,
+            crc: None,
+        }
     }
 }
 
@@ -562,7 +677,10 @@ impl Uper for RoadSignID {
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
-        w.write_bits(((self.mutcd_code.is_some() as u64) << 1) | ((self.crc.is_some() as u64) << 0), 2)?;
+        w.write_bits(
+            ((self.mutcd_code.is_some() as u64) << 1) | ((self.crc.is_some() as u64) << 0),
+            2,
+        )?;
         self.position.encode_uper(w)?;
         self.view_angle.encode_uper(w)?;
         if let Some(v) = &self.mutcd_code {
@@ -581,8 +699,16 @@ impl uper::random::Random for RoadSignID {
         Self {
             position: <super::common::Position3D as uper::random::Random>::random(g),
             view_angle: <super::common::HeadingSlice as uper::random::Random>::random(g),
-            mutcd_code: if g.coin() { Some(<MUTCDCode as uper::random::Random>::random(g)) } else { None },
-            crc: if g.coin() { Some(<MsgCRC as uper::random::Random>::random(g)) } else { None },
+            mutcd_code: if g.coin() {
+                Some(<MUTCDCode as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            crc: if g.coin() {
+                Some(<MsgCRC as uper::random::Random>::random(g))
+            } else {
+                None
+            },
         }
     }
 }
@@ -610,7 +736,15 @@ pub enum MUTCDCode {
 
 impl MUTCDCode {
     /// Every root value in encoding (ascending number) order.
-    pub const ALL: [Self; 7] = [Self::None, Self::Regulatory, Self::Warning, Self::Maintenance, Self::MotoristService, Self::Guide, Self::Rec];
+    pub const ALL: [Self; 7] = [
+        Self::None,
+        Self::Regulatory,
+        Self::Warning,
+        Self::Maintenance,
+        Self::MotoristService,
+        Self::Guide,
+        Self::Rec,
+    ];
     /// The ASN.1 number of the value (`None` for an unknown extension value).
     pub const fn number(self) -> Option<i64> {
         match self {
@@ -664,12 +798,20 @@ impl Uper for MUTCDCode {
         if r.read_bit()? {
             let at = r.position();
             let i = r.read_normally_small()?;
-            *out = u16::try_from(i).map(Self::Extension).map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at))?;
+            *out = u16::try_from(i)
+                .map(Self::Extension)
+                .map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at))?;
             return Ok(());
         }
         let at = r.position();
         let i = r.read_constrained(0, 6)?;
-        *out = Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))?;
+        *out = Self::ALL
+            .get(i as usize)
+            .copied()
+            .ok_or(uper::DecodeError::new(
+                uper::DecodeErrorKind::InvalidEnumIndex,
+                at,
+            ))?;
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -720,7 +862,13 @@ impl uper::random::Random for MsgCRC {
 /// ASN.1 `MinutesDuration` (module `TravelerInformation`): INTEGER (0..32000).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub struct MinutesDuration(u16);
-crate::__constrained_int!(MinutesDuration, u16, 0, 32000, "TravelerInformation.MinutesDuration");
+crate::__constrained_int!(
+    MinutesDuration,
+    u16,
+    0,
+    32000,
+    "TravelerInformation.MinutesDuration"
+);
 impl MinutesDuration {
     /// Lasts indefinitely (32000); 0 cancels a message.
     pub const INDEFINITE: Self = Self(32000);
@@ -745,6 +893,12 @@ impl TravelerDataFrameRegions {
     }
 }
 
+impl Default for TravelerDataFrameRegions {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
 impl uper::Placeholder for TravelerDataFrameRegions {
     fn placeholder() -> Self {
         Self(uper::SeqOf::new())
@@ -755,7 +909,12 @@ impl Uper for TravelerDataFrameRegions {
     const PATH: &'static str = "TravelerInformation.TravelerDataFrame.regions";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(2914180), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        uper::decode_seq_of_into(r, Self::SIZE, "TravelerInformation.TravelerDataFrame.regions", &mut out.0)
+        uper::decode_seq_of_into(
+            r,
+            Self::SIZE,
+            "TravelerInformation.TravelerDataFrame.regions",
+            &mut out.0,
+        )
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
@@ -767,7 +926,8 @@ impl uper::random::Random for TravelerDataFrameRegions {
     fn random(g: &mut uper::random::Gen) -> Self {
         let mut v = Self(uper::SeqOf::new());
         for _ in 0..g.count(1, 16) {
-            let _ = v.0.push(<GeographicalPath as uper::random::Random>::random(g));
+            let _ =
+                v.0.push(<GeographicalPath as uper::random::Random>::random(g));
         }
         v
     }
@@ -800,7 +960,18 @@ pub struct GeographicalPath {
 
 impl uper::Placeholder for GeographicalPath {
     fn placeholder() -> Self {
-        Self { name: None, id: None, anchor: None, lane_width: None, directionality: None, closed_path: None, direction: None, description: None, regional: None, extensions: uper::Extensions::new() }
+        Self {
+            name: None,
+            id: None,
+            anchor: None,
+            lane_width: None,
+            directionality: None,
+            closed_path: None,
+            direction: None,
+            description: None,
+            regional: None,
+            extensions: uper::Extensions::new(),
+        }
     }
 }
 
@@ -900,12 +1071,27 @@ impl Uper for GeographicalPath {
         } else {
             out.regional = None;
         }
-        out.extensions = if extended { uper::Extensions::decode(r, "TravelerInformation.GeographicalPath:ext")? } else { uper::Extensions::new() };
+        out.extensions = if extended {
+            uper::Extensions::decode(r, "TravelerInformation.GeographicalPath:ext")?
+        } else {
+            uper::Extensions::new()
+        };
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_bit(self.extensions.is_present())?;
-        w.write_bits(((self.name.is_some() as u64) << 8) | ((self.id.is_some() as u64) << 7) | ((self.anchor.is_some() as u64) << 6) | ((self.lane_width.is_some() as u64) << 5) | ((self.directionality.is_some() as u64) << 4) | ((self.closed_path.is_some() as u64) << 3) | ((self.direction.is_some() as u64) << 2) | ((self.description.is_some() as u64) << 1) | ((self.regional.is_some() as u64) << 0), 9)?;
+        w.write_bits(
+            ((self.name.is_some() as u64) << 8)
+                | ((self.id.is_some() as u64) << 7)
+                | ((self.anchor.is_some() as u64) << 6)
+                | ((self.lane_width.is_some() as u64) << 5)
+                | ((self.directionality.is_some() as u64) << 4)
+                | ((self.closed_path.is_some() as u64) << 3)
+                | ((self.direction.is_some() as u64) << 2)
+                | ((self.description.is_some() as u64) << 1)
+                | ((self.regional.is_some() as u64) << 0),
+            9,
+        )?;
         if let Some(v) = &self.name {
             v.encode_uper(w)?;
         }
@@ -944,15 +1130,57 @@ impl Uper for GeographicalPath {
 impl uper::random::Random for GeographicalPath {
     fn random(g: &mut uper::random::Gen) -> Self {
         Self {
-            name: if g.coin() { Some(<super::common::DescriptiveName as uper::random::Random>::random(g)) } else { None },
-            id: if g.coin() { Some(<super::common::RoadSegmentReferenceID as uper::random::Random>::random(g)) } else { None },
-            anchor: if g.coin() { Some(<super::common::Position3D as uper::random::Random>::random(g)) } else { None },
-            lane_width: if g.coin() { Some(<super::common::LaneWidth as uper::random::Random>::random(g)) } else { None },
-            directionality: if g.coin() { Some(<DirectionOfUse as uper::random::Random>::random(g)) } else { None },
-            closed_path: if g.coin() { Some(<bool as uper::random::Random>::random(g)) } else { None },
-            direction: if g.coin() { Some(<super::common::HeadingSlice as uper::random::Random>::random(g)) } else { None },
-            description: if g.coin() { Some(<GeographicalPathDescription as uper::random::Random>::random(g)) } else { None },
-            regional: if g.coin() { Some(<GeographicalPathRegional as uper::random::Random>::random(g)) } else { None },
+            name: if g.coin() {
+                Some(<super::common::DescriptiveName as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            id: if g.coin() {
+                Some(<super::common::RoadSegmentReferenceID as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            anchor: if g.coin() {
+                Some(<super::common::Position3D as uper::random::Random>::random(
+                    g,
+                ))
+            } else {
+                None
+            },
+            lane_width: if g.coin() {
+                Some(<super::common::LaneWidth as uper::random::Random>::random(
+                    g,
+                ))
+            } else {
+                None
+            },
+            directionality: if g.coin() {
+                Some(<DirectionOfUse as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            closed_path: if g.coin() {
+                Some(<bool as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            direction: if g.coin() {
+                Some(<super::common::HeadingSlice as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            description: if g.coin() {
+                Some(<GeographicalPathDescription as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            regional: if g.coin() {
+                Some(<GeographicalPathRegional as uper::random::Random>::random(
+                    g,
+                ))
+            } else {
+                None
+            },
             extensions: uper::Extensions::new(),
         }
     }
@@ -1014,7 +1242,13 @@ impl Uper for DirectionOfUse {
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let at = r.position();
         let i = r.read_constrained(0, 3)?;
-        *out = Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))?;
+        *out = Self::ALL
+            .get(i as usize)
+            .copied()
+            .ok_or(uper::DecodeError::new(
+                uper::DecodeErrorKind::InvalidEnumIndex,
+                at,
+            ))?;
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -1059,8 +1293,12 @@ impl Uper for GeographicalPathDescription {
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         if r.read_bit()? {
             let at = r.position();
-            let index = u16::try_from(r.read_normally_small()?).map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at))?;
-            let content = uper::decode_unknown_open(r, "TravelerInformation.GeographicalPath.description:unknown")?;
+            let index = u16::try_from(r.read_normally_small()?)
+                .map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at))?;
+            let content = uper::decode_unknown_open(
+                r,
+                "TravelerInformation.GeographicalPath.description:unknown",
+            )?;
             *out = Self::Extension { index, content };
             return Ok(());
         }
@@ -1068,7 +1306,9 @@ impl Uper for GeographicalPathDescription {
         match r.read_constrained(0, 2)? {
             0 => {
                 if !matches!(out, Self::Path(_)) {
-                    uper::replace_with(out, || Self::Path(<OffsetSystem as uper::Placeholder>::placeholder()));
+                    uper::replace_with(out, || {
+                        Self::Path(<OffsetSystem as uper::Placeholder>::placeholder())
+                    });
                 }
                 if let Self::Path(v) = out {
                     <OffsetSystem>::decode_into(r, v)?;
@@ -1076,7 +1316,9 @@ impl Uper for GeographicalPathDescription {
             }
             1 => {
                 if !matches!(out, Self::Geometry(_)) {
-                    uper::replace_with(out, || Self::Geometry(<GeometricProjection as uper::Placeholder>::placeholder()));
+                    uper::replace_with(out, || {
+                        Self::Geometry(<GeometricProjection as uper::Placeholder>::placeholder())
+                    });
                 }
                 if let Self::Geometry(v) = out {
                     <GeometricProjection>::decode_into(r, v)?;
@@ -1084,21 +1326,40 @@ impl Uper for GeographicalPathDescription {
             }
             2 => {
                 if !matches!(out, Self::OldRegion(_)) {
-                    uper::replace_with(out, || Self::OldRegion(<ValidRegion as uper::Placeholder>::placeholder()));
+                    uper::replace_with(out, || {
+                        Self::OldRegion(<ValidRegion as uper::Placeholder>::placeholder())
+                    });
                 }
                 if let Self::OldRegion(v) = out {
                     <ValidRegion>::decode_into(r, v)?;
                 }
             }
-            _ => return Err(uper::DecodeError::new(uper::DecodeErrorKind::InvalidChoiceIndex, at)),
+            _ => {
+                return Err(uper::DecodeError::new(
+                    uper::DecodeErrorKind::InvalidChoiceIndex,
+                    at,
+                ))
+            }
         }
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         match self {
-            Self::Path(v) => { w.write_bit(false)?; w.write_constrained(0, 0, 2)?; v.encode_uper(w) }
-            Self::Geometry(v) => { w.write_bit(false)?; w.write_constrained(1, 0, 2)?; v.encode_uper(w) }
-            Self::OldRegion(v) => { w.write_bit(false)?; w.write_constrained(2, 0, 2)?; v.encode_uper(w) }
+            Self::Path(v) => {
+                w.write_bit(false)?;
+                w.write_constrained(0, 0, 2)?;
+                v.encode_uper(w)
+            }
+            Self::Geometry(v) => {
+                w.write_bit(false)?;
+                w.write_constrained(1, 0, 2)?;
+                v.encode_uper(w)
+            }
+            Self::OldRegion(v) => {
+                w.write_bit(false)?;
+                w.write_constrained(2, 0, 2)?;
+                v.encode_uper(w)
+            }
             Self::Extension { index, content } => {
                 w.write_bit(true)?;
                 w.write_normally_small(*index as u64)?;
@@ -1131,7 +1392,10 @@ pub struct OffsetSystem {
 
 impl uper::Placeholder for OffsetSystem {
     fn placeholder() -> Self {
-        Self { scale: None, offset: <OffsetSystemOffset as uper::Placeholder>::placeholder() }
+        Self {
+            scale: None,
+            offset: <OffsetSystemOffset as uper::Placeholder>::placeholder(),
+        }
     }
 }
 
@@ -1167,7 +1431,11 @@ impl Uper for OffsetSystem {
 impl uper::random::Random for OffsetSystem {
     fn random(g: &mut uper::random::Gen) -> Self {
         Self {
-            scale: if g.coin() { Some(<Zoom as uper::random::Random>::random(g)) } else { None },
+            scale: if g.coin() {
+                Some(<Zoom as uper::random::Random>::random(g))
+            } else {
+                None
+            },
             offset: <OffsetSystemOffset as uper::random::Random>::random(g),
         }
     }
@@ -1201,7 +1469,9 @@ impl Uper for OffsetSystemOffset {
         match r.read_constrained(0, 1)? {
             0 => {
                 if !matches!(out, Self::Xy(_)) {
-                    uper::replace_with(out, || Self::Xy(<super::common::NodeListXY as uper::Placeholder>::placeholder()));
+                    uper::replace_with(out, || {
+                        Self::Xy(<super::common::NodeListXY as uper::Placeholder>::placeholder())
+                    });
                 }
                 if let Self::Xy(v) = out {
                     <super::common::NodeListXY>::decode_into(r, v)?;
@@ -1209,20 +1479,33 @@ impl Uper for OffsetSystemOffset {
             }
             1 => {
                 if !matches!(out, Self::Ll(_)) {
-                    uper::replace_with(out, || Self::Ll(<NodeListLL as uper::Placeholder>::placeholder()));
+                    uper::replace_with(out, || {
+                        Self::Ll(<NodeListLL as uper::Placeholder>::placeholder())
+                    });
                 }
                 if let Self::Ll(v) = out {
                     <NodeListLL>::decode_into(r, v)?;
                 }
             }
-            _ => return Err(uper::DecodeError::new(uper::DecodeErrorKind::InvalidChoiceIndex, at)),
+            _ => {
+                return Err(uper::DecodeError::new(
+                    uper::DecodeErrorKind::InvalidChoiceIndex,
+                    at,
+                ))
+            }
         }
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         match self {
-            Self::Xy(v) => { w.write_constrained(0, 0, 1)?; v.encode_uper(w) }
-            Self::Ll(v) => { w.write_constrained(1, 0, 1)?; v.encode_uper(w) }
+            Self::Xy(v) => {
+                w.write_constrained(0, 0, 1)?;
+                v.encode_uper(w)
+            }
+            Self::Ll(v) => {
+                w.write_constrained(1, 0, 1)?;
+                v.encode_uper(w)
+            }
         }
     }
 }
@@ -1231,7 +1514,9 @@ impl Uper for OffsetSystemOffset {
 impl uper::random::Random for OffsetSystemOffset {
     fn random(g: &mut uper::random::Gen) -> Self {
         match g.below(2) {
-            0 => Self::Xy(<super::common::NodeListXY as uper::random::Random>::random(g)),
+            0 => Self::Xy(<super::common::NodeListXY as uper::random::Random>::random(
+                g,
+            )),
             1 => Self::Ll(<NodeListLL as uper::random::Random>::random(g)),
             _ => Self::Xy(<super::common::NodeListXY as uper::Placeholder>::placeholder()),
         }
@@ -1264,7 +1549,8 @@ impl Uper for NodeListLL {
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         if r.read_bit()? {
             let at = r.position();
-            let index = u16::try_from(r.read_normally_small()?).map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at))?;
+            let index = u16::try_from(r.read_normally_small()?)
+                .map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at))?;
             let content = uper::decode_unknown_open(r, "TravelerInformation.NodeListLL:unknown")?;
             *out = Self::Extension { index, content };
             return Ok(());
@@ -1273,19 +1559,30 @@ impl Uper for NodeListLL {
         match r.read_constrained(0, 0)? {
             0 => {
                 if !matches!(out, Self::Nodes(_)) {
-                    uper::replace_with(out, || Self::Nodes(<NodeSetLL as uper::Placeholder>::placeholder()));
+                    uper::replace_with(out, || {
+                        Self::Nodes(<NodeSetLL as uper::Placeholder>::placeholder())
+                    });
                 }
                 if let Self::Nodes(v) = out {
                     <NodeSetLL>::decode_into(r, v)?;
                 }
             }
-            _ => return Err(uper::DecodeError::new(uper::DecodeErrorKind::InvalidChoiceIndex, at)),
+            _ => {
+                return Err(uper::DecodeError::new(
+                    uper::DecodeErrorKind::InvalidChoiceIndex,
+                    at,
+                ))
+            }
         }
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         match self {
-            Self::Nodes(v) => { w.write_bit(false)?; w.write_constrained(0, 0, 0)?; v.encode_uper(w) }
+            Self::Nodes(v) => {
+                w.write_bit(false)?;
+                w.write_constrained(0, 0, 0)?;
+                v.encode_uper(w)
+            }
             Self::Extension { index, content } => {
                 w.write_bit(true)?;
                 w.write_normally_small(*index as u64)?;
@@ -1316,6 +1613,12 @@ impl NodeSetLL {
     /// An empty list (valid for encoding once it holds the minimum number of items).
     pub fn new() -> Self {
         Self(uper::SeqOf::new())
+    }
+}
+
+impl Default for NodeSetLL {
+    fn default() -> Self {
+        Self::new()
     }
 }
 
@@ -1360,7 +1663,11 @@ pub struct NodeLL {
 
 impl uper::Placeholder for NodeLL {
     fn placeholder() -> Self {
-        Self { delta: <NodeOffsetPointLL as uper::Placeholder>::placeholder(), attributes: None, extensions: uper::Extensions::new() }
+        Self {
+            delta: <NodeOffsetPointLL as uper::Placeholder>::placeholder(),
+            attributes: None,
+            extensions: uper::Extensions::new(),
+        }
     }
 }
 
@@ -1381,7 +1688,11 @@ impl Uper for NodeLL {
         } else {
             out.attributes = None;
         }
-        out.extensions = if extended { uper::Extensions::decode(r, "TravelerInformation.NodeLL:ext")? } else { uper::Extensions::new() };
+        out.extensions = if extended {
+            uper::Extensions::decode(r, "TravelerInformation.NodeLL:ext")?
+        } else {
+            uper::Extensions::new()
+        };
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -1403,7 +1714,11 @@ impl uper::random::Random for NodeLL {
     fn random(g: &mut uper::random::Gen) -> Self {
         Self {
             delta: <NodeOffsetPointLL as uper::random::Random>::random(g),
-            attributes: if g.coin() { Some(<NodeAttributeSetLL as uper::random::Random>::random(g)) } else { None },
+            attributes: if g.coin() {
+                Some(<NodeAttributeSetLL as uper::random::Random>::random(g))
+            } else {
+                None
+            },
             extensions: uper::Extensions::new(),
         }
     }
@@ -1444,7 +1759,9 @@ impl Uper for NodeOffsetPointLL {
         match r.read_constrained(0, 7)? {
             0 => {
                 if !matches!(out, Self::NodeLL1(_)) {
-                    uper::replace_with(out, || Self::NodeLL1(<NodeLL24B as uper::Placeholder>::placeholder()));
+                    uper::replace_with(out, || {
+                        Self::NodeLL1(<NodeLL24B as uper::Placeholder>::placeholder())
+                    });
                 }
                 if let Self::NodeLL1(v) = out {
                     <NodeLL24B>::decode_into(r, v)?;
@@ -1452,7 +1769,9 @@ impl Uper for NodeOffsetPointLL {
             }
             1 => {
                 if !matches!(out, Self::NodeLL2(_)) {
-                    uper::replace_with(out, || Self::NodeLL2(<NodeLL28B as uper::Placeholder>::placeholder()));
+                    uper::replace_with(out, || {
+                        Self::NodeLL2(<NodeLL28B as uper::Placeholder>::placeholder())
+                    });
                 }
                 if let Self::NodeLL2(v) = out {
                     <NodeLL28B>::decode_into(r, v)?;
@@ -1460,7 +1779,9 @@ impl Uper for NodeOffsetPointLL {
             }
             2 => {
                 if !matches!(out, Self::NodeLL3(_)) {
-                    uper::replace_with(out, || Self::NodeLL3(<NodeLL32B as uper::Placeholder>::placeholder()));
+                    uper::replace_with(out, || {
+                        Self::NodeLL3(<NodeLL32B as uper::Placeholder>::placeholder())
+                    });
                 }
                 if let Self::NodeLL3(v) = out {
                     <NodeLL32B>::decode_into(r, v)?;
@@ -1468,7 +1789,9 @@ impl Uper for NodeOffsetPointLL {
             }
             3 => {
                 if !matches!(out, Self::NodeLL4(_)) {
-                    uper::replace_with(out, || Self::NodeLL4(<NodeLL36B as uper::Placeholder>::placeholder()));
+                    uper::replace_with(out, || {
+                        Self::NodeLL4(<NodeLL36B as uper::Placeholder>::placeholder())
+                    });
                 }
                 if let Self::NodeLL4(v) = out {
                     <NodeLL36B>::decode_into(r, v)?;
@@ -1476,7 +1799,9 @@ impl Uper for NodeOffsetPointLL {
             }
             4 => {
                 if !matches!(out, Self::NodeLL5(_)) {
-                    uper::replace_with(out, || Self::NodeLL5(<NodeLL44B as uper::Placeholder>::placeholder()));
+                    uper::replace_with(out, || {
+                        Self::NodeLL5(<NodeLL44B as uper::Placeholder>::placeholder())
+                    });
                 }
                 if let Self::NodeLL5(v) = out {
                     <NodeLL44B>::decode_into(r, v)?;
@@ -1484,7 +1809,9 @@ impl Uper for NodeOffsetPointLL {
             }
             5 => {
                 if !matches!(out, Self::NodeLL6(_)) {
-                    uper::replace_with(out, || Self::NodeLL6(<NodeLL48B as uper::Placeholder>::placeholder()));
+                    uper::replace_with(out, || {
+                        Self::NodeLL6(<NodeLL48B as uper::Placeholder>::placeholder())
+                    });
                 }
                 if let Self::NodeLL6(v) = out {
                     <NodeLL48B>::decode_into(r, v)?;
@@ -1492,7 +1819,11 @@ impl Uper for NodeOffsetPointLL {
             }
             6 => {
                 if !matches!(out, Self::NodeLatLon(_)) {
-                    uper::replace_with(out, || Self::NodeLatLon(<super::common::NodeLLmD64b as uper::Placeholder>::placeholder()));
+                    uper::replace_with(out, || {
+                        Self::NodeLatLon(
+                            <super::common::NodeLLmD64b as uper::Placeholder>::placeholder(),
+                        )
+                    });
                 }
                 if let Self::NodeLatLon(v) = out {
                     <super::common::NodeLLmD64b>::decode_into(r, v)?;
@@ -1500,26 +1831,57 @@ impl Uper for NodeOffsetPointLL {
             }
             7 => {
                 if !matches!(out, Self::Regional(_)) {
-                    uper::replace_with(out, || Self::Regional(<RegNodeOffsetPointLL as uper::Placeholder>::placeholder()));
+                    uper::replace_with(out, || {
+                        Self::Regional(<RegNodeOffsetPointLL as uper::Placeholder>::placeholder())
+                    });
                 }
                 if let Self::Regional(v) = out {
                     <RegNodeOffsetPointLL>::decode_into(r, v)?;
                 }
             }
-            _ => return Err(uper::DecodeError::new(uper::DecodeErrorKind::InvalidChoiceIndex, at)),
+            _ => {
+                return Err(uper::DecodeError::new(
+                    uper::DecodeErrorKind::InvalidChoiceIndex,
+                    at,
+                ))
+            }
         }
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         match self {
-            Self::NodeLL1(v) => { w.write_constrained(0, 0, 7)?; v.encode_uper(w) }
-            Self::NodeLL2(v) => { w.write_constrained(1, 0, 7)?; v.encode_uper(w) }
-            Self::NodeLL3(v) => { w.write_constrained(2, 0, 7)?; v.encode_uper(w) }
-            Self::NodeLL4(v) => { w.write_constrained(3, 0, 7)?; v.encode_uper(w) }
-            Self::NodeLL5(v) => { w.write_constrained(4, 0, 7)?; v.encode_uper(w) }
-            Self::NodeLL6(v) => { w.write_constrained(5, 0, 7)?; v.encode_uper(w) }
-            Self::NodeLatLon(v) => { w.write_constrained(6, 0, 7)?; v.encode_uper(w) }
-            Self::Regional(v) => { w.write_constrained(7, 0, 7)?; v.encode_uper(w) }
+            Self::NodeLL1(v) => {
+                w.write_constrained(0, 0, 7)?;
+                v.encode_uper(w)
+            }
+            Self::NodeLL2(v) => {
+                w.write_constrained(1, 0, 7)?;
+                v.encode_uper(w)
+            }
+            Self::NodeLL3(v) => {
+                w.write_constrained(2, 0, 7)?;
+                v.encode_uper(w)
+            }
+            Self::NodeLL4(v) => {
+                w.write_constrained(3, 0, 7)?;
+                v.encode_uper(w)
+            }
+            Self::NodeLL5(v) => {
+                w.write_constrained(4, 0, 7)?;
+                v.encode_uper(w)
+            }
+            Self::NodeLL6(v) => {
+                w.write_constrained(5, 0, 7)?;
+                v.encode_uper(w)
+            }
+            Self::NodeLatLon(v) => {
+                w.write_constrained(6, 0, 7)?;
+                v.encode_uper(w)
+            }
+            Self::Regional(v) => {
+                w.write_constrained(7, 0, 7)?;
+                v.encode_uper(w)
+            }
         }
     }
 }
@@ -1552,7 +1914,10 @@ pub struct NodeLL24B {
 
 impl uper::Placeholder for NodeLL24B {
     fn placeholder() -> Self {
-        Self { lon: <OffsetLLB12 as uper::Placeholder>::placeholder(), lat: <OffsetLLB12 as uper::Placeholder>::placeholder() }
+        Self {
+            lon: <OffsetLLB12 as uper::Placeholder>::placeholder(),
+            lat: <OffsetLLB12 as uper::Placeholder>::placeholder(),
+        }
     }
 }
 
@@ -1584,7 +1949,13 @@ impl uper::random::Random for NodeLL24B {
 /// ASN.1 `OffsetLL-B12` (module `TravelerInformation`): INTEGER (-2048..2047).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub struct OffsetLLB12(i16);
-crate::__constrained_int!(OffsetLLB12, i16, -2048, 2047, "TravelerInformation.OffsetLL-B12");
+crate::__constrained_int!(
+    OffsetLLB12,
+    i16,
+    -2048,
+    2047,
+    "TravelerInformation.OffsetLL-B12"
+);
 
 /// ASN.1 `Node-LL-28B` (module `TravelerInformation`): SEQUENCE.
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
@@ -1597,7 +1968,10 @@ pub struct NodeLL28B {
 
 impl uper::Placeholder for NodeLL28B {
     fn placeholder() -> Self {
-        Self { lon: <OffsetLLB14 as uper::Placeholder>::placeholder(), lat: <OffsetLLB14 as uper::Placeholder>::placeholder() }
+        Self {
+            lon: <OffsetLLB14 as uper::Placeholder>::placeholder(),
+            lat: <OffsetLLB14 as uper::Placeholder>::placeholder(),
+        }
     }
 }
 
@@ -1629,7 +2003,13 @@ impl uper::random::Random for NodeLL28B {
 /// ASN.1 `OffsetLL-B14` (module `TravelerInformation`): INTEGER (-8192..8191).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub struct OffsetLLB14(i16);
-crate::__constrained_int!(OffsetLLB14, i16, -8192, 8191, "TravelerInformation.OffsetLL-B14");
+crate::__constrained_int!(
+    OffsetLLB14,
+    i16,
+    -8192,
+    8191,
+    "TravelerInformation.OffsetLL-B14"
+);
 
 /// ASN.1 `Node-LL-32B` (module `TravelerInformation`): SEQUENCE.
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
@@ -1642,7 +2022,10 @@ pub struct NodeLL32B {
 
 impl uper::Placeholder for NodeLL32B {
     fn placeholder() -> Self {
-        Self { lon: <OffsetLLB16 as uper::Placeholder>::placeholder(), lat: <OffsetLLB16 as uper::Placeholder>::placeholder() }
+        Self {
+            lon: <OffsetLLB16 as uper::Placeholder>::placeholder(),
+            lat: <OffsetLLB16 as uper::Placeholder>::placeholder(),
+        }
     }
 }
 
@@ -1674,7 +2057,13 @@ impl uper::random::Random for NodeLL32B {
 /// ASN.1 `OffsetLL-B16` (module `TravelerInformation`): INTEGER (-32768..32767).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub struct OffsetLLB16(i16);
-crate::__constrained_int!(OffsetLLB16, i16, -32768, 32767, "TravelerInformation.OffsetLL-B16");
+crate::__constrained_int!(
+    OffsetLLB16,
+    i16,
+    -32768,
+    32767,
+    "TravelerInformation.OffsetLL-B16"
+);
 
 /// ASN.1 `Node-LL-36B` (module `TravelerInformation`): SEQUENCE.
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
@@ -1687,7 +2076,10 @@ pub struct NodeLL36B {
 
 impl uper::Placeholder for NodeLL36B {
     fn placeholder() -> Self {
-        Self { lon: <super::common::OffsetLLB18 as uper::Placeholder>::placeholder(), lat: <super::common::OffsetLLB18 as uper::Placeholder>::placeholder() }
+        Self {
+            lon: <super::common::OffsetLLB18 as uper::Placeholder>::placeholder(),
+            lat: <super::common::OffsetLLB18 as uper::Placeholder>::placeholder(),
+        }
     }
 }
 
@@ -1727,7 +2119,10 @@ pub struct NodeLL44B {
 
 impl uper::Placeholder for NodeLL44B {
     fn placeholder() -> Self {
-        Self { lon: <OffsetLLB22 as uper::Placeholder>::placeholder(), lat: <OffsetLLB22 as uper::Placeholder>::placeholder() }
+        Self {
+            lon: <OffsetLLB22 as uper::Placeholder>::placeholder(),
+            lat: <OffsetLLB22 as uper::Placeholder>::placeholder(),
+        }
     }
 }
 
@@ -1759,7 +2154,13 @@ impl uper::random::Random for NodeLL44B {
 /// ASN.1 `OffsetLL-B22` (module `TravelerInformation`): INTEGER (-2097152..2097151).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub struct OffsetLLB22(i32);
-crate::__constrained_int!(OffsetLLB22, i32, -2097152, 2097151, "TravelerInformation.OffsetLL-B22");
+crate::__constrained_int!(
+    OffsetLLB22,
+    i32,
+    -2097152,
+    2097151,
+    "TravelerInformation.OffsetLL-B22"
+);
 
 /// ASN.1 `Node-LL-48B` (module `TravelerInformation`): SEQUENCE.
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
@@ -1772,7 +2173,10 @@ pub struct NodeLL48B {
 
 impl uper::Placeholder for NodeLL48B {
     fn placeholder() -> Self {
-        Self { lon: <OffsetLLB24 as uper::Placeholder>::placeholder(), lat: <OffsetLLB24 as uper::Placeholder>::placeholder() }
+        Self {
+            lon: <OffsetLLB24 as uper::Placeholder>::placeholder(),
+            lat: <OffsetLLB24 as uper::Placeholder>::placeholder(),
+        }
     }
 }
 
@@ -1804,7 +2208,13 @@ impl uper::random::Random for NodeLL48B {
 /// ASN.1 `OffsetLL-B24` (module `TravelerInformation`): INTEGER (-8388608..8388607).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub struct OffsetLLB24(i32);
-crate::__constrained_int!(OffsetLLB24, i32, -8388608, 8388607, "TravelerInformation.OffsetLL-B24");
+crate::__constrained_int!(
+    OffsetLLB24,
+    i32,
+    -8388608,
+    8388607,
+    "TravelerInformation.OffsetLL-B24"
+);
 
 /// ASN.1 `RegNodeOffsetPointLL` (module `TravelerInformation`): `regionId` and the `regExtValue` it selects (open type over an object set).
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
@@ -1829,7 +2239,10 @@ impl RegNodeOffsetPointLL {
 
 impl uper::Placeholder for RegNodeOffsetPointLL {
     fn placeholder() -> Self {
-        Self::Unknown { id: <super::common::RegionId as uper::Placeholder>::placeholder(), content: uper::Octets::new() }
+        Self::Unknown {
+            id: <super::common::RegionId as uper::Placeholder>::placeholder(),
+            content: uper::Octets::new(),
+        }
     }
 }
 
@@ -1839,7 +2252,15 @@ impl Uper for RegNodeOffsetPointLL {
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let id = <super::common::RegionId>::decode_uper(r)?;
         match id.get() {
-            _ => *out = Self::Unknown { id, content: uper::decode_unknown_open(r, "TravelerInformation.RegNodeOffsetPointLL:unknown")? },
+            _ => {
+                *out = Self::Unknown {
+                    id,
+                    content: uper::decode_unknown_open(
+                        r,
+                        "TravelerInformation.RegNodeOffsetPointLL:unknown",
+                    )?,
+                }
+            }
         }
         Ok(())
     }
@@ -1860,7 +2281,10 @@ impl uper::random::Random for RegNodeOffsetPointLL {
         for _ in 0..1 + g.below(4) {
             let _ = content.push(g.octet());
         }
-        Self::Unknown { id: <super::common::RegionId as uper::random::Random>::random(g), content }
+        Self::Unknown {
+            id: <super::common::RegionId as uper::random::Random>::random(g),
+            content,
+        }
     }
 }
 
@@ -1887,7 +2311,16 @@ pub struct NodeAttributeSetLL {
 
 impl uper::Placeholder for NodeAttributeSetLL {
     fn placeholder() -> Self {
-        Self { local_node: None, disabled: None, enabled: None, data: None, d_width: None, d_elevation: None, regional: None, extensions: uper::Extensions::new() }
+        Self {
+            local_node: None,
+            disabled: None,
+            enabled: None,
+            data: None,
+            d_width: None,
+            d_elevation: None,
+            regional: None,
+            extensions: uper::Extensions::new(),
+        }
     }
 }
 
@@ -1967,12 +2400,25 @@ impl Uper for NodeAttributeSetLL {
         } else {
             out.regional = None;
         }
-        out.extensions = if extended { uper::Extensions::decode(r, "TravelerInformation.NodeAttributeSetLL:ext")? } else { uper::Extensions::new() };
+        out.extensions = if extended {
+            uper::Extensions::decode(r, "TravelerInformation.NodeAttributeSetLL:ext")?
+        } else {
+            uper::Extensions::new()
+        };
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_bit(self.extensions.is_present())?;
-        w.write_bits(((self.local_node.is_some() as u64) << 6) | ((self.disabled.is_some() as u64) << 5) | ((self.enabled.is_some() as u64) << 4) | ((self.data.is_some() as u64) << 3) | ((self.d_width.is_some() as u64) << 2) | ((self.d_elevation.is_some() as u64) << 1) | ((self.regional.is_some() as u64) << 0), 7)?;
+        w.write_bits(
+            ((self.local_node.is_some() as u64) << 6)
+                | ((self.disabled.is_some() as u64) << 5)
+                | ((self.enabled.is_some() as u64) << 4)
+                | ((self.data.is_some() as u64) << 3)
+                | ((self.d_width.is_some() as u64) << 2)
+                | ((self.d_elevation.is_some() as u64) << 1)
+                | ((self.regional.is_some() as u64) << 0),
+            7,
+        )?;
         if let Some(v) = &self.local_node {
             v.encode_uper(w)?;
         }
@@ -2005,13 +2451,45 @@ impl Uper for NodeAttributeSetLL {
 impl uper::random::Random for NodeAttributeSetLL {
     fn random(g: &mut uper::random::Gen) -> Self {
         Self {
-            local_node: if g.coin() { Some(<NodeAttributeLLList as uper::random::Random>::random(g)) } else { None },
-            disabled: if g.coin() { Some(<SegmentAttributeLLList as uper::random::Random>::random(g)) } else { None },
-            enabled: if g.coin() { Some(<SegmentAttributeLLList as uper::random::Random>::random(g)) } else { None },
-            data: if g.coin() { Some(<super::common::LaneDataAttributeList as uper::random::Random>::random(g)) } else { None },
-            d_width: if g.coin() { Some(<super::common::OffsetB10 as uper::random::Random>::random(g)) } else { None },
-            d_elevation: if g.coin() { Some(<super::common::OffsetB10 as uper::random::Random>::random(g)) } else { None },
-            regional: if g.coin() { Some(<NodeAttributeSetLLRegional as uper::random::Random>::random(g)) } else { None },
+            local_node: if g.coin() {
+                Some(<NodeAttributeLLList as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            disabled: if g.coin() {
+                Some(<SegmentAttributeLLList as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            enabled: if g.coin() {
+                Some(<SegmentAttributeLLList as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            data: if g.coin() {
+                Some(<super::common::LaneDataAttributeList as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            d_width: if g.coin() {
+                Some(<super::common::OffsetB10 as uper::random::Random>::random(
+                    g,
+                ))
+            } else {
+                None
+            },
+            d_elevation: if g.coin() {
+                Some(<super::common::OffsetB10 as uper::random::Random>::random(
+                    g,
+                ))
+            } else {
+                None
+            },
+            regional: if g.coin() {
+                Some(<NodeAttributeSetLLRegional as uper::random::Random>::random(g))
+            } else {
+                None
+            },
             extensions: uper::Extensions::new(),
         }
     }
@@ -2031,6 +2509,12 @@ impl NodeAttributeLLList {
     }
 }
 
+impl Default for NodeAttributeLLList {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
 impl uper::Placeholder for NodeAttributeLLList {
     fn placeholder() -> Self {
         Self(uper::SeqOf::new())
@@ -2041,7 +2525,12 @@ impl Uper for NodeAttributeLLList {
     const PATH: &'static str = "TravelerInformation.NodeAttributeLLList";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(133), Some(211));
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        uper::decode_seq_of_into(r, Self::SIZE, "TravelerInformation.NodeAttributeLLList", &mut out.0)
+        uper::decode_seq_of_into(
+            r,
+            Self::SIZE,
+            "TravelerInformation.NodeAttributeLLList",
+            &mut out.0,
+        )
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
@@ -2053,7 +2542,8 @@ impl uper::random::Random for NodeAttributeLLList {
     fn random(g: &mut uper::random::Gen) -> Self {
         let mut v = Self(uper::SeqOf::new());
         for _ in 0..g.count(1, 5) {
-            let _ = v.0.push(<NodeAttributeLL as uper::random::Random>::random(g));
+            let _ =
+                v.0.push(<NodeAttributeLL as uper::random::Random>::random(g));
         }
         v
     }
@@ -2092,7 +2582,20 @@ pub enum NodeAttributeLL {
 
 impl NodeAttributeLL {
     /// Every root value in encoding (ascending number) order.
-    pub const ALL: [Self; 12] = [Self::Reserved, Self::StopLine, Self::RoundedCapStyleA, Self::RoundedCapStyleB, Self::MergePoint, Self::DivergePoint, Self::DownstreamStopLine, Self::DownstreamStartNode, Self::ClosedToTraffic, Self::SafeIsland, Self::CurbPresentAtStepOff, Self::HydrantPresent];
+    pub const ALL: [Self; 12] = [
+        Self::Reserved,
+        Self::StopLine,
+        Self::RoundedCapStyleA,
+        Self::RoundedCapStyleB,
+        Self::MergePoint,
+        Self::DivergePoint,
+        Self::DownstreamStopLine,
+        Self::DownstreamStartNode,
+        Self::ClosedToTraffic,
+        Self::SafeIsland,
+        Self::CurbPresentAtStepOff,
+        Self::HydrantPresent,
+    ];
     /// The ASN.1 number of the value (`None` for an unknown extension value).
     pub const fn number(self) -> Option<i64> {
         match self {
@@ -2161,12 +2664,20 @@ impl Uper for NodeAttributeLL {
         if r.read_bit()? {
             let at = r.position();
             let i = r.read_normally_small()?;
-            *out = u16::try_from(i).map(Self::Extension).map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at))?;
+            *out = u16::try_from(i)
+                .map(Self::Extension)
+                .map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at))?;
             return Ok(());
         }
         let at = r.position();
         let i = r.read_constrained(0, 11)?;
-        *out = Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))?;
+        *out = Self::ALL
+            .get(i as usize)
+            .copied()
+            .ok_or(uper::DecodeError::new(
+                uper::DecodeErrorKind::InvalidEnumIndex,
+                at,
+            ))?;
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -2200,6 +2711,12 @@ impl SegmentAttributeLLList {
     }
 }
 
+impl Default for SegmentAttributeLLList {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
 impl uper::Placeholder for SegmentAttributeLLList {
     fn placeholder() -> Self {
         Self(uper::SeqOf::new())
@@ -2210,7 +2727,12 @@ impl Uper for SegmentAttributeLLList {
     const PATH: &'static str = "TravelerInformation.SegmentAttributeLLList";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(133), Some(211));
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        uper::decode_seq_of_into(r, Self::SIZE, "TravelerInformation.SegmentAttributeLLList", &mut out.0)
+        uper::decode_seq_of_into(
+            r,
+            Self::SIZE,
+            "TravelerInformation.SegmentAttributeLLList",
+            &mut out.0,
+        )
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
@@ -2222,7 +2744,8 @@ impl uper::random::Random for SegmentAttributeLLList {
     fn random(g: &mut uper::random::Gen) -> Self {
         let mut v = Self(uper::SeqOf::new());
         for _ in 0..g.count(1, 5) {
-            let _ = v.0.push(<SegmentAttributeLL as uper::random::Random>::random(g));
+            let _ =
+                v.0.push(<SegmentAttributeLL as uper::random::Random>::random(g));
         }
         v
     }
@@ -2313,7 +2836,46 @@ pub enum SegmentAttributeLL {
 
 impl SegmentAttributeLL {
     /// Every root value in encoding (ascending number) order.
-    pub const ALL: [Self; 38] = [Self::Reserved, Self::DoNotBlock, Self::WhiteLine, Self::MergingLaneLeft, Self::MergingLaneRight, Self::CurbOnLeft, Self::CurbOnRight, Self::LoadingzoneOnLeft, Self::LoadingzoneOnRight, Self::TurnOutPointOnLeft, Self::TurnOutPointOnRight, Self::AdjacentParkingOnLeft, Self::AdjacentParkingOnRight, Self::AdjacentBikeLaneOnLeft, Self::AdjacentBikeLaneOnRight, Self::SharedBikeLane, Self::BikeBoxInFront, Self::TransitStopOnLeft, Self::TransitStopOnRight, Self::TransitStopInLane, Self::SharedWithTrackedVehicle, Self::SafeIsland, Self::LowCurbsPresent, Self::RumbleStripPresent, Self::AudibleSignalingPresent, Self::AdaptiveTimingPresent, Self::RfSignalRequestPresent, Self::PartialCurbIntrusion, Self::TaperToLeft, Self::TaperToRight, Self::TaperToCenterLine, Self::ParallelParking, Self::HeadInParking, Self::FreeParking, Self::TimeRestrictionsOnParking, Self::CostToPark, Self::MidBlockCurbPresent, Self::UnEvenPavementPresent];
+    pub const ALL: [Self; 38] = [
+        Self::Reserved,
+        Self::DoNotBlock,
+        Self::WhiteLine,
+        Self::MergingLaneLeft,
+        Self::MergingLaneRight,
+        Self::CurbOnLeft,
+        Self::CurbOnRight,
+        Self::LoadingzoneOnLeft,
+        Self::LoadingzoneOnRight,
+        Self::TurnOutPointOnLeft,
+        Self::TurnOutPointOnRight,
+        Self::AdjacentParkingOnLeft,
+        Self::AdjacentParkingOnRight,
+        Self::AdjacentBikeLaneOnLeft,
+        Self::AdjacentBikeLaneOnRight,
+        Self::SharedBikeLane,
+        Self::BikeBoxInFront,
+        Self::TransitStopOnLeft,
+        Self::TransitStopOnRight,
+        Self::TransitStopInLane,
+        Self::SharedWithTrackedVehicle,
+        Self::SafeIsland,
+        Self::LowCurbsPresent,
+        Self::RumbleStripPresent,
+        Self::AudibleSignalingPresent,
+        Self::AdaptiveTimingPresent,
+        Self::RfSignalRequestPresent,
+        Self::PartialCurbIntrusion,
+        Self::TaperToLeft,
+        Self::TaperToRight,
+        Self::TaperToCenterLine,
+        Self::ParallelParking,
+        Self::HeadInParking,
+        Self::FreeParking,
+        Self::TimeRestrictionsOnParking,
+        Self::CostToPark,
+        Self::MidBlockCurbPresent,
+        Self::UnEvenPavementPresent,
+    ];
     /// The ASN.1 number of the value (`None` for an unknown extension value).
     pub const fn number(self) -> Option<i64> {
         match self {
@@ -2460,12 +3022,20 @@ impl Uper for SegmentAttributeLL {
         if r.read_bit()? {
             let at = r.position();
             let i = r.read_normally_small()?;
-            *out = u16::try_from(i).map(Self::Extension).map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at))?;
+            *out = u16::try_from(i)
+                .map(Self::Extension)
+                .map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at))?;
             return Ok(());
         }
         let at = r.position();
         let i = r.read_constrained(0, 37)?;
-        *out = Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))?;
+        *out = Self::ALL
+            .get(i as usize)
+            .copied()
+            .ok_or(uper::DecodeError::new(
+                uper::DecodeErrorKind::InvalidEnumIndex,
+                at,
+            ))?;
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -2499,6 +3069,12 @@ impl NodeAttributeSetLLRegional {
     }
 }
 
+impl Default for NodeAttributeSetLLRegional {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
 impl uper::Placeholder for NodeAttributeSetLLRegional {
     fn placeholder() -> Self {
         Self(uper::SeqOf::new())
@@ -2509,7 +3085,12 @@ impl Uper for NodeAttributeSetLLRegional {
     const PATH: &'static str = "TravelerInformation.NodeAttributeSetLL.regional";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(146), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        uper::decode_seq_of_into(r, Self::SIZE, "TravelerInformation.NodeAttributeSetLL.regional", &mut out.0)
+        uper::decode_seq_of_into(
+            r,
+            Self::SIZE,
+            "TravelerInformation.NodeAttributeSetLL.regional",
+            &mut out.0,
+        )
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
@@ -2521,7 +3102,8 @@ impl uper::random::Random for NodeAttributeSetLLRegional {
     fn random(g: &mut uper::random::Gen) -> Self {
         let mut v = Self(uper::SeqOf::new());
         for _ in 0..g.count(1, 1) {
-            let _ = v.0.push(<RegNodeAttributeSetLL as uper::random::Random>::random(g));
+            let _ =
+                v.0.push(<RegNodeAttributeSetLL as uper::random::Random>::random(g));
         }
         v
     }
@@ -2550,7 +3132,10 @@ impl RegNodeAttributeSetLL {
 
 impl uper::Placeholder for RegNodeAttributeSetLL {
     fn placeholder() -> Self {
-        Self::Unknown { id: <super::common::RegionId as uper::Placeholder>::placeholder(), content: uper::Octets::new() }
+        Self::Unknown {
+            id: <super::common::RegionId as uper::Placeholder>::placeholder(),
+            content: uper::Octets::new(),
+        }
     }
 }
 
@@ -2560,7 +3145,15 @@ impl Uper for RegNodeAttributeSetLL {
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let id = <super::common::RegionId>::decode_uper(r)?;
         match id.get() {
-            _ => *out = Self::Unknown { id, content: uper::decode_unknown_open(r, "TravelerInformation.RegNodeAttributeSetLL:unknown")? },
+            _ => {
+                *out = Self::Unknown {
+                    id,
+                    content: uper::decode_unknown_open(
+                        r,
+                        "TravelerInformation.RegNodeAttributeSetLL:unknown",
+                    )?,
+                }
+            }
         }
         Ok(())
     }
@@ -2581,7 +3174,10 @@ impl uper::random::Random for RegNodeAttributeSetLL {
         for _ in 0..1 + g.below(4) {
             let _ = content.push(g.octet());
         }
-        Self::Unknown { id: <super::common::RegionId as uper::random::Random>::random(g), content }
+        Self::Unknown {
+            id: <super::common::RegionId as uper::random::Random>::random(g),
+            content,
+        }
     }
 }
 
@@ -2604,7 +3200,14 @@ pub struct GeometricProjection {
 
 impl uper::Placeholder for GeometricProjection {
     fn placeholder() -> Self {
-        Self { direction: <super::common::HeadingSlice as uper::Placeholder>::placeholder(), extent: None, lane_width: None, circle: <Circle as uper::Placeholder>::placeholder(), regional: None, extensions: uper::Extensions::new() }
+        Self {
+            direction: <super::common::HeadingSlice as uper::Placeholder>::placeholder(),
+            extent: None,
+            lane_width: None,
+            circle: <Circle as uper::Placeholder>::placeholder(),
+            regional: None,
+            extensions: uper::Extensions::new(),
+        }
     }
 }
 
@@ -2646,12 +3249,21 @@ impl Uper for GeometricProjection {
         } else {
             out.regional = None;
         }
-        out.extensions = if extended { uper::Extensions::decode(r, "TravelerInformation.GeometricProjection:ext")? } else { uper::Extensions::new() };
+        out.extensions = if extended {
+            uper::Extensions::decode(r, "TravelerInformation.GeometricProjection:ext")?
+        } else {
+            uper::Extensions::new()
+        };
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_bit(self.extensions.is_present())?;
-        w.write_bits(((self.extent.is_some() as u64) << 2) | ((self.lane_width.is_some() as u64) << 1) | ((self.regional.is_some() as u64) << 0), 3)?;
+        w.write_bits(
+            ((self.extent.is_some() as u64) << 2)
+                | ((self.lane_width.is_some() as u64) << 1)
+                | ((self.regional.is_some() as u64) << 0),
+            3,
+        )?;
         self.direction.encode_uper(w)?;
         if let Some(v) = &self.extent {
             v.encode_uper(w)?;
@@ -2675,10 +3287,24 @@ impl uper::random::Random for GeometricProjection {
     fn random(g: &mut uper::random::Gen) -> Self {
         Self {
             direction: <super::common::HeadingSlice as uper::random::Random>::random(g),
-            extent: if g.coin() { Some(<super::common::Extent as uper::random::Random>::random(g)) } else { None },
-            lane_width: if g.coin() { Some(<super::common::LaneWidth as uper::random::Random>::random(g)) } else { None },
+            extent: if g.coin() {
+                Some(<super::common::Extent as uper::random::Random>::random(g))
+            } else {
+                None
+            },
+            lane_width: if g.coin() {
+                Some(<super::common::LaneWidth as uper::random::Random>::random(
+                    g,
+                ))
+            } else {
+                None
+            },
             circle: <Circle as uper::random::Random>::random(g),
-            regional: if g.coin() { Some(<GeometricProjectionRegional as uper::random::Random>::random(g)) } else { None },
+            regional: if g.coin() {
+                Some(<GeometricProjectionRegional as uper::random::Random>::random(g))
+            } else {
+                None
+            },
             extensions: uper::Extensions::new(),
         }
     }
@@ -2697,7 +3323,11 @@ pub struct Circle {
 
 impl uper::Placeholder for Circle {
     fn placeholder() -> Self {
-        Self { center: <super::common::Position3D as uper::Placeholder>::placeholder(), radius: <RadiusB12 as uper::Placeholder>::placeholder(), units: <DistanceUnits as uper::Placeholder>::placeholder() }
+        Self {
+            center: <super::common::Position3D as uper::Placeholder>::placeholder(),
+            radius: <RadiusB12 as uper::Placeholder>::placeholder(),
+            units: <DistanceUnits as uper::Placeholder>::placeholder(),
+        }
     }
 }
 
@@ -2757,7 +3387,16 @@ pub enum DistanceUnits {
 
 impl DistanceUnits {
     /// Every root value in encoding (ascending number) order.
-    pub const ALL: [Self; 8] = [Self::Centimeter, Self::Cm2_5, Self::Decimeter, Self::Meter, Self::Kilometer, Self::Foot, Self::Yard, Self::Mile];
+    pub const ALL: [Self; 8] = [
+        Self::Centimeter,
+        Self::Cm2_5,
+        Self::Decimeter,
+        Self::Meter,
+        Self::Kilometer,
+        Self::Foot,
+        Self::Yard,
+        Self::Mile,
+    ];
     /// The ASN.1 number of the value (`None` for an unknown extension value).
     pub const fn number(self) -> Option<i64> {
         match self {
@@ -2810,7 +3449,13 @@ impl Uper for DistanceUnits {
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let at = r.position();
         let i = r.read_constrained(0, 7)?;
-        *out = Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))?;
+        *out = Self::ALL
+            .get(i as usize)
+            .copied()
+            .ok_or(uper::DecodeError::new(
+                uper::DecodeErrorKind::InvalidEnumIndex,
+                at,
+            ))?;
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -2839,6 +3484,12 @@ impl GeometricProjectionRegional {
     }
 }
 
+impl Default for GeometricProjectionRegional {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
 impl uper::Placeholder for GeometricProjectionRegional {
     fn placeholder() -> Self {
         Self(uper::SeqOf::new())
@@ -2849,7 +3500,12 @@ impl Uper for GeometricProjectionRegional {
     const PATH: &'static str = "TravelerInformation.GeometricProjection.regional";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(146), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        uper::decode_seq_of_into(r, Self::SIZE, "TravelerInformation.GeometricProjection.regional", &mut out.0)
+        uper::decode_seq_of_into(
+            r,
+            Self::SIZE,
+            "TravelerInformation.GeometricProjection.regional",
+            &mut out.0,
+        )
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
@@ -2861,7 +3517,8 @@ impl uper::random::Random for GeometricProjectionRegional {
     fn random(g: &mut uper::random::Gen) -> Self {
         let mut v = Self(uper::SeqOf::new());
         for _ in 0..g.count(1, 1) {
-            let _ = v.0.push(<RegGeometricProjection as uper::random::Random>::random(g));
+            let _ =
+                v.0.push(<RegGeometricProjection as uper::random::Random>::random(g));
         }
         v
     }
@@ -2890,7 +3547,10 @@ impl RegGeometricProjection {
 
 impl uper::Placeholder for RegGeometricProjection {
     fn placeholder() -> Self {
-        Self::Unknown { id: <super::common::RegionId as uper::Placeholder>::placeholder(), content: uper::Octets::new() }
+        Self::Unknown {
+            id: <super::common::RegionId as uper::Placeholder>::placeholder(),
+            content: uper::Octets::new(),
+        }
     }
 }
 
@@ -2900,7 +3560,15 @@ impl Uper for RegGeometricProjection {
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let id = <super::common::RegionId>::decode_uper(r)?;
         match id.get() {
-            _ => *out = Self::Unknown { id, content: uper::decode_unknown_open(r, "TravelerInformation.RegGeometricProjection:unknown")? },
+            _ => {
+                *out = Self::Unknown {
+                    id,
+                    content: uper::decode_unknown_open(
+                        r,
+                        "TravelerInformation.RegGeometricProjection:unknown",
+                    )?,
+                }
+            }
         }
         Ok(())
     }
@@ -2921,7 +3589,10 @@ impl uper::random::Random for RegGeometricProjection {
         for _ in 0..1 + g.below(4) {
             let _ = content.push(g.octet());
         }
-        Self::Unknown { id: <super::common::RegionId as uper::random::Random>::random(g), content }
+        Self::Unknown {
+            id: <super::common::RegionId as uper::random::Random>::random(g),
+            content,
+        }
     }
 }
 
@@ -2938,7 +3609,11 @@ pub struct ValidRegion {
 
 impl uper::Placeholder for ValidRegion {
     fn placeholder() -> Self {
-        Self { direction: <super::common::HeadingSlice as uper::Placeholder>::placeholder(), extent: None, area: <ValidRegionArea as uper::Placeholder>::placeholder() }
+        Self {
+            direction: <super::common::HeadingSlice as uper::Placeholder>::placeholder(),
+            extent: None,
+            area: <ValidRegionArea as uper::Placeholder>::placeholder(),
+        }
     }
 }
 
@@ -2977,7 +3652,11 @@ impl uper::random::Random for ValidRegion {
     fn random(g: &mut uper::random::Gen) -> Self {
         Self {
             direction: <super::common::HeadingSlice as uper::random::Random>::random(g),
-            extent: if g.coin() { Some(<super::common::Extent as uper::random::Random>::random(g)) } else { None },
+            extent: if g.coin() {
+                Some(<super::common::Extent as uper::random::Random>::random(g))
+            } else {
+                None
+            },
             area: <ValidRegionArea as uper::random::Random>::random(g),
         }
     }
@@ -3008,7 +3687,9 @@ impl Uper for ValidRegionArea {
         match r.read_constrained(0, 2)? {
             0 => {
                 if !matches!(out, Self::ShapePointSet(_)) {
-                    uper::replace_with(out, || Self::ShapePointSet(<ShapePointSet as uper::Placeholder>::placeholder()));
+                    uper::replace_with(out, || {
+                        Self::ShapePointSet(<ShapePointSet as uper::Placeholder>::placeholder())
+                    });
                 }
                 if let Self::ShapePointSet(v) = out {
                     <ShapePointSet>::decode_into(r, v)?;
@@ -3016,7 +3697,9 @@ impl Uper for ValidRegionArea {
             }
             1 => {
                 if !matches!(out, Self::Circle(_)) {
-                    uper::replace_with(out, || Self::Circle(<Circle as uper::Placeholder>::placeholder()));
+                    uper::replace_with(out, || {
+                        Self::Circle(<Circle as uper::Placeholder>::placeholder())
+                    });
                 }
                 if let Self::Circle(v) = out {
                     <Circle>::decode_into(r, v)?;
@@ -3024,21 +3707,37 @@ impl Uper for ValidRegionArea {
             }
             2 => {
                 if !matches!(out, Self::RegionPointSet(_)) {
-                    uper::replace_with(out, || Self::RegionPointSet(<RegionPointSet as uper::Placeholder>::placeholder()));
+                    uper::replace_with(out, || {
+                        Self::RegionPointSet(<RegionPointSet as uper::Placeholder>::placeholder())
+                    });
                 }
                 if let Self::RegionPointSet(v) = out {
                     <RegionPointSet>::decode_into(r, v)?;
                 }
             }
-            _ => return Err(uper::DecodeError::new(uper::DecodeErrorKind::InvalidChoiceIndex, at)),
+            _ => {
+                return Err(uper::DecodeError::new(
+                    uper::DecodeErrorKind::InvalidChoiceIndex,
+                    at,
+                ))
+            }
         }
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         match self {
-            Self::ShapePointSet(v) => { w.write_constrained(0, 0, 2)?; v.encode_uper(w) }
-            Self::Circle(v) => { w.write_constrained(1, 0, 2)?; v.encode_uper(w) }
-            Self::RegionPointSet(v) => { w.write_constrained(2, 0, 2)?; v.encode_uper(w) }
+            Self::ShapePointSet(v) => {
+                w.write_constrained(0, 0, 2)?;
+                v.encode_uper(w)
+            }
+            Self::Circle(v) => {
+                w.write_constrained(1, 0, 2)?;
+                v.encode_uper(w)
+            }
+            Self::RegionPointSet(v) => {
+                w.write_constrained(2, 0, 2)?;
+                v.encode_uper(w)
+            }
         }
     }
 }
@@ -3072,7 +3771,13 @@ pub struct ShapePointSet {
 
 impl uper::Placeholder for ShapePointSet {
     fn placeholder() -> Self {
-        Self { anchor: None, lane_width: None, directionality: None, node_list: <super::common::NodeListXY as uper::Placeholder>::placeholder(), extensions: uper::Extensions::new() }
+        Self {
+            anchor: None,
+            lane_width: None,
+            directionality: None,
+            node_list: <super::common::NodeListXY as uper::Placeholder>::placeholder(),
+            extensions: uper::Extensions::new(),
+        }
     }
 }
 
@@ -3113,12 +3818,21 @@ impl Uper for ShapePointSet {
             out.directionality = None;
         }
         <super::common::NodeListXY>::decode_into(r, &mut out.node_list)?;
-        out.extensions = if extended { uper::Extensions::decode(r, "TravelerInformation.ShapePointSet:ext")? } else { uper::Extensions::new() };
+        out.extensions = if extended {
+            uper::Extensions::decode(r, "TravelerInformation.ShapePointSet:ext")?
+        } else {
+            uper::Extensions::new()
+        };
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_bit(self.extensions.is_present())?;
-        w.write_bits(((self.anchor.is_some() as u64) << 2) | ((self.lane_width.is_some() as u64) << 1) | ((self.directionality.is_some() as u64) << 0), 3)?;
+        w.write_bits(
+            ((self.anchor.is_some() as u64) << 2)
+                | ((self.lane_width.is_some() as u64) << 1)
+                | ((self.directionality.is_some() as u64) << 0),
+            3,
+        )?;
         if let Some(v) = &self.anchor {
             v.encode_uper(w)?;
         }
@@ -3140,9 +3854,25 @@ impl Uper for ShapePointSet {
 impl uper::random::Random for ShapePointSet {
     fn random(g: &mut uper::random::Gen) -> Self {
         Self {
-            anchor: if g.coin() { Some(<super::common::Position3D as uper::random::Random>::random(g)) } else { None },
-            lane_width: if g.coin() { Some(<super::common::LaneWidth as uper::random::Random>::random(g)) } else { None },
-            directionality: if g.coin() { Some(<DirectionOfUse as uper::random::Random>::random(g)) } else { None },
+            anchor: if g.coin() {
+                Some(<super::common::Position3D as uper::random::Random>::random(
+                    g,
+                ))
+            } else {
+                None
+            },
+            lane_width: if g.coin() {
+                Some(<super::common::LaneWidth as uper::random::Random>::random(
+                    g,
+                ))
+            } else {
+                None
+            },
+            directionality: if g.coin() {
+                Some(<DirectionOfUse as uper::random::Random>::random(g))
+            } else {
+                None
+            },
             node_list: <super::common::NodeListXY as uper::random::Random>::random(g),
             extensions: uper::Extensions::new(),
         }
@@ -3164,7 +3894,12 @@ pub struct RegionPointSet {
 
 impl uper::Placeholder for RegionPointSet {
     fn placeholder() -> Self {
-        Self { anchor: None, scale: None, node_list: <RegionList as uper::Placeholder>::placeholder(), extensions: uper::Extensions::new() }
+        Self {
+            anchor: None,
+            scale: None,
+            node_list: <RegionList as uper::Placeholder>::placeholder(),
+            extensions: uper::Extensions::new(),
+        }
     }
 }
 
@@ -3195,12 +3930,19 @@ impl Uper for RegionPointSet {
             out.scale = None;
         }
         <RegionList>::decode_into(r, &mut out.node_list)?;
-        out.extensions = if extended { uper::Extensions::decode(r, "TravelerInformation.RegionPointSet:ext")? } else { uper::Extensions::new() };
+        out.extensions = if extended {
+            uper::Extensions::decode(r, "TravelerInformation.RegionPointSet:ext")?
+        } else {
+            uper::Extensions::new()
+        };
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         w.write_bit(self.extensions.is_present())?;
-        w.write_bits(((self.anchor.is_some() as u64) << 1) | ((self.scale.is_some() as u64) << 0), 2)?;
+        w.write_bits(
+            ((self.anchor.is_some() as u64) << 1) | ((self.scale.is_some() as u64) << 0),
+            2,
+        )?;
         if let Some(v) = &self.anchor {
             v.encode_uper(w)?;
         }
@@ -3219,8 +3961,18 @@ impl Uper for RegionPointSet {
 impl uper::random::Random for RegionPointSet {
     fn random(g: &mut uper::random::Gen) -> Self {
         Self {
-            anchor: if g.coin() { Some(<super::common::Position3D as uper::random::Random>::random(g)) } else { None },
-            scale: if g.coin() { Some(<Zoom as uper::random::Random>::random(g)) } else { None },
+            anchor: if g.coin() {
+                Some(<super::common::Position3D as uper::random::Random>::random(
+                    g,
+                ))
+            } else {
+                None
+            },
+            scale: if g.coin() {
+                Some(<Zoom as uper::random::Random>::random(g))
+            } else {
+                None
+            },
             node_list: <RegionList as uper::random::Random>::random(g),
             extensions: uper::Extensions::new(),
         }
@@ -3238,6 +3990,12 @@ impl RegionList {
     /// An empty list (valid for encoding once it holds the minimum number of items).
     pub fn new() -> Self {
         Self(uper::SeqOf::new())
+    }
+}
+
+impl Default for RegionList {
+    fn default() -> Self {
+        Self::new()
     }
 }
 
@@ -3282,7 +4040,11 @@ pub struct RegionOffsets {
 
 impl uper::Placeholder for RegionOffsets {
     fn placeholder() -> Self {
-        Self { x_offset: <OffsetLLB16 as uper::Placeholder>::placeholder(), y_offset: <OffsetLLB16 as uper::Placeholder>::placeholder(), z_offset: None }
+        Self {
+            x_offset: <OffsetLLB16 as uper::Placeholder>::placeholder(),
+            y_offset: <OffsetLLB16 as uper::Placeholder>::placeholder(),
+            z_offset: None,
+        }
     }
 }
 
@@ -3322,7 +4084,11 @@ impl uper::random::Random for RegionOffsets {
         Self {
             x_offset: <OffsetLLB16 as uper::random::Random>::random(g),
             y_offset: <OffsetLLB16 as uper::random::Random>::random(g),
-            z_offset: if g.coin() { Some(<OffsetLLB16 as uper::random::Random>::random(g)) } else { None },
+            z_offset: if g.coin() {
+                Some(<OffsetLLB16 as uper::random::Random>::random(g))
+            } else {
+                None
+            },
         }
     }
 }
@@ -3341,6 +4107,12 @@ impl GeographicalPathRegional {
     }
 }
 
+impl Default for GeographicalPathRegional {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
 impl uper::Placeholder for GeographicalPathRegional {
     fn placeholder() -> Self {
         Self(uper::SeqOf::new())
@@ -3351,7 +4123,12 @@ impl Uper for GeographicalPathRegional {
     const PATH: &'static str = "TravelerInformation.GeographicalPath.regional";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(146), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        uper::decode_seq_of_into(r, Self::SIZE, "TravelerInformation.GeographicalPath.regional", &mut out.0)
+        uper::decode_seq_of_into(
+            r,
+            Self::SIZE,
+            "TravelerInformation.GeographicalPath.regional",
+            &mut out.0,
+        )
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
@@ -3363,7 +4140,8 @@ impl uper::random::Random for GeographicalPathRegional {
     fn random(g: &mut uper::random::Gen) -> Self {
         let mut v = Self(uper::SeqOf::new());
         for _ in 0..g.count(1, 1) {
-            let _ = v.0.push(<RegGeographicalPath as uper::random::Random>::random(g));
+            let _ =
+                v.0.push(<RegGeographicalPath as uper::random::Random>::random(g));
         }
         v
     }
@@ -3392,7 +4170,10 @@ impl RegGeographicalPath {
 
 impl uper::Placeholder for RegGeographicalPath {
     fn placeholder() -> Self {
-        Self::Unknown { id: <super::common::RegionId as uper::Placeholder>::placeholder(), content: uper::Octets::new() }
+        Self::Unknown {
+            id: <super::common::RegionId as uper::Placeholder>::placeholder(),
+            content: uper::Octets::new(),
+        }
     }
 }
 
@@ -3402,7 +4183,15 @@ impl Uper for RegGeographicalPath {
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let id = <super::common::RegionId>::decode_uper(r)?;
         match id.get() {
-            _ => *out = Self::Unknown { id, content: uper::decode_unknown_open(r, "TravelerInformation.RegGeographicalPath:unknown")? },
+            _ => {
+                *out = Self::Unknown {
+                    id,
+                    content: uper::decode_unknown_open(
+                        r,
+                        "TravelerInformation.RegGeographicalPath:unknown",
+                    )?,
+                }
+            }
         }
         Ok(())
     }
@@ -3423,7 +4212,10 @@ impl uper::random::Random for RegGeographicalPath {
         for _ in 0..1 + g.below(4) {
             let _ = content.push(g.octet());
         }
-        Self::Unknown { id: <super::common::RegionId as uper::random::Random>::random(g), content }
+        Self::Unknown {
+            id: <super::common::RegionId as uper::random::Random>::random(g),
+            content,
+        }
     }
 }
 
@@ -3456,7 +4248,11 @@ impl Uper for TravelerDataFrameContent {
         match r.read_constrained(0, 4)? {
             0 => {
                 if !matches!(out, Self::Advisory(_)) {
-                    uper::replace_with(out, || Self::Advisory(<super::itis::ITIScodesAndText as uper::Placeholder>::placeholder()));
+                    uper::replace_with(out, || {
+                        Self::Advisory(
+                            <super::itis::ITIScodesAndText as uper::Placeholder>::placeholder(),
+                        )
+                    });
                 }
                 if let Self::Advisory(v) = out {
                     <super::itis::ITIScodesAndText>::decode_into(r, v)?;
@@ -3464,7 +4260,9 @@ impl Uper for TravelerDataFrameContent {
             }
             1 => {
                 if !matches!(out, Self::WorkZone(_)) {
-                    uper::replace_with(out, || Self::WorkZone(<WorkZone as uper::Placeholder>::placeholder()));
+                    uper::replace_with(out, || {
+                        Self::WorkZone(<WorkZone as uper::Placeholder>::placeholder())
+                    });
                 }
                 if let Self::WorkZone(v) = out {
                     <WorkZone>::decode_into(r, v)?;
@@ -3472,7 +4270,9 @@ impl Uper for TravelerDataFrameContent {
             }
             2 => {
                 if !matches!(out, Self::GenericSign(_)) {
-                    uper::replace_with(out, || Self::GenericSign(<GenericSignage as uper::Placeholder>::placeholder()));
+                    uper::replace_with(out, || {
+                        Self::GenericSign(<GenericSignage as uper::Placeholder>::placeholder())
+                    });
                 }
                 if let Self::GenericSign(v) = out {
                     <GenericSignage>::decode_into(r, v)?;
@@ -3480,7 +4280,9 @@ impl Uper for TravelerDataFrameContent {
             }
             3 => {
                 if !matches!(out, Self::SpeedLimit(_)) {
-                    uper::replace_with(out, || Self::SpeedLimit(<SpeedLimit as uper::Placeholder>::placeholder()));
+                    uper::replace_with(out, || {
+                        Self::SpeedLimit(<SpeedLimit as uper::Placeholder>::placeholder())
+                    });
                 }
                 if let Self::SpeedLimit(v) = out {
                     <SpeedLimit>::decode_into(r, v)?;
@@ -3488,23 +4290,45 @@ impl Uper for TravelerDataFrameContent {
             }
             4 => {
                 if !matches!(out, Self::ExitService(_)) {
-                    uper::replace_with(out, || Self::ExitService(<ExitService as uper::Placeholder>::placeholder()));
+                    uper::replace_with(out, || {
+                        Self::ExitService(<ExitService as uper::Placeholder>::placeholder())
+                    });
                 }
                 if let Self::ExitService(v) = out {
                     <ExitService>::decode_into(r, v)?;
                 }
             }
-            _ => return Err(uper::DecodeError::new(uper::DecodeErrorKind::InvalidChoiceIndex, at)),
+            _ => {
+                return Err(uper::DecodeError::new(
+                    uper::DecodeErrorKind::InvalidChoiceIndex,
+                    at,
+                ))
+            }
         }
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         match self {
-            Self::Advisory(v) => { w.write_constrained(0, 0, 4)?; v.encode_uper(w) }
-            Self::WorkZone(v) => { w.write_constrained(1, 0, 4)?; v.encode_uper(w) }
-            Self::GenericSign(v) => { w.write_constrained(2, 0, 4)?; v.encode_uper(w) }
-            Self::SpeedLimit(v) => { w.write_constrained(3, 0, 4)?; v.encode_uper(w) }
-            Self::ExitService(v) => { w.write_constrained(4, 0, 4)?; v.encode_uper(w) }
+            Self::Advisory(v) => {
+                w.write_constrained(0, 0, 4)?;
+                v.encode_uper(w)
+            }
+            Self::WorkZone(v) => {
+                w.write_constrained(1, 0, 4)?;
+                v.encode_uper(w)
+            }
+            Self::GenericSign(v) => {
+                w.write_constrained(2, 0, 4)?;
+                v.encode_uper(w)
+            }
+            Self::SpeedLimit(v) => {
+                w.write_constrained(3, 0, 4)?;
+                v.encode_uper(w)
+            }
+            Self::ExitService(v) => {
+                w.write_constrained(4, 0, 4)?;
+                v.encode_uper(w)
+            }
         }
     }
 }
@@ -3518,7 +4342,9 @@ impl uper::random::Random for TravelerDataFrameContent {
             2 => Self::GenericSign(<GenericSignage as uper::random::Random>::random(g)),
             3 => Self::SpeedLimit(<SpeedLimit as uper::random::Random>::random(g)),
             4 => Self::ExitService(<ExitService as uper::random::Random>::random(g)),
-            _ => Self::Advisory(<super::itis::ITIScodesAndText as uper::Placeholder>::placeholder()),
+            _ => {
+                Self::Advisory(<super::itis::ITIScodesAndText as uper::Placeholder>::placeholder())
+            }
         }
     }
 }
@@ -3534,6 +4360,12 @@ impl WorkZone {
     /// An empty list (valid for encoding once it holds the minimum number of items).
     pub fn new() -> Self {
         Self(uper::SeqOf::new())
+    }
+}
+
+impl Default for WorkZone {
+    fn default() -> Self {
+        Self::new()
     }
 }
 
@@ -3574,7 +4406,9 @@ pub struct WorkZoneItem {
 
 impl uper::Placeholder for WorkZoneItem {
     fn placeholder() -> Self {
-        Self { item: <WorkZoneItemItem as uper::Placeholder>::placeholder() }
+        Self {
+            item: <WorkZoneItemItem as uper::Placeholder>::placeholder(),
+        }
     }
 }
 
@@ -3623,7 +4457,9 @@ impl Uper for WorkZoneItemItem {
         match r.read_constrained(0, 1)? {
             0 => {
                 if !matches!(out, Self::Itis(_)) {
-                    uper::replace_with(out, || Self::Itis(<super::itis::ITIScodes as uper::Placeholder>::placeholder()));
+                    uper::replace_with(out, || {
+                        Self::Itis(<super::itis::ITIScodes as uper::Placeholder>::placeholder())
+                    });
                 }
                 if let Self::Itis(v) = out {
                     <super::itis::ITIScodes>::decode_into(r, v)?;
@@ -3631,20 +4467,33 @@ impl Uper for WorkZoneItemItem {
             }
             1 => {
                 if !matches!(out, Self::Text(_)) {
-                    uper::replace_with(out, || Self::Text(<ITIStextPhrase as uper::Placeholder>::placeholder()));
+                    uper::replace_with(out, || {
+                        Self::Text(<ITIStextPhrase as uper::Placeholder>::placeholder())
+                    });
                 }
                 if let Self::Text(v) = out {
                     <ITIStextPhrase>::decode_into(r, v)?;
                 }
             }
-            _ => return Err(uper::DecodeError::new(uper::DecodeErrorKind::InvalidChoiceIndex, at)),
+            _ => {
+                return Err(uper::DecodeError::new(
+                    uper::DecodeErrorKind::InvalidChoiceIndex,
+                    at,
+                ))
+            }
         }
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         match self {
-            Self::Itis(v) => { w.write_constrained(0, 0, 1)?; v.encode_uper(w) }
-            Self::Text(v) => { w.write_constrained(1, 0, 1)?; v.encode_uper(w) }
+            Self::Itis(v) => {
+                w.write_constrained(0, 0, 1)?;
+                v.encode_uper(w)
+            }
+            Self::Text(v) => {
+                w.write_constrained(1, 0, 1)?;
+                v.encode_uper(w)
+            }
         }
     }
 }
@@ -3721,6 +4570,12 @@ impl GenericSignage {
     }
 }
 
+impl Default for GenericSignage {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
 impl uper::Placeholder for GenericSignage {
     fn placeholder() -> Self {
         Self(uper::SeqOf::new())
@@ -3731,7 +4586,12 @@ impl Uper for GenericSignage {
     const PATH: &'static str = "TravelerInformation.GenericSignage";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(472), Some(1876));
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        uper::decode_seq_of_into(r, Self::SIZE, "TravelerInformation.GenericSignage", &mut out.0)
+        uper::decode_seq_of_into(
+            r,
+            Self::SIZE,
+            "TravelerInformation.GenericSignage",
+            &mut out.0,
+        )
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
@@ -3743,7 +4603,8 @@ impl uper::random::Random for GenericSignage {
     fn random(g: &mut uper::random::Gen) -> Self {
         let mut v = Self(uper::SeqOf::new());
         for _ in 0..g.count(1, 4) {
-            let _ = v.0.push(<GenericSignageItem as uper::random::Random>::random(g));
+            let _ =
+                v.0.push(<GenericSignageItem as uper::random::Random>::random(g));
         }
         v
     }
@@ -3758,7 +4619,9 @@ pub struct GenericSignageItem {
 
 impl uper::Placeholder for GenericSignageItem {
     fn placeholder() -> Self {
-        Self { item: <GenericSignageItemItem as uper::Placeholder>::placeholder() }
+        Self {
+            item: <GenericSignageItemItem as uper::Placeholder>::placeholder(),
+        }
     }
 }
 
@@ -3807,7 +4670,9 @@ impl Uper for GenericSignageItemItem {
         match r.read_constrained(0, 1)? {
             0 => {
                 if !matches!(out, Self::Itis(_)) {
-                    uper::replace_with(out, || Self::Itis(<super::itis::ITIScodes as uper::Placeholder>::placeholder()));
+                    uper::replace_with(out, || {
+                        Self::Itis(<super::itis::ITIScodes as uper::Placeholder>::placeholder())
+                    });
                 }
                 if let Self::Itis(v) = out {
                     <super::itis::ITIScodes>::decode_into(r, v)?;
@@ -3815,20 +4680,33 @@ impl Uper for GenericSignageItemItem {
             }
             1 => {
                 if !matches!(out, Self::Text(_)) {
-                    uper::replace_with(out, || Self::Text(<ITIStextPhrase as uper::Placeholder>::placeholder()));
+                    uper::replace_with(out, || {
+                        Self::Text(<ITIStextPhrase as uper::Placeholder>::placeholder())
+                    });
                 }
                 if let Self::Text(v) = out {
                     <ITIStextPhrase>::decode_into(r, v)?;
                 }
             }
-            _ => return Err(uper::DecodeError::new(uper::DecodeErrorKind::InvalidChoiceIndex, at)),
+            _ => {
+                return Err(uper::DecodeError::new(
+                    uper::DecodeErrorKind::InvalidChoiceIndex,
+                    at,
+                ))
+            }
         }
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         match self {
-            Self::Itis(v) => { w.write_constrained(0, 0, 1)?; v.encode_uper(w) }
-            Self::Text(v) => { w.write_constrained(1, 0, 1)?; v.encode_uper(w) }
+            Self::Itis(v) => {
+                w.write_constrained(0, 0, 1)?;
+                v.encode_uper(w)
+            }
+            Self::Text(v) => {
+                w.write_constrained(1, 0, 1)?;
+                v.encode_uper(w)
+            }
         }
     }
 }
@@ -3858,6 +4736,12 @@ impl SpeedLimit {
     }
 }
 
+impl Default for SpeedLimit {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
 impl uper::Placeholder for SpeedLimit {
     fn placeholder() -> Self {
         Self(uper::SeqOf::new())
@@ -3880,7 +4764,8 @@ impl uper::random::Random for SpeedLimit {
     fn random(g: &mut uper::random::Gen) -> Self {
         let mut v = Self(uper::SeqOf::new());
         for _ in 0..g.count(1, 5) {
-            let _ = v.0.push(<SpeedLimitItem as uper::random::Random>::random(g));
+            let _ =
+                v.0.push(<SpeedLimitItem as uper::random::Random>::random(g));
         }
         v
     }
@@ -3895,7 +4780,9 @@ pub struct SpeedLimitItem {
 
 impl uper::Placeholder for SpeedLimitItem {
     fn placeholder() -> Self {
-        Self { item: <SpeedLimitItemItem as uper::Placeholder>::placeholder() }
+        Self {
+            item: <SpeedLimitItemItem as uper::Placeholder>::placeholder(),
+        }
     }
 }
 
@@ -3944,7 +4831,9 @@ impl Uper for SpeedLimitItemItem {
         match r.read_constrained(0, 1)? {
             0 => {
                 if !matches!(out, Self::Itis(_)) {
-                    uper::replace_with(out, || Self::Itis(<super::itis::ITIScodes as uper::Placeholder>::placeholder()));
+                    uper::replace_with(out, || {
+                        Self::Itis(<super::itis::ITIScodes as uper::Placeholder>::placeholder())
+                    });
                 }
                 if let Self::Itis(v) = out {
                     <super::itis::ITIScodes>::decode_into(r, v)?;
@@ -3952,20 +4841,33 @@ impl Uper for SpeedLimitItemItem {
             }
             1 => {
                 if !matches!(out, Self::Text(_)) {
-                    uper::replace_with(out, || Self::Text(<ITIStextPhrase as uper::Placeholder>::placeholder()));
+                    uper::replace_with(out, || {
+                        Self::Text(<ITIStextPhrase as uper::Placeholder>::placeholder())
+                    });
                 }
                 if let Self::Text(v) = out {
                     <ITIStextPhrase>::decode_into(r, v)?;
                 }
             }
-            _ => return Err(uper::DecodeError::new(uper::DecodeErrorKind::InvalidChoiceIndex, at)),
+            _ => {
+                return Err(uper::DecodeError::new(
+                    uper::DecodeErrorKind::InvalidChoiceIndex,
+                    at,
+                ))
+            }
         }
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         match self {
-            Self::Itis(v) => { w.write_constrained(0, 0, 1)?; v.encode_uper(w) }
-            Self::Text(v) => { w.write_constrained(1, 0, 1)?; v.encode_uper(w) }
+            Self::Itis(v) => {
+                w.write_constrained(0, 0, 1)?;
+                v.encode_uper(w)
+            }
+            Self::Text(v) => {
+                w.write_constrained(1, 0, 1)?;
+                v.encode_uper(w)
+            }
         }
     }
 }
@@ -3995,6 +4897,12 @@ impl ExitService {
     }
 }
 
+impl Default for ExitService {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
 impl uper::Placeholder for ExitService {
     fn placeholder() -> Self {
         Self(uper::SeqOf::new())
@@ -4017,7 +4925,8 @@ impl uper::random::Random for ExitService {
     fn random(g: &mut uper::random::Gen) -> Self {
         let mut v = Self(uper::SeqOf::new());
         for _ in 0..g.count(1, 4) {
-            let _ = v.0.push(<ExitServiceItem as uper::random::Random>::random(g));
+            let _ =
+                v.0.push(<ExitServiceItem as uper::random::Random>::random(g));
         }
         v
     }
@@ -4032,7 +4941,9 @@ pub struct ExitServiceItem {
 
 impl uper::Placeholder for ExitServiceItem {
     fn placeholder() -> Self {
-        Self { item: <ExitServiceItemItem as uper::Placeholder>::placeholder() }
+        Self {
+            item: <ExitServiceItemItem as uper::Placeholder>::placeholder(),
+        }
     }
 }
 
@@ -4081,7 +4992,9 @@ impl Uper for ExitServiceItemItem {
         match r.read_constrained(0, 1)? {
             0 => {
                 if !matches!(out, Self::Itis(_)) {
-                    uper::replace_with(out, || Self::Itis(<super::itis::ITIScodes as uper::Placeholder>::placeholder()));
+                    uper::replace_with(out, || {
+                        Self::Itis(<super::itis::ITIScodes as uper::Placeholder>::placeholder())
+                    });
                 }
                 if let Self::Itis(v) = out {
                     <super::itis::ITIScodes>::decode_into(r, v)?;
@@ -4089,20 +5002,33 @@ impl Uper for ExitServiceItemItem {
             }
             1 => {
                 if !matches!(out, Self::Text(_)) {
-                    uper::replace_with(out, || Self::Text(<ITIStextPhrase as uper::Placeholder>::placeholder()));
+                    uper::replace_with(out, || {
+                        Self::Text(<ITIStextPhrase as uper::Placeholder>::placeholder())
+                    });
                 }
                 if let Self::Text(v) = out {
                     <ITIStextPhrase>::decode_into(r, v)?;
                 }
             }
-            _ => return Err(uper::DecodeError::new(uper::DecodeErrorKind::InvalidChoiceIndex, at)),
+            _ => {
+                return Err(uper::DecodeError::new(
+                    uper::DecodeErrorKind::InvalidChoiceIndex,
+                    at,
+                ))
+            }
         }
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         match self {
-            Self::Itis(v) => { w.write_constrained(0, 0, 1)?; v.encode_uper(w) }
-            Self::Text(v) => { w.write_constrained(1, 0, 1)?; v.encode_uper(w) }
+            Self::Itis(v) => {
+                w.write_constrained(0, 0, 1)?;
+                v.encode_uper(w)
+            }
+            Self::Text(v) => {
+                w.write_constrained(1, 0, 1)?;
+                v.encode_uper(w)
+            }
         }
     }
 }
@@ -4179,6 +5105,12 @@ impl TravelerInformationRegional {
     }
 }
 
+impl Default for TravelerInformationRegional {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
 impl uper::Placeholder for TravelerInformationRegional {
     fn placeholder() -> Self {
         Self(uper::SeqOf::new())
@@ -4189,7 +5121,12 @@ impl Uper for TravelerInformationRegional {
     const PATH: &'static str = "TravelerInformation.TravelerInformation.regional";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(2074), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        uper::decode_seq_of_into(r, Self::SIZE, "TravelerInformation.TravelerInformation.regional", &mut out.0)
+        uper::decode_seq_of_into(
+            r,
+            Self::SIZE,
+            "TravelerInformation.TravelerInformation.regional",
+            &mut out.0,
+        )
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
@@ -4201,7 +5138,8 @@ impl uper::random::Random for TravelerInformationRegional {
     fn random(g: &mut uper::random::Gen) -> Self {
         let mut v = Self(uper::SeqOf::new());
         for _ in 0..g.count(1, 1) {
-            let _ = v.0.push(<RegTravelerInformation as uper::random::Random>::random(g));
+            let _ =
+                v.0.push(<RegTravelerInformation as uper::random::Random>::random(g));
         }
         v
     }
@@ -4230,7 +5168,10 @@ impl RegTravelerInformation {
 
 impl uper::Placeholder for RegTravelerInformation {
     fn placeholder() -> Self {
-        Self::Unknown { id: <super::common::RegionId as uper::Placeholder>::placeholder(), content: uper::Octets::new() }
+        Self::Unknown {
+            id: <super::common::RegionId as uper::Placeholder>::placeholder(),
+            content: uper::Octets::new(),
+        }
     }
 }
 
@@ -4240,7 +5181,15 @@ impl Uper for RegTravelerInformation {
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let id = <super::common::RegionId>::decode_uper(r)?;
         match id.get() {
-            _ => *out = Self::Unknown { id, content: uper::decode_unknown_open(r, "TravelerInformation.RegTravelerInformation:unknown")? },
+            _ => {
+                *out = Self::Unknown {
+                    id,
+                    content: uper::decode_unknown_open(
+                        r,
+                        "TravelerInformation.RegTravelerInformation:unknown",
+                    )?,
+                }
+            }
         }
         Ok(())
     }
@@ -4261,6 +5210,9 @@ impl uper::random::Random for RegTravelerInformation {
         for _ in 0..1 + g.below(4) {
             let _ = content.push(g.octet());
         }
-        Self::Unknown { id: <super::common::RegionId as uper::random::Random>::random(g), content }
+        Self::Unknown {
+            id: <super::common::RegionId as uper::random::Random>::random(g),
+            content,
+        }
     }
 }

@@ -34,6 +34,8 @@ pub enum DecodeErrorKind {
     TrailingBytes,
     /// A length determinant larger than this implementation can represent.
     LengthTooLarge,
+    /// The MessageFrame carries another message than the one asked for.
+    UnexpectedMessage,
 }
 
 impl DecodeErrorKind {
@@ -51,6 +53,7 @@ impl DecodeErrorKind {
             Self::FragmentedOpenType => "fragmented open type",
             Self::TrailingBytes => "trailing bytes",
             Self::LengthTooLarge => "length too large",
+            Self::UnexpectedMessage => "unexpected message",
         }
     }
 }
@@ -71,13 +74,21 @@ impl DecodeError {
     /// An error of `kind` at bit `bit` with no path yet.
     #[cold]
     pub const fn new(kind: DecodeErrorKind, bit: usize) -> Self {
-        Self { kind, bit: bit as u32, path: "" }
+        Self {
+            kind,
+            bit: bit as u32,
+            path: "",
+        }
     }
 
     /// An error of `kind` at `bit` that names `path`.
     #[cold]
     pub const fn at(kind: DecodeErrorKind, bit: usize, path: &'static str) -> Self {
-        Self { kind, bit: bit as u32, path }
+        Self {
+            kind,
+            bit: bit as u32,
+            path,
+        }
     }
 
     /// Sets the path if none is set yet (the innermost type wins).

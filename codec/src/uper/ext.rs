@@ -55,7 +55,10 @@ fn for_each_record<F: FnMut(usize, &[u8]) -> bool>(records: &[u8], mut f: F) {
 impl<const N: usize> Extensions<N> {
     /// No extension additions (the extension bit is clear).
     pub fn new() -> Self {
-        Self { bitmap_len: 0, records: Octets::new() }
+        Self {
+            bitmap_len: 0,
+            records: Octets::new(),
+        }
     }
 
     /// True when the extension bit is to be set (something was received or stored).
@@ -65,12 +68,18 @@ impl<const N: usize> Extensions<N> {
 
     /// The stored unknown additions: (index after the root, open-type content).
     pub fn unknown(&self) -> UnknownAdditions<'_> {
-        UnknownAdditions { rest: &self.records }
+        UnknownAdditions {
+            rest: &self.records,
+        }
     }
 
     /// Decodes the bit-map and the additions. `known(index, content)` decodes an addition
     /// the type defines and returns false for one it does not; those are stored.
-    pub fn decode_with<'a, F>(r: &mut Reader<'a>, key: &'static str, mut known: F) -> DecodeResult<Self>
+    pub fn decode_with<'a, F>(
+        r: &mut Reader<'a>,
+        key: &'static str,
+        mut known: F,
+    ) -> DecodeResult<Self>
     where
         F: FnMut(usize, &mut Reader<'a>) -> DecodeResult<bool>,
     {
@@ -79,7 +88,10 @@ impl<const N: usize> Extensions<N> {
         if n as usize > r.remaining() {
             return Err(DecodeError::new(DKind::UnexpectedEnd, at));
         }
-        let mut ext = Self { bitmap_len: n as u16, records: Octets::new() };
+        let mut ext = Self {
+            bitmap_len: n as u16,
+            records: Octets::new(),
+        };
         let mut present = [0u64; 1];
         if n > MAX_BITMAP {
             return Err(DecodeError::new(DKind::LengthTooLarge, at));
@@ -106,19 +118,31 @@ impl<const N: usize> Extensions<N> {
         Self::decode_with(r, key, |_, _| Ok(false))
     }
 
-    fn store(&mut self, index: usize, mut content: Reader<'_>, key: &'static str) -> DecodeResult<()> {
+    fn store(
+        &mut self,
+        index: usize,
+        mut content: Reader<'_>,
+        key: &'static str,
+    ) -> DecodeResult<()> {
         let len = content.remaining() / 8;
         let at = content.position();
         let header = [(index >> 8) as u8, index as u8, (len >> 8) as u8, len as u8];
         for b in header {
-            self.records.push(b).map_err(|_| DecodeError::at(DKind::CapacityExceeded, at, key))?;
+            self.records
+                .push(b)
+                .map_err(|_| DecodeError::at(DKind::CapacityExceeded, at, key))?;
         }
         read_octets_into(&mut content, len, &mut self.records, key)
     }
 
     /// Encodes the bit-map and the additions. `known_present` flags the additions the type
     /// defines and holds; `write_known(index, w)` writes one of them.
-    pub fn encode_with<F>(&self, w: &mut Writer<'_>, known_present: &[bool], mut write_known: F) -> EncodeResult
+    pub fn encode_with<F>(
+        &self,
+        w: &mut Writer<'_>,
+        known_present: &[bool],
+        mut write_known: F,
+    ) -> EncodeResult
     where
         F: FnMut(usize, &mut Writer<'_>) -> EncodeResult,
     {
@@ -172,7 +196,10 @@ impl<const N: usize> core::fmt::Debug for Extensions<N> {
 
 /// Reads the content of an open type whose type is not known here (kept as raw octets),
 /// fragmented or not.
-pub fn decode_unknown_open<const N: usize>(r: &mut Reader<'_>, key: &'static str) -> DecodeResult<Octets<N>> {
+pub fn decode_unknown_open<const N: usize>(
+    r: &mut Reader<'_>,
+    key: &'static str,
+) -> DecodeResult<Octets<N>> {
     let mut out = Octets::new();
     loop {
         let part = r.read_length()?;
@@ -246,8 +273,10 @@ mod tests {
     fn encode_sample(ext: &Extensions<32>, known: Option<u8>) -> heapless::Vec<u8, 64> {
         let mut buf = [0u8; 64];
         let mut w = Writer::new(&mut buf);
-        ext.encode_with(&mut w, &[known.is_some()], |_, w| w.write_bits(known.unwrap_or(0) as u64, 8))
-            .unwrap();
+        ext.encode_with(&mut w, &[known.is_some()], |_, w| {
+            w.write_bits(known.unwrap_or(0) as u64, 8)
+        })
+        .unwrap();
         let n = w.octets();
         heapless::Vec::from_slice(&buf[..n]).unwrap()
     }
@@ -291,7 +320,13 @@ mod tests {
         let input = &buf[..n];
         let ext = Extensions::<0>::decode(&mut Reader::new(input), "T").unwrap();
         assert!(ext.is_present());
-        assert_eq!(&encode_sample(&Extensions::<32>::decode(&mut Reader::new(input), "T").unwrap(), None)[..], input);
+        assert_eq!(
+            &encode_sample(
+                &Extensions::<32>::decode(&mut Reader::new(input), "T").unwrap(),
+                None
+            )[..],
+            input
+        );
     }
 
     #[test]
@@ -306,7 +341,10 @@ mod tests {
             assert!(got.unwrap().unknown().eq([(0usize, &[1u8, 2, 3][..])]));
         } else {
             let e = got.unwrap_err();
-            assert_eq!((e.kind, e.path), (DKind::CapacityExceeded, "MapData.MapData:ext"));
+            assert_eq!(
+                (e.kind, e.path),
+                (DKind::CapacityExceeded, "MapData.MapData:ext")
+            );
         }
     }
 }

@@ -47,10 +47,14 @@ macro_rules! __constrained_int {
         }
         impl $crate::uper::Uper for $name {
             const PATH: &'static str = $path;
-            const MAX_UPER_BITS: ::core::option::Option<u64> =
-                ::core::option::Option::Some(64 - (($ub as i128 - $lb as i128) as u64).leading_zeros() as u64);
+            const MAX_UPER_BITS: ::core::option::Option<u64> = ::core::option::Option::Some(
+                64 - (($ub as i128 - $lb as i128) as u64).leading_zeros() as u64,
+            );
             #[inline]
-            fn decode_body_into(r: &mut $crate::uper::Reader<'_>, out: &mut Self) -> $crate::uper::DecodeResult<()> {
+            fn decode_body_into(
+                r: &mut $crate::uper::Reader<'_>,
+                out: &mut Self,
+            ) -> $crate::uper::DecodeResult<()> {
                 *out = Self(r.read_constrained($lb, $ub)? as $prim);
                 ::core::result::Result::Ok(())
             }

@@ -30,7 +30,11 @@ pub struct Reader<'a> {
 impl<'a> Reader<'a> {
     /// A reader over all bits of `data`.
     pub fn new(data: &'a [u8]) -> Self {
-        Self { data, pos: 0, end: data.len().saturating_mul(8) }
+        Self {
+            data,
+            pos: 0,
+            end: data.len().saturating_mul(8),
+        }
     }
 
     /// Bit position from the start of the outermost input.
@@ -104,7 +108,7 @@ impl<'a> Reader<'a> {
     /// Fills `out` with the next `out.len()` octets.
     pub fn read_octets(&mut self, out: &mut [u8]) -> DecodeResult<()> {
         self.need(out.len().saturating_mul(8))?;
-        if self.pos % 8 == 0 {
+        if self.pos.is_multiple_of(8) {
             let start = self.pos / 8;
             out.copy_from_slice(&self.data[start..start + out.len()]);
             self.pos += out.len() * 8;
@@ -144,16 +148,25 @@ impl<'a> Reader<'a> {
     pub fn read_length(&mut self) -> DecodeResult<LengthChunk> {
         let at = self.pos;
         if !self.read_bit()? {
-            return Ok(LengthChunk { len: self.read_bits(7)? as usize, more: false });
+            return Ok(LengthChunk {
+                len: self.read_bits(7)? as usize,
+                more: false,
+            });
         }
         if !self.read_bit()? {
-            return Ok(LengthChunk { len: self.read_bits(14)? as usize, more: false });
+            return Ok(LengthChunk {
+                len: self.read_bits(14)? as usize,
+                more: false,
+            });
         }
         let m = self.read_bits(6)? as usize;
         if !(1..=4).contains(&m) {
             return Err(DecodeError::new(Kind::LengthTooLarge, at));
         }
-        Ok(LengthChunk { len: m * 16384, more: true })
+        Ok(LengthChunk {
+            len: m * 16384,
+            more: true,
+        })
     }
 
     /// A normally small non-negative whole number (X.691 11.6).
@@ -178,7 +191,8 @@ impl<'a> Reader<'a> {
         let at = self.pos;
         let (v, _) = self.read_magnitude(at)?;
         let v = i64::try_from(v).map_err(|_| DecodeError::new(Kind::ValueOutOfRange, at))?;
-        lb.checked_add(v).ok_or(DecodeError::new(Kind::ValueOutOfRange, at))
+        lb.checked_add(v)
+            .ok_or(DecodeError::new(Kind::ValueOutOfRange, at))
     }
 
     /// An unconstrained whole number (X.691 11.8): two's complement octets.
@@ -199,7 +213,11 @@ impl<'a> Reader<'a> {
         }
         let bits = chunk.len * 8;
         self.need(bits)?;
-        let sub = Reader { data: self.data, pos: self.pos, end: self.pos + bits };
+        let sub = Reader {
+            data: self.data,
+            pos: self.pos,
+            end: self.pos + bits,
+        };
         self.pos += bits;
         Ok(sub)
     }
@@ -215,7 +233,7 @@ impl<'a> Reader<'a> {
     /// The octets of this reader's window from the current position, when it is aligned
     /// to an octet of the input; `None` otherwise.
     pub fn rest_if_aligned(&self) -> Option<&'a [u8]> {
-        if self.pos % 8 != 0 || self.end % 8 != 0 {
+        if !self.pos.is_multiple_of(8) || !self.end.is_multiple_of(8) {
             return None;
         }
         self.data.get(self.pos / 8..self.end / 8)
@@ -254,7 +272,10 @@ mod tests {
         assert_eq!(r.read_constrained(-900_000_000, 900_000_001).unwrap(), 0);
         // 0..=5 in 3 bits: 7 is out of range.
         let mut r = Reader::new(&[0b1110_0000]);
-        assert_eq!(r.read_constrained(0, 5).unwrap_err().kind, Kind::ValueOutOfRange);
+        assert_eq!(
+            r.read_constrained(0, 5).unwrap_err().kind,
+            Kind::ValueOutOfRange
+        );
         // A single-value range takes no bits.
         let mut r = Reader::new(&[]);
         assert_eq!(r.read_constrained(7, 7).unwrap(), 7);
@@ -263,11 +284,29 @@ mod tests {
     #[test]
     fn length_determinants() {
         let mut r = Reader::new(&[0x05]);
-        assert_eq!(r.read_length().unwrap(), LengthChunk { len: 5, more: false });
+        assert_eq!(
+            r.read_length().unwrap(),
+            LengthChunk {
+                len: 5,
+                more: false
+            }
+        );
         let mut r = Reader::new(&[0x81, 0x20]);
-        assert_eq!(r.read_length().unwrap(), LengthChunk { len: 288, more: false });
+        assert_eq!(
+            r.read_length().unwrap(),
+            LengthChunk {
+                len: 288,
+                more: false
+            }
+        );
         let mut r = Reader::new(&[0xc2]);
-        assert_eq!(r.read_length().unwrap(), LengthChunk { len: 32768, more: true });
+        assert_eq!(
+            r.read_length().unwrap(),
+            LengthChunk {
+                len: 32768,
+                more: true
+            }
+        );
         let mut r = Reader::new(&[0xc5]);
         assert_eq!(r.read_length().unwrap_err().kind, Kind::LengthTooLarge);
     }

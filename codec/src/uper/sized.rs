@@ -32,12 +32,20 @@ pub struct Size {
 impl Size {
     /// `SIZE(lb..ub)`.
     pub const fn range(lb: usize, ub: usize) -> Self {
-        Self { lb, ub, extensible: false }
+        Self {
+            lb,
+            ub,
+            extensible: false,
+        }
     }
 
     /// `SIZE(lb..ub, ...)`.
     pub const fn extensible(lb: usize, ub: usize) -> Self {
-        Self { lb, ub, extensible: true }
+        Self {
+            lb,
+            ub,
+            extensible: true,
+        }
     }
 
     const fn in_root(&self, n: usize) -> bool {
@@ -138,7 +146,9 @@ pub fn decode_seq_of_into<T: Uper, const N: usize>(
 /// Encodes a SEQUENCE OF.
 pub fn encode_seq_of<T: Uper>(w: &mut Writer<'_>, size: Size, items: &[T]) -> EncodeResult {
     write_sized(w, size, items.len(), |w, start, n| {
-        items[start..start + n].iter().try_for_each(|it| it.encode_uper(w))
+        items[start..start + n]
+            .iter()
+            .try_for_each(|it| it.encode_uper(w))
     })
 }
 
@@ -187,7 +197,9 @@ pub fn read_octets_into<const N: usize>(
 
 /// Encodes a variable OCTET STRING.
 pub fn encode_octets(w: &mut Writer<'_>, size: Size, octets: &[u8]) -> EncodeResult {
-    write_sized(w, size, octets.len(), |w, start, n| w.write_octets(&octets[start..start + n]))
+    write_sized(w, size, octets.len(), |w, start, n| {
+        w.write_octets(&octets[start..start + n])
+    })
 }
 
 /// Decodes a fixed-size OCTET STRING (`SIZE(K)`, K < 64K).
@@ -227,7 +239,11 @@ pub fn decode_bits<const NB: usize>(
 }
 
 /// Encodes a BIT STRING.
-pub fn encode_bits<const NB: usize>(w: &mut Writer<'_>, size: Size, bits: &Bits<NB>) -> EncodeResult {
+pub fn encode_bits<const NB: usize>(
+    w: &mut Writer<'_>,
+    size: Size,
+    bits: &Bits<NB>,
+) -> EncodeResult {
     let bytes = bits.as_bytes();
     write_sized(w, size, bits.len(), |w, start, n| {
         let mut i = start;

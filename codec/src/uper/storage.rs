@@ -275,14 +275,20 @@ impl<const NBYTES: usize> Bits<NBYTES> {
     /// The largest length this storage holds.
     pub const CAPACITY: usize = NBYTES * 8;
     /// The value with no bits.
-    pub const EMPTY: Self = Self { len: 0, bytes: [0; NBYTES] };
+    pub const EMPTY: Self = Self {
+        len: 0,
+        bytes: [0; NBYTES],
+    };
 
     /// `len` zero bits; `None` when `len` exceeds the storage.
     pub const fn zeros(len: usize) -> Option<Self> {
         if len > Self::CAPACITY {
             return None;
         }
-        Some(Self { len: len as u16, bytes: [0; NBYTES] })
+        Some(Self {
+            len: len as u16,
+            bytes: [0; NBYTES],
+        })
     }
 
     /// Number of bits.
@@ -324,7 +330,7 @@ impl<const NBYTES: usize> Bits<NBYTES> {
         let mut b = Self::zeros(len)?;
         let n = len.div_ceil(8);
         b.bytes[..n].copy_from_slice(bytes.get(..n)?);
-        if len % 8 != 0 {
+        if !len.is_multiple_of(8) {
             b.bytes[n - 1] &= 0xff << (8 - len % 8);
         }
         Some(b)

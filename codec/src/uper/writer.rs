@@ -24,12 +24,20 @@ pub struct Writer<'a> {
 impl<'a> Writer<'a> {
     /// A writer that fills `buf` from its first bit.
     pub fn new(buf: &'a mut [u8]) -> Self {
-        Self { buf, pos: 0, counting: false }
+        Self {
+            buf,
+            pos: 0,
+            counting: false,
+        }
     }
 
     /// A writer that writes nothing and only counts bits.
     pub fn counter() -> Writer<'static> {
-        Writer { buf: &mut [], pos: 0, counting: true }
+        Writer {
+            buf: &mut [],
+            pos: 0,
+            counting: true,
+        }
     }
 
     /// Bits written so far.
@@ -66,8 +74,16 @@ impl<'a> Writer<'a> {
             // Fast path: merge into one big-endian word; the bytes after the value are zeroed,
             // which the invariant allows (they lie past the write position).
             let used = (self.pos % 8) as u32;
-            let keep = if used == 0 { 0 } else { (self.buf[byte] as u64 >> (8 - used)) << (64 - used) };
-            let bits = if n == 0 { 0 } else { (value << (64 - n)) >> used };
+            let keep = if used == 0 {
+                0
+            } else {
+                (self.buf[byte] as u64 >> (8 - used)) << (64 - used)
+            };
+            let bits = if n == 0 {
+                0
+            } else {
+                (value << (64 - n)) >> used
+            };
             self.buf[byte..byte + 8].copy_from_slice(&(keep | bits).to_be_bytes());
             self.pos += n as usize;
             return Ok(());
@@ -110,13 +126,15 @@ impl<'a> Writer<'a> {
     /// Writes octets.
     pub fn write_octets(&mut self, octets: &[u8]) -> EncodeResult {
         self.reserve(octets.len() * 8)?;
-        if !self.counting && self.pos % 8 == 0 {
+        if !self.counting && self.pos.is_multiple_of(8) {
             let start = self.pos / 8;
             self.buf[start..start + octets.len()].copy_from_slice(octets);
             self.pos += octets.len() * 8;
             return Ok(());
         }
-        octets.iter().try_for_each(|&b| self.write_bits(b as u64, 8))
+        octets
+            .iter()
+            .try_for_each(|&b| self.write_bits(b as u64, 8))
     }
 
     /// A constrained whole number `value` in `lb..=ub` (minimal bit field).
@@ -237,11 +255,17 @@ impl<'a> Writer<'a> {
         let mut left = octets;
         while left >= 16384 {
             let m = (left / 16384).min(4);
-            segs.push((0xc0 | m as u64, 8, m * 16384)).map_err(|_| EncodeError::new(Kind::OpenTypeTooLarge))?;
+            segs.push((0xc0 | m as u64, 8, m * 16384))
+                .map_err(|_| EncodeError::new(Kind::OpenTypeTooLarge))?;
             left -= m * 16384;
         }
-        let last = if left < 128 { (left as u64, 8, left) } else { (0x8000 | left as u64, 16, left) };
-        segs.push(last).map_err(|_| EncodeError::new(Kind::OpenTypeTooLarge))?;
+        let last = if left < 128 {
+            (left as u64, 8, left)
+        } else {
+            (0x8000 | left as u64, 16, left)
+        };
+        segs.push(last)
+            .map_err(|_| EncodeError::new(Kind::OpenTypeTooLarge))?;
         let header_octets: usize = segs.iter().map(|s| s.1 as usize / 8).sum();
         self.reserve((header_octets - 1) * 8)?;
         // Original content offset and final header position of each segment.
@@ -255,9 +279,14 @@ impl<'a> Writer<'a> {
         let end = self.pos;
         for (i, &(orig, hdr, n)) in plan.iter().enumerate().rev() {
             let by = (hdr + segs[i].1 as usize - orig) / 8;
-            let to = if i + 1 == plan.len() { end } else { orig + n * 8 };
+            let to = if i + 1 == plan.len() {
+                end
+            } else {
+                orig + n * 8
+            };
             if !self.counting && by > 0 {
-                self.buf.copy_within(orig / 8..to.div_ceil(8), orig / 8 + by);
+                self.buf
+                    .copy_within(orig / 8..to.div_ceil(8), orig / 8 + by);
             }
         }
         self.pos = end + (header_octets - 1) * 8;
@@ -286,7 +315,11 @@ mod tests {
         let n = w.octets();
         let mut counter = Writer::counter();
         f(&mut counter).unwrap();
-        assert_eq!(counter.position(), w.position(), "counting agrees with writing");
+        assert_eq!(
+            counter.position(),
+            w.position(),
+            "counting agrees with writing"
+        );
         heapless::Vec::from_slice(&buf[..n]).unwrap()
     }
 
@@ -306,9 +339,15 @@ mod tests {
         let out = written(|w| w.write_constrained(0, -900_000_000, 900_000_001));
         assert_eq!(&out[..], &(((900_000_000u32) << 1).to_be_bytes()));
         assert_eq!(&written(|w| w.write_length(288))[..], &[0x81, 0x20]);
-        assert_eq!(&written(|w| w.write_normally_small(64))[..], &[0x80, 0xa0, 0x00]);
+        assert_eq!(
+            &written(|w| w.write_normally_small(64))[..],
+            &[0x80, 0xa0, 0x00]
+        );
         assert_eq!(&written(|w| w.write_unconstrained(-1))[..], &[0x01, 0xff]);
-        assert_eq!(&written(|w| w.write_unconstrained(128))[..], &[0x02, 0x00, 0x80]);
+        assert_eq!(
+            &written(|w| w.write_unconstrained(128))[..],
+            &[0x02, 0x00, 0x80]
+        );
     }
 
     #[test]
@@ -345,11 +384,14 @@ mod tests {
             let mut buf = vec_of(total + 16);
             let mut w = Writer::new(&mut buf);
             w.write_bits(0b101, 3).unwrap();
-            w.write_open(|w| (0..total).try_for_each(|i| w.write_bits((i * 31 % 251) as u64, 8))).unwrap();
+            w.write_open(|w| (0..total).try_for_each(|i| w.write_bits((i * 31 % 251) as u64, 8)))
+                .unwrap();
             w.write_bits(0b11, 2).unwrap();
             let mut counter = Writer::counter();
             counter.write_bits(0b101, 3).unwrap();
-            counter.write_open(|w| (0..total).try_for_each(|i| w.write_bits((i * 31 % 251) as u64, 8))).unwrap();
+            counter
+                .write_open(|w| (0..total).try_for_each(|i| w.write_bits((i * 31 % 251) as u64, 8)))
+                .unwrap();
             counter.write_bits(0b11, 2).unwrap();
             assert_eq!(counter.position(), w.position());
             let mut r = super::super::reader::Reader::new(&buf);
@@ -358,7 +400,11 @@ mod tests {
             loop {
                 let part = r.read_length().unwrap();
                 for _ in 0..part.len {
-                    assert_eq!(r.read_bits(8).unwrap(), (seen * 31 % 251) as u64, "octet {seen} of {total}");
+                    assert_eq!(
+                        r.read_bits(8).unwrap(),
+                        (seen * 31 % 251) as u64,
+                        "octet {seen} of {total}"
+                    );
                     seen += 1;
                 }
                 if !part.more {
