@@ -58,6 +58,26 @@ class Emitter:
             return "crate::uper::Null"
         return f"<{self.rust(ref, td)} as uper::random::Random>::random(g)"
 
+    def jer_impl(self, td, write, read):
+        return (f"#[cfg(feature = \"jer\")]\nimpl crate::jer::Jer for {td.name} {{\n"
+                f"    fn write_jer(&self, out: &mut crate::jer::JerWriter) {{\n{indent(write, 8)}\n    }}\n"
+                f"    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {{\n{indent(read, 8)}\n    }}\n}}\n")
+
+    def jer_read_of(self, ref, td):
+        """An expression reading `ref` from JER value `x` (a closure body)."""
+        if ref.builtin == "crate::uper::Null":
+            return "Ok(crate::uper::Null)"
+        if ref.builtin == "bool":
+            return "crate::jer::boolean(x)"
+        return f"<{self.rust(ref, td)} as crate::jer::Jer>::read_jer(x)"
+
+    def jer_write_of(self, ref, expr):
+        if ref.builtin == "crate::uper::Null":
+            return "out.null();"
+        if ref.builtin == "bool":
+            return f"out.bool(*{expr});"
+        return f"crate::jer::Jer::write_jer({expr}, out);"
+
     def uper_impl(self, td, decode, encode, placeholder):
         nh, h = self.bits.of(td, heap=False), self.bits.of(td, heap=True)
         opt = lambda v: "None" if v is None else f"Some({v})"  # noqa: E731
@@ -112,6 +132,9 @@ class Emitter:
         s.append(f"    /// The ASN.1 identifier of the value (empty for an unknown extension value).\n"
                  f"    pub const fn identifier(self) -> &'static str {{\n        match self {{\n{arms}{unk}        }}\n    }}")
         arms = "".join(f"            Self::{naming.camel(a)} => {i},\n" for i, (a, _) in enumerate(td.items))
+        id_arms = "".join(f"            \"{a}\" => Some(Self::{naming.camel(a)}),\n" for a, _ in td.items)
+        s.append(f"    /// The value of an ASN.1 identifier, when the type has it.\n"
+                 f"    pub fn from_identifier(name: &str) -> Option<Self> {{\n        match name {{\n{id_arms}            _ => None,\n        }}\n    }}")
         s.append(f"    fn root_index(self) -> i64 {{\n        match self {{\n{arms}{'            Self::Extension(_) => 0,' + chr(10) if td.extensible else ''}        }}\n    }}")
         s.append("}\n")
         dec, enc = [], []
@@ -124,6 +147,9 @@ class Emitter:
         enc.append(f"w.write_constrained(self.root_index(), 0, {n - 1})")
         s.append(self.uper_impl(td, "\n".join(dec), "\n".join(enc), f"Self::{naming.camel(td.items[0][0])}"))
         s.append(self.random_impl(td, f"Self::ALL[g.below({n})]"))
+        s.append(self.jer_impl(td, "out.string(self.identifier());",
+                               "let name = crate::jer::string(v)?;\n"
+                               "Self::from_identifier(name).ok_or_else(|| crate::jer::JerError::new(std::format!(\"unknown identifier {name}\")))"))
         return "\n".join(s)
 
     def emit_bits(self, td):
@@ -140,6 +166,12 @@ class Emitter:
         s.append("}\n")
         s.append(self.uper_impl(td, f"out.0 = uper::decode_bits(r, Self::SIZE, \"{td.key}\")?;\nOk(())",
                                 "uper::encode_bits(w, Self::SIZE, &self.0)", "Self(uper::Bits::EMPTY)"))
+        fixed = td.lb == td.ub and not td.extensible
+        write = "out.hex(self.0.as_bytes());" if fixed else "out.bits(self.0.as_bytes(), self.0.len());"
+        read = (f"let (bytes, len) = crate::jer::bits(v, {td.lb}, {td.ub})?;\n"
+                + ("" if td.extensible else f"if !({td.lb}..={td.ub}).contains(&len) {{\n    return Err(crate::jer::invalid(\"size\"));\n}}\n")
+                + "uper::Bits::from_bytes(&bytes, len).map(Self).ok_or_else(crate::jer::over_capacity)")
+        s.append(self.jer_impl(td, write, read))
         s.append(self.random_impl(td, f"let len = g.range({td.lb}, {td.ub}) as usize;\n"
                                   f"let bytes: [u8; {nb}] = core::array::from_fn(|_| g.octet());\n"
                                   "Self(uper::Bits::from_bytes(&bytes, len).unwrap_or(uper::Bits::EMPTY))"))
@@ -149,6 +181,8 @@ class Emitter:
         s = [self.doc(td, f"OCTET STRING (SIZE({td.lb}))"), DERIVE_COPY, f"pub struct {td.name}(pub [u8; {td.lb}]);\n"]
         s.append(self.uper_impl(td, "r.read_octets(&mut out.0)", "w.write_octets(&self.0)", f"Self([0; {td.lb}])"))
         s.append(self.random_impl(td, "Self(core::array::from_fn(|_| g.octet()))"))
+        s.append(self.jer_impl(td, "out.hex(&self.0);",
+                               "crate::jer::hex(v)?.try_into().map(Self).map_err(|_| crate::jer::invalid(\"size\"))"))
         return "\n".join(s)
 
     def emit_sized(self, td, what, storage, decode_fn, encode_fn, ctor):
@@ -160,6 +194,22 @@ class Emitter:
         dec = (f"uper::{decode_fn}(r, Self::SIZE, \"{td.key}\", &mut out.0)" if decode_fn.endswith("_into")
                else f"out.0 = uper::{decode_fn}(r, Self::SIZE, \"{td.key}\")?;\nOk(())")
         s.append(self.uper_impl(td, dec, f"uper::{encode_fn}(w, Self::SIZE, &self.0)", f"Self({storage.split('<')[0]}::new())"))
+        if td.kind == "octets":
+            s.append(self.jer_impl(td, "out.hex(&self.0);",
+                                   "Self::new(&crate::jer::hex(v)?).ok_or_else(|| crate::jer::invalid(\"size\"))"))
+        elif td.kind == "ia5":
+            s.append(self.jer_impl(td, "out.string(self.0.as_str());",
+                                   "Self::new(crate::jer::string(v)?).ok_or_else(|| crate::jer::invalid(\"size or character\"))"))
+        else:
+            iw = self.jer_write_of(td.item, "item")
+            s.append(self.jer_impl(
+                td, f"out.begin_array();\nfor item in self.0.iter() {{\n    {iw}\n}}\nout.end_array();",
+                "let items = crate::jer::array(v)?;\n"
+                f"if items.len() < {td.lb} {{\n    return Err(crate::jer::invalid(\"size\"));\n}}\n"
+                "let mut list = Self::new();\n"
+                "for (i, x) in items.iter().enumerate() {\n"
+                f"    let item = {self.jer_read_of(td.item, td)}.map_err(|e| e.within(&std::format!(\"[{{i}}]\")))?;\n"
+                "    list.0.push(item).map_err(|_| crate::jer::over_capacity())?;\n}\nOk(list)"))
         ub = min(td.ub if td.ub is not None else 1 << 20, self.caps.count(td))
         item = {"octets": "g.octet()", "ia5": "g.printable()"}.get(td.kind) or self.random_of(td.item, td)
         s.append(self.random_impl(td, f"let mut v = Self({storage.split('<')[0]}::new());\n"
@@ -212,6 +262,7 @@ class Emitter:
                for f in td.fields]
         if td.extensible:
             rnd.append("extensions: uper::Extensions::new()")
+        s.append(self.seq_jer(td))
         body = f"Self {{\n    {(','+chr(10)+'    ').join(rnd)},\n}}" if rnd else "Self {}"
         s.append(self.random_impl(td, body if td.fields else "let _ = g;\n" + body))
         return "\n".join(s)
@@ -220,6 +271,29 @@ class Emitter:
         if ref.builtin == "crate::uper::Null":
             return "crate::uper::Null"
         return f"<{self.rust(ref, td)} as uper::Placeholder>::placeholder()"
+
+    def seq_jer(self, td):
+        write, read, inits = ["out.begin_object();"], [], []
+        for f in td.fields:
+            local = "f_" + f.rust.replace("r#", "")
+            if getattr(f, "id_asn", None):
+                w = f"v.write_jer_members(out, \"{f.id_asn}\", \"{f.asn}\");"
+                r = f"{self.rust(f.ref, td)}::read_jer_members(v, \"{f.id_asn}\", \"{f.asn}\")?"
+                write.append(f"{{\n    let v = &self.{f.rust};\n    {w}\n}}")
+                read.append(f"let {local} = {r};")
+            elif f.optional:
+                write.append(f"if let Some(v) = &self.{f.rust} {{\n    out.key(\"{f.asn}\");\n    {self.jer_write_of(f.ref, 'v')}\n}}")
+                read.append(f"let {local} = crate::jer::read_optional(v, \"{f.asn}\", |x| {self.jer_read_of(f.ref, td)})?;")
+            else:
+                write.append(f"out.key(\"{f.asn}\");\n{self.jer_write_of(f.ref, '&self.' + f.rust)}")
+                read.append(f"let {local} = crate::jer::read_member(v, \"{f.asn}\", |x| {self.jer_read_of(f.ref, td)})?;")
+            inits.append(f"{f.rust}: {local}")
+        write.append("out.end_object();")
+        if td.extensible:
+            inits.append("extensions: uper::Extensions::new()")
+        read.insert(0, "crate::jer::member(v, \"\")?;")
+        read.append(f"Ok(Self {{ {', '.join(inits)} }})")
+        return self.jer_impl(td, "\n".join(write), "\n".join(read))
 
     def seq_decode(self, td):
         opts = [f for f in td.fields if f.optional]
@@ -304,6 +378,20 @@ class Emitter:
         arms = "".join(f"    {i} => Self::{a.variant}{'' if a.ref.builtin == 'crate::uper::Null' else '(' + self.random_of(a.ref, td) + ')'},\n"
                        for i, a in enumerate(td.alts))
         s.append(self.random_impl(td, f"match g.below({n}) {{\n{arms}    _ => {ph},\n}}"))
+        write, read = ["match self {"], ["let (name, x) = crate::jer::alternative(v)?;", "match name {"]
+        for a in td.alts:
+            if a.ref.builtin == "crate::uper::Null":
+                write.append(f"    Self::{a.variant} => {{\n        out.begin_object();\n        out.key(\"{a.asn}\");\n        out.null();\n        out.end_object();\n    }}")
+                read.append(f"    \"{a.asn}\" => Ok(Self::{a.variant}),")
+            else:
+                write.append(f"    Self::{a.variant}(v) => {{\n        out.begin_object();\n        out.key(\"{a.asn}\");\n"
+                             f"        {self.jer_write_of(a.ref, 'v')}\n        out.end_object();\n    }}")
+                read.append(f"    \"{a.asn}\" => {self.jer_read_of(a.ref, td)}.map(Self::{a.variant}).map_err(|e| e.within(name)),")
+        if td.extensible:
+            write.append("    Self::Extension { .. } => {\n        out.begin_object();\n        out.end_object();\n    }")
+        write.append("}")
+        read.append("    _ => Err(crate::jer::JerError::new(std::format!(\"unknown alternative {name}\"))),\n}")
+        s.append(self.jer_impl(td, "\n".join(write), "\n".join(read)))
         return "\n".join(s)
 
     def emit_open(self, td):
@@ -332,6 +420,7 @@ class Emitter:
                        f"        w.write_open(|w| v.encode_uper(w))\n    }}")
         enc.append("    Self::Unknown { id, content } => {\n        id.encode_uper(w)?;\n"
                    "        uper::encode_unknown_open(w, content)\n    }\n}")
+        s.append(self.open_jer(td, id_ty))
         if td.key == "MessageFrame.MessageFrame.value":
             for i, v, r in td.variants:
                 s.append(f"impl crate::frame::Message for {self.rust(r, td)} {{\n    const MESSAGE_ID: u16 = {i};\n}}\n")
@@ -347,6 +436,31 @@ class Emitter:
                     f"Self::Unknown {{ id: <{id_ty} as uper::random::Random>::random(g), content }}")
         s.append(self.random_impl(td, body))
         return "\n".join(s)
+
+
+def _open_jer(self, td, id_ty):
+    write = ["out.key(id_name);", "out.int(self.id().get() as i64);", "out.key(value_name);", "match self {"]
+    read = [f"let id = crate::jer::read_member(v, id_name, <{id_ty} as crate::jer::Jer>::read_jer)?;",
+            "let x = crate::jer::required(v, value_name)?;", "match id.get() {"]
+    for i, var, r in td.variants:
+        write.append(f"    Self::{var}(v) => crate::jer::Jer::write_jer(v, out),")
+        read.append(f"    {i} => <{self.rust(r, td)} as crate::jer::Jer>::read_jer(x).map(Self::{var}).map_err(|e| e.within(value_name)),")
+    write.append("    Self::Unknown { content, .. } => out.hex(content),\n}")
+    read.append("    _ => {\n        let content = uper::Octets::from_slice(&crate::jer::hex(x)?).ok_or_else(crate::jer::over_capacity)?;\n"
+                "        Ok(Self::Unknown { id, content })\n    }\n}")
+    members = (f"impl {td.name} {{\n"
+               f"    /// Writes the id and the value as members `id_name` and `value_name` of an object.\n"
+               f"    #[cfg(feature = \"jer\")]\n"
+               f"    pub fn write_jer_members(&self, out: &mut crate::jer::JerWriter, id_name: &str, value_name: &str) {{\n{indent(chr(10).join(write), 8)}\n    }}\n"
+               f"    /// Reads the id and the value from members `id_name` and `value_name` of an object.\n"
+               f"    #[cfg(feature = \"jer\")]\n"
+               f"    pub fn read_jer_members(v: &crate::jer::Value, id_name: &str, value_name: &str) -> crate::jer::JerResult<Self> {{\n{indent(chr(10).join(read), 8)}\n    }}\n}}\n")
+    whole = self.jer_impl(td, f"out.begin_object();\nself.write_jer_members(out, \"{td.id_asn}\", \"{td.open_asn}\");\nout.end_object();",
+                          f"Self::read_jer_members(v, \"{td.id_asn}\", \"{td.open_asn}\")")
+    return members + "\n" + whole
+
+
+Emitter.open_jer = _open_jer
 
 
 def switch_into(variant, index, ty, decode):

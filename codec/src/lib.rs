@@ -14,7 +14,8 @@
 //!
 //! # Features
 //! - `alloc`: heap storage (see above). `std`: implies `alloc`.
-//! - `serde`: `Serialize`/`Deserialize` on every generated type.
+//! - `jer`: JSON encoding rules (X.697) for every generated type, module [`jer`] (needs std).
+//! - `serde`: `Serialize`/`Deserialize` of the runtime's storage types.
 //! - `defmt`: `defmt::Format` on the error types.
 #![no_std]
 #![forbid(unsafe_code)]
@@ -22,11 +23,13 @@
 
 #[cfg(feature = "alloc")]
 extern crate alloc;
-#[cfg(any(feature = "std", test))]
+#[cfg(any(feature = "std", feature = "jer", test))]
 extern crate std;
 
 pub mod envelope;
 pub mod frame;
+#[cfg(feature = "jer")]
+pub mod jer;
 pub mod uper;
 
 mod generated;

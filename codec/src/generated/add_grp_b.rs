@@ -57,6 +57,38 @@ impl Uper for Position3DAddGrpB {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for Position3DAddGrpB {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        out.key("latitude");
+        crate::jer::Jer::write_jer(&self.latitude, out);
+        out.key("longitude");
+        crate::jer::Jer::write_jer(&self.longitude, out);
+        out.key("elevation");
+        crate::jer::Jer::write_jer(&self.elevation, out);
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        crate::jer::member(v, "")?;
+        let f_latitude = crate::jer::read_member(v, "latitude", |x| {
+            <LatitudeDMS2 as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_longitude = crate::jer::read_member(v, "longitude", |x| {
+            <LongitudeDMS2 as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_elevation = crate::jer::read_member(v, "elevation", |x| {
+            <Elevation as crate::jer::Jer>::read_jer(x)
+        })?;
+        Ok(Self {
+            latitude: f_latitude,
+            longitude: f_longitude,
+            elevation: f_elevation,
+            extensions: uper::Extensions::new(),
+        })
+    }
+}
+
 #[cfg(feature = "_random")]
 impl uper::random::Random for Position3DAddGrpB {
     fn random(g: &mut uper::random::Gen) -> Self {
@@ -104,6 +136,34 @@ impl Uper for LatitudeDMS2 {
         self.m.encode_uper(w)?;
         self.s.encode_uper(w)?;
         Ok(())
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for LatitudeDMS2 {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        out.key("d");
+        crate::jer::Jer::write_jer(&self.d, out);
+        out.key("m");
+        crate::jer::Jer::write_jer(&self.m, out);
+        out.key("s");
+        crate::jer::Jer::write_jer(&self.s, out);
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        crate::jer::member(v, "")?;
+        let f_d =
+            crate::jer::read_member(v, "d", |x| <DegreesLat as crate::jer::Jer>::read_jer(x))?;
+        let f_m =
+            crate::jer::read_member(v, "m", |x| <MinutesAngle as crate::jer::Jer>::read_jer(x))?;
+        let f_s =
+            crate::jer::read_member(v, "s", |x| <SecondsAngle as crate::jer::Jer>::read_jer(x))?;
+        Ok(Self {
+            d: f_d,
+            m: f_m,
+            s: f_s,
+        })
     }
 }
 
@@ -168,6 +228,34 @@ impl Uper for LongitudeDMS2 {
         self.m.encode_uper(w)?;
         self.s.encode_uper(w)?;
         Ok(())
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for LongitudeDMS2 {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        out.key("d");
+        crate::jer::Jer::write_jer(&self.d, out);
+        out.key("m");
+        crate::jer::Jer::write_jer(&self.m, out);
+        out.key("s");
+        crate::jer::Jer::write_jer(&self.s, out);
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        crate::jer::member(v, "")?;
+        let f_d =
+            crate::jer::read_member(v, "d", |x| <DegreesLong as crate::jer::Jer>::read_jer(x))?;
+        let f_m =
+            crate::jer::read_member(v, "m", |x| <MinutesAngle as crate::jer::Jer>::read_jer(x))?;
+        let f_s =
+            crate::jer::read_member(v, "s", |x| <SecondsAngle as crate::jer::Jer>::read_jer(x))?;
+        Ok(Self {
+            d: f_d,
+            m: f_m,
+            s: f_s,
+        })
     }
 }
 
@@ -290,6 +378,44 @@ impl uper::random::Random for NodeOffsetPointXYAddGrpB {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for NodeOffsetPointXYAddGrpB {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        match self {
+            Self::PosA(v) => {
+                out.begin_object();
+                out.key("posA");
+                crate::jer::Jer::write_jer(v, out);
+                out.end_object();
+            }
+            Self::PosB(v) => {
+                out.begin_object();
+                out.key("posB");
+                crate::jer::Jer::write_jer(v, out);
+                out.end_object();
+            }
+            Self::Extension { .. } => {
+                out.begin_object();
+                out.end_object();
+            }
+        }
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let (name, x) = crate::jer::alternative(v)?;
+        match name {
+            "posA" => <NodeLLdms48b as crate::jer::Jer>::read_jer(x)
+                .map(Self::PosA)
+                .map_err(|e| e.within(name)),
+            "posB" => <NodeLLdms80b as crate::jer::Jer>::read_jer(x)
+                .map(Self::PosB)
+                .map_err(|e| e.within(name)),
+            _ => Err(crate::jer::JerError::new(std::format!(
+                "unknown alternative {name}"
+            ))),
+        }
+    }
+}
+
 /// ASN.1 `Node-LLdms-48b` (module `AddGrpB`): SEQUENCE.
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub struct NodeLLdms48b {
@@ -320,6 +446,29 @@ impl Uper for NodeLLdms48b {
         self.lon.encode_uper(w)?;
         self.lat.encode_uper(w)?;
         Ok(())
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for NodeLLdms48b {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        out.key("lon");
+        crate::jer::Jer::write_jer(&self.lon, out);
+        out.key("lat");
+        crate::jer::Jer::write_jer(&self.lat, out);
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        crate::jer::member(v, "")?;
+        let f_lon =
+            crate::jer::read_member(v, "lon", |x| <LongitudeDMS as crate::jer::Jer>::read_jer(x))?;
+        let f_lat =
+            crate::jer::read_member(v, "lat", |x| <LatitudeDMS as crate::jer::Jer>::read_jer(x))?;
+        Ok(Self {
+            lon: f_lon,
+            lat: f_lat,
+        })
     }
 }
 
@@ -382,6 +531,30 @@ impl Uper for NodeLLdms80b {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for NodeLLdms80b {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        out.key("lon");
+        crate::jer::Jer::write_jer(&self.lon, out);
+        out.key("lat");
+        crate::jer::Jer::write_jer(&self.lat, out);
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        crate::jer::member(v, "")?;
+        let f_lon = crate::jer::read_member(v, "lon", |x| {
+            <LongitudeDMS2 as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_lat =
+            crate::jer::read_member(v, "lat", |x| <LatitudeDMS2 as crate::jer::Jer>::read_jer(x))?;
+        Ok(Self {
+            lon: f_lon,
+            lat: f_lat,
+        })
+    }
+}
+
 #[cfg(feature = "_random")]
 impl uper::random::Random for NodeLLdms80b {
     fn random(g: &mut uper::random::Gen) -> Self {
@@ -425,6 +598,20 @@ impl Uper for LaneDataAttributeAddGrpB {
             self.extensions.encode(w)?;
         }
         Ok(())
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for LaneDataAttributeAddGrpB {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        crate::jer::member(v, "")?;
+        Ok(Self {
+            extensions: uper::Extensions::new(),
+        })
     }
 }
 
@@ -568,6 +755,66 @@ impl Uper for MovementEventAddGrpB {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for MovementEventAddGrpB {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        if let Some(v) = &self.start_time {
+            out.key("startTime");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        out.key("minEndTime");
+        crate::jer::Jer::write_jer(&self.min_end_time, out);
+        if let Some(v) = &self.max_end_time {
+            out.key("maxEndTime");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.likely_time {
+            out.key("likelyTime");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.confidence {
+            out.key("confidence");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.next_time {
+            out.key("nextTime");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        crate::jer::member(v, "")?;
+        let f_start_time = crate::jer::read_optional(v, "startTime", |x| {
+            <TimeRemaining as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_min_end_time = crate::jer::read_member(v, "minEndTime", |x| {
+            <MinTimetoChange as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_max_end_time = crate::jer::read_optional(v, "maxEndTime", |x| {
+            <MaxTimetoChange as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_likely_time = crate::jer::read_optional(v, "likelyTime", |x| {
+            <TimeRemaining as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_confidence = crate::jer::read_optional(v, "confidence", |x| {
+            <super::spat::TimeIntervalConfidence as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_next_time = crate::jer::read_optional(v, "nextTime", |x| {
+            <TimeRemaining as crate::jer::Jer>::read_jer(x)
+        })?;
+        Ok(Self {
+            start_time: f_start_time,
+            min_end_time: f_min_end_time,
+            max_end_time: f_max_end_time,
+            likely_time: f_likely_time,
+            confidence: f_confidence,
+            next_time: f_next_time,
+            extensions: uper::Extensions::new(),
+        })
+    }
+}
+
 #[cfg(feature = "_random")]
 impl uper::random::Random for MovementEventAddGrpB {
     fn random(g: &mut uper::random::Gen) -> Self {
@@ -687,6 +934,20 @@ impl DayOfWeek {
             Self::Sunday => "sunday",
         }
     }
+    /// The value of an ASN.1 identifier, when the type has it.
+    pub fn from_identifier(name: &str) -> Option<Self> {
+        match name {
+            "unknown" => Some(Self::Unknown),
+            "monday" => Some(Self::Monday),
+            "tuesday" => Some(Self::Tuesday),
+            "wednesday" => Some(Self::Wednesday),
+            "thursday" => Some(Self::Thursday),
+            "friday" => Some(Self::Friday),
+            "saturday" => Some(Self::Saturday),
+            "sunday" => Some(Self::Sunday),
+            _ => None,
+        }
+    }
     fn root_index(self) -> i64 {
         match self {
             Self::Unknown => 0,
@@ -734,6 +995,18 @@ impl uper::random::Random for DayOfWeek {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for DayOfWeek {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.string(self.identifier());
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let name = crate::jer::string(v)?;
+        Self::from_identifier(name)
+            .ok_or_else(|| crate::jer::JerError::new(std::format!("unknown identifier {name}")))
+    }
+}
+
 /// ASN.1 `Holiday` (module `AddGrpB`): ENUMERATED.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum Holiday {
@@ -758,6 +1031,14 @@ impl Holiday {
         match self {
             Self::Weekday => "weekday",
             Self::Holiday => "holiday",
+        }
+    }
+    /// The value of an ASN.1 identifier, when the type has it.
+    pub fn from_identifier(name: &str) -> Option<Self> {
+        match name {
+            "weekday" => Some(Self::Weekday),
+            "holiday" => Some(Self::Holiday),
+            _ => None,
         }
     }
     fn root_index(self) -> i64 {
@@ -798,6 +1079,18 @@ impl Uper for Holiday {
 impl uper::random::Random for Holiday {
     fn random(g: &mut uper::random::Gen) -> Self {
         Self::ALL[g.below(2)]
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for Holiday {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.string(self.identifier());
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let name = crate::jer::string(v)?;
+        Self::from_identifier(name)
+            .ok_or_else(|| crate::jer::JerError::new(std::format!("unknown identifier {name}")))
     }
 }
 
@@ -852,6 +1145,14 @@ impl SummerTime {
             Self::InSummerTime => "inSummerTime",
         }
     }
+    /// The value of an ASN.1 identifier, when the type has it.
+    pub fn from_identifier(name: &str) -> Option<Self> {
+        match name {
+            "notInSummerTime" => Some(Self::NotInSummerTime),
+            "inSummerTime" => Some(Self::InSummerTime),
+            _ => None,
+        }
+    }
     fn root_index(self) -> i64 {
         match self {
             Self::NotInSummerTime => 0,
@@ -890,6 +1191,18 @@ impl Uper for SummerTime {
 impl uper::random::Random for SummerTime {
     fn random(g: &mut uper::random::Gen) -> Self {
         Self::ALL[g.below(2)]
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for SummerTime {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.string(self.identifier());
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let name = crate::jer::string(v)?;
+        Self::from_identifier(name)
+            .ok_or_else(|| crate::jer::JerError::new(std::format!("unknown identifier {name}")))
     }
 }
 
@@ -973,6 +1286,71 @@ impl Uper for TimeMark {
         self.second.encode_uper(w)?;
         self.tenth_second.encode_uper(w)?;
         Ok(())
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for TimeMark {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        out.key("year");
+        crate::jer::Jer::write_jer(&self.year, out);
+        out.key("month");
+        crate::jer::Jer::write_jer(&self.month, out);
+        out.key("day");
+        crate::jer::Jer::write_jer(&self.day, out);
+        out.key("summerTime");
+        crate::jer::Jer::write_jer(&self.summer_time, out);
+        out.key("holiday");
+        crate::jer::Jer::write_jer(&self.holiday, out);
+        out.key("dayofWeek");
+        crate::jer::Jer::write_jer(&self.dayof_week, out);
+        out.key("hour");
+        crate::jer::Jer::write_jer(&self.hour, out);
+        out.key("minute");
+        crate::jer::Jer::write_jer(&self.minute, out);
+        out.key("second");
+        crate::jer::Jer::write_jer(&self.second, out);
+        out.key("tenthSecond");
+        crate::jer::Jer::write_jer(&self.tenth_second, out);
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        crate::jer::member(v, "")?;
+        let f_year =
+            crate::jer::read_member(v, "year", |x| <Year as crate::jer::Jer>::read_jer(x))?;
+        let f_month =
+            crate::jer::read_member(v, "month", |x| <Month as crate::jer::Jer>::read_jer(x))?;
+        let f_day = crate::jer::read_member(v, "day", |x| <Day as crate::jer::Jer>::read_jer(x))?;
+        let f_summer_time = crate::jer::read_member(v, "summerTime", |x| {
+            <SummerTime as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_holiday =
+            crate::jer::read_member(v, "holiday", |x| <Holiday as crate::jer::Jer>::read_jer(x))?;
+        let f_dayof_week = crate::jer::read_member(v, "dayofWeek", |x| {
+            <DayOfWeek as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_hour =
+            crate::jer::read_member(v, "hour", |x| <Hour as crate::jer::Jer>::read_jer(x))?;
+        let f_minute =
+            crate::jer::read_member(v, "minute", |x| <Minute as crate::jer::Jer>::read_jer(x))?;
+        let f_second =
+            crate::jer::read_member(v, "second", |x| <Second as crate::jer::Jer>::read_jer(x))?;
+        let f_tenth_second = crate::jer::read_member(v, "tenthSecond", |x| {
+            <TenthSecond as crate::jer::Jer>::read_jer(x)
+        })?;
+        Ok(Self {
+            year: f_year,
+            month: f_month,
+            day: f_day,
+            summer_time: f_summer_time,
+            holiday: f_holiday,
+            dayof_week: f_dayof_week,
+            hour: f_hour,
+            minute: f_minute,
+            second: f_second,
+            tenth_second: f_tenth_second,
+        })
     }
 }
 

@@ -47,6 +47,26 @@ impl Uper for Position3DAddGrpC {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for Position3DAddGrpC {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        out.key("altitude");
+        crate::jer::Jer::write_jer(&self.altitude, out);
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        crate::jer::member(v, "")?;
+        let f_altitude = crate::jer::read_member(v, "altitude", |x| {
+            <Altitude as crate::jer::Jer>::read_jer(x)
+        })?;
+        Ok(Self {
+            altitude: f_altitude,
+            extensions: uper::Extensions::new(),
+        })
+    }
+}
+
 #[cfg(feature = "_random")]
 impl uper::random::Random for Position3DAddGrpC {
     fn random(g: &mut uper::random::Gen) -> Self {
@@ -87,6 +107,31 @@ impl Uper for Altitude {
         self.value.encode_uper(w)?;
         self.confidence.encode_uper(w)?;
         Ok(())
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for Altitude {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        out.key("value");
+        crate::jer::Jer::write_jer(&self.value, out);
+        out.key("confidence");
+        crate::jer::Jer::write_jer(&self.confidence, out);
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        crate::jer::member(v, "")?;
+        let f_value = crate::jer::read_member(v, "value", |x| {
+            <AltitudeValue as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_confidence = crate::jer::read_member(v, "confidence", |x| {
+            <AltitudeConfidence as crate::jer::Jer>::read_jer(x)
+        })?;
+        Ok(Self {
+            value: f_value,
+            confidence: f_confidence,
+        })
     }
 }
 
@@ -204,6 +249,28 @@ impl AltitudeConfidence {
             Self::Unavailable => "unavailable",
         }
     }
+    /// The value of an ASN.1 identifier, when the type has it.
+    pub fn from_identifier(name: &str) -> Option<Self> {
+        match name {
+            "alt-000-01" => Some(Self::Alt000_01),
+            "alt-000-02" => Some(Self::Alt000_02),
+            "alt-000-05" => Some(Self::Alt000_05),
+            "alt-000-10" => Some(Self::Alt000_10),
+            "alt-000-20" => Some(Self::Alt000_20),
+            "alt-000-50" => Some(Self::Alt000_50),
+            "alt-001-00" => Some(Self::Alt001_00),
+            "alt-002-00" => Some(Self::Alt002_00),
+            "alt-005-00" => Some(Self::Alt005_00),
+            "alt-010-00" => Some(Self::Alt010_00),
+            "alt-020-00" => Some(Self::Alt020_00),
+            "alt-050-00" => Some(Self::Alt050_00),
+            "alt-100-00" => Some(Self::Alt100_00),
+            "alt-200-00" => Some(Self::Alt200_00),
+            "outOfRange" => Some(Self::OutOfRange),
+            "unavailable" => Some(Self::Unavailable),
+            _ => None,
+        }
+    }
     fn root_index(self) -> i64 {
         match self {
             Self::Alt000_01 => 0,
@@ -259,6 +326,18 @@ impl uper::random::Random for AltitudeConfidence {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for AltitudeConfidence {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.string(self.identifier());
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let name = crate::jer::string(v)?;
+        Self::from_identifier(name)
+            .ok_or_else(|| crate::jer::JerError::new(std::format!("unknown identifier {name}")))
+    }
+}
+
 /// ASN.1 `RestrictionUserType-addGrpC` (module `AddGrpC`): SEQUENCE (extensible).
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub struct RestrictionUserTypeAddGrpC {
@@ -310,6 +389,28 @@ impl Uper for RestrictionUserTypeAddGrpC {
             self.extensions.encode(w)?;
         }
         Ok(())
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for RestrictionUserTypeAddGrpC {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        if let Some(v) = &self.emission {
+            out.key("emission");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        crate::jer::member(v, "")?;
+        let f_emission = crate::jer::read_optional(v, "emission", |x| {
+            <EmissionType as crate::jer::Jer>::read_jer(x)
+        })?;
+        Ok(Self {
+            emission: f_emission,
+            extensions: uper::Extensions::new(),
+        })
     }
 }
 
@@ -375,6 +476,17 @@ impl EmissionType {
             Self::Extension(_) => "",
         }
     }
+    /// The value of an ASN.1 identifier, when the type has it.
+    pub fn from_identifier(name: &str) -> Option<Self> {
+        match name {
+            "typeA" => Some(Self::TypeA),
+            "typeB" => Some(Self::TypeB),
+            "typeC" => Some(Self::TypeC),
+            "typeD" => Some(Self::TypeD),
+            "typeE" => Some(Self::TypeE),
+            _ => None,
+        }
+    }
     fn root_index(self) -> i64 {
         match self {
             Self::TypeA => 0,
@@ -433,6 +545,18 @@ impl uper::random::Random for EmissionType {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for EmissionType {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.string(self.identifier());
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let name = crate::jer::string(v)?;
+        Self::from_identifier(name)
+            .ok_or_else(|| crate::jer::JerError::new(std::format!("unknown identifier {name}")))
+    }
+}
+
 /// ASN.1 `MapData-addGrpC` (module `AddGrpC`): SEQUENCE (extensible).
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub struct MapDataAddGrpC {
@@ -487,6 +611,28 @@ impl Uper for MapDataAddGrpC {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for MapDataAddGrpC {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        if let Some(v) = &self.signal_head_locations {
+            out.key("signalHeadLocations");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        crate::jer::member(v, "")?;
+        let f_signal_head_locations = crate::jer::read_optional(v, "signalHeadLocations", |x| {
+            <SignalHeadLocationList as crate::jer::Jer>::read_jer(x)
+        })?;
+        Ok(Self {
+            signal_head_locations: f_signal_head_locations,
+            extensions: uper::Extensions::new(),
+        })
+    }
+}
+
 #[cfg(feature = "_random")]
 impl uper::random::Random for MapDataAddGrpC {
     fn random(g: &mut uper::random::Gen) -> Self {
@@ -535,6 +681,30 @@ impl Uper for SignalHeadLocationList {
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for SignalHeadLocationList {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_array();
+        for item in self.0.iter() {
+            crate::jer::Jer::write_jer(item, out);
+        }
+        out.end_array();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let items = crate::jer::array(v)?;
+        if items.len() < 1 {
+            return Err(crate::jer::invalid("size"));
+        }
+        let mut list = Self::new();
+        for (i, x) in items.iter().enumerate() {
+            let item = <SignalHeadLocation as crate::jer::Jer>::read_jer(x)
+                .map_err(|e| e.within(&std::format!("[{i}]")))?;
+            list.0.push(item).map_err(|_| crate::jer::over_capacity())?;
+        }
+        Ok(list)
     }
 }
 
@@ -596,6 +766,32 @@ impl Uper for SignalHeadLocation {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for SignalHeadLocation {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        out.key("node");
+        crate::jer::Jer::write_jer(&self.node, out);
+        out.key("signalGroupID");
+        crate::jer::Jer::write_jer(&self.signal_group_id, out);
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        crate::jer::member(v, "")?;
+        let f_node = crate::jer::read_member(v, "node", |x| {
+            <super::common::NodeOffsetPointXY as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_signal_group_id = crate::jer::read_member(v, "signalGroupID", |x| {
+            <super::common::SignalGroupID as crate::jer::Jer>::read_jer(x)
+        })?;
+        Ok(Self {
+            node: f_node,
+            signal_group_id: f_signal_group_id,
+            extensions: uper::Extensions::new(),
+        })
+    }
+}
+
 #[cfg(feature = "_random")]
 impl uper::random::Random for SignalHeadLocation {
     fn random(g: &mut uper::random::Gen) -> Self {
@@ -651,6 +847,35 @@ impl Uper for ConnectionManeuverAssistAddGrpC {
             v.encode_uper(w)?;
         }
         Ok(())
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for ConnectionManeuverAssistAddGrpC {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        out.key("vehicleToLanePositions");
+        crate::jer::Jer::write_jer(&self.vehicle_to_lane_positions, out);
+        if let Some(v) = &self.rsu_distance_from_anchor {
+            out.key("rsuDistanceFromAnchor");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        crate::jer::member(v, "")?;
+        let f_vehicle_to_lane_positions =
+            crate::jer::read_member(v, "vehicleToLanePositions", |x| {
+                <VehicleToLanePositionList as crate::jer::Jer>::read_jer(x)
+            })?;
+        let f_rsu_distance_from_anchor =
+            crate::jer::read_optional(v, "rsuDistanceFromAnchor", |x| {
+                <super::common::NodeOffsetPointXY as crate::jer::Jer>::read_jer(x)
+            })?;
+        Ok(Self {
+            vehicle_to_lane_positions: f_vehicle_to_lane_positions,
+            rsu_distance_from_anchor: f_rsu_distance_from_anchor,
+        })
     }
 }
 
@@ -712,6 +937,30 @@ impl Uper for VehicleToLanePositionList {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for VehicleToLanePositionList {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_array();
+        for item in self.0.iter() {
+            crate::jer::Jer::write_jer(item, out);
+        }
+        out.end_array();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let items = crate::jer::array(v)?;
+        if items.len() < 1 {
+            return Err(crate::jer::invalid("size"));
+        }
+        let mut list = Self::new();
+        for (i, x) in items.iter().enumerate() {
+            let item = <VehicleToLanePosition as crate::jer::Jer>::read_jer(x)
+                .map_err(|e| e.within(&std::format!("[{i}]")))?;
+            list.0.push(item).map_err(|_| crate::jer::over_capacity())?;
+        }
+        Ok(list)
+    }
+}
+
 #[cfg(feature = "_random")]
 impl uper::random::Random for VehicleToLanePositionList {
     fn random(g: &mut uper::random::Gen) -> Self {
@@ -767,6 +1016,32 @@ impl Uper for VehicleToLanePosition {
             self.extensions.encode(w)?;
         }
         Ok(())
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for VehicleToLanePosition {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        out.key("stationID");
+        crate::jer::Jer::write_jer(&self.station_id, out);
+        out.key("laneID");
+        crate::jer::Jer::write_jer(&self.lane_id, out);
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        crate::jer::member(v, "")?;
+        let f_station_id = crate::jer::read_member(v, "stationID", |x| {
+            <super::common::StationID as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_lane_id = crate::jer::read_member(v, "laneID", |x| {
+            <super::common::LaneID as crate::jer::Jer>::read_jer(x)
+        })?;
+        Ok(Self {
+            station_id: f_station_id,
+            lane_id: f_lane_id,
+            extensions: uper::Extensions::new(),
+        })
     }
 }
 
@@ -835,6 +1110,29 @@ impl Uper for IntersectionStateAddGrpC {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for IntersectionStateAddGrpC {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        if let Some(v) = &self.active_prioritizations {
+            out.key("activePrioritizations");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        crate::jer::member(v, "")?;
+        let f_active_prioritizations =
+            crate::jer::read_optional(v, "activePrioritizations", |x| {
+                <PrioritizationResponseList as crate::jer::Jer>::read_jer(x)
+            })?;
+        Ok(Self {
+            active_prioritizations: f_active_prioritizations,
+            extensions: uper::Extensions::new(),
+        })
+    }
+}
+
 #[cfg(feature = "_random")]
 impl uper::random::Random for IntersectionStateAddGrpC {
     fn random(g: &mut uper::random::Gen) -> Self {
@@ -888,6 +1186,30 @@ impl Uper for PrioritizationResponseList {
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for PrioritizationResponseList {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_array();
+        for item in self.0.iter() {
+            crate::jer::Jer::write_jer(item, out);
+        }
+        out.end_array();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let items = crate::jer::array(v)?;
+        if items.len() < 1 {
+            return Err(crate::jer::invalid("size"));
+        }
+        let mut list = Self::new();
+        for (i, x) in items.iter().enumerate() {
+            let item = <PrioritizationResponse as crate::jer::Jer>::read_jer(x)
+                .map_err(|e| e.within(&std::format!("[{i}]")))?;
+            list.0.push(item).map_err(|_| crate::jer::over_capacity())?;
+        }
+        Ok(list)
     }
 }
 
@@ -952,6 +1274,38 @@ impl Uper for PrioritizationResponse {
             self.extensions.encode(w)?;
         }
         Ok(())
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for PrioritizationResponse {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        out.key("stationID");
+        crate::jer::Jer::write_jer(&self.station_id, out);
+        out.key("priorState");
+        crate::jer::Jer::write_jer(&self.prior_state, out);
+        out.key("signalGroup");
+        crate::jer::Jer::write_jer(&self.signal_group, out);
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        crate::jer::member(v, "")?;
+        let f_station_id = crate::jer::read_member(v, "stationID", |x| {
+            <super::common::StationID as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_prior_state = crate::jer::read_member(v, "priorState", |x| {
+            <super::common::PrioritizationResponseStatus as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_signal_group = crate::jer::read_member(v, "signalGroup", |x| {
+            <super::common::SignalGroupID as crate::jer::Jer>::read_jer(x)
+        })?;
+        Ok(Self {
+            station_id: f_station_id,
+            prior_state: f_prior_state,
+            signal_group: f_signal_group,
+            extensions: uper::Extensions::new(),
+        })
     }
 }
 

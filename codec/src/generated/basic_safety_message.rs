@@ -84,6 +84,42 @@ impl Uper for BasicSafetyMessage {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for BasicSafetyMessage {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        out.key("coreData");
+        crate::jer::Jer::write_jer(&self.core_data, out);
+        if let Some(v) = &self.part_ii {
+            out.key("partII");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.regional {
+            out.key("regional");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        crate::jer::member(v, "")?;
+        let f_core_data = crate::jer::read_member(v, "coreData", |x| {
+            <super::common::BSMcoreData as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_part_ii = crate::jer::read_optional(v, "partII", |x| {
+            <BasicSafetyMessagePartII as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_regional = crate::jer::read_optional(v, "regional", |x| {
+            <BasicSafetyMessageRegional as crate::jer::Jer>::read_jer(x)
+        })?;
+        Ok(Self {
+            core_data: f_core_data,
+            part_ii: f_part_ii,
+            regional: f_regional,
+            extensions: uper::Extensions::new(),
+        })
+    }
+}
+
 #[cfg(feature = "_random")]
 impl uper::random::Random for BasicSafetyMessage {
     fn random(g: &mut uper::random::Gen) -> Self {
@@ -145,6 +181,30 @@ impl Uper for BasicSafetyMessagePartII {
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for BasicSafetyMessagePartII {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_array();
+        for item in self.0.iter() {
+            crate::jer::Jer::write_jer(item, out);
+        }
+        out.end_array();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let items = crate::jer::array(v)?;
+        if items.len() < 1 {
+            return Err(crate::jer::invalid("size"));
+        }
+        let mut list = Self::new();
+        for (i, x) in items.iter().enumerate() {
+            let item = <PartIIcontent as crate::jer::Jer>::read_jer(x)
+                .map_err(|e| e.within(&std::format!("[{i}]")))?;
+            list.0.push(item).map_err(|_| crate::jer::over_capacity())?;
+        }
+        Ok(list)
     }
 }
 
@@ -252,6 +312,44 @@ impl Uper for SpecialVehicleExtensions {
             self.extensions.encode(w)?;
         }
         Ok(())
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for SpecialVehicleExtensions {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        if let Some(v) = &self.vehicle_alerts {
+            out.key("vehicleAlerts");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.description {
+            out.key("description");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.trailers {
+            out.key("trailers");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        crate::jer::member(v, "")?;
+        let f_vehicle_alerts = crate::jer::read_optional(v, "vehicleAlerts", |x| {
+            <super::common::EmergencyDetails as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_description = crate::jer::read_optional(v, "description", |x| {
+            <EventDescription as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_trailers = crate::jer::read_optional(v, "trailers", |x| {
+            <TrailerData as crate::jer::Jer>::read_jer(x)
+        })?;
+        Ok(Self {
+            vehicle_alerts: f_vehicle_alerts,
+            description: f_description,
+            trailers: f_trailers,
+            extensions: uper::Extensions::new(),
+        })
     }
 }
 
@@ -409,6 +507,66 @@ impl Uper for EventDescription {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for EventDescription {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        out.key("typeEvent");
+        crate::jer::Jer::write_jer(&self.type_event, out);
+        if let Some(v) = &self.description {
+            out.key("description");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.priority {
+            out.key("priority");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.heading {
+            out.key("heading");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.extent {
+            out.key("extent");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.regional {
+            out.key("regional");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        crate::jer::member(v, "")?;
+        let f_type_event = crate::jer::read_member(v, "typeEvent", |x| {
+            <super::itis::ITIScodes as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_description = crate::jer::read_optional(v, "description", |x| {
+            <EventDescriptionDescription as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_priority = crate::jer::read_optional(v, "priority", |x| {
+            <super::common::Priority as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_heading = crate::jer::read_optional(v, "heading", |x| {
+            <super::common::HeadingSlice as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_extent = crate::jer::read_optional(v, "extent", |x| {
+            <super::common::Extent as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_regional = crate::jer::read_optional(v, "regional", |x| {
+            <EventDescriptionRegional as crate::jer::Jer>::read_jer(x)
+        })?;
+        Ok(Self {
+            type_event: f_type_event,
+            description: f_description,
+            priority: f_priority,
+            heading: f_heading,
+            extent: f_extent,
+            regional: f_regional,
+            extensions: uper::Extensions::new(),
+        })
+    }
+}
+
 #[cfg(feature = "_random")]
 impl uper::random::Random for EventDescription {
     fn random(g: &mut uper::random::Gen) -> Self {
@@ -488,6 +646,30 @@ impl Uper for EventDescriptionDescription {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for EventDescriptionDescription {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_array();
+        for item in self.0.iter() {
+            crate::jer::Jer::write_jer(item, out);
+        }
+        out.end_array();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let items = crate::jer::array(v)?;
+        if items.len() < 1 {
+            return Err(crate::jer::invalid("size"));
+        }
+        let mut list = Self::new();
+        for (i, x) in items.iter().enumerate() {
+            let item = <super::itis::ITIScodes as crate::jer::Jer>::read_jer(x)
+                .map_err(|e| e.within(&std::format!("[{i}]")))?;
+            list.0.push(item).map_err(|_| crate::jer::over_capacity())?;
+        }
+        Ok(list)
+    }
+}
+
 #[cfg(feature = "_random")]
 impl uper::random::Random for EventDescriptionDescription {
     fn random(g: &mut uper::random::Gen) -> Self {
@@ -542,6 +724,30 @@ impl Uper for EventDescriptionRegional {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for EventDescriptionRegional {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_array();
+        for item in self.0.iter() {
+            crate::jer::Jer::write_jer(item, out);
+        }
+        out.end_array();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let items = crate::jer::array(v)?;
+        if items.len() < 1 {
+            return Err(crate::jer::invalid("size"));
+        }
+        let mut list = Self::new();
+        for (i, x) in items.iter().enumerate() {
+            let item = <RegEventDescription as crate::jer::Jer>::read_jer(x)
+                .map_err(|e| e.within(&std::format!("[{i}]")))?;
+            list.0.push(item).map_err(|_| crate::jer::over_capacity())?;
+        }
+        Ok(list)
+    }
+}
+
 #[cfg(feature = "_random")]
 impl uper::random::Random for EventDescriptionRegional {
     fn random(g: &mut uper::random::Gen) -> Self {
@@ -572,6 +778,57 @@ impl RegEventDescription {
         match self {
             Self::Unknown { id, .. } => *id,
         }
+    }
+}
+
+impl RegEventDescription {
+    /// Writes the id and the value as members `id_name` and `value_name` of an object.
+    #[cfg(feature = "jer")]
+    pub fn write_jer_members(
+        &self,
+        out: &mut crate::jer::JerWriter,
+        id_name: &str,
+        value_name: &str,
+    ) {
+        out.key(id_name);
+        out.int(self.id().get() as i64);
+        out.key(value_name);
+        match self {
+            Self::Unknown { content, .. } => out.hex(content),
+        }
+    }
+    /// Reads the id and the value from members `id_name` and `value_name` of an object.
+    #[cfg(feature = "jer")]
+    pub fn read_jer_members(
+        v: &crate::jer::Value,
+        id_name: &str,
+        value_name: &str,
+    ) -> crate::jer::JerResult<Self> {
+        let id = crate::jer::read_member(
+            v,
+            id_name,
+            <super::common::RegionId as crate::jer::Jer>::read_jer,
+        )?;
+        let x = crate::jer::required(v, value_name)?;
+        match id.get() {
+            _ => {
+                let content = uper::Octets::from_slice(&crate::jer::hex(x)?)
+                    .ok_or_else(crate::jer::over_capacity)?;
+                Ok(Self::Unknown { id, content })
+            }
+        }
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for RegEventDescription {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        self.write_jer_members(out, "regionId", "regExtValue");
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        Self::read_jer_members(v, "regionId", "regExtValue")
     }
 }
 
@@ -677,6 +934,38 @@ impl Uper for TrailerData {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for TrailerData {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        out.key("notUsed");
+        crate::jer::Jer::write_jer(&self.not_used, out);
+        out.key("connection");
+        crate::jer::Jer::write_jer(&self.connection, out);
+        out.key("units");
+        crate::jer::Jer::write_jer(&self.units, out);
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        crate::jer::member(v, "")?;
+        let f_not_used = crate::jer::read_member(v, "notUsed", |x| {
+            <super::common::SSPindex as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_connection = crate::jer::read_member(v, "connection", |x| {
+            <PivotPointDescription as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_units = crate::jer::read_member(v, "units", |x| {
+            <TrailerUnitDescriptionList as crate::jer::Jer>::read_jer(x)
+        })?;
+        Ok(Self {
+            not_used: f_not_used,
+            connection: f_connection,
+            units: f_units,
+            extensions: uper::Extensions::new(),
+        })
+    }
+}
+
 #[cfg(feature = "_random")]
 impl uper::random::Random for TrailerData {
     fn random(g: &mut uper::random::Gen) -> Self {
@@ -740,6 +1029,38 @@ impl Uper for PivotPointDescription {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for PivotPointDescription {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        out.key("pivotOffset");
+        crate::jer::Jer::write_jer(&self.pivot_offset, out);
+        out.key("pivotAngle");
+        crate::jer::Jer::write_jer(&self.pivot_angle, out);
+        out.key("pivots");
+        crate::jer::Jer::write_jer(&self.pivots, out);
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        crate::jer::member(v, "")?;
+        let f_pivot_offset = crate::jer::read_member(v, "pivotOffset", |x| {
+            <super::common::OffsetB11 as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_pivot_angle = crate::jer::read_member(v, "pivotAngle", |x| {
+            <super::common::Angle as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_pivots = crate::jer::read_member(v, "pivots", |x| {
+            <PivotingAllowed as crate::jer::Jer>::read_jer(x)
+        })?;
+        Ok(Self {
+            pivot_offset: f_pivot_offset,
+            pivot_angle: f_pivot_angle,
+            pivots: f_pivots,
+            extensions: uper::Extensions::new(),
+        })
+    }
+}
+
 #[cfg(feature = "_random")]
 impl uper::random::Random for PivotPointDescription {
     fn random(g: &mut uper::random::Gen) -> Self {
@@ -794,6 +1115,30 @@ impl Uper for TrailerUnitDescriptionList {
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for TrailerUnitDescriptionList {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_array();
+        for item in self.0.iter() {
+            crate::jer::Jer::write_jer(item, out);
+        }
+        out.end_array();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let items = crate::jer::array(v)?;
+        if items.len() < 1 {
+            return Err(crate::jer::invalid("size"));
+        }
+        let mut list = Self::new();
+        for (i, x) in items.iter().enumerate() {
+            let item = <TrailerUnitDescription as crate::jer::Jer>::read_jer(x)
+                .map_err(|e| e.within(&std::format!("[{i}]")))?;
+            list.0.push(item).map_err(|_| crate::jer::over_capacity())?;
+        }
+        Ok(list)
     }
 }
 
@@ -1010,6 +1355,113 @@ impl Uper for TrailerUnitDescription {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for TrailerUnitDescription {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        out.key("isDolly");
+        crate::jer::Jer::write_jer(&self.is_dolly, out);
+        out.key("width");
+        crate::jer::Jer::write_jer(&self.width, out);
+        out.key("length");
+        crate::jer::Jer::write_jer(&self.length, out);
+        if let Some(v) = &self.height {
+            out.key("height");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.mass {
+            out.key("mass");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.bumper_heights {
+            out.key("bumperHeights");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.center_of_gravity {
+            out.key("centerOfGravity");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        out.key("frontPivot");
+        crate::jer::Jer::write_jer(&self.front_pivot, out);
+        if let Some(v) = &self.rear_pivot {
+            out.key("rearPivot");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.rear_wheel_offset {
+            out.key("rearWheelOffset");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        out.key("positionOffset");
+        crate::jer::Jer::write_jer(&self.position_offset, out);
+        if let Some(v) = &self.elevation_offset {
+            out.key("elevationOffset");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.crumb_data {
+            out.key("crumbData");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        crate::jer::member(v, "")?;
+        let f_is_dolly =
+            crate::jer::read_member(v, "isDolly", |x| <IsDolly as crate::jer::Jer>::read_jer(x))?;
+        let f_width = crate::jer::read_member(v, "width", |x| {
+            <super::common::VehicleWidth as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_length = crate::jer::read_member(v, "length", |x| {
+            <super::common::VehicleLength as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_height = crate::jer::read_optional(v, "height", |x| {
+            <super::common::VehicleHeight as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_mass = crate::jer::read_optional(v, "mass", |x| {
+            <TrailerMass as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_bumper_heights = crate::jer::read_optional(v, "bumperHeights", |x| {
+            <super::common::BumperHeights as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_center_of_gravity = crate::jer::read_optional(v, "centerOfGravity", |x| {
+            <super::common::VehicleHeight as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_front_pivot = crate::jer::read_member(v, "frontPivot", |x| {
+            <PivotPointDescription as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_rear_pivot = crate::jer::read_optional(v, "rearPivot", |x| {
+            <PivotPointDescription as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_rear_wheel_offset = crate::jer::read_optional(v, "rearWheelOffset", |x| {
+            <super::common::OffsetB12 as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_position_offset = crate::jer::read_member(v, "positionOffset", |x| {
+            <super::common::NodeXY24b as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_elevation_offset = crate::jer::read_optional(v, "elevationOffset", |x| {
+            <VertOffsetB07 as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_crumb_data = crate::jer::read_optional(v, "crumbData", |x| {
+            <TrailerHistoryPointList as crate::jer::Jer>::read_jer(x)
+        })?;
+        Ok(Self {
+            is_dolly: f_is_dolly,
+            width: f_width,
+            length: f_length,
+            height: f_height,
+            mass: f_mass,
+            bumper_heights: f_bumper_heights,
+            center_of_gravity: f_center_of_gravity,
+            front_pivot: f_front_pivot,
+            rear_pivot: f_rear_pivot,
+            rear_wheel_offset: f_rear_wheel_offset,
+            position_offset: f_position_offset,
+            elevation_offset: f_elevation_offset,
+            crumb_data: f_crumb_data,
+            extensions: uper::Extensions::new(),
+        })
+    }
+}
+
 #[cfg(feature = "_random")]
 impl uper::random::Random for TrailerUnitDescription {
     fn random(g: &mut uper::random::Gen) -> Self {
@@ -1127,6 +1579,30 @@ impl Uper for TrailerHistoryPointList {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for TrailerHistoryPointList {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_array();
+        for item in self.0.iter() {
+            crate::jer::Jer::write_jer(item, out);
+        }
+        out.end_array();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let items = crate::jer::array(v)?;
+        if items.len() < 1 {
+            return Err(crate::jer::invalid("size"));
+        }
+        let mut list = Self::new();
+        for (i, x) in items.iter().enumerate() {
+            let item = <TrailerHistoryPoint as crate::jer::Jer>::read_jer(x)
+                .map_err(|e| e.within(&std::format!("[{i}]")))?;
+            list.0.push(item).map_err(|_| crate::jer::over_capacity())?;
+        }
+        Ok(list)
+    }
+}
+
 #[cfg(feature = "_random")]
 impl uper::random::Random for TrailerHistoryPointList {
     fn random(g: &mut uper::random::Gen) -> Self {
@@ -1225,6 +1701,54 @@ impl Uper for TrailerHistoryPoint {
             self.extensions.encode(w)?;
         }
         Ok(())
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for TrailerHistoryPoint {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        out.key("pivotAngle");
+        crate::jer::Jer::write_jer(&self.pivot_angle, out);
+        out.key("timeOffset");
+        crate::jer::Jer::write_jer(&self.time_offset, out);
+        out.key("positionOffset");
+        crate::jer::Jer::write_jer(&self.position_offset, out);
+        if let Some(v) = &self.elevation_offset {
+            out.key("elevationOffset");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.heading {
+            out.key("heading");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        crate::jer::member(v, "")?;
+        let f_pivot_angle = crate::jer::read_member(v, "pivotAngle", |x| {
+            <super::common::Angle as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_time_offset = crate::jer::read_member(v, "timeOffset", |x| {
+            <super::common::TimeOffset as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_position_offset = crate::jer::read_member(v, "positionOffset", |x| {
+            <super::common::NodeXY24b as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_elevation_offset = crate::jer::read_optional(v, "elevationOffset", |x| {
+            <VertOffsetB07 as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_heading = crate::jer::read_optional(v, "heading", |x| {
+            <super::common::CoarseHeading as crate::jer::Jer>::read_jer(x)
+        })?;
+        Ok(Self {
+            pivot_angle: f_pivot_angle,
+            time_offset: f_time_offset,
+            position_offset: f_position_offset,
+            elevation_offset: f_elevation_offset,
+            heading: f_heading,
+            extensions: uper::Extensions::new(),
+        })
     }
 }
 
@@ -1460,6 +1984,100 @@ impl Uper for SupplementalVehicleExtensions {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for SupplementalVehicleExtensions {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        if let Some(v) = &self.classification {
+            out.key("classification");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.class_details {
+            out.key("classDetails");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.vehicle_data {
+            out.key("vehicleData");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.weather_report {
+            out.key("weatherReport");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.weather_probe {
+            out.key("weatherProbe");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.obstacle {
+            out.key("obstacle");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.status {
+            out.key("status");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.speed_profile {
+            out.key("speedProfile");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.the_rtcm {
+            out.key("theRTCM");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.regional {
+            out.key("regional");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        crate::jer::member(v, "")?;
+        let f_classification = crate::jer::read_optional(v, "classification", |x| {
+            <super::common::BasicVehicleClass as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_class_details = crate::jer::read_optional(v, "classDetails", |x| {
+            <super::common::VehicleClassification as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_vehicle_data = crate::jer::read_optional(v, "vehicleData", |x| {
+            <VehicleData as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_weather_report = crate::jer::read_optional(v, "weatherReport", |x| {
+            <WeatherReport as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_weather_probe = crate::jer::read_optional(v, "weatherProbe", |x| {
+            <WeatherProbe as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_obstacle = crate::jer::read_optional(v, "obstacle", |x| {
+            <ObstacleDetection as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_status = crate::jer::read_optional(v, "status", |x| {
+            <DisabledVehicle as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_speed_profile = crate::jer::read_optional(v, "speedProfile", |x| {
+            <SpeedProfile as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_the_rtcm = crate::jer::read_optional(v, "theRTCM", |x| {
+            <RTCMPackage as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_regional = crate::jer::read_optional(v, "regional", |x| {
+            <SupplementalVehicleExtensionsRegional as crate::jer::Jer>::read_jer(x)
+        })?;
+        Ok(Self {
+            classification: f_classification,
+            class_details: f_class_details,
+            vehicle_data: f_vehicle_data,
+            weather_report: f_weather_report,
+            weather_probe: f_weather_probe,
+            obstacle: f_obstacle,
+            status: f_status,
+            speed_profile: f_speed_profile,
+            the_rtcm: f_the_rtcm,
+            regional: f_regional,
+            extensions: uper::Extensions::new(),
+        })
+    }
+}
+
 #[cfg(feature = "_random")]
 impl uper::random::Random for SupplementalVehicleExtensions {
     fn random(g: &mut uper::random::Gen) -> Self {
@@ -1627,6 +2245,52 @@ impl Uper for VehicleData {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for VehicleData {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        if let Some(v) = &self.height {
+            out.key("height");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.bumpers {
+            out.key("bumpers");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.mass {
+            out.key("mass");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.trailer_weight {
+            out.key("trailerWeight");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        crate::jer::member(v, "")?;
+        let f_height = crate::jer::read_optional(v, "height", |x| {
+            <super::common::VehicleHeight as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_bumpers = crate::jer::read_optional(v, "bumpers", |x| {
+            <super::common::BumperHeights as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_mass = crate::jer::read_optional(v, "mass", |x| {
+            <super::common::VehicleMass as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_trailer_weight = crate::jer::read_optional(v, "trailerWeight", |x| {
+            <super::common::TrailerWeight as crate::jer::Jer>::read_jer(x)
+        })?;
+        Ok(Self {
+            height: f_height,
+            bumpers: f_bumpers,
+            mass: f_mass,
+            trailer_weight: f_trailer_weight,
+            extensions: uper::Extensions::new(),
+        })
+    }
+}
+
 #[cfg(feature = "_random")]
 impl uper::random::Random for VehicleData {
     fn random(g: &mut uper::random::Gen) -> Self {
@@ -1786,6 +2450,66 @@ impl Uper for WeatherReport {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for WeatherReport {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        out.key("isRaining");
+        crate::jer::Jer::write_jer(&self.is_raining, out);
+        if let Some(v) = &self.rain_rate {
+            out.key("rainRate");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.precip_situation {
+            out.key("precipSituation");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.solar_radiation {
+            out.key("solarRadiation");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.friction {
+            out.key("friction");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.road_friction {
+            out.key("roadFriction");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        crate::jer::member(v, "")?;
+        let f_is_raining = crate::jer::read_member(v, "isRaining", |x| {
+            <super::ntcip::EssPrecipYesNo as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_rain_rate = crate::jer::read_optional(v, "rainRate", |x| {
+            <super::ntcip::EssPrecipRate as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_precip_situation = crate::jer::read_optional(v, "precipSituation", |x| {
+            <super::ntcip::EssPrecipSituation as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_solar_radiation = crate::jer::read_optional(v, "solarRadiation", |x| {
+            <super::ntcip::EssSolarRadiation as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_friction = crate::jer::read_optional(v, "friction", |x| {
+            <super::ntcip::EssMobileFriction as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_road_friction = crate::jer::read_optional(v, "roadFriction", |x| {
+            <super::common::CoefficientOfFriction as crate::jer::Jer>::read_jer(x)
+        })?;
+        Ok(Self {
+            is_raining: f_is_raining,
+            rain_rate: f_rain_rate,
+            precip_situation: f_precip_situation,
+            solar_radiation: f_solar_radiation,
+            friction: f_friction,
+            road_friction: f_road_friction,
+            extensions: uper::Extensions::new(),
+        })
+    }
+}
+
 #[cfg(feature = "_random")]
 impl uper::random::Random for WeatherReport {
     fn random(g: &mut uper::random::Gen) -> Self {
@@ -1909,6 +2633,44 @@ impl Uper for WeatherProbe {
             self.extensions.encode(w)?;
         }
         Ok(())
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for WeatherProbe {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        if let Some(v) = &self.air_temp {
+            out.key("airTemp");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.air_pressure {
+            out.key("airPressure");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.rain_rates {
+            out.key("rainRates");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        crate::jer::member(v, "")?;
+        let f_air_temp = crate::jer::read_optional(v, "airTemp", |x| {
+            <super::common::AmbientAirTemperature as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_air_pressure = crate::jer::read_optional(v, "airPressure", |x| {
+            <super::common::AmbientAirPressure as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_rain_rates = crate::jer::read_optional(v, "rainRates", |x| {
+            <super::common::WiperSet as crate::jer::Jer>::read_jer(x)
+        })?;
+        Ok(Self {
+            air_temp: f_air_temp,
+            air_pressure: f_air_pressure,
+            rain_rates: f_rain_rates,
+            extensions: uper::Extensions::new(),
+        })
     }
 }
 
@@ -2042,6 +2804,62 @@ impl Uper for ObstacleDetection {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for ObstacleDetection {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        out.key("obDist");
+        crate::jer::Jer::write_jer(&self.ob_dist, out);
+        out.key("obDirect");
+        crate::jer::Jer::write_jer(&self.ob_direct, out);
+        if let Some(v) = &self.description {
+            out.key("description");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.location_details {
+            out.key("locationDetails");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        out.key("dateTime");
+        crate::jer::Jer::write_jer(&self.date_time, out);
+        if let Some(v) = &self.vert_event {
+            out.key("vertEvent");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        crate::jer::member(v, "")?;
+        let f_ob_dist = crate::jer::read_member(v, "obDist", |x| {
+            <super::common::ObstacleDistance as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_ob_direct = crate::jer::read_member(v, "obDirect", |x| {
+            <ObstacleDirection as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_description = crate::jer::read_optional(v, "description", |x| {
+            <ObstacleDetectionDescription as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_location_details = crate::jer::read_optional(v, "locationDetails", |x| {
+            <super::itis::GenericLocations as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_date_time = crate::jer::read_member(v, "dateTime", |x| {
+            <super::common::DDateTime as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_vert_event = crate::jer::read_optional(v, "vertEvent", |x| {
+            <super::common::VerticalAccelerationThreshold as crate::jer::Jer>::read_jer(x)
+        })?;
+        Ok(Self {
+            ob_dist: f_ob_dist,
+            ob_direct: f_ob_direct,
+            description: f_description,
+            location_details: f_location_details,
+            date_time: f_date_time,
+            vert_event: f_vert_event,
+            extensions: uper::Extensions::new(),
+        })
+    }
+}
+
 #[cfg(feature = "_random")]
 impl uper::random::Random for ObstacleDetection {
     fn random(g: &mut uper::random::Gen) -> Self {
@@ -2146,6 +2964,34 @@ impl Uper for DisabledVehicle {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for DisabledVehicle {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        out.key("statusDetails");
+        crate::jer::Jer::write_jer(&self.status_details, out);
+        if let Some(v) = &self.location_details {
+            out.key("locationDetails");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        crate::jer::member(v, "")?;
+        let f_status_details = crate::jer::read_member(v, "statusDetails", |x| {
+            <DisabledVehicleStatusDetails as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_location_details = crate::jer::read_optional(v, "locationDetails", |x| {
+            <super::itis::GenericLocations as crate::jer::Jer>::read_jer(x)
+        })?;
+        Ok(Self {
+            status_details: f_status_details,
+            location_details: f_location_details,
+            extensions: uper::Extensions::new(),
+        })
+    }
+}
+
 #[cfg(feature = "_random")]
 impl uper::random::Random for DisabledVehicle {
     fn random(g: &mut uper::random::Gen) -> Self {
@@ -2213,6 +3059,26 @@ impl Uper for SpeedProfile {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for SpeedProfile {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        out.key("speedReports");
+        crate::jer::Jer::write_jer(&self.speed_reports, out);
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        crate::jer::member(v, "")?;
+        let f_speed_reports = crate::jer::read_member(v, "speedReports", |x| {
+            <SpeedProfileMeasurementList as crate::jer::Jer>::read_jer(x)
+        })?;
+        Ok(Self {
+            speed_reports: f_speed_reports,
+            extensions: uper::Extensions::new(),
+        })
+    }
+}
+
 #[cfg(feature = "_random")]
 impl uper::random::Random for SpeedProfile {
     fn random(g: &mut uper::random::Gen) -> Self {
@@ -2262,6 +3128,30 @@ impl Uper for SpeedProfileMeasurementList {
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for SpeedProfileMeasurementList {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_array();
+        for item in self.0.iter() {
+            crate::jer::Jer::write_jer(item, out);
+        }
+        out.end_array();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let items = crate::jer::array(v)?;
+        if items.len() < 1 {
+            return Err(crate::jer::invalid("size"));
+        }
+        let mut list = Self::new();
+        for (i, x) in items.iter().enumerate() {
+            let item = <SpeedProfileMeasurement as crate::jer::Jer>::read_jer(x)
+                .map_err(|e| e.within(&std::format!("[{i}]")))?;
+            list.0.push(item).map_err(|_| crate::jer::over_capacity())?;
+        }
+        Ok(list)
     }
 }
 
@@ -2339,6 +3229,34 @@ impl Uper for RTCMPackage {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for RTCMPackage {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        if let Some(v) = &self.rtcm_header {
+            out.key("rtcmHeader");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        out.key("msgs");
+        crate::jer::Jer::write_jer(&self.msgs, out);
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        crate::jer::member(v, "")?;
+        let f_rtcm_header = crate::jer::read_optional(v, "rtcmHeader", |x| {
+            <super::common::RTCMheader as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_msgs = crate::jer::read_member(v, "msgs", |x| {
+            <super::common::RTCMmessageList as crate::jer::Jer>::read_jer(x)
+        })?;
+        Ok(Self {
+            rtcm_header: f_rtcm_header,
+            msgs: f_msgs,
+            extensions: uper::Extensions::new(),
+        })
+    }
+}
+
 #[cfg(feature = "_random")]
 impl uper::random::Random for RTCMPackage {
     fn random(g: &mut uper::random::Gen) -> Self {
@@ -2400,6 +3318,30 @@ impl Uper for SupplementalVehicleExtensionsRegional {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for SupplementalVehicleExtensionsRegional {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_array();
+        for item in self.0.iter() {
+            crate::jer::Jer::write_jer(item, out);
+        }
+        out.end_array();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let items = crate::jer::array(v)?;
+        if items.len() < 1 {
+            return Err(crate::jer::invalid("size"));
+        }
+        let mut list = Self::new();
+        for (i, x) in items.iter().enumerate() {
+            let item = <RegSupplementalVehicleExtensions as crate::jer::Jer>::read_jer(x)
+                .map_err(|e| e.within(&std::format!("[{i}]")))?;
+            list.0.push(item).map_err(|_| crate::jer::over_capacity())?;
+        }
+        Ok(list)
+    }
+}
+
 #[cfg(feature = "_random")]
 impl uper::random::Random for SupplementalVehicleExtensionsRegional {
     fn random(g: &mut uper::random::Gen) -> Self {
@@ -2430,6 +3372,57 @@ impl RegSupplementalVehicleExtensions {
         match self {
             Self::Unknown { id, .. } => *id,
         }
+    }
+}
+
+impl RegSupplementalVehicleExtensions {
+    /// Writes the id and the value as members `id_name` and `value_name` of an object.
+    #[cfg(feature = "jer")]
+    pub fn write_jer_members(
+        &self,
+        out: &mut crate::jer::JerWriter,
+        id_name: &str,
+        value_name: &str,
+    ) {
+        out.key(id_name);
+        out.int(self.id().get() as i64);
+        out.key(value_name);
+        match self {
+            Self::Unknown { content, .. } => out.hex(content),
+        }
+    }
+    /// Reads the id and the value from members `id_name` and `value_name` of an object.
+    #[cfg(feature = "jer")]
+    pub fn read_jer_members(
+        v: &crate::jer::Value,
+        id_name: &str,
+        value_name: &str,
+    ) -> crate::jer::JerResult<Self> {
+        let id = crate::jer::read_member(
+            v,
+            id_name,
+            <super::common::RegionId as crate::jer::Jer>::read_jer,
+        )?;
+        let x = crate::jer::required(v, value_name)?;
+        match id.get() {
+            _ => {
+                let content = uper::Octets::from_slice(&crate::jer::hex(x)?)
+                    .ok_or_else(crate::jer::over_capacity)?;
+                Ok(Self::Unknown { id, content })
+            }
+        }
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for RegSupplementalVehicleExtensions {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        self.write_jer_members(out, "regionId", "regExtValue");
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        Self::read_jer_members(v, "regionId", "regExtValue")
     }
 }
 
@@ -2532,6 +3525,65 @@ impl PartIIcontent {
             }
             Self::Unknown { id, .. } => *id,
         }
+    }
+}
+
+impl PartIIcontent {
+    /// Writes the id and the value as members `id_name` and `value_name` of an object.
+    #[cfg(feature = "jer")]
+    pub fn write_jer_members(
+        &self,
+        out: &mut crate::jer::JerWriter,
+        id_name: &str,
+        value_name: &str,
+    ) {
+        out.key(id_name);
+        out.int(self.id().get() as i64);
+        out.key(value_name);
+        match self {
+            Self::VehicleSafetyExtensions(v) => crate::jer::Jer::write_jer(v, out),
+            Self::SpecialVehicleExtensions(v) => crate::jer::Jer::write_jer(v, out),
+            Self::SupplementalVehicleExtensions(v) => crate::jer::Jer::write_jer(v, out),
+            Self::Unknown { content, .. } => out.hex(content),
+        }
+    }
+    /// Reads the id and the value from members `id_name` and `value_name` of an object.
+    #[cfg(feature = "jer")]
+    pub fn read_jer_members(
+        v: &crate::jer::Value,
+        id_name: &str,
+        value_name: &str,
+    ) -> crate::jer::JerResult<Self> {
+        let id = crate::jer::read_member(v, id_name, <PartIIId as crate::jer::Jer>::read_jer)?;
+        let x = crate::jer::required(v, value_name)?;
+        match id.get() {
+            0 => <super::common::VehicleSafetyExtensions as crate::jer::Jer>::read_jer(x)
+                .map(Self::VehicleSafetyExtensions)
+                .map_err(|e| e.within(value_name)),
+            1 => <SpecialVehicleExtensions as crate::jer::Jer>::read_jer(x)
+                .map(Self::SpecialVehicleExtensions)
+                .map_err(|e| e.within(value_name)),
+            2 => <SupplementalVehicleExtensions as crate::jer::Jer>::read_jer(x)
+                .map(Self::SupplementalVehicleExtensions)
+                .map_err(|e| e.within(value_name)),
+            _ => {
+                let content = uper::Octets::from_slice(&crate::jer::hex(x)?)
+                    .ok_or_else(crate::jer::over_capacity)?;
+                Ok(Self::Unknown { id, content })
+            }
+        }
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for PartIIcontent {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        self.write_jer_members(out, "partII-Id", "partII-Value");
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        Self::read_jer_members(v, "partII-Id", "partII-Value")
     }
 }
 
@@ -2683,6 +3735,30 @@ impl Uper for BasicSafetyMessageRegional {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for BasicSafetyMessageRegional {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_array();
+        for item in self.0.iter() {
+            crate::jer::Jer::write_jer(item, out);
+        }
+        out.end_array();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let items = crate::jer::array(v)?;
+        if items.len() < 1 {
+            return Err(crate::jer::invalid("size"));
+        }
+        let mut list = Self::new();
+        for (i, x) in items.iter().enumerate() {
+            let item = <RegBasicSafetyMessage as crate::jer::Jer>::read_jer(x)
+                .map_err(|e| e.within(&std::format!("[{i}]")))?;
+            list.0.push(item).map_err(|_| crate::jer::over_capacity())?;
+        }
+        Ok(list)
+    }
+}
+
 #[cfg(feature = "_random")]
 impl uper::random::Random for BasicSafetyMessageRegional {
     fn random(g: &mut uper::random::Gen) -> Self {
@@ -2713,6 +3789,57 @@ impl RegBasicSafetyMessage {
         match self {
             Self::Unknown { id, .. } => *id,
         }
+    }
+}
+
+impl RegBasicSafetyMessage {
+    /// Writes the id and the value as members `id_name` and `value_name` of an object.
+    #[cfg(feature = "jer")]
+    pub fn write_jer_members(
+        &self,
+        out: &mut crate::jer::JerWriter,
+        id_name: &str,
+        value_name: &str,
+    ) {
+        out.key(id_name);
+        out.int(self.id().get() as i64);
+        out.key(value_name);
+        match self {
+            Self::Unknown { content, .. } => out.hex(content),
+        }
+    }
+    /// Reads the id and the value from members `id_name` and `value_name` of an object.
+    #[cfg(feature = "jer")]
+    pub fn read_jer_members(
+        v: &crate::jer::Value,
+        id_name: &str,
+        value_name: &str,
+    ) -> crate::jer::JerResult<Self> {
+        let id = crate::jer::read_member(
+            v,
+            id_name,
+            <super::common::RegionId as crate::jer::Jer>::read_jer,
+        )?;
+        let x = crate::jer::required(v, value_name)?;
+        match id.get() {
+            _ => {
+                let content = uper::Octets::from_slice(&crate::jer::hex(x)?)
+                    .ok_or_else(crate::jer::over_capacity)?;
+                Ok(Self::Unknown { id, content })
+            }
+        }
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for RegBasicSafetyMessage {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        self.write_jer_members(out, "regionId", "regExtValue");
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        Self::read_jer_members(v, "regionId", "regExtValue")
     }
 }
 

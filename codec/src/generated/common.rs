@@ -39,6 +39,19 @@ impl uper::random::Random for TemporaryID {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for TemporaryID {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.hex(&self.0);
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        crate::jer::hex(v)?
+            .try_into()
+            .map(Self)
+            .map_err(|_| crate::jer::invalid("size"))
+    }
+}
+
 /// ASN.1 `MinuteOfTheYear` (module `Common`): INTEGER (0..527040).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub struct MinuteOfTheYear(u32);
@@ -141,6 +154,94 @@ impl Uper for BSMcoreData {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for BSMcoreData {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        out.key("msgCnt");
+        crate::jer::Jer::write_jer(&self.msg_cnt, out);
+        out.key("id");
+        crate::jer::Jer::write_jer(&self.id, out);
+        out.key("secMark");
+        crate::jer::Jer::write_jer(&self.sec_mark, out);
+        out.key("lat");
+        crate::jer::Jer::write_jer(&self.lat, out);
+        out.key("long");
+        crate::jer::Jer::write_jer(&self.long, out);
+        out.key("elev");
+        crate::jer::Jer::write_jer(&self.elev, out);
+        out.key("accuracy");
+        crate::jer::Jer::write_jer(&self.accuracy, out);
+        out.key("transmission");
+        crate::jer::Jer::write_jer(&self.transmission, out);
+        out.key("speed");
+        crate::jer::Jer::write_jer(&self.speed, out);
+        out.key("heading");
+        crate::jer::Jer::write_jer(&self.heading, out);
+        out.key("angle");
+        crate::jer::Jer::write_jer(&self.angle, out);
+        out.key("accelSet");
+        crate::jer::Jer::write_jer(&self.accel_set, out);
+        out.key("brakes");
+        crate::jer::Jer::write_jer(&self.brakes, out);
+        out.key("size");
+        crate::jer::Jer::write_jer(&self.size, out);
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        crate::jer::member(v, "")?;
+        let f_msg_cnt =
+            crate::jer::read_member(v, "msgCnt", |x| <MsgCount as crate::jer::Jer>::read_jer(x))?;
+        let f_id =
+            crate::jer::read_member(v, "id", |x| <TemporaryID as crate::jer::Jer>::read_jer(x))?;
+        let f_sec_mark =
+            crate::jer::read_member(v, "secMark", |x| <DSecond as crate::jer::Jer>::read_jer(x))?;
+        let f_lat =
+            crate::jer::read_member(v, "lat", |x| <Latitude as crate::jer::Jer>::read_jer(x))?;
+        let f_long =
+            crate::jer::read_member(v, "long", |x| <Longitude as crate::jer::Jer>::read_jer(x))?;
+        let f_elev =
+            crate::jer::read_member(v, "elev", |x| <Elevation as crate::jer::Jer>::read_jer(x))?;
+        let f_accuracy = crate::jer::read_member(v, "accuracy", |x| {
+            <PositionalAccuracy as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_transmission = crate::jer::read_member(v, "transmission", |x| {
+            <TransmissionState as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_speed =
+            crate::jer::read_member(v, "speed", |x| <Speed as crate::jer::Jer>::read_jer(x))?;
+        let f_heading =
+            crate::jer::read_member(v, "heading", |x| <Heading as crate::jer::Jer>::read_jer(x))?;
+        let f_angle = crate::jer::read_member(v, "angle", |x| {
+            <SteeringWheelAngle as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_accel_set = crate::jer::read_member(v, "accelSet", |x| {
+            <AccelerationSet4Way as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_brakes = crate::jer::read_member(v, "brakes", |x| {
+            <BrakeSystemStatus as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_size =
+            crate::jer::read_member(v, "size", |x| <VehicleSize as crate::jer::Jer>::read_jer(x))?;
+        Ok(Self {
+            msg_cnt: f_msg_cnt,
+            id: f_id,
+            sec_mark: f_sec_mark,
+            lat: f_lat,
+            long: f_long,
+            elev: f_elev,
+            accuracy: f_accuracy,
+            transmission: f_transmission,
+            speed: f_speed,
+            heading: f_heading,
+            angle: f_angle,
+            accel_set: f_accel_set,
+            brakes: f_brakes,
+            size: f_size,
+        })
+    }
+}
+
 #[cfg(feature = "_random")]
 impl uper::random::Random for BSMcoreData {
     fn random(g: &mut uper::random::Gen) -> Self {
@@ -234,6 +335,37 @@ impl Uper for PositionalAccuracy {
         self.semi_minor.encode_uper(w)?;
         self.orientation.encode_uper(w)?;
         Ok(())
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for PositionalAccuracy {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        out.key("semiMajor");
+        crate::jer::Jer::write_jer(&self.semi_major, out);
+        out.key("semiMinor");
+        crate::jer::Jer::write_jer(&self.semi_minor, out);
+        out.key("orientation");
+        crate::jer::Jer::write_jer(&self.orientation, out);
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        crate::jer::member(v, "")?;
+        let f_semi_major = crate::jer::read_member(v, "semiMajor", |x| {
+            <SemiMajorAxisAccuracy as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_semi_minor = crate::jer::read_member(v, "semiMinor", |x| {
+            <SemiMinorAxisAccuracy as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_orientation = crate::jer::read_member(v, "orientation", |x| {
+            <SemiMajorAxisOrientation as crate::jer::Jer>::read_jer(x)
+        })?;
+        Ok(Self {
+            semi_major: f_semi_major,
+            semi_minor: f_semi_minor,
+            orientation: f_orientation,
+        })
     }
 }
 
@@ -352,6 +484,20 @@ impl TransmissionState {
             Self::Unavailable => "unavailable",
         }
     }
+    /// The value of an ASN.1 identifier, when the type has it.
+    pub fn from_identifier(name: &str) -> Option<Self> {
+        match name {
+            "neutral" => Some(Self::Neutral),
+            "park" => Some(Self::Park),
+            "forwardGears" => Some(Self::ForwardGears),
+            "reverseGears" => Some(Self::ReverseGears),
+            "reserved1" => Some(Self::Reserved1),
+            "reserved2" => Some(Self::Reserved2),
+            "reserved3" => Some(Self::Reserved3),
+            "unavailable" => Some(Self::Unavailable),
+            _ => None,
+        }
+    }
     fn root_index(self) -> i64 {
         match self {
             Self::Neutral => 0,
@@ -396,6 +542,18 @@ impl Uper for TransmissionState {
 impl uper::random::Random for TransmissionState {
     fn random(g: &mut uper::random::Gen) -> Self {
         Self::ALL[g.below(8)]
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for TransmissionState {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.string(self.identifier());
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let name = crate::jer::string(v)?;
+        Self::from_identifier(name)
+            .ok_or_else(|| crate::jer::JerError::new(std::format!("unknown identifier {name}")))
     }
 }
 
@@ -472,6 +630,41 @@ impl Uper for AccelerationSet4Way {
         self.vert.encode_uper(w)?;
         self.yaw.encode_uper(w)?;
         Ok(())
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for AccelerationSet4Way {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        out.key("long");
+        crate::jer::Jer::write_jer(&self.long, out);
+        out.key("lat");
+        crate::jer::Jer::write_jer(&self.lat, out);
+        out.key("vert");
+        crate::jer::Jer::write_jer(&self.vert, out);
+        out.key("yaw");
+        crate::jer::Jer::write_jer(&self.yaw, out);
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        crate::jer::member(v, "")?;
+        let f_long = crate::jer::read_member(v, "long", |x| {
+            <Acceleration as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_lat =
+            crate::jer::read_member(v, "lat", |x| <Acceleration as crate::jer::Jer>::read_jer(x))?;
+        let f_vert = crate::jer::read_member(v, "vert", |x| {
+            <VerticalAcceleration as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_yaw =
+            crate::jer::read_member(v, "yaw", |x| <YawRate as crate::jer::Jer>::read_jer(x))?;
+        Ok(Self {
+            long: f_long,
+            lat: f_lat,
+            vert: f_vert,
+            yaw: f_yaw,
+        })
     }
 }
 
@@ -569,6 +762,55 @@ impl Uper for BrakeSystemStatus {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for BrakeSystemStatus {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        out.key("wheelBrakes");
+        crate::jer::Jer::write_jer(&self.wheel_brakes, out);
+        out.key("traction");
+        crate::jer::Jer::write_jer(&self.traction, out);
+        out.key("abs");
+        crate::jer::Jer::write_jer(&self.abs, out);
+        out.key("scs");
+        crate::jer::Jer::write_jer(&self.scs, out);
+        out.key("brakeBoost");
+        crate::jer::Jer::write_jer(&self.brake_boost, out);
+        out.key("auxBrakes");
+        crate::jer::Jer::write_jer(&self.aux_brakes, out);
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        crate::jer::member(v, "")?;
+        let f_wheel_brakes = crate::jer::read_member(v, "wheelBrakes", |x| {
+            <BrakeAppliedStatus as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_traction = crate::jer::read_member(v, "traction", |x| {
+            <TractionControlStatus as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_abs = crate::jer::read_member(v, "abs", |x| {
+            <AntiLockBrakeStatus as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_scs = crate::jer::read_member(v, "scs", |x| {
+            <StabilityControlStatus as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_brake_boost = crate::jer::read_member(v, "brakeBoost", |x| {
+            <BrakeBoostApplied as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_aux_brakes = crate::jer::read_member(v, "auxBrakes", |x| {
+            <AuxiliaryBrakeStatus as crate::jer::Jer>::read_jer(x)
+        })?;
+        Ok(Self {
+            wheel_brakes: f_wheel_brakes,
+            traction: f_traction,
+            abs: f_abs,
+            scs: f_scs,
+            brake_boost: f_brake_boost,
+            aux_brakes: f_aux_brakes,
+        })
+    }
+}
+
 #[cfg(feature = "_random")]
 impl uper::random::Random for BrakeSystemStatus {
     fn random(g: &mut uper::random::Gen) -> Self {
@@ -627,6 +869,22 @@ impl Uper for BrakeAppliedStatus {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for BrakeAppliedStatus {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.hex(self.0.as_bytes());
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let (bytes, len) = crate::jer::bits(v, 5, 5)?;
+        if !(5..=5).contains(&len) {
+            return Err(crate::jer::invalid("size"));
+        }
+        uper::Bits::from_bytes(&bytes, len)
+            .map(Self)
+            .ok_or_else(crate::jer::over_capacity)
+    }
+}
+
 #[cfg(feature = "_random")]
 impl uper::random::Random for BrakeAppliedStatus {
     fn random(g: &mut uper::random::Gen) -> Self {
@@ -668,6 +926,16 @@ impl TractionControlStatus {
             Self::Off => "off",
             Self::On => "on",
             Self::Engaged => "engaged",
+        }
+    }
+    /// The value of an ASN.1 identifier, when the type has it.
+    pub fn from_identifier(name: &str) -> Option<Self> {
+        match name {
+            "unavailable" => Some(Self::Unavailable),
+            "off" => Some(Self::Off),
+            "on" => Some(Self::On),
+            "engaged" => Some(Self::Engaged),
+            _ => None,
         }
     }
     fn root_index(self) -> i64 {
@@ -713,6 +981,18 @@ impl uper::random::Random for TractionControlStatus {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for TractionControlStatus {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.string(self.identifier());
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let name = crate::jer::string(v)?;
+        Self::from_identifier(name)
+            .ok_or_else(|| crate::jer::JerError::new(std::format!("unknown identifier {name}")))
+    }
+}
+
 /// ASN.1 `AntiLockBrakeStatus` (module `Common`): ENUMERATED.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum AntiLockBrakeStatus {
@@ -745,6 +1025,16 @@ impl AntiLockBrakeStatus {
             Self::Off => "off",
             Self::On => "on",
             Self::Engaged => "engaged",
+        }
+    }
+    /// The value of an ASN.1 identifier, when the type has it.
+    pub fn from_identifier(name: &str) -> Option<Self> {
+        match name {
+            "unavailable" => Some(Self::Unavailable),
+            "off" => Some(Self::Off),
+            "on" => Some(Self::On),
+            "engaged" => Some(Self::Engaged),
+            _ => None,
         }
     }
     fn root_index(self) -> i64 {
@@ -790,6 +1080,18 @@ impl uper::random::Random for AntiLockBrakeStatus {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for AntiLockBrakeStatus {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.string(self.identifier());
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let name = crate::jer::string(v)?;
+        Self::from_identifier(name)
+            .ok_or_else(|| crate::jer::JerError::new(std::format!("unknown identifier {name}")))
+    }
+}
+
 /// ASN.1 `StabilityControlStatus` (module `Common`): ENUMERATED.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum StabilityControlStatus {
@@ -822,6 +1124,16 @@ impl StabilityControlStatus {
             Self::Off => "off",
             Self::On => "on",
             Self::Engaged => "engaged",
+        }
+    }
+    /// The value of an ASN.1 identifier, when the type has it.
+    pub fn from_identifier(name: &str) -> Option<Self> {
+        match name {
+            "unavailable" => Some(Self::Unavailable),
+            "off" => Some(Self::Off),
+            "on" => Some(Self::On),
+            "engaged" => Some(Self::Engaged),
+            _ => None,
         }
     }
     fn root_index(self) -> i64 {
@@ -867,6 +1179,18 @@ impl uper::random::Random for StabilityControlStatus {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for StabilityControlStatus {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.string(self.identifier());
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let name = crate::jer::string(v)?;
+        Self::from_identifier(name)
+            .ok_or_else(|| crate::jer::JerError::new(std::format!("unknown identifier {name}")))
+    }
+}
+
 /// ASN.1 `BrakeBoostApplied` (module `Common`): ENUMERATED.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum BrakeBoostApplied {
@@ -895,6 +1219,15 @@ impl BrakeBoostApplied {
             Self::Unavailable => "unavailable",
             Self::Off => "off",
             Self::On => "on",
+        }
+    }
+    /// The value of an ASN.1 identifier, when the type has it.
+    pub fn from_identifier(name: &str) -> Option<Self> {
+        match name {
+            "unavailable" => Some(Self::Unavailable),
+            "off" => Some(Self::Off),
+            "on" => Some(Self::On),
+            _ => None,
         }
     }
     fn root_index(self) -> i64 {
@@ -939,6 +1272,18 @@ impl uper::random::Random for BrakeBoostApplied {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for BrakeBoostApplied {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.string(self.identifier());
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let name = crate::jer::string(v)?;
+        Self::from_identifier(name)
+            .ok_or_else(|| crate::jer::JerError::new(std::format!("unknown identifier {name}")))
+    }
+}
+
 /// ASN.1 `AuxiliaryBrakeStatus` (module `Common`): ENUMERATED.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum AuxiliaryBrakeStatus {
@@ -971,6 +1316,16 @@ impl AuxiliaryBrakeStatus {
             Self::Off => "off",
             Self::On => "on",
             Self::Reserved => "reserved",
+        }
+    }
+    /// The value of an ASN.1 identifier, when the type has it.
+    pub fn from_identifier(name: &str) -> Option<Self> {
+        match name {
+            "unavailable" => Some(Self::Unavailable),
+            "off" => Some(Self::Off),
+            "on" => Some(Self::On),
+            "reserved" => Some(Self::Reserved),
+            _ => None,
         }
     }
     fn root_index(self) -> i64 {
@@ -1016,6 +1371,18 @@ impl uper::random::Random for AuxiliaryBrakeStatus {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for AuxiliaryBrakeStatus {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.string(self.identifier());
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let name = crate::jer::string(v)?;
+        Self::from_identifier(name)
+            .ok_or_else(|| crate::jer::JerError::new(std::format!("unknown identifier {name}")))
+    }
+}
+
 /// ASN.1 `VehicleSize` (module `Common`): SEQUENCE.
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub struct VehicleSize {
@@ -1046,6 +1413,31 @@ impl Uper for VehicleSize {
         self.width.encode_uper(w)?;
         self.length.encode_uper(w)?;
         Ok(())
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for VehicleSize {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        out.key("width");
+        crate::jer::Jer::write_jer(&self.width, out);
+        out.key("length");
+        crate::jer::Jer::write_jer(&self.length, out);
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        crate::jer::member(v, "")?;
+        let f_width = crate::jer::read_member(v, "width", |x| {
+            <VehicleWidth as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_length = crate::jer::read_member(v, "length", |x| {
+            <VehicleLength as crate::jer::Jer>::read_jer(x)
+        })?;
+        Ok(Self {
+            width: f_width,
+            length: f_length,
+        })
     }
 }
 
@@ -1153,6 +1545,42 @@ impl Uper for PathHistory {
             self.extensions.encode(w)?;
         }
         Ok(())
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for PathHistory {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        if let Some(v) = &self.initial_position {
+            out.key("initialPosition");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.curr_gnss_status {
+            out.key("currGNSSstatus");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        out.key("crumbData");
+        crate::jer::Jer::write_jer(&self.crumb_data, out);
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        crate::jer::member(v, "")?;
+        let f_initial_position = crate::jer::read_optional(v, "initialPosition", |x| {
+            <FullPositionVector as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_curr_gnss_status = crate::jer::read_optional(v, "currGNSSstatus", |x| {
+            <GNSSstatus as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_crumb_data = crate::jer::read_member(v, "crumbData", |x| {
+            <PathHistoryPointList as crate::jer::Jer>::read_jer(x)
+        })?;
+        Ok(Self {
+            initial_position: f_initial_position,
+            curr_gnss_status: f_curr_gnss_status,
+            crumb_data: f_crumb_data,
+            extensions: uper::Extensions::new(),
+        })
     }
 }
 
@@ -1362,6 +1790,93 @@ impl Uper for FullPositionVector {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for FullPositionVector {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        if let Some(v) = &self.utc_time {
+            out.key("utcTime");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        out.key("long");
+        crate::jer::Jer::write_jer(&self.long, out);
+        out.key("lat");
+        crate::jer::Jer::write_jer(&self.lat, out);
+        if let Some(v) = &self.elevation {
+            out.key("elevation");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.heading {
+            out.key("heading");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.speed {
+            out.key("speed");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.pos_accuracy {
+            out.key("posAccuracy");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.time_confidence {
+            out.key("timeConfidence");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.pos_confidence {
+            out.key("posConfidence");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.speed_confidence {
+            out.key("speedConfidence");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        crate::jer::member(v, "")?;
+        let f_utc_time = crate::jer::read_optional(v, "utcTime", |x| {
+            <DDateTime as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_long =
+            crate::jer::read_member(v, "long", |x| <Longitude as crate::jer::Jer>::read_jer(x))?;
+        let f_lat =
+            crate::jer::read_member(v, "lat", |x| <Latitude as crate::jer::Jer>::read_jer(x))?;
+        let f_elevation = crate::jer::read_optional(v, "elevation", |x| {
+            <Elevation as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_heading =
+            crate::jer::read_optional(v, "heading", |x| <Heading as crate::jer::Jer>::read_jer(x))?;
+        let f_speed = crate::jer::read_optional(v, "speed", |x| {
+            <TransmissionAndSpeed as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_pos_accuracy = crate::jer::read_optional(v, "posAccuracy", |x| {
+            <PositionalAccuracy as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_time_confidence = crate::jer::read_optional(v, "timeConfidence", |x| {
+            <TimeConfidence as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_pos_confidence = crate::jer::read_optional(v, "posConfidence", |x| {
+            <PositionConfidenceSet as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_speed_confidence = crate::jer::read_optional(v, "speedConfidence", |x| {
+            <SpeedandHeadingandThrottleConfidence as crate::jer::Jer>::read_jer(x)
+        })?;
+        Ok(Self {
+            utc_time: f_utc_time,
+            long: f_long,
+            lat: f_lat,
+            elevation: f_elevation,
+            heading: f_heading,
+            speed: f_speed,
+            pos_accuracy: f_pos_accuracy,
+            time_confidence: f_time_confidence,
+            pos_confidence: f_pos_confidence,
+            speed_confidence: f_speed_confidence,
+            extensions: uper::Extensions::new(),
+        })
+    }
+}
+
 #[cfg(feature = "_random")]
 impl uper::random::Random for FullPositionVector {
     fn random(g: &mut uper::random::Gen) -> Self {
@@ -1559,6 +2074,68 @@ impl Uper for DDateTime {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for DDateTime {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        if let Some(v) = &self.year {
+            out.key("year");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.month {
+            out.key("month");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.day {
+            out.key("day");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.hour {
+            out.key("hour");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.minute {
+            out.key("minute");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.second {
+            out.key("second");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.offset {
+            out.key("offset");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        crate::jer::member(v, "")?;
+        let f_year =
+            crate::jer::read_optional(v, "year", |x| <DYear as crate::jer::Jer>::read_jer(x))?;
+        let f_month =
+            crate::jer::read_optional(v, "month", |x| <DMonth as crate::jer::Jer>::read_jer(x))?;
+        let f_day =
+            crate::jer::read_optional(v, "day", |x| <DDay as crate::jer::Jer>::read_jer(x))?;
+        let f_hour =
+            crate::jer::read_optional(v, "hour", |x| <DHour as crate::jer::Jer>::read_jer(x))?;
+        let f_minute =
+            crate::jer::read_optional(v, "minute", |x| <DMinute as crate::jer::Jer>::read_jer(x))?;
+        let f_second =
+            crate::jer::read_optional(v, "second", |x| <DSecond as crate::jer::Jer>::read_jer(x))?;
+        let f_offset =
+            crate::jer::read_optional(v, "offset", |x| <DOffset as crate::jer::Jer>::read_jer(x))?;
+        Ok(Self {
+            year: f_year,
+            month: f_month,
+            day: f_day,
+            hour: f_hour,
+            minute: f_minute,
+            second: f_second,
+            offset: f_offset,
+        })
+    }
+}
+
 #[cfg(feature = "_random")]
 impl uper::random::Random for DDateTime {
     fn random(g: &mut uper::random::Gen) -> Self {
@@ -1666,6 +2243,30 @@ impl Uper for TransmissionAndSpeed {
         self.transmisson.encode_uper(w)?;
         self.speed.encode_uper(w)?;
         Ok(())
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for TransmissionAndSpeed {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        out.key("transmisson");
+        crate::jer::Jer::write_jer(&self.transmisson, out);
+        out.key("speed");
+        crate::jer::Jer::write_jer(&self.speed, out);
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        crate::jer::member(v, "")?;
+        let f_transmisson = crate::jer::read_member(v, "transmisson", |x| {
+            <TransmissionState as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_speed =
+            crate::jer::read_member(v, "speed", |x| <Velocity as crate::jer::Jer>::read_jer(x))?;
+        Ok(Self {
+            transmisson: f_transmisson,
+            speed: f_speed,
+        })
     }
 }
 
@@ -1907,6 +2508,52 @@ impl TimeConfidence {
             Self::Time000_000_000_000_01 => "time-000-000-000-000-01",
         }
     }
+    /// The value of an ASN.1 identifier, when the type has it.
+    pub fn from_identifier(name: &str) -> Option<Self> {
+        match name {
+            "unavailable" => Some(Self::Unavailable),
+            "time-100-000" => Some(Self::Time100_000),
+            "time-050-000" => Some(Self::Time050_000),
+            "time-020-000" => Some(Self::Time020_000),
+            "time-010-000" => Some(Self::Time010_000),
+            "time-002-000" => Some(Self::Time002_000),
+            "time-001-000" => Some(Self::Time001_000),
+            "time-000-500" => Some(Self::Time000_500),
+            "time-000-200" => Some(Self::Time000_200),
+            "time-000-100" => Some(Self::Time000_100),
+            "time-000-050" => Some(Self::Time000_050),
+            "time-000-020" => Some(Self::Time000_020),
+            "time-000-010" => Some(Self::Time000_010),
+            "time-000-005" => Some(Self::Time000_005),
+            "time-000-002" => Some(Self::Time000_002),
+            "time-000-001" => Some(Self::Time000_001),
+            "time-000-000-5" => Some(Self::Time000_000_5),
+            "time-000-000-2" => Some(Self::Time000_000_2),
+            "time-000-000-1" => Some(Self::Time000_000_1),
+            "time-000-000-05" => Some(Self::Time000_000_05),
+            "time-000-000-02" => Some(Self::Time000_000_02),
+            "time-000-000-01" => Some(Self::Time000_000_01),
+            "time-000-000-005" => Some(Self::Time000_000_005),
+            "time-000-000-002" => Some(Self::Time000_000_002),
+            "time-000-000-001" => Some(Self::Time000_000_001),
+            "time-000-000-000-5" => Some(Self::Time000_000_000_5),
+            "time-000-000-000-2" => Some(Self::Time000_000_000_2),
+            "time-000-000-000-1" => Some(Self::Time000_000_000_1),
+            "time-000-000-000-05" => Some(Self::Time000_000_000_05),
+            "time-000-000-000-02" => Some(Self::Time000_000_000_02),
+            "time-000-000-000-01" => Some(Self::Time000_000_000_01),
+            "time-000-000-000-005" => Some(Self::Time000_000_000_005),
+            "time-000-000-000-002" => Some(Self::Time000_000_000_002),
+            "time-000-000-000-001" => Some(Self::Time000_000_000_001),
+            "time-000-000-000-000-5" => Some(Self::Time000_000_000_000_5),
+            "time-000-000-000-000-2" => Some(Self::Time000_000_000_000_2),
+            "time-000-000-000-000-1" => Some(Self::Time000_000_000_000_1),
+            "time-000-000-000-000-05" => Some(Self::Time000_000_000_000_05),
+            "time-000-000-000-000-02" => Some(Self::Time000_000_000_000_02),
+            "time-000-000-000-000-01" => Some(Self::Time000_000_000_000_01),
+            _ => None,
+        }
+    }
     fn root_index(self) -> i64 {
         match self {
             Self::Unavailable => 0,
@@ -1986,6 +2633,18 @@ impl uper::random::Random for TimeConfidence {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for TimeConfidence {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.string(self.identifier());
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let name = crate::jer::string(v)?;
+        Self::from_identifier(name)
+            .ok_or_else(|| crate::jer::JerError::new(std::format!("unknown identifier {name}")))
+    }
+}
+
 /// ASN.1 `PositionConfidenceSet` (module `Common`): SEQUENCE.
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub struct PositionConfidenceSet {
@@ -2016,6 +2675,31 @@ impl Uper for PositionConfidenceSet {
         self.pos.encode_uper(w)?;
         self.elevation.encode_uper(w)?;
         Ok(())
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for PositionConfidenceSet {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        out.key("pos");
+        crate::jer::Jer::write_jer(&self.pos, out);
+        out.key("elevation");
+        crate::jer::Jer::write_jer(&self.elevation, out);
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        crate::jer::member(v, "")?;
+        let f_pos = crate::jer::read_member(v, "pos", |x| {
+            <PositionConfidence as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_elevation = crate::jer::read_member(v, "elevation", |x| {
+            <ElevationConfidence as crate::jer::Jer>::read_jer(x)
+        })?;
+        Ok(Self {
+            pos: f_pos,
+            elevation: f_elevation,
+        })
     }
 }
 
@@ -2128,6 +2812,28 @@ impl PositionConfidence {
             Self::A1cm => "a1cm",
         }
     }
+    /// The value of an ASN.1 identifier, when the type has it.
+    pub fn from_identifier(name: &str) -> Option<Self> {
+        match name {
+            "unavailable" => Some(Self::Unavailable),
+            "a500m" => Some(Self::A500m),
+            "a200m" => Some(Self::A200m),
+            "a100m" => Some(Self::A100m),
+            "a50m" => Some(Self::A50m),
+            "a20m" => Some(Self::A20m),
+            "a10m" => Some(Self::A10m),
+            "a5m" => Some(Self::A5m),
+            "a2m" => Some(Self::A2m),
+            "a1m" => Some(Self::A1m),
+            "a50cm" => Some(Self::A50cm),
+            "a20cm" => Some(Self::A20cm),
+            "a10cm" => Some(Self::A10cm),
+            "a5cm" => Some(Self::A5cm),
+            "a2cm" => Some(Self::A2cm),
+            "a1cm" => Some(Self::A1cm),
+            _ => None,
+        }
+    }
     fn root_index(self) -> i64 {
         match self {
             Self::Unavailable => 0,
@@ -2180,6 +2886,18 @@ impl Uper for PositionConfidence {
 impl uper::random::Random for PositionConfidence {
     fn random(g: &mut uper::random::Gen) -> Self {
         Self::ALL[g.below(16)]
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for PositionConfidence {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.string(self.identifier());
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let name = crate::jer::string(v)?;
+        Self::from_identifier(name)
+            .ok_or_else(|| crate::jer::JerError::new(std::format!("unknown identifier {name}")))
     }
 }
 
@@ -2282,6 +3000,28 @@ impl ElevationConfidence {
             Self::Elev000_01 => "elev-000-01",
         }
     }
+    /// The value of an ASN.1 identifier, when the type has it.
+    pub fn from_identifier(name: &str) -> Option<Self> {
+        match name {
+            "unavailable" => Some(Self::Unavailable),
+            "elev-500-00" => Some(Self::Elev500_00),
+            "elev-200-00" => Some(Self::Elev200_00),
+            "elev-100-00" => Some(Self::Elev100_00),
+            "elev-050-00" => Some(Self::Elev050_00),
+            "elev-020-00" => Some(Self::Elev020_00),
+            "elev-010-00" => Some(Self::Elev010_00),
+            "elev-005-00" => Some(Self::Elev005_00),
+            "elev-002-00" => Some(Self::Elev002_00),
+            "elev-001-00" => Some(Self::Elev001_00),
+            "elev-000-50" => Some(Self::Elev000_50),
+            "elev-000-20" => Some(Self::Elev000_20),
+            "elev-000-10" => Some(Self::Elev000_10),
+            "elev-000-05" => Some(Self::Elev000_05),
+            "elev-000-02" => Some(Self::Elev000_02),
+            "elev-000-01" => Some(Self::Elev000_01),
+            _ => None,
+        }
+    }
     fn root_index(self) -> i64 {
         match self {
             Self::Unavailable => 0,
@@ -2337,6 +3077,18 @@ impl uper::random::Random for ElevationConfidence {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for ElevationConfidence {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.string(self.identifier());
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let name = crate::jer::string(v)?;
+        Self::from_identifier(name)
+            .ok_or_else(|| crate::jer::JerError::new(std::format!("unknown identifier {name}")))
+    }
+}
+
 /// ASN.1 `SpeedandHeadingandThrottleConfidence` (module `Common`): SEQUENCE.
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub struct SpeedandHeadingandThrottleConfidence {
@@ -2372,6 +3124,37 @@ impl Uper for SpeedandHeadingandThrottleConfidence {
         self.speed.encode_uper(w)?;
         self.throttle.encode_uper(w)?;
         Ok(())
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for SpeedandHeadingandThrottleConfidence {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        out.key("heading");
+        crate::jer::Jer::write_jer(&self.heading, out);
+        out.key("speed");
+        crate::jer::Jer::write_jer(&self.speed, out);
+        out.key("throttle");
+        crate::jer::Jer::write_jer(&self.throttle, out);
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        crate::jer::member(v, "")?;
+        let f_heading = crate::jer::read_member(v, "heading", |x| {
+            <HeadingConfidence as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_speed = crate::jer::read_member(v, "speed", |x| {
+            <SpeedConfidence as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_throttle = crate::jer::read_member(v, "throttle", |x| {
+            <ThrottleConfidence as crate::jer::Jer>::read_jer(x)
+        })?;
+        Ok(Self {
+            heading: f_heading,
+            speed: f_speed,
+            throttle: f_throttle,
+        })
     }
 }
 
@@ -2445,6 +3228,20 @@ impl HeadingConfidence {
             Self::Prec0_0125deg => "prec0-0125deg",
         }
     }
+    /// The value of an ASN.1 identifier, when the type has it.
+    pub fn from_identifier(name: &str) -> Option<Self> {
+        match name {
+            "unavailable" => Some(Self::Unavailable),
+            "prec10deg" => Some(Self::Prec10deg),
+            "prec05deg" => Some(Self::Prec05deg),
+            "prec01deg" => Some(Self::Prec01deg),
+            "prec0-1deg" => Some(Self::Prec0_1deg),
+            "prec0-05deg" => Some(Self::Prec0_05deg),
+            "prec0-01deg" => Some(Self::Prec0_01deg),
+            "prec0-0125deg" => Some(Self::Prec0_0125deg),
+            _ => None,
+        }
+    }
     fn root_index(self) -> i64 {
         match self {
             Self::Unavailable => 0,
@@ -2489,6 +3286,18 @@ impl Uper for HeadingConfidence {
 impl uper::random::Random for HeadingConfidence {
     fn random(g: &mut uper::random::Gen) -> Self {
         Self::ALL[g.below(8)]
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for HeadingConfidence {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.string(self.identifier());
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let name = crate::jer::string(v)?;
+        Self::from_identifier(name)
+            .ok_or_else(|| crate::jer::JerError::new(std::format!("unknown identifier {name}")))
     }
 }
 
@@ -2551,6 +3360,20 @@ impl SpeedConfidence {
             Self::Prec0_01ms => "prec0-01ms",
         }
     }
+    /// The value of an ASN.1 identifier, when the type has it.
+    pub fn from_identifier(name: &str) -> Option<Self> {
+        match name {
+            "unavailable" => Some(Self::Unavailable),
+            "prec100ms" => Some(Self::Prec100ms),
+            "prec10ms" => Some(Self::Prec10ms),
+            "prec5ms" => Some(Self::Prec5ms),
+            "prec1ms" => Some(Self::Prec1ms),
+            "prec0-1ms" => Some(Self::Prec0_1ms),
+            "prec0-05ms" => Some(Self::Prec0_05ms),
+            "prec0-01ms" => Some(Self::Prec0_01ms),
+            _ => None,
+        }
+    }
     fn root_index(self) -> i64 {
         match self {
             Self::Unavailable => 0,
@@ -2598,6 +3421,18 @@ impl uper::random::Random for SpeedConfidence {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for SpeedConfidence {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.string(self.identifier());
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let name = crate::jer::string(v)?;
+        Self::from_identifier(name)
+            .ok_or_else(|| crate::jer::JerError::new(std::format!("unknown identifier {name}")))
+    }
+}
+
 /// ASN.1 `ThrottleConfidence` (module `Common`): ENUMERATED.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum ThrottleConfidence {
@@ -2635,6 +3470,16 @@ impl ThrottleConfidence {
             Self::Prec10percent => "prec10percent",
             Self::Prec1percent => "prec1percent",
             Self::Prec0_5percent => "prec0-5percent",
+        }
+    }
+    /// The value of an ASN.1 identifier, when the type has it.
+    pub fn from_identifier(name: &str) -> Option<Self> {
+        match name {
+            "unavailable" => Some(Self::Unavailable),
+            "prec10percent" => Some(Self::Prec10percent),
+            "prec1percent" => Some(Self::Prec1percent),
+            "prec0-5percent" => Some(Self::Prec0_5percent),
+            _ => None,
         }
     }
     fn root_index(self) -> i64 {
@@ -2677,6 +3522,18 @@ impl Uper for ThrottleConfidence {
 impl uper::random::Random for ThrottleConfidence {
     fn random(g: &mut uper::random::Gen) -> Self {
         Self::ALL[g.below(4)]
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for ThrottleConfidence {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.string(self.identifier());
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let name = crate::jer::string(v)?;
+        Self::from_identifier(name)
+            .ok_or_else(|| crate::jer::JerError::new(std::format!("unknown identifier {name}")))
     }
 }
 
@@ -2730,6 +3587,22 @@ impl Uper for GNSSstatus {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for GNSSstatus {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.hex(self.0.as_bytes());
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let (bytes, len) = crate::jer::bits(v, 8, 8)?;
+        if !(8..=8).contains(&len) {
+            return Err(crate::jer::invalid("size"));
+        }
+        uper::Bits::from_bytes(&bytes, len)
+            .map(Self)
+            .ok_or_else(crate::jer::over_capacity)
+    }
+}
+
 #[cfg(feature = "_random")]
 impl uper::random::Random for GNSSstatus {
     fn random(g: &mut uper::random::Gen) -> Self {
@@ -2773,6 +3646,30 @@ impl Uper for PathHistoryPointList {
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for PathHistoryPointList {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_array();
+        for item in self.0.iter() {
+            crate::jer::Jer::write_jer(item, out);
+        }
+        out.end_array();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let items = crate::jer::array(v)?;
+        if items.len() < 1 {
+            return Err(crate::jer::invalid("size"));
+        }
+        let mut list = Self::new();
+        for (i, x) in items.iter().enumerate() {
+            let item = <PathHistoryPoint as crate::jer::Jer>::read_jer(x)
+                .map_err(|e| e.within(&std::format!("[{i}]")))?;
+            list.0.push(item).map_err(|_| crate::jer::over_capacity())?;
+        }
+        Ok(list)
     }
 }
 
@@ -2899,6 +3796,67 @@ impl Uper for PathHistoryPoint {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for PathHistoryPoint {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        out.key("latOffset");
+        crate::jer::Jer::write_jer(&self.lat_offset, out);
+        out.key("lonOffset");
+        crate::jer::Jer::write_jer(&self.lon_offset, out);
+        out.key("elevationOffset");
+        crate::jer::Jer::write_jer(&self.elevation_offset, out);
+        out.key("timeOffset");
+        crate::jer::Jer::write_jer(&self.time_offset, out);
+        if let Some(v) = &self.speed {
+            out.key("speed");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.pos_accuracy {
+            out.key("posAccuracy");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.heading {
+            out.key("heading");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        crate::jer::member(v, "")?;
+        let f_lat_offset = crate::jer::read_member(v, "latOffset", |x| {
+            <OffsetLLB18 as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_lon_offset = crate::jer::read_member(v, "lonOffset", |x| {
+            <OffsetLLB18 as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_elevation_offset = crate::jer::read_member(v, "elevationOffset", |x| {
+            <VertOffsetB12 as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_time_offset = crate::jer::read_member(v, "timeOffset", |x| {
+            <TimeOffset as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_speed =
+            crate::jer::read_optional(v, "speed", |x| <Speed as crate::jer::Jer>::read_jer(x))?;
+        let f_pos_accuracy = crate::jer::read_optional(v, "posAccuracy", |x| {
+            <PositionalAccuracy as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_heading = crate::jer::read_optional(v, "heading", |x| {
+            <CoarseHeading as crate::jer::Jer>::read_jer(x)
+        })?;
+        Ok(Self {
+            lat_offset: f_lat_offset,
+            lon_offset: f_lon_offset,
+            elevation_offset: f_elevation_offset,
+            time_offset: f_time_offset,
+            speed: f_speed,
+            pos_accuracy: f_pos_accuracy,
+            heading: f_heading,
+            extensions: uper::Extensions::new(),
+        })
+    }
+}
+
 #[cfg(feature = "_random")]
 impl uper::random::Random for PathHistoryPoint {
     fn random(g: &mut uper::random::Gen) -> Self {
@@ -2997,6 +3955,32 @@ impl Uper for PathPrediction {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for PathPrediction {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        out.key("radiusOfCurve");
+        crate::jer::Jer::write_jer(&self.radius_of_curve, out);
+        out.key("confidence");
+        crate::jer::Jer::write_jer(&self.confidence, out);
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        crate::jer::member(v, "")?;
+        let f_radius_of_curve = crate::jer::read_member(v, "radiusOfCurve", |x| {
+            <RadiusOfCurvature as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_confidence = crate::jer::read_member(v, "confidence", |x| {
+            <Confidence as crate::jer::Jer>::read_jer(x)
+        })?;
+        Ok(Self {
+            radius_of_curve: f_radius_of_curve,
+            confidence: f_confidence,
+            extensions: uper::Extensions::new(),
+        })
+    }
+}
+
 #[cfg(feature = "_random")]
 impl uper::random::Random for PathPrediction {
     fn random(g: &mut uper::random::Gen) -> Self {
@@ -3067,6 +4051,33 @@ impl Uper for IntersectionReferenceID {
         }
         self.id.encode_uper(w)?;
         Ok(())
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for IntersectionReferenceID {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        if let Some(v) = &self.region {
+            out.key("region");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        out.key("id");
+        crate::jer::Jer::write_jer(&self.id, out);
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        crate::jer::member(v, "")?;
+        let f_region = crate::jer::read_optional(v, "region", |x| {
+            <RoadRegulatorID as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_id = crate::jer::read_member(v, "id", |x| {
+            <IntersectionID as crate::jer::Jer>::read_jer(x)
+        })?;
+        Ok(Self {
+            region: f_region,
+            id: f_id,
+        })
     }
 }
 
@@ -3158,6 +4169,19 @@ impl Uper for VehicleEventFlags {
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_bits(w, Self::SIZE, &self.0)
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for VehicleEventFlags {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.bits(self.0.as_bytes(), self.0.len());
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let (bytes, len) = crate::jer::bits(v, 13, 13)?;
+        uper::Bits::from_bytes(&bytes, len)
+            .map(Self)
+            .ok_or_else(crate::jer::over_capacity)
     }
 }
 
@@ -3283,6 +4307,52 @@ impl Uper for VehicleSafetyExtensions {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for VehicleSafetyExtensions {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        if let Some(v) = &self.events {
+            out.key("events");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.path_history {
+            out.key("pathHistory");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.path_prediction {
+            out.key("pathPrediction");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.lights {
+            out.key("lights");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        crate::jer::member(v, "")?;
+        let f_events = crate::jer::read_optional(v, "events", |x| {
+            <VehicleEventFlags as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_path_history = crate::jer::read_optional(v, "pathHistory", |x| {
+            <PathHistory as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_path_prediction = crate::jer::read_optional(v, "pathPrediction", |x| {
+            <PathPrediction as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_lights = crate::jer::read_optional(v, "lights", |x| {
+            <ExteriorLights as crate::jer::Jer>::read_jer(x)
+        })?;
+        Ok(Self {
+            events: f_events,
+            path_history: f_path_history,
+            path_prediction: f_path_prediction,
+            lights: f_lights,
+            extensions: uper::Extensions::new(),
+        })
+    }
+}
+
 #[cfg(feature = "_random")]
 impl uper::random::Random for VehicleSafetyExtensions {
     fn random(g: &mut uper::random::Gen) -> Self {
@@ -3358,6 +4428,19 @@ impl Uper for ExteriorLights {
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_bits(w, Self::SIZE, &self.0)
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for ExteriorLights {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.bits(self.0.as_bytes(), self.0.len());
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let (bytes, len) = crate::jer::bits(v, 9, 9)?;
+        uper::Bits::from_bytes(&bytes, len)
+            .map(Self)
+            .ok_or_else(crate::jer::over_capacity)
     }
 }
 
@@ -3463,6 +4546,59 @@ impl Uper for EmergencyDetails {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for EmergencyDetails {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        out.key("notUsed");
+        crate::jer::Jer::write_jer(&self.not_used, out);
+        out.key("sirenUse");
+        crate::jer::Jer::write_jer(&self.siren_use, out);
+        out.key("lightsUse");
+        crate::jer::Jer::write_jer(&self.lights_use, out);
+        out.key("multi");
+        crate::jer::Jer::write_jer(&self.multi, out);
+        if let Some(v) = &self.events {
+            out.key("events");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.response_type {
+            out.key("responseType");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        crate::jer::member(v, "")?;
+        let f_not_used =
+            crate::jer::read_member(v, "notUsed", |x| <SSPindex as crate::jer::Jer>::read_jer(x))?;
+        let f_siren_use = crate::jer::read_member(v, "sirenUse", |x| {
+            <SirenInUse as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_lights_use = crate::jer::read_member(v, "lightsUse", |x| {
+            <LightbarInUse as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_multi = crate::jer::read_member(v, "multi", |x| {
+            <MultiVehicleResponse as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_events = crate::jer::read_optional(v, "events", |x| {
+            <PrivilegedEvents as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_response_type = crate::jer::read_optional(v, "responseType", |x| {
+            <ResponseType as crate::jer::Jer>::read_jer(x)
+        })?;
+        Ok(Self {
+            not_used: f_not_used,
+            siren_use: f_siren_use,
+            lights_use: f_lights_use,
+            multi: f_multi,
+            events: f_events,
+            response_type: f_response_type,
+            extensions: uper::Extensions::new(),
+        })
+    }
+}
+
 #[cfg(feature = "_random")]
 impl uper::random::Random for EmergencyDetails {
     fn random(g: &mut uper::random::Gen) -> Self {
@@ -3530,6 +4666,16 @@ impl SirenInUse {
             Self::Reserved => "reserved",
         }
     }
+    /// The value of an ASN.1 identifier, when the type has it.
+    pub fn from_identifier(name: &str) -> Option<Self> {
+        match name {
+            "unavailable" => Some(Self::Unavailable),
+            "notInUse" => Some(Self::NotInUse),
+            "inUse" => Some(Self::InUse),
+            "reserved" => Some(Self::Reserved),
+            _ => None,
+        }
+    }
     fn root_index(self) -> i64 {
         match self {
             Self::Unavailable => 0,
@@ -3570,6 +4716,18 @@ impl Uper for SirenInUse {
 impl uper::random::Random for SirenInUse {
     fn random(g: &mut uper::random::Gen) -> Self {
         Self::ALL[g.below(4)]
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for SirenInUse {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.string(self.identifier());
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let name = crate::jer::string(v)?;
+        Self::from_identifier(name)
+            .ok_or_else(|| crate::jer::JerError::new(std::format!("unknown identifier {name}")))
     }
 }
 
@@ -3632,6 +4790,20 @@ impl LightbarInUse {
             Self::FreqStops => "freqStops",
         }
     }
+    /// The value of an ASN.1 identifier, when the type has it.
+    pub fn from_identifier(name: &str) -> Option<Self> {
+        match name {
+            "unavailable" => Some(Self::Unavailable),
+            "notInUse" => Some(Self::NotInUse),
+            "inUse" => Some(Self::InUse),
+            "yellowCautionLights" => Some(Self::YellowCautionLights),
+            "schooldBusLights" => Some(Self::SchooldBusLights),
+            "arrowSignsActive" => Some(Self::ArrowSignsActive),
+            "slowMovingVehicle" => Some(Self::SlowMovingVehicle),
+            "freqStops" => Some(Self::FreqStops),
+            _ => None,
+        }
+    }
     fn root_index(self) -> i64 {
         match self {
             Self::Unavailable => 0,
@@ -3679,6 +4851,18 @@ impl uper::random::Random for LightbarInUse {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for LightbarInUse {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.string(self.identifier());
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let name = crate::jer::string(v)?;
+        Self::from_identifier(name)
+            .ok_or_else(|| crate::jer::JerError::new(std::format!("unknown identifier {name}")))
+    }
+}
+
 /// ASN.1 `MultiVehicleResponse` (module `Common`): ENUMERATED.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum MultiVehicleResponse {
@@ -3716,6 +4900,16 @@ impl MultiVehicleResponse {
             Self::SingleVehicle => "singleVehicle",
             Self::MultiVehicle => "multiVehicle",
             Self::Reserved => "reserved",
+        }
+    }
+    /// The value of an ASN.1 identifier, when the type has it.
+    pub fn from_identifier(name: &str) -> Option<Self> {
+        match name {
+            "unavailable" => Some(Self::Unavailable),
+            "singleVehicle" => Some(Self::SingleVehicle),
+            "multiVehicle" => Some(Self::MultiVehicle),
+            "reserved" => Some(Self::Reserved),
+            _ => None,
         }
     }
     fn root_index(self) -> i64 {
@@ -3758,6 +4952,18 @@ impl Uper for MultiVehicleResponse {
 impl uper::random::Random for MultiVehicleResponse {
     fn random(g: &mut uper::random::Gen) -> Self {
         Self::ALL[g.below(4)]
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for MultiVehicleResponse {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.string(self.identifier());
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let name = crate::jer::string(v)?;
+        Self::from_identifier(name)
+            .ok_or_else(|| crate::jer::JerError::new(std::format!("unknown identifier {name}")))
     }
 }
 
@@ -3804,6 +5010,31 @@ impl Uper for PrivilegedEvents {
             self.extensions.encode(w)?;
         }
         Ok(())
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for PrivilegedEvents {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        out.key("notUsed");
+        crate::jer::Jer::write_jer(&self.not_used, out);
+        out.key("event");
+        crate::jer::Jer::write_jer(&self.event, out);
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        crate::jer::member(v, "")?;
+        let f_not_used =
+            crate::jer::read_member(v, "notUsed", |x| <SSPindex as crate::jer::Jer>::read_jer(x))?;
+        let f_event = crate::jer::read_member(v, "event", |x| {
+            <PrivilegedEventFlags as crate::jer::Jer>::read_jer(x)
+        })?;
+        Ok(Self {
+            not_used: f_not_used,
+            event: f_event,
+            extensions: uper::Extensions::new(),
+        })
     }
 }
 
@@ -3861,6 +5092,22 @@ impl Uper for PrivilegedEventFlags {
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_bits(w, Self::SIZE, &self.0)
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for PrivilegedEventFlags {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.hex(self.0.as_bytes());
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let (bytes, len) = crate::jer::bits(v, 16, 16)?;
+        if !(16..=16).contains(&len) {
+            return Err(crate::jer::invalid("size"));
+        }
+        uper::Bits::from_bytes(&bytes, len)
+            .map(Self)
+            .ok_or_else(crate::jer::over_capacity)
     }
 }
 
@@ -3931,6 +5178,19 @@ impl ResponseType {
             Self::Extension(_) => "",
         }
     }
+    /// The value of an ASN.1 identifier, when the type has it.
+    pub fn from_identifier(name: &str) -> Option<Self> {
+        match name {
+            "notInUseOrNotEquipped" => Some(Self::NotInUseOrNotEquipped),
+            "emergency" => Some(Self::Emergency),
+            "nonEmergency" => Some(Self::NonEmergency),
+            "pursuit" => Some(Self::Pursuit),
+            "stationary" => Some(Self::Stationary),
+            "slowMoving" => Some(Self::SlowMoving),
+            "stopAndGoMovement" => Some(Self::StopAndGoMovement),
+            _ => None,
+        }
+    }
     fn root_index(self) -> i64 {
         match self {
             Self::NotInUseOrNotEquipped => 0,
@@ -3991,6 +5251,18 @@ impl uper::random::Random for ResponseType {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for ResponseType {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.string(self.identifier());
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let name = crate::jer::string(v)?;
+        Self::from_identifier(name)
+            .ok_or_else(|| crate::jer::JerError::new(std::format!("unknown identifier {name}")))
+    }
+}
+
 /// ASN.1 `Priority` (module `Common`): OCTET STRING (SIZE(1)).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub struct Priority(pub [u8; 1]);
@@ -4016,6 +5288,19 @@ impl Uper for Priority {
 impl uper::random::Random for Priority {
     fn random(g: &mut uper::random::Gen) -> Self {
         Self(core::array::from_fn(|_| g.octet()))
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for Priority {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.hex(&self.0);
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        crate::jer::hex(v)?
+            .try_into()
+            .map(Self)
+            .map_err(|_| crate::jer::invalid("size"))
     }
 }
 
@@ -4082,6 +5367,22 @@ impl Uper for HeadingSlice {
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_bits(w, Self::SIZE, &self.0)
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for HeadingSlice {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.hex(self.0.as_bytes());
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let (bytes, len) = crate::jer::bits(v, 16, 16)?;
+        if !(16..=16).contains(&len) {
+            return Err(crate::jer::invalid("size"));
+        }
+        uper::Bits::from_bytes(&bytes, len)
+            .map(Self)
+            .ok_or_else(crate::jer::over_capacity)
     }
 }
 
@@ -4193,6 +5494,28 @@ impl Extent {
             Self::Forever => "forever",
         }
     }
+    /// The value of an ASN.1 identifier, when the type has it.
+    pub fn from_identifier(name: &str) -> Option<Self> {
+        match name {
+            "useInstantlyOnly" => Some(Self::UseInstantlyOnly),
+            "useFor3meters" => Some(Self::UseFor3meters),
+            "useFor10meters" => Some(Self::UseFor10meters),
+            "useFor50meters" => Some(Self::UseFor50meters),
+            "useFor100meters" => Some(Self::UseFor100meters),
+            "useFor500meters" => Some(Self::UseFor500meters),
+            "useFor1000meters" => Some(Self::UseFor1000meters),
+            "useFor5000meters" => Some(Self::UseFor5000meters),
+            "useFor10000meters" => Some(Self::UseFor10000meters),
+            "useFor50000meters" => Some(Self::UseFor50000meters),
+            "useFor100000meters" => Some(Self::UseFor100000meters),
+            "useFor500000meters" => Some(Self::UseFor500000meters),
+            "useFor1000000meters" => Some(Self::UseFor1000000meters),
+            "useFor5000000meters" => Some(Self::UseFor5000000meters),
+            "useFor10000000meters" => Some(Self::UseFor10000000meters),
+            "forever" => Some(Self::Forever),
+            _ => None,
+        }
+    }
     fn root_index(self) -> i64 {
         match self {
             Self::UseInstantlyOnly => 0,
@@ -4248,6 +5571,18 @@ impl uper::random::Random for Extent {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for Extent {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.string(self.identifier());
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let name = crate::jer::string(v)?;
+        Self::from_identifier(name)
+            .ok_or_else(|| crate::jer::JerError::new(std::format!("unknown identifier {name}")))
+    }
+}
+
 /// ASN.1 `Offset-B11` (module `Common`): INTEGER (-1024..1023).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub struct OffsetB11(i16);
@@ -4297,6 +5632,31 @@ impl Uper for BumperHeights {
         self.front.encode_uper(w)?;
         self.rear.encode_uper(w)?;
         Ok(())
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for BumperHeights {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        out.key("front");
+        crate::jer::Jer::write_jer(&self.front, out);
+        out.key("rear");
+        crate::jer::Jer::write_jer(&self.rear, out);
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        crate::jer::member(v, "")?;
+        let f_front = crate::jer::read_member(v, "front", |x| {
+            <BumperHeight as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_rear = crate::jer::read_member(v, "rear", |x| {
+            <BumperHeight as crate::jer::Jer>::read_jer(x)
+        })?;
+        Ok(Self {
+            front: f_front,
+            rear: f_rear,
+        })
     }
 }
 
@@ -4350,6 +5710,24 @@ impl Uper for NodeXY24b {
         self.x.encode_uper(w)?;
         self.y.encode_uper(w)?;
         Ok(())
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for NodeXY24b {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        out.key("x");
+        crate::jer::Jer::write_jer(&self.x, out);
+        out.key("y");
+        crate::jer::Jer::write_jer(&self.y, out);
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        crate::jer::member(v, "")?;
+        let f_x = crate::jer::read_member(v, "x", |x| <OffsetB12 as crate::jer::Jer>::read_jer(x))?;
+        let f_y = crate::jer::read_member(v, "y", |x| <OffsetB12 as crate::jer::Jer>::read_jer(x))?;
+        Ok(Self { x: f_x, y: f_y })
     }
 }
 
@@ -4561,6 +5939,92 @@ impl Uper for VehicleClassification {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for VehicleClassification {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        if let Some(v) = &self.key_type {
+            out.key("keyType");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.role {
+            out.key("role");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.iso3883 {
+            out.key("iso3883");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.hpms_type {
+            out.key("hpmsType");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.vehicle_type {
+            out.key("vehicleType");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.response_equip {
+            out.key("responseEquip");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.responder_type {
+            out.key("responderType");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.fuel_type {
+            out.key("fuelType");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.regional {
+            out.key("regional");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        crate::jer::member(v, "")?;
+        let f_key_type = crate::jer::read_optional(v, "keyType", |x| {
+            <BasicVehicleClass as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_role = crate::jer::read_optional(v, "role", |x| {
+            <BasicVehicleRole as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_iso3883 = crate::jer::read_optional(v, "iso3883", |x| {
+            <Iso3833VehicleType as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_hpms_type = crate::jer::read_optional(v, "hpmsType", |x| {
+            <VehicleType as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_vehicle_type = crate::jer::read_optional(v, "vehicleType", |x| {
+            <super::itis::VehicleGroupAffected as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_response_equip = crate::jer::read_optional(v, "responseEquip", |x| {
+            <super::itis::IncidentResponseEquipment as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_responder_type = crate::jer::read_optional(v, "responderType", |x| {
+            <super::itis::ResponderGroupAffected as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_fuel_type = crate::jer::read_optional(v, "fuelType", |x| {
+            <FuelType as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_regional = crate::jer::read_optional(v, "regional", |x| {
+            <VehicleClassificationRegional as crate::jer::Jer>::read_jer(x)
+        })?;
+        Ok(Self {
+            key_type: f_key_type,
+            role: f_role,
+            iso3883: f_iso3883,
+            hpms_type: f_hpms_type,
+            vehicle_type: f_vehicle_type,
+            response_equip: f_response_equip,
+            responder_type: f_responder_type,
+            fuel_type: f_fuel_type,
+            regional: f_regional,
+            extensions: uper::Extensions::new(),
+        })
+    }
+}
+
 #[cfg(feature = "_random")]
 impl uper::random::Random for VehicleClassification {
     fn random(g: &mut uper::random::Gen) -> Self {
@@ -4753,6 +6217,35 @@ impl BasicVehicleRole {
             Self::Extension(_) => "",
         }
     }
+    /// The value of an ASN.1 identifier, when the type has it.
+    pub fn from_identifier(name: &str) -> Option<Self> {
+        match name {
+            "basicVehicle" => Some(Self::BasicVehicle),
+            "publicTransport" => Some(Self::PublicTransport),
+            "specialTransport" => Some(Self::SpecialTransport),
+            "dangerousGoods" => Some(Self::DangerousGoods),
+            "roadWork" => Some(Self::RoadWork),
+            "roadRescue" => Some(Self::RoadRescue),
+            "emergency" => Some(Self::Emergency),
+            "safetyCar" => Some(Self::SafetyCar),
+            "none-unknown" => Some(Self::NoneUnknown),
+            "truck" => Some(Self::Truck),
+            "motorcycle" => Some(Self::Motorcycle),
+            "roadSideSource" => Some(Self::RoadSideSource),
+            "police" => Some(Self::Police),
+            "fire" => Some(Self::Fire),
+            "ambulance" => Some(Self::Ambulance),
+            "dot" => Some(Self::Dot),
+            "transit" => Some(Self::Transit),
+            "slowMoving" => Some(Self::SlowMoving),
+            "stopNgo" => Some(Self::StopNgo),
+            "cyclist" => Some(Self::Cyclist),
+            "pedestrian" => Some(Self::Pedestrian),
+            "nonMotorized" => Some(Self::NonMotorized),
+            "military" => Some(Self::Military),
+            _ => None,
+        }
+    }
     fn root_index(self) -> i64 {
         match self {
             Self::BasicVehicle => 0,
@@ -4826,6 +6319,18 @@ impl Uper for BasicVehicleRole {
 impl uper::random::Random for BasicVehicleRole {
     fn random(g: &mut uper::random::Gen) -> Self {
         Self::ALL[g.below(23)]
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for BasicVehicleRole {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.string(self.identifier());
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let name = crate::jer::string(v)?;
+        Self::from_identifier(name)
+            .ok_or_else(|| crate::jer::JerError::new(std::format!("unknown identifier {name}")))
     }
 }
 
@@ -4937,6 +6442,28 @@ impl VehicleType {
             Self::Extension(_) => "",
         }
     }
+    /// The value of an ASN.1 identifier, when the type has it.
+    pub fn from_identifier(name: &str) -> Option<Self> {
+        match name {
+            "none" => Some(Self::None),
+            "unknown" => Some(Self::Unknown),
+            "special" => Some(Self::Special),
+            "moto" => Some(Self::Moto),
+            "car" => Some(Self::Car),
+            "carOther" => Some(Self::CarOther),
+            "bus" => Some(Self::Bus),
+            "axleCnt2" => Some(Self::AxleCnt2),
+            "axleCnt3" => Some(Self::AxleCnt3),
+            "axleCnt4" => Some(Self::AxleCnt4),
+            "axleCnt4Trailer" => Some(Self::AxleCnt4Trailer),
+            "axleCnt5Trailer" => Some(Self::AxleCnt5Trailer),
+            "axleCnt6Trailer" => Some(Self::AxleCnt6Trailer),
+            "axleCnt5MultiTrailer" => Some(Self::AxleCnt5MultiTrailer),
+            "axleCnt6MultiTrailer" => Some(Self::AxleCnt6MultiTrailer),
+            "axleCnt7MultiTrailer" => Some(Self::AxleCnt7MultiTrailer),
+            _ => None,
+        }
+    }
     fn root_index(self) -> i64 {
         match self {
             Self::None => 0,
@@ -5006,6 +6533,18 @@ impl uper::random::Random for VehicleType {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for VehicleType {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.string(self.identifier());
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let name = crate::jer::string(v)?;
+        Self::from_identifier(name)
+            .ok_or_else(|| crate::jer::JerError::new(std::format!("unknown identifier {name}")))
+    }
+}
+
 /// ASN.1 `FuelType` (module `Common`): INTEGER (0..15).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub struct FuelType(u8);
@@ -5053,6 +6592,30 @@ impl Uper for VehicleClassificationRegional {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for VehicleClassificationRegional {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_array();
+        for item in self.0.iter() {
+            crate::jer::Jer::write_jer(item, out);
+        }
+        out.end_array();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let items = crate::jer::array(v)?;
+        if items.len() < 1 {
+            return Err(crate::jer::invalid("size"));
+        }
+        let mut list = Self::new();
+        for (i, x) in items.iter().enumerate() {
+            let item = <RegVehicleClassification as crate::jer::Jer>::read_jer(x)
+                .map_err(|e| e.within(&std::format!("[{i}]")))?;
+            list.0.push(item).map_err(|_| crate::jer::over_capacity())?;
+        }
+        Ok(list)
+    }
+}
+
 #[cfg(feature = "_random")]
 impl uper::random::Random for VehicleClassificationRegional {
     fn random(g: &mut uper::random::Gen) -> Self {
@@ -5085,6 +6648,53 @@ impl RegVehicleClassification {
         match self {
             Self::Unknown { id, .. } => *id,
         }
+    }
+}
+
+impl RegVehicleClassification {
+    /// Writes the id and the value as members `id_name` and `value_name` of an object.
+    #[cfg(feature = "jer")]
+    pub fn write_jer_members(
+        &self,
+        out: &mut crate::jer::JerWriter,
+        id_name: &str,
+        value_name: &str,
+    ) {
+        out.key(id_name);
+        out.int(self.id().get() as i64);
+        out.key(value_name);
+        match self {
+            Self::Unknown { content, .. } => out.hex(content),
+        }
+    }
+    /// Reads the id and the value from members `id_name` and `value_name` of an object.
+    #[cfg(feature = "jer")]
+    pub fn read_jer_members(
+        v: &crate::jer::Value,
+        id_name: &str,
+        value_name: &str,
+    ) -> crate::jer::JerResult<Self> {
+        let id = crate::jer::read_member(v, id_name, <RegionId as crate::jer::Jer>::read_jer)?;
+        let x = crate::jer::required(v, value_name)?;
+        match id.get() {
+            _ => {
+                let content = uper::Octets::from_slice(&crate::jer::hex(x)?)
+                    .ok_or_else(crate::jer::over_capacity)?;
+                Ok(Self::Unknown { id, content })
+            }
+        }
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for RegVehicleClassification {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        self.write_jer_members(out, "regionId", "regExtValue");
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        Self::read_jer_members(v, "regionId", "regExtValue")
     }
 }
 
@@ -5246,6 +6856,47 @@ impl Uper for WiperSet {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for WiperSet {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        out.key("statusFront");
+        crate::jer::Jer::write_jer(&self.status_front, out);
+        out.key("rateFront");
+        crate::jer::Jer::write_jer(&self.rate_front, out);
+        if let Some(v) = &self.status_rear {
+            out.key("statusRear");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.rate_rear {
+            out.key("rateRear");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        crate::jer::member(v, "")?;
+        let f_status_front = crate::jer::read_member(v, "statusFront", |x| {
+            <WiperStatus as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_rate_front = crate::jer::read_member(v, "rateFront", |x| {
+            <WiperRate as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_status_rear = crate::jer::read_optional(v, "statusRear", |x| {
+            <WiperStatus as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_rate_rear = crate::jer::read_optional(v, "rateRear", |x| {
+            <WiperRate as crate::jer::Jer>::read_jer(x)
+        })?;
+        Ok(Self {
+            status_front: f_status_front,
+            rate_front: f_rate_front,
+            status_rear: f_status_rear,
+            rate_rear: f_rate_rear,
+        })
+    }
+}
+
 #[cfg(feature = "_random")]
 impl uper::random::Random for WiperSet {
     fn random(g: &mut uper::random::Gen) -> Self {
@@ -5324,6 +6975,19 @@ impl WiperStatus {
             Self::Extension(_) => "",
         }
     }
+    /// The value of an ASN.1 identifier, when the type has it.
+    pub fn from_identifier(name: &str) -> Option<Self> {
+        match name {
+            "unavailable" => Some(Self::Unavailable),
+            "off" => Some(Self::Off),
+            "intermittent" => Some(Self::Intermittent),
+            "low" => Some(Self::Low),
+            "high" => Some(Self::High),
+            "washerInUse" => Some(Self::WasherInUse),
+            "automaticPresent" => Some(Self::AutomaticPresent),
+            _ => None,
+        }
+    }
     fn root_index(self) -> i64 {
         match self {
             Self::Unavailable => 0,
@@ -5384,6 +7048,18 @@ impl uper::random::Random for WiperStatus {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for WiperStatus {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.string(self.identifier());
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let name = crate::jer::string(v)?;
+        Self::from_identifier(name)
+            .ok_or_else(|| crate::jer::JerError::new(std::format!("unknown identifier {name}")))
+    }
+}
+
 /// ASN.1 `WiperRate` (module `Common`): INTEGER (0..127).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub struct WiperRate(u8);
@@ -5438,6 +7114,22 @@ impl Uper for VerticalAccelerationThreshold {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for VerticalAccelerationThreshold {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.hex(self.0.as_bytes());
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let (bytes, len) = crate::jer::bits(v, 5, 5)?;
+        if !(5..=5).contains(&len) {
+            return Err(crate::jer::invalid("size"));
+        }
+        uper::Bits::from_bytes(&bytes, len)
+            .map(Self)
+            .ok_or_else(crate::jer::over_capacity)
+    }
+}
+
 #[cfg(feature = "_random")]
 impl uper::random::Random for VerticalAccelerationThreshold {
     fn random(g: &mut uper::random::Gen) -> Self {
@@ -5482,6 +7174,31 @@ impl Uper for RTCMheader {
         self.status.encode_uper(w)?;
         self.offset_set.encode_uper(w)?;
         Ok(())
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for RTCMheader {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        out.key("status");
+        crate::jer::Jer::write_jer(&self.status, out);
+        out.key("offsetSet");
+        crate::jer::Jer::write_jer(&self.offset_set, out);
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        crate::jer::member(v, "")?;
+        let f_status = crate::jer::read_member(v, "status", |x| {
+            <GNSSstatus as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_offset_set = crate::jer::read_member(v, "offsetSet", |x| {
+            <AntennaOffsetSet as crate::jer::Jer>::read_jer(x)
+        })?;
+        Ok(Self {
+            status: f_status,
+            offset_set: f_offset_set,
+        })
     }
 }
 
@@ -5530,6 +7247,37 @@ impl Uper for AntennaOffsetSet {
         self.ant_offset_y.encode_uper(w)?;
         self.ant_offset_z.encode_uper(w)?;
         Ok(())
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for AntennaOffsetSet {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        out.key("antOffsetX");
+        crate::jer::Jer::write_jer(&self.ant_offset_x, out);
+        out.key("antOffsetY");
+        crate::jer::Jer::write_jer(&self.ant_offset_y, out);
+        out.key("antOffsetZ");
+        crate::jer::Jer::write_jer(&self.ant_offset_z, out);
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        crate::jer::member(v, "")?;
+        let f_ant_offset_x = crate::jer::read_member(v, "antOffsetX", |x| {
+            <OffsetB12 as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_ant_offset_y = crate::jer::read_member(v, "antOffsetY", |x| {
+            <OffsetB09 as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_ant_offset_z = crate::jer::read_member(v, "antOffsetZ", |x| {
+            <OffsetB10 as crate::jer::Jer>::read_jer(x)
+        })?;
+        Ok(Self {
+            ant_offset_x: f_ant_offset_x,
+            ant_offset_y: f_ant_offset_y,
+            ant_offset_z: f_ant_offset_z,
+        })
     }
 }
 
@@ -5591,6 +7339,30 @@ impl Uper for RTCMmessageList {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for RTCMmessageList {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_array();
+        for item in self.0.iter() {
+            crate::jer::Jer::write_jer(item, out);
+        }
+        out.end_array();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let items = crate::jer::array(v)?;
+        if items.len() < 1 {
+            return Err(crate::jer::invalid("size"));
+        }
+        let mut list = Self::new();
+        for (i, x) in items.iter().enumerate() {
+            let item = <RTCMmessage as crate::jer::Jer>::read_jer(x)
+                .map_err(|e| e.within(&std::format!("[{i}]")))?;
+            list.0.push(item).map_err(|_| crate::jer::over_capacity())?;
+        }
+        Ok(list)
+    }
+}
+
 #[cfg(feature = "_random")]
 impl uper::random::Random for RTCMmessageList {
     fn random(g: &mut uper::random::Gen) -> Self {
@@ -5633,6 +7405,16 @@ impl Uper for RTCMmessage {
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_octets(w, Self::SIZE, &self.0)
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for RTCMmessage {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.hex(&self.0);
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        Self::new(&crate::jer::hex(v)?).ok_or_else(|| crate::jer::invalid("size"))
     }
 }
 
@@ -5680,6 +7462,16 @@ impl Uper for DescriptiveName {
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_ia5(w, Self::SIZE, &self.0)
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for DescriptiveName {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.string(self.0.as_str());
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        Self::new(crate::jer::string(v)?).ok_or_else(|| crate::jer::invalid("size or character"))
     }
 }
 
@@ -5777,6 +7569,46 @@ impl Uper for Position3D {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for Position3D {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        out.key("lat");
+        crate::jer::Jer::write_jer(&self.lat, out);
+        out.key("long");
+        crate::jer::Jer::write_jer(&self.long, out);
+        if let Some(v) = &self.elevation {
+            out.key("elevation");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.regional {
+            out.key("regional");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        crate::jer::member(v, "")?;
+        let f_lat =
+            crate::jer::read_member(v, "lat", |x| <Latitude as crate::jer::Jer>::read_jer(x))?;
+        let f_long =
+            crate::jer::read_member(v, "long", |x| <Longitude as crate::jer::Jer>::read_jer(x))?;
+        let f_elevation = crate::jer::read_optional(v, "elevation", |x| {
+            <Elevation as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_regional = crate::jer::read_optional(v, "regional", |x| {
+            <Position3DRegional as crate::jer::Jer>::read_jer(x)
+        })?;
+        Ok(Self {
+            lat: f_lat,
+            long: f_long,
+            elevation: f_elevation,
+            regional: f_regional,
+            extensions: uper::Extensions::new(),
+        })
+    }
+}
+
 #[cfg(feature = "_random")]
 impl uper::random::Random for Position3D {
     fn random(g: &mut uper::random::Gen) -> Self {
@@ -5835,6 +7667,30 @@ impl Uper for Position3DRegional {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for Position3DRegional {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_array();
+        for item in self.0.iter() {
+            crate::jer::Jer::write_jer(item, out);
+        }
+        out.end_array();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let items = crate::jer::array(v)?;
+        if items.len() < 1 {
+            return Err(crate::jer::invalid("size"));
+        }
+        let mut list = Self::new();
+        for (i, x) in items.iter().enumerate() {
+            let item = <RegPosition3D as crate::jer::Jer>::read_jer(x)
+                .map_err(|e| e.within(&std::format!("[{i}]")))?;
+            list.0.push(item).map_err(|_| crate::jer::over_capacity())?;
+        }
+        Ok(list)
+    }
+}
+
 #[cfg(feature = "_random")]
 impl uper::random::Random for Position3DRegional {
     fn random(g: &mut uper::random::Gen) -> Self {
@@ -5884,6 +7740,61 @@ impl RegPosition3D {
             }
             Self::Unknown { id, .. } => *id,
         }
+    }
+}
+
+impl RegPosition3D {
+    /// Writes the id and the value as members `id_name` and `value_name` of an object.
+    #[cfg(feature = "jer")]
+    pub fn write_jer_members(
+        &self,
+        out: &mut crate::jer::JerWriter,
+        id_name: &str,
+        value_name: &str,
+    ) {
+        out.key(id_name);
+        out.int(self.id().get() as i64);
+        out.key(value_name);
+        match self {
+            Self::AddGrpB(v) => crate::jer::Jer::write_jer(v, out),
+            Self::AddGrpC(v) => crate::jer::Jer::write_jer(v, out),
+            Self::Unknown { content, .. } => out.hex(content),
+        }
+    }
+    /// Reads the id and the value from members `id_name` and `value_name` of an object.
+    #[cfg(feature = "jer")]
+    pub fn read_jer_members(
+        v: &crate::jer::Value,
+        id_name: &str,
+        value_name: &str,
+    ) -> crate::jer::JerResult<Self> {
+        let id = crate::jer::read_member(v, id_name, <RegionId as crate::jer::Jer>::read_jer)?;
+        let x = crate::jer::required(v, value_name)?;
+        match id.get() {
+            2 => <super::add_grp_b::Position3DAddGrpB as crate::jer::Jer>::read_jer(x)
+                .map(Self::AddGrpB)
+                .map_err(|e| e.within(value_name)),
+            3 => <super::add_grp_c::Position3DAddGrpC as crate::jer::Jer>::read_jer(x)
+                .map(Self::AddGrpC)
+                .map_err(|e| e.within(value_name)),
+            _ => {
+                let content = uper::Octets::from_slice(&crate::jer::hex(x)?)
+                    .ok_or_else(crate::jer::over_capacity)?;
+                Ok(Self::Unknown { id, content })
+            }
+        }
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for RegPosition3D {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        self.write_jer_members(out, "regionId", "regExtValue");
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        Self::read_jer_members(v, "regionId", "regExtValue")
     }
 }
 
@@ -6019,6 +7930,30 @@ impl Uper for SpeedLimitList {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for SpeedLimitList {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_array();
+        for item in self.0.iter() {
+            crate::jer::Jer::write_jer(item, out);
+        }
+        out.end_array();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let items = crate::jer::array(v)?;
+        if items.len() < 1 {
+            return Err(crate::jer::invalid("size"));
+        }
+        let mut list = Self::new();
+        for (i, x) in items.iter().enumerate() {
+            let item = <RegulatorySpeedLimit as crate::jer::Jer>::read_jer(x)
+                .map_err(|e| e.within(&std::format!("[{i}]")))?;
+            list.0.push(item).map_err(|_| crate::jer::over_capacity())?;
+        }
+        Ok(list)
+    }
+}
+
 #[cfg(feature = "_random")]
 impl uper::random::Random for SpeedLimitList {
     fn random(g: &mut uper::random::Gen) -> Self {
@@ -6061,6 +7996,30 @@ impl Uper for RegulatorySpeedLimit {
         self.r#type.encode_uper(w)?;
         self.speed.encode_uper(w)?;
         Ok(())
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for RegulatorySpeedLimit {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        out.key("type");
+        crate::jer::Jer::write_jer(&self.r#type, out);
+        out.key("speed");
+        crate::jer::Jer::write_jer(&self.speed, out);
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        crate::jer::member(v, "")?;
+        let f_type = crate::jer::read_member(v, "type", |x| {
+            <SpeedLimitType as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_speed =
+            crate::jer::read_member(v, "speed", |x| <Velocity as crate::jer::Jer>::read_jer(x))?;
+        Ok(Self {
+            r#type: f_type,
+            speed: f_speed,
+        })
     }
 }
 
@@ -6164,6 +8123,27 @@ impl SpeedLimitType {
             Self::Extension(_) => "",
         }
     }
+    /// The value of an ASN.1 identifier, when the type has it.
+    pub fn from_identifier(name: &str) -> Option<Self> {
+        match name {
+            "unknown" => Some(Self::Unknown),
+            "maxSpeedInSchoolZone" => Some(Self::MaxSpeedInSchoolZone),
+            "maxSpeedInSchoolZoneWhenChildrenArePresent" => {
+                Some(Self::MaxSpeedInSchoolZoneWhenChildrenArePresent)
+            }
+            "maxSpeedInConstructionZone" => Some(Self::MaxSpeedInConstructionZone),
+            "vehicleMinSpeed" => Some(Self::VehicleMinSpeed),
+            "vehicleMaxSpeed" => Some(Self::VehicleMaxSpeed),
+            "vehicleNightMaxSpeed" => Some(Self::VehicleNightMaxSpeed),
+            "truckMinSpeed" => Some(Self::TruckMinSpeed),
+            "truckMaxSpeed" => Some(Self::TruckMaxSpeed),
+            "truckNightMaxSpeed" => Some(Self::TruckNightMaxSpeed),
+            "vehiclesWithTrailersMinSpeed" => Some(Self::VehiclesWithTrailersMinSpeed),
+            "vehiclesWithTrailersMaxSpeed" => Some(Self::VehiclesWithTrailersMaxSpeed),
+            "vehiclesWithTrailersNightMaxSpeed" => Some(Self::VehiclesWithTrailersNightMaxSpeed),
+            _ => None,
+        }
+    }
     fn root_index(self) -> i64 {
         match self {
             Self::Unknown => 0,
@@ -6227,6 +8207,18 @@ impl Uper for SpeedLimitType {
 impl uper::random::Random for SpeedLimitType {
     fn random(g: &mut uper::random::Gen) -> Self {
         Self::ALL[g.below(13)]
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for SpeedLimitType {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.string(self.identifier());
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let name = crate::jer::string(v)?;
+        Self::from_identifier(name)
+            .ok_or_else(|| crate::jer::JerError::new(std::format!("unknown identifier {name}")))
     }
 }
 
@@ -6327,6 +8319,44 @@ impl uper::random::Random for NodeListXY {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for NodeListXY {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        match self {
+            Self::Nodes(v) => {
+                out.begin_object();
+                out.key("nodes");
+                crate::jer::Jer::write_jer(v, out);
+                out.end_object();
+            }
+            Self::Computed(v) => {
+                out.begin_object();
+                out.key("computed");
+                crate::jer::Jer::write_jer(v, out);
+                out.end_object();
+            }
+            Self::Extension { .. } => {
+                out.begin_object();
+                out.end_object();
+            }
+        }
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let (name, x) = crate::jer::alternative(v)?;
+        match name {
+            "nodes" => <NodeSetXY as crate::jer::Jer>::read_jer(x)
+                .map(Self::Nodes)
+                .map_err(|e| e.within(name)),
+            "computed" => <ComputedLane as crate::jer::Jer>::read_jer(x)
+                .map(Self::Computed)
+                .map_err(|e| e.within(name)),
+            _ => Err(crate::jer::JerError::new(std::format!(
+                "unknown alternative {name}"
+            ))),
+        }
+    }
+}
+
 /// ASN.1 `NodeSetXY` (module `Common`): SEQUENCE OF NodeXY (SIZE(2..63)).
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub struct NodeSetXY(pub uper::SeqOf<NodeXY, 63>);
@@ -6361,6 +8391,30 @@ impl Uper for NodeSetXY {
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for NodeSetXY {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_array();
+        for item in self.0.iter() {
+            crate::jer::Jer::write_jer(item, out);
+        }
+        out.end_array();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let items = crate::jer::array(v)?;
+        if items.len() < 2 {
+            return Err(crate::jer::invalid("size"));
+        }
+        let mut list = Self::new();
+        for (i, x) in items.iter().enumerate() {
+            let item = <NodeXY as crate::jer::Jer>::read_jer(x)
+                .map_err(|e| e.within(&std::format!("[{i}]")))?;
+            list.0.push(item).map_err(|_| crate::jer::over_capacity())?;
+        }
+        Ok(list)
     }
 }
 
@@ -6431,6 +8485,34 @@ impl Uper for NodeXY {
             self.extensions.encode(w)?;
         }
         Ok(())
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for NodeXY {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        out.key("delta");
+        crate::jer::Jer::write_jer(&self.delta, out);
+        if let Some(v) = &self.attributes {
+            out.key("attributes");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        crate::jer::member(v, "")?;
+        let f_delta = crate::jer::read_member(v, "delta", |x| {
+            <NodeOffsetPointXY as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_attributes = crate::jer::read_optional(v, "attributes", |x| {
+            <NodeAttributeSetXY as crate::jer::Jer>::read_jer(x)
+        })?;
+        Ok(Self {
+            delta: f_delta,
+            attributes: f_attributes,
+            extensions: uper::Extensions::new(),
+        })
     }
 }
 
@@ -6626,6 +8708,94 @@ impl uper::random::Random for NodeOffsetPointXY {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for NodeOffsetPointXY {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        match self {
+            Self::NodeXY1(v) => {
+                out.begin_object();
+                out.key("node-XY1");
+                crate::jer::Jer::write_jer(v, out);
+                out.end_object();
+            }
+            Self::NodeXY2(v) => {
+                out.begin_object();
+                out.key("node-XY2");
+                crate::jer::Jer::write_jer(v, out);
+                out.end_object();
+            }
+            Self::NodeXY3(v) => {
+                out.begin_object();
+                out.key("node-XY3");
+                crate::jer::Jer::write_jer(v, out);
+                out.end_object();
+            }
+            Self::NodeXY4(v) => {
+                out.begin_object();
+                out.key("node-XY4");
+                crate::jer::Jer::write_jer(v, out);
+                out.end_object();
+            }
+            Self::NodeXY5(v) => {
+                out.begin_object();
+                out.key("node-XY5");
+                crate::jer::Jer::write_jer(v, out);
+                out.end_object();
+            }
+            Self::NodeXY6(v) => {
+                out.begin_object();
+                out.key("node-XY6");
+                crate::jer::Jer::write_jer(v, out);
+                out.end_object();
+            }
+            Self::NodeLatLon(v) => {
+                out.begin_object();
+                out.key("node-LatLon");
+                crate::jer::Jer::write_jer(v, out);
+                out.end_object();
+            }
+            Self::Regional(v) => {
+                out.begin_object();
+                out.key("regional");
+                crate::jer::Jer::write_jer(v, out);
+                out.end_object();
+            }
+        }
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let (name, x) = crate::jer::alternative(v)?;
+        match name {
+            "node-XY1" => <NodeXY20b as crate::jer::Jer>::read_jer(x)
+                .map(Self::NodeXY1)
+                .map_err(|e| e.within(name)),
+            "node-XY2" => <NodeXY22b as crate::jer::Jer>::read_jer(x)
+                .map(Self::NodeXY2)
+                .map_err(|e| e.within(name)),
+            "node-XY3" => <NodeXY24b as crate::jer::Jer>::read_jer(x)
+                .map(Self::NodeXY3)
+                .map_err(|e| e.within(name)),
+            "node-XY4" => <NodeXY26b as crate::jer::Jer>::read_jer(x)
+                .map(Self::NodeXY4)
+                .map_err(|e| e.within(name)),
+            "node-XY5" => <NodeXY28b as crate::jer::Jer>::read_jer(x)
+                .map(Self::NodeXY5)
+                .map_err(|e| e.within(name)),
+            "node-XY6" => <NodeXY32b as crate::jer::Jer>::read_jer(x)
+                .map(Self::NodeXY6)
+                .map_err(|e| e.within(name)),
+            "node-LatLon" => <NodeLLmD64b as crate::jer::Jer>::read_jer(x)
+                .map(Self::NodeLatLon)
+                .map_err(|e| e.within(name)),
+            "regional" => <RegNodeOffsetPointXY as crate::jer::Jer>::read_jer(x)
+                .map(Self::Regional)
+                .map_err(|e| e.within(name)),
+            _ => Err(crate::jer::JerError::new(std::format!(
+                "unknown alternative {name}"
+            ))),
+        }
+    }
+}
+
 /// ASN.1 `Node-XY-20b` (module `Common`): SEQUENCE.
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub struct NodeXY20b {
@@ -6656,6 +8826,24 @@ impl Uper for NodeXY20b {
         self.x.encode_uper(w)?;
         self.y.encode_uper(w)?;
         Ok(())
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for NodeXY20b {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        out.key("x");
+        crate::jer::Jer::write_jer(&self.x, out);
+        out.key("y");
+        crate::jer::Jer::write_jer(&self.y, out);
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        crate::jer::member(v, "")?;
+        let f_x = crate::jer::read_member(v, "x", |x| <OffsetB10 as crate::jer::Jer>::read_jer(x))?;
+        let f_y = crate::jer::read_member(v, "y", |x| <OffsetB10 as crate::jer::Jer>::read_jer(x))?;
+        Ok(Self { x: f_x, y: f_y })
     }
 }
 
@@ -6702,6 +8890,24 @@ impl Uper for NodeXY22b {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for NodeXY22b {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        out.key("x");
+        crate::jer::Jer::write_jer(&self.x, out);
+        out.key("y");
+        crate::jer::Jer::write_jer(&self.y, out);
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        crate::jer::member(v, "")?;
+        let f_x = crate::jer::read_member(v, "x", |x| <OffsetB11 as crate::jer::Jer>::read_jer(x))?;
+        let f_y = crate::jer::read_member(v, "y", |x| <OffsetB11 as crate::jer::Jer>::read_jer(x))?;
+        Ok(Self { x: f_x, y: f_y })
+    }
+}
+
 #[cfg(feature = "_random")]
 impl uper::random::Random for NodeXY22b {
     fn random(g: &mut uper::random::Gen) -> Self {
@@ -6742,6 +8948,24 @@ impl Uper for NodeXY26b {
         self.x.encode_uper(w)?;
         self.y.encode_uper(w)?;
         Ok(())
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for NodeXY26b {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        out.key("x");
+        crate::jer::Jer::write_jer(&self.x, out);
+        out.key("y");
+        crate::jer::Jer::write_jer(&self.y, out);
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        crate::jer::member(v, "")?;
+        let f_x = crate::jer::read_member(v, "x", |x| <OffsetB13 as crate::jer::Jer>::read_jer(x))?;
+        let f_y = crate::jer::read_member(v, "y", |x| <OffsetB13 as crate::jer::Jer>::read_jer(x))?;
+        Ok(Self { x: f_x, y: f_y })
     }
 }
 
@@ -6793,6 +9017,24 @@ impl Uper for NodeXY28b {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for NodeXY28b {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        out.key("x");
+        crate::jer::Jer::write_jer(&self.x, out);
+        out.key("y");
+        crate::jer::Jer::write_jer(&self.y, out);
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        crate::jer::member(v, "")?;
+        let f_x = crate::jer::read_member(v, "x", |x| <OffsetB14 as crate::jer::Jer>::read_jer(x))?;
+        let f_y = crate::jer::read_member(v, "y", |x| <OffsetB14 as crate::jer::Jer>::read_jer(x))?;
+        Ok(Self { x: f_x, y: f_y })
+    }
+}
+
 #[cfg(feature = "_random")]
 impl uper::random::Random for NodeXY28b {
     fn random(g: &mut uper::random::Gen) -> Self {
@@ -6838,6 +9080,24 @@ impl Uper for NodeXY32b {
         self.x.encode_uper(w)?;
         self.y.encode_uper(w)?;
         Ok(())
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for NodeXY32b {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        out.key("x");
+        crate::jer::Jer::write_jer(&self.x, out);
+        out.key("y");
+        crate::jer::Jer::write_jer(&self.y, out);
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        crate::jer::member(v, "")?;
+        let f_x = crate::jer::read_member(v, "x", |x| <OffsetB16 as crate::jer::Jer>::read_jer(x))?;
+        let f_y = crate::jer::read_member(v, "y", |x| <OffsetB16 as crate::jer::Jer>::read_jer(x))?;
+        Ok(Self { x: f_x, y: f_y })
     }
 }
 
@@ -6889,6 +9149,29 @@ impl Uper for NodeLLmD64b {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for NodeLLmD64b {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        out.key("lon");
+        crate::jer::Jer::write_jer(&self.lon, out);
+        out.key("lat");
+        crate::jer::Jer::write_jer(&self.lat, out);
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        crate::jer::member(v, "")?;
+        let f_lon =
+            crate::jer::read_member(v, "lon", |x| <Longitude as crate::jer::Jer>::read_jer(x))?;
+        let f_lat =
+            crate::jer::read_member(v, "lat", |x| <Latitude as crate::jer::Jer>::read_jer(x))?;
+        Ok(Self {
+            lon: f_lon,
+            lat: f_lat,
+        })
+    }
+}
+
 #[cfg(feature = "_random")]
 impl uper::random::Random for NodeLLmD64b {
     fn random(g: &mut uper::random::Gen) -> Self {
@@ -6927,6 +9210,57 @@ impl RegNodeOffsetPointXY {
             }
             Self::Unknown { id, .. } => *id,
         }
+    }
+}
+
+impl RegNodeOffsetPointXY {
+    /// Writes the id and the value as members `id_name` and `value_name` of an object.
+    #[cfg(feature = "jer")]
+    pub fn write_jer_members(
+        &self,
+        out: &mut crate::jer::JerWriter,
+        id_name: &str,
+        value_name: &str,
+    ) {
+        out.key(id_name);
+        out.int(self.id().get() as i64);
+        out.key(value_name);
+        match self {
+            Self::AddGrpB(v) => crate::jer::Jer::write_jer(v, out),
+            Self::Unknown { content, .. } => out.hex(content),
+        }
+    }
+    /// Reads the id and the value from members `id_name` and `value_name` of an object.
+    #[cfg(feature = "jer")]
+    pub fn read_jer_members(
+        v: &crate::jer::Value,
+        id_name: &str,
+        value_name: &str,
+    ) -> crate::jer::JerResult<Self> {
+        let id = crate::jer::read_member(v, id_name, <RegionId as crate::jer::Jer>::read_jer)?;
+        let x = crate::jer::required(v, value_name)?;
+        match id.get() {
+            2 => <super::add_grp_b::NodeOffsetPointXYAddGrpB as crate::jer::Jer>::read_jer(x)
+                .map(Self::AddGrpB)
+                .map_err(|e| e.within(value_name)),
+            _ => {
+                let content = uper::Octets::from_slice(&crate::jer::hex(x)?)
+                    .ok_or_else(crate::jer::over_capacity)?;
+                Ok(Self::Unknown { id, content })
+            }
+        }
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for RegNodeOffsetPointXY {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        self.write_jer_members(out, "regionId", "regExtValue");
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        Self::read_jer_members(v, "regionId", "regExtValue")
     }
 }
 
@@ -7154,6 +9488,76 @@ impl Uper for NodeAttributeSetXY {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for NodeAttributeSetXY {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        if let Some(v) = &self.local_node {
+            out.key("localNode");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.disabled {
+            out.key("disabled");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.enabled {
+            out.key("enabled");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.data {
+            out.key("data");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.d_width {
+            out.key("dWidth");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.d_elevation {
+            out.key("dElevation");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.regional {
+            out.key("regional");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        crate::jer::member(v, "")?;
+        let f_local_node = crate::jer::read_optional(v, "localNode", |x| {
+            <NodeAttributeXYList as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_disabled = crate::jer::read_optional(v, "disabled", |x| {
+            <SegmentAttributeXYList as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_enabled = crate::jer::read_optional(v, "enabled", |x| {
+            <SegmentAttributeXYList as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_data = crate::jer::read_optional(v, "data", |x| {
+            <LaneDataAttributeList as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_d_width = crate::jer::read_optional(v, "dWidth", |x| {
+            <OffsetB10 as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_d_elevation = crate::jer::read_optional(v, "dElevation", |x| {
+            <OffsetB10 as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_regional = crate::jer::read_optional(v, "regional", |x| {
+            <NodeAttributeSetXYRegional as crate::jer::Jer>::read_jer(x)
+        })?;
+        Ok(Self {
+            local_node: f_local_node,
+            disabled: f_disabled,
+            enabled: f_enabled,
+            data: f_data,
+            d_width: f_d_width,
+            d_elevation: f_d_elevation,
+            regional: f_regional,
+            extensions: uper::Extensions::new(),
+        })
+    }
+}
+
 #[cfg(feature = "_random")]
 impl uper::random::Random for NodeAttributeSetXY {
     fn random(g: &mut uper::random::Gen) -> Self {
@@ -7232,6 +9636,30 @@ impl Uper for NodeAttributeXYList {
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for NodeAttributeXYList {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_array();
+        for item in self.0.iter() {
+            crate::jer::Jer::write_jer(item, out);
+        }
+        out.end_array();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let items = crate::jer::array(v)?;
+        if items.len() < 1 {
+            return Err(crate::jer::invalid("size"));
+        }
+        let mut list = Self::new();
+        for (i, x) in items.iter().enumerate() {
+            let item = <NodeAttributeXY as crate::jer::Jer>::read_jer(x)
+                .map_err(|e| e.within(&std::format!("[{i}]")))?;
+            list.0.push(item).map_err(|_| crate::jer::over_capacity())?;
+        }
+        Ok(list)
     }
 }
 
@@ -7330,6 +9758,24 @@ impl NodeAttributeXY {
             Self::Extension(_) => "",
         }
     }
+    /// The value of an ASN.1 identifier, when the type has it.
+    pub fn from_identifier(name: &str) -> Option<Self> {
+        match name {
+            "reserved" => Some(Self::Reserved),
+            "stopLine" => Some(Self::StopLine),
+            "roundedCapStyleA" => Some(Self::RoundedCapStyleA),
+            "roundedCapStyleB" => Some(Self::RoundedCapStyleB),
+            "mergePoint" => Some(Self::MergePoint),
+            "divergePoint" => Some(Self::DivergePoint),
+            "downstreamStopLine" => Some(Self::DownstreamStopLine),
+            "downstreamStartNode" => Some(Self::DownstreamStartNode),
+            "closedToTraffic" => Some(Self::ClosedToTraffic),
+            "safeIsland" => Some(Self::SafeIsland),
+            "curbPresentAtStepOff" => Some(Self::CurbPresentAtStepOff),
+            "hydrantPresent" => Some(Self::HydrantPresent),
+            _ => None,
+        }
+    }
     fn root_index(self) -> i64 {
         match self {
             Self::Reserved => 0,
@@ -7395,6 +9841,18 @@ impl uper::random::Random for NodeAttributeXY {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for NodeAttributeXY {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.string(self.identifier());
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let name = crate::jer::string(v)?;
+        Self::from_identifier(name)
+            .ok_or_else(|| crate::jer::JerError::new(std::format!("unknown identifier {name}")))
+    }
+}
+
 /// ASN.1 `SegmentAttributeXYList` (module `Common`): SEQUENCE OF SegmentAttributeXY (SIZE(1..8)).
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub struct SegmentAttributeXYList(pub uper::SeqOf<SegmentAttributeXY, 5>);
@@ -7429,6 +9887,30 @@ impl Uper for SegmentAttributeXYList {
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for SegmentAttributeXYList {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_array();
+        for item in self.0.iter() {
+            crate::jer::Jer::write_jer(item, out);
+        }
+        out.end_array();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let items = crate::jer::array(v)?;
+        if items.len() < 1 {
+            return Err(crate::jer::invalid("size"));
+        }
+        let mut list = Self::new();
+        for (i, x) in items.iter().enumerate() {
+            let item = <SegmentAttributeXY as crate::jer::Jer>::read_jer(x)
+                .map_err(|e| e.within(&std::format!("[{i}]")))?;
+            list.0.push(item).map_err(|_| crate::jer::over_capacity())?;
+        }
+        Ok(list)
     }
 }
 
@@ -7657,6 +10139,50 @@ impl SegmentAttributeXY {
             Self::Extension(_) => "",
         }
     }
+    /// The value of an ASN.1 identifier, when the type has it.
+    pub fn from_identifier(name: &str) -> Option<Self> {
+        match name {
+            "reserved" => Some(Self::Reserved),
+            "doNotBlock" => Some(Self::DoNotBlock),
+            "whiteLine" => Some(Self::WhiteLine),
+            "mergingLaneLeft" => Some(Self::MergingLaneLeft),
+            "mergingLaneRight" => Some(Self::MergingLaneRight),
+            "curbOnLeft" => Some(Self::CurbOnLeft),
+            "curbOnRight" => Some(Self::CurbOnRight),
+            "loadingzoneOnLeft" => Some(Self::LoadingzoneOnLeft),
+            "loadingzoneOnRight" => Some(Self::LoadingzoneOnRight),
+            "turnOutPointOnLeft" => Some(Self::TurnOutPointOnLeft),
+            "turnOutPointOnRight" => Some(Self::TurnOutPointOnRight),
+            "adjacentParkingOnLeft" => Some(Self::AdjacentParkingOnLeft),
+            "adjacentParkingOnRight" => Some(Self::AdjacentParkingOnRight),
+            "adjacentBikeLaneOnLeft" => Some(Self::AdjacentBikeLaneOnLeft),
+            "adjacentBikeLaneOnRight" => Some(Self::AdjacentBikeLaneOnRight),
+            "sharedBikeLane" => Some(Self::SharedBikeLane),
+            "bikeBoxInFront" => Some(Self::BikeBoxInFront),
+            "transitStopOnLeft" => Some(Self::TransitStopOnLeft),
+            "transitStopOnRight" => Some(Self::TransitStopOnRight),
+            "transitStopInLane" => Some(Self::TransitStopInLane),
+            "sharedWithTrackedVehicle" => Some(Self::SharedWithTrackedVehicle),
+            "safeIsland" => Some(Self::SafeIsland),
+            "lowCurbsPresent" => Some(Self::LowCurbsPresent),
+            "rumbleStripPresent" => Some(Self::RumbleStripPresent),
+            "audibleSignalingPresent" => Some(Self::AudibleSignalingPresent),
+            "adaptiveTimingPresent" => Some(Self::AdaptiveTimingPresent),
+            "rfSignalRequestPresent" => Some(Self::RfSignalRequestPresent),
+            "partialCurbIntrusion" => Some(Self::PartialCurbIntrusion),
+            "taperToLeft" => Some(Self::TaperToLeft),
+            "taperToRight" => Some(Self::TaperToRight),
+            "taperToCenterLine" => Some(Self::TaperToCenterLine),
+            "parallelParking" => Some(Self::ParallelParking),
+            "headInParking" => Some(Self::HeadInParking),
+            "freeParking" => Some(Self::FreeParking),
+            "timeRestrictionsOnParking" => Some(Self::TimeRestrictionsOnParking),
+            "costToPark" => Some(Self::CostToPark),
+            "midBlockCurbPresent" => Some(Self::MidBlockCurbPresent),
+            "unEvenPavementPresent" => Some(Self::UnEvenPavementPresent),
+            _ => None,
+        }
+    }
     fn root_index(self) -> i64 {
         match self {
             Self::Reserved => 0,
@@ -7748,6 +10274,18 @@ impl uper::random::Random for SegmentAttributeXY {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for SegmentAttributeXY {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.string(self.identifier());
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let name = crate::jer::string(v)?;
+        Self::from_identifier(name)
+            .ok_or_else(|| crate::jer::JerError::new(std::format!("unknown identifier {name}")))
+    }
+}
+
 /// ASN.1 `LaneDataAttributeList` (module `Common`): SEQUENCE OF LaneDataAttribute (SIZE(1..8)).
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub struct LaneDataAttributeList(pub uper::SeqOf<LaneDataAttribute, 8>);
@@ -7782,6 +10320,30 @@ impl Uper for LaneDataAttributeList {
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for LaneDataAttributeList {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_array();
+        for item in self.0.iter() {
+            crate::jer::Jer::write_jer(item, out);
+        }
+        out.end_array();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let items = crate::jer::array(v)?;
+        if items.len() < 1 {
+            return Err(crate::jer::invalid("size"));
+        }
+        let mut list = Self::new();
+        for (i, x) in items.iter().enumerate() {
+            let item = <LaneDataAttribute as crate::jer::Jer>::read_jer(x)
+                .map_err(|e| e.within(&std::format!("[{i}]")))?;
+            list.0.push(item).map_err(|_| crate::jer::over_capacity())?;
+        }
+        Ok(list)
     }
 }
 
@@ -7994,6 +10556,89 @@ impl uper::random::Random for LaneDataAttribute {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for LaneDataAttribute {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        match self {
+            Self::PathEndPointAngle(v) => {
+                out.begin_object();
+                out.key("pathEndPointAngle");
+                crate::jer::Jer::write_jer(v, out);
+                out.end_object();
+            }
+            Self::LaneCrownPointCenter(v) => {
+                out.begin_object();
+                out.key("laneCrownPointCenter");
+                crate::jer::Jer::write_jer(v, out);
+                out.end_object();
+            }
+            Self::LaneCrownPointLeft(v) => {
+                out.begin_object();
+                out.key("laneCrownPointLeft");
+                crate::jer::Jer::write_jer(v, out);
+                out.end_object();
+            }
+            Self::LaneCrownPointRight(v) => {
+                out.begin_object();
+                out.key("laneCrownPointRight");
+                crate::jer::Jer::write_jer(v, out);
+                out.end_object();
+            }
+            Self::LaneAngle(v) => {
+                out.begin_object();
+                out.key("laneAngle");
+                crate::jer::Jer::write_jer(v, out);
+                out.end_object();
+            }
+            Self::SpeedLimits(v) => {
+                out.begin_object();
+                out.key("speedLimits");
+                crate::jer::Jer::write_jer(v, out);
+                out.end_object();
+            }
+            Self::Regional(v) => {
+                out.begin_object();
+                out.key("regional");
+                crate::jer::Jer::write_jer(v, out);
+                out.end_object();
+            }
+            Self::Extension { .. } => {
+                out.begin_object();
+                out.end_object();
+            }
+        }
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let (name, x) = crate::jer::alternative(v)?;
+        match name {
+            "pathEndPointAngle" => <DeltaAngle as crate::jer::Jer>::read_jer(x)
+                .map(Self::PathEndPointAngle)
+                .map_err(|e| e.within(name)),
+            "laneCrownPointCenter" => <RoadwayCrownAngle as crate::jer::Jer>::read_jer(x)
+                .map(Self::LaneCrownPointCenter)
+                .map_err(|e| e.within(name)),
+            "laneCrownPointLeft" => <RoadwayCrownAngle as crate::jer::Jer>::read_jer(x)
+                .map(Self::LaneCrownPointLeft)
+                .map_err(|e| e.within(name)),
+            "laneCrownPointRight" => <RoadwayCrownAngle as crate::jer::Jer>::read_jer(x)
+                .map(Self::LaneCrownPointRight)
+                .map_err(|e| e.within(name)),
+            "laneAngle" => <MergeDivergeNodeAngle as crate::jer::Jer>::read_jer(x)
+                .map(Self::LaneAngle)
+                .map_err(|e| e.within(name)),
+            "speedLimits" => <SpeedLimitList as crate::jer::Jer>::read_jer(x)
+                .map(Self::SpeedLimits)
+                .map_err(|e| e.within(name)),
+            "regional" => <LaneDataAttributeRegional as crate::jer::Jer>::read_jer(x)
+                .map(Self::Regional)
+                .map_err(|e| e.within(name)),
+            _ => Err(crate::jer::JerError::new(std::format!(
+                "unknown alternative {name}"
+            ))),
+        }
+    }
+}
+
 /// ASN.1 `DeltaAngle` (module `Common`): INTEGER (-150..150).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub struct DeltaAngle(i16);
@@ -8057,6 +10702,30 @@ impl Uper for LaneDataAttributeRegional {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for LaneDataAttributeRegional {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_array();
+        for item in self.0.iter() {
+            crate::jer::Jer::write_jer(item, out);
+        }
+        out.end_array();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let items = crate::jer::array(v)?;
+        if items.len() < 1 {
+            return Err(crate::jer::invalid("size"));
+        }
+        let mut list = Self::new();
+        for (i, x) in items.iter().enumerate() {
+            let item = <RegLaneDataAttribute as crate::jer::Jer>::read_jer(x)
+                .map_err(|e| e.within(&std::format!("[{i}]")))?;
+            list.0.push(item).map_err(|_| crate::jer::over_capacity())?;
+        }
+        Ok(list)
+    }
+}
+
 #[cfg(feature = "_random")]
 impl uper::random::Random for LaneDataAttributeRegional {
     fn random(g: &mut uper::random::Gen) -> Self {
@@ -8097,6 +10766,57 @@ impl RegLaneDataAttribute {
             }
             Self::Unknown { id, .. } => *id,
         }
+    }
+}
+
+impl RegLaneDataAttribute {
+    /// Writes the id and the value as members `id_name` and `value_name` of an object.
+    #[cfg(feature = "jer")]
+    pub fn write_jer_members(
+        &self,
+        out: &mut crate::jer::JerWriter,
+        id_name: &str,
+        value_name: &str,
+    ) {
+        out.key(id_name);
+        out.int(self.id().get() as i64);
+        out.key(value_name);
+        match self {
+            Self::AddGrpB(v) => crate::jer::Jer::write_jer(v, out),
+            Self::Unknown { content, .. } => out.hex(content),
+        }
+    }
+    /// Reads the id and the value from members `id_name` and `value_name` of an object.
+    #[cfg(feature = "jer")]
+    pub fn read_jer_members(
+        v: &crate::jer::Value,
+        id_name: &str,
+        value_name: &str,
+    ) -> crate::jer::JerResult<Self> {
+        let id = crate::jer::read_member(v, id_name, <RegionId as crate::jer::Jer>::read_jer)?;
+        let x = crate::jer::required(v, value_name)?;
+        match id.get() {
+            2 => <super::add_grp_b::LaneDataAttributeAddGrpB as crate::jer::Jer>::read_jer(x)
+                .map(Self::AddGrpB)
+                .map_err(|e| e.within(value_name)),
+            _ => {
+                let content = uper::Octets::from_slice(&crate::jer::hex(x)?)
+                    .ok_or_else(crate::jer::over_capacity)?;
+                Ok(Self::Unknown { id, content })
+            }
+        }
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for RegLaneDataAttribute {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        self.write_jer_members(out, "regionId", "regExtValue");
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        Self::read_jer_members(v, "regionId", "regExtValue")
     }
 }
 
@@ -8207,6 +10927,30 @@ impl Uper for NodeAttributeSetXYRegional {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for NodeAttributeSetXYRegional {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_array();
+        for item in self.0.iter() {
+            crate::jer::Jer::write_jer(item, out);
+        }
+        out.end_array();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let items = crate::jer::array(v)?;
+        if items.len() < 1 {
+            return Err(crate::jer::invalid("size"));
+        }
+        let mut list = Self::new();
+        for (i, x) in items.iter().enumerate() {
+            let item = <RegNodeAttributeSetXY as crate::jer::Jer>::read_jer(x)
+                .map_err(|e| e.within(&std::format!("[{i}]")))?;
+            list.0.push(item).map_err(|_| crate::jer::over_capacity())?;
+        }
+        Ok(list)
+    }
+}
+
 #[cfg(feature = "_random")]
 impl uper::random::Random for NodeAttributeSetXYRegional {
     fn random(g: &mut uper::random::Gen) -> Self {
@@ -8237,6 +10981,53 @@ impl RegNodeAttributeSetXY {
         match self {
             Self::Unknown { id, .. } => *id,
         }
+    }
+}
+
+impl RegNodeAttributeSetXY {
+    /// Writes the id and the value as members `id_name` and `value_name` of an object.
+    #[cfg(feature = "jer")]
+    pub fn write_jer_members(
+        &self,
+        out: &mut crate::jer::JerWriter,
+        id_name: &str,
+        value_name: &str,
+    ) {
+        out.key(id_name);
+        out.int(self.id().get() as i64);
+        out.key(value_name);
+        match self {
+            Self::Unknown { content, .. } => out.hex(content),
+        }
+    }
+    /// Reads the id and the value from members `id_name` and `value_name` of an object.
+    #[cfg(feature = "jer")]
+    pub fn read_jer_members(
+        v: &crate::jer::Value,
+        id_name: &str,
+        value_name: &str,
+    ) -> crate::jer::JerResult<Self> {
+        let id = crate::jer::read_member(v, id_name, <RegionId as crate::jer::Jer>::read_jer)?;
+        let x = crate::jer::required(v, value_name)?;
+        match id.get() {
+            _ => {
+                let content = uper::Octets::from_slice(&crate::jer::hex(x)?)
+                    .ok_or_else(crate::jer::over_capacity)?;
+                Ok(Self::Unknown { id, content })
+            }
+        }
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for RegNodeAttributeSetXY {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        self.write_jer_members(out, "regionId", "regExtValue");
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        Self::read_jer_members(v, "regionId", "regExtValue")
     }
 }
 
@@ -8411,6 +11202,69 @@ impl Uper for ComputedLane {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for ComputedLane {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        out.key("referenceLaneId");
+        crate::jer::Jer::write_jer(&self.reference_lane_id, out);
+        out.key("offsetXaxis");
+        crate::jer::Jer::write_jer(&self.offset_xaxis, out);
+        out.key("offsetYaxis");
+        crate::jer::Jer::write_jer(&self.offset_yaxis, out);
+        if let Some(v) = &self.rotate_xy {
+            out.key("rotateXY");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.scale_xaxis {
+            out.key("scaleXaxis");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.scale_yaxis {
+            out.key("scaleYaxis");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.regional {
+            out.key("regional");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        crate::jer::member(v, "")?;
+        let f_reference_lane_id = crate::jer::read_member(v, "referenceLaneId", |x| {
+            <LaneID as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_offset_xaxis = crate::jer::read_member(v, "offsetXaxis", |x| {
+            <ComputedLaneOffsetXaxis as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_offset_yaxis = crate::jer::read_member(v, "offsetYaxis", |x| {
+            <ComputedLaneOffsetYaxis as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_rotate_xy =
+            crate::jer::read_optional(v, "rotateXY", |x| <Angle as crate::jer::Jer>::read_jer(x))?;
+        let f_scale_xaxis = crate::jer::read_optional(v, "scaleXaxis", |x| {
+            <ScaleB12 as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_scale_yaxis = crate::jer::read_optional(v, "scaleYaxis", |x| {
+            <ScaleB12 as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_regional = crate::jer::read_optional(v, "regional", |x| {
+            <ComputedLaneRegional as crate::jer::Jer>::read_jer(x)
+        })?;
+        Ok(Self {
+            reference_lane_id: f_reference_lane_id,
+            offset_xaxis: f_offset_xaxis,
+            offset_yaxis: f_offset_yaxis,
+            rotate_xy: f_rotate_xy,
+            scale_xaxis: f_scale_xaxis,
+            scale_yaxis: f_scale_yaxis,
+            regional: f_regional,
+            extensions: uper::Extensions::new(),
+        })
+    }
+}
+
 #[cfg(feature = "_random")]
 impl uper::random::Random for ComputedLane {
     fn random(g: &mut uper::random::Gen) -> Self {
@@ -8518,6 +11372,40 @@ impl uper::random::Random for ComputedLaneOffsetXaxis {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for ComputedLaneOffsetXaxis {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        match self {
+            Self::Small(v) => {
+                out.begin_object();
+                out.key("small");
+                crate::jer::Jer::write_jer(v, out);
+                out.end_object();
+            }
+            Self::Large(v) => {
+                out.begin_object();
+                out.key("large");
+                crate::jer::Jer::write_jer(v, out);
+                out.end_object();
+            }
+        }
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let (name, x) = crate::jer::alternative(v)?;
+        match name {
+            "small" => <DrivenLineOffsetSm as crate::jer::Jer>::read_jer(x)
+                .map(Self::Small)
+                .map_err(|e| e.within(name)),
+            "large" => <DrivenLineOffsetLg as crate::jer::Jer>::read_jer(x)
+                .map(Self::Large)
+                .map_err(|e| e.within(name)),
+            _ => Err(crate::jer::JerError::new(std::format!(
+                "unknown alternative {name}"
+            ))),
+        }
+    }
+}
+
 /// ASN.1 `DrivenLineOffsetSm` (module `Common`): INTEGER (-2047..2047).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub struct DrivenLineOffsetSm(i16);
@@ -8615,6 +11503,40 @@ impl uper::random::Random for ComputedLaneOffsetYaxis {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for ComputedLaneOffsetYaxis {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        match self {
+            Self::Small(v) => {
+                out.begin_object();
+                out.key("small");
+                crate::jer::Jer::write_jer(v, out);
+                out.end_object();
+            }
+            Self::Large(v) => {
+                out.begin_object();
+                out.key("large");
+                crate::jer::Jer::write_jer(v, out);
+                out.end_object();
+            }
+        }
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let (name, x) = crate::jer::alternative(v)?;
+        match name {
+            "small" => <DrivenLineOffsetSm as crate::jer::Jer>::read_jer(x)
+                .map(Self::Small)
+                .map_err(|e| e.within(name)),
+            "large" => <DrivenLineOffsetLg as crate::jer::Jer>::read_jer(x)
+                .map(Self::Large)
+                .map_err(|e| e.within(name)),
+            _ => Err(crate::jer::JerError::new(std::format!(
+                "unknown alternative {name}"
+            ))),
+        }
+    }
+}
+
 /// ASN.1 `Scale-B12` (module `Common`): INTEGER (-2048..2047).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub struct ScaleB12(i16);
@@ -8657,6 +11579,30 @@ impl Uper for ComputedLaneRegional {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for ComputedLaneRegional {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_array();
+        for item in self.0.iter() {
+            crate::jer::Jer::write_jer(item, out);
+        }
+        out.end_array();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let items = crate::jer::array(v)?;
+        if items.len() < 1 {
+            return Err(crate::jer::invalid("size"));
+        }
+        let mut list = Self::new();
+        for (i, x) in items.iter().enumerate() {
+            let item = <RegComputedLane as crate::jer::Jer>::read_jer(x)
+                .map_err(|e| e.within(&std::format!("[{i}]")))?;
+            list.0.push(item).map_err(|_| crate::jer::over_capacity())?;
+        }
+        Ok(list)
+    }
+}
+
 #[cfg(feature = "_random")]
 impl uper::random::Random for ComputedLaneRegional {
     fn random(g: &mut uper::random::Gen) -> Self {
@@ -8687,6 +11633,53 @@ impl RegComputedLane {
         match self {
             Self::Unknown { id, .. } => *id,
         }
+    }
+}
+
+impl RegComputedLane {
+    /// Writes the id and the value as members `id_name` and `value_name` of an object.
+    #[cfg(feature = "jer")]
+    pub fn write_jer_members(
+        &self,
+        out: &mut crate::jer::JerWriter,
+        id_name: &str,
+        value_name: &str,
+    ) {
+        out.key(id_name);
+        out.int(self.id().get() as i64);
+        out.key(value_name);
+        match self {
+            Self::Unknown { content, .. } => out.hex(content),
+        }
+    }
+    /// Reads the id and the value from members `id_name` and `value_name` of an object.
+    #[cfg(feature = "jer")]
+    pub fn read_jer_members(
+        v: &crate::jer::Value,
+        id_name: &str,
+        value_name: &str,
+    ) -> crate::jer::JerResult<Self> {
+        let id = crate::jer::read_member(v, id_name, <RegionId as crate::jer::Jer>::read_jer)?;
+        let x = crate::jer::required(v, value_name)?;
+        match id.get() {
+            _ => {
+                let content = uper::Octets::from_slice(&crate::jer::hex(x)?)
+                    .ok_or_else(crate::jer::over_capacity)?;
+                Ok(Self::Unknown { id, content })
+            }
+        }
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for RegComputedLane {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        self.write_jer_members(out, "regionId", "regExtValue");
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        Self::read_jer_members(v, "regionId", "regExtValue")
     }
 }
 
@@ -8799,6 +11792,32 @@ impl Uper for RoadSegmentReferenceID {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for RoadSegmentReferenceID {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        if let Some(v) = &self.region {
+            out.key("region");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        out.key("id");
+        crate::jer::Jer::write_jer(&self.id, out);
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        crate::jer::member(v, "")?;
+        let f_region = crate::jer::read_optional(v, "region", |x| {
+            <RoadRegulatorID as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_id =
+            crate::jer::read_member(v, "id", |x| <RoadSegmentID as crate::jer::Jer>::read_jer(x))?;
+        Ok(Self {
+            region: f_region,
+            id: f_id,
+        })
+    }
+}
+
 #[cfg(feature = "_random")]
 impl uper::random::Random for RoadSegmentReferenceID {
     fn random(g: &mut uper::random::Gen) -> Self {
@@ -8886,6 +11905,20 @@ impl PrioritizationResponseStatus {
             Self::Extension(_) => "",
         }
     }
+    /// The value of an ASN.1 identifier, when the type has it.
+    pub fn from_identifier(name: &str) -> Option<Self> {
+        match name {
+            "unknown" => Some(Self::Unknown),
+            "requested" => Some(Self::Requested),
+            "processing" => Some(Self::Processing),
+            "watchOtherTraffic" => Some(Self::WatchOtherTraffic),
+            "granted" => Some(Self::Granted),
+            "rejected" => Some(Self::Rejected),
+            "maxPresence" => Some(Self::MaxPresence),
+            "reserviceLocked" => Some(Self::ReserviceLocked),
+            _ => None,
+        }
+    }
     fn root_index(self) -> i64 {
         match self {
             Self::Unknown => 0,
@@ -8947,6 +11980,18 @@ impl uper::random::Random for PrioritizationResponseStatus {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for PrioritizationResponseStatus {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.string(self.identifier());
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let name = crate::jer::string(v)?;
+        Self::from_identifier(name)
+            .ok_or_else(|| crate::jer::JerError::new(std::format!("unknown identifier {name}")))
+    }
+}
+
 /// ASN.1 `FurtherInfoID` (module `Common`): OCTET STRING (SIZE(2)).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub struct FurtherInfoID(pub [u8; 2]);
@@ -8972,6 +12017,19 @@ impl Uper for FurtherInfoID {
 impl uper::random::Random for FurtherInfoID {
     fn random(g: &mut uper::random::Gen) -> Self {
         Self(core::array::from_fn(|_| g.octet()))
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for FurtherInfoID {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.hex(&self.0);
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        crate::jer::hex(v)?
+            .try_into()
+            .map(Self)
+            .map_err(|_| crate::jer::invalid("size"))
     }
 }
 
@@ -9046,6 +12104,40 @@ impl uper::random::Random for VehicleID {
             0 => Self::EntityID(<TemporaryID as uper::random::Random>::random(g)),
             1 => Self::StationID(<StationID as uper::random::Random>::random(g)),
             _ => Self::EntityID(<TemporaryID as uper::Placeholder>::placeholder()),
+        }
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for VehicleID {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        match self {
+            Self::EntityID(v) => {
+                out.begin_object();
+                out.key("entityID");
+                crate::jer::Jer::write_jer(v, out);
+                out.end_object();
+            }
+            Self::StationID(v) => {
+                out.begin_object();
+                out.key("stationID");
+                crate::jer::Jer::write_jer(v, out);
+                out.end_object();
+            }
+        }
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let (name, x) = crate::jer::alternative(v)?;
+        match name {
+            "entityID" => <TemporaryID as crate::jer::Jer>::read_jer(x)
+                .map(Self::EntityID)
+                .map_err(|e| e.within(name)),
+            "stationID" => <StationID as crate::jer::Jer>::read_jer(x)
+                .map(Self::StationID)
+                .map_err(|e| e.within(name)),
+            _ => Err(crate::jer::JerError::new(std::format!(
+                "unknown alternative {name}"
+            ))),
         }
     }
 }
@@ -9166,6 +12258,53 @@ impl uper::random::Random for IntersectionAccessPoint {
             1 => Self::Approach(<ApproachID as uper::random::Random>::random(g)),
             2 => Self::Connection(<LaneConnectionID as uper::random::Random>::random(g)),
             _ => Self::Lane(<LaneID as uper::Placeholder>::placeholder()),
+        }
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for IntersectionAccessPoint {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        match self {
+            Self::Lane(v) => {
+                out.begin_object();
+                out.key("lane");
+                crate::jer::Jer::write_jer(v, out);
+                out.end_object();
+            }
+            Self::Approach(v) => {
+                out.begin_object();
+                out.key("approach");
+                crate::jer::Jer::write_jer(v, out);
+                out.end_object();
+            }
+            Self::Connection(v) => {
+                out.begin_object();
+                out.key("connection");
+                crate::jer::Jer::write_jer(v, out);
+                out.end_object();
+            }
+            Self::Extension { .. } => {
+                out.begin_object();
+                out.end_object();
+            }
+        }
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let (name, x) = crate::jer::alternative(v)?;
+        match name {
+            "lane" => <LaneID as crate::jer::Jer>::read_jer(x)
+                .map(Self::Lane)
+                .map_err(|e| e.within(name)),
+            "approach" => <ApproachID as crate::jer::Jer>::read_jer(x)
+                .map(Self::Approach)
+                .map_err(|e| e.within(name)),
+            "connection" => <LaneConnectionID as crate::jer::Jer>::read_jer(x)
+                .map(Self::Connection)
+                .map_err(|e| e.within(name)),
+            _ => Err(crate::jer::JerError::new(std::format!(
+                "unknown alternative {name}"
+            ))),
         }
     }
 }
@@ -9297,6 +12436,66 @@ impl Uper for RequestorType {
             self.extensions.encode(w)?;
         }
         Ok(())
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for RequestorType {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        out.key("role");
+        crate::jer::Jer::write_jer(&self.role, out);
+        if let Some(v) = &self.subrole {
+            out.key("subrole");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.request {
+            out.key("request");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.iso3883 {
+            out.key("iso3883");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.hpms_type {
+            out.key("hpmsType");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.regional {
+            out.key("regional");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        crate::jer::member(v, "")?;
+        let f_role = crate::jer::read_member(v, "role", |x| {
+            <BasicVehicleRole as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_subrole = crate::jer::read_optional(v, "subrole", |x| {
+            <RequestSubRole as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_request = crate::jer::read_optional(v, "request", |x| {
+            <RequestImportanceLevel as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_iso3883 = crate::jer::read_optional(v, "iso3883", |x| {
+            <Iso3833VehicleType as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_hpms_type = crate::jer::read_optional(v, "hpmsType", |x| {
+            <VehicleType as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_regional = crate::jer::read_optional(v, "regional", |x| {
+            <RegRequestorType as crate::jer::Jer>::read_jer(x)
+        })?;
+        Ok(Self {
+            role: f_role,
+            subrole: f_subrole,
+            request: f_request,
+            iso3883: f_iso3883,
+            hpms_type: f_hpms_type,
+            regional: f_regional,
+            extensions: uper::Extensions::new(),
+        })
     }
 }
 
@@ -9434,6 +12633,28 @@ impl RequestSubRole {
             Self::RequestSubRoleReserved => "requestSubRoleReserved",
         }
     }
+    /// The value of an ASN.1 identifier, when the type has it.
+    pub fn from_identifier(name: &str) -> Option<Self> {
+        match name {
+            "requestSubRoleUnKnown" => Some(Self::RequestSubRoleUnKnown),
+            "requestSubRole1" => Some(Self::RequestSubRole1),
+            "requestSubRole2" => Some(Self::RequestSubRole2),
+            "requestSubRole3" => Some(Self::RequestSubRole3),
+            "requestSubRole4" => Some(Self::RequestSubRole4),
+            "requestSubRole5" => Some(Self::RequestSubRole5),
+            "requestSubRole6" => Some(Self::RequestSubRole6),
+            "requestSubRole7" => Some(Self::RequestSubRole7),
+            "requestSubRole8" => Some(Self::RequestSubRole8),
+            "requestSubRole9" => Some(Self::RequestSubRole9),
+            "requestSubRole10" => Some(Self::RequestSubRole10),
+            "requestSubRole11" => Some(Self::RequestSubRole11),
+            "requestSubRole12" => Some(Self::RequestSubRole12),
+            "requestSubRole13" => Some(Self::RequestSubRole13),
+            "requestSubRole14" => Some(Self::RequestSubRole14),
+            "requestSubRoleReserved" => Some(Self::RequestSubRoleReserved),
+            _ => None,
+        }
+    }
     fn root_index(self) -> i64 {
         match self {
             Self::RequestSubRoleUnKnown => 0,
@@ -9486,6 +12707,18 @@ impl Uper for RequestSubRole {
 impl uper::random::Random for RequestSubRole {
     fn random(g: &mut uper::random::Gen) -> Self {
         Self::ALL[g.below(16)]
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for RequestSubRole {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.string(self.identifier());
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let name = crate::jer::string(v)?;
+        Self::from_identifier(name)
+            .ok_or_else(|| crate::jer::JerError::new(std::format!("unknown identifier {name}")))
     }
 }
 
@@ -9588,6 +12821,28 @@ impl RequestImportanceLevel {
             Self::RequestImportanceReserved => "requestImportanceReserved",
         }
     }
+    /// The value of an ASN.1 identifier, when the type has it.
+    pub fn from_identifier(name: &str) -> Option<Self> {
+        match name {
+            "requestImportanceLevelUnKnown" => Some(Self::RequestImportanceLevelUnKnown),
+            "requestImportanceLevel1" => Some(Self::RequestImportanceLevel1),
+            "requestImportanceLevel2" => Some(Self::RequestImportanceLevel2),
+            "requestImportanceLevel3" => Some(Self::RequestImportanceLevel3),
+            "requestImportanceLevel4" => Some(Self::RequestImportanceLevel4),
+            "requestImportanceLevel5" => Some(Self::RequestImportanceLevel5),
+            "requestImportanceLevel6" => Some(Self::RequestImportanceLevel6),
+            "requestImportanceLevel7" => Some(Self::RequestImportanceLevel7),
+            "requestImportanceLevel8" => Some(Self::RequestImportanceLevel8),
+            "requestImportanceLevel9" => Some(Self::RequestImportanceLevel9),
+            "requestImportanceLevel10" => Some(Self::RequestImportanceLevel10),
+            "requestImportanceLevel11" => Some(Self::RequestImportanceLevel11),
+            "requestImportanceLevel12" => Some(Self::RequestImportanceLevel12),
+            "requestImportanceLevel13" => Some(Self::RequestImportanceLevel13),
+            "requestImportanceLevel14" => Some(Self::RequestImportanceLevel14),
+            "requestImportanceReserved" => Some(Self::RequestImportanceReserved),
+            _ => None,
+        }
+    }
     fn root_index(self) -> i64 {
         match self {
             Self::RequestImportanceLevelUnKnown => 0,
@@ -9643,6 +12898,18 @@ impl uper::random::Random for RequestImportanceLevel {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for RequestImportanceLevel {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.string(self.identifier());
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let name = crate::jer::string(v)?;
+        Self::from_identifier(name)
+            .ok_or_else(|| crate::jer::JerError::new(std::format!("unknown identifier {name}")))
+    }
+}
+
 /// ASN.1 `RegRequestorType` (module `Common`): `regionId` and the `regExtValue` it selects (open type over an object set).
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub enum RegRequestorType {
@@ -9661,6 +12928,53 @@ impl RegRequestorType {
         match self {
             Self::Unknown { id, .. } => *id,
         }
+    }
+}
+
+impl RegRequestorType {
+    /// Writes the id and the value as members `id_name` and `value_name` of an object.
+    #[cfg(feature = "jer")]
+    pub fn write_jer_members(
+        &self,
+        out: &mut crate::jer::JerWriter,
+        id_name: &str,
+        value_name: &str,
+    ) {
+        out.key(id_name);
+        out.int(self.id().get() as i64);
+        out.key(value_name);
+        match self {
+            Self::Unknown { content, .. } => out.hex(content),
+        }
+    }
+    /// Reads the id and the value from members `id_name` and `value_name` of an object.
+    #[cfg(feature = "jer")]
+    pub fn read_jer_members(
+        v: &crate::jer::Value,
+        id_name: &str,
+        value_name: &str,
+    ) -> crate::jer::JerResult<Self> {
+        let id = crate::jer::read_member(v, id_name, <RegionId as crate::jer::Jer>::read_jer)?;
+        let x = crate::jer::required(v, value_name)?;
+        match id.get() {
+            _ => {
+                let content = uper::Octets::from_slice(&crate::jer::hex(x)?)
+                    .ok_or_else(crate::jer::over_capacity)?;
+                Ok(Self::Unknown { id, content })
+            }
+        }
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for RegRequestorType {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        self.write_jer_members(out, "regionId", "regExtValue");
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        Self::read_jer_members(v, "regionId", "regExtValue")
     }
 }
 
@@ -9820,6 +13134,50 @@ impl Uper for Header {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for Header {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        if let Some(v) = &self.year {
+            out.key("year");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.time_stamp {
+            out.key("timeStamp");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.sec_mark {
+            out.key("secMark");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.msg_issue_revision {
+            out.key("msgIssueRevision");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        crate::jer::member(v, "")?;
+        let f_year =
+            crate::jer::read_optional(v, "year", |x| <DYear as crate::jer::Jer>::read_jer(x))?;
+        let f_time_stamp = crate::jer::read_optional(v, "timeStamp", |x| {
+            <MinuteOfTheYear as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_sec_mark =
+            crate::jer::read_optional(v, "secMark", |x| <DSecond as crate::jer::Jer>::read_jer(x))?;
+        let f_msg_issue_revision = crate::jer::read_optional(v, "msgIssueRevision", |x| {
+            <MsgCount as crate::jer::Jer>::read_jer(x)
+        })?;
+        Ok(Self {
+            year: f_year,
+            time_stamp: f_time_stamp,
+            sec_mark: f_sec_mark,
+            msg_issue_revision: f_msg_issue_revision,
+            extensions: uper::Extensions::new(),
+        })
+    }
+}
+
 #[cfg(feature = "_random")]
 impl uper::random::Random for Header {
     fn random(g: &mut uper::random::Gen) -> Self {
@@ -9887,6 +13245,33 @@ impl Uper for DDate {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for DDate {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        out.key("year");
+        crate::jer::Jer::write_jer(&self.year, out);
+        out.key("month");
+        crate::jer::Jer::write_jer(&self.month, out);
+        out.key("day");
+        crate::jer::Jer::write_jer(&self.day, out);
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        crate::jer::member(v, "")?;
+        let f_year =
+            crate::jer::read_member(v, "year", |x| <DYear as crate::jer::Jer>::read_jer(x))?;
+        let f_month =
+            crate::jer::read_member(v, "month", |x| <DMonth as crate::jer::Jer>::read_jer(x))?;
+        let f_day = crate::jer::read_member(v, "day", |x| <DDay as crate::jer::Jer>::read_jer(x))?;
+        Ok(Self {
+            year: f_year,
+            month: f_month,
+            day: f_day,
+        })
+    }
+}
+
 #[cfg(feature = "_random")]
 impl uper::random::Random for DDate {
     fn random(g: &mut uper::random::Gen) -> Self {
@@ -9946,6 +13331,43 @@ impl Uper for DFullTime {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for DFullTime {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        out.key("year");
+        crate::jer::Jer::write_jer(&self.year, out);
+        out.key("month");
+        crate::jer::Jer::write_jer(&self.month, out);
+        out.key("day");
+        crate::jer::Jer::write_jer(&self.day, out);
+        out.key("hour");
+        crate::jer::Jer::write_jer(&self.hour, out);
+        out.key("minute");
+        crate::jer::Jer::write_jer(&self.minute, out);
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        crate::jer::member(v, "")?;
+        let f_year =
+            crate::jer::read_member(v, "year", |x| <DYear as crate::jer::Jer>::read_jer(x))?;
+        let f_month =
+            crate::jer::read_member(v, "month", |x| <DMonth as crate::jer::Jer>::read_jer(x))?;
+        let f_day = crate::jer::read_member(v, "day", |x| <DDay as crate::jer::Jer>::read_jer(x))?;
+        let f_hour =
+            crate::jer::read_member(v, "hour", |x| <DHour as crate::jer::Jer>::read_jer(x))?;
+        let f_minute =
+            crate::jer::read_member(v, "minute", |x| <DMinute as crate::jer::Jer>::read_jer(x))?;
+        Ok(Self {
+            year: f_year,
+            month: f_month,
+            day: f_day,
+            hour: f_hour,
+            minute: f_minute,
+        })
+    }
+}
+
 #[cfg(feature = "_random")]
 impl uper::random::Random for DFullTime {
     fn random(g: &mut uper::random::Gen) -> Self {
@@ -9989,6 +13411,28 @@ impl Uper for DMonthDay {
         self.month.encode_uper(w)?;
         self.day.encode_uper(w)?;
         Ok(())
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for DMonthDay {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        out.key("month");
+        crate::jer::Jer::write_jer(&self.month, out);
+        out.key("day");
+        crate::jer::Jer::write_jer(&self.day, out);
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        crate::jer::member(v, "")?;
+        let f_month =
+            crate::jer::read_member(v, "month", |x| <DMonth as crate::jer::Jer>::read_jer(x))?;
+        let f_day = crate::jer::read_member(v, "day", |x| <DDay as crate::jer::Jer>::read_jer(x))?;
+        Ok(Self {
+            month: f_month,
+            day: f_day,
+        })
     }
 }
 
@@ -10058,6 +13502,41 @@ impl Uper for DTime {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for DTime {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        out.key("hour");
+        crate::jer::Jer::write_jer(&self.hour, out);
+        out.key("minute");
+        crate::jer::Jer::write_jer(&self.minute, out);
+        out.key("second");
+        crate::jer::Jer::write_jer(&self.second, out);
+        if let Some(v) = &self.offset {
+            out.key("offset");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        crate::jer::member(v, "")?;
+        let f_hour =
+            crate::jer::read_member(v, "hour", |x| <DHour as crate::jer::Jer>::read_jer(x))?;
+        let f_minute =
+            crate::jer::read_member(v, "minute", |x| <DMinute as crate::jer::Jer>::read_jer(x))?;
+        let f_second =
+            crate::jer::read_member(v, "second", |x| <DSecond as crate::jer::Jer>::read_jer(x))?;
+        let f_offset =
+            crate::jer::read_optional(v, "offset", |x| <DOffset as crate::jer::Jer>::read_jer(x))?;
+        Ok(Self {
+            hour: f_hour,
+            minute: f_minute,
+            second: f_second,
+            offset: f_offset,
+        })
+    }
+}
+
 #[cfg(feature = "_random")]
 impl uper::random::Random for DTime {
     fn random(g: &mut uper::random::Gen) -> Self {
@@ -10104,6 +13583,29 @@ impl Uper for DYearMonth {
         self.year.encode_uper(w)?;
         self.month.encode_uper(w)?;
         Ok(())
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for DYearMonth {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        out.key("year");
+        crate::jer::Jer::write_jer(&self.year, out);
+        out.key("month");
+        crate::jer::Jer::write_jer(&self.month, out);
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        crate::jer::member(v, "")?;
+        let f_year =
+            crate::jer::read_member(v, "year", |x| <DYear as crate::jer::Jer>::read_jer(x))?;
+        let f_month =
+            crate::jer::read_member(v, "month", |x| <DMonth as crate::jer::Jer>::read_jer(x))?;
+        Ok(Self {
+            year: f_year,
+            month: f_month,
+        })
     }
 }
 
@@ -10300,6 +13802,96 @@ impl uper::random::Random for VerticalOffset {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for VerticalOffset {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        match self {
+            Self::Offset1(v) => {
+                out.begin_object();
+                out.key("offset1");
+                crate::jer::Jer::write_jer(v, out);
+                out.end_object();
+            }
+            Self::Offset2(v) => {
+                out.begin_object();
+                out.key("offset2");
+                crate::jer::Jer::write_jer(v, out);
+                out.end_object();
+            }
+            Self::Offset3(v) => {
+                out.begin_object();
+                out.key("offset3");
+                crate::jer::Jer::write_jer(v, out);
+                out.end_object();
+            }
+            Self::Offset4(v) => {
+                out.begin_object();
+                out.key("offset4");
+                crate::jer::Jer::write_jer(v, out);
+                out.end_object();
+            }
+            Self::Offset5(v) => {
+                out.begin_object();
+                out.key("offset5");
+                crate::jer::Jer::write_jer(v, out);
+                out.end_object();
+            }
+            Self::Offset6(v) => {
+                out.begin_object();
+                out.key("offset6");
+                crate::jer::Jer::write_jer(v, out);
+                out.end_object();
+            }
+            Self::Elevation(v) => {
+                out.begin_object();
+                out.key("elevation");
+                crate::jer::Jer::write_jer(v, out);
+                out.end_object();
+            }
+            Self::Regional(v) => {
+                out.begin_object();
+                out.key("regional");
+                crate::jer::Jer::write_jer(v, out);
+                out.end_object();
+            }
+        }
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let (name, x) = crate::jer::alternative(v)?;
+        match name {
+            "offset1" => {
+                <super::basic_safety_message::VertOffsetB07 as crate::jer::Jer>::read_jer(x)
+                    .map(Self::Offset1)
+                    .map_err(|e| e.within(name))
+            }
+            "offset2" => <VertOffsetB08 as crate::jer::Jer>::read_jer(x)
+                .map(Self::Offset2)
+                .map_err(|e| e.within(name)),
+            "offset3" => <VertOffsetB09 as crate::jer::Jer>::read_jer(x)
+                .map(Self::Offset3)
+                .map_err(|e| e.within(name)),
+            "offset4" => <VertOffsetB10 as crate::jer::Jer>::read_jer(x)
+                .map(Self::Offset4)
+                .map_err(|e| e.within(name)),
+            "offset5" => <VertOffsetB11 as crate::jer::Jer>::read_jer(x)
+                .map(Self::Offset5)
+                .map_err(|e| e.within(name)),
+            "offset6" => <VertOffsetB12 as crate::jer::Jer>::read_jer(x)
+                .map(Self::Offset6)
+                .map_err(|e| e.within(name)),
+            "elevation" => <Elevation as crate::jer::Jer>::read_jer(x)
+                .map(Self::Elevation)
+                .map_err(|e| e.within(name)),
+            "regional" => <RegVerticalOffset as crate::jer::Jer>::read_jer(x)
+                .map(Self::Regional)
+                .map_err(|e| e.within(name)),
+            _ => Err(crate::jer::JerError::new(std::format!(
+                "unknown alternative {name}"
+            ))),
+        }
+    }
+}
+
 /// ASN.1 `VertOffset-B08` (module `Common`): INTEGER (-128..127).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub struct VertOffsetB08(i8);
@@ -10338,6 +13930,53 @@ impl RegVerticalOffset {
         match self {
             Self::Unknown { id, .. } => *id,
         }
+    }
+}
+
+impl RegVerticalOffset {
+    /// Writes the id and the value as members `id_name` and `value_name` of an object.
+    #[cfg(feature = "jer")]
+    pub fn write_jer_members(
+        &self,
+        out: &mut crate::jer::JerWriter,
+        id_name: &str,
+        value_name: &str,
+    ) {
+        out.key(id_name);
+        out.int(self.id().get() as i64);
+        out.key(value_name);
+        match self {
+            Self::Unknown { content, .. } => out.hex(content),
+        }
+    }
+    /// Reads the id and the value from members `id_name` and `value_name` of an object.
+    #[cfg(feature = "jer")]
+    pub fn read_jer_members(
+        v: &crate::jer::Value,
+        id_name: &str,
+        value_name: &str,
+    ) -> crate::jer::JerResult<Self> {
+        let id = crate::jer::read_member(v, id_name, <RegionId as crate::jer::Jer>::read_jer)?;
+        let x = crate::jer::required(v, value_name)?;
+        match id.get() {
+            _ => {
+                let content = uper::Octets::from_slice(&crate::jer::hex(x)?)
+                    .ok_or_else(crate::jer::over_capacity)?;
+                Ok(Self::Unknown { id, content })
+            }
+        }
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for RegVerticalOffset {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        self.write_jer_members(out, "regionId", "regExtValue");
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        Self::read_jer_members(v, "regionId", "regExtValue")
     }
 }
 
@@ -10423,6 +14062,16 @@ impl Uper for CodeWord {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for CodeWord {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.hex(&self.0);
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        Self::new(&crate::jer::hex(v)?).ok_or_else(|| crate::jer::invalid("size"))
+    }
+}
+
 #[cfg(feature = "_random")]
 impl uper::random::Random for CodeWord {
     fn random(g: &mut uper::random::Gen) -> Self {
@@ -10503,6 +14152,20 @@ impl LocationQuality {
             Self::LocQualUnknown => "loc-qual-unknown",
         }
     }
+    /// The value of an ASN.1 identifier, when the type has it.
+    pub fn from_identifier(name: &str) -> Option<Self> {
+        match name {
+            "loc-qual-bt1m" => Some(Self::LocQualBt1m),
+            "loc-qual-bt5m" => Some(Self::LocQualBt5m),
+            "loc-qual-bt12m" => Some(Self::LocQualBt12m),
+            "loc-qual-bt50m" => Some(Self::LocQualBt50m),
+            "loc-qual-bt125m" => Some(Self::LocQualBt125m),
+            "loc-qual-bt500m" => Some(Self::LocQualBt500m),
+            "loc-qual-bt1250m" => Some(Self::LocQualBt1250m),
+            "loc-qual-unknown" => Some(Self::LocQualUnknown),
+            _ => None,
+        }
+    }
     fn root_index(self) -> i64 {
         match self {
             Self::LocQualBt1m => 0,
@@ -10547,6 +14210,18 @@ impl Uper for LocationQuality {
 impl uper::random::Random for LocationQuality {
     fn random(g: &mut uper::random::Gen) -> Self {
         Self::ALL[g.below(8)]
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for LocationQuality {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.string(self.identifier());
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let name = crate::jer::string(v)?;
+        Self::from_identifier(name)
+            .ok_or_else(|| crate::jer::JerError::new(std::format!("unknown identifier {name}")))
     }
 }
 
@@ -10623,6 +14298,22 @@ impl LocationTech {
             Self::Extension(_) => "",
         }
     }
+    /// The value of an ASN.1 identifier, when the type has it.
+    pub fn from_identifier(name: &str) -> Option<Self> {
+        match name {
+            "loc-tech-unknown" => Some(Self::LocTechUnknown),
+            "loc-tech-GNSS" => Some(Self::LocTechGNSS),
+            "loc-tech-DGPS" => Some(Self::LocTechDGPS),
+            "loc-tech-RTK" => Some(Self::LocTechRTK),
+            "loc-tech-PPP" => Some(Self::LocTechPPP),
+            "loc-tech-drGPS" => Some(Self::LocTechDrGPS),
+            "loc-tech-drDGPS" => Some(Self::LocTechDrDGPS),
+            "loc-tech-dr" => Some(Self::LocTechDr),
+            "loc-tech-nav" => Some(Self::LocTechNav),
+            "loc-tech-fault" => Some(Self::LocTechFault),
+            _ => None,
+        }
+    }
     fn root_index(self) -> i64 {
         match self {
             Self::LocTechUnknown => 0,
@@ -10686,6 +14377,18 @@ impl uper::random::Random for LocationTech {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for LocationTech {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.string(self.identifier());
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let name = crate::jer::string(v)?;
+        Self::from_identifier(name)
+            .ok_or_else(|| crate::jer::JerError::new(std::format!("unknown identifier {name}")))
+    }
+}
+
 /// ASN.1 `MessageBLOB` (module `Common`): OCTET STRING (SIZE(10..2000)).
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub struct MessageBLOB(pub uper::Octets<64>);
@@ -10717,6 +14420,16 @@ impl Uper for MessageBLOB {
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_octets(w, Self::SIZE, &self.0)
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for MessageBLOB {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.hex(&self.0);
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        Self::new(&crate::jer::hex(v)?).ok_or_else(|| crate::jer::invalid("size"))
     }
 }
 
@@ -10765,6 +14478,16 @@ impl Uper for PayloadData {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for PayloadData {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.hex(&self.0);
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        Self::new(&crate::jer::hex(v)?).ok_or_else(|| crate::jer::invalid("size"))
+    }
+}
+
 #[cfg(feature = "_random")]
 impl uper::random::Random for PayloadData {
     fn random(g: &mut uper::random::Gen) -> Self {
@@ -10801,6 +14524,19 @@ impl Uper for SignalReqScheme {
 impl uper::random::Random for SignalReqScheme {
     fn random(g: &mut uper::random::Gen) -> Self {
         Self(core::array::from_fn(|_| g.octet()))
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for SignalReqScheme {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.hex(&self.0);
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        crate::jer::hex(v)?
+            .try_into()
+            .map(Self)
+            .map_err(|_| crate::jer::invalid("size"))
     }
 }
 
@@ -10850,6 +14586,22 @@ impl Uper for TransitStatus {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for TransitStatus {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.hex(self.0.as_bytes());
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let (bytes, len) = crate::jer::bits(v, 6, 6)?;
+        if !(6..=6).contains(&len) {
+            return Err(crate::jer::invalid("size"));
+        }
+        uper::Bits::from_bytes(&bytes, len)
+            .map(Self)
+            .ok_or_else(crate::jer::over_capacity)
+    }
+}
+
 #[cfg(feature = "_random")]
 impl uper::random::Random for TransitStatus {
     fn random(g: &mut uper::random::Gen) -> Self {
@@ -10892,6 +14644,16 @@ impl Uper for URLLink {
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_ia5(w, Self::SIZE, &self.0)
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for URLLink {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.string(self.0.as_str());
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        Self::new(crate::jer::string(v)?).ok_or_else(|| crate::jer::invalid("size or character"))
     }
 }
 

@@ -119,6 +119,58 @@ impl Uper for CommonSafetyRequest {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for CommonSafetyRequest {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        if let Some(v) = &self.time_stamp {
+            out.key("timeStamp");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.msg_cnt {
+            out.key("msgCnt");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.id {
+            out.key("id");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        out.key("requests");
+        crate::jer::Jer::write_jer(&self.requests, out);
+        if let Some(v) = &self.regional {
+            out.key("regional");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        crate::jer::member(v, "")?;
+        let f_time_stamp = crate::jer::read_optional(v, "timeStamp", |x| {
+            <super::common::MinuteOfTheYear as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_msg_cnt = crate::jer::read_optional(v, "msgCnt", |x| {
+            <super::common::MsgCount as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_id = crate::jer::read_optional(v, "id", |x| {
+            <super::common::TemporaryID as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_requests = crate::jer::read_member(v, "requests", |x| {
+            <RequestedItemList as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_regional = crate::jer::read_optional(v, "regional", |x| {
+            <CommonSafetyRequestRegional as crate::jer::Jer>::read_jer(x)
+        })?;
+        Ok(Self {
+            time_stamp: f_time_stamp,
+            msg_cnt: f_msg_cnt,
+            id: f_id,
+            requests: f_requests,
+            regional: f_regional,
+            extensions: uper::Extensions::new(),
+        })
+    }
+}
+
 #[cfg(feature = "_random")]
 impl uper::random::Random for CommonSafetyRequest {
     fn random(g: &mut uper::random::Gen) -> Self {
@@ -188,6 +240,30 @@ impl Uper for RequestedItemList {
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for RequestedItemList {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_array();
+        for item in self.0.iter() {
+            crate::jer::Jer::write_jer(item, out);
+        }
+        out.end_array();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let items = crate::jer::array(v)?;
+        if items.len() < 1 {
+            return Err(crate::jer::invalid("size"));
+        }
+        let mut list = Self::new();
+        for (i, x) in items.iter().enumerate() {
+            let item = <RequestedItem as crate::jer::Jer>::read_jer(x)
+                .map_err(|e| e.within(&std::format!("[{i}]")))?;
+            list.0.push(item).map_err(|_| crate::jer::over_capacity())?;
+        }
+        Ok(list)
     }
 }
 
@@ -310,6 +386,29 @@ impl RequestedItem {
             Self::Extension(_) => "",
         }
     }
+    /// The value of an ASN.1 identifier, when the type has it.
+    pub fn from_identifier(name: &str) -> Option<Self> {
+        match name {
+            "reserved" => Some(Self::Reserved),
+            "itemA" => Some(Self::ItemA),
+            "itemB" => Some(Self::ItemB),
+            "itemC" => Some(Self::ItemC),
+            "itemD" => Some(Self::ItemD),
+            "itemE" => Some(Self::ItemE),
+            "itemF" => Some(Self::ItemF),
+            "itemG" => Some(Self::ItemG),
+            "itemI" => Some(Self::ItemI),
+            "itemJ" => Some(Self::ItemJ),
+            "itemK" => Some(Self::ItemK),
+            "itemL" => Some(Self::ItemL),
+            "itemM" => Some(Self::ItemM),
+            "itemN" => Some(Self::ItemN),
+            "itemO" => Some(Self::ItemO),
+            "itemP" => Some(Self::ItemP),
+            "itemQ" => Some(Self::ItemQ),
+            _ => None,
+        }
+    }
     fn root_index(self) -> i64 {
         match self {
             Self::Reserved => 0,
@@ -380,6 +479,18 @@ impl uper::random::Random for RequestedItem {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for RequestedItem {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.string(self.identifier());
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let name = crate::jer::string(v)?;
+        Self::from_identifier(name)
+            .ok_or_else(|| crate::jer::JerError::new(std::format!("unknown identifier {name}")))
+    }
+}
+
 /// ASN.1 `CommonSafetyRequest.regional` (module `CommonSafetyRequest`): SEQUENCE OF RegCommonSafetyRequest (SIZE(1..4)).
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub struct CommonSafetyRequestRegional(pub uper::SeqOf<RegCommonSafetyRequest, 1>);
@@ -422,6 +533,30 @@ impl Uper for CommonSafetyRequestRegional {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for CommonSafetyRequestRegional {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_array();
+        for item in self.0.iter() {
+            crate::jer::Jer::write_jer(item, out);
+        }
+        out.end_array();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let items = crate::jer::array(v)?;
+        if items.len() < 1 {
+            return Err(crate::jer::invalid("size"));
+        }
+        let mut list = Self::new();
+        for (i, x) in items.iter().enumerate() {
+            let item = <RegCommonSafetyRequest as crate::jer::Jer>::read_jer(x)
+                .map_err(|e| e.within(&std::format!("[{i}]")))?;
+            list.0.push(item).map_err(|_| crate::jer::over_capacity())?;
+        }
+        Ok(list)
+    }
+}
+
 #[cfg(feature = "_random")]
 impl uper::random::Random for CommonSafetyRequestRegional {
     fn random(g: &mut uper::random::Gen) -> Self {
@@ -452,6 +587,57 @@ impl RegCommonSafetyRequest {
         match self {
             Self::Unknown { id, .. } => *id,
         }
+    }
+}
+
+impl RegCommonSafetyRequest {
+    /// Writes the id and the value as members `id_name` and `value_name` of an object.
+    #[cfg(feature = "jer")]
+    pub fn write_jer_members(
+        &self,
+        out: &mut crate::jer::JerWriter,
+        id_name: &str,
+        value_name: &str,
+    ) {
+        out.key(id_name);
+        out.int(self.id().get() as i64);
+        out.key(value_name);
+        match self {
+            Self::Unknown { content, .. } => out.hex(content),
+        }
+    }
+    /// Reads the id and the value from members `id_name` and `value_name` of an object.
+    #[cfg(feature = "jer")]
+    pub fn read_jer_members(
+        v: &crate::jer::Value,
+        id_name: &str,
+        value_name: &str,
+    ) -> crate::jer::JerResult<Self> {
+        let id = crate::jer::read_member(
+            v,
+            id_name,
+            <super::common::RegionId as crate::jer::Jer>::read_jer,
+        )?;
+        let x = crate::jer::required(v, value_name)?;
+        match id.get() {
+            _ => {
+                let content = uper::Octets::from_slice(&crate::jer::hex(x)?)
+                    .ok_or_else(crate::jer::over_capacity)?;
+                Ok(Self::Unknown { id, content })
+            }
+        }
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for RegCommonSafetyRequest {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        self.write_jer_members(out, "regionId", "regExtValue");
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        Self::read_jer_members(v, "regionId", "regExtValue")
     }
 }
 

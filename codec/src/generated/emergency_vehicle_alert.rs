@@ -221,6 +221,106 @@ impl Uper for EmergencyVehicleAlert {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for EmergencyVehicleAlert {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        if let Some(v) = &self.time_stamp {
+            out.key("timeStamp");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.id {
+            out.key("id");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        out.key("rsaMsg");
+        crate::jer::Jer::write_jer(&self.rsa_msg, out);
+        if let Some(v) = &self.response_type {
+            out.key("responseType");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.details {
+            out.key("details");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.mass {
+            out.key("mass");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.basic_type {
+            out.key("basicType");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.vehicle_type {
+            out.key("vehicleType");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.response_equip {
+            out.key("responseEquip");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.responder_type {
+            out.key("responderType");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.regional {
+            out.key("regional");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        crate::jer::member(v, "")?;
+        let f_time_stamp = crate::jer::read_optional(v, "timeStamp", |x| {
+            <super::common::MinuteOfTheYear as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_id = crate::jer::read_optional(v, "id", |x| {
+            <super::common::TemporaryID as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_rsa_msg = crate::jer::read_member(v, "rsaMsg", |x| {
+            <super::road_side_alert::RoadSideAlert as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_response_type = crate::jer::read_optional(v, "responseType", |x| {
+            <super::common::ResponseType as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_details = crate::jer::read_optional(v, "details", |x| {
+            <super::common::EmergencyDetails as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_mass = crate::jer::read_optional(v, "mass", |x| {
+            <super::common::VehicleMass as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_basic_type = crate::jer::read_optional(v, "basicType", |x| {
+            <super::common::VehicleType as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_vehicle_type = crate::jer::read_optional(v, "vehicleType", |x| {
+            <super::itis::VehicleGroupAffected as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_response_equip = crate::jer::read_optional(v, "responseEquip", |x| {
+            <super::itis::IncidentResponseEquipment as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_responder_type = crate::jer::read_optional(v, "responderType", |x| {
+            <super::itis::ResponderGroupAffected as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_regional = crate::jer::read_optional(v, "regional", |x| {
+            <EmergencyVehicleAlertRegional as crate::jer::Jer>::read_jer(x)
+        })?;
+        Ok(Self {
+            time_stamp: f_time_stamp,
+            id: f_id,
+            rsa_msg: f_rsa_msg,
+            response_type: f_response_type,
+            details: f_details,
+            mass: f_mass,
+            basic_type: f_basic_type,
+            vehicle_type: f_vehicle_type,
+            response_equip: f_response_equip,
+            responder_type: f_responder_type,
+            regional: f_regional,
+            extensions: uper::Extensions::new(),
+        })
+    }
+}
+
 #[cfg(feature = "_random")]
 impl uper::random::Random for EmergencyVehicleAlert {
     fn random(g: &mut uper::random::Gen) -> Self {
@@ -323,6 +423,30 @@ impl Uper for EmergencyVehicleAlertRegional {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for EmergencyVehicleAlertRegional {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_array();
+        for item in self.0.iter() {
+            crate::jer::Jer::write_jer(item, out);
+        }
+        out.end_array();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let items = crate::jer::array(v)?;
+        if items.len() < 1 {
+            return Err(crate::jer::invalid("size"));
+        }
+        let mut list = Self::new();
+        for (i, x) in items.iter().enumerate() {
+            let item = <RegEmergencyVehicleAlert as crate::jer::Jer>::read_jer(x)
+                .map_err(|e| e.within(&std::format!("[{i}]")))?;
+            list.0.push(item).map_err(|_| crate::jer::over_capacity())?;
+        }
+        Ok(list)
+    }
+}
+
 #[cfg(feature = "_random")]
 impl uper::random::Random for EmergencyVehicleAlertRegional {
     fn random(g: &mut uper::random::Gen) -> Self {
@@ -355,6 +479,57 @@ impl RegEmergencyVehicleAlert {
         match self {
             Self::Unknown { id, .. } => *id,
         }
+    }
+}
+
+impl RegEmergencyVehicleAlert {
+    /// Writes the id and the value as members `id_name` and `value_name` of an object.
+    #[cfg(feature = "jer")]
+    pub fn write_jer_members(
+        &self,
+        out: &mut crate::jer::JerWriter,
+        id_name: &str,
+        value_name: &str,
+    ) {
+        out.key(id_name);
+        out.int(self.id().get() as i64);
+        out.key(value_name);
+        match self {
+            Self::Unknown { content, .. } => out.hex(content),
+        }
+    }
+    /// Reads the id and the value from members `id_name` and `value_name` of an object.
+    #[cfg(feature = "jer")]
+    pub fn read_jer_members(
+        v: &crate::jer::Value,
+        id_name: &str,
+        value_name: &str,
+    ) -> crate::jer::JerResult<Self> {
+        let id = crate::jer::read_member(
+            v,
+            id_name,
+            <super::common::RegionId as crate::jer::Jer>::read_jer,
+        )?;
+        let x = crate::jer::required(v, value_name)?;
+        match id.get() {
+            _ => {
+                let content = uper::Octets::from_slice(&crate::jer::hex(x)?)
+                    .ok_or_else(crate::jer::over_capacity)?;
+                Ok(Self::Unknown { id, content })
+            }
+        }
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for RegEmergencyVehicleAlert {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        self.write_jer_members(out, "regionId", "regExtValue");
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        Self::read_jer_members(v, "regionId", "regExtValue")
     }
 }
 

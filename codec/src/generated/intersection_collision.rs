@@ -157,6 +157,90 @@ impl Uper for IntersectionCollision {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for IntersectionCollision {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        out.key("msgCnt");
+        crate::jer::Jer::write_jer(&self.msg_cnt, out);
+        out.key("id");
+        crate::jer::Jer::write_jer(&self.id, out);
+        if let Some(v) = &self.time_stamp {
+            out.key("timeStamp");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.part_one {
+            out.key("partOne");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.path {
+            out.key("path");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.path_prediction {
+            out.key("pathPrediction");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        out.key("intersectionID");
+        crate::jer::Jer::write_jer(&self.intersection_id, out);
+        out.key("laneNumber");
+        crate::jer::Jer::write_jer(&self.lane_number, out);
+        out.key("eventFlag");
+        crate::jer::Jer::write_jer(&self.event_flag, out);
+        if let Some(v) = &self.regional {
+            out.key("regional");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        crate::jer::member(v, "")?;
+        let f_msg_cnt = crate::jer::read_member(v, "msgCnt", |x| {
+            <super::common::MsgCount as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_id = crate::jer::read_member(v, "id", |x| {
+            <super::common::TemporaryID as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_time_stamp = crate::jer::read_optional(v, "timeStamp", |x| {
+            <super::common::MinuteOfTheYear as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_part_one = crate::jer::read_optional(v, "partOne", |x| {
+            <super::common::BSMcoreData as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_path = crate::jer::read_optional(v, "path", |x| {
+            <super::common::PathHistory as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_path_prediction = crate::jer::read_optional(v, "pathPrediction", |x| {
+            <super::common::PathPrediction as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_intersection_id = crate::jer::read_member(v, "intersectionID", |x| {
+            <super::common::IntersectionReferenceID as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_lane_number = crate::jer::read_member(v, "laneNumber", |x| {
+            <ApproachOrLane as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_event_flag = crate::jer::read_member(v, "eventFlag", |x| {
+            <super::common::VehicleEventFlags as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_regional = crate::jer::read_optional(v, "regional", |x| {
+            <IntersectionCollisionRegional as crate::jer::Jer>::read_jer(x)
+        })?;
+        Ok(Self {
+            msg_cnt: f_msg_cnt,
+            id: f_id,
+            time_stamp: f_time_stamp,
+            part_one: f_part_one,
+            path: f_path,
+            path_prediction: f_path_prediction,
+            intersection_id: f_intersection_id,
+            lane_number: f_lane_number,
+            event_flag: f_event_flag,
+            regional: f_regional,
+            extensions: uper::Extensions::new(),
+        })
+    }
+}
+
 #[cfg(feature = "_random")]
 impl uper::random::Random for IntersectionCollision {
     fn random(g: &mut uper::random::Gen) -> Self {
@@ -276,6 +360,40 @@ impl uper::random::Random for ApproachOrLane {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for ApproachOrLane {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        match self {
+            Self::Approach(v) => {
+                out.begin_object();
+                out.key("approach");
+                crate::jer::Jer::write_jer(v, out);
+                out.end_object();
+            }
+            Self::Lane(v) => {
+                out.begin_object();
+                out.key("lane");
+                crate::jer::Jer::write_jer(v, out);
+                out.end_object();
+            }
+        }
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let (name, x) = crate::jer::alternative(v)?;
+        match name {
+            "approach" => <super::common::ApproachID as crate::jer::Jer>::read_jer(x)
+                .map(Self::Approach)
+                .map_err(|e| e.within(name)),
+            "lane" => <super::common::LaneID as crate::jer::Jer>::read_jer(x)
+                .map(Self::Lane)
+                .map_err(|e| e.within(name)),
+            _ => Err(crate::jer::JerError::new(std::format!(
+                "unknown alternative {name}"
+            ))),
+        }
+    }
+}
+
 /// ASN.1 `IntersectionCollision.regional` (module `IntersectionCollision`): SEQUENCE OF RegIntersectionCollision (SIZE(1..4)).
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub struct IntersectionCollisionRegional(pub uper::SeqOf<RegIntersectionCollision, 1>);
@@ -318,6 +436,30 @@ impl Uper for IntersectionCollisionRegional {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for IntersectionCollisionRegional {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_array();
+        for item in self.0.iter() {
+            crate::jer::Jer::write_jer(item, out);
+        }
+        out.end_array();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let items = crate::jer::array(v)?;
+        if items.len() < 1 {
+            return Err(crate::jer::invalid("size"));
+        }
+        let mut list = Self::new();
+        for (i, x) in items.iter().enumerate() {
+            let item = <RegIntersectionCollision as crate::jer::Jer>::read_jer(x)
+                .map_err(|e| e.within(&std::format!("[{i}]")))?;
+            list.0.push(item).map_err(|_| crate::jer::over_capacity())?;
+        }
+        Ok(list)
+    }
+}
+
 #[cfg(feature = "_random")]
 impl uper::random::Random for IntersectionCollisionRegional {
     fn random(g: &mut uper::random::Gen) -> Self {
@@ -350,6 +492,57 @@ impl RegIntersectionCollision {
         match self {
             Self::Unknown { id, .. } => *id,
         }
+    }
+}
+
+impl RegIntersectionCollision {
+    /// Writes the id and the value as members `id_name` and `value_name` of an object.
+    #[cfg(feature = "jer")]
+    pub fn write_jer_members(
+        &self,
+        out: &mut crate::jer::JerWriter,
+        id_name: &str,
+        value_name: &str,
+    ) {
+        out.key(id_name);
+        out.int(self.id().get() as i64);
+        out.key(value_name);
+        match self {
+            Self::Unknown { content, .. } => out.hex(content),
+        }
+    }
+    /// Reads the id and the value from members `id_name` and `value_name` of an object.
+    #[cfg(feature = "jer")]
+    pub fn read_jer_members(
+        v: &crate::jer::Value,
+        id_name: &str,
+        value_name: &str,
+    ) -> crate::jer::JerResult<Self> {
+        let id = crate::jer::read_member(
+            v,
+            id_name,
+            <super::common::RegionId as crate::jer::Jer>::read_jer,
+        )?;
+        let x = crate::jer::required(v, value_name)?;
+        match id.get() {
+            _ => {
+                let content = uper::Octets::from_slice(&crate::jer::hex(x)?)
+                    .ok_or_else(crate::jer::over_capacity)?;
+                Ok(Self::Unknown { id, content })
+            }
+        }
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for RegIntersectionCollision {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        self.write_jer_members(out, "regionId", "regExtValue");
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        Self::read_jer_members(v, "regionId", "regExtValue")
     }
 }
 

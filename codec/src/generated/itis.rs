@@ -213,6 +213,53 @@ impl VehicleGroupAffected {
             Self::Extension(_) => "",
         }
     }
+    /// The value of an ASN.1 identifier, when the type has it.
+    pub fn from_identifier(name: &str) -> Option<Self> {
+        match name {
+            "all-vehicles" => Some(Self::AllVehicles),
+            "bicycles" => Some(Self::Bicycles),
+            "motorcycles" => Some(Self::Motorcycles),
+            "cars" => Some(Self::Cars),
+            "light-vehicles" => Some(Self::LightVehicles),
+            "cars-and-light-vehicles" => Some(Self::CarsAndLightVehicles),
+            "cars-with-trailers" => Some(Self::CarsWithTrailers),
+            "cars-with-recreational-trailers" => Some(Self::CarsWithRecreationalTrailers),
+            "vehicles-with-trailers" => Some(Self::VehiclesWithTrailers),
+            "heavy-vehicles" => Some(Self::HeavyVehicles),
+            "trucks" => Some(Self::Trucks),
+            "buses" => Some(Self::Buses),
+            "articulated-buses" => Some(Self::ArticulatedBuses),
+            "school-buses" => Some(Self::SchoolBuses),
+            "vehicles-with-semi-trailers" => Some(Self::VehiclesWithSemiTrailers),
+            "vehicles-with-double-trailers" => Some(Self::VehiclesWithDoubleTrailers),
+            "high-profile-vehicles" => Some(Self::HighProfileVehicles),
+            "wide-vehicles" => Some(Self::WideVehicles),
+            "long-vehicles" => Some(Self::LongVehicles),
+            "hazardous-loads" => Some(Self::HazardousLoads),
+            "exceptional-loads" => Some(Self::ExceptionalLoads),
+            "abnormal-loads" => Some(Self::AbnormalLoads),
+            "convoys" => Some(Self::Convoys),
+            "maintenance-vehicles" => Some(Self::MaintenanceVehicles),
+            "delivery-vehicles" => Some(Self::DeliveryVehicles),
+            "vehicles-with-even-numbered-license-plates" => {
+                Some(Self::VehiclesWithEvenNumberedLicensePlates)
+            }
+            "vehicles-with-odd-numbered-license-plates" => {
+                Some(Self::VehiclesWithOddNumberedLicensePlates)
+            }
+            "vehicles-with-parking-permits" => Some(Self::VehiclesWithParkingPermits),
+            "vehicles-with-catalytic-converters" => Some(Self::VehiclesWithCatalyticConverters),
+            "vehicles-without-catalytic-converters" => {
+                Some(Self::VehiclesWithoutCatalyticConverters)
+            }
+            "gas-powered-vehicles" => Some(Self::GasPoweredVehicles),
+            "diesel-powered-vehicles" => Some(Self::DieselPoweredVehicles),
+            "lPG-vehicles" => Some(Self::LPGVehicles),
+            "military-convoys" => Some(Self::MilitaryConvoys),
+            "military-vehicles" => Some(Self::MilitaryVehicles),
+            _ => None,
+        }
+    }
     fn root_index(self) -> i64 {
         match self {
             Self::AllVehicles => 0,
@@ -298,6 +345,18 @@ impl Uper for VehicleGroupAffected {
 impl uper::random::Random for VehicleGroupAffected {
     fn random(g: &mut uper::random::Gen) -> Self {
         Self::ALL[g.below(35)]
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for VehicleGroupAffected {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.string(self.identifier());
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let name = crate::jer::string(v)?;
+        Self::from_identifier(name)
+            .ok_or_else(|| crate::jer::JerError::new(std::format!("unknown identifier {name}")))
     }
 }
 
@@ -684,6 +743,84 @@ impl IncidentResponseEquipment {
             Self::Extension(_) => "",
         }
     }
+    /// The value of an ASN.1 identifier, when the type has it.
+    pub fn from_identifier(name: &str) -> Option<Self> {
+        match name {
+            "ground-fire-suppression" => Some(Self::GroundFireSuppression),
+            "heavy-ground-equipment" => Some(Self::HeavyGroundEquipment),
+            "aircraft" => Some(Self::Aircraft),
+            "marine-equipment" => Some(Self::MarineEquipment),
+            "support-equipment" => Some(Self::SupportEquipment),
+            "medical-rescue-unit" => Some(Self::MedicalRescueUnit),
+            "other" => Some(Self::Other),
+            "ground-fire-suppression-other" => Some(Self::GroundFireSuppressionOther),
+            "engine" => Some(Self::Engine),
+            "truck-or-aerial" => Some(Self::TruckOrAerial),
+            "quint" => Some(Self::Quint),
+            "tanker-pumper-combination" => Some(Self::TankerPumperCombination),
+            "brush-truck" => Some(Self::BrushTruck),
+            "aircraft-rescue-firefighting" => Some(Self::AircraftRescueFirefighting),
+            "heavy-ground-equipment-other" => Some(Self::HeavyGroundEquipmentOther),
+            "dozer-or-plow" => Some(Self::DozerOrPlow),
+            "tractor" => Some(Self::Tractor),
+            "tanker-or-tender" => Some(Self::TankerOrTender),
+            "aircraft-other" => Some(Self::AircraftOther),
+            "aircraft-fixed-wing-tanker" => Some(Self::AircraftFixedWingTanker),
+            "helitanker" => Some(Self::Helitanker),
+            "helicopter" => Some(Self::Helicopter),
+            "marine-equipment-other" => Some(Self::MarineEquipmentOther),
+            "fire-boat-with-pump" => Some(Self::FireBoatWithPump),
+            "boat-no-pump" => Some(Self::BoatNoPump),
+            "support-apparatus-other" => Some(Self::SupportApparatusOther),
+            "breathing-apparatus-support" => Some(Self::BreathingApparatusSupport),
+            "light-and-air-unit" => Some(Self::LightAndAirUnit),
+            "medical-rescue-unit-other" => Some(Self::MedicalRescueUnitOther),
+            "rescue-unit" => Some(Self::RescueUnit),
+            "urban-search-rescue-unit" => Some(Self::UrbanSearchRescueUnit),
+            "high-angle-rescue" => Some(Self::HighAngleRescue),
+            "crash-fire-rescue" => Some(Self::CrashFireRescue),
+            "bLS-unit" => Some(Self::BLSUnit),
+            "aLS-unit" => Some(Self::ALSUnit),
+            "mobile-command-post" => Some(Self::MobileCommandPost),
+            "chief-officer-car" => Some(Self::ChiefOfficerCar),
+            "hAZMAT-unit" => Some(Self::HAZMATUnit),
+            "type-i-hand-crew" => Some(Self::TypeIHandCrew),
+            "type-ii-hand-crew" => Some(Self::TypeIiHandCrew),
+            "privately-owned-vehicle" => Some(Self::PrivatelyOwnedVehicle),
+            "other-apparatus-resource" => Some(Self::OtherApparatusResource),
+            "ambulance" => Some(Self::Ambulance),
+            "bomb-squad-van" => Some(Self::BombSquadVan),
+            "combine-harvester" => Some(Self::CombineHarvester),
+            "construction-vehicle" => Some(Self::ConstructionVehicle),
+            "farm-tractor" => Some(Self::FarmTractor),
+            "grass-cutting-machines" => Some(Self::GrassCuttingMachines),
+            "hAZMAT-containment-tow" => Some(Self::HAZMATContainmentTow),
+            "heavy-tow" => Some(Self::HeavyTow),
+            "hedge-cutting-machines" => Some(Self::HedgeCuttingMachines),
+            "light-tow" => Some(Self::LightTow),
+            "mobile-crane" => Some(Self::MobileCrane),
+            "refuse-collection-vehicle" => Some(Self::RefuseCollectionVehicle),
+            "resurfacing-vehicle" => Some(Self::ResurfacingVehicle),
+            "road-sweeper" => Some(Self::RoadSweeper),
+            "roadside-litter-collection-crews" => Some(Self::RoadsideLitterCollectionCrews),
+            "salvage-vehicle" => Some(Self::SalvageVehicle),
+            "sand-truck" => Some(Self::SandTruck),
+            "snowplow" => Some(Self::Snowplow),
+            "steam-roller" => Some(Self::SteamRoller),
+            "swat-team-van" => Some(Self::SwatTeamVan),
+            "track-laying-vehicle" => Some(Self::TrackLayingVehicle),
+            "unknown-vehicle" => Some(Self::UnknownVehicle),
+            "white-lining-vehicle" => Some(Self::WhiteLiningVehicle),
+            "dump-truck" => Some(Self::DumpTruck),
+            "supervisor-vehicle" => Some(Self::SupervisorVehicle),
+            "snow-blower" => Some(Self::SnowBlower),
+            "rotary-snow-blower" => Some(Self::RotarySnowBlower),
+            "road-grader" => Some(Self::RoadGrader),
+            "steam-truck" => Some(Self::SteamTruck),
+            "flatbed-tow" => Some(Self::FlatbedTow),
+            _ => None,
+        }
+    }
     fn root_index(self) -> i64 {
         match self {
             Self::GroundFireSuppression => 0,
@@ -809,6 +946,18 @@ impl uper::random::Random for IncidentResponseEquipment {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for IncidentResponseEquipment {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.string(self.identifier());
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let name = crate::jer::string(v)?;
+        Self::from_identifier(name)
+            .ok_or_else(|| crate::jer::JerError::new(std::format!("unknown identifier {name}")))
+    }
+}
+
 /// ASN.1 `ResponderGroupAffected` (module `ITIS`): ENUMERATED (extensible).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum ResponderGroupAffected {
@@ -902,6 +1051,26 @@ impl ResponderGroupAffected {
             Self::Extension(_) => "",
         }
     }
+    /// The value of an ASN.1 identifier, when the type has it.
+    pub fn from_identifier(name: &str) -> Option<Self> {
+        match name {
+            "emergency-vehicle-units" => Some(Self::EmergencyVehicleUnits),
+            "federal-law-enforcement-units" => Some(Self::FederalLawEnforcementUnits),
+            "state-police-units" => Some(Self::StatePoliceUnits),
+            "county-police-units" => Some(Self::CountyPoliceUnits),
+            "local-police-units" => Some(Self::LocalPoliceUnits),
+            "ambulance-units" => Some(Self::AmbulanceUnits),
+            "rescue-units" => Some(Self::RescueUnits),
+            "fire-units" => Some(Self::FireUnits),
+            "hAZMAT-units" => Some(Self::HAZMATUnits),
+            "light-tow-unit" => Some(Self::LightTowUnit),
+            "heavy-tow-unit" => Some(Self::HeavyTowUnit),
+            "freeway-service-patrols" => Some(Self::FreewayServicePatrols),
+            "transportation-response-units" => Some(Self::TransportationResponseUnits),
+            "private-contractor-response-units" => Some(Self::PrivateContractorResponseUnits),
+            _ => None,
+        }
+    }
     fn root_index(self) -> i64 {
         match self {
             Self::EmergencyVehicleUnits => 0,
@@ -966,6 +1135,18 @@ impl Uper for ResponderGroupAffected {
 impl uper::random::Random for ResponderGroupAffected {
     fn random(g: &mut uper::random::Gen) -> Self {
         Self::ALL[g.below(14)]
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for ResponderGroupAffected {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.string(self.identifier());
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let name = crate::jer::string(v)?;
+        Self::from_identifier(name)
+            .ok_or_else(|| crate::jer::JerError::new(std::format!("unknown identifier {name}")))
     }
 }
 
@@ -1472,6 +1653,108 @@ impl GenericLocations {
             Self::Extension(_) => "",
         }
     }
+    /// The value of an ASN.1 identifier, when the type has it.
+    pub fn from_identifier(name: &str) -> Option<Self> {
+        match name {
+            "on-bridges" => Some(Self::OnBridges),
+            "in-tunnels" => Some(Self::InTunnels),
+            "entering-or-leaving-tunnels" => Some(Self::EnteringOrLeavingTunnels),
+            "on-ramps" => Some(Self::OnRamps),
+            "in-road-construction-area" => Some(Self::InRoadConstructionArea),
+            "around-a-curve" => Some(Self::AroundACurve),
+            "on-minor-roads" => Some(Self::OnMinorRoads),
+            "in-the-opposing-lanes" => Some(Self::InTheOpposingLanes),
+            "adjacent-to-roadway" => Some(Self::AdjacentToRoadway),
+            "on-bend" => Some(Self::OnBend),
+            "entire-intersection" => Some(Self::EntireIntersection),
+            "in-the-median" => Some(Self::InTheMedian),
+            "moved-to-side-of-road" => Some(Self::MovedToSideOfRoad),
+            "moved-to-shoulder" => Some(Self::MovedToShoulder),
+            "on-the-roadway" => Some(Self::OnTheRoadway),
+            "in-shaded-areas" => Some(Self::InShadedAreas),
+            "in-low-lying-areas" => Some(Self::InLowLyingAreas),
+            "in-the-downtown-area" => Some(Self::InTheDowntownArea),
+            "in-the-inner-city-area" => Some(Self::InTheInnerCityArea),
+            "in-parts" => Some(Self::InParts),
+            "in-some-places" => Some(Self::InSomePlaces),
+            "in-the-ditch" => Some(Self::InTheDitch),
+            "in-the-valley" => Some(Self::InTheValley),
+            "on-hill-top" => Some(Self::OnHillTop),
+            "near-the-foothills" => Some(Self::NearTheFoothills),
+            "at-high-altitudes" => Some(Self::AtHighAltitudes),
+            "near-the-lake" => Some(Self::NearTheLake),
+            "near-the-shore" => Some(Self::NearTheShore),
+            "over-the-crest-of-a-hill" => Some(Self::OverTheCrestOfAHill),
+            "other-than-on-the-roadway" => Some(Self::OtherThanOnTheRoadway),
+            "near-the-beach" => Some(Self::NearTheBeach),
+            "near-beach-access-point" => Some(Self::NearBeachAccessPoint),
+            "lower-level" => Some(Self::LowerLevel),
+            "upper-level" => Some(Self::UpperLevel),
+            "airport" => Some(Self::Airport),
+            "concourse" => Some(Self::Concourse),
+            "gate" => Some(Self::Gate),
+            "baggage-claim" => Some(Self::BaggageClaim),
+            "customs-point" => Some(Self::CustomsPoint),
+            "station" => Some(Self::Station),
+            "platform" => Some(Self::Platform),
+            "dock" => Some(Self::Dock),
+            "depot" => Some(Self::Depot),
+            "ev-charging-point" => Some(Self::EvChargingPoint),
+            "information-welcome-point" => Some(Self::InformationWelcomePoint),
+            "at-rest-area" => Some(Self::AtRestArea),
+            "at-service-area" => Some(Self::AtServiceArea),
+            "at-weigh-station" => Some(Self::AtWeighStation),
+            "picnic-areas" => Some(Self::PicnicAreas),
+            "rest-area" => Some(Self::RestArea),
+            "service-stations" => Some(Self::ServiceStations),
+            "toilets" => Some(Self::Toilets),
+            "on-the-right" => Some(Self::OnTheRight),
+            "on-the-left" => Some(Self::OnTheLeft),
+            "in-the-center" => Some(Self::InTheCenter),
+            "in-the-opposite-direction" => Some(Self::InTheOppositeDirection),
+            "cross-traffic" => Some(Self::CrossTraffic),
+            "northbound-traffic" => Some(Self::NorthboundTraffic),
+            "eastbound-traffic" => Some(Self::EastboundTraffic),
+            "southbound-traffic" => Some(Self::SouthboundTraffic),
+            "westbound-traffic" => Some(Self::WestboundTraffic),
+            "north" => Some(Self::North),
+            "south" => Some(Self::South),
+            "east" => Some(Self::East),
+            "west" => Some(Self::West),
+            "northeast" => Some(Self::Northeast),
+            "northwest" => Some(Self::Northwest),
+            "southeast" => Some(Self::Southeast),
+            "southwest" => Some(Self::Southwest),
+            "mountain-pass" => Some(Self::MountainPass),
+            "reservation-center" => Some(Self::ReservationCenter),
+            "nearby-basin" => Some(Self::NearbyBasin),
+            "on-tracks" => Some(Self::OnTracks),
+            "dip" => Some(Self::Dip),
+            "traffic-circle" => Some(Self::TrafficCircle),
+            "park-and-ride-lot" => Some(Self::ParkAndRideLot),
+            "to" => Some(Self::To),
+            "by" => Some(Self::By),
+            "through" => Some(Self::Through),
+            "area-of" => Some(Self::AreaOf),
+            "under" => Some(Self::Under),
+            "over" => Some(Self::Over),
+            "from" => Some(Self::From),
+            "approaching" => Some(Self::Approaching),
+            "entering-at" => Some(Self::EnteringAt),
+            "exiting-at" => Some(Self::ExitingAt),
+            "across-tracks" => Some(Self::AcrossTracks),
+            "in-street" => Some(Self::InStreet),
+            "on-curve" => Some(Self::OnCurve),
+            "shoulder" => Some(Self::Shoulder),
+            "crossover" => Some(Self::Crossover),
+            "cross-road" => Some(Self::CrossRoad),
+            "side-road" => Some(Self::SideRoad),
+            "bus-stop" => Some(Self::BusStop),
+            "intersection" => Some(Self::Intersection),
+            "roadside-park" => Some(Self::RoadsidePark),
+            _ => None,
+        }
+    }
     fn root_index(self) -> i64 {
         match self {
             Self::OnBridges => 0,
@@ -1621,6 +1904,18 @@ impl uper::random::Random for GenericLocations {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for GenericLocations {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.string(self.identifier());
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let name = crate::jer::string(v)?;
+        Self::from_identifier(name)
+            .ok_or_else(|| crate::jer::JerError::new(std::format!("unknown identifier {name}")))
+    }
+}
+
 /// ASN.1 `ITIScodesAndText` (module `ITIS`): SEQUENCE OF ITIScodesAndTextItem (SIZE(1..100)).
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub struct ITIScodesAndText(pub uper::SeqOf<ITIScodesAndTextItem, 4>);
@@ -1655,6 +1950,30 @@ impl Uper for ITIScodesAndText {
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for ITIScodesAndText {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_array();
+        for item in self.0.iter() {
+            crate::jer::Jer::write_jer(item, out);
+        }
+        out.end_array();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let items = crate::jer::array(v)?;
+        if items.len() < 1 {
+            return Err(crate::jer::invalid("size"));
+        }
+        let mut list = Self::new();
+        for (i, x) in items.iter().enumerate() {
+            let item = <ITIScodesAndTextItem as crate::jer::Jer>::read_jer(x)
+                .map_err(|e| e.within(&std::format!("[{i}]")))?;
+            list.0.push(item).map_err(|_| crate::jer::over_capacity())?;
+        }
+        Ok(list)
     }
 }
 
@@ -1695,6 +2014,23 @@ impl Uper for ITIScodesAndTextItem {
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         self.item.encode_uper(w)?;
         Ok(())
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for ITIScodesAndTextItem {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        out.key("item");
+        crate::jer::Jer::write_jer(&self.item, out);
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        crate::jer::member(v, "")?;
+        let f_item = crate::jer::read_member(v, "item", |x| {
+            <ITIScodesAndTextItemItem as crate::jer::Jer>::read_jer(x)
+        })?;
+        Ok(Self { item: f_item })
     }
 }
 
@@ -1782,6 +2118,40 @@ impl uper::random::Random for ITIScodesAndTextItemItem {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for ITIScodesAndTextItemItem {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        match self {
+            Self::Itis(v) => {
+                out.begin_object();
+                out.key("itis");
+                crate::jer::Jer::write_jer(v, out);
+                out.end_object();
+            }
+            Self::Text(v) => {
+                out.begin_object();
+                out.key("text");
+                crate::jer::Jer::write_jer(v, out);
+                out.end_object();
+            }
+        }
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let (name, x) = crate::jer::alternative(v)?;
+        match name {
+            "itis" => <ITIScodes as crate::jer::Jer>::read_jer(x)
+                .map(Self::Itis)
+                .map_err(|e| e.within(name)),
+            "text" => <ITIStext as crate::jer::Jer>::read_jer(x)
+                .map(Self::Text)
+                .map_err(|e| e.within(name)),
+            _ => Err(crate::jer::JerError::new(std::format!(
+                "unknown alternative {name}"
+            ))),
+        }
+    }
+}
+
 /// ASN.1 `ITIStext` (module `ITIS`): IA5String (SIZE(1..500)).
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub struct ITIStext(pub uper::Ia5<500>);
@@ -1815,6 +2185,16 @@ impl Uper for ITIStext {
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_ia5(w, Self::SIZE, &self.0)
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for ITIStext {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.string(self.0.as_str());
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        Self::new(crate::jer::string(v)?).ok_or_else(|| crate::jer::invalid("size or character"))
     }
 }
 

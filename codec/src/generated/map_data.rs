@@ -187,6 +187,89 @@ impl Uper for MapData {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for MapData {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        if let Some(v) = &self.time_stamp {
+            out.key("timeStamp");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        out.key("msgIssueRevision");
+        crate::jer::Jer::write_jer(&self.msg_issue_revision, out);
+        if let Some(v) = &self.layer_type {
+            out.key("layerType");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.layer_id {
+            out.key("layerID");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.intersections {
+            out.key("intersections");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.road_segments {
+            out.key("roadSegments");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.data_parameters {
+            out.key("dataParameters");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.restriction_list {
+            out.key("restrictionList");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.regional {
+            out.key("regional");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        crate::jer::member(v, "")?;
+        let f_time_stamp = crate::jer::read_optional(v, "timeStamp", |x| {
+            <super::common::MinuteOfTheYear as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_msg_issue_revision = crate::jer::read_member(v, "msgIssueRevision", |x| {
+            <super::common::MsgCount as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_layer_type = crate::jer::read_optional(v, "layerType", |x| {
+            <LayerType as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_layer_id =
+            crate::jer::read_optional(v, "layerID", |x| <LayerID as crate::jer::Jer>::read_jer(x))?;
+        let f_intersections = crate::jer::read_optional(v, "intersections", |x| {
+            <IntersectionGeometryList as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_road_segments = crate::jer::read_optional(v, "roadSegments", |x| {
+            <RoadSegmentList as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_data_parameters = crate::jer::read_optional(v, "dataParameters", |x| {
+            <DataParameters as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_restriction_list = crate::jer::read_optional(v, "restrictionList", |x| {
+            <RestrictionClassList as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_regional = crate::jer::read_optional(v, "regional", |x| {
+            <MapDataRegional as crate::jer::Jer>::read_jer(x)
+        })?;
+        Ok(Self {
+            time_stamp: f_time_stamp,
+            msg_issue_revision: f_msg_issue_revision,
+            layer_type: f_layer_type,
+            layer_id: f_layer_id,
+            intersections: f_intersections,
+            road_segments: f_road_segments,
+            data_parameters: f_data_parameters,
+            restriction_list: f_restriction_list,
+            regional: f_regional,
+            extensions: uper::Extensions::new(),
+        })
+    }
+}
+
 #[cfg(feature = "_random")]
 impl uper::random::Random for MapData {
     fn random(g: &mut uper::random::Gen) -> Self {
@@ -302,6 +385,20 @@ impl LayerType {
             Self::Extension(_) => "",
         }
     }
+    /// The value of an ASN.1 identifier, when the type has it.
+    pub fn from_identifier(name: &str) -> Option<Self> {
+        match name {
+            "none" => Some(Self::None),
+            "mixedContent" => Some(Self::MixedContent),
+            "generalMapData" => Some(Self::GeneralMapData),
+            "intersectionData" => Some(Self::IntersectionData),
+            "curveData" => Some(Self::CurveData),
+            "roadwaySectionData" => Some(Self::RoadwaySectionData),
+            "parkingAreaData" => Some(Self::ParkingAreaData),
+            "sharedLaneData" => Some(Self::SharedLaneData),
+            _ => None,
+        }
+    }
     fn root_index(self) -> i64 {
         match self {
             Self::None => 0,
@@ -363,6 +460,18 @@ impl uper::random::Random for LayerType {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for LayerType {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.string(self.identifier());
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let name = crate::jer::string(v)?;
+        Self::from_identifier(name)
+            .ok_or_else(|| crate::jer::JerError::new(std::format!("unknown identifier {name}")))
+    }
+}
+
 /// ASN.1 `LayerID` (module `MapData`): INTEGER (0..100).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub struct LayerID(u8);
@@ -407,6 +516,30 @@ impl Uper for IntersectionGeometryList {
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for IntersectionGeometryList {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_array();
+        for item in self.0.iter() {
+            crate::jer::Jer::write_jer(item, out);
+        }
+        out.end_array();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let items = crate::jer::array(v)?;
+        if items.len() < 1 {
+            return Err(crate::jer::invalid("size"));
+        }
+        let mut list = Self::new();
+        for (i, x) in items.iter().enumerate() {
+            let item = <IntersectionGeometry as crate::jer::Jer>::read_jer(x)
+                .map_err(|e| e.within(&std::format!("[{i}]")))?;
+            list.0.push(item).map_err(|_| crate::jer::over_capacity())?;
+        }
+        Ok(list)
     }
 }
 
@@ -567,6 +700,83 @@ impl Uper for IntersectionGeometry {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for IntersectionGeometry {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        if let Some(v) = &self.name {
+            out.key("name");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        out.key("id");
+        crate::jer::Jer::write_jer(&self.id, out);
+        out.key("revision");
+        crate::jer::Jer::write_jer(&self.revision, out);
+        out.key("refPoint");
+        crate::jer::Jer::write_jer(&self.ref_point, out);
+        if let Some(v) = &self.lane_width {
+            out.key("laneWidth");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.speed_limits {
+            out.key("speedLimits");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        out.key("laneSet");
+        crate::jer::Jer::write_jer(&self.lane_set, out);
+        if let Some(v) = &self.preempt_priority_data {
+            out.key("preemptPriorityData");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.regional {
+            out.key("regional");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        crate::jer::member(v, "")?;
+        let f_name = crate::jer::read_optional(v, "name", |x| {
+            <super::common::DescriptiveName as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_id = crate::jer::read_member(v, "id", |x| {
+            <super::common::IntersectionReferenceID as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_revision = crate::jer::read_member(v, "revision", |x| {
+            <super::common::MsgCount as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_ref_point = crate::jer::read_member(v, "refPoint", |x| {
+            <super::common::Position3D as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_lane_width = crate::jer::read_optional(v, "laneWidth", |x| {
+            <super::common::LaneWidth as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_speed_limits = crate::jer::read_optional(v, "speedLimits", |x| {
+            <super::common::SpeedLimitList as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_lane_set =
+            crate::jer::read_member(v, "laneSet", |x| <LaneList as crate::jer::Jer>::read_jer(x))?;
+        let f_preempt_priority_data = crate::jer::read_optional(v, "preemptPriorityData", |x| {
+            <PreemptPriorityList as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_regional = crate::jer::read_optional(v, "regional", |x| {
+            <IntersectionGeometryRegional as crate::jer::Jer>::read_jer(x)
+        })?;
+        Ok(Self {
+            name: f_name,
+            id: f_id,
+            revision: f_revision,
+            ref_point: f_ref_point,
+            lane_width: f_lane_width,
+            speed_limits: f_speed_limits,
+            lane_set: f_lane_set,
+            preempt_priority_data: f_preempt_priority_data,
+            regional: f_regional,
+            extensions: uper::Extensions::new(),
+        })
+    }
+}
+
 #[cfg(feature = "_random")]
 impl uper::random::Random for IntersectionGeometry {
     fn random(g: &mut uper::random::Gen) -> Self {
@@ -641,6 +851,30 @@ impl Uper for LaneList {
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for LaneList {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_array();
+        for item in self.0.iter() {
+            crate::jer::Jer::write_jer(item, out);
+        }
+        out.end_array();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let items = crate::jer::array(v)?;
+        if items.len() < 1 {
+            return Err(crate::jer::invalid("size"));
+        }
+        let mut list = Self::new();
+        for (i, x) in items.iter().enumerate() {
+            let item = <GenericLane as crate::jer::Jer>::read_jer(x)
+                .map_err(|e| e.within(&std::format!("[{i}]")))?;
+            list.0.push(item).map_err(|_| crate::jer::over_capacity())?;
+        }
+        Ok(list)
     }
 }
 
@@ -829,6 +1063,94 @@ impl Uper for GenericLane {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for GenericLane {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        out.key("laneID");
+        crate::jer::Jer::write_jer(&self.lane_id, out);
+        if let Some(v) = &self.name {
+            out.key("name");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.ingress_approach {
+            out.key("ingressApproach");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.egress_approach {
+            out.key("egressApproach");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        out.key("laneAttributes");
+        crate::jer::Jer::write_jer(&self.lane_attributes, out);
+        if let Some(v) = &self.maneuvers {
+            out.key("maneuvers");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        out.key("nodeList");
+        crate::jer::Jer::write_jer(&self.node_list, out);
+        if let Some(v) = &self.connects_to {
+            out.key("connectsTo");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.overlays {
+            out.key("overlays");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.regional {
+            out.key("regional");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        crate::jer::member(v, "")?;
+        let f_lane_id = crate::jer::read_member(v, "laneID", |x| {
+            <super::common::LaneID as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_name = crate::jer::read_optional(v, "name", |x| {
+            <super::common::DescriptiveName as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_ingress_approach = crate::jer::read_optional(v, "ingressApproach", |x| {
+            <super::common::ApproachID as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_egress_approach = crate::jer::read_optional(v, "egressApproach", |x| {
+            <super::common::ApproachID as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_lane_attributes = crate::jer::read_member(v, "laneAttributes", |x| {
+            <LaneAttributes as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_maneuvers = crate::jer::read_optional(v, "maneuvers", |x| {
+            <AllowedManeuvers as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_node_list = crate::jer::read_member(v, "nodeList", |x| {
+            <super::common::NodeListXY as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_connects_to = crate::jer::read_optional(v, "connectsTo", |x| {
+            <ConnectsToList as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_overlays = crate::jer::read_optional(v, "overlays", |x| {
+            <OverlayLaneList as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_regional = crate::jer::read_optional(v, "regional", |x| {
+            <GenericLaneRegional as crate::jer::Jer>::read_jer(x)
+        })?;
+        Ok(Self {
+            lane_id: f_lane_id,
+            name: f_name,
+            ingress_approach: f_ingress_approach,
+            egress_approach: f_egress_approach,
+            lane_attributes: f_lane_attributes,
+            maneuvers: f_maneuvers,
+            node_list: f_node_list,
+            connects_to: f_connects_to,
+            overlays: f_overlays,
+            regional: f_regional,
+            extensions: uper::Extensions::new(),
+        })
+    }
+}
+
 #[cfg(feature = "_random")]
 impl uper::random::Random for GenericLane {
     fn random(g: &mut uper::random::Gen) -> Self {
@@ -936,6 +1258,45 @@ impl Uper for LaneAttributes {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for LaneAttributes {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        out.key("directionalUse");
+        crate::jer::Jer::write_jer(&self.directional_use, out);
+        out.key("sharedWith");
+        crate::jer::Jer::write_jer(&self.shared_with, out);
+        out.key("laneType");
+        crate::jer::Jer::write_jer(&self.lane_type, out);
+        if let Some(v) = &self.regional {
+            out.key("regional");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        crate::jer::member(v, "")?;
+        let f_directional_use = crate::jer::read_member(v, "directionalUse", |x| {
+            <LaneDirection as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_shared_with = crate::jer::read_member(v, "sharedWith", |x| {
+            <LaneSharing as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_lane_type = crate::jer::read_member(v, "laneType", |x| {
+            <LaneTypeAttributes as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_regional = crate::jer::read_optional(v, "regional", |x| {
+            <RegLaneAttributes as crate::jer::Jer>::read_jer(x)
+        })?;
+        Ok(Self {
+            directional_use: f_directional_use,
+            shared_with: f_shared_with,
+            lane_type: f_lane_type,
+            regional: f_regional,
+        })
+    }
+}
+
 #[cfg(feature = "_random")]
 impl uper::random::Random for LaneAttributes {
     fn random(g: &mut uper::random::Gen) -> Self {
@@ -987,6 +1348,22 @@ impl Uper for LaneDirection {
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_bits(w, Self::SIZE, &self.0)
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for LaneDirection {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.hex(self.0.as_bytes());
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let (bytes, len) = crate::jer::bits(v, 2, 2)?;
+        if !(2..=2).contains(&len) {
+            return Err(crate::jer::invalid("size"));
+        }
+        uper::Bits::from_bytes(&bytes, len)
+            .map(Self)
+            .ok_or_else(crate::jer::over_capacity)
     }
 }
 
@@ -1050,6 +1427,22 @@ impl Uper for LaneSharing {
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_bits(w, Self::SIZE, &self.0)
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for LaneSharing {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.hex(self.0.as_bytes());
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let (bytes, len) = crate::jer::bits(v, 10, 10)?;
+        if !(10..=10).contains(&len) {
+            return Err(crate::jer::invalid("size"));
+        }
+        uper::Bits::from_bytes(&bytes, len)
+            .map(Self)
+            .ok_or_else(crate::jer::over_capacity)
     }
 }
 
@@ -1273,6 +1666,98 @@ impl uper::random::Random for LaneTypeAttributes {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for LaneTypeAttributes {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        match self {
+            Self::Vehicle(v) => {
+                out.begin_object();
+                out.key("vehicle");
+                crate::jer::Jer::write_jer(v, out);
+                out.end_object();
+            }
+            Self::Crosswalk(v) => {
+                out.begin_object();
+                out.key("crosswalk");
+                crate::jer::Jer::write_jer(v, out);
+                out.end_object();
+            }
+            Self::BikeLane(v) => {
+                out.begin_object();
+                out.key("bikeLane");
+                crate::jer::Jer::write_jer(v, out);
+                out.end_object();
+            }
+            Self::Sidewalk(v) => {
+                out.begin_object();
+                out.key("sidewalk");
+                crate::jer::Jer::write_jer(v, out);
+                out.end_object();
+            }
+            Self::Median(v) => {
+                out.begin_object();
+                out.key("median");
+                crate::jer::Jer::write_jer(v, out);
+                out.end_object();
+            }
+            Self::Striping(v) => {
+                out.begin_object();
+                out.key("striping");
+                crate::jer::Jer::write_jer(v, out);
+                out.end_object();
+            }
+            Self::TrackedVehicle(v) => {
+                out.begin_object();
+                out.key("trackedVehicle");
+                crate::jer::Jer::write_jer(v, out);
+                out.end_object();
+            }
+            Self::Parking(v) => {
+                out.begin_object();
+                out.key("parking");
+                crate::jer::Jer::write_jer(v, out);
+                out.end_object();
+            }
+            Self::Extension { .. } => {
+                out.begin_object();
+                out.end_object();
+            }
+        }
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let (name, x) = crate::jer::alternative(v)?;
+        match name {
+            "vehicle" => <LaneAttributesVehicle as crate::jer::Jer>::read_jer(x)
+                .map(Self::Vehicle)
+                .map_err(|e| e.within(name)),
+            "crosswalk" => <LaneAttributesCrosswalk as crate::jer::Jer>::read_jer(x)
+                .map(Self::Crosswalk)
+                .map_err(|e| e.within(name)),
+            "bikeLane" => <LaneAttributesBike as crate::jer::Jer>::read_jer(x)
+                .map(Self::BikeLane)
+                .map_err(|e| e.within(name)),
+            "sidewalk" => <LaneAttributesSidewalk as crate::jer::Jer>::read_jer(x)
+                .map(Self::Sidewalk)
+                .map_err(|e| e.within(name)),
+            "median" => <LaneAttributesBarrier as crate::jer::Jer>::read_jer(x)
+                .map(Self::Median)
+                .map_err(|e| e.within(name)),
+            "striping" => <LaneAttributesStriping as crate::jer::Jer>::read_jer(x)
+                .map(Self::Striping)
+                .map_err(|e| e.within(name)),
+            "trackedVehicle" => <LaneAttributesTrackedVehicle as crate::jer::Jer>::read_jer(x)
+                .map(Self::TrackedVehicle)
+                .map_err(|e| e.within(name)),
+            "parking" => <LaneAttributesParking as crate::jer::Jer>::read_jer(x)
+                .map(Self::Parking)
+                .map_err(|e| e.within(name)),
+            _ => Err(crate::jer::JerError::new(std::format!(
+                "unknown alternative {name}"
+            ))),
+        }
+    }
+}
+
 /// ASN.1 `LaneAttributes-Vehicle` (module `MapData`): BIT STRING (SIZE(8, ...)).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub struct LaneAttributesVehicle(pub uper::Bits<2>);
@@ -1317,6 +1802,19 @@ impl Uper for LaneAttributesVehicle {
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_bits(w, Self::SIZE, &self.0)
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for LaneAttributesVehicle {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.bits(self.0.as_bytes(), self.0.len());
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let (bytes, len) = crate::jer::bits(v, 8, 8)?;
+        uper::Bits::from_bytes(&bytes, len)
+            .map(Self)
+            .ok_or_else(crate::jer::over_capacity)
     }
 }
 
@@ -1381,6 +1879,22 @@ impl Uper for LaneAttributesCrosswalk {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for LaneAttributesCrosswalk {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.hex(self.0.as_bytes());
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let (bytes, len) = crate::jer::bits(v, 16, 16)?;
+        if !(16..=16).contains(&len) {
+            return Err(crate::jer::invalid("size"));
+        }
+        uper::Bits::from_bytes(&bytes, len)
+            .map(Self)
+            .ok_or_else(crate::jer::over_capacity)
+    }
+}
+
 #[cfg(feature = "_random")]
 impl uper::random::Random for LaneAttributesCrosswalk {
     fn random(g: &mut uper::random::Gen) -> Self {
@@ -1438,6 +1952,22 @@ impl Uper for LaneAttributesBike {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for LaneAttributesBike {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.hex(self.0.as_bytes());
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let (bytes, len) = crate::jer::bits(v, 16, 16)?;
+        if !(16..=16).contains(&len) {
+            return Err(crate::jer::invalid("size"));
+        }
+        uper::Bits::from_bytes(&bytes, len)
+            .map(Self)
+            .ok_or_else(crate::jer::over_capacity)
+    }
+}
+
 #[cfg(feature = "_random")]
 impl uper::random::Random for LaneAttributesBike {
     fn random(g: &mut uper::random::Gen) -> Self {
@@ -1486,6 +2016,22 @@ impl Uper for LaneAttributesSidewalk {
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_bits(w, Self::SIZE, &self.0)
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for LaneAttributesSidewalk {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.hex(self.0.as_bytes());
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let (bytes, len) = crate::jer::bits(v, 16, 16)?;
+        if !(16..=16).contains(&len) {
+            return Err(crate::jer::invalid("size"));
+        }
+        uper::Bits::from_bytes(&bytes, len)
+            .map(Self)
+            .ok_or_else(crate::jer::over_capacity)
     }
 }
 
@@ -1552,6 +2098,22 @@ impl Uper for LaneAttributesBarrier {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for LaneAttributesBarrier {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.hex(self.0.as_bytes());
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let (bytes, len) = crate::jer::bits(v, 16, 16)?;
+        if !(16..=16).contains(&len) {
+            return Err(crate::jer::invalid("size"));
+        }
+        uper::Bits::from_bytes(&bytes, len)
+            .map(Self)
+            .ok_or_else(crate::jer::over_capacity)
+    }
+}
+
 #[cfg(feature = "_random")]
 impl uper::random::Random for LaneAttributesBarrier {
     fn random(g: &mut uper::random::Gen) -> Self {
@@ -1607,6 +2169,22 @@ impl Uper for LaneAttributesStriping {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for LaneAttributesStriping {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.hex(self.0.as_bytes());
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let (bytes, len) = crate::jer::bits(v, 16, 16)?;
+        if !(16..=16).contains(&len) {
+            return Err(crate::jer::invalid("size"));
+        }
+        uper::Bits::from_bytes(&bytes, len)
+            .map(Self)
+            .ok_or_else(crate::jer::over_capacity)
+    }
+}
+
 #[cfg(feature = "_random")]
 impl uper::random::Random for LaneAttributesStriping {
     fn random(g: &mut uper::random::Gen) -> Self {
@@ -1657,6 +2235,22 @@ impl Uper for LaneAttributesTrackedVehicle {
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_bits(w, Self::SIZE, &self.0)
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for LaneAttributesTrackedVehicle {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.hex(self.0.as_bytes());
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let (bytes, len) = crate::jer::bits(v, 16, 16)?;
+        if !(16..=16).contains(&len) {
+            return Err(crate::jer::invalid("size"));
+        }
+        uper::Bits::from_bytes(&bytes, len)
+            .map(Self)
+            .ok_or_else(crate::jer::over_capacity)
     }
 }
 
@@ -1717,6 +2311,22 @@ impl Uper for LaneAttributesParking {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for LaneAttributesParking {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.hex(self.0.as_bytes());
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let (bytes, len) = crate::jer::bits(v, 16, 16)?;
+        if !(16..=16).contains(&len) {
+            return Err(crate::jer::invalid("size"));
+        }
+        uper::Bits::from_bytes(&bytes, len)
+            .map(Self)
+            .ok_or_else(crate::jer::over_capacity)
+    }
+}
+
 #[cfg(feature = "_random")]
 impl uper::random::Random for LaneAttributesParking {
     fn random(g: &mut uper::random::Gen) -> Self {
@@ -1744,6 +2354,57 @@ impl RegLaneAttributes {
         match self {
             Self::Unknown { id, .. } => *id,
         }
+    }
+}
+
+impl RegLaneAttributes {
+    /// Writes the id and the value as members `id_name` and `value_name` of an object.
+    #[cfg(feature = "jer")]
+    pub fn write_jer_members(
+        &self,
+        out: &mut crate::jer::JerWriter,
+        id_name: &str,
+        value_name: &str,
+    ) {
+        out.key(id_name);
+        out.int(self.id().get() as i64);
+        out.key(value_name);
+        match self {
+            Self::Unknown { content, .. } => out.hex(content),
+        }
+    }
+    /// Reads the id and the value from members `id_name` and `value_name` of an object.
+    #[cfg(feature = "jer")]
+    pub fn read_jer_members(
+        v: &crate::jer::Value,
+        id_name: &str,
+        value_name: &str,
+    ) -> crate::jer::JerResult<Self> {
+        let id = crate::jer::read_member(
+            v,
+            id_name,
+            <super::common::RegionId as crate::jer::Jer>::read_jer,
+        )?;
+        let x = crate::jer::required(v, value_name)?;
+        match id.get() {
+            _ => {
+                let content = uper::Octets::from_slice(&crate::jer::hex(x)?)
+                    .ok_or_else(crate::jer::over_capacity)?;
+                Ok(Self::Unknown { id, content })
+            }
+        }
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for RegLaneAttributes {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        self.write_jer_members(out, "regionId", "regExtValue");
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        Self::read_jer_members(v, "regionId", "regExtValue")
     }
 }
 
@@ -1853,6 +2514,22 @@ impl Uper for AllowedManeuvers {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for AllowedManeuvers {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.hex(self.0.as_bytes());
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let (bytes, len) = crate::jer::bits(v, 12, 12)?;
+        if !(12..=12).contains(&len) {
+            return Err(crate::jer::invalid("size"));
+        }
+        uper::Bits::from_bytes(&bytes, len)
+            .map(Self)
+            .ok_or_else(crate::jer::over_capacity)
+    }
+}
+
 #[cfg(feature = "_random")]
 impl uper::random::Random for AllowedManeuvers {
     fn random(g: &mut uper::random::Gen) -> Self {
@@ -1896,6 +2573,30 @@ impl Uper for ConnectsToList {
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for ConnectsToList {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_array();
+        for item in self.0.iter() {
+            crate::jer::Jer::write_jer(item, out);
+        }
+        out.end_array();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let items = crate::jer::array(v)?;
+        if items.len() < 1 {
+            return Err(crate::jer::invalid("size"));
+        }
+        let mut list = Self::new();
+        for (i, x) in items.iter().enumerate() {
+            let item = <Connection as crate::jer::Jer>::read_jer(x)
+                .map_err(|e| e.within(&std::format!("[{i}]")))?;
+            list.0.push(item).map_err(|_| crate::jer::over_capacity())?;
+        }
+        Ok(list)
     }
 }
 
@@ -2010,6 +2711,57 @@ impl Uper for Connection {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for Connection {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        out.key("connectingLane");
+        crate::jer::Jer::write_jer(&self.connecting_lane, out);
+        if let Some(v) = &self.remote_intersection {
+            out.key("remoteIntersection");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.signal_group {
+            out.key("signalGroup");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.user_class {
+            out.key("userClass");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.connection_id {
+            out.key("connectionID");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        crate::jer::member(v, "")?;
+        let f_connecting_lane = crate::jer::read_member(v, "connectingLane", |x| {
+            <ConnectingLane as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_remote_intersection = crate::jer::read_optional(v, "remoteIntersection", |x| {
+            <super::common::IntersectionReferenceID as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_signal_group = crate::jer::read_optional(v, "signalGroup", |x| {
+            <super::common::SignalGroupID as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_user_class = crate::jer::read_optional(v, "userClass", |x| {
+            <super::common::RestrictionClassID as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_connection_id = crate::jer::read_optional(v, "connectionID", |x| {
+            <super::common::LaneConnectionID as crate::jer::Jer>::read_jer(x)
+        })?;
+        Ok(Self {
+            connecting_lane: f_connecting_lane,
+            remote_intersection: f_remote_intersection,
+            signal_group: f_signal_group,
+            user_class: f_user_class,
+            connection_id: f_connection_id,
+        })
+    }
+}
+
 #[cfg(feature = "_random")]
 impl uper::random::Random for Connection {
     fn random(g: &mut uper::random::Gen) -> Self {
@@ -2085,6 +2837,33 @@ impl Uper for ConnectingLane {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for ConnectingLane {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        out.key("lane");
+        crate::jer::Jer::write_jer(&self.lane, out);
+        if let Some(v) = &self.maneuver {
+            out.key("maneuver");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        crate::jer::member(v, "")?;
+        let f_lane = crate::jer::read_member(v, "lane", |x| {
+            <super::common::LaneID as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_maneuver = crate::jer::read_optional(v, "maneuver", |x| {
+            <AllowedManeuvers as crate::jer::Jer>::read_jer(x)
+        })?;
+        Ok(Self {
+            lane: f_lane,
+            maneuver: f_maneuver,
+        })
+    }
+}
+
 #[cfg(feature = "_random")]
 impl uper::random::Random for ConnectingLane {
     fn random(g: &mut uper::random::Gen) -> Self {
@@ -2133,6 +2912,30 @@ impl Uper for OverlayLaneList {
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for OverlayLaneList {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_array();
+        for item in self.0.iter() {
+            crate::jer::Jer::write_jer(item, out);
+        }
+        out.end_array();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let items = crate::jer::array(v)?;
+        if items.len() < 1 {
+            return Err(crate::jer::invalid("size"));
+        }
+        let mut list = Self::new();
+        for (i, x) in items.iter().enumerate() {
+            let item = <super::common::LaneID as crate::jer::Jer>::read_jer(x)
+                .map_err(|e| e.within(&std::format!("[{i}]")))?;
+            list.0.push(item).map_err(|_| crate::jer::over_capacity())?;
+        }
+        Ok(list)
     }
 }
 
@@ -2185,6 +2988,30 @@ impl Uper for GenericLaneRegional {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for GenericLaneRegional {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_array();
+        for item in self.0.iter() {
+            crate::jer::Jer::write_jer(item, out);
+        }
+        out.end_array();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let items = crate::jer::array(v)?;
+        if items.len() < 1 {
+            return Err(crate::jer::invalid("size"));
+        }
+        let mut list = Self::new();
+        for (i, x) in items.iter().enumerate() {
+            let item = <RegGenericLane as crate::jer::Jer>::read_jer(x)
+                .map_err(|e| e.within(&std::format!("[{i}]")))?;
+            list.0.push(item).map_err(|_| crate::jer::over_capacity())?;
+        }
+        Ok(list)
+    }
+}
+
 #[cfg(feature = "_random")]
 impl uper::random::Random for GenericLaneRegional {
     fn random(g: &mut uper::random::Gen) -> Self {
@@ -2215,6 +3042,57 @@ impl RegGenericLane {
         match self {
             Self::Unknown { id, .. } => *id,
         }
+    }
+}
+
+impl RegGenericLane {
+    /// Writes the id and the value as members `id_name` and `value_name` of an object.
+    #[cfg(feature = "jer")]
+    pub fn write_jer_members(
+        &self,
+        out: &mut crate::jer::JerWriter,
+        id_name: &str,
+        value_name: &str,
+    ) {
+        out.key(id_name);
+        out.int(self.id().get() as i64);
+        out.key(value_name);
+        match self {
+            Self::Unknown { content, .. } => out.hex(content),
+        }
+    }
+    /// Reads the id and the value from members `id_name` and `value_name` of an object.
+    #[cfg(feature = "jer")]
+    pub fn read_jer_members(
+        v: &crate::jer::Value,
+        id_name: &str,
+        value_name: &str,
+    ) -> crate::jer::JerResult<Self> {
+        let id = crate::jer::read_member(
+            v,
+            id_name,
+            <super::common::RegionId as crate::jer::Jer>::read_jer,
+        )?;
+        let x = crate::jer::required(v, value_name)?;
+        match id.get() {
+            _ => {
+                let content = uper::Octets::from_slice(&crate::jer::hex(x)?)
+                    .ok_or_else(crate::jer::over_capacity)?;
+                Ok(Self::Unknown { id, content })
+            }
+        }
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for RegGenericLane {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        self.write_jer_members(out, "regionId", "regExtValue");
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        Self::read_jer_members(v, "regionId", "regExtValue")
     }
 }
 
@@ -2303,6 +3181,30 @@ impl Uper for PreemptPriorityList {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for PreemptPriorityList {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_array();
+        for item in self.0.iter() {
+            crate::jer::Jer::write_jer(item, out);
+        }
+        out.end_array();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let items = crate::jer::array(v)?;
+        if items.len() < 1 {
+            return Err(crate::jer::invalid("size"));
+        }
+        let mut list = Self::new();
+        for (i, x) in items.iter().enumerate() {
+            let item = <SignalControlZone as crate::jer::Jer>::read_jer(x)
+                .map_err(|e| e.within(&std::format!("[{i}]")))?;
+            list.0.push(item).map_err(|_| crate::jer::over_capacity())?;
+        }
+        Ok(list)
+    }
+}
+
 #[cfg(feature = "_random")]
 impl uper::random::Random for PreemptPriorityList {
     fn random(g: &mut uper::random::Gen) -> Self {
@@ -2356,6 +3258,26 @@ impl Uper for SignalControlZone {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for SignalControlZone {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        out.key("zone");
+        crate::jer::Jer::write_jer(&self.zone, out);
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        crate::jer::member(v, "")?;
+        let f_zone = crate::jer::read_member(v, "zone", |x| {
+            <RegSignalControlZone as crate::jer::Jer>::read_jer(x)
+        })?;
+        Ok(Self {
+            zone: f_zone,
+            extensions: uper::Extensions::new(),
+        })
+    }
+}
+
 #[cfg(feature = "_random")]
 impl uper::random::Random for SignalControlZone {
     fn random(g: &mut uper::random::Gen) -> Self {
@@ -2384,6 +3306,57 @@ impl RegSignalControlZone {
         match self {
             Self::Unknown { id, .. } => *id,
         }
+    }
+}
+
+impl RegSignalControlZone {
+    /// Writes the id and the value as members `id_name` and `value_name` of an object.
+    #[cfg(feature = "jer")]
+    pub fn write_jer_members(
+        &self,
+        out: &mut crate::jer::JerWriter,
+        id_name: &str,
+        value_name: &str,
+    ) {
+        out.key(id_name);
+        out.int(self.id().get() as i64);
+        out.key(value_name);
+        match self {
+            Self::Unknown { content, .. } => out.hex(content),
+        }
+    }
+    /// Reads the id and the value from members `id_name` and `value_name` of an object.
+    #[cfg(feature = "jer")]
+    pub fn read_jer_members(
+        v: &crate::jer::Value,
+        id_name: &str,
+        value_name: &str,
+    ) -> crate::jer::JerResult<Self> {
+        let id = crate::jer::read_member(
+            v,
+            id_name,
+            <super::common::RegionId as crate::jer::Jer>::read_jer,
+        )?;
+        let x = crate::jer::required(v, value_name)?;
+        match id.get() {
+            _ => {
+                let content = uper::Octets::from_slice(&crate::jer::hex(x)?)
+                    .ok_or_else(crate::jer::over_capacity)?;
+                Ok(Self::Unknown { id, content })
+            }
+        }
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for RegSignalControlZone {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        self.write_jer_members(out, "regionId", "regExtValue");
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        Self::read_jer_members(v, "regionId", "regExtValue")
     }
 }
 
@@ -2477,6 +3450,30 @@ impl Uper for IntersectionGeometryRegional {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for IntersectionGeometryRegional {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_array();
+        for item in self.0.iter() {
+            crate::jer::Jer::write_jer(item, out);
+        }
+        out.end_array();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let items = crate::jer::array(v)?;
+        if items.len() < 1 {
+            return Err(crate::jer::invalid("size"));
+        }
+        let mut list = Self::new();
+        for (i, x) in items.iter().enumerate() {
+            let item = <RegIntersectionGeometry as crate::jer::Jer>::read_jer(x)
+                .map_err(|e| e.within(&std::format!("[{i}]")))?;
+            list.0.push(item).map_err(|_| crate::jer::over_capacity())?;
+        }
+        Ok(list)
+    }
+}
+
 #[cfg(feature = "_random")]
 impl uper::random::Random for IntersectionGeometryRegional {
     fn random(g: &mut uper::random::Gen) -> Self {
@@ -2507,6 +3504,57 @@ impl RegIntersectionGeometry {
         match self {
             Self::Unknown { id, .. } => *id,
         }
+    }
+}
+
+impl RegIntersectionGeometry {
+    /// Writes the id and the value as members `id_name` and `value_name` of an object.
+    #[cfg(feature = "jer")]
+    pub fn write_jer_members(
+        &self,
+        out: &mut crate::jer::JerWriter,
+        id_name: &str,
+        value_name: &str,
+    ) {
+        out.key(id_name);
+        out.int(self.id().get() as i64);
+        out.key(value_name);
+        match self {
+            Self::Unknown { content, .. } => out.hex(content),
+        }
+    }
+    /// Reads the id and the value from members `id_name` and `value_name` of an object.
+    #[cfg(feature = "jer")]
+    pub fn read_jer_members(
+        v: &crate::jer::Value,
+        id_name: &str,
+        value_name: &str,
+    ) -> crate::jer::JerResult<Self> {
+        let id = crate::jer::read_member(
+            v,
+            id_name,
+            <super::common::RegionId as crate::jer::Jer>::read_jer,
+        )?;
+        let x = crate::jer::required(v, value_name)?;
+        match id.get() {
+            _ => {
+                let content = uper::Octets::from_slice(&crate::jer::hex(x)?)
+                    .ok_or_else(crate::jer::over_capacity)?;
+                Ok(Self::Unknown { id, content })
+            }
+        }
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for RegIntersectionGeometry {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        self.write_jer_members(out, "regionId", "regExtValue");
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        Self::read_jer_members(v, "regionId", "regExtValue")
     }
 }
 
@@ -2595,6 +3643,30 @@ impl Uper for RoadSegmentList {
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for RoadSegmentList {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_array();
+        for item in self.0.iter() {
+            crate::jer::Jer::write_jer(item, out);
+        }
+        out.end_array();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let items = crate::jer::array(v)?;
+        if items.len() < 1 {
+            return Err(crate::jer::invalid("size"));
+        }
+        let mut list = Self::new();
+        for (i, x) in items.iter().enumerate() {
+            let item = <RoadSegment as crate::jer::Jer>::read_jer(x)
+                .map_err(|e| e.within(&std::format!("[{i}]")))?;
+            list.0.push(item).map_err(|_| crate::jer::over_capacity())?;
+        }
+        Ok(list)
     }
 }
 
@@ -2737,6 +3809,76 @@ impl Uper for RoadSegment {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for RoadSegment {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        if let Some(v) = &self.name {
+            out.key("name");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        out.key("id");
+        crate::jer::Jer::write_jer(&self.id, out);
+        out.key("revision");
+        crate::jer::Jer::write_jer(&self.revision, out);
+        out.key("refPoint");
+        crate::jer::Jer::write_jer(&self.ref_point, out);
+        if let Some(v) = &self.lane_width {
+            out.key("laneWidth");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.speed_limits {
+            out.key("speedLimits");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        out.key("roadLaneSet");
+        crate::jer::Jer::write_jer(&self.road_lane_set, out);
+        if let Some(v) = &self.regional {
+            out.key("regional");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        crate::jer::member(v, "")?;
+        let f_name = crate::jer::read_optional(v, "name", |x| {
+            <super::common::DescriptiveName as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_id = crate::jer::read_member(v, "id", |x| {
+            <super::common::RoadSegmentReferenceID as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_revision = crate::jer::read_member(v, "revision", |x| {
+            <super::common::MsgCount as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_ref_point = crate::jer::read_member(v, "refPoint", |x| {
+            <super::common::Position3D as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_lane_width = crate::jer::read_optional(v, "laneWidth", |x| {
+            <super::common::LaneWidth as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_speed_limits = crate::jer::read_optional(v, "speedLimits", |x| {
+            <super::common::SpeedLimitList as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_road_lane_set = crate::jer::read_member(v, "roadLaneSet", |x| {
+            <RoadLaneSetList as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_regional = crate::jer::read_optional(v, "regional", |x| {
+            <RoadSegmentRegional as crate::jer::Jer>::read_jer(x)
+        })?;
+        Ok(Self {
+            name: f_name,
+            id: f_id,
+            revision: f_revision,
+            ref_point: f_ref_point,
+            lane_width: f_lane_width,
+            speed_limits: f_speed_limits,
+            road_lane_set: f_road_lane_set,
+            regional: f_regional,
+            extensions: uper::Extensions::new(),
+        })
+    }
+}
+
 #[cfg(feature = "_random")]
 impl uper::random::Random for RoadSegment {
     fn random(g: &mut uper::random::Gen) -> Self {
@@ -2809,6 +3951,30 @@ impl Uper for RoadLaneSetList {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for RoadLaneSetList {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_array();
+        for item in self.0.iter() {
+            crate::jer::Jer::write_jer(item, out);
+        }
+        out.end_array();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let items = crate::jer::array(v)?;
+        if items.len() < 1 {
+            return Err(crate::jer::invalid("size"));
+        }
+        let mut list = Self::new();
+        for (i, x) in items.iter().enumerate() {
+            let item = <GenericLane as crate::jer::Jer>::read_jer(x)
+                .map_err(|e| e.within(&std::format!("[{i}]")))?;
+            list.0.push(item).map_err(|_| crate::jer::over_capacity())?;
+        }
+        Ok(list)
+    }
+}
+
 #[cfg(feature = "_random")]
 impl uper::random::Random for RoadLaneSetList {
     fn random(g: &mut uper::random::Gen) -> Self {
@@ -2857,6 +4023,30 @@ impl Uper for RoadSegmentRegional {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for RoadSegmentRegional {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_array();
+        for item in self.0.iter() {
+            crate::jer::Jer::write_jer(item, out);
+        }
+        out.end_array();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let items = crate::jer::array(v)?;
+        if items.len() < 1 {
+            return Err(crate::jer::invalid("size"));
+        }
+        let mut list = Self::new();
+        for (i, x) in items.iter().enumerate() {
+            let item = <RegRoadSegment as crate::jer::Jer>::read_jer(x)
+                .map_err(|e| e.within(&std::format!("[{i}]")))?;
+            list.0.push(item).map_err(|_| crate::jer::over_capacity())?;
+        }
+        Ok(list)
+    }
+}
+
 #[cfg(feature = "_random")]
 impl uper::random::Random for RoadSegmentRegional {
     fn random(g: &mut uper::random::Gen) -> Self {
@@ -2887,6 +4077,57 @@ impl RegRoadSegment {
         match self {
             Self::Unknown { id, .. } => *id,
         }
+    }
+}
+
+impl RegRoadSegment {
+    /// Writes the id and the value as members `id_name` and `value_name` of an object.
+    #[cfg(feature = "jer")]
+    pub fn write_jer_members(
+        &self,
+        out: &mut crate::jer::JerWriter,
+        id_name: &str,
+        value_name: &str,
+    ) {
+        out.key(id_name);
+        out.int(self.id().get() as i64);
+        out.key(value_name);
+        match self {
+            Self::Unknown { content, .. } => out.hex(content),
+        }
+    }
+    /// Reads the id and the value from members `id_name` and `value_name` of an object.
+    #[cfg(feature = "jer")]
+    pub fn read_jer_members(
+        v: &crate::jer::Value,
+        id_name: &str,
+        value_name: &str,
+    ) -> crate::jer::JerResult<Self> {
+        let id = crate::jer::read_member(
+            v,
+            id_name,
+            <super::common::RegionId as crate::jer::Jer>::read_jer,
+        )?;
+        let x = crate::jer::required(v, value_name)?;
+        match id.get() {
+            _ => {
+                let content = uper::Octets::from_slice(&crate::jer::hex(x)?)
+                    .ok_or_else(crate::jer::over_capacity)?;
+                Ok(Self::Unknown { id, content })
+            }
+        }
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for RegRoadSegment {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        self.write_jer_members(out, "regionId", "regExtValue");
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        Self::read_jer_members(v, "regionId", "regExtValue")
     }
 }
 
@@ -3046,6 +4287,52 @@ impl Uper for DataParameters {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for DataParameters {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        if let Some(v) = &self.process_method {
+            out.key("processMethod");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.process_agency {
+            out.key("processAgency");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.last_checked_date {
+            out.key("lastCheckedDate");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.geoid_used {
+            out.key("geoidUsed");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        crate::jer::member(v, "")?;
+        let f_process_method = crate::jer::read_optional(v, "processMethod", |x| {
+            <DataParametersProcessMethod as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_process_agency = crate::jer::read_optional(v, "processAgency", |x| {
+            <DataParametersProcessAgency as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_last_checked_date = crate::jer::read_optional(v, "lastCheckedDate", |x| {
+            <DataParametersLastCheckedDate as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_geoid_used = crate::jer::read_optional(v, "geoidUsed", |x| {
+            <DataParametersGeoidUsed as crate::jer::Jer>::read_jer(x)
+        })?;
+        Ok(Self {
+            process_method: f_process_method,
+            process_agency: f_process_agency,
+            last_checked_date: f_last_checked_date,
+            geoid_used: f_geoid_used,
+            extensions: uper::Extensions::new(),
+        })
+    }
+}
+
 #[cfg(feature = "_random")]
 impl uper::random::Random for DataParameters {
     fn random(g: &mut uper::random::Gen) -> Self {
@@ -3111,6 +4398,16 @@ impl Uper for DataParametersProcessMethod {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for DataParametersProcessMethod {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.string(self.0.as_str());
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        Self::new(crate::jer::string(v)?).ok_or_else(|| crate::jer::invalid("size or character"))
+    }
+}
+
 #[cfg(feature = "_random")]
 impl uper::random::Random for DataParametersProcessMethod {
     fn random(g: &mut uper::random::Gen) -> Self {
@@ -3155,6 +4452,16 @@ impl Uper for DataParametersProcessAgency {
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_ia5(w, Self::SIZE, &self.0)
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for DataParametersProcessAgency {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.string(self.0.as_str());
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        Self::new(crate::jer::string(v)?).ok_or_else(|| crate::jer::invalid("size or character"))
     }
 }
 
@@ -3205,6 +4512,16 @@ impl Uper for DataParametersLastCheckedDate {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for DataParametersLastCheckedDate {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.string(self.0.as_str());
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        Self::new(crate::jer::string(v)?).ok_or_else(|| crate::jer::invalid("size or character"))
+    }
+}
+
 #[cfg(feature = "_random")]
 impl uper::random::Random for DataParametersLastCheckedDate {
     fn random(g: &mut uper::random::Gen) -> Self {
@@ -3249,6 +4566,16 @@ impl Uper for DataParametersGeoidUsed {
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_ia5(w, Self::SIZE, &self.0)
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for DataParametersGeoidUsed {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.string(self.0.as_str());
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        Self::new(crate::jer::string(v)?).ok_or_else(|| crate::jer::invalid("size or character"))
     }
 }
 
@@ -3300,6 +4627,30 @@ impl Uper for RestrictionClassList {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for RestrictionClassList {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_array();
+        for item in self.0.iter() {
+            crate::jer::Jer::write_jer(item, out);
+        }
+        out.end_array();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let items = crate::jer::array(v)?;
+        if items.len() < 1 {
+            return Err(crate::jer::invalid("size"));
+        }
+        let mut list = Self::new();
+        for (i, x) in items.iter().enumerate() {
+            let item = <RestrictionClassAssignment as crate::jer::Jer>::read_jer(x)
+                .map_err(|e| e.within(&std::format!("[{i}]")))?;
+            list.0.push(item).map_err(|_| crate::jer::over_capacity())?;
+        }
+        Ok(list)
+    }
+}
+
 #[cfg(feature = "_random")]
 impl uper::random::Random for RestrictionClassList {
     fn random(g: &mut uper::random::Gen) -> Self {
@@ -3342,6 +4693,31 @@ impl Uper for RestrictionClassAssignment {
         self.id.encode_uper(w)?;
         self.users.encode_uper(w)?;
         Ok(())
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for RestrictionClassAssignment {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        out.key("id");
+        crate::jer::Jer::write_jer(&self.id, out);
+        out.key("users");
+        crate::jer::Jer::write_jer(&self.users, out);
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        crate::jer::member(v, "")?;
+        let f_id = crate::jer::read_member(v, "id", |x| {
+            <super::common::RestrictionClassID as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_users = crate::jer::read_member(v, "users", |x| {
+            <RestrictionUserTypeList as crate::jer::Jer>::read_jer(x)
+        })?;
+        Ok(Self {
+            id: f_id,
+            users: f_users,
+        })
     }
 }
 
@@ -3389,6 +4765,30 @@ impl Uper for RestrictionUserTypeList {
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for RestrictionUserTypeList {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_array();
+        for item in self.0.iter() {
+            crate::jer::Jer::write_jer(item, out);
+        }
+        out.end_array();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let items = crate::jer::array(v)?;
+        if items.len() < 1 {
+            return Err(crate::jer::invalid("size"));
+        }
+        let mut list = Self::new();
+        for (i, x) in items.iter().enumerate() {
+            let item = <RestrictionUserType as crate::jer::Jer>::read_jer(x)
+                .map_err(|e| e.within(&std::format!("[{i}]")))?;
+            list.0.push(item).map_err(|_| crate::jer::over_capacity())?;
+        }
+        Ok(list)
     }
 }
 
@@ -3503,6 +4903,44 @@ impl uper::random::Random for RestrictionUserType {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for RestrictionUserType {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        match self {
+            Self::BasicType(v) => {
+                out.begin_object();
+                out.key("basicType");
+                crate::jer::Jer::write_jer(v, out);
+                out.end_object();
+            }
+            Self::Regional(v) => {
+                out.begin_object();
+                out.key("regional");
+                crate::jer::Jer::write_jer(v, out);
+                out.end_object();
+            }
+            Self::Extension { .. } => {
+                out.begin_object();
+                out.end_object();
+            }
+        }
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let (name, x) = crate::jer::alternative(v)?;
+        match name {
+            "basicType" => <RestrictionAppliesTo as crate::jer::Jer>::read_jer(x)
+                .map(Self::BasicType)
+                .map_err(|e| e.within(name)),
+            "regional" => <RestrictionUserTypeRegional as crate::jer::Jer>::read_jer(x)
+                .map(Self::Regional)
+                .map_err(|e| e.within(name)),
+            _ => Err(crate::jer::JerError::new(std::format!(
+                "unknown alternative {name}"
+            ))),
+        }
+    }
+}
+
 /// ASN.1 `RestrictionAppliesTo` (module `MapData`): ENUMERATED (extensible).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum RestrictionAppliesTo {
@@ -3596,6 +5034,26 @@ impl RestrictionAppliesTo {
             Self::Extension(_) => "",
         }
     }
+    /// The value of an ASN.1 identifier, when the type has it.
+    pub fn from_identifier(name: &str) -> Option<Self> {
+        match name {
+            "none" => Some(Self::None),
+            "equippedTransit" => Some(Self::EquippedTransit),
+            "equippedTaxis" => Some(Self::EquippedTaxis),
+            "equippedOther" => Some(Self::EquippedOther),
+            "emissionCompliant" => Some(Self::EmissionCompliant),
+            "equippedBicycle" => Some(Self::EquippedBicycle),
+            "weightCompliant" => Some(Self::WeightCompliant),
+            "heightCompliant" => Some(Self::HeightCompliant),
+            "pedestrians" => Some(Self::Pedestrians),
+            "slowMovingPersons" => Some(Self::SlowMovingPersons),
+            "wheelchairUsers" => Some(Self::WheelchairUsers),
+            "visualDisabilities" => Some(Self::VisualDisabilities),
+            "audioDisabilities" => Some(Self::AudioDisabilities),
+            "otherUnknownDisabilities" => Some(Self::OtherUnknownDisabilities),
+            _ => None,
+        }
+    }
     fn root_index(self) -> i64 {
         match self {
             Self::None => 0,
@@ -3663,6 +5121,18 @@ impl uper::random::Random for RestrictionAppliesTo {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for RestrictionAppliesTo {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.string(self.identifier());
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let name = crate::jer::string(v)?;
+        Self::from_identifier(name)
+            .ok_or_else(|| crate::jer::JerError::new(std::format!("unknown identifier {name}")))
+    }
+}
+
 /// ASN.1 `RestrictionUserType.regional` (module `MapData`): SEQUENCE OF RegRestrictionUserType (SIZE(1..4)).
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub struct RestrictionUserTypeRegional(pub uper::SeqOf<RegRestrictionUserType, 4>);
@@ -3702,6 +5172,30 @@ impl Uper for RestrictionUserTypeRegional {
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for RestrictionUserTypeRegional {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_array();
+        for item in self.0.iter() {
+            crate::jer::Jer::write_jer(item, out);
+        }
+        out.end_array();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let items = crate::jer::array(v)?;
+        if items.len() < 1 {
+            return Err(crate::jer::invalid("size"));
+        }
+        let mut list = Self::new();
+        for (i, x) in items.iter().enumerate() {
+            let item = <RegRestrictionUserType as crate::jer::Jer>::read_jer(x)
+                .map_err(|e| e.within(&std::format!("[{i}]")))?;
+            list.0.push(item).map_err(|_| crate::jer::over_capacity())?;
+        }
+        Ok(list)
     }
 }
 
@@ -3745,6 +5239,61 @@ impl RegRestrictionUserType {
             }
             Self::Unknown { id, .. } => *id,
         }
+    }
+}
+
+impl RegRestrictionUserType {
+    /// Writes the id and the value as members `id_name` and `value_name` of an object.
+    #[cfg(feature = "jer")]
+    pub fn write_jer_members(
+        &self,
+        out: &mut crate::jer::JerWriter,
+        id_name: &str,
+        value_name: &str,
+    ) {
+        out.key(id_name);
+        out.int(self.id().get() as i64);
+        out.key(value_name);
+        match self {
+            Self::AddGrpC(v) => crate::jer::Jer::write_jer(v, out),
+            Self::Unknown { content, .. } => out.hex(content),
+        }
+    }
+    /// Reads the id and the value from members `id_name` and `value_name` of an object.
+    #[cfg(feature = "jer")]
+    pub fn read_jer_members(
+        v: &crate::jer::Value,
+        id_name: &str,
+        value_name: &str,
+    ) -> crate::jer::JerResult<Self> {
+        let id = crate::jer::read_member(
+            v,
+            id_name,
+            <super::common::RegionId as crate::jer::Jer>::read_jer,
+        )?;
+        let x = crate::jer::required(v, value_name)?;
+        match id.get() {
+            3 => <super::add_grp_c::RestrictionUserTypeAddGrpC as crate::jer::Jer>::read_jer(x)
+                .map(Self::AddGrpC)
+                .map_err(|e| e.within(value_name)),
+            _ => {
+                let content = uper::Octets::from_slice(&crate::jer::hex(x)?)
+                    .ok_or_else(crate::jer::over_capacity)?;
+                Ok(Self::Unknown { id, content })
+            }
+        }
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for RegRestrictionUserType {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        self.write_jer_members(out, "regionId", "regExtValue");
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        Self::read_jer_members(v, "regionId", "regExtValue")
     }
 }
 
@@ -3853,6 +5402,30 @@ impl Uper for MapDataRegional {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for MapDataRegional {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_array();
+        for item in self.0.iter() {
+            crate::jer::Jer::write_jer(item, out);
+        }
+        out.end_array();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let items = crate::jer::array(v)?;
+        if items.len() < 1 {
+            return Err(crate::jer::invalid("size"));
+        }
+        let mut list = Self::new();
+        for (i, x) in items.iter().enumerate() {
+            let item = <RegMapData as crate::jer::Jer>::read_jer(x)
+                .map_err(|e| e.within(&std::format!("[{i}]")))?;
+            list.0.push(item).map_err(|_| crate::jer::over_capacity())?;
+        }
+        Ok(list)
+    }
+}
+
 #[cfg(feature = "_random")]
 impl uper::random::Random for MapDataRegional {
     fn random(g: &mut uper::random::Gen) -> Self {
@@ -3892,6 +5465,61 @@ impl RegMapData {
             }
             Self::Unknown { id, .. } => *id,
         }
+    }
+}
+
+impl RegMapData {
+    /// Writes the id and the value as members `id_name` and `value_name` of an object.
+    #[cfg(feature = "jer")]
+    pub fn write_jer_members(
+        &self,
+        out: &mut crate::jer::JerWriter,
+        id_name: &str,
+        value_name: &str,
+    ) {
+        out.key(id_name);
+        out.int(self.id().get() as i64);
+        out.key(value_name);
+        match self {
+            Self::AddGrpC(v) => crate::jer::Jer::write_jer(v, out),
+            Self::Unknown { content, .. } => out.hex(content),
+        }
+    }
+    /// Reads the id and the value from members `id_name` and `value_name` of an object.
+    #[cfg(feature = "jer")]
+    pub fn read_jer_members(
+        v: &crate::jer::Value,
+        id_name: &str,
+        value_name: &str,
+    ) -> crate::jer::JerResult<Self> {
+        let id = crate::jer::read_member(
+            v,
+            id_name,
+            <super::common::RegionId as crate::jer::Jer>::read_jer,
+        )?;
+        let x = crate::jer::required(v, value_name)?;
+        match id.get() {
+            3 => <super::add_grp_c::MapDataAddGrpC as crate::jer::Jer>::read_jer(x)
+                .map(Self::AddGrpC)
+                .map_err(|e| e.within(value_name)),
+            _ => {
+                let content = uper::Octets::from_slice(&crate::jer::hex(x)?)
+                    .ok_or_else(crate::jer::over_capacity)?;
+                Ok(Self::Unknown { id, content })
+            }
+        }
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for RegMapData {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        self.write_jer_members(out, "regionId", "regExtValue");
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        Self::read_jer_members(v, "regionId", "regExtValue")
     }
 }
 

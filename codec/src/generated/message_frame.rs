@@ -47,6 +47,26 @@ impl Uper for MessageFrame {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for MessageFrame {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        {
+            let v = &self.value;
+            v.write_jer_members(out, "messageId", "value");
+        }
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        crate::jer::member(v, "")?;
+        let f_value = MessageFrameValue::read_jer_members(v, "messageId", "value")?;
+        Ok(Self {
+            value: f_value,
+            extensions: uper::Extensions::new(),
+        })
+    }
+}
+
 #[cfg(feature = "_random")]
 impl uper::random::Random for MessageFrame {
     fn random(g: &mut uper::random::Gen) -> Self {
@@ -390,6 +410,114 @@ impl MessageFrameValue {
             }
             Self::Unknown { id, .. } => *id,
         }
+    }
+}
+
+impl MessageFrameValue {
+    /// Writes the id and the value as members `id_name` and `value_name` of an object.
+    #[cfg(feature = "jer")]
+    pub fn write_jer_members(
+        &self,
+        out: &mut crate::jer::JerWriter,
+        id_name: &str,
+        value_name: &str,
+    ) {
+        out.key(id_name);
+        out.int(self.id().get() as i64);
+        out.key(value_name);
+        match self {
+            Self::MapData(v) => crate::jer::Jer::write_jer(v, out),
+            Self::SPAT(v) => crate::jer::Jer::write_jer(v, out),
+            Self::BasicSafetyMessage(v) => crate::jer::Jer::write_jer(v, out),
+            Self::CommonSafetyRequest(v) => crate::jer::Jer::write_jer(v, out),
+            Self::EmergencyVehicleAlert(v) => crate::jer::Jer::write_jer(v, out),
+            Self::IntersectionCollision(v) => crate::jer::Jer::write_jer(v, out),
+            Self::NMEAcorrections(v) => crate::jer::Jer::write_jer(v, out),
+            Self::ProbeDataManagement(v) => crate::jer::Jer::write_jer(v, out),
+            Self::ProbeVehicleData(v) => crate::jer::Jer::write_jer(v, out),
+            Self::RoadSideAlert(v) => crate::jer::Jer::write_jer(v, out),
+            Self::RTCMcorrections(v) => crate::jer::Jer::write_jer(v, out),
+            Self::SignalRequestMessage(v) => crate::jer::Jer::write_jer(v, out),
+            Self::SignalStatusMessage(v) => crate::jer::Jer::write_jer(v, out),
+            Self::TravelerInformation(v) => crate::jer::Jer::write_jer(v, out),
+            Self::PersonalSafetyMessage(v) => crate::jer::Jer::write_jer(v, out),
+            Self::TestMessage00(v) => crate::jer::Jer::write_jer(v, out),
+            Self::TestMessage01(v) => crate::jer::Jer::write_jer(v, out),
+            Self::TestMessage02(v) => crate::jer::Jer::write_jer(v, out),
+            Self::TestMessage03(v) => crate::jer::Jer::write_jer(v, out),
+            Self::TestMessage04(v) => crate::jer::Jer::write_jer(v, out),
+            Self::TestMessage05(v) => crate::jer::Jer::write_jer(v, out),
+            Self::TestMessage06(v) => crate::jer::Jer::write_jer(v, out),
+            Self::TestMessage07(v) => crate::jer::Jer::write_jer(v, out),
+            Self::TestMessage08(v) => crate::jer::Jer::write_jer(v, out),
+            Self::TestMessage09(v) => crate::jer::Jer::write_jer(v, out),
+            Self::TestMessage10(v) => crate::jer::Jer::write_jer(v, out),
+            Self::TestMessage11(v) => crate::jer::Jer::write_jer(v, out),
+            Self::TestMessage12(v) => crate::jer::Jer::write_jer(v, out),
+            Self::TestMessage13(v) => crate::jer::Jer::write_jer(v, out),
+            Self::TestMessage14(v) => crate::jer::Jer::write_jer(v, out),
+            Self::TestMessage15(v) => crate::jer::Jer::write_jer(v, out),
+            Self::Unknown { content, .. } => out.hex(content),
+        }
+    }
+    /// Reads the id and the value from members `id_name` and `value_name` of an object.
+    #[cfg(feature = "jer")]
+    pub fn read_jer_members(
+        v: &crate::jer::Value,
+        id_name: &str,
+        value_name: &str,
+    ) -> crate::jer::JerResult<Self> {
+        let id = crate::jer::read_member(v, id_name, <DSRCmsgID as crate::jer::Jer>::read_jer)?;
+        let x = crate::jer::required(v, value_name)?;
+        match id.get() {
+            18 => <super::map_data::MapData as crate::jer::Jer>::read_jer(x).map(Self::MapData).map_err(|e| e.within(value_name)),
+            19 => <super::spat::SPAT as crate::jer::Jer>::read_jer(x).map(Self::SPAT).map_err(|e| e.within(value_name)),
+            20 => <super::basic_safety_message::BasicSafetyMessage as crate::jer::Jer>::read_jer(x).map(Self::BasicSafetyMessage).map_err(|e| e.within(value_name)),
+            21 => <super::common_safety_request::CommonSafetyRequest as crate::jer::Jer>::read_jer(x).map(Self::CommonSafetyRequest).map_err(|e| e.within(value_name)),
+            22 => <super::emergency_vehicle_alert::EmergencyVehicleAlert as crate::jer::Jer>::read_jer(x).map(Self::EmergencyVehicleAlert).map_err(|e| e.within(value_name)),
+            23 => <super::intersection_collision::IntersectionCollision as crate::jer::Jer>::read_jer(x).map(Self::IntersectionCollision).map_err(|e| e.within(value_name)),
+            24 => <super::nmea_corrections::NMEAcorrections as crate::jer::Jer>::read_jer(x).map(Self::NMEAcorrections).map_err(|e| e.within(value_name)),
+            25 => <super::probe_data_management::ProbeDataManagement as crate::jer::Jer>::read_jer(x).map(Self::ProbeDataManagement).map_err(|e| e.within(value_name)),
+            26 => <super::probe_vehicle_data::ProbeVehicleData as crate::jer::Jer>::read_jer(x).map(Self::ProbeVehicleData).map_err(|e| e.within(value_name)),
+            27 => <super::road_side_alert::RoadSideAlert as crate::jer::Jer>::read_jer(x).map(Self::RoadSideAlert).map_err(|e| e.within(value_name)),
+            28 => <super::rtcm_corrections::RTCMcorrections as crate::jer::Jer>::read_jer(x).map(Self::RTCMcorrections).map_err(|e| e.within(value_name)),
+            29 => <super::signal_request_message::SignalRequestMessage as crate::jer::Jer>::read_jer(x).map(Self::SignalRequestMessage).map_err(|e| e.within(value_name)),
+            30 => <super::signal_status_message::SignalStatusMessage as crate::jer::Jer>::read_jer(x).map(Self::SignalStatusMessage).map_err(|e| e.within(value_name)),
+            31 => <super::traveler_information::TravelerInformation as crate::jer::Jer>::read_jer(x).map(Self::TravelerInformation).map_err(|e| e.within(value_name)),
+            32 => <super::personal_safety_message::PersonalSafetyMessage as crate::jer::Jer>::read_jer(x).map(Self::PersonalSafetyMessage).map_err(|e| e.within(value_name)),
+            240 => <super::test_message00::TestMessage00 as crate::jer::Jer>::read_jer(x).map(Self::TestMessage00).map_err(|e| e.within(value_name)),
+            241 => <super::test_message01::TestMessage01 as crate::jer::Jer>::read_jer(x).map(Self::TestMessage01).map_err(|e| e.within(value_name)),
+            242 => <super::test_message02::TestMessage02 as crate::jer::Jer>::read_jer(x).map(Self::TestMessage02).map_err(|e| e.within(value_name)),
+            243 => <super::test_message03::TestMessage03 as crate::jer::Jer>::read_jer(x).map(Self::TestMessage03).map_err(|e| e.within(value_name)),
+            244 => <super::test_message04::TestMessage04 as crate::jer::Jer>::read_jer(x).map(Self::TestMessage04).map_err(|e| e.within(value_name)),
+            245 => <super::test_message05::TestMessage05 as crate::jer::Jer>::read_jer(x).map(Self::TestMessage05).map_err(|e| e.within(value_name)),
+            246 => <super::test_message06::TestMessage06 as crate::jer::Jer>::read_jer(x).map(Self::TestMessage06).map_err(|e| e.within(value_name)),
+            247 => <super::test_message07::TestMessage07 as crate::jer::Jer>::read_jer(x).map(Self::TestMessage07).map_err(|e| e.within(value_name)),
+            248 => <super::test_message08::TestMessage08 as crate::jer::Jer>::read_jer(x).map(Self::TestMessage08).map_err(|e| e.within(value_name)),
+            249 => <super::test_message09::TestMessage09 as crate::jer::Jer>::read_jer(x).map(Self::TestMessage09).map_err(|e| e.within(value_name)),
+            250 => <super::test_message10::TestMessage10 as crate::jer::Jer>::read_jer(x).map(Self::TestMessage10).map_err(|e| e.within(value_name)),
+            251 => <super::test_message11::TestMessage11 as crate::jer::Jer>::read_jer(x).map(Self::TestMessage11).map_err(|e| e.within(value_name)),
+            252 => <super::test_message12::TestMessage12 as crate::jer::Jer>::read_jer(x).map(Self::TestMessage12).map_err(|e| e.within(value_name)),
+            253 => <super::test_message13::TestMessage13 as crate::jer::Jer>::read_jer(x).map(Self::TestMessage13).map_err(|e| e.within(value_name)),
+            254 => <super::test_message14::TestMessage14 as crate::jer::Jer>::read_jer(x).map(Self::TestMessage14).map_err(|e| e.within(value_name)),
+            255 => <super::test_message15::TestMessage15 as crate::jer::Jer>::read_jer(x).map(Self::TestMessage15).map_err(|e| e.within(value_name)),
+            _ => {
+                let content = uper::Octets::from_slice(&crate::jer::hex(x)?).ok_or_else(crate::jer::over_capacity)?;
+                Ok(Self::Unknown { id, content })
+            }
+        }
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for MessageFrameValue {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        self.write_jer_members(out, "messageId", "value");
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        Self::read_jer_members(v, "messageId", "value")
     }
 }
 

@@ -136,6 +136,65 @@ impl Uper for NMEAcorrections {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for NMEAcorrections {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        if let Some(v) = &self.time_stamp {
+            out.key("timeStamp");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.rev {
+            out.key("rev");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.msg {
+            out.key("msg");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.wd_count {
+            out.key("wdCount");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        out.key("payload");
+        crate::jer::Jer::write_jer(&self.payload, out);
+        if let Some(v) = &self.regional {
+            out.key("regional");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        crate::jer::member(v, "")?;
+        let f_time_stamp = crate::jer::read_optional(v, "timeStamp", |x| {
+            <super::common::MinuteOfTheYear as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_rev = crate::jer::read_optional(v, "rev", |x| {
+            <NMEARevision as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_msg =
+            crate::jer::read_optional(v, "msg", |x| <NMEAMsgType as crate::jer::Jer>::read_jer(x))?;
+        let f_wd_count = crate::jer::read_optional(v, "wdCount", |x| {
+            <ObjectCount as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_payload = crate::jer::read_member(v, "payload", |x| {
+            <NMEAPayload as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_regional = crate::jer::read_optional(v, "regional", |x| {
+            <NMEAcorrectionsRegional as crate::jer::Jer>::read_jer(x)
+        })?;
+        Ok(Self {
+            time_stamp: f_time_stamp,
+            rev: f_rev,
+            msg: f_msg,
+            wd_count: f_wd_count,
+            payload: f_payload,
+            regional: f_regional,
+            extensions: uper::Extensions::new(),
+        })
+    }
+}
+
 #[cfg(feature = "_random")]
 impl uper::random::Random for NMEAcorrections {
     fn random(g: &mut uper::random::Gen) -> Self {
@@ -229,6 +288,19 @@ impl NMEARevision {
             Self::Extension(_) => "",
         }
     }
+    /// The value of an ASN.1 identifier, when the type has it.
+    pub fn from_identifier(name: &str) -> Option<Self> {
+        match name {
+            "unknown" => Some(Self::Unknown),
+            "reserved" => Some(Self::Reserved),
+            "rev1" => Some(Self::Rev1),
+            "rev2" => Some(Self::Rev2),
+            "rev3" => Some(Self::Rev3),
+            "rev4" => Some(Self::Rev4),
+            "rev5" => Some(Self::Rev5),
+            _ => None,
+        }
+    }
     fn root_index(self) -> i64 {
         match self {
             Self::Unknown => 0,
@@ -289,6 +361,18 @@ impl uper::random::Random for NMEARevision {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for NMEARevision {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.string(self.identifier());
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let name = crate::jer::string(v)?;
+        Self::from_identifier(name)
+            .ok_or_else(|| crate::jer::JerError::new(std::format!("unknown identifier {name}")))
+    }
+}
+
 /// ASN.1 `NMEA-MsgType` (module `NMEAcorrections`): INTEGER (0..32767).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub struct NMEAMsgType(u16);
@@ -330,6 +414,16 @@ impl Uper for NMEAPayload {
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_octets(w, Self::SIZE, &self.0)
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for NMEAPayload {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.hex(&self.0);
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        Self::new(&crate::jer::hex(v)?).ok_or_else(|| crate::jer::invalid("size"))
     }
 }
 
@@ -386,6 +480,30 @@ impl Uper for NMEAcorrectionsRegional {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for NMEAcorrectionsRegional {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_array();
+        for item in self.0.iter() {
+            crate::jer::Jer::write_jer(item, out);
+        }
+        out.end_array();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let items = crate::jer::array(v)?;
+        if items.len() < 1 {
+            return Err(crate::jer::invalid("size"));
+        }
+        let mut list = Self::new();
+        for (i, x) in items.iter().enumerate() {
+            let item = <RegNMEAcorrections as crate::jer::Jer>::read_jer(x)
+                .map_err(|e| e.within(&std::format!("[{i}]")))?;
+            list.0.push(item).map_err(|_| crate::jer::over_capacity())?;
+        }
+        Ok(list)
+    }
+}
+
 #[cfg(feature = "_random")]
 impl uper::random::Random for NMEAcorrectionsRegional {
     fn random(g: &mut uper::random::Gen) -> Self {
@@ -416,6 +534,57 @@ impl RegNMEAcorrections {
         match self {
             Self::Unknown { id, .. } => *id,
         }
+    }
+}
+
+impl RegNMEAcorrections {
+    /// Writes the id and the value as members `id_name` and `value_name` of an object.
+    #[cfg(feature = "jer")]
+    pub fn write_jer_members(
+        &self,
+        out: &mut crate::jer::JerWriter,
+        id_name: &str,
+        value_name: &str,
+    ) {
+        out.key(id_name);
+        out.int(self.id().get() as i64);
+        out.key(value_name);
+        match self {
+            Self::Unknown { content, .. } => out.hex(content),
+        }
+    }
+    /// Reads the id and the value from members `id_name` and `value_name` of an object.
+    #[cfg(feature = "jer")]
+    pub fn read_jer_members(
+        v: &crate::jer::Value,
+        id_name: &str,
+        value_name: &str,
+    ) -> crate::jer::JerResult<Self> {
+        let id = crate::jer::read_member(
+            v,
+            id_name,
+            <super::common::RegionId as crate::jer::Jer>::read_jer,
+        )?;
+        let x = crate::jer::required(v, value_name)?;
+        match id.get() {
+            _ => {
+                let content = uper::Octets::from_slice(&crate::jer::hex(x)?)
+                    .ok_or_else(crate::jer::over_capacity)?;
+                Ok(Self::Unknown { id, content })
+            }
+        }
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for RegNMEAcorrections {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        self.write_jer_members(out, "regionId", "regExtValue");
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        Self::read_jer_members(v, "regionId", "regExtValue")
     }
 }
 

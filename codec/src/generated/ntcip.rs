@@ -36,6 +36,15 @@ impl EssPrecipYesNo {
             Self::Error => "error",
         }
     }
+    /// The value of an ASN.1 identifier, when the type has it.
+    pub fn from_identifier(name: &str) -> Option<Self> {
+        match name {
+            "precip" => Some(Self::Precip),
+            "noPrecip" => Some(Self::NoPrecip),
+            "error" => Some(Self::Error),
+            _ => None,
+        }
+    }
     fn root_index(self) -> i64 {
         match self {
             Self::Precip => 0,
@@ -75,6 +84,18 @@ impl Uper for EssPrecipYesNo {
 impl uper::random::Random for EssPrecipYesNo {
     fn random(g: &mut uper::random::Gen) -> Self {
         Self::ALL[g.below(3)]
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for EssPrecipYesNo {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.string(self.identifier());
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let name = crate::jer::string(v)?;
+        Self::from_identifier(name)
+            .ok_or_else(|| crate::jer::JerError::new(std::format!("unknown identifier {name}")))
     }
 }
 
@@ -177,6 +198,27 @@ impl EssPrecipSituation {
             Self::FrozenPrecipitationHeavy => "frozenPrecipitationHeavy",
         }
     }
+    /// The value of an ASN.1 identifier, when the type has it.
+    pub fn from_identifier(name: &str) -> Option<Self> {
+        match name {
+            "other" => Some(Self::Other),
+            "unknown" => Some(Self::Unknown),
+            "noPrecipitation" => Some(Self::NoPrecipitation),
+            "unidentifiedSlight" => Some(Self::UnidentifiedSlight),
+            "unidentifiedModerate" => Some(Self::UnidentifiedModerate),
+            "unidentifiedHeavy" => Some(Self::UnidentifiedHeavy),
+            "snowSlight" => Some(Self::SnowSlight),
+            "snowModerate" => Some(Self::SnowModerate),
+            "snowHeavy" => Some(Self::SnowHeavy),
+            "rainSlight" => Some(Self::RainSlight),
+            "rainModerate" => Some(Self::RainModerate),
+            "rainHeavy" => Some(Self::RainHeavy),
+            "frozenPrecipitationSlight" => Some(Self::FrozenPrecipitationSlight),
+            "frozenPrecipitationModerate" => Some(Self::FrozenPrecipitationModerate),
+            "frozenPrecipitationHeavy" => Some(Self::FrozenPrecipitationHeavy),
+            _ => None,
+        }
+    }
     fn root_index(self) -> i64 {
         match self {
             Self::Other => 0,
@@ -228,6 +270,18 @@ impl Uper for EssPrecipSituation {
 impl uper::random::Random for EssPrecipSituation {
     fn random(g: &mut uper::random::Gen) -> Self {
         Self::ALL[g.below(15)]
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for EssPrecipSituation {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.string(self.identifier());
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let name = crate::jer::string(v)?;
+        Self::from_identifier(name)
+            .ok_or_else(|| crate::jer::JerError::new(std::format!("unknown identifier {name}")))
     }
 }
 

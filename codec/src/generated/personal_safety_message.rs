@@ -392,6 +392,212 @@ impl Uper for PersonalSafetyMessage {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for PersonalSafetyMessage {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        out.key("basicType");
+        crate::jer::Jer::write_jer(&self.basic_type, out);
+        out.key("secMark");
+        crate::jer::Jer::write_jer(&self.sec_mark, out);
+        out.key("msgCnt");
+        crate::jer::Jer::write_jer(&self.msg_cnt, out);
+        out.key("id");
+        crate::jer::Jer::write_jer(&self.id, out);
+        out.key("position");
+        crate::jer::Jer::write_jer(&self.position, out);
+        out.key("accuracy");
+        crate::jer::Jer::write_jer(&self.accuracy, out);
+        out.key("speed");
+        crate::jer::Jer::write_jer(&self.speed, out);
+        out.key("heading");
+        crate::jer::Jer::write_jer(&self.heading, out);
+        if let Some(v) = &self.accel_set {
+            out.key("accelSet");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.path_history {
+            out.key("pathHistory");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.path_prediction {
+            out.key("pathPrediction");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.propulsion {
+            out.key("propulsion");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.use_state {
+            out.key("useState");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.cross_request {
+            out.key("crossRequest");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.cross_state {
+            out.key("crossState");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.cluster_size {
+            out.key("clusterSize");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.cluster_radius {
+            out.key("clusterRadius");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.event_responder_type {
+            out.key("eventResponderType");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.activity_type {
+            out.key("activityType");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.activity_sub_type {
+            out.key("activitySubType");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.assist_type {
+            out.key("assistType");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.sizing {
+            out.key("sizing");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.attachment {
+            out.key("attachment");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.attachment_radius {
+            out.key("attachmentRadius");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.animal_type {
+            out.key("animalType");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.regional {
+            out.key("regional");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        crate::jer::member(v, "")?;
+        let f_basic_type = crate::jer::read_member(v, "basicType", |x| {
+            <PersonalDeviceUserType as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_sec_mark = crate::jer::read_member(v, "secMark", |x| {
+            <super::common::DSecond as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_msg_cnt = crate::jer::read_member(v, "msgCnt", |x| {
+            <super::common::MsgCount as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_id = crate::jer::read_member(v, "id", |x| {
+            <super::common::TemporaryID as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_position = crate::jer::read_member(v, "position", |x| {
+            <super::common::Position3D as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_accuracy = crate::jer::read_member(v, "accuracy", |x| {
+            <super::common::PositionalAccuracy as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_speed = crate::jer::read_member(v, "speed", |x| {
+            <super::common::Velocity as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_heading = crate::jer::read_member(v, "heading", |x| {
+            <super::common::Heading as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_accel_set = crate::jer::read_optional(v, "accelSet", |x| {
+            <super::common::AccelerationSet4Way as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_path_history = crate::jer::read_optional(v, "pathHistory", |x| {
+            <super::common::PathHistory as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_path_prediction = crate::jer::read_optional(v, "pathPrediction", |x| {
+            <super::common::PathPrediction as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_propulsion = crate::jer::read_optional(v, "propulsion", |x| {
+            <PropelledInformation as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_use_state = crate::jer::read_optional(v, "useState", |x| {
+            <PersonalDeviceUsageState as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_cross_request = crate::jer::read_optional(v, "crossRequest", |x| {
+            <PersonalCrossingRequest as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_cross_state = crate::jer::read_optional(v, "crossState", |x| {
+            <PersonalCrossingInProgress as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_cluster_size = crate::jer::read_optional(v, "clusterSize", |x| {
+            <NumberOfParticipantsInCluster as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_cluster_radius = crate::jer::read_optional(v, "clusterRadius", |x| {
+            <PersonalClusterRadius as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_event_responder_type = crate::jer::read_optional(v, "eventResponderType", |x| {
+            <PublicSafetyEventResponderWorkerType as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_activity_type = crate::jer::read_optional(v, "activityType", |x| {
+            <PublicSafetyAndRoadWorkerActivity as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_activity_sub_type = crate::jer::read_optional(v, "activitySubType", |x| {
+            <PublicSafetyDirectingTrafficSubType as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_assist_type = crate::jer::read_optional(v, "assistType", |x| {
+            <PersonalAssistive as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_sizing = crate::jer::read_optional(v, "sizing", |x| {
+            <UserSizeAndBehaviour as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_attachment = crate::jer::read_optional(v, "attachment", |x| {
+            <Attachment as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_attachment_radius = crate::jer::read_optional(v, "attachmentRadius", |x| {
+            <AttachmentRadius as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_animal_type = crate::jer::read_optional(v, "animalType", |x| {
+            <AnimalType as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_regional = crate::jer::read_optional(v, "regional", |x| {
+            <PersonalSafetyMessageRegional as crate::jer::Jer>::read_jer(x)
+        })?;
+        Ok(Self {
+            basic_type: f_basic_type,
+            sec_mark: f_sec_mark,
+            msg_cnt: f_msg_cnt,
+            id: f_id,
+            position: f_position,
+            accuracy: f_accuracy,
+            speed: f_speed,
+            heading: f_heading,
+            accel_set: f_accel_set,
+            path_history: f_path_history,
+            path_prediction: f_path_prediction,
+            propulsion: f_propulsion,
+            use_state: f_use_state,
+            cross_request: f_cross_request,
+            cross_state: f_cross_state,
+            cluster_size: f_cluster_size,
+            cluster_radius: f_cluster_radius,
+            event_responder_type: f_event_responder_type,
+            activity_type: f_activity_type,
+            activity_sub_type: f_activity_sub_type,
+            assist_type: f_assist_type,
+            sizing: f_sizing,
+            attachment: f_attachment,
+            attachment_radius: f_attachment_radius,
+            animal_type: f_animal_type,
+            regional: f_regional,
+            extensions: uper::Extensions::new(),
+        })
+    }
+}
+
 #[cfg(feature = "_random")]
 impl uper::random::Random for PersonalSafetyMessage {
     fn random(g: &mut uper::random::Gen) -> Self {
@@ -549,6 +755,17 @@ impl PersonalDeviceUserType {
             Self::Extension(_) => "",
         }
     }
+    /// The value of an ASN.1 identifier, when the type has it.
+    pub fn from_identifier(name: &str) -> Option<Self> {
+        match name {
+            "unavailable" => Some(Self::Unavailable),
+            "aPEDESTRIAN" => Some(Self::APEDESTRIAN),
+            "aPEDALCYCLIST" => Some(Self::APEDALCYCLIST),
+            "aPUBLICSAFETYWORKER" => Some(Self::APUBLICSAFETYWORKER),
+            "anANIMAL" => Some(Self::AnANIMAL),
+            _ => None,
+        }
+    }
     fn root_index(self) -> i64 {
         match self {
             Self::Unavailable => 0,
@@ -604,6 +821,18 @@ impl Uper for PersonalDeviceUserType {
 impl uper::random::Random for PersonalDeviceUserType {
     fn random(g: &mut uper::random::Gen) -> Self {
         Self::ALL[g.below(5)]
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for PersonalDeviceUserType {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.string(self.identifier());
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let name = crate::jer::string(v)?;
+        Self::from_identifier(name)
+            .ok_or_else(|| crate::jer::JerError::new(std::format!("unknown identifier {name}")))
     }
 }
 
@@ -723,6 +952,53 @@ impl uper::random::Random for PropelledInformation {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for PropelledInformation {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        match self {
+            Self::Human(v) => {
+                out.begin_object();
+                out.key("human");
+                crate::jer::Jer::write_jer(v, out);
+                out.end_object();
+            }
+            Self::Animal(v) => {
+                out.begin_object();
+                out.key("animal");
+                crate::jer::Jer::write_jer(v, out);
+                out.end_object();
+            }
+            Self::Motor(v) => {
+                out.begin_object();
+                out.key("motor");
+                crate::jer::Jer::write_jer(v, out);
+                out.end_object();
+            }
+            Self::Extension { .. } => {
+                out.begin_object();
+                out.end_object();
+            }
+        }
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let (name, x) = crate::jer::alternative(v)?;
+        match name {
+            "human" => <HumanPropelledType as crate::jer::Jer>::read_jer(x)
+                .map(Self::Human)
+                .map_err(|e| e.within(name)),
+            "animal" => <AnimalPropelledType as crate::jer::Jer>::read_jer(x)
+                .map(Self::Animal)
+                .map_err(|e| e.within(name)),
+            "motor" => <MotorizedPropelledType as crate::jer::Jer>::read_jer(x)
+                .map(Self::Motor)
+                .map_err(|e| e.within(name)),
+            _ => Err(crate::jer::JerError::new(std::format!(
+                "unknown alternative {name}"
+            ))),
+        }
+    }
+}
+
 /// ASN.1 `HumanPropelledType` (module `PersonalSafetyMessage`): ENUMERATED (extensible).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum HumanPropelledType {
@@ -774,6 +1050,18 @@ impl HumanPropelledType {
             Self::PushOrKickScooter => "pushOrKickScooter",
             Self::Wheelchair => "wheelchair",
             Self::Extension(_) => "",
+        }
+    }
+    /// The value of an ASN.1 identifier, when the type has it.
+    pub fn from_identifier(name: &str) -> Option<Self> {
+        match name {
+            "unavailable" => Some(Self::Unavailable),
+            "otherTypes" => Some(Self::OtherTypes),
+            "onFoot" => Some(Self::OnFoot),
+            "skateboard" => Some(Self::Skateboard),
+            "pushOrKickScooter" => Some(Self::PushOrKickScooter),
+            "wheelchair" => Some(Self::Wheelchair),
+            _ => None,
         }
     }
     fn root_index(self) -> i64 {
@@ -835,6 +1123,18 @@ impl uper::random::Random for HumanPropelledType {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for HumanPropelledType {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.string(self.identifier());
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let name = crate::jer::string(v)?;
+        Self::from_identifier(name)
+            .ok_or_else(|| crate::jer::JerError::new(std::format!("unknown identifier {name}")))
+    }
+}
+
 /// ASN.1 `AnimalPropelledType` (module `PersonalSafetyMessage`): ENUMERATED (extensible).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum AnimalPropelledType {
@@ -876,6 +1176,16 @@ impl AnimalPropelledType {
             Self::AnimalMounted => "animalMounted",
             Self::AnimalDrawnCarriage => "animalDrawnCarriage",
             Self::Extension(_) => "",
+        }
+    }
+    /// The value of an ASN.1 identifier, when the type has it.
+    pub fn from_identifier(name: &str) -> Option<Self> {
+        match name {
+            "unavailable" => Some(Self::Unavailable),
+            "otherTypes" => Some(Self::OtherTypes),
+            "animalMounted" => Some(Self::AnimalMounted),
+            "animalDrawnCarriage" => Some(Self::AnimalDrawnCarriage),
+            _ => None,
         }
     }
     fn root_index(self) -> i64 {
@@ -935,6 +1245,18 @@ impl uper::random::Random for AnimalPropelledType {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for AnimalPropelledType {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.string(self.identifier());
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let name = crate::jer::string(v)?;
+        Self::from_identifier(name)
+            .ok_or_else(|| crate::jer::JerError::new(std::format!("unknown identifier {name}")))
+    }
+}
+
 /// ASN.1 `MotorizedPropelledType` (module `PersonalSafetyMessage`): ENUMERATED (extensible).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum MotorizedPropelledType {
@@ -986,6 +1308,18 @@ impl MotorizedPropelledType {
             Self::Scooter => "scooter",
             Self::SelfBalancingDevice => "selfBalancingDevice",
             Self::Extension(_) => "",
+        }
+    }
+    /// The value of an ASN.1 identifier, when the type has it.
+    pub fn from_identifier(name: &str) -> Option<Self> {
+        match name {
+            "unavailable" => Some(Self::Unavailable),
+            "otherTypes" => Some(Self::OtherTypes),
+            "wheelChair" => Some(Self::WheelChair),
+            "bicycle" => Some(Self::Bicycle),
+            "scooter" => Some(Self::Scooter),
+            "selfBalancingDevice" => Some(Self::SelfBalancingDevice),
+            _ => None,
         }
     }
     fn root_index(self) -> i64 {
@@ -1047,6 +1381,18 @@ impl uper::random::Random for MotorizedPropelledType {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for MotorizedPropelledType {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.string(self.identifier());
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let name = crate::jer::string(v)?;
+        Self::from_identifier(name)
+            .ok_or_else(|| crate::jer::JerError::new(std::format!("unknown identifier {name}")))
+    }
+}
+
 /// ASN.1 `PersonalDeviceUsageState` (module `PersonalSafetyMessage`): BIT STRING (SIZE(9, ...)).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub struct PersonalDeviceUsageState(pub uper::Bits<2>);
@@ -1097,6 +1443,19 @@ impl Uper for PersonalDeviceUsageState {
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_bits(w, Self::SIZE, &self.0)
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for PersonalDeviceUsageState {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.bits(self.0.as_bytes(), self.0.len());
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let (bytes, len) = crate::jer::bits(v, 9, 9)?;
+        uper::Bits::from_bytes(&bytes, len)
+            .map(Self)
+            .ok_or_else(crate::jer::over_capacity)
     }
 }
 
@@ -1153,6 +1512,16 @@ impl NumberOfParticipantsInCluster {
             Self::Extension(_) => "",
         }
     }
+    /// The value of an ASN.1 identifier, when the type has it.
+    pub fn from_identifier(name: &str) -> Option<Self> {
+        match name {
+            "unavailable" => Some(Self::Unavailable),
+            "small" => Some(Self::Small),
+            "medium" => Some(Self::Medium),
+            "large" => Some(Self::Large),
+            _ => None,
+        }
+    }
     fn root_index(self) -> i64 {
         match self {
             Self::Unavailable => 0,
@@ -1207,6 +1576,18 @@ impl Uper for NumberOfParticipantsInCluster {
 impl uper::random::Random for NumberOfParticipantsInCluster {
     fn random(g: &mut uper::random::Gen) -> Self {
         Self::ALL[g.below(4)]
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for NumberOfParticipantsInCluster {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.string(self.identifier());
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let name = crate::jer::string(v)?;
+        Self::from_identifier(name)
+            .ok_or_else(|| crate::jer::JerError::new(std::format!("unknown identifier {name}")))
     }
 }
 
@@ -1284,6 +1665,20 @@ impl PublicSafetyEventResponderWorkerType {
             Self::Extension(_) => "",
         }
     }
+    /// The value of an ASN.1 identifier, when the type has it.
+    pub fn from_identifier(name: &str) -> Option<Self> {
+        match name {
+            "unavailable" => Some(Self::Unavailable),
+            "towOperater" => Some(Self::TowOperater),
+            "fireAndEMSWorker" => Some(Self::FireAndEMSWorker),
+            "aDOTWorker" => Some(Self::ADOTWorker),
+            "lawEnforcement" => Some(Self::LawEnforcement),
+            "hazmatResponder" => Some(Self::HazmatResponder),
+            "animalControlWorker" => Some(Self::AnimalControlWorker),
+            "otherPersonnel" => Some(Self::OtherPersonnel),
+            _ => None,
+        }
+    }
     fn root_index(self) -> i64 {
         match self {
             Self::Unavailable => 0,
@@ -1345,6 +1740,18 @@ impl uper::random::Random for PublicSafetyEventResponderWorkerType {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for PublicSafetyEventResponderWorkerType {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.string(self.identifier());
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let name = crate::jer::string(v)?;
+        Self::from_identifier(name)
+            .ok_or_else(|| crate::jer::JerError::new(std::format!("unknown identifier {name}")))
+    }
+}
+
 /// ASN.1 `PublicSafetyAndRoadWorkerActivity` (module `PersonalSafetyMessage`): BIT STRING (SIZE(6, ...)).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub struct PublicSafetyAndRoadWorkerActivity(pub uper::Bits<2>);
@@ -1389,6 +1796,19 @@ impl Uper for PublicSafetyAndRoadWorkerActivity {
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_bits(w, Self::SIZE, &self.0)
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for PublicSafetyAndRoadWorkerActivity {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.bits(self.0.as_bytes(), self.0.len());
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let (bytes, len) = crate::jer::bits(v, 6, 6)?;
+        uper::Bits::from_bytes(&bytes, len)
+            .map(Self)
+            .ok_or_else(crate::jer::over_capacity)
     }
 }
 
@@ -1450,6 +1870,19 @@ impl Uper for PublicSafetyDirectingTrafficSubType {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for PublicSafetyDirectingTrafficSubType {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.bits(self.0.as_bytes(), self.0.len());
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let (bytes, len) = crate::jer::bits(v, 7, 7)?;
+        uper::Bits::from_bytes(&bytes, len)
+            .map(Self)
+            .ok_or_else(crate::jer::over_capacity)
+    }
+}
+
 #[cfg(feature = "_random")]
 impl uper::random::Random for PublicSafetyDirectingTrafficSubType {
     fn random(g: &mut uper::random::Gen) -> Self {
@@ -1502,6 +1935,19 @@ impl Uper for PersonalAssistive {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for PersonalAssistive {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.bits(self.0.as_bytes(), self.0.len());
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let (bytes, len) = crate::jer::bits(v, 6, 6)?;
+        uper::Bits::from_bytes(&bytes, len)
+            .map(Self)
+            .ok_or_else(crate::jer::over_capacity)
+    }
+}
+
 #[cfg(feature = "_random")]
 impl uper::random::Random for PersonalAssistive {
     fn random(g: &mut uper::random::Gen) -> Self {
@@ -1549,6 +1995,19 @@ impl Uper for UserSizeAndBehaviour {
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_bits(w, Self::SIZE, &self.0)
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for UserSizeAndBehaviour {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.bits(self.0.as_bytes(), self.0.len());
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let (bytes, len) = crate::jer::bits(v, 5, 5)?;
+        uper::Bits::from_bytes(&bytes, len)
+            .map(Self)
+            .ok_or_else(crate::jer::over_capacity)
     }
 }
 
@@ -1619,6 +2078,19 @@ impl Attachment {
             Self::Extension(_) => "",
         }
     }
+    /// The value of an ASN.1 identifier, when the type has it.
+    pub fn from_identifier(name: &str) -> Option<Self> {
+        match name {
+            "unavailable" => Some(Self::Unavailable),
+            "stroller" => Some(Self::Stroller),
+            "bicycleTrailer" => Some(Self::BicycleTrailer),
+            "cart" => Some(Self::Cart),
+            "wheelchair" => Some(Self::Wheelchair),
+            "otherWalkAssistAttachments" => Some(Self::OtherWalkAssistAttachments),
+            "pet" => Some(Self::Pet),
+            _ => None,
+        }
+    }
     fn root_index(self) -> i64 {
         match self {
             Self::Unavailable => 0,
@@ -1679,6 +2151,18 @@ impl uper::random::Random for Attachment {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for Attachment {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.string(self.identifier());
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let name = crate::jer::string(v)?;
+        Self::from_identifier(name)
+            .ok_or_else(|| crate::jer::JerError::new(std::format!("unknown identifier {name}")))
+    }
+}
+
 /// ASN.1 `AttachmentRadius` (module `PersonalSafetyMessage`): INTEGER (0..200).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub struct AttachmentRadius(u8);
@@ -1726,6 +2210,16 @@ impl AnimalType {
             Self::Pet => "pet",
             Self::Farm => "farm",
             Self::Extension(_) => "",
+        }
+    }
+    /// The value of an ASN.1 identifier, when the type has it.
+    pub fn from_identifier(name: &str) -> Option<Self> {
+        match name {
+            "unavailable" => Some(Self::Unavailable),
+            "serviceUse" => Some(Self::ServiceUse),
+            "pet" => Some(Self::Pet),
+            "farm" => Some(Self::Farm),
+            _ => None,
         }
     }
     fn root_index(self) -> i64 {
@@ -1785,6 +2279,18 @@ impl uper::random::Random for AnimalType {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for AnimalType {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.string(self.identifier());
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let name = crate::jer::string(v)?;
+        Self::from_identifier(name)
+            .ok_or_else(|| crate::jer::JerError::new(std::format!("unknown identifier {name}")))
+    }
+}
+
 /// ASN.1 `PersonalSafetyMessage.regional` (module `PersonalSafetyMessage`): SEQUENCE OF RegPersonalSafetyMessage (SIZE(1..4)).
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub struct PersonalSafetyMessageRegional(pub uper::SeqOf<RegPersonalSafetyMessage, 1>);
@@ -1827,6 +2333,30 @@ impl Uper for PersonalSafetyMessageRegional {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for PersonalSafetyMessageRegional {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_array();
+        for item in self.0.iter() {
+            crate::jer::Jer::write_jer(item, out);
+        }
+        out.end_array();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let items = crate::jer::array(v)?;
+        if items.len() < 1 {
+            return Err(crate::jer::invalid("size"));
+        }
+        let mut list = Self::new();
+        for (i, x) in items.iter().enumerate() {
+            let item = <RegPersonalSafetyMessage as crate::jer::Jer>::read_jer(x)
+                .map_err(|e| e.within(&std::format!("[{i}]")))?;
+            list.0.push(item).map_err(|_| crate::jer::over_capacity())?;
+        }
+        Ok(list)
+    }
+}
+
 #[cfg(feature = "_random")]
 impl uper::random::Random for PersonalSafetyMessageRegional {
     fn random(g: &mut uper::random::Gen) -> Self {
@@ -1859,6 +2389,57 @@ impl RegPersonalSafetyMessage {
         match self {
             Self::Unknown { id, .. } => *id,
         }
+    }
+}
+
+impl RegPersonalSafetyMessage {
+    /// Writes the id and the value as members `id_name` and `value_name` of an object.
+    #[cfg(feature = "jer")]
+    pub fn write_jer_members(
+        &self,
+        out: &mut crate::jer::JerWriter,
+        id_name: &str,
+        value_name: &str,
+    ) {
+        out.key(id_name);
+        out.int(self.id().get() as i64);
+        out.key(value_name);
+        match self {
+            Self::Unknown { content, .. } => out.hex(content),
+        }
+    }
+    /// Reads the id and the value from members `id_name` and `value_name` of an object.
+    #[cfg(feature = "jer")]
+    pub fn read_jer_members(
+        v: &crate::jer::Value,
+        id_name: &str,
+        value_name: &str,
+    ) -> crate::jer::JerResult<Self> {
+        let id = crate::jer::read_member(
+            v,
+            id_name,
+            <super::common::RegionId as crate::jer::Jer>::read_jer,
+        )?;
+        let x = crate::jer::required(v, value_name)?;
+        match id.get() {
+            _ => {
+                let content = uper::Octets::from_slice(&crate::jer::hex(x)?)
+                    .ok_or_else(crate::jer::over_capacity)?;
+                Ok(Self::Unknown { id, content })
+            }
+        }
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for RegPersonalSafetyMessage {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        self.write_jer_members(out, "regionId", "regExtValue");
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        Self::read_jer_members(v, "regionId", "regExtValue")
     }
 }
 

@@ -122,6 +122,73 @@ impl Uper for ProbeDataManagement {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for ProbeDataManagement {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        if let Some(v) = &self.time_stamp {
+            out.key("timeStamp");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        out.key("sample");
+        crate::jer::Jer::write_jer(&self.sample, out);
+        out.key("directions");
+        crate::jer::Jer::write_jer(&self.directions, out);
+        out.key("term");
+        crate::jer::Jer::write_jer(&self.term, out);
+        out.key("snapshot");
+        crate::jer::Jer::write_jer(&self.snapshot, out);
+        out.key("txInterval");
+        crate::jer::Jer::write_jer(&self.tx_interval, out);
+        if let Some(v) = &self.data_elements {
+            out.key("dataElements");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.regional {
+            out.key("regional");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        crate::jer::member(v, "")?;
+        let f_time_stamp = crate::jer::read_optional(v, "timeStamp", |x| {
+            <super::common::MinuteOfTheYear as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_sample =
+            crate::jer::read_member(v, "sample", |x| <Sample as crate::jer::Jer>::read_jer(x))?;
+        let f_directions = crate::jer::read_member(v, "directions", |x| {
+            <super::common::HeadingSlice as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_term = crate::jer::read_member(v, "term", |x| {
+            <ProbeDataManagementTerm as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_snapshot = crate::jer::read_member(v, "snapshot", |x| {
+            <ProbeDataManagementSnapshot as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_tx_interval = crate::jer::read_member(v, "txInterval", |x| {
+            <SecondOfTime as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_data_elements = crate::jer::read_optional(v, "dataElements", |x| {
+            <VehicleStatusRequestList as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_regional = crate::jer::read_optional(v, "regional", |x| {
+            <ProbeDataManagementRegional as crate::jer::Jer>::read_jer(x)
+        })?;
+        Ok(Self {
+            time_stamp: f_time_stamp,
+            sample: f_sample,
+            directions: f_directions,
+            term: f_term,
+            snapshot: f_snapshot,
+            tx_interval: f_tx_interval,
+            data_elements: f_data_elements,
+            regional: f_regional,
+            extensions: uper::Extensions::new(),
+        })
+    }
+}
+
 #[cfg(feature = "_random")]
 impl uper::random::Random for ProbeDataManagement {
     fn random(g: &mut uper::random::Gen) -> Self {
@@ -183,6 +250,31 @@ impl Uper for Sample {
         self.sample_start.encode_uper(w)?;
         self.sample_end.encode_uper(w)?;
         Ok(())
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for Sample {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        out.key("sampleStart");
+        crate::jer::Jer::write_jer(&self.sample_start, out);
+        out.key("sampleEnd");
+        crate::jer::Jer::write_jer(&self.sample_end, out);
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        crate::jer::member(v, "")?;
+        let f_sample_start = crate::jer::read_member(v, "sampleStart", |x| {
+            <SampleSampleStart as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_sample_end = crate::jer::read_member(v, "sampleEnd", |x| {
+            <SampleSampleEnd as crate::jer::Jer>::read_jer(x)
+        })?;
+        Ok(Self {
+            sample_start: f_sample_start,
+            sample_end: f_sample_end,
+        })
     }
 }
 
@@ -293,6 +385,40 @@ impl uper::random::Random for ProbeDataManagementTerm {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for ProbeDataManagementTerm {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        match self {
+            Self::Termtime(v) => {
+                out.begin_object();
+                out.key("termtime");
+                crate::jer::Jer::write_jer(v, out);
+                out.end_object();
+            }
+            Self::TermDistance(v) => {
+                out.begin_object();
+                out.key("termDistance");
+                crate::jer::Jer::write_jer(v, out);
+                out.end_object();
+            }
+        }
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let (name, x) = crate::jer::alternative(v)?;
+        match name {
+            "termtime" => <TermTime as crate::jer::Jer>::read_jer(x)
+                .map(Self::Termtime)
+                .map_err(|e| e.within(name)),
+            "termDistance" => <TermDistance as crate::jer::Jer>::read_jer(x)
+                .map(Self::TermDistance)
+                .map_err(|e| e.within(name)),
+            _ => Err(crate::jer::JerError::new(std::format!(
+                "unknown alternative {name}"
+            ))),
+        }
+    }
+}
+
 /// ASN.1 `TermTime` (module `ProbeDataManagement`): INTEGER (1..1800).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub struct TermTime(u16);
@@ -386,6 +512,40 @@ impl uper::random::Random for ProbeDataManagementSnapshot {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for ProbeDataManagementSnapshot {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        match self {
+            Self::SnapshotTime(v) => {
+                out.begin_object();
+                out.key("snapshotTime");
+                crate::jer::Jer::write_jer(v, out);
+                out.end_object();
+            }
+            Self::SnapshotDistance(v) => {
+                out.begin_object();
+                out.key("snapshotDistance");
+                crate::jer::Jer::write_jer(v, out);
+                out.end_object();
+            }
+        }
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let (name, x) = crate::jer::alternative(v)?;
+        match name {
+            "snapshotTime" => <SnapshotTime as crate::jer::Jer>::read_jer(x)
+                .map(Self::SnapshotTime)
+                .map_err(|e| e.within(name)),
+            "snapshotDistance" => <SnapshotDistance as crate::jer::Jer>::read_jer(x)
+                .map(Self::SnapshotDistance)
+                .map_err(|e| e.within(name)),
+            _ => Err(crate::jer::JerError::new(std::format!(
+                "unknown alternative {name}"
+            ))),
+        }
+    }
+}
+
 /// ASN.1 `SnapshotTime` (module `ProbeDataManagement`): SEQUENCE.
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub struct SnapshotTime {
@@ -426,6 +586,43 @@ impl Uper for SnapshotTime {
         self.speed2.encode_uper(w)?;
         self.time2.encode_uper(w)?;
         Ok(())
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for SnapshotTime {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        out.key("speed1");
+        crate::jer::Jer::write_jer(&self.speed1, out);
+        out.key("time1");
+        crate::jer::Jer::write_jer(&self.time1, out);
+        out.key("speed2");
+        crate::jer::Jer::write_jer(&self.speed2, out);
+        out.key("time2");
+        crate::jer::Jer::write_jer(&self.time2, out);
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        crate::jer::member(v, "")?;
+        let f_speed1 = crate::jer::read_member(v, "speed1", |x| {
+            <super::common::GrossSpeed as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_time1 = crate::jer::read_member(v, "time1", |x| {
+            <SecondOfTime as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_speed2 = crate::jer::read_member(v, "speed2", |x| {
+            <super::common::GrossSpeed as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_time2 = crate::jer::read_member(v, "time2", |x| {
+            <SecondOfTime as crate::jer::Jer>::read_jer(x)
+        })?;
+        Ok(Self {
+            speed1: f_speed1,
+            time1: f_time1,
+            speed2: f_speed2,
+            time2: f_time2,
+        })
     }
 }
 
@@ -486,6 +683,43 @@ impl Uper for SnapshotDistance {
         self.distance2.encode_uper(w)?;
         self.speed2.encode_uper(w)?;
         Ok(())
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for SnapshotDistance {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        out.key("distance1");
+        crate::jer::Jer::write_jer(&self.distance1, out);
+        out.key("speed1");
+        crate::jer::Jer::write_jer(&self.speed1, out);
+        out.key("distance2");
+        crate::jer::Jer::write_jer(&self.distance2, out);
+        out.key("speed2");
+        crate::jer::Jer::write_jer(&self.speed2, out);
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        crate::jer::member(v, "")?;
+        let f_distance1 = crate::jer::read_member(v, "distance1", |x| {
+            <GrossDistance as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_speed1 = crate::jer::read_member(v, "speed1", |x| {
+            <super::common::GrossSpeed as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_distance2 = crate::jer::read_member(v, "distance2", |x| {
+            <GrossDistance as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_speed2 = crate::jer::read_member(v, "speed2", |x| {
+            <super::common::GrossSpeed as crate::jer::Jer>::read_jer(x)
+        })?;
+        Ok(Self {
+            distance1: f_distance1,
+            speed1: f_speed1,
+            distance2: f_distance2,
+            speed2: f_speed2,
+        })
     }
 }
 
@@ -551,6 +785,30 @@ impl Uper for VehicleStatusRequestList {
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for VehicleStatusRequestList {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_array();
+        for item in self.0.iter() {
+            crate::jer::Jer::write_jer(item, out);
+        }
+        out.end_array();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let items = crate::jer::array(v)?;
+        if items.len() < 1 {
+            return Err(crate::jer::invalid("size"));
+        }
+        let mut list = Self::new();
+        for (i, x) in items.iter().enumerate() {
+            let item = <VehicleStatusRequest as crate::jer::Jer>::read_jer(x)
+                .map_err(|e| e.within(&std::format!("[{i}]")))?;
+            list.0.push(item).map_err(|_| crate::jer::over_capacity())?;
+        }
+        Ok(list)
     }
 }
 
@@ -676,6 +934,56 @@ impl Uper for VehicleStatusRequest {
             self.extensions.encode(w)?;
         }
         Ok(())
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for VehicleStatusRequest {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        out.key("dataType");
+        crate::jer::Jer::write_jer(&self.data_type, out);
+        if let Some(v) = &self.sub_type {
+            out.key("subType");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.send_on_less_then_value {
+            out.key("sendOnLessThenValue");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.send_on_more_then_value {
+            out.key("sendOnMoreThenValue");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.send_all {
+            out.key("sendAll");
+            out.bool(*v);
+        }
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        crate::jer::member(v, "")?;
+        let f_data_type = crate::jer::read_member(v, "dataType", |x| {
+            <VehicleStatusDeviceTypeTag as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_sub_type = crate::jer::read_optional(v, "subType", |x| {
+            <VehicleStatusRequestSubType as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_send_on_less_then_value = crate::jer::read_optional(v, "sendOnLessThenValue", |x| {
+            <VehicleStatusRequestSendOnLessThenValue as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_send_on_more_then_value = crate::jer::read_optional(v, "sendOnMoreThenValue", |x| {
+            <VehicleStatusRequestSendOnMoreThenValue as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_send_all = crate::jer::read_optional(v, "sendAll", |x| crate::jer::boolean(x))?;
+        Ok(Self {
+            data_type: f_data_type,
+            sub_type: f_sub_type,
+            send_on_less_then_value: f_send_on_less_then_value,
+            send_on_more_then_value: f_send_on_more_then_value,
+            send_all: f_send_all,
+            extensions: uper::Extensions::new(),
+        })
     }
 }
 
@@ -877,6 +1185,41 @@ impl VehicleStatusDeviceTypeTag {
             Self::Extension(_) => "",
         }
     }
+    /// The value of an ASN.1 identifier, when the type has it.
+    pub fn from_identifier(name: &str) -> Option<Self> {
+        match name {
+            "unknown" => Some(Self::Unknown),
+            "lights" => Some(Self::Lights),
+            "wipers" => Some(Self::Wipers),
+            "brakes" => Some(Self::Brakes),
+            "stab" => Some(Self::Stab),
+            "trac" => Some(Self::Trac),
+            "abs" => Some(Self::Abs),
+            "sunS" => Some(Self::SunS),
+            "rainS" => Some(Self::RainS),
+            "airTemp" => Some(Self::AirTemp),
+            "steering" => Some(Self::Steering),
+            "vertAccelThres" => Some(Self::VertAccelThres),
+            "vertAccel" => Some(Self::VertAccel),
+            "hozAccelLong" => Some(Self::HozAccelLong),
+            "hozAccelLat" => Some(Self::HozAccelLat),
+            "hozAccelCon" => Some(Self::HozAccelCon),
+            "accel4way" => Some(Self::Accel4way),
+            "confidenceSet" => Some(Self::ConfidenceSet),
+            "obDist" => Some(Self::ObDist),
+            "obDirect" => Some(Self::ObDirect),
+            "yaw" => Some(Self::Yaw),
+            "yawRateCon" => Some(Self::YawRateCon),
+            "dateTime" => Some(Self::DateTime),
+            "fullPos" => Some(Self::FullPos),
+            "position2D" => Some(Self::Position2D),
+            "position3D" => Some(Self::Position3D),
+            "vehicle" => Some(Self::Vehicle),
+            "speedHeadC" => Some(Self::SpeedHeadC),
+            "speedC" => Some(Self::SpeedC),
+            _ => None,
+        }
+    }
     fn root_index(self) -> i64 {
         match self {
             Self::Unknown => 0,
@@ -959,6 +1302,18 @@ impl uper::random::Random for VehicleStatusDeviceTypeTag {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for VehicleStatusDeviceTypeTag {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.string(self.identifier());
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let name = crate::jer::string(v)?;
+        Self::from_identifier(name)
+            .ok_or_else(|| crate::jer::JerError::new(std::format!("unknown identifier {name}")))
+    }
+}
+
 /// ASN.1 `VehicleStatusRequest.subType` (module `ProbeDataManagement`): INTEGER (1..15).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub struct VehicleStatusRequestSubType(u8);
@@ -1034,6 +1389,30 @@ impl Uper for ProbeDataManagementRegional {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for ProbeDataManagementRegional {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_array();
+        for item in self.0.iter() {
+            crate::jer::Jer::write_jer(item, out);
+        }
+        out.end_array();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let items = crate::jer::array(v)?;
+        if items.len() < 1 {
+            return Err(crate::jer::invalid("size"));
+        }
+        let mut list = Self::new();
+        for (i, x) in items.iter().enumerate() {
+            let item = <RegProbeDataManagement as crate::jer::Jer>::read_jer(x)
+                .map_err(|e| e.within(&std::format!("[{i}]")))?;
+            list.0.push(item).map_err(|_| crate::jer::over_capacity())?;
+        }
+        Ok(list)
+    }
+}
+
 #[cfg(feature = "_random")]
 impl uper::random::Random for ProbeDataManagementRegional {
     fn random(g: &mut uper::random::Gen) -> Self {
@@ -1064,6 +1443,57 @@ impl RegProbeDataManagement {
         match self {
             Self::Unknown { id, .. } => *id,
         }
+    }
+}
+
+impl RegProbeDataManagement {
+    /// Writes the id and the value as members `id_name` and `value_name` of an object.
+    #[cfg(feature = "jer")]
+    pub fn write_jer_members(
+        &self,
+        out: &mut crate::jer::JerWriter,
+        id_name: &str,
+        value_name: &str,
+    ) {
+        out.key(id_name);
+        out.int(self.id().get() as i64);
+        out.key(value_name);
+        match self {
+            Self::Unknown { content, .. } => out.hex(content),
+        }
+    }
+    /// Reads the id and the value from members `id_name` and `value_name` of an object.
+    #[cfg(feature = "jer")]
+    pub fn read_jer_members(
+        v: &crate::jer::Value,
+        id_name: &str,
+        value_name: &str,
+    ) -> crate::jer::JerResult<Self> {
+        let id = crate::jer::read_member(
+            v,
+            id_name,
+            <super::common::RegionId as crate::jer::Jer>::read_jer,
+        )?;
+        let x = crate::jer::required(v, value_name)?;
+        match id.get() {
+            _ => {
+                let content = uper::Octets::from_slice(&crate::jer::hex(x)?)
+                    .ok_or_else(crate::jer::over_capacity)?;
+                Ok(Self::Unknown { id, content })
+            }
+        }
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for RegProbeDataManagement {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        self.write_jer_members(out, "regionId", "regExtValue");
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        Self::read_jer_members(v, "regionId", "regExtValue")
     }
 }
 

@@ -130,6 +130,70 @@ impl Uper for ProbeVehicleData {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for ProbeVehicleData {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        if let Some(v) = &self.time_stamp {
+            out.key("timeStamp");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.seg_num {
+            out.key("segNum");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.probe_id {
+            out.key("probeID");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        out.key("startVector");
+        crate::jer::Jer::write_jer(&self.start_vector, out);
+        out.key("vehicleType");
+        crate::jer::Jer::write_jer(&self.vehicle_type, out);
+        out.key("snapshots");
+        crate::jer::Jer::write_jer(&self.snapshots, out);
+        if let Some(v) = &self.regional {
+            out.key("regional");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        crate::jer::member(v, "")?;
+        let f_time_stamp = crate::jer::read_optional(v, "timeStamp", |x| {
+            <super::common::MinuteOfTheYear as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_seg_num = crate::jer::read_optional(v, "segNum", |x| {
+            <ProbeSegmentNumber as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_probe_id = crate::jer::read_optional(v, "probeID", |x| {
+            <VehicleIdent as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_start_vector = crate::jer::read_member(v, "startVector", |x| {
+            <super::common::FullPositionVector as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_vehicle_type = crate::jer::read_member(v, "vehicleType", |x| {
+            <super::common::VehicleClassification as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_snapshots = crate::jer::read_member(v, "snapshots", |x| {
+            <ProbeVehicleDataSnapshots as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_regional = crate::jer::read_optional(v, "regional", |x| {
+            <ProbeVehicleDataRegional as crate::jer::Jer>::read_jer(x)
+        })?;
+        Ok(Self {
+            time_stamp: f_time_stamp,
+            seg_num: f_seg_num,
+            probe_id: f_probe_id,
+            start_vector: f_start_vector,
+            vehicle_type: f_vehicle_type,
+            snapshots: f_snapshots,
+            regional: f_regional,
+            extensions: uper::Extensions::new(),
+        })
+    }
+}
+
 #[cfg(feature = "_random")]
 impl uper::random::Random for ProbeVehicleData {
     fn random(g: &mut uper::random::Gen) -> Self {
@@ -317,6 +381,67 @@ impl Uper for VehicleIdent {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for VehicleIdent {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        if let Some(v) = &self.name {
+            out.key("name");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.vin {
+            out.key("vin");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.owner_code {
+            out.key("ownerCode");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.id {
+            out.key("id");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.vehicle_type {
+            out.key("vehicleType");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.vehicle_class {
+            out.key("vehicleClass");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        crate::jer::member(v, "")?;
+        let f_name = crate::jer::read_optional(v, "name", |x| {
+            <super::common::DescriptiveName as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_vin =
+            crate::jer::read_optional(v, "vin", |x| <VINstring as crate::jer::Jer>::read_jer(x))?;
+        let f_owner_code = crate::jer::read_optional(v, "ownerCode", |x| {
+            <VehicleIdentOwnerCode as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_id = crate::jer::read_optional(v, "id", |x| {
+            <super::common::VehicleID as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_vehicle_type = crate::jer::read_optional(v, "vehicleType", |x| {
+            <super::common::VehicleType as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_vehicle_class = crate::jer::read_optional(v, "vehicleClass", |x| {
+            <VehicleIdentVehicleClass as crate::jer::Jer>::read_jer(x)
+        })?;
+        Ok(Self {
+            name: f_name,
+            vin: f_vin,
+            owner_code: f_owner_code,
+            id: f_id,
+            vehicle_type: f_vehicle_type,
+            vehicle_class: f_vehicle_class,
+            extensions: uper::Extensions::new(),
+        })
+    }
+}
+
 #[cfg(feature = "_random")]
 impl uper::random::Random for VehicleIdent {
     fn random(g: &mut uper::random::Gen) -> Self {
@@ -394,6 +519,16 @@ impl Uper for VINstring {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for VINstring {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.hex(&self.0);
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        Self::new(&crate::jer::hex(v)?).ok_or_else(|| crate::jer::invalid("size"))
+    }
+}
+
 #[cfg(feature = "_random")]
 impl uper::random::Random for VINstring {
     fn random(g: &mut uper::random::Gen) -> Self {
@@ -438,6 +573,16 @@ impl Uper for VehicleIdentOwnerCode {
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_ia5(w, Self::SIZE, &self.0)
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for VehicleIdentOwnerCode {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.string(self.0.as_str());
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        Self::new(crate::jer::string(v)?).ok_or_else(|| crate::jer::invalid("size or character"))
     }
 }
 
@@ -557,6 +702,49 @@ impl uper::random::Random for VehicleIdentVehicleClass {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for VehicleIdentVehicleClass {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        match self {
+            Self::VGroup(v) => {
+                out.begin_object();
+                out.key("vGroup");
+                crate::jer::Jer::write_jer(v, out);
+                out.end_object();
+            }
+            Self::RGroup(v) => {
+                out.begin_object();
+                out.key("rGroup");
+                crate::jer::Jer::write_jer(v, out);
+                out.end_object();
+            }
+            Self::REquip(v) => {
+                out.begin_object();
+                out.key("rEquip");
+                crate::jer::Jer::write_jer(v, out);
+                out.end_object();
+            }
+        }
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let (name, x) = crate::jer::alternative(v)?;
+        match name {
+            "vGroup" => <super::itis::VehicleGroupAffected as crate::jer::Jer>::read_jer(x)
+                .map(Self::VGroup)
+                .map_err(|e| e.within(name)),
+            "rGroup" => <super::itis::ResponderGroupAffected as crate::jer::Jer>::read_jer(x)
+                .map(Self::RGroup)
+                .map_err(|e| e.within(name)),
+            "rEquip" => <super::itis::IncidentResponseEquipment as crate::jer::Jer>::read_jer(x)
+                .map(Self::REquip)
+                .map_err(|e| e.within(name)),
+            _ => Err(crate::jer::JerError::new(std::format!(
+                "unknown alternative {name}"
+            ))),
+        }
+    }
+}
+
 /// ASN.1 `ProbeVehicleData.snapshots` (module `ProbeVehicleData`): SEQUENCE OF Snapshot (SIZE(1..32)).
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub struct ProbeVehicleDataSnapshots(pub uper::SeqOf<Snapshot, 4>);
@@ -596,6 +784,30 @@ impl Uper for ProbeVehicleDataSnapshots {
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for ProbeVehicleDataSnapshots {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_array();
+        for item in self.0.iter() {
+            crate::jer::Jer::write_jer(item, out);
+        }
+        out.end_array();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let items = crate::jer::array(v)?;
+        if items.len() < 1 {
+            return Err(crate::jer::invalid("size"));
+        }
+        let mut list = Self::new();
+        for (i, x) in items.iter().enumerate() {
+            let item = <Snapshot as crate::jer::Jer>::read_jer(x)
+                .map_err(|e| e.within(&std::format!("[{i}]")))?;
+            list.0.push(item).map_err(|_| crate::jer::over_capacity())?;
+        }
+        Ok(list)
     }
 }
 
@@ -685,6 +897,42 @@ impl Uper for Snapshot {
             self.extensions.encode(w)?;
         }
         Ok(())
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for Snapshot {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        out.key("thePosition");
+        crate::jer::Jer::write_jer(&self.the_position, out);
+        if let Some(v) = &self.safety_ext {
+            out.key("safetyExt");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.data_set {
+            out.key("dataSet");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        crate::jer::member(v, "")?;
+        let f_the_position = crate::jer::read_member(v, "thePosition", |x| {
+            <super::common::FullPositionVector as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_safety_ext = crate::jer::read_optional(v, "safetyExt", |x| {
+            <super::common::VehicleSafetyExtensions as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_data_set = crate::jer::read_optional(v, "dataSet", |x| {
+            <VehicleStatus as crate::jer::Jer>::read_jer(x)
+        })?;
+        Ok(Self {
+            the_position: f_the_position,
+            safety_ext: f_safety_ext,
+            data_set: f_data_set,
+            extensions: uper::Extensions::new(),
+        })
     }
 }
 
@@ -1122,6 +1370,196 @@ impl Uper for VehicleStatus {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for VehicleStatus {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        if let Some(v) = &self.lights {
+            out.key("lights");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.light_bar {
+            out.key("lightBar");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.wipers {
+            out.key("wipers");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.brake_status {
+            out.key("brakeStatus");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.brake_pressure {
+            out.key("brakePressure");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.road_friction {
+            out.key("roadFriction");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.sun_data {
+            out.key("sunData");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.rain_data {
+            out.key("rainData");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.air_temp {
+            out.key("airTemp");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.air_pres {
+            out.key("airPres");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.steering {
+            out.key("steering");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.accel_sets {
+            out.key("accelSets");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.object {
+            out.key("object");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.full_pos {
+            out.key("fullPos");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.throttle_pos {
+            out.key("throttlePos");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.speed_head_c {
+            out.key("speedHeadC");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.speed_c {
+            out.key("speedC");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.vehicle_data {
+            out.key("vehicleData");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.vehicle_ident {
+            out.key("vehicleIdent");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.j1939data {
+            out.key("j1939data");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.weather_report {
+            out.key("weatherReport");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.gnss_status {
+            out.key("gnssStatus");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        crate::jer::member(v, "")?;
+        let f_lights = crate::jer::read_optional(v, "lights", |x| {
+            <super::common::ExteriorLights as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_light_bar = crate::jer::read_optional(v, "lightBar", |x| {
+            <super::common::LightbarInUse as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_wipers = crate::jer::read_optional(v, "wipers", |x| {
+            <super::common::WiperSet as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_brake_status = crate::jer::read_optional(v, "brakeStatus", |x| {
+            <super::common::BrakeSystemStatus as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_brake_pressure = crate::jer::read_optional(v, "brakePressure", |x| {
+            <BrakeAppliedPressure as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_road_friction = crate::jer::read_optional(v, "roadFriction", |x| {
+            <super::common::CoefficientOfFriction as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_sun_data = crate::jer::read_optional(v, "sunData", |x| {
+            <SunSensor as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_rain_data = crate::jer::read_optional(v, "rainData", |x| {
+            <RainSensor as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_air_temp = crate::jer::read_optional(v, "airTemp", |x| {
+            <super::common::AmbientAirTemperature as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_air_pres = crate::jer::read_optional(v, "airPres", |x| {
+            <super::common::AmbientAirPressure as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_steering = crate::jer::read_optional(v, "steering", |x| {
+            <VehicleStatusSteering as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_accel_sets = crate::jer::read_optional(v, "accelSets", |x| {
+            <VehicleStatusAccelSets as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_object = crate::jer::read_optional(v, "object", |x| {
+            <VehicleStatusObject as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_full_pos = crate::jer::read_optional(v, "fullPos", |x| {
+            <super::common::FullPositionVector as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_throttle_pos = crate::jer::read_optional(v, "throttlePos", |x| {
+            <ThrottlePosition as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_speed_head_c = crate::jer::read_optional(v, "speedHeadC", |x| {
+            <super::common::SpeedandHeadingandThrottleConfidence as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_speed_c = crate::jer::read_optional(v, "speedC", |x| {
+            <super::common::SpeedConfidence as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_vehicle_data = crate::jer::read_optional(v, "vehicleData", |x| {
+            <VehicleStatusVehicleData as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_vehicle_ident = crate::jer::read_optional(v, "vehicleIdent", |x| {
+            <VehicleIdent as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_j1939data = crate::jer::read_optional(v, "j1939data", |x| {
+            <J1939data as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_weather_report = crate::jer::read_optional(v, "weatherReport", |x| {
+            <VehicleStatusWeatherReport as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_gnss_status = crate::jer::read_optional(v, "gnssStatus", |x| {
+            <super::common::GNSSstatus as crate::jer::Jer>::read_jer(x)
+        })?;
+        Ok(Self {
+            lights: f_lights,
+            light_bar: f_light_bar,
+            wipers: f_wipers,
+            brake_status: f_brake_status,
+            brake_pressure: f_brake_pressure,
+            road_friction: f_road_friction,
+            sun_data: f_sun_data,
+            rain_data: f_rain_data,
+            air_temp: f_air_temp,
+            air_pres: f_air_pres,
+            steering: f_steering,
+            accel_sets: f_accel_sets,
+            object: f_object,
+            full_pos: f_full_pos,
+            throttle_pos: f_throttle_pos,
+            speed_head_c: f_speed_head_c,
+            speed_c: f_speed_c,
+            vehicle_data: f_vehicle_data,
+            vehicle_ident: f_vehicle_ident,
+            j1939data: f_j1939data,
+            weather_report: f_weather_report,
+            gnss_status: f_gnss_status,
+            extensions: uper::Extensions::new(),
+        })
+    }
+}
+
 #[cfg(feature = "_random")]
 impl uper::random::Random for VehicleStatus {
     fn random(g: &mut uper::random::Gen) -> Self {
@@ -1344,6 +1782,28 @@ impl BrakeAppliedPressure {
             Self::MaxPressure => "maxPressure",
         }
     }
+    /// The value of an ASN.1 identifier, when the type has it.
+    pub fn from_identifier(name: &str) -> Option<Self> {
+        match name {
+            "unavailable" => Some(Self::Unavailable),
+            "minPressure" => Some(Self::MinPressure),
+            "bkLvl-2" => Some(Self::BkLvl2),
+            "bkLvl-3" => Some(Self::BkLvl3),
+            "bkLvl-4" => Some(Self::BkLvl4),
+            "bkLvl-5" => Some(Self::BkLvl5),
+            "bkLvl-6" => Some(Self::BkLvl6),
+            "bkLvl-7" => Some(Self::BkLvl7),
+            "bkLvl-8" => Some(Self::BkLvl8),
+            "bkLvl-9" => Some(Self::BkLvl9),
+            "bkLvl-10" => Some(Self::BkLvl10),
+            "bkLvl-11" => Some(Self::BkLvl11),
+            "bkLvl-12" => Some(Self::BkLvl12),
+            "bkLvl-13" => Some(Self::BkLvl13),
+            "bkLvl-14" => Some(Self::BkLvl14),
+            "maxPressure" => Some(Self::MaxPressure),
+            _ => None,
+        }
+    }
     fn root_index(self) -> i64 {
         match self {
             Self::Unavailable => 0,
@@ -1396,6 +1856,18 @@ impl Uper for BrakeAppliedPressure {
 impl uper::random::Random for BrakeAppliedPressure {
     fn random(g: &mut uper::random::Gen) -> Self {
         Self::ALL[g.below(16)]
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for BrakeAppliedPressure {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.string(self.identifier());
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let name = crate::jer::string(v)?;
+        Self::from_identifier(name)
+            .ok_or_else(|| crate::jer::JerError::new(std::format!("unknown identifier {name}")))
     }
 }
 
@@ -1463,6 +1935,20 @@ impl RainSensor {
             Self::HeavyDownpour => "heavyDownpour",
         }
     }
+    /// The value of an ASN.1 identifier, when the type has it.
+    pub fn from_identifier(name: &str) -> Option<Self> {
+        match name {
+            "none" => Some(Self::None),
+            "lightMist" => Some(Self::LightMist),
+            "heavyMist" => Some(Self::HeavyMist),
+            "lightRainOrDrizzle" => Some(Self::LightRainOrDrizzle),
+            "rain" => Some(Self::Rain),
+            "moderateRain" => Some(Self::ModerateRain),
+            "heavyRain" => Some(Self::HeavyRain),
+            "heavyDownpour" => Some(Self::HeavyDownpour),
+            _ => None,
+        }
+    }
     fn root_index(self) -> i64 {
         match self {
             Self::None => 0,
@@ -1507,6 +1993,18 @@ impl Uper for RainSensor {
 impl uper::random::Random for RainSensor {
     fn random(g: &mut uper::random::Gen) -> Self {
         Self::ALL[g.below(8)]
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for RainSensor {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.string(self.identifier());
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let name = crate::jer::string(v)?;
+        Self::from_identifier(name)
+            .ok_or_else(|| crate::jer::JerError::new(std::format!("unknown identifier {name}")))
     }
 }
 
@@ -1593,6 +2091,49 @@ impl Uper for VehicleStatusSteering {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for VehicleStatusSteering {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        out.key("angle");
+        crate::jer::Jer::write_jer(&self.angle, out);
+        if let Some(v) = &self.confidence {
+            out.key("confidence");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.rate {
+            out.key("rate");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.wheels {
+            out.key("wheels");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        crate::jer::member(v, "")?;
+        let f_angle = crate::jer::read_member(v, "angle", |x| {
+            <super::common::SteeringWheelAngle as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_confidence = crate::jer::read_optional(v, "confidence", |x| {
+            <SteeringWheelAngleConfidence as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_rate = crate::jer::read_optional(v, "rate", |x| {
+            <SteeringWheelAngleRateOfChange as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_wheels = crate::jer::read_optional(v, "wheels", |x| {
+            <DrivingWheelAngle as crate::jer::Jer>::read_jer(x)
+        })?;
+        Ok(Self {
+            angle: f_angle,
+            confidence: f_confidence,
+            rate: f_rate,
+            wheels: f_wheels,
+        })
+    }
+}
+
 #[cfg(feature = "_random")]
 impl uper::random::Random for VehicleStatusSteering {
     fn random(g: &mut uper::random::Gen) -> Self {
@@ -1656,6 +2197,16 @@ impl SteeringWheelAngleConfidence {
             Self::Prec0_02deg => "prec0-02deg",
         }
     }
+    /// The value of an ASN.1 identifier, when the type has it.
+    pub fn from_identifier(name: &str) -> Option<Self> {
+        match name {
+            "unavailable" => Some(Self::Unavailable),
+            "prec2deg" => Some(Self::Prec2deg),
+            "prec1deg" => Some(Self::Prec1deg),
+            "prec0-02deg" => Some(Self::Prec0_02deg),
+            _ => None,
+        }
+    }
     fn root_index(self) -> i64 {
         match self {
             Self::Unavailable => 0,
@@ -1696,6 +2247,18 @@ impl Uper for SteeringWheelAngleConfidence {
 impl uper::random::Random for SteeringWheelAngleConfidence {
     fn random(g: &mut uper::random::Gen) -> Self {
         Self::ALL[g.below(4)]
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for SteeringWheelAngleConfidence {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.string(self.identifier());
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let name = crate::jer::string(v)?;
+        Self::from_identifier(name)
+            .ok_or_else(|| crate::jer::JerError::new(std::format!("unknown identifier {name}")))
     }
 }
 
@@ -1833,6 +2396,59 @@ impl Uper for VehicleStatusAccelSets {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for VehicleStatusAccelSets {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        if let Some(v) = &self.accel4way {
+            out.key("accel4way");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.vert_accel_thres {
+            out.key("vertAccelThres");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.yaw_rate_con {
+            out.key("yawRateCon");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.hoz_accel_con {
+            out.key("hozAccelCon");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.confidence_set {
+            out.key("confidenceSet");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        crate::jer::member(v, "")?;
+        let f_accel4way = crate::jer::read_optional(v, "accel4way", |x| {
+            <super::common::AccelerationSet4Way as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_vert_accel_thres = crate::jer::read_optional(v, "vertAccelThres", |x| {
+            <super::common::VerticalAccelerationThreshold as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_yaw_rate_con = crate::jer::read_optional(v, "yawRateCon", |x| {
+            <YawRateConfidence as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_hoz_accel_con = crate::jer::read_optional(v, "hozAccelCon", |x| {
+            <AccelerationConfidence as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_confidence_set = crate::jer::read_optional(v, "confidenceSet", |x| {
+            <ConfidenceSet as crate::jer::Jer>::read_jer(x)
+        })?;
+        Ok(Self {
+            accel4way: f_accel4way,
+            vert_accel_thres: f_vert_accel_thres,
+            yaw_rate_con: f_yaw_rate_con,
+            hoz_accel_con: f_hoz_accel_con,
+            confidence_set: f_confidence_set,
+        })
+    }
+}
+
 #[cfg(feature = "_random")]
 impl uper::random::Random for VehicleStatusAccelSets {
     fn random(g: &mut uper::random::Gen) -> Self {
@@ -1929,6 +2545,20 @@ impl YawRateConfidence {
             Self::DegSec000_01 => "degSec-000-01",
         }
     }
+    /// The value of an ASN.1 identifier, when the type has it.
+    pub fn from_identifier(name: &str) -> Option<Self> {
+        match name {
+            "unavailable" => Some(Self::Unavailable),
+            "degSec-100-00" => Some(Self::DegSec100_00),
+            "degSec-010-00" => Some(Self::DegSec010_00),
+            "degSec-005-00" => Some(Self::DegSec005_00),
+            "degSec-001-00" => Some(Self::DegSec001_00),
+            "degSec-000-10" => Some(Self::DegSec000_10),
+            "degSec-000-05" => Some(Self::DegSec000_05),
+            "degSec-000-01" => Some(Self::DegSec000_01),
+            _ => None,
+        }
+    }
     fn root_index(self) -> i64 {
         match self {
             Self::Unavailable => 0,
@@ -1973,6 +2603,18 @@ impl Uper for YawRateConfidence {
 impl uper::random::Random for YawRateConfidence {
     fn random(g: &mut uper::random::Gen) -> Self {
         Self::ALL[g.below(8)]
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for YawRateConfidence {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.string(self.identifier());
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let name = crate::jer::string(v)?;
+        Self::from_identifier(name)
+            .ok_or_else(|| crate::jer::JerError::new(std::format!("unknown identifier {name}")))
     }
 }
 
@@ -2035,6 +2677,20 @@ impl AccelerationConfidence {
             Self::Accl000_01 => "accl-000-01",
         }
     }
+    /// The value of an ASN.1 identifier, when the type has it.
+    pub fn from_identifier(name: &str) -> Option<Self> {
+        match name {
+            "unavailable" => Some(Self::Unavailable),
+            "accl-100-00" => Some(Self::Accl100_00),
+            "accl-010-00" => Some(Self::Accl010_00),
+            "accl-005-00" => Some(Self::Accl005_00),
+            "accl-001-00" => Some(Self::Accl001_00),
+            "accl-000-10" => Some(Self::Accl000_10),
+            "accl-000-05" => Some(Self::Accl000_05),
+            "accl-000-01" => Some(Self::Accl000_01),
+            _ => None,
+        }
+    }
     fn root_index(self) -> i64 {
         match self {
             Self::Unavailable => 0,
@@ -2079,6 +2735,18 @@ impl Uper for AccelerationConfidence {
 impl uper::random::Random for AccelerationConfidence {
     fn random(g: &mut uper::random::Gen) -> Self {
         Self::ALL[g.below(8)]
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for AccelerationConfidence {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.string(self.identifier());
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let name = crate::jer::string(v)?;
+        Self::from_identifier(name)
+            .ok_or_else(|| crate::jer::JerError::new(std::format!("unknown identifier {name}")))
     }
 }
 
@@ -2241,6 +2909,76 @@ impl Uper for ConfidenceSet {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for ConfidenceSet {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        if let Some(v) = &self.accel_confidence {
+            out.key("accelConfidence");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.speed_confidence {
+            out.key("speedConfidence");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.time_confidence {
+            out.key("timeConfidence");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.pos_confidence {
+            out.key("posConfidence");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.steer_confidence {
+            out.key("steerConfidence");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.heading_confidence {
+            out.key("headingConfidence");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.throttle_confidence {
+            out.key("throttleConfidence");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        crate::jer::member(v, "")?;
+        let f_accel_confidence = crate::jer::read_optional(v, "accelConfidence", |x| {
+            <AccelSteerYawRateConfidence as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_speed_confidence = crate::jer::read_optional(v, "speedConfidence", |x| {
+            <super::common::SpeedandHeadingandThrottleConfidence as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_time_confidence = crate::jer::read_optional(v, "timeConfidence", |x| {
+            <super::common::TimeConfidence as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_pos_confidence = crate::jer::read_optional(v, "posConfidence", |x| {
+            <super::common::PositionConfidenceSet as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_steer_confidence = crate::jer::read_optional(v, "steerConfidence", |x| {
+            <SteeringWheelAngleConfidence as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_heading_confidence = crate::jer::read_optional(v, "headingConfidence", |x| {
+            <super::common::HeadingConfidence as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_throttle_confidence = crate::jer::read_optional(v, "throttleConfidence", |x| {
+            <super::common::ThrottleConfidence as crate::jer::Jer>::read_jer(x)
+        })?;
+        Ok(Self {
+            accel_confidence: f_accel_confidence,
+            speed_confidence: f_speed_confidence,
+            time_confidence: f_time_confidence,
+            pos_confidence: f_pos_confidence,
+            steer_confidence: f_steer_confidence,
+            heading_confidence: f_heading_confidence,
+            throttle_confidence: f_throttle_confidence,
+            extensions: uper::Extensions::new(),
+        })
+    }
+}
+
 #[cfg(feature = "_random")]
 impl uper::random::Random for ConfidenceSet {
     fn random(g: &mut uper::random::Gen) -> Self {
@@ -2324,6 +3062,37 @@ impl Uper for AccelSteerYawRateConfidence {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for AccelSteerYawRateConfidence {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        out.key("yawRate");
+        crate::jer::Jer::write_jer(&self.yaw_rate, out);
+        out.key("acceleration");
+        crate::jer::Jer::write_jer(&self.acceleration, out);
+        out.key("steeringWheelAngle");
+        crate::jer::Jer::write_jer(&self.steering_wheel_angle, out);
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        crate::jer::member(v, "")?;
+        let f_yaw_rate = crate::jer::read_member(v, "yawRate", |x| {
+            <YawRateConfidence as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_acceleration = crate::jer::read_member(v, "acceleration", |x| {
+            <AccelerationConfidence as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_steering_wheel_angle = crate::jer::read_member(v, "steeringWheelAngle", |x| {
+            <SteeringWheelAngleConfidence as crate::jer::Jer>::read_jer(x)
+        })?;
+        Ok(Self {
+            yaw_rate: f_yaw_rate,
+            acceleration: f_acceleration,
+            steering_wheel_angle: f_steering_wheel_angle,
+        })
+    }
+}
+
 #[cfg(feature = "_random")]
 impl uper::random::Random for AccelSteerYawRateConfidence {
     fn random(g: &mut uper::random::Gen) -> Self {
@@ -2370,6 +3139,37 @@ impl Uper for VehicleStatusObject {
         self.ob_direct.encode_uper(w)?;
         self.date_time.encode_uper(w)?;
         Ok(())
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for VehicleStatusObject {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        out.key("obDist");
+        crate::jer::Jer::write_jer(&self.ob_dist, out);
+        out.key("obDirect");
+        crate::jer::Jer::write_jer(&self.ob_direct, out);
+        out.key("dateTime");
+        crate::jer::Jer::write_jer(&self.date_time, out);
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        crate::jer::member(v, "")?;
+        let f_ob_dist = crate::jer::read_member(v, "obDist", |x| {
+            <super::common::ObstacleDistance as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_ob_direct = crate::jer::read_member(v, "obDirect", |x| {
+            <super::common::Angle as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_date_time = crate::jer::read_member(v, "dateTime", |x| {
+            <super::common::DDateTime as crate::jer::Jer>::read_jer(x)
+        })?;
+        Ok(Self {
+            ob_dist: f_ob_dist,
+            ob_direct: f_ob_direct,
+            date_time: f_date_time,
+        })
     }
 }
 
@@ -2440,6 +3240,49 @@ impl Uper for VehicleStatusVehicleData {
         self.trailer_weight.encode_uper(w)?;
         self.r#type.encode_uper(w)?;
         Ok(())
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for VehicleStatusVehicleData {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        out.key("height");
+        crate::jer::Jer::write_jer(&self.height, out);
+        out.key("bumpers");
+        crate::jer::Jer::write_jer(&self.bumpers, out);
+        out.key("mass");
+        crate::jer::Jer::write_jer(&self.mass, out);
+        out.key("trailerWeight");
+        crate::jer::Jer::write_jer(&self.trailer_weight, out);
+        out.key("type");
+        crate::jer::Jer::write_jer(&self.r#type, out);
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        crate::jer::member(v, "")?;
+        let f_height = crate::jer::read_member(v, "height", |x| {
+            <super::common::VehicleHeight as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_bumpers = crate::jer::read_member(v, "bumpers", |x| {
+            <super::common::BumperHeights as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_mass = crate::jer::read_member(v, "mass", |x| {
+            <super::common::VehicleMass as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_trailer_weight = crate::jer::read_member(v, "trailerWeight", |x| {
+            <super::common::TrailerWeight as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_type = crate::jer::read_member(v, "type", |x| {
+            <super::common::VehicleType as crate::jer::Jer>::read_jer(x)
+        })?;
+        Ok(Self {
+            height: f_height,
+            bumpers: f_bumpers,
+            mass: f_mass,
+            trailer_weight: f_trailer_weight,
+            r#type: f_type,
+        })
     }
 }
 
@@ -2666,6 +3509,104 @@ impl Uper for J1939data {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for J1939data {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        if let Some(v) = &self.tires {
+            out.key("tires");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.axles {
+            out.key("axles");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.trailer_weight {
+            out.key("trailerWeight");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.cargo_weight {
+            out.key("cargoWeight");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.steering_axle_temperature {
+            out.key("steeringAxleTemperature");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.drive_axle_location {
+            out.key("driveAxleLocation");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.drive_axle_lift_air_pressure {
+            out.key("driveAxleLiftAirPressure");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.drive_axle_temperature {
+            out.key("driveAxleTemperature");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.drive_axle_lube_pressure {
+            out.key("driveAxleLubePressure");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.steering_axle_lube_pressure {
+            out.key("steeringAxleLubePressure");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        crate::jer::member(v, "")?;
+        let f_tires = crate::jer::read_optional(v, "tires", |x| {
+            <TireDataList as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_axles = crate::jer::read_optional(v, "axles", |x| {
+            <AxleWeightList as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_trailer_weight = crate::jer::read_optional(v, "trailerWeight", |x| {
+            <super::common::TrailerWeight as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_cargo_weight = crate::jer::read_optional(v, "cargoWeight", |x| {
+            <CargoWeight as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_steering_axle_temperature =
+            crate::jer::read_optional(v, "steeringAxleTemperature", |x| {
+                <SteeringAxleTemperature as crate::jer::Jer>::read_jer(x)
+            })?;
+        let f_drive_axle_location = crate::jer::read_optional(v, "driveAxleLocation", |x| {
+            <DriveAxleLocation as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_drive_axle_lift_air_pressure =
+            crate::jer::read_optional(v, "driveAxleLiftAirPressure", |x| {
+                <DriveAxleLiftAirPressure as crate::jer::Jer>::read_jer(x)
+            })?;
+        let f_drive_axle_temperature = crate::jer::read_optional(v, "driveAxleTemperature", |x| {
+            <DriveAxleTemperature as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_drive_axle_lube_pressure =
+            crate::jer::read_optional(v, "driveAxleLubePressure", |x| {
+                <DriveAxleLubePressure as crate::jer::Jer>::read_jer(x)
+            })?;
+        let f_steering_axle_lube_pressure =
+            crate::jer::read_optional(v, "steeringAxleLubePressure", |x| {
+                <SteeringAxleLubePressure as crate::jer::Jer>::read_jer(x)
+            })?;
+        Ok(Self {
+            tires: f_tires,
+            axles: f_axles,
+            trailer_weight: f_trailer_weight,
+            cargo_weight: f_cargo_weight,
+            steering_axle_temperature: f_steering_axle_temperature,
+            drive_axle_location: f_drive_axle_location,
+            drive_axle_lift_air_pressure: f_drive_axle_lift_air_pressure,
+            drive_axle_temperature: f_drive_axle_temperature,
+            drive_axle_lube_pressure: f_drive_axle_lube_pressure,
+            steering_axle_lube_pressure: f_steering_axle_lube_pressure,
+            extensions: uper::Extensions::new(),
+        })
+    }
+}
+
 #[cfg(feature = "_random")]
 impl uper::random::Random for J1939data {
     fn random(g: &mut uper::random::Gen) -> Self {
@@ -2763,6 +3704,30 @@ impl Uper for TireDataList {
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for TireDataList {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_array();
+        for item in self.0.iter() {
+            crate::jer::Jer::write_jer(item, out);
+        }
+        out.end_array();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let items = crate::jer::array(v)?;
+        if items.len() < 1 {
+            return Err(crate::jer::invalid("size"));
+        }
+        let mut list = Self::new();
+        for (i, x) in items.iter().enumerate() {
+            let item = <TireData as crate::jer::Jer>::read_jer(x)
+                .map_err(|e| e.within(&std::format!("[{i}]")))?;
+            list.0.push(item).map_err(|_| crate::jer::over_capacity())?;
+        }
+        Ok(list)
     }
 }
 
@@ -2936,6 +3901,75 @@ impl Uper for TireData {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for TireData {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        if let Some(v) = &self.location {
+            out.key("location");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.pressure {
+            out.key("pressure");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.temp {
+            out.key("temp");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.wheel_sensor_status {
+            out.key("wheelSensorStatus");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.wheel_end_elect_fault {
+            out.key("wheelEndElectFault");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.leakage_rate {
+            out.key("leakageRate");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.detection {
+            out.key("detection");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        crate::jer::member(v, "")?;
+        let f_location = crate::jer::read_optional(v, "location", |x| {
+            <TireLocation as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_pressure = crate::jer::read_optional(v, "pressure", |x| {
+            <TirePressure as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_temp =
+            crate::jer::read_optional(v, "temp", |x| <TireTemp as crate::jer::Jer>::read_jer(x))?;
+        let f_wheel_sensor_status = crate::jer::read_optional(v, "wheelSensorStatus", |x| {
+            <WheelSensorStatus as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_wheel_end_elect_fault = crate::jer::read_optional(v, "wheelEndElectFault", |x| {
+            <WheelEndElectFault as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_leakage_rate = crate::jer::read_optional(v, "leakageRate", |x| {
+            <TireLeakageRate as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_detection = crate::jer::read_optional(v, "detection", |x| {
+            <TirePressureThresholdDetection as crate::jer::Jer>::read_jer(x)
+        })?;
+        Ok(Self {
+            location: f_location,
+            pressure: f_pressure,
+            temp: f_temp,
+            wheel_sensor_status: f_wheel_sensor_status,
+            wheel_end_elect_fault: f_wheel_end_elect_fault,
+            leakage_rate: f_leakage_rate,
+            detection: f_detection,
+            extensions: uper::Extensions::new(),
+        })
+    }
+}
+
 #[cfg(feature = "_random")]
 impl uper::random::Random for TireData {
     fn random(g: &mut uper::random::Gen) -> Self {
@@ -3029,6 +4063,16 @@ impl WheelSensorStatus {
             Self::NotSupported => "notSupported",
         }
     }
+    /// The value of an ASN.1 identifier, when the type has it.
+    pub fn from_identifier(name: &str) -> Option<Self> {
+        match name {
+            "off" => Some(Self::Off),
+            "on" => Some(Self::On),
+            "notDefined" => Some(Self::NotDefined),
+            "notSupported" => Some(Self::NotSupported),
+            _ => None,
+        }
+    }
     fn root_index(self) -> i64 {
         match self {
             Self::Off => 0,
@@ -3072,6 +4116,18 @@ impl uper::random::Random for WheelSensorStatus {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for WheelSensorStatus {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.string(self.identifier());
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let name = crate::jer::string(v)?;
+        Self::from_identifier(name)
+            .ok_or_else(|| crate::jer::JerError::new(std::format!("unknown identifier {name}")))
+    }
+}
+
 /// ASN.1 `WheelEndElectFault` (module `ProbeVehicleData`): ENUMERATED.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum WheelEndElectFault {
@@ -3109,6 +4165,16 @@ impl WheelEndElectFault {
             Self::IsNotDefined => "isNotDefined",
             Self::IsError => "isError",
             Self::IsNotSupported => "isNotSupported",
+        }
+    }
+    /// The value of an ASN.1 identifier, when the type has it.
+    pub fn from_identifier(name: &str) -> Option<Self> {
+        match name {
+            "isOk" => Some(Self::IsOk),
+            "isNotDefined" => Some(Self::IsNotDefined),
+            "isError" => Some(Self::IsError),
+            "isNotSupported" => Some(Self::IsNotSupported),
+            _ => None,
         }
     }
     fn root_index(self) -> i64 {
@@ -3151,6 +4217,18 @@ impl Uper for WheelEndElectFault {
 impl uper::random::Random for WheelEndElectFault {
     fn random(g: &mut uper::random::Gen) -> Self {
         Self::ALL[g.below(4)]
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for WheelEndElectFault {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.string(self.identifier());
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let name = crate::jer::string(v)?;
+        Self::from_identifier(name)
+            .ok_or_else(|| crate::jer::JerError::new(std::format!("unknown identifier {name}")))
     }
 }
 
@@ -3224,6 +4302,20 @@ impl TirePressureThresholdDetection {
             Self::NotAvailable => "notAvailable",
         }
     }
+    /// The value of an ASN.1 identifier, when the type has it.
+    pub fn from_identifier(name: &str) -> Option<Self> {
+        match name {
+            "noData" => Some(Self::NoData),
+            "overPressure" => Some(Self::OverPressure),
+            "noWarningPressure" => Some(Self::NoWarningPressure),
+            "underPressure" => Some(Self::UnderPressure),
+            "extremeUnderPressure" => Some(Self::ExtremeUnderPressure),
+            "undefined" => Some(Self::Undefined),
+            "errorIndicator" => Some(Self::ErrorIndicator),
+            "notAvailable" => Some(Self::NotAvailable),
+            _ => None,
+        }
+    }
     fn root_index(self) -> i64 {
         match self {
             Self::NoData => 0,
@@ -3271,6 +4363,18 @@ impl uper::random::Random for TirePressureThresholdDetection {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for TirePressureThresholdDetection {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.string(self.identifier());
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let name = crate::jer::string(v)?;
+        Self::from_identifier(name)
+            .ok_or_else(|| crate::jer::JerError::new(std::format!("unknown identifier {name}")))
+    }
+}
+
 /// ASN.1 `AxleWeightList` (module `ProbeVehicleData`): SEQUENCE OF AxleWeightSet (SIZE(1..16)).
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub struct AxleWeightList(pub uper::SeqOf<AxleWeightSet, 4>);
@@ -3305,6 +4409,30 @@ impl Uper for AxleWeightList {
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for AxleWeightList {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_array();
+        for item in self.0.iter() {
+            crate::jer::Jer::write_jer(item, out);
+        }
+        out.end_array();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let items = crate::jer::array(v)?;
+        if items.len() < 1 {
+            return Err(crate::jer::invalid("size"));
+        }
+        let mut list = Self::new();
+        for (i, x) in items.iter().enumerate() {
+            let item = <AxleWeightSet as crate::jer::Jer>::read_jer(x)
+                .map_err(|e| e.within(&std::format!("[{i}]")))?;
+            list.0.push(item).map_err(|_| crate::jer::over_capacity())?;
+        }
+        Ok(list)
     }
 }
 
@@ -3389,6 +4517,36 @@ impl Uper for AxleWeightSet {
             self.extensions.encode(w)?;
         }
         Ok(())
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for AxleWeightSet {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        if let Some(v) = &self.location {
+            out.key("location");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.weight {
+            out.key("weight");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        crate::jer::member(v, "")?;
+        let f_location = crate::jer::read_optional(v, "location", |x| {
+            <AxleLocation as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_weight = crate::jer::read_optional(v, "weight", |x| {
+            <AxleWeight as crate::jer::Jer>::read_jer(x)
+        })?;
+        Ok(Self {
+            location: f_location,
+            weight: f_weight,
+            extensions: uper::Extensions::new(),
+        })
     }
 }
 
@@ -3592,6 +4750,57 @@ impl Uper for VehicleStatusWeatherReport {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for VehicleStatusWeatherReport {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        out.key("isRaining");
+        crate::jer::Jer::write_jer(&self.is_raining, out);
+        if let Some(v) = &self.rain_rate {
+            out.key("rainRate");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.precip_situation {
+            out.key("precipSituation");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.solar_radiation {
+            out.key("solarRadiation");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.friction {
+            out.key("friction");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        crate::jer::member(v, "")?;
+        let f_is_raining = crate::jer::read_member(v, "isRaining", |x| {
+            <super::ntcip::EssPrecipYesNo as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_rain_rate = crate::jer::read_optional(v, "rainRate", |x| {
+            <super::ntcip::EssPrecipRate as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_precip_situation = crate::jer::read_optional(v, "precipSituation", |x| {
+            <super::ntcip::EssPrecipSituation as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_solar_radiation = crate::jer::read_optional(v, "solarRadiation", |x| {
+            <super::ntcip::EssSolarRadiation as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_friction = crate::jer::read_optional(v, "friction", |x| {
+            <super::ntcip::EssMobileFriction as crate::jer::Jer>::read_jer(x)
+        })?;
+        Ok(Self {
+            is_raining: f_is_raining,
+            rain_rate: f_rain_rate,
+            precip_situation: f_precip_situation,
+            solar_radiation: f_solar_radiation,
+            friction: f_friction,
+        })
+    }
+}
+
 #[cfg(feature = "_random")]
 impl uper::random::Random for VehicleStatusWeatherReport {
     fn random(g: &mut uper::random::Gen) -> Self {
@@ -3663,6 +4872,30 @@ impl Uper for ProbeVehicleDataRegional {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for ProbeVehicleDataRegional {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_array();
+        for item in self.0.iter() {
+            crate::jer::Jer::write_jer(item, out);
+        }
+        out.end_array();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let items = crate::jer::array(v)?;
+        if items.len() < 1 {
+            return Err(crate::jer::invalid("size"));
+        }
+        let mut list = Self::new();
+        for (i, x) in items.iter().enumerate() {
+            let item = <RegProbeVehicleData as crate::jer::Jer>::read_jer(x)
+                .map_err(|e| e.within(&std::format!("[{i}]")))?;
+            list.0.push(item).map_err(|_| crate::jer::over_capacity())?;
+        }
+        Ok(list)
+    }
+}
+
 #[cfg(feature = "_random")]
 impl uper::random::Random for ProbeVehicleDataRegional {
     fn random(g: &mut uper::random::Gen) -> Self {
@@ -3693,6 +4926,57 @@ impl RegProbeVehicleData {
         match self {
             Self::Unknown { id, .. } => *id,
         }
+    }
+}
+
+impl RegProbeVehicleData {
+    /// Writes the id and the value as members `id_name` and `value_name` of an object.
+    #[cfg(feature = "jer")]
+    pub fn write_jer_members(
+        &self,
+        out: &mut crate::jer::JerWriter,
+        id_name: &str,
+        value_name: &str,
+    ) {
+        out.key(id_name);
+        out.int(self.id().get() as i64);
+        out.key(value_name);
+        match self {
+            Self::Unknown { content, .. } => out.hex(content),
+        }
+    }
+    /// Reads the id and the value from members `id_name` and `value_name` of an object.
+    #[cfg(feature = "jer")]
+    pub fn read_jer_members(
+        v: &crate::jer::Value,
+        id_name: &str,
+        value_name: &str,
+    ) -> crate::jer::JerResult<Self> {
+        let id = crate::jer::read_member(
+            v,
+            id_name,
+            <super::common::RegionId as crate::jer::Jer>::read_jer,
+        )?;
+        let x = crate::jer::required(v, value_name)?;
+        match id.get() {
+            _ => {
+                let content = uper::Octets::from_slice(&crate::jer::hex(x)?)
+                    .ok_or_else(crate::jer::over_capacity)?;
+                Ok(Self::Unknown { id, content })
+            }
+        }
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for RegProbeVehicleData {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        self.write_jer_members(out, "regionId", "regExtValue");
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        Self::read_jer_members(v, "regionId", "regExtValue")
     }
 }
 

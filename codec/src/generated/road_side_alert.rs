@@ -192,6 +192,96 @@ impl Uper for RoadSideAlert {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for RoadSideAlert {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        out.key("msgCnt");
+        crate::jer::Jer::write_jer(&self.msg_cnt, out);
+        if let Some(v) = &self.time_stamp {
+            out.key("timeStamp");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        out.key("typeEvent");
+        crate::jer::Jer::write_jer(&self.type_event, out);
+        if let Some(v) = &self.description {
+            out.key("description");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.priority {
+            out.key("priority");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.heading {
+            out.key("heading");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.extent {
+            out.key("extent");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.position {
+            out.key("position");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.further_info_id {
+            out.key("furtherInfoID");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.regional {
+            out.key("regional");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        crate::jer::member(v, "")?;
+        let f_msg_cnt = crate::jer::read_member(v, "msgCnt", |x| {
+            <super::common::MsgCount as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_time_stamp = crate::jer::read_optional(v, "timeStamp", |x| {
+            <super::common::MinuteOfTheYear as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_type_event = crate::jer::read_member(v, "typeEvent", |x| {
+            <super::itis::ITIScodes as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_description = crate::jer::read_optional(v, "description", |x| {
+            <RoadSideAlertDescription as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_priority = crate::jer::read_optional(v, "priority", |x| {
+            <super::common::Priority as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_heading = crate::jer::read_optional(v, "heading", |x| {
+            <super::common::HeadingSlice as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_extent = crate::jer::read_optional(v, "extent", |x| {
+            <super::common::Extent as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_position = crate::jer::read_optional(v, "position", |x| {
+            <super::common::FullPositionVector as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_further_info_id = crate::jer::read_optional(v, "furtherInfoID", |x| {
+            <super::common::FurtherInfoID as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_regional = crate::jer::read_optional(v, "regional", |x| {
+            <RoadSideAlertRegional as crate::jer::Jer>::read_jer(x)
+        })?;
+        Ok(Self {
+            msg_cnt: f_msg_cnt,
+            time_stamp: f_time_stamp,
+            type_event: f_type_event,
+            description: f_description,
+            priority: f_priority,
+            heading: f_heading,
+            extent: f_extent,
+            position: f_position,
+            further_info_id: f_further_info_id,
+            regional: f_regional,
+            extensions: uper::Extensions::new(),
+        })
+    }
+}
+
 #[cfg(feature = "_random")]
 impl uper::random::Random for RoadSideAlert {
     fn random(g: &mut uper::random::Gen) -> Self {
@@ -287,6 +377,30 @@ impl Uper for RoadSideAlertDescription {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for RoadSideAlertDescription {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_array();
+        for item in self.0.iter() {
+            crate::jer::Jer::write_jer(item, out);
+        }
+        out.end_array();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let items = crate::jer::array(v)?;
+        if items.len() < 1 {
+            return Err(crate::jer::invalid("size"));
+        }
+        let mut list = Self::new();
+        for (i, x) in items.iter().enumerate() {
+            let item = <super::itis::ITIScodes as crate::jer::Jer>::read_jer(x)
+                .map_err(|e| e.within(&std::format!("[{i}]")))?;
+            list.0.push(item).map_err(|_| crate::jer::over_capacity())?;
+        }
+        Ok(list)
+    }
+}
+
 #[cfg(feature = "_random")]
 impl uper::random::Random for RoadSideAlertDescription {
     fn random(g: &mut uper::random::Gen) -> Self {
@@ -341,6 +455,30 @@ impl Uper for RoadSideAlertRegional {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for RoadSideAlertRegional {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_array();
+        for item in self.0.iter() {
+            crate::jer::Jer::write_jer(item, out);
+        }
+        out.end_array();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let items = crate::jer::array(v)?;
+        if items.len() < 1 {
+            return Err(crate::jer::invalid("size"));
+        }
+        let mut list = Self::new();
+        for (i, x) in items.iter().enumerate() {
+            let item = <RegRoadSideAlert as crate::jer::Jer>::read_jer(x)
+                .map_err(|e| e.within(&std::format!("[{i}]")))?;
+            list.0.push(item).map_err(|_| crate::jer::over_capacity())?;
+        }
+        Ok(list)
+    }
+}
+
 #[cfg(feature = "_random")]
 impl uper::random::Random for RoadSideAlertRegional {
     fn random(g: &mut uper::random::Gen) -> Self {
@@ -371,6 +509,57 @@ impl RegRoadSideAlert {
         match self {
             Self::Unknown { id, .. } => *id,
         }
+    }
+}
+
+impl RegRoadSideAlert {
+    /// Writes the id and the value as members `id_name` and `value_name` of an object.
+    #[cfg(feature = "jer")]
+    pub fn write_jer_members(
+        &self,
+        out: &mut crate::jer::JerWriter,
+        id_name: &str,
+        value_name: &str,
+    ) {
+        out.key(id_name);
+        out.int(self.id().get() as i64);
+        out.key(value_name);
+        match self {
+            Self::Unknown { content, .. } => out.hex(content),
+        }
+    }
+    /// Reads the id and the value from members `id_name` and `value_name` of an object.
+    #[cfg(feature = "jer")]
+    pub fn read_jer_members(
+        v: &crate::jer::Value,
+        id_name: &str,
+        value_name: &str,
+    ) -> crate::jer::JerResult<Self> {
+        let id = crate::jer::read_member(
+            v,
+            id_name,
+            <super::common::RegionId as crate::jer::Jer>::read_jer,
+        )?;
+        let x = crate::jer::required(v, value_name)?;
+        match id.get() {
+            _ => {
+                let content = uper::Octets::from_slice(&crate::jer::hex(x)?)
+                    .ok_or_else(crate::jer::over_capacity)?;
+                Ok(Self::Unknown { id, content })
+            }
+        }
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for RegRoadSideAlert {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        self.write_jer_members(out, "regionId", "regExtValue");
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        Self::read_jer_members(v, "regionId", "regExtValue")
     }
 }
 

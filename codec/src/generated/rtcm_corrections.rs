@@ -129,6 +129,69 @@ impl Uper for RTCMcorrections {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for RTCMcorrections {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        out.key("msgCnt");
+        crate::jer::Jer::write_jer(&self.msg_cnt, out);
+        out.key("rev");
+        crate::jer::Jer::write_jer(&self.rev, out);
+        if let Some(v) = &self.time_stamp {
+            out.key("timeStamp");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.anchor_point {
+            out.key("anchorPoint");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.rtcm_header {
+            out.key("rtcmHeader");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        out.key("msgs");
+        crate::jer::Jer::write_jer(&self.msgs, out);
+        if let Some(v) = &self.regional {
+            out.key("regional");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        crate::jer::member(v, "")?;
+        let f_msg_cnt = crate::jer::read_member(v, "msgCnt", |x| {
+            <super::common::MsgCount as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_rev =
+            crate::jer::read_member(v, "rev", |x| <RTCMRevision as crate::jer::Jer>::read_jer(x))?;
+        let f_time_stamp = crate::jer::read_optional(v, "timeStamp", |x| {
+            <super::common::MinuteOfTheYear as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_anchor_point = crate::jer::read_optional(v, "anchorPoint", |x| {
+            <super::common::FullPositionVector as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_rtcm_header = crate::jer::read_optional(v, "rtcmHeader", |x| {
+            <super::common::RTCMheader as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_msgs = crate::jer::read_member(v, "msgs", |x| {
+            <super::common::RTCMmessageList as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_regional = crate::jer::read_optional(v, "regional", |x| {
+            <RTCMcorrectionsRegional as crate::jer::Jer>::read_jer(x)
+        })?;
+        Ok(Self {
+            msg_cnt: f_msg_cnt,
+            rev: f_rev,
+            time_stamp: f_time_stamp,
+            anchor_point: f_anchor_point,
+            rtcm_header: f_rtcm_header,
+            msgs: f_msgs,
+            regional: f_regional,
+            extensions: uper::Extensions::new(),
+        })
+    }
+}
+
 #[cfg(feature = "_random")]
 impl uper::random::Random for RTCMcorrections {
     fn random(g: &mut uper::random::Gen) -> Self {
@@ -206,6 +269,16 @@ impl RTCMRevision {
             Self::Extension(_) => "",
         }
     }
+    /// The value of an ASN.1 identifier, when the type has it.
+    pub fn from_identifier(name: &str) -> Option<Self> {
+        match name {
+            "unknown" => Some(Self::Unknown),
+            "rtcmRev2" => Some(Self::RtcmRev2),
+            "rtcmRev3" => Some(Self::RtcmRev3),
+            "reserved" => Some(Self::Reserved),
+            _ => None,
+        }
+    }
     fn root_index(self) -> i64 {
         match self {
             Self::Unknown => 0,
@@ -263,6 +336,18 @@ impl uper::random::Random for RTCMRevision {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for RTCMRevision {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.string(self.identifier());
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let name = crate::jer::string(v)?;
+        Self::from_identifier(name)
+            .ok_or_else(|| crate::jer::JerError::new(std::format!("unknown identifier {name}")))
+    }
+}
+
 /// ASN.1 `RTCMcorrections.regional` (module `RTCMcorrections`): SEQUENCE OF RegRTCMcorrections (SIZE(1..4)).
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub struct RTCMcorrectionsRegional(pub uper::SeqOf<RegRTCMcorrections, 1>);
@@ -305,6 +390,30 @@ impl Uper for RTCMcorrectionsRegional {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for RTCMcorrectionsRegional {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_array();
+        for item in self.0.iter() {
+            crate::jer::Jer::write_jer(item, out);
+        }
+        out.end_array();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let items = crate::jer::array(v)?;
+        if items.len() < 1 {
+            return Err(crate::jer::invalid("size"));
+        }
+        let mut list = Self::new();
+        for (i, x) in items.iter().enumerate() {
+            let item = <RegRTCMcorrections as crate::jer::Jer>::read_jer(x)
+                .map_err(|e| e.within(&std::format!("[{i}]")))?;
+            list.0.push(item).map_err(|_| crate::jer::over_capacity())?;
+        }
+        Ok(list)
+    }
+}
+
 #[cfg(feature = "_random")]
 impl uper::random::Random for RTCMcorrectionsRegional {
     fn random(g: &mut uper::random::Gen) -> Self {
@@ -335,6 +444,57 @@ impl RegRTCMcorrections {
         match self {
             Self::Unknown { id, .. } => *id,
         }
+    }
+}
+
+impl RegRTCMcorrections {
+    /// Writes the id and the value as members `id_name` and `value_name` of an object.
+    #[cfg(feature = "jer")]
+    pub fn write_jer_members(
+        &self,
+        out: &mut crate::jer::JerWriter,
+        id_name: &str,
+        value_name: &str,
+    ) {
+        out.key(id_name);
+        out.int(self.id().get() as i64);
+        out.key(value_name);
+        match self {
+            Self::Unknown { content, .. } => out.hex(content),
+        }
+    }
+    /// Reads the id and the value from members `id_name` and `value_name` of an object.
+    #[cfg(feature = "jer")]
+    pub fn read_jer_members(
+        v: &crate::jer::Value,
+        id_name: &str,
+        value_name: &str,
+    ) -> crate::jer::JerResult<Self> {
+        let id = crate::jer::read_member(
+            v,
+            id_name,
+            <super::common::RegionId as crate::jer::Jer>::read_jer,
+        )?;
+        let x = crate::jer::required(v, value_name)?;
+        match id.get() {
+            _ => {
+                let content = uper::Octets::from_slice(&crate::jer::hex(x)?)
+                    .ok_or_else(crate::jer::over_capacity)?;
+                Ok(Self::Unknown { id, content })
+            }
+        }
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for RegRTCMcorrections {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        self.write_jer_members(out, "regionId", "regExtValue");
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        Self::read_jer_members(v, "regionId", "regExtValue")
     }
 }
 

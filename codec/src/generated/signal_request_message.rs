@@ -124,6 +124,64 @@ impl Uper for SignalRequestMessage {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for SignalRequestMessage {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        if let Some(v) = &self.time_stamp {
+            out.key("timeStamp");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        out.key("second");
+        crate::jer::Jer::write_jer(&self.second, out);
+        if let Some(v) = &self.sequence_number {
+            out.key("sequenceNumber");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.requests {
+            out.key("requests");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        out.key("requestor");
+        crate::jer::Jer::write_jer(&self.requestor, out);
+        if let Some(v) = &self.regional {
+            out.key("regional");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        crate::jer::member(v, "")?;
+        let f_time_stamp = crate::jer::read_optional(v, "timeStamp", |x| {
+            <super::common::MinuteOfTheYear as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_second = crate::jer::read_member(v, "second", |x| {
+            <super::common::DSecond as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_sequence_number = crate::jer::read_optional(v, "sequenceNumber", |x| {
+            <super::common::MsgCount as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_requests = crate::jer::read_optional(v, "requests", |x| {
+            <SignalRequestList as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_requestor = crate::jer::read_member(v, "requestor", |x| {
+            <RequestorDescription as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_regional = crate::jer::read_optional(v, "regional", |x| {
+            <SignalRequestMessageRegional as crate::jer::Jer>::read_jer(x)
+        })?;
+        Ok(Self {
+            time_stamp: f_time_stamp,
+            second: f_second,
+            sequence_number: f_sequence_number,
+            requests: f_requests,
+            requestor: f_requestor,
+            regional: f_regional,
+            extensions: uper::Extensions::new(),
+        })
+    }
+}
+
 #[cfg(feature = "_random")]
 impl uper::random::Random for SignalRequestMessage {
     fn random(g: &mut uper::random::Gen) -> Self {
@@ -194,6 +252,30 @@ impl Uper for SignalRequestList {
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for SignalRequestList {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_array();
+        for item in self.0.iter() {
+            crate::jer::Jer::write_jer(item, out);
+        }
+        out.end_array();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let items = crate::jer::array(v)?;
+        if items.len() < 1 {
+            return Err(crate::jer::invalid("size"));
+        }
+        let mut list = Self::new();
+        for (i, x) in items.iter().enumerate() {
+            let item = <SignalRequestPackage as crate::jer::Jer>::read_jer(x)
+                .map_err(|e| e.within(&std::format!("[{i}]")))?;
+            list.0.push(item).map_err(|_| crate::jer::over_capacity())?;
+        }
+        Ok(list)
     }
 }
 
@@ -322,6 +404,58 @@ impl Uper for SignalRequestPackage {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for SignalRequestPackage {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        out.key("request");
+        crate::jer::Jer::write_jer(&self.request, out);
+        if let Some(v) = &self.minute {
+            out.key("minute");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.second {
+            out.key("second");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.duration {
+            out.key("duration");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.regional {
+            out.key("regional");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        crate::jer::member(v, "")?;
+        let f_request = crate::jer::read_member(v, "request", |x| {
+            <SignalRequest as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_minute = crate::jer::read_optional(v, "minute", |x| {
+            <super::common::MinuteOfTheYear as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_second = crate::jer::read_optional(v, "second", |x| {
+            <super::common::DSecond as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_duration = crate::jer::read_optional(v, "duration", |x| {
+            <super::common::DSecond as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_regional = crate::jer::read_optional(v, "regional", |x| {
+            <SignalRequestPackageRegional as crate::jer::Jer>::read_jer(x)
+        })?;
+        Ok(Self {
+            request: f_request,
+            minute: f_minute,
+            second: f_second,
+            duration: f_duration,
+            regional: f_regional,
+            extensions: uper::Extensions::new(),
+        })
+    }
+}
+
 #[cfg(feature = "_random")]
 impl uper::random::Random for SignalRequestPackage {
     fn random(g: &mut uper::random::Gen) -> Self {
@@ -446,6 +580,60 @@ impl Uper for SignalRequest {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for SignalRequest {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        out.key("id");
+        crate::jer::Jer::write_jer(&self.id, out);
+        out.key("requestID");
+        crate::jer::Jer::write_jer(&self.request_id, out);
+        out.key("requestType");
+        crate::jer::Jer::write_jer(&self.request_type, out);
+        out.key("inBoundLane");
+        crate::jer::Jer::write_jer(&self.in_bound_lane, out);
+        if let Some(v) = &self.out_bound_lane {
+            out.key("outBoundLane");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.regional {
+            out.key("regional");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        crate::jer::member(v, "")?;
+        let f_id = crate::jer::read_member(v, "id", |x| {
+            <super::common::IntersectionReferenceID as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_request_id = crate::jer::read_member(v, "requestID", |x| {
+            <super::common::RequestID as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_request_type = crate::jer::read_member(v, "requestType", |x| {
+            <PriorityRequestType as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_in_bound_lane = crate::jer::read_member(v, "inBoundLane", |x| {
+            <super::common::IntersectionAccessPoint as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_out_bound_lane = crate::jer::read_optional(v, "outBoundLane", |x| {
+            <super::common::IntersectionAccessPoint as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_regional = crate::jer::read_optional(v, "regional", |x| {
+            <SignalRequestRegional as crate::jer::Jer>::read_jer(x)
+        })?;
+        Ok(Self {
+            id: f_id,
+            request_id: f_request_id,
+            request_type: f_request_type,
+            in_bound_lane: f_in_bound_lane,
+            out_bound_lane: f_out_bound_lane,
+            regional: f_regional,
+            extensions: uper::Extensions::new(),
+        })
+    }
+}
+
 #[cfg(feature = "_random")]
 impl uper::random::Random for SignalRequest {
     fn random(g: &mut uper::random::Gen) -> Self {
@@ -514,6 +702,16 @@ impl PriorityRequestType {
             Self::Extension(_) => "",
         }
     }
+    /// The value of an ASN.1 identifier, when the type has it.
+    pub fn from_identifier(name: &str) -> Option<Self> {
+        match name {
+            "priorityRequestTypeReserved" => Some(Self::PriorityRequestTypeReserved),
+            "priorityRequest" => Some(Self::PriorityRequest),
+            "priorityRequestUpdate" => Some(Self::PriorityRequestUpdate),
+            "priorityCancellation" => Some(Self::PriorityCancellation),
+            _ => None,
+        }
+    }
     fn root_index(self) -> i64 {
         match self {
             Self::PriorityRequestTypeReserved => 0,
@@ -571,6 +769,18 @@ impl uper::random::Random for PriorityRequestType {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for PriorityRequestType {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.string(self.identifier());
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let name = crate::jer::string(v)?;
+        Self::from_identifier(name)
+            .ok_or_else(|| crate::jer::JerError::new(std::format!("unknown identifier {name}")))
+    }
+}
+
 /// ASN.1 `SignalRequest.regional` (module `SignalRequestMessage`): SEQUENCE OF RegSignalRequest (SIZE(1..4)).
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub struct SignalRequestRegional(pub uper::SeqOf<RegSignalRequest, 1>);
@@ -613,6 +823,30 @@ impl Uper for SignalRequestRegional {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for SignalRequestRegional {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_array();
+        for item in self.0.iter() {
+            crate::jer::Jer::write_jer(item, out);
+        }
+        out.end_array();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let items = crate::jer::array(v)?;
+        if items.len() < 1 {
+            return Err(crate::jer::invalid("size"));
+        }
+        let mut list = Self::new();
+        for (i, x) in items.iter().enumerate() {
+            let item = <RegSignalRequest as crate::jer::Jer>::read_jer(x)
+                .map_err(|e| e.within(&std::format!("[{i}]")))?;
+            list.0.push(item).map_err(|_| crate::jer::over_capacity())?;
+        }
+        Ok(list)
+    }
+}
+
 #[cfg(feature = "_random")]
 impl uper::random::Random for SignalRequestRegional {
     fn random(g: &mut uper::random::Gen) -> Self {
@@ -643,6 +877,57 @@ impl RegSignalRequest {
         match self {
             Self::Unknown { id, .. } => *id,
         }
+    }
+}
+
+impl RegSignalRequest {
+    /// Writes the id and the value as members `id_name` and `value_name` of an object.
+    #[cfg(feature = "jer")]
+    pub fn write_jer_members(
+        &self,
+        out: &mut crate::jer::JerWriter,
+        id_name: &str,
+        value_name: &str,
+    ) {
+        out.key(id_name);
+        out.int(self.id().get() as i64);
+        out.key(value_name);
+        match self {
+            Self::Unknown { content, .. } => out.hex(content),
+        }
+    }
+    /// Reads the id and the value from members `id_name` and `value_name` of an object.
+    #[cfg(feature = "jer")]
+    pub fn read_jer_members(
+        v: &crate::jer::Value,
+        id_name: &str,
+        value_name: &str,
+    ) -> crate::jer::JerResult<Self> {
+        let id = crate::jer::read_member(
+            v,
+            id_name,
+            <super::common::RegionId as crate::jer::Jer>::read_jer,
+        )?;
+        let x = crate::jer::required(v, value_name)?;
+        match id.get() {
+            _ => {
+                let content = uper::Octets::from_slice(&crate::jer::hex(x)?)
+                    .ok_or_else(crate::jer::over_capacity)?;
+                Ok(Self::Unknown { id, content })
+            }
+        }
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for RegSignalRequest {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        self.write_jer_members(out, "regionId", "regExtValue");
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        Self::read_jer_members(v, "regionId", "regExtValue")
     }
 }
 
@@ -739,6 +1024,30 @@ impl Uper for SignalRequestPackageRegional {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for SignalRequestPackageRegional {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_array();
+        for item in self.0.iter() {
+            crate::jer::Jer::write_jer(item, out);
+        }
+        out.end_array();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let items = crate::jer::array(v)?;
+        if items.len() < 1 {
+            return Err(crate::jer::invalid("size"));
+        }
+        let mut list = Self::new();
+        for (i, x) in items.iter().enumerate() {
+            let item = <RegSignalRequestPackage as crate::jer::Jer>::read_jer(x)
+                .map_err(|e| e.within(&std::format!("[{i}]")))?;
+            list.0.push(item).map_err(|_| crate::jer::over_capacity())?;
+        }
+        Ok(list)
+    }
+}
+
 #[cfg(feature = "_random")]
 impl uper::random::Random for SignalRequestPackageRegional {
     fn random(g: &mut uper::random::Gen) -> Self {
@@ -769,6 +1078,57 @@ impl RegSignalRequestPackage {
         match self {
             Self::Unknown { id, .. } => *id,
         }
+    }
+}
+
+impl RegSignalRequestPackage {
+    /// Writes the id and the value as members `id_name` and `value_name` of an object.
+    #[cfg(feature = "jer")]
+    pub fn write_jer_members(
+        &self,
+        out: &mut crate::jer::JerWriter,
+        id_name: &str,
+        value_name: &str,
+    ) {
+        out.key(id_name);
+        out.int(self.id().get() as i64);
+        out.key(value_name);
+        match self {
+            Self::Unknown { content, .. } => out.hex(content),
+        }
+    }
+    /// Reads the id and the value from members `id_name` and `value_name` of an object.
+    #[cfg(feature = "jer")]
+    pub fn read_jer_members(
+        v: &crate::jer::Value,
+        id_name: &str,
+        value_name: &str,
+    ) -> crate::jer::JerResult<Self> {
+        let id = crate::jer::read_member(
+            v,
+            id_name,
+            <super::common::RegionId as crate::jer::Jer>::read_jer,
+        )?;
+        let x = crate::jer::required(v, value_name)?;
+        match id.get() {
+            _ => {
+                let content = uper::Octets::from_slice(&crate::jer::hex(x)?)
+                    .ok_or_else(crate::jer::over_capacity)?;
+                Ok(Self::Unknown { id, content })
+            }
+        }
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for RegSignalRequestPackage {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        self.write_jer_members(out, "regionId", "regExtValue");
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        Self::read_jer_members(v, "regionId", "regExtValue")
     }
 }
 
@@ -1004,6 +1364,90 @@ impl Uper for RequestorDescription {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for RequestorDescription {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        out.key("id");
+        crate::jer::Jer::write_jer(&self.id, out);
+        if let Some(v) = &self.r#type {
+            out.key("type");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.position {
+            out.key("position");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.name {
+            out.key("name");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.route_name {
+            out.key("routeName");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.transit_status {
+            out.key("transitStatus");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.transit_occupancy {
+            out.key("transitOccupancy");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.transit_schedule {
+            out.key("transitSchedule");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.regional {
+            out.key("regional");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        crate::jer::member(v, "")?;
+        let f_id = crate::jer::read_member(v, "id", |x| {
+            <super::common::VehicleID as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_type = crate::jer::read_optional(v, "type", |x| {
+            <super::common::RequestorType as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_position = crate::jer::read_optional(v, "position", |x| {
+            <RequestorPositionVector as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_name = crate::jer::read_optional(v, "name", |x| {
+            <super::common::DescriptiveName as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_route_name = crate::jer::read_optional(v, "routeName", |x| {
+            <super::common::DescriptiveName as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_transit_status = crate::jer::read_optional(v, "transitStatus", |x| {
+            <TransitVehicleStatus as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_transit_occupancy = crate::jer::read_optional(v, "transitOccupancy", |x| {
+            <TransitVehicleOccupancy as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_transit_schedule = crate::jer::read_optional(v, "transitSchedule", |x| {
+            <DeltaTime as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_regional = crate::jer::read_optional(v, "regional", |x| {
+            <RequestorDescriptionRegional as crate::jer::Jer>::read_jer(x)
+        })?;
+        Ok(Self {
+            id: f_id,
+            r#type: f_type,
+            position: f_position,
+            name: f_name,
+            route_name: f_route_name,
+            transit_status: f_transit_status,
+            transit_occupancy: f_transit_occupancy,
+            transit_schedule: f_transit_schedule,
+            regional: f_regional,
+            extensions: uper::Extensions::new(),
+        })
+    }
+}
+
 #[cfg(feature = "_random")]
 impl uper::random::Random for RequestorDescription {
     fn random(g: &mut uper::random::Gen) -> Self {
@@ -1132,6 +1576,42 @@ impl Uper for RequestorPositionVector {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for RequestorPositionVector {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        out.key("position");
+        crate::jer::Jer::write_jer(&self.position, out);
+        if let Some(v) = &self.heading {
+            out.key("heading");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.speed {
+            out.key("speed");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        crate::jer::member(v, "")?;
+        let f_position = crate::jer::read_member(v, "position", |x| {
+            <super::common::Position3D as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_heading = crate::jer::read_optional(v, "heading", |x| {
+            <super::common::Angle as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_speed = crate::jer::read_optional(v, "speed", |x| {
+            <super::common::TransmissionAndSpeed as crate::jer::Jer>::read_jer(x)
+        })?;
+        Ok(Self {
+            position: f_position,
+            heading: f_heading,
+            speed: f_speed,
+            extensions: uper::Extensions::new(),
+        })
+    }
+}
+
 #[cfg(feature = "_random")]
 impl uper::random::Random for RequestorPositionVector {
     fn random(g: &mut uper::random::Gen) -> Self {
@@ -1195,6 +1675,22 @@ impl Uper for TransitVehicleStatus {
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_bits(w, Self::SIZE, &self.0)
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for TransitVehicleStatus {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.hex(self.0.as_bytes());
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let (bytes, len) = crate::jer::bits(v, 8, 8)?;
+        if !(8..=8).contains(&len) {
+            return Err(crate::jer::invalid("size"));
+        }
+        uper::Bits::from_bytes(&bytes, len)
+            .map(Self)
+            .ok_or_else(crate::jer::over_capacity)
     }
 }
 
@@ -1266,6 +1762,20 @@ impl TransitVehicleOccupancy {
             Self::OccupancyFull => "occupancyFull",
         }
     }
+    /// The value of an ASN.1 identifier, when the type has it.
+    pub fn from_identifier(name: &str) -> Option<Self> {
+        match name {
+            "occupancyUnknown" => Some(Self::OccupancyUnknown),
+            "occupancyEmpty" => Some(Self::OccupancyEmpty),
+            "occupancyVeryLow" => Some(Self::OccupancyVeryLow),
+            "occupancyLow" => Some(Self::OccupancyLow),
+            "occupancyMed" => Some(Self::OccupancyMed),
+            "occupancyHigh" => Some(Self::OccupancyHigh),
+            "occupancyNearlyFull" => Some(Self::OccupancyNearlyFull),
+            "occupancyFull" => Some(Self::OccupancyFull),
+            _ => None,
+        }
+    }
     fn root_index(self) -> i64 {
         match self {
             Self::OccupancyUnknown => 0,
@@ -1310,6 +1820,18 @@ impl Uper for TransitVehicleOccupancy {
 impl uper::random::Random for TransitVehicleOccupancy {
     fn random(g: &mut uper::random::Gen) -> Self {
         Self::ALL[g.below(8)]
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for TransitVehicleOccupancy {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.string(self.identifier());
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let name = crate::jer::string(v)?;
+        Self::from_identifier(name)
+            .ok_or_else(|| crate::jer::JerError::new(std::format!("unknown identifier {name}")))
     }
 }
 
@@ -1360,6 +1882,30 @@ impl Uper for RequestorDescriptionRegional {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for RequestorDescriptionRegional {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_array();
+        for item in self.0.iter() {
+            crate::jer::Jer::write_jer(item, out);
+        }
+        out.end_array();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let items = crate::jer::array(v)?;
+        if items.len() < 1 {
+            return Err(crate::jer::invalid("size"));
+        }
+        let mut list = Self::new();
+        for (i, x) in items.iter().enumerate() {
+            let item = <RegRequestorDescription as crate::jer::Jer>::read_jer(x)
+                .map_err(|e| e.within(&std::format!("[{i}]")))?;
+            list.0.push(item).map_err(|_| crate::jer::over_capacity())?;
+        }
+        Ok(list)
+    }
+}
+
 #[cfg(feature = "_random")]
 impl uper::random::Random for RequestorDescriptionRegional {
     fn random(g: &mut uper::random::Gen) -> Self {
@@ -1390,6 +1936,57 @@ impl RegRequestorDescription {
         match self {
             Self::Unknown { id, .. } => *id,
         }
+    }
+}
+
+impl RegRequestorDescription {
+    /// Writes the id and the value as members `id_name` and `value_name` of an object.
+    #[cfg(feature = "jer")]
+    pub fn write_jer_members(
+        &self,
+        out: &mut crate::jer::JerWriter,
+        id_name: &str,
+        value_name: &str,
+    ) {
+        out.key(id_name);
+        out.int(self.id().get() as i64);
+        out.key(value_name);
+        match self {
+            Self::Unknown { content, .. } => out.hex(content),
+        }
+    }
+    /// Reads the id and the value from members `id_name` and `value_name` of an object.
+    #[cfg(feature = "jer")]
+    pub fn read_jer_members(
+        v: &crate::jer::Value,
+        id_name: &str,
+        value_name: &str,
+    ) -> crate::jer::JerResult<Self> {
+        let id = crate::jer::read_member(
+            v,
+            id_name,
+            <super::common::RegionId as crate::jer::Jer>::read_jer,
+        )?;
+        let x = crate::jer::required(v, value_name)?;
+        match id.get() {
+            _ => {
+                let content = uper::Octets::from_slice(&crate::jer::hex(x)?)
+                    .ok_or_else(crate::jer::over_capacity)?;
+                Ok(Self::Unknown { id, content })
+            }
+        }
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for RegRequestorDescription {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        self.write_jer_members(out, "regionId", "regExtValue");
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        Self::read_jer_members(v, "regionId", "regExtValue")
     }
 }
 
@@ -1486,6 +2083,30 @@ impl Uper for SignalRequestMessageRegional {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for SignalRequestMessageRegional {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_array();
+        for item in self.0.iter() {
+            crate::jer::Jer::write_jer(item, out);
+        }
+        out.end_array();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let items = crate::jer::array(v)?;
+        if items.len() < 1 {
+            return Err(crate::jer::invalid("size"));
+        }
+        let mut list = Self::new();
+        for (i, x) in items.iter().enumerate() {
+            let item = <RegSignalRequestMessage as crate::jer::Jer>::read_jer(x)
+                .map_err(|e| e.within(&std::format!("[{i}]")))?;
+            list.0.push(item).map_err(|_| crate::jer::over_capacity())?;
+        }
+        Ok(list)
+    }
+}
+
 #[cfg(feature = "_random")]
 impl uper::random::Random for SignalRequestMessageRegional {
     fn random(g: &mut uper::random::Gen) -> Self {
@@ -1516,6 +2137,57 @@ impl RegSignalRequestMessage {
         match self {
             Self::Unknown { id, .. } => *id,
         }
+    }
+}
+
+impl RegSignalRequestMessage {
+    /// Writes the id and the value as members `id_name` and `value_name` of an object.
+    #[cfg(feature = "jer")]
+    pub fn write_jer_members(
+        &self,
+        out: &mut crate::jer::JerWriter,
+        id_name: &str,
+        value_name: &str,
+    ) {
+        out.key(id_name);
+        out.int(self.id().get() as i64);
+        out.key(value_name);
+        match self {
+            Self::Unknown { content, .. } => out.hex(content),
+        }
+    }
+    /// Reads the id and the value from members `id_name` and `value_name` of an object.
+    #[cfg(feature = "jer")]
+    pub fn read_jer_members(
+        v: &crate::jer::Value,
+        id_name: &str,
+        value_name: &str,
+    ) -> crate::jer::JerResult<Self> {
+        let id = crate::jer::read_member(
+            v,
+            id_name,
+            <super::common::RegionId as crate::jer::Jer>::read_jer,
+        )?;
+        let x = crate::jer::required(v, value_name)?;
+        match id.get() {
+            _ => {
+                let content = uper::Octets::from_slice(&crate::jer::hex(x)?)
+                    .ok_or_else(crate::jer::over_capacity)?;
+                Ok(Self::Unknown { id, content })
+            }
+        }
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for RegSignalRequestMessage {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        self.write_jer_members(out, "regionId", "regExtValue");
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        Self::read_jer_members(v, "regionId", "regExtValue")
     }
 }
 

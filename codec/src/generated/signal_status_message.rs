@@ -107,6 +107,56 @@ impl Uper for SignalStatusMessage {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for SignalStatusMessage {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        if let Some(v) = &self.time_stamp {
+            out.key("timeStamp");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        out.key("second");
+        crate::jer::Jer::write_jer(&self.second, out);
+        if let Some(v) = &self.sequence_number {
+            out.key("sequenceNumber");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        out.key("status");
+        crate::jer::Jer::write_jer(&self.status, out);
+        if let Some(v) = &self.regional {
+            out.key("regional");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        crate::jer::member(v, "")?;
+        let f_time_stamp = crate::jer::read_optional(v, "timeStamp", |x| {
+            <super::common::MinuteOfTheYear as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_second = crate::jer::read_member(v, "second", |x| {
+            <super::common::DSecond as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_sequence_number = crate::jer::read_optional(v, "sequenceNumber", |x| {
+            <super::common::MsgCount as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_status = crate::jer::read_member(v, "status", |x| {
+            <SignalStatusList as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_regional = crate::jer::read_optional(v, "regional", |x| {
+            <SignalStatusMessageRegional as crate::jer::Jer>::read_jer(x)
+        })?;
+        Ok(Self {
+            time_stamp: f_time_stamp,
+            second: f_second,
+            sequence_number: f_sequence_number,
+            status: f_status,
+            regional: f_regional,
+            extensions: uper::Extensions::new(),
+        })
+    }
+}
+
 #[cfg(feature = "_random")]
 impl uper::random::Random for SignalStatusMessage {
     fn random(g: &mut uper::random::Gen) -> Self {
@@ -172,6 +222,30 @@ impl Uper for SignalStatusList {
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for SignalStatusList {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_array();
+        for item in self.0.iter() {
+            crate::jer::Jer::write_jer(item, out);
+        }
+        out.end_array();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let items = crate::jer::array(v)?;
+        if items.len() < 1 {
+            return Err(crate::jer::invalid("size"));
+        }
+        let mut list = Self::new();
+        for (i, x) in items.iter().enumerate() {
+            let item = <SignalStatus as crate::jer::Jer>::read_jer(x)
+                .map_err(|e| e.within(&std::format!("[{i}]")))?;
+            list.0.push(item).map_err(|_| crate::jer::over_capacity())?;
+        }
+        Ok(list)
     }
 }
 
@@ -255,6 +329,46 @@ impl Uper for SignalStatus {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for SignalStatus {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        out.key("sequenceNumber");
+        crate::jer::Jer::write_jer(&self.sequence_number, out);
+        out.key("id");
+        crate::jer::Jer::write_jer(&self.id, out);
+        out.key("sigStatus");
+        crate::jer::Jer::write_jer(&self.sig_status, out);
+        if let Some(v) = &self.regional {
+            out.key("regional");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        crate::jer::member(v, "")?;
+        let f_sequence_number = crate::jer::read_member(v, "sequenceNumber", |x| {
+            <super::common::MsgCount as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_id = crate::jer::read_member(v, "id", |x| {
+            <super::common::IntersectionReferenceID as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_sig_status = crate::jer::read_member(v, "sigStatus", |x| {
+            <SignalStatusPackageList as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_regional = crate::jer::read_optional(v, "regional", |x| {
+            <SignalStatusRegional as crate::jer::Jer>::read_jer(x)
+        })?;
+        Ok(Self {
+            sequence_number: f_sequence_number,
+            id: f_id,
+            sig_status: f_sig_status,
+            regional: f_regional,
+            extensions: uper::Extensions::new(),
+        })
+    }
+}
+
 #[cfg(feature = "_random")]
 impl uper::random::Random for SignalStatus {
     fn random(g: &mut uper::random::Gen) -> Self {
@@ -311,6 +425,30 @@ impl Uper for SignalStatusPackageList {
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for SignalStatusPackageList {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_array();
+        for item in self.0.iter() {
+            crate::jer::Jer::write_jer(item, out);
+        }
+        out.end_array();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let items = crate::jer::array(v)?;
+        if items.len() < 1 {
+            return Err(crate::jer::invalid("size"));
+        }
+        let mut list = Self::new();
+        for (i, x) in items.iter().enumerate() {
+            let item = <SignalStatusPackage as crate::jer::Jer>::read_jer(x)
+                .map_err(|e| e.within(&std::format!("[{i}]")))?;
+            list.0.push(item).map_err(|_| crate::jer::over_capacity())?;
+        }
+        Ok(list)
     }
 }
 
@@ -480,6 +618,80 @@ impl Uper for SignalStatusPackage {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for SignalStatusPackage {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        if let Some(v) = &self.requester {
+            out.key("requester");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        out.key("inboundOn");
+        crate::jer::Jer::write_jer(&self.inbound_on, out);
+        if let Some(v) = &self.outbound_on {
+            out.key("outboundOn");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.minute {
+            out.key("minute");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.second {
+            out.key("second");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.duration {
+            out.key("duration");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        out.key("status");
+        crate::jer::Jer::write_jer(&self.status, out);
+        if let Some(v) = &self.regional {
+            out.key("regional");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        crate::jer::member(v, "")?;
+        let f_requester = crate::jer::read_optional(v, "requester", |x| {
+            <SignalRequesterInfo as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_inbound_on = crate::jer::read_member(v, "inboundOn", |x| {
+            <super::common::IntersectionAccessPoint as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_outbound_on = crate::jer::read_optional(v, "outboundOn", |x| {
+            <super::common::IntersectionAccessPoint as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_minute = crate::jer::read_optional(v, "minute", |x| {
+            <super::common::MinuteOfTheYear as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_second = crate::jer::read_optional(v, "second", |x| {
+            <super::common::DSecond as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_duration = crate::jer::read_optional(v, "duration", |x| {
+            <super::common::DSecond as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_status = crate::jer::read_member(v, "status", |x| {
+            <super::common::PrioritizationResponseStatus as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_regional = crate::jer::read_optional(v, "regional", |x| {
+            <SignalStatusPackageRegional as crate::jer::Jer>::read_jer(x)
+        })?;
+        Ok(Self {
+            requester: f_requester,
+            inbound_on: f_inbound_on,
+            outbound_on: f_outbound_on,
+            minute: f_minute,
+            second: f_second,
+            duration: f_duration,
+            status: f_status,
+            regional: f_regional,
+            extensions: uper::Extensions::new(),
+        })
+    }
+}
+
 #[cfg(feature = "_random")]
 impl uper::random::Random for SignalStatusPackage {
     fn random(g: &mut uper::random::Gen) -> Self {
@@ -611,6 +823,54 @@ impl Uper for SignalRequesterInfo {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for SignalRequesterInfo {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        out.key("id");
+        crate::jer::Jer::write_jer(&self.id, out);
+        out.key("request");
+        crate::jer::Jer::write_jer(&self.request, out);
+        out.key("sequenceNumber");
+        crate::jer::Jer::write_jer(&self.sequence_number, out);
+        if let Some(v) = &self.role {
+            out.key("role");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.type_data {
+            out.key("typeData");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        crate::jer::member(v, "")?;
+        let f_id = crate::jer::read_member(v, "id", |x| {
+            <super::common::VehicleID as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_request = crate::jer::read_member(v, "request", |x| {
+            <super::common::RequestID as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_sequence_number = crate::jer::read_member(v, "sequenceNumber", |x| {
+            <super::common::MsgCount as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_role = crate::jer::read_optional(v, "role", |x| {
+            <super::common::BasicVehicleRole as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_type_data = crate::jer::read_optional(v, "typeData", |x| {
+            <super::common::RequestorType as crate::jer::Jer>::read_jer(x)
+        })?;
+        Ok(Self {
+            id: f_id,
+            request: f_request,
+            sequence_number: f_sequence_number,
+            role: f_role,
+            type_data: f_type_data,
+            extensions: uper::Extensions::new(),
+        })
+    }
+}
+
 #[cfg(feature = "_random")]
 impl uper::random::Random for SignalRequesterInfo {
     fn random(g: &mut uper::random::Gen) -> Self {
@@ -675,6 +935,30 @@ impl Uper for SignalStatusPackageRegional {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for SignalStatusPackageRegional {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_array();
+        for item in self.0.iter() {
+            crate::jer::Jer::write_jer(item, out);
+        }
+        out.end_array();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let items = crate::jer::array(v)?;
+        if items.len() < 1 {
+            return Err(crate::jer::invalid("size"));
+        }
+        let mut list = Self::new();
+        for (i, x) in items.iter().enumerate() {
+            let item = <RegSignalStatusPackage as crate::jer::Jer>::read_jer(x)
+                .map_err(|e| e.within(&std::format!("[{i}]")))?;
+            list.0.push(item).map_err(|_| crate::jer::over_capacity())?;
+        }
+        Ok(list)
+    }
+}
+
 #[cfg(feature = "_random")]
 impl uper::random::Random for SignalStatusPackageRegional {
     fn random(g: &mut uper::random::Gen) -> Self {
@@ -705,6 +989,57 @@ impl RegSignalStatusPackage {
         match self {
             Self::Unknown { id, .. } => *id,
         }
+    }
+}
+
+impl RegSignalStatusPackage {
+    /// Writes the id and the value as members `id_name` and `value_name` of an object.
+    #[cfg(feature = "jer")]
+    pub fn write_jer_members(
+        &self,
+        out: &mut crate::jer::JerWriter,
+        id_name: &str,
+        value_name: &str,
+    ) {
+        out.key(id_name);
+        out.int(self.id().get() as i64);
+        out.key(value_name);
+        match self {
+            Self::Unknown { content, .. } => out.hex(content),
+        }
+    }
+    /// Reads the id and the value from members `id_name` and `value_name` of an object.
+    #[cfg(feature = "jer")]
+    pub fn read_jer_members(
+        v: &crate::jer::Value,
+        id_name: &str,
+        value_name: &str,
+    ) -> crate::jer::JerResult<Self> {
+        let id = crate::jer::read_member(
+            v,
+            id_name,
+            <super::common::RegionId as crate::jer::Jer>::read_jer,
+        )?;
+        let x = crate::jer::required(v, value_name)?;
+        match id.get() {
+            _ => {
+                let content = uper::Octets::from_slice(&crate::jer::hex(x)?)
+                    .ok_or_else(crate::jer::over_capacity)?;
+                Ok(Self::Unknown { id, content })
+            }
+        }
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for RegSignalStatusPackage {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        self.write_jer_members(out, "regionId", "regExtValue");
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        Self::read_jer_members(v, "regionId", "regExtValue")
     }
 }
 
@@ -801,6 +1136,30 @@ impl Uper for SignalStatusRegional {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for SignalStatusRegional {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_array();
+        for item in self.0.iter() {
+            crate::jer::Jer::write_jer(item, out);
+        }
+        out.end_array();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let items = crate::jer::array(v)?;
+        if items.len() < 1 {
+            return Err(crate::jer::invalid("size"));
+        }
+        let mut list = Self::new();
+        for (i, x) in items.iter().enumerate() {
+            let item = <RegSignalStatus as crate::jer::Jer>::read_jer(x)
+                .map_err(|e| e.within(&std::format!("[{i}]")))?;
+            list.0.push(item).map_err(|_| crate::jer::over_capacity())?;
+        }
+        Ok(list)
+    }
+}
+
 #[cfg(feature = "_random")]
 impl uper::random::Random for SignalStatusRegional {
     fn random(g: &mut uper::random::Gen) -> Self {
@@ -831,6 +1190,57 @@ impl RegSignalStatus {
         match self {
             Self::Unknown { id, .. } => *id,
         }
+    }
+}
+
+impl RegSignalStatus {
+    /// Writes the id and the value as members `id_name` and `value_name` of an object.
+    #[cfg(feature = "jer")]
+    pub fn write_jer_members(
+        &self,
+        out: &mut crate::jer::JerWriter,
+        id_name: &str,
+        value_name: &str,
+    ) {
+        out.key(id_name);
+        out.int(self.id().get() as i64);
+        out.key(value_name);
+        match self {
+            Self::Unknown { content, .. } => out.hex(content),
+        }
+    }
+    /// Reads the id and the value from members `id_name` and `value_name` of an object.
+    #[cfg(feature = "jer")]
+    pub fn read_jer_members(
+        v: &crate::jer::Value,
+        id_name: &str,
+        value_name: &str,
+    ) -> crate::jer::JerResult<Self> {
+        let id = crate::jer::read_member(
+            v,
+            id_name,
+            <super::common::RegionId as crate::jer::Jer>::read_jer,
+        )?;
+        let x = crate::jer::required(v, value_name)?;
+        match id.get() {
+            _ => {
+                let content = uper::Octets::from_slice(&crate::jer::hex(x)?)
+                    .ok_or_else(crate::jer::over_capacity)?;
+                Ok(Self::Unknown { id, content })
+            }
+        }
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for RegSignalStatus {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        self.write_jer_members(out, "regionId", "regExtValue");
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        Self::read_jer_members(v, "regionId", "regExtValue")
     }
 }
 
@@ -927,6 +1337,30 @@ impl Uper for SignalStatusMessageRegional {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for SignalStatusMessageRegional {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_array();
+        for item in self.0.iter() {
+            crate::jer::Jer::write_jer(item, out);
+        }
+        out.end_array();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let items = crate::jer::array(v)?;
+        if items.len() < 1 {
+            return Err(crate::jer::invalid("size"));
+        }
+        let mut list = Self::new();
+        for (i, x) in items.iter().enumerate() {
+            let item = <RegSignalStatusMessage as crate::jer::Jer>::read_jer(x)
+                .map_err(|e| e.within(&std::format!("[{i}]")))?;
+            list.0.push(item).map_err(|_| crate::jer::over_capacity())?;
+        }
+        Ok(list)
+    }
+}
+
 #[cfg(feature = "_random")]
 impl uper::random::Random for SignalStatusMessageRegional {
     fn random(g: &mut uper::random::Gen) -> Self {
@@ -957,6 +1391,57 @@ impl RegSignalStatusMessage {
         match self {
             Self::Unknown { id, .. } => *id,
         }
+    }
+}
+
+impl RegSignalStatusMessage {
+    /// Writes the id and the value as members `id_name` and `value_name` of an object.
+    #[cfg(feature = "jer")]
+    pub fn write_jer_members(
+        &self,
+        out: &mut crate::jer::JerWriter,
+        id_name: &str,
+        value_name: &str,
+    ) {
+        out.key(id_name);
+        out.int(self.id().get() as i64);
+        out.key(value_name);
+        match self {
+            Self::Unknown { content, .. } => out.hex(content),
+        }
+    }
+    /// Reads the id and the value from members `id_name` and `value_name` of an object.
+    #[cfg(feature = "jer")]
+    pub fn read_jer_members(
+        v: &crate::jer::Value,
+        id_name: &str,
+        value_name: &str,
+    ) -> crate::jer::JerResult<Self> {
+        let id = crate::jer::read_member(
+            v,
+            id_name,
+            <super::common::RegionId as crate::jer::Jer>::read_jer,
+        )?;
+        let x = crate::jer::required(v, value_name)?;
+        match id.get() {
+            _ => {
+                let content = uper::Octets::from_slice(&crate::jer::hex(x)?)
+                    .ok_or_else(crate::jer::over_capacity)?;
+                Ok(Self::Unknown { id, content })
+            }
+        }
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for RegSignalStatusMessage {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        self.write_jer_members(out, "regionId", "regExtValue");
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        Self::read_jer_members(v, "regionId", "regExtValue")
     }
 }
 

@@ -102,6 +102,50 @@ impl Uper for SPAT {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for SPAT {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        if let Some(v) = &self.time_stamp {
+            out.key("timeStamp");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.name {
+            out.key("name");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        out.key("intersections");
+        crate::jer::Jer::write_jer(&self.intersections, out);
+        if let Some(v) = &self.regional {
+            out.key("regional");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        crate::jer::member(v, "")?;
+        let f_time_stamp = crate::jer::read_optional(v, "timeStamp", |x| {
+            <super::common::MinuteOfTheYear as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_name = crate::jer::read_optional(v, "name", |x| {
+            <super::common::DescriptiveName as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_intersections = crate::jer::read_member(v, "intersections", |x| {
+            <IntersectionStateList as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_regional = crate::jer::read_optional(v, "regional", |x| {
+            <SPATRegional as crate::jer::Jer>::read_jer(x)
+        })?;
+        Ok(Self {
+            time_stamp: f_time_stamp,
+            name: f_name,
+            intersections: f_intersections,
+            regional: f_regional,
+            extensions: uper::Extensions::new(),
+        })
+    }
+}
+
 #[cfg(feature = "_random")]
 impl uper::random::Random for SPAT {
     fn random(g: &mut uper::random::Gen) -> Self {
@@ -161,6 +205,30 @@ impl Uper for IntersectionStateList {
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for IntersectionStateList {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_array();
+        for item in self.0.iter() {
+            crate::jer::Jer::write_jer(item, out);
+        }
+        out.end_array();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let items = crate::jer::array(v)?;
+        if items.len() < 1 {
+            return Err(crate::jer::invalid("size"));
+        }
+        let mut list = Self::new();
+        for (i, x) in items.iter().enumerate() {
+            let item = <IntersectionState as crate::jer::Jer>::read_jer(x)
+                .map_err(|e| e.within(&std::format!("[{i}]")))?;
+            list.0.push(item).map_err(|_| crate::jer::over_capacity())?;
+        }
+        Ok(list)
     }
 }
 
@@ -338,6 +406,92 @@ impl Uper for IntersectionState {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for IntersectionState {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        if let Some(v) = &self.name {
+            out.key("name");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        out.key("id");
+        crate::jer::Jer::write_jer(&self.id, out);
+        out.key("revision");
+        crate::jer::Jer::write_jer(&self.revision, out);
+        out.key("status");
+        crate::jer::Jer::write_jer(&self.status, out);
+        if let Some(v) = &self.moy {
+            out.key("moy");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.time_stamp {
+            out.key("timeStamp");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.enabled_lanes {
+            out.key("enabledLanes");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        out.key("states");
+        crate::jer::Jer::write_jer(&self.states, out);
+        if let Some(v) = &self.maneuver_assist_list {
+            out.key("maneuverAssistList");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.regional {
+            out.key("regional");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        crate::jer::member(v, "")?;
+        let f_name = crate::jer::read_optional(v, "name", |x| {
+            <super::common::DescriptiveName as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_id = crate::jer::read_member(v, "id", |x| {
+            <super::common::IntersectionReferenceID as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_revision = crate::jer::read_member(v, "revision", |x| {
+            <super::common::MsgCount as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_status = crate::jer::read_member(v, "status", |x| {
+            <IntersectionStatusObject as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_moy = crate::jer::read_optional(v, "moy", |x| {
+            <super::common::MinuteOfTheYear as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_time_stamp = crate::jer::read_optional(v, "timeStamp", |x| {
+            <super::common::DSecond as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_enabled_lanes = crate::jer::read_optional(v, "enabledLanes", |x| {
+            <EnabledLaneList as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_states = crate::jer::read_member(v, "states", |x| {
+            <MovementList as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_maneuver_assist_list = crate::jer::read_optional(v, "maneuverAssistList", |x| {
+            <ManeuverAssistList as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_regional = crate::jer::read_optional(v, "regional", |x| {
+            <IntersectionStateRegional as crate::jer::Jer>::read_jer(x)
+        })?;
+        Ok(Self {
+            name: f_name,
+            id: f_id,
+            revision: f_revision,
+            status: f_status,
+            moy: f_moy,
+            time_stamp: f_time_stamp,
+            enabled_lanes: f_enabled_lanes,
+            states: f_states,
+            maneuver_assist_list: f_maneuver_assist_list,
+            regional: f_regional,
+            extensions: uper::Extensions::new(),
+        })
+    }
+}
+
 #[cfg(feature = "_random")]
 impl uper::random::Random for IntersectionState {
     fn random(g: &mut uper::random::Gen) -> Self {
@@ -445,6 +599,22 @@ impl Uper for IntersectionStatusObject {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for IntersectionStatusObject {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.hex(self.0.as_bytes());
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let (bytes, len) = crate::jer::bits(v, 16, 16)?;
+        if !(16..=16).contains(&len) {
+            return Err(crate::jer::invalid("size"));
+        }
+        uper::Bits::from_bytes(&bytes, len)
+            .map(Self)
+            .ok_or_else(crate::jer::over_capacity)
+    }
+}
+
 #[cfg(feature = "_random")]
 impl uper::random::Random for IntersectionStatusObject {
     fn random(g: &mut uper::random::Gen) -> Self {
@@ -488,6 +658,30 @@ impl Uper for EnabledLaneList {
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for EnabledLaneList {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_array();
+        for item in self.0.iter() {
+            crate::jer::Jer::write_jer(item, out);
+        }
+        out.end_array();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let items = crate::jer::array(v)?;
+        if items.len() < 1 {
+            return Err(crate::jer::invalid("size"));
+        }
+        let mut list = Self::new();
+        for (i, x) in items.iter().enumerate() {
+            let item = <super::common::LaneID as crate::jer::Jer>::read_jer(x)
+                .map_err(|e| e.within(&std::format!("[{i}]")))?;
+            list.0.push(item).map_err(|_| crate::jer::over_capacity())?;
+        }
+        Ok(list)
     }
 }
 
@@ -537,6 +731,30 @@ impl Uper for MovementList {
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for MovementList {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_array();
+        for item in self.0.iter() {
+            crate::jer::Jer::write_jer(item, out);
+        }
+        out.end_array();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let items = crate::jer::array(v)?;
+        if items.len() < 1 {
+            return Err(crate::jer::invalid("size"));
+        }
+        let mut list = Self::new();
+        for (i, x) in items.iter().enumerate() {
+            let item = <MovementState as crate::jer::Jer>::read_jer(x)
+                .map_err(|e| e.within(&std::format!("[{i}]")))?;
+            list.0.push(item).map_err(|_| crate::jer::over_capacity())?;
+        }
+        Ok(list)
     }
 }
 
@@ -652,6 +870,56 @@ impl Uper for MovementState {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for MovementState {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        if let Some(v) = &self.movement_name {
+            out.key("movementName");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        out.key("signalGroup");
+        crate::jer::Jer::write_jer(&self.signal_group, out);
+        out.key("state-time-speed");
+        crate::jer::Jer::write_jer(&self.state_time_speed, out);
+        if let Some(v) = &self.maneuver_assist_list {
+            out.key("maneuverAssistList");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.regional {
+            out.key("regional");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        crate::jer::member(v, "")?;
+        let f_movement_name = crate::jer::read_optional(v, "movementName", |x| {
+            <super::common::DescriptiveName as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_signal_group = crate::jer::read_member(v, "signalGroup", |x| {
+            <super::common::SignalGroupID as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_state_time_speed = crate::jer::read_member(v, "state-time-speed", |x| {
+            <MovementEventList as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_maneuver_assist_list = crate::jer::read_optional(v, "maneuverAssistList", |x| {
+            <ManeuverAssistList as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_regional = crate::jer::read_optional(v, "regional", |x| {
+            <MovementStateRegional as crate::jer::Jer>::read_jer(x)
+        })?;
+        Ok(Self {
+            movement_name: f_movement_name,
+            signal_group: f_signal_group,
+            state_time_speed: f_state_time_speed,
+            maneuver_assist_list: f_maneuver_assist_list,
+            regional: f_regional,
+            extensions: uper::Extensions::new(),
+        })
+    }
+}
+
 #[cfg(feature = "_random")]
 impl uper::random::Random for MovementState {
     fn random(g: &mut uper::random::Gen) -> Self {
@@ -712,6 +980,30 @@ impl Uper for MovementEventList {
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for MovementEventList {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_array();
+        for item in self.0.iter() {
+            crate::jer::Jer::write_jer(item, out);
+        }
+        out.end_array();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let items = crate::jer::array(v)?;
+        if items.len() < 1 {
+            return Err(crate::jer::invalid("size"));
+        }
+        let mut list = Self::new();
+        for (i, x) in items.iter().enumerate() {
+            let item = <MovementEvent as crate::jer::Jer>::read_jer(x)
+                .map_err(|e| e.within(&std::format!("[{i}]")))?;
+            list.0.push(item).map_err(|_| crate::jer::over_capacity())?;
+        }
+        Ok(list)
     }
 }
 
@@ -822,6 +1114,50 @@ impl Uper for MovementEvent {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for MovementEvent {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        out.key("eventState");
+        crate::jer::Jer::write_jer(&self.event_state, out);
+        if let Some(v) = &self.timing {
+            out.key("timing");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.speeds {
+            out.key("speeds");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.regional {
+            out.key("regional");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        crate::jer::member(v, "")?;
+        let f_event_state = crate::jer::read_member(v, "eventState", |x| {
+            <MovementPhaseState as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_timing = crate::jer::read_optional(v, "timing", |x| {
+            <TimeChangeDetails as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_speeds = crate::jer::read_optional(v, "speeds", |x| {
+            <AdvisorySpeedList as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_regional = crate::jer::read_optional(v, "regional", |x| {
+            <MovementEventRegional as crate::jer::Jer>::read_jer(x)
+        })?;
+        Ok(Self {
+            event_state: f_event_state,
+            timing: f_timing,
+            speeds: f_speeds,
+            regional: f_regional,
+            extensions: uper::Extensions::new(),
+        })
+    }
+}
+
 #[cfg(feature = "_random")]
 impl uper::random::Random for MovementEvent {
     fn random(g: &mut uper::random::Gen) -> Self {
@@ -916,6 +1252,22 @@ impl MovementPhaseState {
             Self::CautionConflictingTraffic => "caution-Conflicting-Traffic",
         }
     }
+    /// The value of an ASN.1 identifier, when the type has it.
+    pub fn from_identifier(name: &str) -> Option<Self> {
+        match name {
+            "unavailable" => Some(Self::Unavailable),
+            "dark" => Some(Self::Dark),
+            "stop-Then-Proceed" => Some(Self::StopThenProceed),
+            "stop-And-Remain" => Some(Self::StopAndRemain),
+            "pre-Movement" => Some(Self::PreMovement),
+            "permissive-Movement-Allowed" => Some(Self::PermissiveMovementAllowed),
+            "protected-Movement-Allowed" => Some(Self::ProtectedMovementAllowed),
+            "permissive-clearance" => Some(Self::PermissiveClearance),
+            "protected-clearance" => Some(Self::ProtectedClearance),
+            "caution-Conflicting-Traffic" => Some(Self::CautionConflictingTraffic),
+            _ => None,
+        }
+    }
     fn root_index(self) -> i64 {
         match self {
             Self::Unavailable => 0,
@@ -962,6 +1314,18 @@ impl Uper for MovementPhaseState {
 impl uper::random::Random for MovementPhaseState {
     fn random(g: &mut uper::random::Gen) -> Self {
         Self::ALL[g.below(10)]
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for MovementPhaseState {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.string(self.identifier());
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let name = crate::jer::string(v)?;
+        Self::from_identifier(name)
+            .ok_or_else(|| crate::jer::JerError::new(std::format!("unknown identifier {name}")))
     }
 }
 
@@ -1082,6 +1446,65 @@ impl Uper for TimeChangeDetails {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for TimeChangeDetails {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        if let Some(v) = &self.start_time {
+            out.key("startTime");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        out.key("minEndTime");
+        crate::jer::Jer::write_jer(&self.min_end_time, out);
+        if let Some(v) = &self.max_end_time {
+            out.key("maxEndTime");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.likely_time {
+            out.key("likelyTime");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.confidence {
+            out.key("confidence");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.next_time {
+            out.key("nextTime");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        crate::jer::member(v, "")?;
+        let f_start_time = crate::jer::read_optional(v, "startTime", |x| {
+            <TimeMark as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_min_end_time = crate::jer::read_member(v, "minEndTime", |x| {
+            <TimeMark as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_max_end_time = crate::jer::read_optional(v, "maxEndTime", |x| {
+            <TimeMark as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_likely_time = crate::jer::read_optional(v, "likelyTime", |x| {
+            <TimeMark as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_confidence = crate::jer::read_optional(v, "confidence", |x| {
+            <TimeIntervalConfidence as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_next_time = crate::jer::read_optional(v, "nextTime", |x| {
+            <TimeMark as crate::jer::Jer>::read_jer(x)
+        })?;
+        Ok(Self {
+            start_time: f_start_time,
+            min_end_time: f_min_end_time,
+            max_end_time: f_max_end_time,
+            likely_time: f_likely_time,
+            confidence: f_confidence,
+            next_time: f_next_time,
+        })
+    }
+}
+
 #[cfg(feature = "_random")]
 impl uper::random::Random for TimeChangeDetails {
     fn random(g: &mut uper::random::Gen) -> Self {
@@ -1166,6 +1589,30 @@ impl Uper for AdvisorySpeedList {
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for AdvisorySpeedList {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_array();
+        for item in self.0.iter() {
+            crate::jer::Jer::write_jer(item, out);
+        }
+        out.end_array();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let items = crate::jer::array(v)?;
+        if items.len() < 1 {
+            return Err(crate::jer::invalid("size"));
+        }
+        let mut list = Self::new();
+        for (i, x) in items.iter().enumerate() {
+            let item = <AdvisorySpeed as crate::jer::Jer>::read_jer(x)
+                .map_err(|e| e.within(&std::format!("[{i}]")))?;
+            list.0.push(item).map_err(|_| crate::jer::over_capacity())?;
+        }
+        Ok(list)
     }
 }
 
@@ -1310,6 +1757,66 @@ impl Uper for AdvisorySpeed {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for AdvisorySpeed {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        out.key("type");
+        crate::jer::Jer::write_jer(&self.r#type, out);
+        if let Some(v) = &self.speed {
+            out.key("speed");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.confidence {
+            out.key("confidence");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.distance {
+            out.key("distance");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.class {
+            out.key("class");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.regional {
+            out.key("regional");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        crate::jer::member(v, "")?;
+        let f_type = crate::jer::read_member(v, "type", |x| {
+            <AdvisorySpeedType as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_speed = crate::jer::read_optional(v, "speed", |x| {
+            <SpeedAdvice as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_confidence = crate::jer::read_optional(v, "confidence", |x| {
+            <super::common::SpeedConfidence as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_distance = crate::jer::read_optional(v, "distance", |x| {
+            <ZoneLength as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_class = crate::jer::read_optional(v, "class", |x| {
+            <super::common::RestrictionClassID as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_regional = crate::jer::read_optional(v, "regional", |x| {
+            <AdvisorySpeedRegional as crate::jer::Jer>::read_jer(x)
+        })?;
+        Ok(Self {
+            r#type: f_type,
+            speed: f_speed,
+            confidence: f_confidence,
+            distance: f_distance,
+            class: f_class,
+            regional: f_regional,
+            extensions: uper::Extensions::new(),
+        })
+    }
+}
+
 #[cfg(feature = "_random")]
 impl uper::random::Random for AdvisorySpeed {
     fn random(g: &mut uper::random::Gen) -> Self {
@@ -1383,6 +1890,16 @@ impl AdvisorySpeedType {
             Self::Extension(_) => "",
         }
     }
+    /// The value of an ASN.1 identifier, when the type has it.
+    pub fn from_identifier(name: &str) -> Option<Self> {
+        match name {
+            "none" => Some(Self::None),
+            "greenwave" => Some(Self::Greenwave),
+            "ecoDrive" => Some(Self::EcoDrive),
+            "transit" => Some(Self::Transit),
+            _ => None,
+        }
+    }
     fn root_index(self) -> i64 {
         match self {
             Self::None => 0,
@@ -1440,6 +1957,18 @@ impl uper::random::Random for AdvisorySpeedType {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for AdvisorySpeedType {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.string(self.identifier());
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let name = crate::jer::string(v)?;
+        Self::from_identifier(name)
+            .ok_or_else(|| crate::jer::JerError::new(std::format!("unknown identifier {name}")))
+    }
+}
+
 /// ASN.1 `SpeedAdvice` (module `SPAT`): INTEGER (0..500).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub struct SpeedAdvice(u16);
@@ -1487,6 +2016,30 @@ impl Uper for AdvisorySpeedRegional {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for AdvisorySpeedRegional {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_array();
+        for item in self.0.iter() {
+            crate::jer::Jer::write_jer(item, out);
+        }
+        out.end_array();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let items = crate::jer::array(v)?;
+        if items.len() < 1 {
+            return Err(crate::jer::invalid("size"));
+        }
+        let mut list = Self::new();
+        for (i, x) in items.iter().enumerate() {
+            let item = <RegAdvisorySpeed as crate::jer::Jer>::read_jer(x)
+                .map_err(|e| e.within(&std::format!("[{i}]")))?;
+            list.0.push(item).map_err(|_| crate::jer::over_capacity())?;
+        }
+        Ok(list)
+    }
+}
+
 #[cfg(feature = "_random")]
 impl uper::random::Random for AdvisorySpeedRegional {
     fn random(g: &mut uper::random::Gen) -> Self {
@@ -1517,6 +2070,57 @@ impl RegAdvisorySpeed {
         match self {
             Self::Unknown { id, .. } => *id,
         }
+    }
+}
+
+impl RegAdvisorySpeed {
+    /// Writes the id and the value as members `id_name` and `value_name` of an object.
+    #[cfg(feature = "jer")]
+    pub fn write_jer_members(
+        &self,
+        out: &mut crate::jer::JerWriter,
+        id_name: &str,
+        value_name: &str,
+    ) {
+        out.key(id_name);
+        out.int(self.id().get() as i64);
+        out.key(value_name);
+        match self {
+            Self::Unknown { content, .. } => out.hex(content),
+        }
+    }
+    /// Reads the id and the value from members `id_name` and `value_name` of an object.
+    #[cfg(feature = "jer")]
+    pub fn read_jer_members(
+        v: &crate::jer::Value,
+        id_name: &str,
+        value_name: &str,
+    ) -> crate::jer::JerResult<Self> {
+        let id = crate::jer::read_member(
+            v,
+            id_name,
+            <super::common::RegionId as crate::jer::Jer>::read_jer,
+        )?;
+        let x = crate::jer::required(v, value_name)?;
+        match id.get() {
+            _ => {
+                let content = uper::Octets::from_slice(&crate::jer::hex(x)?)
+                    .ok_or_else(crate::jer::over_capacity)?;
+                Ok(Self::Unknown { id, content })
+            }
+        }
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for RegAdvisorySpeed {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        self.write_jer_members(out, "regionId", "regExtValue");
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        Self::read_jer_members(v, "regionId", "regExtValue")
     }
 }
 
@@ -1605,6 +2209,30 @@ impl Uper for MovementEventRegional {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for MovementEventRegional {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_array();
+        for item in self.0.iter() {
+            crate::jer::Jer::write_jer(item, out);
+        }
+        out.end_array();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let items = crate::jer::array(v)?;
+        if items.len() < 1 {
+            return Err(crate::jer::invalid("size"));
+        }
+        let mut list = Self::new();
+        for (i, x) in items.iter().enumerate() {
+            let item = <RegMovementEvent as crate::jer::Jer>::read_jer(x)
+                .map_err(|e| e.within(&std::format!("[{i}]")))?;
+            list.0.push(item).map_err(|_| crate::jer::over_capacity())?;
+        }
+        Ok(list)
+    }
+}
+
 #[cfg(feature = "_random")]
 impl uper::random::Random for MovementEventRegional {
     fn random(g: &mut uper::random::Gen) -> Self {
@@ -1645,6 +2273,61 @@ impl RegMovementEvent {
             }
             Self::Unknown { id, .. } => *id,
         }
+    }
+}
+
+impl RegMovementEvent {
+    /// Writes the id and the value as members `id_name` and `value_name` of an object.
+    #[cfg(feature = "jer")]
+    pub fn write_jer_members(
+        &self,
+        out: &mut crate::jer::JerWriter,
+        id_name: &str,
+        value_name: &str,
+    ) {
+        out.key(id_name);
+        out.int(self.id().get() as i64);
+        out.key(value_name);
+        match self {
+            Self::AddGrpB(v) => crate::jer::Jer::write_jer(v, out),
+            Self::Unknown { content, .. } => out.hex(content),
+        }
+    }
+    /// Reads the id and the value from members `id_name` and `value_name` of an object.
+    #[cfg(feature = "jer")]
+    pub fn read_jer_members(
+        v: &crate::jer::Value,
+        id_name: &str,
+        value_name: &str,
+    ) -> crate::jer::JerResult<Self> {
+        let id = crate::jer::read_member(
+            v,
+            id_name,
+            <super::common::RegionId as crate::jer::Jer>::read_jer,
+        )?;
+        let x = crate::jer::required(v, value_name)?;
+        match id.get() {
+            2 => <super::add_grp_b::MovementEventAddGrpB as crate::jer::Jer>::read_jer(x)
+                .map(Self::AddGrpB)
+                .map_err(|e| e.within(value_name)),
+            _ => {
+                let content = uper::Octets::from_slice(&crate::jer::hex(x)?)
+                    .ok_or_else(crate::jer::over_capacity)?;
+                Ok(Self::Unknown { id, content })
+            }
+        }
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for RegMovementEvent {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        self.write_jer_members(out, "regionId", "regExtValue");
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        Self::read_jer_members(v, "regionId", "regExtValue")
     }
 }
 
@@ -1747,6 +2430,30 @@ impl Uper for ManeuverAssistList {
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for ManeuverAssistList {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_array();
+        for item in self.0.iter() {
+            crate::jer::Jer::write_jer(item, out);
+        }
+        out.end_array();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let items = crate::jer::array(v)?;
+        if items.len() < 1 {
+            return Err(crate::jer::invalid("size"));
+        }
+        let mut list = Self::new();
+        for (i, x) in items.iter().enumerate() {
+            let item = <ConnectionManeuverAssist as crate::jer::Jer>::read_jer(x)
+                .map_err(|e| e.within(&std::format!("[{i}]")))?;
+            list.0.push(item).map_err(|_| crate::jer::over_capacity())?;
+        }
+        Ok(list)
     }
 }
 
@@ -1894,6 +2601,67 @@ impl Uper for ConnectionManeuverAssist {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for ConnectionManeuverAssist {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        out.key("connectionID");
+        crate::jer::Jer::write_jer(&self.connection_id, out);
+        if let Some(v) = &self.queue_length {
+            out.key("queueLength");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.available_storage_length {
+            out.key("availableStorageLength");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.wait_on_stop {
+            out.key("waitOnStop");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.ped_bicycle_detect {
+            out.key("pedBicycleDetect");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.regional {
+            out.key("regional");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        crate::jer::member(v, "")?;
+        let f_connection_id = crate::jer::read_member(v, "connectionID", |x| {
+            <super::common::LaneConnectionID as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_queue_length = crate::jer::read_optional(v, "queueLength", |x| {
+            <ZoneLength as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_available_storage_length =
+            crate::jer::read_optional(v, "availableStorageLength", |x| {
+                <ZoneLength as crate::jer::Jer>::read_jer(x)
+            })?;
+        let f_wait_on_stop = crate::jer::read_optional(v, "waitOnStop", |x| {
+            <WaitOnStopline as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_ped_bicycle_detect = crate::jer::read_optional(v, "pedBicycleDetect", |x| {
+            <PedestrianBicycleDetect as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_regional = crate::jer::read_optional(v, "regional", |x| {
+            <ConnectionManeuverAssistRegional as crate::jer::Jer>::read_jer(x)
+        })?;
+        Ok(Self {
+            connection_id: f_connection_id,
+            queue_length: f_queue_length,
+            available_storage_length: f_available_storage_length,
+            wait_on_stop: f_wait_on_stop,
+            ped_bicycle_detect: f_ped_bicycle_detect,
+            regional: f_regional,
+            extensions: uper::Extensions::new(),
+        })
+    }
+}
+
 #[cfg(feature = "_random")]
 impl uper::random::Random for ConnectionManeuverAssist {
     fn random(g: &mut uper::random::Gen) -> Self {
@@ -1977,6 +2745,30 @@ impl Uper for ConnectionManeuverAssistRegional {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for ConnectionManeuverAssistRegional {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_array();
+        for item in self.0.iter() {
+            crate::jer::Jer::write_jer(item, out);
+        }
+        out.end_array();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let items = crate::jer::array(v)?;
+        if items.len() < 1 {
+            return Err(crate::jer::invalid("size"));
+        }
+        let mut list = Self::new();
+        for (i, x) in items.iter().enumerate() {
+            let item = <RegConnectionManeuverAssist as crate::jer::Jer>::read_jer(x)
+                .map_err(|e| e.within(&std::format!("[{i}]")))?;
+            list.0.push(item).map_err(|_| crate::jer::over_capacity())?;
+        }
+        Ok(list)
+    }
+}
+
 #[cfg(feature = "_random")]
 impl uper::random::Random for ConnectionManeuverAssistRegional {
     fn random(g: &mut uper::random::Gen) -> Self {
@@ -2017,6 +2809,63 @@ impl RegConnectionManeuverAssist {
             }
             Self::Unknown { id, .. } => *id,
         }
+    }
+}
+
+impl RegConnectionManeuverAssist {
+    /// Writes the id and the value as members `id_name` and `value_name` of an object.
+    #[cfg(feature = "jer")]
+    pub fn write_jer_members(
+        &self,
+        out: &mut crate::jer::JerWriter,
+        id_name: &str,
+        value_name: &str,
+    ) {
+        out.key(id_name);
+        out.int(self.id().get() as i64);
+        out.key(value_name);
+        match self {
+            Self::AddGrpC(v) => crate::jer::Jer::write_jer(v, out),
+            Self::Unknown { content, .. } => out.hex(content),
+        }
+    }
+    /// Reads the id and the value from members `id_name` and `value_name` of an object.
+    #[cfg(feature = "jer")]
+    pub fn read_jer_members(
+        v: &crate::jer::Value,
+        id_name: &str,
+        value_name: &str,
+    ) -> crate::jer::JerResult<Self> {
+        let id = crate::jer::read_member(
+            v,
+            id_name,
+            <super::common::RegionId as crate::jer::Jer>::read_jer,
+        )?;
+        let x = crate::jer::required(v, value_name)?;
+        match id.get() {
+            3 => {
+                <super::add_grp_c::ConnectionManeuverAssistAddGrpC as crate::jer::Jer>::read_jer(x)
+                    .map(Self::AddGrpC)
+                    .map_err(|e| e.within(value_name))
+            }
+            _ => {
+                let content = uper::Octets::from_slice(&crate::jer::hex(x)?)
+                    .ok_or_else(crate::jer::over_capacity)?;
+                Ok(Self::Unknown { id, content })
+            }
+        }
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for RegConnectionManeuverAssist {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        self.write_jer_members(out, "regionId", "regExtValue");
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        Self::read_jer_members(v, "regionId", "regExtValue")
     }
 }
 
@@ -2127,6 +2976,30 @@ impl Uper for MovementStateRegional {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for MovementStateRegional {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_array();
+        for item in self.0.iter() {
+            crate::jer::Jer::write_jer(item, out);
+        }
+        out.end_array();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let items = crate::jer::array(v)?;
+        if items.len() < 1 {
+            return Err(crate::jer::invalid("size"));
+        }
+        let mut list = Self::new();
+        for (i, x) in items.iter().enumerate() {
+            let item = <RegMovementState as crate::jer::Jer>::read_jer(x)
+                .map_err(|e| e.within(&std::format!("[{i}]")))?;
+            list.0.push(item).map_err(|_| crate::jer::over_capacity())?;
+        }
+        Ok(list)
+    }
+}
+
 #[cfg(feature = "_random")]
 impl uper::random::Random for MovementStateRegional {
     fn random(g: &mut uper::random::Gen) -> Self {
@@ -2157,6 +3030,57 @@ impl RegMovementState {
         match self {
             Self::Unknown { id, .. } => *id,
         }
+    }
+}
+
+impl RegMovementState {
+    /// Writes the id and the value as members `id_name` and `value_name` of an object.
+    #[cfg(feature = "jer")]
+    pub fn write_jer_members(
+        &self,
+        out: &mut crate::jer::JerWriter,
+        id_name: &str,
+        value_name: &str,
+    ) {
+        out.key(id_name);
+        out.int(self.id().get() as i64);
+        out.key(value_name);
+        match self {
+            Self::Unknown { content, .. } => out.hex(content),
+        }
+    }
+    /// Reads the id and the value from members `id_name` and `value_name` of an object.
+    #[cfg(feature = "jer")]
+    pub fn read_jer_members(
+        v: &crate::jer::Value,
+        id_name: &str,
+        value_name: &str,
+    ) -> crate::jer::JerResult<Self> {
+        let id = crate::jer::read_member(
+            v,
+            id_name,
+            <super::common::RegionId as crate::jer::Jer>::read_jer,
+        )?;
+        let x = crate::jer::required(v, value_name)?;
+        match id.get() {
+            _ => {
+                let content = uper::Octets::from_slice(&crate::jer::hex(x)?)
+                    .ok_or_else(crate::jer::over_capacity)?;
+                Ok(Self::Unknown { id, content })
+            }
+        }
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for RegMovementState {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        self.write_jer_members(out, "regionId", "regExtValue");
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        Self::read_jer_members(v, "regionId", "regExtValue")
     }
 }
 
@@ -2245,6 +3169,30 @@ impl Uper for IntersectionStateRegional {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for IntersectionStateRegional {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_array();
+        for item in self.0.iter() {
+            crate::jer::Jer::write_jer(item, out);
+        }
+        out.end_array();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let items = crate::jer::array(v)?;
+        if items.len() < 1 {
+            return Err(crate::jer::invalid("size"));
+        }
+        let mut list = Self::new();
+        for (i, x) in items.iter().enumerate() {
+            let item = <RegIntersectionState as crate::jer::Jer>::read_jer(x)
+                .map_err(|e| e.within(&std::format!("[{i}]")))?;
+            list.0.push(item).map_err(|_| crate::jer::over_capacity())?;
+        }
+        Ok(list)
+    }
+}
+
 #[cfg(feature = "_random")]
 impl uper::random::Random for IntersectionStateRegional {
     fn random(g: &mut uper::random::Gen) -> Self {
@@ -2285,6 +3233,61 @@ impl RegIntersectionState {
             }
             Self::Unknown { id, .. } => *id,
         }
+    }
+}
+
+impl RegIntersectionState {
+    /// Writes the id and the value as members `id_name` and `value_name` of an object.
+    #[cfg(feature = "jer")]
+    pub fn write_jer_members(
+        &self,
+        out: &mut crate::jer::JerWriter,
+        id_name: &str,
+        value_name: &str,
+    ) {
+        out.key(id_name);
+        out.int(self.id().get() as i64);
+        out.key(value_name);
+        match self {
+            Self::AddGrpC(v) => crate::jer::Jer::write_jer(v, out),
+            Self::Unknown { content, .. } => out.hex(content),
+        }
+    }
+    /// Reads the id and the value from members `id_name` and `value_name` of an object.
+    #[cfg(feature = "jer")]
+    pub fn read_jer_members(
+        v: &crate::jer::Value,
+        id_name: &str,
+        value_name: &str,
+    ) -> crate::jer::JerResult<Self> {
+        let id = crate::jer::read_member(
+            v,
+            id_name,
+            <super::common::RegionId as crate::jer::Jer>::read_jer,
+        )?;
+        let x = crate::jer::required(v, value_name)?;
+        match id.get() {
+            3 => <super::add_grp_c::IntersectionStateAddGrpC as crate::jer::Jer>::read_jer(x)
+                .map(Self::AddGrpC)
+                .map_err(|e| e.within(value_name)),
+            _ => {
+                let content = uper::Octets::from_slice(&crate::jer::hex(x)?)
+                    .ok_or_else(crate::jer::over_capacity)?;
+                Ok(Self::Unknown { id, content })
+            }
+        }
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for RegIntersectionState {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        self.write_jer_members(out, "regionId", "regExtValue");
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        Self::read_jer_members(v, "regionId", "regExtValue")
     }
 }
 
@@ -2390,6 +3393,30 @@ impl Uper for SPATRegional {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for SPATRegional {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_array();
+        for item in self.0.iter() {
+            crate::jer::Jer::write_jer(item, out);
+        }
+        out.end_array();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let items = crate::jer::array(v)?;
+        if items.len() < 1 {
+            return Err(crate::jer::invalid("size"));
+        }
+        let mut list = Self::new();
+        for (i, x) in items.iter().enumerate() {
+            let item = <RegSPAT as crate::jer::Jer>::read_jer(x)
+                .map_err(|e| e.within(&std::format!("[{i}]")))?;
+            list.0.push(item).map_err(|_| crate::jer::over_capacity())?;
+        }
+        Ok(list)
+    }
+}
+
 #[cfg(feature = "_random")]
 impl uper::random::Random for SPATRegional {
     fn random(g: &mut uper::random::Gen) -> Self {
@@ -2419,6 +3446,57 @@ impl RegSPAT {
         match self {
             Self::Unknown { id, .. } => *id,
         }
+    }
+}
+
+impl RegSPAT {
+    /// Writes the id and the value as members `id_name` and `value_name` of an object.
+    #[cfg(feature = "jer")]
+    pub fn write_jer_members(
+        &self,
+        out: &mut crate::jer::JerWriter,
+        id_name: &str,
+        value_name: &str,
+    ) {
+        out.key(id_name);
+        out.int(self.id().get() as i64);
+        out.key(value_name);
+        match self {
+            Self::Unknown { content, .. } => out.hex(content),
+        }
+    }
+    /// Reads the id and the value from members `id_name` and `value_name` of an object.
+    #[cfg(feature = "jer")]
+    pub fn read_jer_members(
+        v: &crate::jer::Value,
+        id_name: &str,
+        value_name: &str,
+    ) -> crate::jer::JerResult<Self> {
+        let id = crate::jer::read_member(
+            v,
+            id_name,
+            <super::common::RegionId as crate::jer::Jer>::read_jer,
+        )?;
+        let x = crate::jer::required(v, value_name)?;
+        match id.get() {
+            _ => {
+                let content = uper::Octets::from_slice(&crate::jer::hex(x)?)
+                    .ok_or_else(crate::jer::over_capacity)?;
+                Ok(Self::Unknown { id, content })
+            }
+        }
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for RegSPAT {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        self.write_jer_members(out, "regionId", "regExtValue");
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        Self::read_jer_members(v, "regionId", "regExtValue")
     }
 }
 

@@ -124,6 +124,63 @@ impl Uper for TravelerInformation {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for TravelerInformation {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        out.key("msgCnt");
+        crate::jer::Jer::write_jer(&self.msg_cnt, out);
+        if let Some(v) = &self.time_stamp {
+            out.key("timeStamp");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.packet_id {
+            out.key("packetID");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.url_b {
+            out.key("urlB");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        out.key("dataFrames");
+        crate::jer::Jer::write_jer(&self.data_frames, out);
+        if let Some(v) = &self.regional {
+            out.key("regional");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        crate::jer::member(v, "")?;
+        let f_msg_cnt = crate::jer::read_member(v, "msgCnt", |x| {
+            <super::common::MsgCount as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_time_stamp = crate::jer::read_optional(v, "timeStamp", |x| {
+            <super::common::MinuteOfTheYear as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_packet_id = crate::jer::read_optional(v, "packetID", |x| {
+            <UniqueMSGID as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_url_b =
+            crate::jer::read_optional(v, "urlB", |x| <URLBase as crate::jer::Jer>::read_jer(x))?;
+        let f_data_frames = crate::jer::read_member(v, "dataFrames", |x| {
+            <TravelerDataFrameList as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_regional = crate::jer::read_optional(v, "regional", |x| {
+            <TravelerInformationRegional as crate::jer::Jer>::read_jer(x)
+        })?;
+        Ok(Self {
+            msg_cnt: f_msg_cnt,
+            time_stamp: f_time_stamp,
+            packet_id: f_packet_id,
+            url_b: f_url_b,
+            data_frames: f_data_frames,
+            regional: f_regional,
+            extensions: uper::Extensions::new(),
+        })
+    }
+}
+
 #[cfg(feature = "_random")]
 impl uper::random::Random for TravelerInformation {
     fn random(g: &mut uper::random::Gen) -> Self {
@@ -183,6 +240,19 @@ impl uper::random::Random for UniqueMSGID {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for UniqueMSGID {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.hex(&self.0);
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        crate::jer::hex(v)?
+            .try_into()
+            .map(Self)
+            .map_err(|_| crate::jer::invalid("size"))
+    }
+}
+
 /// ASN.1 `URL-Base` (module `TravelerInformation`): IA5String (SIZE(1..45)).
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub struct URLBase(pub uper::Ia5<45>);
@@ -216,6 +286,16 @@ impl Uper for URLBase {
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_ia5(w, Self::SIZE, &self.0)
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for URLBase {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.string(self.0.as_str());
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        Self::new(crate::jer::string(v)?).ok_or_else(|| crate::jer::invalid("size or character"))
     }
 }
 
@@ -269,6 +349,30 @@ impl Uper for TravelerDataFrameList {
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for TravelerDataFrameList {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_array();
+        for item in self.0.iter() {
+            crate::jer::Jer::write_jer(item, out);
+        }
+        out.end_array();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let items = crate::jer::array(v)?;
+        if items.len() < 1 {
+            return Err(crate::jer::invalid("size"));
+        }
+        let mut list = Self::new();
+        for (i, x) in items.iter().enumerate() {
+            let item = <TravelerDataFrame as crate::jer::Jer>::read_jer(x)
+                .map_err(|e| e.within(&std::format!("[{i}]")))?;
+            list.0.push(item).map_err(|_| crate::jer::over_capacity())?;
+        }
+        Ok(list)
     }
 }
 
@@ -412,6 +516,101 @@ impl Uper for TravelerDataFrame {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for TravelerDataFrame {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        out.key("notUsed");
+        crate::jer::Jer::write_jer(&self.not_used, out);
+        out.key("frameType");
+        crate::jer::Jer::write_jer(&self.frame_type, out);
+        out.key("msgId");
+        crate::jer::Jer::write_jer(&self.msg_id, out);
+        if let Some(v) = &self.start_year {
+            out.key("startYear");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        out.key("startTime");
+        crate::jer::Jer::write_jer(&self.start_time, out);
+        out.key("durationTime");
+        crate::jer::Jer::write_jer(&self.duration_time, out);
+        out.key("priority");
+        crate::jer::Jer::write_jer(&self.priority, out);
+        out.key("notUsed1");
+        crate::jer::Jer::write_jer(&self.not_used1, out);
+        out.key("regions");
+        crate::jer::Jer::write_jer(&self.regions, out);
+        out.key("notUsed2");
+        crate::jer::Jer::write_jer(&self.not_used2, out);
+        out.key("notUsed3");
+        crate::jer::Jer::write_jer(&self.not_used3, out);
+        out.key("content");
+        crate::jer::Jer::write_jer(&self.content, out);
+        if let Some(v) = &self.url {
+            out.key("url");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        crate::jer::member(v, "")?;
+        let f_not_used = crate::jer::read_member(v, "notUsed", |x| {
+            <super::common::SSPindex as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_frame_type = crate::jer::read_member(v, "frameType", |x| {
+            <TravelerInfoType as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_msg_id = crate::jer::read_member(v, "msgId", |x| {
+            <TravelerDataFrameMsgId as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_start_year = crate::jer::read_optional(v, "startYear", |x| {
+            <super::common::DYear as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_start_time = crate::jer::read_member(v, "startTime", |x| {
+            <super::common::MinuteOfTheYear as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_duration_time = crate::jer::read_member(v, "durationTime", |x| {
+            <MinutesDuration as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_priority = crate::jer::read_member(v, "priority", |x| {
+            <SignPrority as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_not_used1 = crate::jer::read_member(v, "notUsed1", |x| {
+            <super::common::SSPindex as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_regions = crate::jer::read_member(v, "regions", |x| {
+            <TravelerDataFrameRegions as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_not_used2 = crate::jer::read_member(v, "notUsed2", |x| {
+            <super::common::SSPindex as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_not_used3 = crate::jer::read_member(v, "notUsed3", |x| {
+            <super::common::SSPindex as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_content = crate::jer::read_member(v, "content", |x| {
+            <TravelerDataFrameContent as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_url =
+            crate::jer::read_optional(v, "url", |x| <URLShort as crate::jer::Jer>::read_jer(x))?;
+        Ok(Self {
+            not_used: f_not_used,
+            frame_type: f_frame_type,
+            msg_id: f_msg_id,
+            start_year: f_start_year,
+            start_time: f_start_time,
+            duration_time: f_duration_time,
+            priority: f_priority,
+            not_used1: f_not_used1,
+            regions: f_regions,
+            not_used2: f_not_used2,
+            not_used3: f_not_used3,
+            content: f_content,
+            url: f_url,
+            extensions: uper::Extensions::new(),
+        })
+    }
+}
+
 #[cfg(feature = "_random")]
 impl uper::random::Random for TravelerDataFrame {
     fn random(g: &mut uper::random::Gen) -> Self {
@@ -485,6 +684,16 @@ impl TravelerInfoType {
             Self::Extension(_) => "",
         }
     }
+    /// The value of an ASN.1 identifier, when the type has it.
+    pub fn from_identifier(name: &str) -> Option<Self> {
+        match name {
+            "unknown" => Some(Self::Unknown),
+            "advisory" => Some(Self::Advisory),
+            "roadSignage" => Some(Self::RoadSignage),
+            "commercialSignage" => Some(Self::CommercialSignage),
+            _ => None,
+        }
+    }
     fn root_index(self) -> i64 {
         match self {
             Self::Unknown => 0,
@@ -539,6 +748,18 @@ impl Uper for TravelerInfoType {
 impl uper::random::Random for TravelerInfoType {
     fn random(g: &mut uper::random::Gen) -> Self {
         Self::ALL[g.below(4)]
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for TravelerInfoType {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.string(self.identifier());
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let name = crate::jer::string(v)?;
+        Self::from_identifier(name)
+            .ok_or_else(|| crate::jer::JerError::new(std::format!("unknown identifier {name}")))
     }
 }
 
@@ -623,6 +844,40 @@ impl uper::random::Random for TravelerDataFrameMsgId {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for TravelerDataFrameMsgId {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        match self {
+            Self::FurtherInfoID(v) => {
+                out.begin_object();
+                out.key("furtherInfoID");
+                crate::jer::Jer::write_jer(v, out);
+                out.end_object();
+            }
+            Self::RoadSignID(v) => {
+                out.begin_object();
+                out.key("roadSignID");
+                crate::jer::Jer::write_jer(v, out);
+                out.end_object();
+            }
+        }
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let (name, x) = crate::jer::alternative(v)?;
+        match name {
+            "furtherInfoID" => <super::common::FurtherInfoID as crate::jer::Jer>::read_jer(x)
+                .map(Self::FurtherInfoID)
+                .map_err(|e| e.within(name)),
+            "roadSignID" => <RoadSignID as crate::jer::Jer>::read_jer(x)
+                .map(Self::RoadSignID)
+                .map_err(|e| e.within(name)),
+            _ => Err(crate::jer::JerError::new(std::format!(
+                "unknown alternative {name}"
+            ))),
+        }
+    }
+}
+
 /// ASN.1 `RoadSignID` (module `TravelerInformation`): SEQUENCE.
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub struct RoadSignID {
@@ -690,6 +945,46 @@ impl Uper for RoadSignID {
             v.encode_uper(w)?;
         }
         Ok(())
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for RoadSignID {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        out.key("position");
+        crate::jer::Jer::write_jer(&self.position, out);
+        out.key("viewAngle");
+        crate::jer::Jer::write_jer(&self.view_angle, out);
+        if let Some(v) = &self.mutcd_code {
+            out.key("mutcdCode");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.crc {
+            out.key("crc");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        crate::jer::member(v, "")?;
+        let f_position = crate::jer::read_member(v, "position", |x| {
+            <super::common::Position3D as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_view_angle = crate::jer::read_member(v, "viewAngle", |x| {
+            <super::common::HeadingSlice as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_mutcd_code = crate::jer::read_optional(v, "mutcdCode", |x| {
+            <MUTCDCode as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_crc =
+            crate::jer::read_optional(v, "crc", |x| <MsgCRC as crate::jer::Jer>::read_jer(x))?;
+        Ok(Self {
+            position: f_position,
+            view_angle: f_view_angle,
+            mutcd_code: f_mutcd_code,
+            crc: f_crc,
+        })
     }
 }
 
@@ -771,6 +1066,19 @@ impl MUTCDCode {
             Self::Extension(_) => "",
         }
     }
+    /// The value of an ASN.1 identifier, when the type has it.
+    pub fn from_identifier(name: &str) -> Option<Self> {
+        match name {
+            "none" => Some(Self::None),
+            "regulatory" => Some(Self::Regulatory),
+            "warning" => Some(Self::Warning),
+            "maintenance" => Some(Self::Maintenance),
+            "motoristService" => Some(Self::MotoristService),
+            "guide" => Some(Self::Guide),
+            "rec" => Some(Self::Rec),
+            _ => None,
+        }
+    }
     fn root_index(self) -> i64 {
         match self {
             Self::None => 0,
@@ -831,6 +1139,18 @@ impl uper::random::Random for MUTCDCode {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for MUTCDCode {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.string(self.identifier());
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let name = crate::jer::string(v)?;
+        Self::from_identifier(name)
+            .ok_or_else(|| crate::jer::JerError::new(std::format!("unknown identifier {name}")))
+    }
+}
+
 /// ASN.1 `MsgCRC` (module `TravelerInformation`): OCTET STRING (SIZE(2)).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub struct MsgCRC(pub [u8; 2]);
@@ -856,6 +1176,19 @@ impl Uper for MsgCRC {
 impl uper::random::Random for MsgCRC {
     fn random(g: &mut uper::random::Gen) -> Self {
         Self(core::array::from_fn(|_| g.octet()))
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for MsgCRC {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.hex(&self.0);
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        crate::jer::hex(v)?
+            .try_into()
+            .map(Self)
+            .map_err(|_| crate::jer::invalid("size"))
     }
 }
 
@@ -918,6 +1251,30 @@ impl Uper for TravelerDataFrameRegions {
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for TravelerDataFrameRegions {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_array();
+        for item in self.0.iter() {
+            crate::jer::Jer::write_jer(item, out);
+        }
+        out.end_array();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let items = crate::jer::array(v)?;
+        if items.len() < 1 {
+            return Err(crate::jer::invalid("size"));
+        }
+        let mut list = Self::new();
+        for (i, x) in items.iter().enumerate() {
+            let item = <GeographicalPath as crate::jer::Jer>::read_jer(x)
+                .map_err(|e| e.within(&std::format!("[{i}]")))?;
+            list.0.push(item).map_err(|_| crate::jer::over_capacity())?;
+        }
+        Ok(list)
     }
 }
 
@@ -1126,6 +1483,90 @@ impl Uper for GeographicalPath {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for GeographicalPath {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        if let Some(v) = &self.name {
+            out.key("name");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.id {
+            out.key("id");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.anchor {
+            out.key("anchor");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.lane_width {
+            out.key("laneWidth");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.directionality {
+            out.key("directionality");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.closed_path {
+            out.key("closedPath");
+            out.bool(*v);
+        }
+        if let Some(v) = &self.direction {
+            out.key("direction");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.description {
+            out.key("description");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.regional {
+            out.key("regional");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        crate::jer::member(v, "")?;
+        let f_name = crate::jer::read_optional(v, "name", |x| {
+            <super::common::DescriptiveName as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_id = crate::jer::read_optional(v, "id", |x| {
+            <super::common::RoadSegmentReferenceID as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_anchor = crate::jer::read_optional(v, "anchor", |x| {
+            <super::common::Position3D as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_lane_width = crate::jer::read_optional(v, "laneWidth", |x| {
+            <super::common::LaneWidth as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_directionality = crate::jer::read_optional(v, "directionality", |x| {
+            <DirectionOfUse as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_closed_path = crate::jer::read_optional(v, "closedPath", |x| crate::jer::boolean(x))?;
+        let f_direction = crate::jer::read_optional(v, "direction", |x| {
+            <super::common::HeadingSlice as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_description = crate::jer::read_optional(v, "description", |x| {
+            <GeographicalPathDescription as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_regional = crate::jer::read_optional(v, "regional", |x| {
+            <GeographicalPathRegional as crate::jer::Jer>::read_jer(x)
+        })?;
+        Ok(Self {
+            name: f_name,
+            id: f_id,
+            anchor: f_anchor,
+            lane_width: f_lane_width,
+            directionality: f_directionality,
+            closed_path: f_closed_path,
+            direction: f_direction,
+            description: f_description,
+            regional: f_regional,
+            extensions: uper::Extensions::new(),
+        })
+    }
+}
+
 #[cfg(feature = "_random")]
 impl uper::random::Random for GeographicalPath {
     fn random(g: &mut uper::random::Gen) -> Self {
@@ -1220,6 +1661,16 @@ impl DirectionOfUse {
             Self::Both => "both",
         }
     }
+    /// The value of an ASN.1 identifier, when the type has it.
+    pub fn from_identifier(name: &str) -> Option<Self> {
+        match name {
+            "unavailable" => Some(Self::Unavailable),
+            "forward" => Some(Self::Forward),
+            "reverse" => Some(Self::Reverse),
+            "both" => Some(Self::Both),
+            _ => None,
+        }
+    }
     fn root_index(self) -> i64 {
         match self {
             Self::Unavailable => 0,
@@ -1260,6 +1711,18 @@ impl Uper for DirectionOfUse {
 impl uper::random::Random for DirectionOfUse {
     fn random(g: &mut uper::random::Gen) -> Self {
         Self::ALL[g.below(4)]
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for DirectionOfUse {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.string(self.identifier());
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let name = crate::jer::string(v)?;
+        Self::from_identifier(name)
+            .ok_or_else(|| crate::jer::JerError::new(std::format!("unknown identifier {name}")))
     }
 }
 
@@ -1381,6 +1844,53 @@ impl uper::random::Random for GeographicalPathDescription {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for GeographicalPathDescription {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        match self {
+            Self::Path(v) => {
+                out.begin_object();
+                out.key("path");
+                crate::jer::Jer::write_jer(v, out);
+                out.end_object();
+            }
+            Self::Geometry(v) => {
+                out.begin_object();
+                out.key("geometry");
+                crate::jer::Jer::write_jer(v, out);
+                out.end_object();
+            }
+            Self::OldRegion(v) => {
+                out.begin_object();
+                out.key("oldRegion");
+                crate::jer::Jer::write_jer(v, out);
+                out.end_object();
+            }
+            Self::Extension { .. } => {
+                out.begin_object();
+                out.end_object();
+            }
+        }
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let (name, x) = crate::jer::alternative(v)?;
+        match name {
+            "path" => <OffsetSystem as crate::jer::Jer>::read_jer(x)
+                .map(Self::Path)
+                .map_err(|e| e.within(name)),
+            "geometry" => <GeometricProjection as crate::jer::Jer>::read_jer(x)
+                .map(Self::Geometry)
+                .map_err(|e| e.within(name)),
+            "oldRegion" => <ValidRegion as crate::jer::Jer>::read_jer(x)
+                .map(Self::OldRegion)
+                .map_err(|e| e.within(name)),
+            _ => Err(crate::jer::JerError::new(std::format!(
+                "unknown alternative {name}"
+            ))),
+        }
+    }
+}
+
 /// ASN.1 `OffsetSystem` (module `TravelerInformation`): SEQUENCE.
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub struct OffsetSystem {
@@ -1424,6 +1934,32 @@ impl Uper for OffsetSystem {
         }
         self.offset.encode_uper(w)?;
         Ok(())
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for OffsetSystem {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        if let Some(v) = &self.scale {
+            out.key("scale");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        out.key("offset");
+        crate::jer::Jer::write_jer(&self.offset, out);
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        crate::jer::member(v, "")?;
+        let f_scale =
+            crate::jer::read_optional(v, "scale", |x| <Zoom as crate::jer::Jer>::read_jer(x))?;
+        let f_offset = crate::jer::read_member(v, "offset", |x| {
+            <OffsetSystemOffset as crate::jer::Jer>::read_jer(x)
+        })?;
+        Ok(Self {
+            scale: f_scale,
+            offset: f_offset,
+        })
     }
 }
 
@@ -1523,6 +2059,40 @@ impl uper::random::Random for OffsetSystemOffset {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for OffsetSystemOffset {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        match self {
+            Self::Xy(v) => {
+                out.begin_object();
+                out.key("xy");
+                crate::jer::Jer::write_jer(v, out);
+                out.end_object();
+            }
+            Self::Ll(v) => {
+                out.begin_object();
+                out.key("ll");
+                crate::jer::Jer::write_jer(v, out);
+                out.end_object();
+            }
+        }
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let (name, x) = crate::jer::alternative(v)?;
+        match name {
+            "xy" => <super::common::NodeListXY as crate::jer::Jer>::read_jer(x)
+                .map(Self::Xy)
+                .map_err(|e| e.within(name)),
+            "ll" => <NodeListLL as crate::jer::Jer>::read_jer(x)
+                .map(Self::Ll)
+                .map_err(|e| e.within(name)),
+            _ => Err(crate::jer::JerError::new(std::format!(
+                "unknown alternative {name}"
+            ))),
+        }
+    }
+}
+
 /// ASN.1 `NodeListLL` (module `TravelerInformation`): CHOICE (extensible).
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub enum NodeListLL {
@@ -1602,6 +2172,35 @@ impl uper::random::Random for NodeListLL {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for NodeListLL {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        match self {
+            Self::Nodes(v) => {
+                out.begin_object();
+                out.key("nodes");
+                crate::jer::Jer::write_jer(v, out);
+                out.end_object();
+            }
+            Self::Extension { .. } => {
+                out.begin_object();
+                out.end_object();
+            }
+        }
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let (name, x) = crate::jer::alternative(v)?;
+        match name {
+            "nodes" => <NodeSetLL as crate::jer::Jer>::read_jer(x)
+                .map(Self::Nodes)
+                .map_err(|e| e.within(name)),
+            _ => Err(crate::jer::JerError::new(std::format!(
+                "unknown alternative {name}"
+            ))),
+        }
+    }
+}
+
 /// ASN.1 `NodeSetLL` (module `TravelerInformation`): SEQUENCE OF NodeLL (SIZE(2..63)).
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub struct NodeSetLL(pub uper::SeqOf<NodeLL, 63>);
@@ -1636,6 +2235,30 @@ impl Uper for NodeSetLL {
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for NodeSetLL {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_array();
+        for item in self.0.iter() {
+            crate::jer::Jer::write_jer(item, out);
+        }
+        out.end_array();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let items = crate::jer::array(v)?;
+        if items.len() < 2 {
+            return Err(crate::jer::invalid("size"));
+        }
+        let mut list = Self::new();
+        for (i, x) in items.iter().enumerate() {
+            let item = <NodeLL as crate::jer::Jer>::read_jer(x)
+                .map_err(|e| e.within(&std::format!("[{i}]")))?;
+            list.0.push(item).map_err(|_| crate::jer::over_capacity())?;
+        }
+        Ok(list)
     }
 }
 
@@ -1706,6 +2329,34 @@ impl Uper for NodeLL {
             self.extensions.encode(w)?;
         }
         Ok(())
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for NodeLL {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        out.key("delta");
+        crate::jer::Jer::write_jer(&self.delta, out);
+        if let Some(v) = &self.attributes {
+            out.key("attributes");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        crate::jer::member(v, "")?;
+        let f_delta = crate::jer::read_member(v, "delta", |x| {
+            <NodeOffsetPointLL as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_attributes = crate::jer::read_optional(v, "attributes", |x| {
+            <NodeAttributeSetLL as crate::jer::Jer>::read_jer(x)
+        })?;
+        Ok(Self {
+            delta: f_delta,
+            attributes: f_attributes,
+            extensions: uper::Extensions::new(),
+        })
     }
 }
 
@@ -1903,6 +2554,94 @@ impl uper::random::Random for NodeOffsetPointLL {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for NodeOffsetPointLL {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        match self {
+            Self::NodeLL1(v) => {
+                out.begin_object();
+                out.key("node-LL1");
+                crate::jer::Jer::write_jer(v, out);
+                out.end_object();
+            }
+            Self::NodeLL2(v) => {
+                out.begin_object();
+                out.key("node-LL2");
+                crate::jer::Jer::write_jer(v, out);
+                out.end_object();
+            }
+            Self::NodeLL3(v) => {
+                out.begin_object();
+                out.key("node-LL3");
+                crate::jer::Jer::write_jer(v, out);
+                out.end_object();
+            }
+            Self::NodeLL4(v) => {
+                out.begin_object();
+                out.key("node-LL4");
+                crate::jer::Jer::write_jer(v, out);
+                out.end_object();
+            }
+            Self::NodeLL5(v) => {
+                out.begin_object();
+                out.key("node-LL5");
+                crate::jer::Jer::write_jer(v, out);
+                out.end_object();
+            }
+            Self::NodeLL6(v) => {
+                out.begin_object();
+                out.key("node-LL6");
+                crate::jer::Jer::write_jer(v, out);
+                out.end_object();
+            }
+            Self::NodeLatLon(v) => {
+                out.begin_object();
+                out.key("node-LatLon");
+                crate::jer::Jer::write_jer(v, out);
+                out.end_object();
+            }
+            Self::Regional(v) => {
+                out.begin_object();
+                out.key("regional");
+                crate::jer::Jer::write_jer(v, out);
+                out.end_object();
+            }
+        }
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let (name, x) = crate::jer::alternative(v)?;
+        match name {
+            "node-LL1" => <NodeLL24B as crate::jer::Jer>::read_jer(x)
+                .map(Self::NodeLL1)
+                .map_err(|e| e.within(name)),
+            "node-LL2" => <NodeLL28B as crate::jer::Jer>::read_jer(x)
+                .map(Self::NodeLL2)
+                .map_err(|e| e.within(name)),
+            "node-LL3" => <NodeLL32B as crate::jer::Jer>::read_jer(x)
+                .map(Self::NodeLL3)
+                .map_err(|e| e.within(name)),
+            "node-LL4" => <NodeLL36B as crate::jer::Jer>::read_jer(x)
+                .map(Self::NodeLL4)
+                .map_err(|e| e.within(name)),
+            "node-LL5" => <NodeLL44B as crate::jer::Jer>::read_jer(x)
+                .map(Self::NodeLL5)
+                .map_err(|e| e.within(name)),
+            "node-LL6" => <NodeLL48B as crate::jer::Jer>::read_jer(x)
+                .map(Self::NodeLL6)
+                .map_err(|e| e.within(name)),
+            "node-LatLon" => <super::common::NodeLLmD64b as crate::jer::Jer>::read_jer(x)
+                .map(Self::NodeLatLon)
+                .map_err(|e| e.within(name)),
+            "regional" => <RegNodeOffsetPointLL as crate::jer::Jer>::read_jer(x)
+                .map(Self::Regional)
+                .map_err(|e| e.within(name)),
+            _ => Err(crate::jer::JerError::new(std::format!(
+                "unknown alternative {name}"
+            ))),
+        }
+    }
+}
+
 /// ASN.1 `Node-LL-24B` (module `TravelerInformation`): SEQUENCE.
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub struct NodeLL24B {
@@ -1933,6 +2672,29 @@ impl Uper for NodeLL24B {
         self.lon.encode_uper(w)?;
         self.lat.encode_uper(w)?;
         Ok(())
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for NodeLL24B {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        out.key("lon");
+        crate::jer::Jer::write_jer(&self.lon, out);
+        out.key("lat");
+        crate::jer::Jer::write_jer(&self.lat, out);
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        crate::jer::member(v, "")?;
+        let f_lon =
+            crate::jer::read_member(v, "lon", |x| <OffsetLLB12 as crate::jer::Jer>::read_jer(x))?;
+        let f_lat =
+            crate::jer::read_member(v, "lat", |x| <OffsetLLB12 as crate::jer::Jer>::read_jer(x))?;
+        Ok(Self {
+            lon: f_lon,
+            lat: f_lat,
+        })
     }
 }
 
@@ -1990,6 +2752,29 @@ impl Uper for NodeLL28B {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for NodeLL28B {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        out.key("lon");
+        crate::jer::Jer::write_jer(&self.lon, out);
+        out.key("lat");
+        crate::jer::Jer::write_jer(&self.lat, out);
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        crate::jer::member(v, "")?;
+        let f_lon =
+            crate::jer::read_member(v, "lon", |x| <OffsetLLB14 as crate::jer::Jer>::read_jer(x))?;
+        let f_lat =
+            crate::jer::read_member(v, "lat", |x| <OffsetLLB14 as crate::jer::Jer>::read_jer(x))?;
+        Ok(Self {
+            lon: f_lon,
+            lat: f_lat,
+        })
+    }
+}
+
 #[cfg(feature = "_random")]
 impl uper::random::Random for NodeLL28B {
     fn random(g: &mut uper::random::Gen) -> Self {
@@ -2041,6 +2826,29 @@ impl Uper for NodeLL32B {
         self.lon.encode_uper(w)?;
         self.lat.encode_uper(w)?;
         Ok(())
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for NodeLL32B {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        out.key("lon");
+        crate::jer::Jer::write_jer(&self.lon, out);
+        out.key("lat");
+        crate::jer::Jer::write_jer(&self.lat, out);
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        crate::jer::member(v, "")?;
+        let f_lon =
+            crate::jer::read_member(v, "lon", |x| <OffsetLLB16 as crate::jer::Jer>::read_jer(x))?;
+        let f_lat =
+            crate::jer::read_member(v, "lat", |x| <OffsetLLB16 as crate::jer::Jer>::read_jer(x))?;
+        Ok(Self {
+            lon: f_lon,
+            lat: f_lat,
+        })
     }
 }
 
@@ -2098,6 +2906,31 @@ impl Uper for NodeLL36B {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for NodeLL36B {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        out.key("lon");
+        crate::jer::Jer::write_jer(&self.lon, out);
+        out.key("lat");
+        crate::jer::Jer::write_jer(&self.lat, out);
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        crate::jer::member(v, "")?;
+        let f_lon = crate::jer::read_member(v, "lon", |x| {
+            <super::common::OffsetLLB18 as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_lat = crate::jer::read_member(v, "lat", |x| {
+            <super::common::OffsetLLB18 as crate::jer::Jer>::read_jer(x)
+        })?;
+        Ok(Self {
+            lon: f_lon,
+            lat: f_lat,
+        })
+    }
+}
+
 #[cfg(feature = "_random")]
 impl uper::random::Random for NodeLL36B {
     fn random(g: &mut uper::random::Gen) -> Self {
@@ -2138,6 +2971,29 @@ impl Uper for NodeLL44B {
         self.lon.encode_uper(w)?;
         self.lat.encode_uper(w)?;
         Ok(())
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for NodeLL44B {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        out.key("lon");
+        crate::jer::Jer::write_jer(&self.lon, out);
+        out.key("lat");
+        crate::jer::Jer::write_jer(&self.lat, out);
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        crate::jer::member(v, "")?;
+        let f_lon =
+            crate::jer::read_member(v, "lon", |x| <OffsetLLB22 as crate::jer::Jer>::read_jer(x))?;
+        let f_lat =
+            crate::jer::read_member(v, "lat", |x| <OffsetLLB22 as crate::jer::Jer>::read_jer(x))?;
+        Ok(Self {
+            lon: f_lon,
+            lat: f_lat,
+        })
     }
 }
 
@@ -2195,6 +3051,29 @@ impl Uper for NodeLL48B {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for NodeLL48B {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        out.key("lon");
+        crate::jer::Jer::write_jer(&self.lon, out);
+        out.key("lat");
+        crate::jer::Jer::write_jer(&self.lat, out);
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        crate::jer::member(v, "")?;
+        let f_lon =
+            crate::jer::read_member(v, "lon", |x| <OffsetLLB24 as crate::jer::Jer>::read_jer(x))?;
+        let f_lat =
+            crate::jer::read_member(v, "lat", |x| <OffsetLLB24 as crate::jer::Jer>::read_jer(x))?;
+        Ok(Self {
+            lon: f_lon,
+            lat: f_lat,
+        })
+    }
+}
+
 #[cfg(feature = "_random")]
 impl uper::random::Random for NodeLL48B {
     fn random(g: &mut uper::random::Gen) -> Self {
@@ -2234,6 +3113,57 @@ impl RegNodeOffsetPointLL {
         match self {
             Self::Unknown { id, .. } => *id,
         }
+    }
+}
+
+impl RegNodeOffsetPointLL {
+    /// Writes the id and the value as members `id_name` and `value_name` of an object.
+    #[cfg(feature = "jer")]
+    pub fn write_jer_members(
+        &self,
+        out: &mut crate::jer::JerWriter,
+        id_name: &str,
+        value_name: &str,
+    ) {
+        out.key(id_name);
+        out.int(self.id().get() as i64);
+        out.key(value_name);
+        match self {
+            Self::Unknown { content, .. } => out.hex(content),
+        }
+    }
+    /// Reads the id and the value from members `id_name` and `value_name` of an object.
+    #[cfg(feature = "jer")]
+    pub fn read_jer_members(
+        v: &crate::jer::Value,
+        id_name: &str,
+        value_name: &str,
+    ) -> crate::jer::JerResult<Self> {
+        let id = crate::jer::read_member(
+            v,
+            id_name,
+            <super::common::RegionId as crate::jer::Jer>::read_jer,
+        )?;
+        let x = crate::jer::required(v, value_name)?;
+        match id.get() {
+            _ => {
+                let content = uper::Octets::from_slice(&crate::jer::hex(x)?)
+                    .ok_or_else(crate::jer::over_capacity)?;
+                Ok(Self::Unknown { id, content })
+            }
+        }
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for RegNodeOffsetPointLL {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        self.write_jer_members(out, "regionId", "regExtValue");
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        Self::read_jer_members(v, "regionId", "regExtValue")
     }
 }
 
@@ -2447,6 +3377,76 @@ impl Uper for NodeAttributeSetLL {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for NodeAttributeSetLL {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        if let Some(v) = &self.local_node {
+            out.key("localNode");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.disabled {
+            out.key("disabled");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.enabled {
+            out.key("enabled");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.data {
+            out.key("data");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.d_width {
+            out.key("dWidth");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.d_elevation {
+            out.key("dElevation");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.regional {
+            out.key("regional");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        crate::jer::member(v, "")?;
+        let f_local_node = crate::jer::read_optional(v, "localNode", |x| {
+            <NodeAttributeLLList as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_disabled = crate::jer::read_optional(v, "disabled", |x| {
+            <SegmentAttributeLLList as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_enabled = crate::jer::read_optional(v, "enabled", |x| {
+            <SegmentAttributeLLList as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_data = crate::jer::read_optional(v, "data", |x| {
+            <super::common::LaneDataAttributeList as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_d_width = crate::jer::read_optional(v, "dWidth", |x| {
+            <super::common::OffsetB10 as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_d_elevation = crate::jer::read_optional(v, "dElevation", |x| {
+            <super::common::OffsetB10 as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_regional = crate::jer::read_optional(v, "regional", |x| {
+            <NodeAttributeSetLLRegional as crate::jer::Jer>::read_jer(x)
+        })?;
+        Ok(Self {
+            local_node: f_local_node,
+            disabled: f_disabled,
+            enabled: f_enabled,
+            data: f_data,
+            d_width: f_d_width,
+            d_elevation: f_d_elevation,
+            regional: f_regional,
+            extensions: uper::Extensions::new(),
+        })
+    }
+}
+
 #[cfg(feature = "_random")]
 impl uper::random::Random for NodeAttributeSetLL {
     fn random(g: &mut uper::random::Gen) -> Self {
@@ -2534,6 +3534,30 @@ impl Uper for NodeAttributeLLList {
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for NodeAttributeLLList {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_array();
+        for item in self.0.iter() {
+            crate::jer::Jer::write_jer(item, out);
+        }
+        out.end_array();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let items = crate::jer::array(v)?;
+        if items.len() < 1 {
+            return Err(crate::jer::invalid("size"));
+        }
+        let mut list = Self::new();
+        for (i, x) in items.iter().enumerate() {
+            let item = <NodeAttributeLL as crate::jer::Jer>::read_jer(x)
+                .map_err(|e| e.within(&std::format!("[{i}]")))?;
+            list.0.push(item).map_err(|_| crate::jer::over_capacity())?;
+        }
+        Ok(list)
     }
 }
 
@@ -2632,6 +3656,24 @@ impl NodeAttributeLL {
             Self::Extension(_) => "",
         }
     }
+    /// The value of an ASN.1 identifier, when the type has it.
+    pub fn from_identifier(name: &str) -> Option<Self> {
+        match name {
+            "reserved" => Some(Self::Reserved),
+            "stopLine" => Some(Self::StopLine),
+            "roundedCapStyleA" => Some(Self::RoundedCapStyleA),
+            "roundedCapStyleB" => Some(Self::RoundedCapStyleB),
+            "mergePoint" => Some(Self::MergePoint),
+            "divergePoint" => Some(Self::DivergePoint),
+            "downstreamStopLine" => Some(Self::DownstreamStopLine),
+            "downstreamStartNode" => Some(Self::DownstreamStartNode),
+            "closedToTraffic" => Some(Self::ClosedToTraffic),
+            "safeIsland" => Some(Self::SafeIsland),
+            "curbPresentAtStepOff" => Some(Self::CurbPresentAtStepOff),
+            "hydrantPresent" => Some(Self::HydrantPresent),
+            _ => None,
+        }
+    }
     fn root_index(self) -> i64 {
         match self {
             Self::Reserved => 0,
@@ -2697,6 +3739,18 @@ impl uper::random::Random for NodeAttributeLL {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for NodeAttributeLL {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.string(self.identifier());
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let name = crate::jer::string(v)?;
+        Self::from_identifier(name)
+            .ok_or_else(|| crate::jer::JerError::new(std::format!("unknown identifier {name}")))
+    }
+}
+
 /// ASN.1 `SegmentAttributeLLList` (module `TravelerInformation`): SEQUENCE OF SegmentAttributeLL (SIZE(1..8)).
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub struct SegmentAttributeLLList(pub uper::SeqOf<SegmentAttributeLL, 5>);
@@ -2736,6 +3790,30 @@ impl Uper for SegmentAttributeLLList {
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for SegmentAttributeLLList {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_array();
+        for item in self.0.iter() {
+            crate::jer::Jer::write_jer(item, out);
+        }
+        out.end_array();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let items = crate::jer::array(v)?;
+        if items.len() < 1 {
+            return Err(crate::jer::invalid("size"));
+        }
+        let mut list = Self::new();
+        for (i, x) in items.iter().enumerate() {
+            let item = <SegmentAttributeLL as crate::jer::Jer>::read_jer(x)
+                .map_err(|e| e.within(&std::format!("[{i}]")))?;
+            list.0.push(item).map_err(|_| crate::jer::over_capacity())?;
+        }
+        Ok(list)
     }
 }
 
@@ -2964,6 +4042,50 @@ impl SegmentAttributeLL {
             Self::Extension(_) => "",
         }
     }
+    /// The value of an ASN.1 identifier, when the type has it.
+    pub fn from_identifier(name: &str) -> Option<Self> {
+        match name {
+            "reserved" => Some(Self::Reserved),
+            "doNotBlock" => Some(Self::DoNotBlock),
+            "whiteLine" => Some(Self::WhiteLine),
+            "mergingLaneLeft" => Some(Self::MergingLaneLeft),
+            "mergingLaneRight" => Some(Self::MergingLaneRight),
+            "curbOnLeft" => Some(Self::CurbOnLeft),
+            "curbOnRight" => Some(Self::CurbOnRight),
+            "loadingzoneOnLeft" => Some(Self::LoadingzoneOnLeft),
+            "loadingzoneOnRight" => Some(Self::LoadingzoneOnRight),
+            "turnOutPointOnLeft" => Some(Self::TurnOutPointOnLeft),
+            "turnOutPointOnRight" => Some(Self::TurnOutPointOnRight),
+            "adjacentParkingOnLeft" => Some(Self::AdjacentParkingOnLeft),
+            "adjacentParkingOnRight" => Some(Self::AdjacentParkingOnRight),
+            "adjacentBikeLaneOnLeft" => Some(Self::AdjacentBikeLaneOnLeft),
+            "adjacentBikeLaneOnRight" => Some(Self::AdjacentBikeLaneOnRight),
+            "sharedBikeLane" => Some(Self::SharedBikeLane),
+            "bikeBoxInFront" => Some(Self::BikeBoxInFront),
+            "transitStopOnLeft" => Some(Self::TransitStopOnLeft),
+            "transitStopOnRight" => Some(Self::TransitStopOnRight),
+            "transitStopInLane" => Some(Self::TransitStopInLane),
+            "sharedWithTrackedVehicle" => Some(Self::SharedWithTrackedVehicle),
+            "safeIsland" => Some(Self::SafeIsland),
+            "lowCurbsPresent" => Some(Self::LowCurbsPresent),
+            "rumbleStripPresent" => Some(Self::RumbleStripPresent),
+            "audibleSignalingPresent" => Some(Self::AudibleSignalingPresent),
+            "adaptiveTimingPresent" => Some(Self::AdaptiveTimingPresent),
+            "rfSignalRequestPresent" => Some(Self::RfSignalRequestPresent),
+            "partialCurbIntrusion" => Some(Self::PartialCurbIntrusion),
+            "taperToLeft" => Some(Self::TaperToLeft),
+            "taperToRight" => Some(Self::TaperToRight),
+            "taperToCenterLine" => Some(Self::TaperToCenterLine),
+            "parallelParking" => Some(Self::ParallelParking),
+            "headInParking" => Some(Self::HeadInParking),
+            "freeParking" => Some(Self::FreeParking),
+            "timeRestrictionsOnParking" => Some(Self::TimeRestrictionsOnParking),
+            "costToPark" => Some(Self::CostToPark),
+            "midBlockCurbPresent" => Some(Self::MidBlockCurbPresent),
+            "unEvenPavementPresent" => Some(Self::UnEvenPavementPresent),
+            _ => None,
+        }
+    }
     fn root_index(self) -> i64 {
         match self {
             Self::Reserved => 0,
@@ -3055,6 +4177,18 @@ impl uper::random::Random for SegmentAttributeLL {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for SegmentAttributeLL {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.string(self.identifier());
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let name = crate::jer::string(v)?;
+        Self::from_identifier(name)
+            .ok_or_else(|| crate::jer::JerError::new(std::format!("unknown identifier {name}")))
+    }
+}
+
 /// ASN.1 `NodeAttributeSetLL.regional` (module `TravelerInformation`): SEQUENCE OF RegNodeAttributeSetLL (SIZE(1..4)).
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub struct NodeAttributeSetLLRegional(pub uper::SeqOf<RegNodeAttributeSetLL, 1>);
@@ -3097,6 +4231,30 @@ impl Uper for NodeAttributeSetLLRegional {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for NodeAttributeSetLLRegional {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_array();
+        for item in self.0.iter() {
+            crate::jer::Jer::write_jer(item, out);
+        }
+        out.end_array();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let items = crate::jer::array(v)?;
+        if items.len() < 1 {
+            return Err(crate::jer::invalid("size"));
+        }
+        let mut list = Self::new();
+        for (i, x) in items.iter().enumerate() {
+            let item = <RegNodeAttributeSetLL as crate::jer::Jer>::read_jer(x)
+                .map_err(|e| e.within(&std::format!("[{i}]")))?;
+            list.0.push(item).map_err(|_| crate::jer::over_capacity())?;
+        }
+        Ok(list)
+    }
+}
+
 #[cfg(feature = "_random")]
 impl uper::random::Random for NodeAttributeSetLLRegional {
     fn random(g: &mut uper::random::Gen) -> Self {
@@ -3127,6 +4285,57 @@ impl RegNodeAttributeSetLL {
         match self {
             Self::Unknown { id, .. } => *id,
         }
+    }
+}
+
+impl RegNodeAttributeSetLL {
+    /// Writes the id and the value as members `id_name` and `value_name` of an object.
+    #[cfg(feature = "jer")]
+    pub fn write_jer_members(
+        &self,
+        out: &mut crate::jer::JerWriter,
+        id_name: &str,
+        value_name: &str,
+    ) {
+        out.key(id_name);
+        out.int(self.id().get() as i64);
+        out.key(value_name);
+        match self {
+            Self::Unknown { content, .. } => out.hex(content),
+        }
+    }
+    /// Reads the id and the value from members `id_name` and `value_name` of an object.
+    #[cfg(feature = "jer")]
+    pub fn read_jer_members(
+        v: &crate::jer::Value,
+        id_name: &str,
+        value_name: &str,
+    ) -> crate::jer::JerResult<Self> {
+        let id = crate::jer::read_member(
+            v,
+            id_name,
+            <super::common::RegionId as crate::jer::Jer>::read_jer,
+        )?;
+        let x = crate::jer::required(v, value_name)?;
+        match id.get() {
+            _ => {
+                let content = uper::Octets::from_slice(&crate::jer::hex(x)?)
+                    .ok_or_else(crate::jer::over_capacity)?;
+                Ok(Self::Unknown { id, content })
+            }
+        }
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for RegNodeAttributeSetLL {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        self.write_jer_members(out, "regionId", "regExtValue");
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        Self::read_jer_members(v, "regionId", "regExtValue")
     }
 }
 
@@ -3282,6 +4491,55 @@ impl Uper for GeometricProjection {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for GeometricProjection {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        out.key("direction");
+        crate::jer::Jer::write_jer(&self.direction, out);
+        if let Some(v) = &self.extent {
+            out.key("extent");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.lane_width {
+            out.key("laneWidth");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        out.key("circle");
+        crate::jer::Jer::write_jer(&self.circle, out);
+        if let Some(v) = &self.regional {
+            out.key("regional");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        crate::jer::member(v, "")?;
+        let f_direction = crate::jer::read_member(v, "direction", |x| {
+            <super::common::HeadingSlice as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_extent = crate::jer::read_optional(v, "extent", |x| {
+            <super::common::Extent as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_lane_width = crate::jer::read_optional(v, "laneWidth", |x| {
+            <super::common::LaneWidth as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_circle =
+            crate::jer::read_member(v, "circle", |x| <Circle as crate::jer::Jer>::read_jer(x))?;
+        let f_regional = crate::jer::read_optional(v, "regional", |x| {
+            <GeometricProjectionRegional as crate::jer::Jer>::read_jer(x)
+        })?;
+        Ok(Self {
+            direction: f_direction,
+            extent: f_extent,
+            lane_width: f_lane_width,
+            circle: f_circle,
+            regional: f_regional,
+            extensions: uper::Extensions::new(),
+        })
+    }
+}
+
 #[cfg(feature = "_random")]
 impl uper::random::Random for GeometricProjection {
     fn random(g: &mut uper::random::Gen) -> Self {
@@ -3345,6 +4603,36 @@ impl Uper for Circle {
         self.radius.encode_uper(w)?;
         self.units.encode_uper(w)?;
         Ok(())
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for Circle {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        out.key("center");
+        crate::jer::Jer::write_jer(&self.center, out);
+        out.key("radius");
+        crate::jer::Jer::write_jer(&self.radius, out);
+        out.key("units");
+        crate::jer::Jer::write_jer(&self.units, out);
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        crate::jer::member(v, "")?;
+        let f_center = crate::jer::read_member(v, "center", |x| {
+            <super::common::Position3D as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_radius =
+            crate::jer::read_member(v, "radius", |x| <RadiusB12 as crate::jer::Jer>::read_jer(x))?;
+        let f_units = crate::jer::read_member(v, "units", |x| {
+            <DistanceUnits as crate::jer::Jer>::read_jer(x)
+        })?;
+        Ok(Self {
+            center: f_center,
+            radius: f_radius,
+            units: f_units,
+        })
     }
 }
 
@@ -3423,6 +4711,20 @@ impl DistanceUnits {
             Self::Mile => "mile",
         }
     }
+    /// The value of an ASN.1 identifier, when the type has it.
+    pub fn from_identifier(name: &str) -> Option<Self> {
+        match name {
+            "centimeter" => Some(Self::Centimeter),
+            "cm2-5" => Some(Self::Cm2_5),
+            "decimeter" => Some(Self::Decimeter),
+            "meter" => Some(Self::Meter),
+            "kilometer" => Some(Self::Kilometer),
+            "foot" => Some(Self::Foot),
+            "yard" => Some(Self::Yard),
+            "mile" => Some(Self::Mile),
+            _ => None,
+        }
+    }
     fn root_index(self) -> i64 {
         match self {
             Self::Centimeter => 0,
@@ -3470,6 +4772,18 @@ impl uper::random::Random for DistanceUnits {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for DistanceUnits {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.string(self.identifier());
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let name = crate::jer::string(v)?;
+        Self::from_identifier(name)
+            .ok_or_else(|| crate::jer::JerError::new(std::format!("unknown identifier {name}")))
+    }
+}
+
 /// ASN.1 `GeometricProjection.regional` (module `TravelerInformation`): SEQUENCE OF RegGeometricProjection (SIZE(1..4)).
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub struct GeometricProjectionRegional(pub uper::SeqOf<RegGeometricProjection, 1>);
@@ -3512,6 +4826,30 @@ impl Uper for GeometricProjectionRegional {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for GeometricProjectionRegional {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_array();
+        for item in self.0.iter() {
+            crate::jer::Jer::write_jer(item, out);
+        }
+        out.end_array();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let items = crate::jer::array(v)?;
+        if items.len() < 1 {
+            return Err(crate::jer::invalid("size"));
+        }
+        let mut list = Self::new();
+        for (i, x) in items.iter().enumerate() {
+            let item = <RegGeometricProjection as crate::jer::Jer>::read_jer(x)
+                .map_err(|e| e.within(&std::format!("[{i}]")))?;
+            list.0.push(item).map_err(|_| crate::jer::over_capacity())?;
+        }
+        Ok(list)
+    }
+}
+
 #[cfg(feature = "_random")]
 impl uper::random::Random for GeometricProjectionRegional {
     fn random(g: &mut uper::random::Gen) -> Self {
@@ -3542,6 +4880,57 @@ impl RegGeometricProjection {
         match self {
             Self::Unknown { id, .. } => *id,
         }
+    }
+}
+
+impl RegGeometricProjection {
+    /// Writes the id and the value as members `id_name` and `value_name` of an object.
+    #[cfg(feature = "jer")]
+    pub fn write_jer_members(
+        &self,
+        out: &mut crate::jer::JerWriter,
+        id_name: &str,
+        value_name: &str,
+    ) {
+        out.key(id_name);
+        out.int(self.id().get() as i64);
+        out.key(value_name);
+        match self {
+            Self::Unknown { content, .. } => out.hex(content),
+        }
+    }
+    /// Reads the id and the value from members `id_name` and `value_name` of an object.
+    #[cfg(feature = "jer")]
+    pub fn read_jer_members(
+        v: &crate::jer::Value,
+        id_name: &str,
+        value_name: &str,
+    ) -> crate::jer::JerResult<Self> {
+        let id = crate::jer::read_member(
+            v,
+            id_name,
+            <super::common::RegionId as crate::jer::Jer>::read_jer,
+        )?;
+        let x = crate::jer::required(v, value_name)?;
+        match id.get() {
+            _ => {
+                let content = uper::Octets::from_slice(&crate::jer::hex(x)?)
+                    .ok_or_else(crate::jer::over_capacity)?;
+                Ok(Self::Unknown { id, content })
+            }
+        }
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for RegGeometricProjection {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        self.write_jer_members(out, "regionId", "regExtValue");
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        Self::read_jer_members(v, "regionId", "regExtValue")
     }
 }
 
@@ -3644,6 +5033,39 @@ impl Uper for ValidRegion {
         }
         self.area.encode_uper(w)?;
         Ok(())
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for ValidRegion {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        out.key("direction");
+        crate::jer::Jer::write_jer(&self.direction, out);
+        if let Some(v) = &self.extent {
+            out.key("extent");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        out.key("area");
+        crate::jer::Jer::write_jer(&self.area, out);
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        crate::jer::member(v, "")?;
+        let f_direction = crate::jer::read_member(v, "direction", |x| {
+            <super::common::HeadingSlice as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_extent = crate::jer::read_optional(v, "extent", |x| {
+            <super::common::Extent as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_area = crate::jer::read_member(v, "area", |x| {
+            <ValidRegionArea as crate::jer::Jer>::read_jer(x)
+        })?;
+        Ok(Self {
+            direction: f_direction,
+            extent: f_extent,
+            area: f_area,
+        })
     }
 }
 
@@ -3754,6 +5176,49 @@ impl uper::random::Random for ValidRegionArea {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for ValidRegionArea {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        match self {
+            Self::ShapePointSet(v) => {
+                out.begin_object();
+                out.key("shapePointSet");
+                crate::jer::Jer::write_jer(v, out);
+                out.end_object();
+            }
+            Self::Circle(v) => {
+                out.begin_object();
+                out.key("circle");
+                crate::jer::Jer::write_jer(v, out);
+                out.end_object();
+            }
+            Self::RegionPointSet(v) => {
+                out.begin_object();
+                out.key("regionPointSet");
+                crate::jer::Jer::write_jer(v, out);
+                out.end_object();
+            }
+        }
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let (name, x) = crate::jer::alternative(v)?;
+        match name {
+            "shapePointSet" => <ShapePointSet as crate::jer::Jer>::read_jer(x)
+                .map(Self::ShapePointSet)
+                .map_err(|e| e.within(name)),
+            "circle" => <Circle as crate::jer::Jer>::read_jer(x)
+                .map(Self::Circle)
+                .map_err(|e| e.within(name)),
+            "regionPointSet" => <RegionPointSet as crate::jer::Jer>::read_jer(x)
+                .map(Self::RegionPointSet)
+                .map_err(|e| e.within(name)),
+            _ => Err(crate::jer::JerError::new(std::format!(
+                "unknown alternative {name}"
+            ))),
+        }
+    }
+}
+
 /// ASN.1 `ShapePointSet` (module `TravelerInformation`): SEQUENCE (extensible).
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub struct ShapePointSet {
@@ -3847,6 +5312,50 @@ impl Uper for ShapePointSet {
             self.extensions.encode(w)?;
         }
         Ok(())
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for ShapePointSet {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        if let Some(v) = &self.anchor {
+            out.key("anchor");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.lane_width {
+            out.key("laneWidth");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.directionality {
+            out.key("directionality");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        out.key("nodeList");
+        crate::jer::Jer::write_jer(&self.node_list, out);
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        crate::jer::member(v, "")?;
+        let f_anchor = crate::jer::read_optional(v, "anchor", |x| {
+            <super::common::Position3D as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_lane_width = crate::jer::read_optional(v, "laneWidth", |x| {
+            <super::common::LaneWidth as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_directionality = crate::jer::read_optional(v, "directionality", |x| {
+            <DirectionOfUse as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_node_list = crate::jer::read_member(v, "nodeList", |x| {
+            <super::common::NodeListXY as crate::jer::Jer>::read_jer(x)
+        })?;
+        Ok(Self {
+            anchor: f_anchor,
+            lane_width: f_lane_width,
+            directionality: f_directionality,
+            node_list: f_node_list,
+            extensions: uper::Extensions::new(),
+        })
     }
 }
 
@@ -3957,6 +5466,41 @@ impl Uper for RegionPointSet {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for RegionPointSet {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        if let Some(v) = &self.anchor {
+            out.key("anchor");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        if let Some(v) = &self.scale {
+            out.key("scale");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        out.key("nodeList");
+        crate::jer::Jer::write_jer(&self.node_list, out);
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        crate::jer::member(v, "")?;
+        let f_anchor = crate::jer::read_optional(v, "anchor", |x| {
+            <super::common::Position3D as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_scale =
+            crate::jer::read_optional(v, "scale", |x| <Zoom as crate::jer::Jer>::read_jer(x))?;
+        let f_node_list = crate::jer::read_member(v, "nodeList", |x| {
+            <RegionList as crate::jer::Jer>::read_jer(x)
+        })?;
+        Ok(Self {
+            anchor: f_anchor,
+            scale: f_scale,
+            node_list: f_node_list,
+            extensions: uper::Extensions::new(),
+        })
+    }
+}
+
 #[cfg(feature = "_random")]
 impl uper::random::Random for RegionPointSet {
     fn random(g: &mut uper::random::Gen) -> Self {
@@ -4013,6 +5557,30 @@ impl Uper for RegionList {
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for RegionList {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_array();
+        for item in self.0.iter() {
+            crate::jer::Jer::write_jer(item, out);
+        }
+        out.end_array();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let items = crate::jer::array(v)?;
+        if items.len() < 1 {
+            return Err(crate::jer::invalid("size"));
+        }
+        let mut list = Self::new();
+        for (i, x) in items.iter().enumerate() {
+            let item = <RegionOffsets as crate::jer::Jer>::read_jer(x)
+                .map_err(|e| e.within(&std::format!("[{i}]")))?;
+            list.0.push(item).map_err(|_| crate::jer::over_capacity())?;
+        }
+        Ok(list)
     }
 }
 
@@ -4078,6 +5646,39 @@ impl Uper for RegionOffsets {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for RegionOffsets {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        out.key("xOffset");
+        crate::jer::Jer::write_jer(&self.x_offset, out);
+        out.key("yOffset");
+        crate::jer::Jer::write_jer(&self.y_offset, out);
+        if let Some(v) = &self.z_offset {
+            out.key("zOffset");
+            crate::jer::Jer::write_jer(v, out);
+        }
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        crate::jer::member(v, "")?;
+        let f_x_offset = crate::jer::read_member(v, "xOffset", |x| {
+            <OffsetLLB16 as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_y_offset = crate::jer::read_member(v, "yOffset", |x| {
+            <OffsetLLB16 as crate::jer::Jer>::read_jer(x)
+        })?;
+        let f_z_offset = crate::jer::read_optional(v, "zOffset", |x| {
+            <OffsetLLB16 as crate::jer::Jer>::read_jer(x)
+        })?;
+        Ok(Self {
+            x_offset: f_x_offset,
+            y_offset: f_y_offset,
+            z_offset: f_z_offset,
+        })
+    }
+}
+
 #[cfg(feature = "_random")]
 impl uper::random::Random for RegionOffsets {
     fn random(g: &mut uper::random::Gen) -> Self {
@@ -4135,6 +5736,30 @@ impl Uper for GeographicalPathRegional {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for GeographicalPathRegional {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_array();
+        for item in self.0.iter() {
+            crate::jer::Jer::write_jer(item, out);
+        }
+        out.end_array();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let items = crate::jer::array(v)?;
+        if items.len() < 1 {
+            return Err(crate::jer::invalid("size"));
+        }
+        let mut list = Self::new();
+        for (i, x) in items.iter().enumerate() {
+            let item = <RegGeographicalPath as crate::jer::Jer>::read_jer(x)
+                .map_err(|e| e.within(&std::format!("[{i}]")))?;
+            list.0.push(item).map_err(|_| crate::jer::over_capacity())?;
+        }
+        Ok(list)
+    }
+}
+
 #[cfg(feature = "_random")]
 impl uper::random::Random for GeographicalPathRegional {
     fn random(g: &mut uper::random::Gen) -> Self {
@@ -4165,6 +5790,57 @@ impl RegGeographicalPath {
         match self {
             Self::Unknown { id, .. } => *id,
         }
+    }
+}
+
+impl RegGeographicalPath {
+    /// Writes the id and the value as members `id_name` and `value_name` of an object.
+    #[cfg(feature = "jer")]
+    pub fn write_jer_members(
+        &self,
+        out: &mut crate::jer::JerWriter,
+        id_name: &str,
+        value_name: &str,
+    ) {
+        out.key(id_name);
+        out.int(self.id().get() as i64);
+        out.key(value_name);
+        match self {
+            Self::Unknown { content, .. } => out.hex(content),
+        }
+    }
+    /// Reads the id and the value from members `id_name` and `value_name` of an object.
+    #[cfg(feature = "jer")]
+    pub fn read_jer_members(
+        v: &crate::jer::Value,
+        id_name: &str,
+        value_name: &str,
+    ) -> crate::jer::JerResult<Self> {
+        let id = crate::jer::read_member(
+            v,
+            id_name,
+            <super::common::RegionId as crate::jer::Jer>::read_jer,
+        )?;
+        let x = crate::jer::required(v, value_name)?;
+        match id.get() {
+            _ => {
+                let content = uper::Octets::from_slice(&crate::jer::hex(x)?)
+                    .ok_or_else(crate::jer::over_capacity)?;
+                Ok(Self::Unknown { id, content })
+            }
+        }
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for RegGeographicalPath {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        self.write_jer_members(out, "regionId", "regExtValue");
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        Self::read_jer_members(v, "regionId", "regExtValue")
     }
 }
 
@@ -4349,6 +6025,67 @@ impl uper::random::Random for TravelerDataFrameContent {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for TravelerDataFrameContent {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        match self {
+            Self::Advisory(v) => {
+                out.begin_object();
+                out.key("advisory");
+                crate::jer::Jer::write_jer(v, out);
+                out.end_object();
+            }
+            Self::WorkZone(v) => {
+                out.begin_object();
+                out.key("workZone");
+                crate::jer::Jer::write_jer(v, out);
+                out.end_object();
+            }
+            Self::GenericSign(v) => {
+                out.begin_object();
+                out.key("genericSign");
+                crate::jer::Jer::write_jer(v, out);
+                out.end_object();
+            }
+            Self::SpeedLimit(v) => {
+                out.begin_object();
+                out.key("speedLimit");
+                crate::jer::Jer::write_jer(v, out);
+                out.end_object();
+            }
+            Self::ExitService(v) => {
+                out.begin_object();
+                out.key("exitService");
+                crate::jer::Jer::write_jer(v, out);
+                out.end_object();
+            }
+        }
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let (name, x) = crate::jer::alternative(v)?;
+        match name {
+            "advisory" => <super::itis::ITIScodesAndText as crate::jer::Jer>::read_jer(x)
+                .map(Self::Advisory)
+                .map_err(|e| e.within(name)),
+            "workZone" => <WorkZone as crate::jer::Jer>::read_jer(x)
+                .map(Self::WorkZone)
+                .map_err(|e| e.within(name)),
+            "genericSign" => <GenericSignage as crate::jer::Jer>::read_jer(x)
+                .map(Self::GenericSign)
+                .map_err(|e| e.within(name)),
+            "speedLimit" => <SpeedLimit as crate::jer::Jer>::read_jer(x)
+                .map(Self::SpeedLimit)
+                .map_err(|e| e.within(name)),
+            "exitService" => <ExitService as crate::jer::Jer>::read_jer(x)
+                .map(Self::ExitService)
+                .map_err(|e| e.within(name)),
+            _ => Err(crate::jer::JerError::new(std::format!(
+                "unknown alternative {name}"
+            ))),
+        }
+    }
+}
+
 /// ASN.1 `WorkZone` (module `TravelerInformation`): SEQUENCE OF WorkZoneItem (SIZE(1..16)).
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub struct WorkZone(pub uper::SeqOf<WorkZoneItem, 16>);
@@ -4383,6 +6120,30 @@ impl Uper for WorkZone {
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for WorkZone {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_array();
+        for item in self.0.iter() {
+            crate::jer::Jer::write_jer(item, out);
+        }
+        out.end_array();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let items = crate::jer::array(v)?;
+        if items.len() < 1 {
+            return Err(crate::jer::invalid("size"));
+        }
+        let mut list = Self::new();
+        for (i, x) in items.iter().enumerate() {
+            let item = <WorkZoneItem as crate::jer::Jer>::read_jer(x)
+                .map_err(|e| e.within(&std::format!("[{i}]")))?;
+            list.0.push(item).map_err(|_| crate::jer::over_capacity())?;
+        }
+        Ok(list)
     }
 }
 
@@ -4422,6 +6183,23 @@ impl Uper for WorkZoneItem {
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         self.item.encode_uper(w)?;
         Ok(())
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for WorkZoneItem {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        out.key("item");
+        crate::jer::Jer::write_jer(&self.item, out);
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        crate::jer::member(v, "")?;
+        let f_item = crate::jer::read_member(v, "item", |x| {
+            <WorkZoneItemItem as crate::jer::Jer>::read_jer(x)
+        })?;
+        Ok(Self { item: f_item })
     }
 }
 
@@ -4509,6 +6287,40 @@ impl uper::random::Random for WorkZoneItemItem {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for WorkZoneItemItem {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        match self {
+            Self::Itis(v) => {
+                out.begin_object();
+                out.key("itis");
+                crate::jer::Jer::write_jer(v, out);
+                out.end_object();
+            }
+            Self::Text(v) => {
+                out.begin_object();
+                out.key("text");
+                crate::jer::Jer::write_jer(v, out);
+                out.end_object();
+            }
+        }
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let (name, x) = crate::jer::alternative(v)?;
+        match name {
+            "itis" => <super::itis::ITIScodes as crate::jer::Jer>::read_jer(x)
+                .map(Self::Itis)
+                .map_err(|e| e.within(name)),
+            "text" => <ITIStextPhrase as crate::jer::Jer>::read_jer(x)
+                .map(Self::Text)
+                .map_err(|e| e.within(name)),
+            _ => Err(crate::jer::JerError::new(std::format!(
+                "unknown alternative {name}"
+            ))),
+        }
+    }
+}
+
 /// ASN.1 `ITIStextPhrase` (module `TravelerInformation`): IA5String (SIZE(1..16)).
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub struct ITIStextPhrase(pub uper::Ia5<16>);
@@ -4542,6 +6354,16 @@ impl Uper for ITIStextPhrase {
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_ia5(w, Self::SIZE, &self.0)
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for ITIStextPhrase {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.string(self.0.as_str());
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        Self::new(crate::jer::string(v)?).ok_or_else(|| crate::jer::invalid("size or character"))
     }
 }
 
@@ -4598,6 +6420,30 @@ impl Uper for GenericSignage {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for GenericSignage {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_array();
+        for item in self.0.iter() {
+            crate::jer::Jer::write_jer(item, out);
+        }
+        out.end_array();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let items = crate::jer::array(v)?;
+        if items.len() < 1 {
+            return Err(crate::jer::invalid("size"));
+        }
+        let mut list = Self::new();
+        for (i, x) in items.iter().enumerate() {
+            let item = <GenericSignageItem as crate::jer::Jer>::read_jer(x)
+                .map_err(|e| e.within(&std::format!("[{i}]")))?;
+            list.0.push(item).map_err(|_| crate::jer::over_capacity())?;
+        }
+        Ok(list)
+    }
+}
+
 #[cfg(feature = "_random")]
 impl uper::random::Random for GenericSignage {
     fn random(g: &mut uper::random::Gen) -> Self {
@@ -4635,6 +6481,23 @@ impl Uper for GenericSignageItem {
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         self.item.encode_uper(w)?;
         Ok(())
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for GenericSignageItem {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        out.key("item");
+        crate::jer::Jer::write_jer(&self.item, out);
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        crate::jer::member(v, "")?;
+        let f_item = crate::jer::read_member(v, "item", |x| {
+            <GenericSignageItemItem as crate::jer::Jer>::read_jer(x)
+        })?;
+        Ok(Self { item: f_item })
     }
 }
 
@@ -4722,6 +6585,40 @@ impl uper::random::Random for GenericSignageItemItem {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for GenericSignageItemItem {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        match self {
+            Self::Itis(v) => {
+                out.begin_object();
+                out.key("itis");
+                crate::jer::Jer::write_jer(v, out);
+                out.end_object();
+            }
+            Self::Text(v) => {
+                out.begin_object();
+                out.key("text");
+                crate::jer::Jer::write_jer(v, out);
+                out.end_object();
+            }
+        }
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let (name, x) = crate::jer::alternative(v)?;
+        match name {
+            "itis" => <super::itis::ITIScodes as crate::jer::Jer>::read_jer(x)
+                .map(Self::Itis)
+                .map_err(|e| e.within(name)),
+            "text" => <ITIStextPhrase as crate::jer::Jer>::read_jer(x)
+                .map(Self::Text)
+                .map_err(|e| e.within(name)),
+            _ => Err(crate::jer::JerError::new(std::format!(
+                "unknown alternative {name}"
+            ))),
+        }
+    }
+}
+
 /// ASN.1 `SpeedLimit` (module `TravelerInformation`): SEQUENCE OF SpeedLimitItem (SIZE(1..16)).
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub struct SpeedLimit(pub uper::SeqOf<SpeedLimitItem, 5>);
@@ -4756,6 +6653,30 @@ impl Uper for SpeedLimit {
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for SpeedLimit {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_array();
+        for item in self.0.iter() {
+            crate::jer::Jer::write_jer(item, out);
+        }
+        out.end_array();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let items = crate::jer::array(v)?;
+        if items.len() < 1 {
+            return Err(crate::jer::invalid("size"));
+        }
+        let mut list = Self::new();
+        for (i, x) in items.iter().enumerate() {
+            let item = <SpeedLimitItem as crate::jer::Jer>::read_jer(x)
+                .map_err(|e| e.within(&std::format!("[{i}]")))?;
+            list.0.push(item).map_err(|_| crate::jer::over_capacity())?;
+        }
+        Ok(list)
     }
 }
 
@@ -4796,6 +6717,23 @@ impl Uper for SpeedLimitItem {
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         self.item.encode_uper(w)?;
         Ok(())
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for SpeedLimitItem {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        out.key("item");
+        crate::jer::Jer::write_jer(&self.item, out);
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        crate::jer::member(v, "")?;
+        let f_item = crate::jer::read_member(v, "item", |x| {
+            <SpeedLimitItemItem as crate::jer::Jer>::read_jer(x)
+        })?;
+        Ok(Self { item: f_item })
     }
 }
 
@@ -4883,6 +6821,40 @@ impl uper::random::Random for SpeedLimitItemItem {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for SpeedLimitItemItem {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        match self {
+            Self::Itis(v) => {
+                out.begin_object();
+                out.key("itis");
+                crate::jer::Jer::write_jer(v, out);
+                out.end_object();
+            }
+            Self::Text(v) => {
+                out.begin_object();
+                out.key("text");
+                crate::jer::Jer::write_jer(v, out);
+                out.end_object();
+            }
+        }
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let (name, x) = crate::jer::alternative(v)?;
+        match name {
+            "itis" => <super::itis::ITIScodes as crate::jer::Jer>::read_jer(x)
+                .map(Self::Itis)
+                .map_err(|e| e.within(name)),
+            "text" => <ITIStextPhrase as crate::jer::Jer>::read_jer(x)
+                .map(Self::Text)
+                .map_err(|e| e.within(name)),
+            _ => Err(crate::jer::JerError::new(std::format!(
+                "unknown alternative {name}"
+            ))),
+        }
+    }
+}
+
 /// ASN.1 `ExitService` (module `TravelerInformation`): SEQUENCE OF ExitServiceItem (SIZE(1..16)).
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub struct ExitService(pub uper::SeqOf<ExitServiceItem, 4>);
@@ -4917,6 +6889,30 @@ impl Uper for ExitService {
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_seq_of(w, Self::SIZE, &self.0)
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for ExitService {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_array();
+        for item in self.0.iter() {
+            crate::jer::Jer::write_jer(item, out);
+        }
+        out.end_array();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let items = crate::jer::array(v)?;
+        if items.len() < 1 {
+            return Err(crate::jer::invalid("size"));
+        }
+        let mut list = Self::new();
+        for (i, x) in items.iter().enumerate() {
+            let item = <ExitServiceItem as crate::jer::Jer>::read_jer(x)
+                .map_err(|e| e.within(&std::format!("[{i}]")))?;
+            list.0.push(item).map_err(|_| crate::jer::over_capacity())?;
+        }
+        Ok(list)
     }
 }
 
@@ -4957,6 +6953,23 @@ impl Uper for ExitServiceItem {
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         self.item.encode_uper(w)?;
         Ok(())
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for ExitServiceItem {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        out.key("item");
+        crate::jer::Jer::write_jer(&self.item, out);
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        crate::jer::member(v, "")?;
+        let f_item = crate::jer::read_member(v, "item", |x| {
+            <ExitServiceItemItem as crate::jer::Jer>::read_jer(x)
+        })?;
+        Ok(Self { item: f_item })
     }
 }
 
@@ -5044,6 +7057,40 @@ impl uper::random::Random for ExitServiceItemItem {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for ExitServiceItemItem {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        match self {
+            Self::Itis(v) => {
+                out.begin_object();
+                out.key("itis");
+                crate::jer::Jer::write_jer(v, out);
+                out.end_object();
+            }
+            Self::Text(v) => {
+                out.begin_object();
+                out.key("text");
+                crate::jer::Jer::write_jer(v, out);
+                out.end_object();
+            }
+        }
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let (name, x) = crate::jer::alternative(v)?;
+        match name {
+            "itis" => <super::itis::ITIScodes as crate::jer::Jer>::read_jer(x)
+                .map(Self::Itis)
+                .map_err(|e| e.within(name)),
+            "text" => <ITIStextPhrase as crate::jer::Jer>::read_jer(x)
+                .map(Self::Text)
+                .map_err(|e| e.within(name)),
+            _ => Err(crate::jer::JerError::new(std::format!(
+                "unknown alternative {name}"
+            ))),
+        }
+    }
+}
+
 /// ASN.1 `URL-Short` (module `TravelerInformation`): IA5String (SIZE(1..15)).
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub struct URLShort(pub uper::Ia5<15>);
@@ -5077,6 +7124,16 @@ impl Uper for URLShort {
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_ia5(w, Self::SIZE, &self.0)
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for URLShort {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.string(self.0.as_str());
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        Self::new(crate::jer::string(v)?).ok_or_else(|| crate::jer::invalid("size or character"))
     }
 }
 
@@ -5133,6 +7190,30 @@ impl Uper for TravelerInformationRegional {
     }
 }
 
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for TravelerInformationRegional {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_array();
+        for item in self.0.iter() {
+            crate::jer::Jer::write_jer(item, out);
+        }
+        out.end_array();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        let items = crate::jer::array(v)?;
+        if items.len() < 1 {
+            return Err(crate::jer::invalid("size"));
+        }
+        let mut list = Self::new();
+        for (i, x) in items.iter().enumerate() {
+            let item = <RegTravelerInformation as crate::jer::Jer>::read_jer(x)
+                .map_err(|e| e.within(&std::format!("[{i}]")))?;
+            list.0.push(item).map_err(|_| crate::jer::over_capacity())?;
+        }
+        Ok(list)
+    }
+}
+
 #[cfg(feature = "_random")]
 impl uper::random::Random for TravelerInformationRegional {
     fn random(g: &mut uper::random::Gen) -> Self {
@@ -5163,6 +7244,57 @@ impl RegTravelerInformation {
         match self {
             Self::Unknown { id, .. } => *id,
         }
+    }
+}
+
+impl RegTravelerInformation {
+    /// Writes the id and the value as members `id_name` and `value_name` of an object.
+    #[cfg(feature = "jer")]
+    pub fn write_jer_members(
+        &self,
+        out: &mut crate::jer::JerWriter,
+        id_name: &str,
+        value_name: &str,
+    ) {
+        out.key(id_name);
+        out.int(self.id().get() as i64);
+        out.key(value_name);
+        match self {
+            Self::Unknown { content, .. } => out.hex(content),
+        }
+    }
+    /// Reads the id and the value from members `id_name` and `value_name` of an object.
+    #[cfg(feature = "jer")]
+    pub fn read_jer_members(
+        v: &crate::jer::Value,
+        id_name: &str,
+        value_name: &str,
+    ) -> crate::jer::JerResult<Self> {
+        let id = crate::jer::read_member(
+            v,
+            id_name,
+            <super::common::RegionId as crate::jer::Jer>::read_jer,
+        )?;
+        let x = crate::jer::required(v, value_name)?;
+        match id.get() {
+            _ => {
+                let content = uper::Octets::from_slice(&crate::jer::hex(x)?)
+                    .ok_or_else(crate::jer::over_capacity)?;
+                Ok(Self::Unknown { id, content })
+            }
+        }
+    }
+}
+
+#[cfg(feature = "jer")]
+impl crate::jer::Jer for RegTravelerInformation {
+    fn write_jer(&self, out: &mut crate::jer::JerWriter) {
+        out.begin_object();
+        self.write_jer_members(out, "regionId", "regExtValue");
+        out.end_object();
+    }
+    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
+        Self::read_jer_members(v, "regionId", "regExtValue")
     }
 }
 

@@ -39,6 +39,15 @@ macro_rules! __constrained_int {
                 Self($lb)
             }
         }
+        #[cfg(feature = "jer")]
+        impl $crate::jer::Jer for $name {
+            fn write_jer(&self, out: &mut $crate::jer::JerWriter) {
+                out.int(self.0 as i64);
+            }
+            fn read_jer(v: &$crate::jer::Value) -> $crate::jer::JerResult<Self> {
+                ::core::result::Result::Ok(Self($crate::jer::int(v, $lb, $ub)? as $prim))
+            }
+        }
         #[cfg(feature = "_random")]
         impl $crate::uper::random::Random for $name {
             fn random(g: &mut $crate::uper::random::Gen) -> Self {

@@ -1,0 +1,391 @@
+//! JER, the JSON encoding rules of ITU-T X.697, for every generated type (feature `jer`).
+//!
+//! SEQUENCE is an object of the present components under their ASN.1 names, CHOICE
+//! `{"alternative": value}`, ENUMERATED its identifier, BIT STRING of fixed size hex and of
+//! variable size `{"value": hex, "length": bits}`, OCTET STRING hex, an open type the JER of
+//! the value it holds (hex of its encoding when the type is unknown here).
+//!
+//! Reading accepts what X.697 allows and, for BIT STRINGs, also a bare hex string (as some
+//! encoders write for extensible sizes). Components this build does not know are ignored;
+//! extension additions kept from UPER are not written (JER has no form for them).
+
+use std::fmt::Write as _;
+use std::string::{String, ToString};
+use std::vec::Vec;
+
+pub use serde_json::Value;
+
+/// Why a JER value could not be read.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct JerError {
+    /// What is wrong.
+    pub reason: String,
+    /// Where: the ASN.1 type path and components from the outside in.
+    pub path: String,
+}
+
+impl JerError {
+    /// An error with `reason` at an unknown place.
+    #[cold]
+    pub fn new(reason: impl Into<String>) -> Self {
+        Self {
+            reason: reason.into(),
+            path: String::new(),
+        }
+    }
+
+    /// Prefixes the path with `part` (the caller's component or type).
+    #[cold]
+    #[must_use]
+    pub fn within(mut self, part: &str) -> Self {
+        self.path = if self.path.is_empty() {
+            part.to_string()
+        } else {
+            std::format!("{part}.{}", self.path)
+        };
+        self
+    }
+}
+
+impl core::fmt::Display for JerError {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        if self.path.is_empty() {
+            f.write_str(&self.reason)
+        } else {
+            write!(f, "{} at {}", self.reason, self.path)
+        }
+    }
+}
+
+impl std::error::Error for JerError {}
+
+/// Result of reading JER.
+pub type JerResult<T> = Result<T, JerError>;
+
+/// A type with a JER form.
+pub trait Jer: Sized {
+    /// Writes the value's JER.
+    fn write_jer(&self, out: &mut JerWriter);
+    /// Reads a value from its JER.
+    fn read_jer(v: &Value) -> JerResult<Self>;
+}
+
+impl Jer for bool {
+    fn write_jer(&self, out: &mut JerWriter) {
+        out.bool(*self);
+    }
+    fn read_jer(v: &Value) -> JerResult<Self> {
+        boolean(v)
+    }
+}
+
+impl Jer for crate::uper::Null {
+    fn write_jer(&self, out: &mut JerWriter) {
+        out.null();
+    }
+    fn read_jer(v: &Value) -> JerResult<Self> {
+        if v.is_null() {
+            Ok(crate::uper::Null)
+        } else {
+            Err(JerError::new("expected null"))
+        }
+    }
+}
+
+/// The compact JER text of `value`.
+pub fn to_string<T: Jer>(value: &T) -> String {
+    let mut w = JerWriter::default();
+    value.write_jer(&mut w);
+    w.finish()
+}
+
+/// Reads a value from JER text.
+pub fn from_str<T: Jer>(text: &str) -> JerResult<T> {
+    let v: Value =
+        serde_json::from_str(text).map_err(|e| JerError::new(std::format!("invalid JSON: {e}")))?;
+    T::read_jer(&v)
+}
+
+/// Writes compact JSON, placing the commas.
+#[derive(Default, Debug)]
+pub struct JerWriter {
+    out: String,
+    /// Per open object/array: whether an element was written yet.
+    started: Vec<bool>,
+}
+
+impl JerWriter {
+    /// The text written.
+    pub fn finish(self) -> String {
+        self.out
+    }
+
+    fn element(&mut self) {
+        if let Some(started) = self.started.last_mut() {
+            if *started {
+                self.out.push(',');
+            }
+            *started = true;
+        }
+    }
+
+    /// `{`
+    pub fn begin_object(&mut self) {
+        self.element();
+        self.out.push('{');
+        self.started.push(false);
+    }
+
+    /// `}`
+    pub fn end_object(&mut self) {
+        self.started.pop();
+        self.out.push('}');
+    }
+
+    /// `[`
+    pub fn begin_array(&mut self) {
+        self.element();
+        self.out.push('[');
+        self.started.push(false);
+    }
+
+    /// `]`
+    pub fn end_array(&mut self) {
+        self.started.pop();
+        self.out.push(']');
+    }
+
+    /// A member name; the value written next belongs to it.
+    pub fn key(&mut self, name: &str) {
+        self.element();
+        self.quoted(name);
+        self.out.push(':');
+        if let Some(started) = self.started.last_mut() {
+            *started = false;
+        }
+    }
+
+    /// A whole number.
+    pub fn int(&mut self, v: i64) {
+        self.element();
+        let _ = write!(self.out, "{v}");
+    }
+
+    /// `true` / `false`.
+    pub fn bool(&mut self, v: bool) {
+        self.element();
+        self.out.push_str(if v { "true" } else { "false" });
+    }
+
+    /// `null`.
+    pub fn null(&mut self) {
+        self.element();
+        self.out.push_str("null");
+    }
+
+    /// A string, escaped.
+    pub fn string(&mut self, s: &str) {
+        self.element();
+        self.quoted(s);
+    }
+
+    /// Octets as a lower-case hex string.
+    pub fn hex(&mut self, bytes: &[u8]) {
+        self.element();
+        self.out.push('"');
+        for b in bytes {
+            let _ = write!(self.out, "{b:02x}");
+        }
+        self.out.push('"');
+    }
+
+    /// A variable-size BIT STRING: `{"value": hex, "length": n}`.
+    pub fn bits(&mut self, bytes: &[u8], len: usize) {
+        self.begin_object();
+        self.key("value");
+        self.hex(bytes);
+        self.key("length");
+        self.int(len as i64);
+        self.end_object();
+    }
+
+    fn quoted(&mut self, s: &str) {
+        self.out.push('"');
+        for c in s.chars() {
+            match c {
+                '"' => self.out.push_str("\\\""),
+                '\\' => self.out.push_str("\\\\"),
+                '\n' => self.out.push_str("\\n"),
+                '\r' => self.out.push_str("\\r"),
+                '\t' => self.out.push_str("\\t"),
+                c if (c as u32) < 0x20 || c as u32 == 0x7f => {
+                    let _ = write!(self.out, "\\u{:04x}", c as u32);
+                }
+                c => self.out.push(c),
+            }
+        }
+        self.out.push('"');
+    }
+}
+
+/// A member of a JER object, when present.
+pub fn member<'a>(v: &'a Value, name: &str) -> JerResult<Option<&'a Value>> {
+    match v {
+        Value::Object(map) => Ok(map.get(name)),
+        _ => Err(JerError::new("expected an object")),
+    }
+}
+
+/// A mandatory member of a JER object.
+pub fn required<'a>(v: &'a Value, name: &str) -> JerResult<&'a Value> {
+    member(v, name)?.ok_or_else(|| JerError::new(std::format!("missing component {name}")))
+}
+
+/// Reads a member with `read`, naming it in errors.
+pub fn read_member<T>(
+    v: &Value,
+    name: &str,
+    read: impl FnOnce(&Value) -> JerResult<T>,
+) -> JerResult<T> {
+    read(required(v, name)?).map_err(|e| e.within(name))
+}
+
+/// Reads an optional member with `read`, naming it in errors.
+pub fn read_optional<T>(
+    v: &Value,
+    name: &str,
+    read: impl FnOnce(&Value) -> JerResult<T>,
+) -> JerResult<Option<T>> {
+    match member(v, name)? {
+        Some(m) => read(m).map(Some).map_err(|e| e.within(name)),
+        None => Ok(None),
+    }
+}
+
+/// A whole number in `lb..=ub`.
+pub fn int(v: &Value, lb: i64, ub: i64) -> JerResult<i64> {
+    let n = v
+        .as_i64()
+        .ok_or_else(|| JerError::new("expected a whole number"))?;
+    if n < lb || n > ub {
+        return Err(JerError::new(std::format!("{n} outside {lb}..{ub}")));
+    }
+    Ok(n)
+}
+
+/// A boolean.
+pub fn boolean(v: &Value) -> JerResult<bool> {
+    v.as_bool()
+        .ok_or_else(|| JerError::new("expected true or false"))
+}
+
+/// A string.
+pub fn string(v: &Value) -> JerResult<&str> {
+    v.as_str().ok_or_else(|| JerError::new("expected a string"))
+}
+
+/// The single (name, value) member of a CHOICE object.
+pub fn alternative(v: &Value) -> JerResult<(&str, &Value)> {
+    match v {
+        Value::Object(map) if map.len() == 1 => {
+            let (k, val) = map
+                .iter()
+                .next()
+                .ok_or_else(|| JerError::new("empty CHOICE"))?;
+            Ok((k.as_str(), val))
+        }
+        _ => Err(JerError::new("expected an object with one alternative")),
+    }
+}
+
+/// The elements of an array.
+pub fn array(v: &Value) -> JerResult<&[Value]> {
+    v.as_array()
+        .map(Vec::as_slice)
+        .ok_or_else(|| JerError::new("expected an array"))
+}
+
+/// Octets from a hex string.
+pub fn hex(v: &Value) -> JerResult<Vec<u8>> {
+    let s = string(v)?;
+    if s.len() % 2 != 0 {
+        return Err(JerError::new("odd number of hex digits"));
+    }
+    (0..s.len() / 2)
+        .map(|i| u8::from_str_radix(s.get(2 * i..2 * i + 2).unwrap_or("x"), 16))
+        .collect::<Result<_, _>>()
+        .map_err(|_| JerError::new("invalid hex digit"))
+}
+
+/// A BIT STRING of `lb..=ub` bits: `{"value", "length"}`, or bare hex (then the length is
+/// `ub` or `lb` when the octets fit it exactly, else all the octets' bits).
+pub fn bits(v: &Value, lb: usize, ub: usize) -> JerResult<(Vec<u8>, usize)> {
+    if v.is_object() {
+        let bytes = read_member(v, "value", hex)?;
+        let len = read_member(v, "length", |l| int(l, 0, i64::from(u32::MAX)))? as usize;
+        if len.div_ceil(8) > bytes.len() {
+            return Err(JerError::new("length exceeds the value's bits"));
+        }
+        return Ok((bytes, len));
+    }
+    let bytes = hex(v)?;
+    let len = if ub.div_ceil(8) == bytes.len() {
+        ub
+    } else if lb.div_ceil(8) == bytes.len() {
+        lb
+    } else {
+        bytes.len() * 8
+    };
+    Ok((bytes, len))
+}
+
+/// The error of a list or string over its no-heap capacity.
+#[cold]
+pub fn over_capacity() -> JerError {
+    JerError::new("more than the no-heap capacity")
+}
+
+/// The error of a value outside its type's constraint.
+#[cold]
+pub fn invalid(what: &str) -> JerError {
+    JerError::new(std::format!("{what} outside the type's constraint"))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn writer_places_commas_and_escapes() {
+        let mut w = JerWriter::default();
+        w.begin_object();
+        w.key("a");
+        w.int(-3);
+        w.key("b");
+        w.begin_array();
+        w.string("x\"y");
+        w.hex(&[0xab, 1]);
+        w.bits(&[0x80], 1);
+        w.end_array();
+        w.key("c");
+        w.bool(true);
+        w.end_object();
+        assert_eq!(
+            w.finish(),
+            r#"{"a":-3,"b":["x\"y","ab01",{"value":"80","length":1}],"c":true}"#
+        );
+    }
+
+    #[test]
+    fn bit_strings_in_both_forms() {
+        let v: Value = serde_json::from_str(r#"{"value":"a0","length":3}"#).unwrap();
+        assert_eq!(bits(&v, 0, 8).unwrap(), (std::vec![0xa0], 3));
+        let v = Value::String("8000".into());
+        assert_eq!(bits(&v, 13, 13).unwrap(), (std::vec![0x80, 0], 13));
+        assert_eq!(
+            bits(&Value::String(String::new()), 8, 8).unwrap(),
+            (std::vec![], 0)
+        );
+        assert!(hex(&Value::String("8".into())).is_err());
+    }
+}

@@ -1,0 +1,130 @@
+//! JER (X.697): our JER of every oracle vector equals the oracle's, and JER -> UPER gives the
+//! vector's bytes back. With feature `shared-corpus`, the same for every corpus frame whose
+//! oracle note is empty (the oracle's JER in `../shared/corpus/jer`).
+
+mod common;
+
+use j2735::jer;
+use j2735::uper::{self, Placeholder};
+use j2735::MessageFrame;
+use serde_json::Value;
+
+/// Equal as JER, treating `{"value": H, "length": n}` like the bare `H` the oracle writes
+/// for BIT STRINGs with an extensible size.
+fn same_jer(ours: &Value, theirs: &Value, path: &str) -> Result<(), String> {
+    match (ours, theirs) {
+        (Value::Object(o), Value::String(t)) if o.len() == 2 && o.contains_key("length") => {
+            same_jer(&o["value"], &Value::String(t.clone()), path)
+        }
+        (Value::Object(o), Value::Object(t)) => {
+            let (mut ok, mut tk): (Vec<_>, Vec<_>) = (o.keys().collect(), t.keys().collect());
+            ok.sort();
+            tk.sort();
+            if ok != tk {
+                return Err(format!("{path}: members {ok:?} vs {tk:?}"));
+            }
+            o.iter()
+                .try_for_each(|(k, v)| same_jer(v, &t[k], &format!("{path}.{k}")))
+        }
+        (Value::Array(o), Value::Array(t)) if o.len() == t.len() => o
+            .iter()
+            .zip(t)
+            .enumerate()
+            .try_for_each(|(i, (a, b))| same_jer(a, b, &format!("{path}[{i}]"))),
+        (a, b) if a == b => Ok(()),
+        (a, b) => Err(format!("{path}: {a} vs {b}")),
+    }
+}
+
+/// Decodes `bytes`, compares our JER with `expected`, and encodes our JER read back.
+fn check(
+    name: &str,
+    bytes: &[u8],
+    expected: &Value,
+    mf: &mut MessageFrame,
+    buf: &mut [u8],
+) -> Result<(), String> {
+    uper::decode_into(bytes, mf).map_err(|e| format!("{name}: decode: {e}"))?;
+    let text = jer::to_string(mf);
+    let ours: Value =
+        serde_json::from_str(&text).map_err(|e| format!("{name}: our JER is not JSON: {e}"))?;
+    same_jer(&ours, expected, "").map_err(|e| format!("{name}: JER differs at {e}"))?;
+    let back: MessageFrame = jer::from_str(&text).map_err(|e| format!("{name}: JER read: {e}"))?;
+    let n = uper::encode(&back, buf).map_err(|e| format!("{name}: encode: {e}"))?;
+    if &buf[..n] != bytes {
+        return Err(format!("{name}: JER -> UPER differs"));
+    }
+    Ok(())
+}
+
+#[test]
+fn vectors_jer_equals_the_oracle_and_round_trips() {
+    common::big_stack(|| {
+        let mut mf = Box::new(MessageFrame::placeholder());
+        let mut buf = vec![0u8; 1 << 16];
+        let mut failures = Vec::new();
+        let mut n = 0;
+        for line in include_str!("vectors/oracle_vectors.jsonl").lines() {
+            let v: Value = serde_json::from_str(line).unwrap();
+            let name = v["name"].as_str().unwrap();
+            if v["covers"]
+                .as_array()
+                .unwrap()
+                .iter()
+                .any(|c| c == "opentype:fragmented")
+                && !cfg!(feature = "alloc")
+            {
+                continue;
+            }
+            n += 1;
+            let bytes = common::from_hex(v["uper"].as_str().unwrap());
+            if let Err(e) = check(name, &bytes, &v["jer"], &mut mf, &mut buf) {
+                failures.push(e);
+            }
+        }
+        println!(
+            "{}/{n} vectors: JER equals the oracle's and JER -> UPER is byte-exact",
+            n - failures.len()
+        );
+        assert!(failures.is_empty(), "{}", failures.join("\n"));
+    });
+}
+
+#[cfg(feature = "shared-corpus")]
+#[test]
+fn corpus_jer_equals_the_oracle_and_round_trips() {
+    common::big_stack(|| {
+        let dir = common::shared_dir().join("corpus/jer");
+        let mut mf = Box::new(MessageFrame::placeholder());
+        let mut buf = vec![0u8; 1 << 16];
+        let (mut failures, mut compared, mut noted) = (Vec::new(), 0, 0);
+        for (name, bytes) in common::corpus_frames() {
+            let file = dir.join(format!("{name}.2020.json"));
+            let Ok(text) = std::fs::read_to_string(&file) else {
+                assert!(
+                    name.starts_with("RSM_"),
+                    "{name}: no oracle JER (only 2024-only RSM lacks one)"
+                );
+                noted += 1;
+                continue;
+            };
+            let doc: Value = serde_json::from_str(&text).unwrap();
+            if doc["note"].as_str().is_some_and(|n| !n.is_empty()) {
+                noted += 1;
+                continue;
+            }
+            compared += 1;
+            if let Err(e) = check(&name, &bytes, &doc["jer"], &mut mf, &mut buf) {
+                failures.push(e);
+            }
+        }
+        println!("{}/{compared} corpus frames: JER equals the oracle's, JER -> UPER byte-exact ({noted} without a 2020 oracle JER skipped)", compared - failures.len());
+        assert!(compared >= 250);
+        assert!(
+            failures.is_empty(),
+            "{} failures:\n{}",
+            failures.len(),
+            failures.join("\n")
+        );
+    });
+}
