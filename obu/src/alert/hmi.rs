@@ -1,0 +1,133 @@
+//! The state a driver display shows, one per fix.
+
+use heapless::Vec;
+
+#[cfg(feature = "serde")]
+use serde::{Deserialize, Serialize};
+
+use super::{AlertKind, ZoneState};
+use crate::capacity::{MAX_ALERTS, MAX_HMI_LANES};
+
+/// One alert.
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(Serialize, Deserialize))]
+pub struct Alert {
+    /// Reason.
+    pub kind: AlertKind,
+    /// Distance to the zone start, metres (negative inside), when zone related.
+    pub distance_m: Option<f32>,
+    /// Zone speed limit, m/s, when known.
+    pub limit_mps: Option<f32>,
+}
+
+/// Which way to change lane.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+#[cfg_attr(feature = "serde", derive(Serialize, Deserialize))]
+pub enum LaneAdvice {
+    /// No change needed (or not known).
+    #[default]
+    None,
+    /// Move to the lane on the left.
+    MoveLeft,
+    /// Move to the lane on the right.
+    MoveRight,
+}
+
+impl core::fmt::Display for LaneAdvice {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        f.write_str(match self {
+            LaneAdvice::None => "none",
+            LaneAdvice::MoveLeft => "move left",
+            LaneAdvice::MoveRight => "move right",
+        })
+    }
+}
+
+/// The matched lane as shown (only when the confidence is high enough).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "serde", derive(Serialize, Deserialize))]
+pub struct LaneInfo {
+    /// Lane model id.
+    pub map: u32,
+    /// Lane id.
+    pub lane: u8,
+}
+
+/// Counters for the HMI's diagnostics page.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+#[cfg_attr(feature = "serde", derive(Serialize, Deserialize))]
+pub struct Counters {
+    /// Fixes processed.
+    pub fixes: u32,
+    /// Fixes that matched no lane.
+    pub off_map: u32,
+    /// Lane switches of the matcher.
+    pub lane_switches: u32,
+    /// Lane models stored or replaced.
+    pub maps_updated: u32,
+    /// Lane models that failed to convert.
+    pub maps_rejected: u32,
+    /// Work zones stored or replaced.
+    pub zones_updated: u32,
+    /// Work zones that failed to convert.
+    pub zones_rejected: u32,
+    /// Work zones cancelled by their sender.
+    pub zones_cancelled: u32,
+    /// Lane models and work zones dropped for age or end of validity.
+    pub expired: u32,
+}
+
+impl Counters {
+    /// All zero.
+    pub const ZERO: Counters = Counters {
+        fixes: 0,
+        off_map: 0,
+        lane_switches: 0,
+        maps_updated: 0,
+        maps_rejected: 0,
+        zones_updated: 0,
+        zones_rejected: 0,
+        zones_cancelled: 0,
+        expired: 0,
+    };
+}
+
+/// Everything the driver display shows.
+#[derive(Debug, Clone, PartialEq, Default)]
+#[cfg_attr(feature = "serde", derive(Serialize, Deserialize))]
+pub struct HmiState {
+    /// Time of this state on the caller's clock, milliseconds.
+    pub time_ms: u64,
+    /// Vehicle speed, m/s.
+    pub speed_mps: Option<f32>,
+    /// Speed limit in force or ahead, m/s.
+    pub speed_limit_mps: Option<f32>,
+    /// True when the limit is a work-zone reduction.
+    pub reduced_limit: bool,
+    /// State relative to the nearest concerning zone.
+    pub zone_state: ZoneState,
+    /// Distance to that zone's start, metres (negative inside).
+    pub distance_m: Option<f32>,
+    /// The alert to show.
+    pub primary: Option<Alert>,
+    /// Further alerts, by priority.
+    pub others: Vec<Alert, MAX_ALERTS>,
+    /// The matched lane, when known with enough confidence.
+    pub lane: Option<LaneInfo>,
+    /// Confidence of the lane match, percent (0 off-map).
+    pub lane_confidence: u8,
+    /// Closed lanes of the nearest closure on the current map.
+    pub closed_lanes: Vec<u8, MAX_HMI_LANES>,
+    /// Lane change advice.
+    pub advice: LaneAdvice,
+    /// True while fixes arrive in time.
+    pub gnss_ok: bool,
+    /// True when a MAP or TIM is stored.
+    pub roadside_data: bool,
+    /// Lane models stored.
+    pub maps: u8,
+    /// Work zones stored.
+    pub zones: u8,
+    /// Counters.
+    pub counters: Counters,
+}

@@ -1,0 +1,50 @@
+//! On-board unit (OBU) core for connected-vehicle work-zone warnings.
+//!
+//! The crate is `no_std`, allocation-free and deterministic: every input carries
+//! the time it happened (`Instant`, milliseconds) and nothing here reads a clock,
+//! a file or a socket. The pieces, in data-flow order:
+//!
+//! * [`geo`]: WGS84 <-> local east/north tangent plane (f64 exact, f32 fast path).
+//! * [`lane`]: lane model filled from a J2735 MAP, and [`lane::MapStore`].
+//! * [`zone`]: work zones filled from a J2735 TIM, and [`zone::ZoneStore`].
+//! * [`matcher`]: GNSS fix -> lane, station, lateral offset, confidence.
+//! * [`distance`]: distance along the lane to the work-zone start.
+//! * [`alert`]: alert state machine and the [`alert::HmiState`] shown to the driver.
+//! * [`onboard`]: [`Obu`], the facade the daemon, the firmware and the simulator drive.
+//!
+//! Capacities (maps, lanes, nodes, zones) are fixed at compile time in [`capacity`].
+//!
+//! ## Panic contract
+//! No public function panics on any input, including NaN, infinities and
+//! out-of-range integers; invalid inputs are rejected or ignored and counted.
+//!
+//! ## Features
+//! * `serde`: `Serialize`/`Deserialize` for the HMI output, configuration and value types.
+//! * `std`: `std::error::Error` for the error types.
+#![no_std]
+#![forbid(unsafe_code)]
+#![warn(missing_docs)]
+
+#[cfg(feature = "std")]
+extern crate std;
+
+pub mod alert;
+pub mod capacity;
+pub mod distance;
+pub mod fix;
+pub mod geo;
+pub mod lane;
+pub mod matcher;
+mod math;
+pub mod onboard;
+pub mod time;
+pub mod zone;
+
+pub use alert::{AlertConfig, HmiState};
+pub use fix::Fix;
+pub use geo::{LatLon, Point};
+pub use onboard::Obu;
+pub use time::{Duration, Instant, UtcTime};
+
+#[cfg(test)]
+mod testutil;

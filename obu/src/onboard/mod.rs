@@ -1,0 +1,216 @@
+//! [`Obu`]: the facade that the daemon, the firmware and the simulator drive.
+//!
+//! Sans-IO: `on_fix(now, fix)` returns the [`HmiState`] for that fix, `poll(now)`
+//! expires data and reports a stale GNSS, `next_deadline()` says when `poll` has work.
+//! Decoded MAP and TIM messages enter through [`Obu::update_map`] and
+//! [`Obu::update_zone`], whose closures fill the model in place.
+
+mod evaluate;
+
+use crate::alert::{AlertConfig, Counters, HmiState};
+use crate::fix::Fix;
+use crate::geo::LatLon;
+use crate::lane::{LaneModel, MapId, MapStore, MapUpdate};
+use crate::matcher::{LaneMatch, Matcher};
+use crate::time::{Instant, UtcTime};
+use crate::zone::{self, Validity, WorkZone, ZoneKey, ZoneStore, ZoneUpdate};
+
+/// The on-board unit core. About 60 KB with the default capacities; `new` is
+/// `const` so firmware can place it in a `static`.
+#[derive(Debug, Clone)]
+pub struct Obu {
+    config: AlertConfig,
+    maps: MapStore,
+    zones: ZoneStore,
+    matcher: Matcher,
+    last_fix: Option<(Instant, Fix)>,
+    last_match: Option<LaneMatch>,
+    utc: Option<(Instant, UtcTime)>,
+    stale_reported: bool,
+    counters: Counters,
+}
+
+impl Default for Obu {
+    fn default() -> Self {
+        Obu::new(AlertConfig::DEFAULT)
+    }
+}
+
+impl Obu {
+    /// A core with no data.
+    pub const fn new(config: AlertConfig) -> Self {
+        Obu {
+            config,
+            maps: MapStore::new(),
+            zones: ZoneStore::new(),
+            matcher: Matcher::new(),
+            last_fix: None,
+            last_match: None,
+            utc: None,
+            stale_reported: false,
+            counters: Counters::ZERO,
+        }
+    }
+
+    /// The configuration.
+    pub fn config(&self) -> &AlertConfig {
+        &self.config
+    }
+
+    /// Replaces the configuration (takes effect on the next fix).
+    pub fn set_config(&mut self, config: AlertConfig) {
+        self.config = config;
+    }
+
+    /// Stored lane models.
+    pub fn maps(&self) -> &MapStore {
+        &self.maps
+    }
+
+    /// Stored work zones.
+    pub fn zones(&self) -> &ZoneStore {
+        &self.zones
+    }
+
+    /// Counters.
+    pub fn counters(&self) -> Counters {
+        Counters {
+            lane_switches: self.matcher.switches(),
+            ..self.counters
+        }
+    }
+
+    /// Processes one fix and returns what the display shows.
+    pub fn on_fix(&mut self, now: Instant, fix: Fix) -> HmiState {
+        self.counters.fixes = self.counters.fixes.saturating_add(1);
+        if let Some(utc) = fix.utc {
+            self.utc = Some((now, utc));
+        }
+        self.last_fix = Some((now, fix));
+        self.stale_reported = false;
+        let matched = self
+            .matcher
+            .update(now, &fix, &self.maps, &self.config.matcher);
+        if matched.is_none() {
+            self.counters.off_map = self.counters.off_map.saturating_add(1);
+        }
+        self.last_match = matched;
+        self.evaluate(now, true)
+    }
+
+    /// Expires old data; returns a new state when something the display shows
+    /// changed without a fix (GNSS became stale, data expired).
+    pub fn poll(&mut self, now: Instant) -> Option<HmiState> {
+        let maps = self.maps.expire(now, self.config.map_timeout);
+        let zones = self
+            .zones
+            .poll(now, self.utc_minutes(now), self.config.zone_timeout);
+        let expired = (maps + zones) as u32;
+        self.counters.expired = self.counters.expired.saturating_add(expired);
+        let stale = !self.gnss_fresh(now);
+        let newly_stale = stale && !self.stale_reported;
+        if newly_stale {
+            self.stale_reported = true;
+            self.matcher.reset();
+            self.last_match = None;
+        }
+        (expired > 0 || newly_stale).then(|| self.evaluate(now, !stale))
+    }
+
+    /// When [`Obu::poll`] next has work, if ever.
+    pub fn next_deadline(&self) -> Option<Instant> {
+        let gnss = match (self.last_fix, self.stale_reported) {
+            (Some((t, _)), false) => {
+                Some(t + self.config.gnss_timeout + crate::Duration::from_millis(1))
+            }
+            _ => None,
+        };
+        let maps = self.maps.next_expiry(self.config.map_timeout);
+        let zones = self.zones.next_expiry(self.config.zone_timeout);
+        [gnss, maps, zones].into_iter().flatten().min()
+    }
+
+    /// Stores a decoded MAP intersection or road segment. When `id` is stored with
+    /// the same `revision`, only its age is refreshed and `fill` is not called
+    /// (returns `Ok(false)`). Otherwise `fill` fills a cleared model in place; on
+    /// error the model is dropped. Zones are re-associated with the new lanes.
+    pub fn update_map<E>(
+        &mut self,
+        now: Instant,
+        id: MapId,
+        revision: u8,
+        reference: LatLon,
+        elevation_m: f32,
+        fill: impl FnOnce(&mut LaneModel) -> Result<(), E>,
+    ) -> Result<bool, E> {
+        let MapUpdate::Fill { model, .. } =
+            self.maps.update(now, id, revision, reference, elevation_m)
+        else {
+            return Ok(false);
+        };
+        if let Err(e) = fill(model) {
+            self.maps.remove(id);
+            self.counters.maps_rejected = self.counters.maps_rejected.saturating_add(1);
+            self.reassociate_all();
+            return Err(e);
+        }
+        model.drop_degenerate_lanes();
+        self.counters.maps_updated = self.counters.maps_updated.saturating_add(1);
+        self.reassociate_all();
+        Ok(true)
+    }
+
+    /// Stores a decoded TIM data frame. Unchanged (`msgCnt` and start) or older
+    /// zones only refresh their age (`Ok(false)`); `durationTime` 0 removes the zone;
+    /// otherwise `fill` fills a cleared zone (regions, content) in place. On error
+    /// the zone is dropped.
+    pub fn update_zone<E>(
+        &mut self,
+        now: Instant,
+        key: ZoneKey,
+        msg_cnt: u8,
+        validity: Validity,
+        fill: impl FnOnce(&mut WorkZone) -> Result<(), E>,
+    ) -> Result<bool, E> {
+        let zone = match self.zones.update(now, key, msg_cnt, validity) {
+            ZoneUpdate::Fill { zone, .. } => zone,
+            ZoneUpdate::Cancelled(found) => {
+                self.counters.zones_cancelled =
+                    self.counters.zones_cancelled.saturating_add(found as u32);
+                return Ok(found);
+            }
+            ZoneUpdate::Unchanged | ZoneUpdate::Stale => return Ok(false),
+        };
+        if let Err(e) = fill(zone) {
+            self.zones.remove(&key);
+            self.counters.zones_rejected = self.counters.zones_rejected.saturating_add(1);
+            return Err(e);
+        }
+        zone::associate(zone, &self.maps);
+        self.counters.zones_updated = self.counters.zones_updated.saturating_add(1);
+        Ok(true)
+    }
+
+    fn reassociate_all(&mut self) {
+        for z in self.zones.iter_mut() {
+            zone::associate(z, &self.maps);
+        }
+    }
+
+    /// True when the last fix is younger than the GNSS timeout.
+    fn gnss_fresh(&self, now: Instant) -> bool {
+        self.last_fix
+            .is_some_and(|(t, _)| now.saturating_since(t) <= self.config.gnss_timeout)
+    }
+
+    /// UTC minutes since 2000 at `now`, from the last fix that carried UTC.
+    fn utc_minutes(&self, now: Instant) -> Option<i64> {
+        self.utc.map(|(t, utc)| {
+            utc.plus_millis(now.saturating_since(t).millis())
+                .abs_minutes()
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests;

@@ -1,0 +1,201 @@
+use super::*;
+use crate::alert::{AlertKind, LaneAdvice, ZoneState};
+use crate::geo::Point;
+use crate::lane::ModelError;
+use crate::testutil;
+use crate::time::Duration;
+
+fn obu_with(zone: bool) -> Obu {
+    let mut obu = Obu::default();
+    let r = obu.update_map(
+        Instant::ZERO,
+        MapId(7),
+        1,
+        testutil::reference(),
+        1600.0,
+        |m| {
+            testutil::fill_road(m);
+            Ok::<(), ModelError>(())
+        },
+    );
+    assert_eq!(r, Ok(true));
+    if zone {
+        let key = ZoneKey {
+            packet_id: [1; 9],
+            frame: 0,
+        };
+        let r = obu.update_zone(Instant::ZERO, key, 1, testutil::validity(), |z| {
+            testutil::fill_closure(z);
+            Ok::<(), ModelError>(())
+        });
+        assert_eq!(r, Ok(true));
+    }
+    obu
+}
+
+fn fix_at(x: f32, y: f32, speed: f32) -> Fix {
+    Fix {
+        speed_mps: Some(speed),
+        course_deg: Some(0.0),
+        accuracy_m: Some(0.3),
+        utc: Some(UtcTime::from_minute_of_year(2024, 2000)),
+        ..Fix::at(testutil::at(Point::new(x, y)))
+    }
+}
+
+fn drive(obu: &mut Obu, t: u64, x: f32, y: f32, speed: f32) -> HmiState {
+    obu.on_fix(Instant::from_millis(t), fix_at(x, y, speed))
+}
+
+#[test]
+fn approach_warn_inside_leave() {
+    let mut obu = obu_with(true);
+    let v = 40.0 / 3.6;
+    let s = drive(&mut obu, 0, 3.5, 0.0, v);
+    assert_eq!(
+        (s.zone_state, s.primary.map(|a| a.kind)),
+        (ZoneState::None, None)
+    );
+    assert_eq!(s.lane.map(|l| l.lane), Some(3));
+    assert!(
+        s.speed_limit_mps
+            .is_some_and(|l| (l - 60.0 / 3.6).abs() < 0.05)
+            && !s.reduced_limit
+    );
+    let s = drive(&mut obu, 100, 3.5, 150.0, v);
+    assert_eq!(s.zone_state, ZoneState::Approaching);
+    assert_eq!(s.primary.map(|a| a.kind), Some(AlertKind::LaneClosedOwn));
+    assert_eq!(
+        s.others.first().map(|a| a.kind),
+        Some(AlertKind::ReducedSpeedAhead)
+    );
+    assert!(s.distance_m.is_some_and(|d| (d - 250.0).abs() < 0.1));
+    let s = drive(&mut obu, 200, 3.5, 350.0, v);
+    assert_eq!(s.zone_state, ZoneState::Warning);
+    assert_eq!(
+        (&s.closed_lanes[..], s.advice),
+        (&[3u8][..], LaneAdvice::MoveLeft)
+    );
+    assert!(
+        s.reduced_limit
+            && s.speed_limit_mps
+                .is_some_and(|l| (l - 25.0 * 0.447_04).abs() < 0.05)
+    );
+    let s = drive(&mut obu, 300, 3.5, 450.0, 20.0);
+    assert_eq!(s.zone_state, ZoneState::InZone);
+    assert_eq!(s.primary.map(|a| a.kind), Some(AlertKind::Overspeed));
+    let s = drive(&mut obu, 400, 3.5, 520.0, v);
+    assert_eq!((s.zone_state, s.primary), (ZoneState::Leaving, None));
+    let s = drive(&mut obu, 500, 3.5, 600.0, v);
+    assert_eq!(s.zone_state, ZoneState::None);
+}
+
+#[test]
+fn neighbour_lane_is_told_but_not_moved() {
+    let mut obu = obu_with(true);
+    let s = drive(&mut obu, 0, 0.0, 350.0, 10.0);
+    assert_eq!(s.zone_state, ZoneState::Warning);
+    assert_eq!(
+        s.primary.map(|a| a.kind),
+        Some(AlertKind::ReducedSpeedAhead)
+    );
+    assert!(s
+        .others
+        .iter()
+        .any(|a| a.kind == AlertKind::LaneClosedOther));
+    assert_eq!(s.advice, LaneAdvice::None);
+    let s = drive(&mut obu, 100, -10.5, 350.0, 10.0);
+    assert_eq!(
+        s.zone_state,
+        ZoneState::None,
+        "southbound lanes are not concerned"
+    );
+}
+
+#[test]
+fn stale_gnss_and_deadlines() {
+    let mut obu = obu_with(true);
+    assert!(obu.next_deadline().is_some());
+    let _ = drive(&mut obu, 1000, 3.5, 350.0, 10.0);
+    assert_eq!(obu.next_deadline(), Some(Instant::from_millis(2001)));
+    assert!(obu.poll(Instant::from_millis(1500)).is_none());
+    let s = obu.poll(Instant::from_millis(2001)).unwrap_or_default();
+    assert!(!s.gnss_ok && s.lane.is_none());
+    assert_eq!(s.primary.map(|a| a.kind), Some(AlertKind::GnssStale));
+    assert!(
+        obu.poll(Instant::from_millis(2100)).is_none(),
+        "reported once"
+    );
+    let s = obu.poll(Instant::from_millis(30_001)).unwrap_or_default();
+    assert_eq!((s.zones, s.maps), (0, 1), "zone expired after 30 s unheard");
+    let s = obu.poll(Instant::from_millis(60_001)).unwrap_or_default();
+    assert!(!s.roadside_data && s.maps == 0, "map expired after 60 s");
+    assert_eq!(obu.counters().expired, 2);
+}
+
+#[test]
+fn validity_and_cancel() {
+    let mut obu = obu_with(true);
+    let early = Fix {
+        utc: Some(UtcTime::from_minute_of_year(2024, 10)),
+        ..fix_at(3.5, 350.0, 10.0)
+    };
+    let s = obu.on_fix(Instant::ZERO, early);
+    assert_eq!(s.zone_state, ZoneState::None, "not started yet");
+    let key = ZoneKey {
+        packet_id: [1; 9],
+        frame: 0,
+    };
+    let cancel = Validity {
+        duration_min: 0,
+        ..testutil::validity()
+    };
+    assert_eq!(
+        obu.update_zone(Instant::ZERO, key, 2, cancel, |_| Ok::<(), ModelError>(())),
+        Ok(true)
+    );
+    let s = drive(&mut obu, 100, 3.5, 350.0, 10.0);
+    assert_eq!((s.zone_state, s.zones), (ZoneState::None, 0));
+    assert_eq!(obu.counters().zones_cancelled, 1);
+}
+
+#[test]
+fn failed_conversions_are_dropped() {
+    let mut obu = obu_with(false);
+    let r = obu.update_map(
+        Instant::ZERO,
+        MapId(8),
+        1,
+        testutil::reference(),
+        0.0,
+        |_| Err(ModelError::InvalidValue),
+    );
+    assert_eq!(r, Err(ModelError::InvalidValue));
+    assert_eq!(obu.maps().len(), 1);
+    let same = obu.update_map(
+        Instant::ZERO,
+        MapId(7),
+        1,
+        testutil::reference(),
+        0.0,
+        |_| Err(ModelError::InvalidValue),
+    );
+    assert_eq!(same, Ok(false), "same revision: not refilled");
+    let key = ZoneKey::default();
+    let r = obu.update_zone(Instant::ZERO, key, 1, testutil::validity(), |_| {
+        Err(ModelError::CapacityExceeded)
+    });
+    assert_eq!(r, Err(ModelError::CapacityExceeded));
+    assert!(obu.zones().is_empty());
+    let s = drive(&mut obu, 0, 3.5, 100.0, 10.0);
+    assert_eq!((s.maps, s.zones, s.roadside_data), (1, 0, true));
+    let _ = Duration::ZERO;
+}
+
+#[test]
+fn off_map_counts() {
+    let mut obu = obu_with(false);
+    let s = drive(&mut obu, 0, 100.0, 100.0, 10.0);
+    assert!(s.lane.is_none() && s.lane_confidence == 0);
+    assert_eq!(obu.counters().off_map, 1);
+}

@@ -1,0 +1,105 @@
+//! Hand-built models shared by the unit tests.
+
+use crate::geo::{LatLon, Point};
+use crate::lane::{
+    LaneId, LaneKind, LaneModel, MapId, MapStore, MapUpdate, Speed, TravelDirection,
+};
+use crate::time::Instant;
+use crate::zone::{ContentKind, Directionality, Region, Validity, WorkZone, ZoneInfo, ZoneKey};
+
+/// Reference of the test road.
+pub fn reference() -> LatLon {
+    LatLon::new(400_000_000, -1_050_000_000).unwrap_or_default()
+}
+
+/// Lane centre x of the test road: lanes 1-3 northbound (egress, left to right),
+/// lanes 4-5 southbound (ingress), 3.5 m wide, from y = 0 to 1000 m.
+pub fn lane_x(id: u8) -> f32 {
+    match id {
+        1 => -3.5,
+        2 => 0.0,
+        3 => 3.5,
+        4 => -7.0,
+        _ => -10.5,
+    }
+}
+
+/// Fills `m` with the test road.
+pub fn fill_road(m: &mut LaneModel) {
+    for id in 1..=5u8 {
+        let dir = if id <= 3 {
+            TravelDirection::Egress
+        } else {
+            TravelDirection::Ingress
+        };
+        let Ok(lane) = m.add_lane(LaneId(id), dir, LaneKind::Vehicle) else {
+            continue;
+        };
+        lane.limits.max = Speed::from_kmh(60.0);
+        for k in 0..=20 {
+            let _ = lane.push_node(Point::new(lane_x(id), k as f32 * 50.0), 3.5);
+        }
+    }
+}
+
+/// The test road as a standalone model.
+pub fn road() -> LaneModel {
+    let mut m = LaneModel::new();
+    m.reset(MapId(7), 1, reference(), 1600.0);
+    fill_road(&mut m);
+    m
+}
+
+/// A store holding the test road.
+pub fn store() -> MapStore {
+    let mut s = MapStore::new();
+    if let MapUpdate::Fill { model, .. } = s.update(Instant::ZERO, MapId(7), 1, reference(), 1600.0)
+    {
+        fill_road(model);
+    }
+    s
+}
+
+/// A WGS84 position of a point of the test road's plane.
+pub fn at(p: Point) -> LatLon {
+    road().frame().to_wgs84(p).unwrap_or_default()
+}
+
+/// Validity used by the tests: 2024, minute 1000, indefinite.
+pub fn validity() -> Validity {
+    Validity {
+        start_year: 2024,
+        start_minute: 1000,
+        duration_min: Validity::INDEFINITE,
+    }
+}
+
+/// Fills `z` with a closure of lane 3 from y = 400 to 500 m, 25 mph.
+pub fn fill_closure(z: &mut WorkZone) {
+    let mut r = Region::path(at(Point::new(3.5, 400.0)), 1600.0, 3.5);
+    r.directionality = Directionality::Forward;
+    for y in [0.0, 50.0, 100.0] {
+        let _ = r.push_node(Point::new(0.0, y));
+    }
+    let _ = z.push_region(r);
+    let mut info = ZoneInfo::new(ContentKind::WorkZone);
+    for c in [1025, 771, 8196, 268, 12569, 8720] {
+        info.push_itis(c);
+    }
+    z.info = info;
+}
+
+/// The closure as a standalone zone.
+pub fn closure() -> WorkZone {
+    let mut z = WorkZone::new();
+    z.reset(
+        ZoneKey {
+            packet_id: [1; 9],
+            frame: 0,
+        },
+        1,
+        validity(),
+    );
+    fill_closure(&mut z);
+    z
+}

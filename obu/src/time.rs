@@ -1,0 +1,179 @@
+//! Time as passed in by the caller: a monotonic [`Instant`] and [`Duration`] in
+//! milliseconds, and the UTC wall time ([`UtcTime`]) that TIM validity needs.
+
+use core::fmt;
+use core::ops::Add;
+
+#[cfg(feature = "serde")]
+use serde::{Deserialize, Serialize};
+
+/// A point on the caller's monotonic clock, in milliseconds.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, Default)]
+#[cfg_attr(feature = "serde", derive(Serialize, Deserialize))]
+pub struct Instant(u64);
+
+/// A span of time in milliseconds.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, Default)]
+#[cfg_attr(feature = "serde", derive(Serialize, Deserialize))]
+pub struct Duration(u64);
+
+impl Instant {
+    /// The clock's zero.
+    pub const ZERO: Instant = Instant(0);
+
+    /// An instant `ms` milliseconds after the clock's zero.
+    pub const fn from_millis(ms: u64) -> Self {
+        Instant(ms)
+    }
+
+    /// Milliseconds since the clock's zero.
+    pub const fn millis(self) -> u64 {
+        self.0
+    }
+
+    /// Time elapsed since `earlier`, zero if `earlier` is later than `self`.
+    pub const fn saturating_since(self, earlier: Instant) -> Duration {
+        Duration(self.0.saturating_sub(earlier.0))
+    }
+}
+
+impl Duration {
+    /// No time.
+    pub const ZERO: Duration = Duration(0);
+
+    /// A duration of `ms` milliseconds.
+    pub const fn from_millis(ms: u64) -> Self {
+        Duration(ms)
+    }
+
+    /// A duration of `s` seconds (saturating).
+    pub const fn from_secs(s: u64) -> Self {
+        Duration(s.saturating_mul(1000))
+    }
+
+    /// The duration in milliseconds.
+    pub const fn millis(self) -> u64 {
+        self.0
+    }
+
+    /// The duration in seconds as f32.
+    pub fn as_secs_f32(self) -> f32 {
+        self.0 as f32 / 1000.0
+    }
+}
+
+impl Add<Duration> for Instant {
+    type Output = Instant;
+    fn add(self, d: Duration) -> Instant {
+        Instant(self.0.saturating_add(d.0))
+    }
+}
+
+impl fmt::Display for Instant {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "{}.{:03}s", self.0 / 1000, self.0 % 1000)
+    }
+}
+
+impl fmt::Display for Duration {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "{}ms", self.0)
+    }
+}
+
+/// Minutes in a common year; J2735 `MinuteOfTheYear` runs to 527 040 (leap year).
+pub const MINUTES_PER_DAY: i64 = 1440;
+
+/// UTC wall time as J2735 counts it: a year and the milliseconds into that year.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, Default)]
+#[cfg_attr(feature = "serde", derive(Serialize, Deserialize))]
+pub struct UtcTime {
+    /// Calendar year (J2735 `DYear`, 0 = unknown is not accepted here).
+    pub year: u16,
+    /// Milliseconds since January 1st 00:00 UTC of `year`.
+    pub ms_of_year: u64,
+}
+
+impl UtcTime {
+    /// Builds a time from a year and a J2735 minute of the year.
+    pub const fn from_minute_of_year(year: u16, minute: u32) -> Self {
+        UtcTime {
+            year,
+            ms_of_year: minute as u64 * 60_000,
+        }
+    }
+
+    /// Minutes since 2000-01-01 00:00 UTC (negative before), continuous across years.
+    pub const fn abs_minutes(self) -> i64 {
+        abs_minutes(self.year, (self.ms_of_year / 60_000) as i64)
+    }
+
+    /// Shifts the time by `ms` milliseconds (may cross into the next years).
+    pub const fn plus_millis(self, ms: u64) -> Self {
+        let mut t = self;
+        t.ms_of_year = t.ms_of_year.saturating_add(ms);
+        let mut guard = 0;
+        while guard < 64 && t.ms_of_year >= year_ms(t.year) {
+            t.ms_of_year -= year_ms(t.year);
+            t.year = t.year.saturating_add(1);
+            guard += 1;
+        }
+        t
+    }
+}
+
+/// Days from 0000-01-01 (proleptic Gregorian) to January 1st of `year`.
+const fn days_before_year(year: u16) -> i64 {
+    let y = year as i64;
+    let p = y - 1;
+    365 * y + p.div_euclid(4) - p.div_euclid(100) + p.div_euclid(400) + 1
+}
+
+/// True if `year` is a Gregorian leap year.
+pub const fn is_leap(year: u16) -> bool {
+    (year.is_multiple_of(4) && !year.is_multiple_of(100)) || year.is_multiple_of(400)
+}
+
+const fn year_ms(year: u16) -> u64 {
+    if is_leap(year) {
+        366 * 86_400_000
+    } else {
+        365 * 86_400_000
+    }
+}
+
+/// Minutes since 2000-01-01 00:00 UTC of `minute` into `year`.
+pub const fn abs_minutes(year: u16, minute: i64) -> i64 {
+    (days_before_year(year) - days_before_year(2000)) * MINUTES_PER_DAY + minute
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn year_arithmetic() {
+        assert_eq!(abs_minutes(2000, 0), 0);
+        assert_eq!(abs_minutes(2001, 0), 366 * 1440);
+        assert_eq!(abs_minutes(2002, 0) - abs_minutes(2001, 0), 365 * 1440);
+        assert!(is_leap(2024) && !is_leap(2100) && is_leap(2000));
+        let t = UtcTime::from_minute_of_year(2023, 525_599).plus_millis(120_000);
+        assert_eq!(t.year, 2024);
+        assert_eq!(t.ms_of_year, 60_000);
+        assert_eq!(t.abs_minutes(), abs_minutes(2023, 525_601));
+    }
+
+    #[test]
+    fn instant_ops() {
+        let a = Instant::from_millis(1500);
+        assert_eq!(
+            a.saturating_since(Instant::from_millis(2000)),
+            Duration::ZERO
+        );
+        assert_eq!((a + Duration::from_secs(1)).millis(), 2500);
+        assert_eq!(
+            Instant::from_millis(u64::MAX) + Duration::from_millis(5),
+            Instant::from_millis(u64::MAX)
+        );
+    }
+}

@@ -1,0 +1,117 @@
+//! Association of work-zone regions with MAP lanes (cone-to-lane rule).
+
+use super::{Region, WorkZone, ZoneLane};
+use crate::geo::Point;
+use crate::lane::{Lane, LaneKind, LaneModel, MapStore, TravelDirection};
+use crate::math::{bearing_deg, wrap_360};
+
+/// Recomputes which lanes of every stored map the zone's path regions lie on.
+///
+/// A lane is associated when at least one path node lies on it by the cone-to-lane
+/// rule ([`Lane::cone_along`]) and the lane's travel direction there is one the
+/// region applies to (directionality and heading slice). The zone's extent on the lane
+/// runs from the smallest to the largest station of those nodes. Associations beyond
+/// [`MAX_ZONE_LANES`](crate::capacity::MAX_ZONE_LANES) are dropped.
+pub fn associate(zone: &mut WorkZone, maps: &MapStore) {
+    zone.clear_lanes(None);
+    for (_, map) in maps.iter() {
+        associate_map(zone, map);
+    }
+}
+
+/// Recomputes the associations of `zone` with one map.
+pub(crate) fn associate_map(zone: &mut WorkZone, map: &LaneModel) {
+    zone.clear_lanes(Some(map.id));
+    for r in 0..zone.regions.len() {
+        let mut found = heapless::Vec::<ZoneLane, 16>::new();
+        if let Some(region) = zone.regions.get(r) {
+            region_lanes(region, r as u8, map, &mut found);
+        }
+        for z in found {
+            zone.add_lane(z);
+        }
+    }
+}
+
+/// Path nodes of `region` in the plane of `map` (skipping unconvertible ones).
+fn nodes_in_map(
+    region: &Region,
+    map: &LaneModel,
+) -> heapless::Vec<Point, { crate::capacity::MAX_PATH_NODES }> {
+    let mut out = heapless::Vec::new();
+    for &n in region.nodes() {
+        if let Some(p) = region.frame().to_wgs84(n) {
+            let _ = out.push(map.frame().to_local(p));
+        }
+    }
+    out
+}
+
+fn region_lanes(
+    region: &Region,
+    index: u8,
+    map: &LaneModel,
+    out: &mut heapless::Vec<ZoneLane, 16>,
+) {
+    let pts = nodes_in_map(region, map);
+    for lane in map.lanes() {
+        if lane.direction == TravelDirection::None || lane.kind != LaneKind::Vehicle {
+            continue;
+        }
+        if let Some((start, end)) = extent_on_lane(region, &pts, lane) {
+            let entry = ZoneLane {
+                map: map.id,
+                lane: lane.id,
+                region: index,
+                start,
+                end,
+            };
+            let _ = out.push(entry);
+        }
+    }
+}
+
+/// Bearing of the path at node `i` (its outgoing segment, the last one at the end).
+fn path_bearing(pts: &[Point], i: usize) -> Option<f32> {
+    let j = if i + 1 < pts.len() {
+        i
+    } else {
+        i.checked_sub(1)?
+    };
+    let (a, b) = (pts.get(j)?, pts.get(j + 1)?);
+    Some(bearing_deg(b.x - a.x, b.y - a.y))
+}
+
+/// Smallest and largest travel-direction station of the path nodes on `lane`.
+fn extent_on_lane(region: &Region, pts: &[Point], lane: &Lane) -> Option<(f32, f32)> {
+    let mut range: Option<(f32, f32)> = None;
+    for (i, &p) in pts.iter().enumerate() {
+        let Some((along, seg_bearing)) = lane.cone_along(p) else {
+            continue;
+        };
+        let path_b = path_bearing(pts, i).unwrap_or(seg_bearing);
+        let forward = lane.travels_forward(seg_bearing, Some(travel_hint(region, path_b)));
+        let travel = if forward {
+            seg_bearing
+        } else {
+            wrap_360(seg_bearing + 180.0)
+        };
+        if !region.applies_to(travel, path_b) {
+            continue;
+        }
+        let s = lane.along_of_station(along, forward);
+        range = Some(range.map_or((s, s), |(lo, hi)| (lo.min(s), hi.max(s))));
+    }
+    range
+}
+
+/// The heading a region implies for two-way lanes.
+fn travel_hint(region: &Region, path_bearing: f32) -> f32 {
+    match region.directionality {
+        super::Directionality::Reverse => wrap_360(path_bearing + 180.0),
+        _ => path_bearing,
+    }
+}
+
+#[cfg(test)]
+mod tests;

@@ -1,0 +1,139 @@
+//! One work zone (a TIM data frame) and its association with MAP lanes.
+
+use heapless::Vec;
+
+use super::{ContentKind, Region, Validity, ZoneInfo, ZoneKey};
+use crate::capacity::{MAX_REGIONS, MAX_ZONE_LANES};
+use crate::lane::{LaneId, MapId, ModelError};
+
+/// A MAP lane a zone region lies on, with the zone's extent on it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ZoneLane {
+    /// The lane model.
+    pub map: MapId,
+    /// The lane.
+    pub lane: LaneId,
+    /// Index of the region in [`WorkZone::regions`].
+    pub region: u8,
+    /// Zone start, metres from the lane's entry in its direction of travel.
+    pub start: f32,
+    /// Zone end, metres from the lane's entry in its direction of travel.
+    pub end: f32,
+}
+
+/// A work zone: one TIM data frame.
+#[derive(Debug, Clone, PartialEq)]
+pub struct WorkZone {
+    /// Identity.
+    pub key: ZoneKey,
+    /// TIM `msgCnt` (0..=127); a change replaces the zone.
+    pub msg_cnt: u8,
+    /// Validity window.
+    pub validity: Validity,
+    /// TIM `priority` (0..=7).
+    pub priority: u8,
+    /// Regions.
+    pub regions: Vec<Region, MAX_REGIONS, u8>,
+    /// Parsed content.
+    pub info: ZoneInfo,
+    lanes: Vec<ZoneLane, MAX_ZONE_LANES, u8>,
+}
+
+impl Default for WorkZone {
+    fn default() -> Self {
+        WorkZone::new()
+    }
+}
+
+impl WorkZone {
+    /// An empty zone; usable in `static` items.
+    pub const fn new() -> Self {
+        WorkZone {
+            key: ZoneKey {
+                packet_id: [0; 9],
+                frame: 0,
+            },
+            msg_cnt: 0,
+            validity: Validity {
+                start_year: 0,
+                start_minute: 0,
+                duration_min: 0,
+            },
+            priority: 0,
+            regions: Vec::new(),
+            info: ZoneInfo::new(ContentKind::WorkZone),
+            lanes: Vec::new(),
+        }
+    }
+
+    /// Clears the zone and sets identity and validity.
+    pub fn reset(&mut self, key: ZoneKey, msg_cnt: u8, validity: Validity) {
+        *self = WorkZone {
+            key,
+            msg_cnt,
+            validity,
+            ..WorkZone::new()
+        };
+    }
+
+    /// Adds a region.
+    pub fn push_region(&mut self, region: Region) -> Result<(), ModelError> {
+        self.regions
+            .push(region)
+            .map_err(|_| ModelError::CapacityExceeded)
+    }
+
+    /// Lanes the regions lie on (filled by [`super::associate`]).
+    pub fn lanes(&self) -> &[ZoneLane] {
+        &self.lanes
+    }
+
+    /// The association for `lane` of `map`, if any.
+    pub fn lane(&self, map: MapId, lane: LaneId) -> Option<&ZoneLane> {
+        self.lanes.iter().find(|z| z.map == map && z.lane == lane)
+    }
+
+    /// Forgets the associations with `map` (or all when `None`).
+    pub(crate) fn clear_lanes(&mut self, map: Option<MapId>) {
+        self.lanes.retain(|z| map.is_some_and(|m| z.map != m));
+    }
+
+    /// Records an association; when full, the entry is dropped (returns false).
+    pub(crate) fn add_lane(&mut self, z: ZoneLane) -> bool {
+        self.lanes.push(z).is_ok()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geo::LatLon;
+
+    #[test]
+    fn builds_and_associates() {
+        let mut z = WorkZone::new();
+        z.reset(ZoneKey::default(), 3, Validity::default());
+        for _ in 0..MAX_REGIONS {
+            assert!(z.push_region(Region::path(LatLon::ZERO, 0.0, 3.0)).is_ok());
+        }
+        let extra = z.push_region(Region::path(LatLon::ZERO, 0.0, 3.0));
+        assert_eq!(extra, Err(ModelError::CapacityExceeded));
+        let entry = ZoneLane {
+            map: MapId(1),
+            lane: LaneId(2),
+            region: 0,
+            start: 1.0,
+            end: 2.0,
+        };
+        assert!(z.add_lane(entry));
+        assert!(z.add_lane(ZoneLane {
+            map: MapId(2),
+            ..entry
+        }));
+        assert!(z.lane(MapId(1), LaneId(2)).is_some());
+        z.clear_lanes(Some(MapId(1)));
+        assert!(z.lane(MapId(1), LaneId(2)).is_none() && z.lanes().len() == 1);
+        z.clear_lanes(None);
+        assert!(z.lanes().is_empty());
+    }
+}
