@@ -63,13 +63,10 @@ class Emitter:
                 f"    fn write_jer(&self, out: &mut crate::jer::JerWriter) {{\n{indent(write, 8)}\n    }}\n"
                 f"    fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {{\n{indent(read, 8)}\n    }}\n}}\n")
 
-    def jer_read_of(self, ref, td):
-        """An expression reading `ref` from JER value `x` (a closure body)."""
-        if ref.builtin == "crate::uper::Null":
-            return "Ok(crate::uper::Null)"
-        if ref.builtin == "bool":
-            return "crate::jer::boolean(x)"
-        return f"<{self.rust(ref, td)} as crate::jer::Jer>::read_jer(x)"
+    def jer_read_fn(self, ref, td):
+        """The function reading `ref` from a JER value."""
+        ty = ref.builtin or self.rust(ref, td)
+        return f"<{ty} as crate::jer::Jer>::read_jer"
 
     def jer_write_of(self, ref, expr):
         if ref.builtin == "crate::uper::Null":
@@ -205,10 +202,11 @@ class Emitter:
             s.append(self.jer_impl(
                 td, f"out.begin_array();\nfor item in self.0.iter() {{\n    {iw}\n}}\nout.end_array();",
                 "let items = crate::jer::array(v)?;\n"
-                f"if items.len() < {td.lb} {{\n    return Err(crate::jer::invalid(\"size\"));\n}}\n"
+                + ("" if td.lb == 0 else
+                   f"if {'items.is_empty()' if td.lb == 1 else f'items.len() < {td.lb}'} {{\n    return Err(crate::jer::invalid(\"size\"));\n}}\n") +
                 "let mut list = Self::new();\n"
                 "for (i, x) in items.iter().enumerate() {\n"
-                f"    let item = {self.jer_read_of(td.item, td)}.map_err(|e| e.within(&std::format!(\"[{{i}}]\")))?;\n"
+                f"    let item = {self.jer_read_fn(td.item, td)}(x).map_err(|e| e.within(&std::format!(\"[{{i}}]\")))?;\n"
                 "    list.0.push(item).map_err(|_| crate::jer::over_capacity())?;\n}\nOk(list)"))
         ub = min(td.ub if td.ub is not None else 1 << 20, self.caps.count(td))
         item = {"octets": "g.octet()", "ia5": "g.printable()"}.get(td.kind) or self.random_of(td.item, td)
@@ -283,10 +281,10 @@ class Emitter:
                 read.append(f"let {local} = {r};")
             elif f.optional:
                 write.append(f"if let Some(v) = &self.{f.rust} {{\n    out.key(\"{f.asn}\");\n    {self.jer_write_of(f.ref, 'v')}\n}}")
-                read.append(f"let {local} = crate::jer::read_optional(v, \"{f.asn}\", |x| {self.jer_read_of(f.ref, td)})?;")
+                read.append(f"let {local} = crate::jer::read_optional(v, \"{f.asn}\", {self.jer_read_fn(f.ref, td)})?;")
             else:
                 write.append(f"out.key(\"{f.asn}\");\n{self.jer_write_of(f.ref, '&self.' + f.rust)}")
-                read.append(f"let {local} = crate::jer::read_member(v, \"{f.asn}\", |x| {self.jer_read_of(f.ref, td)})?;")
+                read.append(f"let {local} = crate::jer::read_member(v, \"{f.asn}\", {self.jer_read_fn(f.ref, td)})?;")
             inits.append(f"{f.rust}: {local}")
         write.append("out.end_object();")
         if td.extensible:
@@ -386,7 +384,7 @@ class Emitter:
             else:
                 write.append(f"    Self::{a.variant}(v) => {{\n        out.begin_object();\n        out.key(\"{a.asn}\");\n"
                              f"        {self.jer_write_of(a.ref, 'v')}\n        out.end_object();\n    }}")
-                read.append(f"    \"{a.asn}\" => {self.jer_read_of(a.ref, td)}.map(Self::{a.variant}).map_err(|e| e.within(name)),")
+                read.append(f"    \"{a.asn}\" => {self.jer_read_fn(a.ref, td)}(x).map(Self::{a.variant}).map_err(|e| e.within(name)),")
         if td.extensible:
             write.append("    Self::Extension { .. } => {\n        out.begin_object();\n        out.end_object();\n    }")
         write.append("}")

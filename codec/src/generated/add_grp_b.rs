@@ -71,15 +71,12 @@ impl crate::jer::Jer for Position3DAddGrpB {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         crate::jer::member(v, "")?;
-        let f_latitude = crate::jer::read_member(v, "latitude", |x| {
-            <LatitudeDMS2 as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_longitude = crate::jer::read_member(v, "longitude", |x| {
-            <LongitudeDMS2 as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_elevation = crate::jer::read_member(v, "elevation", |x| {
-            <Elevation as crate::jer::Jer>::read_jer(x)
-        })?;
+        let f_latitude =
+            crate::jer::read_member(v, "latitude", <LatitudeDMS2 as crate::jer::Jer>::read_jer)?;
+        let f_longitude =
+            crate::jer::read_member(v, "longitude", <LongitudeDMS2 as crate::jer::Jer>::read_jer)?;
+        let f_elevation =
+            crate::jer::read_member(v, "elevation", <Elevation as crate::jer::Jer>::read_jer)?;
         Ok(Self {
             latitude: f_latitude,
             longitude: f_longitude,
@@ -153,12 +150,9 @@ impl crate::jer::Jer for LatitudeDMS2 {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         crate::jer::member(v, "")?;
-        let f_d =
-            crate::jer::read_member(v, "d", |x| <DegreesLat as crate::jer::Jer>::read_jer(x))?;
-        let f_m =
-            crate::jer::read_member(v, "m", |x| <MinutesAngle as crate::jer::Jer>::read_jer(x))?;
-        let f_s =
-            crate::jer::read_member(v, "s", |x| <SecondsAngle as crate::jer::Jer>::read_jer(x))?;
+        let f_d = crate::jer::read_member(v, "d", <DegreesLat as crate::jer::Jer>::read_jer)?;
+        let f_m = crate::jer::read_member(v, "m", <MinutesAngle as crate::jer::Jer>::read_jer)?;
+        let f_s = crate::jer::read_member(v, "s", <SecondsAngle as crate::jer::Jer>::read_jer)?;
         Ok(Self {
             d: f_d,
             m: f_m,
@@ -245,12 +239,9 @@ impl crate::jer::Jer for LongitudeDMS2 {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         crate::jer::member(v, "")?;
-        let f_d =
-            crate::jer::read_member(v, "d", |x| <DegreesLong as crate::jer::Jer>::read_jer(x))?;
-        let f_m =
-            crate::jer::read_member(v, "m", |x| <MinutesAngle as crate::jer::Jer>::read_jer(x))?;
-        let f_s =
-            crate::jer::read_member(v, "s", |x| <SecondsAngle as crate::jer::Jer>::read_jer(x))?;
+        let f_d = crate::jer::read_member(v, "d", <DegreesLong as crate::jer::Jer>::read_jer)?;
+        let f_m = crate::jer::read_member(v, "m", <MinutesAngle as crate::jer::Jer>::read_jer)?;
+        let f_s = crate::jer::read_member(v, "s", <SecondsAngle as crate::jer::Jer>::read_jer)?;
         Ok(Self {
             d: f_d,
             m: f_m,
@@ -461,10 +452,8 @@ impl crate::jer::Jer for NodeLLdms48b {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         crate::jer::member(v, "")?;
-        let f_lon =
-            crate::jer::read_member(v, "lon", |x| <LongitudeDMS as crate::jer::Jer>::read_jer(x))?;
-        let f_lat =
-            crate::jer::read_member(v, "lat", |x| <LatitudeDMS as crate::jer::Jer>::read_jer(x))?;
+        let f_lon = crate::jer::read_member(v, "lon", <LongitudeDMS as crate::jer::Jer>::read_jer)?;
+        let f_lat = crate::jer::read_member(v, "lat", <LatitudeDMS as crate::jer::Jer>::read_jer)?;
         Ok(Self {
             lon: f_lon,
             lat: f_lat,
@@ -543,11 +532,9 @@ impl crate::jer::Jer for NodeLLdms80b {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         crate::jer::member(v, "")?;
-        let f_lon = crate::jer::read_member(v, "lon", |x| {
-            <LongitudeDMS2 as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_lat =
-            crate::jer::read_member(v, "lat", |x| <LatitudeDMS2 as crate::jer::Jer>::read_jer(x))?;
+        let f_lon =
+            crate::jer::read_member(v, "lon", <LongitudeDMS2 as crate::jer::Jer>::read_jer)?;
+        let f_lat = crate::jer::read_member(v, "lat", <LatitudeDMS2 as crate::jer::Jer>::read_jer)?;
         Ok(Self {
             lon: f_lon,
             lat: f_lat,
@@ -785,24 +772,33 @@ impl crate::jer::Jer for MovementEventAddGrpB {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         crate::jer::member(v, "")?;
-        let f_start_time = crate::jer::read_optional(v, "startTime", |x| {
-            <TimeRemaining as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_min_end_time = crate::jer::read_member(v, "minEndTime", |x| {
-            <MinTimetoChange as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_max_end_time = crate::jer::read_optional(v, "maxEndTime", |x| {
-            <MaxTimetoChange as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_likely_time = crate::jer::read_optional(v, "likelyTime", |x| {
-            <TimeRemaining as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_confidence = crate::jer::read_optional(v, "confidence", |x| {
-            <super::spat::TimeIntervalConfidence as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_next_time = crate::jer::read_optional(v, "nextTime", |x| {
-            <TimeRemaining as crate::jer::Jer>::read_jer(x)
-        })?;
+        let f_start_time = crate::jer::read_optional(
+            v,
+            "startTime",
+            <TimeRemaining as crate::jer::Jer>::read_jer,
+        )?;
+        let f_min_end_time = crate::jer::read_member(
+            v,
+            "minEndTime",
+            <MinTimetoChange as crate::jer::Jer>::read_jer,
+        )?;
+        let f_max_end_time = crate::jer::read_optional(
+            v,
+            "maxEndTime",
+            <MaxTimetoChange as crate::jer::Jer>::read_jer,
+        )?;
+        let f_likely_time = crate::jer::read_optional(
+            v,
+            "likelyTime",
+            <TimeRemaining as crate::jer::Jer>::read_jer,
+        )?;
+        let f_confidence = crate::jer::read_optional(
+            v,
+            "confidence",
+            <super::spat::TimeIntervalConfidence as crate::jer::Jer>::read_jer,
+        )?;
+        let f_next_time =
+            crate::jer::read_optional(v, "nextTime", <TimeRemaining as crate::jer::Jer>::read_jer)?;
         Ok(Self {
             start_time: f_start_time,
             min_end_time: f_min_end_time,
@@ -1317,28 +1313,20 @@ impl crate::jer::Jer for TimeMark {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         crate::jer::member(v, "")?;
-        let f_year =
-            crate::jer::read_member(v, "year", |x| <Year as crate::jer::Jer>::read_jer(x))?;
-        let f_month =
-            crate::jer::read_member(v, "month", |x| <Month as crate::jer::Jer>::read_jer(x))?;
-        let f_day = crate::jer::read_member(v, "day", |x| <Day as crate::jer::Jer>::read_jer(x))?;
-        let f_summer_time = crate::jer::read_member(v, "summerTime", |x| {
-            <SummerTime as crate::jer::Jer>::read_jer(x)
-        })?;
+        let f_year = crate::jer::read_member(v, "year", <Year as crate::jer::Jer>::read_jer)?;
+        let f_month = crate::jer::read_member(v, "month", <Month as crate::jer::Jer>::read_jer)?;
+        let f_day = crate::jer::read_member(v, "day", <Day as crate::jer::Jer>::read_jer)?;
+        let f_summer_time =
+            crate::jer::read_member(v, "summerTime", <SummerTime as crate::jer::Jer>::read_jer)?;
         let f_holiday =
-            crate::jer::read_member(v, "holiday", |x| <Holiday as crate::jer::Jer>::read_jer(x))?;
-        let f_dayof_week = crate::jer::read_member(v, "dayofWeek", |x| {
-            <DayOfWeek as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_hour =
-            crate::jer::read_member(v, "hour", |x| <Hour as crate::jer::Jer>::read_jer(x))?;
-        let f_minute =
-            crate::jer::read_member(v, "minute", |x| <Minute as crate::jer::Jer>::read_jer(x))?;
-        let f_second =
-            crate::jer::read_member(v, "second", |x| <Second as crate::jer::Jer>::read_jer(x))?;
-        let f_tenth_second = crate::jer::read_member(v, "tenthSecond", |x| {
-            <TenthSecond as crate::jer::Jer>::read_jer(x)
-        })?;
+            crate::jer::read_member(v, "holiday", <Holiday as crate::jer::Jer>::read_jer)?;
+        let f_dayof_week =
+            crate::jer::read_member(v, "dayofWeek", <DayOfWeek as crate::jer::Jer>::read_jer)?;
+        let f_hour = crate::jer::read_member(v, "hour", <Hour as crate::jer::Jer>::read_jer)?;
+        let f_minute = crate::jer::read_member(v, "minute", <Minute as crate::jer::Jer>::read_jer)?;
+        let f_second = crate::jer::read_member(v, "second", <Second as crate::jer::Jer>::read_jer)?;
+        let f_tenth_second =
+            crate::jer::read_member(v, "tenthSecond", <TenthSecond as crate::jer::Jer>::read_jer)?;
         Ok(Self {
             year: f_year,
             month: f_month,

@@ -57,9 +57,8 @@ impl crate::jer::Jer for Position3DAddGrpC {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         crate::jer::member(v, "")?;
-        let f_altitude = crate::jer::read_member(v, "altitude", |x| {
-            <Altitude as crate::jer::Jer>::read_jer(x)
-        })?;
+        let f_altitude =
+            crate::jer::read_member(v, "altitude", <Altitude as crate::jer::Jer>::read_jer)?;
         Ok(Self {
             altitude: f_altitude,
             extensions: uper::Extensions::new(),
@@ -122,12 +121,13 @@ impl crate::jer::Jer for Altitude {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         crate::jer::member(v, "")?;
-        let f_value = crate::jer::read_member(v, "value", |x| {
-            <AltitudeValue as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_confidence = crate::jer::read_member(v, "confidence", |x| {
-            <AltitudeConfidence as crate::jer::Jer>::read_jer(x)
-        })?;
+        let f_value =
+            crate::jer::read_member(v, "value", <AltitudeValue as crate::jer::Jer>::read_jer)?;
+        let f_confidence = crate::jer::read_member(
+            v,
+            "confidence",
+            <AltitudeConfidence as crate::jer::Jer>::read_jer,
+        )?;
         Ok(Self {
             value: f_value,
             confidence: f_confidence,
@@ -404,9 +404,8 @@ impl crate::jer::Jer for RestrictionUserTypeAddGrpC {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         crate::jer::member(v, "")?;
-        let f_emission = crate::jer::read_optional(v, "emission", |x| {
-            <EmissionType as crate::jer::Jer>::read_jer(x)
-        })?;
+        let f_emission =
+            crate::jer::read_optional(v, "emission", <EmissionType as crate::jer::Jer>::read_jer)?;
         Ok(Self {
             emission: f_emission,
             extensions: uper::Extensions::new(),
@@ -623,9 +622,11 @@ impl crate::jer::Jer for MapDataAddGrpC {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         crate::jer::member(v, "")?;
-        let f_signal_head_locations = crate::jer::read_optional(v, "signalHeadLocations", |x| {
-            <SignalHeadLocationList as crate::jer::Jer>::read_jer(x)
-        })?;
+        let f_signal_head_locations = crate::jer::read_optional(
+            v,
+            "signalHeadLocations",
+            <SignalHeadLocationList as crate::jer::Jer>::read_jer,
+        )?;
         Ok(Self {
             signal_head_locations: f_signal_head_locations,
             extensions: uper::Extensions::new(),
@@ -695,7 +696,7 @@ impl crate::jer::Jer for SignalHeadLocationList {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         let items = crate::jer::array(v)?;
-        if items.len() < 1 {
+        if items.is_empty() {
             return Err(crate::jer::invalid("size"));
         }
         let mut list = Self::new();
@@ -778,12 +779,16 @@ impl crate::jer::Jer for SignalHeadLocation {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         crate::jer::member(v, "")?;
-        let f_node = crate::jer::read_member(v, "node", |x| {
-            <super::common::NodeOffsetPointXY as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_signal_group_id = crate::jer::read_member(v, "signalGroupID", |x| {
-            <super::common::SignalGroupID as crate::jer::Jer>::read_jer(x)
-        })?;
+        let f_node = crate::jer::read_member(
+            v,
+            "node",
+            <super::common::NodeOffsetPointXY as crate::jer::Jer>::read_jer,
+        )?;
+        let f_signal_group_id = crate::jer::read_member(
+            v,
+            "signalGroupID",
+            <super::common::SignalGroupID as crate::jer::Jer>::read_jer,
+        )?;
         Ok(Self {
             node: f_node,
             signal_group_id: f_signal_group_id,
@@ -864,14 +869,16 @@ impl crate::jer::Jer for ConnectionManeuverAssistAddGrpC {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         crate::jer::member(v, "")?;
-        let f_vehicle_to_lane_positions =
-            crate::jer::read_member(v, "vehicleToLanePositions", |x| {
-                <VehicleToLanePositionList as crate::jer::Jer>::read_jer(x)
-            })?;
-        let f_rsu_distance_from_anchor =
-            crate::jer::read_optional(v, "rsuDistanceFromAnchor", |x| {
-                <super::common::NodeOffsetPointXY as crate::jer::Jer>::read_jer(x)
-            })?;
+        let f_vehicle_to_lane_positions = crate::jer::read_member(
+            v,
+            "vehicleToLanePositions",
+            <VehicleToLanePositionList as crate::jer::Jer>::read_jer,
+        )?;
+        let f_rsu_distance_from_anchor = crate::jer::read_optional(
+            v,
+            "rsuDistanceFromAnchor",
+            <super::common::NodeOffsetPointXY as crate::jer::Jer>::read_jer,
+        )?;
         Ok(Self {
             vehicle_to_lane_positions: f_vehicle_to_lane_positions,
             rsu_distance_from_anchor: f_rsu_distance_from_anchor,
@@ -948,7 +955,7 @@ impl crate::jer::Jer for VehicleToLanePositionList {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         let items = crate::jer::array(v)?;
-        if items.len() < 1 {
+        if items.is_empty() {
             return Err(crate::jer::invalid("size"));
         }
         let mut list = Self::new();
@@ -1031,12 +1038,16 @@ impl crate::jer::Jer for VehicleToLanePosition {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         crate::jer::member(v, "")?;
-        let f_station_id = crate::jer::read_member(v, "stationID", |x| {
-            <super::common::StationID as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_lane_id = crate::jer::read_member(v, "laneID", |x| {
-            <super::common::LaneID as crate::jer::Jer>::read_jer(x)
-        })?;
+        let f_station_id = crate::jer::read_member(
+            v,
+            "stationID",
+            <super::common::StationID as crate::jer::Jer>::read_jer,
+        )?;
+        let f_lane_id = crate::jer::read_member(
+            v,
+            "laneID",
+            <super::common::LaneID as crate::jer::Jer>::read_jer,
+        )?;
         Ok(Self {
             station_id: f_station_id,
             lane_id: f_lane_id,
@@ -1122,10 +1133,11 @@ impl crate::jer::Jer for IntersectionStateAddGrpC {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         crate::jer::member(v, "")?;
-        let f_active_prioritizations =
-            crate::jer::read_optional(v, "activePrioritizations", |x| {
-                <PrioritizationResponseList as crate::jer::Jer>::read_jer(x)
-            })?;
+        let f_active_prioritizations = crate::jer::read_optional(
+            v,
+            "activePrioritizations",
+            <PrioritizationResponseList as crate::jer::Jer>::read_jer,
+        )?;
         Ok(Self {
             active_prioritizations: f_active_prioritizations,
             extensions: uper::Extensions::new(),
@@ -1200,7 +1212,7 @@ impl crate::jer::Jer for PrioritizationResponseList {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         let items = crate::jer::array(v)?;
-        if items.len() < 1 {
+        if items.is_empty() {
             return Err(crate::jer::invalid("size"));
         }
         let mut list = Self::new();
@@ -1291,15 +1303,21 @@ impl crate::jer::Jer for PrioritizationResponse {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         crate::jer::member(v, "")?;
-        let f_station_id = crate::jer::read_member(v, "stationID", |x| {
-            <super::common::StationID as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_prior_state = crate::jer::read_member(v, "priorState", |x| {
-            <super::common::PrioritizationResponseStatus as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_signal_group = crate::jer::read_member(v, "signalGroup", |x| {
-            <super::common::SignalGroupID as crate::jer::Jer>::read_jer(x)
-        })?;
+        let f_station_id = crate::jer::read_member(
+            v,
+            "stationID",
+            <super::common::StationID as crate::jer::Jer>::read_jer,
+        )?;
+        let f_prior_state = crate::jer::read_member(
+            v,
+            "priorState",
+            <super::common::PrioritizationResponseStatus as crate::jer::Jer>::read_jer,
+        )?;
+        let f_signal_group = crate::jer::read_member(
+            v,
+            "signalGroup",
+            <super::common::SignalGroupID as crate::jer::Jer>::read_jer,
+        )?;
         Ok(Self {
             station_id: f_station_id,
             prior_state: f_prior_state,

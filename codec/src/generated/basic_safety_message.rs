@@ -102,15 +102,21 @@ impl crate::jer::Jer for BasicSafetyMessage {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         crate::jer::member(v, "")?;
-        let f_core_data = crate::jer::read_member(v, "coreData", |x| {
-            <super::common::BSMcoreData as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_part_ii = crate::jer::read_optional(v, "partII", |x| {
-            <BasicSafetyMessagePartII as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_regional = crate::jer::read_optional(v, "regional", |x| {
-            <BasicSafetyMessageRegional as crate::jer::Jer>::read_jer(x)
-        })?;
+        let f_core_data = crate::jer::read_member(
+            v,
+            "coreData",
+            <super::common::BSMcoreData as crate::jer::Jer>::read_jer,
+        )?;
+        let f_part_ii = crate::jer::read_optional(
+            v,
+            "partII",
+            <BasicSafetyMessagePartII as crate::jer::Jer>::read_jer,
+        )?;
+        let f_regional = crate::jer::read_optional(
+            v,
+            "regional",
+            <BasicSafetyMessageRegional as crate::jer::Jer>::read_jer,
+        )?;
         Ok(Self {
             core_data: f_core_data,
             part_ii: f_part_ii,
@@ -195,7 +201,7 @@ impl crate::jer::Jer for BasicSafetyMessagePartII {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         let items = crate::jer::array(v)?;
-        if items.len() < 1 {
+        if items.is_empty() {
             return Err(crate::jer::invalid("size"));
         }
         let mut list = Self::new();
@@ -335,15 +341,18 @@ impl crate::jer::Jer for SpecialVehicleExtensions {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         crate::jer::member(v, "")?;
-        let f_vehicle_alerts = crate::jer::read_optional(v, "vehicleAlerts", |x| {
-            <super::common::EmergencyDetails as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_description = crate::jer::read_optional(v, "description", |x| {
-            <EventDescription as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_trailers = crate::jer::read_optional(v, "trailers", |x| {
-            <TrailerData as crate::jer::Jer>::read_jer(x)
-        })?;
+        let f_vehicle_alerts = crate::jer::read_optional(
+            v,
+            "vehicleAlerts",
+            <super::common::EmergencyDetails as crate::jer::Jer>::read_jer,
+        )?;
+        let f_description = crate::jer::read_optional(
+            v,
+            "description",
+            <EventDescription as crate::jer::Jer>::read_jer,
+        )?;
+        let f_trailers =
+            crate::jer::read_optional(v, "trailers", <TrailerData as crate::jer::Jer>::read_jer)?;
         Ok(Self {
             vehicle_alerts: f_vehicle_alerts,
             description: f_description,
@@ -537,24 +546,36 @@ impl crate::jer::Jer for EventDescription {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         crate::jer::member(v, "")?;
-        let f_type_event = crate::jer::read_member(v, "typeEvent", |x| {
-            <super::itis::ITIScodes as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_description = crate::jer::read_optional(v, "description", |x| {
-            <EventDescriptionDescription as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_priority = crate::jer::read_optional(v, "priority", |x| {
-            <super::common::Priority as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_heading = crate::jer::read_optional(v, "heading", |x| {
-            <super::common::HeadingSlice as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_extent = crate::jer::read_optional(v, "extent", |x| {
-            <super::common::Extent as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_regional = crate::jer::read_optional(v, "regional", |x| {
-            <EventDescriptionRegional as crate::jer::Jer>::read_jer(x)
-        })?;
+        let f_type_event = crate::jer::read_member(
+            v,
+            "typeEvent",
+            <super::itis::ITIScodes as crate::jer::Jer>::read_jer,
+        )?;
+        let f_description = crate::jer::read_optional(
+            v,
+            "description",
+            <EventDescriptionDescription as crate::jer::Jer>::read_jer,
+        )?;
+        let f_priority = crate::jer::read_optional(
+            v,
+            "priority",
+            <super::common::Priority as crate::jer::Jer>::read_jer,
+        )?;
+        let f_heading = crate::jer::read_optional(
+            v,
+            "heading",
+            <super::common::HeadingSlice as crate::jer::Jer>::read_jer,
+        )?;
+        let f_extent = crate::jer::read_optional(
+            v,
+            "extent",
+            <super::common::Extent as crate::jer::Jer>::read_jer,
+        )?;
+        let f_regional = crate::jer::read_optional(
+            v,
+            "regional",
+            <EventDescriptionRegional as crate::jer::Jer>::read_jer,
+        )?;
         Ok(Self {
             type_event: f_type_event,
             description: f_description,
@@ -657,7 +678,7 @@ impl crate::jer::Jer for EventDescriptionDescription {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         let items = crate::jer::array(v)?;
-        if items.len() < 1 {
+        if items.is_empty() {
             return Err(crate::jer::invalid("size"));
         }
         let mut list = Self::new();
@@ -735,7 +756,7 @@ impl crate::jer::Jer for EventDescriptionRegional {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         let items = crate::jer::array(v)?;
-        if items.len() < 1 {
+        if items.is_empty() {
             return Err(crate::jer::invalid("size"));
         }
         let mut list = Self::new();
@@ -948,15 +969,21 @@ impl crate::jer::Jer for TrailerData {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         crate::jer::member(v, "")?;
-        let f_not_used = crate::jer::read_member(v, "notUsed", |x| {
-            <super::common::SSPindex as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_connection = crate::jer::read_member(v, "connection", |x| {
-            <PivotPointDescription as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_units = crate::jer::read_member(v, "units", |x| {
-            <TrailerUnitDescriptionList as crate::jer::Jer>::read_jer(x)
-        })?;
+        let f_not_used = crate::jer::read_member(
+            v,
+            "notUsed",
+            <super::common::SSPindex as crate::jer::Jer>::read_jer,
+        )?;
+        let f_connection = crate::jer::read_member(
+            v,
+            "connection",
+            <PivotPointDescription as crate::jer::Jer>::read_jer,
+        )?;
+        let f_units = crate::jer::read_member(
+            v,
+            "units",
+            <TrailerUnitDescriptionList as crate::jer::Jer>::read_jer,
+        )?;
         Ok(Self {
             not_used: f_not_used,
             connection: f_connection,
@@ -1043,15 +1070,18 @@ impl crate::jer::Jer for PivotPointDescription {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         crate::jer::member(v, "")?;
-        let f_pivot_offset = crate::jer::read_member(v, "pivotOffset", |x| {
-            <super::common::OffsetB11 as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_pivot_angle = crate::jer::read_member(v, "pivotAngle", |x| {
-            <super::common::Angle as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_pivots = crate::jer::read_member(v, "pivots", |x| {
-            <PivotingAllowed as crate::jer::Jer>::read_jer(x)
-        })?;
+        let f_pivot_offset = crate::jer::read_member(
+            v,
+            "pivotOffset",
+            <super::common::OffsetB11 as crate::jer::Jer>::read_jer,
+        )?;
+        let f_pivot_angle = crate::jer::read_member(
+            v,
+            "pivotAngle",
+            <super::common::Angle as crate::jer::Jer>::read_jer,
+        )?;
+        let f_pivots =
+            crate::jer::read_member(v, "pivots", <PivotingAllowed as crate::jer::Jer>::read_jer)?;
         Ok(Self {
             pivot_offset: f_pivot_offset,
             pivot_angle: f_pivot_angle,
@@ -1129,7 +1159,7 @@ impl crate::jer::Jer for TrailerUnitDescriptionList {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         let items = crate::jer::array(v)?;
-        if items.len() < 1 {
+        if items.is_empty() {
             return Err(crate::jer::invalid("size"));
         }
         let mut list = Self::new();
@@ -1406,43 +1436,64 @@ impl crate::jer::Jer for TrailerUnitDescription {
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         crate::jer::member(v, "")?;
         let f_is_dolly =
-            crate::jer::read_member(v, "isDolly", |x| <IsDolly as crate::jer::Jer>::read_jer(x))?;
-        let f_width = crate::jer::read_member(v, "width", |x| {
-            <super::common::VehicleWidth as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_length = crate::jer::read_member(v, "length", |x| {
-            <super::common::VehicleLength as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_height = crate::jer::read_optional(v, "height", |x| {
-            <super::common::VehicleHeight as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_mass = crate::jer::read_optional(v, "mass", |x| {
-            <TrailerMass as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_bumper_heights = crate::jer::read_optional(v, "bumperHeights", |x| {
-            <super::common::BumperHeights as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_center_of_gravity = crate::jer::read_optional(v, "centerOfGravity", |x| {
-            <super::common::VehicleHeight as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_front_pivot = crate::jer::read_member(v, "frontPivot", |x| {
-            <PivotPointDescription as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_rear_pivot = crate::jer::read_optional(v, "rearPivot", |x| {
-            <PivotPointDescription as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_rear_wheel_offset = crate::jer::read_optional(v, "rearWheelOffset", |x| {
-            <super::common::OffsetB12 as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_position_offset = crate::jer::read_member(v, "positionOffset", |x| {
-            <super::common::NodeXY24b as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_elevation_offset = crate::jer::read_optional(v, "elevationOffset", |x| {
-            <VertOffsetB07 as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_crumb_data = crate::jer::read_optional(v, "crumbData", |x| {
-            <TrailerHistoryPointList as crate::jer::Jer>::read_jer(x)
-        })?;
+            crate::jer::read_member(v, "isDolly", <IsDolly as crate::jer::Jer>::read_jer)?;
+        let f_width = crate::jer::read_member(
+            v,
+            "width",
+            <super::common::VehicleWidth as crate::jer::Jer>::read_jer,
+        )?;
+        let f_length = crate::jer::read_member(
+            v,
+            "length",
+            <super::common::VehicleLength as crate::jer::Jer>::read_jer,
+        )?;
+        let f_height = crate::jer::read_optional(
+            v,
+            "height",
+            <super::common::VehicleHeight as crate::jer::Jer>::read_jer,
+        )?;
+        let f_mass =
+            crate::jer::read_optional(v, "mass", <TrailerMass as crate::jer::Jer>::read_jer)?;
+        let f_bumper_heights = crate::jer::read_optional(
+            v,
+            "bumperHeights",
+            <super::common::BumperHeights as crate::jer::Jer>::read_jer,
+        )?;
+        let f_center_of_gravity = crate::jer::read_optional(
+            v,
+            "centerOfGravity",
+            <super::common::VehicleHeight as crate::jer::Jer>::read_jer,
+        )?;
+        let f_front_pivot = crate::jer::read_member(
+            v,
+            "frontPivot",
+            <PivotPointDescription as crate::jer::Jer>::read_jer,
+        )?;
+        let f_rear_pivot = crate::jer::read_optional(
+            v,
+            "rearPivot",
+            <PivotPointDescription as crate::jer::Jer>::read_jer,
+        )?;
+        let f_rear_wheel_offset = crate::jer::read_optional(
+            v,
+            "rearWheelOffset",
+            <super::common::OffsetB12 as crate::jer::Jer>::read_jer,
+        )?;
+        let f_position_offset = crate::jer::read_member(
+            v,
+            "positionOffset",
+            <super::common::NodeXY24b as crate::jer::Jer>::read_jer,
+        )?;
+        let f_elevation_offset = crate::jer::read_optional(
+            v,
+            "elevationOffset",
+            <VertOffsetB07 as crate::jer::Jer>::read_jer,
+        )?;
+        let f_crumb_data = crate::jer::read_optional(
+            v,
+            "crumbData",
+            <TrailerHistoryPointList as crate::jer::Jer>::read_jer,
+        )?;
         Ok(Self {
             is_dolly: f_is_dolly,
             width: f_width,
@@ -1590,7 +1641,7 @@ impl crate::jer::Jer for TrailerHistoryPointList {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         let items = crate::jer::array(v)?;
-        if items.len() < 1 {
+        if items.is_empty() {
             return Err(crate::jer::invalid("size"));
         }
         let mut list = Self::new();
@@ -1726,21 +1777,31 @@ impl crate::jer::Jer for TrailerHistoryPoint {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         crate::jer::member(v, "")?;
-        let f_pivot_angle = crate::jer::read_member(v, "pivotAngle", |x| {
-            <super::common::Angle as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_time_offset = crate::jer::read_member(v, "timeOffset", |x| {
-            <super::common::TimeOffset as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_position_offset = crate::jer::read_member(v, "positionOffset", |x| {
-            <super::common::NodeXY24b as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_elevation_offset = crate::jer::read_optional(v, "elevationOffset", |x| {
-            <VertOffsetB07 as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_heading = crate::jer::read_optional(v, "heading", |x| {
-            <super::common::CoarseHeading as crate::jer::Jer>::read_jer(x)
-        })?;
+        let f_pivot_angle = crate::jer::read_member(
+            v,
+            "pivotAngle",
+            <super::common::Angle as crate::jer::Jer>::read_jer,
+        )?;
+        let f_time_offset = crate::jer::read_member(
+            v,
+            "timeOffset",
+            <super::common::TimeOffset as crate::jer::Jer>::read_jer,
+        )?;
+        let f_position_offset = crate::jer::read_member(
+            v,
+            "positionOffset",
+            <super::common::NodeXY24b as crate::jer::Jer>::read_jer,
+        )?;
+        let f_elevation_offset = crate::jer::read_optional(
+            v,
+            "elevationOffset",
+            <VertOffsetB07 as crate::jer::Jer>::read_jer,
+        )?;
+        let f_heading = crate::jer::read_optional(
+            v,
+            "heading",
+            <super::common::CoarseHeading as crate::jer::Jer>::read_jer,
+        )?;
         Ok(Self {
             pivot_angle: f_pivot_angle,
             time_offset: f_time_offset,
@@ -2032,36 +2093,50 @@ impl crate::jer::Jer for SupplementalVehicleExtensions {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         crate::jer::member(v, "")?;
-        let f_classification = crate::jer::read_optional(v, "classification", |x| {
-            <super::common::BasicVehicleClass as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_class_details = crate::jer::read_optional(v, "classDetails", |x| {
-            <super::common::VehicleClassification as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_vehicle_data = crate::jer::read_optional(v, "vehicleData", |x| {
-            <VehicleData as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_weather_report = crate::jer::read_optional(v, "weatherReport", |x| {
-            <WeatherReport as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_weather_probe = crate::jer::read_optional(v, "weatherProbe", |x| {
-            <WeatherProbe as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_obstacle = crate::jer::read_optional(v, "obstacle", |x| {
-            <ObstacleDetection as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_status = crate::jer::read_optional(v, "status", |x| {
-            <DisabledVehicle as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_speed_profile = crate::jer::read_optional(v, "speedProfile", |x| {
-            <SpeedProfile as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_the_rtcm = crate::jer::read_optional(v, "theRTCM", |x| {
-            <RTCMPackage as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_regional = crate::jer::read_optional(v, "regional", |x| {
-            <SupplementalVehicleExtensionsRegional as crate::jer::Jer>::read_jer(x)
-        })?;
+        let f_classification = crate::jer::read_optional(
+            v,
+            "classification",
+            <super::common::BasicVehicleClass as crate::jer::Jer>::read_jer,
+        )?;
+        let f_class_details = crate::jer::read_optional(
+            v,
+            "classDetails",
+            <super::common::VehicleClassification as crate::jer::Jer>::read_jer,
+        )?;
+        let f_vehicle_data = crate::jer::read_optional(
+            v,
+            "vehicleData",
+            <VehicleData as crate::jer::Jer>::read_jer,
+        )?;
+        let f_weather_report = crate::jer::read_optional(
+            v,
+            "weatherReport",
+            <WeatherReport as crate::jer::Jer>::read_jer,
+        )?;
+        let f_weather_probe = crate::jer::read_optional(
+            v,
+            "weatherProbe",
+            <WeatherProbe as crate::jer::Jer>::read_jer,
+        )?;
+        let f_obstacle = crate::jer::read_optional(
+            v,
+            "obstacle",
+            <ObstacleDetection as crate::jer::Jer>::read_jer,
+        )?;
+        let f_status =
+            crate::jer::read_optional(v, "status", <DisabledVehicle as crate::jer::Jer>::read_jer)?;
+        let f_speed_profile = crate::jer::read_optional(
+            v,
+            "speedProfile",
+            <SpeedProfile as crate::jer::Jer>::read_jer,
+        )?;
+        let f_the_rtcm =
+            crate::jer::read_optional(v, "theRTCM", <RTCMPackage as crate::jer::Jer>::read_jer)?;
+        let f_regional = crate::jer::read_optional(
+            v,
+            "regional",
+            <SupplementalVehicleExtensionsRegional as crate::jer::Jer>::read_jer,
+        )?;
         Ok(Self {
             classification: f_classification,
             class_details: f_class_details,
@@ -2269,18 +2344,26 @@ impl crate::jer::Jer for VehicleData {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         crate::jer::member(v, "")?;
-        let f_height = crate::jer::read_optional(v, "height", |x| {
-            <super::common::VehicleHeight as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_bumpers = crate::jer::read_optional(v, "bumpers", |x| {
-            <super::common::BumperHeights as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_mass = crate::jer::read_optional(v, "mass", |x| {
-            <super::common::VehicleMass as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_trailer_weight = crate::jer::read_optional(v, "trailerWeight", |x| {
-            <super::common::TrailerWeight as crate::jer::Jer>::read_jer(x)
-        })?;
+        let f_height = crate::jer::read_optional(
+            v,
+            "height",
+            <super::common::VehicleHeight as crate::jer::Jer>::read_jer,
+        )?;
+        let f_bumpers = crate::jer::read_optional(
+            v,
+            "bumpers",
+            <super::common::BumperHeights as crate::jer::Jer>::read_jer,
+        )?;
+        let f_mass = crate::jer::read_optional(
+            v,
+            "mass",
+            <super::common::VehicleMass as crate::jer::Jer>::read_jer,
+        )?;
+        let f_trailer_weight = crate::jer::read_optional(
+            v,
+            "trailerWeight",
+            <super::common::TrailerWeight as crate::jer::Jer>::read_jer,
+        )?;
         Ok(Self {
             height: f_height,
             bumpers: f_bumpers,
@@ -2480,24 +2563,36 @@ impl crate::jer::Jer for WeatherReport {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         crate::jer::member(v, "")?;
-        let f_is_raining = crate::jer::read_member(v, "isRaining", |x| {
-            <super::ntcip::EssPrecipYesNo as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_rain_rate = crate::jer::read_optional(v, "rainRate", |x| {
-            <super::ntcip::EssPrecipRate as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_precip_situation = crate::jer::read_optional(v, "precipSituation", |x| {
-            <super::ntcip::EssPrecipSituation as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_solar_radiation = crate::jer::read_optional(v, "solarRadiation", |x| {
-            <super::ntcip::EssSolarRadiation as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_friction = crate::jer::read_optional(v, "friction", |x| {
-            <super::ntcip::EssMobileFriction as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_road_friction = crate::jer::read_optional(v, "roadFriction", |x| {
-            <super::common::CoefficientOfFriction as crate::jer::Jer>::read_jer(x)
-        })?;
+        let f_is_raining = crate::jer::read_member(
+            v,
+            "isRaining",
+            <super::ntcip::EssPrecipYesNo as crate::jer::Jer>::read_jer,
+        )?;
+        let f_rain_rate = crate::jer::read_optional(
+            v,
+            "rainRate",
+            <super::ntcip::EssPrecipRate as crate::jer::Jer>::read_jer,
+        )?;
+        let f_precip_situation = crate::jer::read_optional(
+            v,
+            "precipSituation",
+            <super::ntcip::EssPrecipSituation as crate::jer::Jer>::read_jer,
+        )?;
+        let f_solar_radiation = crate::jer::read_optional(
+            v,
+            "solarRadiation",
+            <super::ntcip::EssSolarRadiation as crate::jer::Jer>::read_jer,
+        )?;
+        let f_friction = crate::jer::read_optional(
+            v,
+            "friction",
+            <super::ntcip::EssMobileFriction as crate::jer::Jer>::read_jer,
+        )?;
+        let f_road_friction = crate::jer::read_optional(
+            v,
+            "roadFriction",
+            <super::common::CoefficientOfFriction as crate::jer::Jer>::read_jer,
+        )?;
         Ok(Self {
             is_raining: f_is_raining,
             rain_rate: f_rain_rate,
@@ -2656,15 +2751,21 @@ impl crate::jer::Jer for WeatherProbe {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         crate::jer::member(v, "")?;
-        let f_air_temp = crate::jer::read_optional(v, "airTemp", |x| {
-            <super::common::AmbientAirTemperature as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_air_pressure = crate::jer::read_optional(v, "airPressure", |x| {
-            <super::common::AmbientAirPressure as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_rain_rates = crate::jer::read_optional(v, "rainRates", |x| {
-            <super::common::WiperSet as crate::jer::Jer>::read_jer(x)
-        })?;
+        let f_air_temp = crate::jer::read_optional(
+            v,
+            "airTemp",
+            <super::common::AmbientAirTemperature as crate::jer::Jer>::read_jer,
+        )?;
+        let f_air_pressure = crate::jer::read_optional(
+            v,
+            "airPressure",
+            <super::common::AmbientAirPressure as crate::jer::Jer>::read_jer,
+        )?;
+        let f_rain_rates = crate::jer::read_optional(
+            v,
+            "rainRates",
+            <super::common::WiperSet as crate::jer::Jer>::read_jer,
+        )?;
         Ok(Self {
             air_temp: f_air_temp,
             air_pressure: f_air_pressure,
@@ -2830,24 +2931,36 @@ impl crate::jer::Jer for ObstacleDetection {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         crate::jer::member(v, "")?;
-        let f_ob_dist = crate::jer::read_member(v, "obDist", |x| {
-            <super::common::ObstacleDistance as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_ob_direct = crate::jer::read_member(v, "obDirect", |x| {
-            <ObstacleDirection as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_description = crate::jer::read_optional(v, "description", |x| {
-            <ObstacleDetectionDescription as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_location_details = crate::jer::read_optional(v, "locationDetails", |x| {
-            <super::itis::GenericLocations as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_date_time = crate::jer::read_member(v, "dateTime", |x| {
-            <super::common::DDateTime as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_vert_event = crate::jer::read_optional(v, "vertEvent", |x| {
-            <super::common::VerticalAccelerationThreshold as crate::jer::Jer>::read_jer(x)
-        })?;
+        let f_ob_dist = crate::jer::read_member(
+            v,
+            "obDist",
+            <super::common::ObstacleDistance as crate::jer::Jer>::read_jer,
+        )?;
+        let f_ob_direct = crate::jer::read_member(
+            v,
+            "obDirect",
+            <ObstacleDirection as crate::jer::Jer>::read_jer,
+        )?;
+        let f_description = crate::jer::read_optional(
+            v,
+            "description",
+            <ObstacleDetectionDescription as crate::jer::Jer>::read_jer,
+        )?;
+        let f_location_details = crate::jer::read_optional(
+            v,
+            "locationDetails",
+            <super::itis::GenericLocations as crate::jer::Jer>::read_jer,
+        )?;
+        let f_date_time = crate::jer::read_member(
+            v,
+            "dateTime",
+            <super::common::DDateTime as crate::jer::Jer>::read_jer,
+        )?;
+        let f_vert_event = crate::jer::read_optional(
+            v,
+            "vertEvent",
+            <super::common::VerticalAccelerationThreshold as crate::jer::Jer>::read_jer,
+        )?;
         Ok(Self {
             ob_dist: f_ob_dist,
             ob_direct: f_ob_direct,
@@ -2978,12 +3091,16 @@ impl crate::jer::Jer for DisabledVehicle {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         crate::jer::member(v, "")?;
-        let f_status_details = crate::jer::read_member(v, "statusDetails", |x| {
-            <DisabledVehicleStatusDetails as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_location_details = crate::jer::read_optional(v, "locationDetails", |x| {
-            <super::itis::GenericLocations as crate::jer::Jer>::read_jer(x)
-        })?;
+        let f_status_details = crate::jer::read_member(
+            v,
+            "statusDetails",
+            <DisabledVehicleStatusDetails as crate::jer::Jer>::read_jer,
+        )?;
+        let f_location_details = crate::jer::read_optional(
+            v,
+            "locationDetails",
+            <super::itis::GenericLocations as crate::jer::Jer>::read_jer,
+        )?;
         Ok(Self {
             status_details: f_status_details,
             location_details: f_location_details,
@@ -3069,9 +3186,11 @@ impl crate::jer::Jer for SpeedProfile {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         crate::jer::member(v, "")?;
-        let f_speed_reports = crate::jer::read_member(v, "speedReports", |x| {
-            <SpeedProfileMeasurementList as crate::jer::Jer>::read_jer(x)
-        })?;
+        let f_speed_reports = crate::jer::read_member(
+            v,
+            "speedReports",
+            <SpeedProfileMeasurementList as crate::jer::Jer>::read_jer,
+        )?;
         Ok(Self {
             speed_reports: f_speed_reports,
             extensions: uper::Extensions::new(),
@@ -3142,7 +3261,7 @@ impl crate::jer::Jer for SpeedProfileMeasurementList {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         let items = crate::jer::array(v)?;
-        if items.len() < 1 {
+        if items.is_empty() {
             return Err(crate::jer::invalid("size"));
         }
         let mut list = Self::new();
@@ -3243,12 +3362,16 @@ impl crate::jer::Jer for RTCMPackage {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         crate::jer::member(v, "")?;
-        let f_rtcm_header = crate::jer::read_optional(v, "rtcmHeader", |x| {
-            <super::common::RTCMheader as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_msgs = crate::jer::read_member(v, "msgs", |x| {
-            <super::common::RTCMmessageList as crate::jer::Jer>::read_jer(x)
-        })?;
+        let f_rtcm_header = crate::jer::read_optional(
+            v,
+            "rtcmHeader",
+            <super::common::RTCMheader as crate::jer::Jer>::read_jer,
+        )?;
+        let f_msgs = crate::jer::read_member(
+            v,
+            "msgs",
+            <super::common::RTCMmessageList as crate::jer::Jer>::read_jer,
+        )?;
         Ok(Self {
             rtcm_header: f_rtcm_header,
             msgs: f_msgs,
@@ -3329,7 +3452,7 @@ impl crate::jer::Jer for SupplementalVehicleExtensionsRegional {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         let items = crate::jer::array(v)?;
-        if items.len() < 1 {
+        if items.is_empty() {
             return Err(crate::jer::invalid("size"));
         }
         let mut list = Self::new();
@@ -3746,7 +3869,7 @@ impl crate::jer::Jer for BasicSafetyMessageRegional {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         let items = crate::jer::array(v)?;
-        if items.len() < 1 {
+        if items.is_empty() {
             return Err(crate::jer::invalid("size"));
         }
         let mut list = Self::new();

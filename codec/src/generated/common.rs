@@ -191,38 +191,43 @@ impl crate::jer::Jer for BSMcoreData {
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         crate::jer::member(v, "")?;
         let f_msg_cnt =
-            crate::jer::read_member(v, "msgCnt", |x| <MsgCount as crate::jer::Jer>::read_jer(x))?;
-        let f_id =
-            crate::jer::read_member(v, "id", |x| <TemporaryID as crate::jer::Jer>::read_jer(x))?;
+            crate::jer::read_member(v, "msgCnt", <MsgCount as crate::jer::Jer>::read_jer)?;
+        let f_id = crate::jer::read_member(v, "id", <TemporaryID as crate::jer::Jer>::read_jer)?;
         let f_sec_mark =
-            crate::jer::read_member(v, "secMark", |x| <DSecond as crate::jer::Jer>::read_jer(x))?;
-        let f_lat =
-            crate::jer::read_member(v, "lat", |x| <Latitude as crate::jer::Jer>::read_jer(x))?;
-        let f_long =
-            crate::jer::read_member(v, "long", |x| <Longitude as crate::jer::Jer>::read_jer(x))?;
-        let f_elev =
-            crate::jer::read_member(v, "elev", |x| <Elevation as crate::jer::Jer>::read_jer(x))?;
-        let f_accuracy = crate::jer::read_member(v, "accuracy", |x| {
-            <PositionalAccuracy as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_transmission = crate::jer::read_member(v, "transmission", |x| {
-            <TransmissionState as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_speed =
-            crate::jer::read_member(v, "speed", |x| <Speed as crate::jer::Jer>::read_jer(x))?;
+            crate::jer::read_member(v, "secMark", <DSecond as crate::jer::Jer>::read_jer)?;
+        let f_lat = crate::jer::read_member(v, "lat", <Latitude as crate::jer::Jer>::read_jer)?;
+        let f_long = crate::jer::read_member(v, "long", <Longitude as crate::jer::Jer>::read_jer)?;
+        let f_elev = crate::jer::read_member(v, "elev", <Elevation as crate::jer::Jer>::read_jer)?;
+        let f_accuracy = crate::jer::read_member(
+            v,
+            "accuracy",
+            <PositionalAccuracy as crate::jer::Jer>::read_jer,
+        )?;
+        let f_transmission = crate::jer::read_member(
+            v,
+            "transmission",
+            <TransmissionState as crate::jer::Jer>::read_jer,
+        )?;
+        let f_speed = crate::jer::read_member(v, "speed", <Speed as crate::jer::Jer>::read_jer)?;
         let f_heading =
-            crate::jer::read_member(v, "heading", |x| <Heading as crate::jer::Jer>::read_jer(x))?;
-        let f_angle = crate::jer::read_member(v, "angle", |x| {
-            <SteeringWheelAngle as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_accel_set = crate::jer::read_member(v, "accelSet", |x| {
-            <AccelerationSet4Way as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_brakes = crate::jer::read_member(v, "brakes", |x| {
-            <BrakeSystemStatus as crate::jer::Jer>::read_jer(x)
-        })?;
+            crate::jer::read_member(v, "heading", <Heading as crate::jer::Jer>::read_jer)?;
+        let f_angle = crate::jer::read_member(
+            v,
+            "angle",
+            <SteeringWheelAngle as crate::jer::Jer>::read_jer,
+        )?;
+        let f_accel_set = crate::jer::read_member(
+            v,
+            "accelSet",
+            <AccelerationSet4Way as crate::jer::Jer>::read_jer,
+        )?;
+        let f_brakes = crate::jer::read_member(
+            v,
+            "brakes",
+            <BrakeSystemStatus as crate::jer::Jer>::read_jer,
+        )?;
         let f_size =
-            crate::jer::read_member(v, "size", |x| <VehicleSize as crate::jer::Jer>::read_jer(x))?;
+            crate::jer::read_member(v, "size", <VehicleSize as crate::jer::Jer>::read_jer)?;
         Ok(Self {
             msg_cnt: f_msg_cnt,
             id: f_id,
@@ -352,15 +357,21 @@ impl crate::jer::Jer for PositionalAccuracy {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         crate::jer::member(v, "")?;
-        let f_semi_major = crate::jer::read_member(v, "semiMajor", |x| {
-            <SemiMajorAxisAccuracy as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_semi_minor = crate::jer::read_member(v, "semiMinor", |x| {
-            <SemiMinorAxisAccuracy as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_orientation = crate::jer::read_member(v, "orientation", |x| {
-            <SemiMajorAxisOrientation as crate::jer::Jer>::read_jer(x)
-        })?;
+        let f_semi_major = crate::jer::read_member(
+            v,
+            "semiMajor",
+            <SemiMajorAxisAccuracy as crate::jer::Jer>::read_jer,
+        )?;
+        let f_semi_minor = crate::jer::read_member(
+            v,
+            "semiMinor",
+            <SemiMinorAxisAccuracy as crate::jer::Jer>::read_jer,
+        )?;
+        let f_orientation = crate::jer::read_member(
+            v,
+            "orientation",
+            <SemiMajorAxisOrientation as crate::jer::Jer>::read_jer,
+        )?;
         Ok(Self {
             semi_major: f_semi_major,
             semi_minor: f_semi_minor,
@@ -649,16 +660,15 @@ impl crate::jer::Jer for AccelerationSet4Way {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         crate::jer::member(v, "")?;
-        let f_long = crate::jer::read_member(v, "long", |x| {
-            <Acceleration as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_lat =
-            crate::jer::read_member(v, "lat", |x| <Acceleration as crate::jer::Jer>::read_jer(x))?;
-        let f_vert = crate::jer::read_member(v, "vert", |x| {
-            <VerticalAcceleration as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_yaw =
-            crate::jer::read_member(v, "yaw", |x| <YawRate as crate::jer::Jer>::read_jer(x))?;
+        let f_long =
+            crate::jer::read_member(v, "long", <Acceleration as crate::jer::Jer>::read_jer)?;
+        let f_lat = crate::jer::read_member(v, "lat", <Acceleration as crate::jer::Jer>::read_jer)?;
+        let f_vert = crate::jer::read_member(
+            v,
+            "vert",
+            <VerticalAcceleration as crate::jer::Jer>::read_jer,
+        )?;
+        let f_yaw = crate::jer::read_member(v, "yaw", <YawRate as crate::jer::Jer>::read_jer)?;
         Ok(Self {
             long: f_long,
             lat: f_lat,
@@ -782,24 +792,33 @@ impl crate::jer::Jer for BrakeSystemStatus {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         crate::jer::member(v, "")?;
-        let f_wheel_brakes = crate::jer::read_member(v, "wheelBrakes", |x| {
-            <BrakeAppliedStatus as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_traction = crate::jer::read_member(v, "traction", |x| {
-            <TractionControlStatus as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_abs = crate::jer::read_member(v, "abs", |x| {
-            <AntiLockBrakeStatus as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_scs = crate::jer::read_member(v, "scs", |x| {
-            <StabilityControlStatus as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_brake_boost = crate::jer::read_member(v, "brakeBoost", |x| {
-            <BrakeBoostApplied as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_aux_brakes = crate::jer::read_member(v, "auxBrakes", |x| {
-            <AuxiliaryBrakeStatus as crate::jer::Jer>::read_jer(x)
-        })?;
+        let f_wheel_brakes = crate::jer::read_member(
+            v,
+            "wheelBrakes",
+            <BrakeAppliedStatus as crate::jer::Jer>::read_jer,
+        )?;
+        let f_traction = crate::jer::read_member(
+            v,
+            "traction",
+            <TractionControlStatus as crate::jer::Jer>::read_jer,
+        )?;
+        let f_abs =
+            crate::jer::read_member(v, "abs", <AntiLockBrakeStatus as crate::jer::Jer>::read_jer)?;
+        let f_scs = crate::jer::read_member(
+            v,
+            "scs",
+            <StabilityControlStatus as crate::jer::Jer>::read_jer,
+        )?;
+        let f_brake_boost = crate::jer::read_member(
+            v,
+            "brakeBoost",
+            <BrakeBoostApplied as crate::jer::Jer>::read_jer,
+        )?;
+        let f_aux_brakes = crate::jer::read_member(
+            v,
+            "auxBrakes",
+            <AuxiliaryBrakeStatus as crate::jer::Jer>::read_jer,
+        )?;
         Ok(Self {
             wheel_brakes: f_wheel_brakes,
             traction: f_traction,
@@ -1428,12 +1447,10 @@ impl crate::jer::Jer for VehicleSize {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         crate::jer::member(v, "")?;
-        let f_width = crate::jer::read_member(v, "width", |x| {
-            <VehicleWidth as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_length = crate::jer::read_member(v, "length", |x| {
-            <VehicleLength as crate::jer::Jer>::read_jer(x)
-        })?;
+        let f_width =
+            crate::jer::read_member(v, "width", <VehicleWidth as crate::jer::Jer>::read_jer)?;
+        let f_length =
+            crate::jer::read_member(v, "length", <VehicleLength as crate::jer::Jer>::read_jer)?;
         Ok(Self {
             width: f_width,
             length: f_length,
@@ -1566,15 +1583,21 @@ impl crate::jer::Jer for PathHistory {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         crate::jer::member(v, "")?;
-        let f_initial_position = crate::jer::read_optional(v, "initialPosition", |x| {
-            <FullPositionVector as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_curr_gnss_status = crate::jer::read_optional(v, "currGNSSstatus", |x| {
-            <GNSSstatus as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_crumb_data = crate::jer::read_member(v, "crumbData", |x| {
-            <PathHistoryPointList as crate::jer::Jer>::read_jer(x)
-        })?;
+        let f_initial_position = crate::jer::read_optional(
+            v,
+            "initialPosition",
+            <FullPositionVector as crate::jer::Jer>::read_jer,
+        )?;
+        let f_curr_gnss_status = crate::jer::read_optional(
+            v,
+            "currGNSSstatus",
+            <GNSSstatus as crate::jer::Jer>::read_jer,
+        )?;
+        let f_crumb_data = crate::jer::read_member(
+            v,
+            "crumbData",
+            <PathHistoryPointList as crate::jer::Jer>::read_jer,
+        )?;
         Ok(Self {
             initial_position: f_initial_position,
             curr_gnss_status: f_curr_gnss_status,
@@ -1834,33 +1857,39 @@ impl crate::jer::Jer for FullPositionVector {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         crate::jer::member(v, "")?;
-        let f_utc_time = crate::jer::read_optional(v, "utcTime", |x| {
-            <DDateTime as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_long =
-            crate::jer::read_member(v, "long", |x| <Longitude as crate::jer::Jer>::read_jer(x))?;
-        let f_lat =
-            crate::jer::read_member(v, "lat", |x| <Latitude as crate::jer::Jer>::read_jer(x))?;
-        let f_elevation = crate::jer::read_optional(v, "elevation", |x| {
-            <Elevation as crate::jer::Jer>::read_jer(x)
-        })?;
+        let f_utc_time =
+            crate::jer::read_optional(v, "utcTime", <DDateTime as crate::jer::Jer>::read_jer)?;
+        let f_long = crate::jer::read_member(v, "long", <Longitude as crate::jer::Jer>::read_jer)?;
+        let f_lat = crate::jer::read_member(v, "lat", <Latitude as crate::jer::Jer>::read_jer)?;
+        let f_elevation =
+            crate::jer::read_optional(v, "elevation", <Elevation as crate::jer::Jer>::read_jer)?;
         let f_heading =
-            crate::jer::read_optional(v, "heading", |x| <Heading as crate::jer::Jer>::read_jer(x))?;
-        let f_speed = crate::jer::read_optional(v, "speed", |x| {
-            <TransmissionAndSpeed as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_pos_accuracy = crate::jer::read_optional(v, "posAccuracy", |x| {
-            <PositionalAccuracy as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_time_confidence = crate::jer::read_optional(v, "timeConfidence", |x| {
-            <TimeConfidence as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_pos_confidence = crate::jer::read_optional(v, "posConfidence", |x| {
-            <PositionConfidenceSet as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_speed_confidence = crate::jer::read_optional(v, "speedConfidence", |x| {
-            <SpeedandHeadingandThrottleConfidence as crate::jer::Jer>::read_jer(x)
-        })?;
+            crate::jer::read_optional(v, "heading", <Heading as crate::jer::Jer>::read_jer)?;
+        let f_speed = crate::jer::read_optional(
+            v,
+            "speed",
+            <TransmissionAndSpeed as crate::jer::Jer>::read_jer,
+        )?;
+        let f_pos_accuracy = crate::jer::read_optional(
+            v,
+            "posAccuracy",
+            <PositionalAccuracy as crate::jer::Jer>::read_jer,
+        )?;
+        let f_time_confidence = crate::jer::read_optional(
+            v,
+            "timeConfidence",
+            <TimeConfidence as crate::jer::Jer>::read_jer,
+        )?;
+        let f_pos_confidence = crate::jer::read_optional(
+            v,
+            "posConfidence",
+            <PositionConfidenceSet as crate::jer::Jer>::read_jer,
+        )?;
+        let f_speed_confidence = crate::jer::read_optional(
+            v,
+            "speedConfidence",
+            <SpeedandHeadingandThrottleConfidence as crate::jer::Jer>::read_jer,
+        )?;
         Ok(Self {
             utc_time: f_utc_time,
             long: f_long,
@@ -2110,20 +2139,16 @@ impl crate::jer::Jer for DDateTime {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         crate::jer::member(v, "")?;
-        let f_year =
-            crate::jer::read_optional(v, "year", |x| <DYear as crate::jer::Jer>::read_jer(x))?;
-        let f_month =
-            crate::jer::read_optional(v, "month", |x| <DMonth as crate::jer::Jer>::read_jer(x))?;
-        let f_day =
-            crate::jer::read_optional(v, "day", |x| <DDay as crate::jer::Jer>::read_jer(x))?;
-        let f_hour =
-            crate::jer::read_optional(v, "hour", |x| <DHour as crate::jer::Jer>::read_jer(x))?;
+        let f_year = crate::jer::read_optional(v, "year", <DYear as crate::jer::Jer>::read_jer)?;
+        let f_month = crate::jer::read_optional(v, "month", <DMonth as crate::jer::Jer>::read_jer)?;
+        let f_day = crate::jer::read_optional(v, "day", <DDay as crate::jer::Jer>::read_jer)?;
+        let f_hour = crate::jer::read_optional(v, "hour", <DHour as crate::jer::Jer>::read_jer)?;
         let f_minute =
-            crate::jer::read_optional(v, "minute", |x| <DMinute as crate::jer::Jer>::read_jer(x))?;
+            crate::jer::read_optional(v, "minute", <DMinute as crate::jer::Jer>::read_jer)?;
         let f_second =
-            crate::jer::read_optional(v, "second", |x| <DSecond as crate::jer::Jer>::read_jer(x))?;
+            crate::jer::read_optional(v, "second", <DSecond as crate::jer::Jer>::read_jer)?;
         let f_offset =
-            crate::jer::read_optional(v, "offset", |x| <DOffset as crate::jer::Jer>::read_jer(x))?;
+            crate::jer::read_optional(v, "offset", <DOffset as crate::jer::Jer>::read_jer)?;
         Ok(Self {
             year: f_year,
             month: f_month,
@@ -2258,11 +2283,12 @@ impl crate::jer::Jer for TransmissionAndSpeed {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         crate::jer::member(v, "")?;
-        let f_transmisson = crate::jer::read_member(v, "transmisson", |x| {
-            <TransmissionState as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_speed =
-            crate::jer::read_member(v, "speed", |x| <Velocity as crate::jer::Jer>::read_jer(x))?;
+        let f_transmisson = crate::jer::read_member(
+            v,
+            "transmisson",
+            <TransmissionState as crate::jer::Jer>::read_jer,
+        )?;
+        let f_speed = crate::jer::read_member(v, "speed", <Velocity as crate::jer::Jer>::read_jer)?;
         Ok(Self {
             transmisson: f_transmisson,
             speed: f_speed,
@@ -2690,12 +2716,13 @@ impl crate::jer::Jer for PositionConfidenceSet {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         crate::jer::member(v, "")?;
-        let f_pos = crate::jer::read_member(v, "pos", |x| {
-            <PositionConfidence as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_elevation = crate::jer::read_member(v, "elevation", |x| {
-            <ElevationConfidence as crate::jer::Jer>::read_jer(x)
-        })?;
+        let f_pos =
+            crate::jer::read_member(v, "pos", <PositionConfidence as crate::jer::Jer>::read_jer)?;
+        let f_elevation = crate::jer::read_member(
+            v,
+            "elevation",
+            <ElevationConfidence as crate::jer::Jer>::read_jer,
+        )?;
         Ok(Self {
             pos: f_pos,
             elevation: f_elevation,
@@ -3141,15 +3168,18 @@ impl crate::jer::Jer for SpeedandHeadingandThrottleConfidence {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         crate::jer::member(v, "")?;
-        let f_heading = crate::jer::read_member(v, "heading", |x| {
-            <HeadingConfidence as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_speed = crate::jer::read_member(v, "speed", |x| {
-            <SpeedConfidence as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_throttle = crate::jer::read_member(v, "throttle", |x| {
-            <ThrottleConfidence as crate::jer::Jer>::read_jer(x)
-        })?;
+        let f_heading = crate::jer::read_member(
+            v,
+            "heading",
+            <HeadingConfidence as crate::jer::Jer>::read_jer,
+        )?;
+        let f_speed =
+            crate::jer::read_member(v, "speed", <SpeedConfidence as crate::jer::Jer>::read_jer)?;
+        let f_throttle = crate::jer::read_member(
+            v,
+            "throttle",
+            <ThrottleConfidence as crate::jer::Jer>::read_jer,
+        )?;
         Ok(Self {
             heading: f_heading,
             speed: f_speed,
@@ -3660,7 +3690,7 @@ impl crate::jer::Jer for PathHistoryPointList {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         let items = crate::jer::array(v)?;
-        if items.len() < 1 {
+        if items.is_empty() {
             return Err(crate::jer::invalid("size"));
         }
         let mut list = Self::new();
@@ -3824,26 +3854,25 @@ impl crate::jer::Jer for PathHistoryPoint {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         crate::jer::member(v, "")?;
-        let f_lat_offset = crate::jer::read_member(v, "latOffset", |x| {
-            <OffsetLLB18 as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_lon_offset = crate::jer::read_member(v, "lonOffset", |x| {
-            <OffsetLLB18 as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_elevation_offset = crate::jer::read_member(v, "elevationOffset", |x| {
-            <VertOffsetB12 as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_time_offset = crate::jer::read_member(v, "timeOffset", |x| {
-            <TimeOffset as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_speed =
-            crate::jer::read_optional(v, "speed", |x| <Speed as crate::jer::Jer>::read_jer(x))?;
-        let f_pos_accuracy = crate::jer::read_optional(v, "posAccuracy", |x| {
-            <PositionalAccuracy as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_heading = crate::jer::read_optional(v, "heading", |x| {
-            <CoarseHeading as crate::jer::Jer>::read_jer(x)
-        })?;
+        let f_lat_offset =
+            crate::jer::read_member(v, "latOffset", <OffsetLLB18 as crate::jer::Jer>::read_jer)?;
+        let f_lon_offset =
+            crate::jer::read_member(v, "lonOffset", <OffsetLLB18 as crate::jer::Jer>::read_jer)?;
+        let f_elevation_offset = crate::jer::read_member(
+            v,
+            "elevationOffset",
+            <VertOffsetB12 as crate::jer::Jer>::read_jer,
+        )?;
+        let f_time_offset =
+            crate::jer::read_member(v, "timeOffset", <TimeOffset as crate::jer::Jer>::read_jer)?;
+        let f_speed = crate::jer::read_optional(v, "speed", <Speed as crate::jer::Jer>::read_jer)?;
+        let f_pos_accuracy = crate::jer::read_optional(
+            v,
+            "posAccuracy",
+            <PositionalAccuracy as crate::jer::Jer>::read_jer,
+        )?;
+        let f_heading =
+            crate::jer::read_optional(v, "heading", <CoarseHeading as crate::jer::Jer>::read_jer)?;
         Ok(Self {
             lat_offset: f_lat_offset,
             lon_offset: f_lon_offset,
@@ -3967,12 +3996,13 @@ impl crate::jer::Jer for PathPrediction {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         crate::jer::member(v, "")?;
-        let f_radius_of_curve = crate::jer::read_member(v, "radiusOfCurve", |x| {
-            <RadiusOfCurvature as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_confidence = crate::jer::read_member(v, "confidence", |x| {
-            <Confidence as crate::jer::Jer>::read_jer(x)
-        })?;
+        let f_radius_of_curve = crate::jer::read_member(
+            v,
+            "radiusOfCurve",
+            <RadiusOfCurvature as crate::jer::Jer>::read_jer,
+        )?;
+        let f_confidence =
+            crate::jer::read_member(v, "confidence", <Confidence as crate::jer::Jer>::read_jer)?;
         Ok(Self {
             radius_of_curve: f_radius_of_curve,
             confidence: f_confidence,
@@ -4068,12 +4098,9 @@ impl crate::jer::Jer for IntersectionReferenceID {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         crate::jer::member(v, "")?;
-        let f_region = crate::jer::read_optional(v, "region", |x| {
-            <RoadRegulatorID as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_id = crate::jer::read_member(v, "id", |x| {
-            <IntersectionID as crate::jer::Jer>::read_jer(x)
-        })?;
+        let f_region =
+            crate::jer::read_optional(v, "region", <RoadRegulatorID as crate::jer::Jer>::read_jer)?;
+        let f_id = crate::jer::read_member(v, "id", <IntersectionID as crate::jer::Jer>::read_jer)?;
         Ok(Self {
             region: f_region,
             id: f_id,
@@ -4331,18 +4358,23 @@ impl crate::jer::Jer for VehicleSafetyExtensions {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         crate::jer::member(v, "")?;
-        let f_events = crate::jer::read_optional(v, "events", |x| {
-            <VehicleEventFlags as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_path_history = crate::jer::read_optional(v, "pathHistory", |x| {
-            <PathHistory as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_path_prediction = crate::jer::read_optional(v, "pathPrediction", |x| {
-            <PathPrediction as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_lights = crate::jer::read_optional(v, "lights", |x| {
-            <ExteriorLights as crate::jer::Jer>::read_jer(x)
-        })?;
+        let f_events = crate::jer::read_optional(
+            v,
+            "events",
+            <VehicleEventFlags as crate::jer::Jer>::read_jer,
+        )?;
+        let f_path_history = crate::jer::read_optional(
+            v,
+            "pathHistory",
+            <PathHistory as crate::jer::Jer>::read_jer,
+        )?;
+        let f_path_prediction = crate::jer::read_optional(
+            v,
+            "pathPrediction",
+            <PathPrediction as crate::jer::Jer>::read_jer,
+        )?;
+        let f_lights =
+            crate::jer::read_optional(v, "lights", <ExteriorLights as crate::jer::Jer>::read_jer)?;
         Ok(Self {
             events: f_events,
             path_history: f_path_history,
@@ -4571,22 +4603,26 @@ impl crate::jer::Jer for EmergencyDetails {
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         crate::jer::member(v, "")?;
         let f_not_used =
-            crate::jer::read_member(v, "notUsed", |x| <SSPindex as crate::jer::Jer>::read_jer(x))?;
-        let f_siren_use = crate::jer::read_member(v, "sirenUse", |x| {
-            <SirenInUse as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_lights_use = crate::jer::read_member(v, "lightsUse", |x| {
-            <LightbarInUse as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_multi = crate::jer::read_member(v, "multi", |x| {
-            <MultiVehicleResponse as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_events = crate::jer::read_optional(v, "events", |x| {
-            <PrivilegedEvents as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_response_type = crate::jer::read_optional(v, "responseType", |x| {
-            <ResponseType as crate::jer::Jer>::read_jer(x)
-        })?;
+            crate::jer::read_member(v, "notUsed", <SSPindex as crate::jer::Jer>::read_jer)?;
+        let f_siren_use =
+            crate::jer::read_member(v, "sirenUse", <SirenInUse as crate::jer::Jer>::read_jer)?;
+        let f_lights_use =
+            crate::jer::read_member(v, "lightsUse", <LightbarInUse as crate::jer::Jer>::read_jer)?;
+        let f_multi = crate::jer::read_member(
+            v,
+            "multi",
+            <MultiVehicleResponse as crate::jer::Jer>::read_jer,
+        )?;
+        let f_events = crate::jer::read_optional(
+            v,
+            "events",
+            <PrivilegedEvents as crate::jer::Jer>::read_jer,
+        )?;
+        let f_response_type = crate::jer::read_optional(
+            v,
+            "responseType",
+            <ResponseType as crate::jer::Jer>::read_jer,
+        )?;
         Ok(Self {
             not_used: f_not_used,
             siren_use: f_siren_use,
@@ -5026,10 +5062,12 @@ impl crate::jer::Jer for PrivilegedEvents {
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         crate::jer::member(v, "")?;
         let f_not_used =
-            crate::jer::read_member(v, "notUsed", |x| <SSPindex as crate::jer::Jer>::read_jer(x))?;
-        let f_event = crate::jer::read_member(v, "event", |x| {
-            <PrivilegedEventFlags as crate::jer::Jer>::read_jer(x)
-        })?;
+            crate::jer::read_member(v, "notUsed", <SSPindex as crate::jer::Jer>::read_jer)?;
+        let f_event = crate::jer::read_member(
+            v,
+            "event",
+            <PrivilegedEventFlags as crate::jer::Jer>::read_jer,
+        )?;
         Ok(Self {
             not_used: f_not_used,
             event: f_event,
@@ -5647,12 +5685,10 @@ impl crate::jer::Jer for BumperHeights {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         crate::jer::member(v, "")?;
-        let f_front = crate::jer::read_member(v, "front", |x| {
-            <BumperHeight as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_rear = crate::jer::read_member(v, "rear", |x| {
-            <BumperHeight as crate::jer::Jer>::read_jer(x)
-        })?;
+        let f_front =
+            crate::jer::read_member(v, "front", <BumperHeight as crate::jer::Jer>::read_jer)?;
+        let f_rear =
+            crate::jer::read_member(v, "rear", <BumperHeight as crate::jer::Jer>::read_jer)?;
         Ok(Self {
             front: f_front,
             rear: f_rear,
@@ -5725,8 +5761,8 @@ impl crate::jer::Jer for NodeXY24b {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         crate::jer::member(v, "")?;
-        let f_x = crate::jer::read_member(v, "x", |x| <OffsetB12 as crate::jer::Jer>::read_jer(x))?;
-        let f_y = crate::jer::read_member(v, "y", |x| <OffsetB12 as crate::jer::Jer>::read_jer(x))?;
+        let f_x = crate::jer::read_member(v, "x", <OffsetB12 as crate::jer::Jer>::read_jer)?;
+        let f_y = crate::jer::read_member(v, "y", <OffsetB12 as crate::jer::Jer>::read_jer)?;
         Ok(Self { x: f_x, y: f_y })
     }
 }
@@ -5983,33 +6019,42 @@ impl crate::jer::Jer for VehicleClassification {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         crate::jer::member(v, "")?;
-        let f_key_type = crate::jer::read_optional(v, "keyType", |x| {
-            <BasicVehicleClass as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_role = crate::jer::read_optional(v, "role", |x| {
-            <BasicVehicleRole as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_iso3883 = crate::jer::read_optional(v, "iso3883", |x| {
-            <Iso3833VehicleType as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_hpms_type = crate::jer::read_optional(v, "hpmsType", |x| {
-            <VehicleType as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_vehicle_type = crate::jer::read_optional(v, "vehicleType", |x| {
-            <super::itis::VehicleGroupAffected as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_response_equip = crate::jer::read_optional(v, "responseEquip", |x| {
-            <super::itis::IncidentResponseEquipment as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_responder_type = crate::jer::read_optional(v, "responderType", |x| {
-            <super::itis::ResponderGroupAffected as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_fuel_type = crate::jer::read_optional(v, "fuelType", |x| {
-            <FuelType as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_regional = crate::jer::read_optional(v, "regional", |x| {
-            <VehicleClassificationRegional as crate::jer::Jer>::read_jer(x)
-        })?;
+        let f_key_type = crate::jer::read_optional(
+            v,
+            "keyType",
+            <BasicVehicleClass as crate::jer::Jer>::read_jer,
+        )?;
+        let f_role =
+            crate::jer::read_optional(v, "role", <BasicVehicleRole as crate::jer::Jer>::read_jer)?;
+        let f_iso3883 = crate::jer::read_optional(
+            v,
+            "iso3883",
+            <Iso3833VehicleType as crate::jer::Jer>::read_jer,
+        )?;
+        let f_hpms_type =
+            crate::jer::read_optional(v, "hpmsType", <VehicleType as crate::jer::Jer>::read_jer)?;
+        let f_vehicle_type = crate::jer::read_optional(
+            v,
+            "vehicleType",
+            <super::itis::VehicleGroupAffected as crate::jer::Jer>::read_jer,
+        )?;
+        let f_response_equip = crate::jer::read_optional(
+            v,
+            "responseEquip",
+            <super::itis::IncidentResponseEquipment as crate::jer::Jer>::read_jer,
+        )?;
+        let f_responder_type = crate::jer::read_optional(
+            v,
+            "responderType",
+            <super::itis::ResponderGroupAffected as crate::jer::Jer>::read_jer,
+        )?;
+        let f_fuel_type =
+            crate::jer::read_optional(v, "fuelType", <FuelType as crate::jer::Jer>::read_jer)?;
+        let f_regional = crate::jer::read_optional(
+            v,
+            "regional",
+            <VehicleClassificationRegional as crate::jer::Jer>::read_jer,
+        )?;
         Ok(Self {
             key_type: f_key_type,
             role: f_role,
@@ -6603,7 +6648,7 @@ impl crate::jer::Jer for VehicleClassificationRegional {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         let items = crate::jer::array(v)?;
-        if items.len() < 1 {
+        if items.is_empty() {
             return Err(crate::jer::invalid("size"));
         }
         let mut list = Self::new();
@@ -6876,18 +6921,14 @@ impl crate::jer::Jer for WiperSet {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         crate::jer::member(v, "")?;
-        let f_status_front = crate::jer::read_member(v, "statusFront", |x| {
-            <WiperStatus as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_rate_front = crate::jer::read_member(v, "rateFront", |x| {
-            <WiperRate as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_status_rear = crate::jer::read_optional(v, "statusRear", |x| {
-            <WiperStatus as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_rate_rear = crate::jer::read_optional(v, "rateRear", |x| {
-            <WiperRate as crate::jer::Jer>::read_jer(x)
-        })?;
+        let f_status_front =
+            crate::jer::read_member(v, "statusFront", <WiperStatus as crate::jer::Jer>::read_jer)?;
+        let f_rate_front =
+            crate::jer::read_member(v, "rateFront", <WiperRate as crate::jer::Jer>::read_jer)?;
+        let f_status_rear =
+            crate::jer::read_optional(v, "statusRear", <WiperStatus as crate::jer::Jer>::read_jer)?;
+        let f_rate_rear =
+            crate::jer::read_optional(v, "rateRear", <WiperRate as crate::jer::Jer>::read_jer)?;
         Ok(Self {
             status_front: f_status_front,
             rate_front: f_rate_front,
@@ -7189,12 +7230,13 @@ impl crate::jer::Jer for RTCMheader {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         crate::jer::member(v, "")?;
-        let f_status = crate::jer::read_member(v, "status", |x| {
-            <GNSSstatus as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_offset_set = crate::jer::read_member(v, "offsetSet", |x| {
-            <AntennaOffsetSet as crate::jer::Jer>::read_jer(x)
-        })?;
+        let f_status =
+            crate::jer::read_member(v, "status", <GNSSstatus as crate::jer::Jer>::read_jer)?;
+        let f_offset_set = crate::jer::read_member(
+            v,
+            "offsetSet",
+            <AntennaOffsetSet as crate::jer::Jer>::read_jer,
+        )?;
         Ok(Self {
             status: f_status,
             offset_set: f_offset_set,
@@ -7264,15 +7306,12 @@ impl crate::jer::Jer for AntennaOffsetSet {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         crate::jer::member(v, "")?;
-        let f_ant_offset_x = crate::jer::read_member(v, "antOffsetX", |x| {
-            <OffsetB12 as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_ant_offset_y = crate::jer::read_member(v, "antOffsetY", |x| {
-            <OffsetB09 as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_ant_offset_z = crate::jer::read_member(v, "antOffsetZ", |x| {
-            <OffsetB10 as crate::jer::Jer>::read_jer(x)
-        })?;
+        let f_ant_offset_x =
+            crate::jer::read_member(v, "antOffsetX", <OffsetB12 as crate::jer::Jer>::read_jer)?;
+        let f_ant_offset_y =
+            crate::jer::read_member(v, "antOffsetY", <OffsetB09 as crate::jer::Jer>::read_jer)?;
+        let f_ant_offset_z =
+            crate::jer::read_member(v, "antOffsetZ", <OffsetB10 as crate::jer::Jer>::read_jer)?;
         Ok(Self {
             ant_offset_x: f_ant_offset_x,
             ant_offset_y: f_ant_offset_y,
@@ -7350,7 +7389,7 @@ impl crate::jer::Jer for RTCMmessageList {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         let items = crate::jer::array(v)?;
-        if items.len() < 1 {
+        if items.is_empty() {
             return Err(crate::jer::invalid("size"));
         }
         let mut list = Self::new();
@@ -7589,16 +7628,15 @@ impl crate::jer::Jer for Position3D {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         crate::jer::member(v, "")?;
-        let f_lat =
-            crate::jer::read_member(v, "lat", |x| <Latitude as crate::jer::Jer>::read_jer(x))?;
-        let f_long =
-            crate::jer::read_member(v, "long", |x| <Longitude as crate::jer::Jer>::read_jer(x))?;
-        let f_elevation = crate::jer::read_optional(v, "elevation", |x| {
-            <Elevation as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_regional = crate::jer::read_optional(v, "regional", |x| {
-            <Position3DRegional as crate::jer::Jer>::read_jer(x)
-        })?;
+        let f_lat = crate::jer::read_member(v, "lat", <Latitude as crate::jer::Jer>::read_jer)?;
+        let f_long = crate::jer::read_member(v, "long", <Longitude as crate::jer::Jer>::read_jer)?;
+        let f_elevation =
+            crate::jer::read_optional(v, "elevation", <Elevation as crate::jer::Jer>::read_jer)?;
+        let f_regional = crate::jer::read_optional(
+            v,
+            "regional",
+            <Position3DRegional as crate::jer::Jer>::read_jer,
+        )?;
         Ok(Self {
             lat: f_lat,
             long: f_long,
@@ -7678,7 +7716,7 @@ impl crate::jer::Jer for Position3DRegional {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         let items = crate::jer::array(v)?;
-        if items.len() < 1 {
+        if items.is_empty() {
             return Err(crate::jer::invalid("size"));
         }
         let mut list = Self::new();
@@ -7941,7 +7979,7 @@ impl crate::jer::Jer for SpeedLimitList {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         let items = crate::jer::array(v)?;
-        if items.len() < 1 {
+        if items.is_empty() {
             return Err(crate::jer::invalid("size"));
         }
         let mut list = Self::new();
@@ -8011,11 +8049,9 @@ impl crate::jer::Jer for RegulatorySpeedLimit {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         crate::jer::member(v, "")?;
-        let f_type = crate::jer::read_member(v, "type", |x| {
-            <SpeedLimitType as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_speed =
-            crate::jer::read_member(v, "speed", |x| <Velocity as crate::jer::Jer>::read_jer(x))?;
+        let f_type =
+            crate::jer::read_member(v, "type", <SpeedLimitType as crate::jer::Jer>::read_jer)?;
+        let f_speed = crate::jer::read_member(v, "speed", <Velocity as crate::jer::Jer>::read_jer)?;
         Ok(Self {
             r#type: f_type,
             speed: f_speed,
@@ -8502,12 +8538,13 @@ impl crate::jer::Jer for NodeXY {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         crate::jer::member(v, "")?;
-        let f_delta = crate::jer::read_member(v, "delta", |x| {
-            <NodeOffsetPointXY as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_attributes = crate::jer::read_optional(v, "attributes", |x| {
-            <NodeAttributeSetXY as crate::jer::Jer>::read_jer(x)
-        })?;
+        let f_delta =
+            crate::jer::read_member(v, "delta", <NodeOffsetPointXY as crate::jer::Jer>::read_jer)?;
+        let f_attributes = crate::jer::read_optional(
+            v,
+            "attributes",
+            <NodeAttributeSetXY as crate::jer::Jer>::read_jer,
+        )?;
         Ok(Self {
             delta: f_delta,
             attributes: f_attributes,
@@ -8841,8 +8878,8 @@ impl crate::jer::Jer for NodeXY20b {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         crate::jer::member(v, "")?;
-        let f_x = crate::jer::read_member(v, "x", |x| <OffsetB10 as crate::jer::Jer>::read_jer(x))?;
-        let f_y = crate::jer::read_member(v, "y", |x| <OffsetB10 as crate::jer::Jer>::read_jer(x))?;
+        let f_x = crate::jer::read_member(v, "x", <OffsetB10 as crate::jer::Jer>::read_jer)?;
+        let f_y = crate::jer::read_member(v, "y", <OffsetB10 as crate::jer::Jer>::read_jer)?;
         Ok(Self { x: f_x, y: f_y })
     }
 }
@@ -8902,8 +8939,8 @@ impl crate::jer::Jer for NodeXY22b {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         crate::jer::member(v, "")?;
-        let f_x = crate::jer::read_member(v, "x", |x| <OffsetB11 as crate::jer::Jer>::read_jer(x))?;
-        let f_y = crate::jer::read_member(v, "y", |x| <OffsetB11 as crate::jer::Jer>::read_jer(x))?;
+        let f_x = crate::jer::read_member(v, "x", <OffsetB11 as crate::jer::Jer>::read_jer)?;
+        let f_y = crate::jer::read_member(v, "y", <OffsetB11 as crate::jer::Jer>::read_jer)?;
         Ok(Self { x: f_x, y: f_y })
     }
 }
@@ -8963,8 +9000,8 @@ impl crate::jer::Jer for NodeXY26b {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         crate::jer::member(v, "")?;
-        let f_x = crate::jer::read_member(v, "x", |x| <OffsetB13 as crate::jer::Jer>::read_jer(x))?;
-        let f_y = crate::jer::read_member(v, "y", |x| <OffsetB13 as crate::jer::Jer>::read_jer(x))?;
+        let f_x = crate::jer::read_member(v, "x", <OffsetB13 as crate::jer::Jer>::read_jer)?;
+        let f_y = crate::jer::read_member(v, "y", <OffsetB13 as crate::jer::Jer>::read_jer)?;
         Ok(Self { x: f_x, y: f_y })
     }
 }
@@ -9029,8 +9066,8 @@ impl crate::jer::Jer for NodeXY28b {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         crate::jer::member(v, "")?;
-        let f_x = crate::jer::read_member(v, "x", |x| <OffsetB14 as crate::jer::Jer>::read_jer(x))?;
-        let f_y = crate::jer::read_member(v, "y", |x| <OffsetB14 as crate::jer::Jer>::read_jer(x))?;
+        let f_x = crate::jer::read_member(v, "x", <OffsetB14 as crate::jer::Jer>::read_jer)?;
+        let f_y = crate::jer::read_member(v, "y", <OffsetB14 as crate::jer::Jer>::read_jer)?;
         Ok(Self { x: f_x, y: f_y })
     }
 }
@@ -9095,8 +9132,8 @@ impl crate::jer::Jer for NodeXY32b {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         crate::jer::member(v, "")?;
-        let f_x = crate::jer::read_member(v, "x", |x| <OffsetB16 as crate::jer::Jer>::read_jer(x))?;
-        let f_y = crate::jer::read_member(v, "y", |x| <OffsetB16 as crate::jer::Jer>::read_jer(x))?;
+        let f_x = crate::jer::read_member(v, "x", <OffsetB16 as crate::jer::Jer>::read_jer)?;
+        let f_y = crate::jer::read_member(v, "y", <OffsetB16 as crate::jer::Jer>::read_jer)?;
         Ok(Self { x: f_x, y: f_y })
     }
 }
@@ -9161,10 +9198,8 @@ impl crate::jer::Jer for NodeLLmD64b {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         crate::jer::member(v, "")?;
-        let f_lon =
-            crate::jer::read_member(v, "lon", |x| <Longitude as crate::jer::Jer>::read_jer(x))?;
-        let f_lat =
-            crate::jer::read_member(v, "lat", |x| <Latitude as crate::jer::Jer>::read_jer(x))?;
+        let f_lon = crate::jer::read_member(v, "lon", <Longitude as crate::jer::Jer>::read_jer)?;
+        let f_lat = crate::jer::read_member(v, "lat", <Latitude as crate::jer::Jer>::read_jer)?;
         Ok(Self {
             lon: f_lon,
             lat: f_lat,
@@ -9524,27 +9559,35 @@ impl crate::jer::Jer for NodeAttributeSetXY {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         crate::jer::member(v, "")?;
-        let f_local_node = crate::jer::read_optional(v, "localNode", |x| {
-            <NodeAttributeXYList as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_disabled = crate::jer::read_optional(v, "disabled", |x| {
-            <SegmentAttributeXYList as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_enabled = crate::jer::read_optional(v, "enabled", |x| {
-            <SegmentAttributeXYList as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_data = crate::jer::read_optional(v, "data", |x| {
-            <LaneDataAttributeList as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_d_width = crate::jer::read_optional(v, "dWidth", |x| {
-            <OffsetB10 as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_d_elevation = crate::jer::read_optional(v, "dElevation", |x| {
-            <OffsetB10 as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_regional = crate::jer::read_optional(v, "regional", |x| {
-            <NodeAttributeSetXYRegional as crate::jer::Jer>::read_jer(x)
-        })?;
+        let f_local_node = crate::jer::read_optional(
+            v,
+            "localNode",
+            <NodeAttributeXYList as crate::jer::Jer>::read_jer,
+        )?;
+        let f_disabled = crate::jer::read_optional(
+            v,
+            "disabled",
+            <SegmentAttributeXYList as crate::jer::Jer>::read_jer,
+        )?;
+        let f_enabled = crate::jer::read_optional(
+            v,
+            "enabled",
+            <SegmentAttributeXYList as crate::jer::Jer>::read_jer,
+        )?;
+        let f_data = crate::jer::read_optional(
+            v,
+            "data",
+            <LaneDataAttributeList as crate::jer::Jer>::read_jer,
+        )?;
+        let f_d_width =
+            crate::jer::read_optional(v, "dWidth", <OffsetB10 as crate::jer::Jer>::read_jer)?;
+        let f_d_elevation =
+            crate::jer::read_optional(v, "dElevation", <OffsetB10 as crate::jer::Jer>::read_jer)?;
+        let f_regional = crate::jer::read_optional(
+            v,
+            "regional",
+            <NodeAttributeSetXYRegional as crate::jer::Jer>::read_jer,
+        )?;
         Ok(Self {
             local_node: f_local_node,
             disabled: f_disabled,
@@ -9650,7 +9693,7 @@ impl crate::jer::Jer for NodeAttributeXYList {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         let items = crate::jer::array(v)?;
-        if items.len() < 1 {
+        if items.is_empty() {
             return Err(crate::jer::invalid("size"));
         }
         let mut list = Self::new();
@@ -9901,7 +9944,7 @@ impl crate::jer::Jer for SegmentAttributeXYList {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         let items = crate::jer::array(v)?;
-        if items.len() < 1 {
+        if items.is_empty() {
             return Err(crate::jer::invalid("size"));
         }
         let mut list = Self::new();
@@ -10334,7 +10377,7 @@ impl crate::jer::Jer for LaneDataAttributeList {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         let items = crate::jer::array(v)?;
-        if items.len() < 1 {
+        if items.is_empty() {
             return Err(crate::jer::invalid("size"));
         }
         let mut list = Self::new();
@@ -10713,7 +10756,7 @@ impl crate::jer::Jer for LaneDataAttributeRegional {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         let items = crate::jer::array(v)?;
-        if items.len() < 1 {
+        if items.is_empty() {
             return Err(crate::jer::invalid("size"));
         }
         let mut list = Self::new();
@@ -10938,7 +10981,7 @@ impl crate::jer::Jer for NodeAttributeSetXYRegional {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         let items = crate::jer::array(v)?;
-        if items.len() < 1 {
+        if items.is_empty() {
             return Err(crate::jer::invalid("size"));
         }
         let mut list = Self::new();
@@ -11232,26 +11275,29 @@ impl crate::jer::Jer for ComputedLane {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         crate::jer::member(v, "")?;
-        let f_reference_lane_id = crate::jer::read_member(v, "referenceLaneId", |x| {
-            <LaneID as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_offset_xaxis = crate::jer::read_member(v, "offsetXaxis", |x| {
-            <ComputedLaneOffsetXaxis as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_offset_yaxis = crate::jer::read_member(v, "offsetYaxis", |x| {
-            <ComputedLaneOffsetYaxis as crate::jer::Jer>::read_jer(x)
-        })?;
+        let f_reference_lane_id =
+            crate::jer::read_member(v, "referenceLaneId", <LaneID as crate::jer::Jer>::read_jer)?;
+        let f_offset_xaxis = crate::jer::read_member(
+            v,
+            "offsetXaxis",
+            <ComputedLaneOffsetXaxis as crate::jer::Jer>::read_jer,
+        )?;
+        let f_offset_yaxis = crate::jer::read_member(
+            v,
+            "offsetYaxis",
+            <ComputedLaneOffsetYaxis as crate::jer::Jer>::read_jer,
+        )?;
         let f_rotate_xy =
-            crate::jer::read_optional(v, "rotateXY", |x| <Angle as crate::jer::Jer>::read_jer(x))?;
-        let f_scale_xaxis = crate::jer::read_optional(v, "scaleXaxis", |x| {
-            <ScaleB12 as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_scale_yaxis = crate::jer::read_optional(v, "scaleYaxis", |x| {
-            <ScaleB12 as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_regional = crate::jer::read_optional(v, "regional", |x| {
-            <ComputedLaneRegional as crate::jer::Jer>::read_jer(x)
-        })?;
+            crate::jer::read_optional(v, "rotateXY", <Angle as crate::jer::Jer>::read_jer)?;
+        let f_scale_xaxis =
+            crate::jer::read_optional(v, "scaleXaxis", <ScaleB12 as crate::jer::Jer>::read_jer)?;
+        let f_scale_yaxis =
+            crate::jer::read_optional(v, "scaleYaxis", <ScaleB12 as crate::jer::Jer>::read_jer)?;
+        let f_regional = crate::jer::read_optional(
+            v,
+            "regional",
+            <ComputedLaneRegional as crate::jer::Jer>::read_jer,
+        )?;
         Ok(Self {
             reference_lane_id: f_reference_lane_id,
             offset_xaxis: f_offset_xaxis,
@@ -11590,7 +11636,7 @@ impl crate::jer::Jer for ComputedLaneRegional {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         let items = crate::jer::array(v)?;
-        if items.len() < 1 {
+        if items.is_empty() {
             return Err(crate::jer::invalid("size"));
         }
         let mut list = Self::new();
@@ -11806,11 +11852,9 @@ impl crate::jer::Jer for RoadSegmentReferenceID {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         crate::jer::member(v, "")?;
-        let f_region = crate::jer::read_optional(v, "region", |x| {
-            <RoadRegulatorID as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_id =
-            crate::jer::read_member(v, "id", |x| <RoadSegmentID as crate::jer::Jer>::read_jer(x))?;
+        let f_region =
+            crate::jer::read_optional(v, "region", <RoadRegulatorID as crate::jer::Jer>::read_jer)?;
+        let f_id = crate::jer::read_member(v, "id", <RoadSegmentID as crate::jer::Jer>::read_jer)?;
         Ok(Self {
             region: f_region,
             id: f_id,
@@ -12469,24 +12513,27 @@ impl crate::jer::Jer for RequestorType {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         crate::jer::member(v, "")?;
-        let f_role = crate::jer::read_member(v, "role", |x| {
-            <BasicVehicleRole as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_subrole = crate::jer::read_optional(v, "subrole", |x| {
-            <RequestSubRole as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_request = crate::jer::read_optional(v, "request", |x| {
-            <RequestImportanceLevel as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_iso3883 = crate::jer::read_optional(v, "iso3883", |x| {
-            <Iso3833VehicleType as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_hpms_type = crate::jer::read_optional(v, "hpmsType", |x| {
-            <VehicleType as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_regional = crate::jer::read_optional(v, "regional", |x| {
-            <RegRequestorType as crate::jer::Jer>::read_jer(x)
-        })?;
+        let f_role =
+            crate::jer::read_member(v, "role", <BasicVehicleRole as crate::jer::Jer>::read_jer)?;
+        let f_subrole =
+            crate::jer::read_optional(v, "subrole", <RequestSubRole as crate::jer::Jer>::read_jer)?;
+        let f_request = crate::jer::read_optional(
+            v,
+            "request",
+            <RequestImportanceLevel as crate::jer::Jer>::read_jer,
+        )?;
+        let f_iso3883 = crate::jer::read_optional(
+            v,
+            "iso3883",
+            <Iso3833VehicleType as crate::jer::Jer>::read_jer,
+        )?;
+        let f_hpms_type =
+            crate::jer::read_optional(v, "hpmsType", <VehicleType as crate::jer::Jer>::read_jer)?;
+        let f_regional = crate::jer::read_optional(
+            v,
+            "regional",
+            <RegRequestorType as crate::jer::Jer>::read_jer,
+        )?;
         Ok(Self {
             role: f_role,
             subrole: f_subrole,
@@ -13158,16 +13205,19 @@ impl crate::jer::Jer for Header {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         crate::jer::member(v, "")?;
-        let f_year =
-            crate::jer::read_optional(v, "year", |x| <DYear as crate::jer::Jer>::read_jer(x))?;
-        let f_time_stamp = crate::jer::read_optional(v, "timeStamp", |x| {
-            <MinuteOfTheYear as crate::jer::Jer>::read_jer(x)
-        })?;
+        let f_year = crate::jer::read_optional(v, "year", <DYear as crate::jer::Jer>::read_jer)?;
+        let f_time_stamp = crate::jer::read_optional(
+            v,
+            "timeStamp",
+            <MinuteOfTheYear as crate::jer::Jer>::read_jer,
+        )?;
         let f_sec_mark =
-            crate::jer::read_optional(v, "secMark", |x| <DSecond as crate::jer::Jer>::read_jer(x))?;
-        let f_msg_issue_revision = crate::jer::read_optional(v, "msgIssueRevision", |x| {
-            <MsgCount as crate::jer::Jer>::read_jer(x)
-        })?;
+            crate::jer::read_optional(v, "secMark", <DSecond as crate::jer::Jer>::read_jer)?;
+        let f_msg_issue_revision = crate::jer::read_optional(
+            v,
+            "msgIssueRevision",
+            <MsgCount as crate::jer::Jer>::read_jer,
+        )?;
         Ok(Self {
             year: f_year,
             time_stamp: f_time_stamp,
@@ -13259,11 +13309,9 @@ impl crate::jer::Jer for DDate {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         crate::jer::member(v, "")?;
-        let f_year =
-            crate::jer::read_member(v, "year", |x| <DYear as crate::jer::Jer>::read_jer(x))?;
-        let f_month =
-            crate::jer::read_member(v, "month", |x| <DMonth as crate::jer::Jer>::read_jer(x))?;
-        let f_day = crate::jer::read_member(v, "day", |x| <DDay as crate::jer::Jer>::read_jer(x))?;
+        let f_year = crate::jer::read_member(v, "year", <DYear as crate::jer::Jer>::read_jer)?;
+        let f_month = crate::jer::read_member(v, "month", <DMonth as crate::jer::Jer>::read_jer)?;
+        let f_day = crate::jer::read_member(v, "day", <DDay as crate::jer::Jer>::read_jer)?;
         Ok(Self {
             year: f_year,
             month: f_month,
@@ -13349,15 +13397,12 @@ impl crate::jer::Jer for DFullTime {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         crate::jer::member(v, "")?;
-        let f_year =
-            crate::jer::read_member(v, "year", |x| <DYear as crate::jer::Jer>::read_jer(x))?;
-        let f_month =
-            crate::jer::read_member(v, "month", |x| <DMonth as crate::jer::Jer>::read_jer(x))?;
-        let f_day = crate::jer::read_member(v, "day", |x| <DDay as crate::jer::Jer>::read_jer(x))?;
-        let f_hour =
-            crate::jer::read_member(v, "hour", |x| <DHour as crate::jer::Jer>::read_jer(x))?;
+        let f_year = crate::jer::read_member(v, "year", <DYear as crate::jer::Jer>::read_jer)?;
+        let f_month = crate::jer::read_member(v, "month", <DMonth as crate::jer::Jer>::read_jer)?;
+        let f_day = crate::jer::read_member(v, "day", <DDay as crate::jer::Jer>::read_jer)?;
+        let f_hour = crate::jer::read_member(v, "hour", <DHour as crate::jer::Jer>::read_jer)?;
         let f_minute =
-            crate::jer::read_member(v, "minute", |x| <DMinute as crate::jer::Jer>::read_jer(x))?;
+            crate::jer::read_member(v, "minute", <DMinute as crate::jer::Jer>::read_jer)?;
         Ok(Self {
             year: f_year,
             month: f_month,
@@ -13426,9 +13471,8 @@ impl crate::jer::Jer for DMonthDay {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         crate::jer::member(v, "")?;
-        let f_month =
-            crate::jer::read_member(v, "month", |x| <DMonth as crate::jer::Jer>::read_jer(x))?;
-        let f_day = crate::jer::read_member(v, "day", |x| <DDay as crate::jer::Jer>::read_jer(x))?;
+        let f_month = crate::jer::read_member(v, "month", <DMonth as crate::jer::Jer>::read_jer)?;
+        let f_day = crate::jer::read_member(v, "day", <DDay as crate::jer::Jer>::read_jer)?;
         Ok(Self {
             month: f_month,
             day: f_day,
@@ -13520,14 +13564,13 @@ impl crate::jer::Jer for DTime {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         crate::jer::member(v, "")?;
-        let f_hour =
-            crate::jer::read_member(v, "hour", |x| <DHour as crate::jer::Jer>::read_jer(x))?;
+        let f_hour = crate::jer::read_member(v, "hour", <DHour as crate::jer::Jer>::read_jer)?;
         let f_minute =
-            crate::jer::read_member(v, "minute", |x| <DMinute as crate::jer::Jer>::read_jer(x))?;
+            crate::jer::read_member(v, "minute", <DMinute as crate::jer::Jer>::read_jer)?;
         let f_second =
-            crate::jer::read_member(v, "second", |x| <DSecond as crate::jer::Jer>::read_jer(x))?;
+            crate::jer::read_member(v, "second", <DSecond as crate::jer::Jer>::read_jer)?;
         let f_offset =
-            crate::jer::read_optional(v, "offset", |x| <DOffset as crate::jer::Jer>::read_jer(x))?;
+            crate::jer::read_optional(v, "offset", <DOffset as crate::jer::Jer>::read_jer)?;
         Ok(Self {
             hour: f_hour,
             minute: f_minute,
@@ -13598,10 +13641,8 @@ impl crate::jer::Jer for DYearMonth {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         crate::jer::member(v, "")?;
-        let f_year =
-            crate::jer::read_member(v, "year", |x| <DYear as crate::jer::Jer>::read_jer(x))?;
-        let f_month =
-            crate::jer::read_member(v, "month", |x| <DMonth as crate::jer::Jer>::read_jer(x))?;
+        let f_year = crate::jer::read_member(v, "year", <DYear as crate::jer::Jer>::read_jer)?;
+        let f_month = crate::jer::read_member(v, "month", <DMonth as crate::jer::Jer>::read_jer)?;
         Ok(Self {
             year: f_year,
             month: f_month,

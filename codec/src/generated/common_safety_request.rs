@@ -145,21 +145,31 @@ impl crate::jer::Jer for CommonSafetyRequest {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         crate::jer::member(v, "")?;
-        let f_time_stamp = crate::jer::read_optional(v, "timeStamp", |x| {
-            <super::common::MinuteOfTheYear as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_msg_cnt = crate::jer::read_optional(v, "msgCnt", |x| {
-            <super::common::MsgCount as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_id = crate::jer::read_optional(v, "id", |x| {
-            <super::common::TemporaryID as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_requests = crate::jer::read_member(v, "requests", |x| {
-            <RequestedItemList as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_regional = crate::jer::read_optional(v, "regional", |x| {
-            <CommonSafetyRequestRegional as crate::jer::Jer>::read_jer(x)
-        })?;
+        let f_time_stamp = crate::jer::read_optional(
+            v,
+            "timeStamp",
+            <super::common::MinuteOfTheYear as crate::jer::Jer>::read_jer,
+        )?;
+        let f_msg_cnt = crate::jer::read_optional(
+            v,
+            "msgCnt",
+            <super::common::MsgCount as crate::jer::Jer>::read_jer,
+        )?;
+        let f_id = crate::jer::read_optional(
+            v,
+            "id",
+            <super::common::TemporaryID as crate::jer::Jer>::read_jer,
+        )?;
+        let f_requests = crate::jer::read_member(
+            v,
+            "requests",
+            <RequestedItemList as crate::jer::Jer>::read_jer,
+        )?;
+        let f_regional = crate::jer::read_optional(
+            v,
+            "regional",
+            <CommonSafetyRequestRegional as crate::jer::Jer>::read_jer,
+        )?;
         Ok(Self {
             time_stamp: f_time_stamp,
             msg_cnt: f_msg_cnt,
@@ -254,7 +264,7 @@ impl crate::jer::Jer for RequestedItemList {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         let items = crate::jer::array(v)?;
-        if items.len() < 1 {
+        if items.is_empty() {
             return Err(crate::jer::invalid("size"));
         }
         let mut list = Self::new();
@@ -544,7 +554,7 @@ impl crate::jer::Jer for CommonSafetyRequestRegional {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         let items = crate::jer::array(v)?;
-        if items.len() < 1 {
+        if items.is_empty() {
             return Err(crate::jer::invalid("size"));
         }
         let mut list = Self::new();

@@ -271,39 +271,61 @@ impl crate::jer::Jer for EmergencyVehicleAlert {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         crate::jer::member(v, "")?;
-        let f_time_stamp = crate::jer::read_optional(v, "timeStamp", |x| {
-            <super::common::MinuteOfTheYear as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_id = crate::jer::read_optional(v, "id", |x| {
-            <super::common::TemporaryID as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_rsa_msg = crate::jer::read_member(v, "rsaMsg", |x| {
-            <super::road_side_alert::RoadSideAlert as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_response_type = crate::jer::read_optional(v, "responseType", |x| {
-            <super::common::ResponseType as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_details = crate::jer::read_optional(v, "details", |x| {
-            <super::common::EmergencyDetails as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_mass = crate::jer::read_optional(v, "mass", |x| {
-            <super::common::VehicleMass as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_basic_type = crate::jer::read_optional(v, "basicType", |x| {
-            <super::common::VehicleType as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_vehicle_type = crate::jer::read_optional(v, "vehicleType", |x| {
-            <super::itis::VehicleGroupAffected as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_response_equip = crate::jer::read_optional(v, "responseEquip", |x| {
-            <super::itis::IncidentResponseEquipment as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_responder_type = crate::jer::read_optional(v, "responderType", |x| {
-            <super::itis::ResponderGroupAffected as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_regional = crate::jer::read_optional(v, "regional", |x| {
-            <EmergencyVehicleAlertRegional as crate::jer::Jer>::read_jer(x)
-        })?;
+        let f_time_stamp = crate::jer::read_optional(
+            v,
+            "timeStamp",
+            <super::common::MinuteOfTheYear as crate::jer::Jer>::read_jer,
+        )?;
+        let f_id = crate::jer::read_optional(
+            v,
+            "id",
+            <super::common::TemporaryID as crate::jer::Jer>::read_jer,
+        )?;
+        let f_rsa_msg = crate::jer::read_member(
+            v,
+            "rsaMsg",
+            <super::road_side_alert::RoadSideAlert as crate::jer::Jer>::read_jer,
+        )?;
+        let f_response_type = crate::jer::read_optional(
+            v,
+            "responseType",
+            <super::common::ResponseType as crate::jer::Jer>::read_jer,
+        )?;
+        let f_details = crate::jer::read_optional(
+            v,
+            "details",
+            <super::common::EmergencyDetails as crate::jer::Jer>::read_jer,
+        )?;
+        let f_mass = crate::jer::read_optional(
+            v,
+            "mass",
+            <super::common::VehicleMass as crate::jer::Jer>::read_jer,
+        )?;
+        let f_basic_type = crate::jer::read_optional(
+            v,
+            "basicType",
+            <super::common::VehicleType as crate::jer::Jer>::read_jer,
+        )?;
+        let f_vehicle_type = crate::jer::read_optional(
+            v,
+            "vehicleType",
+            <super::itis::VehicleGroupAffected as crate::jer::Jer>::read_jer,
+        )?;
+        let f_response_equip = crate::jer::read_optional(
+            v,
+            "responseEquip",
+            <super::itis::IncidentResponseEquipment as crate::jer::Jer>::read_jer,
+        )?;
+        let f_responder_type = crate::jer::read_optional(
+            v,
+            "responderType",
+            <super::itis::ResponderGroupAffected as crate::jer::Jer>::read_jer,
+        )?;
+        let f_regional = crate::jer::read_optional(
+            v,
+            "regional",
+            <EmergencyVehicleAlertRegional as crate::jer::Jer>::read_jer,
+        )?;
         Ok(Self {
             time_stamp: f_time_stamp,
             id: f_id,
@@ -434,7 +456,7 @@ impl crate::jer::Jer for EmergencyVehicleAlertRegional {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         let items = crate::jer::array(v)?;
-        if items.len() < 1 {
+        if items.is_empty() {
             return Err(crate::jer::invalid("size"));
         }
         let mut list = Self::new();

@@ -195,36 +195,56 @@ impl crate::jer::Jer for IntersectionCollision {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         crate::jer::member(v, "")?;
-        let f_msg_cnt = crate::jer::read_member(v, "msgCnt", |x| {
-            <super::common::MsgCount as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_id = crate::jer::read_member(v, "id", |x| {
-            <super::common::TemporaryID as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_time_stamp = crate::jer::read_optional(v, "timeStamp", |x| {
-            <super::common::MinuteOfTheYear as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_part_one = crate::jer::read_optional(v, "partOne", |x| {
-            <super::common::BSMcoreData as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_path = crate::jer::read_optional(v, "path", |x| {
-            <super::common::PathHistory as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_path_prediction = crate::jer::read_optional(v, "pathPrediction", |x| {
-            <super::common::PathPrediction as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_intersection_id = crate::jer::read_member(v, "intersectionID", |x| {
-            <super::common::IntersectionReferenceID as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_lane_number = crate::jer::read_member(v, "laneNumber", |x| {
-            <ApproachOrLane as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_event_flag = crate::jer::read_member(v, "eventFlag", |x| {
-            <super::common::VehicleEventFlags as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_regional = crate::jer::read_optional(v, "regional", |x| {
-            <IntersectionCollisionRegional as crate::jer::Jer>::read_jer(x)
-        })?;
+        let f_msg_cnt = crate::jer::read_member(
+            v,
+            "msgCnt",
+            <super::common::MsgCount as crate::jer::Jer>::read_jer,
+        )?;
+        let f_id = crate::jer::read_member(
+            v,
+            "id",
+            <super::common::TemporaryID as crate::jer::Jer>::read_jer,
+        )?;
+        let f_time_stamp = crate::jer::read_optional(
+            v,
+            "timeStamp",
+            <super::common::MinuteOfTheYear as crate::jer::Jer>::read_jer,
+        )?;
+        let f_part_one = crate::jer::read_optional(
+            v,
+            "partOne",
+            <super::common::BSMcoreData as crate::jer::Jer>::read_jer,
+        )?;
+        let f_path = crate::jer::read_optional(
+            v,
+            "path",
+            <super::common::PathHistory as crate::jer::Jer>::read_jer,
+        )?;
+        let f_path_prediction = crate::jer::read_optional(
+            v,
+            "pathPrediction",
+            <super::common::PathPrediction as crate::jer::Jer>::read_jer,
+        )?;
+        let f_intersection_id = crate::jer::read_member(
+            v,
+            "intersectionID",
+            <super::common::IntersectionReferenceID as crate::jer::Jer>::read_jer,
+        )?;
+        let f_lane_number = crate::jer::read_member(
+            v,
+            "laneNumber",
+            <ApproachOrLane as crate::jer::Jer>::read_jer,
+        )?;
+        let f_event_flag = crate::jer::read_member(
+            v,
+            "eventFlag",
+            <super::common::VehicleEventFlags as crate::jer::Jer>::read_jer,
+        )?;
+        let f_regional = crate::jer::read_optional(
+            v,
+            "regional",
+            <IntersectionCollisionRegional as crate::jer::Jer>::read_jer,
+        )?;
         Ok(Self {
             msg_cnt: f_msg_cnt,
             id: f_id,
@@ -447,7 +467,7 @@ impl crate::jer::Jer for IntersectionCollisionRegional {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         let items = crate::jer::array(v)?;
-        if items.len() < 1 {
+        if items.is_empty() {
             return Err(crate::jer::invalid("size"));
         }
         let mut list = Self::new();

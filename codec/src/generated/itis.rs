@@ -1964,7 +1964,7 @@ impl crate::jer::Jer for ITIScodesAndText {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         let items = crate::jer::array(v)?;
-        if items.len() < 1 {
+        if items.is_empty() {
             return Err(crate::jer::invalid("size"));
         }
         let mut list = Self::new();
@@ -2027,9 +2027,11 @@ impl crate::jer::Jer for ITIScodesAndTextItem {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         crate::jer::member(v, "")?;
-        let f_item = crate::jer::read_member(v, "item", |x| {
-            <ITIScodesAndTextItemItem as crate::jer::Jer>::read_jer(x)
-        })?;
+        let f_item = crate::jer::read_member(
+            v,
+            "item",
+            <ITIScodesAndTextItemItem as crate::jer::Jer>::read_jer,
+        )?;
         Ok(Self { item: f_item })
     }
 }

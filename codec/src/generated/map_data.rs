@@ -229,32 +229,45 @@ impl crate::jer::Jer for MapData {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         crate::jer::member(v, "")?;
-        let f_time_stamp = crate::jer::read_optional(v, "timeStamp", |x| {
-            <super::common::MinuteOfTheYear as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_msg_issue_revision = crate::jer::read_member(v, "msgIssueRevision", |x| {
-            <super::common::MsgCount as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_layer_type = crate::jer::read_optional(v, "layerType", |x| {
-            <LayerType as crate::jer::Jer>::read_jer(x)
-        })?;
+        let f_time_stamp = crate::jer::read_optional(
+            v,
+            "timeStamp",
+            <super::common::MinuteOfTheYear as crate::jer::Jer>::read_jer,
+        )?;
+        let f_msg_issue_revision = crate::jer::read_member(
+            v,
+            "msgIssueRevision",
+            <super::common::MsgCount as crate::jer::Jer>::read_jer,
+        )?;
+        let f_layer_type =
+            crate::jer::read_optional(v, "layerType", <LayerType as crate::jer::Jer>::read_jer)?;
         let f_layer_id =
-            crate::jer::read_optional(v, "layerID", |x| <LayerID as crate::jer::Jer>::read_jer(x))?;
-        let f_intersections = crate::jer::read_optional(v, "intersections", |x| {
-            <IntersectionGeometryList as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_road_segments = crate::jer::read_optional(v, "roadSegments", |x| {
-            <RoadSegmentList as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_data_parameters = crate::jer::read_optional(v, "dataParameters", |x| {
-            <DataParameters as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_restriction_list = crate::jer::read_optional(v, "restrictionList", |x| {
-            <RestrictionClassList as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_regional = crate::jer::read_optional(v, "regional", |x| {
-            <MapDataRegional as crate::jer::Jer>::read_jer(x)
-        })?;
+            crate::jer::read_optional(v, "layerID", <LayerID as crate::jer::Jer>::read_jer)?;
+        let f_intersections = crate::jer::read_optional(
+            v,
+            "intersections",
+            <IntersectionGeometryList as crate::jer::Jer>::read_jer,
+        )?;
+        let f_road_segments = crate::jer::read_optional(
+            v,
+            "roadSegments",
+            <RoadSegmentList as crate::jer::Jer>::read_jer,
+        )?;
+        let f_data_parameters = crate::jer::read_optional(
+            v,
+            "dataParameters",
+            <DataParameters as crate::jer::Jer>::read_jer,
+        )?;
+        let f_restriction_list = crate::jer::read_optional(
+            v,
+            "restrictionList",
+            <RestrictionClassList as crate::jer::Jer>::read_jer,
+        )?;
+        let f_regional = crate::jer::read_optional(
+            v,
+            "regional",
+            <MapDataRegional as crate::jer::Jer>::read_jer,
+        )?;
         Ok(Self {
             time_stamp: f_time_stamp,
             msg_issue_revision: f_msg_issue_revision,
@@ -530,7 +543,7 @@ impl crate::jer::Jer for IntersectionGeometryList {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         let items = crate::jer::array(v)?;
-        if items.len() < 1 {
+        if items.is_empty() {
             return Err(crate::jer::invalid("size"));
         }
         let mut list = Self::new();
@@ -736,32 +749,48 @@ impl crate::jer::Jer for IntersectionGeometry {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         crate::jer::member(v, "")?;
-        let f_name = crate::jer::read_optional(v, "name", |x| {
-            <super::common::DescriptiveName as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_id = crate::jer::read_member(v, "id", |x| {
-            <super::common::IntersectionReferenceID as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_revision = crate::jer::read_member(v, "revision", |x| {
-            <super::common::MsgCount as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_ref_point = crate::jer::read_member(v, "refPoint", |x| {
-            <super::common::Position3D as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_lane_width = crate::jer::read_optional(v, "laneWidth", |x| {
-            <super::common::LaneWidth as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_speed_limits = crate::jer::read_optional(v, "speedLimits", |x| {
-            <super::common::SpeedLimitList as crate::jer::Jer>::read_jer(x)
-        })?;
+        let f_name = crate::jer::read_optional(
+            v,
+            "name",
+            <super::common::DescriptiveName as crate::jer::Jer>::read_jer,
+        )?;
+        let f_id = crate::jer::read_member(
+            v,
+            "id",
+            <super::common::IntersectionReferenceID as crate::jer::Jer>::read_jer,
+        )?;
+        let f_revision = crate::jer::read_member(
+            v,
+            "revision",
+            <super::common::MsgCount as crate::jer::Jer>::read_jer,
+        )?;
+        let f_ref_point = crate::jer::read_member(
+            v,
+            "refPoint",
+            <super::common::Position3D as crate::jer::Jer>::read_jer,
+        )?;
+        let f_lane_width = crate::jer::read_optional(
+            v,
+            "laneWidth",
+            <super::common::LaneWidth as crate::jer::Jer>::read_jer,
+        )?;
+        let f_speed_limits = crate::jer::read_optional(
+            v,
+            "speedLimits",
+            <super::common::SpeedLimitList as crate::jer::Jer>::read_jer,
+        )?;
         let f_lane_set =
-            crate::jer::read_member(v, "laneSet", |x| <LaneList as crate::jer::Jer>::read_jer(x))?;
-        let f_preempt_priority_data = crate::jer::read_optional(v, "preemptPriorityData", |x| {
-            <PreemptPriorityList as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_regional = crate::jer::read_optional(v, "regional", |x| {
-            <IntersectionGeometryRegional as crate::jer::Jer>::read_jer(x)
-        })?;
+            crate::jer::read_member(v, "laneSet", <LaneList as crate::jer::Jer>::read_jer)?;
+        let f_preempt_priority_data = crate::jer::read_optional(
+            v,
+            "preemptPriorityData",
+            <PreemptPriorityList as crate::jer::Jer>::read_jer,
+        )?;
+        let f_regional = crate::jer::read_optional(
+            v,
+            "regional",
+            <IntersectionGeometryRegional as crate::jer::Jer>::read_jer,
+        )?;
         Ok(Self {
             name: f_name,
             id: f_id,
@@ -865,7 +894,7 @@ impl crate::jer::Jer for LaneList {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         let items = crate::jer::array(v)?;
-        if items.len() < 1 {
+        if items.is_empty() {
             return Err(crate::jer::invalid("size"));
         }
         let mut list = Self::new();
@@ -1105,36 +1134,56 @@ impl crate::jer::Jer for GenericLane {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         crate::jer::member(v, "")?;
-        let f_lane_id = crate::jer::read_member(v, "laneID", |x| {
-            <super::common::LaneID as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_name = crate::jer::read_optional(v, "name", |x| {
-            <super::common::DescriptiveName as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_ingress_approach = crate::jer::read_optional(v, "ingressApproach", |x| {
-            <super::common::ApproachID as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_egress_approach = crate::jer::read_optional(v, "egressApproach", |x| {
-            <super::common::ApproachID as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_lane_attributes = crate::jer::read_member(v, "laneAttributes", |x| {
-            <LaneAttributes as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_maneuvers = crate::jer::read_optional(v, "maneuvers", |x| {
-            <AllowedManeuvers as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_node_list = crate::jer::read_member(v, "nodeList", |x| {
-            <super::common::NodeListXY as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_connects_to = crate::jer::read_optional(v, "connectsTo", |x| {
-            <ConnectsToList as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_overlays = crate::jer::read_optional(v, "overlays", |x| {
-            <OverlayLaneList as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_regional = crate::jer::read_optional(v, "regional", |x| {
-            <GenericLaneRegional as crate::jer::Jer>::read_jer(x)
-        })?;
+        let f_lane_id = crate::jer::read_member(
+            v,
+            "laneID",
+            <super::common::LaneID as crate::jer::Jer>::read_jer,
+        )?;
+        let f_name = crate::jer::read_optional(
+            v,
+            "name",
+            <super::common::DescriptiveName as crate::jer::Jer>::read_jer,
+        )?;
+        let f_ingress_approach = crate::jer::read_optional(
+            v,
+            "ingressApproach",
+            <super::common::ApproachID as crate::jer::Jer>::read_jer,
+        )?;
+        let f_egress_approach = crate::jer::read_optional(
+            v,
+            "egressApproach",
+            <super::common::ApproachID as crate::jer::Jer>::read_jer,
+        )?;
+        let f_lane_attributes = crate::jer::read_member(
+            v,
+            "laneAttributes",
+            <LaneAttributes as crate::jer::Jer>::read_jer,
+        )?;
+        let f_maneuvers = crate::jer::read_optional(
+            v,
+            "maneuvers",
+            <AllowedManeuvers as crate::jer::Jer>::read_jer,
+        )?;
+        let f_node_list = crate::jer::read_member(
+            v,
+            "nodeList",
+            <super::common::NodeListXY as crate::jer::Jer>::read_jer,
+        )?;
+        let f_connects_to = crate::jer::read_optional(
+            v,
+            "connectsTo",
+            <ConnectsToList as crate::jer::Jer>::read_jer,
+        )?;
+        let f_overlays = crate::jer::read_optional(
+            v,
+            "overlays",
+            <OverlayLaneList as crate::jer::Jer>::read_jer,
+        )?;
+        let f_regional = crate::jer::read_optional(
+            v,
+            "regional",
+            <GenericLaneRegional as crate::jer::Jer>::read_jer,
+        )?;
         Ok(Self {
             lane_id: f_lane_id,
             name: f_name,
@@ -1276,18 +1325,23 @@ impl crate::jer::Jer for LaneAttributes {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         crate::jer::member(v, "")?;
-        let f_directional_use = crate::jer::read_member(v, "directionalUse", |x| {
-            <LaneDirection as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_shared_with = crate::jer::read_member(v, "sharedWith", |x| {
-            <LaneSharing as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_lane_type = crate::jer::read_member(v, "laneType", |x| {
-            <LaneTypeAttributes as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_regional = crate::jer::read_optional(v, "regional", |x| {
-            <RegLaneAttributes as crate::jer::Jer>::read_jer(x)
-        })?;
+        let f_directional_use = crate::jer::read_member(
+            v,
+            "directionalUse",
+            <LaneDirection as crate::jer::Jer>::read_jer,
+        )?;
+        let f_shared_with =
+            crate::jer::read_member(v, "sharedWith", <LaneSharing as crate::jer::Jer>::read_jer)?;
+        let f_lane_type = crate::jer::read_member(
+            v,
+            "laneType",
+            <LaneTypeAttributes as crate::jer::Jer>::read_jer,
+        )?;
+        let f_regional = crate::jer::read_optional(
+            v,
+            "regional",
+            <RegLaneAttributes as crate::jer::Jer>::read_jer,
+        )?;
         Ok(Self {
             directional_use: f_directional_use,
             shared_with: f_shared_with,
@@ -2587,7 +2641,7 @@ impl crate::jer::Jer for ConnectsToList {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         let items = crate::jer::array(v)?;
-        if items.len() < 1 {
+        if items.is_empty() {
             return Err(crate::jer::invalid("size"));
         }
         let mut list = Self::new();
@@ -2737,21 +2791,31 @@ impl crate::jer::Jer for Connection {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         crate::jer::member(v, "")?;
-        let f_connecting_lane = crate::jer::read_member(v, "connectingLane", |x| {
-            <ConnectingLane as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_remote_intersection = crate::jer::read_optional(v, "remoteIntersection", |x| {
-            <super::common::IntersectionReferenceID as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_signal_group = crate::jer::read_optional(v, "signalGroup", |x| {
-            <super::common::SignalGroupID as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_user_class = crate::jer::read_optional(v, "userClass", |x| {
-            <super::common::RestrictionClassID as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_connection_id = crate::jer::read_optional(v, "connectionID", |x| {
-            <super::common::LaneConnectionID as crate::jer::Jer>::read_jer(x)
-        })?;
+        let f_connecting_lane = crate::jer::read_member(
+            v,
+            "connectingLane",
+            <ConnectingLane as crate::jer::Jer>::read_jer,
+        )?;
+        let f_remote_intersection = crate::jer::read_optional(
+            v,
+            "remoteIntersection",
+            <super::common::IntersectionReferenceID as crate::jer::Jer>::read_jer,
+        )?;
+        let f_signal_group = crate::jer::read_optional(
+            v,
+            "signalGroup",
+            <super::common::SignalGroupID as crate::jer::Jer>::read_jer,
+        )?;
+        let f_user_class = crate::jer::read_optional(
+            v,
+            "userClass",
+            <super::common::RestrictionClassID as crate::jer::Jer>::read_jer,
+        )?;
+        let f_connection_id = crate::jer::read_optional(
+            v,
+            "connectionID",
+            <super::common::LaneConnectionID as crate::jer::Jer>::read_jer,
+        )?;
         Ok(Self {
             connecting_lane: f_connecting_lane,
             remote_intersection: f_remote_intersection,
@@ -2851,12 +2915,16 @@ impl crate::jer::Jer for ConnectingLane {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         crate::jer::member(v, "")?;
-        let f_lane = crate::jer::read_member(v, "lane", |x| {
-            <super::common::LaneID as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_maneuver = crate::jer::read_optional(v, "maneuver", |x| {
-            <AllowedManeuvers as crate::jer::Jer>::read_jer(x)
-        })?;
+        let f_lane = crate::jer::read_member(
+            v,
+            "lane",
+            <super::common::LaneID as crate::jer::Jer>::read_jer,
+        )?;
+        let f_maneuver = crate::jer::read_optional(
+            v,
+            "maneuver",
+            <AllowedManeuvers as crate::jer::Jer>::read_jer,
+        )?;
         Ok(Self {
             lane: f_lane,
             maneuver: f_maneuver,
@@ -2926,7 +2994,7 @@ impl crate::jer::Jer for OverlayLaneList {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         let items = crate::jer::array(v)?;
-        if items.len() < 1 {
+        if items.is_empty() {
             return Err(crate::jer::invalid("size"));
         }
         let mut list = Self::new();
@@ -2999,7 +3067,7 @@ impl crate::jer::Jer for GenericLaneRegional {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         let items = crate::jer::array(v)?;
-        if items.len() < 1 {
+        if items.is_empty() {
             return Err(crate::jer::invalid("size"));
         }
         let mut list = Self::new();
@@ -3192,7 +3260,7 @@ impl crate::jer::Jer for PreemptPriorityList {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         let items = crate::jer::array(v)?;
-        if items.len() < 1 {
+        if items.is_empty() {
             return Err(crate::jer::invalid("size"));
         }
         let mut list = Self::new();
@@ -3268,9 +3336,11 @@ impl crate::jer::Jer for SignalControlZone {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         crate::jer::member(v, "")?;
-        let f_zone = crate::jer::read_member(v, "zone", |x| {
-            <RegSignalControlZone as crate::jer::Jer>::read_jer(x)
-        })?;
+        let f_zone = crate::jer::read_member(
+            v,
+            "zone",
+            <RegSignalControlZone as crate::jer::Jer>::read_jer,
+        )?;
         Ok(Self {
             zone: f_zone,
             extensions: uper::Extensions::new(),
@@ -3461,7 +3531,7 @@ impl crate::jer::Jer for IntersectionGeometryRegional {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         let items = crate::jer::array(v)?;
-        if items.len() < 1 {
+        if items.is_empty() {
             return Err(crate::jer::invalid("size"));
         }
         let mut list = Self::new();
@@ -3657,7 +3727,7 @@ impl crate::jer::Jer for RoadSegmentList {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         let items = crate::jer::array(v)?;
-        if items.len() < 1 {
+        if items.is_empty() {
             return Err(crate::jer::invalid("size"));
         }
         let mut list = Self::new();
@@ -3841,30 +3911,46 @@ impl crate::jer::Jer for RoadSegment {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         crate::jer::member(v, "")?;
-        let f_name = crate::jer::read_optional(v, "name", |x| {
-            <super::common::DescriptiveName as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_id = crate::jer::read_member(v, "id", |x| {
-            <super::common::RoadSegmentReferenceID as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_revision = crate::jer::read_member(v, "revision", |x| {
-            <super::common::MsgCount as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_ref_point = crate::jer::read_member(v, "refPoint", |x| {
-            <super::common::Position3D as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_lane_width = crate::jer::read_optional(v, "laneWidth", |x| {
-            <super::common::LaneWidth as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_speed_limits = crate::jer::read_optional(v, "speedLimits", |x| {
-            <super::common::SpeedLimitList as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_road_lane_set = crate::jer::read_member(v, "roadLaneSet", |x| {
-            <RoadLaneSetList as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_regional = crate::jer::read_optional(v, "regional", |x| {
-            <RoadSegmentRegional as crate::jer::Jer>::read_jer(x)
-        })?;
+        let f_name = crate::jer::read_optional(
+            v,
+            "name",
+            <super::common::DescriptiveName as crate::jer::Jer>::read_jer,
+        )?;
+        let f_id = crate::jer::read_member(
+            v,
+            "id",
+            <super::common::RoadSegmentReferenceID as crate::jer::Jer>::read_jer,
+        )?;
+        let f_revision = crate::jer::read_member(
+            v,
+            "revision",
+            <super::common::MsgCount as crate::jer::Jer>::read_jer,
+        )?;
+        let f_ref_point = crate::jer::read_member(
+            v,
+            "refPoint",
+            <super::common::Position3D as crate::jer::Jer>::read_jer,
+        )?;
+        let f_lane_width = crate::jer::read_optional(
+            v,
+            "laneWidth",
+            <super::common::LaneWidth as crate::jer::Jer>::read_jer,
+        )?;
+        let f_speed_limits = crate::jer::read_optional(
+            v,
+            "speedLimits",
+            <super::common::SpeedLimitList as crate::jer::Jer>::read_jer,
+        )?;
+        let f_road_lane_set = crate::jer::read_member(
+            v,
+            "roadLaneSet",
+            <RoadLaneSetList as crate::jer::Jer>::read_jer,
+        )?;
+        let f_regional = crate::jer::read_optional(
+            v,
+            "regional",
+            <RoadSegmentRegional as crate::jer::Jer>::read_jer,
+        )?;
         Ok(Self {
             name: f_name,
             id: f_id,
@@ -3962,7 +4048,7 @@ impl crate::jer::Jer for RoadLaneSetList {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         let items = crate::jer::array(v)?;
-        if items.len() < 1 {
+        if items.is_empty() {
             return Err(crate::jer::invalid("size"));
         }
         let mut list = Self::new();
@@ -4034,7 +4120,7 @@ impl crate::jer::Jer for RoadSegmentRegional {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         let items = crate::jer::array(v)?;
-        if items.len() < 1 {
+        if items.is_empty() {
             return Err(crate::jer::invalid("size"));
         }
         let mut list = Self::new();
@@ -4311,18 +4397,26 @@ impl crate::jer::Jer for DataParameters {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         crate::jer::member(v, "")?;
-        let f_process_method = crate::jer::read_optional(v, "processMethod", |x| {
-            <DataParametersProcessMethod as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_process_agency = crate::jer::read_optional(v, "processAgency", |x| {
-            <DataParametersProcessAgency as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_last_checked_date = crate::jer::read_optional(v, "lastCheckedDate", |x| {
-            <DataParametersLastCheckedDate as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_geoid_used = crate::jer::read_optional(v, "geoidUsed", |x| {
-            <DataParametersGeoidUsed as crate::jer::Jer>::read_jer(x)
-        })?;
+        let f_process_method = crate::jer::read_optional(
+            v,
+            "processMethod",
+            <DataParametersProcessMethod as crate::jer::Jer>::read_jer,
+        )?;
+        let f_process_agency = crate::jer::read_optional(
+            v,
+            "processAgency",
+            <DataParametersProcessAgency as crate::jer::Jer>::read_jer,
+        )?;
+        let f_last_checked_date = crate::jer::read_optional(
+            v,
+            "lastCheckedDate",
+            <DataParametersLastCheckedDate as crate::jer::Jer>::read_jer,
+        )?;
+        let f_geoid_used = crate::jer::read_optional(
+            v,
+            "geoidUsed",
+            <DataParametersGeoidUsed as crate::jer::Jer>::read_jer,
+        )?;
         Ok(Self {
             process_method: f_process_method,
             process_agency: f_process_agency,
@@ -4638,7 +4732,7 @@ impl crate::jer::Jer for RestrictionClassList {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         let items = crate::jer::array(v)?;
-        if items.len() < 1 {
+        if items.is_empty() {
             return Err(crate::jer::invalid("size"));
         }
         let mut list = Self::new();
@@ -4708,12 +4802,16 @@ impl crate::jer::Jer for RestrictionClassAssignment {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         crate::jer::member(v, "")?;
-        let f_id = crate::jer::read_member(v, "id", |x| {
-            <super::common::RestrictionClassID as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_users = crate::jer::read_member(v, "users", |x| {
-            <RestrictionUserTypeList as crate::jer::Jer>::read_jer(x)
-        })?;
+        let f_id = crate::jer::read_member(
+            v,
+            "id",
+            <super::common::RestrictionClassID as crate::jer::Jer>::read_jer,
+        )?;
+        let f_users = crate::jer::read_member(
+            v,
+            "users",
+            <RestrictionUserTypeList as crate::jer::Jer>::read_jer,
+        )?;
         Ok(Self {
             id: f_id,
             users: f_users,
@@ -4779,7 +4877,7 @@ impl crate::jer::Jer for RestrictionUserTypeList {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         let items = crate::jer::array(v)?;
-        if items.len() < 1 {
+        if items.is_empty() {
             return Err(crate::jer::invalid("size"));
         }
         let mut list = Self::new();
@@ -5186,7 +5284,7 @@ impl crate::jer::Jer for RestrictionUserTypeRegional {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         let items = crate::jer::array(v)?;
-        if items.len() < 1 {
+        if items.is_empty() {
             return Err(crate::jer::invalid("size"));
         }
         let mut list = Self::new();
@@ -5413,7 +5511,7 @@ impl crate::jer::Jer for MapDataRegional {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         let items = crate::jer::array(v)?;
-        if items.len() < 1 {
+        if items.is_empty() {
             return Err(crate::jer::invalid("size"));
         }
         let mut list = Self::new();

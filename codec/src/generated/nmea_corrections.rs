@@ -166,23 +166,24 @@ impl crate::jer::Jer for NMEAcorrections {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         crate::jer::member(v, "")?;
-        let f_time_stamp = crate::jer::read_optional(v, "timeStamp", |x| {
-            <super::common::MinuteOfTheYear as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_rev = crate::jer::read_optional(v, "rev", |x| {
-            <NMEARevision as crate::jer::Jer>::read_jer(x)
-        })?;
+        let f_time_stamp = crate::jer::read_optional(
+            v,
+            "timeStamp",
+            <super::common::MinuteOfTheYear as crate::jer::Jer>::read_jer,
+        )?;
+        let f_rev =
+            crate::jer::read_optional(v, "rev", <NMEARevision as crate::jer::Jer>::read_jer)?;
         let f_msg =
-            crate::jer::read_optional(v, "msg", |x| <NMEAMsgType as crate::jer::Jer>::read_jer(x))?;
-        let f_wd_count = crate::jer::read_optional(v, "wdCount", |x| {
-            <ObjectCount as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_payload = crate::jer::read_member(v, "payload", |x| {
-            <NMEAPayload as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_regional = crate::jer::read_optional(v, "regional", |x| {
-            <NMEAcorrectionsRegional as crate::jer::Jer>::read_jer(x)
-        })?;
+            crate::jer::read_optional(v, "msg", <NMEAMsgType as crate::jer::Jer>::read_jer)?;
+        let f_wd_count =
+            crate::jer::read_optional(v, "wdCount", <ObjectCount as crate::jer::Jer>::read_jer)?;
+        let f_payload =
+            crate::jer::read_member(v, "payload", <NMEAPayload as crate::jer::Jer>::read_jer)?;
+        let f_regional = crate::jer::read_optional(
+            v,
+            "regional",
+            <NMEAcorrectionsRegional as crate::jer::Jer>::read_jer,
+        )?;
         Ok(Self {
             time_stamp: f_time_stamp,
             rev: f_rev,
@@ -491,7 +492,7 @@ impl crate::jer::Jer for NMEAcorrectionsRegional {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         let items = crate::jer::array(v)?;
-        if items.len() < 1 {
+        if items.is_empty() {
             return Err(crate::jer::invalid("size"));
         }
         let mut list = Self::new();

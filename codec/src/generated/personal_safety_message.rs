@@ -488,84 +488,130 @@ impl crate::jer::Jer for PersonalSafetyMessage {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         crate::jer::member(v, "")?;
-        let f_basic_type = crate::jer::read_member(v, "basicType", |x| {
-            <PersonalDeviceUserType as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_sec_mark = crate::jer::read_member(v, "secMark", |x| {
-            <super::common::DSecond as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_msg_cnt = crate::jer::read_member(v, "msgCnt", |x| {
-            <super::common::MsgCount as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_id = crate::jer::read_member(v, "id", |x| {
-            <super::common::TemporaryID as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_position = crate::jer::read_member(v, "position", |x| {
-            <super::common::Position3D as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_accuracy = crate::jer::read_member(v, "accuracy", |x| {
-            <super::common::PositionalAccuracy as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_speed = crate::jer::read_member(v, "speed", |x| {
-            <super::common::Velocity as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_heading = crate::jer::read_member(v, "heading", |x| {
-            <super::common::Heading as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_accel_set = crate::jer::read_optional(v, "accelSet", |x| {
-            <super::common::AccelerationSet4Way as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_path_history = crate::jer::read_optional(v, "pathHistory", |x| {
-            <super::common::PathHistory as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_path_prediction = crate::jer::read_optional(v, "pathPrediction", |x| {
-            <super::common::PathPrediction as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_propulsion = crate::jer::read_optional(v, "propulsion", |x| {
-            <PropelledInformation as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_use_state = crate::jer::read_optional(v, "useState", |x| {
-            <PersonalDeviceUsageState as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_cross_request = crate::jer::read_optional(v, "crossRequest", |x| {
-            <PersonalCrossingRequest as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_cross_state = crate::jer::read_optional(v, "crossState", |x| {
-            <PersonalCrossingInProgress as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_cluster_size = crate::jer::read_optional(v, "clusterSize", |x| {
-            <NumberOfParticipantsInCluster as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_cluster_radius = crate::jer::read_optional(v, "clusterRadius", |x| {
-            <PersonalClusterRadius as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_event_responder_type = crate::jer::read_optional(v, "eventResponderType", |x| {
-            <PublicSafetyEventResponderWorkerType as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_activity_type = crate::jer::read_optional(v, "activityType", |x| {
-            <PublicSafetyAndRoadWorkerActivity as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_activity_sub_type = crate::jer::read_optional(v, "activitySubType", |x| {
-            <PublicSafetyDirectingTrafficSubType as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_assist_type = crate::jer::read_optional(v, "assistType", |x| {
-            <PersonalAssistive as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_sizing = crate::jer::read_optional(v, "sizing", |x| {
-            <UserSizeAndBehaviour as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_attachment = crate::jer::read_optional(v, "attachment", |x| {
-            <Attachment as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_attachment_radius = crate::jer::read_optional(v, "attachmentRadius", |x| {
-            <AttachmentRadius as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_animal_type = crate::jer::read_optional(v, "animalType", |x| {
-            <AnimalType as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_regional = crate::jer::read_optional(v, "regional", |x| {
-            <PersonalSafetyMessageRegional as crate::jer::Jer>::read_jer(x)
-        })?;
+        let f_basic_type = crate::jer::read_member(
+            v,
+            "basicType",
+            <PersonalDeviceUserType as crate::jer::Jer>::read_jer,
+        )?;
+        let f_sec_mark = crate::jer::read_member(
+            v,
+            "secMark",
+            <super::common::DSecond as crate::jer::Jer>::read_jer,
+        )?;
+        let f_msg_cnt = crate::jer::read_member(
+            v,
+            "msgCnt",
+            <super::common::MsgCount as crate::jer::Jer>::read_jer,
+        )?;
+        let f_id = crate::jer::read_member(
+            v,
+            "id",
+            <super::common::TemporaryID as crate::jer::Jer>::read_jer,
+        )?;
+        let f_position = crate::jer::read_member(
+            v,
+            "position",
+            <super::common::Position3D as crate::jer::Jer>::read_jer,
+        )?;
+        let f_accuracy = crate::jer::read_member(
+            v,
+            "accuracy",
+            <super::common::PositionalAccuracy as crate::jer::Jer>::read_jer,
+        )?;
+        let f_speed = crate::jer::read_member(
+            v,
+            "speed",
+            <super::common::Velocity as crate::jer::Jer>::read_jer,
+        )?;
+        let f_heading = crate::jer::read_member(
+            v,
+            "heading",
+            <super::common::Heading as crate::jer::Jer>::read_jer,
+        )?;
+        let f_accel_set = crate::jer::read_optional(
+            v,
+            "accelSet",
+            <super::common::AccelerationSet4Way as crate::jer::Jer>::read_jer,
+        )?;
+        let f_path_history = crate::jer::read_optional(
+            v,
+            "pathHistory",
+            <super::common::PathHistory as crate::jer::Jer>::read_jer,
+        )?;
+        let f_path_prediction = crate::jer::read_optional(
+            v,
+            "pathPrediction",
+            <super::common::PathPrediction as crate::jer::Jer>::read_jer,
+        )?;
+        let f_propulsion = crate::jer::read_optional(
+            v,
+            "propulsion",
+            <PropelledInformation as crate::jer::Jer>::read_jer,
+        )?;
+        let f_use_state = crate::jer::read_optional(
+            v,
+            "useState",
+            <PersonalDeviceUsageState as crate::jer::Jer>::read_jer,
+        )?;
+        let f_cross_request = crate::jer::read_optional(
+            v,
+            "crossRequest",
+            <PersonalCrossingRequest as crate::jer::Jer>::read_jer,
+        )?;
+        let f_cross_state = crate::jer::read_optional(
+            v,
+            "crossState",
+            <PersonalCrossingInProgress as crate::jer::Jer>::read_jer,
+        )?;
+        let f_cluster_size = crate::jer::read_optional(
+            v,
+            "clusterSize",
+            <NumberOfParticipantsInCluster as crate::jer::Jer>::read_jer,
+        )?;
+        let f_cluster_radius = crate::jer::read_optional(
+            v,
+            "clusterRadius",
+            <PersonalClusterRadius as crate::jer::Jer>::read_jer,
+        )?;
+        let f_event_responder_type = crate::jer::read_optional(
+            v,
+            "eventResponderType",
+            <PublicSafetyEventResponderWorkerType as crate::jer::Jer>::read_jer,
+        )?;
+        let f_activity_type = crate::jer::read_optional(
+            v,
+            "activityType",
+            <PublicSafetyAndRoadWorkerActivity as crate::jer::Jer>::read_jer,
+        )?;
+        let f_activity_sub_type = crate::jer::read_optional(
+            v,
+            "activitySubType",
+            <PublicSafetyDirectingTrafficSubType as crate::jer::Jer>::read_jer,
+        )?;
+        let f_assist_type = crate::jer::read_optional(
+            v,
+            "assistType",
+            <PersonalAssistive as crate::jer::Jer>::read_jer,
+        )?;
+        let f_sizing = crate::jer::read_optional(
+            v,
+            "sizing",
+            <UserSizeAndBehaviour as crate::jer::Jer>::read_jer,
+        )?;
+        let f_attachment =
+            crate::jer::read_optional(v, "attachment", <Attachment as crate::jer::Jer>::read_jer)?;
+        let f_attachment_radius = crate::jer::read_optional(
+            v,
+            "attachmentRadius",
+            <AttachmentRadius as crate::jer::Jer>::read_jer,
+        )?;
+        let f_animal_type =
+            crate::jer::read_optional(v, "animalType", <AnimalType as crate::jer::Jer>::read_jer)?;
+        let f_regional = crate::jer::read_optional(
+            v,
+            "regional",
+            <PersonalSafetyMessageRegional as crate::jer::Jer>::read_jer,
+        )?;
         Ok(Self {
             basic_type: f_basic_type,
             sec_mark: f_sec_mark,
@@ -2344,7 +2390,7 @@ impl crate::jer::Jer for PersonalSafetyMessageRegional {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         let items = crate::jer::array(v)?;
-        if items.len() < 1 {
+        if items.is_empty() {
             return Err(crate::jer::invalid("size"));
         }
         let mut list = Self::new();

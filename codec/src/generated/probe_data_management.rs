@@ -152,29 +152,39 @@ impl crate::jer::Jer for ProbeDataManagement {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         crate::jer::member(v, "")?;
-        let f_time_stamp = crate::jer::read_optional(v, "timeStamp", |x| {
-            <super::common::MinuteOfTheYear as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_sample =
-            crate::jer::read_member(v, "sample", |x| <Sample as crate::jer::Jer>::read_jer(x))?;
-        let f_directions = crate::jer::read_member(v, "directions", |x| {
-            <super::common::HeadingSlice as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_term = crate::jer::read_member(v, "term", |x| {
-            <ProbeDataManagementTerm as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_snapshot = crate::jer::read_member(v, "snapshot", |x| {
-            <ProbeDataManagementSnapshot as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_tx_interval = crate::jer::read_member(v, "txInterval", |x| {
-            <SecondOfTime as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_data_elements = crate::jer::read_optional(v, "dataElements", |x| {
-            <VehicleStatusRequestList as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_regional = crate::jer::read_optional(v, "regional", |x| {
-            <ProbeDataManagementRegional as crate::jer::Jer>::read_jer(x)
-        })?;
+        let f_time_stamp = crate::jer::read_optional(
+            v,
+            "timeStamp",
+            <super::common::MinuteOfTheYear as crate::jer::Jer>::read_jer,
+        )?;
+        let f_sample = crate::jer::read_member(v, "sample", <Sample as crate::jer::Jer>::read_jer)?;
+        let f_directions = crate::jer::read_member(
+            v,
+            "directions",
+            <super::common::HeadingSlice as crate::jer::Jer>::read_jer,
+        )?;
+        let f_term = crate::jer::read_member(
+            v,
+            "term",
+            <ProbeDataManagementTerm as crate::jer::Jer>::read_jer,
+        )?;
+        let f_snapshot = crate::jer::read_member(
+            v,
+            "snapshot",
+            <ProbeDataManagementSnapshot as crate::jer::Jer>::read_jer,
+        )?;
+        let f_tx_interval =
+            crate::jer::read_member(v, "txInterval", <SecondOfTime as crate::jer::Jer>::read_jer)?;
+        let f_data_elements = crate::jer::read_optional(
+            v,
+            "dataElements",
+            <VehicleStatusRequestList as crate::jer::Jer>::read_jer,
+        )?;
+        let f_regional = crate::jer::read_optional(
+            v,
+            "regional",
+            <ProbeDataManagementRegional as crate::jer::Jer>::read_jer,
+        )?;
         Ok(Self {
             time_stamp: f_time_stamp,
             sample: f_sample,
@@ -265,12 +275,16 @@ impl crate::jer::Jer for Sample {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         crate::jer::member(v, "")?;
-        let f_sample_start = crate::jer::read_member(v, "sampleStart", |x| {
-            <SampleSampleStart as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_sample_end = crate::jer::read_member(v, "sampleEnd", |x| {
-            <SampleSampleEnd as crate::jer::Jer>::read_jer(x)
-        })?;
+        let f_sample_start = crate::jer::read_member(
+            v,
+            "sampleStart",
+            <SampleSampleStart as crate::jer::Jer>::read_jer,
+        )?;
+        let f_sample_end = crate::jer::read_member(
+            v,
+            "sampleEnd",
+            <SampleSampleEnd as crate::jer::Jer>::read_jer,
+        )?;
         Ok(Self {
             sample_start: f_sample_start,
             sample_end: f_sample_end,
@@ -605,18 +619,20 @@ impl crate::jer::Jer for SnapshotTime {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         crate::jer::member(v, "")?;
-        let f_speed1 = crate::jer::read_member(v, "speed1", |x| {
-            <super::common::GrossSpeed as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_time1 = crate::jer::read_member(v, "time1", |x| {
-            <SecondOfTime as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_speed2 = crate::jer::read_member(v, "speed2", |x| {
-            <super::common::GrossSpeed as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_time2 = crate::jer::read_member(v, "time2", |x| {
-            <SecondOfTime as crate::jer::Jer>::read_jer(x)
-        })?;
+        let f_speed1 = crate::jer::read_member(
+            v,
+            "speed1",
+            <super::common::GrossSpeed as crate::jer::Jer>::read_jer,
+        )?;
+        let f_time1 =
+            crate::jer::read_member(v, "time1", <SecondOfTime as crate::jer::Jer>::read_jer)?;
+        let f_speed2 = crate::jer::read_member(
+            v,
+            "speed2",
+            <super::common::GrossSpeed as crate::jer::Jer>::read_jer,
+        )?;
+        let f_time2 =
+            crate::jer::read_member(v, "time2", <SecondOfTime as crate::jer::Jer>::read_jer)?;
         Ok(Self {
             speed1: f_speed1,
             time1: f_time1,
@@ -702,18 +718,20 @@ impl crate::jer::Jer for SnapshotDistance {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         crate::jer::member(v, "")?;
-        let f_distance1 = crate::jer::read_member(v, "distance1", |x| {
-            <GrossDistance as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_speed1 = crate::jer::read_member(v, "speed1", |x| {
-            <super::common::GrossSpeed as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_distance2 = crate::jer::read_member(v, "distance2", |x| {
-            <GrossDistance as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_speed2 = crate::jer::read_member(v, "speed2", |x| {
-            <super::common::GrossSpeed as crate::jer::Jer>::read_jer(x)
-        })?;
+        let f_distance1 =
+            crate::jer::read_member(v, "distance1", <GrossDistance as crate::jer::Jer>::read_jer)?;
+        let f_speed1 = crate::jer::read_member(
+            v,
+            "speed1",
+            <super::common::GrossSpeed as crate::jer::Jer>::read_jer,
+        )?;
+        let f_distance2 =
+            crate::jer::read_member(v, "distance2", <GrossDistance as crate::jer::Jer>::read_jer)?;
+        let f_speed2 = crate::jer::read_member(
+            v,
+            "speed2",
+            <super::common::GrossSpeed as crate::jer::Jer>::read_jer,
+        )?;
         Ok(Self {
             distance1: f_distance1,
             speed1: f_speed1,
@@ -799,7 +817,7 @@ impl crate::jer::Jer for VehicleStatusRequestList {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         let items = crate::jer::array(v)?;
-        if items.len() < 1 {
+        if items.is_empty() {
             return Err(crate::jer::invalid("size"));
         }
         let mut list = Self::new();
@@ -963,19 +981,28 @@ impl crate::jer::Jer for VehicleStatusRequest {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         crate::jer::member(v, "")?;
-        let f_data_type = crate::jer::read_member(v, "dataType", |x| {
-            <VehicleStatusDeviceTypeTag as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_sub_type = crate::jer::read_optional(v, "subType", |x| {
-            <VehicleStatusRequestSubType as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_send_on_less_then_value = crate::jer::read_optional(v, "sendOnLessThenValue", |x| {
-            <VehicleStatusRequestSendOnLessThenValue as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_send_on_more_then_value = crate::jer::read_optional(v, "sendOnMoreThenValue", |x| {
-            <VehicleStatusRequestSendOnMoreThenValue as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_send_all = crate::jer::read_optional(v, "sendAll", |x| crate::jer::boolean(x))?;
+        let f_data_type = crate::jer::read_member(
+            v,
+            "dataType",
+            <VehicleStatusDeviceTypeTag as crate::jer::Jer>::read_jer,
+        )?;
+        let f_sub_type = crate::jer::read_optional(
+            v,
+            "subType",
+            <VehicleStatusRequestSubType as crate::jer::Jer>::read_jer,
+        )?;
+        let f_send_on_less_then_value = crate::jer::read_optional(
+            v,
+            "sendOnLessThenValue",
+            <VehicleStatusRequestSendOnLessThenValue as crate::jer::Jer>::read_jer,
+        )?;
+        let f_send_on_more_then_value = crate::jer::read_optional(
+            v,
+            "sendOnMoreThenValue",
+            <VehicleStatusRequestSendOnMoreThenValue as crate::jer::Jer>::read_jer,
+        )?;
+        let f_send_all =
+            crate::jer::read_optional(v, "sendAll", <bool as crate::jer::Jer>::read_jer)?;
         Ok(Self {
             data_type: f_data_type,
             sub_type: f_sub_type,
@@ -1400,7 +1427,7 @@ impl crate::jer::Jer for ProbeDataManagementRegional {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         let items = crate::jer::array(v)?;
-        if items.len() < 1 {
+        if items.is_empty() {
             return Err(crate::jer::invalid("size"));
         }
         let mut list = Self::new();

@@ -160,27 +160,38 @@ impl crate::jer::Jer for ProbeVehicleData {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         crate::jer::member(v, "")?;
-        let f_time_stamp = crate::jer::read_optional(v, "timeStamp", |x| {
-            <super::common::MinuteOfTheYear as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_seg_num = crate::jer::read_optional(v, "segNum", |x| {
-            <ProbeSegmentNumber as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_probe_id = crate::jer::read_optional(v, "probeID", |x| {
-            <VehicleIdent as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_start_vector = crate::jer::read_member(v, "startVector", |x| {
-            <super::common::FullPositionVector as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_vehicle_type = crate::jer::read_member(v, "vehicleType", |x| {
-            <super::common::VehicleClassification as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_snapshots = crate::jer::read_member(v, "snapshots", |x| {
-            <ProbeVehicleDataSnapshots as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_regional = crate::jer::read_optional(v, "regional", |x| {
-            <ProbeVehicleDataRegional as crate::jer::Jer>::read_jer(x)
-        })?;
+        let f_time_stamp = crate::jer::read_optional(
+            v,
+            "timeStamp",
+            <super::common::MinuteOfTheYear as crate::jer::Jer>::read_jer,
+        )?;
+        let f_seg_num = crate::jer::read_optional(
+            v,
+            "segNum",
+            <ProbeSegmentNumber as crate::jer::Jer>::read_jer,
+        )?;
+        let f_probe_id =
+            crate::jer::read_optional(v, "probeID", <VehicleIdent as crate::jer::Jer>::read_jer)?;
+        let f_start_vector = crate::jer::read_member(
+            v,
+            "startVector",
+            <super::common::FullPositionVector as crate::jer::Jer>::read_jer,
+        )?;
+        let f_vehicle_type = crate::jer::read_member(
+            v,
+            "vehicleType",
+            <super::common::VehicleClassification as crate::jer::Jer>::read_jer,
+        )?;
+        let f_snapshots = crate::jer::read_member(
+            v,
+            "snapshots",
+            <ProbeVehicleDataSnapshots as crate::jer::Jer>::read_jer,
+        )?;
+        let f_regional = crate::jer::read_optional(
+            v,
+            "regional",
+            <ProbeVehicleDataRegional as crate::jer::Jer>::read_jer,
+        )?;
         Ok(Self {
             time_stamp: f_time_stamp,
             seg_num: f_seg_num,
@@ -413,23 +424,32 @@ impl crate::jer::Jer for VehicleIdent {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         crate::jer::member(v, "")?;
-        let f_name = crate::jer::read_optional(v, "name", |x| {
-            <super::common::DescriptiveName as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_vin =
-            crate::jer::read_optional(v, "vin", |x| <VINstring as crate::jer::Jer>::read_jer(x))?;
-        let f_owner_code = crate::jer::read_optional(v, "ownerCode", |x| {
-            <VehicleIdentOwnerCode as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_id = crate::jer::read_optional(v, "id", |x| {
-            <super::common::VehicleID as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_vehicle_type = crate::jer::read_optional(v, "vehicleType", |x| {
-            <super::common::VehicleType as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_vehicle_class = crate::jer::read_optional(v, "vehicleClass", |x| {
-            <VehicleIdentVehicleClass as crate::jer::Jer>::read_jer(x)
-        })?;
+        let f_name = crate::jer::read_optional(
+            v,
+            "name",
+            <super::common::DescriptiveName as crate::jer::Jer>::read_jer,
+        )?;
+        let f_vin = crate::jer::read_optional(v, "vin", <VINstring as crate::jer::Jer>::read_jer)?;
+        let f_owner_code = crate::jer::read_optional(
+            v,
+            "ownerCode",
+            <VehicleIdentOwnerCode as crate::jer::Jer>::read_jer,
+        )?;
+        let f_id = crate::jer::read_optional(
+            v,
+            "id",
+            <super::common::VehicleID as crate::jer::Jer>::read_jer,
+        )?;
+        let f_vehicle_type = crate::jer::read_optional(
+            v,
+            "vehicleType",
+            <super::common::VehicleType as crate::jer::Jer>::read_jer,
+        )?;
+        let f_vehicle_class = crate::jer::read_optional(
+            v,
+            "vehicleClass",
+            <VehicleIdentVehicleClass as crate::jer::Jer>::read_jer,
+        )?;
         Ok(Self {
             name: f_name,
             vin: f_vin,
@@ -798,7 +818,7 @@ impl crate::jer::Jer for ProbeVehicleDataSnapshots {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         let items = crate::jer::array(v)?;
-        if items.len() < 1 {
+        if items.is_empty() {
             return Err(crate::jer::invalid("size"));
         }
         let mut list = Self::new();
@@ -918,15 +938,18 @@ impl crate::jer::Jer for Snapshot {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         crate::jer::member(v, "")?;
-        let f_the_position = crate::jer::read_member(v, "thePosition", |x| {
-            <super::common::FullPositionVector as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_safety_ext = crate::jer::read_optional(v, "safetyExt", |x| {
-            <super::common::VehicleSafetyExtensions as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_data_set = crate::jer::read_optional(v, "dataSet", |x| {
-            <VehicleStatus as crate::jer::Jer>::read_jer(x)
-        })?;
+        let f_the_position = crate::jer::read_member(
+            v,
+            "thePosition",
+            <super::common::FullPositionVector as crate::jer::Jer>::read_jer,
+        )?;
+        let f_safety_ext = crate::jer::read_optional(
+            v,
+            "safetyExt",
+            <super::common::VehicleSafetyExtensions as crate::jer::Jer>::read_jer,
+        )?;
+        let f_data_set =
+            crate::jer::read_optional(v, "dataSet", <VehicleStatus as crate::jer::Jer>::read_jer)?;
         Ok(Self {
             the_position: f_the_position,
             safety_ext: f_safety_ext,
@@ -1466,72 +1489,107 @@ impl crate::jer::Jer for VehicleStatus {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         crate::jer::member(v, "")?;
-        let f_lights = crate::jer::read_optional(v, "lights", |x| {
-            <super::common::ExteriorLights as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_light_bar = crate::jer::read_optional(v, "lightBar", |x| {
-            <super::common::LightbarInUse as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_wipers = crate::jer::read_optional(v, "wipers", |x| {
-            <super::common::WiperSet as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_brake_status = crate::jer::read_optional(v, "brakeStatus", |x| {
-            <super::common::BrakeSystemStatus as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_brake_pressure = crate::jer::read_optional(v, "brakePressure", |x| {
-            <BrakeAppliedPressure as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_road_friction = crate::jer::read_optional(v, "roadFriction", |x| {
-            <super::common::CoefficientOfFriction as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_sun_data = crate::jer::read_optional(v, "sunData", |x| {
-            <SunSensor as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_rain_data = crate::jer::read_optional(v, "rainData", |x| {
-            <RainSensor as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_air_temp = crate::jer::read_optional(v, "airTemp", |x| {
-            <super::common::AmbientAirTemperature as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_air_pres = crate::jer::read_optional(v, "airPres", |x| {
-            <super::common::AmbientAirPressure as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_steering = crate::jer::read_optional(v, "steering", |x| {
-            <VehicleStatusSteering as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_accel_sets = crate::jer::read_optional(v, "accelSets", |x| {
-            <VehicleStatusAccelSets as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_object = crate::jer::read_optional(v, "object", |x| {
-            <VehicleStatusObject as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_full_pos = crate::jer::read_optional(v, "fullPos", |x| {
-            <super::common::FullPositionVector as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_throttle_pos = crate::jer::read_optional(v, "throttlePos", |x| {
-            <ThrottlePosition as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_speed_head_c = crate::jer::read_optional(v, "speedHeadC", |x| {
-            <super::common::SpeedandHeadingandThrottleConfidence as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_speed_c = crate::jer::read_optional(v, "speedC", |x| {
-            <super::common::SpeedConfidence as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_vehicle_data = crate::jer::read_optional(v, "vehicleData", |x| {
-            <VehicleStatusVehicleData as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_vehicle_ident = crate::jer::read_optional(v, "vehicleIdent", |x| {
-            <VehicleIdent as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_j1939data = crate::jer::read_optional(v, "j1939data", |x| {
-            <J1939data as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_weather_report = crate::jer::read_optional(v, "weatherReport", |x| {
-            <VehicleStatusWeatherReport as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_gnss_status = crate::jer::read_optional(v, "gnssStatus", |x| {
-            <super::common::GNSSstatus as crate::jer::Jer>::read_jer(x)
-        })?;
+        let f_lights = crate::jer::read_optional(
+            v,
+            "lights",
+            <super::common::ExteriorLights as crate::jer::Jer>::read_jer,
+        )?;
+        let f_light_bar = crate::jer::read_optional(
+            v,
+            "lightBar",
+            <super::common::LightbarInUse as crate::jer::Jer>::read_jer,
+        )?;
+        let f_wipers = crate::jer::read_optional(
+            v,
+            "wipers",
+            <super::common::WiperSet as crate::jer::Jer>::read_jer,
+        )?;
+        let f_brake_status = crate::jer::read_optional(
+            v,
+            "brakeStatus",
+            <super::common::BrakeSystemStatus as crate::jer::Jer>::read_jer,
+        )?;
+        let f_brake_pressure = crate::jer::read_optional(
+            v,
+            "brakePressure",
+            <BrakeAppliedPressure as crate::jer::Jer>::read_jer,
+        )?;
+        let f_road_friction = crate::jer::read_optional(
+            v,
+            "roadFriction",
+            <super::common::CoefficientOfFriction as crate::jer::Jer>::read_jer,
+        )?;
+        let f_sun_data =
+            crate::jer::read_optional(v, "sunData", <SunSensor as crate::jer::Jer>::read_jer)?;
+        let f_rain_data =
+            crate::jer::read_optional(v, "rainData", <RainSensor as crate::jer::Jer>::read_jer)?;
+        let f_air_temp = crate::jer::read_optional(
+            v,
+            "airTemp",
+            <super::common::AmbientAirTemperature as crate::jer::Jer>::read_jer,
+        )?;
+        let f_air_pres = crate::jer::read_optional(
+            v,
+            "airPres",
+            <super::common::AmbientAirPressure as crate::jer::Jer>::read_jer,
+        )?;
+        let f_steering = crate::jer::read_optional(
+            v,
+            "steering",
+            <VehicleStatusSteering as crate::jer::Jer>::read_jer,
+        )?;
+        let f_accel_sets = crate::jer::read_optional(
+            v,
+            "accelSets",
+            <VehicleStatusAccelSets as crate::jer::Jer>::read_jer,
+        )?;
+        let f_object = crate::jer::read_optional(
+            v,
+            "object",
+            <VehicleStatusObject as crate::jer::Jer>::read_jer,
+        )?;
+        let f_full_pos = crate::jer::read_optional(
+            v,
+            "fullPos",
+            <super::common::FullPositionVector as crate::jer::Jer>::read_jer,
+        )?;
+        let f_throttle_pos = crate::jer::read_optional(
+            v,
+            "throttlePos",
+            <ThrottlePosition as crate::jer::Jer>::read_jer,
+        )?;
+        let f_speed_head_c = crate::jer::read_optional(
+            v,
+            "speedHeadC",
+            <super::common::SpeedandHeadingandThrottleConfidence as crate::jer::Jer>::read_jer,
+        )?;
+        let f_speed_c = crate::jer::read_optional(
+            v,
+            "speedC",
+            <super::common::SpeedConfidence as crate::jer::Jer>::read_jer,
+        )?;
+        let f_vehicle_data = crate::jer::read_optional(
+            v,
+            "vehicleData",
+            <VehicleStatusVehicleData as crate::jer::Jer>::read_jer,
+        )?;
+        let f_vehicle_ident = crate::jer::read_optional(
+            v,
+            "vehicleIdent",
+            <VehicleIdent as crate::jer::Jer>::read_jer,
+        )?;
+        let f_j1939data =
+            crate::jer::read_optional(v, "j1939data", <J1939data as crate::jer::Jer>::read_jer)?;
+        let f_weather_report = crate::jer::read_optional(
+            v,
+            "weatherReport",
+            <VehicleStatusWeatherReport as crate::jer::Jer>::read_jer,
+        )?;
+        let f_gnss_status = crate::jer::read_optional(
+            v,
+            "gnssStatus",
+            <super::common::GNSSstatus as crate::jer::Jer>::read_jer,
+        )?;
         Ok(Self {
             lights: f_lights,
             light_bar: f_light_bar,
@@ -2113,18 +2171,26 @@ impl crate::jer::Jer for VehicleStatusSteering {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         crate::jer::member(v, "")?;
-        let f_angle = crate::jer::read_member(v, "angle", |x| {
-            <super::common::SteeringWheelAngle as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_confidence = crate::jer::read_optional(v, "confidence", |x| {
-            <SteeringWheelAngleConfidence as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_rate = crate::jer::read_optional(v, "rate", |x| {
-            <SteeringWheelAngleRateOfChange as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_wheels = crate::jer::read_optional(v, "wheels", |x| {
-            <DrivingWheelAngle as crate::jer::Jer>::read_jer(x)
-        })?;
+        let f_angle = crate::jer::read_member(
+            v,
+            "angle",
+            <super::common::SteeringWheelAngle as crate::jer::Jer>::read_jer,
+        )?;
+        let f_confidence = crate::jer::read_optional(
+            v,
+            "confidence",
+            <SteeringWheelAngleConfidence as crate::jer::Jer>::read_jer,
+        )?;
+        let f_rate = crate::jer::read_optional(
+            v,
+            "rate",
+            <SteeringWheelAngleRateOfChange as crate::jer::Jer>::read_jer,
+        )?;
+        let f_wheels = crate::jer::read_optional(
+            v,
+            "wheels",
+            <DrivingWheelAngle as crate::jer::Jer>::read_jer,
+        )?;
         Ok(Self {
             angle: f_angle,
             confidence: f_confidence,
@@ -2424,21 +2490,31 @@ impl crate::jer::Jer for VehicleStatusAccelSets {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         crate::jer::member(v, "")?;
-        let f_accel4way = crate::jer::read_optional(v, "accel4way", |x| {
-            <super::common::AccelerationSet4Way as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_vert_accel_thres = crate::jer::read_optional(v, "vertAccelThres", |x| {
-            <super::common::VerticalAccelerationThreshold as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_yaw_rate_con = crate::jer::read_optional(v, "yawRateCon", |x| {
-            <YawRateConfidence as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_hoz_accel_con = crate::jer::read_optional(v, "hozAccelCon", |x| {
-            <AccelerationConfidence as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_confidence_set = crate::jer::read_optional(v, "confidenceSet", |x| {
-            <ConfidenceSet as crate::jer::Jer>::read_jer(x)
-        })?;
+        let f_accel4way = crate::jer::read_optional(
+            v,
+            "accel4way",
+            <super::common::AccelerationSet4Way as crate::jer::Jer>::read_jer,
+        )?;
+        let f_vert_accel_thres = crate::jer::read_optional(
+            v,
+            "vertAccelThres",
+            <super::common::VerticalAccelerationThreshold as crate::jer::Jer>::read_jer,
+        )?;
+        let f_yaw_rate_con = crate::jer::read_optional(
+            v,
+            "yawRateCon",
+            <YawRateConfidence as crate::jer::Jer>::read_jer,
+        )?;
+        let f_hoz_accel_con = crate::jer::read_optional(
+            v,
+            "hozAccelCon",
+            <AccelerationConfidence as crate::jer::Jer>::read_jer,
+        )?;
+        let f_confidence_set = crate::jer::read_optional(
+            v,
+            "confidenceSet",
+            <ConfidenceSet as crate::jer::Jer>::read_jer,
+        )?;
         Ok(Self {
             accel4way: f_accel4way,
             vert_accel_thres: f_vert_accel_thres,
@@ -2945,27 +3021,41 @@ impl crate::jer::Jer for ConfidenceSet {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         crate::jer::member(v, "")?;
-        let f_accel_confidence = crate::jer::read_optional(v, "accelConfidence", |x| {
-            <AccelSteerYawRateConfidence as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_speed_confidence = crate::jer::read_optional(v, "speedConfidence", |x| {
-            <super::common::SpeedandHeadingandThrottleConfidence as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_time_confidence = crate::jer::read_optional(v, "timeConfidence", |x| {
-            <super::common::TimeConfidence as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_pos_confidence = crate::jer::read_optional(v, "posConfidence", |x| {
-            <super::common::PositionConfidenceSet as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_steer_confidence = crate::jer::read_optional(v, "steerConfidence", |x| {
-            <SteeringWheelAngleConfidence as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_heading_confidence = crate::jer::read_optional(v, "headingConfidence", |x| {
-            <super::common::HeadingConfidence as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_throttle_confidence = crate::jer::read_optional(v, "throttleConfidence", |x| {
-            <super::common::ThrottleConfidence as crate::jer::Jer>::read_jer(x)
-        })?;
+        let f_accel_confidence = crate::jer::read_optional(
+            v,
+            "accelConfidence",
+            <AccelSteerYawRateConfidence as crate::jer::Jer>::read_jer,
+        )?;
+        let f_speed_confidence = crate::jer::read_optional(
+            v,
+            "speedConfidence",
+            <super::common::SpeedandHeadingandThrottleConfidence as crate::jer::Jer>::read_jer,
+        )?;
+        let f_time_confidence = crate::jer::read_optional(
+            v,
+            "timeConfidence",
+            <super::common::TimeConfidence as crate::jer::Jer>::read_jer,
+        )?;
+        let f_pos_confidence = crate::jer::read_optional(
+            v,
+            "posConfidence",
+            <super::common::PositionConfidenceSet as crate::jer::Jer>::read_jer,
+        )?;
+        let f_steer_confidence = crate::jer::read_optional(
+            v,
+            "steerConfidence",
+            <SteeringWheelAngleConfidence as crate::jer::Jer>::read_jer,
+        )?;
+        let f_heading_confidence = crate::jer::read_optional(
+            v,
+            "headingConfidence",
+            <super::common::HeadingConfidence as crate::jer::Jer>::read_jer,
+        )?;
+        let f_throttle_confidence = crate::jer::read_optional(
+            v,
+            "throttleConfidence",
+            <super::common::ThrottleConfidence as crate::jer::Jer>::read_jer,
+        )?;
         Ok(Self {
             accel_confidence: f_accel_confidence,
             speed_confidence: f_speed_confidence,
@@ -3076,15 +3166,21 @@ impl crate::jer::Jer for AccelSteerYawRateConfidence {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         crate::jer::member(v, "")?;
-        let f_yaw_rate = crate::jer::read_member(v, "yawRate", |x| {
-            <YawRateConfidence as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_acceleration = crate::jer::read_member(v, "acceleration", |x| {
-            <AccelerationConfidence as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_steering_wheel_angle = crate::jer::read_member(v, "steeringWheelAngle", |x| {
-            <SteeringWheelAngleConfidence as crate::jer::Jer>::read_jer(x)
-        })?;
+        let f_yaw_rate = crate::jer::read_member(
+            v,
+            "yawRate",
+            <YawRateConfidence as crate::jer::Jer>::read_jer,
+        )?;
+        let f_acceleration = crate::jer::read_member(
+            v,
+            "acceleration",
+            <AccelerationConfidence as crate::jer::Jer>::read_jer,
+        )?;
+        let f_steering_wheel_angle = crate::jer::read_member(
+            v,
+            "steeringWheelAngle",
+            <SteeringWheelAngleConfidence as crate::jer::Jer>::read_jer,
+        )?;
         Ok(Self {
             yaw_rate: f_yaw_rate,
             acceleration: f_acceleration,
@@ -3156,15 +3252,21 @@ impl crate::jer::Jer for VehicleStatusObject {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         crate::jer::member(v, "")?;
-        let f_ob_dist = crate::jer::read_member(v, "obDist", |x| {
-            <super::common::ObstacleDistance as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_ob_direct = crate::jer::read_member(v, "obDirect", |x| {
-            <super::common::Angle as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_date_time = crate::jer::read_member(v, "dateTime", |x| {
-            <super::common::DDateTime as crate::jer::Jer>::read_jer(x)
-        })?;
+        let f_ob_dist = crate::jer::read_member(
+            v,
+            "obDist",
+            <super::common::ObstacleDistance as crate::jer::Jer>::read_jer,
+        )?;
+        let f_ob_direct = crate::jer::read_member(
+            v,
+            "obDirect",
+            <super::common::Angle as crate::jer::Jer>::read_jer,
+        )?;
+        let f_date_time = crate::jer::read_member(
+            v,
+            "dateTime",
+            <super::common::DDateTime as crate::jer::Jer>::read_jer,
+        )?;
         Ok(Self {
             ob_dist: f_ob_dist,
             ob_direct: f_ob_direct,
@@ -3261,21 +3363,31 @@ impl crate::jer::Jer for VehicleStatusVehicleData {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         crate::jer::member(v, "")?;
-        let f_height = crate::jer::read_member(v, "height", |x| {
-            <super::common::VehicleHeight as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_bumpers = crate::jer::read_member(v, "bumpers", |x| {
-            <super::common::BumperHeights as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_mass = crate::jer::read_member(v, "mass", |x| {
-            <super::common::VehicleMass as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_trailer_weight = crate::jer::read_member(v, "trailerWeight", |x| {
-            <super::common::TrailerWeight as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_type = crate::jer::read_member(v, "type", |x| {
-            <super::common::VehicleType as crate::jer::Jer>::read_jer(x)
-        })?;
+        let f_height = crate::jer::read_member(
+            v,
+            "height",
+            <super::common::VehicleHeight as crate::jer::Jer>::read_jer,
+        )?;
+        let f_bumpers = crate::jer::read_member(
+            v,
+            "bumpers",
+            <super::common::BumperHeights as crate::jer::Jer>::read_jer,
+        )?;
+        let f_mass = crate::jer::read_member(
+            v,
+            "mass",
+            <super::common::VehicleMass as crate::jer::Jer>::read_jer,
+        )?;
+        let f_trailer_weight = crate::jer::read_member(
+            v,
+            "trailerWeight",
+            <super::common::TrailerWeight as crate::jer::Jer>::read_jer,
+        )?;
+        let f_type = crate::jer::read_member(
+            v,
+            "type",
+            <super::common::VehicleType as crate::jer::Jer>::read_jer,
+        )?;
         Ok(Self {
             height: f_height,
             bumpers: f_bumpers,
@@ -3557,40 +3669,50 @@ impl crate::jer::Jer for J1939data {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         crate::jer::member(v, "")?;
-        let f_tires = crate::jer::read_optional(v, "tires", |x| {
-            <TireDataList as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_axles = crate::jer::read_optional(v, "axles", |x| {
-            <AxleWeightList as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_trailer_weight = crate::jer::read_optional(v, "trailerWeight", |x| {
-            <super::common::TrailerWeight as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_cargo_weight = crate::jer::read_optional(v, "cargoWeight", |x| {
-            <CargoWeight as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_steering_axle_temperature =
-            crate::jer::read_optional(v, "steeringAxleTemperature", |x| {
-                <SteeringAxleTemperature as crate::jer::Jer>::read_jer(x)
-            })?;
-        let f_drive_axle_location = crate::jer::read_optional(v, "driveAxleLocation", |x| {
-            <DriveAxleLocation as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_drive_axle_lift_air_pressure =
-            crate::jer::read_optional(v, "driveAxleLiftAirPressure", |x| {
-                <DriveAxleLiftAirPressure as crate::jer::Jer>::read_jer(x)
-            })?;
-        let f_drive_axle_temperature = crate::jer::read_optional(v, "driveAxleTemperature", |x| {
-            <DriveAxleTemperature as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_drive_axle_lube_pressure =
-            crate::jer::read_optional(v, "driveAxleLubePressure", |x| {
-                <DriveAxleLubePressure as crate::jer::Jer>::read_jer(x)
-            })?;
-        let f_steering_axle_lube_pressure =
-            crate::jer::read_optional(v, "steeringAxleLubePressure", |x| {
-                <SteeringAxleLubePressure as crate::jer::Jer>::read_jer(x)
-            })?;
+        let f_tires =
+            crate::jer::read_optional(v, "tires", <TireDataList as crate::jer::Jer>::read_jer)?;
+        let f_axles =
+            crate::jer::read_optional(v, "axles", <AxleWeightList as crate::jer::Jer>::read_jer)?;
+        let f_trailer_weight = crate::jer::read_optional(
+            v,
+            "trailerWeight",
+            <super::common::TrailerWeight as crate::jer::Jer>::read_jer,
+        )?;
+        let f_cargo_weight = crate::jer::read_optional(
+            v,
+            "cargoWeight",
+            <CargoWeight as crate::jer::Jer>::read_jer,
+        )?;
+        let f_steering_axle_temperature = crate::jer::read_optional(
+            v,
+            "steeringAxleTemperature",
+            <SteeringAxleTemperature as crate::jer::Jer>::read_jer,
+        )?;
+        let f_drive_axle_location = crate::jer::read_optional(
+            v,
+            "driveAxleLocation",
+            <DriveAxleLocation as crate::jer::Jer>::read_jer,
+        )?;
+        let f_drive_axle_lift_air_pressure = crate::jer::read_optional(
+            v,
+            "driveAxleLiftAirPressure",
+            <DriveAxleLiftAirPressure as crate::jer::Jer>::read_jer,
+        )?;
+        let f_drive_axle_temperature = crate::jer::read_optional(
+            v,
+            "driveAxleTemperature",
+            <DriveAxleTemperature as crate::jer::Jer>::read_jer,
+        )?;
+        let f_drive_axle_lube_pressure = crate::jer::read_optional(
+            v,
+            "driveAxleLubePressure",
+            <DriveAxleLubePressure as crate::jer::Jer>::read_jer,
+        )?;
+        let f_steering_axle_lube_pressure = crate::jer::read_optional(
+            v,
+            "steeringAxleLubePressure",
+            <SteeringAxleLubePressure as crate::jer::Jer>::read_jer,
+        )?;
         Ok(Self {
             tires: f_tires,
             axles: f_axles,
@@ -3718,7 +3840,7 @@ impl crate::jer::Jer for TireDataList {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         let items = crate::jer::array(v)?;
-        if items.len() < 1 {
+        if items.is_empty() {
             return Err(crate::jer::invalid("size"));
         }
         let mut list = Self::new();
@@ -3937,26 +4059,31 @@ impl crate::jer::Jer for TireData {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         crate::jer::member(v, "")?;
-        let f_location = crate::jer::read_optional(v, "location", |x| {
-            <TireLocation as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_pressure = crate::jer::read_optional(v, "pressure", |x| {
-            <TirePressure as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_temp =
-            crate::jer::read_optional(v, "temp", |x| <TireTemp as crate::jer::Jer>::read_jer(x))?;
-        let f_wheel_sensor_status = crate::jer::read_optional(v, "wheelSensorStatus", |x| {
-            <WheelSensorStatus as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_wheel_end_elect_fault = crate::jer::read_optional(v, "wheelEndElectFault", |x| {
-            <WheelEndElectFault as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_leakage_rate = crate::jer::read_optional(v, "leakageRate", |x| {
-            <TireLeakageRate as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_detection = crate::jer::read_optional(v, "detection", |x| {
-            <TirePressureThresholdDetection as crate::jer::Jer>::read_jer(x)
-        })?;
+        let f_location =
+            crate::jer::read_optional(v, "location", <TireLocation as crate::jer::Jer>::read_jer)?;
+        let f_pressure =
+            crate::jer::read_optional(v, "pressure", <TirePressure as crate::jer::Jer>::read_jer)?;
+        let f_temp = crate::jer::read_optional(v, "temp", <TireTemp as crate::jer::Jer>::read_jer)?;
+        let f_wheel_sensor_status = crate::jer::read_optional(
+            v,
+            "wheelSensorStatus",
+            <WheelSensorStatus as crate::jer::Jer>::read_jer,
+        )?;
+        let f_wheel_end_elect_fault = crate::jer::read_optional(
+            v,
+            "wheelEndElectFault",
+            <WheelEndElectFault as crate::jer::Jer>::read_jer,
+        )?;
+        let f_leakage_rate = crate::jer::read_optional(
+            v,
+            "leakageRate",
+            <TireLeakageRate as crate::jer::Jer>::read_jer,
+        )?;
+        let f_detection = crate::jer::read_optional(
+            v,
+            "detection",
+            <TirePressureThresholdDetection as crate::jer::Jer>::read_jer,
+        )?;
         Ok(Self {
             location: f_location,
             pressure: f_pressure,
@@ -4423,7 +4550,7 @@ impl crate::jer::Jer for AxleWeightList {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         let items = crate::jer::array(v)?;
-        if items.len() < 1 {
+        if items.is_empty() {
             return Err(crate::jer::invalid("size"));
         }
         let mut list = Self::new();
@@ -4536,12 +4663,10 @@ impl crate::jer::Jer for AxleWeightSet {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         crate::jer::member(v, "")?;
-        let f_location = crate::jer::read_optional(v, "location", |x| {
-            <AxleLocation as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_weight = crate::jer::read_optional(v, "weight", |x| {
-            <AxleWeight as crate::jer::Jer>::read_jer(x)
-        })?;
+        let f_location =
+            crate::jer::read_optional(v, "location", <AxleLocation as crate::jer::Jer>::read_jer)?;
+        let f_weight =
+            crate::jer::read_optional(v, "weight", <AxleWeight as crate::jer::Jer>::read_jer)?;
         Ok(Self {
             location: f_location,
             weight: f_weight,
@@ -4776,21 +4901,31 @@ impl crate::jer::Jer for VehicleStatusWeatherReport {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         crate::jer::member(v, "")?;
-        let f_is_raining = crate::jer::read_member(v, "isRaining", |x| {
-            <super::ntcip::EssPrecipYesNo as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_rain_rate = crate::jer::read_optional(v, "rainRate", |x| {
-            <super::ntcip::EssPrecipRate as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_precip_situation = crate::jer::read_optional(v, "precipSituation", |x| {
-            <super::ntcip::EssPrecipSituation as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_solar_radiation = crate::jer::read_optional(v, "solarRadiation", |x| {
-            <super::ntcip::EssSolarRadiation as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_friction = crate::jer::read_optional(v, "friction", |x| {
-            <super::ntcip::EssMobileFriction as crate::jer::Jer>::read_jer(x)
-        })?;
+        let f_is_raining = crate::jer::read_member(
+            v,
+            "isRaining",
+            <super::ntcip::EssPrecipYesNo as crate::jer::Jer>::read_jer,
+        )?;
+        let f_rain_rate = crate::jer::read_optional(
+            v,
+            "rainRate",
+            <super::ntcip::EssPrecipRate as crate::jer::Jer>::read_jer,
+        )?;
+        let f_precip_situation = crate::jer::read_optional(
+            v,
+            "precipSituation",
+            <super::ntcip::EssPrecipSituation as crate::jer::Jer>::read_jer,
+        )?;
+        let f_solar_radiation = crate::jer::read_optional(
+            v,
+            "solarRadiation",
+            <super::ntcip::EssSolarRadiation as crate::jer::Jer>::read_jer,
+        )?;
+        let f_friction = crate::jer::read_optional(
+            v,
+            "friction",
+            <super::ntcip::EssMobileFriction as crate::jer::Jer>::read_jer,
+        )?;
         Ok(Self {
             is_raining: f_is_raining,
             rain_rate: f_rain_rate,
@@ -4883,7 +5018,7 @@ impl crate::jer::Jer for ProbeVehicleDataRegional {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         let items = crate::jer::array(v)?;
-        if items.len() < 1 {
+        if items.is_empty() {
             return Err(crate::jer::invalid("size"));
         }
         let mut list = Self::new();

@@ -236,36 +236,56 @@ impl crate::jer::Jer for RoadSideAlert {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         crate::jer::member(v, "")?;
-        let f_msg_cnt = crate::jer::read_member(v, "msgCnt", |x| {
-            <super::common::MsgCount as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_time_stamp = crate::jer::read_optional(v, "timeStamp", |x| {
-            <super::common::MinuteOfTheYear as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_type_event = crate::jer::read_member(v, "typeEvent", |x| {
-            <super::itis::ITIScodes as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_description = crate::jer::read_optional(v, "description", |x| {
-            <RoadSideAlertDescription as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_priority = crate::jer::read_optional(v, "priority", |x| {
-            <super::common::Priority as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_heading = crate::jer::read_optional(v, "heading", |x| {
-            <super::common::HeadingSlice as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_extent = crate::jer::read_optional(v, "extent", |x| {
-            <super::common::Extent as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_position = crate::jer::read_optional(v, "position", |x| {
-            <super::common::FullPositionVector as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_further_info_id = crate::jer::read_optional(v, "furtherInfoID", |x| {
-            <super::common::FurtherInfoID as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_regional = crate::jer::read_optional(v, "regional", |x| {
-            <RoadSideAlertRegional as crate::jer::Jer>::read_jer(x)
-        })?;
+        let f_msg_cnt = crate::jer::read_member(
+            v,
+            "msgCnt",
+            <super::common::MsgCount as crate::jer::Jer>::read_jer,
+        )?;
+        let f_time_stamp = crate::jer::read_optional(
+            v,
+            "timeStamp",
+            <super::common::MinuteOfTheYear as crate::jer::Jer>::read_jer,
+        )?;
+        let f_type_event = crate::jer::read_member(
+            v,
+            "typeEvent",
+            <super::itis::ITIScodes as crate::jer::Jer>::read_jer,
+        )?;
+        let f_description = crate::jer::read_optional(
+            v,
+            "description",
+            <RoadSideAlertDescription as crate::jer::Jer>::read_jer,
+        )?;
+        let f_priority = crate::jer::read_optional(
+            v,
+            "priority",
+            <super::common::Priority as crate::jer::Jer>::read_jer,
+        )?;
+        let f_heading = crate::jer::read_optional(
+            v,
+            "heading",
+            <super::common::HeadingSlice as crate::jer::Jer>::read_jer,
+        )?;
+        let f_extent = crate::jer::read_optional(
+            v,
+            "extent",
+            <super::common::Extent as crate::jer::Jer>::read_jer,
+        )?;
+        let f_position = crate::jer::read_optional(
+            v,
+            "position",
+            <super::common::FullPositionVector as crate::jer::Jer>::read_jer,
+        )?;
+        let f_further_info_id = crate::jer::read_optional(
+            v,
+            "furtherInfoID",
+            <super::common::FurtherInfoID as crate::jer::Jer>::read_jer,
+        )?;
+        let f_regional = crate::jer::read_optional(
+            v,
+            "regional",
+            <RoadSideAlertRegional as crate::jer::Jer>::read_jer,
+        )?;
         Ok(Self {
             msg_cnt: f_msg_cnt,
             time_stamp: f_time_stamp,
@@ -388,7 +408,7 @@ impl crate::jer::Jer for RoadSideAlertDescription {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         let items = crate::jer::array(v)?;
-        if items.len() < 1 {
+        if items.is_empty() {
             return Err(crate::jer::invalid("size"));
         }
         let mut list = Self::new();
@@ -466,7 +486,7 @@ impl crate::jer::Jer for RoadSideAlertRegional {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         let items = crate::jer::array(v)?;
-        if items.len() < 1 {
+        if items.is_empty() {
             return Err(crate::jer::invalid("size"));
         }
         let mut list = Self::new();

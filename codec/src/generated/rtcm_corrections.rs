@@ -159,26 +159,37 @@ impl crate::jer::Jer for RTCMcorrections {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         crate::jer::member(v, "")?;
-        let f_msg_cnt = crate::jer::read_member(v, "msgCnt", |x| {
-            <super::common::MsgCount as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_rev =
-            crate::jer::read_member(v, "rev", |x| <RTCMRevision as crate::jer::Jer>::read_jer(x))?;
-        let f_time_stamp = crate::jer::read_optional(v, "timeStamp", |x| {
-            <super::common::MinuteOfTheYear as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_anchor_point = crate::jer::read_optional(v, "anchorPoint", |x| {
-            <super::common::FullPositionVector as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_rtcm_header = crate::jer::read_optional(v, "rtcmHeader", |x| {
-            <super::common::RTCMheader as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_msgs = crate::jer::read_member(v, "msgs", |x| {
-            <super::common::RTCMmessageList as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_regional = crate::jer::read_optional(v, "regional", |x| {
-            <RTCMcorrectionsRegional as crate::jer::Jer>::read_jer(x)
-        })?;
+        let f_msg_cnt = crate::jer::read_member(
+            v,
+            "msgCnt",
+            <super::common::MsgCount as crate::jer::Jer>::read_jer,
+        )?;
+        let f_rev = crate::jer::read_member(v, "rev", <RTCMRevision as crate::jer::Jer>::read_jer)?;
+        let f_time_stamp = crate::jer::read_optional(
+            v,
+            "timeStamp",
+            <super::common::MinuteOfTheYear as crate::jer::Jer>::read_jer,
+        )?;
+        let f_anchor_point = crate::jer::read_optional(
+            v,
+            "anchorPoint",
+            <super::common::FullPositionVector as crate::jer::Jer>::read_jer,
+        )?;
+        let f_rtcm_header = crate::jer::read_optional(
+            v,
+            "rtcmHeader",
+            <super::common::RTCMheader as crate::jer::Jer>::read_jer,
+        )?;
+        let f_msgs = crate::jer::read_member(
+            v,
+            "msgs",
+            <super::common::RTCMmessageList as crate::jer::Jer>::read_jer,
+        )?;
+        let f_regional = crate::jer::read_optional(
+            v,
+            "regional",
+            <RTCMcorrectionsRegional as crate::jer::Jer>::read_jer,
+        )?;
         Ok(Self {
             msg_cnt: f_msg_cnt,
             rev: f_rev,
@@ -401,7 +412,7 @@ impl crate::jer::Jer for RTCMcorrectionsRegional {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         let items = crate::jer::array(v)?;
-        if items.len() < 1 {
+        if items.is_empty() {
             return Err(crate::jer::invalid("size"));
         }
         let mut list = Self::new();

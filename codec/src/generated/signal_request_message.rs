@@ -152,24 +152,36 @@ impl crate::jer::Jer for SignalRequestMessage {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         crate::jer::member(v, "")?;
-        let f_time_stamp = crate::jer::read_optional(v, "timeStamp", |x| {
-            <super::common::MinuteOfTheYear as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_second = crate::jer::read_member(v, "second", |x| {
-            <super::common::DSecond as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_sequence_number = crate::jer::read_optional(v, "sequenceNumber", |x| {
-            <super::common::MsgCount as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_requests = crate::jer::read_optional(v, "requests", |x| {
-            <SignalRequestList as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_requestor = crate::jer::read_member(v, "requestor", |x| {
-            <RequestorDescription as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_regional = crate::jer::read_optional(v, "regional", |x| {
-            <SignalRequestMessageRegional as crate::jer::Jer>::read_jer(x)
-        })?;
+        let f_time_stamp = crate::jer::read_optional(
+            v,
+            "timeStamp",
+            <super::common::MinuteOfTheYear as crate::jer::Jer>::read_jer,
+        )?;
+        let f_second = crate::jer::read_member(
+            v,
+            "second",
+            <super::common::DSecond as crate::jer::Jer>::read_jer,
+        )?;
+        let f_sequence_number = crate::jer::read_optional(
+            v,
+            "sequenceNumber",
+            <super::common::MsgCount as crate::jer::Jer>::read_jer,
+        )?;
+        let f_requests = crate::jer::read_optional(
+            v,
+            "requests",
+            <SignalRequestList as crate::jer::Jer>::read_jer,
+        )?;
+        let f_requestor = crate::jer::read_member(
+            v,
+            "requestor",
+            <RequestorDescription as crate::jer::Jer>::read_jer,
+        )?;
+        let f_regional = crate::jer::read_optional(
+            v,
+            "regional",
+            <SignalRequestMessageRegional as crate::jer::Jer>::read_jer,
+        )?;
         Ok(Self {
             time_stamp: f_time_stamp,
             second: f_second,
@@ -266,7 +278,7 @@ impl crate::jer::Jer for SignalRequestList {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         let items = crate::jer::array(v)?;
-        if items.len() < 1 {
+        if items.is_empty() {
             return Err(crate::jer::invalid("size"));
         }
         let mut list = Self::new();
@@ -430,21 +442,28 @@ impl crate::jer::Jer for SignalRequestPackage {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         crate::jer::member(v, "")?;
-        let f_request = crate::jer::read_member(v, "request", |x| {
-            <SignalRequest as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_minute = crate::jer::read_optional(v, "minute", |x| {
-            <super::common::MinuteOfTheYear as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_second = crate::jer::read_optional(v, "second", |x| {
-            <super::common::DSecond as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_duration = crate::jer::read_optional(v, "duration", |x| {
-            <super::common::DSecond as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_regional = crate::jer::read_optional(v, "regional", |x| {
-            <SignalRequestPackageRegional as crate::jer::Jer>::read_jer(x)
-        })?;
+        let f_request =
+            crate::jer::read_member(v, "request", <SignalRequest as crate::jer::Jer>::read_jer)?;
+        let f_minute = crate::jer::read_optional(
+            v,
+            "minute",
+            <super::common::MinuteOfTheYear as crate::jer::Jer>::read_jer,
+        )?;
+        let f_second = crate::jer::read_optional(
+            v,
+            "second",
+            <super::common::DSecond as crate::jer::Jer>::read_jer,
+        )?;
+        let f_duration = crate::jer::read_optional(
+            v,
+            "duration",
+            <super::common::DSecond as crate::jer::Jer>::read_jer,
+        )?;
+        let f_regional = crate::jer::read_optional(
+            v,
+            "regional",
+            <SignalRequestPackageRegional as crate::jer::Jer>::read_jer,
+        )?;
         Ok(Self {
             request: f_request,
             minute: f_minute,
@@ -604,24 +623,36 @@ impl crate::jer::Jer for SignalRequest {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         crate::jer::member(v, "")?;
-        let f_id = crate::jer::read_member(v, "id", |x| {
-            <super::common::IntersectionReferenceID as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_request_id = crate::jer::read_member(v, "requestID", |x| {
-            <super::common::RequestID as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_request_type = crate::jer::read_member(v, "requestType", |x| {
-            <PriorityRequestType as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_in_bound_lane = crate::jer::read_member(v, "inBoundLane", |x| {
-            <super::common::IntersectionAccessPoint as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_out_bound_lane = crate::jer::read_optional(v, "outBoundLane", |x| {
-            <super::common::IntersectionAccessPoint as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_regional = crate::jer::read_optional(v, "regional", |x| {
-            <SignalRequestRegional as crate::jer::Jer>::read_jer(x)
-        })?;
+        let f_id = crate::jer::read_member(
+            v,
+            "id",
+            <super::common::IntersectionReferenceID as crate::jer::Jer>::read_jer,
+        )?;
+        let f_request_id = crate::jer::read_member(
+            v,
+            "requestID",
+            <super::common::RequestID as crate::jer::Jer>::read_jer,
+        )?;
+        let f_request_type = crate::jer::read_member(
+            v,
+            "requestType",
+            <PriorityRequestType as crate::jer::Jer>::read_jer,
+        )?;
+        let f_in_bound_lane = crate::jer::read_member(
+            v,
+            "inBoundLane",
+            <super::common::IntersectionAccessPoint as crate::jer::Jer>::read_jer,
+        )?;
+        let f_out_bound_lane = crate::jer::read_optional(
+            v,
+            "outBoundLane",
+            <super::common::IntersectionAccessPoint as crate::jer::Jer>::read_jer,
+        )?;
+        let f_regional = crate::jer::read_optional(
+            v,
+            "regional",
+            <SignalRequestRegional as crate::jer::Jer>::read_jer,
+        )?;
         Ok(Self {
             id: f_id,
             request_id: f_request_id,
@@ -834,7 +865,7 @@ impl crate::jer::Jer for SignalRequestRegional {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         let items = crate::jer::array(v)?;
-        if items.len() < 1 {
+        if items.is_empty() {
             return Err(crate::jer::invalid("size"));
         }
         let mut list = Self::new();
@@ -1035,7 +1066,7 @@ impl crate::jer::Jer for SignalRequestPackageRegional {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         let items = crate::jer::array(v)?;
-        if items.len() < 1 {
+        if items.is_empty() {
             return Err(crate::jer::invalid("size"));
         }
         let mut list = Self::new();
@@ -1406,33 +1437,51 @@ impl crate::jer::Jer for RequestorDescription {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         crate::jer::member(v, "")?;
-        let f_id = crate::jer::read_member(v, "id", |x| {
-            <super::common::VehicleID as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_type = crate::jer::read_optional(v, "type", |x| {
-            <super::common::RequestorType as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_position = crate::jer::read_optional(v, "position", |x| {
-            <RequestorPositionVector as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_name = crate::jer::read_optional(v, "name", |x| {
-            <super::common::DescriptiveName as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_route_name = crate::jer::read_optional(v, "routeName", |x| {
-            <super::common::DescriptiveName as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_transit_status = crate::jer::read_optional(v, "transitStatus", |x| {
-            <TransitVehicleStatus as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_transit_occupancy = crate::jer::read_optional(v, "transitOccupancy", |x| {
-            <TransitVehicleOccupancy as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_transit_schedule = crate::jer::read_optional(v, "transitSchedule", |x| {
-            <DeltaTime as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_regional = crate::jer::read_optional(v, "regional", |x| {
-            <RequestorDescriptionRegional as crate::jer::Jer>::read_jer(x)
-        })?;
+        let f_id = crate::jer::read_member(
+            v,
+            "id",
+            <super::common::VehicleID as crate::jer::Jer>::read_jer,
+        )?;
+        let f_type = crate::jer::read_optional(
+            v,
+            "type",
+            <super::common::RequestorType as crate::jer::Jer>::read_jer,
+        )?;
+        let f_position = crate::jer::read_optional(
+            v,
+            "position",
+            <RequestorPositionVector as crate::jer::Jer>::read_jer,
+        )?;
+        let f_name = crate::jer::read_optional(
+            v,
+            "name",
+            <super::common::DescriptiveName as crate::jer::Jer>::read_jer,
+        )?;
+        let f_route_name = crate::jer::read_optional(
+            v,
+            "routeName",
+            <super::common::DescriptiveName as crate::jer::Jer>::read_jer,
+        )?;
+        let f_transit_status = crate::jer::read_optional(
+            v,
+            "transitStatus",
+            <TransitVehicleStatus as crate::jer::Jer>::read_jer,
+        )?;
+        let f_transit_occupancy = crate::jer::read_optional(
+            v,
+            "transitOccupancy",
+            <TransitVehicleOccupancy as crate::jer::Jer>::read_jer,
+        )?;
+        let f_transit_schedule = crate::jer::read_optional(
+            v,
+            "transitSchedule",
+            <DeltaTime as crate::jer::Jer>::read_jer,
+        )?;
+        let f_regional = crate::jer::read_optional(
+            v,
+            "regional",
+            <RequestorDescriptionRegional as crate::jer::Jer>::read_jer,
+        )?;
         Ok(Self {
             id: f_id,
             r#type: f_type,
@@ -1594,15 +1643,21 @@ impl crate::jer::Jer for RequestorPositionVector {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         crate::jer::member(v, "")?;
-        let f_position = crate::jer::read_member(v, "position", |x| {
-            <super::common::Position3D as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_heading = crate::jer::read_optional(v, "heading", |x| {
-            <super::common::Angle as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_speed = crate::jer::read_optional(v, "speed", |x| {
-            <super::common::TransmissionAndSpeed as crate::jer::Jer>::read_jer(x)
-        })?;
+        let f_position = crate::jer::read_member(
+            v,
+            "position",
+            <super::common::Position3D as crate::jer::Jer>::read_jer,
+        )?;
+        let f_heading = crate::jer::read_optional(
+            v,
+            "heading",
+            <super::common::Angle as crate::jer::Jer>::read_jer,
+        )?;
+        let f_speed = crate::jer::read_optional(
+            v,
+            "speed",
+            <super::common::TransmissionAndSpeed as crate::jer::Jer>::read_jer,
+        )?;
         Ok(Self {
             position: f_position,
             heading: f_heading,
@@ -1893,7 +1948,7 @@ impl crate::jer::Jer for RequestorDescriptionRegional {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         let items = crate::jer::array(v)?;
-        if items.len() < 1 {
+        if items.is_empty() {
             return Err(crate::jer::invalid("size"));
         }
         let mut list = Self::new();
@@ -2094,7 +2149,7 @@ impl crate::jer::Jer for SignalRequestMessageRegional {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         let items = crate::jer::array(v)?;
-        if items.len() < 1 {
+        if items.is_empty() {
             return Err(crate::jer::invalid("size"));
         }
         let mut list = Self::new();

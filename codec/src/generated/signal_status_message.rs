@@ -131,21 +131,28 @@ impl crate::jer::Jer for SignalStatusMessage {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         crate::jer::member(v, "")?;
-        let f_time_stamp = crate::jer::read_optional(v, "timeStamp", |x| {
-            <super::common::MinuteOfTheYear as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_second = crate::jer::read_member(v, "second", |x| {
-            <super::common::DSecond as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_sequence_number = crate::jer::read_optional(v, "sequenceNumber", |x| {
-            <super::common::MsgCount as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_status = crate::jer::read_member(v, "status", |x| {
-            <SignalStatusList as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_regional = crate::jer::read_optional(v, "regional", |x| {
-            <SignalStatusMessageRegional as crate::jer::Jer>::read_jer(x)
-        })?;
+        let f_time_stamp = crate::jer::read_optional(
+            v,
+            "timeStamp",
+            <super::common::MinuteOfTheYear as crate::jer::Jer>::read_jer,
+        )?;
+        let f_second = crate::jer::read_member(
+            v,
+            "second",
+            <super::common::DSecond as crate::jer::Jer>::read_jer,
+        )?;
+        let f_sequence_number = crate::jer::read_optional(
+            v,
+            "sequenceNumber",
+            <super::common::MsgCount as crate::jer::Jer>::read_jer,
+        )?;
+        let f_status =
+            crate::jer::read_member(v, "status", <SignalStatusList as crate::jer::Jer>::read_jer)?;
+        let f_regional = crate::jer::read_optional(
+            v,
+            "regional",
+            <SignalStatusMessageRegional as crate::jer::Jer>::read_jer,
+        )?;
         Ok(Self {
             time_stamp: f_time_stamp,
             second: f_second,
@@ -236,7 +243,7 @@ impl crate::jer::Jer for SignalStatusList {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         let items = crate::jer::array(v)?;
-        if items.len() < 1 {
+        if items.is_empty() {
             return Err(crate::jer::invalid("size"));
         }
         let mut list = Self::new();
@@ -347,18 +354,26 @@ impl crate::jer::Jer for SignalStatus {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         crate::jer::member(v, "")?;
-        let f_sequence_number = crate::jer::read_member(v, "sequenceNumber", |x| {
-            <super::common::MsgCount as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_id = crate::jer::read_member(v, "id", |x| {
-            <super::common::IntersectionReferenceID as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_sig_status = crate::jer::read_member(v, "sigStatus", |x| {
-            <SignalStatusPackageList as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_regional = crate::jer::read_optional(v, "regional", |x| {
-            <SignalStatusRegional as crate::jer::Jer>::read_jer(x)
-        })?;
+        let f_sequence_number = crate::jer::read_member(
+            v,
+            "sequenceNumber",
+            <super::common::MsgCount as crate::jer::Jer>::read_jer,
+        )?;
+        let f_id = crate::jer::read_member(
+            v,
+            "id",
+            <super::common::IntersectionReferenceID as crate::jer::Jer>::read_jer,
+        )?;
+        let f_sig_status = crate::jer::read_member(
+            v,
+            "sigStatus",
+            <SignalStatusPackageList as crate::jer::Jer>::read_jer,
+        )?;
+        let f_regional = crate::jer::read_optional(
+            v,
+            "regional",
+            <SignalStatusRegional as crate::jer::Jer>::read_jer,
+        )?;
         Ok(Self {
             sequence_number: f_sequence_number,
             id: f_id,
@@ -439,7 +454,7 @@ impl crate::jer::Jer for SignalStatusPackageList {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         let items = crate::jer::array(v)?;
-        if items.len() < 1 {
+        if items.is_empty() {
             return Err(crate::jer::invalid("size"));
         }
         let mut list = Self::new();
@@ -654,30 +669,46 @@ impl crate::jer::Jer for SignalStatusPackage {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         crate::jer::member(v, "")?;
-        let f_requester = crate::jer::read_optional(v, "requester", |x| {
-            <SignalRequesterInfo as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_inbound_on = crate::jer::read_member(v, "inboundOn", |x| {
-            <super::common::IntersectionAccessPoint as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_outbound_on = crate::jer::read_optional(v, "outboundOn", |x| {
-            <super::common::IntersectionAccessPoint as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_minute = crate::jer::read_optional(v, "minute", |x| {
-            <super::common::MinuteOfTheYear as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_second = crate::jer::read_optional(v, "second", |x| {
-            <super::common::DSecond as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_duration = crate::jer::read_optional(v, "duration", |x| {
-            <super::common::DSecond as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_status = crate::jer::read_member(v, "status", |x| {
-            <super::common::PrioritizationResponseStatus as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_regional = crate::jer::read_optional(v, "regional", |x| {
-            <SignalStatusPackageRegional as crate::jer::Jer>::read_jer(x)
-        })?;
+        let f_requester = crate::jer::read_optional(
+            v,
+            "requester",
+            <SignalRequesterInfo as crate::jer::Jer>::read_jer,
+        )?;
+        let f_inbound_on = crate::jer::read_member(
+            v,
+            "inboundOn",
+            <super::common::IntersectionAccessPoint as crate::jer::Jer>::read_jer,
+        )?;
+        let f_outbound_on = crate::jer::read_optional(
+            v,
+            "outboundOn",
+            <super::common::IntersectionAccessPoint as crate::jer::Jer>::read_jer,
+        )?;
+        let f_minute = crate::jer::read_optional(
+            v,
+            "minute",
+            <super::common::MinuteOfTheYear as crate::jer::Jer>::read_jer,
+        )?;
+        let f_second = crate::jer::read_optional(
+            v,
+            "second",
+            <super::common::DSecond as crate::jer::Jer>::read_jer,
+        )?;
+        let f_duration = crate::jer::read_optional(
+            v,
+            "duration",
+            <super::common::DSecond as crate::jer::Jer>::read_jer,
+        )?;
+        let f_status = crate::jer::read_member(
+            v,
+            "status",
+            <super::common::PrioritizationResponseStatus as crate::jer::Jer>::read_jer,
+        )?;
+        let f_regional = crate::jer::read_optional(
+            v,
+            "regional",
+            <SignalStatusPackageRegional as crate::jer::Jer>::read_jer,
+        )?;
         Ok(Self {
             requester: f_requester,
             inbound_on: f_inbound_on,
@@ -845,21 +876,31 @@ impl crate::jer::Jer for SignalRequesterInfo {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         crate::jer::member(v, "")?;
-        let f_id = crate::jer::read_member(v, "id", |x| {
-            <super::common::VehicleID as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_request = crate::jer::read_member(v, "request", |x| {
-            <super::common::RequestID as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_sequence_number = crate::jer::read_member(v, "sequenceNumber", |x| {
-            <super::common::MsgCount as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_role = crate::jer::read_optional(v, "role", |x| {
-            <super::common::BasicVehicleRole as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_type_data = crate::jer::read_optional(v, "typeData", |x| {
-            <super::common::RequestorType as crate::jer::Jer>::read_jer(x)
-        })?;
+        let f_id = crate::jer::read_member(
+            v,
+            "id",
+            <super::common::VehicleID as crate::jer::Jer>::read_jer,
+        )?;
+        let f_request = crate::jer::read_member(
+            v,
+            "request",
+            <super::common::RequestID as crate::jer::Jer>::read_jer,
+        )?;
+        let f_sequence_number = crate::jer::read_member(
+            v,
+            "sequenceNumber",
+            <super::common::MsgCount as crate::jer::Jer>::read_jer,
+        )?;
+        let f_role = crate::jer::read_optional(
+            v,
+            "role",
+            <super::common::BasicVehicleRole as crate::jer::Jer>::read_jer,
+        )?;
+        let f_type_data = crate::jer::read_optional(
+            v,
+            "typeData",
+            <super::common::RequestorType as crate::jer::Jer>::read_jer,
+        )?;
         Ok(Self {
             id: f_id,
             request: f_request,
@@ -946,7 +987,7 @@ impl crate::jer::Jer for SignalStatusPackageRegional {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         let items = crate::jer::array(v)?;
-        if items.len() < 1 {
+        if items.is_empty() {
             return Err(crate::jer::invalid("size"));
         }
         let mut list = Self::new();
@@ -1147,7 +1188,7 @@ impl crate::jer::Jer for SignalStatusRegional {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         let items = crate::jer::array(v)?;
-        if items.len() < 1 {
+        if items.is_empty() {
             return Err(crate::jer::invalid("size"));
         }
         let mut list = Self::new();
@@ -1348,7 +1389,7 @@ impl crate::jer::Jer for SignalStatusMessageRegional {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         let items = crate::jer::array(v)?;
-        if items.len() < 1 {
+        if items.is_empty() {
             return Err(crate::jer::invalid("size"));
         }
         let mut list = Self::new();

@@ -124,18 +124,23 @@ impl crate::jer::Jer for SPAT {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         crate::jer::member(v, "")?;
-        let f_time_stamp = crate::jer::read_optional(v, "timeStamp", |x| {
-            <super::common::MinuteOfTheYear as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_name = crate::jer::read_optional(v, "name", |x| {
-            <super::common::DescriptiveName as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_intersections = crate::jer::read_member(v, "intersections", |x| {
-            <IntersectionStateList as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_regional = crate::jer::read_optional(v, "regional", |x| {
-            <SPATRegional as crate::jer::Jer>::read_jer(x)
-        })?;
+        let f_time_stamp = crate::jer::read_optional(
+            v,
+            "timeStamp",
+            <super::common::MinuteOfTheYear as crate::jer::Jer>::read_jer,
+        )?;
+        let f_name = crate::jer::read_optional(
+            v,
+            "name",
+            <super::common::DescriptiveName as crate::jer::Jer>::read_jer,
+        )?;
+        let f_intersections = crate::jer::read_member(
+            v,
+            "intersections",
+            <IntersectionStateList as crate::jer::Jer>::read_jer,
+        )?;
+        let f_regional =
+            crate::jer::read_optional(v, "regional", <SPATRegional as crate::jer::Jer>::read_jer)?;
         Ok(Self {
             time_stamp: f_time_stamp,
             name: f_name,
@@ -219,7 +224,7 @@ impl crate::jer::Jer for IntersectionStateList {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         let items = crate::jer::array(v)?;
-        if items.len() < 1 {
+        if items.is_empty() {
             return Err(crate::jer::invalid("size"));
         }
         let mut list = Self::new();
@@ -446,36 +451,53 @@ impl crate::jer::Jer for IntersectionState {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         crate::jer::member(v, "")?;
-        let f_name = crate::jer::read_optional(v, "name", |x| {
-            <super::common::DescriptiveName as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_id = crate::jer::read_member(v, "id", |x| {
-            <super::common::IntersectionReferenceID as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_revision = crate::jer::read_member(v, "revision", |x| {
-            <super::common::MsgCount as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_status = crate::jer::read_member(v, "status", |x| {
-            <IntersectionStatusObject as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_moy = crate::jer::read_optional(v, "moy", |x| {
-            <super::common::MinuteOfTheYear as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_time_stamp = crate::jer::read_optional(v, "timeStamp", |x| {
-            <super::common::DSecond as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_enabled_lanes = crate::jer::read_optional(v, "enabledLanes", |x| {
-            <EnabledLaneList as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_states = crate::jer::read_member(v, "states", |x| {
-            <MovementList as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_maneuver_assist_list = crate::jer::read_optional(v, "maneuverAssistList", |x| {
-            <ManeuverAssistList as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_regional = crate::jer::read_optional(v, "regional", |x| {
-            <IntersectionStateRegional as crate::jer::Jer>::read_jer(x)
-        })?;
+        let f_name = crate::jer::read_optional(
+            v,
+            "name",
+            <super::common::DescriptiveName as crate::jer::Jer>::read_jer,
+        )?;
+        let f_id = crate::jer::read_member(
+            v,
+            "id",
+            <super::common::IntersectionReferenceID as crate::jer::Jer>::read_jer,
+        )?;
+        let f_revision = crate::jer::read_member(
+            v,
+            "revision",
+            <super::common::MsgCount as crate::jer::Jer>::read_jer,
+        )?;
+        let f_status = crate::jer::read_member(
+            v,
+            "status",
+            <IntersectionStatusObject as crate::jer::Jer>::read_jer,
+        )?;
+        let f_moy = crate::jer::read_optional(
+            v,
+            "moy",
+            <super::common::MinuteOfTheYear as crate::jer::Jer>::read_jer,
+        )?;
+        let f_time_stamp = crate::jer::read_optional(
+            v,
+            "timeStamp",
+            <super::common::DSecond as crate::jer::Jer>::read_jer,
+        )?;
+        let f_enabled_lanes = crate::jer::read_optional(
+            v,
+            "enabledLanes",
+            <EnabledLaneList as crate::jer::Jer>::read_jer,
+        )?;
+        let f_states =
+            crate::jer::read_member(v, "states", <MovementList as crate::jer::Jer>::read_jer)?;
+        let f_maneuver_assist_list = crate::jer::read_optional(
+            v,
+            "maneuverAssistList",
+            <ManeuverAssistList as crate::jer::Jer>::read_jer,
+        )?;
+        let f_regional = crate::jer::read_optional(
+            v,
+            "regional",
+            <IntersectionStateRegional as crate::jer::Jer>::read_jer,
+        )?;
         Ok(Self {
             name: f_name,
             id: f_id,
@@ -672,7 +694,7 @@ impl crate::jer::Jer for EnabledLaneList {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         let items = crate::jer::array(v)?;
-        if items.len() < 1 {
+        if items.is_empty() {
             return Err(crate::jer::invalid("size"));
         }
         let mut list = Self::new();
@@ -745,7 +767,7 @@ impl crate::jer::Jer for MovementList {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         let items = crate::jer::array(v)?;
-        if items.len() < 1 {
+        if items.is_empty() {
             return Err(crate::jer::invalid("size"));
         }
         let mut list = Self::new();
@@ -894,21 +916,31 @@ impl crate::jer::Jer for MovementState {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         crate::jer::member(v, "")?;
-        let f_movement_name = crate::jer::read_optional(v, "movementName", |x| {
-            <super::common::DescriptiveName as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_signal_group = crate::jer::read_member(v, "signalGroup", |x| {
-            <super::common::SignalGroupID as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_state_time_speed = crate::jer::read_member(v, "state-time-speed", |x| {
-            <MovementEventList as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_maneuver_assist_list = crate::jer::read_optional(v, "maneuverAssistList", |x| {
-            <ManeuverAssistList as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_regional = crate::jer::read_optional(v, "regional", |x| {
-            <MovementStateRegional as crate::jer::Jer>::read_jer(x)
-        })?;
+        let f_movement_name = crate::jer::read_optional(
+            v,
+            "movementName",
+            <super::common::DescriptiveName as crate::jer::Jer>::read_jer,
+        )?;
+        let f_signal_group = crate::jer::read_member(
+            v,
+            "signalGroup",
+            <super::common::SignalGroupID as crate::jer::Jer>::read_jer,
+        )?;
+        let f_state_time_speed = crate::jer::read_member(
+            v,
+            "state-time-speed",
+            <MovementEventList as crate::jer::Jer>::read_jer,
+        )?;
+        let f_maneuver_assist_list = crate::jer::read_optional(
+            v,
+            "maneuverAssistList",
+            <ManeuverAssistList as crate::jer::Jer>::read_jer,
+        )?;
+        let f_regional = crate::jer::read_optional(
+            v,
+            "regional",
+            <MovementStateRegional as crate::jer::Jer>::read_jer,
+        )?;
         Ok(Self {
             movement_name: f_movement_name,
             signal_group: f_signal_group,
@@ -994,7 +1026,7 @@ impl crate::jer::Jer for MovementEventList {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         let items = crate::jer::array(v)?;
-        if items.len() < 1 {
+        if items.is_empty() {
             return Err(crate::jer::invalid("size"));
         }
         let mut list = Self::new();
@@ -1136,18 +1168,26 @@ impl crate::jer::Jer for MovementEvent {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         crate::jer::member(v, "")?;
-        let f_event_state = crate::jer::read_member(v, "eventState", |x| {
-            <MovementPhaseState as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_timing = crate::jer::read_optional(v, "timing", |x| {
-            <TimeChangeDetails as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_speeds = crate::jer::read_optional(v, "speeds", |x| {
-            <AdvisorySpeedList as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_regional = crate::jer::read_optional(v, "regional", |x| {
-            <MovementEventRegional as crate::jer::Jer>::read_jer(x)
-        })?;
+        let f_event_state = crate::jer::read_member(
+            v,
+            "eventState",
+            <MovementPhaseState as crate::jer::Jer>::read_jer,
+        )?;
+        let f_timing = crate::jer::read_optional(
+            v,
+            "timing",
+            <TimeChangeDetails as crate::jer::Jer>::read_jer,
+        )?;
+        let f_speeds = crate::jer::read_optional(
+            v,
+            "speeds",
+            <AdvisorySpeedList as crate::jer::Jer>::read_jer,
+        )?;
+        let f_regional = crate::jer::read_optional(
+            v,
+            "regional",
+            <MovementEventRegional as crate::jer::Jer>::read_jer,
+        )?;
         Ok(Self {
             event_state: f_event_state,
             timing: f_timing,
@@ -1476,24 +1516,21 @@ impl crate::jer::Jer for TimeChangeDetails {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         crate::jer::member(v, "")?;
-        let f_start_time = crate::jer::read_optional(v, "startTime", |x| {
-            <TimeMark as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_min_end_time = crate::jer::read_member(v, "minEndTime", |x| {
-            <TimeMark as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_max_end_time = crate::jer::read_optional(v, "maxEndTime", |x| {
-            <TimeMark as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_likely_time = crate::jer::read_optional(v, "likelyTime", |x| {
-            <TimeMark as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_confidence = crate::jer::read_optional(v, "confidence", |x| {
-            <TimeIntervalConfidence as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_next_time = crate::jer::read_optional(v, "nextTime", |x| {
-            <TimeMark as crate::jer::Jer>::read_jer(x)
-        })?;
+        let f_start_time =
+            crate::jer::read_optional(v, "startTime", <TimeMark as crate::jer::Jer>::read_jer)?;
+        let f_min_end_time =
+            crate::jer::read_member(v, "minEndTime", <TimeMark as crate::jer::Jer>::read_jer)?;
+        let f_max_end_time =
+            crate::jer::read_optional(v, "maxEndTime", <TimeMark as crate::jer::Jer>::read_jer)?;
+        let f_likely_time =
+            crate::jer::read_optional(v, "likelyTime", <TimeMark as crate::jer::Jer>::read_jer)?;
+        let f_confidence = crate::jer::read_optional(
+            v,
+            "confidence",
+            <TimeIntervalConfidence as crate::jer::Jer>::read_jer,
+        )?;
+        let f_next_time =
+            crate::jer::read_optional(v, "nextTime", <TimeMark as crate::jer::Jer>::read_jer)?;
         Ok(Self {
             start_time: f_start_time,
             min_end_time: f_min_end_time,
@@ -1603,7 +1640,7 @@ impl crate::jer::Jer for AdvisorySpeedList {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         let items = crate::jer::array(v)?;
-        if items.len() < 1 {
+        if items.is_empty() {
             return Err(crate::jer::invalid("size"));
         }
         let mut list = Self::new();
@@ -1787,24 +1824,27 @@ impl crate::jer::Jer for AdvisorySpeed {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         crate::jer::member(v, "")?;
-        let f_type = crate::jer::read_member(v, "type", |x| {
-            <AdvisorySpeedType as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_speed = crate::jer::read_optional(v, "speed", |x| {
-            <SpeedAdvice as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_confidence = crate::jer::read_optional(v, "confidence", |x| {
-            <super::common::SpeedConfidence as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_distance = crate::jer::read_optional(v, "distance", |x| {
-            <ZoneLength as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_class = crate::jer::read_optional(v, "class", |x| {
-            <super::common::RestrictionClassID as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_regional = crate::jer::read_optional(v, "regional", |x| {
-            <AdvisorySpeedRegional as crate::jer::Jer>::read_jer(x)
-        })?;
+        let f_type =
+            crate::jer::read_member(v, "type", <AdvisorySpeedType as crate::jer::Jer>::read_jer)?;
+        let f_speed =
+            crate::jer::read_optional(v, "speed", <SpeedAdvice as crate::jer::Jer>::read_jer)?;
+        let f_confidence = crate::jer::read_optional(
+            v,
+            "confidence",
+            <super::common::SpeedConfidence as crate::jer::Jer>::read_jer,
+        )?;
+        let f_distance =
+            crate::jer::read_optional(v, "distance", <ZoneLength as crate::jer::Jer>::read_jer)?;
+        let f_class = crate::jer::read_optional(
+            v,
+            "class",
+            <super::common::RestrictionClassID as crate::jer::Jer>::read_jer,
+        )?;
+        let f_regional = crate::jer::read_optional(
+            v,
+            "regional",
+            <AdvisorySpeedRegional as crate::jer::Jer>::read_jer,
+        )?;
         Ok(Self {
             r#type: f_type,
             speed: f_speed,
@@ -2027,7 +2067,7 @@ impl crate::jer::Jer for AdvisorySpeedRegional {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         let items = crate::jer::array(v)?;
-        if items.len() < 1 {
+        if items.is_empty() {
             return Err(crate::jer::invalid("size"));
         }
         let mut list = Self::new();
@@ -2220,7 +2260,7 @@ impl crate::jer::Jer for MovementEventRegional {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         let items = crate::jer::array(v)?;
-        if items.len() < 1 {
+        if items.is_empty() {
             return Err(crate::jer::invalid("size"));
         }
         let mut list = Self::new();
@@ -2444,7 +2484,7 @@ impl crate::jer::Jer for ManeuverAssistList {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         let items = crate::jer::array(v)?;
-        if items.len() < 1 {
+        if items.is_empty() {
             return Err(crate::jer::invalid("size"));
         }
         let mut list = Self::new();
@@ -2631,25 +2671,33 @@ impl crate::jer::Jer for ConnectionManeuverAssist {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         crate::jer::member(v, "")?;
-        let f_connection_id = crate::jer::read_member(v, "connectionID", |x| {
-            <super::common::LaneConnectionID as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_queue_length = crate::jer::read_optional(v, "queueLength", |x| {
-            <ZoneLength as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_available_storage_length =
-            crate::jer::read_optional(v, "availableStorageLength", |x| {
-                <ZoneLength as crate::jer::Jer>::read_jer(x)
-            })?;
-        let f_wait_on_stop = crate::jer::read_optional(v, "waitOnStop", |x| {
-            <WaitOnStopline as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_ped_bicycle_detect = crate::jer::read_optional(v, "pedBicycleDetect", |x| {
-            <PedestrianBicycleDetect as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_regional = crate::jer::read_optional(v, "regional", |x| {
-            <ConnectionManeuverAssistRegional as crate::jer::Jer>::read_jer(x)
-        })?;
+        let f_connection_id = crate::jer::read_member(
+            v,
+            "connectionID",
+            <super::common::LaneConnectionID as crate::jer::Jer>::read_jer,
+        )?;
+        let f_queue_length =
+            crate::jer::read_optional(v, "queueLength", <ZoneLength as crate::jer::Jer>::read_jer)?;
+        let f_available_storage_length = crate::jer::read_optional(
+            v,
+            "availableStorageLength",
+            <ZoneLength as crate::jer::Jer>::read_jer,
+        )?;
+        let f_wait_on_stop = crate::jer::read_optional(
+            v,
+            "waitOnStop",
+            <WaitOnStopline as crate::jer::Jer>::read_jer,
+        )?;
+        let f_ped_bicycle_detect = crate::jer::read_optional(
+            v,
+            "pedBicycleDetect",
+            <PedestrianBicycleDetect as crate::jer::Jer>::read_jer,
+        )?;
+        let f_regional = crate::jer::read_optional(
+            v,
+            "regional",
+            <ConnectionManeuverAssistRegional as crate::jer::Jer>::read_jer,
+        )?;
         Ok(Self {
             connection_id: f_connection_id,
             queue_length: f_queue_length,
@@ -2756,7 +2804,7 @@ impl crate::jer::Jer for ConnectionManeuverAssistRegional {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         let items = crate::jer::array(v)?;
-        if items.len() < 1 {
+        if items.is_empty() {
             return Err(crate::jer::invalid("size"));
         }
         let mut list = Self::new();
@@ -2987,7 +3035,7 @@ impl crate::jer::Jer for MovementStateRegional {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         let items = crate::jer::array(v)?;
-        if items.len() < 1 {
+        if items.is_empty() {
             return Err(crate::jer::invalid("size"));
         }
         let mut list = Self::new();
@@ -3180,7 +3228,7 @@ impl crate::jer::Jer for IntersectionStateRegional {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         let items = crate::jer::array(v)?;
-        if items.len() < 1 {
+        if items.is_empty() {
             return Err(crate::jer::invalid("size"));
         }
         let mut list = Self::new();
@@ -3404,7 +3452,7 @@ impl crate::jer::Jer for SPATRegional {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         let items = crate::jer::array(v)?;
-        if items.len() < 1 {
+        if items.is_empty() {
             return Err(crate::jer::invalid("size"));
         }
         let mut list = Self::new();

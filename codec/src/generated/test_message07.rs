@@ -95,12 +95,16 @@ impl crate::jer::Jer for TestMessage07 {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         crate::jer::member(v, "")?;
-        let f_header = crate::jer::read_optional(v, "header", |x| {
-            <super::common::Header as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_regional = crate::jer::read_optional(v, "regional", |x| {
-            <RegTestMessage07 as crate::jer::Jer>::read_jer(x)
-        })?;
+        let f_header = crate::jer::read_optional(
+            v,
+            "header",
+            <super::common::Header as crate::jer::Jer>::read_jer,
+        )?;
+        let f_regional = crate::jer::read_optional(
+            v,
+            "regional",
+            <RegTestMessage07 as crate::jer::Jer>::read_jer,
+        )?;
         Ok(Self {
             header: f_header,
             regional: f_regional,

@@ -152,23 +152,29 @@ impl crate::jer::Jer for TravelerInformation {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         crate::jer::member(v, "")?;
-        let f_msg_cnt = crate::jer::read_member(v, "msgCnt", |x| {
-            <super::common::MsgCount as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_time_stamp = crate::jer::read_optional(v, "timeStamp", |x| {
-            <super::common::MinuteOfTheYear as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_packet_id = crate::jer::read_optional(v, "packetID", |x| {
-            <UniqueMSGID as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_url_b =
-            crate::jer::read_optional(v, "urlB", |x| <URLBase as crate::jer::Jer>::read_jer(x))?;
-        let f_data_frames = crate::jer::read_member(v, "dataFrames", |x| {
-            <TravelerDataFrameList as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_regional = crate::jer::read_optional(v, "regional", |x| {
-            <TravelerInformationRegional as crate::jer::Jer>::read_jer(x)
-        })?;
+        let f_msg_cnt = crate::jer::read_member(
+            v,
+            "msgCnt",
+            <super::common::MsgCount as crate::jer::Jer>::read_jer,
+        )?;
+        let f_time_stamp = crate::jer::read_optional(
+            v,
+            "timeStamp",
+            <super::common::MinuteOfTheYear as crate::jer::Jer>::read_jer,
+        )?;
+        let f_packet_id =
+            crate::jer::read_optional(v, "packetID", <UniqueMSGID as crate::jer::Jer>::read_jer)?;
+        let f_url_b = crate::jer::read_optional(v, "urlB", <URLBase as crate::jer::Jer>::read_jer)?;
+        let f_data_frames = crate::jer::read_member(
+            v,
+            "dataFrames",
+            <TravelerDataFrameList as crate::jer::Jer>::read_jer,
+        )?;
+        let f_regional = crate::jer::read_optional(
+            v,
+            "regional",
+            <TravelerInformationRegional as crate::jer::Jer>::read_jer,
+        )?;
         Ok(Self {
             msg_cnt: f_msg_cnt,
             time_stamp: f_time_stamp,
@@ -363,7 +369,7 @@ impl crate::jer::Jer for TravelerDataFrameList {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         let items = crate::jer::array(v)?;
-        if items.len() < 1 {
+        if items.is_empty() {
             return Err(crate::jer::invalid("size"));
         }
         let mut list = Self::new();
@@ -554,44 +560,64 @@ impl crate::jer::Jer for TravelerDataFrame {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         crate::jer::member(v, "")?;
-        let f_not_used = crate::jer::read_member(v, "notUsed", |x| {
-            <super::common::SSPindex as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_frame_type = crate::jer::read_member(v, "frameType", |x| {
-            <TravelerInfoType as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_msg_id = crate::jer::read_member(v, "msgId", |x| {
-            <TravelerDataFrameMsgId as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_start_year = crate::jer::read_optional(v, "startYear", |x| {
-            <super::common::DYear as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_start_time = crate::jer::read_member(v, "startTime", |x| {
-            <super::common::MinuteOfTheYear as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_duration_time = crate::jer::read_member(v, "durationTime", |x| {
-            <MinutesDuration as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_priority = crate::jer::read_member(v, "priority", |x| {
-            <SignPrority as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_not_used1 = crate::jer::read_member(v, "notUsed1", |x| {
-            <super::common::SSPindex as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_regions = crate::jer::read_member(v, "regions", |x| {
-            <TravelerDataFrameRegions as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_not_used2 = crate::jer::read_member(v, "notUsed2", |x| {
-            <super::common::SSPindex as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_not_used3 = crate::jer::read_member(v, "notUsed3", |x| {
-            <super::common::SSPindex as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_content = crate::jer::read_member(v, "content", |x| {
-            <TravelerDataFrameContent as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_url =
-            crate::jer::read_optional(v, "url", |x| <URLShort as crate::jer::Jer>::read_jer(x))?;
+        let f_not_used = crate::jer::read_member(
+            v,
+            "notUsed",
+            <super::common::SSPindex as crate::jer::Jer>::read_jer,
+        )?;
+        let f_frame_type = crate::jer::read_member(
+            v,
+            "frameType",
+            <TravelerInfoType as crate::jer::Jer>::read_jer,
+        )?;
+        let f_msg_id = crate::jer::read_member(
+            v,
+            "msgId",
+            <TravelerDataFrameMsgId as crate::jer::Jer>::read_jer,
+        )?;
+        let f_start_year = crate::jer::read_optional(
+            v,
+            "startYear",
+            <super::common::DYear as crate::jer::Jer>::read_jer,
+        )?;
+        let f_start_time = crate::jer::read_member(
+            v,
+            "startTime",
+            <super::common::MinuteOfTheYear as crate::jer::Jer>::read_jer,
+        )?;
+        let f_duration_time = crate::jer::read_member(
+            v,
+            "durationTime",
+            <MinutesDuration as crate::jer::Jer>::read_jer,
+        )?;
+        let f_priority =
+            crate::jer::read_member(v, "priority", <SignPrority as crate::jer::Jer>::read_jer)?;
+        let f_not_used1 = crate::jer::read_member(
+            v,
+            "notUsed1",
+            <super::common::SSPindex as crate::jer::Jer>::read_jer,
+        )?;
+        let f_regions = crate::jer::read_member(
+            v,
+            "regions",
+            <TravelerDataFrameRegions as crate::jer::Jer>::read_jer,
+        )?;
+        let f_not_used2 = crate::jer::read_member(
+            v,
+            "notUsed2",
+            <super::common::SSPindex as crate::jer::Jer>::read_jer,
+        )?;
+        let f_not_used3 = crate::jer::read_member(
+            v,
+            "notUsed3",
+            <super::common::SSPindex as crate::jer::Jer>::read_jer,
+        )?;
+        let f_content = crate::jer::read_member(
+            v,
+            "content",
+            <TravelerDataFrameContent as crate::jer::Jer>::read_jer,
+        )?;
+        let f_url = crate::jer::read_optional(v, "url", <URLShort as crate::jer::Jer>::read_jer)?;
         Ok(Self {
             not_used: f_not_used,
             frame_type: f_frame_type,
@@ -968,17 +994,19 @@ impl crate::jer::Jer for RoadSignID {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         crate::jer::member(v, "")?;
-        let f_position = crate::jer::read_member(v, "position", |x| {
-            <super::common::Position3D as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_view_angle = crate::jer::read_member(v, "viewAngle", |x| {
-            <super::common::HeadingSlice as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_mutcd_code = crate::jer::read_optional(v, "mutcdCode", |x| {
-            <MUTCDCode as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_crc =
-            crate::jer::read_optional(v, "crc", |x| <MsgCRC as crate::jer::Jer>::read_jer(x))?;
+        let f_position = crate::jer::read_member(
+            v,
+            "position",
+            <super::common::Position3D as crate::jer::Jer>::read_jer,
+        )?;
+        let f_view_angle = crate::jer::read_member(
+            v,
+            "viewAngle",
+            <super::common::HeadingSlice as crate::jer::Jer>::read_jer,
+        )?;
+        let f_mutcd_code =
+            crate::jer::read_optional(v, "mutcdCode", <MUTCDCode as crate::jer::Jer>::read_jer)?;
+        let f_crc = crate::jer::read_optional(v, "crc", <MsgCRC as crate::jer::Jer>::read_jer)?;
         Ok(Self {
             position: f_position,
             view_angle: f_view_angle,
@@ -1265,7 +1293,7 @@ impl crate::jer::Jer for TravelerDataFrameRegions {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         let items = crate::jer::array(v)?;
-        if items.len() < 1 {
+        if items.is_empty() {
             return Err(crate::jer::invalid("size"));
         }
         let mut list = Self::new();
@@ -1527,31 +1555,48 @@ impl crate::jer::Jer for GeographicalPath {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         crate::jer::member(v, "")?;
-        let f_name = crate::jer::read_optional(v, "name", |x| {
-            <super::common::DescriptiveName as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_id = crate::jer::read_optional(v, "id", |x| {
-            <super::common::RoadSegmentReferenceID as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_anchor = crate::jer::read_optional(v, "anchor", |x| {
-            <super::common::Position3D as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_lane_width = crate::jer::read_optional(v, "laneWidth", |x| {
-            <super::common::LaneWidth as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_directionality = crate::jer::read_optional(v, "directionality", |x| {
-            <DirectionOfUse as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_closed_path = crate::jer::read_optional(v, "closedPath", |x| crate::jer::boolean(x))?;
-        let f_direction = crate::jer::read_optional(v, "direction", |x| {
-            <super::common::HeadingSlice as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_description = crate::jer::read_optional(v, "description", |x| {
-            <GeographicalPathDescription as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_regional = crate::jer::read_optional(v, "regional", |x| {
-            <GeographicalPathRegional as crate::jer::Jer>::read_jer(x)
-        })?;
+        let f_name = crate::jer::read_optional(
+            v,
+            "name",
+            <super::common::DescriptiveName as crate::jer::Jer>::read_jer,
+        )?;
+        let f_id = crate::jer::read_optional(
+            v,
+            "id",
+            <super::common::RoadSegmentReferenceID as crate::jer::Jer>::read_jer,
+        )?;
+        let f_anchor = crate::jer::read_optional(
+            v,
+            "anchor",
+            <super::common::Position3D as crate::jer::Jer>::read_jer,
+        )?;
+        let f_lane_width = crate::jer::read_optional(
+            v,
+            "laneWidth",
+            <super::common::LaneWidth as crate::jer::Jer>::read_jer,
+        )?;
+        let f_directionality = crate::jer::read_optional(
+            v,
+            "directionality",
+            <DirectionOfUse as crate::jer::Jer>::read_jer,
+        )?;
+        let f_closed_path =
+            crate::jer::read_optional(v, "closedPath", <bool as crate::jer::Jer>::read_jer)?;
+        let f_direction = crate::jer::read_optional(
+            v,
+            "direction",
+            <super::common::HeadingSlice as crate::jer::Jer>::read_jer,
+        )?;
+        let f_description = crate::jer::read_optional(
+            v,
+            "description",
+            <GeographicalPathDescription as crate::jer::Jer>::read_jer,
+        )?;
+        let f_regional = crate::jer::read_optional(
+            v,
+            "regional",
+            <GeographicalPathRegional as crate::jer::Jer>::read_jer,
+        )?;
         Ok(Self {
             name: f_name,
             id: f_id,
@@ -1951,11 +1996,12 @@ impl crate::jer::Jer for OffsetSystem {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         crate::jer::member(v, "")?;
-        let f_scale =
-            crate::jer::read_optional(v, "scale", |x| <Zoom as crate::jer::Jer>::read_jer(x))?;
-        let f_offset = crate::jer::read_member(v, "offset", |x| {
-            <OffsetSystemOffset as crate::jer::Jer>::read_jer(x)
-        })?;
+        let f_scale = crate::jer::read_optional(v, "scale", <Zoom as crate::jer::Jer>::read_jer)?;
+        let f_offset = crate::jer::read_member(
+            v,
+            "offset",
+            <OffsetSystemOffset as crate::jer::Jer>::read_jer,
+        )?;
         Ok(Self {
             scale: f_scale,
             offset: f_offset,
@@ -2346,12 +2392,13 @@ impl crate::jer::Jer for NodeLL {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         crate::jer::member(v, "")?;
-        let f_delta = crate::jer::read_member(v, "delta", |x| {
-            <NodeOffsetPointLL as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_attributes = crate::jer::read_optional(v, "attributes", |x| {
-            <NodeAttributeSetLL as crate::jer::Jer>::read_jer(x)
-        })?;
+        let f_delta =
+            crate::jer::read_member(v, "delta", <NodeOffsetPointLL as crate::jer::Jer>::read_jer)?;
+        let f_attributes = crate::jer::read_optional(
+            v,
+            "attributes",
+            <NodeAttributeSetLL as crate::jer::Jer>::read_jer,
+        )?;
         Ok(Self {
             delta: f_delta,
             attributes: f_attributes,
@@ -2687,10 +2734,8 @@ impl crate::jer::Jer for NodeLL24B {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         crate::jer::member(v, "")?;
-        let f_lon =
-            crate::jer::read_member(v, "lon", |x| <OffsetLLB12 as crate::jer::Jer>::read_jer(x))?;
-        let f_lat =
-            crate::jer::read_member(v, "lat", |x| <OffsetLLB12 as crate::jer::Jer>::read_jer(x))?;
+        let f_lon = crate::jer::read_member(v, "lon", <OffsetLLB12 as crate::jer::Jer>::read_jer)?;
+        let f_lat = crate::jer::read_member(v, "lat", <OffsetLLB12 as crate::jer::Jer>::read_jer)?;
         Ok(Self {
             lon: f_lon,
             lat: f_lat,
@@ -2764,10 +2809,8 @@ impl crate::jer::Jer for NodeLL28B {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         crate::jer::member(v, "")?;
-        let f_lon =
-            crate::jer::read_member(v, "lon", |x| <OffsetLLB14 as crate::jer::Jer>::read_jer(x))?;
-        let f_lat =
-            crate::jer::read_member(v, "lat", |x| <OffsetLLB14 as crate::jer::Jer>::read_jer(x))?;
+        let f_lon = crate::jer::read_member(v, "lon", <OffsetLLB14 as crate::jer::Jer>::read_jer)?;
+        let f_lat = crate::jer::read_member(v, "lat", <OffsetLLB14 as crate::jer::Jer>::read_jer)?;
         Ok(Self {
             lon: f_lon,
             lat: f_lat,
@@ -2841,10 +2884,8 @@ impl crate::jer::Jer for NodeLL32B {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         crate::jer::member(v, "")?;
-        let f_lon =
-            crate::jer::read_member(v, "lon", |x| <OffsetLLB16 as crate::jer::Jer>::read_jer(x))?;
-        let f_lat =
-            crate::jer::read_member(v, "lat", |x| <OffsetLLB16 as crate::jer::Jer>::read_jer(x))?;
+        let f_lon = crate::jer::read_member(v, "lon", <OffsetLLB16 as crate::jer::Jer>::read_jer)?;
+        let f_lat = crate::jer::read_member(v, "lat", <OffsetLLB16 as crate::jer::Jer>::read_jer)?;
         Ok(Self {
             lon: f_lon,
             lat: f_lat,
@@ -2918,12 +2959,16 @@ impl crate::jer::Jer for NodeLL36B {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         crate::jer::member(v, "")?;
-        let f_lon = crate::jer::read_member(v, "lon", |x| {
-            <super::common::OffsetLLB18 as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_lat = crate::jer::read_member(v, "lat", |x| {
-            <super::common::OffsetLLB18 as crate::jer::Jer>::read_jer(x)
-        })?;
+        let f_lon = crate::jer::read_member(
+            v,
+            "lon",
+            <super::common::OffsetLLB18 as crate::jer::Jer>::read_jer,
+        )?;
+        let f_lat = crate::jer::read_member(
+            v,
+            "lat",
+            <super::common::OffsetLLB18 as crate::jer::Jer>::read_jer,
+        )?;
         Ok(Self {
             lon: f_lon,
             lat: f_lat,
@@ -2986,10 +3031,8 @@ impl crate::jer::Jer for NodeLL44B {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         crate::jer::member(v, "")?;
-        let f_lon =
-            crate::jer::read_member(v, "lon", |x| <OffsetLLB22 as crate::jer::Jer>::read_jer(x))?;
-        let f_lat =
-            crate::jer::read_member(v, "lat", |x| <OffsetLLB22 as crate::jer::Jer>::read_jer(x))?;
+        let f_lon = crate::jer::read_member(v, "lon", <OffsetLLB22 as crate::jer::Jer>::read_jer)?;
+        let f_lat = crate::jer::read_member(v, "lat", <OffsetLLB22 as crate::jer::Jer>::read_jer)?;
         Ok(Self {
             lon: f_lon,
             lat: f_lat,
@@ -3063,10 +3106,8 @@ impl crate::jer::Jer for NodeLL48B {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         crate::jer::member(v, "")?;
-        let f_lon =
-            crate::jer::read_member(v, "lon", |x| <OffsetLLB24 as crate::jer::Jer>::read_jer(x))?;
-        let f_lat =
-            crate::jer::read_member(v, "lat", |x| <OffsetLLB24 as crate::jer::Jer>::read_jer(x))?;
+        let f_lon = crate::jer::read_member(v, "lon", <OffsetLLB24 as crate::jer::Jer>::read_jer)?;
+        let f_lat = crate::jer::read_member(v, "lat", <OffsetLLB24 as crate::jer::Jer>::read_jer)?;
         Ok(Self {
             lon: f_lon,
             lat: f_lat,
@@ -3413,27 +3454,41 @@ impl crate::jer::Jer for NodeAttributeSetLL {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         crate::jer::member(v, "")?;
-        let f_local_node = crate::jer::read_optional(v, "localNode", |x| {
-            <NodeAttributeLLList as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_disabled = crate::jer::read_optional(v, "disabled", |x| {
-            <SegmentAttributeLLList as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_enabled = crate::jer::read_optional(v, "enabled", |x| {
-            <SegmentAttributeLLList as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_data = crate::jer::read_optional(v, "data", |x| {
-            <super::common::LaneDataAttributeList as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_d_width = crate::jer::read_optional(v, "dWidth", |x| {
-            <super::common::OffsetB10 as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_d_elevation = crate::jer::read_optional(v, "dElevation", |x| {
-            <super::common::OffsetB10 as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_regional = crate::jer::read_optional(v, "regional", |x| {
-            <NodeAttributeSetLLRegional as crate::jer::Jer>::read_jer(x)
-        })?;
+        let f_local_node = crate::jer::read_optional(
+            v,
+            "localNode",
+            <NodeAttributeLLList as crate::jer::Jer>::read_jer,
+        )?;
+        let f_disabled = crate::jer::read_optional(
+            v,
+            "disabled",
+            <SegmentAttributeLLList as crate::jer::Jer>::read_jer,
+        )?;
+        let f_enabled = crate::jer::read_optional(
+            v,
+            "enabled",
+            <SegmentAttributeLLList as crate::jer::Jer>::read_jer,
+        )?;
+        let f_data = crate::jer::read_optional(
+            v,
+            "data",
+            <super::common::LaneDataAttributeList as crate::jer::Jer>::read_jer,
+        )?;
+        let f_d_width = crate::jer::read_optional(
+            v,
+            "dWidth",
+            <super::common::OffsetB10 as crate::jer::Jer>::read_jer,
+        )?;
+        let f_d_elevation = crate::jer::read_optional(
+            v,
+            "dElevation",
+            <super::common::OffsetB10 as crate::jer::Jer>::read_jer,
+        )?;
+        let f_regional = crate::jer::read_optional(
+            v,
+            "regional",
+            <NodeAttributeSetLLRegional as crate::jer::Jer>::read_jer,
+        )?;
         Ok(Self {
             local_node: f_local_node,
             disabled: f_disabled,
@@ -3548,7 +3603,7 @@ impl crate::jer::Jer for NodeAttributeLLList {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         let items = crate::jer::array(v)?;
-        if items.len() < 1 {
+        if items.is_empty() {
             return Err(crate::jer::invalid("size"));
         }
         let mut list = Self::new();
@@ -3804,7 +3859,7 @@ impl crate::jer::Jer for SegmentAttributeLLList {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         let items = crate::jer::array(v)?;
-        if items.len() < 1 {
+        if items.is_empty() {
             return Err(crate::jer::invalid("size"));
         }
         let mut list = Self::new();
@@ -4242,7 +4297,7 @@ impl crate::jer::Jer for NodeAttributeSetLLRegional {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         let items = crate::jer::array(v)?;
-        if items.len() < 1 {
+        if items.is_empty() {
             return Err(crate::jer::invalid("size"));
         }
         let mut list = Self::new();
@@ -4515,20 +4570,27 @@ impl crate::jer::Jer for GeometricProjection {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         crate::jer::member(v, "")?;
-        let f_direction = crate::jer::read_member(v, "direction", |x| {
-            <super::common::HeadingSlice as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_extent = crate::jer::read_optional(v, "extent", |x| {
-            <super::common::Extent as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_lane_width = crate::jer::read_optional(v, "laneWidth", |x| {
-            <super::common::LaneWidth as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_circle =
-            crate::jer::read_member(v, "circle", |x| <Circle as crate::jer::Jer>::read_jer(x))?;
-        let f_regional = crate::jer::read_optional(v, "regional", |x| {
-            <GeometricProjectionRegional as crate::jer::Jer>::read_jer(x)
-        })?;
+        let f_direction = crate::jer::read_member(
+            v,
+            "direction",
+            <super::common::HeadingSlice as crate::jer::Jer>::read_jer,
+        )?;
+        let f_extent = crate::jer::read_optional(
+            v,
+            "extent",
+            <super::common::Extent as crate::jer::Jer>::read_jer,
+        )?;
+        let f_lane_width = crate::jer::read_optional(
+            v,
+            "laneWidth",
+            <super::common::LaneWidth as crate::jer::Jer>::read_jer,
+        )?;
+        let f_circle = crate::jer::read_member(v, "circle", <Circle as crate::jer::Jer>::read_jer)?;
+        let f_regional = crate::jer::read_optional(
+            v,
+            "regional",
+            <GeometricProjectionRegional as crate::jer::Jer>::read_jer,
+        )?;
         Ok(Self {
             direction: f_direction,
             extent: f_extent,
@@ -4620,14 +4682,15 @@ impl crate::jer::Jer for Circle {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         crate::jer::member(v, "")?;
-        let f_center = crate::jer::read_member(v, "center", |x| {
-            <super::common::Position3D as crate::jer::Jer>::read_jer(x)
-        })?;
+        let f_center = crate::jer::read_member(
+            v,
+            "center",
+            <super::common::Position3D as crate::jer::Jer>::read_jer,
+        )?;
         let f_radius =
-            crate::jer::read_member(v, "radius", |x| <RadiusB12 as crate::jer::Jer>::read_jer(x))?;
-        let f_units = crate::jer::read_member(v, "units", |x| {
-            <DistanceUnits as crate::jer::Jer>::read_jer(x)
-        })?;
+            crate::jer::read_member(v, "radius", <RadiusB12 as crate::jer::Jer>::read_jer)?;
+        let f_units =
+            crate::jer::read_member(v, "units", <DistanceUnits as crate::jer::Jer>::read_jer)?;
         Ok(Self {
             center: f_center,
             radius: f_radius,
@@ -4837,7 +4900,7 @@ impl crate::jer::Jer for GeometricProjectionRegional {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         let items = crate::jer::array(v)?;
-        if items.len() < 1 {
+        if items.is_empty() {
             return Err(crate::jer::invalid("size"));
         }
         let mut list = Self::new();
@@ -5052,15 +5115,18 @@ impl crate::jer::Jer for ValidRegion {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         crate::jer::member(v, "")?;
-        let f_direction = crate::jer::read_member(v, "direction", |x| {
-            <super::common::HeadingSlice as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_extent = crate::jer::read_optional(v, "extent", |x| {
-            <super::common::Extent as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_area = crate::jer::read_member(v, "area", |x| {
-            <ValidRegionArea as crate::jer::Jer>::read_jer(x)
-        })?;
+        let f_direction = crate::jer::read_member(
+            v,
+            "direction",
+            <super::common::HeadingSlice as crate::jer::Jer>::read_jer,
+        )?;
+        let f_extent = crate::jer::read_optional(
+            v,
+            "extent",
+            <super::common::Extent as crate::jer::Jer>::read_jer,
+        )?;
+        let f_area =
+            crate::jer::read_member(v, "area", <ValidRegionArea as crate::jer::Jer>::read_jer)?;
         Ok(Self {
             direction: f_direction,
             extent: f_extent,
@@ -5337,18 +5403,26 @@ impl crate::jer::Jer for ShapePointSet {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         crate::jer::member(v, "")?;
-        let f_anchor = crate::jer::read_optional(v, "anchor", |x| {
-            <super::common::Position3D as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_lane_width = crate::jer::read_optional(v, "laneWidth", |x| {
-            <super::common::LaneWidth as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_directionality = crate::jer::read_optional(v, "directionality", |x| {
-            <DirectionOfUse as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_node_list = crate::jer::read_member(v, "nodeList", |x| {
-            <super::common::NodeListXY as crate::jer::Jer>::read_jer(x)
-        })?;
+        let f_anchor = crate::jer::read_optional(
+            v,
+            "anchor",
+            <super::common::Position3D as crate::jer::Jer>::read_jer,
+        )?;
+        let f_lane_width = crate::jer::read_optional(
+            v,
+            "laneWidth",
+            <super::common::LaneWidth as crate::jer::Jer>::read_jer,
+        )?;
+        let f_directionality = crate::jer::read_optional(
+            v,
+            "directionality",
+            <DirectionOfUse as crate::jer::Jer>::read_jer,
+        )?;
+        let f_node_list = crate::jer::read_member(
+            v,
+            "nodeList",
+            <super::common::NodeListXY as crate::jer::Jer>::read_jer,
+        )?;
         Ok(Self {
             anchor: f_anchor,
             lane_width: f_lane_width,
@@ -5484,14 +5558,14 @@ impl crate::jer::Jer for RegionPointSet {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         crate::jer::member(v, "")?;
-        let f_anchor = crate::jer::read_optional(v, "anchor", |x| {
-            <super::common::Position3D as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_scale =
-            crate::jer::read_optional(v, "scale", |x| <Zoom as crate::jer::Jer>::read_jer(x))?;
-        let f_node_list = crate::jer::read_member(v, "nodeList", |x| {
-            <RegionList as crate::jer::Jer>::read_jer(x)
-        })?;
+        let f_anchor = crate::jer::read_optional(
+            v,
+            "anchor",
+            <super::common::Position3D as crate::jer::Jer>::read_jer,
+        )?;
+        let f_scale = crate::jer::read_optional(v, "scale", <Zoom as crate::jer::Jer>::read_jer)?;
+        let f_node_list =
+            crate::jer::read_member(v, "nodeList", <RegionList as crate::jer::Jer>::read_jer)?;
         Ok(Self {
             anchor: f_anchor,
             scale: f_scale,
@@ -5571,7 +5645,7 @@ impl crate::jer::Jer for RegionList {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         let items = crate::jer::array(v)?;
-        if items.len() < 1 {
+        if items.is_empty() {
             return Err(crate::jer::invalid("size"));
         }
         let mut list = Self::new();
@@ -5662,15 +5736,12 @@ impl crate::jer::Jer for RegionOffsets {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         crate::jer::member(v, "")?;
-        let f_x_offset = crate::jer::read_member(v, "xOffset", |x| {
-            <OffsetLLB16 as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_y_offset = crate::jer::read_member(v, "yOffset", |x| {
-            <OffsetLLB16 as crate::jer::Jer>::read_jer(x)
-        })?;
-        let f_z_offset = crate::jer::read_optional(v, "zOffset", |x| {
-            <OffsetLLB16 as crate::jer::Jer>::read_jer(x)
-        })?;
+        let f_x_offset =
+            crate::jer::read_member(v, "xOffset", <OffsetLLB16 as crate::jer::Jer>::read_jer)?;
+        let f_y_offset =
+            crate::jer::read_member(v, "yOffset", <OffsetLLB16 as crate::jer::Jer>::read_jer)?;
+        let f_z_offset =
+            crate::jer::read_optional(v, "zOffset", <OffsetLLB16 as crate::jer::Jer>::read_jer)?;
         Ok(Self {
             x_offset: f_x_offset,
             y_offset: f_y_offset,
@@ -5747,7 +5818,7 @@ impl crate::jer::Jer for GeographicalPathRegional {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         let items = crate::jer::array(v)?;
-        if items.len() < 1 {
+        if items.is_empty() {
             return Err(crate::jer::invalid("size"));
         }
         let mut list = Self::new();
@@ -6134,7 +6205,7 @@ impl crate::jer::Jer for WorkZone {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         let items = crate::jer::array(v)?;
-        if items.len() < 1 {
+        if items.is_empty() {
             return Err(crate::jer::invalid("size"));
         }
         let mut list = Self::new();
@@ -6196,9 +6267,8 @@ impl crate::jer::Jer for WorkZoneItem {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         crate::jer::member(v, "")?;
-        let f_item = crate::jer::read_member(v, "item", |x| {
-            <WorkZoneItemItem as crate::jer::Jer>::read_jer(x)
-        })?;
+        let f_item =
+            crate::jer::read_member(v, "item", <WorkZoneItemItem as crate::jer::Jer>::read_jer)?;
         Ok(Self { item: f_item })
     }
 }
@@ -6431,7 +6501,7 @@ impl crate::jer::Jer for GenericSignage {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         let items = crate::jer::array(v)?;
-        if items.len() < 1 {
+        if items.is_empty() {
             return Err(crate::jer::invalid("size"));
         }
         let mut list = Self::new();
@@ -6494,9 +6564,11 @@ impl crate::jer::Jer for GenericSignageItem {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         crate::jer::member(v, "")?;
-        let f_item = crate::jer::read_member(v, "item", |x| {
-            <GenericSignageItemItem as crate::jer::Jer>::read_jer(x)
-        })?;
+        let f_item = crate::jer::read_member(
+            v,
+            "item",
+            <GenericSignageItemItem as crate::jer::Jer>::read_jer,
+        )?;
         Ok(Self { item: f_item })
     }
 }
@@ -6667,7 +6739,7 @@ impl crate::jer::Jer for SpeedLimit {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         let items = crate::jer::array(v)?;
-        if items.len() < 1 {
+        if items.is_empty() {
             return Err(crate::jer::invalid("size"));
         }
         let mut list = Self::new();
@@ -6730,9 +6802,8 @@ impl crate::jer::Jer for SpeedLimitItem {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         crate::jer::member(v, "")?;
-        let f_item = crate::jer::read_member(v, "item", |x| {
-            <SpeedLimitItemItem as crate::jer::Jer>::read_jer(x)
-        })?;
+        let f_item =
+            crate::jer::read_member(v, "item", <SpeedLimitItemItem as crate::jer::Jer>::read_jer)?;
         Ok(Self { item: f_item })
     }
 }
@@ -6903,7 +6974,7 @@ impl crate::jer::Jer for ExitService {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         let items = crate::jer::array(v)?;
-        if items.len() < 1 {
+        if items.is_empty() {
             return Err(crate::jer::invalid("size"));
         }
         let mut list = Self::new();
@@ -6966,9 +7037,11 @@ impl crate::jer::Jer for ExitServiceItem {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         crate::jer::member(v, "")?;
-        let f_item = crate::jer::read_member(v, "item", |x| {
-            <ExitServiceItemItem as crate::jer::Jer>::read_jer(x)
-        })?;
+        let f_item = crate::jer::read_member(
+            v,
+            "item",
+            <ExitServiceItemItem as crate::jer::Jer>::read_jer,
+        )?;
         Ok(Self { item: f_item })
     }
 }
@@ -7201,7 +7274,7 @@ impl crate::jer::Jer for TravelerInformationRegional {
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         let items = crate::jer::array(v)?;
-        if items.len() < 1 {
+        if items.is_empty() {
             return Err(crate::jer::invalid("size"));
         }
         let mut list = Self::new();
