@@ -401,7 +401,7 @@ class Emitter:
             s.append(f"    /// `{td.id_asn}` {i}: `{r.typedef.asn}`.\n    {v}({self.rust(r, td)}),")
         s.append(f"    /// An id this build does not know, with its value's encoding.\n"
                  f"    Unknown {{\n        /// The `{td.id_asn}`.\n        id: {id_ty},\n"
-                 f"        /// The value's encoding (open-type content).\n        content: uper::Octets<{self.caps.unknown_octets(td)}>,\n    }},")
+                 f"        /// The value's encoding (the open-type content).\n        bytes: uper::Octets<{self.caps.unknown_octets(td)}>,\n    }},")
         s.append("}\n")
         arms = "".join(f"            Self::{v}(_) => const {{ match {id_ty}::new({i}) {{ Some(id) => id, None => panic!(\"id out of range\") }} }},\n"
                        for i, v, _ in td.variants)
@@ -411,18 +411,18 @@ class Emitter:
         for i, v, r in td.variants:
             ty = self.rust(r, td)
             dec.append(switch_into(f"Self::{v}", i, ty, f"uper::decode_open(r, |r| <{ty}>::decode_into(r, v))?"))
-        dec.append(f"    _ => *out = Self::Unknown {{ id, content: uper::decode_unknown_open(r, \"{td.key}:unknown\")? }},\n}}\nOk(())")
+        dec.append(f"    _ => *out = Self::Unknown {{ id, bytes: uper::decode_unknown_open(r, \"{td.key}:unknown\")? }},\n}}\nOk(())")
         enc = ["match self {"]
         for i, v, r in td.variants:
             enc.append(f"    Self::{v}(v) => {{\n        w.write_constrained({i}, {idt.lb}, {idt.ub})?;\n"
                        f"        w.write_open(|w| v.encode_uper(w))\n    }}")
-        enc.append("    Self::Unknown { id, content } => {\n        id.encode_uper(w)?;\n"
-                   "        uper::encode_unknown_open(w, content)\n    }\n}")
+        enc.append("    Self::Unknown { id, bytes } => {\n        id.encode_uper(w)?;\n"
+                   "        uper::encode_unknown_open(w, bytes)\n    }\n}")
         s.append(self.open_jer(td, id_ty))
         if td.key == "MessageFrame.MessageFrame.value":
             for i, v, r in td.variants:
                 s.append(f"impl crate::frame::Message for {self.rust(r, td)} {{\n    const MESSAGE_ID: u16 = {i};\n}}\n")
-        ph = f"Self::Unknown {{ id: <{id_ty} as uper::Placeholder>::placeholder(), content: uper::Octets::new() }}"
+        ph = f"Self::Unknown {{ id: <{id_ty} as uper::Placeholder>::placeholder(), bytes: uper::Octets::new() }}"
         s.append(self.uper_impl(td, "\n".join(dec), "\n".join(enc), ph))
         if td.variants:
             arms = "".join(f"    {k} => Self::{v}(<{self.rust(r, td)} as uper::random::Random>::random(g)),\n"
@@ -430,8 +430,8 @@ class Emitter:
             body = f"match g.below({len(td.variants)}) {{\n{arms}    _ => {ph},\n}}"
         else:
             body = ("let known = [" + ", ".join(str(i) for i, _, _ in td.variants) + "];\n" if False else "") + \
-                   (f"let mut content = uper::Octets::new();\nfor _ in 0..1 + g.below(4) {{\n    let _ = content.push(g.octet());\n}}\n"
-                    f"Self::Unknown {{ id: <{id_ty} as uper::random::Random>::random(g), content }}")
+                   (f"let mut bytes = uper::Octets::new();\nfor _ in 0..1 + g.below(4) {{\n    let _ = bytes.push(g.octet());\n}}\n"
+                    f"Self::Unknown {{ id: <{id_ty} as uper::random::Random>::random(g), bytes }}")
         s.append(self.random_impl(td, body))
         return "\n".join(s)
 
@@ -443,9 +443,9 @@ def _open_jer(self, td, id_ty):
     for i, var, r in td.variants:
         write.append(f"    Self::{var}(v) => crate::jer::Jer::write_jer(v, out),")
         read.append(f"    {i} => <{self.rust(r, td)} as crate::jer::Jer>::read_jer(x).map(Self::{var}).map_err(|e| e.within(value_name)),")
-    write.append("    Self::Unknown { content, .. } => out.hex(content),\n}")
-    read.append("    _ => {\n        let content = uper::Octets::from_slice(&crate::jer::hex(x)?).ok_or_else(crate::jer::over_capacity)?;\n"
-                "        Ok(Self::Unknown { id, content })\n    }\n}")
+    write.append("    Self::Unknown { bytes, .. } => out.hex(bytes),\n}")
+    read.append("    _ => {\n        let bytes = uper::Octets::from_slice(&crate::jer::hex(x)?).ok_or_else(crate::jer::over_capacity)?;\n"
+                "        Ok(Self::Unknown { id, bytes })\n    }\n}")
     members = (f"impl {td.name} {{\n"
                f"    /// Writes the id and the value as members `id_name` and `value_name` of an object.\n"
                f"    #[cfg(feature = \"jer\")]\n"

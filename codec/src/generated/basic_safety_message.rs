@@ -788,8 +788,8 @@ pub enum RegEventDescription {
     Unknown {
         /// The `regionId`.
         id: super::common::RegionId,
-        /// The value's encoding (open-type content).
-        content: uper::Octets<16>,
+        /// The value's encoding (the open-type content).
+        bytes: uper::Octets<16>,
     },
 }
 
@@ -815,7 +815,7 @@ impl RegEventDescription {
         out.int(self.id().get() as i64);
         out.key(value_name);
         match self {
-            Self::Unknown { content, .. } => out.hex(content),
+            Self::Unknown { bytes, .. } => out.hex(bytes),
         }
     }
     /// Reads the id and the value from members `id_name` and `value_name` of an object.
@@ -833,9 +833,9 @@ impl RegEventDescription {
         let x = crate::jer::required(v, value_name)?;
         match id.get() {
             _ => {
-                let content = uper::Octets::from_slice(&crate::jer::hex(x)?)
+                let bytes = uper::Octets::from_slice(&crate::jer::hex(x)?)
                     .ok_or_else(crate::jer::over_capacity)?;
-                Ok(Self::Unknown { id, content })
+                Ok(Self::Unknown { id, bytes })
             }
         }
     }
@@ -857,7 +857,7 @@ impl uper::Placeholder for RegEventDescription {
     fn placeholder() -> Self {
         Self::Unknown {
             id: <super::common::RegionId as uper::Placeholder>::placeholder(),
-            content: uper::Octets::new(),
+            bytes: uper::Octets::new(),
         }
     }
 }
@@ -871,7 +871,7 @@ impl Uper for RegEventDescription {
             _ => {
                 *out = Self::Unknown {
                     id,
-                    content: uper::decode_unknown_open(
+                    bytes: uper::decode_unknown_open(
                         r,
                         "BasicSafetyMessage.RegEventDescription:unknown",
                     )?,
@@ -882,9 +882,9 @@ impl Uper for RegEventDescription {
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         match self {
-            Self::Unknown { id, content } => {
+            Self::Unknown { id, bytes } => {
                 id.encode_uper(w)?;
-                uper::encode_unknown_open(w, content)
+                uper::encode_unknown_open(w, bytes)
             }
         }
     }
@@ -893,13 +893,13 @@ impl Uper for RegEventDescription {
 #[cfg(feature = "_random")]
 impl uper::random::Random for RegEventDescription {
     fn random(g: &mut uper::random::Gen) -> Self {
-        let mut content = uper::Octets::new();
+        let mut bytes = uper::Octets::new();
         for _ in 0..1 + g.below(4) {
-            let _ = content.push(g.octet());
+            let _ = bytes.push(g.octet());
         }
         Self::Unknown {
             id: <super::common::RegionId as uper::random::Random>::random(g),
-            content,
+            bytes,
         }
     }
 }
@@ -3484,8 +3484,8 @@ pub enum RegSupplementalVehicleExtensions {
     Unknown {
         /// The `regionId`.
         id: super::common::RegionId,
-        /// The value's encoding (open-type content).
-        content: uper::Octets<16>,
+        /// The value's encoding (the open-type content).
+        bytes: uper::Octets<16>,
     },
 }
 
@@ -3511,7 +3511,7 @@ impl RegSupplementalVehicleExtensions {
         out.int(self.id().get() as i64);
         out.key(value_name);
         match self {
-            Self::Unknown { content, .. } => out.hex(content),
+            Self::Unknown { bytes, .. } => out.hex(bytes),
         }
     }
     /// Reads the id and the value from members `id_name` and `value_name` of an object.
@@ -3529,9 +3529,9 @@ impl RegSupplementalVehicleExtensions {
         let x = crate::jer::required(v, value_name)?;
         match id.get() {
             _ => {
-                let content = uper::Octets::from_slice(&crate::jer::hex(x)?)
+                let bytes = uper::Octets::from_slice(&crate::jer::hex(x)?)
                     .ok_or_else(crate::jer::over_capacity)?;
-                Ok(Self::Unknown { id, content })
+                Ok(Self::Unknown { id, bytes })
             }
         }
     }
@@ -3553,7 +3553,7 @@ impl uper::Placeholder for RegSupplementalVehicleExtensions {
     fn placeholder() -> Self {
         Self::Unknown {
             id: <super::common::RegionId as uper::Placeholder>::placeholder(),
-            content: uper::Octets::new(),
+            bytes: uper::Octets::new(),
         }
     }
 }
@@ -3567,7 +3567,7 @@ impl Uper for RegSupplementalVehicleExtensions {
             _ => {
                 *out = Self::Unknown {
                     id,
-                    content: uper::decode_unknown_open(
+                    bytes: uper::decode_unknown_open(
                         r,
                         "BasicSafetyMessage.RegSupplementalVehicleExtensions:unknown",
                     )?,
@@ -3578,9 +3578,9 @@ impl Uper for RegSupplementalVehicleExtensions {
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         match self {
-            Self::Unknown { id, content } => {
+            Self::Unknown { id, bytes } => {
                 id.encode_uper(w)?;
-                uper::encode_unknown_open(w, content)
+                uper::encode_unknown_open(w, bytes)
             }
         }
     }
@@ -3589,13 +3589,13 @@ impl Uper for RegSupplementalVehicleExtensions {
 #[cfg(feature = "_random")]
 impl uper::random::Random for RegSupplementalVehicleExtensions {
     fn random(g: &mut uper::random::Gen) -> Self {
-        let mut content = uper::Octets::new();
+        let mut bytes = uper::Octets::new();
         for _ in 0..1 + g.below(4) {
-            let _ = content.push(g.octet());
+            let _ = bytes.push(g.octet());
         }
         Self::Unknown {
             id: <super::common::RegionId as uper::random::Random>::random(g),
-            content,
+            bytes,
         }
     }
 }
@@ -3613,8 +3613,8 @@ pub enum PartIIcontent {
     Unknown {
         /// The `partII-Id`.
         id: PartIIId,
-        /// The value's encoding (open-type content).
-        content: uper::Octets<16>,
+        /// The value's encoding (the open-type content).
+        bytes: uper::Octets<16>,
     },
 }
 
@@ -3667,7 +3667,7 @@ impl PartIIcontent {
             Self::VehicleSafetyExtensions(v) => crate::jer::Jer::write_jer(v, out),
             Self::SpecialVehicleExtensions(v) => crate::jer::Jer::write_jer(v, out),
             Self::SupplementalVehicleExtensions(v) => crate::jer::Jer::write_jer(v, out),
-            Self::Unknown { content, .. } => out.hex(content),
+            Self::Unknown { bytes, .. } => out.hex(bytes),
         }
     }
     /// Reads the id and the value from members `id_name` and `value_name` of an object.
@@ -3690,9 +3690,9 @@ impl PartIIcontent {
                 .map(Self::SupplementalVehicleExtensions)
                 .map_err(|e| e.within(value_name)),
             _ => {
-                let content = uper::Octets::from_slice(&crate::jer::hex(x)?)
+                let bytes = uper::Octets::from_slice(&crate::jer::hex(x)?)
                     .ok_or_else(crate::jer::over_capacity)?;
-                Ok(Self::Unknown { id, content })
+                Ok(Self::Unknown { id, bytes })
             }
         }
     }
@@ -3714,7 +3714,7 @@ impl uper::Placeholder for PartIIcontent {
     fn placeholder() -> Self {
         Self::Unknown {
             id: <PartIIId as uper::Placeholder>::placeholder(),
-            content: uper::Octets::new(),
+            bytes: uper::Octets::new(),
         }
     }
 }
@@ -3764,7 +3764,7 @@ impl Uper for PartIIcontent {
             _ => {
                 *out = Self::Unknown {
                     id,
-                    content: uper::decode_unknown_open(
+                    bytes: uper::decode_unknown_open(
                         r,
                         "BasicSafetyMessage.PartIIcontent:unknown",
                     )?,
@@ -3787,9 +3787,9 @@ impl Uper for PartIIcontent {
                 w.write_constrained(2, 0, 63)?;
                 w.write_open(|w| v.encode_uper(w))
             }
-            Self::Unknown { id, content } => {
+            Self::Unknown { id, bytes } => {
                 id.encode_uper(w)?;
-                uper::encode_unknown_open(w, content)
+                uper::encode_unknown_open(w, bytes)
             }
         }
     }
@@ -3810,7 +3810,7 @@ impl uper::random::Random for PartIIcontent {
             ),
             _ => Self::Unknown {
                 id: <PartIIId as uper::Placeholder>::placeholder(),
-                content: uper::Octets::new(),
+                bytes: uper::Octets::new(),
             },
         }
     }
@@ -3901,8 +3901,8 @@ pub enum RegBasicSafetyMessage {
     Unknown {
         /// The `regionId`.
         id: super::common::RegionId,
-        /// The value's encoding (open-type content).
-        content: uper::Octets<16>,
+        /// The value's encoding (the open-type content).
+        bytes: uper::Octets<16>,
     },
 }
 
@@ -3928,7 +3928,7 @@ impl RegBasicSafetyMessage {
         out.int(self.id().get() as i64);
         out.key(value_name);
         match self {
-            Self::Unknown { content, .. } => out.hex(content),
+            Self::Unknown { bytes, .. } => out.hex(bytes),
         }
     }
     /// Reads the id and the value from members `id_name` and `value_name` of an object.
@@ -3946,9 +3946,9 @@ impl RegBasicSafetyMessage {
         let x = crate::jer::required(v, value_name)?;
         match id.get() {
             _ => {
-                let content = uper::Octets::from_slice(&crate::jer::hex(x)?)
+                let bytes = uper::Octets::from_slice(&crate::jer::hex(x)?)
                     .ok_or_else(crate::jer::over_capacity)?;
-                Ok(Self::Unknown { id, content })
+                Ok(Self::Unknown { id, bytes })
             }
         }
     }
@@ -3970,7 +3970,7 @@ impl uper::Placeholder for RegBasicSafetyMessage {
     fn placeholder() -> Self {
         Self::Unknown {
             id: <super::common::RegionId as uper::Placeholder>::placeholder(),
-            content: uper::Octets::new(),
+            bytes: uper::Octets::new(),
         }
     }
 }
@@ -3984,7 +3984,7 @@ impl Uper for RegBasicSafetyMessage {
             _ => {
                 *out = Self::Unknown {
                     id,
-                    content: uper::decode_unknown_open(
+                    bytes: uper::decode_unknown_open(
                         r,
                         "BasicSafetyMessage.RegBasicSafetyMessage:unknown",
                     )?,
@@ -3995,9 +3995,9 @@ impl Uper for RegBasicSafetyMessage {
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         match self {
-            Self::Unknown { id, content } => {
+            Self::Unknown { id, bytes } => {
                 id.encode_uper(w)?;
-                uper::encode_unknown_open(w, content)
+                uper::encode_unknown_open(w, bytes)
             }
         }
     }
@@ -4006,13 +4006,13 @@ impl Uper for RegBasicSafetyMessage {
 #[cfg(feature = "_random")]
 impl uper::random::Random for RegBasicSafetyMessage {
     fn random(g: &mut uper::random::Gen) -> Self {
-        let mut content = uper::Octets::new();
+        let mut bytes = uper::Octets::new();
         for _ in 0..1 + g.below(4) {
-            let _ = content.push(g.octet());
+            let _ = bytes.push(g.octet());
         }
         Self::Unknown {
             id: <super::common::RegionId as uper::random::Random>::random(g),
-            content,
+            bytes,
         }
     }
 }

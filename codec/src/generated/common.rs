@@ -6682,8 +6682,8 @@ pub enum RegVehicleClassification {
     Unknown {
         /// The `regionId`.
         id: RegionId,
-        /// The value's encoding (open-type content).
-        content: uper::Octets<16>,
+        /// The value's encoding (the open-type content).
+        bytes: uper::Octets<16>,
     },
 }
 
@@ -6709,7 +6709,7 @@ impl RegVehicleClassification {
         out.int(self.id().get() as i64);
         out.key(value_name);
         match self {
-            Self::Unknown { content, .. } => out.hex(content),
+            Self::Unknown { bytes, .. } => out.hex(bytes),
         }
     }
     /// Reads the id and the value from members `id_name` and `value_name` of an object.
@@ -6723,9 +6723,9 @@ impl RegVehicleClassification {
         let x = crate::jer::required(v, value_name)?;
         match id.get() {
             _ => {
-                let content = uper::Octets::from_slice(&crate::jer::hex(x)?)
+                let bytes = uper::Octets::from_slice(&crate::jer::hex(x)?)
                     .ok_or_else(crate::jer::over_capacity)?;
-                Ok(Self::Unknown { id, content })
+                Ok(Self::Unknown { id, bytes })
             }
         }
     }
@@ -6747,7 +6747,7 @@ impl uper::Placeholder for RegVehicleClassification {
     fn placeholder() -> Self {
         Self::Unknown {
             id: <RegionId as uper::Placeholder>::placeholder(),
-            content: uper::Octets::new(),
+            bytes: uper::Octets::new(),
         }
     }
 }
@@ -6761,10 +6761,7 @@ impl Uper for RegVehicleClassification {
             _ => {
                 *out = Self::Unknown {
                     id,
-                    content: uper::decode_unknown_open(
-                        r,
-                        "Common.RegVehicleClassification:unknown",
-                    )?,
+                    bytes: uper::decode_unknown_open(r, "Common.RegVehicleClassification:unknown")?,
                 }
             }
         }
@@ -6772,9 +6769,9 @@ impl Uper for RegVehicleClassification {
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         match self {
-            Self::Unknown { id, content } => {
+            Self::Unknown { id, bytes } => {
                 id.encode_uper(w)?;
-                uper::encode_unknown_open(w, content)
+                uper::encode_unknown_open(w, bytes)
             }
         }
     }
@@ -6783,13 +6780,13 @@ impl Uper for RegVehicleClassification {
 #[cfg(feature = "_random")]
 impl uper::random::Random for RegVehicleClassification {
     fn random(g: &mut uper::random::Gen) -> Self {
-        let mut content = uper::Octets::new();
+        let mut bytes = uper::Octets::new();
         for _ in 0..1 + g.below(4) {
-            let _ = content.push(g.octet());
+            let _ = bytes.push(g.octet());
         }
         Self::Unknown {
             id: <RegionId as uper::random::Random>::random(g),
-            content,
+            bytes,
         }
     }
 }
@@ -7751,8 +7748,8 @@ pub enum RegPosition3D {
     Unknown {
         /// The `regionId`.
         id: RegionId,
-        /// The value's encoding (open-type content).
-        content: uper::Octets<16>,
+        /// The value's encoding (the open-type content).
+        bytes: uper::Octets<16>,
     },
 }
 
@@ -7796,7 +7793,7 @@ impl RegPosition3D {
         match self {
             Self::AddGrpB(v) => crate::jer::Jer::write_jer(v, out),
             Self::AddGrpC(v) => crate::jer::Jer::write_jer(v, out),
-            Self::Unknown { content, .. } => out.hex(content),
+            Self::Unknown { bytes, .. } => out.hex(bytes),
         }
     }
     /// Reads the id and the value from members `id_name` and `value_name` of an object.
@@ -7816,9 +7813,9 @@ impl RegPosition3D {
                 .map(Self::AddGrpC)
                 .map_err(|e| e.within(value_name)),
             _ => {
-                let content = uper::Octets::from_slice(&crate::jer::hex(x)?)
+                let bytes = uper::Octets::from_slice(&crate::jer::hex(x)?)
                     .ok_or_else(crate::jer::over_capacity)?;
-                Ok(Self::Unknown { id, content })
+                Ok(Self::Unknown { id, bytes })
             }
         }
     }
@@ -7840,7 +7837,7 @@ impl uper::Placeholder for RegPosition3D {
     fn placeholder() -> Self {
         Self::Unknown {
             id: <RegionId as uper::Placeholder>::placeholder(),
-            content: uper::Octets::new(),
+            bytes: uper::Octets::new(),
         }
     }
 }
@@ -7884,7 +7881,7 @@ impl Uper for RegPosition3D {
             _ => {
                 *out = Self::Unknown {
                     id,
-                    content: uper::decode_unknown_open(r, "Common.RegPosition3D:unknown")?,
+                    bytes: uper::decode_unknown_open(r, "Common.RegPosition3D:unknown")?,
                 }
             }
         }
@@ -7900,9 +7897,9 @@ impl Uper for RegPosition3D {
                 w.write_constrained(3, 0, 255)?;
                 w.write_open(|w| v.encode_uper(w))
             }
-            Self::Unknown { id, content } => {
+            Self::Unknown { id, bytes } => {
                 id.encode_uper(w)?;
-                uper::encode_unknown_open(w, content)
+                uper::encode_unknown_open(w, bytes)
             }
         }
     }
@@ -7920,7 +7917,7 @@ impl uper::random::Random for RegPosition3D {
             ),
             _ => Self::Unknown {
                 id: <RegionId as uper::Placeholder>::placeholder(),
-                content: uper::Octets::new(),
+                bytes: uper::Octets::new(),
             },
         }
     }
@@ -9226,8 +9223,8 @@ pub enum RegNodeOffsetPointXY {
     Unknown {
         /// The `regionId`.
         id: RegionId,
-        /// The value's encoding (open-type content).
-        content: uper::Octets<16>,
+        /// The value's encoding (the open-type content).
+        bytes: uper::Octets<16>,
     },
 }
 
@@ -9262,7 +9259,7 @@ impl RegNodeOffsetPointXY {
         out.key(value_name);
         match self {
             Self::AddGrpB(v) => crate::jer::Jer::write_jer(v, out),
-            Self::Unknown { content, .. } => out.hex(content),
+            Self::Unknown { bytes, .. } => out.hex(bytes),
         }
     }
     /// Reads the id and the value from members `id_name` and `value_name` of an object.
@@ -9279,9 +9276,9 @@ impl RegNodeOffsetPointXY {
                 .map(Self::AddGrpB)
                 .map_err(|e| e.within(value_name)),
             _ => {
-                let content = uper::Octets::from_slice(&crate::jer::hex(x)?)
+                let bytes = uper::Octets::from_slice(&crate::jer::hex(x)?)
                     .ok_or_else(crate::jer::over_capacity)?;
-                Ok(Self::Unknown { id, content })
+                Ok(Self::Unknown { id, bytes })
             }
         }
     }
@@ -9303,7 +9300,7 @@ impl uper::Placeholder for RegNodeOffsetPointXY {
     fn placeholder() -> Self {
         Self::Unknown {
             id: <RegionId as uper::Placeholder>::placeholder(),
-            content: uper::Octets::new(),
+            bytes: uper::Octets::new(),
         }
     }
 }
@@ -9329,7 +9326,7 @@ impl Uper for RegNodeOffsetPointXY {
             _ => {
                 *out = Self::Unknown {
                     id,
-                    content: uper::decode_unknown_open(r, "Common.RegNodeOffsetPointXY:unknown")?,
+                    bytes: uper::decode_unknown_open(r, "Common.RegNodeOffsetPointXY:unknown")?,
                 }
             }
         }
@@ -9341,9 +9338,9 @@ impl Uper for RegNodeOffsetPointXY {
                 w.write_constrained(2, 0, 255)?;
                 w.write_open(|w| v.encode_uper(w))
             }
-            Self::Unknown { id, content } => {
+            Self::Unknown { id, bytes } => {
                 id.encode_uper(w)?;
-                uper::encode_unknown_open(w, content)
+                uper::encode_unknown_open(w, bytes)
             }
         }
     }
@@ -9358,7 +9355,7 @@ impl uper::random::Random for RegNodeOffsetPointXY {
             ),
             _ => Self::Unknown {
                 id: <RegionId as uper::Placeholder>::placeholder(),
-                content: uper::Octets::new(),
+                bytes: uper::Octets::new(),
             },
         }
     }
@@ -10790,8 +10787,8 @@ pub enum RegLaneDataAttribute {
     Unknown {
         /// The `regionId`.
         id: RegionId,
-        /// The value's encoding (open-type content).
-        content: uper::Octets<16>,
+        /// The value's encoding (the open-type content).
+        bytes: uper::Octets<16>,
     },
 }
 
@@ -10826,7 +10823,7 @@ impl RegLaneDataAttribute {
         out.key(value_name);
         match self {
             Self::AddGrpB(v) => crate::jer::Jer::write_jer(v, out),
-            Self::Unknown { content, .. } => out.hex(content),
+            Self::Unknown { bytes, .. } => out.hex(bytes),
         }
     }
     /// Reads the id and the value from members `id_name` and `value_name` of an object.
@@ -10843,9 +10840,9 @@ impl RegLaneDataAttribute {
                 .map(Self::AddGrpB)
                 .map_err(|e| e.within(value_name)),
             _ => {
-                let content = uper::Octets::from_slice(&crate::jer::hex(x)?)
+                let bytes = uper::Octets::from_slice(&crate::jer::hex(x)?)
                     .ok_or_else(crate::jer::over_capacity)?;
-                Ok(Self::Unknown { id, content })
+                Ok(Self::Unknown { id, bytes })
             }
         }
     }
@@ -10867,7 +10864,7 @@ impl uper::Placeholder for RegLaneDataAttribute {
     fn placeholder() -> Self {
         Self::Unknown {
             id: <RegionId as uper::Placeholder>::placeholder(),
-            content: uper::Octets::new(),
+            bytes: uper::Octets::new(),
         }
     }
 }
@@ -10893,7 +10890,7 @@ impl Uper for RegLaneDataAttribute {
             _ => {
                 *out = Self::Unknown {
                     id,
-                    content: uper::decode_unknown_open(r, "Common.RegLaneDataAttribute:unknown")?,
+                    bytes: uper::decode_unknown_open(r, "Common.RegLaneDataAttribute:unknown")?,
                 }
             }
         }
@@ -10905,9 +10902,9 @@ impl Uper for RegLaneDataAttribute {
                 w.write_constrained(2, 0, 255)?;
                 w.write_open(|w| v.encode_uper(w))
             }
-            Self::Unknown { id, content } => {
+            Self::Unknown { id, bytes } => {
                 id.encode_uper(w)?;
-                uper::encode_unknown_open(w, content)
+                uper::encode_unknown_open(w, bytes)
             }
         }
     }
@@ -10922,7 +10919,7 @@ impl uper::random::Random for RegLaneDataAttribute {
             ),
             _ => Self::Unknown {
                 id: <RegionId as uper::Placeholder>::placeholder(),
-                content: uper::Octets::new(),
+                bytes: uper::Octets::new(),
             },
         }
     }
@@ -11013,8 +11010,8 @@ pub enum RegNodeAttributeSetXY {
     Unknown {
         /// The `regionId`.
         id: RegionId,
-        /// The value's encoding (open-type content).
-        content: uper::Octets<16>,
+        /// The value's encoding (the open-type content).
+        bytes: uper::Octets<16>,
     },
 }
 
@@ -11040,7 +11037,7 @@ impl RegNodeAttributeSetXY {
         out.int(self.id().get() as i64);
         out.key(value_name);
         match self {
-            Self::Unknown { content, .. } => out.hex(content),
+            Self::Unknown { bytes, .. } => out.hex(bytes),
         }
     }
     /// Reads the id and the value from members `id_name` and `value_name` of an object.
@@ -11054,9 +11051,9 @@ impl RegNodeAttributeSetXY {
         let x = crate::jer::required(v, value_name)?;
         match id.get() {
             _ => {
-                let content = uper::Octets::from_slice(&crate::jer::hex(x)?)
+                let bytes = uper::Octets::from_slice(&crate::jer::hex(x)?)
                     .ok_or_else(crate::jer::over_capacity)?;
-                Ok(Self::Unknown { id, content })
+                Ok(Self::Unknown { id, bytes })
             }
         }
     }
@@ -11078,7 +11075,7 @@ impl uper::Placeholder for RegNodeAttributeSetXY {
     fn placeholder() -> Self {
         Self::Unknown {
             id: <RegionId as uper::Placeholder>::placeholder(),
-            content: uper::Octets::new(),
+            bytes: uper::Octets::new(),
         }
     }
 }
@@ -11092,7 +11089,7 @@ impl Uper for RegNodeAttributeSetXY {
             _ => {
                 *out = Self::Unknown {
                     id,
-                    content: uper::decode_unknown_open(r, "Common.RegNodeAttributeSetXY:unknown")?,
+                    bytes: uper::decode_unknown_open(r, "Common.RegNodeAttributeSetXY:unknown")?,
                 }
             }
         }
@@ -11100,9 +11097,9 @@ impl Uper for RegNodeAttributeSetXY {
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         match self {
-            Self::Unknown { id, content } => {
+            Self::Unknown { id, bytes } => {
                 id.encode_uper(w)?;
-                uper::encode_unknown_open(w, content)
+                uper::encode_unknown_open(w, bytes)
             }
         }
     }
@@ -11111,13 +11108,13 @@ impl Uper for RegNodeAttributeSetXY {
 #[cfg(feature = "_random")]
 impl uper::random::Random for RegNodeAttributeSetXY {
     fn random(g: &mut uper::random::Gen) -> Self {
-        let mut content = uper::Octets::new();
+        let mut bytes = uper::Octets::new();
         for _ in 0..1 + g.below(4) {
-            let _ = content.push(g.octet());
+            let _ = bytes.push(g.octet());
         }
         Self::Unknown {
             id: <RegionId as uper::random::Random>::random(g),
-            content,
+            bytes,
         }
     }
 }
@@ -11668,8 +11665,8 @@ pub enum RegComputedLane {
     Unknown {
         /// The `regionId`.
         id: RegionId,
-        /// The value's encoding (open-type content).
-        content: uper::Octets<16>,
+        /// The value's encoding (the open-type content).
+        bytes: uper::Octets<16>,
     },
 }
 
@@ -11695,7 +11692,7 @@ impl RegComputedLane {
         out.int(self.id().get() as i64);
         out.key(value_name);
         match self {
-            Self::Unknown { content, .. } => out.hex(content),
+            Self::Unknown { bytes, .. } => out.hex(bytes),
         }
     }
     /// Reads the id and the value from members `id_name` and `value_name` of an object.
@@ -11709,9 +11706,9 @@ impl RegComputedLane {
         let x = crate::jer::required(v, value_name)?;
         match id.get() {
             _ => {
-                let content = uper::Octets::from_slice(&crate::jer::hex(x)?)
+                let bytes = uper::Octets::from_slice(&crate::jer::hex(x)?)
                     .ok_or_else(crate::jer::over_capacity)?;
-                Ok(Self::Unknown { id, content })
+                Ok(Self::Unknown { id, bytes })
             }
         }
     }
@@ -11733,7 +11730,7 @@ impl uper::Placeholder for RegComputedLane {
     fn placeholder() -> Self {
         Self::Unknown {
             id: <RegionId as uper::Placeholder>::placeholder(),
-            content: uper::Octets::new(),
+            bytes: uper::Octets::new(),
         }
     }
 }
@@ -11747,7 +11744,7 @@ impl Uper for RegComputedLane {
             _ => {
                 *out = Self::Unknown {
                     id,
-                    content: uper::decode_unknown_open(r, "Common.RegComputedLane:unknown")?,
+                    bytes: uper::decode_unknown_open(r, "Common.RegComputedLane:unknown")?,
                 }
             }
         }
@@ -11755,9 +11752,9 @@ impl Uper for RegComputedLane {
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         match self {
-            Self::Unknown { id, content } => {
+            Self::Unknown { id, bytes } => {
                 id.encode_uper(w)?;
-                uper::encode_unknown_open(w, content)
+                uper::encode_unknown_open(w, bytes)
             }
         }
     }
@@ -11766,13 +11763,13 @@ impl Uper for RegComputedLane {
 #[cfg(feature = "_random")]
 impl uper::random::Random for RegComputedLane {
     fn random(g: &mut uper::random::Gen) -> Self {
-        let mut content = uper::Octets::new();
+        let mut bytes = uper::Octets::new();
         for _ in 0..1 + g.below(4) {
-            let _ = content.push(g.octet());
+            let _ = bytes.push(g.octet());
         }
         Self::Unknown {
             id: <RegionId as uper::random::Random>::random(g),
-            content,
+            bytes,
         }
     }
 }
@@ -12964,8 +12961,8 @@ pub enum RegRequestorType {
     Unknown {
         /// The `regionId`.
         id: RegionId,
-        /// The value's encoding (open-type content).
-        content: uper::Octets<16>,
+        /// The value's encoding (the open-type content).
+        bytes: uper::Octets<16>,
     },
 }
 
@@ -12991,7 +12988,7 @@ impl RegRequestorType {
         out.int(self.id().get() as i64);
         out.key(value_name);
         match self {
-            Self::Unknown { content, .. } => out.hex(content),
+            Self::Unknown { bytes, .. } => out.hex(bytes),
         }
     }
     /// Reads the id and the value from members `id_name` and `value_name` of an object.
@@ -13005,9 +13002,9 @@ impl RegRequestorType {
         let x = crate::jer::required(v, value_name)?;
         match id.get() {
             _ => {
-                let content = uper::Octets::from_slice(&crate::jer::hex(x)?)
+                let bytes = uper::Octets::from_slice(&crate::jer::hex(x)?)
                     .ok_or_else(crate::jer::over_capacity)?;
-                Ok(Self::Unknown { id, content })
+                Ok(Self::Unknown { id, bytes })
             }
         }
     }
@@ -13029,7 +13026,7 @@ impl uper::Placeholder for RegRequestorType {
     fn placeholder() -> Self {
         Self::Unknown {
             id: <RegionId as uper::Placeholder>::placeholder(),
-            content: uper::Octets::new(),
+            bytes: uper::Octets::new(),
         }
     }
 }
@@ -13043,7 +13040,7 @@ impl Uper for RegRequestorType {
             _ => {
                 *out = Self::Unknown {
                     id,
-                    content: uper::decode_unknown_open(r, "Common.RegRequestorType:unknown")?,
+                    bytes: uper::decode_unknown_open(r, "Common.RegRequestorType:unknown")?,
                 }
             }
         }
@@ -13051,9 +13048,9 @@ impl Uper for RegRequestorType {
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         match self {
-            Self::Unknown { id, content } => {
+            Self::Unknown { id, bytes } => {
                 id.encode_uper(w)?;
-                uper::encode_unknown_open(w, content)
+                uper::encode_unknown_open(w, bytes)
             }
         }
     }
@@ -13062,13 +13059,13 @@ impl Uper for RegRequestorType {
 #[cfg(feature = "_random")]
 impl uper::random::Random for RegRequestorType {
     fn random(g: &mut uper::random::Gen) -> Self {
-        let mut content = uper::Octets::new();
+        let mut bytes = uper::Octets::new();
         for _ in 0..1 + g.below(4) {
-            let _ = content.push(g.octet());
+            let _ = bytes.push(g.octet());
         }
         Self::Unknown {
             id: <RegionId as uper::random::Random>::random(g),
-            content,
+            bytes,
         }
     }
 }
@@ -13960,8 +13957,8 @@ pub enum RegVerticalOffset {
     Unknown {
         /// The `regionId`.
         id: RegionId,
-        /// The value's encoding (open-type content).
-        content: uper::Octets<16>,
+        /// The value's encoding (the open-type content).
+        bytes: uper::Octets<16>,
     },
 }
 
@@ -13987,7 +13984,7 @@ impl RegVerticalOffset {
         out.int(self.id().get() as i64);
         out.key(value_name);
         match self {
-            Self::Unknown { content, .. } => out.hex(content),
+            Self::Unknown { bytes, .. } => out.hex(bytes),
         }
     }
     /// Reads the id and the value from members `id_name` and `value_name` of an object.
@@ -14001,9 +13998,9 @@ impl RegVerticalOffset {
         let x = crate::jer::required(v, value_name)?;
         match id.get() {
             _ => {
-                let content = uper::Octets::from_slice(&crate::jer::hex(x)?)
+                let bytes = uper::Octets::from_slice(&crate::jer::hex(x)?)
                     .ok_or_else(crate::jer::over_capacity)?;
-                Ok(Self::Unknown { id, content })
+                Ok(Self::Unknown { id, bytes })
             }
         }
     }
@@ -14025,7 +14022,7 @@ impl uper::Placeholder for RegVerticalOffset {
     fn placeholder() -> Self {
         Self::Unknown {
             id: <RegionId as uper::Placeholder>::placeholder(),
-            content: uper::Octets::new(),
+            bytes: uper::Octets::new(),
         }
     }
 }
@@ -14039,7 +14036,7 @@ impl Uper for RegVerticalOffset {
             _ => {
                 *out = Self::Unknown {
                     id,
-                    content: uper::decode_unknown_open(r, "Common.RegVerticalOffset:unknown")?,
+                    bytes: uper::decode_unknown_open(r, "Common.RegVerticalOffset:unknown")?,
                 }
             }
         }
@@ -14047,9 +14044,9 @@ impl Uper for RegVerticalOffset {
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         match self {
-            Self::Unknown { id, content } => {
+            Self::Unknown { id, bytes } => {
                 id.encode_uper(w)?;
-                uper::encode_unknown_open(w, content)
+                uper::encode_unknown_open(w, bytes)
             }
         }
     }
@@ -14058,13 +14055,13 @@ impl Uper for RegVerticalOffset {
 #[cfg(feature = "_random")]
 impl uper::random::Random for RegVerticalOffset {
     fn random(g: &mut uper::random::Gen) -> Self {
-        let mut content = uper::Octets::new();
+        let mut bytes = uper::Octets::new();
         for _ in 0..1 + g.below(4) {
-            let _ = content.push(g.octet());
+            let _ = bytes.push(g.octet());
         }
         Self::Unknown {
             id: <RegionId as uper::random::Random>::random(g),
-            content,
+            bytes,
         }
     }
 }

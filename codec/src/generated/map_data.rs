@@ -2397,8 +2397,8 @@ pub enum RegLaneAttributes {
     Unknown {
         /// The `regionId`.
         id: super::common::RegionId,
-        /// The value's encoding (open-type content).
-        content: uper::Octets<16>,
+        /// The value's encoding (the open-type content).
+        bytes: uper::Octets<16>,
     },
 }
 
@@ -2424,7 +2424,7 @@ impl RegLaneAttributes {
         out.int(self.id().get() as i64);
         out.key(value_name);
         match self {
-            Self::Unknown { content, .. } => out.hex(content),
+            Self::Unknown { bytes, .. } => out.hex(bytes),
         }
     }
     /// Reads the id and the value from members `id_name` and `value_name` of an object.
@@ -2442,9 +2442,9 @@ impl RegLaneAttributes {
         let x = crate::jer::required(v, value_name)?;
         match id.get() {
             _ => {
-                let content = uper::Octets::from_slice(&crate::jer::hex(x)?)
+                let bytes = uper::Octets::from_slice(&crate::jer::hex(x)?)
                     .ok_or_else(crate::jer::over_capacity)?;
-                Ok(Self::Unknown { id, content })
+                Ok(Self::Unknown { id, bytes })
             }
         }
     }
@@ -2466,7 +2466,7 @@ impl uper::Placeholder for RegLaneAttributes {
     fn placeholder() -> Self {
         Self::Unknown {
             id: <super::common::RegionId as uper::Placeholder>::placeholder(),
-            content: uper::Octets::new(),
+            bytes: uper::Octets::new(),
         }
     }
 }
@@ -2480,7 +2480,7 @@ impl Uper for RegLaneAttributes {
             _ => {
                 *out = Self::Unknown {
                     id,
-                    content: uper::decode_unknown_open(r, "MapData.RegLaneAttributes:unknown")?,
+                    bytes: uper::decode_unknown_open(r, "MapData.RegLaneAttributes:unknown")?,
                 }
             }
         }
@@ -2488,9 +2488,9 @@ impl Uper for RegLaneAttributes {
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         match self {
-            Self::Unknown { id, content } => {
+            Self::Unknown { id, bytes } => {
                 id.encode_uper(w)?;
-                uper::encode_unknown_open(w, content)
+                uper::encode_unknown_open(w, bytes)
             }
         }
     }
@@ -2499,13 +2499,13 @@ impl Uper for RegLaneAttributes {
 #[cfg(feature = "_random")]
 impl uper::random::Random for RegLaneAttributes {
     fn random(g: &mut uper::random::Gen) -> Self {
-        let mut content = uper::Octets::new();
+        let mut bytes = uper::Octets::new();
         for _ in 0..1 + g.below(4) {
-            let _ = content.push(g.octet());
+            let _ = bytes.push(g.octet());
         }
         Self::Unknown {
             id: <super::common::RegionId as uper::random::Random>::random(g),
-            content,
+            bytes,
         }
     }
 }
@@ -3099,8 +3099,8 @@ pub enum RegGenericLane {
     Unknown {
         /// The `regionId`.
         id: super::common::RegionId,
-        /// The value's encoding (open-type content).
-        content: uper::Octets<16>,
+        /// The value's encoding (the open-type content).
+        bytes: uper::Octets<16>,
     },
 }
 
@@ -3126,7 +3126,7 @@ impl RegGenericLane {
         out.int(self.id().get() as i64);
         out.key(value_name);
         match self {
-            Self::Unknown { content, .. } => out.hex(content),
+            Self::Unknown { bytes, .. } => out.hex(bytes),
         }
     }
     /// Reads the id and the value from members `id_name` and `value_name` of an object.
@@ -3144,9 +3144,9 @@ impl RegGenericLane {
         let x = crate::jer::required(v, value_name)?;
         match id.get() {
             _ => {
-                let content = uper::Octets::from_slice(&crate::jer::hex(x)?)
+                let bytes = uper::Octets::from_slice(&crate::jer::hex(x)?)
                     .ok_or_else(crate::jer::over_capacity)?;
-                Ok(Self::Unknown { id, content })
+                Ok(Self::Unknown { id, bytes })
             }
         }
     }
@@ -3168,7 +3168,7 @@ impl uper::Placeholder for RegGenericLane {
     fn placeholder() -> Self {
         Self::Unknown {
             id: <super::common::RegionId as uper::Placeholder>::placeholder(),
-            content: uper::Octets::new(),
+            bytes: uper::Octets::new(),
         }
     }
 }
@@ -3182,7 +3182,7 @@ impl Uper for RegGenericLane {
             _ => {
                 *out = Self::Unknown {
                     id,
-                    content: uper::decode_unknown_open(r, "MapData.RegGenericLane:unknown")?,
+                    bytes: uper::decode_unknown_open(r, "MapData.RegGenericLane:unknown")?,
                 }
             }
         }
@@ -3190,9 +3190,9 @@ impl Uper for RegGenericLane {
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         match self {
-            Self::Unknown { id, content } => {
+            Self::Unknown { id, bytes } => {
                 id.encode_uper(w)?;
-                uper::encode_unknown_open(w, content)
+                uper::encode_unknown_open(w, bytes)
             }
         }
     }
@@ -3201,13 +3201,13 @@ impl Uper for RegGenericLane {
 #[cfg(feature = "_random")]
 impl uper::random::Random for RegGenericLane {
     fn random(g: &mut uper::random::Gen) -> Self {
-        let mut content = uper::Octets::new();
+        let mut bytes = uper::Octets::new();
         for _ in 0..1 + g.below(4) {
-            let _ = content.push(g.octet());
+            let _ = bytes.push(g.octet());
         }
         Self::Unknown {
             id: <super::common::RegionId as uper::random::Random>::random(g),
-            content,
+            bytes,
         }
     }
 }
@@ -3365,8 +3365,8 @@ pub enum RegSignalControlZone {
     Unknown {
         /// The `regionId`.
         id: super::common::RegionId,
-        /// The value's encoding (open-type content).
-        content: uper::Octets<16>,
+        /// The value's encoding (the open-type content).
+        bytes: uper::Octets<16>,
     },
 }
 
@@ -3392,7 +3392,7 @@ impl RegSignalControlZone {
         out.int(self.id().get() as i64);
         out.key(value_name);
         match self {
-            Self::Unknown { content, .. } => out.hex(content),
+            Self::Unknown { bytes, .. } => out.hex(bytes),
         }
     }
     /// Reads the id and the value from members `id_name` and `value_name` of an object.
@@ -3410,9 +3410,9 @@ impl RegSignalControlZone {
         let x = crate::jer::required(v, value_name)?;
         match id.get() {
             _ => {
-                let content = uper::Octets::from_slice(&crate::jer::hex(x)?)
+                let bytes = uper::Octets::from_slice(&crate::jer::hex(x)?)
                     .ok_or_else(crate::jer::over_capacity)?;
-                Ok(Self::Unknown { id, content })
+                Ok(Self::Unknown { id, bytes })
             }
         }
     }
@@ -3434,7 +3434,7 @@ impl uper::Placeholder for RegSignalControlZone {
     fn placeholder() -> Self {
         Self::Unknown {
             id: <super::common::RegionId as uper::Placeholder>::placeholder(),
-            content: uper::Octets::new(),
+            bytes: uper::Octets::new(),
         }
     }
 }
@@ -3448,7 +3448,7 @@ impl Uper for RegSignalControlZone {
             _ => {
                 *out = Self::Unknown {
                     id,
-                    content: uper::decode_unknown_open(r, "MapData.RegSignalControlZone:unknown")?,
+                    bytes: uper::decode_unknown_open(r, "MapData.RegSignalControlZone:unknown")?,
                 }
             }
         }
@@ -3456,9 +3456,9 @@ impl Uper for RegSignalControlZone {
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         match self {
-            Self::Unknown { id, content } => {
+            Self::Unknown { id, bytes } => {
                 id.encode_uper(w)?;
-                uper::encode_unknown_open(w, content)
+                uper::encode_unknown_open(w, bytes)
             }
         }
     }
@@ -3467,13 +3467,13 @@ impl Uper for RegSignalControlZone {
 #[cfg(feature = "_random")]
 impl uper::random::Random for RegSignalControlZone {
     fn random(g: &mut uper::random::Gen) -> Self {
-        let mut content = uper::Octets::new();
+        let mut bytes = uper::Octets::new();
         for _ in 0..1 + g.below(4) {
-            let _ = content.push(g.octet());
+            let _ = bytes.push(g.octet());
         }
         Self::Unknown {
             id: <super::common::RegionId as uper::random::Random>::random(g),
-            content,
+            bytes,
         }
     }
 }
@@ -3563,8 +3563,8 @@ pub enum RegIntersectionGeometry {
     Unknown {
         /// The `regionId`.
         id: super::common::RegionId,
-        /// The value's encoding (open-type content).
-        content: uper::Octets<16>,
+        /// The value's encoding (the open-type content).
+        bytes: uper::Octets<16>,
     },
 }
 
@@ -3590,7 +3590,7 @@ impl RegIntersectionGeometry {
         out.int(self.id().get() as i64);
         out.key(value_name);
         match self {
-            Self::Unknown { content, .. } => out.hex(content),
+            Self::Unknown { bytes, .. } => out.hex(bytes),
         }
     }
     /// Reads the id and the value from members `id_name` and `value_name` of an object.
@@ -3608,9 +3608,9 @@ impl RegIntersectionGeometry {
         let x = crate::jer::required(v, value_name)?;
         match id.get() {
             _ => {
-                let content = uper::Octets::from_slice(&crate::jer::hex(x)?)
+                let bytes = uper::Octets::from_slice(&crate::jer::hex(x)?)
                     .ok_or_else(crate::jer::over_capacity)?;
-                Ok(Self::Unknown { id, content })
+                Ok(Self::Unknown { id, bytes })
             }
         }
     }
@@ -3632,7 +3632,7 @@ impl uper::Placeholder for RegIntersectionGeometry {
     fn placeholder() -> Self {
         Self::Unknown {
             id: <super::common::RegionId as uper::Placeholder>::placeholder(),
-            content: uper::Octets::new(),
+            bytes: uper::Octets::new(),
         }
     }
 }
@@ -3646,10 +3646,7 @@ impl Uper for RegIntersectionGeometry {
             _ => {
                 *out = Self::Unknown {
                     id,
-                    content: uper::decode_unknown_open(
-                        r,
-                        "MapData.RegIntersectionGeometry:unknown",
-                    )?,
+                    bytes: uper::decode_unknown_open(r, "MapData.RegIntersectionGeometry:unknown")?,
                 }
             }
         }
@@ -3657,9 +3654,9 @@ impl Uper for RegIntersectionGeometry {
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         match self {
-            Self::Unknown { id, content } => {
+            Self::Unknown { id, bytes } => {
                 id.encode_uper(w)?;
-                uper::encode_unknown_open(w, content)
+                uper::encode_unknown_open(w, bytes)
             }
         }
     }
@@ -3668,13 +3665,13 @@ impl Uper for RegIntersectionGeometry {
 #[cfg(feature = "_random")]
 impl uper::random::Random for RegIntersectionGeometry {
     fn random(g: &mut uper::random::Gen) -> Self {
-        let mut content = uper::Octets::new();
+        let mut bytes = uper::Octets::new();
         for _ in 0..1 + g.below(4) {
-            let _ = content.push(g.octet());
+            let _ = bytes.push(g.octet());
         }
         Self::Unknown {
             id: <super::common::RegionId as uper::random::Random>::random(g),
-            content,
+            bytes,
         }
     }
 }
@@ -4152,8 +4149,8 @@ pub enum RegRoadSegment {
     Unknown {
         /// The `regionId`.
         id: super::common::RegionId,
-        /// The value's encoding (open-type content).
-        content: uper::Octets<16>,
+        /// The value's encoding (the open-type content).
+        bytes: uper::Octets<16>,
     },
 }
 
@@ -4179,7 +4176,7 @@ impl RegRoadSegment {
         out.int(self.id().get() as i64);
         out.key(value_name);
         match self {
-            Self::Unknown { content, .. } => out.hex(content),
+            Self::Unknown { bytes, .. } => out.hex(bytes),
         }
     }
     /// Reads the id and the value from members `id_name` and `value_name` of an object.
@@ -4197,9 +4194,9 @@ impl RegRoadSegment {
         let x = crate::jer::required(v, value_name)?;
         match id.get() {
             _ => {
-                let content = uper::Octets::from_slice(&crate::jer::hex(x)?)
+                let bytes = uper::Octets::from_slice(&crate::jer::hex(x)?)
                     .ok_or_else(crate::jer::over_capacity)?;
-                Ok(Self::Unknown { id, content })
+                Ok(Self::Unknown { id, bytes })
             }
         }
     }
@@ -4221,7 +4218,7 @@ impl uper::Placeholder for RegRoadSegment {
     fn placeholder() -> Self {
         Self::Unknown {
             id: <super::common::RegionId as uper::Placeholder>::placeholder(),
-            content: uper::Octets::new(),
+            bytes: uper::Octets::new(),
         }
     }
 }
@@ -4235,7 +4232,7 @@ impl Uper for RegRoadSegment {
             _ => {
                 *out = Self::Unknown {
                     id,
-                    content: uper::decode_unknown_open(r, "MapData.RegRoadSegment:unknown")?,
+                    bytes: uper::decode_unknown_open(r, "MapData.RegRoadSegment:unknown")?,
                 }
             }
         }
@@ -4243,9 +4240,9 @@ impl Uper for RegRoadSegment {
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         match self {
-            Self::Unknown { id, content } => {
+            Self::Unknown { id, bytes } => {
                 id.encode_uper(w)?;
-                uper::encode_unknown_open(w, content)
+                uper::encode_unknown_open(w, bytes)
             }
         }
     }
@@ -4254,13 +4251,13 @@ impl Uper for RegRoadSegment {
 #[cfg(feature = "_random")]
 impl uper::random::Random for RegRoadSegment {
     fn random(g: &mut uper::random::Gen) -> Self {
-        let mut content = uper::Octets::new();
+        let mut bytes = uper::Octets::new();
         for _ in 0..1 + g.below(4) {
-            let _ = content.push(g.octet());
+            let _ = bytes.push(g.octet());
         }
         Self::Unknown {
             id: <super::common::RegionId as uper::random::Random>::random(g),
-            content,
+            bytes,
         }
     }
 }
@@ -5318,8 +5315,8 @@ pub enum RegRestrictionUserType {
     Unknown {
         /// The `regionId`.
         id: super::common::RegionId,
-        /// The value's encoding (open-type content).
-        content: uper::Octets<16>,
+        /// The value's encoding (the open-type content).
+        bytes: uper::Octets<16>,
     },
 }
 
@@ -5354,7 +5351,7 @@ impl RegRestrictionUserType {
         out.key(value_name);
         match self {
             Self::AddGrpC(v) => crate::jer::Jer::write_jer(v, out),
-            Self::Unknown { content, .. } => out.hex(content),
+            Self::Unknown { bytes, .. } => out.hex(bytes),
         }
     }
     /// Reads the id and the value from members `id_name` and `value_name` of an object.
@@ -5375,9 +5372,9 @@ impl RegRestrictionUserType {
                 .map(Self::AddGrpC)
                 .map_err(|e| e.within(value_name)),
             _ => {
-                let content = uper::Octets::from_slice(&crate::jer::hex(x)?)
+                let bytes = uper::Octets::from_slice(&crate::jer::hex(x)?)
                     .ok_or_else(crate::jer::over_capacity)?;
-                Ok(Self::Unknown { id, content })
+                Ok(Self::Unknown { id, bytes })
             }
         }
     }
@@ -5399,7 +5396,7 @@ impl uper::Placeholder for RegRestrictionUserType {
     fn placeholder() -> Self {
         Self::Unknown {
             id: <super::common::RegionId as uper::Placeholder>::placeholder(),
-            content: uper::Octets::new(),
+            bytes: uper::Octets::new(),
         }
     }
 }
@@ -5425,10 +5422,7 @@ impl Uper for RegRestrictionUserType {
             _ => {
                 *out = Self::Unknown {
                     id,
-                    content: uper::decode_unknown_open(
-                        r,
-                        "MapData.RegRestrictionUserType:unknown",
-                    )?,
+                    bytes: uper::decode_unknown_open(r, "MapData.RegRestrictionUserType:unknown")?,
                 }
             }
         }
@@ -5440,9 +5434,9 @@ impl Uper for RegRestrictionUserType {
                 w.write_constrained(3, 0, 255)?;
                 w.write_open(|w| v.encode_uper(w))
             }
-            Self::Unknown { id, content } => {
+            Self::Unknown { id, bytes } => {
                 id.encode_uper(w)?;
-                uper::encode_unknown_open(w, content)
+                uper::encode_unknown_open(w, bytes)
             }
         }
     }
@@ -5457,7 +5451,7 @@ impl uper::random::Random for RegRestrictionUserType {
             ),
             _ => Self::Unknown {
                 id: <super::common::RegionId as uper::Placeholder>::placeholder(),
-                content: uper::Octets::new(),
+                bytes: uper::Octets::new(),
             },
         }
     }
@@ -5544,8 +5538,8 @@ pub enum RegMapData {
     Unknown {
         /// The `regionId`.
         id: super::common::RegionId,
-        /// The value's encoding (open-type content).
-        content: uper::Octets<256>,
+        /// The value's encoding (the open-type content).
+        bytes: uper::Octets<256>,
     },
 }
 
@@ -5580,7 +5574,7 @@ impl RegMapData {
         out.key(value_name);
         match self {
             Self::AddGrpC(v) => crate::jer::Jer::write_jer(v, out),
-            Self::Unknown { content, .. } => out.hex(content),
+            Self::Unknown { bytes, .. } => out.hex(bytes),
         }
     }
     /// Reads the id and the value from members `id_name` and `value_name` of an object.
@@ -5601,9 +5595,9 @@ impl RegMapData {
                 .map(Self::AddGrpC)
                 .map_err(|e| e.within(value_name)),
             _ => {
-                let content = uper::Octets::from_slice(&crate::jer::hex(x)?)
+                let bytes = uper::Octets::from_slice(&crate::jer::hex(x)?)
                     .ok_or_else(crate::jer::over_capacity)?;
-                Ok(Self::Unknown { id, content })
+                Ok(Self::Unknown { id, bytes })
             }
         }
     }
@@ -5625,7 +5619,7 @@ impl uper::Placeholder for RegMapData {
     fn placeholder() -> Self {
         Self::Unknown {
             id: <super::common::RegionId as uper::Placeholder>::placeholder(),
-            content: uper::Octets::new(),
+            bytes: uper::Octets::new(),
         }
     }
 }
@@ -5653,7 +5647,7 @@ impl Uper for RegMapData {
             _ => {
                 *out = Self::Unknown {
                     id,
-                    content: uper::decode_unknown_open(r, "MapData.RegMapData:unknown")?,
+                    bytes: uper::decode_unknown_open(r, "MapData.RegMapData:unknown")?,
                 }
             }
         }
@@ -5665,9 +5659,9 @@ impl Uper for RegMapData {
                 w.write_constrained(3, 0, 255)?;
                 w.write_open(|w| v.encode_uper(w))
             }
-            Self::Unknown { id, content } => {
+            Self::Unknown { id, bytes } => {
                 id.encode_uper(w)?;
-                uper::encode_unknown_open(w, content)
+                uper::encode_unknown_open(w, bytes)
             }
         }
     }
@@ -5682,7 +5676,7 @@ impl uper::random::Random for RegMapData {
             }
             _ => Self::Unknown {
                 id: <super::common::RegionId as uper::Placeholder>::placeholder(),
-                content: uper::Octets::new(),
+                bytes: uper::Octets::new(),
             },
         }
     }

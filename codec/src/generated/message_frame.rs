@@ -151,8 +151,8 @@ pub enum MessageFrameValue {
     Unknown {
         /// The `messageId`.
         id: DSRCmsgID,
-        /// The value's encoding (open-type content).
-        content: uper::Octets<1500>,
+        /// The value's encoding (the open-type content).
+        bytes: uper::Octets<1500>,
     },
 }
 
@@ -457,7 +457,7 @@ impl MessageFrameValue {
             Self::TestMessage13(v) => crate::jer::Jer::write_jer(v, out),
             Self::TestMessage14(v) => crate::jer::Jer::write_jer(v, out),
             Self::TestMessage15(v) => crate::jer::Jer::write_jer(v, out),
-            Self::Unknown { content, .. } => out.hex(content),
+            Self::Unknown { bytes, .. } => out.hex(bytes),
         }
     }
     /// Reads the id and the value from members `id_name` and `value_name` of an object.
@@ -502,8 +502,8 @@ impl MessageFrameValue {
             254 => <super::test_message14::TestMessage14 as crate::jer::Jer>::read_jer(x).map(Self::TestMessage14).map_err(|e| e.within(value_name)),
             255 => <super::test_message15::TestMessage15 as crate::jer::Jer>::read_jer(x).map(Self::TestMessage15).map_err(|e| e.within(value_name)),
             _ => {
-                let content = uper::Octets::from_slice(&crate::jer::hex(x)?).ok_or_else(crate::jer::over_capacity)?;
-                Ok(Self::Unknown { id, content })
+                let bytes = uper::Octets::from_slice(&crate::jer::hex(x)?).ok_or_else(crate::jer::over_capacity)?;
+                Ok(Self::Unknown { id, bytes })
             }
         }
     }
@@ -649,7 +649,7 @@ impl uper::Placeholder for MessageFrameValue {
     fn placeholder() -> Self {
         Self::Unknown {
             id: <DSRCmsgID as uper::Placeholder>::placeholder(),
-            content: uper::Octets::new(),
+            bytes: uper::Octets::new(),
         }
     }
 }
@@ -1033,10 +1033,7 @@ impl Uper for MessageFrameValue {
             _ => {
                 *out = Self::Unknown {
                     id,
-                    content: uper::decode_unknown_open(
-                        r,
-                        "MessageFrame.MessageFrame.value:unknown",
-                    )?,
+                    bytes: uper::decode_unknown_open(r, "MessageFrame.MessageFrame.value:unknown")?,
                 }
             }
         }
@@ -1168,9 +1165,9 @@ impl Uper for MessageFrameValue {
                 w.write_constrained(255, 0, 32767)?;
                 w.write_open(|w| v.encode_uper(w))
             }
-            Self::Unknown { id, content } => {
+            Self::Unknown { id, bytes } => {
                 id.encode_uper(w)?;
-                uper::encode_unknown_open(w, content)
+                uper::encode_unknown_open(w, bytes)
             }
         }
     }
@@ -1211,7 +1208,7 @@ impl uper::random::Random for MessageFrameValue {
             28 => Self::TestMessage13(<super::test_message13::TestMessage13 as uper::random::Random>::random(g)),
             29 => Self::TestMessage14(<super::test_message14::TestMessage14 as uper::random::Random>::random(g)),
             30 => Self::TestMessage15(<super::test_message15::TestMessage15 as uper::random::Random>::random(g)),
-            _ => Self::Unknown { id: <DSRCmsgID as uper::Placeholder>::placeholder(), content: uper::Octets::new() },
+            _ => Self::Unknown { id: <DSRCmsgID as uper::Placeholder>::placeholder(), bytes: uper::Octets::new() },
         }
     }
 }

@@ -518,8 +518,8 @@ pub enum RegRoadSideAlert {
     Unknown {
         /// The `regionId`.
         id: super::common::RegionId,
-        /// The value's encoding (open-type content).
-        content: uper::Octets<16>,
+        /// The value's encoding (the open-type content).
+        bytes: uper::Octets<16>,
     },
 }
 
@@ -545,7 +545,7 @@ impl RegRoadSideAlert {
         out.int(self.id().get() as i64);
         out.key(value_name);
         match self {
-            Self::Unknown { content, .. } => out.hex(content),
+            Self::Unknown { bytes, .. } => out.hex(bytes),
         }
     }
     /// Reads the id and the value from members `id_name` and `value_name` of an object.
@@ -563,9 +563,9 @@ impl RegRoadSideAlert {
         let x = crate::jer::required(v, value_name)?;
         match id.get() {
             _ => {
-                let content = uper::Octets::from_slice(&crate::jer::hex(x)?)
+                let bytes = uper::Octets::from_slice(&crate::jer::hex(x)?)
                     .ok_or_else(crate::jer::over_capacity)?;
-                Ok(Self::Unknown { id, content })
+                Ok(Self::Unknown { id, bytes })
             }
         }
     }
@@ -587,7 +587,7 @@ impl uper::Placeholder for RegRoadSideAlert {
     fn placeholder() -> Self {
         Self::Unknown {
             id: <super::common::RegionId as uper::Placeholder>::placeholder(),
-            content: uper::Octets::new(),
+            bytes: uper::Octets::new(),
         }
     }
 }
@@ -601,10 +601,7 @@ impl Uper for RegRoadSideAlert {
             _ => {
                 *out = Self::Unknown {
                     id,
-                    content: uper::decode_unknown_open(
-                        r,
-                        "RoadSideAlert.RegRoadSideAlert:unknown",
-                    )?,
+                    bytes: uper::decode_unknown_open(r, "RoadSideAlert.RegRoadSideAlert:unknown")?,
                 }
             }
         }
@@ -612,9 +609,9 @@ impl Uper for RegRoadSideAlert {
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         match self {
-            Self::Unknown { id, content } => {
+            Self::Unknown { id, bytes } => {
                 id.encode_uper(w)?;
-                uper::encode_unknown_open(w, content)
+                uper::encode_unknown_open(w, bytes)
             }
         }
     }
@@ -623,13 +620,13 @@ impl Uper for RegRoadSideAlert {
 #[cfg(feature = "_random")]
 impl uper::random::Random for RegRoadSideAlert {
     fn random(g: &mut uper::random::Gen) -> Self {
-        let mut content = uper::Octets::new();
+        let mut bytes = uper::Octets::new();
         for _ in 0..1 + g.below(4) {
-            let _ = content.push(g.octet());
+            let _ = bytes.push(g.octet());
         }
         Self::Unknown {
             id: <super::common::RegionId as uper::random::Random>::random(g),
-            content,
+            bytes,
         }
     }
 }

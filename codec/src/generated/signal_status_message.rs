@@ -1019,8 +1019,8 @@ pub enum RegSignalStatusPackage {
     Unknown {
         /// The `regionId`.
         id: super::common::RegionId,
-        /// The value's encoding (open-type content).
-        content: uper::Octets<16>,
+        /// The value's encoding (the open-type content).
+        bytes: uper::Octets<16>,
     },
 }
 
@@ -1046,7 +1046,7 @@ impl RegSignalStatusPackage {
         out.int(self.id().get() as i64);
         out.key(value_name);
         match self {
-            Self::Unknown { content, .. } => out.hex(content),
+            Self::Unknown { bytes, .. } => out.hex(bytes),
         }
     }
     /// Reads the id and the value from members `id_name` and `value_name` of an object.
@@ -1064,9 +1064,9 @@ impl RegSignalStatusPackage {
         let x = crate::jer::required(v, value_name)?;
         match id.get() {
             _ => {
-                let content = uper::Octets::from_slice(&crate::jer::hex(x)?)
+                let bytes = uper::Octets::from_slice(&crate::jer::hex(x)?)
                     .ok_or_else(crate::jer::over_capacity)?;
-                Ok(Self::Unknown { id, content })
+                Ok(Self::Unknown { id, bytes })
             }
         }
     }
@@ -1088,7 +1088,7 @@ impl uper::Placeholder for RegSignalStatusPackage {
     fn placeholder() -> Self {
         Self::Unknown {
             id: <super::common::RegionId as uper::Placeholder>::placeholder(),
-            content: uper::Octets::new(),
+            bytes: uper::Octets::new(),
         }
     }
 }
@@ -1102,7 +1102,7 @@ impl Uper for RegSignalStatusPackage {
             _ => {
                 *out = Self::Unknown {
                     id,
-                    content: uper::decode_unknown_open(
+                    bytes: uper::decode_unknown_open(
                         r,
                         "SignalStatusMessage.RegSignalStatusPackage:unknown",
                     )?,
@@ -1113,9 +1113,9 @@ impl Uper for RegSignalStatusPackage {
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         match self {
-            Self::Unknown { id, content } => {
+            Self::Unknown { id, bytes } => {
                 id.encode_uper(w)?;
-                uper::encode_unknown_open(w, content)
+                uper::encode_unknown_open(w, bytes)
             }
         }
     }
@@ -1124,13 +1124,13 @@ impl Uper for RegSignalStatusPackage {
 #[cfg(feature = "_random")]
 impl uper::random::Random for RegSignalStatusPackage {
     fn random(g: &mut uper::random::Gen) -> Self {
-        let mut content = uper::Octets::new();
+        let mut bytes = uper::Octets::new();
         for _ in 0..1 + g.below(4) {
-            let _ = content.push(g.octet());
+            let _ = bytes.push(g.octet());
         }
         Self::Unknown {
             id: <super::common::RegionId as uper::random::Random>::random(g),
-            content,
+            bytes,
         }
     }
 }
@@ -1220,8 +1220,8 @@ pub enum RegSignalStatus {
     Unknown {
         /// The `regionId`.
         id: super::common::RegionId,
-        /// The value's encoding (open-type content).
-        content: uper::Octets<16>,
+        /// The value's encoding (the open-type content).
+        bytes: uper::Octets<16>,
     },
 }
 
@@ -1247,7 +1247,7 @@ impl RegSignalStatus {
         out.int(self.id().get() as i64);
         out.key(value_name);
         match self {
-            Self::Unknown { content, .. } => out.hex(content),
+            Self::Unknown { bytes, .. } => out.hex(bytes),
         }
     }
     /// Reads the id and the value from members `id_name` and `value_name` of an object.
@@ -1265,9 +1265,9 @@ impl RegSignalStatus {
         let x = crate::jer::required(v, value_name)?;
         match id.get() {
             _ => {
-                let content = uper::Octets::from_slice(&crate::jer::hex(x)?)
+                let bytes = uper::Octets::from_slice(&crate::jer::hex(x)?)
                     .ok_or_else(crate::jer::over_capacity)?;
-                Ok(Self::Unknown { id, content })
+                Ok(Self::Unknown { id, bytes })
             }
         }
     }
@@ -1289,7 +1289,7 @@ impl uper::Placeholder for RegSignalStatus {
     fn placeholder() -> Self {
         Self::Unknown {
             id: <super::common::RegionId as uper::Placeholder>::placeholder(),
-            content: uper::Octets::new(),
+            bytes: uper::Octets::new(),
         }
     }
 }
@@ -1303,7 +1303,7 @@ impl Uper for RegSignalStatus {
             _ => {
                 *out = Self::Unknown {
                     id,
-                    content: uper::decode_unknown_open(
+                    bytes: uper::decode_unknown_open(
                         r,
                         "SignalStatusMessage.RegSignalStatus:unknown",
                     )?,
@@ -1314,9 +1314,9 @@ impl Uper for RegSignalStatus {
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         match self {
-            Self::Unknown { id, content } => {
+            Self::Unknown { id, bytes } => {
                 id.encode_uper(w)?;
-                uper::encode_unknown_open(w, content)
+                uper::encode_unknown_open(w, bytes)
             }
         }
     }
@@ -1325,13 +1325,13 @@ impl Uper for RegSignalStatus {
 #[cfg(feature = "_random")]
 impl uper::random::Random for RegSignalStatus {
     fn random(g: &mut uper::random::Gen) -> Self {
-        let mut content = uper::Octets::new();
+        let mut bytes = uper::Octets::new();
         for _ in 0..1 + g.below(4) {
-            let _ = content.push(g.octet());
+            let _ = bytes.push(g.octet());
         }
         Self::Unknown {
             id: <super::common::RegionId as uper::random::Random>::random(g),
-            content,
+            bytes,
         }
     }
 }
@@ -1421,8 +1421,8 @@ pub enum RegSignalStatusMessage {
     Unknown {
         /// The `regionId`.
         id: super::common::RegionId,
-        /// The value's encoding (open-type content).
-        content: uper::Octets<16>,
+        /// The value's encoding (the open-type content).
+        bytes: uper::Octets<16>,
     },
 }
 
@@ -1448,7 +1448,7 @@ impl RegSignalStatusMessage {
         out.int(self.id().get() as i64);
         out.key(value_name);
         match self {
-            Self::Unknown { content, .. } => out.hex(content),
+            Self::Unknown { bytes, .. } => out.hex(bytes),
         }
     }
     /// Reads the id and the value from members `id_name` and `value_name` of an object.
@@ -1466,9 +1466,9 @@ impl RegSignalStatusMessage {
         let x = crate::jer::required(v, value_name)?;
         match id.get() {
             _ => {
-                let content = uper::Octets::from_slice(&crate::jer::hex(x)?)
+                let bytes = uper::Octets::from_slice(&crate::jer::hex(x)?)
                     .ok_or_else(crate::jer::over_capacity)?;
-                Ok(Self::Unknown { id, content })
+                Ok(Self::Unknown { id, bytes })
             }
         }
     }
@@ -1490,7 +1490,7 @@ impl uper::Placeholder for RegSignalStatusMessage {
     fn placeholder() -> Self {
         Self::Unknown {
             id: <super::common::RegionId as uper::Placeholder>::placeholder(),
-            content: uper::Octets::new(),
+            bytes: uper::Octets::new(),
         }
     }
 }
@@ -1504,7 +1504,7 @@ impl Uper for RegSignalStatusMessage {
             _ => {
                 *out = Self::Unknown {
                     id,
-                    content: uper::decode_unknown_open(
+                    bytes: uper::decode_unknown_open(
                         r,
                         "SignalStatusMessage.RegSignalStatusMessage:unknown",
                     )?,
@@ -1515,9 +1515,9 @@ impl Uper for RegSignalStatusMessage {
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         match self {
-            Self::Unknown { id, content } => {
+            Self::Unknown { id, bytes } => {
                 id.encode_uper(w)?;
-                uper::encode_unknown_open(w, content)
+                uper::encode_unknown_open(w, bytes)
             }
         }
     }
@@ -1526,13 +1526,13 @@ impl Uper for RegSignalStatusMessage {
 #[cfg(feature = "_random")]
 impl uper::random::Random for RegSignalStatusMessage {
     fn random(g: &mut uper::random::Gen) -> Self {
-        let mut content = uper::Octets::new();
+        let mut bytes = uper::Octets::new();
         for _ in 0..1 + g.below(4) {
-            let _ = content.push(g.octet());
+            let _ = bytes.push(g.octet());
         }
         Self::Unknown {
             id: <super::common::RegionId as uper::random::Random>::random(g),
-            content,
+            bytes,
         }
     }
 }

@@ -2099,8 +2099,8 @@ pub enum RegAdvisorySpeed {
     Unknown {
         /// The `regionId`.
         id: super::common::RegionId,
-        /// The value's encoding (open-type content).
-        content: uper::Octets<16>,
+        /// The value's encoding (the open-type content).
+        bytes: uper::Octets<16>,
     },
 }
 
@@ -2126,7 +2126,7 @@ impl RegAdvisorySpeed {
         out.int(self.id().get() as i64);
         out.key(value_name);
         match self {
-            Self::Unknown { content, .. } => out.hex(content),
+            Self::Unknown { bytes, .. } => out.hex(bytes),
         }
     }
     /// Reads the id and the value from members `id_name` and `value_name` of an object.
@@ -2144,9 +2144,9 @@ impl RegAdvisorySpeed {
         let x = crate::jer::required(v, value_name)?;
         match id.get() {
             _ => {
-                let content = uper::Octets::from_slice(&crate::jer::hex(x)?)
+                let bytes = uper::Octets::from_slice(&crate::jer::hex(x)?)
                     .ok_or_else(crate::jer::over_capacity)?;
-                Ok(Self::Unknown { id, content })
+                Ok(Self::Unknown { id, bytes })
             }
         }
     }
@@ -2168,7 +2168,7 @@ impl uper::Placeholder for RegAdvisorySpeed {
     fn placeholder() -> Self {
         Self::Unknown {
             id: <super::common::RegionId as uper::Placeholder>::placeholder(),
-            content: uper::Octets::new(),
+            bytes: uper::Octets::new(),
         }
     }
 }
@@ -2182,7 +2182,7 @@ impl Uper for RegAdvisorySpeed {
             _ => {
                 *out = Self::Unknown {
                     id,
-                    content: uper::decode_unknown_open(r, "SPAT.RegAdvisorySpeed:unknown")?,
+                    bytes: uper::decode_unknown_open(r, "SPAT.RegAdvisorySpeed:unknown")?,
                 }
             }
         }
@@ -2190,9 +2190,9 @@ impl Uper for RegAdvisorySpeed {
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         match self {
-            Self::Unknown { id, content } => {
+            Self::Unknown { id, bytes } => {
                 id.encode_uper(w)?;
-                uper::encode_unknown_open(w, content)
+                uper::encode_unknown_open(w, bytes)
             }
         }
     }
@@ -2201,13 +2201,13 @@ impl Uper for RegAdvisorySpeed {
 #[cfg(feature = "_random")]
 impl uper::random::Random for RegAdvisorySpeed {
     fn random(g: &mut uper::random::Gen) -> Self {
-        let mut content = uper::Octets::new();
+        let mut bytes = uper::Octets::new();
         for _ in 0..1 + g.below(4) {
-            let _ = content.push(g.octet());
+            let _ = bytes.push(g.octet());
         }
         Self::Unknown {
             id: <super::common::RegionId as uper::random::Random>::random(g),
-            content,
+            bytes,
         }
     }
 }
@@ -2294,8 +2294,8 @@ pub enum RegMovementEvent {
     Unknown {
         /// The `regionId`.
         id: super::common::RegionId,
-        /// The value's encoding (open-type content).
-        content: uper::Octets<16>,
+        /// The value's encoding (the open-type content).
+        bytes: uper::Octets<16>,
     },
 }
 
@@ -2330,7 +2330,7 @@ impl RegMovementEvent {
         out.key(value_name);
         match self {
             Self::AddGrpB(v) => crate::jer::Jer::write_jer(v, out),
-            Self::Unknown { content, .. } => out.hex(content),
+            Self::Unknown { bytes, .. } => out.hex(bytes),
         }
     }
     /// Reads the id and the value from members `id_name` and `value_name` of an object.
@@ -2351,9 +2351,9 @@ impl RegMovementEvent {
                 .map(Self::AddGrpB)
                 .map_err(|e| e.within(value_name)),
             _ => {
-                let content = uper::Octets::from_slice(&crate::jer::hex(x)?)
+                let bytes = uper::Octets::from_slice(&crate::jer::hex(x)?)
                     .ok_or_else(crate::jer::over_capacity)?;
-                Ok(Self::Unknown { id, content })
+                Ok(Self::Unknown { id, bytes })
             }
         }
     }
@@ -2375,7 +2375,7 @@ impl uper::Placeholder for RegMovementEvent {
     fn placeholder() -> Self {
         Self::Unknown {
             id: <super::common::RegionId as uper::Placeholder>::placeholder(),
-            content: uper::Octets::new(),
+            bytes: uper::Octets::new(),
         }
     }
 }
@@ -2401,7 +2401,7 @@ impl Uper for RegMovementEvent {
             _ => {
                 *out = Self::Unknown {
                     id,
-                    content: uper::decode_unknown_open(r, "SPAT.RegMovementEvent:unknown")?,
+                    bytes: uper::decode_unknown_open(r, "SPAT.RegMovementEvent:unknown")?,
                 }
             }
         }
@@ -2413,9 +2413,9 @@ impl Uper for RegMovementEvent {
                 w.write_constrained(2, 0, 255)?;
                 w.write_open(|w| v.encode_uper(w))
             }
-            Self::Unknown { id, content } => {
+            Self::Unknown { id, bytes } => {
                 id.encode_uper(w)?;
-                uper::encode_unknown_open(w, content)
+                uper::encode_unknown_open(w, bytes)
             }
         }
     }
@@ -2430,7 +2430,7 @@ impl uper::random::Random for RegMovementEvent {
             ),
             _ => Self::Unknown {
                 id: <super::common::RegionId as uper::Placeholder>::placeholder(),
-                content: uper::Octets::new(),
+                bytes: uper::Octets::new(),
             },
         }
     }
@@ -2838,8 +2838,8 @@ pub enum RegConnectionManeuverAssist {
     Unknown {
         /// The `regionId`.
         id: super::common::RegionId,
-        /// The value's encoding (open-type content).
-        content: uper::Octets<16>,
+        /// The value's encoding (the open-type content).
+        bytes: uper::Octets<16>,
     },
 }
 
@@ -2874,7 +2874,7 @@ impl RegConnectionManeuverAssist {
         out.key(value_name);
         match self {
             Self::AddGrpC(v) => crate::jer::Jer::write_jer(v, out),
-            Self::Unknown { content, .. } => out.hex(content),
+            Self::Unknown { bytes, .. } => out.hex(bytes),
         }
     }
     /// Reads the id and the value from members `id_name` and `value_name` of an object.
@@ -2897,9 +2897,9 @@ impl RegConnectionManeuverAssist {
                     .map_err(|e| e.within(value_name))
             }
             _ => {
-                let content = uper::Octets::from_slice(&crate::jer::hex(x)?)
+                let bytes = uper::Octets::from_slice(&crate::jer::hex(x)?)
                     .ok_or_else(crate::jer::over_capacity)?;
-                Ok(Self::Unknown { id, content })
+                Ok(Self::Unknown { id, bytes })
             }
         }
     }
@@ -2921,7 +2921,7 @@ impl uper::Placeholder for RegConnectionManeuverAssist {
     fn placeholder() -> Self {
         Self::Unknown {
             id: <super::common::RegionId as uper::Placeholder>::placeholder(),
-            content: uper::Octets::new(),
+            bytes: uper::Octets::new(),
         }
     }
 }
@@ -2947,7 +2947,7 @@ impl Uper for RegConnectionManeuverAssist {
             _ => {
                 *out = Self::Unknown {
                     id,
-                    content: uper::decode_unknown_open(
+                    bytes: uper::decode_unknown_open(
                         r,
                         "SPAT.RegConnectionManeuverAssist:unknown",
                     )?,
@@ -2962,9 +2962,9 @@ impl Uper for RegConnectionManeuverAssist {
                 w.write_constrained(3, 0, 255)?;
                 w.write_open(|w| v.encode_uper(w))
             }
-            Self::Unknown { id, content } => {
+            Self::Unknown { id, bytes } => {
                 id.encode_uper(w)?;
-                uper::encode_unknown_open(w, content)
+                uper::encode_unknown_open(w, bytes)
             }
         }
     }
@@ -2981,7 +2981,7 @@ impl uper::random::Random for RegConnectionManeuverAssist {
             ),
             _ => Self::Unknown {
                 id: <super::common::RegionId as uper::Placeholder>::placeholder(),
-                content: uper::Octets::new(),
+                bytes: uper::Octets::new(),
             },
         }
     }
@@ -3067,8 +3067,8 @@ pub enum RegMovementState {
     Unknown {
         /// The `regionId`.
         id: super::common::RegionId,
-        /// The value's encoding (open-type content).
-        content: uper::Octets<16>,
+        /// The value's encoding (the open-type content).
+        bytes: uper::Octets<16>,
     },
 }
 
@@ -3094,7 +3094,7 @@ impl RegMovementState {
         out.int(self.id().get() as i64);
         out.key(value_name);
         match self {
-            Self::Unknown { content, .. } => out.hex(content),
+            Self::Unknown { bytes, .. } => out.hex(bytes),
         }
     }
     /// Reads the id and the value from members `id_name` and `value_name` of an object.
@@ -3112,9 +3112,9 @@ impl RegMovementState {
         let x = crate::jer::required(v, value_name)?;
         match id.get() {
             _ => {
-                let content = uper::Octets::from_slice(&crate::jer::hex(x)?)
+                let bytes = uper::Octets::from_slice(&crate::jer::hex(x)?)
                     .ok_or_else(crate::jer::over_capacity)?;
-                Ok(Self::Unknown { id, content })
+                Ok(Self::Unknown { id, bytes })
             }
         }
     }
@@ -3136,7 +3136,7 @@ impl uper::Placeholder for RegMovementState {
     fn placeholder() -> Self {
         Self::Unknown {
             id: <super::common::RegionId as uper::Placeholder>::placeholder(),
-            content: uper::Octets::new(),
+            bytes: uper::Octets::new(),
         }
     }
 }
@@ -3150,7 +3150,7 @@ impl Uper for RegMovementState {
             _ => {
                 *out = Self::Unknown {
                     id,
-                    content: uper::decode_unknown_open(r, "SPAT.RegMovementState:unknown")?,
+                    bytes: uper::decode_unknown_open(r, "SPAT.RegMovementState:unknown")?,
                 }
             }
         }
@@ -3158,9 +3158,9 @@ impl Uper for RegMovementState {
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         match self {
-            Self::Unknown { id, content } => {
+            Self::Unknown { id, bytes } => {
                 id.encode_uper(w)?;
-                uper::encode_unknown_open(w, content)
+                uper::encode_unknown_open(w, bytes)
             }
         }
     }
@@ -3169,13 +3169,13 @@ impl Uper for RegMovementState {
 #[cfg(feature = "_random")]
 impl uper::random::Random for RegMovementState {
     fn random(g: &mut uper::random::Gen) -> Self {
-        let mut content = uper::Octets::new();
+        let mut bytes = uper::Octets::new();
         for _ in 0..1 + g.below(4) {
-            let _ = content.push(g.octet());
+            let _ = bytes.push(g.octet());
         }
         Self::Unknown {
             id: <super::common::RegionId as uper::random::Random>::random(g),
-            content,
+            bytes,
         }
     }
 }
@@ -3262,8 +3262,8 @@ pub enum RegIntersectionState {
     Unknown {
         /// The `regionId`.
         id: super::common::RegionId,
-        /// The value's encoding (open-type content).
-        content: uper::Octets<16>,
+        /// The value's encoding (the open-type content).
+        bytes: uper::Octets<16>,
     },
 }
 
@@ -3298,7 +3298,7 @@ impl RegIntersectionState {
         out.key(value_name);
         match self {
             Self::AddGrpC(v) => crate::jer::Jer::write_jer(v, out),
-            Self::Unknown { content, .. } => out.hex(content),
+            Self::Unknown { bytes, .. } => out.hex(bytes),
         }
     }
     /// Reads the id and the value from members `id_name` and `value_name` of an object.
@@ -3319,9 +3319,9 @@ impl RegIntersectionState {
                 .map(Self::AddGrpC)
                 .map_err(|e| e.within(value_name)),
             _ => {
-                let content = uper::Octets::from_slice(&crate::jer::hex(x)?)
+                let bytes = uper::Octets::from_slice(&crate::jer::hex(x)?)
                     .ok_or_else(crate::jer::over_capacity)?;
-                Ok(Self::Unknown { id, content })
+                Ok(Self::Unknown { id, bytes })
             }
         }
     }
@@ -3343,7 +3343,7 @@ impl uper::Placeholder for RegIntersectionState {
     fn placeholder() -> Self {
         Self::Unknown {
             id: <super::common::RegionId as uper::Placeholder>::placeholder(),
-            content: uper::Octets::new(),
+            bytes: uper::Octets::new(),
         }
     }
 }
@@ -3369,7 +3369,7 @@ impl Uper for RegIntersectionState {
             _ => {
                 *out = Self::Unknown {
                     id,
-                    content: uper::decode_unknown_open(r, "SPAT.RegIntersectionState:unknown")?,
+                    bytes: uper::decode_unknown_open(r, "SPAT.RegIntersectionState:unknown")?,
                 }
             }
         }
@@ -3381,9 +3381,9 @@ impl Uper for RegIntersectionState {
                 w.write_constrained(3, 0, 255)?;
                 w.write_open(|w| v.encode_uper(w))
             }
-            Self::Unknown { id, content } => {
+            Self::Unknown { id, bytes } => {
                 id.encode_uper(w)?;
-                uper::encode_unknown_open(w, content)
+                uper::encode_unknown_open(w, bytes)
             }
         }
     }
@@ -3398,7 +3398,7 @@ impl uper::random::Random for RegIntersectionState {
             ),
             _ => Self::Unknown {
                 id: <super::common::RegionId as uper::Placeholder>::placeholder(),
-                content: uper::Octets::new(),
+                bytes: uper::Octets::new(),
             },
         }
     }
@@ -3483,8 +3483,8 @@ pub enum RegSPAT {
     Unknown {
         /// The `regionId`.
         id: super::common::RegionId,
-        /// The value's encoding (open-type content).
-        content: uper::Octets<16>,
+        /// The value's encoding (the open-type content).
+        bytes: uper::Octets<16>,
     },
 }
 
@@ -3510,7 +3510,7 @@ impl RegSPAT {
         out.int(self.id().get() as i64);
         out.key(value_name);
         match self {
-            Self::Unknown { content, .. } => out.hex(content),
+            Self::Unknown { bytes, .. } => out.hex(bytes),
         }
     }
     /// Reads the id and the value from members `id_name` and `value_name` of an object.
@@ -3528,9 +3528,9 @@ impl RegSPAT {
         let x = crate::jer::required(v, value_name)?;
         match id.get() {
             _ => {
-                let content = uper::Octets::from_slice(&crate::jer::hex(x)?)
+                let bytes = uper::Octets::from_slice(&crate::jer::hex(x)?)
                     .ok_or_else(crate::jer::over_capacity)?;
-                Ok(Self::Unknown { id, content })
+                Ok(Self::Unknown { id, bytes })
             }
         }
     }
@@ -3552,7 +3552,7 @@ impl uper::Placeholder for RegSPAT {
     fn placeholder() -> Self {
         Self::Unknown {
             id: <super::common::RegionId as uper::Placeholder>::placeholder(),
-            content: uper::Octets::new(),
+            bytes: uper::Octets::new(),
         }
     }
 }
@@ -3566,7 +3566,7 @@ impl Uper for RegSPAT {
             _ => {
                 *out = Self::Unknown {
                     id,
-                    content: uper::decode_unknown_open(r, "SPAT.RegSPAT:unknown")?,
+                    bytes: uper::decode_unknown_open(r, "SPAT.RegSPAT:unknown")?,
                 }
             }
         }
@@ -3574,9 +3574,9 @@ impl Uper for RegSPAT {
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         match self {
-            Self::Unknown { id, content } => {
+            Self::Unknown { id, bytes } => {
                 id.encode_uper(w)?;
-                uper::encode_unknown_open(w, content)
+                uper::encode_unknown_open(w, bytes)
             }
         }
     }
@@ -3585,13 +3585,13 @@ impl Uper for RegSPAT {
 #[cfg(feature = "_random")]
 impl uper::random::Random for RegSPAT {
     fn random(g: &mut uper::random::Gen) -> Self {
-        let mut content = uper::Octets::new();
+        let mut bytes = uper::Octets::new();
         for _ in 0..1 + g.below(4) {
-            let _ = content.push(g.octet());
+            let _ = bytes.push(g.octet());
         }
         Self::Unknown {
             id: <super::common::RegionId as uper::random::Random>::random(g),
-            content,
+            bytes,
         }
     }
 }

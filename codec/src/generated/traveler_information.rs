@@ -3143,8 +3143,8 @@ pub enum RegNodeOffsetPointLL {
     Unknown {
         /// The `regionId`.
         id: super::common::RegionId,
-        /// The value's encoding (open-type content).
-        content: uper::Octets<16>,
+        /// The value's encoding (the open-type content).
+        bytes: uper::Octets<16>,
     },
 }
 
@@ -3170,7 +3170,7 @@ impl RegNodeOffsetPointLL {
         out.int(self.id().get() as i64);
         out.key(value_name);
         match self {
-            Self::Unknown { content, .. } => out.hex(content),
+            Self::Unknown { bytes, .. } => out.hex(bytes),
         }
     }
     /// Reads the id and the value from members `id_name` and `value_name` of an object.
@@ -3188,9 +3188,9 @@ impl RegNodeOffsetPointLL {
         let x = crate::jer::required(v, value_name)?;
         match id.get() {
             _ => {
-                let content = uper::Octets::from_slice(&crate::jer::hex(x)?)
+                let bytes = uper::Octets::from_slice(&crate::jer::hex(x)?)
                     .ok_or_else(crate::jer::over_capacity)?;
-                Ok(Self::Unknown { id, content })
+                Ok(Self::Unknown { id, bytes })
             }
         }
     }
@@ -3212,7 +3212,7 @@ impl uper::Placeholder for RegNodeOffsetPointLL {
     fn placeholder() -> Self {
         Self::Unknown {
             id: <super::common::RegionId as uper::Placeholder>::placeholder(),
-            content: uper::Octets::new(),
+            bytes: uper::Octets::new(),
         }
     }
 }
@@ -3226,7 +3226,7 @@ impl Uper for RegNodeOffsetPointLL {
             _ => {
                 *out = Self::Unknown {
                     id,
-                    content: uper::decode_unknown_open(
+                    bytes: uper::decode_unknown_open(
                         r,
                         "TravelerInformation.RegNodeOffsetPointLL:unknown",
                     )?,
@@ -3237,9 +3237,9 @@ impl Uper for RegNodeOffsetPointLL {
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         match self {
-            Self::Unknown { id, content } => {
+            Self::Unknown { id, bytes } => {
                 id.encode_uper(w)?;
-                uper::encode_unknown_open(w, content)
+                uper::encode_unknown_open(w, bytes)
             }
         }
     }
@@ -3248,13 +3248,13 @@ impl Uper for RegNodeOffsetPointLL {
 #[cfg(feature = "_random")]
 impl uper::random::Random for RegNodeOffsetPointLL {
     fn random(g: &mut uper::random::Gen) -> Self {
-        let mut content = uper::Octets::new();
+        let mut bytes = uper::Octets::new();
         for _ in 0..1 + g.below(4) {
-            let _ = content.push(g.octet());
+            let _ = bytes.push(g.octet());
         }
         Self::Unknown {
             id: <super::common::RegionId as uper::random::Random>::random(g),
-            content,
+            bytes,
         }
     }
 }
@@ -4329,8 +4329,8 @@ pub enum RegNodeAttributeSetLL {
     Unknown {
         /// The `regionId`.
         id: super::common::RegionId,
-        /// The value's encoding (open-type content).
-        content: uper::Octets<16>,
+        /// The value's encoding (the open-type content).
+        bytes: uper::Octets<16>,
     },
 }
 
@@ -4356,7 +4356,7 @@ impl RegNodeAttributeSetLL {
         out.int(self.id().get() as i64);
         out.key(value_name);
         match self {
-            Self::Unknown { content, .. } => out.hex(content),
+            Self::Unknown { bytes, .. } => out.hex(bytes),
         }
     }
     /// Reads the id and the value from members `id_name` and `value_name` of an object.
@@ -4374,9 +4374,9 @@ impl RegNodeAttributeSetLL {
         let x = crate::jer::required(v, value_name)?;
         match id.get() {
             _ => {
-                let content = uper::Octets::from_slice(&crate::jer::hex(x)?)
+                let bytes = uper::Octets::from_slice(&crate::jer::hex(x)?)
                     .ok_or_else(crate::jer::over_capacity)?;
-                Ok(Self::Unknown { id, content })
+                Ok(Self::Unknown { id, bytes })
             }
         }
     }
@@ -4398,7 +4398,7 @@ impl uper::Placeholder for RegNodeAttributeSetLL {
     fn placeholder() -> Self {
         Self::Unknown {
             id: <super::common::RegionId as uper::Placeholder>::placeholder(),
-            content: uper::Octets::new(),
+            bytes: uper::Octets::new(),
         }
     }
 }
@@ -4412,7 +4412,7 @@ impl Uper for RegNodeAttributeSetLL {
             _ => {
                 *out = Self::Unknown {
                     id,
-                    content: uper::decode_unknown_open(
+                    bytes: uper::decode_unknown_open(
                         r,
                         "TravelerInformation.RegNodeAttributeSetLL:unknown",
                     )?,
@@ -4423,9 +4423,9 @@ impl Uper for RegNodeAttributeSetLL {
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         match self {
-            Self::Unknown { id, content } => {
+            Self::Unknown { id, bytes } => {
                 id.encode_uper(w)?;
-                uper::encode_unknown_open(w, content)
+                uper::encode_unknown_open(w, bytes)
             }
         }
     }
@@ -4434,13 +4434,13 @@ impl Uper for RegNodeAttributeSetLL {
 #[cfg(feature = "_random")]
 impl uper::random::Random for RegNodeAttributeSetLL {
     fn random(g: &mut uper::random::Gen) -> Self {
-        let mut content = uper::Octets::new();
+        let mut bytes = uper::Octets::new();
         for _ in 0..1 + g.below(4) {
-            let _ = content.push(g.octet());
+            let _ = bytes.push(g.octet());
         }
         Self::Unknown {
             id: <super::common::RegionId as uper::random::Random>::random(g),
-            content,
+            bytes,
         }
     }
 }
@@ -4932,8 +4932,8 @@ pub enum RegGeometricProjection {
     Unknown {
         /// The `regionId`.
         id: super::common::RegionId,
-        /// The value's encoding (open-type content).
-        content: uper::Octets<16>,
+        /// The value's encoding (the open-type content).
+        bytes: uper::Octets<16>,
     },
 }
 
@@ -4959,7 +4959,7 @@ impl RegGeometricProjection {
         out.int(self.id().get() as i64);
         out.key(value_name);
         match self {
-            Self::Unknown { content, .. } => out.hex(content),
+            Self::Unknown { bytes, .. } => out.hex(bytes),
         }
     }
     /// Reads the id and the value from members `id_name` and `value_name` of an object.
@@ -4977,9 +4977,9 @@ impl RegGeometricProjection {
         let x = crate::jer::required(v, value_name)?;
         match id.get() {
             _ => {
-                let content = uper::Octets::from_slice(&crate::jer::hex(x)?)
+                let bytes = uper::Octets::from_slice(&crate::jer::hex(x)?)
                     .ok_or_else(crate::jer::over_capacity)?;
-                Ok(Self::Unknown { id, content })
+                Ok(Self::Unknown { id, bytes })
             }
         }
     }
@@ -5001,7 +5001,7 @@ impl uper::Placeholder for RegGeometricProjection {
     fn placeholder() -> Self {
         Self::Unknown {
             id: <super::common::RegionId as uper::Placeholder>::placeholder(),
-            content: uper::Octets::new(),
+            bytes: uper::Octets::new(),
         }
     }
 }
@@ -5015,7 +5015,7 @@ impl Uper for RegGeometricProjection {
             _ => {
                 *out = Self::Unknown {
                     id,
-                    content: uper::decode_unknown_open(
+                    bytes: uper::decode_unknown_open(
                         r,
                         "TravelerInformation.RegGeometricProjection:unknown",
                     )?,
@@ -5026,9 +5026,9 @@ impl Uper for RegGeometricProjection {
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         match self {
-            Self::Unknown { id, content } => {
+            Self::Unknown { id, bytes } => {
                 id.encode_uper(w)?;
-                uper::encode_unknown_open(w, content)
+                uper::encode_unknown_open(w, bytes)
             }
         }
     }
@@ -5037,13 +5037,13 @@ impl Uper for RegGeometricProjection {
 #[cfg(feature = "_random")]
 impl uper::random::Random for RegGeometricProjection {
     fn random(g: &mut uper::random::Gen) -> Self {
-        let mut content = uper::Octets::new();
+        let mut bytes = uper::Octets::new();
         for _ in 0..1 + g.below(4) {
-            let _ = content.push(g.octet());
+            let _ = bytes.push(g.octet());
         }
         Self::Unknown {
             id: <super::common::RegionId as uper::random::Random>::random(g),
-            content,
+            bytes,
         }
     }
 }
@@ -5850,8 +5850,8 @@ pub enum RegGeographicalPath {
     Unknown {
         /// The `regionId`.
         id: super::common::RegionId,
-        /// The value's encoding (open-type content).
-        content: uper::Octets<16>,
+        /// The value's encoding (the open-type content).
+        bytes: uper::Octets<16>,
     },
 }
 
@@ -5877,7 +5877,7 @@ impl RegGeographicalPath {
         out.int(self.id().get() as i64);
         out.key(value_name);
         match self {
-            Self::Unknown { content, .. } => out.hex(content),
+            Self::Unknown { bytes, .. } => out.hex(bytes),
         }
     }
     /// Reads the id and the value from members `id_name` and `value_name` of an object.
@@ -5895,9 +5895,9 @@ impl RegGeographicalPath {
         let x = crate::jer::required(v, value_name)?;
         match id.get() {
             _ => {
-                let content = uper::Octets::from_slice(&crate::jer::hex(x)?)
+                let bytes = uper::Octets::from_slice(&crate::jer::hex(x)?)
                     .ok_or_else(crate::jer::over_capacity)?;
-                Ok(Self::Unknown { id, content })
+                Ok(Self::Unknown { id, bytes })
             }
         }
     }
@@ -5919,7 +5919,7 @@ impl uper::Placeholder for RegGeographicalPath {
     fn placeholder() -> Self {
         Self::Unknown {
             id: <super::common::RegionId as uper::Placeholder>::placeholder(),
-            content: uper::Octets::new(),
+            bytes: uper::Octets::new(),
         }
     }
 }
@@ -5933,7 +5933,7 @@ impl Uper for RegGeographicalPath {
             _ => {
                 *out = Self::Unknown {
                     id,
-                    content: uper::decode_unknown_open(
+                    bytes: uper::decode_unknown_open(
                         r,
                         "TravelerInformation.RegGeographicalPath:unknown",
                     )?,
@@ -5944,9 +5944,9 @@ impl Uper for RegGeographicalPath {
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         match self {
-            Self::Unknown { id, content } => {
+            Self::Unknown { id, bytes } => {
                 id.encode_uper(w)?;
-                uper::encode_unknown_open(w, content)
+                uper::encode_unknown_open(w, bytes)
             }
         }
     }
@@ -5955,13 +5955,13 @@ impl Uper for RegGeographicalPath {
 #[cfg(feature = "_random")]
 impl uper::random::Random for RegGeographicalPath {
     fn random(g: &mut uper::random::Gen) -> Self {
-        let mut content = uper::Octets::new();
+        let mut bytes = uper::Octets::new();
         for _ in 0..1 + g.below(4) {
-            let _ = content.push(g.octet());
+            let _ = bytes.push(g.octet());
         }
         Self::Unknown {
             id: <super::common::RegionId as uper::random::Random>::random(g),
-            content,
+            bytes,
         }
     }
 }
@@ -7306,8 +7306,8 @@ pub enum RegTravelerInformation {
     Unknown {
         /// The `regionId`.
         id: super::common::RegionId,
-        /// The value's encoding (open-type content).
-        content: uper::Octets<256>,
+        /// The value's encoding (the open-type content).
+        bytes: uper::Octets<256>,
     },
 }
 
@@ -7333,7 +7333,7 @@ impl RegTravelerInformation {
         out.int(self.id().get() as i64);
         out.key(value_name);
         match self {
-            Self::Unknown { content, .. } => out.hex(content),
+            Self::Unknown { bytes, .. } => out.hex(bytes),
         }
     }
     /// Reads the id and the value from members `id_name` and `value_name` of an object.
@@ -7351,9 +7351,9 @@ impl RegTravelerInformation {
         let x = crate::jer::required(v, value_name)?;
         match id.get() {
             _ => {
-                let content = uper::Octets::from_slice(&crate::jer::hex(x)?)
+                let bytes = uper::Octets::from_slice(&crate::jer::hex(x)?)
                     .ok_or_else(crate::jer::over_capacity)?;
-                Ok(Self::Unknown { id, content })
+                Ok(Self::Unknown { id, bytes })
             }
         }
     }
@@ -7375,7 +7375,7 @@ impl uper::Placeholder for RegTravelerInformation {
     fn placeholder() -> Self {
         Self::Unknown {
             id: <super::common::RegionId as uper::Placeholder>::placeholder(),
-            content: uper::Octets::new(),
+            bytes: uper::Octets::new(),
         }
     }
 }
@@ -7389,7 +7389,7 @@ impl Uper for RegTravelerInformation {
             _ => {
                 *out = Self::Unknown {
                     id,
-                    content: uper::decode_unknown_open(
+                    bytes: uper::decode_unknown_open(
                         r,
                         "TravelerInformation.RegTravelerInformation:unknown",
                     )?,
@@ -7400,9 +7400,9 @@ impl Uper for RegTravelerInformation {
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         match self {
-            Self::Unknown { id, content } => {
+            Self::Unknown { id, bytes } => {
                 id.encode_uper(w)?;
-                uper::encode_unknown_open(w, content)
+                uper::encode_unknown_open(w, bytes)
             }
         }
     }
@@ -7411,13 +7411,13 @@ impl Uper for RegTravelerInformation {
 #[cfg(feature = "_random")]
 impl uper::random::Random for RegTravelerInformation {
     fn random(g: &mut uper::random::Gen) -> Self {
-        let mut content = uper::Octets::new();
+        let mut bytes = uper::Octets::new();
         for _ in 0..1 + g.below(4) {
-            let _ = content.push(g.octet());
+            let _ = bytes.push(g.octet());
         }
         Self::Unknown {
             id: <super::common::RegionId as uper::random::Random>::random(g),
-            content,
+            bytes,
         }
     }
 }

@@ -1,0 +1,430 @@
+// Browser tests of the driver display against the server given by HMI_SERVER_CMD, driven through
+// HMI_DRIVER_CMD (see harness.mjs for both contracts). `npm run test:dev` uses the stand-in.
+import { describe, it, before, after } from 'node:test';
+import assert from 'node:assert/strict';
+import { env, Server, drive, watchEvents, launch, openPage, waitLive, shot, sleep } from './harness.mjs';
+
+const SCREEN_MS = 500;                                            // server sent it -> on screen
+const GNSS_MS = Number(process.env.HMI_GNSS_DEADLINE_MS || 1000); // dropout -> "No GNSS" on screen
+const STALE_MS = 1500;
+
+const cfg = env();
+const server = new Server(cfg.server);
+let url;
+let ctx;      // default autoplay policy: sound needs a tap, as on a real tablet
+let page;
+let events;
+
+const go = (scene) => drive(url, scene, cfg.driver);
+
+/** Drives a scene that the real driver may not offer; returns false when it does not. */
+async function tryScene(t, scene) {
+  try {
+    await go(scene);
+    return true;
+  } catch (e) {
+    t.skip(`driver has no scene "${scene}" (${e.message.split('\n')[0]})`);
+    return false;
+  }
+}
+
+/** Waits until the page shows msg: zone state, primary alert kind and speed text. */
+async function onScreen(p, msg, timeout = 2000) {
+  await p.waitForFunction((m) => {
+    const s = m.state;
+    const kind = s.primary ? s.primary.kind : null;
+    const b = document.getElementById('alert-banner').dataset.kind;
+    return window.hmi.connection() === 'live' && document.body.dataset.zone === s.zone_state &&
+      (kind ? b === kind : b === 'none');
+  }, msg, { timeout, polling: 'raf' });
+}
+
+/** Drives a scene, waits for the server to send a state matching pred, then for the screen. */
+async function sceneOnScreen(scene, pred, what) {
+  const seen = events.waitFor(pred, 10000, what);
+  await go(scene);
+  const { msg, t } = await seen;
+  await onScreen(page, msg);
+  return { msg, latency: performance.now() - t };
+}
+
+before(async () => {
+  url = await server.start();
+  events = watchEvents(url);
+  ctx = await launch();
+  page = await openPage(ctx, url);
+  await waitLive(page, 10000);
+});
+
+after(async () => {
+  if (events) events.close();
+  if (ctx) await ctx.close();
+  await server.stop();
+  server.cleanup();
+});
+
+describe('driver display', () => {
+  it('renders the live view (1280x800, no scroll, large touch targets, no errors)', async () => {
+    const r = await fetch(url + '/healthz');
+    assert.equal((await r.text()).trim(), 'ok');
+    await sceneOnScreen('cruise', (m) => m.state.zone_state === 'None' && m.state.gnss_ok, 'cruise state');
+    const info = await page.evaluate(() => {
+      const vis = (id) => { const b = document.getElementById(id).getBoundingClientRect(); return { x: b.x, y: b.y, w: b.width, h: b.height }; };
+      const buttons = [...document.querySelectorAll('button')].filter((b) => b.offsetParent).map((b) => b.getBoundingClientRect());
+      return {
+        speed: document.getElementById('speed').textContent,
+        limit: document.getElementById('limit-value').textContent,
+        lanes: document.querySelectorAll('#lanes .lane').length,
+        car: document.querySelectorAll('#lanes .car').length,
+        scrollW: document.scrollingElement.scrollWidth, scrollH: document.scrollingElement.scrollHeight,
+        boxes: ['speed', 'limit', 'alert-banner', 'lanes', 'distance-box'].map(vis),
+        minButton: Math.min(...buttons.map((b) => Math.min(b.width, b.height))),
+        ariaLive: document.getElementById('alert-banner').getAttribute('aria-live'),
+      };
+    });
+    const s = events.last.msg.state;
+    assert.match(info.speed, /^\d+$/);
+    if (s.speed_limit_mps !== null) assert.match(info.limit, /^\d+$/);
+    assert.equal(info.ariaLive, 'assertive');
+    assert.ok(info.lanes >= (s.road_lanes || []).length, 'one lane per road lane');
+    assert.equal(info.car, s.lane ? 1 : 0);
+    assert.ok(info.scrollW <= 1280 && info.scrollH <= 800, `no scrolling: ${info.scrollW}x${info.scrollH}`);
+    for (const b of info.boxes) assert.ok(b.w > 0 && b.x >= 0 && b.y >= 0 && b.x + b.w <= 1280 && b.y + b.h <= 800, JSON.stringify(b));
+    assert.ok(info.minButton >= 48, `touch targets >= 48 px (smallest ${info.minButton})`);
+    assert.deepEqual(page.errors, []);
+    await shot(page, 'normal');
+  });
+
+  it('a state change reaches the screen within 500 ms', async () => {
+    const latencies = {};
+    const steps = [
+      ['approach', (m) => m.state.zone_state === 'Approaching'],
+      ['warning', (m) => m.state.zone_state === 'Warning'],
+      ['cruise', (m) => m.state.zone_state === 'None'],
+    ];
+    for (const [scene, pred] of steps) {
+      const { latency } = await sceneOnScreen(scene, pred, scene);
+      latencies[scene] = Math.round(latency);
+    }
+    console.log('# server -> screen latency (ms):', JSON.stringify(latencies));
+    for (const [scene, ms] of Object.entries(latencies)) assert.ok(ms <= SCREEN_MS, `${scene}: ${ms} ms`);
+  });
+
+  it('sound needs one tap on a real tablet, then stays on', async () => {
+    const before = await page.evaluate(() => ({ audio: window.hmi.audioState(), button: !document.getElementById('sound-enable').hidden, sound: window.hmi.settings().sound }));
+    assert.equal(before.sound, true, 'sound is on by default');
+    assert.notEqual(before.audio, 'running', 'no sound before a gesture under the default autoplay policy');
+    assert.equal(before.button, true, '"Enable sound" shown');
+    await page.click('#sound-enable');
+    await page.waitForFunction(() => window.hmi.audioState() === 'running', null, { timeout: 2000 });
+    assert.equal(await page.isHidden('#sound-enable'), true, 'button gone once running');
+    assert.equal(await page.evaluate(() => localStorage.getItem('hmi.sound.unlocked')), '1', 'choice remembered');
+  });
+
+  it('warning: alert banner, and a tone repeated every ~2 s until it clears', async () => {
+    const actx = await launch({ autoplay: true });
+    try {
+      // record every oscillator frequency the page sets (the tone must be in the 1-5 kHz band)
+      await actx.addInitScript(() => {
+        const create = AudioContext.prototype.createOscillator;
+        window.__freqs = [];
+        AudioContext.prototype.createOscillator = function () {
+          const o = create.call(this);
+          queueMicrotask(() => window.__freqs.push(o.frequency.value));
+          return o;
+        };
+      });
+      const p = await openPage(actx, url);
+      await waitLive(p);
+      const seen = events.waitFor((m) => m.state.zone_state === 'Warning', 10000, 'Warning');
+      await go('warning');
+      const { msg } = await seen;
+      await onScreen(p, msg);
+      const banner = await p.evaluate(() => {
+        const b = document.getElementById('alert-banner');
+        return { cls: b.className, live: b.getAttribute('aria-live'), title: document.getElementById('alert-title').textContent };
+      });
+      assert.match(banner.cls, /sev-(red|amber|orange)/, 'a warning colour');
+      assert.equal(banner.live, 'assertive');
+      assert.ok(banner.title.length > 0);
+      assert.equal(await p.evaluate(() => window.hmi.audioState()), 'running');
+      await p.waitForFunction(() => window.hmi.tonesScheduled() >= 1, null, { timeout: 500 });
+      const n1 = await p.evaluate(() => window.hmi.tonesScheduled());
+      await sleep(2300);
+      const n2 = await p.evaluate(() => window.hmi.tonesScheduled());
+      assert.ok(n2 >= n1 + 1, `repeated: ${n1} -> ${n2}`);
+      const freqs = await p.evaluate(() => window.__freqs);
+      assert.ok(freqs.length >= 2 && freqs.every((f) => f >= 1000 && f <= 5000), `tone frequencies ${freqs}`);
+      await shot(p, 'warning');
+      const cleared = events.waitFor((m) => m.state.zone_state === 'None' && !m.state.primary, 10000, 'no warning');
+      await go('cruise');
+      await onScreen(p, (await cleared).msg);
+      await sleep(300);
+      const n3 = await p.evaluate(() => window.hmi.tonesScheduled());
+      await sleep(2500);
+      assert.equal(await p.evaluate(() => window.hmi.tonesScheduled()), n3, 'tone stopped when the warning cleared');
+    } finally {
+      await actx.close();
+    }
+  });
+
+  it('lane closed: hatched closed lane with cones, the car in it, change-lane advice', async () => {
+    const { msg } = await sceneOnScreen('lane_closed', (m) => m.state.primary && m.state.primary.kind === 'LaneClosedOwn', 'LaneClosedOwn');
+    const s = msg.state;
+    const d = await page.evaluate(() => ({
+      closed: [...document.querySelectorAll('#lanes g.lane.closed')].map((g) => Number(g.dataset.laneId)),
+      hatch: document.querySelectorAll('#lanes g.lane.closed rect[fill="url(#hatch)"]').length,
+      cones: document.querySelectorAll('#lanes .cone').length,
+      carOnClosed: document.querySelectorAll('#lanes .car.on-closed').length,
+      advice: (document.querySelector('#lanes .advice') || {}).dataset,
+      title: document.getElementById('alert-title').textContent,
+      sev: document.getElementById('alert-banner').className,
+    }));
+    assert.deepEqual(d.closed.sort(), [...s.closed_lanes].sort());
+    assert.ok(d.hatch >= 1 && d.cones >= 1, 'hatched with cones');
+    assert.equal(d.carOnClosed, 1, 'the car is drawn in the closed lane');
+    assert.match(d.sev, /sev-red/);
+    if (s.advice !== 'None') {
+      assert.equal(d.advice && d.advice.advice, s.advice);
+      assert.equal(d.title, s.advice === 'MoveLeft' ? 'Change lane left' : 'Change lane right');
+    }
+    await shot(page, 'lane_closed');
+  });
+
+  it('lane closed without road_lanes is still drawn (stand-in scene)', async (t) => {
+    if (!(await tryScene(t, 'lane_closed_fallback'))) return;
+    const { msg } = await events.waitFor((m) => m.state.primary && m.state.primary.kind === 'LaneClosedOwn' && !(m.state.road_lanes || []).length, 5000);
+    await onScreen(page, msg);
+    await page.waitForFunction(() => document.querySelectorAll('#lanes g.lane.closed').length >= 1 && document.querySelectorAll('#lanes .car').length === 1);
+    assert.equal(await page.textContent('#lanes-note'), 'Lane order approximate');
+  });
+
+  it('overspeed: red banner and red speed (stand-in scene)', async (t) => {
+    if (!(await tryScene(t, 'overspeed'))) return;
+    const { msg } = await events.waitFor((m) => m.state.primary && m.state.primary.kind === 'Overspeed', 5000);
+    await onScreen(page, msg);
+    assert.equal(await page.getAttribute('#speed-box', 'data-over'), 'true');
+    assert.match(await page.getAttribute('#alert-banner', 'class'), /sev-red/);
+    await shot(page, 'overspeed');
+  });
+
+  it('in zone: "IN ZONE" and the reduced-limit sign', async () => {
+    const { msg } = await sceneOnScreen('in_zone', (m) => m.state.zone_state === 'InZone', 'InZone');
+    assert.equal(await page.textContent('#distance'), 'IN ZONE');
+    if (msg.state.reduced_limit) {
+      assert.equal(await page.getAttribute('#limit', 'data-reduced'), 'true');
+      assert.equal(await page.isVisible('.limit-plate'), true);
+    }
+    await shot(page, 'in_zone');
+  });
+
+  it('"No GNSS" within 1 s of a dropout, and back', async () => {
+    await sceneOnScreen('cruise', (m) => m.state.gnss_ok && m.state.zone_state === 'None', 'cruise');
+    await go('gnss_lost');
+    const t0 = performance.now();
+    await page.waitForFunction(() => document.getElementById('gnss-chip').textContent.includes('No GNSS') &&
+      document.body.dataset.gnss === 'lost', null, { timeout: 5000, polling: 'raf' });
+    const ms = Math.round(performance.now() - t0);
+    console.log(`# dropout -> "No GNSS" on screen: ${ms} ms`);
+    assert.ok(ms <= GNSS_MS, `${ms} ms > ${GNSS_MS} ms`);
+    assert.equal(await page.textContent('#distance-label'), 'Position unknown', 'no distance claimed without a position');
+    await shot(page, 'no_gnss');
+    await go('gnss_back');
+    await page.waitForFunction(() => document.body.dataset.gnss === 'ok', null, { timeout: 5000 });
+  });
+
+  it('a silent stream (heartbeats only) is not shown as live (stand-in scene)', async (t) => {
+    if (!(await tryScene(t, 'silent'))) return;
+    const t0 = performance.now();
+    await page.waitForFunction(() => window.hmi.connection() === 'stale', null, { timeout: 4000 });
+    const ms = performance.now() - t0;
+    assert.ok(ms >= STALE_MS - 300 && ms <= STALE_MS + 1000, `stale after ${Math.round(ms)} ms`);
+    assert.equal(await page.textContent('#alert-title'), 'Disconnected');
+    // a stream that stays open but silent (half-open Wi-Fi link) is dropped and opened again
+    const connects = await page.evaluate(() => window.HmiStream.stats().connects);
+    await page.waitForFunction((n) => window.HmiStream.stats().connects > n, connects, { timeout: 9000 });
+    assert.notEqual(await page.evaluate(() => window.hmi.connection()), 'live');
+    await go('cruise');
+    await waitLive(page);
+  });
+
+  it('"Disconnected" when the server stops; live again after it restarts', async () => {
+    await waitLive(page);
+    await server.stop();
+    const t0 = performance.now();
+    await page.waitForFunction(() => window.hmi.connection() !== 'live' &&
+      document.getElementById('alert-title').textContent === 'Disconnected', null, { timeout: 5000, polling: 50 });
+    const ms = Math.round(performance.now() - t0);
+    assert.ok(ms <= STALE_MS + 500, `disconnected shown after ${ms} ms`);
+    const grey = await page.evaluate(() => {
+      const css = getComputedStyle(document.documentElement);
+      return { speed: getComputedStyle(document.getElementById('speed')).color, others: getComputedStyle(document.getElementById('others')).visibility,
+        dim: css.getPropertyValue('--dim').trim(), filter: getComputedStyle(document.getElementById('lanes')).filter };
+    });
+    assert.match(grey.filter, /grayscale/);
+    assert.equal(grey.others, 'hidden');
+    await sleep(1200);
+    await shot(page, 'disconnected');
+    await server.start();
+    const t1 = performance.now();
+    await waitLive(page, 5000);
+    console.log(`# server up -> live again: ${Math.round(performance.now() - t1)} ms`);
+    events.close();
+    events = watchEvents(url);
+    assert.notEqual(await page.textContent('#alert-title'), 'Disconnected');
+  });
+
+  it('settings: validated form, server errors shown, mph survives a server restart', async () => {
+    await page.click('#nav-settings');
+    await page.waitForSelector('#settings:not([hidden])');
+    await page.waitForFunction(() => document.getElementById('set-distance').value !== '');
+    // client-side validation: nothing is sent
+    let puts = 0;
+    const count = (r) => { if (r.method() === 'PUT') puts += 1; };
+    page.on('request', count);
+    await page.fill('#set-distance', '5');
+    await page.click('#settings-save');
+    assert.match(await page.textContent('#err-warning_distance_m'), /20 and 2000/);
+    assert.equal(puts, 0);
+    await page.fill('#set-distance', '150');
+    // the server's own 400 for a bad field
+    const bad = await fetch(url + '/api/settings', { method: 'PUT', headers: { 'Content-Type': 'application/json' },
+      body: JSON.stringify({ warning_distance_m: 100, lead_time_s: 99, sound: true, units: 'kmh', theme: 'auto' }) });
+    assert.equal(bad.status, 400);
+    assert.match((await bad.json()).error, /lead_time_s/);
+    // the page shows a server error naming the field (answer replaced to reach that path)
+    await page.route('**/api/settings', (route) => (route.request().method() === 'PUT'
+      ? route.fulfill({ status: 400, contentType: 'application/json', body: '{"error":"lead_time_s: out of range"}' })
+      : route.continue()));
+    await page.click('#settings-save');
+    await page.waitForFunction(() => document.getElementById('settings-msg').textContent.includes('lead_time_s'));
+    assert.match(await page.textContent('#err-lead_time_s'), /lead_time_s/);
+    await page.unroute('**/api/settings');
+    // a real save: mph
+    await page.check('input[name=units][value=mph]', { force: true });
+    await page.click('#settings-save');
+    await page.waitForFunction(() => document.getElementById('settings-msg').textContent === 'Saved.');
+    page.off('request', count);
+    await shot(page, 'settings');
+    let stored = await (await fetch(url + '/api/settings')).json();
+    assert.equal(stored.units, 'mph');
+    assert.equal(stored.warning_distance_m, 150);
+    await page.click('.nav-back >> nth=0');
+    assert.equal(await page.textContent('#speed-unit'), 'mph');
+    // restart the server, reload the page: still mph, from the server
+    await server.stop();
+    await server.start();
+    events.close();
+    events = watchEvents(url);
+    await page.evaluate(() => localStorage.removeItem('hmi.settings'));
+    await page.reload();
+    await waitLive(page, 10000);
+    stored = await (await fetch(url + '/api/settings')).json();
+    assert.equal(stored.units, 'mph');
+    await page.waitForFunction(() => document.getElementById('speed-unit').textContent === 'mph');
+    const { msg } = await events.waitFor((m) => m.state.speed_mps !== null, 5000);
+    const mph = Math.round(msg.state.speed_mps * 2.23694);
+    const shown = Number(await page.textContent('#speed'));
+    assert.ok(Math.abs(shown - mph) <= 2, `speed ${shown} mph ~ ${mph}`);
+    await sceneOnScreen('approach', (m) => m.state.zone_state === 'Approaching' && m.state.distance_m > 0, 'approach');
+    assert.match(await page.textContent('#distance-unit'), /^(ft|mi)$/);
+    await shot(page, 'mph');
+  });
+
+  it('night theme (and auto follows the system), contrast of the alert colours', async () => {
+    await page.click('#nav-settings');
+    await page.waitForSelector('#settings:not([hidden])');
+    await page.check('input[name=units][value=kmh]', { force: true });
+    await page.fill('#set-distance', '100');
+    await page.check('input[name=theme][value=night]', { force: true });
+    await page.click('#settings-save');
+    await page.waitForFunction(() => document.getElementById('settings-msg').textContent === 'Saved.');
+    await page.click('.nav-back >> nth=0');
+    assert.equal(await page.getAttribute('html', 'data-theme'), 'night');
+    assert.equal(await page.evaluate(() => getComputedStyle(document.body).backgroundColor), 'rgb(0, 0, 0)');
+    await sceneOnScreen('lane_closed', (m) => m.state.primary && m.state.primary.kind === 'LaneClosedOwn', 'LaneClosedOwn');
+    await shot(page, 'night');
+
+    for (const theme of ['night', 'day']) {
+      const ratios = await page.evaluate(contrastReport, theme);
+      for (const [name, r] of Object.entries(ratios)) assert.ok(r >= 4.5, `${theme} ${name}: contrast ${r.toFixed(2)} < 4.5`);
+    }
+
+    await fetch(url + '/api/settings', { method: 'PUT', headers: { 'Content-Type': 'application/json' },
+      body: JSON.stringify({ ...(await (await fetch(url + '/api/settings')).json()), theme: 'auto' }) });
+    await page.reload();
+    await waitLive(page);
+    await page.emulateMedia({ colorScheme: 'dark' });
+    await page.waitForFunction(() => document.documentElement.dataset.theme === 'night');
+    await page.emulateMedia({ colorScheme: 'light' });
+    await page.waitForFunction(() => document.documentElement.dataset.theme === 'day');
+  });
+
+  it('portrait phone layout (390x844)', async () => {
+    const phone = await ctx.newPage();
+    try {
+      await phone.setViewportSize({ width: 390, height: 844 });
+      await phone.goto(url + '/');
+      await waitLive(phone);
+      const seen = events.waitFor((m) => m.state.primary && m.state.primary.kind === 'LaneClosedOwn', 10000);
+      await go('lane_closed');
+      await onScreen(phone, (await seen).msg);
+      const info = await phone.evaluate(() => {
+        const box = (id) => document.getElementById(id).getBoundingClientRect().toJSON();
+        const buttons = [...document.querySelectorAll('button')].filter((b) => b.offsetParent).map((b) => b.getBoundingClientRect());
+        return { scrollW: document.scrollingElement.scrollWidth, scrollH: document.scrollingElement.scrollHeight,
+          boxes: ['speed', 'limit', 'alert-banner', 'lanes', 'distance-box', 'nav-settings'].map(box),
+          minButton: Math.min(...buttons.map((b) => Math.min(b.width, b.height))),
+          speedPx: parseFloat(getComputedStyle(document.getElementById('speed')).fontSize) };
+      });
+      assert.ok(info.scrollW <= 390 && info.scrollH <= 844, `no scrolling: ${info.scrollW}x${info.scrollH}`);
+      for (const b of info.boxes) assert.ok(b.width > 0 && b.x >= 0 && b.right <= 390 && b.bottom <= 844, JSON.stringify(b));
+      assert.ok(info.minButton >= 44, `touch targets ${info.minButton}`);
+      assert.ok(info.speedPx >= 80, `speed ${info.speedPx}px`);
+      await shot(phone, 'phone');
+      await phone.emulateMedia({ colorScheme: 'dark' });
+      await shot(phone, 'phone_night');
+    } finally {
+      await phone.close();
+    }
+  });
+
+  it('diagnostics view shows /api/status and the link', async () => {
+    await page.click('#nav-diag');
+    await page.waitForFunction(() => document.querySelectorAll('#diag-status dt').length > 0 && document.querySelectorAll('#diag-link dt').length > 0, null, { timeout: 5000 });
+    const status = await (await fetch(url + '/api/status')).json();
+    const text = await page.textContent('#diag-status');
+    for (const k of Object.keys(status).slice(0, 3)) assert.ok(text.includes(k.replace(/_/g, ' ')), `shows ${k}`);
+    await shot(page, 'diagnostics');
+    await page.click('.nav-back >> nth=1');
+    await page.waitForSelector('#drive:not([hidden])');
+  });
+});
+
+/** In the page: WCAG contrast of each banner colour and of the main numbers, for a theme. */
+function contrastReport(theme) {
+  const html = document.documentElement;
+  const prev = html.dataset.theme;
+  html.dataset.theme = theme;
+  const rgb = (c) => c.match(/[\d.]+/g).slice(0, 3).map(Number);
+  const lum = (c) => {
+    const [r, g, b] = rgb(c).map((v) => { v /= 255; return v <= 0.03928 ? v / 12.92 : ((v + 0.055) / 1.055) ** 2.4; });
+    return 0.2126 * r + 0.7152 * g + 0.0722 * b;
+  };
+  const ratio = (a, b) => { const [x, y] = [lum(a), lum(b)].sort((p, q) => q - p); return (x + 0.05) / (y + 0.05); };
+  const out = {};
+  for (const sev of ['red', 'amber', 'orange', 'info', 'calm', 'offline']) {
+    const el = document.createElement('div');
+    el.className = 'banner sev-' + sev;
+    el.innerHTML = '<div class="alert-title">X</div>';
+    document.body.appendChild(el);
+    const cs = getComputedStyle(el);
+    out['banner ' + sev] = ratio(getComputedStyle(el.firstChild).color, cs.backgroundColor);
+    el.remove();
+  }
+  const panel = getComputedStyle(document.querySelector('.panel')).backgroundColor;
+  out.speed = ratio(getComputedStyle(document.getElementById('speed')).color, panel);
+  out['limit sign'] = ratio(getComputedStyle(document.querySelector('.limit-value')).color, getComputedStyle(document.querySelector('.limit-sign')).backgroundColor);
+  html.dataset.theme = prev;
+  return out;
+}
