@@ -14,7 +14,7 @@
 //!
 //! # Features
 //! - `alloc`: heap storage (see above). `std`: implies `alloc`.
-//! - `jer`: JSON encoding rules (X.697) for every generated type, module [`jer`] (needs std).
+//! - `jer`: JSON encoding rules (X.697) for every generated type, in module `jer` (links std).
 //! - `serde`: `Serialize`/`Deserialize` of the runtime's storage types.
 //! - `defmt`: `defmt::Format` on the error types.
 #![no_std]
