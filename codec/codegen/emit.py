@@ -286,9 +286,10 @@ class Emitter:
                 write.append(f"out.key(\"{f.asn}\");\n{self.jer_write_of(f.ref, '&self.' + f.rust)}")
                 read.append(f"let {local} = crate::jer::read_member(v, \"{f.asn}\", {self.jer_read_fn(f.ref, td)})?;")
             inits.append(f"{f.rust}: {local}")
-        write.append("out.end_object();")
         if td.extensible:
-            inits.append("extensions: uper::Extensions::new()")
+            write.append("crate::jer::write_extensions(out, &self.extensions);")
+            inits.append("extensions: crate::jer::read_extensions(v)?")
+        write.append("out.end_object();")
         read.insert(0, "crate::jer::member(v, \"\")?;")
         read.append(f"Ok(Self {{ {', '.join(inits)} }})")
         return self.jer_impl(td, "\n".join(write), "\n".join(read))

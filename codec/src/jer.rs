@@ -339,6 +339,54 @@ pub fn bits(v: &Value, lb: usize, ub: usize) -> JerResult<(Vec<u8>, usize)> {
     Ok((bytes, len))
 }
 
+/// Member name under which unknown extension additions of a SEQUENCE travel. X.697 has no
+/// form for them; a name starting with `_` cannot clash with an ASN.1 identifier.
+pub const EXTENSIONS_MEMBER: &str = "_extensions";
+
+/// Writes a SEQUENCE's unknown extension additions (when it has any) as the member
+/// `"_extensions": {"bitmapLength": n, "additions": [[index, "hex"], ...]}`, so that
+/// UPER -> JER -> UPER keeps messages from a newer J2735 byte-exact.
+pub fn write_extensions<const N: usize>(out: &mut JerWriter, ext: &crate::uper::Extensions<N>) {
+    if !ext.is_present() {
+        return;
+    }
+    out.key(EXTENSIONS_MEMBER);
+    out.begin_object();
+    out.key("bitmapLength");
+    out.int(ext.bitmap_len() as i64);
+    out.key("additions");
+    out.begin_array();
+    for (index, content) in ext.unknown() {
+        out.begin_array();
+        out.int(index as i64);
+        out.hex(content);
+        out.end_array();
+    }
+    out.end_array();
+    out.end_object();
+}
+
+/// Reads the member written by [`write_extensions`] (absent: no extensions).
+pub fn read_extensions<const N: usize>(v: &Value) -> JerResult<crate::uper::Extensions<N>> {
+    let Some(e) = member(v, EXTENSIONS_MEMBER)? else {
+        return Ok(crate::uper::Extensions::new());
+    };
+    let bitmap = read_member(e, "bitmapLength", |x| int(x, 0, 64))? as usize;
+    let mut parts = Vec::new();
+    for item in array(required(e, "additions")?)? {
+        let pair = array(item)?;
+        let [index, content] = pair else {
+            return Err(JerError::new("an addition is [index, hex]"));
+        };
+        parts.push((int(index, 0, 63)? as usize, hex(content)?));
+    }
+    crate::uper::Extensions::from_parts(bitmap, parts.iter().map(|(i, c)| (*i, c.as_slice())))
+        .ok_or_else(|| {
+            JerError::new("extension additions out of order or over the capacity")
+                .within(EXTENSIONS_MEMBER)
+        })
+}
+
 /// The error of a list or string over its no-heap capacity.
 #[cold]
 pub fn over_capacity() -> JerError {

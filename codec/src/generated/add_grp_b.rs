@@ -67,6 +67,7 @@ impl crate::jer::Jer for Position3DAddGrpB {
         crate::jer::Jer::write_jer(&self.longitude, out);
         out.key("elevation");
         crate::jer::Jer::write_jer(&self.elevation, out);
+        crate::jer::write_extensions(out, &self.extensions);
         out.end_object();
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
@@ -81,7 +82,7 @@ impl crate::jer::Jer for Position3DAddGrpB {
             latitude: f_latitude,
             longitude: f_longitude,
             elevation: f_elevation,
-            extensions: uper::Extensions::new(),
+            extensions: crate::jer::read_extensions(v)?,
         })
     }
 }
@@ -592,12 +593,13 @@ impl Uper for LaneDataAttributeAddGrpB {
 impl crate::jer::Jer for LaneDataAttributeAddGrpB {
     fn write_jer(&self, out: &mut crate::jer::JerWriter) {
         out.begin_object();
+        crate::jer::write_extensions(out, &self.extensions);
         out.end_object();
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
         crate::jer::member(v, "")?;
         Ok(Self {
-            extensions: uper::Extensions::new(),
+            extensions: crate::jer::read_extensions(v)?,
         })
     }
 }
@@ -768,6 +770,7 @@ impl crate::jer::Jer for MovementEventAddGrpB {
             out.key("nextTime");
             crate::jer::Jer::write_jer(v, out);
         }
+        crate::jer::write_extensions(out, &self.extensions);
         out.end_object();
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
@@ -806,7 +809,7 @@ impl crate::jer::Jer for MovementEventAddGrpB {
             likely_time: f_likely_time,
             confidence: f_confidence,
             next_time: f_next_time,
-            extensions: uper::Extensions::new(),
+            extensions: crate::jer::read_extensions(v)?,
         })
     }
 }

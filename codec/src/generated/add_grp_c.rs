@@ -53,6 +53,7 @@ impl crate::jer::Jer for Position3DAddGrpC {
         out.begin_object();
         out.key("altitude");
         crate::jer::Jer::write_jer(&self.altitude, out);
+        crate::jer::write_extensions(out, &self.extensions);
         out.end_object();
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
@@ -61,7 +62,7 @@ impl crate::jer::Jer for Position3DAddGrpC {
             crate::jer::read_member(v, "altitude", <Altitude as crate::jer::Jer>::read_jer)?;
         Ok(Self {
             altitude: f_altitude,
-            extensions: uper::Extensions::new(),
+            extensions: crate::jer::read_extensions(v)?,
         })
     }
 }
@@ -400,6 +401,7 @@ impl crate::jer::Jer for RestrictionUserTypeAddGrpC {
             out.key("emission");
             crate::jer::Jer::write_jer(v, out);
         }
+        crate::jer::write_extensions(out, &self.extensions);
         out.end_object();
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
@@ -408,7 +410,7 @@ impl crate::jer::Jer for RestrictionUserTypeAddGrpC {
             crate::jer::read_optional(v, "emission", <EmissionType as crate::jer::Jer>::read_jer)?;
         Ok(Self {
             emission: f_emission,
-            extensions: uper::Extensions::new(),
+            extensions: crate::jer::read_extensions(v)?,
         })
     }
 }
@@ -618,6 +620,7 @@ impl crate::jer::Jer for MapDataAddGrpC {
             out.key("signalHeadLocations");
             crate::jer::Jer::write_jer(v, out);
         }
+        crate::jer::write_extensions(out, &self.extensions);
         out.end_object();
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
@@ -629,7 +632,7 @@ impl crate::jer::Jer for MapDataAddGrpC {
         )?;
         Ok(Self {
             signal_head_locations: f_signal_head_locations,
-            extensions: uper::Extensions::new(),
+            extensions: crate::jer::read_extensions(v)?,
         })
     }
 }
@@ -775,6 +778,7 @@ impl crate::jer::Jer for SignalHeadLocation {
         crate::jer::Jer::write_jer(&self.node, out);
         out.key("signalGroupID");
         crate::jer::Jer::write_jer(&self.signal_group_id, out);
+        crate::jer::write_extensions(out, &self.extensions);
         out.end_object();
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
@@ -792,7 +796,7 @@ impl crate::jer::Jer for SignalHeadLocation {
         Ok(Self {
             node: f_node,
             signal_group_id: f_signal_group_id,
-            extensions: uper::Extensions::new(),
+            extensions: crate::jer::read_extensions(v)?,
         })
     }
 }
@@ -1034,6 +1038,7 @@ impl crate::jer::Jer for VehicleToLanePosition {
         crate::jer::Jer::write_jer(&self.station_id, out);
         out.key("laneID");
         crate::jer::Jer::write_jer(&self.lane_id, out);
+        crate::jer::write_extensions(out, &self.extensions);
         out.end_object();
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
@@ -1051,7 +1056,7 @@ impl crate::jer::Jer for VehicleToLanePosition {
         Ok(Self {
             station_id: f_station_id,
             lane_id: f_lane_id,
-            extensions: uper::Extensions::new(),
+            extensions: crate::jer::read_extensions(v)?,
         })
     }
 }
@@ -1129,6 +1134,7 @@ impl crate::jer::Jer for IntersectionStateAddGrpC {
             out.key("activePrioritizations");
             crate::jer::Jer::write_jer(v, out);
         }
+        crate::jer::write_extensions(out, &self.extensions);
         out.end_object();
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
@@ -1140,7 +1146,7 @@ impl crate::jer::Jer for IntersectionStateAddGrpC {
         )?;
         Ok(Self {
             active_prioritizations: f_active_prioritizations,
-            extensions: uper::Extensions::new(),
+            extensions: crate::jer::read_extensions(v)?,
         })
     }
 }
@@ -1299,6 +1305,7 @@ impl crate::jer::Jer for PrioritizationResponse {
         crate::jer::Jer::write_jer(&self.prior_state, out);
         out.key("signalGroup");
         crate::jer::Jer::write_jer(&self.signal_group, out);
+        crate::jer::write_extensions(out, &self.extensions);
         out.end_object();
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
@@ -1322,7 +1329,7 @@ impl crate::jer::Jer for PrioritizationResponse {
             station_id: f_station_id,
             prior_state: f_prior_state,
             signal_group: f_signal_group,
-            extensions: uper::Extensions::new(),
+            extensions: crate::jer::read_extensions(v)?,
         })
     }
 }

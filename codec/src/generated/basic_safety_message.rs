@@ -98,6 +98,7 @@ impl crate::jer::Jer for BasicSafetyMessage {
             out.key("regional");
             crate::jer::Jer::write_jer(v, out);
         }
+        crate::jer::write_extensions(out, &self.extensions);
         out.end_object();
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
@@ -121,7 +122,7 @@ impl crate::jer::Jer for BasicSafetyMessage {
             core_data: f_core_data,
             part_ii: f_part_ii,
             regional: f_regional,
-            extensions: uper::Extensions::new(),
+            extensions: crate::jer::read_extensions(v)?,
         })
     }
 }
@@ -337,6 +338,7 @@ impl crate::jer::Jer for SpecialVehicleExtensions {
             out.key("trailers");
             crate::jer::Jer::write_jer(v, out);
         }
+        crate::jer::write_extensions(out, &self.extensions);
         out.end_object();
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
@@ -357,7 +359,7 @@ impl crate::jer::Jer for SpecialVehicleExtensions {
             vehicle_alerts: f_vehicle_alerts,
             description: f_description,
             trailers: f_trailers,
-            extensions: uper::Extensions::new(),
+            extensions: crate::jer::read_extensions(v)?,
         })
     }
 }
@@ -542,6 +544,7 @@ impl crate::jer::Jer for EventDescription {
             out.key("regional");
             crate::jer::Jer::write_jer(v, out);
         }
+        crate::jer::write_extensions(out, &self.extensions);
         out.end_object();
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
@@ -583,7 +586,7 @@ impl crate::jer::Jer for EventDescription {
             heading: f_heading,
             extent: f_extent,
             regional: f_regional,
-            extensions: uper::Extensions::new(),
+            extensions: crate::jer::read_extensions(v)?,
         })
     }
 }
@@ -965,6 +968,7 @@ impl crate::jer::Jer for TrailerData {
         crate::jer::Jer::write_jer(&self.connection, out);
         out.key("units");
         crate::jer::Jer::write_jer(&self.units, out);
+        crate::jer::write_extensions(out, &self.extensions);
         out.end_object();
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
@@ -988,7 +992,7 @@ impl crate::jer::Jer for TrailerData {
             not_used: f_not_used,
             connection: f_connection,
             units: f_units,
-            extensions: uper::Extensions::new(),
+            extensions: crate::jer::read_extensions(v)?,
         })
     }
 }
@@ -1066,6 +1070,7 @@ impl crate::jer::Jer for PivotPointDescription {
         crate::jer::Jer::write_jer(&self.pivot_angle, out);
         out.key("pivots");
         crate::jer::Jer::write_jer(&self.pivots, out);
+        crate::jer::write_extensions(out, &self.extensions);
         out.end_object();
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
@@ -1086,7 +1091,7 @@ impl crate::jer::Jer for PivotPointDescription {
             pivot_offset: f_pivot_offset,
             pivot_angle: f_pivot_angle,
             pivots: f_pivots,
-            extensions: uper::Extensions::new(),
+            extensions: crate::jer::read_extensions(v)?,
         })
     }
 }
@@ -1431,6 +1436,7 @@ impl crate::jer::Jer for TrailerUnitDescription {
             out.key("crumbData");
             crate::jer::Jer::write_jer(v, out);
         }
+        crate::jer::write_extensions(out, &self.extensions);
         out.end_object();
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
@@ -1508,7 +1514,7 @@ impl crate::jer::Jer for TrailerUnitDescription {
             position_offset: f_position_offset,
             elevation_offset: f_elevation_offset,
             crumb_data: f_crumb_data,
-            extensions: uper::Extensions::new(),
+            extensions: crate::jer::read_extensions(v)?,
         })
     }
 }
@@ -1773,6 +1779,7 @@ impl crate::jer::Jer for TrailerHistoryPoint {
             out.key("heading");
             crate::jer::Jer::write_jer(v, out);
         }
+        crate::jer::write_extensions(out, &self.extensions);
         out.end_object();
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
@@ -1808,7 +1815,7 @@ impl crate::jer::Jer for TrailerHistoryPoint {
             position_offset: f_position_offset,
             elevation_offset: f_elevation_offset,
             heading: f_heading,
-            extensions: uper::Extensions::new(),
+            extensions: crate::jer::read_extensions(v)?,
         })
     }
 }
@@ -2089,6 +2096,7 @@ impl crate::jer::Jer for SupplementalVehicleExtensions {
             out.key("regional");
             crate::jer::Jer::write_jer(v, out);
         }
+        crate::jer::write_extensions(out, &self.extensions);
         out.end_object();
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
@@ -2148,7 +2156,7 @@ impl crate::jer::Jer for SupplementalVehicleExtensions {
             speed_profile: f_speed_profile,
             the_rtcm: f_the_rtcm,
             regional: f_regional,
-            extensions: uper::Extensions::new(),
+            extensions: crate::jer::read_extensions(v)?,
         })
     }
 }
@@ -2340,6 +2348,7 @@ impl crate::jer::Jer for VehicleData {
             out.key("trailerWeight");
             crate::jer::Jer::write_jer(v, out);
         }
+        crate::jer::write_extensions(out, &self.extensions);
         out.end_object();
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
@@ -2369,7 +2378,7 @@ impl crate::jer::Jer for VehicleData {
             bumpers: f_bumpers,
             mass: f_mass,
             trailer_weight: f_trailer_weight,
-            extensions: uper::Extensions::new(),
+            extensions: crate::jer::read_extensions(v)?,
         })
     }
 }
@@ -2559,6 +2568,7 @@ impl crate::jer::Jer for WeatherReport {
             out.key("roadFriction");
             crate::jer::Jer::write_jer(v, out);
         }
+        crate::jer::write_extensions(out, &self.extensions);
         out.end_object();
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
@@ -2600,7 +2610,7 @@ impl crate::jer::Jer for WeatherReport {
             solar_radiation: f_solar_radiation,
             friction: f_friction,
             road_friction: f_road_friction,
-            extensions: uper::Extensions::new(),
+            extensions: crate::jer::read_extensions(v)?,
         })
     }
 }
@@ -2747,6 +2757,7 @@ impl crate::jer::Jer for WeatherProbe {
             out.key("rainRates");
             crate::jer::Jer::write_jer(v, out);
         }
+        crate::jer::write_extensions(out, &self.extensions);
         out.end_object();
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
@@ -2770,7 +2781,7 @@ impl crate::jer::Jer for WeatherProbe {
             air_temp: f_air_temp,
             air_pressure: f_air_pressure,
             rain_rates: f_rain_rates,
-            extensions: uper::Extensions::new(),
+            extensions: crate::jer::read_extensions(v)?,
         })
     }
 }
@@ -2927,6 +2938,7 @@ impl crate::jer::Jer for ObstacleDetection {
             out.key("vertEvent");
             crate::jer::Jer::write_jer(v, out);
         }
+        crate::jer::write_extensions(out, &self.extensions);
         out.end_object();
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
@@ -2968,7 +2980,7 @@ impl crate::jer::Jer for ObstacleDetection {
             location_details: f_location_details,
             date_time: f_date_time,
             vert_event: f_vert_event,
-            extensions: uper::Extensions::new(),
+            extensions: crate::jer::read_extensions(v)?,
         })
     }
 }
@@ -3087,6 +3099,7 @@ impl crate::jer::Jer for DisabledVehicle {
             out.key("locationDetails");
             crate::jer::Jer::write_jer(v, out);
         }
+        crate::jer::write_extensions(out, &self.extensions);
         out.end_object();
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
@@ -3104,7 +3117,7 @@ impl crate::jer::Jer for DisabledVehicle {
         Ok(Self {
             status_details: f_status_details,
             location_details: f_location_details,
-            extensions: uper::Extensions::new(),
+            extensions: crate::jer::read_extensions(v)?,
         })
     }
 }
@@ -3182,6 +3195,7 @@ impl crate::jer::Jer for SpeedProfile {
         out.begin_object();
         out.key("speedReports");
         crate::jer::Jer::write_jer(&self.speed_reports, out);
+        crate::jer::write_extensions(out, &self.extensions);
         out.end_object();
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
@@ -3193,7 +3207,7 @@ impl crate::jer::Jer for SpeedProfile {
         )?;
         Ok(Self {
             speed_reports: f_speed_reports,
-            extensions: uper::Extensions::new(),
+            extensions: crate::jer::read_extensions(v)?,
         })
     }
 }
@@ -3358,6 +3372,7 @@ impl crate::jer::Jer for RTCMPackage {
         }
         out.key("msgs");
         crate::jer::Jer::write_jer(&self.msgs, out);
+        crate::jer::write_extensions(out, &self.extensions);
         out.end_object();
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
@@ -3375,7 +3390,7 @@ impl crate::jer::Jer for RTCMPackage {
         Ok(Self {
             rtcm_header: f_rtcm_header,
             msgs: f_msgs,
-            extensions: uper::Extensions::new(),
+            extensions: crate::jer::read_extensions(v)?,
         })
     }
 }

@@ -1579,6 +1579,7 @@ impl crate::jer::Jer for PathHistory {
         }
         out.key("crumbData");
         crate::jer::Jer::write_jer(&self.crumb_data, out);
+        crate::jer::write_extensions(out, &self.extensions);
         out.end_object();
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
@@ -1602,7 +1603,7 @@ impl crate::jer::Jer for PathHistory {
             initial_position: f_initial_position,
             curr_gnss_status: f_curr_gnss_status,
             crumb_data: f_crumb_data,
-            extensions: uper::Extensions::new(),
+            extensions: crate::jer::read_extensions(v)?,
         })
     }
 }
@@ -1853,6 +1854,7 @@ impl crate::jer::Jer for FullPositionVector {
             out.key("speedConfidence");
             crate::jer::Jer::write_jer(v, out);
         }
+        crate::jer::write_extensions(out, &self.extensions);
         out.end_object();
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
@@ -1901,7 +1903,7 @@ impl crate::jer::Jer for FullPositionVector {
             time_confidence: f_time_confidence,
             pos_confidence: f_pos_confidence,
             speed_confidence: f_speed_confidence,
-            extensions: uper::Extensions::new(),
+            extensions: crate::jer::read_extensions(v)?,
         })
     }
 }
@@ -3850,6 +3852,7 @@ impl crate::jer::Jer for PathHistoryPoint {
             out.key("heading");
             crate::jer::Jer::write_jer(v, out);
         }
+        crate::jer::write_extensions(out, &self.extensions);
         out.end_object();
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
@@ -3881,7 +3884,7 @@ impl crate::jer::Jer for PathHistoryPoint {
             speed: f_speed,
             pos_accuracy: f_pos_accuracy,
             heading: f_heading,
-            extensions: uper::Extensions::new(),
+            extensions: crate::jer::read_extensions(v)?,
         })
     }
 }
@@ -3992,6 +3995,7 @@ impl crate::jer::Jer for PathPrediction {
         crate::jer::Jer::write_jer(&self.radius_of_curve, out);
         out.key("confidence");
         crate::jer::Jer::write_jer(&self.confidence, out);
+        crate::jer::write_extensions(out, &self.extensions);
         out.end_object();
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
@@ -4006,7 +4010,7 @@ impl crate::jer::Jer for PathPrediction {
         Ok(Self {
             radius_of_curve: f_radius_of_curve,
             confidence: f_confidence,
-            extensions: uper::Extensions::new(),
+            extensions: crate::jer::read_extensions(v)?,
         })
     }
 }
@@ -4354,6 +4358,7 @@ impl crate::jer::Jer for VehicleSafetyExtensions {
             out.key("lights");
             crate::jer::Jer::write_jer(v, out);
         }
+        crate::jer::write_extensions(out, &self.extensions);
         out.end_object();
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
@@ -4380,7 +4385,7 @@ impl crate::jer::Jer for VehicleSafetyExtensions {
             path_history: f_path_history,
             path_prediction: f_path_prediction,
             lights: f_lights,
-            extensions: uper::Extensions::new(),
+            extensions: crate::jer::read_extensions(v)?,
         })
     }
 }
@@ -4598,6 +4603,7 @@ impl crate::jer::Jer for EmergencyDetails {
             out.key("responseType");
             crate::jer::Jer::write_jer(v, out);
         }
+        crate::jer::write_extensions(out, &self.extensions);
         out.end_object();
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
@@ -4630,7 +4636,7 @@ impl crate::jer::Jer for EmergencyDetails {
             multi: f_multi,
             events: f_events,
             response_type: f_response_type,
-            extensions: uper::Extensions::new(),
+            extensions: crate::jer::read_extensions(v)?,
         })
     }
 }
@@ -5057,6 +5063,7 @@ impl crate::jer::Jer for PrivilegedEvents {
         crate::jer::Jer::write_jer(&self.not_used, out);
         out.key("event");
         crate::jer::Jer::write_jer(&self.event, out);
+        crate::jer::write_extensions(out, &self.extensions);
         out.end_object();
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
@@ -5071,7 +5078,7 @@ impl crate::jer::Jer for PrivilegedEvents {
         Ok(Self {
             not_used: f_not_used,
             event: f_event,
-            extensions: uper::Extensions::new(),
+            extensions: crate::jer::read_extensions(v)?,
         })
     }
 }
@@ -6015,6 +6022,7 @@ impl crate::jer::Jer for VehicleClassification {
             out.key("regional");
             crate::jer::Jer::write_jer(v, out);
         }
+        crate::jer::write_extensions(out, &self.extensions);
         out.end_object();
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
@@ -6065,7 +6073,7 @@ impl crate::jer::Jer for VehicleClassification {
             responder_type: f_responder_type,
             fuel_type: f_fuel_type,
             regional: f_regional,
-            extensions: uper::Extensions::new(),
+            extensions: crate::jer::read_extensions(v)?,
         })
     }
 }
@@ -7621,6 +7629,7 @@ impl crate::jer::Jer for Position3D {
             out.key("regional");
             crate::jer::Jer::write_jer(v, out);
         }
+        crate::jer::write_extensions(out, &self.extensions);
         out.end_object();
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
@@ -7639,7 +7648,7 @@ impl crate::jer::Jer for Position3D {
             long: f_long,
             elevation: f_elevation,
             regional: f_regional,
-            extensions: uper::Extensions::new(),
+            extensions: crate::jer::read_extensions(v)?,
         })
     }
 }
@@ -8531,6 +8540,7 @@ impl crate::jer::Jer for NodeXY {
             out.key("attributes");
             crate::jer::Jer::write_jer(v, out);
         }
+        crate::jer::write_extensions(out, &self.extensions);
         out.end_object();
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
@@ -8545,7 +8555,7 @@ impl crate::jer::Jer for NodeXY {
         Ok(Self {
             delta: f_delta,
             attributes: f_attributes,
-            extensions: uper::Extensions::new(),
+            extensions: crate::jer::read_extensions(v)?,
         })
     }
 }
@@ -9552,6 +9562,7 @@ impl crate::jer::Jer for NodeAttributeSetXY {
             out.key("regional");
             crate::jer::Jer::write_jer(v, out);
         }
+        crate::jer::write_extensions(out, &self.extensions);
         out.end_object();
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
@@ -9593,7 +9604,7 @@ impl crate::jer::Jer for NodeAttributeSetXY {
             d_width: f_d_width,
             d_elevation: f_d_elevation,
             regional: f_regional,
-            extensions: uper::Extensions::new(),
+            extensions: crate::jer::read_extensions(v)?,
         })
     }
 }
@@ -11268,6 +11279,7 @@ impl crate::jer::Jer for ComputedLane {
             out.key("regional");
             crate::jer::Jer::write_jer(v, out);
         }
+        crate::jer::write_extensions(out, &self.extensions);
         out.end_object();
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
@@ -11303,7 +11315,7 @@ impl crate::jer::Jer for ComputedLane {
             scale_xaxis: f_scale_xaxis,
             scale_yaxis: f_scale_yaxis,
             regional: f_regional,
-            extensions: uper::Extensions::new(),
+            extensions: crate::jer::read_extensions(v)?,
         })
     }
 }
@@ -12506,6 +12518,7 @@ impl crate::jer::Jer for RequestorType {
             out.key("regional");
             crate::jer::Jer::write_jer(v, out);
         }
+        crate::jer::write_extensions(out, &self.extensions);
         out.end_object();
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
@@ -12538,7 +12551,7 @@ impl crate::jer::Jer for RequestorType {
             iso3883: f_iso3883,
             hpms_type: f_hpms_type,
             regional: f_regional,
-            extensions: uper::Extensions::new(),
+            extensions: crate::jer::read_extensions(v)?,
         })
     }
 }
@@ -13198,6 +13211,7 @@ impl crate::jer::Jer for Header {
             out.key("msgIssueRevision");
             crate::jer::Jer::write_jer(v, out);
         }
+        crate::jer::write_extensions(out, &self.extensions);
         out.end_object();
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
@@ -13220,7 +13234,7 @@ impl crate::jer::Jer for Header {
             time_stamp: f_time_stamp,
             sec_mark: f_sec_mark,
             msg_issue_revision: f_msg_issue_revision,
-            extensions: uper::Extensions::new(),
+            extensions: crate::jer::read_extensions(v)?,
         })
     }
 }

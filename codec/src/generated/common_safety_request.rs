@@ -141,6 +141,7 @@ impl crate::jer::Jer for CommonSafetyRequest {
             out.key("regional");
             crate::jer::Jer::write_jer(v, out);
         }
+        crate::jer::write_extensions(out, &self.extensions);
         out.end_object();
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
@@ -176,7 +177,7 @@ impl crate::jer::Jer for CommonSafetyRequest {
             id: f_id,
             requests: f_requests,
             regional: f_regional,
-            extensions: uper::Extensions::new(),
+            extensions: crate::jer::read_extensions(v)?,
         })
     }
 }

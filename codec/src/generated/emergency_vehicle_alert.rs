@@ -267,6 +267,7 @@ impl crate::jer::Jer for EmergencyVehicleAlert {
             out.key("regional");
             crate::jer::Jer::write_jer(v, out);
         }
+        crate::jer::write_extensions(out, &self.extensions);
         out.end_object();
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
@@ -338,7 +339,7 @@ impl crate::jer::Jer for EmergencyVehicleAlert {
             response_equip: f_response_equip,
             responder_type: f_responder_type,
             regional: f_regional,
-            extensions: uper::Extensions::new(),
+            extensions: crate::jer::read_extensions(v)?,
         })
     }
 }

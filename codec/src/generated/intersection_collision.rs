@@ -191,6 +191,7 @@ impl crate::jer::Jer for IntersectionCollision {
             out.key("regional");
             crate::jer::Jer::write_jer(v, out);
         }
+        crate::jer::write_extensions(out, &self.extensions);
         out.end_object();
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
@@ -256,7 +257,7 @@ impl crate::jer::Jer for IntersectionCollision {
             lane_number: f_lane_number,
             event_flag: f_event_flag,
             regional: f_regional,
-            extensions: uper::Extensions::new(),
+            extensions: crate::jer::read_extensions(v)?,
         })
     }
 }

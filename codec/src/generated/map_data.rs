@@ -225,6 +225,7 @@ impl crate::jer::Jer for MapData {
             out.key("regional");
             crate::jer::Jer::write_jer(v, out);
         }
+        crate::jer::write_extensions(out, &self.extensions);
         out.end_object();
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
@@ -278,7 +279,7 @@ impl crate::jer::Jer for MapData {
             data_parameters: f_data_parameters,
             restriction_list: f_restriction_list,
             regional: f_regional,
-            extensions: uper::Extensions::new(),
+            extensions: crate::jer::read_extensions(v)?,
         })
     }
 }
@@ -745,6 +746,7 @@ impl crate::jer::Jer for IntersectionGeometry {
             out.key("regional");
             crate::jer::Jer::write_jer(v, out);
         }
+        crate::jer::write_extensions(out, &self.extensions);
         out.end_object();
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
@@ -801,7 +803,7 @@ impl crate::jer::Jer for IntersectionGeometry {
             lane_set: f_lane_set,
             preempt_priority_data: f_preempt_priority_data,
             regional: f_regional,
-            extensions: uper::Extensions::new(),
+            extensions: crate::jer::read_extensions(v)?,
         })
     }
 }
@@ -1130,6 +1132,7 @@ impl crate::jer::Jer for GenericLane {
             out.key("regional");
             crate::jer::Jer::write_jer(v, out);
         }
+        crate::jer::write_extensions(out, &self.extensions);
         out.end_object();
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
@@ -1195,7 +1198,7 @@ impl crate::jer::Jer for GenericLane {
             connects_to: f_connects_to,
             overlays: f_overlays,
             regional: f_regional,
-            extensions: uper::Extensions::new(),
+            extensions: crate::jer::read_extensions(v)?,
         })
     }
 }
@@ -3332,6 +3335,7 @@ impl crate::jer::Jer for SignalControlZone {
         out.begin_object();
         out.key("zone");
         crate::jer::Jer::write_jer(&self.zone, out);
+        crate::jer::write_extensions(out, &self.extensions);
         out.end_object();
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
@@ -3343,7 +3347,7 @@ impl crate::jer::Jer for SignalControlZone {
         )?;
         Ok(Self {
             zone: f_zone,
-            extensions: uper::Extensions::new(),
+            extensions: crate::jer::read_extensions(v)?,
         })
     }
 }
@@ -3904,6 +3908,7 @@ impl crate::jer::Jer for RoadSegment {
             out.key("regional");
             crate::jer::Jer::write_jer(v, out);
         }
+        crate::jer::write_extensions(out, &self.extensions);
         out.end_object();
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
@@ -3957,7 +3962,7 @@ impl crate::jer::Jer for RoadSegment {
             speed_limits: f_speed_limits,
             road_lane_set: f_road_lane_set,
             regional: f_regional,
-            extensions: uper::Extensions::new(),
+            extensions: crate::jer::read_extensions(v)?,
         })
     }
 }
@@ -4390,6 +4395,7 @@ impl crate::jer::Jer for DataParameters {
             out.key("geoidUsed");
             crate::jer::Jer::write_jer(v, out);
         }
+        crate::jer::write_extensions(out, &self.extensions);
         out.end_object();
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
@@ -4419,7 +4425,7 @@ impl crate::jer::Jer for DataParameters {
             process_agency: f_process_agency,
             last_checked_date: f_last_checked_date,
             geoid_used: f_geoid_used,
-            extensions: uper::Extensions::new(),
+            extensions: crate::jer::read_extensions(v)?,
         })
     }
 }

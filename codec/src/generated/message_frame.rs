@@ -55,6 +55,7 @@ impl crate::jer::Jer for MessageFrame {
             let v = &self.value;
             v.write_jer_members(out, "messageId", "value");
         }
+        crate::jer::write_extensions(out, &self.extensions);
         out.end_object();
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
@@ -62,7 +63,7 @@ impl crate::jer::Jer for MessageFrame {
         let f_value = MessageFrameValue::read_jer_members(v, "messageId", "value")?;
         Ok(Self {
             value: f_value,
-            extensions: uper::Extensions::new(),
+            extensions: crate::jer::read_extensions(v)?,
         })
     }
 }

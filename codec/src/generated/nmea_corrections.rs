@@ -162,6 +162,7 @@ impl crate::jer::Jer for NMEAcorrections {
             out.key("regional");
             crate::jer::Jer::write_jer(v, out);
         }
+        crate::jer::write_extensions(out, &self.extensions);
         out.end_object();
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
@@ -191,7 +192,7 @@ impl crate::jer::Jer for NMEAcorrections {
             wd_count: f_wd_count,
             payload: f_payload,
             regional: f_regional,
-            extensions: uper::Extensions::new(),
+            extensions: crate::jer::read_extensions(v)?,
         })
     }
 }

@@ -484,6 +484,7 @@ impl crate::jer::Jer for PersonalSafetyMessage {
             out.key("regional");
             crate::jer::Jer::write_jer(v, out);
         }
+        crate::jer::write_extensions(out, &self.extensions);
         out.end_object();
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
@@ -639,7 +640,7 @@ impl crate::jer::Jer for PersonalSafetyMessage {
             attachment_radius: f_attachment_radius,
             animal_type: f_animal_type,
             regional: f_regional,
-            extensions: uper::Extensions::new(),
+            extensions: crate::jer::read_extensions(v)?,
         })
     }
 }

@@ -148,6 +148,7 @@ impl crate::jer::Jer for ProbeDataManagement {
             out.key("regional");
             crate::jer::Jer::write_jer(v, out);
         }
+        crate::jer::write_extensions(out, &self.extensions);
         out.end_object();
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
@@ -194,7 +195,7 @@ impl crate::jer::Jer for ProbeDataManagement {
             tx_interval: f_tx_interval,
             data_elements: f_data_elements,
             regional: f_regional,
-            extensions: uper::Extensions::new(),
+            extensions: crate::jer::read_extensions(v)?,
         })
     }
 }
@@ -977,6 +978,7 @@ impl crate::jer::Jer for VehicleStatusRequest {
             out.key("sendAll");
             out.bool(*v);
         }
+        crate::jer::write_extensions(out, &self.extensions);
         out.end_object();
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
@@ -1009,7 +1011,7 @@ impl crate::jer::Jer for VehicleStatusRequest {
             send_on_less_then_value: f_send_on_less_then_value,
             send_on_more_then_value: f_send_on_more_then_value,
             send_all: f_send_all,
-            extensions: uper::Extensions::new(),
+            extensions: crate::jer::read_extensions(v)?,
         })
     }
 }

@@ -156,6 +156,7 @@ impl crate::jer::Jer for ProbeVehicleData {
             out.key("regional");
             crate::jer::Jer::write_jer(v, out);
         }
+        crate::jer::write_extensions(out, &self.extensions);
         out.end_object();
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
@@ -200,7 +201,7 @@ impl crate::jer::Jer for ProbeVehicleData {
             vehicle_type: f_vehicle_type,
             snapshots: f_snapshots,
             regional: f_regional,
-            extensions: uper::Extensions::new(),
+            extensions: crate::jer::read_extensions(v)?,
         })
     }
 }
@@ -420,6 +421,7 @@ impl crate::jer::Jer for VehicleIdent {
             out.key("vehicleClass");
             crate::jer::Jer::write_jer(v, out);
         }
+        crate::jer::write_extensions(out, &self.extensions);
         out.end_object();
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
@@ -457,7 +459,7 @@ impl crate::jer::Jer for VehicleIdent {
             id: f_id,
             vehicle_type: f_vehicle_type,
             vehicle_class: f_vehicle_class,
-            extensions: uper::Extensions::new(),
+            extensions: crate::jer::read_extensions(v)?,
         })
     }
 }
@@ -934,6 +936,7 @@ impl crate::jer::Jer for Snapshot {
             out.key("dataSet");
             crate::jer::Jer::write_jer(v, out);
         }
+        crate::jer::write_extensions(out, &self.extensions);
         out.end_object();
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
@@ -954,7 +957,7 @@ impl crate::jer::Jer for Snapshot {
             the_position: f_the_position,
             safety_ext: f_safety_ext,
             data_set: f_data_set,
-            extensions: uper::Extensions::new(),
+            extensions: crate::jer::read_extensions(v)?,
         })
     }
 }
@@ -1485,6 +1488,7 @@ impl crate::jer::Jer for VehicleStatus {
             out.key("gnssStatus");
             crate::jer::Jer::write_jer(v, out);
         }
+        crate::jer::write_extensions(out, &self.extensions);
         out.end_object();
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
@@ -1613,7 +1617,7 @@ impl crate::jer::Jer for VehicleStatus {
             j1939data: f_j1939data,
             weather_report: f_weather_report,
             gnss_status: f_gnss_status,
-            extensions: uper::Extensions::new(),
+            extensions: crate::jer::read_extensions(v)?,
         })
     }
 }
@@ -3017,6 +3021,7 @@ impl crate::jer::Jer for ConfidenceSet {
             out.key("throttleConfidence");
             crate::jer::Jer::write_jer(v, out);
         }
+        crate::jer::write_extensions(out, &self.extensions);
         out.end_object();
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
@@ -3064,7 +3069,7 @@ impl crate::jer::Jer for ConfidenceSet {
             steer_confidence: f_steer_confidence,
             heading_confidence: f_heading_confidence,
             throttle_confidence: f_throttle_confidence,
-            extensions: uper::Extensions::new(),
+            extensions: crate::jer::read_extensions(v)?,
         })
     }
 }
@@ -3665,6 +3670,7 @@ impl crate::jer::Jer for J1939data {
             out.key("steeringAxleLubePressure");
             crate::jer::Jer::write_jer(v, out);
         }
+        crate::jer::write_extensions(out, &self.extensions);
         out.end_object();
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
@@ -3724,7 +3730,7 @@ impl crate::jer::Jer for J1939data {
             drive_axle_temperature: f_drive_axle_temperature,
             drive_axle_lube_pressure: f_drive_axle_lube_pressure,
             steering_axle_lube_pressure: f_steering_axle_lube_pressure,
-            extensions: uper::Extensions::new(),
+            extensions: crate::jer::read_extensions(v)?,
         })
     }
 }
@@ -4055,6 +4061,7 @@ impl crate::jer::Jer for TireData {
             out.key("detection");
             crate::jer::Jer::write_jer(v, out);
         }
+        crate::jer::write_extensions(out, &self.extensions);
         out.end_object();
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
@@ -4092,7 +4099,7 @@ impl crate::jer::Jer for TireData {
             wheel_end_elect_fault: f_wheel_end_elect_fault,
             leakage_rate: f_leakage_rate,
             detection: f_detection,
-            extensions: uper::Extensions::new(),
+            extensions: crate::jer::read_extensions(v)?,
         })
     }
 }
@@ -4659,6 +4666,7 @@ impl crate::jer::Jer for AxleWeightSet {
             out.key("weight");
             crate::jer::Jer::write_jer(v, out);
         }
+        crate::jer::write_extensions(out, &self.extensions);
         out.end_object();
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
@@ -4670,7 +4678,7 @@ impl crate::jer::Jer for AxleWeightSet {
         Ok(Self {
             location: f_location,
             weight: f_weight,
-            extensions: uper::Extensions::new(),
+            extensions: crate::jer::read_extensions(v)?,
         })
     }
 }

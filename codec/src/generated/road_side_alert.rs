@@ -232,6 +232,7 @@ impl crate::jer::Jer for RoadSideAlert {
             out.key("regional");
             crate::jer::Jer::write_jer(v, out);
         }
+        crate::jer::write_extensions(out, &self.extensions);
         out.end_object();
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
@@ -297,7 +298,7 @@ impl crate::jer::Jer for RoadSideAlert {
             position: f_position,
             further_info_id: f_further_info_id,
             regional: f_regional,
-            extensions: uper::Extensions::new(),
+            extensions: crate::jer::read_extensions(v)?,
         })
     }
 }

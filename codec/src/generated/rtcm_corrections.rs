@@ -155,6 +155,7 @@ impl crate::jer::Jer for RTCMcorrections {
             out.key("regional");
             crate::jer::Jer::write_jer(v, out);
         }
+        crate::jer::write_extensions(out, &self.extensions);
         out.end_object();
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
@@ -198,7 +199,7 @@ impl crate::jer::Jer for RTCMcorrections {
             rtcm_header: f_rtcm_header,
             msgs: f_msgs,
             regional: f_regional,
-            extensions: uper::Extensions::new(),
+            extensions: crate::jer::read_extensions(v)?,
         })
     }
 }

@@ -148,6 +148,7 @@ impl crate::jer::Jer for SignalRequestMessage {
             out.key("regional");
             crate::jer::Jer::write_jer(v, out);
         }
+        crate::jer::write_extensions(out, &self.extensions);
         out.end_object();
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
@@ -189,7 +190,7 @@ impl crate::jer::Jer for SignalRequestMessage {
             requests: f_requests,
             requestor: f_requestor,
             regional: f_regional,
-            extensions: uper::Extensions::new(),
+            extensions: crate::jer::read_extensions(v)?,
         })
     }
 }
@@ -438,6 +439,7 @@ impl crate::jer::Jer for SignalRequestPackage {
             out.key("regional");
             crate::jer::Jer::write_jer(v, out);
         }
+        crate::jer::write_extensions(out, &self.extensions);
         out.end_object();
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
@@ -470,7 +472,7 @@ impl crate::jer::Jer for SignalRequestPackage {
             second: f_second,
             duration: f_duration,
             regional: f_regional,
-            extensions: uper::Extensions::new(),
+            extensions: crate::jer::read_extensions(v)?,
         })
     }
 }
@@ -619,6 +621,7 @@ impl crate::jer::Jer for SignalRequest {
             out.key("regional");
             crate::jer::Jer::write_jer(v, out);
         }
+        crate::jer::write_extensions(out, &self.extensions);
         out.end_object();
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
@@ -660,7 +663,7 @@ impl crate::jer::Jer for SignalRequest {
             in_bound_lane: f_in_bound_lane,
             out_bound_lane: f_out_bound_lane,
             regional: f_regional,
-            extensions: uper::Extensions::new(),
+            extensions: crate::jer::read_extensions(v)?,
         })
     }
 }
@@ -1433,6 +1436,7 @@ impl crate::jer::Jer for RequestorDescription {
             out.key("regional");
             crate::jer::Jer::write_jer(v, out);
         }
+        crate::jer::write_extensions(out, &self.extensions);
         out.end_object();
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
@@ -1492,7 +1496,7 @@ impl crate::jer::Jer for RequestorDescription {
             transit_occupancy: f_transit_occupancy,
             transit_schedule: f_transit_schedule,
             regional: f_regional,
-            extensions: uper::Extensions::new(),
+            extensions: crate::jer::read_extensions(v)?,
         })
     }
 }
@@ -1639,6 +1643,7 @@ impl crate::jer::Jer for RequestorPositionVector {
             out.key("speed");
             crate::jer::Jer::write_jer(v, out);
         }
+        crate::jer::write_extensions(out, &self.extensions);
         out.end_object();
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
@@ -1662,7 +1667,7 @@ impl crate::jer::Jer for RequestorPositionVector {
             position: f_position,
             heading: f_heading,
             speed: f_speed,
-            extensions: uper::Extensions::new(),
+            extensions: crate::jer::read_extensions(v)?,
         })
     }
 }

@@ -127,6 +127,7 @@ impl crate::jer::Jer for SignalStatusMessage {
             out.key("regional");
             crate::jer::Jer::write_jer(v, out);
         }
+        crate::jer::write_extensions(out, &self.extensions);
         out.end_object();
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
@@ -159,7 +160,7 @@ impl crate::jer::Jer for SignalStatusMessage {
             sequence_number: f_sequence_number,
             status: f_status,
             regional: f_regional,
-            extensions: uper::Extensions::new(),
+            extensions: crate::jer::read_extensions(v)?,
         })
     }
 }
@@ -350,6 +351,7 @@ impl crate::jer::Jer for SignalStatus {
             out.key("regional");
             crate::jer::Jer::write_jer(v, out);
         }
+        crate::jer::write_extensions(out, &self.extensions);
         out.end_object();
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
@@ -379,7 +381,7 @@ impl crate::jer::Jer for SignalStatus {
             id: f_id,
             sig_status: f_sig_status,
             regional: f_regional,
-            extensions: uper::Extensions::new(),
+            extensions: crate::jer::read_extensions(v)?,
         })
     }
 }
@@ -665,6 +667,7 @@ impl crate::jer::Jer for SignalStatusPackage {
             out.key("regional");
             crate::jer::Jer::write_jer(v, out);
         }
+        crate::jer::write_extensions(out, &self.extensions);
         out.end_object();
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
@@ -718,7 +721,7 @@ impl crate::jer::Jer for SignalStatusPackage {
             duration: f_duration,
             status: f_status,
             regional: f_regional,
-            extensions: uper::Extensions::new(),
+            extensions: crate::jer::read_extensions(v)?,
         })
     }
 }
@@ -872,6 +875,7 @@ impl crate::jer::Jer for SignalRequesterInfo {
             out.key("typeData");
             crate::jer::Jer::write_jer(v, out);
         }
+        crate::jer::write_extensions(out, &self.extensions);
         out.end_object();
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
@@ -907,7 +911,7 @@ impl crate::jer::Jer for SignalRequesterInfo {
             sequence_number: f_sequence_number,
             role: f_role,
             type_data: f_type_data,
-            extensions: uper::Extensions::new(),
+            extensions: crate::jer::read_extensions(v)?,
         })
     }
 }

@@ -120,6 +120,7 @@ impl crate::jer::Jer for SPAT {
             out.key("regional");
             crate::jer::Jer::write_jer(v, out);
         }
+        crate::jer::write_extensions(out, &self.extensions);
         out.end_object();
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
@@ -146,7 +147,7 @@ impl crate::jer::Jer for SPAT {
             name: f_name,
             intersections: f_intersections,
             regional: f_regional,
-            extensions: uper::Extensions::new(),
+            extensions: crate::jer::read_extensions(v)?,
         })
     }
 }
@@ -447,6 +448,7 @@ impl crate::jer::Jer for IntersectionState {
             out.key("regional");
             crate::jer::Jer::write_jer(v, out);
         }
+        crate::jer::write_extensions(out, &self.extensions);
         out.end_object();
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
@@ -509,7 +511,7 @@ impl crate::jer::Jer for IntersectionState {
             states: f_states,
             maneuver_assist_list: f_maneuver_assist_list,
             regional: f_regional,
-            extensions: uper::Extensions::new(),
+            extensions: crate::jer::read_extensions(v)?,
         })
     }
 }
@@ -912,6 +914,7 @@ impl crate::jer::Jer for MovementState {
             out.key("regional");
             crate::jer::Jer::write_jer(v, out);
         }
+        crate::jer::write_extensions(out, &self.extensions);
         out.end_object();
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
@@ -947,7 +950,7 @@ impl crate::jer::Jer for MovementState {
             state_time_speed: f_state_time_speed,
             maneuver_assist_list: f_maneuver_assist_list,
             regional: f_regional,
-            extensions: uper::Extensions::new(),
+            extensions: crate::jer::read_extensions(v)?,
         })
     }
 }
@@ -1164,6 +1167,7 @@ impl crate::jer::Jer for MovementEvent {
             out.key("regional");
             crate::jer::Jer::write_jer(v, out);
         }
+        crate::jer::write_extensions(out, &self.extensions);
         out.end_object();
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
@@ -1193,7 +1197,7 @@ impl crate::jer::Jer for MovementEvent {
             timing: f_timing,
             speeds: f_speeds,
             regional: f_regional,
-            extensions: uper::Extensions::new(),
+            extensions: crate::jer::read_extensions(v)?,
         })
     }
 }
@@ -1820,6 +1824,7 @@ impl crate::jer::Jer for AdvisorySpeed {
             out.key("regional");
             crate::jer::Jer::write_jer(v, out);
         }
+        crate::jer::write_extensions(out, &self.extensions);
         out.end_object();
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
@@ -1852,7 +1857,7 @@ impl crate::jer::Jer for AdvisorySpeed {
             distance: f_distance,
             class: f_class,
             regional: f_regional,
-            extensions: uper::Extensions::new(),
+            extensions: crate::jer::read_extensions(v)?,
         })
     }
 }
@@ -2667,6 +2672,7 @@ impl crate::jer::Jer for ConnectionManeuverAssist {
             out.key("regional");
             crate::jer::Jer::write_jer(v, out);
         }
+        crate::jer::write_extensions(out, &self.extensions);
         out.end_object();
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
@@ -2705,7 +2711,7 @@ impl crate::jer::Jer for ConnectionManeuverAssist {
             wait_on_stop: f_wait_on_stop,
             ped_bicycle_detect: f_ped_bicycle_detect,
             regional: f_regional,
-            extensions: uper::Extensions::new(),
+            extensions: crate::jer::read_extensions(v)?,
         })
     }
 }

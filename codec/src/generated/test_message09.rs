@@ -91,6 +91,7 @@ impl crate::jer::Jer for TestMessage09 {
             out.key("regional");
             crate::jer::Jer::write_jer(v, out);
         }
+        crate::jer::write_extensions(out, &self.extensions);
         out.end_object();
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
@@ -108,7 +109,7 @@ impl crate::jer::Jer for TestMessage09 {
         Ok(Self {
             header: f_header,
             regional: f_regional,
-            extensions: uper::Extensions::new(),
+            extensions: crate::jer::read_extensions(v)?,
         })
     }
 }

@@ -148,6 +148,7 @@ impl crate::jer::Jer for TravelerInformation {
             out.key("regional");
             crate::jer::Jer::write_jer(v, out);
         }
+        crate::jer::write_extensions(out, &self.extensions);
         out.end_object();
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
@@ -182,7 +183,7 @@ impl crate::jer::Jer for TravelerInformation {
             url_b: f_url_b,
             data_frames: f_data_frames,
             regional: f_regional,
-            extensions: uper::Extensions::new(),
+            extensions: crate::jer::read_extensions(v)?,
         })
     }
 }
@@ -556,6 +557,7 @@ impl crate::jer::Jer for TravelerDataFrame {
             out.key("url");
             crate::jer::Jer::write_jer(v, out);
         }
+        crate::jer::write_extensions(out, &self.extensions);
         out.end_object();
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
@@ -632,7 +634,7 @@ impl crate::jer::Jer for TravelerDataFrame {
             not_used3: f_not_used3,
             content: f_content,
             url: f_url,
-            extensions: uper::Extensions::new(),
+            extensions: crate::jer::read_extensions(v)?,
         })
     }
 }
@@ -1551,6 +1553,7 @@ impl crate::jer::Jer for GeographicalPath {
             out.key("regional");
             crate::jer::Jer::write_jer(v, out);
         }
+        crate::jer::write_extensions(out, &self.extensions);
         out.end_object();
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
@@ -1607,7 +1610,7 @@ impl crate::jer::Jer for GeographicalPath {
             direction: f_direction,
             description: f_description,
             regional: f_regional,
-            extensions: uper::Extensions::new(),
+            extensions: crate::jer::read_extensions(v)?,
         })
     }
 }
@@ -2388,6 +2391,7 @@ impl crate::jer::Jer for NodeLL {
             out.key("attributes");
             crate::jer::Jer::write_jer(v, out);
         }
+        crate::jer::write_extensions(out, &self.extensions);
         out.end_object();
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
@@ -2402,7 +2406,7 @@ impl crate::jer::Jer for NodeLL {
         Ok(Self {
             delta: f_delta,
             attributes: f_attributes,
-            extensions: uper::Extensions::new(),
+            extensions: crate::jer::read_extensions(v)?,
         })
     }
 }
@@ -3450,6 +3454,7 @@ impl crate::jer::Jer for NodeAttributeSetLL {
             out.key("regional");
             crate::jer::Jer::write_jer(v, out);
         }
+        crate::jer::write_extensions(out, &self.extensions);
         out.end_object();
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
@@ -3497,7 +3502,7 @@ impl crate::jer::Jer for NodeAttributeSetLL {
             d_width: f_d_width,
             d_elevation: f_d_elevation,
             regional: f_regional,
-            extensions: uper::Extensions::new(),
+            extensions: crate::jer::read_extensions(v)?,
         })
     }
 }
@@ -4566,6 +4571,7 @@ impl crate::jer::Jer for GeometricProjection {
             out.key("regional");
             crate::jer::Jer::write_jer(v, out);
         }
+        crate::jer::write_extensions(out, &self.extensions);
         out.end_object();
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
@@ -4597,7 +4603,7 @@ impl crate::jer::Jer for GeometricProjection {
             lane_width: f_lane_width,
             circle: f_circle,
             regional: f_regional,
-            extensions: uper::Extensions::new(),
+            extensions: crate::jer::read_extensions(v)?,
         })
     }
 }
@@ -5399,6 +5405,7 @@ impl crate::jer::Jer for ShapePointSet {
         }
         out.key("nodeList");
         crate::jer::Jer::write_jer(&self.node_list, out);
+        crate::jer::write_extensions(out, &self.extensions);
         out.end_object();
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
@@ -5428,7 +5435,7 @@ impl crate::jer::Jer for ShapePointSet {
             lane_width: f_lane_width,
             directionality: f_directionality,
             node_list: f_node_list,
-            extensions: uper::Extensions::new(),
+            extensions: crate::jer::read_extensions(v)?,
         })
     }
 }
@@ -5554,6 +5561,7 @@ impl crate::jer::Jer for RegionPointSet {
         }
         out.key("nodeList");
         crate::jer::Jer::write_jer(&self.node_list, out);
+        crate::jer::write_extensions(out, &self.extensions);
         out.end_object();
     }
     fn read_jer(v: &crate::jer::Value) -> crate::jer::JerResult<Self> {
@@ -5570,7 +5578,7 @@ impl crate::jer::Jer for RegionPointSet {
             anchor: f_anchor,
             scale: f_scale,
             node_list: f_node_list,
-            extensions: uper::Extensions::new(),
+            extensions: crate::jer::read_extensions(v)?,
         })
     }
 }

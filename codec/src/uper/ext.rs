@@ -66,6 +66,41 @@ impl<const N: usize> Extensions<N> {
         self.bitmap_len > 0 || !self.records.is_empty()
     }
 
+    /// Length of the presence bit-map as received (0: the extension bit was clear).
+    pub fn bitmap_len(&self) -> usize {
+        self.bitmap_len as usize
+    }
+
+    /// Extensions with a bit-map of `bitmap_len` and the given unknown additions (index
+    /// after the root, open-type content) in ascending index order; `None` when they do not
+    /// fit the storage or are out of order.
+    pub fn from_parts<'a>(
+        bitmap_len: usize,
+        additions: impl IntoIterator<Item = (usize, &'a [u8])>,
+    ) -> Option<Self> {
+        let mut ext = Self {
+            bitmap_len: u16::try_from(bitmap_len).ok()?,
+            records: Octets::new(),
+        };
+        let mut prev = None;
+        for (index, content) in additions {
+            if prev.is_some_and(|p| p >= index) || index >= MAX_BITMAP as usize {
+                return None;
+            }
+            prev = Some(index);
+            let len = u16::try_from(content.len()).ok()?;
+            for b in (index as u16)
+                .to_be_bytes()
+                .into_iter()
+                .chain(len.to_be_bytes())
+                .chain(content.iter().copied())
+            {
+                ext.records.push(b).ok()?;
+            }
+        }
+        Some(ext)
+    }
+
     /// The stored unknown additions: (index after the root, open-type content).
     pub fn unknown(&self) -> UnknownAdditions<'_> {
         UnknownAdditions {
@@ -257,11 +292,12 @@ where
     Err(DecodeError::new(DKind::FragmentedOpenType, r.position()))
 }
 
-/// Writes stored raw open-type content.
+/// Writes stored raw open-type content, exactly as stored (as extension additions are).
+///
+/// Empty content is written with length 0, as it was received: writing it as the single
+/// zero octet that X.691 puts in place of an empty complete encoding would decode to other
+/// content (`[0]`), so that decode then encode then decode would not give the value back.
 pub fn encode_unknown_open(w: &mut Writer<'_>, content: &[u8]) -> EncodeResult {
-    if content.is_empty() {
-        return w.write_open(|_| Ok(()));
-    }
     w.write_open_octets(content)
 }
 
