@@ -74,10 +74,7 @@ fn setup() -> (Obu, Fix) {
         duration_min: Validity::INDEFINITE,
     };
     for (n, (a, k)) in [(0, 0), (0, 2), (1, 1), (2, 3)].into_iter().enumerate() {
-        let key = ZoneKey {
-            packet_id: [n as u8; 9],
-            frame: 0,
-        };
+        let key = ZoneKey::packet([n as u8; 9], 0);
         let r = obu.update_zone(Instant::ZERO, key, 1, validity, |z| {
             fill_zone(z, &frame, a, k)
         });

@@ -15,7 +15,7 @@ pub const MAX_CONNECTIONS: usize = 4;
 /// Work zones (TIM data frames) kept at once.
 pub const MAX_ZONES: usize = 8;
 /// Regions per work zone (J2735 allows 16).
-pub const MAX_REGIONS: usize = 2;
+pub const MAX_REGIONS: usize = 4;
 /// Path nodes per region, anchor included (J2735 allows 63 offsets).
 pub const MAX_PATH_NODES: usize = 16;
 /// ITIS codes kept per work zone (J2735 allows 100 items).
@@ -26,3 +26,5 @@ pub const MAX_ZONE_LANES: usize = 8;
 pub const MAX_ALERTS: usize = 6;
 /// Closed lanes listed in one HMI state.
 pub const MAX_HMI_LANES: usize = 8;
+/// Lanes near the last fix that the matcher keeps for the lane-change advice.
+pub const MAX_NEARBY_LANES: usize = 8;

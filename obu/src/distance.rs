@@ -64,7 +64,7 @@ pub fn zone_distance(
         let lane = map.lane(m.lane)?;
         via_lane(zone, m)
             .or_else(|| via_connection(zone, map, lane, m))
-            .or_else(|| via_geometry(zone, map, lane, m, reach_m))
+            .or_else(|| via_geometry(zone, lane, m, reach_m))
     });
     by_lane.or_else(|| via_path(zone, position, heading, reach_m))
 }
@@ -128,35 +128,36 @@ fn connection(distance_m: f32, length_m: f32) -> ZoneDistance {
     }
 }
 
-/// Region path nodes in the map plane, in the vehicle's direction of travel.
-fn ends_in_map(region: &Region, map: &LaneModel, travel_deg: f32) -> Option<(Point, Point, f32)> {
+/// Region path ends in the map plane (cached by the association, [`WorkZone::ends`]),
+/// in the vehicle's direction of travel.
+fn ends_in_map(
+    zone: &WorkZone,
+    r: usize,
+    slot: usize,
+    travel_deg: f32,
+) -> Option<(Point, Point, f32)> {
+    let region = zone.regions.get(r)?;
     let nodes = region.nodes();
-    let (first, second, last) = (*nodes.first()?, *nodes.get(1)?, *nodes.last()?);
+    let (first, second) = (*nodes.first()?, *nodes.get(1)?);
     let bearing = crate::math::bearing_deg(second.x - first.x, second.y - first.y);
     if !region.applies_to(travel_deg, bearing) {
         return None;
     }
-    let conv = |p: Point| region.frame().to_wgs84(p).map(|g| map.frame().to_local(g));
-    let (a, b) = (conv(first)?, conv(last)?);
+    let ends = zone.ends(r, slot)?;
     let (start, end) = if Region::is_reverse(travel_deg, bearing) {
-        (b, a)
+        (ends.end, ends.start)
     } else {
-        (a, b)
+        (ends.start, ends.end)
     };
     Some((start, end, region.length()))
 }
 
 /// Route 3: project the region's start (and end) onto the matched lane.
-fn via_geometry(
-    zone: &WorkZone,
-    map: &LaneModel,
-    lane: &Lane,
-    m: &LaneMatch,
-    reach: f32,
-) -> Option<ZoneDistance> {
+fn via_geometry(zone: &WorkZone, lane: &Lane, m: &LaneMatch, reach: f32) -> Option<ZoneDistance> {
     let mut best: Option<ZoneDistance> = None;
-    for region in zone.regions.iter() {
-        let Some((start, end, path_len)) = ends_in_map(region, map, m.position.bearing_deg) else {
+    for (r, region) in zone.regions.iter().enumerate() {
+        let travel = m.position.bearing_deg;
+        let Some((start, end, path_len)) = ends_in_map(zone, r, m.slot as usize, travel) else {
             continue;
         };
         let room = region.lane_width_m * 0.5 + reach;
@@ -181,6 +182,9 @@ fn via_geometry(
 
 /// Travel-direction station of `p` on `lane` if within `room` laterally and the extent.
 fn station_on(lane: &Lane, p: Point, forward: bool, room: f32) -> Option<f32> {
+    if !lane.may_contain(p, room) {
+        return None;
+    }
     let proj = lane.project(p)?;
     let pos = lane.position_from(&proj, forward);
     (pos.lateral.abs() <= room && pos.beyond <= 0.0).then_some(pos.station)

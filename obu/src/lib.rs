@@ -7,9 +7,12 @@
 //! * [`geo`]: WGS84 <-> local east/north tangent plane (f64 exact, f32 fast path).
 //! * [`lane`]: lane model filled from a J2735 MAP, and [`lane::MapStore`].
 //! * [`zone`]: work zones filled from a J2735 TIM, and [`zone::ZoneStore`].
+//! * [`ingest`]: decoded J2735 MAP and TIM values (crate `j2735`) into lane models and
+//!   work zones ([`Obu::on_frame`], [`Obu::on_map`], [`Obu::on_tim`]).
 //! * [`matcher`]: GNSS fix -> lane, station, lateral offset, confidence.
 //! * [`distance`]: distance along the lane to the work-zone start.
 //! * [`alert`]: alert state machine and the [`alert::HmiState`] shown to the driver.
+//! * [`input`]: NMEA 0183 sentences and the CAN speed signal (daemon and firmware).
 //! * [`onboard`]: [`Obu`], the facade the daemon, the firmware and the simulator drive.
 //!
 //! Capacities (maps, lanes, nodes, zones) are fixed at compile time in [`capacity`].
@@ -25,7 +28,7 @@
 #![forbid(unsafe_code)]
 #![warn(missing_docs)]
 
-#[cfg(feature = "std")]
+#[cfg(any(feature = "std", test))]
 extern crate std;
 
 pub mod alert;
@@ -33,6 +36,8 @@ pub mod capacity;
 pub mod distance;
 pub mod fix;
 pub mod geo;
+pub mod ingest;
+pub mod input;
 pub mod lane;
 pub mod matcher;
 mod math;

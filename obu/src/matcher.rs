@@ -8,6 +8,9 @@
 //! and a number of fixes (hysteresis). Below a low speed the course is unreliable: the
 //! last good heading is frozen and the gate loosened.
 
+use heapless::Vec;
+
+use crate::capacity::MAX_NEARBY_LANES;
 use crate::fix::Fix;
 use crate::lane::{Lane, LaneId, LaneKind, LanePosition, MapId, MapStore, TravelDirection};
 use crate::math::{heading_diff, normal_cdf};
@@ -18,8 +21,6 @@ use serde::{Deserialize, Serialize};
 
 /// Largest distance from a map reference considered, metres.
 const MAX_MAP_RANGE_M: f32 = 20_000.0;
-/// Largest half lane width representable (width codes top out at 10.2 m).
-const MAX_HALF_WIDTH_M: f32 = 5.1;
 
 /// Matcher thresholds.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -102,13 +103,33 @@ struct Gate {
     extra: f32,
 }
 
-/// Lane matcher state (hysteresis and frozen heading).
+/// A vehicle lane the last fix was located on (whether or not it matched): what the
+/// lane-change advice needs, without projecting the fix again.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct NearbyLane {
+    /// Slot of the lane model in the [`MapStore`].
+    pub slot: u8,
+    /// Lane.
+    pub lane: LaneId,
+    /// True when the fix lies within the lane's extent (not beyond an end).
+    pub within: bool,
+    /// Signed distance of the fix from the centreline, metres, positive to the left
+    /// of the lane's travel direction.
+    pub lateral: f32,
+    /// Bearing of the lane there in its travel direction, degrees.
+    pub bearing_deg: f32,
+    /// Lane width there, metres.
+    pub width: f32,
+}
+
+/// Lane matcher state (hysteresis and frozen heading).
+#[derive(Debug, Clone, PartialEq, Default)]
 pub struct Matcher {
     current: Option<(MapId, LaneId)>,
     challenger: Option<(MapId, LaneId, Instant, u8)>,
     frozen_heading: Option<f32>,
     switches: u32,
+    nearby: Vec<NearbyLane, MAX_NEARBY_LANES, u8>,
 }
 
 impl Matcher {
@@ -119,7 +140,15 @@ impl Matcher {
             challenger: None,
             frozen_heading: None,
             switches: 0,
+            nearby: Vec::new(),
         }
+    }
+
+    /// The vehicle lanes the last fix was located on (the first
+    /// [`MAX_NEARBY_LANES`]): every lane whose box, widened by its own half width, the
+    /// lateral tolerances and the end tolerance, holds the fix.
+    pub fn nearby(&self) -> &[NearbyLane] {
+        &self.nearby
     }
 
     /// Number of lane switches so far (for counters).
@@ -131,6 +160,7 @@ impl Matcher {
     pub fn reset(&mut self) {
         self.current = None;
         self.challenger = None;
+        self.nearby.clear();
     }
 
     /// Heading to gate with and the gate width, from the fix and frozen state.
@@ -155,6 +185,7 @@ impl Matcher {
     ) -> Option<LaneMatch> {
         let (heading, gate) = self.heading(fix, cfg);
         let sigma = fix.accuracy().unwrap_or(cfg.default_accuracy_m).max(0.05);
+        self.nearby.clear();
         let mut best: Option<Candidate> = None;
         let mut current: Option<Candidate> = None;
         for (slot, map) in maps.iter() {
@@ -171,7 +202,11 @@ impl Matcher {
                     sigma,
                     extra,
                 };
-                let Some(c) = candidate(lane, p, &g, cfg) else {
+                let Some(pos) = locate(lane, p, &g, cfg) else {
+                    continue;
+                };
+                self.record(slot, lane.id, &pos);
+                let Some(c) = candidate(lane.id, &pos, &g, cfg) else {
                     continue;
                 };
                 let c = Candidate {
@@ -191,6 +226,18 @@ impl Matcher {
             }
         }
         self.decide(now, best, current, cfg)
+    }
+
+    /// Keeps a located lane for [`Matcher::nearby`] (dropped when full).
+    fn record(&mut self, slot: usize, lane: LaneId, pos: &LanePosition) {
+        let _ = self.nearby.push(NearbyLane {
+            slot: slot as u8,
+            lane,
+            within: pos.beyond <= 0.0,
+            lateral: pos.lateral,
+            bearing_deg: pos.bearing_deg,
+            width: pos.width,
+        });
     }
 
     /// Applies hysteresis between the best candidate and the current lane.
@@ -248,21 +295,31 @@ impl Matcher {
     }
 }
 
-/// The candidate for one lane, if the position and heading fit it.
-fn candidate(
+/// The position on a vehicle lane whose box (widened by what the gates allow) holds
+/// `p`. A point that passes the gates lies within half the lane width plus the lateral
+/// room of the centreline, or within the end tolerance beyond an end, so within
+/// `hypot(room, end tolerance)` of the box on either axis.
+fn locate(
     lane: &Lane,
     p: crate::geo::Point,
     g: &Gate,
     cfg: &MatcherConfig,
-) -> Option<Candidate> {
+) -> Option<LanePosition> {
     if lane.direction == TravelDirection::None || !matches!(lane.kind, LaneKind::Vehicle) {
         return None;
     }
-    let margin = MAX_HALF_WIDTH_M + cfg.lateral_tolerance_m + g.extra + cfg.end_tolerance_m;
+    let room = lane.max_width() * 0.5 + cfg.lateral_tolerance_m + g.extra;
+    let end = cfg.end_tolerance_m;
+    let margin = libm::sqrtf(room * room + end * end);
     if !lane.may_contain(p, margin) {
         return None;
     }
-    let pos = lane.locate(p, g.heading)?;
+    lane.locate(p, g.heading)
+}
+
+/// The candidate for one located lane, if the position and heading fit it.
+fn candidate(lane: LaneId, pos: &LanePosition, g: &Gate, cfg: &MatcherConfig) -> Option<Candidate> {
+    let pos = *pos;
     let half = pos.width * 0.5;
     let room = half + cfg.lateral_tolerance_m;
     if pos.beyond > cfg.end_tolerance_m || pos.lateral.abs() > room + g.extra {
@@ -277,7 +334,7 @@ fn candidate(
     let m = LaneMatch {
         map: MapId(0),
         slot: 0,
-        lane: lane.id,
+        lane,
         position: pos,
         confidence,
     };

@@ -9,7 +9,9 @@ pub(crate) fn wrap_360(deg: f32) -> f32 {
         return deg;
     }
     if (-360.0..0.0).contains(&deg) {
-        return (deg + 360.0) % 360.0;
+        // No `%` here: it is a call to `fmodf`, and this is the common case.
+        let r = deg + 360.0;
+        return if r < 360.0 { r } else { 0.0 };
     }
     let r = libm::fmodf(deg, 360.0);
     if r < 0.0 {

@@ -92,14 +92,44 @@ pub fn fill_closure(z: &mut WorkZone) {
 /// The closure as a standalone zone.
 pub fn closure() -> WorkZone {
     let mut z = WorkZone::new();
-    z.reset(
-        ZoneKey {
-            packet_id: [1; 9],
-            frame: 0,
-        },
-        1,
-        validity(),
-    );
+    z.reset(ZoneKey::packet([1; 9], 0), 1, validity());
     fill_closure(&mut z);
     z
+}
+
+/// Runs `f` on a thread with room for no-heap J2735 values (a MapData is megabytes).
+pub fn big_stack<T: Send + 'static>(f: impl FnOnce() -> T + Send + 'static) -> T {
+    std::thread::Builder::new()
+        .stack_size(256 << 20)
+        .spawn(f)
+        .and_then(|h| {
+            h.join()
+                .map_err(|_| std::io::Error::other("test thread panicked"))
+        })
+        .unwrap_or_else(|e| panic!("{e}"))
+}
+
+/// The UPER bytes of the codec's oracle vector `name`.
+pub fn vector(name: &str) -> std::vec::Vec<u8> {
+    let all = include_str!("../../codec/tests/vectors/oracle_vectors.jsonl");
+    let tag = std::format!("\"name\":\"{name}\"");
+    let line = all.lines().find(|l| l.contains(&tag));
+    let line = line.unwrap_or_else(|| panic!("no vector {name}"));
+    let hex = line
+        .split("\"uper\":\"")
+        .nth(1)
+        .and_then(|s| s.split('"').next());
+    let hex = hex.unwrap_or_else(|| panic!("vector {name} has no uper"));
+    (0..hex.len() / 2)
+        .map(|i| u8::from_str_radix(&hex[2 * i..2 * i + 2], 16).unwrap_or_default())
+        .collect()
+}
+
+/// Decodes the MessageFrame in `bytes` carrying an `M` into a box.
+pub fn decode<M: j2735::frame::Message>(bytes: &[u8]) -> std::boxed::Box<M> {
+    let mut m = std::boxed::Box::new(<M as j2735::uper::Placeholder>::placeholder());
+    if let Err(e) = j2735::frame::decode_message_into(bytes, &mut *m) {
+        panic!("decode: {e:?}");
+    }
+    m
 }

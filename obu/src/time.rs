@@ -147,6 +147,27 @@ pub const fn abs_minutes(year: u16, minute: i64) -> i64 {
     (days_before_year(year) - days_before_year(2000)) * MINUTES_PER_DAY + minute
 }
 
+/// The calendar year (clamped to `0..=u16::MAX`) that contains `abs_min` minutes since
+/// 2000-01-01 00:00 UTC.
+pub const fn year_of(abs_min: i64) -> u16 {
+    let days = abs_min.div_euclid(MINUTES_PER_DAY);
+    let guess = 2000 + days.div_euclid(366);
+    let mut year = if guess < 0 {
+        0
+    } else if guess > u16::MAX as i64 {
+        u16::MAX
+    } else {
+        guess as u16
+    };
+    // The guess is at most a few years early: step forward while the next year has begun.
+    let mut guard = 0;
+    while guard < 16 && year < u16::MAX && abs_minutes(year + 1, 0) <= abs_min {
+        year += 1;
+        guard += 1;
+    }
+    year
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -161,6 +182,12 @@ mod tests {
         assert_eq!(t.year, 2024);
         assert_eq!(t.ms_of_year, 60_000);
         assert_eq!(t.abs_minutes(), abs_minutes(2023, 525_601));
+        assert_eq!(year_of(abs_minutes(2024, 0)), 2024);
+        assert_eq!(year_of(abs_minutes(2024, 0) - 1), 2023);
+        assert_eq!(year_of(abs_minutes(2025, 527_039 - 1440)), 2025);
+        assert_eq!(year_of(abs_minutes(1999, 10)), 1999);
+        assert_eq!(year_of(i64::MIN / 2), 0);
+        assert_eq!(year_of(i64::MAX / 2), u16::MAX);
     }
 
     #[test]

@@ -149,10 +149,7 @@ fn build_obu(road: &Road, reference: LatLon, frame: &LocalFrame64) -> Obu {
         start_minute: 0,
         duration_min: Validity::INDEFINITE,
     };
-    let key = ZoneKey {
-        packet_id: [7; 9],
-        frame: 0,
-    };
+    let key = ZoneKey::packet([7; 9], 0);
     let fill_zone = |z: &mut obu::zone::WorkZone| -> Result<(), ModelError> {
         let (u0, u1) = (road.u_of(1, ZONE_START), road.u_of(1, ZONE_END));
         let pts: Vec<LatLon> = (0..=8)

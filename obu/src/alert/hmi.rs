@@ -75,6 +75,8 @@ pub struct Counters {
     pub zones_cancelled: u32,
     /// Lane models and work zones dropped for age or end of validity.
     pub expired: u32,
+    /// Messages other than MAP and TIM handed to [`crate::Obu::on_frame`].
+    pub other_messages: u32,
 }
 
 impl Counters {
@@ -89,6 +91,7 @@ impl Counters {
         zones_rejected: 0,
         zones_cancelled: 0,
         expired: 0,
+        other_messages: 0,
     };
 }
 

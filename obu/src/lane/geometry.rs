@@ -23,13 +23,20 @@ pub struct Lane {
     pub direction: TravelDirection,
     /// Lane type.
     pub kind: LaneKind,
-    /// Speed limits (unavailable when the MAP gives none).
+    /// Speed limits of the whole lane (the MAP's intersection or road-segment
+    /// `speedLimits`; unavailable when the MAP gives none). See [`Lane::limits_at`].
     pub limits: SpeedLimits,
     /// Lanes of the same model this lane leads into (in its direction of travel).
     pub connections: Vec<LaneId, MAX_CONNECTIONS, u8>,
     origin: [i32; 2],
     deltas: Vec<[i16; 2], MAX_NODES, u8>,
     widths: [u8; MAX_NODES],
+    /// Widest width code of the nodes.
+    max_width: u8,
+    /// Node (stored index) from which `node_limits` apply in node order; `u8::MAX`: none.
+    limits_from: u8,
+    /// Limits given at a node (J2735 `LaneDataAttribute` `speedLimits`).
+    node_limits: SpeedLimits,
     length: f32,
     /// Bounding box of the nodes in metres: min x, min y, max x, max y.
     bbox: [f32; 4],
@@ -66,6 +73,8 @@ pub struct LanePosition {
     pub beyond: f32,
     /// True when travel follows the node order.
     pub forward: bool,
+    /// Index of the nearest segment in node order (see [`Projection::segment`]).
+    pub segment: u8,
 }
 
 impl Lane {
@@ -75,14 +84,14 @@ impl Lane {
             id,
             direction,
             kind,
-            limits: SpeedLimits {
-                max: super::Speed::UNAVAILABLE,
-                construction_max: super::Speed::UNAVAILABLE,
-            },
+            limits: SpeedLimits::UNAVAILABLE,
             connections: Vec::new(),
             origin: [0; 2],
             deltas: Vec::new(),
             widths: [0; MAX_NODES],
+            max_width: 0,
+            limits_from: u8::MAX,
+            node_limits: SpeedLimits::UNAVAILABLE,
             length: 0.0,
             bbox: [0.0; 4],
         }
@@ -109,6 +118,7 @@ impl Lane {
         let Some(last) = self.last_node_cm() else {
             self.origin = [x_cm, y_cm];
             self.widths[0] = code;
+            self.max_width = code;
             self.deltas
                 .push([0, 0])
                 .map_err(|_| ModelError::CapacityExceeded)?;
@@ -140,6 +150,7 @@ impl Lane {
             return;
         }
         self.widths[idx] = width;
+        self.max_width = self.max_width.max(width);
         self.length += libm::hypotf(d[0] as f32, d[1] as f32) / 100.0;
         self.update_bbox();
     }
@@ -195,6 +206,34 @@ impl Lane {
         self.bbox
     }
 
+    /// The widest node width in metres.
+    pub fn max_width(&self) -> f32 {
+        self.max_width as f32 * (WIDTH_UNIT_CM as f32 * 0.01)
+    }
+
+    /// Speed limits given at node `node` (stored index) that apply from it on in node
+    /// order. A lane keeps one such change point: a later one only lowers the values
+    /// (the lower of two limits is kept, which is the safe side for warnings).
+    pub fn set_limits_from(&mut self, node: usize, limits: SpeedLimits) {
+        let node = node.min(u8::MAX as usize - 1) as u8;
+        if self.limits_from == u8::MAX {
+            self.limits_from = node;
+            self.node_limits = limits;
+            return;
+        }
+        self.limits_from = self.limits_from.min(node);
+        self.node_limits = self.node_limits.lower(limits);
+    }
+
+    /// The limits in force on segment `segment` (node order): node-level values from
+    /// their node on replace the lane's values of the same kind.
+    pub fn limits_at(&self, segment: u8) -> SpeedLimits {
+        if segment < self.limits_from {
+            return self.limits;
+        }
+        self.limits.replaced_by(self.node_limits)
+    }
+
     /// The first node (stop-line end), `None` for an empty lane.
     pub fn first_node(&self) -> Option<Point> {
         self.nodes().next().map(|(p, _)| p)
@@ -243,37 +282,44 @@ impl Lane {
 
     /// Projects `p` onto the centreline (node order). `None` without a segment or for
     /// a non-finite point.
+    ///
+    /// One pass over the segments keeps the nearest by squared distance (the first of
+    /// equals) and the length before it; the full fit is made for that one only.
     pub fn project(&self, p: Point) -> Option<Projection> {
         if !p.is_finite() {
             return None;
         }
         let last = self.deltas.len().checked_sub(2)?;
-        let mut nodes = self.nodes();
-        let (mut a, mut wa) = nodes.next()?;
-        let mut best: Option<(usize, SegmentFit, f32, f32)> = None;
-        let mut bound = dist2(a, p);
-        for (i, (b, wb)) in nodes.enumerate() {
-            bound = bound.min(dist2(b, p) * 1.002 + 1e-4);
-            if box_dist2(a, b, p) <= bound {
-                let seg = SegmentFit::new(a, b, p, i == 0, i == last);
-                if best.as_ref().is_none_or(|(_, f, _, _)| seg.dist2 < f.dist2) {
-                    bound = bound.min(seg.dist2 * 1.002 + 1e-4);
-                    best = Some((i, seg, wa, wb));
-                }
+        let mut acc = self.origin;
+        let mut a = Point::new(acc[0] as f32 * 0.01, acc[1] as f32 * 0.01);
+        let (mut start, mut best) = (0.0f32, Nearest::NONE);
+        for (i, d) in self.deltas.iter().skip(1).enumerate() {
+            acc = [
+                acc[0].wrapping_add(d[0] as i32),
+                acc[1].wrapping_add(d[1] as i32),
+            ];
+            let b = Point::new(acc[0] as f32 * 0.01, acc[1] as f32 * 0.01);
+            let dist2 = SegmentFit::dist2(a, b, p);
+            let len = libm::sqrtf(dist2_of(a, b));
+            if dist2 < best.dist2 {
+                best = Nearest {
+                    dist2,
+                    index: i,
+                    a,
+                    b,
+                    start,
+                };
             }
-            (a, wa) = (b, wb);
+            start += len;
+            a = b;
         }
-        let (i, seg, wa, wb) = best?;
-        let start: f32 = self.segment_lengths().take(i).sum();
-        Some(seg.projection(start, wa, wb, i as u8))
-    }
-
-    /// Segment lengths in node order, metres (exact from the integer deltas).
-    fn segment_lengths(&self) -> impl Iterator<Item = f32> + '_ {
-        self.deltas.iter().skip(1).map(|d| {
-            let (x, y) = (d[0] as f32, d[1] as f32);
-            libm::sqrtf(x * x + y * y) * 0.01
-        })
+        if !best.dist2.is_finite() {
+            return None;
+        }
+        let i = best.index;
+        let fit = SegmentFit::new(best.a, best.b, p, i == 0, i == last);
+        let width = |k: usize| self.widths[k] as f32 * (WIDTH_UNIT_CM as f32 * 0.01);
+        Some(fit.projection(best.start, width(i), width(i + 1), i as u8))
     }
 
     /// The cone-to-lane rule: for each segment, rotate `p` by the segment bearing; `p`
@@ -338,6 +384,7 @@ impl Lane {
             width: proj.width,
             beyond,
             forward,
+            segment: proj.segment,
         }
     }
 
@@ -351,19 +398,38 @@ impl Lane {
     }
 }
 
+/// The nearest segment found so far by [`Lane::project`].
+#[derive(Clone, Copy)]
+struct Nearest {
+    dist2: f32,
+    index: usize,
+    a: Point,
+    b: Point,
+    start: f32,
+}
+
+impl Nearest {
+    const NONE: Nearest = Nearest {
+        dist2: f32::INFINITY,
+        index: 0,
+        a: Point::new(0.0, 0.0),
+        b: Point::new(0.0, 0.0),
+        start: 0.0,
+    };
+}
+
 /// The fit of a point to one segment.
 struct SegmentFit {
     d: Point,
     len: f32,
     t: f32,
-    dist2: f32,
     rel: Point,
 }
 
 impl SegmentFit {
-    /// Fits `p` to segment `a`->`b`; `open_start`/`open_end` let the parameter run
-    /// past the first/last node so that `along` reports the overshoot.
-    fn new(a: Point, b: Point, p: Point, open_start: bool, open_end: bool) -> Self {
+    /// The segment vector, `p` relative to `a`, and the unclamped parameter of the
+    /// nearest point of the line.
+    fn parts(a: Point, b: Point, p: Point) -> (Point, Point, f32, f32) {
         let d = Point::new(b.x - a.x, b.y - a.y);
         let rel = Point::new(p.x - a.x, p.y - a.y);
         let len2 = d.x * d.x + d.y * d.y;
@@ -372,15 +438,27 @@ impl SegmentFit {
         } else {
             0.0
         };
+        (d, rel, len2, t)
+    }
+
+    /// Squared distance from `p` to the segment `a`-`b`.
+    fn dist2(a: Point, b: Point, p: Point) -> f32 {
+        let (d, rel, _, t) = Self::parts(a, b, p);
         let tc = t.clamp(0.0, 1.0);
         let (qx, qy) = (rel.x - d.x * tc, rel.y - d.y * tc);
+        qx * qx + qy * qy
+    }
+
+    /// Fits `p` to segment `a`->`b`; `open_start`/`open_end` let the parameter run
+    /// past the first/last node so that `along` reports the overshoot.
+    fn new(a: Point, b: Point, p: Point, open_start: bool, open_end: bool) -> Self {
+        let (d, rel, len2, t) = Self::parts(a, b, p);
         let lo = if open_start { f32::NEG_INFINITY } else { 0.0 };
         let hi = if open_end { f32::INFINITY } else { 1.0 };
         SegmentFit {
             d,
             len: libm::sqrtf(len2),
             t: t.clamp(lo, hi),
-            dist2: qx * qx + qy * qy,
             rel,
         }
     }
@@ -404,16 +482,8 @@ impl SegmentFit {
 }
 
 /// Squared distance between two points.
-fn dist2(a: Point, b: Point) -> f32 {
+fn dist2_of(a: Point, b: Point) -> f32 {
     let (dx, dy) = (a.x - b.x, a.y - b.y);
-    dx * dx + dy * dy
-}
-
-/// Squared distance from `p` to the bounding box of segment `a`-`b` (a lower bound
-/// of the squared distance to the segment).
-fn box_dist2(a: Point, b: Point, p: Point) -> f32 {
-    let dx = (a.x.min(b.x) - p.x).max(p.x - a.x.max(b.x)).max(0.0);
-    let dy = (a.y.min(b.y) - p.y).max(p.y - a.y.max(b.y)).max(0.0);
     dx * dx + dy * dy
 }
 

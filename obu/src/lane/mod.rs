@@ -163,6 +163,31 @@ pub struct SpeedLimits {
     pub construction_max: Speed,
 }
 
+impl SpeedLimits {
+    /// Both limits unavailable.
+    pub const UNAVAILABLE: SpeedLimits = SpeedLimits {
+        max: Speed::UNAVAILABLE,
+        construction_max: Speed::UNAVAILABLE,
+    };
+
+    /// `self` with each available value of `newer` in its place.
+    pub fn replaced_by(self, newer: SpeedLimits) -> SpeedLimits {
+        let pick = |old: Speed, new: Speed| if new.is_available() { new } else { old };
+        SpeedLimits {
+            max: pick(self.max, newer.max),
+            construction_max: pick(self.construction_max, newer.construction_max),
+        }
+    }
+
+    /// The lower available value of each kind.
+    pub fn lower(self, other: SpeedLimits) -> SpeedLimits {
+        SpeedLimits {
+            max: self.max.min_available(other.max),
+            construction_max: self.construction_max.min_available(other.construction_max),
+        }
+    }
+}
+
 /// Errors while filling a model from a decoded message.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 #[non_exhaustive]

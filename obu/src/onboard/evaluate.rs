@@ -5,7 +5,7 @@ use heapless::Vec;
 use super::Obu;
 use crate::alert::{self, Alert, AlertKind, HmiState, LaneAdvice, LaneInfo, ZoneState, ZoneView};
 use crate::distance::{zone_distance, ZoneDistance};
-use crate::lane::{Lane, LaneModel};
+use crate::lane::{Lane, LaneModel, Speed};
 use crate::matcher::LaneMatch;
 use crate::time::Instant;
 use crate::zone::{ClosureSide, WorkZone};
@@ -13,11 +13,44 @@ use crate::zone::{ClosureSide, WorkZone};
 /// Alerts gathered before arbitration.
 type AlertList = Vec<Alert, 16>;
 
-/// The nearest concerning zone.
+/// A concerning zone with its distance and state.
+#[derive(Clone, Copy)]
 struct Nearest<'a> {
     zone: &'a WorkZone,
     dist: ZoneDistance,
     state: ZoneState,
+}
+
+/// What the scan of every concerning zone found.
+#[derive(Default)]
+struct Scan<'a> {
+    /// The nearest zone (state and distance shown).
+    nearest: Option<Nearest<'a>>,
+    /// The nearest zone that closes a lane (closed lanes and advice shown). A TIM
+    /// often sends the closure and the speed limit as two data frames of one place.
+    closure: Option<Nearest<'a>>,
+    /// The lowest limit of the zones in warning or inside.
+    limit: Option<Speed>,
+}
+
+impl<'a> Scan<'a> {
+    fn add(&mut self, n: Nearest<'a>) {
+        if matches!(n.state, ZoneState::Warning | ZoneState::InZone) {
+            let l = n.zone.info.speed_limit;
+            self.limit = Some(self.limit.map_or(l, |m| m.min_available(l)));
+        }
+        if n.zone.info.lane_closed && nearer(&n, self.closure.as_ref()) {
+            self.closure = Some(n);
+        }
+        if nearer(&n, self.nearest.as_ref()) {
+            self.nearest = Some(n);
+        }
+    }
+}
+
+/// True when `n` should be shown rather than `than`.
+fn nearer(n: &Nearest<'_>, than: Option<&Nearest<'_>>) -> bool {
+    than.is_none_or(|t| closer(&n.dist, &t.dist))
 }
 
 impl Obu {
@@ -28,15 +61,17 @@ impl Obu {
         let mut hmi = self.base_state(now, gnss_ok, speed);
         let mut alerts = AlertList::new();
         self.data_alerts(gnss_ok, &mut alerts);
-        let nearest = if gnss_ok {
+        let scan = if gnss_ok {
             self.zone_alerts(now, speed, &mut alerts)
         } else {
-            None
+            Scan::default()
         };
-        self.fill_limit(&mut hmi, nearest.as_ref());
-        if let Some(n) = &nearest {
+        self.fill_limit(&mut hmi, scan.limit);
+        if let Some(n) = &scan.nearest {
             hmi.zone_state = n.state;
             hmi.distance_m = Some(n.dist.distance_m);
+        }
+        if let Some(n) = &scan.closure {
             self.fill_closure(&mut hmi, n);
         }
         alert::arbitrate(alerts, &mut hmi);
@@ -79,20 +114,17 @@ impl Obu {
         }
     }
 
-    /// Alerts of every concerning zone; returns the nearest one.
-    fn zone_alerts(
-        &self,
-        now: Instant,
-        speed: Option<f32>,
-        out: &mut AlertList,
-    ) -> Option<Nearest<'_>> {
-        let fix = self.last_fix.map(|(_, f)| f)?;
+    /// Alerts of every concerning zone; returns what the scan found.
+    fn zone_alerts(&self, now: Instant, speed: Option<f32>, out: &mut AlertList) -> Scan<'_> {
+        let mut scan = Scan::default();
+        let Some(fix) = self.last_fix.map(|(_, f)| f) else {
+            return scan;
+        };
         let heading = self
             .last_match
             .map(|m| m.position.bearing_deg)
             .or(fix.course());
         let utc = self.utc_minutes(now);
-        let mut nearest: Option<Nearest<'_>> = None;
         for zone in self.zones.iter() {
             let active = utc.map_or(!zone.validity.is_cancelled(), |m| {
                 zone.validity.is_active(m)
@@ -120,24 +152,21 @@ impl Obu {
                 speed,
                 out,
             );
-            if nearest.as_ref().is_none_or(|n| closer(&dist, &n.dist)) {
-                nearest = Some(Nearest { zone, dist, state });
-            }
+            scan.add(Nearest { zone, dist, state });
         }
-        nearest
+        scan
     }
 
-    /// Speed limit: the zone's when near or inside it, else the lane's.
-    fn fill_limit(&self, hmi: &mut HmiState, nearest: Option<&Nearest<'_>>) {
-        let lane = self.matched_lane().map(|(_, l)| l);
-        let lane_max = lane.and_then(|l| l.limits.max.mps());
-        let zone_near =
-            nearest.filter(|n| matches!(n.state, ZoneState::Warning | ZoneState::InZone));
-        let zone_limit = zone_near.and_then(|n| {
-            let construction = lane.map_or(crate::lane::Speed::UNAVAILABLE, |l| {
-                l.limits.construction_max
-            });
-            n.zone.info.speed_limit.min_available(construction).mps()
+    /// Speed limit: near or inside a zone the lowest of the zones' limits and the
+    /// lane's `maxSpeedInConstructionZone`, else the lane's limit where the vehicle is.
+    fn fill_limit(&self, hmi: &mut HmiState, zone_limit: Option<Speed>) {
+        let limits = self
+            .matched_lane()
+            .map(|(_, l)| l.limits_at(self.last_match.map_or(0, |m| m.position.segment)));
+        let lane_max = limits.and_then(|l| l.max.mps());
+        let zone_limit = zone_limit.and_then(|z| {
+            let construction = limits.map_or(Speed::UNAVAILABLE, |l| l.construction_max);
+            z.min_available(construction).mps()
         });
         hmi.speed_limit_mps = zone_limit.or(lane_max);
         hmi.reduced_limit = zone_limit.is_some_and(|z| lane_max.is_none_or(|l| z < l));
@@ -168,28 +197,24 @@ impl Obu {
         }
     }
 
-    /// Side of the nearest open lane running the same way as the matched lane.
+    /// Side of the nearest open lane running the same way as the matched lane, from the
+    /// lanes the matcher located the fix on ([`crate::matcher::Matcher::nearby`]). Their
+    /// offset from the own centreline is the fix's offset from theirs minus its offset
+    /// from the own lane (parallel lanes).
     fn advice(&self, zone: &WorkZone) -> Option<LaneAdvice> {
-        let (map, own) = self.matched_lane()?;
         let m = self.last_match?;
-        let p = own.point_at(own.along_of_station(m.position.station, m.position.forward))?;
-        let open = |l: &&Lane| {
-            l.id != own.id && l.may_contain(p, 12.0) && zone.lane(map.id, l.id).is_none()
-        };
-        let best = map
-            .lanes()
+        let own = m.position.lateral;
+        let best = self
+            .matcher
+            .nearby()
             .iter()
-            .filter(open)
-            .filter_map(|l| {
-                l.locate(p, Some(m.position.bearing_deg))
-                    .map(|pos| (l, pos))
-            })
-            .filter(|(_, pos)| {
-                same_way(pos.bearing_deg, m.position.bearing_deg) && pos.beyond <= 0.0
-            })
-            .filter(|(_, pos)| pos.lateral.abs() < 2.5 * pos.width.max(2.0))
-            .min_by(|a, b| a.1.lateral.abs().total_cmp(&b.1.lateral.abs()))?;
-        Some(if best.1.lateral > 0.0 {
+            .filter(|n| n.slot == m.slot && n.lane != m.lane && n.within)
+            .filter(|n| zone.lane(m.map, n.lane).is_none())
+            .filter(|n| same_way(n.bearing_deg, m.position.bearing_deg))
+            .map(|n| (n.lateral - own, n.width))
+            .filter(|(offset, width)| offset.abs() < 2.5 * width.max(2.0))
+            .min_by(|a, b| a.0.abs().total_cmp(&b.0.abs()))?;
+        Some(if best.0 > 0.0 {
             LaneAdvice::MoveRight
         } else {
             LaneAdvice::MoveLeft

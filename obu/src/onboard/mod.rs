@@ -2,21 +2,37 @@
 //!
 //! Sans-IO: `on_fix(now, fix)` returns the [`HmiState`] for that fix, `poll(now)`
 //! expires data and reports a stale GNSS, `next_deadline()` says when `poll` has work.
-//! Decoded MAP and TIM messages enter through [`Obu::update_map`] and
+//! Decoded J2735 messages enter through [`Obu::on_frame`] (or [`Obu::on_map`] and
+//! [`Obu::on_tim`]); models built by other means through [`Obu::update_map`] and
 //! [`Obu::update_zone`], whose closures fill the model in place.
 
 mod evaluate;
+mod messages;
 
 use crate::alert::{AlertConfig, Counters, HmiState};
 use crate::fix::Fix;
 use crate::geo::LatLon;
+use crate::ingest::IngestCounters;
 use crate::lane::{LaneModel, MapId, MapStore, MapUpdate};
 use crate::matcher::{LaneMatch, Matcher};
 use crate::time::{Instant, UtcTime};
 use crate::zone::{self, Validity, WorkZone, ZoneKey, ZoneStore, ZoneUpdate};
 
-/// The on-board unit core. About 60 KB with the default capacities; `new` is
-/// `const` so firmware can place it in a `static`.
+/// What [`Obu::store_zone`] did.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Stored {
+    /// Filled (new or replaced).
+    Filled,
+    /// Same version as stored.
+    Unchanged,
+    /// Older than the stored version.
+    Stale,
+    /// Cancelled (`true` when a stored zone was removed).
+    Cancelled(bool),
+}
+
+/// The on-board unit core: 63 648 bytes with the default capacities (x86_64 and
+/// thumbv7em alike), no heap; `new` is `const` so firmware can place it in a `static`.
 #[derive(Debug, Clone)]
 pub struct Obu {
     config: AlertConfig,
@@ -28,7 +44,15 @@ pub struct Obu {
     utc: Option<(Instant, UtcTime)>,
     stale_reported: bool,
     counters: Counters,
+    rejected: IngestCounters,
 }
+
+// The static RAM budget holds on every target the crate is built for (the firmware's
+// included: `obu/ram-probe` prints the figure for thumbv7em-none-eabihf).
+const _: () = assert!(
+    core::mem::size_of::<Obu>() < 64 * 1024,
+    "Obu is over its 64 KiB RAM budget"
+);
 
 impl Default for Obu {
     fn default() -> Self {
@@ -49,6 +73,7 @@ impl Obu {
             utc: None,
             stale_reported: false,
             counters: Counters::ZERO,
+            rejected: IngestCounters::ZERO,
         }
     }
 
@@ -172,23 +197,37 @@ impl Obu {
         validity: Validity,
         fill: impl FnOnce(&mut WorkZone) -> Result<(), E>,
     ) -> Result<bool, E> {
+        let stored = self.store_zone(now, key, msg_cnt, validity, |z, _| fill(z))?;
+        Ok(matches!(stored, Stored::Filled | Stored::Cancelled(true)))
+    }
+
+    /// [`Obu::update_zone`] with the lane models at hand for the conversion.
+    fn store_zone<E>(
+        &mut self,
+        now: Instant,
+        key: ZoneKey,
+        msg_cnt: u8,
+        validity: Validity,
+        fill: impl FnOnce(&mut WorkZone, &MapStore) -> Result<(), E>,
+    ) -> Result<Stored, E> {
         let zone = match self.zones.update(now, key, msg_cnt, validity) {
             ZoneUpdate::Fill { zone, .. } => zone,
             ZoneUpdate::Cancelled(found) => {
                 self.counters.zones_cancelled =
                     self.counters.zones_cancelled.saturating_add(found as u32);
-                return Ok(found);
+                return Ok(Stored::Cancelled(found));
             }
-            ZoneUpdate::Unchanged | ZoneUpdate::Stale => return Ok(false),
+            ZoneUpdate::Unchanged => return Ok(Stored::Unchanged),
+            ZoneUpdate::Stale => return Ok(Stored::Stale),
         };
-        if let Err(e) = fill(zone) {
+        if let Err(e) = fill(zone, &self.maps) {
             self.zones.remove(&key);
             self.counters.zones_rejected = self.counters.zones_rejected.saturating_add(1);
             return Err(e);
         }
         zone::associate(zone, &self.maps);
         self.counters.zones_updated = self.counters.zones_updated.saturating_add(1);
-        Ok(true)
+        Ok(Stored::Filled)
     }
 
     fn reassociate_all(&mut self) {

@@ -20,10 +20,7 @@ fn obu_with(zone: bool) -> Obu {
     );
     assert_eq!(r, Ok(true));
     if zone {
-        let key = ZoneKey {
-            packet_id: [1; 9],
-            frame: 0,
-        };
+        let key = ZoneKey::packet([1; 9], 0);
         let r = obu.update_zone(Instant::ZERO, key, 1, testutil::validity(), |z| {
             testutil::fill_closure(z);
             Ok::<(), ModelError>(())
@@ -142,10 +139,7 @@ fn validity_and_cancel() {
     };
     let s = obu.on_fix(Instant::ZERO, early);
     assert_eq!(s.zone_state, ZoneState::None, "not started yet");
-    let key = ZoneKey {
-        packet_id: [1; 9],
-        frame: 0,
-    };
+    let key = ZoneKey::packet([1; 9], 0);
     let cancel = Validity {
         duration_min: 0,
         ..testutil::validity()

@@ -1,6 +1,6 @@
 //! Association of work-zone regions with MAP lanes (cone-to-lane rule).
 
-use super::{Region, WorkZone, ZoneLane};
+use super::{MapEnds, Region, WorkZone, ZoneLane};
 use crate::geo::Point;
 use crate::lane::{Lane, LaneKind, LaneModel, MapStore, TravelDirection};
 use crate::math::{bearing_deg, wrap_360};
@@ -12,25 +12,40 @@ use crate::math::{bearing_deg, wrap_360};
 /// region applies to (directionality and heading slice). The zone's extent on the lane
 /// runs from the smallest to the largest station of those nodes. Associations beyond
 /// [`MAX_ZONE_LANES`](crate::capacity::MAX_ZONE_LANES) are dropped.
+/// It also caches each path region's first and last node in every map's plane
+/// ([`WorkZone::ends`]).
 pub fn associate(zone: &mut WorkZone, maps: &MapStore) {
     zone.clear_lanes(None);
-    for (_, map) in maps.iter() {
-        associate_map(zone, map);
+    zone.clear_ends();
+    for (slot, map) in maps.iter() {
+        associate_map(zone, slot, map);
     }
 }
 
-/// Recomputes the associations of `zone` with one map.
-pub(crate) fn associate_map(zone: &mut WorkZone, map: &LaneModel) {
+/// Recomputes the associations of `zone` with the map in slot `slot`.
+fn associate_map(zone: &mut WorkZone, slot: usize, map: &LaneModel) {
     zone.clear_lanes(Some(map.id));
     for r in 0..zone.regions.len() {
         let mut found = heapless::Vec::<ZoneLane, 16>::new();
+        let mut ends = None;
         if let Some(region) = zone.regions.get(r) {
-            region_lanes(region, r as u8, map, &mut found);
+            let pts = nodes_in_map(region, map);
+            region_lanes(region, &pts, r as u8, map, &mut found);
+            ends = region_ends(&pts);
         }
+        zone.set_ends(r, slot, ends);
         for z in found {
             zone.add_lane(z);
         }
     }
+}
+
+/// First and last node of a path (converted) in a map plane.
+fn region_ends(pts: &[Point]) -> Option<MapEnds> {
+    Some(MapEnds {
+        start: *pts.first()?,
+        end: *pts.last()?,
+    })
 }
 
 /// Path nodes of `region` in the plane of `map` (skipping unconvertible ones).
@@ -49,16 +64,16 @@ fn nodes_in_map(
 
 fn region_lanes(
     region: &Region,
+    pts: &[Point],
     index: u8,
     map: &LaneModel,
     out: &mut heapless::Vec<ZoneLane, 16>,
 ) {
-    let pts = nodes_in_map(region, map);
     for lane in map.lanes() {
         if lane.direction == TravelDirection::None || lane.kind != LaneKind::Vehicle {
             continue;
         }
-        if let Some((start, end)) = extent_on_lane(region, &pts, lane) {
+        if let Some((start, end)) = extent_on_lane(region, pts, lane) {
             let entry = ZoneLane {
                 map: map.id,
                 lane: lane.id,

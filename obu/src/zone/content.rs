@@ -16,8 +16,9 @@ pub const ITIS_NUMBER_BASE: u16 = 12544;
 pub const ITIS_NUMBER_MAX: u16 = ITIS_NUMBER_BASE + 511;
 /// ITIS "mph" (seen in deployed TIMs).
 pub const ITIS_MPH: u16 = 8720;
-/// ITIS "km/h". Assumed to follow "mph" in the units table; not confirmed against
-/// the ITIS list (the domain notes only name 8720), text "km/h" is parsed as well.
+/// ITIS "kPH" (km/h): the ITIS `Units` list of SAE J2540/2 (ITIS Phrase Tables, draft
+/// RC1 2004-11-09, p. 194, as published at itsware.net) gives `mPH (8720)`, `kPH (8721)`.
+/// Text "km/h" and "kph" are parsed as well.
 pub const ITIS_KMH: u16 = 8721;
 /// ITIS "closed".
 pub const ITIS_CLOSED: u16 = 769;
@@ -62,6 +63,18 @@ pub enum ClosureSide {
     Right,
 }
 
+/// Where the speed-limit phrase `268, number, unit` stands while items arrive.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+enum SpeedPhrase {
+    /// Not in a speed phrase.
+    #[default]
+    Idle,
+    /// After "speed limit" (ITIS 268).
+    Limit,
+    /// After the number: a unit may follow.
+    Number(u16),
+}
+
 /// What a zone's content means for the driver.
 #[derive(Debug, Clone, PartialEq, Eq, Default)]
 pub struct ZoneInfo {
@@ -77,6 +90,7 @@ pub struct ZoneInfo {
     pub side: ClosureSide,
     /// Workers present (ITIS 6952).
     pub workers: bool,
+    phrase: SpeedPhrase,
 }
 
 impl ZoneInfo {
@@ -89,51 +103,54 @@ impl ZoneInfo {
             lane_closed: false,
             side: ClosureSide::Unknown,
             workers: false,
+            phrase: SpeedPhrase::Idle,
         }
     }
 
-    /// Adds one ITIS code of the content list, in order.
+    /// Adds one ITIS code of the content list, in order. A speed limit is the phrase
+    /// `268 (speed limit), 12544 + N, unit`: the number alone sets N mph (the US
+    /// default), a following 8720 (mph) or 8721 (km/h) sets the unit.
     pub fn push_itis(&mut self, code: u16) {
-        let prev = self.itis.last().copied();
-        let before = self
-            .itis
-            .len()
-            .checked_sub(2)
-            .and_then(|i| self.itis.get(i).copied());
         let _ = self.itis.push(code);
+        let phrase = self.phrase;
+        self.phrase = SpeedPhrase::Idle;
         match code {
             ITIS_CLOSED | ITIS_CLOSED_AHEAD => self.lane_closed = true,
             ITIS_LEFT_LANE => self.side = ClosureSide::Left,
             ITIS_RIGHT_LANE => self.side = ClosureSide::Right,
             ITIS_WORKERS => self.workers = true,
-            ITIS_MPH | ITIS_KMH => self.unit_after(before, prev, code == ITIS_KMH),
-            _ => self.number_after(prev, code),
-        }
-    }
-
-    /// `268, number` sets the limit in mph (the US default) until a unit follows.
-    fn number_after(&mut self, prev: Option<u16>, code: u16) {
-        if prev == Some(ITIS_SPEED_LIMIT) {
-            if let Some(n) = itis_number(code) {
-                self.speed_limit = Speed::from_mph(n as f32);
+            ITIS_SPEED_LIMIT => self.phrase = SpeedPhrase::Limit,
+            ITIS_MPH | ITIS_KMH => self.unit_after(phrase, code == ITIS_KMH),
+            _ => {
+                if let Some(n) = itis_number(code) {
+                    self.number_after(phrase, n);
+                }
             }
         }
     }
 
-    /// `268, number, unit`: re-reads the number in the given unit.
-    fn unit_after(&mut self, before: Option<u16>, prev: Option<u16>, kmh: bool) {
-        if before != Some(ITIS_SPEED_LIMIT) {
-            return;
+    /// A number after "speed limit" sets the limit in mph until a unit follows.
+    fn number_after(&mut self, phrase: SpeedPhrase, n: u16) {
+        if phrase == SpeedPhrase::Limit {
+            self.speed_limit = Speed::from_mph(n as f32);
+            self.phrase = SpeedPhrase::Number(n);
         }
-        if let Some(n) = prev.and_then(itis_number) {
+    }
+
+    /// A unit after "speed limit, number" re-reads the number in that unit.
+    fn unit_after(&mut self, phrase: SpeedPhrase, kmh: bool) {
+        if let SpeedPhrase::Number(n) = phrase {
             self.speed_limit = speed_in(n as f32, kmh);
         }
     }
 
     /// Adds a text item: a speed such as "25 mph", "40 km/h" or "speed limit 30"
-    /// sets the limit; "lane closed", "left lane", "right lane" set the closure.
+    /// sets the limit; "lane closed", "left lane", "right lane" set the closure. Text
+    /// items take part in the speed phrase too: `268, "25", "MPH"`.
     pub fn push_text(&mut self, text: &str) {
         let lower = Lowercase(text);
+        let phrase = self.phrase;
+        self.phrase = SpeedPhrase::Idle;
         if lower.contains("closed") {
             self.lane_closed = true;
         }
@@ -142,9 +159,17 @@ impl ZoneInfo {
         } else if lower.contains("right lane") {
             self.side = ClosureSide::Right;
         }
-        let speedish = lower.contains("mph") || lower.contains("km") || lower.contains("speed");
-        if let (true, Some(n)) = (speedish, first_number(text)) {
-            self.speed_limit = speed_in(n as f32, lower.contains("km") || lower.contains("kph"));
+        let unit = lower.unit();
+        let speedish = lower.contains("speed");
+        match (first_number(text), unit) {
+            (Some(n), Some(kmh)) => self.speed_limit = speed_in(n as f32, kmh),
+            (Some(n), None) if speedish || phrase == SpeedPhrase::Limit => {
+                self.speed_limit = Speed::from_mph(n as f32);
+                self.phrase = SpeedPhrase::Number(n);
+            }
+            (None, Some(kmh)) => self.unit_after(phrase, kmh),
+            (None, None) if speedish => self.phrase = SpeedPhrase::Limit,
+            _ => {}
         }
     }
 }
@@ -182,6 +207,17 @@ impl Lowercase<'_> {
     fn contains(&self, needle: &str) -> bool {
         let (h, n) = (self.0.as_bytes(), needle.as_bytes());
         !n.is_empty() && h.windows(n.len()).any(|w| w.eq_ignore_ascii_case(n))
+    }
+
+    /// The speed unit named: `Some(true)` km/h, `Some(false)` mph.
+    fn unit(&self) -> Option<bool> {
+        if self.contains("km") || self.contains("kph") {
+            Some(true)
+        } else if self.contains("mph") {
+            Some(false)
+        } else {
+            None
+        }
     }
 }
 
@@ -232,6 +268,35 @@ mod tests {
             "9999 mph is out of range"
         );
         z.push_text("");
+        let mut z = ZoneInfo::new(ContentKind::SpeedLimit);
+        z.push_itis(ITIS_SPEED_LIMIT);
+        z.push_text("40");
+        z.push_text("KPH");
+        assert_eq!(z.speed_limit, Speed::from_kmh(40.0), "268, \"40\", \"KPH\"");
+        let mut z = ZoneInfo::new(ContentKind::SpeedLimit);
+        z.push_text("12");
+        assert_eq!(
+            z.speed_limit,
+            Speed::UNAVAILABLE,
+            "a bare number is no limit"
+        );
+    }
+
+    #[test]
+    fn phrase_breaks_on_other_codes() {
+        assert_eq!(info(&[268, 1025, 12569]).speed_limit, Speed::UNAVAILABLE);
+        assert_eq!(
+            info(&[268, 12569, 1025, 8721]).speed_limit,
+            Speed::from_mph(25.0),
+            "the unit must follow the number"
+        );
+        let many: heapless::Vec<u16, 40> =
+            (0..30).map(|_| 1025).chain([268, 12584, 8721]).collect();
+        assert_eq!(
+            info(&many).speed_limit,
+            Speed::from_kmh(40.0),
+            "beyond MAX_ITIS"
+        );
     }
 
     #[test]

@@ -21,7 +21,7 @@ pub use content::{
 };
 pub use region::{Region, RegionShape};
 pub use store::{ZoneStore, ZoneUpdate};
-pub use work_zone::{WorkZone, ZoneLane};
+pub use work_zone::{MapEnds, WorkZone, ZoneLane};
 
 use core::fmt;
 
@@ -31,18 +31,47 @@ use serde::{Deserialize, Serialize};
 use crate::math::wrap_360;
 
 /// Identity of a work zone: TIM `packetID` (9 octets, zero-padded when shorter) and
-/// the index of the data frame within the TIM.
+/// the index of the data frame within the TIM. A TIM without `packetID` is keyed by
+/// the data frame's `msgId` instead ([`KeySource::MsgId`]).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, Default)]
 #[cfg_attr(feature = "serde", derive(Serialize, Deserialize))]
 pub struct ZoneKey {
-    /// TIM `packetID`.
+    /// TIM `packetID`, or a digest of the data frame's `msgId` (see `source`).
     pub packet_id: [u8; 9],
     /// Index of the data frame in `dataFrames`.
     pub frame: u8,
+    /// What `packet_id` holds.
+    pub source: KeySource,
+}
+
+/// Where a [`ZoneKey`]'s identity comes from.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, Default)]
+#[cfg_attr(feature = "serde", derive(Serialize, Deserialize))]
+pub enum KeySource {
+    /// The TIM's `packetID`.
+    #[default]
+    PacketId,
+    /// The data frame's `msgId` (`furtherInfoID` or `roadSignID`), for TIMs without
+    /// `packetID`.
+    MsgId,
+}
+
+impl ZoneKey {
+    /// The key of data frame `frame` of a TIM with `packet_id`.
+    pub const fn packet(packet_id: [u8; 9], frame: u8) -> Self {
+        ZoneKey {
+            packet_id,
+            frame,
+            source: KeySource::PacketId,
+        }
+    }
 }
 
 impl fmt::Display for ZoneKey {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        if self.source == KeySource::MsgId {
+            f.write_str("msgId:")?;
+        }
         for b in self.packet_id {
             write!(f, "{b:02x}")?;
         }
@@ -54,7 +83,8 @@ impl fmt::Display for ZoneKey {
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
 #[cfg_attr(feature = "serde", derive(Serialize, Deserialize))]
 pub struct Validity {
-    /// `startYear`.
+    /// `startYear`; 0 when absent (J2735: the current year), resolved against the
+    /// time of each check.
     pub start_year: u16,
     /// `startTime`, minute of the year (0..=527040).
     pub start_minute: u32,
@@ -71,26 +101,38 @@ impl Validity {
         self.duration_min == 0
     }
 
-    /// Start in minutes since 2000 (see [`crate::time::abs_minutes`]).
+    /// Start in minutes since 2000 (see [`crate::time::abs_minutes`]); a missing year
+    /// counts as year 0 here (only for ordering two versions of one zone).
     pub const fn start_abs(&self) -> i64 {
         crate::time::abs_minutes(self.start_year, self.start_minute as i64)
     }
 
-    /// End in minutes since 2000, `None` when indefinite.
-    pub const fn end_abs(&self) -> Option<i64> {
+    /// Start in minutes since 2000 as seen at `now_abs_min` (a missing `startYear` is
+    /// the year of `now_abs_min`).
+    pub const fn start_abs_at(&self, now_abs_min: i64) -> i64 {
+        let year = if self.start_year == 0 {
+            crate::time::year_of(now_abs_min)
+        } else {
+            self.start_year
+        };
+        crate::time::abs_minutes(year, self.start_minute as i64)
+    }
+
+    /// End in minutes since 2000 as seen at `now_abs_min`, `None` when indefinite.
+    pub const fn end_abs_at(&self, now_abs_min: i64) -> Option<i64> {
         if self.duration_min >= Self::INDEFINITE {
             None
         } else {
-            Some(self.start_abs() + self.duration_min as i64)
+            Some(self.start_abs_at(now_abs_min) + self.duration_min as i64)
         }
     }
 
     /// Active iff start <= now <= start + duration (and not cancelled).
     pub const fn is_active(&self, now_abs_min: i64) -> bool {
-        if self.is_cancelled() || now_abs_min < self.start_abs() {
+        if self.is_cancelled() || now_abs_min < self.start_abs_at(now_abs_min) {
             return false;
         }
-        match self.end_abs() {
+        match self.end_abs_at(now_abs_min) {
             Some(end) => now_abs_min <= end,
             None => true,
         }
@@ -101,7 +143,7 @@ impl Validity {
         if self.is_cancelled() {
             return true;
         }
-        match self.end_abs() {
+        match self.end_abs_at(now_abs_min) {
             Some(end) => now_abs_min > end,
             None => false,
         }
@@ -190,6 +232,13 @@ mod tests {
             ..v
         };
         assert!(cancel.is_cancelled() && !cancel.is_active(start) && cancel.has_ended(start));
+        let this_year = Validity { start_year: 0, ..v };
+        assert!(this_year.is_active(start + 30) && !this_year.is_active(start - 1));
+        let next_year = crate::time::abs_minutes(2025, 1030);
+        assert!(
+            this_year.is_active(next_year),
+            "a missing year is the current one"
+        );
     }
 
     #[test]

@@ -8,6 +8,9 @@ use crate::geo::{LatLon, LocalFrame32, Point};
 use crate::lane::ModelError;
 use crate::math::{bearing_deg, heading_diff};
 
+/// Largest node offset from the anchor accepted, metres (beyond, f32 loses centimetres).
+const MAX_OFFSET_M: f32 = 100_000.0;
+
 /// Region geometry (TIM `description`).
 #[derive(Debug, Clone, PartialEq)]
 pub enum RegionShape {
@@ -32,8 +35,13 @@ pub struct Region {
     pub heading: HeadingSlice,
     /// `closedPath`: the last node joins the first.
     pub closed_path: bool,
+    /// `extent` of a geometry region in metres (`None` when absent, infinite for
+    /// `forever`): how far the information applies (kept for the display).
+    pub extent_m: Option<f32>,
     /// Geometry.
     pub shape: RegionShape,
+    /// Path length in metres (sum of the segments).
+    length_m: f32,
 }
 
 /// Where a point lies relative to a region path.
@@ -60,7 +68,9 @@ impl Region {
             directionality: Directionality::Both,
             heading: HeadingSlice::ALL,
             closed_path: false,
+            extent_m: None,
             shape: RegionShape::Path(Vec::new()),
+            length_m: 0.0,
         }
     }
 
@@ -83,15 +93,22 @@ impl Region {
         &self.frame
     }
 
-    /// Appends a path node at `p` metres from the anchor.
+    /// Appends a path node at `p` metres from the anchor. A node within 1 cm of the
+    /// previous one is skipped (a zero-length segment has no direction).
     pub fn push_node(&mut self, p: Point) -> Result<(), ModelError> {
         let RegionShape::Path(nodes) = &mut self.shape else {
             return Err(ModelError::InvalidValue);
         };
-        if !p.is_finite() {
+        if !(p.is_finite() && p.x.abs() < MAX_OFFSET_M && p.y.abs() < MAX_OFFSET_M) {
             return Err(ModelError::InvalidValue);
         }
-        nodes.push(p).map_err(|_| ModelError::CapacityExceeded)
+        let step = nodes.last().map_or(0.0, |q| q.distance(p));
+        if !nodes.is_empty() && step < 0.01 {
+            return Ok(());
+        }
+        nodes.push(p).map_err(|_| ModelError::CapacityExceeded)?;
+        self.length_m += step;
+        Ok(())
     }
 
     /// Appends a node given as a centimetre delta from the previous node (from the
@@ -148,7 +165,15 @@ impl Region {
 
     /// Path length in metres (0 for a circle).
     pub fn length(&self) -> f32 {
-        self.nodes().windows(2).map(|w| w[0].distance(w[1])).sum()
+        self.length_m
+    }
+
+    /// The circle radius in metres, `None` for a path.
+    pub fn radius(&self) -> Option<f32> {
+        match self.shape {
+            RegionShape::Circle { radius_m } => Some(radius_m),
+            RegionShape::Path(_) => None,
+        }
     }
 }
 
@@ -224,8 +249,11 @@ mod tests {
         let p = r.frame().to_wgs84(Point::new(5.0, 5.0)).unwrap_or_default();
         assert!(r.push_latlon(p).is_ok());
         assert!((r.nodes()[3].x - 5.0).abs() < 0.02);
+        assert!(r.push_node(Point::new(5.0, 5.005)).is_ok(), "1 cm: skipped");
+        assert_eq!(r.nodes().len(), 4);
         let mut c = Region::circle(LatLon::ZERO, 0.0, 50.0);
         assert!(c.nodes().is_empty() && c.fit(Point::default()).is_none());
+        assert_eq!((c.radius(), r.radius()), (Some(50.0), None));
         assert_eq!(c.push_node(Point::default()), Err(ModelError::InvalidValue));
     }
 

@@ -169,10 +169,7 @@ mod tests {
     use super::*;
 
     fn key(b: u8) -> ZoneKey {
-        ZoneKey {
-            packet_id: [b; 9],
-            frame: 0,
-        }
+        ZoneKey::packet([b; 9], 0)
     }
 
     fn valid(start: u32, dur: u16) -> Validity {

@@ -3,7 +3,8 @@
 use heapless::Vec;
 
 use super::{ContentKind, Region, Validity, ZoneInfo, ZoneKey};
-use crate::capacity::{MAX_REGIONS, MAX_ZONE_LANES};
+use crate::capacity::{MAX_MAPS, MAX_REGIONS, MAX_ZONE_LANES};
+use crate::geo::Point;
 use crate::lane::{LaneId, MapId, ModelError};
 
 /// A MAP lane a zone region lies on, with the zone's extent on it.
@@ -19,6 +20,32 @@ pub struct ZoneLane {
     pub start: f32,
     /// Zone end, metres from the lane's entry in its direction of travel.
     pub end: f32,
+}
+
+/// A path region's first and last node in the plane of one stored map (cached when
+/// the zone is associated, so that a fix needs no coordinate conversion).
+#[derive(Debug, Clone, Copy, Default)]
+pub struct MapEnds {
+    /// First node (start in node order).
+    pub start: Point,
+    /// Last node.
+    pub end: Point,
+}
+
+/// Bitwise, so that the "not cached" NaN value equals itself.
+impl PartialEq for MapEnds {
+    fn eq(&self, other: &Self) -> bool {
+        let bits = |e: &MapEnds| [e.start.x, e.start.y, e.end.x, e.end.y].map(f32::to_bits);
+        bits(self) == bits(other)
+    }
+}
+
+impl MapEnds {
+    /// Not cached (NaN).
+    const NONE: MapEnds = MapEnds {
+        start: Point::new(f32::NAN, f32::NAN),
+        end: Point::new(f32::NAN, f32::NAN),
+    };
 }
 
 /// A work zone: one TIM data frame.
@@ -37,6 +64,9 @@ pub struct WorkZone {
     /// Parsed content.
     pub info: ZoneInfo,
     lanes: Vec<ZoneLane, MAX_ZONE_LANES, u8>,
+    /// Region ends per map slot of the [`crate::lane::MapStore`] ([`MapEnds::NONE`]
+    /// when not cached: 4 bytes less than an `Option` per entry).
+    ends: [[MapEnds; MAX_MAPS]; MAX_REGIONS],
 }
 
 impl Default for WorkZone {
@@ -49,10 +79,7 @@ impl WorkZone {
     /// An empty zone; usable in `static` items.
     pub const fn new() -> Self {
         WorkZone {
-            key: ZoneKey {
-                packet_id: [0; 9],
-                frame: 0,
-            },
+            key: ZoneKey::packet([0; 9], 0),
             msg_cnt: 0,
             validity: Validity {
                 start_year: 0,
@@ -63,6 +90,7 @@ impl WorkZone {
             regions: Vec::new(),
             info: ZoneInfo::new(ContentKind::WorkZone),
             lanes: Vec::new(),
+            ends: [[MapEnds::NONE; MAX_MAPS]; MAX_REGIONS],
         }
     }
 
@@ -96,6 +124,24 @@ impl WorkZone {
     /// Forgets the associations with `map` (or all when `None`).
     pub(crate) fn clear_lanes(&mut self, map: Option<MapId>) {
         self.lanes.retain(|z| map.is_some_and(|m| z.map != m));
+    }
+
+    /// The cached ends of region `region` in the plane of map slot `slot`.
+    pub fn ends(&self, region: usize, slot: usize) -> Option<MapEnds> {
+        let e = *self.ends.get(region)?.get(slot)?;
+        e.start.is_finite().then_some(e)
+    }
+
+    /// Caches (or clears) the ends of `region` for map slot `slot`.
+    pub(crate) fn set_ends(&mut self, region: usize, slot: usize, ends: Option<MapEnds>) {
+        if let Some(e) = self.ends.get_mut(region).and_then(|r| r.get_mut(slot)) {
+            *e = ends.unwrap_or(MapEnds::NONE);
+        }
+    }
+
+    /// Clears every cached end.
+    pub(crate) fn clear_ends(&mut self) {
+        self.ends = [[MapEnds::NONE; MAX_MAPS]; MAX_REGIONS];
     }
 
     /// Records an association; when full, the entry is dropped (returns false).

@@ -1,0 +1,313 @@
+//! The daemon's TOML configuration. [`DEFAULT_TOML`] is the documented default file that
+//! `obu --print-default-config` prints; every key may be left out.
+
+use serde::Deserialize;
+use std::net::SocketAddr;
+use std::path::PathBuf;
+
+/// The default configuration, with every key documented. Safe on a laptop with no hardware:
+/// everything listens on the loopback interface and no GNSS or CAN device is opened.
+pub const DEFAULT_TOML: &str = r#"# OBU daemon configuration. Every key is optional; the values shown are the defaults.
+
+[v2x]
+# UDP address where MAP/TIM datagrams arrive: a raw UPER MessageFrame, an IEEE 1609.2
+# envelope around one, or an RSU 4.1 text record (port 1516 is the RSU immediate-forward port).
+bind = "127.0.0.1:1516"
+# Largest datagram accepted, octets; longer ones are dropped and counted.
+max_datagram = 4096
+
+[gnss]
+# "none", "nmea-file" (replay), "nmea-serial" (a tty already set to its baud rate),
+# "nmea-tcp" (connect to host:port), "nmea-udp" (listen), "gpsd" (TPV over TCP).
+source = "none"
+# File or device path, host:port, or the UDP bind address, by source.
+address = ""
+# nmea-file: replay at the pace of the sentences' own time stamps (false: as fast as read).
+realtime = true
+# No fix for longer than this (milliseconds) shows "no GNSS". At 10 Hz, 700 ms is seven
+# missed fixes, and the tablet still shows the loss within 1 s of the last fix.
+stale_after_ms = 700
+
+[speed]
+# Vehicle speed: "gnss" (from the fixes), "socketcan" (a CAN interface) or "candump-file".
+source = "gnss"
+# CAN interface for "socketcan".
+interface = "can0"
+# candump -l log for "candump-file", replayed at its time stamps.
+file = ""
+# The speed signal, DBC conventions: frame id, start bit, length, byte order
+# ("little_endian" = Intel, "big_endian" = Motorola), signedness, km/h = raw * scale + offset.
+id = 0x1F0
+start_bit = 0
+length = 16
+byte_order = "little_endian"
+signed = false
+scale = 0.01
+offset = 0.0
+# CAN speed older than this (milliseconds) falls back to GNSS speed.
+stale_after_ms = 500
+
+[http]
+# Where the tablet app is served (in the vehicle: the Wi-Fi interface's address).
+bind = "127.0.0.1:8080"
+# Driver settings (warning distance, lead time, sound, units, theme), saved atomically.
+settings_file = "obu-settings.json"
+# Simultaneous event-stream clients; more are refused with 503.
+max_clients = 64
+# Events kept to resume a client that reconnects with Last-Event-ID.
+event_buffer = 256
+# Heartbeat on idle event streams, milliseconds.
+heartbeat_ms = 1000
+# A request must arrive whole within this time, milliseconds.
+request_timeout_ms = 5000
+
+[alerts]
+# Defaults of the driver settings (the tablet can change the first two).
+warning_distance_m = 100.0
+lead_time_s = 9.0
+# Overspeed above the zone limit plus this, km/h.
+overspeed_tolerance_kmh = 5.0
+"#;
+
+/// The whole configuration.
+#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct Config {
+    /// V2X input.
+    pub v2x: V2x,
+    /// GNSS input.
+    pub gnss: Gnss,
+    /// Vehicle speed input.
+    pub speed: Speed,
+    /// The tablet's HTTP server.
+    pub http: Http,
+    /// Alert defaults.
+    pub alerts: Alerts,
+}
+
+/// `[v2x]`.
+#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct V2x {
+    /// UDP bind address.
+    pub bind: SocketAddr,
+    /// Largest datagram, octets.
+    pub max_datagram: usize,
+}
+
+/// GNSS source kinds.
+#[derive(Clone, Copy, Debug, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "kebab-case")]
+pub enum GnssSource {
+    /// No GNSS.
+    None,
+    /// Replay an NMEA file.
+    NmeaFile,
+    /// Read NMEA from a serial device.
+    NmeaSerial,
+    /// Read NMEA from a TCP server.
+    NmeaTcp,
+    /// Receive NMEA datagrams.
+    NmeaUdp,
+    /// gpsd JSON (TPV) over TCP.
+    Gpsd,
+}
+
+/// `[gnss]`.
+#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct Gnss {
+    /// Source kind.
+    pub source: GnssSource,
+    /// Path or address, by source.
+    pub address: String,
+    /// Replay at the file's pace.
+    pub realtime: bool,
+    /// Stale after, milliseconds.
+    pub stale_after_ms: u64,
+}
+
+/// Speed source kinds.
+#[derive(Clone, Copy, Debug, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "kebab-case")]
+pub enum SpeedSource {
+    /// GNSS speed only.
+    Gnss,
+    /// A SocketCAN interface.
+    Socketcan,
+    /// A candump log.
+    CandumpFile,
+}
+
+/// `[speed]`.
+#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct Speed {
+    /// Source kind.
+    pub source: SpeedSource,
+    /// CAN interface.
+    pub interface: String,
+    /// candump log path.
+    pub file: PathBuf,
+    /// Frame id.
+    pub id: u32,
+    /// DBC start bit.
+    pub start_bit: u16,
+    /// Length, bits.
+    pub length: u8,
+    /// Byte order.
+    pub byte_order: obu::input::can::ByteOrder,
+    /// Two's complement.
+    pub signed: bool,
+    /// km/h per raw unit.
+    pub scale: f32,
+    /// km/h offset.
+    pub offset: f32,
+    /// Stale after, milliseconds.
+    pub stale_after_ms: u64,
+}
+
+impl Speed {
+    /// The signal as the core's CAN decoder takes it.
+    pub fn signal(&self) -> obu::input::can::SpeedSignal {
+        obu::input::can::SpeedSignal {
+            id: self.id,
+            start_bit: self.start_bit,
+            length: self.length,
+            byte_order: self.byte_order,
+            signed: self.signed,
+            scale: self.scale,
+            offset: self.offset,
+        }
+    }
+}
+
+/// `[http]`.
+#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct Http {
+    /// Bind address.
+    pub bind: SocketAddr,
+    /// Settings file.
+    pub settings_file: PathBuf,
+    /// Event-stream clients at most.
+    pub max_clients: usize,
+    /// Events kept for resume.
+    pub event_buffer: usize,
+    /// Heartbeat period, milliseconds.
+    pub heartbeat_ms: u64,
+    /// Request timeout, milliseconds.
+    pub request_timeout_ms: u64,
+}
+
+/// `[alerts]`.
+#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct Alerts {
+    /// Default warning distance, metres.
+    pub warning_distance_m: f32,
+    /// Default lead time, seconds.
+    pub lead_time_s: f32,
+    /// Overspeed tolerance, km/h.
+    pub overspeed_tolerance_kmh: f32,
+}
+
+/// Why a configuration was refused.
+#[derive(Debug)]
+pub struct ConfigError(pub String);
+
+impl std::fmt::Display for ConfigError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(&self.0)
+    }
+}
+
+impl std::error::Error for ConfigError {}
+
+impl Config {
+    /// The defaults.
+    pub fn default_config() -> Self {
+        Self::parse("").unwrap_or_else(|e| unreachable!("the default configuration parses: {e}"))
+    }
+
+    /// Reads a configuration: `text` overrides the keys it has, the defaults fill the rest.
+    pub fn parse(text: &str) -> Result<Self, ConfigError> {
+        let mut merged: toml::Table =
+            toml::from_str(DEFAULT_TOML).map_err(|e| ConfigError(e.to_string()))?;
+        let user: toml::Table =
+            toml::from_str(text).map_err(|e| ConfigError(format!("invalid TOML: {e}")))?;
+        for (section, values) in user {
+            let toml::Value::Table(values) = values else {
+                return Err(ConfigError(format!("`{section}` must be a [section]")));
+            };
+            let Some(toml::Value::Table(target)) = merged.get_mut(&section) else {
+                return Err(ConfigError(format!(
+                    "unknown section [{section}]; see obu --print-default-config"
+                )));
+            };
+            target.extend(values);
+        }
+        let config: Config = merged
+            .try_into()
+            .map_err(|e: toml::de::Error| ConfigError(e.to_string()))?;
+        config.validate()?;
+        Ok(config)
+    }
+
+    fn validate(&self) -> Result<(), ConfigError> {
+        let bad = |what: &str| Err(ConfigError(what.to_string()));
+        if !(64..=65_507).contains(&self.v2x.max_datagram) {
+            return bad("v2x.max_datagram must be 64..=65507");
+        }
+        if self.gnss.source != GnssSource::None && self.gnss.address.is_empty() {
+            return bad("gnss.address is needed for this gnss.source");
+        }
+        if !(1..=64).contains(&self.speed.length) {
+            return bad("speed.length must be 1..=64");
+        }
+        if self.http.max_clients == 0 || self.http.event_buffer == 0 {
+            return bad("http.max_clients and http.event_buffer must be > 0");
+        }
+        if !(self.alerts.warning_distance_m.is_finite() && self.alerts.warning_distance_m > 0.0) {
+            return bad("alerts.warning_distance_m must be > 0");
+        }
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn defaults_are_safe_on_a_laptop() {
+        let c = Config::default_config();
+        assert!(c.v2x.bind.ip().is_loopback());
+        assert!(c.http.bind.ip().is_loopback());
+        assert_eq!(c.http.bind.port(), 8080);
+        assert_eq!(c.gnss.source, GnssSource::None);
+        assert_eq!(c.speed.source, SpeedSource::Gnss);
+        assert_eq!(c.alerts.warning_distance_m, 100.0);
+        assert_eq!(c.alerts.lead_time_s, 9.0);
+    }
+
+    #[test]
+    fn a_file_overrides_some_keys() {
+        let c = Config::parse("[http]\nbind = \"0.0.0.0:80\"\n[gnss]\nsource = \"nmea-udp\"\naddress = \"127.0.0.1:10110\"").unwrap();
+        assert_eq!(c.http.bind.port(), 80);
+        assert_eq!(c.http.max_clients, 64, "the rest stays default");
+        assert_eq!(c.gnss.source, GnssSource::NmeaUdp);
+    }
+
+    #[test]
+    fn mistakes_are_named() {
+        let e = Config::parse("[htp]\nbind = \"x\"").unwrap_err();
+        assert!(e.0.contains("unknown section [htp]"), "{e}");
+        let e = Config::parse("[http]\nbnd = \"x\"").unwrap_err();
+        assert!(e.0.contains("bnd"), "{e}");
+        let e = Config::parse("[gnss]\nsource = \"nmea-tcp\"").unwrap_err();
+        assert!(e.0.contains("gnss.address"), "{e}");
+        let e = Config::parse("[speed]\nbyte_order = \"middle\"").unwrap_err();
+        assert!(e.0.contains("middle"), "{e}");
+    }
+}

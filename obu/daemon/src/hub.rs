@@ -1,0 +1,203 @@
+//! The hub between the inputs and the tablet: it owns the OBU core, turns every input into
+//! core calls, publishes each `HmiState` as a numbered event (kept in a ring for clients that
+//! resume with `Last-Event-ID`), and counts everything that was dropped, with its reason.
+
+use crate::counters::Counters;
+use crate::settings::Settings;
+use obu::alert::{AlertConfig, HmiState};
+use obu::fix::Fix;
+use obu::time::Instant;
+use std::collections::VecDeque;
+use std::sync::{Arc, Mutex, MutexGuard};
+use tokio::sync::broadcast;
+
+/// One published state: its sequence number and the JSON the event stream sends.
+#[derive(Debug)]
+pub struct Event {
+    /// Sequence number (the SSE id).
+    pub seq: u64,
+    /// `{"seq", "state", "gnss_age_ms", "fix_quality"}`.
+    pub json: String,
+}
+
+/// The last vehicle speed read from CAN.
+#[derive(Clone, Copy, Debug)]
+struct CanSpeed {
+    mps: f32,
+    at: Instant,
+}
+
+struct Inner {
+    core: Box<obu::Obu>,
+    seq: u64,
+    recent: VecDeque<Arc<Event>>,
+    last_fix: Option<Instant>,
+    fix_quality: Option<u8>,
+    can_speed: Option<CanSpeed>,
+    settings: Settings,
+}
+
+/// Shared by every task of the daemon.
+pub struct Hub {
+    inner: Mutex<Inner>,
+    events: broadcast::Sender<Arc<Event>>,
+    keep: usize,
+    started: std::time::Instant,
+    can_stale_ms: u64,
+    /// Counters of inputs and drops.
+    pub counters: Counters,
+}
+
+impl Hub {
+    /// A hub keeping `keep` events, with the core configured from `settings`.
+    pub fn new(settings: Settings, base: AlertConfig, keep: usize, can_stale_ms: u64) -> Arc<Self> {
+        let (events, _) = broadcast::channel(keep.max(16));
+        let mut core = Box::new(obu::Obu::new(base));
+        core.set_config(alert_config(base, &settings));
+        Arc::new(Self {
+            inner: Mutex::new(Inner {
+                core,
+                seq: 0,
+                recent: VecDeque::with_capacity(keep),
+                last_fix: None,
+                fix_quality: None,
+                can_speed: None,
+                settings,
+            }),
+            events,
+            keep,
+            started: std::time::Instant::now(),
+            can_stale_ms,
+            counters: Counters::default(),
+        })
+    }
+
+    /// Milliseconds since the daemon started: the core's clock.
+    pub fn now(&self) -> Instant {
+        Instant::from_millis(self.started.elapsed().as_millis() as u64)
+    }
+
+    /// Seconds since start.
+    pub fn uptime_s(&self) -> u64 {
+        self.started.elapsed().as_secs()
+    }
+
+    fn lock(&self) -> MutexGuard<'_, Inner> {
+        // A panic elsewhere must not stop the vehicle display: keep using the data.
+        self.inner.lock().unwrap_or_else(|p| p.into_inner())
+    }
+
+    /// Runs `f` on the core (for message ingestion).
+    pub fn with_core<R>(&self, f: impl FnOnce(&mut obu::Obu, Instant) -> R) -> R {
+        let now = self.now();
+        f(&mut self.lock().core, now)
+    }
+
+    /// A GNSS fix: CAN speed replaces GNSS speed while fresh; publishes the new state.
+    pub fn on_fix(&self, mut fix: Fix, quality: Option<u8>) {
+        let now = self.now();
+        let mut inner = self.lock();
+        if let Some(can) = inner.can_speed {
+            if now.saturating_since(can.at).millis() <= self.can_stale_ms {
+                fix.speed_mps = Some(can.mps);
+            }
+        }
+        inner.last_fix = Some(now);
+        inner.fix_quality = quality;
+        let state = inner.core.on_fix(now, fix);
+        self.publish(&mut inner, &state);
+    }
+
+    /// A vehicle speed from CAN.
+    pub fn on_can_speed(&self, mps: f32) {
+        let now = self.now();
+        self.lock().can_speed = Some(CanSpeed { mps, at: now });
+    }
+
+    /// Lets time pass in the core (GNSS and data timeouts); publishes when the state changed.
+    pub fn poll(&self) {
+        let now = self.now();
+        let mut inner = self.lock();
+        if let Some(state) = inner.core.poll(now) {
+            self.publish(&mut inner, &state);
+        }
+    }
+
+    /// The current settings.
+    pub fn settings(&self) -> Settings {
+        self.lock().settings
+    }
+
+    /// Applies new (validated) settings to the core.
+    pub fn set_settings(&self, settings: Settings) {
+        let mut inner = self.lock();
+        let base = *inner.core.config();
+        inner.core.set_config(alert_config(base, &settings));
+        inner.settings = settings;
+    }
+
+    /// Milliseconds since the last fix, and its quality.
+    pub fn gnss(&self) -> (Option<u64>, Option<u8>) {
+        let now = self.now();
+        let inner = self.lock();
+        (
+            inner.last_fix.map(|t| now.saturating_since(t).millis()),
+            inner.fix_quality,
+        )
+    }
+
+    /// Lane models and work zones stored in the core.
+    pub fn stored(&self) -> (usize, usize) {
+        let inner = self.lock();
+        (inner.core.maps().len(), inner.core.zones().len())
+    }
+
+    /// A receiver of new events.
+    pub fn subscribe(&self) -> broadcast::Receiver<Arc<Event>> {
+        self.events.subscribe()
+    }
+
+    /// The kept events after `seq` (all kept ones when `seq` is older than the ring).
+    pub fn since(&self, seq: u64) -> Vec<Arc<Event>> {
+        self.lock()
+            .recent
+            .iter()
+            .filter(|e| e.seq > seq)
+            .cloned()
+            .collect()
+    }
+
+    /// The newest event, if any.
+    pub fn latest(&self) -> Option<Arc<Event>> {
+        self.lock().recent.back().cloned()
+    }
+
+    fn publish(&self, inner: &mut Inner, state: &HmiState) {
+        inner.seq += 1;
+        let now = self.now();
+        let gnss_age_ms = inner.last_fix.map(|t| now.saturating_since(t).millis());
+        let body = serde_json::json!({
+            "seq": inner.seq,
+            "state": state,
+            "gnss_age_ms": gnss_age_ms,
+            "fix_quality": inner.fix_quality,
+        });
+        let event = Arc::new(Event {
+            seq: inner.seq,
+            json: body.to_string(),
+        });
+        if inner.recent.len() == self.keep {
+            inner.recent.pop_front();
+        }
+        inner.recent.push_back(event.clone());
+        // No receiver is fine: nobody is watching.
+        let _ = self.events.send(event);
+    }
+}
+
+/// The core's alert configuration with the driver's settings applied.
+fn alert_config(mut base: AlertConfig, s: &Settings) -> AlertConfig {
+    base.warn_distance_m = s.warning_distance_m;
+    base.lead_time_s = s.lead_time_s;
+    base
+}

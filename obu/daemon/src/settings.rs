@@ -1,0 +1,181 @@
+//! The driver's settings (`GET/PUT /api/settings`): validated, and saved atomically (written
+//! to a temporary file beside the target, flushed, then renamed over it) so that a crash or a
+//! power cut never leaves half a file and a restart keeps them.
+
+use serde::{Deserialize, Serialize};
+use std::io::Write;
+use std::path::{Path, PathBuf};
+
+/// Speed and distance units of the display.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Units {
+    /// km/h and metres.
+    Kmh,
+    /// mph and feet.
+    Mph,
+}
+
+/// Display theme.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Theme {
+    /// Light.
+    Day,
+    /// Dark, low glare.
+    Night,
+    /// Follows the device.
+    Auto,
+}
+
+/// What the driver can set on the tablet.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Settings {
+    /// Minimum warning distance, metres (20..=2000).
+    pub warning_distance_m: f32,
+    /// Warning lead time at the current speed, seconds (2..=30).
+    pub lead_time_s: f32,
+    /// Audible alerts on.
+    pub sound: bool,
+    /// Units.
+    pub units: Units,
+    /// Theme.
+    pub theme: Theme,
+}
+
+impl Settings {
+    /// Settings from the configured alert defaults.
+    pub fn defaults(warning_distance_m: f32, lead_time_s: f32) -> Self {
+        Self {
+            warning_distance_m,
+            lead_time_s,
+            sound: true,
+            units: Units::Kmh,
+            theme: Theme::Auto,
+        }
+    }
+
+    /// Checks the ranges; the error names the field.
+    pub fn validate(&self) -> Result<(), String> {
+        let in_range = |v: f32, lo: f32, hi: f32| v.is_finite() && (lo..=hi).contains(&v);
+        if !in_range(self.warning_distance_m, 20.0, 2000.0) {
+            return Err("warning_distance_m must be between 20 and 2000".into());
+        }
+        if !in_range(self.lead_time_s, 2.0, 30.0) {
+            return Err("lead_time_s must be between 2 and 30".into());
+        }
+        Ok(())
+    }
+}
+
+/// The settings file.
+#[derive(Clone, Debug)]
+pub struct SettingsFile {
+    path: PathBuf,
+}
+
+impl SettingsFile {
+    /// The file at `path`.
+    pub fn new(path: impl Into<PathBuf>) -> Self {
+        Self { path: path.into() }
+    }
+
+    /// The saved settings, or `fallback` when there is no (valid) file; a corrupt file is
+    /// reported in the error and left in place for inspection.
+    pub fn load(&self, fallback: Settings) -> (Settings, Option<String>) {
+        match std::fs::read_to_string(&self.path) {
+            Err(e) if e.kind() == std::io::ErrorKind::NotFound => (fallback, None),
+            Err(e) => (
+                fallback,
+                Some(format!("cannot read {}: {e}", self.path.display())),
+            ),
+            Ok(text) => match serde_json::from_str::<Settings>(&text) {
+                Ok(s) if s.validate().is_ok() => (s, None),
+                Ok(_) | Err(_) => (
+                    fallback,
+                    Some(format!("ignoring invalid {}", self.path.display())),
+                ),
+            },
+        }
+    }
+
+    /// Saves atomically.
+    pub fn save(&self, settings: &Settings) -> std::io::Result<()> {
+        let tmp = temp_beside(&self.path);
+        {
+            let mut f = std::fs::File::create(&tmp)?;
+            f.write_all(serde_json::to_string_pretty(settings)?.as_bytes())?;
+            f.write_all(b"\n")?;
+            f.sync_all()?;
+        }
+        std::fs::rename(&tmp, &self.path)
+    }
+}
+
+fn temp_beside(path: &Path) -> PathBuf {
+    let mut name = path
+        .file_name()
+        .map(|n| n.to_os_string())
+        .unwrap_or_default();
+    name.push(".tmp");
+    path.with_file_name(name)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn ranges_are_checked() {
+        let ok = Settings::defaults(100.0, 9.0);
+        assert!(ok.validate().is_ok());
+        let e = Settings {
+            warning_distance_m: 5.0,
+            ..ok
+        }
+        .validate()
+        .unwrap_err();
+        assert!(e.contains("warning_distance_m"));
+        let e = Settings {
+            lead_time_s: f32::NAN,
+            ..ok
+        }
+        .validate()
+        .unwrap_err();
+        assert!(e.contains("lead_time_s"));
+    }
+
+    #[test]
+    fn saved_settings_survive_a_restart() {
+        let dir = std::env::temp_dir().join(format!("obu-settings-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let file = SettingsFile::new(dir.join("s.json"));
+        let fallback = Settings::defaults(100.0, 9.0);
+        assert_eq!(file.load(fallback), (fallback, None));
+        let mine = Settings {
+            units: Units::Mph,
+            warning_distance_m: 300.0,
+            ..fallback
+        };
+        file.save(&mine).unwrap();
+        assert_eq!(
+            SettingsFile::new(dir.join("s.json")).load(fallback),
+            (mine, None)
+        );
+        std::fs::write(dir.join("s.json"), "{not json").unwrap();
+        let (s, warning) = file.load(fallback);
+        assert_eq!(s, fallback);
+        assert!(warning.unwrap().contains("invalid"));
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    #[test]
+    fn json_names_match_the_tablet() {
+        let text = serde_json::to_string(&Settings::defaults(100.0, 9.0)).unwrap();
+        assert_eq!(
+            text,
+            r#"{"warning_distance_m":100.0,"lead_time_s":9.0,"sound":true,"units":"kmh","theme":"auto"}"#
+        );
+    }
+}

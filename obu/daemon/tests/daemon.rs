@@ -1,0 +1,355 @@
+//! The real `obu` binary, driven through its real inputs: UDP V2X datagrams, NMEA over UDP,
+//! and HTTP (static app, SSE with resume, settings that survive a restart, status, hostile
+//! requests), and SIGTERM.
+
+use std::io::{BufRead, BufReader, Read, Write};
+use std::net::{TcpStream, UdpSocket};
+use std::path::{Path, PathBuf};
+use std::process::{Child, Command, Stdio};
+use std::time::{Duration, Instant};
+
+/// A running daemon and what it printed on its first line.
+struct Daemon {
+    child: Child,
+    http: String,
+    v2x: String,
+}
+
+impl Daemon {
+    fn start(config: &Path) -> Self {
+        let mut child = Command::new(env!("CARGO_BIN_EXE_obu"))
+            .arg("--config")
+            .arg(config)
+            .stdout(Stdio::piped())
+            .stderr(Stdio::null())
+            .spawn()
+            .expect("start obu");
+        let mut first = String::new();
+        BufReader::new(child.stdout.take().unwrap())
+            .read_line(&mut first)
+            .unwrap();
+        // "obu: http://127.0.0.1:PORT v2x udp 127.0.0.1:PORT"
+        let words: Vec<&str> = first.split_whitespace().collect();
+        assert!(words.len() >= 5, "unexpected first line {first:?}");
+        let http = words[1].trim_start_matches("http://").to_owned();
+        Daemon {
+            child,
+            http,
+            v2x: words[4].to_owned(),
+        }
+    }
+
+    fn stop(mut self) -> std::process::ExitStatus {
+        let pid = self.child.id().to_string();
+        Command::new("kill").args(["-TERM", &pid]).status().unwrap();
+        let deadline = Instant::now() + Duration::from_secs(5);
+        loop {
+            if let Some(status) = self.child.try_wait().unwrap() {
+                return status;
+            }
+            assert!(Instant::now() < deadline, "obu did not stop on SIGTERM");
+            std::thread::sleep(Duration::from_millis(20));
+        }
+    }
+}
+
+impl Drop for Daemon {
+    fn drop(&mut self) {
+        let _ = self.child.kill();
+    }
+}
+
+fn temp_dir(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("obu-daemon-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+fn free_udp_port() -> u16 {
+    UdpSocket::bind("127.0.0.1:0")
+        .unwrap()
+        .local_addr()
+        .unwrap()
+        .port()
+}
+
+fn write_config(dir: &Path, gnss_port: u16) -> PathBuf {
+    let path = dir.join("obu.toml");
+    let text = format!(
+        "[v2x]\nbind = \"127.0.0.1:0\"\n[gnss]\nsource = \"nmea-udp\"\naddress = \"127.0.0.1:{gnss_port}\"\n\
+         [http]\nbind = \"127.0.0.1:0\"\nsettings_file = \"{}\"\nheartbeat_ms = 200\nrequest_timeout_ms = 1000\n",
+        dir.join("settings.json").display()
+    );
+    std::fs::write(&path, text).unwrap();
+    path
+}
+
+/// One HTTP/1.1 request; returns (status, body).
+fn http(addr: &str, method: &str, path: &str, body: &str) -> (u16, String) {
+    let mut s = TcpStream::connect(addr).unwrap();
+    s.set_read_timeout(Some(Duration::from_secs(5))).unwrap();
+    write!(s, "{method} {path} HTTP/1.1\r\nHost: x\r\nConnection: close\r\nContent-Type: application/json\r\nContent-Length: {}\r\n\r\n{body}", body.len()).unwrap();
+    let mut out = String::new();
+    let _ = s.read_to_string(&mut out);
+    let status = out
+        .split_whitespace()
+        .nth(1)
+        .and_then(|c| c.parse().ok())
+        .unwrap_or(0);
+    let body = out
+        .split_once("\r\n\r\n")
+        .map(|(_, b)| b.to_owned())
+        .unwrap_or_default();
+    (status, body)
+}
+
+fn vector(name: &str) -> Vec<u8> {
+    let text = include_str!("../../../codec/tests/vectors/oracle_vectors.jsonl");
+    let line = text
+        .lines()
+        .find(|l| l.contains(&format!("\"name\":\"{name}\"")))
+        .unwrap();
+    let v: serde_json::Value = serde_json::from_str(line).unwrap();
+    let hex = v["uper"].as_str().unwrap();
+    (0..hex.len() / 2)
+        .map(|i| u8::from_str_radix(&hex[2 * i..2 * i + 2], 16).unwrap())
+        .collect()
+}
+
+fn nmea(body: &str) -> String {
+    let sum = body.bytes().fold(0u8, |a, b| a ^ b);
+    format!("${body}*{sum:02X}\r\n")
+}
+
+/// NMEA of one epoch at the MAP vector's reference point area.
+fn epoch(t: u32) -> String {
+    let time = format!("1200{:02}.{:02}", t / 10, (t % 10) * 10);
+    nmea(&format!(
+        "GPGGA,{time},4207.4074,N,08345.9259,W,4,12,0.6,200.0,M,,M,,"
+    )) + &nmea(&format!(
+        "GPRMC,{time},A,4207.4074,N,08345.9259,W,020.0,090.0,020124,,"
+    ))
+}
+
+fn status(addr: &str) -> serde_json::Value {
+    serde_json::from_str(&http(addr, "GET", "/api/status", "").1).unwrap()
+}
+
+#[test]
+fn serves_the_app_health_and_validated_settings_that_survive_a_restart() {
+    let dir = temp_dir("settings");
+    let cfg = write_config(&dir, free_udp_port());
+    let d = Daemon::start(&cfg);
+    assert_eq!(http(&d.http, "GET", "/healthz", ""), (200, "ok".into()));
+    let (code, page) = http(&d.http, "GET", "/", "");
+    assert_eq!(code, 200);
+    assert!(
+        page.contains("<html") || page.contains("<!DOCTYPE"),
+        "the tablet app is served"
+    );
+    assert_eq!(http(&d.http, "GET", "/no-such-file", "").0, 404);
+    let (code, body) = http(
+        &d.http,
+        "PUT",
+        "/api/settings",
+        r#"{"warning_distance_m":5,"lead_time_s":9,"sound":true,"units":"mph","theme":"night"}"#,
+    );
+    assert_eq!(code, 400);
+    assert!(body.contains("warning_distance_m"), "{body}");
+    let (code, _) = http(&d.http, "PUT", "/api/settings", "{not json");
+    assert_eq!(code, 400);
+    let good = r#"{"warning_distance_m":250.0,"lead_time_s":12.0,"sound":false,"units":"mph","theme":"night"}"#;
+    assert_eq!(http(&d.http, "PUT", "/api/settings", good).0, 200);
+    assert!(d.stop().success(), "SIGTERM is a clean exit");
+    let d = Daemon::start(&cfg);
+    let (code, body) = http(&d.http, "GET", "/api/settings", "");
+    assert_eq!(code, 200);
+    let saved: serde_json::Value = serde_json::from_str(&body).unwrap();
+    let wanted: serde_json::Value = serde_json::from_str(good).unwrap();
+    assert_eq!(saved, wanted);
+    assert!(d.stop().success());
+}
+
+#[test]
+fn counts_v2x_messages_and_drops_by_reason() {
+    let dir = temp_dir("v2x");
+    let d = Daemon::start(&write_config(&dir, free_udp_port()));
+    let udp = UdpSocket::bind("127.0.0.1:0").unwrap();
+    let map = vector("map_work_zone");
+    let tim = vector("tim_work_zone_left_lane_closed");
+    udp.send_to(&map, &d.v2x).unwrap();
+    assert!(
+        (128..256).contains(&tim.len()),
+        "the long-form length below fits this TIM"
+    );
+    let mut wrapped = vec![0x03, 0x80, 0x81, tim.len() as u8];
+    wrapped.extend_from_slice(&tim);
+    udp.send_to(&wrapped, &d.v2x).unwrap();
+    udp.send_to(&map[..map.len() / 2], &d.v2x).unwrap();
+    udp.send_to(b"Version=0.7\nType=MAP\n", &d.v2x).unwrap();
+    udp.send_to(&vec![0u8; 9000], &d.v2x).unwrap();
+    std::thread::sleep(Duration::from_millis(300));
+    let s = status(&d.http);
+    let c = &s["counters"];
+    assert_eq!(c["messages"]["MAP"], 1, "{s}");
+    assert_eq!(c["messages"]["TIM"], 1, "{s}");
+    assert_eq!(
+        c["decode_errors"]
+            .as_object()
+            .map(|m| m.values().filter_map(|v| v.as_u64()).sum::<u64>()),
+        Some(1),
+        "{s}"
+    );
+    assert!(
+        c["envelope_errors"]
+            .as_object()
+            .is_some_and(|m| !m.is_empty()),
+        "{s}"
+    );
+    assert_eq!(c["v2x_dropped"]["datagram too large"], 1, "{s}");
+    assert!(s["active_maps"].as_u64().unwrap() >= 1, "{s}");
+    assert!(s["active_zones"].as_u64().unwrap() >= 1, "{s}");
+}
+
+/// Reads SSE events (id, data) until `n` arrived or the time runs out.
+fn read_events(stream: &mut BufReader<TcpStream>, n: usize) -> Vec<(u64, serde_json::Value)> {
+    let mut out = Vec::new();
+    let (mut id, mut line) = (0u64, String::new());
+    let deadline = Instant::now() + Duration::from_secs(5);
+    while out.len() < n && Instant::now() < deadline {
+        line.clear();
+        if stream.read_line(&mut line).unwrap_or(0) == 0 {
+            break;
+        }
+        if let Some(v) = line.strip_prefix("id:") {
+            id = v.trim().parse().unwrap();
+        } else if let Some(v) = line.strip_prefix("data:") {
+            out.push((id, serde_json::from_str(v.trim()).unwrap()));
+        }
+    }
+    out
+}
+
+fn open_events(addr: &str, last_id: Option<u64>) -> BufReader<TcpStream> {
+    let mut s = TcpStream::connect(addr).unwrap();
+    s.set_read_timeout(Some(Duration::from_secs(5))).unwrap();
+    let resume = last_id
+        .map(|i| format!("Last-Event-ID: {i}\r\n"))
+        .unwrap_or_default();
+    write!(
+        s,
+        "GET /events HTTP/1.1\r\nHost: x\r\nAccept: text/event-stream\r\n{resume}\r\n"
+    )
+    .unwrap();
+    let mut r = BufReader::new(s);
+    let mut line = String::new();
+    r.read_line(&mut line).unwrap();
+    assert!(line.starts_with("HTTP/1.1 200"), "{line}");
+    r
+}
+
+#[test]
+fn fixes_become_numbered_events_and_a_client_resumes_where_it_left() {
+    let dir = temp_dir("sse");
+    let gnss_port = free_udp_port();
+    let d = Daemon::start(&write_config(&dir, gnss_port));
+    let gps = UdpSocket::bind("127.0.0.1:0").unwrap();
+    let mut events = open_events(&d.http, None);
+    for t in 0..5 {
+        gps.send_to(epoch(t).as_bytes(), ("127.0.0.1", gnss_port))
+            .unwrap();
+        std::thread::sleep(Duration::from_millis(30));
+    }
+    let got = read_events(&mut events, 5);
+    assert_eq!(got.len(), 5, "one state per fix");
+    assert!(
+        got.windows(2).all(|w| w[1].0 == w[0].0 + 1),
+        "consecutive ids: {:?}",
+        got.iter().map(|e| e.0).collect::<Vec<_>>()
+    );
+    let state = &got[4].1["state"];
+    assert_eq!(state["gnss_ok"], true);
+    assert!((state["speed_mps"].as_f64().unwrap() - 20.0 * 0.514444).abs() < 0.01);
+    let last_seen = got[2].0;
+    drop(events);
+    let mut resumed = open_events(&d.http, Some(last_seen));
+    let again = read_events(&mut resumed, 2);
+    assert_eq!(
+        again.iter().map(|e| e.0).collect::<Vec<_>>(),
+        vec![last_seen + 1, last_seen + 2]
+    );
+    gps.send_to(b"$GPGGA,garbage*00\r\n", ("127.0.0.1", gnss_port))
+        .unwrap();
+    std::thread::sleep(Duration::from_millis(200));
+    assert!(status(&d.http)["counters"]["nmea_errors"]
+        .as_object()
+        .is_some_and(|m| !m.is_empty()));
+}
+
+#[test]
+fn gnss_loss_is_published_within_a_second() {
+    let dir = temp_dir("stale");
+    let gnss_port = free_udp_port();
+    let d = Daemon::start(&write_config(&dir, gnss_port));
+    let gps = UdpSocket::bind("127.0.0.1:0").unwrap();
+    let mut events = open_events(&d.http, None);
+    gps.send_to(epoch(0).as_bytes(), ("127.0.0.1", gnss_port))
+        .unwrap();
+    // Skip states from before the fix (the daemon publishes "no GNSS" at start).
+    let live = (0..20)
+        .map(|_| read_events(&mut events, 1))
+        .find(|e| e.first().is_some_and(|e| e.1["state"]["gnss_ok"] == true));
+    assert!(live.is_some(), "the fix is published");
+    let t0 = Instant::now();
+    let later = read_events(&mut events, 1);
+    assert_eq!(later.len(), 1, "the dropout is published");
+    assert_eq!(later[0].1["state"]["gnss_ok"], false);
+    assert!(
+        t0.elapsed() < Duration::from_millis(1600),
+        "within the 1 s timeout plus one poll"
+    );
+}
+
+#[test]
+fn hostile_http_is_refused_and_counted() {
+    let dir = temp_dir("hostile");
+    let d = Daemon::start(&write_config(&dir, free_udp_port()));
+    // Oversized headers.
+    let mut s = TcpStream::connect(&d.http).unwrap();
+    s.set_read_timeout(Some(Duration::from_secs(5))).unwrap();
+    let big = "a".repeat(64 * 1024);
+    let _ = write!(s, "GET / HTTP/1.1\r\nHost: x\r\nX-Big: {big}\r\n\r\n");
+    let mut out = String::new();
+    let _ = s.read_to_string(&mut out);
+    assert!(
+        !out.starts_with("HTTP/1.1 200"),
+        "oversized request not served"
+    );
+    // A request that never finishes is cut off by the timeout.
+    let mut slow = TcpStream::connect(&d.http).unwrap();
+    slow.set_read_timeout(Some(Duration::from_secs(5))).unwrap();
+    slow.write_all(b"GET / HTTP/1.1\r\nHost: x\r\n").unwrap();
+    let t0 = Instant::now();
+    let mut buf = [0u8; 64];
+    let _ = slow.read(&mut buf);
+    assert!(
+        t0.elapsed() < Duration::from_secs(4),
+        "slow request closed by the 1 s timeout"
+    );
+    // A settings body over the limit.
+    let (code, _) = http(&d.http, "PUT", "/api/settings", &"x".repeat(10_000));
+    assert!(code == 413 || code == 400, "got {code}");
+    assert_eq!(
+        http(&d.http, "GET", "/healthz", ""),
+        (200, "ok".into()),
+        "still serving"
+    );
+    let s = status(&d.http);
+    assert!(
+        s["counters"]["http_rejected"]
+            .as_object()
+            .is_some_and(|m| !m.is_empty()),
+        "{s}"
+    );
+}

@@ -1,0 +1,126 @@
+//! Decoded J2735 messages into the stores: [`Obu::on_frame`], [`Obu::on_map`],
+//! [`Obu::on_tim`].
+
+use j2735::map_data::MapData;
+use j2735::message_frame::{MessageFrame, MessageFrameValue};
+use j2735::traveler_information::{TravelerDataFrame, TravelerInformation};
+
+use super::{Obu, Stored};
+use crate::capacity::MAX_MAPS;
+use crate::ingest::{
+    self, map::ModelSource, Ingest, IngestCounters, IngestError, MessageKind, Sink,
+};
+use crate::time::Instant;
+
+impl Obu {
+    /// Takes one decoded MessageFrame: a MAP or TIM is stored (see [`Obu::on_map`] and
+    /// [`Obu::on_tim`]); any other message is counted
+    /// ([`crate::alert::Counters::other_messages`]) and reported as
+    /// [`MessageKind::Other`].
+    pub fn on_frame(&mut self, now: Instant, frame: &MessageFrame) -> Result<Ingest, IngestError> {
+        match &frame.value {
+            MessageFrameValue::MapData(map) => self.on_map(now, map),
+            MessageFrameValue::TravelerInformation(tim) => self.on_tim(now, tim),
+            other => {
+                self.counters.other_messages = self.counters.other_messages.saturating_add(1);
+                Ok(Ingest::new(MessageKind::Other(other.id().get())))
+            }
+        }
+    }
+
+    /// Stores every intersection and road segment of a decoded MAP as a lane model
+    /// (a model whose id is stored with the same revision is only refreshed; at most
+    /// [`MAX_MAPS`] per message, the rest counted as truncated). Work zones are
+    /// associated again with the new lanes.
+    ///
+    /// Parts that cannot be converted (a model with an invalid reference point, a lane
+    /// with an unsupported node) are left out while the rest is stored; each is
+    /// counted by reason ([`Obu::rejected`]) and the first reason is returned as the
+    /// error. `Ok` reports what was stored.
+    pub fn on_map(&mut self, now: Instant, map: &MapData) -> Result<Ingest, IngestError> {
+        let mut sink = Sink::new(MessageKind::Map);
+        for (i, src) in ingest::map::models(map).enumerate() {
+            if i < MAX_MAPS {
+                self.map_model(now, &src, &mut sink);
+            } else {
+                sink.truncated();
+            }
+        }
+        self.finish(sink)
+    }
+
+    fn map_model(&mut self, now: Instant, src: &ModelSource<'_>, sink: &mut Sink) {
+        let (reference, elevation) = match src.reference() {
+            Ok(r) => r,
+            Err(e) => {
+                self.counters.maps_rejected = self.counters.maps_rejected.saturating_add(1);
+                return sink.reject(e);
+            }
+        };
+        let stored = self.update_map(now, src.id, src.revision, reference, elevation, |m| {
+            ingest::map::fill_model(m, src, sink);
+            Ok::<(), IngestError>(())
+        });
+        match stored {
+            Ok(true) => sink.report.stored = sink.report.stored.saturating_add(1),
+            Ok(false) => sink.report.unchanged = sink.report.unchanged.saturating_add(1),
+            Err(e) => sink.reject(e),
+        }
+    }
+
+    /// Stores every data frame of a decoded TIM as a work zone keyed by `packetID` (or
+    /// the frame's `msgId`) and frame index. A zone stored with the same `msgCnt` and
+    /// start time is only refreshed, an older start time is ignored, `durationTime` 0
+    /// removes it, anything else replaces it.
+    ///
+    /// Regions that cannot be converted are left out (the zone keeps the others); a
+    /// computed path whose MAP is not stored yet drops the whole zone, so that the next
+    /// copy of the TIM converts it again. Each rejected part is counted by reason and
+    /// the first reason is returned as the error.
+    pub fn on_tim(
+        &mut self,
+        now: Instant,
+        tim: &TravelerInformation,
+    ) -> Result<Ingest, IngestError> {
+        let mut sink = Sink::new(MessageKind::Tim);
+        for (i, frame) in tim.data_frames.iter().enumerate() {
+            self.tim_frame(now, tim, i, frame, &mut sink);
+        }
+        self.finish(sink)
+    }
+
+    fn tim_frame(
+        &mut self,
+        now: Instant,
+        tim: &TravelerInformation,
+        index: usize,
+        frame: &TravelerDataFrame,
+        sink: &mut Sink,
+    ) {
+        let key = ingest::tim::key(tim, frame, index);
+        let validity = ingest::tim::validity(frame);
+        let msg_cnt = tim.msg_cnt.get();
+        let stored = self.store_zone(now, key, msg_cnt, validity, |zone, maps| {
+            ingest::tim::fill_zone(zone, frame, maps, sink)
+        });
+        let r = &mut sink.report;
+        let count = match stored {
+            Ok(Stored::Filled) => &mut r.stored,
+            Ok(Stored::Unchanged) => &mut r.unchanged,
+            Ok(Stored::Stale) => &mut r.stale,
+            Ok(Stored::Cancelled(_)) => &mut r.cancelled,
+            Err(e) => return sink.reject(e),
+        };
+        *count = count.saturating_add(1);
+    }
+
+    /// Parts of MAP and TIM messages rejected so far, by reason.
+    pub fn rejected(&self) -> &IngestCounters {
+        &self.rejected
+    }
+
+    fn finish(&mut self, sink: Sink) -> Result<Ingest, IngestError> {
+        self.rejected.merge(&sink.counters);
+        sink.finish()
+    }
+}
