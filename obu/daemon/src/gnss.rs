@@ -252,16 +252,17 @@ fn iso_utc(s: &str) -> Option<UtcTime> {
                 .collect();
             digits.parse::<u64>().unwrap_or(0) * 10u64.pow(3 - digits.len() as u32)
         });
-    if !(1..=12).contains(&month) || !(1..=31).contains(&day) || h > 23 || m > 59 || sec > 60 {
+    if h > 23 || m > 59 || sec > 60 {
         return None;
     }
-    const CUM: [u64; 12] = [0, 31, 59, 90, 120, 151, 181, 212, 243, 273, 304, 334];
-    let leap = (year % 4 == 0 && year % 100 != 0) || year % 400 == 0;
-    let days = CUM[month as usize - 1] + u64::from(leap && month > 2) + day - 1;
-    Some(UtcTime {
+    let ms_of_day = ((h * 60 + m) * 60 + sec) * 1000 + frac;
+    let month = u8::try_from(month).ok()?;
+    nmea::utc_from_date(
         year,
-        ms_of_year: ((days * 24 + h) * 60 + m) * 60_000 + sec * 1000 + frac,
-    })
+        month,
+        u8::try_from(day).ok()?,
+        u32::try_from(ms_of_day).ok()?,
+    )
 }
 
 #[cfg(test)]

@@ -361,6 +361,18 @@ fn parse_gst<'a>(f: &mut Fields<'a, impl Iterator<Item = &'a str>>) -> Result<Gs
     })
 }
 
+/// The UTC time of a calendar date and a time of day; `None` for an impossible date.
+pub fn utc_from_date(year: u16, month: u8, day: u8, ms_of_day: u32) -> Option<UtcTime> {
+    if !(1..=12).contains(&month) || !(1..=31).contains(&day) || ms_of_day >= 86_401_000 {
+        return None;
+    }
+    let days = days_before_month(year, month) + u32::from(day) - 1;
+    Some(UtcTime {
+        year,
+        ms_of_year: u64::from(days) * 86_400_000 + u64::from(ms_of_day),
+    })
+}
+
 /// Days from 1 January to the first of `month` (1-12).
 fn days_before_month(year: u16, month: u8) -> u32 {
     const CUM: [u32; 12] = [0, 31, 59, 90, 120, 151, 181, 212, 243, 273, 304, 334];
@@ -456,11 +468,7 @@ impl FixAssembler {
 
     fn utc(&self, time: DayMillis) -> Option<UtcTime> {
         let (year, month, day) = self.date?;
-        let days = days_before_month(year, month) + u32::from(day) - 1;
-        Some(UtcTime {
-            year,
-            ms_of_year: u64::from(days) * 86_400_000 + u64::from(time),
-        })
+        utc_from_date(year, month, day, time)
     }
 }
 
