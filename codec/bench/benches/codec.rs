@@ -1,0 +1,104 @@
+//! Criterion benchmarks: our UPER codec against rasn on the same MessageFrame bytes.
+//!
+//!     cargo bench --manifest-path codec/bench/Cargo.toml                    # no-alloc storage
+//!     cargo bench --manifest-path codec/bench/Cargo.toml --features alloc   # + by-value decode
+//!
+//! Per frame (criterion group = row of `j2735_bench::frames`), cases:
+//! - `ours_decode_into`: `uper::decode_into` into a MessageFrame kept across iterations (the
+//!   OBU's steady state: the value already holds this message, lists are refilled in place);
+//! - `ours_decode_message_into`: `frame::decode_message_into` into a kept MapData / TIM;
+//! - `ours_decode_by_value` (feature `alloc`): `uper::decode`, a new value each time;
+//! - `ours_encode`: `uper::encode` into a reused buffer;
+//! - `rasn_decode`: `rasn::uper::decode` of the MessageFrame, then of the message in its
+//!   open type (rasn-compiler keeps open types as `Any`);
+//! - `rasn_encode`: the message, then the MessageFrame around it (`encode_buf`, reused buffer).
+//!
+//! Our cases built with `alloc` are named `..._alloc`. At the end the table of ours against
+//! rasn is printed (from criterion's estimates, also for earlier runs' cases).
+
+use std::hint::black_box;
+use std::time::Duration;
+
+use criterion::{Criterion, Throughput};
+use j2735_bench::report::{self, OURS_SUFFIX};
+use j2735_bench::{frames, ours, theirs};
+
+fn main() {
+    let frames = frames::all();
+    let load_before = report::load_average();
+    println!("machine: {}", report::machine());
+    println!("our storage: {}", ours::STORAGE);
+    // Both codecs must do the real work on these bytes before anything is timed.
+    for f in &frames {
+        assert_eq!(
+            ours::round_trips(&f.bytes),
+            Ok(true),
+            "{}: our decode then encode must give the same bytes",
+            f.row
+        );
+        let m = theirs::decode(&f.bytes)
+            .unwrap_or_else(|e| panic!("{}: rasn cannot decode the frame: {e}", f.row));
+        assert_eq!(theirs::kind(&m), f.kind, "{}: rasn decoded another message", f.row);
+        let same = theirs::round_trips(&f.bytes) == Ok(true);
+        println!(
+            "frame {:<17} {:>5} octets  {}  rasn re-encodes identically: {}",
+            f.row,
+            f.bytes.len(),
+            f.source,
+            if same { "yes" } else { "NO" }
+        );
+    }
+
+    let mut c = Criterion::default()
+        .warm_up_time(Duration::from_secs(1))
+        .measurement_time(Duration::from_secs(3))
+        .sample_size(50)
+        .configure_from_args();
+
+    for f in &frames {
+        let bytes = f.bytes.as_slice();
+        let mut g = c.benchmark_group(f.row);
+        g.throughput(Throughput::Bytes(bytes.len() as u64));
+
+        let mut kept = ours::Kept::new(bytes).expect("our decode");
+        g.bench_function(format!("ours_decode_into{OURS_SUFFIX}"), |b| {
+            b.iter(|| kept.decode(black_box(bytes)).expect("our decode"))
+        });
+        let mut kept_msg = ours::KeptMessage::new(f.kind, bytes).expect("our decode");
+        g.bench_function(format!("ours_decode_message_into{OURS_SUFFIX}"), |b| {
+            b.iter(|| kept_msg.decode(black_box(bytes)).expect("our decode"))
+        });
+        drop(kept_msg);
+        #[cfg(feature = "alloc")]
+        g.bench_function(format!("ours_decode_by_value{OURS_SUFFIX}"), |b| {
+            b.iter(|| ours::decode_by_value(black_box(bytes)).expect("our decode"))
+        });
+        let mut buf = vec![0u8; ours::BUF_LEN];
+        g.bench_function(format!("ours_encode{OURS_SUFFIX}"), |b| {
+            b.iter(|| ours::encode(black_box(kept.frame()), &mut buf).expect("our encode"))
+        });
+        drop(kept);
+
+        g.bench_function("rasn_decode", |b| {
+            b.iter(|| theirs::decode(black_box(bytes)).expect("rasn decode"))
+        });
+        let m = theirs::decode(bytes).expect("rasn decode");
+        let mut out = Vec::new();
+        g.bench_function("rasn_encode", |b| {
+            b.iter(|| theirs::encode(black_box(&m), &mut out).expect("rasn encode"))
+        });
+        g.finish();
+    }
+    c.final_summary();
+
+    let sizes: Vec<(String, usize, String)> = frames
+        .iter()
+        .map(|f| (f.row.to_string(), f.bytes.len(), f.source.clone()))
+        .collect();
+    println!();
+    println!(
+        "ours against rasn (criterion medians; load average before {load_before}, after {}):",
+        report::load_average()
+    );
+    println!("{}", report::table(&report::criterion_dir(), &sizes));
+}

@@ -1,0 +1,84 @@
+//! Runs one benchmark case N times, for profilers and instruction counters:
+//!
+//!     target/release/loop ROW CASE N
+//!
+//! ROW: map_small | map_mid | map_largest | map_largest_2020 | tim_work_zone
+//! CASE: ours_decode_into | ours_decode_message_into | ours_decode_by_value (feature alloc)
+//!       | ours_encode | rasn_decode | rasn_encode
+//!
+//! `callgrind.sh` runs it under `valgrind --tool=callgrind` at two values of N and divides the
+//! difference of the instruction counts by the difference of N: the instructions of one
+//! message, without the setup.
+
+use std::hint::black_box;
+use std::process::ExitCode;
+
+use j2735_bench::{frames, ours, theirs};
+
+fn main() -> ExitCode {
+    let args: Vec<String> = std::env::args().collect();
+    if args.len() != 4 {
+        eprintln!("usage: {} ROW CASE N", args[0]);
+        return ExitCode::from(2);
+    }
+    let (row, case) = (args[1].as_str(), args[2].as_str());
+    let n: u64 = match args[3].parse() {
+        Ok(n) => n,
+        Err(e) => {
+            eprintln!("N: {e}");
+            return ExitCode::from(2);
+        }
+    };
+    let Some(frame) = frames::all().into_iter().find(|f| f.row == row) else {
+        eprintln!("no row {row}");
+        return ExitCode::from(2);
+    };
+    let bytes = frame.bytes.as_slice();
+    match case {
+        "ours_decode_into" => {
+            let mut kept = ours::Kept::new(bytes).expect("decode");
+            for _ in 0..n {
+                kept.decode(black_box(bytes)).expect("decode");
+                black_box(kept.frame());
+            }
+        }
+        "ours_decode_message_into" => {
+            let mut kept = ours::KeptMessage::new(frame.kind, bytes).expect("decode");
+            for _ in 0..n {
+                kept.decode(black_box(bytes)).expect("decode");
+                black_box(&kept);
+            }
+        }
+        #[cfg(feature = "alloc")]
+        "ours_decode_by_value" => {
+            for _ in 0..n {
+                black_box(ours::decode_by_value(black_box(bytes)).expect("decode"));
+            }
+        }
+        "ours_encode" => {
+            let kept = ours::Kept::new(bytes).expect("decode");
+            let mut buf = vec![0u8; ours::BUF_LEN];
+            for _ in 0..n {
+                black_box(ours::encode(black_box(kept.frame()), &mut buf).expect("encode"));
+            }
+        }
+        "rasn_decode" => {
+            for _ in 0..n {
+                black_box(theirs::decode(black_box(bytes)).expect("decode"));
+            }
+        }
+        "rasn_encode" => {
+            let m = theirs::decode(bytes).expect("decode");
+            let mut out = Vec::new();
+            for _ in 0..n {
+                theirs::encode(black_box(&m), &mut out).expect("encode");
+                black_box(&out);
+            }
+        }
+        _ => {
+            eprintln!("unknown case {case} (with this build's features)");
+            return ExitCode::from(2);
+        }
+    }
+    ExitCode::SUCCESS
+}
