@@ -38,7 +38,12 @@ fn main() {
         );
         let m = theirs::decode(&f.bytes)
             .unwrap_or_else(|e| panic!("{}: rasn cannot decode the frame: {e}", f.row));
-        assert_eq!(theirs::kind(&m), f.kind, "{}: rasn decoded another message", f.row);
+        assert_eq!(
+            theirs::kind(&m),
+            f.kind,
+            "{}: rasn decoded another message",
+            f.row
+        );
         let same = theirs::round_trips(&f.bytes) == Ok(true);
         println!(
             "frame {:<17} {:>5} octets  {}  rasn re-encodes identically: {}",

@@ -19,14 +19,26 @@ pub const OURS_SUFFIX: &str = if cfg!(feature = "alloc") {
 
 /// The operations compared: (label, our case without suffix, rasn case).
 pub const PAIRS: [(&str, &str, &str); 4] = [
-    ("decode (decode_into, kept MessageFrame)", "ours_decode_into", "rasn_decode"),
+    (
+        "decode (decode_into, kept MessageFrame)",
+        "ours_decode_into",
+        "rasn_decode",
+    ),
     (
         "decode (frame::decode_message_into, kept MapData/TIM)",
         "ours_decode_message_into",
         "rasn_decode",
     ),
-    ("decode (uper::decode, new value)", "ours_decode_by_value", "rasn_decode"),
-    ("encode (uper::encode, reused buffer)", "ours_encode", "rasn_encode"),
+    (
+        "decode (uper::decode, new value)",
+        "ours_decode_by_value",
+        "rasn_decode",
+    ),
+    (
+        "encode (uper::encode, reused buffer)",
+        "ours_encode",
+        "rasn_encode",
+    ),
 ];
 
 /// Where criterion keeps its results: `$CRITERION_HOME`, else `$CARGO_TARGET_DIR/criterion`,
@@ -82,7 +94,10 @@ pub fn table(dir: &Path, sizes: &[(String, usize, String)]) -> String {
         out,
         "| frame | octets | operation | ours ns/msg | rasn ns/msg | ours/rasn | rasn/ours | 5x goal |"
     );
-    let _ = writeln!(out, "| --- | ---: | --- | ---: | ---: | ---: | ---: | --- |");
+    let _ = writeln!(
+        out,
+        "| --- | ---: | --- | ---: | ---: | ---: | ---: | --- |"
+    );
     for row in ROW_ORDER {
         let octets = sizes
             .iter()
@@ -91,11 +106,16 @@ pub fn table(dir: &Path, sizes: &[(String, usize, String)]) -> String {
         for (label, ours_case, rasn_case) in PAIRS {
             for suffix in ["", "_alloc"] {
                 let ours_id = format!("{ours_case}{suffix}");
-                let (Some(o), Some(r)) = (estimate(dir, row, &ours_id), estimate(dir, row, rasn_case))
+                let (Some(o), Some(r)) =
+                    (estimate(dir, row, &ours_id), estimate(dir, row, rasn_case))
                 else {
                     continue;
                 };
-                let storage = if suffix.is_empty() { "no-alloc" } else { "alloc" };
+                let storage = if suffix.is_empty() {
+                    "no-alloc"
+                } else {
+                    "alloc"
+                };
                 let ratio = o.median / r.median;
                 let _ = writeln!(
                     out,

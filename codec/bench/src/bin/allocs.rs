@@ -121,7 +121,9 @@ fn main() -> ExitCode {
         let m = theirs::decode(bytes).expect("rasn decode");
         let mut out = Vec::new();
         theirs::encode(&m, &mut out).expect("rasn encode");
-        let rasn_enc = per_call(N, || theirs::encode(black_box(&m), &mut out).expect("rasn encode"));
+        let rasn_enc = per_call(N, || {
+            theirs::encode(black_box(&m), &mut out).expect("rasn encode")
+        });
         println!(
             "| {} | {} | {} | {} | {} | {} | {} | {} | {} |",
             f.row,
