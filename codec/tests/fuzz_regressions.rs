@@ -65,3 +65,39 @@ fn jer_unknown_message_with_empty_content() {
         assert_eq!(jer::to_string(&*back), text);
     });
 }
+
+/// Reads JER text and, when it reads, checks the invariant of the `jer` target: its UPER
+/// encoding decodes to an equal value. Returns whether the text was read.
+fn jer_through_uper(text: &'static str) -> bool {
+    common::big_stack(move || {
+        let Ok(value) = jer::from_str::<MessageFrame>(text) else {
+            return false;
+        };
+        let value = Box::new(value);
+        let mut encoding = vec![0u8; uper::encoded_len(&*value).expect("encodes")];
+        uper::encode(&*value, &mut encoding).unwrap();
+        let mut back = Box::new(MessageFrame::placeholder());
+        uper::decode_into(&encoding, &mut *back).expect("decodes");
+        assert!(*back == *value, "JER -> UPER -> value differs for {text}");
+        assert_eq!(jer::to_string(&*back), jer::to_string(&*value));
+        true
+    })
+}
+
+/// Finding 2 (`jer` target, minimised): unknown extension additions in JER whose index lies
+/// outside the declared bit-map (`bitmapLength` 1, addition 1; the fuzzer's input had
+/// `bitmapLength` 2 and an addition 2). The value read kept the short bit-map, its UPER
+/// encoding carried the longer one that the addition needs, so the decoded value differed.
+/// Such text is now refused (`Extensions::from_parts`); consistent text round-trips.
+#[test]
+fn jer_extension_addition_outside_the_bitmap() {
+    assert!(!jer_through_uper(
+        r#"{"messageId":18,"value":{"msgIssueRevision":0,"_extensions":{"bitmapLength":1,"additions":[[1,"00"]]}}}"#
+    ));
+    assert!(!jer_through_uper(
+        r#"{"messageId":18,"value":{"msgIssueRevision":0,"_extensions":{"bitmapLength":0,"additions":[[0,"00"]]}}}"#
+    ));
+    assert!(jer_through_uper(
+        r#"{"messageId":18,"value":{"msgIssueRevision":0,"_extensions":{"bitmapLength":2,"additions":[[1,"00"]]}}}"#
+    ));
+}

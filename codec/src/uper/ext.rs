@@ -73,18 +73,23 @@ impl<const N: usize> Extensions<N> {
 
     /// Extensions with a bit-map of `bitmap_len` and the given unknown additions (index
     /// after the root, open-type content) in ascending index order; `None` when they do not
-    /// fit the storage or are out of order.
+    /// fit the storage, are out of order, or lie outside the bit-map (an index of
+    /// `bitmap_len` or more: the encoding would carry a longer bit-map than the value), or
+    /// when the bit-map is longer than decoding accepts (64 bits).
     pub fn from_parts<'a>(
         bitmap_len: usize,
         additions: impl IntoIterator<Item = (usize, &'a [u8])>,
     ) -> Option<Self> {
+        if bitmap_len as u64 > MAX_BITMAP {
+            return None;
+        }
         let mut ext = Self {
             bitmap_len: u16::try_from(bitmap_len).ok()?,
             records: Octets::new(),
         };
         let mut prev = None;
         for (index, content) in additions {
-            if prev.is_some_and(|p| p >= index) || index >= MAX_BITMAP as usize {
+            if prev.is_some_and(|p| p >= index) || index >= bitmap_len {
                 return None;
             }
             prev = Some(index);
