@@ -121,6 +121,9 @@ pub struct HmiState {
     pub lane_confidence: u8,
     /// Closed lanes of the nearest closure on the current map.
     pub closed_lanes: Vec<u8, MAX_HMI_LANES>,
+    /// The road at the vehicle: ids of the matched lane and of the vehicle lanes beside it
+    /// running the same way, left to right in the direction of travel (empty off map).
+    pub road_lanes: Vec<u8, MAX_HMI_LANES>,
     /// Lane change advice.
     pub advice: LaneAdvice,
     /// True while fixes arrive in time.

@@ -4,8 +4,9 @@ use heapless::Vec;
 
 use super::Obu;
 use crate::alert::{self, Alert, AlertKind, HmiState, LaneAdvice, LaneInfo, ZoneState, ZoneView};
+use crate::capacity::MAX_HMI_LANES;
 use crate::distance::{zone_distance, ZoneDistance};
-use crate::lane::{Lane, LaneModel, Speed};
+use crate::lane::{Lane, LaneKind, LaneModel, Speed, TravelDirection};
 use crate::matcher::LaneMatch;
 use crate::time::Instant;
 use crate::zone::{ClosureSide, WorkZone};
@@ -67,6 +68,9 @@ impl Obu {
             Scan::default()
         };
         self.fill_limit(&mut hmi, scan.limit);
+        if hmi.lane.is_some() {
+            self.fill_road(&mut hmi);
+        }
         if let Some(n) = &scan.nearest {
             hmi.zone_state = n.state;
             hmi.distance_m = Some(n.dist.distance_m);
@@ -221,11 +225,69 @@ impl Obu {
         })
     }
 
+    /// The road at the vehicle, left to right ([`HmiState::road_lanes`]): the matched
+    /// lane and the vehicle lanes of its map whose centreline runs the same way within
+    /// [`ROAD_REACH_M`] beside the fix (and not beyond their ends); the nearest ones
+    /// when there are more than the display holds.
+    fn fill_road(&self, hmi: &mut HmiState) {
+        let (Some(m), Some((map, _))) = (self.last_match, self.matched_lane()) else {
+            return;
+        };
+        let Some((_, fix)) = self.last_fix else {
+            return;
+        };
+        let p = map.frame().to_local(fix.position);
+        let own = m.position;
+        let mut road: Vec<(f32, u8), MAX_HMI_LANES> = Vec::new();
+        for lane in map.lanes() {
+            if !matches!(lane.kind, LaneKind::Vehicle) || lane.direction == TravelDirection::None {
+                continue;
+            }
+            let offset = if lane.id == m.lane {
+                0.0
+            } else {
+                if !lane.may_contain(p, ROAD_REACH_M) {
+                    continue;
+                }
+                let Some(pos) = lane.locate(p, Some(own.bearing_deg)) else {
+                    continue;
+                };
+                let beside = pos.beyond < 1.0 && same_way(pos.bearing_deg, own.bearing_deg);
+                let offset = pos.lateral - own.lateral;
+                if !beside || !(offset.abs() < ROAD_REACH_M) {
+                    continue;
+                }
+                offset
+            };
+            keep_nearest(&mut road, (offset, lane.id.0));
+        }
+        road.sort_unstable_by(|a, b| a.0.total_cmp(&b.0));
+        hmi.road_lanes = road.iter().map(|&(_, id)| id).collect();
+    }
+
     /// The matched lane and its model.
     fn matched_lane(&self) -> Option<(&LaneModel, &Lane)> {
         let m: LaneMatch = self.last_match?;
         let map = self.maps.slot(m.slot as usize)?;
         Some((map, map.lane(m.lane)?))
+    }
+}
+
+/// How far beside the vehicle lanes count as its road, metres (about five lanes).
+pub const ROAD_REACH_M: f32 = 20.0;
+
+/// Adds `lane` (offset, id) to `road`; when full, it replaces the farthest lane if nearer.
+fn keep_nearest(road: &mut Vec<(f32, u8), MAX_HMI_LANES>, lane: (f32, u8)) {
+    if road.iter().any(|l| l.1 == lane.1) {
+        return;
+    }
+    if let Err(lane) = road.push(lane) {
+        let far = road
+            .iter_mut()
+            .max_by(|a, b| a.0.abs().total_cmp(&b.0.abs()));
+        if let Some(far) = far.filter(|f| f.0.abs() > lane.0.abs()) {
+            *far = lane;
+        }
     }
 }
 

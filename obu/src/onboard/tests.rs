@@ -193,3 +193,30 @@ fn off_map_counts() {
     assert!(s.lane.is_none() && s.lane_confidence == 0);
     assert_eq!(obu.counters().off_map, 1);
 }
+
+#[test]
+fn road_lanes_left_to_right_in_the_direction_of_travel() {
+    // Lanes 1-3 run north (x = -3.5, 0, 3.5); 4 and 5 run south west of them.
+    for x in [3.5f32, 0.0, -3.5] {
+        let s = drive(&mut obu_with(false), 0, x, 300.0, 15.0);
+        assert_eq!(
+            &s.road_lanes[..],
+            &[1u8, 2, 3][..],
+            "in the lane at x = {x}"
+        );
+    }
+    // Southbound at x = -7: left of the traveller is east, so lane 4 comes before 5.
+    let mut obu = obu_with(false);
+    let s = obu.on_fix(
+        Instant::from_millis(0),
+        Fix {
+            course_deg: Some(180.0),
+            ..fix_at(-7.0, 300.0, 15.0)
+        },
+    );
+    assert_eq!(s.lane.map(|l| l.lane), Some(4));
+    assert_eq!(&s.road_lanes[..], &[4u8, 5][..]);
+    // Off map: no road.
+    let s = drive(&mut obu, 100, 400.0, 300.0, 15.0);
+    assert!(s.lane.is_none() && s.road_lanes.is_empty());
+}
