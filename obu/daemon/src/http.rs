@@ -143,7 +143,15 @@ async fn events(State(app): State<AppState>, headers: HeaderMap) -> Response {
     let last_id = headers
         .get("last-event-id")
         .and_then(|v| v.to_str().ok())
-        .and_then(|v| v.trim().parse::<u64>().ok());
+        .and_then(|v| {
+            let seq = app.hub.resume_seq(v);
+            if seq.is_none() {
+                app.hub
+                    .counters
+                    .add(group::SSE_CLIENTS, "resume id of another run");
+            }
+            seq
+        });
     let heartbeat = app.heartbeat;
     Sse::new(event_stream(app, last_id, slot))
         .keep_alive(KeepAlive::new().interval(heartbeat).text("hb"))
@@ -162,11 +170,11 @@ fn event_stream(
         None => app.hub.latest().into_iter().collect(),
     };
     let sent = backlog.last().map_or(last_id.unwrap_or(0), |e| e.seq);
-    let first = stream::iter(
-        backlog
-            .into_iter()
-            .map(|e| Ok(to_sse(&e).retry(Duration::from_millis(1000)))),
-    );
+    let first: Vec<Result<SseEvent, Infallible>> = backlog
+        .iter()
+        .map(|e| Ok(to_sse(&app.hub, e).retry(Duration::from_millis(1000))))
+        .collect();
+    let first = stream::iter(first);
     let hub = app.hub.clone();
     let live = stream::unfold((rx, slot, sent), move |(mut rx, slot, sent)| {
         let hub = hub.clone();
@@ -176,7 +184,7 @@ fn event_stream(
                     Ok(e) if e.seq <= sent => continue,
                     Ok(e) => {
                         let seq = e.seq;
-                        return Some((Ok(to_sse(&e)), (rx, slot, seq)));
+                        return Some((Ok(to_sse(&hub, &e)), (rx, slot, seq)));
                     }
                     Err(RecvError::Lagged(_)) => {
                         hub.counters.add(group::SSE_CLIENTS, "dropped: too slow");
@@ -190,9 +198,9 @@ fn event_stream(
     first.chain(live)
 }
 
-fn to_sse(e: &crate::hub::Event) -> SseEvent {
+fn to_sse(hub: &crate::hub::Hub, e: &crate::hub::Event) -> SseEvent {
     SseEvent::default()
         .event("state")
-        .id(e.seq.to_string())
+        .id(hub.event_id(e.seq))
         .data(&e.json)
 }

@@ -14,7 +14,7 @@ use tokio::sync::broadcast;
 /// One published state: its sequence number and the JSON the event stream sends.
 #[derive(Debug)]
 pub struct Event {
-    /// Sequence number (the SSE id).
+    /// Sequence number within this run of the daemon (the SSE id is `<run>-<seq>`).
     pub seq: u64,
     /// `{"seq", "state", "gnss_age_ms", "fix_quality"}`.
     pub json: String,
@@ -43,6 +43,7 @@ pub struct Hub {
     events: broadcast::Sender<Arc<Event>>,
     keep: usize,
     started: std::time::Instant,
+    run: u64,
     can_stale_ms: u64,
     /// Counters of inputs and drops.
     pub counters: Counters,
@@ -67,6 +68,9 @@ impl Hub {
             events,
             keep,
             started: std::time::Instant::now(),
+            run: std::time::SystemTime::now()
+                .duration_since(std::time::UNIX_EPOCH)
+                .map_or(0, |d| d.as_millis() as u64),
             can_stale_ms,
             counters: Counters::default(),
         })
@@ -75,6 +79,20 @@ impl Hub {
     /// Milliseconds since the daemon started: the core's clock.
     pub fn now(&self) -> Instant {
         Instant::from_millis(self.started.elapsed().as_millis() as u64)
+    }
+
+    /// The SSE id of event `seq`: `<run>-<seq>`, where `run` (the start time in Unix
+    /// milliseconds) tells a resuming client of an earlier run of the daemon from one of
+    /// this run, whose sequence numbers started again at 1.
+    pub fn event_id(&self, seq: u64) -> String {
+        format!("{}-{seq}", self.run)
+    }
+
+    /// The sequence number of a `Last-Event-ID` of this run; `None` for an id of another
+    /// run or one that does not parse (the client is served as a new one).
+    pub fn resume_seq(&self, last_event_id: &str) -> Option<u64> {
+        let (run, seq) = last_event_id.trim().split_once('-')?;
+        (run.parse() == Ok(self.run)).then(|| seq.parse().ok())?
     }
 
     /// Seconds since start.

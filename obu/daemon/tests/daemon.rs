@@ -223,7 +223,10 @@ fn read_events(stream: &mut BufReader<TcpStream>, n: usize) -> Vec<(u64, serde_j
             break;
         }
         if let Some(v) = line.strip_prefix("id:") {
-            id = v.trim().parse().unwrap();
+            // `<run>-<seq>`
+            let (run, seq) = v.trim().split_once('-').expect("run-seq");
+            assert!(run.parse::<u64>().is_ok(), "{v}");
+            id = seq.parse().unwrap();
         } else if let Some(v) = line.strip_prefix("data:") {
             out.push((id, serde_json::from_str(v.trim()).unwrap()));
         }
@@ -231,7 +234,7 @@ fn read_events(stream: &mut BufReader<TcpStream>, n: usize) -> Vec<(u64, serde_j
     out
 }
 
-fn open_events(addr: &str, last_id: Option<u64>) -> BufReader<TcpStream> {
+fn open_events(addr: &str, last_id: Option<&str>) -> BufReader<TcpStream> {
     let mut s = TcpStream::connect(addr).unwrap();
     s.set_read_timeout(Some(Duration::from_secs(5))).unwrap();
     let resume = last_id
@@ -247,6 +250,21 @@ fn open_events(addr: &str, last_id: Option<u64>) -> BufReader<TcpStream> {
     r.read_line(&mut line).unwrap();
     assert!(line.starts_with("HTTP/1.1 200"), "{line}");
     r
+}
+
+/// The run part of the event ids (`<run>-<seq>`) of a daemon with at least one event.
+fn run_of(addr: &str) -> u64 {
+    let mut s = open_events(addr, None);
+    let mut line = String::new();
+    let deadline = Instant::now() + Duration::from_secs(5);
+    while Instant::now() < deadline {
+        line.clear();
+        s.read_line(&mut line).unwrap();
+        if let Some(v) = line.strip_prefix("id:") {
+            return v.trim().split_once('-').unwrap().0.parse().unwrap();
+        }
+    }
+    panic!("no event id");
 }
 
 #[test]
@@ -273,11 +291,27 @@ fn fixes_become_numbered_events_and_a_client_resumes_where_it_left() {
     assert!((state["speed_mps"].as_f64().unwrap() - 20.0 * 0.514444).abs() < 0.01);
     let last_seen = got[2].0;
     drop(events);
-    let mut resumed = open_events(&d.http, Some(last_seen));
+    let run = run_of(&d.http);
+    let mut resumed = open_events(&d.http, Some(&format!("{run}-{last_seen}")));
     let again = read_events(&mut resumed, 2);
     assert_eq!(
         again.iter().map(|e| e.0).collect::<Vec<_>>(),
         vec![last_seen + 1, last_seen + 2]
+    );
+    // An id of an earlier run (its numbers started again at 1 here): served as a new
+    // client, with the newest state first and then every new one.
+    let mut other = open_events(&d.http, Some(&format!("{}-{}", run - 1, 1000)));
+    let newest = read_events(&mut other, 1)[0].0;
+    assert!(
+        (5..1000).contains(&newest),
+        "the newest state, not a replay: {newest}"
+    );
+    gps.send_to(epoch(5).as_bytes(), ("127.0.0.1", gnss_port))
+        .unwrap();
+    assert_eq!(
+        read_events(&mut other, 1)[0].0,
+        newest + 1,
+        "live after the newest"
     );
     gps.send_to(b"$GPGGA,garbage*00\r\n", ("127.0.0.1", gnss_port))
         .unwrap();
