@@ -6,8 +6,11 @@
 //   - env HMI_STATE_DIR: a directory kept across restarts (settings must persist there);
 //   - prints its base URL (e.g. http://127.0.0.1:43123) as the first line of stdout;
 //   - stops on SIGTERM to its process group.
-// Driver contract for HMI_DRIVER_CMD: `sh -c "$HMI_DRIVER_CMD <scene>"` with env HMI_URL; puts
-// the vehicle into that scene and exits 0 once its inputs are being fed (non-zero: unknown scene).
+// Driver contract for HMI_DRIVER_CMD: `sh -c "$HMI_DRIVER_CMD <scene>"` with env HMI_URL and
+// HMI_STATE_DIR (the server's); puts the vehicle into that scene and exits 0 once its inputs
+// are being fed (non-zero: unknown scene).
+// HMI_STANDIN=1 marks the development stand-in: tests of states a real daemon cannot be put
+// into (a silent stream, a state without road_lanes) run only then.
 
 import { spawn } from 'node:child_process';
 import fs from 'node:fs';
@@ -30,6 +33,8 @@ export function env() {
   }
   return { server, driver };
 }
+
+export const STANDIN = process.env.HMI_STANDIN === '1';
 
 export const sleep = (ms) => new Promise((r) => setTimeout(r, ms));
 
@@ -130,12 +135,12 @@ async function waitHealthy(url, timeoutMs) {
 }
 
 /** Runs the driver for one scene; resolves when it exits 0, rejects with its stderr otherwise. */
-export function drive(url, scene, cmd = env().driver) {
+export function drive(url, scene, cmd = env().driver, stateDir = '') {
   return new Promise((resolve, reject) => {
     const p = spawn('sh', ['-c', `${cmd} ${scene}`], {
       cwd: TESTS_DIR,
       stdio: ['ignore', 'ignore', 'pipe'],
-      env: { ...process.env, HMI_URL: url },
+      env: { ...process.env, HMI_URL: url, HMI_STATE_DIR: stateDir },
     });
     let err = '';
     p.stderr.on('data', (d) => { err += d; });

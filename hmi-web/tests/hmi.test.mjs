@@ -2,7 +2,7 @@
 // HMI_DRIVER_CMD (see harness.mjs for both contracts). `npm run test:dev` uses the stand-in.
 import { describe, it, before, after } from 'node:test';
 import assert from 'node:assert/strict';
-import { env, Server, drive, watchEvents, launch, openPage, waitLive, shot, sleep } from './harness.mjs';
+import { env, Server, drive, watchEvents, launch, openPage, waitLive, shot, sleep, STANDIN } from './harness.mjs';
 
 const SCREEN_MS = 500;                                            // server sent it -> on screen
 const GNSS_MS = Number(process.env.HMI_GNSS_DEADLINE_MS || 1000); // dropout -> "No GNSS" on screen
@@ -15,18 +15,9 @@ let ctx;      // default autoplay policy: sound needs a tap, as on a real tablet
 let page;
 let events;
 
-const go = (scene) => drive(url, scene, cfg.driver);
-
-/** Drives a scene that the real driver may not offer; returns false when it does not. */
-async function tryScene(t, scene) {
-  try {
-    await go(scene);
-    return true;
-  } catch (e) {
-    t.skip(`driver has no scene "${scene}" (${e.message.split('\n')[0]})`);
-    return false;
-  }
-}
+const go = (scene) => drive(url, scene, cfg.driver, server.stateDir);
+/** A test of a state only the development stand-in can produce (not registered otherwise). */
+const standInOnly = STANDIN ? it : () => {};
 
 /** Waits until the page shows msg: zone state, primary alert kind and speed text. */
 async function onScreen(p, msg, timeout = 2000) {
@@ -191,18 +182,16 @@ describe('driver display', () => {
     await shot(page, 'lane_closed');
   });
 
-  it('lane closed without road_lanes is still drawn (stand-in scene)', async (t) => {
-    if (!(await tryScene(t, 'lane_closed_fallback'))) return;
+  standInOnly('lane closed without road_lanes is still drawn (stand-in scene)', async () => {
+    await go('lane_closed_fallback');
     const { msg } = await events.waitFor((m) => m.state.primary && m.state.primary.kind === 'LaneClosedOwn' && !(m.state.road_lanes || []).length, 5000);
     await onScreen(page, msg);
     await page.waitForFunction(() => document.querySelectorAll('#lanes g.lane.closed').length >= 1 && document.querySelectorAll('#lanes .car').length === 1);
     assert.equal(await page.textContent('#lanes-note'), 'Lane order approximate');
   });
 
-  it('overspeed: red banner and red speed (stand-in scene)', async (t) => {
-    if (!(await tryScene(t, 'overspeed'))) return;
-    const { msg } = await events.waitFor((m) => m.state.primary && m.state.primary.kind === 'Overspeed', 5000);
-    await onScreen(page, msg);
+  it('overspeed: red banner and red speed', async () => {
+    const { msg } = await sceneOnScreen('overspeed', (m) => m.state.primary && m.state.primary.kind === 'Overspeed', 'Overspeed');
     assert.equal(await page.getAttribute('#speed-box', 'data-over'), 'true');
     assert.match(await page.getAttribute('#alert-banner', 'class'), /sev-red/);
     await shot(page, 'overspeed');
@@ -233,8 +222,8 @@ describe('driver display', () => {
     await page.waitForFunction(() => document.body.dataset.gnss === 'ok', null, { timeout: 5000 });
   });
 
-  it('a silent stream (heartbeats only) is not shown as live (stand-in scene)', async (t) => {
-    if (!(await tryScene(t, 'silent'))) return;
+  standInOnly('a silent stream (heartbeats only) is not shown as live (stand-in scene)', async () => {
+    await go('silent');
     const t0 = performance.now();
     await page.waitForFunction(() => window.hmi.connection() === 'stale', null, { timeout: 4000 });
     const ms = performance.now() - t0;

@@ -1,0 +1,335 @@
+//! The bench of the tablet app's browser tests (`hmi-web/tests`): `hil-sim hmi-server`
+//! runs the real `obu` daemon and feeds it, over its real UDP inputs, a divided road
+//! (three lanes east, two west), a work zone closing the right eastbound lane with a
+//! reduced limit, and a car driving one of the [`SCENES`] at 10 Hz; `hil-sim hmi-drive
+//! SCENE` switches the scene. Both share a control file in the state directory.
+//!
+//! A scene loops the car over a window of stations so that it holds for as long as a
+//! test needs (the zone is valid until further notice).
+
+use crate::clock::{unix_ms_now, Utc};
+use crate::messages::{self, SignSpeed, WorkZone, DURATION_INDEFINITE};
+use crate::nmea::{self, Epoch};
+use crate::road::Road;
+use obu::LatLon;
+use std::io::{BufRead, BufReader, Write};
+use std::net::UdpSocket;
+use std::path::{Path, PathBuf};
+use std::process::{Child, Command, Stdio};
+use std::time::{Duration, Instant};
+
+/// One scene: the car drives `lane` at `speed_mps` from station `from_m` to `to_m`
+/// (metres along the lane from its start) and starts over.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Scene {
+    /// Name used by the driver command.
+    pub name: &'static str,
+    /// Lane driven.
+    pub lane: u8,
+    /// First station of the loop.
+    pub from_m: f64,
+    /// Last station of the loop.
+    pub to_m: f64,
+    /// Speed, m/s.
+    pub speed_mps: f64,
+}
+
+/// Station where the zone starts on lane 3 (and, beside it, on lanes 1 and 2).
+pub const ZONE_START_M: f64 = 1500.0;
+/// Station where it ends.
+pub const ZONE_END_M: f64 = 1700.0;
+
+/// The scenes. With the default settings (warning 100 m, lead time 9 s, approach at 3x
+/// the warning distance, overspeed 5 km/h over the 40 km/h limit): cruise far before the
+/// zone; approach 250-550 m before it at 22 m/s (warning 198 m); warning 10-80 m before
+/// it at 10.5 m/s in lane 2; lane_closed the same in the closed lane 3; overspeed the same
+/// at 16.5 m/s; in_zone inside it; leaving just after it.
+pub const SCENES: &[Scene] = &[
+    Scene {
+        name: "cruise",
+        lane: 2,
+        from_m: 100.0,
+        to_m: 800.0,
+        speed_mps: 22.0,
+    },
+    Scene {
+        name: "approach",
+        lane: 2,
+        from_m: 950.0,
+        to_m: 1250.0,
+        speed_mps: 22.0,
+    },
+    Scene {
+        name: "warning",
+        lane: 2,
+        from_m: 1420.0,
+        to_m: 1490.0,
+        speed_mps: 10.5,
+    },
+    Scene {
+        name: "lane_closed",
+        lane: 3,
+        from_m: 1420.0,
+        to_m: 1490.0,
+        speed_mps: 10.5,
+    },
+    Scene {
+        name: "overspeed",
+        lane: 2,
+        from_m: 1420.0,
+        to_m: 1490.0,
+        speed_mps: 16.5,
+    },
+    Scene {
+        name: "in_zone",
+        lane: 2,
+        from_m: 1520.0,
+        to_m: 1680.0,
+        speed_mps: 10.5,
+    },
+    Scene {
+        name: "leaving",
+        lane: 2,
+        from_m: 1705.0,
+        to_m: 1740.0,
+        speed_mps: 13.0,
+    },
+];
+
+/// Switches that act on top of the scene.
+pub const SWITCHES: &[&str] = &["gnss_lost", "gnss_back"];
+
+/// The scene called `name`.
+pub fn scene(name: &str) -> Option<&'static Scene> {
+    SCENES.iter().find(|s| s.name == name)
+}
+
+impl Scene {
+    /// Station of the car `t_s` seconds into the scene.
+    pub fn station(&self, t_s: f64) -> f64 {
+        let span = (self.to_m - self.from_m).max(1.0);
+        self.from_m + (self.speed_mps * t_s.max(0.0)) % span
+    }
+}
+
+/// The bench road: a divided road east from a point in Denver, 3000 m long.
+pub fn road() -> Road {
+    let reference = LatLon::from_degrees(39.739_2, -104.990_3).unwrap_or_default();
+    Road::straight(reference, 90.0, 3000.0, (3, 2), 3.6, 80.0)
+}
+
+/// The bench zone: lane 3 closed from 1500 to 1700 m, 40 km/h, valid from `start`
+/// until further notice.
+pub fn zone(start: Utc) -> WorkZone {
+    WorkZone {
+        closed_lanes: vec![3],
+        start_m: ZONE_START_M,
+        end_m: ZONE_END_M,
+        speed_limit: Some(SignSpeed {
+            value: 40,
+            mph: false,
+        }),
+        packet_id: *b"HILBENCH1",
+        msg_cnt: 1,
+        start,
+        duration_min: DURATION_INDEFINITE,
+    }
+}
+
+/// What the driver asked for: the scene and whether GNSS is fed.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Control {
+    /// Scene name.
+    pub scene: String,
+    /// False during a GNSS dropout.
+    pub gnss: bool,
+}
+
+impl Control {
+    fn path(dir: &Path) -> PathBuf {
+        dir.join("hil-sim-scene")
+    }
+
+    /// Reads the control file (`cruise` with GNSS when there is none yet).
+    pub fn read(dir: &Path) -> Self {
+        let text = std::fs::read_to_string(Self::path(dir)).unwrap_or_default();
+        let mut words = text.split_whitespace();
+        let scene = words
+            .next()
+            .filter(|s| scene(s).is_some())
+            .unwrap_or("cruise");
+        Self {
+            scene: scene.to_string(),
+            gnss: words.next() != Some("gnss_lost"),
+        }
+    }
+
+    /// Writes it atomically (a reader never sees half a file).
+    pub fn write(&self, dir: &Path) -> std::io::Result<()> {
+        let tmp = dir.join("hil-sim-scene.tmp");
+        let gnss = if self.gnss { "gnss_ok" } else { "gnss_lost" };
+        std::fs::write(&tmp, format!("{} {gnss}\n", self.scene))?;
+        std::fs::rename(tmp, Self::path(dir))
+    }
+}
+
+/// `hil-sim hmi-drive NAME`: switches the scene or GNSS of a running bench.
+pub fn drive(dir: &Path, name: &str) -> Result<(), String> {
+    let mut control = Control::read(dir);
+    match name {
+        "gnss_lost" => control.gnss = false,
+        "gnss_back" => control.gnss = true,
+        _ if scene(name).is_some() => control.scene = name.to_string(),
+        _ => {
+            let names: Vec<_> = SCENES
+                .iter()
+                .map(|s| s.name)
+                .chain(SWITCHES.iter().copied())
+                .collect();
+            return Err(format!(
+                "unknown scene {name:?}; scenes: {}",
+                names.join(", ")
+            ));
+        }
+    }
+    control
+        .write(dir)
+        .map_err(|e| format!("cannot write the control file in {}: {e}", dir.display()))
+}
+
+/// Where the bench runs.
+#[derive(Debug, Clone)]
+pub struct ServerOptions {
+    /// The `obu` executable.
+    pub obu: PathBuf,
+    /// HTTP port of the daemon (0: any).
+    pub port: u16,
+    /// Kept across restarts: the daemon's settings and the control file.
+    pub state_dir: PathBuf,
+}
+
+/// The `obu` executable: `$OBU_BIN`, else `obu` beside this executable, else on the PATH.
+pub fn find_obu() -> PathBuf {
+    if let Some(p) = std::env::var_os("OBU_BIN") {
+        return PathBuf::from(p);
+    }
+    std::env::current_exe()
+        .ok()
+        .and_then(|exe| exe.parent().map(|d| d.join("obu")))
+        .filter(|p| p.is_file())
+        .unwrap_or_else(|| PathBuf::from("obu"))
+}
+
+/// The daemon's configuration for the bench.
+fn obu_config(opts: &ServerOptions, gnss_port: u16) -> String {
+    let settings = opts.state_dir.join("obu-settings.json");
+    format!(
+        "[v2x]\nbind = \"127.0.0.1:0\"\n\n[gnss]\nsource = \"nmea-udp\"\naddress = \"127.0.0.1:{gnss_port}\"\n\n\
+         [http]\nbind = \"127.0.0.1:{port}\"\nsettings_file = {settings:?}\n",
+        port = opts.port,
+    )
+}
+
+/// A UDP port free right now on the loopback interface.
+fn free_udp_port() -> Result<u16, String> {
+    let s = UdpSocket::bind("127.0.0.1:0").map_err(|e| e.to_string())?;
+    s.local_addr().map(|a| a.port()).map_err(|e| e.to_string())
+}
+
+/// The running daemon and where it listens.
+struct Daemon {
+    child: Child,
+    http: String,
+    v2x: String,
+}
+
+impl Daemon {
+    /// Starts `obu` and reads its first line (`obu: http://ADDR v2x udp ADDR`).
+    fn start(opts: &ServerOptions, config: &Path) -> Result<Self, String> {
+        let mut child = Command::new(&opts.obu)
+            .arg("--config")
+            .arg(config)
+            .stdout(Stdio::piped())
+            .stderr(Stdio::inherit())
+            .spawn()
+            .map_err(|e| format!("cannot start {}: {e} (set OBU_BIN)", opts.obu.display()))?;
+        let stdout = child.stdout.take().ok_or("no stdout")?;
+        let mut line = String::new();
+        BufReader::new(stdout)
+            .read_line(&mut line)
+            .map_err(|e| format!("reading the daemon's first line: {e}"))?;
+        let words: Vec<&str> = line.split_whitespace().collect();
+        match words.as_slice() {
+            ["obu:", http, "v2x", "udp", v2x] => Ok(Self {
+                http: http.to_string(),
+                v2x: v2x.to_string(),
+                child,
+            }),
+            _ => {
+                let _ = child.kill();
+                Err(format!("the daemon printed {line:?}, not its addresses"))
+            }
+        }
+    }
+}
+
+/// `hil-sim hmi-server`: starts the daemon, prints its URL as the first line, then feeds
+/// it at 10 Hz until it exits (a SIGTERM to the process group stops both).
+pub fn serve(opts: &ServerOptions) -> Result<(), String> {
+    std::fs::create_dir_all(&opts.state_dir).map_err(|e| e.to_string())?;
+    let gnss_port = free_udp_port()?;
+    let config = opts.state_dir.join("obu.toml");
+    std::fs::write(&config, obu_config(opts, gnss_port)).map_err(|e| e.to_string())?;
+    let mut daemon = Daemon::start(opts, &config)?;
+    println!("{}", daemon.http);
+    std::io::stdout().flush().map_err(|e| e.to_string())?;
+
+    let road = road();
+    let start = Utc::from_unix_ms(unix_ms_now().saturating_sub(120_000));
+    let zone = zone(start);
+    let built = messages::build_map(&road, 1501, 1, Some(&zone))
+        .and_then(|map| Ok((map, messages::build_tim(&road, &zone)?)));
+    let (map, tim) = built.map_err(|e| format!("building the bench's MAP and TIM: {e}"))?;
+    let map = messages::encode(&map).map_err(|e| e.to_string())?;
+    let tim = messages::encode(&tim).map_err(|e| e.to_string())?;
+    let sock = UdpSocket::bind("127.0.0.1:0").map_err(|e| e.to_string())?;
+    let gnss = format!("127.0.0.1:{gnss_port}");
+
+    let tick = Duration::from_millis(100);
+    let mut next = Instant::now();
+    let mut current = Control::read(&opts.state_dir);
+    let mut since = Instant::now();
+    loop {
+        if let Ok(Some(status)) = daemon.child.try_wait() {
+            return Err(format!("the daemon exited: {status}"));
+        }
+        let control = Control::read(&opts.state_dir);
+        if control.scene != current.scene {
+            since = Instant::now();
+        }
+        current = control;
+        // Datagrams lost on the loopback are part of radio life; nothing to retry.
+        let _ = sock.send_to(&map, &daemon.v2x);
+        let _ = sock.send_to(&tim, &daemon.v2x);
+        if current.gnss {
+            if let Some(e) = car_epoch(&road, &current.scene, since.elapsed().as_secs_f64()) {
+                let _ = sock.send_to(nmea::epoch(&e).as_bytes(), &gnss);
+            }
+        }
+        next += tick;
+        std::thread::sleep(next.saturating_duration_since(Instant::now()));
+    }
+}
+
+/// The receiver's epoch for the car `t_s` seconds into `scene`, now.
+pub fn car_epoch(road: &Road, scene_name: &str, t_s: f64) -> Option<Epoch> {
+    let s = scene(scene_name)?;
+    let on = road.lane(s.lane)?.at(s.station(t_s))?;
+    Some(Epoch {
+        utc: Utc::now(),
+        position: road.to_wgs84(on.point)?,
+        speed_mps: s.speed_mps,
+        course_deg: on.bearing_deg,
+        sigma_m: 0.3,
+    })
+}

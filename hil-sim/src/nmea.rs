@@ -1,0 +1,128 @@
+//! NMEA 0183 sentences of a simulated GNSS receiver: GGA (position), RMC (speed, course,
+//! date) and GST (accuracy), with checksums, in the order that lets a receiver-side
+//! assembler complete one fix per epoch (GST, GGA, RMC).
+
+use crate::clock::Utc;
+use obu::LatLon;
+use std::fmt::Write;
+
+/// One epoch of a simulated receiver.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Epoch {
+    /// Time of the fix.
+    pub utc: Utc,
+    /// Position.
+    pub position: LatLon,
+    /// Speed over ground, m/s.
+    pub speed_mps: f64,
+    /// Course over ground, degrees true.
+    pub course_deg: f64,
+    /// 1-sigma horizontal error the receiver reports, metres (split evenly over latitude
+    /// and longitude in GST).
+    pub sigma_m: f64,
+}
+
+/// `$..*hh\r\n` around a body: the checksum is the XOR of the body's bytes.
+pub fn sentence(body: &str) -> String {
+    let sum = body.bytes().fold(0u8, |a, b| a ^ b);
+    format!("${body}*{sum:02X}\r\n")
+}
+
+/// hhmmss.ss of a time of day.
+fn hms(utc: &Utc) -> String {
+    let cs = utc.ms_of_day / 10;
+    let (h, m, s, c) = (cs / 360_000, cs / 6000 % 60, cs / 100 % 60, cs % 100);
+    format!("{h:02}{m:02}{s:02}.{c:02}")
+}
+
+/// ddmm.mmmmmm,N / dddmm.mmmmmm,E of a position (7 decimals of minutes: ~2 mm).
+fn lat_lon(p: LatLon) -> String {
+    let part = |deg: f64, width: usize, pos: char, neg: char| {
+        let hemi = if deg < 0.0 { neg } else { pos };
+        let a = deg.abs();
+        let mut d = a.trunc();
+        let mut min = (a - d) * 60.0;
+        if (min * 1e7).round() >= 60.0 * 1e7 {
+            d += 1.0;
+            min = 0.0;
+        }
+        format!("{:0w$}{:010.7},{hemi}", d as u32, min, w = width)
+    };
+    format!(
+        "{},{}",
+        part(p.lat_deg(), 2, 'N', 'S'),
+        part(p.lon_deg(), 3, 'E', 'W')
+    )
+}
+
+/// The GST, GGA and RMC sentences of one epoch (fix quality 1, 12 satellites, HDOP 0.8).
+pub fn epoch(e: &Epoch) -> String {
+    let t = hms(&e.utc);
+    let sd = e.sigma_m / std::f64::consts::SQRT_2;
+    let mut out = String::new();
+    out.push_str(&sentence(&format!(
+        "GPGST,{t},{rms:.2},{sd:.2},{sd:.2},0.0,{sd:.2},{sd:.2},{alt:.2}",
+        rms = e.sigma_m,
+        alt = 2.0 * e.sigma_m
+    )));
+    out.push_str(&sentence(&format!(
+        "GPGGA,{t},{pos},1,12,0.8,1600.0,M,-17.0,M,,",
+        pos = lat_lon(e.position)
+    )));
+    let knots = e.speed_mps.max(0.0) / 0.514_444;
+    let date = format!("{:02}{:02}{:02}", e.utc.day, e.utc.month, e.utc.year % 100);
+    let mut rmc = String::new();
+    let _ = write!(
+        rmc,
+        "GPRMC,{t},A,{pos},{knots:.2},{course:.1},{date},,,A",
+        pos = lat_lon(e.position),
+        course = e.course_deg.rem_euclid(360.0)
+    );
+    out.push_str(&sentence(&rmc));
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use obu::input::nmea::{parse, FixAssembler};
+
+    #[test]
+    fn checksum_of_a_known_sentence() {
+        // The GGA example of the NMEA 0183 literature with its published checksum 47.
+        assert_eq!(
+            sentence("GPGGA,123519,4807.038,N,01131.000,E,1,08,0.9,545.4,M,46.9,M,,"),
+            "$GPGGA,123519,4807.038,N,01131.000,E,1,08,0.9,545.4,M,46.9,M,,*47\r\n"
+        );
+    }
+
+    #[test]
+    fn the_obu_parser_reads_an_epoch_back() {
+        let position = LatLon::from_degrees(-33.8688197, 151.2092955).unwrap();
+        let utc = Utc::from_unix_ms(1_763_784_961_500);
+        let text = epoch(&Epoch {
+            utc,
+            position,
+            speed_mps: 22.0,
+            course_deg: 91.5,
+            sigma_m: 0.5,
+        });
+        let mut asm = FixAssembler::new();
+        let fixes: Vec<_> = text
+            .lines()
+            .filter_map(|l| asm.push(&parse(l).unwrap()))
+            .collect();
+        assert_eq!(fixes.len(), 1, "one fix per epoch");
+        let f = fixes[0];
+        assert!((f.position.lat_e7() - position.lat_e7()).abs() <= 2);
+        assert!((f.position.lon_e7() - position.lon_e7()).abs() <= 2);
+        assert!((f.speed_mps.unwrap() - 22.0).abs() < 0.01);
+        assert!((f.course_deg.unwrap() - 91.5).abs() < 0.01);
+        assert!((f.accuracy_m.unwrap() - 0.5).abs() < 0.01);
+        let u = f.utc.expect("date and time");
+        assert_eq!(
+            u,
+            obu::input::nmea::utc_from_date(2025, 11, 22, utc.ms_of_day).unwrap()
+        );
+    }
+}

@@ -1,0 +1,105 @@
+//! The HMI bench's road, zone and scenes through the OBU core (the same MAP/TIM bytes and
+//! NMEA text the daemon receives): every scene shows what its name promises.
+
+use hil_sim::clock::Utc;
+use hil_sim::hmi_bench::{self, SCENES};
+use hil_sim::{messages, nmea};
+use obu::alert::{AlertKind, LaneAdvice, ZoneState};
+use obu::input::nmea::{parse, FixAssembler};
+use obu::{HmiState, Instant, Obu};
+
+/// 2026-11-22T10:00:00Z.
+const NOW_MS: u64 = 1_795_341_600_000;
+
+/// A unit that received the bench's MAP and TIM (decoded from their UPER bytes).
+fn unit() -> Box<Obu> {
+    let road = hmi_bench::road();
+    let zone = hmi_bench::zone(Utc::from_unix_ms(NOW_MS - 120_000));
+    let map = messages::encode(&messages::build_map(&road, 1501, 1, Some(&zone)).unwrap()).unwrap();
+    let tim = messages::encode(&messages::build_tim(&road, &zone).unwrap()).unwrap();
+    let mut obu = Box::new(Obu::new(obu::AlertConfig::DEFAULT));
+    for bytes in [map, tim] {
+        let frame: j2735::message_frame::MessageFrame = j2735::uper::decode(&bytes).unwrap();
+        obu.on_frame(Instant::ZERO, &frame)
+            .expect("the core takes the bench's messages");
+    }
+    // One zone per TIM data frame: the closure and the speed limit.
+    assert_eq!((obu.maps().len(), obu.zones().len()), (1, 2));
+    obu
+}
+
+/// Drives `scene` for `secs` at 10 Hz through NMEA text; returns the states.
+fn drive(obu: &mut Obu, scene: &str, secs: f64) -> Vec<HmiState> {
+    let road = hmi_bench::road();
+    let mut asm = FixAssembler::new();
+    let mut out = Vec::new();
+    for k in 0..(secs * 10.0) as u64 {
+        let t = k as f64 * 0.1;
+        let mut epoch = hmi_bench::car_epoch(&road, scene, t).unwrap();
+        epoch.utc = Utc::from_unix_ms(NOW_MS + k * 100);
+        for line in nmea::epoch(&epoch).lines() {
+            if let Some(fix) = asm.push(&parse(line).unwrap()) {
+                out.push(obu.on_fix(Instant::from_millis(k * 100), fix));
+            }
+        }
+    }
+    out
+}
+
+fn kind(s: &HmiState) -> Option<AlertKind> {
+    s.primary.map(|a| a.kind)
+}
+
+#[test]
+fn every_scene_shows_its_state() {
+    for scene in SCENES {
+        let mut obu = unit();
+        let states = drive(&mut obu, scene.name, 20.0);
+        // Past the lane matcher's settling (first second), every state is the scene's.
+        for s in &states[10..] {
+            let ok = match scene.name {
+                "cruise" => s.zone_state == ZoneState::None && s.primary.is_none(),
+                "approach" => s.zone_state == ZoneState::Approaching,
+                "warning" => {
+                    s.zone_state == ZoneState::Warning
+                        && kind(s) == Some(AlertKind::ReducedSpeedAhead)
+                        && s.others
+                            .iter()
+                            .any(|a| a.kind == AlertKind::LaneClosedOther)
+                }
+                "lane_closed" => {
+                    kind(s) == Some(AlertKind::LaneClosedOwn) && s.advice == LaneAdvice::MoveLeft
+                }
+                "overspeed" => kind(s) == Some(AlertKind::Overspeed),
+                "in_zone" => s.zone_state == ZoneState::InZone && s.reduced_limit,
+                "leaving" => s.zone_state == ZoneState::Leaving,
+                other => panic!("scene {other} has no expectation here"),
+            };
+            assert!(ok, "{}: {s:?}", scene.name);
+            assert!(
+                s.gnss_ok && s.lane.is_some_and(|l| l.lane == scene.lane),
+                "{}: {s:?}",
+                scene.name
+            );
+            assert_eq!(&s.road_lanes[..], &[1u8, 2, 3][..], "{}", scene.name);
+            if matches!(
+                s.zone_state,
+                ZoneState::Warning | ZoneState::InZone | ZoneState::Approaching
+            ) {
+                assert_eq!(&s.closed_lanes[..], &[3u8][..], "{}", scene.name);
+            }
+        }
+    }
+}
+
+#[test]
+fn the_zone_limit_and_the_road_limit() {
+    let mut obu = unit();
+    let cruise = drive(&mut obu, "cruise", 2.0);
+    let limit = cruise.last().unwrap().speed_limit_mps.unwrap();
+    assert!((limit - 80.0 / 3.6).abs() < 0.05, "road limit {limit}");
+    let mut obu = unit();
+    let inside = drive(&mut obu, "in_zone", 2.0);
+    let limit = inside.last().unwrap().speed_limit_mps.unwrap();
+    assert!((limit - 40.0 / 3.6).abs() < 0.05, "zone limit {limit}");
+}
