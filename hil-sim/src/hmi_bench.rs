@@ -8,14 +8,14 @@
 //! test needs (the zone is valid until further notice).
 
 use crate::clock::{unix_ms_now, Utc};
+use crate::daemon::Daemon;
 use crate::messages::{self, SignSpeed, WorkZone, DURATION_INDEFINITE};
 use crate::nmea::{self, Epoch};
 use crate::road::Road;
 use obu::LatLon;
-use std::io::{BufRead, BufReader, Write};
+use std::io::Write;
 use std::net::UdpSocket;
 use std::path::{Path, PathBuf};
-use std::process::{Child, Command, Stdio};
 use std::time::{Duration, Instant};
 
 /// One scene: the car drives `lane` at `speed_mps` from station `from_m` to `to_m`
@@ -208,93 +208,78 @@ pub struct ServerOptions {
     pub state_dir: PathBuf,
 }
 
-/// The `obu` executable: `$OBU_BIN`, else `obu` beside this executable, else on the PATH.
-pub fn find_obu() -> PathBuf {
-    if let Some(p) = std::env::var_os("OBU_BIN") {
-        return PathBuf::from(p);
-    }
-    std::env::current_exe()
-        .ok()
-        .and_then(|exe| exe.parent().map(|d| d.join("obu")))
-        .filter(|p| p.is_file())
-        .unwrap_or_else(|| PathBuf::from("obu"))
-}
-
-/// The daemon's configuration for the bench.
-fn obu_config(opts: &ServerOptions, gnss_port: u16) -> String {
-    let settings = opts.state_dir.join("obu-settings.json");
-    format!(
-        "[v2x]\nbind = \"127.0.0.1:0\"\n\n[gnss]\nsource = \"nmea-udp\"\naddress = \"127.0.0.1:{gnss_port}\"\n\n\
-         [http]\nbind = \"127.0.0.1:{port}\"\nsettings_file = {settings:?}\n",
-        port = opts.port,
-    )
-}
-
-/// A UDP port free right now on the loopback interface.
-fn free_udp_port() -> Result<u16, String> {
-    let s = UdpSocket::bind("127.0.0.1:0").map_err(|e| e.to_string())?;
-    s.local_addr().map(|a| a.port()).map_err(|e| e.to_string())
-}
-
-/// The running daemon and where it listens.
-struct Daemon {
-    child: Child,
-    http: String,
-    v2x: String,
-}
-
-impl Daemon {
-    /// Starts `obu` and reads its first line (`obu: http://ADDR v2x udp ADDR`).
-    fn start(opts: &ServerOptions, config: &Path) -> Result<Self, String> {
-        let mut child = Command::new(&opts.obu)
-            .arg("--config")
-            .arg(config)
-            .stdout(Stdio::piped())
-            .stderr(Stdio::inherit())
-            .spawn()
-            .map_err(|e| format!("cannot start {}: {e} (set OBU_BIN)", opts.obu.display()))?;
-        let stdout = child.stdout.take().ok_or("no stdout")?;
-        let mut line = String::new();
-        BufReader::new(stdout)
-            .read_line(&mut line)
-            .map_err(|e| format!("reading the daemon's first line: {e}"))?;
-        let words: Vec<&str> = line.split_whitespace().collect();
-        match words.as_slice() {
-            ["obu:", http, "v2x", "udp", v2x] => Ok(Self {
-                http: http.to_string(),
-                v2x: v2x.to_string(),
-                child,
-            }),
-            _ => {
-                let _ = child.kill();
-                Err(format!("the daemon printed {line:?}, not its addresses"))
-            }
-        }
-    }
-}
-
-/// `hil-sim hmi-server`: starts the daemon, prints its URL as the first line, then feeds
-/// it at 10 Hz until it exits (a SIGTERM to the process group stops both).
-pub fn serve(opts: &ServerOptions) -> Result<(), String> {
-    std::fs::create_dir_all(&opts.state_dir).map_err(|e| e.to_string())?;
-    let gnss_port = free_udp_port()?;
-    let config = opts.state_dir.join("obu.toml");
-    std::fs::write(&config, obu_config(opts, gnss_port)).map_err(|e| e.to_string())?;
-    let mut daemon = Daemon::start(opts, &config)?;
-    println!("{}", daemon.http);
-    std::io::stdout().flush().map_err(|e| e.to_string())?;
-
+/// The bench's MAP and TIM as UPER bytes, the zone valid from two minutes ago.
+pub fn bench_messages() -> Result<(Vec<u8>, Vec<u8>), String> {
     let road = road();
-    let start = Utc::from_unix_ms(unix_ms_now().saturating_sub(120_000));
-    let zone = zone(start);
+    let zone = zone(Utc::from_unix_ms(unix_ms_now().saturating_sub(120_000)));
     let built = messages::build_map(&road, 1501, 1, Some(&zone))
         .and_then(|map| Ok((map, messages::build_tim(&road, &zone)?)));
     let (map, tim) = built.map_err(|e| format!("building the bench's MAP and TIM: {e}"))?;
     let map = messages::encode(&map).map_err(|e| e.to_string())?;
     let tim = messages::encode(&tim).map_err(|e| e.to_string())?;
-    let sock = UdpSocket::bind("127.0.0.1:0").map_err(|e| e.to_string())?;
-    let gnss = format!("127.0.0.1:{gnss_port}");
+    Ok((map, tim))
+}
 
+/// Sends the bench's inputs to a daemon: MAP and TIM to its V2X port and the car's NMEA
+/// epoch to its GNSS port, one tick at a time.
+#[derive(Debug)]
+pub struct Feeder {
+    sock: UdpSocket,
+    road: Road,
+    map: Vec<u8>,
+    tim: Vec<u8>,
+}
+
+impl Feeder {
+    /// A feeder of the bench road and zone.
+    pub fn new() -> Result<Self, String> {
+        let (map, tim) = bench_messages()?;
+        let sock = UdpSocket::bind("127.0.0.1:0").map_err(|e| e.to_string())?;
+        Ok(Self {
+            sock,
+            road: road(),
+            map,
+            tim,
+        })
+    }
+
+    /// One tick: MAP and TIM, then (unless `gnss` is false) the epoch of the car `t_s`
+    /// seconds into `scene`. Datagrams lost on the way are part of radio life: no retry.
+    pub fn tick(&self, daemon: &Daemon, scene: &str, t_s: f64, gnss: bool) {
+        let _ = self.sock.send_to(&self.map, &daemon.v2x);
+        let _ = self.sock.send_to(&self.tim, &daemon.v2x);
+        if gnss {
+            self.send_epoch(daemon, scene, t_s);
+        }
+    }
+
+    /// Only the NMEA epoch of the car `t_s` seconds into `scene` (one datagram).
+    pub fn send_epoch(&self, daemon: &Daemon, scene: &str, t_s: f64) {
+        if let Some(e) = car_epoch(&self.road, scene, t_s) {
+            let _ = self.sock.send_to(nmea::epoch(&e).as_bytes(), &daemon.gnss);
+        }
+    }
+}
+
+/// Starts the daemon for the bench: HTTP on `port`, state in `state_dir`.
+pub fn start_daemon(
+    obu: &Path,
+    state_dir: &Path,
+    port: u16,
+    extra: &str,
+) -> Result<Daemon, String> {
+    let gnss_port = crate::daemon::free_udp_port()?;
+    let text = crate::daemon::config(state_dir, gnss_port, port, extra);
+    Daemon::start(obu, state_dir, &text, gnss_port)
+}
+
+/// `hil-sim hmi-server`: starts the daemon, prints its URL as the first line, then feeds
+/// it at 10 Hz until it exits (a SIGTERM to the process group stops both).
+pub fn serve(opts: &ServerOptions) -> Result<(), String> {
+    let mut daemon = start_daemon(&opts.obu, &opts.state_dir, opts.port, "")?;
+    println!("{}", daemon.http);
+    std::io::stdout().flush().map_err(|e| e.to_string())?;
+    let feeder = Feeder::new()?;
     let tick = Duration::from_millis(100);
     let mut next = Instant::now();
     let mut current = Control::read(&opts.state_dir);
@@ -308,14 +293,12 @@ pub fn serve(opts: &ServerOptions) -> Result<(), String> {
             since = Instant::now();
         }
         current = control;
-        // Datagrams lost on the loopback are part of radio life; nothing to retry.
-        let _ = sock.send_to(&map, &daemon.v2x);
-        let _ = sock.send_to(&tim, &daemon.v2x);
-        if current.gnss {
-            if let Some(e) = car_epoch(&road, &current.scene, since.elapsed().as_secs_f64()) {
-                let _ = sock.send_to(nmea::epoch(&e).as_bytes(), &gnss);
-            }
-        }
+        feeder.tick(
+            &daemon,
+            &current.scene,
+            since.elapsed().as_secs_f64(),
+            current.gnss,
+        );
         next += tick;
         std::thread::sleep(next.saturating_duration_since(Instant::now()));
     }

@@ -7,11 +7,16 @@
 //!   at UTC times.
 //! - [`hmi_bench`]: the test bench of the tablet app's browser tests: it runs the real `obu`
 //!   daemon and feeds it a consistent road, work zone and drive, scene by scene.
+//! - [`perf`]: the daemon's latency (UDP datagram in -> SSE event out) and its load test
+//!   (many tablets), both against the real process ([`daemon`], [`sse`]).
 #![forbid(unsafe_code)]
 #![warn(missing_docs)]
 
 pub mod clock;
+pub mod daemon;
 pub mod hmi_bench;
 pub mod messages;
 pub mod nmea;
+pub mod perf;
 pub mod road;
+pub mod sse;

@@ -1,0 +1,129 @@
+//! The real `obu` daemon as a child process: started with a configuration written for
+//! the bench, its addresses read from its first line, stopped with SIGTERM semantics on
+//! drop (kill, then reap).
+
+use std::io::{BufRead, BufReader};
+use std::net::UdpSocket;
+use std::path::{Path, PathBuf};
+use std::process::{Child, Command, Stdio};
+
+/// The `obu` executable: `$OBU_BIN`, else `obu` beside this executable, else on the PATH.
+pub fn find_obu() -> PathBuf {
+    if let Some(p) = std::env::var_os("OBU_BIN") {
+        return PathBuf::from(p);
+    }
+    std::env::current_exe()
+        .ok()
+        .and_then(|exe| exe.parent().map(|d| d.join("obu")))
+        .filter(|p| p.is_file())
+        .unwrap_or_else(|| PathBuf::from("obu"))
+}
+
+/// A UDP port free right now on the loopback interface.
+pub fn free_udp_port() -> Result<u16, String> {
+    let s = UdpSocket::bind("127.0.0.1:0").map_err(|e| e.to_string())?;
+    s.local_addr().map(|a| a.port()).map_err(|e| e.to_string())
+}
+
+/// The daemon's configuration: V2X on any loopback port, NMEA over UDP on `gnss_port`,
+/// HTTP on `http_port` (0: any), settings in `state_dir`, plus `extra` TOML tables.
+pub fn config(state_dir: &Path, gnss_port: u16, http_port: u16, extra: &str) -> String {
+    let settings = state_dir.join("obu-settings.json");
+    format!(
+        "[v2x]\nbind = \"127.0.0.1:0\"\n\n[gnss]\nsource = \"nmea-udp\"\naddress = \"127.0.0.1:{gnss_port}\"\n\n\
+         [http]\nbind = \"127.0.0.1:{http_port}\"\nsettings_file = {settings:?}\n{extra}"
+    )
+}
+
+/// A running daemon.
+#[derive(Debug)]
+pub struct Daemon {
+    /// The process.
+    pub child: Child,
+    /// Base URL of the tablet app, e.g. `http://127.0.0.1:8080`.
+    pub http: String,
+    /// UDP address of the V2X input.
+    pub v2x: String,
+    /// UDP address of the NMEA input.
+    pub gnss: String,
+}
+
+impl Daemon {
+    /// Writes `config_text` to `state_dir/obu.toml`, starts `obu` with it and reads its
+    /// first line (`obu: http://ADDR v2x udp ADDR`). `gnss_port` is the one in the config.
+    pub fn start(
+        obu: &Path,
+        state_dir: &Path,
+        config_text: &str,
+        gnss_port: u16,
+    ) -> Result<Self, String> {
+        std::fs::create_dir_all(state_dir).map_err(|e| format!("{}: {e}", state_dir.display()))?;
+        let config = state_dir.join("obu.toml");
+        std::fs::write(&config, config_text).map_err(|e| format!("{}: {e}", config.display()))?;
+        let mut child = Command::new(obu)
+            .arg("--config")
+            .arg(&config)
+            .stdout(Stdio::piped())
+            .stderr(Stdio::inherit())
+            .spawn()
+            .map_err(|e| {
+                format!(
+                    "cannot start {}: {e} (build it, or set OBU_BIN)",
+                    obu.display()
+                )
+            })?;
+        let stdout = child.stdout.take().ok_or("no stdout")?;
+        let mut line = String::new();
+        BufReader::new(stdout)
+            .read_line(&mut line)
+            .map_err(|e| format!("reading the daemon's first line: {e}"))?;
+        let words: Vec<&str> = line.split_whitespace().collect();
+        match words.as_slice() {
+            ["obu:", http, "v2x", "udp", v2x] => Ok(Self {
+                http: http.to_string(),
+                v2x: v2x.to_string(),
+                gnss: format!("127.0.0.1:{gnss_port}"),
+                child,
+            }),
+            _ => {
+                let _ = child.kill();
+                let _ = child.wait();
+                Err(format!("the daemon printed {line:?}, not its addresses"))
+            }
+        }
+    }
+
+    /// `host:port` of the HTTP server.
+    pub fn http_addr(&self) -> &str {
+        self.http.trim_start_matches("http://")
+    }
+
+    /// CPU time the process used so far (user + system), seconds, from `/proc`.
+    pub fn cpu_seconds(&self) -> Option<f64> {
+        let stat = std::fs::read_to_string(format!("/proc/{}/stat", self.child.id())).ok()?;
+        // Fields after the command name (which may hold spaces) close with ')'.
+        let rest = &stat[stat.rfind(')')? + 2..];
+        let fields: Vec<&str> = rest.split_whitespace().collect();
+        let (utime, stime): (f64, f64) =
+            (fields.get(11)?.parse().ok()?, fields.get(12)?.parse().ok()?);
+        Some((utime + stime) / clock_ticks_per_second())
+    }
+}
+
+impl Drop for Daemon {
+    fn drop(&mut self) {
+        let _ = self.child.kill();
+        let _ = self.child.wait();
+    }
+}
+
+/// `getconf CLK_TCK` (100 on Linux unless told otherwise).
+fn clock_ticks_per_second() -> f64 {
+    Command::new("getconf")
+        .arg("CLK_TCK")
+        .output()
+        .ok()
+        .and_then(|o| String::from_utf8(o.stdout).ok())
+        .and_then(|s| s.trim().parse().ok())
+        .unwrap_or(100.0)
+}
