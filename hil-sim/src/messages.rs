@@ -487,3 +487,46 @@ fn from_jer(jer: &Value) -> Result<Box<MessageFrame>, BuildError> {
 pub fn encode(frame: &MessageFrame) -> Result<Vec<u8>, BuildError> {
     j2735::uper::encode_to_vec(frame).map_err(|e| BuildError::Codec(e.to_string()))
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn heading_slices_of_the_cardinal_directions() {
+        // East (90 degrees): sectors 3 and 4 (67.5-112.5), the first bit being sector 0.
+        assert_eq!(heading_slice(&[90.0]), 0x1800);
+        // West: sectors 11 and 12, the `0018` of J2735 work-zone examples.
+        assert_eq!(heading_slice(&[270.0]), 0x0018);
+        // North wraps: sectors 15 and 0.
+        assert_eq!(heading_slice(&[0.0]), 0x8001);
+        // 80 degrees: sector 3 holds it; sectors 2 and 4 come within 20 degrees.
+        assert_eq!(heading_slice(&[80.0]), 0x3800);
+    }
+
+    #[test]
+    fn node_forms_are_the_smallest_that_fit() {
+        let form = |m: f64| {
+            node_xy(1, [0.0, 0.0], [m, 0.0])
+                .unwrap()
+                .as_object()
+                .unwrap()
+                .keys()
+                .next()
+                .cloned()
+                .unwrap()
+        };
+        assert_eq!(form(5.11), "node-XY1");
+        assert_eq!(form(5.12), "node-XY2");
+        assert_eq!(form(10.24), "node-XY3");
+        assert_eq!(form(20.47), "node-XY3");
+        assert_eq!(form(20.48), "node-XY4");
+        assert_eq!(form(40.96), "node-XY5");
+        assert_eq!(form(81.92), "node-XY6");
+        assert_eq!(form(327.67), "node-XY6");
+        assert!(matches!(
+            node_xy(7, [0.0, 0.0], [327.68, 0.0]),
+            Err(BuildError::OffsetTooLarge { lane: 7, .. })
+        ));
+    }
+}

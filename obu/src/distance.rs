@@ -34,6 +34,8 @@ pub enum DistanceSource {
     LaneGeometry,
     /// Along the zone's own path.
     Path,
+    /// Along the heading to the edge of a circle region.
+    Circle,
 }
 
 /// Distance to one zone.
@@ -201,6 +203,18 @@ fn via_path(
     let mut best: Option<ZoneDistance> = None;
     for region in zone.regions.iter() {
         let p = region.frame().to_local(position);
+        if let Some((entry, chord)) = region.circle_crossing(p, heading) {
+            let d = ZoneDistance {
+                distance_m: entry,
+                length_m: chord,
+                on_zone_lane: false,
+                source: DistanceSource::Circle,
+            };
+            if best.is_none_or(|b| rank((entry, chord)) < rank((b.distance_m, b.length_m))) {
+                best = Some(d);
+            }
+            continue;
+        }
         let Some(fit) = region.fit(p) else { continue };
         if !region.applies_to(heading, fit.bearing_deg)
             || fit.lateral.abs() > region.lane_width_m * 0.5 + reach

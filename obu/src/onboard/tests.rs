@@ -220,3 +220,52 @@ fn road_lanes_left_to_right_in_the_direction_of_travel() {
     let s = drive(&mut obu, 100, 400.0, 300.0, 15.0);
     assert!(s.lane.is_none() && s.road_lanes.is_empty());
 }
+
+#[test]
+fn circle_region_warns_along_the_heading() {
+    use crate::zone::{ContentKind, Region, ZoneInfo};
+    let mut obu = obu_with(false);
+    let key = ZoneKey::packet([2; 9], 0);
+    let r = obu.update_zone(Instant::ZERO, key, 1, testutil::validity(), |z| {
+        // Workers within 40 m of a point on lane 2 at y = 600 m; 25 mph.
+        let _ = z.push_region(Region::circle(
+            testutil::at(Point::new(0.0, 600.0)),
+            1600.0,
+            40.0,
+        ));
+        let mut info = ZoneInfo::new(ContentKind::WorkZone);
+        for c in [1025, 268, 12569, 8720] {
+            info.push_itis(c);
+        }
+        z.info = info;
+        Ok::<(), ModelError>(())
+    });
+    assert_eq!(r, Ok(true));
+    let s = drive(&mut obu, 0, 0.0, 300.0, 10.0);
+    assert_eq!(s.zone_state, ZoneState::Approaching);
+    assert!(
+        s.distance_m.is_some_and(|d| (d - 260.0).abs() < 0.5),
+        "{s:?}"
+    );
+    let s = drive(&mut obu, 100, 0.0, 500.0, 10.0);
+    assert_eq!(s.zone_state, ZoneState::Warning);
+    assert_eq!(
+        s.primary.map(|a| a.kind),
+        Some(AlertKind::ReducedSpeedAhead)
+    );
+    let s = drive(&mut obu, 200, 0.0, 600.0, 10.0);
+    assert_eq!(s.zone_state, ZoneState::InZone);
+    // Southbound on lane 4 at x = -7, past the circle's centre line: it is 7 m aside,
+    // so the line of travel crosses it as well (the slice allows every heading).
+    let s = obu.on_fix(
+        Instant::from_millis(300),
+        Fix {
+            course_deg: Some(180.0),
+            ..fix_at(-7.0, 800.0, 10.0)
+        },
+    );
+    assert!(
+        s.distance_m.is_some_and(|d| d > 150.0 && d < 170.0),
+        "{s:?}"
+    );
+}

@@ -168,6 +168,28 @@ impl Region {
         self.length_m
     }
 
+    /// For a circle: where a vehicle at `p` (metres from the centre) heading
+    /// `heading_deg` meets it, as (metres along the heading to the edge, negative once
+    /// inside or past; chord length). `None` for a path, a heading outside the heading
+    /// slice, or a line of travel that misses the circle.
+    pub fn circle_crossing(&self, p: Point, heading_deg: f32) -> Option<(f32, f32)> {
+        let radius = self.radius()?;
+        if !self.heading.contains(heading_deg) || !p.is_finite() {
+            return None;
+        }
+        let h = heading_deg.to_radians();
+        let (ux, uy) = (libm::sinf(h), libm::cosf(h));
+        // The centre seen from the vehicle: ahead by `along`, aside by `aside`.
+        let along = -(p.x * ux + p.y * uy);
+        let aside = p.x * uy - p.y * ux;
+        let half2 = radius * radius - aside * aside;
+        if !(half2 >= 0.0) {
+            return None;
+        }
+        let half = libm::sqrtf(half2);
+        Some((along - half, 2.0 * half))
+    }
+
     /// The circle radius in metres, `None` for a path.
     pub fn radius(&self) -> Option<f32> {
         match self.shape {
@@ -223,6 +245,25 @@ mod tests {
             assert!(r.push_node(Point::new(p.0, p.1)).is_ok());
         }
         r
+    }
+
+    #[test]
+    fn circle_crossing_along_the_heading() {
+        let c = Region::circle(LatLon::ZERO, 0.0, 50.0);
+        // 200 m south of the centre heading north: the edge is 150 m ahead, chord 100 m.
+        let (d, chord) = c.circle_crossing(Point::new(0.0, -200.0), 0.0).unwrap();
+        assert!((d - 150.0).abs() < 1e-3 && (chord - 100.0).abs() < 1e-3);
+        // 30 m aside: half chord 40 m (3-4-5).
+        let (d, chord) = c.circle_crossing(Point::new(30.0, -200.0), 0.0).unwrap();
+        assert!((d - 160.0).abs() < 1e-3 && (chord - 80.0).abs() < 1e-3);
+        // Inside, at the centre: the edge was 50 m back.
+        let (d, _) = c.circle_crossing(Point::new(0.0, 0.0), 90.0).unwrap();
+        assert!((d + 50.0).abs() < 1e-3);
+        // A line of travel that misses it, and a path region.
+        assert!(c.circle_crossing(Point::new(60.0, -200.0), 0.0).is_none());
+        assert!(straight()
+            .circle_crossing(Point::new(0.0, 0.0), 0.0)
+            .is_none());
     }
 
     #[test]
