@@ -106,6 +106,44 @@ pub fn from_str<T: Jer>(text: &str) -> JerResult<T> {
     T::read_jer(&v)
 }
 
+/// Compares two JER documents as values: `Ok` when equal, treating the object form
+/// `{"value": H, "length": n}` of an extensible-size BIT STRING (which we write, as X.697
+/// asks) like the bare `H` other tools write for it (pycrate); otherwise the first
+/// difference with its path.
+pub fn equivalent(ours: &Value, theirs: &Value) -> Result<(), std::string::String> {
+    same_at(ours, theirs, "")
+}
+
+fn same_at(ours: &Value, theirs: &Value, path: &str) -> Result<(), std::string::String> {
+    use std::format;
+    match (ours, theirs) {
+        (Value::Object(o), Value::String(t)) if o.len() == 2 && o.contains_key("length") => {
+            same_at(&o["value"], &Value::String(t.clone()), path)
+        }
+        (Value::String(o), Value::Object(t)) if t.len() == 2 && t.contains_key("length") => {
+            same_at(&Value::String(o.clone()), &t["value"], path)
+        }
+        (Value::Object(o), Value::Object(t)) => {
+            let mut ok: std::vec::Vec<_> = o.keys().collect();
+            let mut tk: std::vec::Vec<_> = t.keys().collect();
+            ok.sort();
+            tk.sort();
+            if ok != tk {
+                return Err(format!("{path}: members {ok:?} vs {tk:?}"));
+            }
+            o.iter()
+                .try_for_each(|(k, v)| same_at(v, &t[k], &format!("{path}.{k}")))
+        }
+        (Value::Array(o), Value::Array(t)) if o.len() == t.len() => o
+            .iter()
+            .zip(t)
+            .enumerate()
+            .try_for_each(|(i, (a, b))| same_at(a, b, &format!("{path}[{i}]"))),
+        (a, b) if a == b => Ok(()),
+        (a, b) => Err(format!("{path}: {a} vs {b}")),
+    }
+}
+
 /// Writes compact JSON, placing the commas.
 #[derive(Default, Debug)]
 pub struct JerWriter {

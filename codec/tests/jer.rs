@@ -9,31 +9,10 @@ use j2735::uper::{self, Placeholder};
 use j2735::MessageFrame;
 use serde_json::Value;
 
-/// Equal as JER, treating `{"value": H, "length": n}` like the bare `H` the oracle writes
-/// for BIT STRINGs with an extensible size.
+/// Equal as JER (the two forms of extensible-size BIT STRINGs alike), with the path of
+/// the first difference.
 fn same_jer(ours: &Value, theirs: &Value, path: &str) -> Result<(), String> {
-    match (ours, theirs) {
-        (Value::Object(o), Value::String(t)) if o.len() == 2 && o.contains_key("length") => {
-            same_jer(&o["value"], &Value::String(t.clone()), path)
-        }
-        (Value::Object(o), Value::Object(t)) => {
-            let (mut ok, mut tk): (Vec<_>, Vec<_>) = (o.keys().collect(), t.keys().collect());
-            ok.sort();
-            tk.sort();
-            if ok != tk {
-                return Err(format!("{path}: members {ok:?} vs {tk:?}"));
-            }
-            o.iter()
-                .try_for_each(|(k, v)| same_jer(v, &t[k], &format!("{path}.{k}")))
-        }
-        (Value::Array(o), Value::Array(t)) if o.len() == t.len() => o
-            .iter()
-            .zip(t)
-            .enumerate()
-            .try_for_each(|(i, (a, b))| same_jer(a, b, &format!("{path}[{i}]"))),
-        (a, b) if a == b => Ok(()),
-        (a, b) => Err(format!("{path}: {a} vs {b}")),
-    }
+    jer::equivalent(ours, theirs).map_err(|e| format!("{path}{e}"))
 }
 
 /// Decodes `bytes`, compares our JER with `expected`, and encodes our JER read back.
