@@ -179,12 +179,16 @@ fn follow(mut sse: SseClient, stop: &AtomicBool) -> Followed {
     let mut last: Option<Instant> = None;
     while !stop.load(Ordering::Relaxed) {
         match sse.next_event() {
+            // Events after the run (the "no GNSS" state once feeding stopped) do not count.
+            Ok(_) if stop.load(Ordering::Relaxed) => break,
             Ok(ev) if ev.event == "state" => {
                 f.events += 1;
+                // The first event is the newest state, sent on connecting (before the run
+                // starts); gaps are measured between live ones.
                 if let Some(l) = last {
                     f.max_gap_ms = f.max_gap_ms.max(l.elapsed().as_secs_f64() * 1e3);
                 }
-                last = Some(Instant::now());
+                last = (f.events >= 2).then(Instant::now);
             }
             Ok(_) => {}
             Err(e) if !stop.load(Ordering::Relaxed) => {
