@@ -12,11 +12,16 @@
 #![forbid(unsafe_code)]
 #![warn(missing_docs)]
 
+pub mod broadcast;
+pub mod camera;
 pub mod clock;
+pub mod cones;
 pub mod daemon;
+pub mod geojson;
 pub mod hmi_bench;
 pub mod messages;
 pub mod nmea;
 pub mod perf;
+pub mod plot;
 pub mod road;
 pub mod sse;
