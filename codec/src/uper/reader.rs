@@ -58,8 +58,20 @@ impl<'a> Reader<'a> {
     }
 
     /// The 64 bits starting at the byte that holds `self.pos`, zero-padded past the data.
-    #[inline]
+    #[inline(always)]
     fn window(&self) -> u64 {
+        let start = self.pos / 8;
+        // Fast path: 8 whole bytes remain, one unaligned load (no call to memcpy).
+        if let Some(w) = self.data.get(start..).and_then(|s| s.first_chunk::<8>()) {
+            return u64::from_be_bytes(*w);
+        }
+        self.window_tail()
+    }
+
+    /// [`Self::window`] in the last 7 bytes of the data.
+    #[cold]
+    #[inline(never)]
+    fn window_tail(&self) -> u64 {
         let start = self.pos / 8;
         let mut w = [0u8; 8];
         if let Some(src) = self.data.get(start..) {

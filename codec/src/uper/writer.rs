@@ -66,8 +66,27 @@ impl<'a> Writer<'a> {
     }
 
     /// Writes the low `n` bits (at most 64) of `value`, most significant first.
-    #[inline]
+    #[inline(always)]
     pub fn write_bits(&mut self, value: u64, n: u32) -> EncodeResult {
+        // Fast path (inlined): n <= 56 and 8 bytes of room from the current byte; merge into
+        // one big-endian word (the bytes after the value are zeroed, as the invariant allows).
+        if !self.counting && n <= 56 {
+            let used = (self.pos % 8) as u32;
+            let byte = self.pos / 8;
+            if let Some(dst) = self.buf.get_mut(byte..).and_then(|s| s.first_chunk_mut::<8>()) {
+                let keep = ((dst[0] as u64) << 56) & !(u64::MAX >> used);
+                let bits = value.checked_shl(64 - n).unwrap_or(0) >> used;
+                *dst = (keep | bits).to_be_bytes();
+                self.pos += n as usize;
+                return Ok(());
+            }
+        }
+        self.write_bits_slow(value, n)
+    }
+
+    /// [`Self::write_bits`] when counting, for wide values and near the end of the buffer.
+    #[inline(never)]
+    fn write_bits_slow(&mut self, value: u64, n: u32) -> EncodeResult {
         self.reserve(n as usize)?;
         let byte = self.pos / 8;
         if !self.counting && n <= 56 && byte + 8 <= self.buf.len() {
