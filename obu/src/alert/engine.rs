@@ -152,8 +152,18 @@ mod tests {
         let mut hmi = HmiState::default();
         out.reverse();
         arbitrate(out, &mut hmi);
-        assert_eq!(hmi.primary.map(|a| a.kind), Some(AlertKind::Overspeed));
+        assert_eq!(hmi.primary.map(|a| a.kind), Some(AlertKind::LaneClosedOwn));
+        assert_eq!(hmi.others.first().map(|a| a.kind), Some(AlertKind::Overspeed));
         assert_eq!(hmi.others.len(), 2);
+        // In an open lane the overspeed comes first.
+        let mut out: Vec<Alert, 8> = Vec::new();
+        let beside = ZoneView {
+            info: &info,
+            distance: d(80.0, false),
+        };
+        zone_alerts(&c, &beside, ZoneState::Warning, Some(11.0), &mut out);
+        arbitrate(out, &mut hmi);
+        assert_eq!(hmi.primary.map(|a| a.kind), Some(AlertKind::Overspeed));
         let mut out: Vec<Alert, 8> = Vec::new();
         let other = ZoneView {
             info: &info,

@@ -110,10 +110,11 @@ impl fmt::Display for ZoneState {
 #[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash)]
 #[cfg_attr(feature = "serde", derive(Serialize, Deserialize))]
 pub enum AlertKind {
+    /// The vehicle's own lane is closed ahead: change lane. First: cones in the lane
+    /// ahead are a collision risk at any speed; the overspeed alert follows in `others`.
+    LaneClosedOwn,
     /// Faster than the zone limit plus tolerance (warning or in zone).
     Overspeed,
-    /// The vehicle's own lane is closed ahead: change lane.
-    LaneClosedOwn,
     /// A reduced speed limit ahead.
     ReducedSpeedAhead,
     /// Another lane of the road is closed ahead.

@@ -80,7 +80,9 @@ fn approach_warn_inside_leave() {
     );
     let s = drive(&mut obu, 300, 3.5, 450.0, 20.0);
     assert_eq!(s.zone_state, ZoneState::InZone);
-    assert_eq!(s.primary.map(|a| a.kind), Some(AlertKind::Overspeed));
+    // Still in the closed lane: "change lane" first, the overspeed after it.
+    assert_eq!(s.primary.map(|a| a.kind), Some(AlertKind::LaneClosedOwn));
+    assert_eq!(s.others.first().map(|a| a.kind), Some(AlertKind::Overspeed));
     let s = drive(&mut obu, 400, 3.5, 520.0, v);
     assert_eq!((s.zone_state, s.primary), (ZoneState::Leaving, None));
     let s = drive(&mut obu, 500, 3.5, 600.0, v);
