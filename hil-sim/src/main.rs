@@ -20,6 +20,14 @@ Usage:
                          N tablets (default 50) follow /events while the daemon is fed at
                          10 Hz for S seconds (default 60): events per client and the
                          daemon's CPU; fails on a dropped client or CPU >= 10 % of a core
+  hil-sim run SCENARIO.toml... [--out DIR]
+                         run scenarios against the real obu daemon; writes
+                         DIR/<scenario>/report.json, states.jsonl and plots (default DIR:
+                         hil-sim-out); fails when an expectation does not hold
+  hil-sim demo [--port P]
+                         the field test: roadside, OBU and a drive through a work zone
+                         (40 km/h road, limit 10 km/h, 100 m warning, lane change) with the
+                         tablet app live at http://127.0.0.1:P (default 8080)
   hil-sim --help         this text
 
 The daemon is `obu` beside this executable (build both with the same profile), or $OBU_BIN.
@@ -38,6 +46,8 @@ fn main() -> ExitCode {
         ["hmi-server"] => server_options().and_then(|o| hmi_bench::serve(&o)),
         ["hmi-drive", scene] => state_dir().and_then(|d| hmi_bench::drive(&d, scene)),
         ["bench-latency", rest @ ..] => bench_latency(rest),
+        ["run", rest @ ..] => run_scenarios(rest),
+        ["demo", rest @ ..] => demo(rest),
         ["load-test", rest @ ..] => load_test(rest),
         ["--help" | "-h"] => {
             println!("{USAGE}");
@@ -128,6 +138,108 @@ fn load_test(args: &[&str]) -> Result<(), String> {
         return Err("goal missed: no dropped client and daemon CPU under 10 % of a core".into());
     }
     Ok(())
+}
+
+/// The built-in scenario of `hil-sim demo`.
+const DEMO: &str = include_str!("../../tests/scenarios/01_paper_drive.toml");
+
+fn demo(args: &[&str]) -> Result<(), String> {
+    let opts = options(args, &["--port", "--out"])?;
+    let port: u16 = number(&opts, "--port", 8080)?;
+    let out = opts
+        .iter()
+        .find(|(n, _)| *n == "--out")
+        .map_or(PathBuf::from("hil-sim-out/demo"), |(_, v)| PathBuf::from(v));
+    let scenario = hil_sim::scenario::Scenario::parse(DEMO)?;
+    println!("hil-sim demo: {}", scenario.description.trim());
+    let report = hil_sim::runner::run(
+        &scenario,
+        &hil_sim::runner::RunOptions {
+            obu: hil_sim::daemon::find_obu(),
+            out,
+            http_port: port,
+            progress: true,
+        },
+    )?;
+    print_report(&report);
+    report
+        .passed
+        .then_some(())
+        .ok_or("an expectation did not hold".into())
+}
+
+fn run_scenarios(args: &[&str]) -> Result<(), String> {
+    let mut files = Vec::new();
+    let mut out = PathBuf::from("hil-sim-out");
+    let mut it = args.iter();
+    while let Some(a) = it.next() {
+        match *a {
+            "--out" => out = PathBuf::from(it.next().ok_or("--out needs a folder")?),
+            f => files.push(PathBuf::from(f)),
+        }
+    }
+    if files.is_empty() {
+        return Err("give at least one scenario file".into());
+    }
+    let mut failed = Vec::new();
+    for f in &files {
+        let scenario = hil_sim::scenario::Scenario::load(f)?;
+        println!("=== {} ({})", scenario.name, f.display());
+        let opts = hil_sim::runner::RunOptions {
+            obu: hil_sim::daemon::find_obu(),
+            out: hil_sim::runner::out_dir(&out, f),
+            http_port: 0,
+            progress: std::io::IsTerminal::is_terminal(&std::io::stderr()),
+        };
+        match hil_sim::runner::run(&scenario, &opts) {
+            Ok(r) => {
+                print_report(&r);
+                if !r.passed {
+                    failed.push(scenario.name.clone());
+                }
+            }
+            Err(e) => {
+                println!("  ERROR {e}");
+                failed.push(scenario.name.clone());
+            }
+        }
+    }
+    println!(
+        "=== {} of {} scenarios passed",
+        files.len() - failed.len(),
+        files.len()
+    );
+    failed
+        .is_empty()
+        .then_some(())
+        .ok_or(format!("failed: {}", failed.join(", ")))
+}
+
+fn print_report(r: &hil_sim::runner::RunReport) {
+    for o in &r.outcomes {
+        println!(
+            "  {} {:?}: {}",
+            if o.passed { "ok  " } else { "FAIL" },
+            o.expectation,
+            o.detail
+        );
+    }
+    if let Some(d) = r.first_warning_m {
+        println!("  the warning fired {d:.1} m before the work zone");
+    }
+    let [p50, p99, max] = r.fix_to_screen_ms;
+    println!(
+        "  {} fixes, {} states; fix -> screen p50 {p50:.2} ms, p99 {p99:.2} ms, max {max:.2} ms; TIM -> screen {}; V2X sent {} lost {} corrupted {}",
+        r.fixes_sent,
+        r.states,
+        r.tim_to_screen_ms.map_or("-".into(), |t| format!("{t:.0} ms")),
+        r.v2x.sent,
+        r.v2x.lost,
+        r.v2x.corrupted
+    );
+    if let Some(f) = r.files.first() {
+        println!("  report: {}", f.display());
+    }
 }
 
 fn state_dir() -> Result<PathBuf, String> {

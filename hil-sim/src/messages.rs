@@ -251,23 +251,7 @@ fn densify(points: &[[f64; 2]], max_m: f64) -> Vec<[f64; 2]> {
 
 /// Station of the nearest point of `lane` to `p`, and the distance.
 fn project(lane: &RoadLane, p: [f64; 2]) -> Option<(f64, f64)> {
-    let mut best: Option<(f64, f64)> = None;
-    let mut start = 0.0;
-    for w in lane.centre.windows(2) {
-        let (dx, dy) = (w[1][0] - w[0][0], w[1][1] - w[0][1]);
-        let len2 = dx * dx + dy * dy;
-        let len = len2.sqrt();
-        if len2 > 0.0 {
-            let t = (((p[0] - w[0][0]) * dx + (p[1] - w[0][1]) * dy) / len2).clamp(0.0, 1.0);
-            let q = [w[0][0] + t * dx, w[0][1] + t * dy];
-            let d = crate::road::dist(p, q);
-            if best.is_none_or(|b| d < b.1) {
-                best = Some((start + t * len, d));
-            }
-        }
-        start += len;
-    }
-    best
+    lane.project(p)
 }
 
 /// Smallest of two bearing differences, degrees.

@@ -72,6 +72,34 @@ impl RoadLane {
         })
     }
 
+    /// Station of the centreline point nearest to `p`, and the distance to it.
+    pub fn project(&self, p: [f64; 2]) -> Option<(f64, f64)> {
+        let mut best: Option<(f64, f64)> = None;
+        let mut start = 0.0;
+        for w in self.centre.windows(2) {
+            let (dx, dy) = (w[1][0] - w[0][0], w[1][1] - w[0][1]);
+            let len2 = dx * dx + dy * dy;
+            let len = len2.sqrt();
+            if len2 > 0.0 {
+                let t = (((p[0] - w[0][0]) * dx + (p[1] - w[0][1]) * dy) / len2).clamp(0.0, 1.0);
+                let d = dist(p, [w[0][0] + t * dx, w[0][1] + t * dy]);
+                if best.is_none_or(|b| d < b.1) {
+                    best = Some((start + t * len, d));
+                }
+            }
+            start += len;
+        }
+        best
+    }
+
+    /// Signed distance of `p` to the left of the centreline (negative to the right).
+    pub fn lateral(&self, p: [f64; 2]) -> Option<f64> {
+        let (station, _) = self.project(p)?;
+        let on = self.at(station)?;
+        let b = on.bearing_deg.to_radians();
+        Some(-(p[0] - on.point[0]) * b.cos() + (p[1] - on.point[1]) * b.sin())
+    }
+
     /// The centreline between stations `from` and `to` (both clamped), with its nodes.
     pub fn slice(&self, from: f64, to: f64) -> Vec<[f64; 2]> {
         let mut out = Vec::new();
@@ -151,6 +179,60 @@ impl Road {
         Self::new(reference, lanes)
     }
 
+    /// A road along a circular arc: like [`Road::straight`] but the reference lane's
+    /// centreline turns with radius `radius_m` (positive: to the right) over `length_m`,
+    /// with a node every `node_m` metres; the other lanes run parallel to it.
+    #[allow(clippy::too_many_arguments)]
+    pub fn arc(
+        reference: LatLon,
+        bearing_deg: f64,
+        radius_m: f64,
+        length_m: f64,
+        node_m: f64,
+        (forward, backward): (u8, u8),
+        width_m: f64,
+        speed_limit_kmh: f64,
+    ) -> Self {
+        let b0 = bearing_deg.to_radians();
+        let right = radius_m.signum();
+        let r = radius_m.abs().max(1.0);
+        // The centre of the turn lies `r` to the right (or left) of the reference point.
+        let side = b0 + right * std::f64::consts::FRAC_PI_2;
+        let centre = [r * side.sin(), r * side.cos()];
+        let steps = (length_m / node_m.max(1.0)).ceil().max(1.0) as usize;
+        let lane_at = |left_m: f64, k: usize| {
+            let turned = b0 + right * (k as f64 * length_m / steps as f64) / r;
+            // Radius of this lane: left of a right turn is outside (longer radius).
+            let lr = r + right * left_m;
+            let from_centre = turned - right * std::f64::consts::FRAC_PI_2;
+            [
+                centre[0] + lr * from_centre.sin(),
+                centre[1] + lr * from_centre.cos(),
+            ]
+        };
+        let median = width_m;
+        let mut lanes = Vec::new();
+        let mut add = |id: u8, left_m: f64, reverse: bool| {
+            let mut centre: Vec<[f64; 2]> = (0..=steps).map(|k| lane_at(left_m, k)).collect();
+            if reverse {
+                centre.reverse();
+            }
+            lanes.push(RoadLane {
+                id,
+                width_m,
+                speed_limit_kmh,
+                centre,
+            });
+        };
+        for k in 0..forward {
+            add(1 + k, -(k as f64) * width_m, false);
+        }
+        for k in 0..backward {
+            add(forward + 1 + k, median + (1 + k) as f64 * width_m, true);
+        }
+        Self::new(reference, lanes)
+    }
+
     /// The lane with this id.
     pub fn lane(&self, id: u8) -> Option<&RoadLane> {
         self.lanes.iter().find(|l| l.id == id)
@@ -223,6 +305,27 @@ mod tests {
             lane.slice(50.0, 150.0),
             vec![[0.0, 50.0], [0.0, 100.0], [50.0, 100.0]]
         );
+    }
+
+    #[test]
+    fn arcs_are_parallel_and_turn_the_right_way() {
+        let r = LatLon::from_degrees(39.75, -104.99).unwrap();
+        let road = Road::arc(r, 0.0, 500.0, 400.0, 20.0, (2, 1), 3.6, 60.0);
+        let l1 = road.lane(1).unwrap();
+        // A right turn from north: heading east of north at the end, 400/500 rad turned.
+        let end = l1.at(l1.length_m()).unwrap();
+        assert!((end.bearing_deg - (400.0f64 / 500.0).to_degrees()).abs() < 1.5);
+        assert!((l1.length_m() - 400.0).abs() < 1.0);
+        // Lane 2 is 3.6 m to the right of lane 1 everywhere.
+        let l2 = road.lane(2).unwrap();
+        for s in [0.0, 100.0, 250.0, 390.0] {
+            let p = l2.at(s).unwrap().point;
+            assert!((l1.lateral(p).unwrap() + 3.6).abs() < 0.05, "at {s}");
+        }
+        // Lane 3 runs the other way, left of lane 1 (across the median).
+        let l3 = road.lane(3).unwrap();
+        let p = l3.at(200.0).unwrap().point;
+        assert!(l1.lateral(p).unwrap() > 3.6);
     }
 
     #[test]

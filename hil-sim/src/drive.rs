@@ -1,0 +1,320 @@
+//! A simulated drive along the lane map: the true pose every 100 ms (speed profile, lane
+//! changes), the GNSS receiver's errors (bias, random walk, white noise, dropouts) and the
+//! vehicle's CAN speed frames.
+
+use crate::road::{OnLane, Road};
+use serde::Deserialize;
+
+/// Epoch period of the simulated receiver, seconds (10 Hz).
+pub const EPOCH_S: f64 = 0.1;
+
+/// A lane change: from station `at_m` of the current lane to `to_lane` over `over_m`.
+#[derive(Debug, Clone, Copy, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct LaneChange {
+    /// Station (on the lane driven then) where the manoeuvre starts.
+    pub at_m: f64,
+    /// Lane to move to.
+    pub to_lane: u8,
+    /// Length of the manoeuvre, metres.
+    #[serde(default = "default_change_m")]
+    pub over_m: f64,
+}
+
+fn default_change_m() -> f64 {
+    50.0
+}
+
+/// How the car drives and what its receiver gets wrong.
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct DriveSpec {
+    /// Lane at the start.
+    pub lane: u8,
+    /// Start station on that lane, metres.
+    #[serde(default)]
+    pub start_m: f64,
+    /// The drive ends at this station of the lane driven then (default: the lane's end).
+    pub end_m: Option<f64>,
+    /// Constant speed, km/h (when no profile is given).
+    #[serde(default = "default_speed")]
+    pub speed_kmh: f64,
+    /// Speed profile: (station on the start lane's course, km/h) pairs, linear between
+    /// them, held before the first and after the last.
+    #[serde(default)]
+    pub profile: Vec<(f64, f64)>,
+    /// Lane changes in order.
+    #[serde(default)]
+    pub lane_changes: Vec<LaneChange>,
+    /// White noise of the fixes, 1-sigma per axis, metres.
+    #[serde(default)]
+    pub sigma_m: f64,
+    /// Random walk of the fixes, metres per square-root second per axis.
+    #[serde(default)]
+    pub random_walk_m: f64,
+    /// Constant offset of the fixes, east/north metres.
+    #[serde(default)]
+    pub bias_m: [f64; 2],
+    /// GNSS dropouts: (start s, duration s) with no fix at all.
+    #[serde(default)]
+    pub dropouts: Vec<(f64, f64)>,
+    /// Seed of the noise.
+    #[serde(default = "default_seed")]
+    pub seed: u64,
+}
+
+fn default_speed() -> f64 {
+    40.0
+}
+
+fn default_seed() -> u64 {
+    1
+}
+
+/// The true state of the car at one epoch and what its receiver reports.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Sample {
+    /// Seconds since the start.
+    pub t_s: f64,
+    /// True position, east/north metres.
+    pub point: [f64; 2],
+    /// True course, degrees.
+    pub bearing_deg: f64,
+    /// True speed, m/s.
+    pub speed_mps: f64,
+    /// The lane the car is in (the nearer centreline during a lane change).
+    pub lane: u8,
+    /// Distance driven, metres.
+    pub odometer_m: f64,
+    /// The receiver's position (with its errors), or `None` during a dropout.
+    pub reported: Option<[f64; 2]>,
+}
+
+/// A seeded generator (xorshift64*) with normal deviates (Box-Muller).
+#[derive(Debug, Clone)]
+pub struct Rng(u64);
+
+impl Rng {
+    /// A generator; any seed (0 is remapped).
+    pub fn new(seed: u64) -> Self {
+        Self(seed.wrapping_mul(0x9E37_79B9_7F4A_7C15) | 1)
+    }
+
+    /// Uniform in [0, 1).
+    pub fn uniform(&mut self) -> f64 {
+        self.0 ^= self.0 >> 12;
+        self.0 ^= self.0 << 25;
+        self.0 ^= self.0 >> 27;
+        (self.0.wrapping_mul(0x2545_F491_4F6C_DD1D) >> 11) as f64 / (1u64 << 53) as f64
+    }
+
+    /// Standard normal.
+    pub fn normal(&mut self) -> f64 {
+        let u1 = self.uniform().max(1e-300);
+        let u2 = self.uniform();
+        (-2.0 * u1.ln()).sqrt() * (std::f64::consts::TAU * u2).cos()
+    }
+}
+
+/// Why a drive cannot be simulated.
+#[derive(Debug, Clone, PartialEq)]
+pub struct DriveError(pub String);
+
+impl std::fmt::Display for DriveError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(&self.0)
+    }
+}
+
+impl std::error::Error for DriveError {}
+
+/// The drive's samples at 10 Hz until the end station (at most `max_s` seconds).
+pub fn simulate(road: &Road, spec: &DriveSpec, max_s: f64) -> Result<Vec<Sample>, DriveError> {
+    let err = |m: String| DriveError(m);
+    let mut lane = road
+        .lane(spec.lane)
+        .ok_or_else(|| err(format!("drive.lane {} is not on the map", spec.lane)))?;
+    for c in &spec.lane_changes {
+        road.lane(c.to_lane)
+            .ok_or_else(|| err(format!("lane change to {}: not on the map", c.to_lane)))?;
+    }
+    let mut station = spec.start_m;
+    let mut changes = spec.lane_changes.iter().peekable();
+    let mut active: Option<(&LaneChange, f64)> = None; // (change, station where it started)
+    let mut rng = Rng::new(spec.seed);
+    let mut walk = [0.0f64; 2];
+    let mut out = Vec::new();
+    let mut odometer = 0.0;
+    for k in 0..=(max_s / EPOCH_S).floor() as usize {
+        let t = k as f64 * EPOCH_S;
+        let end = spec.end_m.unwrap_or_else(|| lane.length_m());
+        if station > end.min(lane.length_m()) {
+            break;
+        }
+        let v = speed_at(spec, odometer + spec.start_m) / 3.6;
+        if active.is_none() && changes.peek().is_some_and(|c| station >= c.at_m) {
+            active = changes.next().map(|c| (c, station));
+        }
+        let (pose, in_lane) = match active {
+            Some((c, s0)) => {
+                let f = ((station - s0) / c.over_m.max(1.0)).clamp(0.0, 1.0);
+                let to = road.lane(c.to_lane).expect("checked above");
+                let a = lane
+                    .at(station)
+                    .ok_or_else(|| err("lane without geometry".into()))?;
+                let s_to = to.project(a.point).map_or(station, |p| p.0);
+                let b = to
+                    .at(s_to)
+                    .ok_or_else(|| err("lane without geometry".into()))?;
+                let w = f * f * (3.0 - 2.0 * f); // smooth step
+                let p = [
+                    a.point[0] + w * (b.point[0] - a.point[0]),
+                    a.point[1] + w * (b.point[1] - a.point[1]),
+                ];
+                if f >= 1.0 {
+                    lane = to;
+                    station = s_to;
+                    active = None;
+                }
+                let before = if f >= 1.0 { c.to_lane } else { lane.id };
+                (
+                    OnLane { point: p, ..a },
+                    if w < 0.5 { before } else { c.to_lane },
+                )
+            }
+            None => (
+                lane.at(station)
+                    .ok_or_else(|| err("lane without geometry".into()))?,
+                lane.id,
+            ),
+        };
+        for w in walk.iter_mut() {
+            *w += spec.random_walk_m * EPOCH_S.sqrt() * rng.normal();
+        }
+        let noise = [spec.sigma_m * rng.normal(), spec.sigma_m * rng.normal()];
+        let dropped = spec.dropouts.iter().any(|&(s, d)| t >= s && t < s + d);
+        let reported = (!dropped).then(|| {
+            [
+                pose.point[0] + spec.bias_m[0] + walk[0] + noise[0],
+                pose.point[1] + spec.bias_m[1] + walk[1] + noise[1],
+            ]
+        });
+        out.push(Sample {
+            t_s: t,
+            point: pose.point,
+            bearing_deg: pose.bearing_deg,
+            speed_mps: v,
+            lane: in_lane,
+            odometer_m: odometer,
+            reported,
+        });
+        station += v * EPOCH_S;
+        odometer += v * EPOCH_S;
+    }
+    Ok(out)
+}
+
+/// Speed at `station` of the profile (or the constant speed), km/h.
+fn speed_at(spec: &DriveSpec, station: f64) -> f64 {
+    let p = &spec.profile;
+    match p.iter().position(|&(s, _)| s > station) {
+        None => p.last().map_or(spec.speed_kmh, |&(_, v)| v),
+        Some(0) => p[0].1,
+        Some(i) => {
+            let ((s0, v0), (s1, v1)) = (p[i - 1], p[i]);
+            v0 + (v1 - v0) * (station - s0) / (s1 - s0).max(1e-9)
+        }
+    }
+}
+
+/// A candump log (`candump -l` format) of the vehicle speed: one frame every 20 ms with
+/// the speed in km/h as an unsigned little-endian 16-bit value at start bit 0 with scale
+/// 0.01 on CAN id 0x1F0 (the daemon's default signal), timestamps from `t0_s`.
+pub fn candump(samples: &[Sample], t0_s: f64) -> String {
+    let mut out = String::new();
+    let Some(last) = samples.last() else {
+        return out;
+    };
+    for i in 0..=(last.t_s / 0.02).round() as usize {
+        let t = i as f64 * 0.02;
+        let k = ((t / EPOCH_S + 1e-9) as usize).min(samples.len() - 1);
+        let raw = (samples[k].speed_mps * 3.6 / 0.01)
+            .round()
+            .clamp(0.0, 65535.0) as u16;
+        let [lo, hi] = raw.to_le_bytes();
+        out.push_str(&format!(
+            "({:.6}) vcan0 1F0#{lo:02X}{hi:02X}000000000000\n",
+            t0_s + t
+        ));
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use obu::LatLon;
+
+    fn road() -> Road {
+        Road::straight(
+            LatLon::from_degrees(39.7392, -104.9903).unwrap(),
+            90.0,
+            1000.0,
+            (3, 0),
+            3.6,
+            80.0,
+        )
+    }
+
+    fn spec() -> DriveSpec {
+        toml::from_str("lane = 2\nend_m = 500.0\nspeed_kmh = 36.0").unwrap()
+    }
+
+    #[test]
+    fn constant_speed_along_a_lane() {
+        let s = simulate(&road(), &spec(), 1000.0).unwrap();
+        // 10 m/s from 0 to 500 m: 50 s at 10 Hz.
+        assert_eq!(s.len(), 501);
+        assert!((s[100].point[0] - 100.0).abs() < 1e-6 && (s[100].point[1] + 3.6).abs() < 1e-9);
+        assert!(s.iter().all(|x| x.lane == 2 && x.reported == Some(x.point)));
+    }
+
+    #[test]
+    fn lane_change_profile_dropout_and_noise() {
+        let mut d = spec();
+        d.lane_changes = vec![LaneChange {
+            at_m: 100.0,
+            to_lane: 1,
+            over_m: 50.0,
+        }];
+        d.profile = vec![(0.0, 36.0), (200.0, 18.0)];
+        d.dropouts = vec![(5.0, 3.0)];
+        d.sigma_m = 1.0;
+        let s = simulate(&road(), &d, 1000.0).unwrap();
+        let at = |x: f64| s.iter().find(|p| p.point[0] >= x).unwrap();
+        assert_eq!(at(90.0).lane, 2);
+        assert!((at(125.0).point[1] + 1.8).abs() < 0.3, "halfway across");
+        assert_eq!(at(160.0).lane, 1);
+        assert!((at(300.0).point[1]).abs() < 1e-9);
+        assert!(
+            (at(100.0).speed_mps - 7.5).abs() < 0.05 && (at(300.0).speed_mps - 5.0).abs() < 1e-9
+        );
+        assert!(s.iter().filter(|p| p.reported.is_none()).count() == 30);
+        let err: Vec<f64> = s
+            .iter()
+            .filter_map(|p| p.reported.map(|r| r[0] - p.point[0]))
+            .collect();
+        let sd = (err.iter().map(|e| e * e).sum::<f64>() / err.len() as f64).sqrt();
+        assert!((sd - 1.0).abs() < 0.1, "white noise sigma {sd}");
+    }
+
+    #[test]
+    fn candump_speed_signal() {
+        let s = simulate(&road(), &spec(), 1.0).unwrap();
+        let log = candump(&s, 1000.0);
+        let first = log.lines().next().unwrap();
+        // 36 km/h = 3600 = 0x0E10, little endian.
+        assert_eq!(first, "(1000.000000) vcan0 1F0#100E000000000000");
+        assert_eq!(log.lines().count(), 51);
+    }
+}

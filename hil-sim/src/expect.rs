@@ -1,0 +1,288 @@
+//! Expectations of a scenario, checked on the recorded states joined with the simulated
+//! truth.
+
+use obu::alert::{AlertKind, HmiState, ZoneState};
+use serde::{Deserialize, Serialize};
+
+/// One recorded state with what was true when its fix was taken.
+#[derive(Debug, Clone)]
+pub struct Record {
+    /// Seconds since the drive started, when the state arrived.
+    pub t_s: f64,
+    /// The state.
+    pub state: HmiState,
+    /// Index of the drive sample of the last fix the state includes.
+    pub sample: Option<usize>,
+    /// The true lane then.
+    pub true_lane: Option<u8>,
+    /// True distance to the first zone's start along the car's lane, metres (negative
+    /// past it), when the car runs the zone's way.
+    pub distance_m: Option<f64>,
+    /// Length of that zone, metres.
+    pub zone_len_m: Option<f64>,
+    /// True speed, m/s.
+    pub true_speed_mps: Option<f64>,
+}
+
+/// What must hold.
+#[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
+#[serde(deny_unknown_fields, tag = "kind", rename_all = "snake_case")]
+pub enum Expectation {
+    /// The first warning (state Warning, or a zone alert) shows at least `min_m` (and at
+    /// most `max_m`) before the zone start.
+    WarningBefore {
+        /// Least distance.
+        min_m: f64,
+        /// Greatest distance.
+        max_m: Option<f64>,
+    },
+    /// While the car is in a closed lane and warned, the primary alert is "lane closed"
+    /// with a side to move to (at least `min_fraction` of those states).
+    LaneClosedAdvice {
+        /// Least fraction.
+        #[serde(default = "ninety")]
+        min_fraction: f64,
+    },
+    /// Above the zone limit plus the tolerance near or in the zone, an overspeed alert.
+    Overspeed {
+        /// Least fraction of the states that qualify.
+        #[serde(default = "ninety")]
+        min_fraction: f64,
+    },
+    /// No zone state and no zone alert at any time (e.g. the opposite carriageway).
+    NoAlert,
+    /// "In zone" is shown while the car is inside.
+    InZoneShown,
+    /// `within_m` after the zone end no zone state and no zone alert.
+    ClearedAfterZone {
+        /// Metres after the end.
+        within_m: f64,
+    },
+    /// "No GNSS" shows within `ms` of the last fix before each dropout.
+    NoGnssWithin {
+        /// Milliseconds.
+        ms: f64,
+    },
+    /// `within_s` after the zone was removed, no zone state and no zone alert.
+    ClearedAfterRemoval {
+        /// Seconds.
+        within_s: f64,
+    },
+    /// The matched lane equals the true lane in at least `min` of the states (those more
+    /// than 2 s from a lane change of the truth).
+    MatchedLane {
+        /// Least fraction.
+        min: f64,
+    },
+}
+
+fn ninety() -> f64 {
+    0.9
+}
+
+/// The verdict on one expectation.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Outcome {
+    /// The expectation.
+    pub expectation: Expectation,
+    /// True when it holds.
+    pub passed: bool,
+    /// What was measured.
+    pub detail: String,
+}
+
+/// Facts of the run the checks need besides the records.
+#[derive(Debug, Clone, Default)]
+pub struct RunFacts {
+    /// Seconds (since the drive start) of the last fix sent before each dropout.
+    pub dropout_starts_s: Vec<f64>,
+    /// Seconds when a zone was removed.
+    pub removed_at_s: Option<f64>,
+    /// Configured overspeed tolerance, m/s.
+    pub overspeed_tolerance_mps: f64,
+    /// Warning distance of the settings, metres.
+    pub warning_distance_m: f64,
+}
+
+/// True for alerts about a work zone (not about the data).
+pub fn is_zone_alert(kind: AlertKind) -> bool {
+    !matches!(
+        kind,
+        AlertKind::GnssStale | AlertKind::NoRoadsideData | AlertKind::MapMissing
+    )
+}
+
+fn zone_alerts(s: &HmiState) -> impl Iterator<Item = AlertKind> + '_ {
+    s.primary
+        .iter()
+        .chain(s.others.iter())
+        .map(|a| a.kind)
+        .filter(|k| is_zone_alert(*k))
+}
+
+fn quiet(s: &HmiState) -> bool {
+    s.zone_state == ZoneState::None && zone_alerts(s).next().is_none()
+}
+
+/// Checks one expectation.
+pub fn check(e: &Expectation, records: &[Record], facts: &RunFacts) -> Outcome {
+    let (passed, detail) = match e {
+        Expectation::WarningBefore { min_m, max_m } => warning_before(records, *min_m, *max_m),
+        Expectation::LaneClosedAdvice { min_fraction } => fraction(
+            records.iter().filter(|r| {
+                r.state.zone_state == ZoneState::Warning
+                    && r.true_lane
+                        .is_some_and(|l| r.state.closed_lanes.contains(&l))
+            }),
+            |r| {
+                r.state
+                    .primary
+                    .is_some_and(|a| a.kind == AlertKind::LaneClosedOwn)
+                    && r.state.advice != obu::alert::LaneAdvice::None
+            },
+            *min_fraction,
+            "warned in a closed lane with lane-closed advice",
+        ),
+        Expectation::Overspeed { min_fraction } => fraction(
+            records.iter().filter(|r| {
+                matches!(r.state.zone_state, ZoneState::Warning | ZoneState::InZone)
+                    && match (r.state.speed_mps, r.state.speed_limit_mps) {
+                        (Some(v), Some(l)) => {
+                            f64::from(v) > f64::from(l) + facts.overspeed_tolerance_mps + 0.3
+                        }
+                        _ => false,
+                    }
+            }),
+            |r| zone_alerts(&r.state).any(|k| k == AlertKind::Overspeed),
+            *min_fraction,
+            "over the limit near the zone with an overspeed alert",
+        ),
+        Expectation::NoAlert => {
+            let bad: Vec<_> = records.iter().filter(|r| !quiet(&r.state)).collect();
+            (
+                bad.is_empty() && !records.is_empty(),
+                format!("{} of {} states show a zone", bad.len(), records.len()),
+            )
+        }
+        Expectation::InZoneShown => {
+            let inside: Vec<_> = records
+                .iter()
+                .filter(|r| {
+                    r.distance_m
+                        .zip(r.zone_len_m)
+                        .is_some_and(|(d, l)| d < -5.0 && d > -l + 5.0)
+                })
+                .collect();
+            let shown = inside
+                .iter()
+                .filter(|r| r.state.zone_state == ZoneState::InZone)
+                .count();
+            (
+                !inside.is_empty() && shown * 10 >= inside.len() * 9,
+                format!("{shown} of {} states inside show IN ZONE", inside.len()),
+            )
+        }
+        Expectation::ClearedAfterZone { within_m } => fraction(
+            records.iter().filter(|r| {
+                r.distance_m
+                    .zip(r.zone_len_m)
+                    .is_some_and(|(d, l)| d < -l - within_m)
+            }),
+            |r| quiet(&r.state),
+            1.0,
+            "past the zone end plus the margin and quiet",
+        ),
+        Expectation::NoGnssWithin { ms } => no_gnss_within(records, facts, *ms),
+        Expectation::ClearedAfterRemoval { within_s } => match facts.removed_at_s {
+            None => (false, "the scenario removes no zone".into()),
+            Some(t) => fraction(
+                records.iter().filter(|r| r.t_s > t + within_s),
+                |r| quiet(&r.state),
+                1.0,
+                "quiet after the removal",
+            ),
+        },
+        Expectation::MatchedLane { min } => matched_lane(records, *min),
+    };
+    Outcome {
+        expectation: e.clone(),
+        passed,
+        detail,
+    }
+}
+
+fn fraction<'a>(
+    set: impl Iterator<Item = &'a Record>,
+    ok: impl Fn(&Record) -> bool,
+    min: f64,
+    what: &str,
+) -> (bool, String) {
+    let set: Vec<_> = set.collect();
+    let good = set.iter().filter(|r| ok(r)).count();
+    let f = if set.is_empty() {
+        0.0
+    } else {
+        good as f64 / set.len() as f64
+    };
+    (
+        !set.is_empty() && f >= min,
+        format!(
+            "{good} of {} states {what} ({:.1} %, need {:.1} %)",
+            set.len(),
+            100.0 * f,
+            100.0 * min
+        ),
+    )
+}
+
+fn warning_before(records: &[Record], min_m: f64, max_m: Option<f64>) -> (bool, String) {
+    let first = records.iter().find(|r| {
+        r.state.zone_state == ZoneState::Warning
+            || (r.state.zone_state == ZoneState::InZone && zone_alerts(&r.state).next().is_some())
+    });
+    match first.and_then(|r| r.distance_m.map(|d| (r, d))) {
+        None => (false, "no warning was shown before the zone".into()),
+        Some((r, d)) => {
+            let ok = d >= min_m && max_m.is_none_or(|m| d <= m);
+            let speed = r.true_speed_mps.unwrap_or(f64::NAN) * 3.6;
+            (ok, format!("first warning {d:.1} m before the zone start (at {speed:.1} km/h, t = {:.1} s)", r.t_s))
+        }
+    }
+}
+
+fn no_gnss_within(records: &[Record], facts: &RunFacts, ms: f64) -> (bool, String) {
+    if facts.dropout_starts_s.is_empty() {
+        return (false, "the scenario has no GNSS dropout".into());
+    }
+    let mut worst: f64 = 0.0;
+    for &t in &facts.dropout_starts_s {
+        let Some(r) = records.iter().find(|r| r.t_s > t && !r.state.gnss_ok) else {
+            return (
+                false,
+                format!("\"no GNSS\" never shown after the dropout at {t:.1} s"),
+            );
+        };
+        worst = worst.max((r.t_s - t) * 1000.0);
+    }
+    (
+        worst <= ms,
+        format!("\"no GNSS\" {worst:.0} ms after the last fix (limit {ms:.0} ms)"),
+    )
+}
+
+fn matched_lane(records: &[Record], min: f64) -> (bool, String) {
+    let changes: Vec<f64> = records
+        .windows(2)
+        .filter(|w| w[0].true_lane != w[1].true_lane)
+        .map(|w| w[1].t_s)
+        .collect();
+    let steady = records.iter().filter(|r| {
+        r.true_lane.is_some() && r.state.gnss_ok && changes.iter().all(|c| (r.t_s - c).abs() > 2.0)
+    });
+    fraction(
+        steady,
+        |r| r.state.lane.map(|l| l.lane) == r.true_lane,
+        min,
+        "matched to the true lane",
+    )
+}

@@ -1,0 +1,204 @@
+//! The roadside unit of a scenario run: broadcasts the MAP and one TIM per zone at 10 Hz
+//! to the OBU's V2X port, following the scenario's timeline (TIM delayed, MAP revision
+//! changed, zones shrunk or removed) through its radio faults (loss, corruption).
+
+use crate::drive::Rng;
+use crate::messages::{self, WorkZone};
+use crate::road::{Road, RoadLane};
+use crate::runner::V2xCounts;
+use crate::scenario::Scenario;
+use std::net::UdpSocket;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Arc;
+use std::thread::JoinHandle;
+use std::time::{Duration, Instant};
+
+/// Broadcast period (10 Hz).
+pub const PERIOD: Duration = Duration::from_millis(100);
+
+/// The messages on the air at one moment.
+struct OnAir {
+    map: Vec<u8>,
+    tims: Vec<Vec<u8>>,
+}
+
+/// The roadside's state over the run: which MAP revision, which zones, which `msgCnt`.
+struct Timeline {
+    road: Road,
+    shifted: Option<Road>,
+    zones: Vec<WorkZone>,
+    removed: Vec<bool>,
+    shrunk: Vec<bool>,
+}
+
+impl Timeline {
+    /// The messages at `t` seconds (re-encoded only when something changed).
+    fn at(&mut self, s: &Scenario, t: f64) -> Result<Option<OnAir>, String> {
+        let mut changed = t == 0.0;
+        for (i, spec) in s.zones.iter().enumerate() {
+            if let Some((at, end_m)) = spec.shrink_at {
+                if t >= at && !self.shrunk[i] {
+                    self.shrunk[i] = true;
+                    self.zones[i].end_m = end_m.max(self.zones[i].start_m + 1.0);
+                    self.zones[i].msg_cnt = self.zones[i].msg_cnt.wrapping_add(1) % 128;
+                    changed = true;
+                }
+            }
+            if spec.removed_at_s.is_some_and(|at| t >= at) && !self.removed[i] {
+                // Cones gone: the TIM is cancelled (durationTime 0) with a new msgCnt.
+                self.removed[i] = true;
+                self.zones[i].duration_min = 0;
+                self.zones[i].msg_cnt = self.zones[i].msg_cnt.wrapping_add(1) % 128;
+                changed = true;
+            }
+        }
+        let revised = s.faults.map_revision_at_s.is_some_and(|at| t >= at);
+        if revised && self.shifted.is_none() {
+            self.shifted = Some(shift(&self.road, s.faults.map_shift_m));
+            changed = true;
+        }
+        if !changed {
+            return Ok(None);
+        }
+        let (road, revision) = match &self.shifted {
+            Some(r) => (r, 2),
+            None => (&self.road, 1),
+        };
+        let e = |x: messages::BuildError| x.to_string();
+        let map = messages::build_map(road, 1, revision, self.zones.first()).map_err(e)?;
+        let map = messages::encode(&map).map_err(e)?;
+        let mut tims = Vec::new();
+        for z in &self.zones {
+            let tim = messages::build_tim(road, z).map_err(e)?;
+            tims.push(messages::encode(&tim).map_err(e)?);
+        }
+        Ok(Some(OnAir { map, tims }))
+    }
+}
+
+/// The road with every lane moved `left_m` to the left of its direction of travel (a
+/// resurveyed map: new MAP revision).
+fn shift(road: &Road, left_m: f64) -> Road {
+    let lanes = road
+        .lanes
+        .iter()
+        .map(|l| {
+            let centre = (0..l.centre.len())
+                .map(|i| {
+                    let s: f64 = l.centre[..=i]
+                        .windows(2)
+                        .map(|w| crate::road::dist(w[0], w[1]))
+                        .sum();
+                    l.beside(s, left_m).map_or(l.centre[i], |o| o.point)
+                })
+                .collect();
+            RoadLane {
+                centre,
+                ..l.clone()
+            }
+        })
+        .collect();
+    Road::new(road.reference, lanes)
+}
+
+/// The radio between the roadside and the OBU: losses (a two-state burst model) and bit
+/// flips, seeded.
+struct Radio {
+    rng: Rng,
+    loss: f64,
+    burst: f64,
+    corrupt: f64,
+    in_burst: bool,
+}
+
+impl Radio {
+    /// True when the next datagram is lost. With mean burst length `b` > 1 the loss
+    /// state persists with probability 1 - 1/b and is entered so that the long-run loss
+    /// fraction stays `loss`.
+    fn lost(&mut self) -> bool {
+        if self.loss <= 0.0 {
+            return false;
+        }
+        if self.burst <= 1.0 {
+            return self.rng.uniform() < self.loss;
+        }
+        let leave = 1.0 / self.burst;
+        let enter = (self.loss * leave / (1.0 - self.loss).max(1e-9)).min(1.0);
+        let p = if self.in_burst { 1.0 - leave } else { enter };
+        self.in_burst = self.rng.uniform() < p;
+        self.in_burst
+    }
+
+    /// The datagram as it arrives (maybe with one bit flipped); true when corrupted.
+    fn corrupt(&mut self, d: &mut [u8]) -> bool {
+        if d.is_empty() || self.rng.uniform() >= self.corrupt {
+            return false;
+        }
+        let bit = (self.rng.uniform() * (d.len() * 8) as f64) as usize % (d.len() * 8);
+        d[bit / 8] ^= 0x80 >> (bit % 8);
+        true
+    }
+}
+
+/// Starts the roadside thread; it stops when `stop` turns true and returns when the
+/// first TIM left and the datagram counts.
+pub fn spawn(
+    s: &Scenario,
+    road: &Road,
+    zones: &[WorkZone],
+    to: &str,
+    t0: Instant,
+    stop: Arc<AtomicBool>,
+) -> Result<JoinHandle<(Option<Instant>, V2xCounts)>, String> {
+    let sock = UdpSocket::bind("127.0.0.1:0").map_err(|e| e.to_string())?;
+    let to = to.to_string();
+    let s = s.clone();
+    let mut timeline = Timeline {
+        road: road.clone(),
+        shifted: None,
+        zones: zones.to_vec(),
+        removed: vec![false; zones.len()],
+        shrunk: vec![false; zones.len()],
+    };
+    let mut air = timeline.at(&s, 0.0)?.ok_or("no messages at the start")?;
+    let mut radio = Radio {
+        rng: Rng::new(s.faults.seed ^ 0x5EED),
+        loss: s.faults.loss_rate.clamp(0.0, 1.0),
+        burst: s.faults.loss_burst,
+        corrupt: s.faults.corrupt_rate.clamp(0.0, 1.0),
+        in_burst: false,
+    };
+    Ok(std::thread::spawn(move || {
+        let mut counts = V2xCounts::default();
+        let mut first_tim = None;
+        let mut next = t0;
+        while !stop.load(Ordering::Relaxed) {
+            let t = next.saturating_duration_since(t0).as_secs_f64();
+            if let Ok(Some(new)) = timeline.at(&s, t) {
+                air = new;
+            }
+            let tims = if t >= s.faults.tim_delay_s {
+                air.tims.as_slice()
+            } else {
+                &[]
+            };
+            for (i, d) in std::iter::once(&air.map).chain(tims).enumerate() {
+                if radio.lost() {
+                    counts.lost += 1;
+                    continue;
+                }
+                let mut d = d.clone();
+                counts.corrupted += radio.corrupt(&mut d) as u64;
+                if sock.send_to(&d, &to).is_ok() {
+                    counts.sent += 1;
+                    if i > 0 && first_tim.is_none() {
+                        first_tim = Some(Instant::now());
+                    }
+                }
+            }
+            next += PERIOD;
+            std::thread::sleep(next.saturating_duration_since(Instant::now()));
+        }
+        (first_tim, counts)
+    }))
+}

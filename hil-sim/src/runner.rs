@@ -1,0 +1,374 @@
+//! `hil-sim run`: a scenario against the real `obu` daemon. The roadside broadcasts the
+//! scenario's MAP and TIM over UDP (with its faults), the simulated receiver sends NMEA at
+//! 10 Hz (and a candump replay the CAN speed), every `HmiState` of the daemon's event
+//! stream is recorded with its arrival time, joined with the simulated truth, checked
+//! against the expectations, and written as `report.json`, `states.jsonl` and plots.
+
+use crate::clock::{unix_ms_now, Utc};
+use crate::daemon::Daemon;
+use crate::drive::{self, Sample};
+use crate::expect::{self, Outcome, Record, RunFacts};
+use crate::messages::{SignSpeed, WorkZone, DURATION_INDEFINITE};
+use crate::nmea::{self, Epoch};
+use crate::road::Road;
+use crate::scenario::Scenario;
+use crate::sse::SseClient;
+use obu::alert::HmiState;
+use serde::Serialize;
+use std::io::Write;
+use std::net::UdpSocket;
+use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::{Arc, Mutex};
+use std::time::{Duration, Instant};
+
+/// How to run.
+#[derive(Debug, Clone)]
+pub struct RunOptions {
+    /// The `obu` executable.
+    pub obu: PathBuf,
+    /// Where the report goes.
+    pub out: PathBuf,
+    /// HTTP port of the daemon (0: any free one).
+    pub http_port: u16,
+    /// Print a progress bar on stderr.
+    pub progress: bool,
+}
+
+/// The report of one run (`report.json`).
+#[derive(Debug, Clone, Serialize)]
+pub struct RunReport {
+    /// Scenario name.
+    pub name: String,
+    /// All expectations hold.
+    pub passed: bool,
+    /// The verdicts.
+    pub outcomes: Vec<Outcome>,
+    /// Where the first warning fired: true metres before the zone start.
+    pub first_warning_m: Option<f64>,
+    /// NMEA datagram sent -> its state received on `/events`, milliseconds (p50, p99, max).
+    pub fix_to_screen_ms: [f64; 3],
+    /// First TIM sent -> first state showing a zone, milliseconds.
+    pub tim_to_screen_ms: Option<f64>,
+    /// Fixes sent, states recorded.
+    pub fixes_sent: usize,
+    /// States recorded.
+    pub states: usize,
+    /// V2X datagrams sent, lost to the fault model, corrupted.
+    pub v2x: V2xCounts,
+    /// Files written.
+    pub files: Vec<PathBuf>,
+}
+
+/// V2X datagram counts of a run.
+#[derive(Debug, Clone, Copy, Default, Serialize)]
+pub struct V2xCounts {
+    /// Handed to the socket.
+    pub sent: u64,
+    /// Dropped by the loss model.
+    pub lost: u64,
+    /// Sent with a flipped bit.
+    pub corrupted: u64,
+}
+
+/// The zones of the scenario as the roadside builds them (stable packet ids).
+pub fn build_zones(s: &Scenario, road: &Road, start: Utc) -> Result<Vec<WorkZone>, String> {
+    let mut out = Vec::new();
+    for (i, z) in s.zones.iter().enumerate() {
+        let mut packet_id = *b"HILZONE00";
+        packet_id[7] = b'0' + (i / 10) as u8 % 10;
+        packet_id[8] = b'0' + (i % 10) as u8;
+        let speed_limit = match (z.limit_kmh, z.limit_mph) {
+            (_, Some(v)) => Some(SignSpeed {
+                value: v,
+                mph: true,
+            }),
+            (Some(v), None) => Some(SignSpeed {
+                value: v,
+                mph: false,
+            }),
+            (None, None) => None,
+        };
+        let (closed_lanes, start_m, end_m) = crate::zone_sources::geometry(s, road, &z.source)?;
+        out.push(WorkZone {
+            closed_lanes,
+            start_m,
+            end_m,
+            speed_limit,
+            packet_id,
+            msg_cnt: 1,
+            start,
+            duration_min: DURATION_INDEFINITE,
+        });
+    }
+    Ok(out)
+}
+
+/// What the run produced before the checks.
+struct Recorded {
+    t0: Instant,
+    samples: Vec<Sample>,
+    sent: Vec<(usize, Instant)>,
+    states: Vec<(Instant, serde_json::Value)>,
+    first_tim: Option<Instant>,
+    v2x: V2xCounts,
+}
+
+/// Runs a scenario and writes its report into `opts.out`.
+pub fn run(s: &Scenario, opts: &RunOptions) -> Result<RunReport, String> {
+    std::fs::create_dir_all(&opts.out).map_err(|e| format!("{}: {e}", opts.out.display()))?;
+    let road = s.road()?;
+    let start = Utc::from_unix_ms(unix_ms_now().saturating_sub(120_000));
+    let zones = build_zones(s, &road, start)?;
+    let samples = drive::simulate(&road, &s.drive, 900.0).map_err(|e| e.to_string())?;
+    if samples.is_empty() {
+        return Err("the drive has no samples (start past its end?)".into());
+    }
+    let state_dir = opts.out.join("obu-state");
+    let _ = std::fs::remove_dir_all(&state_dir);
+    let mut extra = format!(
+        "\n[alerts]\nwarning_distance_m = {}\nlead_time_s = {}\n",
+        s.settings.warning_distance_m, s.settings.lead_time_s
+    );
+    let t0_unix = unix_ms_now() as f64 / 1000.0;
+    if s.can_speed {
+        let log = state_dir.join("speed.candump");
+        std::fs::create_dir_all(&state_dir).map_err(|e| e.to_string())?;
+        std::fs::write(&log, drive::candump(&samples, t0_unix)).map_err(|e| e.to_string())?;
+        extra.push_str(&format!(
+            "\n[speed]\nsource = \"candump-file\"\nfile = {:?}\n",
+            log
+        ));
+    }
+    let daemon = crate::hmi_bench::start_daemon(&opts.obu, &state_dir, opts.http_port, &extra)?;
+    if opts.http_port != 0 {
+        println!("hil-sim: the tablet app is live at {}", daemon.http);
+    }
+    let recorded = drive_and_record(s, &road, &zones, samples, &daemon, opts.progress)?;
+    drop(daemon);
+    report(s, &road, &zones, recorded, opts)
+}
+
+/// Feeds the daemon for the whole drive while recording its states.
+fn drive_and_record(
+    s: &Scenario,
+    road: &Road,
+    zones: &[WorkZone],
+    samples: Vec<Sample>,
+    daemon: &Daemon,
+    progress: bool,
+) -> Result<Recorded, String> {
+    let stop = Arc::new(AtomicBool::new(false));
+    let states = Arc::new(Mutex::new(Vec::new()));
+    let mut sse = SseClient::connect(daemon.http_addr(), Duration::from_millis(500))?;
+    let recorder = {
+        let (stop, states) = (stop.clone(), states.clone());
+        std::thread::spawn(move || {
+            while !stop.load(Ordering::Relaxed) {
+                if let Ok(ev) = sse.next_event() {
+                    if ev.event == "state" {
+                        if let Ok(v) = serde_json::from_str::<serde_json::Value>(&ev.data) {
+                            states
+                                .lock()
+                                .unwrap_or_else(|p| p.into_inner())
+                                .push((Instant::now(), v));
+                        }
+                    }
+                }
+            }
+        })
+    };
+    let t0 = Instant::now();
+    let v2x = crate::roadside::spawn(s, road, zones, &daemon.v2x, t0, stop.clone())?;
+    let sock = UdpSocket::bind("127.0.0.1:0").map_err(|e| e.to_string())?;
+    let mut sent = Vec::with_capacity(samples.len());
+    for (k, sample) in samples.iter().enumerate() {
+        let due = t0 + Duration::from_secs_f64(sample.t_s);
+        std::thread::sleep(due.saturating_duration_since(Instant::now()));
+        if let Some(p) = sample.reported {
+            let Some(position) = road.to_wgs84(p) else {
+                continue;
+            };
+            let e = Epoch {
+                utc: Utc::now(),
+                position,
+                speed_mps: sample.speed_mps,
+                course_deg: sample.bearing_deg,
+                sigma_m: s.drive.sigma_m.max(0.3),
+            };
+            sent.push((k, Instant::now()));
+            let _ = sock.send_to(nmea::epoch(&e).as_bytes(), &daemon.gnss);
+        }
+        if progress && k % 10 == 0 {
+            progress_bar(k + 1, samples.len(), sample.t_s);
+        }
+    }
+    if progress {
+        eprintln!();
+    }
+    // Let the last states (and a "no GNSS" after the end) arrive.
+    std::thread::sleep(Duration::from_millis(1200));
+    stop.store(true, Ordering::Relaxed);
+    let _ = recorder.join();
+    let (first_tim, counts) = v2x.join().map_err(|_| "the roadside thread panicked")?;
+    let states = std::mem::take(&mut *states.lock().unwrap_or_else(|p| p.into_inner()));
+    Ok(Recorded {
+        t0,
+        samples,
+        sent,
+        states,
+        first_tim,
+        v2x: counts,
+    })
+}
+
+fn progress_bar(done: usize, total: usize, t_s: f64) {
+    let width = 40;
+    let filled = done * width / total.max(1);
+    eprint!(
+        "\r[{}{}] {:3}% t = {t_s:5.1} s",
+        "#".repeat(filled),
+        " ".repeat(width - filled),
+        done * 100 / total.max(1)
+    );
+    let _ = std::io::stderr().flush();
+}
+
+/// True distance to the zone start along the car's lane and the zone length, when the
+/// zone lies beside that lane and runs its way.
+pub fn true_distance(road: &Road, zone: &WorkZone, sample: &Sample) -> Option<(f64, f64)> {
+    let first = road.lane(*zone.closed_lanes.first()?)?;
+    let (zs, ze) = (first.at(zone.start_m)?, first.at(zone.end_m)?);
+    let lane = road.lane(sample.lane)?;
+    let (s_car, _) = lane.project(sample.point)?;
+    let (s_start, d) = lane.project(zs.point)?;
+    let (s_end, _) = lane.project(ze.point)?;
+    let here = lane.at(s_start)?;
+    let diff = (here.bearing_deg - zs.bearing_deg).rem_euclid(360.0);
+    (d < 20.0 && diff.min(360.0 - diff) < 90.0).then_some((s_start - s_car, s_end - s_start))
+}
+
+/// Joins states with the truth, checks, writes the files.
+fn report(
+    s: &Scenario,
+    road: &Road,
+    zones: &[WorkZone],
+    rec: Recorded,
+    opts: &RunOptions,
+) -> Result<RunReport, String> {
+    let since = |t: Instant| t.saturating_duration_since(rec.t0).as_secs_f64();
+    let mut records = Vec::with_capacity(rec.states.len());
+    let mut latencies = Vec::new();
+    let mut tim_to_screen = None;
+    let mut states_file = String::new();
+    for (at, v) in &rec.states {
+        let Ok(state) = serde_json::from_value::<HmiState>(v["state"].clone()) else {
+            continue;
+        };
+        let fixes = state.counters.fixes as usize;
+        let sent = fixes.checked_sub(1).and_then(|i| rec.sent.get(i));
+        if let Some((_, t_sent)) = sent {
+            if records
+                .last()
+                .is_none_or(|r: &Record| r.state.counters.fixes as usize != fixes)
+            {
+                latencies.push(at.saturating_duration_since(*t_sent).as_secs_f64() * 1000.0);
+            }
+        }
+        if tim_to_screen.is_none() && state.zones > 0 {
+            tim_to_screen = rec
+                .first_tim
+                .map(|t| at.saturating_duration_since(t).as_secs_f64() * 1000.0);
+        }
+        let sample = sent.map(|(k, _)| *k);
+        let truth = sample.map(|k| &rec.samples[k]);
+        let dist = truth.and_then(|t| zones.first().and_then(|z| true_distance(road, z, t)));
+        states_file.push_str(
+            &serde_json::json!({"t_s": since(*at), "sample": sample, "state": v["state"]})
+                .to_string(),
+        );
+        states_file.push('\n');
+        records.push(Record {
+            t_s: since(*at),
+            state,
+            sample,
+            true_lane: truth.map(|t| t.lane),
+            distance_m: dist.map(|d| d.0),
+            zone_len_m: dist.map(|d| d.1),
+            true_speed_mps: truth.map(|t| t.speed_mps),
+        });
+    }
+    let facts = run_facts(s, &rec);
+    let outcomes: Vec<Outcome> = s
+        .expectations
+        .iter()
+        .map(|e| expect::check(e, &records, &facts))
+        .collect();
+    latencies.sort_by(f64::total_cmp);
+    let q = |p: f64| {
+        latencies
+            .get(((p * latencies.len() as f64).ceil() as usize).max(1) - 1)
+            .copied()
+            .unwrap_or(f64::NAN)
+    };
+    let first_warning_m = records
+        .iter()
+        .find(|r| r.state.zone_state == obu::alert::ZoneState::Warning)
+        .and_then(|r| r.distance_m);
+    let mut files = vec![opts.out.join("report.json"), opts.out.join("states.jsonl")];
+    std::fs::write(&files[1], states_file).map_err(|e| e.to_string())?;
+    files.extend(crate::report_plots::write(
+        s,
+        road,
+        zones,
+        &rec.samples,
+        &records,
+        &opts.out,
+    )?);
+    let report = RunReport {
+        name: s.name.clone(),
+        passed: outcomes.iter().all(|o| o.passed),
+        outcomes,
+        first_warning_m,
+        fix_to_screen_ms: [q(0.5), q(0.99), q(1.0)],
+        tim_to_screen_ms: tim_to_screen,
+        fixes_sent: rec.sent.len(),
+        states: records.len(),
+        v2x: rec.v2x,
+        files: files.clone(),
+    };
+    let json = serde_json::to_string_pretty(&report).map_err(|e| e.to_string())?;
+    std::fs::write(&files[0], json).map_err(|e| e.to_string())?;
+    Ok(report)
+}
+
+/// Times of the run the checks need.
+fn run_facts(s: &Scenario, rec: &Recorded) -> RunFacts {
+    let dropout_starts_s = s
+        .drive
+        .dropouts
+        .iter()
+        .filter_map(|&(start, _)| {
+            rec.sent
+                .iter()
+                .rev()
+                .find(|(k, _)| rec.samples[*k].t_s < start)
+                .map(|(_, t)| t.saturating_duration_since(rec.t0).as_secs_f64())
+        })
+        .collect();
+    RunFacts {
+        dropout_starts_s,
+        removed_at_s: s
+            .zones
+            .iter()
+            .filter_map(|z| z.removed_at_s)
+            .reduce(f64::min),
+        overspeed_tolerance_mps: 5.0 / 3.6,
+        warning_distance_m: s.settings.warning_distance_m,
+    }
+}
+
+/// The path of a scenario's output folder under `root`.
+pub fn out_dir(root: &Path, scenario: &Path) -> PathBuf {
+    root.join(scenario.file_stem().unwrap_or_default())
+}
