@@ -73,7 +73,11 @@ impl<'a> Writer<'a> {
         if !self.counting && n <= 56 {
             let used = (self.pos % 8) as u32;
             let byte = self.pos / 8;
-            if let Some(dst) = self.buf.get_mut(byte..).and_then(|s| s.first_chunk_mut::<8>()) {
+            if let Some(dst) = self
+                .buf
+                .get_mut(byte..)
+                .and_then(|s| s.first_chunk_mut::<8>())
+            {
                 let keep = ((dst[0] as u64) << 56) & !(u64::MAX >> used);
                 let bits = value.checked_shl(64 - n).unwrap_or(0) >> used;
                 *dst = (keep | bits).to_be_bytes();

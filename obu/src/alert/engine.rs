@@ -153,7 +153,10 @@ mod tests {
         out.reverse();
         arbitrate(out, &mut hmi);
         assert_eq!(hmi.primary.map(|a| a.kind), Some(AlertKind::LaneClosedOwn));
-        assert_eq!(hmi.others.first().map(|a| a.kind), Some(AlertKind::Overspeed));
+        assert_eq!(
+            hmi.others.first().map(|a| a.kind),
+            Some(AlertKind::Overspeed)
+        );
         assert_eq!(hmi.others.len(), 2);
         // In an open lane the overspeed comes first.
         let mut out: Vec<Alert, 8> = Vec::new();

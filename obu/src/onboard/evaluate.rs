@@ -254,7 +254,7 @@ impl Obu {
                 };
                 let beside = pos.beyond < 1.0 && same_way(pos.bearing_deg, own.bearing_deg);
                 let offset = pos.lateral - own.lateral;
-                if !beside || !(offset.abs() < ROAD_REACH_M) {
+                if !beside || offset.is_nan() || offset.abs() >= ROAD_REACH_M {
                     continue;
                 }
                 offset

@@ -183,7 +183,7 @@ impl Region {
         let along = -(p.x * ux + p.y * uy);
         let aside = p.x * uy - p.y * ux;
         let half2 = radius * radius - aside * aside;
-        if !(half2 >= 0.0) {
+        if half2.is_nan() || half2 < 0.0 {
             return None;
         }
         let half = libm::sqrtf(half2);
