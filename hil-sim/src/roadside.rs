@@ -1,8 +1,9 @@
 //! The roadside unit of a scenario run: broadcasts the MAP and one TIM per zone at 10 Hz
 //! to the OBU's V2X port, following the scenario's timeline (TIM delayed, MAP revision
-//! changed, zones shrunk or removed) through its radio faults (loss, corruption).
+//! changed, zones shrunk or removed) through its radio faults (loss, corruption), the
+//! broadcaster's fault model ([`crate::broadcast::FaultInjector`]).
 
-use crate::drive::Rng;
+use crate::broadcast::{FaultInjector, Faults, LossModel, MessageKind, Verdict};
 use crate::messages::{self, WorkZone};
 use crate::road::{Road, RoadLane};
 use crate::runner::V2xCounts;
@@ -101,43 +102,24 @@ fn shift(road: &Road, left_m: f64) -> Road {
     Road::new(road.reference, lanes)
 }
 
-/// The radio between the roadside and the OBU: losses (a two-state burst model) and bit
-/// flips, seeded.
-struct Radio {
-    rng: Rng,
-    loss: f64,
-    burst: f64,
-    corrupt: f64,
-    in_burst: bool,
-}
-
-impl Radio {
-    /// True when the next datagram is lost. With mean burst length `b` > 1 the loss
-    /// state persists with probability 1 - 1/b and is entered so that the long-run loss
-    /// fraction stays `loss`.
-    fn lost(&mut self) -> bool {
-        if self.loss <= 0.0 {
-            return false;
-        }
-        if self.burst <= 1.0 {
-            return self.rng.uniform() < self.loss;
-        }
-        let leave = 1.0 / self.burst;
-        let enter = (self.loss * leave / (1.0 - self.loss).max(1e-9)).min(1.0);
-        let p = if self.in_burst { 1.0 - leave } else { enter };
-        self.in_burst = self.rng.uniform() < p;
-        self.in_burst
-    }
-
-    /// The datagram as it arrives (maybe with one bit flipped); true when corrupted.
-    fn corrupt(&mut self, d: &mut [u8]) -> bool {
-        if d.is_empty() || self.rng.uniform() >= self.corrupt {
-            return false;
-        }
-        let bit = (self.rng.uniform() * (d.len() * 8) as f64) as usize % (d.len() * 8);
-        d[bit / 8] ^= 0x80 >> (bit % 8);
-        true
-    }
+/// The radio faults of a scenario as the broadcaster's fault model: losses (bursty when
+/// the mean burst length is over 1), bit flips, and no TIM before the delay.
+fn radio(s: &Scenario, t0: Instant) -> Result<FaultInjector, String> {
+    let f = &s.faults;
+    let loss = if f.loss_rate <= 0.0 {
+        LossModel::None
+    } else if f.loss_burst > 1.0 {
+        LossModel::bursts(f.loss_rate, f.loss_burst).map_err(|e| format!("faults: {e}"))?
+    } else {
+        LossModel::independent(f.loss_rate).map_err(|e| format!("faults: {e}"))?
+    };
+    FaultInjector::new(Faults {
+        loss,
+        corrupt_fraction: f.corrupt_rate,
+        tim_not_before: (f.tim_delay_s > 0.0).then(|| t0 + Duration::from_secs_f64(f.tim_delay_s)),
+        seed: f.seed,
+    })
+    .map_err(|e| format!("faults: {e}"))
 }
 
 /// Starts the roadside thread; it stops when `stop` turns true and returns when the
@@ -161,13 +143,7 @@ pub fn spawn(
         shrunk: vec![false; zones.len()],
     };
     let mut air = timeline.at(&s, 0.0)?.ok_or("no messages at the start")?;
-    let mut radio = Radio {
-        rng: Rng::new(s.faults.seed ^ 0x5EED),
-        loss: s.faults.loss_rate.clamp(0.0, 1.0),
-        burst: s.faults.loss_burst,
-        corrupt: s.faults.corrupt_rate.clamp(0.0, 1.0),
-        in_burst: false,
-    };
+    let mut radio = radio(&s, t0)?;
     Ok(std::thread::spawn(move || {
         let mut counts = V2xCounts::default();
         let mut first_tim = None;
@@ -177,21 +153,21 @@ pub fn spawn(
             if let Ok(Some(new)) = timeline.at(&s, t) {
                 air = new;
             }
-            let tims = if t >= s.faults.tim_delay_s {
-                air.tims.as_slice()
-            } else {
-                &[]
-            };
-            for (i, d) in std::iter::once(&air.map).chain(tims).enumerate() {
-                if radio.lost() {
-                    counts.lost += 1;
-                    continue;
-                }
+            let now = Instant::now();
+            for d in std::iter::once(&air.map).chain(&air.tims) {
                 let mut d = d.clone();
-                counts.corrupted += radio.corrupt(&mut d) as u64;
+                let kind = MessageKind::of_frame(&d).unwrap_or(MessageKind::Other(0));
+                match radio.decide(0, kind, now, &mut d) {
+                    Verdict::Drop(_) => {
+                        counts.lost += 1;
+                        continue;
+                    }
+                    Verdict::Corrupted { .. } => counts.corrupted += 1,
+                    Verdict::Send => {}
+                }
                 if sock.send_to(&d, &to).is_ok() {
                     counts.sent += 1;
-                    if i > 0 && first_tim.is_none() {
+                    if kind == MessageKind::Tim && first_tim.is_none() {
                         first_tim = Some(Instant::now());
                     }
                 }
