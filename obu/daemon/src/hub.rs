@@ -105,10 +105,22 @@ impl Hub {
         self.inner.lock().unwrap_or_else(|p| p.into_inner())
     }
 
-    /// Runs `f` on the core (for message ingestion).
-    pub fn with_core<R>(&self, f: impl FnOnce(&mut obu::Obu, Instant) -> R) -> R {
+    /// A decoded message into the core; when it changed what is stored (zones or maps
+    /// stored, replaced or cancelled) the new state is published at once.
+    pub fn on_frame(
+        &self,
+        mf: &j2735::MessageFrame,
+    ) -> Result<obu::ingest::Ingest, obu::ingest::IngestError> {
         let now = self.now();
-        f(&mut self.lock().core, now)
+        let mut inner = self.lock();
+        let result = inner.core.on_frame(now, mf);
+        if let Ok(r) = &result {
+            if r.stored > 0 || r.cancelled > 0 {
+                let state = inner.core.state(now);
+                self.publish(&mut inner, &state);
+            }
+        }
+        result
     }
 
     /// A GNSS fix: CAN speed replaces GNSS speed while fresh; publishes the new state.

@@ -5,7 +5,5 @@ use j2735::MessageFrame;
 
 /// Gives a decoded frame to the core; the error is the core's reason for refusing (part of) it.
 pub fn frame(hub: &Hub, mf: &MessageFrame) -> Result<(), String> {
-    hub.with_core(|core, now| core.on_frame(now, mf))
-        .map(|_| ())
-        .map_err(|e| e.to_string())
+    hub.on_frame(mf).map(|_| ()).map_err(|e| e.to_string())
 }

@@ -387,3 +387,34 @@ fn hostile_http_is_refused_and_counted() {
         "{s}"
     );
 }
+
+#[test]
+fn a_new_zone_is_published_at_once_without_waiting_for_a_fix() {
+    let dir = temp_dir("zone-now");
+    let d = Daemon::start(&write_config(&dir, free_udp_port()));
+    let mut events = open_events(&d.http, None);
+    let udp = UdpSocket::bind("127.0.0.1:0").unwrap();
+    udp.send_to(&vector("map_work_zone"), &d.v2x).unwrap();
+    udp.send_to(&vector("tim_work_zone_left_lane_closed"), &d.v2x)
+        .unwrap();
+    // No GNSS at all: the states come from the messages alone (after the "no GNSS"
+    // state of the start).
+    let got = read_events(&mut events, 3);
+    let maps: Vec<_> = got.iter().map(|e| e.1["state"]["maps"].clone()).collect();
+    let zones: Vec<_> = got.iter().map(|e| e.1["state"]["zones"].clone()).collect();
+    assert_eq!(maps, [0, 1, 1], "{got:?}");
+    // The TIM has two data frames (closure, speed limit): two zones.
+    assert_eq!(zones, [0, 0, 2], "{got:?}");
+    // The same TIM again changes nothing: no state.
+    udp.send_to(&vector("tim_work_zone_left_lane_closed"), &d.v2x)
+        .unwrap();
+    let mut quiet = open_events(&d.http, Some(&format!("{}-{}", run_of(&d.http), got[2].0)));
+    quiet
+        .get_mut()
+        .set_read_timeout(Some(Duration::from_millis(700)))
+        .unwrap();
+    assert!(
+        read_events(&mut quiet, 1).is_empty(),
+        "a repeat is not news"
+    );
+}

@@ -142,6 +142,13 @@ impl Obu {
         (expired > 0 || newly_stale).then(|| self.evaluate(now, !stale))
     }
 
+    /// The display state at `now` without a new fix: for a caller that publishes as
+    /// soon as a message changed what is stored (a new zone, a cancelled one, a new MAP
+    /// revision), instead of waiting for the next fix.
+    pub fn state(&self, now: Instant) -> HmiState {
+        self.evaluate(now, self.gnss_fresh(now))
+    }
+
     /// When [`Obu::poll`] next has work, if ever.
     pub fn next_deadline(&self) -> Option<Instant> {
         let gnss = match (self.last_fix, self.stale_reported) {
