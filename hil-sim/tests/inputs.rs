@@ -2,6 +2,7 @@
 //! from the fixtures in `tests/data/`, the MAP and TIM built from them, and the errors of
 //! malformed variants.
 
+use hil_sim::broadcast::Prng;
 use hil_sim::geojson::{
     load_cones, load_lane_map, rfc3339_unix_ms, work_zones_from_wzdx, InputError, Problem,
 };
@@ -523,4 +524,34 @@ fn cone_errors_name_the_line_or_item() {
     );
     let err = load_cones(&road, "{\"lat\": 39.75, \"lon\": -104.99}").unwrap_err();
     assert!(err.to_string().contains("an array"), "{err}");
+}
+
+#[test]
+fn mutated_inputs_never_panic() {
+    let road = road();
+    let mut rng = Prng::new(2026);
+    let alphabet = b" \"[]{},:.-+eE0123456789#\nabcdefghijklmnopqrstuvwxyzNaN";
+    for text in [LANE_MAP, WZDX, CONES_JSON, CONES_CSV] {
+        for _ in 0..400 {
+            let mut bytes = text.as_bytes().to_vec();
+            for _ in 0..=rng.below(4) {
+                let at = rng.below(bytes.len() as u64) as usize;
+                match rng.below(3) {
+                    0 => bytes[at] = alphabet[rng.below(alphabet.len() as u64) as usize],
+                    1 => {
+                        bytes.remove(at);
+                    }
+                    _ => bytes.truncate(at),
+                }
+                if bytes.is_empty() {
+                    break;
+                }
+            }
+            // The fixtures and the alphabet are ASCII, so this is still UTF-8.
+            let mutated = String::from_utf8(bytes).unwrap();
+            let _ = load_lane_map(&mutated);
+            let _ = work_zones_from_wzdx(&road, &mutated);
+            let _ = load_cones(&road, &mutated);
+        }
+    }
 }

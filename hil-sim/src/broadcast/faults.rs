@@ -1,0 +1,222 @@
+//! Seeded fault injection: the [`Prng`], the [`Faults`] to inject and the sans-IO
+//! [`FaultInjector`] that decides the fate of each datagram.
+
+use super::loss::{probabilities, LossChannel, LossModel};
+use super::message::MessageKind;
+use super::MAX_RATE_HZ;
+use std::fmt;
+use std::time::Instant;
+
+/// A small seeded pseudo-random generator (SplitMix64): the same seed gives the same
+/// faults on every run and machine.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Prng(u64);
+
+impl Prng {
+    /// A generator from `seed`.
+    pub const fn new(seed: u64) -> Self {
+        Self(seed)
+    }
+
+    /// The next 64 random bits.
+    pub fn next_u64(&mut self) -> u64 {
+        self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+        z ^ (z >> 31)
+    }
+
+    /// A uniform number in `[0, 1)`.
+    pub fn next_f64(&mut self) -> f64 {
+        (self.next_u64() >> 11) as f64 / (1u64 << 53) as f64
+    }
+
+    /// True with probability `p` (never for `p <= 0`, always for `p >= 1`).
+    pub fn chance(&mut self, p: f64) -> bool {
+        self.next_f64() < p
+    }
+
+    /// A number in `0..n` (0 when `n` is 0).
+    pub fn below(&mut self, n: u64) -> u64 {
+        ((u128::from(self.next_u64()) * u128::from(n)) >> 64) as u64
+    }
+
+    /// An independent generator seeded from this one.
+    pub fn fork(&mut self) -> Self {
+        Self::new(self.next_u64())
+    }
+}
+
+/// Why a fault or rate setting was refused.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum ConfigError {
+    /// A probability or fraction outside 0-1 (or not a number).
+    Probability {
+        /// Which setting.
+        what: &'static str,
+        /// Its value.
+        value: f64,
+    },
+    /// A mean burst length below 1 datagram.
+    BurstLength {
+        /// The value.
+        value: f64,
+    },
+    /// Bursts this short cannot lose this much: the good state would have to turn bad
+    /// more than always.
+    BurstsTooShort {
+        /// The asked loss rate.
+        rate: f64,
+        /// The asked mean burst length.
+        mean_burst_len: f64,
+    },
+    /// A rate outside (0, [`MAX_RATE_HZ`]] Hz.
+    Rate {
+        /// The value, Hz.
+        hz: f64,
+    },
+}
+
+impl fmt::Display for ConfigError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Self::Probability { what, value } => {
+                write!(f, "{what} is {value}; it must be a fraction from 0 to 1")
+            }
+            Self::BurstLength { value } => {
+                write!(f, "mean burst length {value}; it must be at least 1 datagram")
+            }
+            Self::BurstsTooShort {
+                rate,
+                mean_burst_len,
+            } => write!(
+                f,
+                "a loss rate of {rate} needs bursts of at least {:.2} datagrams on average, not {mean_burst_len}",
+                rate / (1.0 - rate)
+            ),
+            Self::Rate { hz } => write!(
+                f,
+                "rate {hz} Hz; it must be above 0 and at most {MAX_RATE_HZ} Hz"
+            ),
+        }
+    }
+}
+
+impl std::error::Error for ConfigError {}
+
+/// The faults to inject.
+#[derive(Clone, Debug, PartialEq, Default)]
+pub struct Faults {
+    /// Datagram loss.
+    pub loss: LossModel,
+    /// Fraction (0-1) of the datagrams that get one random bit flipped.
+    pub corrupt_fraction: f64,
+    /// No TIM is sent before this time (MAPs are).
+    pub tim_not_before: Option<Instant>,
+    /// Seed of every random choice.
+    pub seed: u64,
+}
+
+impl Faults {
+    /// Checks the settings.
+    ///
+    /// # Errors
+    ///
+    /// [`ConfigError`] for a loss probability or corruption fraction outside 0-1.
+    pub fn validate(&self) -> Result<(), ConfigError> {
+        self.loss.validate()?;
+        probabilities(&[("corrupt_fraction", self.corrupt_fraction)])
+    }
+}
+
+/// Why a datagram was not sent.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum DropReason {
+    /// The loss model lost it.
+    Loss,
+    /// A TIM before [`Faults::tim_not_before`].
+    TimHeld,
+}
+
+/// What happens to one datagram.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Verdict {
+    /// Send it as it is.
+    Send,
+    /// Send it with bit `bit` (0 = most significant bit of the first byte) flipped.
+    Corrupted {
+        /// The flipped bit.
+        bit: usize,
+    },
+    /// Do not send it.
+    Drop(DropReason),
+}
+
+/// Decides the fate of each datagram: sans-IO, seeded, per destination.
+#[derive(Clone, Debug)]
+pub struct FaultInjector {
+    faults: Faults,
+    loss_rng: Prng,
+    corrupt_rng: Prng,
+    channels: Vec<LossChannel>,
+}
+
+impl FaultInjector {
+    /// An injector of `faults`; loss and corruption use separate streams of the seed, so
+    /// turning corruption on does not change which datagrams are lost.
+    ///
+    /// # Errors
+    ///
+    /// [`ConfigError`] from [`Faults::validate`].
+    pub fn new(faults: Faults) -> Result<Self, ConfigError> {
+        faults.validate()?;
+        let mut seeds = Prng::new(faults.seed);
+        Ok(Self {
+            loss_rng: seeds.fork(),
+            corrupt_rng: seeds.fork(),
+            channels: Vec::new(),
+            faults,
+        })
+    }
+
+    /// The faults injected.
+    pub fn faults(&self) -> &Faults {
+        &self.faults
+    }
+
+    /// The fate of the next datagram of `kind` to destination number `destination` at
+    /// `now`; a corrupted datagram has its bit flipped in `datagram` here.
+    pub fn decide(
+        &mut self,
+        destination: usize,
+        kind: MessageKind,
+        now: Instant,
+        datagram: &mut [u8],
+    ) -> Verdict {
+        let held = self.faults.tim_not_before.is_some_and(|t| now < t);
+        if kind == MessageKind::Tim && held {
+            return Verdict::Drop(DropReason::TimHeld);
+        }
+        while self.channels.len() <= destination {
+            let channel = LossChannel::new(self.faults.loss, &mut self.loss_rng);
+            self.channels.push(channel);
+        }
+        let lost = self
+            .channels
+            .get_mut(destination)
+            .is_some_and(|c| c.drops(&mut self.loss_rng));
+        if lost {
+            return Verdict::Drop(DropReason::Loss);
+        }
+        let bits = datagram.len() as u64 * 8;
+        if bits == 0 || !self.corrupt_rng.chance(self.faults.corrupt_fraction) {
+            return Verdict::Send;
+        }
+        let bit = self.corrupt_rng.below(bits) as usize;
+        if let Some(byte) = datagram.get_mut(bit / 8) {
+            *byte ^= 0x80 >> (bit % 8);
+        }
+        Verdict::Corrupted { bit }
+    }
+}
