@@ -76,6 +76,67 @@ pub fn latency(obu: &Path, samples: usize, gap: Duration) -> Result<Latency, Str
     Ok(out)
 }
 
+/// Sends `samples` TIM datagrams one at a time, each a new version of the bench zone
+/// (`msgCnt` bumped), and times each from just before it leaves to the moment the state
+/// it caused (zone update counter raised) is read from `/events`: the roadside -> tablet
+/// path without waiting for a fix.
+pub fn tim_latency(obu: &Path, samples: usize, gap: Duration) -> Result<Latency, String> {
+    let dir = scratch("tim-latency");
+    let daemon = start_daemon(obu, &dir, 0, "")?;
+    let road = crate::hmi_bench::road();
+    let start =
+        crate::clock::Utc::from_unix_ms(crate::clock::unix_ms_now().saturating_sub(120_000));
+    let mut versions = Vec::with_capacity(128);
+    for cnt in 0..128u8 {
+        let mut zone = crate::hmi_bench::zone(start);
+        zone.msg_cnt = cnt;
+        let tim = crate::messages::build_tim(&road, &zone).map_err(|e| e.to_string())?;
+        versions.push(crate::messages::encode(&tim).map_err(|e| e.to_string())?);
+    }
+    let sock = std::net::UdpSocket::bind("127.0.0.1:0").map_err(|e| e.to_string())?;
+    let mut sse = SseClient::connect(daemon.http_addr(), Duration::from_secs(2))?;
+    let mut out = Latency {
+        sorted_us: Vec::with_capacity(samples),
+        lost: 0,
+    };
+    let mut updated = 0;
+    for i in 1..=samples {
+        std::thread::sleep(gap);
+        let t0 = Instant::now();
+        let _ = sock.send_to(&versions[i % 128], &daemon.v2x);
+        match counter_of(&mut sse, "zones_updated", updated + 1) {
+            Ok(n) => {
+                out.sorted_us.push(t0.elapsed().as_secs_f64() * 1e6);
+                updated = n;
+            }
+            Err(_) => out.lost += 1,
+        }
+    }
+    drop(daemon);
+    let _ = std::fs::remove_dir_all(dir);
+    out.sorted_us.sort_by(f64::total_cmp);
+    Ok(out)
+}
+
+/// Reads state events until one whose counter `name` is at least `want`; returns it.
+fn counter_of(sse: &mut SseClient, name: &str, want: u64) -> Result<u64, String> {
+    let deadline = Instant::now() + Duration::from_secs(1);
+    while Instant::now() < deadline {
+        let ev = sse.next_event()?;
+        if ev.event != "state" {
+            continue;
+        }
+        let v: serde_json::Value = serde_json::from_str(&ev.data).map_err(|e| e.to_string())?;
+        let n = v["state"]["counters"][name]
+            .as_u64()
+            .ok_or("no such counter")?;
+        if n >= want {
+            return Ok(n);
+        }
+    }
+    Err("no state event within a second".into())
+}
+
 /// Reads state events until one whose fix counter is at least `want` (any with `None`);
 /// returns its counter. Fails after a second without one.
 fn fixes_of(sse: &mut SseClient, want: Option<u64>) -> Result<u64, String> {

@@ -8,8 +8,10 @@
 //! distance band, the RMSE within 40 m, and the IoU of the lane-3 zone (along the lane) for
 //! zones ending 40, 60 and 90 m ahead. Run with `--nocapture` to see the table.
 
+use hil_sim::camera::synthetic::{self, PinholeCamera};
 use hil_sim::camera::{CameraModel, Correspondence, TopDown};
-use hil_sim::cones::{closures, BoundingBox};
+use hil_sim::cones::closures;
+use hil_sim::drive::Rng;
 use hil_sim::road::{dist, Road};
 use obu::LatLon;
 
@@ -22,112 +24,10 @@ const ZONE_ENDS: [f64; 3] = [40.0, 60.0, 90.0];
 const ZONE_START: f64 = 10.0;
 const CLOSED_LANE: u8 = 3;
 
-/// xorshift64* with Box-Muller normals.
-struct Rng(u64);
-
-impl Rng {
-    fn new(seed: u64) -> Self {
-        Self(seed.wrapping_mul(0x9E37_79B9_7F4A_7C15) | 1)
-    }
-
-    /// Uniform in (0, 1].
-    fn uniform(&mut self) -> f64 {
-        self.0 ^= self.0 >> 12;
-        self.0 ^= self.0 << 25;
-        self.0 ^= self.0 >> 27;
-        let x = self.0.wrapping_mul(0x2545_F491_4F6C_DD1D);
-        ((x >> 11) + 1) as f64 / (1u64 << 53) as f64
-    }
-
-    fn gauss(&mut self) -> f64 {
-        let (u, v) = (self.uniform(), self.uniform());
-        (-2.0 * u.ln()).sqrt() * (std::f64::consts::TAU * v).cos()
-    }
-
-    fn jitter(&mut self, p: [f64; 2], sigma: f64) -> [f64; 2] {
-        [p[0] + sigma * self.gauss(), p[1] + sigma * self.gauss()]
-    }
-}
-
-/// A pinhole camera over the road plane (local east/north/up metres).
-struct Camera {
-    centre: [f64; 3],
-    right: [f64; 3],
-    down: [f64; 3],
-    forward: [f64; 3],
-    focal_px: f64,
-    size: [f64; 2],
-}
-
-fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-}
-
-impl Camera {
-    /// Looking along `bearing_deg`, pitched `pitch_deg` down, 1920x1080, focal 1400 px.
-    fn new(centre: [f64; 3], bearing_deg: f64, pitch_deg: f64) -> Self {
-        let (sb, cb) = bearing_deg.to_radians().sin_cos();
-        let (sp, cp) = pitch_deg.to_radians().sin_cos();
-        let forward = [cp * sb, cp * cb, -sp];
-        let right = [cb, -sb, 0.0];
-        // down = forward x right
-        let down = [
-            forward[1] * right[2] - forward[2] * right[1],
-            forward[2] * right[0] - forward[0] * right[2],
-            forward[0] * right[1] - forward[1] * right[0],
-        ];
-        Self {
-            centre,
-            right,
-            down,
-            forward,
-            focal_px: 1400.0,
-            size: [1920.0, 1080.0],
-        }
-    }
-
-    /// Pixel of a 3-D point, if in front of the camera and inside the image.
-    fn project3(&self, p: [f64; 3]) -> Option<[f64; 2]> {
-        let r = [
-            p[0] - self.centre[0],
-            p[1] - self.centre[1],
-            p[2] - self.centre[2],
-        ];
-        let z = dot(r, self.forward);
-        let f = self.focal_px;
-        let px = [
-            self.size[0] / 2.0 + f * dot(r, self.right) / z,
-            self.size[1] / 2.0 + f * dot(r, self.down) / z,
-        ];
-        let inside = px[0] >= 0.0 && px[0] < self.size[0] && px[1] >= 0.0 && px[1] < self.size[1];
-        (z > 0.0 && inside).then_some(px)
-    }
-
-    /// Pixel of a road point.
-    fn project(&self, p: [f64; 2]) -> Option<[f64; 2]> {
-        self.project3([p[0], p[1], 0.0])
-    }
-
-    /// Ground distance from the foot of the camera.
-    fn distance(&self, p: [f64; 2]) -> f64 {
-        dist(p, [self.centre[0], self.centre[1]])
-    }
-
-    /// The detector's box of a 0.7 m cone standing at `base`, its bottom centre moved by
-    /// `noise` pixels.
-    fn cone_box(&self, base: [f64; 2], noise: [f64; 2]) -> Option<BoundingBox> {
-        let b = self.project(base)?;
-        let top = self.project3([base[0], base[1], 0.7])?;
-        let (u, v) = (b[0] + noise[0], b[1] + noise[1]);
-        let half = 0.15 * (b[1] - top[1]) / 0.7;
-        BoundingBox::new(u - half, top[1], u + half, v)
-    }
-}
-
 /// The scene: road, camera and the true positions (local metres).
 struct Scene {
     road: Road,
-    camera: Camera,
+    camera: PinholeCamera,
     control: Vec<[f64; 2]>,
     /// Cones with their true station on the closed lane (None: elsewhere).
     cones: Vec<([f64; 2], Option<f64>)>,
@@ -137,7 +37,7 @@ fn scene() -> Scene {
     let reference = LatLon::from_degrees(39.7392, -104.9903).unwrap();
     // Eastbound lanes 1-3 at north 0, -3.6, -7.2; westbound 4-5 at 7.2, 10.8.
     let road = Road::straight(reference, 90.0, 1000.0, (3, 2), 3.6, 80.0);
-    let camera = Camera::new([0.0, -11.0, 8.0], 75.0, 18.0);
+    let camera = PinholeCamera::new([0.0, -11.0, 8.0], 75.0, 18.0);
     let control = [
         (10.0, -9.0),
         (10.0, 0.0),
@@ -182,17 +82,8 @@ fn scene() -> Scene {
 
 /// Noisy control points: pixels with noise, ground as surveyed latitude/longitude.
 fn control_points(scene: &Scene, rng: &mut Rng, noise: f64) -> Vec<Correspondence> {
-    scene
-        .control
-        .iter()
-        .map(|g| Correspondence {
-            pixel: rng.jitter(
-                scene.camera.project(*g).expect("control point in view"),
-                noise,
-            ),
-            ground: scene.road.to_wgs84(*g).unwrap(),
-        })
-        .collect()
+    synthetic::control_points(&scene.road, &scene.camera, &scene.control, rng, noise)
+        .expect("control points in view")
 }
 
 /// Localised cones (None when the model refuses the pixel).
@@ -206,7 +97,7 @@ fn localise(
         .cones
         .iter()
         .map(|(p, _)| {
-            let noise = [noise * rng.gauss(), noise * rng.gauss()];
+            let noise = synthetic::pixel_noise(rng, noise);
             let bbox = scene.camera.cone_box(*p, noise).expect("cone in view");
             model.to_local(bbox.bottom_centre())
         })
