@@ -2,6 +2,7 @@
 //! changes), the GNSS receiver's errors (bias, random walk, white noise, dropouts) and the
 //! vehicle's CAN speed frames.
 
+use crate::rng::Prng;
 use crate::road::{OnLane, Road};
 use serde::Deserialize;
 
@@ -90,32 +91,6 @@ pub struct Sample {
     pub reported: Option<[f64; 2]>,
 }
 
-/// A seeded generator (xorshift64*) with normal deviates (Box-Muller).
-#[derive(Debug, Clone)]
-pub struct Rng(u64);
-
-impl Rng {
-    /// A generator; any seed (0 is remapped).
-    pub fn new(seed: u64) -> Self {
-        Self(seed.wrapping_mul(0x9E37_79B9_7F4A_7C15) | 1)
-    }
-
-    /// Uniform in [0, 1).
-    pub fn uniform(&mut self) -> f64 {
-        self.0 ^= self.0 >> 12;
-        self.0 ^= self.0 << 25;
-        self.0 ^= self.0 >> 27;
-        (self.0.wrapping_mul(0x2545_F491_4F6C_DD1D) >> 11) as f64 / (1u64 << 53) as f64
-    }
-
-    /// Standard normal.
-    pub fn normal(&mut self) -> f64 {
-        let u1 = self.uniform().max(1e-300);
-        let u2 = self.uniform();
-        (-2.0 * u1.ln()).sqrt() * (std::f64::consts::TAU * u2).cos()
-    }
-}
-
 /// Why a drive cannot be simulated.
 #[derive(Debug, Clone, PartialEq)]
 pub struct DriveError(pub String);
@@ -141,7 +116,7 @@ pub fn simulate(road: &Road, spec: &DriveSpec, max_s: f64) -> Result<Vec<Sample>
     let mut station = spec.start_m;
     let mut changes = spec.lane_changes.iter().peekable();
     let mut active: Option<(&LaneChange, f64)> = None; // (change, station where it started)
-    let mut rng = Rng::new(spec.seed);
+    let mut rng = Prng::new(spec.seed);
     let mut walk = [0.0f64; 2];
     let mut out = Vec::new();
     let mut odometer = 0.0;

@@ -26,6 +26,7 @@ pub mod nmea;
 pub mod perf;
 pub mod plot;
 pub mod report_plots;
+pub mod rng;
 pub mod road;
 pub mod roadside;
 pub mod runner;

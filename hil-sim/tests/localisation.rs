@@ -11,7 +11,7 @@
 use hil_sim::camera::synthetic::{self, PinholeCamera};
 use hil_sim::camera::{CameraModel, Correspondence, TopDown};
 use hil_sim::cones::closures;
-use hil_sim::drive::Rng;
+use hil_sim::rng::Prng;
 use hil_sim::road::{dist, Road};
 use obu::LatLon;
 
@@ -81,7 +81,7 @@ fn scene() -> Scene {
 }
 
 /// Noisy control points: pixels with noise, ground as surveyed latitude/longitude.
-fn control_points(scene: &Scene, rng: &mut Rng, noise: f64) -> Vec<Correspondence> {
+fn control_points(scene: &Scene, rng: &mut Prng, noise: f64) -> Vec<Correspondence> {
     synthetic::control_points(&scene.road, &scene.camera, &scene.control, rng, noise)
         .expect("control points in view")
 }
@@ -90,7 +90,7 @@ fn control_points(scene: &Scene, rng: &mut Rng, noise: f64) -> Vec<Correspondenc
 fn localise(
     scene: &Scene,
     model: &CameraModel,
-    rng: &mut Rng,
+    rng: &mut Prng,
     noise: f64,
 ) -> Vec<Option<[f64; 2]>> {
     scene
@@ -195,7 +195,7 @@ fn two_step_quad(road: &Road, pts: &[Correspondence]) -> CameraModel {
 fn run(scene: &Scene, fit: Fit, noise: f64) -> Vec<Score> {
     (1..=SEEDS)
         .map(|seed| {
-            let mut rng = Rng::new(seed);
+            let mut rng = Prng::new(seed);
             let model = fit(&scene.road, &control_points(scene, &mut rng, noise));
             let found = localise(scene, &model, &mut rng, noise);
             score(scene, &model, &found)

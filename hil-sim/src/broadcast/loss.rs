@@ -1,7 +1,8 @@
 //! Datagram loss: the [`LossModel`] (independent or Gilbert-Elliott bursts) and the
 //! per-destination [`LossChannel`] state.
 
-use super::faults::{ConfigError, Prng};
+use super::faults::ConfigError;
+use crate::rng::Prng;
 
 /// How datagrams get lost.
 #[derive(Clone, Copy, Debug, PartialEq, Default)]

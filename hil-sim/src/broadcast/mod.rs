@@ -23,8 +23,9 @@ mod rsu_files;
 #[cfg(test)]
 mod tests;
 
+pub use crate::rng::Prng;
 pub use broadcaster::{BroadcastStats, Broadcaster};
-pub use faults::{ConfigError, DropReason, FaultInjector, Faults, Prng, Verdict};
+pub use faults::{ConfigError, DropReason, FaultInjector, Faults, Verdict};
 pub use j2735::envelope::rsu_text::{TxChannel, TxMode};
 pub use loss::{LossChannel, LossModel};
 pub use message::{FrameError, Message, MessageKind, MessageSlot, Wrapping};

@@ -12,7 +12,7 @@
 //!   files that [`parse_calibration`](super::parse_calibration) and
 //!   [`parse_detections_json`](crate::cones::parse_detections_json) read.
 //!
-//! Noise comes from the crate's seeded generator ([`Rng`]), so the same seed gives the same
+//! Noise comes from the crate's seeded generator ([`Prng`]), so the same seed gives the same
 //! data. No function here panics on its input: a point out of view gives `None` (or an
 //! error naming it), a cone out of view is never detected.
 
@@ -23,7 +23,7 @@ use std::fmt;
 
 use super::Correspondence;
 use crate::cones::{BoundingBox, Detection, FrameDetections};
-use crate::drive::Rng;
+use crate::rng::Prng;
 use crate::road::{dist, Road};
 
 pub use capture::{calibration_json, capture, detections_json, Capture, CaptureSpec};
@@ -212,7 +212,7 @@ fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
 }
 
 /// Gaussian pixel noise: `sigma_px` times a standard normal on each axis.
-pub fn pixel_noise(rng: &mut Rng, sigma_px: f64) -> [f64; 2] {
+pub fn pixel_noise(rng: &mut Prng, sigma_px: f64) -> [f64; 2] {
     [sigma_px * rng.normal(), sigma_px * rng.normal()]
 }
 
@@ -222,7 +222,7 @@ pub fn control_points(
     road: &Road,
     camera: &PinholeCamera,
     ground: &[[f64; 2]],
-    rng: &mut Rng,
+    rng: &mut Prng,
     noise_px: f64,
 ) -> Result<Vec<Correspondence>, SyntheticError> {
     let point = |(index, g): (usize, &[f64; 2])| {
@@ -250,12 +250,12 @@ pub fn detect(
     frames: usize,
     noise_px: f64,
     miss_rate: f64,
-    rng: &mut Rng,
+    rng: &mut Prng,
 ) -> Vec<FrameDetections> {
     let mut frame = |k: usize| {
         let mut detections = Vec::with_capacity(cones.len());
         for cone in cones {
-            if rng.uniform() < miss_rate {
+            if rng.next_f64() < miss_rate {
                 continue;
             }
             let noise = pixel_noise(rng, noise_px);

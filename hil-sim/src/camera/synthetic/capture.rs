@@ -8,7 +8,7 @@ use serde_json::{json, Value};
 use super::{control_points, detect, zone_scene, Placement, SyntheticError, ZoneScene};
 use crate::camera::Correspondence;
 use crate::cones::{Detection, FrameDetections};
-use crate::drive::Rng;
+use crate::rng::Prng;
 use crate::road::Road;
 
 /// What a synthetic capture of a zone records.
@@ -63,7 +63,7 @@ pub fn capture(
         return Err(SyntheticError::BadSpec);
     }
     let scene = zone_scene(road, closed_lanes, start_m, end_m, &spec.placement)?;
-    let mut rng = Rng::new(spec.seed);
+    let mut rng = Prng::new(spec.seed);
     let calibration = control_points(road, &scene.camera, &scene.control, &mut rng, spec.noise_px)?;
     let (noise, miss) = (spec.noise_px, spec.miss_rate);
     let frames = detect(
@@ -177,7 +177,7 @@ mod tests {
             [25.0, 7.2],
             [40.0, 1.8],
         ];
-        let mut rng = Rng::new(3);
+        let mut rng = Prng::new(3);
         let pts = control_points(&road, &cam, &ground, &mut rng, 0.0).unwrap();
         let back = parse_calibration(&calibration_json(&pts, "test")).unwrap();
         assert_eq!(back.len(), 5);
