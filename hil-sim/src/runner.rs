@@ -78,18 +78,13 @@ pub fn build_zones(s: &Scenario, road: &Road, start: Utc) -> Result<Vec<WorkZone
         let mut packet_id = *b"HILZONE00";
         packet_id[7] = b'0' + (i / 10) as u8 % 10;
         packet_id[8] = b'0' + (i % 10) as u8;
+        let sourced = crate::zone_sources::zone(s, road, &z.source)?;
         let speed_limit = match (z.limit_kmh, z.limit_mph) {
-            (_, Some(v)) => Some(SignSpeed {
-                value: v,
-                mph: true,
-            }),
-            (Some(v), None) => Some(SignSpeed {
-                value: v,
-                mph: false,
-            }),
-            (None, None) => None,
+            (_, Some(value)) => Some(SignSpeed { value, mph: true }),
+            (Some(value), None) => Some(SignSpeed { value, mph: false }),
+            (None, None) => sourced.speed_limit,
         };
-        let (closed_lanes, start_m, end_m) = crate::zone_sources::geometry(s, road, &z.source)?;
+        let (closed_lanes, start_m, end_m) = (sourced.closed_lanes, sourced.start_m, sourced.end_m);
         out.push(WorkZone {
             closed_lanes,
             start_m,

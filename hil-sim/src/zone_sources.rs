@@ -3,16 +3,55 @@
 
 use crate::camera::{self, CameraModel};
 use crate::cones::{self, ConeTracker, TrackerConfig};
+use crate::messages::SignSpeed;
 use crate::road::Road;
 use crate::scenario::{Scenario, ZoneSource};
 use std::path::Path;
 
-/// Closed lanes and the start/end stations (along the first closed lane) of a zone.
-pub fn geometry(
-    s: &Scenario,
-    road: &Road,
-    source: &ZoneSource,
-) -> Result<(Vec<u8>, f64, f64), String> {
+/// What a source says about a zone.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SourcedZone {
+    /// Closed lanes.
+    pub closed_lanes: Vec<u8>,
+    /// Start station along the first closed lane, metres.
+    pub start_m: f64,
+    /// End station, metres.
+    pub end_m: f64,
+    /// The reduced limit the source gives (WZDx), if any.
+    pub speed_limit: Option<SignSpeed>,
+}
+
+/// The closed lanes, stations and limit of a zone from its source.
+pub fn zone(s: &Scenario, road: &Road, source: &ZoneSource) -> Result<SourcedZone, String> {
+    if let ZoneSource::Wzdx { file } = source {
+        let path = s.path(file);
+        let text =
+            std::fs::read_to_string(&path).map_err(|e| format!("{}: {e}", path.display()))?;
+        let zones = crate::geojson::work_zones_from_wzdx(road, &text)
+            .map_err(|e| format!("{}: {e}", file.display()))?;
+        let z = zones.first().ok_or(format!(
+            "{}: no work-zone event on this map",
+            file.display()
+        ))?;
+        return Ok(SourcedZone {
+            closed_lanes: z.closed_lanes.clone(),
+            start_m: z.start_m,
+            end_m: z.end_m,
+            speed_limit: z.speed_limit,
+        });
+    }
+    let (closed_lanes, start_m, end_m) = geometry(s, road, source)?;
+    Ok(SourcedZone {
+        closed_lanes,
+        start_m,
+        end_m,
+        speed_limit: None,
+    })
+}
+
+/// Closed lanes and the start/end stations (along the first closed lane) of a zone from a
+/// source other than WZDx.
+fn geometry(s: &Scenario, road: &Road, source: &ZoneSource) -> Result<(Vec<u8>, f64, f64), String> {
     let read = |p: &Path| {
         let path = s.path(p);
         std::fs::read_to_string(&path).map_err(|e| format!("{}: {e}", path.display()))
@@ -28,14 +67,10 @@ pub fn geometry(
                 .map_err(|e| format!("{}: {e}", file.display()))?;
             from_cones(road, &cones)
         }
-        ZoneSource::Wzdx { file } => {
-            let zones = crate::geojson::work_zones_from_wzdx(road, &read(file)?)
-                .map_err(|e| format!("{}: {e}", file.display()))?;
-            let z = zones
-                .first()
-                .ok_or(format!("{}: no work-zone event", file.display()))?;
-            Ok((z.closed_lanes.clone(), z.start_m, z.end_m))
-        }
+        ZoneSource::Wzdx { file } => Err(format!(
+            "{}: a WZDx feed goes through zone()",
+            file.display()
+        )),
         ZoneSource::Camera {
             calibration,
             detections,
