@@ -62,6 +62,13 @@ pub struct DriveSpec {
     /// Seed of the noise.
     #[serde(default = "default_seed")]
     pub seed: u64,
+    /// Replay this recorded NMEA log (relative to the scenario) at its own pace, its
+    /// times restamped to now, instead of the generated sentences; the drive's other
+    /// keys still give the truth the expectations use (record the log with `hil-sim
+    /// record` from the same drive, or describe the recorded drive).
+    pub nmea_file: Option<std::path::PathBuf>,
+    /// Replay this candump log as the vehicle's CAN speed (instead of generating one).
+    pub candump_file: Option<std::path::PathBuf>,
 }
 
 fn default_speed() -> f64 {

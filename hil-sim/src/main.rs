@@ -24,6 +24,9 @@ Usage:
                          run scenarios against the real obu daemon; writes
                          DIR/<scenario>/report.json, states.jsonl and plots (default DIR:
                          hil-sim-out); fails when an expectation does not hold
+  hil-sim record SCENARIO.toml OUT.nmea OUT.candump
+                         the scenario's drive as a GNSS receiver's NMEA log (10 Hz GST, GGA,
+                         RMC with its noise and dropouts) and a candump log of its speed
   hil-sim demo [--port P]
                          the field test: roadside, OBU and a drive through a work zone
                          (40 km/h road, limit 10 km/h, 100 m warning, lane change) with the
@@ -54,6 +57,7 @@ fn main() -> ExitCode {
         ["hmi-drive", scene] => state_dir().and_then(|d| hmi_bench::drive(&d, scene)),
         ["bench-latency", rest @ ..] => bench_latency(rest),
         ["run", rest @ ..] => run_scenarios(rest),
+        ["record", scenario, nmea, candump] => record(scenario, nmea, candump),
         ["demo", rest @ ..] => demo(rest),
         ["load-test", rest @ ..] => load_test(rest),
         ["synth-camera", rest @ ..] => synth_camera(rest),
@@ -242,6 +246,40 @@ fn demo(args: &[&str]) -> Result<(), String> {
         .passed
         .then_some(())
         .ok_or("an expectation did not hold".into())
+}
+
+fn record(scenario: &str, nmea_out: &str, candump_out: &str) -> Result<(), String> {
+    use hil_sim::{clock::Utc, drive, nmea};
+    let s = hil_sim::scenario::Scenario::load(std::path::Path::new(scenario))?;
+    let road = s.road()?;
+    let samples = drive::simulate(&road, &s.drive, 900.0).map_err(|e| e.to_string())?;
+    // A fixed start (2026-01-15T12:00:00Z) so the logs are reproducible; replay restamps.
+    let t0_ms = 1_768_478_400_000u64;
+    let mut text = String::new();
+    for sample in &samples {
+        let (Some(p), Some(position)) = (
+            sample.reported,
+            sample.reported.and_then(|p| road.to_wgs84(p)),
+        ) else {
+            continue;
+        };
+        let _ = p;
+        text.push_str(&nmea::epoch(&nmea::Epoch {
+            utc: Utc::from_unix_ms(t0_ms + (sample.t_s * 1000.0).round() as u64),
+            position,
+            speed_mps: sample.speed_mps,
+            course_deg: sample.bearing_deg,
+            sigma_m: s.drive.sigma_m.max(0.3),
+        }));
+    }
+    std::fs::write(nmea_out, text).map_err(|e| format!("{nmea_out}: {e}"))?;
+    std::fs::write(candump_out, drive::candump(&samples, t0_ms as f64 / 1000.0))
+        .map_err(|e| format!("{candump_out}: {e}"))?;
+    println!(
+        "{} epochs to {nmea_out}, speed frames to {candump_out}",
+        samples.iter().filter(|x| x.reported.is_some()).count()
+    );
+    Ok(())
 }
 
 fn run_scenarios(args: &[&str]) -> Result<(), String> {

@@ -126,3 +126,106 @@ mod tests {
         );
     }
 }
+
+/// One epoch of a recorded NMEA log: seconds after the log's first epoch and its lines.
+pub type RecordedEpoch = (f64, Vec<String>);
+
+/// Splits a recorded log (one sentence a line; other lines ignored) into epochs by the
+/// time field of GGA/RMC/GST, with each epoch's offset from the first (midnight rollover
+/// handled).
+pub fn read_epochs(text: &str) -> Vec<RecordedEpoch> {
+    let mut out: Vec<RecordedEpoch> = Vec::new();
+    let (mut first, mut last, mut days) = (None, None, 0.0);
+    for line in text.lines().map(str::trim).filter(|l| l.starts_with('$')) {
+        let Some(secs) = time_field(line) else {
+            continue;
+        };
+        if last.is_some_and(|l: f64| secs + 43_200.0 < l) {
+            days += 86_400.0;
+        }
+        last = Some(secs);
+        let t = secs + days - *first.get_or_insert(secs);
+        match out.last_mut() {
+            Some((at, lines)) if (*at - t).abs() < 1e-6 => lines.push(line.to_string()),
+            _ => out.push((t, vec![line.to_string()])),
+        }
+    }
+    out
+}
+
+/// Seconds of the day of a GGA/RMC/GST sentence's time field.
+fn time_field(line: &str) -> Option<f64> {
+    let body = line.strip_prefix('$')?.split('*').next()?;
+    let mut f = body.split(',');
+    let kind = f.next()?;
+    if !["GGA", "RMC", "GST"].iter().any(|k| kind.ends_with(k)) {
+        return None;
+    }
+    let t = f.next()?;
+    let (h, m, s): (f64, f64, f64) = (
+        t.get(0..2)?.parse().ok()?,
+        t.get(2..4)?.parse().ok()?,
+        t.get(4..)?.parse().ok()?,
+    );
+    Some(h * 3600.0 + m * 60.0 + s)
+}
+
+/// The sentence with its time (and for RMC its date) set to `utc` and a new checksum; a
+/// replayed log then agrees with the roadside's validity times. `None` for a line that is
+/// not a GGA/RMC/GST sentence.
+pub fn restamp(line: &str, utc: &Utc) -> Option<String> {
+    time_field(line)?;
+    let body = line.strip_prefix('$')?.split('*').next()?;
+    let mut fields: Vec<String> = body.split(',').map(str::to_string).collect();
+    let cs = utc.ms_of_day / 10;
+    fields[1] = format!(
+        "{:02}{:02}{:02}.{:02}",
+        cs / 360_000,
+        cs / 6000 % 60,
+        cs / 100 % 60,
+        cs % 100
+    );
+    if fields[0].ends_with("RMC") && fields.len() > 9 {
+        fields[9] = format!("{:02}{:02}{:02}", utc.day, utc.month, utc.year % 100);
+    }
+    Some(sentence(&fields.join(",")))
+}
+
+#[cfg(test)]
+mod replay_tests {
+    use super::*;
+
+    #[test]
+    fn epochs_of_a_log_and_restamped_sentences() {
+        let position = LatLon::from_degrees(39.7392, -104.9903).unwrap();
+        let mut log = String::from("garbage line\n");
+        for k in 0..3u64 {
+            let utc = Utc::from_unix_ms(1_763_769_599_900 + k * 100); // crosses midnight
+            log.push_str(&epoch(&Epoch {
+                utc,
+                position,
+                speed_mps: 10.0,
+                course_deg: 90.0,
+                sigma_m: 0.5,
+            }));
+        }
+        let epochs = read_epochs(&log);
+        assert_eq!(epochs.len(), 3);
+        assert!(epochs.iter().all(|(_, l)| l.len() == 3));
+        assert!(
+            (epochs[2].0 - 0.2).abs() < 1e-6,
+            "offsets across midnight: {:?}",
+            epochs.iter().map(|e| e.0).collect::<Vec<_>>()
+        );
+        let now = Utc::from_unix_ms(1_795_341_600_000); // 2026-11-22T10:00:00Z
+        let rmc = epochs[0].1.iter().find(|l| l.contains("RMC")).unwrap();
+        let again = restamp(rmc, &now).unwrap();
+        let parsed = obu::input::nmea::parse(&again).expect("checksum and fields valid");
+        match parsed {
+            obu::input::nmea::Sentence::Rmc(r) => assert_eq!(r.date, Some((2026, 11, 22))),
+            other => panic!("{other:?}"),
+        }
+        assert!(again.starts_with("$GPRMC,100000.00,A,"));
+        assert_eq!(restamp("$GPVTG,1,2*00", &now), None);
+    }
+}

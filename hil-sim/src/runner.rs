@@ -126,10 +126,16 @@ pub fn run(s: &Scenario, opts: &RunOptions) -> Result<RunReport, String> {
         s.settings.warning_distance_m, s.settings.lead_time_s
     );
     let t0_unix = unix_ms_now() as f64 / 1000.0;
-    if s.can_speed {
+    if s.can_speed || s.drive.candump_file.is_some() {
         let log = state_dir.join("speed.candump");
         std::fs::create_dir_all(&state_dir).map_err(|e| e.to_string())?;
-        std::fs::write(&log, drive::candump(&samples, t0_unix)).map_err(|e| e.to_string())?;
+        let text = match &s.drive.candump_file {
+            Some(f) => {
+                std::fs::read_to_string(s.path(f)).map_err(|e| format!("{}: {e}", f.display()))?
+            }
+            None => drive::candump(&samples, t0_unix),
+        };
+        std::fs::write(&log, text).map_err(|e| e.to_string())?;
         extra.push_str(&format!(
             "\n[speed]\nsource = \"candump-file\"\nfile = {:?}\n",
             log
@@ -177,26 +183,15 @@ fn drive_and_record(
     let v2x = crate::roadside::spawn(s, road, zones, &daemon.v2x, t0, stop.clone())?;
     let sock = UdpSocket::bind("127.0.0.1:0").map_err(|e| e.to_string())?;
     let mut sent = Vec::with_capacity(samples.len());
-    for (k, sample) in samples.iter().enumerate() {
-        let due = t0 + Duration::from_secs_f64(sample.t_s);
-        std::thread::sleep(due.saturating_duration_since(Instant::now()));
-        if let Some(p) = sample.reported {
-            let Some(position) = road.to_wgs84(p) else {
-                continue;
-            };
-            let e = Epoch {
-                utc: Utc::now(),
-                position,
-                speed_mps: sample.speed_mps,
-                course_deg: sample.bearing_deg,
-                sigma_m: s.drive.sigma_m.max(0.3),
-            };
-            sent.push((k, Instant::now()));
-            let _ = sock.send_to(nmea::epoch(&e).as_bytes(), &daemon.gnss);
-        }
-        if progress && k % 10 == 0 {
-            progress_bar(k + 1, samples.len(), sample.t_s);
-        }
+    let replay = match &s.drive.nmea_file {
+        Some(f) => Some(nmea::read_epochs(
+            &std::fs::read_to_string(s.path(f)).map_err(|e| format!("{}: {e}", f.display()))?,
+        )),
+        None => None,
+    };
+    match &replay {
+        Some(epochs) => replay_nmea(epochs, &samples, daemon, &sock, t0, progress, &mut sent),
+        None => send_generated(s, road, &samples, daemon, &sock, t0, progress, &mut sent),
     }
     if progress {
         eprintln!();
@@ -215,6 +210,70 @@ fn drive_and_record(
         first_tim,
         v2x: counts,
     })
+}
+
+/// Sends the generated NMEA of every sample at its time.
+#[allow(clippy::too_many_arguments)]
+fn send_generated(
+    s: &Scenario,
+    road: &Road,
+    samples: &[Sample],
+    daemon: &Daemon,
+    sock: &UdpSocket,
+    t0: Instant,
+    progress: bool,
+    sent: &mut Vec<(usize, Instant)>,
+) {
+    for (k, sample) in samples.iter().enumerate() {
+        let due = t0 + Duration::from_secs_f64(sample.t_s);
+        std::thread::sleep(due.saturating_duration_since(Instant::now()));
+        if let Some(position) = sample.reported.and_then(|p| road.to_wgs84(p)) {
+            let e = Epoch {
+                utc: Utc::now(),
+                position,
+                speed_mps: sample.speed_mps,
+                course_deg: sample.bearing_deg,
+                sigma_m: s.drive.sigma_m.max(0.3),
+            };
+            sent.push((k, Instant::now()));
+            let _ = sock.send_to(nmea::epoch(&e).as_bytes(), &daemon.gnss);
+        }
+        if progress && k % 10 == 0 {
+            progress_bar(k + 1, samples.len(), sample.t_s);
+        }
+    }
+}
+
+/// Sends a recorded log's epochs at their own offsets, restamped to now; the j-th epoch
+/// stands for the j-th sample with a fix (the truth of the drive it was recorded from).
+fn replay_nmea(
+    epochs: &[nmea::RecordedEpoch],
+    samples: &[Sample],
+    daemon: &Daemon,
+    sock: &UdpSocket,
+    t0: Instant,
+    progress: bool,
+    sent: &mut Vec<(usize, Instant)>,
+) {
+    let with_fix: Vec<usize> = (0..samples.len())
+        .filter(|&k| samples[k].reported.is_some())
+        .collect();
+    for (j, (offset, lines)) in epochs.iter().enumerate() {
+        std::thread::sleep(
+            (t0 + Duration::from_secs_f64(*offset)).saturating_duration_since(Instant::now()),
+        );
+        let now = Utc::now();
+        let text: String = lines
+            .iter()
+            .filter_map(|l| nmea::restamp(l, &now))
+            .collect();
+        let k = with_fix.get(j).copied().unwrap_or(samples.len() - 1);
+        sent.push((k, Instant::now()));
+        let _ = sock.send_to(text.as_bytes(), &daemon.gnss);
+        if progress && j % 10 == 0 {
+            progress_bar(j + 1, epochs.len(), *offset);
+        }
+    }
 }
 
 fn progress_bar(done: usize, total: usize, t_s: f64) {
