@@ -29,6 +29,7 @@ pub mod report_plots;
 pub mod rng;
 pub mod road;
 pub mod roadside;
+pub mod roadside_cli;
 pub mod runner;
 pub mod scenario;
 pub mod sse;

@@ -24,6 +24,11 @@ Usage:
                          run scenarios against the real obu daemon; writes
                          DIR/<scenario>/report.json, states.jsonl and plots (default DIR:
                          hil-sim-out); fails when an expectation does not hold
+  hil-sim roadside SCENARIO.toml [--to HOST:PORT]... [--wrap raw|1609.2] [--rate HZ]
+                 [--seconds S] [--rsu-files DIR]
+                         the roadside unit: the scenario's lane map and work zones (GeoJSON,
+                         WZDx, cones, camera) as MAP + TIM, broadcast over UDP (default
+                         10 Hz, until stopped) and/or written as RSU 4.1 text files
   hil-sim record SCENARIO.toml OUT.nmea OUT.candump
                          the scenario's drive as a GNSS receiver's NMEA log (10 Hz GST, GGA,
                          RMC with its noise and dropouts) and a candump log of its speed
@@ -57,6 +62,7 @@ fn main() -> ExitCode {
         ["hmi-drive", scene] => state_dir().and_then(|d| hmi_bench::drive(&d, scene)),
         ["bench-latency", rest @ ..] => bench_latency(rest),
         ["run", rest @ ..] => run_scenarios(rest),
+        ["roadside", scenario, rest @ ..] => roadside(scenario, rest),
         ["record", scenario, nmea, candump] => record(scenario, nmea, candump),
         ["demo", rest @ ..] => demo(rest),
         ["load-test", rest @ ..] => load_test(rest),
@@ -246,6 +252,51 @@ fn demo(args: &[&str]) -> Result<(), String> {
         .passed
         .then_some(())
         .ok_or("an expectation did not hold".into())
+}
+
+fn roadside(scenario: &str, args: &[&str]) -> Result<(), String> {
+    use hil_sim::broadcast::Wrapping;
+    let s = hil_sim::scenario::Scenario::load(std::path::Path::new(scenario))?;
+    let mut o = hil_sim::roadside_cli::RoadsideOptions {
+        destinations: Vec::new(),
+        wrapping: Wrapping::Raw,
+        rate_hz: 10.0,
+        duration: None,
+        rsu_dir: None,
+    };
+    let mut it = args.iter();
+    while let Some(a) = it.next() {
+        let mut value = || it.next().copied().ok_or(format!("{a} needs a value"));
+        match *a {
+            "--to" => {
+                let v = value()?;
+                o.destinations.push(
+                    v.parse()
+                        .map_err(|_| format!("--to {v:?}: give HOST:PORT with an IP address"))?,
+                );
+            }
+            "--wrap" => {
+                o.wrapping = match value()? {
+                    "raw" => Wrapping::Raw,
+                    "1609.2" => Wrapping::Ieee1609Unsecured,
+                    w => return Err(format!("--wrap {w:?}: raw or 1609.2")),
+                }
+            }
+            "--rate" => o.rate_hz = value()?.parse().map_err(|_| "--rate: a number of Hz")?,
+            "--seconds" => {
+                o.duration = Some(Duration::from_secs_f64(
+                    value()?.parse().map_err(|_| "--seconds: a number")?,
+                ))
+            }
+            "--rsu-files" => o.rsu_dir = Some(PathBuf::from(value()?)),
+            other => return Err(format!("unknown option {other:?}")),
+        }
+    }
+    if o.destinations.is_empty() && o.rsu_dir.is_none() {
+        return Err("give --to HOST:PORT (broadcast) and/or --rsu-files DIR".into());
+    }
+    println!("hil-sim roadside: {}", hil_sim::roadside_cli::run(&s, &o)?);
+    Ok(())
 }
 
 fn record(scenario: &str, nmea_out: &str, candump_out: &str) -> Result<(), String> {
