@@ -122,8 +122,8 @@ fn radio(s: &Scenario, t0: Instant) -> Result<FaultInjector, String> {
     .map_err(|e| format!("faults: {e}"))
 }
 
-/// Starts the roadside thread; it stops when `stop` turns true and returns when the
-/// first TIM left and the datagram counts.
+/// Starts the roadside thread; it stops when `stop` turns true and returns when each new
+/// version of the messages first left, and the datagram counts.
 pub fn spawn(
     s: &Scenario,
     road: &Road,
@@ -131,7 +131,7 @@ pub fn spawn(
     to: &str,
     t0: Instant,
     stop: Arc<AtomicBool>,
-) -> Result<JoinHandle<(Option<Instant>, V2xCounts)>, String> {
+) -> Result<JoinHandle<(Vec<Instant>, V2xCounts)>, String> {
     let sock = UdpSocket::bind("127.0.0.1:0").map_err(|e| e.to_string())?;
     let to = to.to_string();
     let s = s.clone();
@@ -146,11 +146,15 @@ pub fn spawn(
     let mut radio = radio(&s, t0)?;
     Ok(std::thread::spawn(move || {
         let mut counts = V2xCounts::default();
-        let mut first_tim = None;
+        // When each new version of the messages first left (the first datagram sent after
+        // a change): the runner times the state it causes on the tablet.
+        let mut changes = Vec::new();
+        let mut pending = true;
         let mut next = t0;
         while !stop.load(Ordering::Relaxed) {
             let t = next.saturating_duration_since(t0).as_secs_f64();
             if let Ok(Some(new)) = timeline.at(&s, t) {
+                pending |= t > 0.0;
                 air = new;
             }
             let now = Instant::now();
@@ -167,14 +171,14 @@ pub fn spawn(
                 }
                 if sock.send_to(&d, &to).is_ok() {
                     counts.sent += 1;
-                    if kind == MessageKind::Tim && first_tim.is_none() {
-                        first_tim = Some(Instant::now());
+                    if std::mem::take(&mut pending) {
+                        changes.push(Instant::now());
                     }
                 }
             }
             next += PERIOD;
             std::thread::sleep(next.saturating_duration_since(Instant::now()));
         }
-        (first_tim, counts)
+        (changes, counts)
     }))
 }

@@ -48,8 +48,10 @@ pub struct RunReport {
     pub first_warning_m: Option<f64>,
     /// NMEA datagram sent -> its state received on `/events`, milliseconds (p50, p99, max).
     pub fix_to_screen_ms: [f64; 3],
-    /// First TIM sent -> first state showing a zone, milliseconds.
-    pub tim_to_screen_ms: Option<f64>,
+    /// Roadside -> tablet: for each new version of the MAP/TIMs (the first, a MAP revision,
+    /// a zone shrunk or removed), its first datagram sent -> the first state showing it
+    /// (the core's update counters raised), milliseconds.
+    pub v2x_to_screen_ms: Vec<f64>,
     /// Fixes sent, states recorded.
     pub fixes_sent: usize,
     /// States recorded.
@@ -105,7 +107,7 @@ struct Recorded {
     samples: Vec<Sample>,
     sent: Vec<(usize, Instant)>,
     states: Vec<(Instant, serde_json::Value)>,
-    first_tim: Option<Instant>,
+    changes: Vec<Instant>,
     v2x: V2xCounts,
 }
 
@@ -200,14 +202,14 @@ fn drive_and_record(
     std::thread::sleep(Duration::from_millis(1200));
     stop.store(true, Ordering::Relaxed);
     let _ = recorder.join();
-    let (first_tim, counts) = v2x.join().map_err(|_| "the roadside thread panicked")?;
+    let (changes, counts) = v2x.join().map_err(|_| "the roadside thread panicked")?;
     let states = std::mem::take(&mut *states.lock().unwrap_or_else(|p| p.into_inner()));
     Ok(Recorded {
         t0,
         samples,
         sent,
         states,
-        first_tim,
+        changes,
         v2x: counts,
     })
 }
@@ -313,7 +315,6 @@ fn report(
     let since = |t: Instant| t.saturating_duration_since(rec.t0).as_secs_f64();
     let mut records = Vec::with_capacity(rec.states.len());
     let mut latencies = Vec::new();
-    let mut tim_to_screen = None;
     let mut states_file = String::new();
     for (at, v) in &rec.states {
         let Ok(state) = serde_json::from_value::<HmiState>(v["state"].clone()) else {
@@ -328,11 +329,6 @@ fn report(
             {
                 latencies.push(at.saturating_duration_since(*t_sent).as_secs_f64() * 1000.0);
             }
-        }
-        if tim_to_screen.is_none() && state.zones > 0 {
-            tim_to_screen = rec
-                .first_tim
-                .map(|t| at.saturating_duration_since(t).as_secs_f64() * 1000.0);
         }
         let sample = sent.map(|(k, _)| *k);
         let truth = sample.map(|k| &rec.samples[k]);
@@ -352,6 +348,7 @@ fn report(
             true_speed_mps: truth.map(|t| t.speed_mps),
         });
     }
+    let v2x_to_screen = v2x_latencies(&rec, &records);
     let facts = run_facts(s, &rec);
     let outcomes: Vec<Outcome> = s
         .expectations
@@ -385,7 +382,7 @@ fn report(
         outcomes,
         first_warning_m,
         fix_to_screen_ms: [q(0.5), q(0.99), q(1.0)],
-        tim_to_screen_ms: tim_to_screen,
+        v2x_to_screen_ms: v2x_to_screen,
         fixes_sent: rec.sent.len(),
         states: records.len(),
         v2x: rec.v2x,
@@ -394,6 +391,28 @@ fn report(
     let json = serde_json::to_string_pretty(&report).map_err(|e| e.to_string())?;
     std::fs::write(&files[0], json).map_err(|e| e.to_string())?;
     Ok(report)
+}
+
+/// Roadside -> tablet latency of each change of the broadcast messages.
+fn v2x_latencies(rec: &Recorded, records: &[Record]) -> Vec<f64> {
+    let updates = |r: &Record| {
+        let c = &r.state.counters;
+        c.maps_updated + c.zones_updated + c.zones_cancelled
+    };
+    let t0 = rec.t0;
+    rec.changes
+        .iter()
+        .filter_map(|tc| {
+            let at = tc.saturating_duration_since(t0).as_secs_f64();
+            let before = records
+                .iter()
+                .take_while(|r| r.t_s <= at)
+                .last()
+                .map_or(0, updates);
+            let shown = records.iter().find(|r| r.t_s > at && updates(r) > before)?;
+            Some((shown.t_s - at) * 1000.0)
+        })
+        .collect()
 }
 
 /// Times of the run the checks need.

@@ -108,7 +108,9 @@ impl Obu {
             Ok(Stored::Filled) => &mut r.stored,
             Ok(Stored::Unchanged) => &mut r.unchanged,
             Ok(Stored::Stale) => &mut r.stale,
-            Ok(Stored::Cancelled(_)) => &mut r.cancelled,
+            Ok(Stored::Cancelled(true)) => &mut r.cancelled,
+            // The cancellation of a zone not stored (a repeat of one already applied).
+            Ok(Stored::Cancelled(false)) => &mut r.unchanged,
             Err(e) => return sink.reject(e),
         };
         *count = count.saturating_add(1);

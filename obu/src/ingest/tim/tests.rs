@@ -366,11 +366,13 @@ fn oracle_vectors_load() {
         ];
         assert_eq!(got, want, "c000, 0c00, 00c0, 000c: bit 0 is the first bit");
         let minimal = decode::<TravelerInformation>(&vector("tim_minimal"));
-        let r = obu.on_tim(Instant::ZERO, &minimal).map(|r| r.cancelled);
+        let r = obu
+            .on_tim(Instant::ZERO, &minimal)
+            .map(|r| (r.cancelled, r.unchanged));
         assert_eq!(
             r,
-            Ok(1),
-            "tim_minimal: durationTime 0 cancels, nothing to convert"
+            Ok((0, 1)),
+            "tim_minimal: durationTime 0 of a zone not stored: nothing to cancel or convert"
         );
         let mut obu = Box::new(Obu::default());
         for name in ["tim_work_zone_left_lane_closed", "tim_work_zone_speed_text"] {
