@@ -237,3 +237,17 @@ pub fn stack_high_water() -> (usize, usize) {
     }
     (top - at, top - bottom)
 }
+
+/// Bytes of the stack region still holding the paint (a cross-check of [`stack_high_water`]:
+/// a frame may skip words, so untouched words can lie below the high-water mark).
+pub fn stack_untouched() -> usize {
+    let (bottom, top) = stack_bounds();
+    let mut n = 0;
+    let mut at = bottom;
+    while at < top {
+        // SAFETY: reads within the stack region.
+        n += usize::from(unsafe { read_volatile(at as *const u32) } == PAINT) * 4;
+        at += 4;
+    }
+    n
+}
