@@ -3,48 +3,95 @@
 See `capacities.toml` for the format. A capacity key is a TypeDef key (`Module.Type` or
 `Module.Type.field`), with `:ext` for a SEQUENCE's unknown extension additions and `:unknown`
 for the raw content of an unknown CHOICE alternative or open-type value.
+
+A second file, the firmware profile (`capacities-firmware.toml`), overrides some `[capacity]`
+keys for the crate feature `firmware-capacities`. A capacity that differs between the two
+profiles becomes a named const of the generated `capacities` module (one value per profile,
+chosen by `cfg`); the generated types name the const instead of a literal.
 """
+import re
 import tomllib
 
 import naming
 
 
+FEATURE = "firmware-capacities"
+
+
+def const_name(key):
+    """`MapData.LaneList` -> `MAP_DATA_LANE_LIST`, `MapData.MapData:ext` -> `MAP_DATA_MAP_DATA_EXT`."""
+    parts = re.split(r"[.:-]", key)
+    return "_".join(re.sub(r"(?<=[a-z])(?=[A-Z])", "_", p).upper() for p in parts)
+
+
 class Capacities:
-    def __init__(self, path):
+    def __init__(self, path, firmware_path=None):
         with open(path, "rb") as f:
             cfg = tomllib.load(f)
         self.defaults = cfg["defaults"]
         self.capacity = cfg.get("capacity", {})
         self.sentinel = cfg.get("sentinel", {})
+        self.firmware = {}
+        if firmware_path:
+            with open(firmware_path, "rb") as f:
+                fw = tomllib.load(f)
+            if set(fw) - {"capacity"}:
+                raise SystemExit(f"{firmware_path}: only [capacity] may be overridden")
+            self.firmware = fw.get("capacity", {})
         self.used = set()
+        self.used_firmware = set()
+        self.consts = {}  # const name -> (key, default value, firmware value)
 
-    def get(self, key, default):
+    def get(self, key, default, fw=False):
+        if fw and key in self.firmware:
+            self.used_firmware.add(key)
+            return self.firmware[key]
         if key in self.capacity:
             self.used.add(key)
             return self.capacity[key]
         return default
 
-    def count(self, td):
+    def expr(self, method, td, suffix=""):
+        """Rust expression of a capacity: a literal when both profiles agree, else the name of
+        the generated const (registered here) that `cfg` sets per profile."""
+        a, b = getattr(self, method)(td), getattr(self, method)(td, fw=True)
+        if a == b:
+            return str(a)
+        name = const_name(td.key + suffix)
+        self.consts[name] = (td.key + suffix, a, b)
+        return f"{{ super::capacities::{name} }}"
+
+    def capacities_module(self, header):
+        """Source of the generated `capacities` module."""
+        out = [header, "//! No-heap capacities that differ between the default profile and the firmware\n"
+               f"//! profile (feature `{FEATURE}`, `codec/codegen/capacities-firmware.toml`).\n"]
+        for name, (key, a, b) in sorted(self.consts.items()):
+            for value, cfg in ((a, f"not(feature = \"{FEATURE}\")"), (b, f"feature = \"{FEATURE}\"")):
+                out.append(f"/// Capacity of `{key}` (default {a}, firmware {b}).\n"
+                           f"#[cfg({cfg})]\npub const {name}: usize = {value};")
+        return "\n".join(out) + "\n"
+
+    def count(self, td, fw=False):
         """Items (SEQUENCE OF), octets (OCTET STRING) or characters (IA5String)."""
         kind = {"seq_of": "seq_of", "octets": "octets", "ia5": "ia5"}[td.kind]
         if td.kind == "seq_of" and td.item.typedef and getattr(td.item.typedef, "open_asn", "") == "regExtValue":
             kind = "regional"
         default = self.defaults[kind] if td.ub is None else min(td.ub, self.defaults[kind])
-        return max(td.lb, self.get(td.key, default))
+        return max(td.lb, self.get(td.key, default, fw))
 
-    def bits_octets(self, td):
+    def bits_octets(self, td, fw=False):
         """Octets of storage for a BIT STRING."""
         root = -(-td.ub // 8)
         if not td.extensible:
             return root
         return max(root, self.get(td.key, self.defaults["bits_extensible_octets"]))
 
-    def ext_octets(self, td):
-        return self.get(td.key + ":ext", self.defaults["extension_octets"])
+    def ext_octets(self, td, fw=False):
+        return self.get(td.key + ":ext", self.defaults["extension_octets"], fw)
 
-    def unknown_octets(self, td):
+    def unknown_octets(self, td, fw=False):
         default = self.defaults["unknown_open_octets" if td.kind == "open" else "unknown_choice_octets"]
-        return self.get(td.key + ":unknown", default)
+        return self.get(td.key + ":unknown", default, fw)
 
     def sentinels(self, td):
         table = self.sentinel.get(td.key, {})
@@ -59,7 +106,8 @@ class Capacities:
 
     def unused(self):
         return sorted(set(self.capacity) | set(self.sentinel)) and sorted(
-            (set(self.capacity) | set(self.sentinel)) - self.used)
+            (set(self.capacity) | set(self.sentinel)) - self.used) + sorted(
+            set(self.firmware) - self.used_firmware)
 
 
 __all__ = ["Capacities", "naming"]

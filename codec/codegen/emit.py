@@ -37,6 +37,7 @@ class Emitter:
     def __init__(self, model, caps):
         self.model, self.caps = model, caps
         self.bits = MaxBits(caps)
+        self.bits_fw = MaxBits(caps, fw=True)
 
     def module_source(self, module):
         out = [HEADER, f"//! Types of the ASN.1 module `{module}` (SAE J2735 2020).\n"]
@@ -77,13 +78,16 @@ class Emitter:
 
     def uper_impl(self, td, decode, encode, placeholder):
         nh, h = self.bits.of(td, heap=False), self.bits.of(td, heap=True)
+        nh_fw = self.bits_fw.of(td, heap=False)
         opt = lambda v: "None" if v is None else f"Some({v})"  # noqa: E731
+        bound = (f"uper::max_bits({opt(nh)}, {opt(h)})" if nh == nh_fw else
+                 f"uper::max_bits_profiled({opt(nh)}, {opt(nh_fw)}, {opt(h)})")
         return (
             f"impl uper::Placeholder for {td.name} {{\n"
             f"    fn placeholder() -> Self {{\n{indent(placeholder, 8)}\n    }}\n}}\n\n"
             f"impl Uper for {td.name} {{\n"
             f"    const PATH: &'static str = \"{td.key}\";\n"
-            f"    const MAX_UPER_BITS: Option<u64> = uper::max_bits({opt(nh)}, {opt(h)});\n"
+            f"    const MAX_UPER_BITS: Option<u64> = {bound};\n"
             f"    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {{\n{indent(decode, 8)}\n    }}\n"
             f"    fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {{\n{indent(encode, 8)}\n    }}\n"
             f"}}\n"
@@ -209,13 +213,16 @@ class Emitter:
                 f"    let item = {self.jer_read_fn(td.item, td)}(x).map_err(|e| e.within(&std::format!(\"[{{i}}]\")))?;\n"
                 "    list.0.push(item).map_err(|_| crate::jer::over_capacity())?;\n}\nOk(list)"))
         ub = min(td.ub if td.ub is not None else 1 << 20, self.caps.count(td))
+        cap = self.caps.expr("count", td)
+        if not cap.isdigit():
+            ub = f"core::cmp::min({td.ub if td.ub is not None else 1 << 20}, {cap.strip('{} ')})"
         item = {"octets": "g.octet()", "ia5": "g.printable()"}.get(td.kind) or self.random_of(td.item, td)
         s.append(self.random_impl(td, f"let mut v = Self({storage.split('<')[0]}::new());\n"
                                   f"for _ in 0..g.count({td.lb}, {ub}) {{\n    let _ = v.0.push({item});\n}}\nv"))
         return "\n".join(s)
 
     def emit_octets(self, td):
-        cap = self.caps.count(td)
+        cap = self.caps.expr("count", td)
         ctor = ("    /// A copy of `octets` when their number satisfies the SIZE constraint and fits.\n"
                 "    pub fn new(octets: &[u8]) -> Option<Self> {\n"
                 + size_guard(td, "octets.len()") +
@@ -223,7 +230,7 @@ class Emitter:
         return self.emit_sized(td, "OCTET STRING", f"uper::Octets<{cap}>", "decode_octets_into", "encode_octets", ctor)
 
     def emit_ia5(self, td):
-        cap = self.caps.count(td)
+        cap = self.caps.expr("count", td)
         ctor = ("    /// A copy of `text` when it is 7-bit ASCII, its length satisfies the SIZE\n"
                 "    /// constraint and it fits.\n"
                 "    pub fn new(text: &str) -> Option<Self> {\n"
@@ -232,7 +239,7 @@ class Emitter:
         return self.emit_sized(td, "IA5String", f"uper::Ia5<{cap}>", "decode_ia5", "encode_ia5", ctor)
 
     def emit_seq_of(self, td):
-        cap = self.caps.count(td)
+        cap = self.caps.expr("count", td)
         item = self.rust(td.item, td)
         ctor = ("    /// An empty list (valid for encoding once it holds the minimum number of items).\n"
                 "    pub fn new() -> Self {\n        Self(uper::SeqOf::new())\n    }\n")
@@ -250,7 +257,7 @@ class Emitter:
             s.append(f"    /// `{f.asn}`{note}.\n    pub {f.rust}: {'Option<' + ty + '>' if f.optional else ty},")
         if td.extensible:
             s.append(f"    /// Extension additions unknown to J2735 2020, kept to re-encode them.\n"
-                     f"    pub extensions: uper::Extensions<{self.caps.ext_octets(td)}>,")
+                     f"    pub extensions: uper::Extensions<{self.caps.expr('ext_octets', td, ':ext')}>,")
         s.append("}\n")
         inits = [f"{f.rust}: {'None' if f.optional else self.placeholder_of(f.ref, td)}" for f in td.fields]
         if td.extensible:
@@ -344,7 +351,7 @@ class Emitter:
         if td.extensible:
             s.append(f"    /// An alternative added after J2735 2020, kept as raw octets.\n"
                      f"    Extension {{\n        /// Index among the extension alternatives.\n        index: u16,\n"
-                     f"        /// The alternative's encoding (open-type content).\n        content: uper::Octets<{self.caps.unknown_octets(td)}>,\n    }},")
+                     f"        /// The alternative's encoding (open-type content).\n        content: uper::Octets<{self.caps.expr('unknown_octets', td, ':unknown')}>,\n    }},")
         s.append("}\n")
         dec, enc = [], []
         if td.extensible:
@@ -402,7 +409,7 @@ class Emitter:
             s.append(f"    /// `{td.id_asn}` {i}: `{r.typedef.asn}`.\n    {v}({self.rust(r, td)}),")
         s.append(f"    /// An id this build does not know, with its value's encoding.\n"
                  f"    Unknown {{\n        /// The `{td.id_asn}`.\n        id: {id_ty},\n"
-                 f"        /// The value's encoding (the open-type content).\n        bytes: uper::Octets<{self.caps.unknown_octets(td)}>,\n    }},")
+                 f"        /// The value's encoding (the open-type content).\n        bytes: uper::Octets<{self.caps.expr('unknown_octets', td, ':unknown')}>,\n    }},")
         s.append("}\n")
         arms = "".join(f"            Self::{v}(_) => const {{ match {id_ty}::new({i}) {{ Some(id) => id, None => panic!(\"id out of range\") }} }},\n"
                        for i, v, _ in td.variants)

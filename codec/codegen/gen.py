@@ -48,7 +48,8 @@ REEXPORTS = {
 
 def render(shared):
     modules = model_mod.load(shared)
-    caps = caps_mod.Capacities(os.path.join(here, "capacities.toml"))
+    caps = caps_mod.Capacities(os.path.join(here, "capacities.toml"),
+                               os.path.join(here, "capacities-firmware.toml"))
     model = model_mod.Model(modules, caps)
     em = emit.Emitter(model, caps)
     files = {}
@@ -58,6 +59,8 @@ def render(shared):
     root = [emit.HEADER, "//! The generated J2735 2020 types, one module per ASN.1 module.\n",
             "#![allow(clippy::upper_case_acronyms, clippy::large_enum_variant, clippy::identity_op,\n"
             "    clippy::needless_borrow, clippy::match_single_binding)]\n"]
+    files["capacities.rs"] = caps.capacities_module(emit.HEADER)
+    root.append("pub mod capacities;")
     for m in mods:
         root.append(f"/// ASN.1 module `{m}`.\n#[allow(non_camel_case_types)]\npub mod {naming.module(m)};")
     root.append("")
@@ -70,7 +73,7 @@ def render(shared):
     files["mod.rs"] = "\n".join(root) + "\n"
     unused = caps.unused()
     if unused:
-        raise SystemExit(f"capacities.toml names keys that no type has: {unused}")
+        raise SystemExit(f"capacities(-firmware).toml names keys that no type has: {unused}")
     return rustfmt(files)
 
 

@@ -28,8 +28,9 @@ def ext_bits(octets):
 
 
 class MaxBits:
-    def __init__(self, caps):
+    def __init__(self, caps, fw=False):
         self.caps = caps
+        self.fw = fw  # the firmware capacity profile
         self.memo = {}
 
     def of(self, td, heap):
@@ -66,23 +67,23 @@ class MaxBits:
 
     def k_bits(self, td, heap):
         if td.extensible:
-            return None if heap else self.sized(td, 1, 8 * self.caps.bits_octets(td))
+            return None if heap else self.sized(td, 1, 8 * self.caps.bits_octets(td, self.fw))
         return self.sized(td, 1, td.ub)
 
     def k_fixed_octets(self, td, heap):
         return 8 * td.lb
 
     def k_octets(self, td, heap):
-        return self.sized(td, 8, td.ub if heap else self.caps.count(td))
+        return self.sized(td, 8, td.ub if heap else self.caps.count(td, self.fw))
 
     def k_ia5(self, td, heap):
-        return self.sized(td, 7, td.ub if heap else self.caps.count(td))
+        return self.sized(td, 7, td.ub if heap else self.caps.count(td, self.fw))
 
     def k_seq_of(self, td, heap):
         item = self.ref(td.item, heap)
         if item is None:
             return None
-        return self.sized(td, item, td.ub if heap else self.caps.count(td))
+        return self.sized(td, item, td.ub if heap else self.caps.count(td, self.fw))
 
     def k_seq(self, td, heap):
         total = len([f for f in td.fields if f.optional])
@@ -94,7 +95,7 @@ class MaxBits:
         if td.extensible:
             if heap:
                 return None
-            total += 1 + ext_bits(self.caps.ext_octets(td))
+            total += 1 + ext_bits(self.caps.ext_octets(td, self.fw))
         return total
 
     def k_choice(self, td, heap):
@@ -106,7 +107,7 @@ class MaxBits:
             return best
         if heap:
             return None
-        return 1 + max(best, UNKNOWN_INDEX + open_bits(8 * self.caps.unknown_octets(td)))
+        return 1 + max(best, UNKNOWN_INDEX + open_bits(8 * self.caps.unknown_octets(td, self.fw)))
 
     def k_open(self, td, heap):
         if heap:
@@ -115,5 +116,5 @@ class MaxBits:
         if any(i is None for i in inner):
             return None
         known = max([open_bits(i) for i in inner], default=0)
-        unknown = open_bits(8 * self.caps.unknown_octets(td))
+        unknown = open_bits(8 * self.caps.unknown_octets(td, self.fw))
         return self.ref(td.id_ref, heap) + max(known, unknown)

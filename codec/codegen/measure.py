@@ -4,7 +4,12 @@ independent pycrate decoder (not our own). Prints the keys whose need exceeds th
 default, as lines for capacities.toml.
 
     $(bash ../shared/oracle/setup.sh) codec/codegen/measure.py [--all]
+        [--vectors codec/tests/vectors/oracle_vectors.jsonl] [--firmware]
+
+`--vectors` measures the frames (field `uper`) of a JSON-lines file instead of the corpus;
+`--firmware` compares with the firmware profile (capacities-firmware.toml).
 """
+import json
 import argparse
 import glob
 import os
@@ -74,26 +79,35 @@ def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--shared", default=os.path.join(REPO, "..", "shared"))
     ap.add_argument("--all", action="store_true", help="print every key, not only those over the default")
+    ap.add_argument("--vectors", help="JSON lines with a `uper` hex field, instead of the corpus")
+    ap.add_argument("--firmware", action="store_true", help="compare with the firmware profile")
     args = ap.parse_args()
     modules = model_mod.load(args.shared)
-    caps = caps_mod.Capacities(os.path.join(here, "capacities.toml"))
+    caps = caps_mod.Capacities(os.path.join(here, "capacities.toml"),
+                               os.path.join(here, "capacities-firmware.toml"))
     model = model_mod.Model(modules, caps)
     MF = modules["MessageFrame"]["MessageFrame"]
     top = model.named[("MessageFrame", "MessageFrame")]
     w = Walker(model)
-    for path in sorted(glob.glob(os.path.join(args.shared, "corpus", "frames", "*.hex"))):
-        MF.from_uper(bytes.fromhex(open(path).read().strip()))
+    if args.vectors:
+        frames = [json.loads(line)["uper"] for line in open(args.vectors) if line.strip()]
+    else:
+        frames = [open(p).read().strip() for p in sorted(glob.glob(os.path.join(args.shared, "corpus", "frames", "*.hex")))]
+    for hex_frame in frames:
+        MF.from_uper(bytes.fromhex(hex_frame))
         w.walk(top, MF, MF._val)
     by_key = {td.key: td for tds in model.by_module.values() for td in tds}
     for key, n in sorted(w.need.items()):
         base = key.split(":")[0]
         td = by_key[base]
         if key.endswith(":unknown"):
-            default = caps.unknown_octets(td)
+            default = caps.unknown_octets(td, args.firmware)
+        elif key.endswith(":ext"):
+            default = caps.ext_octets(td, args.firmware)
         elif td.kind == "bits":
             default = caps.bits_octets(td)
         else:
-            default = caps.count(td)
+            default = caps.count(td, args.firmware)
         if args.all or n > default:
             print(f'"{key}" = {n}    # default {default}')
 

@@ -11,9 +11,13 @@
 //! per type in `codec/codegen/capacities.toml` (a value over a capacity is a
 //! [`uper::DecodeErrorKind::CapacityExceeded`] error that names the capacity). Feature
 //! `alloc` switches them to `Vec`/`String`, bounded only by the ASN.1 SIZE constraints.
+//! Feature `firmware-capacities` selects a second, much smaller capacity profile
+//! (`codec/codegen/capacities-firmware.toml`) for microcontrollers; the capacities that differ
+//! between the two profiles are the consts of [`capacities`].
 //!
 //! # Features
 //! - `alloc`: heap storage (see above). `std`: implies `alloc`.
+//! - `firmware-capacities`: the small no-heap capacity profile (see above).
 //! - `jer`: JSON encoding rules (X.697) for every generated type, in module `jer` (links std).
 //! - `serde`: `Serialize`/`Deserialize` of the runtime's storage types.
 //! - `defmt`: `defmt::Format` on the error types.

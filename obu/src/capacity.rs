@@ -2,24 +2,51 @@
 //!
 //! Every bounded collection in the crate uses one of these constants. Raising one
 //! raises the static RAM of [`crate::Obu`]; `tests/ram.rs` prints the total.
+//!
+//! Feature `firmware-capacities` selects a smaller profile of the stores for a
+//! microcontroller (with the codec's matching profile): fewer maps, lanes and zones. The HMI
+//! output ([`MAX_ALERTS`], [`MAX_HMI_LANES`]) is the same in both profiles, so that the
+//! firmware's `HmiState` stream decodes on the Linux side.
 
-/// Lane models (MAP messages: intersections or road segments) kept at once.
-pub const MAX_MAPS: usize = 4;
-/// Lanes per lane model (J2735 allows 255; deployed MAPs stay well below 64).
-pub const MAX_LANES: usize = 64;
+/// Picks the value of the build's profile: default, or `firmware-capacities`.
+macro_rules! profile {
+    ($(#[$doc:meta])* $name:ident = $default:expr, firmware $firmware:expr) => {
+        $(#[$doc])*
+        #[cfg(not(feature = "firmware-capacities"))]
+        pub const $name: usize = $default;
+        $(#[$doc])*
+        #[cfg(feature = "firmware-capacities")]
+        pub const $name: usize = $firmware;
+    };
+}
+
+profile! {
+    /// Lane models (MAP messages: intersections or road segments) kept at once.
+    MAX_MAPS = 4, firmware 2
+}
+profile! {
+    /// Lanes per lane model (J2735 allows 255; deployed MAPs stay well below 64).
+    MAX_LANES = 64, firmware 8
+}
 /// Centreline nodes per lane (J2735 allows 63). Long segments are split, see
 /// [`crate::lane::Lane::push_node_cm`].
 pub const MAX_NODES: usize = 32;
 /// Connections kept per lane (J2735 allows 16).
 pub const MAX_CONNECTIONS: usize = 4;
-/// Work zones (TIM data frames) kept at once.
-pub const MAX_ZONES: usize = 8;
-/// Regions per work zone (J2735 allows 16).
-pub const MAX_REGIONS: usize = 4;
+profile! {
+    /// Work zones (TIM data frames) kept at once.
+    MAX_ZONES = 8, firmware 4
+}
+profile! {
+    /// Regions per work zone (J2735 allows 16).
+    MAX_REGIONS = 4, firmware 2
+}
 /// Path nodes per region, anchor included (J2735 allows 63 offsets).
 pub const MAX_PATH_NODES: usize = 16;
-/// ITIS codes kept per work zone (J2735 allows 100 items).
-pub const MAX_ITIS: usize = 16;
+profile! {
+    /// ITIS codes kept per work zone (J2735 allows 100 items).
+    MAX_ITIS = 16, firmware 8
+}
 /// Lanes a region can be associated with (closed lanes), over all maps.
 pub const MAX_ZONE_LANES: usize = 8;
 /// Alerts listed in one HMI state besides the primary one.

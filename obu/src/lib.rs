@@ -13,6 +13,7 @@
 //! * [`distance`]: distance along the lane to the work-zone start.
 //! * [`alert`]: alert state machine and the [`alert::HmiState`] shown to the driver.
 //! * [`input`]: NMEA 0183 sentences and the CAN speed signal (daemon and firmware).
+//! * [`link`]: COBS + CRC-32 frames of the firmware's serial links.
 //! * [`onboard`]: [`Obu`], the facade the daemon, the firmware and the simulator drive.
 //!
 //! Capacities (maps, lanes, nodes, zones) are fixed at compile time in [`capacity`].
@@ -39,6 +40,7 @@ pub mod geo;
 pub mod ingest;
 pub mod input;
 pub mod lane;
+pub mod link;
 pub mod matcher;
 mod math;
 pub mod onboard;

@@ -7559,7 +7559,7 @@ impl uper::Placeholder for Position3D {
 
 impl Uper for Position3D {
     const PATH: &'static str = "Common.Position3D";
-    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(875), None);
+    const MAX_UPER_BITS: Option<u64> = uper::max_bits_profiled(Some(875), Some(523), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let extended = r.read_bit()?;
         let present = r.read_bits(2)?;
@@ -7676,9 +7676,11 @@ impl uper::random::Random for Position3D {
 
 /// ASN.1 `Position3D.regional` (module `Common`): SEQUENCE OF RegPosition3D (SIZE(1..4)).
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
-pub struct Position3DRegional(pub uper::SeqOf<RegPosition3D, 4>);
+pub struct Position3DRegional(
+    pub uper::SeqOf<RegPosition3D, { super::capacities::COMMON_POSITION3D_REGIONAL }>,
+);
 
-crate::__newtype_deref!(Position3DRegional, uper::SeqOf<RegPosition3D, 4>);
+crate::__newtype_deref!(Position3DRegional, uper::SeqOf<RegPosition3D, { super::capacities::COMMON_POSITION3D_REGIONAL }>);
 
 impl Position3DRegional {
     const SIZE: uper::Size = uper::Size::range(1, 4);
@@ -7702,7 +7704,7 @@ impl uper::Placeholder for Position3DRegional {
 
 impl Uper for Position3DRegional {
     const PATH: &'static str = "Common.Position3D.regional";
-    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(706), None);
+    const MAX_UPER_BITS: Option<u64> = uper::max_bits_profiled(Some(706), Some(354), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         uper::decode_seq_of_into(r, Self::SIZE, "Common.Position3D.regional", &mut out.0)
     }
@@ -7739,7 +7741,10 @@ impl crate::jer::Jer for Position3DRegional {
 impl uper::random::Random for Position3DRegional {
     fn random(g: &mut uper::random::Gen) -> Self {
         let mut v = Self(uper::SeqOf::new());
-        for _ in 0..g.count(1, 4) {
+        for _ in 0..g.count(
+            1,
+            core::cmp::min(4, super::capacities::COMMON_POSITION3D_REGIONAL),
+        ) {
             let _ = v.0.push(<RegPosition3D as uper::random::Random>::random(g));
         }
         v
@@ -7939,9 +7944,11 @@ crate::__constrained_int!(LaneWidth, u16, 0, 32767, "Common.LaneWidth");
 
 /// ASN.1 `SpeedLimitList` (module `Common`): SEQUENCE OF RegulatorySpeedLimit (SIZE(1..9)).
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
-pub struct SpeedLimitList(pub uper::SeqOf<RegulatorySpeedLimit, 6>);
+pub struct SpeedLimitList(
+    pub uper::SeqOf<RegulatorySpeedLimit, { super::capacities::COMMON_SPEED_LIMIT_LIST }>,
+);
 
-crate::__newtype_deref!(SpeedLimitList, uper::SeqOf<RegulatorySpeedLimit, 6>);
+crate::__newtype_deref!(SpeedLimitList, uper::SeqOf<RegulatorySpeedLimit, { super::capacities::COMMON_SPEED_LIMIT_LIST }>);
 
 impl SpeedLimitList {
     const SIZE: uper::Size = uper::Size::range(1, 9);
@@ -7965,7 +7972,7 @@ impl uper::Placeholder for SpeedLimitList {
 
 impl Uper for SpeedLimitList {
     const PATH: &'static str = "Common.SpeedLimitList";
-    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(238), Some(355));
+    const MAX_UPER_BITS: Option<u64> = uper::max_bits_profiled(Some(238), Some(121), Some(355));
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         uper::decode_seq_of_into(r, Self::SIZE, "Common.SpeedLimitList", &mut out.0)
     }
@@ -8002,7 +8009,10 @@ impl crate::jer::Jer for SpeedLimitList {
 impl uper::random::Random for SpeedLimitList {
     fn random(g: &mut uper::random::Gen) -> Self {
         let mut v = Self(uper::SeqOf::new());
-        for _ in 0..g.count(1, 6) {
+        for _ in 0..g.count(
+            1,
+            core::cmp::min(9, super::capacities::COMMON_SPEED_LIMIT_LIST),
+        ) {
             let _ =
                 v.0.push(<RegulatorySpeedLimit as uper::random::Random>::random(g));
         }
@@ -8288,7 +8298,7 @@ impl uper::Placeholder for NodeListXY {
 
 impl Uper for NodeListXY {
     const PATH: &'static str = "Common.NodeListXY";
-    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(179495), None);
+    const MAX_UPER_BITS: Option<u64> = uper::max_bits_profiled(Some(179495), Some(23016), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         if r.read_bit()? {
             let at = r.position();
@@ -8401,9 +8411,9 @@ impl crate::jer::Jer for NodeListXY {
 
 /// ASN.1 `NodeSetXY` (module `Common`): SEQUENCE OF NodeXY (SIZE(2..63)).
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
-pub struct NodeSetXY(pub uper::SeqOf<NodeXY, 63>);
+pub struct NodeSetXY(pub uper::SeqOf<NodeXY, { super::capacities::COMMON_NODE_SET_XY }>);
 
-crate::__newtype_deref!(NodeSetXY, uper::SeqOf<NodeXY, 63>);
+crate::__newtype_deref!(NodeSetXY, uper::SeqOf<NodeXY, { super::capacities::COMMON_NODE_SET_XY }>);
 
 impl NodeSetXY {
     const SIZE: uper::Size = uper::Size::range(2, 63);
@@ -8427,7 +8437,7 @@ impl uper::Placeholder for NodeSetXY {
 
 impl Uper for NodeSetXY {
     const PATH: &'static str = "Common.NodeSetXY";
-    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(179493), None);
+    const MAX_UPER_BITS: Option<u64> = uper::max_bits_profiled(Some(179493), Some(23014), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         uper::decode_seq_of_into(r, Self::SIZE, "Common.NodeSetXY", &mut out.0)
     }
@@ -8464,7 +8474,7 @@ impl crate::jer::Jer for NodeSetXY {
 impl uper::random::Random for NodeSetXY {
     fn random(g: &mut uper::random::Gen) -> Self {
         let mut v = Self(uper::SeqOf::new());
-        for _ in 0..g.count(2, 63) {
+        for _ in 0..g.count(2, core::cmp::min(63, super::capacities::COMMON_NODE_SET_XY)) {
             let _ = v.0.push(<NodeXY as uper::random::Random>::random(g));
         }
         v
@@ -8494,7 +8504,7 @@ impl uper::Placeholder for NodeXY {
 
 impl Uper for NodeXY {
     const PATH: &'static str = "Common.NodeXY";
-    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(2849), None);
+    const MAX_UPER_BITS: Option<u64> = uper::max_bits_profiled(Some(2849), Some(719), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let extended = r.read_bit()?;
         let present = r.read_bits(1)?;
@@ -9234,7 +9244,7 @@ pub enum RegNodeOffsetPointXY {
         /// The `regionId`.
         id: RegionId,
         /// The value's encoding (the open-type content).
-        bytes: uper::Octets<16>,
+        bytes: uper::Octets<{ super::capacities::COMMON_REG_NODE_OFFSET_POINT_XY_UNKNOWN }>,
     },
 }
 
@@ -9409,7 +9419,7 @@ impl uper::Placeholder for NodeAttributeSetXY {
 
 impl Uper for NodeAttributeSetXY {
     const PATH: &'static str = "Common.NodeAttributeSetXY";
-    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(2573), None);
+    const MAX_UPER_BITS: Option<u64> = uper::max_bits_profiled(Some(2573), Some(443), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let extended = r.read_bit()?;
         let present = r.read_bits(7)?;
@@ -9655,9 +9665,11 @@ impl uper::random::Random for NodeAttributeSetXY {
 
 /// ASN.1 `NodeAttributeXYList` (module `Common`): SEQUENCE OF NodeAttributeXY (SIZE(1..8)).
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
-pub struct NodeAttributeXYList(pub uper::SeqOf<NodeAttributeXY, 4>);
+pub struct NodeAttributeXYList(
+    pub uper::SeqOf<NodeAttributeXY, { super::capacities::COMMON_NODE_ATTRIBUTE_XYLIST }>,
+);
 
-crate::__newtype_deref!(NodeAttributeXYList, uper::SeqOf<NodeAttributeXY, 4>);
+crate::__newtype_deref!(NodeAttributeXYList, uper::SeqOf<NodeAttributeXY, { super::capacities::COMMON_NODE_ATTRIBUTE_XYLIST }>);
 
 impl NodeAttributeXYList {
     const SIZE: uper::Size = uper::Size::range(1, 8);
@@ -9681,7 +9693,7 @@ impl uper::Placeholder for NodeAttributeXYList {
 
 impl Uper for NodeAttributeXYList {
     const PATH: &'static str = "Common.NodeAttributeXYList";
-    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(107), Some(211));
+    const MAX_UPER_BITS: Option<u64> = uper::max_bits_profiled(Some(107), Some(55), Some(211));
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         uper::decode_seq_of_into(r, Self::SIZE, "Common.NodeAttributeXYList", &mut out.0)
     }
@@ -9718,7 +9730,10 @@ impl crate::jer::Jer for NodeAttributeXYList {
 impl uper::random::Random for NodeAttributeXYList {
     fn random(g: &mut uper::random::Gen) -> Self {
         let mut v = Self(uper::SeqOf::new());
-        for _ in 0..g.count(1, 4) {
+        for _ in 0..g.count(
+            1,
+            core::cmp::min(8, super::capacities::COMMON_NODE_ATTRIBUTE_XYLIST),
+        ) {
             let _ =
                 v.0.push(<NodeAttributeXY as uper::random::Random>::random(g));
         }
@@ -9906,9 +9921,11 @@ impl crate::jer::Jer for NodeAttributeXY {
 
 /// ASN.1 `SegmentAttributeXYList` (module `Common`): SEQUENCE OF SegmentAttributeXY (SIZE(1..8)).
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
-pub struct SegmentAttributeXYList(pub uper::SeqOf<SegmentAttributeXY, 5>);
+pub struct SegmentAttributeXYList(
+    pub uper::SeqOf<SegmentAttributeXY, { super::capacities::COMMON_SEGMENT_ATTRIBUTE_XYLIST }>,
+);
 
-crate::__newtype_deref!(SegmentAttributeXYList, uper::SeqOf<SegmentAttributeXY, 5>);
+crate::__newtype_deref!(SegmentAttributeXYList, uper::SeqOf<SegmentAttributeXY, { super::capacities::COMMON_SEGMENT_ATTRIBUTE_XYLIST }>);
 
 impl SegmentAttributeXYList {
     const SIZE: uper::Size = uper::Size::range(1, 8);
@@ -9932,7 +9949,7 @@ impl uper::Placeholder for SegmentAttributeXYList {
 
 impl Uper for SegmentAttributeXYList {
     const PATH: &'static str = "Common.SegmentAttributeXYList";
-    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(133), Some(211));
+    const MAX_UPER_BITS: Option<u64> = uper::max_bits_profiled(Some(133), Some(29), Some(211));
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         uper::decode_seq_of_into(r, Self::SIZE, "Common.SegmentAttributeXYList", &mut out.0)
     }
@@ -9969,7 +9986,10 @@ impl crate::jer::Jer for SegmentAttributeXYList {
 impl uper::random::Random for SegmentAttributeXYList {
     fn random(g: &mut uper::random::Gen) -> Self {
         let mut v = Self(uper::SeqOf::new());
-        for _ in 0..g.count(1, 5) {
+        for _ in 0..g.count(
+            1,
+            core::cmp::min(8, super::capacities::COMMON_SEGMENT_ATTRIBUTE_XYLIST),
+        ) {
             let _ =
                 v.0.push(<SegmentAttributeXY as uper::random::Random>::random(g));
         }
@@ -10339,9 +10359,11 @@ impl crate::jer::Jer for SegmentAttributeXY {
 
 /// ASN.1 `LaneDataAttributeList` (module `Common`): SEQUENCE OF LaneDataAttribute (SIZE(1..8)).
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
-pub struct LaneDataAttributeList(pub uper::SeqOf<LaneDataAttribute, 8>);
+pub struct LaneDataAttributeList(
+    pub uper::SeqOf<LaneDataAttribute, { super::capacities::COMMON_LANE_DATA_ATTRIBUTE_LIST }>,
+);
 
-crate::__newtype_deref!(LaneDataAttributeList, uper::SeqOf<LaneDataAttribute, 8>);
+crate::__newtype_deref!(LaneDataAttributeList, uper::SeqOf<LaneDataAttribute, { super::capacities::COMMON_LANE_DATA_ATTRIBUTE_LIST }>);
 
 impl LaneDataAttributeList {
     const SIZE: uper::Size = uper::Size::range(1, 8);
@@ -10365,7 +10387,7 @@ impl uper::Placeholder for LaneDataAttributeList {
 
 impl Uper for LaneDataAttributeList {
     const PATH: &'static str = "Common.LaneDataAttributeList";
-    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(1939), None);
+    const MAX_UPER_BITS: Option<u64> = uper::max_bits_profiled(Some(1939), Some(165), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         uper::decode_seq_of_into(r, Self::SIZE, "Common.LaneDataAttributeList", &mut out.0)
     }
@@ -10402,7 +10424,10 @@ impl crate::jer::Jer for LaneDataAttributeList {
 impl uper::random::Random for LaneDataAttributeList {
     fn random(g: &mut uper::random::Gen) -> Self {
         let mut v = Self(uper::SeqOf::new());
-        for _ in 0..g.count(1, 8) {
+        for _ in 0..g.count(
+            1,
+            core::cmp::min(8, super::capacities::COMMON_LANE_DATA_ATTRIBUTE_LIST),
+        ) {
             let _ =
                 v.0.push(<LaneDataAttribute as uper::random::Random>::random(g));
         }
@@ -10444,7 +10469,7 @@ impl uper::Placeholder for LaneDataAttribute {
 
 impl Uper for LaneDataAttribute {
     const PATH: &'static str = "Common.LaneDataAttribute";
-    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(242), None);
+    const MAX_UPER_BITS: Option<u64> = uper::max_bits_profiled(Some(242), Some(162), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         if r.read_bit()? {
             let at = r.position();
@@ -10739,7 +10764,7 @@ impl uper::Placeholder for LaneDataAttributeRegional {
 
 impl Uper for LaneDataAttributeRegional {
     const PATH: &'static str = "Common.LaneDataAttribute.regional";
-    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(146), None);
+    const MAX_UPER_BITS: Option<u64> = uper::max_bits_profiled(Some(146), Some(106), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         uper::decode_seq_of_into(
             r,
@@ -10799,7 +10824,7 @@ pub enum RegLaneDataAttribute {
         /// The `regionId`.
         id: RegionId,
         /// The value's encoding (the open-type content).
-        bytes: uper::Octets<16>,
+        bytes: uper::Octets<{ super::capacities::COMMON_REG_LANE_DATA_ATTRIBUTE_UNKNOWN }>,
     },
 }
 
@@ -10882,7 +10907,7 @@ impl uper::Placeholder for RegLaneDataAttribute {
 
 impl Uper for RegLaneDataAttribute {
     const PATH: &'static str = "Common.RegLaneDataAttribute";
-    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(144), None);
+    const MAX_UPER_BITS: Option<u64> = uper::max_bits_profiled(Some(144), Some(104), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let id = <RegionId>::decode_uper(r)?;
         match id.get() {
@@ -10964,7 +10989,7 @@ impl uper::Placeholder for NodeAttributeSetXYRegional {
 
 impl Uper for NodeAttributeSetXYRegional {
     const PATH: &'static str = "Common.NodeAttributeSetXY.regional";
-    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(146), None);
+    const MAX_UPER_BITS: Option<u64> = uper::max_bits_profiled(Some(146), Some(50), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         uper::decode_seq_of_into(
             r,
@@ -11022,7 +11047,7 @@ pub enum RegNodeAttributeSetXY {
         /// The `regionId`.
         id: RegionId,
         /// The value's encoding (the open-type content).
-        bytes: uper::Octets<16>,
+        bytes: uper::Octets<{ super::capacities::COMMON_REG_NODE_ATTRIBUTE_SET_XY_UNKNOWN }>,
     },
 }
 
@@ -11093,7 +11118,7 @@ impl uper::Placeholder for RegNodeAttributeSetXY {
 
 impl Uper for RegNodeAttributeSetXY {
     const PATH: &'static str = "Common.RegNodeAttributeSetXY";
-    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(144), None);
+    const MAX_UPER_BITS: Option<u64> = uper::max_bits_profiled(Some(144), Some(48), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let id = <RegionId>::decode_uper(r)?;
         match id.get() {

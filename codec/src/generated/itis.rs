@@ -1944,7 +1944,8 @@ impl uper::Placeholder for ITIScodesAndText {
 
 impl Uper for ITIScodesAndText {
     const PATH: &'static str = "ITIS.ITIScodesAndText";
-    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(14047), Some(351007));
+    const MAX_UPER_BITS: Option<u64> =
+        uper::max_bits_profiled(Some(14047), Some(1839), Some(351007));
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         uper::decode_seq_of_into(r, Self::SIZE, "ITIS.ITIScodesAndText", &mut out.0)
     }
@@ -2006,7 +2007,7 @@ impl uper::Placeholder for ITIScodesAndTextItem {
 
 impl Uper for ITIScodesAndTextItem {
     const PATH: &'static str = "ITIS.ITIScodesAndText[]";
-    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(3510), Some(3510));
+    const MAX_UPER_BITS: Option<u64> = uper::max_bits_profiled(Some(3510), Some(458), Some(3510));
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         <ITIScodesAndTextItemItem>::decode_into(r, &mut out.item)?;
         Ok(())
@@ -2062,7 +2063,7 @@ impl uper::Placeholder for ITIScodesAndTextItemItem {
 
 impl Uper for ITIScodesAndTextItemItem {
     const PATH: &'static str = "ITIS.ITIScodesAndText[].item";
-    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(3510), Some(3510));
+    const MAX_UPER_BITS: Option<u64> = uper::max_bits_profiled(Some(3510), Some(458), Some(3510));
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let at = r.position();
         match r.read_constrained(0, 1)? {
@@ -2156,9 +2157,9 @@ impl crate::jer::Jer for ITIScodesAndTextItemItem {
 
 /// ASN.1 `ITIStext` (module `ITIS`): IA5String (SIZE(1..500)).
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
-pub struct ITIStext(pub uper::Ia5<500>);
+pub struct ITIStext(pub uper::Ia5<{ super::capacities::ITIS_ITISTEXT }>);
 
-crate::__newtype_deref!(ITIStext, uper::Ia5<500>);
+crate::__newtype_deref!(ITIStext, uper::Ia5<{ super::capacities::ITIS_ITISTEXT }>);
 
 impl ITIStext {
     const SIZE: uper::Size = uper::Size::range(1, 500);
@@ -2180,7 +2181,7 @@ impl uper::Placeholder for ITIStext {
 
 impl Uper for ITIStext {
     const PATH: &'static str = "ITIS.ITIStext";
-    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(3509), Some(3509));
+    const MAX_UPER_BITS: Option<u64> = uper::max_bits_profiled(Some(3509), Some(457), Some(3509));
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         out.0 = uper::decode_ia5(r, Self::SIZE, "ITIS.ITIStext")?;
         Ok(())
@@ -2204,7 +2205,7 @@ impl crate::jer::Jer for ITIStext {
 impl uper::random::Random for ITIStext {
     fn random(g: &mut uper::random::Gen) -> Self {
         let mut v = Self(uper::Ia5::new());
-        for _ in 0..g.count(1, 500) {
+        for _ in 0..g.count(1, core::cmp::min(500, super::capacities::ITIS_ITISTEXT)) {
             let _ = v.0.push(g.printable());
         }
         v

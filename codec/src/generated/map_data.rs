@@ -28,7 +28,7 @@ pub struct MapData {
     /// `regional` (OPTIONAL).
     pub regional: Option<MapDataRegional>,
     /// Extension additions unknown to J2735 2020, kept to re-encode them.
-    pub extensions: uper::Extensions<64>,
+    pub extensions: uper::Extensions<{ super::capacities::MAP_DATA_MAP_DATA_EXT }>,
 }
 
 impl uper::Placeholder for MapData {
@@ -50,7 +50,7 @@ impl uper::Placeholder for MapData {
 
 impl Uper for MapData {
     const PATH: &'static str = "MapData.MapData";
-    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(30486343), None);
+    const MAX_UPER_BITS: Option<u64> = uper::max_bits_profiled(Some(30486343), Some(252402), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let extended = r.read_bit()?;
         let present = r.read_bits(8)?;
@@ -493,9 +493,14 @@ crate::__constrained_int!(LayerID, u8, 0, 100, "MapData.LayerID");
 
 /// ASN.1 `IntersectionGeometryList` (module `MapData`): SEQUENCE OF IntersectionGeometry (SIZE(1..32)).
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
-pub struct IntersectionGeometryList(pub uper::SeqOf<IntersectionGeometry, 2>);
+pub struct IntersectionGeometryList(
+    pub  uper::SeqOf<
+        IntersectionGeometry,
+        { super::capacities::MAP_DATA_INTERSECTION_GEOMETRY_LIST },
+    >,
+);
 
-crate::__newtype_deref!(IntersectionGeometryList, uper::SeqOf<IntersectionGeometry, 2>);
+crate::__newtype_deref!(IntersectionGeometryList, uper::SeqOf<IntersectionGeometry, { super::capacities::MAP_DATA_INTERSECTION_GEOMETRY_LIST }>);
 
 impl IntersectionGeometryList {
     const SIZE: uper::Size = uper::Size::range(1, 32);
@@ -519,7 +524,7 @@ impl uper::Placeholder for IntersectionGeometryList {
 
 impl Uper for IntersectionGeometryList {
     const PATH: &'static str = "MapData.IntersectionGeometryList";
-    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(23204955), None);
+    const MAX_UPER_BITS: Option<u64> = uper::max_bits_profiled(Some(23204955), Some(196427), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         uper::decode_seq_of_into(
             r,
@@ -561,7 +566,10 @@ impl crate::jer::Jer for IntersectionGeometryList {
 impl uper::random::Random for IntersectionGeometryList {
     fn random(g: &mut uper::random::Gen) -> Self {
         let mut v = Self(uper::SeqOf::new());
-        for _ in 0..g.count(1, 2) {
+        for _ in 0..g.count(
+            1,
+            core::cmp::min(32, super::capacities::MAP_DATA_INTERSECTION_GEOMETRY_LIST),
+        ) {
             let _ =
                 v.0.push(<IntersectionGeometry as uper::random::Random>::random(g));
         }
@@ -591,7 +599,7 @@ pub struct IntersectionGeometry {
     /// `regional` (OPTIONAL).
     pub regional: Option<IntersectionGeometryRegional>,
     /// Extension additions unknown to J2735 2020, kept to re-encode them.
-    pub extensions: uper::Extensions<64>,
+    pub extensions: uper::Extensions<{ super::capacities::MAP_DATA_INTERSECTION_GEOMETRY_EXT }>,
 }
 
 impl uper::Placeholder for IntersectionGeometry {
@@ -613,7 +621,7 @@ impl uper::Placeholder for IntersectionGeometry {
 
 impl Uper for IntersectionGeometry {
     const PATH: &'static str = "MapData.IntersectionGeometry";
-    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(11602475), None);
+    const MAX_UPER_BITS: Option<u64> = uper::max_bits_profiled(Some(11602475), Some(196422), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let extended = r.read_bit()?;
         let present = r.read_bits(5)?;
@@ -850,9 +858,9 @@ impl uper::random::Random for IntersectionGeometry {
 
 /// ASN.1 `LaneList` (module `MapData`): SEQUENCE OF GenericLane (SIZE(1..255)).
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
-pub struct LaneList(pub uper::SeqOf<GenericLane, 64>);
+pub struct LaneList(pub uper::SeqOf<GenericLane, { super::capacities::MAP_DATA_LANE_LIST }>);
 
-crate::__newtype_deref!(LaneList, uper::SeqOf<GenericLane, 64>);
+crate::__newtype_deref!(LaneList, uper::SeqOf<GenericLane, { super::capacities::MAP_DATA_LANE_LIST }>);
 
 impl LaneList {
     const SIZE: uper::Size = uper::Size::range(1, 255);
@@ -876,7 +884,7 @@ impl uper::Placeholder for LaneList {
 
 impl Uper for LaneList {
     const PATH: &'static str = "MapData.LaneList";
-    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(11598920), None);
+    const MAX_UPER_BITS: Option<u64> = uper::max_bits_profiled(Some(11598920), Some(193912), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         uper::decode_seq_of_into(r, Self::SIZE, "MapData.LaneList", &mut out.0)
     }
@@ -913,7 +921,10 @@ impl crate::jer::Jer for LaneList {
 impl uper::random::Random for LaneList {
     fn random(g: &mut uper::random::Gen) -> Self {
         let mut v = Self(uper::SeqOf::new());
-        for _ in 0..g.count(1, 64) {
+        for _ in 0..g.count(
+            1,
+            core::cmp::min(255, super::capacities::MAP_DATA_LANE_LIST),
+        ) {
             let _ = v.0.push(<GenericLane as uper::random::Random>::random(g));
         }
         v
@@ -967,7 +978,7 @@ impl uper::Placeholder for GenericLane {
 
 impl Uper for GenericLane {
     const PATH: &'static str = "MapData.GenericLane";
-    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(181233), None);
+    const MAX_UPER_BITS: Option<u64> = uper::max_bits_profiled(Some(181233), Some(24238), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let extended = r.read_bit()?;
         let present = r.read_bits(7)?;
@@ -2598,9 +2609,11 @@ impl uper::random::Random for AllowedManeuvers {
 
 /// ASN.1 `ConnectsToList` (module `MapData`): SEQUENCE OF Connection (SIZE(1..16)).
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
-pub struct ConnectsToList(pub uper::SeqOf<Connection, 8>);
+pub struct ConnectsToList(
+    pub uper::SeqOf<Connection, { super::capacities::MAP_DATA_CONNECTS_TO_LIST }>,
+);
 
-crate::__newtype_deref!(ConnectsToList, uper::SeqOf<Connection, 8>);
+crate::__newtype_deref!(ConnectsToList, uper::SeqOf<Connection, { super::capacities::MAP_DATA_CONNECTS_TO_LIST }>);
 
 impl ConnectsToList {
     const SIZE: uper::Size = uper::Size::range(1, 16);
@@ -2624,7 +2637,7 @@ impl uper::Placeholder for ConnectsToList {
 
 impl Uper for ConnectsToList {
     const PATH: &'static str = "MapData.ConnectsToList";
-    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(660), Some(1316));
+    const MAX_UPER_BITS: Option<u64> = uper::max_bits_profiled(Some(660), Some(168), Some(1316));
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         uper::decode_seq_of_into(r, Self::SIZE, "MapData.ConnectsToList", &mut out.0)
     }
@@ -2661,7 +2674,10 @@ impl crate::jer::Jer for ConnectsToList {
 impl uper::random::Random for ConnectsToList {
     fn random(g: &mut uper::random::Gen) -> Self {
         let mut v = Self(uper::SeqOf::new());
-        for _ in 0..g.count(1, 8) {
+        for _ in 0..g.count(
+            1,
+            core::cmp::min(16, super::capacities::MAP_DATA_CONNECTS_TO_LIST),
+        ) {
             let _ = v.0.push(<Connection as uper::random::Random>::random(g));
         }
         v
@@ -2951,9 +2967,11 @@ impl uper::random::Random for ConnectingLane {
 
 /// ASN.1 `OverlayLaneList` (module `MapData`): SEQUENCE OF super::common::LaneID (SIZE(1..5)).
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
-pub struct OverlayLaneList(pub uper::SeqOf<super::common::LaneID, 5>);
+pub struct OverlayLaneList(
+    pub uper::SeqOf<super::common::LaneID, { super::capacities::MAP_DATA_OVERLAY_LANE_LIST }>,
+);
 
-crate::__newtype_deref!(OverlayLaneList, uper::SeqOf<super::common::LaneID, 5>);
+crate::__newtype_deref!(OverlayLaneList, uper::SeqOf<super::common::LaneID, { super::capacities::MAP_DATA_OVERLAY_LANE_LIST }>);
 
 impl OverlayLaneList {
     const SIZE: uper::Size = uper::Size::range(1, 5);
@@ -2977,7 +2995,7 @@ impl uper::Placeholder for OverlayLaneList {
 
 impl Uper for OverlayLaneList {
     const PATH: &'static str = "MapData.OverlayLaneList";
-    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(43), Some(43));
+    const MAX_UPER_BITS: Option<u64> = uper::max_bits_profiled(Some(43), Some(19), Some(43));
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         uper::decode_seq_of_into(r, Self::SIZE, "MapData.OverlayLaneList", &mut out.0)
     }
@@ -3014,7 +3032,10 @@ impl crate::jer::Jer for OverlayLaneList {
 impl uper::random::Random for OverlayLaneList {
     fn random(g: &mut uper::random::Gen) -> Self {
         let mut v = Self(uper::SeqOf::new());
-        for _ in 0..g.count(1, 5) {
+        for _ in 0..g.count(
+            1,
+            core::cmp::min(5, super::capacities::MAP_DATA_OVERLAY_LANE_LIST),
+        ) {
             let _ =
                 v.0.push(<super::common::LaneID as uper::random::Random>::random(g));
         }
@@ -3682,9 +3703,11 @@ impl uper::random::Random for RegIntersectionGeometry {
 
 /// ASN.1 `RoadSegmentList` (module `MapData`): SEQUENCE OF RoadSegment (SIZE(1..32)).
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
-pub struct RoadSegmentList(pub uper::SeqOf<RoadSegment, 5>);
+pub struct RoadSegmentList(
+    pub uper::SeqOf<RoadSegment, { super::capacities::MAP_DATA_ROAD_SEGMENT_LIST }>,
+);
 
-crate::__newtype_deref!(RoadSegmentList, uper::SeqOf<RoadSegment, 5>);
+crate::__newtype_deref!(RoadSegmentList, uper::SeqOf<RoadSegment, { super::capacities::MAP_DATA_ROAD_SEGMENT_LIST }>);
 
 impl RoadSegmentList {
     const SIZE: uper::Size = uper::Size::range(1, 32);
@@ -3708,7 +3731,7 @@ impl uper::Placeholder for RoadSegmentList {
 
 impl Uper for RoadSegmentList {
     const PATH: &'static str = "MapData.RoadSegmentList";
-    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(7258630), None);
+    const MAX_UPER_BITS: Option<u64> = uper::max_bits_profiled(Some(7258630), Some(49873), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         uper::decode_seq_of_into(r, Self::SIZE, "MapData.RoadSegmentList", &mut out.0)
     }
@@ -3745,7 +3768,10 @@ impl crate::jer::Jer for RoadSegmentList {
 impl uper::random::Random for RoadSegmentList {
     fn random(g: &mut uper::random::Gen) -> Self {
         let mut v = Self(uper::SeqOf::new());
-        for _ in 0..g.count(1, 5) {
+        for _ in 0..g.count(
+            1,
+            core::cmp::min(32, super::capacities::MAP_DATA_ROAD_SEGMENT_LIST),
+        ) {
             let _ = v.0.push(<RoadSegment as uper::random::Random>::random(g));
         }
         v
@@ -3793,7 +3819,7 @@ impl uper::Placeholder for RoadSegment {
 
 impl Uper for RoadSegment {
     const PATH: &'static str = "MapData.RoadSegment";
-    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(1451725), None);
+    const MAX_UPER_BITS: Option<u64> = uper::max_bits_profiled(Some(1451725), Some(49868), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let extended = r.read_bit()?;
         let present = r.read_bits(4)?;
@@ -4004,9 +4030,11 @@ impl uper::random::Random for RoadSegment {
 
 /// ASN.1 `RoadLaneSetList` (module `MapData`): SEQUENCE OF GenericLane (SIZE(1..255)).
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
-pub struct RoadLaneSetList(pub uper::SeqOf<GenericLane, 8>);
+pub struct RoadLaneSetList(
+    pub uper::SeqOf<GenericLane, { super::capacities::MAP_DATA_ROAD_LANE_SET_LIST }>,
+);
 
-crate::__newtype_deref!(RoadLaneSetList, uper::SeqOf<GenericLane, 8>);
+crate::__newtype_deref!(RoadLaneSetList, uper::SeqOf<GenericLane, { super::capacities::MAP_DATA_ROAD_LANE_SET_LIST }>);
 
 impl RoadLaneSetList {
     const SIZE: uper::Size = uper::Size::range(1, 255);
@@ -4030,7 +4058,7 @@ impl uper::Placeholder for RoadLaneSetList {
 
 impl Uper for RoadLaneSetList {
     const PATH: &'static str = "MapData.RoadLaneSetList";
-    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(1449872), None);
+    const MAX_UPER_BITS: Option<u64> = uper::max_bits_profiled(Some(1449872), Some(48484), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         uper::decode_seq_of_into(r, Self::SIZE, "MapData.RoadLaneSetList", &mut out.0)
     }
@@ -4067,7 +4095,10 @@ impl crate::jer::Jer for RoadLaneSetList {
 impl uper::random::Random for RoadLaneSetList {
     fn random(g: &mut uper::random::Gen) -> Self {
         let mut v = Self(uper::SeqOf::new());
-        for _ in 0..g.count(1, 8) {
+        for _ in 0..g.count(
+            1,
+            core::cmp::min(255, super::capacities::MAP_DATA_ROAD_LANE_SET_LIST),
+        ) {
             let _ = v.0.push(<GenericLane as uper::random::Random>::random(g));
         }
         v
@@ -4715,7 +4746,7 @@ impl uper::Placeholder for RestrictionClassList {
 
 impl Uper for RestrictionClassList {
     const PATH: &'static str = "MapData.RestrictionClassList";
-    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(11656), None);
+    const MAX_UPER_BITS: Option<u64> = uper::max_bits_profiled(Some(11656), Some(1352), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         uper::decode_seq_of_into(r, Self::SIZE, "MapData.RestrictionClassList", &mut out.0)
     }
@@ -4780,7 +4811,7 @@ impl uper::Placeholder for RestrictionClassAssignment {
 
 impl Uper for RestrictionClassAssignment {
     const PATH: &'static str = "MapData.RestrictionClassAssignment";
-    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(2912), None);
+    const MAX_UPER_BITS: Option<u64> = uper::max_bits_profiled(Some(2912), Some(336), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         <super::common::RestrictionClassID>::decode_into(r, &mut out.id)?;
         <RestrictionUserTypeList>::decode_into(r, &mut out.users)?;
@@ -4834,9 +4865,11 @@ impl uper::random::Random for RestrictionClassAssignment {
 
 /// ASN.1 `RestrictionUserTypeList` (module `MapData`): SEQUENCE OF RestrictionUserType (SIZE(1..16)).
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
-pub struct RestrictionUserTypeList(pub uper::SeqOf<RestrictionUserType, 5>);
+pub struct RestrictionUserTypeList(
+    pub uper::SeqOf<RestrictionUserType, { super::capacities::MAP_DATA_RESTRICTION_USER_TYPE_LIST }>,
+);
 
-crate::__newtype_deref!(RestrictionUserTypeList, uper::SeqOf<RestrictionUserType, 5>);
+crate::__newtype_deref!(RestrictionUserTypeList, uper::SeqOf<RestrictionUserType, { super::capacities::MAP_DATA_RESTRICTION_USER_TYPE_LIST }>);
 
 impl RestrictionUserTypeList {
     const SIZE: uper::Size = uper::Size::range(1, 16);
@@ -4860,7 +4893,7 @@ impl uper::Placeholder for RestrictionUserTypeList {
 
 impl Uper for RestrictionUserTypeList {
     const PATH: &'static str = "MapData.RestrictionUserTypeList";
-    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(2904), None);
+    const MAX_UPER_BITS: Option<u64> = uper::max_bits_profiled(Some(2904), Some(328), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         uper::decode_seq_of_into(r, Self::SIZE, "MapData.RestrictionUserTypeList", &mut out.0)
     }
@@ -4897,7 +4930,10 @@ impl crate::jer::Jer for RestrictionUserTypeList {
 impl uper::random::Random for RestrictionUserTypeList {
     fn random(g: &mut uper::random::Gen) -> Self {
         let mut v = Self(uper::SeqOf::new());
-        for _ in 0..g.count(1, 5) {
+        for _ in 0..g.count(
+            1,
+            core::cmp::min(16, super::capacities::MAP_DATA_RESTRICTION_USER_TYPE_LIST),
+        ) {
             let _ =
                 v.0.push(<RestrictionUserType as uper::random::Random>::random(g));
         }
@@ -4929,7 +4965,7 @@ impl uper::Placeholder for RestrictionUserType {
 
 impl Uper for RestrictionUserType {
     const PATH: &'static str = "MapData.RestrictionUserType";
-    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(580), None);
+    const MAX_UPER_BITS: Option<u64> = uper::max_bits_profiled(Some(580), Some(162), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         if r.read_bit()? {
             let at = r.position();
@@ -5236,9 +5272,14 @@ impl crate::jer::Jer for RestrictionAppliesTo {
 
 /// ASN.1 `RestrictionUserType.regional` (module `MapData`): SEQUENCE OF RegRestrictionUserType (SIZE(1..4)).
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
-pub struct RestrictionUserTypeRegional(pub uper::SeqOf<RegRestrictionUserType, 4>);
+pub struct RestrictionUserTypeRegional(
+    pub  uper::SeqOf<
+        RegRestrictionUserType,
+        { super::capacities::MAP_DATA_RESTRICTION_USER_TYPE_REGIONAL },
+    >,
+);
 
-crate::__newtype_deref!(RestrictionUserTypeRegional, uper::SeqOf<RegRestrictionUserType, 4>);
+crate::__newtype_deref!(RestrictionUserTypeRegional, uper::SeqOf<RegRestrictionUserType, { super::capacities::MAP_DATA_RESTRICTION_USER_TYPE_REGIONAL }>);
 
 impl RestrictionUserTypeRegional {
     const SIZE: uper::Size = uper::Size::range(1, 4);
@@ -5262,7 +5303,7 @@ impl uper::Placeholder for RestrictionUserTypeRegional {
 
 impl Uper for RestrictionUserTypeRegional {
     const PATH: &'static str = "MapData.RestrictionUserType.regional";
-    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(578), None);
+    const MAX_UPER_BITS: Option<u64> = uper::max_bits_profiled(Some(578), Some(146), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         uper::decode_seq_of_into(
             r,
@@ -5304,7 +5345,13 @@ impl crate::jer::Jer for RestrictionUserTypeRegional {
 impl uper::random::Random for RestrictionUserTypeRegional {
     fn random(g: &mut uper::random::Gen) -> Self {
         let mut v = Self(uper::SeqOf::new());
-        for _ in 0..g.count(1, 4) {
+        for _ in 0..g.count(
+            1,
+            core::cmp::min(
+                4,
+                super::capacities::MAP_DATA_RESTRICTION_USER_TYPE_REGIONAL,
+            ),
+        ) {
             let _ =
                 v.0.push(<RegRestrictionUserType as uper::random::Random>::random(g));
         }
@@ -5465,9 +5512,11 @@ impl uper::random::Random for RegRestrictionUserType {
 
 /// ASN.1 `MapData.regional` (module `MapData`): SEQUENCE OF RegMapData (SIZE(1..4)).
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
-pub struct MapDataRegional(pub uper::SeqOf<RegMapData, 4>);
+pub struct MapDataRegional(
+    pub uper::SeqOf<RegMapData, { super::capacities::MAP_DATA_MAP_DATA_REGIONAL }>,
+);
 
-crate::__newtype_deref!(MapDataRegional, uper::SeqOf<RegMapData, 4>);
+crate::__newtype_deref!(MapDataRegional, uper::SeqOf<RegMapData, { super::capacities::MAP_DATA_MAP_DATA_REGIONAL }>);
 
 impl MapDataRegional {
     const SIZE: uper::Size = uper::Size::range(1, 4);
@@ -5491,7 +5540,7 @@ impl uper::Placeholder for MapDataRegional {
 
 impl Uper for MapDataRegional {
     const PATH: &'static str = "MapData.MapData.regional";
-    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(8290), None);
+    const MAX_UPER_BITS: Option<u64> = uper::max_bits_profiled(Some(8290), Some(2514), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         uper::decode_seq_of_into(r, Self::SIZE, "MapData.MapData.regional", &mut out.0)
     }
@@ -5528,7 +5577,10 @@ impl crate::jer::Jer for MapDataRegional {
 impl uper::random::Random for MapDataRegional {
     fn random(g: &mut uper::random::Gen) -> Self {
         let mut v = Self(uper::SeqOf::new());
-        for _ in 0..g.count(1, 4) {
+        for _ in 0..g.count(
+            1,
+            core::cmp::min(4, super::capacities::MAP_DATA_MAP_DATA_REGIONAL),
+        ) {
             let _ = v.0.push(<RegMapData as uper::random::Random>::random(g));
         }
         v
@@ -5545,7 +5597,7 @@ pub enum RegMapData {
         /// The `regionId`.
         id: super::common::RegionId,
         /// The value's encoding (the open-type content).
-        bytes: uper::Octets<256>,
+        bytes: uper::Octets<{ super::capacities::MAP_DATA_REG_MAP_DATA_UNKNOWN }>,
     },
 }
 
@@ -5632,7 +5684,7 @@ impl uper::Placeholder for RegMapData {
 
 impl Uper for RegMapData {
     const PATH: &'static str = "MapData.RegMapData";
-    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(2072), None);
+    const MAX_UPER_BITS: Option<u64> = uper::max_bits_profiled(Some(2072), Some(1256), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let id = <super::common::RegionId>::decode_uper(r)?;
         match id.get() {

@@ -26,7 +26,7 @@ impl uper::Placeholder for MessageFrame {
 
 impl Uper for MessageFrame {
     const PATH: &'static str = "MessageFrame.MessageFrame";
-    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(30486463), None);
+    const MAX_UPER_BITS: Option<u64> = uper::max_bits_profiled(Some(30486463), Some(3838175), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let extended = r.read_bit()?;
         <MessageFrameValue>::decode_into(r, &mut out.value)?;
@@ -657,7 +657,7 @@ impl uper::Placeholder for MessageFrameValue {
 
 impl Uper for MessageFrameValue {
     const PATH: &'static str = "MessageFrame.MessageFrame.value";
-    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(30486375), None);
+    const MAX_UPER_BITS: Option<u64> = uper::max_bits_profiled(Some(30486375), Some(3838087), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let id = <DSRCmsgID>::decode_uper(r)?;
         match id.get() {

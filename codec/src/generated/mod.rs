@@ -20,6 +20,7 @@ pub mod add_grp_c;
 /// ASN.1 module `BasicSafetyMessage`.
 #[allow(non_camel_case_types)]
 pub mod basic_safety_message;
+pub mod capacities;
 /// ASN.1 module `Common`.
 #[allow(non_camel_case_types)]
 pub mod common;

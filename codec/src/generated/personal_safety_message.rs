@@ -101,7 +101,7 @@ impl uper::Placeholder for PersonalSafetyMessage {
 
 impl Uper for PersonalSafetyMessage {
     const PATH: &'static str = "PersonalSafetyMessage.PersonalSafetyMessage";
-    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(7089), None);
+    const MAX_UPER_BITS: Option<u64> = uper::max_bits_profiled(Some(7089), Some(6737), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let extended = r.read_bit()?;
         let present = r.read_bits(18)?;

@@ -41,7 +41,7 @@ impl uper::Placeholder for SignalRequestMessage {
 
 impl Uper for SignalRequestMessage {
     const PATH: &'static str = "SignalRequestMessage.SignalRequestMessage";
-    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(6442), None);
+    const MAX_UPER_BITS: Option<u64> = uper::max_bits_profiled(Some(6442), Some(6090), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let extended = r.read_bit()?;
         let present = r.read_bits(4)?;
@@ -1261,7 +1261,7 @@ impl uper::Placeholder for RequestorDescription {
 
 impl Uper for RequestorDescription {
     const PATH: &'static str = "SignalRequestMessage.RequestorDescription";
-    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(2488), None);
+    const MAX_UPER_BITS: Option<u64> = uper::max_bits_profiled(Some(2488), Some(2136), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let extended = r.read_bit()?;
         let present = r.read_bits(8)?;
@@ -1577,7 +1577,7 @@ impl uper::Placeholder for RequestorPositionVector {
 
 impl Uper for RequestorPositionVector {
     const PATH: &'static str = "SignalRequestMessage.RequestorPositionVector";
-    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(996), None);
+    const MAX_UPER_BITS: Option<u64> = uper::max_bits_profiled(Some(996), Some(644), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let extended = r.read_bit()?;
         let present = r.read_bits(2)?;

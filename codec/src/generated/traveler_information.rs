@@ -22,7 +22,8 @@ pub struct TravelerInformation {
     /// `regional` (OPTIONAL).
     pub regional: Option<TravelerInformationRegional>,
     /// Extension additions unknown to J2735 2020, kept to re-encode them.
-    pub extensions: uper::Extensions<64>,
+    pub extensions:
+        uper::Extensions<{ super::capacities::TRAVELER_INFORMATION_TRAVELER_INFORMATION_EXT }>,
 }
 
 impl uper::Placeholder for TravelerInformation {
@@ -41,7 +42,7 @@ impl uper::Placeholder for TravelerInformation {
 
 impl Uper for TravelerInformation {
     const PATH: &'static str = "TravelerInformation.TravelerInformation";
-    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(23445189), None);
+    const MAX_UPER_BITS: Option<u64> = uper::max_bits_profiled(Some(23445189), Some(106627), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let extended = r.read_bit()?;
         let present = r.read_bits(4)?;
@@ -319,9 +320,14 @@ impl uper::random::Random for URLBase {
 
 /// ASN.1 `TravelerDataFrameList` (module `TravelerInformation`): SEQUENCE OF TravelerDataFrame (SIZE(1..8)).
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
-pub struct TravelerDataFrameList(pub uper::SeqOf<TravelerDataFrame, 8>);
+pub struct TravelerDataFrameList(
+    pub  uper::SeqOf<
+        TravelerDataFrame,
+        { super::capacities::TRAVELER_INFORMATION_TRAVELER_DATA_FRAME_LIST },
+    >,
+);
 
-crate::__newtype_deref!(TravelerDataFrameList, uper::SeqOf<TravelerDataFrame, 8>);
+crate::__newtype_deref!(TravelerDataFrameList, uper::SeqOf<TravelerDataFrame, { super::capacities::TRAVELER_INFORMATION_TRAVELER_DATA_FRAME_LIST }>);
 
 impl TravelerDataFrameList {
     const SIZE: uper::Size = uper::Size::range(1, 8);
@@ -345,7 +351,7 @@ impl uper::Placeholder for TravelerDataFrameList {
 
 impl Uper for TravelerDataFrameList {
     const PATH: &'static str = "TravelerInformation.TravelerDataFrameList";
-    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(23441835), None);
+    const MAX_UPER_BITS: Option<u64> = uper::max_bits_profiled(Some(23441835), Some(105649), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         uper::decode_seq_of_into(
             r,
@@ -387,7 +393,13 @@ impl crate::jer::Jer for TravelerDataFrameList {
 impl uper::random::Random for TravelerDataFrameList {
     fn random(g: &mut uper::random::Gen) -> Self {
         let mut v = Self(uper::SeqOf::new());
-        for _ in 0..g.count(1, 8) {
+        for _ in 0..g.count(
+            1,
+            core::cmp::min(
+                8,
+                super::capacities::TRAVELER_INFORMATION_TRAVELER_DATA_FRAME_LIST,
+            ),
+        ) {
             let _ =
                 v.0.push(<TravelerDataFrame as uper::random::Random>::random(g));
         }
@@ -425,7 +437,8 @@ pub struct TravelerDataFrame {
     /// `url` (OPTIONAL).
     pub url: Option<URLShort>,
     /// Extension additions unknown to J2735 2020, kept to re-encode them.
-    pub extensions: uper::Extensions<64>,
+    pub extensions:
+        uper::Extensions<{ super::capacities::TRAVELER_INFORMATION_TRAVELER_DATA_FRAME_EXT }>,
 }
 
 impl uper::Placeholder for TravelerDataFrame {
@@ -451,7 +464,7 @@ impl uper::Placeholder for TravelerDataFrame {
 
 impl Uper for TravelerDataFrame {
     const PATH: &'static str = "TravelerInformation.TravelerDataFrame";
-    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(2930229), None);
+    const MAX_UPER_BITS: Option<u64> = uper::max_bits_profiled(Some(2930229), Some(52823), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let extended = r.read_bit()?;
         let present = r.read_bits(2)?;
@@ -808,7 +821,7 @@ impl uper::Placeholder for TravelerDataFrameMsgId {
 
 impl Uper for TravelerDataFrameMsgId {
     const PATH: &'static str = "TravelerInformation.TravelerDataFrame.msgId";
-    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(936), None);
+    const MAX_UPER_BITS: Option<u64> = uper::max_bits_profiled(Some(936), Some(584), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let at = r.position();
         match r.read_constrained(0, 1)? {
@@ -932,7 +945,7 @@ impl uper::Placeholder for RoadSignID {
 
 impl Uper for RoadSignID {
     const PATH: &'static str = "TravelerInformation.RoadSignID";
-    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(935), None);
+    const MAX_UPER_BITS: Option<u64> = uper::max_bits_profiled(Some(935), Some(583), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let present = r.read_bits(2)?;
         <super::common::Position3D>::decode_into(r, &mut out.position)?;
@@ -1244,9 +1257,14 @@ crate::__constrained_int!(SignPrority, u8, 0, 7, "TravelerInformation.SignProrit
 
 /// ASN.1 `TravelerDataFrame.regions` (module `TravelerInformation`): SEQUENCE OF GeographicalPath (SIZE(1..16)).
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
-pub struct TravelerDataFrameRegions(pub uper::SeqOf<GeographicalPath, 16>);
+pub struct TravelerDataFrameRegions(
+    pub  uper::SeqOf<
+        GeographicalPath,
+        { super::capacities::TRAVELER_INFORMATION_TRAVELER_DATA_FRAME_REGIONS },
+    >,
+);
 
-crate::__newtype_deref!(TravelerDataFrameRegions, uper::SeqOf<GeographicalPath, 16>);
+crate::__newtype_deref!(TravelerDataFrameRegions, uper::SeqOf<GeographicalPath, { super::capacities::TRAVELER_INFORMATION_TRAVELER_DATA_FRAME_REGIONS }>);
 
 impl TravelerDataFrameRegions {
     const SIZE: uper::Size = uper::Size::range(1, 16);
@@ -1270,7 +1288,7 @@ impl uper::Placeholder for TravelerDataFrameRegions {
 
 impl Uper for TravelerDataFrameRegions {
     const PATH: &'static str = "TravelerInformation.TravelerDataFrame.regions";
-    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(2914180), None);
+    const MAX_UPER_BITS: Option<u64> = uper::max_bits_profiled(Some(2914180), Some(49910), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         uper::decode_seq_of_into(
             r,
@@ -1312,7 +1330,13 @@ impl crate::jer::Jer for TravelerDataFrameRegions {
 impl uper::random::Random for TravelerDataFrameRegions {
     fn random(g: &mut uper::random::Gen) -> Self {
         let mut v = Self(uper::SeqOf::new());
-        for _ in 0..g.count(1, 16) {
+        for _ in 0..g.count(
+            1,
+            core::cmp::min(
+                16,
+                super::capacities::TRAVELER_INFORMATION_TRAVELER_DATA_FRAME_REGIONS,
+            ),
+        ) {
             let _ =
                 v.0.push(<GeographicalPath as uper::random::Random>::random(g));
         }
@@ -1364,7 +1388,7 @@ impl uper::Placeholder for GeographicalPath {
 
 impl Uper for GeographicalPath {
     const PATH: &'static str = "TravelerInformation.GeographicalPath";
-    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(182136), None);
+    const MAX_UPER_BITS: Option<u64> = uper::max_bits_profiled(Some(182136), Some(24953), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let extended = r.read_bit()?;
         let present = r.read_bits(9)?;
@@ -1800,7 +1824,7 @@ impl uper::Placeholder for GeographicalPathDescription {
 
 impl Uper for GeographicalPathDescription {
     const PATH: &'static str = "TravelerInformation.GeographicalPath.description";
-    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(180504), None);
+    const MAX_UPER_BITS: Option<u64> = uper::max_bits_profiled(Some(180504), Some(23673), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         if r.read_bit()? {
             let at = r.position();
@@ -1959,7 +1983,7 @@ impl uper::Placeholder for OffsetSystem {
 
 impl Uper for OffsetSystem {
     const PATH: &'static str = "TravelerInformation.OffsetSystem";
-    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(179501), None);
+    const MAX_UPER_BITS: Option<u64> = uper::max_bits_profiled(Some(179501), Some(23022), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let present = r.read_bits(1)?;
         if present & (1 << 0) != 0 {
@@ -2048,7 +2072,7 @@ impl uper::Placeholder for OffsetSystemOffset {
 
 impl Uper for OffsetSystemOffset {
     const PATH: &'static str = "TravelerInformation.OffsetSystem.offset";
-    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(179496), None);
+    const MAX_UPER_BITS: Option<u64> = uper::max_bits_profiled(Some(179496), Some(23017), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let at = r.position();
         match r.read_constrained(0, 1)? {
@@ -2164,7 +2188,7 @@ impl uper::Placeholder for NodeListLL {
 
 impl Uper for NodeListLL {
     const PATH: &'static str = "TravelerInformation.NodeListLL";
-    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(178612), None);
+    const MAX_UPER_BITS: Option<u64> = uper::max_bits_profiled(Some(178612), Some(13239), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         if r.read_bit()? {
             let at = r.position();
@@ -2252,9 +2276,11 @@ impl crate::jer::Jer for NodeListLL {
 
 /// ASN.1 `NodeSetLL` (module `TravelerInformation`): SEQUENCE OF NodeLL (SIZE(2..63)).
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
-pub struct NodeSetLL(pub uper::SeqOf<NodeLL, 63>);
+pub struct NodeSetLL(
+    pub uper::SeqOf<NodeLL, { super::capacities::TRAVELER_INFORMATION_NODE_SET_LL }>,
+);
 
-crate::__newtype_deref!(NodeSetLL, uper::SeqOf<NodeLL, 63>);
+crate::__newtype_deref!(NodeSetLL, uper::SeqOf<NodeLL, { super::capacities::TRAVELER_INFORMATION_NODE_SET_LL }>);
 
 impl NodeSetLL {
     const SIZE: uper::Size = uper::Size::range(2, 63);
@@ -2278,7 +2304,7 @@ impl uper::Placeholder for NodeSetLL {
 
 impl Uper for NodeSetLL {
     const PATH: &'static str = "TravelerInformation.NodeSetLL";
-    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(178611), None);
+    const MAX_UPER_BITS: Option<u64> = uper::max_bits_profiled(Some(178611), Some(13238), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         uper::decode_seq_of_into(r, Self::SIZE, "TravelerInformation.NodeSetLL", &mut out.0)
     }
@@ -2315,7 +2341,10 @@ impl crate::jer::Jer for NodeSetLL {
 impl uper::random::Random for NodeSetLL {
     fn random(g: &mut uper::random::Gen) -> Self {
         let mut v = Self(uper::SeqOf::new());
-        for _ in 0..g.count(2, 63) {
+        for _ in 0..g.count(
+            2,
+            core::cmp::min(63, super::capacities::TRAVELER_INFORMATION_NODE_SET_LL),
+        ) {
             let _ = v.0.push(<NodeLL as uper::random::Random>::random(g));
         }
         v
@@ -2345,7 +2374,7 @@ impl uper::Placeholder for NodeLL {
 
 impl Uper for NodeLL {
     const PATH: &'static str = "TravelerInformation.NodeLL";
-    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(2835), None);
+    const MAX_UPER_BITS: Option<u64> = uper::max_bits_profiled(Some(2835), Some(827), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let extended = r.read_bit()?;
         let present = r.read_bits(1)?;
@@ -3301,7 +3330,7 @@ impl uper::Placeholder for NodeAttributeSetLL {
 
 impl Uper for NodeAttributeSetLL {
     const PATH: &'static str = "TravelerInformation.NodeAttributeSetLL";
-    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(2599), None);
+    const MAX_UPER_BITS: Option<u64> = uper::max_bits_profiled(Some(2599), Some(591), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let extended = r.read_bit()?;
         let present = r.read_bits(7)?;
@@ -3557,9 +3586,14 @@ impl uper::random::Random for NodeAttributeSetLL {
 
 /// ASN.1 `NodeAttributeLLList` (module `TravelerInformation`): SEQUENCE OF NodeAttributeLL (SIZE(1..8)).
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
-pub struct NodeAttributeLLList(pub uper::SeqOf<NodeAttributeLL, 5>);
+pub struct NodeAttributeLLList(
+    pub  uper::SeqOf<
+        NodeAttributeLL,
+        { super::capacities::TRAVELER_INFORMATION_NODE_ATTRIBUTE_LLLIST },
+    >,
+);
 
-crate::__newtype_deref!(NodeAttributeLLList, uper::SeqOf<NodeAttributeLL, 5>);
+crate::__newtype_deref!(NodeAttributeLLList, uper::SeqOf<NodeAttributeLL, { super::capacities::TRAVELER_INFORMATION_NODE_ATTRIBUTE_LLLIST }>);
 
 impl NodeAttributeLLList {
     const SIZE: uper::Size = uper::Size::range(1, 8);
@@ -3583,7 +3617,7 @@ impl uper::Placeholder for NodeAttributeLLList {
 
 impl Uper for NodeAttributeLLList {
     const PATH: &'static str = "TravelerInformation.NodeAttributeLLList";
-    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(133), Some(211));
+    const MAX_UPER_BITS: Option<u64> = uper::max_bits_profiled(Some(133), Some(55), Some(211));
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         uper::decode_seq_of_into(
             r,
@@ -3625,7 +3659,13 @@ impl crate::jer::Jer for NodeAttributeLLList {
 impl uper::random::Random for NodeAttributeLLList {
     fn random(g: &mut uper::random::Gen) -> Self {
         let mut v = Self(uper::SeqOf::new());
-        for _ in 0..g.count(1, 5) {
+        for _ in 0..g.count(
+            1,
+            core::cmp::min(
+                8,
+                super::capacities::TRAVELER_INFORMATION_NODE_ATTRIBUTE_LLLIST,
+            ),
+        ) {
             let _ =
                 v.0.push(<NodeAttributeLL as uper::random::Random>::random(g));
         }
@@ -3813,9 +3853,14 @@ impl crate::jer::Jer for NodeAttributeLL {
 
 /// ASN.1 `SegmentAttributeLLList` (module `TravelerInformation`): SEQUENCE OF SegmentAttributeLL (SIZE(1..8)).
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
-pub struct SegmentAttributeLLList(pub uper::SeqOf<SegmentAttributeLL, 5>);
+pub struct SegmentAttributeLLList(
+    pub  uper::SeqOf<
+        SegmentAttributeLL,
+        { super::capacities::TRAVELER_INFORMATION_SEGMENT_ATTRIBUTE_LLLIST },
+    >,
+);
 
-crate::__newtype_deref!(SegmentAttributeLLList, uper::SeqOf<SegmentAttributeLL, 5>);
+crate::__newtype_deref!(SegmentAttributeLLList, uper::SeqOf<SegmentAttributeLL, { super::capacities::TRAVELER_INFORMATION_SEGMENT_ATTRIBUTE_LLLIST }>);
 
 impl SegmentAttributeLLList {
     const SIZE: uper::Size = uper::Size::range(1, 8);
@@ -3839,7 +3884,7 @@ impl uper::Placeholder for SegmentAttributeLLList {
 
 impl Uper for SegmentAttributeLLList {
     const PATH: &'static str = "TravelerInformation.SegmentAttributeLLList";
-    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(133), Some(211));
+    const MAX_UPER_BITS: Option<u64> = uper::max_bits_profiled(Some(133), Some(55), Some(211));
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         uper::decode_seq_of_into(
             r,
@@ -3881,7 +3926,13 @@ impl crate::jer::Jer for SegmentAttributeLLList {
 impl uper::random::Random for SegmentAttributeLLList {
     fn random(g: &mut uper::random::Gen) -> Self {
         let mut v = Self(uper::SeqOf::new());
-        for _ in 0..g.count(1, 5) {
+        for _ in 0..g.count(
+            1,
+            core::cmp::min(
+                8,
+                super::capacities::TRAVELER_INFORMATION_SEGMENT_ATTRIBUTE_LLLIST,
+            ),
+        ) {
             let _ =
                 v.0.push(<SegmentAttributeLL as uper::random::Random>::random(g));
         }
@@ -4482,7 +4533,7 @@ impl uper::Placeholder for GeometricProjection {
 
 impl Uper for GeometricProjection {
     const PATH: &'static str = "TravelerInformation.GeometricProjection";
-    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(1162), None);
+    const MAX_UPER_BITS: Option<u64> = uper::max_bits_profiled(Some(1162), Some(810), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let extended = r.read_bit()?;
         let present = r.read_bits(3)?;
@@ -4659,7 +4710,7 @@ impl uper::Placeholder for Circle {
 
 impl Uper for Circle {
     const PATH: &'static str = "TravelerInformation.Circle";
-    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(890), None);
+    const MAX_UPER_BITS: Option<u64> = uper::max_bits_profiled(Some(890), Some(538), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         <super::common::Position3D>::decode_into(r, &mut out.center)?;
         <RadiusB12>::decode_into(r, &mut out.radius)?;
@@ -5077,7 +5128,7 @@ impl uper::Placeholder for ValidRegion {
 
 impl Uper for ValidRegion {
     const PATH: &'static str = "TravelerInformation.ValidRegion";
-    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(180501), None);
+    const MAX_UPER_BITS: Option<u64> = uper::max_bits_profiled(Some(180501), Some(23670), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let present = r.read_bits(1)?;
         <super::common::HeadingSlice>::decode_into(r, &mut out.direction)?;
@@ -5175,7 +5226,7 @@ impl uper::Placeholder for ValidRegionArea {
 
 impl Uper for ValidRegionArea {
     const PATH: &'static str = "TravelerInformation.ValidRegion.area";
-    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(180480), None);
+    const MAX_UPER_BITS: Option<u64> = uper::max_bits_profiled(Some(180480), Some(23649), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let at = r.position();
         match r.read_constrained(0, 2)? {
@@ -5320,7 +5371,7 @@ impl uper::Placeholder for ShapePointSet {
 
 impl Uper for ShapePointSet {
     const PATH: &'static str = "TravelerInformation.ShapePointSet";
-    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(180478), None);
+    const MAX_UPER_BITS: Option<u64> = uper::max_bits_profiled(Some(180478), Some(23647), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let extended = r.read_bit()?;
         let present = r.read_bits(3)?;
@@ -5495,7 +5546,7 @@ impl uper::Placeholder for RegionPointSet {
 
 impl Uper for RegionPointSet {
     const PATH: &'static str = "TravelerInformation.RegionPointSet";
-    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(1171), None);
+    const MAX_UPER_BITS: Option<u64> = uper::max_bits_profiled(Some(1171), Some(819), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let extended = r.read_bit()?;
         let present = r.read_bits(2)?;
@@ -5997,7 +6048,8 @@ impl uper::Placeholder for TravelerDataFrameContent {
 
 impl Uper for TravelerDataFrameContent {
     const PATH: &'static str = "TravelerInformation.TravelerDataFrame.content";
-    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(14050), Some(351010));
+    const MAX_UPER_BITS: Option<u64> =
+        uper::max_bits_profiled(Some(14050), Some(1842), Some(351010));
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let at = r.position();
         match r.read_constrained(0, 4)? {
@@ -6167,9 +6219,11 @@ impl crate::jer::Jer for TravelerDataFrameContent {
 
 /// ASN.1 `WorkZone` (module `TravelerInformation`): SEQUENCE OF WorkZoneItem (SIZE(1..16)).
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
-pub struct WorkZone(pub uper::SeqOf<WorkZoneItem, 16>);
+pub struct WorkZone(
+    pub uper::SeqOf<WorkZoneItem, { super::capacities::TRAVELER_INFORMATION_WORK_ZONE }>,
+);
 
-crate::__newtype_deref!(WorkZone, uper::SeqOf<WorkZoneItem, 16>);
+crate::__newtype_deref!(WorkZone, uper::SeqOf<WorkZoneItem, { super::capacities::TRAVELER_INFORMATION_WORK_ZONE }>);
 
 impl WorkZone {
     const SIZE: uper::Size = uper::Size::range(1, 16);
@@ -6193,7 +6247,7 @@ impl uper::Placeholder for WorkZone {
 
 impl Uper for WorkZone {
     const PATH: &'static str = "TravelerInformation.WorkZone";
-    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(1876), Some(1876));
+    const MAX_UPER_BITS: Option<u64> = uper::max_bits_profiled(Some(1876), Some(940), Some(1876));
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         uper::decode_seq_of_into(r, Self::SIZE, "TravelerInformation.WorkZone", &mut out.0)
     }
@@ -6230,7 +6284,10 @@ impl crate::jer::Jer for WorkZone {
 impl uper::random::Random for WorkZone {
     fn random(g: &mut uper::random::Gen) -> Self {
         let mut v = Self(uper::SeqOf::new());
-        for _ in 0..g.count(1, 16) {
+        for _ in 0..g.count(
+            1,
+            core::cmp::min(16, super::capacities::TRAVELER_INFORMATION_WORK_ZONE),
+        ) {
             let _ = v.0.push(<WorkZoneItem as uper::random::Random>::random(g));
         }
         v
@@ -6701,9 +6758,11 @@ impl crate::jer::Jer for GenericSignageItemItem {
 
 /// ASN.1 `SpeedLimit` (module `TravelerInformation`): SEQUENCE OF SpeedLimitItem (SIZE(1..16)).
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
-pub struct SpeedLimit(pub uper::SeqOf<SpeedLimitItem, 5>);
+pub struct SpeedLimit(
+    pub uper::SeqOf<SpeedLimitItem, { super::capacities::TRAVELER_INFORMATION_SPEED_LIMIT }>,
+);
 
-crate::__newtype_deref!(SpeedLimit, uper::SeqOf<SpeedLimitItem, 5>);
+crate::__newtype_deref!(SpeedLimit, uper::SeqOf<SpeedLimitItem, { super::capacities::TRAVELER_INFORMATION_SPEED_LIMIT }>);
 
 impl SpeedLimit {
     const SIZE: uper::Size = uper::Size::range(1, 16);
@@ -6727,7 +6786,7 @@ impl uper::Placeholder for SpeedLimit {
 
 impl Uper for SpeedLimit {
     const PATH: &'static str = "TravelerInformation.SpeedLimit";
-    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(589), Some(1876));
+    const MAX_UPER_BITS: Option<u64> = uper::max_bits_profiled(Some(589), Some(472), Some(1876));
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         uper::decode_seq_of_into(r, Self::SIZE, "TravelerInformation.SpeedLimit", &mut out.0)
     }
@@ -6764,7 +6823,10 @@ impl crate::jer::Jer for SpeedLimit {
 impl uper::random::Random for SpeedLimit {
     fn random(g: &mut uper::random::Gen) -> Self {
         let mut v = Self(uper::SeqOf::new());
-        for _ in 0..g.count(1, 5) {
+        for _ in 0..g.count(
+            1,
+            core::cmp::min(16, super::capacities::TRAVELER_INFORMATION_SPEED_LIMIT),
+        ) {
             let _ =
                 v.0.push(<SpeedLimitItem as uper::random::Random>::random(g));
         }
@@ -7257,7 +7319,7 @@ impl uper::Placeholder for TravelerInformationRegional {
 
 impl Uper for TravelerInformationRegional {
     const PATH: &'static str = "TravelerInformation.TravelerInformation.regional";
-    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(2074), None);
+    const MAX_UPER_BITS: Option<u64> = uper::max_bits_profiled(Some(2074), Some(274), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         uper::decode_seq_of_into(
             r,
@@ -7315,7 +7377,9 @@ pub enum RegTravelerInformation {
         /// The `regionId`.
         id: super::common::RegionId,
         /// The value's encoding (the open-type content).
-        bytes: uper::Octets<256>,
+        bytes: uper::Octets<
+            { super::capacities::TRAVELER_INFORMATION_REG_TRAVELER_INFORMATION_UNKNOWN },
+        >,
     },
 }
 
@@ -7390,7 +7454,7 @@ impl uper::Placeholder for RegTravelerInformation {
 
 impl Uper for RegTravelerInformation {
     const PATH: &'static str = "TravelerInformation.RegTravelerInformation";
-    const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(2072), None);
+    const MAX_UPER_BITS: Option<u64> = uper::max_bits_profiled(Some(2072), Some(272), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let id = <super::common::RegionId>::decode_uper(r)?;
         match id.get() {

@@ -128,6 +128,21 @@ pub const fn max_bits(no_heap: Option<u64>, heap: Option<u64>) -> Option<u64> {
     }
 }
 
+/// As [`max_bits`], for a type whose no-heap bound differs between the default capacity
+/// profile and the firmware profile (feature `firmware-capacities`).
+#[doc(hidden)]
+pub const fn max_bits_profiled(
+    no_heap: Option<u64>,
+    no_heap_firmware: Option<u64>,
+    heap: Option<u64>,
+) -> Option<u64> {
+    if cfg!(feature = "firmware-capacities") {
+        max_bits(no_heap_firmware, heap)
+    } else {
+        max_bits(no_heap, heap)
+    }
+}
+
 /// The largest encoding of `T` in whole octets, where bounded (for buffer sizing).
 pub const fn max_octets<T: Uper>() -> Option<usize> {
     match T::MAX_UPER_BITS {

@@ -1,0 +1,77 @@
+//! OBU firmware for an STM32F405 (Cortex-M4F): the project's codec and OBU core fed from
+//! serial ports, all memory static (no heap).
+//!
+//! * [`board`]: USARTs, SysTick clock, stack painting (the only `unsafe`).
+//! * [`app`]: NMEA bytes -> fixes, V2X frames -> MAP/TIM, the core, `HmiState` frames out.
+//!
+//! Ports (QEMU's `-serial` options in this order): USART1 NMEA in, USART2 V2X frames in
+//! (`obu::link` frames: COBS + CRC-32 around a UPER MessageFrame, bare or in a 1609.2
+//! envelope), USART3 `HmiState` out (`obu::link` frames around postcard).
+#![no_std]
+#![deny(unsafe_code)]
+#![warn(missing_docs)]
+
+pub mod app;
+pub mod board;
+
+use obu::AlertConfig;
+
+/// The alert settings of the firmware (the paper's field test: 100 m warning, 9 s lead).
+pub const CONFIG: AlertConfig = {
+    let mut c = AlertConfig::DEFAULT;
+    c.warn_distance_m = 100.0;
+    c.lead_time_s = 9.0;
+    c
+};
+
+/// Widens the 32-bit millisecond counter into the core's 64-bit `Instant`.
+#[derive(Debug, Default)]
+pub struct Clock {
+    last: u32,
+    high: u64,
+}
+
+impl Clock {
+    /// A clock at the counter's current value.
+    pub const fn new() -> Self {
+        Self { last: 0, high: 0 }
+    }
+
+    /// The core's time for the counter value `ms`.
+    pub fn now(&mut self, ms: u32) -> obu::Instant {
+        if ms < self.last {
+            self.high += 1 << 32;
+        }
+        self.last = ms;
+        obu::Instant::from_millis(self.high + u64::from(ms))
+    }
+}
+
+/// Reports a panic over defmt and stops with a failure (semihosting exit status 1 under
+/// QEMU; a real board without a debugger halts in the loop of [`exit`]).
+#[panic_handler]
+fn panic(info: &core::panic::PanicInfo) -> ! {
+    defmt::error!("panic: {}", defmt::Display2Format(info));
+    exit(false)
+}
+
+/// Ends the program: semihosting SYS_EXIT (QEMU or a debugger), then a breakpoint loop.
+pub fn exit(success: bool) -> ! {
+    let status = if success {
+        cortex_m_semihosting::debug::EXIT_SUCCESS
+    } else {
+        cortex_m_semihosting::debug::EXIT_FAILURE
+    };
+    cortex_m_semihosting::debug::exit(status);
+    loop {
+        cortex_m::asm::bkpt();
+    }
+}
+
+/// A hard fault (e.g. a bad register access) is reported like a panic.
+#[cortex_m_rt::exception]
+#[allow(unsafe_code)] // the attribute's expansion declares the handler `unsafe`
+unsafe fn HardFault(frame: &cortex_m_rt::ExceptionFrame) -> ! {
+    defmt::error!("hard fault at pc {=u32:#x}", frame.pc());
+    exit(false)
+}

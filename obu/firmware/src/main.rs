@@ -1,0 +1,66 @@
+//! The firmware image: USART1 NMEA in, USART2 V2X frames in, USART3 `HmiState` out.
+#![no_std]
+#![no_main]
+#![forbid(unsafe_code)]
+
+use cortex_m_rt::entry;
+use defmt_semihosting as _;
+use obu_firmware::app::{send_state, Firmware, Messages};
+use obu_firmware::board::{self, Port, Usart};
+use obu_firmware::{Clock, CONFIG};
+
+#[entry]
+fn main() -> ! {
+    // `static mut` in the entry function is handed out once as `&'static mut` (cortex-m-rt).
+    static mut FIRMWARE: Firmware = Firmware::new(CONFIG);
+    static mut MESSAGES: Messages = Messages::new();
+    let fw: &'static mut Firmware = FIRMWARE;
+    let msgs: &'static mut Messages = MESSAGES;
+    board::paint_stack();
+    let Some(core) = cortex_m::Peripherals::take() else {
+        obu_firmware::exit(false);
+    };
+    board::start_clock(core.SYST);
+    let (Some(mut nmea), Some(mut v2x), Some(mut hmi)) = (
+        Usart::take(Port::Usart1),
+        Usart::take(Port::Usart2),
+        Usart::take(Port::Usart3),
+    ) else {
+        obu_firmware::exit(false);
+    };
+    defmt::info!(
+        "obu-firmware: state {=usize} B + messages {=usize} B; NMEA USART1, V2X USART2, HMI USART3",
+        core::mem::size_of::<Firmware>(),
+        core::mem::size_of::<Messages>()
+    );
+    let mut clock = Clock::new();
+    let mut last_report = 0u64;
+    loop {
+        let now = clock.now(board::millis());
+        while let Some(b) = nmea.try_read_byte() {
+            if let Some(state) = fw.on_nmea_byte(now, b) {
+                fw.hmi_dropped += u32::from(!send_state(&mut hmi, &state));
+            }
+        }
+        while let Some(b) = v2x.try_read_byte() {
+            if let Some(state) = fw.on_v2x_byte(msgs, now, b) {
+                fw.hmi_dropped += u32::from(!send_state(&mut hmi, &state));
+            }
+        }
+        if let Some(state) = fw.poll(now) {
+            fw.hmi_dropped += u32::from(!send_state(&mut hmi, &state));
+        }
+        if now.millis() >= last_report + 10_000 {
+            last_report = now.millis();
+            let (used, size) = board::stack_high_water();
+            defmt::info!(
+                "t={=u64} ms v2x {} nmea errors {=u32} stack {=usize}/{=usize} B",
+                now.millis(),
+                fw.v2x_counters,
+                fw.nmea_errors,
+                used,
+                size
+            );
+        }
+    }
+}
