@@ -51,8 +51,12 @@ pub enum Expectation {
     },
     /// No zone state and no zone alert at any time (e.g. the opposite carriageway).
     NoAlert,
-    /// "In zone" is shown while the car is inside.
-    InZoneShown,
+    /// "In zone" is shown in at least `min_fraction` of the states while the car is inside.
+    InZoneShown {
+        /// Least fraction.
+        #[serde(default = "ninety")]
+        min_fraction: f64,
+    },
     /// `within_m` after the zone end no zone state and no zone alert.
     ClearedAfterZone {
         /// Metres after the end.
@@ -164,24 +168,16 @@ pub fn check(e: &Expectation, records: &[Record], facts: &RunFacts) -> Outcome {
                 format!("{} of {} states show a zone", bad.len(), records.len()),
             )
         }
-        Expectation::InZoneShown => {
-            let inside: Vec<_> = records
-                .iter()
-                .filter(|r| {
-                    r.distance_m
-                        .zip(r.zone_len_m)
-                        .is_some_and(|(d, l)| d < -5.0 && d > -l + 5.0)
-                })
-                .collect();
-            let shown = inside
-                .iter()
-                .filter(|r| r.state.zone_state == ZoneState::InZone)
-                .count();
-            (
-                !inside.is_empty() && shown * 10 >= inside.len() * 9,
-                format!("{shown} of {} states inside show IN ZONE", inside.len()),
-            )
-        }
+        Expectation::InZoneShown { min_fraction } => fraction(
+            records.iter().filter(|r| {
+                r.distance_m
+                    .zip(r.zone_len_m)
+                    .is_some_and(|(d, l)| d < -5.0 && d > -l + 5.0)
+            }),
+            |r| r.state.zone_state == ZoneState::InZone,
+            *min_fraction,
+            "inside the zone showing IN ZONE",
+        ),
         Expectation::ClearedAfterZone { within_m } => fraction(
             records.iter().filter(|r| {
                 r.distance_m
