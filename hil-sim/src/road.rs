@@ -156,27 +156,16 @@ impl Road {
         let b = bearing_deg.to_radians();
         let (ux, uy) = (b.sin(), b.cos());
         let (lx, ly) = (-uy, ux); // left of the forward direction
-        let median = width_m;
-        let mut lanes = Vec::new();
-        let mut lane = |id: u8, left_m: f64, reverse: bool| {
-            let a = [lx * left_m, ly * left_m];
-            let z = [a[0] + ux * length_m, a[1] + uy * length_m];
-            let centre = if reverse { vec![z, a] } else { vec![a, z] };
-            lanes.push(RoadLane {
-                id,
-                width_m,
-                speed_limit_kmh,
-                centre,
-            });
-        };
-        for k in 0..forward {
-            lane(1 + k, -(k as f64) * width_m, false);
-        }
-        for k in 0..backward {
-            let left_m = median + (1 + k) as f64 * width_m;
-            lane(forward + 1 + k, left_m, true);
-        }
-        Self::new(reference, lanes)
+        Self::divided(
+            reference,
+            (forward, backward),
+            width_m,
+            speed_limit_kmh,
+            |left_m| {
+                let a = [lx * left_m, ly * left_m];
+                vec![a, [a[0] + ux * length_m, a[1] + uy * length_m]]
+            },
+        )
     }
 
     /// A road along a circular arc: like [`Road::straight`] but the reference lane's
@@ -210,26 +199,46 @@ impl Road {
                 centre[1] + lr * from_centre.cos(),
             ]
         };
+        Self::divided(
+            reference,
+            (forward, backward),
+            width_m,
+            speed_limit_kmh,
+            |left_m| (0..=steps).map(|k| lane_at(left_m, k)).collect(),
+        )
+    }
+
+    /// The lanes of a divided road: `forward` lanes (ids 1.., left to right, the first on
+    /// the reference line) and, past a median one lane wide, `backward` lanes (ids after
+    /// them, left to right for their traffic). `centreline(left_m)` gives the forward
+    /// direction's centreline `left_m` metres left of the reference line; backward lanes
+    /// run it reversed.
+    fn divided(
+        reference: LatLon,
+        (forward, backward): (u8, u8),
+        width_m: f64,
+        speed_limit_kmh: f64,
+        centreline: impl Fn(f64) -> Vec<[f64; 2]>,
+    ) -> Self {
         let median = width_m;
-        let mut lanes = Vec::new();
-        let mut add = |id: u8, left_m: f64, reverse: bool| {
-            let mut centre: Vec<[f64; 2]> = (0..=steps).map(|k| lane_at(left_m, k)).collect();
-            if reverse {
-                centre.reverse();
-            }
-            lanes.push(RoadLane {
-                id,
-                width_m,
-                speed_limit_kmh,
-                centre,
-            });
-        };
-        for k in 0..forward {
-            add(1 + k, -(k as f64) * width_m, false);
-        }
-        for k in 0..backward {
-            add(forward + 1 + k, median + (1 + k) as f64 * width_m, true);
-        }
+        let forward_lanes = (0..forward).map(|k| (1 + k, -(k as f64) * width_m, false));
+        let backward_lanes =
+            (0..backward).map(|k| (forward + 1 + k, median + (1 + k) as f64 * width_m, true));
+        let lanes = forward_lanes
+            .chain(backward_lanes)
+            .map(|(id, left_m, reverse)| {
+                let mut centre = centreline(left_m);
+                if reverse {
+                    centre.reverse();
+                }
+                RoadLane {
+                    id,
+                    width_m,
+                    speed_limit_kmh,
+                    centre,
+                }
+            })
+            .collect();
         Self::new(reference, lanes)
     }
 
