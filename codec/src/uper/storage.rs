@@ -15,18 +15,42 @@ use alloc::{string::String, vec::Vec};
 
 /// A SEQUENCE OF (or variable OCTET STRING) value: at most `N` items without `alloc`.
 ///
-/// Without `alloc` the items live in an array that is always fully initialised (unused
-/// slots hold placeholders), so decoding into a kept value refills the slots in place and
-/// never moves large items. Only the first `len()` items are the value: equality, hashing,
-/// `Debug` and iteration look at those alone.
+/// Without `alloc` the items live in a `heapless::Vec` whose slots are initialised lazily,
+/// the first time the sequence grows to them, and then kept: decoding into a kept value
+/// refills those slots in place and never moves large items, and an empty sequence costs
+/// nothing to create, whatever `N` (no array of placeholders is built, so no large temporary
+/// lands on the stack when an absent OPTIONAL member becomes present). Only the first
+/// `len()` items are the value: equality, hashing, `Debug` and iteration look at those alone.
 #[derive(Clone)]
 pub struct SeqOf<T, const N: usize> {
     #[cfg(not(feature = "alloc"))]
-    len: usize,
+    len: Len,
+    /// Initialised slots (at least `len`; the rest hold former items for reuse).
     #[cfg(not(feature = "alloc"))]
-    items: [T; N],
+    items: heapless::Vec<T, N>,
     #[cfg(feature = "alloc")]
     items: Vec<T>,
+}
+
+/// The length of a no-heap [`SeqOf`], stored plus one so that it has a niche (zero): an
+/// `Option<SeqOf>` then takes no more room than the `SeqOf` (the item storage, being
+/// `MaybeUninit`, has none to offer).
+#[cfg(not(feature = "alloc"))]
+#[derive(Clone, Copy)]
+struct Len(core::num::NonZeroUsize);
+
+#[cfg(not(feature = "alloc"))]
+impl Len {
+    const ZERO: Self = Self(core::num::NonZeroUsize::MIN);
+
+    fn get(self) -> usize {
+        self.0.get() - 1
+    }
+
+    fn set(&mut self, len: usize) {
+        // `len` is at most the capacity N, itself an array length below `usize::MAX`.
+        self.0 = core::num::NonZeroUsize::new(len.wrapping_add(1)).unwrap_or(Self::ZERO.0);
+    }
 }
 
 /// Variable-size octets (OCTET STRING, unknown open-type content).
@@ -37,9 +61,9 @@ impl<T: Placeholder, const N: usize> SeqOf<T, N> {
     pub fn new() -> Self {
         Self {
             #[cfg(not(feature = "alloc"))]
-            len: 0,
+            len: Len::ZERO,
             #[cfg(not(feature = "alloc"))]
-            items: core::array::from_fn(|_| T::placeholder()),
+            items: heapless::Vec::new(),
             #[cfg(feature = "alloc")]
             items: Vec::new(),
         }
@@ -61,8 +85,12 @@ impl<T: Placeholder, const N: usize> SeqOf<T, N> {
     pub fn push_slot(&mut self) -> Option<&mut T> {
         #[cfg(not(feature = "alloc"))]
         {
-            let slot = self.items.get_mut(self.len)?;
-            self.len += 1;
+            let len = self.len.get();
+            if len == self.items.len() {
+                self.items.push(T::placeholder()).ok()?;
+            }
+            let slot = self.items.get_mut(len)?;
+            self.len.set(len + 1);
             Some(slot)
         }
         #[cfg(feature = "alloc")]
@@ -76,9 +104,10 @@ impl<T: Placeholder, const N: usize> SeqOf<T, N> {
     pub fn pop(&mut self) -> Option<T> {
         #[cfg(not(feature = "alloc"))]
         {
-            let last = self.len.checked_sub(1)?;
-            self.len = last;
-            Some(core::mem::replace(&mut self.items[last], T::placeholder()))
+            let last = self.len.get().checked_sub(1)?;
+            self.items.truncate(last + 1);
+            self.len.set(last);
+            self.items.pop()
         }
         #[cfg(feature = "alloc")]
         self.items.pop()
@@ -95,11 +124,11 @@ impl<T, const N: usize> SeqOf<T, N> {
         }
     }
 
-    /// Removes every item (without `alloc` the slots keep their storage for reuse).
+    /// Removes every item (without `alloc` the initialised slots are kept for reuse).
     pub fn clear(&mut self) {
         #[cfg(not(feature = "alloc"))]
         {
-            self.len = 0;
+            self.len = Len::ZERO;
         }
         #[cfg(feature = "alloc")]
         self.items.clear();
@@ -107,14 +136,14 @@ impl<T, const N: usize> SeqOf<T, N> {
 
     fn as_slice(&self) -> &[T] {
         #[cfg(not(feature = "alloc"))]
-        return &self.items[..self.len];
+        return &self.items[..self.len.get()];
         #[cfg(feature = "alloc")]
         &self.items
     }
 
     fn as_mut_slice(&mut self) -> &mut [T] {
         #[cfg(not(feature = "alloc"))]
-        return &mut self.items[..self.len];
+        return &mut self.items[..self.len.get()];
         #[cfg(feature = "alloc")]
         &mut self.items
     }
