@@ -67,6 +67,24 @@ warning_distance_m = 100.0
 lead_time_s = 9.0
 # Overspeed above the zone limit plus this, km/h.
 overspeed_tolerance_kmh = 5.0
+
+[bridge]
+# Bridge mode (off unless `source` is set; `obu --bridge SOURCE` sets it too): the OBU core
+# runs in the firmware, which sends its HmiState as `obu::link` frames (COBS + CRC-32,
+# postcard payload) out of a serial port. The daemon then starts no V2X, GNSS or CAN input:
+# it reads that stream and serves it to the tablet as usual. The link is one-way: settings
+# changed on the tablet are saved and served, but do not reach the firmware.
+#   "tcp:HOST:PORT"  connect to a TCP server, e.g. QEMU's emulated serial port
+#                    (`-serial tcp:127.0.0.1:5003,server,nowait`); connects again after a
+#                    refusal or a close, waiting 100 ms doubling to 2 s
+#   "serial:PATH"    read a serial device, reopened after an error or end of input. The tty
+#                    must be raw at the firmware's rate (115200 8N1), set beforehand with
+#                    `stty -F PATH 115200 raw -echo cs8 -cstopb -parenb`, or set `baud` below
+#                    to have the daemon run that command (GNU stty) before each open.
+#                    A regular file (a capture) is read once.
+# source = "tcp:127.0.0.1:5003"
+# serial: baud rate for `stty` (leave out to use the tty as it is set).
+# baud = 115200
 "#;
 
 /// The whole configuration.
@@ -83,6 +101,8 @@ pub struct Config {
     pub http: Http,
     /// Alert defaults.
     pub alerts: Alerts,
+    /// Bridge mode.
+    pub bridge: Bridge,
 }
 
 /// `[v2x]`.
@@ -212,6 +232,66 @@ pub struct Alerts {
     pub overspeed_tolerance_kmh: f32,
 }
 
+/// `[bridge]`.
+#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct Bridge {
+    /// Where the firmware's states come from; `None`: the daemon runs the core itself.
+    pub source: Option<BridgeSource>,
+    /// Serial sources: the baud rate the daemon sets with `stty` before opening the device.
+    pub baud: Option<u32>,
+}
+
+/// Where bridge mode reads the firmware's `HmiState` stream.
+#[derive(Clone, Debug, Deserialize, PartialEq, Eq)]
+#[serde(try_from = "String")]
+pub enum BridgeSource {
+    /// `tcp:HOST:PORT`: a TCP server to connect to (QEMU's emulated serial port).
+    Tcp(String),
+    /// `serial:PATH`: a serial device (or a FIFO, or a capture file).
+    Serial(PathBuf),
+}
+
+impl std::str::FromStr for BridgeSource {
+    type Err = ConfigError;
+
+    fn from_str(s: &str) -> Result<Self, ConfigError> {
+        let bad = |why: &str| ConfigError(format!("bridge source {s:?}: {why}"));
+        if let Some(addr) = s.strip_prefix("tcp:") {
+            let (host, port) = addr.rsplit_once(':').ok_or_else(|| bad("no :PORT"))?;
+            let port_ok = port.parse::<u16>().is_ok_and(|p| p > 0);
+            if host.is_empty() || !port_ok || addr.contains(char::is_whitespace) {
+                return Err(bad("expected tcp:HOST:PORT"));
+            }
+            Ok(BridgeSource::Tcp(addr.to_owned()))
+        } else if let Some(path) = s.strip_prefix("serial:") {
+            if path.is_empty() || path.contains(char::is_whitespace) {
+                return Err(bad("expected serial:PATH (without spaces)"));
+            }
+            Ok(BridgeSource::Serial(PathBuf::from(path)))
+        } else {
+            Err(bad("expected tcp:HOST:PORT or serial:PATH"))
+        }
+    }
+}
+
+impl TryFrom<String> for BridgeSource {
+    type Error = ConfigError;
+
+    fn try_from(s: String) -> Result<Self, ConfigError> {
+        s.parse()
+    }
+}
+
+impl std::fmt::Display for BridgeSource {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            BridgeSource::Tcp(addr) => write!(f, "tcp:{addr}"),
+            BridgeSource::Serial(path) => write!(f, "serial:{}", path.display()),
+        }
+    }
+}
+
 /// Why a configuration was refused.
 #[derive(Debug)]
 pub struct ConfigError(pub String);
@@ -254,6 +334,13 @@ impl Config {
         Ok(config)
     }
 
+    /// This configuration in bridge mode from `source` (the `--bridge` flag), checked again.
+    pub fn with_bridge(mut self, source: BridgeSource) -> Result<Self, ConfigError> {
+        self.bridge.source = Some(source);
+        self.validate()?;
+        Ok(self)
+    }
+
     fn validate(&self) -> Result<(), ConfigError> {
         let bad = |what: &str| Err(ConfigError(what.to_string()));
         if !(64..=65_507).contains(&self.v2x.max_datagram) {
@@ -270,6 +357,13 @@ impl Config {
         }
         if !(self.alerts.warning_distance_m.is_finite() && self.alerts.warning_distance_m > 0.0) {
             return bad("alerts.warning_distance_m must be > 0");
+        }
+        let serial = matches!(self.bridge.source, Some(BridgeSource::Serial(_)));
+        if self.bridge.baud.is_some() && !serial {
+            return bad("bridge.baud needs a serial:PATH bridge.source");
+        }
+        if self.bridge.baud == Some(0) {
+            return bad("bridge.baud must be > 0");
         }
         Ok(())
     }
@@ -289,6 +383,53 @@ mod tests {
         assert_eq!(c.speed.source, SpeedSource::Gnss);
         assert_eq!(c.alerts.warning_distance_m, 100.0);
         assert_eq!(c.alerts.lead_time_s, 9.0);
+        assert_eq!(c.bridge.source, None, "normal mode");
+    }
+
+    #[test]
+    fn bridge_sources_parse_and_print_back() {
+        let c = Config::parse("[bridge]\nsource = \"serial:/dev/ttyUSB0\"\nbaud = 115200").unwrap();
+        let serial = BridgeSource::Serial("/dev/ttyUSB0".into());
+        assert_eq!(c.bridge.source, Some(serial.clone()));
+        assert_eq!(c.bridge.baud, Some(115_200));
+        assert_eq!(serial.to_string(), "serial:/dev/ttyUSB0");
+        let tcp: BridgeSource = "tcp:127.0.0.1:5003".parse().unwrap();
+        assert_eq!(tcp, BridgeSource::Tcp("127.0.0.1:5003".into()));
+        assert_eq!(tcp.to_string(), "tcp:127.0.0.1:5003");
+        let host: BridgeSource = "tcp:qemu.local:5003".parse().unwrap();
+        assert_eq!(host.to_string(), "tcp:qemu.local:5003");
+        let c = Config::default_config().with_bridge(tcp.clone()).unwrap();
+        assert_eq!(c.bridge.source, Some(tcp));
+        for bad in [
+            "",
+            "tcp:",
+            "tcp:host",
+            "tcp::5003",
+            "tcp:h:0",
+            "tcp:h:99999",
+            "serial:",
+            "udp:h:1",
+            "serial:/a b",
+        ] {
+            assert!(bad.parse::<BridgeSource>().is_err(), "{bad:?}");
+        }
+    }
+
+    #[test]
+    fn bridge_mistakes_are_named() {
+        let e = Config::parse("[bridge]\nsource = \"com1\"").unwrap_err();
+        assert!(e.0.contains("tcp:HOST:PORT or serial:PATH"), "{e}");
+        let e = Config::parse("[bridge]\nsource = \"tcp:h:1\"\nbaud = 9600").unwrap_err();
+        assert!(e.0.contains("bridge.baud"), "{e}");
+        let e = Config::parse("[bridge]\nport = 1").unwrap_err();
+        assert!(e.0.contains("port"), "{e}");
+        let serial =
+            Config::parse("[bridge]\nsource = \"serial:/dev/ttyS0\"\nbaud = 9600").unwrap();
+        let e = serial.with_bridge("tcp:h:1".parse().unwrap()).unwrap_err();
+        assert!(
+            e.0.contains("bridge.baud"),
+            "a flag cannot leave a stray baud: {e}"
+        );
     }
 
     #[test]

@@ -24,6 +24,10 @@ pub mod group {
     pub const GNSS: &str = "gnss";
     /// CAN frames refused, by reason.
     pub const CAN_ERRORS: &str = "can_errors";
+    /// Bridge-mode link events (states, connects, disconnects, failures), by kind.
+    pub const BRIDGE: &str = "bridge";
+    /// Bridge-mode frames refused (framing, CRC, postcard payload), by reason.
+    pub const BRIDGE_ERRORS: &str = "bridge_errors";
     /// HTTP requests refused, by reason.
     pub const HTTP_REJECTED: &str = "http_rejected";
     /// Event-stream clients, by what happened to them.

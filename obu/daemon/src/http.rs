@@ -1,6 +1,7 @@
 //! The tablet's HTTP server: the embedded app, `GET /events` (Server-Sent Events of the
 //! `HmiState`, resumable with `Last-Event-ID`, with a heartbeat), `GET/PUT /api/settings`,
-//! `GET /api/status` and `GET /healthz`.
+//! `GET /api/status` (with the mode: `"core"`, or `"bridge"` and the firmware link) and
+//! `GET /healthz`. The same in both modes.
 //!
 //! Robustness: headers must arrive within the request timeout and fit 16 KiB, a settings body
 //! 4 KiB; event-stream clients are limited, and one that falls behind by more than the event
@@ -36,6 +37,8 @@ pub struct AppState {
     pub max_clients: usize,
     /// Heartbeat period.
     pub heartbeat: Duration,
+    /// The firmware link in bridge mode; `None` when the daemon runs the core itself.
+    pub bridge: Option<Arc<crate::bridge::Status>>,
 }
 
 /// The routes.
@@ -111,6 +114,8 @@ async fn status(State(app): State<AppState>) -> Json<serde_json::Value> {
     let (gnss_age_ms, fix_quality) = app.hub.gnss();
     let (maps, zones) = app.hub.stored();
     Json(serde_json::json!({
+        "mode": if app.bridge.is_some() { "bridge" } else { "core" },
+        "bridge": app.bridge.as_ref().map(|b| b.to_json()),
         "uptime_s": app.hub.uptime_s(),
         "gnss_age_ms": gnss_age_ms,
         "fix_quality": fix_quality,

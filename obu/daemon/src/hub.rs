@@ -1,6 +1,9 @@
 //! The hub between the inputs and the tablet: it owns the OBU core, turns every input into
 //! core calls, publishes each `HmiState` as a numbered event (kept in a ring for clients that
 //! resume with `Last-Event-ID`), and counts everything that was dropped, with its reason.
+//!
+//! In bridge mode the core runs in the firmware instead: its states arrive whole and are
+//! published through [`Hub::publish_state`], the same path as the core's own.
 
 use crate::counters::Counters;
 use crate::settings::Settings;
@@ -35,6 +38,8 @@ struct Inner {
     fix_quality: Option<u8>,
     can_speed: Option<CanSpeed>,
     settings: Settings,
+    /// Lane models and work zones of the last external state (bridge mode).
+    external: Option<(u8, u8)>,
 }
 
 /// Shared by every task of the daemon.
@@ -64,6 +69,7 @@ impl Hub {
                 fix_quality: None,
                 can_speed: None,
                 settings,
+                external: None,
             }),
             events,
             keep,
@@ -159,6 +165,10 @@ impl Hub {
     }
 
     /// Applies new (validated) settings to the core.
+    ///
+    /// In bridge mode this changes only what the daemon stores and serves: the link from
+    /// the firmware is one-way, so the firmware's core keeps its own warning distance and
+    /// lead time.
     pub fn set_settings(&self, settings: Settings) {
         let mut inner = self.lock();
         let base = *inner.core.config();
@@ -176,10 +186,23 @@ impl Hub {
         )
     }
 
-    /// Lane models and work zones stored in the core.
+    /// Lane models and work zones stored in the core (in bridge mode: as the last
+    /// external state reports them).
     pub fn stored(&self) -> (usize, usize) {
         let inner = self.lock();
-        (inner.core.maps().len(), inner.core.zones().len())
+        match inner.external {
+            Some((maps, zones)) => (maps.into(), zones.into()),
+            None => (inner.core.maps().len(), inner.core.zones().len()),
+        }
+    }
+
+    /// Publishes a state computed outside this daemon's core (in bridge mode, the
+    /// firmware's) exactly as the core's states are: numbered, kept for resume and sent to
+    /// every event-stream client.
+    pub fn publish_state(&self, state: &HmiState) {
+        let mut inner = self.lock();
+        inner.external = Some((state.maps, state.zones));
+        self.publish(&mut inner, state);
     }
 
     /// A receiver of new events.

@@ -2,76 +2,19 @@
 //! and HTTP (static app, SSE with resume, settings that survive a restart, status, hostile
 //! requests), and SIGTERM.
 
-use std::io::{BufRead, BufReader, Read, Write};
+mod common;
+
+use common::{
+    free_udp_port, http, open_events, read_events, run_of, status, temp_dir, vector, Daemon,
+};
+use std::io::{Read, Write};
 use std::net::{TcpStream, UdpSocket};
 use std::path::{Path, PathBuf};
-use std::process::{Child, Command, Stdio};
 use std::time::{Duration, Instant};
 
-/// A running daemon and what it printed on its first line.
-struct Daemon {
-    child: Child,
-    http: String,
-    v2x: String,
-}
-
-impl Daemon {
-    fn start(config: &Path) -> Self {
-        let mut child = Command::new(env!("CARGO_BIN_EXE_obu"))
-            .arg("--config")
-            .arg(config)
-            .stdout(Stdio::piped())
-            .stderr(Stdio::null())
-            .spawn()
-            .expect("start obu");
-        let mut first = String::new();
-        BufReader::new(child.stdout.take().unwrap())
-            .read_line(&mut first)
-            .unwrap();
-        // "obu: http://127.0.0.1:PORT v2x udp 127.0.0.1:PORT"
-        let words: Vec<&str> = first.split_whitespace().collect();
-        assert!(words.len() >= 5, "unexpected first line {first:?}");
-        let http = words[1].trim_start_matches("http://").to_owned();
-        Daemon {
-            child,
-            http,
-            v2x: words[4].to_owned(),
-        }
-    }
-
-    fn stop(mut self) -> std::process::ExitStatus {
-        let pid = self.child.id().to_string();
-        Command::new("kill").args(["-TERM", &pid]).status().unwrap();
-        let deadline = Instant::now() + Duration::from_secs(5);
-        loop {
-            if let Some(status) = self.child.try_wait().unwrap() {
-                return status;
-            }
-            assert!(Instant::now() < deadline, "obu did not stop on SIGTERM");
-            std::thread::sleep(Duration::from_millis(20));
-        }
-    }
-}
-
-impl Drop for Daemon {
-    fn drop(&mut self) {
-        let _ = self.child.kill();
-    }
-}
-
-fn temp_dir(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("obu-daemon-{name}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
-}
-
-fn free_udp_port() -> u16 {
-    UdpSocket::bind("127.0.0.1:0")
-        .unwrap()
-        .local_addr()
-        .unwrap()
-        .port()
+/// Starts the daemon with the configuration file `config`.
+fn start(config: &Path) -> Daemon {
+    Daemon::start(["--config".as_ref(), config.as_os_str()])
 }
 
 fn write_config(dir: &Path, gnss_port: u16) -> PathBuf {
@@ -83,38 +26,6 @@ fn write_config(dir: &Path, gnss_port: u16) -> PathBuf {
     );
     std::fs::write(&path, text).unwrap();
     path
-}
-
-/// One HTTP/1.1 request; returns (status, body).
-fn http(addr: &str, method: &str, path: &str, body: &str) -> (u16, String) {
-    let mut s = TcpStream::connect(addr).unwrap();
-    s.set_read_timeout(Some(Duration::from_secs(5))).unwrap();
-    write!(s, "{method} {path} HTTP/1.1\r\nHost: x\r\nConnection: close\r\nContent-Type: application/json\r\nContent-Length: {}\r\n\r\n{body}", body.len()).unwrap();
-    let mut out = String::new();
-    let _ = s.read_to_string(&mut out);
-    let status = out
-        .split_whitespace()
-        .nth(1)
-        .and_then(|c| c.parse().ok())
-        .unwrap_or(0);
-    let body = out
-        .split_once("\r\n\r\n")
-        .map(|(_, b)| b.to_owned())
-        .unwrap_or_default();
-    (status, body)
-}
-
-fn vector(name: &str) -> Vec<u8> {
-    let text = include_str!("../../../codec/tests/vectors/oracle_vectors.jsonl");
-    let line = text
-        .lines()
-        .find(|l| l.contains(&format!("\"name\":\"{name}\"")))
-        .unwrap();
-    let v: serde_json::Value = serde_json::from_str(line).unwrap();
-    let hex = v["uper"].as_str().unwrap();
-    (0..hex.len() / 2)
-        .map(|i| u8::from_str_radix(&hex[2 * i..2 * i + 2], 16).unwrap())
-        .collect()
 }
 
 fn nmea(body: &str) -> String {
@@ -132,15 +43,11 @@ fn epoch(t: u32) -> String {
     ))
 }
 
-fn status(addr: &str) -> serde_json::Value {
-    serde_json::from_str(&http(addr, "GET", "/api/status", "").1).unwrap()
-}
-
 #[test]
 fn serves_the_app_health_and_validated_settings_that_survive_a_restart() {
     let dir = temp_dir("settings");
     let cfg = write_config(&dir, free_udp_port());
-    let d = Daemon::start(&cfg);
+    let d = start(&cfg);
     assert_eq!(http(&d.http, "GET", "/healthz", ""), (200, "ok".into()));
     let (code, page) = http(&d.http, "GET", "/", "");
     assert_eq!(code, 200);
@@ -162,7 +69,7 @@ fn serves_the_app_health_and_validated_settings_that_survive_a_restart() {
     let good = r#"{"warning_distance_m":250.0,"lead_time_s":12.0,"sound":false,"units":"mph","theme":"night"}"#;
     assert_eq!(http(&d.http, "PUT", "/api/settings", good).0, 200);
     assert!(d.stop().success(), "SIGTERM is a clean exit");
-    let d = Daemon::start(&cfg);
+    let d = start(&cfg);
     let (code, body) = http(&d.http, "GET", "/api/settings", "");
     assert_eq!(code, 200);
     let saved: serde_json::Value = serde_json::from_str(&body).unwrap();
@@ -174,23 +81,25 @@ fn serves_the_app_health_and_validated_settings_that_survive_a_restart() {
 #[test]
 fn counts_v2x_messages_and_drops_by_reason() {
     let dir = temp_dir("v2x");
-    let d = Daemon::start(&write_config(&dir, free_udp_port()));
+    let d = start(&write_config(&dir, free_udp_port()));
     let udp = UdpSocket::bind("127.0.0.1:0").unwrap();
     let map = vector("map_work_zone");
     let tim = vector("tim_work_zone_left_lane_closed");
-    udp.send_to(&map, &d.v2x).unwrap();
+    udp.send_to(&map, d.v2x()).unwrap();
     assert!(
         (128..256).contains(&tim.len()),
         "the long-form length below fits this TIM"
     );
     let mut wrapped = vec![0x03, 0x80, 0x81, tim.len() as u8];
     wrapped.extend_from_slice(&tim);
-    udp.send_to(&wrapped, &d.v2x).unwrap();
-    udp.send_to(&map[..map.len() / 2], &d.v2x).unwrap();
-    udp.send_to(b"Version=0.7\nType=MAP\n", &d.v2x).unwrap();
-    udp.send_to(&vec![0u8; 9000], &d.v2x).unwrap();
+    udp.send_to(&wrapped, d.v2x()).unwrap();
+    udp.send_to(&map[..map.len() / 2], d.v2x()).unwrap();
+    udp.send_to(b"Version=0.7\nType=MAP\n", d.v2x()).unwrap();
+    udp.send_to(&vec![0u8; 9000], d.v2x()).unwrap();
     std::thread::sleep(Duration::from_millis(300));
     let s = status(&d.http);
+    assert_eq!(s["mode"], "core", "{s}");
+    assert!(s["bridge"].is_null(), "{s}");
     let c = &s["counters"];
     assert_eq!(c["messages"]["MAP"], 1, "{s}");
     assert_eq!(c["messages"]["TIM"], 1, "{s}");
@@ -212,66 +121,11 @@ fn counts_v2x_messages_and_drops_by_reason() {
     assert!(s["active_zones"].as_u64().unwrap() >= 1, "{s}");
 }
 
-/// Reads SSE events (id, data) until `n` arrived or the time runs out.
-fn read_events(stream: &mut BufReader<TcpStream>, n: usize) -> Vec<(u64, serde_json::Value)> {
-    let mut out = Vec::new();
-    let (mut id, mut line) = (0u64, String::new());
-    let deadline = Instant::now() + Duration::from_secs(5);
-    while out.len() < n && Instant::now() < deadline {
-        line.clear();
-        if stream.read_line(&mut line).unwrap_or(0) == 0 {
-            break;
-        }
-        if let Some(v) = line.strip_prefix("id:") {
-            // `<run>-<seq>`
-            let (run, seq) = v.trim().split_once('-').expect("run-seq");
-            assert!(run.parse::<u64>().is_ok(), "{v}");
-            id = seq.parse().unwrap();
-        } else if let Some(v) = line.strip_prefix("data:") {
-            out.push((id, serde_json::from_str(v.trim()).unwrap()));
-        }
-    }
-    out
-}
-
-fn open_events(addr: &str, last_id: Option<&str>) -> BufReader<TcpStream> {
-    let mut s = TcpStream::connect(addr).unwrap();
-    s.set_read_timeout(Some(Duration::from_secs(5))).unwrap();
-    let resume = last_id
-        .map(|i| format!("Last-Event-ID: {i}\r\n"))
-        .unwrap_or_default();
-    write!(
-        s,
-        "GET /events HTTP/1.1\r\nHost: x\r\nAccept: text/event-stream\r\n{resume}\r\n"
-    )
-    .unwrap();
-    let mut r = BufReader::new(s);
-    let mut line = String::new();
-    r.read_line(&mut line).unwrap();
-    assert!(line.starts_with("HTTP/1.1 200"), "{line}");
-    r
-}
-
-/// The run part of the event ids (`<run>-<seq>`) of a daemon with at least one event.
-fn run_of(addr: &str) -> u64 {
-    let mut s = open_events(addr, None);
-    let mut line = String::new();
-    let deadline = Instant::now() + Duration::from_secs(5);
-    while Instant::now() < deadline {
-        line.clear();
-        s.read_line(&mut line).unwrap();
-        if let Some(v) = line.strip_prefix("id:") {
-            return v.trim().split_once('-').unwrap().0.parse().unwrap();
-        }
-    }
-    panic!("no event id");
-}
-
 #[test]
 fn fixes_become_numbered_events_and_a_client_resumes_where_it_left() {
     let dir = temp_dir("sse");
     let gnss_port = free_udp_port();
-    let d = Daemon::start(&write_config(&dir, gnss_port));
+    let d = start(&write_config(&dir, gnss_port));
     let gps = UdpSocket::bind("127.0.0.1:0").unwrap();
     let mut events = open_events(&d.http, None);
     for t in 0..5 {
@@ -325,7 +179,7 @@ fn fixes_become_numbered_events_and_a_client_resumes_where_it_left() {
 fn gnss_loss_is_published_within_a_second() {
     let dir = temp_dir("stale");
     let gnss_port = free_udp_port();
-    let d = Daemon::start(&write_config(&dir, gnss_port));
+    let d = start(&write_config(&dir, gnss_port));
     let gps = UdpSocket::bind("127.0.0.1:0").unwrap();
     let mut events = open_events(&d.http, None);
     gps.send_to(epoch(0).as_bytes(), ("127.0.0.1", gnss_port))
@@ -348,7 +202,7 @@ fn gnss_loss_is_published_within_a_second() {
 #[test]
 fn hostile_http_is_refused_and_counted() {
     let dir = temp_dir("hostile");
-    let d = Daemon::start(&write_config(&dir, free_udp_port()));
+    let d = start(&write_config(&dir, free_udp_port()));
     // Oversized headers.
     let mut s = TcpStream::connect(&d.http).unwrap();
     s.set_read_timeout(Some(Duration::from_secs(5))).unwrap();
@@ -391,11 +245,11 @@ fn hostile_http_is_refused_and_counted() {
 #[test]
 fn a_new_zone_is_published_at_once_without_waiting_for_a_fix() {
     let dir = temp_dir("zone-now");
-    let d = Daemon::start(&write_config(&dir, free_udp_port()));
+    let d = start(&write_config(&dir, free_udp_port()));
     let mut events = open_events(&d.http, None);
     let udp = UdpSocket::bind("127.0.0.1:0").unwrap();
-    udp.send_to(&vector("map_work_zone"), &d.v2x).unwrap();
-    udp.send_to(&vector("tim_work_zone_left_lane_closed"), &d.v2x)
+    udp.send_to(&vector("map_work_zone"), d.v2x()).unwrap();
+    udp.send_to(&vector("tim_work_zone_left_lane_closed"), d.v2x())
         .unwrap();
     // No GNSS at all: the states come from the messages alone. Besides them there is
     // the "no GNSS" state of the start, which may come before or after the MAP's.
@@ -417,7 +271,7 @@ fn a_new_zone_is_published_at_once_without_waiting_for_a_fix() {
         "a state for the TIM: {counts:?}"
     );
     // The same TIM again changes nothing: no state.
-    udp.send_to(&vector("tim_work_zone_left_lane_closed"), &d.v2x)
+    udp.send_to(&vector("tim_work_zone_left_lane_closed"), d.v2x())
         .unwrap();
     let last = got.last().unwrap().0;
     let mut quiet = open_events(&d.http, Some(&format!("{}-{last}", run_of(&d.http))));

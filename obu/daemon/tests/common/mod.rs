@@ -1,0 +1,181 @@
+//! Helpers shared by the tests of the real `obu` binary: start and stop it, read its first
+//! line, make HTTP requests, read the event stream, and the codec's committed vectors.
+#![allow(dead_code)]
+
+use std::ffi::OsStr;
+use std::io::{BufRead, BufReader, Read, Write};
+use std::net::{TcpStream, UdpSocket};
+use std::path::PathBuf;
+use std::process::{Child, Command, Stdio};
+use std::time::{Duration, Instant};
+
+/// A running daemon and what it printed on its first line.
+pub struct Daemon {
+    child: Child,
+    /// The first line, split at whitespace.
+    pub words: Vec<String>,
+    /// The HTTP address (`HOST:PORT`).
+    pub http: String,
+}
+
+impl Daemon {
+    /// Starts `obu` with `args` and reads its first line
+    /// (`obu: http://ADDR v2x udp ADDR` or `obu: http://ADDR bridge SOURCE`).
+    pub fn start<S: AsRef<OsStr>>(args: impl IntoIterator<Item = S>) -> Self {
+        let mut child = Command::new(env!("CARGO_BIN_EXE_obu"))
+            .args(args)
+            .stdout(Stdio::piped())
+            .stderr(Stdio::null())
+            .spawn()
+            .expect("start obu");
+        let mut first = String::new();
+        BufReader::new(child.stdout.take().unwrap())
+            .read_line(&mut first)
+            .unwrap();
+        let words: Vec<String> = first.split_whitespace().map(str::to_owned).collect();
+        assert!(words.len() >= 4, "unexpected first line {first:?}");
+        assert_eq!(words[0], "obu:", "{first:?}");
+        let http = words[1]
+            .strip_prefix("http://")
+            .expect("http:// address")
+            .to_owned();
+        Daemon { child, words, http }
+    }
+
+    /// The V2X address of the normal mode's first line.
+    pub fn v2x(&self) -> &str {
+        assert_eq!(self.words[2..4], ["v2x", "udp"], "{:?}", self.words);
+        &self.words[4]
+    }
+
+    /// Sends SIGTERM and waits (at most 5 s) for the exit.
+    pub fn stop(mut self) -> std::process::ExitStatus {
+        let pid = self.child.id().to_string();
+        Command::new("kill").args(["-TERM", &pid]).status().unwrap();
+        let deadline = Instant::now() + Duration::from_secs(5);
+        loop {
+            if let Some(status) = self.child.try_wait().unwrap() {
+                return status;
+            }
+            assert!(Instant::now() < deadline, "obu did not stop on SIGTERM");
+            std::thread::sleep(Duration::from_millis(20));
+        }
+    }
+}
+
+impl Drop for Daemon {
+    fn drop(&mut self) {
+        let _ = self.child.kill();
+    }
+}
+
+/// An empty directory of this test process.
+pub fn temp_dir(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("obu-daemon-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+/// A UDP port that was free a moment ago.
+pub fn free_udp_port() -> u16 {
+    UdpSocket::bind("127.0.0.1:0")
+        .unwrap()
+        .local_addr()
+        .unwrap()
+        .port()
+}
+
+/// One HTTP/1.1 request; returns (status, body).
+pub fn http(addr: &str, method: &str, path: &str, body: &str) -> (u16, String) {
+    let mut s = TcpStream::connect(addr).unwrap();
+    s.set_read_timeout(Some(Duration::from_secs(5))).unwrap();
+    write!(s, "{method} {path} HTTP/1.1\r\nHost: x\r\nConnection: close\r\nContent-Type: application/json\r\nContent-Length: {}\r\n\r\n{body}", body.len()).unwrap();
+    let mut out = String::new();
+    let _ = s.read_to_string(&mut out);
+    let status = out
+        .split_whitespace()
+        .nth(1)
+        .and_then(|c| c.parse().ok())
+        .unwrap_or(0);
+    let body = out
+        .split_once("\r\n\r\n")
+        .map(|(_, b)| b.to_owned())
+        .unwrap_or_default();
+    (status, body)
+}
+
+/// `GET /api/status`.
+pub fn status(addr: &str) -> serde_json::Value {
+    serde_json::from_str(&http(addr, "GET", "/api/status", "").1).unwrap()
+}
+
+/// The UPER octets of the codec's committed vector `name`.
+pub fn vector(name: &str) -> Vec<u8> {
+    let text = include_str!("../../../../codec/tests/vectors/oracle_vectors.jsonl");
+    let line = text
+        .lines()
+        .find(|l| l.contains(&format!("\"name\":\"{name}\"")))
+        .unwrap();
+    let v: serde_json::Value = serde_json::from_str(line).unwrap();
+    let hex = v["uper"].as_str().unwrap();
+    (0..hex.len() / 2)
+        .map(|i| u8::from_str_radix(&hex[2 * i..2 * i + 2], 16).unwrap())
+        .collect()
+}
+
+/// Reads SSE events (id, data) until `n` arrived or the time runs out.
+pub fn read_events(stream: &mut BufReader<TcpStream>, n: usize) -> Vec<(u64, serde_json::Value)> {
+    let mut out = Vec::new();
+    let (mut id, mut line) = (0u64, String::new());
+    let deadline = Instant::now() + Duration::from_secs(5);
+    while out.len() < n && Instant::now() < deadline {
+        line.clear();
+        if stream.read_line(&mut line).unwrap_or(0) == 0 {
+            break;
+        }
+        if let Some(v) = line.strip_prefix("id:") {
+            // `<run>-<seq>`
+            let (run, seq) = v.trim().split_once('-').expect("run-seq");
+            assert!(run.parse::<u64>().is_ok(), "{v}");
+            id = seq.parse().unwrap();
+        } else if let Some(v) = line.strip_prefix("data:") {
+            out.push((id, serde_json::from_str(v.trim()).unwrap()));
+        }
+    }
+    out
+}
+
+/// Opens `GET /events`, resuming after `last_id` when given.
+pub fn open_events(addr: &str, last_id: Option<&str>) -> BufReader<TcpStream> {
+    let mut s = TcpStream::connect(addr).unwrap();
+    s.set_read_timeout(Some(Duration::from_secs(5))).unwrap();
+    let resume = last_id
+        .map(|i| format!("Last-Event-ID: {i}\r\n"))
+        .unwrap_or_default();
+    write!(
+        s,
+        "GET /events HTTP/1.1\r\nHost: x\r\nAccept: text/event-stream\r\n{resume}\r\n"
+    )
+    .unwrap();
+    let mut r = BufReader::new(s);
+    let mut line = String::new();
+    r.read_line(&mut line).unwrap();
+    assert!(line.starts_with("HTTP/1.1 200"), "{line}");
+    r
+}
+
+/// The run part of the event ids (`<run>-<seq>`) of a daemon with at least one event.
+pub fn run_of(addr: &str) -> u64 {
+    let mut s = open_events(addr, None);
+    let mut line = String::new();
+    let deadline = Instant::now() + Duration::from_secs(5);
+    while Instant::now() < deadline {
+        line.clear();
+        s.read_line(&mut line).unwrap();
+        if let Some(v) = line.strip_prefix("id:") {
+            return v.trim().split_once('-').unwrap().0.parse().unwrap();
+        }
+    }
+    panic!("no event id");
+}
