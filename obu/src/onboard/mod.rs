@@ -113,9 +113,13 @@ impl Obu {
         }
         self.last_fix = Some((now, fix));
         self.stale_reported = false;
+        // The matcher's hold time runs on the receiver's clock when the fix carries one:
+        // the lane decision then follows from the fixes alone, not from how late each one
+        // arrived (serial link, load), so a replay decides the same on every device.
+        let fix_time = fix.utc.map_or(now, |u| Instant::from_millis(u.ms_of_year));
         let matched = self
             .matcher
-            .update(now, &fix, &self.maps, &self.config.matcher);
+            .update(fix_time, &fix, &self.maps, &self.config.matcher);
         if matched.is_none() {
             self.counters.off_map = self.counters.off_map.saturating_add(1);
         }
