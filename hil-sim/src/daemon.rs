@@ -46,6 +46,8 @@ pub struct Daemon {
     pub v2x: String,
     /// UDP address of the NMEA input.
     pub gnss: String,
+    /// The emulated firmware behind a daemon in bridge mode ([`crate::firmware`]).
+    pub rig: Option<crate::firmware::Rig>,
 }
 
 impl Daemon {
@@ -57,39 +59,38 @@ impl Daemon {
         config_text: &str,
         gnss_port: u16,
     ) -> Result<Self, String> {
-        std::fs::create_dir_all(state_dir).map_err(|e| format!("{}: {e}", state_dir.display()))?;
-        let config = state_dir.join("obu.toml");
-        std::fs::write(&config, config_text).map_err(|e| format!("{}: {e}", config.display()))?;
-        let mut child = Command::new(obu)
-            .arg("--config")
-            .arg(&config)
-            .stdout(Stdio::piped())
-            .stderr(Stdio::inherit())
-            .spawn()
-            .map_err(|e| {
-                format!(
-                    "cannot start {}: {e} (build it, or set OBU_BIN)",
-                    obu.display()
-                )
-            })?;
-        let stdout = child.stdout.take().ok_or("no stdout")?;
-        let mut line = String::new();
-        BufReader::new(stdout)
-            .read_line(&mut line)
-            .map_err(|e| format!("reading the daemon's first line: {e}"))?;
-        let words: Vec<&str> = line.split_whitespace().collect();
+        let (child, words) = spawn(obu, state_dir, config_text, &[])?;
         match words.as_slice() {
-            ["obu:", http, "v2x", "udp", v2x] => Ok(Self {
-                http: http.to_string(),
-                v2x: v2x.to_string(),
+            [_, http, v, u, v2x] if v == "v2x" && u == "udp" => Ok(Self {
+                http: http.clone(),
+                v2x: v2x.clone(),
                 gnss: format!("127.0.0.1:{gnss_port}"),
                 child,
+                rig: None,
             }),
-            _ => {
-                let _ = child.kill();
-                let _ = child.wait();
-                Err(format!("the daemon printed {line:?}, not its addresses"))
-            }
+            _ => Err(refuse(child, &words)),
+        }
+    }
+
+    /// As [`Daemon::start`], in bridge mode: the daemon shows the `HmiState` stream read
+    /// from `source` (`tcp:HOST:PORT`); its first line is `obu: http://ADDR bridge SOURCE`.
+    /// The V2X and GNSS addresses are left empty for the caller.
+    pub fn start_bridge(
+        obu: &Path,
+        state_dir: &Path,
+        config_text: &str,
+        source: &str,
+    ) -> Result<Self, String> {
+        let (child, words) = spawn(obu, state_dir, config_text, &["--bridge", source])?;
+        match words.as_slice() {
+            [_, http, b, ..] if b == "bridge" => Ok(Self {
+                http: http.clone(),
+                v2x: String::new(),
+                gnss: String::new(),
+                child,
+                rig: None,
+            }),
+            _ => Err(refuse(child, &words)),
         }
     }
 
@@ -115,6 +116,52 @@ impl Drop for Daemon {
         let _ = self.child.kill();
         let _ = self.child.wait();
     }
+}
+
+/// Writes the config, starts `obu --config FILE ARGS...` and splits its first line into
+/// words (the first being `obu:`).
+fn spawn(
+    obu: &Path,
+    state_dir: &Path,
+    config_text: &str,
+    args: &[&str],
+) -> Result<(Child, Vec<String>), String> {
+    std::fs::create_dir_all(state_dir).map_err(|e| format!("{}: {e}", state_dir.display()))?;
+    let config = state_dir.join("obu.toml");
+    std::fs::write(&config, config_text).map_err(|e| format!("{}: {e}", config.display()))?;
+    let mut child = Command::new(obu)
+        .arg("--config")
+        .arg(&config)
+        .args(args)
+        .stdout(Stdio::piped())
+        .stderr(Stdio::inherit())
+        .spawn()
+        .map_err(|e| {
+            format!(
+                "cannot start {}: {e} (build it, or set OBU_BIN)",
+                obu.display()
+            )
+        })?;
+    let stdout = child.stdout.take().ok_or("no stdout")?;
+    let mut line = String::new();
+    BufReader::new(stdout)
+        .read_line(&mut line)
+        .map_err(|e| format!("reading the daemon's first line: {e}"))?;
+    let words: Vec<String> = line.split_whitespace().map(str::to_string).collect();
+    if words.first().map(String::as_str) != Some("obu:") {
+        return Err(refuse(child, &words));
+    }
+    Ok((child, words))
+}
+
+/// Stops a daemon whose first line was not the expected one; the error to report.
+fn refuse(mut child: Child, words: &[String]) -> String {
+    let _ = child.kill();
+    let _ = child.wait();
+    format!(
+        "the daemon printed {:?}, not its addresses",
+        words.join(" ")
+    )
 }
 
 /// `getconf CLK_TCK` (100 on Linux unless told otherwise).

@@ -2,7 +2,7 @@
 #![forbid(unsafe_code)]
 
 use hil_sim::{hmi_bench, perf};
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::time::Duration;
 
@@ -20,10 +20,14 @@ Usage:
                          N tablets (default 50) follow /events while the daemon is fed at
                          10 Hz for S seconds (default 60): events per client and the
                          daemon's CPU; fails on a dropped client or CPU >= 10 % of a core
-  hil-sim run SCENARIO.toml... [--out DIR]
+  hil-sim run SCENARIO.toml... [--out DIR] [--firmware ELF]
                          run scenarios against the real obu daemon; writes
                          DIR/<scenario>/report.json, states.jsonl and plots (default DIR:
-                         hil-sim-out); fails when an expectation does not hold
+                         hil-sim-out); fails when an expectation does not hold. With
+                         --firmware: each scenario runs against the daemon and then against
+                         the firmware image in QEMU (netduinoplus2; $QEMU or
+                         qemu-system-arm), into DIR/<scenario>/daemon and .../firmware,
+                         and the two HmiState timelines must match (timeline.json)
   hil-sim roadside SCENARIO.toml [--to HOST:PORT]... [--wrap raw|1609.2] [--rate HZ]
                  [--seconds S] [--rsu-files DIR]
                          the roadside unit: the scenario's lane map and work zones (GeoJSON,
@@ -245,6 +249,7 @@ fn demo(args: &[&str]) -> Result<(), String> {
             out,
             http_port: port,
             progress: true,
+            firmware: None,
         },
     )?;
     print_report(&report);
@@ -333,13 +338,96 @@ fn record(scenario: &str, nmea_out: &str, candump_out: &str) -> Result<(), Strin
     Ok(())
 }
 
+/// Runs one scenario with `opts` and prints its report; true when every expectation held.
+fn run_one(
+    scenario: &hil_sim::scenario::Scenario,
+    opts: &hil_sim::runner::RunOptions,
+    v2x: &mut Vec<f64>,
+) -> bool {
+    match hil_sim::runner::run(scenario, opts) {
+        Ok(r) => {
+            print_report(&r);
+            v2x.extend(r.v2x_to_screen_ms.iter().copied());
+            r.passed
+        }
+        Err(e) => {
+            println!("  ERROR {e}");
+            false
+        }
+    }
+}
+
+/// Runs one scenario against the daemon, then against the firmware in QEMU, and compares
+/// the two `HmiState` timelines fix by fix (`timeline.json` beside the two reports).
+fn run_against_firmware(
+    scenario: &hil_sim::scenario::Scenario,
+    opts: &hil_sim::runner::RunOptions,
+    target: &hil_sim::firmware::FirmwareTarget,
+    v2x: &mut Vec<f64>,
+) -> bool {
+    use hil_sim::timeline;
+    let root = opts.out.clone();
+    let daemon_opts = hil_sim::runner::RunOptions {
+        out: root.join("daemon"),
+        ..opts.clone()
+    };
+    let firmware_opts = hil_sim::runner::RunOptions {
+        out: root.join("firmware"),
+        firmware: Some(target.clone()),
+        ..opts.clone()
+    };
+    println!("  -- daemon");
+    let daemon_ok = run_one(scenario, &daemon_opts, v2x);
+    println!("  -- firmware in QEMU");
+    let firmware_ok = run_one(scenario, &firmware_opts, v2x);
+    let log = firmware_opts.out.join("obu-state").join("firmware.log");
+    if let Some(line) = std::fs::read_to_string(&log)
+        .unwrap_or_default()
+        .lines()
+        .rfind(|l| l.contains(" stack "))
+    {
+        println!("  firmware's last report: {}", line.trim());
+    }
+    let read = |o: &hil_sim::runner::RunOptions| {
+        std::fs::read_to_string(o.out.join("states.jsonl")).unwrap_or_default()
+    };
+    let m = timeline::compare(
+        &timeline::by_fix(&read(&daemon_opts)),
+        &timeline::by_fix(&read(&firmware_opts)),
+    );
+    println!(
+        "  {} timeline: {} of {} fixes show the same state (distance within {} m; largest difference {:.3} m)",
+        if m.matches() { "PASS" } else { "FAIL" },
+        m.fixes_matching,
+        m.fixes_compared,
+        timeline::TOLERANCE,
+        m.max_distance_diff_m
+    );
+    for (k, path, d, f) in m.mismatches.iter().take(5) {
+        println!("       fix {k}: {path}: daemon {d}, firmware {f}");
+    }
+    let json = serde_json::to_string_pretty(&m).unwrap_or_default();
+    if let Err(e) = std::fs::write(root.join("timeline.json"), json) {
+        println!("  ERROR timeline.json: {e}");
+        return false;
+    }
+    daemon_ok && firmware_ok && m.matches()
+}
+
 fn run_scenarios(args: &[&str]) -> Result<(), String> {
     let mut files = Vec::new();
     let mut out = PathBuf::from("hil-sim-out");
+    let mut firmware = None;
     let mut it = args.iter();
     while let Some(a) = it.next() {
         match *a {
             "--out" => out = PathBuf::from(it.next().ok_or("--out needs a folder")?),
+            "--firmware" => {
+                let elf = it
+                    .next()
+                    .ok_or("--firmware needs the firmware image (ELF)")?;
+                firmware = Some(hil_sim::firmware::FirmwareTarget::new(Path::new(elf))?);
+            }
             f => files.push(PathBuf::from(f)),
         }
     }
@@ -356,19 +444,14 @@ fn run_scenarios(args: &[&str]) -> Result<(), String> {
             out: hil_sim::runner::out_dir(&out, f),
             http_port: 0,
             progress: std::io::IsTerminal::is_terminal(&std::io::stderr()),
+            firmware: None,
         };
-        match hil_sim::runner::run(&scenario, &opts) {
-            Ok(r) => {
-                print_report(&r);
-                v2x.extend(r.v2x_to_screen_ms.iter().copied());
-                if !r.passed {
-                    failed.push(scenario.name.clone());
-                }
-            }
-            Err(e) => {
-                println!("  ERROR {e}");
-                failed.push(scenario.name.clone());
-            }
+        let passed = match &firmware {
+            None => run_one(&scenario, &opts, &mut v2x),
+            Some(target) => run_against_firmware(&scenario, &opts, target, &mut v2x),
+        };
+        if !passed {
+            failed.push(scenario.name.clone());
         }
     }
     v2x.sort_by(f64::total_cmp);

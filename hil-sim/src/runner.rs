@@ -33,6 +33,9 @@ pub struct RunOptions {
     pub http_port: u16,
     /// Print a progress bar on stderr.
     pub progress: bool,
+    /// Run against the firmware in QEMU (through the daemon in bridge mode) instead of
+    /// the daemon's own core.
+    pub firmware: Option<crate::firmware::FirmwareTarget>,
 }
 
 /// The report of one run (`report.json`).
@@ -40,6 +43,8 @@ pub struct RunOptions {
 pub struct RunReport {
     /// Scenario name.
     pub name: String,
+    /// The device under test: `daemon` or `firmware`.
+    pub target: &'static str,
     /// All expectations hold.
     pub passed: bool,
     /// The verdicts.
@@ -143,7 +148,15 @@ pub fn run(s: &Scenario, opts: &RunOptions) -> Result<RunReport, String> {
             log
         ));
     }
-    let daemon = crate::hmi_bench::start_daemon(&opts.obu, &state_dir, opts.http_port, &extra)?;
+    let daemon = match &opts.firmware {
+        None => crate::hmi_bench::start_daemon(&opts.obu, &state_dir, opts.http_port, &extra)?,
+        Some(target) => {
+            if let Some(why) = crate::firmware::unsupported(s) {
+                return Err(format!("not runnable on the firmware: {why}"));
+            }
+            crate::firmware::start(target, &opts.obu, &state_dir, opts.http_port)?
+        }
+    };
     if opts.http_port != 0 {
         println!("hil-sim: the tablet app is live at {}", daemon.http);
     }
@@ -226,12 +239,15 @@ fn send_generated(
     progress: bool,
     sent: &mut Vec<(usize, Instant)>,
 ) {
+    // The receiver stamps its epochs on the GNSS clock (whole 100 ms steps from the start),
+    // not at the moment the bench sends them.
+    let utc0 = unix_ms_now() / 1000 * 1000;
     for (k, sample) in samples.iter().enumerate() {
         let due = t0 + Duration::from_secs_f64(sample.t_s);
         std::thread::sleep(due.saturating_duration_since(Instant::now()));
         if let Some(position) = sample.reported.and_then(|p| road.to_wgs84(p)) {
             let e = Epoch {
-                utc: Utc::now(),
+                utc: Utc::from_unix_ms(utc0 + (sample.t_s * 1000.0).round() as u64),
                 position,
                 speed_mps: sample.speed_mps,
                 course_deg: sample.bearing_deg,
@@ -378,6 +394,11 @@ fn report(
     )?);
     let report = RunReport {
         name: s.name.clone(),
+        target: if opts.firmware.is_some() {
+            "firmware"
+        } else {
+            "daemon"
+        },
         passed: outcomes.iter().all(|o| o.passed),
         outcomes,
         first_warning_m,

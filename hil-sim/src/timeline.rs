@@ -1,0 +1,268 @@
+//! Compares two runs of one scenario state by state: the firmware in QEMU against the
+//! Linux daemon, fed the same scenario.
+//!
+//! The two runs are joined on the fix: for every fix count `k` that both reached, the last
+//! state each showed after its `k`-th fix. Those are compared field by field, except the
+//! clock (`time_ms`, each device's own) and the counters (the two inputs count datagrams
+//! differently); numbers agree when within [`TOLERANCE`] (the firmware computes in the
+//! microcontroller's floating point and `libm`, the daemon in the host's).
+//!
+//! The roadside broadcasts on its own clock, so a new MAP or TIM may reach one device just
+//! before its `k`-th fix and the other just after: the fix then met different inputs. Such
+//! fixes (the roadside version, the count of maps and zones stored, replaced or cancelled,
+//! in the first state after fix `k` or in the last one before it, differs between the runs)
+//! are counted apart, not compared; at most
+//! [`MAX_SKIPPED_PER_CHANGE`] per roadside change are allowed.
+
+use serde::Serialize;
+use serde_json::Value;
+use std::collections::BTreeMap;
+
+/// Largest difference between two numbers that still agree (metres, m/s, percent).
+pub const TOLERANCE: f64 = 0.05;
+
+/// Fixes allowed to meet different roadside inputs per change of what the roadside sends.
+pub const MAX_SKIPPED_PER_CHANGE: usize = 2;
+
+/// Fields left out of the comparison.
+const IGNORED: &[&str] = &["time_ms", "counters"];
+
+/// What the comparison found.
+#[derive(Debug, Clone, Serialize)]
+pub struct TimelineMatch {
+    /// Fix counts both runs showed a state for.
+    pub fixes_compared: usize,
+    /// Of those, the ones whose states agree.
+    pub fixes_matching: usize,
+    /// Fixes both runs reached but met different roadside inputs (not compared).
+    pub fixes_skipped: usize,
+    /// Changes of the roadside version over the daemon's run (the first MAP/TIM included).
+    pub roadside_changes: usize,
+    /// The first disagreements: fix count, field path, daemon value, firmware value.
+    pub mismatches: Vec<(u64, String, Value, Value)>,
+    /// Largest difference of `distance_m` over the compared fixes, metres.
+    pub max_distance_diff_m: f64,
+}
+
+impl TimelineMatch {
+    /// True when every compared fix agrees, there was something to compare and no more
+    /// fixes were left out than the roadside's changes explain.
+    pub fn matches(&self) -> bool {
+        self.fixes_compared > 0
+            && self.fixes_matching == self.fixes_compared
+            && self.fixes_skipped <= MAX_SKIPPED_PER_CHANGE * self.roadside_changes.max(1)
+    }
+}
+
+/// What a run showed for one fix count.
+#[derive(Debug, Clone)]
+pub struct FixStates {
+    /// The roadside version the fix met (in the first state after it).
+    pub met: u64,
+    /// The last state before the next fix.
+    pub last: Value,
+}
+
+/// The states of each fix count, from a run's `states.jsonl` lines.
+pub fn by_fix(states_jsonl: &str) -> BTreeMap<u64, FixStates> {
+    let mut out: BTreeMap<u64, FixStates> = BTreeMap::new();
+    for line in states_jsonl.lines() {
+        let Ok(v) = serde_json::from_str::<Value>(line) else {
+            continue;
+        };
+        let state = &v["state"];
+        if let Some(k) = state["counters"]["fixes"].as_u64().filter(|&k| k > 0) {
+            let met = roadside_version(state);
+            out.entry(k)
+                .and_modify(|f| f.last = state.clone())
+                .or_insert(FixStates {
+                    met,
+                    last: state.clone(),
+                });
+        }
+    }
+    out
+}
+
+/// Compares the daemon's states with the firmware's, fix by fix.
+pub fn compare(
+    daemon: &BTreeMap<u64, FixStates>,
+    firmware: &BTreeMap<u64, FixStates>,
+) -> TimelineMatch {
+    let mut m = TimelineMatch {
+        fixes_compared: 0,
+        fixes_matching: 0,
+        fixes_skipped: 0,
+        roadside_changes: 0,
+        mismatches: Vec::new(),
+        max_distance_diff_m: 0.0,
+    };
+    let mut last_version = 0;
+    for (k, fd) in daemon {
+        let d = &fd.last;
+        if roadside_version(d) != last_version {
+            m.roadside_changes += 1;
+            last_version = roadside_version(d);
+        }
+        let Some(ff) = firmware.get(k) else {
+            continue;
+        };
+        let f = &ff.last;
+        let before = |run: &BTreeMap<u64, FixStates>| {
+            run.get(&(k - 1)).map_or(0, |s| roadside_version(&s.last))
+        };
+        if fd.met != ff.met
+            || roadside_version(d) != roadside_version(f)
+            || before(daemon) != before(firmware)
+        {
+            m.fixes_skipped += 1;
+            continue;
+        }
+        m.fixes_compared += 1;
+        let mut diffs = Vec::new();
+        diff("", d, f, &mut diffs);
+        if diffs.is_empty() {
+            m.fixes_matching += 1;
+        }
+        for (path, a, b) in diffs {
+            if m.mismatches.len() < 20 {
+                m.mismatches.push((*k, path, a, b));
+            }
+        }
+        if let (Some(a), Some(b)) = (d["distance_m"].as_f64(), f["distance_m"].as_f64()) {
+            m.max_distance_diff_m = m.max_distance_diff_m.max((a - b).abs());
+        }
+    }
+    m
+}
+
+/// What the roadside had changed in the core up to a state: maps and zones stored, replaced
+/// or cancelled.
+fn roadside_version(state: &Value) -> u64 {
+    let c = &state["counters"];
+    ["maps_updated", "zones_updated", "zones_cancelled"]
+        .iter()
+        .map(|k| c[k].as_u64().unwrap_or(0))
+        .sum()
+}
+
+/// Appends the paths where `a` and `b` disagree.
+fn diff(path: &str, a: &Value, b: &Value, out: &mut Vec<(String, Value, Value)>) {
+    match (a, b) {
+        (Value::Object(x), Value::Object(y)) => {
+            let keys: std::collections::BTreeSet<&String> = x.keys().chain(y.keys()).collect();
+            for key in keys.into_iter().filter(|k| !IGNORED.contains(&k.as_str())) {
+                let (va, vb) = (
+                    x.get(key).unwrap_or(&Value::Null),
+                    y.get(key).unwrap_or(&Value::Null),
+                );
+                diff(&format!("{path}/{key}"), va, vb, out);
+            }
+        }
+        (Value::Array(x), Value::Array(y)) if x.len() == y.len() => {
+            for (i, (va, vb)) in x.iter().zip(y).enumerate() {
+                diff(&format!("{path}/{i}"), va, vb, out);
+            }
+        }
+        (Value::Number(x), Value::Number(y)) => {
+            let (x, y) = (
+                x.as_f64().unwrap_or(f64::NAN),
+                y.as_f64().unwrap_or(f64::NAN),
+            );
+            if (x - y).abs() > TOLERANCE || x.is_nan() != y.is_nan() {
+                out.push((path.to_string(), a.clone(), b.clone()));
+            }
+        }
+        _ if a == b => {}
+        _ => out.push((path.to_string(), a.clone(), b.clone())),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use serde_json::json;
+
+    fn line(fixes: u64, zone: &str, d: f64, time: u64) -> String {
+        json!({"t_s": 0.0, "sample": 0, "state": {"time_ms": time, "zone_state": zone,
+            "distance_m": d, "closed_lanes": [2], "counters": {"fixes": fixes, "frames": time}}})
+        .to_string()
+    }
+
+    #[test]
+    fn clocks_and_counters_are_ignored_and_numbers_have_a_tolerance() {
+        let a = by_fix(&[line(1, "Approach", 120.0, 5), line(2, "Warning", 99.0, 6)].join("\n"));
+        let b = by_fix(
+            &[
+                line(1, "Approach", 120.04, 900),
+                line(2, "Warning", 99.01, 901),
+            ]
+            .join("\n"),
+        );
+        let m = compare(&a, &b);
+        assert_eq!((m.fixes_compared, m.fixes_matching), (2, 2));
+        assert!(m.matches());
+        assert!((m.max_distance_diff_m - 0.04).abs() < 1e-9);
+    }
+
+    #[test]
+    fn a_different_zone_state_or_distance_is_a_mismatch() {
+        let a = by_fix(&[line(1, "Approach", 120.0, 5), line(2, "Warning", 99.0, 6)].join("\n"));
+        let b = by_fix(&[line(1, "Approach", 121.0, 5), line(2, "Approach", 99.0, 6)].join("\n"));
+        let m = compare(&a, &b);
+        assert_eq!((m.fixes_compared, m.fixes_matching), (2, 0));
+        assert_eq!(m.mismatches[0].1, "/distance_m");
+        assert_eq!(m.mismatches[1].1, "/zone_state");
+        assert!(!m.matches());
+    }
+
+    fn with_version(fixes: u64, zone: &str, maps: u64) -> String {
+        json!({"state": {"zone_state": zone, "counters": {"fixes": fixes, "maps_updated": maps}}})
+            .to_string()
+    }
+
+    #[test]
+    fn a_fix_that_met_different_roadside_inputs_is_left_out_within_a_bound() {
+        let a = by_fix(
+            &[
+                with_version(1, "None", 0),
+                with_version(2, "Approach", 1),
+                with_version(3, "Approach", 1),
+            ]
+            .join("\n"),
+        );
+        let b = by_fix(
+            &[
+                with_version(1, "None", 1),
+                with_version(2, "Approach", 1),
+                with_version(3, "Approach", 1),
+            ]
+            .join("\n"),
+        );
+        let m = compare(&a, &b);
+        // Fix 1 met the MAP in one run only, fix 2 followed different fix-1 states.
+        assert_eq!(
+            (m.fixes_skipped, m.fixes_compared, m.fixes_matching),
+            (2, 1, 1)
+        );
+        assert_eq!(m.roadside_changes, 1);
+        assert!(m.matches());
+        let c = by_fix(
+            &[
+                with_version(1, "None", 5),
+                with_version(2, "Approach", 6),
+                with_version(3, "Approach", 7),
+            ]
+            .join("\n"),
+        );
+        assert!(!compare(&a, &c).matches(), "nothing comparable");
+    }
+
+    #[test]
+    fn the_last_state_of_a_fix_count_stands_for_it() {
+        let a = by_fix(&[line(1, "Approach", 120.0, 5), line(1, "Warning", 99.0, 6)].join("\n"));
+        assert_eq!(a.len(), 1);
+        assert_eq!(a[&1].last["zone_state"], "Warning");
+        assert!(!compare(&a, &BTreeMap::new()).matches());
+    }
+}
