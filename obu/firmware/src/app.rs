@@ -138,7 +138,9 @@ impl Firmware {
         }
     }
 
-    /// One byte of the V2X port; a frame that changes what is stored yields the new state.
+    /// One byte of the V2X port; a frame that changes what is stored (maps or zones stored,
+    /// replaced or cancelled) yields the new state, as the daemon publishes it; a repeat of
+    /// what is stored (the roadside's 10 Hz broadcast) yields nothing.
     pub fn on_v2x_byte(&mut self, msgs: &mut Messages, now: Instant, byte: u8) -> Option<HmiState> {
         let outcome = match self.v2x.push(byte)? {
             Ok(payload) => Self::message(&mut self.obu, msgs, now, payload),
@@ -146,7 +148,7 @@ impl Firmware {
         };
         let c = &mut self.v2x_counters;
         match outcome {
-            Outcome::Accepted => c.accepted += 1,
+            Outcome::Accepted { .. } => c.accepted += 1,
             Outcome::BadFrame(e) => {
                 defmt::warn!("v2x: frame dropped: {}", defmt::Display2Format(&e));
                 c.bad_frames += 1;
@@ -155,7 +157,7 @@ impl Firmware {
             Outcome::Rejected => c.rejected += 1,
             Outcome::Other => c.other += 1,
         }
-        (outcome == Outcome::Accepted).then(|| self.obu.state(now))
+        (outcome == Outcome::Accepted { changed: true }).then(|| self.obu.state(now))
     }
 
     fn message(obu: &mut Obu, msgs: &mut Messages, now: Instant, payload: &[u8]) -> Outcome {
@@ -184,7 +186,9 @@ impl Firmware {
             Err(_) => return Outcome::Undecodable,
         };
         match result {
-            Ok(_) => Outcome::Accepted,
+            Ok(r) => Outcome::Accepted {
+                changed: r.stored > 0 || r.cancelled > 0,
+            },
             Err(_) => Outcome::Rejected,
         }
     }
@@ -197,7 +201,7 @@ impl Firmware {
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 enum Outcome {
-    Accepted,
+    Accepted { changed: bool },
     BadFrame(FrameError),
     Undecodable,
     Rejected,

@@ -1,0 +1,168 @@
+//! Helpers shared by the on-target tests `drive` and `malformed`: NMEA sentences formatted on
+//! target, V2X payloads framed with `obu::link`, byte feeding, a small PRNG.
+#![allow(dead_code)] // each test uses its own subset
+
+use core::fmt::Write as _;
+use obu::{HmiState, Instant};
+use obu_firmware::app::{Firmware, Messages};
+
+/// One NMEA sentence with its line end.
+pub type Line = heapless::String<128>;
+
+/// `$<body>*hh\r\n` with the checksum (xor of the body's bytes).
+pub fn sentence(body: &str) -> Line {
+    let sum = body.bytes().fold(0u8, |acc, b| acc ^ b);
+    let mut line = Line::new();
+    write!(line, "${body}*{sum:02X}\r\n").expect("sentence fits");
+    line
+}
+
+/// What a GNSS receiver reports for one epoch.
+#[derive(Clone, Copy)]
+pub struct Epoch {
+    /// UTC time of day, milliseconds.
+    pub utc_ms: u32,
+    /// (day, month, two-digit year).
+    pub date: (u8, u8, u8),
+    /// Latitude, degrees (north positive).
+    pub lat: f64,
+    /// Longitude, degrees (east positive).
+    pub lon: f64,
+    /// Speed over ground, m/s.
+    pub speed_mps: f64,
+    /// Course over ground, degrees.
+    pub course_deg: f64,
+    /// 1-sigma error of latitude and of longitude, metres (GST).
+    pub sd_m: f64,
+}
+
+/// `ddmm.mmmmmmm,N` / `dddmm.mmmmmmm,W` (minutes to 1e-7: 0.2 mm).
+fn angle(out: &mut Line, v: f64, deg_digits: usize, pos: char, neg: char) {
+    let a = if v < 0.0 { -v } else { v };
+    let deg = a as u32;
+    let min = (a - deg as f64) * 60.0;
+    let hemi = if v < 0.0 { neg } else { pos };
+    write!(out, "{deg:0deg_digits$}{min:010.7},{hemi}").expect("fits");
+}
+
+/// `hhmmss.ss`.
+fn time(out: &mut Line, ms: u32) {
+    let (h, m, s, cs) = (
+        ms / 3_600_000,
+        ms / 60_000 % 60,
+        ms / 1000 % 60,
+        ms / 10 % 100,
+    );
+    write!(out, "{h:02}{m:02}{s:02}.{cs:02}").expect("fits");
+}
+
+impl Epoch {
+    /// The epoch's GGA (GPS fix, 12 satellites, HDOP 0.8).
+    pub fn gga(&self) -> Line {
+        let mut body = Line::new();
+        body.push_str("GPGGA,").expect("fits");
+        time(&mut body, self.utc_ms);
+        body.push(',').expect("fits");
+        angle(&mut body, self.lat, 2, 'N', 'S');
+        body.push(',').expect("fits");
+        angle(&mut body, self.lon, 3, 'E', 'W');
+        body.push_str(",1,12,0.8,271.0,M,-34.0,M,,").expect("fits");
+        sentence(&body)
+    }
+
+    /// The epoch's GST (error ellipse; standard deviations of latitude and longitude).
+    pub fn gst(&self) -> Line {
+        let mut body = Line::new();
+        body.push_str("GPGST,").expect("fits");
+        time(&mut body, self.utc_ms);
+        let sd = self.sd_m;
+        write!(
+            body,
+            ",{sd:.2},{sd:.2},{sd:.2},0.0,{sd:.2},{sd:.2},{:.2}",
+            2.0 * sd
+        )
+        .expect("fits");
+        sentence(&body)
+    }
+
+    /// The epoch's RMC (valid, speed in knots, course, date).
+    pub fn rmc(&self) -> Line {
+        let mut body = Line::new();
+        body.push_str("GPRMC,").expect("fits");
+        time(&mut body, self.utc_ms);
+        body.push_str(",A,").expect("fits");
+        angle(&mut body, self.lat, 2, 'N', 'S');
+        body.push(',').expect("fits");
+        angle(&mut body, self.lon, 3, 'E', 'W');
+        let knots = self.speed_mps * 3600.0 / 1852.0;
+        let (d, m, y) = self.date;
+        write!(
+            body,
+            ",{knots:.4},{:.2},{d:02}{m:02}{y:02},,,A",
+            self.course_deg
+        )
+        .expect("fits");
+        sentence(&body)
+    }
+}
+
+/// Feeds `bytes` to the NMEA port at `now`; returns the last state and how many came.
+pub fn feed_nmea(fw: &mut Firmware, now: Instant, bytes: &[u8]) -> (Option<HmiState>, u32) {
+    let mut last = None;
+    let mut n = 0;
+    for &b in bytes {
+        if let Some(s) = fw.on_nmea_byte(now, b) {
+            last = Some(s);
+            n += 1;
+        }
+    }
+    (last, n)
+}
+
+/// Feeds `bytes` to the V2X port at `now`; returns the last state and how many came.
+pub fn feed_v2x(
+    fw: &mut Firmware,
+    msgs: &mut Messages,
+    now: Instant,
+    bytes: &[u8],
+) -> (Option<HmiState>, u32) {
+    let mut last = None;
+    let mut n = 0;
+    for &b in bytes {
+        if let Some(s) = fw.on_v2x_byte(msgs, now, b) {
+            last = Some(s);
+            n += 1;
+        }
+    }
+    (last, n)
+}
+
+/// `payload` as an `obu::link` wire frame in `wire` (final zero included).
+pub fn frame<'a>(payload: &[u8], wire: &'a mut [u8]) -> &'a [u8] {
+    let n = obu::link::encode(payload, wire).expect("wire buffer large enough");
+    &wire[..n]
+}
+
+/// The named vector of `table`.
+pub fn vector(table: &[(&str, &'static [u8])], name: &str) -> &'static [u8] {
+    table
+        .iter()
+        .find(|(n, _)| *n == name)
+        .map(|(_, b)| *b)
+        .expect("vector present")
+}
+
+/// xorshift32: a fixed, reproducible byte stream.
+pub struct Rng(pub u32);
+
+impl Rng {
+    /// The next byte.
+    pub fn byte(&mut self) -> u8 {
+        let mut x = self.0;
+        x ^= x << 13;
+        x ^= x >> 17;
+        x ^= x << 5;
+        self.0 = x;
+        (x >> 24) as u8
+    }
+}
