@@ -286,6 +286,10 @@ fn serial_states_are_read_from_the_device_and_it_is_reopened() {
     };
     send(&states[..2]);
     assert_eq!(next_states(&mut events, 0, 2), states[..2]);
+    // A writer that opened before the daemon closed its end after the first writer would
+    // see its bytes discarded with that end (FIFO semantics, not a tty's): wait for the
+    // close, then the next open blocks until the daemon opens again.
+    status_when(&d.http, |s| s["counters"]["bridge"]["disconnected"] == 1);
     send(&states[2..]);
     assert_eq!(next_states(&mut events, 2, 1), states[2..]);
     // After the second writer the daemon waits in the open for a third one.
