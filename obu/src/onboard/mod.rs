@@ -15,7 +15,7 @@ use crate::geo::LatLon;
 use crate::ingest::IngestCounters;
 use crate::lane::{LaneModel, MapId, MapStore, MapUpdate};
 use crate::matcher::{LaneMatch, Matcher};
-use crate::time::{Instant, UtcTime};
+use crate::time::{Duration, Instant, UtcTime};
 use crate::zone::{self, Validity, WorkZone, ZoneKey, ZoneStore, ZoneUpdate};
 
 /// What [`Obu::store_zone`] did.
@@ -40,6 +40,8 @@ pub struct Obu {
     zones: ZoneStore,
     matcher: Matcher,
     last_fix: Option<(Instant, Fix)>,
+    /// The matcher's clock at the last fix (see [`Obu::fix_time`]).
+    fix_clock: Instant,
     last_match: Option<LaneMatch>,
     utc: Option<(Instant, UtcTime)>,
     stale_reported: bool,
@@ -69,6 +71,7 @@ impl Obu {
             zones: ZoneStore::new(),
             matcher: Matcher::new(),
             last_fix: None,
+            fix_clock: Instant::ZERO,
             last_match: None,
             utc: None,
             stale_reported: false,
@@ -105,21 +108,36 @@ impl Obu {
         }
     }
 
+    /// The matcher's clock for `fix`: the last one advanced by the receiver's own step
+    /// between the two fixes' UTC times when both have one and it moved forward, else by
+    /// the arrival times' step. The lane decision's hold time then follows from the fixes
+    /// alone, not from how late each one arrived (serial link, load), so a replay decides
+    /// the same on every device; a receiver without usable time falls back to arrivals.
+    fn fix_time(&self, now: Instant, fix: &Fix) -> Instant {
+        let Some((prev_now, prev)) = &self.last_fix else {
+            return now;
+        };
+        let step_ms = match (prev.utc, fix.utc) {
+            (Some(a), Some(b)) if a.year == b.year && b.ms_of_year > a.ms_of_year => {
+                b.ms_of_year - a.ms_of_year
+            }
+            _ => now.saturating_since(*prev_now).millis(),
+        };
+        self.fix_clock + Duration::from_millis(step_ms)
+    }
+
     /// Processes one fix and returns what the display shows.
     pub fn on_fix(&mut self, now: Instant, fix: Fix) -> HmiState {
         self.counters.fixes = self.counters.fixes.saturating_add(1);
+        self.fix_clock = self.fix_time(now, &fix);
         if let Some(utc) = fix.utc {
             self.utc = Some((now, utc));
         }
         self.last_fix = Some((now, fix));
         self.stale_reported = false;
-        // The matcher's hold time runs on the receiver's clock when the fix carries one:
-        // the lane decision then follows from the fixes alone, not from how late each one
-        // arrived (serial link, load), so a replay decides the same on every device.
-        let fix_time = fix.utc.map_or(now, |u| Instant::from_millis(u.ms_of_year));
         let matched = self
             .matcher
-            .update(fix_time, &fix, &self.maps, &self.config.matcher);
+            .update(self.fix_clock, &fix, &self.maps, &self.config.matcher);
         if matched.is_none() {
             self.counters.off_map = self.counters.off_map.saturating_add(1);
         }

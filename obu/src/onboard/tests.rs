@@ -271,3 +271,54 @@ fn circle_region_warns_along_the_heading() {
         "{s:?}"
     );
 }
+
+#[test]
+fn lane_changes_follow_the_fixes_own_clock_not_their_arrival() {
+    // The car moves from lane 3 (x = 3.5) to lane 2 (x = 0) at the sixth fix; the receiver
+    // stamps its fixes 100 ms apart. The matcher holds a challenger for 300 ms and 3 fixes.
+    let run = |arrivals: &[u64]| -> std::vec::Vec<Option<u8>> {
+        let mut obu = obu_with(false);
+        let mut lanes = std::vec::Vec::new();
+        for (k, &t) in arrivals.iter().enumerate() {
+            let x = if k < 5 { 3.5 } else { 0.0 };
+            let fix = Fix {
+                utc: Some(UtcTime {
+                    year: 2024,
+                    ms_of_year: 1_000_000 + 100 * k as u64,
+                }),
+                ..fix_at(x, 20.0 * k as f32, 10.0)
+            };
+            lanes.push(
+                obu.on_fix(Instant::from_millis(t), fix)
+                    .lane
+                    .map(|l| l.lane),
+            );
+        }
+        lanes
+    };
+    let steady: std::vec::Vec<u64> = (0..12).map(|k| 100 * k).collect();
+    let jitter = [0, 90, 10, 80, 0, 95, 5, 70, 15, 60, 0, 40];
+    let late: std::vec::Vec<u64> = steady.iter().zip(jitter).map(|(t, j)| t + j).collect();
+    let on_time = run(&steady);
+    assert_eq!(on_time.first(), Some(&Some(3)));
+    assert_eq!(
+        on_time.last(),
+        Some(&Some(2)),
+        "the change was made: {on_time:?}"
+    );
+    assert_eq!(
+        run(&late),
+        on_time,
+        "arrival jitter does not move the decision"
+    );
+    // Without usable receiver times the arrival times are the clock.
+    let mut obu = obu_with(false);
+    let s = obu.on_fix(
+        Instant::from_millis(0),
+        Fix {
+            utc: None,
+            ..fix_at(3.5, 0.0, 10.0)
+        },
+    );
+    assert_eq!(s.lane.map(|l| l.lane), Some(3));
+}
