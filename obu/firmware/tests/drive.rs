@@ -8,7 +8,7 @@
 //! Checked: the distance shown at every fix against the geometry's, and its decrease by the
 //! distance driven; the first warning within one fix of the trigger distance; lane 1 matched
 //! while on it and its closure shown there; inside the zone; the alert cleared past the end.
-//! Known: the core ends the zone on lane 1 at the TIM path's last point on the lane, 33 m
+//! Known: the core ends the zone on lane 1 at the TIM path's last point on the lane, ~33 m
 //! before the path's end (it runs on past the stop line), and the alert stops there; logged
 //! as a warning, not asserted (the checks inside stop at the path's second point).
 //!
