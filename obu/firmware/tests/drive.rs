@@ -8,9 +8,8 @@
 //! Checked: the distance shown at every fix against the geometry's, and its decrease by the
 //! distance driven; the first warning within one fix of the trigger distance; lane 1 matched
 //! while on it and its closure shown there; inside the zone; the alert cleared past the end.
-//! Known: the core ends the zone on lane 1 at the TIM path's last point on the lane, ~33 m
-//! before the path's end (it runs on past the stop line), and the alert stops there; logged
-//! as a warning, not asserted (the checks inside stop at the path's second point).
+//! The TIM path runs on past lane 1's end (over the stop line): on the lane the zone lasts
+//! to the lane's end, and the alert with it.
 //!
 //! The expected geometry comes from the vectors' JER, in build.rs (`work_zone.rs`): lane 1's
 //! centreline from the MAP's node offsets, and the TIM path's ends projected on it. Nothing
@@ -399,15 +398,18 @@ mod tests {
         }
         assert!(own_closure > 0, "warned on lane 1 before the zone");
 
-        // Inside, at least up to the TIM path's second point along the lane (between its
-        // first two points the car is in the zone whatever the rest of the path does); then
-        // cleared once past the zone's end.
-        let second = wz::ZONE_NODES_S[1] - wz::ZONE_START_S;
+        // Inside up to where the zone leaves lane 1 (its end, or the lane's end when the path
+        // runs on past it); then cleared once past the zone's end.
+        // The core takes points of the path at most 2 m apart: its end on the lane may fall
+        // up to that much before the lane's end.
+        const PATH_STEP: f64 = 2.0;
+        let zone_end_on_lane = wz::ZONE_END_S.min(wz::LANE_LENGTH_M);
+        let inside_len = zone_end_on_lane - PATH_STEP - wz::ZONE_START_S;
         let (mut inside, mut cleared) = (0, 0);
         let mut last_alert = None;
         for x in samples {
             let e = x.expected();
-            if e < -MARGIN && e > -second + MARGIN {
+            if e < -MARGIN && e > -inside_len + MARGIN {
                 assert_eq!(x.state, ZoneState::InZone, "in the zone at {}", x.s);
                 assert_eq!(x.primary.map(|p| p.0), Some(AlertKind::LaneClosedOwn));
                 inside += 1;
@@ -432,15 +434,12 @@ mod tests {
             wz::ZONE_END_S,
             wz::ZONE_NODES_S
         );
-        if wz::ZONE_END_S - last_alert > STEP + MARGIN {
-            // The core ends a zone on a lane at the last TIM path point that lies on the lane
-            // (obu/src/zone/assoc.rs, extent_on_lane); this path runs on past the lane's end
-            // (the stop line), so the alert stops before the zone does.
-            defmt::warn!(
-                "alert cleared {=f64} m before the zone end (zone extent on lane 1 ends at a TIM point)",
-                wz::ZONE_END_S - last_alert
-            );
-        }
+        assert!(
+            last_alert > zone_end_on_lane - PATH_STEP - STEP - MARGIN,
+            "the alert lasts to the zone's end on the lane ({} m), last at {} m",
+            zone_end_on_lane,
+            last_alert
+        );
         let last = samples[samples.len() - 1];
         assert_eq!(last.state, ZoneState::None, "nothing once well past");
         defmt::info!(

@@ -7,10 +7,13 @@ use crate::math::{bearing_deg, wrap_360};
 
 /// Recomputes which lanes of every stored map the zone's path regions lie on.
 ///
-/// A lane is associated when at least one path node lies on it by the cone-to-lane
-/// rule ([`Lane::cone_along`]) and the lane's travel direction there is one the
-/// region applies to (directionality and heading slice). The zone's extent on the lane
-/// runs from the smallest to the largest station of those nodes. Associations beyond
+/// A lane is associated when at least one point of the path (a node, or a point between
+/// two nodes, at most [`SAMPLE_STEP_M`] apart) lies on it by the cone-to-lane rule
+/// ([`Lane::cone_along`]) and the lane's travel direction there is one the region applies
+/// to (directionality and heading slice). The zone's extent on the lane runs from the
+/// smallest to the largest station of those points, so a path that runs on past the end of
+/// a lane (over the stop line into the intersection) covers the lane to its end, not only
+/// to its last node on the lane. Associations beyond
 /// [`MAX_ZONE_LANES`](crate::capacity::MAX_ZONE_LANES) are dropped.
 /// It also caches each path region's first and last node in every map's plane
 /// ([`WorkZone::ends`]).
@@ -97,27 +100,51 @@ fn path_bearing(pts: &[Point], i: usize) -> Option<f32> {
     Some(bearing_deg(b.x - a.x, b.y - a.y))
 }
 
-/// Smallest and largest travel-direction station of the path nodes on `lane`.
+/// Largest spacing of the points taken along a path segment, metres.
+pub const SAMPLE_STEP_M: f32 = 2.0;
+/// Most points taken inside one path segment (a hostile 300 m segment is sampled every
+/// ~5 m instead of every 2 m, bounding the work per message).
+const MAX_SEGMENT_SAMPLES: usize = 64;
+
+/// Smallest and largest travel-direction station of the path's points on `lane`: its
+/// nodes and points along each segment.
 fn extent_on_lane(region: &Region, pts: &[Point], lane: &Lane) -> Option<(f32, f32)> {
     let mut range: Option<(f32, f32)> = None;
     for (i, &p) in pts.iter().enumerate() {
-        let Some((along, seg_bearing)) = lane.cone_along(p) else {
-            continue;
+        let path_b = path_bearing(pts, i);
+        let mut take = |q: Point| {
+            if let Some(s) = station_on_lane(region, q, path_b, lane) {
+                range = Some(range.map_or((s, s), |(lo, hi)| (lo.min(s), hi.max(s))));
+            }
         };
-        let path_b = path_bearing(pts, i).unwrap_or(seg_bearing);
-        let forward = lane.travels_forward(seg_bearing, Some(travel_hint(region, path_b)));
-        let travel = if forward {
-            seg_bearing
-        } else {
-            wrap_360(seg_bearing + 180.0)
-        };
-        if !region.applies_to(travel, path_b) {
-            continue;
+        take(p);
+        if let Some(&next) = pts.get(i + 1) {
+            let (dx, dy) = (next.x - p.x, next.y - p.y);
+            let n = (libm::ceilf(libm::hypotf(dx, dy) / SAMPLE_STEP_M) as usize)
+                .clamp(1, MAX_SEGMENT_SAMPLES);
+            for k in 1..n {
+                let t = k as f32 / n as f32;
+                take(Point::new(p.x + dx * t, p.y + dy * t));
+            }
         }
-        let s = lane.along_of_station(along, forward);
-        range = Some(range.map_or((s, s), |(lo, hi)| (lo.min(s), hi.max(s))));
     }
     range
+}
+
+/// Travel-direction station of `p` on `lane` when it lies on the lane and the region
+/// applies to the lane's travel direction there (`path_b`: the path's bearing at `p`).
+fn station_on_lane(region: &Region, p: Point, path_b: Option<f32>, lane: &Lane) -> Option<f32> {
+    let (along, seg_bearing) = lane.cone_along(p)?;
+    let path_b = path_b.unwrap_or(seg_bearing);
+    let forward = lane.travels_forward(seg_bearing, Some(travel_hint(region, path_b)));
+    let travel = if forward {
+        seg_bearing
+    } else {
+        wrap_360(seg_bearing + 180.0)
+    };
+    region
+        .applies_to(travel, path_b)
+        .then(|| lane.along_of_station(along, forward))
 }
 
 /// The heading a region implies for two-way lanes.
