@@ -2,7 +2,10 @@
 //!
 //! * USART1..3 (SR/DR/BRR/CR1 of the STM32F2/F4 USART, as QEMU's `stm32f2xx_usart` emulates
 //!   them), with their clocks (RCC) and pins (GPIO alternate function 7) for a real board:
-//!   USART1 PA9/PA10, USART2 PA2/PA3, USART3 PB10/PB11.
+//!   USART1 PA9/PA10, USART2 PA2/PA3, USART3 PB10/PB11. The two input ports receive in their
+//!   interrupt (IRQ 37 and 38) into ring buffers: at 115200 baud a byte comes every 87 us,
+//!   far less than a MAP takes to decode, so a polled receiver would overrun; and the main
+//!   loop can sleep (`wfi`) until a byte or the next millisecond tick.
 //! * The millisecond clock: SysTick at 1 kHz counting in an atomic.
 //! * Stack painting: fill the unused stack with a pattern at boot, find the deepest use later.
 //!
@@ -38,6 +41,10 @@ const DR: usize = 0x04;
 const BRR: usize = 0x08;
 const CR1: usize = 0x0C;
 const SR_RXNE: u32 = 1 << 5;
+const SR_ORE: u32 = 1 << 3;
+const CR1_RXNEIE: u32 = 1 << 5;
+/// NVIC interrupt set-enable registers.
+const NVIC_ISER: usize = 0xE000_E100;
 const SR_TXE: u32 = 1 << 7;
 const SR_TC: u32 = 1 << 6;
 const CR1_UE: u32 = 1 << 13;
@@ -87,17 +94,28 @@ impl Port {
         }
     }
 
+    /// Interrupt number (STM32F405 reference manual, vector table).
+    fn irq(self) -> u16 {
+        match self {
+            Port::Usart1 => 37,
+            Port::Usart2 => 38,
+            Port::Usart3 => 39,
+        }
+    }
+
     fn taken(self) -> &'static AtomicBool {
         static TAKEN: [AtomicBool; 3] = [const { AtomicBool::new(false) }; 3];
         &TAKEN[self as usize]
     }
 }
 
-/// A USART in 8N1 at [`BAUD`], polled; `embedded-io` [`Read`](embedded_io::Read) (blocking
-/// until a byte is there), [`ReadReady`](embedded_io::ReadReady) and
-/// [`Write`](embedded_io::Write).
+/// A USART in 8N1 at [`BAUD`]; receiving through its interrupt and ring buffer on the input
+/// ports (USART1, USART2), polled on USART3; sending polled. `embedded-io`
+/// [`Read`](embedded_io::Read) (blocking until a byte is there),
+/// [`ReadReady`](embedded_io::ReadReady) and [`Write`](embedded_io::Write).
 #[derive(Debug)]
 pub struct Usart {
+    port: Port,
     base: usize,
 }
 
@@ -117,8 +135,17 @@ impl Usart {
         }
         let base = port.base();
         reg_write(base + BRR, SYSCLK_HZ.div_ceil(BAUD));
-        reg_write(base + CR1, CR1_UE | CR1_TE | CR1_RE);
-        Some(Usart { base })
+        let rx_irq = if rx_ring(port).is_some() {
+            CR1_RXNEIE
+        } else {
+            0
+        };
+        reg_write(base + CR1, CR1_UE | CR1_TE | CR1_RE | rx_irq);
+        if rx_irq != 0 {
+            let irq = usize::from(port.irq());
+            reg_write(NVIC_ISER + 4 * (irq / 32), 1 << (irq % 32));
+        }
+        Some(Usart { port, base })
     }
 
     fn status(&self) -> u32 {
@@ -127,8 +154,107 @@ impl Usart {
 
     /// The next received byte, if one is waiting.
     pub fn try_read_byte(&mut self) -> Option<u8> {
-        (self.status() & SR_RXNE != 0).then(|| reg_read(self.base + DR) as u8)
+        match rx_ring(self.port) {
+            Some(ring) => ring.pop(),
+            None => (self.status() & SR_RXNE != 0).then(|| reg_read(self.base + DR) as u8),
+        }
     }
+
+    /// Received bytes lost so far: ring buffer full, or the receiver overrun.
+    pub fn rx_lost(&self) -> u32 {
+        rx_ring(self.port).map_or(0, |r| r.lost().load(Ordering::Relaxed))
+    }
+}
+
+/// Bytes received in an interrupt, waiting for the main loop.
+struct RxRing<const N: usize> {
+    bytes: cortex_m::interrupt::Mutex<core::cell::RefCell<heapless::Deque<u8, N>>>,
+    lost: AtomicU32,
+}
+
+impl<const N: usize> RxRing<N> {
+    const fn new() -> Self {
+        Self {
+            bytes: cortex_m::interrupt::Mutex::new(
+                core::cell::RefCell::new(heapless::Deque::new()),
+            ),
+            lost: AtomicU32::new(0),
+        }
+    }
+
+    /// Moves what the USART at `base` received into the ring (in its interrupt).
+    fn fill(&self, base: usize) {
+        cortex_m::interrupt::free(|cs| {
+            let mut q = self.bytes.borrow(cs).borrow_mut();
+            loop {
+                let sr = reg_read(base + SR);
+                if sr & SR_RXNE == 0 {
+                    break;
+                }
+                // Reading SR then DR clears RXNE and an overrun flag.
+                let byte = reg_read(base + DR) as u8;
+                let overrun = u32::from(sr & SR_ORE != 0);
+                let full = u32::from(q.push_back(byte).is_err());
+                self.lost.fetch_add(overrun + full, Ordering::Relaxed);
+            }
+        });
+    }
+
+    fn pop(&self) -> Option<u8> {
+        cortex_m::interrupt::free(|cs| self.bytes.borrow(cs).borrow_mut().pop_front())
+    }
+}
+
+/// The ring buffer behind an input port's interrupt, as a trait object over its size.
+trait Ring: Sync {
+    fn fill(&self, base: usize);
+    fn pop(&self) -> Option<u8>;
+    fn lost(&self) -> &AtomicU32;
+}
+
+impl<const N: usize> Ring for RxRing<N> {
+    fn fill(&self, base: usize) {
+        RxRing::fill(self, base)
+    }
+    fn pop(&self) -> Option<u8> {
+        RxRing::pop(self)
+    }
+    fn lost(&self) -> &AtomicU32 {
+        &self.lost
+    }
+}
+
+/// NMEA: 512 bytes are 44 ms at 115200 baud, many times the longest pause of the main loop
+/// (a MAP decode, a few milliseconds).
+static RX_NMEA: RxRing<512> = RxRing::new();
+/// V2X: 1 KiB is 89 ms at 115200 baud; the loop drains it into the deframer between
+/// messages, so a frame longer than the ring still arrives whole.
+static RX_V2X: RxRing<1024> = RxRing::new();
+
+fn rx_ring(port: Port) -> Option<&'static dyn Ring> {
+    match port {
+        Port::Usart1 => Some(&RX_NMEA),
+        Port::Usart2 => Some(&RX_V2X),
+        Port::Usart3 => None,
+    }
+}
+
+/// The device interrupts: the input USARTs' receive interrupts fill their rings; nothing else
+/// is enabled.
+#[exception]
+unsafe fn DefaultHandler(irqn: i16) {
+    for port in [Port::Usart1, Port::Usart2] {
+        if i32::from(irqn) == i32::from(port.irq()) {
+            if let Some(ring) = rx_ring(port) {
+                ring.fill(port.base());
+            }
+        }
+    }
+}
+
+/// Sleeps until an interrupt (a received byte or the millisecond tick).
+pub fn wait_for_interrupt() {
+    cortex_m::asm::wfi();
 }
 
 impl embedded_io::ErrorType for Usart {

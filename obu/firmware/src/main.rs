@@ -37,12 +37,15 @@ fn main() -> ! {
     let mut last_report = 0u64;
     loop {
         let now = clock.now(board::millis());
+        let mut idle = true;
         while let Some(b) = nmea.try_read_byte() {
+            idle = false;
             if let Some(state) = fw.on_nmea_byte(now, b) {
                 fw.hmi_dropped += u32::from(!send_state(&mut hmi, &state));
             }
         }
         while let Some(b) = v2x.try_read_byte() {
+            idle = false;
             if let Some(state) = fw.on_v2x_byte(msgs, now, b) {
                 fw.hmi_dropped += u32::from(!send_state(&mut hmi, &state));
             }
@@ -54,13 +57,19 @@ fn main() -> ! {
             last_report = now.millis();
             let (used, size) = board::stack_high_water();
             defmt::info!(
-                "t={=u64} ms v2x {} nmea errors {=u32} stack {=usize}/{=usize} B",
+                "t={=u64} ms v2x {} nmea errors {=u32} rx lost {=u32}/{=u32} stack {=usize}/{=usize} B",
                 now.millis(),
                 fw.v2x_counters,
                 fw.nmea_errors,
+                nmea.rx_lost(),
+                v2x.rx_lost(),
                 used,
                 size
             );
+        }
+        if idle {
+            // Nothing received: sleep until a byte or the next millisecond tick.
+            board::wait_for_interrupt();
         }
     }
 }
