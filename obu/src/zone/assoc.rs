@@ -8,7 +8,7 @@ use crate::math::{bearing_deg, wrap_360};
 /// Recomputes which lanes of every stored map the zone's path regions lie on.
 ///
 /// A lane is associated when at least one point of the path (a node, or a point between
-/// two nodes, at most [`SAMPLE_STEP_M`] apart) lies on it by the cone-to-lane rule
+/// two nodes, at most `SAMPLE_STEP_M` = 2 m apart) lies on it by the cone-to-lane rule
 /// ([`Lane::cone_along`]) and the lane's travel direction there is one the region applies
 /// to (directionality and heading slice). The zone's extent on the lane runs from the
 /// smallest to the largest station of those points, so a path that runs on past the end of
@@ -101,7 +101,7 @@ fn path_bearing(pts: &[Point], i: usize) -> Option<f32> {
 }
 
 /// Largest spacing of the points taken along a path segment, metres.
-pub const SAMPLE_STEP_M: f32 = 2.0;
+const SAMPLE_STEP_M: f32 = 2.0;
 /// Most points taken inside one path segment (a hostile 300 m segment is sampled every
 /// ~5 m instead of every 2 m, bounding the work per message).
 const MAX_SEGMENT_SAMPLES: usize = 64;
