@@ -209,6 +209,7 @@ impl<const N: usize> RxRing<N> {
 trait Ring: Sync {
     fn fill(&self, base: usize);
     fn pop(&self) -> Option<u8>;
+    fn is_empty(&self) -> bool;
     fn lost(&self) -> &AtomicU32;
 }
 
@@ -218,6 +219,9 @@ impl<const N: usize> Ring for RxRing<N> {
     }
     fn pop(&self) -> Option<u8> {
         RxRing::pop(self)
+    }
+    fn is_empty(&self) -> bool {
+        cortex_m::interrupt::free(|cs| self.bytes.borrow(cs).borrow().is_empty())
     }
     fn lost(&self) -> &AtomicU32 {
         &self.lost
@@ -263,7 +267,10 @@ impl embedded_io::ErrorType for Usart {
 
 impl embedded_io::ReadReady for Usart {
     fn read_ready(&mut self) -> Result<bool, Infallible> {
-        Ok(self.status() & SR_RXNE != 0)
+        Ok(match rx_ring(self.port) {
+            Some(ring) => !ring.is_empty(),
+            None => self.status() & SR_RXNE != 0,
+        })
     }
 }
 

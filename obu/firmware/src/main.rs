@@ -5,6 +5,7 @@
 
 use cortex_m_rt::entry;
 use defmt_semihosting as _;
+use embedded_io::{Read, ReadReady};
 use obu_firmware::app::{send_state, Firmware, Messages};
 use obu_firmware::board::{self, Port, Usart};
 use obu_firmware::{Clock, CONFIG};
@@ -38,16 +39,22 @@ fn main() -> ! {
     loop {
         let now = clock.now(board::millis());
         let mut idle = true;
-        while let Some(b) = nmea.try_read_byte() {
+        let mut buf = [0u8; 64];
+        // Both inputs through `embedded-io`: what the receive interrupts have buffered.
+        while let Some(bytes) = received(&mut nmea, &mut buf) {
             idle = false;
-            if let Some(state) = fw.on_nmea_byte(now, b) {
-                fw.hmi_dropped += u32::from(!send_state(&mut hmi, &state));
+            for &b in bytes {
+                if let Some(state) = fw.on_nmea_byte(now, b) {
+                    fw.hmi_dropped += u32::from(!send_state(&mut hmi, &state));
+                }
             }
         }
-        while let Some(b) = v2x.try_read_byte() {
+        while let Some(bytes) = received(&mut v2x, &mut buf) {
             idle = false;
-            if let Some(state) = fw.on_v2x_byte(msgs, now, b) {
-                fw.hmi_dropped += u32::from(!send_state(&mut hmi, &state));
+            for &b in bytes {
+                if let Some(state) = fw.on_v2x_byte(msgs, now, b) {
+                    fw.hmi_dropped += u32::from(!send_state(&mut hmi, &state));
+                }
             }
         }
         if let Some(state) = fw.poll(now) {
@@ -72,4 +79,14 @@ fn main() -> ! {
             board::wait_for_interrupt();
         }
     }
+}
+
+/// The bytes `port` has received, read into `buf` without blocking; `None` when there are
+/// none.
+fn received<'a, P: ReadReady + Read>(port: &mut P, buf: &'a mut [u8]) -> Option<&'a [u8]> {
+    if !port.read_ready().unwrap_or(false) {
+        return None;
+    }
+    let n = port.read(buf).unwrap_or(0);
+    (n > 0).then_some(&buf[..n])
 }
