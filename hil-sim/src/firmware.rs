@@ -127,6 +127,7 @@ pub fn start(
         .spawn()
         .map_err(|e| format!("cannot start {}: {e}", target.qemu.display()))?;
     let decoder = log_firmware(&mut qemu, &target.elf, state_dir)?;
+    wait_for_boot(&mut qemu, decoder.is_some(), state_dir)?;
     let nmea_port = connect(ports[0], &mut qemu)?;
     let v2x_port = connect(ports[1], &mut qemu)?;
     let stop = Arc::new(AtomicBool::new(false));
@@ -147,6 +148,34 @@ pub fn start(
     daemon.gnss = gnss;
     daemon.rig = Some(rig);
     Ok(daemon)
+}
+
+/// Waits until the firmware has set up its USARTs (its boot line in `firmware.log`): QEMU
+/// drops what reaches a USART before the firmware enables it, which would lose the first
+/// fixes. Without the log decoder, waits a second.
+fn wait_for_boot(qemu: &mut Child, logged: bool, dir: &Path) -> Result<(), String> {
+    if !logged {
+        std::thread::sleep(Duration::from_secs(1));
+        return Ok(());
+    }
+    let deadline = Instant::now() + Duration::from_secs(10);
+    let log = dir.join("firmware.log");
+    loop {
+        let text = std::fs::read_to_string(&log).unwrap_or_default();
+        if text.contains("obu-firmware:") {
+            return Ok(());
+        }
+        if let Ok(Some(status)) = qemu.try_wait() {
+            return Err(format!("QEMU exited at boot: {status}"));
+        }
+        if Instant::now() >= deadline {
+            return Err(format!(
+                "the firmware did not boot within 10 s ({})",
+                log.display()
+            ));
+        }
+        std::thread::sleep(Duration::from_millis(20));
+    }
 }
 
 /// Sends QEMU's semihosting output (defmt frames) through `defmt-print` into
