@@ -2,7 +2,8 @@
 # Fuzzes the codec with cargo-fuzz (libFuzzer, nightly): builds the seed corpus (seed.sh),
 # builds the targets, runs each for SECONDS, prints the executions per target, and fails
 # when a target crashed (a panic, a violated invariant, a timeout or running out of memory).
-# Without a nightly toolchain it prints why and exits 0 (skipped).
+# Without a nightly toolchain it prints why and exits 0 (skipped), except under CI=true,
+# where a missing nightly fails the run.
 #
 # Usage: codec/fuzz/run.sh SECONDS [TARGET...]   (default targets: message_frame jer envelope)
 # Environment:
@@ -31,7 +32,13 @@ if [[ -n ${FUZZ_FEATURES:-} ]]; then
 fi
 
 if ! nightly=$(cargo +nightly --version 2>&1); then
-    echo "=== fuzzing SKIPPED: no nightly toolchain ('cargo +nightly --version' failed: ${nightly//$'\n'/ })"
+    why="no nightly toolchain ('cargo +nightly --version' failed: ${nightly//$'\n'/ })"
+    # CI machines have nightly: there a missing one is a broken gate, not a skip.
+    if [[ ${CI:-} == true ]]; then
+        echo "=== fuzzing FAILED: $why (CI=true needs it: rustup toolchain install nightly)" >&2
+        exit 1
+    fi
+    echo "=== fuzzing SKIPPED: $why"
     exit 0
 fi
 echo "fuzzing with $nightly, sanitizer $sanitizer${FUZZ_FEATURES:+, features $FUZZ_FEATURES}, ${secs}s per target: ${targets[*]}"
