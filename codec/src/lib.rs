@@ -36,5 +36,8 @@ pub mod frame;
 pub mod jer;
 pub mod uper;
 
+// The generated types' shared shapes (UPER, JER and random impls of one newtype): above
+// both encodings, so neither `uper` nor `jer` imports the other.
+mod macros;
 mod generated;
 pub use generated::*;

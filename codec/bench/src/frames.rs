@@ -12,14 +12,7 @@
 
 use std::path::{Path, PathBuf};
 
-/// The message a frame carries.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Kind {
-    /// MapData (messageId 18).
-    Map,
-    /// TravelerInformation (messageId 31).
-    Tim,
-}
+pub use crate::kind::Kind;
 
 /// One benchmarked frame.
 #[derive(Clone, Debug)]

@@ -1,5 +1,6 @@
 //! Benchmarks of the `j2735` UPER codec against rasn, on the same frames in the same process.
 //!
+//! - [`kind`]: the messages benchmarked (MAP, TIM).
 //! - [`frames`]: the inputs (committed oracle vectors and the largest MAP of the shared corpus).
 //! - [`ours`]: our codec the way an OBU runs it (a value kept across messages, a reused buffer).
 //! - [`theirs`]: rasn with the types rasn-compiler generated ([`rasn_j2735`]).
@@ -8,6 +9,7 @@
 //! Everything here is test tooling; the product never links it.
 
 pub mod frames;
+pub mod kind;
 pub mod ours;
 pub mod report;
 pub mod theirs;

@@ -5,7 +5,7 @@ use j2735::frame::{self, Message};
 use j2735::uper::{self, DecodeError, EncodeError, Placeholder};
 use j2735::{MapData, MessageFrame, TravelerInformation};
 
-use crate::frames::Kind;
+use crate::kind::Kind;
 use crate::with_large_stack;
 
 /// Room for any benchmarked frame's encoding.

@@ -7,7 +7,7 @@
 
 use rasn::types::Any;
 
-use crate::frames::Kind;
+use crate::kind::Kind;
 use crate::rasn_j2735::map_data::MapData;
 use crate::rasn_j2735::message_frame::{DSRCmsgID, MessageFrame, MAP_DATA, TRAVELER_INFORMATION};
 use crate::rasn_j2735::traveler_information::TravelerInformation;

@@ -15,7 +15,6 @@
 
 mod error;
 mod ext;
-mod macros;
 #[cfg(feature = "_random")]
 pub mod random;
 mod reader;

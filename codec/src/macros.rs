@@ -1,4 +1,5 @@
-//! Macros the generated code uses for its most repeated shapes.
+//! Macros the generated code uses for its most repeated shapes. They implement both
+//! encodings (UPER and JER) of a type, so they sit above `uper` and `jer`.
 
 /// Methods and trait impls of a constrained INTEGER newtype `$name($prim)` in `$lb..=$ub`.
 #[doc(hidden)]
