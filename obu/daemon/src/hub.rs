@@ -10,6 +10,7 @@ use crate::settings::Settings;
 use obu::alert::{AlertConfig, HmiState};
 use obu::fix::Fix;
 use obu::time::Instant;
+use obu::v2x::{V2xOutcome, V2xScratch};
 use std::collections::VecDeque;
 use std::sync::{Arc, Mutex, MutexGuard};
 use tokio::sync::broadcast;
@@ -30,8 +31,14 @@ struct CanSpeed {
     at: Instant,
 }
 
+/// The largest RSU text payload taken, octets: what a UDP datagram's hexadecimal text
+/// can hold.
+const RSU_PAYLOAD_MAX: usize = 32 * 1024;
+
 struct Inner {
     core: Box<obu::Obu>,
+    /// The core's kept MAP and TIM decode targets and RSU payload buffer.
+    scratch: Box<V2xScratch<RSU_PAYLOAD_MAX>>,
     seq: u64,
     recent: VecDeque<Arc<Event>>,
     last_fix: Option<Instant>,
@@ -63,6 +70,7 @@ impl Hub {
         Arc::new(Self {
             inner: Mutex::new(Inner {
                 core,
+                scratch: Box::default(),
                 seq: 0,
                 recent: VecDeque::with_capacity(keep),
                 last_fix: None,
@@ -111,22 +119,19 @@ impl Hub {
         self.inner.lock().unwrap_or_else(|p| p.into_inner())
     }
 
-    /// A decoded message into the core; when it changed what is stored (zones or maps
-    /// stored, replaced or cancelled) the new state is published at once.
-    pub fn on_frame(
-        &self,
-        mf: &j2735::MessageFrame,
-    ) -> Result<obu::ingest::Ingest, obu::ingest::IngestError> {
+    /// One received V2X datagram into the core's receive path; when it changed what is
+    /// stored (zones or maps stored, replaced or cancelled) the new state is published at
+    /// once.
+    pub fn on_datagram(&self, datagram: &[u8]) -> V2xOutcome {
         let now = self.now();
         let mut inner = self.lock();
-        let result = inner.core.on_frame(now, mf);
-        if let Ok(r) = &result {
-            if r.stored > 0 || r.cancelled > 0 {
-                let state = inner.core.state(now);
-                self.publish(&mut inner, &state);
-            }
+        let Inner { core, scratch, .. } = &mut *inner;
+        let outcome = core.on_datagram(now, datagram, scratch);
+        if let V2xOutcome::Changed(_) = outcome {
+            let state = inner.core.state(now);
+            self.publish(&mut inner, &state);
         }
-        result
+        outcome
     }
 
     /// A GNSS fix: CAN speed replaces GNSS speed while fresh; publishes the new state.

@@ -17,7 +17,6 @@ mod counters;
 mod gnss;
 mod http;
 mod hub;
-mod ingest;
 mod serve;
 mod settings;
 mod speed;

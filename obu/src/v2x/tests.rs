@@ -120,7 +120,11 @@ fn malformed_inputs_give_their_reason() {
         }
         assert_eq!(counters.total(), 12);
         assert_eq!(counters.dropped(DecodeUnexpectedEnd), 2);
-        assert_eq!(counters.dropped_in(DropGroup::Envelope), 3 + 5, "1609.2 and RSU text");
+        assert_eq!(
+            counters.dropped_in(DropGroup::Envelope),
+            3 + 5,
+            "1609.2 and RSU text"
+        );
         assert_eq!(counters.dropped_in(DropGroup::Decode), 3);
         assert_eq!(counters.dropped_in(DropGroup::Ingest), 1);
         // Only the last MAP stored anything: its model without the lanes it could not place.
