@@ -18,7 +18,8 @@
 //!   with drop reasons from a closed set ([`v2x::DropReason`]).
 //! * [`onboard`]: [`Obu`], the facade the daemon, the firmware and the simulator drive.
 //!
-//! Capacities (maps, lanes, nodes, zones) are fixed at compile time in [`capacity`].
+//! Capacities (maps, lanes, nodes, zones) are fixed at compile time in [`capacity`]; both
+//! stores are typed wrappers of one fixed-slot [`store::SlotStore`].
 //!
 //! ## Panic contract
 //! No public function panics on any input, including NaN, infinities and
@@ -46,6 +47,7 @@ pub mod link;
 pub mod matcher;
 mod math;
 pub mod onboard;
+pub mod store;
 pub mod time;
 pub mod v2x;
 pub mod zone;

@@ -13,7 +13,7 @@ use obu::time::Instant;
 use obu::v2x::{V2xOutcome, V2xScratch};
 use std::collections::VecDeque;
 use std::sync::{Arc, Mutex, MutexGuard};
-use tokio::sync::broadcast;
+use tokio::sync::{broadcast, watch, Notify};
 
 /// One published state: its sequence number and the JSON the event stream sends.
 #[derive(Debug)]
@@ -57,6 +57,8 @@ pub struct Hub {
     started: std::time::Instant,
     run: u64,
     can_stale_ms: u64,
+    /// Woken by every input that reached the core (its next deadline may have moved).
+    wake: Notify,
     /// Counters of inputs and drops.
     pub counters: Counters,
 }
@@ -86,6 +88,7 @@ impl Hub {
                 .duration_since(std::time::UNIX_EPOCH)
                 .map_or(0, |d| d.as_millis() as u64),
             can_stale_ms,
+            wake: Notify::new(),
             counters: Counters::default(),
         })
     }
@@ -127,9 +130,14 @@ impl Hub {
         let mut inner = self.lock();
         let Inner { core, scratch, .. } = &mut *inner;
         let outcome = core.on_datagram(now, datagram, scratch);
-        if let V2xOutcome::Changed(_) = outcome {
-            let state = inner.core.state(now);
-            self.publish(&mut inner, &state);
+        match outcome {
+            V2xOutcome::Changed(_) => {
+                let state = inner.core.state(now);
+                self.publish(&mut inner, &state);
+                self.wake.notify_one();
+            }
+            V2xOutcome::Unchanged(_) => self.wake.notify_one(),
+            V2xOutcome::Other(_) | V2xOutcome::Dropped(_) => {}
         }
         outcome
     }
@@ -147,6 +155,7 @@ impl Hub {
         inner.fix_quality = quality;
         let state = inner.core.on_fix(now, fix);
         self.publish(&mut inner, &state);
+        self.wake.notify_one();
     }
 
     /// A vehicle speed from CAN.
@@ -155,12 +164,36 @@ impl Hub {
         self.lock().can_speed = Some(CanSpeed { mps, at: now });
     }
 
-    /// Lets time pass in the core (GNSS and data timeouts); publishes when the state changed.
-    pub fn poll(&self) {
+    /// Lets time pass in the core (GNSS and data timeouts); publishes when the state
+    /// changed. Returns how long until the core next has work, if it has any.
+    pub fn poll(&self) -> Option<std::time::Duration> {
         let now = self.now();
         let mut inner = self.lock();
         if let Some(state) = inner.core.poll(now) {
             self.publish(&mut inner, &state);
+        }
+        let next = inner.core.next_deadline()?;
+        Some(std::time::Duration::from_millis(
+            next.saturating_since(now).millis(),
+        ))
+    }
+
+    /// Runs the core's timeouts until `stop` turns true: polls, then sleeps until the
+    /// core's next deadline or until an input that may have moved it arrives.
+    pub async fn run_deadlines(self: Arc<Self>, mut stop: watch::Receiver<bool>) {
+        loop {
+            let wait = self.poll();
+            let sleep = async {
+                match wait {
+                    Some(d) => tokio::time::sleep(d).await,
+                    None => std::future::pending().await,
+                }
+            };
+            tokio::select! {
+                _ = sleep => {}
+                _ = self.wake.notified() => {}
+                _ = stop.changed() => return,
+            }
         }
     }
 
