@@ -9,10 +9,10 @@
 
 mod common;
 
-use common::{feed_nmea, feed_v2x, frame, sentence, vector, Epoch, Rng};
+use common::{feed_nmea, feed_v2x, frame, sentence, tally, vector, Epoch, Rng, Tally};
 use defmt_semihosting as _;
 use obu::Instant;
-use obu_firmware::app::{Firmware, Messages, V2xCounters, V2X_MAX_WIRE};
+use obu_firmware::app::{Firmware, Messages, V2X_MAX_WIRE};
 use obu_firmware::CONFIG;
 
 include!(concat!(env!("OUT_DIR"), "/vectors.rs"));
@@ -54,11 +54,11 @@ impl State {
     }
 
     /// Counter changes of `f`'s input, checked against `want` (differences).
-    fn expect(&mut self, what: &str, want: V2xCounters, f: impl FnOnce(&mut Self)) {
-        let before = self.fw.v2x_counters;
+    fn expect(&mut self, what: &str, want: Tally, f: impl FnOnce(&mut Self)) {
+        let before = tally(&self.fw.v2x_counters);
         f(self);
-        let after = self.fw.v2x_counters;
-        let got = V2xCounters {
+        let after = tally(&self.fw.v2x_counters);
+        let got = Tally {
             accepted: after.accepted - before.accepted,
             bad_frames: after.bad_frames - before.bad_frames,
             undecodable: after.undecodable - before.undecodable,
@@ -82,8 +82,8 @@ impl State {
 }
 
 /// (accepted, bad frames, undecodable, other); `rejected` always 0 here.
-const fn counts(accepted: u32, bad_frames: u32, undecodable: u32, other: u32) -> V2xCounters {
-    V2xCounters {
+const fn counts(accepted: u32, bad_frames: u32, undecodable: u32, other: u32) -> Tally {
+    Tally {
         accepted,
         bad_frames,
         undecodable,
@@ -334,7 +334,7 @@ mod tests {
             st.raw(&[0x00]);
             st.send(vector(MAP_TIM_VECTORS, TIM));
         });
-        let c = st.fw.v2x_counters;
+        let c = obu_firmware::app::ShowCounters(&st.fw.v2x_counters);
         defmt::info!("v2x counters after the V2X tests: {}", c);
     }
 
