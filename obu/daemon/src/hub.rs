@@ -292,3 +292,39 @@ fn alert_config(mut base: AlertConfig, s: &Settings) -> AlertConfig {
     base.lead_time_s = s.lead_time_s;
     base
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[tokio::test]
+    async fn the_deadline_loop_publishes_the_gnss_loss_at_the_timeout() {
+        let base = AlertConfig::DEFAULT;
+        let hub = Hub::new(Settings::defaults(100.0, 9.0), base, 16, 1000);
+        assert_eq!(hub.poll(), None, "no fix, nothing stored: no deadline");
+        let (stop_tx, stop) = watch::channel(false);
+        let mut events = hub.subscribe();
+        let task = tokio::spawn(hub.clone().run_deadlines(stop));
+        let t0 = std::time::Instant::now();
+        hub.on_fix(Fix::at(obu::LatLon::ZERO), None);
+        let fix = events.recv().await.unwrap();
+        assert!(fix.json.contains("\"gnss_ok\":true"), "{}", fix.json);
+        let timeout = std::time::Duration::from_millis(base.gnss_timeout.millis());
+        let wait = hub.poll().expect("a fix sets a deadline");
+        assert!(
+            wait <= timeout + std::time::Duration::from_millis(1),
+            "{wait:?}"
+        );
+        // The loop sleeps until the deadline (no 100 ms ticks): the loss comes at it.
+        let lost = events.recv().await.unwrap();
+        let at = t0.elapsed();
+        assert!(lost.json.contains("\"gnss_ok\":false"), "{}", lost.json);
+        assert!(at >= timeout, "not before the timeout: {at:?}");
+        assert!(
+            at < timeout + std::time::Duration::from_millis(150),
+            "at it: {at:?}"
+        );
+        let _ = stop_tx.send(true);
+        task.await.unwrap();
+    }
+}
