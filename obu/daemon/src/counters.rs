@@ -11,7 +11,9 @@ use std::sync::Mutex;
 
 /// Count groups.
 pub mod group {
-    /// Messages received, by type.
+    /// Messages the core took (MAP, TIM, or others it does not use), by the codec's short
+    /// name; a MAP or TIM the core refused is counted under [`INGEST_ERRORS`] instead, so
+    /// that every datagram is counted once over the V2X groups.
     pub const MESSAGES: &str = "messages";
     /// UPER decode failures, by reason.
     pub const DECODE_ERRORS: &str = "decode_errors";
