@@ -123,6 +123,14 @@ impl ZoneStore {
         })
     }
 
+    /// The earliest end (minutes since 2000, as seen at `now_abs_min`) of a stored zone's
+    /// validity window; `None` when every window is indefinite or nothing is stored.
+    pub fn next_end(&self, now_abs_min: i64) -> Option<i64> {
+        self.iter()
+            .filter_map(|z| z.validity.end_abs_at(now_abs_min))
+            .min()
+    }
+
     /// The earliest time at which [`ZoneStore::poll`] would drop a zone for silence.
     pub fn next_expiry(&self, timeout: Duration) -> Option<Instant> {
         self.slots.next_expiry(timeout)
