@@ -430,6 +430,7 @@ class Emitter:
         if td.key == "MessageFrame.MessageFrame.value":
             for i, v, r in td.variants:
                 s.append(f"impl crate::frame::Message for {self.rust(r, td)} {{\n    const MESSAGE_ID: u16 = {i};\n}}\n")
+            s.append(message_names(td))
         ph = f"Self::Unknown {{ id: <{id_ty} as uper::Placeholder>::placeholder(), bytes: uper::Octets::new() }}"
         s.append(self.uper_impl(td, "\n".join(dec), "\n".join(enc), ph))
         if td.variants:
@@ -442,6 +443,29 @@ class Emitter:
                     f"Self::Unknown {{ id: <{id_ty} as uper::random::Random>::random(g), bytes }}")
         s.append(self.random_impl(td, body))
         return "\n".join(s)
+
+
+def message_names(td):
+    """The table of the MessageFrame's messages (id, short name, ASN.1 type) and the short
+    name lookup: the one place the short names are spelt."""
+    rows = [(i, naming.message_short_name(r.typedef.asn), r.typedef.asn) for i, _, r in td.variants]
+    table = "".join(f"    MessageName {{ id: {i}, short: \"{short}\", type_name: \"{asn}\" }},\n"
+                    for i, short, asn in rows)
+    arms = "".join(f"        {i} => Some(\"{short}\"),\n" for i, short, _ in rows)
+    return (
+        "/// A message of the MessageFrame object set: its `messageId`, the short name the standard\n"
+        "/// gives it (RSU `Type=` values, logs, counters) and its ASN.1 type.\n"
+        "#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]\n"
+        "pub struct MessageName {\n"
+        "    /// `messageId` (DSRCmsgID).\n    pub id: u16,\n"
+        "    /// Short name (`MAP`, `SPAT`, `TIM`, `TEST00`).\n    pub short: &'static str,\n"
+        "    /// The ASN.1 type of the value.\n    pub type_name: &'static str,\n}\n\n"
+        "/// Every message of the MessageFrame object set, by `messageId`.\n"
+        f"pub const MESSAGE_NAMES: [MessageName; {len(rows)}] = [\n{table}];\n\n"
+        "/// The short name of `messageId` `id` (`MAP`, `SPAT`, `TIM`, `TEST00`); `None` for an id\n"
+        "/// that J2735 2020 does not assign.\n"
+        "pub const fn message_short_name(id: u16) -> Option<&'static str> {\n"
+        f"    match id {{\n{arms}        _ => None,\n    }}\n}}\n")
 
 
 def _open_jer(self, td, id_ty):

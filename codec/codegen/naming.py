@@ -65,3 +65,35 @@ if __name__ == "__main__":
               "sspTimRights", "scaleXaxis", "TestMessage00", "AddGrpB", "SPAT", "type", "regExtValue",
               "ITIScodesAndText", "rotateXY", "dWidth", "node-LatLon"]:
         print(n, snake(n), camel(n), shout(n))
+
+
+# The short names SAE J2735 (2020, section 5 and Annex) gives its messages, by ASN.1 type;
+# RSU records (`Type=`), logs and counters use these, with this one spelling. The test
+# messages 240..255 are `TEST00`..`TEST15`.
+MESSAGE_SHORT_NAMES = {
+    "MapData": "MAP",
+    "SPAT": "SPAT",
+    "BasicSafetyMessage": "BSM",
+    "CommonSafetyRequest": "CSR",
+    "EmergencyVehicleAlert": "EVA",
+    "IntersectionCollision": "ICA",
+    "NMEAcorrections": "NMEA",
+    "ProbeDataManagement": "PDM",
+    "ProbeVehicleData": "PVD",
+    "RoadSideAlert": "RSA",
+    "RTCMcorrections": "RTCM",
+    "SignalRequestMessage": "SRM",
+    "SignalStatusMessage": "SSM",
+    "TravelerInformation": "TIM",
+    "PersonalSafetyMessage": "PSM",
+}
+
+
+def message_short_name(type_name):
+    """The standard's short name of the message whose ASN.1 type is `type_name`."""
+    m = re.fullmatch(r"TestMessage([0-9]{2})", type_name)
+    if m:
+        return "TEST" + m.group(1)
+    if type_name not in MESSAGE_SHORT_NAMES:
+        raise SystemExit(f"no short name for message type {type_name}: add it to naming.py")
+    return MESSAGE_SHORT_NAMES[type_name]

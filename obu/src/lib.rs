@@ -14,9 +14,12 @@
 //! * [`alert`]: alert state machine and the [`alert::HmiState`] shown to the driver.
 //! * [`input`]: NMEA 0183 sentences and the CAN speed signal (daemon and firmware).
 //! * [`link`]: COBS + CRC-32 frames of the firmware's serial links.
+//! * [`v2x`]: the one V2X receive path, bytes to [`v2x::V2xOutcome`] ([`Obu::on_datagram`]),
+//!   with drop reasons from a closed set ([`v2x::DropReason`]).
 //! * [`onboard`]: [`Obu`], the facade the daemon, the firmware and the simulator drive.
 //!
-//! Capacities (maps, lanes, nodes, zones) are fixed at compile time in [`capacity`].
+//! Capacities (maps, lanes, nodes, zones) are fixed at compile time in [`capacity`]; both
+//! stores are typed wrappers of one fixed-slot [`store::SlotStore`].
 //!
 //! ## Panic contract
 //! No public function panics on any input, including NaN, infinities and
@@ -44,7 +47,9 @@ pub mod link;
 pub mod matcher;
 mod math;
 pub mod onboard;
+pub mod store;
 pub mod time;
+pub mod v2x;
 pub mod zone;
 
 pub use alert::{AlertConfig, HmiState};

@@ -646,6 +646,216 @@ impl crate::frame::Message for super::test_message15::TestMessage15 {
     const MESSAGE_ID: u16 = 255;
 }
 
+/// A message of the MessageFrame object set: its `messageId`, the short name the standard
+/// gives it (RSU `Type=` values, logs, counters) and its ASN.1 type.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct MessageName {
+    /// `messageId` (DSRCmsgID).
+    pub id: u16,
+    /// Short name (`MAP`, `SPAT`, `TIM`, `TEST00`).
+    pub short: &'static str,
+    /// The ASN.1 type of the value.
+    pub type_name: &'static str,
+}
+
+/// Every message of the MessageFrame object set, by `messageId`.
+pub const MESSAGE_NAMES: [MessageName; 31] = [
+    MessageName {
+        id: 18,
+        short: "MAP",
+        type_name: "MapData",
+    },
+    MessageName {
+        id: 19,
+        short: "SPAT",
+        type_name: "SPAT",
+    },
+    MessageName {
+        id: 20,
+        short: "BSM",
+        type_name: "BasicSafetyMessage",
+    },
+    MessageName {
+        id: 21,
+        short: "CSR",
+        type_name: "CommonSafetyRequest",
+    },
+    MessageName {
+        id: 22,
+        short: "EVA",
+        type_name: "EmergencyVehicleAlert",
+    },
+    MessageName {
+        id: 23,
+        short: "ICA",
+        type_name: "IntersectionCollision",
+    },
+    MessageName {
+        id: 24,
+        short: "NMEA",
+        type_name: "NMEAcorrections",
+    },
+    MessageName {
+        id: 25,
+        short: "PDM",
+        type_name: "ProbeDataManagement",
+    },
+    MessageName {
+        id: 26,
+        short: "PVD",
+        type_name: "ProbeVehicleData",
+    },
+    MessageName {
+        id: 27,
+        short: "RSA",
+        type_name: "RoadSideAlert",
+    },
+    MessageName {
+        id: 28,
+        short: "RTCM",
+        type_name: "RTCMcorrections",
+    },
+    MessageName {
+        id: 29,
+        short: "SRM",
+        type_name: "SignalRequestMessage",
+    },
+    MessageName {
+        id: 30,
+        short: "SSM",
+        type_name: "SignalStatusMessage",
+    },
+    MessageName {
+        id: 31,
+        short: "TIM",
+        type_name: "TravelerInformation",
+    },
+    MessageName {
+        id: 32,
+        short: "PSM",
+        type_name: "PersonalSafetyMessage",
+    },
+    MessageName {
+        id: 240,
+        short: "TEST00",
+        type_name: "TestMessage00",
+    },
+    MessageName {
+        id: 241,
+        short: "TEST01",
+        type_name: "TestMessage01",
+    },
+    MessageName {
+        id: 242,
+        short: "TEST02",
+        type_name: "TestMessage02",
+    },
+    MessageName {
+        id: 243,
+        short: "TEST03",
+        type_name: "TestMessage03",
+    },
+    MessageName {
+        id: 244,
+        short: "TEST04",
+        type_name: "TestMessage04",
+    },
+    MessageName {
+        id: 245,
+        short: "TEST05",
+        type_name: "TestMessage05",
+    },
+    MessageName {
+        id: 246,
+        short: "TEST06",
+        type_name: "TestMessage06",
+    },
+    MessageName {
+        id: 247,
+        short: "TEST07",
+        type_name: "TestMessage07",
+    },
+    MessageName {
+        id: 248,
+        short: "TEST08",
+        type_name: "TestMessage08",
+    },
+    MessageName {
+        id: 249,
+        short: "TEST09",
+        type_name: "TestMessage09",
+    },
+    MessageName {
+        id: 250,
+        short: "TEST10",
+        type_name: "TestMessage10",
+    },
+    MessageName {
+        id: 251,
+        short: "TEST11",
+        type_name: "TestMessage11",
+    },
+    MessageName {
+        id: 252,
+        short: "TEST12",
+        type_name: "TestMessage12",
+    },
+    MessageName {
+        id: 253,
+        short: "TEST13",
+        type_name: "TestMessage13",
+    },
+    MessageName {
+        id: 254,
+        short: "TEST14",
+        type_name: "TestMessage14",
+    },
+    MessageName {
+        id: 255,
+        short: "TEST15",
+        type_name: "TestMessage15",
+    },
+];
+
+/// The short name of `messageId` `id` (`MAP`, `SPAT`, `TIM`, `TEST00`); `None` for an id
+/// that J2735 2020 does not assign.
+pub const fn message_short_name(id: u16) -> Option<&'static str> {
+    match id {
+        18 => Some("MAP"),
+        19 => Some("SPAT"),
+        20 => Some("BSM"),
+        21 => Some("CSR"),
+        22 => Some("EVA"),
+        23 => Some("ICA"),
+        24 => Some("NMEA"),
+        25 => Some("PDM"),
+        26 => Some("PVD"),
+        27 => Some("RSA"),
+        28 => Some("RTCM"),
+        29 => Some("SRM"),
+        30 => Some("SSM"),
+        31 => Some("TIM"),
+        32 => Some("PSM"),
+        240 => Some("TEST00"),
+        241 => Some("TEST01"),
+        242 => Some("TEST02"),
+        243 => Some("TEST03"),
+        244 => Some("TEST04"),
+        245 => Some("TEST05"),
+        246 => Some("TEST06"),
+        247 => Some("TEST07"),
+        248 => Some("TEST08"),
+        249 => Some("TEST09"),
+        250 => Some("TEST10"),
+        251 => Some("TEST11"),
+        252 => Some("TEST12"),
+        253 => Some("TEST13"),
+        254 => Some("TEST14"),
+        255 => Some("TEST15"),
+        _ => None,
+    }
+}
+
 impl uper::Placeholder for MessageFrameValue {
     fn placeholder() -> Self {
         Self::Unknown {

@@ -1,14 +1,19 @@
 //! Counters of every input by kind and every drop by reason, shown by `GET /api/status`.
 //!
-//! Reasons come from closed sets (error kinds, message names, type paths of the schema), so
-//! the table stays small whatever arrives.
+//! Every reason is a `&'static str` from a closed set (error kinds' `as_str()`, the codec's
+//! message short names, fixed texts): no input text can become a key, so the table stays
+//! small whatever arrives. V2X outcomes are counted in the core's fixed arrays
+//! ([`V2xCounters`], indexed by [`DropReason`]) and shown by their groups.
 
+use obu::v2x::{DropGroup, DropReason, V2xCounters, V2xOutcome};
 use std::collections::BTreeMap;
 use std::sync::Mutex;
 
 /// Count groups.
 pub mod group {
-    /// Messages received, by type.
+    /// Messages the core took (MAP, TIM, or others it does not use), by the codec's short
+    /// name; a MAP or TIM the core refused is counted under [`INGEST_ERRORS`] instead, so
+    /// that every datagram is counted once over the V2X groups.
     pub const MESSAGES: &str = "messages";
     /// UPER decode failures, by reason.
     pub const DECODE_ERRORS: &str = "decode_errors";
@@ -34,39 +39,77 @@ pub mod group {
     pub const SSE_CLIENTS: &str = "sse_clients";
 }
 
+/// The group of `/api/status` a V2X drop reason is shown in.
+pub const fn drop_group(group: DropGroup) -> &'static str {
+    match group {
+        DropGroup::Datagram => group::V2X_DROPPED,
+        DropGroup::Envelope => group::ENVELOPE_ERRORS,
+        DropGroup::Decode => group::DECODE_ERRORS,
+        DropGroup::Ingest => group::INGEST_ERRORS,
+    }
+}
+
+/// The counter name of a `messageId`: the codec's short name, or `unknown`.
+pub fn message_name(id: u16) -> &'static str {
+    j2735::message_frame::message_short_name(id).unwrap_or("unknown")
+}
+
+#[derive(Debug, Default)]
+struct Table {
+    by_reason: BTreeMap<&'static str, BTreeMap<&'static str, u64>>,
+    v2x: V2xCounters,
+}
+
 /// Thread-safe counters keyed by group and reason.
 #[derive(Debug, Default)]
 pub struct Counters {
-    table: Mutex<BTreeMap<&'static str, BTreeMap<String, u64>>>,
+    table: Mutex<Table>,
 }
 
 impl Counters {
+    fn lock(&self) -> std::sync::MutexGuard<'_, Table> {
+        self.table.lock().unwrap_or_else(|p| p.into_inner())
+    }
+
     /// Adds one to `group`/`reason`.
-    pub fn add(&self, group: &'static str, reason: &str) {
-        let mut t = self.table.lock().unwrap_or_else(|p| p.into_inner());
-        let slot = t.entry(group).or_default();
-        match slot.get_mut(reason) {
-            Some(n) => *n += 1,
-            None => {
-                slot.insert(reason.to_owned(), 1);
-            }
+    pub fn add(&self, group: &'static str, reason: &'static str) {
+        *self
+            .lock()
+            .by_reason
+            .entry(group)
+            .or_default()
+            .entry(reason)
+            .or_default() += 1;
+    }
+
+    /// Counts one V2X input by its outcome: a message taken (MAP, TIM or other) under
+    /// `messages` by its short name, a drop under its reason's group.
+    pub fn v2x(&self, outcome: V2xOutcome) {
+        if let V2xOutcome::Changed(id) | V2xOutcome::Unchanged(id) | V2xOutcome::Other(id) = outcome
+        {
+            self.add(group::MESSAGES, message_name(id));
         }
+        self.lock().v2x.record(outcome);
     }
 
     /// One count.
     #[cfg(test)]
     pub fn get(&self, group: &str, reason: &str) -> u64 {
-        let t = self.table.lock().unwrap_or_else(|p| p.into_inner());
-        t.get(group)
-            .and_then(|g| g.get(reason))
-            .copied()
-            .unwrap_or(0)
+        self.snapshot()[group][reason].as_u64().unwrap_or(0)
     }
 
-    /// Every count as `{group: {reason: n}}`.
+    /// Every non-zero count as `{group: {reason: n}}`.
     pub fn snapshot(&self) -> serde_json::Value {
-        let t = self.table.lock().unwrap_or_else(|p| p.into_inner());
-        serde_json::to_value(&*t).unwrap_or_default()
+        let t = self.lock();
+        let mut all = t.by_reason.clone();
+        for &r in DropReason::ALL {
+            let n = t.v2x.dropped(r);
+            if n > 0 {
+                let g = all.entry(drop_group(r.group())).or_default();
+                *g.entry(r.as_str()).or_default() += u64::from(n);
+            }
+        }
+        serde_json::to_value(&all).unwrap_or_default()
     }
 }
 
@@ -77,11 +120,24 @@ mod tests {
     #[test]
     fn counts_by_group_and_reason() {
         let c = Counters::default();
-        c.add(group::MESSAGES, "MAP");
-        c.add(group::MESSAGES, "MAP");
-        c.add(group::DECODE_ERRORS, "unexpected end");
+        c.v2x(V2xOutcome::Changed(18));
+        c.v2x(V2xOutcome::Unchanged(18));
+        c.v2x(V2xOutcome::Other(19));
+        c.v2x(V2xOutcome::Other(4000));
+        c.v2x(V2xOutcome::Dropped(DropReason::DecodeUnexpectedEnd));
+        c.v2x(V2xOutcome::Dropped(DropReason::TooLarge));
+        c.add(group::NMEA_ERRORS, "bad checksum");
         assert_eq!(c.get(group::MESSAGES, "MAP"), 2);
+        assert_eq!(c.get(group::MESSAGES, "SPAT"), 1);
+        assert_eq!(c.get(group::MESSAGES, "unknown"), 1);
         assert_eq!(c.get(group::MESSAGES, "TIM"), 0);
-        assert_eq!(c.snapshot()["decode_errors"]["unexpected end"], 1);
+        let s = c.snapshot();
+        assert_eq!(s["decode_errors"]["unexpected end"], 1);
+        assert_eq!(s["v2x_dropped"]["datagram too large"], 1);
+        assert_eq!(s["nmea_errors"]["bad checksum"], 1);
+        assert!(
+            s["ingest_errors"].is_null(),
+            "zero counts are not shown: {s}"
+        );
     }
 }

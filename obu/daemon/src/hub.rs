@@ -10,9 +10,10 @@ use crate::settings::Settings;
 use obu::alert::{AlertConfig, HmiState};
 use obu::fix::Fix;
 use obu::time::Instant;
+use obu::v2x::{V2xOutcome, V2xScratch};
 use std::collections::VecDeque;
 use std::sync::{Arc, Mutex, MutexGuard};
-use tokio::sync::broadcast;
+use tokio::sync::{broadcast, watch, Notify};
 
 /// One published state: its sequence number and the JSON the event stream sends.
 #[derive(Debug)]
@@ -30,8 +31,14 @@ struct CanSpeed {
     at: Instant,
 }
 
+/// The largest RSU text payload taken, octets: what a UDP datagram's hexadecimal text
+/// can hold.
+const RSU_PAYLOAD_MAX: usize = 32 * 1024;
+
 struct Inner {
     core: Box<obu::Obu>,
+    /// The core's kept MAP and TIM decode targets and RSU payload buffer.
+    scratch: Box<V2xScratch<RSU_PAYLOAD_MAX>>,
     seq: u64,
     recent: VecDeque<Arc<Event>>,
     last_fix: Option<Instant>,
@@ -50,6 +57,8 @@ pub struct Hub {
     started: std::time::Instant,
     run: u64,
     can_stale_ms: u64,
+    /// Woken by every input that reached the core (its next deadline may have moved).
+    wake: Notify,
     /// Counters of inputs and drops.
     pub counters: Counters,
 }
@@ -63,6 +72,7 @@ impl Hub {
         Arc::new(Self {
             inner: Mutex::new(Inner {
                 core,
+                scratch: Box::default(),
                 seq: 0,
                 recent: VecDeque::with_capacity(keep),
                 last_fix: None,
@@ -78,6 +88,7 @@ impl Hub {
                 .duration_since(std::time::UNIX_EPOCH)
                 .map_or(0, |d| d.as_millis() as u64),
             can_stale_ms,
+            wake: Notify::new(),
             counters: Counters::default(),
         })
     }
@@ -111,22 +122,24 @@ impl Hub {
         self.inner.lock().unwrap_or_else(|p| p.into_inner())
     }
 
-    /// A decoded message into the core; when it changed what is stored (zones or maps
-    /// stored, replaced or cancelled) the new state is published at once.
-    pub fn on_frame(
-        &self,
-        mf: &j2735::MessageFrame,
-    ) -> Result<obu::ingest::Ingest, obu::ingest::IngestError> {
+    /// One received V2X datagram into the core's receive path; when it changed what is
+    /// stored (zones or maps stored, replaced or cancelled) the new state is published at
+    /// once.
+    pub fn on_datagram(&self, datagram: &[u8]) -> V2xOutcome {
         let now = self.now();
         let mut inner = self.lock();
-        let result = inner.core.on_frame(now, mf);
-        if let Ok(r) = &result {
-            if r.stored > 0 || r.cancelled > 0 {
+        let Inner { core, scratch, .. } = &mut *inner;
+        let outcome = core.on_datagram(now, datagram, scratch);
+        match outcome {
+            V2xOutcome::Changed(_) => {
                 let state = inner.core.state(now);
                 self.publish(&mut inner, &state);
+                self.wake.notify_one();
             }
+            V2xOutcome::Unchanged(_) => self.wake.notify_one(),
+            V2xOutcome::Other(_) | V2xOutcome::Dropped(_) => {}
         }
-        result
+        outcome
     }
 
     /// A GNSS fix: CAN speed replaces GNSS speed while fresh; publishes the new state.
@@ -142,6 +155,7 @@ impl Hub {
         inner.fix_quality = quality;
         let state = inner.core.on_fix(now, fix);
         self.publish(&mut inner, &state);
+        self.wake.notify_one();
     }
 
     /// A vehicle speed from CAN.
@@ -150,12 +164,36 @@ impl Hub {
         self.lock().can_speed = Some(CanSpeed { mps, at: now });
     }
 
-    /// Lets time pass in the core (GNSS and data timeouts); publishes when the state changed.
-    pub fn poll(&self) {
+    /// Lets time pass in the core (GNSS and data timeouts); publishes when the state
+    /// changed. Returns how long until the core next has work, if it has any.
+    pub fn poll(&self) -> Option<std::time::Duration> {
         let now = self.now();
         let mut inner = self.lock();
         if let Some(state) = inner.core.poll(now) {
             self.publish(&mut inner, &state);
+        }
+        let next = inner.core.next_deadline()?;
+        Some(std::time::Duration::from_millis(
+            next.saturating_since(now).millis(),
+        ))
+    }
+
+    /// Runs the core's timeouts until `stop` turns true: polls, then sleeps until the
+    /// core's next deadline or until an input that may have moved it arrives.
+    pub async fn run_deadlines(self: Arc<Self>, mut stop: watch::Receiver<bool>) {
+        loop {
+            let wait = self.poll();
+            let sleep = async {
+                match wait {
+                    Some(d) => tokio::time::sleep(d).await,
+                    None => std::future::pending().await,
+                }
+            };
+            tokio::select! {
+                _ = sleep => {}
+                _ = self.wake.notified() => {}
+                _ = stop.changed() => return,
+            }
         }
     }
 
@@ -253,4 +291,40 @@ fn alert_config(mut base: AlertConfig, s: &Settings) -> AlertConfig {
     base.warn_distance_m = s.warning_distance_m;
     base.lead_time_s = s.lead_time_s;
     base
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[tokio::test]
+    async fn the_deadline_loop_publishes_the_gnss_loss_at_the_timeout() {
+        let base = AlertConfig::DEFAULT;
+        let hub = Hub::new(Settings::defaults(100.0, 9.0), base, 16, 1000);
+        assert_eq!(hub.poll(), None, "no fix, nothing stored: no deadline");
+        let (stop_tx, stop) = watch::channel(false);
+        let mut events = hub.subscribe();
+        let task = tokio::spawn(hub.clone().run_deadlines(stop));
+        let t0 = std::time::Instant::now();
+        hub.on_fix(Fix::at(obu::LatLon::ZERO), None);
+        let fix = events.recv().await.unwrap();
+        assert!(fix.json.contains("\"gnss_ok\":true"), "{}", fix.json);
+        let timeout = std::time::Duration::from_millis(base.gnss_timeout.millis());
+        let wait = hub.poll().expect("a fix sets a deadline");
+        assert!(
+            wait <= timeout + std::time::Duration::from_millis(1),
+            "{wait:?}"
+        );
+        // The loop sleeps until the deadline (no 100 ms ticks): the loss comes at it.
+        let lost = events.recv().await.unwrap();
+        let at = t0.elapsed();
+        assert!(lost.json.contains("\"gnss_ok\":false"), "{}", lost.json);
+        assert!(at >= timeout, "not before the timeout: {at:?}");
+        assert!(
+            at < timeout + std::time::Duration::from_millis(150),
+            "at it: {at:?}"
+        );
+        let _ = stop_tx.send(true);
+        task.await.unwrap();
+    }
 }

@@ -17,7 +17,6 @@ mod counters;
 mod gnss;
 mod http;
 mod hub;
-mod ingest;
 mod serve;
 mod settings;
 mod speed;
@@ -190,7 +189,7 @@ async fn run(config: Config) -> Result<(), String> {
     Ok(())
 }
 
-/// Starts the inputs of the normal mode (V2X, GNSS, CAN) and the core's poll loop; returns
+/// Starts the inputs of the normal mode (V2X, GNSS, CAN) and the core's deadline loop ([`hub::Hub::run_deadlines`]); returns
 /// the first line's description of them: `v2x udp ADDR`.
 async fn start_inputs(
     config: &Config,
@@ -205,19 +204,8 @@ async fn start_inputs(
     tokio::spawn(v2x::run(udp, hub.clone(), max, stop.clone()));
     tokio::spawn(gnss::run(config.gnss.clone(), hub.clone(), stop.clone()));
     speed::spawn(&config.speed, hub.clone());
-    tokio::spawn(poll_loop(hub.clone(), stop.clone()));
+    tokio::spawn(hub.clone().run_deadlines(stop.clone()));
     Ok(format!("v2x udp {v2x_addr}"))
-}
-
-/// Lets the core notice timeouts (GNSS lost, data expired) between fixes.
-async fn poll_loop(hub: Arc<hub::Hub>, mut stop: tokio::sync::watch::Receiver<bool>) {
-    let mut tick = tokio::time::interval(Duration::from_millis(100));
-    loop {
-        tokio::select! {
-            _ = tick.tick() => hub.poll(),
-            _ = stop.changed() => return,
-        }
-    }
 }
 
 async fn wait_for_signal() {

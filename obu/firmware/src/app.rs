@@ -3,11 +3,9 @@
 //! slices by the on-target tests.
 
 use embedded_io::Write;
-use j2735::frame::{decode_message_into, peek_message_id, Message};
-use j2735::uper::Placeholder;
-use j2735::{MapData, TravelerInformation};
 use obu::input::nmea::{self, FixAssembler};
-use obu::link::{self, Deframer, FrameError};
+use obu::link::{self, Deframer};
+use obu::v2x::{DropReason, V2xCounters, V2xOutcome, V2xScratch};
 use obu::{AlertConfig, HmiState, Instant, Obu};
 
 /// Largest V2X frame on the wire (a UPER MessageFrame in a 1609.2 envelope, COBS framed).
@@ -19,53 +17,33 @@ pub const HMI_MAX: usize = 256;
 /// Largest wire frame of an `HmiState`.
 pub const HMI_WIRE_MAX: usize = link::encoded_len(HMI_MAX);
 
-/// What happened to the V2X input, by outcome (shown in the logs, checked by the tests).
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, defmt::Format)]
-pub struct V2xCounters {
-    /// Frames whose MAP or TIM the core took.
-    pub accepted: u32,
-    /// Frames rejected by the framing (bad COBS, CRC, too long or too short).
-    pub bad_frames: u32,
-    /// Frames whose envelope or UPER content did not decode (or exceeded a capacity).
-    pub undecodable: u32,
-    /// Decoded MAP/TIM that the core rejected.
-    pub rejected: u32,
-    /// Other message types (not used by the OBU).
-    pub other: u32,
-}
+/// The largest RSU text payload taken from a V2X frame, octets (a frame of
+/// [`V2X_MAX_WIRE`] holds at most half as many in hexadecimal text).
+pub const RSU_PAYLOAD_MAX: usize = V2X_MAX_WIRE / 2;
 
-/// The decode targets of MAP and TIM, kept between messages (the largest part of the RAM).
-///
-/// Each is an empty `heapless::Vec` of capacity 1 until the first message: an empty one is
-/// all zeros, so a `static` of this type lands in .bss (zeroed at boot) instead of .data
-/// (a copy in flash), as an `Option` (whose `None` is a non-zero niche) would.
-#[derive(Default)]
-pub struct Messages {
-    map: heapless::Vec<MapData, 1>,
-    tim: heapless::Vec<TravelerInformation, 1>,
-}
+/// The decode targets of MAP and TIM and the RSU payload buffer, kept between messages (the
+/// largest part of the RAM): the core's [`V2xScratch`], all zeros until the first message,
+/// so a `static` of it lands in .bss.
+pub type Messages = V2xScratch<RSU_PAYLOAD_MAX>;
 
-impl Messages {
-    /// Nothing received yet.
-    pub const fn new() -> Self {
-        Self {
-            map: heapless::Vec::new(),
-            tim: heapless::Vec::new(),
+/// [`V2xCounters`] for defmt: the outcomes, then every non-zero drop by its reason.
+pub struct ShowCounters<'a>(pub &'a V2xCounters);
+
+impl defmt::Format for ShowCounters<'_> {
+    fn format(&self, f: defmt::Formatter<'_>) {
+        let c = self.0;
+        defmt::write!(
+            f,
+            "changed {=u32} unchanged {=u32} other {=u32}",
+            c.changed,
+            c.unchanged,
+            c.other
+        );
+        for &r in DropReason::ALL {
+            if c.dropped(r) > 0 {
+                defmt::write!(f, ", {=str} {=u32}", r.as_str(), c.dropped(r));
+            }
         }
-    }
-
-    fn map(&mut self) -> &mut MapData {
-        if self.map.is_empty() {
-            let _ = self.map.push(MapData::placeholder());
-        }
-        &mut self.map[0]
-    }
-
-    fn tim(&mut self) -> &mut TravelerInformation {
-        if self.tim.is_empty() {
-            let _ = self.tim.push(TravelerInformation::placeholder());
-        }
-        &mut self.tim[0]
     }
 }
 
@@ -75,7 +53,7 @@ pub struct Firmware {
     v2x: Deframer<V2X_MAX_WIRE>,
     line: heapless::Vec<u8, NMEA_MAX>,
     fixes: FixAssembler,
-    /// V2X input counters.
+    /// V2X input counters, by outcome and drop reason.
     pub v2x_counters: V2xCounters,
     /// NMEA sentences that did not parse.
     pub nmea_errors: u32,
@@ -91,13 +69,7 @@ impl Firmware {
             v2x: Deframer::new(),
             line: heapless::Vec::new(),
             fixes: FixAssembler::new(),
-            v2x_counters: V2xCounters {
-                accepted: 0,
-                bad_frames: 0,
-                undecodable: 0,
-                rejected: 0,
-                other: 0,
-            },
+            v2x_counters: V2xCounters::ZERO,
             nmea_errors: 0,
             hmi_dropped: 0,
         }
@@ -140,56 +112,21 @@ impl Firmware {
 
     /// One byte of the V2X port; a frame that changes what is stored (maps or zones stored,
     /// replaced or cancelled) yields the new state, as the daemon publishes it; a repeat of
-    /// what is stored (the roadside's 10 Hz broadcast) yields nothing.
+    /// what is stored (the roadside's 10 Hz broadcast) yields nothing. Every frame goes
+    /// through the core's one receive path ([`Obu::on_datagram`]).
     pub fn on_v2x_byte(&mut self, msgs: &mut Messages, now: Instant, byte: u8) -> Option<HmiState> {
         let outcome = match self.v2x.push(byte)? {
-            Ok(payload) => Self::message(&mut self.obu, msgs, now, payload),
-            Err(e) => Outcome::BadFrame(e),
+            Ok(payload) => self.obu.on_datagram(now, payload, msgs),
+            Err(e) => V2xOutcome::Dropped(DropReason::from_link(e)),
         };
-        let c = &mut self.v2x_counters;
+        self.v2x_counters.record(outcome);
         match outcome {
-            Outcome::Accepted { .. } => c.accepted += 1,
-            Outcome::BadFrame(e) => {
-                defmt::warn!("v2x: frame dropped: {}", defmt::Display2Format(&e));
-                c.bad_frames += 1;
+            V2xOutcome::Changed(_) => Some(self.obu.state(now)),
+            V2xOutcome::Dropped(r) => {
+                defmt::warn!("v2x: dropped: {=str}", r.as_str());
+                None
             }
-            Outcome::Undecodable => c.undecodable += 1,
-            Outcome::Rejected => c.rejected += 1,
-            Outcome::Other => c.other += 1,
-        }
-        (outcome == Outcome::Accepted { changed: true }).then(|| self.obu.state(now))
-    }
-
-    fn message(obu: &mut Obu, msgs: &mut Messages, now: Instant, payload: &[u8]) -> Outcome {
-        let Ok(frame) = j2735::envelope::unwrap_message_frame(payload) else {
-            return Outcome::Undecodable;
-        };
-        let bytes = frame.frame;
-        let result = match peek_message_id(bytes) {
-            Ok(MapData::MESSAGE_ID) => {
-                let map = msgs.map();
-                if let Err(e) = decode_message_into(bytes, map) {
-                    defmt::warn!("v2x: MAP: {}", defmt::Display2Format(&e));
-                    return Outcome::Undecodable;
-                }
-                obu.on_map(now, map)
-            }
-            Ok(TravelerInformation::MESSAGE_ID) => {
-                let tim = msgs.tim();
-                if let Err(e) = decode_message_into(bytes, tim) {
-                    defmt::warn!("v2x: TIM: {}", defmt::Display2Format(&e));
-                    return Outcome::Undecodable;
-                }
-                obu.on_tim(now, tim)
-            }
-            Ok(_) => return Outcome::Other,
-            Err(_) => return Outcome::Undecodable,
-        };
-        match result {
-            Ok(r) => Outcome::Accepted {
-                changed: r.stored > 0 || r.cancelled > 0,
-            },
-            Err(_) => Outcome::Rejected,
+            V2xOutcome::Unchanged(_) | V2xOutcome::Other(_) => None,
         }
     }
 
@@ -197,15 +134,6 @@ impl Firmware {
     pub fn poll(&mut self, now: Instant) -> Option<HmiState> {
         self.obu.poll(now)
     }
-}
-
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-enum Outcome {
-    Accepted { changed: bool },
-    BadFrame(FrameError),
-    Undecodable,
-    Rejected,
-    Other,
 }
 
 /// Writes `state` as one frame (postcard + COBS + CRC-32) to `out`. Returns false when it

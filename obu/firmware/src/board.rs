@@ -3,21 +3,26 @@
 //! * USART1..3 (SR/DR/BRR/CR1 of the STM32F2/F4 USART, as QEMU's `stm32f2xx_usart` emulates
 //!   them), with their clocks (RCC) and pins (GPIO alternate function 7) for a real board:
 //!   USART1 PA9/PA10, USART2 PA2/PA3, USART3 PB10/PB11. The two input ports receive in their
-//!   interrupt (IRQ 37 and 38) into ring buffers: at 115200 baud a byte comes every 87 us,
+//!   interrupt (IRQ 37 and 38) into heapless's lock-free SPSC queues: at 115200 baud a byte comes every 87 us,
 //!   far less than a MAP takes to decode, so a polled receiver would overrun; and the main
 //!   loop can sleep (`wfi`) until a byte or the next millisecond tick.
 //! * The millisecond clock: SysTick at 1 kHz counting in an atomic.
 //! * Stack painting: fill the unused stack with a pattern at boot, find the deepest use later.
 //!
-//! Every `unsafe` here is a volatile access to a fixed, documented register address or to the
-//! stack region the linker script reserves; nothing else in the crate uses `unsafe`.
+//! Every `unsafe` here is a volatile access to a fixed, documented register address (through
+//! the `unsafe fn` helpers [`reg_read`], [`reg_write`], [`reg_modify`], whose `# Safety`
+//! says what a caller guarantees), the one-time split of the receive queues, or the stack
+//! region the linker script reserves; nothing else in the crate uses `unsafe`.
 #![allow(unsafe_code)]
 
+use core::cell::RefCell;
 use core::convert::Infallible;
 use core::ptr::{read_volatile, write_volatile};
 use core::sync::atomic::{AtomicBool, AtomicU32, Ordering};
+use cortex_m::interrupt::Mutex;
 use cortex_m::peripheral::{syst::SystClkSource, SYST};
 use cortex_m_rt::exception;
+use heapless::spsc::{Consumer, Producer, Queue};
 
 /// Core clock in Hz: the STM32F405's 16 MHz HSI after reset (no PLL set up), or the 168 MHz
 /// QEMU's `netduinoplus2` models (feature `qemu`).
@@ -51,18 +56,38 @@ const CR1_UE: u32 = 1 << 13;
 const CR1_TE: u32 = 1 << 3;
 const CR1_RE: u32 = 1 << 2;
 
-fn reg_read(addr: usize) -> u32 {
-    // SAFETY: `addr` is one of the aligned peripheral registers named above.
+/// Reads the 32-bit memory-mapped register at `addr`.
+///
+/// # Safety
+///
+/// `addr` must be the address of a readable, 4-byte aligned peripheral register of the
+/// STM32F405 (one of the constants above, or a USART base plus one of its offsets) whose
+/// read has no side effect other than those the caller intends (reading DR takes a byte).
+unsafe fn reg_read(addr: usize) -> u32 {
+    // SAFETY: the caller guarantees a valid register address (see `# Safety`).
     unsafe { read_volatile(addr as *const u32) }
 }
 
-fn reg_write(addr: usize, value: u32) {
-    // SAFETY: as in `reg_read`; the peripheral registers have no Rust-visible aliasing.
+/// Writes `value` to the 32-bit memory-mapped register at `addr`.
+///
+/// # Safety
+///
+/// As for [`reg_read`], for a writable register; and `value` must be a setting the caller
+/// means (no Rust memory is behind these addresses, so nothing else can be invalidated).
+unsafe fn reg_write(addr: usize, value: u32) {
+    // SAFETY: the caller guarantees a valid register address (see `# Safety`).
     unsafe { write_volatile(addr as *mut u32, value) }
 }
 
-fn reg_modify(addr: usize, f: impl FnOnce(u32) -> u32) {
-    reg_write(addr, f(reg_read(addr)));
+/// Read-modify-write of the register at `addr`.
+///
+/// # Safety
+///
+/// As for [`reg_read`] and [`reg_write`]; not atomic, so the register must not be written by
+/// an interrupt at the same time (the firmware sets registers up before enabling them).
+unsafe fn reg_modify(addr: usize, f: impl FnOnce(u32) -> u32) {
+    // SAFETY: the caller's guarantees, passed on.
+    unsafe { reg_write(addr, f(reg_read(addr))) }
 }
 
 /// One of the three USARTs the firmware uses.
@@ -109,14 +134,15 @@ impl Port {
     }
 }
 
-/// A USART in 8N1 at [`BAUD`]; receiving through its interrupt and ring buffer on the input
+/// A USART in 8N1 at [`BAUD`]; receiving through its interrupt and receive queue on the input
 /// ports (USART1, USART2), polled on USART3; sending polled. `embedded-io`
 /// [`Read`](embedded_io::Read) (blocking until a byte is there),
 /// [`ReadReady`](embedded_io::ReadReady) and [`Write`](embedded_io::Write).
-#[derive(Debug)]
 pub struct Usart {
     port: Port,
     base: usize,
+    /// The consumer end of the port's receive queue (input ports).
+    rx: Option<Consumer<'static, u8>>,
 }
 
 impl Usart {
@@ -125,117 +151,125 @@ impl Usart {
         if port.taken().swap(true, Ordering::AcqRel) {
             return None;
         }
-        let (enr, bit, gpio, tx, rx) = port.wiring();
-        reg_modify(RCC_AHB1ENR, |v| v | 0b11); // GPIOA, GPIOB
-        reg_modify(enr, |v| v | (1 << bit));
-        for pin in [tx, rx] {
-            reg_modify(gpio, |v| (v & !(0b11 << (2 * pin))) | (0b10 << (2 * pin)));
-            let (afr, shift) = (gpio + 0x20 + 4 * (pin as usize / 8), 4 * (pin % 8));
-            reg_modify(afr, |v| (v & !(0xF << shift)) | (7 << shift));
-        }
+        let (enr, bit, gpio, tx, _) = port.wiring();
         let base = port.base();
-        reg_write(base + BRR, SYSCLK_HZ.div_ceil(BAUD));
-        let rx_irq = if rx_ring(port).is_some() {
-            CR1_RXNEIE
-        } else {
-            0
-        };
-        reg_write(base + CR1, CR1_UE | CR1_TE | CR1_RE | rx_irq);
-        if rx_irq != 0 {
-            let irq = usize::from(port.irq());
-            reg_write(NVIC_ISER + 4 * (irq / 32), 1 << (irq % 32));
+        let rx = rx_queue(port).and_then(|q| q.take_consumer());
+        // SAFETY: RCC, GPIO and USART registers of this chip at their reference-manual
+        // addresses (`wiring`, `base`); the port was not taken before (the flag above), so
+        // nothing else writes them, and its receive interrupt is enabled last.
+        unsafe {
+            reg_modify(RCC_AHB1ENR, |v| v | 0b11); // GPIOA, GPIOB
+            reg_modify(enr, |v| v | (1 << bit));
+            for pin in [tx, rx_pin(port)] {
+                reg_modify(gpio, |v| (v & !(0b11 << (2 * pin))) | (0b10 << (2 * pin)));
+                let (afr, shift) = (gpio + 0x20 + 4 * (pin as usize / 8), 4 * (pin % 8));
+                reg_modify(afr, |v| (v & !(0xF << shift)) | (7 << shift));
+            }
+            reg_write(base + BRR, SYSCLK_HZ.div_ceil(BAUD));
+            let rx_irq = if rx.is_some() { CR1_RXNEIE } else { 0 };
+            reg_write(base + CR1, CR1_UE | CR1_TE | CR1_RE | rx_irq);
+            if rx_irq != 0 {
+                let irq = usize::from(port.irq());
+                reg_write(NVIC_ISER + 4 * (irq / 32), 1 << (irq % 32));
+            }
         }
-        Some(Usart { port, base })
+        Some(Usart { port, base, rx })
     }
 
     fn status(&self) -> u32 {
-        reg_read(self.base + SR)
+        // SAFETY: the status register of this USART; reading it has no side effect.
+        unsafe { reg_read(self.base + SR) }
     }
 
     /// The next received byte, if one is waiting.
     pub fn try_read_byte(&mut self) -> Option<u8> {
-        match rx_ring(self.port) {
-            Some(ring) => ring.pop(),
-            None => (self.status() & SR_RXNE != 0).then(|| reg_read(self.base + DR) as u8),
+        match &mut self.rx {
+            Some(rx) => rx.dequeue(),
+            // SAFETY: this USART's data register, read once RXNE says a byte is there.
+            None => {
+                (self.status() & SR_RXNE != 0).then(|| unsafe { reg_read(self.base + DR) } as u8)
+            }
         }
     }
 
-    /// Received bytes lost so far: ring buffer full, or the receiver overrun.
+    /// Received bytes lost so far: receive queue full, or the receiver overrun.
     pub fn rx_lost(&self) -> u32 {
-        rx_ring(self.port).map_or(0, |r| r.lost().load(Ordering::Relaxed))
+        rx_queue(self.port).map_or(0, |q| q.lost.load(Ordering::Relaxed))
     }
 }
 
-/// Bytes received in an interrupt, waiting for the main loop.
-struct RxRing<const N: usize> {
-    bytes: cortex_m::interrupt::Mutex<core::cell::RefCell<heapless::Deque<u8, N>>>,
+/// The RX pin of `port` (the last of its wiring).
+fn rx_pin(port: Port) -> u32 {
+    port.wiring().4
+}
+
+/// The two ends of a receive queue until each is taken.
+type QueueEnds = (Option<Producer<'static, u8>>, Option<Consumer<'static, u8>>);
+
+/// An input port's receive queue: heapless's lock-free single-producer single-consumer
+/// queue, the producer in the receive interrupt and the consumer in the main loop's
+/// [`Usart`]. Each end is handed out once (under a critical section); after that neither
+/// side takes a lock.
+struct RxQueue {
+    ends: Mutex<RefCell<QueueEnds>>,
     lost: AtomicU32,
 }
 
-impl<const N: usize> RxRing<N> {
-    const fn new() -> Self {
+impl RxQueue {
+    const fn new(producer: Producer<'static, u8>, consumer: Consumer<'static, u8>) -> Self {
         Self {
-            bytes: cortex_m::interrupt::Mutex::new(
-                core::cell::RefCell::new(heapless::Deque::new()),
-            ),
+            ends: Mutex::new(RefCell::new((Some(producer), Some(consumer)))),
             lost: AtomicU32::new(0),
         }
     }
 
-    /// Moves what the USART at `base` received into the ring (in its interrupt).
-    fn fill(&self, base: usize) {
-        cortex_m::interrupt::free(|cs| {
-            let mut q = self.bytes.borrow(cs).borrow_mut();
-            loop {
+    fn take_consumer(&self) -> Option<Consumer<'static, u8>> {
+        cortex_m::interrupt::free(|cs| self.ends.borrow(cs).borrow_mut().1.take())
+    }
+
+    fn take_producer(&self) -> Option<Producer<'static, u8>> {
+        cortex_m::interrupt::free(|cs| self.ends.borrow(cs).borrow_mut().0.take())
+    }
+
+    /// Moves what the USART at `base` received into the queue (in its interrupt).
+    fn fill(&self, producer: &mut Producer<'static, u8>, base: usize) {
+        loop {
+            // SAFETY: the status and data registers of the USART this queue belongs to;
+            // reading SR then DR takes the byte and clears RXNE and an overrun flag.
+            let (sr, byte) = unsafe {
                 let sr = reg_read(base + SR);
                 if sr & SR_RXNE == 0 {
                     break;
                 }
-                // Reading SR then DR clears RXNE and an overrun flag.
-                let byte = reg_read(base + DR) as u8;
-                let overrun = u32::from(sr & SR_ORE != 0);
-                let full = u32::from(q.push_back(byte).is_err());
-                self.lost.fetch_add(overrun + full, Ordering::Relaxed);
-            }
-        });
-    }
-
-    fn pop(&self) -> Option<u8> {
-        cortex_m::interrupt::free(|cs| self.bytes.borrow(cs).borrow_mut().pop_front())
+                (sr, reg_read(base + DR) as u8)
+            };
+            let overrun = u32::from(sr & SR_ORE != 0);
+            let full = u32::from(producer.enqueue(byte).is_err());
+            self.lost.fetch_add(overrun + full, Ordering::Relaxed);
+        }
     }
 }
 
-/// The ring buffer behind an input port's interrupt, as a trait object over its size.
-trait Ring: Sync {
-    fn fill(&self, base: usize);
-    fn pop(&self) -> Option<u8>;
-    fn is_empty(&self) -> bool;
-    fn lost(&self) -> &AtomicU32;
+/// A queue of `N - 1` bytes, split once at compile time into its two ends.
+macro_rules! rx_queue {
+    ($n:literal) => {{
+        static mut QUEUE: Queue<u8, $n> = Queue::new();
+        // SAFETY: `QUEUE` is named only here, in this static's initializer, which runs once
+        // (at compile time): its two ends are the only references to it.
+        #[allow(static_mut_refs)]
+        let (producer, consumer) = unsafe { QUEUE.split_const() };
+        RxQueue::new(producer, consumer)
+    }};
 }
 
-impl<const N: usize> Ring for RxRing<N> {
-    fn fill(&self, base: usize) {
-        RxRing::fill(self, base)
-    }
-    fn pop(&self) -> Option<u8> {
-        RxRing::pop(self)
-    }
-    fn is_empty(&self) -> bool {
-        cortex_m::interrupt::free(|cs| self.bytes.borrow(cs).borrow().is_empty())
-    }
-    fn lost(&self) -> &AtomicU32 {
-        &self.lost
-    }
-}
-
-/// NMEA: 512 bytes are 44 ms at 115200 baud, many times the longest pause of the main loop
+/// NMEA: 511 bytes are 44 ms at 115200 baud, many times the longest pause of the main loop
 /// (a MAP decode, a few milliseconds).
-static RX_NMEA: RxRing<512> = RxRing::new();
-/// V2X: 1 KiB is 89 ms at 115200 baud; the loop drains it into the deframer between
-/// messages, so a frame longer than the ring still arrives whole.
-static RX_V2X: RxRing<1024> = RxRing::new();
+static RX_NMEA: RxQueue = rx_queue!(512);
+/// V2X: 1023 bytes are 89 ms at 115200 baud; the loop drains it into the deframer between
+/// messages, so a frame longer than the queue still arrives whole.
+static RX_V2X: RxQueue = rx_queue!(1024);
 
-fn rx_ring(port: Port) -> Option<&'static dyn Ring> {
+fn rx_queue(port: Port) -> Option<&'static RxQueue> {
     match port {
         Port::Usart1 => Some(&RX_NMEA),
         Port::Usart2 => Some(&RX_V2X),
@@ -243,15 +277,24 @@ fn rx_ring(port: Port) -> Option<&'static dyn Ring> {
     }
 }
 
-/// The device interrupts: the input USARTs' receive interrupts fill their rings; nothing else
-/// is enabled.
+/// The device interrupts: the input USARTs' receive interrupts fill their queues; nothing
+/// else is enabled.
 #[exception]
 unsafe fn DefaultHandler(irqn: i16) {
-    for port in [Port::Usart1, Port::Usart2] {
-        if i32::from(irqn) == i32::from(port.irq()) {
-            if let Some(ring) = rx_ring(port) {
-                ring.fill(port.base());
-            }
+    // The producers, taken from their queues on the first interrupt of each port.
+    static mut PRODUCERS: [Option<Producer<'static, u8>>; 2] = [None, None];
+    for (i, port) in [Port::Usart1, Port::Usart2].into_iter().enumerate() {
+        if i32::from(irqn) != i32::from(port.irq()) {
+            continue;
+        }
+        let Some(queue) = rx_queue(port) else {
+            continue;
+        };
+        if PRODUCERS[i].is_none() {
+            PRODUCERS[i] = queue.take_producer();
+        }
+        if let Some(producer) = &mut PRODUCERS[i] {
+            queue.fill(producer, port.base());
         }
     }
 }
@@ -261,14 +304,24 @@ pub fn wait_for_interrupt() {
     cortex_m::asm::wfi();
 }
 
+impl core::fmt::Debug for Usart {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        f.debug_struct("Usart")
+            .field("port", &self.port)
+            .field("base", &self.base)
+            .field("receive_queue", &self.rx.is_some())
+            .finish()
+    }
+}
+
 impl embedded_io::ErrorType for Usart {
     type Error = Infallible;
 }
 
 impl embedded_io::ReadReady for Usart {
     fn read_ready(&mut self) -> Result<bool, Infallible> {
-        Ok(match rx_ring(self.port) {
-            Some(ring) => !ring.is_empty(),
+        Ok(match &self.rx {
+            Some(rx) => rx.ready(),
             None => self.status() & SR_RXNE != 0,
         })
     }
@@ -298,7 +351,8 @@ impl embedded_io::Write for Usart {
     fn write(&mut self, buf: &[u8]) -> Result<usize, Infallible> {
         for &b in buf {
             while self.status() & SR_TXE == 0 {}
-            reg_write(self.base + DR, u32::from(b));
+            // SAFETY: this USART's data register, written once TXE says it is empty.
+            unsafe { reg_write(self.base + DR, u32::from(b)) };
         }
         Ok(buf.len())
     }

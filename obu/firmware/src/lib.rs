@@ -1,12 +1,14 @@
 //! OBU firmware for an STM32F405 (Cortex-M4F): the project's codec and OBU core fed from
 //! serial ports, all memory static (no heap).
 //!
-//! * [`board`]: USARTs, SysTick clock, stack painting (the only `unsafe`).
-//! * [`app`]: NMEA bytes -> fixes, V2X frames -> MAP/TIM, the core, `HmiState` frames out.
+//! * [`board`]: USARTs (receive interrupts into lock-free SPSC queues), SysTick clock, stack
+//!   painting (the only `unsafe`).
+//! * [`app`]: NMEA bytes -> fixes, V2X frames -> [`obu::Obu::on_datagram`], the core,
+//!   `HmiState` frames out.
 //!
 //! Ports (QEMU's `-serial` options in this order): USART1 NMEA in, USART2 V2X frames in
-//! (`obu::link` frames: COBS + CRC-32 around a UPER MessageFrame, bare or in a 1609.2
-//! envelope), USART3 `HmiState` out (`obu::link` frames around postcard).
+//! (`obu::link` frames: COBS + CRC-32 around what the core's one receive path takes: a UPER
+//! MessageFrame, bare or in a 1609.2 envelope, or an RSU text record), USART3 `HmiState` out (`obu::link` frames around postcard).
 #![no_std]
 #![deny(unsafe_code)]
 #![warn(missing_docs)]

@@ -6,7 +6,7 @@
 use cortex_m_rt::entry;
 use defmt_semihosting as _;
 use embedded_io::{Read, ReadReady};
-use obu_firmware::app::{send_state, Firmware, Messages};
+use obu_firmware::app::{send_state, Firmware, Messages, ShowCounters};
 use obu_firmware::board::{self, Port, Usart};
 use obu_firmware::{Clock, CONFIG};
 
@@ -66,7 +66,7 @@ fn main() -> ! {
             defmt::info!(
                 "t={=u64} ms v2x {} nmea errors {=u32} rx lost {=u32}/{=u32} stack {=usize}/{=usize} B",
                 now.millis(),
-                fw.v2x_counters,
+                ShowCounters(&fw.v2x_counters),
                 fw.nmea_errors,
                 nmea.rx_lost(),
                 v2x.rx_lost(),

@@ -28,7 +28,7 @@
 
 mod common;
 
-use common::{feed_nmea, feed_v2x, frame, vector, Epoch};
+use common::{feed_nmea, feed_v2x, frame, tally, vector, Epoch};
 use defmt_semihosting as _;
 use obu::alert::{AlertKind, LaneAdvice, ZoneState};
 use obu::{HmiState, Instant};
@@ -185,7 +185,8 @@ fn lane_name(l: Option<(u32, u8)>) -> i32 {
 #[defmt_test::tests]
 mod tests {
     use super::{
-        lane_name, vector, wz, Sample, State, CONFIG, MAP_TIM_VECTORS, MARGIN, START_BEFORE, STEP,
+        lane_name, tally, vector, wz, Sample, State, CONFIG, MAP_TIM_VECTORS, MARGIN, START_BEFORE,
+        STEP,
     };
     use obu::alert::{AlertKind, LaneAdvice, ZoneState};
     use obu_firmware::app::{Firmware, Messages};
@@ -213,7 +214,7 @@ mod tests {
         obu_firmware::board::paint_stack();
         assert_eq!(st.send(vector(MAP_TIM_VECTORS, MAP)), 1);
         assert_eq!(st.send(vector(MAP_TIM_VECTORS, TIM)), 1);
-        let c = st.fw.v2x_counters;
+        let c = tally(&st.fw.v2x_counters);
         defmt::info!("v2x after MAP + TIM: {}", c);
         assert_eq!((c.accepted, c.bad_frames, c.undecodable), (2, 0, 0));
         assert_eq!((c.rejected, c.other), (0, 0));
@@ -261,7 +262,7 @@ mod tests {
         // replaces both zones and so yields a state.
         st.send(vector(MAP_TIM_VECTORS, MAP));
         assert_eq!(st.send(wz::TIM_EASTBOUND), 1, "eastbound TIM stored");
-        let c = st.fw.v2x_counters;
+        let c = tally(&st.fw.v2x_counters);
         assert_eq!((c.accepted, c.bad_frames, c.undecodable), (4, 0, 0));
         assert_eq!(st.fw.obu().zones().len(), 2, "the two zones replaced");
     }

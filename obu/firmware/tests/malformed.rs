@@ -9,10 +9,11 @@
 
 mod common;
 
-use common::{feed_nmea, feed_v2x, frame, sentence, vector, Epoch, Rng};
+use common::{feed_nmea, feed_v2x, frame, sentence, tally, vector, Epoch, Rng, Tally};
 use defmt_semihosting as _;
+use obu::v2x::DropReason;
 use obu::Instant;
-use obu_firmware::app::{Firmware, Messages, V2xCounters, V2X_MAX_WIRE};
+use obu_firmware::app::{Firmware, Messages, V2X_MAX_WIRE};
 use obu_firmware::CONFIG;
 
 include!(concat!(env!("OUT_DIR"), "/vectors.rs"));
@@ -54,11 +55,11 @@ impl State {
     }
 
     /// Counter changes of `f`'s input, checked against `want` (differences).
-    fn expect(&mut self, what: &str, want: V2xCounters, f: impl FnOnce(&mut Self)) {
-        let before = self.fw.v2x_counters;
+    fn expect(&mut self, what: &str, want: Tally, f: impl FnOnce(&mut Self)) {
+        let before = tally(&self.fw.v2x_counters);
         f(self);
-        let after = self.fw.v2x_counters;
-        let got = V2xCounters {
+        let after = tally(&self.fw.v2x_counters);
+        let got = Tally {
             accepted: after.accepted - before.accepted,
             bad_frames: after.bad_frames - before.bad_frames,
             undecodable: after.undecodable - before.undecodable,
@@ -67,6 +68,21 @@ impl State {
         };
         defmt::info!("{=str}: {}", what, got);
         assert_eq!(got, want, "{}", what);
+    }
+
+    /// Like [`State::expect`], and every drop of `f`'s input is of `reason`.
+    fn expect_all(
+        &mut self,
+        what: &str,
+        want: Tally,
+        reason: DropReason,
+        f: impl FnOnce(&mut Self),
+    ) {
+        let before = self.fw.v2x_counters.dropped(reason);
+        let dropped = want.bad_frames + want.undecodable + want.rejected;
+        self.expect(what, want, f);
+        let got = self.fw.v2x_counters.dropped(reason) - before;
+        assert_eq!(got, dropped, "{}: {}", what, reason.as_str());
     }
 
     /// Valid MAP and TIM, each accepted (stored the first time, then repeats: whether a
@@ -82,8 +98,8 @@ impl State {
 }
 
 /// (accepted, bad frames, undecodable, other); `rejected` always 0 here.
-const fn counts(accepted: u32, bad_frames: u32, undecodable: u32, other: u32) -> V2xCounters {
-    V2xCounters {
+const fn counts(accepted: u32, bad_frames: u32, undecodable: u32, other: u32) -> Tally {
+    Tally {
         accepted,
         bad_frames,
         undecodable,
@@ -122,6 +138,7 @@ mod tests {
         code_positions, counts, envelope, feed_nmea, sentence, vector, Epoch, Rng, State, CONFIG,
         MAP, MAP_TIM_VECTORS, OTHER_VECTORS, OVERSIZE, TIM, WIRE,
     };
+    use obu::v2x::DropReason;
     use obu::Instant;
     use obu_firmware::app::{Firmware, Messages, V2X_MAX_WIRE};
 
@@ -144,21 +161,26 @@ mod tests {
         st.expect("empty frames (zeros)", counts(0, 0, 0, 0), |st| {
             st.raw(&[0; 16])
         });
-        st.expect("bad COBS", counts(0, 2, 0, 0), |st| {
+        st.expect_all("bad COBS", counts(0, 2, 0, 0), DropReason::LinkCobs, |st| {
             st.raw(&[0x09, 0x01, 0x00]); // the code points past the frame's end
             st.raw(&[0x05, 0x11, 0x22, 0x33, 0x00]);
         });
-        st.expect("shorter than the CRC", counts(0, 3, 0, 0), |st| {
-            st.raw(&[0x01, 0x00]);
-            st.raw(&[0x02, 0x11, 0x00]);
-            st.raw(&[0x04, 0x11, 0x22, 0x33, 0x00]);
-        });
+        st.expect_all(
+            "shorter than the CRC",
+            counts(0, 3, 0, 0),
+            DropReason::LinkTooShort,
+            |st| {
+                st.raw(&[0x01, 0x00]);
+                st.raw(&[0x02, 0x11, 0x00]);
+                st.raw(&[0x04, 0x11, 0x22, 0x33, 0x00]);
+            },
+        );
 
         let map = vector(MAP_TIM_VECTORS, MAP);
         let n = obu::link::encode(map, &mut st.scratch[..]).expect("fits");
         let mut codes = heapless::Vec::new();
         code_positions(&st.scratch[..n], &mut codes);
-        st.expect("bad CRC", counts(0, 3, 0, 0), |st| {
+        st.expect_all("bad CRC", counts(0, 3, 0, 0), DropReason::LinkCrc, |st| {
             // Each frame one data byte changed (COBS intact), the CRC no longer matches.
             for at in [1, n / 2, n - 2] {
                 let at = (at..n - 1)
@@ -177,20 +199,25 @@ mod tests {
             wire.push(0).expect("fits");
             st.raw(&wire);
         });
-        st.expect("oversize frames", counts(0, 2, 0, 0), |st| {
-            // A valid frame whose wire length is over the firmware's limit ...
-            st.wire[..OVERSIZE].fill(0x5A);
-            let n = obu::link::encode(&st.wire[..OVERSIZE], &mut st.scratch[..]).expect("fits");
-            assert!(n > V2X_MAX_WIRE);
-            let now = st.now();
-            let (_, k) = super::feed_v2x(st.fw, st.msgs, now, &st.scratch[..n]);
-            assert_eq!(k, 0);
-            // ... and 5000 non-zero bytes without a delimiter, then one.
-            for _ in 0..5 {
-                st.raw(&[0x33; 1000]);
-            }
-            st.raw(&[0]);
-        });
+        st.expect_all(
+            "oversize frames",
+            counts(0, 2, 0, 0),
+            DropReason::LinkTooLong,
+            |st| {
+                // A valid frame whose wire length is over the firmware's limit ...
+                st.wire[..OVERSIZE].fill(0x5A);
+                let n = obu::link::encode(&st.wire[..OVERSIZE], &mut st.scratch[..]).expect("fits");
+                assert!(n > V2X_MAX_WIRE);
+                let now = st.now();
+                let (_, k) = super::feed_v2x(st.fw, st.msgs, now, &st.scratch[..n]);
+                assert_eq!(k, 0);
+                // ... and 5000 non-zero bytes without a delimiter, then one.
+                for _ in 0..5 {
+                    st.raw(&[0x33; 1000]);
+                }
+                st.raw(&[0]);
+            },
+        );
         st.map_and_tim_accepted("MAP and TIM after framing errors");
     }
 
@@ -210,11 +237,16 @@ mod tests {
             assert_eq!(st.send(&[0x03, 0x80, 0x40, 0x00, 0x12]), 0);
             assert_eq!(st.send(&[0x03, 0x84, 0xFF]), 0);
         });
-        st.expect("truncated MAP", counts(0, 0, 3, 0), |st| {
-            for cut in [3, map.len() / 2, map.len() - 1] {
-                assert_eq!(st.send(&map[..cut]), 0);
-            }
-        });
+        st.expect_all(
+            "truncated MAP",
+            counts(0, 0, 3, 0),
+            DropReason::DecodeUnexpectedEnd,
+            |st| {
+                for cut in [3, map.len() / 2, map.len() - 1] {
+                    assert_eq!(st.send(&map[..cut]), 0);
+                }
+            },
+        );
         // The MAP's MessageFrame: id 18 (00 12), a one-octet length, the MapData. Truncated
         // inside the MapData with the length made to match: the MapData decoder runs out.
         assert_eq!(
@@ -231,14 +263,25 @@ mod tests {
         });
         // Valid J2735 beyond the firmware's capacity profile (one intersection per MAP, see
         // tests/codec.rs): refused by the decoder like garbage.
-        st.expect("MAP over the firmware capacity", counts(0, 0, 1, 0), |st| {
-            assert_eq!(st.send(vector(MAP_TIM_VECTORS, "map_two_intersections")), 0);
-        });
-        st.expect("MAP with a trailing byte", counts(0, 0, 1, 0), |st| {
-            let mut long: heapless::Vec<u8, 256> = heapless::Vec::from_slice(map).expect("fits");
-            long.push(0x00).expect("fits");
-            assert_eq!(st.send(&long), 0);
-        });
+        st.expect_all(
+            "MAP over the firmware capacity",
+            counts(0, 0, 1, 0),
+            DropReason::DecodeCapacity,
+            |st| {
+                assert_eq!(st.send(vector(MAP_TIM_VECTORS, "map_two_intersections")), 0);
+            },
+        );
+        st.expect_all(
+            "MAP with a trailing byte",
+            counts(0, 0, 1, 0),
+            DropReason::DecodeTrailing,
+            |st| {
+                let mut long: heapless::Vec<u8, 256> =
+                    heapless::Vec::from_slice(map).expect("fits");
+                long.push(0x00).expect("fits");
+                assert_eq!(st.send(&long), 0);
+            },
+        );
         // The positive case of the envelope: MAP and TIM in unsecured 1609.2 data.
         st.expect(
             "MAP and TIM in 1609.2 envelopes",
@@ -334,7 +377,7 @@ mod tests {
             st.raw(&[0x00]);
             st.send(vector(MAP_TIM_VECTORS, TIM));
         });
-        let c = st.fw.v2x_counters;
+        let c = obu_firmware::app::ShowCounters(&st.fw.v2x_counters);
         defmt::info!("v2x counters after the V2X tests: {}", c);
     }
 

@@ -107,9 +107,10 @@ impl From<ModelError> for IngestError {
     }
 }
 
-impl fmt::Display for IngestError {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(match self {
+impl IngestError {
+    /// A short lowercase name, for counters and logs.
+    pub const fn as_str(self) -> &'static str {
+        match self {
             IngestError::InvalidReference => "invalid reference position",
             IngestError::UnsupportedNode => "unsupported node offset",
             IngestError::NoGeometry => "region without usable geometry",
@@ -118,7 +119,13 @@ impl fmt::Display for IngestError {
             IngestError::DuplicateLane => "duplicate lane id",
             IngestError::CapacityExceeded => "capacity exceeded",
             IngestError::InvalidValue => "invalid value",
-        })
+        }
+    }
+}
+
+impl fmt::Display for IngestError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.as_str())
     }
 }
 

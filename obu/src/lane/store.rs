@@ -3,6 +3,7 @@
 use super::{LaneModel, MapId};
 use crate::capacity::MAX_MAPS;
 use crate::geo::LatLon;
+use crate::store::{Keyed, SlotStore, SlotUpdate};
 use crate::time::{Duration, Instant};
 
 /// Outcome of [`MapStore::update`].
@@ -20,11 +21,18 @@ pub enum MapUpdate<'a> {
     },
 }
 
-/// Up to [`MAX_MAPS`] lane models, in fixed slots (no copies of large models).
+/// Up to [`MAX_MAPS`] lane models, in fixed slots (no copies of large models): a typed
+/// [`SlotStore`].
 #[derive(Debug, Clone, PartialEq)]
 pub struct MapStore {
-    models: [LaneModel; MAX_MAPS],
-    heard: [Option<Instant>; MAX_MAPS],
+    slots: SlotStore<LaneModel, MAX_MAPS>,
+}
+
+impl Keyed for LaneModel {
+    type Key = MapId;
+    fn key(&self) -> &MapId {
+        &self.id
+    }
 }
 
 impl Default for MapStore {
@@ -38,8 +46,7 @@ impl MapStore {
     pub const fn new() -> Self {
         const EMPTY: LaneModel = LaneModel::new();
         MapStore {
-            models: [EMPTY; MAX_MAPS],
-            heard: [None; MAX_MAPS],
+            slots: SlotStore::new([EMPTY; MAX_MAPS]),
         }
     }
 
@@ -54,102 +61,61 @@ impl MapStore {
         reference: LatLon,
         elevation_m: f32,
     ) -> MapUpdate<'_> {
-        if let Some(i) = self.slot_of(id) {
-            self.heard[i] = Some(now);
-            if self.models[i].revision == revision {
-                return MapUpdate::Unchanged;
+        match self.slots.update(now, &id, |m| m.revision == revision) {
+            SlotUpdate::Unchanged => MapUpdate::Unchanged,
+            SlotUpdate::Fill { value, replaced } => {
+                value.reset(id, revision, reference, elevation_m);
+                MapUpdate::Fill {
+                    model: value,
+                    replaced,
+                }
             }
-            return self.fill(i, id, revision, reference, elevation_m, true);
         }
-        let (i, replaced) = self.free_slot();
-        self.heard[i] = Some(now);
-        self.fill(i, id, revision, reference, elevation_m, replaced)
-    }
-
-    fn fill(
-        &mut self,
-        i: usize,
-        id: MapId,
-        revision: u8,
-        reference: LatLon,
-        elevation_m: f32,
-        replaced: bool,
-    ) -> MapUpdate<'_> {
-        let model = &mut self.models[i];
-        model.reset(id, revision, reference, elevation_m);
-        MapUpdate::Fill { model, replaced }
-    }
-
-    /// An empty slot, or the least recently heard one (evicted).
-    fn free_slot(&self) -> (usize, bool) {
-        if let Some(i) = self.heard.iter().position(Option::is_none) {
-            return (i, false);
-        }
-        let oldest = (0..MAX_MAPS).min_by_key(|&i| self.heard[i]).unwrap_or(0);
-        (oldest, true)
-    }
-
-    fn slot_of(&self, id: MapId) -> Option<usize> {
-        (0..MAX_MAPS).find(|&i| self.heard[i].is_some() && self.models[i].id == id)
     }
 
     /// The stored model with `id`.
     pub fn get(&self, id: MapId) -> Option<&LaneModel> {
-        self.slot_of(id).map(|i| &self.models[i])
+        self.slots.get(&id)
     }
 
     /// Removes the model with `id` (e.g. after a failed conversion); true if found.
     pub fn remove(&mut self, id: MapId) -> bool {
-        let found = self.slot_of(id);
-        if let Some(i) = found {
-            self.heard[i] = None;
-            self.models[i].reset(MapId(0), 0, LatLon::ZERO, 0.0);
+        let found = self.slots.remove(&id);
+        if let Some(m) = found {
+            m.reset(MapId(0), 0, LatLon::ZERO, 0.0);
+            return true;
         }
-        found.is_some()
+        false
     }
 
     /// Stored models with their slot index (stable while stored).
     pub fn iter(&self) -> impl Iterator<Item = (usize, &LaneModel)> + '_ {
-        (0..MAX_MAPS)
-            .filter(|&i| self.heard[i].is_some())
-            .map(|i| (i, &self.models[i]))
+        self.slots.iter()
     }
 
     /// The model in slot `slot`, if stored.
     pub fn slot(&self, slot: usize) -> Option<&LaneModel> {
-        self.heard.get(slot)?.as_ref()?;
-        self.models.get(slot)
+        self.slots.slot(slot)
     }
 
     /// Number of stored models.
     pub fn len(&self) -> usize {
-        self.heard.iter().filter(|h| h.is_some()).count()
+        self.slots.len()
     }
 
     /// True when no model is stored.
     pub fn is_empty(&self) -> bool {
-        self.len() == 0
+        self.slots.is_empty()
     }
 
     /// Drops models not heard for longer than `timeout`; returns how many.
     pub fn expire(&mut self, now: Instant, timeout: Duration) -> usize {
-        let mut n = 0;
-        for i in 0..MAX_MAPS {
-            if self.heard[i].is_some_and(|t| now.saturating_since(t) > timeout) {
-                self.heard[i] = None;
-                n += 1;
-            }
-        }
-        n
+        self.slots.expire(now, timeout, |_| false)
     }
 
     /// The earliest time at which [`MapStore::expire`] would drop a model.
     pub fn next_expiry(&self, timeout: Duration) -> Option<Instant> {
-        self.heard
-            .iter()
-            .flatten()
-            .min()
-            .map(|&t| t + timeout + Duration::from_millis(1))
+        self.slots.next_expiry(timeout)
     }
 }
 

@@ -22,10 +22,15 @@ impl Obu {
             MessageFrameValue::MapData(map) => self.on_map(now, map),
             MessageFrameValue::TravelerInformation(tim) => self.on_tim(now, tim),
             other => {
-                self.counters.other_messages = self.counters.other_messages.saturating_add(1);
+                self.count_other_message();
                 Ok(Ingest::new(MessageKind::Other(other.id().get())))
             }
         }
+    }
+
+    /// Counts a message the core does not use ([`crate::alert::Counters::other_messages`]).
+    pub(crate) fn count_other_message(&mut self) {
+        self.counters.other_messages = self.counters.other_messages.saturating_add(1);
     }
 
     /// Stores every intersection and road segment of a decoded MAP as a lane model

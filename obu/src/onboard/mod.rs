@@ -171,7 +171,8 @@ impl Obu {
         self.evaluate(now, self.gnss_fresh(now))
     }
 
-    /// When [`Obu::poll`] next has work, if ever.
+    /// When [`Obu::poll`] next has work, if ever: the GNSS timeout, a map's or zone's
+    /// silence timeout, or the end of a zone's validity window.
     pub fn next_deadline(&self) -> Option<Instant> {
         let gnss = match (self.last_fix, self.stale_reported) {
             (Some((t, _)), false) => {
@@ -181,7 +182,20 @@ impl Obu {
         };
         let maps = self.maps.next_expiry(self.config.map_timeout);
         let zones = self.zones.next_expiry(self.config.zone_timeout);
-        [gnss, maps, zones].into_iter().flatten().min()
+        [gnss, maps, zones, self.next_window_end()]
+            .into_iter()
+            .flatten()
+            .min()
+    }
+
+    /// When the UTC minute (extrapolated from the last fix with UTC) first passes the end
+    /// of a stored zone's validity window, so that [`Obu::poll`] drops it.
+    fn next_window_end(&self) -> Option<Instant> {
+        let (t, utc) = self.utc?;
+        let end = self.zones.next_end(utc.abs_minutes())?;
+        let utc_ms = utc.abs_minutes() * 60_000 + (utc.ms_of_year % 60_000) as i64;
+        let after = ((end + 1) * 60_000 - utc_ms).max(0);
+        Some(t + Duration::from_millis(after as u64))
     }
 
     /// Stores a decoded MAP intersection or road segment. When `id` is stored with

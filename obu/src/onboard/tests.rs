@@ -133,6 +133,35 @@ fn stale_gnss_and_deadlines() {
 }
 
 #[test]
+fn the_end_of_a_validity_window_is_a_deadline() {
+    let mut obu = obu_with(false);
+    let mut config = AlertConfig::DEFAULT;
+    config.zone_timeout = Duration::from_secs(600);
+    config.map_timeout = Duration::from_secs(600);
+    obu.set_config(config);
+    // Valid in minutes 2000 and 2001 of 2024; the fixes say minute 2000, second 0.
+    let window = Validity {
+        start_year: 2024,
+        start_minute: 2000,
+        duration_min: 1,
+    };
+    let key = ZoneKey::packet([1; 9], 0);
+    let r = obu.update_zone(Instant::ZERO, key, 1, window, |z| {
+        testutil::fill_closure(z);
+        Ok::<(), ModelError>(())
+    });
+    assert_eq!(r, Ok(true));
+    let _ = drive(&mut obu, 1000, 3.5, 350.0, 10.0);
+    assert!(obu.poll(Instant::from_millis(2001)).is_some(), "GNSS stale");
+    // Minute 2002 starts 120 s after the fix.
+    assert_eq!(obu.next_deadline(), Some(Instant::from_millis(121_000)));
+    assert!(obu.poll(Instant::from_millis(120_999)).is_none());
+    let s = obu.poll(Instant::from_millis(121_000)).unwrap_or_default();
+    assert_eq!(s.zones, 0, "the window has ended");
+    assert_eq!(obu.next_deadline(), Some(Instant::from_millis(600_001)));
+}
+
+#[test]
 fn validity_and_cancel() {
     let mut obu = obu_with(true);
     let early = Fix {

@@ -2,6 +2,7 @@
 
 use super::{Validity, WorkZone, ZoneKey};
 use crate::capacity::MAX_ZONES;
+use crate::store::{Keyed, SlotStore, SlotUpdate};
 use crate::time::{Duration, Instant};
 
 /// Outcome of [`ZoneStore::update`].
@@ -22,11 +23,17 @@ pub enum ZoneUpdate<'a> {
     },
 }
 
-/// Up to [`MAX_ZONES`] work zones in fixed slots.
+/// Up to [`MAX_ZONES`] work zones in fixed slots: a typed [`SlotStore`].
 #[derive(Debug, Clone, PartialEq)]
 pub struct ZoneStore {
-    zones: [WorkZone; MAX_ZONES],
-    heard: [Option<Instant>; MAX_ZONES],
+    slots: SlotStore<WorkZone, MAX_ZONES>,
+}
+
+impl Keyed for WorkZone {
+    type Key = ZoneKey;
+    fn key(&self) -> &ZoneKey {
+        &self.key
+    }
 }
 
 impl Default for ZoneStore {
@@ -40,8 +47,7 @@ impl ZoneStore {
     pub const fn new() -> Self {
         const EMPTY: WorkZone = WorkZone::new();
         ZoneStore {
-            zones: [EMPTY; MAX_ZONES],
-            heard: [None; MAX_ZONES],
+            slots: SlotStore::new([EMPTY; MAX_ZONES]),
         }
     }
 
@@ -57,110 +63,77 @@ impl ZoneStore {
         msg_cnt: u8,
         validity: Validity,
     ) -> ZoneUpdate<'_> {
-        let found = self.slot_of(&key);
         if validity.is_cancelled() {
-            if let Some(i) = found {
-                self.heard[i] = None;
-            }
-            return ZoneUpdate::Cancelled(found.is_some());
+            return ZoneUpdate::Cancelled(self.slots.remove(&key).is_some());
         }
-        let (i, replaced) = match found {
-            Some(i) if self.is_same(i, msg_cnt, &validity) => {
-                self.heard[i] = Some(now);
-                return ZoneUpdate::Unchanged;
-            }
-            Some(i) if validity.start_abs() < self.zones[i].validity.start_abs() => {
+        let same = |z: &WorkZone| z.msg_cnt == msg_cnt && z.validity == validity;
+        if let Some(z) = self.slots.get(&key) {
+            if !same(z) && validity.start_abs() < z.validity.start_abs() {
                 return ZoneUpdate::Stale;
             }
-            Some(i) => (i, true),
-            None => self.free_slot(),
-        };
-        self.heard[i] = Some(now);
-        let zone = &mut self.zones[i];
-        zone.reset(key, msg_cnt, validity);
-        ZoneUpdate::Fill { zone, replaced }
-    }
-
-    fn is_same(&self, i: usize, msg_cnt: u8, validity: &Validity) -> bool {
-        let z = &self.zones[i];
-        z.msg_cnt == msg_cnt && z.validity == *validity
-    }
-
-    fn free_slot(&self) -> (usize, bool) {
-        if let Some(i) = self.heard.iter().position(Option::is_none) {
-            return (i, false);
         }
-        let oldest = (0..MAX_ZONES).min_by_key(|&i| self.heard[i]).unwrap_or(0);
-        (oldest, true)
-    }
-
-    fn slot_of(&self, key: &ZoneKey) -> Option<usize> {
-        (0..MAX_ZONES).find(|&i| self.heard[i].is_some() && self.zones[i].key == *key)
+        match self.slots.update(now, &key, same) {
+            SlotUpdate::Unchanged => ZoneUpdate::Unchanged,
+            SlotUpdate::Fill { value, replaced } => {
+                value.reset(key, msg_cnt, validity);
+                ZoneUpdate::Fill {
+                    zone: value,
+                    replaced,
+                }
+            }
+        }
     }
 
     /// The zone with `key`.
     pub fn get(&self, key: &ZoneKey) -> Option<&WorkZone> {
-        self.slot_of(key).map(|i| &self.zones[i])
+        self.slots.get(key)
     }
 
     /// Removes the zone with `key`; true if it was stored.
     pub fn remove(&mut self, key: &ZoneKey) -> bool {
-        let found = self.slot_of(key);
-        if let Some(i) = found {
-            self.heard[i] = None;
-        }
-        found.is_some()
+        self.slots.remove(key).is_some()
     }
 
     /// Stored zones.
     pub fn iter(&self) -> impl Iterator<Item = &WorkZone> + '_ {
-        (0..MAX_ZONES)
-            .filter(|&i| self.heard[i].is_some())
-            .map(|i| &self.zones[i])
+        self.slots.iter().map(|(_, z)| z)
     }
 
     /// Stored zones, mutable.
     pub fn iter_mut(&mut self) -> impl Iterator<Item = &mut WorkZone> + '_ {
-        self.zones
-            .iter_mut()
-            .zip(self.heard.iter())
-            .filter(|(_, h)| h.is_some())
-            .map(|(z, _)| z)
+        self.slots.iter_mut()
     }
 
     /// Number of stored zones.
     pub fn len(&self) -> usize {
-        self.heard.iter().filter(|h| h.is_some()).count()
+        self.slots.len()
     }
 
     /// True when no zone is stored.
     pub fn is_empty(&self) -> bool {
-        self.len() == 0
+        self.slots.is_empty()
     }
 
     /// Drops zones whose window has ended at `utc_min` (minutes since 2000, when the
     /// wall time is known) or that were not heard for longer than `timeout`.
     /// Returns how many were dropped.
     pub fn poll(&mut self, now: Instant, utc_min: Option<i64>, timeout: Duration) -> usize {
-        let mut n = 0;
-        for i in 0..MAX_ZONES {
-            let Some(heard) = self.heard[i] else { continue };
-            let ended = utc_min.is_some_and(|m| self.zones[i].validity.has_ended(m));
-            if ended || now.saturating_since(heard) > timeout {
-                self.heard[i] = None;
-                n += 1;
-            }
-        }
-        n
+        self.slots.expire(now, timeout, |z| {
+            utc_min.is_some_and(|m| z.validity.has_ended(m))
+        })
+    }
+
+    /// The earliest end (minutes since 2000, as seen at `now_abs_min`) of a stored zone's
+    /// validity window; `None` when every window is indefinite or nothing is stored.
+    pub fn next_end(&self, now_abs_min: i64) -> Option<i64> {
+        self.iter()
+            .filter_map(|z| z.validity.end_abs_at(now_abs_min))
+            .min()
     }
 
     /// The earliest time at which [`ZoneStore::poll`] would drop a zone for silence.
     pub fn next_expiry(&self, timeout: Duration) -> Option<Instant> {
-        self.heard
-            .iter()
-            .flatten()
-            .min()
-            .map(|&t| t + timeout + Duration::from_millis(1))
+        self.slots.next_expiry(timeout)
     }
 }
 

@@ -3,6 +3,7 @@
 #![allow(dead_code)] // each test uses its own subset
 
 use core::fmt::Write as _;
+use obu::v2x::{DropGroup, V2xCounters};
 use obu::{HmiState, Instant};
 use obu_firmware::app::{Firmware, Messages};
 
@@ -164,5 +165,31 @@ impl Rng {
         x ^= x << 5;
         self.0 = x;
         (x >> 24) as u8
+    }
+}
+
+/// The V2X counters by the tests' five outcomes (each a sum over the core's fixed array).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, defmt::Format)]
+pub struct Tally {
+    /// MAP or TIM taken by the core (changed or only refreshed).
+    pub accepted: u32,
+    /// Frames the link's framing rejected (COBS, CRC, too long or too short).
+    pub bad_frames: u32,
+    /// Frames whose envelope or UPER content did not decode (or exceeded a capacity).
+    pub undecodable: u32,
+    /// Decoded MAP or TIM the core refused.
+    pub rejected: u32,
+    /// Other message types.
+    pub other: u32,
+}
+
+/// The counters `c` as a [`Tally`].
+pub fn tally(c: &V2xCounters) -> Tally {
+    Tally {
+        accepted: c.changed + c.unchanged,
+        bad_frames: c.dropped_in(DropGroup::Datagram),
+        undecodable: c.dropped_in(DropGroup::Envelope) + c.dropped_in(DropGroup::Decode),
+        rejected: c.dropped_in(DropGroup::Ingest),
+        other: c.other,
     }
 }

@@ -1,0 +1,177 @@
+use super::*;
+use crate::testutil::{big_stack, vector};
+use std::boxed::Box;
+use std::vec::Vec;
+
+/// A core and its scratch (with room for a 256-octet RSU payload), on the heap.
+fn setup() -> (Box<Obu>, Box<V2xScratch<256>>) {
+    (Box::new(Obu::default()), Box::new(V2xScratch::new()))
+}
+
+fn rsu(payload: &str) -> Vec<u8> {
+    std::format!("Version=0.7\nType=MAP\nPSID=0x8002\nPayload={payload}\n").into_bytes()
+}
+
+fn hex(bytes: &[u8]) -> std::string::String {
+    bytes.iter().map(|b| std::format!("{b:02X}")).collect()
+}
+
+#[test]
+fn map_then_tim_change_the_state_repeats_do_not_and_a_bsm_is_other() {
+    big_stack(|| {
+        let (mut obu, mut scratch) = setup();
+        let t = Instant::from_millis(10);
+        let map = vector("map_work_zone");
+        let tim = vector("tim_work_zone_left_lane_closed");
+        assert_eq!(
+            obu.on_datagram(t, &map, &mut scratch),
+            V2xOutcome::Changed(18)
+        );
+        // The TIM in an unsecured 1609.2 envelope, long-form length (written by hand).
+        assert!((128..256).contains(&tim.len()));
+        let mut wrapped = std::vec![0x03, 0x80, 0x81, tim.len() as u8];
+        wrapped.extend_from_slice(&tim);
+        assert_eq!(
+            obu.on_datagram(t, &wrapped, &mut scratch),
+            V2xOutcome::Changed(31)
+        );
+        assert_eq!(
+            obu.on_datagram(t, &map, &mut scratch),
+            V2xOutcome::Unchanged(18)
+        );
+        assert_eq!(
+            obu.on_datagram(t, &tim, &mut scratch),
+            V2xOutcome::Unchanged(31)
+        );
+        assert_eq!(
+            obu.on_datagram(t, &vector("bsm_minimal"), &mut scratch),
+            V2xOutcome::Other(20)
+        );
+        assert_eq!(obu.counters().other_messages, 1);
+        assert_eq!((obu.maps().len(), obu.zones().len()), (1, 2));
+    });
+}
+
+#[test]
+fn an_rsu_text_record_carries_the_frame() {
+    big_stack(|| {
+        let (mut obu, mut scratch) = setup();
+        let map = vector("map_work_zone");
+        assert!(map.len() <= 256);
+        let record = rsu(&hex(&map));
+        assert_eq!(
+            obu.on_datagram(Instant::ZERO, &record, &mut scratch),
+            V2xOutcome::Changed(18)
+        );
+        // One octet over the scratch's 256.
+        let big = rsu(&"00".repeat(257));
+        assert_eq!(
+            obu.on_datagram(Instant::ZERO, &big, &mut scratch),
+            V2xOutcome::Dropped(DropReason::RsuPayloadTooLarge)
+        );
+    });
+}
+
+#[test]
+fn malformed_inputs_give_their_reason() {
+    big_stack(|| {
+        let (mut obu, mut scratch) = setup();
+        let map = vector("map_work_zone");
+        let mut trailing = map.clone();
+        trailing.push(0);
+        let mut no_plaintext =
+            std::vec![0x03, 0x82, 0x01, 0x01, 0x80, 1, 2, 3, 4, 5, 6, 7, 8, 0x80];
+        no_plaintext.extend_from_slice(&[0x00; 12]);
+        no_plaintext.extend_from_slice(&[0x01, 0xaa]);
+        use DropReason::*;
+        let cases: [(&[u8], DropReason); 12] = [
+            // The envelope's length says 9 octets, 4 follow.
+            (
+                &[0x03, 0x80, 0x09, 0x00, 0x1f, 0x01, 0x02],
+                EnvelopeUnexpectedEnd,
+            ),
+            // Long-form length for 4 octets: not canonical COER.
+            (
+                &[0x03, 0x80, 0x81, 0x04, 0x00, 0x1f, 0x01, 0x02],
+                EnvelopeNonCanonical,
+            ),
+            (&no_plaintext, EnvelopeNoPlaintext),
+            (b"Version=0.7\nType=MAP\n", RsuMissingKey),
+            (
+                b"Version=0.7\nType=MAP\nType=TIM\nPSID=0x20\nPayload=00\n",
+                RsuDuplicateKey,
+            ),
+            (b"Version=0.7\nno equals sign\n", RsuNotKeyValue),
+            (
+                b"Version=0.7\nType=MAP\nPSID=0x8002\nPayload=0G\n",
+                RsuInvalidValue,
+            ),
+            (b"Version=\xff\n", RsuNotUtf8),
+            (&[], DecodeUnexpectedEnd),
+            (&map[..map.len() / 2], DecodeUnexpectedEnd),
+            (&trailing, DecodeTrailing),
+            (&vector("map_regional_addgrpb"), IngestNode),
+        ];
+        let mut counters = V2xCounters::ZERO;
+        for (i, (bytes, want)) in cases.iter().enumerate() {
+            let got = obu.on_datagram(Instant::ZERO, bytes, &mut scratch);
+            assert_eq!(got, V2xOutcome::Dropped(*want), "case {i}");
+            counters.record(got);
+        }
+        assert_eq!(counters.total(), 12);
+        assert_eq!(counters.dropped(DecodeUnexpectedEnd), 2);
+        assert_eq!(
+            counters.dropped_in(DropGroup::Envelope),
+            3 + 5,
+            "1609.2 and RSU text"
+        );
+        assert_eq!(counters.dropped_in(DropGroup::Decode), 3);
+        assert_eq!(counters.dropped_in(DropGroup::Ingest), 1);
+        // Only the last MAP stored anything: its model without the lanes it could not place.
+        assert_eq!(obu.maps().len(), 1);
+    });
+}
+
+#[test]
+fn reasons_are_a_closed_indexed_set_of_static_names() {
+    for (i, r) in DropReason::ALL.iter().enumerate() {
+        assert_eq!(r.index(), i);
+        assert!(!r.as_str().is_empty());
+        let same = DropReason::ALL
+            .iter()
+            .filter(|o| o.group() == r.group() && o.as_str() == r.as_str())
+            .count();
+        assert_eq!(same, 1, "{} named once in its group", r.as_str());
+    }
+    assert_eq!(DropReason::IngestValue.as_str(), "invalid value");
+    assert_eq!(DropReason::DecodeTrailing.as_str(), "trailing bytes");
+    assert_eq!(DropReason::TooLarge.as_str(), "datagram too large");
+}
+
+#[test]
+fn message_short_names_have_one_spelling() {
+    use j2735::message_frame::message_short_name as name;
+    let want = [
+        (18, "MAP"),
+        (19, "SPAT"),
+        (20, "BSM"),
+        (21, "CSR"),
+        (22, "EVA"),
+        (23, "ICA"),
+        (24, "NMEA"),
+        (25, "PDM"),
+        (26, "PVD"),
+        (27, "RSA"),
+        (28, "RTCM"),
+        (29, "SRM"),
+        (30, "SSM"),
+        (31, "TIM"),
+        (32, "PSM"),
+        (240, "TEST00"),
+        (255, "TEST15"),
+    ];
+    for (id, short) in want {
+        assert_eq!(name(id), Some(short));
+    }
+    assert_eq!((name(17), name(33), name(256)), (None, None, None));
+}
