@@ -6,8 +6,12 @@
 //! the value it holds (hex of its encoding when the type is unknown here).
 //!
 //! Reading accepts what X.697 allows and, for BIT STRINGs, also a bare hex string (as some
-//! encoders write for extensible sizes). Components this build does not know are ignored;
-//! extension additions kept from UPER are not written (JER has no form for them).
+//! encoders write for extensible sizes). Components this build does not know are ignored
+//! by the default (lax) reading and rejected by the strict one ([`Options::strict`],
+//! [`from_str_strict`]); extension additions kept from UPER travel in the member
+//! [`EXTENSIONS_MEMBER`].
+
+mod strict;
 
 use std::fmt::Write as _;
 use std::string::{String, ToString};
@@ -99,11 +103,46 @@ pub fn to_string<T: Jer>(value: &T) -> String {
     w.finish()
 }
 
-/// Reads a value from JER text.
+/// How JER is read.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Options {
+    /// Reject members of a SEQUENCE (or of a BIT STRING's or `_extensions`' object) that
+    /// the type does not have, naming the member and its path; the default (`false`)
+    /// ignores them. [`EXTENSIONS_MEMBER`] is allowed in both modes.
+    pub strict: bool,
+}
+
+impl Options {
+    /// The default reading: unknown members are ignored.
+    pub const LAX: Self = Self { strict: false };
+    /// Unknown members are errors.
+    pub const STRICT: Self = Self { strict: true };
+}
+
+/// Reads a value from JER text (lax: unknown members are ignored).
 pub fn from_str<T: Jer>(text: &str) -> JerResult<T> {
+    from_str_with(text, Options::LAX)
+}
+
+/// Reads a value from JER text, rejecting unknown members.
+pub fn from_str_strict<T: Jer>(text: &str) -> JerResult<T> {
+    from_str_with(text, Options::STRICT)
+}
+
+/// Reads a value from JER text as `options` say.
+pub fn from_str_with<T: Jer>(text: &str, options: Options) -> JerResult<T> {
     let v: Value =
         serde_json::from_str(text).map_err(|e| JerError::new(std::format!("invalid JSON: {e}")))?;
-    T::read_jer(&v)
+    read_with(&v, options)
+}
+
+/// Reads a value from a parsed JER document as `options` say.
+pub fn read_with<T: Jer>(v: &Value, options: Options) -> JerResult<T> {
+    if options.strict {
+        strict::read_checked(v, T::read_jer)
+    } else {
+        T::read_jer(v)
+    }
 }
 
 /// Compares two JER documents as values: `Ok` when equal, treating the object form
@@ -269,7 +308,10 @@ impl JerWriter {
 /// A member of a JER object, when present.
 pub fn member<'a>(v: &'a Value, name: &str) -> JerResult<Option<&'a Value>> {
     match v {
-        Value::Object(map) => Ok(map.get(name)),
+        Value::Object(map) => {
+            strict::note_lookup(map, name);
+            Ok(map.get(name))
+        }
         _ => Err(JerError::new("expected an object")),
     }
 }
