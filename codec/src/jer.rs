@@ -270,9 +270,7 @@ impl JerWriter {
     pub fn hex(&mut self, bytes: &[u8]) {
         self.element();
         self.out.push('"');
-        for b in bytes {
-            let _ = write!(self.out, "{b:02x}");
-        }
+        let _ = crate::hex::encode(bytes, &mut self.out);
         self.out.push('"');
     }
 
@@ -388,13 +386,13 @@ pub fn array(v: &Value) -> JerResult<&[Value]> {
 /// Octets from a hex string.
 pub fn hex(v: &Value) -> JerResult<Vec<u8>> {
     let s = string(v)?;
-    if s.len() % 2 != 0 {
-        return Err(JerError::new("odd number of hex digits"));
-    }
-    (0..s.len() / 2)
-        .map(|i| u8::from_str_radix(s.get(2 * i..2 * i + 2).unwrap_or("x"), 16))
-        .collect::<Result<_, _>>()
-        .map_err(|_| JerError::new("invalid hex digit"))
+    let error = |e| match e {
+        crate::hex::HexError::OddLength => JerError::new("odd number of hex digits"),
+        _ => JerError::new("invalid hex digit"),
+    };
+    let mut bytes = std::vec![0; crate::hex::decoded_len(s).map_err(error)?];
+    crate::hex::decode_into(s, &mut bytes).map_err(error)?;
+    Ok(bytes)
 }
 
 /// A BIT STRING of `lb..=ub` bits: `{"value", "length"}`, or bare hex (then the length is

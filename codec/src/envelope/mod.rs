@@ -34,7 +34,8 @@
 use core::fmt;
 
 mod coer;
-pub mod hex;
+/// Hexadecimal text (moved to [`crate::hex`]; kept here for the envelope API's users).
+pub use crate::hex;
 pub mod ieee1609dot2;
 mod ieee1609dot2_skip;
 pub mod rsu_text;
