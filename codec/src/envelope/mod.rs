@@ -42,6 +42,8 @@ pub mod rsu_text;
 
 #[cfg(all(test, feature = "shared-corpus"))]
 mod corpus_tests;
+#[cfg(test)]
+mod wire_fixtures;
 
 use ieee1609dot2::{looks_like_ieee1609dot2, DecodeError, Ieee1609Dot2Data};
 
