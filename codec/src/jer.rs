@@ -6,8 +6,12 @@
 //! the value it holds (hex of its encoding when the type is unknown here).
 //!
 //! Reading accepts what X.697 allows and, for BIT STRINGs, also a bare hex string (as some
-//! encoders write for extensible sizes). Components this build does not know are ignored;
-//! extension additions kept from UPER are not written (JER has no form for them).
+//! encoders write for extensible sizes). Components this build does not know are ignored
+//! by the default (lax) reading and rejected by the strict one ([`Options::strict`],
+//! [`from_str_strict`]); extension additions kept from UPER travel in the member
+//! [`EXTENSIONS_MEMBER`].
+
+mod strict;
 
 use std::fmt::Write as _;
 use std::string::{String, ToString};
@@ -99,11 +103,46 @@ pub fn to_string<T: Jer>(value: &T) -> String {
     w.finish()
 }
 
-/// Reads a value from JER text.
+/// How JER is read.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Options {
+    /// Reject members of a SEQUENCE (or of a BIT STRING's or `_extensions`' object) that
+    /// the type does not have, naming the member and its path; the default (`false`)
+    /// ignores them. [`EXTENSIONS_MEMBER`] is allowed in both modes.
+    pub strict: bool,
+}
+
+impl Options {
+    /// The default reading: unknown members are ignored.
+    pub const LAX: Self = Self { strict: false };
+    /// Unknown members are errors.
+    pub const STRICT: Self = Self { strict: true };
+}
+
+/// Reads a value from JER text (lax: unknown members are ignored).
 pub fn from_str<T: Jer>(text: &str) -> JerResult<T> {
+    from_str_with(text, Options::LAX)
+}
+
+/// Reads a value from JER text, rejecting unknown members.
+pub fn from_str_strict<T: Jer>(text: &str) -> JerResult<T> {
+    from_str_with(text, Options::STRICT)
+}
+
+/// Reads a value from JER text as `options` say.
+pub fn from_str_with<T: Jer>(text: &str, options: Options) -> JerResult<T> {
     let v: Value =
         serde_json::from_str(text).map_err(|e| JerError::new(std::format!("invalid JSON: {e}")))?;
-    T::read_jer(&v)
+    read_with(&v, options)
+}
+
+/// Reads a value from a parsed JER document as `options` say.
+pub fn read_with<T: Jer>(v: &Value, options: Options) -> JerResult<T> {
+    if options.strict {
+        strict::read_checked(v, T::read_jer)
+    } else {
+        T::read_jer(v)
+    }
 }
 
 /// Compares two JER documents as values: `Ok` when equal, treating the object form
@@ -231,9 +270,7 @@ impl JerWriter {
     pub fn hex(&mut self, bytes: &[u8]) {
         self.element();
         self.out.push('"');
-        for b in bytes {
-            let _ = write!(self.out, "{b:02x}");
-        }
+        let _ = crate::hex::encode(bytes, &mut self.out);
         self.out.push('"');
     }
 
@@ -269,7 +306,10 @@ impl JerWriter {
 /// A member of a JER object, when present.
 pub fn member<'a>(v: &'a Value, name: &str) -> JerResult<Option<&'a Value>> {
     match v {
-        Value::Object(map) => Ok(map.get(name)),
+        Value::Object(map) => {
+            strict::note_lookup(map, name);
+            Ok(map.get(name))
+        }
         _ => Err(JerError::new("expected an object")),
     }
 }
@@ -346,13 +386,13 @@ pub fn array(v: &Value) -> JerResult<&[Value]> {
 /// Octets from a hex string.
 pub fn hex(v: &Value) -> JerResult<Vec<u8>> {
     let s = string(v)?;
-    if s.len() % 2 != 0 {
-        return Err(JerError::new("odd number of hex digits"));
-    }
-    (0..s.len() / 2)
-        .map(|i| u8::from_str_radix(s.get(2 * i..2 * i + 2).unwrap_or("x"), 16))
-        .collect::<Result<_, _>>()
-        .map_err(|_| JerError::new("invalid hex digit"))
+    let error = |e| match e {
+        crate::hex::HexError::OddLength => JerError::new("odd number of hex digits"),
+        _ => JerError::new("invalid hex digit"),
+    };
+    let mut bytes = std::vec![0; crate::hex::decoded_len(s).map_err(error)?];
+    crate::hex::decode_into(s, &mut bytes).map_err(error)?;
+    Ok(bytes)
 }
 
 /// A BIT STRING of `lb..=ub` bits: `{"value", "length"}`, or bare hex (then the length is

@@ -3,6 +3,7 @@
 //!
 //! - [`uper`]: the runtime (bit reader/writer, [`uper::Uper`] trait, [`uper::decode`],
 //!   [`uper::encode`]).
+//! - [`hex`]: hexadecimal text to bytes and back (no allocation).
 //! - The generated types, one module per ASN.1 module ([`message_frame`], [`map_data`],
 //!   [`traveler_information`], [`common`], ...), with the most used ones re-exported here.
 //!
@@ -32,6 +33,7 @@ extern crate std;
 
 pub mod envelope;
 pub mod frame;
+pub mod hex;
 #[cfg(feature = "jer")]
 pub mod jer;
 pub mod uper;

@@ -28,7 +28,9 @@ fn check(
     let ours: Value =
         serde_json::from_str(&text).map_err(|e| format!("{name}: our JER is not JSON: {e}"))?;
     same_jer(&ours, expected, "").map_err(|e| format!("{name}: JER differs at {e}"))?;
-    let back: MessageFrame = jer::from_str(&text).map_err(|e| format!("{name}: JER read: {e}"))?;
+    // Our own JER has no member the types do not know: the strict reading accepts it.
+    let back: MessageFrame =
+        jer::from_str_strict(&text).map_err(|e| format!("{name}: JER read: {e}"))?;
     let n = uper::encode(&back, buf).map_err(|e| format!("{name}: encode: {e}"))?;
     if &buf[..n] != bytes {
         return Err(format!("{name}: JER -> UPER differs"));
@@ -46,7 +48,7 @@ fn jer_round_trip(
 ) -> Result<(), String> {
     uper::decode_into(bytes, mf).map_err(|e| format!("{name}: decode: {e}"))?;
     let back: MessageFrame =
-        jer::from_str(&jer::to_string(mf)).map_err(|e| format!("{name}: JER read: {e}"))?;
+        jer::from_str_strict(&jer::to_string(mf)).map_err(|e| format!("{name}: JER read: {e}"))?;
     let n = uper::encode(&back, buf).map_err(|e| format!("{name}: encode: {e}"))?;
     if &buf[..n] != bytes {
         return Err(format!("{name}: JER -> UPER differs"));
@@ -131,5 +133,83 @@ fn corpus_jer_equals_the_oracle_and_round_trips() {
             failures.len(),
             failures.join("\n")
         );
+    });
+}
+
+/// The oracle's JER of the vector `name` and its UPER bytes.
+fn oracle_vector(name: &str) -> (Value, Vec<u8>) {
+    let line = include_str!("vectors/oracle_vectors.jsonl")
+        .lines()
+        .find(|l| l.contains(&format!("\"name\":\"{name}\"")))
+        .unwrap_or_else(|| panic!("no vector {name}"));
+    let v: Value = serde_json::from_str(line).unwrap();
+    (
+        v["jer"].clone(),
+        common::from_hex(v["uper"].as_str().unwrap()),
+    )
+}
+
+/// The UPER bytes of `frame`.
+fn encoded(frame: &MessageFrame) -> Vec<u8> {
+    let mut buf = vec![0u8; 1 << 16];
+    let n = uper::encode(frame, &mut buf).unwrap();
+    buf.truncate(n);
+    buf
+}
+
+#[test]
+fn strict_reading_rejects_an_unknown_member_of_a_nested_sequence() {
+    common::big_stack(|| {
+        let (mut doc, bytes) = oracle_vector("map_work_zone");
+        // refPoint is a Position3D (SEQUENCE) inside IntersectionGeometry inside MapData.
+        let ref_point = &mut doc["value"]["intersections"][0]["refPoint"];
+        assert!(ref_point.is_object(), "{doc}");
+        ref_point["altitudeHint"] = Value::from(12);
+        let text = doc.to_string();
+
+        let e = jer::from_str_strict::<MessageFrame>(&text).unwrap_err();
+        assert_eq!(e.reason, "unknown member \"altitudeHint\"");
+        assert_eq!(e.path, "value.intersections.[0].refPoint");
+        assert_eq!(
+            e.to_string(),
+            "unknown member \"altitudeHint\" at value.intersections.[0].refPoint"
+        );
+        let e = jer::from_str_with::<MessageFrame>(&text, jer::Options { strict: true });
+        assert!(e.is_err());
+
+        // Lax (the default) ignores it and reads the same frame.
+        let lax: MessageFrame = jer::from_str(&text).unwrap();
+        assert_eq!(encoded(&lax), bytes);
+        let lax: MessageFrame = jer::from_str_with(&text, jer::Options::LAX).unwrap();
+        assert_eq!(encoded(&lax), bytes);
+    });
+}
+
+#[test]
+fn strict_reading_checks_the_top_level_and_keeps_extensions_allowed() {
+    common::big_stack(|| {
+        let (mut doc, _) = oracle_vector("bsm_minimal");
+        doc["priority"] = Value::from(1);
+        let e = jer::from_str_strict::<MessageFrame>(&doc.to_string()).unwrap_err();
+        assert_eq!(
+            (e.reason.as_str(), e.path.as_str()),
+            ("unknown member \"priority\"", "")
+        );
+
+        let (mut doc, bytes) = oracle_vector("bsm_minimal");
+        // The member of extension additions, here written out with none, is no unknown member.
+        doc["_extensions"] = serde_json::json!({"bitmapLength": 0, "additions": []});
+        let read = jer::from_str_strict::<MessageFrame>(&doc.to_string()).unwrap();
+        assert_eq!(encoded(&read), bytes);
+        // Inside `_extensions` the members are checked too.
+        doc["_extensions"]["note"] = Value::from("x");
+        let e = jer::from_str_strict::<MessageFrame>(&doc.to_string()).unwrap_err();
+        assert_eq!(
+            (e.reason.as_str(), e.path.as_str()),
+            ("unknown member \"note\"", "_extensions")
+        );
+        let (doc, _) = oracle_vector("bsm_minimal");
+        let frame: MessageFrame = jer::from_str_strict(&doc.to_string()).unwrap();
+        assert_eq!(encoded(&frame), bytes);
     });
 }

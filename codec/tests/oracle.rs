@@ -7,28 +7,6 @@
 mod common;
 
 use j2735::uper;
-use std::io::Write;
-use std::process::{Command, Stdio};
-
-fn oracle_python() -> String {
-    let setup = common::shared_dir().join("oracle/setup.sh");
-    let out = Command::new("bash")
-        .arg(&setup)
-        .output()
-        .expect("run the oracle setup");
-    assert!(
-        out.status.success(),
-        "oracle setup failed: {}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    String::from_utf8(out.stdout)
-        .unwrap()
-        .lines()
-        .last()
-        .unwrap()
-        .trim()
-        .to_owned()
-}
 
 #[test]
 fn random_frames_agree_with_the_oracle_byte_for_byte() {
@@ -43,21 +21,12 @@ fn random_frames_agree_with_the_oracle_byte_for_byte() {
             .collect()
     });
     let script = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/oracle_roundtrip.py");
-    let mut child = Command::new(oracle_python())
-        .arg(script)
-        .arg(common::shared_dir())
-        .stdin(Stdio::piped())
-        .stdout(Stdio::piped())
-        .spawn()
-        .expect("start the oracle");
-    child
-        .stdin
-        .take()
-        .unwrap()
-        .write_all((ours.join("\n") + "\n").as_bytes())
-        .unwrap();
-    let out = child.wait_with_output().unwrap();
-    let theirs: Vec<&str> = std::str::from_utf8(&out.stdout).unwrap().lines().collect();
+    let answer = test_support::oracle::run_script(
+        std::path::Path::new(script),
+        [common::shared_dir()],
+        &(ours.join("\n") + "\n"),
+    );
+    let theirs: Vec<&str> = answer.lines().collect();
     assert_eq!(theirs.len(), ours.len(), "the oracle answered every frame");
     let kinds = ["MAP", "TIM", "BSM", "SPaT"];
     let mut differ = Vec::new();

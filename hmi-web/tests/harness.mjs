@@ -9,8 +9,8 @@
 // Driver contract for HMI_DRIVER_CMD: `sh -c "$HMI_DRIVER_CMD <scene>"` with env HMI_URL and
 // HMI_STATE_DIR (the server's); puts the vehicle into that scene and exits 0 once its inputs
 // are being fed (non-zero: unknown scene).
-// HMI_STANDIN=1 marks the development stand-in: tests of states a real daemon cannot be put
-// into (a silent stream, a state without road_lanes) run only then.
+// Every test runs against whichever server is given; none depends on a state only the
+// development stand-in can produce (those tests were removed: see hmi-web/README.md).
 
 import { spawn } from 'node:child_process';
 import fs from 'node:fs';
@@ -33,8 +33,6 @@ export function env() {
   }
   return { server, driver };
 }
-
-export const STANDIN = process.env.HMI_STANDIN === '1';
 
 export const sleep = (ms) => new Promise((r) => setTimeout(r, ms));
 

@@ -61,19 +61,12 @@ pub fn corpus_dir() -> PathBuf {
     }
 }
 
-/// Decodes lower-case or upper-case hex (whitespace ignored).
+/// Decodes lower-case or upper-case hex (whitespace ignored), with `j2735::hex`.
 pub fn unhex(s: &str) -> Result<Vec<u8>, String> {
-    let digits: Vec<u8> = s.bytes().filter(|b| !b.is_ascii_whitespace()).collect();
-    if digits.len() % 2 != 0 {
-        return Err("odd number of hex digits".into());
-    }
-    digits
-        .chunks(2)
-        .map(|p| {
-            let s = std::str::from_utf8(p).map_err(|e| e.to_string())?;
-            u8::from_str_radix(s, 16).map_err(|e| format!("{s:?}: {e}"))
-        })
-        .collect()
+    let digits: String = s.chars().filter(|c| !c.is_ascii_whitespace()).collect();
+    let mut bytes = vec![0; j2735::hex::decoded_len(&digits).map_err(|e| e.to_string())?];
+    j2735::hex::decode_into(&digits, &mut bytes).map_err(|e| e.to_string())?;
+    Ok(bytes)
 }
 
 /// The frame of oracle vector `name`.

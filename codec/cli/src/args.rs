@@ -1,16 +1,19 @@
-//! Command-line parsing, by hand: the command, its options (`--name value` or
-//! `--name=value`), at most one input (`FILE` or `-`), and errors that say what to do.
+//! The command line, declared with clap (derive): the commands, their options (`--name value`
+//! or `--name=value`) and at most one input (`FILE` or `-`). Usage errors are rendered by
+//! [`crate::usage`] as "what is wrong" plus "hint: what to do".
 
-use std::fmt;
+use std::ffi::OsString;
 use std::path::PathBuf;
+
+use clap::{Args, Parser, Subcommand, ValueEnum};
+
+use crate::help;
 
 /// What the command line asks for.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub enum Command {
-    /// Print a help text (`help`, `--help`, `help <command>`, `<command> --help`).
-    Help(&'static str),
-    /// Print the version.
-    Version,
+    /// Print a help or version text (already rendered) on standard output.
+    Help(String),
     /// `decode`.
     Decode(InputOptions),
     /// `encode`.
@@ -28,19 +31,33 @@ pub enum Source {
     File(PathBuf),
 }
 
+impl Source {
+    fn of(file: Option<PathBuf>) -> Self {
+        match file {
+            Some(path) if path.as_os_str() != "-" => Self::File(path),
+            _ => Self::Stdin,
+        }
+    }
+}
+
 /// How the input holds frames.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
 pub enum InputFormat {
-    /// One hexadecimal frame per line.
+    /// One frame per line; spaces and 0x prefixes are ignored, blank lines and lines
+    /// starting with # are skipped.
     Hex,
-    /// The whole input is one binary frame.
+    /// The whole input is one frame (with --unwrap auto, RSU text records when it starts
+    /// with Version=).
     Bin,
 }
 
 /// Whether envelopes around frames are removed.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
 pub enum Unwrap {
-    /// Remove IEEE 1609.2 envelopes and read RSU text records.
+    /// Remove an IEEE 1609.2 envelope (unsecured or signed; signatures are not verified)
+    /// around a frame, and read RSU 4.1 text records: when any line starts with Version=,
+    /// the whole input is RSU records, each beginning at its Version= line (Version=0.7 and
+    /// the blank-line Version=0.5 layout).
     Auto,
     /// Every input is a bare MessageFrame.
     None,
@@ -58,13 +75,15 @@ pub struct InputOptions {
 }
 
 /// What `encode` puts around each frame.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
 pub enum Wrap {
-    /// Nothing: hex of the frame.
+    /// One lower-case hex line per frame.
     None,
-    /// IEEE 1609.2 unsecured data, as hex.
+    /// One hex line of IEEE 1609.2 unsecured data per frame: 03 80 <COER length> <frame>.
+    #[value(name = "1609.2-unsecured")]
     Unsecured,
-    /// An RSU 4.1 text record.
+    /// One RSU 4.1 message text record (Version=0.7) per frame, records separated by a
+    /// blank line.
     Rsu41,
 }
 
@@ -77,6 +96,8 @@ pub struct EncodeOptions {
     pub psid: Option<u32>,
     /// `--type` (rsu41).
     pub message_type: Option<String>,
+    /// `--strict`: unknown JER members are errors.
+    pub strict: bool,
     /// `FILE` or `-`.
     pub source: Source,
 }
@@ -91,7 +112,8 @@ pub struct ArgError {
 }
 
 impl ArgError {
-    fn new(message: impl Into<String>, hint: impl Into<String>) -> Self {
+    /// An error saying `message`, with `hint`.
+    pub fn new(message: impl Into<String>, hint: impl Into<String>) -> Self {
         Self {
             message: message.into(),
             hint: hint.into(),
@@ -99,339 +121,157 @@ impl ArgError {
     }
 }
 
-impl fmt::Display for ArgError {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        write!(f, "{}\nhint: {}", self.message, self.hint)
-    }
+/// The whole command line.
+#[derive(Debug, Parser)]
+#[command(
+    name = "j2735",
+    version = help::VERSION,
+    about = help::ABOUT,
+    after_help = help::MAIN_AFTER,
+    arg_required_else_help = false
+)]
+pub(crate) struct Cli {
+    #[command(subcommand)]
+    command: Cmd,
 }
 
-/// One command: its name, its help text and its options (each with the values it takes).
-struct Spec {
-    name: &'static str,
-    help: &'static str,
-    options: &'static [(&'static str, &'static str)],
-    input_required: bool,
+/// The commands.
+#[derive(Debug, Subcommand)]
+enum Cmd {
+    /// UPER frames (hex lines or binary) to JER, one JSON line per frame
+    #[command(long_about = help::DECODE_ABOUT, after_help = help::DECODE_AFTER)]
+    Decode {
+        #[command(flatten)]
+        input: InputArgs,
+        /// The input, read whole; - or none: standard input
+        #[arg(value_name = "FILE|-")]
+        file: Option<PathBuf>,
+    },
+    /// JER MessageFrames, one per line, to UPER hex or an envelope
+    #[command(long_about = help::ENCODE_ABOUT, after_help = help::ENCODE_AFTER)]
+    Encode(EncodeArgs),
+    /// A short summary of each frame (MAP lanes and nodes, TIM regions and ITIS codes)
+    #[command(long_about = help::INFO_ABOUT, after_help = help::INFO_AFTER)]
+    Info {
+        #[command(flatten)]
+        input: InputArgs,
+        /// The input, read whole; - reads standard input
+        #[arg(value_name = "FILE|-", required = true)]
+        file: Option<PathBuf>,
+    },
 }
 
-const INPUT_OPTIONS: &[(&str, &str)] = &[("--input", "hex or bin"), ("--unwrap", "auto or none")];
-
-const SPECS: [Spec; 3] = [
-    Spec {
-        name: "decode",
-        help: crate::help::DECODE,
-        options: INPUT_OPTIONS,
-        input_required: false,
-    },
-    Spec {
-        name: "encode",
-        help: crate::help::ENCODE,
-        options: &[
-            ("--wrap", "none, 1609.2-unsecured or rsu41"),
-            ("--psid", "a hexadecimal PSID such as 0x8003"),
-            ("--type", "an RSU message type such as TIM"),
-        ],
-        input_required: false,
-    },
-    Spec {
-        name: "info",
-        help: crate::help::INFO,
-        options: INPUT_OPTIONS,
-        input_required: true,
-    },
-];
-
-/// The options and input of one command, before their values are checked.
-#[derive(Default)]
-struct Raw {
-    options: Vec<(&'static str, String)>,
-    input: Option<String>,
-    help: bool,
+/// `--input` and `--unwrap`, shared by `decode` and `info`.
+#[derive(Debug, Args)]
+struct InputArgs {
+    /// How the input holds frames
+    #[arg(long, value_enum, value_name = "FORMAT", default_value_t = InputFormat::Hex)]
+    input: InputFormat,
+    /// Whether IEEE 1609.2 envelopes and RSU text records around frames are removed
+    #[arg(long, value_enum, value_name = "MODE", default_value_t = Unwrap::Auto)]
+    unwrap: Unwrap,
 }
 
-impl Raw {
-    fn value(&self, name: &str) -> Option<&str> {
-        self.options
-            .iter()
-            .find(|(n, _)| *n == name)
-            .map(|(_, v)| v.as_str())
-    }
+/// The options of `encode`, as given.
+#[derive(Debug, Args)]
+struct EncodeArgs {
+    /// What to put around each frame
+    #[arg(long, value_enum, value_name = "WRAP", default_value_t = Wrap::None)]
+    wrap: Wrap,
+    /// rsu41 only: the PSID, hexadecimal, 0x optional (default by message type: MAP and
+    /// SPAT 0x8002, TIM 0x8003, BSM 0x20, PSM 0x27; other types need --psid)
+    #[arg(long, value_name = "HEX", value_parser = parse_psid)]
+    psid: Option<u32>,
+    /// rsu41 only: the Type= value (default from the messageId: MAP, SPAT, BSM, TIM, ...);
+    /// a known type must match the frame
+    #[arg(long = "type", value_name = "TYPE", value_parser = parse_type)]
+    message_type: Option<String>,
+    /// Reject JER members the message's types do not have (default: ignore them); the
+    /// error line names the member and where it is
+    #[arg(long)]
+    strict: bool,
+    /// The input, read whole; - or none: standard input
+    #[arg(value_name = "FILE|-")]
+    file: Option<PathBuf>,
 }
 
 /// Parses the arguments after the program name.
-pub fn parse(args: &[String]) -> Result<Command, ArgError> {
-    let Some(first) = args.first() else {
-        return Err(ArgError::new(
-            "no command given",
-            "run `j2735 decode FILE`, or `j2735 help` for the commands",
-        ));
-    };
-    match first.as_str() {
-        "-h" | "--help" => Ok(Command::Help(crate::help::MAIN)),
-        "-V" | "--version" => Ok(Command::Version),
-        "help" => parse_help(&args[1..]),
-        name => match SPECS.iter().find(|s| s.name == name) {
-            Some(spec) => parse_command(spec, &args[1..]),
-            None => Err(unknown_command(name)),
-        },
+pub fn parse(args: &[OsString]) -> Result<Command, ArgError> {
+    let argv = std::iter::once(OsString::from("j2735")).chain(args.iter().cloned());
+    match Cli::try_parse_from(argv) {
+        Ok(cli) => command(cli),
+        Err(e) => crate::usage::from_clap(&e, args),
     }
 }
 
-fn parse_help(rest: &[String]) -> Result<Command, ArgError> {
-    match rest {
-        [] => Ok(Command::Help(crate::help::MAIN)),
-        [topic] if topic == "help" => Ok(Command::Help(crate::help::HELP)),
-        [topic] => SPECS
-            .iter()
-            .find(|s| s.name == topic)
-            .map(|s| Command::Help(s.help))
-            .ok_or_else(|| unknown_command(topic)),
-        _ => Err(ArgError::new(
-            "help takes at most one command",
-            "run `j2735 help decode` (or encode, info)",
-        )),
-    }
-}
-
-fn unknown_command(name: &str) -> ArgError {
-    let names = ["decode", "encode", "info", "help"];
-    let hint = match closest(name, &names) {
-        Some(near) => format!("did you mean `j2735 {near}`? Commands: decode, encode, info, help"),
-        None => "the commands are decode, encode, info and help (`j2735 help`)".into(),
-    };
-    let what = if name.starts_with('-') {
-        format!("unknown option {name} before the command")
-    } else {
-        format!("unknown command `{name}`")
-    };
-    ArgError::new(what, hint)
-}
-
-fn parse_command(spec: &Spec, args: &[String]) -> Result<Command, ArgError> {
-    let raw = collect(spec, args)?;
-    if raw.help {
-        return Ok(Command::Help(spec.help));
-    }
-    let source = source(spec, &raw)?;
-    match spec.name {
-        "encode" => encode_options(spec, &raw, source).map(Command::Encode),
-        name => {
-            let options = input_options(spec, &raw, source)?;
-            Ok(if name == "info" {
-                Command::Info(options)
-            } else {
-                Command::Decode(options)
-            })
-        }
-    }
-}
-
-/// Splits `args` into options, the input and `--help`, rejecting unknown options.
-fn collect(spec: &Spec, args: &[String]) -> Result<Raw, ArgError> {
-    let mut raw = Raw::default();
-    let mut rest = args.iter();
-    let mut options_done = false;
-    while let Some(arg) = rest.next() {
-        if options_done || arg == "-" || !arg.starts_with('-') {
-            set_input(spec, &mut raw, arg)?;
-        } else if arg == "--" {
-            options_done = true;
-        } else if arg == "-h" || arg == "--help" {
-            raw.help = true;
-        } else {
-            let (name, value) = option(spec, arg, &mut rest)?;
-            if raw.value(name).is_some() {
+/// The checked command of a parsed command line.
+fn command(cli: Cli) -> Result<Command, ArgError> {
+    Ok(match cli.command {
+        Cmd::Decode { input, file } => Command::Decode(input.options(file)),
+        Cmd::Info { input, file } => Command::Info(input.options(file)),
+        Cmd::Encode(e) => {
+            if e.wrap != Wrap::Rsu41 && (e.psid.is_some() || e.message_type.is_some()) {
                 return Err(ArgError::new(
-                    format!("{name} given twice"),
-                    format!("give {name} once (see `j2735 {} --help`)", spec.name),
+                    "--psid and --type belong to RSU text records",
+                    "add --wrap rsu41, or leave out --psid and --type",
                 ));
             }
-            raw.options.push((name, value));
+            Command::Encode(EncodeOptions {
+                wrap: e.wrap,
+                psid: e.psid,
+                message_type: e.message_type,
+                strict: e.strict,
+                source: Source::of(e.file),
+            })
         }
-    }
-    Ok(raw)
-}
-
-fn set_input(spec: &Spec, raw: &mut Raw, arg: &str) -> Result<(), ArgError> {
-    if let Some(first) = &raw.input {
-        return Err(ArgError::new(
-            format!("more than one input: {first} and {arg}"),
-            format!(
-                "`j2735 {}` reads one FILE (or - for standard input); \
-                 concatenate hex files first: cat a.hex b.hex | j2735 {} -",
-                spec.name, spec.name
-            ),
-        ));
-    }
-    raw.input = Some(arg.to_string());
-    Ok(())
-}
-
-/// One option and its value, from `--name=value` or `--name value`.
-fn option(
-    spec: &Spec,
-    arg: &str,
-    rest: &mut std::slice::Iter<'_, String>,
-) -> Result<(&'static str, String), ArgError> {
-    let (name, inline) = match arg.split_once('=') {
-        Some((name, value)) => (name, Some(value.to_string())),
-        None => (arg, None),
-    };
-    let Some(&(known, expects)) = spec.options.iter().find(|(n, _)| *n == name) else {
-        return Err(unknown_option(spec, name));
-    };
-    match inline.or_else(|| rest.next().cloned()) {
-        Some(value) => Ok((known, value)),
-        None => Err(ArgError::new(
-            format!("{known} needs a value"),
-            format!("give {known} {expects}"),
-        )),
-    }
-}
-
-fn unknown_option(spec: &Spec, name: &str) -> ArgError {
-    let names: Vec<&str> = spec.options.iter().map(|(n, _)| *n).collect();
-    let mut hint = match closest(name, &names) {
-        Some(near) => format!("did you mean {near}? "),
-        None => String::new(),
-    };
-    hint.push_str(&format!(
-        "`j2735 {}` takes {} (see `j2735 {} --help`)",
-        spec.name,
-        names.join(", "),
-        spec.name
-    ));
-    ArgError::new(format!("unknown option {name} for {}", spec.name), hint)
-}
-
-fn source(spec: &Spec, raw: &Raw) -> Result<Source, ArgError> {
-    match raw.input.as_deref() {
-        None if spec.input_required => Err(ArgError::new(
-            format!("{} needs an input", spec.name),
-            format!(
-                "give a FILE, or - for standard input: j2735 {} frames.hex",
-                spec.name
-            ),
-        )),
-        None | Some("-") => Ok(Source::Stdin),
-        Some(path) => Ok(Source::File(PathBuf::from(path))),
-    }
-}
-
-fn input_options(spec: &Spec, raw: &Raw, source: Source) -> Result<InputOptions, ArgError> {
-    let format = match raw.value("--input") {
-        None | Some("hex") => InputFormat::Hex,
-        Some("bin") => InputFormat::Bin,
-        Some(other) => return Err(bad_value(spec, "--input", other, "hex or bin")),
-    };
-    let unwrap = match raw.value("--unwrap") {
-        None | Some("auto") => Unwrap::Auto,
-        Some("none") => Unwrap::None,
-        Some(other) => return Err(bad_value(spec, "--unwrap", other, "auto or none")),
-    };
-    Ok(InputOptions {
-        format,
-        unwrap,
-        source,
     })
 }
 
-fn encode_options(spec: &Spec, raw: &Raw, source: Source) -> Result<EncodeOptions, ArgError> {
-    let wrap = match raw.value("--wrap") {
-        None | Some("none") => Wrap::None,
-        Some("1609.2-unsecured") => Wrap::Unsecured,
-        Some("rsu41") => Wrap::Rsu41,
-        Some(other) => {
-            let expects = "none, 1609.2-unsecured or rsu41";
-            return Err(bad_value(spec, "--wrap", other, expects));
+impl InputArgs {
+    fn options(self, file: Option<PathBuf>) -> InputOptions {
+        InputOptions {
+            format: self.input,
+            unwrap: self.unwrap,
+            source: Source::of(file),
         }
-    };
-    let psid = raw.value("--psid").map(parse_psid).transpose()?;
-    let message_type = raw.value("--type").map(parse_type).transpose()?;
-    if wrap != Wrap::Rsu41 && (psid.is_some() || message_type.is_some()) {
-        return Err(ArgError::new(
-            "--psid and --type belong to RSU text records",
-            "add --wrap rsu41, or leave out --psid and --type",
-        ));
     }
-    Ok(EncodeOptions {
-        wrap,
-        psid,
-        message_type,
-        source,
-    })
-}
-
-fn bad_value(spec: &Spec, name: &str, value: &str, expects: &str) -> ArgError {
-    ArgError::new(
-        format!("invalid value `{value}` for {name}"),
-        format!("give {name} {expects} (see `j2735 {} --help`)", spec.name),
-    )
 }
 
 /// A PSID in hexadecimal, `0x` optional (as RSU records write it).
-fn parse_psid(text: &str) -> Result<u32, ArgError> {
+fn parse_psid(text: &str) -> Result<u32, String> {
     let digits = text
         .strip_prefix("0x")
         .or_else(|| text.strip_prefix("0X"))
         .unwrap_or(text);
     let valid = (1..=8).contains(&digits.len()) && digits.bytes().all(|b| b.is_ascii_hexdigit());
-    match valid
+    valid
         .then(|| u32::from_str_radix(digits, 16).ok())
         .flatten()
-    {
-        Some(psid) => Ok(psid),
-        None => Err(ArgError::new(
-            format!("invalid PSID `{text}`"),
-            "give --psid in hexadecimal, 1 to 8 digits: --psid 0x8003",
-        )),
-    }
+        .ok_or_else(|| "give --psid in hexadecimal, 1 to 8 digits: --psid 0x8003".into())
 }
 
 /// An RSU `Type=` value: one word, no spaces.
-fn parse_type(text: &str) -> Result<String, ArgError> {
-    let valid = !text.is_empty() && text.bytes().all(|b| b.is_ascii_graphic());
-    if valid {
+fn parse_type(text: &str) -> Result<String, String> {
+    if !text.is_empty() && text.bytes().all(|b| b.is_ascii_graphic()) {
         Ok(text.to_string())
     } else {
-        Err(ArgError::new(
-            format!("invalid message type `{text}`"),
-            "give --type one word such as TIM, MAP or SPAT",
-        ))
+        Err("give --type one word such as TIM, MAP or SPAT".into())
     }
-}
-
-/// The candidate nearest to `word` (at most 2 edits away), for "did you mean".
-fn closest<'a>(word: &str, candidates: &[&'a str]) -> Option<&'a str> {
-    candidates
-        .iter()
-        .map(|c| (edit_distance(word, c), *c))
-        .filter(|(d, _)| *d <= 2)
-        .min_by_key(|(d, _)| *d)
-        .map(|(_, c)| c)
-}
-
-/// Levenshtein distance between two short strings.
-fn edit_distance(a: &str, b: &str) -> usize {
-    let b: Vec<char> = b.chars().collect();
-    let mut row: Vec<usize> = (0..=b.len()).collect();
-    for (i, ca) in a.chars().enumerate() {
-        let mut diagonal = row[0];
-        row[0] = i + 1;
-        for (j, cb) in b.iter().enumerate() {
-            let substitute = diagonal + usize::from(ca != *cb);
-            diagonal = row[j + 1];
-            row[j + 1] = substitute.min(row[j] + 1).min(diagonal + 1);
-        }
-    }
-    row[b.len()]
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
 
-    fn args(line: &str) -> Vec<String> {
-        line.split_whitespace().map(String::from).collect()
+    fn parse_line(line: &str) -> Result<Command, ArgError> {
+        let args: Vec<OsString> = line.split_whitespace().map(OsString::from).collect();
+        parse(&args)
+    }
+
+    #[test]
+    fn the_declaration_is_consistent() {
+        use clap::CommandFactory;
+        Cli::command().debug_assert();
     }
 
     #[test]
@@ -441,13 +281,13 @@ mod tests {
             unwrap: Unwrap::Auto,
             source: Source::Stdin,
         });
-        assert_eq!(parse(&args("decode")), Ok(expected.clone()));
-        assert_eq!(parse(&args("decode -")), Ok(expected));
+        assert_eq!(parse_line("decode"), Ok(expected.clone()));
+        assert_eq!(parse_line("decode -"), Ok(expected));
     }
 
     #[test]
     fn options_take_both_spellings() {
-        let cmd = parse(&args("decode --input=bin --unwrap none f.uper")).unwrap();
+        let cmd = parse_line("decode --input=bin --unwrap none f.uper").unwrap();
         let Command::Decode(o) = cmd else { panic!() };
         assert_eq!(o.format, InputFormat::Bin);
         assert_eq!(o.unwrap, Unwrap::None);
@@ -455,51 +295,64 @@ mod tests {
     }
 
     #[test]
-    fn encode_reads_psid_and_type() {
-        let cmd = parse(&args("encode --wrap rsu41 --psid 0x8003 --type TIM")).unwrap();
+    fn encode_reads_psid_type_and_strict() {
+        let cmd = parse_line("encode --wrap rsu41 --psid 0x8003 --type TIM").unwrap();
         let Command::Encode(o) = cmd else { panic!() };
-        assert_eq!((o.wrap, o.psid), (Wrap::Rsu41, Some(0x8003)));
+        assert_eq!(
+            (o.wrap, o.psid, o.strict),
+            (Wrap::Rsu41, Some(0x8003), false)
+        );
         assert_eq!(o.message_type.as_deref(), Some("TIM"));
-        assert!(parse(&args("encode --psid 0x8003")).is_err());
-        assert!(parse(&args("encode --wrap rsu41 --psid 0x1_0")).is_err());
+        let Command::Encode(o) = parse_line("encode --strict x.jsonl").unwrap() else {
+            panic!()
+        };
+        assert_eq!((o.wrap, o.strict), (Wrap::None, true));
+        assert_eq!(o.source, Source::File("x.jsonl".into()));
+        assert!(parse_line("encode --psid 0x8003").is_err());
+        assert!(parse_line("encode --wrap rsu41 --psid 0x1_0").is_err());
+        assert!(parse_line("encode --wrap rsu41 --psid 123456789").is_err());
     }
 
     #[test]
     fn errors_hint_at_the_fix() {
-        let e = parse(&args("decode --inptu hex")).unwrap_err();
-        assert!(e.message.contains("unknown option --inptu"), "{e}");
-        assert!(e.hint.contains("did you mean --input"), "{e}");
-        let e = parse(&args("decod x")).unwrap_err();
-        assert!(e.hint.contains("j2735 decode"), "{e}");
-        assert!(parse(&args("info")).unwrap_err().hint.contains("FILE"));
-        assert!(parse(&args("decode --input"))
-            .unwrap_err()
-            .hint
-            .contains("hex or bin"));
-        assert!(parse(&args("decode --input hex --input bin")).is_err());
-        assert!(parse(&args("decode a b")).is_err());
-        assert!(parse(&[]).is_err());
+        let e = parse_line("decode --inptu hex").unwrap_err();
+        assert!(e.message.contains("unknown option --inptu"), "{e:?}");
+        assert!(e.hint.contains("did you mean --input"), "{e:?}");
+        let e = parse_line("decod x").unwrap_err();
+        assert!(e.hint.contains("j2735 decode"), "{e:?}");
+        assert!(parse_line("info").unwrap_err().hint.contains("FILE"));
+        let e = parse_line("decode --input").unwrap_err();
+        assert_eq!(e.message, "--input needs a value");
+        assert!(e.hint.contains("hex or bin"), "{e:?}");
+        let e = parse_line("decode --input hex --input bin").unwrap_err();
+        assert_eq!(e.message, "--input given twice");
+        let e = parse_line("decode a b").unwrap_err();
+        assert_eq!(e.message, "more than one input (the second is b)");
+        let e = parse_line("encode --wrap rsu41 --psid 0x1_0").unwrap_err();
+        assert_eq!(e.message, "invalid value `0x1_0` for --psid");
+        assert!(e.hint.contains("--psid 0x8003"), "{e:?}");
+        assert!(parse_line("").unwrap_err().message.contains("no command"));
     }
 
     #[test]
     fn help_and_version() {
-        assert_eq!(parse(&args("--help")), Ok(Command::Help(crate::help::MAIN)));
-        assert_eq!(
-            parse(&args("help info")),
-            Ok(Command::Help(crate::help::INFO))
-        );
-        assert_eq!(
-            parse(&args("encode --wrap bogus --help")),
-            Ok(Command::Help(crate::help::ENCODE))
-        );
-        assert_eq!(parse(&args("-V")), Ok(Command::Version));
-    }
-
-    #[test]
-    fn edit_distance_counts_edits() {
-        assert_eq!(edit_distance("decode", "decode"), 0);
-        assert_eq!(edit_distance("decod", "decode"), 1);
-        assert_eq!(edit_distance("--inptu", "--input"), 2);
-        assert_eq!(edit_distance("", "abc"), 3);
+        let Ok(Command::Help(text)) = parse_line("--help") else {
+            panic!()
+        };
+        assert!(text.contains("Usage: j2735 <COMMAND>"), "{text}");
+        let Ok(Command::Help(text)) = parse_line("help info") else {
+            panic!()
+        };
+        assert!(text.contains("Usage: j2735 info"), "{text}");
+        let Ok(Command::Help(text)) = parse_line("encode --help") else {
+            panic!()
+        };
+        for option in ["--wrap", "1609.2-unsecured", "--psid", "--type", "--strict"] {
+            assert!(text.contains(option), "{option} in {text}");
+        }
+        let Ok(Command::Help(text)) = parse_line("-V") else {
+            panic!()
+        };
+        assert!(text.starts_with("j2735 "), "{text}");
     }
 }

@@ -10,9 +10,11 @@ use crate::args::{EncodeOptions, Wrap};
 use crate::messages;
 use crate::output::{error_line, to_hex, Outcome};
 
-/// Reads one JER MessageFrame and encodes it; returns its `messageId` and UPER bytes.
-pub fn encode_line(line: &str) -> Result<(u16, Vec<u8>), String> {
-    let frame: MessageFrame = jer::from_str(line).map_err(|e| e.to_string())?;
+/// Reads one JER MessageFrame (`strict`: unknown members are errors) and encodes it;
+/// returns its `messageId` and UPER bytes.
+pub fn encode_line(line: &str, strict: bool) -> Result<(u16, Vec<u8>), String> {
+    let frame: MessageFrame =
+        jer::from_str_with(line, jer::Options { strict }).map_err(|e| e.to_string())?;
     let bytes = uper::encode_to_vec(&frame).map_err(|e| e.to_string())?;
     Ok((frame.value.id().get(), bytes))
 }
@@ -70,7 +72,8 @@ pub fn run(text: &str, options: &EncodeOptions, out: &mut dyn Write) -> io::Resu
         if options.wrap == Wrap::Rsu41 && index > 0 {
             writeln!(out)?;
         }
-        let block = encode_line(line).and_then(|(id, frame)| wrapped(id, &frame, options));
+        let block =
+            encode_line(line, options.strict).and_then(|(id, frame)| wrapped(id, &frame, options));
         outcome = outcome.and(block.is_ok());
         let block = block.unwrap_or_else(|why| error_line(&why) + "\n");
         out.write_all(block.as_bytes())?;
@@ -88,6 +91,7 @@ mod tests {
             wrap,
             psid: None,
             message_type: None,
+            strict: false,
             source: Source::Stdin,
         }
     }
@@ -124,6 +128,22 @@ mod tests {
         assert!(rsu_record(27, &[0, 0x1b], &options(Wrap::Rsu41))
             .unwrap_err()
             .contains("give --psid"));
+    }
+
+    #[test]
+    fn strict_rejects_unknown_members_lax_ignores_them() {
+        // A BSM MessageFrame whose coreData carries a member BSMcoreData does not have.
+        let line = r#"{"messageId":20,"value":{"coreData":{"msgCnt":0,"id":"00000000","secMark":0,"lat":0,"long":0,"elev":0,"accuracy":{"semiMajor":0,"semiMinor":0,"orientation":0},"transmission":"neutral","speed":0,"heading":0,"angle":0,"accelSet":{"long":0,"lat":0,"vert":0,"yaw":0},"brakes":{"wheelBrakes":"00","traction":"unavailable","abs":"unavailable","scs":"unavailable","brakeBoost":"unavailable","auxBrakes":"unavailable"},"size":{"width":0,"length":0},"colour":"red"}}}"#;
+        let mut o = options(Wrap::None);
+        let (text, outcome) = encoded(line, &o);
+        assert_eq!(outcome, Outcome::AllDone, "{text}");
+        o.strict = true;
+        let (text, outcome) = encoded(line, &o);
+        assert_eq!(outcome, Outcome::SomeFailed);
+        assert_eq!(
+            text,
+            "{\"error\":\"unknown member \\\"colour\\\" at value.coreData\"}\n"
+        );
     }
 
     #[test]

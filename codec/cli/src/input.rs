@@ -8,7 +8,8 @@
 use std::io::{self, IsTerminal, Read};
 
 use j2735::envelope::rsu_text::{RsuMessage, RsuTextError};
-use j2735::envelope::{hex, unwrap_message_frame, UnwrapError};
+use j2735::envelope::{unwrap_message_frame, UnwrapError};
+use j2735::hex;
 
 use crate::args::{InputFormat, InputOptions, Source, Unwrap};
 

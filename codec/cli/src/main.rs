@@ -18,6 +18,7 @@ mod input;
 mod itis;
 mod messages;
 mod output;
+mod usage;
 
 use std::io::{self, BufWriter, Write};
 use std::process::ExitCode;
@@ -42,17 +43,8 @@ impl From<io::Error> for Failure {
 }
 
 fn main() -> ExitCode {
-    let args: Result<Vec<String>, _> = std::env::args_os()
-        .skip(1)
-        .map(|a| a.into_string())
-        .collect();
-    let result = match args {
-        Ok(args) => args::parse(&args).map_err(Failure::Usage).and_then(run),
-        Err(bad) => Err(Failure::Usage(ArgError {
-            message: format!("argument {bad:?} is not valid UTF-8"),
-            hint: "rename the file, or pass it on standard input: j2735 decode - < FILE".into(),
-        })),
-    };
+    let args: Vec<std::ffi::OsString> = std::env::args_os().skip(1).collect();
+    let result = args::parse(&args).map_err(Failure::Usage).and_then(run);
     match result {
         Ok(Outcome::AllDone) => ExitCode::SUCCESS,
         Ok(Outcome::SomeFailed) => ExitCode::from(1),
@@ -88,7 +80,6 @@ fn run(command: Command) -> Result<Outcome, Failure> {
 fn execute(command: Command, out: &mut dyn Write) -> Result<Outcome, Failure> {
     match command {
         Command::Help(text) => write!(out, "{text}")?,
-        Command::Version => writeln!(out, "{}", help::version())?,
         Command::Decode(options) => {
             let items = input::frames(&read(&options.source)?, &options);
             return Ok(decode::run(items, out)?);

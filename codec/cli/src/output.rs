@@ -28,12 +28,7 @@ pub fn error_line(message: &str) -> String {
 
 /// Lower-case hex of `bytes`.
 pub fn to_hex(bytes: &[u8]) -> String {
-    use std::fmt::Write as _;
-    let mut text = String::with_capacity(bytes.len() * 2);
-    for b in bytes {
-        let _ = write!(text, "{b:02x}");
-    }
-    text
+    j2735::hex::Hex(bytes).to_string()
 }
 
 #[cfg(test)]

@@ -340,3 +340,76 @@ fn usage_errors_say_what_to_do() {
         run.stderr
     );
 }
+
+#[test]
+fn bad_flags_exit_2_with_a_message_and_a_hint() {
+    for (args, message, hint) in [
+        (
+            &["--bogus"][..],
+            "unknown option --bogus before the command",
+            "j2735 help",
+        ),
+        (
+            &["encode", "--stict"][..],
+            "unknown option --stict for encode",
+            "did you mean --strict?",
+        ),
+        (
+            &["decode", "--input"][..],
+            "--input needs a value",
+            "hex or bin",
+        ),
+        (
+            &["decode", "--unwrap", "all"][..],
+            "invalid value `all` for --unwrap",
+            "auto or none",
+        ),
+        (
+            &["encode", "--wrap", "rsu41", "--psid", "0xZZ"][..],
+            "invalid value `0xZZ` for --psid",
+            "--psid 0x8003",
+        ),
+        (
+            &["decode", "--input", "hex", "--input", "bin"][..],
+            "--input given twice",
+            "give --input once",
+        ),
+        (
+            &["decode", "a.hex", "b.hex"][..],
+            "more than one input",
+            "cat a.hex b.hex",
+        ),
+    ] {
+        let run = j2735(args, b"");
+        assert_eq!(run.code, 2, "{args:?}");
+        assert!(run.stdout.is_empty(), "{args:?}");
+        assert!(
+            run.stderr.starts_with("j2735: error: "),
+            "{args:?}: {}",
+            run.stderr
+        );
+        assert!(run.stderr.contains(message), "{args:?}: {}", run.stderr);
+        assert!(run.stderr.contains(hint), "{args:?}: {}", run.stderr);
+    }
+}
+
+#[test]
+fn encode_strict_rejects_unknown_members_that_lax_ignores() {
+    let map = vector("map_work_zone");
+    let mut jer = map.jer.clone();
+    jer["value"]["intersections"][0]["refPoint"]["altitudeHint"] = Value::from(3);
+    let input = format!("{jer}\n");
+    let lax = j2735(&["encode"], input.as_bytes());
+    assert_eq!(
+        (lax.code, lax.stdout.clone()),
+        (0, format!("{}\n", map.uper))
+    );
+    let strict = j2735(&["encode", "--strict"], input.as_bytes());
+    assert_eq!(strict.code, 1);
+    assert_eq!(
+        error_of(strict.lines()[0]).unwrap(),
+        "unknown member \"altitudeHint\" at value.intersections.[0].refPoint"
+    );
+    let clean = j2735(&["encode", "--strict"], format!("{}\n", map.jer).as_bytes());
+    assert_eq!((clean.code, clean.stdout), (0, format!("{}\n", map.uper)));
+}

@@ -14,39 +14,22 @@ use std::path::{Path, PathBuf};
 use common::{error_of, j2735, same_jer};
 use serde_json::Value;
 
-/// `shared/corpus` beside the repository; a missing corpus fails the test.
+/// The conformance corpus (`test-support` finds it; a missing corpus fails the test).
 fn corpus() -> PathBuf {
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/corpus");
-    assert!(
-        dir.join("frames").is_dir(),
-        "{} is missing: the shared-corpus tests need ../shared beside the repository",
-        dir.display()
-    );
-    dir
+    test_support::shared::corpus_dir()
 }
 
 /// `(name, hex)` of every corpus frame, sorted by name.
-fn frames(corpus: &Path) -> Vec<(String, String)> {
-    let mut frames: Vec<(String, String)> = fs::read_dir(corpus.join("frames"))
-        .unwrap()
-        .map(|entry| entry.unwrap().path())
-        .filter(|path| path.extension().is_some_and(|e| e == "hex"))
-        .map(|path| {
-            let name = path.file_stem().unwrap().to_string_lossy().into_owned();
-            let hex = fs::read_to_string(&path).unwrap().trim().to_lowercase();
-            (name, hex)
-        })
-        .collect();
-    frames.sort();
-    frames
+fn frames(_corpus: &Path) -> Vec<(String, String)> {
+    test_support::corpus::frames()
+        .into_iter()
+        .map(|f| (f.name, test_support::to_hex(&f.bytes)))
+        .collect()
 }
 
 /// The oracle's JER of a frame, when it has a clean one (an empty `note`).
-fn oracle_jer(corpus: &Path, name: &str) -> Option<Value> {
-    let text = fs::read_to_string(corpus.join(format!("jer/{name}.2020.json"))).ok()?;
-    let doc: Value = serde_json::from_str(&text).unwrap();
-    let clean = doc["note"].as_str().is_none_or(str::is_empty);
-    clean.then(|| doc["jer"].clone())
+fn oracle_jer(_corpus: &Path, name: &str) -> Option<Value> {
+    test_support::corpus::clean_jer(name)
 }
 
 /// The one JER line `j2735 decode` gives for the input at `path`.

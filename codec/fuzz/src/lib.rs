@@ -92,12 +92,7 @@ impl BigStack {
     }
 }
 
-/// Lower-case hex of `bytes` (for panic messages).
+/// Lower-case hex of `bytes` (for panic messages), with `j2735::hex`.
 pub fn hex(bytes: &[u8]) -> String {
-    use std::fmt::Write;
-    let mut out = String::with_capacity(bytes.len() * 2);
-    for b in bytes {
-        let _ = write!(out, "{b:02x}");
-    }
-    out
+    j2735::hex::Hex(bytes).to_string()
 }

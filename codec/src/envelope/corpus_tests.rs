@@ -1,55 +1,30 @@
 //! Tests against the shared conformance corpus (feature `shared-corpus`).
 //!
-//! The corpus directory is `$J2735_CORPUS_DIR`, or `shared/corpus` beside the workspace
-//! (`<crate>/../../shared/corpus`). These tests fail, not skip, when it is missing.
+//! The corpus directory is `$J2735_CORPUS_DIR`, or `corpus` in the shared directory
+//! (`$SHARED_DIR`, or `shared` beside the repository), as `test-support` finds it. These
+//! tests fail, not skip, when it is missing.
 
 extern crate std;
 
-use std::fs;
 use std::path::{Path, PathBuf};
+
 use std::string::String;
 use std::vec;
 use std::vec::Vec;
+use test_support::shared::{files_ending_with, read_text};
 
-use super::hex;
 use super::ieee1609dot2::{encode_unsecured, unsecured_encoded_len, Ieee1609Dot2Data};
 use super::rsu_text::RsuMessage;
 use super::{unwrap_message_frame, EnvelopeKind};
 
+/// `$J2735_CORPUS_DIR`, or `corpus` in the shared directory (`test-support` finds it and
+/// fails the test when it is missing).
 fn corpus_dir() -> PathBuf {
-    let dir = std::env::var_os("J2735_CORPUS_DIR").map_or_else(
-        || Path::new(env!("CARGO_MANIFEST_DIR")).join("../../shared/corpus"),
-        PathBuf::from,
-    );
-    assert!(
-        dir.is_dir(),
-        "shared corpus not found at {} (set J2735_CORPUS_DIR)",
-        dir.display()
-    );
-    dir
-}
-
-fn read_text(path: &Path) -> String {
-    fs::read_to_string(path).unwrap_or_else(|error| panic!("{}: {error}", path.display()))
+    test_support::shared::corpus_dir()
 }
 
 fn read_hex(path: &Path) -> Vec<u8> {
-    let text = read_text(path);
-    let text = text.trim();
-    let mut bytes = vec![0u8; hex::decoded_len(text).unwrap()];
-    hex::decode_into(text, &mut bytes).unwrap();
-    bytes
-}
-
-/// Files of `dir` whose name ends with `suffix`, sorted.
-fn files_ending_with(dir: &Path, suffix: &str) -> Vec<PathBuf> {
-    let mut files: Vec<PathBuf> = fs::read_dir(dir)
-        .unwrap_or_else(|error| panic!("{}: {error}", dir.display()))
-        .map(|entry| entry.unwrap().path())
-        .filter(|path| path.to_string_lossy().ends_with(suffix))
-        .collect();
-    files.sort();
-    files
+    test_support::from_hex(&read_text(path))
 }
 
 /// One row of `wrapped/INDEX.tsv`.

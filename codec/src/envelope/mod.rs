@@ -34,13 +34,16 @@
 use core::fmt;
 
 mod coer;
-pub mod hex;
+/// Hexadecimal text (moved to [`crate::hex`]; kept here for the envelope API's users).
+pub use crate::hex;
 pub mod ieee1609dot2;
 mod ieee1609dot2_skip;
 pub mod rsu_text;
 
 #[cfg(all(test, feature = "shared-corpus"))]
 mod corpus_tests;
+#[cfg(test)]
+mod wire_fixtures;
 
 use ieee1609dot2::{looks_like_ieee1609dot2, DecodeError, Ieee1609Dot2Data};
 

@@ -35,7 +35,7 @@
 use core::fmt;
 use core::str::Split;
 
-use super::hex::{self, HexError};
+use crate::hex::{self, HexError};
 
 /// The keys of an RSU message record, in the order the writer emits them.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]

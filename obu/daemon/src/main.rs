@@ -3,7 +3,8 @@
 //! bridge mode ([`bridge`]) it runs no core and no input but serves the states that the
 //! firmware sends over a serial link instead.
 //!
-//! Usage: `obu [--config FILE] [--bridge SOURCE]`, `obu --print-default-config`, `obu --help`.
+//! Usage: `obu [--config FILE] [--bridge SOURCE]`, `obu --print-default-config`, `obu --help`
+//! (the command line: [`cli`]).
 //!
 //! The first line on stdout tells scripts where the daemon is:
 //! `obu: http://HTTP_ADDR v2x udp V2X_ADDR`, or in bridge mode
@@ -12,6 +13,7 @@
 
 mod assets;
 mod bridge;
+mod cli;
 mod config;
 mod counters;
 mod gnss;
@@ -29,29 +31,18 @@ use std::sync::atomic::AtomicUsize;
 use std::sync::Arc;
 use std::time::Duration;
 
-const USAGE: &str = "obu: the work-zone OBU daemon
-
-Usage:
-  obu [--config FILE] [--bridge SOURCE]
-                               run (without --config: the built-in defaults)
-  obu --print-default-config   print the documented default configuration
-  obu --help                   this text
-
-The tablet app is served on [http] bind (default http://127.0.0.1:8080).
-
---bridge SOURCE (or [bridge] source) runs no OBU core and no V2X, GNSS or CAN input:
-the firmware's HmiState frames are read from SOURCE and served to the tablet.
-  tcp:HOST:PORT   connect to it (e.g. QEMU -serial tcp:127.0.0.1:5003,server,nowait)
-  serial:PATH     read a serial device set raw at 115200 8N1 (see [bridge] baud)
-Settings changed on the tablet do not reach the firmware (the link is one-way).";
-
 fn main() -> ExitCode {
-    let args: Vec<String> = std::env::args().skip(1).collect();
-    let config = match parse_args(&args) {
-        Ok(Some(c)) => c,
-        Ok(None) => return ExitCode::SUCCESS,
-        Err(e) => {
-            eprintln!("obu: {e}\n\n{USAGE}");
+    let config = match cli::parse(std::env::args_os().skip(1)) {
+        Ok(cli::Action::Run(c)) => *c,
+        Ok(cli::Action::Print(text)) => {
+            print!("{text}");
+            return ExitCode::SUCCESS;
+        }
+        Err(cli::Usage(e)) => {
+            eprint!("obu: {e}");
+            if !e.ends_with('\n') {
+                eprintln!("\nFor more information, try '--help'.");
+            }
             return ExitCode::from(2);
         }
     };
@@ -75,56 +66,6 @@ fn main() -> ExitCode {
             ExitCode::FAILURE
         }
     }
-}
-
-/// The configuration to run with, or `None` when the arguments asked for something else.
-fn parse_args(args: &[String]) -> Result<Option<Config>, String> {
-    match args {
-        [flag] if flag == "--help" || flag == "-h" => {
-            println!("{USAGE}");
-            return Ok(None);
-        }
-        [flag] if flag == "--print-default-config" => {
-            print!("{}", config::DEFAULT_TOML);
-            return Ok(None);
-        }
-        _ => {}
-    }
-    let (path, bridge) = run_flags(args)?;
-    let config = match path {
-        None => Config::default_config(),
-        Some(path) => {
-            let text =
-                std::fs::read_to_string(path).map_err(|e| format!("cannot read {path}: {e}"))?;
-            Config::parse(&text).map_err(|e| format!("{path}: {e}"))?
-        }
-    };
-    match bridge {
-        None => Ok(Some(config)),
-        Some(source) => {
-            let source = source.parse().map_err(|e| format!("--bridge: {e}"))?;
-            let config = config.with_bridge(source);
-            config.map(Some).map_err(|e| format!("--bridge: {e}"))
-        }
-    }
-}
-
-/// The values of `--config FILE` and `--bridge SOURCE`, each at most once, in any order.
-fn run_flags(args: &[String]) -> Result<(Option<&str>, Option<&str>), String> {
-    let (mut config, mut bridge) = (None, None);
-    let mut it = args.iter();
-    while let Some(flag) = it.next() {
-        let slot = match flag.as_str() {
-            "--config" => &mut config,
-            "--bridge" => &mut bridge,
-            _ => return Err(format!("unexpected argument {flag:?}")),
-        };
-        let value = it.next().ok_or_else(|| format!("{flag} needs a value"))?;
-        if slot.replace(value.as_str()).is_some() {
-            return Err(format!("{flag} given twice"));
-        }
-    }
-    Ok((config, bridge))
 }
 
 async fn run(config: Config) -> Result<(), String> {
@@ -226,40 +167,4 @@ async fn wait_for_signal() {
     }
     #[cfg(not(unix))]
     let _ = ctrl_c.await;
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    fn args(list: &[&str]) -> Vec<String> {
-        list.iter().map(|s| s.to_string()).collect()
-    }
-
-    #[test]
-    fn config_and_bridge_flags_combine_in_any_order() {
-        let a = args(&["--bridge", "tcp:127.0.0.1:5003", "--config", "obu.toml"]);
-        assert_eq!(
-            run_flags(&a),
-            Ok((Some("obu.toml"), Some("tcp:127.0.0.1:5003")))
-        );
-        assert_eq!(run_flags(&[]), Ok((None, None)));
-        let c = parse_args(&args(&["--bridge", "serial:/dev/ttyACM0"]))
-            .unwrap()
-            .unwrap();
-        let want = config::BridgeSource::Serial("/dev/ttyACM0".into());
-        assert_eq!(c.bridge.source, Some(want));
-    }
-
-    #[test]
-    fn flag_mistakes_are_named() {
-        let e = run_flags(&args(&["--bridge"])).unwrap_err();
-        assert!(e.contains("--bridge needs a value"), "{e}");
-        let e = run_flags(&args(&["--bridge", "tcp:h:1", "--bridge", "tcp:h:2"])).unwrap_err();
-        assert!(e.contains("twice"), "{e}");
-        let e = run_flags(&args(&["--bridg", "x"])).unwrap_err();
-        assert!(e.contains("--bridg"), "{e}");
-        let e = parse_args(&args(&["--bridge", "udp:h:1"])).unwrap_err();
-        assert!(e.starts_with("--bridge: "), "{e}");
-    }
 }

@@ -1,9 +1,10 @@
-//! Helpers of the CLI tests: run the built `j2735`, read the project's oracle vectors,
-//! compare JER.
-#![allow(dead_code)]
+//! Helpers of the CLI tests: run the built `j2735`, compare JER, scratch files; the oracle
+//! vectors and hex come from `test-support`.
+#![allow(dead_code, unused_imports)]
 
 use std::io::Write;
 use std::path::{Path, PathBuf};
+
 use std::process::{Command, Stdio};
 
 use serde_json::Value;
@@ -46,33 +47,8 @@ pub fn j2735(args: &[&str], stdin: &[u8]) -> Run {
     }
 }
 
-/// One oracle vector of `codec/tests/vectors/oracle_vectors.jsonl`.
-pub struct Vector {
-    pub name: String,
-    pub uper: String,
-    pub jer: Value,
-}
-
-/// Every oracle vector, in file order.
-pub fn vectors() -> Vec<Vector> {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../tests/vectors/oracle_vectors.jsonl");
-    let text = std::fs::read_to_string(&path).unwrap();
-    text.lines()
-        .map(|line| {
-            let v: Value = serde_json::from_str(line).unwrap();
-            Vector {
-                name: v["name"].as_str().unwrap().to_string(),
-                uper: v["uper"].as_str().unwrap().to_string(),
-                jer: v["jer"].clone(),
-            }
-        })
-        .collect()
-}
-
-/// The vector named `name`.
-pub fn vector(name: &str) -> Vector {
-    vectors().into_iter().find(|v| v.name == name).unwrap()
-}
+pub use test_support::from_hex;
+pub use test_support::vectors::{all as vectors, named as vector, Vector};
 
 /// Equal as JER, where `{"value": H, "length": n}` equals the bare `H` (the oracle writes
 /// bare hex for BIT STRINGs with an extensible size). `Err` says where they differ.
@@ -100,13 +76,6 @@ pub fn same_jer(ours: &Value, expected: &Value, at: &str) -> Result<(), String> 
         (a, b) if a == b => Ok(()),
         (a, b) => Err(format!("{at}: {a} vs {b}")),
     }
-}
-
-/// Bytes of a hex string.
-pub fn from_hex(hex: &str) -> Vec<u8> {
-    (0..hex.len() / 2)
-        .map(|i| u8::from_str_radix(&hex[2 * i..2 * i + 2], 16).unwrap())
-        .collect()
 }
 
 /// Writes `bytes` to a file of this test run's scratch directory and returns its path.

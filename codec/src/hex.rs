@@ -1,6 +1,10 @@
-//! Hexadecimal text to bytes and back, without allocation (used for RSU `Payload=` values).
+//! Hexadecimal text to bytes and back, without allocation: the one hex helper of the
+//! project (RSU `Payload=` values, JER OCTET STRINGs, the CLI, tests and tools).
 //!
-//! Digits may be upper or lower case; nothing else (no spaces, no `0x` prefix) is accepted.
+//! Reading: digits may be upper or lower case; nothing else (no spaces, no `0x` prefix) is
+//! accepted ([`decoded_len`], [`decode_into`]; callers that tolerate spaces or prefixes strip
+//! them first). Writing: [`encode`] (lower case) and [`write_upper`] into any
+//! [`core::fmt::Write`], or the [`Hex`] adapter in `format!` (`{}` lower, `{:X}` upper).
 //!
 //! # Panics
 //!
@@ -76,6 +80,38 @@ pub fn decode_into(hex: &str, out: &mut [u8]) -> Result<usize, HexError> {
     Ok(needed)
 }
 
+/// Writes `bytes` as lower-case hexadecimal digits, two per byte.
+///
+/// # Errors
+///
+/// When `out` refuses the text.
+pub fn encode<W: fmt::Write + ?Sized>(bytes: &[u8], out: &mut W) -> fmt::Result {
+    bytes.iter().try_for_each(|byte| write!(out, "{byte:02x}"))
+}
+
+/// Shows bytes as hexadecimal text: `{}` and `{:x}` lower case, `{:X}` upper case (with
+/// `alloc`, `Hex(bytes).to_string()` is the lower-case text).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Hex<'a>(pub &'a [u8]);
+
+impl fmt::Display for Hex<'_> {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        encode(self.0, f)
+    }
+}
+
+impl fmt::LowerHex for Hex<'_> {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        encode(self.0, f)
+    }
+}
+
+impl fmt::UpperHex for Hex<'_> {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write_upper(self.0, f)
+    }
+}
+
 /// Writes `bytes` as upper-case hexadecimal digits.
 ///
 /// # Errors
@@ -129,5 +165,22 @@ mod tests {
         let mut text = String::new();
         write_upper(&[0x00, 0x1f, 0xab], &mut text).unwrap();
         assert_eq!(text, "001FAB");
+    }
+
+    #[test]
+    fn writes_lower_case_and_displays() {
+        use std::format;
+        let mut text = String::new();
+        encode(&[0x00, 0x1f, 0xab], &mut text).unwrap();
+        assert_eq!(text, "001fab");
+        let bytes = [0x0a, 0xff, 0x80];
+        assert_eq!(format!("{}", Hex(&bytes)), "0aff80");
+        assert_eq!(format!("{:x}", Hex(&bytes)), "0aff80");
+        assert_eq!(format!("{:X}", Hex(&bytes)), "0AFF80");
+        assert_eq!(format!("[{}]", Hex(&[])), "[]");
+        // Decoding what was written gives the bytes back.
+        let mut back = [0u8; 3];
+        assert_eq!(decode_into(&format!("{:X}", Hex(&bytes)), &mut back), Ok(3));
+        assert_eq!(back, bytes);
     }
 }
