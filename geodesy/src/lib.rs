@@ -13,6 +13,15 @@
 //! Both keep the point at the reference's ellipsoidal height, so the plane is the
 //! one a MAP or TIM encoder with the same reference uses. `tests/geodesy.rs`
 //! measures both against an independent ECEF transform and a Vincenty geodesic.
+//!
+//! The crate is `no_std` and allocation-free: the roadside (`hil-sim/roadside`) builds its
+//! lane maps with it on a host, the OBU core (`obu`, re-exported as `obu::geo`) and its
+//! firmware use it on the vehicle. It is written by hand rather than taken from a
+//! geodesy library because it must run without `std` and keep J2735's integer units
+//! (1e-7 degree, centimetres) end to end.
+#![no_std]
+#![forbid(unsafe_code)]
+#![warn(missing_docs)]
 
 mod exact;
 mod fast;
@@ -104,8 +113,9 @@ impl LatLon {
         (dlat as i32, dlon as i32)
     }
 
-    /// `origin` shifted by integer deltas, longitude wrapped; `None` off the globe.
-    pub(crate) fn offset_by(origin: LatLon, dlat: i64, dlon: i64) -> Option<LatLon> {
+    /// `origin` shifted by integer deltas in 1e-7 degree, longitude wrapped; `None` off
+    /// the globe.
+    pub fn offset_by(origin: LatLon, dlat: i64, dlon: i64) -> Option<LatLon> {
         let lat = (origin.lat as i64).saturating_add(dlat);
         let lon = wrap_lon_delta(origin.lon as i128 + dlon as i128);
         let lat = i32::try_from(lat).ok()?;

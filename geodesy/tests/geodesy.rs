@@ -3,7 +3,7 @@
 //! the azimuthal-equidistant position) and a plain ECEF -> ENU rotation.
 //! Run with `--nocapture` to see the figures.
 
-use obu::geo::{LatLon, LocalFrame32, LocalFrame64, Point};
+use geodesy::{LatLon, LocalFrame32, LocalFrame64, Point};
 
 const A: f64 = 6_378_137.0;
 const F: f64 = 1.0 / 298.257_223_563;
