@@ -171,8 +171,8 @@ fn load_test(args: &[&str]) -> Result<(), String> {
 /// `hil-sim synth-camera`: calibration and detections of a synthetic camera that sees the
 /// cones of the scenario's first zone of source `lanes` (the ground truth).
 fn synth_camera(args: &[&str]) -> Result<(), String> {
-    use hil_sim::camera::{synthetic, CameraModel};
     use hil_sim::scenario::ZoneSource;
+    use roadside::camera::{synthetic, CameraModel};
     let known = [
         "--scenario",
         "--out",
@@ -260,9 +260,9 @@ fn demo(args: &[&str]) -> Result<(), String> {
 }
 
 fn roadside(scenario: &str, args: &[&str]) -> Result<(), String> {
-    use hil_sim::broadcast::Wrapping;
+    use roadside::broadcast::Wrapping;
     let s = hil_sim::scenario::Scenario::load(std::path::Path::new(scenario))?;
-    let mut o = hil_sim::roadside_cli::RoadsideOptions {
+    let mut o = roadside::unit::RoadsideOptions {
         destinations: Vec::new(),
         wrapping: Wrapping::Raw,
         rate_hz: 10.0,
@@ -300,12 +300,13 @@ fn roadside(scenario: &str, args: &[&str]) -> Result<(), String> {
     if o.destinations.is_empty() && o.rsu_dir.is_none() {
         return Err("give --to HOST:PORT (broadcast) and/or --rsu-files DIR".into());
     }
-    println!("hil-sim roadside: {}", hil_sim::roadside_cli::run(&s, &o)?);
+    println!("hil-sim roadside: {}", roadside::unit::run(&s.site(), &o)?);
     Ok(())
 }
 
 fn record(scenario: &str, nmea_out: &str, candump_out: &str) -> Result<(), String> {
-    use hil_sim::{clock::Utc, drive, nmea};
+    use hil_sim::{drive, nmea};
+    use roadside::clock::Utc;
     let s = hil_sim::scenario::Scenario::load(std::path::Path::new(scenario))?;
     let road = s.road()?;
     let samples = drive::simulate(&road, &s.drive, 900.0).map_err(|e| e.to_string())?;

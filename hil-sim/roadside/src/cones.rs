@@ -497,7 +497,7 @@ pub fn off_lane(road: &Road, cones: &[[f64; 2]]) -> usize {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use obu::LatLon;
+    use geodesy::LatLon;
 
     #[test]
     fn bottom_centre_is_the_road_point() {

@@ -1,8 +1,8 @@
 //! A lane map: lane centrelines in a local east/north frame (metres) around a reference
 //! point, each in its direction of travel, with width and speed limit.
 
-use obu::geo::LocalFrame64;
-use obu::LatLon;
+use geodesy::LatLon;
+use geodesy::LocalFrame64;
 
 /// One lane of the map.
 #[derive(Debug, Clone, PartialEq)]

@@ -1,13 +1,13 @@
-//! The roadside unit of a scenario run: broadcasts the MAP and one TIM per zone at 10 Hz
-//! to the OBU's V2X port, following the scenario's timeline (TIM delayed, MAP revision
-//! changed, zones shrunk or removed) through its radio faults (loss, corruption), the
-//! broadcaster's fault model ([`crate::broadcast::FaultInjector`]).
+//! The roadside unit of a scripted run (the bench's scenarios): broadcasts the MAP and one
+//! TIM per zone at 10 Hz to the OBU's V2X port, following the site's timeline (TIM
+//! delayed, MAP revision changed, zones shrunk or removed) through its radio faults (loss,
+//! corruption), the broadcaster's fault model ([`crate::broadcast::FaultInjector`]).
 
 use crate::broadcast::{FaultInjector, Faults, LossModel, MessageKind, Verdict};
 use crate::messages::{self, WorkZone};
 use crate::road::{Road, RoadLane};
-use crate::runner::V2xCounts;
-use crate::scenario::Scenario;
+use crate::site::Site;
+use serde::Serialize;
 use std::net::UdpSocket;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
@@ -16,6 +16,17 @@ use std::time::{Duration, Instant};
 
 /// Broadcast period (10 Hz).
 pub const PERIOD: Duration = Duration::from_millis(100);
+
+/// V2X datagram counts of a run.
+#[derive(Debug, Clone, Copy, Default, Serialize)]
+pub struct V2xCounts {
+    /// Handed to the socket.
+    pub sent: u64,
+    /// Dropped by the loss model.
+    pub lost: u64,
+    /// Sent with a flipped bit.
+    pub corrupted: u64,
+}
 
 /// The messages on the air at one moment.
 struct OnAir {
@@ -34,7 +45,7 @@ struct Timeline {
 
 impl Timeline {
     /// The messages at `t` seconds (re-encoded only when something changed).
-    fn at(&mut self, s: &Scenario, t: f64) -> Result<Option<OnAir>, String> {
+    fn at(&mut self, s: &Site, t: f64) -> Result<Option<OnAir>, String> {
         let mut changed = t == 0.0;
         for (i, spec) in s.zones.iter().enumerate() {
             if let Some((at, end_m)) = spec.shrink_at {
@@ -104,7 +115,7 @@ fn shift(road: &Road, left_m: f64) -> Road {
 
 /// The radio faults of a scenario as the broadcaster's fault model: losses (bursty when
 /// the mean burst length is over 1), bit flips, and no TIM before the delay.
-fn radio(s: &Scenario, t0: Instant) -> Result<FaultInjector, String> {
+fn radio(s: &Site, t0: Instant) -> Result<FaultInjector, String> {
     let f = &s.faults;
     let loss = if f.loss_rate <= 0.0 {
         LossModel::None
@@ -125,7 +136,7 @@ fn radio(s: &Scenario, t0: Instant) -> Result<FaultInjector, String> {
 /// Starts the roadside thread; it stops when `stop` turns true and returns when each new
 /// version of the messages first left, and the datagram counts.
 pub fn spawn(
-    s: &Scenario,
+    s: &Site,
     road: &Road,
     zones: &[WorkZone],
     to: &str,

@@ -1,12 +1,13 @@
-//! `hil-sim roadside`: the roadside unit as a product. The lane map and the work zones of a
-//! scenario file (its `[road]` and `[[zones]]`: built in, GeoJSON, WZDx, cone list or a
-//! calibrated camera's detections) become a MAP and one TIM per zone, broadcast over UDP
-//! to the given destinations (raw or IEEE 1609.2), and/or written as RSU 4.1 text files.
+//! The roadside unit as a product (`hil-sim roadside`). The lane map and the work zones of
+//! a [`Site`] (a scenario file's `[road]` and `[[zones]]`: built in, GeoJSON, WZDx, cone
+//! list or a calibrated camera's detections) become a MAP and one TIM per zone, broadcast
+//! over UDP to the given destinations (raw or IEEE 1609.2), and/or written as RSU 4.1
+//! text files.
 
 use crate::broadcast::{write_rsu_files, Broadcaster, Message, RsuOptions, Wrapping};
 use crate::clock::{unix_ms_now, Utc};
 use crate::messages;
-use crate::scenario::Scenario;
+use crate::site::Site;
 use std::net::SocketAddr;
 use std::path::PathBuf;
 use std::time::Duration;
@@ -26,10 +27,10 @@ pub struct RoadsideOptions {
     pub rsu_dir: Option<PathBuf>,
 }
 
-/// The MAP and TIMs of a scenario's road and zones, valid from now until further notice.
-pub fn messages_of(s: &Scenario) -> Result<Vec<Message>, String> {
+/// The MAP and TIMs of a site's road and zones, valid from now until further notice.
+pub fn messages_of(s: &Site) -> Result<Vec<Message>, String> {
     let road = s.road()?;
-    let zones = crate::runner::build_zones(s, &road, Utc::from_unix_ms(unix_ms_now()))?;
+    let zones = crate::zone_sources::build_zones(s, &road, Utc::from_unix_ms(unix_ms_now()))?;
     let e = |x: messages::BuildError| x.to_string();
     let mut out = Vec::new();
     let map = messages::build_map(&road, 1, 1, zones.first()).map_err(e)?;
@@ -44,7 +45,7 @@ pub fn messages_of(s: &Scenario) -> Result<Vec<Message>, String> {
 }
 
 /// Writes the RSU files and/or broadcasts; returns a one-line summary.
-pub fn run(s: &Scenario, o: &RoadsideOptions) -> Result<String, String> {
+pub fn run(s: &Site, o: &RoadsideOptions) -> Result<String, String> {
     let msgs = messages_of(s)?;
     let mut summary = format!("{} messages (MAP + {} TIM)", msgs.len(), msgs.len() - 1);
     if let Some(dir) = &o.rsu_dir {

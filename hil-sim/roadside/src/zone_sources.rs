@@ -1,11 +1,13 @@
-//! Zone geometry of a scenario from its sources: a cone list, a WZDx feed, or cones
-//! localised by a calibrated camera from per-frame detections.
+//! Zone geometry of a site from its sources: a cone list, a WZDx feed, or cones
+//! localised by a calibrated camera from per-frame detections; and the site's zones as
+//! the roadside broadcasts them ([`build_zones`]).
 
 use crate::camera::{self, CameraModel};
+use crate::clock::Utc;
 use crate::cones::{self, ConeTracker, TrackerConfig};
-use crate::messages::SignSpeed;
+use crate::messages::{SignSpeed, WorkZone, DURATION_INDEFINITE};
 use crate::road::Road;
-use crate::scenario::{Scenario, ZoneSource};
+use crate::site::{Site, ZoneSource};
 use std::path::Path;
 
 /// What a source says about a zone.
@@ -22,7 +24,7 @@ pub struct SourcedZone {
 }
 
 /// The closed lanes, stations and limit of a zone from its source.
-pub fn zone(s: &Scenario, road: &Road, source: &ZoneSource) -> Result<SourcedZone, String> {
+pub fn zone(s: &Site, road: &Road, source: &ZoneSource) -> Result<SourcedZone, String> {
     if let ZoneSource::Wzdx { file } = source {
         let path = s.path(file);
         let text =
@@ -51,7 +53,7 @@ pub fn zone(s: &Scenario, road: &Road, source: &ZoneSource) -> Result<SourcedZon
 
 /// Closed lanes and the start/end stations (along the first closed lane) of a zone from a
 /// source other than WZDx.
-fn geometry(s: &Scenario, road: &Road, source: &ZoneSource) -> Result<(Vec<u8>, f64, f64), String> {
+fn geometry(s: &Site, road: &Road, source: &ZoneSource) -> Result<(Vec<u8>, f64, f64), String> {
     let read = |p: &Path| {
         let path = s.path(p);
         std::fs::read_to_string(&path).map_err(|e| format!("{}: {e}", path.display()))
@@ -108,4 +110,33 @@ fn from_cones(road: &Road, cones: &[[f64; 2]]) -> Result<(Vec<u8>, f64, f64), St
         first.start_m,
         first.end_m,
     ))
+}
+
+/// The zones of the site as the roadside builds them (stable packet ids), valid from
+/// `start` until further notice.
+pub fn build_zones(s: &Site, road: &Road, start: Utc) -> Result<Vec<WorkZone>, String> {
+    let mut out = Vec::new();
+    for (i, z) in s.zones.iter().enumerate() {
+        let mut packet_id = *b"HILZONE00";
+        packet_id[7] = b'0' + (i / 10) as u8 % 10;
+        packet_id[8] = b'0' + (i % 10) as u8;
+        let sourced = zone(s, road, &z.source)?;
+        let speed_limit = match (z.limit_kmh, z.limit_mph) {
+            (_, Some(value)) => Some(SignSpeed { value, mph: true }),
+            (Some(value), None) => Some(SignSpeed { value, mph: false }),
+            (None, None) => sourced.speed_limit,
+        };
+        let (closed_lanes, start_m, end_m) = (sourced.closed_lanes, sourced.start_m, sourced.end_m);
+        out.push(WorkZone {
+            closed_lanes,
+            start_m,
+            end_m,
+            speed_limit,
+            packet_id,
+            msg_cnt: 1,
+            start,
+            duration_min: DURATION_INDEFINITE,
+        });
+    }
+    Ok(out)
 }

@@ -1,18 +1,18 @@
-//! The broadcaster (`hil_sim::broadcast`) against local UDP sockets: frames arrive bare or
+//! The broadcaster (`roadside::broadcast`) against local UDP sockets: frames arrive bare or
 //! in IEEE 1609.2, the rate holds, the seeded faults drop/corrupt/hold what they say, and
 //! the RSU 4.1 records read back with the codec's parser.
 
-use hil_sim::broadcast::{
+use geodesy::LatLon;
+use j2735::envelope::rsu_text::RsuMessage;
+use j2735::envelope::{unwrap_message_frame, EnvelopeKind};
+use roadside::broadcast::{
     rsu_record, write_rsu_files, Broadcaster, DropReason, FaultInjector, Faults, LossModel,
     Message, MessageKind, RsuDelivery, RsuFileError, RsuOptions, TxChannel, TxMode, Verdict,
     Wrapping,
 };
-use hil_sim::clock::Utc;
-use hil_sim::messages::{self, SignSpeed, WorkZone, DURATION_INDEFINITE};
-use hil_sim::road::Road;
-use j2735::envelope::rsu_text::RsuMessage;
-use j2735::envelope::{unwrap_message_frame, EnvelopeKind};
-use obu::LatLon;
+use roadside::clock::Utc;
+use roadside::messages::{self, SignSpeed, WorkZone, DURATION_INDEFINITE};
+use roadside::road::Road;
 use std::net::{SocketAddr, UdpSocket};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;

@@ -1,20 +1,20 @@
-//! The roadside inputs (`hil_sim::geojson`): a lane map, a WZDx 4.2 feed and cone lists
-//! from the fixtures in `tests/data/`, the MAP and TIM built from them, and the errors of
-//! malformed variants.
+//! The roadside inputs (`roadside::geojson`): a lane map, a WZDx 4.2 feed and cone lists
+//! from the fixtures in `hil-sim/tests/data/` (shared with the scenarios), the MAP and TIM
+//! built from them, and the errors of malformed variants.
 
-use hil_sim::broadcast::Prng;
-use hil_sim::geojson::{
+use j2735::message_frame::MessageFrame;
+use roadside::broadcast::Prng;
+use roadside::geojson::{
     load_cones, load_lane_map, rfc3339_unix_ms, work_zones_from_wzdx, InputError, Problem,
 };
-use hil_sim::messages::{self, SignSpeed};
-use hil_sim::road::Road;
-use j2735::message_frame::MessageFrame;
+use roadside::messages::{self, SignSpeed};
+use roadside::road::Road;
 use serde_json::{json, Value};
 
-const LANE_MAP: &str = include_str!("data/lane_map_3lanes.geojson");
-const WZDX: &str = include_str!("data/wzdx_right_lane_closed.geojson");
-const CONES_JSON: &str = include_str!("data/cones.json");
-const CONES_CSV: &str = include_str!("data/cones.csv");
+const LANE_MAP: &str = include_str!("../../tests/data/lane_map_3lanes.geojson");
+const WZDX: &str = include_str!("../../tests/data/wzdx_right_lane_closed.geojson");
+const CONES_JSON: &str = include_str!("../../tests/data/cones.json");
+const CONES_CSV: &str = include_str!("../../tests/data/cones.csv");
 
 /// Metres per degree of longitude at 39.75 N on WGS84.
 const M_PER_DEG_LON: f64 = 85_705.3;

@@ -8,12 +8,12 @@
 //! distance band, the RMSE within 40 m, and the IoU of the lane-3 zone (along the lane) for
 //! zones ending 40, 60 and 90 m ahead. Run with `--nocapture` to see the table.
 
-use hil_sim::camera::synthetic::{self, PinholeCamera};
-use hil_sim::camera::{CameraModel, Correspondence, TopDown};
-use hil_sim::cones::closures;
-use hil_sim::rng::Prng;
-use hil_sim::road::{dist, Road};
-use obu::LatLon;
+use geodesy::LatLon;
+use roadside::camera::synthetic::{self, PinholeCamera};
+use roadside::camera::{CameraModel, Correspondence, TopDown};
+use roadside::cones::closures;
+use roadside::rng::Prng;
+use roadside::road::{dist, Road};
 
 const SEEDS: u64 = 20;
 const NOISE_PX: f64 = 1.0;

@@ -3,16 +3,17 @@
 //! our JER to the same bytes. Needs feature `shared-oracle` (and Python).
 #![cfg(feature = "shared-oracle")]
 
-use hil_sim::clock::Utc;
-use hil_sim::hmi_bench;
-use hil_sim::messages::{self, SignSpeed};
+use geodesy::LatLon;
 use j2735::message_frame::MessageFrame;
+use roadside::clock::Utc;
+use roadside::messages::{self, SignSpeed, WorkZone, DURATION_INDEFINITE};
+use roadside::road::Road;
 use std::io::Write;
 use std::path::PathBuf;
 use std::process::{Command, Stdio};
 
 fn shared_dir() -> PathBuf {
-    let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../shared");
+    let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../../shared");
     assert!(
         dir.is_dir(),
         "{} is missing: the oracle tests need ../shared",
@@ -61,10 +62,33 @@ fn oracle(args: &[&str], input: &str) -> String {
     String::from_utf8(out.stdout).unwrap()
 }
 
+/// The road of the tablet app's bench: three lanes east and two west, 3 km, 80 km/h.
+fn road() -> Road {
+    let reference = LatLon::from_degrees(39.739_2, -104.990_3).unwrap();
+    Road::straight(reference, 90.0, 3000.0, (3, 2), 3.6, 80.0)
+}
+
+/// The bench's zone: lane 3 closed from 1500 to 1700 m, 40 km/h, from `start` on.
+fn zone(start: Utc) -> WorkZone {
+    WorkZone {
+        closed_lanes: vec![3],
+        start_m: 1500.0,
+        end_m: 1700.0,
+        speed_limit: Some(SignSpeed {
+            value: 40,
+            mph: false,
+        }),
+        packet_id: *b"HILBENCH1",
+        msg_cnt: 1,
+        start,
+        duration_min: DURATION_INDEFINITE,
+    }
+}
+
 fn frames() -> Vec<(&'static str, Box<MessageFrame>)> {
-    let road = hmi_bench::road();
+    let road = road();
     let start = Utc::from_unix_ms(1_795_341_600_000);
-    let zone = hmi_bench::zone(start);
+    let zone = zone(start);
     let mut two_lanes = zone.clone();
     two_lanes.closed_lanes = vec![3, 2];
     two_lanes.speed_limit = Some(SignSpeed {

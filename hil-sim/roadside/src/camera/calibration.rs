@@ -3,7 +3,7 @@
 
 use std::fmt;
 
-use obu::LatLon;
+use geodesy::LatLon;
 use serde::Deserialize;
 
 /// One ground control point: a pixel and the surveyed position of the same road point.

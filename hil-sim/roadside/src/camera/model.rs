@@ -2,7 +2,7 @@
 
 use std::fmt;
 
-use obu::LatLon;
+use geodesy::LatLon;
 
 use super::{Correspondence, Homography, TopDown, TwoStep};
 use crate::road::Road;

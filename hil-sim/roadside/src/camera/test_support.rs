@@ -1,7 +1,7 @@
 //! Fixtures shared by the unit tests of the camera models.
 
+use geodesy::LatLon;
 use nalgebra::{Matrix3, Vector3};
-use obu::LatLon;
 
 use super::Correspondence;
 use crate::road::{dist, Road};

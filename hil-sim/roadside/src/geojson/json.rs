@@ -1,7 +1,7 @@
 //! JSON and GeoJSON helpers shared by the readers: members, types, positions.
 
 use super::error::{InputError, Problem};
-use obu::LatLon;
+use geodesy::LatLon;
 use serde_json::{Map, Value};
 use std::fmt;
 

@@ -8,7 +8,7 @@ use super::json::{
 };
 use super::{KMH_PER_MPH, MAX_LANE_WIDTH_M, MAX_MAP_RADIUS_M, MAX_SPEED_KMH, MIN_LANE_WIDTH_M};
 use crate::road::{dist, Road, RoadLane};
-use obu::LatLon;
+use geodesy::LatLon;
 use serde_json::{Map, Value};
 
 /// One lane feature as read, before conversion to local metres.

@@ -159,7 +159,7 @@ mod tests {
     use crate::camera::{parse_calibration, CameraModel};
     use crate::cones::parse_detections_json;
     use crate::road::dist;
-    use obu::LatLon;
+    use geodesy::LatLon;
 
     fn road() -> Road {
         let r = LatLon::from_degrees(39.7392, -104.9903).unwrap();

@@ -213,7 +213,7 @@ impl Extent {
 mod tests {
     use super::*;
     use crate::cones::closures;
-    use obu::LatLon;
+    use geodesy::LatLon;
 
     fn road() -> Road {
         let r = LatLon::from_degrees(39.7392, -104.9903).unwrap();
