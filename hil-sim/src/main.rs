@@ -1,81 +1,189 @@
-//! `hil-sim`: roadside unit software and the hardware-in-the-loop bench of the OBU.
+//! `hil-sim`: roadside unit software and the hardware-in-the-loop bench of the OBU. The
+//! command line is declared with `clap` (derive): one subcommand per job, each flag with
+//! its help text and default.
 #![forbid(unsafe_code)]
 
+use clap::{Parser, Subcommand, ValueEnum};
 use hil_sim::{hmi_bench, perf};
+use roadside::broadcast::Wrapping;
+use std::net::SocketAddr;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::time::Duration;
 
-const USAGE: &str = "hil-sim: roadside unit software and the OBU's hardware-in-the-loop bench
+/// hil-sim: roadside unit software and the OBU's hardware-in-the-loop bench.
+#[derive(Debug, Parser)]
+#[command(
+    name = "hil-sim",
+    args_override_self = true,
+    after_help = "The daemon is `obu` beside this executable (build both with the same profile), \
+                  or $OBU_BIN.\n\n\
+                  Scenes: cruise, approach, warning, lane_closed, overspeed, in_zone, leaving;\n\
+                  switches: gnss_lost, gnss_back."
+)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
 
-Usage:
-  hil-sim hmi-server     run the real obu daemon and feed it the tablet tests' road, work
-                         zone and drive at 10 Hz; prints the daemon's URL first
-                         (env: HMI_PORT, HMI_STATE_DIR, OBU_BIN)
-  hil-sim hmi-drive S    switch a running hmi-server to scene S (env: HMI_STATE_DIR)
-  hil-sim bench-latency [--samples N]
-                         GNSS datagram in -> state event out of the real daemon on the
-                         loopback: p50/p99/max; fails when p99 >= 2 ms or a state is lost
-  hil-sim load-test [--clients N] [--seconds S]
-                         N tablets (default 50) follow /events while the daemon is fed at
-                         10 Hz for S seconds (default 60): events per client and the
-                         daemon's CPU; fails on a dropped client or CPU >= 10 % of a core
-  hil-sim run SCENARIO.toml... [--out DIR] [--firmware ELF]
-                         run scenarios against the real obu daemon; writes
-                         DIR/<scenario>/report.json, states.jsonl and plots (default DIR:
-                         hil-sim-out); fails when an expectation does not hold. With
-                         --firmware: each scenario runs against the daemon and then against
-                         the firmware image in QEMU (netduinoplus2; $QEMU or
-                         qemu-system-arm), into DIR/<scenario>/daemon and .../firmware,
-                         and the two HmiState timelines must match (timeline.json)
-  hil-sim roadside SCENARIO.toml [--to HOST:PORT]... [--wrap raw|1609.2] [--rate HZ]
-                 [--seconds S] [--rsu-files DIR]
-                         the roadside unit: the scenario's lane map and work zones (GeoJSON,
-                         WZDx, cones, camera) as MAP + TIM, broadcast over UDP (default
-                         10 Hz, until stopped) and/or written as RSU 4.1 text files
-  hil-sim record SCENARIO.toml OUT.nmea OUT.candump
-                         the scenario's drive as a GNSS receiver's NMEA log (10 Hz GST, GGA,
-                         RMC with its noise and dropouts) and a candump log of its speed
-  hil-sim demo [--port P]
-                         the field test: roadside, OBU and a drive through a work zone
-                         (40 km/h road, limit 10 km/h, 100 m warning, lane change) with the
-                         tablet app live at http://127.0.0.1:P (default 8080)
-  hil-sim synth-camera --scenario FILE.toml --out DIR [--frames N] [--noise-px S]
-                       [--seed K] [--miss-rate R]
-                         synthetic camera data of the scenario's first `lanes` zone: cones
-                         along the closed lanes, a camera beside the road before the zone;
-                         writes DIR/calibration.json and DIR/detections.json (N frames,
-                         default 10; S px noise, default 1; cones missed at rate R,
-                         default 0.1; seed K, default 1)
-  hil-sim --help         this text
+/// The jobs of the bench and the roadside unit.
+#[derive(Debug, Subcommand)]
+enum Command {
+    /// Run the real obu daemon and feed it the tablet tests' road, work zone and drive at
+    /// 10 Hz; prints the daemon's URL first (env: HMI_PORT, HMI_STATE_DIR, OBU_BIN).
+    HmiServer,
+    /// Switch a running hmi-server to a scene (env: HMI_STATE_DIR).
+    HmiDrive {
+        /// The scene (cruise, approach, warning, lane_closed, overspeed, in_zone, leaving)
+        /// or a switch (gnss_lost, gnss_back).
+        scene: String,
+    },
+    /// GNSS datagram in -> state event out of the real daemon on the loopback: p50/p99/max;
+    /// fails when p99 >= 2 ms or a state is lost.
+    BenchLatency {
+        /// Datagrams measured (for GNSS and for TIM each).
+        #[arg(long, value_name = "N", default_value_t = 2000)]
+        samples: usize,
+    },
+    /// N tablets follow /events while the daemon is fed at 10 Hz: events per client and
+    /// the daemon's CPU; fails on a dropped client or CPU >= 10 % of a core.
+    LoadTest {
+        /// Tablets following /events.
+        #[arg(long, value_name = "N", default_value_t = 50)]
+        clients: usize,
+        /// How long the daemon is fed, seconds.
+        #[arg(long, value_name = "S", default_value_t = 60.0)]
+        seconds: f64,
+    },
+    /// Run scenarios against the real obu daemon; writes DIR/<scenario>/report.json,
+    /// states.jsonl and plots; fails when an expectation does not hold.
+    Run(RunArgs),
+    /// The roadside unit: the scenario's lane map and work zones (GeoJSON, WZDx, cones,
+    /// camera) as MAP + TIM, broadcast over UDP (--to, until stopped unless --seconds)
+    /// and/or written as RSU 4.1 text files (--rsu-files); give at least one of the two.
+    Roadside(RoadsideArgs),
+    /// The scenario's drive as a GNSS receiver's NMEA log (10 Hz GST, GGA, RMC with its
+    /// noise and dropouts) and a candump log of its speed.
+    Record {
+        /// The scenario file.
+        #[arg(value_name = "SCENARIO.toml")]
+        scenario: PathBuf,
+        /// Where the NMEA log goes.
+        #[arg(value_name = "OUT.nmea")]
+        nmea: PathBuf,
+        /// Where the candump log goes.
+        #[arg(value_name = "OUT.candump")]
+        candump: PathBuf,
+    },
+    /// The field test: roadside, OBU and a drive through a work zone (40 km/h road, limit
+    /// 10 km/h, 100 m warning, lane change) with the tablet app live.
+    Demo {
+        /// HTTP port of the tablet app (http://127.0.0.1:P).
+        #[arg(long, value_name = "P", default_value_t = 8080)]
+        port: u16,
+        /// Where the run's report goes.
+        #[arg(long, value_name = "DIR", default_value = "hil-sim-out/demo")]
+        out: PathBuf,
+    },
+    /// Synthetic camera data of the scenario's first `lanes` zone: cones along the closed
+    /// lanes, a camera beside the road before the zone; writes DIR/calibration.json and
+    /// DIR/detections.json.
+    SynthCamera(SynthCameraArgs),
+}
 
-The daemon is `obu` beside this executable (build both with the same profile), or $OBU_BIN.
+/// `hil-sim run`.
+#[derive(Debug, clap::Args)]
+struct RunArgs {
+    /// Scenario files.
+    #[arg(value_name = "SCENARIO.toml", required = true)]
+    files: Vec<PathBuf>,
+    /// Where the reports go (DIR/<scenario>/...).
+    #[arg(long, value_name = "DIR", default_value = "hil-sim-out")]
+    out: PathBuf,
+    /// Also run each scenario against this firmware image in QEMU (netduinoplus2; $QEMU or
+    /// qemu-system-arm), into DIR/<scenario>/daemon and .../firmware; the two HmiState
+    /// timelines must match (timeline.json).
+    #[arg(long, value_name = "ELF")]
+    firmware: Option<PathBuf>,
+}
 
-Scenes: cruise, approach, warning, lane_closed, overspeed, in_zone, leaving;
-switches: gnss_lost, gnss_back.";
+/// `hil-sim roadside`.
+#[derive(Debug, clap::Args)]
+struct RoadsideArgs {
+    /// The scenario file (its `[road]` and `[[zones]]`).
+    #[arg(value_name = "SCENARIO.toml")]
+    scenario: PathBuf,
+    /// Broadcast to this UDP destination (repeat for more).
+    #[arg(long, value_name = "HOST:PORT", value_parser = destination)]
+    to: Vec<SocketAddr>,
+    /// Bare MessageFrames or IEEE 1609.2 unsecured data.
+    #[arg(long, value_name = "raw|1609.2", default_value = "raw")]
+    wrap: Wrap,
+    /// Broadcast rate, Hz.
+    #[arg(long, value_name = "HZ", default_value_t = 10.0)]
+    rate: f64,
+    /// Stop after this many seconds (default: until stopped).
+    #[arg(long, value_name = "S")]
+    seconds: Option<f64>,
+    /// Write the messages as RSU 4.1 text files into this folder.
+    #[arg(long, value_name = "DIR")]
+    rsu_files: Option<PathBuf>,
+}
+
+/// `--wrap`.
+#[derive(Debug, Clone, Copy, ValueEnum)]
+enum Wrap {
+    /// Bare MessageFrames.
+    Raw,
+    /// IEEE 1609.2 unsecured data.
+    #[value(name = "1609.2")]
+    Ieee1609,
+}
+
+/// `hil-sim synth-camera`.
+#[derive(Debug, clap::Args)]
+struct SynthCameraArgs {
+    /// The scenario file (its first zone of source `lanes` is the ground truth).
+    #[arg(long, value_name = "FILE.toml")]
+    scenario: PathBuf,
+    /// Where calibration.json and detections.json go.
+    #[arg(long, value_name = "DIR")]
+    out: PathBuf,
+    /// Frames of detections.
+    #[arg(long, value_name = "N", default_value_t = 10)]
+    frames: usize,
+    /// Pixel noise of the control points and boxes, 1-sigma per axis.
+    #[arg(long, value_name = "S", default_value_t = 1.0)]
+    noise_px: f64,
+    /// Seed of the noise and the misses.
+    #[arg(long, value_name = "K", default_value_t = 1)]
+    seed: u64,
+    /// Probability that a cone is missed in a frame.
+    #[arg(long, value_name = "R", default_value_t = 0.1)]
+    miss_rate: f64,
+}
+
+/// A `--to` value: an IP address and a port.
+fn destination(v: &str) -> Result<SocketAddr, String> {
+    v.parse()
+        .map_err(|_| format!("{v:?}: give HOST:PORT with an IP address"))
+}
 
 fn main() -> ExitCode {
-    let args: Vec<String> = std::env::args().skip(1).collect();
-    let result = match args
-        .iter()
-        .map(String::as_str)
-        .collect::<Vec<_>>()
-        .as_slice()
-    {
-        ["hmi-server"] => server_options().and_then(|o| hmi_bench::serve(&o)),
-        ["hmi-drive", scene] => state_dir().and_then(|d| hmi_bench::drive(&d, scene)),
-        ["bench-latency", rest @ ..] => bench_latency(rest),
-        ["run", rest @ ..] => run_scenarios(rest),
-        ["roadside", scenario, rest @ ..] => roadside(scenario, rest),
-        ["record", scenario, nmea, candump] => record(scenario, nmea, candump),
-        ["demo", rest @ ..] => demo(rest),
-        ["load-test", rest @ ..] => load_test(rest),
-        ["synth-camera", rest @ ..] => synth_camera(rest),
-        ["--help" | "-h"] => {
-            println!("{USAGE}");
-            return ExitCode::SUCCESS;
-        }
-        _ => Err(format!("unexpected arguments {args:?}\n\n{USAGE}")),
+    let result = match Cli::parse().command {
+        Command::HmiServer => server_options().and_then(|o| hmi_bench::serve(&o)),
+        Command::HmiDrive { scene } => state_dir().and_then(|d| hmi_bench::drive(&d, &scene)),
+        Command::BenchLatency { samples } => bench_latency(samples),
+        Command::LoadTest { clients, seconds } => load_test(clients, seconds),
+        Command::Run(a) => run_scenarios(&a),
+        Command::Roadside(a) => roadside(&a),
+        Command::Record {
+            scenario,
+            nmea,
+            candump,
+        } => record(&scenario, &nmea, &candump),
+        Command::Demo { port, out } => demo(port, out),
+        Command::SynthCamera(a) => synth_camera(&a),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
@@ -86,39 +194,7 @@ fn main() -> ExitCode {
     }
 }
 
-/// `--name value` pairs into a lookup, refusing unknown names.
-fn options<'a>(args: &[&'a str], known: &[&str]) -> Result<Vec<(&'a str, &'a str)>, String> {
-    let mut out = Vec::new();
-    let mut it = args.iter();
-    while let Some(name) = it.next() {
-        if !known.contains(name) {
-            return Err(format!(
-                "unknown option {name:?} (options: {})",
-                known.join(", ")
-            ));
-        }
-        let value = it.next().ok_or(format!("{name} needs a value"))?;
-        out.push((*name, *value));
-    }
-    Ok(out)
-}
-
-fn number<T: std::str::FromStr>(
-    opts: &[(&str, &str)],
-    name: &str,
-    default: T,
-) -> Result<T, String> {
-    match opts.iter().rev().find(|(n, _)| *n == name) {
-        Some((_, v)) => v
-            .parse()
-            .map_err(|_| format!("{name} {v:?} is not a number")),
-        None => Ok(default),
-    }
-}
-
-fn bench_latency(args: &[&str]) -> Result<(), String> {
-    let opts = options(args, &["--samples"])?;
-    let samples: usize = number(&opts, "--samples", 2000)?;
+fn bench_latency(samples: usize) -> Result<(), String> {
     let obu = hil_sim::daemon::find_obu();
     let gnss = perf::latency(&obu, samples.max(1), Duration::from_millis(10))?;
     let tim = perf::tim_latency(&obu, samples.max(1), Duration::from_millis(10))?;
@@ -142,10 +218,7 @@ fn bench_latency(args: &[&str]) -> Result<(), String> {
         .ok_or("goal missed: p99 under 2 ms with nothing lost".into())
 }
 
-fn load_test(args: &[&str]) -> Result<(), String> {
-    let opts = options(args, &["--clients", "--seconds"])?;
-    let clients: usize = number(&opts, "--clients", 50)?;
-    let seconds: f64 = number(&opts, "--seconds", 60.0)?;
+fn load_test(clients: usize, seconds: f64) -> Result<(), String> {
     let obu = hil_sim::daemon::find_obu();
     let r = perf::load(&obu, clients.max(1), seconds.max(1.0))?;
     println!(
@@ -170,29 +243,18 @@ fn load_test(args: &[&str]) -> Result<(), String> {
 
 /// `hil-sim synth-camera`: calibration and detections of a synthetic camera that sees the
 /// cones of the scenario's first zone of source `lanes` (the ground truth).
-fn synth_camera(args: &[&str]) -> Result<(), String> {
+fn synth_camera(a: &SynthCameraArgs) -> Result<(), String> {
     use hil_sim::scenario::ZoneSource;
     use roadside::camera::{synthetic, CameraModel};
-    let known = [
-        "--scenario",
-        "--out",
-        "--frames",
-        "--noise-px",
-        "--seed",
-        "--miss-rate",
-    ];
-    let opts = options(args, &known)?;
-    let given = |name: &str| opts.iter().rev().find(|(n, _)| *n == name).map(|(_, v)| *v);
-    let file = given("--scenario").ok_or("--scenario is required")?;
-    let out = PathBuf::from(given("--out").ok_or("--out is required")?);
     let spec = synthetic::CaptureSpec {
-        frames: number(&opts, "--frames", 10)?,
-        noise_px: number(&opts, "--noise-px", 1.0)?,
-        miss_rate: number(&opts, "--miss-rate", 0.1)?,
-        seed: number(&opts, "--seed", 1)?,
+        frames: a.frames,
+        noise_px: a.noise_px,
+        miss_rate: a.miss_rate,
+        seed: a.seed,
         placement: synthetic::Placement::default(),
     };
-    let scenario = hil_sim::scenario::Scenario::load(std::path::Path::new(file))?;
+    let out = &a.out;
+    let scenario = hil_sim::scenario::Scenario::load(&a.scenario)?;
     let road = scenario.road()?;
     let (closed, zone) = (scenario.zones.iter())
         .find_map(|z| match &z.source {
@@ -207,7 +269,7 @@ fn synth_camera(args: &[&str]) -> Result<(), String> {
     let capture = synthetic::capture(&road, closed, zone, &spec).map_err(|e| e.to_string())?;
     let camera = &capture.scene.camera;
     let note = format!("synthetic, seed {}: {camera}", spec.seed);
-    let files = capture.write(&out, &note)?;
+    let files = capture.write(out, &note)?;
     let model = CameraModel::homography(&road, &capture.calibration).map_err(|e| e.to_string())?;
     let [e, n, _] = camera.centre();
     let at = road.to_wgs84([e, n]).map_or("?".into(), |p| {
@@ -233,13 +295,7 @@ fn synth_camera(args: &[&str]) -> Result<(), String> {
 /// The built-in scenario of `hil-sim demo`.
 const DEMO: &str = include_str!("../../tests/scenarios/01_paper_drive.toml");
 
-fn demo(args: &[&str]) -> Result<(), String> {
-    let opts = options(args, &["--port", "--out"])?;
-    let port: u16 = number(&opts, "--port", 8080)?;
-    let out = opts
-        .iter()
-        .find(|(n, _)| *n == "--out")
-        .map_or(PathBuf::from("hil-sim-out/demo"), |(_, v)| PathBuf::from(v));
+fn demo(port: u16, out: PathBuf) -> Result<(), String> {
     let scenario = hil_sim::scenario::Scenario::parse(DEMO)?;
     println!("hil-sim demo: {}", scenario.description.trim());
     let report = hil_sim::runner::run(
@@ -259,44 +315,18 @@ fn demo(args: &[&str]) -> Result<(), String> {
         .ok_or("an expectation did not hold".into())
 }
 
-fn roadside(scenario: &str, args: &[&str]) -> Result<(), String> {
-    use roadside::broadcast::Wrapping;
-    let s = hil_sim::scenario::Scenario::load(std::path::Path::new(scenario))?;
-    let mut o = roadside::unit::RoadsideOptions {
-        destinations: Vec::new(),
-        wrapping: Wrapping::Raw,
-        rate_hz: 10.0,
-        duration: None,
-        rsu_dir: None,
+fn roadside(a: &RoadsideArgs) -> Result<(), String> {
+    let s = hil_sim::scenario::Scenario::load(&a.scenario)?;
+    let o = roadside::unit::RoadsideOptions {
+        destinations: a.to.clone(),
+        wrapping: match a.wrap {
+            Wrap::Raw => Wrapping::Raw,
+            Wrap::Ieee1609 => Wrapping::Ieee1609Unsecured,
+        },
+        rate_hz: a.rate,
+        duration: a.seconds.map(Duration::from_secs_f64),
+        rsu_dir: a.rsu_files.clone(),
     };
-    let mut it = args.iter();
-    while let Some(a) = it.next() {
-        let mut value = || it.next().copied().ok_or(format!("{a} needs a value"));
-        match *a {
-            "--to" => {
-                let v = value()?;
-                o.destinations.push(
-                    v.parse()
-                        .map_err(|_| format!("--to {v:?}: give HOST:PORT with an IP address"))?,
-                );
-            }
-            "--wrap" => {
-                o.wrapping = match value()? {
-                    "raw" => Wrapping::Raw,
-                    "1609.2" => Wrapping::Ieee1609Unsecured,
-                    w => return Err(format!("--wrap {w:?}: raw or 1609.2")),
-                }
-            }
-            "--rate" => o.rate_hz = value()?.parse().map_err(|_| "--rate: a number of Hz")?,
-            "--seconds" => {
-                o.duration = Some(Duration::from_secs_f64(
-                    value()?.parse().map_err(|_| "--seconds: a number")?,
-                ))
-            }
-            "--rsu-files" => o.rsu_dir = Some(PathBuf::from(value()?)),
-            other => return Err(format!("unknown option {other:?}")),
-        }
-    }
     if o.destinations.is_empty() && o.rsu_dir.is_none() {
         return Err("give --to HOST:PORT (broadcast) and/or --rsu-files DIR".into());
     }
@@ -304,10 +334,10 @@ fn roadside(scenario: &str, args: &[&str]) -> Result<(), String> {
     Ok(())
 }
 
-fn record(scenario: &str, nmea_out: &str, candump_out: &str) -> Result<(), String> {
+fn record(scenario: &Path, nmea_out: &Path, candump_out: &Path) -> Result<(), String> {
     use hil_sim::{drive, nmea};
     use roadside::clock::Utc;
-    let s = hil_sim::scenario::Scenario::load(std::path::Path::new(scenario))?;
+    let s = hil_sim::scenario::Scenario::load(scenario)?;
     let road = s.road()?;
     let samples = drive::simulate(&road, &s.drive, 900.0).map_err(|e| e.to_string())?;
     // A fixed start (2026-01-15T12:00:00Z) so the logs are reproducible; replay restamps.
@@ -329,12 +359,14 @@ fn record(scenario: &str, nmea_out: &str, candump_out: &str) -> Result<(), Strin
             sigma_m: s.drive.sigma_m.max(0.3),
         }));
     }
-    std::fs::write(nmea_out, text).map_err(|e| format!("{nmea_out}: {e}"))?;
+    std::fs::write(nmea_out, text).map_err(|e| format!("{}: {e}", nmea_out.display()))?;
     std::fs::write(candump_out, drive::candump(&samples, t0_ms as f64 / 1000.0))
-        .map_err(|e| format!("{candump_out}: {e}"))?;
+        .map_err(|e| format!("{}: {e}", candump_out.display()))?;
     println!(
-        "{} epochs to {nmea_out}, speed frames to {candump_out}",
-        samples.iter().filter(|x| x.reported.is_some()).count()
+        "{} epochs to {}, speed frames to {}",
+        samples.iter().filter(|x| x.reported.is_some()).count(),
+        nmea_out.display(),
+        candump_out.display()
     );
     Ok(())
 }
@@ -415,34 +447,20 @@ fn run_against_firmware(
     daemon_ok && firmware_ok && m.matches()
 }
 
-fn run_scenarios(args: &[&str]) -> Result<(), String> {
-    let mut files = Vec::new();
-    let mut out = PathBuf::from("hil-sim-out");
-    let mut firmware = None;
-    let mut it = args.iter();
-    while let Some(a) = it.next() {
-        match *a {
-            "--out" => out = PathBuf::from(it.next().ok_or("--out needs a folder")?),
-            "--firmware" => {
-                let elf = it
-                    .next()
-                    .ok_or("--firmware needs the firmware image (ELF)")?;
-                firmware = Some(hil_sim::firmware::FirmwareTarget::new(Path::new(elf))?);
-            }
-            f => files.push(PathBuf::from(f)),
-        }
-    }
-    if files.is_empty() {
-        return Err("give at least one scenario file".into());
-    }
+fn run_scenarios(a: &RunArgs) -> Result<(), String> {
+    let (files, out) = (&a.files, &a.out);
+    let firmware = match &a.firmware {
+        Some(elf) => Some(hil_sim::firmware::FirmwareTarget::new(elf)?),
+        None => None,
+    };
     let mut failed = Vec::new();
     let mut v2x = Vec::new();
-    for f in &files {
+    for f in files {
         let scenario = hil_sim::scenario::Scenario::load(f)?;
         println!("=== {} ({})", scenario.name, f.display());
         let opts = hil_sim::runner::RunOptions {
             obu: hil_sim::daemon::find_obu(),
-            out: hil_sim::runner::out_dir(&out, f),
+            out: hil_sim::runner::out_dir(out, f),
             http_port: 0,
             progress: std::io::IsTerminal::is_terminal(&std::io::stderr()),
             firmware: None,
@@ -522,4 +540,80 @@ fn server_options() -> Result<hmi_bench::ServerOptions, String> {
         port,
         state_dir: state_dir()?,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use clap::CommandFactory;
+
+    fn parse(line: &str) -> Result<Command, clap::Error> {
+        Cli::try_parse_from(line.split_whitespace()).map(|c| c.command)
+    }
+
+    #[test]
+    fn the_command_line_is_consistent() {
+        Cli::command().debug_assert();
+    }
+
+    #[test]
+    fn the_invocations_of_ci_readme_and_the_browser_tests_parse() {
+        for line in [
+            "hil-sim run a.toml b.toml --out target/hil-sim-out",
+            "hil-sim run a.toml --out out/firmware --firmware obu/firmware/x.elf",
+            "hil-sim load-test --clients 50 --seconds 10",
+            "hil-sim demo",
+            "hil-sim bench-latency",
+            "hil-sim load-test",
+            "hil-sim roadside s.toml --to 192.168.1.20:1516 --wrap 1609.2",
+            "hil-sim roadside s.toml --rsu-files rsu-out",
+            "hil-sim hmi-server",
+            "hil-sim hmi-drive gnss_lost",
+            "hil-sim record s.toml o.nmea o.candump",
+            "hil-sim synth-camera --scenario s.toml --out d --frames 3 --noise-px 0.5",
+        ] {
+            assert!(parse(line).is_ok(), "{line}: {:?}", parse(line).err());
+        }
+    }
+
+    #[test]
+    fn values_and_defaults_arrive_typed() {
+        let Ok(Command::Roadside(a)) = parse(
+            "hil-sim roadside s.toml --to 127.0.0.1:1 --to 127.0.0.1:2 --wrap 1609.2 --seconds 2",
+        ) else {
+            panic!("roadside did not parse");
+        };
+        assert_eq!(a.to.len(), 2);
+        assert!(matches!(a.wrap, Wrap::Ieee1609));
+        assert_eq!((a.rate, a.seconds, a.rsu_files), (10.0, Some(2.0), None));
+        let Ok(Command::Run(r)) = parse("hil-sim run a.toml --out x b.toml --out y") else {
+            panic!("run did not parse");
+        };
+        // Scenario files before and after the flags; the last --out wins, as before.
+        assert_eq!(r.files, [PathBuf::from("a.toml"), PathBuf::from("b.toml")]);
+        assert_eq!(r.out, PathBuf::from("y"));
+        let Ok(Command::SynthCamera(c)) = parse("hil-sim synth-camera --scenario s --out o") else {
+            panic!("synth-camera did not parse");
+        };
+        assert_eq!(
+            (c.frames, c.noise_px, c.seed, c.miss_rate),
+            (10, 1.0, 1, 0.1)
+        );
+    }
+
+    #[test]
+    fn bad_values_are_refused() {
+        for line in [
+            "hil-sim run",
+            "hil-sim roadside s.toml --to example.org:1516",
+            "hil-sim roadside s.toml --wrap tls",
+            "hil-sim roadside s.toml --rate fast",
+            "hil-sim load-test --clients many",
+            "hil-sim synth-camera --out d",
+            "hil-sim hmi-server extra",
+            "hil-sim frobnicate",
+        ] {
+            assert!(parse(line).is_err(), "{line} parsed");
+        }
+    }
 }

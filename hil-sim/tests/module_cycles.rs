@@ -47,7 +47,12 @@ fn graph(src: &Path) -> Graph {
     let mut g = Graph::new();
     for f in files {
         let rel = f.strip_prefix(src).unwrap();
-        let first = rel.components().next().unwrap().as_os_str().to_string_lossy();
+        let first = rel
+            .components()
+            .next()
+            .unwrap()
+            .as_os_str()
+            .to_string_lossy();
         let module = first.trim_end_matches(".rs").to_string();
         if module == "lib" || module == "main" {
             continue;
@@ -126,7 +131,12 @@ fn no_module_imports_its_importer() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
     for src in [root.join("src"), root.join("roadside/src")] {
         let g = graph(&src);
-        assert!(g.len() > 5, "{}: only {} modules found", src.display(), g.len());
+        assert!(
+            g.len() > 5,
+            "{}: only {} modules found",
+            src.display(),
+            g.len()
+        );
         if let Some(cycle) = find_cycle(&g) {
             panic!("{}: module cycle {}", src.display(), cycle.join(" -> "));
         }
