@@ -1,12 +1,12 @@
 //! The roadside unit from a scenario file (`hil-sim roadside`: the bench's scenario loader,
-//! then the `roadside` crate's unit): its messages reach a UDP listener (raw and
+//! then `roadside::rsu`): its messages reach a UDP listener (raw and
 //! IEEE 1609.2) at the configured rate and the RSU 4.1 files parse back to the same frames.
 
 use hil_sim::scenario::Scenario;
 use j2735::message_frame::MessageFrame;
 use roadside::broadcast::Wrapping;
+use roadside::rsu::{messages_of, run, RoadsideOptions};
 use roadside::site::Site;
-use roadside::unit::{messages_of, run, RoadsideOptions};
 use std::net::UdpSocket;
 use std::path::Path;
 use std::time::Duration;

@@ -16,7 +16,7 @@
 //! - [`messages`]: the J2735 MAP and TIM for the road and a work zone, UPER-encoded.
 //! - [`broadcast`]: the broadcaster (UDP, raw or IEEE 1609.2), its fault channel and the
 //!   RSU 4.1 text files.
-//! - [`unit`]: the roadside unit as a product (`hil-sim roadside`): a site's messages
+//! - [`rsu`]: the roadside unit as a product (`hil-sim roadside`): a site's messages
 //!   broadcast and/or written as RSU files.
 //! - [`scripted`]: the roadside of a bench run: the messages following the scenario's
 //!   timeline (revisions, shrinking and removed zones) through its radio faults.
@@ -35,7 +35,7 @@ pub mod geojson;
 pub mod messages;
 pub mod rng;
 pub mod road;
+pub mod rsu;
 pub mod scripted;
 pub mod site;
-pub mod unit;
 pub mod zone_sources;
