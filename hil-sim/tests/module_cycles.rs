@@ -2,7 +2,8 @@
 //! (`hil-sim/src/bin/hil-sim`) or the roadside (`hil-sim/roadside/src`): for every
 //! top-level module, the `crate::X` paths its files use in code (comments and doc comments
 //! are left out: a doc link is not a dependency) give an edge to `X`; the graph must have
-//! no cycle, neither a pair importing each other nor a longer loop.
+//! no cycle, neither a pair importing each other nor a longer loop. The same holds one
+//! level down, among the sub-modules of each folder module (`super::x`, `crate::m::x`).
 
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
@@ -20,56 +21,89 @@ fn rust_files(dir: &Path, out: &mut Vec<PathBuf>) {
     }
 }
 
-/// The names after each `crate::` in `line`, including `crate::{a, b::c}` groups.
-fn crate_paths(line: &str) -> Vec<String> {
+/// The names after each of `prefixes` in `line`, including `prefix{a, b::c}` groups.
+fn paths_after(line: &str, prefixes: &[String]) -> Vec<String> {
     let ident = |s: &str| -> String {
         s.chars()
             .take_while(|c| c.is_alphanumeric() || *c == '_')
             .collect()
     };
     let mut out = Vec::new();
-    for (i, _) in line.match_indices("crate::") {
-        let rest = &line[i + "crate::".len()..];
-        if let Some(group) = rest.strip_prefix('{') {
-            let inner = &group[..group.find('}').unwrap_or(group.len())];
-            out.extend(inner.split(',').map(|p| ident(p.trim())));
-        } else {
-            out.push(ident(rest));
+    for prefix in prefixes {
+        for (i, _) in line.match_indices(prefix.as_str()) {
+            // `crate::m::x` is no `crate::x`-style use of `m::x`'s parent by `x`'s sibling.
+            if i > 0 && line[..i].ends_with(|c: char| c.is_alphanumeric() || c == '_') {
+                continue;
+            }
+            let rest = &line[i + prefix.len()..];
+            if let Some(group) = rest.strip_prefix('{') {
+                let inner = &group[..group.find('}').unwrap_or(group.len())];
+                out.extend(inner.split(',').map(|p| ident(p.trim())));
+            } else {
+                out.push(ident(rest));
+            }
         }
     }
     out.retain(|m| !m.is_empty());
     out
 }
 
-/// Top-level module -> the top-level modules it uses, for the crate rooted at `src`.
-fn graph(src: &Path) -> Graph {
-    let mut files = Vec::new();
-    rust_files(src, &mut files);
-    let mut g = Graph::new();
-    for f in files {
-        let rel = f.strip_prefix(src).unwrap();
-        let first = rel
-            .components()
-            .next()
-            .unwrap()
-            .as_os_str()
-            .to_string_lossy();
-        let module = first.trim_end_matches(".rs").to_string();
-        if module == "lib" || module == "bin" {
+/// The modules of the folder `dir` (`m.rs` or `m/`), without the root files and tests.
+fn modules(dir: &Path) -> BTreeMap<String, PathBuf> {
+    let skip = ["lib.rs", "main.rs", "mod.rs", "tests.rs", "tests", "bin"];
+    let mut out = BTreeMap::new();
+    for entry in std::fs::read_dir(dir).unwrap() {
+        let path = entry.unwrap().path();
+        let name = path.file_name().unwrap().to_string_lossy().to_string();
+        if skip.contains(&name.as_str()) {
             continue;
         }
-        let text = std::fs::read_to_string(&f).unwrap();
+        if path.is_dir() || name.ends_with(".rs") {
+            out.insert(name.trim_end_matches(".rs").to_string(), path);
+        }
+    }
+    out
+}
+
+/// Module -> the sibling modules it names after one of `prefixes`, among the modules of
+/// `dir` (a module `m` is both `m.rs` and the folder `m/`).
+fn graph(dir: &Path, prefixes: &[String]) -> Graph {
+    let mods = modules(dir);
+    let mut g = Graph::new();
+    for (module, path) in &mods {
+        let mut files = Vec::new();
+        if path.is_dir() {
+            rust_files(path, &mut files);
+        } else {
+            files.push(path.clone());
+        }
         let uses = g.entry(module.clone()).or_default();
-        for line in text.lines() {
-            let code = line.split("//").next().unwrap_or("");
-            for m in crate_paths(code) {
-                if m != module {
-                    uses.insert(m);
+        for f in files {
+            let text = std::fs::read_to_string(&f).unwrap();
+            for line in text.lines() {
+                let code = line.split("//").next().unwrap_or("");
+                for m in paths_after(code, prefixes) {
+                    if &m != module && mods.contains_key(&m) {
+                        uses.insert(m);
+                    }
                 }
             }
         }
     }
     g
+}
+
+/// The graphs of a crate's `src`: its top-level modules (`crate::x`), then the
+/// sub-modules of each folder module `m` (`super::x`, `crate::m::x`).
+fn levels(src: &Path) -> Vec<(String, Graph)> {
+    let mut out = vec![("crate".to_string(), graph(src, &["crate::".to_string()]))];
+    for (m, path) in modules(src) {
+        if path.is_dir() {
+            let prefixes = ["super::".to_string(), format!("crate::{m}::")];
+            out.push((m.clone(), graph(&path, &prefixes)));
+        }
+    }
+    out
 }
 
 /// A cycle of `g` (its modules in order, the first repeated at the end), if any.
@@ -121,25 +155,44 @@ fn the_checker_finds_pairs_and_longer_loops() {
         find_cycle(&g(&[("x", "a"), ("a", "b"), ("b", "c"), ("c", "a")])),
         Some(vec!["a".into(), "b".into(), "c".into(), "a".into()])
     );
+    let crate_prefix = ["crate::".to_string()];
     assert_eq!(
-        crate_paths("use crate::{road::Road, clock};  let x = crate::rng::Prng::new(1);"),
+        paths_after(
+            "use crate::{road::Road, clock};  let x = crate::rng::Prng::new(1);",
+            &crate_prefix
+        ),
         ["road", "clock", "rng"]
+    );
+    let sub = ["super::".to_string(), "crate::plot::".to_string()];
+    assert_eq!(
+        paths_after("use super::span::Span; crate::plot::style::SIZE", &sub),
+        ["span", "style"]
     );
 }
 
 #[test]
 fn no_module_imports_its_importer() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
-    for src in [root.join("src"), root.join("roadside/src")] {
-        let g = graph(&src);
+    for (src, modules) in [
+        (root.join("src"), 10),
+        (root.join("src/bin/hil-sim"), 2),
+        (root.join("roadside/src"), 10),
+    ] {
+        let levels = levels(&src);
         assert!(
-            g.len() > 5,
-            "{}: only {} modules found",
+            levels[0].1.len() >= modules,
+            "{}: only {} modules",
             src.display(),
-            g.len()
+            levels[0].1.len()
         );
-        if let Some(cycle) = find_cycle(&g) {
-            panic!("{}: module cycle {}", src.display(), cycle.join(" -> "));
+        for (level, g) in &levels {
+            if let Some(cycle) = find_cycle(g) {
+                panic!(
+                    "{} ({level}): module cycle {}",
+                    src.display(),
+                    cycle.join(" -> ")
+                );
+            }
         }
     }
 }

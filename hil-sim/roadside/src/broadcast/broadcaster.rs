@@ -1,6 +1,7 @@
 //! The UDP [`Broadcaster`]: ticks on a fixed time grid, with faults injected and counted.
 
-use super::faults::{ConfigError, DropReason, FaultInjector, Faults, Verdict};
+use super::config::ConfigError;
+use super::faults::{DropReason, FaultInjector, Faults, Verdict};
 use super::message::{Message, MessageSlot, Wrapping};
 use super::{DEFAULT_RATE_HZ, MAX_RATE_HZ};
 use std::net::{Ipv4Addr, Ipv6Addr, SocketAddr, UdpSocket};

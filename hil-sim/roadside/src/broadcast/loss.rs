@@ -1,7 +1,7 @@
 //! Datagram loss: the [`LossModel`] (independent or Gilbert-Elliott bursts) and the
 //! per-destination [`LossChannel`] state.
 
-use super::faults::ConfigError;
+use super::config::ConfigError;
 use crate::rng::Prng;
 
 /// How datagrams get lost.

@@ -15,6 +15,7 @@
 //!   immediate-forward records written with the codec's RSU text writer.
 
 mod broadcaster;
+mod config;
 mod faults;
 mod loss;
 mod message;
@@ -25,7 +26,8 @@ mod tests;
 
 pub use crate::rng::Prng;
 pub use broadcaster::{BroadcastStats, Broadcaster};
-pub use faults::{ConfigError, DropReason, FaultInjector, Faults, Verdict};
+pub use config::ConfigError;
+pub use faults::{DropReason, FaultInjector, Faults, Verdict};
 pub use j2735::envelope::rsu_text::{TxChannel, TxMode};
 pub use loss::{LossChannel, LossModel};
 pub use message::{FrameError, Message, MessageKind, MessageSlot, Wrapping};
