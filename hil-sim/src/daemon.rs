@@ -46,8 +46,8 @@ pub struct Daemon {
     pub v2x: String,
     /// UDP address of the NMEA input.
     pub gnss: String,
-    /// The emulated firmware behind a daemon in bridge mode ([`crate::firmware`]).
-    pub rig: Option<crate::firmware::Rig>,
+    /// The emulated firmware behind a daemon in bridge mode (the firmware rig starts it).
+    pub rig: Option<crate::rig::Rig>,
 }
 
 impl Daemon {

@@ -2,8 +2,8 @@
 //! changes), the GNSS receiver's errors (bias, random walk, white noise, dropouts) and the
 //! vehicle's CAN speed frames.
 
-use crate::rng::Prng;
-use crate::road::{OnLane, Road};
+use roadside::rng::Prng;
+use roadside::road::{OnLane, Road};
 use serde::Deserialize;
 
 /// Epoch period of the simulated receiver, seconds (10 Hz).

@@ -10,6 +10,7 @@
 //! drives the rig through the same [`Daemon`] handle as the daemon alone.
 
 use crate::daemon::Daemon;
+use crate::rig::Rig;
 use std::io::Write;
 use std::net::{TcpListener, TcpStream, UdpSocket};
 use std::path::{Path, PathBuf};
@@ -43,31 +44,6 @@ impl FirmwareTarget {
             elf: elf.to_path_buf(),
             qemu,
         })
-    }
-}
-
-/// QEMU and the relays of a running rig; stopped (QEMU killed, relays ended) on drop.
-#[derive(Debug)]
-pub struct Rig {
-    qemu: Child,
-    decoder: Option<Child>,
-    stop: Arc<AtomicBool>,
-    relays: Vec<JoinHandle<()>>,
-    /// Datagrams relayed to the firmware (NMEA, V2X).
-    pub relayed: Arc<[AtomicU64; 2]>,
-}
-
-impl Drop for Rig {
-    fn drop(&mut self) {
-        self.stop.store(true, Ordering::Relaxed);
-        let _ = self.qemu.kill();
-        let _ = self.qemu.wait();
-        if let Some(d) = &mut self.decoder {
-            let _ = d.wait();
-        }
-        for r in self.relays.drain(..) {
-            let _ = r.join();
-        }
     }
 }
 

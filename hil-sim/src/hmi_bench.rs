@@ -7,12 +7,12 @@
 //! A scene loops the car over a window of stations so that it holds for as long as a
 //! test needs (the zone is valid until further notice).
 
-use crate::clock::{unix_ms_now, Utc};
 use crate::daemon::Daemon;
-use crate::messages::{self, SignSpeed, WorkZone, DURATION_INDEFINITE};
 use crate::nmea::{self, Epoch};
-use crate::road::Road;
 use obu::LatLon;
+use roadside::clock::{unix_ms_now, Utc};
+use roadside::messages::{self, SignSpeed, WorkZone, DURATION_INDEFINITE};
+use roadside::road::Road;
 use std::io::Write;
 use std::net::UdpSocket;
 use std::path::{Path, PathBuf};

@@ -1,38 +1,40 @@
-//! `hil-sim`: the roadside side of the product and the hardware-in-the-loop bench.
+//! `hil-sim`: the hardware-in-the-loop bench. It drives the real OBU (the `obu` daemon, or
+//! the firmware in QEMU behind the daemon in bridge mode) with the [`roadside`] crate's
+//! MAP and TIM, a simulated GNSS receiver and CAN bus, and checks what the driver sees.
 //!
-//! - [`road`]: a lane map (centrelines in a local east/north frame around a reference point).
-//! - [`messages`]: the MAP and TIM a roadside unit broadcasts for that map and a work zone,
-//!   built as J2735 values and encoded with our codec.
-//! - [`nmea`] and [`clock`]: NMEA 0183 sentences (GGA, RMC, GST) of a simulated GNSS receiver
-//!   at UTC times.
-//! - [`hmi_bench`]: the test bench of the tablet app's browser tests: it runs the real `obu`
-//!   daemon and feeds it a consistent road, work zone and drive, scene by scene.
-//! - [`perf`]: the daemon's latency (UDP datagram in -> SSE event out) and its load test
-//!   (many tablets), both against the real process ([`daemon`], [`sse`]).
+//! Modules in the order the data flows:
+//!
+//! - [`scenario`]: a scenario file: the roadside's site (lane map, zones, radio faults),
+//!   the drive, the driver's settings and the expectations.
+//! - [`drive`]: the simulated drive (true pose every 100 ms, GNSS errors, CAN speed).
+//! - [`nmea`]: the NMEA 0183 sentences (GGA, RMC, GST) of the simulated GNSS receiver.
+//! - [`daemon`]: the real `obu` daemon as a child process.
+//! - [`rig`]: the processes behind a daemon in bridge mode (QEMU, relays).
+//! - [`firmware`]: the OBU firmware in QEMU as the device under test.
+//! - [`sse`]: a Server-Sent Events client that follows the daemon's `/events`.
+//! - [`runner`]: `hil-sim run`: roadside, GNSS and CAN into the device, states recorded.
+//! - [`expect`]: the scenario's expectations checked on the recorded states.
+//! - [`timeline`]: two runs of a scenario (firmware against daemon) compared state by state.
+//! - [`plot`] and [`report_plots`]: the report's figures of a run.
+//! - [`hmi_bench`]: the bench of the tablet app's browser tests (scenes fed to the daemon).
+//! - [`perf`]: the daemon's latency and load test against the real process.
+//!
+//! The roadside side (lane map, work-zone inputs, MAP/TIM, broadcaster, RSU files) is the
+//! [`roadside`] crate; the bench uses it and never the other way round.
 #![forbid(unsafe_code)]
 #![warn(missing_docs)]
 
-pub mod broadcast;
-pub mod camera;
-pub mod clock;
-pub mod cones;
 pub mod daemon;
 pub mod drive;
 pub mod expect;
 pub mod firmware;
-pub mod geojson;
 pub mod hmi_bench;
-pub mod messages;
 pub mod nmea;
 pub mod perf;
 pub mod plot;
 pub mod report_plots;
-pub mod rng;
-pub mod road;
-pub mod roadside;
-pub mod roadside_cli;
+pub mod rig;
 pub mod runner;
 pub mod scenario;
 pub mod sse;
 pub mod timeline;
-pub mod zone_sources;

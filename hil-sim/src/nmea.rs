@@ -2,8 +2,8 @@
 //! date) and GST (accuracy), with checksums, in the order that lets a receiver-side
 //! assembler complete one fix per epoch (GST, GGA, RMC).
 
-use crate::clock::Utc;
 use obu::LatLon;
+use roadside::clock::Utc;
 use std::fmt::Write;
 
 /// One epoch of a simulated receiver.

@@ -85,13 +85,13 @@ pub fn tim_latency(obu: &Path, samples: usize, gap: Duration) -> Result<Latency,
     let daemon = start_daemon(obu, &dir, 0, "")?;
     let road = crate::hmi_bench::road();
     let start =
-        crate::clock::Utc::from_unix_ms(crate::clock::unix_ms_now().saturating_sub(120_000));
+        roadside::clock::Utc::from_unix_ms(roadside::clock::unix_ms_now().saturating_sub(120_000));
     let mut versions = Vec::with_capacity(128);
     for cnt in 0..128u8 {
         let mut zone = crate::hmi_bench::zone(start);
         zone.msg_cnt = cnt;
-        let tim = crate::messages::build_tim(&road, &zone).map_err(|e| e.to_string())?;
-        versions.push(crate::messages::encode(&tim).map_err(|e| e.to_string())?);
+        let tim = roadside::messages::build_tim(&road, &zone).map_err(|e| e.to_string())?;
+        versions.push(roadside::messages::encode(&tim).map_err(|e| e.to_string())?);
     }
     let sock = std::net::UdpSocket::bind("127.0.0.1:0").map_err(|e| e.to_string())?;
     let mut sse = SseClient::connect(daemon.http_addr(), Duration::from_secs(2))?;

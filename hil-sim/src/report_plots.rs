@@ -2,10 +2,10 @@
 
 use crate::drive::Sample;
 use crate::expect::Record;
-use crate::messages::WorkZone;
 use crate::plot::{write_plots, PlotInput, PlotLane, TrackPoint};
-use crate::road::Road;
 use crate::scenario::Scenario;
+use roadside::messages::WorkZone;
+use roadside::road::Road;
 use std::path::{Path, PathBuf};
 
 /// Writes the plots of a run into `out`; returns the files.

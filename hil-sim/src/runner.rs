@@ -4,16 +4,18 @@
 //! stream is recorded with its arrival time, joined with the simulated truth, checked
 //! against the expectations, and written as `report.json`, `states.jsonl` and plots.
 
-use crate::clock::{unix_ms_now, Utc};
 use crate::daemon::Daemon;
 use crate::drive::{self, Sample};
 use crate::expect::{self, Outcome, Record, RunFacts};
-use crate::messages::{SignSpeed, WorkZone, DURATION_INDEFINITE};
 use crate::nmea::{self, Epoch};
-use crate::road::Road;
 use crate::scenario::Scenario;
 use crate::sse::SseClient;
 use obu::alert::HmiState;
+use roadside::clock::{unix_ms_now, Utc};
+use roadside::messages::WorkZone;
+use roadside::road::Road;
+use roadside::scripted::V2xCounts;
+use roadside::zone_sources::build_zones;
 use serde::Serialize;
 use std::io::Write;
 use std::net::UdpSocket;
@@ -67,45 +69,6 @@ pub struct RunReport {
     pub files: Vec<PathBuf>,
 }
 
-/// V2X datagram counts of a run.
-#[derive(Debug, Clone, Copy, Default, Serialize)]
-pub struct V2xCounts {
-    /// Handed to the socket.
-    pub sent: u64,
-    /// Dropped by the loss model.
-    pub lost: u64,
-    /// Sent with a flipped bit.
-    pub corrupted: u64,
-}
-
-/// The zones of the scenario as the roadside builds them (stable packet ids).
-pub fn build_zones(s: &Scenario, road: &Road, start: Utc) -> Result<Vec<WorkZone>, String> {
-    let mut out = Vec::new();
-    for (i, z) in s.zones.iter().enumerate() {
-        let mut packet_id = *b"HILZONE00";
-        packet_id[7] = b'0' + (i / 10) as u8 % 10;
-        packet_id[8] = b'0' + (i % 10) as u8;
-        let sourced = crate::zone_sources::zone(s, road, &z.source)?;
-        let speed_limit = match (z.limit_kmh, z.limit_mph) {
-            (_, Some(value)) => Some(SignSpeed { value, mph: true }),
-            (Some(value), None) => Some(SignSpeed { value, mph: false }),
-            (None, None) => sourced.speed_limit,
-        };
-        let (closed_lanes, start_m, end_m) = (sourced.closed_lanes, sourced.start_m, sourced.end_m);
-        out.push(WorkZone {
-            closed_lanes,
-            start_m,
-            end_m,
-            speed_limit,
-            packet_id,
-            msg_cnt: 1,
-            start,
-            duration_min: DURATION_INDEFINITE,
-        });
-    }
-    Ok(out)
-}
-
 /// What the run produced before the checks.
 struct Recorded {
     t0: Instant,
@@ -121,7 +84,7 @@ pub fn run(s: &Scenario, opts: &RunOptions) -> Result<RunReport, String> {
     std::fs::create_dir_all(&opts.out).map_err(|e| format!("{}: {e}", opts.out.display()))?;
     let road = s.road()?;
     let start = Utc::from_unix_ms(unix_ms_now().saturating_sub(120_000));
-    let zones = build_zones(s, &road, start)?;
+    let zones = build_zones(&s.site(), &road, start)?;
     let samples = drive::simulate(&road, &s.drive, 900.0).map_err(|e| e.to_string())?;
     if samples.is_empty() {
         return Err("the drive has no samples (start past its end?)".into());
@@ -195,7 +158,7 @@ fn drive_and_record(
         })
     };
     let t0 = Instant::now();
-    let v2x = crate::roadside::spawn(s, road, zones, &daemon.v2x, t0, stop.clone())?;
+    let v2x = roadside::scripted::spawn(&s.site(), road, zones, &daemon.v2x, t0, stop.clone())?;
     let sock = UdpSocket::bind("127.0.0.1:0").map_err(|e| e.to_string())?;
     let mut sent = Vec::with_capacity(samples.len());
     let replay = match &s.drive.nmea_file {

@@ -1,12 +1,13 @@
 //! The HMI bench's road, zone and scenes through the OBU core (the same MAP/TIM bytes and
 //! NMEA text the daemon receives): every scene shows what its name promises.
 
-use hil_sim::clock::Utc;
 use hil_sim::hmi_bench::{self, SCENES};
-use hil_sim::{messages, nmea};
+use hil_sim::nmea;
 use obu::alert::{AlertKind, LaneAdvice, ZoneState};
 use obu::input::nmea::{parse, FixAssembler};
 use obu::{HmiState, Instant, Obu};
+use roadside::clock::Utc;
+use roadside::messages;
 
 /// 2026-11-22T10:00:00Z.
 const NOW_MS: u64 = 1_795_341_600_000;

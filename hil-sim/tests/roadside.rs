@@ -1,21 +1,24 @@
-//! The roadside unit from a scenario file: its messages reach a UDP listener (raw and
+//! The roadside unit from a scenario file (`hil-sim roadside`: the bench's scenario loader,
+//! then `roadside::rsu`): its messages reach a UDP listener (raw and
 //! IEEE 1609.2) at the configured rate and the RSU 4.1 files parse back to the same frames.
 
-use hil_sim::broadcast::Wrapping;
-use hil_sim::roadside_cli::{messages_of, run, RoadsideOptions};
 use hil_sim::scenario::Scenario;
 use j2735::message_frame::MessageFrame;
+use roadside::broadcast::Wrapping;
+use roadside::rsu::{messages_of, run, RoadsideOptions};
+use roadside::site::Site;
 use std::net::UdpSocket;
 use std::path::Path;
 use std::time::Duration;
 
-fn scenario(name: &str) -> Scenario {
+fn scenario(name: &str) -> Site {
     Scenario::load(
         &Path::new(env!("CARGO_MANIFEST_DIR"))
             .join("../tests/scenarios")
             .join(name),
     )
     .unwrap()
+    .site()
 }
 
 #[test]

@@ -39,7 +39,9 @@ pub mod alert;
 pub mod capacity;
 pub mod distance;
 pub mod fix;
-pub mod geo;
+/// WGS84 positions and the local tangent plane: the `v2x-geodesy` crate, shared with the
+/// roadside.
+pub use geodesy as geo;
 pub mod ingest;
 pub mod input;
 pub mod lane;

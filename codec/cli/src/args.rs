@@ -2,7 +2,6 @@
 //! or `--name=value`) and at most one input (`FILE` or `-`). Usage errors are rendered by
 //! [`crate::usage`] as "what is wrong" plus "hint: what to do".
 
-use std::ffi::OsString;
 use std::path::PathBuf;
 
 use clap::{Args, Parser, Subcommand, ValueEnum};
@@ -195,17 +194,8 @@ struct EncodeArgs {
     file: Option<PathBuf>,
 }
 
-/// Parses the arguments after the program name.
-pub fn parse(args: &[OsString]) -> Result<Command, ArgError> {
-    let argv = std::iter::once(OsString::from("j2735")).chain(args.iter().cloned());
-    match Cli::try_parse_from(argv) {
-        Ok(cli) => command(cli),
-        Err(e) => crate::usage::from_clap(&e, args),
-    }
-}
-
 /// The checked command of a parsed command line.
-fn command(cli: Cli) -> Result<Command, ArgError> {
+pub fn command(cli: Cli) -> Result<Command, ArgError> {
     Ok(match cli.command {
         Cmd::Decode { input, file } => Command::Decode(input.options(file)),
         Cmd::Info { input, file } => Command::Info(input.options(file)),
@@ -264,8 +254,8 @@ mod tests {
     use super::*;
 
     fn parse_line(line: &str) -> Result<Command, ArgError> {
-        let args: Vec<OsString> = line.split_whitespace().map(OsString::from).collect();
-        parse(&args)
+        let args: Vec<std::ffi::OsString> = line.split_whitespace().map(std::ffi::OsString::from).collect();
+        crate::usage::parse(&args)
     }
 
     #[test]

@@ -44,7 +44,7 @@ impl From<io::Error> for Failure {
 
 fn main() -> ExitCode {
     let args: Vec<std::ffi::OsString> = std::env::args_os().skip(1).collect();
-    let result = args::parse(&args).map_err(Failure::Usage).and_then(run);
+    let result = usage::parse(&args).map_err(Failure::Usage).and_then(run);
     match result {
         Ok(Outcome::AllDone) => ExitCode::SUCCESS,
         Ok(Outcome::SomeFailed) => ExitCode::from(1),

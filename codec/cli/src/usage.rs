@@ -5,12 +5,21 @@
 use std::ffi::OsString;
 
 use clap::error::{ContextKind, ContextValue, ErrorKind};
-use clap::CommandFactory;
+use clap::{CommandFactory, Parser};
 
 use crate::args::{ArgError, Cli, Command};
 
 /// The commands, in help order.
 const COMMANDS: [&str; 4] = ["decode", "encode", "info", "help"];
+
+/// Parses the arguments after the program name.
+pub fn parse(args: &[OsString]) -> Result<Command, ArgError> {
+    let argv = std::iter::once(OsString::from("j2735")).chain(args.iter().cloned());
+    match Cli::try_parse_from(argv) {
+        Ok(cli) => crate::args::command(cli),
+        Err(e) => from_clap(&e, args),
+    }
+}
 
 /// What clap's `error` means for the user of `args` (the arguments after the program name).
 pub fn from_clap(error: &clap::Error, args: &[OsString]) -> Result<Command, ArgError> {

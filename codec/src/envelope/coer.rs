@@ -8,7 +8,7 @@
 //!
 //! No function in this module panics on any input.
 
-use super::ieee1609dot2::{DecodeError, DecodeErrorKind};
+use super::ieee1609dot2_error::{DecodeError, DecodeErrorKind};
 
 /// Result of a COER read.
 pub(crate) type DecodeResult<T> = Result<T, DecodeError>;
@@ -347,6 +347,26 @@ fn count_bitmap_bits(bitmap: &[u8]) -> Option<u32> {
         return None;
     }
     Some(bits.iter().map(|byte| byte.count_ones()).sum())
+}
+
+/// Runs `decode` over the content of an open type, which it must consume entirely.
+pub(crate) fn within_open_type<'a, T>(
+    reader: &mut CoerReader<'a>,
+    decode: impl FnOnce(&mut CoerReader<'a>) -> DecodeResult<T>,
+) -> DecodeResult<T> {
+    let mut inner = reader.read_open_type()?;
+    let value = decode(&mut inner)?;
+    inner.expect_end()?;
+    Ok(value)
+}
+
+/// Runs `decode` when `present`; the value is `None` otherwise.
+pub(crate) fn optional<T>(present: bool, decode: impl FnOnce() -> DecodeResult<T>) -> DecodeResult<Option<T>> {
+    if present {
+        decode().map(Some)
+    } else {
+        Ok(None)
+    }
 }
 
 #[cfg(test)]

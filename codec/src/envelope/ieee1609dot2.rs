@@ -17,123 +17,17 @@
 //!
 //! No function in this module panics on any input.
 
-use core::fmt;
-
-use super::coer::{CoerReader, DecodeResult};
+use super::coer::{optional, within_open_type, CoerReader, DecodeResult};
+use super::ieee1609dot2_signature::parse_signature;
 use super::ieee1609dot2_skip::{skip_certificate, skip_encrypted_data, skip_encryption_key};
 
-/// The only `protocolVersion` defined by IEEE 1609.2.
-pub const PROTOCOL_VERSION: u8 = 3;
-
-/// Most levels of `Ieee1609Dot2Data` accepted, counting the outermost one.
-pub const MAX_NESTING_DEPTH: usize = 4;
+pub use super::ieee1609dot2_error::{
+    BufferTooSmall, DecodeError, DecodeErrorKind, MAX_NESTING_DEPTH, PROTOCOL_VERSION,
+};
 
 /// COER CHOICE tag of `Ieee1609Dot2Content.unsecuredData`.
 const UNSECURED_DATA_TAG: u8 = 0x80;
 
-/// What went wrong while decoding IEEE 1609.2 data.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-#[non_exhaustive]
-pub enum DecodeErrorKind {
-    /// The input ended before the value did (also: a length or count beyond the input).
-    UnexpectedEnd,
-    /// A `protocolVersion` (or certificate version) other than 3.
-    UnsupportedVersion,
-    /// A CHOICE tag that is not of the context-specific class or is malformed.
-    InvalidTag,
-    /// A CHOICE alternative or ENUMERATED value that this parser does not know.
-    UnknownAlternative,
-    /// Valid OER but not canonical: a non-minimal length or integer, or a set padding bit.
-    NonCanonical,
-    /// A length that no valid encoding has (long form with no digits, empty integer).
-    InvalidLength,
-    /// A length too large to be represented on this platform.
-    LengthTooLarge,
-    /// An integer larger than its field allows (a PSID above 32 bits).
-    ValueOutOfRange,
-    /// A `SignedDataPayload` with neither data, nor a data hash, nor an extension.
-    EmptySignedPayload,
-    /// Signed data nested deeper than [`MAX_NESTING_DEPTH`].
-    NestingTooDeep,
-    /// Bytes remain after a complete value (after the whole input, or inside an open type).
-    TrailingBytes,
-}
-
-impl DecodeErrorKind {
-    /// A short lowercase description.
-    #[must_use]
-    pub const fn as_str(self) -> &'static str {
-        match self {
-            Self::UnexpectedEnd => "unexpected end",
-            Self::UnsupportedVersion => "unsupported protocol version",
-            Self::InvalidTag => "invalid choice tag",
-            Self::UnknownAlternative => "unknown choice alternative",
-            Self::NonCanonical => "non-canonical encoding",
-            Self::InvalidLength => "invalid length",
-            Self::LengthTooLarge => "length too large",
-            Self::ValueOutOfRange => "value out of range",
-            Self::EmptySignedPayload => "signed payload without data or hash",
-            Self::NestingTooDeep => "nesting too deep",
-            Self::TrailingBytes => "trailing bytes",
-        }
-    }
-}
-
-impl fmt::Display for DecodeErrorKind {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(self.as_str())
-    }
-}
-
-/// A decoding failure: what went wrong and the byte offset in the input where it was found.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub struct DecodeError {
-    /// What went wrong.
-    pub kind: DecodeErrorKind,
-    /// Byte offset, from the start of the input, of the field where it was detected.
-    pub offset: usize,
-}
-
-impl DecodeError {
-    /// An error of `kind` at byte `offset`.
-    #[cold]
-    #[must_use]
-    pub const fn new(kind: DecodeErrorKind, offset: usize) -> Self {
-        Self { kind, offset }
-    }
-}
-
-impl fmt::Display for DecodeError {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        write!(f, "IEEE 1609.2: {} at byte {}", self.kind, self.offset)
-    }
-}
-
-impl core::error::Error for DecodeError {}
-
-/// The output buffer given to an encoder is too small.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub struct BufferTooSmall {
-    /// Bytes the encoding needs.
-    pub needed: usize,
-    /// Bytes the buffer has.
-    pub available: usize,
-}
-
-impl fmt::Display for BufferTooSmall {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        write!(
-            f,
-            "output buffer too small: {} bytes needed, {} available",
-            self.needed, self.available
-        )
-    }
-}
-
-impl core::error::Error for BufferTooSmall {}
 
 /// A decoded `Ieee1609Dot2Data`: protocol version 3 and its content, borrowing the input.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -381,60 +275,7 @@ impl<'a> Iterator for Certificates<'a> {
     }
 }
 
-/// `Signature`: which scheme, and the raw `r` and `s` values. Not verified.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct Signature<'a> {
-    /// The signature scheme and curve.
-    pub scheme: SignatureScheme,
-    /// `rSig`: a curve point (or, for SM2, the scalar `r` given as [`PointForm::XOnly`]).
-    pub r: CurvePoint<'a>,
-    /// `sSig`: 32 bytes (48 for the P-384 curves).
-    pub s: &'a [u8],
-}
-
-/// The alternatives of `Signature`.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-#[non_exhaustive]
-pub enum SignatureScheme {
-    /// `ecdsaNistP256Signature`.
-    EcdsaNistP256,
-    /// `ecdsaBrainpoolP256r1Signature`.
-    EcdsaBrainpoolP256r1,
-    /// `ecdsaBrainpoolP384r1Signature`.
-    EcdsaBrainpoolP384r1,
-    /// `ecdsaNistP384Signature`.
-    EcdsaNistP384,
-    /// `sm2Signature` (IEEE 1609.2-2022).
-    Sm2,
-}
-
-/// An `EccP256CurvePoint` or `EccP384CurvePoint`.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct CurvePoint<'a> {
-    /// Which alternative.
-    pub form: PointForm,
-    /// The x coordinate (empty for [`PointForm::Fill`]).
-    pub x: &'a [u8],
-    /// The y coordinate, present only for [`PointForm::Uncompressed`].
-    pub y: Option<&'a [u8]>,
-}
-
-/// The alternatives of a curve point.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub enum PointForm {
-    /// `x-only`.
-    XOnly,
-    /// `fill`: no coordinates.
-    Fill,
-    /// `compressed-y-0`.
-    CompressedY0,
-    /// `compressed-y-1`.
-    CompressedY1,
-    /// `uncompressedP256` / `uncompressedP384`.
-    Uncompressed,
-}
+pub use super::ieee1609dot2_signature::{CurvePoint, PointForm, Signature, SignatureScheme};
 
 impl<'a> Ieee1609Dot2Data<'a> {
     /// Decodes `bytes`, which must hold exactly one `Ieee1609Dot2Data`.
@@ -800,91 +641,6 @@ fn parse_certificate_chain<'a>(reader: &mut CoerReader<'a>) -> DecodeResult<Cert
         encoded: reader.consumed_since(start),
         offset,
     })
-}
-
-/// Decodes `Signature`.
-pub(crate) fn parse_signature<'a>(reader: &mut CoerReader<'a>) -> DecodeResult<Signature<'a>> {
-    let tag_reader = *reader;
-    match reader.read_choice_tag()? {
-        0 => parse_ecdsa(reader, SignatureScheme::EcdsaNistP256, 32),
-        1 => parse_ecdsa(reader, SignatureScheme::EcdsaBrainpoolP256r1, 32),
-        2 => within_open_type(reader, |inner| {
-            parse_ecdsa(inner, SignatureScheme::EcdsaBrainpoolP384r1, 48)
-        }),
-        3 => within_open_type(reader, |inner| {
-            parse_ecdsa(inner, SignatureScheme::EcdsaNistP384, 48)
-        }),
-        4 => within_open_type(reader, parse_sm2),
-        _ => Err(tag_reader.error(DecodeErrorKind::UnknownAlternative)),
-    }
-}
-
-/// Decodes an `EcdsaP256Signature` or `EcdsaP384Signature` with coordinates of `size` bytes.
-fn parse_ecdsa<'a>(
-    reader: &mut CoerReader<'a>,
-    scheme: SignatureScheme,
-    size: usize,
-) -> DecodeResult<Signature<'a>> {
-    let r = parse_curve_point(reader, size)?;
-    let s = reader.read_slice(size)?;
-    Ok(Signature { scheme, r, s })
-}
-
-/// Decodes an `EcsigP256Signature` (SM2): two 32-byte scalars.
-fn parse_sm2<'a>(reader: &mut CoerReader<'a>) -> DecodeResult<Signature<'a>> {
-    let r = CurvePoint {
-        form: PointForm::XOnly,
-        x: reader.read_slice(32)?,
-        y: None,
-    };
-    let s = reader.read_slice(32)?;
-    Ok(Signature {
-        scheme: SignatureScheme::Sm2,
-        r,
-        s,
-    })
-}
-
-/// Decodes an `EccP256CurvePoint` (`size` 32) or `EccP384CurvePoint` (`size` 48).
-pub(crate) fn parse_curve_point<'a>(
-    reader: &mut CoerReader<'a>,
-    size: usize,
-) -> DecodeResult<CurvePoint<'a>> {
-    let tag_reader = *reader;
-    let form = match reader.read_choice_tag()? {
-        0 => PointForm::XOnly,
-        1 => PointForm::Fill,
-        2 => PointForm::CompressedY0,
-        3 => PointForm::CompressedY1,
-        4 => PointForm::Uncompressed,
-        _ => return Err(tag_reader.error(DecodeErrorKind::UnknownAlternative)),
-    };
-    let x = match form {
-        PointForm::Fill => &[],
-        _ => reader.read_slice(size)?,
-    };
-    let y = optional(form == PointForm::Uncompressed, || reader.read_slice(size))?;
-    Ok(CurvePoint { form, x, y })
-}
-
-/// Runs `decode` over the content of an open type, which it must consume entirely.
-pub(crate) fn within_open_type<'a, T>(
-    reader: &mut CoerReader<'a>,
-    decode: impl FnOnce(&mut CoerReader<'a>) -> DecodeResult<T>,
-) -> DecodeResult<T> {
-    let mut inner = reader.read_open_type()?;
-    let value = decode(&mut inner)?;
-    inner.expect_end()?;
-    Ok(value)
-}
-
-/// Runs `decode` when `present`; the value is `None` otherwise.
-fn optional<T>(present: bool, decode: impl FnOnce() -> DecodeResult<T>) -> DecodeResult<Option<T>> {
-    if present {
-        decode().map(Some)
-    } else {
-        Ok(None)
-    }
 }
 
 #[cfg(test)]

@@ -9,7 +9,8 @@
 //! No function in this module panics on any input.
 
 use super::coer::{CoerReader, DecodeResult};
-use super::ieee1609dot2::{parse_curve_point, parse_signature, DecodeErrorKind, PROTOCOL_VERSION};
+use super::ieee1609dot2_error::{DecodeErrorKind, PROTOCOL_VERSION};
+use super::ieee1609dot2_signature::{parse_curve_point, parse_signature};
 
 /// A function that advances a reader past one value.
 type Skip = for<'a> fn(&mut CoerReader<'a>) -> DecodeResult<()>;

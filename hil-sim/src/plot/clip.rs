@@ -1,6 +1,7 @@
 //! Clipping to the plot rectangle (plotters does not clip).
 
-use super::series::{flush, Span};
+use super::series::flush;
+use super::span::Span;
 use super::style::Xy;
 
 /// The parts of a polyline inside the rectangle `x` × `y`.

@@ -5,7 +5,8 @@ use plotters::prelude::*;
 
 use super::font::Ink;
 use super::legend::{draw_legend, Entry, Swatch};
-use super::series::{draw_bands, draw_lines, ok, runs, step_lines, Span};
+use super::series::{draw_bands, draw_lines, runs, step_lines};
+use super::span::{ok, Span};
 use super::style::{chart, heading, layout, no_data, number, Chart, DrawResult};
 use super::{PlotInput, TrackPoint};
 

@@ -26,6 +26,7 @@ mod lanes;
 mod legend;
 mod series;
 mod shapes;
+mod span;
 mod speed;
 mod style;
 mod trajectory;

@@ -1,6 +1,6 @@
 //! Lane and zone geometry of the trajectory figure: bands, edges and centrelines.
 
-use super::series::{ok, ok_point};
+use super::span::{ok, ok_point};
 use super::PlotInput;
 
 /// Lane and zone geometry in map coordinates, ready to draw.

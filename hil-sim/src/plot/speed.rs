@@ -6,7 +6,8 @@ use plotters::style::text_anchor::{HPos, Pos, VPos};
 
 use super::font::Ink;
 use super::legend::{draw_legend, Entry, Swatch};
-use super::series::{draw_bands, draw_lines, ok, plain_lines, runs, step_lines, Span};
+use super::series::{draw_bands, draw_lines, plain_lines, runs, step_lines};
+use super::span::{ok, Span};
 use super::style::{
     chart, heading, layout, legend_states, mesh, no_data, number, state_color, Chart, DrawResult,
     KIND_COLORS, LIMIT_PURPLE, START_RED, WARN_AMBER,

@@ -6,7 +6,7 @@ use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, VPos};
 
 use super::font::Ink;
-use super::series::Span;
+use super::span::Span;
 use super::TrackPoint;
 
 /// Size of every figure, pixels.

@@ -7,8 +7,8 @@ use plotters::style::text_anchor::{HPos, Pos, VPos};
 use super::clip::{clip_polygon, clip_polyline};
 use super::font::Ink;
 use super::legend::{draw_legend, Entry, Swatch};
-use super::series::{ok_point, Span};
 use super::shapes::{map_shapes, offset_line, MapShapes};
+use super::span::{ok_point, Span};
 use super::style::{
     chart, heading, layout, legend_states, mesh, no_data, number, plot_pixels, state_color, Chart,
     DrawResult, Xy, START_RED,

@@ -2,8 +2,8 @@
 //! lateral offset when the drive is long and narrow.
 
 use super::clip::{clip_polyline, clip_segment};
-use super::series::Span;
 use super::shapes::{unit, MapShapes};
+use super::span::Span;
 use super::style::Xy;
 
 /// Ratio of the drive's length to its width above which the trajectory is drawn along the road.

@@ -1,0 +1,41 @@
+//! `roadside`: the roadside unit of the work-zone product, from the lane map to the air.
+//!
+//! Modules in the order the data flows:
+//!
+//! - [`road`]: the lane map (centrelines in a local east/north frame around a reference
+//!   point, from the `v2x-geodesy` crate).
+//! - [`geojson`]: inputs read from files: a GeoJSON lane map, WZDx 4.2 work zones and cone
+//!   lists (JSON or CSV).
+//! - [`camera`]: the roadside camera's model (pixels to the road plane), its calibration
+//!   and a synthetic camera for tests.
+//! - [`cones`]: detector boxes, their tracking over frames and the lane closures they make.
+//! - [`site`]: a roadside installation as a scenario file describes it (lane map, zones and
+//!   their sources, radio faults).
+//! - [`zone_sources`]: each zone's closed lanes and stations from its source (lanes, cones,
+//!   WZDx, camera), and the site's zones as the roadside broadcasts them.
+//! - [`messages`]: the J2735 MAP and TIM for the road and a work zone, UPER-encoded.
+//! - [`broadcast`]: the broadcaster (UDP, raw or IEEE 1609.2), its fault channel and the
+//!   RSU 4.1 text files.
+//! - [`rsu`]: the roadside unit as a product (`hil-sim roadside`): a site's messages
+//!   broadcast and/or written as RSU files.
+//! - [`scripted`]: the roadside of a bench run: the messages following the scenario's
+//!   timeline (revisions, shrinking and removed zones) through its radio faults.
+//!
+//! Helpers used along the way: [`clock`] (UTC calendar arithmetic for J2735 times) and
+//! [`rng`] (the seeded pseudo-random generator of the faults and the synthetic camera;
+//! the bench reuses it).
+#![forbid(unsafe_code)]
+#![warn(missing_docs)]
+
+pub mod broadcast;
+pub mod camera;
+pub mod clock;
+pub mod cones;
+pub mod geojson;
+pub mod messages;
+pub mod rng;
+pub mod road;
+pub mod rsu;
+pub mod scripted;
+pub mod site;
+pub mod zone_sources;

@@ -1,0 +1,80 @@
+//! The roadside unit as a product (`hil-sim roadside`). The lane map and the work zones of
+//! a [`Site`] (a scenario file's `[road]` and `[[zones]]`: built in, GeoJSON, WZDx, cone
+//! list or a calibrated camera's detections) become a MAP and one TIM per zone, broadcast
+//! over UDP to the given destinations (raw or IEEE 1609.2), and/or written as RSU 4.1
+//! text files.
+
+use crate::broadcast::{write_rsu_files, Broadcaster, Message, RsuOptions, Wrapping};
+use crate::clock::{unix_ms_now, Utc};
+use crate::messages;
+use crate::site::Site;
+use std::net::SocketAddr;
+use std::path::PathBuf;
+use std::time::Duration;
+
+/// What to do with the messages.
+#[derive(Debug, Clone)]
+pub struct RoadsideOptions {
+    /// UDP destinations (empty: no broadcast).
+    pub destinations: Vec<SocketAddr>,
+    /// Raw or IEEE 1609.2 unsecured.
+    pub wrapping: Wrapping,
+    /// Broadcast rate, Hz.
+    pub rate_hz: f64,
+    /// How long to broadcast (`None`: until stopped).
+    pub duration: Option<Duration>,
+    /// Write RSU 4.1 text files here.
+    pub rsu_dir: Option<PathBuf>,
+}
+
+/// The MAP and TIMs of a site's road and zones, valid from now until further notice.
+pub fn messages_of(s: &Site) -> Result<Vec<Message>, String> {
+    let road = s.road()?;
+    let zones = crate::zone_sources::build_zones(s, &road, Utc::from_unix_ms(unix_ms_now()))?;
+    let e = |x: messages::BuildError| x.to_string();
+    let mut out = Vec::new();
+    let map = messages::build_map(&road, 1, 1, zones.first()).map_err(e)?;
+    out.push(messages::encode(&map).map_err(e)?);
+    for z in &zones {
+        let tim = messages::build_tim(&road, z).map_err(e)?;
+        out.push(messages::encode(&tim).map_err(e)?);
+    }
+    out.into_iter()
+        .map(|bytes| Message::new(bytes).map_err(|e| e.to_string()))
+        .collect()
+}
+
+/// Writes the RSU files and/or broadcasts; returns a one-line summary.
+pub fn run(s: &Site, o: &RoadsideOptions) -> Result<String, String> {
+    let msgs = messages_of(s)?;
+    let mut summary = format!("{} messages (MAP + {} TIM)", msgs.len(), msgs.len() - 1);
+    if let Some(dir) = &o.rsu_dir {
+        let files =
+            write_rsu_files(dir, &msgs, &RsuOptions::default()).map_err(|e| e.to_string())?;
+        summary.push_str(&format!(
+            "; {} RSU 4.1 files in {}",
+            files.len(),
+            dir.display()
+        ));
+    }
+    if o.destinations.is_empty() {
+        return Ok(summary);
+    }
+    let mut b = Broadcaster::new(o.destinations.clone(), o.wrapping).map_err(|e| e.to_string())?;
+    b.set_rate_hz(o.rate_hz).map_err(|e| e.to_string())?;
+    b.set_messages(msgs);
+    match o.duration {
+        Some(d) => {
+            b.run_for(d);
+        }
+        None => {
+            let stop = std::sync::atomic::AtomicBool::new(false);
+            b.run_until(&stop);
+        }
+    }
+    let st = b.stats();
+    Ok(format!(
+        "{summary}; {} ticks, {} datagrams sent, {} send errors",
+        st.ticks, st.sent, st.send_errors
+    ))
+}

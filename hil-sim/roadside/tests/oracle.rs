@@ -1,0 +1,137 @@
+//! The MAP and TIM the roadside builds, checked by the independent oracle (pycrate,
+//! `../shared/oracle`): the oracle decodes our bytes to the same JER we write, and encodes
+//! our JER to the same bytes. Needs feature `shared-oracle` (and Python).
+#![cfg(feature = "shared-oracle")]
+
+use geodesy::LatLon;
+use j2735::message_frame::MessageFrame;
+use roadside::clock::Utc;
+use roadside::messages::{self, SignSpeed, WorkZone, DURATION_INDEFINITE};
+use roadside::road::Road;
+use std::io::Write;
+use std::path::PathBuf;
+use std::process::{Command, Stdio};
+
+fn shared_dir() -> PathBuf {
+    let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../../shared");
+    assert!(
+        dir.is_dir(),
+        "{} is missing: the oracle tests need ../shared",
+        dir.display()
+    );
+    dir
+}
+
+fn oracle(args: &[&str], input: &str) -> String {
+    let setup = Command::new("bash")
+        .arg(shared_dir().join("oracle/setup.sh"))
+        .output()
+        .expect("oracle setup");
+    assert!(
+        setup.status.success(),
+        "oracle setup: {}",
+        String::from_utf8_lossy(&setup.stderr)
+    );
+    let python = String::from_utf8(setup.stdout)
+        .unwrap()
+        .lines()
+        .last()
+        .unwrap()
+        .trim()
+        .to_owned();
+    let mut child = Command::new(python)
+        .arg(shared_dir().join("oracle/j2735_oracle.py"))
+        .args(args)
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("start the oracle");
+    child
+        .stdin
+        .take()
+        .unwrap()
+        .write_all(input.as_bytes())
+        .unwrap();
+    let out = child.wait_with_output().unwrap();
+    assert!(
+        out.status.success(),
+        "oracle {args:?}: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    String::from_utf8(out.stdout).unwrap()
+}
+
+/// The road of the tablet app's bench: three lanes east and two west, 3 km, 80 km/h.
+fn road() -> Road {
+    let reference = LatLon::from_degrees(39.739_2, -104.990_3).unwrap();
+    Road::straight(reference, 90.0, 3000.0, (3, 2), 3.6, 80.0)
+}
+
+/// The bench's zone: lane 3 closed from 1500 to 1700 m, 40 km/h, from `start` on.
+fn zone(start: Utc) -> WorkZone {
+    WorkZone {
+        closed_lanes: vec![3],
+        start_m: 1500.0,
+        end_m: 1700.0,
+        speed_limit: Some(SignSpeed {
+            value: 40,
+            mph: false,
+        }),
+        packet_id: *b"HILBENCH1",
+        msg_cnt: 1,
+        start,
+        duration_min: DURATION_INDEFINITE,
+    }
+}
+
+fn frames() -> Vec<(&'static str, Box<MessageFrame>)> {
+    let road = road();
+    let start = Utc::from_unix_ms(1_795_341_600_000);
+    let zone = zone(start);
+    let mut two_lanes = zone.clone();
+    two_lanes.closed_lanes = vec![3, 2];
+    two_lanes.speed_limit = Some(SignSpeed {
+        value: 25,
+        mph: true,
+    });
+    two_lanes.msg_cnt = 127;
+    vec![
+        (
+            "MAP with a zone",
+            messages::build_map(&road, 1501, 1, Some(&zone)).unwrap(),
+        ),
+        (
+            "MAP without",
+            messages::build_map(&road, 1501, 2, None).unwrap(),
+        ),
+        (
+            "TIM lane 3, 40 km/h",
+            messages::build_tim(&road, &zone).unwrap(),
+        ),
+        (
+            "TIM lanes 3 and 2, 25 mph",
+            messages::build_tim(&road, &two_lanes).unwrap(),
+        ),
+    ]
+}
+
+#[test]
+fn the_oracle_reads_our_bytes_as_our_jer_and_writes_our_bytes_from_it() {
+    for (name, frame) in frames() {
+        let hex: String = messages::encode(&frame)
+            .unwrap()
+            .iter()
+            .map(|b| format!("{b:02x}"))
+            .collect();
+        let ours: serde_json::Value =
+            serde_json::from_str(&j2735::jer::to_string(&*frame)).unwrap();
+        let decoded = oracle(&["decode", "-"], &format!("{hex}\n"));
+        let theirs: serde_json::Value = serde_json::from_str(decoded.trim()).unwrap();
+        if let Err(e) = j2735::jer::equivalent(&ours, &theirs) {
+            panic!("{name}: the oracle's JER of our bytes differs at {e}");
+        }
+        let encoded = oracle(&["encode", "-"], &ours.to_string());
+        assert_eq!(encoded.trim(), hex, "{name}: the oracle's bytes of our JER");
+    }
+}

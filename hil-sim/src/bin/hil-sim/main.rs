@@ -1,0 +1,236 @@
+//! `hil-sim`: roadside unit software and the hardware-in-the-loop bench of the OBU. The
+//! command line is declared in `args` (`clap` derive); the scenario runs are in `run`.
+#![forbid(unsafe_code)]
+
+mod args;
+mod run;
+
+use args::{Cli, Command, RoadsideArgs, SynthCameraArgs, Wrap};
+use clap::Parser;
+use hil_sim::{hmi_bench, perf};
+use roadside::broadcast::Wrapping;
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+use std::time::Duration;
+
+fn main() -> ExitCode {
+    let result = match Cli::parse().command {
+        Command::HmiServer => server_options().and_then(|o| hmi_bench::serve(&o)),
+        Command::HmiDrive { scene } => state_dir().and_then(|d| hmi_bench::drive(&d, &scene)),
+        Command::BenchLatency { samples } => bench_latency(samples),
+        Command::LoadTest { clients, seconds } => load_test(clients, seconds),
+        Command::Run(a) => run::scenarios(&a),
+        Command::Roadside(a) => roadside(&a),
+        Command::Record {
+            scenario,
+            nmea,
+            candump,
+        } => record(&scenario, &nmea, &candump),
+        Command::Demo { port, out } => demo(port, out),
+        Command::SynthCamera(a) => synth_camera(&a),
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("hil-sim: {e}");
+            ExitCode::FAILURE
+        }
+    }
+}
+
+fn bench_latency(samples: usize) -> Result<(), String> {
+    let obu = hil_sim::daemon::find_obu();
+    let gnss = perf::latency(&obu, samples.max(1), Duration::from_millis(10))?;
+    let tim = perf::tim_latency(&obu, samples.max(1), Duration::from_millis(10))?;
+    let mut ok = true;
+    for (what, r) in [
+        ("GNSS datagram (NMEA)", &gnss),
+        ("TIM datagram (roadside)", &tim),
+    ] {
+        let ms = |q: f64| r.quantile(q) / 1000.0;
+        println!(
+            "{what} in -> state event out ({} samples, {} lost): p50 {:.3} ms, p99 {:.3} ms, max {:.3} ms",
+            r.sorted_us.len(),
+            r.lost,
+            ms(0.5),
+            ms(0.99),
+            ms(1.0)
+        );
+        ok &= r.lost == 0 && ms(0.99) < 2.0;
+    }
+    ok.then_some(())
+        .ok_or("goal missed: p99 under 2 ms with nothing lost".into())
+}
+
+fn load_test(clients: usize, seconds: f64) -> Result<(), String> {
+    let obu = hil_sim::daemon::find_obu();
+    let r = perf::load(&obu, clients.max(1), seconds.max(1.0))?;
+    println!(
+        "{} clients for {:.1} s: events per client {}..{}, longest gap {:.0} ms, dropped {} (daemon: {}), daemon CPU {:.2} % of one core",
+        r.clients,
+        r.seconds,
+        r.events.0,
+        r.events.1,
+        r.max_gap_ms,
+        r.dropped.len(),
+        r.daemon_dropped,
+        r.cpu_percent
+    );
+    for d in &r.dropped {
+        println!("  dropped: {d}");
+    }
+    if !r.dropped.is_empty() || r.daemon_dropped > 0 || r.cpu_percent >= 10.0 {
+        return Err("goal missed: no dropped client and daemon CPU under 10 % of a core".into());
+    }
+    Ok(())
+}
+
+/// `hil-sim synth-camera`: calibration and detections of a synthetic camera that sees the
+/// cones of the scenario's first zone of source `lanes` (the ground truth).
+fn synth_camera(a: &SynthCameraArgs) -> Result<(), String> {
+    use hil_sim::scenario::ZoneSource;
+    use roadside::camera::{synthetic, CameraModel};
+    let spec = synthetic::CaptureSpec {
+        frames: a.frames,
+        noise_px: a.noise_px,
+        miss_rate: a.miss_rate,
+        seed: a.seed,
+        placement: synthetic::Placement::default(),
+    };
+    let out = &a.out;
+    let scenario = hil_sim::scenario::Scenario::load(&a.scenario)?;
+    let road = scenario.road()?;
+    let (closed, zone) = (scenario.zones.iter())
+        .find_map(|z| match &z.source {
+            ZoneSource::Lanes {
+                closed_lanes,
+                start_m,
+                end_m,
+            } => Some((closed_lanes, (*start_m, *end_m))),
+            _ => None,
+        })
+        .ok_or("the scenario has no zone of source \"lanes\"")?;
+    let capture = synthetic::capture(&road, closed, zone, &spec).map_err(|e| e.to_string())?;
+    let camera = &capture.scene.camera;
+    let note = format!("synthetic, seed {}: {camera}", spec.seed);
+    let files = capture.write(out, &note)?;
+    let model = CameraModel::homography(&road, &capture.calibration).map_err(|e| e.to_string())?;
+    let [e, n, _] = camera.centre();
+    let at = road.to_wgs84([e, n]).map_or("?".into(), |p| {
+        format!("{:.7}, {:.7}", p.lat_deg(), p.lon_deg())
+    });
+    let cones = capture.scene.cones.len();
+    println!(
+        "{cones} cones on lanes {closed:?}, stations {zone:?} m; {} detections in {} frames",
+        capture.detections(),
+        spec.frames
+    );
+    println!("camera at {at}: {camera}");
+    let rmse = model.rmse_m();
+    println!(
+        "{} control points, homography RMSE {rmse:.3} m; wrote {} and {}",
+        capture.calibration.len(),
+        files[0].display(),
+        files[1].display()
+    );
+    Ok(())
+}
+
+/// The built-in scenario of `hil-sim demo`.
+const DEMO: &str = include_str!("../../../../tests/scenarios/01_paper_drive.toml");
+
+fn demo(port: u16, out: PathBuf) -> Result<(), String> {
+    let scenario = hil_sim::scenario::Scenario::parse(DEMO)?;
+    println!("hil-sim demo: {}", scenario.description.trim());
+    let report = hil_sim::runner::run(
+        &scenario,
+        &hil_sim::runner::RunOptions {
+            obu: hil_sim::daemon::find_obu(),
+            out,
+            http_port: port,
+            progress: true,
+            firmware: None,
+        },
+    )?;
+    run::print_report(&report);
+    report
+        .passed
+        .then_some(())
+        .ok_or("an expectation did not hold".into())
+}
+
+fn roadside(a: &RoadsideArgs) -> Result<(), String> {
+    let s = hil_sim::scenario::Scenario::load(&a.scenario)?;
+    let o = roadside::rsu::RoadsideOptions {
+        destinations: a.to.clone(),
+        wrapping: match a.wrap {
+            Wrap::Raw => Wrapping::Raw,
+            Wrap::Ieee1609 => Wrapping::Ieee1609Unsecured,
+        },
+        rate_hz: a.rate,
+        duration: a.seconds.map(Duration::from_secs_f64),
+        rsu_dir: a.rsu_files.clone(),
+    };
+    if o.destinations.is_empty() && o.rsu_dir.is_none() {
+        return Err("give --to HOST:PORT (broadcast) and/or --rsu-files DIR".into());
+    }
+    println!("hil-sim roadside: {}", roadside::rsu::run(&s.site(), &o)?);
+    Ok(())
+}
+
+fn record(scenario: &Path, nmea_out: &Path, candump_out: &Path) -> Result<(), String> {
+    use hil_sim::{drive, nmea};
+    use roadside::clock::Utc;
+    let s = hil_sim::scenario::Scenario::load(scenario)?;
+    let road = s.road()?;
+    let samples = drive::simulate(&road, &s.drive, 900.0).map_err(|e| e.to_string())?;
+    // A fixed start (2026-01-15T12:00:00Z) so the logs are reproducible; replay restamps.
+    let t0_ms = 1_768_478_400_000u64;
+    let mut text = String::new();
+    for sample in &samples {
+        let (Some(p), Some(position)) = (
+            sample.reported,
+            sample.reported.and_then(|p| road.to_wgs84(p)),
+        ) else {
+            continue;
+        };
+        let _ = p;
+        text.push_str(&nmea::epoch(&nmea::Epoch {
+            utc: Utc::from_unix_ms(t0_ms + (sample.t_s * 1000.0).round() as u64),
+            position,
+            speed_mps: sample.speed_mps,
+            course_deg: sample.bearing_deg,
+            sigma_m: s.drive.sigma_m.max(0.3),
+        }));
+    }
+    std::fs::write(nmea_out, text).map_err(|e| format!("{}: {e}", nmea_out.display()))?;
+    std::fs::write(candump_out, drive::candump(&samples, t0_ms as f64 / 1000.0))
+        .map_err(|e| format!("{}: {e}", candump_out.display()))?;
+    println!(
+        "{} epochs to {}, speed frames to {}",
+        samples.iter().filter(|x| x.reported.is_some()).count(),
+        nmea_out.display(),
+        candump_out.display()
+    );
+    Ok(())
+}
+
+fn state_dir() -> Result<PathBuf, String> {
+    std::env::var_os("HMI_STATE_DIR")
+        .map(PathBuf::from)
+        .ok_or_else(|| "set HMI_STATE_DIR (the bench's state directory)".to_string())
+}
+
+fn server_options() -> Result<hmi_bench::ServerOptions, String> {
+    let port = match std::env::var("HMI_PORT") {
+        Ok(p) => p
+            .parse()
+            .map_err(|_| format!("HMI_PORT {p:?} is not a port"))?,
+        Err(_) => 0,
+    };
+    Ok(hmi_bench::ServerOptions {
+        obu: hil_sim::daemon::find_obu(),
+        port,
+        state_dir: state_dir()?,
+    })
+}
