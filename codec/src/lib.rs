@@ -40,6 +40,6 @@ pub mod uper;
 
 // The generated types' shared shapes (UPER, JER and random impls of one newtype): above
 // both encodings, so neither `uper` nor `jer` imports the other.
-mod macros;
 mod generated;
+mod macros;
 pub use generated::*;

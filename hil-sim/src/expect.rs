@@ -28,13 +28,14 @@ pub struct Record {
 #[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
 #[serde(deny_unknown_fields, tag = "kind", rename_all = "snake_case")]
 pub enum Expectation {
-    /// The first warning (state Warning, or a zone alert) shows at least `min_m` (and at
-    /// most `max_m`) before the zone start.
+    /// The first warning (state Warning, or a zone alert) shows at least `min_m` and at
+    /// most `max_m` before the zone start (both required: a warning far too early is as
+    /// wrong as a late one).
     WarningBefore {
         /// Least distance.
         min_m: f64,
         /// Greatest distance.
-        max_m: Option<f64>,
+        max_m: f64,
     },
     /// While the car is in a closed lane and warned, the primary alert is "lane closed"
     /// with a side to move to (at least `min_fraction` of those states).
@@ -231,7 +232,7 @@ fn fraction<'a>(
     )
 }
 
-fn warning_before(records: &[Record], min_m: f64, max_m: Option<f64>) -> (bool, String) {
+fn warning_before(records: &[Record], min_m: f64, max_m: f64) -> (bool, String) {
     let first = records.iter().find(|r| {
         r.state.zone_state == ZoneState::Warning
             || (r.state.zone_state == ZoneState::InZone && zone_alerts(&r.state).next().is_some())
@@ -239,7 +240,7 @@ fn warning_before(records: &[Record], min_m: f64, max_m: Option<f64>) -> (bool, 
     match first.and_then(|r| r.distance_m.map(|d| (r, d))) {
         None => (false, "no warning was shown before the zone".into()),
         Some((r, d)) => {
-            let ok = d >= min_m && max_m.is_none_or(|m| d <= m);
+            let ok = (min_m..=max_m).contains(&d);
             let speed = r.true_speed_mps.unwrap_or(f64::NAN) * 3.6;
             (ok, format!("first warning {d:.1} m before the zone start (at {speed:.1} km/h, t = {:.1} s)", r.t_s))
         }

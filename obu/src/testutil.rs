@@ -111,18 +111,7 @@ pub fn big_stack<T: Send + 'static>(f: impl FnOnce() -> T + Send + 'static) -> T
 
 /// The UPER bytes of the codec's oracle vector `name`.
 pub fn vector(name: &str) -> std::vec::Vec<u8> {
-    let all = include_str!("../../codec/tests/vectors/oracle_vectors.jsonl");
-    let tag = std::format!("\"name\":\"{name}\"");
-    let line = all.lines().find(|l| l.contains(&tag));
-    let line = line.unwrap_or_else(|| panic!("no vector {name}"));
-    let hex = line
-        .split("\"uper\":\"")
-        .nth(1)
-        .and_then(|s| s.split('"').next());
-    let hex = hex.unwrap_or_else(|| panic!("vector {name} has no uper"));
-    (0..hex.len() / 2)
-        .map(|i| u8::from_str_radix(&hex[2 * i..2 * i + 2], 16).unwrap_or_default())
-        .collect()
+    test_support::vectors::named(name).bytes()
 }
 
 /// Decodes the MessageFrame in `bytes` carrying an `M` into a box.

@@ -254,7 +254,10 @@ mod tests {
     use super::*;
 
     fn parse_line(line: &str) -> Result<Command, ArgError> {
-        let args: Vec<std::ffi::OsString> = line.split_whitespace().map(std::ffi::OsString::from).collect();
+        let args: Vec<std::ffi::OsString> = line
+            .split_whitespace()
+            .map(std::ffi::OsString::from)
+            .collect();
         crate::usage::parse(&args)
     }
 

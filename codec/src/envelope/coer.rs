@@ -361,7 +361,10 @@ pub(crate) fn within_open_type<'a, T>(
 }
 
 /// Runs `decode` when `present`; the value is `None` otherwise.
-pub(crate) fn optional<T>(present: bool, decode: impl FnOnce() -> DecodeResult<T>) -> DecodeResult<Option<T>> {
+pub(crate) fn optional<T>(
+    present: bool,
+    decode: impl FnOnce() -> DecodeResult<T>,
+) -> DecodeResult<Option<T>> {
     if present {
         decode().map(Some)
     } else {

@@ -28,7 +28,6 @@ pub use super::ieee1609dot2_error::{
 /// COER CHOICE tag of `Ieee1609Dot2Content.unsecuredData`.
 const UNSECURED_DATA_TAG: u8 = 0x80;
 
-
 /// A decoded `Ieee1609Dot2Data`: protocol version 3 and its content, borrowing the input.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Ieee1609Dot2Data<'a> {

@@ -250,7 +250,11 @@ fn no_module_imports_its_importer() {
     let mut roots = Vec::new();
     source_roots(&repo, &mut roots);
     // The workspace's crates and the firmware, fuzz, bench and probe crates at least.
-    assert!(roots.len() >= 12, "only {} source folders found", roots.len());
+    assert!(
+        roots.len() >= 12,
+        "only {} source folders found",
+        roots.len()
+    );
     let mut levels_checked = 0;
     for src in &roots {
         for (level, g) in levels(src) {

@@ -8,58 +8,11 @@ use j2735::message_frame::MessageFrame;
 use roadside::clock::Utc;
 use roadside::messages::{self, SignSpeed, WorkZone, DURATION_INDEFINITE};
 use roadside::road::Road;
-use std::io::Write;
-use std::path::PathBuf;
-use std::process::{Command, Stdio};
 
-fn shared_dir() -> PathBuf {
-    let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../../shared");
-    assert!(
-        dir.is_dir(),
-        "{} is missing: the oracle tests need ../shared",
-        dir.display()
-    );
-    dir
-}
-
+/// Runs the oracle (`oracle/j2735_oracle.py ARGS`) on `input`; its standard output.
 fn oracle(args: &[&str], input: &str) -> String {
-    let setup = Command::new("bash")
-        .arg(shared_dir().join("oracle/setup.sh"))
-        .output()
-        .expect("oracle setup");
-    assert!(
-        setup.status.success(),
-        "oracle setup: {}",
-        String::from_utf8_lossy(&setup.stderr)
-    );
-    let python = String::from_utf8(setup.stdout)
-        .unwrap()
-        .lines()
-        .last()
-        .unwrap()
-        .trim()
-        .to_owned();
-    let mut child = Command::new(python)
-        .arg(shared_dir().join("oracle/j2735_oracle.py"))
-        .args(args)
-        .stdin(Stdio::piped())
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .expect("start the oracle");
-    child
-        .stdin
-        .take()
-        .unwrap()
-        .write_all(input.as_bytes())
-        .unwrap();
-    let out = child.wait_with_output().unwrap();
-    assert!(
-        out.status.success(),
-        "oracle {args:?}: {}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    String::from_utf8(out.stdout).unwrap()
+    let script = test_support::shared::shared_dir().join("oracle/j2735_oracle.py");
+    test_support::oracle::run_script(&script, args, input)
 }
 
 /// The road of the tablet app's bench: three lanes east and two west, 3 km, 80 km/h.
@@ -119,11 +72,7 @@ fn frames() -> Vec<(&'static str, Box<MessageFrame>)> {
 #[test]
 fn the_oracle_reads_our_bytes_as_our_jer_and_writes_our_bytes_from_it() {
     for (name, frame) in frames() {
-        let hex: String = messages::encode(&frame)
-            .unwrap()
-            .iter()
-            .map(|b| format!("{b:02x}"))
-            .collect();
+        let hex = j2735::hex::Hex(&messages::encode(&frame).unwrap()).to_string();
         let ours: serde_json::Value =
             serde_json::from_str(&j2735::jer::to_string(&*frame)).unwrap();
         let decoded = oracle(&["decode", "-"], &format!("{hex}\n"));

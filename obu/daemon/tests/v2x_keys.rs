@@ -53,7 +53,7 @@ impl Rng {
 }
 
 fn hex(bytes: &[u8]) -> String {
-    bytes.iter().map(|b| format!("{b:02X}")).collect()
+    format!("{:X}", j2735::hex::Hex(bytes))
 }
 
 /// A COER length prefix (short or long form) of `n`.

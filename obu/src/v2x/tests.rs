@@ -13,7 +13,7 @@ fn rsu(payload: &str) -> Vec<u8> {
 }
 
 fn hex(bytes: &[u8]) -> std::string::String {
-    bytes.iter().map(|b| std::format!("{b:02X}")).collect()
+    std::format!("{:X}", j2735::hex::Hex(bytes))
 }
 
 #[test]

@@ -72,10 +72,7 @@ impl fmt::Display for ZoneKey {
         if self.source == KeySource::MsgId {
             f.write_str("msgId:")?;
         }
-        for b in self.packet_id {
-            write!(f, "{b:02x}")?;
-        }
-        write!(f, "/{}", self.frame)
+        write!(f, "{}/{}", j2735::hex::Hex(&self.packet_id), self.frame)
     }
 }
 

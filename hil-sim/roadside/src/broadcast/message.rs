@@ -4,6 +4,7 @@
 use j2735::envelope::ieee1609dot2::{
     encode_unsecured, looks_like_ieee1609dot2, unsecured_encoded_len,
 };
+use j2735::message_frame::message_short_name;
 use std::fmt;
 use std::sync::{Arc, Mutex, PoisonError};
 
@@ -52,15 +53,11 @@ impl MessageKind {
     }
 
     /// The RSU record `Type` (`MAP`, `SPAT`, `TIM`, `BSM`, `RSA`, `PSM`), if it has one.
+    /// The name is the codec's one spelling ([`message_short_name`]).
     pub const fn rsu_type(self) -> Option<&'static str> {
-        match self {
-            Self::Map => Some("MAP"),
-            Self::Spat => Some("SPAT"),
-            Self::Tim => Some("TIM"),
-            Self::Other(20) => Some("BSM"),
-            Self::Other(27) => Some("RSA"),
-            Self::Other(32) => Some("PSM"),
-            Self::Other(_) => None,
+        match self.id() {
+            18 | 19 | 20 | 27 | 31 | 32 => message_short_name(self.id()),
+            _ => None,
         }
     }
 

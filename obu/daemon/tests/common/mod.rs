@@ -112,16 +112,7 @@ pub fn status(addr: &str) -> serde_json::Value {
 
 /// The UPER octets of the codec's committed vector `name`.
 pub fn vector(name: &str) -> Vec<u8> {
-    let text = include_str!("../../../../codec/tests/vectors/oracle_vectors.jsonl");
-    let line = text
-        .lines()
-        .find(|l| l.contains(&format!("\"name\":\"{name}\"")))
-        .unwrap();
-    let v: serde_json::Value = serde_json::from_str(line).unwrap();
-    let hex = v["uper"].as_str().unwrap();
-    (0..hex.len() / 2)
-        .map(|i| u8::from_str_radix(&hex[2 * i..2 * i + 2], 16).unwrap())
-        .collect()
+    test_support::vectors::named(name).bytes()
 }
 
 /// Reads SSE events (id, data) until `n` arrived or the time runs out.
