@@ -46,7 +46,7 @@ pub fn latency(obu: &Path, samples: usize, gap: Duration) -> Result<Latency, Str
     let feeder = Feeder::new()?;
     feeder.tick(&daemon, "approach", 0.0, true);
     let mut sse = SseClient::connect(daemon.http_addr(), Duration::from_secs(2))?;
-    let mut fixes = fixes_of(&mut sse, None)?;
+    let mut fixes = counter_of(&mut sse, "fixes", 0)?;
     let mut out = Latency {
         sorted_us: Vec::with_capacity(samples),
         lost: 0,
@@ -58,7 +58,7 @@ pub fn latency(obu: &Path, samples: usize, gap: Duration) -> Result<Latency, Str
         std::thread::sleep(gap);
         let t0 = Instant::now();
         feeder.send_epoch(&daemon, "approach", i as f64 * 0.1);
-        match fixes_of(&mut sse, Some(fixes + 1)) {
+        match counter_of(&mut sse, "fixes", fixes + 1) {
             Ok(n) => {
                 out.sorted_us.push(t0.elapsed().as_secs_f64() * 1e6);
                 fixes = n;
@@ -66,7 +66,7 @@ pub fn latency(obu: &Path, samples: usize, gap: Duration) -> Result<Latency, Str
             Err(_) => {
                 out.lost += 1;
                 sse = SseClient::connect(daemon.http_addr(), Duration::from_secs(2))?;
-                fixes = fixes_of(&mut sse, None)?;
+                fixes = counter_of(&mut sse, "fixes", 0)?;
             }
         }
     }
@@ -118,7 +118,8 @@ pub fn tim_latency(obu: &Path, samples: usize, gap: Duration) -> Result<Latency,
     Ok(out)
 }
 
-/// Reads state events until one whose counter `name` is at least `want`; returns it.
+/// Reads state events until one whose counter `name` is at least `want` (0: any state);
+/// returns it. Fails after a second without one.
 fn counter_of(sse: &mut SseClient, name: &str, want: u64) -> Result<u64, String> {
     let deadline = Instant::now() + Duration::from_secs(1);
     while Instant::now() < deadline {
@@ -131,26 +132,6 @@ fn counter_of(sse: &mut SseClient, name: &str, want: u64) -> Result<u64, String>
             .as_u64()
             .ok_or("no such counter")?;
         if n >= want {
-            return Ok(n);
-        }
-    }
-    Err("no state event within a second".into())
-}
-
-/// Reads state events until one whose fix counter is at least `want` (any with `None`);
-/// returns its counter. Fails after a second without one.
-fn fixes_of(sse: &mut SseClient, want: Option<u64>) -> Result<u64, String> {
-    let deadline = Instant::now() + Duration::from_secs(1);
-    while Instant::now() < deadline {
-        let ev = sse.next_event()?;
-        if ev.event != "state" {
-            continue;
-        }
-        let v: serde_json::Value = serde_json::from_str(&ev.data).map_err(|e| e.to_string())?;
-        let n = v["state"]["counters"]["fixes"]
-            .as_u64()
-            .ok_or("no fix counter")?;
-        if want.is_none_or(|w| n >= w) {
             return Ok(n);
         }
     }

@@ -4,22 +4,24 @@
 //! the time it happened (`Instant`, milliseconds) and nothing here reads a clock,
 //! a file or a socket. The pieces, in data-flow order:
 //!
-//! * [`geo`]: WGS84 <-> local east/north tangent plane (f64 exact, f32 fast path).
-//! * [`lane`]: lane model filled from a J2735 MAP, and [`lane::MapStore`].
-//! * [`zone`]: work zones filled from a J2735 TIM, and [`zone::ZoneStore`].
+//! * [`geo`]: WGS84 <-> local east/north tangent plane (the `v2x-geodesy` crate, shared
+//!   with the roadside).
+//! * [`link`]: COBS + CRC-32 frames of the firmware's serial links.
+//! * [`v2x`]: the one V2X receive path, received bytes (bare UPER, IEEE 1609.2, RSU text)
+//!   to [`v2x::V2xOutcome`] ([`Obu::on_datagram`]), with drop reasons from a closed set
+//!   ([`v2x::DropReason`]); the daemon and the firmware both call it.
 //! * [`ingest`]: decoded J2735 MAP and TIM values (crate `j2735`) into lane models and
 //!   work zones ([`Obu::on_frame`], [`Obu::on_map`], [`Obu::on_tim`]).
+//! * [`lane`]: lane model filled from a J2735 MAP, and [`lane::MapStore`].
+//! * [`zone`]: work zones filled from a J2735 TIM, and [`zone::ZoneStore`].
+//! * [`store`]: the fixed-slot store both of those wrap.
+//! * [`input`]: NMEA 0183 sentences and the CAN speed signal into a [`Fix`].
 //! * [`matcher`]: GNSS fix -> lane, station, lateral offset, confidence.
 //! * [`distance`]: distance along the lane to the work-zone start.
 //! * [`alert`]: alert state machine and the [`alert::HmiState`] shown to the driver.
-//! * [`input`]: NMEA 0183 sentences and the CAN speed signal (daemon and firmware).
-//! * [`link`]: COBS + CRC-32 frames of the firmware's serial links.
-//! * [`v2x`]: the one V2X receive path, bytes to [`v2x::V2xOutcome`] ([`Obu::on_datagram`]),
-//!   with drop reasons from a closed set ([`v2x::DropReason`]).
 //! * [`onboard`]: [`Obu`], the facade the daemon, the firmware and the simulator drive.
 //!
-//! Capacities (maps, lanes, nodes, zones) are fixed at compile time in [`capacity`]; both
-//! stores are typed wrappers of one fixed-slot [`store::SlotStore`].
+//! Capacities (maps, lanes, nodes, zones) are fixed at compile time in [`capacity`].
 //!
 //! ## Panic contract
 //! No public function panics on any input, including NaN, infinities and

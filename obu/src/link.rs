@@ -6,6 +6,11 @@
 //! UPER `MessageFrame`, as a radio chip would forward it) and `HmiState` out of it
 //! (payload: postcard).
 //!
+//! Written by hand (COBS and a bitwise CRC-32, a few dozen lines of logic) rather than with
+//! crates: it runs in the firmware's receive path with no heap and a fixed buffer, deframes
+//! byte by byte as the USART interrupt delivers them, counts each kind of bad frame by its
+//! own reason, and the bitwise CRC keeps a 1 KiB table out of flash.
+//!
 //! ## Panic contract
 //! No function here panics on any input: [`encode`] checks the output length first
 //! ([`encoded_len`]) and [`Deframer::push`] bounds every write by its buffer.

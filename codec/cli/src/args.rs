@@ -229,14 +229,7 @@ impl InputArgs {
 
 /// A PSID in hexadecimal, `0x` optional (as RSU records write it).
 fn parse_psid(text: &str) -> Result<u32, String> {
-    let digits = text
-        .strip_prefix("0x")
-        .or_else(|| text.strip_prefix("0X"))
-        .unwrap_or(text);
-    let valid = (1..=8).contains(&digits.len()) && digits.bytes().all(|b| b.is_ascii_hexdigit());
-    valid
-        .then(|| u32::from_str_radix(digits, 16).ok())
-        .flatten()
+    j2735::envelope::rsu_text::parse_psid(text)
         .ok_or_else(|| "give --psid in hexadecimal, 1 to 8 digits: --psid 0x8003".into())
 }
 

@@ -605,8 +605,9 @@ fn bool_text(value: bool) -> &'static str {
     }
 }
 
-/// A PSID in hexadecimal, with or without `0x`: one to eight digits.
-fn parse_psid(text: &str) -> Option<u32> {
+/// A PSID in hexadecimal, with or without `0x`: one to eight digits (as RSU records and
+/// command lines write it).
+pub fn parse_psid(text: &str) -> Option<u32> {
     let digits = text
         .strip_prefix("0x")
         .or_else(|| text.strip_prefix("0X"))

@@ -15,23 +15,24 @@ fn oracle(args: &[&str], input: &str) -> String {
     test_support::oracle::run_script(&script, args, input)
 }
 
-/// The road of the tablet app's bench: three lanes east and two west, 3 km, 80 km/h.
+/// A divided road heading north-east: three lanes forward and two back, 2.5 km, 3.5 m
+/// lanes, 70 km/h.
 fn road() -> Road {
-    let reference = LatLon::from_degrees(39.739_2, -104.990_3).unwrap();
-    Road::straight(reference, 90.0, 3000.0, (3, 2), 3.6, 80.0)
+    let reference = LatLon::from_degrees(44.977_8, -93.265_0).unwrap();
+    Road::straight(reference, 45.0, 2500.0, (3, 2), 3.5, 70.0)
 }
 
-/// The bench's zone: lane 3 closed from 1500 to 1700 m, 40 km/h, from `start` on.
+/// Lane 3 closed from 1200 to 1450 m, 40 km/h, from `start` on.
 fn zone(start: Utc) -> WorkZone {
     WorkZone {
         closed_lanes: vec![3],
-        start_m: 1500.0,
-        end_m: 1700.0,
+        start_m: 1200.0,
+        end_m: 1450.0,
         speed_limit: Some(SignSpeed {
             value: 40,
             mph: false,
         }),
-        packet_id: *b"HILBENCH1",
+        packet_id: *b"ORACLE-01",
         msg_cnt: 1,
         start,
         duration_min: DURATION_INDEFINITE,

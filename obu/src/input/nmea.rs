@@ -5,6 +5,11 @@
 //! and a velocity (RMC or VTG), taking the error ellipse of a GST of the same epoch when one
 //! came first. Panic contract: nothing here panics on any input; a bad sentence is an
 //! [`NmeaError`] that says what is wrong.
+//!
+//! Written by hand rather than with an NMEA crate: the same parser runs in the `no_std`
+//! firmware (no heap, a sentence at a time from the USART) and in the daemon, keeps the
+//! receiver's own accuracy (GST) and UTC date with the fix, and refuses every malformed
+//! field with a reason from a closed set instead of a default value.
 
 use crate::fix::Fix;
 use crate::geo::LatLon;
