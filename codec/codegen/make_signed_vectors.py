@@ -1,0 +1,535 @@
+#!/usr/bin/env python3
+"""Make independent IEEE 1609.2 signed-data test vectors (issue 13, part 5).
+
+What it makes
+    codec/tests/vectors/ieee1609dot2_signed.jsonl: one JSON object a line, sorted by name:
+        {"name", "case", "expect": "valid" | the failure reason in words,
+         "coer": hex of the whole Ieee1609Dot2Data, "signer": "digest" | "certificate" |
+         "certificate-chain" | "self", "psid", "generation_time", "expiry_time",
+         "generation_location", "frame": the J2735 MessageFrame (UPER hex) inside,
+         "trust_anchors": {"root", "ca"} certificate COER hex, "known_certs": certificates a
+         verifier has already seen (for the digest signer), "now": the verifier's clock
+         (Time64), "max_skew_us", "self_public_key" (self signer only, compressed SEC1 hex),
+         "rsig_form": "x-only" | "compressed-y", "pair" (replay), "differs_from" (the valid
+         vector an invalid one was made from), "note"}.
+
+Independence
+    Nothing here is computed by the project's code. ASN.1 structure and COER bytes come from
+    pycrate 0.8.1's IEEE 1609.2 module (pycrate_asn1dir.ITS_IEEE1609_2: modules Ieee1609Dot2
+    and Ieee1609Dot2BaseTypes, the 1609.2-2016 ASN.1 as shipped with ETSI TS 103 097), via
+    to_coer()/from_coer(). NIST P-256 ECDSA and SHA-256 come from Python's `cryptography`
+    package; signatures are deterministic (RFC 6979) through
+    ec.ECDSA(hashes.SHA256(), deterministic_signing=True) (cryptography >= 42). The y parity
+    of the signature point R (for rSig in compressed-y form) is recovered with a few lines of
+    textbook affine P-256 arithmetic below (R = s^-1 e G + s^-1 r Q), checked against
+    x(R) == r.
+
+Hash to sign (IEEE 1609.2-2016 5.3.1, "Signature algorithms", and 6.3.4 / 6.4.3 for
+    SignedData and certificates)
+    Data input        = COER of ToBeSignedData (for a certificate: of its ToBeSignedCertificate)
+    Signer identifier input = COER of the signer's certificate; the empty string when the
+        signer is `self` (and for a self-signed root certificate)
+    H = SHA-256( SHA-256(Data input) || SHA-256(Signer identifier input) )
+    ECDSA (FIPS 186-4) is run with e = H, i.e. ECDSA-with-SHA-256 over the 64-octet
+    concatenation SHA-256(Data input) || SHA-256(Signer identifier input); this is what
+    `key.sign(concat, ECDSA(SHA256()))` does. The signer certificate is always the end-entity
+    certificate (the first of a chain), whatever the SignerIdentifier form is.
+    HashedId8(cert) = the low-order (last) 8 octets of SHA-256(cert COER).
+    Certificates are written canonically: public keys in compressed-y form, certificate
+    signatures with rSig x-only, so the hash of a certificate is the hash of its bytes as sent.
+
+Times (IEEE 1609.2 6.4.? Time32 / Time64)
+    Time32 = TAI seconds, Time64 = TAI microseconds, since 2004-01-01 00:00:00 UTC. UTC -> TAI
+    here adds LEAP_SECONDS_SINCE_2004 = 5 (the leap seconds inserted at the ends of 2005-12,
+    2008-12, 2012-06, 2015-06 and 2016-12); valid for any date after 2017-01-01.
+
+Cases (see CASES below): valid for every signer kind and both rSig forms, TIM and MAP;
+    payload bit flipped; signature bit flipped; wrong PSID; message expired (expiryTime past);
+    certificate expired; certificate not yet valid; chain to an untrusted root; region miss;
+    generation time in the future; generation time too old; replay (a pair: the same bytes
+    twice, the second expects "replay"). Truncation at every octet is not written out: a
+    verifier-side loop over every "valid" vector (every prefix must be rejected).
+    Implicit certificates (ECQV, SEC 4) are NOT done yet.
+
+Self-check
+    Every vector is decoded back by pycrate and re-encoded to the same bytes; every "valid"
+    vector verifies with `cryptography` along its chain to the root; every invalid one
+    differs from its base only in the intended way (bit flips: exactly one bit; the others
+    are cryptographically valid so that only the named check can fail).
+
+How to run (from the repository root)
+    PY=$(bash ../shared/oracle/setup.sh | tail -n1); $PY -m pip install cryptography
+    $PY codec/codegen/make_signed_vectors.py            (write the file)
+    $PY codec/codegen/make_signed_vectors.py --check    (exit 1 if the committed file differs)
+"""
+import argparse
+import hashlib
+import json
+import os
+import sys
+from datetime import datetime, timezone
+
+try:
+    from cryptography.hazmat.primitives import hashes, serialization
+    from cryptography.hazmat.primitives.asymmetric import ec
+    from cryptography.hazmat.primitives.asymmetric.utils import (
+        decode_dss_signature, encode_dss_signature)
+    from cryptography.exceptions import InvalidSignature
+    import cryptography
+except ImportError:
+    sys.exit('make_signed_vectors.py needs the `cryptography` package in the oracle venv:\n'
+             '    PY=$(bash ../shared/oracle/setup.sh | tail -n1); $PY -m pip install cryptography')
+try:
+    from pycrate_asn1dir import ITS_IEEE1609_2 as I2
+except ImportError:
+    sys.exit('pycrate is missing: run with the oracle python, $(bash ../shared/oracle/setup.sh)')
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+REPO = os.path.normpath(os.path.join(HERE, '..', '..'))
+OUT = os.path.join(REPO, 'codec', 'tests', 'vectors', 'ieee1609dot2_signed.jsonl')
+FRAMES = os.path.join(REPO, 'codec', 'tests', 'vectors', 'oracle_vectors.jsonl')
+
+PSID_TIM, PSID_MAP, PSID_WRONG = 0x8003, 0xE0000017, 0x20
+LEAP_SECONDS_SINCE_2004 = 5
+EPOCH = datetime(2004, 1, 1, tzinfo=timezone.utc)
+SITE_LAT, SITE_LON, SITE_ELEV = 421234567, -837654321, 2710   # as make_vectors.py
+REGION_RADIUS_M = 5000
+MAX_SKEW_US = 30 * 1000000
+TIM_FRAME, MAP_FRAME = 'tim_work_zone_left_lane_closed', 'map_work_zone'
+
+# ============================================================================ P-256 helper
+P = 0xffffffff00000001000000000000000000000000ffffffffffffffffffffffff
+N = 0xffffffff00000000ffffffffffffffffbce6faada7179e84f3b9cac2fc632551
+A = P - 3
+G = (0x6b17d1f2e12c4247f8bce6e563a440f277037d812deb33a0f4a13945d898c296,
+     0x4fe342e2fe1a7f9b8ee7eb4a7c0f9e162bce33576b315ececbb6406837bf51f5)
+
+
+def _add(p1, p2):
+    if p1 is None:
+        return p2
+    if p2 is None:
+        return p1
+    (x1, y1), (x2, y2) = p1, p2
+    if x1 == x2 and (y1 + y2) % P == 0:
+        return None
+    if p1 == p2:
+        lam = (3 * x1 * x1 + A) * pow(2 * y1, -1, P) % P
+    else:
+        lam = (y2 - y1) * pow(x2 - x1, -1, P) % P
+    x3 = (lam * lam - x1 - x2) % P
+    return x3, (lam * (x1 - x3) - y1) % P
+
+
+def _mul(k, pt):
+    acc = None
+    while k:
+        if k & 1:
+            acc = _add(acc, pt)
+        pt = _add(pt, pt)
+        k >>= 1
+    return acc
+
+
+def signature_point(pub, e, r, s):
+    """R = s^-1 e G + s^-1 r Q, the point whose x is r (checked)."""
+    w = pow(s, -1, N)
+    q = pub.public_numbers()
+    R = _add(_mul(e * w % N, G), _mul(r * w % N, (q.x, q.y)))
+    assert R is not None and R[0] % N == r
+    return R
+
+
+# ============================================================================ crypto
+def sha256(b):
+    return hashlib.sha256(b).digest()
+
+
+def hashed_id8(cert_coer):
+    return sha256(cert_coer)[-8:]
+
+
+def key(seed):
+    """A fixed private key from a fixed seed: d = SHA-256(seed) mod (n - 1) + 1."""
+    d = int.from_bytes(sha256(b'make_signed_vectors/' + seed.encode()), 'big') % (N - 1) + 1
+    return ec.derive_private_key(d, ec.SECP256R1())
+
+
+def compressed(pub):
+    return pub.public_bytes(serialization.Encoding.X962, serialization.PublicFormat.CompressedPoint)
+
+
+def curve_point(pub):
+    c = compressed(pub)
+    return ('compressed-y-0' if c[0] == 2 else 'compressed-y-1', c[1:])
+
+
+def to_be_signed_input(data_coer, signer_cert_coer):
+    """1609.2 5.3.1: SHA-256(data) || SHA-256(signer certificate or empty string)."""
+    return sha256(data_coer) + sha256(signer_cert_coer if signer_cert_coer is not None else b'')
+
+
+def sign(priv, data_coer, signer_cert_coer, form='x-only'):
+    msg = to_be_signed_input(data_coer, signer_cert_coer)
+    der = priv.sign(msg, ec.ECDSA(hashes.SHA256(), deterministic_signing=True))
+    r, s = decode_dss_signature(der)
+    if form == 'x-only':
+        rsig = ('x-only', r.to_bytes(32, 'big'))
+    else:
+        e = int.from_bytes(sha256(msg), 'big')
+        R = signature_point(priv.public_key(), e, r, s)
+        rsig = ('compressed-y-%d' % (R[1] & 1), R[0].to_bytes(32, 'big'))
+    return ('ecdsaNistP256Signature', {'rSig': rsig, 'sSig': s.to_bytes(32, 'big')})
+
+
+def verify(pub, data_coer, signer_cert_coer, signature):
+    """Verify a pycrate Signature value; compressed-y rSig is checked to be on the curve and
+    to be the point R of the signature."""
+    kind, sig = signature
+    assert kind == 'ecdsaNistP256Signature'
+    form, rx = sig['rSig']
+    r, s = int.from_bytes(rx, 'big'), int.from_bytes(sig['sSig'], 'big')
+    msg = to_be_signed_input(data_coer, signer_cert_coer)
+    try:
+        pub.verify(encode_dss_signature(r, s), msg, ec.ECDSA(hashes.SHA256()))
+    except InvalidSignature:
+        return False
+    if form.startswith('compressed'):
+        R = signature_point(pub, int.from_bytes(sha256(msg), 'big'), r, s)
+        return R[1] & 1 == int(form[-1])
+    return True
+
+
+def public_from_point(point):
+    form, x = point
+    prefix = {'compressed-y-0': b'\x02', 'compressed-y-1': b'\x03'}[form]
+    return ec.EllipticCurvePublicKey.from_encoded_point(ec.SECP256R1(), prefix + x)
+
+
+# ============================================================================ time
+def time32(iso):
+    dt = datetime.fromisoformat(iso).replace(tzinfo=timezone.utc)
+    return int((dt - EPOCH).total_seconds()) + LEAP_SECONDS_SINCE_2004
+
+
+def time64(iso):
+    return time32(iso) * 1000000
+
+
+GEN = time64('2025-06-17T14:32:41')          # the generation time of every frame
+EXPIRY = GEN + 60 * 1000000                  # expiryTime: one minute later
+NOW = GEN + 2 * 1000000                      # the verifier's clock for the normal cases
+
+# ============================================================================ ASN.1
+CERT = I2.Ieee1609Dot2.Certificate
+DATA = I2.Ieee1609Dot2.Ieee1609Dot2Data
+TBS_DATA = I2.Ieee1609Dot2.ToBeSignedData
+TBS_CERT = I2.Ieee1609Dot2.ToBeSignedCertificate
+
+
+def coer(asn, val):
+    asn.set_val(val)
+    b = asn.to_coer()
+    asn.from_coer(b)
+    back = asn.get_val()        # DEFAULT members come back filled in: compare by re-encoding
+    asn.set_val(back)
+    assert asn.to_coer() == b, 'pycrate COER round trip'
+    return b
+
+
+def circle(lat, lon, radius):
+    return ('circularRegion', {'center': {'latitude': lat, 'longitude': lon}, 'radius': radius})
+
+
+class Cert:
+    def __init__(self, name, priv, val, coer_bytes):
+        self.name, self.priv, self.val, self.coer = name, priv, val, coer_bytes
+        self.id8 = hashed_id8(coer_bytes)
+
+
+def make_cert(name, seed, issuer, start, duration, app=None, issue=None, min_chain=1,
+              region=True):
+    """An explicit certificate. issuer None: self-signed (issuer `self`, sha256)."""
+    priv = key(seed)
+    tbs = {'id': ('name', name), 'cracaId': b'\0\0\0', 'crlSeries': 0,
+           'validityPeriod': {'start': time32(start), 'duration': duration},
+           'verifyKeyIndicator': ('verificationKey',
+                                  ('ecdsaNistP256', curve_point(priv.public_key())))}
+    if region:
+        tbs['region'] = circle(SITE_LAT, SITE_LON, REGION_RADIUS_M)
+    if app:
+        tbs['appPermissions'] = [{'psid': p} for p in app]
+    if issue:
+        perm = {'subjectPermissions': ('all', 0)}
+        if min_chain != 1:
+            perm['minChainLength'] = min_chain
+        tbs['certIssuePermissions'] = [perm]
+    tbs_coer = coer(TBS_CERT, tbs)
+    signer = issuer.priv if issuer else priv
+    val = {'version': 3, 'type': 'explicit',
+           'issuer': ('sha256AndDigest', issuer.id8) if issuer else ('self', 'sha256'),
+           'toBeSigned': tbs,
+           'signature': sign(signer, tbs_coer, issuer.coer if issuer else None)}
+    return Cert(name, priv, val, coer(CERT, val))
+
+
+def pki():
+    c = {}
+    c['root'] = make_cert('root.workzone.example', 'root', None, '2025-01-01T00:00:00',
+                          ('years', 10), issue=True, min_chain=2, region=False)
+    c['ca'] = make_cert('ca.workzone.example', 'ca', c['root'], '2025-01-01T00:00:00',
+                        ('years', 5), issue=True, region=False)
+    c['rsu'] = make_cert('rsu-17.workzone.example', 'rsu', c['ca'], '2025-06-01T00:00:00',
+                         ('hours', 24 * 30), app=[PSID_TIM, PSID_MAP])
+    c['rsu_expired'] = make_cert('rsu-17.workzone.example', 'rsu', c['ca'],
+                                 '2025-05-01T00:00:00', ('hours', 24 * 30), app=[PSID_TIM, PSID_MAP])
+    c['rsu_not_yet'] = make_cert('rsu-17.workzone.example', 'rsu', c['ca'],
+                                 '2025-07-01T00:00:00', ('hours', 24 * 30), app=[PSID_TIM, PSID_MAP])
+    c['evil_root'] = make_cert('root.workzone.example', 'evil-root', None,
+                               '2025-01-01T00:00:00', ('years', 10), issue=True,
+                               min_chain=2, region=False)
+    c['evil_ca'] = make_cert('ca.workzone.example', 'evil-ca', c['evil_root'],
+                             '2025-01-01T00:00:00', ('years', 5), issue=True, region=False)
+    c['evil_rsu'] = make_cert('rsu-17.workzone.example', 'evil-rsu', c['evil_ca'],
+                              '2025-06-01T00:00:00', ('hours', 24 * 30), app=[PSID_TIM, PSID_MAP])
+    return c
+
+
+def unsecured(frame):
+    return {'protocolVersion': 3, 'content': ('unsecuredData', frame)}
+
+
+def location(lat=SITE_LAT + 1000, lon=SITE_LON - 2000, elev=SITE_ELEV):
+    return {'latitude': lat, 'longitude': lon, 'elevation': elev}
+
+
+def signed(frame, psid, signer_kind, cert, chain=None, form='x-only', gen=GEN,
+           expiry=EXPIRY, loc=None, priv=None):
+    """An Ieee1609Dot2Data with SignedData; returns (value, tbs_coer, signer_cert_coer)."""
+    tbs = {'payload': {'data': unsecured(frame)},
+           'headerInfo': {'psid': psid, 'generationTime': gen, 'expiryTime': expiry,
+                          'generationLocation': loc or location()}}
+    tbs_coer = coer(TBS_DATA, tbs)
+    if signer_kind == 'self':
+        signer, signer_coer = ('self', 0), None
+    elif signer_kind == 'digest':
+        signer, signer_coer = ('digest', cert.id8), cert.coer
+    else:
+        signer, signer_coer = ('certificate', [c.val for c in chain]), cert.coer
+    sig = sign(priv or cert.priv, tbs_coer, signer_coer, form)
+    val = {'protocolVersion': 3, 'content': ('signedData', {
+        'hashId': 'sha256', 'tbsData': tbs, 'signer': signer, 'signature': sig})}
+    return val, tbs_coer, signer_coer
+
+
+# ============================================================================ vectors
+def frames():
+    by_name = {}
+    with open(FRAMES, encoding='ascii') as f:
+        for line in f:
+            v = json.loads(line)
+            by_name[v['name']] = bytes.fromhex(v['uper'])
+    tims = sorted(n for n in by_name if n.startswith('tim_work_zone'))
+    maps = sorted(n for n in by_name if n.startswith('map_work_zone'))
+    tim = by_name.get(TIM_FRAME) or by_name[tims[0] if tims else sorted(
+        n for n in by_name if n.startswith('tim'))[0]]
+    mp = by_name.get(MAP_FRAME) or by_name[maps[0] if maps else sorted(
+        n for n in by_name if n.startswith('map'))[0]]
+    return tim, mp
+
+
+def flip_bit(b, octet, bit):
+    b = bytearray(b)
+    b[octet] ^= 0x80 >> bit
+    return bytes(b)
+
+
+def make_all():
+    tim, mp = frames()
+    c = pki()
+    anchors = {'root': c['root'].coer.hex(), 'ca': c['ca'].coer.hex()}
+    rsu = c['rsu']
+    vectors = {}
+
+    def add(name, case, expect, val, kind, cert, chain, frame, psid, now=NOW, form='x-only',
+            **extra):
+        data = coer(DATA, val)
+        hi = val['content'][1]['tbsData']['headerInfo']
+        v = {'name': name, 'case': case, 'expect': expect, 'coer': data.hex(),
+             'signer': kind, 'psid': psid, 'generation_time': hi['generationTime'],
+             'expiry_time': hi['expiryTime'], 'generation_location': hi['generationLocation'],
+             'frame': frame.hex(), 'trust_anchors': anchors, 'now': now,
+             'max_skew_us': MAX_SKEW_US, 'rsig_form': form,
+             'known_certs': [rsu.coer.hex()] if kind == 'digest' else []}
+        if kind == 'self':
+            v['self_public_key'] = compressed(cert.priv.public_key()).hex()
+        v.update(extra)
+        assert name not in vectors
+        vectors[name] = (v, val, cert, chain)
+        return data
+
+    # valid: every signer kind, both rSig forms, TIM and MAP
+    valid = {}
+    for msg, frame, psid in (('tim', tim, PSID_TIM), ('map', mp, PSID_MAP)):
+        for kind, chain in (('digest', None), ('certificate', [rsu]),
+                            ('certificate-chain', [rsu, c['ca']]), ('self', None)):
+            for form in ('x-only', 'compressed-y'):
+                name = 'valid_%s_%s_%s' % (msg, kind.replace('-', '_'), form.replace('-', '_'))
+                sk = 'certificate' if kind.startswith('certificate') else kind
+                val, _, _ = signed(frame, psid, sk, rsu, chain, form)
+                valid[name] = add(name, 'valid', 'valid', val, kind, rsu, chain, frame, psid,
+                                  form=form)
+    base = 'valid_tim_certificate_x_only'
+    base_val = vectors[base][1]
+    base_coer = valid[base]
+
+    # payload bit flipped: one bit of the MessageFrame inside, the signature unchanged
+    off = base_coer.find(tim)
+    assert off > 0 and base_coer.count(tim) == 1
+    bad = flip_bit(base_coer, off + 5, 3)
+    DATA.from_coer(bad)
+    add('payload_bit_flipped', 'payload bit flipped', 'signature does not verify',
+        DATA.get_val(), 'certificate', rsu, [rsu], tim, PSID_TIM, differs_from=base,
+        frame_flipped=bad[off:off + len(tim)].hex())
+    vectors['payload_bit_flipped'][0]['frame'] = bad[off:off + len(tim)].hex()
+    # signature bit flipped: one bit of sSig
+    s = base_val['content'][1]['signature'][1]['sSig']
+    off_s = base_coer.rfind(s)
+    bad = flip_bit(base_coer, off_s + 31, 7)
+    DATA.from_coer(bad)
+    add('signature_bit_flipped', 'signature bit flipped', 'signature does not verify',
+        DATA.get_val(), 'certificate', rsu, [rsu], tim, PSID_TIM, differs_from=base)
+    # wrong PSID: signed correctly, header PSID 0x20 not in the certificate's appPermissions
+    val, _, _ = signed(tim, PSID_WRONG, 'certificate', rsu, [rsu])
+    add('wrong_psid', 'wrong PSID', 'PSID not permitted by the signer certificate', val,
+        'certificate', rsu, [rsu], tim, PSID_WRONG)
+    # message expired: expiryTime before now
+    val, _, _ = signed(tim, PSID_TIM, 'certificate', rsu, [rsu], expiry=GEN + 1000000)
+    add('message_expired', 'message expired', 'message past its expiryTime', val,
+        'certificate', rsu, [rsu], tim, PSID_TIM)
+    # certificate expired / not yet valid (validity period ends before / starts after GEN)
+    for nm, ck, why in (('certificate_expired', 'rsu_expired',
+                         'signer certificate expired'),
+                        ('certificate_not_yet_valid', 'rsu_not_yet',
+                         'signer certificate not yet valid')):
+        cert = c[ck]
+        val, _, _ = signed(tim, PSID_TIM, 'certificate', cert, [cert, c['ca']])
+        add(nm, nm.replace('_', ' '), why, val, 'certificate-chain', cert, [cert, c['ca']],
+            tim, PSID_TIM)
+    # untrusted root: a full, correct chain to another root with the same names
+    ev = c['evil_rsu']
+    val, _, _ = signed(tim, PSID_TIM, 'certificate', ev, [ev, c['evil_ca']])
+    add('untrusted_root', 'chain to an untrusted root', 'chain does not reach a trust anchor',
+        val, 'certificate-chain', ev, [ev, c['evil_ca']], tim, PSID_TIM,
+        untrusted_root=c['evil_root'].coer.hex())
+    # region miss: generationLocation 0.2 degrees (about 22 km) north of the 5 km circle
+    val, _, _ = signed(tim, PSID_TIM, 'certificate', rsu, [rsu],
+                       loc=location(SITE_LAT + 2000000))
+    add('region_miss', 'region miss', 'generation location outside the certificate region',
+        val, 'certificate', rsu, [rsu], tim, PSID_TIM)
+    # generation time in the future / too old, by the verifier's clock
+    val, _, _ = signed(tim, PSID_TIM, 'certificate', rsu, [rsu])
+    add('generation_time_future', 'generation time in the future',
+        'generation time beyond the allowed skew', val, 'certificate', rsu, [rsu], tim,
+        PSID_TIM, now=GEN - 5 * 60 * 1000000,
+        note='valid bytes (same as %s); the verifier clock is 5 min before generation' % base)
+    val, _, _ = signed(tim, PSID_TIM, 'certificate', rsu, [rsu], expiry=GEN + 3600 * 1000000)
+    add('generation_time_too_old', 'generation time too old',
+        'generation time older than the allowed skew', val, 'certificate', rsu, [rsu], tim,
+        PSID_TIM, now=GEN + 10 * 60 * 1000000,
+        note='expiryTime one hour after generation, so only the age check fails')
+    # replay: the same valid frame twice
+    val, _, _ = signed(tim, PSID_TIM, 'certificate', rsu, [rsu])
+    add('replay_1_first', 'replay', 'valid', val, 'certificate', rsu, [rsu], tim, PSID_TIM,
+        pair='replay')
+    add('replay_2_second', 'replay', 'replay', val, 'certificate', rsu, [rsu], tim, PSID_TIM,
+        pair='replay', note='identical bytes to replay_1_first, received after it')
+    return vectors, c
+
+
+# ============================================================================ self-check
+def check_chain(chain_certs, root):
+    """Each certificate's signature verifies with its issuer's key, ending at root."""
+    for cert in chain_certs:
+        tbs_coer = coer(TBS_CERT, cert.val['toBeSigned'])
+        kind, id8 = cert.val['issuer']
+        issuer = root if kind == 'sha256AndDigest' and id8 == root.id8 else None
+        if issuer is None:
+            issuer = next((x for x in chain_certs if x.id8 == id8), None)
+        assert issuer is not None, cert.name
+        pub = public_from_point(issuer.val['toBeSigned']['verifyKeyIndicator'][1][1])
+        assert verify(pub, tbs_coer, issuer.coer, cert.val['signature']), cert.name
+    rp = public_from_point(root.val['toBeSigned']['verifyKeyIndicator'][1][1])
+    assert verify(rp, coer(TBS_CERT, root.val['toBeSigned']), None, root.val['signature'])
+
+
+def self_check(vectors, c):
+    for name, (v, val, cert, chain) in vectors.items():
+        data = bytes.fromhex(v['coer'])
+        DATA.from_coer(data)
+        got = DATA.get_val()
+        assert DATA.to_coer() == data, name
+        sd = got['content'][1]
+        tbs_coer = coer(TBS_DATA, sd['tbsData'])
+        signer_coer = None if sd['signer'][0] == 'self' else cert.coer
+        ok = verify(cert.priv.public_key(), tbs_coer, signer_coer, sd['signature'])
+        inner = sd['tbsData']['payload']['data']['content'][1]
+        assert inner.hex() == v['frame'], name
+        if v['expect'] == 'valid' or 'bit flipped' not in v['case']:
+            assert ok, name + ': signature must verify'
+        else:
+            assert not ok, name + ': signature must fail'
+            base = bytes.fromhex(vectors[v['differs_from']][0]['coer'])
+            diff = sum(bin(a ^ b).count('1') for a, b in zip(data, base))
+            assert len(base) == len(data) and diff == 1, name
+        if v['expect'] == 'valid':
+            if chain:
+                check_chain(chain + ([c['ca']] if c['ca'] not in chain else []), c['root'])
+            elif v['signer'] == 'digest':
+                check_chain([cert, c['ca']], c['root'])
+            assert sd['tbsData']['headerInfo']['psid'] in (PSID_TIM, PSID_MAP)
+    check_chain([c['evil_rsu'], c['evil_ca']], c['evil_root'])
+    try:
+        check_chain([c['evil_rsu'], c['evil_ca']], c['root'])
+    except AssertionError:
+        pass
+    else:
+        raise SystemExit('untrusted chain verified against the real root')
+
+
+def make_text():
+    vectors, c = make_all()
+    self_check(vectors, c)
+    lines = [json.dumps(vectors[n][0], sort_keys=True, separators=(',', ':'))
+             for n in sorted(vectors)]
+    return '\n'.join(lines) + '\n', vectors
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split('\n\n')[0])
+    ap.add_argument('--check', action='store_true',
+                    help='re-make the vectors in memory; exit 1 if the committed file differs')
+    args = ap.parse_args()
+    text, vectors = make_text()
+    rel = os.path.relpath(OUT, REPO)
+    if args.check:
+        try:
+            with open(OUT, encoding='ascii') as f:
+                committed = f.read()
+        except FileNotFoundError:
+            committed = None
+        if committed != text:
+            print('%s is out of date: run make_signed_vectors.py' % rel, file=sys.stderr)
+            return 1
+        print('%s: %d vectors, up to date (cryptography %s)' % (rel, len(vectors),
+                                                               cryptography.__version__))
+        return 0
+    with open(OUT, 'w', encoding='ascii', newline='\n') as f:
+        f.write(text)
+    print('wrote %s: %d vectors (cryptography %s)' % (rel, len(vectors),
+                                                     cryptography.__version__))
+    return 0
+
+
+if __name__ == '__main__':
+    sys.exit(main())
