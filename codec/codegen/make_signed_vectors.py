@@ -390,7 +390,7 @@ def make_all():
     DATA.from_coer(bad)
     add('payload_bit_flipped', 'payload bit flipped', 'signature does not verify',
         DATA.get_val(), 'certificate', rsu, [rsu], tim, PSID_TIM, differs_from=base,
-        frame_flipped=bad[off:off + len(tim)].hex())
+        note='the frame member is the flipped frame as it sits in the bytes')
     vectors['payload_bit_flipped'][0]['frame'] = bad[off:off + len(tim)].hex()
     # signature bit flipped: one bit of sSig
     s = base_val['content'][1]['signature'][1]['sSig']
@@ -402,11 +402,11 @@ def make_all():
     # wrong PSID: signed correctly, header PSID 0x20 not in the certificate's appPermissions
     val, _, _ = signed(tim, PSID_WRONG, 'certificate', rsu, [rsu])
     add('wrong_psid', 'wrong PSID', 'PSID not permitted by the signer certificate', val,
-        'certificate', rsu, [rsu], tim, PSID_WRONG)
+        'certificate', rsu, [rsu], tim, PSID_WRONG, differs_from=base)
     # message expired: expiryTime before now
     val, _, _ = signed(tim, PSID_TIM, 'certificate', rsu, [rsu], expiry=GEN + 1000000)
     add('message_expired', 'message expired', 'message past its expiryTime', val,
-        'certificate', rsu, [rsu], tim, PSID_TIM)
+        'certificate', rsu, [rsu], tim, PSID_TIM, differs_from=base)
     # certificate expired / not yet valid (validity period ends before / starts after GEN)
     for nm, ck, why in (('certificate_expired', 'rsu_expired',
                          'signer certificate expired'),
@@ -415,39 +415,107 @@ def make_all():
         cert = c[ck]
         val, _, _ = signed(tim, PSID_TIM, 'certificate', cert, [cert, c['ca']])
         add(nm, nm.replace('_', ' '), why, val, 'certificate-chain', cert, [cert, c['ca']],
-            tim, PSID_TIM)
+            tim, PSID_TIM, differs_from=CHAIN_BASE)
     # untrusted root: a full, correct chain to another root with the same names
     ev = c['evil_rsu']
     val, _, _ = signed(tim, PSID_TIM, 'certificate', ev, [ev, c['evil_ca']])
     add('untrusted_root', 'chain to an untrusted root', 'chain does not reach a trust anchor',
         val, 'certificate-chain', ev, [ev, c['evil_ca']], tim, PSID_TIM,
-        untrusted_root=c['evil_root'].coer.hex())
+        untrusted_root=c['evil_root'].coer.hex(), differs_from=CHAIN_BASE)
     # region miss: generationLocation 0.2 degrees (about 22 km) north of the 5 km circle
     val, _, _ = signed(tim, PSID_TIM, 'certificate', rsu, [rsu],
                        loc=location(SITE_LAT + 2000000))
     add('region_miss', 'region miss', 'generation location outside the certificate region',
-        val, 'certificate', rsu, [rsu], tim, PSID_TIM)
+        val, 'certificate', rsu, [rsu], tim, PSID_TIM, differs_from=base)
     # generation time in the future / too old, by the verifier's clock
     val, _, _ = signed(tim, PSID_TIM, 'certificate', rsu, [rsu])
     add('generation_time_future', 'generation time in the future',
         'generation time beyond the allowed skew', val, 'certificate', rsu, [rsu], tim,
-        PSID_TIM, now=GEN - 5 * 60 * 1000000,
+        PSID_TIM, now=GEN - 5 * 60 * 1000000, differs_from=base,
         note='valid bytes (same as %s); the verifier clock is 5 min before generation' % base)
     val, _, _ = signed(tim, PSID_TIM, 'certificate', rsu, [rsu], expiry=GEN + 3600 * 1000000)
     add('generation_time_too_old', 'generation time too old',
         'generation time older than the allowed skew', val, 'certificate', rsu, [rsu], tim,
-        PSID_TIM, now=GEN + 10 * 60 * 1000000,
+        PSID_TIM, now=GEN + 10 * 60 * 1000000, differs_from=base,
         note='expiryTime one hour after generation, so only the age check fails')
     # replay: the same valid frame twice
     val, _, _ = signed(tim, PSID_TIM, 'certificate', rsu, [rsu])
     add('replay_1_first', 'replay', 'valid', val, 'certificate', rsu, [rsu], tim, PSID_TIM,
-        pair='replay')
+        pair='replay', differs_from=base)
     add('replay_2_second', 'replay', 'replay', val, 'certificate', rsu, [rsu], tim, PSID_TIM,
-        pair='replay', note='identical bytes to replay_1_first, received after it')
+        pair='replay', differs_from=base, note='identical bytes to replay_1_first, received after it')
     return vectors, c
 
 
 # ============================================================================ self-check
+CHAIN_BASE = 'valid_tim_certificate_chain_x_only'
+# What each invalid vector may differ in from its base ("differs_from"), beyond the signature
+# (re-signed, so it differs whenever anything signed does): headerInfo members, 'signer'.
+INTENDED = {
+    'wrong_psid': {'psid'}, 'message_expired': {'expiryTime'},
+    'certificate_expired': {'signer'}, 'certificate_not_yet_valid': {'signer'},
+    'untrusted_root': {'signer'}, 'region_miss': {'generationLocation'},
+    'generation_time_future': set(), 'generation_time_too_old': {'expiryTime'},
+    'replay_1_first': set(), 'replay_2_second': set(),
+}
+
+
+def differences(a, b):
+    sa, sb = a['content'][1], b['content'][1]
+    d = {k for k in set(sa['tbsData']['headerInfo']) | set(sb['tbsData']['headerInfo'])
+         if sa['tbsData']['headerInfo'].get(k) != sb['tbsData']['headerInfo'].get(k)}
+    if sa['tbsData']['payload'] != sb['tbsData']['payload']:
+        d.add('payload')
+    if sa['signer'] != sb['signer']:
+        d.add('signer')
+    if sa['hashId'] != sb['hashId'] or a['protocolVersion'] != b['protocolVersion']:
+        d.add('envelope')
+    return d
+
+
+def check_intended(vectors, c):
+    for name, want in INTENDED.items():
+        v, val = vectors[name][0], vectors[name][1]
+        base = vectors[v['differs_from']]
+        DATA.from_coer(bytes.fromhex(base[0]['coer']))
+        bval = DATA.get_val()
+        DATA.from_coer(bytes.fromhex(v['coer']))
+        got = differences(DATA.get_val(), bval)
+        assert got == want, (name, got, want)
+        if not want:
+            assert v['coer'] == base[0]['coer'], name
+        for k in ('trust_anchors', 'max_skew_us', 'rsig_form'):
+            assert v[k] == base[0][k], (name, k)
+        if name not in ('generation_time_future', 'generation_time_too_old'):
+            assert v['now'] == base[0]['now'], name
+    # the expired / not-yet-valid RSU certificates differ from the good one only in validity
+    good = c['rsu'].val['toBeSigned']
+    for ck in ('rsu_expired', 'rsu_not_yet'):
+        t = c[ck].val['toBeSigned']
+        assert {k for k in set(t) | set(good) if t.get(k) != good.get(k)} == {'validityPeriod'}
+        vp = t['validityPeriod']
+        end = vp['start'] + vp['duration'][1] * 3600
+        assert (end * 1000000 < GEN) if ck == 'rsu_expired' else (vp['start'] * 1000000 > GEN)
+    # region: the normal location inside the circle, the region-miss one outside it
+    def dist_m(loc):
+        import math
+        dlat = (loc['latitude'] - SITE_LAT) * 1e-7 * 111195.0
+        dlon = (loc['longitude'] - SITE_LON) * 1e-7 * 111195.0 * math.cos(
+            math.radians(SITE_LAT * 1e-7))
+        return math.hypot(dlat, dlon)
+    assert dist_m(vectors['region_miss'][0]['generation_location']) > 4 * REGION_RADIUS_M
+    assert dist_m(location()) < REGION_RADIUS_M / 10
+    # clocks: normal cases within skew and before expiry; future / too old beyond the skew
+    for v, _, _, _ in vectors.values():
+        late = v['generation_time'] - v['now'] > v['max_skew_us']
+        old = v['now'] - v['generation_time'] > v['max_skew_us']
+        assert late == (v['name'] == 'generation_time_future'), v['name']
+        assert old == (v['name'] == 'generation_time_too_old'), v['name']
+        assert (v['now'] > v['expiry_time']) == (v['name'] == 'message_expired'), v['name']
+    gp = good['validityPeriod']
+    assert gp['start'] * 1000000 < GEN < (gp['start'] + gp['duration'][1] * 3600) * 1000000
+
+
 def check_chain(chain_certs, root):
     """Each certificate's signature verifies with its issuer's key, ending at root."""
     for cert in chain_certs:
@@ -488,6 +556,7 @@ def self_check(vectors, c):
             elif v['signer'] == 'digest':
                 check_chain([cert, c['ca']], c['root'])
             assert sd['tbsData']['headerInfo']['psid'] in (PSID_TIM, PSID_MAP)
+    check_intended(vectors, c)
     check_chain([c['evil_rsu'], c['evil_ca']], c['evil_root'])
     try:
         check_chain([c['evil_rsu'], c['evil_ca']], c['root'])
