@@ -83,6 +83,11 @@ except ImportError:
     sys.exit('make_signed_vectors.py needs the `cryptography` package in the oracle venv:\n'
              '    PY=$(bash ../shared/oracle/setup.sh | tail -n1); $PY -m pip install cryptography')
 try:
+    ec.ECDSA(hashes.SHA256(), deterministic_signing=True)
+except TypeError:
+    sys.exit('make_signed_vectors.py needs cryptography >= 42 (RFC 6979 deterministic ECDSA);'
+             ' found %s:\n    $PY -m pip install -U cryptography' % cryptography.__version__)
+try:
     from pycrate_asn1dir import ITS_IEEE1609_2 as I2
 except ImportError:
     sys.exit('pycrate is missing: run with the oracle python, $(bash ../shared/oracle/setup.sh)')
