@@ -11,7 +11,8 @@ What it makes
          verifier has already seen (for the digest signer), "now": the verifier's clock
          (Time64), "max_skew_us", "self_public_key" (self signer only, compressed SEC1 hex),
          "rsig_form": "x-only" | "compressed-y", "pair" (replay), "differs_from" (the valid
-         vector an invalid one was made from), "note"}.
+         vector an invalid one was made from), "note", "untrusted_root" (its root),
+         "certificate_type": "implicit" and "reconstructed_public_key" (ECQV vectors)}.
 
 Independence
     Nothing here is computed by the project's code. ASN.1 structure and COER bytes come from
