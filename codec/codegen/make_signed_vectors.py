@@ -66,11 +66,13 @@ How to run (from the repository root)
     $PY codec/codegen/make_signed_vectors.py            (write the file)
     $PY codec/codegen/make_signed_vectors.py --check    (exit 1 if the committed file differs)
 """
-import argparse
 import hashlib
 import json
 import os
 import sys
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import vector_file  # noqa: E402  (beside this script)
 from datetime import datetime, timezone
 
 try:
@@ -668,29 +670,11 @@ def make_text():
 
 
 def main():
-    ap = argparse.ArgumentParser(description=__doc__.split('\n\n')[0])
-    ap.add_argument('--check', action='store_true',
-                    help='re-make the vectors in memory; exit 1 if the committed file differs')
-    args = ap.parse_args()
-    text, vectors = make_text()
-    rel = os.path.relpath(OUT, REPO)
-    if args.check:
-        try:
-            with open(OUT, encoding='ascii') as f:
-                committed = f.read()
-        except FileNotFoundError:
-            committed = None
-        if committed != text:
-            print('%s is out of date: run make_signed_vectors.py' % rel, file=sys.stderr)
-            return 1
-        print('%s: %d vectors, up to date (cryptography %s)' % (rel, len(vectors),
-                                                               cryptography.__version__))
-        return 0
-    with open(OUT, 'w', encoding='ascii', newline='\n') as f:
-        f.write(text)
-    print('wrote %s: %d vectors (cryptography %s)' % (rel, len(vectors),
-                                                     cryptography.__version__))
-    return 0
+    def make():
+        text, vectors = make_text()
+        return text, len(vectors)
+    return vector_file.run(__doc__.split('\n\n')[0], OUT, REPO, make,
+                           note='cryptography %s' % cryptography.__version__)
 
 
 if __name__ == '__main__':

@@ -57,10 +57,12 @@ Notes recorded here on purpose
     * asn1tools is installed with the oracle but needs the ASN.1 text, which is SAE's
       copyrighted file and not available here, so it is not used as a second opinion.
 """
-import argparse
 import json
 import os
 import sys
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import vector_file  # noqa: E402  (beside this script)
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 REPO = os.path.normpath(os.path.join(HERE, '..', '..'))
@@ -1681,28 +1683,10 @@ def make_all():
 
 
 def main():
-    ap = argparse.ArgumentParser(description=__doc__.split('\n\n')[0])
-    ap.add_argument('--check', action='store_true',
-                    help='re-make the vectors in memory; exit 1 if the committed file differs')
-    args = ap.parse_args()
-    text, vectors = make_all()
-    rel = os.path.relpath(OUT, REPO)
-    if args.check:
-        try:
-            with open(OUT, encoding='ascii') as f:
-                committed = f.read()
-        except FileNotFoundError:
-            committed = None
-        if committed != text:
-            print('%s is out of date: run make_vectors.py' % rel, file=sys.stderr)
-            return 1
-        print('%s: %d vectors, up to date' % (rel, len(vectors)))
-        return 0
-    os.makedirs(os.path.dirname(OUT), exist_ok=True)
-    with open(OUT, 'w', encoding='ascii', newline='\n') as f:
-        f.write(text)
-    print('wrote %s: %d vectors' % (rel, len(vectors)))
-    return 0
+    def make():
+        text, vectors = make_all()
+        return text, len(vectors)
+    return vector_file.run(__doc__.split('\n\n')[0], OUT, REPO, make)
 
 
 if __name__ == '__main__':
