@@ -1683,10 +1683,7 @@ def make_all():
 
 
 def main():
-    def make():
-        text, vectors = make_all()
-        return text, len(vectors)
-    return vector_file.run(__doc__.split('\n\n')[0], OUT, REPO, make)
+    return vector_file.run(__doc__.split('\n\n')[0], OUT, REPO, make_all)
 
 
 if __name__ == '__main__':

@@ -6,12 +6,13 @@ import sys
 
 
 def run(description, out, repo, make, note=''):
-    """Parses the command line; `make()` returns (text, count). Returns the exit status."""
+    """Parses the command line; `make()` returns (text, vectors). Returns the exit status."""
     ap = argparse.ArgumentParser(description=description)
     ap.add_argument('--check', action='store_true',
                     help='re-make the vectors in memory; exit 1 if the committed file differs')
     args = ap.parse_args()
-    text, count = make()
+    text, vectors = make()
+    count = len(vectors)
     rel = os.path.relpath(out, repo)
     suffix = ' (%s)' % note if note else ''
     if args.check:
