@@ -5,7 +5,9 @@
 //! generator's key, and every truncation is refused. The trust policy (chain, time,
 //! region, permissions, replay) is the OBU's and is tested there with the same vectors.
 
-use j2735::envelope::ieee1609dot2::crypto::{hashed_id8, signing_digest, CryptoError, PublicKey};
+use j2735::envelope::ieee1609dot2::crypto::{
+    hashed_id8, sha256, signing_digest, CryptoError, PublicKey,
+};
 use j2735::envelope::ieee1609dot2::{
     Certificate, CertificateKind, Ieee1609Dot2Data, Issuer, SignerIdentifier,
 };
@@ -31,7 +33,8 @@ fn key_of(v: &SignedVector, cert: &Certificate<'_>) -> PublicKey {
         CertificateKind::Implicit => {
             let ca = Certificate::parse(&v.ca).unwrap();
             assert_eq!(cert.issuer, Issuer::Sha256Digest(hashed_id8(&v.ca)));
-            PublicKey::reconstruct(cert, &v.ca, &PublicKey::of_explicit(&ca).unwrap()).unwrap()
+            let ca_hash = sha256(&v.ca);
+            PublicKey::reconstruct(cert, &ca_hash, &PublicKey::of_explicit(&ca).unwrap()).unwrap()
         }
     }
 }

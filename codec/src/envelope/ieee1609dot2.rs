@@ -279,6 +279,10 @@ pub use super::ieee1609dot2_certificate::{
     ValidityPeriod, VerifyKeyIndicator,
 };
 pub use super::ieee1609dot2_signature::{CurvePoint, PointForm, Signature, SignatureScheme};
+/// Writing signed data and certificates (feature `crypto`).
+#[cfg(feature = "crypto")]
+#[path = "ieee1609dot2_build.rs"]
+pub mod build;
 /// NIST P-256 / SHA-256: signature hashes, verify, sign, ECQV (feature `crypto`).
 #[cfg(feature = "crypto")]
 #[path = "ieee1609dot2_crypto.rs"]

@@ -606,9 +606,9 @@ fn parse_psid_ssp_range(reader: &mut CoerReader<'_>) -> DecodeResult<u32> {
     let preamble = reader.read_preamble(false, 1)?;
     let psid = read_psid(reader)?;
     if preamble.has_optional(0) {
-        match read_extensible_tag(reader, 2)? {
-            Some(0) => skip_sequence_of(reader, |r| r.read_octet_string().map(|_| ()))?,
-            Some(_) | None => {} // all: NULL
+        // explicit: a list of octet strings; all (NULL) and extensions: nothing more.
+        if let Some(0) = read_extensible_tag(reader, 2)? {
+            skip_sequence_of(reader, |r| r.read_octet_string().map(|_| ()))?;
         }
     }
     Ok(psid)

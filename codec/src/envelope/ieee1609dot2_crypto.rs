@@ -17,6 +17,9 @@
 //!
 //! No function in this module panics on any input.
 
+// Scalar and point arithmetic here is modular (mod n, on the curve): it cannot overflow.
+#![allow(clippy::arithmetic_side_effects)]
+
 use core::fmt;
 
 use p256::elliptic_curve::group::Group;
@@ -93,6 +96,16 @@ pub fn signing_digest(data: &[u8], signer: Option<&[u8]>) -> [u8; 32] {
     hasher.finalize().into()
 }
 
+/// [`signing_digest`] when the signer certificate's SHA-256 is already known (a verifier
+/// keeps the hashes of trusted certificates, not their bytes).
+#[must_use]
+pub fn signing_digest_with(data: &[u8], signer_hash: &[u8; 32]) -> [u8; 32] {
+    let mut hasher = Sha256::new();
+    hasher.update(sha256(data));
+    hasher.update(signer_hash);
+    hasher.finalize().into()
+}
+
 /// A P-256 public key (a point on the curve, not the identity).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct PublicKey(AffinePoint);
@@ -164,7 +177,8 @@ impl PublicKey {
     }
 
     /// ECQV: the public key of the implicit `certificate`, issued by the certificate whose
-    /// COER is `issuer` and whose key is `issuer_key` (`Q_U = e * P_U + Q_CA`).
+    /// COER has the SHA-256 `issuer_hash` and whose key is `issuer_key`
+    /// (`Q_U = e * P_U + Q_CA`).
     ///
     /// # Errors
     ///
@@ -172,14 +186,14 @@ impl PublicKey {
     /// reconstruction value or the result is not a valid point.
     pub fn reconstruct(
         certificate: &Certificate<'_>,
-        issuer: &[u8],
+        issuer_hash: &[u8; 32],
         issuer_key: &PublicKey,
     ) -> Result<Self, CryptoError> {
         let VerifyKeyIndicator::Reconstruction(point) = certificate.verify_key else {
             return Err(CryptoError::WrongKeyKind);
         };
         let reconstruction = Self::from_curve_point(&point)?;
-        let e = scalar_of_digest(&signing_digest(certificate.to_be_signed, Some(issuer)));
+        let e = scalar_of_digest(&signing_digest_with(certificate.to_be_signed, issuer_hash));
         let q = ProjectivePoint::from(reconstruction.0) * e + ProjectivePoint::from(issuer_key.0);
         if bool::from(q.is_identity()) {
             return Err(CryptoError::InvalidPoint);

@@ -12,12 +12,13 @@ use std::path::Path;
 use std::time::{Duration, Instant};
 
 /// The groups every V2X datagram is counted in, exactly one of them.
-const V2X_GROUPS: [&str; 5] = [
+const V2X_GROUPS: [&str; 6] = [
     "messages",
     "v2x_dropped",
     "envelope_errors",
     "decode_errors",
     "ingest_errors",
+    "security_errors",
 ];
 /// The daemon's default `v2x.max_datagram`.
 const MAX_DATAGRAM: usize = 4096;
@@ -26,7 +27,8 @@ fn start(dir: &Path) -> Daemon {
     let path = dir.join("obu.toml");
     let text = format!(
         "[v2x]\nbind = \"127.0.0.1:0\"\n[gnss]\nsource = \"nmea-udp\"\naddress = \"127.0.0.1:{}\"\n\
-         [http]\nbind = \"127.0.0.1:0\"\nsettings_file = \"{}\"\n",
+         [http]\nbind = \"127.0.0.1:0\"\nsettings_file = \"{}\"\n\
+         [security]\nrequire_signed = false\n",
         free_udp_port(),
         dir.join("settings.json").display()
     );
