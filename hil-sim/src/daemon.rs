@@ -26,13 +26,25 @@ pub fn free_udp_port() -> Result<u16, String> {
 }
 
 /// The daemon's configuration: V2X on any loopback port, NMEA over UDP on `gnss_port`,
-/// HTTP on `http_port` (0: any), settings in `state_dir`, plus `extra` TOML tables.
-pub fn config(state_dir: &Path, gnss_port: u16, http_port: u16, extra: &str) -> String {
+/// HTTP on `http_port` (0: any), settings in `state_dir`, the bench PKI's trust anchors
+/// (written into `state_dir`; signatures required, the product default), plus `extra`
+/// TOML tables.
+///
+/// # Errors
+///
+/// The file system's error writing the anchors.
+pub fn config(
+    state_dir: &Path,
+    gnss_port: u16,
+    http_port: u16,
+    extra: &str,
+) -> Result<String, String> {
     let settings = state_dir.join("obu-settings.json");
-    format!(
+    let security = crate::bench_pki::security_toml(state_dir)?;
+    Ok(format!(
         "[v2x]\nbind = \"127.0.0.1:0\"\n\n[gnss]\nsource = \"nmea-udp\"\naddress = \"127.0.0.1:{gnss_port}\"\n\n\
-         [http]\nbind = \"127.0.0.1:{http_port}\"\nsettings_file = {settings:?}\n{extra}"
-    )
+         [http]\nbind = \"127.0.0.1:{http_port}\"\nsettings_file = {settings:?}\n{security}{extra}"
+    ))
 }
 
 /// A running daemon.

@@ -107,6 +107,10 @@ pub struct CheckContext {
 /// Trust anchors, the cache of verified signer certificates and the replay window.
 #[derive(Debug, Clone)]
 pub struct Trust {
+    /// False until settings are given: [`SecurityConfig::DEFAULT`] applies. Kept apart so
+    /// that an unconfigured `Trust` is all zero bytes (a firmware `static` of it, and of
+    /// the receive path holding it, lands in .bss instead of .data).
+    configured: bool,
     config: SecurityConfig,
     anchors: Vec<TrustedCert, MAX_TRUST_ANCHORS>,
     cache: Vec<TrustedCert, MAX_CACHED_CERTS>,
@@ -115,7 +119,7 @@ pub struct Trust {
 
 impl Default for Trust {
     fn default() -> Self {
-        Self::new(SecurityConfig::DEFAULT)
+        Self::unconfigured()
     }
 }
 
@@ -123,6 +127,7 @@ impl Trust {
     /// No anchors yet: every signed message is refused until one is added.
     pub const fn new(config: SecurityConfig) -> Self {
         Self {
+            configured: true,
             config,
             anchors: Vec::new(),
             cache: Vec::new(),
@@ -130,13 +135,34 @@ impl Trust {
         }
     }
 
+    /// [`SecurityConfig::DEFAULT`] (signatures required) and no anchors, as all zero bytes.
+    pub const fn unconfigured() -> Self {
+        Self {
+            configured: false,
+            config: SecurityConfig {
+                require_signed: false,
+                max_skew_ms: 0,
+                tim_psid: 0,
+                map_psid: 0,
+            },
+            anchors: Vec::new(),
+            cache: Vec::new(),
+            replay: ReplayWindow::new(),
+        }
+    }
+
     /// The settings.
-    pub fn config(&self) -> &SecurityConfig {
-        &self.config
+    pub fn config(&self) -> SecurityConfig {
+        if self.configured {
+            self.config
+        } else {
+            SecurityConfig::DEFAULT
+        }
     }
 
     /// Replaces the settings.
     pub fn set_config(&mut self, config: SecurityConfig) {
+        self.configured = true;
         self.config = config;
     }
 
@@ -166,9 +192,10 @@ impl Trust {
 
     /// The PSID configured for `message_id`, if the OBU uses that message.
     pub fn psid_for(&self, message_id: u16) -> Option<u32> {
+        let config = self.config();
         match message_id {
-            TravelerInformation::MESSAGE_ID => Some(self.config.tim_psid),
-            MapData::MESSAGE_ID => Some(self.config.map_psid),
+            TravelerInformation::MESSAGE_ID => Some(config.tim_psid),
+            MapData::MESSAGE_ID => Some(config.map_psid),
             _ => None,
         }
     }
@@ -193,7 +220,7 @@ impl Trust {
         let now = ctx.now_us.ok_or(DropReason::NoTime)?;
         let index = self.signer(&signed.signer, header.psid)?;
         let digest = self.check_signed_by(&self.cache[index], signed, ctx)?;
-        let skew = u64::from(self.config.max_skew_ms) * 1000;
+        let skew = u64::from(self.config().max_skew_ms) * 1000;
         if generated > now.saturating_add(skew) {
             return Err(DropReason::GenerationTimeFuture);
         }

@@ -8,12 +8,13 @@ use heapless::Vec;
 
 use crate::capacity::MAX_REPLAY;
 
-/// One accepted message: its generation time (`Time64`) and the first half of its
-/// signature hash.
+/// One accepted message: its generation time (`Time64`) and the first 8 octets of its
+/// signature hash (two different messages of the same microsecond collide with
+/// probability 2^-64).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 struct Seen {
     generated_us: u64,
-    tag: [u8; 16],
+    tag: [u8; 8],
 }
 
 /// Recently accepted messages, at most [`MAX_REPLAY`].
@@ -78,9 +79,9 @@ impl ReplayWindow {
     }
 }
 
-fn tag(digest: &[u8; 32]) -> [u8; 16] {
-    let mut t = [0u8; 16];
-    t.copy_from_slice(&digest[..16]);
+fn tag(digest: &[u8; 32]) -> [u8; 8] {
+    let mut t = [0u8; 8];
+    t.copy_from_slice(&digest[..8]);
     t
 }
 

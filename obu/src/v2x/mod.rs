@@ -58,10 +58,15 @@ pub struct V2xReceiver<const N: usize> {
 
 impl<const N: usize> V2xReceiver<N> {
     /// Nothing received yet, the product's security settings
-    /// ([`SecurityConfig::DEFAULT`]: signatures required) and no trust anchor; `const` so
-    /// that firmware can place it in a `static`.
+    /// ([`SecurityConfig::DEFAULT`]: signatures required) and no trust anchor; `const` and
+    /// all zero bytes, so that firmware can place it in a `static` in .bss.
     pub const fn new() -> Self {
-        Self::with_security(SecurityConfig::DEFAULT)
+        Self {
+            map: heapless::Vec::new(),
+            tim: heapless::Vec::new(),
+            payload: [0; N],
+            trust: Trust::unconfigured(),
+        }
     }
 
     /// Nothing received yet, with these security settings.
