@@ -52,8 +52,8 @@ mod tests {
         let pki = Pki::create(&PkiSpec {
             seed: Some("hil-sim bench".into()),
             start_unix_s: 1_735_689_600, // 2025-01-01
-            root_years: 10,
-            ca_years: 5,
+            root_years: 20,
+            ca_years: 15,
             rsu_hours: 2730 * 24,
             region: None,
             psids: vec![0x8003, 0xE000_0017],

@@ -127,6 +127,21 @@ impl Pki {
     ///
     /// A message when the random source fails or a value does not fit its field.
     pub fn create(spec: &PkiSpec) -> Result<Self, String> {
+        // A certificate's validity must lie within its issuer's (the OBU checks it).
+        let (rsu, ca, root) = (
+            Duration::Hours(spec.rsu_hours).micros(),
+            Duration::Years(spec.ca_years).micros(),
+            Duration::Years(spec.root_years).micros(),
+        );
+        if rsu > ca || ca > root || rsu == 0 {
+            return Err(format!(
+                "validity: the RSU's ({} days) must be within the CA's ({} years), the CA's \
+                 within the root's ({} years)",
+                spec.rsu_hours / 24,
+                spec.ca_years,
+                spec.root_years
+            ));
+        }
         let seed = spec.seed.as_deref();
         let start = time32_of_unix_s(spec.start_unix_s);
         let root_key = make_key(seed, "root")?;
@@ -345,6 +360,21 @@ mod tests {
         let rsu = Certificate::parse(&a.rsu.cert).unwrap();
         assert!(rsu.permission(0x8003).is_some() && rsu.permission(0xE000_0017).is_some());
         assert_eq!(rsu.validity.start.0, time32_of_unix_s(1_767_225_600));
+    }
+
+    #[test]
+    fn validity_must_nest() {
+        let long_rsu = PkiSpec {
+            rsu_hours: 2730 * 24,
+            ..spec()
+        };
+        assert!(Pki::create(&long_rsu).unwrap_err().contains("within the CA"));
+        let ok = PkiSpec {
+            ca_years: 15,
+            root_years: 20,
+            ..long_rsu
+        };
+        assert!(Pki::create(&ok).is_ok());
     }
 
     #[test]

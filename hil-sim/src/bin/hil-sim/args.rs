@@ -145,9 +145,15 @@ pub struct PkiArgs {
     /// First day of validity of every certificate, UTC (default: today).
     #[arg(long, value_name = "YYYY-MM-DD", value_parser = date)]
     pub start: Option<u64>,
-    /// RSU certificate validity, days (the root's is 10 years, the CA's 5).
+    /// RSU certificate validity, days (at most 2730; within the CA's).
     #[arg(long, value_name = "N", default_value_t = 30)]
     pub days: u16,
+    /// Issuing CA certificate validity, years (within the root's).
+    #[arg(long, value_name = "N", default_value_t = 5)]
+    pub ca_years: u16,
+    /// Root certificate validity, years.
+    #[arg(long, value_name = "N", default_value_t = 10)]
+    pub root_years: u16,
     /// The RSU certificate's region: a circle (degrees, degrees, metres); default: none.
     #[arg(long, value_name = "LAT,LON,RADIUS_M", value_parser = circle)]
     pub region: Option<(i32, i32, u16)>,

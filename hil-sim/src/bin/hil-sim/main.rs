@@ -193,8 +193,8 @@ fn pki(a: &PkiArgs) -> Result<(), String> {
     let spec = PkiSpec {
         seed: a.seed.clone(),
         start_unix_s,
-        root_years: 10,
-        ca_years: 5,
+        root_years: a.root_years,
+        ca_years: a.ca_years,
         rsu_hours: a.days.checked_mul(24).ok_or("--days: at most 2730")?,
         region: a.region,
         psids,
