@@ -6,7 +6,7 @@
 //! region, permissions, replay) is the OBU's and is tested there with the same vectors.
 
 use j2735::envelope::ieee1609dot2::crypto::{
-    hashed_id8, sha256, signing_digest, CryptoError, PublicKey,
+    hashed_id8, sha256, signing_digest, CryptoError, GeneratorTable, PreparedKey, PublicKey,
 };
 use j2735::envelope::ieee1609dot2::{
     Certificate, CertificateKind, Ieee1609Dot2Data, Issuer, SignerIdentifier,
@@ -49,7 +49,14 @@ fn verify_data(v: &SignedVector) -> Result<(), CryptoError> {
         None => PublicKey::from_sec1(v.self_public_key.as_ref().unwrap()).unwrap(),
     };
     let digest = signing_digest(signed.to_be_signed, cert_bytes.as_deref());
-    key.verify(&digest, &signed.signature)
+    let plain = key.verify(&digest, &signed.signature);
+    let prepared = PreparedKey::new(key).verify(&GeneratorTable::new(), &digest, &signed.signature);
+    assert_eq!(
+        plain, prepared,
+        "{}: the prepared key verifies alike",
+        v.name
+    );
+    plain
 }
 
 #[test]

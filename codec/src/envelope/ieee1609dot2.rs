@@ -287,6 +287,9 @@ pub mod build;
 #[cfg(feature = "crypto")]
 #[path = "ieee1609dot2_crypto.rs"]
 pub mod crypto;
+#[cfg(feature = "crypto")]
+#[path = "ieee1609dot2_lincomb.rs"]
+mod lincomb;
 
 impl<'a> Ieee1609Dot2Data<'a> {
     /// Decodes `bytes`, which must hold exactly one `Ieee1609Dot2Data`.

@@ -2,7 +2,9 @@
 //! or one whose chain it verified), and the walk that earns that trust.
 
 use heapless::Vec;
-use j2735::envelope::ieee1609dot2::crypto::{sha256, signing_digest_with, CryptoError, PublicKey};
+use j2735::envelope::ieee1609dot2::crypto::{
+    sha256, signing_digest_with, CryptoError, GeneratorTable, PreparedKey, PublicKey,
+};
 use j2735::envelope::ieee1609dot2::{
     Certificate, CertificateKind, Issuer, SubjectPermissions, ValidityPeriod,
 };
@@ -16,8 +18,9 @@ use crate::v2x::DropReason;
 pub struct TrustedCert {
     /// SHA-256 of the certificate's COER (its `HashedId8` is the last eight octets).
     pub hash: [u8; 32],
-    /// Its verification key (explicit, or reconstructed by ECQV).
-    pub key: PublicKey,
+    /// Its verification key (explicit, or reconstructed by ECQV), with its precomputed
+    /// multiples: this certificate verifies many messages.
+    pub key: PreparedKey,
     /// Its validity period.
     pub validity: ValidityPeriod,
     /// `appPermissions`: the PSIDs it may sign.
@@ -77,7 +80,7 @@ impl TrustedCert {
         };
         Ok(Self {
             hash: sha256(cert.encoded),
-            key,
+            key: PreparedKey::new(key),
             validity: cert.validity,
             app_psids,
             issue_psids,
@@ -112,7 +115,12 @@ impl TrustedCert {
     ///
     /// [`DropReason::ChainUntrusted`] when `self` is not its issuer, `IssuerPermission`,
     /// `CertificateInvalid`, `UnsupportedAlgorithm` or `CertificateTooLarge`.
-    pub fn issue(&self, cert: &Certificate<'_>, psids: &[u32]) -> Result<Self, DropReason> {
+    pub fn issue(
+        &self,
+        cert: &Certificate<'_>,
+        psids: &[u32],
+        generator: &GeneratorTable,
+    ) -> Result<Self, DropReason> {
         if cert.issuer != Issuer::Sha256Digest(self.id8()) {
             return Err(DropReason::ChainUntrusted);
         }
@@ -130,7 +138,7 @@ impl TrustedCert {
                 let signature = cert.signature.ok_or(DropReason::CertificateInvalid)?;
                 let digest = signing_digest_with(cert.to_be_signed, &self.hash);
                 self.key
-                    .verify(&digest, &signature)
+                    .verify(generator, &digest, &signature)
                     .map_err(crypto_reason)?;
                 key
             }
@@ -138,7 +146,8 @@ impl TrustedCert {
                 if cert.signature.is_some() {
                     return Err(DropReason::CertificateInvalid);
                 }
-                PublicKey::reconstruct(cert, &self.hash, &self.key).map_err(crypto_reason)?
+                PublicKey::reconstruct(cert, &self.hash, self.key.public())
+                    .map_err(crypto_reason)?
             }
         };
         Self::keep(cert, key)

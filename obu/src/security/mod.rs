@@ -35,7 +35,7 @@ pub use region::Region;
 pub use replay::ReplayWindow;
 
 use heapless::Vec;
-use j2735::envelope::ieee1609dot2::crypto::{sha256, signing_digest_with};
+use j2735::envelope::ieee1609dot2::crypto::{sha256, signing_digest_with, GeneratorTable};
 use j2735::envelope::ieee1609dot2::{
     Certificate, HashAlgorithm, Issuer, SignatureScheme, SignedData, SignerIdentifier,
 };
@@ -115,6 +115,8 @@ pub struct Trust {
     anchors: Vec<TrustedCert, MAX_TRUST_ANCHORS>,
     cache: Vec<TrustedCert, MAX_CACHED_CERTS>,
     replay: ReplayWindow,
+    /// The generator's multiples, made at the first check.
+    generator: Option<GeneratorTable>,
 }
 
 impl Default for Trust {
@@ -132,6 +134,7 @@ impl Trust {
             anchors: Vec::new(),
             cache: Vec::new(),
             replay: ReplayWindow::new(),
+            generator: None,
         }
     }
 
@@ -148,6 +151,7 @@ impl Trust {
             anchors: Vec::new(),
             cache: Vec::new(),
             replay: ReplayWindow::new(),
+            generator: None,
         }
     }
 
@@ -218,6 +222,9 @@ impl Trust {
             .ok_or(DropReason::NoGenerationTime)?
             .0;
         let now = ctx.now_us.ok_or(DropReason::NoTime)?;
+        if self.generator.is_none() {
+            self.generator = Some(GeneratorTable::new());
+        }
         let index = self.signer(&signed.signer, header.psid)?;
         let digest = self.check_signed_by(&self.cache[index], signed, ctx)?;
         let skew = u64::from(self.config().max_skew_ms) * 1000;
@@ -266,9 +273,13 @@ impl Trust {
             }
         }
         let digest = signing_digest_with(signed.to_be_signed, &signer.hash);
+        let generator = self
+            .generator
+            .as_ref()
+            .ok_or(DropReason::SignatureInvalid)?;
         signer
             .key
-            .verify(&digest, &signed.signature)
+            .verify(generator, &digest, &signed.signature)
             .map_err(|_| DropReason::SignatureInvalid)?;
         Ok(digest)
     }
@@ -322,7 +333,7 @@ impl Trust {
     /// Verifies a chain (signer first) down from a trust anchor; every issuer must be
     /// allowed to certify each of `psids`.
     fn walk_chain<'a>(
-        &self,
+        &mut self,
         certs: impl Iterator<Item = Certificate<'a>>,
         len: usize,
         psids: &[u32],
@@ -351,8 +362,9 @@ impl Trust {
                 Some((i, a.clone()))
             })
             .ok_or(DropReason::ChainUntrusted)?;
+        let generator = self.generator.get_or_insert_with(GeneratorTable::new);
         for i in (0..=top).rev() {
-            issuer = issuer.issue(&chain[i], psids)?;
+            issuer = issuer.issue(&chain[i], psids, generator)?;
         }
         Ok(issuer)
     }
