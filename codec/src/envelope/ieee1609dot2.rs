@@ -19,8 +19,9 @@
 
 use super::coer::{optional, within_open_type, CoerReader, DecodeResult};
 use super::ieee1609dot2_certificate::parse_certificate;
-use super::ieee1609dot2_signature::parse_signature;
-use super::ieee1609dot2_skip::{skip_certificate, skip_encrypted_data, skip_encryption_key};
+use super::ieee1609dot2_certificate::skip_certificate;
+use super::ieee1609dot2_signature::{parse_hash_algorithm, parse_signature};
+use super::ieee1609dot2_skip::{skip_encrypted_data, skip_encryption_key};
 
 pub use super::ieee1609dot2_error::{
     BufferTooSmall, DecodeError, DecodeErrorKind, MAX_NESTING_DEPTH, PROTOCOL_VERSION,
@@ -77,19 +78,6 @@ pub struct SignedData<'a> {
     pub signer: SignerIdentifier<'a>,
     /// `signature`: the signature value, unverified.
     pub signature: Signature<'a>,
-}
-
-/// `HashAlgorithm`.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-#[non_exhaustive]
-pub enum HashAlgorithm {
-    /// SHA-256.
-    Sha256,
-    /// SHA-384.
-    Sha384,
-    /// SM3 (IEEE 1609.2-2022).
-    Sm3,
 }
 
 /// `SignedDataPayload`: the data that was signed, or a hash of external data, or both.
@@ -278,7 +266,9 @@ pub use super::ieee1609dot2_certificate::{
     PsidGroups, PsidRanges, PsidSsp, PsidSsps, Ssp, SubjectPermissions, Time32, TwoDLocation,
     ValidityPeriod, VerifyKeyIndicator,
 };
-pub use super::ieee1609dot2_signature::{CurvePoint, PointForm, Signature, SignatureScheme};
+pub use super::ieee1609dot2_signature::{
+    CurvePoint, HashAlgorithm, PointForm, Signature, SignatureScheme,
+};
 /// Writing signed data and certificates (feature `crypto`).
 #[cfg(feature = "crypto")]
 #[path = "ieee1609dot2_build.rs"]
@@ -506,17 +496,6 @@ fn parse_signed_data<'a>(
         signature,
     };
     Ok((signed_data, application_data))
-}
-
-/// Decodes the `HashAlgorithm` ENUMERATED.
-fn parse_hash_algorithm(reader: &mut CoerReader<'_>) -> DecodeResult<HashAlgorithm> {
-    let value_reader = *reader;
-    match reader.read_enumerated()? {
-        0 => Ok(HashAlgorithm::Sha256),
-        1 => Ok(HashAlgorithm::Sha384),
-        2 => Ok(HashAlgorithm::Sm3),
-        _ => Err(value_reader.error(DecodeErrorKind::UnknownAlternative)),
-    }
 }
 
 /// Decodes `SignedDataPayload`, parsing (and checking) the nested data if present.

@@ -1,5 +1,5 @@
 //! Writing IEEE 1609.2 in COER: signed data around a J2735 frame, and explicit or implicit
-//! certificates, signed with [`SecretKey`] (NIST P-256, SHA-256). No heap: everything is
+//! certificates, signed with a [`SecretKey`](crate::envelope::ieee1609dot2::crypto::SecretKey) (NIST P-256, SHA-256). No heap: everything is
 //! written into the caller's buffer.
 //!
 //! The encodings are the canonical ones the parser in [`super`] reads back, and are

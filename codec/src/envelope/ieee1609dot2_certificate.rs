@@ -11,9 +11,10 @@
 //! No function in this module panics on any input.
 
 use super::coer::{optional, CoerReader, DecodeResult};
-use super::ieee1609dot2::HashAlgorithm;
 use super::ieee1609dot2_error::{DecodeError, DecodeErrorKind, PROTOCOL_VERSION};
-use super::ieee1609dot2_signature::{parse_curve_point, parse_signature, CurvePoint, Signature};
+use super::ieee1609dot2_signature::{
+    parse_curve_point, parse_hash_algorithm, parse_signature, CurvePoint, HashAlgorithm, Signature,
+};
 use super::ieee1609dot2_skip::{
     read_extensible_tag, read_root_tag, skip_public_encryption_key, skip_sequence_of,
 };
@@ -348,6 +349,11 @@ impl<'a> Certificate<'a> {
     }
 }
 
+/// Skips a `Certificate`, checking it as [`parse_certificate`] does.
+pub(crate) fn skip_certificate(reader: &mut CoerReader<'_>) -> DecodeResult<()> {
+    parse_certificate(reader).map(|_| ())
+}
+
 /// Decodes a `Certificate` at the reader (used by the chain walk of signed data too).
 pub(crate) fn parse_certificate<'a>(reader: &mut CoerReader<'a>) -> DecodeResult<Certificate<'a>> {
     let start = reader.position();
@@ -394,15 +400,7 @@ struct ToBeSigned<'a> {
 fn parse_issuer(reader: &mut CoerReader<'_>) -> DecodeResult<Issuer> {
     Ok(match read_extensible_tag(reader, 2)? {
         Some(0) => Issuer::Sha256Digest(reader.read_array()?),
-        Some(_) => {
-            let value_reader = *reader;
-            match reader.read_enumerated()? {
-                0 => Issuer::SelfSigned(HashAlgorithm::Sha256),
-                1 => Issuer::SelfSigned(HashAlgorithm::Sha384),
-                2 => Issuer::SelfSigned(HashAlgorithm::Sm3),
-                _ => return Err(value_reader.error(DecodeErrorKind::UnknownAlternative)),
-            }
-        }
+        Some(_) => Issuer::SelfSigned(parse_hash_algorithm(reader)?),
         None => Issuer::Other,
     })
 }

@@ -59,6 +59,30 @@ pub enum PointForm {
     Uncompressed,
 }
 
+/// `HashAlgorithm`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[non_exhaustive]
+pub enum HashAlgorithm {
+    /// SHA-256.
+    Sha256,
+    /// SHA-384.
+    Sha384,
+    /// SM3 (IEEE 1609.2-2022).
+    Sm3,
+}
+
+/// Decodes the `HashAlgorithm` ENUMERATED.
+pub(crate) fn parse_hash_algorithm(reader: &mut CoerReader<'_>) -> DecodeResult<HashAlgorithm> {
+    let value_reader = *reader;
+    match reader.read_enumerated()? {
+        0 => Ok(HashAlgorithm::Sha256),
+        1 => Ok(HashAlgorithm::Sha384),
+        2 => Ok(HashAlgorithm::Sm3),
+        _ => Err(value_reader.error(DecodeErrorKind::UnknownAlternative)),
+    }
+}
+
 /// Decodes `Signature`.
 pub(crate) fn parse_signature<'a>(reader: &mut CoerReader<'a>) -> DecodeResult<Signature<'a>> {
     let tag_reader = *reader;

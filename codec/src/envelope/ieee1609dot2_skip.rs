@@ -9,17 +9,11 @@
 //! No function in this module panics on any input.
 
 use super::coer::{CoerReader, DecodeResult};
-use super::ieee1609dot2_certificate::parse_certificate;
 use super::ieee1609dot2_error::DecodeErrorKind;
 use super::ieee1609dot2_signature::parse_curve_point;
 
 /// A function that advances a reader past one value.
 type Skip = for<'a> fn(&mut CoerReader<'a>) -> DecodeResult<()>;
-
-/// Skips a `Certificate` (`CertificateBase`), checking it as [`parse_certificate`] does.
-pub(crate) fn skip_certificate(reader: &mut CoerReader<'_>) -> DecodeResult<()> {
-    parse_certificate(reader).map(|_| ())
-}
 
 /// Skips `EncryptedData`: recipients, then the ciphertext.
 pub(crate) fn skip_encrypted_data(reader: &mut CoerReader<'_>) -> DecodeResult<()> {

@@ -10,8 +10,8 @@ use j2735::envelope::ieee1609dot2::{
 };
 
 use super::region::{Region, RegionError};
+use super::Rejection;
 use crate::capacity::MAX_CERT_PSIDS;
-use crate::v2x::DropReason;
 
 /// A trusted certificate without its bytes: enough to verify what it signed or issued.
 #[derive(Debug, Clone, PartialEq)]
@@ -50,10 +50,10 @@ impl TrustedCert {
     ///
     /// # Errors
     ///
-    /// [`DropReason::CertificateTooLarge`] beyond the capacities, `CertificateInvalid` for
+    /// [`Rejection::CertificateTooLarge`] beyond the capacities, `CertificateInvalid` for
     /// a region with invalid coordinates.
-    pub fn keep(cert: &Certificate<'_>, key: PublicKey) -> Result<Self, DropReason> {
-        let too_large = |_| DropReason::CertificateTooLarge;
+    pub fn keep(cert: &Certificate<'_>, key: PublicKey) -> Result<Self, Rejection> {
+        let too_large = |_| Rejection::CertificateTooLarge;
         let mut app_psids = Vec::new();
         for p in cert.app_permissions.iter().flat_map(|l| l.iter()) {
             app_psids.push(p.psid).map_err(too_large)?;
@@ -73,8 +73,8 @@ impl TrustedCert {
         }
         let region = match &cert.region {
             Some(r) => Some(Region::from_certificate(r).map_err(|e| match e {
-                RegionError::TooLarge => DropReason::CertificateTooLarge,
-                RegionError::Invalid => DropReason::CertificateInvalid,
+                RegionError::TooLarge => Rejection::CertificateTooLarge,
+                RegionError::Invalid => Rejection::CertificateInvalid,
             })?),
             None => None,
         };
@@ -94,15 +94,15 @@ impl TrustedCert {
     ///
     /// # Errors
     ///
-    /// [`DropReason::CertificateInvalid`] for an implicit certificate (no key without its
+    /// [`Rejection::CertificateInvalid`] for an implicit certificate (no key without its
     /// issuer), a bad self-signature or key; `CertificateTooLarge` beyond the capacities.
-    pub fn anchor(cert: &Certificate<'_>) -> Result<Self, DropReason> {
-        let key = PublicKey::of_explicit(cert).map_err(|_| DropReason::CertificateInvalid)?;
+    pub fn anchor(cert: &Certificate<'_>) -> Result<Self, Rejection> {
+        let key = PublicKey::of_explicit(cert).map_err(|_| Rejection::CertificateInvalid)?;
         if let Issuer::SelfSigned(_) = cert.issuer {
             let digest = signing_digest_with(cert.to_be_signed, &sha256(&[]));
-            let signature = cert.signature.ok_or(DropReason::CertificateInvalid)?;
+            let signature = cert.signature.ok_or(Rejection::CertificateInvalid)?;
             key.verify(&digest, &signature)
-                .map_err(|_| DropReason::CertificateInvalid)?;
+                .map_err(|_| Rejection::CertificateInvalid)?;
         }
         Self::keep(cert, key)
     }
@@ -113,29 +113,29 @@ impl TrustedCert {
     ///
     /// # Errors
     ///
-    /// [`DropReason::ChainUntrusted`] when `self` is not its issuer, `IssuerPermission`,
+    /// [`Rejection::ChainUntrusted`] when `self` is not its issuer, `IssuerPermission`,
     /// `CertificateInvalid`, `UnsupportedAlgorithm` or `CertificateTooLarge`.
     pub fn issue(
         &self,
         cert: &Certificate<'_>,
         psids: &[u32],
         generator: &GeneratorTable,
-    ) -> Result<Self, DropReason> {
+    ) -> Result<Self, Rejection> {
         if cert.issuer != Issuer::Sha256Digest(self.id8()) {
-            return Err(DropReason::ChainUntrusted);
+            return Err(Rejection::ChainUntrusted);
         }
         if !psids.iter().all(|&p| self.may_issue(p)) {
-            return Err(DropReason::IssuerPermission);
+            return Err(Rejection::IssuerPermission);
         }
         let inside = cert.validity.start_us() >= self.validity.start_us()
             && cert.validity.end_us() <= self.validity.end_us();
         if !inside {
-            return Err(DropReason::CertificateInvalid);
+            return Err(Rejection::CertificateInvalid);
         }
         let key = match cert.kind {
             CertificateKind::Explicit => {
                 let key = PublicKey::of_explicit(cert).map_err(crypto_reason)?;
-                let signature = cert.signature.ok_or(DropReason::CertificateInvalid)?;
+                let signature = cert.signature.ok_or(Rejection::CertificateInvalid)?;
                 let digest = signing_digest_with(cert.to_be_signed, &self.hash);
                 self.key
                     .verify(generator, &digest, &signature)
@@ -144,7 +144,7 @@ impl TrustedCert {
             }
             CertificateKind::Implicit => {
                 if cert.signature.is_some() {
-                    return Err(DropReason::CertificateInvalid);
+                    return Err(Rejection::CertificateInvalid);
                 }
                 PublicKey::reconstruct(cert, &self.hash, self.key.public())
                     .map_err(crypto_reason)?
@@ -155,9 +155,9 @@ impl TrustedCert {
 }
 
 /// The drop reason of a failed certificate check.
-fn crypto_reason(e: CryptoError) -> DropReason {
+fn crypto_reason(e: CryptoError) -> Rejection {
     match e {
-        CryptoError::UnsupportedScheme => DropReason::UnsupportedAlgorithm,
-        _ => DropReason::CertificateInvalid,
+        CryptoError::UnsupportedScheme => Rejection::UnsupportedAlgorithm,
+        _ => Rejection::CertificateInvalid,
     }
 }

@@ -3,7 +3,7 @@
 //!
 //! [`Trust::check`] takes a parsed signed message, the `messageId` of the frame inside, the
 //! GNSS time (`Time64`) and the vehicle position, and accepts it or names the
-//! [`DropReason`] (group [`DropGroup::Security`](crate::v2x::DropGroup)):
+//! [`Rejection`] (counted as [`DropGroup::Security`](crate::v2x::DropGroup)):
 //!
 //! 1. SHA-256 and ECDSA P-256 only; `self` signers are refused (no certificate ties the
 //!    key to a sender).
@@ -26,12 +26,14 @@
 
 mod cert;
 mod region;
+mod rejection;
 mod replay;
 #[cfg(test)]
 mod tests;
 
 pub use cert::TrustedCert;
-pub use region::Region;
+pub use region::{Region, RegionError};
+pub use rejection::Rejection;
 pub use replay::ReplayWindow;
 
 use heapless::Vec;
@@ -44,7 +46,6 @@ use j2735::{MapData, TravelerInformation};
 
 use crate::capacity::{MAX_CACHED_CERTS, MAX_CHAIN, MAX_TRUST_ANCHORS};
 use crate::geo::LatLon;
-use crate::v2x::DropReason;
 
 /// The PSID of TIM (SAE J2735 traveler information).
 pub const PSID_TIM: u32 = 0x8003;
@@ -88,7 +89,7 @@ pub enum AnchorError {
     /// Not one canonical COER certificate.
     Malformed,
     /// Implicit, a bad self-signature or key, or beyond the capacities.
-    Invalid(DropReason),
+    Invalid(Rejection),
     /// [`MAX_TRUST_ANCHORS`] already held.
     Full,
 }
@@ -209,19 +210,16 @@ impl Trust {
     ///
     /// # Errors
     ///
-    /// The [`DropReason`] of the first check that fails.
-    pub fn check(&mut self, signed: &SignedData<'_>, ctx: &CheckContext) -> Result<(), DropReason> {
+    /// The [`Rejection`] of the first check that fails.
+    pub fn check(&mut self, signed: &SignedData<'_>, ctx: &CheckContext) -> Result<(), Rejection> {
         let header = &signed.header;
         if signed.hash_algorithm != HashAlgorithm::Sha256
             || signed.signature.scheme != SignatureScheme::EcdsaNistP256
         {
-            return Err(DropReason::UnsupportedAlgorithm);
+            return Err(Rejection::UnsupportedAlgorithm);
         }
-        let generated = header
-            .generation_time
-            .ok_or(DropReason::NoGenerationTime)?
-            .0;
-        let now = ctx.now_us.ok_or(DropReason::NoTime)?;
+        let generated = header.generation_time.ok_or(Rejection::NoGenerationTime)?.0;
+        let now = ctx.now_us.ok_or(Rejection::NoTime)?;
         if self.generator.is_none() {
             self.generator = Some(GeneratorTable::new());
         }
@@ -229,16 +227,16 @@ impl Trust {
         let digest = self.check_signed_by(&self.cache[index], signed, ctx)?;
         let skew = u64::from(self.config().max_skew_ms) * 1000;
         if generated > now.saturating_add(skew) {
-            return Err(DropReason::GenerationTimeFuture);
+            return Err(Rejection::GenerationTimeFuture);
         }
         if generated < now.saturating_sub(skew) {
-            return Err(DropReason::GenerationTimeOld);
+            return Err(Rejection::GenerationTimeOld);
         }
         if header.expiry_time.is_some_and(|e| e.0 < now) {
-            return Err(DropReason::MessageExpired);
+            return Err(Rejection::MessageExpired);
         }
         if !self.replay.is_new(generated, &digest) {
-            return Err(DropReason::Replay);
+            return Err(Rejection::Replay);
         }
         self.replay
             .record(generated, &digest, now.saturating_sub(skew));
@@ -252,49 +250,46 @@ impl Trust {
         signer: &TrustedCert,
         signed: &SignedData<'_>,
         ctx: &CheckContext,
-    ) -> Result<[u8; 32], DropReason> {
+    ) -> Result<[u8; 32], Rejection> {
         let header = &signed.header;
         let generated = header.generation_time.map_or(0, |t| t.0);
         let now = ctx.now_us.unwrap_or(generated);
         check_validity(signer, generated.min(now), generated.max(now))?;
         if !signer.app_psids.contains(&header.psid) {
-            return Err(DropReason::PsidNotPermitted);
+            return Err(Rejection::PsidNotPermitted);
         }
         if self.psid_for(ctx.message_id) != Some(header.psid) {
-            return Err(DropReason::PsidMismatch);
+            return Err(Rejection::PsidMismatch);
         }
         if let Some(region) = &signer.region {
             let at = match header.generation_location {
                 Some(l) => LatLon::new(l.latitude, l.longitude),
                 None => ctx.position,
             };
-            if !region.contains(at.ok_or(DropReason::NoLocation)?) {
-                return Err(DropReason::RegionMiss);
+            if !region.contains(at.ok_or(Rejection::NoLocation)?) {
+                return Err(Rejection::RegionMiss);
             }
         }
         let digest = signing_digest_with(signed.to_be_signed, &signer.hash);
-        let generator = self
-            .generator
-            .as_ref()
-            .ok_or(DropReason::SignatureInvalid)?;
+        let generator = self.generator.as_ref().ok_or(Rejection::SignatureInvalid)?;
         signer
             .key
             .verify(generator, &digest, &signed.signature)
-            .map_err(|_| DropReason::SignatureInvalid)?;
+            .map_err(|_| Rejection::SignatureInvalid)?;
         Ok(digest)
     }
 
     /// The trusted signer certificate of a message with `psid`: cached, or verified along
     /// its chain from an anchor and then cached.
-    fn signer(&mut self, signer: &SignerIdentifier<'_>, psid: u32) -> Result<usize, DropReason> {
+    fn signer(&mut self, signer: &SignerIdentifier<'_>, psid: u32) -> Result<usize, Rejection> {
         match signer {
-            SignerIdentifier::SelfSigned => Err(DropReason::SelfSigned),
+            SignerIdentifier::SelfSigned => Err(Rejection::SelfSigned),
             SignerIdentifier::Digest(id) => {
                 let found = self.cache.iter().position(|c| &c.id8() == id);
-                found.ok_or(DropReason::SignerUnknown)
+                found.ok_or(Rejection::SignerUnknown)
             }
             SignerIdentifier::Certificate(chain) => {
-                let first = chain.first().ok_or(DropReason::ChainUntrusted)?;
+                let first = chain.first().ok_or(Rejection::ChainUntrusted)?;
                 let hash = sha256(first.encoded);
                 match self.cache.iter().position(|c| c.hash == hash) {
                     Some(i) => Ok(i),
@@ -313,15 +308,15 @@ impl Trust {
     ///
     /// # Errors
     ///
-    /// [`DropReason::EnvelopeOther`] when `coer` is not a certificate, else the chain
+    /// [`Rejection::CertificateMalformed`] when `coer` is not a certificate, else the chain
     /// check's reason (the issuer must be allowed to certify each of its PSIDs).
-    pub fn learn(&mut self, coer: &[u8]) -> Result<(), DropReason> {
-        let cert = Certificate::parse(coer).map_err(|_| DropReason::EnvelopeOther)?;
+    pub fn learn(&mut self, coer: &[u8]) -> Result<(), Rejection> {
+        let cert = Certificate::parse(coer).map_err(|_| Rejection::CertificateMalformed)?;
         let mut psids: Vec<u32, { crate::capacity::MAX_CERT_PSIDS }> = Vec::new();
         for p in cert.app_permissions.iter().flat_map(|l| l.iter()) {
             psids
                 .push(p.psid)
-                .map_err(|_| DropReason::CertificateTooLarge)?;
+                .map_err(|_| Rejection::CertificateTooLarge)?;
         }
         let verified = self.walk_chain(core::iter::once(cert), 1, &psids)?;
         if !self.cache.iter().any(|c| c.hash == verified.hash) {
@@ -337,13 +332,13 @@ impl Trust {
         certs: impl Iterator<Item = Certificate<'a>>,
         len: usize,
         psids: &[u32],
-    ) -> Result<TrustedCert, DropReason> {
+    ) -> Result<TrustedCert, Rejection> {
         if len > MAX_CHAIN || len == 0 {
-            return Err(DropReason::ChainTooLong);
+            return Err(Rejection::ChainTooLong);
         }
         let mut chain: Vec<Certificate<'a>, MAX_CHAIN> = Vec::new();
         for c in certs {
-            chain.push(c).map_err(|_| DropReason::ChainTooLong)?;
+            chain.push(c).map_err(|_| Rejection::ChainTooLong)?;
         }
         // The topmost certificate that is an anchor itself or is issued by one.
         let (top, mut issuer) = chain
@@ -361,7 +356,7 @@ impl Trust {
                 let a = self.anchors.iter().find(|a| a.id8() == id)?;
                 Some((i, a.clone()))
             })
-            .ok_or(DropReason::ChainUntrusted)?;
+            .ok_or(Rejection::ChainUntrusted)?;
         let generator = self.generator.get_or_insert_with(GeneratorTable::new);
         for i in (0..=top).rev() {
             issuer = issuer.issue(&chain[i], psids, generator)?;
@@ -380,12 +375,12 @@ impl Trust {
 }
 
 /// The certificate must be valid over `[from, to]` (generation time and now).
-fn check_validity(cert: &TrustedCert, from: u64, to: u64) -> Result<(), DropReason> {
+fn check_validity(cert: &TrustedCert, from: u64, to: u64) -> Result<(), Rejection> {
     if from < cert.validity.start_us() {
-        return Err(DropReason::CertificateNotYetValid);
+        return Err(Rejection::CertificateNotYetValid);
     }
     if to >= cert.validity.end_us() {
-        return Err(DropReason::CertificateExpired);
+        return Err(Rejection::CertificateExpired);
     }
     Ok(())
 }

@@ -9,20 +9,20 @@ use std::vec::Vec;
 use test_support::signed_vectors::{all, SignedVector};
 
 /// The reason the generator's words name.
-fn expected(v: &SignedVector) -> Result<(), DropReason> {
+fn expected(v: &SignedVector) -> Result<(), Rejection> {
     Err(match v.expect.as_str() {
-        "valid" if v.signer == "self" => DropReason::SelfSigned,
+        "valid" if v.signer == "self" => Rejection::SelfSigned,
         "valid" => return Ok(()),
-        "signature does not verify" => DropReason::SignatureInvalid,
-        "PSID not permitted by the signer certificate" => DropReason::PsidNotPermitted,
-        "signer certificate expired" => DropReason::CertificateExpired,
-        "signer certificate not yet valid" => DropReason::CertificateNotYetValid,
-        "chain does not reach a trust anchor" => DropReason::ChainUntrusted,
-        "generation location outside the certificate region" => DropReason::RegionMiss,
-        "generation time beyond the allowed skew" => DropReason::GenerationTimeFuture,
-        "generation time older than the allowed skew" => DropReason::GenerationTimeOld,
-        "message past its expiryTime" => DropReason::MessageExpired,
-        "replay" => DropReason::Replay,
+        "signature does not verify" => Rejection::SignatureInvalid,
+        "PSID not permitted by the signer certificate" => Rejection::PsidNotPermitted,
+        "signer certificate expired" => Rejection::CertificateExpired,
+        "signer certificate not yet valid" => Rejection::CertificateNotYetValid,
+        "chain does not reach a trust anchor" => Rejection::ChainUntrusted,
+        "generation location outside the certificate region" => Rejection::RegionMiss,
+        "generation time beyond the allowed skew" => Rejection::GenerationTimeFuture,
+        "generation time older than the allowed skew" => Rejection::GenerationTimeOld,
+        "message past its expiryTime" => Rejection::MessageExpired,
+        "replay" => Rejection::Replay,
         other => panic!("{}: unknown expectation {other:?}", v.name),
     })
 }
@@ -47,7 +47,7 @@ fn message_id(v: &SignedVector) -> u16 {
     j2735::frame::peek_message_id(&v.frame).unwrap()
 }
 
-fn check(trust: &mut Trust, v: &SignedVector) -> Result<(), DropReason> {
+fn check(trust: &mut Trust, v: &SignedVector) -> Result<(), Rejection> {
     let data = Ieee1609Dot2Data::parse(&v.coer).unwrap();
     let ctx = CheckContext {
         message_id: message_id(v),
@@ -83,7 +83,7 @@ fn the_replay_pair_is_accepted_once() {
     assert_eq!(pair.len(), 2);
     let mut trust = trust_for(pair[0]);
     assert_eq!(check(&mut trust, pair[0]), Ok(()));
-    assert_eq!(check(&mut trust, pair[1]), Err(DropReason::Replay));
+    assert_eq!(check(&mut trust, pair[1]), Err(Rejection::Replay));
 }
 
 #[test]
@@ -98,7 +98,7 @@ fn a_certificate_signer_is_cached_so_its_digest_verifies() {
     let mut trust = Trust::new(config);
     trust.add_anchor(&cert.ca).unwrap();
     // Not seen yet: the digest names nothing.
-    assert_eq!(check(&mut trust, digest), Err(DropReason::SignerUnknown));
+    assert_eq!(check(&mut trust, digest), Err(Rejection::SignerUnknown));
     assert_eq!(check(&mut trust, cert), Ok(()));
     assert_eq!(trust.cached(), 1);
     assert_eq!(check(&mut trust, digest), Ok(()));
@@ -111,7 +111,7 @@ fn without_anchors_nothing_verifies() {
         .find(|v| v.name == "valid_tim_certificate_chain_x_only");
     let v = v.unwrap();
     let mut trust = Trust::default();
-    assert_eq!(check(&mut trust, &v), Err(DropReason::ChainUntrusted));
+    assert_eq!(check(&mut trust, &v), Err(Rejection::ChainUntrusted));
     let mut root_only = Trust::default();
     root_only.add_anchor(&v.root).unwrap();
     assert_eq!(
@@ -136,13 +136,13 @@ fn a_psid_of_another_message_is_refused() {
         position: None,
     };
     let result = trust.check(data.signed_data().unwrap(), &ctx);
-    assert_eq!(result, Err(DropReason::PsidMismatch));
+    assert_eq!(result, Err(Rejection::PsidMismatch));
     let no_time = CheckContext {
         now_us: None,
         ..ctx
     };
     let result = trust.check(data.signed_data().unwrap(), &no_time);
-    assert_eq!(result, Err(DropReason::NoTime));
+    assert_eq!(result, Err(Rejection::NoTime));
 }
 
 #[test]

@@ -168,7 +168,7 @@ impl Obu {
                     now_us: self.time64(now),
                     position: self.position(),
                 };
-                trust.check(&signed, &ctx)?;
+                trust.check(&signed, &ctx).map_err(DropReason::from)?;
                 Provenance::Verified
             }
             None if trust.config().require_signed => return Err(DropReason::Unsigned),

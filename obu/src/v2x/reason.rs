@@ -8,6 +8,7 @@ use j2735::uper::{DecodeError, DecodeErrorKind};
 
 use crate::ingest::IngestError;
 use crate::link::FrameError;
+use crate::security::Rejection;
 
 /// The stage of the receive path a [`DropReason`] belongs to.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -206,6 +207,37 @@ drop_reasons! {
     MessageExpired: Security = "1609.2: message expired",
     /// Security: the same signed data (generation time and hash) was accepted before.
     Replay: Security = "1609.2: replay",
+    /// Security: a certificate given out of band is not one canonical COER certificate.
+    CertificateMalformed: Security = "1609.2: certificate malformed",
+}
+
+impl From<Rejection> for DropReason {
+    fn from(r: Rejection) -> Self {
+        match r {
+            Rejection::UnsupportedAlgorithm => Self::UnsupportedAlgorithm,
+            Rejection::NoGenerationTime => Self::NoGenerationTime,
+            Rejection::NoTime => Self::NoTime,
+            Rejection::GenerationTimeFuture => Self::GenerationTimeFuture,
+            Rejection::GenerationTimeOld => Self::GenerationTimeOld,
+            Rejection::MessageExpired => Self::MessageExpired,
+            Rejection::Replay => Self::Replay,
+            Rejection::PsidNotPermitted => Self::PsidNotPermitted,
+            Rejection::PsidMismatch => Self::PsidMismatch,
+            Rejection::NoLocation => Self::NoLocation,
+            Rejection::RegionMiss => Self::RegionMiss,
+            Rejection::SignatureInvalid => Self::SignatureInvalid,
+            Rejection::SelfSigned => Self::SelfSigned,
+            Rejection::SignerUnknown => Self::SignerUnknown,
+            Rejection::ChainUntrusted => Self::ChainUntrusted,
+            Rejection::ChainTooLong => Self::ChainTooLong,
+            Rejection::CertificateTooLarge => Self::CertificateTooLarge,
+            Rejection::CertificateInvalid => Self::CertificateInvalid,
+            Rejection::CertificateExpired => Self::CertificateExpired,
+            Rejection::CertificateNotYetValid => Self::CertificateNotYetValid,
+            Rejection::IssuerPermission => Self::IssuerPermission,
+            Rejection::CertificateMalformed => Self::CertificateMalformed,
+        }
+    }
 }
 
 impl DropReason {

@@ -1,0 +1,51 @@
+//! [`Rejection`]: why the trust policy refused a message.
+
+/// Why the trust policy refused a signed message (or a certificate): a closed set, each
+/// with its [`DropReason`](crate::v2x::DropReason) in the receive path's counters.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Rejection {
+    /// A hash or signature algorithm other than SHA-256 / ECDSA P-256.
+    UnsupportedAlgorithm,
+    /// The header has no generation time.
+    NoGenerationTime,
+    /// No GNSS time yet to check times against.
+    NoTime,
+    /// Generated further in the future than the allowed skew.
+    GenerationTimeFuture,
+    /// Generated longer ago than the allowed skew.
+    GenerationTimeOld,
+    /// Past the header's expiry time.
+    MessageExpired,
+    /// The same signed data (generation time and hash) was accepted before.
+    Replay,
+    /// The signer certificate does not permit the message's PSID.
+    PsidNotPermitted,
+    /// The PSID is not the one configured for this message (TIM, MAP).
+    PsidMismatch,
+    /// The certificate has a region, and no location is known to check it.
+    NoLocation,
+    /// The generation location is outside the signer certificate's region.
+    RegionMiss,
+    /// The signature does not verify.
+    SignatureInvalid,
+    /// Signed by `self`: no certificate ties the key to a trusted sender.
+    SelfSigned,
+    /// A `digest` signer whose certificate has not been seen.
+    SignerUnknown,
+    /// The certificate chain does not lead to a configured trust anchor.
+    ChainUntrusted,
+    /// More certificates in the chain than the verifier walks.
+    ChainTooLong,
+    /// A certificate larger than the verifier's capacities (PSIDs, region).
+    CertificateTooLarge,
+    /// A certificate of the chain has a bad signature, key or validity.
+    CertificateInvalid,
+    /// The signer certificate's validity ended before the message.
+    CertificateExpired,
+    /// The signer certificate's validity starts after the message.
+    CertificateNotYetValid,
+    /// A certificate of the chain may not certify the message's PSID.
+    IssuerPermission,
+    /// Not one canonical COER certificate (a certificate learnt out of band).
+    CertificateMalformed,
+}
