@@ -88,8 +88,7 @@ async fn run(config: Config) -> Result<(), String> {
     );
 
     let pairing = load_pairing(&config.http)?;
-    let listener = tokio::net::TcpListener::bind(config.http.bind)
-        .await
+    let listener = serve::bind(config.http.bind)
         .map_err(|e| format!("http bind {}: {e}", config.http.bind))?;
     let http_addr = listener.local_addr().map_err(|e| e.to_string())?;
     let (stop_tx, stop) = tokio::sync::watch::channel(false);

@@ -33,6 +33,26 @@ use tokio::sync::watch;
 /// Largest request head accepted (request line and headers), octets.
 pub const MAX_HEAD: usize = 16 * 1024;
 
+/// The kernel send buffer of every HTTP connection, octets (Linux doubles it for its own
+/// bookkeeping). Fixed rather than autotuned (up to 4 MiB), so that what a client that
+/// stops reading can leave queued on the unit is bounded: the largest answer (the app's
+/// style sheet, 19 KiB) fits, and an event stream whose client takes nothing blocks after
+/// this plus the client's receive window, and is then dropped after the stall timeout.
+pub const SEND_BUFFER: u32 = 32 * 1024;
+
+/// Binds the HTTP listener at `addr` with [`SEND_BUFFER`] (which its connections inherit).
+pub fn bind(addr: std::net::SocketAddr) -> std::io::Result<TcpListener> {
+    let socket = if addr.is_ipv4() {
+        tokio::net::TcpSocket::new_v4()?
+    } else {
+        tokio::net::TcpSocket::new_v6()?
+    };
+    socket.set_reuseaddr(true)?;
+    socket.set_send_buffer_size(SEND_BUFFER)?;
+    socket.bind(addr)?;
+    socket.listen(1024)
+}
+
 /// What the accept loop and the connections share.
 #[derive(Clone)]
 pub struct Server {

@@ -5,7 +5,7 @@
 use std::ffi::OsStr;
 use std::io::{BufRead, BufReader, Read, Write};
 use std::net::{TcpStream, UdpSocket};
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Stdio};
 use std::time::{Duration, Instant};
 
@@ -22,12 +22,22 @@ impl Daemon {
     /// Starts `obu` with `args` and reads its first line
     /// (`obu: http://ADDR v2x udp ADDR` or `obu: http://ADDR bridge SOURCE`).
     pub fn start<S: AsRef<OsStr>>(args: impl IntoIterator<Item = S>) -> Self {
-        let mut child = Command::new(env!("CARGO_BIN_EXE_obu"))
-            .args(args)
-            .stdout(Stdio::piped())
-            .stderr(Stdio::null())
-            .spawn()
-            .expect("start obu");
+        let mut command = Command::new(env!("CARGO_BIN_EXE_obu"));
+        command.args(args).stderr(Stdio::null());
+        Self::spawn(command)
+    }
+
+    /// As [`Daemon::start`], with its log (standard error) written to `log`.
+    pub fn start_logged<S: AsRef<OsStr>>(args: impl IntoIterator<Item = S>, log: &Path) -> Self {
+        let mut command = Command::new(env!("CARGO_BIN_EXE_obu"));
+        let file = std::fs::File::create(log).unwrap();
+        command.args(args).stderr(file);
+        Self::spawn(command)
+    }
+
+    /// Starts `command` (the daemon, perhaps through a shell) and reads its first line.
+    pub fn spawn(mut command: Command) -> Self {
+        let mut child = command.stdout(Stdio::piped()).spawn().expect("start obu");
         let mut first = String::new();
         BufReader::new(child.stdout.take().unwrap())
             .read_line(&mut first)
@@ -46,6 +56,11 @@ impl Daemon {
     pub fn v2x(&self) -> &str {
         assert_eq!(self.words[2..4], ["v2x", "udp"], "{:?}", self.words);
         &self.words[4]
+    }
+
+    /// The process id.
+    pub fn pid(&self) -> u32 {
+        self.child.id()
     }
 
     /// Sends SIGTERM and waits (at most 5 s) for the exit.
