@@ -2,6 +2,8 @@
 //! line, make HTTP requests, read the event stream, and the codec's committed vectors.
 #![allow(dead_code)]
 
+pub mod craft;
+
 use std::ffi::OsStr;
 use std::io::{BufRead, BufReader, Read, Write};
 use std::net::{TcpStream, UdpSocket};
