@@ -92,7 +92,7 @@ pub async fn serve(listener: TcpListener, server: Server, mut shutdown: watch::R
             Err(e) => {
                 let pause = if out_of_descriptors(&e) {
                     counters.add(group::HTTP_REJECTED, "accept: out of file descriptors");
-                    server.conns.shed_oldest();
+                    server.conns.shed_oldest(Closed::ShedForDescriptors);
                     backoff =
                         (backoff * 2).clamp(Duration::from_millis(5), Duration::from_millis(500));
                     backoff
@@ -109,7 +109,7 @@ pub async fn serve(listener: TcpListener, server: Server, mut shutdown: watch::R
         let Ok(local) = stream.local_addr() else {
             continue;
         };
-        if server.conns.full() && !server.conns.shed_oldest() {
+        if server.conns.full() && !server.conns.shed_oldest(Closed::Shed) {
             counters.add(group::HTTP_REJECTED, "refused: connection cap");
             continue;
         }
@@ -174,6 +174,10 @@ async fn connection(
             _ = conn.changed() => match conn.closed() {
                 Some(Closed::Shed) => {
                     counters.add(group::HTTP_REJECTED, "shed: connection cap");
+                    return;
+                }
+                Some(Closed::ShedForDescriptors) => {
+                    counters.add(group::HTTP_REJECTED, "shed: out of file descriptors");
                     return;
                 }
                 Some(Closed::Evicted) => {

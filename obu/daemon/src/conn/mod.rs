@@ -66,6 +66,8 @@ pub enum Closed {
     Shed = 1,
     /// Its event-stream slot was given to a new client.
     Evicted = 2,
+    /// Shed because the process ran out of file descriptors.
+    ShedForDescriptors = 3,
 }
 
 /// The timeouts of [`Conn::deadline`].
@@ -200,6 +202,7 @@ impl Conn {
         match self.closed.load(Ordering::Relaxed) {
             1 => Some(Closed::Shed),
             2 => Some(Closed::Evicted),
+            3 => Some(Closed::ShedForDescriptors),
             _ => None,
         }
     }
@@ -270,8 +273,8 @@ impl Table {
     }
 
     /// Tells the connection idle or in its request the longest (and not already told) to
-    /// close; `false` when there is none (every one streams events).
-    pub fn shed_oldest(&self) -> bool {
+    /// close, for `why`; `false` when there is none (every one streams events).
+    pub fn shed_oldest(&self, why: Closed) -> bool {
         let victim = self
             .lock()
             .values()
@@ -280,7 +283,7 @@ impl Table {
             .cloned();
         match victim {
             Some(c) => {
-                c.close(Closed::Shed);
+                c.close(why);
                 true
             }
             None => false,
@@ -346,13 +349,19 @@ mod tests {
         std::thread::sleep(Duration::from_millis(5));
         let young = table.open(addr(), addr());
         assert!(table.full());
-        assert!(table.shed_oldest());
+        assert!(table.shed_oldest(Closed::Shed));
         assert_eq!(old.conn.closed(), Some(Closed::Shed));
         assert_eq!(young.conn.closed(), None);
         assert_eq!(streaming.conn.closed(), None);
-        assert!(table.shed_oldest(), "the next one, not the same again");
+        assert!(
+            table.shed_oldest(Closed::Shed),
+            "the next one, not the same again"
+        );
         assert_eq!(young.conn.closed(), Some(Closed::Shed));
-        assert!(!table.shed_oldest(), "only a stream is left");
+        assert!(
+            !table.shed_oldest(Closed::ShedForDescriptors),
+            "only a stream is left"
+        );
         drop((old, young));
         assert_eq!(table.len(), 1);
         assert!(!table.full());
