@@ -228,8 +228,8 @@ fn the_link_holds_under_a_hostile_client() {
         SAMPLE_FOR.as_secs_f64(),
         tally.connects.load(Ordering::Relaxed),
         tally.cut.load(Ordering::Relaxed),
-        rejected["shed: connection cap"],
-        rejected["request deadline"],
+        rejected["shed: connection cap"].as_u64().unwrap_or(0),
+        rejected["request deadline"].as_u64().unwrap_or(0),
         100.0 * cpu / SAMPLE_FOR.as_secs_f64(),
     ));
     report.push(format!(
@@ -285,7 +285,9 @@ fn the_link_holds_under_a_hostile_client() {
     report.push(format!(
         "(b) {HOGS} event clients that never read: a new tablet's first event after {:.1} ms, then {more} events in 3 s; evicted hogs {}",
         first.as_secs_f64() * 1000.0,
-        s["counters"]["sse_clients"]["evicted: slots full"],
+        s["counters"]["sse_clients"]["evicted: slots full"]
+            .as_u64()
+            .unwrap_or(0),
     ));
     println!("# {}", report.last().unwrap());
     assert!(
