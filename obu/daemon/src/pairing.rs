@@ -107,10 +107,10 @@ impl Pairing {
                 last_used: now,
             })
             .collect();
-        let (pin, configured) = match (configured_pin, stored.pin) {
-            (Some(p), _) => (p.to_owned(), true),
-            (None, Some(p)) if p.len() >= 4 => (p, false),
-            (None, _) => (random_pin()?, false),
+        let (pin, configured, made) = match (configured_pin, stored.pin) {
+            (Some(p), _) => (p.to_owned(), true, false),
+            (None, Some(p)) if valid_pin(&p) => (p, false, false),
+            (None, _) => (random_pin()?, false, true),
         };
         let pairing = Self {
             pin,
@@ -121,9 +121,12 @@ impl Pairing {
                 ..State::default()
             }),
         };
-        pairing
-            .save()
-            .map_err(|e| format!("cannot write {shown}: {e}"))?;
+        if made {
+            // A made PIN must be kept, or the next start would make another.
+            pairing
+                .save()
+                .map_err(|e| format!("cannot write {shown}: {e}"))?;
+        }
         Ok(pairing)
     }
 
@@ -249,6 +252,11 @@ impl Pairing {
         }
         std::fs::rename(&tmp, &self.file)
     }
+}
+
+/// Whether `pin` is a PIN the daemon takes: 4 to 32 letters or digits.
+pub fn valid_pin(pin: &str) -> bool {
+    (4..=32).contains(&pin.len()) && pin.bytes().all(|b| b.is_ascii_alphanumeric())
 }
 
 /// The `Set-Cookie` value that hands `token` to the tablet.

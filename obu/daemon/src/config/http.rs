@@ -38,6 +38,9 @@ pub struct Http {
     pub stalled_stream_ms: u64,
 }
 
+/// The most open connections one may configure (each is a file descriptor).
+const MAX_CONNECTIONS: usize = 65_536;
+
 /// The longest any of the timeouts may be: an hour.
 const MAX_TIMEOUT_MS: u64 = 3_600_000;
 
@@ -71,6 +74,11 @@ impl Http {
         if self.max_connections < self.max_clients.saturating_add(16) {
             return bad("http.max_connections must be at least http.max_clients + 16");
         }
+        if self.max_connections > MAX_CONNECTIONS {
+            return Err(ConfigError(format!(
+                "http.max_connections must be at most {MAX_CONNECTIONS}"
+            )));
+        }
         for (key, ms) in [
             ("request_timeout_ms", self.request_timeout_ms),
             ("idle_timeout_ms", self.idle_timeout_ms),
@@ -83,12 +91,12 @@ impl Http {
                 )));
             }
         }
-        if let Some(pin) = &self.pin {
-            let ok =
-                (4..=32).contains(&pin.len()) && pin.bytes().all(|b| b.is_ascii_alphanumeric());
-            if !ok {
-                return bad("http.pin must be 4 to 32 letters or digits");
-            }
+        if self
+            .pin
+            .as_deref()
+            .is_some_and(|p| !crate::pairing::valid_pin(p))
+        {
+            return bad("http.pin must be 4 to 32 letters or digits");
         }
         let names = self.hostname.iter().chain(&self.allowed_hosts);
         for name in names {
@@ -138,6 +146,7 @@ mod tests {
             ("pin = \"12\"", "http.pin"),
             ("pin = \"12 34\"", "http.pin"),
             ("max_connections = 70", "http.max_connections"),
+            ("max_connections = 1000000000", "at most 65536"),
             ("request_timeout_ms = 0", "http.request_timeout_ms"),
             ("stalled_stream_ms = 99999999", "http.stalled_stream_ms"),
             ("hostname = \"obu.local:8080\"", "obu.local:8080"),

@@ -240,7 +240,7 @@ impl Table {
     /// A table of at most `cap` connections.
     pub fn new(cap: usize) -> Arc<Self> {
         Arc::new(Self {
-            conns: Mutex::new(HashMap::with_capacity(cap + 1)),
+            conns: Mutex::new(HashMap::with_capacity(cap.min(1024) + 1)),
             next_id: AtomicU64::new(1),
             cap,
             epoch: Instant::now(),

@@ -57,7 +57,7 @@ impl Slots {
     pub fn new(max: usize) -> Arc<Self> {
         Arc::new(Self {
             max,
-            held: Mutex::new(Vec::with_capacity(max)),
+            held: Mutex::new(Vec::with_capacity(max.min(256))),
             next: AtomicU64::new(1),
         })
     }

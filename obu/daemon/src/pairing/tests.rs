@@ -31,12 +31,21 @@ fn a_made_pin_is_six_digits_and_stays_across_restarts() {
         let mode = std::fs::metadata(&file).unwrap().permissions().mode();
         assert_eq!(mode & 0o077, 0, "owner only: {mode:o}");
     }
-    // A configured PIN wins and is not written to the file.
+    // A configured PIN wins and is not written to the file (which a pairing rewrites).
     let configured = Pairing::load(Some("a1b2c3d4"), &file).unwrap();
     assert!(configured.configured());
     assert_eq!(configured.pin(), "a1b2c3d4");
+    token_of(configured.attempt("a1b2c3d4", Instant::now()));
     let text = std::fs::read_to_string(&file).unwrap();
-    assert!(!text.contains("\"pin\""), "{text}");
+    assert!(
+        !text.contains("\"pin\"") && text.contains("sessions"),
+        "{text}"
+    );
+    // With a configured PIN nothing is written at start: a read-only place is fine.
+    let elsewhere = d.join("not-there").join("p.json");
+    assert!(Pairing::load(Some("a1b2c3d4"), &elsewhere).is_ok());
+    let e = Pairing::load(None, &elsewhere).unwrap_err();
+    assert!(e.contains("cannot write"), "a made PIN must be kept: {e}");
     // Two made PINs differ (one in a million they do not: then a third must).
     let other = Pairing::load(None, &dir("made-2").join("p.json")).unwrap();
     let third = Pairing::load(None, &dir("made-3").join("p.json")).unwrap();
