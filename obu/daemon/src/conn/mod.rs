@@ -46,7 +46,8 @@ impl Phase {
     }
 }
 
-/// Why a connection's deadline passed (the counter reason is [`Expiry::reason`]).
+/// Why a connection's deadline passed (each is counted under its own reason by
+/// [`crate::serve`]).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Expiry {
     /// Idle for the idle timeout: a normal close, not a refusal.

@@ -1,6 +1,6 @@
 //! The tablet's HTTP server: the embedded app, `GET /events` (Server-Sent Events of the
 //! `HmiState`, resumable with `Last-Event-ID`, with a heartbeat: [`events`]), `GET/PUT
-//! /api/settings` and `GET/POST /api/pair` ([`write`]), `GET /api/status` (with the mode:
+//! /api/settings` and `GET/POST /api/pair` ([`mod@write`]), `GET /api/status` (with the mode:
 //! `"core"`, or `"bridge"` and the firmware link) and `GET /healthz`. The same in both modes.
 //!
 //! Reads are open to any client on the unit's network; a settings write needs the session
