@@ -230,6 +230,7 @@ pub struct Feeder {
     road: Road,
     map: Vec<u8>,
     tim: Vec<u8>,
+    signer: std::sync::Arc<roadside::pki::RsuSigner>,
 }
 
 impl Feeder {
@@ -242,14 +243,19 @@ impl Feeder {
             road: road(),
             map,
             tim,
+            signer: crate::bench_pki::signer()?,
         })
     }
 
     /// One tick: MAP and TIM, then (unless `gnss` is false) the epoch of the car `t_s`
     /// seconds into `scene`. Datagrams lost on the way are part of radio life: no retry.
     pub fn tick(&self, daemon: &Daemon, scene: &str, t_s: f64, gnss: bool) {
-        let _ = self.sock.send_to(&self.map, &daemon.v2x);
-        let _ = self.sock.send_to(&self.tim, &daemon.v2x);
+        let now = roadside::clock::unix_ms_now();
+        for frame in [&self.map, &self.tim] {
+            if let Ok(signed) = self.signer.sign(frame, now) {
+                let _ = self.sock.send_to(&signed, &daemon.v2x);
+            }
+        }
         if gnss {
             self.send_epoch(daemon, scene, t_s);
         }
@@ -271,7 +277,7 @@ pub fn start_daemon(
     extra: &str,
 ) -> Result<Daemon, String> {
     let gnss_port = crate::daemon::free_udp_port()?;
-    let text = crate::daemon::config(state_dir, gnss_port, port, extra);
+    let text = crate::daemon::config(state_dir, gnss_port, port, extra)?;
     Daemon::start(obu, state_dir, &text, gnss_port)
 }
 

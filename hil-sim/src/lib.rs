@@ -8,6 +8,7 @@
 //!   the drive, the driver's settings and the expectations.
 //! - [`drive`]: the simulated drive (true pose every 100 ms, GNSS errors, CAN speed).
 //! - [`nmea`]: the NMEA 0183 sentences (GGA, RMC, GST) of the simulated GNSS receiver.
+//! - [`bench_pki`]: the bench's IEEE 1609.2 trust anchors and roadside signer.
 //! - [`daemon`]: the real `obu` daemon as a child process.
 //! - [`rig`]: the processes behind a daemon in bridge mode (QEMU, relays).
 //! - [`firmware`]: the OBU firmware in QEMU as the device under test.
@@ -24,6 +25,7 @@
 #![forbid(unsafe_code)]
 #![warn(missing_docs)]
 
+pub mod bench_pki;
 pub mod daemon;
 pub mod drive;
 pub mod expect;

@@ -158,7 +158,16 @@ fn drive_and_record(
         })
     };
     let t0 = Instant::now();
-    let v2x = roadside::scripted::spawn(&s.site(), road, zones, &daemon.v2x, t0, stop.clone())?;
+    let signer = Some(crate::bench_pki::signer()?);
+    let v2x = roadside::scripted::spawn(
+        &s.site(),
+        road,
+        zones,
+        &daemon.v2x,
+        t0,
+        stop.clone(),
+        signer,
+    )?;
     let sock = UdpSocket::bind("127.0.0.1:0").map_err(|e| e.to_string())?;
     let mut sent = Vec::with_capacity(samples.len());
     let replay = match &s.drive.nmea_file {

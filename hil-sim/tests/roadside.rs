@@ -37,6 +37,7 @@ fn broadcasts_map_and_tims_of_a_wzdx_scenario() {
             rate_hz: 20.0,
             duration: Some(Duration::from_millis(500)),
             rsu_dir: None,
+            pki_dir: None,
         };
         let summary = run(&s, &o).unwrap();
         let mut ids = Vec::new();
@@ -66,6 +67,7 @@ fn writes_rsu_files_that_parse_back() {
         rate_hz: 10.0,
         duration: None,
         rsu_dir: Some(dir.clone()),
+        pki_dir: None,
     };
     run(&s, &o).unwrap();
     let frames: Vec<Vec<u8>> = messages_of(&s)
@@ -85,6 +87,69 @@ fn writes_rsu_files_that_parse_back() {
         let mut back = vec![0u8; record.payload.decoded_len().unwrap()];
         record.payload.decode_into(&mut back).unwrap();
         assert_eq!(back, *frame, "{}", f.display());
+    }
+    let _ = std::fs::remove_dir_all(dir);
+}
+
+/// `hil-sim pki` then `hil-sim roadside --pki`: every datagram is signed data that the
+/// OBU core's trust policy, trusting only the PKI's root and CA, accepts; the RSU files
+/// ask the RSU to sign.
+#[test]
+fn signs_with_a_pki_that_the_obu_trusts() {
+    use obu::security::{CheckContext, Trust};
+    use roadside::pki::{time64_of_unix_ms, Pki, PkiSpec};
+    let s = scenario("14_geojson_wzdx.toml");
+    let dir = std::env::temp_dir().join(format!("hil-sim-pki-{}", std::process::id()));
+    let now_s = roadside::clock::unix_ms_now() / 1000;
+    let pki = Pki::create(&PkiSpec {
+        seed: None,
+        start_unix_s: now_s - 86_400,
+        root_years: 10,
+        ca_years: 5,
+        rsu_hours: 48,
+        region: None,
+        psids: vec![0x8003, 0xE000_0017],
+        rsu_name: "rsu.test".into(),
+    })
+    .unwrap();
+    pki.write(&dir).unwrap();
+    let listener = UdpSocket::bind("127.0.0.1:0").unwrap();
+    listener
+        .set_read_timeout(Some(Duration::from_millis(500)))
+        .unwrap();
+    let o = RoadsideOptions {
+        destinations: vec![listener.local_addr().unwrap()],
+        wrapping: Wrapping::Raw,
+        rate_hz: 20.0,
+        duration: Some(Duration::from_millis(300)),
+        rsu_dir: Some(dir.join("rsu-files")),
+        pki_dir: Some(dir.clone()),
+    };
+    let summary = run(&s, &o).unwrap();
+    assert!(summary.contains("signed"), "{summary}");
+    let mut trust = Trust::default();
+    trust.add_anchor(&pki.root.cert).unwrap();
+    trust.add_anchor(&pki.ca.cert).unwrap();
+    let mut buf = [0u8; 4096];
+    let mut accepted = 0;
+    while let Ok(n) = listener.recv(&mut buf) {
+        let data =
+            j2735::envelope::ieee1609dot2::Ieee1609Dot2Data::parse(&buf[..n]).expect("signed data");
+        let frame = data.application_data().unwrap();
+        let ctx = CheckContext {
+            message_id: j2735::frame::peek_message_id(frame).unwrap(),
+            now_us: Some(time64_of_unix_ms(roadside::clock::unix_ms_now())),
+            position: None,
+        };
+        trust
+            .check(data.signed_data().expect("signed"), &ctx)
+            .unwrap();
+        accepted += 1;
+    }
+    assert!(accepted >= 8, "{accepted} datagrams");
+    for f in std::fs::read_dir(dir.join("rsu-files")).unwrap() {
+        let text = std::fs::read_to_string(f.unwrap().path()).unwrap();
+        assert!(text.contains("Signature=True"), "{text}");
     }
     let _ = std::fs::remove_dir_all(dir);
 }

@@ -16,6 +16,10 @@ use j2735::TravelerInformation;
 use serde_json::Value;
 
 const VECTORS: &str = "../../codec/tests/vectors/oracle_vectors.jsonl";
+/// The independent IEEE 1609.2 vectors (for the on-target tests of `tests/signed.rs`).
+const SIGNED_VECTORS: &str = "../../codec/tests/vectors/ieee1609dot2_signed.jsonl";
+/// The trust anchors built in when `OBU_TRUST_ANCHORS` is not set: the bench PKI's.
+const DEFAULT_ANCHORS: &str = "../../hil-sim/pki/bench/root.oer:../../hil-sim/pki/bench/ca.oer";
 /// The MAP and TIM of the drive test, and the lane the car drives on.
 const DRIVE_MAP: &str = "map_work_zone";
 const DRIVE_TIM: &str = "tim_work_zone_left_lane_closed";
@@ -57,6 +61,65 @@ fn main() {
     fs::write(out.join("vectors.rs"), map_tim).expect("vectors.rs");
     fs::write(out.join("other_vectors.rs"), other).expect("other_vectors.rs");
     fs::write(out.join("work_zone.rs"), work_zone(&vectors)).expect("work_zone.rs");
+    fs::write(out.join("trust_anchors.rs"), trust_anchors()).expect("trust_anchors.rs");
+    println!("cargo:rerun-if-changed={SIGNED_VECTORS}");
+    let signed = fs::read_to_string(SIGNED_VECTORS).expect("signed vectors");
+    fs::write(out.join("signed_vectors.rs"), signed_vectors(&signed)).expect("signed_vectors.rs");
+}
+
+/// `TRUST_ANCHORS` (certificate COER files named by `OBU_TRUST_ANCHORS`, colon-separated,
+/// relative to this crate; default: the bench PKI) and `REQUIRE_SIGNED` (`OBU_REQUIRE_SIGNED`
+/// = 0 turns it off; default on).
+fn trust_anchors() -> String {
+    println!("cargo:rerun-if-env-changed=OBU_TRUST_ANCHORS");
+    println!("cargo:rerun-if-env-changed=OBU_REQUIRE_SIGNED");
+    let list = env::var("OBU_TRUST_ANCHORS").unwrap_or_else(|_| DEFAULT_ANCHORS.to_string());
+    let mut s = String::from("/// The trust anchors built in (certificate COER).\n");
+    s.push_str("pub static TRUST_ANCHORS: &[&[u8]] = &[\n");
+    for path in list.split(':').filter(|p| !p.is_empty()) {
+        println!("cargo:rerun-if-changed={path}");
+        let bytes = fs::read(path).unwrap_or_else(|e| panic!("trust anchor {path}: {e}"));
+        let hex: String = bytes.iter().map(|b| format!("{b:02x}")).collect();
+        writeln!(s, "    &[{}],", byte_list(&hex)).unwrap();
+    }
+    s.push_str("];\n");
+    let require = env::var("OBU_REQUIRE_SIGNED").map_or(true, |v| v != "0");
+    writeln!(s, "/// Unsigned MAP and TIM are dropped.").unwrap();
+    writeln!(s, "pub const REQUIRE_SIGNED: bool = {require};").unwrap();
+    s
+}
+
+/// `SIGNED_VECTORS`: (name, expect, Ieee1609Dot2Data COER, verifier's Time64) of the
+/// independent signed vectors, and their trust anchors `SIGNED_ROOT`, `SIGNED_CA`.
+fn signed_vectors(text: &str) -> String {
+    let vectors: Vec<Value> = text
+        .lines()
+        .filter(|l| !l.trim().is_empty())
+        .map(|l| serde_json::from_str(l).expect("signed vector line"))
+        .collect();
+    let first = vectors.first().expect("a signed vector");
+    let anchor = |k: &str| byte_list(first["trust_anchors"][k].as_str().expect("anchor"));
+    let mut s = format!(
+        "/// The signed vectors' root.\npub static SIGNED_ROOT: &[u8] = &[{}];\n\
+         /// The signed vectors' CA.\npub static SIGNED_CA: &[u8] = &[{}];\n",
+        anchor("root"),
+        anchor("ca")
+    );
+    s.push_str("/// (name, expect, COER, now as Time64) of the independent signed vectors.\n");
+    s.push_str("pub static SIGNED_VECTORS: &[(&str, &str, &[u8], u64)] = &[\n");
+    for v in &vectors {
+        writeln!(
+            s,
+            "    ({:?}, {:?}, &[{}], {}),",
+            v["name"].as_str().expect("name"),
+            v["expect"].as_str().expect("expect"),
+            byte_list(v["coer"].as_str().expect("coer")),
+            v["now"].as_u64().expect("now")
+        )
+        .unwrap();
+    }
+    s.push_str("];\n");
+    s
 }
 
 /// `0x.., 0x..` of a hex string.

@@ -55,3 +55,25 @@ pub const MAX_ALERTS: usize = 6;
 pub const MAX_HMI_LANES: usize = 8;
 /// Lanes near the last fix that the matcher keeps for the lane-change advice.
 pub const MAX_NEARBY_LANES: usize = 8;
+
+profile! {
+    /// Trust anchors (root and issuing CA certificates) a verifier holds.
+    MAX_TRUST_ANCHORS = 4, firmware 2
+}
+profile! {
+    /// Verified signer certificates cached by `HashedId8`.
+    MAX_CACHED_CERTS = 16, firmware 2
+}
+/// PSIDs kept per certificate (its app or issue permissions); a certificate with more is
+/// refused.
+pub const MAX_CERT_PSIDS: usize = 8;
+profile! {
+    /// Points kept per certificate region: polygon vertices, or two per rectangle.
+    MAX_REGION_POINTS = 12, firmware 6
+}
+/// Certificates in a signer's chain that the verifier walks.
+pub const MAX_CHAIN: usize = 4;
+profile! {
+    /// Recently accepted signed messages remembered for the replay check.
+    MAX_REPLAY = 256, firmware 32
+}

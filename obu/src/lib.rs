@@ -51,6 +51,7 @@ pub mod link;
 pub mod matcher;
 mod math;
 pub mod onboard;
+pub mod security;
 pub mod store;
 pub mod time;
 pub mod v2x;

@@ -53,8 +53,14 @@ pub fn road() -> LaneModel {
 /// A store holding the test road.
 pub fn store() -> MapStore {
     let mut s = MapStore::new();
-    if let MapUpdate::Fill { model, .. } = s.update(Instant::ZERO, MapId(7), 1, reference(), 1600.0)
-    {
+    if let MapUpdate::Fill { model, .. } = s.update(
+        Instant::ZERO,
+        MapId(7),
+        1,
+        reference(),
+        1600.0,
+        crate::store::Provenance::Verified,
+    ) {
         fill_road(model);
     }
     s

@@ -81,6 +81,11 @@ impl fmt::Display for Duration {
     }
 }
 
+/// Leap seconds inserted into UTC since 2004-01-01 (ends of 2005-12, 2008-12, 2012-06,
+/// 2015-06, 2016-12); none since 2017, and none is announced. A new one would need this
+/// constant raised (IERS Bulletin C).
+pub const LEAP_SECONDS_SINCE_2004: u64 = 5;
+
 /// Minutes in a common year; J2735 `MinuteOfTheYear` runs to 527 040 (leap year).
 pub const MINUTES_PER_DAY: i64 = 1440;
 
@@ -106,6 +111,18 @@ impl UtcTime {
     /// Minutes since 2000-01-01 00:00 UTC (negative before), continuous across years.
     pub const fn abs_minutes(self) -> i64 {
         abs_minutes(self.year, (self.ms_of_year / 60_000) as i64)
+    }
+
+    /// IEEE 1609.2 `Time64`: TAI microseconds since 2004-01-01 00:00:00 UTC, i.e. the UTC
+    /// time since then plus the leap seconds inserted since ([`LEAP_SECONDS_SINCE_2004`]);
+    /// `None` before 2004.
+    pub const fn time64(self) -> Option<u64> {
+        let days = days_before_year(self.year) - days_before_year(2004);
+        if days < 0 {
+            return None;
+        }
+        let ms = days as u64 * 86_400_000 + self.ms_of_year + LEAP_SECONDS_SINCE_2004 * 1000;
+        Some(ms * 1000)
     }
 
     /// Shifts the time by `ms` milliseconds (may cross into the next years).
@@ -171,6 +188,34 @@ pub const fn year_of(abs_min: i64) -> u16 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn time64_counts_tai_microseconds_since_2004() {
+        // 2025-06-17T14:32:41Z: the independent vectors' generation time
+        // (make_signed_vectors.py: 677 255 566 000 000).
+        let ms = (31 + 28 + 31 + 30 + 31 + 16) * 86_400_000 + (14 * 3600 + 32 * 60 + 41) * 1000;
+        let t = UtcTime {
+            year: 2025,
+            ms_of_year: ms,
+        };
+        assert_eq!(t.time64(), Some(677_255_566_000_000));
+        assert_eq!(
+            UtcTime {
+                year: 2004,
+                ms_of_year: 0
+            }
+            .time64(),
+            Some(5_000_000)
+        );
+        assert_eq!(
+            UtcTime {
+                year: 2003,
+                ms_of_year: 0
+            }
+            .time64(),
+            None
+        );
+    }
 
     #[test]
     fn year_arithmetic() {

@@ -196,9 +196,22 @@ impl<'a> CoerReader<'a> {
         Ok(fold_unsigned(digits))
     }
 
-    /// Skips an unconstrained (signed) INTEGER with a length prefix.
-    pub(crate) fn skip_signed(&mut self) -> DecodeResult<()> {
-        self.read_integer_digits().map(|_| ())
+    /// Reads an unconstrained (signed) INTEGER with a length prefix, up to 64 bits.
+    pub(crate) fn read_signed(&mut self) -> DecodeResult<i64> {
+        let start = *self;
+        let digits = self.read_integer_digits()?;
+        if digits.len() > 8 {
+            return Err(start.error(DecodeErrorKind::ValueOutOfRange));
+        }
+        let redundant = match digits {
+            [0x00, next, ..] => next & 0x80 == 0,
+            [0xff, next, ..] => next & 0x80 != 0,
+            _ => false,
+        };
+        if redundant {
+            return Err(start.error(DecodeErrorKind::NonCanonical));
+        }
+        Ok(fold_signed(digits))
     }
 
     /// Reads the length-prefixed digits of an INTEGER; at least one digit is required.

@@ -18,6 +18,7 @@
 //! No function in this module panics on any input.
 
 use super::coer::{optional, within_open_type, CoerReader, DecodeResult};
+use super::ieee1609dot2_certificate::parse_certificate;
 use super::ieee1609dot2_signature::parse_signature;
 use super::ieee1609dot2_skip::{skip_certificate, skip_encrypted_data, skip_encryption_key};
 
@@ -231,13 +232,13 @@ impl<'a> CertificateChain<'a> {
         self.encoded
     }
 
-    /// The signing certificate's COER bytes.
+    /// The signing certificate.
     #[must_use]
-    pub fn first(&self) -> Option<&'a [u8]> {
+    pub fn first(&self) -> Option<Certificate<'a>> {
         self.iter().next()
     }
 
-    /// The COER bytes of each certificate, signing certificate first.
+    /// Each certificate, signing certificate first.
     #[must_use]
     pub fn iter(&self) -> Certificates<'a> {
         Certificates {
@@ -248,7 +249,7 @@ impl<'a> CertificateChain<'a> {
 }
 
 impl<'a> IntoIterator for &CertificateChain<'a> {
-    type Item = &'a [u8];
+    type Item = Certificate<'a>;
     type IntoIter = Certificates<'a>;
 
     fn into_iter(self) -> Self::IntoIter {
@@ -256,7 +257,7 @@ impl<'a> IntoIterator for &CertificateChain<'a> {
     }
 }
 
-/// Iterator over the certificates of a [`CertificateChain`], as raw COER bytes.
+/// Iterator over the certificates of a [`CertificateChain`] (checked by the parse).
 #[derive(Clone, Debug)]
 pub struct Certificates<'a> {
     reader: CoerReader<'a>,
@@ -264,17 +265,28 @@ pub struct Certificates<'a> {
 }
 
 impl<'a> Iterator for Certificates<'a> {
-    type Item = &'a [u8];
+    type Item = Certificate<'a>;
 
     fn next(&mut self) -> Option<Self::Item> {
         self.left = self.left.checked_sub(1)?;
-        let start = self.reader.position();
-        skip_certificate(&mut self.reader).ok()?;
-        Some(self.reader.consumed_since(start))
+        parse_certificate(&mut self.reader).ok()
     }
 }
 
+pub use super::ieee1609dot2_certificate::{
+    Certificate, CertificateKind, Duration, GeographicRegion, Issuer, Locations, PsidGroup,
+    PsidGroups, PsidRanges, PsidSsp, PsidSsps, Ssp, SubjectPermissions, Time32, TwoDLocation,
+    ValidityPeriod, VerifyKeyIndicator,
+};
 pub use super::ieee1609dot2_signature::{CurvePoint, PointForm, Signature, SignatureScheme};
+/// Writing signed data and certificates (feature `crypto`).
+#[cfg(feature = "crypto")]
+#[path = "ieee1609dot2_build.rs"]
+pub mod build;
+/// NIST P-256 / SHA-256: signature hashes, verify, sign, ECQV (feature `crypto`).
+#[cfg(feature = "crypto")]
+#[path = "ieee1609dot2_crypto.rs"]
+pub mod crypto;
 
 impl<'a> Ieee1609Dot2Data<'a> {
     /// Decodes `bytes`, which must hold exactly one `Ieee1609Dot2Data`.
@@ -806,7 +818,10 @@ mod tests {
             panic!("expected a certificate signer");
         };
         assert_eq!(chain.len(), 1);
-        assert_eq!(chain.first(), Some(&implicit_certificate()[..]));
+        assert_eq!(
+            chain.first().map(|c| c.encoded),
+            Some(&implicit_certificate()[..])
+        );
         assert_eq!(chain.iter().count(), 1);
         assert_eq!(signed.signature.r.form, PointForm::CompressedY1);
         assert_eq!(signed.signature.s, &[0x55; 32]);

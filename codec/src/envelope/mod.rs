@@ -37,6 +37,7 @@ mod coer;
 /// Hexadecimal text (moved to [`crate::hex`]; kept here for the envelope API's users).
 pub use crate::hex;
 pub mod ieee1609dot2;
+mod ieee1609dot2_certificate;
 mod ieee1609dot2_error;
 mod ieee1609dot2_signature;
 mod ieee1609dot2_skip;

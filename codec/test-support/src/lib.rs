@@ -4,6 +4,7 @@
 //!   loudly when it is missing;
 //! - [`corpus`]: the corpus frames with their names, and the oracle's JER per frame;
 //! - [`vectors`]: the codec's oracle vectors (`codec/tests/vectors/oracle_vectors.jsonl`);
+//! - [`signed_vectors`]: the independent IEEE 1609.2 signed-data vectors;
 //! - [`oracle`]: the pycrate oracle's Python, made by `shared/oracle/setup.sh`, and a
 //!   runner for scripts that use it;
 //! - [`from_hex`] / [`to_hex`] (through `j2735::hex`) and [`big_stack`].
@@ -15,6 +16,7 @@
 pub mod corpus;
 pub mod oracle;
 pub mod shared;
+pub mod signed_vectors;
 pub mod vectors;
 
 /// Bytes of hexadecimal text; whitespace anywhere is ignored (files end in a line break).

@@ -14,6 +14,8 @@
 //! - [`zone_sources`]: each zone's closed lanes and stations from its source (lanes, cones,
 //!   WZDx, camera), and the site's zones as the roadside broadcasts them.
 //! - [`messages`]: the J2735 MAP and TIM for the road and a work zone, UPER-encoded.
+//! - [`pki`]: IEEE 1609.2 certificates (root, issuing CA, RSU) as files, and the signer of
+//!   MAP and TIM.
 //! - [`broadcast`]: the broadcaster (UDP, raw or IEEE 1609.2), its fault channel and the
 //!   RSU 4.1 text files.
 //! - [`rsu`]: the roadside unit as a product (`hil-sim roadside`): a site's messages
@@ -33,6 +35,7 @@ pub mod clock;
 pub mod cones;
 pub mod geojson;
 pub mod messages;
+pub mod pki;
 pub mod rng;
 pub mod road;
 pub mod rsu;

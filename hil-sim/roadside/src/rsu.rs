@@ -7,6 +7,7 @@
 use crate::broadcast::{write_rsu_files, Broadcaster, Message, RsuOptions, Wrapping};
 use crate::clock::{unix_ms_now, Utc};
 use crate::messages;
+use crate::pki::RsuSigner;
 use crate::site::Site;
 use std::net::SocketAddr;
 use std::path::PathBuf;
@@ -25,6 +26,10 @@ pub struct RoadsideOptions {
     pub duration: Option<Duration>,
     /// Write RSU 4.1 text files here.
     pub rsu_dir: Option<PathBuf>,
+    /// Sign with this PKI directory's RSU certificate and key (`rsu.oer`, `rsu.key`):
+    /// broadcasts are IEEE 1609.2 signed data, RSU files ask the RSU to sign
+    /// (`Signature=True`).
+    pub pki_dir: Option<PathBuf>,
 }
 
 /// The MAP and TIMs of a site's road and zones, valid from now until further notice.
@@ -48,9 +53,19 @@ pub fn messages_of(s: &Site) -> Result<Vec<Message>, String> {
 pub fn run(s: &Site, o: &RoadsideOptions) -> Result<String, String> {
     let msgs = messages_of(s)?;
     let mut summary = format!("{} messages (MAP + {} TIM)", msgs.len(), msgs.len() - 1);
+    let signer = match &o.pki_dir {
+        Some(dir) => Some(std::sync::Arc::new(RsuSigner::load(dir, None)?)),
+        None => None,
+    };
+    if signer.is_some() {
+        summary.push_str(", signed (IEEE 1609.2)");
+    }
     if let Some(dir) = &o.rsu_dir {
-        let files =
-            write_rsu_files(dir, &msgs, &RsuOptions::default()).map_err(|e| e.to_string())?;
+        let options = RsuOptions {
+            sign: signer.is_some(),
+            ..RsuOptions::default()
+        };
+        let files = write_rsu_files(dir, &msgs, &options).map_err(|e| e.to_string())?;
         summary.push_str(&format!(
             "; {} RSU 4.1 files in {}",
             files.len(),
@@ -62,6 +77,7 @@ pub fn run(s: &Site, o: &RoadsideOptions) -> Result<String, String> {
     }
     let mut b = Broadcaster::new(o.destinations.clone(), o.wrapping).map_err(|e| e.to_string())?;
     b.set_rate_hz(o.rate_hz).map_err(|e| e.to_string())?;
+    b.set_signer(signer);
     b.set_messages(msgs);
     match o.duration {
         Some(d) => {

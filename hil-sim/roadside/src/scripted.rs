@@ -134,7 +134,9 @@ fn radio(s: &Site, t0: Instant) -> Result<FaultInjector, String> {
 }
 
 /// Starts the roadside thread; it stops when `stop` turns true and returns when each new
-/// version of the messages first left, and the datagram counts.
+/// version of the messages first left, and the datagram counts. With a `signer`, every
+/// frame goes out as IEEE 1609.2 signed data generated at its send time (before the radio
+/// faults, which then damage signed bytes as they would on the air).
 pub fn spawn(
     s: &Site,
     road: &Road,
@@ -142,6 +144,7 @@ pub fn spawn(
     to: &str,
     t0: Instant,
     stop: Arc<AtomicBool>,
+    signer: Option<Arc<crate::pki::RsuSigner>>,
 ) -> Result<JoinHandle<(Vec<Instant>, V2xCounts)>, String> {
     let sock = UdpSocket::bind("127.0.0.1:0").map_err(|e| e.to_string())?;
     let to = to.to_string();
@@ -169,9 +172,15 @@ pub fn spawn(
                 air = new;
             }
             let now = Instant::now();
-            for d in std::iter::once(&air.map).chain(&air.tims) {
-                let mut d = d.clone();
-                let kind = MessageKind::of_frame(&d).unwrap_or(MessageKind::Other(0));
+            for frame in std::iter::once(&air.map).chain(&air.tims) {
+                let kind = MessageKind::of_frame(frame).unwrap_or(MessageKind::Other(0));
+                let mut d = match &signer {
+                    Some(signer) => match signer.sign(frame, crate::clock::unix_ms_now()) {
+                        Ok(signed) => signed,
+                        Err(_) => continue,
+                    },
+                    None => frame.clone(),
+                };
                 match radio.decide(0, kind, now, &mut d) {
                     Verdict::Drop(_) => {
                         counts.lost += 1;

@@ -113,6 +113,22 @@ overspeed_tolerance_kmh = 5.0
 # source = "tcp:127.0.0.1:5003"
 # serial: baud rate for `stty` (leave out to use the tty as it is set).
 # baud = 115200
+
+[security]
+# IEEE 1609.2. Signed MAP and TIM must verify along a certificate chain to one of the
+# trust anchors, carry the PSID below, be generated within `max_skew_ms` of GNSS time and
+# not be replays; a failure drops the frame, counted by reason under "security_errors".
+# Drop unsigned MAP and TIM. Off: they are used but marked "unverified" on the tablet, and
+# can never replace, refresh, cancel or evict a lane map or work zone that came verified.
+require_signed = true
+# Root and issuing CA certificates (COER files, as `hil-sim pki` writes them). With none,
+# every signed frame is dropped ("chain does not reach a trust anchor").
+trust_anchors = []
+# Largest distance between a frame's generationTime and GNSS time, milliseconds.
+max_skew_ms = 30000
+# The PSIDs a signed TIM and MAP must carry.
+tim_psid = 0x8003
+map_psid = 0xE0000017
 "#;
 
 /// The whole configuration.
@@ -131,6 +147,36 @@ pub struct Config {
     pub alerts: Alerts,
     /// Bridge mode.
     pub bridge: Bridge,
+    /// IEEE 1609.2 trust policy.
+    pub security: Security,
+}
+
+/// `[security]`.
+#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct Security {
+    /// Drop unsigned MAP and TIM.
+    pub require_signed: bool,
+    /// Trust anchor certificate files (COER).
+    pub trust_anchors: Vec<PathBuf>,
+    /// Allowed generation-time skew, milliseconds.
+    pub max_skew_ms: u32,
+    /// PSID of TIM.
+    pub tim_psid: u32,
+    /// PSID of MAP.
+    pub map_psid: u32,
+}
+
+impl Security {
+    /// The core's settings.
+    pub fn core_config(&self) -> obu::security::SecurityConfig {
+        obu::security::SecurityConfig {
+            require_signed: self.require_signed,
+            max_skew_ms: self.max_skew_ms,
+            tim_psid: self.tim_psid,
+            map_psid: self.map_psid,
+        }
+    }
 }
 
 /// `[v2x]`.
@@ -372,6 +418,12 @@ impl Config {
         }
         if self.bridge.baud == Some(0) {
             return bad("bridge.baud must be > 0");
+        }
+        if self.security.max_skew_ms == 0 {
+            return bad("security.max_skew_ms must be > 0");
+        }
+        if self.security.trust_anchors.len() > obu::capacity::MAX_TRUST_ANCHORS {
+            return bad("security.trust_anchors: at most 4 certificates");
         }
         Ok(())
     }

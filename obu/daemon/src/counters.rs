@@ -33,6 +33,8 @@ pub mod group {
     pub const BRIDGE: &str = "bridge";
     /// Bridge-mode frames refused (framing, CRC, postcard payload), by reason.
     pub const BRIDGE_ERRORS: &str = "bridge_errors";
+    /// Signed or unsigned MAP/TIM refused by the IEEE 1609.2 trust policy, by reason.
+    pub const SECURITY_ERRORS: &str = "security_errors";
     /// HTTP requests and connections refused or cut, by reason (wrong host, request
     /// deadline, shed over the connection cap, not paired, wrong PIN, ...).
     pub const HTTP_REJECTED: &str = "http_rejected";
@@ -51,6 +53,7 @@ pub const fn drop_group(group: DropGroup) -> &'static str {
         DropGroup::Envelope => group::ENVELOPE_ERRORS,
         DropGroup::Decode => group::DECODE_ERRORS,
         DropGroup::Ingest => group::INGEST_ERRORS,
+        DropGroup::Security => group::SECURITY_ERRORS,
     }
 }
 

@@ -10,7 +10,7 @@ use crate::settings::Settings;
 use obu::alert::{AlertConfig, HmiState};
 use obu::fix::Fix;
 use obu::time::Instant;
-use obu::v2x::{V2xOutcome, V2xScratch};
+use obu::v2x::{V2xOutcome, V2xReceiver};
 use std::collections::VecDeque;
 use std::sync::{Arc, Mutex, MutexGuard};
 use tokio::sync::{broadcast, watch, Notify};
@@ -37,8 +37,9 @@ const RSU_PAYLOAD_MAX: usize = 32 * 1024;
 
 struct Inner {
     core: Box<obu::Obu>,
-    /// The core's kept MAP and TIM decode targets and RSU payload buffer.
-    scratch: Box<V2xScratch<RSU_PAYLOAD_MAX>>,
+    /// The core's receive path: MAP and TIM decode targets, RSU payload buffer, and the
+    /// IEEE 1609.2 trust store.
+    receiver: Box<V2xReceiver<RSU_PAYLOAD_MAX>>,
     seq: u64,
     recent: VecDeque<Arc<Event>>,
     last_fix: Option<Instant>,
@@ -72,7 +73,7 @@ impl Hub {
         Arc::new(Self {
             inner: Mutex::new(Inner {
                 core,
-                scratch: Box::default(),
+                receiver: Box::default(),
                 seq: 0,
                 recent: VecDeque::with_capacity(keep),
                 last_fix: None,
@@ -122,14 +123,32 @@ impl Hub {
         self.inner.lock().unwrap_or_else(|p| p.into_inner())
     }
 
+    /// Sets the IEEE 1609.2 trust policy: its settings and the trust anchors (certificate
+    /// COER bytes, each named for errors).
+    pub fn configure_security(
+        &self,
+        config: obu::security::SecurityConfig,
+        anchors: &[(String, Vec<u8>)],
+    ) -> Result<(), String> {
+        let mut inner = self.lock();
+        let trust = inner.receiver.trust_mut();
+        trust.set_config(config);
+        for (name, coer) in anchors {
+            trust
+                .add_anchor(coer)
+                .map_err(|e| format!("trust anchor {name}: {e:?}"))?;
+        }
+        Ok(())
+    }
+
     /// One received V2X datagram into the core's receive path; when it changed what is
     /// stored (zones or maps stored, replaced or cancelled) the new state is published at
     /// once.
     pub fn on_datagram(&self, datagram: &[u8]) -> V2xOutcome {
         let now = self.now();
         let mut inner = self.lock();
-        let Inner { core, scratch, .. } = &mut *inner;
-        let outcome = core.on_datagram(now, datagram, scratch);
+        let Inner { core, receiver, .. } = &mut *inner;
+        let outcome = core.on_datagram(now, datagram, receiver);
         match outcome {
             V2xOutcome::Changed(_) => {
                 let state = inner.core.state(now);

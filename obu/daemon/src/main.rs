@@ -87,6 +87,8 @@ async fn run(config: Config) -> Result<(), String> {
         config.speed.stale_after_ms,
     );
 
+    configure_security(&hub, &config.security)?;
+
     let pairing = load_pairing(&config.http)?;
     let listener = serve::bind(config.http.bind)
         .map_err(|e| format!("http bind {}: {e}", config.http.bind))?;
@@ -191,4 +193,33 @@ async fn wait_for_signal() {
     }
     #[cfg(not(unix))]
     let _ = ctrl_c.await;
+}
+
+/// Reads the trust anchors and sets the core's trust policy; warns when nothing can verify.
+fn configure_security(hub: &hub::Hub, security: &config::Security) -> Result<(), String> {
+    let mut anchors = Vec::new();
+    for path in &security.trust_anchors {
+        let coer = std::fs::read(path).map_err(|e| format!("{}: {e}", path.display()))?;
+        anchors.push((path.display().to_string(), coer));
+    }
+    hub.configure_security(security.core_config(), &anchors)?;
+    if anchors.is_empty() {
+        let effect = if security.require_signed {
+            "every MAP and TIM will be dropped"
+        } else {
+            "signed frames will be dropped, unsigned ones shown as unverified"
+        };
+        eprintln!("obu: warning: no security.trust_anchors configured: {effect}");
+    } else {
+        eprintln!(
+            "obu: IEEE 1609.2: {} trust anchor(s), signatures {}",
+            anchors.len(),
+            if security.require_signed {
+                "required"
+            } else {
+                "optional"
+            }
+        );
+    }
+    Ok(())
 }

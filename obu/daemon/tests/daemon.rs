@@ -25,7 +25,8 @@ fn write_config(dir: &Path, gnss_port: u16) -> PathBuf {
     let path = dir.join("obu.toml");
     let text = format!(
         "[v2x]\nbind = \"127.0.0.1:0\"\n[gnss]\nsource = \"nmea-udp\"\naddress = \"127.0.0.1:{gnss_port}\"\n\
-         [http]\nbind = \"127.0.0.1:0\"\nsettings_file = \"{}\"\nheartbeat_ms = 200\nrequest_timeout_ms = 1000\npin = \"{PIN}\"\n",
+         [http]\nbind = \"127.0.0.1:0\"\nsettings_file = \"{}\"\nheartbeat_ms = 200\nrequest_timeout_ms = 1000\npin = \"{PIN}\"\n\
+         [security]\nrequire_signed = false\n",
         dir.join("settings.json").display()
     );
     std::fs::write(&path, text).unwrap();

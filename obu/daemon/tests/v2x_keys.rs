@@ -14,7 +14,8 @@ fn start(dir: &Path) -> Daemon {
     let path = dir.join("obu.toml");
     let text = format!(
         "[v2x]\nbind = \"127.0.0.1:0\"\n[gnss]\nsource = \"nmea-udp\"\naddress = \"127.0.0.1:{}\"\n\
-         [http]\nbind = \"127.0.0.1:0\"\nsettings_file = \"{}\"\n",
+         [http]\nbind = \"127.0.0.1:0\"\nsettings_file = \"{}\"\n\
+         [security]\nrequire_signed = false\n",
         free_udp_port(),
         dir.join("settings.json").display()
     );

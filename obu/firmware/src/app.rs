@@ -5,7 +5,7 @@
 use embedded_io::Write;
 use obu::input::nmea::{self, FixAssembler};
 use obu::link::{self, Deframer};
-use obu::v2x::{DropReason, V2xCounters, V2xOutcome, V2xScratch};
+use obu::v2x::{DropReason, V2xCounters, V2xOutcome, V2xReceiver};
 use obu::{AlertConfig, HmiState, Instant, Obu};
 
 /// Largest V2X frame on the wire (a UPER MessageFrame in a 1609.2 envelope, COBS framed).
@@ -22,9 +22,9 @@ pub const HMI_WIRE_MAX: usize = link::encoded_len(HMI_MAX);
 pub const RSU_PAYLOAD_MAX: usize = V2X_MAX_WIRE / 2;
 
 /// The decode targets of MAP and TIM and the RSU payload buffer, kept between messages (the
-/// largest part of the RAM): the core's [`V2xScratch`], all zeros until the first message,
+/// largest part of the RAM): the core's [`V2xReceiver`], all zeros until the first message,
 /// so a `static` of it lands in .bss.
-pub type Messages = V2xScratch<RSU_PAYLOAD_MAX>;
+pub type Messages = V2xReceiver<RSU_PAYLOAD_MAX>;
 
 /// [`V2xCounters`] for defmt: the outcomes, then every non-zero drop by its reason.
 pub struct ShowCounters<'a>(pub &'a V2xCounters);

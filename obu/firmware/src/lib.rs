@@ -16,6 +16,33 @@
 pub mod app;
 pub mod board;
 
+/// The IEEE 1609.2 trust built in at build time (`OBU_TRUST_ANCHORS`, `OBU_REQUIRE_SIGNED`;
+/// default: the bench PKI's anchors, signatures required).
+pub mod security {
+    include!(concat!(env!("OUT_DIR"), "/trust_anchors.rs"));
+
+    /// The core's security settings of this build.
+    pub const CONFIG: obu::security::SecurityConfig = obu::security::SecurityConfig {
+        require_signed: REQUIRE_SIGNED,
+        ..obu::security::SecurityConfig::DEFAULT
+    };
+
+    /// Gives `msgs` this build's settings and anchors; returns how many anchors it took
+    /// (an anchor it refuses is logged and left out).
+    pub fn configure(msgs: &mut crate::app::Messages) -> usize {
+        let trust = msgs.trust_mut();
+        trust.set_config(CONFIG);
+        let mut taken = 0;
+        for anchor in TRUST_ANCHORS {
+            match trust.add_anchor(anchor) {
+                Ok(()) => taken += 1,
+                Err(_) => defmt::error!("a built-in trust anchor was refused"),
+            }
+        }
+        taken
+    }
+}
+
 use obu::AlertConfig;
 
 /// The alert settings of the firmware (the paper's field test: 100 m warning, 9 s lead).

@@ -17,6 +17,7 @@ fn main() -> ! {
     static mut MESSAGES: Messages = Messages::new();
     let fw: &'static mut Firmware = FIRMWARE;
     let msgs: &'static mut Messages = MESSAGES;
+    let anchors = obu_firmware::security::configure(msgs);
     board::paint_stack();
     let Some(core) = cortex_m::Peripherals::take() else {
         obu_firmware::exit(false);
@@ -30,9 +31,11 @@ fn main() -> ! {
         obu_firmware::exit(false);
     };
     defmt::info!(
-        "obu-firmware: state {=usize} B + messages {=usize} B; NMEA USART1, V2X USART2, HMI USART3",
+        "obu-firmware: state {=usize} B + messages {=usize} B; NMEA USART1, V2X USART2, HMI USART3; {=usize} trust anchors, signatures required: {=bool}",
         core::mem::size_of::<Firmware>(),
-        core::mem::size_of::<Messages>()
+        core::mem::size_of::<Messages>(),
+        anchors,
+        obu_firmware::security::REQUIRE_SIGNED
     );
     let mut clock = Clock::new();
     let mut last_report = 0u64;

@@ -96,7 +96,8 @@ impl Sample {
     }
 }
 
-const MAX_SAMPLES: usize = 256;
+/// Fixes kept by the drive (it sends about 200: 259 m + the zone + 80 m at 2 m a fix).
+const MAX_SAMPLES: usize = 232;
 
 /// East/north (metres from the reference point) and course at station `s` of lane 1 in its
 /// direction of travel, straight on beyond both ends.
@@ -189,15 +190,14 @@ mod tests {
         STEP,
     };
     use obu::alert::{AlertKind, LaneAdvice, ZoneState};
-    use obu_firmware::app::{Firmware, Messages};
 
     const MAP: &str = "map_work_zone";
     const TIM: &str = "tim_work_zone_left_lane_closed";
 
     #[init]
     fn init() -> State {
-        let fw = cortex_m::singleton!(: Firmware = Firmware::new(CONFIG)).unwrap();
-        let msgs = cortex_m::singleton!(: Messages = Messages::new()).unwrap();
+        let fw = super::common::firmware();
+        let msgs = super::common::messages(super::common::UNSIGNED_TAKEN);
         State {
             fw,
             msgs,

@@ -14,7 +14,6 @@ use defmt_semihosting as _;
 use obu::v2x::DropReason;
 use obu::Instant;
 use obu_firmware::app::{Firmware, Messages, V2X_MAX_WIRE};
-use obu_firmware::CONFIG;
 
 include!(concat!(env!("OUT_DIR"), "/vectors.rs"));
 include!(concat!(env!("OUT_DIR"), "/other_vectors.rs"));
@@ -135,18 +134,18 @@ fn envelope<'a>(payload: &[u8], out: &'a mut [u8]) -> &'a [u8] {
 #[defmt_test::tests]
 mod tests {
     use super::{
-        code_positions, counts, envelope, feed_nmea, sentence, vector, Epoch, Rng, State, CONFIG,
-        MAP, MAP_TIM_VECTORS, OTHER_VECTORS, OVERSIZE, TIM, WIRE,
+        code_positions, counts, envelope, feed_nmea, sentence, vector, Epoch, Rng, State, MAP,
+        MAP_TIM_VECTORS, OTHER_VECTORS, OVERSIZE, TIM, WIRE,
     };
     use obu::v2x::DropReason;
     use obu::Instant;
-    use obu_firmware::app::{Firmware, Messages, V2X_MAX_WIRE};
+    use obu_firmware::app::V2X_MAX_WIRE;
 
     #[init]
     fn init() -> State {
         State {
-            fw: cortex_m::singleton!(: Firmware = Firmware::new(CONFIG)).unwrap(),
-            msgs: cortex_m::singleton!(: Messages = Messages::new()).unwrap(),
+            fw: super::common::firmware(),
+            msgs: super::common::messages(super::common::UNSIGNED_TAKEN),
             wire: cortex_m::singleton!(: [u8; WIRE] = [0; WIRE]).unwrap(),
             scratch: cortex_m::singleton!(: [u8; WIRE] = [0; WIRE]).unwrap(),
             t: 0,

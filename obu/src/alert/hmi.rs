@@ -134,6 +134,10 @@ pub struct HmiState {
     pub maps: u8,
     /// Work zones stored.
     pub zones: u8,
+    /// Lane models and work zones stored that came without a verified signature (possible
+    /// only when signatures are not required): the display marks them "unverified". Zero
+    /// with `zones > 0` means every zone shown was verified.
+    pub unverified: u8,
     /// Counters.
     pub counters: Counters,
 }

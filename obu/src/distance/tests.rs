@@ -77,6 +77,7 @@ fn through_a_connection() {
         2,
         testutil::reference(),
         1600.0,
+        crate::store::Provenance::Verified,
     ) {
         testutil::fill_road(model);
         if let Some(l) = model.lane_mut(LaneId(3)) {

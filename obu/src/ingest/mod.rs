@@ -35,6 +35,7 @@ mod nodes;
 mod testdata;
 pub mod tim;
 
+use crate::store::Provenance;
 use core::fmt;
 
 #[cfg(feature = "serde")]
@@ -202,6 +203,9 @@ pub struct Ingest {
     pub truncated: u8,
     /// Parts rejected (lane models, lanes, work zones, regions), each counted by reason.
     pub rejected: u8,
+    /// Lane models or work zones left alone because this unverified message would have
+    /// replaced, refreshed, cancelled or evicted one that came verified.
+    pub refused_unverified: u8,
 }
 
 impl Ingest {
@@ -216,6 +220,7 @@ impl Ingest {
             thinned: 0,
             truncated: 0,
             rejected: 0,
+            refused_unverified: 0,
         }
     }
 }
@@ -224,15 +229,18 @@ impl Ingest {
 #[derive(Debug, Default)]
 pub(crate) struct Sink {
     pub(crate) report: Ingest,
+    /// Where the message came from (verified or not).
+    pub(crate) provenance: Provenance,
     pub(crate) counters: IngestCounters,
     first: Option<IngestError>,
 }
 
 impl Sink {
     /// A sink for a message of `kind`.
-    pub(crate) fn new(kind: MessageKind) -> Self {
+    pub(crate) fn new(kind: MessageKind, provenance: Provenance) -> Self {
         Sink {
             report: Ingest::new(kind),
+            provenance,
             counters: IngestCounters::ZERO,
             first: None,
         }
@@ -273,10 +281,10 @@ mod tests {
         for (i, e) in IngestError::ALL.iter().enumerate() {
             assert_eq!(e.index(), i);
         }
-        let mut s = Sink::new(MessageKind::Tim);
+        let mut s = Sink::new(MessageKind::Tim, Provenance::Verified);
         s.thinned();
         assert_eq!(s.finish().map(|r| r.thinned), Ok(1));
-        let mut s = Sink::new(MessageKind::Map);
+        let mut s = Sink::new(MessageKind::Map, Provenance::Verified);
         s.reject(IngestError::UnsupportedNode);
         s.reject(IngestError::DuplicateLane);
         let mut c = IngestCounters::ZERO;

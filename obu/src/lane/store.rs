@@ -3,7 +3,7 @@
 use super::{LaneModel, MapId};
 use crate::capacity::MAX_MAPS;
 use crate::geo::LatLon;
-use crate::store::{Keyed, SlotStore, SlotUpdate};
+use crate::store::{Keyed, Provenance, SlotStore, SlotUpdate};
 use crate::time::{Duration, Instant};
 
 /// Outcome of [`MapStore::update`].
@@ -19,6 +19,8 @@ pub enum MapUpdate<'a> {
         /// True when a stored model was overwritten.
         replaced: bool,
     },
+    /// An unverified MAP for a model that came verified (or that would evict one).
+    Refused,
 }
 
 /// Up to [`MAX_MAPS`] lane models, in fixed slots (no copies of large models): a typed
@@ -60,9 +62,14 @@ impl MapStore {
         revision: u8,
         reference: LatLon,
         elevation_m: f32,
+        provenance: Provenance,
     ) -> MapUpdate<'_> {
-        match self.slots.update(now, &id, |m| m.revision == revision) {
+        match self
+            .slots
+            .update(now, &id, provenance, |m| m.revision == revision)
+        {
             SlotUpdate::Unchanged => MapUpdate::Unchanged,
+            SlotUpdate::Refused => MapUpdate::Refused,
             SlotUpdate::Fill { value, replaced } => {
                 value.reset(id, revision, reference, elevation_m);
                 MapUpdate::Fill {
@@ -98,6 +105,11 @@ impl MapStore {
         self.slots.slot(slot)
     }
 
+    /// Number of stored models that came unverified.
+    pub fn unverified(&self) -> usize {
+        self.slots.count(Provenance::Unverified)
+    }
+
     /// Number of stored models.
     pub fn len(&self) -> usize {
         self.slots.len()
@@ -128,8 +140,15 @@ mod tests {
     }
 
     fn add(s: &mut MapStore, now: u64, id: u32, rev: u8) -> Option<bool> {
-        match s.update(t(now), MapId(id), rev, LatLon::ZERO, 0.0) {
-            MapUpdate::Unchanged => None,
+        match s.update(
+            t(now),
+            MapId(id),
+            rev,
+            LatLon::ZERO,
+            0.0,
+            Provenance::Verified,
+        ) {
+            MapUpdate::Unchanged | MapUpdate::Refused => None,
             MapUpdate::Fill { replaced, .. } => Some(replaced),
         }
     }

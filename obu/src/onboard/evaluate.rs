@@ -97,6 +97,7 @@ impl Obu {
             roadside_data: !(self.maps.is_empty() && self.zones.is_empty()),
             maps: self.maps.len() as u8,
             zones: self.zones.len() as u8,
+            unverified: (self.maps.unverified() + self.zones.unverified()) as u8,
             counters: self.counters(),
             ..HmiState::default()
         }

@@ -10,6 +10,7 @@ use crate::capacity::MAX_MAPS;
 use crate::ingest::{
     self, map::ModelSource, Ingest, IngestCounters, IngestError, MessageKind, Sink,
 };
+use crate::store::Provenance;
 use crate::time::Instant;
 
 impl Obu {
@@ -43,7 +44,17 @@ impl Obu {
     /// counted by reason ([`Obu::rejected`]) and the first reason is returned as the
     /// error. `Ok` reports what was stored.
     pub fn on_map(&mut self, now: Instant, map: &MapData) -> Result<Ingest, IngestError> {
-        let mut sink = Sink::new(MessageKind::Map);
+        self.ingest_map(now, map, Provenance::Verified)
+    }
+
+    /// [`Obu::on_map`] for a message of `provenance`.
+    pub(crate) fn ingest_map(
+        &mut self,
+        now: Instant,
+        map: &MapData,
+        provenance: Provenance,
+    ) -> Result<Ingest, IngestError> {
+        let mut sink = Sink::new(MessageKind::Map, provenance);
         for (i, src) in ingest::map::models(map).enumerate() {
             if i < MAX_MAPS {
                 self.map_model(now, &src, &mut sink);
@@ -62,15 +73,12 @@ impl Obu {
                 return sink.reject(e);
             }
         };
-        let stored = self.update_map(now, src.id, src.revision, reference, elevation, |m| {
+        let map = (src.id, src.revision, reference, elevation);
+        let stored = self.store_map(now, map, sink.provenance, |m| {
             ingest::map::fill_model(m, src, sink);
             Ok::<(), IngestError>(())
         });
-        match stored {
-            Ok(true) => sink.report.stored = sink.report.stored.saturating_add(1),
-            Ok(false) => sink.report.unchanged = sink.report.unchanged.saturating_add(1),
-            Err(e) => sink.reject(e),
-        }
+        sink.count(stored);
     }
 
     /// Stores every data frame of a decoded TIM as a work zone keyed by `packetID` (or
@@ -87,7 +95,17 @@ impl Obu {
         now: Instant,
         tim: &TravelerInformation,
     ) -> Result<Ingest, IngestError> {
-        let mut sink = Sink::new(MessageKind::Tim);
+        self.ingest_tim(now, tim, Provenance::Verified)
+    }
+
+    /// [`Obu::on_tim`] for a message of `provenance`.
+    pub(crate) fn ingest_tim(
+        &mut self,
+        now: Instant,
+        tim: &TravelerInformation,
+        provenance: Provenance,
+    ) -> Result<Ingest, IngestError> {
+        let mut sink = Sink::new(MessageKind::Tim, provenance);
         for (i, frame) in tim.data_frames.iter().enumerate() {
             self.tim_frame(now, tim, i, frame, &mut sink);
         }
@@ -105,20 +123,11 @@ impl Obu {
         let key = ingest::tim::key(tim, frame, index);
         let validity = ingest::tim::validity(frame);
         let msg_cnt = tim.msg_cnt.get();
-        let stored = self.store_zone(now, key, msg_cnt, validity, |zone, maps| {
+        let provenance = sink.provenance;
+        let stored = self.store_zone(now, key, (msg_cnt, validity), provenance, |zone, maps| {
             ingest::tim::fill_zone(zone, frame, maps, sink)
         });
-        let r = &mut sink.report;
-        let count = match stored {
-            Ok(Stored::Filled) => &mut r.stored,
-            Ok(Stored::Unchanged) => &mut r.unchanged,
-            Ok(Stored::Stale) => &mut r.stale,
-            Ok(Stored::Cancelled(true)) => &mut r.cancelled,
-            // The cancellation of a zone not stored (a repeat of one already applied).
-            Ok(Stored::Cancelled(false)) => &mut r.unchanged,
-            Err(e) => return sink.reject(e),
-        };
-        *count = count.saturating_add(1);
+        sink.count(stored);
     }
 
     /// Parts of MAP and TIM messages rejected so far, by reason.
@@ -129,5 +138,23 @@ impl Obu {
     fn finish(&mut self, sink: Sink) -> Result<Ingest, IngestError> {
         self.rejected.merge(&sink.counters);
         sink.finish()
+    }
+}
+
+impl Sink {
+    /// Counts what storing one lane model or work zone did.
+    fn count(&mut self, stored: Result<Stored, IngestError>) {
+        let r = &mut self.report;
+        let count = match stored {
+            Ok(Stored::Filled) => &mut r.stored,
+            Ok(Stored::Unchanged) => &mut r.unchanged,
+            Ok(Stored::Stale) => &mut r.stale,
+            Ok(Stored::Cancelled(true)) => &mut r.cancelled,
+            // The cancellation of a zone not stored (a repeat of one already applied).
+            Ok(Stored::Cancelled(false)) => &mut r.unchanged,
+            Ok(Stored::Refused) => &mut r.refused_unverified,
+            Err(e) => return self.reject(e),
+        };
+        *count = count.saturating_add(1);
     }
 }

@@ -15,6 +15,7 @@ use crate::geo::LatLon;
 use crate::ingest::IngestCounters;
 use crate::lane::{LaneModel, MapId, MapStore, MapUpdate};
 use crate::matcher::{LaneMatch, Matcher};
+use crate::store::Provenance;
 use crate::time::{Duration, Instant, UtcTime};
 use crate::zone::{self, Validity, WorkZone, ZoneKey, ZoneStore, ZoneUpdate};
 
@@ -29,6 +30,8 @@ enum Stored {
     Stale,
     /// Cancelled (`true` when a stored zone was removed).
     Cancelled(bool),
+    /// Unverified over verified: left alone.
+    Refused,
 }
 
 /// The on-board unit core: 63 648 bytes with the default capacities (x86_64 and
@@ -211,10 +214,28 @@ impl Obu {
         elevation_m: f32,
         fill: impl FnOnce(&mut LaneModel) -> Result<(), E>,
     ) -> Result<bool, E> {
-        let MapUpdate::Fill { model, .. } =
-            self.maps.update(now, id, revision, reference, elevation_m)
-        else {
-            return Ok(false);
+        let map = (id, revision, reference, elevation_m);
+        let stored = self.store_map(now, map, Provenance::Verified, fill)?;
+        Ok(stored == Stored::Filled)
+    }
+
+    /// [`Obu::update_map`] for a message of `provenance`: `map` is the id, revision,
+    /// reference point and elevation.
+    fn store_map<E>(
+        &mut self,
+        now: Instant,
+        map: (MapId, u8, LatLon, f32),
+        provenance: Provenance,
+        fill: impl FnOnce(&mut LaneModel) -> Result<(), E>,
+    ) -> Result<Stored, E> {
+        let (id, revision, reference, elevation_m) = map;
+        let model = match self
+            .maps
+            .update(now, id, revision, reference, elevation_m, provenance)
+        {
+            MapUpdate::Fill { model, .. } => model,
+            MapUpdate::Unchanged => return Ok(Stored::Unchanged),
+            MapUpdate::Refused => return Ok(Stored::Refused),
         };
         if let Err(e) = fill(model) {
             self.maps.remove(id);
@@ -225,7 +246,7 @@ impl Obu {
         model.drop_degenerate_lanes();
         self.counters.maps_updated = self.counters.maps_updated.saturating_add(1);
         self.reassociate_all();
-        Ok(true)
+        Ok(Stored::Filled)
     }
 
     /// Stores a decoded TIM data frame. Unchanged (`msgCnt` and start) or older
@@ -240,7 +261,13 @@ impl Obu {
         validity: Validity,
         fill: impl FnOnce(&mut WorkZone) -> Result<(), E>,
     ) -> Result<bool, E> {
-        let stored = self.store_zone(now, key, msg_cnt, validity, |z, _| fill(z))?;
+        let stored = self.store_zone(
+            now,
+            key,
+            (msg_cnt, validity),
+            Provenance::Verified,
+            |z, _| fill(z),
+        )?;
         Ok(matches!(stored, Stored::Filled | Stored::Cancelled(true)))
     }
 
@@ -249,11 +276,11 @@ impl Obu {
         &mut self,
         now: Instant,
         key: ZoneKey,
-        msg_cnt: u8,
-        validity: Validity,
+        (msg_cnt, validity): (u8, Validity),
+        provenance: Provenance,
         fill: impl FnOnce(&mut WorkZone, &MapStore) -> Result<(), E>,
     ) -> Result<Stored, E> {
-        let zone = match self.zones.update(now, key, msg_cnt, validity) {
+        let zone = match self.zones.update(now, key, msg_cnt, validity, provenance) {
             ZoneUpdate::Fill { zone, .. } => zone,
             ZoneUpdate::Cancelled(found) => {
                 self.counters.zones_cancelled =
@@ -262,6 +289,7 @@ impl Obu {
             }
             ZoneUpdate::Unchanged => return Ok(Stored::Unchanged),
             ZoneUpdate::Stale => return Ok(Stored::Stale),
+            ZoneUpdate::Refused => return Ok(Stored::Refused),
         };
         if let Err(e) = fill(zone, &self.maps) {
             self.zones.remove(&key);
@@ -283,6 +311,17 @@ impl Obu {
     fn gnss_fresh(&self, now: Instant) -> bool {
         self.last_fix
             .is_some_and(|(t, _)| now.saturating_since(t) <= self.config.gnss_timeout)
+    }
+
+    /// GNSS time at `now` as IEEE 1609.2 `Time64`, from the last fix that carried UTC.
+    pub(crate) fn time64(&self, now: Instant) -> Option<u64> {
+        let (t, utc) = self.utc?;
+        utc.plus_millis(now.saturating_since(t).millis()).time64()
+    }
+
+    /// The last fix's position.
+    pub(crate) fn position(&self) -> Option<LatLon> {
+        self.last_fix.map(|(_, fix)| fix.position)
     }
 
     /// UTC minutes since 2000 at `now`, from the last fix that carried UTC.

@@ -3,7 +3,7 @@
 //! [`Obu::on_datagram`] takes what the radio (or UDP, or the firmware's serial link)
 //! delivered: a bare UPER `MessageFrame`, one in an IEEE 1609.2 envelope, or an RSU 4.1
 //! text record (`Version=...`). It unwraps it, peeks the `messageId`, decodes a MAP or TIM
-//! into the caller's kept [`V2xScratch`] (no heap, nothing large on the stack), feeds the
+//! into the caller's kept [`V2xReceiver`] (no heap, nothing large on the stack), feeds the
 //! core and returns a [`V2xOutcome`]: the state changed (publish it), nothing changed, a
 //! message the OBU does not use, or dropped with a [`DropReason`] from a closed set.
 //! [`V2xCounters`] counts outcomes in fixed arrays indexed by that set. The daemon and the
@@ -15,13 +15,16 @@ mod tests;
 
 pub use reason::{DropGroup, DropReason};
 
+use j2735::envelope::ieee1609dot2::{looks_like_ieee1609dot2, Ieee1609Dot2Data, SignedData};
 use j2735::envelope::rsu_text::RsuMessage;
-use j2735::envelope::unwrap_message_frame;
+use j2735::envelope::UnwrapError;
 use j2735::frame::{decode_message_into, peek_message_id, Message};
 use j2735::uper::Placeholder;
 use j2735::{MapData, TravelerInformation};
 
 use crate::ingest::Ingest;
+use crate::security::{CheckContext, SecurityConfig, Trust};
+use crate::store::Provenance;
 use crate::time::Instant;
 use crate::Obu;
 
@@ -39,30 +42,55 @@ pub enum V2xOutcome {
     Dropped(DropReason),
 }
 
-/// The kept decode targets of MAP and TIM, and room for an RSU text record's payload of
-/// up to `N` octets.
+/// The receive path's kept state: the decode targets of MAP and TIM, room for an RSU text
+/// record's payload of up to `N` octets, and the IEEE 1609.2 [`Trust`] (anchors, the cache
+/// of verified certificates, the replay window).
 ///
-/// Each target is an empty `heapless::Vec` of capacity 1 until the first message: an
-/// empty one is all zeros, so a `static` of this type lands in .bss (zeroed at boot)
+/// Each decode target is an empty `heapless::Vec` of capacity 1 until the first message:
+/// an empty one is all zeros, so a `static` of this type lands in .bss (zeroed at boot)
 /// instead of .data (a copy in flash), as an `Option` (whose `None` is a niche) would.
-pub struct V2xScratch<const N: usize> {
+pub struct V2xReceiver<const N: usize> {
     map: heapless::Vec<MapData, 1>,
     tim: heapless::Vec<TravelerInformation, 1>,
     payload: [u8; N],
+    trust: Trust,
 }
 
-impl<const N: usize> V2xScratch<N> {
-    /// Nothing received yet; `const` so that firmware can place it in a `static`.
+impl<const N: usize> V2xReceiver<N> {
+    /// Nothing received yet, the product's security settings
+    /// ([`SecurityConfig::DEFAULT`]: signatures required) and no trust anchor; `const` and
+    /// all zero bytes, so that firmware can place it in a `static` in .bss.
     pub const fn new() -> Self {
         Self {
             map: heapless::Vec::new(),
             tim: heapless::Vec::new(),
             payload: [0; N],
+            trust: Trust::unconfigured(),
         }
+    }
+
+    /// Nothing received yet, with these security settings.
+    pub const fn with_security(config: SecurityConfig) -> Self {
+        Self {
+            map: heapless::Vec::new(),
+            tim: heapless::Vec::new(),
+            payload: [0; N],
+            trust: Trust::new(config),
+        }
+    }
+
+    /// The trust policy (to add anchors, read or change its settings).
+    pub fn trust_mut(&mut self) -> &mut Trust {
+        &mut self.trust
+    }
+
+    /// The trust policy.
+    pub fn trust(&self) -> &Trust {
+        &self.trust
     }
 }
 
-impl<const N: usize> Default for V2xScratch<N> {
+impl<const N: usize> Default for V2xReceiver<N> {
     fn default() -> Self {
         Self::new()
     }
@@ -93,17 +121,18 @@ fn rsu_payload<'a>(bytes: &[u8], out: &'a mut [u8]) -> Result<&'a [u8], DropReas
 }
 
 impl Obu {
-    /// Takes one received V2X input (see the [module docs](self)) at `now`; MAP and TIM
-    /// are decoded into `scratch` and stored. A MAP or TIM of which the core refused a
+    /// Takes one received V2X input (see the [module docs](self)) at `now`; a MAP or TIM
+    /// is checked by `rx`'s [`Trust`] (signed) or its `require_signed` setting (unsigned),
+    /// decoded into `rx` and stored. A MAP or TIM of which the core refused a
     /// part is [`DropReason`]'s ingest group (the parts it could use are stored, as
     /// [`Obu::on_map`] and [`Obu::on_tim`] say).
     pub fn on_datagram<const N: usize>(
         &mut self,
         now: Instant,
         bytes: &[u8],
-        scratch: &mut V2xScratch<N>,
+        rx: &mut V2xReceiver<N>,
     ) -> V2xOutcome {
-        match self.datagram(now, bytes, scratch) {
+        match self.datagram(now, bytes, rx) {
             Ok(outcome) => outcome,
             Err(reason) => V2xOutcome::Dropped(reason),
         }
@@ -113,40 +142,70 @@ impl Obu {
         &mut self,
         now: Instant,
         bytes: &[u8],
-        scratch: &mut V2xScratch<N>,
+        rx: &mut V2xReceiver<N>,
     ) -> Result<V2xOutcome, DropReason> {
-        let V2xScratch { map, tim, payload } = scratch;
-        let frame = if is_rsu_text(bytes) {
+        let V2xReceiver {
+            map,
+            tim,
+            payload,
+            trust,
+        } = rx;
+        let bytes = if is_rsu_text(bytes) {
             rsu_payload(bytes, payload)?
         } else {
-            unwrap_message_frame(bytes)
-                .map_err(DropReason::from_unwrap)?
-                .frame
+            bytes
         };
+        let (frame, signed) = open_envelope(bytes)?;
         let id = peek_message_id(frame).map_err(DropReason::from_decode)?;
-        let result = match id {
-            MapData::MESSAGE_ID => {
-                let map = slot(map);
-                decode_message_into(frame, map).map_err(DropReason::from_decode)?;
-                self.on_map(now, map)
+        if trust.psid_for(id).is_none() {
+            self.count_other_message();
+            return Ok(V2xOutcome::Other(id));
+        }
+        let provenance = match signed {
+            Some(signed) => {
+                let ctx = CheckContext {
+                    message_id: id,
+                    now_us: self.time64(now),
+                    position: self.position(),
+                };
+                trust.check(&signed, &ctx)?;
+                Provenance::Verified
             }
-            TravelerInformation::MESSAGE_ID => {
-                let tim = slot(tim);
-                decode_message_into(frame, tim).map_err(DropReason::from_decode)?;
-                self.on_tim(now, tim)
-            }
-            other => {
-                self.count_other_message();
-                return Ok(V2xOutcome::Other(other));
-            }
+            None if trust.config().require_signed => return Err(DropReason::Unsigned),
+            None => Provenance::Unverified,
+        };
+        let result = if id == MapData::MESSAGE_ID {
+            let map = slot(map);
+            decode_message_into(frame, map).map_err(DropReason::from_decode)?;
+            self.ingest_map(now, map, provenance)
+        } else {
+            let tim = slot(tim);
+            decode_message_into(frame, tim).map_err(DropReason::from_decode)?;
+            self.ingest_tim(now, tim, provenance)
         };
         let report: Ingest = result.map_err(DropReason::from_ingest)?;
-        Ok(if report.stored > 0 || report.cancelled > 0 {
-            V2xOutcome::Changed(id)
+        if report.stored > 0 || report.cancelled > 0 {
+            Ok(V2xOutcome::Changed(id))
+        } else if report.refused_unverified > 0 {
+            Err(DropReason::UnverifiedOverVerified)
         } else {
-            V2xOutcome::Unchanged(id)
-        })
+            Ok(V2xOutcome::Unchanged(id))
+        }
     }
+}
+
+/// The `MessageFrame` in `bytes` (bare, or in IEEE 1609.2 data) and the signed data around
+/// it, if signed.
+fn open_envelope(bytes: &[u8]) -> Result<(&[u8], Option<SignedData<'_>>), DropReason> {
+    if !looks_like_ieee1609dot2(bytes) {
+        return Ok((bytes, None));
+    }
+    let data = Ieee1609Dot2Data::parse(bytes)
+        .map_err(|e| DropReason::from_unwrap(UnwrapError::Envelope(e)))?;
+    let frame = data
+        .application_data()
+        .ok_or(DropReason::EnvelopeNoPlaintext)?;
+    Ok((frame, data.signed_data().copied()))
 }
 
 /// Counts of [`V2xOutcome`]s: drops in a fixed array indexed by [`DropReason::index`].

@@ -21,6 +21,10 @@ pub enum DropGroup {
     Decode,
     /// The core refused the decoded MAP or TIM (or part of it).
     Ingest,
+    /// IEEE 1609.2 security: unsigned when signatures are required, or a signature,
+    /// certificate chain, permission, time or replay check failed (see
+    /// [`crate::security`]).
+    Security,
 }
 
 /// Defines [`DropReason`] from one table: variant, group, counter name, doc.
@@ -155,6 +159,53 @@ drop_reasons! {
     IngestCapacity: Ingest = IngestError::CapacityExceeded.as_str(),
     /// Ingest: see [`IngestError::InvalidValue`].
     IngestValue: Ingest = IngestError::InvalidValue.as_str(),
+    /// Unverified data that would have replaced, refreshed, cancelled or evicted a lane
+    /// model or work zone that came verified: nothing changed.
+    UnverifiedOverVerified: Ingest = "unverified data over verified data",
+    /// Security: not signed, and signatures are required.
+    Unsigned: Security = "unsigned (signatures required)",
+    /// Security: signed by `self`: no certificate ties the key to a trusted sender.
+    SelfSigned: Security = "1609.2: self-signed (no certificate)",
+    /// Security: a hash or signature algorithm other than SHA-256 / ECDSA P-256.
+    UnsupportedAlgorithm: Security = "1609.2: unsupported hash or signature algorithm",
+    /// Security: a `digest` signer whose certificate has not been seen.
+    SignerUnknown: Security = "1609.2: signer certificate unknown (digest)",
+    /// Security: the certificate chain does not lead to a configured trust anchor.
+    ChainUntrusted: Security = "1609.2: chain does not reach a trust anchor",
+    /// Security: more certificates in the chain than the verifier walks.
+    ChainTooLong: Security = "1609.2: certificate chain too long",
+    /// Security: a certificate of the chain has a bad signature, key or validity.
+    CertificateInvalid: Security = "1609.2: certificate invalid",
+    /// Security: a certificate of the chain may not certify the message's PSID.
+    IssuerPermission: Security = "1609.2: issuer may not certify the PSID",
+    /// Security: a certificate larger than the verifier's capacities (PSIDs, region).
+    CertificateTooLarge: Security = "1609.2: certificate beyond the capacities",
+    /// Security: the signer certificate's validity ended before the message.
+    CertificateExpired: Security = "1609.2: signer certificate expired",
+    /// Security: the signer certificate's validity starts after the message.
+    CertificateNotYetValid: Security = "1609.2: signer certificate not yet valid",
+    /// Security: the signer certificate does not permit the message's PSID.
+    PsidNotPermitted: Security = "1609.2: PSID not permitted by the signer certificate",
+    /// Security: the PSID is not the one configured for this message (TIM, MAP).
+    PsidMismatch: Security = "1609.2: PSID does not match the message",
+    /// Security: the generation location is outside the signer certificate's region.
+    RegionMiss: Security = "1609.2: outside the certificate region",
+    /// Security: the certificate has a region, and no location is known to check it.
+    NoLocation: Security = "1609.2: no location to check the region",
+    /// Security: the signature does not verify.
+    SignatureInvalid: Security = "1609.2: signature does not verify",
+    /// Security: the header has no generation time.
+    NoGenerationTime: Security = "1609.2: no generation time",
+    /// Security: no GNSS time yet to check times against.
+    NoTime: Security = "1609.2: no GNSS time to check against",
+    /// Security: generated further in the future than the allowed skew.
+    GenerationTimeFuture: Security = "1609.2: generation time in the future",
+    /// Security: generated longer ago than the allowed skew.
+    GenerationTimeOld: Security = "1609.2: generation time too old",
+    /// Security: past the header's expiry time.
+    MessageExpired: Security = "1609.2: message expired",
+    /// Security: the same signed data (generation time and hash) was accepted before.
+    Replay: Security = "1609.2: replay",
 }
 
 impl DropReason {

@@ -1,11 +1,20 @@
 use super::*;
+use crate::security::SecurityConfig;
 use crate::testutil::{big_stack, vector};
 use std::boxed::Box;
 use std::vec::Vec;
 
-/// A core and its scratch (with room for a 256-octet RSU payload), on the heap.
-fn setup() -> (Box<Obu>, Box<V2xScratch<256>>) {
-    (Box::new(Obu::default()), Box::new(V2xScratch::new()))
+/// A core and its receiver (with room for a 256-octet RSU payload), on the heap, taking
+/// unsigned data (these tests are about the unsigned path; `signed` below about security).
+fn setup() -> (Box<Obu>, Box<V2xReceiver<256>>) {
+    let config = SecurityConfig {
+        require_signed: false,
+        ..SecurityConfig::DEFAULT
+    };
+    (
+        Box::new(Obu::default()),
+        Box::new(V2xReceiver::with_security(config)),
+    )
 }
 
 fn rsu(payload: &str) -> Vec<u8> {
@@ -174,4 +183,140 @@ fn message_short_names_have_one_spelling() {
         assert_eq!(name(id), Some(short));
     }
     assert_eq!((name(17), name(33), name(256)), (None, None, None));
+}
+
+mod signed {
+    use super::*;
+    use crate::fix::Fix;
+    use crate::geo::LatLon;
+    use crate::time::UtcTime;
+    use j2735::frame::{encode_message, Message};
+    use test_support::signed_vectors::{all, SignedVector};
+
+    fn named(name: &str) -> SignedVector {
+        all().into_iter().find(|v| v.name == name).unwrap()
+    }
+
+    /// A receiver trusting the vectors' root and CA, with `require_signed` as given.
+    fn receiver(v: &SignedVector, require_signed: bool) -> Box<V2xReceiver<256>> {
+        let config = SecurityConfig {
+            require_signed,
+            ..SecurityConfig::DEFAULT
+        };
+        let mut rx = Box::new(V2xReceiver::with_security(config));
+        rx.trust_mut().add_anchor(&v.root).unwrap();
+        rx.trust_mut().add_anchor(&v.ca).unwrap();
+        rx
+    }
+
+    /// A fix at the vectors' clock (2025-06-17T14:32:43Z, their `now`).
+    fn fix_at_vector_time(v: &SignedVector) -> Fix {
+        let ms = (31 + 28 + 31 + 30 + 31 + 16) * 86_400_000 + (14 * 3600 + 32 * 60 + 43) * 1000;
+        let utc = UtcTime {
+            year: 2025,
+            ms_of_year: ms,
+        };
+        assert_eq!(utc.time64(), Some(v.now), "the vectors' clock");
+        Fix {
+            utc: Some(utc),
+            ..Fix::at(LatLon::from_degrees(42.1235, -83.7656).unwrap())
+        }
+    }
+
+    /// The vector's TIM, cancelled (durationTime 0, msgCnt + 1), as a bare frame.
+    fn unsigned_cancel_of(v: &SignedVector) -> Vec<u8> {
+        let mut tim = crate::testutil::decode::<TravelerInformation>(&v.frame);
+        tim.msg_cnt = j2735::common::MsgCount::new((tim.msg_cnt.get() + 1) % 128).unwrap();
+        for frame in tim.data_frames.iter_mut() {
+            frame.duration_time = j2735::traveler_information::MinutesDuration::new(0).unwrap();
+        }
+        let mut buf = std::vec![0u8; 4096];
+        let n = encode_message(&*tim, &mut buf).unwrap();
+        buf.truncate(n);
+        buf
+    }
+
+    #[test]
+    fn signed_tim_is_stored_once_gnss_time_is_known() {
+        big_stack(|| {
+            let v = named("valid_tim_certificate_chain_x_only");
+            let mut obu = Box::new(Obu::default());
+            let mut rx = receiver(&v, true);
+            let t = Instant::from_millis(10);
+            let id = TravelerInformation::MESSAGE_ID;
+            assert_eq!(
+                obu.on_datagram(t, &v.coer, &mut rx),
+                V2xOutcome::Dropped(DropReason::NoTime)
+            );
+            obu.on_fix(t, fix_at_vector_time(&v));
+            assert_eq!(
+                obu.on_datagram(t, &v.coer, &mut rx),
+                V2xOutcome::Changed(id)
+            );
+            assert_eq!(
+                obu.on_datagram(t, &v.coer, &mut rx),
+                V2xOutcome::Dropped(DropReason::Replay)
+            );
+            // The bare frame inside, unsigned: signatures are required.
+            assert_eq!(
+                obu.on_datagram(t, &v.frame, &mut rx),
+                V2xOutcome::Dropped(DropReason::Unsigned)
+            );
+            let state = obu.state(t);
+            assert_eq!(
+                (state.zones, state.unverified),
+                (obu.zones().len() as u8, 0)
+            );
+            assert!(state.zones > 0);
+        });
+    }
+
+    #[test]
+    fn unsigned_data_is_marked_and_cannot_cancel_a_verified_zone() {
+        big_stack(|| {
+            let v = named("valid_tim_certificate_x_only");
+            let mut obu = Box::new(Obu::default());
+            let mut rx = receiver(&v, false);
+            let t = Instant::from_millis(10);
+            obu.on_fix(t, fix_at_vector_time(&v));
+            let id = TravelerInformation::MESSAGE_ID;
+            assert_eq!(
+                obu.on_datagram(t, &v.coer, &mut rx),
+                V2xOutcome::Changed(id)
+            );
+            let zones = obu.zones().len();
+            let cancel = unsigned_cancel_of(&v);
+            assert_eq!(
+                obu.on_datagram(t, &cancel, &mut rx),
+                V2xOutcome::Dropped(DropReason::UnverifiedOverVerified)
+            );
+            // The same bytes unsigned again cannot refresh it either.
+            assert_eq!(
+                obu.on_datagram(t, &v.frame, &mut rx),
+                V2xOutcome::Dropped(DropReason::UnverifiedOverVerified)
+            );
+            assert_eq!(obu.zones().len(), zones);
+            assert_eq!(obu.state(t).unverified, 0);
+            // An unsigned zone of its own is shown, marked unverified.
+            let other = vector("tim_work_zone_right_lane_closed_ahead");
+            assert_eq!(obu.on_datagram(t, &other, &mut rx), V2xOutcome::Changed(id));
+            assert!(obu.state(t).unverified >= 1);
+        });
+    }
+
+    #[test]
+    fn a_forged_signature_never_touches_the_stores() {
+        big_stack(|| {
+            let v = named("signature_bit_flipped");
+            let mut obu = Box::new(Obu::default());
+            let mut rx = receiver(&v, true);
+            let t = Instant::from_millis(10);
+            obu.on_fix(t, fix_at_vector_time(&v));
+            assert_eq!(
+                obu.on_datagram(t, &v.coer, &mut rx),
+                V2xOutcome::Dropped(DropReason::SignatureInvalid)
+            );
+            assert!(obu.zones().is_empty() && obu.maps().is_empty());
+        });
+    }
 }

@@ -2,7 +2,7 @@
 
 use super::{Validity, WorkZone, ZoneKey};
 use crate::capacity::MAX_ZONES;
-use crate::store::{Keyed, SlotStore, SlotUpdate};
+use crate::store::{Keyed, Provenance, SlotStore, SlotUpdate};
 use crate::time::{Duration, Instant};
 
 /// Outcome of [`ZoneStore::update`].
@@ -14,6 +14,9 @@ pub enum ZoneUpdate<'a> {
     Stale,
     /// `durationTime` 0: the zone was removed (true) or was not stored (false).
     Cancelled(bool),
+    /// An unverified message for a zone that came verified (or that would evict one):
+    /// nothing changed.
+    Refused,
     /// The slot to fill (cleared, identity and validity set).
     Fill {
         /// The cleared zone.
@@ -62,9 +65,13 @@ impl ZoneStore {
         key: ZoneKey,
         msg_cnt: u8,
         validity: Validity,
+        provenance: Provenance,
     ) -> ZoneUpdate<'_> {
         if validity.is_cancelled() {
-            return ZoneUpdate::Cancelled(self.slots.remove(&key).is_some());
+            return match self.slots.remove_as(&key, provenance) {
+                Ok(found) => ZoneUpdate::Cancelled(found),
+                Err(()) => ZoneUpdate::Refused,
+            };
         }
         let same = |z: &WorkZone| z.msg_cnt == msg_cnt && z.validity == validity;
         if let Some(z) = self.slots.get(&key) {
@@ -72,8 +79,9 @@ impl ZoneStore {
                 return ZoneUpdate::Stale;
             }
         }
-        match self.slots.update(now, &key, same) {
+        match self.slots.update(now, &key, provenance, same) {
             SlotUpdate::Unchanged => ZoneUpdate::Unchanged,
+            SlotUpdate::Refused => ZoneUpdate::Refused,
             SlotUpdate::Fill { value, replaced } => {
                 value.reset(key, msg_cnt, validity);
                 ZoneUpdate::Fill {
@@ -102,6 +110,11 @@ impl ZoneStore {
     /// Stored zones, mutable.
     pub fn iter_mut(&mut self) -> impl Iterator<Item = &mut WorkZone> + '_ {
         self.slots.iter_mut()
+    }
+
+    /// Number of stored zones that came unverified.
+    pub fn unverified(&self) -> usize {
+        self.slots.count(Provenance::Unverified)
     }
 
     /// Number of stored zones.
@@ -154,8 +167,15 @@ mod tests {
     }
 
     fn up(s: &mut ZoneStore, now: u64, k: u8, cnt: u8, v: Validity) -> &'static str {
-        match s.update(Instant::from_millis(now), key(k), cnt, v) {
+        match s.update(
+            Instant::from_millis(now),
+            key(k),
+            cnt,
+            v,
+            Provenance::Verified,
+        ) {
             ZoneUpdate::Unchanged => "same",
+            ZoneUpdate::Refused => "refused",
             ZoneUpdate::Stale => "stale",
             ZoneUpdate::Cancelled(true) => "cancelled",
             ZoneUpdate::Cancelled(false) => "unknown",

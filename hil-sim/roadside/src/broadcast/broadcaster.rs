@@ -45,6 +45,8 @@ pub struct Broadcaster {
     faults: FaultInjector,
     stats: BroadcastStats,
     datagram: Vec<u8>,
+    /// Signs every frame (IEEE 1609.2 signed data) instead of `wrapping`, when set.
+    signer: Option<Arc<crate::pki::RsuSigner>>,
 }
 
 impl Broadcaster {
@@ -92,6 +94,7 @@ impl Broadcaster {
             faults: FaultInjector::new(Faults::default()).map_err(invalid_input)?,
             stats: BroadcastStats::default(),
             datagram: Vec::new(),
+            signer: None,
         })
     }
 
@@ -184,6 +187,12 @@ impl Broadcaster {
         self.stats
     }
 
+    /// Signs every message with `signer` (IEEE 1609.2 signed data, generated at the send
+    /// time) instead of wrapping it; `None`: back to the wrapping.
+    pub fn set_signer(&mut self, signer: Option<Arc<crate::pki::RsuSigner>>) {
+        self.signer = signer;
+    }
+
     /// Sends every message once to every destination, now.
     pub fn tick(&mut self) {
         self.tick_at(Instant::now());
@@ -195,7 +204,18 @@ impl Broadcaster {
         let messages = self.messages.get();
         for message in messages.iter() {
             for (k, destination) in self.destinations.iter().enumerate() {
-                self.wrapping.wrap_into(message.frame(), &mut self.datagram);
+                match &self.signer {
+                    Some(signer) => {
+                        match signer.sign(message.frame(), crate::clock::unix_ms_now()) {
+                            Ok(bytes) => self.datagram = bytes,
+                            Err(_) => {
+                                self.stats.send_errors += 1;
+                                continue;
+                            }
+                        }
+                    }
+                    None => self.wrapping.wrap_into(message.frame(), &mut self.datagram),
+                }
                 let verdict = self
                     .faults
                     .decide(k, message.kind(), now, &mut self.datagram);

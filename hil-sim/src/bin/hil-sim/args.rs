@@ -57,6 +57,11 @@ pub enum Command {
     /// camera) as MAP + TIM, broadcast over UDP (--to, until stopped unless --seconds)
     /// and/or written as RSU 4.1 text files (--rsu-files); give at least one of the two.
     Roadside(RoadsideArgs),
+    /// A small IEEE 1609.2 PKI: a root, an issuing CA and an RSU certificate (NIST P-256)
+    /// with the RSU's PSIDs, region and validity, as DIR/{root,ca,rsu}.oer (COER) and
+    /// DIR/{root,ca,rsu}.key (mode 0600). The OBU trusts root.oer and ca.oer
+    /// ([security] trust_anchors); `hil-sim roadside --pki DIR` signs with rsu.key.
+    Pki(PkiArgs),
     /// The scenario's drive as a GNSS receiver's NMEA log (10 Hz GST, GGA, RMC with its
     /// noise and dropouts) and a candump log of its speed.
     Record {
@@ -123,6 +128,83 @@ pub struct RoadsideArgs {
     /// Write the messages as RSU 4.1 text files into this folder.
     #[arg(long, value_name = "DIR")]
     pub rsu_files: Option<PathBuf>,
+    /// Sign with the RSU certificate and key of this `hil-sim pki` folder: broadcasts are
+    /// IEEE 1609.2 signed data (replacing --wrap), RSU files say Signature=True.
+    #[arg(long, value_name = "DIR")]
+    pub pki: Option<PathBuf>,
+}
+
+/// `hil-sim pki`.
+#[derive(Debug, clap::Args)]
+pub struct PkiArgs {
+    /// Where the certificates and keys go (created if missing).
+    #[arg(value_name = "DIR")]
+    pub dir: PathBuf,
+    /// Derive the keys from this seed (reproducible test PKIs); default: random keys.
+    #[arg(long, value_name = "TEXT")]
+    pub seed: Option<String>,
+    /// First day of validity of every certificate, UTC (default: today).
+    #[arg(long, value_name = "YYYY-MM-DD", value_parser = date)]
+    pub start: Option<u64>,
+    /// RSU certificate validity, days (at most 2730; within the CA's).
+    #[arg(long, value_name = "N", default_value_t = 30)]
+    pub days: u16,
+    /// Issuing CA certificate validity, years (within the root's).
+    #[arg(long, value_name = "N", default_value_t = 5)]
+    pub ca_years: u16,
+    /// Root certificate validity, years.
+    #[arg(long, value_name = "N", default_value_t = 10)]
+    pub root_years: u16,
+    /// The RSU certificate's region: a circle (degrees, degrees, metres); default: none.
+    #[arg(long, value_name = "LAT,LON,RADIUS_M", value_parser = circle)]
+    pub region: Option<(i32, i32, u16)>,
+    /// A PSID the RSU may sign (repeat; default: TIM 0x8003 and MAP 0xE0000017).
+    #[arg(long, value_name = "PSID", value_parser = psid)]
+    pub psid: Vec<u32>,
+    /// The RSU certificate's name.
+    #[arg(long, value_name = "HOST", default_value = "rsu.hil-sim.example")]
+    pub name: String,
+}
+
+/// `YYYY-MM-DD` as Unix seconds at 00:00 UTC.
+fn date(s: &str) -> Result<u64, String> {
+    let parts: Vec<&str> = s.split('-').collect();
+    let [y, m, d] = parts[..] else {
+        return Err("expected YYYY-MM-DD".into());
+    };
+    let (Ok(y), Ok(m), Ok(d)) = (y.parse::<i64>(), m.parse::<u8>(), d.parse::<u8>()) else {
+        return Err("expected YYYY-MM-DD".into());
+    };
+    if !(2004..=2100).contains(&y) || !(1..=12).contains(&m) || !(1..=31).contains(&d) {
+        return Err("a date between 2004 and 2100".into());
+    }
+    Ok(roadside::clock::days_from_civil(y, m, d) as u64 * 86_400)
+}
+
+/// `LAT,LON,RADIUS_M` as 1e-7 degrees and metres.
+fn circle(s: &str) -> Result<(i32, i32, u16), String> {
+    let bad = || "expected LAT,LON,RADIUS_M (degrees, degrees, metres up to 65535)".to_string();
+    let parts: Vec<&str> = s.split(',').collect();
+    let [lat, lon, r] = parts[..] else {
+        return Err(bad());
+    };
+    let (Ok(lat), Ok(lon), Ok(r)) = (lat.parse::<f64>(), lon.parse::<f64>(), r.parse::<u16>())
+    else {
+        return Err(bad());
+    };
+    if !(-90.0..=90.0).contains(&lat) || !(-180.0..=180.0).contains(&lon) || r == 0 {
+        return Err(bad());
+    }
+    Ok(((lat * 1e7).round() as i32, (lon * 1e7).round() as i32, r))
+}
+
+/// A PSID in decimal or `0x` hexadecimal.
+fn psid(s: &str) -> Result<u32, String> {
+    let parsed = match s.strip_prefix("0x").or_else(|| s.strip_prefix("0X")) {
+        Some(hex) => u32::from_str_radix(hex, 16),
+        None => s.parse(),
+    };
+    parsed.map_err(|_| format!("{s:?} is not a PSID (decimal or 0x hexadecimal)"))
 }
 
 /// `--wrap`.

@@ -5,7 +5,7 @@
 mod args;
 mod run;
 
-use args::{Cli, Command, RoadsideArgs, SynthCameraArgs, Wrap};
+use args::{Cli, Command, PkiArgs, RoadsideArgs, SynthCameraArgs, Wrap};
 use clap::Parser;
 use hil_sim::{hmi_bench, perf};
 use roadside::broadcast::Wrapping;
@@ -21,6 +21,7 @@ fn main() -> ExitCode {
         Command::LoadTest { clients, seconds } => load_test(clients, seconds),
         Command::Run(a) => run::scenarios(&a),
         Command::Roadside(a) => roadside(&a),
+        Command::Pki(a) => pki(&a),
         Command::Record {
             scenario,
             nmea,
@@ -170,11 +171,40 @@ fn roadside(a: &RoadsideArgs) -> Result<(), String> {
         rate_hz: a.rate,
         duration: a.seconds.map(Duration::from_secs_f64),
         rsu_dir: a.rsu_files.clone(),
+        pki_dir: a.pki.clone(),
     };
     if o.destinations.is_empty() && o.rsu_dir.is_none() {
         return Err("give --to HOST:PORT (broadcast) and/or --rsu-files DIR".into());
     }
     println!("hil-sim roadside: {}", roadside::rsu::run(&s.site(), &o)?);
+    Ok(())
+}
+
+fn pki(a: &PkiArgs) -> Result<(), String> {
+    use roadside::pki::{Pki, PkiSpec};
+    let start_unix_s = a
+        .start
+        .unwrap_or(roadside::clock::unix_ms_now() / 86_400_000 * 86_400);
+    let psids = if a.psid.is_empty() {
+        vec![0x8003, 0xE000_0017]
+    } else {
+        a.psid.clone()
+    };
+    let spec = PkiSpec {
+        seed: a.seed.clone(),
+        start_unix_s,
+        root_years: a.root_years,
+        ca_years: a.ca_years,
+        rsu_hours: a.days.checked_mul(24).ok_or("--days: at most 2730")?,
+        region: a.region,
+        psids,
+        rsu_name: a.name.clone(),
+    };
+    Pki::create(&spec)?.write(&a.dir)?;
+    println!(
+        "hil-sim pki: {0}/root.oer, {0}/ca.oer (trust anchors), {0}/rsu.oer and the keys",
+        a.dir.display()
+    );
     Ok(())
 }
 

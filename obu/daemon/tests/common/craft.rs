@@ -8,12 +8,13 @@ use std::net::UdpSocket;
 use std::time::{Duration, Instant};
 
 /// The groups every V2X datagram is counted in, exactly one of them.
-pub const V2X_GROUPS: [&str; 5] = [
+pub const V2X_GROUPS: [&str; 6] = [
     "messages",
     "v2x_dropped",
     "envelope_errors",
     "decode_errors",
     "ingest_errors",
+    "security_errors",
 ];
 /// The daemon's default `v2x.max_datagram`.
 pub const MAX_DATAGRAM: usize = 4096;

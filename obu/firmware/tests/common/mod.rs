@@ -7,6 +7,45 @@ use obu::v2x::{DropGroup, V2xCounters};
 use obu::{HmiState, Instant};
 use obu_firmware::app::{Firmware, Messages};
 
+/// The security settings of the tests of the unsigned paths (the oracle vectors are bare
+/// frames): unsigned MAP and TIM are taken. `tests/signed.rs` tests the product setting.
+pub const UNSIGNED_TAKEN: obu::security::SecurityConfig = obu::security::SecurityConfig {
+    require_signed: false,
+    ..obu::security::SecurityConfig::DEFAULT
+};
+
+/// Hands out `&'static mut` of a `static mut` initialised at compile time, once: what
+/// cortex-m-rt's `#[entry]` does for the firmware's `main`. `cortex_m::singleton!` writes
+/// its value at run time, and LLVM then builds part of these large values on the stack (25
+/// KiB for [`Messages`]: over the 24 KiB stack).
+macro_rules! static_once {
+    ($ty:ty = $init:expr) => {{
+        static TAKEN: core::sync::atomic::AtomicBool = core::sync::atomic::AtomicBool::new(false);
+        static mut VALUE: $ty = $init;
+        assert!(
+            !TAKEN.swap(true, core::sync::atomic::Ordering::Relaxed),
+            "taken once"
+        );
+        // SAFETY: the flag above lets this run once, so this is the only reference ever made.
+        #[allow(unsafe_code)]
+        unsafe {
+            &mut *core::ptr::addr_of_mut!(VALUE)
+        }
+    }};
+}
+
+/// The firmware state in a `static` (one call only).
+pub fn firmware() -> &'static mut Firmware {
+    static_once!(Firmware = Firmware::new(obu_firmware::CONFIG))
+}
+
+/// The receive path in a `static` (one call only), with `config`.
+pub fn messages(config: obu::security::SecurityConfig) -> &'static mut Messages {
+    let msgs = static_once!(Messages = Messages::new());
+    msgs.trust_mut().set_config(config);
+    msgs
+}
+
 /// One NMEA sentence with its line end.
 pub type Line = heapless::String<128>;
 

@@ -1,0 +1,420 @@
+//! A small IEEE 1609.2 PKI for the roadside and the bench (`hil-sim pki`): a root, an
+//! issuing CA and an RSU certificate (explicit, NIST P-256), written as files; and the
+//! [`RsuSigner`] the roadside signs MAP and TIM with.
+//!
+//! Files in the PKI directory: `root.oer`, `ca.oer`, `rsu.oer` (certificates, COER; the
+//! first two are the OBU's trust anchors) and `root.key`, `ca.key`, `rsu.key` (the private
+//! scalars as hexadecimal text, mode 0600). A deployment keeps the root and CA keys offline
+//! and gives the RSU only `rsu.oer` and `rsu.key`; the OBU only `root.oer` and `ca.oer`.
+//!
+//! Keys come from the operating system's random source (`/dev/urandom`), or, for
+//! reproducible test PKIs, from a seed (`SHA-256("hil-sim pki/" + seed + "/" + role)`, the
+//! first candidate that is a valid scalar).
+
+use j2735::envelope::ieee1609dot2::build::{
+    encode_certificate, encode_signed, CertificateSpec, Header, IssuedBy, Signer,
+};
+use j2735::envelope::ieee1609dot2::crypto::{sha256, RSigForm, SecretKey};
+use j2735::envelope::ieee1609dot2::{Duration, ThreeDLocation, Time64, TwoDLocation};
+use std::io::Read;
+use std::path::Path;
+
+/// Seconds from 1970-01-01 to 2004-01-01 (the IEEE 1609.2 epoch).
+const EPOCH_2004_UNIX_S: u64 = 1_072_915_200;
+/// Leap seconds inserted into UTC since 2004 (TAI - UTC grew by this much).
+const LEAP_SECONDS_SINCE_2004: u64 = 5;
+
+/// `Time64` (TAI microseconds since 2004) of a Unix time in milliseconds.
+pub fn time64_of_unix_ms(unix_ms: u64) -> u64 {
+    let since_2004_ms = unix_ms.saturating_sub(EPOCH_2004_UNIX_S * 1000);
+    (since_2004_ms + LEAP_SECONDS_SINCE_2004 * 1000) * 1000
+}
+
+/// `Time32` (TAI seconds since 2004) of a Unix time in seconds.
+pub fn time32_of_unix_s(unix_s: u64) -> u32 {
+    let t = unix_s.saturating_sub(EPOCH_2004_UNIX_S) + LEAP_SECONDS_SINCE_2004;
+    u32::try_from(t).unwrap_or(u32::MAX)
+}
+
+/// The PSID a signed message of J2735 `messageId` carries (1609.2 header): TIM 0x8003,
+/// MAP 0xE0000017, SPaT 0x8002, BSM 0x20.
+pub fn signing_psid(message_id: u16) -> Option<u32> {
+    match message_id {
+        31 => Some(0x8003),
+        18 => Some(0xE000_0017),
+        19 => Some(0x8002),
+        20 => Some(0x20),
+        _ => None,
+    }
+}
+
+/// What `hil-sim pki init` makes.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PkiSpec {
+    /// Seed for reproducible keys; `None`: keys from the OS random source.
+    pub seed: Option<String>,
+    /// Validity start of every certificate, Unix seconds.
+    pub start_unix_s: u64,
+    /// Root validity, years.
+    pub root_years: u16,
+    /// CA validity, years (inside the root's).
+    pub ca_years: u16,
+    /// RSU validity, hours (inside the CA's).
+    pub rsu_hours: u16,
+    /// The RSU certificate's region: centre (1e-7 degrees) and radius (m); `None`: none.
+    pub region: Option<(i32, i32, u16)>,
+    /// PSIDs the RSU may sign.
+    pub psids: Vec<u32>,
+    /// The RSU certificate's name.
+    pub rsu_name: String,
+}
+
+/// A certificate (COER) and its private key.
+#[derive(Debug, Clone)]
+pub struct Issued {
+    /// The certificate, COER.
+    pub cert: Vec<u8>,
+    /// Its private key.
+    pub key: SecretKey,
+}
+
+/// A root, an issuing CA and an RSU certificate.
+#[derive(Debug, Clone)]
+pub struct Pki {
+    /// The self-signed root.
+    pub root: Issued,
+    /// The issuing CA (signed by the root).
+    pub ca: Issued,
+    /// The RSU (signed by the CA).
+    pub rsu: Issued,
+}
+
+/// A key for `role`: from the seed, or random.
+fn make_key(seed: Option<&str>, role: &str) -> Result<SecretKey, String> {
+    for attempt in 0u32..64 {
+        let bytes = match seed {
+            Some(s) => sha256(format!("hil-sim pki/{s}/{role}/{attempt}").as_bytes()),
+            None => {
+                let mut b = [0u8; 32];
+                std::fs::File::open("/dev/urandom")
+                    .and_then(|mut f| f.read_exact(&mut b))
+                    .map_err(|e| format!("/dev/urandom: {e}"))?;
+                b
+            }
+        };
+        if let Ok(key) = SecretKey::from_bytes(&bytes) {
+            return Ok(key);
+        }
+    }
+    Err("no valid key in 64 candidates".into())
+}
+
+fn certificate(
+    spec: &CertificateSpec<'_>,
+    key: &SecretKey,
+    by: IssuedBy<'_>,
+) -> Result<Vec<u8>, String> {
+    let mut out = vec![0u8; 1024];
+    let n = encode_certificate(spec, key, by, &mut out).map_err(|e| format!("{e:?}"))?;
+    out.truncate(n);
+    Ok(out)
+}
+
+impl Pki {
+    /// Makes the three certificates.
+    ///
+    /// # Errors
+    ///
+    /// A message when the random source fails or a value does not fit its field.
+    pub fn create(spec: &PkiSpec) -> Result<Self, String> {
+        // A certificate's validity must lie within its issuer's (the OBU checks it).
+        let (rsu, ca, root) = (
+            Duration::Hours(spec.rsu_hours).micros(),
+            Duration::Years(spec.ca_years).micros(),
+            Duration::Years(spec.root_years).micros(),
+        );
+        if rsu > ca || ca > root || rsu == 0 {
+            return Err(format!(
+                "validity: the RSU's ({} days) must be within the CA's ({} years), the CA's \
+                 within the root's ({} years)",
+                spec.rsu_hours / 24,
+                spec.ca_years,
+                spec.root_years
+            ));
+        }
+        let seed = spec.seed.as_deref();
+        let start = time32_of_unix_s(spec.start_unix_s);
+        let root_key = make_key(seed, "root")?;
+        let ca_key = make_key(seed, "ca")?;
+        let rsu_key = make_key(seed, "rsu")?;
+        let root_spec = CertificateSpec {
+            name: "root.hil-sim.example",
+            start,
+            duration: Duration::Years(spec.root_years),
+            circle: None,
+            app_psids: &[],
+            issue_all: Some(2),
+        };
+        let root = certificate(&root_spec, &root_key, IssuedBy::SelfSigned)?;
+        let ca_spec = CertificateSpec {
+            name: "ca.hil-sim.example",
+            duration: Duration::Years(spec.ca_years),
+            issue_all: Some(1),
+            ..root_spec
+        };
+        let ca = certificate(&ca_spec, &ca_key, IssuedBy::Issuer(&root, &root_key))?;
+        let circle = spec.region.map(|(latitude, longitude, radius)| {
+            (
+                TwoDLocation {
+                    latitude,
+                    longitude,
+                },
+                radius,
+            )
+        });
+        let rsu_spec = CertificateSpec {
+            name: &spec.rsu_name,
+            start,
+            duration: Duration::Hours(spec.rsu_hours),
+            circle,
+            app_psids: &spec.psids,
+            issue_all: None,
+        };
+        let rsu = certificate(&rsu_spec, &rsu_key, IssuedBy::Issuer(&ca, &ca_key))?;
+        Ok(Self {
+            root: Issued {
+                cert: root,
+                key: root_key,
+            },
+            ca: Issued {
+                cert: ca,
+                key: ca_key,
+            },
+            rsu: Issued {
+                cert: rsu,
+                key: rsu_key,
+            },
+        })
+    }
+
+    /// Writes the six files into `dir` (created if missing).
+    ///
+    /// # Errors
+    ///
+    /// The file system's error, naming the file.
+    pub fn write(&self, dir: &Path) -> Result<(), String> {
+        std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
+        for (name, issued) in [("root", &self.root), ("ca", &self.ca), ("rsu", &self.rsu)] {
+            let cert = dir.join(format!("{name}.oer"));
+            std::fs::write(&cert, &issued.cert).map_err(|e| format!("{}: {e}", cert.display()))?;
+            write_key(&dir.join(format!("{name}.key")), &issued.key)?;
+        }
+        Ok(())
+    }
+}
+
+/// Writes a private key as hexadecimal text, readable by the owner only.
+fn write_key(path: &Path, key: &SecretKey) -> Result<(), String> {
+    use std::io::Write;
+    use std::os::unix::fs::OpenOptionsExt;
+    let text = format!("{}\n", j2735::hex::Hex(&key.to_bytes()));
+    std::fs::OpenOptions::new()
+        .write(true)
+        .create(true)
+        .truncate(true)
+        .mode(0o600)
+        .open(path)
+        .and_then(|mut f| f.write_all(text.as_bytes()))
+        .map_err(|e| format!("{}: {e}", path.display()))
+}
+
+/// Reads a private key file (hexadecimal text of the 32-octet scalar).
+///
+/// # Errors
+///
+/// A message naming the file and what is wrong.
+pub fn read_key(path: &Path) -> Result<SecretKey, String> {
+    let text = std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
+    read_key_text(&text).map_err(|e| format!("{}: {e}", path.display()))
+}
+
+/// A private key from its file's text (hexadecimal, 32 octets; surrounding blanks ignored).
+///
+/// # Errors
+///
+/// A message saying what is wrong.
+pub fn read_key_text(text: &str) -> Result<SecretKey, String> {
+    let mut bytes = [0u8; 32];
+    let n = j2735::hex::decode_into(text.trim(), &mut bytes).map_err(|e| e.to_string())?;
+    if n != 32 {
+        return Err("not a 32-octet key".into());
+    }
+    SecretKey::from_bytes(&bytes).map_err(|e| e.to_string())
+}
+
+/// Signs J2735 frames as an RSU: its certificate (sent whole in every message, so a
+/// receiver that missed one needs nothing else) and key.
+#[derive(Debug, Clone)]
+pub struct RsuSigner {
+    cert: Vec<u8>,
+    key: SecretKey,
+    location: Option<ThreeDLocation>,
+    lifetime_ms: u64,
+}
+
+impl RsuSigner {
+    /// A signer with `cert` (COER) and its `key`; messages expire `lifetime_ms` after they
+    /// are generated and carry `location` as generationLocation.
+    pub fn new(
+        cert: Vec<u8>,
+        key: SecretKey,
+        location: Option<ThreeDLocation>,
+        lifetime_ms: u64,
+    ) -> Self {
+        Self {
+            cert,
+            key,
+            location,
+            lifetime_ms,
+        }
+    }
+
+    /// The signer of the PKI directory `dir` (`rsu.oer`, `rsu.key`), 60 s lifetime.
+    ///
+    /// # Errors
+    ///
+    /// A message naming the missing or malformed file.
+    pub fn load(dir: &Path, location: Option<ThreeDLocation>) -> Result<Self, String> {
+        let path = dir.join("rsu.oer");
+        let cert = std::fs::read(&path).map_err(|e| format!("{}: {e}", path.display()))?;
+        j2735::envelope::ieee1609dot2::Certificate::parse(&cert)
+            .map_err(|e| format!("{}: {e}", path.display()))?;
+        let key = read_key(&dir.join("rsu.key"))?;
+        Ok(Self::new(cert, key, location, 60_000))
+    }
+
+    /// The certificate.
+    pub fn certificate(&self) -> &[u8] {
+        &self.cert
+    }
+
+    /// `frame` as IEEE 1609.2 signed data generated at `unix_ms` (PSID by its message).
+    ///
+    /// # Errors
+    ///
+    /// A message for a frame of a message without a PSID, or one too large.
+    pub fn sign(&self, frame: &[u8], unix_ms: u64) -> Result<Vec<u8>, String> {
+        let id = match frame {
+            [hi, lo, ..] => u16::from_be_bytes([*hi, *lo]),
+            _ => return Err("frame shorter than its messageId".into()),
+        };
+        let psid = signing_psid(id).ok_or_else(|| format!("no PSID for messageId {id}"))?;
+        let generated = time64_of_unix_ms(unix_ms);
+        let header = Header {
+            psid,
+            generation_time: Time64(generated),
+            expiry_time: Some(Time64(generated + self.lifetime_ms * 1000)),
+            generation_location: self.location,
+        };
+        let mut out = vec![0u8; frame.len() + self.cert.len() + 160];
+        let n = encode_signed(
+            frame,
+            &header,
+            Signer::Certificate(&self.cert),
+            &self.key,
+            RSigForm::XOnly,
+            &mut out,
+        )
+        .map_err(|e| format!("{e:?}"))?;
+        out.truncate(n);
+        Ok(out)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use j2735::envelope::ieee1609dot2::{Certificate, Ieee1609Dot2Data};
+
+    fn spec() -> PkiSpec {
+        PkiSpec {
+            seed: Some("test".into()),
+            start_unix_s: 1_767_225_600, // 2026-01-01
+            root_years: 10,
+            ca_years: 5,
+            rsu_hours: 24 * 365,
+            region: Some((421_234_567, -837_654_321, 20_000)),
+            psids: vec![0x8003, 0xE000_0017],
+            rsu_name: "rsu.hil-sim.example".into(),
+        }
+    }
+
+    #[test]
+    fn a_seeded_pki_is_reproducible_and_well_formed() {
+        let a = Pki::create(&spec()).unwrap();
+        let b = Pki::create(&spec()).unwrap();
+        assert_eq!(
+            (&a.root.cert, &a.ca.cert, &a.rsu.cert),
+            (&b.root.cert, &b.ca.cert, &b.rsu.cert)
+        );
+        let rsu = Certificate::parse(&a.rsu.cert).unwrap();
+        assert!(rsu.permission(0x8003).is_some() && rsu.permission(0xE000_0017).is_some());
+        assert_eq!(rsu.validity.start.0, time32_of_unix_s(1_767_225_600));
+    }
+
+    #[test]
+    fn validity_must_nest() {
+        let long_rsu = PkiSpec {
+            rsu_hours: 2730 * 24,
+            ..spec()
+        };
+        assert!(Pki::create(&long_rsu).unwrap_err().contains("within the CA"));
+        let ok = PkiSpec {
+            ca_years: 15,
+            root_years: 20,
+            ..long_rsu
+        };
+        assert!(Pki::create(&ok).is_ok());
+    }
+
+    #[test]
+    fn files_round_trip_and_keys_are_private() {
+        use std::os::unix::fs::PermissionsExt;
+        let dir = std::env::temp_dir().join(format!("pki-test-{}", std::process::id()));
+        let pki = Pki::create(&spec()).unwrap();
+        pki.write(&dir).unwrap();
+        let mode = std::fs::metadata(dir.join("rsu.key"))
+            .unwrap()
+            .permissions()
+            .mode();
+        assert_eq!(mode & 0o077, 0, "rsu.key is not readable by others");
+        let signer = RsuSigner::load(&dir, None).unwrap();
+        assert_eq!(signer.certificate(), &pki.rsu.cert[..]);
+        assert_eq!(
+            read_key(&dir.join("ca.key")).unwrap().to_bytes(),
+            pki.ca.key.to_bytes()
+        );
+        std::fs::write(dir.join("rsu.key"), "zz\n").unwrap();
+        assert!(RsuSigner::load(&dir, None).unwrap_err().contains("rsu.key"));
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+
+    #[test]
+    fn signed_frames_parse_with_the_psid_of_their_message() {
+        let pki = Pki::create(&spec()).unwrap();
+        let signer = RsuSigner::new(pki.rsu.cert.clone(), pki.rsu.key.clone(), None, 60_000);
+        let frame = [0x00, 0x1f, 0x01, 0x02];
+        let bytes = signer.sign(&frame, 1_767_225_600_000).unwrap();
+        let data = Ieee1609Dot2Data::parse(&bytes).unwrap();
+        let signed = data.signed_data().unwrap();
+        assert_eq!(signed.header.psid, 0x8003);
+        assert_eq!(data.application_data(), Some(&frame[..]));
+        assert!(signer.sign(&[0x00, 0x99], 0).is_err());
+        // 2026-01-01T00:00:00Z is 8036 days (22 years, 6 of them leap) after 2004 in UTC,
+        // 694 310 400 s, plus 5 leap seconds.
+        assert_eq!(
+            signed.header.generation_time.unwrap().0,
+            694_310_405_000_000
+        );
+    }
+}

@@ -1,0 +1,379 @@
+//! IEEE 1609.2 trust policy: which signed MAP and TIM the core may act on. One place for
+//! the daemon and the firmware; no heap.
+//!
+//! [`Trust::check`] takes a parsed signed message, the `messageId` of the frame inside, the
+//! GNSS time (`Time64`) and the vehicle position, and accepts it or names the
+//! [`DropReason`] (group [`DropGroup::Security`](crate::v2x::DropGroup)):
+//!
+//! 1. SHA-256 and ECDSA P-256 only; `self` signers are refused (no certificate ties the
+//!    key to a sender).
+//! 2. The signer: a `digest` must name a certificate already verified (the cache, by
+//!    `HashedId8`); a `certificate` chain is walked down from a configured trust anchor
+//!    (root or issuing CA): each certificate's issuer digest, signature (explicit) or ECQV
+//!    reconstruction (implicit), validity inside its issuer's, and the issuer's permission
+//!    to certify the PSID. The verified signer is cached, so the next message signed by
+//!    the same certificate (as `digest` or as `certificate`) costs one signature check.
+//! 3. The signer certificate: valid at the generation time and now, it permits the PSID,
+//!    and its region holds the generation location (or the vehicle's position).
+//! 4. The PSID is the one configured for the message (TIM, MAP).
+//! 5. The signature over `SHA-256(SHA-256(ToBeSignedData) || SHA-256(signer certificate))`.
+//! 6. Times: a generation time within the allowed skew of GNSS time, not past expiry.
+//! 7. Replay: the same generation time and signature hash accepted before.
+//!
+//! Not checked (stated so that no one relies on it): certificate revocation (CRLs),
+//! `minChainLength`, service-specific permissions (SSP) contents, identified (country)
+//! regions, and regions inherited from issuers by certificates without their own.
+
+mod cert;
+mod region;
+mod replay;
+#[cfg(test)]
+mod tests;
+
+pub use cert::TrustedCert;
+pub use region::Region;
+pub use replay::ReplayWindow;
+
+use heapless::Vec;
+use j2735::envelope::ieee1609dot2::crypto::{sha256, signing_digest_with};
+use j2735::envelope::ieee1609dot2::{
+    Certificate, HashAlgorithm, Issuer, SignatureScheme, SignedData, SignerIdentifier,
+};
+use j2735::frame::Message;
+use j2735::{MapData, TravelerInformation};
+
+use crate::capacity::{MAX_CACHED_CERTS, MAX_CHAIN, MAX_TRUST_ANCHORS};
+use crate::geo::LatLon;
+use crate::v2x::DropReason;
+
+/// The PSID of TIM (SAE J2735 traveler information).
+pub const PSID_TIM: u32 = 0x8003;
+/// The PSID of MAP (SAE J2735 / J2945 intersection and road geometry).
+pub const PSID_MAP: u32 = 0xE000_0017;
+
+/// The trust policy's settings.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub struct SecurityConfig {
+    /// Drop unsigned MAP and TIM. Off: they are used, marked unverified, and can never
+    /// replace, refresh, cancel or evict data that came verified.
+    pub require_signed: bool,
+    /// Largest allowed distance between a generation time and GNSS time, milliseconds.
+    pub max_skew_ms: u32,
+    /// The PSID a signed TIM must carry.
+    pub tim_psid: u32,
+    /// The PSID a signed MAP must carry.
+    pub map_psid: u32,
+}
+
+impl SecurityConfig {
+    /// Signatures required, 30 s skew, the standard PSIDs.
+    pub const DEFAULT: Self = Self {
+        require_signed: true,
+        max_skew_ms: 30_000,
+        tim_psid: PSID_TIM,
+        map_psid: PSID_MAP,
+    };
+}
+
+impl Default for SecurityConfig {
+    fn default() -> Self {
+        Self::DEFAULT
+    }
+}
+
+/// Why a trust anchor was not added.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum AnchorError {
+    /// Not one canonical COER certificate.
+    Malformed,
+    /// Implicit, a bad self-signature or key, or beyond the capacities.
+    Invalid(DropReason),
+    /// [`MAX_TRUST_ANCHORS`] already held.
+    Full,
+}
+
+/// The message facts the policy needs besides the signature.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct CheckContext {
+    /// The frame's `messageId`.
+    pub message_id: u16,
+    /// GNSS time as `Time64` (TAI microseconds since 2004), if known.
+    pub now_us: Option<u64>,
+    /// The vehicle's last position, if known.
+    pub position: Option<LatLon>,
+}
+
+/// Trust anchors, the cache of verified signer certificates and the replay window.
+#[derive(Debug, Clone)]
+pub struct Trust {
+    /// False until settings are given: [`SecurityConfig::DEFAULT`] applies. Kept apart so
+    /// that an unconfigured `Trust` is all zero bytes (a firmware `static` of it, and of
+    /// the receive path holding it, lands in .bss instead of .data).
+    configured: bool,
+    config: SecurityConfig,
+    anchors: Vec<TrustedCert, MAX_TRUST_ANCHORS>,
+    cache: Vec<TrustedCert, MAX_CACHED_CERTS>,
+    replay: ReplayWindow,
+}
+
+impl Default for Trust {
+    fn default() -> Self {
+        Self::unconfigured()
+    }
+}
+
+impl Trust {
+    /// No anchors yet: every signed message is refused until one is added.
+    pub const fn new(config: SecurityConfig) -> Self {
+        Self {
+            configured: true,
+            config,
+            anchors: Vec::new(),
+            cache: Vec::new(),
+            replay: ReplayWindow::new(),
+        }
+    }
+
+    /// [`SecurityConfig::DEFAULT`] (signatures required) and no anchors, as all zero bytes.
+    pub const fn unconfigured() -> Self {
+        Self {
+            configured: false,
+            config: SecurityConfig {
+                require_signed: false,
+                max_skew_ms: 0,
+                tim_psid: 0,
+                map_psid: 0,
+            },
+            anchors: Vec::new(),
+            cache: Vec::new(),
+            replay: ReplayWindow::new(),
+        }
+    }
+
+    /// The settings.
+    pub fn config(&self) -> SecurityConfig {
+        if self.configured {
+            self.config
+        } else {
+            SecurityConfig::DEFAULT
+        }
+    }
+
+    /// Replaces the settings.
+    pub fn set_config(&mut self, config: SecurityConfig) {
+        self.configured = true;
+        self.config = config;
+    }
+
+    /// Trusts the certificate `coer` (a root, or an issuing CA; explicit).
+    ///
+    /// # Errors
+    ///
+    /// [`AnchorError`] when it is malformed or invalid, or the anchors are full.
+    pub fn add_anchor(&mut self, coer: &[u8]) -> Result<(), AnchorError> {
+        let cert = Certificate::parse(coer).map_err(|_| AnchorError::Malformed)?;
+        let anchor = TrustedCert::anchor(&cert).map_err(AnchorError::Invalid)?;
+        if self.anchors.iter().any(|a| a.hash == anchor.hash) {
+            return Ok(());
+        }
+        self.anchors.push(anchor).map_err(|_| AnchorError::Full)
+    }
+
+    /// Number of trust anchors.
+    pub fn anchors(&self) -> usize {
+        self.anchors.len()
+    }
+
+    /// Number of cached signer certificates.
+    pub fn cached(&self) -> usize {
+        self.cache.len()
+    }
+
+    /// The PSID configured for `message_id`, if the OBU uses that message.
+    pub fn psid_for(&self, message_id: u16) -> Option<u32> {
+        let config = self.config();
+        match message_id {
+            TravelerInformation::MESSAGE_ID => Some(config.tim_psid),
+            MapData::MESSAGE_ID => Some(config.map_psid),
+            _ => None,
+        }
+    }
+
+    /// Accepts `signed` (see the [module docs](self)) or names why not. An accepted
+    /// message is remembered for the replay check.
+    ///
+    /// # Errors
+    ///
+    /// The [`DropReason`] of the first check that fails.
+    pub fn check(&mut self, signed: &SignedData<'_>, ctx: &CheckContext) -> Result<(), DropReason> {
+        let header = &signed.header;
+        if signed.hash_algorithm != HashAlgorithm::Sha256
+            || signed.signature.scheme != SignatureScheme::EcdsaNistP256
+        {
+            return Err(DropReason::UnsupportedAlgorithm);
+        }
+        let generated = header
+            .generation_time
+            .ok_or(DropReason::NoGenerationTime)?
+            .0;
+        let now = ctx.now_us.ok_or(DropReason::NoTime)?;
+        let index = self.signer(&signed.signer, header.psid)?;
+        let digest = self.check_signed_by(&self.cache[index], signed, ctx)?;
+        let skew = u64::from(self.config().max_skew_ms) * 1000;
+        if generated > now.saturating_add(skew) {
+            return Err(DropReason::GenerationTimeFuture);
+        }
+        if generated < now.saturating_sub(skew) {
+            return Err(DropReason::GenerationTimeOld);
+        }
+        if header.expiry_time.is_some_and(|e| e.0 < now) {
+            return Err(DropReason::MessageExpired);
+        }
+        if !self.replay.is_new(generated, &digest) {
+            return Err(DropReason::Replay);
+        }
+        self.replay
+            .record(generated, &digest, now.saturating_sub(skew));
+        Ok(())
+    }
+
+    /// The checks against the signer certificate: validity, PSID, region, signature.
+    /// Returns the signature hash.
+    fn check_signed_by(
+        &self,
+        signer: &TrustedCert,
+        signed: &SignedData<'_>,
+        ctx: &CheckContext,
+    ) -> Result<[u8; 32], DropReason> {
+        let header = &signed.header;
+        let generated = header.generation_time.map_or(0, |t| t.0);
+        let now = ctx.now_us.unwrap_or(generated);
+        check_validity(signer, generated.min(now), generated.max(now))?;
+        if !signer.app_psids.contains(&header.psid) {
+            return Err(DropReason::PsidNotPermitted);
+        }
+        if self.psid_for(ctx.message_id) != Some(header.psid) {
+            return Err(DropReason::PsidMismatch);
+        }
+        if let Some(region) = &signer.region {
+            let at = match header.generation_location {
+                Some(l) => LatLon::new(l.latitude, l.longitude),
+                None => ctx.position,
+            };
+            if !region.contains(at.ok_or(DropReason::NoLocation)?) {
+                return Err(DropReason::RegionMiss);
+            }
+        }
+        let digest = signing_digest_with(signed.to_be_signed, &signer.hash);
+        signer
+            .key
+            .verify(&digest, &signed.signature)
+            .map_err(|_| DropReason::SignatureInvalid)?;
+        Ok(digest)
+    }
+
+    /// The trusted signer certificate of a message with `psid`: cached, or verified along
+    /// its chain from an anchor and then cached.
+    fn signer(&mut self, signer: &SignerIdentifier<'_>, psid: u32) -> Result<usize, DropReason> {
+        match signer {
+            SignerIdentifier::SelfSigned => Err(DropReason::SelfSigned),
+            SignerIdentifier::Digest(id) => {
+                let found = self.cache.iter().position(|c| &c.id8() == id);
+                found.ok_or(DropReason::SignerUnknown)
+            }
+            SignerIdentifier::Certificate(chain) => {
+                let first = chain.first().ok_or(DropReason::ChainUntrusted)?;
+                let hash = sha256(first.encoded);
+                match self.cache.iter().position(|c| c.hash == hash) {
+                    Some(i) => Ok(i),
+                    None => {
+                        let verified = self.walk_chain(chain.iter(), chain.len(), &[psid])?;
+                        Ok(self.cache_insert(verified))
+                    }
+                }
+            }
+        }
+    }
+
+    /// Verifies a signer certificate `coer` issued by a trust anchor (or by a certificate
+    /// already verified) and caches it, so that messages naming it by `digest` verify: a
+    /// certificate learnt out of band (configuration, a certificate store).
+    ///
+    /// # Errors
+    ///
+    /// [`DropReason::EnvelopeOther`] when `coer` is not a certificate, else the chain
+    /// check's reason (the issuer must be allowed to certify each of its PSIDs).
+    pub fn learn(&mut self, coer: &[u8]) -> Result<(), DropReason> {
+        let cert = Certificate::parse(coer).map_err(|_| DropReason::EnvelopeOther)?;
+        let mut psids: Vec<u32, { crate::capacity::MAX_CERT_PSIDS }> = Vec::new();
+        for p in cert.app_permissions.iter().flat_map(|l| l.iter()) {
+            psids
+                .push(p.psid)
+                .map_err(|_| DropReason::CertificateTooLarge)?;
+        }
+        let verified = self.walk_chain(core::iter::once(cert), 1, &psids)?;
+        if !self.cache.iter().any(|c| c.hash == verified.hash) {
+            self.cache_insert(verified);
+        }
+        Ok(())
+    }
+
+    /// Verifies a chain (signer first) down from a trust anchor; every issuer must be
+    /// allowed to certify each of `psids`.
+    fn walk_chain<'a>(
+        &self,
+        certs: impl Iterator<Item = Certificate<'a>>,
+        len: usize,
+        psids: &[u32],
+    ) -> Result<TrustedCert, DropReason> {
+        if len > MAX_CHAIN || len == 0 {
+            return Err(DropReason::ChainTooLong);
+        }
+        let mut chain: Vec<Certificate<'a>, MAX_CHAIN> = Vec::new();
+        for c in certs {
+            chain.push(c).map_err(|_| DropReason::ChainTooLong)?;
+        }
+        // The topmost certificate that is an anchor itself or is issued by one.
+        let (top, mut issuer) = chain
+            .iter()
+            .enumerate()
+            .rev()
+            .find_map(|(i, c)| {
+                let hash = sha256(c.encoded);
+                if let Some(a) = self.anchors.iter().find(|a| a.hash == hash) {
+                    return (i > 0).then(|| (i - 1, a.clone()));
+                }
+                let Issuer::Sha256Digest(id) = c.issuer else {
+                    return None;
+                };
+                let a = self.anchors.iter().find(|a| a.id8() == id)?;
+                Some((i, a.clone()))
+            })
+            .ok_or(DropReason::ChainUntrusted)?;
+        for i in (0..=top).rev() {
+            issuer = issuer.issue(&chain[i], psids)?;
+        }
+        Ok(issuer)
+    }
+
+    /// Caches a verified signer; when full, the oldest entry leaves (first in, first out).
+    fn cache_insert(&mut self, cert: TrustedCert) -> usize {
+        if self.cache.is_full() {
+            self.cache.remove(0);
+        }
+        let _ = self.cache.push(cert);
+        self.cache.len() - 1
+    }
+}
+
+/// The certificate must be valid over `[from, to]` (generation time and now).
+fn check_validity(cert: &TrustedCert, from: u64, to: u64) -> Result<(), DropReason> {
+    if from < cert.validity.start_us() {
+        return Err(DropReason::CertificateNotYetValid);
+    }
+    if to >= cert.validity.end_us() {
+        return Err(DropReason::CertificateExpired);
+    }
+    Ok(())
+}

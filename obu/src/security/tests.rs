@@ -1,0 +1,163 @@
+//! The trust policy against the independent signed vectors (pycrate + Python
+//! `cryptography`, `codec/codegen/make_signed_vectors.py`): each case is refused for the
+//! reason the generator names, every valid one is accepted, and every truncation is
+//! refused before the policy sees it.
+
+use super::*;
+use j2735::envelope::ieee1609dot2::Ieee1609Dot2Data;
+use std::vec::Vec;
+use test_support::signed_vectors::{all, SignedVector};
+
+/// The reason the generator's words name.
+fn expected(v: &SignedVector) -> Result<(), DropReason> {
+    Err(match v.expect.as_str() {
+        "valid" if v.signer == "self" => DropReason::SelfSigned,
+        "valid" => return Ok(()),
+        "signature does not verify" => DropReason::SignatureInvalid,
+        "PSID not permitted by the signer certificate" => DropReason::PsidNotPermitted,
+        "signer certificate expired" => DropReason::CertificateExpired,
+        "signer certificate not yet valid" => DropReason::CertificateNotYetValid,
+        "chain does not reach a trust anchor" => DropReason::ChainUntrusted,
+        "generation location outside the certificate region" => DropReason::RegionMiss,
+        "generation time beyond the allowed skew" => DropReason::GenerationTimeFuture,
+        "generation time older than the allowed skew" => DropReason::GenerationTimeOld,
+        "message past its expiryTime" => DropReason::MessageExpired,
+        "replay" => DropReason::Replay,
+        other => panic!("{}: unknown expectation {other:?}", v.name),
+    })
+}
+
+/// A verifier with the vector's anchors, skew and known certificates.
+fn trust_for(v: &SignedVector) -> Trust {
+    let config = SecurityConfig {
+        max_skew_ms: u32::try_from(v.max_skew_us / 1000).unwrap(),
+        ..SecurityConfig::DEFAULT
+    };
+    let mut trust = Trust::new(config);
+    trust.add_anchor(&v.root).unwrap();
+    trust.add_anchor(&v.ca).unwrap();
+    for cert in &v.known_certs {
+        trust.learn(cert).unwrap();
+    }
+    trust
+}
+
+/// The `messageId` of the frame inside.
+fn message_id(v: &SignedVector) -> u16 {
+    j2735::frame::peek_message_id(&v.frame).unwrap()
+}
+
+fn check(trust: &mut Trust, v: &SignedVector) -> Result<(), DropReason> {
+    let data = Ieee1609Dot2Data::parse(&v.coer).unwrap();
+    let ctx = CheckContext {
+        message_id: message_id(v),
+        now_us: Some(v.now),
+        position: None,
+    };
+    trust.check(data.signed_data().unwrap(), &ctx)
+}
+
+#[test]
+fn every_vector_gets_the_generators_verdict() {
+    let vectors = all();
+    let mut checked = 0;
+    for v in vectors.iter().filter(|v| v.pair.is_none()) {
+        let mut trust = trust_for(v);
+        assert_eq!(check(&mut trust, v), expected(v), "{}", v.name);
+        checked += 1;
+    }
+    assert!(checked >= 32, "{checked}");
+}
+
+#[test]
+fn the_replay_pair_is_accepted_once() {
+    let pair: Vec<&SignedVector> = Vec::new();
+    let vectors = all();
+    let mut pair = pair;
+    pair.extend(
+        vectors
+            .iter()
+            .filter(|v| v.pair.as_deref() == Some("replay")),
+    );
+    pair.sort_by(|a, b| a.name.cmp(&b.name));
+    assert_eq!(pair.len(), 2);
+    let mut trust = trust_for(pair[0]);
+    assert_eq!(check(&mut trust, pair[0]), Ok(()));
+    assert_eq!(check(&mut trust, pair[1]), Err(DropReason::Replay));
+}
+
+#[test]
+fn a_certificate_signer_is_cached_so_its_digest_verifies() {
+    let vectors = all();
+    let by_name = |n: &str| vectors.iter().find(|v| v.name == n).unwrap();
+    let cert = by_name("valid_tim_certificate_x_only");
+    // The MAP: the TIM by digest would be the same signed data as `cert` (same header,
+    // payload and signer certificate, so the same hash): a replay.
+    let digest = by_name("valid_map_digest_x_only");
+    let config = SecurityConfig::DEFAULT;
+    let mut trust = Trust::new(config);
+    trust.add_anchor(&cert.ca).unwrap();
+    // Not seen yet: the digest names nothing.
+    assert_eq!(check(&mut trust, digest), Err(DropReason::SignerUnknown));
+    assert_eq!(check(&mut trust, cert), Ok(()));
+    assert_eq!(trust.cached(), 1);
+    assert_eq!(check(&mut trust, digest), Ok(()));
+}
+
+#[test]
+fn without_anchors_nothing_verifies() {
+    let v = all()
+        .into_iter()
+        .find(|v| v.name == "valid_tim_certificate_chain_x_only");
+    let v = v.unwrap();
+    let mut trust = Trust::default();
+    assert_eq!(check(&mut trust, &v), Err(DropReason::ChainUntrusted));
+    let mut root_only = Trust::default();
+    root_only.add_anchor(&v.root).unwrap();
+    assert_eq!(
+        check(&mut root_only, &v),
+        Ok(()),
+        "the chain carries the CA"
+    );
+}
+
+#[test]
+fn a_psid_of_another_message_is_refused() {
+    let vectors = all();
+    let map = vectors
+        .iter()
+        .find(|v| v.name == "valid_map_certificate_x_only")
+        .unwrap();
+    let mut trust = trust_for(map);
+    let data = Ieee1609Dot2Data::parse(&map.coer).unwrap();
+    let ctx = CheckContext {
+        message_id: 31, // a TIM id with the MAP PSID
+        now_us: Some(map.now),
+        position: None,
+    };
+    let result = trust.check(data.signed_data().unwrap(), &ctx);
+    assert_eq!(result, Err(DropReason::PsidMismatch));
+    let no_time = CheckContext {
+        now_us: None,
+        ..ctx
+    };
+    let result = trust.check(data.signed_data().unwrap(), &no_time);
+    assert_eq!(result, Err(DropReason::NoTime));
+}
+
+#[test]
+fn anchors_must_be_explicit_and_self_signatures_verify() {
+    let v = &all()[0];
+    let mut trust = Trust::default();
+    assert_eq!(trust.add_anchor(&v.root[1..]), Err(AnchorError::Malformed));
+    let mut bad = v.root.clone();
+    let last = bad.len() - 1;
+    bad[last] ^= 1; // the self-signature's s
+    assert!(matches!(
+        trust.add_anchor(&bad),
+        Err(AnchorError::Invalid(_))
+    ));
+    trust.add_anchor(&v.root).unwrap();
+    trust.add_anchor(&v.root).unwrap(); // the same again: one anchor
+    assert_eq!(trust.anchors(), 1);
+}
