@@ -1,4 +1,5 @@
-/* Settings (bound to /api/settings) and diagnostics (/api/status) views, and the router. */
+/* Settings (bound to /api/settings; a write from an unpaired tablet asks for the PIN, see
+ * pair.js) and diagnostics (/api/status) views, and the router. */
 (function (root) {
   'use strict';
 
@@ -131,26 +132,39 @@
     }
     message('Saving…', 'busy');
     $('settings-save').disabled = true;
-    root.fetch('/api/settings', {
+    put(r.value, true).finally(() => { $('settings-save').disabled = false; });
+  }
+
+  /** PUTs the settings; on 401 asks for pairing (once) and tries again when paired. */
+  function put(value, mayPair) {
+    return root.fetch('/api/settings', {
       method: 'PUT',
       headers: { 'Content-Type': 'application/json' },
-      body: JSON.stringify(r.value),
+      body: JSON.stringify(value),
     })
       .then((resp) => resp.text().then((t) => ({ resp, body: parse(t) })))
       .then(({ resp, body }) => {
         if (resp.ok) {
-          Settings.apply(body && typeof body === 'object' && !body.error ? body : r.value);
+          Settings.apply(body && typeof body === 'object' && !body.error ? body : value);
           fillForm(Settings.current);
           message('Saved.', 'ok');
-          return;
+          return null;
+        }
+        if (resp.status === 401 && mayPair && root.HmiPair) {
+          message('This tablet is not paired with the unit yet: enter its PIN.', 'busy');
+          return root.HmiPair.ask().then((paired) => {
+            if (!paired) { message('Not saved: this tablet is not paired with the unit.', 'error'); return null; }
+            message('Paired. Saving…', 'busy');
+            return put(value, false);
+          });
         }
         const err = (body && body.error) || 'HTTP ' + resp.status;
-        const field = Object.keys(r.value).find((k) => err.indexOf(k) >= 0);
+        const field = Object.keys(value).find((k) => err.indexOf(k) >= 0);
         if (field && RULES[field]) fieldError(field, err);
         message('Not saved: the unit said “' + err + '”.', 'error');
+        return null;
       })
-      .catch(() => message('Not saved: the unit is not reachable.', 'error'))
-      .finally(() => { $('settings-save').disabled = false; });
+      .catch(() => message('Not saved: the unit is not reachable.', 'error'));
   }
 
   function parse(t) {
@@ -281,7 +295,10 @@
     $('nav-diag').addEventListener('click', () => go('diag'));
     doc.querySelectorAll('.nav-back').forEach((b) => b.addEventListener('click', () => go('drive')));
     root.addEventListener('hashchange', route);
-    root.addEventListener('keydown', (e) => { if (e.key === 'Escape') go('drive'); });
+    root.addEventListener('keydown', (e) => {
+      // Escape in the pairing dialog closes the dialog only.
+      if (e.key === 'Escape' && !(root.HmiPair && root.HmiPair.isOpen())) go('drive');
+    });
     route();
   }
 

@@ -27,8 +27,8 @@ pub fn free_udp_port() -> Result<u16, String> {
 
 /// The daemon's configuration: V2X on any loopback port, NMEA over UDP on `gnss_port`,
 /// HTTP on `http_port` (0: any), settings in `state_dir`, the bench PKI's trust anchors
-/// (written into `state_dir`; signatures required, the product default), plus `extra`
-/// TOML tables.
+/// (written into `state_dir`; signatures required, the product default), plus `extra`:
+/// more `[http]` keys (it follows `settings_file`) and further TOML tables.
 ///
 /// # Errors
 ///
@@ -43,7 +43,7 @@ pub fn config(
     let security = crate::bench_pki::security_toml(state_dir)?;
     Ok(format!(
         "[v2x]\nbind = \"127.0.0.1:0\"\n\n[gnss]\nsource = \"nmea-udp\"\naddress = \"127.0.0.1:{gnss_port}\"\n\n\
-         [http]\nbind = \"127.0.0.1:{http_port}\"\nsettings_file = {settings:?}\n{security}{extra}"
+         [http]\nbind = \"127.0.0.1:{http_port}\"\nsettings_file = {settings:?}\n{extra}{security}"
     ))
 }
 
@@ -185,4 +185,27 @@ fn clock_ticks_per_second() -> f64 {
         .and_then(|o| String::from_utf8(o.stdout).ok())
         .and_then(|s| s.trim().parse().ok())
         .unwrap_or(100.0)
+}
+
+#[cfg(test)]
+mod tests {
+    #[test]
+    fn extra_keys_land_in_http_and_extra_tables_beside_security() {
+        let dir = std::env::temp_dir().join(format!("hil-sim-config-{}", std::process::id()));
+        let text = super::config(
+            &dir,
+            10110,
+            8080,
+            "pin = \"123456\"\n\n[alerts]\nlead_time_s = 5.0\n",
+        )
+        .unwrap();
+        let t: toml::Table = toml::from_str(&text).unwrap();
+        assert_eq!(t["http"]["pin"].as_str(), Some("123456"), "{text}");
+        assert_eq!(t["http"]["bind"].as_str(), Some("127.0.0.1:8080"));
+        assert_eq!(t["alerts"]["lead_time_s"].as_float(), Some(5.0));
+        assert!(t["security"]["trust_anchors"]
+            .as_array()
+            .is_some_and(|a| a.len() == 2));
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
 }

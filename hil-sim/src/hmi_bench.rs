@@ -206,6 +206,8 @@ pub struct ServerOptions {
     pub port: u16,
     /// Kept across restarts: the daemon's settings and the control file.
     pub state_dir: PathBuf,
+    /// The daemon's pairing PIN (`[http] pin`); `None`: the daemon makes one.
+    pub pin: Option<String>,
 }
 
 /// The bench's MAP and TIM as UPER bytes, the zone valid from two minutes ago.
@@ -279,10 +281,16 @@ pub fn start_daemon(
     Daemon::start(obu, state_dir, &text, gnss_port)
 }
 
-/// `hil-sim hmi-server`: starts the daemon, prints its URL as the first line, then feeds
+/// `hil-sim hmi-server`: starts the daemon (with the pairing PIN of `opts`, if any), prints
+/// its URL as the first line, then feeds
 /// it at 10 Hz until it exits (a SIGTERM to the process group stops both).
 pub fn serve(opts: &ServerOptions) -> Result<(), String> {
-    let mut daemon = start_daemon(&opts.obu, &opts.state_dir, opts.port, "")?;
+    let extra = opts
+        .pin
+        .as_ref()
+        .map(|pin| format!("pin = {pin:?}\n"))
+        .unwrap_or_default();
+    let mut daemon = start_daemon(&opts.obu, &opts.state_dir, opts.port, &extra)?;
     println!("{}", daemon.http);
     std::io::stdout().flush().map_err(|e| e.to_string())?;
     let feeder = Feeder::new()?;

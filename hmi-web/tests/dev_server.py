@@ -2,8 +2,8 @@
 """DEVELOPMENT STAND-IN for the OBU daemon's HMI server. Not the product, not used by CI.
 
 It serves the hmi-web files and the HTTP contract of the real daemon (GET /events as
-Server-Sent Events, GET/PUT /api/settings persisted to a file, GET /api/status, GET /healthz)
-with made-up states, so the page can be developed and its browser tests run before the daemon
+Server-Sent Events, GET/PUT /api/settings persisted to a file, pairing with POST/GET
+/api/pair, GET /api/status, GET /healthz) with made-up states, so the page can be developed and its browser tests run before the daemon
 exists. Python 3 standard library only.
 
   python3 dev_server.py serve [--port N] [--host H] [--state-dir D] [--mode script|manual] [--scene S]
@@ -11,7 +11,9 @@ exists. Python 3 standard library only.
       cruise -> approach -> warning -> lane closed -> overspeed -> in zone -> leaving -> GNSS
       dropout -> no roadside data -> restart (stream closed, 503 for 3 s, seq from 0);
       --mode manual holds one scene until told otherwise.
-      Defaults come from the environment: HMI_PORT, HMI_STATE_DIR.
+      Defaults come from the environment: HMI_PORT, HMI_STATE_DIR, HMI_PIN (the pairing
+      PIN; made at random and printed on stderr when unset). A settings write needs the
+      session cookie POST /api/pair gives for the PIN (401 without; 5 wrong PINs: 429).
 
   python3 dev_server.py drive SCENE      (HMI_URL=http://host:port in the environment)
       Switches the running stand-in to SCENE and holds it (this is the stand-in's
@@ -20,9 +22,11 @@ exists. Python 3 standard library only.
 """
 
 import argparse
+import hmac
 import json
 import mimetypes
 import os
+import secrets
 import signal
 import sys
 import tempfile
@@ -276,6 +280,51 @@ class Settings:
         return body, None
 
 
+class Pairing:
+    """The daemon's pairing, simplified: sessions persisted in the state dir, 5 wrong PINs in a
+    row lock pairing for 30 s."""
+
+    def __init__(self, pin, path):
+        self.pin = pin
+        self.path = path
+        self.lock = threading.Lock()
+        self.wrong = 0
+        self.locked_until = 0.0
+        try:
+            with open(path) as f:
+                self.sessions = [t for t in json.load(f) if isinstance(t, str)]
+        except (OSError, ValueError, TypeError):
+            self.sessions = []
+
+    def attempt(self, pin):
+        """(status, body, token or None)."""
+        with self.lock:
+            now = time.monotonic()
+            if now < self.locked_until:
+                return 429, {'error': 'too many wrong PINs: pairing is locked',
+                             'retry_after_s': int(self.locked_until - now) + 1}, None
+            if not isinstance(pin, str) or not hmac.compare_digest(pin.encode(), self.pin.encode()):
+                self.wrong += 1
+                if self.wrong >= 5:
+                    self.locked_until = now + 30
+                    return 429, {'error': 'too many wrong PINs: pairing is locked', 'retry_after_s': 30}, None
+                return 403, {'error': 'wrong PIN', 'tries_left': 5 - self.wrong}, None
+            self.wrong = 0
+            token = secrets.token_hex(32)
+            self.sessions = (self.sessions + [token])[-16:]
+            with open(self.path, 'w') as f:
+                json.dump(self.sessions, f)
+            return 200, {'paired': True}, token
+
+    def authorised(self, cookie_header):
+        for part in (cookie_header or '').split(';'):
+            name, _, value = part.strip().partition('=')
+            if name == 'obu_session':
+                with self.lock:
+                    return any(hmac.compare_digest(value, t) for t in self.sessions)
+        return False
+
+
 def is_num(v):
     return isinstance(v, (int, float)) and not isinstance(v, bool) and v == v
 
@@ -306,6 +355,7 @@ class Handler(BaseHTTPRequestHandler):
     server_version = 'hmi-dev-stand-in/1'
     world = None
     settings = None
+    pairing = None
 
     def log_message(self, fmt, *args):
         pass
@@ -337,6 +387,9 @@ class Handler(BaseHTTPRequestHandler):
             return self.send_json(200, self.settings.get())
         if path == '/api/status':
             return self.send_json(200, self.world.status())
+        if path == '/api/pair':
+            return self.send_json(200, {'paired': self.pairing.authorised(self.headers.get('Cookie')),
+                                        'locked_for_s': 0})
         if path == '/__dev/scene':
             return self.send_json(200, {'scene': self.world.scene, 'scenes': sorted(SCENES) + ['gnss_lost', 'gnss_back', 'silent', 'restart']})
         return self.static(path)
@@ -344,6 +397,9 @@ class Handler(BaseHTTPRequestHandler):
     def do_PUT(self):
         if self.path != '/api/settings':
             return self.send_json(404, {'error': 'not found'})
+        if not self.pairing.authorised(self.headers.get('Cookie')):
+            self.rfile.read(int(self.headers.get('Content-Length') or 0))
+            return self.send_json(401, {'error': "pairing required: send the unit's PIN to POST /api/pair"})
         try:
             body = json.loads(self.rfile.read(int(self.headers.get('Content-Length') or 0)) or b'null')
         except ValueError:
@@ -354,6 +410,8 @@ class Handler(BaseHTTPRequestHandler):
         return self.send_json(200, stored)
 
     def do_POST(self):
+        if self.path == '/api/pair':
+            return self.pair()
         if self.path != '/__dev/scene':
             return self.send_json(404, {'error': 'not found'})
         try:
@@ -362,6 +420,22 @@ class Handler(BaseHTTPRequestHandler):
         except (ValueError, KeyError, TypeError) as e:
             return self.send_json(400, {'error': f'scene: {e}'})
         return self.send_json(200, {'scene': body['scene']})
+
+    def pair(self):
+        try:
+            body = json.loads(self.rfile.read(int(self.headers.get('Content-Length') or 0)))
+            pin = body['pin']
+        except (ValueError, KeyError, TypeError):
+            return self.send_json(400, {'error': 'expected {"pin": "..."}'})
+        status, answer, token = self.pairing.attempt(pin)
+        data = json.dumps(answer).encode()
+        self.send_response(status)
+        self.send_header('Content-Type', 'application/json')
+        self.send_header('Content-Length', str(len(data)))
+        if token:
+            self.send_header('Set-Cookie', f'obu_session={token}; HttpOnly; SameSite=Strict; Path=/; Max-Age=31536000')
+        self.end_headers()
+        self.wfile.write(data)
 
     def static(self, path):
         if path == '/':
@@ -430,11 +504,13 @@ def serve(args):
     world = World(args.mode, args.scene)
     Handler.world = world
     Handler.settings = Settings(os.path.join(state_dir, 'settings.json'))
+    pin = os.environ.get('HMI_PIN') or f'{secrets.randbelow(1000000):06d}'
+    Handler.pairing = Pairing(pin, os.path.join(state_dir, 'sessions.json'))
     httpd = Server((args.host, port), Handler)
     threading.Thread(target=world.run, daemon=True).start()
     signal.signal(signal.SIGTERM, lambda *_: os._exit(0))
     print(f'http://{args.host}:{httpd.server_address[1]}', flush=True)
-    print(f'dev stand-in: mode={args.mode} state_dir={state_dir} web_root={WEB_ROOT}', file=sys.stderr, flush=True)
+    print(f'dev stand-in: mode={args.mode} state_dir={state_dir} web_root={WEB_ROOT} pairing PIN {pin}', file=sys.stderr, flush=True)
     try:
         httpd.serve_forever(poll_interval=0.2)
     except KeyboardInterrupt:

@@ -4,6 +4,8 @@
 // Server contract for HMI_SERVER_CMD (run with `sh -c` in this folder, in its own process group):
 //   - env HMI_PORT: the port to listen on (the same on every restart, so the page reconnects);
 //   - env HMI_STATE_DIR: a directory kept across restarts (settings must persist there);
+//   - env HMI_PIN: the pairing PIN the server must take (POST /api/pair), the same on every
+//     restart; settings writes need the session cookie it gives (401 without);
 //   - prints its base URL (e.g. http://127.0.0.1:43123) as the first line of stdout;
 //   - stops on SIGTERM to its process group.
 // Driver contract for HMI_DRIVER_CMD: `sh -c "$HMI_DRIVER_CMD <scene>"` with env HMI_URL and
@@ -13,6 +15,7 @@
 // development stand-in can produce (those tests were removed: see hmi-web/README.md).
 
 import { spawn } from 'node:child_process';
+import crypto from 'node:crypto';
 import fs from 'node:fs';
 import net from 'node:net';
 import os from 'node:os';
@@ -53,6 +56,8 @@ export class Server {
     this.cmd = cmd;
     this.port = Number(process.env.HMI_PORT || 0) || null;
     this.stateDir = fs.mkdtempSync(path.join(os.tmpdir(), 'hmi-state-'));
+    // A fresh PIN for every run: nothing in the tests can pair without being told it.
+    this.pin = String(crypto.randomInt(0, 1000000)).padStart(6, '0');
     this.url = null;
     this.proc = null;
     fs.mkdirSync(ARTIFACTS, { recursive: true });
@@ -65,7 +70,7 @@ export class Server {
       cwd: TESTS_DIR,
       detached: true,
       stdio: ['ignore', 'pipe', 'pipe'],
-      env: { ...process.env, HMI_PORT: String(this.port), HMI_STATE_DIR: this.stateDir },
+      env: { ...process.env, HMI_PORT: String(this.port), HMI_STATE_DIR: this.stateDir, HMI_PIN: this.pin },
     });
     this.proc = proc;
     proc.exited = new Promise((r) => proc.once('exit', r));
@@ -130,6 +135,24 @@ async function waitHealthy(url, timeoutMs) {
     if (Date.now() > until) throw new Error(`${url}/healthz not ok within ${timeoutMs} ms`);
     await sleep(100);
   }
+}
+
+/** Pairs with pin from node; resolves to the `Cookie` header value of the session. */
+export async function pairCookie(url, pin) {
+  const r = await fetch(url + '/api/pair', {
+    method: 'POST', headers: { 'Content-Type': 'application/json' }, body: JSON.stringify({ pin }),
+  });
+  if (r.status !== 200) throw new Error(`pairing answered ${r.status}: ${await r.text()}`);
+  const set = r.headers.get('set-cookie') || '';
+  const pair = set.split(';')[0];
+  if (!pair.includes('=')) throw new Error(`no session cookie: ${JSON.stringify(set)}`);
+  return pair;
+}
+
+/** Pairs a browser context (its request context shares the browser's cookies). */
+export async function pairContext(ctx, url, pin) {
+  const r = await ctx.request.post(url + '/api/pair', { data: { pin } });
+  if (r.status() !== 200) throw new Error(`pairing answered ${r.status()}: ${await r.text()}`);
 }
 
 /** Runs the driver for one scene; resolves when it exits 0, rejects with its stderr otherwise. */

@@ -2,7 +2,7 @@
 // HMI_DRIVER_CMD (see harness.mjs for both contracts). `npm run test:dev` uses the stand-in.
 import { describe, it, before, after } from 'node:test';
 import assert from 'node:assert/strict';
-import { env, Server, drive, watchEvents, launch, openPage, waitLive, shot, sleep } from './harness.mjs';
+import { env, Server, drive, watchEvents, launch, openPage, waitLive, shot, sleep, pairCookie, pairContext } from './harness.mjs';
 
 const SCREEN_MS = 500;                                            // server sent it -> on screen
 const GNSS_MS = Number(process.env.HMI_GNSS_DEADLINE_MS || 1000); // dropout -> "No GNSS" on screen
@@ -14,6 +14,7 @@ let url;
 let ctx;      // default autoplay policy: sound needs a tap, as on a real tablet
 let page;
 let events;
+let cookie;   // a session of node's own, for writes made with fetch
 
 const go = (scene) => drive(url, scene, cfg.driver, server.stateDir);
 
@@ -41,6 +42,9 @@ before(async () => {
   url = await server.start();
   events = watchEvents(url);
   ctx = await launch();
+  // The main browser is a paired tablet; the pairing test below uses a fresh one.
+  await pairContext(ctx, url, server.pin);
+  cookie = await pairCookie(url, server.pin);
   page = await openPage(ctx, url);
   await waitLive(page, 10000);
 });
@@ -238,6 +242,61 @@ describe('driver display', () => {
     assert.notEqual(await page.textContent('#alert-title'), 'Disconnected');
   });
 
+  it('pairing: an unpaired tablet is asked for the PIN once; a wrong PIN is refused, the right one pairs and the write goes through', async () => {
+    const before = await (await fetch(url + '/api/settings')).json();
+    const unpaired = await fetch(url + '/api/settings', { method: 'PUT', headers: { 'Content-Type': 'application/json' },
+      body: JSON.stringify({ ...before, warning_distance_m: 130 }) });
+    assert.equal(unpaired.status, 401, 'a write without a session');
+    const tctx = await launch();
+    try {
+      const p = await openPage(tctx, url);
+      await waitLive(p);
+      await p.click('#nav-settings');
+      await p.waitForSelector('#settings:not([hidden])');
+      await p.waitForFunction(() => document.getElementById('set-distance').value !== '');
+      await p.fill('#set-distance', '130');
+      await p.click('#settings-save');
+      await p.waitForSelector('#pair-dialog[open]', { timeout: 5000 });
+      assert.match(await p.textContent('#settings-msg'), /not paired/);
+      // A wrong PIN: refused, the dialog stays, nothing saved.
+      const wrong = server.pin === '000000' ? '111111' : '000000';
+      await p.fill('#pair-pin', wrong);
+      await p.click('#pair-submit');
+      await p.waitForFunction(() => /Wrong PIN/.test(document.getElementById('pair-msg').textContent), null, { timeout: 5000 });
+      assert.match(await p.textContent('#pair-msg'), /4 tries left/);
+      assert.equal(await p.evaluate(() => document.getElementById('pair-dialog').open), true);
+      assert.equal((await (await fetch(url + '/api/settings')).json()).warning_distance_m, before.warning_distance_m);
+      await shot(p, 'pairing');
+      // The right PIN: paired, and the write it was asked for goes through.
+      await p.fill('#pair-pin', server.pin);
+      await p.click('#pair-submit');
+      await p.waitForFunction(() => !document.getElementById('pair-dialog').open &&
+        document.getElementById('settings-msg').textContent === 'Saved.', null, { timeout: 5000 });
+      assert.equal((await (await fetch(url + '/api/settings')).json()).warning_distance_m, 130);
+      // The session is an HttpOnly, SameSite=Strict cookie the page cannot read.
+      const session = (await tctx.cookies(url)).find((c) => c.name === 'obu_session');
+      assert.ok(session, 'a session cookie');
+      assert.equal(session.httpOnly, true);
+      assert.equal(session.sameSite, 'Strict');
+      assert.equal(session.value.length, 64, '256 bits');
+      assert.equal(await p.evaluate(() => document.cookie.includes('obu_session')), false);
+      // Paired once: the next write asks for nothing (and puts the distance back).
+      let dialogs = 0;
+      await p.exposeFunction('__pairDialogShown', () => { dialogs += 1; });
+      await p.evaluate(() => new MutationObserver(() => {
+        if (document.getElementById('pair-dialog').open) window.__pairDialogShown();
+      }).observe(document.getElementById('pair-dialog'), { attributes: true }));
+      await p.fill('#set-distance', String(before.warning_distance_m));
+      await p.click('#settings-save');
+      await p.waitForFunction(() => document.getElementById('settings-msg').textContent === 'Saved.', null, { timeout: 5000 });
+      assert.equal(dialogs, 0, 'no PIN asked for a second time');
+      assert.equal((await (await fetch(url + '/api/settings')).json()).warning_distance_m, before.warning_distance_m);
+      assert.deepEqual(p.errors, []);
+    } finally {
+      await tctx.close();
+    }
+  });
+
   it('settings: validated form, server errors shown, mph survives a server restart', async () => {
     await page.click('#nav-settings');
     await page.waitForSelector('#settings:not([hidden])');
@@ -252,7 +311,7 @@ describe('driver display', () => {
     assert.equal(puts, 0);
     await page.fill('#set-distance', '150');
     // the server's own 400 for a bad field
-    const bad = await fetch(url + '/api/settings', { method: 'PUT', headers: { 'Content-Type': 'application/json' },
+    const bad = await fetch(url + '/api/settings', { method: 'PUT', headers: { 'Content-Type': 'application/json', Cookie: cookie },
       body: JSON.stringify({ warning_distance_m: 100, lead_time_s: 99, sound: true, units: 'kmh', theme: 'auto' }) });
     assert.equal(bad.status, 400);
     assert.match((await bad.json()).error, /lead_time_s/);
@@ -314,8 +373,9 @@ describe('driver display', () => {
       for (const [name, r] of Object.entries(ratios)) assert.ok(r >= 4.5, `${theme} ${name}: contrast ${r.toFixed(2)} < 4.5`);
     }
 
-    await fetch(url + '/api/settings', { method: 'PUT', headers: { 'Content-Type': 'application/json' },
+    const auto = await fetch(url + '/api/settings', { method: 'PUT', headers: { 'Content-Type': 'application/json', Cookie: cookie },
       body: JSON.stringify({ ...(await (await fetch(url + '/api/settings')).json()), theme: 'auto' }) });
+    assert.equal(auto.status, 200);
     await page.reload();
     await waitLive(page);
     await page.emulateMedia({ colorScheme: 'dark' });

@@ -1,6 +1,9 @@
 //! The daemon's TOML configuration. [`DEFAULT_TOML`] is the documented default file that
 //! `obu --print-default-config` prints; every key may be left out.
 
+mod http;
+
+pub use http::Http;
 use serde::Deserialize;
 use std::net::SocketAddr;
 use std::path::PathBuf;
@@ -51,15 +54,40 @@ stale_after_ms = 500
 # Where the tablet app is served (in the vehicle: the Wi-Fi interface's address).
 bind = "127.0.0.1:8080"
 # Driver settings (warning distance, lead time, sound, units, theme), saved atomically.
+# Beside it, under the same name with the extension ".pairing.json", the daemon keeps the
+# pairing PIN it made (unless `pin` is set) and the paired tablets' sessions.
 settings_file = "obu-settings.json"
-# Simultaneous event-stream clients; more are refused with 503.
+# The pairing PIN (4 to 32 letters or digits). A tablet sends it once (POST /api/pair)
+# and gets a session cookie; changing settings needs that cookie (401 without it); reads
+# stay open. Leave out to have the daemon make a random 6-digit PIN on its first start,
+# keep it in the pairing file and print it in its log at every start. Five wrong PINs in a
+# row lock pairing for 30 s, each further wrong one for twice as long (at most 15 min).
+# pin = "204816"
+# The name the tablet uses for the unit, e.g. "obu.local". A request must name in its
+# Host this name, localhost, or the address it reached; others get 421 (DNS rebinding).
+# hostname = "obu.local"
+# Host names or addresses accepted instead of those defaults (without a port; a port in
+# the Host header must be the one the request reached). Empty: the defaults.
+allowed_hosts = []
+# Simultaneous event-stream clients. When all are taken, a new client takes the slot of
+# the oldest stream of the address that holds the most.
 max_clients = 64
+# Open connections at most: keep it well under the process's open-file limit (ulimit -n).
+# A new connection over it closes the one that has waited longest idle or in an unfinished
+# request; event streams are never closed for it. Must exceed max_clients by 16 or more.
+max_connections = 512
 # Events kept to resume a client that reconnects with Last-Event-ID.
 event_buffer = 256
 # Heartbeat on idle event streams, milliseconds.
 heartbeat_ms = 1000
-# A request must arrive whole within this time, milliseconds.
+# One deadline for a whole request, milliseconds: from its first octet, its head and body
+# must arrive and its answer be taken within this time, or the connection is closed.
 request_timeout_ms = 5000
+# A kept-alive connection without a request for this long is closed, milliseconds.
+idle_timeout_ms = 30000
+# An event stream whose client takes no data for this long once the socket buffers are
+# full is dropped, milliseconds (so is one more than event_buffer events behind).
+stalled_stream_ms = 5000
 
 [alerts]
 # Defaults of the driver settings (the tablet can change the first two).
@@ -248,24 +276,6 @@ impl Speed {
     }
 }
 
-/// `[http]`.
-#[derive(Clone, Debug, Deserialize, PartialEq)]
-#[serde(deny_unknown_fields)]
-pub struct Http {
-    /// Bind address.
-    pub bind: SocketAddr,
-    /// Settings file.
-    pub settings_file: PathBuf,
-    /// Event-stream clients at most.
-    pub max_clients: usize,
-    /// Events kept for resume.
-    pub event_buffer: usize,
-    /// Heartbeat period, milliseconds.
-    pub heartbeat_ms: u64,
-    /// Request timeout, milliseconds.
-    pub request_timeout_ms: u64,
-}
-
 /// `[alerts]`.
 #[derive(Clone, Debug, Deserialize, PartialEq)]
 #[serde(deny_unknown_fields)]
@@ -398,9 +408,7 @@ impl Config {
         if !(1..=64).contains(&self.speed.length) {
             return bad("speed.length must be 1..=64");
         }
-        if self.http.max_clients == 0 || self.http.event_buffer == 0 {
-            return bad("http.max_clients and http.event_buffer must be > 0");
-        }
+        self.http.validate()?;
         if !(self.alerts.warning_distance_m.is_finite() && self.alerts.warning_distance_m > 0.0) {
             return bad("alerts.warning_distance_m must be > 0");
         }

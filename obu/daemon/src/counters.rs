@@ -35,10 +35,15 @@ pub mod group {
     pub const BRIDGE_ERRORS: &str = "bridge_errors";
     /// Signed or unsigned MAP/TIM refused by the IEEE 1609.2 trust policy, by reason.
     pub const SECURITY_ERRORS: &str = "security_errors";
-    /// HTTP requests refused, by reason.
+    /// HTTP requests and connections refused or cut, by reason (wrong host, request
+    /// deadline, shed over the connection cap, not paired, wrong PIN, ...).
     pub const HTTP_REJECTED: &str = "http_rejected";
+    /// HTTP connections closed in the normal course (idle keep-alive), by kind.
+    pub const HTTP_CONNECTIONS: &str = "http_connections";
     /// Event-stream clients, by what happened to them.
     pub const SSE_CLIENTS: &str = "sse_clients";
+    /// Tablets paired.
+    pub const PAIRING: &str = "pairing";
 }
 
 /// The group of `/api/status` a V2X drop reason is shown in.

@@ -15,10 +15,13 @@ mod assets;
 mod bridge;
 mod cli;
 mod config;
+mod conn;
 mod counters;
 mod gnss;
+mod host;
 mod http;
 mod hub;
+mod pairing;
 mod serve;
 mod settings;
 mod speed;
@@ -27,7 +30,6 @@ mod v2x;
 use config::Config;
 use settings::{Settings, SettingsFile};
 use std::process::ExitCode;
-use std::sync::atomic::AtomicUsize;
 use std::sync::Arc;
 use std::time::Duration;
 
@@ -87,8 +89,8 @@ async fn run(config: Config) -> Result<(), String> {
 
     configure_security(&hub, &config.security)?;
 
-    let listener = tokio::net::TcpListener::bind(config.http.bind)
-        .await
+    let pairing = load_pairing(&config.http)?;
+    let listener = serve::bind(config.http.bind)
         .map_err(|e| format!("http bind {}: {e}", config.http.bind))?;
     let http_addr = listener.local_addr().map_err(|e| e.to_string())?;
     let (stop_tx, stop) = tokio::sync::watch::channel(false);
@@ -106,22 +108,31 @@ async fn run(config: Config) -> Result<(), String> {
         None => start_inputs(&config, &hub, &stop).await?,
     };
 
+    let conns = conn::Table::new(config.http.max_connections);
     let app = http::router(http::AppState {
         hub: hub.clone(),
         settings_file,
-        clients: Arc::new(AtomicUsize::new(0)),
-        max_clients: config.http.max_clients,
+        pairing,
+        slots: http::events::Slots::new(config.http.max_clients),
+        conns: conns.clone(),
         heartbeat: Duration::from_millis(config.http.heartbeat_ms),
         bridge,
     });
-    let timeout = Duration::from_millis(config.http.request_timeout_ms);
-    let server = tokio::spawn(serve::serve(
-        listener,
+    let server = serve::Server {
         app,
-        hub.clone(),
-        timeout,
-        stop.clone(),
-    ));
+        hub: hub.clone(),
+        conns,
+        limits: conn::Limits {
+            request: config.http.request_timeout(),
+            idle: config.http.idle_timeout(),
+            stall: config.http.stalled_stream(),
+        },
+        hosts: Arc::new(host::AllowedHosts::new(
+            config.http.hostname.as_deref(),
+            &config.http.allowed_hosts,
+        )),
+    };
+    let server = tokio::spawn(serve::serve(listener, server, stop.clone()));
     // The first line is for scripts and tests: where to reach the daemon, then its inputs.
     println!("obu: http://{http_addr} {inputs}");
 
@@ -130,6 +141,19 @@ async fn run(config: Config) -> Result<(), String> {
     let _ = stop_tx.send(true);
     let _ = tokio::time::timeout(Duration::from_secs(2), server).await;
     Ok(())
+}
+
+/// The pairing PIN and sessions ([`pairing`]); logs the PIN and where it comes from.
+fn load_pairing(http: &config::Http) -> Result<Arc<pairing::Pairing>, String> {
+    let file = http.pairing_file();
+    let pairing = pairing::Pairing::load(http.pin.as_deref(), &file)?;
+    let from = if pairing.configured() {
+        "[http] pin".to_owned()
+    } else {
+        format!("made on the first start, kept in {}", file.display())
+    };
+    eprintln!("obu: pairing PIN {} ({from})", pairing.pin());
+    Ok(Arc::new(pairing))
 }
 
 /// Starts the inputs of the normal mode (V2X, GNSS, CAN) and the core's deadline loop ([`hub::Hub::run_deadlines`]); returns

@@ -113,7 +113,8 @@ impl SettingsFile {
     }
 }
 
-fn temp_beside(path: &Path) -> PathBuf {
+/// `path` with `.tmp` added to its name: where an atomic save writes before the rename.
+pub(crate) fn temp_beside(path: &Path) -> PathBuf {
     let mut name = path
         .file_name()
         .map(|n| n.to_os_string())

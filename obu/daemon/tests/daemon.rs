@@ -5,12 +5,16 @@
 mod common;
 
 use common::{
-    free_udp_port, http, open_events, read_events, run_of, status, temp_dir, vector, Daemon,
+    free_udp_port, http, open_events, pair, read_events, request, run_of, status, temp_dir, vector,
+    Daemon,
 };
 use std::io::{Read, Write};
 use std::net::{TcpStream, UdpSocket};
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
+
+/// The pairing PIN of the tests' configuration.
+const PIN: &str = "a1b2c3";
 
 /// Starts the daemon with the configuration file `config`.
 fn start(config: &Path) -> Daemon {
@@ -21,7 +25,7 @@ fn write_config(dir: &Path, gnss_port: u16) -> PathBuf {
     let path = dir.join("obu.toml");
     let text = format!(
         "[v2x]\nbind = \"127.0.0.1:0\"\n[gnss]\nsource = \"nmea-udp\"\naddress = \"127.0.0.1:{gnss_port}\"\n\
-         [http]\nbind = \"127.0.0.1:0\"\nsettings_file = \"{}\"\nheartbeat_ms = 200\nrequest_timeout_ms = 1000\n\
+         [http]\nbind = \"127.0.0.1:0\"\nsettings_file = \"{}\"\nheartbeat_ms = 200\nrequest_timeout_ms = 1000\npin = \"{PIN}\"\n\
          [security]\nrequire_signed = false\n",
         dir.join("settings.json").display()
     );
@@ -57,20 +61,28 @@ fn serves_the_app_health_and_validated_settings_that_survive_a_restart() {
         "the tablet app is served"
     );
     assert_eq!(http(&d.http, "GET", "/no-such-file", "").0, 404);
-    let (code, body) = http(
-        &d.http,
-        "PUT",
-        "/api/settings",
+    let good = r#"{"warning_distance_m":250.0,"lead_time_s":12.0,"sound":false,"units":"mph","theme":"night"}"#;
+    let (code, body) = http(&d.http, "PUT", "/api/settings", good);
+    assert_eq!(code, 401, "a write needs pairing: {body}");
+    let cookie = pair(&d.http, PIN);
+    let put = |body: &str| {
+        let (code, _, text) = request(&d.http, "PUT", "/api/settings", &[&cookie], body);
+        (code, text)
+    };
+    let (code, body) = put(
         r#"{"warning_distance_m":5,"lead_time_s":9,"sound":true,"units":"mph","theme":"night"}"#,
     );
     assert_eq!(code, 400);
     assert!(body.contains("warning_distance_m"), "{body}");
-    let (code, _) = http(&d.http, "PUT", "/api/settings", "{not json");
-    assert_eq!(code, 400);
-    let good = r#"{"warning_distance_m":250.0,"lead_time_s":12.0,"sound":false,"units":"mph","theme":"night"}"#;
-    assert_eq!(http(&d.http, "PUT", "/api/settings", good).0, 200);
+    assert_eq!(put("{not json").0, 400);
+    assert_eq!(put(good).0, 200);
     assert!(d.stop().success(), "SIGTERM is a clean exit");
     let d = start(&cfg);
+    assert_eq!(
+        request(&d.http, "PUT", "/api/settings", &[&cookie], good).0,
+        200,
+        "still paired after a restart"
+    );
     let (code, body) = http(&d.http, "GET", "/api/settings", "");
     assert_eq!(code, 200);
     let saved: serde_json::Value = serde_json::from_str(&body).unwrap();
@@ -208,7 +220,11 @@ fn hostile_http_is_refused_and_counted() {
     let mut s = TcpStream::connect(&d.http).unwrap();
     s.set_read_timeout(Some(Duration::from_secs(5))).unwrap();
     let big = "a".repeat(64 * 1024);
-    let _ = write!(s, "GET / HTTP/1.1\r\nHost: x\r\nX-Big: {big}\r\n\r\n");
+    let _ = write!(
+        s,
+        "GET / HTTP/1.1\r\nHost: {}\r\nX-Big: {big}\r\n\r\n",
+        d.http
+    );
     let mut out = String::new();
     let _ = s.read_to_string(&mut out);
     assert!(
@@ -218,7 +234,7 @@ fn hostile_http_is_refused_and_counted() {
     // A request that never finishes is cut off by the timeout.
     let mut slow = TcpStream::connect(&d.http).unwrap();
     slow.set_read_timeout(Some(Duration::from_secs(5))).unwrap();
-    slow.write_all(b"GET / HTTP/1.1\r\nHost: x\r\n").unwrap();
+    write!(slow, "GET / HTTP/1.1\r\nHost: {}\r\n", d.http).unwrap();
     let t0 = Instant::now();
     let mut buf = [0u8; 64];
     let _ = slow.read(&mut buf);
@@ -227,7 +243,9 @@ fn hostile_http_is_refused_and_counted() {
         "slow request closed by the 1 s timeout"
     );
     // A settings body over the limit.
-    let (code, _) = http(&d.http, "PUT", "/api/settings", &"x".repeat(10_000));
+    let cookie = pair(&d.http, PIN);
+    let big = "x".repeat(10_000);
+    let (code, _, _) = request(&d.http, "PUT", "/api/settings", &[&cookie], &big);
     assert!(code == 413 || code == 400, "got {code}");
     assert_eq!(
         http(&d.http, "GET", "/healthz", ""),

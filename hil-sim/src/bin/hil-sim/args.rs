@@ -24,7 +24,8 @@ pub struct Cli {
 #[derive(Debug, Subcommand)]
 pub enum Command {
     /// Run the real obu daemon and feed it the tablet tests' road, work zone and drive at
-    /// 10 Hz; prints the daemon's URL first (env: HMI_PORT, HMI_STATE_DIR, OBU_BIN).
+    /// 10 Hz; prints the daemon's URL first (env: HMI_PORT, HMI_STATE_DIR, HMI_PIN: the
+    /// daemon's pairing PIN, OBU_BIN).
     HmiServer,
     /// Switch a running hmi-server to a scene (env: HMI_STATE_DIR).
     HmiDrive {

@@ -258,9 +258,17 @@ fn server_options() -> Result<hmi_bench::ServerOptions, String> {
             .map_err(|_| format!("HMI_PORT {p:?} is not a port"))?,
         Err(_) => 0,
     };
+    let pin = match std::env::var("HMI_PIN") {
+        Ok(p) if (4..=32).contains(&p.len()) && p.bytes().all(|b| b.is_ascii_alphanumeric()) => {
+            Some(p)
+        }
+        Ok(p) => return Err(format!("HMI_PIN {p:?}: expected 4 to 32 letters or digits")),
+        Err(_) => None,
+    };
     Ok(hmi_bench::ServerOptions {
         obu: hil_sim::daemon::find_obu(),
         port,
         state_dir: state_dir()?,
+        pin,
     })
 }

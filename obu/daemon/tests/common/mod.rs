@@ -2,10 +2,12 @@
 //! line, make HTTP requests, read the event stream, and the codec's committed vectors.
 #![allow(dead_code)]
 
+pub mod craft;
+
 use std::ffi::OsStr;
 use std::io::{BufRead, BufReader, Read, Write};
 use std::net::{TcpStream, UdpSocket};
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Stdio};
 use std::time::{Duration, Instant};
 
@@ -22,12 +24,22 @@ impl Daemon {
     /// Starts `obu` with `args` and reads its first line
     /// (`obu: http://ADDR v2x udp ADDR` or `obu: http://ADDR bridge SOURCE`).
     pub fn start<S: AsRef<OsStr>>(args: impl IntoIterator<Item = S>) -> Self {
-        let mut child = Command::new(env!("CARGO_BIN_EXE_obu"))
-            .args(args)
-            .stdout(Stdio::piped())
-            .stderr(Stdio::null())
-            .spawn()
-            .expect("start obu");
+        let mut command = Command::new(env!("CARGO_BIN_EXE_obu"));
+        command.args(args).stderr(Stdio::null());
+        Self::spawn(command)
+    }
+
+    /// As [`Daemon::start`], with its log (standard error) written to `log`.
+    pub fn start_logged<S: AsRef<OsStr>>(args: impl IntoIterator<Item = S>, log: &Path) -> Self {
+        let mut command = Command::new(env!("CARGO_BIN_EXE_obu"));
+        let file = std::fs::File::create(log).unwrap();
+        command.args(args).stderr(file);
+        Self::spawn(command)
+    }
+
+    /// Starts `command` (the daemon, perhaps through a shell) and reads its first line.
+    pub fn spawn(mut command: Command) -> Self {
+        let mut child = command.stdout(Stdio::piped()).spawn().expect("start obu");
         let mut first = String::new();
         BufReader::new(child.stdout.take().unwrap())
             .read_line(&mut first)
@@ -46,6 +58,11 @@ impl Daemon {
     pub fn v2x(&self) -> &str {
         assert_eq!(self.words[2..4], ["v2x", "udp"], "{:?}", self.words);
         &self.words[4]
+    }
+
+    /// The process id.
+    pub fn pid(&self) -> u32 {
+        self.child.id()
     }
 
     /// Sends SIGTERM and waits (at most 5 s) for the exit.
@@ -88,9 +105,23 @@ pub fn free_udp_port() -> u16 {
 
 /// One HTTP/1.1 request; returns (status, body).
 pub fn http(addr: &str, method: &str, path: &str, body: &str) -> (u16, String) {
+    let (status, _, body) = request(addr, method, path, &[], body);
+    (status, body)
+}
+
+/// One HTTP/1.1 request (`Host` is `addr`) with extra header lines (`"Name: value"`);
+/// returns (status, head, body).
+pub fn request(
+    addr: &str,
+    method: &str,
+    path: &str,
+    headers: &[&str],
+    body: &str,
+) -> (u16, String, String) {
     let mut s = TcpStream::connect(addr).unwrap();
     s.set_read_timeout(Some(Duration::from_secs(5))).unwrap();
-    write!(s, "{method} {path} HTTP/1.1\r\nHost: x\r\nConnection: close\r\nContent-Type: application/json\r\nContent-Length: {}\r\n\r\n{body}", body.len()).unwrap();
+    let extra: String = headers.iter().map(|h| format!("{h}\r\n")).collect();
+    write!(s, "{method} {path} HTTP/1.1\r\nHost: {addr}\r\nConnection: close\r\nContent-Type: application/json\r\n{extra}Content-Length: {}\r\n\r\n{body}", body.len()).unwrap();
     let mut out = String::new();
     let _ = s.read_to_string(&mut out);
     let status = out
@@ -98,11 +129,29 @@ pub fn http(addr: &str, method: &str, path: &str, body: &str) -> (u16, String) {
         .nth(1)
         .and_then(|c| c.parse().ok())
         .unwrap_or(0);
-    let body = out
-        .split_once("\r\n\r\n")
-        .map(|(_, b)| b.to_owned())
-        .unwrap_or_default();
-    (status, body)
+    let (head, body) = out.split_once("\r\n\r\n").unwrap_or((&out, ""));
+    (status, head.to_owned(), body.to_owned())
+}
+
+/// Pairs with `pin` (`POST /api/pair`); returns the `Cookie` header line to send.
+pub fn pair(addr: &str, pin: &str) -> String {
+    let (status, head, body) = request(
+        addr,
+        "POST",
+        "/api/pair",
+        &[],
+        &format!("{{\"pin\":\"{pin}\"}}"),
+    );
+    assert_eq!(status, 200, "pairing with {pin}: {body}");
+    let cookie = head
+        .lines()
+        .find_map(|l| {
+            l.strip_prefix("set-cookie: ")
+                .or_else(|| l.strip_prefix("Set-Cookie: "))
+        })
+        .expect("a session cookie");
+    let pair = cookie.split(';').next().unwrap();
+    format!("Cookie: {pair}")
 }
 
 /// `GET /api/status`.
@@ -146,7 +195,7 @@ pub fn open_events(addr: &str, last_id: Option<&str>) -> BufReader<TcpStream> {
         .unwrap_or_default();
     write!(
         s,
-        "GET /events HTTP/1.1\r\nHost: x\r\nAccept: text/event-stream\r\n{resume}\r\n"
+        "GET /events HTTP/1.1\r\nHost: {addr}\r\nAccept: text/event-stream\r\n{resume}\r\n"
     )
     .unwrap();
     let mut r = BufReader::new(s);
