@@ -150,8 +150,9 @@
       const age = F.finite(msg.gnss_age_ms) ? ' · ' + F.ageText(msg.gnss_age_ms) : '';
       chip('gnss-chip', live ? 'chip-bad' : 'chip-muted', 'No GNSS' + age);
     }
-    chip('rsu-chip', s.roadside_data ? (live ? 'chip-ok' : 'chip-muted') : (live ? 'chip-bad' : 'chip-muted'),
-      s.roadside_data ? 'Roadside data' : 'No roadside data');
+    const rsu = F.roadsideChip(s, live);
+    chip('rsu-chip', rsu.cls, rsu.text);
+    setData($('rsu-chip'), 'trust', rsu.trust);
     const n = (x, one, many) => (F.finite(x) ? x : 0) + ' ' + ((x === 1) ? one : many);
     setText($('data-chip'), n(s.maps, 'map', 'maps') + ' · ' + n(s.zones, 'zone', 'zones'));
   }

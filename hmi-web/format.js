@@ -172,6 +172,22 @@
     return finite(q) ? (FIX_NAMES[q] || 'fix ' + q) : '';
   }
 
+  /**
+   * The roadside chip: whether there is roadside data and whether it came signed. The core
+   * counts in `unverified` the maps and zones that came without a verified IEEE 1609.2
+   * signature (only possible when the unit does not require signatures); they are shown,
+   * marked. `trust` is 'signed', 'unverified' or 'none' (no data).
+   */
+  function roadsideChip(state, live) {
+    if (!state || !state.roadside_data) {
+      return { cls: live ? 'chip-bad' : 'chip-muted', text: 'No roadside data', trust: 'none' };
+    }
+    if (finite(state.unverified) && state.unverified > 0) {
+      return { cls: live ? 'chip-warn' : 'chip-muted', text: 'Roadside data · UNVERIFIED', trust: 'unverified' };
+    }
+    return { cls: live ? 'chip-ok' : 'chip-muted', text: 'Roadside data · signed', trust: 'signed' };
+  }
+
   /** Seconds with one decimal below 10 s, else whole. */
   function ageText(ms) {
     if (!finite(ms)) return '';
@@ -181,7 +197,7 @@
 
   const api = { KINDS, MPS_TO, M_TO_FT, speedValue, speedText, speedUnitLabel, distanceParts,
     distanceText, aheadText, describeAlert, calmBanner, distanceView, toneWanted, toneLevel,
-    fixName, ageText, finite };
+    fixName, ageText, finite, roadsideChip };
   root.HmiFormat = api;
   if (typeof module === 'object' && module.exports) module.exports = api;
 })(typeof window !== 'undefined' ? window : globalThis);

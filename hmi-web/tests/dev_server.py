@@ -54,7 +54,7 @@ def base(t_ms):
         'time_ms': t_ms, 'speed_mps': 22.0, 'speed_limit_mps': LANE_LIMIT, 'reduced_limit': False,
         'zone_state': 'None', 'distance_m': None, 'primary': None, 'others': [],
         'lane': {'map': 1, 'lane': 2}, 'lane_confidence': 92, 'closed_lanes': [], 'advice': 'None',
-        'road_lanes': list(ROAD), 'gnss_ok': True, 'roadside_data': True, 'maps': 1, 'zones': 1,
+        'road_lanes': list(ROAD), 'gnss_ok': True, 'roadside_data': True, 'maps': 1, 'zones': 1, 'unverified': 0,
         'counters': {'fixes': t_ms // 100, 'off_map': 0, 'lane_switches': 1, 'maps_updated': 1,
                      'maps_rejected': 0, 'zones_updated': 1, 'zones_rejected': 0,
                      'zones_cancelled': 0, 'expired': 0},

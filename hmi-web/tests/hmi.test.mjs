@@ -198,6 +198,10 @@ describe('driver display', () => {
     assert.ok(msg.state.reduced_limit, 'the in_zone state has a reduced limit');
     assert.equal(await page.getAttribute('#limit', 'data-reduced'), 'true');
     assert.equal(await page.isVisible('.limit-plate'), true);
+    // The bench roadside signs (IEEE 1609.2) and the unit requires it: marked signed.
+    assert.equal(msg.state.unverified, 0, 'every zone shown came verified');
+    assert.equal(await page.getAttribute('#rsu-chip', 'data-trust'), 'signed');
+    assert.match(await page.textContent('#rsu-chip'), /signed/);
     await shot(page, 'in_zone');
   });
 

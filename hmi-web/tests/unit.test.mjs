@@ -111,3 +111,15 @@ test('closure moves toward the car as the distance shrinks; spans it in the zone
   assert.equal(at(-10, 'InZone').to, 320);
   assert.equal(at(-150, 'Leaving').faded, true);
 });
+
+test('roadside chip: signed, unverified (marked), none', () => {
+  assert.deepEqual(F.roadsideChip({ roadside_data: true, zones: 1, unverified: 0 }, true),
+    { cls: 'chip-ok', text: 'Roadside data · signed', trust: 'signed' });
+  const u = F.roadsideChip({ roadside_data: true, zones: 2, unverified: 1 }, true);
+  assert.equal(u.trust, 'unverified');
+  assert.equal(u.cls, 'chip-warn');
+  assert.match(u.text, /UNVERIFIED/);
+  assert.equal(F.roadsideChip({ roadside_data: false }, true).trust, 'none');
+  assert.equal(F.roadsideChip(null, false).cls, 'chip-muted');
+  assert.equal(F.roadsideChip({ roadside_data: true, unverified: 3 }, false).cls, 'chip-muted');
+});
