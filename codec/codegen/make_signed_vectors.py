@@ -51,6 +51,8 @@ Cases (see CASES below): valid for every signer kind and both rSig forms, TIM an
     generation time in the future; generation time too old; replay (a pair: the same bytes
     twice, the second expects "replay"). Truncation at every octet is not written out: a
     verifier-side loop over every "valid" vector (every prefix must be rejected).
+    Regions: the RSU certificate's circle (5 km), and the same RSU with a rectangle or a
+    kite-shaped polygon instead (a valid vector inside, a region miss outside each).
     Implicit certificates (ECQV, SEC 4 as profiled by 1609.2): an RSU certificate of type
     implicit issued by the CA, valid vectors with it as digest, certificate and chain signer
     (see the ECQV section for the hash e and its one assumption).
@@ -258,6 +260,22 @@ class Cert:
         self.id8 = hashed_id8(coer_bytes)
 
 
+def rectangle(lat, lon, half_e7):
+    """One rectangle of +-half_e7 (1e-7 degrees) around (lat, lon)."""
+    return ('rectangularRegion', [{'northWest': {'latitude': lat + half_e7,
+                                                 'longitude': lon - half_e7},
+                                   'southEast': {'latitude': lat - half_e7,
+                                                 'longitude': lon + half_e7}}])
+
+
+def polygon(lat, lon, r_e7):
+    """A quadrilateral (a kite, not a rectangle) around (lat, lon)."""
+    return ('polygonalRegion', [{'latitude': lat + r_e7, 'longitude': lon},
+                                {'latitude': lat, 'longitude': lon + 2 * r_e7},
+                                {'latitude': lat - r_e7, 'longitude': lon},
+                                {'latitude': lat, 'longitude': lon - r_e7}])
+
+
 def make_cert(name, seed, issuer, start, duration, app=None, issue=None, min_chain=1,
               region=True):
     """An explicit certificate. issuer None: self-signed (issuer `self`, sha256)."""
@@ -266,8 +284,10 @@ def make_cert(name, seed, issuer, start, duration, app=None, issue=None, min_cha
            'validityPeriod': {'start': time32(start), 'duration': duration},
            'verifyKeyIndicator': ('verificationKey',
                                   ('ecdsaNistP256', curve_point(priv.public_key())))}
-    if region:
+    if region is True:
         tbs['region'] = circle(SITE_LAT, SITE_LON, REGION_RADIUS_M)
+    elif region:
+        tbs['region'] = region
     if app:
         tbs['appPermissions'] = [{'psid': p} for p in app]
     if issue:
@@ -303,6 +323,13 @@ def pki():
                              '2025-01-01T00:00:00', ('years', 5), issue=True, region=False)
     c['evil_rsu'] = make_cert('rsu-17.workzone.example', 'evil-rsu', c['evil_ca'],
                               '2025-06-01T00:00:00', ('hours', 24 * 30), app=[PSID_TIM, PSID_MAP])
+    # The same RSU with a rectangle (+-0.05 degrees) or a kite-shaped polygon as its region.
+    c['rsu_rect'] = make_cert('rsu-17.workzone.example', 'rsu', c['ca'], '2025-06-01T00:00:00',
+                              ('hours', 24 * 30), app=[PSID_TIM, PSID_MAP],
+                              region=rectangle(SITE_LAT, SITE_LON, 500000))
+    c['rsu_poly'] = make_cert('rsu-17.workzone.example', 'rsu', c['ca'], '2025-06-01T00:00:00',
+                              ('hours', 24 * 30), app=[PSID_TIM, PSID_MAP],
+                              region=polygon(SITE_LAT, SITE_LON, 500000))
     c['rsu_implicit'] = make_implicit_cert('rsu-18.workzone.example', 'rsu-implicit', c['ca'],
                                            '2025-06-01T00:00:00', ('hours', 24 * 30),
                                            [PSID_TIM, PSID_MAP])
@@ -514,6 +541,20 @@ def make_all():
                        loc=location(SITE_LAT + 2000000))
     add('region_miss', 'region miss', 'generation location outside the certificate region',
         val, 'certificate', rsu, [rsu], tim, PSID_TIM, differs_from=base)
+    # rectangle and polygon regions: inside (valid) and outside (region miss). The outside
+    # points: 0.08 degrees north of the rectangle's centre (its half side is 0.05); inside
+    # the polygon's bounding box but outside the kite (east of its south-east edge).
+    for shape, ck, outside in (('rectangle', 'rsu_rect', location(SITE_LAT + 800000)),
+                               ('polygon', 'rsu_poly', location(SITE_LAT - 400000,
+                                                                SITE_LON + 800000))):
+        cert = c[ck]
+        val, _, _ = signed(tim, PSID_TIM, 'certificate', cert, [cert])
+        add('valid_tim_%s_region' % shape, 'valid (%s region)' % shape, 'valid', val,
+            'certificate', cert, [cert], tim, PSID_TIM)
+        val, _, _ = signed(tim, PSID_TIM, 'certificate', cert, [cert], loc=outside)
+        add('region_miss_%s' % shape, 'region miss (%s)' % shape,
+            'generation location outside the certificate region', val, 'certificate', cert,
+            [cert], tim, PSID_TIM, differs_from='valid_tim_%s_region' % shape)
     # generation time in the future / too old, by the verifier's clock
     val, _, _ = signed(tim, PSID_TIM, 'certificate', rsu, [rsu])
     add('generation_time_future', 'generation time in the future',
@@ -544,6 +585,7 @@ INTENDED = {
     'untrusted_root': {'signer'}, 'region_miss': {'generationLocation'},
     'generation_time_future': set(), 'generation_time_too_old': {'expiryTime'},
     'replay_1_first': set(), 'replay_2_second': set(),
+    'region_miss_rectangle': {'generationLocation'}, 'region_miss_polygon': {'generationLocation'},
 }
 
 
@@ -592,6 +634,27 @@ def check_intended(vectors, c):
         return math.hypot(dlat, dlon)
     assert dist_m(vectors['region_miss'][0]['generation_location']) > 4 * REGION_RADIUS_M
     assert dist_m(location()) < REGION_RADIUS_M / 10
+    # rectangle and polygon: inside / outside by plain comparisons and the even-odd rule
+    def in_rect(loc, reg):
+        r = reg[1][0]
+        return (r['southEast']['latitude'] <= loc['latitude'] <= r['northWest']['latitude']
+                and r['northWest']['longitude'] <= loc['longitude'] <= r['southEast']['longitude'])
+
+    def in_poly(loc, reg):
+        pts, inside = reg[1], False
+        y, x = loc['latitude'], loc['longitude']
+        for i, a in enumerate(pts):
+            b = pts[(i + 1) % len(pts)]
+            if (a['latitude'] > y) != (b['latitude'] > y):
+                cross = a['longitude'] + (y - a['latitude']) * (
+                    b['longitude'] - a['longitude']) / (b['latitude'] - a['latitude'])
+                if cross > x:
+                    inside = not inside
+        return inside
+    for shape, ck, test in (('rectangle', 'rsu_rect', in_rect), ('polygon', 'rsu_poly', in_poly)):
+        reg = c[ck].val['toBeSigned']['region']
+        assert test(vectors['valid_tim_%s_region' % shape][0]['generation_location'], reg)
+        assert not test(vectors['region_miss_%s' % shape][0]['generation_location'], reg)
     # clocks: normal cases within skew and before expiry; future / too old beyond the skew
     for v, _, _, _ in vectors.values():
         late = v['generation_time'] - v['now'] > v['max_skew_us']

@@ -75,6 +75,10 @@ fn there_is_a_vector_of_every_case() {
         "generation time too old",
         "replay",
         "valid (implicit certificate, ECQV)",
+        "valid (rectangle region)",
+        "region miss (rectangle)",
+        "valid (polygon region)",
+        "region miss (polygon)",
     ] {
         assert!(
             vectors.iter().any(|v| v.case == case),
