@@ -77,3 +77,7 @@ profile! {
     /// Recently accepted signed messages remembered for the replay check.
     MAX_REPLAY = 256, firmware 32
 }
+profile! {
+    /// Payloads remembered as verified lately (`SecurityConfig::reverify_ms`).
+    MAX_RECENT = 16, firmware 4
+}

@@ -129,6 +129,10 @@ max_skew_ms = 30000
 # The PSIDs a signed TIM and MAP must carry.
 tim_psid = 0x8003
 map_psid = 0xE0000017
+# A frame byte-identical in payload to one whose signature (same signer) was verified less
+# than this long ago is taken without verifying again (every other check still applies);
+# 0 verifies every frame. A forger can at most keep a real zone alive this much longer.
+reverify_ms = 1000
 "#;
 
 /// The whole configuration.
@@ -165,6 +169,8 @@ pub struct Security {
     pub tim_psid: u32,
     /// PSID of MAP.
     pub map_psid: u32,
+    /// Re-verification period of repeated payloads, milliseconds (0: every frame).
+    pub reverify_ms: u32,
 }
 
 impl Security {
@@ -175,6 +181,7 @@ impl Security {
             max_skew_ms: self.max_skew_ms,
             tim_psid: self.tim_psid,
             map_psid: self.map_psid,
+            reverify_ms: self.reverify_ms,
         }
     }
 }

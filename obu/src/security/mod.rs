@@ -16,9 +16,11 @@
 //! 3. The signer certificate: valid at the generation time and now, it permits the PSID,
 //!    and its region holds the generation location (or the vehicle's position).
 //! 4. The PSID is the one configured for the message (TIM, MAP).
-//! 5. The signature over `SHA-256(SHA-256(ToBeSignedData) || SHA-256(signer certificate))`.
-//! 6. Times: a generation time within the allowed skew of GNSS time, not past expiry.
-//! 7. Replay: the same generation time and signature hash accepted before.
+//! 5. Times: a generation time within the allowed skew of GNSS time, not past expiry.
+//! 6. Replay: the same generation time and signature hash accepted before.
+//! 7. The signature over `SHA-256(SHA-256(ToBeSignedData) || SHA-256(signer certificate))`,
+//!    unless this signer's signature on the same payload was verified less than
+//!    [`SecurityConfig::reverify_ms`] ago (a roadside repeats each message at 10 Hz).
 //!
 //! Not checked (stated so that no one relies on it): certificate revocation (CRLs),
 //! `minChainLength`, service-specific permissions (SSP) contents, identified (country)
@@ -44,7 +46,7 @@ use j2735::envelope::ieee1609dot2::{
 use j2735::frame::Message;
 use j2735::{MapData, TravelerInformation};
 
-use crate::capacity::{MAX_CACHED_CERTS, MAX_CHAIN, MAX_TRUST_ANCHORS};
+use crate::capacity::{MAX_CACHED_CERTS, MAX_CHAIN, MAX_RECENT, MAX_TRUST_ANCHORS};
 use crate::geo::LatLon;
 
 /// The PSID of TIM (SAE J2735 traveler information).
@@ -65,6 +67,14 @@ pub struct SecurityConfig {
     pub tim_psid: u32,
     /// The PSID a signed MAP must carry.
     pub map_psid: u32,
+    /// A frame whose payload is byte-identical to one this signer's signature was verified
+    /// on less than this long ago (milliseconds of GNSS time), and that passes every other
+    /// check (certificate, PSID, region, times, replay), is taken without verifying its
+    /// signature again; 0 verifies every frame. A roadside repeats each MAP and TIM at 10 Hz:
+    /// this verifies each payload about once a second (what the firmware's CPU can afford),
+    /// and a forger can at most keep a zone that was really broadcast alive this much longer
+    /// (never change, cancel or add one).
+    pub reverify_ms: u32,
 }
 
 impl SecurityConfig {
@@ -74,6 +84,7 @@ impl SecurityConfig {
         max_skew_ms: 30_000,
         tim_psid: PSID_TIM,
         map_psid: PSID_MAP,
+        reverify_ms: 1000,
     };
 }
 
@@ -118,6 +129,17 @@ pub struct Trust {
     replay: ReplayWindow,
     /// The generator's multiples, made at the first check.
     generator: Option<GeneratorTable>,
+    /// Payloads whose signature was verified lately (see [`SecurityConfig::reverify_ms`]).
+    recent: Vec<Recent, MAX_RECENT>,
+}
+
+/// A payload whose signature was verified: its hash, signer, PSID and when (GNSS time).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+struct Recent {
+    payload: [u8; 16],
+    signer: [u8; 32],
+    psid: u32,
+    verified_us: u64,
 }
 
 impl Default for Trust {
@@ -136,6 +158,7 @@ impl Trust {
             cache: Vec::new(),
             replay: ReplayWindow::new(),
             generator: None,
+            recent: Vec::new(),
         }
     }
 
@@ -148,11 +171,13 @@ impl Trust {
                 max_skew_ms: 0,
                 tim_psid: 0,
                 map_psid: 0,
+                reverify_ms: 0,
             },
             anchors: Vec::new(),
             cache: Vec::new(),
             replay: ReplayWindow::new(),
             generator: None,
+            recent: Vec::new(),
         }
     }
 
@@ -224,7 +249,8 @@ impl Trust {
             self.generator = Some(GeneratorTable::new());
         }
         let index = self.signer(&signed.signer, header.psid)?;
-        let digest = self.check_signed_by(&self.cache[index], signed, ctx)?;
+        let signer = &self.cache[index];
+        self.check_certified(signer, signed, ctx)?;
         let skew = u64::from(self.config().max_skew_ms) * 1000;
         if generated > now.saturating_add(skew) {
             return Err(Rejection::GenerationTimeFuture);
@@ -235,22 +261,34 @@ impl Trust {
         if header.expiry_time.is_some_and(|e| e.0 < now) {
             return Err(Rejection::MessageExpired);
         }
+        let digest = signing_digest_with(signed.to_be_signed, &signer.hash);
         if !self.replay.is_new(generated, &digest) {
             return Err(Rejection::Replay);
+        }
+        let payload = signed.payload.data.map(|d| payload_tag(d.encoded()));
+        let signer_hash = signer.hash;
+        if !self.verified_lately(payload, &signer_hash, header.psid, now) {
+            let generator = self.generator.as_ref().ok_or(Rejection::SignatureInvalid)?;
+            self.cache[index]
+                .key
+                .verify(generator, &digest, &signed.signature)
+                .map_err(|_| Rejection::SignatureInvalid)?;
+            if let Some(payload) = payload {
+                self.remember(payload, signer_hash, header.psid, now);
+            }
         }
         self.replay
             .record(generated, &digest, now.saturating_sub(skew));
         Ok(())
     }
 
-    /// The checks against the signer certificate: validity, PSID, region, signature.
-    /// Returns the signature hash.
-    fn check_signed_by(
+    /// The checks against the signer certificate: validity, PSID, region.
+    fn check_certified(
         &self,
         signer: &TrustedCert,
         signed: &SignedData<'_>,
         ctx: &CheckContext,
-    ) -> Result<[u8; 32], Rejection> {
+    ) -> Result<(), Rejection> {
         let header = &signed.header;
         let generated = header.generation_time.map_or(0, |t| t.0);
         let now = ctx.now_us.unwrap_or(generated);
@@ -270,13 +308,48 @@ impl Trust {
                 return Err(Rejection::RegionMiss);
             }
         }
-        let digest = signing_digest_with(signed.to_be_signed, &signer.hash);
-        let generator = self.generator.as_ref().ok_or(Rejection::SignatureInvalid)?;
-        signer
-            .key
-            .verify(generator, &digest, &signed.signature)
-            .map_err(|_| Rejection::SignatureInvalid)?;
-        Ok(digest)
+        Ok(())
+    }
+
+    /// Whether this signer's signature on `payload` (with `psid`) was verified less than
+    /// `reverify_ms` before `now`.
+    fn verified_lately(
+        &self,
+        payload: Option<[u8; 16]>,
+        signer: &[u8; 32],
+        psid: u32,
+        now: u64,
+    ) -> bool {
+        let window = u64::from(self.config().reverify_ms) * 1000;
+        let Some(payload) = payload else {
+            return false;
+        };
+        window > 0
+            && self.recent.iter().any(|r| {
+                r.payload == payload
+                    && &r.signer == signer
+                    && r.psid == psid
+                    && now >= r.verified_us
+                    && now - r.verified_us < window
+            })
+    }
+
+    /// Records a verified payload (replacing its older entry, else the oldest entry).
+    fn remember(&mut self, payload: [u8; 16], signer: [u8; 32], psid: u32, now: u64) {
+        let entry = Recent {
+            payload,
+            signer,
+            psid,
+            verified_us: now,
+        };
+        let same = |r: &Recent| r.payload == payload && r.signer == signer && r.psid == psid;
+        if let Some(slot) = self.recent.iter_mut().find(|r| same(r)) {
+            *slot = entry;
+        } else if let Err(entry) = self.recent.push(entry) {
+            if let Some(oldest) = self.recent.iter_mut().min_by_key(|r| r.verified_us) {
+                *oldest = entry;
+            }
+        }
     }
 
     /// The trusted signer certificate of a message with `psid`: cached, or verified along
@@ -372,6 +445,13 @@ impl Trust {
         let _ = self.cache.push(cert);
         self.cache.len() - 1
     }
+}
+
+/// The first 16 octets of SHA-256 of a signed payload.
+fn payload_tag(payload: &[u8]) -> [u8; 16] {
+    let mut tag = [0u8; 16];
+    tag.copy_from_slice(&sha256(payload)[..16]);
+    tag
 }
 
 /// The certificate must be valid over `[from, to]` (generation time and now).

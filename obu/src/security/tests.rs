@@ -161,3 +161,83 @@ fn anchors_must_be_explicit_and_self_signatures_verify() {
     trust.add_anchor(&v.root).unwrap(); // the same again: one anchor
     assert_eq!(trust.anchors(), 1);
 }
+
+/// The same TIM signed again by an attacker key under the real RSU certificate, with a new
+/// generation time: its signature does not verify.
+fn forged_copy(v: &SignedVector, generated_us: u64) -> Vec<u8> {
+    use j2735::envelope::ieee1609dot2::build::{encode_signed, Header, Signer};
+    use j2735::envelope::ieee1609dot2::crypto::{RSigForm, SecretKey};
+    use j2735::envelope::ieee1609dot2::{SignerIdentifier, Time64};
+    let data = Ieee1609Dot2Data::parse(&v.coer).unwrap();
+    let signed = data.signed_data().unwrap();
+    let SignerIdentifier::Certificate(chain) = signed.signer else {
+        panic!("a certificate signer");
+    };
+    let cert = chain.first().unwrap().encoded;
+    let header = Header {
+        psid: signed.header.psid,
+        generation_time: Time64(generated_us),
+        expiry_time: signed.header.expiry_time,
+        generation_location: signed.header.generation_location,
+    };
+    let attacker = SecretKey::from_bytes(&[7u8; 32]).unwrap();
+    let mut out = std::vec![0u8; 4096];
+    let n = encode_signed(
+        &v.frame,
+        &header,
+        Signer::Certificate(cert),
+        &attacker,
+        RSigForm::XOnly,
+        &mut out,
+    )
+    .unwrap();
+    out.truncate(n);
+    out
+}
+
+#[test]
+fn a_payload_verified_lately_is_taken_again_only_within_reverify_ms() {
+    let v = all()
+        .into_iter()
+        .find(|v| v.name == "valid_tim_certificate_x_only")
+        .unwrap();
+    let forged = forged_copy(&v, v.generation_time + 500_000);
+    let forged = Ieee1609Dot2Data::parse(&forged).unwrap();
+    let at = |now_us| CheckContext {
+        message_id: 31,
+        now_us: Some(now_us),
+        position: None,
+    };
+    // Verified once at `now`: the same payload half a second later is taken without its
+    // (forged) signature being verified; a second and a half later it is verified again.
+    let mut trust = trust_for(&v);
+    assert_eq!(check(&mut trust, &v), Ok(()));
+    let lately = trust.clone();
+    assert_eq!(
+        trust.check(forged.signed_data().unwrap(), &at(v.now + 500_000)),
+        Ok(())
+    );
+    let mut later = lately.clone();
+    assert_eq!(
+        later.check(forged.signed_data().unwrap(), &at(v.now + 1_500_000)),
+        Err(Rejection::SignatureInvalid)
+    );
+    // With reverify_ms 0 every frame is verified.
+    let mut strict = trust_for(&v);
+    strict.set_config(SecurityConfig {
+        reverify_ms: 0,
+        max_skew_ms: u32::try_from(v.max_skew_us / 1000).unwrap(),
+        ..SecurityConfig::DEFAULT
+    });
+    assert_eq!(check(&mut strict, &v), Ok(()));
+    assert_eq!(
+        strict.check(forged.signed_data().unwrap(), &at(v.now + 500_000)),
+        Err(Rejection::SignatureInvalid)
+    );
+    // Never seen verified: a forged payload is verified (and refused).
+    let mut fresh = trust_for(&v);
+    assert_eq!(
+        fresh.check(forged.signed_data().unwrap(), &at(v.now + 500_000)),
+        Err(Rejection::SignatureInvalid)
+    );
+}
