@@ -368,7 +368,9 @@ mod tests {
             rsu_hours: 2730 * 24,
             ..spec()
         };
-        assert!(Pki::create(&long_rsu).unwrap_err().contains("within the CA"));
+        assert!(Pki::create(&long_rsu)
+            .unwrap_err()
+            .contains("within the CA"));
         let ok = PkiSpec {
             ca_years: 15,
             root_years: 20,
