@@ -63,6 +63,14 @@ pub(super) fn forged_dropped(group: &str, reason: &str, facts: &RunFacts) -> (bo
         ));
     } else {
         detail.push_str("; the firmware logs its drops only, not the inputs it took");
+        let link: u64 = device.counters["v2x_dropped"].as_object().map_or(0, |g| {
+            g.values().filter_map(serde_json::Value::as_u64).sum()
+        });
+        if link > 0 {
+            detail.push_str(&format!(
+                "; {link} frames damaged on its serial link (overrun: COBS, CRC)"
+            ));
+        }
     }
     (ok, detail)
 }
@@ -202,6 +210,9 @@ mod tests {
         let log = json!({"security_errors": {CHAIN: 40}});
         let (ok, detail) = forged_dropped("security_errors", CHAIN, &facts(40, log, false));
         assert!(ok && detail.contains("drops only"), "{detail}");
+        let overrun = json!({"security_errors": {CHAIN: 38}, "v2x_dropped": {"CRC mismatch": 3}});
+        let (ok, detail) = forged_dropped("security_errors", CHAIN, &facts(40, overrun, false));
+        assert!(!ok && detail.contains("3 frames damaged"), "{detail}");
         assert!(!forged_dropped("security_errors", CHAIN, &facts(0, status(0, 100), true)).0);
     }
 
