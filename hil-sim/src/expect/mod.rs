@@ -1,5 +1,5 @@
 //! Expectations of a scenario, checked on the recorded states joined with the simulated
-//! truth (and, for a scenario with an attacker, the device's counters: [`attack`]).
+//! truth (and, for a scenario with an attacker, the device's counters: [`crate::attack`]).
 
 mod attack;
 
