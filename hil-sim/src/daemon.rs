@@ -2,10 +2,11 @@
 //! the bench, its addresses read from its first line, stopped with SIGTERM semantics on
 //! drop (kill, then reap).
 
-use std::io::{BufRead, BufReader};
-use std::net::UdpSocket;
+use std::io::{BufRead, BufReader, Read, Write};
+use std::net::{TcpStream, UdpSocket};
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Stdio};
+use std::time::Duration;
 
 /// The `obu` executable: `$OBU_BIN`, else `obu` beside this executable, else on the PATH.
 pub fn find_obu() -> PathBuf {
@@ -45,6 +46,27 @@ pub fn config(
         "[v2x]\nbind = \"127.0.0.1:0\"\n\n[gnss]\nsource = \"nmea-udp\"\naddress = \"127.0.0.1:{gnss_port}\"\n\n\
          [http]\nbind = \"127.0.0.1:{http_port}\"\nsettings_file = {settings:?}\n{extra}{security}"
     ))
+}
+
+/// The body of a GET to the daemon at `addr` (`host:port`; HTTP/1.1, `Connection: close`).
+///
+/// # Errors
+///
+/// The connection's error.
+pub fn http_get(addr: &str, path: &str) -> Result<String, String> {
+    let mut s = TcpStream::connect(addr).map_err(|e| format!("{addr}: {e}"))?;
+    s.set_read_timeout(Some(Duration::from_secs(5)))
+        .map_err(|e| e.to_string())?;
+    write!(
+        s,
+        "GET {path} HTTP/1.1\r\nHost: {addr}\r\nConnection: close\r\n\r\n"
+    )
+    .map_err(|e| e.to_string())?;
+    let mut text = String::new();
+    s.read_to_string(&mut text).map_err(|e| e.to_string())?;
+    Ok(text
+        .split_once("\r\n\r\n")
+        .map_or(String::new(), |(_, b)| b.to_string()))
 }
 
 /// A running daemon.

@@ -13,6 +13,8 @@
 //! - [`rig`]: the processes behind a daemon in bridge mode (QEMU, relays).
 //! - [`firmware`]: the OBU firmware in QEMU as the device under test.
 //! - [`sse`]: a Server-Sent Events client that follows the daemon's `/events`.
+//! - [`attack`]: a scenario's attacker beside the roadside, and the device's counters of
+//!   what it dropped.
 //! - [`runner`]: `hil-sim run`: roadside, GNSS and CAN into the device, states recorded.
 //! - [`expect`]: the scenario's expectations checked on the recorded states.
 //! - [`timeline`]: two runs of a scenario (firmware against daemon) compared state by state.
@@ -25,6 +27,7 @@
 #![forbid(unsafe_code)]
 #![warn(missing_docs)]
 
+pub mod attack;
 pub mod bench_pki;
 pub mod daemon;
 pub mod drive;

@@ -4,8 +4,6 @@
 
 use crate::hmi_bench::{start_daemon, Feeder};
 use crate::sse::SseClient;
-use std::io::{Read, Write};
-use std::net::TcpStream;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
@@ -188,7 +186,7 @@ pub fn load(obu: &Path, clients: usize, seconds: f64) -> Result<Load, String> {
     let wall = t0.elapsed().as_secs_f64();
     let cpu = daemon.cpu_seconds().ok_or("no CPU time in /proc")? - cpu0;
     stop.store(true, Ordering::Relaxed);
-    let status = http_get(daemon.http_addr(), "/api/status").unwrap_or_default();
+    let status = crate::daemon::http_get(daemon.http_addr(), "/api/status").unwrap_or_default();
     let mut report = Load {
         clients,
         seconds: wall,
@@ -245,23 +243,6 @@ fn follow(mut sse: SseClient, stop: &AtomicBool) -> Followed {
         }
     }
     f
-}
-
-/// The body of a GET (HTTP/1.1, `Connection: close`).
-fn http_get(addr: &str, path: &str) -> Result<String, String> {
-    let mut s = TcpStream::connect(addr).map_err(|e| e.to_string())?;
-    s.set_read_timeout(Some(Duration::from_secs(5)))
-        .map_err(|e| e.to_string())?;
-    write!(
-        s,
-        "GET {path} HTTP/1.1\r\nHost: {addr}\r\nConnection: close\r\n\r\n"
-    )
-    .map_err(|e| e.to_string())?;
-    let mut text = String::new();
-    s.read_to_string(&mut text).map_err(|e| e.to_string())?;
-    Ok(text
-        .split_once("\r\n\r\n")
-        .map_or(String::new(), |(_, b)| b.to_string()))
 }
 
 /// A counter of `/api/status` by reason, summed over groups.

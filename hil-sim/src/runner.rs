@@ -2,8 +2,11 @@
 //! scenario's MAP and TIM over UDP (with its faults), the simulated receiver sends NMEA at
 //! 10 Hz (and a candump replay the CAN speed), every `HmiState` of the daemon's event
 //! stream is recorded with its arrival time, joined with the simulated truth, checked
-//! against the expectations, and written as `report.json`, `states.jsonl` and plots.
+//! against the expectations, and written as `report.json`, `states.jsonl` and plots. A
+//! scenario's attacker sends beside the roadside for the drive; the device's counters are
+//! read at the end ([`crate::attack`]).
 
+use crate::attack::{self, Attack, AttackFacts};
 use crate::daemon::Daemon;
 use crate::drive::{self, Sample};
 use crate::expect::{self, Outcome, Record, RunFacts};
@@ -65,6 +68,9 @@ pub struct RunReport {
     pub states: usize,
     /// V2X datagrams sent, lost to the fault model, corrupted.
     pub v2x: V2xCounts,
+    /// The attack, when the scenario has an attacker: what it sent and what the device
+    /// counted.
+    pub attack: Option<AttackFacts>,
     /// Files written.
     pub files: Vec<PathBuf>,
 }
@@ -77,6 +83,7 @@ struct Recorded {
     states: Vec<(Instant, serde_json::Value)>,
     changes: Vec<Instant>,
     v2x: V2xCounts,
+    attack: Option<AttackFacts>,
 }
 
 /// Runs a scenario and writes its report into `opts.out`.
@@ -123,8 +130,15 @@ pub fn run(s: &Scenario, opts: &RunOptions) -> Result<RunReport, String> {
     if opts.http_port != 0 {
         println!("hil-sim: the tablet app is live at {}", daemon.http);
     }
-    let recorded = drive_and_record(s, &road, &zones, samples, &daemon, opts.progress)?;
+    let mut recorded = drive_and_record(s, &road, &zones, samples, &daemon, opts.progress)?;
+    // The firmware's log is complete once QEMU and its decoder have stopped.
     drop(daemon);
+    if let (Some(a), Some(_)) = (&mut recorded.attack, &opts.firmware) {
+        match attack::firmware_counts(&state_dir.join("firmware.log")) {
+            Ok(d) => a.device = Some(d),
+            Err(e) => a.device_error = Some(e),
+        }
+    }
     report(s, &road, &zones, recorded, opts)
 }
 
@@ -158,7 +172,13 @@ fn drive_and_record(
         })
     };
     let t0 = Instant::now();
-    let signer = Some(crate::bench_pki::signer()?);
+    let signer = crate::bench_pki::signer()?;
+    let attacker = s
+        .attacker
+        .as_ref()
+        .map(|spec| Attack::start(spec, road, zones, &daemon.v2x, t0, &signer))
+        .transpose()
+        .inspect_err(|_| stop.store(true, Ordering::Relaxed))?;
     let v2x = roadside::scripted::spawn(
         &s.site(),
         road,
@@ -166,7 +186,7 @@ fn drive_and_record(
         &daemon.v2x,
         t0,
         stop.clone(),
-        signer,
+        Some(signer),
     )?;
     let sock = UdpSocket::bind("127.0.0.1:0").map_err(|e| e.to_string())?;
     let mut sent = Vec::with_capacity(samples.len());
@@ -183,11 +203,25 @@ fn drive_and_record(
     if progress {
         eprintln!();
     }
+    // The attack ends with the drive.
+    let attacked = attacker.map(Attack::finish).transpose();
     // Let the last states (and a "no GNSS" after the end) arrive.
     std::thread::sleep(Duration::from_millis(1200));
     stop.store(true, Ordering::Relaxed);
     let _ = recorder.join();
     let (changes, counts) = v2x.join().map_err(|_| "the roadside thread panicked")?;
+    let attack = attacked?.map(|(kind, sent)| {
+        // The daemon counts every input; the firmware's drops are read from its log
+        // once it has stopped (`run`).
+        let device = (daemon.rig.is_none()).then(|| attack::daemon_counts(daemon.http_addr()));
+        AttackFacts {
+            kind,
+            sent,
+            roadside_sent: counts.sent,
+            device_error: device.as_ref().and_then(|d| d.as_ref().err().cloned()),
+            device: device.and_then(Result::ok),
+        }
+    });
     let states = std::mem::take(&mut *states.lock().unwrap_or_else(|p| p.into_inner()));
     Ok(Recorded {
         t0,
@@ -196,6 +230,7 @@ fn drive_and_record(
         states,
         changes,
         v2x: counts,
+        attack,
     })
 }
 
@@ -379,6 +414,7 @@ fn report(
         fixes_sent: rec.sent.len(),
         states: records.len(),
         v2x: rec.v2x,
+        attack: rec.attack.clone(),
         files: files.clone(),
     };
     let json = serde_json::to_string_pretty(&report).map_err(|e| e.to_string())?;
@@ -431,6 +467,7 @@ fn run_facts(s: &Scenario, rec: &Recorded) -> RunFacts {
             .reduce(f64::min),
         overspeed_tolerance_mps: 5.0 / 3.6,
         warning_distance_m: s.settings.warning_distance_m,
+        attack: rec.attack.clone(),
     }
 }
 

@@ -1,9 +1,10 @@
 //! Scenario files (TOML): the lane map, the work zones and where they come from, the
-//! faults (the roadside's [`Site`]), the drive, the driver's settings and the
-//! expectations. Paths inside a scenario are relative to its file.
+//! faults (the roadside's [`Site`]), an attacker beside the roadside (`[attacker]`), the
+//! drive, the driver's settings and the expectations. Paths inside a scenario are relative to its file.
 
 use crate::drive::DriveSpec;
 use crate::expect::Expectation;
+pub use roadside::attacker::{AttackKind, AttackerSpec};
 use roadside::road::Road;
 pub use roadside::site::{RadioFaults, RoadSpec, Site, ZoneSource, ZoneSpec};
 use serde::Deserialize;
@@ -31,6 +32,9 @@ pub struct Scenario {
     /// Driver settings of the OBU.
     #[serde(default)]
     pub settings: Settings,
+    /// A forged or replayed MAP/TIM sender beside the roadside.
+    #[serde(default)]
+    pub attacker: Option<AttackerSpec>,
     /// Vehicle speed from CAN (a candump replay) instead of GNSS.
     #[serde(default)]
     pub can_speed: bool,

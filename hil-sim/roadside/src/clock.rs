@@ -34,6 +34,12 @@ impl Utc {
         }
     }
 
+    /// Milliseconds after 1970-01-01T00:00:00Z (the inverse of [`Utc::from_unix_ms`]).
+    pub fn to_unix_ms(&self) -> u64 {
+        let days = days_from_civil(i64::from(self.year), self.month, self.day);
+        days.max(0) as u64 * 86_400_000 + u64::from(self.ms_of_day)
+    }
+
     /// Now, from the system clock.
     pub fn now() -> Self {
         Self::from_unix_ms(unix_ms_now())
@@ -101,6 +107,9 @@ mod tests {
             (2024, 12, 31, 365)
         );
         assert_eq!(civil_from_days(0), (1970, 1, 1));
+        for ms in [0, 1_763_784_961_500, 1_709_164_800_123] {
+            assert_eq!(Utc::from_unix_ms(ms).to_unix_ms(), ms);
+        }
         assert_eq!(days_from_civil(2000, 3, 1), 11_017);
     }
 }

@@ -22,6 +22,8 @@
 //!   broadcast and/or written as RSU files.
 //! - [`scripted`]: the roadside of a bench run: the messages following the scenario's
 //!   timeline (revisions, shrinking and removed zones) through its radio faults.
+//! - [`attacker`]: a forged or replayed MAP/TIM sender beside the scripted roadside (the
+//!   bench's spoofing scenarios).
 //!
 //! Helpers used along the way: [`clock`] (UTC calendar arithmetic for J2735 times) and
 //! [`rng`] (the seeded pseudo-random generator of the faults and the synthetic camera;
@@ -29,6 +31,7 @@
 #![forbid(unsafe_code)]
 #![warn(missing_docs)]
 
+pub mod attacker;
 pub mod broadcast;
 pub mod camera;
 pub mod clock;

@@ -89,8 +89,8 @@ impl Timeline {
 }
 
 /// The road with every lane moved `left_m` to the left of its direction of travel (a
-/// resurveyed map: new MAP revision).
-fn shift(road: &Road, left_m: f64) -> Road {
+/// resurveyed map: new MAP revision; the attacker's forged map).
+pub(crate) fn shift(road: &Road, left_m: f64) -> Road {
     let lanes = road
         .lanes
         .iter()

@@ -148,6 +148,21 @@ pub fn print_report(r: &hil_sim::runner::RunReport) {
         r.v2x.lost,
         r.v2x.corrupted
     );
+    if let Some(a) = &r.attack {
+        let at = |t: Option<f64>| t.map_or("-".into(), |t| format!("{t:.1} s"));
+        println!(
+            "  attacker {:?}: {} datagrams sent ({} failed) from t = {} to {}; device counters: {}",
+            a.kind,
+            a.sent.sent,
+            a.sent.failed,
+            at(a.sent.first_sent_s),
+            at(a.sent.last_sent_s),
+            a.device.as_ref().map_or_else(
+                || a.device_error.clone().unwrap_or_default(),
+                |d| d.source.to_string()
+            )
+        );
+    }
     if let Some(f) = r.files.first() {
         println!("  report: {}", f.display());
     }

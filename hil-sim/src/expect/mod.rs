@@ -1,5 +1,7 @@
 //! Expectations of a scenario, checked on the recorded states joined with the simulated
-//! truth.
+//! truth (and, for a scenario with an attacker, the device's counters: [`crate::attack`]).
+
+mod attack;
 
 use obu::alert::{AlertKind, HmiState, ZoneState};
 use serde::{Deserialize, Serialize};
@@ -79,10 +81,30 @@ pub enum Expectation {
         /// Least fraction.
         min: f64,
     },
+    /// Every datagram of the scenario's attacker was dropped and counted under `group` /
+    /// `reason` of the device's counters: exactly as many as it sent; where the device
+    /// counts every input (the daemon's `/api/status`), the V2X counters add up to the
+    /// run's datagrams (roadside and attacker), so none was taken. On the firmware the
+    /// drops come from its log.
+    ForgedDropped {
+        /// The counter group as `/api/status` names it.
+        #[serde(default = "security_errors")]
+        group: String,
+        /// The drop reason: an `obu::v2x::DropReason` counter name.
+        reason: String,
+    },
+    /// From the attacker's first datagram to the end, every state holds what the last one
+    /// before it held: the real roadside's lane maps and zones, verified, none stored,
+    /// replaced or cancelled since (for a roadside that changes nothing meanwhile).
+    RoadsideKept,
 }
 
 fn ninety() -> f64 {
     0.9
+}
+
+fn security_errors() -> String {
+    "security_errors".into()
 }
 
 /// The verdict on one expectation.
@@ -107,6 +129,8 @@ pub struct RunFacts {
     pub overspeed_tolerance_mps: f64,
     /// Warning distance of the settings, metres.
     pub warning_distance_m: f64,
+    /// The attack, when the scenario has an attacker.
+    pub attack: Option<crate::attack::AttackFacts>,
 }
 
 /// True for alerts about a work zone (not about the data).
@@ -200,6 +224,10 @@ pub fn check(e: &Expectation, records: &[Record], facts: &RunFacts) -> Outcome {
             ),
         },
         Expectation::MatchedLane { min } => matched_lane(records, *min),
+        Expectation::ForgedDropped { group, reason } => {
+            attack::forged_dropped(group, reason, facts)
+        }
+        Expectation::RoadsideKept => attack::roadside_kept(records, facts),
     };
     Outcome {
         expectation: e.clone(),

@@ -1,0 +1,274 @@
+//! The checks of a run with an attacker: every forged datagram dropped and counted for its
+//! reason ([`forged_dropped`]), and the real roadside's data kept throughout
+//! ([`roadside_kept`]).
+
+use super::{Record, RunFacts};
+use crate::attack::{drop_reason, status_group, AttackFacts};
+use obu::alert::HmiState;
+use obu::v2x::DropReason;
+use std::fmt;
+
+fn attack(facts: &RunFacts) -> Result<&AttackFacts, String> {
+    facts
+        .attack
+        .as_ref()
+        .ok_or_else(|| "the scenario has no [attacker]".to_string())
+}
+
+/// Every forged datagram is counted under `group` / `reason`: as many as were sent (on
+/// loopback none is lost); where the device counts every input (the daemon), the V2X
+/// counters also add up to the datagrams of the run (the roadside's and the attacker's),
+/// so no forged datagram was taken and none was counted twice.
+pub(super) fn forged_dropped(group: &str, reason: &str, facts: &RunFacts) -> (bool, String) {
+    let a = match attack(facts) {
+        Ok(a) => a,
+        Err(e) => return (false, e),
+    };
+    if drop_reason(group, reason).is_none() {
+        let groups: Vec<&str> = DropReason::ALL
+            .iter()
+            .filter(|r| r.as_str() == reason)
+            .map(|r| status_group(r.group()))
+            .collect();
+        return match groups.as_slice() {
+            [] => (false, format!("{reason:?} is no drop reason of the OBU")),
+            _ => (
+                false,
+                format!(
+                    "{reason:?} is counted under {}, not {group}",
+                    groups.join(", ")
+                ),
+            ),
+        };
+    }
+    let Some(device) = &a.device else {
+        let why = a.device_error.as_deref().unwrap_or("not read");
+        return (false, format!("the device's counters: {why}"));
+    };
+    let sent = a.sent.sent;
+    let counted = device.get(group, reason);
+    let mut ok = sent > 0 && counted == sent && a.sent.failed == 0;
+    let mut detail = format!(
+        "{counted} of {sent} forged datagrams counted under {group} / {reason:?} ({})",
+        device.source
+    );
+    if a.sent.failed > 0 {
+        detail.push_str(&format!("; {} could not be sent", a.sent.failed));
+    }
+    if device.every_input {
+        let (total, roadside) = (device.v2x_total(), a.roadside_sent);
+        ok &= total == roadside + sent;
+        detail.push_str(&format!(
+            "; V2X inputs counted {total}, sent {roadside} by the roadside + {sent} forged"
+        ));
+    } else {
+        detail.push_str("; the firmware logs its drops only, not the inputs it took");
+        let link: u64 = device.counters["v2x_dropped"].as_object().map_or(0, |g| {
+            g.values().filter_map(serde_json::Value::as_u64).sum()
+        });
+        if link > 0 {
+            detail.push_str(&format!(
+                "; {link} frames damaged on its serial link (overrun: COBS, CRC)"
+            ));
+        }
+    }
+    (ok, detail)
+}
+
+/// What the device holds of the roadside's data: stores and the core's update counts.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Held {
+    maps: u8,
+    zones: u8,
+    unverified: u8,
+    maps_updated: u32,
+    zones_updated: u32,
+    zones_cancelled: u32,
+}
+
+impl Held {
+    fn of(s: &HmiState) -> Self {
+        Self {
+            maps: s.maps,
+            zones: s.zones,
+            unverified: s.unverified,
+            maps_updated: s.counters.maps_updated,
+            zones_updated: s.counters.zones_updated,
+            zones_cancelled: s.counters.zones_cancelled,
+        }
+    }
+}
+
+impl fmt::Display for Held {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(
+            f,
+            "{} lane map(s) and {} zone(s), {} unverified (maps stored {}x, zones stored {}x, cancelled {}x)",
+            self.maps,
+            self.zones,
+            self.unverified,
+            self.maps_updated,
+            self.zones_updated,
+            self.zones_cancelled
+        )
+    }
+}
+
+/// From the attacker's first datagram to the end of the run, every state holds what the
+/// last state before it held: the real roadside's lane maps and zones, all verified, none
+/// stored, replaced or cancelled since (for a roadside that changes nothing during the
+/// attack).
+pub(super) fn roadside_kept(records: &[Record], facts: &RunFacts) -> (bool, String) {
+    let a = match attack(facts) {
+        Ok(a) => a,
+        Err(e) => return (false, e),
+    };
+    let Some(t) = a.sent.first_sent_s else {
+        return (false, "the attacker sent nothing".into());
+    };
+    let Some(before) = records.iter().take_while(|r| r.t_s < t).last() else {
+        return (false, format!("no state before the attack at {t:.1} s"));
+    };
+    let held = Held::of(&before.state);
+    if held.maps == 0 || held.zones == 0 || held.unverified > 0 {
+        return (
+            false,
+            format!(
+                "before the attack at {t:.1} s the device held {held}: no verified zone to keep"
+            ),
+        );
+    }
+    let after: Vec<&Record> = records.iter().filter(|r| r.t_s >= t).collect();
+    let changed: Vec<&&Record> = after
+        .iter()
+        .filter(|r| Held::of(&r.state) != held)
+        .collect();
+    let detail = match changed.first() {
+        None => format!(
+            "{} states from the first forged datagram (t = {t:.1} s) to the end hold {held}",
+            after.len()
+        ),
+        Some(r) => format!(
+            "{} of {} states from t = {t:.1} s differ from {held}; the first at t = {:.1} s: {}",
+            changed.len(),
+            after.len(),
+            r.t_s,
+            Held::of(&r.state)
+        ),
+    };
+    (!after.is_empty() && changed.is_empty(), detail)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::attack::DeviceCounts;
+    use roadside::attacker::{AttackCounts, AttackKind};
+    use serde_json::json;
+
+    const CHAIN: &str = "1609.2: chain does not reach a trust anchor";
+
+    fn facts(sent: u64, counters: serde_json::Value, every_input: bool) -> RunFacts {
+        RunFacts {
+            attack: Some(AttackFacts {
+                kind: AttackKind::ForgedCancelUntrusted,
+                sent: AttackCounts {
+                    sent,
+                    failed: 0,
+                    first_sent_s: Some(3.0),
+                    last_sent_s: Some(40.0),
+                },
+                roadside_sent: 100,
+                device: Some(DeviceCounts {
+                    source: "/api/status",
+                    counters,
+                    every_input,
+                }),
+                device_error: None,
+            }),
+            ..RunFacts::default()
+        }
+    }
+
+    #[test]
+    fn forged_datagrams_must_all_be_counted_for_their_reason() {
+        let status = |n: u64, tim: u64| json!({"messages": {"MAP": 50, "TIM": tim}, "security_errors": {CHAIN: n}});
+        let (ok, detail) =
+            forged_dropped("security_errors", CHAIN, &facts(40, status(40, 50), true));
+        assert!(ok, "{detail}");
+        assert!(
+            detail.contains("40 of 40") && detail.contains("counted 140"),
+            "{detail}"
+        );
+        // One forged TIM taken: counted under messages instead.
+        let (ok, detail) =
+            forged_dropped("security_errors", CHAIN, &facts(40, status(39, 51), true));
+        assert!(!ok && detail.contains("39 of 40"), "{detail}");
+        // One datagram of the run not counted at all.
+        assert!(!forged_dropped("security_errors", CHAIN, &facts(40, status(40, 49), true)).0);
+        // The firmware's log: drops only.
+        let log = json!({"security_errors": {CHAIN: 40}});
+        let (ok, detail) = forged_dropped("security_errors", CHAIN, &facts(40, log, false));
+        assert!(ok && detail.contains("drops only"), "{detail}");
+        let overrun = json!({"security_errors": {CHAIN: 38}, "v2x_dropped": {"CRC mismatch": 3}});
+        let (ok, detail) = forged_dropped("security_errors", CHAIN, &facts(40, overrun, false));
+        assert!(!ok && detail.contains("3 frames damaged"), "{detail}");
+        assert!(!forged_dropped("security_errors", CHAIN, &facts(0, status(0, 100), true)).0);
+    }
+
+    #[test]
+    fn the_reason_must_be_the_obus_and_in_its_group() {
+        let f = facts(1, json!({}), true);
+        let (ok, detail) = forged_dropped("security_errors", "chain untrusted", &f);
+        assert!(!ok && detail.contains("no drop reason"), "{detail}");
+        let (ok, detail) = forged_dropped("ingest_errors", CHAIN, &f);
+        assert!(!ok && detail.contains("under security_errors"), "{detail}");
+        let (ok, detail) = forged_dropped("security_errors", CHAIN, &RunFacts::default());
+        assert!(!ok && detail.contains("no [attacker]"), "{detail}");
+    }
+
+    fn record(t_s: f64, zones: u8, cancelled: u32) -> Record {
+        let mut state = HmiState {
+            maps: 1,
+            zones,
+            ..HmiState::default()
+        };
+        state.counters.maps_updated = 1;
+        state.counters.zones_updated = 2;
+        state.counters.zones_cancelled = cancelled;
+        Record {
+            t_s,
+            state,
+            sample: None,
+            true_lane: None,
+            distance_m: None,
+            zone_len_m: None,
+            true_speed_mps: None,
+        }
+    }
+
+    #[test]
+    fn the_roadsides_data_must_be_held_from_the_attack_on() {
+        let f = facts(10, json!({}), true);
+        let kept = [
+            record(1.0, 0, 0),
+            record(2.0, 2, 0),
+            record(3.5, 2, 0),
+            record(9.0, 2, 0),
+        ];
+        let (ok, detail) = roadside_kept(&kept, &f);
+        assert!(ok && detail.starts_with("2 states"), "{detail}");
+        let cancelled = [record(2.0, 2, 0), record(3.5, 2, 0), record(4.0, 0, 1)];
+        let (ok, detail) = roadside_kept(&cancelled, &f);
+        assert!(
+            !ok && detail.contains("1 of 2") && detail.contains("t = 4.0"),
+            "{detail}"
+        );
+        // Nothing to keep when the real zone was not there before the attack.
+        let (ok, detail) = roadside_kept(&[record(2.0, 0, 0), record(3.5, 2, 0)], &f);
+        assert!(!ok && detail.contains("no verified zone"), "{detail}");
+        let mut unverified = record(2.0, 2, 0);
+        unverified.state.unverified = 2;
+        assert!(!roadside_kept(&[unverified, record(3.5, 2, 0)], &f).0);
+    }
+}
