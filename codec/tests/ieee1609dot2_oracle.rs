@@ -46,12 +46,14 @@ fn the_oracle_verifies_what_we_sign_and_refuses_what_was_tampered() {
         circle: None,
         app_psids: &[],
         issue_all: Some(2),
+        ssp: None,
     };
     let root = cert(&root_spec, &root_key, IssuedBy::SelfSigned);
     let ca_spec = CertificateSpec {
         name: "ca.oracle.test",
         duration: Duration::Years(10),
         issue_all: Some(1),
+        ssp: None,
         ..root_spec
     };
     let ca = cert(&ca_spec, &ca_key, IssuedBy::Issuer(&root, &root_key));
@@ -68,6 +70,7 @@ fn the_oracle_verifies_what_we_sign_and_refuses_what_was_tampered() {
         )),
         app_psids: &[0x8003, 0xE000_0017],
         issue_all: None,
+        ssp: Some(&[0x01, 0x00, 0x80]),
     };
     let rsu = cert(&rsu_spec, &rsu_key, IssuedBy::Issuer(&ca, &ca_key));
     let frame = test_support::vectors::named("tim_work_zone_left_lane_closed").bytes();

@@ -56,12 +56,14 @@ fn material() -> (Vec<u8>, Vec<u8>, Vec<Vec<u8>>) {
         circle: None,
         app_psids: &[],
         issue_all: Some(2),
+        ssp: None,
     };
     let root = cert(&root_spec, &root_key, IssuedBy::SelfSigned);
     let ca_spec = CertificateSpec {
         name: "ca.bench",
         duration: Duration::Years(10),
         issue_all: Some(1),
+        ssp: None,
         ..root_spec
     };
     let ca = cert(&ca_spec, &ca_key, IssuedBy::Issuer(&root, &root_key));
@@ -70,6 +72,7 @@ fn material() -> (Vec<u8>, Vec<u8>, Vec<Vec<u8>>) {
         duration: Duration::Years(1),
         app_psids: &[0x8003, 0xE000_0017],
         issue_all: None,
+        ssp: None,
         ..root_spec
     };
     let rsu = cert(&rsu_spec, &rsu_key, IssuedBy::Issuer(&ca, &ca_key));

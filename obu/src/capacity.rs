@@ -64,9 +64,11 @@ profile! {
     /// Verified signer certificates cached by `HashedId8`.
     MAX_CACHED_CERTS = 16, firmware 2
 }
-/// PSIDs kept per certificate (its app or issue permissions); a certificate with more is
-/// refused.
-pub const MAX_CERT_PSIDS: usize = 8;
+profile! {
+    /// PSIDs kept per certificate (its app or issue permissions); a certificate with more is
+    /// refused.
+    MAX_CERT_PSIDS = 8, firmware 4
+}
 profile! {
     /// Points kept per certificate region: polygon vertices, or two per rectangle.
     MAX_REGION_POINTS = 12, firmware 6
@@ -80,4 +82,9 @@ profile! {
 profile! {
     /// Payloads remembered as verified lately (`SecurityConfig::reverify_ms`).
     MAX_RECENT = 16, firmware 4
+}
+profile! {
+    /// Octets of an opaque SSP kept per certificate PSID; a certificate with a longer one is
+    /// refused.
+    MAX_SSP = 16, firmware 8
 }

@@ -223,8 +223,10 @@ pub struct CertificateSpec<'a> {
     pub duration: super::Duration,
     /// `region`: a circle, if any.
     pub circle: Option<(TwoDLocation, u16)>,
-    /// `appPermissions`: PSIDs without SSP (none: left out).
+    /// `appPermissions`: PSIDs (none: left out).
     pub app_psids: &'a [u32],
+    /// The opaque service-specific permissions given with every app PSID (`None`: none).
+    pub ssp: Option<&'a [u8]>,
     /// `certIssuePermissions`: `all`, with this `minChainLength`, or left out (`None`).
     pub issue_all: Option<i64>,
 }
@@ -302,8 +304,13 @@ fn to_be_signed_certificate(
     if !spec.app_psids.is_empty() {
         w.unsigned(spec.app_psids.len() as u64)?;
         for &psid in spec.app_psids {
-            w.u8(0x00)?; // no SSP
+            w.u8(if spec.ssp.is_some() { 0x80 } else { 0x00 })?; // ssp present?
             w.unsigned(u64::from(psid))?;
+            if let Some(ssp) = spec.ssp {
+                w.u8(0x80)?; // opaque
+                w.length(ssp.len())?;
+                w.bytes(ssp)?;
+            }
         }
     }
     if let Some(min_chain) = spec.issue_all {

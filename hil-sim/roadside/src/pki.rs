@@ -154,12 +154,14 @@ impl Pki {
             circle: None,
             app_psids: &[],
             issue_all: Some(2),
+            ssp: None,
         };
         let root = certificate(&root_spec, &root_key, IssuedBy::SelfSigned)?;
         let ca_spec = CertificateSpec {
             name: "ca.hil-sim.example",
             duration: Duration::Years(spec.ca_years),
             issue_all: Some(1),
+            ssp: None,
             ..root_spec
         };
         let ca = certificate(&ca_spec, &ca_key, IssuedBy::Issuer(&root, &root_key))?;
@@ -179,6 +181,7 @@ impl Pki {
             circle,
             app_psids: &spec.psids,
             issue_all: None,
+            ssp: None,
         };
         let rsu = certificate(&rsu_spec, &rsu_key, IssuedBy::Issuer(&ca, &ca_key))?;
         Ok(Self {

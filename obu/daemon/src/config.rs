@@ -129,6 +129,10 @@ max_skew_ms = 30000
 # The PSIDs a signed TIM and MAP must carry.
 tim_psid = 0x8003
 map_psid = 0xE0000017
+# Service-specific permissions (hexadecimal, up to 16 octets) the signer certificate must
+# grant with the TIM / MAP PSID, byte for byte (as your SCMS assigns them); "": any.
+tim_ssp = ""
+map_ssp = ""
 # A frame byte-identical in payload to one whose signature (same signer) was verified less
 # than this long ago is taken without verifying again (every other check still applies);
 # 0 verifies every frame. A forger can at most keep a real zone alive this much longer.
@@ -169,6 +173,10 @@ pub struct Security {
     pub tim_psid: u32,
     /// PSID of MAP.
     pub map_psid: u32,
+    /// SSP required with the TIM PSID, hexadecimal ("": none).
+    pub tim_ssp: String,
+    /// SSP required with the MAP PSID, hexadecimal ("": none).
+    pub map_ssp: String,
     /// Re-verification period of repeated payloads, milliseconds (0: every frame).
     pub reverify_ms: u32,
 }
@@ -181,9 +189,18 @@ impl Security {
             max_skew_ms: self.max_skew_ms,
             tim_psid: self.tim_psid,
             map_psid: self.map_psid,
+            tim_ssp: required_ssp(&self.tim_ssp).unwrap_or(obu::security::RequiredSsp::NONE),
+            map_ssp: required_ssp(&self.map_ssp).unwrap_or(obu::security::RequiredSsp::NONE),
             reverify_ms: self.reverify_ms,
         }
     }
+}
+
+/// An SSP from its hexadecimal text; `None` when it is not hexadecimal or too long.
+fn required_ssp(text: &str) -> Option<obu::security::RequiredSsp> {
+    let mut bytes = [0u8; obu::security::RequiredSsp::MAX];
+    let n = j2735::hex::decode_into(text.trim(), &mut bytes).ok()?;
+    obu::security::RequiredSsp::new(bytes.get(..n)?)
 }
 
 /// `[v2x]`.
@@ -425,6 +442,17 @@ impl Config {
         }
         if self.bridge.baud == Some(0) {
             return bad("bridge.baud must be > 0");
+        }
+        for (key, text) in [
+            ("tim_ssp", &self.security.tim_ssp),
+            ("map_ssp", &self.security.map_ssp),
+        ] {
+            if required_ssp(text).is_none() {
+                return Err(ConfigError(format!(
+                    "security.{key}: hexadecimal, at most {} octets",
+                    obu::security::RequiredSsp::MAX
+                )));
+            }
         }
         if self.security.max_skew_ms == 0 {
             return bad("security.max_skew_ms must be > 0");

@@ -62,7 +62,9 @@ fn signed_frames_are_verified_and_failures_counted_by_reason() {
     std::thread::sleep(Duration::from_millis(200));
     send(&valid.coer);
     send(&valid.coer);
-    send(&named("signature_bit_flipped").coer);
+    // A forged payload (its own digest: a frame with the digest of one accepted is a replay,
+    // dropped before any signature work).
+    send(&named("payload_bit_flipped").coer);
     send(&named("untrusted_root").coer);
     send(&valid.frame);
     let s = status(&d.http);

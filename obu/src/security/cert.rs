@@ -6,12 +6,12 @@ use j2735::envelope::ieee1609dot2::crypto::{
     sha256, signing_digest_with, CryptoError, GeneratorTable, PreparedKey, PublicKey,
 };
 use j2735::envelope::ieee1609dot2::{
-    Certificate, CertificateKind, Issuer, SubjectPermissions, ValidityPeriod,
+    Certificate, CertificateKind, Issuer, Ssp, SubjectPermissions, ValidityPeriod,
 };
 
 use super::region::{Region, RegionError};
 use super::Rejection;
-use crate::capacity::MAX_CERT_PSIDS;
+use crate::capacity::{MAX_CERT_PSIDS, MAX_SSP};
 
 /// A trusted certificate without its bytes: enough to verify what it signed or issued.
 #[derive(Debug, Clone, PartialEq)]
@@ -23,8 +23,8 @@ pub struct TrustedCert {
     pub key: PreparedKey,
     /// Its validity period.
     pub validity: ValidityPeriod,
-    /// `appPermissions`: the PSIDs it may sign.
-    pub app_psids: Vec<u32, MAX_CERT_PSIDS>,
+    /// `appPermissions`: the PSIDs it may sign, each with its opaque SSP if it has one.
+    pub app_psids: Vec<(u32, Option<Vec<u8, MAX_SSP>>), MAX_CERT_PSIDS>,
     /// `certIssuePermissions`: the PSIDs it may certify (`issue_all`: any).
     pub issue_psids: Vec<u32, MAX_CERT_PSIDS>,
     /// `certIssuePermissions` has `all`.
@@ -39,6 +39,15 @@ impl TrustedCert {
         let mut id = [0u8; 8];
         id.copy_from_slice(&self.hash[24..]);
         id
+    }
+
+    /// Whether it may sign `psid`, and the opaque SSP it grants with it (`Some(None)`: the
+    /// PSID without SSP).
+    pub fn permission(&self, psid: u32) -> Option<Option<&[u8]>> {
+        self.app_psids
+            .iter()
+            .find(|(p, _)| *p == psid)
+            .map(|(_, ssp)| ssp.as_deref())
     }
 
     /// Whether it may certify `psid`.
@@ -56,7 +65,15 @@ impl TrustedCert {
         let too_large = |_| Rejection::CertificateTooLarge;
         let mut app_psids = Vec::new();
         for p in cert.app_permissions.iter().flat_map(|l| l.iter()) {
-            app_psids.push(p.psid).map_err(too_large)?;
+            let ssp = match p.ssp {
+                Some(Ssp::Opaque(bytes)) => {
+                    Some(Vec::from_slice(bytes).map_err(|_| Rejection::CertificateTooLarge)?)
+                }
+                Some(Ssp::Other) | None => None,
+            };
+            app_psids
+                .push((p.psid, ssp))
+                .map_err(|_| Rejection::CertificateTooLarge)?;
         }
         let mut issue_psids = Vec::new();
         let mut issue_all = false;

@@ -13,8 +13,9 @@
 //!    reconstruction (implicit), validity inside its issuer's, and the issuer's permission
 //!    to certify the PSID. The verified signer is cached, so the next message signed by
 //!    the same certificate (as `digest` or as `certificate`) costs one signature check.
-//! 3. The signer certificate: valid at the generation time and now, it permits the PSID,
-//!    and its region holds the generation location (or the vehicle's position).
+//! 3. The signer certificate: valid at the generation time and now, it permits the PSID
+//!    (with the SSP the settings require for the message, if any), and its region holds the
+//!    generation location (or the vehicle's position).
 //! 4. The PSID is the one configured for the message (TIM, MAP).
 //! 5. Times: a generation time within the allowed skew of GNSS time, not past expiry.
 //! 6. Replay: the same generation time and signature hash accepted before.
@@ -23,8 +24,9 @@
 //!    [`SecurityConfig::reverify_ms`] ago (a roadside repeats each message at 10 Hz).
 //!
 //! Not checked (stated so that no one relies on it): certificate revocation (CRLs),
-//! `minChainLength`, service-specific permissions (SSP) contents, identified (country)
-//! regions, and regions inherited from issuers by certificates without their own.
+//! `minChainLength`, SSP semantics beyond an exact match of the configured octets, SSP
+//! ranges of issuers, identified (country) regions, and regions inherited from issuers by
+//! certificates without their own.
 
 mod cert;
 mod region;
@@ -67,6 +69,11 @@ pub struct SecurityConfig {
     pub tim_psid: u32,
     /// The PSID a signed MAP must carry.
     pub map_psid: u32,
+    /// The service-specific permissions a signed TIM's signer certificate must grant with
+    /// its PSID ([`RequiredSsp::NONE`]: any, or none).
+    pub tim_ssp: RequiredSsp,
+    /// The same for MAP.
+    pub map_ssp: RequiredSsp,
     /// A frame whose payload is byte-identical to one this signer's signature was verified
     /// on less than this long ago (milliseconds of GNSS time), and that passes every other
     /// check (certificate, PSID, region, times, replay), is taken without verifying its
@@ -84,8 +91,45 @@ impl SecurityConfig {
         max_skew_ms: 30_000,
         tim_psid: PSID_TIM,
         map_psid: PSID_MAP,
+        tim_ssp: RequiredSsp::NONE,
+        map_ssp: RequiredSsp::NONE,
         reverify_ms: 1000,
     };
+}
+
+/// Opaque service-specific permissions (SSP) that a signer certificate must grant with a
+/// PSID, byte for byte: what an operator's SCMS assigns to its roadside units. Up to
+/// [`RequiredSsp::MAX`] octets; empty: no requirement.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub struct RequiredSsp {
+    len: u8,
+    bytes: [u8; RequiredSsp::MAX],
+}
+
+impl RequiredSsp {
+    /// Longest SSP that can be required, octets.
+    pub const MAX: usize = 16;
+    /// No requirement.
+    pub const NONE: Self = Self {
+        len: 0,
+        bytes: [0; Self::MAX],
+    };
+
+    /// `ssp` required; `None` when longer than [`RequiredSsp::MAX`].
+    pub fn new(ssp: &[u8]) -> Option<Self> {
+        let mut bytes = [0; Self::MAX];
+        bytes.get_mut(..ssp.len())?.copy_from_slice(ssp);
+        Some(Self {
+            len: ssp.len() as u8,
+            bytes,
+        })
+    }
+
+    /// The required octets (empty: none required).
+    pub fn as_bytes(&self) -> &[u8] {
+        &self.bytes[..usize::from(self.len).min(Self::MAX)]
+    }
 }
 
 impl Default for SecurityConfig {
@@ -171,6 +215,8 @@ impl Trust {
                 max_skew_ms: 0,
                 tim_psid: 0,
                 map_psid: 0,
+                tim_ssp: RequiredSsp::NONE,
+                map_ssp: RequiredSsp::NONE,
                 reverify_ms: 0,
             },
             anchors: Vec::new(),
@@ -227,6 +273,16 @@ impl Trust {
             TravelerInformation::MESSAGE_ID => Some(config.tim_psid),
             MapData::MESSAGE_ID => Some(config.map_psid),
             _ => None,
+        }
+    }
+
+    /// The SSP required for `message_id`.
+    fn ssp_for(&self, message_id: u16) -> RequiredSsp {
+        let config = self.config();
+        match message_id {
+            TravelerInformation::MESSAGE_ID => config.tim_ssp,
+            MapData::MESSAGE_ID => config.map_ssp,
+            _ => RequiredSsp::NONE,
         }
     }
 
@@ -293,11 +349,15 @@ impl Trust {
         let generated = header.generation_time.map_or(0, |t| t.0);
         let now = ctx.now_us.unwrap_or(generated);
         check_validity(signer, generated.min(now), generated.max(now))?;
-        if !signer.app_psids.contains(&header.psid) {
+        let Some(granted) = signer.permission(header.psid) else {
             return Err(Rejection::PsidNotPermitted);
-        }
+        };
         if self.psid_for(ctx.message_id) != Some(header.psid) {
             return Err(Rejection::PsidMismatch);
+        }
+        let required = self.ssp_for(ctx.message_id);
+        if !required.as_bytes().is_empty() && granted != Some(required.as_bytes()) {
+            return Err(Rejection::SspNotPermitted);
         }
         if let Some(region) = &signer.region {
             let at = match header.generation_location {

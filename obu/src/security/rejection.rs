@@ -22,6 +22,8 @@ pub enum Rejection {
     PsidNotPermitted,
     /// The PSID is not the one configured for this message (TIM, MAP).
     PsidMismatch,
+    /// The signer certificate does not grant the SSP the settings require for the message.
+    SspNotPermitted,
     /// The certificate has a region, and no location is known to check it.
     NoLocation,
     /// The generation location is outside the signer certificate's region.

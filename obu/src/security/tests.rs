@@ -241,3 +241,74 @@ fn a_payload_verified_lately_is_taken_again_only_within_reverify_ms() {
         Err(Rejection::SignatureInvalid)
     );
 }
+
+#[test]
+fn a_required_ssp_must_be_granted_byte_for_byte() {
+    use j2735::envelope::ieee1609dot2::build::{
+        encode_certificate, encode_signed, CertificateSpec, Header, IssuedBy, Signer,
+    };
+    use j2735::envelope::ieee1609dot2::crypto::{RSigForm, SecretKey};
+    use j2735::envelope::ieee1609dot2::{Duration, Time64};
+    let root_key = SecretKey::from_bytes(&[3u8; 32]).unwrap();
+    let rsu_key = SecretKey::from_bytes(&[4u8; 32]).unwrap();
+    let write = |spec: &CertificateSpec<'_>, key: &SecretKey, by: IssuedBy<'_>| {
+        let mut out = std::vec![0u8; 512];
+        let n = encode_certificate(spec, key, by, &mut out).unwrap();
+        out.truncate(n);
+        out
+    };
+    let root_spec = CertificateSpec {
+        name: "root.ssp.test",
+        start: 690_000_000,
+        duration: Duration::Years(10),
+        circle: None,
+        app_psids: &[],
+        issue_all: Some(1),
+        ssp: None,
+    };
+    let root = write(&root_spec, &root_key, IssuedBy::SelfSigned);
+    let rsu_spec = CertificateSpec {
+        name: "rsu.ssp.test",
+        app_psids: &[0x8003],
+        issue_all: None,
+        ssp: Some(&[0x01, 0x20]),
+        ..root_spec
+    };
+    let rsu = write(&rsu_spec, &rsu_key, IssuedBy::Issuer(&root, &root_key));
+    let frame = test_support::vectors::named("tim_work_zone_left_lane_closed").bytes();
+    let header = Header {
+        psid: 0x8003,
+        generation_time: Time64(700_000_000_000_000),
+        expiry_time: None,
+        generation_location: None,
+    };
+    let mut out = std::vec![0u8; 2048];
+    let n = encode_signed(
+        &frame,
+        &header,
+        Signer::Certificate(&rsu),
+        &rsu_key,
+        RSigForm::XOnly,
+        &mut out,
+    )
+    .unwrap();
+    let data = Ieee1609Dot2Data::parse(&out[..n]).unwrap();
+    let ctx = CheckContext {
+        message_id: 31,
+        now_us: Some(700_000_001_000_000),
+        position: None,
+    };
+    let with = |ssp: &[u8]| {
+        let mut trust = Trust::new(SecurityConfig {
+            tim_ssp: RequiredSsp::new(ssp).unwrap(),
+            ..SecurityConfig::DEFAULT
+        });
+        trust.add_anchor(&root).unwrap();
+        trust.check(data.signed_data().unwrap(), &ctx)
+    };
+    assert_eq!(with(&[]), Ok(()), "no SSP required");
+    assert_eq!(with(&[0x01, 0x20]), Ok(()), "the granted SSP");
+    assert_eq!(with(&[0x01, 0x21]), Err(Rejection::SspNotPermitted));
+    assert_eq!(with(&[0x01]), Err(Rejection::SspNotPermitted));
+    assert!(RequiredSsp::new(&[0u8; 17]).is_none());
+}

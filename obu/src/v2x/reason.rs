@@ -209,6 +209,8 @@ drop_reasons! {
     Replay: Security = "1609.2: replay",
     /// Security: a certificate given out of band is not one canonical COER certificate.
     CertificateMalformed: Security = "1609.2: certificate malformed",
+    /// Security: the signer certificate does not grant the required SSP.
+    SspNotPermitted: Security = "1609.2: SSP not permitted by the signer certificate",
 }
 
 impl From<Rejection> for DropReason {
@@ -223,6 +225,7 @@ impl From<Rejection> for DropReason {
             Rejection::Replay => Self::Replay,
             Rejection::PsidNotPermitted => Self::PsidNotPermitted,
             Rejection::PsidMismatch => Self::PsidMismatch,
+            Rejection::SspNotPermitted => Self::SspNotPermitted,
             Rejection::NoLocation => Self::NoLocation,
             Rejection::RegionMiss => Self::RegionMiss,
             Rejection::SignatureInvalid => Self::SignatureInvalid,
