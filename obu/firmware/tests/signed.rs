@@ -117,7 +117,8 @@ mod tests {
             obu_firmware::security::TRUST_ANCHORS.len()
         );
         assert!(obu_firmware::security::TRUST_ANCHORS.len() >= 2);
-        assert!(obu_firmware::security::REQUIRE_SIGNED);
+        // The default build requires signatures (OBU_REQUIRE_SIGNED unset).
+        assert!(st.msgs.trust().config().require_signed);
     }
 
     #[test]
