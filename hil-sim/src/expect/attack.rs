@@ -18,7 +18,11 @@ fn attack(facts: &RunFacts) -> Result<&AttackFacts, String> {
 /// Every forged datagram is counted under `group` / `reason`: as many as were sent (on
 /// loopback none is lost); where the device counts every input (the daemon), the V2X
 /// counters also add up to the datagrams of the run (the roadside's and the attacker's),
-/// so no forged datagram was taken and none was counted twice.
+/// so no forged datagram was taken and none was counted twice. The firmware behind its
+/// emulated serial link (which can damage a frame when the host is loaded) must count each
+/// forged frame under the reason or under the link's own reasons (COBS, CRC): at most as
+/// many under the reason as were sent, and with the link's drops at least as many (the link
+/// may not damage more than 2 % of the run's frames, or it is the link being judged).
 pub(super) fn forged_dropped(group: &str, reason: &str, facts: &RunFacts) -> (bool, String) {
     let a = match attack(facts) {
         Ok(a) => a,
@@ -47,7 +51,7 @@ pub(super) fn forged_dropped(group: &str, reason: &str, facts: &RunFacts) -> (bo
     };
     let sent = a.sent.sent;
     let counted = device.get(group, reason);
-    let mut ok = sent > 0 && counted == sent && a.sent.failed == 0;
+    let mut ok = sent > 0 && a.sent.failed == 0;
     let mut detail = format!(
         "{counted} of {sent} forged datagrams counted under {group} / {reason:?} ({})",
         device.source
@@ -57,7 +61,7 @@ pub(super) fn forged_dropped(group: &str, reason: &str, facts: &RunFacts) -> (bo
     }
     if device.every_input {
         let (total, roadside) = (device.v2x_total(), a.roadside_sent);
-        ok &= total == roadside + sent;
+        ok &= counted == sent && total == roadside + sent;
         detail.push_str(&format!(
             "; V2X inputs counted {total}, sent {roadside} by the roadside + {sent} forged"
         ));
@@ -66,9 +70,12 @@ pub(super) fn forged_dropped(group: &str, reason: &str, facts: &RunFacts) -> (bo
         let link: u64 = device.counters["v2x_dropped"].as_object().map_or(0, |g| {
             g.values().filter_map(serde_json::Value::as_u64).sum()
         });
+        let frames = a.roadside_sent + sent;
+        ok &= counted <= sent && counted + link >= sent && link * 50 <= frames;
         if link > 0 {
             detail.push_str(&format!(
-                "; {link} frames damaged on its serial link (overrun: COBS, CRC)"
+                "; {link} of the run's {frames} frames damaged on its serial link (overrun: \
+                 COBS, CRC), counted there"
             ));
         }
     }
@@ -210,9 +217,22 @@ mod tests {
         let log = json!({"security_errors": {CHAIN: 40}});
         let (ok, detail) = forged_dropped("security_errors", CHAIN, &facts(40, log, false));
         assert!(ok && detail.contains("drops only"), "{detail}");
-        let overrun = json!({"security_errors": {CHAIN: 38}, "v2x_dropped": {"CRC mismatch": 3}});
-        let (ok, detail) = forged_dropped("security_errors", CHAIN, &facts(40, overrun, false));
-        assert!(!ok && detail.contains("3 frames damaged"), "{detail}");
+        // On the firmware a frame damaged on the serial link is counted there instead: the
+        // forged ones under the reason and the link's drops must cover what was sent, with
+        // the link damaging at most 2 % of the run's 140 frames.
+        let fw = |reason: u64, crc: u64| {
+            let log =
+                json!({"security_errors": {CHAIN: reason}, "v2x_dropped": {"CRC mismatch": crc}});
+            forged_dropped("security_errors", CHAIN, &facts(40, log, false))
+        };
+        let (ok, detail) = fw(39, 1);
+        assert!(
+            ok && detail.contains("1 of the run's 140 frames damaged"),
+            "{detail}"
+        );
+        assert!(!fw(38, 1).0, "a forged frame neither counted nor damaged");
+        assert!(!fw(38, 3).0, "the link damaged over 2 % of the frames");
+        assert!(!fw(41, 0).0, "more counted than sent");
         assert!(!forged_dropped("security_errors", CHAIN, &facts(0, status(0, 100), true)).0);
     }
 
