@@ -144,7 +144,12 @@ pub struct Attacker {
 ///
 /// The PKI's message (never expected: the values are fixed).
 pub fn attacker_pki() -> Result<Pki, String> {
-    Pki::create(&PkiSpec {
+    Pki::create(&attacker_spec())
+}
+
+/// The specification of [`attacker_pki`].
+fn attacker_spec() -> PkiSpec {
+    PkiSpec {
         seed: Some(ATTACKER_SEED.into()),
         start_unix_s: 1_735_689_600,
         root_years: 20,
@@ -153,7 +158,7 @@ pub fn attacker_pki() -> Result<Pki, String> {
         region: None,
         psids: vec![0x8003, 0xE000_0017],
         rsu_name: "rsu.attacker.example".into(),
-    })
+    }
 }
 
 impl Attacker {
@@ -327,19 +332,6 @@ mod tests {
         })
         .unwrap();
         Arc::new(RsuSigner::new(pki.rsu.cert, pki.rsu.key, None, 60_000))
-    }
-
-    fn attacker_spec() -> PkiSpec {
-        PkiSpec {
-            seed: Some(ATTACKER_SEED.into()),
-            start_unix_s: 1_735_689_600,
-            root_years: 20,
-            ca_years: 15,
-            rsu_hours: 2730 * 24,
-            region: None,
-            psids: vec![0x8003, 0xE000_0017],
-            rsu_name: "rsu.attacker.example".into(),
-        }
     }
 
     /// The signer certificate and generation time (µs since 2004, TAI) of a datagram.
