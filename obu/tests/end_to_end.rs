@@ -121,9 +121,13 @@ fn warning_at_the_configured_distance_and_lane_advice() {
             warn.distance_m
         );
         let step = SPEED * 0.1;
+        // At the last fix before the configured distance would be passed: at or before it,
+        // at most one fix plus the display latency of travel early.
+        let lookahead = step + SPEED * config().display_latency_s;
+        let early = start - at - WARN_M;
         assert!(
-            (start - at - WARN_M).abs() <= step + 0.05,
-            "warning {:.2} m before the zone start, configured {WARN_M} m (+-1 fix)",
+            (-0.05..=lookahead + 0.05).contains(&early),
+            "warning {:.2} m before the zone start, configured {WARN_M} m (look-ahead {lookahead} m)",
             start - at
         );
         let before = first(ZoneState::Approaching).expect("approaching first");
@@ -136,11 +140,13 @@ fn warning_at_the_configured_distance_and_lane_advice() {
             "left lane closed: lane 2 is right"
         );
         assert_eq!(&warn.closed_lanes[..], &[1]);
-        let limit = warn.speed_limit_mps.expect("limit");
+        // Before the zone its limit is the one ahead, not yet in force.
+        let limit = warn.limit_ahead_mps.expect("limit ahead");
         assert!(
-            warn.reduced_limit && (limit - 139.0 * 0.02).abs() < 1e-3,
+            !warn.reduced_limit && (limit - 139.0 * 0.02).abs() < 1e-3,
             "{limit}"
         );
+        assert!(warn.limit_ahead_m.is_some_and(|d| (d - (start - at)).abs() < 0.5));
         assert!(warn
             .others
             .iter()

@@ -108,3 +108,92 @@ pub fn never_urgent(records: &[Record]) -> (bool, String) {
         format!("never urgent; the warning (one tone) began {rises} time(s)"),
     )
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use obu::alert::HmiState;
+
+    /// A state at `t_s` showing `shown` metres, `position`, `stage`; the truth `truth` metres.
+    fn record(t_s: f64, shown: Option<f32>, truth: f64, position: PositionSource) -> Record {
+        let state = HmiState {
+            gnss_ok: position == PositionSource::Live,
+            position,
+            distance_m: shown,
+            zone_state: if shown.is_some() {
+                ZoneState::Warning
+            } else {
+                ZoneState::None
+            },
+            ..HmiState::default()
+        };
+        Record {
+            t_s,
+            state,
+            sample: None,
+            true_lane: None,
+            distance_m: Some(truth + 10.0),
+            zone_len_m: Some(60.0),
+            true_speed_mps: None,
+            now_distance_m: Some(truth),
+        }
+    }
+
+    fn dropout() -> RunFacts {
+        RunFacts {
+            dropouts_s: vec![(5.0, 8.0)],
+            ..RunFacts::default()
+        }
+    }
+
+    #[test]
+    fn the_zone_must_stay_estimated_through_the_dropout() {
+        let est = PositionSource::Estimated;
+        let good = [
+            record(4.0, Some(150.0), 150.0, PositionSource::Live),
+            record(6.0, Some(131.0), 130.0, est),
+            record(7.0, Some(119.5), 120.0, est),
+        ];
+        let (ok, detail) = zone_kept_through_dropout(&good, &dropout(), 3.0);
+        assert!(ok && detail.starts_with("2 states"), "{detail}");
+        let (ok, _) = zone_kept_through_dropout(&good, &dropout(), 0.5);
+        assert!(!ok, "an error of 1 m over a 0.5 m limit");
+        let lost = [record(6.0, None, 130.0, PositionSource::Lost)];
+        assert!(!zone_kept_through_dropout(&lost, &dropout(), 3.0).0);
+        let mut live_speed = record(6.0, Some(130.0), 130.0, est);
+        live_speed.state.speed_mps = Some(11.0);
+        let (ok, detail) = zone_kept_through_dropout(&[live_speed.clone()], &dropout(), 3.0);
+        assert!(!ok && detail.contains("stale GNSS speed"), "{detail}");
+        let can = RunFacts {
+            can_speed: true,
+            ..dropout()
+        };
+        assert!(zone_kept_through_dropout(&[live_speed], &can, 3.0).0);
+        assert!(!zone_kept_through_dropout(&good, &RunFacts::default(), 3.0).0);
+    }
+
+    #[test]
+    fn urgent_and_its_absence() {
+        let mut states: Vec<Record> = [(1.0, 120.0), (2.0, 95.0), (3.0, 57.0), (4.0, 40.0)]
+            .iter()
+            .map(|&(t, d)| record(t, Some(d as f32), d, PositionSource::Live))
+            .collect();
+        for r in &mut states {
+            r.distance_m = r.now_distance_m;
+        }
+        states[1].state.stage = AlertStage::Warning;
+        states[2].state.stage = AlertStage::Urgent;
+        states[3].state.stage = AlertStage::Urgent;
+        let (ok, detail) = urgent_before(&states, 55.0, 60.0);
+        assert!(ok && detail.contains("57.0 m"), "{detail}");
+        assert!(!urgent_before(&states, 58.0, 60.0).0);
+        assert!(!never_urgent(&states).0);
+        states[2].state.stage = AlertStage::Warning;
+        states[3].state.stage = AlertStage::Warning;
+        let (ok, detail) = never_urgent(&states);
+        assert!(ok && detail.contains("1 time"), "{detail}");
+        states[2].state.stage = AlertStage::Information;
+        let (ok, detail) = never_urgent(&states);
+        assert!(!ok && detail.contains("2 time"), "the tone twice: {detail}");
+    }
+}

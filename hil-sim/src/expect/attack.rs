@@ -264,6 +264,7 @@ mod tests {
             distance_m: None,
             zone_len_m: None,
             true_speed_mps: None,
+            now_distance_m: None,
         }
     }
 
