@@ -71,6 +71,9 @@ fn every_scene_shows_its_state() {
                 "lane_closed" => {
                     kind(s) == Some(AlertKind::LaneClosedOwn) && s.advice == LaneAdvice::MoveLeft
                 }
+                "urgent" => {
+                    kind(s) == Some(AlertKind::LaneClosedOwn) && s.advice == LaneAdvice::MoveLeft
+                }
                 "overspeed" => kind(s) == Some(AlertKind::Overspeed),
                 "in_zone" => s.zone_state == ZoneState::InZone && s.reduced_limit,
                 "leaving" => s.zone_state == ZoneState::Leaving,
