@@ -139,6 +139,7 @@ fn signs_with_a_pki_that_the_obu_trusts() {
         let ctx = CheckContext {
             message_id: j2735::frame::peek_message_id(frame).unwrap(),
             now_us: Some(time64_of_unix_ms(roadside::clock::unix_ms_now())),
+            alt_now_us: None,
             position: None,
         };
         trust

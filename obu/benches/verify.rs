@@ -118,6 +118,7 @@ fn main() {
     let ctx = CheckContext {
         message_id: 31,
         now_us: Some(T0 + FRAMES as u64 * 5_000),
+        alt_now_us: None,
         position: None,
     };
     let config = SecurityConfig {
@@ -147,6 +148,7 @@ fn main() {
     let vctx = CheckContext {
         message_id: 31,
         now_us: Some(v.now),
+        alt_now_us: None,
         position: None,
     };
     let mut fresh = Trust::new(config);

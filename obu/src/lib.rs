@@ -18,6 +18,7 @@
 //! * [`input`]: NMEA 0183 sentences and the CAN speed signal into a [`Fix`].
 //! * [`matcher`]: GNSS fix -> lane, station, lateral offset, confidence.
 //! * [`distance`]: distance along the lane to the work-zone start.
+//! * [`clock`]: GNSS time checked for the week rollover and against a reference clock.
 //! * [`alert`]: alert state machine and the [`alert::HmiState`] shown to the driver.
 //! * [`onboard`]: [`Obu`], the facade the daemon, the firmware and the simulator drive.
 //!
@@ -39,6 +40,7 @@ extern crate std;
 
 pub mod alert;
 pub mod capacity;
+pub mod clock;
 pub mod distance;
 pub mod fix;
 /// WGS84 positions and the local tangent plane: the `v2x-geodesy` crate, shared with the

@@ -125,6 +125,23 @@ impl UtcTime {
         Some(ms * 1000)
     }
 
+    /// Milliseconds since 2000-01-01 00:00 UTC (negative before), continuous across years.
+    pub const fn abs_millis(self) -> i64 {
+        (days_before_year(self.year) - days_before_year(2000)) * 86_400_000 + self.ms_of_year as i64
+    }
+
+    /// The time `abs_ms` milliseconds after 2000-01-01 00:00 UTC (clamped to year 0 and
+    /// `u16::MAX`).
+    pub const fn from_abs_millis(abs_ms: i64) -> Self {
+        let year = year_of(abs_ms.div_euclid(60_000));
+        let start = (days_before_year(year) - days_before_year(2000)) * 86_400_000;
+        let into = abs_ms - start;
+        UtcTime {
+            year,
+            ms_of_year: if into < 0 { 0 } else { into as u64 },
+        }
+    }
+
     /// Shifts the time by `ms` milliseconds (may cross into the next years).
     pub const fn plus_millis(self, ms: u64) -> Self {
         let mut t = self;
@@ -233,6 +250,21 @@ mod tests {
         assert_eq!(year_of(abs_minutes(1999, 10)), 1999);
         assert_eq!(year_of(i64::MIN / 2), 0);
         assert_eq!(year_of(i64::MAX / 2), u16::MAX);
+    }
+
+    #[test]
+    fn absolute_milliseconds_round_trip() {
+        let t = UtcTime {
+            year: 2026,
+            ms_of_year: 328 * 86_400_000 + 12_345,
+        };
+        assert_eq!(UtcTime::from_abs_millis(t.abs_millis()), t);
+        assert_eq!(t.abs_millis() / 60_000, t.abs_minutes());
+        let new_year = UtcTime::from_abs_millis(abs_minutes(2025, 0) * 60_000 - 1);
+        assert_eq!(
+            (new_year.year, new_year.ms_of_year),
+            (2024, 366 * 86_400_000 - 1)
+        );
     }
 
     #[test]

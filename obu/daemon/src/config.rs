@@ -95,6 +95,26 @@ warning_distance_m = 100.0
 lead_time_s = 9.0
 # Overspeed above the zone limit plus this, km/h.
 overspeed_tolerance_kmh = 5.0
+# Deceleration a driver finds comfortable, m/s². Needing more to reach the zone limit by
+# the zone start turns the speed red and the alert urgent (repeating tone).
+comfortable_decel_mps2 = 2.5
+# Time a lane change takes, seconds: still in the closed lane closer than this (at the
+# current speed, and at least 30 m) makes "change lane" urgent.
+lane_change_time_s = 5.0
+# Time from a fix to the driver seeing it (link, Wi-Fi, rendering), milliseconds: every
+# threshold looks ahead by one fix period plus this, so no warning comes a fix late.
+display_latency_ms = 100
+# During a GNSS outage the position is dead-reckoned along the matched lane (CAN speed,
+# else the last GNSS speed) for this long, milliseconds; then "position lost".
+dead_reckoning_ms = 5000
+
+[time]
+# Check GNSS time against this computer's system clock (NTP or RTC): farther apart than
+# `max_offset_ms` shows "time unverified" and no zone is judged expired by its date. A
+# system clock before 2024 (never set) is not used. The GPS week rollover (1024 weeks) is
+# corrected with or without it.
+check_system_clock = true
+max_offset_ms = 10000
 
 [bridge]
 # Bridge mode (off unless `source` is set; `obu --bridge SOURCE` sets it too): the OBU core
@@ -153,6 +173,8 @@ pub struct Config {
     pub http: Http,
     /// Alert defaults.
     pub alerts: Alerts,
+    /// GNSS time checks.
+    pub time: Time,
     /// Bridge mode.
     pub bridge: Bridge,
     /// IEEE 1609.2 trust policy.
@@ -310,6 +332,35 @@ pub struct Alerts {
     pub lead_time_s: f32,
     /// Overspeed tolerance, km/h.
     pub overspeed_tolerance_kmh: f32,
+    /// Comfortable deceleration, m/s².
+    pub comfortable_decel_mps2: f32,
+    /// Lane change time, seconds.
+    pub lane_change_time_s: f32,
+    /// Fix-to-screen latency, milliseconds.
+    pub display_latency_ms: u64,
+    /// Dead-reckoning horizon, milliseconds.
+    pub dead_reckoning_ms: u64,
+}
+
+impl Alerts {
+    /// These thresholds applied to the core's `base` configuration.
+    pub fn apply(&self, base: &mut obu::alert::AlertConfig) {
+        base.overspeed_tolerance_mps = self.overspeed_tolerance_kmh / 3.6;
+        base.comfortable_decel_mps2 = self.comfortable_decel_mps2;
+        base.lane_change_time_s = self.lane_change_time_s;
+        base.display_latency_s = self.display_latency_ms as f32 / 1000.0;
+        base.dead_reckoning = obu::time::Duration::from_millis(self.dead_reckoning_ms);
+    }
+}
+
+/// `[time]`.
+#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct Time {
+    /// Check GNSS time against the system clock.
+    pub check_system_clock: bool,
+    /// Largest offset still trusted, milliseconds.
+    pub max_offset_ms: u64,
 }
 
 /// `[bridge]`.
@@ -435,6 +486,23 @@ impl Config {
         self.http.validate()?;
         if !(self.alerts.warning_distance_m.is_finite() && self.alerts.warning_distance_m > 0.0) {
             return bad("alerts.warning_distance_m must be > 0");
+        }
+        let decel = self.alerts.comfortable_decel_mps2;
+        if !(decel.is_finite() && (0.5..=10.0).contains(&decel)) {
+            return bad("alerts.comfortable_decel_mps2 must be 0.5..=10");
+        }
+        let change = self.alerts.lane_change_time_s;
+        if !(change.is_finite() && (0.0..=30.0).contains(&change)) {
+            return bad("alerts.lane_change_time_s must be 0..=30");
+        }
+        if self.alerts.display_latency_ms > 1000 {
+            return bad("alerts.display_latency_ms must be 0..=1000");
+        }
+        if self.alerts.dead_reckoning_ms > 60_000 {
+            return bad("alerts.dead_reckoning_ms must be 0..=60000");
+        }
+        if self.time.max_offset_ms == 0 {
+            return bad("time.max_offset_ms must be > 0");
         }
         let serial = matches!(self.bridge.source, Some(BridgeSource::Serial(_)));
         if self.bridge.baud.is_some() && !serial {

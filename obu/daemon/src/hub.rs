@@ -45,6 +45,8 @@ struct Inner {
     last_fix: Option<Instant>,
     fix_quality: Option<u8>,
     can_speed: Option<CanSpeed>,
+    /// Give the core the system clock to check GNSS time against.
+    system_clock: bool,
     settings: Settings,
     /// Lane models and work zones of the last external state (bridge mode).
     external: Option<(u8, u8)>,
@@ -79,6 +81,7 @@ impl Hub {
                 last_fix: None,
                 fix_quality: None,
                 can_speed: None,
+                system_clock: false,
                 settings,
                 external: None,
             }),
@@ -172,15 +175,28 @@ impl Hub {
         }
         inner.last_fix = Some(now);
         inner.fix_quality = quality;
+        if inner.system_clock {
+            if let Some(utc) = system_utc() {
+                inner.core.set_reference_time(now, utc);
+            }
+        }
         let state = inner.core.on_fix(now, fix);
         self.publish(&mut inner, &state);
         self.wake.notify_one();
     }
 
-    /// A vehicle speed from CAN.
+    /// A vehicle speed from CAN: it replaces the GNSS speed of the next fixes while fresh,
+    /// and the core dead-reckons on it through a GNSS outage.
     pub fn on_can_speed(&self, mps: f32) {
         let now = self.now();
-        self.lock().can_speed = Some(CanSpeed { mps, at: now });
+        let mut inner = self.lock();
+        inner.can_speed = Some(CanSpeed { mps, at: now });
+        inner.core.on_speed(now, mps);
+    }
+
+    /// Checks GNSS time against this computer's system clock (`[time]`), or stops.
+    pub fn check_system_clock(&self, on: bool) {
+        self.lock().system_clock = on;
     }
 
     /// Lets time pass in the core (GNSS and data timeouts); publishes when the state
@@ -306,6 +322,18 @@ impl Hub {
 }
 
 /// The core's alert configuration with the driver's settings applied.
+/// Milliseconds from the Unix epoch to 2000-01-01 00:00 UTC.
+const UNIX_MS_AT_2000: i64 = 946_684_800_000;
+
+/// The system clock as UTC (`None` before 1970).
+fn system_utc() -> Option<obu::time::UtcTime> {
+    let since = std::time::SystemTime::now()
+        .duration_since(std::time::UNIX_EPOCH)
+        .ok()?;
+    let ms = i64::try_from(since.as_millis()).ok()?;
+    Some(obu::time::UtcTime::from_abs_millis(ms - UNIX_MS_AT_2000))
+}
+
 fn alert_config(mut base: AlertConfig, s: &Settings) -> AlertConfig {
     base.warn_distance_m = s.warning_distance_m;
     base.lead_time_s = s.lead_time_s;
@@ -315,6 +343,15 @@ fn alert_config(mut base: AlertConfig, s: &Settings) -> AlertConfig {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_system_clock_reads_as_utc() {
+        // 2025-11-25T00:00:00Z is 1 764 028 800 000 ms after the Unix epoch (Python's
+        // datetime): day 328 of 2025.
+        let t = obu::time::UtcTime::from_abs_millis(1_764_028_800_000 - UNIX_MS_AT_2000);
+        assert_eq!((t.year, t.ms_of_year), (2025, 328 * 86_400_000));
+        assert!(system_utc().is_some_and(|now| now.year >= 2026));
+    }
 
     #[tokio::test]
     async fn the_deadline_loop_publishes_the_gnss_loss_at_the_timeout() {

@@ -78,14 +78,17 @@ async fn run(config: Config) -> Result<(), String> {
         eprintln!("obu: {w}; using defaults");
     }
     let mut base = obu::alert::AlertConfig::DEFAULT;
-    base.overspeed_tolerance_mps = config.alerts.overspeed_tolerance_kmh / 3.6;
+    config.alerts.apply(&mut base);
+    base.max_clock_offset = obu::time::Duration::from_millis(config.time.max_offset_ms);
     base.gnss_timeout = obu::time::Duration::from_millis(config.gnss.stale_after_ms);
+    base.speed_timeout = obu::time::Duration::from_millis(config.speed.stale_after_ms);
     let hub = hub::Hub::new(
         settings,
         base,
         config.http.event_buffer,
         config.speed.stale_after_ms,
     );
+    hub.check_system_clock(config.time.check_system_clock);
 
     configure_security(&hub, &config.security)?;
 

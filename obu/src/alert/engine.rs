@@ -1,8 +1,9 @@
-//! Pure alert logic: zone state from distance, alerts per zone, arbitration.
+//! Pure alert logic: zone state from distance, alerts per zone with their stage,
+//! arbitration.
 
 use heapless::Vec;
 
-use super::{Alert, AlertConfig, AlertKind, HmiState, ZoneState};
+use super::{Alert, AlertConfig, AlertKind, AlertStage, HmiState, ZoneState};
 use crate::distance::ZoneDistance;
 use crate::zone::ZoneInfo;
 
@@ -15,14 +16,27 @@ pub struct ZoneView<'a> {
     pub distance: ZoneDistance,
 }
 
-/// The state for a zone at distance `d` for a vehicle at `speed_mps`.
-pub fn zone_state(cfg: &AlertConfig, d: &ZoneDistance, speed_mps: Option<f32>) -> ZoneState {
-    let warn = cfg.warning_distance(speed_mps);
+/// The vehicle's motion as the thresholds need it.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct Motion {
+    /// Speed, m/s, when known.
+    pub speed_mps: Option<f32>,
+    /// Metres travelled before the next state reaches the driver
+    /// ([`AlertConfig::lookahead_m`]).
+    pub lookahead_m: f32,
+}
+
+/// The state for a zone at distance `d` for a vehicle moving as `motion`. Approaching and
+/// warning start when the distance as it will be at the next state would be past their
+/// threshold; in zone and leaving follow the distance now.
+pub fn zone_state(cfg: &AlertConfig, d: &ZoneDistance, motion: &Motion) -> ZoneState {
+    let warn = cfg.warning_distance(motion.speed_mps);
     let approach = warn * cfg.approach_factor.max(1.0);
     let (dist, len) = (d.distance_m, d.length_m.max(0.0));
-    if !dist.is_finite() || dist > approach {
+    let next = dist - motion.lookahead_m.max(0.0);
+    if !dist.is_finite() || next > approach {
         ZoneState::None
-    } else if dist > warn {
+    } else if next > warn {
         ZoneState::Approaching
     } else if dist > 0.0 {
         ZoneState::Warning
@@ -35,52 +49,86 @@ pub fn zone_state(cfg: &AlertConfig, d: &ZoneDistance, speed_mps: Option<f32>) -
     }
 }
 
-/// Appends the alerts one zone raises in `state` (ignoring overflow).
+/// Deceleration needed to slow from `speed_mps` to `limit_mps` over `distance_m`, m/s²
+/// (`None` when already at or below the limit, or the distance is not ahead).
+pub fn decel_needed(
+    speed_mps: Option<f32>,
+    limit_mps: Option<f32>,
+    distance_m: f32,
+) -> Option<f32> {
+    let (v, l) = (speed_mps?, limit_mps?);
+    if v <= l || !distance_m.is_finite() || distance_m <= 0.0 {
+        return None;
+    }
+    Some((v * v - l * l) / (2.0 * distance_m.max(1.0)))
+}
+
+/// Appends the alerts one zone raises in `state` (ignoring overflow), each with its stage:
+/// information while approaching, warning within the warning distance, urgent when the
+/// driver is not complying (in the closed lane where a lane change no longer fits, a
+/// needed deceleration above the comfortable one, over the limit inside).
 pub fn zone_alerts<const N: usize>(
     cfg: &AlertConfig,
     zone: &ZoneView<'_>,
     state: ZoneState,
-    speed_mps: Option<f32>,
+    motion: &Motion,
     out: &mut Vec<Alert, N>,
 ) {
-    if matches!(state, ZoneState::None | ZoneState::Leaving) {
-        return;
-    }
+    let ahead_stage = match state {
+        ZoneState::Approaching => AlertStage::Information,
+        ZoneState::Warning => AlertStage::Warning,
+        ZoneState::InZone => AlertStage::Urgent,
+        ZoneState::None | ZoneState::Leaving => return,
+    };
     let limit = zone.info.speed_limit.mps();
-    let alert = |kind| Alert {
-        kind,
-        distance_m: Some(zone.distance.distance_m),
-        limit_mps: limit,
+    let dist = zone.distance.distance_m;
+    let mut push = |kind, stage| {
+        let _ = out.push(Alert {
+            kind,
+            stage,
+            distance_m: Some(dist),
+            limit_mps: limit,
+        });
     };
     let ahead = matches!(state, ZoneState::Approaching | ZoneState::Warning);
-    let near = matches!(state, ZoneState::Warning | ZoneState::InZone);
-    if let (true, Some(v), Some(l)) = (near, speed_mps, limit) {
-        if v > l + cfg.overspeed_tolerance_mps {
-            let _ = out.push(alert(AlertKind::Overspeed));
-        }
+    let speed = motion.speed_mps;
+    let too_hard = decel_needed(speed, limit, dist).is_some_and(|a| a > cfg.comfortable_decel_mps2);
+    let over_inside = state == ZoneState::InZone
+        && matches!((speed, limit), (Some(v), Some(l)) if v > l + cfg.overspeed_tolerance_mps);
+    if over_inside || (state == ZoneState::Warning && too_hard) {
+        push(AlertKind::Overspeed, AlertStage::Urgent);
     }
     if zone.info.lane_closed && (ahead || zone.distance.on_zone_lane) {
-        let own = zone.distance.on_zone_lane;
-        let _ = out.push(alert(if own {
-            AlertKind::LaneClosedOwn
+        if zone.distance.on_zone_lane {
+            let no_room = dist - motion.lookahead_m <= cfg.lane_change_m(speed);
+            let stage = if state == ZoneState::Warning && no_room {
+                AlertStage::Urgent
+            } else {
+                ahead_stage
+            };
+            push(AlertKind::LaneClosedOwn, stage);
         } else {
-            AlertKind::LaneClosedOther
-        }));
+            push(AlertKind::LaneClosedOther, ahead_stage);
+        }
     }
     if ahead && limit.is_some() {
-        let _ = out.push(alert(AlertKind::ReducedSpeedAhead));
+        push(AlertKind::ReducedSpeedAhead, ahead_stage);
     }
     if ahead && limit.is_none() && !zone.info.lane_closed {
-        let _ = out.push(alert(AlertKind::WorkZoneAhead));
+        push(AlertKind::WorkZoneAhead, ahead_stage);
     }
 }
 
-/// Sorts alerts by priority then distance and fills `primary` and `others`.
+/// Sorts alerts by stage (highest first), then kind priority, then distance, and fills
+/// `primary` and `others`.
 pub(crate) fn arbitrate<const N: usize>(mut alerts: Vec<Alert, N>, hmi: &mut HmiState) {
     alerts.sort_unstable_by(|a, b| {
         let da = a.distance_m.unwrap_or(f32::MAX);
         let db = b.distance_m.unwrap_or(f32::MAX);
-        a.kind.cmp(&b.kind).then(da.total_cmp(&db))
+        b.stage
+            .cmp(&a.stage)
+            .then(a.kind.cmp(&b.kind))
+            .then(da.total_cmp(&db))
     });
     let mut it = alerts.into_iter();
     hmi.primary = it.next();
@@ -108,11 +156,18 @@ mod tests {
         }
     }
 
+    fn moving(speed: f32, lookahead_m: f32) -> Motion {
+        Motion {
+            speed_mps: Some(speed),
+            lookahead_m,
+        }
+    }
+
     #[test]
     fn states_by_distance() {
         let c = AlertConfig::default();
-        let v = Some(40.0 / 3.6);
-        let s = |x| zone_state(&c, &d(x, true), v);
+        let v = moving(40.0 / 3.6, 0.0);
+        let s = |x| zone_state(&c, &d(x, true), &v);
         assert_eq!(s(301.0), ZoneState::None);
         assert_eq!(s(250.0), ZoneState::Approaching);
         assert_eq!(s(100.0), ZoneState::Warning);
@@ -122,59 +177,123 @@ mod tests {
         assert_eq!(s(-151.0), ZoneState::None);
         assert_eq!(s(f32::NAN), ZoneState::None);
         assert_eq!(
-            zone_state(&c, &d(200.0, true), Some(30.0)),
+            zone_state(&c, &d(200.0, true), &moving(30.0, 0.0)),
             ZoneState::Warning,
             "270 m at 108 km/h"
         );
     }
 
     #[test]
-    fn alerts_and_arbitration() {
+    fn the_warning_starts_at_the_last_fix_before_its_distance() {
+        let c = AlertConfig::default();
+        // 11 m/s, 10 Hz: 1.1 m per fix, 1.1 m of display latency.
+        let v = moving(11.0, c.lookahead_m(Some(11.0), 0.1));
+        assert!((v.lookahead_m - 2.2).abs() < 1e-4);
+        let s = |x| zone_state(&c, &d(x, false), &v);
+        assert_eq!(s(102.3), ZoneState::Approaching);
+        assert_eq!(s(102.1), ZoneState::Warning, "shown at 101 m, before 100 m");
+        assert_eq!(s(0.5), ZoneState::Warning);
+    }
+
+    fn kinds_and_stages(out: &[Alert]) -> std::vec::Vec<(AlertKind, AlertStage)> {
+        out.iter().map(|a| (a.kind, a.stage)).collect()
+    }
+
+    #[test]
+    fn stages_follow_compliance() {
+        let c = AlertConfig::default();
+        let mut info = ZoneInfo::new(ContentKind::WorkZone);
+        info.speed_limit = Speed::from_kmh(40.0);
+        info.lane_closed = true;
+        let zone = |x, own| ZoneView {
+            info: &info,
+            distance: d(x, own),
+        };
+        let run = |x, own, state, v: f32| {
+            let mut out: Vec<Alert, 8> = Vec::new();
+            zone_alerts(&c, &zone(x, own), state, &moving(v, 0.0), &mut out);
+            kinds_and_stages(&out)
+        };
+        use AlertKind::*;
+        use AlertStage::*;
+        assert_eq!(
+            run(250.0, true, ZoneState::Approaching, 11.0),
+            [
+                (LaneClosedOwn, Information),
+                (ReducedSpeedAhead, Information)
+            ]
+        );
+        assert_eq!(
+            run(90.0, true, ZoneState::Warning, 11.0),
+            [(LaneClosedOwn, Warning), (ReducedSpeedAhead, Warning)],
+            "a lane change at 11 m/s fits in 55 m"
+        );
+        assert_eq!(
+            run(50.0, true, ZoneState::Warning, 11.0)[0],
+            (LaneClosedOwn, Urgent),
+            "still in the closed lane where a lane change no longer fits"
+        );
+        assert_eq!(
+            run(50.0, false, ZoneState::Warning, 11.0),
+            [(LaneClosedOther, Warning), (ReducedSpeedAhead, Warning)],
+            "changed lane: no longer urgent"
+        );
+        // 25 m/s to 11.1 m/s in 90 m needs 2.79 m/s²: more than comfortable.
+        assert_eq!(
+            run(90.0, false, ZoneState::Warning, 25.0)[0],
+            (Overspeed, Urgent)
+        );
+        assert!(decel_needed(Some(25.0), Speed::from_kmh(40.0).mps(), 90.0)
+            .is_some_and(|a| (a - 2.786).abs() < 0.01));
+        assert_eq!(decel_needed(Some(10.0), Some(11.0), 90.0), Option::None);
+        assert_eq!(decel_needed(Some(20.0), Some(11.0), -5.0), Option::None);
+        // Inside, over the limit plus the tolerance, or in the closed lane: urgent.
+        assert_eq!(
+            run(-10.0, false, ZoneState::InZone, 14.0),
+            [(Overspeed, Urgent)]
+        );
+        assert!(run(-10.0, false, ZoneState::InZone, 11.0).is_empty());
+        assert_eq!(
+            run(-10.0, true, ZoneState::InZone, 11.0),
+            [(LaneClosedOwn, Urgent)]
+        );
+        assert!(run(-160.0, true, ZoneState::Leaving, 11.0).is_empty());
+    }
+
+    #[test]
+    fn arbitration_puts_the_highest_stage_first() {
         let c = AlertConfig::default();
         let mut info = ZoneInfo::new(ContentKind::WorkZone);
         info.speed_limit = Speed::from_kmh(10.0);
         info.lane_closed = true;
-        let own = ZoneView {
+        let mut out: Vec<Alert, 8> = Vec::new();
+        let view = ZoneView {
             info: &info,
             distance: d(80.0, true),
         };
-        let mut out: Vec<Alert, 8> = Vec::new();
-        zone_alerts(&c, &own, ZoneState::Warning, Some(11.0), &mut out);
-        let kinds: Vec<AlertKind, 8> = out.iter().map(|a| a.kind).collect();
-        assert_eq!(
-            &kinds[..],
-            &[
-                AlertKind::Overspeed,
-                AlertKind::LaneClosedOwn,
-                AlertKind::ReducedSpeedAhead
-            ]
-        );
+        zone_alerts(&c, &view, ZoneState::Warning, &moving(11.0, 0.0), &mut out);
         let mut hmi = HmiState::default();
         out.reverse();
         arbitrate(out, &mut hmi);
-        assert_eq!(hmi.primary.map(|a| a.kind), Some(AlertKind::LaneClosedOwn));
         assert_eq!(
-            hmi.others.first().map(|a| a.kind),
-            Some(AlertKind::Overspeed)
+            hmi.primary.map(|a| (a.kind, a.stage)),
+            Some((AlertKind::LaneClosedOwn, AlertStage::Warning))
         );
-        assert_eq!(hmi.others.len(), 2);
-        // In an open lane the overspeed comes first.
+        assert_eq!(hmi.others.len(), 1);
         let mut out: Vec<Alert, 8> = Vec::new();
-        let beside = ZoneView {
-            info: &info,
-            distance: d(80.0, false),
-        };
-        zone_alerts(&c, &beside, ZoneState::Warning, Some(11.0), &mut out);
+        zone_alerts(&c, &view, ZoneState::Warning, &moving(21.0, 0.0), &mut out);
         arbitrate(out, &mut hmi);
-        assert_eq!(hmi.primary.map(|a| a.kind), Some(AlertKind::Overspeed));
-        let mut out: Vec<Alert, 8> = Vec::new();
-        let other = ZoneView {
-            info: &info,
-            distance: d(-10.0, false),
-        };
-        zone_alerts(&c, &other, ZoneState::InZone, Some(2.0), &mut out);
-        assert!(out.is_empty(), "inside, slow, not on the closed lane");
+        assert_eq!(
+            hmi.primary.map(|a| (a.kind, a.stage)),
+            Some((AlertKind::LaneClosedOwn, AlertStage::Urgent)),
+            "both urgent (no room to change lane, 2.7 m/s² to 10 km/h): the lane first"
+        );
+        assert_eq!(
+            hmi.others.first().map(|a| (a.kind, a.stage)),
+            Some((AlertKind::Overspeed, AlertStage::Urgent))
+        );
         let plain = ZoneInfo::new(ContentKind::WorkZone);
+        let mut out: Vec<Alert, 8> = Vec::new();
         zone_alerts(
             &c,
             &ZoneView {
@@ -182,9 +301,12 @@ mod tests {
                 distance: d(200.0, false),
             },
             ZoneState::Approaching,
-            None,
+            &Motion::default(),
             &mut out,
         );
-        assert_eq!(out.first().map(|a| a.kind), Some(AlertKind::WorkZoneAhead));
+        assert_eq!(
+            kinds_and_stages(&out),
+            [(AlertKind::WorkZoneAhead, AlertStage::Information)]
+        );
     }
 }

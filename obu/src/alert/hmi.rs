@@ -5,7 +5,7 @@ use heapless::Vec;
 #[cfg(feature = "serde")]
 use serde::{Deserialize, Serialize};
 
-use super::{AlertKind, ZoneState};
+use super::{AlertKind, AlertStage, PositionSource, TimeStatus, ZoneState};
 use crate::capacity::{MAX_ALERTS, MAX_HMI_LANES};
 
 /// One alert.
@@ -14,6 +14,8 @@ use crate::capacity::{MAX_ALERTS, MAX_HMI_LANES};
 pub struct Alert {
     /// Reason.
     pub kind: AlertKind,
+    /// How strongly it calls for the driver.
+    pub stage: AlertStage,
     /// Distance to the zone start, metres (negative inside), when zone related.
     pub distance_m: Option<f32>,
     /// Zone speed limit, m/s, when known.
@@ -77,6 +79,10 @@ pub struct Counters {
     pub expired: u32,
     /// Messages other than MAP and TIM handed to [`crate::Obu::on_frame`].
     pub other_messages: u32,
+    /// Fixes whose date was corrected for the GNSS week rollover.
+    pub rollover_fixes: u32,
+    /// Fixes whose time disagreed with the reference clock.
+    pub unverified_time_fixes: u32,
 }
 
 impl Counters {
@@ -92,6 +98,8 @@ impl Counters {
         zones_cancelled: 0,
         expired: 0,
         other_messages: 0,
+        rollover_fixes: 0,
+        unverified_time_fixes: 0,
     };
 }
 
@@ -101,12 +109,24 @@ impl Counters {
 pub struct HmiState {
     /// Time of this state on the caller's clock, milliseconds.
     pub time_ms: u64,
-    /// Vehicle speed, m/s.
+    /// Vehicle speed, m/s: `None` when its source is stale (no fresh fix or CAN speed).
     pub speed_mps: Option<f32>,
-    /// Speed limit in force or ahead, m/s.
+    /// Speed limit in force where the vehicle is, m/s.
     pub speed_limit_mps: Option<f32>,
-    /// True when the limit is a work-zone reduction.
+    /// True when the limit in force is a work-zone reduction.
     pub reduced_limit: bool,
+    /// A lower work-zone limit ahead, m/s (shown with [`HmiState::limit_ahead_m`]).
+    pub limit_ahead_mps: Option<f32>,
+    /// Metres to where that limit starts.
+    pub limit_ahead_m: Option<f32>,
+    /// Deceleration needed to reach the limit ahead by where it starts, m/s² (when above it).
+    pub decel_needed_mps2: Option<f32>,
+    /// The speed calls for the driver (show it red, unless another element already is):
+    /// over the limit in force plus the tolerance, or a needed deceleration above the
+    /// comfortable one.
+    pub speed_alarm: bool,
+    /// Stage of the primary alert: the display's colour and tone follow it.
+    pub stage: AlertStage,
     /// State relative to the nearest concerning zone.
     pub zone_state: ZoneState,
     /// Distance to that zone's start, metres (negative inside).
@@ -128,6 +148,11 @@ pub struct HmiState {
     pub advice: LaneAdvice,
     /// True while fixes arrive in time.
     pub gnss_ok: bool,
+    /// Where the position (distance, lane, zone state) comes from: a fix, dead reckoning
+    /// during an outage, or nowhere.
+    pub position: PositionSource,
+    /// Whether the time zones are judged on can be believed.
+    pub time_status: TimeStatus,
     /// True when a MAP or TIM is stored.
     pub roadside_data: bool,
     /// Lane models stored.

@@ -3,16 +3,24 @@
 //! For each active work zone that concerns the vehicle, the distance to its start
 //! ([`crate::distance`]) gives a [`ZoneState`]: approaching, warning, in zone, leaving.
 //! The warning distance is `max(warn_distance_m, speed x lead_time_s)` and the
-//! approach distance `approach_factor` times that. Each zone yields alerts (reduced
-//! speed, lane closed, overspeed); data problems add stale-data alerts. Only the
-//! highest-priority alert is primary ([`AlertKind`] order, then distance); the others
-//! are listed. All thresholds live in [`AlertConfig`].
+//! approach distance `approach_factor` times that. A state starts at the last fix before
+//! its threshold would be passed: the distance is judged as it will be one fix period
+//! plus the display latency later ([`AlertConfig::lookahead_m`]), so the warning is never
+//! a fix late.
+//!
+//! Each zone yields alerts (reduced speed, lane closed, overspeed), each with an
+//! [`AlertStage`]: information ahead, warning at the warning distance, urgent only when the
+//! driver does not comply (still in the closed lane where a lane change no longer fits,
+//! or a needed deceleration above the comfortable one). Data problems add stale-data
+//! alerts. Only one alert is primary (highest stage, then [`AlertKind`] order, then
+//! distance); the others are listed. All thresholds live in [`AlertConfig`].
 
 mod engine;
 mod hmi;
 
+pub use crate::clock::TimeStatus;
 pub(crate) use engine::arbitrate;
-pub use engine::{zone_alerts, zone_state, ZoneView};
+pub use engine::{decel_needed, zone_alerts, zone_state, Motion, ZoneView};
 pub use hmi::{Alert, Counters, HmiState, LaneAdvice, LaneInfo};
 
 use core::fmt;
@@ -45,6 +53,24 @@ pub struct AlertConfig {
     pub zone_timeout: Duration,
     /// Lateral room beyond half the zone width for geometric distance routes, metres.
     pub zone_reach_m: f32,
+    /// Time from a fix to the driver seeing its state (serial link, Wi-Fi, rendering),
+    /// seconds: part of the look-ahead of every threshold.
+    pub display_latency_s: f32,
+    /// Deceleration a driver finds comfortable, m/s²: needing more to reach the zone limit
+    /// by the zone start makes the alert urgent and the speed red.
+    pub comfortable_decel_mps2: f32,
+    /// Time a lane change takes, seconds: in a closed lane closer to the zone than this
+    /// at the current speed (and [`AlertConfig::min_lane_change_m`]), the alert is urgent.
+    pub lane_change_time_s: f32,
+    /// Least distance a lane change takes, metres.
+    pub min_lane_change_m: f32,
+    /// During a GNSS outage the position is dead-reckoned along the matched lane for this
+    /// long; after it, "position lost".
+    pub dead_reckoning: Duration,
+    /// A vehicle speed (CAN) older than this is stale.
+    pub speed_timeout: Duration,
+    /// GNSS time farther than this from the reference clock is unverified.
+    pub max_clock_offset: Duration,
     /// Lane matcher thresholds.
     pub matcher: MatcherConfig,
 }
@@ -67,6 +93,13 @@ impl AlertConfig {
         map_timeout: Duration::from_secs(60),
         zone_timeout: Duration::from_secs(30),
         zone_reach_m: 4.0,
+        display_latency_s: 0.1,
+        comfortable_decel_mps2: 2.5,
+        lane_change_time_s: 5.0,
+        min_lane_change_m: 30.0,
+        dead_reckoning: Duration::from_secs(5),
+        speed_timeout: Duration::from_millis(1000),
+        max_clock_offset: Duration::from_secs(10),
         matcher: MatcherConfig::DEFAULT,
     };
 
@@ -75,6 +108,48 @@ impl AlertConfig {
         let by_time = speed_mps.unwrap_or(0.0) * self.lead_time_s;
         crate::math::finite_or(by_time.max(self.warn_distance_m), self.warn_distance_m)
     }
+
+    /// How far the vehicle travels at `speed_mps` before the next state reaches the driver:
+    /// one fix period plus the display latency, metres (0 for an unknown speed).
+    pub fn lookahead_m(&self, speed_mps: Option<f32>, fix_period_s: f32) -> f32 {
+        let t = fix_period_s.clamp(0.0, 2.0) + self.display_latency_s.clamp(0.0, 1.0);
+        crate::math::finite_or(speed_mps.unwrap_or(0.0) * t, 0.0).max(0.0)
+    }
+
+    /// Distance a lane change needs at `speed_mps`, metres.
+    pub fn lane_change_m(&self, speed_mps: Option<f32>) -> f32 {
+        let by_time = speed_mps.unwrap_or(0.0) * self.lane_change_time_s;
+        crate::math::finite_or(by_time.max(self.min_lane_change_m), self.min_lane_change_m)
+    }
+}
+
+/// How strongly an alert calls for the driver: one primary stage drives the colour and
+/// the tone of the display.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, Default)]
+#[cfg_attr(feature = "serde", derive(Serialize, Deserialize))]
+pub enum AlertStage {
+    /// Nothing to tell.
+    #[default]
+    None,
+    /// Something lies ahead (amber, no tone).
+    Information,
+    /// Act now: at the warning distance or lead time (red, one tone).
+    Warning,
+    /// The driver is not complying (red, the tone repeats until they do).
+    Urgent,
+}
+
+/// Where the position shown comes from.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+#[cfg_attr(feature = "serde", derive(Serialize, Deserialize))]
+pub enum PositionSource {
+    /// A fresh GNSS fix.
+    Live,
+    /// Dead-reckoned along the matched lane during a GNSS outage.
+    Estimated,
+    /// No fix, or the outage outlasted the dead-reckoning horizon.
+    #[default]
+    Lost,
 }
 
 /// Where the vehicle is relative to the nearest work zone.

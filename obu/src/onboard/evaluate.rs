@@ -3,7 +3,10 @@
 use heapless::Vec;
 
 use super::Obu;
-use crate::alert::{self, Alert, AlertKind, HmiState, LaneAdvice, LaneInfo, ZoneState, ZoneView};
+use crate::alert::{
+    self, Alert, AlertKind, AlertStage, HmiState, LaneAdvice, LaneInfo, Motion, PositionSource,
+    ZoneState, ZoneView,
+};
 use crate::capacity::MAX_HMI_LANES;
 use crate::distance::{zone_distance, ZoneDistance};
 use crate::lane::{Lane, LaneKind, LaneModel, Speed, TravelDirection};
@@ -30,15 +33,30 @@ struct Scan<'a> {
     /// The nearest zone that closes a lane (closed lanes and advice shown). A TIM
     /// often sends the closure and the speed limit as two data frames of one place.
     closure: Option<Nearest<'a>>,
-    /// The lowest limit of the zones in warning or inside.
-    limit: Option<Speed>,
+    /// The lowest limit of the zones the vehicle is in.
+    in_force: Option<Speed>,
+    /// The lowest limit of the zones ahead, and the distance to the nearest zone with it.
+    ahead: Option<(Speed, f32)>,
 }
 
 impl<'a> Scan<'a> {
     fn add(&mut self, n: Nearest<'a>) {
-        if matches!(n.state, ZoneState::Warning | ZoneState::InZone) {
-            let l = n.zone.info.speed_limit;
-            self.limit = Some(self.limit.map_or(l, |m| m.min_available(l)));
+        let l = n.zone.info.speed_limit;
+        match n.state {
+            ZoneState::InZone => {
+                self.in_force = Some(self.in_force.map_or(l, |m| m.min_available(l)));
+            }
+            ZoneState::Approaching | ZoneState::Warning if l.mps().is_some() => {
+                let d = n.dist.distance_m;
+                let lower = |(m, md): (Speed, f32)| match (l.mps(), m.mps()) {
+                    (Some(a), Some(b)) => a < b || (a == b && d < md),
+                    _ => true,
+                };
+                if self.ahead.is_none_or(lower) {
+                    self.ahead = Some((l, d));
+                }
+            }
+            _ => {}
         }
         if n.zone.info.lane_closed && nearer(&n, self.closure.as_ref()) {
             self.closure = Some(n);
@@ -56,18 +74,26 @@ fn nearer(n: &Nearest<'_>, than: Option<&Nearest<'_>>) -> bool {
 
 impl Obu {
     /// The display state at `now`.
-    pub(super) fn evaluate(&self, now: Instant, gnss_ok: bool) -> HmiState {
-        let fix = self.last_fix.map(|(_, f)| f);
-        let speed = fix.and_then(|f| f.speed());
-        let mut hmi = self.base_state(now, gnss_ok, speed);
+    pub(super) fn evaluate(&self, now: Instant) -> HmiState {
+        let position = self.position_source(now);
+        let speed = self.threshold_speed(now, position);
+        let mut hmi = self.base_state(now, position);
         let mut alerts = AlertList::new();
-        self.data_alerts(gnss_ok, &mut alerts);
-        let scan = if gnss_ok {
-            self.zone_alerts(now, speed, &mut alerts)
-        } else {
-            Scan::default()
+        self.data_alerts(position, &mut alerts);
+        let period_s = match position {
+            PositionSource::Live => self.fix_period_ms as f32 / 1000.0,
+            _ => super::ESTIMATE_PERIOD.as_secs_f32(),
         };
-        self.fill_limit(&mut hmi, scan.limit);
+        let motion = Motion {
+            speed_mps: speed,
+            lookahead_m: self.config.lookahead_m(speed, period_s),
+        };
+        let travelled = match position {
+            PositionSource::Live => 0.0,
+            _ => self.travelled_m(now),
+        };
+        let scan = self.zone_alerts(now, &motion, travelled, &mut alerts);
+        self.fill_limit(&mut hmi, &scan, speed);
         if hmi.lane.is_some() {
             self.fill_road(&mut hmi);
         }
@@ -78,22 +104,37 @@ impl Obu {
         if let Some(n) = &scan.closure {
             self.fill_closure(&mut hmi, n);
         }
+        if position == PositionSource::Lost {
+            forget_distances(&mut hmi, &mut alerts);
+        }
         alert::arbitrate(alerts, &mut hmi);
+        let zone_shown = matches!(
+            hmi.zone_state,
+            ZoneState::Approaching | ZoneState::Warning | ZoneState::InZone
+        );
+        let floor = if zone_shown {
+            AlertStage::Information
+        } else {
+            AlertStage::None
+        };
+        hmi.stage = hmi.primary.map_or(floor, |a| a.stage.max(floor));
         hmi
     }
 
-    fn base_state(&self, now: Instant, gnss_ok: bool, speed: Option<f32>) -> HmiState {
-        let m = self.last_match.filter(|_| gnss_ok);
+    fn base_state(&self, now: Instant, position: PositionSource) -> HmiState {
+        let m = self.last_match.filter(|_| position != PositionSource::Lost);
         let shown = m.filter(|m| m.confidence >= self.config.matcher.min_confidence);
         HmiState {
             time_ms: now.millis(),
-            speed_mps: speed,
+            speed_mps: self.shown_speed(now, position),
             lane: shown.map(|m| LaneInfo {
                 map: m.map.0,
                 lane: m.lane.0,
             }),
             lane_confidence: m.map_or(0, |m| m.confidence),
-            gnss_ok,
+            gnss_ok: position == PositionSource::Live,
+            position,
+            time_status: self.time_status,
             roadside_data: !(self.maps.is_empty() && self.zones.is_empty()),
             maps: self.maps.len() as u8,
             zones: self.zones.len() as u8,
@@ -103,24 +144,32 @@ impl Obu {
         }
     }
 
-    fn data_alerts(&self, gnss_ok: bool, out: &mut AlertList) {
-        let plain = |kind| Alert {
+    fn data_alerts(&self, position: PositionSource, out: &mut AlertList) {
+        let plain = |kind, stage| Alert {
             kind,
+            stage,
             distance_m: None,
             limit_mps: None,
         };
-        if !gnss_ok {
-            let _ = out.push(plain(AlertKind::GnssStale));
+        if position != PositionSource::Live {
+            let _ = out.push(plain(AlertKind::GnssStale, AlertStage::Information));
         }
         if self.maps.is_empty() && self.zones.is_empty() {
-            let _ = out.push(plain(AlertKind::NoRoadsideData));
+            let _ = out.push(plain(AlertKind::NoRoadsideData, AlertStage::None));
         } else if self.maps.is_empty() {
-            let _ = out.push(plain(AlertKind::MapMissing));
+            let _ = out.push(plain(AlertKind::MapMissing, AlertStage::None));
         }
     }
 
-    /// Alerts of every concerning zone; returns what the scan found.
-    fn zone_alerts(&self, now: Instant, speed: Option<f32>, out: &mut AlertList) -> Scan<'_> {
+    /// Alerts of every concerning zone, with distances from the last fix shortened by
+    /// `travelled` metres (dead reckoning); returns what the scan found.
+    fn zone_alerts(
+        &self,
+        now: Instant,
+        motion: &Motion,
+        travelled: f32,
+        out: &mut AlertList,
+    ) -> Scan<'_> {
         let mut scan = Scan::default();
         let Some(fix) = self.last_fix.map(|(_, f)| f) else {
             return scan;
@@ -139,42 +188,57 @@ impl Obu {
             }
             let m = self.last_match.as_ref();
             let reach = self.config.zone_reach_m;
-            let Some(dist) = zone_distance(zone, &self.maps, m, fix.position, heading, reach)
+            let Some(mut dist) = zone_distance(zone, &self.maps, m, fix.position, heading, reach)
             else {
                 continue;
             };
-            let state = alert::zone_state(&self.config, &dist, speed);
+            dist.distance_m -= travelled;
+            let state = alert::zone_state(&self.config, &dist, motion);
             if state == ZoneState::None {
                 continue;
             }
-            alert::zone_alerts(
-                &self.config,
-                &ZoneView {
-                    info: &zone.info,
-                    distance: dist,
-                },
-                state,
-                speed,
-                out,
-            );
+            let view = ZoneView {
+                info: &zone.info,
+                distance: dist,
+            };
+            alert::zone_alerts(&self.config, &view, state, motion, out);
             scan.add(Nearest { zone, dist, state });
         }
         scan
     }
 
-    /// Speed limit: near or inside a zone the lowest of the zones' limits and the
-    /// lane's `maxSpeedInConstructionZone`, else the lane's limit where the vehicle is.
-    fn fill_limit(&self, hmi: &mut HmiState, zone_limit: Option<Speed>) {
+    /// Speed limits: in force, the lowest of the zones the vehicle is in and the lane's
+    /// `maxSpeedInConstructionZone`, else the lane's limit where the vehicle is; ahead, the
+    /// lowest limit of the zones ahead below that. Then the deceleration that limit needs
+    /// and whether the speed calls for the driver.
+    fn fill_limit(&self, hmi: &mut HmiState, scan: &Scan<'_>, speed: Option<f32>) {
         let limits = self
             .matched_lane()
             .map(|(_, l)| l.limits_at(self.last_match.map_or(0, |m| m.position.segment)));
         let lane_max = limits.and_then(|l| l.max.mps());
-        let zone_limit = zone_limit.and_then(|z| {
-            let construction = limits.map_or(Speed::UNAVAILABLE, |l| l.construction_max);
-            z.min_available(construction).mps()
-        });
-        hmi.speed_limit_mps = zone_limit.or(lane_max);
+        let construction = limits.map_or(Speed::UNAVAILABLE, |l| l.construction_max);
+        let zone_limit = scan
+            .in_force
+            .and_then(|z| z.min_available(construction).mps());
+        let in_force = zone_limit.or(lane_max);
+        hmi.speed_limit_mps = in_force;
         hmi.reduced_limit = zone_limit.is_some_and(|z| lane_max.is_none_or(|l| z < l));
+        if let Some((limit, at)) = scan.ahead {
+            let ahead = limit.min_available(construction).mps();
+            if let Some(l) = ahead.filter(|l| in_force.is_none_or(|f| *l < f)) {
+                hmi.limit_ahead_mps = Some(l);
+                hmi.limit_ahead_m = Some(at);
+                hmi.decel_needed_mps2 = alert::decel_needed(speed, Some(l), at);
+            }
+        }
+        let over = match (hmi.speed_mps, in_force) {
+            (Some(v), Some(l)) => v > l + self.config.overspeed_tolerance_mps,
+            _ => false,
+        };
+        let too_hard = hmi
+            .decel_needed_mps2
+            .is_some_and(|a| a > self.config.comfortable_decel_mps2);
+        hmi.speed_alarm = over || too_hard;
     }
 
     /// Closed lanes of the nearest zone on the current map, and the advice.
@@ -307,4 +371,18 @@ fn closer(a: &ZoneDistance, b: &ZoneDistance) -> bool {
         }
     };
     key(a) < key(b)
+}
+
+/// Without a position ("position lost"), the known zones stay shown but no distance is
+/// claimed and no alert is more than a warning: compliance cannot be judged.
+fn forget_distances(hmi: &mut HmiState, alerts: &mut AlertList) {
+    hmi.distance_m = None;
+    hmi.limit_ahead_m = None;
+    hmi.decel_needed_mps2 = None;
+    hmi.speed_alarm = false;
+    hmi.advice = LaneAdvice::None;
+    for a in alerts.iter_mut() {
+        a.distance_m = None;
+        a.stage = a.stage.min(AlertStage::Warning);
+    }
 }

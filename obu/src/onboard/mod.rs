@@ -8,8 +8,10 @@
 
 mod evaluate;
 mod messages;
+mod motion;
 
-use crate::alert::{AlertConfig, Counters, HmiState};
+use crate::alert::{AlertConfig, Counters, HmiState, PositionSource};
+use crate::clock::{ClockCheck, TimeStatus};
 use crate::fix::Fix;
 use crate::geo::LatLon;
 use crate::ingest::IngestCounters;
@@ -34,6 +36,9 @@ enum Stored {
     Refused,
 }
 
+/// A dead-reckoned position is published this often.
+pub const ESTIMATE_PERIOD: Duration = Duration::from_millis(100);
+
 /// The on-board unit core: 63 648 bytes with the default capacities (x86_64 and
 /// thumbv7em alike), no heap; `new` is `const` so firmware can place it in a `static`.
 #[derive(Debug, Clone)]
@@ -46,8 +51,23 @@ pub struct Obu {
     /// The matcher's clock at the last fix (see [`Obu::fix_time`]).
     fix_clock: Instant,
     last_match: Option<LaneMatch>,
+    /// The last fix's UTC after the rollover and reference checks.
     utc: Option<(Instant, UtcTime)>,
+    /// Whether `utc` may be believed.
+    time_status: TimeStatus,
+    /// The reference clock GNSS time is checked against.
+    clock: ClockCheck,
+    /// The receiver's fix period, milliseconds (the matcher clock's last step).
+    fix_period_ms: u32,
+    /// The last vehicle speed (CAN) and when it came.
+    vehicle_speed: Option<(Instant, f32)>,
+    /// Distance travelled since the last fix, for dead reckoning.
+    travel: motion::Travel,
     stale_reported: bool,
+    /// "Position lost" (the dead-reckoning horizon passed) was published.
+    lost_reported: bool,
+    /// When the next dead-reckoned state is due.
+    next_estimate: Option<Instant>,
     counters: Counters,
     rejected: IngestCounters,
 }
@@ -77,7 +97,14 @@ impl Obu {
             fix_clock: Instant::ZERO,
             last_match: None,
             utc: None,
+            time_status: TimeStatus::Unknown,
+            clock: ClockCheck::new(),
+            fix_period_ms: 100,
+            vehicle_speed: None,
+            travel: motion::Travel::ZERO,
             stale_reported: false,
+            lost_reported: false,
+            next_estimate: None,
             counters: Counters::ZERO,
             rejected: IngestCounters::ZERO,
         }
@@ -111,33 +138,40 @@ impl Obu {
         }
     }
 
-    /// The matcher's clock for `fix`: the last one advanced by the receiver's own step
-    /// between the two fixes' UTC times when both have one and it moved forward, else by
-    /// the arrival times' step. The lane decision's hold time then follows from the fixes
-    /// alone, not from how late each one arrived (serial link, load), so a replay decides
-    /// the same on every device; a receiver without usable time falls back to arrivals.
-    fn fix_time(&self, now: Instant, fix: &Fix) -> Instant {
-        let Some((prev_now, prev)) = &self.last_fix else {
-            return now;
-        };
-        let step_ms = match (prev.utc, fix.utc) {
+    /// The matcher's clock step to `fix`, milliseconds: the receiver's own step between the
+    /// two fixes' UTC times when both have one and it moved forward, else the arrival
+    /// times' step (`None` for the first fix). The lane decision's hold time then follows
+    /// from the fixes alone, not from how late each one arrived (serial link, load), so a
+    /// replay decides the same on every device; a receiver without usable time falls back
+    /// to arrivals. The step is also the fix period the warnings look ahead by.
+    fn fix_step_ms(&self, now: Instant, fix: &Fix) -> Option<u64> {
+        let (prev_now, prev) = &self.last_fix.as_ref()?;
+        Some(match (prev.utc, fix.utc) {
             (Some(a), Some(b)) if a.year == b.year && b.ms_of_year > a.ms_of_year => {
                 b.ms_of_year - a.ms_of_year
             }
             _ => now.saturating_since(*prev_now).millis(),
-        };
-        self.fix_clock + Duration::from_millis(step_ms)
+        })
     }
 
     /// Processes one fix and returns what the display shows.
     pub fn on_fix(&mut self, now: Instant, fix: Fix) -> HmiState {
         self.counters.fixes = self.counters.fixes.saturating_add(1);
-        self.fix_clock = self.fix_time(now, &fix);
+        match self.fix_step_ms(now, &fix) {
+            Some(step) => {
+                self.fix_clock = self.fix_clock + Duration::from_millis(step);
+                self.fix_period_ms = step.clamp(20, 2000) as u32;
+            }
+            None => self.fix_clock = now,
+        }
         if let Some(utc) = fix.utc {
-            self.utc = Some((now, utc));
+            self.check_time(now, utc);
         }
         self.last_fix = Some((now, fix));
+        self.travel = motion::Travel::start(now, fix.speed());
         self.stale_reported = false;
+        self.lost_reported = false;
+        self.next_estimate = None;
         let matched = self
             .matcher
             .update(self.fix_clock, &fix, &self.maps, &self.config.matcher);
@@ -145,11 +179,12 @@ impl Obu {
             self.counters.off_map = self.counters.off_map.saturating_add(1);
         }
         self.last_match = matched;
-        self.evaluate(now, true)
+        self.evaluate(now)
     }
 
     /// Expires old data; returns a new state when something the display shows
-    /// changed without a fix (GNSS became stale, data expired).
+    /// changed without a fix: GNSS became stale, data expired, a dead-reckoned position
+    /// moved on (every [`ESTIMATE_PERIOD`]) or its horizon passed ("position lost").
     pub fn poll(&mut self, now: Instant) -> Option<HmiState> {
         let maps = self.maps.expire(now, self.config.map_timeout);
         let zones = self
@@ -161,17 +196,63 @@ impl Obu {
         let newly_stale = stale && !self.stale_reported;
         if newly_stale {
             self.stale_reported = true;
+            // The matcher starts over with the next fix; the last match stays for dead
+            // reckoning along its lane.
             self.matcher.reset();
-            self.last_match = None;
         }
-        (expired > 0 || newly_stale).then(|| self.evaluate(now, !stale))
+        let position = self.position_source(now);
+        let tick =
+            position == PositionSource::Estimated && self.next_estimate.is_none_or(|t| now >= t);
+        if tick {
+            self.next_estimate = Some(now + ESTIMATE_PERIOD);
+        }
+        let newly_lost =
+            position == PositionSource::Lost && self.last_fix.is_some() && !self.lost_reported;
+        if newly_lost {
+            self.lost_reported = true;
+        }
+        (expired > 0 || newly_stale || tick || newly_lost).then(|| self.evaluate(now))
     }
 
     /// The display state at `now` without a new fix: for a caller that publishes as
     /// soon as a message changed what is stored (a new zone, a cancelled one, a new MAP
     /// revision), instead of waiting for the next fix.
     pub fn state(&self, now: Instant) -> HmiState {
-        self.evaluate(now, self.gnss_fresh(now))
+        self.evaluate(now)
+    }
+
+    /// A vehicle speed (CAN) at `now`, m/s: shown while fresh and carried into dead
+    /// reckoning during a GNSS outage. Not finite or negative: ignored.
+    pub fn on_speed(&mut self, now: Instant, speed_mps: f32) {
+        if !(speed_mps.is_finite() && (0.0..1000.0).contains(&speed_mps)) {
+            return;
+        }
+        self.vehicle_speed = Some((now, speed_mps));
+        self.travel.set_speed(now, speed_mps);
+    }
+
+    /// The reference clock (the host's system clock) read `utc` at `now`: GNSS time is
+    /// checked against it ([`crate::clock`]).
+    pub fn set_reference_time(&mut self, now: Instant, utc: UtcTime) {
+        self.clock.set_reference(now, utc);
+    }
+
+    /// Whether the time zones are judged on can be believed.
+    pub fn time_status(&self) -> TimeStatus {
+        self.time_status
+    }
+
+    fn check_time(&mut self, now: Instant, utc: UtcTime) {
+        let checked = self.clock.check(now, utc, self.config.max_clock_offset);
+        if checked.rollovers != 0 {
+            self.counters.rollover_fixes = self.counters.rollover_fixes.saturating_add(1);
+        }
+        if checked.status == TimeStatus::Unverified {
+            self.counters.unverified_time_fixes =
+                self.counters.unverified_time_fixes.saturating_add(1);
+        }
+        self.utc = Some((now, checked.utc));
+        self.time_status = checked.status;
     }
 
     /// When [`Obu::poll`] next has work, if ever: the GNSS timeout, a map's or zone's
@@ -183,9 +264,19 @@ impl Obu {
             }
             _ => None,
         };
+        let estimate = match (self.last_fix, self.stale_reported && !self.lost_reported) {
+            (Some((t, _)), true) => {
+                let horizon = t
+                    + self.config.gnss_timeout
+                    + self.config.dead_reckoning
+                    + crate::Duration::from_millis(1);
+                Some(self.next_estimate.map_or(horizon, |n| n.min(horizon)))
+            }
+            _ => None,
+        };
         let maps = self.maps.next_expiry(self.config.map_timeout);
         let zones = self.zones.next_expiry(self.config.zone_timeout);
-        [gnss, maps, zones, self.next_window_end()]
+        [gnss, estimate, maps, zones, self.next_window_end()]
             .into_iter()
             .flatten()
             .min()
@@ -194,7 +285,9 @@ impl Obu {
     /// When the UTC minute (extrapolated from the last fix with UTC) first passes the end
     /// of a stored zone's validity window, so that [`Obu::poll`] drops it.
     fn next_window_end(&self) -> Option<Instant> {
-        let (t, utc) = self.utc?;
+        let (t, utc) = self
+            .utc
+            .filter(|_| self.time_status == TimeStatus::Trusted)?;
         let end = self.zones.next_end(utc.abs_minutes())?;
         let utc_ms = utc.abs_minutes() * 60_000 + (utc.ms_of_year % 60_000) as i64;
         let after = ((end + 1) * 60_000 - utc_ms).max(0);
@@ -307,16 +400,20 @@ impl Obu {
         }
     }
 
-    /// True when the last fix is younger than the GNSS timeout.
-    fn gnss_fresh(&self, now: Instant) -> bool {
-        self.last_fix
-            .is_some_and(|(t, _)| now.saturating_since(t) <= self.config.gnss_timeout)
-    }
-
-    /// GNSS time at `now` as IEEE 1609.2 `Time64`, from the last fix that carried UTC.
+    /// GNSS time at `now` as IEEE 1609.2 `Time64`, from the last fix that carried UTC
+    /// (corrected for the week rollover).
     pub(crate) fn time64(&self, now: Instant) -> Option<u64> {
         let (t, utc) = self.utc?;
         utc.plus_millis(now.saturating_since(t).millis()).time64()
+    }
+
+    /// The reference clock at `now` as `Time64` while GNSS time disagrees with it: message
+    /// times may be checked against either clock.
+    pub(crate) fn alt_time64(&self, now: Instant) -> Option<u64> {
+        if self.time_status != TimeStatus::Unverified {
+            return None;
+        }
+        self.clock.reference_at(now)?.time64()
     }
 
     /// The last fix's position.
@@ -324,9 +421,11 @@ impl Obu {
         self.last_fix.map(|(_, fix)| fix.position)
     }
 
-    /// UTC minutes since 2000 at `now`, from the last fix that carried UTC.
+    /// UTC minutes since 2000 at `now`, from the last fix that carried UTC, when that
+    /// time is trusted: zones are judged expired (or not yet valid) on a trusted time only.
     fn utc_minutes(&self, now: Instant) -> Option<i64> {
-        self.utc.map(|(t, utc)| {
+        let trusted = self.utc.filter(|_| self.time_status == TimeStatus::Trusted);
+        trusted.map(|(t, utc)| {
             utc.plus_millis(now.saturating_since(t).millis())
                 .abs_minutes()
         })

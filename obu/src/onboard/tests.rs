@@ -1,5 +1,6 @@
 use super::*;
-use crate::alert::{AlertKind, LaneAdvice, ZoneState};
+use crate::alert::{AlertKind, AlertStage, LaneAdvice, ZoneState};
+use crate::clock::ROLLOVER_MS;
 use crate::geo::Point;
 use crate::lane::ModelError;
 use crate::testutil;
@@ -67,19 +68,34 @@ fn approach_warn_inside_leave() {
         Some(AlertKind::ReducedSpeedAhead)
     );
     assert!(s.distance_m.is_some_and(|d| (d - 250.0).abs() < 0.1));
+    assert_eq!(s.stage, AlertStage::Information);
     let s = drive(&mut obu, 200, 3.5, 350.0, v);
     assert_eq!(s.zone_state, ZoneState::Warning);
     assert_eq!(
         (&s.closed_lanes[..], s.advice),
         (&[3u8][..], LaneAdvice::MoveLeft)
     );
+    // 50 m out at 11 m/s a lane change (55 m) no longer fits: urgent.
+    assert_eq!(s.stage, AlertStage::Urgent);
+    // The limit in force is still the lane's; the zone's 25 mph is 50 m ahead.
+    assert!(
+        !s.reduced_limit
+            && s.speed_limit_mps
+                .is_some_and(|l| (l - 60.0 / 3.6).abs() < 0.05)
+    );
+    assert!(s
+        .limit_ahead_mps
+        .is_some_and(|l| (l - 25.0 * 0.447_04).abs() < 0.05));
+    assert!(s.limit_ahead_m.is_some_and(|d| (d - 50.0).abs() < 0.1));
+    assert!(!s.speed_alarm, "0.02 m/s² to slow down: no red speed");
+    let s = drive(&mut obu, 300, 3.5, 450.0, 20.0);
+    assert_eq!(s.zone_state, ZoneState::InZone);
     assert!(
         s.reduced_limit
             && s.speed_limit_mps
                 .is_some_and(|l| (l - 25.0 * 0.447_04).abs() < 0.05)
     );
-    let s = drive(&mut obu, 300, 3.5, 450.0, 20.0);
-    assert_eq!(s.zone_state, ZoneState::InZone);
+    assert!(s.speed_alarm && s.limit_ahead_mps.is_none());
     // Still in the closed lane: "change lane" first, the overspeed after it.
     assert_eq!(s.primary.map(|a| a.kind), Some(AlertKind::LaneClosedOwn));
     assert_eq!(s.others.first().map(|a| a.kind), Some(AlertKind::Overspeed));
@@ -115,14 +131,54 @@ fn neighbour_lane_is_told_but_not_moved() {
 fn stale_gnss_and_deadlines() {
     let mut obu = obu_with(true);
     assert!(obu.next_deadline().is_some());
-    let _ = drive(&mut obu, 1000, 3.5, 350.0, 10.0);
+    let s = drive(&mut obu, 1000, 3.5, 300.0, 10.0);
+    assert_eq!(
+        (s.position, s.zone_state),
+        (PositionSource::Live, ZoneState::Warning)
+    );
     assert_eq!(obu.next_deadline(), Some(Instant::from_millis(2001)));
     assert!(obu.poll(Instant::from_millis(1500)).is_none());
+    // Dead reckoning along the lane at the last speed: 10 m/s for 1.001 s.
     let s = obu.poll(Instant::from_millis(2001)).unwrap_or_default();
-    assert!(!s.gnss_ok && s.lane.is_none());
-    assert_eq!(s.primary.map(|a| a.kind), Some(AlertKind::GnssStale));
+    assert_eq!((s.gnss_ok, s.position), (false, PositionSource::Estimated));
+    assert_eq!(s.lane.map(|l| l.lane), Some(3), "the lane stays shown");
     assert!(
-        obu.poll(Instant::from_millis(2100)).is_none(),
+        s.distance_m.is_some_and(|d| (d - 89.99).abs() < 0.05),
+        "{:?}",
+        s.distance_m
+    );
+    assert_eq!(s.zone_state, ZoneState::Warning);
+    assert_eq!(s.speed_mps, None, "the GNSS speed is stale: not shown");
+    assert!(s.others.iter().any(|a| a.kind == AlertKind::GnssStale));
+    assert_eq!(obu.next_deadline(), Some(Instant::from_millis(2101)));
+    assert!(obu.poll(Instant::from_millis(2050)).is_none());
+    let s = obu.poll(Instant::from_millis(2101)).unwrap_or_default();
+    assert!(s.distance_m.is_some_and(|d| (d - 88.99).abs() < 0.05));
+    // CAN speed: shown while fresh, and integrated from when it came.
+    obu.on_speed(Instant::from_millis(3001), 5.0);
+    let s = obu.state(Instant::from_millis(4001));
+    assert_eq!(s.speed_mps, Some(5.0));
+    assert!(
+        s.distance_m.is_some_and(|d| (d - 74.99).abs() < 0.05),
+        "{:?}",
+        s.distance_m
+    );
+    // The horizon (1 s timeout + 5 s): position lost, the zone ahead kept, no distance.
+    let mut last = None;
+    while let Some(t) = obu.next_deadline().filter(|t| t.millis() <= 7001) {
+        last = obu.poll(t).or(last);
+    }
+    let s = last.unwrap_or_default();
+    assert_eq!(s.time_ms, 7001);
+    assert_eq!(
+        (s.position, s.zone_state),
+        (PositionSource::Lost, ZoneState::Warning)
+    );
+    assert_eq!((s.distance_m, s.lane, s.speed_mps), (None, None, None));
+    assert!(s.stage >= AlertStage::Information && s.stage <= AlertStage::Warning);
+    assert!(s.primary.is_some_and(|a| a.distance_m.is_none()));
+    assert!(
+        obu.poll(Instant::from_millis(7101)).is_none(),
         "reported once"
     );
     let s = obu.poll(Instant::from_millis(30_001)).unwrap_or_default();
@@ -130,6 +186,28 @@ fn stale_gnss_and_deadlines() {
     let s = obu.poll(Instant::from_millis(60_001)).unwrap_or_default();
     assert!(!s.roadside_data && s.maps == 0, "map expired after 60 s");
     assert_eq!(obu.counters().expired, 2);
+}
+
+#[test]
+fn the_warning_comes_at_the_last_fix_before_its_distance() {
+    // 11 m/s at 10 Hz toward the zone start at y = 400: the first warning must show at
+    // or before 100 m, and no more than one fix (1.1 m) plus the display latency early.
+    let mut obu = obu_with(true);
+    let v = 11.0;
+    let mut first = None;
+    for k in 0..400u64 {
+        let y = 150.0 + v * 0.1 * k as f32;
+        let s = drive(&mut obu, 1000 + 100 * k, 0.0, y, v);
+        if s.stage >= AlertStage::Warning {
+            first = Some(400.0 - y);
+            break;
+        }
+    }
+    let d = first.unwrap_or(0.0);
+    assert!(
+        (100.0..=100.0 + 1.1 + 1.2).contains(&d),
+        "first warning {d} m out"
+    );
 }
 
 #[test]
@@ -153,12 +231,75 @@ fn the_end_of_a_validity_window_is_a_deadline() {
     assert_eq!(r, Ok(true));
     let _ = drive(&mut obu, 1000, 3.5, 350.0, 10.0);
     assert!(obu.poll(Instant::from_millis(2001)).is_some(), "GNSS stale");
+    while let Some(t) = obu.next_deadline().filter(|t| t.millis() <= 7001) {
+        let _ = obu.poll(t);
+    }
     // Minute 2002 starts 120 s after the fix.
     assert_eq!(obu.next_deadline(), Some(Instant::from_millis(121_000)));
     assert!(obu.poll(Instant::from_millis(120_999)).is_none());
     let s = obu.poll(Instant::from_millis(121_000)).unwrap_or_default();
     assert_eq!(s.zones, 0, "the window has ended");
     assert_eq!(obu.next_deadline(), Some(Instant::from_millis(600_001)));
+}
+
+#[test]
+fn a_zone_is_judged_expired_on_a_trusted_time_only() {
+    let mut obu = obu_with(false);
+    let window = Validity {
+        start_year: 2024,
+        start_minute: 2000,
+        duration_min: 1,
+    };
+    let key = ZoneKey::packet([1; 9], 0);
+    let r = obu.update_zone(Instant::ZERO, key, 1, window, |z| {
+        testutil::fill_closure(z);
+        Ok::<(), ModelError>(())
+    });
+    assert_eq!(r, Ok(true));
+    let system = UtcTime::from_minute_of_year(2024, 2000);
+    obu.set_reference_time(Instant::ZERO, system);
+    // A receiver three minutes ahead, past the window: unverified, the zone kept.
+    let ahead = Fix {
+        utc: Some(UtcTime::from_minute_of_year(2024, 2003)),
+        ..fix_at(3.5, 350.0, 10.0)
+    };
+    let s = obu.on_fix(Instant::from_millis(1000), ahead);
+    assert_eq!(s.time_status, TimeStatus::Unverified);
+    assert_eq!((s.zones, s.zone_state), (1, ZoneState::Warning));
+    let _ = obu.poll(Instant::from_millis(1500));
+    assert_eq!(obu.zones().len(), 1, "not expired on an unverified time");
+    assert_eq!(obu.counters().unverified_time_fixes, 1);
+    // The same minute 1024 weeks early (a week-rollover fault): corrected and trusted.
+    let faulty = UtcTime::from_abs_millis(system.abs_millis() + 1100 - ROLLOVER_MS);
+    assert_eq!(faulty.year, 2004);
+    let s = obu.on_fix(
+        Instant::from_millis(1100),
+        Fix {
+            utc: Some(faulty),
+            ..fix_at(3.5, 351.0, 10.0)
+        },
+    );
+    assert_eq!(
+        (s.time_status, s.zone_state),
+        (TimeStatus::Trusted, ZoneState::Warning)
+    );
+    assert_eq!(obu.counters().rollover_fixes, 1);
+    // On a trusted time past the window the zone ends.
+    let late = Fix {
+        utc: Some(UtcTime::from_minute_of_year(2024, 2002)),
+        ..fix_at(3.5, 352.0, 10.0)
+    };
+    obu.set_reference_time(
+        Instant::from_millis(1200),
+        UtcTime::from_minute_of_year(2024, 2002),
+    );
+    let s = obu.on_fix(Instant::from_millis(1200), late);
+    assert_eq!(
+        (s.time_status, s.zone_state),
+        (TimeStatus::Trusted, ZoneState::None)
+    );
+    let _ = obu.poll(Instant::from_millis(1300));
+    assert_eq!(obu.zones().len(), 0);
 }
 
 #[test]

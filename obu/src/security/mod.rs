@@ -149,6 +149,18 @@ pub enum AnchorError {
     Full,
 }
 
+/// Of two clocks (either may be unknown), the one nearer `generated`.
+fn nearer_clock(a: Option<u64>, b: Option<u64>, generated: u64) -> Option<u64> {
+    match (a, b) {
+        (Some(a), Some(b)) => Some(if a.abs_diff(generated) <= b.abs_diff(generated) {
+            a
+        } else {
+            b
+        }),
+        (a, b) => a.or(b),
+    }
+}
+
 /// The message facts the policy needs besides the signature.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct CheckContext {
@@ -156,6 +168,11 @@ pub struct CheckContext {
     pub message_id: u16,
     /// GNSS time as `Time64` (TAI microseconds since 2004), if known.
     pub now_us: Option<u64>,
+    /// A second clock (the reference clock) while GNSS time disagrees with it
+    /// ([`crate::clock::TimeStatus::Unverified`]): the message's times are checked against
+    /// whichever of the two is nearer its generation time, so a receiver clock fault
+    /// neither drops every message nor lets one through that both clocks call old.
+    pub alt_now_us: Option<u64>,
     /// The vehicle's last position, if known.
     pub position: Option<LatLon>,
 }
@@ -300,13 +317,13 @@ impl Trust {
             return Err(Rejection::UnsupportedAlgorithm);
         }
         let generated = header.generation_time.ok_or(Rejection::NoGenerationTime)?.0;
-        let now = ctx.now_us.ok_or(Rejection::NoTime)?;
+        let now = nearer_clock(ctx.now_us, ctx.alt_now_us, generated).ok_or(Rejection::NoTime)?;
         if self.generator.is_none() {
             self.generator = Some(GeneratorTable::new());
         }
         let index = self.signer(&signed.signer, header.psid)?;
         let signer = &self.cache[index];
-        self.check_certified(signer, signed, ctx)?;
+        self.check_certified(signer, signed, ctx, now)?;
         let skew = u64::from(self.config().max_skew_ms) * 1000;
         if generated > now.saturating_add(skew) {
             return Err(Rejection::GenerationTimeFuture);
@@ -338,16 +355,17 @@ impl Trust {
         Ok(())
     }
 
-    /// The checks against the signer certificate: validity, PSID, region.
+    /// The checks against the signer certificate: validity (at generation and at `now`),
+    /// PSID, region.
     fn check_certified(
         &self,
         signer: &TrustedCert,
         signed: &SignedData<'_>,
         ctx: &CheckContext,
+        now: u64,
     ) -> Result<(), Rejection> {
         let header = &signed.header;
         let generated = header.generation_time.map_or(0, |t| t.0);
-        let now = ctx.now_us.unwrap_or(generated);
         check_validity(signer, generated.min(now), generated.max(now))?;
         let Some(granted) = signer.permission(header.psid) else {
             return Err(Rejection::PsidNotPermitted);

@@ -52,6 +52,7 @@ fn check(trust: &mut Trust, v: &SignedVector) -> Result<(), Rejection> {
     let ctx = CheckContext {
         message_id: message_id(v),
         now_us: Some(v.now),
+        alt_now_us: None,
         position: None,
     };
     trust.check(data.signed_data().unwrap(), &ctx)
@@ -133,12 +134,14 @@ fn a_psid_of_another_message_is_refused() {
     let ctx = CheckContext {
         message_id: 31, // a TIM id with the MAP PSID
         now_us: Some(map.now),
+        alt_now_us: None,
         position: None,
     };
     let result = trust.check(data.signed_data().unwrap(), &ctx);
     assert_eq!(result, Err(Rejection::PsidMismatch));
     let no_time = CheckContext {
         now_us: None,
+        alt_now_us: None,
         ..ctx
     };
     let result = trust.check(data.signed_data().unwrap(), &no_time);
@@ -206,6 +209,7 @@ fn a_payload_verified_lately_is_taken_again_only_within_reverify_ms() {
     let at = |now_us| CheckContext {
         message_id: 31,
         now_us: Some(now_us),
+        alt_now_us: None,
         position: None,
     };
     // Verified once at `now`: the same payload half a second later is taken without its
@@ -296,6 +300,7 @@ fn a_required_ssp_must_be_granted_byte_for_byte() {
     let ctx = CheckContext {
         message_id: 31,
         now_us: Some(700_000_001_000_000),
+        alt_now_us: None,
         position: None,
     };
     let with = |ssp: &[u8]| {

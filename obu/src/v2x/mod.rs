@@ -166,6 +166,7 @@ impl Obu {
                 let ctx = CheckContext {
                     message_id: id,
                     now_us: self.time64(now),
+                    alt_now_us: self.alt_time64(now),
                     position: self.position(),
                 };
                 trust.check(&signed, &ctx).map_err(DropReason::from)?;

@@ -107,7 +107,9 @@ fn payload_error(e: postcard::Error) -> LinkError {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use obu::alert::{Alert, AlertKind, Counters, LaneAdvice, LaneInfo, ZoneState};
+    use obu::alert::{
+        Alert, AlertKind, AlertStage, Counters, LaneAdvice, LaneInfo, PositionSource, ZoneState,
+    };
 
     fn sample(time_ms: u64) -> HmiState {
         let mut s = HmiState {
@@ -216,6 +218,7 @@ mod tests {
     fn the_largest_state_fits_the_buffers() {
         let alert = Alert {
             kind: AlertKind::NoRoadsideData,
+            stage: AlertStage::Urgent,
             distance_m: Some(f32::MAX),
             limit_mps: Some(f32::MIN),
         };
@@ -238,7 +241,17 @@ mod tests {
                 zones_cancelled: max,
                 expired: max,
                 other_messages: max,
+                rollover_fixes: max,
+                unverified_time_fixes: max,
             },
+            speed_limit_mps: Some(f32::MAX),
+            limit_ahead_mps: Some(f32::MAX),
+            limit_ahead_m: Some(f32::MAX),
+            decel_needed_mps2: Some(f32::MAX),
+            speed_alarm: true,
+            stage: AlertStage::Urgent,
+            position: PositionSource::Estimated,
+            time_status: obu::clock::TimeStatus::Unverified,
             ..sample(u64::MAX)
         };
         while s.others.push(alert).is_ok() {}
