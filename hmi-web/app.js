@@ -102,7 +102,12 @@
     if (app.conn !== 'live') {
       const since = app.msg ? root.HmiStream.stats().since_last_ms : null;
       const ago = since !== null ? ' · last data ' + F.ageText(since) + ' ago' : '';
-      if (!app.everLive && !app.msg) return { sev: 'offline', icon: 'i-plug-off', title: 'Connecting…', detail: 'Waiting for the vehicle unit', kind: 'disconnected' };
+      if (!app.everLive && !app.msg) {
+        // opened without the unit (e.g. from the offline shell): say so once a try failed
+        const failed = root.HmiStream.stats().stream_errors > 0;
+        return { sev: 'offline', icon: 'i-plug-off', kind: 'disconnected', title: failed ? 'Disconnected' : 'Connecting…',
+          detail: failed ? 'Vehicle unit not reachable · retrying' : 'Waiting for the vehicle unit' };
+      }
       return {
         sev: 'offline', icon: 'i-plug-off', title: 'Disconnected', kind: 'disconnected',
         detail: (app.conn === 'stale' ? 'No data from the vehicle unit' : 'Reconnecting to the vehicle unit') + ago,
@@ -211,6 +216,22 @@
     setData($('rsu-chip'), 'trust', rsu.trust);
     const n = (x, one, many) => (F.finite(x) ? x : 0) + ' ' + ((x === 1) ? one : many);
     setText($('data-chip'), n(s.maps, 'map', 'maps') + ' · ' + n(s.zones, 'zone', 'zones'));
+    fitChips();
+  }
+
+  /** The map/zone counts, then the GNSS age, give way when the status chips do not fit. */
+  function fitChips() {
+    const box = doc.querySelector('.chips');
+    const optional = [$('data-chip'), $('gnss-chip').querySelector('.chip-extra')];
+    const fits = () => {
+      const right = box.getBoundingClientRect().right + 0.5;
+      return Array.from(box.children).every((c) => c.hidden || c.getBoundingClientRect().right <= right);
+    };
+    optional.forEach((el) => { el.hidden = false; });
+    for (const el of optional) {
+      if (fits()) break;
+      el.hidden = true;
+    }
   }
 
   function renderLanes(s) {

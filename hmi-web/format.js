@@ -206,8 +206,7 @@
     const none = { value: '', unit: '', approx: false };
     if (state && state.roadside_data === false) return Object.assign({ mode: 'unknown', label: 'No roadside data' }, none);
     if (pos === 'Lost') {
-      const zone = ZONE_KNOWN.indexOf(z) >= 0;
-      return Object.assign({ mode: 'unknown', label: zone ? 'Position lost · zone ahead' : 'Position lost' }, none);
+      return Object.assign({ mode: 'unknown', label: 'Position lost' }, none);
     }
     const approx = pos === 'Estimated';
     if (z === 'InZone' || (finite(d) && d <= 0 && z !== 'Leaving' && z !== 'None' && z !== undefined)) {

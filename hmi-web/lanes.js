@@ -84,7 +84,7 @@
     const hasClosure = lanes.some((l) => l.closed);
     return {
       lanes,
-      approximate: order.approximate && lanes.length > 0,
+      approximate: order.approximate && lanes.length > 0 && !message,
       carIndex: carIndex >= 0 ? carIndex : null,
       carUncertain: carIndex >= 0 && (conf < UNCERTAIN_BELOW || pos === 'Estimated'),
       estimated: pos === 'Estimated',

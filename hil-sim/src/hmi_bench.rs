@@ -48,11 +48,13 @@ pub const ZONE_END_M: f64 = 1700.0;
 
 /// The scenes. With the default settings (warning 100 m, lead time 9 s, approach at 3x
 /// the warning distance, overspeed 5 km/h over the 40 km/h limit, a lane change takes
-/// max(5 s, 30 m)): cruise far before the zone; approach 250-550 m before it at 22 m/s
+/// max(5 s, 30 m)): cruise far before the zone; speeding the same at 27 m/s (97 km/h on
+/// the 80 km/h road: the speed alarm with no alert); approach 250-550 m before it at 22 m/s
 /// (warning 198 m); warning 10-80 m before it at 10.5 m/s in the open lane 2, below the
 /// zone limit; lane_closed the same in the closed lane 3; urgent 10-40 m before it in the
-/// closed lane 3 at 10.5 m/s (a lane change needs 52 m); overspeed 10-80 m before it at
-/// 16.5 m/s; in_zone inside it; leaving just after it.
+/// closed lane 3 at 10.5 m/s (a lane change needs 52 m); overspeed 10-60 m before it at
+/// 22 m/s (slowing to 40 km/h by the zone needs more than the comfortable 2.5 m/s²: Urgent);
+/// in_zone inside it; leaving just after it.
 pub const SCENES: &[Scene] = &[
     Scene {
         name: "cruise",
@@ -60,6 +62,13 @@ pub const SCENES: &[Scene] = &[
         from_m: 100.0,
         to_m: 800.0,
         speed_mps: 22.0,
+    },
+    Scene {
+        name: "speeding",
+        lane: 2,
+        from_m: 100.0,
+        to_m: 600.0,
+        speed_mps: 27.0,
     },
     Scene {
         name: "approach",
@@ -92,9 +101,9 @@ pub const SCENES: &[Scene] = &[
     Scene {
         name: "overspeed",
         lane: 2,
-        from_m: 1420.0,
+        from_m: 1440.0,
         to_m: 1490.0,
-        speed_mps: 16.5,
+        speed_mps: 22.0,
     },
     Scene {
         name: "in_zone",

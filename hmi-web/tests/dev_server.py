@@ -72,6 +72,11 @@ def scene_cruise(s, t):
     s['speed_mps'] = 22.0 + 0.3 * ((t * 10) % 3)
 
 
+def scene_speeding(s, t):
+    """97 km/h on the 80 km/h road: the speed alarm, no alert."""
+    s.update(speed_mps=27.0, speed_alarm=True)
+
+
 def zone_ahead(s, d, stage):
     """A zone ahead at d metres: the 40 km/h limit starts there (the road's limit is in force)."""
     s.update(zone_state='Warning' if stage in ('Warning', 'Urgent') else 'Approaching', distance_m=d,
@@ -145,6 +150,7 @@ def scene_no_roadside(s, t):
 
 SCENES = {
     'cruise': scene_cruise,
+    'speeding': scene_speeding,
     'approach': scene_approach,
     'warning': scene_warning,
     'lane_closed': scene_lane_closed,

@@ -44,10 +44,17 @@ export function overflowReport() {
   for (const el of document.querySelectorAll('.qty, .chip, .other, .speed, .limit-value, .ahead-where, .pos-marker, .sound-label, .btn')) {
     const r = el.getBoundingClientRect();
     if (r.width <= 1 || !el.checkVisibility()) continue;
-    const range = document.createRange();
-    range.selectNodeContents(el);
-    const tops = new Set([...range.getClientRects()].filter((q) => q.width > 0).map((q) => Math.round(q.bottom / 4)));
-    if (tops.size > 1 && getComputedStyle(el).whiteSpace !== 'nowrap') out.push(`${name(el)} "${text(el)}" wraps over ${tops.size} lines`);
+    // the text's line boxes: two that do not overlap vertically are two lines
+    const rects = [];
+    const walker = document.createTreeWalker(el, NodeFilter.SHOW_TEXT);
+    for (let n = walker.nextNode(); n; n = walker.nextNode()) {
+      if (!n.textContent.trim()) continue;
+      const range = document.createRange();
+      range.selectNodeContents(n);
+      rects.push(...[...range.getClientRects()].filter((q) => q.width > 0));
+    }
+    const wrapped = rects.some((a) => rects.some((b) => b.top >= a.bottom - 1));
+    if (wrapped) out.push(`${name(el)} "${text(el)}" wraps over several lines`);
   }
   return out;
 }
@@ -63,7 +70,7 @@ export const STAGES = [
   { name: 'information', steps: [...reset, ['approach', null]], pred: (s) => live(s) && s.stage === 'Information' && s.zone_state === 'Approaching' },
   { name: 'warning', steps: [...reset, ['warning', null]], pred: (s) => live(s) && s.stage === 'Warning' },
   { name: 'urgent', steps: [...reset, ['urgent', null]], pred: (s) => live(s) && s.stage === 'Urgent' },
-  { name: 'in_zone', steps: [...reset, ['in_zone', null]], pred: (s) => live(s) && s.zone_state === 'InZone' },
+  { name: 'in_zone', steps: [...reset, ['in_zone', null]], pred: (s) => live(s) && s.zone_state === 'InZone' && s.stage !== 'Urgent' },
   { name: 'estimated', steps: [...reset, ['warning', (s) => live(s) && s.stage === 'Warning'], ['gnss_lost', null]],
     pred: (s) => s.position === 'Estimated' && s.zone_state !== 'None' && s.distance_m !== null },
   { name: 'lost', steps: [...reset, ['approach', (s) => live(s) && s.zone_state === 'Approaching'], ['gnss_lost', null]],

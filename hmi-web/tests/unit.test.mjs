@@ -36,7 +36,7 @@ test('distance field: countdown, in zone, leaving, unknown', () => {
   assert.equal(F.distanceView({ zone_state: 'InZone', distance_m: -12 }, 'kmh').value, 'IN ZONE');
   assert.equal(F.distanceView({ zone_state: 'Leaving', distance_m: -130 }, 'kmh').mode, 'leaving');
   assert.equal(F.distanceView({ zone_state: 'None', distance_m: null }, 'kmh').label, 'No work zone ahead');
-  assert.equal(F.distanceView({ zone_state: 'None', gnss_ok: false }, 'kmh').label, 'Position unknown');
+  assert.equal(F.distanceView({ zone_state: 'None', gnss_ok: false }, 'kmh').label, 'Position lost');
   assert.equal(F.distanceView({ zone_state: 'Approaching', distance_m: null }, 'kmh').value, '—');
 });
 
@@ -58,15 +58,58 @@ test('every alert kind has a colour, an icon and short text', () => {
   assert.equal(F.describeAlert({ kind: 'SomethingNew' }, {}).title, 'SomethingNew');
 });
 
-test('tone while Warning, Overspeed or own lane closed; urgency', () => {
-  assert.equal(F.toneWanted({ zone_state: 'Warning', primary: null }), true);
-  assert.equal(F.toneWanted({ zone_state: 'InZone', primary: { kind: 'Overspeed' } }), true);
-  assert.equal(F.toneWanted({ zone_state: 'Approaching', primary: { kind: 'LaneClosedOwn' } }), true);
-  assert.equal(F.toneWanted({ zone_state: 'Approaching', primary: { kind: 'ReducedSpeedAhead' } }), false);
-  assert.equal(F.toneWanted({ zone_state: 'InZone', primary: null }), false);
-  assert.equal(F.toneWanted(null), false);
-  assert.equal(F.toneLevel({ primary: { kind: 'Overspeed' } }), 'high');
-  assert.equal(F.toneLevel({ zone_state: 'Warning', primary: { kind: 'ReducedSpeedAhead' } }), 'normal');
+test('stage: from the server, or from the old rules without it; colour follows the stage only', () => {
+  assert.equal(F.stageOf({ stage: 'Urgent' }), 'Urgent');
+  assert.equal(F.stageOf({ stage: 'bogus', zone_state: 'Warning' }), 'Warning');
+  assert.equal(F.stageOf({ zone_state: 'InZone', primary: { kind: 'Overspeed' } }), 'Urgent');
+  assert.equal(F.stageOf({ zone_state: 'Approaching', primary: { kind: 'ReducedSpeedAhead' } }), 'Information');
+  assert.equal(F.stageOf(null), 'None');
+  assert.equal(F.stageSev('Warning', 'amber'), 'red');
+  assert.equal(F.stageSev('Urgent', 'info'), 'red');
+  assert.equal(F.stageSev('Information', 'red'), 'amber');
+  assert.equal(F.stageSev('None', 'red'), 'zone', 'a red kind without a stage is not red');
+  assert.equal(F.stageSev('None', 'info'), 'info');
+  const b = (st, kind) => F.banner({ stage: st, zone_state: 'Warning', distance_m: 60, position: 'Live', primary: { kind, distance_m: 60 } }, 'kmh');
+  assert.equal(b('Information', 'Overspeed').sev, 'amber');
+  assert.equal(b('Warning', 'ReducedSpeedAhead').sev, 'red');
+});
+
+test('tone: urgent, warning or none, only while live', () => {
+  assert.equal(F.toneFor({ stage: 'Urgent' }, true), 'urgent');
+  assert.equal(F.toneFor({ stage: 'Warning' }, true), 'warning');
+  assert.equal(F.toneFor({ stage: 'Information' }, true), 'none');
+  assert.equal(F.toneFor({ stage: 'Urgent' }, false), 'none');
+  assert.equal(F.toneFor(null, true), 'none');
+});
+
+test('position: estimated keeps the countdown marked, lost never shows green', () => {
+  const est = { stage: 'Warning', zone_state: 'Warning', distance_m: 84, position: 'Estimated', gnss_ok: false, roadside_data: true };
+  const v = F.distanceView(est, 'kmh');
+  assert.equal(v.value, '85');
+  assert.equal(v.approx, true);
+  assert.match(v.label, /estimated/);
+  const lost = { stage: 'None', zone_state: 'Approaching', distance_m: null, position: 'Lost', gnss_ok: false, roadside_data: true, primary: null };
+  const b = F.banner(lost, 'kmh');
+  assert.equal(b.title, 'Position lost');
+  assert.notEqual(b.sev, 'calm');
+  assert.match(b.detail, /Work zone ahead/);
+  assert.equal(F.distanceView(lost, 'kmh').label, 'Position lost');
+  assert.notEqual(F.calmBanner({ zone_state: 'None', position: 'Lost', gnss_ok: false }, 'kmh').sev, 'calm');
+  assert.equal(F.positionOf({ gnss_ok: false }), 'Lost', 'an older core without position');
+  assert.equal(F.positionOf({ gnss_ok: true }), 'Live');
+  assert.equal(F.banner({ zone_state: 'None', position: 'Live', roadside_data: true }, 'kmh').sev, 'calm');
+});
+
+test('limit ahead plate, and the warning distance in ft with mph', () => {
+  assert.deepEqual(F.limitAhead({ limit_ahead_mps: 11.12, limit_ahead_m: 100 }, 'kmh'), { value: '40', where: 'in 100 m' });
+  assert.deepEqual(F.limitAhead({ limit_ahead_mps: 11.176, limit_ahead_m: 100 }, 'mph'), { value: '25', where: 'in 350 ft' });
+  assert.equal(F.limitAhead({ limit_ahead_mps: null, limit_ahead_m: 100 }, 'kmh'), null);
+  assert.equal(F.limitAhead({ limit_ahead_mps: 11.12, limit_ahead_m: null }, 'kmh').where, 'ahead');
+  assert.equal(F.formDistance(150, 'mph'), 492);
+  assert.equal(F.metresFromForm(492, 'mph'), 150);
+  assert.equal(F.formDistance(150, 'kmh'), 150);
+  const r = F.formDistanceRange('mph');
+  assert.ok(F.metresFromForm(r.min, 'mph') >= 20 && F.metresFromForm(r.max, 'mph') <= 2000, 'the ft range stays within 20-2000 m');
 });
 
 const base = { zone_state: 'Warning', distance_m: 80, gnss_ok: true, roadside_data: true, lane_confidence: 90, advice: 'None' };
@@ -102,6 +145,11 @@ test('the car is never claimed without a lane; low confidence is a guess', () =>
   assert.equal(guess.carUncertain, true);
   const nognss = L.model({ ...base, gnss_ok: false, road_lanes: [1, 2], lane: null }, {});
   assert.equal(nognss.message, 'No GNSS');
+  const lost = L.model({ ...base, gnss_ok: false, position: 'Lost', road_lanes: [1, 2], lane: null }, {});
+  assert.equal(lost.message, 'Position lost');
+  const est = L.model({ ...base, gnss_ok: false, position: 'Estimated', road_lanes: [1, 2], lane: { map: 1, lane: 1 } }, {});
+  assert.equal(est.message, '');
+  assert.equal(est.carUncertain, true, 'a dead-reckoned car is drawn as a guess');
 });
 
 test('closure moves toward the car as the distance shrinks; spans it in the zone', () => {
