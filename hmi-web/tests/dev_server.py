@@ -18,7 +18,8 @@ exists. Python 3 standard library only.
   python3 dev_server.py drive SCENE      (HMI_URL=http://host:port in the environment)
       Switches the running stand-in to SCENE and holds it (this is the stand-in's
       HMI_DRIVER_CMD). Scenes: see SCENES below; `gnss_lost`/`gnss_back` toggle a GNSS dropout
-      on top of the current scene; `silent` keeps the stream open with heartbeats only.
+      on top of the current scene (Estimated for 5 s, then Lost), `time_fault`/`time_ok` mark the
+      time unverified and back; `silent` keeps the stream open with heartbeats only.
 """
 
 import argparse

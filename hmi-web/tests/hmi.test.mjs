@@ -3,7 +3,7 @@
 import { describe, it, before, after } from 'node:test';
 import assert from 'node:assert/strict';
 import { env, Server, drive, watchEvents, launch, openPage, waitLive, shot, sleep, pairCookie, pairContext } from './harness.mjs';
-import { STAGES, VIEWPORTS, overflowReport } from './screen.mjs';
+import { STAGES, LAYOUTS, overflowReport } from './screen.mjs';
 
 const SCREEN_MS = 500;                                            // server sent it -> on screen
 const GNSS_MS = Number(process.env.HMI_GNSS_DEADLINE_MS || 1000); // dropout -> "No GNSS" on screen
@@ -57,7 +57,7 @@ function shown(p, seq) {
 
 /** No element overflows or is cut, and at most one element is red: at each viewport. */
 async function checkLayouts(p, label, extra = async () => {}) {
-  for (const vp of VIEWPORTS) {
+  for (const vp of LAYOUTS) {
     await p.setViewportSize({ width: vp.width, height: vp.height });
     await p.evaluate(() => new Promise((r) => requestAnimationFrame(() => requestAnimationFrame(r))));
     const over = await p.evaluate(overflowReport);
@@ -312,7 +312,7 @@ describe('driver display', () => {
   });
 
   for (const stage of STAGES) {
-    it(`stage scene "${stage.name}": nothing cut at 390x844 and 1280x800, one red element at most`, async () => {
+    it(`stage scene "${stage.name}": nothing cut at 360-430 px wide and 1280x800, one red element at most`, async () => {
       const p = await ctx.newPage();
       try {
         await p.setViewportSize({ width: 1280, height: 800 });

@@ -83,3 +83,11 @@ export const VIEWPORTS = [
   { name: 'phone', width: 390, height: 844 },
   { name: 'tablet', width: 1280, height: 800 },
 ];
+
+/** Every layout the checks run at: the phone widths 360-430 px and the tablet. */
+export const LAYOUTS = [
+  { name: 'phone360', width: 360, height: 740 },
+  ...VIEWPORTS.slice(0, 1),
+  { name: 'phone430', width: 430, height: 932 },
+  ...VIEWPORTS.slice(1),
+];
