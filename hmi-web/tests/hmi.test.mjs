@@ -66,6 +66,14 @@ async function checkLayouts(p, label, extra = async () => {}) {
     assert.ok(red.n <= 1, `${label} at ${vp.width}x${vp.height}: ${red.n} red elements (${red.list.join(', ')})`);
     const scroll = await p.evaluate(() => [document.scrollingElement.scrollWidth, document.scrollingElement.scrollHeight]);
     assert.ok(scroll[0] <= vp.width && scroll[1] <= vp.height, `${label}: no scrolling (${scroll})`);
+    // every other alert is a visible chip, or counted in the "+N" chip
+    const chips = await p.evaluate(() => {
+      const shown = [...document.querySelectorAll('#others .other')].filter((c) => c.checkVisibility());
+      const more = shown.find((c) => c.dataset.kind === 'more');
+      return { shown: shown.length - (more ? 1 : 0), more: more ? Number(more.textContent.replace('+', '')) : 0,
+        live: window.hmi.connection() === 'live' && document.body.dataset.view === 'drive', others: (window.hmi.lastState() || {}).others || [] };
+    });
+    if (chips.live) assert.equal(chips.shown + chips.more, chips.others.length, `${label} at ${vp.width}x${vp.height}: every alert chip shown or in "+N"`);
     await extra(vp, red.n, red.state);
     await shot(p, `${label}-${vp.name}`);
   }
@@ -159,7 +167,7 @@ describe('driver display', () => {
   it('tone: Warning plays one group when entered, not again; Urgent repeats every 2 s and stops when the stage drops', async () => {
     const actx = await launch({ autoplay: true });
     const stages = [];
-    const stop = events.listen((m) => stages.push(m.state.stage));
+    let stop = events.listen((m) => stages.push(m.state.stage));
     try {
       // record every oscillator frequency the page sets (the tone must be in the 1-5 kHz band)
       await actx.addInitScript(() => {
@@ -215,6 +223,19 @@ describe('driver display', () => {
       const freqs = await p.evaluate(() => window.__freqs);
       assert.ok(freqs.length >= 2 && freqs.every((f) => f >= 1000 && f <= 5000), `tone frequencies ${freqs}`);
       await shot(p, 'urgent');
+
+      // the link is lost: the tone stops at once; back in the same Urgent it repeats again
+      await server.stop();
+      await p.waitForFunction(() => window.hmi.connection() !== 'live', null, { timeout: 3000, polling: 50 });
+      const nLost = await tones();
+      await sleep(2500);
+      assert.equal(await tones(), nLost, 'no tone while the link is lost');
+      await server.start();
+      events.close();
+      events = watchEvents(url);
+      stop = events.listen((m) => stages.push(m.state.stage));
+      await waitLive(p, 10000);
+      await p.waitForFunction((n) => window.hmi.tonesScheduled() > n, nLost, { timeout: 3000 });
 
       // the driver complies (Urgent -> Warning): the tone stops at once, no new group
       stages.length = 0;
@@ -659,6 +680,21 @@ describe('driver display', () => {
       await shot(phone, 'phone_night');
     } finally {
       await phone.close();
+    }
+  });
+
+  it('settings and diagnostics pages: nothing cut at 360-430 px wide and 1280x800', async () => {
+    const p = await ctx.newPage();
+    try {
+      await p.goto(url + '/#settings');
+      await waitLive(p);
+      await p.waitForFunction(() => document.getElementById('set-distance').value !== '');
+      await checkLayouts(p, 'page_settings');
+      await p.goto(url + '/#diag');
+      await p.waitForFunction(() => document.querySelectorAll('#diag-status dt').length > 0, null, { timeout: 5000 });
+      await checkLayouts(p, 'page_diag');
+    } finally {
+      await p.close();
     }
   });
 

@@ -23,14 +23,18 @@ export function overflowReport() {
     if (hiddenAncestor) continue;
     const r = el.getBoundingClientRect();
     if (r.width <= 1 || r.height <= 1) continue; // nothing drawn (or a screen-reader-only text)
-    if (r.left < -0.5 || r.top < -0.5 || r.right > vw + 0.5 || r.bottom > vh + 0.5) {
+    const inScroller = !!el.parentElement && !!el.parentElement.closest('.page');
+    if (r.left < -0.5 || r.right > vw + 0.5 || (!inScroller && (r.top < -0.5 || r.bottom > vh + 0.5))) {
       out.push(`${name(el)} "${text(el)}" outside the viewport: ${JSON.stringify(r.toJSON())}`);
     }
     for (let a = el.parentElement; a && a !== document.documentElement; a = a.parentElement) {
       const acs = getComputedStyle(a);
       if (!clipped(acs)) continue;
       const ar = a.getBoundingClientRect();
-      if (r.left < ar.left - 0.5 || r.right > ar.right + 0.5 || r.top < ar.top - 0.5 || r.bottom > ar.bottom + 0.5) {
+      // a vertically scrolling page is not a cut below its fold
+      const scrollsY = acs.overflowY === 'auto' || acs.overflowY === 'scroll';
+      const outY = !scrollsY && (r.top < ar.top - 0.5 || r.bottom > ar.bottom + 0.5);
+      if (r.left < ar.left - 0.5 || r.right > ar.right + 0.5 || outY) {
         out.push(`${name(el)} "${text(el)}" cut by ${name(a)}: ${Math.round(r.left)}..${Math.round(r.right)} x ${Math.round(r.top)}..${Math.round(r.bottom)} in ${Math.round(ar.left)}..${Math.round(ar.right)} x ${Math.round(ar.top)}..${Math.round(ar.bottom)}`);
       }
       break;
