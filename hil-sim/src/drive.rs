@@ -62,6 +62,12 @@ pub struct DriveSpec {
     /// Seed of the noise.
     #[serde(default = "default_seed")]
     pub seed: u64,
+    /// The receiver's clock error, seconds (positive: ahead of true time).
+    #[serde(default)]
+    pub clock_offset_s: f64,
+    /// The receiver reports dates 1024 weeks early (a GPS week-number rollover fault).
+    #[serde(default)]
+    pub week_rollover: bool,
     /// Replay this recorded NMEA log (relative to the scenario) at its own pace, its
     /// times restamped to now, instead of the generated sentences; the drive's other
     /// keys still give the truth the expectations use (record the log with `hil-sim
@@ -69,6 +75,20 @@ pub struct DriveSpec {
     pub nmea_file: Option<std::path::PathBuf>,
     /// Replay this candump log as the vehicle's CAN speed (instead of generating one).
     pub candump_file: Option<std::path::PathBuf>,
+}
+
+/// 1024 weeks, milliseconds: the GPS week-number rollover period.
+pub const ROLLOVER_MS: i64 = 1024 * 7 * 86_400_000;
+
+impl DriveSpec {
+    /// What the receiver's clock reads when the true time is `unix_ms`.
+    pub fn receiver_clock(&self, unix_ms: u64) -> u64 {
+        let mut ms = unix_ms as i64 + (self.clock_offset_s * 1000.0).round() as i64;
+        if self.week_rollover {
+            ms -= ROLLOVER_MS;
+        }
+        ms.max(0) as u64
+    }
 }
 
 fn default_speed() -> f64 {

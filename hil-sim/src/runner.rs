@@ -197,7 +197,9 @@ fn drive_and_record(
         None => None,
     };
     match &replay {
-        Some(epochs) => replay_nmea(epochs, &samples, daemon, &sock, t0, progress, &mut sent),
+        Some(epochs) => replay_nmea(
+            epochs, &s.drive, &samples, daemon, &sock, t0, progress, &mut sent,
+        ),
         None => send_generated(s, road, &samples, daemon, &sock, t0, progress, &mut sent),
     }
     if progress {
@@ -254,7 +256,10 @@ fn send_generated(
         std::thread::sleep(due.saturating_duration_since(Instant::now()));
         if let Some(position) = sample.reported.and_then(|p| road.to_wgs84(p)) {
             let e = Epoch {
-                utc: Utc::from_unix_ms(utc0 + (sample.t_s * 1000.0).round() as u64),
+                utc: Utc::from_unix_ms(
+                    s.drive
+                        .receiver_clock(utc0 + (sample.t_s * 1000.0).round() as u64),
+                ),
                 position,
                 speed_mps: sample.speed_mps,
                 course_deg: sample.bearing_deg,
@@ -271,8 +276,10 @@ fn send_generated(
 
 /// Sends a recorded log's epochs at their own offsets, restamped to now; the j-th epoch
 /// stands for the j-th sample with a fix (the truth of the drive it was recorded from).
+#[allow(clippy::too_many_arguments)]
 fn replay_nmea(
     epochs: &[nmea::RecordedEpoch],
+    drive: &crate::drive::DriveSpec,
     samples: &[Sample],
     daemon: &Daemon,
     sock: &UdpSocket,
@@ -287,7 +294,7 @@ fn replay_nmea(
         std::thread::sleep(
             (t0 + Duration::from_secs_f64(*offset)).saturating_duration_since(Instant::now()),
         );
-        let now = Utc::now();
+        let now = Utc::from_unix_ms(drive.receiver_clock(unix_ms_now()));
         let text: String = lines
             .iter()
             .filter_map(|l| nmea::restamp(l, &now))
@@ -356,6 +363,10 @@ fn report(
         let sample = sent.map(|(k, _)| *k);
         let truth = sample.map(|k| &rec.samples[k]);
         let dist = truth.and_then(|t| zones.first().and_then(|z| true_distance(road, z, t)));
+        // The truth when the state arrived (during a GNSS outage the last fix is old).
+        let now_dist = zones
+            .first()
+            .and_then(|z| distance_at(road, z, &rec.samples, since(*at)));
         states_file.push_str(
             &serde_json::json!({"t_s": since(*at), "sample": sample, "state": v["state"]})
                 .to_string(),
@@ -369,6 +380,7 @@ fn report(
             distance_m: dist.map(|d| d.0),
             zone_len_m: dist.map(|d| d.1),
             true_speed_mps: truth.map(|t| t.speed_mps),
+            now_distance_m: now_dist.map(|d| d.0),
         });
     }
     let v2x_to_screen = v2x_latencies(&rec, &records);
@@ -385,10 +397,7 @@ fn report(
             .copied()
             .unwrap_or(f64::NAN)
     };
-    let first_warning_m = records
-        .iter()
-        .find(|r| r.state.zone_state == obu::alert::ZoneState::Warning)
-        .and_then(|r| r.distance_m);
+    let first_warning_m = expect::first_warning(&records).map(|(_, d)| d);
     let mut files = vec![opts.out.join("report.json"), opts.out.join("states.jsonl")];
     std::fs::write(&files[1], states_file).map_err(|e| e.to_string())?;
     files.extend(crate::report_plots::write(
@@ -445,6 +454,22 @@ fn v2x_latencies(rec: &Recorded, records: &[Record]) -> Vec<f64> {
 }
 
 /// Times of the run the checks need.
+/// The true distance to `zone` (and its length) `t_s` seconds into the drive, interpolated
+/// between the samples around it.
+fn distance_at(road: &Road, zone: &WorkZone, samples: &[Sample], t_s: f64) -> Option<(f64, f64)> {
+    let x = (t_s / drive::EPOCH_S).max(0.0);
+    let k = (x.floor() as usize).min(samples.len().saturating_sub(1));
+    let a = true_distance(road, zone, samples.get(k)?)?;
+    let Some(b) = samples
+        .get(k + 1)
+        .and_then(|s| true_distance(road, zone, s))
+    else {
+        return Some(a);
+    };
+    let f = (x - k as f64).clamp(0.0, 1.0);
+    Some((a.0 + f * (b.0 - a.0), a.1))
+}
+
 fn run_facts(s: &Scenario, rec: &Recorded) -> RunFacts {
     let dropout_starts_s = s
         .drive
@@ -460,6 +485,12 @@ fn run_facts(s: &Scenario, rec: &Recorded) -> RunFacts {
         .collect();
     RunFacts {
         dropout_starts_s,
+        dropouts_s: s
+            .drive
+            .dropouts
+            .iter()
+            .map(|&(start, len)| (start, start + len))
+            .collect(),
         removed_at_s: s
             .zones
             .iter()
@@ -468,6 +499,7 @@ fn run_facts(s: &Scenario, rec: &Recorded) -> RunFacts {
         overspeed_tolerance_mps: 5.0 / 3.6,
         warning_distance_m: s.settings.warning_distance_m,
         attack: rec.attack.clone(),
+        can_speed: s.can_speed || s.drive.candump_file.is_some(),
     }
 }
 

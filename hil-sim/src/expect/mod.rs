@@ -1,9 +1,10 @@
 //! Expectations of a scenario, checked on the recorded states joined with the simulated
 //! truth (and, for a scenario with an attacker, the device's counters: [`crate::attack`]).
 
+mod alerts;
 mod attack;
 
-use obu::alert::{AlertKind, HmiState, ZoneState};
+use obu::alert::{AlertKind, AlertStage, HmiState, ZoneState};
 use serde::{Deserialize, Serialize};
 
 /// One recorded state with what was true when its fix was taken.
@@ -24,6 +25,20 @@ pub struct Record {
     pub zone_len_m: Option<f64>,
     /// True speed, m/s.
     pub true_speed_mps: Option<f64>,
+    /// True distance to the first zone's start when the state arrived, metres.
+    pub now_distance_m: Option<f64>,
+}
+
+impl Record {
+    /// The true distance a state is judged at: the fix's for a live state, where the car
+    /// was when it arrived for a dead-reckoned one.
+    pub fn judged_distance_m(&self) -> Option<f64> {
+        if self.state.gnss_ok {
+            self.distance_m
+        } else {
+            self.now_distance_m
+        }
+    }
 }
 
 /// What must hold.
@@ -93,6 +108,33 @@ pub enum Expectation {
         /// The drop reason: an `obu::v2x::DropReason` counter name.
         reason: String,
     },
+    /// Through every GNSS dropout the zone stays shown: each state without GNSS while the
+    /// zone is near (300 m ahead to its end) is dead-reckoned ("estimated") with the zone
+    /// state and a distance within `max_error_m` of the truth, and no speed is shown as if
+    /// live (the speed shown is `None` unless the scenario's speed comes from CAN).
+    ZoneKeptThroughDropout {
+        /// Largest error of the estimated distance, metres.
+        max_error_m: f64,
+    },
+    /// The first urgent state comes between `min_m` and `max_m` before the zone start.
+    UrgentBefore {
+        /// Least distance.
+        min_m: f64,
+        /// Greatest distance.
+        max_m: f64,
+    },
+    /// A complying driver: no state is urgent, and the stage rises to warning (the one
+    /// tone) at most once per zone.
+    NeverUrgent,
+    /// At least `min_fraction` of the states with a fix show the time status `status`
+    /// ("Trusted", "Unverified").
+    TimeStatusShown {
+        /// The status, as the state names it.
+        status: String,
+        /// Least fraction.
+        #[serde(default = "ninety")]
+        min_fraction: f64,
+    },
     /// From the attacker's first datagram to the end, every state holds what the last one
     /// before it held: the real roadside's lane maps and zones, verified, none stored,
     /// replaced or cancelled since (for a roadside that changes nothing meanwhile).
@@ -123,6 +165,8 @@ pub struct Outcome {
 pub struct RunFacts {
     /// Seconds (since the drive start) of the last fix sent before each dropout.
     pub dropout_starts_s: Vec<f64>,
+    /// Each dropout of the drive: (start, end), seconds since the drive start.
+    pub dropouts_s: Vec<(f64, f64)>,
     /// Seconds when a zone was removed.
     pub removed_at_s: Option<f64>,
     /// Configured overspeed tolerance, m/s.
@@ -131,6 +175,8 @@ pub struct RunFacts {
     pub warning_distance_m: f64,
     /// The attack, when the scenario has an attacker.
     pub attack: Option<crate::attack::AttackFacts>,
+    /// The vehicle speed comes from CAN (it stays shown through a GNSS dropout).
+    pub can_speed: bool,
 }
 
 /// True for alerts about a work zone (not about the data).
@@ -228,6 +274,22 @@ pub fn check(e: &Expectation, records: &[Record], facts: &RunFacts) -> Outcome {
             attack::forged_dropped(group, reason, facts)
         }
         Expectation::RoadsideKept => attack::roadside_kept(records, facts),
+        Expectation::ZoneKeptThroughDropout { max_error_m } => {
+            alerts::zone_kept_through_dropout(records, facts, *max_error_m)
+        }
+        Expectation::UrgentBefore { min_m, max_m } => {
+            alerts::urgent_before(records, *min_m, *max_m)
+        }
+        Expectation::NeverUrgent => alerts::never_urgent(records),
+        Expectation::TimeStatusShown {
+            status,
+            min_fraction,
+        } => fraction(
+            records.iter().filter(|r| r.state.gnss_ok),
+            |r| format!("{:?}", r.state.time_status) == *status,
+            *min_fraction,
+            &format!("with a fix showing time {status}"),
+        ),
     };
     Outcome {
         expectation: e.clone(),
@@ -236,7 +298,7 @@ pub fn check(e: &Expectation, records: &[Record], facts: &RunFacts) -> Outcome {
     }
 }
 
-fn fraction<'a>(
+pub(crate) fn fraction<'a>(
     set: impl Iterator<Item = &'a Record>,
     ok: impl Fn(&Record) -> bool,
     min: f64,
@@ -260,12 +322,22 @@ fn fraction<'a>(
     )
 }
 
+/// The first warning shown (state Warning, a stage of warning or more, or a zone alert
+/// inside) and the true distance it was shown at.
+pub fn first_warning(records: &[Record]) -> Option<(&Record, f64)> {
+    records
+        .iter()
+        .find(|r| {
+            r.state.zone_state == ZoneState::Warning
+                || r.state.stage >= AlertStage::Warning
+                || (r.state.zone_state == ZoneState::InZone
+                    && zone_alerts(&r.state).next().is_some())
+        })
+        .and_then(|r| r.judged_distance_m().map(|d| (r, d)))
+}
+
 fn warning_before(records: &[Record], min_m: f64, max_m: f64) -> (bool, String) {
-    let first = records.iter().find(|r| {
-        r.state.zone_state == ZoneState::Warning
-            || (r.state.zone_state == ZoneState::InZone && zone_alerts(&r.state).next().is_some())
-    });
-    match first.and_then(|r| r.distance_m.map(|d| (r, d))) {
+    match first_warning(records) {
         None => (false, "no warning was shown before the zone".into()),
         Some((r, d)) => {
             let ok = (min_m..=max_m).contains(&d);

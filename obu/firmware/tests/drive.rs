@@ -96,8 +96,8 @@ impl Sample {
     }
 }
 
-/// Fixes kept by the drive (it sends about 200: 259 m + the zone + 80 m at 2 m a fix).
-const MAX_SAMPLES: usize = 232;
+/// Fixes kept by the drive (it sends 201: 259 m + the zone + 80 m at 2 m a fix).
+const MAX_SAMPLES: usize = 216;
 
 /// East/north (metres from the reference point) and course at station `s` of lane 1 in its
 /// direction of travel, straight on beyond both ends.
@@ -337,7 +337,10 @@ mod tests {
             }
         }
 
-        // The warning: first at the trigger distance (within one fix of travel).
+        // The warning: at the last fix before the trigger would be passed, so at or before
+        // it and at most the look-ahead early (one fix period plus the display latency).
+        let lookahead =
+            super::SPEED * (super::EPOCH_MS as f64 / 1000.0 + CONFIG.display_latency_s as f64);
         let first = samples
             .iter()
             .position(|x| x.state == ZoneState::Warning)
@@ -345,24 +348,31 @@ mod tests {
         let w = samples[first];
         let shown = w.distance.expect("distance") as f64;
         defmt::info!(
-            "first warning at station {=f64} m: shown {=f64} m, expected {=f64} m, trigger {=f64} m, primary {}",
+            "first warning at station {=f64} m: shown {=f64} m, expected {=f64} m, trigger {=f64} m, look-ahead {=f64} m, primary {}",
             w.s,
             shown,
             w.expected(),
             trigger,
+            lookahead,
             defmt::Debug2Format(&w.primary)
         );
         assert!(
-            w.expected() <= trigger + MARGIN && w.expected() > trigger - STEP - MARGIN,
-            "warning {} m before the zone, trigger {} m (+- one fix)",
+            w.expected() >= trigger - MARGIN && w.expected() <= trigger + lookahead + MARGIN,
+            "warning {} m before the zone, trigger {} m (look-ahead {} m)",
             w.expected(),
-            trigger
+            trigger,
+            lookahead
         );
         assert!(
-            shown <= trigger && shown > trigger - STEP - MARGIN,
+            shown >= trigger && shown <= trigger + lookahead,
             "shown {} m at the first warning, trigger {} m",
             shown,
             trigger
+        );
+        assert!(
+            shown > trigger + lookahead - STEP,
+            "not earlier than the last fix before the trigger: shown {} m",
+            shown
         );
         let (kind, at) = w.primary.expect("an alert with the warning");
         assert!(kind <= AlertKind::WorkZoneAhead, "a zone alert: {:?}", kind);
@@ -370,7 +380,7 @@ mod tests {
         assert!(
             samples[..first]
                 .iter()
-                .all(|x| x.state == ZoneState::Approaching && x.expected() > trigger - MARGIN),
+                .all(|x| x.state == ZoneState::Approaching && x.expected() > trigger),
             "approaching until then"
         );
 

@@ -160,7 +160,10 @@ impl Obu {
         match self.fix_step_ms(now, &fix) {
             Some(step) => {
                 self.fix_clock = self.fix_clock + Duration::from_millis(step);
-                self.fix_period_ms = step.clamp(20, 2000) as u32;
+                // A step longer than the GNSS timeout is an outage, not the period.
+                if step <= self.config.gnss_timeout.millis() {
+                    self.fix_period_ms = step.clamp(20, 2000) as u32;
+                }
             }
             None => self.fix_clock = now,
         }

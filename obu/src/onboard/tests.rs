@@ -211,6 +211,19 @@ fn the_warning_comes_at_the_last_fix_before_its_distance() {
 }
 
 #[test]
+fn an_outage_is_not_the_fix_period() {
+    // A fix 3 s after the last one, 110 m out at 11 m/s: the period stays 100 ms, so the
+    // look-ahead is 2.2 m, not 3 s of travel.
+    let mut obu = obu_with(true);
+    let _ = drive(&mut obu, 1000, 0.0, 150.0, 11.0);
+    let _ = drive(&mut obu, 1100, 0.0, 151.1, 11.0);
+    let s = drive(&mut obu, 4100, 0.0, 290.0, 11.0);
+    assert_eq!(s.zone_state, ZoneState::Approaching);
+    let s = drive(&mut obu, 4200, 0.0, 297.9, 11.0);
+    assert_eq!(s.zone_state, ZoneState::Warning);
+}
+
+#[test]
 fn the_end_of_a_validity_window_is_a_deadline() {
     let mut obu = obu_with(false);
     let mut config = AlertConfig::DEFAULT;
