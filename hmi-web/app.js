@@ -133,10 +133,11 @@
 
   function renderOthers(s, units) {
     const list = app.conn === 'live' ? (s.others || []) : [];
-    const ctx = { units, advice: s.advice, limit_mps: s.speed_limit_mps };
+    const approx = F.positionOf(s) === 'Estimated';
+    const ctx = { units, advice: s.advice, limit_mps: s.speed_limit_mps, approx };
     const items = list.map((a) => {
       const d = F.describeAlert(a, ctx);
-      const ahead = F.aheadText(a.distance_m, units);
+      const ahead = F.aheadText(a.distance_m, units, approx);
       // chips are never red: a chip of an act-now kind is amber at most
       const sev = d.sev === 'red' ? 'amber' : d.sev;
       return { kind: a.kind, sev, icon: d.icon, text: d.short, ahead: ahead && ahead !== 'here' ? ahead : '' };

@@ -66,11 +66,11 @@
     return speedText(mps, units) + ' ' + speedUnitLabel(units);
   }
 
-  /** "in 120 m" / "here" / "" for an alert distance. */
-  function aheadText(m, units) {
+  /** "in 120 m" / "here" / "" for an alert distance; "in ≈ 120 m" when estimated. */
+  function aheadText(m, units, approx) {
     if (!finite(m)) return '';
     if (m <= 0) return 'here';
-    return 'in ' + distanceText(m, units);
+    return 'in ' + (approx ? '≈ ' : '') + distanceText(m, units);
   }
 
   /**
@@ -81,7 +81,7 @@
     const units = ctx && ctx.units;
     const advice = (ctx && ctx.advice) || 'None';
     const a = alert || {};
-    const ahead = aheadText(a.distance_m, units);
+    const ahead = aheadText(a.distance_m, units, ctx && ctx.approx);
     const limit = finite(a.limit_mps) ? a.limit_mps : (ctx && ctx.limit_mps);
     switch (a.kind) {
       case 'Overspeed':
@@ -162,7 +162,7 @@
   function banner(state, units) {
     const s = state || {};
     const stage = stageOf(s);
-    const ctx = { units, advice: s.advice, limit_mps: s.speed_limit_mps };
+    const ctx = { units, advice: s.advice, limit_mps: s.speed_limit_mps, approx: positionOf(s) === 'Estimated' };
     if (positionOf(s) === 'Lost') {
       const zone = ZONE_KNOWN.indexOf(s.zone_state) >= 0;
       return { kind: 'PositionLost', stage, sev: stageSev(stage, 'info'), icon: 'i-sat-off',
@@ -192,7 +192,8 @@
         return { sev: 'calm', icon: 'i-flag', title: 'Leaving work zone', detail: '' };
       case 'Approaching':
       case 'Warning':
-        return { sev: stageSev(st, 'zone'), icon: 'i-diamond', title: 'Work zone ahead', detail: aheadText(state.distance_m, units) };
+        return { sev: stageSev(st, 'zone'), icon: 'i-diamond', title: 'Work zone ahead',
+          detail: aheadText(state.distance_m, units, positionOf(state) === 'Estimated') };
       default:
         return { sev: 'calm', icon: 'i-ok', title: 'No warnings', detail: '' };
     }

@@ -2,6 +2,8 @@
 import { test } from 'node:test';
 import assert from 'node:assert/strict';
 import { createRequire } from 'node:module';
+import fs from 'node:fs';
+import vm from 'node:vm';
 
 const require = createRequire(import.meta.url);
 const F = require('../format.js');
@@ -88,6 +90,7 @@ test('position: estimated keeps the countdown marked, lost never shows green', (
   assert.equal(v.value, '85');
   assert.equal(v.approx, true);
   assert.match(v.label, /estimated/);
+  assert.equal(F.banner({ ...est, primary: { kind: 'ReducedSpeedAhead', distance_m: 84, limit_mps: 11.12 } }, 'kmh').detail, '40 km/h in ≈ 85 m');
   const lost = { stage: 'None', zone_state: 'Approaching', distance_m: null, position: 'Lost', gnss_ok: false, roadside_data: true, primary: null };
   const b = F.banner(lost, 'kmh');
   assert.equal(b.title, 'Position lost');
@@ -170,4 +173,82 @@ test('roadside chip: signed, unverified (marked), none', () => {
   assert.equal(F.roadsideChip({ roadside_data: false }, true).trust, 'none');
   assert.equal(F.roadsideChip(null, false).cls, 'chip-muted');
   assert.equal(F.roadsideChip({ roadside_data: true, unverified: 3 }, false).cls, 'chip-muted');
+});
+
+// ---- sound.js: the stage rules, with a fake AudioContext whose clock the test moves ----
+
+function soundUnderTest() {
+  const oscillators = [];
+  const node = () => ({ connect(n) { return n; } });
+  let audio = null;
+  class FakeContext {
+    constructor() { this.state = 'running'; this.currentTime = 0; this.destination = node(); audio = this; }
+    resume() { return Promise.resolve(); }
+    createOscillator() {
+      const o = { ...node(), frequency: { value: 0 }, stopped: false, start() {}, stop() { o.stopped = true; } };
+      oscillators.push(o);
+      return o;
+    }
+    createBiquadFilter() { return { ...node(), frequency: { value: 0 } }; }
+    createGain() { return { ...node(), gain: { setValueAtTime() {}, linearRampToValueAtTime() {} } }; }
+  }
+  const window = {
+    AudioContext: FakeContext, localStorage: null, addEventListener() {}, setInterval() { return 0; },
+    document: { addEventListener() {}, hidden: false },
+  };
+  vm.runInNewContext(fs.readFileSync(new URL('../sound.js', import.meta.url), 'utf8'), { window });
+  const S = window.HmiSound;
+  S.init({ allowed: true });
+  return {
+    S, oscillators,
+    /** Feeds `tone` at 10 Hz for `s` seconds of audio time (as the app does on each state). */
+    run(tone, s, live = true) {
+      for (let t = 0; t < s - 1e-9; t += 0.1) {
+        S.update(tone, live);
+        audio.currentTime += 0.1;
+      }
+    },
+  };
+}
+
+test('sound: Warning plays one group when entered from a lower stage, never repeats', () => {
+  const { S, run } = soundUnderTest();
+  run('none', 1);
+  assert.equal(S.tonesScheduled(), 0);
+  run('warning', 6);
+  assert.equal(S.tonesScheduled(), 1, 'one group for entering Warning, none in 6 s');
+  run('none', 0.5);
+  run('warning', 1);
+  assert.equal(S.tonesScheduled(), 2, 'entered again from a lower stage: one more');
+});
+
+test('sound: Urgent repeats every 2 s, stops at once when the stage drops or the link is lost', () => {
+  const { S, oscillators, run } = soundUnderTest();
+  run('urgent', 0.1);
+  assert.equal(S.tonesScheduled(), 1, 'a group at once');
+  run('urgent', 4.1);
+  assert.equal(S.tonesScheduled(), 3, 'then every 2 s');
+  run('warning', 3);
+  assert.equal(S.tonesScheduled(), 3, 'Urgent -> Warning: no new group');
+  assert.ok(oscillators.every((o) => o.stopped), 'the scheduled beeps are cut');
+  run('urgent', 0.1);
+  const n = S.tonesScheduled();
+  assert.equal(n, 4);
+  run('urgent', 3, false);
+  assert.equal(S.tonesScheduled(), n, 'no tone while the link is lost');
+  assert.ok(oscillators.every((o) => o.stopped));
+  run('urgent', 0.1);
+  assert.equal(S.tonesScheduled(), n + 1, 'the link is back in Urgent: it repeats again');
+});
+
+test('sound: a reconnect in the same Warning does not beep again; muted plays nothing', () => {
+  const { S, run } = soundUnderTest();
+  run('warning', 1);
+  run('warning', 2, false);
+  run('warning', 2);
+  assert.equal(S.tonesScheduled(), 1);
+  S.setAllowed(false);
+  run('none', 0.2);
+  run('urgent', 3);
+  assert.equal(S.tonesScheduled(), 1, 'muted in the settings');
 });
