@@ -154,6 +154,22 @@ mod tests {
             }
         }
         assert!(find("screenshots/warning-tablet.png").is_none());
+        // and every file of the shell exists (one missing file fails the worker's install)
+        let list = sw
+            .split("const SHELL = [")
+            .nth(1)
+            .and_then(|r| r.split("];").next());
+        let shell: Vec<&str> = list
+            .expect("sw.js has its SHELL list")
+            .split(',')
+            .map(|p| p.trim().trim_matches('\''))
+            .filter(|p| !p.is_empty())
+            .collect();
+        assert!(shell.len() >= 12, "{shell:?}");
+        for path in shell {
+            let file = path.trim_start_matches('/');
+            assert!(find(file).is_some(), "the shell's {path} is served");
+        }
     }
 
     #[test]
