@@ -52,10 +52,29 @@
 
   // ---- rendering ----
 
-  function renderSpeed(s, units) {
+  /**
+   * The one-red rule: only the banner (stage Warning/Urgent) or, when the banner is not red,
+   * the speed (speed_alarm) may be red. The speed's alarm under a red banner is an amber ring.
+   */
+  function renderSpeed(s, units, bannerRed) {
+    const live = app.conn === 'live';
     setText($('speed'), F.speedText(s.speed_mps, units));
-    const kinds = [s.primary].concat(s.others || []).filter(Boolean).map((a) => a.kind);
-    setData($('speed-box'), 'over', kinds.indexOf('Overspeed') >= 0);
+    const box = $('speed-box');
+    setData(box, 'stale', !F.finite(s.speed_mps));
+    const alarm = live && s.speed_alarm === true && F.finite(s.speed_mps);
+    setData(box, 'alarm', alarm ? (bannerRed ? 'muted' : 'red') : 'false');
+    setData(box, 'red', alarm && !bannerRed);
+  }
+
+  function renderAhead(s, units) {
+    const a = app.conn === 'live' ? F.limitAhead(s, units) : null;
+    const fig = $('limit-ahead');
+    fig.hidden = !a;
+    if (!a) return;
+    setText($('ahead-value'), a.value);
+    setText($('ahead-where'), a.where);
+    const label = 'Lower limit ahead: ' + a.value + ' ' + F.speedUnitLabel(units) + ' ' + a.where;
+    if (fig.getAttribute('aria-label') !== label) fig.setAttribute('aria-label', label);
   }
 
   function renderLimit(s, units) {
@@ -75,43 +94,55 @@
     setText($('distance-label'), v.label);
     setText($('distance'), v.value);
     setText($('distance-unit'), v.unit);
+    $('distance-approx').hidden = !v.approx;
+    $('pos-marker').hidden = !(app.conn === 'live' && F.positionOf(s) === 'Estimated');
   }
 
   function bannerFor(s, units) {
     if (app.conn !== 'live') {
       const since = app.msg ? root.HmiStream.stats().since_last_ms : null;
       const ago = since !== null ? ' · last data ' + F.ageText(since) + ' ago' : '';
-      if (!app.everLive && !app.msg) return { sev: 'offline', icon: 'i-plug-off', title: 'Connecting…', detail: 'Waiting for the vehicle unit', kind: 'disconnected' };
+      if (!app.everLive && !app.msg) {
+        // opened without the unit (e.g. from the offline shell): say so once a try failed
+        const failed = root.HmiStream.stats().stream_errors > 0;
+        return { sev: 'offline', icon: 'i-plug-off', kind: 'disconnected', title: failed ? 'Disconnected' : 'Connecting…',
+          detail: failed ? 'Vehicle unit not reachable · retrying' : 'Waiting for the vehicle unit' };
+      }
       return {
         sev: 'offline', icon: 'i-plug-off', title: 'Disconnected', kind: 'disconnected',
         detail: (app.conn === 'stale' ? 'No data from the vehicle unit' : 'Reconnecting to the vehicle unit') + ago,
       };
     }
-    const ctx = { units, advice: s.advice, limit_mps: s.speed_limit_mps };
-    if (s.primary) return Object.assign({ kind: s.primary.kind }, F.describeAlert(s.primary, ctx));
-    return Object.assign({ kind: 'none' }, F.calmBanner(s, units));
+    return F.banner(s, units);
   }
 
+  /** Returns whether the banner is red. */
   function renderBanner(s, units) {
     const b = bannerFor(s, units);
     const el = $('alert-banner');
     const cls = 'banner sev-' + b.sev;
     if (el.className !== cls) el.className = cls;
     setData(el, 'kind', b.kind);
+    setData(el, 'stage', app.conn === 'live' ? F.stageOf(s) : 'None');
+    setData(el, 'red', b.sev === 'red');
     setIcon($('alert-icon'), b.icon);
     setText($('alert-title'), b.title);
     setText($('alert-detail'), b.detail || '');
+    return b.sev === 'red';
   }
 
   function renderOthers(s, units) {
-    const list = app.conn === 'live' ? (s.others || []).slice(0, 4) : [];
-    const ctx = { units, advice: s.advice, limit_mps: s.speed_limit_mps };
+    const list = app.conn === 'live' ? (s.others || []) : [];
+    const approx = F.positionOf(s) === 'Estimated';
+    const ctx = { units, advice: s.advice, limit_mps: s.speed_limit_mps, approx };
     const items = list.map((a) => {
       const d = F.describeAlert(a, ctx);
-      const ahead = F.aheadText(a.distance_m, units);
-      return { kind: a.kind, sev: d.sev, icon: d.icon, text: d.short + (ahead && ahead !== 'here' ? ' · ' + ahead : '') };
+      const ahead = F.aheadText(a.distance_m, units, approx);
+      // chips are never red: a chip of an act-now kind is amber at most
+      const sev = d.sev === 'red' ? 'amber' : d.sev;
+      return { kind: a.kind, sev, icon: d.icon, text: d.short, ahead: ahead && ahead !== 'here' ? ahead : '' };
     });
-    const key = JSON.stringify(items);
+    const key = JSON.stringify(items) + '|' + root.innerWidth;
     const ul = $('others');
     if (ul.__key === key) return;
     ul.__key = key;
@@ -123,8 +154,33 @@
       const span = doc.createElement('span');
       span.textContent = it.text;
       li.appendChild(span);
+      if (it.ahead) {
+        const q = doc.createElement('span');
+        q.className = 'qty other-ahead';
+        q.textContent = it.ahead;
+        li.appendChild(q);
+      }
       return li;
     }));
+    collapseOthers(ul);
+  }
+
+  /** Chips that do not fit are folded, from the end, into one "+N" chip. */
+  function collapseOthers(ul) {
+    const chips = Array.from(ul.children);
+    if (!chips.length || ul.scrollWidth <= ul.clientWidth + 1) return;
+    const more = doc.createElement('li');
+    more.className = 'other other-more sev-info';
+    more.dataset.kind = 'more';
+    ul.appendChild(more);
+    let hidden = 0;
+    for (let i = chips.length - 1; i >= 0 && ul.scrollWidth > ul.clientWidth + 1; i--) {
+      chips[i].hidden = true;
+      hidden += 1;
+      more.textContent = '+' + hidden;
+      more.setAttribute('aria-label', hidden + ' more ' + (hidden === 1 ? 'alert' : 'alerts') + ': ' +
+        chips.slice(i).map((c) => c.textContent).join(', '));
+    }
   }
 
   function chip(id, cls, text) {
@@ -138,23 +194,45 @@
   function renderChips(msg) {
     const s = msg ? msg.state : null;
     const live = app.conn === 'live';
-    chip('conn-chip', live ? 'chip-ok' : app.conn === 'stale' ? 'chip-warn' : 'chip-bad',
+    chip('conn-chip', live ? 'chip-ok' : 'chip-warn',
       live ? 'Live' : app.conn === 'stale' ? 'No data' : app.everLive ? 'Offline' : 'Connecting…');
     setData($('conn-chip'), 'state', app.conn);
     if (!s) return;
+    const extra = $('gnss-chip').querySelector('.chip-extra');
     if (s.gnss_ok) {
       const q = F.fixName(msg.fix_quality);
       const age = F.finite(msg.gnss_age_ms) && msg.gnss_age_ms >= 500 ? ' · ' + F.ageText(msg.gnss_age_ms) : '';
-      chip('gnss-chip', live ? 'chip-ok' : 'chip-muted', 'GNSS' + (q ? ' ' + q : '') + age);
+      chip('gnss-chip', live ? 'chip-ok' : 'chip-muted', 'GNSS' + (q ? ' ' + q : ''));
+      setText(extra, age);
     } else {
       const age = F.finite(msg.gnss_age_ms) ? ' · ' + F.ageText(msg.gnss_age_ms) : '';
-      chip('gnss-chip', live ? 'chip-bad' : 'chip-muted', 'No GNSS' + age);
+      const est = F.positionOf(s) === 'Estimated';
+      chip('gnss-chip', live ? 'chip-warn' : 'chip-muted', est ? 'No GNSS · estimating' : 'No GNSS');
+      setText(extra, age);
     }
+    const timeChip = $('time-chip');
+    timeChip.hidden = !(live && s.time_status === 'Unverified');
     const rsu = F.roadsideChip(s, live);
     chip('rsu-chip', rsu.cls, rsu.text);
     setData($('rsu-chip'), 'trust', rsu.trust);
     const n = (x, one, many) => (F.finite(x) ? x : 0) + ' ' + ((x === 1) ? one : many);
     setText($('data-chip'), n(s.maps, 'map', 'maps') + ' · ' + n(s.zones, 'zone', 'zones'));
+    fitChips();
+  }
+
+  /** The map/zone counts, then the GNSS age, give way when the status chips do not fit. */
+  function fitChips() {
+    const box = doc.querySelector('.chips');
+    const optional = [$('data-chip'), $('gnss-chip').querySelector('.chip-extra')];
+    const fits = () => {
+      const right = box.getBoundingClientRect().right + 0.5;
+      return Array.from(box.children).every((c) => c.hidden || c.getBoundingClientRect().right <= right);
+    };
+    optional.forEach((el) => { el.hidden = false; });
+    for (const el of optional) {
+      if (fits()) break;
+      el.hidden = true;
+    }
   }
 
   function renderLanes(s) {
@@ -174,34 +252,91 @@
     setData(body, 'zone', s.zone_state || 'None');
     setData(body, 'primary', s.primary ? s.primary.kind : 'none');
     setData(body, 'gnss', s.gnss_ok === false ? 'lost' : s.gnss_ok ? 'ok' : 'unknown');
+    setData(body, 'position', app.msg ? F.positionOf(s) : 'unknown');
+    setData(body, 'time', s.time_status || 'Unknown');
     setData(body, 'roadside', s.roadside_data === false ? 'none' : s.roadside_data ? 'ok' : 'unknown');
-    renderSpeed(s, units);
+    const red = renderBanner(s, units);
+    renderSpeed(s, units, red);
     renderLimit(s, units);
+    renderAhead(s, units);
     renderDistance(s, units);
-    renderBanner(s, units);
     renderOthers(s, units);
     renderLanes(s);
     updateTone();
   }
 
   function updateTone() {
-    const s = app.msg && app.msg.state;
-    const want = app.conn === 'live' && F.toneWanted(s);
-    root.HmiSound.update(want, F.toneLevel(s));
+    const live = app.conn === 'live';
+    root.HmiSound.update(F.toneFor(app.msg && app.msg.state, live), live);
+  }
+
+  // ---- the one-red rule, checked from outside (tests) ----
+
+  /** A colour is red when its hue is within 20 degrees of pure red, saturated and mid-light. */
+  function isRed(css) {
+    const m = /rgba?\(([^)]+)\)/.exec(css || '');
+    if (!m) return false;
+    const p = m[1].split(/[\s,/]+/).filter(Boolean).map(Number);
+    if (p.length > 3 && p[3] < 0.3) return false;
+    const [r, g, b] = p.map((v) => v / 255);
+    const max = Math.max(r, g, b);
+    const min = Math.min(r, g, b);
+    const l = (max + min) / 2;
+    const d = max - min;
+    if (d === 0 || max !== r) return false;
+    const sat = d / (1 - Math.abs(2 * l - 1));
+    const hue = (((g - b) / d) * 60 + 360) % 360;
+    return (hue <= 20 || hue >= 340) && sat >= 0.5 && l >= 0.18 && l <= 0.75;
+  }
+
+  function visible(el) {
+    const r = el.getBoundingClientRect();
+    if (r.width < 2 || r.height < 2) return false;
+    if (r.right <= 0 || r.bottom <= 0 || r.left >= root.innerWidth || r.top >= root.innerHeight) return false;
+    for (let e = el; e && e.nodeType === 1; e = e.parentElement) {
+      const cs = root.getComputedStyle(e);
+      if (cs.display === 'none' || cs.visibility === 'hidden' || Number(cs.opacity) < 0.3) return false;
+    }
+    return true;
+  }
+
+  /** Visible elements marked red by the renderer or painted red (text, background, border, fill). */
+  function redElements() {
+    const found = [];
+    doc.querySelectorAll('body *').forEach((el) => {
+      if (el.closest('defs, symbol, script, style')) return;
+      const cs = root.getComputedStyle(el);
+      const text = Array.from(el.childNodes).some((n) => n.nodeType === 3 && n.textContent.trim());
+      const svgShape = el instanceof root.SVGElement && el.tagName !== 'svg';
+      const painted = isRed(cs.backgroundColor) || (text && isRed(cs.color)) ||
+        (parseFloat(cs.borderTopWidth) >= 2 && isRed(cs.borderTopColor)) ||
+        (svgShape && (isRed(cs.fill) || isRed(cs.stroke)));
+      if ((el.dataset && el.dataset.red === 'true') || painted) {
+        if (visible(el) && !found.some((f) => f.contains(el))) found.push(el);
+      }
+    });
+    return found;
   }
 
   // ---- sound button ----
 
+  /** Sound status, visible on every layout: on, muted (settings) or needs a tap. */
   function renderSound(state) {
     const allowed = app.settings.sound;
     const running = state === 'running';
-    $('sound-enable').hidden = !allowed || running || state === 'unsupported';
+    const needsTap = allowed && !running && state !== 'unsupported';
+    $('sound-enable').hidden = !needsTap;
     const badge = $('sound-state');
-    setIcon(badge.querySelector('use'), allowed && running ? 'i-sound' : 'i-sound-off');
-    const label = !allowed ? 'Sound off in settings' : running ? 'Sound on' : 'Sound not enabled';
+    badge.hidden = needsTap;
+    const mode = !allowed ? 'muted' : running ? 'on' : state === 'unsupported' ? 'unsupported' : 'tap';
+    setIcon(badge.querySelector('use'), mode === 'on' ? 'i-sound' : 'i-sound-off');
+    const short = { on: 'Sound on', muted: 'Muted', unsupported: 'No sound', tap: 'Tap for sound' }[mode];
+    const label = { on: 'Sound on', muted: 'Sound muted in settings', unsupported: 'No sound in this browser', tap: 'Sound needs a tap' }[mode];
+    setText($('sound-label'), short);
     badge.setAttribute('aria-label', label);
     badge.title = label;
-    setData(badge, 'on', allowed && running);
+    setData(badge, 'on', mode === 'on');
+    setData(badge, 'sound', mode);
   }
 
   // ---- wiring ----
@@ -220,6 +355,13 @@
     render();
   }
 
+  /** The service worker keeps the app shell, so a reload without the unit opens this app. */
+  function registerWorker() {
+    const sw = root.navigator.serviceWorker;
+    if (!sw || !root.isSecureContext) return;
+    sw.register('/sw.js', { scope: '/' }).catch(() => { /* served without it: online only */ });
+  }
+
   function init() {
     applyTheme();
     if (app.darkQuery && app.darkQuery.addEventListener) app.darkQuery.addEventListener('change', applyTheme);
@@ -236,6 +378,8 @@
     onSettings(app.settings);
     root.HmiViews.Settings.load().catch(() => {});
     root.HmiStream.start({ url: '/events', onState, onConn });
+    root.addEventListener('resize', () => render());
+    registerWorker();
     // the "last data N s ago" text keeps counting while disconnected
     root.setInterval(() => { if (app.conn !== 'live') render(); }, 500);
   }
@@ -247,6 +391,9 @@
     lastMessage: () => app.msg,
     connection: () => app.conn,
     settings: () => Object.assign({}, app.settings),
+    redElements: () => redElements().length,
+    redList: () => redElements().map((e) => e.id || e.className.baseVal || e.className || e.tagName),
+    offline: () => ({ controlled: !!(root.navigator.serviceWorker && root.navigator.serviceWorker.controller) }),
   };
 
   init();

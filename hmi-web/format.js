@@ -66,11 +66,11 @@
     return speedText(mps, units) + ' ' + speedUnitLabel(units);
   }
 
-  /** "in 120 m" / "here" / "" for an alert distance. */
-  function aheadText(m, units) {
+  /** "in 120 m" / "here" / "" for an alert distance; "in ≈ 120 m" when estimated. */
+  function aheadText(m, units, approx) {
     if (!finite(m)) return '';
     if (m <= 0) return 'here';
-    return 'in ' + distanceText(m, units);
+    return 'in ' + (approx ? '≈ ' : '') + distanceText(m, units);
   }
 
   /**
@@ -81,7 +81,7 @@
     const units = ctx && ctx.units;
     const advice = (ctx && ctx.advice) || 'None';
     const a = alert || {};
-    const ahead = aheadText(a.distance_m, units);
+    const ahead = aheadText(a.distance_m, units, ctx && ctx.approx);
     const limit = finite(a.limit_mps) ? a.limit_mps : (ctx && ctx.limit_mps);
     switch (a.kind) {
       case 'Overspeed':
@@ -118,52 +118,144 @@
     }
   }
 
-  /** The banner when the server has no primary alert. */
-  function calmBanner(state, units) {
-    if (state && state.gnss_ok === false) return describeAlert({ kind: 'GnssStale' }, { units });
-    if (state && state.roadside_data === false) return describeAlert({ kind: 'NoRoadsideData' }, { units });
+  const STAGES = ['None', 'Information', 'Warning', 'Urgent'];
+
+  /**
+   * The stage of the primary alert: the one source of colour and sound. A server without
+   * `stage` (older core) gets the old rules: an act-now alert is Urgent, the zone warning
+   * Warning, an alert while approaching Information.
+   */
+  function stageOf(state) {
+    const s = state || {};
+    if (STAGES.indexOf(s.stage) >= 0) return s.stage;
+    const k = s.primary && s.primary.kind;
+    if (k === 'Overspeed' || k === 'LaneClosedOwn') return 'Urgent';
+    if (s.zone_state === 'Warning') return 'Warning';
+    if (s.zone_state === 'Approaching' && k) return 'Information';
+    return 'None';
+  }
+
+  function stageRank(stage) {
+    return Math.max(0, STAGES.indexOf(stage));
+  }
+
+  /** 'Live' | 'Estimated' | 'Lost'; without `position` (older core) GNSS loss is Lost. */
+  function positionOf(state) {
+    const s = state || {};
+    if (s.position === 'Live' || s.position === 'Estimated' || s.position === 'Lost') return s.position;
+    return s.gnss_ok === false ? 'Lost' : 'Live';
+  }
+
+  /**
+   * Banner colour from the stage: red for Warning and Urgent, amber for Information. With
+   * no stage, system alerts are slate ('info') and work-zone facts a neutral 'zone' style.
+   */
+  function stageSev(stage, kindSev) {
+    if (stage === 'Warning' || stage === 'Urgent') return 'red';
+    if (stage === 'Information') return 'amber';
+    return kindSev === 'info' ? 'info' : 'zone';
+  }
+
+  const ZONE_KNOWN = ['Approaching', 'Warning', 'InZone'];
+
+  /** The banner while live: the primary alert in its stage's colour, or the calm state. */
+  function banner(state, units) {
+    const s = state || {};
+    const stage = stageOf(s);
+    const ctx = { units, advice: s.advice, limit_mps: s.speed_limit_mps, approx: positionOf(s) === 'Estimated' };
+    if (positionOf(s) === 'Lost') {
+      const zone = ZONE_KNOWN.indexOf(s.zone_state) >= 0;
+      return { kind: 'PositionLost', stage, sev: stageSev(stage, 'info'), icon: 'i-sat-off',
+        title: 'Position lost',
+        detail: zone ? (s.zone_state === 'InZone' ? 'In work zone' : 'Work zone ahead') + ' · distance unknown'
+          : 'Work-zone warnings unavailable' };
+    }
+    if (s.primary) {
+      const d = describeAlert(s.primary, ctx);
+      return Object.assign({ kind: s.primary.kind, stage }, d, { sev: stageSev(stage, d.sev) });
+    }
+    return Object.assign({ kind: 'none', stage }, calmBanner(s, units, stage));
+  }
+
+  /** The banner when the server has no primary alert (never green without a position). */
+  function calmBanner(state, units, stage) {
+    const st = stage || stageOf(state);
+    if (state && positionOf(state) === 'Lost') return banner(state, units);
+    if (state && state.roadside_data === false) {
+      const d = describeAlert({ kind: 'NoRoadsideData' }, { units });
+      return Object.assign({}, d, { sev: stageSev(st, d.sev) });
+    }
     switch (state && state.zone_state) {
       case 'InZone':
-        return { sev: 'orange', icon: 'i-cone', title: 'In work zone', detail: 'Keep to the limit' };
+        return { sev: stageSev(st, 'zone'), icon: 'i-cone', title: 'In work zone', detail: 'Keep to the limit' };
       case 'Leaving':
         return { sev: 'calm', icon: 'i-flag', title: 'Leaving work zone', detail: '' };
       case 'Approaching':
       case 'Warning':
-        return { sev: 'orange', icon: 'i-diamond', title: 'Work zone ahead', detail: aheadText(state.distance_m, units) };
+        return { sev: stageSev(st, 'zone'), icon: 'i-diamond', title: 'Work zone ahead',
+          detail: aheadText(state.distance_m, units, positionOf(state) === 'Estimated') };
       default:
         return { sev: 'calm', icon: 'i-ok', title: 'No warnings', detail: '' };
     }
   }
 
-  /** What the big distance field says. */
+  /** What the big distance field says; `approx` marks a dead-reckoned distance. */
   function distanceView(state, units) {
     const z = state && state.zone_state;
     const d = state && state.distance_m;
-    if (state && state.gnss_ok === false) return { mode: 'unknown', label: 'Position unknown', value: '', unit: '' };
-    if (state && state.roadside_data === false) return { mode: 'unknown', label: 'No roadside data', value: '', unit: '' };
-    if (z === 'InZone' || (finite(d) && d <= 0 && z !== 'Leaving' && z !== 'None' && z !== undefined)) {
-      return { mode: 'inzone', label: 'Work zone', value: 'IN ZONE', unit: '' };
+    const pos = positionOf(state);
+    const none = { value: '', unit: '', approx: false };
+    if (state && state.roadside_data === false) return Object.assign({ mode: 'unknown', label: 'No roadside data' }, none);
+    if (pos === 'Lost') {
+      return Object.assign({ mode: 'unknown', label: 'Position lost' }, none);
     }
-    if (z === 'Leaving') return { mode: 'leaving', label: 'Leaving work zone', value: '', unit: '' };
+    const approx = pos === 'Estimated';
+    if (z === 'InZone' || (finite(d) && d <= 0 && z !== 'Leaving' && z !== 'None' && z !== undefined)) {
+      return { mode: 'inzone', label: approx ? 'Work zone · estimated' : 'Work zone', value: 'IN ZONE', unit: '', approx: false };
+    }
+    if (z === 'Leaving') return Object.assign({ mode: 'leaving', label: 'Leaving work zone' }, none);
     if (z === 'Approaching' || z === 'Warning') {
       const p = distanceParts(d, units);
-      return { mode: z === 'Warning' ? 'warning' : 'approach', label: 'to work zone',
-        value: p ? p.value : '—', unit: p ? p.unit : '' };
+      return { mode: z === 'Warning' ? 'warning' : 'approach', label: approx ? 'to work zone · estimated' : 'to work zone',
+        value: p ? p.value : '—', unit: p ? p.unit : '', approx: approx && !!p };
     }
-    return { mode: 'none', label: 'No work zone ahead', value: '', unit: '' };
+    return Object.assign({ mode: 'none', label: 'No work zone ahead' }, none);
   }
 
-  /** True while the audible warning must repeat. */
-  function toneWanted(state) {
-    if (!state) return false;
-    const k = state.primary && state.primary.kind;
-    return state.zone_state === 'Warning' || k === 'Overspeed' || k === 'LaneClosedOwn';
+  /**
+   * The tone the stage asks for: 'urgent' (repeats every 2 s), 'warning' (one group when
+   * entered from a lower stage) or 'none'. Only while live.
+   */
+  function toneFor(state, live) {
+    if (!live || !state) return 'none';
+    const st = stageOf(state);
+    return st === 'Urgent' ? 'urgent' : st === 'Warning' ? 'warning' : 'none';
   }
 
-  /** Urgency of the tone: 'high' for act-now alerts, 'normal' for the zone warning. */
-  function toneLevel(state) {
-    const k = state && state.primary && state.primary.kind;
-    return k === 'Overspeed' || k === 'LaneClosedOwn' ? 'high' : 'normal';
+  /** The lower limit ahead: { value, where } ("in 100 m" / "in 350 ft"); null when none. */
+  function limitAhead(state, units) {
+    const s = state || {};
+    if (!finite(s.limit_ahead_mps)) return null;
+    if (!finite(s.limit_ahead_m)) return { value: speedText(s.limit_ahead_mps, units), where: 'ahead' };
+    const d = Math.max(0, s.limit_ahead_m);
+    const ft = d * M_TO_FT;
+    const p = unitsOf(units) === 'mph' && ft < 1000
+      ? { value: String(roundTo(ft, ft >= 300 ? 50 : 10)), unit: 'ft' } : distanceParts(d, units);
+    return { value: speedText(s.limit_ahead_mps, units), where: 'in ' + p.value + ' ' + p.unit };
+  }
+
+  /** Metres <-> the distance unit of the settings form (ft with mph). */
+  function formDistance(m, units) {
+    return unitsOf(units) === 'mph' ? Math.round(m * M_TO_FT) : Math.round(m);
+  }
+
+  function metresFromForm(v, units) {
+    return unitsOf(units) === 'mph' ? Math.round((v / M_TO_FT) * 10) / 10 : v;
+  }
+
+  /** The warning-distance range in the form's unit (within 20-2000 m either way). */
+  function formDistanceRange(units) {
+    return unitsOf(units) === 'mph' ? { min: 66, max: 6561, unit: 'ft' } : { min: 20, max: 2000, unit: 'm' };
   }
 
   const FIX_NAMES = { 0: 'no fix', 1: 'GPS', 2: 'DGPS', 3: 'PPS', 4: 'RTK', 5: 'RTK float', 6: 'dead reck.', 7: 'manual', 8: 'sim' };
@@ -180,7 +272,7 @@
    */
   function roadsideChip(state, live) {
     if (!state || !state.roadside_data) {
-      return { cls: live ? 'chip-bad' : 'chip-muted', text: 'No roadside data', trust: 'none' };
+      return { cls: live ? 'chip-warn' : 'chip-muted', text: 'No roadside data', trust: 'none' };
     }
     if (finite(state.unverified) && state.unverified > 0) {
       return { cls: live ? 'chip-warn' : 'chip-muted', text: 'Roadside data · UNVERIFIED', trust: 'unverified' };
@@ -195,8 +287,9 @@
     return (s < 10 ? s.toFixed(1) : Math.round(s)) + ' s';
   }
 
-  const api = { KINDS, MPS_TO, M_TO_FT, speedValue, speedText, speedUnitLabel, distanceParts,
-    distanceText, aheadText, describeAlert, calmBanner, distanceView, toneWanted, toneLevel,
+  const api = { KINDS, STAGES, MPS_TO, M_TO_FT, speedValue, speedText, speedUnitLabel, distanceParts,
+    distanceText, aheadText, describeAlert, calmBanner, banner, distanceView, stageOf, stageRank, stageSev,
+    positionOf, toneFor, limitAhead, formDistance, metresFromForm, formDistanceRange,
     fixName, ageText, finite, roadsideChip };
   root.HmiFormat = api;
   if (typeof module === 'object' && module.exports) module.exports = api;

@@ -73,8 +73,10 @@
     const lanes = order.ids.map((id) => ({ id, closed: id !== null && closed.includes(id), own: id !== null && id === own }));
     const carIndex = lanes.findIndex((l) => l.own);
     const conf = num(s.lane_confidence) ? s.lane_confidence : 0;
+    const pos = s.position === 'Live' || s.position === 'Estimated' || s.position === 'Lost'
+      ? s.position : (s.gnss_ok === false ? 'Lost' : 'Live');
     let message = '';
-    if (s.gnss_ok === false) message = 'No GNSS';
+    if (pos === 'Lost') message = s.gnss_ok === false && !s.position ? 'No GNSS' : 'Position lost';
     else if (s.roadside_data === false) message = 'No roadside data';
     else if (!lanes.length) message = 'No lane data';
     else if (own === null) message = 'Lane unknown';
@@ -82,9 +84,10 @@
     const hasClosure = lanes.some((l) => l.closed);
     return {
       lanes,
-      approximate: order.approximate && lanes.length > 0,
+      approximate: order.approximate && lanes.length > 0 && !message,
       carIndex: carIndex >= 0 ? carIndex : null,
-      carUncertain: carIndex >= 0 && conf < UNCERTAIN_BELOW,
+      carUncertain: carIndex >= 0 && (conf < UNCERTAIN_BELOW || pos === 'Estimated'),
+      estimated: pos === 'Estimated',
       advice: carIndex >= 0 && (s.advice === 'MoveLeft' || s.advice === 'MoveRight') ? s.advice : 'None',
       span: hasClosure ? closureSpan(s, rangeFor(s, settings)) : null,
       message,

@@ -1,14 +1,20 @@
-/* Audible warning: WebAudio beeps in the 1-5 kHz band, repeated every 2 s while wanted. */
+/*
+ * Audible warning: WebAudio beeps in the 1-5 kHz band, following the alert stage.
+ *   Warning: ONE beep group when the stage is entered from a lower stage.
+ *   Urgent: a beep group at once, then every 2 s while the stage stays Urgent.
+ * The tone stops at once when the stage drops (the driver complied) or the link is lost.
+ */
 (function (root) {
   'use strict';
 
   const PERIOD_S = 2.0;
   const LOOKAHEAD_S = 0.25;
   const KEY = 'hmi.sound.unlocked';
-  // normal: two 2 kHz beeps; high (overspeed, own lane closed): three alternating 2.0/2.6 kHz beeps
+  const RANK = { none: 0, warning: 1, urgent: 2 };
+  // warning: two 2 kHz beeps; urgent: three alternating 2.0/2.6 kHz beeps
   const PATTERNS = {
-    normal: [{ f: 2000, at: 0, len: 0.16 }, { f: 2000, at: 0.26, len: 0.16 }],
-    high: [{ f: 2000, at: 0, len: 0.12 }, { f: 2600, at: 0.18, len: 0.12 }, { f: 2000, at: 0.36, len: 0.12 }],
+    warning: [{ f: 2000, at: 0, len: 0.16 }, { f: 2000, at: 0.26, len: 0.16 }],
+    urgent: [{ f: 2000, at: 0, len: 0.12 }, { f: 2600, at: 0.18, len: 0.12 }, { f: 2000, at: 0.36, len: 0.12 }],
     confirm: [{ f: 1500, at: 0, len: 0.08 }, { f: 2000, at: 0.11, len: 0.1 }],
   };
 
@@ -19,11 +25,11 @@
   const S = {
     ctx: null,
     allowed: true,
-    wanted: false,
-    level: 'normal',
-    nextAt: 0,
-    tones: 0,
-    live: [],
+    tone: 'none',      // what the last live state asked for
+    live: false,
+    nextAt: 0,         // when the next urgent group is due (AudioContext time), 0: none
+    tones: 0,          // beep groups scheduled (for the tests)
+    playing: [],
     timer: null,
     onChange: () => {},
   };
@@ -84,55 +90,69 @@
     osc.connect(lp).connect(g).connect(ctx.destination);
     osc.start(t);
     osc.stop(t + len + 0.01);
-    S.live.push(osc);
-    osc.onended = () => { S.live = S.live.filter((o) => o !== osc); };
+    S.playing.push(osc);
+    osc.onended = () => { S.playing = S.playing.filter((o) => o !== osc); };
   }
 
   function play(pattern, t0, vol) {
     pattern.forEach((b) => beep(S.ctx, b.f, t0 + b.at, b.len, vol));
   }
 
-  /** Schedule the next beep group when it falls inside the look-ahead window. */
+  function running() {
+    return S.allowed && S.ctx && S.ctx.state === 'running';
+  }
+
+  /** One beep group now (counted); false when the audio is not running. */
+  function group(pattern) {
+    if (!running()) return false;
+    const t0 = S.ctx.currentTime + 0.02;
+    play(PATTERNS[pattern], t0, 0.5);
+    S.tones += 1;
+    return t0;
+  }
+
+  /** Schedules the next urgent group when it falls inside the look-ahead window. */
   function pump() {
-    const ctx = S.ctx;
-    if (!S.wanted || !S.allowed || !ctx || ctx.state !== 'running') return;
-    const now = ctx.currentTime;
+    if (!S.live || S.tone !== 'urgent' || !running()) return;
+    const now = S.ctx.currentTime;
     if (S.nextAt && now + LOOKAHEAD_S < S.nextAt) return;
     const t0 = Math.max(now + 0.02, S.nextAt || 0);
-    play(PATTERNS[S.level] || PATTERNS.normal, t0, 0.5);
+    play(PATTERNS.urgent, t0, 0.5);
     S.tones += 1;
     S.nextAt = t0 + PERIOD_S;
   }
 
   function silence() {
-    S.live.forEach((o) => { try { o.stop(); } catch (e) { /* already stopped */ } });
-    S.live = [];
+    S.playing.forEach((o) => { try { o.stop(); } catch (e) { /* already stopped */ } });
+    S.playing = [];
     S.nextAt = 0;
   }
 
   /**
-   * Desired tone from the latest state: starts at once, repeats every PERIOD_S, stops when it
-   * clears. An escalation (normal -> high) restarts the pattern unless one just started.
+   * The tone the latest state asks for ('none' | 'warning' | 'urgent') and whether the link
+   * is live. Without the link everything stops, and the last stage is kept, so a reconnect
+   * in the same Warning does not beep again.
    */
-  function update(wanted, level) {
-    const w = !!wanted && S.allowed;
-    const lv = level === 'high' ? 'high' : 'normal';
-    if (!w) {
-      if (S.wanted) silence();
-      S.wanted = false;
+  function update(tone, live) {
+    const want = RANK[tone] !== undefined ? tone : 'none';
+    if (!live) {
+      if (S.live) silence();
+      S.live = false;
       return;
     }
-    const ctx = S.ctx;
-    const escalates = S.wanted && lv === 'high' && S.level !== 'high';
-    if (escalates && ctx && ctx.currentTime - (S.nextAt - PERIOD_S) > 0.6) silence();
-    S.level = lv;
-    S.wanted = true;
+    S.live = true;
+    const prev = S.tone;
+    S.tone = want;
+    if (!S.allowed) return;
+    if (RANK[want] < RANK[prev]) silence();            // the stage dropped: stop at once
+    if (want === 'warning' && prev === 'none') group('warning');
+    if (want === 'urgent' && prev !== 'urgent') silence();    // urgent starts over at once
     pump();
   }
 
   function setAllowed(on) {
     S.allowed = !!on;
-    if (!S.allowed) { silence(); S.wanted = false; }
+    if (!S.allowed) silence();
     else ensureContext();
     S.onChange(state());
   }
@@ -157,6 +177,7 @@
     init, unlock, update, setAllowed, state,
     tonesScheduled: () => S.tones,
     allowed: () => S.allowed,
-    wanted: () => S.wanted,
+    tone: () => S.tone,
+    PERIOD_S,
   };
 })(window);

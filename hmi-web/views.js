@@ -67,9 +67,30 @@
     return $('settings-form');
   }
 
+  const F = () => root.HmiFormat;
+
+  /** The distance field shows the form's units: ft with mph, metres otherwise. */
+  function setDistanceUnit(units, metres) {
+    const input = form().elements.warning_distance_m;
+    const r = F().formDistanceRange(units);
+    input.min = r.min;
+    input.max = r.max;
+    input.dataset.unit = r.unit;
+    $('set-distance-range').textContent = '(' + r.unit + ', ' + r.min + '–' + r.max + ')';
+    if (metres !== null && Number.isFinite(metres)) input.value = F().formDistance(metres, units);
+  }
+
+  /** Metres in the distance field now (null when it is not a number). */
+  function distanceMetres() {
+    const input = form().elements.warning_distance_m;
+    const v = Number(input.value);
+    if (input.value.trim() === '' || !Number.isFinite(v)) return null;
+    return F().metresFromForm(v, input.dataset.unit === 'ft' ? 'mph' : 'kmh');
+  }
+
   function fillForm(s) {
     const f = form();
-    f.elements.warning_distance_m.value = s.warning_distance_m;
+    setDistanceUnit(s.units, s.warning_distance_m);
     f.elements.lead_time_s.value = s.lead_time_s;
     f.elements.sound.checked = !!s.sound;
     f.querySelectorAll('input[name=units]').forEach((r) => { r.checked = r.value === s.units; });
@@ -104,17 +125,19 @@
     const f = form();
     const errors = {};
     const value = {
-      warning_distance_m: Number(f.elements.warning_distance_m.value),
+      warning_distance_m: distanceMetres(),
       lead_time_s: Number(f.elements.lead_time_s.value),
       sound: f.elements.sound.checked,
       units: radio('units'),
       theme: radio('theme'),
     };
     Object.keys(RULES).forEach((k) => {
-      const raw = f.elements[k].value.trim();
-      const r = RULES[k];
-      if (raw === '' || !Number.isFinite(value[k])) errors[k] = 'Enter a number';
-      else if (value[k] < r.min || value[k] > r.max) errors[k] = `Between ${r.min} and ${r.max}`;
+      const input = f.elements[k];
+      const raw = input.value.trim();
+      const shown = Number(raw);
+      const r = k === 'warning_distance_m' ? { min: Number(input.min), max: Number(input.max) } : RULES[k];
+      if (raw === '' || !Number.isFinite(shown) || !Number.isFinite(value[k])) errors[k] = 'Enter a number';
+      else if (shown < r.min || shown > r.max) errors[k] = `Between ${r.min} and ${r.max}` + (input.dataset.unit ? ' ' + input.dataset.unit : '');
     });
     if (!value.units) errors.units = 'Choose units';
     if (!value.theme) errors.theme = 'Choose a theme';
@@ -217,7 +240,7 @@
       frag.appendChild(dl);
     }
     groups.forEach(([k, v]) => {
-      const h = doc.createElement('h3');
+      const h = doc.createElement('h4');
       h.textContent = label(k);
       const dl = doc.createElement('dl');
       dl.className = 'kv';
@@ -290,6 +313,9 @@
     Diag.lastState = opts.lastState;
     onView = opts.onView || onView;
     form().addEventListener('submit', save);
+    form().querySelectorAll('input[name=units]').forEach((r) => r.addEventListener('change', () => {
+      setDistanceUnit(r.value, distanceMetres());
+    }));
     $('settings-reload').addEventListener('click', () => { message('Loading…', 'busy'); Settings.load().then(() => message('Loaded.', 'ok'), () => {}); });
     $('nav-settings').addEventListener('click', () => go('settings'));
     $('nav-diag').addEventListener('click', () => go('diag'));

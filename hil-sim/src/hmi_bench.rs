@@ -5,7 +5,14 @@
 //! SCENE` switches the scene. Both share a control file in the state directory.
 //!
 //! A scene loops the car over a window of stations so that it holds for as long as a
-//! test needs (the zone is valid until further notice).
+//! test needs (the zone is valid until further notice). Each alert stage of the core has
+//! a scene: `approach` (Information), `warning` (Warning, a complying driver), `urgent`
+//! (Urgent: still in the closed lane where a lane change no longer fits) and `in_zone`.
+//! The [`SWITCHES`] act on top of the scene: `gnss_lost`/`gnss_back` stop and resume the
+//! GNSS feed (the core dead-reckons for a few seconds, "Estimated", then reports the
+//! position "Lost"), and `time_fault`/`time_ok` stamp the NMEA time [`TIME_FAULT_MS`]
+//! ahead of the real clock and back (the daemon compares GNSS time with its system clock:
+//! "time unverified").
 
 use crate::daemon::Daemon;
 use crate::nmea::{self, Epoch};
@@ -40,10 +47,14 @@ pub const ZONE_START_M: f64 = 1500.0;
 pub const ZONE_END_M: f64 = 1700.0;
 
 /// The scenes. With the default settings (warning 100 m, lead time 9 s, approach at 3x
-/// the warning distance, overspeed 5 km/h over the 40 km/h limit): cruise far before the
-/// zone; approach 250-550 m before it at 22 m/s (warning 198 m); warning 10-80 m before
-/// it at 10.5 m/s in lane 2; lane_closed the same in the closed lane 3; overspeed the same
-/// at 16.5 m/s; in_zone inside it; leaving just after it.
+/// the warning distance, overspeed 5 km/h over the 40 km/h limit, a lane change takes
+/// max(5 s, 30 m)): cruise far before the zone; speeding the same at 27 m/s (97 km/h on
+/// the 80 km/h road: the speed alarm with no alert); approach 250-550 m before it at 22 m/s
+/// (warning 198 m); warning 10-80 m before it at 10.5 m/s in the open lane 2, below the
+/// zone limit; lane_closed the same in the closed lane 3; urgent 10-40 m before it in the
+/// closed lane 3 at 10.5 m/s (a lane change needs 52 m); overspeed 10-60 m before it at
+/// 22 m/s (slowing to 40 km/h by the zone needs more than the comfortable 2.5 m/s²: Urgent);
+/// in_zone inside it; leaving just after it.
 pub const SCENES: &[Scene] = &[
     Scene {
         name: "cruise",
@@ -51,6 +62,13 @@ pub const SCENES: &[Scene] = &[
         from_m: 100.0,
         to_m: 800.0,
         speed_mps: 22.0,
+    },
+    Scene {
+        name: "speeding",
+        lane: 2,
+        from_m: 100.0,
+        to_m: 600.0,
+        speed_mps: 27.0,
     },
     Scene {
         name: "approach",
@@ -74,11 +92,18 @@ pub const SCENES: &[Scene] = &[
         speed_mps: 10.5,
     },
     Scene {
+        name: "urgent",
+        lane: 3,
+        from_m: 1460.0,
+        to_m: 1490.0,
+        speed_mps: 10.5,
+    },
+    Scene {
         name: "overspeed",
         lane: 2,
-        from_m: 1420.0,
+        from_m: 1440.0,
         to_m: 1490.0,
-        speed_mps: 16.5,
+        speed_mps: 22.0,
     },
     Scene {
         name: "in_zone",
@@ -97,7 +122,10 @@ pub const SCENES: &[Scene] = &[
 ];
 
 /// Switches that act on top of the scene.
-pub const SWITCHES: &[&str] = &["gnss_lost", "gnss_back"];
+pub const SWITCHES: &[&str] = &["gnss_lost", "gnss_back", "time_fault", "time_ok"];
+
+/// How far ahead of the real clock `time_fault` stamps the NMEA time, milliseconds.
+pub const TIME_FAULT_MS: i64 = 120_000;
 
 /// The scene called `name`.
 pub fn scene(name: &str) -> Option<&'static Scene> {
@@ -136,13 +164,15 @@ pub fn zone(start: Utc) -> WorkZone {
     }
 }
 
-/// What the driver asked for: the scene and whether GNSS is fed.
+/// What the driver asked for: the scene, whether GNSS is fed and whether its time is off.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Control {
     /// Scene name.
     pub scene: String,
     /// False during a GNSS dropout.
     pub gnss: bool,
+    /// True while the NMEA time runs [`TIME_FAULT_MS`] ahead of the real clock.
+    pub time_fault: bool,
 }
 
 impl Control {
@@ -150,7 +180,8 @@ impl Control {
         dir.join("hil-sim-scene")
     }
 
-    /// Reads the control file (`cruise` with GNSS when there is none yet).
+    /// Reads the control file (`cruise` with GNSS and the right time when there is none
+    /// yet): `SCENE gnss_ok|gnss_lost [time_ok|time_fault]`.
     pub fn read(dir: &Path) -> Self {
         let text = std::fs::read_to_string(Self::path(dir)).unwrap_or_default();
         let mut words = text.split_whitespace();
@@ -161,6 +192,7 @@ impl Control {
         Self {
             scene: scene.to_string(),
             gnss: words.next() != Some("gnss_lost"),
+            time_fault: words.next() == Some("time_fault"),
         }
     }
 
@@ -168,8 +200,22 @@ impl Control {
     pub fn write(&self, dir: &Path) -> std::io::Result<()> {
         let tmp = dir.join("hil-sim-scene.tmp");
         let gnss = if self.gnss { "gnss_ok" } else { "gnss_lost" };
-        std::fs::write(&tmp, format!("{} {gnss}\n", self.scene))?;
+        let time = if self.time_fault {
+            "time_fault"
+        } else {
+            "time_ok"
+        };
+        std::fs::write(&tmp, format!("{} {gnss} {time}\n", self.scene))?;
         std::fs::rename(tmp, Self::path(dir))
+    }
+
+    /// Offset of the NMEA time from the real clock, milliseconds.
+    pub fn clock_offset_ms(&self) -> i64 {
+        if self.time_fault {
+            TIME_FAULT_MS
+        } else {
+            0
+        }
     }
 }
 
@@ -179,6 +225,8 @@ pub fn drive(dir: &Path, name: &str) -> Result<(), String> {
     match name {
         "gnss_lost" => control.gnss = false,
         "gnss_back" => control.gnss = true,
+        "time_fault" => control.time_fault = true,
+        "time_ok" => control.time_fault = false,
         _ if scene(name).is_some() => control.scene = name.to_string(),
         _ => {
             let names: Vec<_> = SCENES
@@ -250,6 +298,19 @@ impl Feeder {
     /// One tick: MAP and TIM, then (unless `gnss` is false) the epoch of the car `t_s`
     /// seconds into `scene`. Datagrams lost on the way are part of radio life: no retry.
     pub fn tick(&self, daemon: &Daemon, scene: &str, t_s: f64, gnss: bool) {
+        self.tick_with_clock(daemon, scene, t_s, gnss, 0);
+    }
+
+    /// [`Feeder::tick`] with the NMEA time `clock_offset_ms` off the real clock (the
+    /// roadside messages keep the real time).
+    pub fn tick_with_clock(
+        &self,
+        daemon: &Daemon,
+        scene: &str,
+        t_s: f64,
+        gnss: bool,
+        clock_offset_ms: i64,
+    ) {
         let now = roadside::clock::unix_ms_now();
         for frame in [&self.map, &self.tim] {
             if let Ok(signed) = self.signer.sign(frame, now) {
@@ -257,13 +318,18 @@ impl Feeder {
             }
         }
         if gnss {
-            self.send_epoch(daemon, scene, t_s);
+            self.send_epoch_with_clock(daemon, scene, t_s, clock_offset_ms);
         }
     }
 
     /// Only the NMEA epoch of the car `t_s` seconds into `scene` (one datagram).
     pub fn send_epoch(&self, daemon: &Daemon, scene: &str, t_s: f64) {
-        if let Some(e) = car_epoch(&self.road, scene, t_s) {
+        self.send_epoch_with_clock(daemon, scene, t_s, 0);
+    }
+
+    fn send_epoch_with_clock(&self, daemon: &Daemon, scene: &str, t_s: f64, offset_ms: i64) {
+        let utc = Utc::from_unix_ms(unix_ms_now().saturating_add_signed(offset_ms));
+        if let Some(e) = car_epoch_at(&self.road, scene, t_s, utc) {
             let _ = self.sock.send_to(nmea::epoch(&e).as_bytes(), &daemon.gnss);
         }
     }
@@ -307,11 +373,12 @@ pub fn serve(opts: &ServerOptions) -> Result<(), String> {
             since = Instant::now();
         }
         current = control;
-        feeder.tick(
+        feeder.tick_with_clock(
             &daemon,
             &current.scene,
             since.elapsed().as_secs_f64(),
             current.gnss,
+            current.clock_offset_ms(),
         );
         next += tick;
         std::thread::sleep(next.saturating_duration_since(Instant::now()));
@@ -320,13 +387,61 @@ pub fn serve(opts: &ServerOptions) -> Result<(), String> {
 
 /// The receiver's epoch for the car `t_s` seconds into `scene`, now.
 pub fn car_epoch(road: &Road, scene_name: &str, t_s: f64) -> Option<Epoch> {
+    car_epoch_at(road, scene_name, t_s, Utc::now())
+}
+
+/// The receiver's epoch for the car `t_s` seconds into `scene`, stamped `utc`.
+pub fn car_epoch_at(road: &Road, scene_name: &str, t_s: f64, utc: Utc) -> Option<Epoch> {
     let s = scene(scene_name)?;
     let on = road.lane(s.lane)?.at(s.station(t_s))?;
     Some(Epoch {
-        utc: Utc::now(),
+        utc,
         position: road.to_wgs84(on.point)?,
         speed_mps: s.speed_mps,
         course_deg: on.bearing_deg,
         sigma_m: 0.3,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn switches_act_on_top_of_the_scene() {
+        let dir = std::env::temp_dir().join(format!("hmi-bench-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        assert_eq!(Control::read(&dir).scene, "cruise");
+        drive(&dir, "urgent").unwrap();
+        drive(&dir, "gnss_lost").unwrap();
+        drive(&dir, "time_fault").unwrap();
+        let c = Control::read(&dir);
+        assert_eq!(
+            (c.scene.as_str(), c.gnss, c.time_fault),
+            ("urgent", false, true)
+        );
+        assert_eq!(c.clock_offset_ms(), TIME_FAULT_MS);
+        drive(&dir, "time_ok").unwrap();
+        drive(&dir, "gnss_back").unwrap();
+        let c = Control::read(&dir);
+        assert_eq!(
+            (c.scene.as_str(), c.gnss, c.time_fault),
+            ("urgent", true, false)
+        );
+        assert_eq!(c.clock_offset_ms(), 0);
+        assert!(drive(&dir, "nonsense").unwrap_err().contains("time_fault"));
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    #[test]
+    fn the_urgent_scene_stays_in_the_closed_lane_within_a_lane_change() {
+        let s = scene("urgent").unwrap();
+        assert_eq!(s.lane, 3);
+        // a lane change needs max(5 s x speed, 30 m) = 52.5 m
+        let lane_change_m = (5.0 * s.speed_mps).max(30.0);
+        for k in 0..200 {
+            let d = ZONE_START_M - s.station(f64::from(k) * 0.1);
+            assert!((10.0..=40.0).contains(&d) && d < lane_change_m, "{d}");
+        }
+    }
 }

@@ -3,7 +3,7 @@
 
 use hil_sim::hmi_bench::{self, SCENES};
 use hil_sim::nmea;
-use obu::alert::{AlertKind, LaneAdvice, ZoneState};
+use obu::alert::{AlertKind, AlertStage, LaneAdvice, ZoneState};
 use obu::input::nmea::{parse, FixAssembler};
 use obu::{HmiState, Instant, Obu};
 use roadside::clock::Utc;
@@ -60,9 +60,19 @@ fn every_scene_shows_its_state() {
         for s in &states[10..] {
             let ok = match scene.name {
                 "cruise" => s.zone_state == ZoneState::None && s.primary.is_none(),
-                "approach" => s.zone_state == ZoneState::Approaching,
+                "speeding" => {
+                    s.zone_state == ZoneState::None
+                        && s.primary.is_none()
+                        && s.stage == AlertStage::None
+                        && s.speed_alarm
+                }
+                "approach" => {
+                    s.zone_state == ZoneState::Approaching && s.stage == AlertStage::Information
+                }
                 "warning" => {
                     s.zone_state == ZoneState::Warning
+                        && s.stage == AlertStage::Warning
+                        && !s.speed_alarm
                         && kind(s) == Some(AlertKind::ReducedSpeedAhead)
                         && s.others
                             .iter()
@@ -71,7 +81,16 @@ fn every_scene_shows_its_state() {
                 "lane_closed" => {
                     kind(s) == Some(AlertKind::LaneClosedOwn) && s.advice == LaneAdvice::MoveLeft
                 }
-                "overspeed" => kind(s) == Some(AlertKind::Overspeed),
+                "urgent" => {
+                    kind(s) == Some(AlertKind::LaneClosedOwn)
+                        && s.stage == AlertStage::Urgent
+                        && s.advice == LaneAdvice::MoveLeft
+                }
+                "overspeed" => {
+                    kind(s) == Some(AlertKind::Overspeed)
+                        && s.stage == AlertStage::Urgent
+                        && s.speed_alarm
+                }
                 "in_zone" => s.zone_state == ZoneState::InZone && s.reduced_limit,
                 "leaving" => s.zone_state == ZoneState::Leaving,
                 other => panic!("scene {other} has no expectation here"),

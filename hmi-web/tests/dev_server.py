@@ -18,7 +18,8 @@ exists. Python 3 standard library only.
   python3 dev_server.py drive SCENE      (HMI_URL=http://host:port in the environment)
       Switches the running stand-in to SCENE and holds it (this is the stand-in's
       HMI_DRIVER_CMD). Scenes: see SCENES below; `gnss_lost`/`gnss_back` toggle a GNSS dropout
-      on top of the current scene; `silent` keeps the stream open with heartbeats only.
+      on top of the current scene (Estimated for 5 s, then Lost), `time_fault`/`time_ok` mark the
+      time unverified and back; `silent` keeps the stream open with heartbeats only.
 """
 
 import argparse
@@ -45,13 +46,15 @@ CLOSED = [3]
 DEFAULT_SETTINGS = {'warning_distance_m': 100, 'lead_time_s': 9, 'sound': True, 'units': 'kmh', 'theme': 'auto'}
 
 
-def alert(kind, distance=None, limit=None):
-    return {'kind': kind, 'distance_m': distance, 'limit_mps': limit}
+def alert(kind, distance=None, limit=None, stage='None'):
+    return {'kind': kind, 'distance_m': distance, 'limit_mps': limit, 'stage': stage}
 
 
 def base(t_ms):
     return {
         'time_ms': t_ms, 'speed_mps': 22.0, 'speed_limit_mps': LANE_LIMIT, 'reduced_limit': False,
+        'limit_ahead_mps': None, 'limit_ahead_m': None, 'decel_needed_mps2': None, 'speed_alarm': False,
+        'stage': 'None', 'position': 'Live', 'time_status': 'Trusted',
         'zone_state': 'None', 'distance_m': None, 'primary': None, 'others': [],
         'lane': {'map': 1, 'lane': 2}, 'lane_confidence': 92, 'closed_lanes': [], 'advice': 'None',
         'road_lanes': list(ROAD), 'gnss_ok': True, 'roadside_data': True, 'maps': 1, 'zones': 1, 'unverified': 0,
@@ -70,27 +73,48 @@ def scene_cruise(s, t):
     s['speed_mps'] = 22.0 + 0.3 * ((t * 10) % 3)
 
 
+def scene_speeding(s, t):
+    """97 km/h on the 80 km/h road: the speed alarm, no alert."""
+    s.update(speed_mps=27.0, speed_alarm=True)
+
+
+def zone_ahead(s, d, stage):
+    """A zone ahead at d metres: the 40 km/h limit starts there (the road's limit is in force)."""
+    s.update(zone_state='Warning' if stage in ('Warning', 'Urgent') else 'Approaching', distance_m=d,
+             closed_lanes=list(CLOSED), stage=stage, limit_ahead_mps=ZONE_LIMIT, limit_ahead_m=d)
+
+
 def scene_approach(s, t):
     d = ramp(t, 560, 22, 210)
-    s.update(zone_state='Approaching', distance_m=d, closed_lanes=list(CLOSED))
-    s['primary'] = alert('ReducedSpeedAhead', d, ZONE_LIMIT)
-    s['others'] = [alert('LaneClosedOther', d, ZONE_LIMIT)]
+    zone_ahead(s, d, 'Information')
+    s['primary'] = alert('ReducedSpeedAhead', d, ZONE_LIMIT, 'Information')
+    s['others'] = [alert('LaneClosedOther', d, ZONE_LIMIT, 'Information')]
 
 
 def scene_warning(s, t):
-    d = ramp(t, 150, 12, 70)
-    s.update(zone_state='Warning', distance_m=d, speed_mps=12.0, speed_limit_mps=ZONE_LIMIT,
-             reduced_limit=True, closed_lanes=list(CLOSED))
-    s['primary'] = alert('ReducedSpeedAhead', d, ZONE_LIMIT)
-    s['others'] = [alert('LaneClosedOther', d, ZONE_LIMIT)]
+    """A complying driver at the warning distance: below the zone limit, in an open lane."""
+    d = ramp(t, 95, 8, 60)
+    zone_ahead(s, d, 'Warning')
+    s.update(speed_mps=10.5)
+    s['primary'] = alert('ReducedSpeedAhead', d, ZONE_LIMIT, 'Warning')
+    s['others'] = [alert('LaneClosedOther', d, ZONE_LIMIT, 'Information')]
 
 
 def scene_lane_closed(s, t):
-    d = ramp(t, 90, 11, 40)
-    s.update(zone_state='Warning', distance_m=d, speed_mps=11.0, speed_limit_mps=ZONE_LIMIT,
-             reduced_limit=True, closed_lanes=list(CLOSED), lane={'map': 1, 'lane': 3}, advice='MoveLeft')
-    s['primary'] = alert('LaneClosedOwn', d, ZONE_LIMIT)
-    s['others'] = [alert('ReducedSpeedAhead', d, ZONE_LIMIT)]
+    d = ramp(t, 90, 11, 55)
+    zone_ahead(s, d, 'Warning')
+    s.update(speed_mps=10.5, lane={'map': 1, 'lane': 3}, advice='MoveLeft')
+    s['primary'] = alert('LaneClosedOwn', d, ZONE_LIMIT, 'Warning')
+    s['others'] = [alert('ReducedSpeedAhead', d, ZONE_LIMIT, 'Warning')]
+
+
+def scene_urgent(s, t):
+    """Still in the closed lane 10-40 m before the zone: a lane change no longer fits."""
+    d = 40 - (10.5 * t) % 30
+    zone_ahead(s, d, 'Urgent')
+    s.update(speed_mps=10.5, lane={'map': 1, 'lane': 3}, advice='MoveLeft', lane_confidence=88)
+    s['primary'] = alert('LaneClosedOwn', d, ZONE_LIMIT, 'Urgent')
+    s['others'] = [alert('ReducedSpeedAhead', d, ZONE_LIMIT, 'Warning'), alert('LaneClosedOther', d, ZONE_LIMIT, 'Information')]
 
 
 def scene_lane_closed_fallback(s, t):
@@ -101,16 +125,17 @@ def scene_lane_closed_fallback(s, t):
 
 def scene_overspeed(s, t):
     d = ramp(t, 70, 16, 20)
-    s.update(zone_state='Warning', distance_m=d, speed_mps=16.5, speed_limit_mps=ZONE_LIMIT,
-             reduced_limit=True, closed_lanes=list(CLOSED))
-    s['primary'] = alert('Overspeed', d, ZONE_LIMIT)
-    s['others'] = [alert('ReducedSpeedAhead', d, ZONE_LIMIT), alert('LaneClosedOther', d, ZONE_LIMIT)]
+    zone_ahead(s, d, 'Urgent')
+    s.update(speed_mps=16.5, speed_alarm=True, decel_needed_mps2=round((16.5 ** 2 - ZONE_LIMIT ** 2) / (2 * d), 2))
+    s['primary'] = alert('Overspeed', d, ZONE_LIMIT, 'Urgent')
+    s['others'] = [alert('ReducedSpeedAhead', d, ZONE_LIMIT, 'Warning'), alert('LaneClosedOther', d, ZONE_LIMIT, 'Information')]
 
 
 def scene_in_zone(s, t):
     d = -min(95, 10 + 10.5 * t)
     s.update(zone_state='InZone', distance_m=d, speed_mps=10.5, speed_limit_mps=ZONE_LIMIT,
-             reduced_limit=True, closed_lanes=list(CLOSED))
+             reduced_limit=True, closed_lanes=list(CLOSED), stage='Information')
+    s['primary'] = alert('LaneClosedOther', d, ZONE_LIMIT, 'Information')
 
 
 def scene_leaving(s, t):
@@ -126,29 +151,45 @@ def scene_no_roadside(s, t):
 
 SCENES = {
     'cruise': scene_cruise,
+    'speeding': scene_speeding,
     'approach': scene_approach,
     'warning': scene_warning,
     'lane_closed': scene_lane_closed,
     'lane_closed_fallback': scene_lane_closed_fallback,
     'overspeed': scene_overspeed,
+    'urgent': scene_urgent,
     'in_zone': scene_in_zone,
     'leaving': scene_leaving,
     'no_roadside': scene_no_roadside,
 }
-# pseudo-scenes handled by World.set_scene: gnss_lost, gnss_back, silent
+# pseudo-scenes handled by World.set_scene: gnss_lost, gnss_back, time_fault, time_ok, silent
 SCRIPT = [('cruise', 5), ('approach', 6), ('warning', 5), ('lane_closed', 5), ('overspeed', 4),
           ('in_zone', 6), ('leaving', 4), ('gnss_lost', 4), ('cruise', 3), ('no_roadside', 3),
           ('restart', 3)]
 
 
+DEAD_RECKONING_S = 5.0
+
+
 def apply_gnss_loss(s, lost_for):
-    """What the daemon does without fixes: no lane, no zone evaluation, GnssStale alert."""
-    s.update(gnss_ok=False, lane=None, lane_confidence=0, zone_state='None', distance_m=None,
-             closed_lanes=[], advice='None', reduced_limit=False)
-    if s['speed_limit_mps'] is not None:
-        s['speed_limit_mps'] = LANE_LIMIT
+    """What the daemon does without fixes: for DEAD_RECKONING_S the position is estimated
+    (zone, countdown and lane still given), then it is lost: the zone ahead is kept, the
+    distance and the lane are not, the speed's source is stale."""
+    s['gnss_ok'] = False
+    if lost_for < DEAD_RECKONING_S:
+        s['position'] = 'Estimated'
+        s['lane_confidence'] = min(s['lane_confidence'], 60)
+        s['others'] = s['others'] + [alert('GnssStale')]
+        return 1000 + int(lost_for * 1000)
+    s.update(position='Lost', lane=None, lane_confidence=0, distance_m=None, advice='None', speed_mps=None,
+             speed_alarm=False, decel_needed_mps2=None, limit_ahead_m=None)
+    if s['zone_state'] in ('Leaving',):
+        s['zone_state'] = 'None'
     keep = [a for a in [s['primary']] + s['others'] if a and a['kind'] in ('MapMissing', 'NoRoadsideData')]
     s['primary'] = alert('GnssStale')
+    if s['stage'] in ('Warning', 'Urgent'):
+        s['stage'] = 'Information'
+    s['primary']['stage'] = s['stage']
     s['others'] = keep
     return 1000 + int(lost_for * 1000)
 
@@ -162,6 +203,7 @@ class World:
         self.scene = scene
         self.scene_at = time.monotonic()
         self.gnss_lost_at = None
+        self.time_fault = False
         self.silent = False
         self.seq = 0
         self.started = time.monotonic()
@@ -176,6 +218,10 @@ class World:
                 self.gnss_lost_at = self.gnss_lost_at or time.monotonic()
             elif name == 'gnss_back':
                 self.gnss_lost_at = None
+            elif name == 'time_fault':
+                self.time_fault = True
+            elif name == 'time_ok':
+                self.time_fault = False
             elif name == 'silent':
                 self.silent = True
             elif name == 'restart':
@@ -224,6 +270,8 @@ class World:
         age = 80
         if self.gnss_lost_at is not None:
             age = apply_gnss_loss(s, now - self.gnss_lost_at)
+        if self.time_fault:
+            s['time_status'] = 'Unverified' 
         self.seq += 1
         self.counts['nmea_gga'] += 0 if self.gnss_lost_at else 1
         self.counts['nmea_rmc'] += 0 if self.gnss_lost_at else 1
@@ -391,7 +439,7 @@ class Handler(BaseHTTPRequestHandler):
             return self.send_json(200, {'paired': self.pairing.authorised(self.headers.get('Cookie')),
                                         'locked_for_s': 0})
         if path == '/__dev/scene':
-            return self.send_json(200, {'scene': self.world.scene, 'scenes': sorted(SCENES) + ['gnss_lost', 'gnss_back', 'silent', 'restart']})
+            return self.send_json(200, {'scene': self.world.scene, 'scenes': sorted(SCENES) + ['gnss_lost', 'gnss_back', 'time_fault', 'time_ok', 'silent', 'restart']})
         return self.static(path)
 
     def do_PUT(self):
@@ -446,7 +494,9 @@ class Handler(BaseHTTPRequestHandler):
             return self.send_text(404, 'not found')
         with open(full, 'rb') as f:
             data = f.read()
-        ctype = mimetypes.guess_type(full)[0] or 'application/octet-stream'
+        if rel == 'sw.js':
+            data = data.replace(b'@HMI_SHELL_VERSION@', shell_version().encode())
+        ctype = MIME.get(os.path.splitext(full)[1]) or mimetypes.guess_type(full)[0] or 'application/octet-stream'
         if ctype.startswith('text/') or ctype.endswith('javascript'):
             ctype += '; charset=utf-8'
         self.send_response(200)
@@ -490,6 +540,22 @@ class Handler(BaseHTTPRequestHandler):
                     last_write = now
         except (BrokenPipeError, ConnectionResetError, OSError):
             return
+
+
+MIME = {'.webmanifest': 'application/manifest+json', '.js': 'text/javascript', '.svg': 'image/svg+xml'}
+
+
+def shell_version():
+    """A hash of the app files (as the daemon stamps it into sw.js): new files, new cache."""
+    import hashlib
+    h = hashlib.sha256()
+    for name in sorted(os.listdir(WEB_ROOT)):
+        full = os.path.join(WEB_ROOT, name)
+        if os.path.isfile(full) and name not in ('sw.js', 'README.md', 'screenshot.png'):
+            h.update(name.encode() + b'\0')
+            with open(full, 'rb') as f:
+                h.update(f.read())
+    return h.hexdigest()[:16]
 
 
 class Server(ThreadingHTTPServer):

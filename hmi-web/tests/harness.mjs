@@ -178,10 +178,16 @@ export function drive(url, scene, cmd = env().driver, stateDir = '') {
 export function watchEvents(url) {
   const ctrl = new AbortController();
   const waiters = new Set();
+  const listeners = new Set();
   const w = {
     last: null,
     count: 0,
     close: () => ctrl.abort(),
+    /** Calls fn(msg) for every state from now on; returns a function that stops it. */
+    listen(fn) {
+      listeners.add(fn);
+      return () => listeners.delete(fn);
+    },
     /** The first state from now on that satisfies pred: { msg, t } with t = performance.now(). */
     waitFor(pred, timeoutMs = 5000, what = 'state') {
       return new Promise((resolve, reject) => {
@@ -223,6 +229,7 @@ export function watchEvents(url) {
     const t = performance.now();
     w.last = { msg, t };
     w.count += 1;
+    for (const fn of listeners) fn(msg);
     for (const waiter of waiters) {
       if (waiter.pred(msg)) {
         clearTimeout(waiter.timer);

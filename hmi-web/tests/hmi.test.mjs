@@ -3,6 +3,7 @@
 import { describe, it, before, after } from 'node:test';
 import assert from 'node:assert/strict';
 import { env, Server, drive, watchEvents, launch, openPage, waitLive, shot, sleep, pairCookie, pairContext } from './harness.mjs';
+import { STAGES, LAYOUTS, overflowReport } from './screen.mjs';
 
 const SCREEN_MS = 500;                                            // server sent it -> on screen
 const GNSS_MS = Number(process.env.HMI_GNSS_DEADLINE_MS || 1000); // dropout -> "No GNSS" on screen
@@ -27,6 +28,55 @@ async function onScreen(p, msg, timeout = 2000) {
     return window.hmi.connection() === 'live' && document.body.dataset.zone === s.zone_state &&
       (kind ? b === kind : b === 'none');
   }, msg, { timeout, polling: 'raf' });
+}
+
+/** Runs the driver steps of a stage scene; resolves with the first state of the stage. */
+async function reach(stage) {
+  for (const [scene, ready] of stage.steps) {
+    const seen = ready ? events.waitFor((m) => ready(m.state), 15000, `${stage.name}: ${scene}`) : null;
+    await go(scene);
+    if (seen) await seen;
+  }
+  // the stage must still hold 0.5 s later (a scene switch passes through other states;
+  // the daemon sends a state only when something changes)
+  const until = performance.now() + (stage.timeout || 10000);
+  for (;;) {
+    const left = Math.max(1, until - performance.now());
+    const first = await events.waitFor((m) => stage.pred(m.state), left, stage.name);
+    await sleep(500);
+    if (stage.pred(events.last.msg.state)) return events.last;
+    if (performance.now() > until) return first;
+  }
+}
+
+/** Waits until page p has rendered the state with sequence number seq (or a later one). */
+function shown(p, seq) {
+  return p.waitForFunction((n) => window.hmi.lastMessage() && window.hmi.lastMessage().seq >= n &&
+    window.hmi.connection() === 'live', seq, { timeout: 2000, polling: 'raf' });
+}
+
+/** No element overflows or is cut, and at most one element is red: at each viewport. */
+async function checkLayouts(p, label, extra = async () => {}) {
+  for (const vp of LAYOUTS) {
+    await p.setViewportSize({ width: vp.width, height: vp.height });
+    await p.evaluate(() => new Promise((r) => requestAnimationFrame(() => requestAnimationFrame(r))));
+    const over = await p.evaluate(overflowReport);
+    assert.deepEqual(over, [], `${label} at ${vp.width}x${vp.height}: nothing cut or overflowing`);
+    const red = await p.evaluate(() => ({ n: window.hmi.redElements(), list: window.hmi.redList(), state: window.hmi.lastState() }));
+    assert.ok(red.n <= 1, `${label} at ${vp.width}x${vp.height}: ${red.n} red elements (${red.list.join(', ')})`);
+    const scroll = await p.evaluate(() => [document.scrollingElement.scrollWidth, document.scrollingElement.scrollHeight]);
+    assert.ok(scroll[0] <= vp.width && scroll[1] <= vp.height, `${label}: no scrolling (${scroll})`);
+    // every other alert is a visible chip, or counted in the "+N" chip
+    const chips = await p.evaluate(() => {
+      const shown = [...document.querySelectorAll('#others .other')].filter((c) => c.checkVisibility());
+      const more = shown.find((c) => c.dataset.kind === 'more');
+      return { shown: shown.length - (more ? 1 : 0), more: more ? Number(more.textContent.replace('+', '')) : 0,
+        live: window.hmi.connection() === 'live' && document.body.dataset.view === 'drive', others: (window.hmi.lastState() || {}).others || [] };
+    });
+    if (chips.live) assert.equal(chips.shown + chips.more, chips.others.length, `${label} at ${vp.width}x${vp.height}: every alert chip shown or in "+N"`);
+    await extra(vp, red.n, red.state);
+    await shot(p, `${label}-${vp.name}`);
+  }
 }
 
 /** Drives a scene, waits for the server to send a state matching pred, then for the screen. */
@@ -114,8 +164,10 @@ describe('driver display', () => {
     assert.equal(await page.evaluate(() => localStorage.getItem('hmi.sound.unlocked')), '1', 'choice remembered');
   });
 
-  it('warning: alert banner, and a tone repeated every ~2 s until it clears', async () => {
+  it('tone: Warning plays one group when entered, not again; Urgent repeats every 2 s and stops when the stage drops', async () => {
     const actx = await launch({ autoplay: true });
+    const stages = [];
+    let stop = events.listen((m) => stages.push(m.state.stage));
     try {
       // record every oscillator frequency the page sets (the tone must be in the 1-5 kHz band)
       await actx.addInitScript(() => {
@@ -129,34 +181,79 @@ describe('driver display', () => {
       });
       const p = await openPage(actx, url);
       await waitLive(p);
-      const seen = events.waitFor((m) => m.state.zone_state === 'Warning', 10000, 'Warning');
+      assert.equal(await p.evaluate(() => window.hmi.audioState()), 'running');
+      const tones = () => p.evaluate(() => window.hmi.tonesScheduled());
+      const calm = events.waitFor((m) => m.state.stage === 'None' && m.state.zone_state === 'None', 10000, 'stage None');
+      await go('cruise');
+      await shown(p, (await calm).msg.seq);
+      await sleep(300);
+      const n0 = await tones();
+
+      // Warning: exactly one group on entering, none again within 5 s
+      stages.length = 0;
+      const warn = events.waitFor((m) => m.state.stage === 'Warning', 10000, 'stage Warning');
       await go('warning');
-      const { msg } = await seen;
-      await onScreen(p, msg);
+      const { msg } = await warn;
+      await shown(p, msg.seq);
       const banner = await p.evaluate(() => {
         const b = document.getElementById('alert-banner');
-        return { cls: b.className, live: b.getAttribute('aria-live'), title: document.getElementById('alert-title').textContent };
+        return { cls: b.className, live: b.getAttribute('aria-live'), stage: b.dataset.stage, title: document.getElementById('alert-title').textContent };
       });
-      assert.match(banner.cls, /sev-(red|amber|orange)/, 'a warning colour');
+      assert.match(banner.cls, /sev-red/, 'Warning is red');
+      assert.equal(banner.stage, 'Warning');
       assert.equal(banner.live, 'assertive');
-      assert.ok(banner.title.length > 0);
-      assert.equal(await p.evaluate(() => window.hmi.audioState()), 'running');
-      await p.waitForFunction(() => window.hmi.tonesScheduled() >= 1, null, { timeout: 500 });
-      const n1 = await p.evaluate(() => window.hmi.tonesScheduled());
-      await sleep(2300);
-      const n2 = await p.evaluate(() => window.hmi.tonesScheduled());
-      assert.ok(n2 >= n1 + 1, `repeated: ${n1} -> ${n2}`);
+      await p.waitForFunction((n) => window.hmi.tonesScheduled() === n + 1, n0, { timeout: 1000 });
+      await sleep(5000);
+      const entries = stages.filter((st, i) => st === 'Warning' && (i === 0 || ['None', 'Information'].includes(stages[i - 1]))).length;
+      assert.equal(entries, 1, `the warning scene holds Warning (stages seen: ${[...new Set(stages)]})`);
+      assert.ok(stages.every((st) => st === 'Warning' || st === 'None' || st === 'Information'), 'no Urgent in the warning scene');
+      assert.equal(await tones(), n0 + 1, 'one group for entering Warning, no repeat within 5 s');
+      await shot(p, 'warning');
+
+      // Urgent: a group at once, then every 2 s
+      const urg = events.waitFor((m) => m.state.stage === 'Urgent', 10000, 'stage Urgent');
+      await go('urgent');
+      await shown(p, (await urg).msg.seq);
+      assert.equal(await p.getAttribute('#alert-banner', 'data-stage'), 'Urgent');
+      const n1 = await tones();
+      assert.ok(n1 >= n0 + 2, 'a group at once on entering Urgent');
+      await sleep(4300);
+      const n2 = await tones();
+      assert.ok(n2 >= n1 + 2, `Urgent repeats every 2 s: ${n1} -> ${n2} in 4.3 s`);
       const freqs = await p.evaluate(() => window.__freqs);
       assert.ok(freqs.length >= 2 && freqs.every((f) => f >= 1000 && f <= 5000), `tone frequencies ${freqs}`);
-      await shot(p, 'warning');
-      const cleared = events.waitFor((m) => m.state.zone_state === 'None' && !m.state.primary, 10000, 'no warning');
-      await go('cruise');
-      await onScreen(p, (await cleared).msg);
-      await sleep(300);
-      const n3 = await p.evaluate(() => window.hmi.tonesScheduled());
+      await shot(p, 'urgent');
+
+      // the link is lost: the tone stops at once; back in the same Urgent it repeats again
+      await server.stop();
+      await p.waitForFunction(() => window.hmi.connection() !== 'live', null, { timeout: 3000, polling: 50 });
+      const nLost = await tones();
       await sleep(2500);
-      assert.equal(await p.evaluate(() => window.hmi.tonesScheduled()), n3, 'tone stopped when the warning cleared');
+      assert.equal(await tones(), nLost, 'no tone while the link is lost');
+      await server.start();
+      events.close();
+      events = watchEvents(url);
+      stop = events.listen((m) => stages.push(m.state.stage));
+      await waitLive(p, 10000);
+      await p.waitForFunction((n) => window.hmi.tonesScheduled() > n, nLost, { timeout: 3000 });
+
+      // the driver complies (Urgent -> Warning): the tone stops at once, no new group
+      stages.length = 0;
+      const back = events.waitFor((m) => m.state.stage === 'Warning', 10000, 'back to Warning');
+      await go('warning');
+      await shown(p, (await back).msg.seq);
+      const n3 = await tones();
+      await sleep(3000);
+      assert.ok(!stages.slice(stages.indexOf('Warning')).includes('Urgent'), `the stage stayed below Urgent (${[...new Set(stages)]})`);
+      assert.equal(await tones(), n3, 'no tone after Urgent dropped to Warning');
+      const cleared = events.waitFor((m) => m.state.stage === 'None', 10000, 'stage None');
+      await go('cruise');
+      await shown(p, (await cleared).msg.seq);
+      const n4 = await tones();
+      await sleep(2500);
+      assert.equal(await tones(), n4, 'silence once the warning cleared');
     } finally {
+      stop();
       await actx.close();
     }
   });
@@ -184,11 +281,22 @@ describe('driver display', () => {
     await shot(page, 'lane_closed');
   });
 
-  it('overspeed: red banner and red speed', async () => {
-    const { msg } = await sceneOnScreen('overspeed', (m) => m.state.primary && m.state.primary.kind === 'Overspeed', 'Overspeed');
-    assert.equal(await page.getAttribute('#speed-box', 'data-over'), 'true');
+  it('overspeed: red banner; the speed alarm is not a second red element', async () => {
+    const { msg } = await sceneOnScreen('overspeed', (m) => m.state.primary && m.state.primary.kind === 'Overspeed' && m.state.speed_alarm, 'Overspeed');
+    assert.equal(msg.state.stage, 'Urgent');
     assert.match(await page.getAttribute('#alert-banner', 'class'), /sev-red/);
+    assert.equal(await page.getAttribute('#speed-box', 'data-alarm'), 'muted', 'under a red banner the speed alarm is amber');
+    assert.equal(await page.evaluate(() => window.hmi.redElements()), 1);
     await shot(page, 'overspeed');
+  });
+
+  it('speed alarm without a red banner: the speed is the one red element', async () => {
+    const { msg } = await sceneOnScreen('speeding', (m) => m.state.speed_alarm && m.state.stage === 'None' && !m.state.primary, 'speed alarm, no alert');
+    assert.equal(msg.state.zone_state, 'None');
+    assert.equal(await page.getAttribute('#speed-box', 'data-alarm'), 'red');
+    assert.equal(await page.getAttribute('#alert-banner', 'data-red'), 'false');
+    assert.deepEqual(await page.evaluate(() => window.hmi.redList()), ['speed-box']);
+    await shot(page, 'speeding');
   });
 
   it('in zone: "IN ZONE" and the reduced-limit sign', async () => {
@@ -205,7 +313,7 @@ describe('driver display', () => {
     await shot(page, 'in_zone');
   });
 
-  it('"No GNSS" within 1 s of a dropout, and back', async () => {
+  it('"No GNSS" within 1 s of a dropout, "Position lost" (never green) past dead reckoning, and back', async () => {
     await sceneOnScreen('cruise', (m) => m.state.gnss_ok && m.state.zone_state === 'None', 'cruise');
     await go('gnss_lost');
     const t0 = performance.now();
@@ -214,11 +322,79 @@ describe('driver display', () => {
     const ms = Math.round(performance.now() - t0);
     console.log(`# dropout -> "No GNSS" on screen: ${ms} ms`);
     assert.ok(ms <= GNSS_MS, `${ms} ms > ${GNSS_MS} ms`);
-    assert.equal(await page.textContent('#distance-label'), 'Position unknown', 'no distance claimed without a position');
+    const lost = await events.waitFor((m) => m.state.position === 'Lost', 15000, 'position Lost');
+    await shown(page, lost.msg.seq);
+    assert.equal(await page.textContent('#distance-label'), 'Position lost', 'no distance claimed without a position');
+    assert.equal(await page.textContent('#alert-title'), 'Position lost');
+    assert.doesNotMatch(await page.getAttribute('#alert-banner', 'class'), /sev-calm/, 'never green without a position');
     await shot(page, 'no_gnss');
     await go('gnss_back');
     await page.waitForFunction(() => document.body.dataset.gnss === 'ok', null, { timeout: 5000 });
   });
+
+  for (const stage of STAGES) {
+    it(`stage scene "${stage.name}": nothing cut at 360-430 px wide and 1280x800, one red element at most`, async () => {
+      const p = await ctx.newPage();
+      try {
+        await p.setViewportSize({ width: 1280, height: 800 });
+        await p.goto(url + '/');
+        await waitLive(p);
+        const { msg } = await reach(stage);
+        await shown(p, msg.seq);
+        await sleep(200);
+        await checkLayouts(p, 'stage_' + stage.name, async (vp, red, s) => {
+          assert.ok(stage.pred(s), `${stage.name}: the page still shows the stage (${JSON.stringify(s)})`);
+          const d = await p.evaluate(() => {
+            const b = document.getElementById('alert-banner');
+            const vis = (id) => document.getElementById(id).checkVisibility();
+            return { cls: b.className, red: b.dataset.red, stage: b.dataset.stage, title: document.getElementById('alert-title').textContent,
+              label: document.getElementById('distance-label').textContent, distance: document.getElementById('distance').textContent,
+              approx: vis('distance-approx'), marker: vis('pos-marker'), time: vis('time-chip'), timeText: document.getElementById('time-chip').textContent,
+              speed: document.getElementById('speed').textContent, speedColor: getComputedStyle(document.getElementById('speed')).color,
+              dim: getComputedStyle(document.documentElement).getPropertyValue('--dim').trim(),
+              soundShown: vis('sound-state') || vis('sound-enable') };
+          });
+          const where = `${stage.name} ${vp.width}x${vp.height}`;
+          assert.ok(d.soundShown, `${where}: sound status visible`);
+          const bannerRed = s.stage === 'Warning' || s.stage === 'Urgent';
+          assert.equal(d.red === 'true', bannerRed, `${where}: the banner is red exactly at Warning/Urgent (${s.stage})`);
+          assert.equal(red, bannerRed || s.speed_alarm ? 1 : 0, `${where}: red elements`);
+          if (s.stage === 'Information') assert.match(d.cls, /sev-amber/, `${where}: Information is amber`);
+          if (s.speed_mps === null) assert.equal(d.speed, '--', `${where}: a stale speed is not shown as a number`);
+          switch (stage.name) {
+            case 'warning': assert.equal(d.stage, 'Warning'); break;
+            case 'urgent': assert.equal(d.stage, 'Urgent'); break;
+            case 'in_zone': assert.equal(d.distance, 'IN ZONE'); break;
+            case 'estimated':
+              assert.ok(d.marker, `${where}: ESTIMATED POSITION marker`);
+              if (typeof s.distance_m === 'number' && s.distance_m > 0) assert.ok(d.approx && /^\d/.test(d.distance), `${where}: ≈ distance`);
+              break;
+            case 'lost':
+              assert.equal(d.title, 'Position lost');
+              assert.equal(d.label, 'Position lost');
+              assert.doesNotMatch(d.cls, /sev-calm/);
+              assert.equal(d.distance, '');
+              break;
+            case 'time_unverified':
+              assert.ok(d.time && d.timeText.includes('Time unverified'), `${where}: "Time unverified" shown`);
+              assert.notEqual(await p.getAttribute('#alert-banner', 'data-kind'), 'none', 'the zone is still shown');
+              break;
+            default: break;
+          }
+        });
+        if (stage.name === 'urgent') {
+          assert.match(await p.evaluate(() => getComputedStyle(document.getElementById('alert-banner')).animationName), /urgent-pulse/);
+          await p.emulateMedia({ reducedMotion: 'reduce' });
+          assert.equal(await p.evaluate(() => getComputedStyle(document.getElementById('alert-banner')).animationName), 'none', 'no pulse with reduced motion');
+        }
+        assert.deepEqual(p.errors || [], []);
+      } finally {
+        await p.close();
+      }
+      await go('gnss_back');
+      await go('time_ok');
+    });
+  }
 
   it('"Disconnected" when the server stops; live again after it restarts', async () => {
     await waitLive(page);
@@ -237,6 +413,8 @@ describe('driver display', () => {
     assert.equal(grey.others, 'hidden');
     await sleep(1200);
     await shot(page, 'disconnected');
+    await checkLayouts(page, 'stage_disconnected');
+    await page.setViewportSize({ width: 1280, height: 800 });
     await server.start();
     const t1 = performance.now();
     await waitLive(page, 5000);
@@ -244,6 +422,83 @@ describe('driver display', () => {
     events.close();
     events = watchEvents(url);
     assert.notEqual(await page.textContent('#alert-title'), 'Disconnected');
+  });
+
+  it('offline: a reload without the unit opens the app (its own "Disconnected" screen), which goes live by itself when the unit is back', async () => {
+    const types = {};
+    for (const f of ['manifest.webmanifest', 'sw.js', 'icon.svg', 'icon-maskable.svg']) {
+      const r = await fetch(url + '/' + f);
+      assert.equal(r.status, 200, f);
+      types[f] = r.headers.get('content-type');
+      if (f === 'sw.js') assert.doesNotMatch(await r.text(), /@HMI_SHELL_VERSION@/, 'the shell version is stamped in');
+    }
+    assert.match(types['manifest.webmanifest'], /^application\/manifest\+json/);
+    assert.match(types['sw.js'], /^text\/javascript/);
+    assert.match(types['icon.svg'], /^image\/svg\+xml/);
+    const octx = await launch();
+    try {
+      const p = await openPage(octx, url);
+      await waitLive(p);
+      const sw = await p.evaluate(async () => {
+        const reg = await navigator.serviceWorker.ready;
+        return { scope: reg.scope, script: reg.active && reg.active.scriptURL };
+      });
+      assert.equal(sw.scope, url + '/');
+      assert.equal(sw.script, url + '/sw.js');
+      await p.waitForFunction(() => !!navigator.serviceWorker.controller, null, { timeout: 5000 });
+      // the live data never comes from the cache
+      const cached = await p.evaluate(async () => {
+        const names = await caches.keys();
+        const out = [];
+        for (const n of names) out.push(...(await (await caches.open(n)).keys()).map((r) => new URL(r.url).pathname));
+        return { names, paths: out };
+      });
+      assert.ok(cached.names.length === 1 && cached.names[0].startsWith('hmi-shell-'), `one versioned cache: ${cached.names}`);
+      assert.ok(cached.paths.includes('/index.html') && cached.paths.includes('/app.js'), `the shell is cached: ${cached.paths}`);
+      assert.ok(!cached.paths.some((x) => x === '/events' || x.startsWith('/api/')), `no live data cached: ${cached.paths}`);
+      await server.stop();
+      await p.reload();
+      await p.waitForFunction(() => window.hmi && document.getElementById('alert-banner').dataset.kind === 'disconnected' &&
+        document.getElementById('alert-title').textContent === 'Disconnected', null, { timeout: 8000 });
+      assert.equal(await p.evaluate(() => window.hmi.connection()), 'disconnected');
+      await shot(p, 'offline_reload');
+      await server.start();
+      events.close();
+      events = watchEvents(url);
+      await waitLive(p, 10000);
+      const seq = (await events.waitFor(() => true, 5000)).msg.seq;
+      await shown(p, seq);
+      assert.notEqual(await p.textContent('#alert-title'), 'Disconnected');
+    } finally {
+      await octx.close();
+    }
+  });
+
+  it('accessibility: zoom allowed, one h1, landmarks; night theme without glare', async () => {
+    const a = await page.evaluate(() => ({
+      viewport: document.querySelector('meta[name=viewport]').content,
+      h1: document.querySelectorAll('h1').length,
+      header: document.querySelectorAll('header').length,
+      main: document.querySelectorAll('main').length,
+      nav: document.querySelectorAll('nav').length,
+      manifest: !!document.querySelector('link[rel=manifest]'),
+    }));
+    assert.doesNotMatch(a.viewport, /user-scalable\s*=\s*(no|0)|maximum-scale\s*=\s*1(\.0)?\b/);
+    assert.equal(a.h1, 1, 'exactly one h1');
+    assert.ok(a.header === 1 && a.main === 1 && a.nav >= 1, JSON.stringify(a));
+    assert.ok(a.manifest);
+    await page.evaluate(() => { document.documentElement.dataset.theme = 'night'; });
+    const night = await page.evaluate(() => {
+      const f = (sel) => getComputedStyle(document.querySelector(sel)).filter;
+      const white = [...document.querySelectorAll('body *')].filter((el) => el.checkVisibility() && !el.closest('svg') &&
+        getComputedStyle(el).backgroundColor === 'rgb(255, 255, 255)').map((el) => el.id || el.className);
+      return { sign: f('#limit .limit-sign'), icon: f('.banner-icon'), white };
+    });
+    await page.evaluate(() => window.dispatchEvent(new Event('resize')));
+    assert.match(night.sign, /brightness\(0?\.75\)/, 'the sign is dimmed at night');
+    assert.match(night.icon, /brightness\(0?\.75\)/, 'icons are dimmed at night');
+    assert.deepEqual(night.white, [], 'no pure white areas at night');
+    await page.evaluate((t) => { document.documentElement.dataset.theme = t; }, 'day');
   });
 
   it('pairing: an unpaired tablet is asked for the PIN once; a wrong PIN is refused, the right one pairs and the write goes through', async () => {
@@ -336,6 +591,17 @@ describe('driver display', () => {
     let stored = await (await fetch(url + '/api/settings')).json();
     assert.equal(stored.units, 'mph');
     assert.equal(stored.warning_distance_m, 150);
+    // with mph the warning distance is shown and entered in ft, stored in metres
+    assert.equal(await page.inputValue('#set-distance'), '492');
+    assert.match(await page.textContent('#set-distance-range'), /ft, 66–6561/);
+    await page.fill('#set-distance', '330');
+    await page.click('#settings-save');
+    await page.waitForFunction(() => document.getElementById('settings-msg').textContent === 'Saved.');
+    const inFt = await (await fetch(url + '/api/settings')).json();
+    assert.ok(Math.abs(inFt.warning_distance_m - 100.6) < 0.1, `330 ft stored as ${inFt.warning_distance_m} m`);
+    await page.fill('#set-distance', '492');
+    await page.click('#settings-save');
+    await page.waitForFunction(() => document.getElementById('settings-msg').textContent === 'Saved.');
     await page.click('.nav-back >> nth=0');
     assert.equal(await page.textContent('#speed-unit'), 'mph');
     // restart the server, reload the page: still mph, from the server
@@ -417,6 +683,21 @@ describe('driver display', () => {
     }
   });
 
+  it('settings and diagnostics pages: nothing cut at 360-430 px wide and 1280x800', async () => {
+    const p = await ctx.newPage();
+    try {
+      await p.goto(url + '/#settings');
+      await waitLive(p);
+      await p.waitForFunction(() => document.getElementById('set-distance').value !== '');
+      await checkLayouts(p, 'page_settings');
+      await p.goto(url + '/#diag');
+      await p.waitForFunction(() => document.querySelectorAll('#diag-status dt').length > 0, null, { timeout: 5000 });
+      await checkLayouts(p, 'page_diag');
+    } finally {
+      await p.close();
+    }
+  });
+
   it('diagnostics view shows /api/status and the link', async () => {
     await page.click('#nav-diag');
     await page.waitForFunction(() => document.querySelectorAll('#diag-status dt').length > 0 && document.querySelectorAll('#diag-link dt').length > 0, null, { timeout: 5000 });
@@ -441,7 +722,7 @@ function contrastReport(theme) {
   };
   const ratio = (a, b) => { const [x, y] = [lum(a), lum(b)].sort((p, q) => q - p); return (x + 0.05) / (y + 0.05); };
   const out = {};
-  for (const sev of ['red', 'amber', 'orange', 'info', 'calm', 'offline']) {
+  for (const sev of ['red', 'amber', 'orange', 'zone', 'info', 'calm', 'offline']) {
     const el = document.createElement('div');
     el.className = 'banner sev-' + sev;
     el.innerHTML = '<div class="alert-title">X</div>';

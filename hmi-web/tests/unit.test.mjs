@@ -2,6 +2,8 @@
 import { test } from 'node:test';
 import assert from 'node:assert/strict';
 import { createRequire } from 'node:module';
+import fs from 'node:fs';
+import vm from 'node:vm';
 
 const require = createRequire(import.meta.url);
 const F = require('../format.js');
@@ -36,7 +38,7 @@ test('distance field: countdown, in zone, leaving, unknown', () => {
   assert.equal(F.distanceView({ zone_state: 'InZone', distance_m: -12 }, 'kmh').value, 'IN ZONE');
   assert.equal(F.distanceView({ zone_state: 'Leaving', distance_m: -130 }, 'kmh').mode, 'leaving');
   assert.equal(F.distanceView({ zone_state: 'None', distance_m: null }, 'kmh').label, 'No work zone ahead');
-  assert.equal(F.distanceView({ zone_state: 'None', gnss_ok: false }, 'kmh').label, 'Position unknown');
+  assert.equal(F.distanceView({ zone_state: 'None', gnss_ok: false }, 'kmh').label, 'Position lost');
   assert.equal(F.distanceView({ zone_state: 'Approaching', distance_m: null }, 'kmh').value, '—');
 });
 
@@ -58,15 +60,59 @@ test('every alert kind has a colour, an icon and short text', () => {
   assert.equal(F.describeAlert({ kind: 'SomethingNew' }, {}).title, 'SomethingNew');
 });
 
-test('tone while Warning, Overspeed or own lane closed; urgency', () => {
-  assert.equal(F.toneWanted({ zone_state: 'Warning', primary: null }), true);
-  assert.equal(F.toneWanted({ zone_state: 'InZone', primary: { kind: 'Overspeed' } }), true);
-  assert.equal(F.toneWanted({ zone_state: 'Approaching', primary: { kind: 'LaneClosedOwn' } }), true);
-  assert.equal(F.toneWanted({ zone_state: 'Approaching', primary: { kind: 'ReducedSpeedAhead' } }), false);
-  assert.equal(F.toneWanted({ zone_state: 'InZone', primary: null }), false);
-  assert.equal(F.toneWanted(null), false);
-  assert.equal(F.toneLevel({ primary: { kind: 'Overspeed' } }), 'high');
-  assert.equal(F.toneLevel({ zone_state: 'Warning', primary: { kind: 'ReducedSpeedAhead' } }), 'normal');
+test('stage: from the server, or from the old rules without it; colour follows the stage only', () => {
+  assert.equal(F.stageOf({ stage: 'Urgent' }), 'Urgent');
+  assert.equal(F.stageOf({ stage: 'bogus', zone_state: 'Warning' }), 'Warning');
+  assert.equal(F.stageOf({ zone_state: 'InZone', primary: { kind: 'Overspeed' } }), 'Urgent');
+  assert.equal(F.stageOf({ zone_state: 'Approaching', primary: { kind: 'ReducedSpeedAhead' } }), 'Information');
+  assert.equal(F.stageOf(null), 'None');
+  assert.equal(F.stageSev('Warning', 'amber'), 'red');
+  assert.equal(F.stageSev('Urgent', 'info'), 'red');
+  assert.equal(F.stageSev('Information', 'red'), 'amber');
+  assert.equal(F.stageSev('None', 'red'), 'zone', 'a red kind without a stage is not red');
+  assert.equal(F.stageSev('None', 'info'), 'info');
+  const b = (st, kind) => F.banner({ stage: st, zone_state: 'Warning', distance_m: 60, position: 'Live', primary: { kind, distance_m: 60 } }, 'kmh');
+  assert.equal(b('Information', 'Overspeed').sev, 'amber');
+  assert.equal(b('Warning', 'ReducedSpeedAhead').sev, 'red');
+});
+
+test('tone: urgent, warning or none, only while live', () => {
+  assert.equal(F.toneFor({ stage: 'Urgent' }, true), 'urgent');
+  assert.equal(F.toneFor({ stage: 'Warning' }, true), 'warning');
+  assert.equal(F.toneFor({ stage: 'Information' }, true), 'none');
+  assert.equal(F.toneFor({ stage: 'Urgent' }, false), 'none');
+  assert.equal(F.toneFor(null, true), 'none');
+});
+
+test('position: estimated keeps the countdown marked, lost never shows green', () => {
+  const est = { stage: 'Warning', zone_state: 'Warning', distance_m: 84, position: 'Estimated', gnss_ok: false, roadside_data: true };
+  const v = F.distanceView(est, 'kmh');
+  assert.equal(v.value, '85');
+  assert.equal(v.approx, true);
+  assert.match(v.label, /estimated/);
+  assert.equal(F.banner({ ...est, primary: { kind: 'ReducedSpeedAhead', distance_m: 84, limit_mps: 11.12 } }, 'kmh').detail, '40 km/h in ≈ 85 m');
+  const lost = { stage: 'None', zone_state: 'Approaching', distance_m: null, position: 'Lost', gnss_ok: false, roadside_data: true, primary: null };
+  const b = F.banner(lost, 'kmh');
+  assert.equal(b.title, 'Position lost');
+  assert.notEqual(b.sev, 'calm');
+  assert.match(b.detail, /Work zone ahead/);
+  assert.equal(F.distanceView(lost, 'kmh').label, 'Position lost');
+  assert.notEqual(F.calmBanner({ zone_state: 'None', position: 'Lost', gnss_ok: false }, 'kmh').sev, 'calm');
+  assert.equal(F.positionOf({ gnss_ok: false }), 'Lost', 'an older core without position');
+  assert.equal(F.positionOf({ gnss_ok: true }), 'Live');
+  assert.equal(F.banner({ zone_state: 'None', position: 'Live', roadside_data: true }, 'kmh').sev, 'calm');
+});
+
+test('limit ahead plate, and the warning distance in ft with mph', () => {
+  assert.deepEqual(F.limitAhead({ limit_ahead_mps: 11.12, limit_ahead_m: 100 }, 'kmh'), { value: '40', where: 'in 100 m' });
+  assert.deepEqual(F.limitAhead({ limit_ahead_mps: 11.176, limit_ahead_m: 100 }, 'mph'), { value: '25', where: 'in 350 ft' });
+  assert.equal(F.limitAhead({ limit_ahead_mps: null, limit_ahead_m: 100 }, 'kmh'), null);
+  assert.equal(F.limitAhead({ limit_ahead_mps: 11.12, limit_ahead_m: null }, 'kmh').where, 'ahead');
+  assert.equal(F.formDistance(150, 'mph'), 492);
+  assert.equal(F.metresFromForm(492, 'mph'), 150);
+  assert.equal(F.formDistance(150, 'kmh'), 150);
+  const r = F.formDistanceRange('mph');
+  assert.ok(F.metresFromForm(r.min, 'mph') >= 20 && F.metresFromForm(r.max, 'mph') <= 2000, 'the ft range stays within 20-2000 m');
 });
 
 const base = { zone_state: 'Warning', distance_m: 80, gnss_ok: true, roadside_data: true, lane_confidence: 90, advice: 'None' };
@@ -102,6 +148,11 @@ test('the car is never claimed without a lane; low confidence is a guess', () =>
   assert.equal(guess.carUncertain, true);
   const nognss = L.model({ ...base, gnss_ok: false, road_lanes: [1, 2], lane: null }, {});
   assert.equal(nognss.message, 'No GNSS');
+  const lost = L.model({ ...base, gnss_ok: false, position: 'Lost', road_lanes: [1, 2], lane: null }, {});
+  assert.equal(lost.message, 'Position lost');
+  const est = L.model({ ...base, gnss_ok: false, position: 'Estimated', road_lanes: [1, 2], lane: { map: 1, lane: 1 } }, {});
+  assert.equal(est.message, '');
+  assert.equal(est.carUncertain, true, 'a dead-reckoned car is drawn as a guess');
 });
 
 test('closure moves toward the car as the distance shrinks; spans it in the zone', () => {
@@ -122,4 +173,82 @@ test('roadside chip: signed, unverified (marked), none', () => {
   assert.equal(F.roadsideChip({ roadside_data: false }, true).trust, 'none');
   assert.equal(F.roadsideChip(null, false).cls, 'chip-muted');
   assert.equal(F.roadsideChip({ roadside_data: true, unverified: 3 }, false).cls, 'chip-muted');
+});
+
+// ---- sound.js: the stage rules, with a fake AudioContext whose clock the test moves ----
+
+function soundUnderTest() {
+  const oscillators = [];
+  const node = () => ({ connect(n) { return n; } });
+  let audio = null;
+  class FakeContext {
+    constructor() { this.state = 'running'; this.currentTime = 0; this.destination = node(); audio = this; }
+    resume() { return Promise.resolve(); }
+    createOscillator() {
+      const o = { ...node(), frequency: { value: 0 }, stopped: false, start() {}, stop() { o.stopped = true; } };
+      oscillators.push(o);
+      return o;
+    }
+    createBiquadFilter() { return { ...node(), frequency: { value: 0 } }; }
+    createGain() { return { ...node(), gain: { setValueAtTime() {}, linearRampToValueAtTime() {} } }; }
+  }
+  const window = {
+    AudioContext: FakeContext, localStorage: null, addEventListener() {}, setInterval() { return 0; },
+    document: { addEventListener() {}, hidden: false },
+  };
+  vm.runInNewContext(fs.readFileSync(new URL('../sound.js', import.meta.url), 'utf8'), { window });
+  const S = window.HmiSound;
+  S.init({ allowed: true });
+  return {
+    S, oscillators,
+    /** Feeds `tone` at 10 Hz for `s` seconds of audio time (as the app does on each state). */
+    run(tone, s, live = true) {
+      for (let t = 0; t < s - 1e-9; t += 0.1) {
+        S.update(tone, live);
+        audio.currentTime += 0.1;
+      }
+    },
+  };
+}
+
+test('sound: Warning plays one group when entered from a lower stage, never repeats', () => {
+  const { S, run } = soundUnderTest();
+  run('none', 1);
+  assert.equal(S.tonesScheduled(), 0);
+  run('warning', 6);
+  assert.equal(S.tonesScheduled(), 1, 'one group for entering Warning, none in 6 s');
+  run('none', 0.5);
+  run('warning', 1);
+  assert.equal(S.tonesScheduled(), 2, 'entered again from a lower stage: one more');
+});
+
+test('sound: Urgent repeats every 2 s, stops at once when the stage drops or the link is lost', () => {
+  const { S, oscillators, run } = soundUnderTest();
+  run('urgent', 0.1);
+  assert.equal(S.tonesScheduled(), 1, 'a group at once');
+  run('urgent', 4.1);
+  assert.equal(S.tonesScheduled(), 3, 'then every 2 s');
+  run('warning', 3);
+  assert.equal(S.tonesScheduled(), 3, 'Urgent -> Warning: no new group');
+  assert.ok(oscillators.every((o) => o.stopped), 'the scheduled beeps are cut');
+  run('urgent', 0.1);
+  const n = S.tonesScheduled();
+  assert.equal(n, 4);
+  run('urgent', 3, false);
+  assert.equal(S.tonesScheduled(), n, 'no tone while the link is lost');
+  assert.ok(oscillators.every((o) => o.stopped));
+  run('urgent', 0.1);
+  assert.equal(S.tonesScheduled(), n + 1, 'the link is back in Urgent: it repeats again');
+});
+
+test('sound: a reconnect in the same Warning does not beep again; muted plays nothing', () => {
+  const { S, run } = soundUnderTest();
+  run('warning', 1);
+  run('warning', 2, false);
+  run('warning', 2);
+  assert.equal(S.tonesScheduled(), 1);
+  S.setAllowed(false);
+  run('none', 0.2);
+  run('urgent', 3);
+  assert.equal(S.tonesScheduled(), 1, 'muted in the settings');
 });

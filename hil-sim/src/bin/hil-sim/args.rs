@@ -12,8 +12,11 @@ use std::path::PathBuf;
     args_override_self = true,
     after_help = "The daemon is `obu` beside this executable (build both with the same profile), \
                   or $OBU_BIN.\n\n\
-                  Scenes: cruise, approach, warning, lane_closed, overspeed, in_zone, leaving;\n\
-                  switches: gnss_lost, gnss_back."
+                  Scenes: cruise, speeding (speed alarm, no alert), approach (stage Information), warning (Warning, complying \
+                  driver), lane_closed, urgent (Urgent: in the closed lane 10-40 m before the \
+                  zone), overspeed, in_zone, leaving;\n\
+                  switches: gnss_lost, gnss_back (position Estimated, then Lost), time_fault, \
+                  time_ok (NMEA time 2 min ahead of the clock: time unverified)."
 )]
 pub struct Cli {
     #[command(subcommand)]
@@ -29,8 +32,8 @@ pub enum Command {
     HmiServer,
     /// Switch a running hmi-server to a scene (env: HMI_STATE_DIR).
     HmiDrive {
-        /// The scene (cruise, approach, warning, lane_closed, overspeed, in_zone, leaving)
-        /// or a switch (gnss_lost, gnss_back).
+        /// The scene (cruise, speeding, approach, warning, lane_closed, urgent, overspeed, in_zone,
+        /// leaving) or a switch (gnss_lost, gnss_back, time_fault, time_ok).
         scene: String,
     },
     /// GNSS datagram in -> state event out of the real daemon on the loopback: p50/p99/max;
