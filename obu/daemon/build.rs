@@ -25,7 +25,14 @@ fn walk(dir: &Path, out: &mut Vec<PathBuf>) {
         let path = entry.path();
         let name = entry.file_name().to_string_lossy().into_owned();
         let skip = name.starts_with('.')
-            || ["tests", "node_modules", "README.md", "screenshot.png"].contains(&name.as_str());
+            || [
+                "tests",
+                "node_modules",
+                "README.md",
+                "screenshot.png",
+                "screenshots",
+            ]
+            .contains(&name.as_str());
         if skip {
             continue;
         }

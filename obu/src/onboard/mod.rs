@@ -39,7 +39,7 @@ enum Stored {
 /// A dead-reckoned position is published this often.
 pub const ESTIMATE_PERIOD: Duration = Duration::from_millis(100);
 
-/// The on-board unit core: 63 648 bytes with the default capacities (x86_64 and
+/// The on-board unit core: 63 808 bytes with the default capacities (x86_64 and
 /// thumbv7em alike), no heap; `new` is `const` so firmware can place it in a `static`.
 #[derive(Debug, Clone)]
 pub struct Obu {
