@@ -12,8 +12,10 @@
 //!    [`ClockCheck::set_reference`]), a GNSS time within a day of a whole number of
 //!    rollovers away from it is moved by those rollovers.
 //! 3. The corrected time is [`TimeStatus::Trusted`] when it agrees with the reference
-//!    within the configured offset, or when there is no reference to disagree with;
-//!    otherwise [`TimeStatus::Unverified`]. A reference before the floor is no reference.
+//!    within the configured offset, or when there is no reference and nothing had to be
+//!    corrected; otherwise [`TimeStatus::Unverified`] (a date corrected without a reference
+//!    to confirm it may have been a receiver's build date, not a rollover). A reference
+//!    before the floor is no reference.
 //!
 //! On an unverified time the core keeps every stored zone (none is judged expired by its
 //! validity window) and the display says "time unverified"; the message-time checks of
@@ -32,6 +34,11 @@ pub const TIME_FLOOR: UtcTime = UtcTime {
     year: 2024,
     ms_of_year: 0,
 };
+
+/// While the two clocks disagree by at most this, signed messages may be timed by either
+/// (15 minutes): a receiver off by minutes keeps working, and a reference clock pushed
+/// far off (a spoofed NTP) cannot make old recordings current.
+pub const MAX_SECOND_CLOCK_OFFSET_MS: u64 = 15 * 60_000;
 
 /// A GNSS time within this of a whole number of rollovers from the reference is a
 /// rollover, not a clock that is merely off.
@@ -94,11 +101,13 @@ impl ClockCheck {
         let mut t = gnss.abs_millis();
         let mut rollovers: i8 = 0;
         while t < floor && rollovers < 3 {
-            t += ROLLOVER_MS;
+            t = t.saturating_add(ROLLOVER_MS);
             rollovers += 1;
         }
         let Some(reference) = self.reference_at(now).map(UtcTime::abs_millis) else {
-            let status = if t >= floor {
+            // A corrected date is a guess (it could be a receiver's build date, not a
+            // rollover): shown and used for signatures, but no zone expires on it.
+            let status = if t >= floor && rollovers == 0 {
                 TimeStatus::Trusted
             } else {
                 TimeStatus::Unverified
@@ -109,13 +118,13 @@ impl ClockCheck {
                 rollovers,
             };
         };
-        let off = t - reference;
-        let k = (off + ROLLOVER_MS / 2).div_euclid(ROLLOVER_MS);
+        let off = t.saturating_sub(reference);
+        let k = off.saturating_add(ROLLOVER_MS / 2).div_euclid(ROLLOVER_MS);
         if k != 0 && (-3..=3).contains(&k) && (off - k * ROLLOVER_MS).abs() <= ROLLOVER_SLACK_MS {
             t -= k * ROLLOVER_MS;
             rollovers -= k as i8;
         }
-        let agrees = (t - reference).unsigned_abs() <= max_offset.millis();
+        let agrees = t.saturating_sub(reference).unsigned_abs() <= max_offset.millis();
         CheckedTime {
             utc: UtcTime::from_abs_millis(t),
             status: if agrees {
@@ -147,13 +156,19 @@ mod tests {
     const TEN_S: Duration = Duration::from_secs(10);
 
     #[test]
-    fn week_rollover_is_corrected_without_a_reference() {
+    fn week_rollover_is_corrected_without_a_reference_but_not_trusted() {
         let clock = ClockCheck::new();
         let faulty = shifted(today(), -ROLLOVER_MS);
         assert_eq!(faulty.year, 2007, "1024 weeks before 2026-11-25");
         let c = clock.check(Instant::ZERO, faulty, TEN_S);
         assert_eq!(c.utc, today());
-        assert_eq!((c.status, c.rollovers), (TimeStatus::Trusted, 1));
+        assert_eq!((c.status, c.rollovers), (TimeStatus::Unverified, 1));
+        // Absurd times saturate instead of overflowing.
+        let absurd = UtcTime {
+            year: 2026,
+            ms_of_year: u64::MAX,
+        };
+        let _ = clock.check(Instant::ZERO, absurd, TEN_S);
         let c = clock.check(Instant::ZERO, today(), TEN_S);
         assert_eq!(
             (c.utc, c.status, c.rollovers),

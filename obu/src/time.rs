@@ -127,7 +127,12 @@ impl UtcTime {
 
     /// Milliseconds since 2000-01-01 00:00 UTC (negative before), continuous across years.
     pub const fn abs_millis(self) -> i64 {
-        (days_before_year(self.year) - days_before_year(2000)) * 86_400_000 + self.ms_of_year as i64
+        let into = if self.ms_of_year > i64::MAX as u64 {
+            i64::MAX
+        } else {
+            self.ms_of_year as i64
+        };
+        ((days_before_year(self.year) - days_before_year(2000)) * 86_400_000).saturating_add(into)
     }
 
     /// The time `abs_ms` milliseconds after 2000-01-01 00:00 UTC (clamped to year 0 and

@@ -146,7 +146,9 @@ fn warning_at_the_configured_distance_and_lane_advice() {
             !warn.reduced_limit && (limit - 139.0 * 0.02).abs() < 1e-3,
             "{limit}"
         );
-        assert!(warn.limit_ahead_m.is_some_and(|d| (d - (start - at)).abs() < 0.5));
+        assert!(warn
+            .limit_ahead_m
+            .is_some_and(|d| (d - (start - at)).abs() < 0.5));
         assert!(warn
             .others
             .iter()

@@ -322,7 +322,12 @@ fn non_reading_event_clients_cannot_hold_the_slots() {
         "# 3 non-reading streams dropped after {:?}: {n} events sent, the tablet read {got}",
         t1.elapsed()
     );
-    assert_eq!(dropped, 3, "the three remaining hogs were dropped: {}", status(&d.http));
+    assert_eq!(
+        dropped,
+        3,
+        "the three remaining hogs were dropped: {}",
+        status(&d.http)
+    );
     let s = status(&d.http);
     assert_eq!(
         s["counters"]["sse_clients"]["evicted: slots full"], 1,

@@ -24,7 +24,15 @@ pub struct Motion {
     /// Metres travelled before the next state reaches the driver
     /// ([`AlertConfig::lookahead_m`]).
     pub lookahead_m: f32,
+    /// The last state was urgent: it stays so until the driver clears the thresholds by a
+    /// margin ([`URGENT_RELEASE`]) or leaves the closed lane, so the tone does not restart
+    /// on every small change of speed.
+    pub was_urgent: bool,
 }
+
+/// An urgent state ends only with a needed deceleration below the comfortable one divided
+/// by this, or more than this times the lane-change distance left.
+pub const URGENT_RELEASE: f32 = 1.25;
 
 /// The state for a zone at distance `d` for a vehicle moving as `motion`. Approaching and
 /// warning start when the distance as it will be at the next state would be past their
@@ -50,6 +58,7 @@ pub fn zone_state(cfg: &AlertConfig, d: &ZoneDistance, motion: &Motion) -> ZoneS
 }
 
 /// Deceleration needed to slow from `speed_mps` to `limit_mps` over `distance_m`, m/s²
+/// (the callers pass the limit plus the overspeed tolerance: within it no one must brake)
 /// (`None` when already at or below the limit, or the distance is not ahead).
 pub fn decel_needed(
     speed_mps: Option<f32>,
@@ -92,15 +101,22 @@ pub fn zone_alerts<const N: usize>(
     };
     let ahead = matches!(state, ZoneState::Approaching | ZoneState::Warning);
     let speed = motion.speed_mps;
-    let too_hard = decel_needed(speed, limit, dist).is_some_and(|a| a > cfg.comfortable_decel_mps2);
-    let over_inside = state == ZoneState::InZone
-        && matches!((speed, limit), (Some(v), Some(l)) if v > l + cfg.overspeed_tolerance_mps);
+    let relax = if motion.was_urgent {
+        URGENT_RELEASE
+    } else {
+        1.0
+    };
+    let allowed = limit.map(|l| l + cfg.overspeed_tolerance_mps);
+    let too_hard =
+        decel_needed(speed, allowed, dist).is_some_and(|a| a * relax > cfg.comfortable_decel_mps2);
+    let over_inside =
+        state == ZoneState::InZone && matches!((speed, allowed), (Some(v), Some(a)) if v > a);
     if over_inside || (state == ZoneState::Warning && too_hard) {
         push(AlertKind::Overspeed, AlertStage::Urgent);
     }
     if zone.info.lane_closed && (ahead || zone.distance.on_zone_lane) {
         if zone.distance.on_zone_lane {
-            let no_room = dist - motion.lookahead_m <= cfg.lane_change_m(speed);
+            let no_room = dist - motion.lookahead_m <= cfg.lane_change_m(speed) * relax;
             let stage = if state == ZoneState::Warning && no_room {
                 AlertStage::Urgent
             } else {
@@ -160,6 +176,7 @@ mod tests {
         Motion {
             speed_mps: Some(speed),
             lookahead_m,
+            was_urgent: false,
         }
     }
 
@@ -258,6 +275,44 @@ mod tests {
             [(LaneClosedOwn, Urgent)]
         );
         assert!(run(-160.0, true, ZoneState::Leaving, 11.0).is_empty());
+    }
+
+    #[test]
+    fn urgent_holds_until_a_margin_is_cleared_and_respects_the_tolerance() {
+        let c = AlertConfig::default();
+        let mut info = ZoneInfo::new(ContentKind::WorkZone);
+        info.speed_limit = Speed::from_kmh(40.0);
+        info.lane_closed = true;
+        let run = |x, v, was_urgent| {
+            let mut out: Vec<Alert, 8> = Vec::new();
+            let motion = Motion {
+                was_urgent,
+                ..moving(v, 0.0)
+            };
+            let view = ZoneView {
+                info: &info,
+                distance: d(x, true),
+            };
+            zone_alerts(&c, &view, ZoneState::Warning, &motion, &mut out);
+            out.first().map(|a| a.stage)
+        };
+        // 60 m out: at 13 m/s a lane change needs 65 m (urgent); braking to 11 m/s (55 m)
+        // does not end it while within 1.25 x 55 m.
+        assert_eq!(run(60.0, 13.0, false), Some(AlertStage::Urgent));
+        assert_eq!(run(60.0, 11.0, false), Some(AlertStage::Warning));
+        assert_eq!(run(60.0, 11.0, true), Some(AlertStage::Urgent));
+        assert_eq!(run(80.0, 11.0, true), Some(AlertStage::Warning));
+        // 45 km/h toward a 40 km/h zone is within the 5 km/h tolerance: never urgent.
+        let mut out: Vec<Alert, 8> = Vec::new();
+        let view = ZoneView {
+            info: &info,
+            distance: d(3.0, false),
+        };
+        zone_alerts(&c, &view, ZoneState::Warning, &moving(12.5, 0.0), &mut out);
+        assert!(
+            out.iter().all(|a| a.stage == AlertStage::Warning),
+            "{out:?}"
+        );
     }
 
     #[test]

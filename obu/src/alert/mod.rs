@@ -20,7 +20,7 @@ mod hmi;
 
 pub use crate::clock::TimeStatus;
 pub(crate) use engine::arbitrate;
-pub use engine::{decel_needed, zone_alerts, zone_state, Motion, ZoneView};
+pub use engine::{decel_needed, zone_alerts, zone_state, Motion, ZoneView, URGENT_RELEASE};
 pub use hmi::{Alert, Counters, HmiState, LaneAdvice, LaneInfo};
 
 use core::fmt;

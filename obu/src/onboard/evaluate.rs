@@ -87,6 +87,7 @@ impl Obu {
         let motion = Motion {
             speed_mps: speed,
             lookahead_m: self.config.lookahead_m(speed, period_s),
+            was_urgent: self.was_urgent,
         };
         let travelled = match position {
             PositionSource::Live => 0.0,
@@ -192,7 +193,12 @@ impl Obu {
             else {
                 continue;
             };
-            dist.distance_m -= travelled;
+            // Dead reckoning never carries the car past the end of a zone it had not left
+            // at the last fix: had it braked, it would still be there.
+            let end = -dist.length_m.max(0.0);
+            if dist.distance_m >= end {
+                dist.distance_m = (dist.distance_m - travelled).max(end);
+            }
             let state = alert::zone_state(&self.config, &dist, motion);
             if state == ZoneState::None {
                 continue;
@@ -228,7 +234,8 @@ impl Obu {
             if let Some(l) = ahead.filter(|l| in_force.is_none_or(|f| *l < f)) {
                 hmi.limit_ahead_mps = Some(l);
                 hmi.limit_ahead_m = Some(at);
-                hmi.decel_needed_mps2 = alert::decel_needed(speed, Some(l), at);
+                let allowed = l + self.config.overspeed_tolerance_mps;
+                hmi.decel_needed_mps2 = alert::decel_needed(speed, Some(allowed), at);
             }
         }
         let over = match (hmi.speed_mps, in_force) {

@@ -68,6 +68,9 @@ pub struct Obu {
     lost_reported: bool,
     /// When the next dead-reckoned state is due.
     next_estimate: Option<Instant>,
+    /// The last state published from a fix or a poll was urgent (its release needs a
+    /// margin: [`crate::alert::URGENT_RELEASE`]).
+    was_urgent: bool,
     counters: Counters,
     rejected: IngestCounters,
 }
@@ -105,6 +108,7 @@ impl Obu {
             stale_reported: false,
             lost_reported: false,
             next_estimate: None,
+            was_urgent: false,
             counters: Counters::ZERO,
             rejected: IngestCounters::ZERO,
         }
@@ -182,7 +186,13 @@ impl Obu {
             self.counters.off_map = self.counters.off_map.saturating_add(1);
         }
         self.last_match = matched;
-        self.evaluate(now)
+        self.remember_stage(self.evaluate(now))
+    }
+
+    /// Keeps whether `state` is urgent for the next evaluation's hysteresis.
+    fn remember_stage(&mut self, state: HmiState) -> HmiState {
+        self.was_urgent = state.stage == crate::alert::AlertStage::Urgent;
+        state
     }
 
     /// Expires old data; returns a new state when something the display shows
@@ -214,7 +224,9 @@ impl Obu {
         if newly_lost {
             self.lost_reported = true;
         }
-        (expired > 0 || newly_stale || tick || newly_lost).then(|| self.evaluate(now))
+        (expired > 0 || newly_stale || tick || newly_lost)
+            .then(|| self.evaluate(now))
+            .map(|state| self.remember_stage(state))
     }
 
     /// The display state at `now` without a new fix: for a caller that publishes as
@@ -416,7 +428,10 @@ impl Obu {
         if self.time_status != TimeStatus::Unverified {
             return None;
         }
-        self.clock.reference_at(now)?.time64()
+        let reference = self.clock.reference_at(now)?.time64()?;
+        let gnss = self.time64(now)?;
+        let near = reference.abs_diff(gnss) <= crate::clock::MAX_SECOND_CLOCK_OFFSET_MS * 1000;
+        near.then_some(reference)
     }
 
     /// The last fix's position.

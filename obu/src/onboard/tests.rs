@@ -211,6 +211,25 @@ fn the_warning_comes_at_the_last_fix_before_its_distance() {
 }
 
 #[test]
+fn dead_reckoning_never_carries_the_car_out_of_a_zone_it_was_in() {
+    // Inside the zone (start y = 400) at 30 m/s when GNSS goes: 6 s of dead reckoning is
+    // 180 m, past the end; had the car braked it would still be inside.
+    let mut obu = obu_with(true);
+    let s = drive(&mut obu, 1000, 3.5, 450.0, 30.0);
+    assert_eq!(s.zone_state, ZoneState::InZone);
+    let mut last = None;
+    while let Some(t) = obu.next_deadline().filter(|t| t.millis() <= 7001) {
+        last = obu.poll(t).or(last);
+    }
+    let s = last.unwrap_or_default();
+    assert_eq!(
+        (s.position, s.zone_state),
+        (PositionSource::Lost, ZoneState::InZone)
+    );
+    assert_ne!(s.stage, AlertStage::None);
+}
+
+#[test]
 fn an_outage_is_not_the_fix_period() {
     // A fix 3 s after the last one, 110 m out at 11 m/s: the period stays 100 ms, so the
     // look-ahead is 2.2 m, not 3 s of travel.
@@ -279,9 +298,20 @@ fn a_zone_is_judged_expired_on_a_trusted_time_only() {
     let s = obu.on_fix(Instant::from_millis(1000), ahead);
     assert_eq!(s.time_status, TimeStatus::Unverified);
     assert_eq!((s.zones, s.zone_state), (1, ZoneState::Warning));
+    assert!(
+        obu.alt_time64(Instant::from_millis(1000)).is_some(),
+        "minutes apart: both clocks"
+    );
     let _ = obu.poll(Instant::from_millis(1500));
     assert_eq!(obu.zones().len(), 1, "not expired on an unverified time");
     assert_eq!(obu.counters().unverified_time_fixes, 1);
+    // Half an hour apart: the system clock is no second clock for signed messages.
+    let far = Fix {
+        utc: Some(UtcTime::from_minute_of_year(2024, 2030)),
+        ..fix_at(3.5, 350.5, 10.0)
+    };
+    let _ = obu.on_fix(Instant::from_millis(1050), far);
+    assert_eq!(obu.alt_time64(Instant::from_millis(1050)), None);
     // The same minute 1024 weeks early (a week-rollover fault): corrected and trusted.
     let faulty = UtcTime::from_abs_millis(system.abs_millis() + 1100 - ROLLOVER_MS);
     assert_eq!(faulty.year, 2004);

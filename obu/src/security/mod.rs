@@ -169,9 +169,11 @@ pub struct CheckContext {
     /// GNSS time as `Time64` (TAI microseconds since 2004), if known.
     pub now_us: Option<u64>,
     /// A second clock (the reference clock) while GNSS time disagrees with it
-    /// ([`crate::clock::TimeStatus::Unverified`]): the message's times are checked against
-    /// whichever of the two is nearer its generation time, so a receiver clock fault
-    /// neither drops every message nor lets one through that both clocks call old.
+    /// ([`crate::clock::TimeStatus::Unverified`]) by no more than
+    /// [`crate::clock::MAX_SECOND_CLOCK_OFFSET_MS`]: the message's times are checked against
+    /// whichever of the two is nearer its generation time, so a receiver clock off by
+    /// minutes does not drop every message. The replay window forgets only what is old on
+    /// both clocks, and the re-verification cache runs on `now_us` alone.
     pub alt_now_us: Option<u64>,
     /// The vehicle's last position, if known.
     pub position: Option<LatLon>,
@@ -340,18 +342,27 @@ impl Trust {
         }
         let payload = signed.payload.data.map(|d| payload_tag(d.encoded()));
         let signer_hash = signer.hash;
-        if !self.verified_lately(payload, &signer_hash, header.psid, now) {
+        // The re-verification cache runs on one clock only (GNSS when known), so that a
+        // message checked on the other clock can never look "verified lately".
+        let cache_clock = ctx.now_us.unwrap_or(now);
+        if !self.verified_lately(payload, &signer_hash, header.psid, cache_clock) {
             let generator = self.generator.as_ref().ok_or(Rejection::SignatureInvalid)?;
             self.cache[index]
                 .key
                 .verify(generator, &digest, &signed.signature)
                 .map_err(|_| Rejection::SignatureInvalid)?;
             if let Some(payload) = payload {
-                self.remember(payload, signer_hash, header.psid, now);
+                self.remember(payload, signer_hash, header.psid, cache_clock);
             }
         }
+        // Forget only what is old on both clocks: a message one clock forgot could still pass
+        // the time check on the other.
+        let earliest = match (ctx.now_us, ctx.alt_now_us) {
+            (Some(a), Some(b)) => a.min(b),
+            _ => now,
+        };
         self.replay
-            .record(generated, &digest, now.saturating_sub(skew));
+            .record(generated, &digest, earliest.saturating_sub(skew));
         Ok(())
     }
 

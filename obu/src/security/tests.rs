@@ -246,56 +246,117 @@ fn a_payload_verified_lately_is_taken_again_only_within_reverify_ms() {
     );
 }
 
-#[test]
-fn a_required_ssp_must_be_granted_byte_for_byte() {
-    use j2735::envelope::ieee1609dot2::build::{
-        encode_certificate, encode_signed, CertificateSpec, Header, IssuedBy, Signer,
-    };
-    use j2735::envelope::ieee1609dot2::crypto::{RSigForm, SecretKey};
-    use j2735::envelope::ieee1609dot2::{Duration, Time64};
-    let root_key = SecretKey::from_bytes(&[3u8; 32]).unwrap();
-    let rsu_key = SecretKey::from_bytes(&[4u8; 32]).unwrap();
-    let write = |spec: &CertificateSpec<'_>, key: &SecretKey, by: IssuedBy<'_>| {
-        let mut out = std::vec![0u8; 512];
-        let n = encode_certificate(spec, key, by, &mut out).unwrap();
+/// A root and an RSU certificate under it (TIM PSID, SSP 01 20) made with the codec's
+/// writer, and a signer of TIMs with the RSU key.
+struct TestPki {
+    root: Vec<u8>,
+    rsu: Vec<u8>,
+    rsu_key: j2735::envelope::ieee1609dot2::crypto::SecretKey,
+}
+
+impl TestPki {
+    fn new() -> Self {
+        use j2735::envelope::ieee1609dot2::build::{encode_certificate, CertificateSpec, IssuedBy};
+        use j2735::envelope::ieee1609dot2::crypto::SecretKey;
+        use j2735::envelope::ieee1609dot2::Duration;
+        let root_key = SecretKey::from_bytes(&[3u8; 32]).unwrap();
+        let rsu_key = SecretKey::from_bytes(&[4u8; 32]).unwrap();
+        let write = |spec: &CertificateSpec<'_>, key: &SecretKey, by: IssuedBy<'_>| {
+            let mut out = std::vec![0u8; 512];
+            let n = encode_certificate(spec, key, by, &mut out).unwrap();
+            out.truncate(n);
+            out
+        };
+        let root_spec = CertificateSpec {
+            name: "root.ssp.test",
+            start: 690_000_000,
+            duration: Duration::Years(10),
+            circle: None,
+            app_psids: &[],
+            issue_all: Some(1),
+            ssp: None,
+        };
+        let root = write(&root_spec, &root_key, IssuedBy::SelfSigned);
+        let rsu_spec = CertificateSpec {
+            name: "rsu.ssp.test",
+            app_psids: &[0x8003],
+            issue_all: None,
+            ssp: Some(&[0x01, 0x20]),
+            ..root_spec
+        };
+        let rsu = write(&rsu_spec, &rsu_key, IssuedBy::Issuer(&root, &root_key));
+        TestPki { root, rsu, rsu_key }
+    }
+
+    /// The committed work-zone TIM signed by the RSU at `generated_us`.
+    fn signed_tim(&self, generated_us: u64) -> Vec<u8> {
+        use j2735::envelope::ieee1609dot2::build::{encode_signed, Header, Signer};
+        use j2735::envelope::ieee1609dot2::crypto::RSigForm;
+        use j2735::envelope::ieee1609dot2::Time64;
+        let frame = test_support::vectors::named("tim_work_zone_left_lane_closed").bytes();
+        let header = Header {
+            psid: 0x8003,
+            generation_time: Time64(generated_us),
+            expiry_time: None,
+            generation_location: None,
+        };
+        let mut out = std::vec![0u8; 2048];
+        let n = encode_signed(
+            &frame,
+            &header,
+            Signer::Certificate(&self.rsu),
+            &self.rsu_key,
+            RSigForm::XOnly,
+            &mut out,
+        )
+        .unwrap();
         out.truncate(n);
         out
+    }
+}
+
+#[test]
+fn with_two_clocks_a_replay_is_caught_while_either_clock_could_take_it() {
+    // GNSS time 40 s behind the system clock (unverified time): a TIM generated at T is
+    // taken on the system clock; a later one taken on it moves the system clock's window
+    // past T; T replayed 36 s later is within the skew of GNSS time (T - 4 s) and must
+    // still be caught.
+    let pki = TestPki::new();
+    let mut trust = Trust::new(SecurityConfig::DEFAULT);
+    trust.add_anchor(&pki.root).unwrap();
+    let t = 700_000_000_000_000u64;
+    let at = |system: u64| CheckContext {
+        message_id: 31,
+        now_us: Some(system - 40_000_000),
+        alt_now_us: Some(system),
+        position: None,
     };
-    let root_spec = CertificateSpec {
-        name: "root.ssp.test",
-        start: 690_000_000,
-        duration: Duration::Years(10),
-        circle: None,
-        app_psids: &[],
-        issue_all: Some(1),
-        ssp: None,
-    };
-    let root = write(&root_spec, &root_key, IssuedBy::SelfSigned);
-    let rsu_spec = CertificateSpec {
-        name: "rsu.ssp.test",
-        app_psids: &[0x8003],
-        issue_all: None,
-        ssp: Some(&[0x01, 0x20]),
-        ..root_spec
-    };
-    let rsu = write(&rsu_spec, &rsu_key, IssuedBy::Issuer(&root, &root_key));
-    let frame = test_support::vectors::named("tim_work_zone_left_lane_closed").bytes();
-    let header = Header {
-        psid: 0x8003,
-        generation_time: Time64(700_000_000_000_000),
-        expiry_time: None,
-        generation_location: None,
-    };
-    let mut out = std::vec![0u8; 2048];
-    let n = encode_signed(
-        &frame,
-        &header,
-        Signer::Certificate(&rsu),
-        &rsu_key,
-        RSigForm::XOnly,
-        &mut out,
-    )
-    .unwrap();
+    let first = pki.signed_tim(t);
+    let first = Ieee1609Dot2Data::parse(&first).unwrap();
+    let later = pki.signed_tim(t + 35_000_000);
+    let later = Ieee1609Dot2Data::parse(&later).unwrap();
+    assert_eq!(trust.check(first.signed_data().unwrap(), &at(t)), Ok(()));
+    assert_eq!(
+        trust.check(later.signed_data().unwrap(), &at(t + 35_000_000)),
+        Ok(())
+    );
+    assert_eq!(
+        trust.check(first.signed_data().unwrap(), &at(t + 36_000_000)),
+        Err(Rejection::Replay)
+    );
+    // Old on both clocks: refused as old.
+    assert_eq!(
+        trust.check(first.signed_data().unwrap(), &at(t + 80_000_000)),
+        Err(Rejection::GenerationTimeOld)
+    );
+}
+
+#[test]
+fn a_required_ssp_must_be_granted_byte_for_byte() {
+    let pki = TestPki::new();
+    let out = pki.signed_tim(700_000_000_000_000);
+    let root = pki.root.clone();
+    let n = out.len();
     let data = Ieee1609Dot2Data::parse(&out[..n]).unwrap();
     let ctx = CheckContext {
         message_id: 31,
