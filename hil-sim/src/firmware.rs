@@ -220,6 +220,25 @@ fn relay(
     Ok((addr, handle))
 }
 
+/// Waits until the firmware's log (`log`) has not grown for 1.5 s, 15 s at most: the
+/// firmware has then worked through every datagram still queued on its serial link (each
+/// one it drops is a log line; the periodic report comes every 10 s).
+pub fn settle(log: &Path) {
+    const QUIET: Duration = Duration::from_millis(1500);
+    const LIMIT: Duration = Duration::from_secs(15);
+    let start = std::time::Instant::now();
+    let (mut len, mut since) = (0, start);
+    while start.elapsed() < LIMIT {
+        let now_len = std::fs::metadata(log).map_or(0, |m| m.len());
+        if now_len != len {
+            (len, since) = (now_len, std::time::Instant::now());
+        } else if since.elapsed() >= QUIET {
+            return;
+        }
+        std::thread::sleep(Duration::from_millis(100));
+    }
+}
+
 /// Why a scenario cannot run on the firmware as it is built, if it cannot: the image has
 /// no CAN input and fixed alert settings (100 m warning distance, 9 s lead time).
 pub fn unsupported(s: &crate::scenario::Scenario) -> Option<String> {

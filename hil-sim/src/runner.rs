@@ -131,6 +131,12 @@ pub fn run(s: &Scenario, opts: &RunOptions) -> Result<RunReport, String> {
         println!("hil-sim: the tablet app is live at {}", daemon.http);
     }
     let mut recorded = drive_and_record(s, &road, &zones, samples, &daemon, opts.progress)?;
+    if opts.firmware.is_some() {
+        // Datagrams may still wait on the emulated serial link: let the firmware work
+        // through them before QEMU stops, or a frame sent would be neither taken nor
+        // dropped.
+        crate::firmware::settle(&state_dir.join("firmware.log"));
+    }
     // The firmware's log is complete once QEMU and its decoder have stopped.
     drop(daemon);
     if let (Some(a), Some(_)) = (&mut recorded.attack, &opts.firmware) {
