@@ -24,13 +24,6 @@ pub struct Event {
     pub json: String,
 }
 
-/// The last vehicle speed read from CAN.
-#[derive(Clone, Copy, Debug)]
-struct CanSpeed {
-    mps: f32,
-    at: Instant,
-}
-
 /// The largest RSU text payload taken, octets: what a UDP datagram's hexadecimal text
 /// can hold.
 const RSU_PAYLOAD_MAX: usize = 32 * 1024;
@@ -44,7 +37,6 @@ struct Inner {
     recent: VecDeque<Arc<Event>>,
     last_fix: Option<Instant>,
     fix_quality: Option<u8>,
-    can_speed: Option<CanSpeed>,
     /// Give the core the system clock to check GNSS time against.
     system_clock: bool,
     settings: Settings,
@@ -59,7 +51,6 @@ pub struct Hub {
     keep: usize,
     started: std::time::Instant,
     run: u64,
-    can_stale_ms: u64,
     /// Woken by every input that reached the core (its next deadline may have moved).
     wake: Notify,
     /// Counters of inputs and drops.
@@ -68,7 +59,7 @@ pub struct Hub {
 
 impl Hub {
     /// A hub keeping `keep` events, with the core configured from `settings`.
-    pub fn new(settings: Settings, base: AlertConfig, keep: usize, can_stale_ms: u64) -> Arc<Self> {
+    pub fn new(settings: Settings, base: AlertConfig, keep: usize) -> Arc<Self> {
         let (events, _) = broadcast::channel(keep.max(16));
         let mut core = Box::new(obu::Obu::new(base));
         core.set_config(alert_config(base, &settings));
@@ -80,7 +71,6 @@ impl Hub {
                 recent: VecDeque::with_capacity(keep),
                 last_fix: None,
                 fix_quality: None,
-                can_speed: None,
                 system_clock: false,
                 settings,
                 external: None,
@@ -91,7 +81,6 @@ impl Hub {
             run: std::time::SystemTime::now()
                 .duration_since(std::time::UNIX_EPOCH)
                 .map_or(0, |d| d.as_millis() as u64),
-            can_stale_ms,
             wake: Notify::new(),
             counters: Counters::default(),
         })
@@ -164,15 +153,11 @@ impl Hub {
         outcome
     }
 
-    /// A GNSS fix: CAN speed replaces GNSS speed while fresh; publishes the new state.
-    pub fn on_fix(&self, mut fix: Fix, quality: Option<u8>) {
+    /// A GNSS fix (the core takes the CAN speed over its speed while fresh); publishes the
+    /// new state.
+    pub fn on_fix(&self, fix: Fix, quality: Option<u8>) {
         let now = self.now();
         let mut inner = self.lock();
-        if let Some(can) = inner.can_speed {
-            if now.saturating_since(can.at).millis() <= self.can_stale_ms {
-                fix.speed_mps = Some(can.mps);
-            }
-        }
         inner.last_fix = Some(now);
         inner.fix_quality = quality;
         if inner.system_clock {
@@ -185,13 +170,11 @@ impl Hub {
         self.wake.notify_one();
     }
 
-    /// A vehicle speed from CAN: it replaces the GNSS speed of the next fixes while fresh,
-    /// and the core dead-reckons on it through a GNSS outage.
+    /// A vehicle speed from CAN: the core uses it over the GNSS speed while fresh
+    /// (`[speed] stale_after_ms`) and dead-reckons on it through a GNSS outage.
     pub fn on_can_speed(&self, mps: f32) {
         let now = self.now();
-        let mut inner = self.lock();
-        inner.can_speed = Some(CanSpeed { mps, at: now });
-        inner.core.on_speed(now, mps);
+        self.lock().core.on_speed(now, mps);
     }
 
     /// Checks GNSS time against this computer's system clock (`[time]`), or stops.
@@ -356,7 +339,7 @@ mod tests {
     #[tokio::test]
     async fn the_deadline_loop_publishes_the_gnss_loss_at_the_timeout() {
         let base = AlertConfig::DEFAULT;
-        let hub = Hub::new(Settings::defaults(100.0, 9.0), base, 16, 1000);
+        let hub = Hub::new(Settings::defaults(100.0, 9.0), base, 16);
         assert_eq!(hub.poll(), None, "no fix, nothing stored: no deadline");
         let (stop_tx, stop) = watch::channel(false);
         let mut events = hub.subscribe();

@@ -82,12 +82,7 @@ async fn run(config: Config) -> Result<(), String> {
     base.max_clock_offset = obu::time::Duration::from_millis(config.time.max_offset_ms);
     base.gnss_timeout = obu::time::Duration::from_millis(config.gnss.stale_after_ms);
     base.speed_timeout = obu::time::Duration::from_millis(config.speed.stale_after_ms);
-    let hub = hub::Hub::new(
-        settings,
-        base,
-        config.http.event_buffer,
-        config.speed.stale_after_ms,
-    );
+    let hub = hub::Hub::new(settings, base, config.http.event_buffer);
     hub.check_system_clock(config.time.check_system_clock);
 
     configure_security(&hub, &config.security)?;

@@ -158,8 +158,12 @@ impl Obu {
         })
     }
 
-    /// Processes one fix and returns what the display shows.
-    pub fn on_fix(&mut self, now: Instant, fix: Fix) -> HmiState {
+    /// Processes one fix and returns what the display shows. A fresh vehicle speed
+    /// ([`Obu::on_speed`]) replaces the fix's speed.
+    pub fn on_fix(&mut self, now: Instant, mut fix: Fix) -> HmiState {
+        if let Some(v) = self.fresh_vehicle_speed(now) {
+            fix.speed_mps = Some(v);
+        }
         self.counters.fixes = self.counters.fixes.saturating_add(1);
         match self.fix_step_ms(now, &fix) {
             Some(step) => {
@@ -236,8 +240,9 @@ impl Obu {
         self.evaluate(now)
     }
 
-    /// A vehicle speed (CAN) at `now`, m/s: shown while fresh and carried into dead
-    /// reckoning during a GNSS outage. Not finite or negative: ignored.
+    /// A vehicle speed (CAN) at `now`, m/s: while fresh ([`AlertConfig::speed_timeout`]) it
+    /// is the speed of the next fixes, shown and carried into dead reckoning during a GNSS
+    /// outage. Not finite or negative: ignored.
     pub fn on_speed(&mut self, now: Instant, speed_mps: f32) {
         if !(speed_mps.is_finite() && (0.0..1000.0).contains(&speed_mps)) {
             return;

@@ -90,19 +90,16 @@ impl Obu {
     }
 
     /// The CAN speed while fresh.
-    fn fresh_vehicle_speed(&self, now: Instant) -> Option<f32> {
+    pub(super) fn fresh_vehicle_speed(&self, now: Instant) -> Option<f32> {
         let (t, v) = self.vehicle_speed?;
         (now.saturating_since(t) <= self.config.speed_timeout).then_some(v)
     }
 
-    /// The speed shown at `now`: the fix's while GNSS is live, else the CAN speed while
-    /// fresh; `None` when its source is stale.
+    /// The speed shown at `now`: the fix's while GNSS is live (a fresh CAN speed already
+    /// replaced it), else the CAN speed while fresh; `None` when its source is stale.
     pub(super) fn shown_speed(&self, now: Instant, position: PositionSource) -> Option<f32> {
         match position {
-            PositionSource::Live => self
-                .last_fix
-                .and_then(|(_, f)| f.speed())
-                .or(self.fresh_vehicle_speed(now)),
+            PositionSource::Live => self.last_fix.and_then(|(_, f)| f.speed()),
             _ => self.fresh_vehicle_speed(now),
         }
     }

@@ -230,6 +230,16 @@ fn dead_reckoning_never_carries_the_car_out_of_a_zone_it_was_in() {
 }
 
 #[test]
+fn a_fresh_vehicle_speed_replaces_the_fix_speed() {
+    let mut obu = obu_with(true);
+    obu.on_speed(Instant::from_millis(900), 4.0);
+    let s = drive(&mut obu, 1000, 3.5, 150.0, 10.0);
+    assert_eq!(s.speed_mps, Some(4.0), "CAN 100 ms old");
+    let s = drive(&mut obu, 2000, 3.5, 151.0, 10.0);
+    assert_eq!(s.speed_mps, Some(10.0), "CAN 1.1 s old: the fix's own");
+}
+
+#[test]
 fn an_outage_is_not_the_fix_period() {
     // A fix 3 s after the last one, 110 m out at 11 m/s: the period stays 100 ms, so the
     // look-ahead is 2.2 m, not 3 s of travel.
@@ -242,14 +252,9 @@ fn an_outage_is_not_the_fix_period() {
     assert_eq!(s.zone_state, ZoneState::Warning);
 }
 
-#[test]
-fn the_end_of_a_validity_window_is_a_deadline() {
+/// The map and a closure valid in minutes 2000 and 2001 of 2024.
+fn obu_with_window() -> Obu {
     let mut obu = obu_with(false);
-    let mut config = AlertConfig::DEFAULT;
-    config.zone_timeout = Duration::from_secs(600);
-    config.map_timeout = Duration::from_secs(600);
-    obu.set_config(config);
-    // Valid in minutes 2000 and 2001 of 2024; the fixes say minute 2000, second 0.
     let window = Validity {
         start_year: 2024,
         start_minute: 2000,
@@ -261,6 +266,17 @@ fn the_end_of_a_validity_window_is_a_deadline() {
         Ok::<(), ModelError>(())
     });
     assert_eq!(r, Ok(true));
+    obu
+}
+
+#[test]
+fn the_end_of_a_validity_window_is_a_deadline() {
+    let mut obu = obu_with_window();
+    let mut config = AlertConfig::DEFAULT;
+    config.zone_timeout = Duration::from_secs(600);
+    config.map_timeout = Duration::from_secs(600);
+    obu.set_config(config);
+    // The fixes say minute 2000, second 0.
     let _ = drive(&mut obu, 1000, 3.5, 350.0, 10.0);
     assert!(obu.poll(Instant::from_millis(2001)).is_some(), "GNSS stale");
     while let Some(t) = obu.next_deadline().filter(|t| t.millis() <= 7001) {
@@ -276,18 +292,7 @@ fn the_end_of_a_validity_window_is_a_deadline() {
 
 #[test]
 fn a_zone_is_judged_expired_on_a_trusted_time_only() {
-    let mut obu = obu_with(false);
-    let window = Validity {
-        start_year: 2024,
-        start_minute: 2000,
-        duration_min: 1,
-    };
-    let key = ZoneKey::packet([1; 9], 0);
-    let r = obu.update_zone(Instant::ZERO, key, 1, window, |z| {
-        testutil::fill_closure(z);
-        Ok::<(), ModelError>(())
-    });
-    assert_eq!(r, Ok(true));
+    let mut obu = obu_with_window();
     let system = UtcTime::from_minute_of_year(2024, 2000);
     obu.set_reference_time(Instant::ZERO, system);
     // A receiver three minutes ahead, past the window: unverified, the zone kept.

@@ -168,8 +168,8 @@ fn anchors_must_be_explicit_and_self_signatures_verify() {
 /// The same TIM signed again by an attacker key under the real RSU certificate, with a new
 /// generation time: its signature does not verify.
 fn forged_copy(v: &SignedVector, generated_us: u64) -> Vec<u8> {
-    use j2735::envelope::ieee1609dot2::build::{encode_signed, Header, Signer};
-    use j2735::envelope::ieee1609dot2::crypto::{RSigForm, SecretKey};
+    use j2735::envelope::ieee1609dot2::build::Header;
+    use j2735::envelope::ieee1609dot2::crypto::SecretKey;
     use j2735::envelope::ieee1609dot2::{SignerIdentifier, Time64};
     let data = Ieee1609Dot2Data::parse(&v.coer).unwrap();
     let signed = data.signed_data().unwrap();
@@ -184,12 +184,24 @@ fn forged_copy(v: &SignedVector, generated_us: u64) -> Vec<u8> {
         generation_location: signed.header.generation_location,
     };
     let attacker = SecretKey::from_bytes(&[7u8; 32]).unwrap();
+    sign(&v.frame, &header, cert, &attacker)
+}
+
+/// `frame` signed with `key` under the signer certificate `cert` (x-only `rSig`).
+fn sign(
+    frame: &[u8],
+    header: &j2735::envelope::ieee1609dot2::build::Header,
+    cert: &[u8],
+    key: &j2735::envelope::ieee1609dot2::crypto::SecretKey,
+) -> Vec<u8> {
+    use j2735::envelope::ieee1609dot2::build::{encode_signed, Signer};
+    use j2735::envelope::ieee1609dot2::crypto::RSigForm;
     let mut out = std::vec![0u8; 4096];
     let n = encode_signed(
-        &v.frame,
-        &header,
+        frame,
+        header,
         Signer::Certificate(cert),
-        &attacker,
+        key,
         RSigForm::XOnly,
         &mut out,
     )
@@ -290,8 +302,7 @@ impl TestPki {
 
     /// The committed work-zone TIM signed by the RSU at `generated_us`.
     fn signed_tim(&self, generated_us: u64) -> Vec<u8> {
-        use j2735::envelope::ieee1609dot2::build::{encode_signed, Header, Signer};
-        use j2735::envelope::ieee1609dot2::crypto::RSigForm;
+        use j2735::envelope::ieee1609dot2::build::Header;
         use j2735::envelope::ieee1609dot2::Time64;
         let frame = test_support::vectors::named("tim_work_zone_left_lane_closed").bytes();
         let header = Header {
@@ -300,18 +311,7 @@ impl TestPki {
             expiry_time: None,
             generation_location: None,
         };
-        let mut out = std::vec![0u8; 2048];
-        let n = encode_signed(
-            &frame,
-            &header,
-            Signer::Certificate(&self.rsu),
-            &self.rsu_key,
-            RSigForm::XOnly,
-            &mut out,
-        )
-        .unwrap();
-        out.truncate(n);
-        out
+        sign(&frame, &header, &self.rsu, &self.rsu_key)
     }
 }
 
