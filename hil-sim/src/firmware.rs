@@ -117,6 +117,7 @@ pub fn start(
         decoder,
         stop,
         relays: vec![nmea_relay, v2x_relay],
+        log: state_dir.join("firmware.log"),
         relayed,
     };
     let mut daemon = Daemon::start_bridge(obu, state_dir, &config, &bridge)?;
@@ -214,29 +215,47 @@ fn relay(
             if port.write_all(bytes).is_err() {
                 return;
             }
-            relayed[usize::from(framed)].fetch_add(1, Ordering::Relaxed);
+            relayed[usize::from(framed)].fetch_add(bytes.len() as u64, Ordering::Relaxed);
         }
     });
     Ok((addr, handle))
 }
 
-/// Waits until the firmware's log (`log`) has not grown for 1.5 s, 15 s at most: the
-/// firmware has then worked through every datagram still queued on its serial link (each
-/// one it drops is a log line; the periodic report comes every 10 s).
-pub fn settle(log: &Path) {
-    const QUIET: Duration = Duration::from_millis(1500);
-    const LIMIT: Duration = Duration::from_secs(15);
-    let start = std::time::Instant::now();
-    let (mut len, mut since) = (0, start);
-    while start.elapsed() < LIMIT {
-        let now_len = std::fs::metadata(log).map_or(0, |m| m.len());
-        if now_len != len {
-            (len, since) = (now_len, std::time::Instant::now());
-        } else if since.elapsed() >= QUIET {
-            return;
+/// Waits until the firmware has taken every byte relayed to it so far: its status report
+/// (every second, after a pass over both inputs) in its log shows "rx taken" at or above what
+/// the relays wrote. The link pauses rather than drops when the firmware is busy, so on a
+/// loaded host the firmware may still be working through the drive when the bench is done
+/// sending; stopping it then would lose inputs that were sent. Gives up after `limit`, with
+/// how far behind the firmware still is.
+pub fn catch_up(rig: &Rig, limit: Duration) -> Result<(), String> {
+    let sent = [0, 1].map(|i| rig.relayed[i].load(Ordering::Relaxed));
+    let start = Instant::now();
+    loop {
+        let taken = std::fs::read_to_string(&rig.log)
+            .ok()
+            .and_then(|text| text.lines().rev().find_map(rx_taken));
+        if taken.is_some_and(|t| t[0] >= sent[0] && t[1] >= sent[1]) {
+            return Ok(());
+        }
+        if start.elapsed() >= limit {
+            let [n, v] = taken.unwrap_or([0, 0]);
+            return Err(format!(
+                "the firmware had not caught up after {:.0} s: it took {n} of {} NMEA bytes and {v} of {} V2X bytes",
+                limit.as_secs_f64(),
+                sent[0],
+                sent[1]
+            ));
         }
         std::thread::sleep(Duration::from_millis(100));
     }
+}
+
+/// The "rx taken N/M B" figures (NMEA, V2X) of a firmware status report line.
+fn rx_taken(line: &str) -> Option<[u64; 2]> {
+    let rest = line.split_once(" rx taken ")?.1;
+    let (pair, _) = rest.split_once(' ')?;
+    let (n, v) = pair.split_once('/')?;
+    Some([n.parse().ok()?, v.parse().ok()?])
 }
 
 /// Why a scenario cannot run on the firmware as it is built, if it cannot: the image has
@@ -255,4 +274,17 @@ pub fn unsupported(s: &crate::scenario::Scenario) -> Option<String> {
         ));
     }
     None
+}
+
+#[cfg(test)]
+mod tests {
+    use super::rx_taken;
+
+    #[test]
+    fn reads_the_bytes_taken_from_a_status_report() {
+        let line = "INFO  t=3000 ms v2x changed 2 unchanged 28 other 0 nmea errors 0 rx taken 2210/14093 B lost 0/0 stack 10580/24576 B";
+        assert_eq!(rx_taken(line), Some([2210, 14093]));
+        assert_eq!(rx_taken("WARN  v2x: dropped: CRC mismatch"), None);
+        assert_eq!(rx_taken("INFO  rx taken 12/x B"), None);
+    }
 }

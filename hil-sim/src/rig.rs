@@ -14,7 +14,9 @@ pub struct Rig {
     pub(crate) decoder: Option<Child>,
     pub(crate) stop: Arc<AtomicBool>,
     pub(crate) relays: Vec<JoinHandle<()>>,
-    /// Datagrams relayed to the firmware (NMEA, V2X).
+    /// The firmware's decoded defmt log (`firmware.log`).
+    pub log: std::path::PathBuf,
+    /// Bytes written to the firmware's serial ports (NMEA, V2X link frames).
     pub relayed: Arc<[AtomicU64; 2]>,
 }
 

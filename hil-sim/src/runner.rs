@@ -131,11 +131,11 @@ pub fn run(s: &Scenario, opts: &RunOptions) -> Result<RunReport, String> {
         println!("hil-sim: the tablet app is live at {}", daemon.http);
     }
     let mut recorded = drive_and_record(s, &road, &zones, samples, &daemon, opts.progress)?;
-    if opts.firmware.is_some() {
-        // Datagrams may still wait on the emulated serial link: let the firmware work
-        // through them before QEMU stops, or a frame sent would be neither taken nor
-        // dropped.
-        crate::firmware::settle(&state_dir.join("firmware.log"));
+    if let Some(rig) = &daemon.rig {
+        // What the roadside sent after the drive may still wait on the serial link: let the
+        // firmware work through it before QEMU stops, or a frame sent would be neither
+        // taken nor dropped.
+        crate::firmware::catch_up(rig, FIRMWARE_CATCH_UP)?;
     }
     // The firmware's log is complete once QEMU and its decoder have stopped.
     drop(daemon);
@@ -147,6 +147,10 @@ pub fn run(s: &Scenario, opts: &RunOptions) -> Result<RunReport, String> {
     }
     report(s, &road, &zones, recorded, opts)
 }
+
+/// How long the firmware may take, after the bench stopped sending, to work through what it
+/// was sent.
+const FIRMWARE_CATCH_UP: Duration = Duration::from_secs(60);
 
 /// Feeds the daemon for the whole drive while recording its states.
 fn drive_and_record(
@@ -213,6 +217,14 @@ fn drive_and_record(
     }
     // The attack ends with the drive.
     let attacked = attacker.map(Attack::finish).transpose();
+    if let Some(rig) = &daemon.rig {
+        // The firmware's link pauses when it is busy: on a loaded host it may still be
+        // working through the drive. Its last states are recorded only once it caught up.
+        if let Err(e) = crate::firmware::catch_up(rig, FIRMWARE_CATCH_UP) {
+            stop.store(true, Ordering::Relaxed);
+            return Err(e);
+        }
+    }
     // Let the last states (and a "no GNSS" after the end) arrive.
     std::thread::sleep(Duration::from_millis(1200));
     stop.store(true, Ordering::Relaxed);

@@ -63,9 +63,12 @@ pub struct FixStates {
     pub last: Value,
 }
 
-/// The states of each fix count, from a run's `states.jsonl` lines.
+/// The states of each fix count, from a run's `states.jsonl` lines. The run's final fix has
+/// no next fix: what follows it depends on how long each rig kept running after the drive
+/// (the GNSS timeout, dead reckoning), so its first state stands for it.
 pub fn by_fix(states_jsonl: &str) -> BTreeMap<u64, FixStates> {
     let mut out: BTreeMap<u64, FixStates> = BTreeMap::new();
+    let mut final_first: Option<(u64, Value)> = None;
     for line in states_jsonl.lines() {
         let Ok(v) = serde_json::from_str::<Value>(line) else {
             continue;
@@ -73,12 +76,20 @@ pub fn by_fix(states_jsonl: &str) -> BTreeMap<u64, FixStates> {
         let state = &v["state"];
         if let Some(k) = state["counters"]["fixes"].as_u64().filter(|&k| k > 0) {
             let met = roadside_version(state);
+            if final_first.as_ref().is_none_or(|(f, _)| k > *f) {
+                final_first = Some((k, state.clone()));
+            }
             out.entry(k)
                 .and_modify(|f| f.last = state.clone())
                 .or_insert(FixStates {
                     met,
                     last: state.clone(),
                 });
+        }
+    }
+    if let Some((k, first)) = final_first {
+        if let Some(f) = out.get_mut(&k) {
+            f.last = first;
         }
     }
     out
@@ -260,9 +271,32 @@ mod tests {
 
     #[test]
     fn the_last_state_of_a_fix_count_stands_for_it() {
-        let a = by_fix(&[line(1, "Approach", 120.0, 5), line(1, "Warning", 99.0, 6)].join("\n"));
-        assert_eq!(a.len(), 1);
+        let a = by_fix(
+            &[
+                line(1, "Approach", 120.0, 5),
+                line(1, "Warning", 99.0, 6),
+                line(2, "Warning", 98.0, 7),
+            ]
+            .join("\n"),
+        );
+        assert_eq!(a.len(), 2);
         assert_eq!(a[&1].last["zone_state"], "Warning");
         assert!(!compare(&a, &BTreeMap::new()).matches());
+    }
+
+    #[test]
+    fn the_final_fix_is_judged_on_its_first_state() {
+        // One rig kept running past the GNSS timeout after the drive, the other did not.
+        let a = by_fix(&[line(1, "Approach", 120.0, 5), line(2, "Warning", 99.0, 6)].join("\n"));
+        let b = by_fix(
+            &[
+                line(1, "Approach", 120.0, 5),
+                line(2, "Warning", 99.0, 6),
+                line(2, "GnssStale", 99.0, 1_006),
+            ]
+            .join("\n"),
+        );
+        assert_eq!(b[&2].last["zone_state"], "Warning");
+        assert!(compare(&a, &b).matches());
     }
 }

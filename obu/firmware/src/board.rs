@@ -6,6 +6,13 @@
 //!   interrupt (IRQ 37 and 38) into heapless's lock-free SPSC queues: at 115200 baud a byte comes every 87 us,
 //!   far less than a MAP takes to decode, so a polled receiver would overrun; and the main
 //!   loop can sleep (`wfi`) until a byte or the next millisecond tick.
+//! * Back-pressure instead of loss: when a receive queue is full its interrupt leaves the byte
+//!   in the data register and masks itself in the NVIC until the main loop has taken bytes
+//!   out. With RTS flow control on (CR3 RTSE, USART1 RTS on PA12, USART2 RTS on PA1) the
+//!   USART holds RTS off while that byte waits, so the sender pauses; QEMU's model stops
+//!   reading its chardev while RXNE is set, which is the same pause. A link that bursts faster
+//!   than the firmware decodes (a loaded host feeding QEMU, a sender without pauses) thus
+//!   delays bytes but never drops them.
 //! * The millisecond clock: SysTick at 1 kHz counting in an atomic.
 //! * Stack painting: fill the unused stack with a pattern at boot, find the deepest use later.
 //!
@@ -45,11 +52,16 @@ const SR: usize = 0x00;
 const DR: usize = 0x04;
 const BRR: usize = 0x08;
 const CR1: usize = 0x0C;
+const CR3: usize = 0x14;
+/// CR3: RTS flow control (RTS off while a received byte waits in DR).
+const CR3_RTSE: u32 = 1 << 8;
 const SR_RXNE: u32 = 1 << 5;
 const SR_ORE: u32 = 1 << 3;
 const CR1_RXNEIE: u32 = 1 << 5;
 /// NVIC interrupt set-enable registers.
 const NVIC_ISER: usize = 0xE000_E100;
+/// NVIC interrupt clear-enable registers.
+const NVIC_ICER: usize = 0xE000_E180;
 const SR_TXE: u32 = 1 << 7;
 const SR_TC: u32 = 1 << 6;
 const CR1_UE: u32 = 1 << 13;
@@ -110,6 +122,24 @@ impl Port {
         }
     }
 
+    /// The RTS pin on GPIOA (input ports; STM32F405 datasheet, alternate function 7).
+    fn rts_pin(self) -> Option<u32> {
+        match self {
+            Port::Usart1 => Some(12),
+            Port::Usart2 => Some(1),
+            Port::Usart3 => None,
+        }
+    }
+
+    /// Masks (`false`) or unmasks (`true`) this port's interrupt in the NVIC.
+    fn set_irq_enabled(self, enabled: bool) {
+        let irq = usize::from(self.irq());
+        let reg = if enabled { NVIC_ISER } else { NVIC_ICER };
+        // SAFETY: the NVIC set/clear-enable register holding this interrupt's bit; writing
+        // a one changes that interrupt only.
+        unsafe { reg_write(reg + 4 * (irq / 32), 1 << (irq % 32)) };
+    }
+
     /// Clock enable (register, bit), GPIO port, TX pin, RX pin.
     fn wiring(self) -> (usize, u32, usize, u32, u32) {
         match self {
@@ -143,6 +173,8 @@ pub struct Usart {
     base: usize,
     /// The consumer end of the port's receive queue (input ports).
     rx: Option<Consumer<'static, u8>>,
+    /// Bytes taken from the receive queue so far (wraps at 4 GiB).
+    taken: u32,
 }
 
 impl Usart {
@@ -160,20 +192,30 @@ impl Usart {
         unsafe {
             reg_modify(RCC_AHB1ENR, |v| v | 0b11); // GPIOA, GPIOB
             reg_modify(enr, |v| v | (1 << bit));
-            for pin in [tx, rx_pin(port)] {
+            for (gpio, pin) in [(gpio, tx), (gpio, rx_pin(port))]
+                .into_iter()
+                .chain(port.rts_pin().map(|pin| (GPIOA, pin)))
+            {
                 reg_modify(gpio, |v| (v & !(0b11 << (2 * pin))) | (0b10 << (2 * pin)));
                 let (afr, shift) = (gpio + 0x20 + 4 * (pin as usize / 8), 4 * (pin % 8));
                 reg_modify(afr, |v| (v & !(0xF << shift)) | (7 << shift));
             }
             reg_write(base + BRR, SYSCLK_HZ.div_ceil(BAUD));
+            if port.rts_pin().is_some() {
+                reg_write(base + CR3, CR3_RTSE);
+            }
             let rx_irq = if rx.is_some() { CR1_RXNEIE } else { 0 };
             reg_write(base + CR1, CR1_UE | CR1_TE | CR1_RE | rx_irq);
-            if rx_irq != 0 {
-                let irq = usize::from(port.irq());
-                reg_write(NVIC_ISER + 4 * (irq / 32), 1 << (irq % 32));
-            }
         }
-        Some(Usart { port, base, rx })
+        if rx.is_some() {
+            port.set_irq_enabled(true);
+        }
+        Some(Usart {
+            port,
+            base,
+            rx,
+            taken: 0,
+        })
     }
 
     fn status(&self) -> u32 {
@@ -184,7 +226,15 @@ impl Usart {
     /// The next received byte, if one is waiting.
     pub fn try_read_byte(&mut self) -> Option<u8> {
         match &mut self.rx {
-            Some(rx) => rx.dequeue(),
+            Some(rx) => {
+                let byte = rx.dequeue()?;
+                self.taken = self.taken.wrapping_add(1);
+                // A slot is free again: let a paused receive interrupt take the waiting byte.
+                if rx_queue(self.port).is_some_and(|q| q.resume()) {
+                    self.port.set_irq_enabled(true);
+                }
+                Some(byte)
+            }
             // SAFETY: this USART's data register, read once RXNE says a byte is there.
             None => {
                 (self.status() & SR_RXNE != 0).then(|| unsafe { reg_read(self.base + DR) } as u8)
@@ -192,7 +242,14 @@ impl Usart {
         }
     }
 
-    /// Received bytes lost so far: receive queue full, or the receiver overrun.
+    /// Bytes received and taken out of the receive queue so far (wraps at 4 GiB): a bench
+    /// that knows what it sent tells from it when the firmware has caught up.
+    pub fn rx_taken(&self) -> u32 {
+        self.taken
+    }
+
+    /// Received bytes lost so far: the receiver overran (a byte came while the previous one
+    /// still waited with flow control off). A full queue pauses the link, it loses nothing.
     pub fn rx_lost(&self) -> u32 {
         rx_queue(self.port).map_or(0, |q| q.lost.load(Ordering::Relaxed))
     }
@@ -213,6 +270,8 @@ type QueueEnds = (Option<Producer<'static, u8>>, Option<Consumer<'static, u8>>);
 struct RxQueue {
     ends: Mutex<RefCell<QueueEnds>>,
     lost: AtomicU32,
+    /// The queue was full: the receive interrupt masked itself, a byte waits in DR.
+    paused: AtomicBool,
 }
 
 impl RxQueue {
@@ -220,7 +279,13 @@ impl RxQueue {
         Self {
             ends: Mutex::new(RefCell::new((Some(producer), Some(consumer)))),
             lost: AtomicU32::new(0),
+            paused: AtomicBool::new(false),
         }
+    }
+
+    /// True once after the interrupt paused on a full queue (the caller unmasks it).
+    fn resume(&self) -> bool {
+        self.paused.swap(false, Ordering::AcqRel)
     }
 
     fn take_consumer(&self) -> Option<Consumer<'static, u8>> {
@@ -231,9 +296,18 @@ impl RxQueue {
         cortex_m::interrupt::free(|cs| self.ends.borrow(cs).borrow_mut().0.take())
     }
 
-    /// Moves what the USART at `base` received into the queue (in its interrupt).
-    fn fill(&self, producer: &mut Producer<'static, u8>, base: usize) {
+    /// Moves what the USART of `port` received into the queue (in its interrupt). On a full
+    /// queue the byte stays in DR and the interrupt masks itself until [`Self::resume`].
+    fn fill(&self, producer: &mut Producer<'static, u8>, port: Port) {
+        let base = port.base();
         loop {
+            if !producer.ready() {
+                // Masked before the flag is set; the main loop, which cannot preempt this
+                // handler, sees both or neither.
+                port.set_irq_enabled(false);
+                self.paused.store(true, Ordering::Release);
+                break;
+            }
             // SAFETY: the status and data registers of the USART this queue belongs to;
             // reading SR then DR takes the byte and clears RXNE and an overrun flag.
             let (sr, byte) = unsafe {
@@ -244,6 +318,7 @@ impl RxQueue {
                 (sr, reg_read(base + DR) as u8)
             };
             let overrun = u32::from(sr & SR_ORE != 0);
+            // `ready()` above: the queue has room for this byte.
             let full = u32::from(producer.enqueue(byte).is_err());
             self.lost.fetch_add(overrun + full, Ordering::Relaxed);
         }
@@ -294,7 +369,7 @@ unsafe fn DefaultHandler(irqn: i16) {
             PRODUCERS[i] = queue.take_producer();
         }
         if let Some(producer) = &mut PRODUCERS[i] {
-            queue.fill(producer, port.base());
+            queue.fill(producer, port);
         }
     }
 }

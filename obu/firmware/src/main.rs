@@ -10,6 +10,11 @@ use obu_firmware::app::{send_state, Firmware, Messages, ShowCounters};
 use obu_firmware::board::{self, Port, Usart};
 use obu_firmware::{Clock, CONFIG};
 
+/// The status report's period: counters, bytes taken and lost per input (NMEA/V2X), stack.
+/// Every report follows a full pass over both inputs, so a bench that knows how many bytes
+/// it sent reads from the "rx taken" figures when everything has been worked through.
+const REPORT_PERIOD_MS: u64 = 1_000;
+
 #[entry]
 fn main() -> ! {
     // `static mut` in the entry function is handed out once as `&'static mut` (cortex-m-rt).
@@ -63,14 +68,16 @@ fn main() -> ! {
         if let Some(state) = fw.poll(now) {
             fw.hmi_dropped += u32::from(!send_state(&mut hmi, &state));
         }
-        if now.millis() >= last_report + 10_000 {
+        if now.millis() >= last_report + REPORT_PERIOD_MS {
             last_report = now.millis();
             let (used, size) = board::stack_high_water();
             defmt::info!(
-                "t={=u64} ms v2x {} nmea errors {=u32} rx lost {=u32}/{=u32} stack {=usize}/{=usize} B",
+                "t={=u64} ms v2x {} nmea errors {=u32} rx taken {=u32}/{=u32} B lost {=u32}/{=u32} stack {=usize}/{=usize} B",
                 now.millis(),
                 ShowCounters(&fw.v2x_counters),
                 fw.nmea_errors,
+                nmea.rx_taken(),
+                v2x.rx_taken(),
                 nmea.rx_lost(),
                 v2x.rx_lost(),
                 used,
