@@ -10,6 +10,11 @@
 
 use heapless::Vec;
 
+mod filter;
+mod road;
+
+pub use filter::{FilterConfig, LaneFilter};
+
 use crate::capacity::MAX_NEARBY_LANES;
 use crate::fix::Fix;
 use crate::lane::{Lane, LaneId, LaneKind, LanePosition, MapId, MapStore, TravelDirection};
@@ -22,10 +27,27 @@ use serde::{Deserialize, Serialize};
 /// Largest distance from a map reference considered, metres.
 const MAX_MAP_RANGE_M: f32 = 20_000.0;
 
+/// How the lane shown is decided.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[cfg_attr(feature = "serde", derive(Serialize, Deserialize))]
+pub enum LaneMethod {
+    /// The lane filter ([`LaneFilter`]): a lateral track and a belief over the road's
+    /// lanes, over many fixes.
+    #[default]
+    Filter,
+    /// Each fix on its own (nearest lane within the tolerances) with hold-time and
+    /// fix-count hysteresis, as deployed matchers do; kept to compare against.
+    PerFix,
+}
+
 /// Matcher thresholds.
 #[derive(Debug, Clone, Copy, PartialEq)]
 #[cfg_attr(feature = "serde", derive(Serialize, Deserialize))]
 pub struct MatcherConfig {
+    /// How the lane shown is decided.
+    pub method: LaneMethod,
+    /// Lane filter settings ([`LaneMethod::Filter`]).
+    pub filter: FilterConfig,
     /// Heading gate at normal speed, degrees (45, as deployed matchers use).
     pub heading_gate_deg: f32,
     /// Heading gate below `low_speed_mps`, degrees.
@@ -45,7 +67,8 @@ pub struct MatcherConfig {
     pub hold_fixes: u8,
     /// Accuracy assumed when the fix has none, metres (1 sigma).
     pub default_accuracy_m: f32,
-    /// Below this confidence (percent) the HMI does not name the lane.
+    /// Below this confidence (percent) the HMI does not name the lane
+    /// ([`LaneMethod::PerFix`]; the filter has [`FilterConfig::show_percent`]).
     pub min_confidence: u8,
 }
 
@@ -58,6 +81,8 @@ impl Default for MatcherConfig {
 impl MatcherConfig {
     /// The documented defaults (45 degree gate, 300 ms and 3 fixes hold, ...).
     pub const DEFAULT: MatcherConfig = MatcherConfig {
+        method: LaneMethod::Filter,
+        filter: FilterConfig::DEFAULT,
         heading_gate_deg: 45.0,
         loose_gate_deg: 90.0,
         low_speed_mps: 1.0,
@@ -69,6 +94,20 @@ impl MatcherConfig {
         default_accuracy_m: 1.5,
         min_confidence: 50,
     };
+
+    /// The per-fix matcher of earlier releases, for comparison.
+    pub const PER_FIX: MatcherConfig = MatcherConfig {
+        method: LaneMethod::PerFix,
+        ..MatcherConfig::DEFAULT
+    };
+
+    /// The confidence (percent) a lane needs before the HMI names it.
+    pub fn show_percent(&self) -> u8 {
+        match self.method {
+            LaneMethod::Filter => self.filter.show_percent,
+            LaneMethod::PerFix => self.min_confidence,
+        }
+    }
 }
 
 /// The lane a fix was matched to.
@@ -111,20 +150,27 @@ pub struct NearbyLane {
     pub slot: u8,
     /// Lane.
     pub lane: LaneId,
-    /// True when the fix lies within the lane's extent (not beyond an end).
-    pub within: bool,
-    /// Signed distance of the fix from the centreline, metres, positive to the left
-    /// of the lane's travel direction.
-    pub lateral: f32,
-    /// Bearing of the lane there in its travel direction, degrees.
-    pub bearing_deg: f32,
-    /// Lane width there, metres.
-    pub width: f32,
+    /// The fix's position on the lane.
+    pub position: LanePosition,
 }
 
-/// Lane matcher state (hysteresis and frozen heading).
+impl NearbyLane {
+    /// True when the fix lies within the lane's extent (not beyond an end).
+    pub fn within(&self) -> bool {
+        self.position.beyond <= 0.0
+    }
+}
+
+/// Lane matcher state (the lane filter, or the hysteresis; frozen heading).
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct Matcher {
+    filter: LaneFilter,
+    /// The map the filter's road is on.
+    filter_map: Option<MapId>,
+    /// The lane last shown with enough confidence (for the switch count).
+    shown: Option<(MapId, LaneId)>,
+    /// The filter's last match and its time (an outlier fix carries it on).
+    last: Option<(Instant, LaneMatch)>,
     current: Option<(MapId, LaneId)>,
     challenger: Option<(MapId, LaneId, Instant, u8)>,
     frozen_heading: Option<f32>,
@@ -136,6 +182,10 @@ impl Matcher {
     /// A matcher with no history.
     pub const fn new() -> Self {
         Matcher {
+            filter: LaneFilter::new(),
+            filter_map: None,
+            shown: None,
+            last: None,
             current: None,
             challenger: None,
             frozen_heading: None,
@@ -156,8 +206,17 @@ impl Matcher {
         self.switches
     }
 
+    /// Fixes the lane filter rejected as outliers (innovation gate) so far.
+    pub fn outliers(&self) -> u32 {
+        self.filter.outliers()
+    }
+
     /// Forgets the current lane (e.g. after a GNSS outage).
     pub fn reset(&mut self) {
+        self.filter.reset();
+        self.filter_map = None;
+        self.shown = None;
+        self.last = None;
         self.current = None;
         self.challenger = None;
         self.nearby.clear();
@@ -185,6 +244,9 @@ impl Matcher {
     ) -> Option<LaneMatch> {
         let (heading, gate) = self.heading(fix, cfg);
         let sigma = fix.accuracy().unwrap_or(cfg.default_accuracy_m).max(0.05);
+        if cfg.method == LaneMethod::Filter {
+            return self.filter_update(now, fix, maps, cfg, (heading, gate), sigma);
+        }
         self.nearby.clear();
         let mut best: Option<Candidate> = None;
         let mut current: Option<Candidate> = None;
@@ -233,10 +295,7 @@ impl Matcher {
         let _ = self.nearby.push(NearbyLane {
             slot: slot as u8,
             lane,
-            within: pos.beyond <= 0.0,
-            lateral: pos.lateral,
-            bearing_deg: pos.bearing_deg,
-            width: pos.width,
+            position: *pos,
         });
     }
 

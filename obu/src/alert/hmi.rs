@@ -65,6 +65,8 @@ pub struct Counters {
     pub off_map: u32,
     /// Lane switches of the matcher.
     pub lane_switches: u32,
+    /// Fixes the lane filter rejected as outliers (innovation gate: multipath jumps).
+    pub lane_outliers: u32,
     /// Lane models stored or replaced.
     pub maps_updated: u32,
     /// Lane models that failed to convert.
@@ -91,6 +93,7 @@ impl Counters {
         fixes: 0,
         off_map: 0,
         lane_switches: 0,
+        lane_outliers: 0,
         maps_updated: 0,
         maps_rejected: 0,
         zones_updated: 0,

@@ -12,7 +12,7 @@ fn fix(x: f32, y: f32, course: f32, speed: f32) -> Fix {
 }
 
 fn run(m: &mut Matcher, maps: &MapStore, t: u64, f: Fix) -> Option<(u8, LaneMatch)> {
-    let cfg = MatcherConfig::default();
+    let cfg = MatcherConfig::PER_FIX;
     m.update(Instant::from_millis(t), &f, maps, &cfg)
         .map(|r| (r.lane.0, r))
 }

@@ -124,7 +124,7 @@ impl Obu {
 
     fn base_state(&self, now: Instant, position: PositionSource) -> HmiState {
         let m = self.last_match.filter(|_| position != PositionSource::Lost);
-        let shown = m.filter(|m| m.confidence >= self.config.matcher.min_confidence);
+        let shown = m.filter(|m| m.confidence >= self.config.matcher.show_percent());
         HmiState {
             time_ms: now.millis(),
             speed_mps: self.shown_speed(now, position),
@@ -199,6 +199,9 @@ impl Obu {
             if dist.distance_m >= end {
                 dist.distance_m = (dist.distance_m - travelled).max(end);
             }
+            // An uncertain lane does not make the closure the driver's own: "lane closure
+            // ahead" with the side to keep, not "your lane is closed".
+            dist.on_zone_lane &= self.lane_sure();
             let state = alert::zone_state(&self.config, &dist, motion);
             if state == ZoneState::None {
                 continue;
@@ -264,7 +267,7 @@ impl Obu {
                 let _ = hmi.closed_lanes.push(z.lane.0);
             }
         }
-        if n.dist.on_zone_lane || self.last_match.is_none() {
+        if n.dist.on_zone_lane || !self.lane_sure() {
             hmi.advice = self.advice(n.zone).unwrap_or(match n.zone.info.side {
                 ClosureSide::Right => LaneAdvice::MoveLeft,
                 ClosureSide::Left => LaneAdvice::MoveRight,
@@ -284,10 +287,10 @@ impl Obu {
             .matcher
             .nearby()
             .iter()
-            .filter(|n| n.slot == m.slot && n.lane != m.lane && n.within)
+            .filter(|n| n.slot == m.slot && n.lane != m.lane && n.within())
             .filter(|n| zone.lane(m.map, n.lane).is_none())
-            .filter(|n| same_way(n.bearing_deg, m.position.bearing_deg))
-            .map(|n| (n.lateral - own, n.width))
+            .filter(|n| same_way(n.position.bearing_deg, m.position.bearing_deg))
+            .map(|n| (n.position.lateral - own, n.position.width))
             .filter(|(offset, width)| offset.abs() < 2.5 * width.max(2.0))
             .min_by(|a, b| a.0.abs().total_cmp(&b.0.abs()))?;
         Some(if best.0 > 0.0 {
@@ -335,6 +338,12 @@ impl Obu {
         }
         road.sort_unstable_by(|a, b| a.0.total_cmp(&b.0));
         hmi.road_lanes = road.iter().map(|&(_, id)| id).collect();
+    }
+
+    /// True when the matched lane is probable enough to be named to the driver.
+    fn lane_sure(&self) -> bool {
+        self.last_match
+            .is_some_and(|m| m.confidence >= self.config.matcher.show_percent())
     }
 
     /// The matched lane and its model.

@@ -138,6 +138,7 @@ impl Obu {
     pub fn counters(&self) -> Counters {
         Counters {
             lane_switches: self.matcher.switches(),
+            lane_outliers: self.matcher.outliers(),
             ..self.counters
         }
     }

@@ -476,9 +476,10 @@ fn circle_region_warns_along_the_heading() {
     let s = drive(&mut obu, 200, 0.0, 600.0, 10.0);
     assert_eq!(s.zone_state, ZoneState::InZone);
     // Southbound on lane 4 at x = -7, past the circle's centre line: it is 7 m aside,
-    // so the line of travel crosses it as well (the slice allows every heading).
+    // so the line of travel crosses it as well (the slice allows every heading). Later
+    // (a jump of 200 m and a turn within one fix would be an outlier to the lane filter).
     let s = obu.on_fix(
-        Instant::from_millis(300),
+        Instant::from_millis(3_000),
         Fix {
             course_deg: Some(180.0),
             ..fix_at(-7.0, 800.0, 10.0)

@@ -1,0 +1,500 @@
+//! Lane filter: which lane of the road the car is in, from a run of noisy fixes.
+//!
+//! Two parts, both in fixed memory:
+//! * **Lateral track** (Kalman filter): the car's offset from an anchor lane's centreline
+//!   and its rate, predicted with a constant-rate model (lateral acceleration as process
+//!   noise), updated with the fix's offset weighted by its reported accuracy and with the
+//!   lateral rate its course and speed imply. An innovation gate rejects outliers
+//!   (multipath jumps) and counts them; a run of rejections restarts the track (the
+//!   receiver really moved, or its bias stepped).
+//! * **Lane belief** (forward algorithm of a hidden Markov model): a probability for each
+//!   candidate lane of the road (same map, same direction, within the extent) and for "off
+//!   the mapped road". A step moves belief to the neighbouring lane in proportion to the
+//!   tracked lateral rate towards it; the fix's offset then weighs each lane by how likely
+//!   it is from a position anywhere across that lane's width (from the MAP) blurred by the
+//!   fix's error. Fix errors of real receivers are correlated over seconds (a wandering
+//!   bias), so each fix counts with a weight below one ([`FilterConfig::evidence_weight`])
+//!   rather than as independent evidence.
+//!
+//! The lane shown is the most probable one once its probability reaches
+//! [`FilterConfig::show_percent`]; below that the road stays known but the lane is not
+//! named. No fix count or hold time decides a lane change.
+
+use heapless::Vec;
+
+use crate::capacity::MAX_NEARBY_LANES;
+use crate::lane::LaneId;
+use crate::math::{clamp, normal_cdf};
+use crate::time::Instant;
+
+#[cfg(feature = "serde")]
+use serde::{Deserialize, Serialize};
+
+/// The smallest fix error the filter assumes, metres: a receiver's own figure below it
+/// (an RTK fix, a noiseless simulation) would make every lateral manoeuvre an outlier.
+const MIN_SIGMA_M: f32 = 0.25;
+
+/// Belief in "off the mapped road" when a road is first met.
+const START_OFF_ROAD: f32 = 0.05;
+
+/// Lane filter settings.
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(Serialize, Deserialize))]
+pub struct FilterConfig {
+    /// Probability (percent) the most probable lane needs before it is shown.
+    pub show_percent: u8,
+    /// Lateral acceleration the track allows (process noise), m/s².
+    pub lateral_accel_mps2: f32,
+    /// Error of the receiver's course, degrees (1 sigma): the lateral rate it implies.
+    pub course_sigma_deg: f32,
+    /// Weight of one fix's evidence (0..1): fixes' errors are correlated over seconds.
+    pub evidence_weight: f32,
+    /// Probability per second of a lane change with no lateral motion seen.
+    pub change_per_s: f32,
+    /// Innovation gate, sigmas: a fix farther from the track is an outlier.
+    pub gate_sigma: f32,
+    /// This many outliers in a row restart the track at the fix.
+    pub restart_after: u8,
+    /// Transition rate per lateral speed towards a neighbour: lane widths per second of
+    /// lateral motion, times this, is the rate of moving belief there.
+    pub rate_gain: f32,
+    /// Probability per second of leaving the mapped road.
+    pub leave_per_s: f32,
+    /// Probability per second of coming back onto it.
+    pub return_per_s: f32,
+    /// Width over which an off-road position is spread, metres (its density is 1/width).
+    pub off_road_width_m: f32,
+    /// A gap between fixes longer than this starts the filter over, milliseconds.
+    pub max_gap_ms: u32,
+}
+
+impl FilterConfig {
+    /// The defaults, tuned on the drive table (`cargo bench -p obu --bench drive_table`).
+    pub const DEFAULT: FilterConfig = FilterConfig {
+        show_percent: 80,
+        lateral_accel_mps2: 1.0,
+        course_sigma_deg: 3.0,
+        evidence_weight: 0.7,
+        change_per_s: 0.05,
+        gate_sigma: 4.0,
+        restart_after: 10,
+        rate_gain: 2.0,
+        leave_per_s: 0.02,
+        return_per_s: 1.0,
+        off_road_width_m: 12.0,
+        max_gap_ms: 2_000,
+    };
+}
+
+impl Default for FilterConfig {
+    fn default() -> Self {
+        FilterConfig::DEFAULT
+    }
+}
+
+/// One candidate lane of a fix, as the filter needs it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Candidate {
+    /// The lane.
+    pub lane: LaneId,
+    /// The fix's offset from the lane's centreline, metres, positive to the left.
+    pub lateral: f32,
+    /// Lane width there, metres.
+    pub width: f32,
+    /// Bearing of the lane there in its direction of travel, degrees.
+    pub bearing_deg: f32,
+}
+
+/// What one fix tells the filter.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Observation {
+    /// The receiver's error (1 sigma), metres.
+    pub sigma_m: f32,
+    /// Ground speed, m/s.
+    pub speed_mps: Option<f32>,
+    /// Course over ground, degrees.
+    pub course_deg: Option<f32>,
+}
+
+/// The filter's verdict on one fix.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Verdict {
+    /// Index into the candidates of the most probable lane; `None` when "off the mapped
+    /// road" is more probable than any lane.
+    pub best: Option<usize>,
+    /// Its probability, percent.
+    pub percent: u8,
+    /// The fix was rejected as an outlier: its position says nothing (the caller keeps
+    /// the track's last position moved on).
+    pub outlier: bool,
+}
+
+/// Belief in one lane.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Belief {
+    lane: LaneId,
+    p: f32,
+}
+
+/// The lateral track: offset from the anchor lane's centreline and its rate, with their
+/// covariance (pyy, pyv, pvv).
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+struct Track {
+    y: f32,
+    vy: f32,
+    p: [f32; 3],
+}
+
+/// The lane filter's state (about 150 bytes).
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct LaneFilter {
+    beliefs: Vec<Belief, MAX_NEARBY_LANES, u8>,
+    off_road: f32,
+    anchor: Option<LaneId>,
+    track: Track,
+    last: Option<Instant>,
+    in_row: u8,
+    outliers: u32,
+}
+
+impl LaneFilter {
+    /// A filter with no history.
+    pub const fn new() -> Self {
+        LaneFilter {
+            beliefs: Vec::new(),
+            off_road: 0.0,
+            anchor: None,
+            track: Track {
+                y: 0.0,
+                vy: 0.0,
+                p: [0.0; 3],
+            },
+            last: None,
+            in_row: 0,
+            outliers: 0,
+        }
+    }
+
+
+    /// Fixes rejected by the innovation gate so far.
+    pub fn outliers(&self) -> u32 {
+        self.outliers
+    }
+
+    /// Forgets the road (a GNSS outage, another map).
+    pub fn reset(&mut self) {
+        let outliers = self.outliers;
+        *self = LaneFilter::new();
+        self.outliers = outliers;
+    }
+
+    /// One fix at `now` with its candidate lanes (one road: same map and direction).
+    pub fn update(
+        &mut self,
+        now: Instant,
+        cands: &[Candidate],
+        obs: &Observation,
+        cfg: &FilterConfig,
+    ) -> Verdict {
+        let dt = match self.last {
+            Some(t) if now.saturating_since(t).millis() <= u64::from(cfg.max_gap_ms) => {
+                now.saturating_since(t).as_secs_f32()
+            }
+            _ => {
+                self.reset();
+                0.0
+            }
+        };
+        self.last = Some(now);
+        let sigma = obs.sigma_m.max(MIN_SIGMA_M);
+        let kept = self
+            .anchor
+            .and_then(|id| cands.iter().position(|c| c.lane == id));
+        if kept.is_none() && self.anchor.is_some() && self.in_row + 1 < cfg.restart_after {
+            // The fix jumped away from the road the track is on: an outlier until a run
+            // of them says the car (or the receiver's bias) really moved.
+            self.reject();
+            return Verdict {
+                outlier: true,
+                ..self.verdict(cands)
+            };
+        }
+        let Some(a) = self.anchor_in(cands) else {
+            self.leave_road();
+            return self.verdict(cands);
+        };
+        let gated = self.track_fix(dt, &cands[a], obs, sigma, cfg);
+        self.step_beliefs(dt, cands, a, cfg);
+        if gated {
+            self.weigh(cands, a, sigma, cfg);
+        }
+        Verdict {
+            outlier: !gated,
+            ..self.verdict(cands)
+        }
+    }
+
+    /// Counts a rejected fix.
+    fn reject(&mut self) {
+        self.outliers = self.outliers.saturating_add(1);
+        self.in_row = self.in_row.saturating_add(1);
+    }
+
+    /// The index of the anchor lane in `cands`, re-anchoring (and moving the track into
+    /// the new lane's frame) when the old anchor is not among them.
+    fn anchor_in(&mut self, cands: &[Candidate]) -> Option<usize> {
+        if cands.is_empty() {
+            self.anchor = None;
+            return None;
+        }
+        let old = self
+            .anchor
+            .and_then(|id| cands.iter().position(|c| c.lane == id));
+        let prob = |c: &Candidate| self.belief(c.lane);
+        if let Some(i) = old {
+            // Follow the most probable lane, carrying the track into its frame: the
+            // car's offset from lane b is its offset from lane a less b's centre in a's.
+            let top = (0..cands.len()).max_by(|&x, &y| prob(&cands[x]).total_cmp(&prob(&cands[y])));
+            return Some(match top {
+                Some(b) if b != i && prob(&cands[b]) > prob(&cands[i]) => {
+                    self.track.y -= cands[i].lateral - cands[b].lateral;
+                    self.anchor = Some(cands[b].lane);
+                    b
+                }
+                _ => i,
+            });
+        }
+        let best = (0..cands.len()).max_by(|&i, &j| {
+            prob(&cands[i])
+                .total_cmp(&prob(&cands[j]))
+                .then(cands[j].lateral.abs().total_cmp(&cands[i].lateral.abs()))
+        })?;
+        // The old anchor is gone from this fix: its frame cannot be carried over.
+        self.track = Track::default();
+        self.anchor = Some(cands[best].lane);
+        Some(best)
+    }
+
+    fn belief(&self, lane: LaneId) -> f32 {
+        self.beliefs
+            .iter()
+            .find(|b| b.lane == lane)
+            .map_or(0.0, |b| b.p)
+    }
+
+    /// Kalman predict and update of the lateral track; false when the fix's offset fell
+    /// outside the innovation gate (an outlier, not used for the lane belief either).
+    fn track_fix(
+        &mut self,
+        dt: f32,
+        anchor: &Candidate,
+        obs: &Observation,
+        sigma: f32,
+        cfg: &FilterConfig,
+    ) -> bool {
+        let z = anchor.lateral;
+        let r = sigma * sigma;
+        let t = &mut self.track;
+        if t.p[0] <= 0.0 {
+            *t = Track {
+                y: z,
+                vy: 0.0,
+                p: [r, 0.0, 1.0],
+            };
+            self.in_row = 0;
+            return true;
+        }
+        predict(t, dt, cfg.lateral_accel_mps2);
+        if let (Some(v), Some(c)) = (obs.speed_mps, obs.course_deg) {
+            if v >= 3.0 {
+                let off = (anchor.bearing_deg - c).to_radians();
+                let sd = v * cfg.course_sigma_deg.to_radians();
+                let rate = v * libm::sinf(off);
+                update(t, 1, rate, sd * sd);
+            }
+        }
+        let t = &mut self.track;
+        let s = t.p[0] + r;
+        let nu = z - t.y;
+        if nu * nu > cfg.gate_sigma * cfg.gate_sigma * s {
+            self.reject();
+            if self.in_row < cfg.restart_after {
+                return false;
+            }
+            self.track = Track {
+                y: z,
+                vy: 0.0,
+                p: [r, 0.0, 1.0],
+            };
+        } else {
+            update(t, 0, z, r);
+        }
+        self.in_row = 0;
+        true
+    }
+
+    /// The forward algorithm's transition: lanes keep their belief but for what the
+    /// tracked lateral rate carries to their neighbours, and the road exchanges belief
+    /// with "off the road". Lanes new to the road start with a small share.
+    fn step_beliefs(&mut self, dt: f32, cands: &[Candidate], a: usize, cfg: &FilterConfig) {
+        let old = core::mem::take(&mut self.beliefs);
+        let fresh = old.is_empty() && self.off_road == 0.0;
+        let mut next: Vec<Belief, MAX_NEARBY_LANES, u8> = Vec::new();
+        for c in cands {
+            let p = old.iter().find(|b| b.lane == c.lane).map_or(0.0, |b| b.p);
+            let _ = next.push(Belief { lane: c.lane, p });
+        }
+        let total: f32 = next.iter().map(|b| b.p).sum::<f32>() + self.off_road;
+        if fresh || total <= 0.0 {
+            // A fix near mapped lanes starts on the road, with no lane preferred.
+            let n = next.len() as f32;
+            for b in next.iter_mut() {
+                b.p = (1.0 - START_OFF_ROAD) / n;
+            }
+            self.off_road = START_OFF_ROAD;
+        } else {
+            // Lanes new to the road: a floor so that evidence can raise them.
+            let floor = 0.01 * total;
+            for b in next.iter_mut() {
+                b.p = b.p.max(floor);
+            }
+        }
+        let centre = |i: usize| cands[a].lateral - cands[i].lateral;
+        let vy = self.track.vy;
+        let mut moved: [f32; MAX_NEARBY_LANES] = [0.0; MAX_NEARBY_LANES];
+        for i in 0..next.len() {
+            let from = next[i].p;
+            for (dir, toward) in [(1.0f32, vy.max(0.0)), (-1.0, (-vy).max(0.0))] {
+                let Some(k) = neighbour(cands, i, dir, &centre) else {
+                    continue;
+                };
+                // Lane widths per second the car moves towards that side.
+                let rate = cfg.change_per_s + cfg.rate_gain * toward / cands[i].width.max(2.0);
+                let share = clamp(rate * dt, 0.0, 0.45) * from;
+                moved[i] -= share;
+                moved[k] += share;
+            }
+        }
+        for (b, m) in next.iter_mut().zip(moved.iter()) {
+            b.p = (b.p + m).max(0.0);
+        }
+        let leave = clamp(cfg.leave_per_s * dt, 0.0, 0.5);
+        let back = clamp(cfg.return_per_s * dt, 0.0, 0.5);
+        let on: f32 = next.iter().map(|b| b.p).sum();
+        let (to_off, to_on) = (on * leave, self.off_road * back);
+        let n = next.len().max(1) as f32;
+        for b in next.iter_mut() {
+            let share = if on > 0.0 { b.p / on } else { 1.0 / n };
+            b.p = b.p * (1.0 - leave) + to_on * share;
+        }
+        self.off_road += to_off - to_on;
+        self.beliefs = next;
+        self.normalise();
+    }
+
+    /// The fix's evidence: each lane's likelihood of the measured offset (a position
+    /// anywhere across its width, blurred by the fix error), against a flat density off
+    /// the road; raised to the evidence weight.
+    fn weigh(&mut self, cands: &[Candidate], a: usize, sigma: f32, cfg: &FilterConfig) {
+        let z = cands[a].lateral;
+        let k = cfg.evidence_weight;
+        for (b, c) in self.beliefs.iter_mut().zip(cands.iter()) {
+            let centre = cands[a].lateral - c.lateral;
+            let half = 0.5 * c.width.max(1.0);
+            let mass = normal_cdf((centre + half - z) / sigma) - normal_cdf((centre - half - z) / sigma);
+            let density = (mass / (2.0 * half)).max(1.0e-9);
+            b.p *= libm::powf(density, k);
+        }
+        self.off_road *= libm::powf(1.0 / cfg.off_road_width_m.max(1.0), k);
+        self.normalise();
+    }
+
+    /// No lane holds the fix: the belief moves off the road.
+    fn leave_road(&mut self) {
+        self.beliefs.clear();
+        self.off_road = 1.0;
+        self.track = Track::default();
+    }
+
+    fn normalise(&mut self) {
+        let total: f32 = self.beliefs.iter().map(|b| b.p).sum::<f32>() + self.off_road;
+        if !(total.is_finite() && total > 0.0) {
+            let n = self.beliefs.len() as f32 + 1.0;
+            self.beliefs.iter_mut().for_each(|b| b.p = 1.0 / n);
+            self.off_road = 1.0 / n;
+            return;
+        }
+        self.beliefs.iter_mut().for_each(|b| b.p /= total);
+        self.off_road /= total;
+    }
+
+    fn verdict(&self, cands: &[Candidate]) -> Verdict {
+        let best = self
+            .beliefs
+            .iter()
+            .enumerate()
+            .max_by(|a, b| a.1.p.total_cmp(&b.1.p));
+        match best {
+            Some((i, b)) if b.p >= self.off_road && i < cands.len() => Verdict {
+                best: Some(i),
+                percent: clamp(b.p * 100.0, 0.0, 100.0) as u8,
+                outlier: false,
+            },
+            _ => Verdict {
+                best: None,
+                percent: clamp(self.off_road * 100.0, 0.0, 100.0) as u8,
+                outlier: false,
+            },
+        }
+    }
+}
+
+/// The nearest lane of `cands` beside lane `i` on side `dir` (+1 left, -1 right), if it
+/// is adjacent (centres within one and a half widths).
+fn neighbour(
+    cands: &[Candidate],
+    i: usize,
+    dir: f32,
+    centre: &impl Fn(usize) -> f32,
+) -> Option<usize> {
+    let ci = centre(i);
+    let reach = 1.5 * cands[i].width.max(2.0);
+    (0..cands.len())
+        .filter(|&k| k != i)
+        .map(|k| (k, (centre(k) - ci) * dir))
+        .filter(|&(_, d)| d > 0.5 && d < reach)
+        .min_by(|a, b| a.1.total_cmp(&b.1))
+        .map(|(k, _)| k)
+}
+
+/// Constant-rate prediction over `dt` seconds with white lateral acceleration `accel`.
+fn predict(t: &mut Track, dt: f32, accel: f32) {
+    let q = accel * accel;
+    let (dt2, dt3, dt4) = (dt * dt, dt * dt * dt, dt * dt * dt * dt);
+    t.y += t.vy * dt;
+    let [pyy, pyv, pvv] = t.p;
+    t.p = [
+        pyy + 2.0 * dt * pyv + dt2 * pvv + q * dt4 / 4.0,
+        pyv + dt * pvv + q * dt3 / 2.0,
+        pvv + q * dt2,
+    ];
+}
+
+/// Kalman update of state component `k` (0: offset, 1: rate) with measurement `z` of
+/// variance `r`.
+fn update(t: &mut Track, k: usize, z: f32, r: f32) {
+    let [pyy, pyv, pvv] = t.p;
+    let (pkk, pk_y, pk_v) = if k == 0 { (pyy, pyy, pyv) } else { (pvv, pyv, pvv) };
+    let s = pkk + r;
+    if s <= 0.0 {
+        return;
+    }
+    let nu = z - if k == 0 { t.y } else { t.vy };
+    let (gy, gv) = (pk_y / s, pk_v / s);
+    t.y += gy * nu;
+    t.vy += gv * nu;
+    t.p = [pyy - gy * pk_y, pyv - gy * pk_v, pvv - gv * pk_v];
+}
+
+#[cfg(test)]
+mod tests;
