@@ -22,7 +22,10 @@ const GOALS: [(Noise, f64, f64, f64, f64); 4] = [
 ];
 
 fn main() {
-    let args: Vec<String> = std::env::args().skip(1).filter(|a| a != "--bench").collect();
+    let args: Vec<String> = std::env::args()
+        .skip(1)
+        .filter(|a| a != "--bench")
+        .collect();
     let mut drives = 24u64;
     let mut seed_base = 0x5eed_0000u64;
     let mut it = args.iter();
@@ -38,7 +41,16 @@ fn main() {
     );
     println!(
         "{:<26} {:<8} | {:>8} {:>8} {:>7} {:>9} {:>8} | {:>13} {:>7} {:>8}",
-        "noise", "method", "correct", "unknown", "wrong", "flips/chg", "in zone", "1st warn err", "missed", "outliers"
+        "noise",
+        "method",
+        "correct",
+        "unknown",
+        "wrong",
+        "flips/chg",
+        "in zone",
+        "1st warn err",
+        "missed",
+        "outliers"
     );
     let mut failed = Vec::new();
     let mut models: Vec<(Noise, Option<(f64, f64, f64, f64)>)> = GOALS

@@ -37,10 +37,26 @@ fn the_lane_filter_meets_the_white_noise_goals() {
             t.in_zone_pct(),
             t.warning_error()
         );
-        assert!(t.correct_pct() >= correct, "white {sigma} m: correct {:.2} %", t.correct_pct());
-        assert!(t.wrong_pct() <= wrong, "white {sigma} m: wrong {:.2} %", t.wrong_pct());
-        assert!(t.flips_per_change() <= flips, "white {sigma} m: flips {:.2}", t.flips_per_change());
-        assert!(t.in_zone_pct() >= in_zone, "white {sigma} m: in zone {:.2} %", t.in_zone_pct());
+        assert!(
+            t.correct_pct() >= correct,
+            "white {sigma} m: correct {:.2} %",
+            t.correct_pct()
+        );
+        assert!(
+            t.wrong_pct() <= wrong,
+            "white {sigma} m: wrong {:.2} %",
+            t.wrong_pct()
+        );
+        assert!(
+            t.flips_per_change() <= flips,
+            "white {sigma} m: flips {:.2}",
+            t.flips_per_change()
+        );
+        assert!(
+            t.in_zone_pct() >= in_zone,
+            "white {sigma} m: in zone {:.2} %",
+            t.in_zone_pct()
+        );
         assert_eq!(t.warnings_missed(), 0);
     }
 }
@@ -60,8 +76,17 @@ fn the_filter_beats_the_per_fix_matcher_at_2_m_and_is_exact_without_noise() {
     assert!(new.flips_per_change() * 5.0 < old.flips_per_change());
     let exact = table(Noise::White(0.0), MatcherConfig::DEFAULT);
     let t = &exact.total;
-    assert!(t.dist_n > 100 && t.dist_max < 0.5, "distance error {}", t.dist_max);
+    assert!(
+        t.dist_n > 100 && t.dist_max < 0.5,
+        "distance error {}",
+        t.dist_max
+    );
     // Without noise the lane is unknown only on the first fix and for about 0.2 s after
     // the car is 0.5 m into a new lane (the belief is confirmed over a few fixes).
-    assert!(exact.correct_pct() >= 99.0, "no noise: correct {:.3} % (unknown {:.3} %)", exact.correct_pct(), exact.unknown_pct());
+    assert!(
+        exact.correct_pct() >= 99.0,
+        "no noise: correct {:.3} % (unknown {:.3} %)",
+        exact.correct_pct(),
+        exact.unknown_pct()
+    );
 }

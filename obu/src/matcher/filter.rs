@@ -34,6 +34,9 @@ use serde::{Deserialize, Serialize};
 /// (an RTK fix, a noiseless simulation) would make every lateral manoeuvre an outlier.
 const MIN_SIGMA_M: f32 = 0.25;
 
+/// Time constant of the learnt white error, seconds.
+const SCATTER_TIME_S: f32 = 3.0;
+
 /// Belief in "off the mapped road" when a road is first met.
 const START_OFF_ROAD: f32 = 0.05;
 
@@ -75,7 +78,7 @@ impl FilterConfig {
         lateral_accel_mps2: 1.0,
         course_sigma_deg: 3.0,
         evidence_weight: 0.7,
-        change_per_s: 0.05,
+        change_per_s: 0.002,
         gate_sigma: 4.0,
         restart_after: 10,
         rate_gain: 2.0,
@@ -143,6 +146,20 @@ struct Track {
     y: f32,
     vy: f32,
     p: [f32; 3],
+    /// The last fix's offset taken (for the scatter between fixes).
+    prev_z: Option<f32>,
+}
+
+impl Track {
+    /// A track started at offset `z` with variance `r`, rate unknown.
+    fn at(z: f32, r: f32) -> Track {
+        Track {
+            y: z,
+            vy: 0.0,
+            p: [r, 0.0, 1.0],
+            prev_z: Some(z),
+        }
+    }
 }
 
 /// The lane filter's state (about 150 bytes).
@@ -155,6 +172,8 @@ pub struct LaneFilter {
     last: Option<Instant>,
     in_row: u8,
     outliers: u32,
+    /// Variance of the white part of the fix error, learnt from the fixes, m².
+    white_var: Option<f32>,
 }
 
 impl LaneFilter {
@@ -168,13 +187,14 @@ impl LaneFilter {
                 y: 0.0,
                 vy: 0.0,
                 p: [0.0; 3],
+                prev_z: None,
             },
+            white_var: None,
             last: None,
             in_row: 0,
             outliers: 0,
         }
     }
-
 
     /// Fixes rejected by the innovation gate so far.
     pub fn outliers(&self) -> u32 {
@@ -257,7 +277,11 @@ impl LaneFilter {
             let top = (0..cands.len()).max_by(|&x, &y| prob(&cands[x]).total_cmp(&prob(&cands[y])));
             return Some(match top {
                 Some(b) if b != i && prob(&cands[b]) > prob(&cands[i]) => {
-                    self.track.y -= cands[i].lateral - cands[b].lateral;
+                    let shift = cands[i].lateral - cands[b].lateral;
+                    self.track.y -= shift;
+                    if let Some(z) = &mut self.track.prev_z {
+                        *z -= shift;
+                    }
                     self.anchor = Some(cands[b].lane);
                     b
                 }
@@ -294,26 +318,24 @@ impl LaneFilter {
     ) -> bool {
         let z = anchor.lateral;
         let r = sigma * sigma;
-        let t = &mut self.track;
-        if t.p[0] <= 0.0 {
-            *t = Track {
-                y: z,
-                vy: 0.0,
-                p: [r, 0.0, 1.0],
-            };
+        let course_rate = match (obs.speed_mps, obs.course_deg) {
+            (Some(v), Some(c)) if v >= 3.0 => {
+                let off = (anchor.bearing_deg - c).to_radians();
+                let sd = v * cfg.course_sigma_deg.to_radians();
+                Some((v * libm::sinf(off), sd * sd))
+            }
+            _ => None,
+        };
+        if self.track.p[0] <= 0.0 {
+            self.track = Track::at(z, r);
             self.in_row = 0;
             return true;
         }
-        predict(t, dt, cfg.lateral_accel_mps2);
-        if let (Some(v), Some(c)) = (obs.speed_mps, obs.course_deg) {
-            if v >= 3.0 {
-                let off = (anchor.bearing_deg - c).to_radians();
-                let sd = v * cfg.course_sigma_deg.to_radians();
-                let rate = v * libm::sinf(off);
-                update(t, 1, rate, sd * sd);
-            }
-        }
         let t = &mut self.track;
+        predict(t, dt, cfg.lateral_accel_mps2);
+        if let Some((rate, var)) = course_rate {
+            update(t, 1, rate, var);
+        }
         let s = t.p[0] + r;
         let nu = z - t.y;
         if nu * nu > cfg.gate_sigma * cfg.gate_sigma * s {
@@ -321,16 +343,36 @@ impl LaneFilter {
             if self.in_row < cfg.restart_after {
                 return false;
             }
-            self.track = Track {
-                y: z,
-                vy: 0.0,
-                p: [r, 0.0, 1.0],
-            };
+            self.track = Track::at(z, r);
         } else {
+            let moved = t.vy * dt;
+            if let Some(prev) = t.prev_z {
+                self.learn_scatter(z - prev - moved, dt, r);
+            }
+            let t = &mut self.track;
             update(t, 0, z, r);
+            t.prev_z = Some(z);
         }
         self.in_row = 0;
         true
+    }
+
+    /// Learns the white part of the fix error from the scatter between consecutive fixes
+    /// (less the motion the track saw): `d` is one such difference. A wandering bias moves
+    /// little from fix to fix; white noise scatters by sqrt(2) sigma.
+    fn learn_scatter(&mut self, d: f32, dt: f32, r: f32) {
+        let alpha = clamp(dt / SCATTER_TIME_S, 0.0, 1.0);
+        let v = self.white_var.unwrap_or(0.5 * r);
+        let v = v + alpha * (0.5 * d * d - v);
+        self.white_var = Some(clamp(v, 0.0025, r));
+    }
+
+    /// The share of the fix error that is white (0..1): how far one fix's evidence counts.
+    fn white_share(&self, r: f32) -> f32 {
+        match self.white_var {
+            Some(v) if r > 0.0 => clamp(v / r, 0.02, 1.0),
+            _ => 0.5,
+        }
     }
 
     /// The forward algorithm's transition: lanes keep their belief but for what the
@@ -365,12 +407,12 @@ impl LaneFilter {
         for i in 0..next.len() {
             let from = next[i].p;
             for (dir, toward) in [(1.0f32, vy.max(0.0)), (-1.0, (-vy).max(0.0))] {
+                // Lane widths per second the car moves towards that side.
+                let motion = cfg.rate_gain * toward / cands[i].width.max(2.0);
                 let Some(k) = neighbour(cands, i, dir, &centre) else {
                     continue;
                 };
-                // Lane widths per second the car moves towards that side.
-                let rate = cfg.change_per_s + cfg.rate_gain * toward / cands[i].width.max(2.0);
-                let share = clamp(rate * dt, 0.0, 0.45) * from;
+                let share = clamp((cfg.change_per_s + motion) * dt, 0.0, 0.45) * from;
                 moved[i] -= share;
                 moved[k] += share;
             }
@@ -397,11 +439,14 @@ impl LaneFilter {
     /// the road; raised to the evidence weight.
     fn weigh(&mut self, cands: &[Candidate], a: usize, sigma: f32, cfg: &FilterConfig) {
         let z = cands[a].lateral;
-        let k = cfg.evidence_weight;
+        // Correlated error (a wandering bias) adds nothing fix after fix: only the white
+        // share of the error counts as new evidence.
+        let k = cfg.evidence_weight * self.white_share(sigma * sigma);
         for (b, c) in self.beliefs.iter_mut().zip(cands.iter()) {
             let centre = cands[a].lateral - c.lateral;
             let half = 0.5 * c.width.max(1.0);
-            let mass = normal_cdf((centre + half - z) / sigma) - normal_cdf((centre - half - z) / sigma);
+            let mass =
+                normal_cdf((centre + half - z) / sigma) - normal_cdf((centre - half - z) / sigma);
             let density = (mass / (2.0 * half)).max(1.0e-9);
             b.p *= libm::powf(density, k);
         }
@@ -484,7 +529,11 @@ fn predict(t: &mut Track, dt: f32, accel: f32) {
 /// variance `r`.
 fn update(t: &mut Track, k: usize, z: f32, r: f32) {
     let [pyy, pyv, pvv] = t.p;
-    let (pkk, pk_y, pk_v) = if k == 0 { (pyy, pyy, pyv) } else { (pvv, pyv, pvv) };
+    let (pkk, pk_y, pk_v) = if k == 0 {
+        (pyy, pyy, pyv)
+    } else {
+        (pvv, pyv, pvv)
+    };
     let s = pkk + r;
     if s <= 0.0 {
         return;

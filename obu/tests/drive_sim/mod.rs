@@ -185,7 +185,11 @@ impl Errors {
             Noise::Multipath => {
                 if self.jump.2 == 0 && self.rng.next() < 0.01 {
                     let (r, th) = (5.0 + 5.0 * self.rng.next(), self.rng.next() * 6.283);
-                    self.jump = (r * th.cos(), r * th.sin(), 1 + (self.rng.next() * 3.0) as u32);
+                    self.jump = (
+                        r * th.cos(),
+                        r * th.sin(),
+                        1 + (self.rng.next() * 3.0) as u32,
+                    );
                 }
                 let (jx, jy) = if self.jump.2 > 0 {
                     self.jump.2 -= 1;
@@ -199,7 +203,12 @@ impl Errors {
     }
 }
 
-pub fn build_obu(road: &Road, reference: LatLon, frame: &LocalFrame64, matcher: MatcherConfig) -> Obu {
+pub fn build_obu(
+    road: &Road,
+    reference: LatLon,
+    frame: &LocalFrame64,
+    matcher: MatcherConfig,
+) -> Obu {
     let mut config = AlertConfig::default();
     config.matcher = matcher;
     let mut obu = Obu::new(config);
@@ -381,7 +390,10 @@ pub fn drive(road: &Road, noise: Noise, seed: u64, matcher: MatcherConfig) -> Dr
         let chord = ((q.0 - p.0).powi(2) + (q.1 - p.1).powi(2)).sqrt();
         u += SPEED * DT_MS as f64 / 1000.0 / chord;
     }
-    st.outliers = obu.state(Instant::from_millis(1000 + steps * DT_MS)).counters.lane_outliers;
+    st.outliers = obu
+        .state(Instant::from_millis(1000 + steps * DT_MS))
+        .counters
+        .lane_outliers;
     st
 }
 

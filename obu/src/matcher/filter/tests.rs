@@ -62,7 +62,11 @@ fn a_lane_change_moves_the_belief_once() {
         // 2 -> 1 (left) between 3 s and 7 s.
         let t = k as f32 / 10.0;
         let w = clamp((t - 3.0) / 4.0, 0.0, 1.0);
-        let vy = if (3.0..7.0).contains(&t) { 3.5 / 4.0 } else { 0.0 };
+        let vy = if (3.0..7.0).contains(&t) {
+            3.5 / 4.0
+        } else {
+            0.0
+        };
         let v = step(&mut f, k, 3.5 * w, &obs(0.5, vy));
         if v.percent >= 80 {
             let lane = lane_of(&v).unwrap_or(0);
@@ -88,7 +92,12 @@ fn a_few_metres_off_the_edge_keep_the_road_a_long_excursion_leaves_it() {
     }
     // A minute 12 m beyond the edge, with no lane in reach: off the road.
     for k in 40..60 {
-        let v = f.update(Instant::from_millis(k * 100), &[], &obs(1.0, 0.0), &FilterConfig::DEFAULT);
+        let v = f.update(
+            Instant::from_millis(k * 100),
+            &[],
+            &obs(1.0, 0.0),
+            &FilterConfig::DEFAULT,
+        );
         assert_eq!(v.best, None);
     }
 }
