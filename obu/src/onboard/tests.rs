@@ -493,19 +493,22 @@ fn circle_region_warns_along_the_heading() {
 
 #[test]
 fn lane_changes_follow_the_fixes_own_clock_not_their_arrival() {
-    // The car moves from lane 3 (x = 3.5) to lane 2 (x = 0) at the sixth fix; the receiver
-    // stamps its fixes 100 ms apart. The matcher holds a challenger for 300 ms and 3 fixes.
+    // The car moves from lane 3 (x = 3.5) to lane 2 (x = 0) over fixes 10 to 30 at 10 m/s;
+    // the receiver stamps its fixes 100 ms apart. The lane filter predicts with the time
+    // between fixes: it must be the receiver's, not the arrival's.
     let run = |arrivals: &[u64]| -> std::vec::Vec<Option<u8>> {
         let mut obu = obu_with(false);
         let mut lanes = std::vec::Vec::new();
         for (k, &t) in arrivals.iter().enumerate() {
-            let x = if k < 5 { 3.5 } else { 0.0 };
+            let x = |k: usize| 3.5 - 3.5 * ((k as f32 - 10.0) / 20.0).clamp(0.0, 1.0);
+            let dx = x(k + 1) - x(k);
             let fix = Fix {
                 utc: Some(UtcTime {
                     year: 2024,
                     ms_of_year: 1_000_000 + 100 * k as u64,
                 }),
-                ..fix_at(x, 20.0 * k as f32, 10.0)
+                course_deg: Some(libm::atan2f(dx, 1.0).to_degrees().rem_euclid(360.0)),
+                ..fix_at(x(k), k as f32, 10.0)
             };
             lanes.push(
                 obu.on_fix(Instant::from_millis(t), fix)
@@ -515,9 +518,13 @@ fn lane_changes_follow_the_fixes_own_clock_not_their_arrival() {
         }
         lanes
     };
-    let steady: std::vec::Vec<u64> = (0..12).map(|k| 100 * k).collect();
-    let jitter = [0, 90, 10, 80, 0, 95, 5, 70, 15, 60, 0, 40];
-    let late: std::vec::Vec<u64> = steady.iter().zip(jitter).map(|(t, j)| t + j).collect();
+    let steady: std::vec::Vec<u64> = (0..40).map(|k| 100 * k).collect();
+    let jitter = [0, 90, 10, 80, 0, 95, 5, 70, 15, 60];
+    let late: std::vec::Vec<u64> = steady
+        .iter()
+        .zip(jitter.iter().cycle())
+        .map(|(t, j)| t + j)
+        .collect();
     let on_time = run(&steady);
     assert_eq!(on_time.first(), Some(&Some(3)));
     assert_eq!(
