@@ -440,8 +440,11 @@ impl LaneFilter {
     fn weigh(&mut self, cands: &[Candidate], a: usize, sigma: f32, cfg: &FilterConfig) {
         let z = cands[a].lateral;
         // Correlated error (a wandering bias) adds nothing fix after fix: only the white
-        // share of the error counts as new evidence.
-        let k = cfg.evidence_weight * self.white_share(sigma * sigma);
+        // share of the error counts as new evidence, unless the whole error is too small
+        // against the lane to carry a fix into the next lane.
+        let width = cands[a].width.max(2.0);
+        let harmless = clamp((width / (8.0 * sigma)) * (width / (8.0 * sigma)), 0.0, 1.0);
+        let k = cfg.evidence_weight * self.white_share(sigma * sigma).max(harmless);
         for (b, c) in self.beliefs.iter_mut().zip(cands.iter()) {
             let centre = cands[a].lateral - c.lateral;
             let half = 0.5 * c.width.max(1.0);

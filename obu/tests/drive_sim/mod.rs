@@ -130,7 +130,7 @@ impl Noise {
     /// The 1-sigma accuracy a receiver would report for it (GST), metres.
     pub fn reported_sigma(self) -> f64 {
         match self {
-            Noise::White(s) => s,
+            Noise::White(s) => s.max(0.1),
             Noise::GaussMarkov(s, _) => (s * s + 0.04).sqrt(),
             Noise::Multipath => 0.5,
         }

@@ -234,6 +234,7 @@ mod tests {
                 fixes: max,
                 off_map: max,
                 lane_switches: max,
+                lane_outliers: max,
                 maps_updated: max,
                 maps_rejected: max,
                 zones_updated: max,
