@@ -26,6 +26,36 @@ fn default_change_m() -> f64 {
     50.0
 }
 
+/// A first-order Gauss-Markov bias of the fixes, per axis: the slowly wandering error of a
+/// real receiver (atmosphere, orbit and clock errors, multipath on a long scale).
+#[derive(Debug, Clone, Copy, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct GaussMarkov {
+    /// Stationary 1-sigma, metres.
+    pub sigma_m: f64,
+    /// Correlation time, seconds.
+    pub tau_s: f64,
+}
+
+/// Multipath jumps: now and then the fixes leap several metres for a few epochs.
+#[derive(Debug, Clone, Copy, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Multipath {
+    /// Jumps per second (on average).
+    pub per_s: f64,
+    /// Smallest jump, metres (sizes are uniform between the two).
+    pub min_m: f64,
+    /// Largest jump, metres.
+    pub max_m: f64,
+    /// A jump lasts 1 to this many epochs.
+    #[serde(default = "default_jump_epochs")]
+    pub max_epochs: u32,
+}
+
+fn default_jump_epochs() -> u32 {
+    3
+}
+
 /// How the car drives and what its receiver gets wrong.
 #[derive(Debug, Clone, PartialEq, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -56,6 +86,15 @@ pub struct DriveSpec {
     /// Constant offset of the fixes, east/north metres.
     #[serde(default)]
     pub bias_m: [f64; 2],
+    /// A wandering bias of the fixes.
+    pub gauss_markov: Option<GaussMarkov>,
+    /// Multipath jumps of the fixes.
+    pub multipath: Option<Multipath>,
+    /// The 1-sigma error the receiver reports in GST, metres (default: the white noise
+    /// and the Gauss-Markov sigma together, at least 0.3 m). A larger figure than the
+    /// errors is a receiver that knows it is degraded; a smaller one, a receiver that
+    /// does not.
+    pub reported_sigma_m: Option<f64>,
     /// GNSS dropouts: (start s, duration s) with no fix at all.
     #[serde(default)]
     pub dropouts: Vec<(f64, f64)>,
@@ -81,6 +120,13 @@ pub struct DriveSpec {
 pub const ROLLOVER_MS: i64 = 1024 * 7 * 86_400_000;
 
 impl DriveSpec {
+    /// The 1-sigma error the receiver reports (GST), metres.
+    pub fn reported_sigma(&self) -> f64 {
+        let gm = self.gauss_markov.map_or(0.0, |g| g.sigma_m);
+        self.reported_sigma_m
+            .unwrap_or_else(|| (self.sigma_m.powi(2) + gm.powi(2)).sqrt().max(0.3))
+    }
+
     /// What the receiver's clock reads when the true time is `unix_ms`.
     pub fn receiver_clock(&self, unix_ms: u64) -> u64 {
         let mut ms = unix_ms as i64 + (self.clock_offset_s * 1000.0).round() as i64;
@@ -145,6 +191,7 @@ pub fn simulate(road: &Road, spec: &DriveSpec, max_s: f64) -> Result<Vec<Sample>
     let mut active: Option<(&LaneChange, f64)> = None; // (change, station where it started)
     let mut rng = Prng::new(spec.seed);
     let mut walk = [0.0f64; 2];
+    let mut errors = SlowErrors::new(spec, &mut rng);
     let mut out = Vec::new();
     let mut odometer = 0.0;
     for k in 0..=(max_s / EPOCH_S).floor() as usize {
@@ -194,11 +241,12 @@ pub fn simulate(road: &Road, spec: &DriveSpec, max_s: f64) -> Result<Vec<Sample>
             *w += spec.random_walk_m * EPOCH_S.sqrt() * rng.normal();
         }
         let noise = [spec.sigma_m * rng.normal(), spec.sigma_m * rng.normal()];
+        let slow = errors.step(&mut rng);
         let dropped = spec.dropouts.iter().any(|&(s, d)| t >= s && t < s + d);
         let reported = (!dropped).then(|| {
             [
-                pose.point[0] + spec.bias_m[0] + walk[0] + noise[0],
-                pose.point[1] + spec.bias_m[1] + walk[1] + noise[1],
+                pose.point[0] + spec.bias_m[0] + walk[0] + noise[0] + slow[0],
+                pose.point[1] + spec.bias_m[1] + walk[1] + noise[1] + slow[1],
             ]
         });
         out.push(Sample {
@@ -213,7 +261,72 @@ pub fn simulate(road: &Road, spec: &DriveSpec, max_s: f64) -> Result<Vec<Sample>
         station += v * EPOCH_S;
         odometer += v * EPOCH_S;
     }
+    course_from_motion(&mut out);
     Ok(out)
+}
+
+/// The true course is the direction the car moves: during a lane change it leans off the
+/// lane's bearing (a receiver measures it from Doppler, free of the position's errors).
+fn course_from_motion(samples: &mut [Sample]) {
+    for i in 0..samples.len().saturating_sub(1) {
+        let (a, b) = (samples[i].point, samples[i + 1].point);
+        let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
+        if dx.hypot(dy) > 0.05 {
+            samples[i].bearing_deg = dx.atan2(dy).to_degrees().rem_euclid(360.0);
+        }
+    }
+}
+
+/// The Gauss-Markov bias and the multipath jumps of one drive.
+struct SlowErrors {
+    gm: Option<(GaussMarkov, [f64; 2])>,
+    multipath: Option<Multipath>,
+    jump: ([f64; 2], u32),
+}
+
+impl SlowErrors {
+    fn new(spec: &DriveSpec, rng: &mut Prng) -> Self {
+        // The bias starts from its stationary distribution.
+        let gm = spec.gauss_markov.map(|g| {
+            let start = [g.sigma_m * rng.normal(), g.sigma_m * rng.normal()];
+            (g, start)
+        });
+        SlowErrors {
+            gm,
+            multipath: spec.multipath,
+            jump: ([0.0; 2], 0),
+        }
+    }
+
+    /// This epoch's slow errors, east/north metres.
+    fn step(&mut self, rng: &mut Prng) -> [f64; 2] {
+        let mut e = [0.0; 2];
+        if let Some((g, b)) = &mut self.gm {
+            let phi = (-EPOCH_S / g.tau_s.max(EPOCH_S)).exp();
+            let q = g.sigma_m * (1.0 - phi * phi).sqrt();
+            for (bi, ei) in b.iter_mut().zip(e.iter_mut()) {
+                *bi = phi * *bi + q * rng.normal();
+                *ei += *bi;
+            }
+        }
+        if let Some(m) = self.multipath {
+            if self.jump.1 == 0 && rng.next_f64() < m.per_s * EPOCH_S {
+                let size = m.min_m + (m.max_m - m.min_m) * rng.next_f64();
+                let th = rng.next_f64() * std::f64::consts::TAU;
+                let epochs = 1 + (rng.next_f64() * m.max_epochs.max(1) as f64) as u32;
+                self.jump = (
+                    [size * th.sin(), size * th.cos()],
+                    epochs.min(m.max_epochs.max(1)),
+                );
+            }
+            if self.jump.1 > 0 {
+                self.jump.1 -= 1;
+                e[0] += self.jump.0[0];
+                e[1] += self.jump.0[1];
+            }
+        }
+        e
+    }
 }
 
 /// Speed at `station` of the profile (or the constant speed), km/h.

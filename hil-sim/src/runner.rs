@@ -281,7 +281,7 @@ fn send_generated(
                 position,
                 speed_mps: sample.speed_mps,
                 course_deg: sample.bearing_deg,
-                sigma_m: s.drive.sigma_m.max(0.3),
+                sigma_m: s.drive.reported_sigma(),
             };
             sent.push((k, Instant::now()));
             let _ = sock.send_to(nmea::epoch(&e).as_bytes(), &daemon.gnss);

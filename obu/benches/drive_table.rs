@@ -13,7 +13,10 @@ mod drive_sim;
 use drive_sim::{drive, Noise, Road, Table};
 use obu::matcher::MatcherConfig;
 
-/// (noise, correct lane >= %, wrong lane shown <= %, flips per real change <=, in zone >= %)
+/// Goals: (correct lane >= %, wrong lane shown <= %, flips per real change <=, in zone >= %).
+type Goal = (f64, f64, f64, f64);
+
+/// (noise, goal)
 const GOALS: [(Noise, f64, f64, f64, f64); 4] = [
     (Noise::White(0.5), 99.5, 0.2, 1.05, 100.0),
     (Noise::White(1.0), 98.0, 0.5, 1.1, 99.5),
@@ -53,7 +56,7 @@ fn main() {
         "outliers"
     );
     let mut failed = Vec::new();
-    let mut models: Vec<(Noise, Option<(f64, f64, f64, f64)>)> = GOALS
+    let mut models: Vec<(Noise, Option<Goal>)> = GOALS
         .iter()
         .map(|&(n, a, b, c, d)| (n, Some((a, b, c, d))))
         .collect();

@@ -10,6 +10,7 @@
 
 use heapless::Vec;
 
+mod along;
 mod filter;
 mod road;
 
@@ -171,6 +172,10 @@ pub struct Matcher {
     shown: Option<(MapId, LaneId)>,
     /// The filter's last match and its time (an outlier fix carries it on).
     last: Option<(Instant, LaneMatch)>,
+    /// The station along the lane, filtered.
+    along: along::AlongTrack,
+    /// Fixes the along-track gate rejected.
+    along_outliers: u32,
     current: Option<(MapId, LaneId)>,
     challenger: Option<(MapId, LaneId, Instant, u8)>,
     frozen_heading: Option<f32>,
@@ -186,6 +191,8 @@ impl Matcher {
             filter_map: None,
             shown: None,
             last: None,
+            along: along::AlongTrack::new(),
+            along_outliers: 0,
             current: None,
             challenger: None,
             frozen_heading: None,
@@ -206,9 +213,10 @@ impl Matcher {
         self.switches
     }
 
-    /// Fixes the lane filter rejected as outliers (innovation gate) so far.
+    /// Fixes the lane filter rejected as outliers (innovation gates across and along the
+    /// road) so far.
     pub fn outliers(&self) -> u32 {
-        self.filter.outliers()
+        self.filter.outliers().saturating_add(self.along_outliers)
     }
 
     /// Forgets the current lane (e.g. after a GNSS outage).
@@ -217,6 +225,7 @@ impl Matcher {
         self.filter_map = None;
         self.shown = None;
         self.last = None;
+        self.along.reset();
         self.current = None;
         self.challenger = None;
         self.nearby.clear();

@@ -139,6 +139,18 @@ pub enum Expectation {
     /// before it held: the real roadside's lane maps and zones, verified, none stored,
     /// replaced or cancelled since (for a roadside that changes nothing meanwhile).
     RoadsideKept,
+    /// A lane other than the true one is named in at most `max` of the states (those more
+    /// than 2 s from a lane change of the truth): an uncertain lane is left unnamed.
+    WrongLaneShown {
+        /// Greatest fraction.
+        max: f64,
+    },
+    /// The device rejected at least `min` fixes as outliers (its `lane_outliers` counter
+    /// at the end of the run): multipath jumps are caught, not followed.
+    OutliersRejected {
+        /// Least count.
+        min: u32,
+    },
 }
 
 fn ninety() -> f64 {
@@ -270,6 +282,14 @@ pub fn check(e: &Expectation, records: &[Record], facts: &RunFacts) -> Outcome {
             ),
         },
         Expectation::MatchedLane { min } => matched_lane(records, *min),
+        Expectation::WrongLaneShown { max } => wrong_lane(records, *max),
+        Expectation::OutliersRejected { min } => {
+            let n = records.last().map_or(0, |r| r.state.counters.lane_outliers);
+            (
+                n >= *min,
+                format!("{n} fixes rejected as outliers (need {min})"),
+            )
+        }
         Expectation::ForgedDropped { group, reason } => {
             attack::forged_dropped(group, reason, facts)
         }
@@ -367,19 +387,41 @@ fn no_gnss_within(records: &[Record], facts: &RunFacts, ms: f64) -> (bool, Strin
     )
 }
 
-fn matched_lane(records: &[Record], min: f64) -> (bool, String) {
+/// The records with a fix more than 2 s from a lane change of the truth.
+fn steady_lane(records: &[Record]) -> impl Iterator<Item = &Record> {
     let changes: Vec<f64> = records
         .windows(2)
         .filter(|w| w[0].true_lane != w[1].true_lane)
         .map(|w| w[1].t_s)
         .collect();
-    let steady = records.iter().filter(|r| {
+    records.iter().filter(move |r| {
         r.true_lane.is_some() && r.state.gnss_ok && changes.iter().all(|c| (r.t_s - c).abs() > 2.0)
-    });
+    })
+}
+
+fn matched_lane(records: &[Record], min: f64) -> (bool, String) {
     fraction(
-        steady,
+        steady_lane(records),
         |r| r.state.lane.map(|l| l.lane) == r.true_lane,
         min,
         "matched to the true lane",
+    )
+}
+
+fn wrong_lane(records: &[Record], max: f64) -> (bool, String) {
+    let set: Vec<&Record> = steady_lane(records).collect();
+    let wrong = set
+        .iter()
+        .filter(|r| r.state.lane.is_some_and(|l| Some(l.lane) != r.true_lane))
+        .count();
+    let f = wrong as f64 / set.len().max(1) as f64;
+    (
+        !set.is_empty() && f <= max,
+        format!(
+            "{wrong} of {} states named a wrong lane ({:.1} %, at most {:.1} %)",
+            set.len(),
+            f * 100.0,
+            max * 100.0
+        ),
     )
 }

@@ -69,6 +69,13 @@ pub struct FilterConfig {
     pub off_road_width_m: f32,
     /// A gap between fixes longer than this starts the filter over, milliseconds.
     pub max_gap_ms: u32,
+    /// A fix this far beyond the edge of its nearest lane, or nearer, keeps the road even
+    /// when the belief leans off it, metres.
+    pub keep_road_m: f32,
+    /// Along the road: acceleration the station track allows (process noise), m/s².
+    pub along_accel_mps2: f32,
+    /// Along the road: error of the speed (Doppler or CAN), m/s (1 sigma).
+    pub speed_sigma_mps: f32,
 }
 
 impl FilterConfig {
@@ -86,6 +93,9 @@ impl FilterConfig {
         return_per_s: 1.0,
         off_road_width_m: 12.0,
         max_gap_ms: 2_000,
+        keep_road_m: 5.0,
+        along_accel_mps2: 2.0,
+        speed_sigma_mps: 0.2,
     };
 }
 
@@ -122,11 +132,12 @@ pub struct Observation {
 /// The filter's verdict on one fix.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Verdict {
-    /// Index into the candidates of the most probable lane; `None` when "off the mapped
-    /// road" is more probable than any lane.
+    /// Index into the candidates of the most probable lane (`None` without candidates).
     pub best: Option<usize>,
     /// Its probability, percent.
     pub percent: u8,
+    /// Probability of "off the mapped road", percent.
+    pub off_road_percent: u8,
     /// The fix was rejected as an outlier: its position says nothing (the caller keeps
     /// the track's last position moved on).
     pub outlier: bool,
@@ -481,18 +492,13 @@ impl LaneFilter {
             .beliefs
             .iter()
             .enumerate()
+            .filter(|(i, _)| *i < cands.len())
             .max_by(|a, b| a.1.p.total_cmp(&b.1.p));
-        match best {
-            Some((i, b)) if b.p >= self.off_road && i < cands.len() => Verdict {
-                best: Some(i),
-                percent: clamp(b.p * 100.0, 0.0, 100.0) as u8,
-                outlier: false,
-            },
-            _ => Verdict {
-                best: None,
-                percent: clamp(self.off_road * 100.0, 0.0, 100.0) as u8,
-                outlier: false,
-            },
+        Verdict {
+            best: best.map(|(i, _)| i),
+            percent: best.map_or(0, |(_, b)| clamp(b.p * 100.0, 0.0, 100.0) as u8),
+            off_road_percent: clamp(self.off_road * 100.0, 0.0, 100.0) as u8,
+            outlier: false,
         }
     }
 }

@@ -3,7 +3,8 @@
 
 use heapless::Vec;
 
-use super::filter::{Candidate, Observation};
+use super::along::{AlongConfig, AlongFix};
+use super::filter::{Candidate, FilterConfig, Observation};
 use super::{locate, Gate, LaneMatch, LaneMethod, Matcher, MatcherConfig, MAX_MAP_RANGE_M};
 use crate::capacity::MAX_NEARBY_LANES;
 use crate::fix::Fix;
@@ -67,9 +68,11 @@ impl Matcher {
                 }
             }
         }
-        let map = self.pick_map(&road);
+        // No lane near at all: the filter's road stays (its gate judges the fix).
+        let map = self.pick_map(&road).or(self.filter_map);
         if map != self.filter_map {
             self.filter.reset();
+            self.along.reset();
             self.filter_map = map;
         }
         let on_map = |r: &&OnRoad| Some(r.map) == map;
@@ -94,13 +97,48 @@ impl Matcher {
                 return Some(m);
             }
         }
-        let Some(best) = verdict.best.and_then(|i| lanes.get(i)) else {
+        // Off the road only when the belief says so and the fix is more than a few metres
+        // beyond the lane: a short excursion of noisy fixes keeps the road (its lane then
+        // unnamed, its zones judged).
+        let best = verdict.best.and_then(|i| lanes.get(i)).filter(|b| {
+            let beyond = b.position.lateral.abs() - 0.5 * b.position.width;
+            verdict.off_road_percent <= verdict.percent || beyond <= cfg.filter.keep_road_m
+        });
+        let Some(best) = best else {
             self.last = None;
+            self.along.reset();
             self.current = None;
             return None;
         };
         let key = (best.map, best.lane);
-        let percent = verdict.percent;
+        let previous = self.along.key();
+        let along = AlongFix {
+            key,
+            station: best.position.station,
+            station_on_previous: previous.and_then(|(m, l)| {
+                lanes
+                    .iter()
+                    .find(|r| (r.map, r.lane) == (m, l))
+                    .map(|r| r.position.station)
+            }),
+            speed: fix.speed(),
+            sigma,
+        };
+        let Some(station) = self.along.update(now, &along, &along_config(&cfg.filter)) else {
+            // A jump along the road: the last match moved on stands for this fix.
+            self.along_outliers = self.along_outliers.saturating_add(1);
+            if let Some(m) = self.carried(now, fix) {
+                return Some(m);
+            }
+            return None;
+        };
+        let mut position = best.position;
+        position.station = station;
+        let percent = if verdict.off_road_percent > verdict.percent {
+            0
+        } else {
+            verdict.percent
+        };
         if percent >= cfg.filter.show_percent {
             if self.shown.is_some_and(|s| s != key) {
                 self.switches = self.switches.saturating_add(1);
@@ -112,7 +150,7 @@ impl Matcher {
             map: best.map,
             slot: best.slot,
             lane: best.lane,
-            position: best.position,
+            position,
             confidence: percent,
         };
         self.last = Some((now, m));
@@ -139,5 +177,16 @@ impl Matcher {
         road.iter()
             .min_by(|a, b| rel(a).total_cmp(&rel(b)))
             .map(|r| r.map)
+    }
+}
+
+/// The along-track filter's settings from the lane filter's.
+fn along_config(f: &FilterConfig) -> AlongConfig {
+    AlongConfig {
+        accel_mps2: f.along_accel_mps2,
+        speed_sigma_mps: f.speed_sigma_mps,
+        gate_sigma: f.gate_sigma,
+        restart_after: f.restart_after,
+        max_gap_ms: f.max_gap_ms,
     }
 }

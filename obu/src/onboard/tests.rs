@@ -6,8 +6,16 @@ use crate::lane::ModelError;
 use crate::testutil;
 use crate::time::Duration;
 
+/// An OBU with the per-fix matcher: these tests place single fixes far apart (hundreds of
+/// metres within 100 ms) to reach each case of the zone and alert logic, which the lane
+/// filter would rightly reject as outliers. The filter has its own tests
+/// (`matcher::filter`, `tests/drive.rs`) and runs in every scenario.
 fn obu_with(zone: bool) -> Obu {
-    let mut obu = Obu::default();
+    let config = crate::alert::AlertConfig {
+        matcher: crate::matcher::MatcherConfig::PER_FIX,
+        ..Default::default()
+    };
+    let mut obu = Obu::new(config);
     let r = obu.update_map(
         Instant::ZERO,
         MapId(7),

@@ -184,7 +184,10 @@ impl Errors {
             }
             Noise::Multipath => {
                 if self.jump.2 == 0 && self.rng.next() < 0.01 {
-                    let (r, th) = (5.0 + 5.0 * self.rng.next(), self.rng.next() * 6.283);
+                    let (r, th) = (
+                        5.0 + 5.0 * self.rng.next(),
+                        self.rng.next() * std::f64::consts::TAU,
+                    );
                     self.jump = (
                         r * th.cos(),
                         r * th.sin(),
@@ -209,8 +212,10 @@ pub fn build_obu(
     frame: &LocalFrame64,
     matcher: MatcherConfig,
 ) -> Obu {
-    let mut config = AlertConfig::default();
-    config.matcher = matcher;
+    let config = AlertConfig {
+        matcher,
+        ..Default::default()
+    };
     let mut obu = Obu::new(config);
     let fill = |m: &mut obu::lane::LaneModel| -> Result<(), ModelError> {
         for lane in 0..3 {

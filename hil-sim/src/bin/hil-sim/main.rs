@@ -230,7 +230,7 @@ fn record(scenario: &Path, nmea_out: &Path, candump_out: &Path) -> Result<(), St
             position,
             speed_mps: sample.speed_mps,
             course_deg: sample.bearing_deg,
-            sigma_m: s.drive.sigma_m.max(0.3),
+            sigma_m: s.drive.reported_sigma(),
         }));
     }
     std::fs::write(nmea_out, text).map_err(|e| format!("{}: {e}", nmea_out.display()))?;
