@@ -3,7 +3,7 @@
 //! drop (kill, then reap).
 
 use std::io::{BufRead, BufReader, Read, Write};
-use std::net::{TcpStream, UdpSocket};
+use std::net::TcpStream;
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Stdio};
 use std::time::Duration;
@@ -20,13 +20,8 @@ pub fn find_obu() -> PathBuf {
         .unwrap_or_else(|| PathBuf::from("obu"))
 }
 
-/// A UDP port free right now on the loopback interface.
-pub fn free_udp_port() -> Result<u16, String> {
-    let s = UdpSocket::bind("127.0.0.1:0").map_err(|e| e.to_string())?;
-    s.local_addr().map(|a| a.port()).map_err(|e| e.to_string())
-}
-
-/// The daemon's configuration: V2X on any loopback port, NMEA over UDP on `gnss_port`,
+/// The daemon's configuration: V2X on any loopback port, NMEA over UDP on `gnss_port` (0:
+/// any, named on the daemon's first line),
 /// HTTP on `http_port` (0: any), settings in `state_dir`, the bench PKI's trust anchors
 /// (written into `state_dir`; signatures required, the product default), plus `extra`:
 /// more `[http]` keys (it follows `settings_file`) and further TOML tables.
@@ -86,22 +81,22 @@ pub struct Daemon {
 
 impl Daemon {
     /// Writes `config_text` to `state_dir/obu.toml`, starts `obu` with it and reads its
-    /// first line (`obu: http://ADDR v2x udp ADDR`). `gnss_port` is the one in the config.
-    pub fn start(
-        obu: &Path,
-        state_dir: &Path,
-        config_text: &str,
-        gnss_port: u16,
-    ) -> Result<Self, String> {
+    /// first line (`obu: http://ADDR v2x udp ADDR gnss udp ADDR`, the GNSS input being NMEA
+    /// over UDP).
+    pub fn start(obu: &Path, state_dir: &Path, config_text: &str) -> Result<Self, String> {
         let (child, words) = spawn(obu, state_dir, config_text, &[])?;
         match words.as_slice() {
-            [_, http, v, u, v2x] if v == "v2x" && u == "udp" => Ok(Self {
-                http: http.clone(),
-                v2x: v2x.clone(),
-                gnss: format!("127.0.0.1:{gnss_port}"),
-                child,
-                rig: None,
-            }),
+            [_, http, v, u, v2x, g, u2, gnss]
+                if v == "v2x" && u == "udp" && g == "gnss" && u2 == "udp" =>
+            {
+                Ok(Self {
+                    http: http.clone(),
+                    v2x: v2x.clone(),
+                    gnss: gnss.clone(),
+                    child,
+                    rig: None,
+                })
+            }
             _ => Err(refuse(child, &words)),
         }
     }

@@ -110,7 +110,7 @@ pub fn start(
     let relayed = Arc::new([AtomicU64::new(0), AtomicU64::new(0)]);
     let (gnss, nmea_relay) = relay(nmea_port, false, stop.clone(), relayed.clone())?;
     let (v2x, v2x_relay) = relay(v2x_port, true, stop.clone(), relayed.clone())?;
-    let config = crate::daemon::config(state_dir, crate::daemon::free_udp_port()?, http_port, "")?;
+    let config = crate::daemon::config(state_dir, 0, http_port, "")?;
     let bridge = format!("tcp:127.0.0.1:{}", ports[2]);
     let rig = Rig {
         qemu,

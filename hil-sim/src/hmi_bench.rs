@@ -342,9 +342,23 @@ pub fn start_daemon(
     port: u16,
     extra: &str,
 ) -> Result<Daemon, String> {
-    let gnss_port = crate::daemon::free_udp_port()?;
-    let text = crate::daemon::config(state_dir, gnss_port, port, extra)?;
-    Daemon::start(obu, state_dir, &text, gnss_port)
+    // Port 0: the daemon binds any free port and names it on its first line (no race with
+    // another bench picking the same "free" port).
+    let text = crate::daemon::config(state_dir, 0, port, extra)?;
+    Daemon::start(obu, state_dir, &text)
+}
+
+/// The bench world's lane setting: its scenes loop the car over a short window, jumping
+/// back tens of metres at each loop, which the lane filter rightly rejects as outliers; the
+/// bench world's daemon therefore decides lanes fix by fix. Scenarios use the default.
+pub const LANE_TOML: &str = "\n[lane]\nmethod = \"per-fix\"\n";
+
+/// The core's configuration matching [`LANE_TOML`] (for tests of the scenes on the core).
+pub fn core_config() -> obu::AlertConfig {
+    obu::AlertConfig {
+        matcher: obu::matcher::MatcherConfig::PER_FIX,
+        ..obu::AlertConfig::DEFAULT
+    }
 }
 
 /// `hil-sim hmi-server`: starts the daemon (with the pairing PIN of `opts`, if any), prints
@@ -355,7 +369,8 @@ pub fn serve(opts: &ServerOptions) -> Result<(), String> {
         .pin
         .as_ref()
         .map(|pin| format!("pin = {pin:?}\n"))
-        .unwrap_or_default();
+        .unwrap_or_default()
+        + LANE_TOML;
     let mut daemon = start_daemon(&opts.obu, &opts.state_dir, opts.port, &extra)?;
     println!("{}", daemon.http);
     std::io::stdout().flush().map_err(|e| e.to_string())?;

@@ -18,7 +18,7 @@ fn unit() -> Box<Obu> {
     let zone = hmi_bench::zone(Utc::from_unix_ms(NOW_MS - 120_000));
     let map = messages::encode(&messages::build_map(&road, 1501, 1, Some(&zone)).unwrap()).unwrap();
     let tim = messages::encode(&messages::build_tim(&road, &zone).unwrap()).unwrap();
-    let mut obu = Box::new(Obu::new(obu::AlertConfig::DEFAULT));
+    let mut obu = Box::new(Obu::new(hmi_bench::core_config()));
     for bytes in [map, tim] {
         let frame: j2735::message_frame::MessageFrame = j2735::uper::decode(&bytes).unwrap();
         obu.on_frame(Instant::ZERO, &frame)

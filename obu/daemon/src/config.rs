@@ -108,6 +108,15 @@ display_latency_ms = 100
 # else the last GNSS speed) for this long, milliseconds; then "position lost".
 dead_reckoning_ms = 5000
 
+[lane]
+# How the lane shown is decided: "filter" (the lane filter: a lateral track and a belief over
+# the road's lanes, over many fixes; outliers rejected) or "per-fix" (each fix on its own
+# with a 300 ms / 3-fix hysteresis, as deployed matchers do; for comparison).
+method = "filter"
+# Probability (percent, 50 to 99) the most probable lane needs before the tablet names it;
+# below it the road and its zones stay shown ("lane closure ahead, keep left").
+show_percent = 80
+
 [time]
 # Check GNSS time against this computer's system clock (NTP or RTC): farther apart than
 # `max_offset_ms` shows "time unverified" and no zone is judged expired by its date. A
@@ -173,6 +182,8 @@ pub struct Config {
     pub http: Http,
     /// Alert defaults.
     pub alerts: Alerts,
+    /// Lane localization.
+    pub lane: Lane,
     /// GNSS time checks.
     pub time: Time,
     /// Bridge mode.
@@ -353,6 +364,37 @@ impl Alerts {
     }
 }
 
+/// `[lane]`.
+#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct Lane {
+    /// How the lane shown is decided.
+    pub method: LaneMethod,
+    /// Probability (percent) the lane needs before it is named.
+    pub show_percent: u8,
+}
+
+/// `[lane] method`.
+#[derive(Clone, Copy, Debug, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "kebab-case")]
+pub enum LaneMethod {
+    /// The lane filter.
+    Filter,
+    /// Each fix on its own, with hysteresis.
+    PerFix,
+}
+
+impl Lane {
+    /// This choice applied to the core's `base` configuration.
+    pub fn apply(&self, base: &mut obu::alert::AlertConfig) {
+        base.matcher.method = match self.method {
+            LaneMethod::Filter => obu::matcher::LaneMethod::Filter,
+            LaneMethod::PerFix => obu::matcher::LaneMethod::PerFix,
+        };
+        base.matcher.filter.show_percent = self.show_percent;
+    }
+}
+
 /// `[time]`.
 #[derive(Clone, Debug, Deserialize, PartialEq)]
 #[serde(deny_unknown_fields)]
@@ -482,6 +524,9 @@ impl Config {
         }
         if !(1..=64).contains(&self.speed.length) {
             return bad("speed.length must be 1..=64");
+        }
+        if !(50..=99).contains(&self.lane.show_percent) {
+            return bad("lane.show_percent must be 50..=99");
         }
         self.http.validate()?;
         if !(self.alerts.warning_distance_m.is_finite() && self.alerts.warning_distance_m > 0.0) {

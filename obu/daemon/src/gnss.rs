@@ -17,8 +17,14 @@ use tokio::sync::watch;
 /// Longest line kept; longer ones are dropped whole.
 const MAX_LINE: usize = 512;
 
-/// Runs the configured source until `shutdown`.
-pub async fn run(cfg: Gnss, hub: Arc<Hub>, shutdown: watch::Receiver<bool>) {
+/// Runs the configured source until `shutdown`; NMEA over UDP reads `udp`, the socket the
+/// caller bound to the configured address.
+pub async fn run(
+    cfg: Gnss,
+    udp: Option<tokio::net::UdpSocket>,
+    hub: Arc<Hub>,
+    shutdown: watch::Receiver<bool>,
+) {
     match cfg.source {
         GnssSource::None => {}
         GnssSource::NmeaFile => nmea_file(&cfg, &hub, shutdown).await,
@@ -28,7 +34,10 @@ pub async fn run(cfg: Gnss, hub: Arc<Hub>, shutdown: watch::Receiver<bool>) {
                 .counters
                 .add(group::GNSS, "serial device cannot be opened"),
         },
-        GnssSource::NmeaUdp => nmea_udp(&cfg.address, &hub, shutdown).await,
+        GnssSource::NmeaUdp => match udp {
+            Some(sock) => nmea_udp(sock, &hub, shutdown).await,
+            None => hub.counters.add(group::GNSS, "udp bind failed"),
+        },
         GnssSource::NmeaTcp | GnssSource::Gpsd => tcp(&cfg, &hub, shutdown).await,
     }
 }
@@ -159,11 +168,7 @@ fn sentence_time(line: &str) -> Option<u32> {
     }
 }
 
-async fn nmea_udp(bind: &str, hub: &Hub, mut shutdown: watch::Receiver<bool>) {
-    let Ok(sock) = tokio::net::UdpSocket::bind(bind).await else {
-        hub.counters.add(group::GNSS, "udp bind failed");
-        return;
-    };
+async fn nmea_udp(sock: tokio::net::UdpSocket, hub: &Hub, mut shutdown: watch::Receiver<bool>) {
     let mut asm = FixAssembler::new();
     let mut buf = vec![0u8; 2048];
     loop {

@@ -7,7 +7,8 @@
 //! (the command line: [`cli`]).
 //!
 //! The first line on stdout tells scripts where the daemon is:
-//! `obu: http://HTTP_ADDR v2x udp V2X_ADDR`, or in bridge mode
+//! `obu: http://HTTP_ADDR v2x udp V2X_ADDR` (then `gnss udp ADDR` when NMEA comes over
+//! UDP: the port bound, so a caller may configure port 0), or in bridge mode
 //! `obu: http://HTTP_ADDR bridge SOURCE` (`SOURCE` as `tcp:HOST:PORT` or `serial:PATH`).
 #![forbid(unsafe_code)]
 
@@ -79,6 +80,7 @@ async fn run(config: Config) -> Result<(), String> {
     }
     let mut base = obu::alert::AlertConfig::DEFAULT;
     config.alerts.apply(&mut base);
+    config.lane.apply(&mut base);
     base.max_clock_offset = obu::time::Duration::from_millis(config.time.max_offset_ms);
     base.gnss_timeout = obu::time::Duration::from_millis(config.gnss.stale_after_ms);
     base.speed_timeout = obu::time::Duration::from_millis(config.speed.stale_after_ms);
@@ -155,7 +157,9 @@ fn load_pairing(http: &config::Http) -> Result<Arc<pairing::Pairing>, String> {
 }
 
 /// Starts the inputs of the normal mode (V2X, GNSS, CAN) and the core's deadline loop ([`hub::Hub::run_deadlines`]); returns
-/// the first line's description of them: `v2x udp ADDR`.
+/// the first line's description of them: `v2x udp ADDR`, then `gnss udp ADDR` for NMEA over
+/// UDP. Both sockets are bound here: a port that cannot be bound stops the start with its
+/// error instead of leaving the daemon without input.
 async fn start_inputs(
     config: &Config,
     hub: &Arc<hub::Hub>,
@@ -167,10 +171,27 @@ async fn start_inputs(
     let v2x_addr = udp.local_addr().map_err(|e| e.to_string())?;
     let max = config.v2x.max_datagram;
     tokio::spawn(v2x::run(udp, hub.clone(), max, stop.clone()));
-    tokio::spawn(gnss::run(config.gnss.clone(), hub.clone(), stop.clone()));
+    let mut line = format!("v2x udp {v2x_addr}");
+    let nmea_udp = match config.gnss.source {
+        config::GnssSource::NmeaUdp => {
+            let sock = tokio::net::UdpSocket::bind(&config.gnss.address)
+                .await
+                .map_err(|e| format!("gnss bind {}: {e}", config.gnss.address))?;
+            let addr = sock.local_addr().map_err(|e| e.to_string())?;
+            line.push_str(&format!(" gnss udp {addr}"));
+            Some(sock)
+        }
+        _ => None,
+    };
+    tokio::spawn(gnss::run(
+        config.gnss.clone(),
+        nmea_udp,
+        hub.clone(),
+        stop.clone(),
+    ));
     speed::spawn(&config.speed, hub.clone());
     tokio::spawn(hub.clone().run_deadlines(stop.clone()));
-    Ok(format!("v2x udp {v2x_addr}"))
+    Ok(line)
 }
 
 async fn wait_for_signal() {

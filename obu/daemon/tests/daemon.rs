@@ -5,8 +5,7 @@
 mod common;
 
 use common::{
-    free_udp_port, http, open_events, pair, read_events, request, run_of, status, temp_dir, vector,
-    Daemon,
+    http, open_events, pair, read_events, request, run_of, status, temp_dir, vector, Daemon,
 };
 use std::io::{Read, Write};
 use std::net::{TcpStream, UdpSocket};
@@ -51,7 +50,7 @@ fn epoch(t: u32) -> String {
 #[test]
 fn serves_the_app_health_and_validated_settings_that_survive_a_restart() {
     let dir = temp_dir("settings");
-    let cfg = write_config(&dir, free_udp_port());
+    let cfg = write_config(&dir, 0);
     let d = start(&cfg);
     assert_eq!(http(&d.http, "GET", "/healthz", ""), (200, "ok".into()));
     let (code, page) = http(&d.http, "GET", "/", "");
@@ -94,7 +93,7 @@ fn serves_the_app_health_and_validated_settings_that_survive_a_restart() {
 #[test]
 fn counts_v2x_messages_and_drops_by_reason() {
     let dir = temp_dir("v2x");
-    let d = start(&write_config(&dir, free_udp_port()));
+    let d = start(&write_config(&dir, 0));
     let udp = UdpSocket::bind("127.0.0.1:0").unwrap();
     let map = vector("map_work_zone");
     let tim = vector("tim_work_zone_left_lane_closed");
@@ -137,13 +136,12 @@ fn counts_v2x_messages_and_drops_by_reason() {
 #[test]
 fn fixes_become_numbered_events_and_a_client_resumes_where_it_left() {
     let dir = temp_dir("sse");
-    let gnss_port = free_udp_port();
-    let d = start(&write_config(&dir, gnss_port));
+    let d = start(&write_config(&dir, 0));
+    let gnss_port = d.gnss();
     let gps = UdpSocket::bind("127.0.0.1:0").unwrap();
     let mut events = open_events(&d.http, None);
     for t in 0..5 {
-        gps.send_to(epoch(t).as_bytes(), ("127.0.0.1", gnss_port))
-            .unwrap();
+        gps.send_to(epoch(t).as_bytes(), gnss_port).unwrap();
         std::thread::sleep(Duration::from_millis(30));
     }
     let got = read_events(&mut events, 5);
@@ -173,15 +171,13 @@ fn fixes_become_numbered_events_and_a_client_resumes_where_it_left() {
         (5..1000).contains(&newest),
         "the newest state, not a replay: {newest}"
     );
-    gps.send_to(epoch(5).as_bytes(), ("127.0.0.1", gnss_port))
-        .unwrap();
+    gps.send_to(epoch(5).as_bytes(), gnss_port).unwrap();
     assert_eq!(
         read_events(&mut other, 1)[0].0,
         newest + 1,
         "live after the newest"
     );
-    gps.send_to(b"$GPGGA,garbage*00\r\n", ("127.0.0.1", gnss_port))
-        .unwrap();
+    gps.send_to(b"$GPGGA,garbage*00\r\n", gnss_port).unwrap();
     std::thread::sleep(Duration::from_millis(200));
     assert!(status(&d.http)["counters"]["nmea_errors"]
         .as_object()
@@ -191,12 +187,11 @@ fn fixes_become_numbered_events_and_a_client_resumes_where_it_left() {
 #[test]
 fn gnss_loss_is_published_within_a_second() {
     let dir = temp_dir("stale");
-    let gnss_port = free_udp_port();
-    let d = start(&write_config(&dir, gnss_port));
+    let d = start(&write_config(&dir, 0));
+    let gnss_port = d.gnss();
     let gps = UdpSocket::bind("127.0.0.1:0").unwrap();
     let mut events = open_events(&d.http, None);
-    gps.send_to(epoch(0).as_bytes(), ("127.0.0.1", gnss_port))
-        .unwrap();
+    gps.send_to(epoch(0).as_bytes(), gnss_port).unwrap();
     // Skip states from before the fix (the daemon publishes "no GNSS" at start).
     let live = (0..20)
         .map(|_| read_events(&mut events, 1))
@@ -215,7 +210,7 @@ fn gnss_loss_is_published_within_a_second() {
 #[test]
 fn hostile_http_is_refused_and_counted() {
     let dir = temp_dir("hostile");
-    let d = start(&write_config(&dir, free_udp_port()));
+    let d = start(&write_config(&dir, 0));
     // Oversized headers.
     let mut s = TcpStream::connect(&d.http).unwrap();
     s.set_read_timeout(Some(Duration::from_secs(5))).unwrap();
@@ -264,7 +259,7 @@ fn hostile_http_is_refused_and_counted() {
 #[test]
 fn a_new_zone_is_published_at_once_without_waiting_for_a_fix() {
     let dir = temp_dir("zone-now");
-    let d = start(&write_config(&dir, free_udp_port()));
+    let d = start(&write_config(&dir, 0));
     let mut events = open_events(&d.http, None);
     let udp = UdpSocket::bind("127.0.0.1:0").unwrap();
     udp.send_to(&vector("map_work_zone"), d.v2x()).unwrap();

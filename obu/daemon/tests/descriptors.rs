@@ -7,7 +7,7 @@
 
 mod common;
 
-use common::{free_udp_port, status, temp_dir, Daemon};
+use common::{status, temp_dir, Daemon};
 use std::io::{Read, Write};
 use std::net::TcpStream;
 use std::process::{Command, Stdio};
@@ -16,9 +16,8 @@ use std::time::{Duration, Instant};
 fn start(dir: &std::path::Path) -> Daemon {
     let config = dir.join("obu.toml");
     let text = format!(
-        "[v2x]\nbind = \"127.0.0.1:0\"\n[gnss]\nsource = \"nmea-udp\"\naddress = \"127.0.0.1:{}\"\n\
+        "[v2x]\nbind = \"127.0.0.1:0\"\n[gnss]\nsource = \"nmea-udp\"\naddress = \"127.0.0.1:0\"\n\
          [http]\nbind = \"127.0.0.1:0\"\nsettings_file = \"{}\"\npin = \"4711\"\nmax_connections = 500\n",
-        free_udp_port(),
         dir.join("settings.json").display()
     );
     std::fs::write(&config, text).unwrap();

@@ -6,25 +6,26 @@
 mod common;
 
 use common::Daemon;
-use common::{free_udp_port, http, open_events, pair, read_events, request, status, temp_dir};
+use common::{http, open_events, pair, read_events, request, status, temp_dir};
 use std::io::{BufRead, BufReader, Read, Write};
 use std::net::{TcpStream, UdpSocket};
 use std::path::Path;
 use std::time::{Duration, Instant};
 
 /// Starts the daemon with `[http]` keys `http_keys` (besides its addresses and files);
-/// its log goes to `dir/obu.log`. Returns it and the UDP port of its NMEA input.
-fn start(dir: &Path, http_keys: &str) -> (Daemon, u16) {
-    let gnss = free_udp_port();
+/// its log goes to `dir/obu.log`. Returns it and the UDP address of its NMEA input.
+fn start(dir: &Path, http_keys: &str) -> (Daemon, std::net::SocketAddr) {
     let path = dir.join("obu.toml");
     let text = format!(
-        "[v2x]\nbind = \"127.0.0.1:0\"\n[gnss]\nsource = \"nmea-udp\"\naddress = \"127.0.0.1:{gnss}\"\n\
+        "[v2x]\nbind = \"127.0.0.1:0\"\n[gnss]\nsource = \"nmea-udp\"\naddress = \"127.0.0.1:0\"\n\
          [http]\nbind = \"127.0.0.1:0\"\nsettings_file = \"{}\"\n{http_keys}\n",
         dir.join("settings.json").display()
     );
     std::fs::write(&path, text).unwrap();
     let args = ["--config".as_ref(), path.as_os_str()];
-    (Daemon::start_logged(args, &dir.join("obu.log")), gnss)
+    let d = Daemon::start_logged(args, &dir.join("obu.log"));
+    let gnss = d.gnss();
+    (d, gnss)
 }
 
 /// The `http_rejected` counters (empty when none).
@@ -284,7 +285,7 @@ fn non_reading_event_clients_cannot_hold_the_slots() {
     let dir = temp_dir("link-sse");
     let (d, gnss) = start(&dir, "max_clients = 4\nstalled_stream_ms = 500");
     let gps = UdpSocket::bind("127.0.0.1:0").unwrap();
-    gps.send_to(&fix(0), ("127.0.0.1", gnss)).unwrap();
+    gps.send_to(&fix(0), gnss).unwrap();
     // Four clients that read nothing after their request.
     let hogs: Vec<TcpStream> = (0..4)
         .map(|_| {
@@ -307,7 +308,7 @@ fn non_reading_event_clients_cannot_hold_the_slots() {
     while t1.elapsed() < Duration::from_secs(30) && dropped < 3 {
         for _ in 0..50 {
             n += 1;
-            gps.send_to(&fix(n), ("127.0.0.1", gnss)).unwrap();
+            gps.send_to(&fix(n), gnss).unwrap();
         }
         got += read_events(&mut tablet, 50).len();
         // 2,500 fixes a second at most (250 times a real receiver): the hogs' sockets must
@@ -348,7 +349,7 @@ fn clients_that_leave_are_not_counted_as_refusals() {
     let gps = UdpSocket::bind("127.0.0.1:0").unwrap();
     for i in 0..5 {
         let mut events = open_events(&d.http, None);
-        gps.send_to(&fix(i), ("127.0.0.1", gnss)).unwrap();
+        gps.send_to(&fix(i), gnss).unwrap();
         assert_eq!(read_events(&mut events, 1).len(), 1);
         drop(events);
         // Kept-alive connections the client closes between requests.

@@ -5,7 +5,7 @@
 
 mod common;
 
-use common::{free_udp_port, status, temp_dir, Daemon};
+use common::{status, temp_dir, Daemon};
 use std::net::UdpSocket;
 use std::path::Path;
 use std::time::Duration;
@@ -47,9 +47,9 @@ fn fix_at_vector_time() -> String {
 #[test]
 fn signed_frames_are_verified_and_failures_counted_by_reason() {
     let dir = temp_dir("signed");
-    let gnss_port = free_udp_port();
     let valid = named("valid_tim_certificate_chain_x_only");
-    let d = start(&dir, gnss_port, &valid);
+    let d = start(&dir, 0, &valid);
+    let gnss_port = d.gnss();
     let udp = UdpSocket::bind("127.0.0.1:0").unwrap();
     let send = |bytes: &[u8]| {
         udp.send_to(bytes, d.v2x()).unwrap();
@@ -57,7 +57,7 @@ fn signed_frames_are_verified_and_failures_counted_by_reason() {
     };
     // Before any GNSS time the policy cannot check times.
     send(&valid.coer);
-    udp.send_to(fix_at_vector_time().as_bytes(), ("127.0.0.1", gnss_port))
+    udp.send_to(fix_at_vector_time().as_bytes(), gnss_port)
         .unwrap();
     std::thread::sleep(Duration::from_millis(200));
     send(&valid.coer);

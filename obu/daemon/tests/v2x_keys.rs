@@ -6,17 +6,16 @@
 mod common;
 
 use common::craft::{closed_v2x_key, rare_faults, send_all, v2x_counts, Crafter, V2X_GROUPS};
-use common::{free_udp_port, status, temp_dir, Daemon};
+use common::{status, temp_dir, Daemon};
 use std::net::UdpSocket;
 use std::path::Path;
 
 fn start(dir: &Path) -> Daemon {
     let path = dir.join("obu.toml");
     let text = format!(
-        "[v2x]\nbind = \"127.0.0.1:0\"\n[gnss]\nsource = \"nmea-udp\"\naddress = \"127.0.0.1:{}\"\n\
+        "[v2x]\nbind = \"127.0.0.1:0\"\n[gnss]\nsource = \"nmea-udp\"\naddress = \"127.0.0.1:0\"\n\
          [http]\nbind = \"127.0.0.1:0\"\nsettings_file = \"{}\"\n\
          [security]\nrequire_signed = false\n",
-        free_udp_port(),
         dir.join("settings.json").display()
     );
     std::fs::write(&path, text).unwrap();

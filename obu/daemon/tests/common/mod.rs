@@ -22,7 +22,7 @@ pub struct Daemon {
 
 impl Daemon {
     /// Starts `obu` with `args` and reads its first line
-    /// (`obu: http://ADDR v2x udp ADDR` or `obu: http://ADDR bridge SOURCE`).
+    /// (`obu: http://ADDR v2x udp ADDR [gnss udp ADDR]` or `obu: http://ADDR bridge SOURCE`).
     pub fn start<S: AsRef<OsStr>>(args: impl IntoIterator<Item = S>) -> Self {
         let mut command = Command::new(env!("CARGO_BIN_EXE_obu"));
         command.args(args).stderr(Stdio::null());
@@ -58,6 +58,13 @@ impl Daemon {
     pub fn v2x(&self) -> &str {
         assert_eq!(self.words[2..4], ["v2x", "udp"], "{:?}", self.words);
         &self.words[4]
+    }
+
+    /// The NMEA UDP address of the normal mode's first line (`gnss udp ADDR`): the daemon
+    /// binds the configured port (tests configure 0, so no two tests race for one).
+    pub fn gnss(&self) -> std::net::SocketAddr {
+        assert_eq!(self.words[5..7], ["gnss", "udp"], "{:?}", self.words);
+        self.words[7].parse().expect("gnss address")
     }
 
     /// The process id.
