@@ -462,9 +462,9 @@ impl LaneFilter {
             let mass =
                 normal_cdf((centre + half - z) / sigma) - normal_cdf((centre - half - z) / sigma);
             let density = (mass / (2.0 * half)).max(1.0e-9);
-            b.p *= libm::powf(density, k);
+            b.p *= libm::expf(k * libm::logf(density));
         }
-        self.off_road *= libm::powf(1.0 / cfg.off_road_width_m.max(1.0), k);
+        self.off_road *= libm::expf(-k * libm::logf(cfg.off_road_width_m.max(1.0)));
         self.normalise();
     }
 
