@@ -280,16 +280,29 @@ fn fix(t: u32) -> Vec<u8> {
     (gga + &rmc).into_bytes()
 }
 
+/// A connection to `addr` whose receive buffer is 4 KiB (set before it connects, so the
+/// window it offers stays small).
+fn small_window(addr: &str) -> TcpStream {
+    let addr: std::net::SocketAddr = addr.parse().unwrap();
+    let sock = socket2::Socket::new(socket2::Domain::IPV4, socket2::Type::STREAM, None).unwrap();
+    sock.set_recv_buffer_size(4096).unwrap();
+    sock.connect(&addr.into()).unwrap();
+    sock.into()
+}
+
 #[test]
 fn non_reading_event_clients_cannot_hold_the_slots() {
     let dir = temp_dir("link-sse");
     let (d, gnss) = start(&dir, "max_clients = 4\nstalled_stream_ms = 500");
     let gps = UdpSocket::bind("127.0.0.1:0").unwrap();
     gps.send_to(&fix(0), gnss).unwrap();
-    // Four clients that read nothing after their request.
+    // Four clients that read nothing after their request, with the small receive window of
+    // a slow device: their sockets fill after a few dozen events, long before they could fall
+    // an event buffer behind (loopback's autotuned buffers would hold thousands of events,
+    // and which limit came first was then up to the machine's load).
     let hogs: Vec<TcpStream> = (0..4)
         .map(|_| {
-            let mut s = TcpStream::connect(&d.http).unwrap();
+            let mut s = small_window(&d.http);
             write!(s, "GET /events HTTP/1.1\r\nHost: {}\r\n\r\n", d.http).unwrap();
             s
         })
