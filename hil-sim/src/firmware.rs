@@ -212,10 +212,12 @@ fn relay(
             } else {
                 &buf[..n]
             };
+            // Counted before the write, which may wait while the firmware's link pauses: a
+            // datagram being written is one the firmware still has to take.
+            relayed[usize::from(framed)].fetch_add(bytes.len() as u64, Ordering::Relaxed);
             if port.write_all(bytes).is_err() {
                 return;
             }
-            relayed[usize::from(framed)].fetch_add(bytes.len() as u64, Ordering::Relaxed);
         }
     });
     Ok((addr, handle))
@@ -228,6 +230,15 @@ fn relay(
 /// sending; stopping it then would lose inputs that were sent. Gives up after `limit`, with
 /// how far behind the firmware still is.
 pub fn catch_up(rig: &Rig, limit: Duration) -> Result<(), String> {
+    if rig.decoder.is_none() {
+        // Without `defmt-print` the log is raw defmt: no report to read. Give the firmware
+        // the time an idle host needs and say so.
+        eprintln!("hil-sim: no defmt-print: cannot tell when the firmware caught up; waiting 3 s");
+        std::thread::sleep(Duration::from_secs(3));
+        return Ok(());
+    }
+    // Let a relay finish the datagram it is on (it may wait while the link pauses).
+    std::thread::sleep(Duration::from_millis(200));
     let sent = [0, 1].map(|i| rig.relayed[i].load(Ordering::Relaxed));
     let start = Instant::now();
     loop {

@@ -25,6 +25,9 @@ use crate::time::{Duration, Instant};
 #[cfg(feature = "serde")]
 use serde::{Deserialize, Serialize};
 
+/// Largest fix error the matcher takes at its word, metres.
+const MAX_SIGMA_M: f32 = 100.0;
+
 /// Largest distance from a map reference considered, metres.
 const MAX_MAP_RANGE_M: f32 = 20_000.0;
 
@@ -252,7 +255,13 @@ impl Matcher {
         cfg: &MatcherConfig,
     ) -> Option<LaneMatch> {
         let (heading, gate) = self.heading(fix, cfg);
-        let sigma = fix.accuracy().unwrap_or(cfg.default_accuracy_m).max(0.05);
+        // A receiver's figure beyond 100 m says "no idea"; larger values would only
+        // overflow the filters' arithmetic.
+        let sigma = crate::math::clamp(
+            fix.accuracy().unwrap_or(cfg.default_accuracy_m),
+            0.05,
+            MAX_SIGMA_M,
+        );
         if cfg.method == LaneMethod::Filter {
             return self.filter_update(now, fix, maps, cfg, (heading, gate), sigma);
         }

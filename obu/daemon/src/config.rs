@@ -114,7 +114,8 @@ dead_reckoning_ms = 5000
 # with a 300 ms / 3-fix hysteresis, as deployed matchers do; for comparison).
 method = "filter"
 # Probability (percent, 50 to 99) the most probable lane needs before the tablet names it;
-# below it the road and its zones stay shown ("lane closure ahead, keep left").
+# below it the road and its zones stay shown ("lane closure ahead, keep left"). The
+# "per-fix" method has its own fixed confidence rule and ignores it.
 show_percent = 80
 
 [time]
@@ -370,7 +371,7 @@ impl Alerts {
 pub struct Lane {
     /// How the lane shown is decided.
     pub method: LaneMethod,
-    /// Probability (percent) the lane needs before it is named.
+    /// Probability (percent) the lane needs before it is named (the filter only).
     pub show_percent: u8,
 }
 

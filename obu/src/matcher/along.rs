@@ -6,6 +6,9 @@
 use crate::lane::{LaneId, MapId};
 use crate::time::Instant;
 
+/// Variance of a speed not measured, (m/s)²: 40 m/s at one sigma.
+const UNKNOWN_SPEED_VAR: f32 = 1600.0;
+
 /// The filter's state on one lane.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub(super) struct AlongTrack {
@@ -43,6 +46,8 @@ pub(super) struct AlongConfig {
     pub gate_sigma: f32,
     pub restart_after: u8,
     pub max_gap_ms: u32,
+    /// The smallest fix error assumed, metres.
+    pub min_sigma_m: f32,
 }
 
 impl AlongTrack {
@@ -73,7 +78,8 @@ impl AlongTrack {
     pub fn update(&mut self, now: Instant, f: &AlongFix, cfg: &AlongConfig) -> Option<f32> {
         let gap = self.last.map(|t| now.saturating_since(t).millis());
         self.last = Some(now);
-        let r = f.sigma * f.sigma;
+        let sigma = f.sigma.max(cfg.min_sigma_m);
+        let r = sigma * sigma;
         let carried = match (self.key, f.station_on_previous) {
             (Some(k), _) if k == f.key => true,
             (Some(_), Some(prev)) => {
@@ -84,7 +90,8 @@ impl AlongTrack {
             }
             _ => false,
         };
-        let fresh = !carried || gap.is_none_or(|g| g > u64::from(cfg.max_gap_ms));
+        let finite = self.s.is_finite() && self.v.is_finite() && self.p[0].is_finite();
+        let fresh = !carried || !finite || gap.is_none_or(|g| g > u64::from(cfg.max_gap_ms));
         if fresh {
             self.start(f, r);
             return Some(self.s);
@@ -109,11 +116,17 @@ impl AlongTrack {
     }
 
     fn start(&mut self, f: &AlongFix, r: f32) {
+        // Without a measured speed the first stations must teach it: any road speed.
+        let pvv = if f.speed.is_some() {
+            4.0
+        } else {
+            UNKNOWN_SPEED_VAR
+        };
         *self = AlongTrack {
             key: Some(f.key),
             s: f.station,
             v: f.speed.unwrap_or(0.0),
-            p: [r, 0.0, 4.0],
+            p: [r, 0.0, pvv],
             last: self.last,
             in_row: 0,
         };
@@ -160,6 +173,7 @@ mod tests {
         gate_sigma: 4.0,
         restart_after: 10,
         max_gap_ms: 2_000,
+        min_sigma_m: 0.25,
     };
 
     fn fix(lane: u8, station: f32, previous: Option<f32>) -> AlongFix {

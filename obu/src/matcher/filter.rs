@@ -32,7 +32,7 @@ use serde::{Deserialize, Serialize};
 
 /// The smallest fix error the filter assumes, metres: a receiver's own figure below it
 /// (an RTK fix, a noiseless simulation) would make every lateral manoeuvre an outlier.
-const MIN_SIGMA_M: f32 = 0.25;
+pub(super) const MIN_SIGMA_M: f32 = 0.25;
 
 /// Time constant of the learnt white error, seconds.
 const SCATTER_TIME_S: f32 = 3.0;
@@ -148,6 +148,8 @@ pub struct Verdict {
 struct Belief {
     lane: LaneId,
     p: f32,
+    /// The lane's centre in the anchor lane's frame at the last fix, metres (left positive).
+    centre: f32,
 }
 
 /// The lateral track: offset from the anchor lane's centreline and its rate, with their
@@ -207,6 +209,11 @@ impl LaneFilter {
         }
     }
 
+    /// The lane the lateral track is measured from.
+    pub fn anchor(&self) -> Option<LaneId> {
+        self.anchor
+    }
+
     /// Fixes rejected by the innovation gate so far.
     pub fn outliers(&self) -> u32 {
         self.outliers
@@ -241,14 +248,26 @@ impl LaneFilter {
         let kept = self
             .anchor
             .and_then(|id| cands.iter().position(|c| c.lane == id));
-        if kept.is_none() && self.anchor.is_some() && self.in_row + 1 < cfg.restart_after {
-            // The fix jumped away from the road the track is on: an outlier until a run
-            // of them says the car (or the receiver's bias) really moved.
+        // The anchor lane is gone: a lane that ended beside lanes that go on (the fix fits
+        // the track in one of their frames, which the track then moves into), or a jump
+        // away (an outlier until a run of them says the car or its receiver really moved).
+        let moved_on =
+            kept.is_none() && self.anchor.is_some() && self.hand_over(cands, dt, sigma, cfg);
+        if kept.is_none()
+            && !moved_on
+            && self.anchor.is_some()
+            && self.in_row + 1 < cfg.restart_after
+        {
             self.reject();
             return Verdict {
+                best: None,
+                percent: 0,
+                off_road_percent: 0,
                 outlier: true,
-                ..self.verdict(cands)
             };
+        }
+        if !(self.track.y.is_finite() && self.track.vy.is_finite() && self.track.p[0].is_finite()) {
+            self.track = Track::default();
         }
         let Some(a) = self.anchor_in(cands) else {
             self.leave_road();
@@ -263,6 +282,30 @@ impl LaneFilter {
             outlier: !gated,
             ..self.verdict(cands)
         }
+    }
+
+    /// Moves the track to a lane of this fix that was on the road at the last fix and whose
+    /// frame the fix fits (within the gate); false when there is none.
+    fn hand_over(&mut self, cands: &[Candidate], dt: f32, sigma: f32, cfg: &FilterConfig) -> bool {
+        let t = self.track;
+        if t.p[0] <= 0.0 {
+            return false;
+        }
+        let s = t.p[0] + sigma * sigma;
+        let fits = cands.iter().find_map(|c| {
+            let b = self.beliefs.iter().find(|b| b.lane == c.lane)?;
+            let nu = c.lateral - (t.y + t.vy * dt - b.centre);
+            (nu * nu <= cfg.gate_sigma * cfg.gate_sigma * s).then_some((c.lane, b.centre))
+        });
+        let Some((lane, centre)) = fits else {
+            return false;
+        };
+        self.track.y -= centre;
+        if let Some(z) = &mut self.track.prev_z {
+            *z -= centre;
+        }
+        self.anchor = Some(lane);
+        true
     }
 
     /// Counts a rejected fix.
@@ -391,11 +434,19 @@ impl LaneFilter {
     /// with "off the road". Lanes new to the road start with a small share.
     fn step_beliefs(&mut self, dt: f32, cands: &[Candidate], a: usize, cfg: &FilterConfig) {
         let old = core::mem::take(&mut self.beliefs);
-        let fresh = old.is_empty() && self.off_road == 0.0;
+        // No lane of this fix had belief before (a first fix, or another stretch of road):
+        // start the road afresh rather than from the old road's off-road share.
+        let fresh = !cands
+            .iter()
+            .any(|c| old.iter().any(|b| b.lane == c.lane && b.p > 0.0));
         let mut next: Vec<Belief, MAX_NEARBY_LANES, u8> = Vec::new();
         for c in cands {
             let p = old.iter().find(|b| b.lane == c.lane).map_or(0.0, |b| b.p);
-            let _ = next.push(Belief { lane: c.lane, p });
+            let _ = next.push(Belief {
+                lane: c.lane,
+                p,
+                centre: cands[a].lateral - c.lateral,
+            });
         }
         let total: f32 = next.iter().map(|b| b.p).sum::<f32>() + self.off_road;
         if fresh || total <= 0.0 {

@@ -11,8 +11,13 @@ use crate::time::Duration;
 /// filter would rightly reject as outliers. The filter has its own tests
 /// (`matcher::filter`, `tests/drive.rs`) and runs in every scenario.
 fn obu_with(zone: bool) -> Obu {
+    obu_with_matcher(zone, crate::matcher::MatcherConfig::PER_FIX)
+}
+
+/// The test road (and the closure of lane 3 when `zone`) with `matcher`.
+fn obu_with_matcher(zone: bool, matcher: crate::matcher::MatcherConfig) -> Obu {
     let config = crate::alert::AlertConfig {
-        matcher: crate::matcher::MatcherConfig::PER_FIX,
+        matcher,
         ..Default::default()
     };
     let mut obu = Obu::new(config);
@@ -502,10 +507,20 @@ fn circle_region_warns_along_the_heading() {
 #[test]
 fn lane_changes_follow_the_fixes_own_clock_not_their_arrival() {
     // The car moves from lane 3 (x = 3.5) to lane 2 (x = 0) over fixes 10 to 30 at 10 m/s;
-    // the receiver stamps its fixes 100 ms apart. The lane filter predicts with the time
-    // between fixes: it must be the receiver's, not the arrival's.
+    // the receiver stamps its fixes 100 ms apart. Both lane methods run on the time between
+    // fixes (the per-fix matcher's hold, the filter's prediction): it must be the
+    // receiver's, not the arrival's.
+    for matcher in [
+        crate::matcher::MatcherConfig::PER_FIX,
+        crate::matcher::MatcherConfig::DEFAULT,
+    ] {
+        lane_change_on_the_receivers_clock(matcher);
+    }
+}
+
+fn lane_change_on_the_receivers_clock(matcher: crate::matcher::MatcherConfig) {
     let run = |arrivals: &[u64]| -> std::vec::Vec<Option<u8>> {
-        let mut obu = obu_with(false);
+        let mut obu = obu_with_matcher(false, matcher);
         let mut lanes = std::vec::Vec::new();
         for (k, &t) in arrivals.iter().enumerate() {
             let x = |k: usize| 3.5 - 3.5 * ((k as f32 - 10.0) / 20.0).clamp(0.0, 1.0);
@@ -546,7 +561,7 @@ fn lane_changes_follow_the_fixes_own_clock_not_their_arrival() {
         "arrival jitter does not move the decision"
     );
     // Without usable receiver times the arrival times are the clock.
-    let mut obu = obu_with(false);
+    let mut obu = obu_with_matcher(false, matcher);
     let s = obu.on_fix(
         Instant::from_millis(0),
         Fix {
@@ -555,4 +570,34 @@ fn lane_changes_follow_the_fixes_own_clock_not_their_arrival() {
         },
     );
     assert_eq!(s.lane.map(|l| l.lane), Some(3));
+}
+
+#[test]
+fn an_uncertain_lane_gives_lane_closure_ahead_with_the_side_not_your_lane_closed() {
+    // Lane 3 (x = 3.5) is closed ahead. Fixes on the line between lanes 2 and 3 with a 1 m
+    // error: the filter cannot tell the lane, so it names none, but the closure ahead
+    // stays, as another lane's, with the way to keep.
+    let mut obu = obu_with_matcher(true, crate::matcher::MatcherConfig::DEFAULT);
+    let v = 40.0 / 3.6;
+    let mut s = drive(&mut obu, 0, 1.75, 100.0, v);
+    for k in 1..20u64 {
+        let fix = Fix {
+            accuracy_m: Some(1.0),
+            utc: Some(UtcTime::from_minute_of_year(2024, 2000)),
+            ..fix_at(1.75, 100.0 + 1.1 * k as f32, v)
+        };
+        s = obu.on_fix(Instant::from_millis(100 * k), fix);
+    }
+    assert_eq!(s.lane, None, "{s:?}");
+    assert!(s.lane_confidence < 80, "{s:?}");
+    assert_eq!(s.zone_state, ZoneState::Approaching, "{s:?}");
+    let kinds: std::vec::Vec<_> = s
+        .primary
+        .iter()
+        .chain(s.others.iter())
+        .map(|a| a.kind)
+        .collect();
+    assert!(kinds.contains(&AlertKind::LaneClosedOther), "{s:?}");
+    assert!(!kinds.contains(&AlertKind::LaneClosedOwn), "{s:?}");
+    assert_eq!(s.advice, LaneAdvice::MoveLeft, "{s:?}");
 }

@@ -21,7 +21,7 @@ mod probe;
 mod common;
 
 use common::craft::{closed_v2x_key, rare_faults, send_all, Crafter, KINDS, V2X_GROUPS};
-use common::{free_udp_port, status, temp_dir, Daemon};
+use common::{status, temp_dir, Daemon};
 use probe::Samples;
 use std::collections::BTreeSet;
 use std::net::UdpSocket;
@@ -93,12 +93,11 @@ fn raise_open_file_limit() -> u64 {
 }
 
 /// Starts `obu` through `sh` under `ulimit -n 1024`, its log in `dir/obu.log`; returns it
-/// and the UDP port of its NMEA input.
+/// and the UDP port of its NMEA input (bound by the daemon, named on its first line).
 fn start_limited(dir: &std::path::Path) -> (Daemon, u16) {
-    let gnss = free_udp_port();
     let config = dir.join("obu.toml");
     let text = format!(
-        "[v2x]\nbind = \"127.0.0.1:0\"\n[gnss]\nsource = \"nmea-udp\"\naddress = \"127.0.0.1:{gnss}\"\n\
+        "[v2x]\nbind = \"127.0.0.1:0\"\n[gnss]\nsource = \"nmea-udp\"\naddress = \"127.0.0.1:0\"\n\
          [http]\nbind = \"127.0.0.1:0\"\nsettings_file = \"{}\"\npin = \"hostile1\"\n",
         dir.join("settings.json").display()
     );
@@ -111,7 +110,9 @@ fn start_limited(dir: &std::path::Path) -> (Daemon, u16) {
         .stderr(Stdio::from(
             std::fs::File::create(dir.join("obu.log")).unwrap(),
         ));
-    (Daemon::spawn(sh), gnss)
+    let d = Daemon::spawn(sh);
+    let gnss = d.gnss().port();
+    (d, gnss)
 }
 
 /// Feeds a fix at 10 Hz (the tablet's events) until `stop`.

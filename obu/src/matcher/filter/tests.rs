@@ -79,25 +79,75 @@ fn a_lane_change_moves_the_belief_once() {
 }
 
 #[test]
-fn a_few_metres_off_the_edge_keep_the_road_a_long_excursion_leaves_it() {
+fn a_jump_beyond_the_edge_is_held_off_then_the_road_is_left() {
     let mut f = LaneFilter::new();
     for k in 0..30 {
         step(&mut f, k, -3.5, &obs(1.0, 0.0));
     }
-    // One second 3 m beyond the right edge of lane 3 (its centre at -3.5, edge -5.25):
-    // no car moves 4.75 m sideways in 0.1 s, so these are outliers until a second of them.
-    for k in 30..40 {
+    // 3 m beyond the right edge of lane 3 (centre -3.5, edge -5.25): no car moves 4.75 m
+    // sideways in 0.1 s, so the first nine are outliers and lane 3 keeps its belief.
+    for k in 30..39 {
         let v = step(&mut f, k, -8.25, &obs(1.0, 0.0));
-        assert!(v.best.is_some(), "fix {k}: {v:?}");
+        assert!(v.outlier, "fix {k}: {v:?}");
+        assert_eq!(lane_of(&v), Some(3));
+        assert!(v.percent >= 90 && v.off_road_percent < 5, "fix {k}: {v:?}");
     }
-    // A minute 12 m beyond the edge, with no lane in reach: off the road.
-    for k in 40..60 {
+    // The tenth restarts the track there; staying there moves the belief off the road.
+    let mut last = None;
+    for k in 39..60 {
+        last = Some(step(&mut f, k, -8.25, &obs(1.0, 0.0)));
+    }
+    let v = last.unwrap_or_else(|| unreachable!());
+    assert!(!v.outlier && v.off_road_percent > v.percent, "{v:?}");
+    // No lane in reach at all: nine outliers, then off the road for certain.
+    for k in 60..69 {
         let v = f.update(
             Instant::from_millis(k * 100),
             &[],
             &obs(1.0, 0.0),
             &FilterConfig::DEFAULT,
         );
-        assert_eq!(v.best, None);
+        assert!(v.outlier && v.best.is_none(), "fix {k}: {v:?}");
     }
+    let v = f.update(
+        Instant::from_millis(6_900),
+        &[],
+        &obs(1.0, 0.0),
+        &FilterConfig::DEFAULT,
+    );
+    assert!(
+        !v.outlier && v.best.is_none() && v.off_road_percent == 100,
+        "{v:?}"
+    );
+}
+
+#[test]
+fn a_lane_that_ends_beside_lanes_that_go_on_is_no_jump() {
+    let mut f = LaneFilter::new();
+    for k in 0..30 {
+        step(&mut f, k, 0.0, &obs(0.5, 0.0));
+    }
+    // Lane 2 ends; lanes 1 and 3 go on (the car drifts onto lane 3's side).
+    let c = cands(-2.0);
+    let v = f.update(
+        Instant::from_millis(3_000),
+        &[c[0], c[2]],
+        &obs(0.5, 0.0),
+        &FilterConfig::DEFAULT,
+    );
+    assert!(!v.outlier, "{v:?}");
+    assert_eq!(v.best.map(|i| [c[0], c[2]][i].lane.0), Some(3));
+}
+
+#[test]
+fn a_huge_reported_error_does_not_poison_the_track() {
+    let mut f = LaneFilter::new();
+    step(&mut f, 0, 0.0, &obs(0.5, 0.0));
+    step(&mut f, 1, 0.0, &obs(f32::MAX, 0.0));
+    for k in 2..20 {
+        step(&mut f, k, 0.0, &obs(0.5, 0.0));
+    }
+    let v = step(&mut f, 20, 0.0, &obs(0.5, 0.0));
+    assert_eq!(lane_of(&v), Some(2));
+    assert!(v.percent >= 90, "{v:?}");
 }
