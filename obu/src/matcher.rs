@@ -12,6 +12,7 @@ use heapless::Vec;
 
 mod along;
 mod filter;
+mod kalman;
 mod road;
 
 pub use filter::{FilterConfig, LaneFilter};

@@ -3,6 +3,7 @@
 //! accuracy; an innovation gate rejects fixes that jump along the road (multipath) as the
 //! lane filter's gate does across it.
 
+use super::kalman;
 use crate::lane::{LaneId, MapId};
 use crate::time::Instant;
 
@@ -97,9 +98,10 @@ impl AlongTrack {
             return Some(self.s);
         }
         let dt = gap.unwrap_or(0) as f32 / 1000.0;
-        self.predict(dt, cfg.accel_mps2);
+        kalman::predict(&mut self.s, &mut self.v, &mut self.p, dt, cfg.accel_mps2);
         if let Some(v) = f.speed {
-            self.measure(1, v, cfg.speed_sigma_mps * cfg.speed_sigma_mps);
+            let var = cfg.speed_sigma_mps * cfg.speed_sigma_mps;
+            kalman::update(&mut self.s, &mut self.v, &mut self.p, 1, v, var);
         }
         let nu = f.station - self.s;
         if nu * nu > cfg.gate_sigma * cfg.gate_sigma * (self.p[0] + r) {
@@ -111,7 +113,7 @@ impl AlongTrack {
             return Some(self.s);
         }
         self.in_row = 0;
-        self.measure(0, f.station, r);
+        kalman::update(&mut self.s, &mut self.v, &mut self.p, 0, f.station, r);
         Some(self.s)
     }
 
@@ -130,36 +132,6 @@ impl AlongTrack {
             last: self.last,
             in_row: 0,
         };
-    }
-
-    fn predict(&mut self, dt: f32, accel: f32) {
-        let q = accel * accel;
-        let [pss, psv, pvv] = self.p;
-        self.s += self.v * dt;
-        self.p = [
-            pss + 2.0 * dt * psv + dt * dt * pvv + q * dt * dt * dt * dt / 4.0,
-            psv + dt * pvv + q * dt * dt * dt / 2.0,
-            pvv + q * dt * dt,
-        ];
-    }
-
-    /// Kalman update of component `k` (0 station, 1 speed) with `z` of variance `r`.
-    fn measure(&mut self, k: usize, z: f32, r: f32) {
-        let [pss, psv, pvv] = self.p;
-        let (pkk, pk_s, pk_v) = if k == 0 {
-            (pss, pss, psv)
-        } else {
-            (pvv, psv, pvv)
-        };
-        let s = pkk + r;
-        if s <= 0.0 {
-            return;
-        }
-        let nu = z - if k == 0 { self.s } else { self.v };
-        let (gs, gv) = (pk_s / s, pk_v / s);
-        self.s += gs * nu;
-        self.v += gv * nu;
-        self.p = [pss - gs * pk_s, psv - gs * pk_v, pvv - gv * pk_v];
     }
 }
 

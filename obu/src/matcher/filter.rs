@@ -22,6 +22,7 @@
 
 use heapless::Vec;
 
+use super::kalman;
 use crate::capacity::MAX_NEARBY_LANES;
 use crate::lane::LaneId;
 use crate::math::{clamp, normal_cdf};
@@ -386,9 +387,9 @@ impl LaneFilter {
             return true;
         }
         let t = &mut self.track;
-        predict(t, dt, cfg.lateral_accel_mps2);
+        kalman::predict(&mut t.y, &mut t.vy, &mut t.p, dt, cfg.lateral_accel_mps2);
         if let Some((rate, var)) = course_rate {
-            update(t, 1, rate, var);
+            kalman::update(&mut t.y, &mut t.vy, &mut t.p, 1, rate, var);
         }
         let s = t.p[0] + r;
         let nu = z - t.y;
@@ -404,7 +405,7 @@ impl LaneFilter {
                 self.learn_scatter(z - prev - moved, dt, r);
             }
             let t = &mut self.track;
-            update(t, 0, z, r);
+            kalman::update(&mut t.y, &mut t.vy, &mut t.p, 0, z, r);
             t.prev_z = Some(z);
         }
         self.in_row = 0;
@@ -570,39 +571,6 @@ fn neighbour(
         .filter(|&(_, d)| d > 0.5 && d < reach)
         .min_by(|a, b| a.1.total_cmp(&b.1))
         .map(|(k, _)| k)
-}
-
-/// Constant-rate prediction over `dt` seconds with white lateral acceleration `accel`.
-fn predict(t: &mut Track, dt: f32, accel: f32) {
-    let q = accel * accel;
-    let (dt2, dt3, dt4) = (dt * dt, dt * dt * dt, dt * dt * dt * dt);
-    t.y += t.vy * dt;
-    let [pyy, pyv, pvv] = t.p;
-    t.p = [
-        pyy + 2.0 * dt * pyv + dt2 * pvv + q * dt4 / 4.0,
-        pyv + dt * pvv + q * dt3 / 2.0,
-        pvv + q * dt2,
-    ];
-}
-
-/// Kalman update of state component `k` (0: offset, 1: rate) with measurement `z` of
-/// variance `r`.
-fn update(t: &mut Track, k: usize, z: f32, r: f32) {
-    let [pyy, pyv, pvv] = t.p;
-    let (pkk, pk_y, pk_v) = if k == 0 {
-        (pyy, pyy, pyv)
-    } else {
-        (pvv, pyv, pvv)
-    };
-    let s = pkk + r;
-    if s <= 0.0 {
-        return;
-    }
-    let nu = z - if k == 0 { t.y } else { t.vy };
-    let (gy, gv) = (pk_y / s, pk_v / s);
-    t.y += gy * nu;
-    t.vy += gv * nu;
-    t.p = [pyy - gy * pk_y, pyv - gy * pk_v, pvv - gv * pk_v];
 }
 
 #[cfg(test)]
