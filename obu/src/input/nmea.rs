@@ -199,7 +199,7 @@ impl<'a, I: Iterator<Item = &'a str>> Fields<'a, I> {
         if s.is_empty() {
             return Ok(None);
         }
-        let v: f32 = s.parse().map_err(|_| NmeaError::BadField(i))?;
+        let v = decimal(s).ok_or(NmeaError::BadField(i))? as f32;
         if v.is_finite() {
             Ok(Some(v))
         } else {
@@ -257,14 +257,51 @@ fn parse_time(s: &str) -> Option<DayMillis> {
     Some(((h * 60 + m) * 60 + sec) * 1000 + ms)
 }
 
+/// A plain decimal number as NMEA writes it: an optional sign, digits, an optional point
+/// and digits (at most 18 digits in all; no exponent, no `inf` or `nan`).
+///
+/// Hand-written rather than `str::parse::<f64>`: the standard parser brings about 12 KB of
+/// tables and code into the firmware for forms NMEA never uses. The digits make an exact
+/// integer (below 2^63, and exact in f64 up to 2^53, past the 9-10 digits receivers
+/// write) divided once by an exact power of ten, so the result is correctly rounded.
+fn decimal(s: &str) -> Option<f64> {
+    let (negative, body) = match s.as_bytes().first()? {
+        b'-' => (true, &s[1..]),
+        b'+' => (false, &s[1..]),
+        _ => (false, s),
+    };
+    let (int, frac) = match body.split_once('.') {
+        Some((i, f)) => (i, f),
+        None => (body, ""),
+    };
+    if (int.is_empty() && frac.is_empty()) || int.len() + frac.len() > 18 {
+        return None;
+    }
+    let mut n: u64 = 0;
+    for b in int.bytes().chain(frac.bytes()) {
+        if !b.is_ascii_digit() {
+            return None;
+        }
+        n = n * 10 + u64::from(b - b'0');
+    }
+    let v = n as f64 / POWERS_OF_TEN[frac.len()];
+    Some(if negative { -v } else { v })
+}
+
+/// 10^0 to 10^18, each exact in f64.
+const POWERS_OF_TEN: [f64; 19] = [
+    1e0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9, 1e10, 1e11, 1e12, 1e13, 1e14, 1e15, 1e16,
+    1e17, 1e18,
+];
+
 /// `dddmm.mmmm` with its hemisphere letter, in signed degrees.
 fn angle(s: &str, deg_digits: usize, hemi: &str, pos: char, neg: char) -> Option<f64> {
     if s.len() < deg_digits + 2 || !s.is_char_boundary(deg_digits) {
         return None;
     }
     let (d, m) = s.split_at(deg_digits);
-    let d: f64 = d.parse().ok()?;
-    let m: f64 = m.parse().ok()?;
+    let d = decimal(d)?;
+    let m = decimal(m)?;
     if !(0.0..60.0).contains(&m) || !d.is_finite() {
         return None;
     }
@@ -487,6 +524,43 @@ mod tests {
         let mut s = heapless::String::new();
         core::fmt::write(&mut s, format_args!("${body}*{sum:02X}")).unwrap();
         s
+    }
+
+    #[test]
+    fn decimals_read_as_the_standard_parser_reads_them() {
+        for text in [
+            "0",
+            "7",
+            "4807.038",
+            "01131.000",
+            "-12.5",
+            "+0.25",
+            ".5",
+            "5.",
+            "000.0000001",
+            "123456789.123456789",
+            "59.99999999",
+        ] {
+            let want: f64 = text.parse().unwrap_or(f64::NAN);
+            assert_eq!(decimal(text), Some(want), "{text}");
+        }
+        for text in [
+            "",
+            "-",
+            "+",
+            ".",
+            "1e5",
+            "inf",
+            "nan",
+            "1.2.3",
+            "12a",
+            " 1",
+            "1 ",
+            "--1",
+            "1234567890123456789",
+        ] {
+            assert_eq!(decimal(text), None, "{text:?}");
+        }
     }
 
     #[test]
