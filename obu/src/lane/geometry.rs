@@ -284,7 +284,8 @@ impl Lane {
     /// a non-finite point.
     ///
     /// One pass over the segments keeps the nearest by squared distance (the first of
-    /// equals) and the length before it; the full fit is made for that one only.
+    /// equals); the length before it is summed afterwards and the full fit is made for
+    /// that one only.
     pub fn project(&self, p: Point) -> Option<Projection> {
         if !p.is_finite() {
             return None;
@@ -292,7 +293,7 @@ impl Lane {
         let last = self.deltas.len().checked_sub(2)?;
         let mut acc = self.origin;
         let mut a = Point::new(acc[0] as f32 * 0.01, acc[1] as f32 * 0.01);
-        let (mut start, mut best) = (0.0f32, Nearest::NONE);
+        let mut best = Nearest::NONE;
         for (i, d) in self.deltas.iter().skip(1).enumerate() {
             acc = [
                 acc[0].wrapping_add(d[0] as i32),
@@ -300,26 +301,32 @@ impl Lane {
             ];
             let b = Point::new(acc[0] as f32 * 0.01, acc[1] as f32 * 0.01);
             let dist2 = SegmentFit::dist2(a, b, p);
-            let len = libm::sqrtf(dist2_of(a, b));
             if dist2 < best.dist2 {
                 best = Nearest {
                     dist2,
                     index: i,
                     a,
                     b,
-                    start,
                 };
             }
-            start += len;
             a = b;
         }
         if !best.dist2.is_finite() {
             return None;
         }
         let i = best.index;
+        // The length before the nearest segment, summed after the search: a square root
+        // per segment before it rather than per segment of the lane.
+        let start = self
+            .nodes()
+            .map(|(n, _)| n)
+            .zip(self.nodes().map(|(n, _)| n).skip(1))
+            .take(i)
+            .map(|(a, b)| libm::sqrtf(dist2_of(a, b)))
+            .sum();
         let fit = SegmentFit::new(best.a, best.b, p, i == 0, i == last);
         let width = |k: usize| self.widths[k] as f32 * (WIDTH_UNIT_CM as f32 * 0.01);
-        Some(fit.projection(best.start, width(i), width(i + 1), i as u8))
+        Some(fit.projection(start, width(i), width(i + 1), i as u8))
     }
 
     /// The cone-to-lane rule: for each segment, rotate `p` by the segment bearing; `p`
@@ -405,7 +412,6 @@ struct Nearest {
     index: usize,
     a: Point,
     b: Point,
-    start: f32,
 }
 
 impl Nearest {
@@ -414,7 +420,6 @@ impl Nearest {
         index: 0,
         a: Point::new(0.0, 0.0),
         b: Point::new(0.0, 0.0),
-        start: 0.0,
     };
 }
 
