@@ -2,7 +2,8 @@
 //! earlier releases and the lane filter side by side on the same seeded drives.
 //!
 //! `cargo bench -p obu --bench drive_table` (optional argument: drives per noise model and
-//! road, default 24; `--seed-base N` for fresh seeds). Each drive: 1.9 km at 20 m/s on a
+//! road, default 24; `--seed-base N` for fresh seeds; `--only PREFIX` for the noise models
+//! whose label starts with it, e.g. `--only Gauss`). Each drive: 1.9 km at 20 m/s on a
 //! three-lane road (straight or curved, r = 700 m), three lane changes at seeded times, a
 //! work zone on the middle lane at 1.5-1.7 km. Prints the table and checks the goals of
 //! the filter; exits non-zero when one is missed.
@@ -31,10 +32,13 @@ fn main() {
         .collect();
     let mut drives = 24u64;
     let mut seed_base = 0x5eed_0000u64;
+    let mut only: Option<String> = None;
     let mut it = args.iter();
     while let Some(a) = it.next() {
         if a == "--seed-base" {
             seed_base = it.next().and_then(|s| s.parse().ok()).unwrap_or(seed_base);
+        } else if a == "--only" {
+            only = it.next().cloned();
         } else if let Ok(n) = a.parse() {
             drives = n;
         }
@@ -62,6 +66,12 @@ fn main() {
         .collect();
     models.push((Noise::Multipath, None));
     for (noise, goal) in models {
+        if only
+            .as_ref()
+            .is_some_and(|o| !noise.label().starts_with(o.as_str()))
+        {
+            continue;
+        }
         for (name, cfg) in [
             ("per-fix", MatcherConfig::PER_FIX),
             ("filter", MatcherConfig::DEFAULT),

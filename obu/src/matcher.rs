@@ -11,9 +11,11 @@
 use heapless::Vec;
 
 mod along;
+mod belief;
 mod filter;
 mod kalman;
 mod road;
+mod settings;
 
 pub use filter::{FilterConfig, LaneFilter};
 
@@ -27,7 +29,7 @@ use crate::time::{Duration, Instant};
 use serde::{Deserialize, Serialize};
 
 /// Largest fix error the matcher takes at its word, metres.
-const MAX_SIGMA_M: f32 = 100.0;
+pub(crate) const MAX_SIGMA_M: f32 = 100.0;
 
 /// Largest distance from a map reference considered, metres.
 const MAX_MAP_RANGE_M: f32 = 20_000.0;

@@ -97,7 +97,7 @@ impl Sample {
 }
 
 /// Fixes kept by the drive (it sends 201: 259 m + the zone + 80 m at 2 m a fix).
-const MAX_SAMPLES: usize = 216;
+const MAX_SAMPLES: usize = 204;
 
 /// East/north (metres from the reference point) and course at station `s` of lane 1 in its
 /// direction of travel, straight on beyond both ends.

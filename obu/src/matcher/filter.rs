@@ -20,16 +20,13 @@
 //! [`FilterConfig::show_percent`]; below that the road stays known but the lane is not
 //! named. No fix count or hold time decides a lane change.
 
-use heapless::Vec;
-
+use super::belief::{Belief, Evidence};
 use super::kalman;
+pub use super::settings::{Candidate, FilterConfig};
 use crate::capacity::MAX_NEARBY_LANES;
 use crate::lane::LaneId;
-use crate::math::{clamp, normal_cdf};
+use crate::math::clamp;
 use crate::time::Instant;
-
-#[cfg(feature = "serde")]
-use serde::{Deserialize, Serialize};
 
 /// The smallest fix error the filter assumes, metres: a receiver's own figure below it
 /// (an RTK fix, a noiseless simulation) would make every lateral manoeuvre an outlier.
@@ -37,87 +34,6 @@ pub(super) const MIN_SIGMA_M: f32 = 0.25;
 
 /// Time constant of the learnt white error, seconds.
 const SCATTER_TIME_S: f32 = 3.0;
-
-/// Belief in "off the mapped road" when a road is first met.
-const START_OFF_ROAD: f32 = 0.05;
-
-/// Lane filter settings.
-#[derive(Debug, Clone, Copy, PartialEq)]
-#[cfg_attr(feature = "serde", derive(Serialize, Deserialize))]
-pub struct FilterConfig {
-    /// Probability (percent) the most probable lane needs before it is shown.
-    pub show_percent: u8,
-    /// Lateral acceleration the track allows (process noise), m/s².
-    pub lateral_accel_mps2: f32,
-    /// Error of the receiver's course, degrees (1 sigma): the lateral rate it implies.
-    pub course_sigma_deg: f32,
-    /// Weight of one fix's evidence (0..1): fixes' errors are correlated over seconds.
-    pub evidence_weight: f32,
-    /// Probability per second of a lane change with no lateral motion seen.
-    pub change_per_s: f32,
-    /// Innovation gate, sigmas: a fix farther from the track is an outlier.
-    pub gate_sigma: f32,
-    /// This many outliers in a row restart the track at the fix.
-    pub restart_after: u8,
-    /// Transition rate per lateral speed towards a neighbour: lane widths per second of
-    /// lateral motion, times this, is the rate of moving belief there.
-    pub rate_gain: f32,
-    /// Probability per second of leaving the mapped road.
-    pub leave_per_s: f32,
-    /// Probability per second of coming back onto it.
-    pub return_per_s: f32,
-    /// Width over which an off-road position is spread, metres (its density is 1/width).
-    pub off_road_width_m: f32,
-    /// A gap between fixes longer than this starts the filter over, milliseconds.
-    pub max_gap_ms: u32,
-    /// A fix this far beyond the edge of its nearest lane, or nearer, keeps the road even
-    /// when the belief leans off it, metres.
-    pub keep_road_m: f32,
-    /// Along the road: acceleration the station track allows (process noise), m/s².
-    pub along_accel_mps2: f32,
-    /// Along the road: error of the speed (Doppler or CAN), m/s (1 sigma).
-    pub speed_sigma_mps: f32,
-}
-
-impl FilterConfig {
-    /// The defaults, tuned on the drive table (`cargo bench -p obu --bench drive_table`).
-    pub const DEFAULT: FilterConfig = FilterConfig {
-        show_percent: 80,
-        lateral_accel_mps2: 1.0,
-        course_sigma_deg: 3.0,
-        evidence_weight: 0.7,
-        change_per_s: 0.002,
-        gate_sigma: 4.0,
-        restart_after: 10,
-        rate_gain: 2.0,
-        leave_per_s: 0.02,
-        return_per_s: 1.0,
-        off_road_width_m: 12.0,
-        max_gap_ms: 2_000,
-        keep_road_m: 5.0,
-        along_accel_mps2: 2.0,
-        speed_sigma_mps: 0.2,
-    };
-}
-
-impl Default for FilterConfig {
-    fn default() -> Self {
-        FilterConfig::DEFAULT
-    }
-}
-
-/// One candidate lane of a fix, as the filter needs it.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Candidate {
-    /// The lane.
-    pub lane: LaneId,
-    /// The fix's offset from the lane's centreline, metres, positive to the left.
-    pub lateral: f32,
-    /// Lane width there, metres.
-    pub width: f32,
-    /// Bearing of the lane there in its direction of travel, degrees.
-    pub bearing_deg: f32,
-}
 
 /// What one fix tells the filter.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -142,15 +58,6 @@ pub struct Verdict {
     /// The fix was rejected as an outlier: its position says nothing (the caller keeps
     /// the track's last position moved on).
     pub outlier: bool,
-}
-
-/// Belief in one lane.
-#[derive(Debug, Clone, Copy, PartialEq)]
-struct Belief {
-    lane: LaneId,
-    p: f32,
-    /// The lane's centre in the anchor lane's frame at the last fix, metres (left positive).
-    centre: f32,
 }
 
 /// The lateral track: offset from the anchor lane's centreline and its rate, with their
@@ -179,8 +86,7 @@ impl Track {
 /// The lane filter's state (about 150 bytes).
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct LaneFilter {
-    beliefs: Vec<Belief, MAX_NEARBY_LANES, u8>,
-    off_road: f32,
+    belief: Belief,
     anchor: Option<LaneId>,
     track: Track,
     last: Option<Instant>,
@@ -188,14 +94,22 @@ pub struct LaneFilter {
     outliers: u32,
     /// Variance of the white part of the fix error, learnt from the fixes, m².
     white_var: Option<f32>,
+    /// The road was just met: the next fix's evidence also counts as the bias's start.
+    start_term: bool,
+    /// The bias integral's weight not yet taken ([`Self::weigh`]).
+    allowed_due: f32,
+    /// Error of the track's position under the bias alone at the last fix, metres (0
+    /// before any fix was weighed).
+    bias_sigma: f32,
+    /// [`FilterConfig::off_road_width_m`] at the last fix.
+    off_road_width: f32,
 }
 
 impl LaneFilter {
     /// A filter with no history.
     pub const fn new() -> Self {
         LaneFilter {
-            beliefs: Vec::new(),
-            off_road: 0.0,
+            belief: Belief::new(),
             anchor: None,
             track: Track {
                 y: 0.0,
@@ -204,6 +118,10 @@ impl LaneFilter {
                 prev_z: None,
             },
             white_var: None,
+            start_term: false,
+            allowed_due: 0.0,
+            bias_sigma: 0.0,
+            off_road_width: 1.0,
             last: None,
             in_row: 0,
             outliers: 0,
@@ -245,7 +163,7 @@ impl LaneFilter {
             }
         };
         self.last = Some(now);
-        let sigma = obs.sigma_m.max(MIN_SIGMA_M);
+        let sigma = clamp(obs.sigma_m, MIN_SIGMA_M, super::MAX_SIGMA_M);
         let kept = self
             .anchor
             .and_then(|id| cands.iter().position(|c| c.lane == id));
@@ -271,13 +189,21 @@ impl LaneFilter {
             self.track = Track::default();
         }
         let Some(a) = self.anchor_in(cands) else {
-            self.leave_road();
+            self.belief.leave_road();
+            self.track = Track::default();
             return self.verdict(cands);
         };
         let gated = self.track_fix(dt, &cands[a], obs, sigma, cfg);
-        self.step_beliefs(dt, cands, a, cfg);
+        let r = sigma * sigma;
+        let bias_prior = r - r * self.white_share(r);
+        if self
+            .belief
+            .step(dt, cands, a, self.track.vy, bias_prior, cfg)
+        {
+            self.start_term = true;
+        }
         if gated {
-            self.weigh(cands, a, sigma, cfg);
+            self.weigh(cands[a].lateral, dt, sigma, cfg);
         }
         Verdict {
             outlier: !gated,
@@ -294,9 +220,9 @@ impl LaneFilter {
         }
         let s = t.p[0] + sigma * sigma;
         let fits = cands.iter().find_map(|c| {
-            let b = self.beliefs.iter().find(|b| b.lane == c.lane)?;
-            let nu = c.lateral - (t.y + t.vy * dt - b.centre);
-            (nu * nu <= cfg.gate_sigma * cfg.gate_sigma * s).then_some((c.lane, b.centre))
+            let centre = self.belief.centre(c.lane)?;
+            let nu = c.lateral - (t.y + t.vy * dt - centre);
+            (nu * nu <= cfg.gate_sigma * cfg.gate_sigma * s).then_some((c.lane, centre))
         });
         let Some((lane, centre)) = fits else {
             return false;
@@ -325,7 +251,7 @@ impl LaneFilter {
         let old = self
             .anchor
             .and_then(|id| cands.iter().position(|c| c.lane == id));
-        let prob = |c: &Candidate| self.belief(c.lane);
+        let prob = |c: &Candidate| self.belief.lane(c.lane);
         if let Some(i) = old {
             // Follow the most probable lane, carrying the track into its frame: the
             // car's offset from lane b is its offset from lane a less b's centre in a's.
@@ -352,13 +278,6 @@ impl LaneFilter {
         self.track = Track::default();
         self.anchor = Some(cands[best].lane);
         Some(best)
-    }
-
-    fn belief(&self, lane: LaneId) -> f32 {
-        self.beliefs
-            .iter()
-            .find(|b| b.lane == lane)
-            .map_or(0.0, |b| b.p)
     }
 
     /// Kalman predict and update of the lateral track; false when the fix's offset fell
@@ -430,147 +349,61 @@ impl LaneFilter {
         }
     }
 
-    /// The forward algorithm's transition: lanes keep their belief but for what the
-    /// tracked lateral rate carries to their neighbours, and the road exchanges belief
-    /// with "off the road". Lanes new to the road start with a small share.
-    fn step_beliefs(&mut self, dt: f32, cands: &[Candidate], a: usize, cfg: &FilterConfig) {
-        let old = core::mem::take(&mut self.beliefs);
-        // No lane of this fix had belief before (a first fix, or another stretch of road):
-        // start the road afresh rather than from the old road's off-road share.
-        let fresh = !cands
-            .iter()
-            .any(|c| old.iter().any(|b| b.lane == c.lane && b.p > 0.0));
-        let mut next: Vec<Belief, MAX_NEARBY_LANES, u8> = Vec::new();
-        for c in cands {
-            let p = old.iter().find(|b| b.lane == c.lane).map_or(0.0, |b| b.p);
-            let _ = next.push(Belief {
-                lane: c.lane,
-                p,
-                centre: cands[a].lateral - c.lateral,
-            });
+    /// The fix's evidence ([`Belief::weigh`]). A fix error is a white part (new at each
+    /// fix) and a wandering bias (first-order Gauss-Markov, [`FilterConfig::bias_time_s`]).
+    /// For two lane hypotheses a bias path's likelihood ratio is half its value at the
+    /// start and half at the end, plus its integral over time at a rate of one over twice
+    /// the time constant: the belief takes the track's likelihood under the bias alone at
+    /// that rate (and half of it once when a road is met), and the verdict weighs the
+    /// belief with half of the present one ([`Self::verdict`]).
+    fn weigh(&mut self, z: f32, dt: f32, sigma: f32, cfg: &FilterConfig) {
+        let r = sigma * sigma;
+        let white = r * self.white_share(r);
+        let bias_sigma = libm::sqrtf(r - white + self.track.p[0].max(0.0));
+        // The integral is taken once a second (the bias moves little in a second), not at
+        // every fix: it costs a likelihood per hypothesis.
+        let rate = 1.0 / (2.0 * cfg.bias_time_s.max(1.0));
+        self.allowed_due += dt * rate;
+        let mut allowed_weight = 0.0;
+        if self.start_term || self.allowed_due >= rate {
+            allowed_weight = self.allowed_due + if self.start_term { 0.5 } else { 0.0 };
+            self.allowed_due = 0.0;
+            self.start_term = false;
         }
-        let total: f32 = next.iter().map(|b| b.p).sum::<f32>() + self.off_road;
-        if fresh || total <= 0.0 {
-            // A fix near mapped lanes starts on the road, with no lane preferred.
-            let n = next.len() as f32;
-            for b in next.iter_mut() {
-                b.p = (1.0 - START_OFF_ROAD) / n;
-            }
-            self.off_road = START_OFF_ROAD;
-        } else {
-            // Lanes new to the road: a floor so that evidence can raise them.
-            let floor = 0.01 * total;
-            for b in next.iter_mut() {
-                b.p = b.p.max(floor);
-            }
-        }
-        let centre = |i: usize| cands[a].lateral - cands[i].lateral;
-        let vy = self.track.vy;
-        let mut moved: [f32; MAX_NEARBY_LANES] = [0.0; MAX_NEARBY_LANES];
-        for i in 0..next.len() {
-            let from = next[i].p;
-            for (dir, toward) in [(1.0f32, vy.max(0.0)), (-1.0, (-vy).max(0.0))] {
-                // Lane widths per second the car moves towards that side.
-                let motion = cfg.rate_gain * toward / cands[i].width.max(2.0);
-                let Some(k) = neighbour(cands, i, dir, &centre) else {
-                    continue;
-                };
-                let share = clamp((cfg.change_per_s + motion) * dt, 0.0, 0.45) * from;
-                moved[i] -= share;
-                moved[k] += share;
-            }
-        }
-        for (b, m) in next.iter_mut().zip(moved.iter()) {
-            b.p = (b.p + m).max(0.0);
-        }
-        let leave = clamp(cfg.leave_per_s * dt, 0.0, 0.5);
-        let back = clamp(cfg.return_per_s * dt, 0.0, 0.5);
-        let on: f32 = next.iter().map(|b| b.p).sum();
-        let (to_off, to_on) = (on * leave, self.off_road * back);
-        let n = next.len().max(1) as f32;
-        for b in next.iter_mut() {
-            let share = if on > 0.0 { b.p / on } else { 1.0 / n };
-            b.p = b.p * (1.0 - leave) + to_on * share;
-        }
-        self.off_road += to_off - to_on;
-        self.beliefs = next;
-        self.normalise();
+        let evidence = Evidence {
+            z,
+            y: self.track.y,
+            vy: self.track.vy,
+            white,
+            bias_sigma,
+            allowed_weight,
+        };
+        self.belief.weigh(&evidence, dt, cfg.evidence_weight, cfg);
+        self.bias_sigma = bias_sigma;
+        self.off_road_width = cfg.off_road_width_m.max(1.0);
     }
 
-    /// The fix's evidence: each lane's likelihood of the measured offset (a position
-    /// anywhere across its width, blurred by the fix error), against a flat density off
-    /// the road; raised to the evidence weight.
-    fn weigh(&mut self, cands: &[Candidate], a: usize, sigma: f32, cfg: &FilterConfig) {
-        let z = cands[a].lateral;
-        // Correlated error (a wandering bias) adds nothing fix after fix: only the white
-        // share of the error counts as new evidence, unless the whole error is too small
-        // against the lane to carry a fix into the next lane.
-        let width = cands[a].width.max(2.0);
-        let harmless = clamp((width / (8.0 * sigma)) * (width / (8.0 * sigma)), 0.0, 1.0);
-        let k = cfg.evidence_weight * self.white_share(sigma * sigma).max(harmless);
-        for (b, c) in self.beliefs.iter_mut().zip(cands.iter()) {
-            let centre = cands[a].lateral - c.lateral;
-            let half = 0.5 * c.width.max(1.0);
-            let mass =
-                normal_cdf((centre + half - z) / sigma) - normal_cdf((centre - half - z) / sigma);
-            let density = (mass / (2.0 * half)).max(1.0e-9);
-            b.p *= libm::expf(k * libm::logf(density));
-        }
-        self.off_road *= libm::expf(-k * libm::logf(cfg.off_road_width_m.max(1.0)));
-        self.normalise();
-    }
-
-    /// No lane holds the fix: the belief moves off the road.
-    fn leave_road(&mut self) {
-        self.beliefs.clear();
-        self.off_road = 1.0;
-        self.track = Track::default();
-    }
-
-    fn normalise(&mut self) {
-        let total: f32 = self.beliefs.iter().map(|b| b.p).sum::<f32>() + self.off_road;
-        if !(total.is_finite() && total > 0.0) {
-            let n = self.beliefs.len() as f32 + 1.0;
-            self.beliefs.iter_mut().for_each(|b| b.p = 1.0 / n);
-            self.off_road = 1.0 / n;
-            return;
-        }
-        self.beliefs.iter_mut().for_each(|b| b.p /= total);
-        self.off_road /= total;
-    }
-
+    /// The most probable lane: the belief weighed with half the likelihood of the track's
+    /// present offset under the bias ([`Self::weigh`]).
     fn verdict(&self, cands: &[Candidate]) -> Verdict {
-        let best = self
-            .beliefs
-            .iter()
-            .enumerate()
-            .filter(|(i, _)| *i < cands.len())
-            .max_by(|a, b| a.1.p.total_cmp(&b.1.p));
+        let mut shares = [0.0f32; MAX_NEARBY_LANES];
+        let n = cands.len().min(MAX_NEARBY_LANES);
+        let off = self.belief.shares(
+            &cands[..n],
+            self.track.y,
+            self.bias_sigma,
+            self.off_road_width,
+            &mut shares[..n],
+        );
+        let best = (0..n).max_by(|&i, &j| shares[i].total_cmp(&shares[j]));
+        let percent = |q: f32| clamp(q * 100.0, 0.0, 100.0) as u8;
         Verdict {
-            best: best.map(|(i, _)| i),
-            percent: best.map_or(0, |(_, b)| clamp(b.p * 100.0, 0.0, 100.0) as u8),
-            off_road_percent: clamp(self.off_road * 100.0, 0.0, 100.0) as u8,
+            best,
+            percent: best.map_or(0, |i| percent(shares[i])),
+            off_road_percent: percent(off),
             outlier: false,
         }
     }
-}
-
-/// The nearest lane of `cands` beside lane `i` on side `dir` (+1 left, -1 right), if it
-/// is adjacent (centres within one and a half widths).
-fn neighbour(
-    cands: &[Candidate],
-    i: usize,
-    dir: f32,
-    centre: &impl Fn(usize) -> f32,
-) -> Option<usize> {
-    let ci = centre(i);
-    let reach = 1.5 * cands[i].width.max(2.0);
-    (0..cands.len())
-        .filter(|&k| k != i)
-        .map(|k| (k, (centre(k) - ci) * dir))
-        .filter(|&(_, d)| d > 0.5 && d < reach)
-        .min_by(|a, b| a.1.total_cmp(&b.1))
-        .map(|(k, _)| k)
 }
 
 #[cfg(test)]

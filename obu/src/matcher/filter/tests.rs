@@ -1,4 +1,5 @@
 use super::*;
+use heapless::Vec;
 
 /// Three lanes 3.5 m wide, centres 3.5 m left, 0 and 3.5 m right of lane 2's; the car at
 /// lateral offset `y` from lane 2's centre, heading along the road with rate `vy`.
@@ -78,24 +79,31 @@ fn a_lane_change_moves_the_belief_once() {
     assert_eq!(shown.as_slice(), &[2, 1]);
 }
 
+/// White noise of 1-sigma `sigma` for fix `k` (deterministic: a uniform spread over 13
+/// levels, scaled to that sigma).
+fn noise(k: u64, sigma: f32) -> f32 {
+    ((k * 5 % 13) as f32 - 6.0) / 3.74 * sigma
+}
+
 #[test]
 fn a_jump_beyond_the_edge_is_held_off_then_the_road_is_left() {
     let mut f = LaneFilter::new();
     for k in 0..30 {
-        step(&mut f, k, -3.5, &obs(1.0, 0.0));
+        step(&mut f, k, -3.5 + noise(k, 0.5), &obs(0.5, 0.0));
     }
     // 3 m beyond the right edge of lane 3 (centre -3.5, edge -5.25): no car moves 4.75 m
     // sideways in 0.1 s, so the first nine are outliers and lane 3 keeps its belief.
     for k in 30..39 {
-        let v = step(&mut f, k, -8.25, &obs(1.0, 0.0));
+        let v = step(&mut f, k, -8.25 + noise(k, 0.5), &obs(0.5, 0.0));
         assert!(v.outlier, "fix {k}: {v:?}");
         assert_eq!(lane_of(&v), Some(3));
         assert!(v.percent >= 90 && v.off_road_percent < 5, "fix {k}: {v:?}");
     }
-    // The tenth restarts the track there; staying there moves the belief off the road.
+    // The tenth restarts the track there; staying there moves the belief off the road
+    // (the receiver's error is white: no bias can carry a fix that far).
     let mut last = None;
     for k in 39..60 {
-        last = Some(step(&mut f, k, -8.25, &obs(1.0, 0.0)));
+        last = Some(step(&mut f, k, -8.25 + noise(k, 0.5), &obs(0.5, 0.0)));
     }
     let v = last.unwrap_or_else(|| unreachable!());
     assert!(!v.outlier && v.off_road_percent > v.percent, "{v:?}");
@@ -150,4 +158,50 @@ fn a_huge_reported_error_does_not_poison_the_track() {
     let v = step(&mut f, 20, 0.0, &obs(0.5, 0.0));
     assert_eq!(lane_of(&v), Some(2));
     assert!(v.percent >= 90, "{v:?}");
+}
+
+/// A receiver whose fixes scatter little but wander: a bias drifting from 0 to 2.2 m to
+/// the left over 40 s carries the fixes across lane 2's left edge into lane 1.
+fn drifting_bias(k: u64) -> f32 {
+    2.2 * clamp(k as f32 / 400.0, 0.0, 1.0) + noise(k, 0.2)
+}
+
+#[test]
+fn a_bias_that_wanders_into_the_next_lane_does_not_move_the_lane() {
+    let mut f = LaneFilter::new();
+    for k in 0..600 {
+        let v = step(&mut f, k, drifting_bias(k), &obs(1.0, 0.0));
+        if v.percent >= FilterConfig::DEFAULT.show_percent {
+            assert_eq!(lane_of(&v), Some(2), "fix {k}: {v:?}");
+        }
+        if k == 599 {
+            // A lane is still named: the bias has not been mistaken for lane 1.
+            assert!(v.percent >= FilterConfig::DEFAULT.show_percent, "{v:?}");
+        }
+    }
+}
+
+#[test]
+fn a_lane_change_under_a_bias_is_followed() {
+    let mut f = LaneFilter::new();
+    let mut shown = Vec::<u8, 64>::new();
+    for k in 0..600u64 {
+        // The bias of the test above; the car changes 2 -> 3 (right) at 50 s over 4 s.
+        let t = k as f32 / 10.0;
+        let w = clamp((t - 50.0) / 4.0, 0.0, 1.0);
+        let vy = if (50.0..54.0).contains(&t) {
+            -3.5 / 4.0
+        } else {
+            0.0
+        };
+        let v = step(&mut f, k, drifting_bias(k) - 3.5 * w, &obs(1.0, vy));
+        if v.percent >= FilterConfig::DEFAULT.show_percent {
+            let lane = lane_of(&v).unwrap_or(0);
+            if shown.last() != Some(&lane) {
+                let _ = shown.push(lane);
+            }
+        }
+    }
+    // With 2.2 m of bias to the left the fixes end in lane 2: the lane shown is 3.
+    assert_eq!(shown.as_slice(), &[2, 3]);
 }
