@@ -67,7 +67,80 @@ fn frames() -> Vec<(&'static str, Box<MessageFrame>)> {
             "TIM lanes 3 and 2, 25 mph",
             messages::build_tim(&road, &two_lanes).unwrap(),
         ),
+        (
+            "PSM walking worker",
+            messages::build_psm(&walking_worker(), start, 5).unwrap(),
+        ),
+        (
+            "PSM standing worker",
+            messages::build_psm(&standing_worker(), start, 127).unwrap(),
+        ),
     ]
+}
+
+/// A worker walking east at 1.5 m/s, 0.5 m accuracy, with three crumbs behind.
+fn walking_worker() -> messages::Worker {
+    let at = LatLon::from_degrees(44.977_8, -93.265_0).unwrap();
+    let back = |s: f64| LatLon::from_degrees(44.977_8, -93.265_0 - 1.5 * s / 78_800.0).unwrap();
+    messages::Worker {
+        id: [0xde, 0xad, 0x00, 0x01],
+        position: at,
+        accuracy_m: 0.5,
+        speed_mps: 1.5,
+        heading_deg: Some(90.0),
+        history: vec![(back(1.0), 1.0), (back(2.0), 2.0), (back(3.0), 3.0)],
+    }
+}
+
+/// A worker standing still (no heading, no history).
+fn standing_worker() -> messages::Worker {
+    messages::Worker {
+        id: [0, 0, 0, 7],
+        speed_mps: 0.0,
+        heading_deg: None,
+        history: Vec::new(),
+        ..walking_worker()
+    }
+}
+
+#[test]
+fn the_oracle_reads_the_worker_psm_fields_in_j2735_units() {
+    let start = Utc::from_unix_ms(1_795_341_600_000 + 12_345);
+    let frame = messages::build_psm(&walking_worker(), start, 5).unwrap();
+    let hex = j2735::hex::Hex(&messages::encode(&frame).unwrap()).to_string();
+    let decoded = oracle(&["decode", "-"], &format!("{hex}\n"));
+    let jer: serde_json::Value = serde_json::from_str(decoded.trim()).unwrap();
+    assert_eq!(jer["messageId"], 32, "{jer}");
+    let psm = &jer["value"];
+    assert_eq!(psm["basicType"], "aPUBLICSAFETYWORKER", "{psm}");
+    // 12.345 s into the minute, in milliseconds.
+    assert_eq!(psm["secMark"], 12_345, "{psm}");
+    assert_eq!(psm["msgCnt"], 5, "{psm}");
+    assert_eq!(
+        psm["id"].as_str().map(str::to_ascii_uppercase),
+        Some("DEAD0001".into())
+    );
+    // 44.9778 N, 93.2650 W in 1e-7 degrees.
+    assert_eq!(psm["position"]["lat"], 449_778_000, "{psm}");
+    assert_eq!(psm["position"]["long"], -932_650_000, "{psm}");
+    // 0.5 m in 0.05 m units; 1.5 m/s in 0.02 m/s; 90 degrees in 0.0125 degrees.
+    assert_eq!(psm["accuracy"]["semiMajor"], 10, "{psm}");
+    assert_eq!(psm["accuracy"]["semiMinor"], 10, "{psm}");
+    assert_eq!(psm["speed"], 75, "{psm}");
+    assert_eq!(psm["heading"], 7_200, "{psm}");
+    let crumbs = psm["pathHistory"]["crumbData"].as_array().unwrap();
+    assert_eq!(crumbs.len(), 3, "{psm}");
+    // One second back, 1.5 m west: 1.5 / 78 800 degrees of longitude, in 1e-7 degrees.
+    assert_eq!(crumbs[0]["timeOffset"], 100, "{psm}");
+    assert_eq!(crumbs[0]["latOffset"], 0, "{psm}");
+    assert_eq!(crumbs[0]["lonOffset"], -190, "{psm}");
+    assert_eq!(crumbs[2]["timeOffset"], 300, "{psm}");
+    // BIT STRING (6 bits) 010000: workingOnRoad only, as the oracle writes it (hex).
+    assert_eq!(
+        psm["activityType"].as_str().map(str::to_ascii_lowercase),
+        Some("40".into()),
+        "{psm}"
+    );
 }
 
 #[test]

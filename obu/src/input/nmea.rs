@@ -258,12 +258,12 @@ fn parse_time(s: &str) -> Option<DayMillis> {
 }
 
 /// A plain decimal number as NMEA writes it: an optional sign, digits, an optional point
-/// and digits (at most 18 digits in all; no exponent, no `inf` or `nan`).
+/// and digits (at most 15 digits in all; no exponent, no `inf` or `nan`).
 ///
 /// Hand-written rather than `str::parse::<f64>`: the standard parser brings about 12 KB of
-/// tables and code into the firmware for forms NMEA never uses. The digits make an exact
-/// integer (below 2^63, and exact in f64 up to 2^53, past the 9-10 digits receivers
-/// write) divided once by an exact power of ten, so the result is correctly rounded.
+/// tables and code into the firmware for forms NMEA never uses. Up to 15 digits make an
+/// integer below 2^53, exact in f64, divided once by an exact power of ten, so the result
+/// is correctly rounded (receivers write 9-12 digits).
 fn decimal(s: &str) -> Option<f64> {
     let (negative, body) = match s.as_bytes().first()? {
         b'-' => (true, &s[1..]),
@@ -274,7 +274,7 @@ fn decimal(s: &str) -> Option<f64> {
         Some((i, f)) => (i, f),
         None => (body, ""),
     };
-    if (int.is_empty() && frac.is_empty()) || int.len() + frac.len() > 18 {
+    if (int.is_empty() && frac.is_empty()) || int.len() + frac.len() > 15 {
         return None;
     }
     let mut n: u64 = 0;
@@ -538,7 +538,8 @@ mod tests {
             ".5",
             "5.",
             "000.0000001",
-            "123456789.123456789",
+            "123456789.123456",
+            "9825979.19074833",
             "59.99999999",
         ] {
             let want: f64 = text.parse().unwrap_or(f64::NAN);
@@ -557,7 +558,8 @@ mod tests {
             " 1",
             "1 ",
             "--1",
-            "1234567890123456789",
+            "1234567890123456",
+            "0.1234567890123456",
         ] {
             assert_eq!(decimal(text), None, "{text:?}");
         }

@@ -300,8 +300,7 @@ impl Lane {
                 acc[1].wrapping_add(d[1] as i32),
             ];
             let b = Point::new(acc[0] as f32 * 0.01, acc[1] as f32 * 0.01);
-            let dist2 = SegmentFit::dist2(a, b, p);
-            if dist2 < best.dist2 {
+            if let Some(dist2) = nearer(a, b, p, best.dist2) {
                 best = Nearest {
                     dist2,
                     index: i,
@@ -446,7 +445,9 @@ impl SegmentFit {
         (d, rel, len2, t)
     }
 
-    /// Squared distance from `p` to the segment `a`-`b`.
+    /// Squared distance from `p` to the segment `a`-`b` (by the clamped parameter: the
+    /// reference [`nearer`] is tested against).
+    #[cfg(test)]
     fn dist2(a: Point, b: Point, p: Point) -> f32 {
         let (d, rel, _, t) = Self::parts(a, b, p);
         let tc = t.clamp(0.0, 1.0);
@@ -490,6 +491,32 @@ impl SegmentFit {
 fn dist2_of(a: Point, b: Point) -> f32 {
     let (dx, dy) = (a.x - b.x, a.y - b.y);
     dx * dx + dy * dy
+}
+
+/// The squared distance from `p` to the segment `a`-`b` when it is below `best`. Written
+/// for the search over every segment of every lane near a fix (the bulk of `on_fix`):
+/// across the segment's middle the squared distance is cross² / length², so a segment that
+/// is not nearer is told by a multiplication and the division is made for a nearer one
+/// only; the cross product keeps the precision the coordinates have (no difference of two
+/// large squares).
+fn nearer(a: Point, b: Point, p: Point, best: f32) -> Option<f32> {
+    let (dx, dy) = (b.x - a.x, b.y - a.y);
+    let (rx, ry) = (p.x - a.x, p.y - a.y);
+    let dot = rx * dx + ry * dy;
+    let len2 = dx * dx + dy * dy;
+    let dist2 = if dot <= 0.0 {
+        rx * rx + ry * ry
+    } else if dot >= len2 {
+        let (qx, qy) = (rx - dx, ry - dy);
+        qx * qx + qy * qy
+    } else {
+        let cross = rx * dy - ry * dx;
+        if cross * cross >= best * len2 {
+            return None;
+        }
+        cross * cross / len2
+    };
+    (dist2 < best).then_some(dist2)
 }
 
 /// Width in centimetres to the 4 cm code, at least one unit.

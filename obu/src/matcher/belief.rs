@@ -27,10 +27,14 @@ const START_OFF_ROAD: f32 = 0.05;
 
 /// Lateral motion over this long counts against the car keeping its lane's centre while
 /// each hypothesis's bias learns, seconds.
-const KEEP_MOTION_S: f32 = 2.0;
+const KEEP_MOTION_S: f32 = 5.0;
 
-/// How long a car's place within its lane stays the same, seconds.
-const KEEP_TIME_S: f32 = 0.1;
+/// The fix interval at which one fix teaches a bias in full, seconds: at other rates a
+/// fix counts in proportion to its interval, so a bias learns as fast at 1 Hz as at 20.
+const LEARN_INTERVAL_S: f32 = 0.1;
+
+/// A hypothesis's bias stays within this many sigmas of the bias prior.
+const BIAS_REACH: f32 = 3.0;
 
 /// Two bias estimates this many sigmas apart, or nearer, are one.
 const SAME_BIAS_SIGMA: f32 = 3.0;
@@ -93,6 +97,8 @@ pub(super) struct Evidence {
     /// Weight of the track's likelihood under the bias alone (the bias path's start and
     /// integral terms).
     pub(super) allowed_weight: f32,
+    /// Variance of the bias (its Gauss-Markov prior), m².
+    pub(super) bias_prior: f32,
 }
 
 /// The belief over the road's lanes, their biases, and "off the road".
@@ -236,7 +242,8 @@ impl Belief {
     ) {
         let centre = |i: usize| cands[a].lateral - cands[i].lateral;
         // (target lane, share, bias, variance) of what moves.
-        let mut moving: Vec<(LaneId, f32, f32, f32), MAX_HYPOTHESES, u8> = Vec::new();
+        // Each hypothesis may move to both sides.
+        let mut moving: Vec<(LaneId, f32, f32, f32), { 2 * MAX_HYPOTHESES }, u8> = Vec::new();
         for h in self.hyps.iter_mut() {
             let Some(i) = cands.iter().position(|c| c.lane == h.lane) else {
                 continue;
@@ -265,7 +272,8 @@ impl Belief {
 
     /// Belief `p` arrives in `lane` with a bias: it joins the lane's hypothesis with the
     /// same bias, or becomes one of its own; a lane with no room merges it into the
-    /// hypothesis with the nearest bias.
+    /// hypothesis with the nearest bias. (Every candidate lane holds a hypothesis after
+    /// [`Belief::step`]: the filter takes at most [`MAX_NEARBY_LANES`] candidates.)
     fn arrive(&mut self, lane: LaneId, p: f32, bias: f32, var: f32) {
         let mut nearest: Option<usize> = None;
         let mut count = 0;
@@ -324,11 +332,9 @@ impl Belief {
     ///   with [`Evidence::allowed_weight`].
     pub(super) fn weigh(&mut self, e: &Evidence, dt: f32, kw: f32, cfg: &FilterConfig) {
         let motion = KEEP_MOTION_S * e.vy;
-        // Where a car keeps within its lane changes over seconds, not from fix to fix:
-        // one fix tells the bias only a share of it.
-        let correlated = KEEP_TIME_S / dt.max(0.01);
-        let keep =
-            (cfg.lane_keep_m * cfg.lane_keep_m + motion * motion) * correlated.max(1.0) + e.white;
+        let per_fix = LEARN_INTERVAL_S / dt.max(0.01);
+        let reach = BIAS_REACH * libm::sqrtf(e.bias_prior.max(0.0));
+        let keep = (cfg.lane_keep_m * cfg.lane_keep_m + motion * motion) * per_fix + e.white;
         for h in self.hyps.iter_mut() {
             let own = libm::sqrtf(e.white + h.bias_var);
             let there = h.density(e.z - h.bias, own);
@@ -338,7 +344,9 @@ impl Belief {
             }
             h.p *= libm::expf(log);
             let gain = h.bias_var / (h.bias_var + keep);
-            h.bias += gain * (e.z - h.centre - h.bias);
+            // A bias beyond BIAS_REACH sigmas of its prior is not learnt: a fix that far
+            // from the lane stays far from it (off the road, most likely).
+            h.bias = clamp(h.bias + gain * (e.z - h.centre - h.bias), -reach, reach);
             h.bias_var *= 1.0 - gain;
         }
         let off = -(kw + e.allowed_weight) * libm::logf(cfg.off_road_width_m.max(1.0));

@@ -1,4 +1,5 @@
-//! The MAP and TIM a roadside unit broadcasts for a [`Road`] and a [`WorkZone`].
+//! The MAP and TIM a roadside unit broadcasts for a [`Road`] and a [`WorkZone`], and the
+//! PSM of each road worker its camera tracks ([`build_psm`]).
 //!
 //! The messages are built directly as the codec's generated J2735 types ([`build_map`] in
 //! `map`, [`build_tim`] in `tim`), so the compiler checks their structure; every
@@ -7,9 +8,11 @@
 //! SIZE constraints of its lists. [`encode`] gives the UPER bytes that go on the air.
 
 mod map;
+mod psm;
 mod tim;
 
 pub use map::build_map;
+pub use psm::{build_psm, Worker, MAX_CRUMBS};
 pub use tim::build_tim;
 
 use crate::clock::Utc;

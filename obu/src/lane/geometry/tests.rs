@@ -129,3 +129,31 @@ fn quick_rejection() {
     assert!(l.may_contain(Point::new(0.0, 101.0), 2.0));
     assert!(!l.may_contain(Point::new(0.0, 110.0), 2.0));
 }
+
+#[test]
+fn the_segment_search_agrees_with_the_clamped_parameter() {
+    // Segments far from the origin (coordinates of a few km, as a MAP's are) and points
+    // before, beside and after them; the search's distance is the clamped-parameter one.
+    let mut seed = 0x2545_f491u32;
+    let mut next = || {
+        seed ^= seed << 13;
+        seed ^= seed >> 17;
+        seed ^= seed << 5;
+        (seed % 20_000) as f32 * 0.01 - 100.0
+    };
+    for _ in 0..2_000 {
+        let base = Point::new(2_000.0 + next(), -1_500.0 + next());
+        let a = Point::new(base.x + next(), base.y + next());
+        let b = Point::new(a.x + next() * 0.5, a.y + next() * 0.5);
+        let p = Point::new(base.x + next(), base.y + next());
+        let want = SegmentFit::dist2(a, b, p);
+        let got = nearer(a, b, p, f32::INFINITY).unwrap_or(f32::NAN);
+        assert!(
+            (got - want).abs() <= 1e-3 * want.max(1.0),
+            "{a:?} {b:?} {p:?}: {got} vs {want}"
+        );
+        // Not nearer than itself; nearer than anything farther.
+        assert_eq!(nearer(a, b, p, want * 0.999 - 1e-3), None);
+        assert!(nearer(a, b, p, want * 1.001 + 1e-3).is_some());
+    }
+}

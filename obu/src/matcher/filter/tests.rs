@@ -205,3 +205,66 @@ fn a_lane_change_under_a_bias_is_followed() {
     // With 2.2 m of bias to the left the fixes end in lane 2: the lane shown is 3.
     assert_eq!(shown.as_slice(), &[2, 3]);
 }
+
+#[test]
+fn a_slow_lane_change_is_not_taken_for_bias() {
+    let mut f = LaneFilter::new();
+    let mut shown = Vec::<u8, 64>::new();
+    let mut last = None;
+    for k in 0..600u64 {
+        // 2 -> 1 (left) over 8 s from 10 s on; 0.3 m white noise, 1 m reported.
+        let t = k as f32 / 10.0;
+        let w = clamp((t - 10.0) / 8.0, 0.0, 1.0);
+        let vy = if (10.0..18.0).contains(&t) {
+            3.5 / 8.0
+        } else {
+            0.0
+        };
+        let v = step(&mut f, k, 3.5 * w + noise(k, 0.3), &obs(1.0, vy));
+        if v.percent >= FilterConfig::DEFAULT.show_percent {
+            let lane = lane_of(&v).unwrap_or(0);
+            if shown.last() != Some(&lane) {
+                let _ = shown.push(lane);
+            }
+        }
+        last = Some(v);
+    }
+    assert_eq!(shown.as_slice(), &[2, 1]);
+    let v = last.unwrap_or_else(|| unreachable!());
+    assert_eq!(lane_of(&v), Some(1));
+    assert!(v.percent >= FilterConfig::DEFAULT.show_percent, "{v:?}");
+}
+
+#[test]
+fn fixes_that_stay_far_beyond_the_edge_leave_the_road_even_without_scatter() {
+    // A receiver reporting 1 m whose fixes do not scatter: the filter takes the error for
+    // a bias, but not one of 5.75 m (4 m beyond lane 3's edge).
+    let mut f = LaneFilter::new();
+    for k in 0..30 {
+        step(&mut f, k, -3.5, &obs(1.0, 0.0));
+    }
+    let mut last = None;
+    for k in 30..120 {
+        last = Some(step(&mut f, k, -9.25, &obs(1.0, 0.0)));
+    }
+    let v = last.unwrap_or_else(|| unreachable!());
+    assert!(!v.outlier && v.off_road_percent > v.percent, "{v:?}");
+}
+
+#[test]
+fn the_bias_prior_names_the_lane_a_steady_offset_is_nearest() {
+    // 1.2 m left of lane 2's centre, steady: a 1.2 m bias is far likelier than -2.3 m
+    // (lane 1), and only the bias's prior can say so.
+    let mut f = LaneFilter::new();
+    let mut last = None;
+    for k in 0..50 {
+        let v = step(&mut f, k, 1.2 + noise(k, 0.2), &obs(1.0, 0.0));
+        if v.percent >= FilterConfig::DEFAULT.show_percent {
+            assert_eq!(lane_of(&v), Some(2), "fix {k}: {v:?}");
+        }
+        last = Some(v);
+    }
+    let v = last.unwrap_or_else(|| unreachable!());
+    assert_eq!(lane_of(&v), Some(2));
+    assert!(v.percent >= FilterConfig::DEFAULT.show_percent, "{v:?}");
+}
