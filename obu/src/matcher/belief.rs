@@ -346,7 +346,12 @@ impl Belief {
             let gain = h.bias_var / (h.bias_var + keep);
             // A bias beyond BIAS_REACH sigmas of its prior is not learnt: a fix that far
             // from the lane stays far from it (off the road, most likely).
-            h.bias = clamp(h.bias + gain * (e.z - h.centre - h.bias), -reach, reach);
+            let learnt = h.bias + gain * (e.z - h.centre - h.bias);
+            h.bias = if learnt.is_finite() {
+                clamp(learnt, -reach, reach)
+            } else {
+                0.0
+            };
             h.bias_var *= 1.0 - gain;
         }
         let off = -(kw + e.allowed_weight) * libm::logf(cfg.off_road_width_m.max(1.0));

@@ -205,7 +205,10 @@ impl LaneFilter {
             .belief
             .step(dt, cands, a, self.track.vy, bias_prior, cfg)
         {
+            // A road met afresh: the bias path starts here (time off the road is no part
+            // of its integral).
             self.start_term = true;
+            self.allowed_due = 0.0;
         }
         if gated {
             self.weigh(cands[a].lateral, dt, sigma, cfg);

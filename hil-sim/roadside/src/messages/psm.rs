@@ -51,7 +51,7 @@ pub fn build_psm(worker: &Worker, now: Utc, msg_cnt: u8) -> Result<Box<MessageFr
         id: TemporaryID(worker.id),
         position: position(worker.position)?,
         accuracy: accuracy(worker.accuracy_m)?,
-        speed: fit("speed", velocity(worker.speed_mps), Velocity::new)?,
+        speed: speed(worker.speed_mps)?,
         heading: heading(worker.heading_deg)?,
         accel_set: None,
         path_history: path_history(worker)?,
@@ -79,10 +79,19 @@ pub fn build_psm(worker: &Worker, now: Utc, msg_cnt: u8) -> Result<Box<MessageFr
     })
 }
 
+/// m/s as `Velocity` (0.02 m/s units); unavailable (8191) for a speed not known.
+fn speed(mps: f64) -> Result<Velocity, BuildError> {
+    if mps.is_finite() && mps >= 0.0 {
+        fit("speed", velocity(mps), Velocity::new)
+    } else {
+        Ok(Velocity::UNAVAILABLE)
+    }
+}
+
 /// A circular error of `sigma_m` as `PositionalAccuracy` (0.05 m units; 254 for 12.7 m or
-/// more; orientation 0).
+/// more; unavailable, 255, for an error not known; orientation 0).
 fn accuracy(sigma_m: f64) -> Result<PositionalAccuracy, BuildError> {
-    let units = if sigma_m.is_finite() {
+    let units = if sigma_m.is_finite() && sigma_m >= 0.0 {
         ((sigma_m / 0.05).round() as i64).clamp(0, 254)
     } else {
         255
@@ -106,8 +115,8 @@ fn heading(deg: Option<f64>) -> Result<Heading, BuildError> {
 }
 
 /// The track's earlier positions as offsets from the present one (1e-7 degree units, 10
-/// ms time units); points beyond the offsets' reach (about 1.3 km, 655 s) end the list.
-/// `None` without history.
+/// ms time units); points younger than 5 ms are skipped, points beyond the offsets' reach
+/// (about 1.3 km, 655 s) end the list. `None` without history.
 fn path_history(worker: &Worker) -> Result<Option<PathHistory>, BuildError> {
     let mut crumbs = PathHistoryPointList::new();
     let (lat0, lon0) = (
@@ -117,8 +126,12 @@ fn path_history(worker: &Worker) -> Result<Option<PathHistory>, BuildError> {
     for (at, age_s) in worker.history.iter().take(MAX_CRUMBS) {
         let (dlat, dlon) = (i64::from(at.lat_e7()) - lat0, i64::from(at.lon_e7()) - lon0);
         let ticks = (age_s * 100.0).round();
+        if ticks.is_nan() || ticks < 1.0 {
+            // The present position again (or an age not known): no crumb.
+            continue;
+        }
         let reach = -131_071..=131_071;
-        if !(reach.contains(&dlat) && reach.contains(&dlon) && (1.0..65_535.0).contains(&ticks)) {
+        if !(reach.contains(&dlat) && reach.contains(&dlon) && ticks < 65_535.0) {
             break;
         }
         let point = PathHistoryPoint {
@@ -186,6 +199,11 @@ mod tests {
         assert_eq!(heading(Some(-90.0)).unwrap().get(), 21_600);
         assert_eq!(heading(None).unwrap(), Heading::UNAVAILABLE);
         assert_eq!(heading(Some(f64::INFINITY)).unwrap(), Heading::UNAVAILABLE);
+        assert_eq!(accuracy(-1.0).unwrap().semi_major.get(), 255);
+        assert_eq!(speed(1.5).unwrap().get(), 75);
+        assert_eq!(speed(f64::NAN).unwrap(), Velocity::UNAVAILABLE);
+        assert_eq!(speed(-0.5).unwrap(), Velocity::UNAVAILABLE);
+        assert_eq!(speed(1_000.0).unwrap().get(), 8190);
     }
 
     #[test]
@@ -193,7 +211,13 @@ mod tests {
         let mut w = worker();
         let far = LatLon::from_degrees(44.977_8, -93.0).unwrap();
         let near = LatLon::from_degrees(44.977_8, -93.265_1).unwrap();
-        w.history = vec![(near, 1.0), (near, 2.0), (far, 3.0), (near, 4.0)];
+        w.history = vec![
+            (w.position, 0.0),
+            (near, 1.0),
+            (near, 2.0),
+            (far, 3.0),
+            (near, 4.0),
+        ];
         let ph = path_history(&w).unwrap().unwrap();
         assert_eq!(ph.crumb_data.0.len(), 2);
         assert_eq!(ph.crumb_data.0[0].lon_offset.get(), -1000);
