@@ -9,6 +9,8 @@
 //! - [`camera`]: the roadside camera's model (pixels to the road plane), its calibration
 //!   and a synthetic camera for tests.
 //! - [`cones`]: detector boxes, their tracking over frames and the lane closures they make.
+//! - [`road_users`]: road users from the camera: vanishing points, 3D boxes from
+//!   instance masks, their positions on the road and their tracks.
 //! - [`site`]: a roadside installation as a scenario file describes it (lane map, zones and
 //!   their sources, radio faults).
 //! - [`zone_sources`]: each zone's closed lanes and stations from its source (lanes, cones,
@@ -41,6 +43,7 @@ pub mod messages;
 pub mod pki;
 pub mod rng;
 pub mod road;
+pub mod road_users;
 pub mod rsu;
 pub mod scripted;
 pub mod site;

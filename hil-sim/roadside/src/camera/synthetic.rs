@@ -165,6 +165,36 @@ impl PinholeCamera {
         (z > 0.0 && inside).then_some(px)
     }
 
+    /// A point (east, north, up) in camera axes: right, down, forward (metres).
+    pub fn to_camera(&self, p: [f64; 3]) -> [f64; 3] {
+        let r = [
+            p[0] - self.centre[0],
+            p[1] - self.centre[1],
+            p[2] - self.centre[2],
+        ];
+        [dot(r, self.right), dot(r, self.down), dot(r, self.forward)]
+    }
+
+    /// The pixel of a point in camera axes (`forward` > 0), inside the image or not.
+    pub fn pixel_of(&self, c: [f64; 3]) -> [f64; 2] {
+        let f = self.focal_px;
+        [
+            self.size[0] / 2.0 + f * c[0] / c[2],
+            self.size[1] / 2.0 + f * c[1] / c[2],
+        ]
+    }
+
+    /// The vanishing point of a direction (east, north, up), homogeneous pixels.
+    pub fn vanishing_point(&self, d: [f64; 3]) -> [f64; 3] {
+        let f = self.focal_px;
+        let (x, y, z) = (dot(d, self.right), dot(d, self.down), dot(d, self.forward));
+        [
+            f * x + self.size[0] / 2.0 * z,
+            f * y + self.size[1] / 2.0 * z,
+            z,
+        ]
+    }
+
     /// Pixel of a road point (east, north).
     pub fn project(&self, p: [f64; 2]) -> Option<[f64; 2]> {
         self.project3([p[0], p[1], 0.0])

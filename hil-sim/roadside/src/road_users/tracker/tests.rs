@@ -1,0 +1,397 @@
+use super::*;
+
+/// Seeded LCG + Box-Muller normal generator (test-only, deterministic).
+struct Noise(u64);
+
+impl Noise {
+    fn uniform(&mut self) -> f64 {
+        self.0 = self
+            .0
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        ((self.0 >> 11) as f64 + 0.5) / (1u64 << 53) as f64
+    }
+    fn normal(&mut self) -> f64 {
+        let (u1, u2) = (self.uniform(), self.uniform());
+        (-2.0 * u1.ln()).sqrt() * (2.0 * std::f64::consts::PI * u2).cos()
+    }
+}
+
+fn obs(class: RoadUserClass, x: f64, y: f64, sigma_m: f64) -> Observation {
+    Observation {
+        class,
+        position: [x, y],
+        sigma_m,
+    }
+}
+
+fn noisy(n: &mut Noise, class: RoadUserClass, truth: [f64; 2], sigma: f64) -> Observation {
+    obs(
+        class,
+        truth[0] + sigma * n.normal(),
+        truth[1] + sigma * n.normal(),
+        sigma,
+    )
+}
+
+fn tracker() -> RoadUserTracker {
+    RoadUserTracker::new(TrackerSettings::default()).unwrap()
+}
+
+fn angle_diff_deg(a: f64, b: f64) -> f64 {
+    let d = (a - b).rem_euclid(360.0);
+    d.min(360.0 - d)
+}
+
+#[test]
+fn walking_pedestrian_estimates_and_honest_sigma() {
+    let (mut tr, mut n) = (tracker(), Noise(42));
+    let (speed, sigma) = (1.4, 0.1);
+    let (mut sq_err, mut sum_sigma2, mut count) = (0.0, 0.0, 0.0);
+    let (mut max_dv, mut max_dh, mut max_dp) = (0.0f64, 0.0f64, 0.0f64);
+    let mut id = None;
+    for k in 0..=50 {
+        let t = k as f64 * 0.1;
+        let truth = [speed * t, 0.0];
+        let out = tr
+            .update(t, &[noisy(&mut n, RoadUserClass::Pedestrian, truth, sigma)])
+            .unwrap();
+        if k < 2 {
+            assert!(out.is_empty());
+            continue;
+        }
+        assert_eq!(out.len(), 1, "t={t} {out:?}");
+        let tk = &out[0];
+        assert_eq!(*id.get_or_insert(tk.id), tk.id);
+        assert_eq!(tk.class, RoadUserClass::Pedestrian);
+        if t >= 2.0 - 1e-9 {
+            let (dv, dh) = (
+                (tk.speed_mps - speed).abs(),
+                angle_diff_deg(tk.heading_deg.unwrap(), 90.0),
+            );
+            let (ex, ey) = (tk.position[0] - truth[0], tk.position[1] - truth[1]);
+            let dp = ex.hypot(ey);
+            assert!(
+                dv < 0.2 && dh < 10.0 && dp < 0.2,
+                "t={t} dv={dv} dh={dh} dp={dp}"
+            );
+            (max_dv, max_dh, max_dp) = (max_dv.max(dv), max_dh.max(dh), max_dp.max(dp));
+            assert!(tk.heading_sigma_deg.unwrap() > 0.0 && tk.speed_sigma_mps > 0.0);
+            if t > 2.0 + 1e-9 {
+                // Per-axis error vs per-axis sigma (isotropic here).
+                sq_err += (ex * ex + ey * ey) / 2.0;
+                sum_sigma2 += tk.position_sigma_m * tk.position_sigma_m;
+                count += 1.0;
+            }
+        }
+    }
+    let (rms, rep) = ((sq_err / count).sqrt(), (sum_sigma2 / count).sqrt());
+    eprintln!(
+        "walking: max |dv|={max_dv:.3} m/s max |dh|={max_dh:.2} deg max |dp|={max_dp:.3} m; rms err/axis={rms:.3} m reported sigma={rep:.3} m"
+    );
+    assert!(
+        rms < 2.0 * rep && rms > 0.5 * rep,
+        "rms={rms} reported={rep}"
+    );
+}
+
+#[test]
+fn crossing_pedestrians_keep_ids() {
+    let (mut tr, mut n) = (tracker(), Noise(7));
+    let truth = |t: f64| ([-10.0 + 1.4 * t, 0.0], [10.0 - 1.4 * t, 1.0]);
+    let (mut id_a, mut id_b) = (None, None);
+    for k in 0..=140 {
+        let t = k as f64 * 0.1;
+        let (a, b) = truth(t);
+        let o = [
+            noisy(&mut n, RoadUserClass::Pedestrian, a, 0.1),
+            noisy(&mut n, RoadUserClass::Pedestrian, b, 0.1),
+        ];
+        let out = tr.update(t, &o).unwrap();
+        if k < 2 {
+            continue;
+        }
+        assert_eq!(out.len(), 2, "t={t}");
+        let near = |p: [f64; 2]| {
+            out.iter()
+                .min_by(|x, y| dist(x.position, p).total_cmp(&dist(y.position, p)))
+                .unwrap()
+        };
+        let (ta, tb) = (near(a), near(b));
+        assert!(
+            dist(ta.position, a) < 0.4 && dist(tb.position, b) < 0.4,
+            "t={t}"
+        );
+        assert_eq!(*id_a.get_or_insert(ta.id), ta.id, "A swapped at t={t}");
+        assert_eq!(*id_b.get_or_insert(tb.id), tb.id, "B swapped at t={t}");
+    }
+    assert_ne!(id_a, id_b);
+}
+
+fn dist(p: [f64; 2], q: [f64; 2]) -> f64 {
+    (p[0] - q[0]).hypot(p[1] - q[1])
+}
+
+#[test]
+fn car_passing_standing_worker() {
+    let (mut tr, mut n) = (tracker(), Noise(99));
+    let worker = [0.0, 2.0];
+    let (mut id_car, mut id_worker) = (None, None);
+    for k in 0..=60 {
+        let t = k as f64 * 0.1;
+        let car = [-40.0 + 15.0 * t, 0.0];
+        let o = [
+            noisy(&mut n, RoadUserClass::Car, car, 0.2),
+            noisy(&mut n, RoadUserClass::Pedestrian, worker, 0.1),
+        ];
+        let out = tr.update(t, &o).unwrap();
+        if k < 2 {
+            continue;
+        }
+        assert_eq!(out.len(), 2);
+        let c = out.iter().find(|x| x.class == RoadUserClass::Car).unwrap();
+        let w = out
+            .iter()
+            .find(|x| x.class == RoadUserClass::Pedestrian)
+            .unwrap();
+        assert_eq!(*id_car.get_or_insert(c.id), c.id);
+        assert_eq!(*id_worker.get_or_insert(w.id), w.id);
+        // First few frames: velocity from 3 noisy fixes is inherently ~0.7 m/s
+        // uncertain; from 1 s on (well before the car passes at 2.7 s) it must be low.
+        if t >= 1.0 {
+            assert!(w.speed_mps < 0.5, "worker speed {} at t={t}", w.speed_mps);
+        }
+        assert!(
+            dist(w.position, worker) < if t >= 1.0 { 0.3 } else { 0.5 }
+                && dist(c.position, car) < 1.0,
+            "t={t} {out:?}"
+        );
+        if t > 1.0 {
+            assert!(
+                (c.speed_mps - 15.0).abs() < 1.0
+                    && angle_diff_deg(c.heading_deg.unwrap(), 90.0) < 5.0
+            );
+        }
+    }
+}
+
+#[test]
+fn confirm_coast_and_drop() {
+    let mut tr = tracker();
+    let o = [obs(RoadUserClass::Pedestrian, 5.0, 5.0, 0.1)];
+    assert!(tr.update(0.0, &o).unwrap().is_empty());
+    assert!(tr.update(0.1, &o).unwrap().is_empty());
+    let out = tr.update(0.2, &o).unwrap();
+    assert_eq!(out.len(), 1);
+    let id = out[0].id;
+    assert_eq!(out[0].hits, 3);
+    // Same frame twice is allowed (dt = 0).
+    assert_eq!(tr.update(0.2, &[]).unwrap().len(), 1);
+    for k in 3..=7 {
+        let out = tr.update(k as f64 * 0.1, &[]).unwrap();
+        assert_eq!(out.len(), 1, "coasting at k={k}");
+        assert_eq!((out[0].id, out[0].hits), (id, 3));
+        assert!(out[0].position_sigma_m > 0.0);
+    }
+    let out = tr.update(0.8, &o).unwrap();
+    assert_eq!(
+        (out.len(), out[0].id, out[0].hits, out[0].last_seen_s),
+        (1, id, 4, 0.8)
+    );
+    assert_eq!(tr.update(1.7, &[]).unwrap().len(), 1);
+    assert!(tr.update(1.9, &[]).unwrap().is_empty());
+    // A new observation there starts a new, unconfirmed track with a new id.
+    assert!(tr.update(2.0, &o).unwrap().is_empty());
+    assert!(tr.update(2.1, &o).unwrap().is_empty());
+    assert_ne!(tr.update(2.2, &o).unwrap()[0].id, id);
+}
+
+#[test]
+fn class_is_majority_and_groups_separate() {
+    let mut tr = tracker();
+    let (c, v) = (RoadUserClass::Car, RoadUserClass::Van);
+    for (k, class) in [c, v, c, v, c].into_iter().enumerate() {
+        tr.update(k as f64 * 0.1, &[obs(class, 0.0, 0.0, 0.2)])
+            .unwrap();
+    }
+    let out = tr
+        .update(0.5, &[obs(RoadUserClass::Cyclist, 0.0, 0.0, 0.2)])
+        .unwrap();
+    assert_eq!(out.len(), 1, "cyclist must not join the vehicle track");
+    assert_eq!((out[0].class, out[0].hits), (c, 5));
+}
+
+#[test]
+fn time_back_and_non_finite_time_leave_tracker_unchanged() {
+    let mut tr = tracker();
+    tr.update(1.0, &[obs(RoadUserClass::Car, 0.0, 0.0, 0.5)])
+        .unwrap();
+    let before = tr.clone();
+    let o = [obs(RoadUserClass::Car, 50.0, 0.0, 0.5)];
+    assert_eq!(
+        tr.update(0.9, &o),
+        Err(TrackerError::TimeWentBack {
+            last_s: 1.0,
+            now_s: 0.9
+        })
+    );
+    assert_eq!(tr.update(f64::NAN, &o), Err(TrackerError::NonFiniteTime));
+    assert_eq!(
+        tr.update(f64::INFINITY, &o),
+        Err(TrackerError::NonFiniteTime)
+    );
+    assert_eq!(tr, before);
+    assert!(!TrackerError::NonFiniteTime.to_string().is_empty());
+}
+
+#[test]
+fn bad_observations_counted_and_ignored() {
+    let mut tr = tracker();
+    let p = RoadUserClass::Pedestrian;
+    let bad = [
+        obs(p, f64::NAN, 0.0, 0.1),
+        obs(p, 0.0, f64::INFINITY, 0.1),
+        obs(p, 0.0, 0.0, f64::NAN),
+        obs(p, 0.0, 0.0, 0.0),
+        obs(p, 0.0, 0.0, -1.0),
+    ];
+    for k in 0..3 {
+        let mut frame = bad.to_vec();
+        frame.push(obs(p, 1.0, 1.0, 0.1));
+        frame.push(obs(p, 2.0e6, 0.0, 0.1));
+        let out = tr.update(k as f64 * 0.1, &frame).unwrap();
+        assert_eq!(out.len(), usize::from(k == 2));
+    }
+    let r = tr.rejected();
+    assert_eq!((r.non_finite, r.out_of_range, r.over_capacity), (15, 3, 0));
+}
+
+#[test]
+fn max_tracks_bound() {
+    let mut tr = tracker();
+    let frame: Vec<_> = (0..300)
+        .map(|i| obs(RoadUserClass::Car, i as f64 * 100.0, 0.0, 0.5))
+        .collect();
+    assert!(tr.update(0.0, &frame).unwrap().is_empty());
+    assert_eq!(tr.rejected().over_capacity, 44);
+    tr.update(0.1, &frame).unwrap();
+    let out = tr.update(0.2, &frame).unwrap();
+    assert_eq!(out.len(), RoadUserTracker::MAX_TRACKS);
+    assert_eq!(tr.rejected().over_capacity, 44 * 3);
+    let big = vec![obs(RoadUserClass::Car, 0.0, 0.0, 0.5); RoadUserTracker::MAX_OBSERVATIONS + 5];
+    tr.update(0.3, &big).unwrap();
+    assert_eq!(tr.rejected().over_frame_limit, 5);
+}
+
+#[test]
+fn bad_settings_rejected() {
+    let d = TrackerSettings::default();
+    let cases = [
+        (TrackerSettings { gate_m: 0.0, ..d }, "gate_m"),
+        (
+            TrackerSettings {
+                gate_m: f64::NAN,
+                ..d
+            },
+            "gate_m",
+        ),
+        (
+            TrackerSettings {
+                confirm_hits: 0,
+                ..d
+            },
+            "confirm_hits",
+        ),
+        (
+            TrackerSettings {
+                max_coast_s: -1.0,
+                ..d
+            },
+            "max_coast_s",
+        ),
+        (
+            TrackerSettings {
+                max_coast_s: f64::INFINITY,
+                ..d
+            },
+            "max_coast_s",
+        ),
+        (
+            TrackerSettings {
+                accel_sigma_mps2: f64::NAN,
+                ..d
+            },
+            "accel_sigma_mps2",
+        ),
+        (
+            TrackerSettings {
+                person_accel_sigma_mps2: 0.0,
+                ..d
+            },
+            "person_accel_sigma_mps2",
+        ),
+    ];
+    for (s, field) in cases {
+        assert_eq!(
+            RoadUserTracker::new(s),
+            Err(TrackerError::BadSettings(field))
+        );
+    }
+    assert!(RoadUserTracker::new(d).is_ok());
+}
+
+#[test]
+fn garbage_input_never_panics_and_outputs_stay_finite() {
+    let (mut tr, mut n) = (tracker(), Noise(3));
+    let vals = [
+        0.0,
+        1e-300,
+        -1e-300,
+        1e5,
+        -9.9e5,
+        1e300,
+        f64::NAN,
+        f64::NEG_INFINITY,
+        3.0,
+    ];
+    for k in 0..200 {
+        let t = k as f64 * 0.05;
+        let frame: Vec<_> = (0..20)
+            .map(|i| {
+                let pick =
+                    |n: &mut Noise| vals[(n.uniform() * vals.len() as f64) as usize % vals.len()];
+                let class = RoadUserClass::ALL[i % 7];
+                obs(
+                    class,
+                    pick(&mut n) + n.normal(),
+                    pick(&mut n),
+                    pick(&mut n).abs() + 1e-12,
+                )
+            })
+            .collect();
+        for tk in tr.update(t, &frame).unwrap() {
+            let all = [
+                tk.position[0],
+                tk.position[1],
+                tk.speed_mps,
+                tk.position_sigma_m,
+                tk.speed_sigma_mps,
+            ];
+            assert!(all.iter().all(|v| v.is_finite()), "{tk:?}");
+            assert!(tk.heading_deg.is_none_or(|h| (0.0..360.0).contains(&h)));
+        }
+    }
+}
+
+#[test]
+fn id_wrap_skips_ids_in_use() {
+    let mut tr = tracker();
+    let car = |x: f64| obs(RoadUserClass::Car, x, 0.0, 0.5);
+    tr.update(0.0, &[car(0.0)]).unwrap(); // id 1
+    tr.next_id = u32::MAX;
+    tr.update(0.1, &[car(0.0), car(1000.0), car(2000.0), car(3000.0)])
+        .unwrap();
+    let mut ids: Vec<u32> = tr.tracks.iter().map(|t| t.id).collect();
+    ids.sort_unstable();
+    assert_eq!(ids, vec![0, 1, 2, u32::MAX]);
+}

@@ -1,0 +1,299 @@
+//! Road users from the camera, end to end on rendered scenes with known truth (the small
+//! 960x540 camera, so that the debug build stays quick): calibration from the picture, boxes
+//! and positions from the masks, refusals, the COCO file round trip and tracking.
+
+use std::sync::OnceLock;
+
+use roadside::camera::synthetic::PinholeCamera;
+use roadside::camera::Homography;
+use roadside::rng::Prng;
+use roadside::road_users::boxes::BoxRejection;
+use roadside::road_users::calibrate::{calibrate, cross_check, SceneCalibration};
+use roadside::road_users::class::Extent;
+use roadside::road_users::detections::parse_coco;
+use roadside::road_users::edgelets::EdgeletSettings;
+use roadside::road_users::localize::Localizer;
+use roadside::road_users::synthetic::{
+    coco_json, corners, labels, masks, picture, random_users, render, small_pole_camera, RoadUser,
+    World,
+};
+use roadside::road_users::tracker::{Observation, RoadUserTracker, TrackerSettings};
+use roadside::road_users::vanishing::{angle_between, RansacSettings};
+use roadside::road_users::RoadUserClass;
+
+struct Setup {
+    world: World,
+    cam: PinholeCamera,
+    cal: SceneCalibration,
+    homography: Homography,
+}
+
+/// The scene calibrated once: vanishing points from the empty street's picture, the
+/// homography from the surveyed lane-marking points in view with 0.3 px of noise.
+fn setup() -> &'static Setup {
+    static SETUP: OnceLock<Setup> = OnceLock::new();
+    SETUP.get_or_init(|| {
+        let world = World::work_zone();
+        let cam = small_pole_camera();
+        let grey = image::DynamicImage::ImageRgb8(picture(&world, &cam, &[])).to_luma8();
+        let cal = calibrate(
+            &grey,
+            &EdgeletSettings::default(),
+            &RansacSettings::default(),
+        )
+        .expect("the street calibrates");
+        let mut rng = Prng::new(3);
+        let mut pairs = Vec::new();
+        for y in [20.0, 26.0, 34.0, 45.0] {
+            for x in [0.0, 3.5, 7.0, 10.5] {
+                if let Some(p) = cam.project([x, y]) {
+                    pairs.push((
+                        [p[0] + 0.3 * rng.normal(), p[1] + 0.3 * rng.normal()],
+                        [x, y],
+                    ));
+                }
+            }
+        }
+        assert!(
+            pairs.len() >= 12,
+            "{} reference points in view",
+            pairs.len()
+        );
+        let homography = Homography::estimate(&pairs).expect("a homography");
+        Setup {
+            world,
+            cam,
+            cal,
+            homography,
+        }
+    })
+}
+
+fn localizer() -> Localizer {
+    let s = setup();
+    Localizer::new(&s.cal, s.homography.matrix()).expect("a ground camera")
+}
+
+fn user(id: u32, class: RoadUserClass, centre: [f64; 2]) -> RoadUser {
+    RoadUser {
+        id,
+        class,
+        centre,
+        extent: class.typical(),
+        velocity: [0.0, 0.0],
+    }
+}
+
+#[test]
+fn vanishing_points_and_focal_length_match_the_camera() {
+    let s = setup();
+    let truth =
+        [[0.0, 1.0, 0.0], [1.0, 0.0, 0.0], [0.0, 0.0, 1.0]].map(|d| s.cam.vanishing_point(d));
+    let found = [
+        s.cal.points.road,
+        s.cal.points.across,
+        s.cal.points.vertical,
+    ];
+    let f = s.cam.focal_px();
+    for (k, limit) in [0.3, 1.0, 0.5].into_iter().enumerate() {
+        let a = angle_between(found[k], truth[k], f, &s.cal.principal).unwrap();
+        assert!(a < limit, "vanishing point {k} is {a:.3}° off");
+    }
+    let focal_error = (s.cal.focal_px / f - 1.0).abs();
+    assert!(
+        focal_error < 0.03,
+        "focal {:.1} px against {f}",
+        s.cal.focal_px
+    );
+    // The homography from surveyed points agrees (road runs north here).
+    let c = cross_check(&s.cal, s.homography.matrix(), 0.0).unwrap();
+    assert!(
+        c.road_deg < 0.5 && c.across_deg < 1.5 && c.vertical_deg < 1.0,
+        "{c:?}"
+    );
+    let hf = c.homography_focal_px.unwrap();
+    assert!((hf / f - 1.0).abs() < 0.02, "homography focal {hf:.1}");
+}
+
+#[test]
+fn clear_road_users_get_their_box_and_position() {
+    let s = setup();
+    let loc = localizer();
+    let size = s.cam.image_size().map(|v| v as u32);
+    let mut rng = Prng::new(11);
+    let (mut seen, mut placed) = (0, 0);
+    for k in 0..25 {
+        let mut classes = RoadUserClass::ALL.to_vec();
+        classes.rotate_left(k % 7);
+        let users = random_users(&s.world, &s.cam, &mut rng, 3, 40.0, &classes);
+        placed += users.len();
+        let lab = labels(&s.cam, &users, 0.0, &mut rng);
+        let found = masks(&lab, size, &users, &[]);
+        let sil: Vec<_> = found.iter().map(|(_, m)| m.clone()).collect();
+        let (boxes, _) = loc.frame(&sil);
+        for b in boxes {
+            let truth = &users[found[b.index].0];
+            let e = (b.position[0] - truth.centre[0]).hypot(b.position[1] - truth.centre[1]);
+            assert!(
+                e < 0.15,
+                "{truth:?} placed at {:?}, {e:.3} m off",
+                b.position
+            );
+            assert!(e < 3.0 * b.sigma_m, "{e:.3} m off, sigma {:.3}", b.sigma_m);
+            let t = truth.extent;
+            let r = b.road_user;
+            for (got, want) in [
+                (r.length_m(), t.length_m),
+                (r.width_m(), t.width_m),
+                (r.height_m, t.height_m),
+            ] {
+                assert!(
+                    (got - want).abs() < 0.15 * want + 0.2,
+                    "{truth:?}: {got:.2} for {want:.2}"
+                );
+            }
+            // Every constructed vertex is near a true corner's pixel.
+            let true_px: Vec<[f64; 2]> = corners(&truth.solid())
+                .iter()
+                .map(|p| s.cam.pixel_of(s.cam.to_camera(*p)))
+                .collect();
+            for v in r.vertices_px {
+                let d = true_px
+                    .iter()
+                    .map(|t| (t[0] - v[0]).hypot(t[1] - v[1]))
+                    .fold(f64::MAX, f64::min);
+                assert!(
+                    d < 2.5,
+                    "{truth:?}: vertex {v:?} is {d:.2} px from a corner"
+                );
+            }
+            seen += 1;
+        }
+    }
+    assert!(seen * 2 > placed, "{seen} of {placed} localized");
+}
+
+#[test]
+fn a_hidden_or_cut_or_mislabelled_mask_is_refused_with_its_reason() {
+    let s = setup();
+    let loc = localizer();
+    let size = s.cam.image_size().map(|v| v as u32);
+    let mut rng = Prng::new(5);
+    // A truck in lane 1 hides part of a worker standing just behind it.
+    let users = [
+        user(0, RoadUserClass::Truck, [1.75, 24.0]),
+        user(1, RoadUserClass::Pedestrian, [7.5, 29.2]),
+    ];
+    let lab = labels(&s.cam, &users, 0.0, &mut rng);
+    let sil: Vec<_> = masks(&lab, size, &users, &[])
+        .into_iter()
+        .map(|(_, m)| m)
+        .collect();
+    assert_eq!(sil.len(), 2, "the worker is partly seen");
+    let alone = masks(
+        &labels(&s.cam, &users[1..], 0.0, &mut rng),
+        size,
+        &users[1..],
+        &[],
+    );
+    assert!(
+        sil[1].area_px < 0.9 * alone[0].1.area_px,
+        "the truck hides part of the worker"
+    );
+    let (boxes, rejected) = loc.frame(&sil);
+    assert_eq!(boxes.len(), 1, "{boxes:?} {rejected:?}");
+    assert_eq!(sil[boxes[0].index].class, RoadUserClass::Truck);
+    assert_eq!(rejected.occluded, 1);
+    // A bus's mask labelled as a person is not a person.
+    let bus = [user(0, RoadUserClass::Bus, [5.25, 30.0])];
+    let lab = labels(&s.cam, &bus, 0.0, &mut rng);
+    let mut sil: Vec<_> = masks(&lab, size, &bus, &[])
+        .into_iter()
+        .map(|(_, m)| m)
+        .collect();
+    sil[0].class = RoadUserClass::Pedestrian;
+    let (boxes, rejected) = loc.frame(&sil);
+    assert!(boxes.is_empty());
+    assert_eq!(rejected.implausible, 1);
+    // A mask cut by the frame's border.
+    sil[0].touches_border = true;
+    assert_eq!(loc.frame(&sil).1.truncated, 1);
+    // Fewer than three hull points.
+    sil[0].hull.truncate(2);
+    sil[0].touches_border = false;
+    assert_eq!(loc.frame(&sil).1.degenerate, 1);
+    let one = roadside::road_users::boxes::construct(
+        RoadUserClass::Car,
+        &sil[0].hull,
+        loc.points(),
+        loc.camera(),
+    );
+    assert_eq!(one.unwrap_err(), BoxRejection::TooFewPoints);
+}
+
+#[test]
+fn a_coco_file_round_trip_gives_the_same_masks() {
+    let s = setup();
+    let size = s.cam.image_size().map(|v| v as u32);
+    let mut rng = Prng::new(8);
+    let users = random_users(&s.world, &s.cam, &mut rng, 4, 40.0, &RoadUserClass::ALL);
+    assert!(users.len() >= 3);
+    let frame = render(&s.world, &s.cam, &users, 1.0, &mut rng);
+    let missed = vec![false, true, false, false];
+    let text = coco_json(&[("f0.png".into(), &frame, &users, &missed)]).to_string();
+    let parsed = parse_coco(&text).expect("our own COCO file parses");
+    assert_eq!(parsed.len(), 1);
+    let direct: Vec<_> = masks(&frame.labels, size, &users, &missed)
+        .into_iter()
+        .map(|(_, m)| m)
+        .collect();
+    assert_eq!(parsed[0].silhouettes.len(), direct.len());
+    for (a, b) in parsed[0].silhouettes.iter().zip(&direct) {
+        assert_eq!((a.class, &a.hull, a.area_px), (b.class, &b.hull, b.area_px));
+    }
+}
+
+#[test]
+fn a_worker_crossing_the_lane_is_tracked_with_speed_and_heading() {
+    let s = setup();
+    let loc = localizer();
+    let size = s.cam.image_size().map(|v| v as u32);
+    let mut rng = Prng::new(21);
+    let mut tracker = RoadUserTracker::new(TrackerSettings::default()).unwrap();
+    let mut last = Vec::new();
+    for k in 0..40 {
+        let t = f64::from(k) * 0.1;
+        // 1.2 m/s east across lanes 2 and 3, 30 m up the street.
+        let worker = RoadUser {
+            extent: Extent {
+                length_m: 0.35,
+                width_m: 0.55,
+                height_m: 1.8,
+            },
+            ..user(7, RoadUserClass::Pedestrian, [4.0 + 1.2 * t, 30.0])
+        };
+        let lab = labels(&s.cam, &[worker], 1.0, &mut rng);
+        let sil: Vec<_> = masks(&lab, size, &[worker], &[])
+            .into_iter()
+            .map(|(_, m)| m)
+            .collect();
+        let (boxes, _) = loc.frame(&sil);
+        let obs: Vec<Observation> = boxes
+            .iter()
+            .map(|b| Observation {
+                class: b.road_user.class,
+                position: b.position,
+                sigma_m: b.sigma_m,
+            })
+            .collect();
+        last = tracker.update(t, &obs).unwrap();
+    }
+    assert_eq!(last.len(), 1, "{last:?}");
+    let track = &last[0];
+    assert!((track.speed_mps - 1.2).abs() < 0.3, "{track:?}");
+    let heading = track.heading_deg.expect("moving");
+    assert!((heading - 90.0).abs() < 15.0, "{track:?}");
+    let truth = [4.0 + 1.2 * 3.9, 30.0];
+    let e = (track.position[0] - truth[0]).hypot(track.position[1] - truth[1]);
+    assert!(e < 0.25, "{track:?} is {e:.2} m off");
+}
