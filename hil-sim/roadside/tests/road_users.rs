@@ -14,8 +14,8 @@ use roadside::road_users::detections::parse_coco;
 use roadside::road_users::edgelets::EdgeletSettings;
 use roadside::road_users::localize::Localizer;
 use roadside::road_users::synthetic::{
-    coco_json, corners, labels, masks, picture, random_users, render, small_pole_camera, RoadUser,
-    World,
+    coco_json, corners, labels, masks, picture, random_users, render, small_pole_camera, CocoFrame,
+    RoadUser, World,
 };
 use roadside::road_users::tracker::{Observation, RoadUserTracker, TrackerSettings};
 use roadside::road_users::vanishing::{angle_between, RansacSettings};
@@ -240,7 +240,14 @@ fn a_coco_file_round_trip_gives_the_same_masks() {
     assert!(users.len() >= 3);
     let frame = render(&s.world, &s.cam, &users, 1.0, &mut rng);
     let missed = vec![false, true, false, false];
-    let text = coco_json(&[("f0.png".into(), &frame, &users, &missed)]).to_string();
+    let coco = CocoFrame {
+        file_name: "f0.png",
+        size,
+        labels: &frame.labels,
+        users: &users,
+        missed: &missed,
+    };
+    let text = coco_json(&[coco]).to_string();
     let parsed = parse_coco(&text).expect("our own COCO file parses");
     assert_eq!(parsed.len(), 1);
     let direct: Vec<_> = masks(&frame.labels, size, &users, &missed)

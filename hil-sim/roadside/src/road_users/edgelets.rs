@@ -79,7 +79,12 @@ pub fn edgelets(image: &GrayImage, settings: &EdgeletSettings) -> Vec<Edgelet> {
     let (cols, rows) = (w.div_ceil(cell) as usize, h.div_ceil(cell) as usize);
     let mut cells = vec![Cell::default(); cols * rows];
     let min2 = settings.min_magnitude * settings.min_magnitude;
-    let grad = |x: u32, y: u32| (f64::from(gx.get_pixel(x, y)[0]), f64::from(gy.get_pixel(x, y)[0]));
+    let grad = |x: u32, y: u32| {
+        (
+            f64::from(gx.get_pixel(x, y)[0]),
+            f64::from(gy.get_pixel(x, y)[0]),
+        )
+    };
     let mag2 = |x: u32, y: u32| {
         let (dx, dy) = grad(x, y);
         dx * dx + dy * dy

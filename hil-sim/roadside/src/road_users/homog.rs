@@ -108,7 +108,10 @@ mod tests {
         let columns = transpose(&inv);
         for (row, want) in m.iter().zip(identity) {
             let got = columns.map(|col| dot(*row, col));
-            assert!(got.iter().zip(want).all(|(g, w)| (g - w).abs() < 1e-12), "{got:?}");
+            assert!(
+                got.iter().zip(want).all(|(g, w)| (g - w).abs() < 1e-12),
+                "{got:?}"
+            );
         }
         assert_eq!(
             inverse(&[[1.0, 2.0, 3.0], [2.0, 4.0, 6.0], [0.0, 0.0, 1.0]]),

@@ -95,7 +95,14 @@ fn rle_uncompressed_l_shape() {
     assert_eq!(s.score, Some(0.5));
     assert_eq!(
         s.hull,
-        vec![[1.0, 0.5], [1.5, 0.0], [4.0, 2.5], [3.5, 3.0], [1.5, 3.0], [1.0, 2.5]]
+        vec![
+            [1.0, 0.5],
+            [1.5, 0.0],
+            [4.0, 2.5],
+            [3.5, 3.0],
+            [1.5, 3.0],
+            [1.0, 2.5]
+        ]
     );
     assert_eq!((s.area_px, s.parts, s.touches_border), (5.0, 1, true));
 

@@ -7,11 +7,13 @@
 
 mod raster;
 mod render;
+mod traffic;
 mod world;
 
 use serde_json::{json, Value};
 
 pub use render::{corners, labels, picture, render, silhouette, Rendered, RoadUser};
+pub use traffic::{users_at, work_zone_traffic, Motion, Mover, LOOP_M};
 pub use world::{Patch, Solid, World};
 
 use super::class::RoadUserClass;
@@ -165,9 +167,25 @@ pub fn masks(
         .collect()
 }
 
-/// A COCO dataset file of frames: each frame's `(file_name, rendered, users, missed)`; masks
-/// as uncompressed RLE (column-major), classes by name.
-pub fn coco_json(frames: &[(String, &Rendered, &[RoadUser], &[bool])]) -> Value {
+/// One frame of a COCO file: its picture's name and size, the label buffer, the road users
+/// it labels and which of them the detector missed.
+#[derive(Debug, Clone, Copy)]
+pub struct CocoFrame<'a> {
+    /// The picture's file name.
+    pub file_name: &'a str,
+    /// `[width, height]`, pixels.
+    pub size: [u32; 2],
+    /// Row-major labels (`k + 1` for road user `k`).
+    pub labels: &'a [u16],
+    /// The road users.
+    pub users: &'a [RoadUser],
+    /// Missed detections (by index; shorter means not missed).
+    pub missed: &'a [bool],
+}
+
+/// A COCO dataset file of frames (image ids 0, 1, ...): masks as uncompressed RLE
+/// (column-major), classes by name.
+pub fn coco_json(frames: &[CocoFrame<'_>]) -> Value {
     let categories: Vec<Value> = RoadUserClass::ALL
         .iter()
         .enumerate()
@@ -175,14 +193,17 @@ pub fn coco_json(frames: &[(String, &Rendered, &[RoadUser], &[bool])]) -> Value 
         .collect();
     let mut images = Vec::new();
     let mut annotations = Vec::new();
-    for (id, (name, frame, users, missed)) in frames.iter().enumerate() {
-        let (w, h) = frame.image.dimensions();
-        images.push(json!({"id": id, "file_name": name, "width": w, "height": h}));
-        for (k, u) in users.iter().enumerate() {
-            if missed.get(k).copied().unwrap_or(false) {
+    for (id, f) in frames.iter().enumerate() {
+        let [w, h] = f.size;
+        images.push(json!({"id": id, "file_name": f.file_name, "width": w, "height": h}));
+        if f.labels.len() != (w as usize) * (h as usize) {
+            continue;
+        }
+        for (k, u) in f.users.iter().enumerate() {
+            if f.missed.get(k).copied().unwrap_or(false) {
                 continue;
             }
-            let counts = rle_counts(&frame.labels, w, h, (k + 1) as u16);
+            let counts = rle_counts(f.labels, w, h, (k + 1) as u16);
             if counts.len() <= 1 {
                 continue;
             }

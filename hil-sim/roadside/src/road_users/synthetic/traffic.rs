@@ -1,0 +1,163 @@
+//! Moving road users for a sequence of frames: traffic through the open lanes of the street
+//! and workers in the closed lane, each with a stable id, as the truth of a video.
+
+use super::render::RoadUser;
+use super::world::World;
+use crate::rng::Prng;
+use crate::road_users::class::{Extent, RoadUserClass};
+
+/// The stretch of street the traffic loops over, metres north (a road user leaving its far
+/// end comes back at its near end).
+pub const LOOP_M: [f64; 2] = [0.0, 72.0];
+
+/// A road user and how it moves.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Mover {
+    /// The road user at time 0.
+    pub start: RoadUser,
+    /// Its motion.
+    pub motion: Motion,
+}
+
+/// How a road user moves.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Motion {
+    /// Drives north along its lane at a constant speed, looping over [`LOOP_M`].
+    Drive {
+        /// Speed, m/s.
+        speed_mps: f64,
+    },
+    /// Walks east and west between two x positions, slowing down to turn (a sine in time).
+    Pace {
+        /// West and east turning points, metres.
+        between: [f64; 2],
+        /// Top speed (midway), m/s.
+        speed_mps: f64,
+    },
+    /// Stands still.
+    Stand,
+}
+
+fn sized(class: RoadUserClass, rng: &mut Prng) -> Extent {
+    let t = class.typical();
+    let mut vary = |v: f64| v * (0.92 + 0.16 * rng.next_f64());
+    Extent {
+        length_m: vary(t.length_m),
+        width_m: vary(t.width_m),
+        height_m: vary(t.height_m),
+    }
+}
+
+/// Traffic through a work zone: lane 1 carries cars and a motorcycle at 12 m/s, lane 2 vans,
+/// a truck and a bus at 9 m/s (each lane's vehicles evenly spaced over the loop), and the
+/// closed lane holds three workers: one pacing across it and two standing, one by its
+/// west edge.
+pub fn work_zone_traffic(world: &World, seed: u64) -> Vec<Mover> {
+    let mut rng = Prng::new(seed);
+    let loop_len = LOOP_M[1] - LOOP_M[0];
+    let mut movers = Vec::new();
+    let lanes: [(u32, f64, &[RoadUserClass]); 2] = [
+        (
+            1,
+            12.0,
+            &[
+                RoadUserClass::Car,
+                RoadUserClass::Motorcycle,
+                RoadUserClass::Car,
+            ],
+        ),
+        (
+            2,
+            9.0,
+            &[RoadUserClass::Van, RoadUserClass::Truck, RoadUserClass::Bus],
+        ),
+    ];
+    for (lane, speed_mps, classes) in lanes {
+        let phase = rng.next_f64() * loop_len;
+        for (k, &class) in classes.iter().enumerate() {
+            let y = LOOP_M[0] + (phase + loop_len * k as f64 / classes.len() as f64) % loop_len;
+            let x = world.lane_centre_x(lane) + 0.3 * (rng.next_f64() - 0.5);
+            movers.push(mover(
+                movers.len(),
+                class,
+                [x, y],
+                sized(class, &mut rng),
+                Motion::Drive { speed_mps },
+            ));
+        }
+    }
+    let closed = world.lane_centre_x(world.closed.0);
+    let half = world.lane_width_m / 2.0;
+    let person = |rng: &mut Prng| sized(RoadUserClass::Pedestrian, rng);
+    let pace = Motion::Pace {
+        between: [closed - half + 0.5, closed + half - 0.5],
+        speed_mps: 0.8,
+    };
+    let workers = [
+        ([closed, 32.0], pace),
+        ([closed - half + 0.6, 40.0], Motion::Stand),
+        ([closed + 0.8, 52.0], Motion::Stand),
+    ];
+    for (at, motion) in workers {
+        let e = person(&mut rng);
+        movers.push(mover(
+            movers.len(),
+            RoadUserClass::Pedestrian,
+            at,
+            e,
+            motion,
+        ));
+    }
+    movers
+}
+
+fn mover(
+    id: usize,
+    class: RoadUserClass,
+    centre: [f64; 2],
+    extent: Extent,
+    motion: Motion,
+) -> Mover {
+    Mover {
+        start: RoadUser {
+            id: id as u32,
+            class,
+            centre,
+            extent,
+            velocity: [0.0, 0.0],
+        },
+        motion,
+    }
+}
+
+/// Where every mover is at time `t_s`, with its velocity.
+pub fn users_at(movers: &[Mover], t_s: f64) -> Vec<RoadUser> {
+    movers.iter().map(|m| at(m, t_s)).collect()
+}
+
+fn at(m: &Mover, t: f64) -> RoadUser {
+    let mut u = m.start;
+    match m.motion {
+        Motion::Drive { speed_mps } => {
+            let len = LOOP_M[1] - LOOP_M[0];
+            u.centre[1] = LOOP_M[0] + (u.centre[1] - LOOP_M[0] + speed_mps * t).rem_euclid(len);
+            u.velocity = [0.0, speed_mps];
+        }
+        Motion::Pace {
+            between: [w, e],
+            speed_mps,
+        } => {
+            // x = mid + amp sin(phase + ω t), from the start position, east first.
+            let (mid, amp) = ((w + e) / 2.0, (e - w) / 2.0);
+            if amp > 0.0 {
+                let omega = speed_mps / amp;
+                let phase = ((u.centre[0] - mid) / amp).clamp(-1.0, 1.0).asin();
+                let a = phase + omega * t;
+                u.centre[0] = mid + amp * a.sin();
+                u.velocity = [speed_mps * a.cos(), 0.0];
+            }
+        }
+        Motion::Stand => {}
+    }
+    u
+}
