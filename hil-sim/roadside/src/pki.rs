@@ -37,10 +37,11 @@ pub fn time32_of_unix_s(unix_s: u64) -> u32 {
 }
 
 /// The PSID a signed message of J2735 `messageId` carries (1609.2 header): TIM 0x8003,
-/// MAP 0xE0000017, SPaT 0x8002, BSM 0x20.
+/// MAP 0xE0000017, SPaT 0x8002, BSM 0x20, PSM 0x27 (SAE J2945/9).
 pub fn signing_psid(message_id: u16) -> Option<u32> {
     match message_id {
         31 => Some(0x8003),
+        32 => Some(0x27),
         18 => Some(0xE000_0017),
         19 => Some(0x8002),
         20 => Some(0x20),

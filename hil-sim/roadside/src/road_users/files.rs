@@ -15,6 +15,7 @@ use serde_json::{json, Value};
 
 use super::calibrate::{calibrate, SceneCalibration};
 use super::detections::{parse_coco, FrameMasks};
+use super::draw::draw_box;
 use super::edgelets::EdgeletSettings;
 use super::localize::Localizer;
 use super::pipeline::{Run, Truth};
@@ -147,6 +148,34 @@ pub fn read_truth(path: &Path, site: &Road) -> Result<Vec<Vec<Truth>>, String> {
         .collect()
 }
 
+/// Reads a work-zone area file, `{"area": [{"lat": deg, "lon": deg}, ...]}` (at least three
+/// corners, in order), into local metres of `site`.
+pub fn read_zone(path: &Path, site: &Road) -> Result<Vec<[f64; 2]>, String> {
+    let v: Value =
+        serde_json::from_str(&read(path)?).map_err(|e| format!("{}: {e}", path.display()))?;
+    let corners = v["area"]
+        .as_array()
+        .ok_or_else(|| format!("{}: no \"area\" array", path.display()))?;
+    let area: Vec<[f64; 2]> = corners
+        .iter()
+        .map(|c| {
+            LatLon::from_degrees(
+                c["lat"].as_f64().unwrap_or(f64::NAN),
+                c["lon"].as_f64().unwrap_or(f64::NAN),
+            )
+            .map(|p| site.to_local(p))
+            .ok_or_else(|| format!("{}: a corner needs a valid lat and lon", path.display()))
+        })
+        .collect::<Result<_, _>>()?;
+    if area.len() < 3 {
+        return Err(format!(
+            "{}: the area needs at least three corners",
+            path.display()
+        ));
+    }
+    Ok(area)
+}
+
 /// What to synthesize.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct SynthSpec {
@@ -180,7 +209,8 @@ pub fn site_cameras(small: bool) -> [PinholeCamera; 2] {
 
 /// Writes a synthetic site under `out`: `cam1/` (and `cam2/`), each with the first frame's
 /// PNG, `detections.json` and `calibration.json` (lane-marking corners in view, 0.5 px of
-/// noise); and `truth.json` (every road user per frame). Returns the camera folders.
+/// noise); `truth.json` (every road user per frame) and `zone.json` (the closed lane's area,
+/// see [`read_zone`]). Returns the camera folders.
 pub fn synthesize(spec: &SynthSpec, out: &Path) -> Result<Vec<PathBuf>, String> {
     let world = World::work_zone();
     let movers = work_zone_traffic(&world, spec.seed);
@@ -274,4 +304,27 @@ fn reference_points(cam: &PinholeCamera, site: &Road, rng: &mut Prng) -> Value {
         }
     }
     json!({ "points": points })
+}
+
+/// Draws a camera's first frame with the 3D boxes of its detections (and each position as a
+/// cross) to `png`.
+pub fn draw_first_frame(camera: &CameraFolder, png: &Path) -> Result<(), String> {
+    let mut image = image::open(&camera.first_frame)
+        .map_err(|e| format!("{}: {e}", camera.first_frame.display()))?
+        .to_rgb8();
+    let masks = camera
+        .frames
+        .first()
+        .map_or(&[][..], |f| f.silhouettes.as_slice());
+    let (boxes, _) = camera.localizer.frame(masks);
+    for b in &boxes {
+        let at = camera
+            .localizer
+            .camera()
+            .project([b.position[0], b.position[1], 0.0]);
+        draw_box(&mut image, &b.road_user, at);
+    }
+    image
+        .save(png)
+        .map_err(|e| format!("{}: {e}", png.display()))
 }

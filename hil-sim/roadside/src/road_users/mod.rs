@@ -31,5 +31,6 @@ pub mod polygon;
 pub mod synthetic;
 pub mod tracker;
 pub mod vanishing;
+pub mod workers;
 
 pub use class::RoadUserClass;
