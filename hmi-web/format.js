@@ -7,8 +7,8 @@
   const FT_PER_MILE = 5280;
 
   /** Alert kinds, highest priority first (the server already picks `primary`). */
-  const KINDS = ['Overspeed', 'LaneClosedOwn', 'ReducedSpeedAhead', 'LaneClosedOther',
-    'WorkZoneAhead', 'GnssStale', 'MapMissing', 'NoRoadsideData'];
+  const KINDS = ['WorkerInLane', 'Overspeed', 'LaneClosedOwn', 'ReducedSpeedAhead', 'LaneClosedOther',
+    'WorkZoneAhead', 'WorkersNearRoad', 'GnssStale', 'MapMissing', 'NoRoadsideData'];
 
   function finite(x) {
     return typeof x === 'number' && Number.isFinite(x);
@@ -84,6 +84,12 @@
     const ahead = aheadText(a.distance_m, units, ctx && ctx.approx);
     const limit = finite(a.limit_mps) ? a.limit_mps : (ctx && ctx.limit_mps);
     switch (a.kind) {
+      case 'WorkerInLane':
+        return { sev: 'red', icon: 'i-worker', title: 'WORKER IN LANE AHEAD', short: 'Worker in lane',
+          detail: 'A worker in your lane' + (ahead ? ' ' + ahead : '') };
+      case 'WorkersNearRoad':
+        return { sev: 'orange', icon: 'i-worker', title: 'Workers near the road', short: 'Workers',
+          detail: ahead };
       case 'Overspeed':
         return { sev: 'red', icon: 'i-gauge', title: 'Slow down',
           short: 'Too fast', detail: finite(limit) ? 'Limit ' + limitText(limit, units) : 'Over the limit' };
@@ -130,6 +136,7 @@
     if (STAGES.indexOf(s.stage) >= 0) return s.stage;
     const k = s.primary && s.primary.kind;
     if (k === 'Overspeed' || k === 'LaneClosedOwn') return 'Urgent';
+    if (k === 'WorkerInLane') return 'Warning';
     if (s.zone_state === 'Warning') return 'Warning';
     if (s.zone_state === 'Approaching' && k) return 'Information';
     return 'None';

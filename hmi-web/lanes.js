@@ -11,6 +11,7 @@
   const CAR_TOP = H - CAR_H - 26;
   const CAR_BOTTOM = CAR_TOP + CAR_H;
   const UNCERTAIN_BELOW = 50; // lane_confidence percent under which the car is drawn as a guess
+  const LANE_M = 3.5;    // a lane's width on the road, metres (workers' lateral offsets)
 
   function num(x) {
     return typeof x === 'number' && Number.isFinite(x);
@@ -82,6 +83,7 @@
     else if (own === null) message = 'Lane unknown';
     else if (carIndex < 0) message = 'Off the mapped lanes';
     const hasClosure = lanes.some((l) => l.closed);
+    const range = rangeFor(s, settings);
     return {
       lanes,
       approximate: order.approximate && lanes.length > 0 && !message,
@@ -89,9 +91,28 @@
       carUncertain: carIndex >= 0 && (conf < UNCERTAIN_BELOW || pos === 'Estimated'),
       estimated: pos === 'Estimated',
       advice: carIndex >= 0 && (s.advice === 'MoveLeft' || s.advice === 'MoveRight') ? s.advice : 'None',
-      span: hasClosure ? closureSpan(s, rangeFor(s, settings)) : null,
+      span: hasClosure ? closureSpan(s, range) : null,
+      workers: carIndex >= 0 && !message ? workerMarks(s, carIndex, range) : [],
       message,
     };
+  }
+
+  /**
+   * Workers ahead on the diagram: each at its distance along the own lane (the diagram's
+   * scale, the car's front at 0) and its lateral offset from the own lane's centre (3.5 m a
+   * lane); those in the own lane's path are marked. Behind the car or beyond the range: not
+   * drawn.
+   */
+  function workerMarks(state, carIndex, rangeM) {
+    const list = Array.isArray(state.workers) ? state.workers : [];
+    return list
+      .filter((w) => w && num(w.distance_m) && num(w.lateral_m) && w.distance_m >= 0 && w.distance_m <= rangeM)
+      .map((w) => {
+        const f = w.distance_m / rangeM;
+        const y = Math.round(CAR_TOP - 6 - f * (CAR_TOP - 6 - TOP));
+        const x = Math.round(laneX(carIndex) + LW / 2 + (w.lateral_m / LANE_M) * LW);
+        return { id: Number.isInteger(w.id) ? w.id : null, x, y, inPath: w.in_own_lane_path === true };
+      });
   }
 
   // ---- SVG ----
@@ -183,6 +204,17 @@
     return s;
   }
 
+  function workersSvg(m, W) {
+    return m.workers
+      .filter((w) => w.x > -20 && w.x < W + 20)
+      .map((w) => {
+        const cls = 'worker' + (w.inPath ? ' in-path' : '');
+        const id = w.id === null ? '' : ` data-worker-id="${w.id}"`;
+        return `<g class="${cls}"${id}>` + (w.inPath ? `<circle class="worker-halo" cx="${w.x}" cy="${w.y - 14}" r="24"/>` : '') +
+          `<use href="#i-worker" x="${w.x - 16}" y="${w.y - 32}" width="32" height="32"/></g>`;
+      }).join('');
+  }
+
   function adviceSvg(m) {
     if (m.advice === 'None' || m.carIndex === null) return '';
     const dir = m.advice === 'MoveLeft' ? -1 : 1;
@@ -207,7 +239,7 @@
     const n = Math.max(m.lanes.length, 2);
     const W = SHOULDER * 2 + n * LW;
     const padded = m.lanes.length ? m : Object.assign({}, m, { lanes: [{ id: null }, { id: null }] });
-    const html = defs() + roadSvg(padded, W) + closureSvg(m) + laneMarkers(m) + adviceSvg(m) + carSvg(m) +
+    const html = defs() + roadSvg(padded, W) + closureSvg(m) + laneMarkers(m) + workersSvg(m, W) + adviceSvg(m) + carSvg(m) +
       '<rect x="0" y="0" width="' + W + '" height="' + H + '" fill="url(#fade)" pointer-events="none"/>' + messageSvg(m, W);
     if (svg.__last !== html) {
       svg.__last = html;
@@ -220,7 +252,10 @@
   function describe(m) {
     if (!m.lanes.length) return m.message || 'No lanes';
     const parts = m.lanes.map((l, i) => `lane ${i + 1}${l.closed ? ' closed' : ''}${l.own ? ' (you)' : ''}`);
-    return parts.join(', ') + (m.advice !== 'None' ? '; move ' + (m.advice === 'MoveLeft' ? 'left' : 'right') : '');
+    const inPath = m.workers.filter((w) => w.inPath).length;
+    const workers = m.workers.length ? `; ${m.workers.length} worker${m.workers.length > 1 ? 's' : ''} ahead` +
+      (inPath ? `, ${inPath} in your lane` : '') : '';
+    return parts.join(', ') + (m.advice !== 'None' ? '; move ' + (m.advice === 'MoveLeft' ? 'left' : 'right') : '') + workers;
   }
 
   const api = { model, laneOrder, render, describe, UNCERTAIN_BELOW };

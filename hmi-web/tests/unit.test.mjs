@@ -252,3 +252,38 @@ test('sound: a reconnect in the same Warning does not beep again; muted plays no
   run('urgent', 3);
   assert.equal(S.tonesScheduled(), 1, 'muted in the settings');
 });
+
+test('workers: the in-lane alert is red and named, the near-road one informs', () => {
+  const inLane = F.describeAlert({ kind: 'WorkerInLane', stage: 'Warning', distance_m: 82 }, { units: 'kmh' });
+  assert.equal(inLane.sev, 'red');
+  assert.equal(inLane.title, 'WORKER IN LANE AHEAD');
+  assert.equal(inLane.detail, 'A worker in your lane in 80 m');
+  const near = F.describeAlert({ kind: 'WorkersNearRoad', distance_m: 140 }, { units: 'kmh' });
+  assert.equal(near.sev, 'orange');
+  assert.equal(near.title, 'Workers near the road');
+  assert.equal(F.stageOf({ primary: { kind: 'WorkerInLane' } }), 'Warning');
+});
+
+test('workers on the lane diagram: at their distance and offset, the one in the path marked', () => {
+  const state = {
+    road_lanes: [1, 2, 3], lane: { lane: 2 }, lane_confidence: 90, position: 'Live', roadside_data: true,
+    speed_mps: 10, zone_state: 'None',
+    workers: [
+      { id: 7, distance_m: 0, lateral_m: 0, in_own_lane_path: true },
+      { id: 8, distance_m: 150, lateral_m: 3.5, in_own_lane_path: false },
+      { id: 9, distance_m: -5, lateral_m: 0, in_own_lane_path: true },     // behind: not drawn
+      { id: 10, distance_m: 1e6, lateral_m: 0, in_own_lane_path: false },  // beyond the range
+      { id: 11, distance_m: NaN, lateral_m: 0 },                           // malformed
+    ],
+  };
+  const m = L.model(state, { warning_distance_m: 100, lead_time_s: 9 });
+  // Range 3 x 100 m; the car's lane (index 1) is centred at 16 + 100 + 50 = 166.
+  assert.deepEqual(m.workers.map((w) => w.id), [7, 8]);
+  assert.equal(m.workers[0].x, 166);
+  assert.equal(m.workers[1].x, 266);
+  assert.ok(m.workers[0].inPath && !m.workers[1].inPath);
+  assert.ok(m.workers[1].y < m.workers[0].y, 'farther is higher up');
+  assert.match(L.describe(m), /2 workers ahead, 1 in your lane$/);
+  // No position: no workers drawn.
+  assert.deepEqual(L.model(Object.assign({}, state, { position: 'Lost' }), {}).workers, []);
+});

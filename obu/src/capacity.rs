@@ -55,6 +55,12 @@ pub const MAX_ALERTS: usize = 6;
 pub const MAX_HMI_LANES: usize = 8;
 /// Lanes near the last fix that the matcher keeps for the lane-change advice.
 pub const MAX_NEARBY_LANES: usize = 8;
+/// Road workers (PSMs, by temporary id) kept at once: 32 bytes each
+/// ([`crate::worker::Worker`]). Beyond it a new worker replaces a silent or far one
+/// ([`crate::worker::WorkerStore`]).
+pub const MAX_WORKERS: usize = 16;
+/// Road workers listed in one HMI state (the nearest).
+pub const MAX_HMI_WORKERS: usize = 8;
 
 profile! {
     /// Trust anchors (root and issuing CA certificates) a verifier holds.

@@ -15,6 +15,8 @@
 //! * [`lane`]: lane model filled from a J2735 MAP, and [`lane::MapStore`].
 //! * [`zone`]: work zones filled from a J2735 TIM, and [`zone::ZoneStore`].
 //! * [`store`]: the fixed-slot store both of those wrap.
+//! * [`worker`]: road workers from J2735 PSMs ([`Obu::on_psm`]), kept for a second and
+//!   placed on the lanes.
 //! * [`input`]: NMEA 0183 sentences and the CAN speed signal into a [`Fix`].
 //! * [`matcher`]: GNSS fix -> lane, station, lateral offset, confidence.
 //! * [`distance`]: distance along the lane to the work-zone start.
@@ -22,7 +24,7 @@
 //! * [`alert`]: alert state machine and the [`alert::HmiState`] shown to the driver.
 //! * [`onboard`]: [`Obu`], the facade the daemon, the firmware and the simulator drive.
 //!
-//! Capacities (maps, lanes, nodes, zones) are fixed at compile time in [`capacity`].
+//! Capacities (maps, lanes, nodes, zones, workers) are fixed at compile time in [`capacity`].
 //!
 //! ## Panic contract
 //! No public function panics on any input, including NaN, infinities and
@@ -57,6 +59,7 @@ pub mod security;
 pub mod store;
 pub mod time;
 pub mod v2x;
+pub mod worker;
 pub mod zone;
 
 pub use alert::{AlertConfig, HmiState};

@@ -1,5 +1,7 @@
 //! Hand-built models shared by the unit tests.
 
+use j2735::personal_safety_message::{PersonalDeviceUserType, PersonalSafetyMessage};
+
 use crate::geo::{LatLon, Point};
 use crate::lane::{
     LaneId, LaneKind, LaneModel, MapId, MapStore, MapUpdate, Speed, TravelDirection,
@@ -127,4 +129,32 @@ pub fn decode<M: j2735::frame::Message>(bytes: &[u8]) -> std::boxed::Box<M> {
         panic!("decode: {e:?}");
     }
     m
+}
+
+/// A road worker's PSM: id `[0, 0, 0, id]`, at `lat_e7`/`lon_e7`, `secMark` `sec_mark`,
+/// accuracy 0.5 m, standing (speed 0), heading unavailable.
+pub fn psm_at(id: u8, lat_e7: i32, lon_e7: i32, sec_mark: u16) -> PersonalSafetyMessage {
+    use j2735::common::{
+        DSecond, Heading, Latitude, Longitude, MsgCount, SemiMajorAxisAccuracy, TemporaryID,
+        Velocity,
+    };
+    let mut psm = <PersonalSafetyMessage as j2735::uper::Placeholder>::placeholder();
+    psm.basic_type = PersonalDeviceUserType::APUBLICSAFETYWORKER;
+    psm.id = TemporaryID([0, 0, 0, id]);
+    psm.sec_mark = DSecond::new(sec_mark).unwrap_or(DSecond::UNAVAILABLE);
+    if let Some(c) = MsgCount::new(id % 128) {
+        psm.msg_cnt = c;
+    }
+    psm.position.lat = Latitude::new(lat_e7).unwrap_or(Latitude::UNAVAILABLE);
+    psm.position.long = Longitude::new(lon_e7).unwrap_or(Longitude::UNAVAILABLE);
+    psm.accuracy.semi_major = SemiMajorAxisAccuracy::new(10).unwrap_or(psm.accuracy.semi_major);
+    psm.speed = Velocity::new(0).unwrap_or(Velocity::UNAVAILABLE);
+    psm.heading = Heading::UNAVAILABLE;
+    psm
+}
+
+/// [`psm_at`] at the point `p` of the test road's plane.
+pub fn psm(id: u8, p: Point, sec_mark: u16) -> PersonalSafetyMessage {
+    let at = at(p);
+    psm_at(id, at.lat_e7(), at.lon_e7(), sec_mark)
 }

@@ -195,7 +195,11 @@ pub struct RunFacts {
 pub fn is_zone_alert(kind: AlertKind) -> bool {
     !matches!(
         kind,
-        AlertKind::GnssStale | AlertKind::NoRoadsideData | AlertKind::MapMissing
+        AlertKind::GnssStale
+            | AlertKind::NoRoadsideData
+            | AlertKind::MapMissing
+            | AlertKind::WorkerInLane
+            | AlertKind::WorkersNearRoad
     )
 }
 

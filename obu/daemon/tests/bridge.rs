@@ -14,7 +14,7 @@ use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
 /// The firmware's largest `HmiState` encoding (`obu_firmware::app::HMI_MAX`).
-const HMI_MAX: usize = 256;
+const HMI_MAX: usize = 512;
 
 /// A configuration whose V2X and GNSS inputs would bind `v2x` and `gnss` (UDP) if started.
 fn write_config(dir: &Path, v2x: u16, gnss: u16) -> PathBuf {

@@ -13,7 +13,7 @@ pub const V2X_MAX_WIRE: usize = 2048;
 /// Longest NMEA sentence kept (82 characters by the standard, with room to spare).
 pub const NMEA_MAX: usize = 100;
 /// Largest postcard encoding of an `HmiState`.
-pub const HMI_MAX: usize = 256;
+pub const HMI_MAX: usize = 512;
 /// Largest wire frame of an `HmiState`.
 pub const HMI_WIRE_MAX: usize = link::encoded_len(HMI_MAX);
 

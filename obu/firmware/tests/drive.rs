@@ -67,8 +67,9 @@ const MATCHED_FROM: f64 = 10.0;
 /// What one fix showed, kept for the checks after the drive.
 #[derive(Clone, Copy)]
 struct Sample {
-    /// Station of the fix on the lane line (metres from the lane's start, negative before).
-    s: f64,
+    /// Station of the fix on the lane line (metres from the lane's start, negative before);
+    /// `f32` keeps 204 samples within the test binary's RAM.
+    station: f32,
     state: ZoneState,
     distance: Option<f32>,
     lane: Option<(u32, u8)>,
@@ -80,7 +81,7 @@ struct Sample {
 impl Sample {
     fn of(s: f64, h: &HmiState) -> Self {
         Sample {
-            s,
+            station: s as f32,
             state: h.zone_state,
             distance: h.distance_m,
             lane: h.lane.map(|l| (l.map, l.lane)),
@@ -90,9 +91,14 @@ impl Sample {
         }
     }
 
+    /// The station, metres.
+    fn s(&self) -> f64 {
+        f64::from(self.station)
+    }
+
     /// Metres to the zone start by the vectors' geometry.
     fn expected(&self) -> f64 {
-        wz::ZONE_START_S - self.s
+        wz::ZONE_START_S - self.s()
     }
 }
 
@@ -234,14 +240,14 @@ mod tests {
         st.drive(0.0, wz::LANE_LENGTH_M);
         let mut matched = 0;
         for x in st.samples.iter() {
-            if x.s >= super::MATCHED_FROM && x.s <= wz::LANE_LENGTH_M - 5.0 {
+            if x.s() >= super::MATCHED_FROM && x.s() <= wz::LANE_LENGTH_M - 5.0 {
                 assert_eq!(x.lane, Some((wz::MAP_ID, wz::LANE_ID)), "on lane 1");
                 matched += 1;
             }
             assert!(
                 x.state == ZoneState::None && x.primary.is_none(),
                 "no alert at {}",
-                x.s
+                x.s()
             );
         }
         defmt::info!(
@@ -295,7 +301,7 @@ mod tests {
         for x in samples.iter().step_by(10) {
             defmt::info!(
                 "s {=f64} m: {} shown {} expected {=f64} lane {=i32} primary {}",
-                x.s,
+                x.s(),
                 defmt::Debug2Format(&x.state),
                 x.distance,
                 x.expected(),
@@ -313,7 +319,7 @@ mod tests {
                 assert!(
                     (d - e).abs() <= MARGIN,
                     "at {}: shown {} m, expected {} m",
-                    x.s,
+                    x.s(),
                     d,
                     e
                 );
@@ -328,8 +334,8 @@ mod tests {
                     assert!(
                         (driven - STEP).abs() <= 0.05,
                         "between {} and {}: {} m less, driven {} m",
-                        w[0].s,
-                        w[1].s,
+                        w[0].s(),
+                        w[1].s(),
                         driven,
                         STEP
                     );
@@ -349,7 +355,7 @@ mod tests {
         let shown = w.distance.expect("distance") as f64;
         defmt::info!(
             "first warning at station {=f64} m: shown {=f64} m, expected {=f64} m, trigger {=f64} m, look-ahead {=f64} m, primary {}",
-            w.s,
+            w.s(),
             shown,
             w.expected(),
             trigger,
@@ -388,15 +394,15 @@ mod tests {
         let tol = CONFIG.matcher.end_tolerance_m as f64;
         let (mut on_lane, mut own_closure) = (0, 0);
         for x in samples {
-            if x.s < -tol - STEP {
-                assert!(x.lane.is_none(), "off map at {}", x.s);
+            if x.s() < -tol - STEP {
+                assert!(x.lane.is_none(), "off map at {}", x.s());
             }
-            if x.s >= super::MATCHED_FROM && x.s <= wz::LANE_LENGTH_M - 5.0 {
+            if x.s() >= super::MATCHED_FROM && x.s() <= wz::LANE_LENGTH_M - 5.0 {
                 assert_eq!(
                     x.lane,
                     Some((wz::MAP_ID, wz::LANE_ID)),
                     "on lane 1 at {}",
-                    x.s
+                    x.s()
                 );
                 on_lane += 1;
                 if x.state == ZoneState::Warning {
@@ -421,20 +427,20 @@ mod tests {
         for x in samples {
             let e = x.expected();
             if e < -MARGIN && e > -inside_len + MARGIN {
-                assert_eq!(x.state, ZoneState::InZone, "in the zone at {}", x.s);
+                assert_eq!(x.state, ZoneState::InZone, "in the zone at {}", x.s());
                 assert_eq!(x.primary.map(|p| p.0), Some(AlertKind::LaneClosedOwn));
                 inside += 1;
             }
             if x.primary.is_some() {
-                last_alert = Some(x.s);
+                last_alert = Some(x.s());
             }
             if e < -length - STEP - MARGIN {
                 assert!(
                     matches!(x.state, ZoneState::Leaving | ZoneState::None),
                     "past the zone at {}",
-                    x.s
+                    x.s()
                 );
-                assert!(x.primary.is_none(), "alert cleared at {}", x.s);
+                assert!(x.primary.is_none(), "alert cleared at {}", x.s());
                 cleared += 1;
             }
         }

@@ -299,7 +299,9 @@ mod tests {
     #[test]
     fn other_messages_are_counted_as_other(st: &mut State) {
         let (mut fit, mut over) = (0, 0);
-        for &(_, id, bytes) in OTHER_VECTORS {
+        // PSMs (32) are taken: road workers (see the core's tests).
+        let others = || OTHER_VECTORS.iter().filter(|v| v.1 != 32);
+        for &(_, id, bytes) in others() {
             assert!(id != 18 && id != 31);
             if obu::link::encoded_len(bytes.len()) <= V2X_MAX_WIRE {
                 fit += 1;
@@ -309,14 +311,14 @@ mod tests {
         }
         defmt::info!(
             "{=usize} other vectors: {=u32} fit a frame, {=u32} over {=usize} B",
-            OTHER_VECTORS.len(),
+            others().count(),
             fit,
             over,
             V2X_MAX_WIRE
         );
         assert!(fit > 0 && over > 0, "both kinds among the vectors");
         st.expect("other messages", counts(0, over, 0, fit), |st| {
-            for &(name, _, bytes) in OTHER_VECTORS {
+            for &(name, _, bytes) in others() {
                 let now = st.now();
                 let n = obu::link::encode(bytes, &mut st.wire[..]).expect("fits");
                 let wire: &[u8] = &st.wire[..n];

@@ -135,14 +135,25 @@ pub fn zone_alerts<const N: usize>(
     }
 }
 
-/// Sorts alerts by stage (highest first), then kind priority, then distance, and fills
-/// `primary` and `others`.
+/// Sorts alerts: a worker in the lane ahead first whatever the other stages (a person
+/// in the vehicle's path outranks every road condition), then by stage (highest first), kind
+/// priority and distance; fills `primary` and `others`. The worker alert takes the highest
+/// stage among the alerts, so that an urgent closure's tone is not lowered by it.
 pub(crate) fn arbitrate<const N: usize>(mut alerts: Vec<Alert, N>, hmi: &mut HmiState) {
-    alerts.sort_unstable_by(|a, b| {
+    let top = alerts.iter().map(|a| a.stage).max();
+    for a in alerts
+        .iter_mut()
+        .filter(|a| a.kind == AlertKind::WorkerInLane)
+    {
+        a.stage = top.unwrap_or(a.stage).max(a.stage);
+    }
+    crate::math::sort_small_by(&mut alerts, |a, b| {
         let da = a.distance_m.unwrap_or(f32::MAX);
         let db = b.distance_m.unwrap_or(f32::MAX);
-        b.stage
-            .cmp(&a.stage)
+        let worker = |x: &Alert| x.kind != AlertKind::WorkerInLane;
+        worker(a)
+            .cmp(&worker(b))
+            .then(b.stage.cmp(&a.stage))
             .then(a.kind.cmp(&b.kind))
             .then(da.total_cmp(&db))
     });
@@ -363,5 +374,32 @@ mod tests {
             kinds_and_stages(&out),
             [(AlertKind::WorkZoneAhead, AlertStage::Information)]
         );
+    }
+
+    #[test]
+    fn a_worker_in_the_lane_leads_even_an_urgent_closure_and_keeps_its_tone() {
+        let alert = |kind, stage, distance| Alert {
+            kind,
+            stage,
+            distance_m: Some(distance),
+            limit_mps: None,
+        };
+        let mut alerts: Vec<Alert, 4> = Vec::new();
+        for a in [
+            alert(AlertKind::LaneClosedOwn, AlertStage::Urgent, 30.0),
+            alert(AlertKind::WorkerInLane, AlertStage::Warning, 60.0),
+            alert(AlertKind::Overspeed, AlertStage::Warning, 30.0),
+        ] {
+            alerts.push(a).unwrap();
+        }
+        let mut hmi = HmiState::default();
+        arbitrate(alerts, &mut hmi);
+        let primary = hmi.primary.unwrap();
+        assert_eq!(
+            (primary.kind, primary.stage),
+            (AlertKind::WorkerInLane, AlertStage::Urgent)
+        );
+        let rest: std::vec::Vec<AlertKind> = hmi.others.iter().map(|a| a.kind).collect();
+        assert_eq!(rest, [AlertKind::LaneClosedOwn, AlertKind::Overspeed]);
     }
 }

@@ -6,7 +6,7 @@ use heapless::Vec;
 use serde::{Deserialize, Serialize};
 
 use super::{AlertKind, AlertStage, PositionSource, TimeStatus, ZoneState};
-use crate::capacity::{MAX_ALERTS, MAX_HMI_LANES};
+use crate::capacity::{MAX_ALERTS, MAX_HMI_LANES, MAX_HMI_WORKERS};
 
 /// One alert.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -16,7 +16,8 @@ pub struct Alert {
     pub kind: AlertKind,
     /// How strongly it calls for the driver.
     pub stage: AlertStage,
-    /// Distance to the zone start, metres (negative inside), when zone related.
+    /// Distance to the zone start, metres (negative inside), when zone related; to the
+    /// nearest worker concerned along the own lane for the worker alerts.
     pub distance_m: Option<f32>,
     /// Zone speed limit, m/s, when known.
     pub limit_mps: Option<f32>,
@@ -53,6 +54,31 @@ pub struct LaneInfo {
     pub map: u32,
     /// Lane id.
     pub lane: u8,
+}
+
+/// A road worker to draw, placed on the own lane (see [`crate::worker::place`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(Serialize, Deserialize))]
+pub struct WorkerView {
+    /// The PSM's temporary id, big-endian.
+    pub id: u32,
+    /// Metres along the own lane from the vehicle to the worker, in the direction of
+    /// travel (negative behind).
+    pub distance_m: f32,
+    /// Metres from the own lane's centreline, positive to the right in the direction of
+    /// travel (as [`HmiState::road_lanes`] runs left to right).
+    pub lateral_m: f32,
+    /// In the own lane's path: within half its width plus
+    /// [`crate::worker::IN_PATH_MARGIN_M`] of its centreline (ahead or behind).
+    pub in_own_lane_path: bool,
+    /// Speed, m/s, when the PSM gave it.
+    pub speed_mps: Option<f32>,
+    /// Heading, degrees clockwise from north, when the PSM gave it.
+    pub heading_deg: Option<f32>,
+    /// Milliseconds since the worker's last PSM.
+    pub age_ms: u16,
+    /// The PSM came with a verified signature.
+    pub verified: bool,
 }
 
 /// Counters for the HMI's diagnostics page.
@@ -168,4 +194,7 @@ pub struct HmiState {
     pub unverified: u8,
     /// Counters.
     pub counters: Counters,
+    /// Road workers on the matched lane's map, nearest first (at most
+    /// [`MAX_HMI_WORKERS`]); empty without a lane match.
+    pub workers: Vec<WorkerView, MAX_HMI_WORKERS>,
 }

@@ -12,7 +12,8 @@
 //! [`AlertStage`]: information ahead, warning at the warning distance, urgent only when the
 //! driver does not comply (still in the closed lane where a lane change no longer fits,
 //! or a needed deceleration above the comfortable one). Data problems add stale-data
-//! alerts. Only one alert is primary (highest stage, then [`AlertKind`] order, then
+//! alerts. Road workers (PSMs) in the own lane's path ahead raise the first of all alerts,
+//! workers near the road ahead an information. Only one alert is primary (highest stage, then [`AlertKind`] order, then
 //! distance); the others are listed. All thresholds live in [`AlertConfig`].
 
 mod engine;
@@ -21,7 +22,7 @@ mod hmi;
 pub use crate::clock::TimeStatus;
 pub(crate) use engine::arbitrate;
 pub use engine::{decel_needed, zone_alerts, zone_state, Motion, ZoneView, URGENT_RELEASE};
-pub use hmi::{Alert, Counters, HmiState, LaneAdvice, LaneInfo};
+pub use hmi::{Alert, Counters, HmiState, LaneAdvice, LaneInfo, WorkerView};
 
 use core::fmt;
 
@@ -185,6 +186,10 @@ impl fmt::Display for ZoneState {
 #[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash)]
 #[cfg_attr(feature = "serde", derive(Serialize, Deserialize))]
 pub enum AlertKind {
+    /// A road worker (PSM) stands in the own lane's path ahead: within half the lane width
+    /// plus [`crate::worker::IN_PATH_MARGIN_M`] of its centreline, within the approach
+    /// distance. First of all: a person in the path is the gravest risk there is.
+    WorkerInLane,
     /// The vehicle's own lane is closed ahead: change lane. First: cones in the lane
     /// ahead are a collision risk at any speed; the overspeed alert follows in `others`.
     LaneClosedOwn,
@@ -196,6 +201,9 @@ pub enum AlertKind {
     LaneClosedOther,
     /// A work zone without limit or closure ahead.
     WorkZoneAhead,
+    /// Road workers ahead near the road (within [`crate::worker::NEAR_ROAD_M`] of a
+    /// vehicle lane) but not in the own lane's path (information).
+    WorkersNearRoad,
     /// No GNSS fix for longer than the timeout.
     GnssStale,
     /// Work zones are known but no lane map.
@@ -207,6 +215,8 @@ pub enum AlertKind {
 impl fmt::Display for AlertKind {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         f.write_str(match self {
+            AlertKind::WorkerInLane => "worker in lane ahead",
+            AlertKind::WorkersNearRoad => "workers near the road",
             AlertKind::Overspeed => "overspeed",
             AlertKind::LaneClosedOwn => "lane closed ahead: change lane",
             AlertKind::ReducedSpeedAhead => "reduced speed ahead",

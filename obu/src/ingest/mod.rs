@@ -43,7 +43,8 @@ use serde::{Deserialize, Serialize};
 
 use crate::lane::ModelError;
 
-/// Why part of a MAP or TIM (a lane model, lane, work zone or region) was not used.
+/// Why part of a MAP or TIM (a lane model, lane, work zone or region), or a PSM (a road
+/// worker), was not used.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 #[cfg_attr(feature = "serde", derive(Serialize, Deserialize))]
 #[non_exhaustive]
@@ -68,11 +69,24 @@ pub enum IngestError {
     CapacityExceeded,
     /// A value out of range or not finite after conversion.
     InvalidValue,
+    /// A PSM of a personal device other than a road worker (`basicType` not
+    /// `aPUBLICSAFETYWORKER`: pedestrian, cyclist, animal, unavailable, extension).
+    NotRoadWorker,
+    /// A PSM whose position is "unavailable" or out of range.
+    InvalidPosition,
+    /// A PSM whose position accuracy (`semiMajor`) is "unavailable".
+    AccuracyUnavailable,
+    /// A PSM whose `secMark` does not follow the stored one of its worker (older, or a
+    /// repeat).
+    StaleMessage,
+    /// A PSM of a new worker while the worker store is full and no stored worker may be
+    /// replaced ([`crate::worker::WorkerStore`]).
+    StoreFull,
 }
 
 impl IngestError {
     /// Every reason, in [`IngestError::index`] order.
-    pub const ALL: [IngestError; 8] = [
+    pub const ALL: [IngestError; 13] = [
         IngestError::InvalidReference,
         IngestError::UnsupportedNode,
         IngestError::NoGeometry,
@@ -81,6 +95,11 @@ impl IngestError {
         IngestError::DuplicateLane,
         IngestError::CapacityExceeded,
         IngestError::InvalidValue,
+        IngestError::NotRoadWorker,
+        IngestError::InvalidPosition,
+        IngestError::AccuracyUnavailable,
+        IngestError::StaleMessage,
+        IngestError::StoreFull,
     ];
 
     /// Position in [`IngestError::ALL`].
@@ -94,6 +113,11 @@ impl IngestError {
             IngestError::DuplicateLane => 5,
             IngestError::CapacityExceeded => 6,
             IngestError::InvalidValue => 7,
+            IngestError::NotRoadWorker => 8,
+            IngestError::InvalidPosition => 9,
+            IngestError::AccuracyUnavailable => 10,
+            IngestError::StaleMessage => 11,
+            IngestError::StoreFull => 12,
         }
     }
 }
@@ -120,6 +144,11 @@ impl IngestError {
             IngestError::DuplicateLane => "duplicate lane id",
             IngestError::CapacityExceeded => "capacity exceeded",
             IngestError::InvalidValue => "invalid value",
+            IngestError::NotRoadWorker => "PSM: not a road worker",
+            IngestError::InvalidPosition => "PSM: position unavailable",
+            IngestError::AccuracyUnavailable => "PSM: accuracy unavailable",
+            IngestError::StaleMessage => "PSM: stale secMark",
+            IngestError::StoreFull => "PSM: worker store full",
         }
     }
 }
@@ -178,6 +207,8 @@ pub enum MessageKind {
     Map,
     /// TravelerInformation (messageId 31).
     Tim,
+    /// PersonalSafetyMessage (messageId 32): a road worker.
+    Psm,
     /// Any other message, by messageId (counted, not used).
     Other(u16),
 }
@@ -188,10 +219,11 @@ pub enum MessageKind {
 pub struct Ingest {
     /// The message.
     pub message: MessageKind,
-    /// Lane models or work zones stored or replaced.
+    /// Lane models or work zones stored or replaced; road workers new to the store.
     pub stored: u8,
     /// Lane models or work zones already stored with the same revision (MAP) or
-    /// `msgCnt` and start time (TIM): only their age was refreshed.
+    /// `msgCnt` and start time (TIM): only their age was refreshed. Road workers updated
+    /// (moved: shown from the next state on, no new state is due for it).
     pub unchanged: u8,
     /// Work zones cancelled by `durationTime` 0.
     pub cancelled: u8,

@@ -15,7 +15,7 @@ use crate::time::Instant;
 use crate::zone::{ClosureSide, WorkZone};
 
 /// Alerts gathered before arbitration.
-type AlertList = Vec<Alert, 16>;
+pub(super) type AlertList = Vec<Alert, 16>;
 
 /// A concerning zone with its distance and state.
 #[derive(Clone, Copy)]
@@ -94,6 +94,13 @@ impl Obu {
             _ => self.travelled_m(now),
         };
         let scan = self.zone_alerts(now, &motion, travelled, &mut alerts);
+        if position != PositionSource::Lost {
+            let reach = self.config.warning_distance(speed) * self.config.approach_factor.max(1.0)
+                + motion.lookahead_m;
+            let workers = self.scan_workers(now, travelled, reach);
+            workers.alerts(&mut alerts);
+            hmi.workers = workers.sorted_views();
+        }
         self.fill_limit(&mut hmi, &scan, speed);
         if hmi.lane.is_some() {
             self.fill_road(&mut hmi);
@@ -336,7 +343,7 @@ impl Obu {
             };
             keep_nearest(&mut road, (offset, lane.id.0));
         }
-        road.sort_unstable_by(|a, b| a.0.total_cmp(&b.0));
+        crate::math::sort_small_by(&mut road, |a, b| a.0.total_cmp(&b.0));
         hmi.road_lanes = road.iter().map(|&(_, id)| id).collect();
     }
 
@@ -347,7 +354,7 @@ impl Obu {
     }
 
     /// The matched lane and its model.
-    fn matched_lane(&self) -> Option<(&LaneModel, &Lane)> {
+    pub(super) fn matched_lane(&self) -> Option<(&LaneModel, &Lane)> {
         let m: LaneMatch = self.last_match?;
         let map = self.maps.slot(m.slot as usize)?;
         Some((map, map.lane(m.lane)?))

@@ -1,8 +1,9 @@
 //! Decoded J2735 messages into the stores: [`Obu::on_frame`], [`Obu::on_map`],
-//! [`Obu::on_tim`].
+//! [`Obu::on_tim`], [`Obu::on_psm`].
 
 use j2735::map_data::MapData;
 use j2735::message_frame::{MessageFrame, MessageFrameValue};
+use j2735::personal_safety_message::PersonalSafetyMessage;
 use j2735::traveler_information::{TravelerDataFrame, TravelerInformation};
 
 use super::{Obu, Stored};
@@ -12,16 +13,18 @@ use crate::ingest::{
 };
 use crate::store::Provenance;
 use crate::time::Instant;
+use crate::worker::{Worker, WorkerUpdate};
 
 impl Obu {
-    /// Takes one decoded MessageFrame: a MAP or TIM is stored (see [`Obu::on_map`] and
-    /// [`Obu::on_tim`]); any other message is counted
+    /// Takes one decoded MessageFrame: a MAP, TIM or PSM is stored (see [`Obu::on_map`],
+    /// [`Obu::on_tim`] and [`Obu::on_psm`]); any other message is counted
     /// ([`crate::alert::Counters::other_messages`]) and reported as
     /// [`MessageKind::Other`].
     pub fn on_frame(&mut self, now: Instant, frame: &MessageFrame) -> Result<Ingest, IngestError> {
         match &frame.value {
             MessageFrameValue::MapData(map) => self.on_map(now, map),
             MessageFrameValue::TravelerInformation(tim) => self.on_tim(now, tim),
+            MessageFrameValue::PersonalSafetyMessage(psm) => self.on_psm(now, psm),
             other => {
                 self.count_other_message();
                 Ok(Ingest::new(MessageKind::Other(other.id().get())))
@@ -130,7 +133,46 @@ impl Obu {
         sink.count(stored);
     }
 
-    /// Parts of MAP and TIM messages rejected so far, by reason.
+    /// Stores the road worker a decoded PSM describes ([`crate::worker`]): a worker new to
+    /// the store is reported as `stored`, an update of a known one as `unchanged` (it is
+    /// shown from the next state on), an unverified PSM over a verified worker as
+    /// `refused_unverified`. A PSM that is not a road worker's, has no position or
+    /// accuracy, is older than the stored one or finds the store full is counted by reason
+    /// ([`Obu::rejected`]) and returned as the error.
+    pub fn on_psm(
+        &mut self,
+        now: Instant,
+        psm: &PersonalSafetyMessage,
+    ) -> Result<Ingest, IngestError> {
+        self.ingest_psm(now, psm, Provenance::Verified)
+    }
+
+    /// [`Obu::on_psm`] for a message of `provenance`.
+    pub(crate) fn ingest_psm(
+        &mut self,
+        now: Instant,
+        psm: &PersonalSafetyMessage,
+        provenance: Provenance,
+    ) -> Result<Ingest, IngestError> {
+        let mut sink = Sink::new(MessageKind::Psm, provenance);
+        let vehicle = self.position();
+        let stored =
+            Worker::from_psm(now, psm, provenance).and_then(|w| self.workers.update(w, vehicle));
+        let r = &mut sink.report;
+        let count = match stored {
+            Ok(WorkerUpdate::New | WorkerUpdate::Evicted) => &mut r.stored,
+            Ok(WorkerUpdate::Updated) => &mut r.unchanged,
+            Ok(WorkerUpdate::Refused) => &mut r.refused_unverified,
+            Err(e) => {
+                sink.reject(e);
+                return self.finish(sink);
+            }
+        };
+        *count = count.saturating_add(1);
+        self.finish(sink)
+    }
+
+    /// Parts of MAP and TIM messages, and PSMs, rejected so far, by reason.
     pub fn rejected(&self) -> &IngestCounters {
         &self.rejected
     }

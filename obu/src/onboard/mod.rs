@@ -2,13 +2,14 @@
 //!
 //! Sans-IO: `on_fix(now, fix)` returns the [`HmiState`] for that fix, `poll(now)`
 //! expires data and reports a stale GNSS, `next_deadline()` says when `poll` has work.
-//! Decoded J2735 messages enter through [`Obu::on_frame`] (or [`Obu::on_map`] and
-//! [`Obu::on_tim`]); models built by other means through [`Obu::update_map`] and
+//! Decoded J2735 messages enter through [`Obu::on_frame`] (or [`Obu::on_map`],
+//! [`Obu::on_tim`] and [`Obu::on_psm`]); models built by other means through [`Obu::update_map`] and
 //! [`Obu::update_zone`], whose closures fill the model in place.
 
 mod evaluate;
 mod messages;
 mod motion;
+mod workers;
 
 use crate::alert::{AlertConfig, Counters, HmiState, PositionSource};
 use crate::clock::{ClockCheck, TimeStatus};
@@ -19,6 +20,7 @@ use crate::lane::{LaneModel, MapId, MapStore, MapUpdate};
 use crate::matcher::{LaneMatch, Matcher};
 use crate::store::Provenance;
 use crate::time::{Duration, Instant, UtcTime};
+use crate::worker::WorkerStore;
 use crate::zone::{self, Validity, WorkZone, ZoneKey, ZoneStore, ZoneUpdate};
 
 /// What [`Obu::store_zone`] did.
@@ -46,6 +48,8 @@ pub struct Obu {
     config: AlertConfig,
     maps: MapStore,
     zones: ZoneStore,
+    /// Road workers from PSMs.
+    workers: WorkerStore,
     matcher: Matcher,
     last_fix: Option<(Instant, Fix)>,
     /// The matcher's clock at the last fix (see [`Obu::fix_time`]).
@@ -95,6 +99,7 @@ impl Obu {
             config,
             maps: MapStore::new(),
             zones: ZoneStore::new(),
+            workers: WorkerStore::new(),
             matcher: Matcher::new(),
             last_fix: None,
             fix_clock: Instant::ZERO,
@@ -132,6 +137,11 @@ impl Obu {
     /// Stored work zones.
     pub fn zones(&self) -> &ZoneStore {
         &self.zones
+    }
+
+    /// Stored road workers.
+    pub fn workers(&self) -> &WorkerStore {
+        &self.workers
     }
 
     /// Counters.
@@ -210,6 +220,7 @@ impl Obu {
             .poll(now, self.utc_minutes(now), self.config.zone_timeout);
         let expired = (maps + zones) as u32;
         self.counters.expired = self.counters.expired.saturating_add(expired);
+        let workers_gone = self.workers.expire(now) > 0;
         let stale = !self.gnss_fresh(now);
         let newly_stale = stale && !self.stale_reported;
         if newly_stale {
@@ -229,7 +240,7 @@ impl Obu {
         if newly_lost {
             self.lost_reported = true;
         }
-        (expired > 0 || newly_stale || tick || newly_lost)
+        (expired > 0 || workers_gone || newly_stale || tick || newly_lost)
             .then(|| self.evaluate(now))
             .map(|state| self.remember_stage(state))
     }
@@ -276,8 +287,8 @@ impl Obu {
         self.time_status = checked.status;
     }
 
-    /// When [`Obu::poll`] next has work, if ever: the GNSS timeout, a map's or zone's
-    /// silence timeout, or the end of a zone's validity window.
+    /// When [`Obu::poll`] next has work, if ever: the GNSS timeout, a map's, zone's or road
+    /// worker's silence timeout, or the end of a zone's validity window.
     pub fn next_deadline(&self) -> Option<Instant> {
         let gnss = match (self.last_fix, self.stale_reported) {
             (Some((t, _)), false) => {
@@ -297,7 +308,8 @@ impl Obu {
         };
         let maps = self.maps.next_expiry(self.config.map_timeout);
         let zones = self.zones.next_expiry(self.config.zone_timeout);
-        [gnss, estimate, maps, zones, self.next_window_end()]
+        let workers = self.workers.next_expiry();
+        [gnss, estimate, maps, zones, workers, self.next_window_end()]
             .into_iter()
             .flatten()
             .min()

@@ -601,3 +601,5 @@ fn an_uncertain_lane_gives_lane_closure_ahead_with_the_side_not_your_lane_closed
     assert!(!kinds.contains(&AlertKind::LaneClosedOwn), "{s:?}");
     assert_eq!(s.advice, LaneAdvice::MoveLeft, "{s:?}");
 }
+
+mod workers;

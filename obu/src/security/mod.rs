@@ -1,4 +1,4 @@
-//! IEEE 1609.2 trust policy: which signed MAP and TIM the core may act on. One place for
+//! IEEE 1609.2 trust policy: which signed MAP, TIM and PSM the core may act on. One place for
 //! the daemon and the firmware; no heap.
 //!
 //! [`Trust::check`] takes a parsed signed message, the `messageId` of the frame inside, the
@@ -16,7 +16,7 @@
 //! 3. The signer certificate: valid at the generation time and now, it permits the PSID
 //!    (with the SSP the settings require for the message, if any), and its region holds the
 //!    generation location (or the vehicle's position).
-//! 4. The PSID is the one configured for the message (TIM, MAP).
+//! 4. The PSID is the one configured for the message (TIM, MAP; PSM: [`PSID_PSM`]).
 //! 5. Times: a generation time within the allowed skew of GNSS time, not past expiry.
 //! 6. Replay: the same generation time and signature hash accepted before.
 //! 7. The signature over `SHA-256(SHA-256(ToBeSignedData) || SHA-256(signer certificate))`,
@@ -46,6 +46,7 @@ use j2735::envelope::ieee1609dot2::{
     Certificate, HashAlgorithm, Issuer, SignatureScheme, SignedData, SignerIdentifier,
 };
 use j2735::frame::Message;
+use j2735::personal_safety_message::PersonalSafetyMessage;
 use j2735::{MapData, TravelerInformation};
 
 use crate::capacity::{MAX_CACHED_CERTS, MAX_CHAIN, MAX_RECENT, MAX_TRUST_ANCHORS};
@@ -55,12 +56,16 @@ use crate::geo::LatLon;
 pub const PSID_TIM: u32 = 0x8003;
 /// The PSID of MAP (SAE J2735 / J2945 intersection and road geometry).
 pub const PSID_MAP: u32 = 0xE000_0017;
+/// The PSID of PSM (SAE J2945/9 vulnerable road user safety): a signed PSM must carry it.
+/// PSMs pass every check a TIM does (chain to a configured anchor, PSID permission, region,
+/// times, replay); no SSP is required of them.
+pub const PSID_PSM: u32 = 0x27;
 
 /// The trust policy's settings.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct SecurityConfig {
-    /// Drop unsigned MAP and TIM. Off: they are used, marked unverified, and can never
+    /// Drop unsigned MAP, TIM and PSM. Off: they are used, marked unverified, and can never
     /// replace, refresh, cancel or evict data that came verified.
     pub require_signed: bool,
     /// Largest allowed distance between a generation time and GNSS time, milliseconds.
@@ -291,6 +296,7 @@ impl Trust {
         match message_id {
             TravelerInformation::MESSAGE_ID => Some(config.tim_psid),
             MapData::MESSAGE_ID => Some(config.map_psid),
+            PersonalSafetyMessage::MESSAGE_ID => Some(PSID_PSM),
             _ => None,
         }
     }

@@ -2,8 +2,8 @@
 //!
 //! [`Obu::on_datagram`] takes what the radio (or UDP, or the firmware's serial link)
 //! delivered: a bare UPER `MessageFrame`, one in an IEEE 1609.2 envelope, or an RSU 4.1
-//! text record (`Version=...`). It unwraps it, peeks the `messageId`, decodes a MAP or TIM
-//! into the caller's kept [`V2xReceiver`] (no heap, nothing large on the stack), feeds the
+//! text record (`Version=...`). It unwraps it, peeks the `messageId`, decodes a MAP, TIM or
+//! PSM (road worker) into the caller's kept [`V2xReceiver`] (no heap, nothing large on the stack), feeds the
 //! core and returns a [`V2xOutcome`]: the state changed (publish it), nothing changed, a
 //! message the OBU does not use, or dropped with a [`DropReason`] from a closed set.
 //! [`V2xCounters`] counts outcomes in fixed arrays indexed by that set. The daemon and the
@@ -19,6 +19,7 @@ use j2735::envelope::ieee1609dot2::{looks_like_ieee1609dot2, Ieee1609Dot2Data, S
 use j2735::envelope::rsu_text::RsuMessage;
 use j2735::envelope::UnwrapError;
 use j2735::frame::{decode_message_into, peek_message_id, Message};
+use j2735::personal_safety_message::PersonalSafetyMessage;
 use j2735::uper::Placeholder;
 use j2735::{MapData, TravelerInformation};
 
@@ -31,10 +32,12 @@ use crate::Obu;
 /// What [`Obu::on_datagram`] did with one input.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum V2xOutcome {
-    /// A MAP or TIM (its `messageId`) changed what is stored (maps or zones stored,
-    /// replaced or cancelled): the caller publishes [`Obu::state`].
+    /// A MAP, TIM or PSM (its `messageId`) changed what is stored (maps or zones stored,
+    /// replaced or cancelled, a new road worker): the caller publishes [`Obu::state`].
     Changed(u16),
-    /// A MAP or TIM (its `messageId`) that only refreshed what is stored (a repeat).
+    /// A MAP or TIM (its `messageId`) that only refreshed what is stored (a repeat), or a
+    /// PSM that updated a known worker (shown with the next fix's state: a PSM per worker
+    /// at 10 Hz would otherwise flood the display link).
     Unchanged(u16),
     /// A message the OBU does not use, by `messageId` (its content is not decoded).
     Other(u16),
@@ -42,7 +45,7 @@ pub enum V2xOutcome {
     Dropped(DropReason),
 }
 
-/// The receive path's kept state: the decode targets of MAP and TIM, room for an RSU text
+/// The receive path's kept state: the decode targets of MAP, TIM and PSM, room for an RSU text
 /// record's payload of up to `N` octets, and the IEEE 1609.2 [`Trust`] (anchors, the cache
 /// of verified certificates, the replay window).
 ///
@@ -52,6 +55,7 @@ pub enum V2xOutcome {
 pub struct V2xReceiver<const N: usize> {
     map: heapless::Vec<MapData, 1>,
     tim: heapless::Vec<TravelerInformation, 1>,
+    psm: heapless::Vec<PersonalSafetyMessage, 1>,
     payload: [u8; N],
     trust: Trust,
 }
@@ -64,6 +68,7 @@ impl<const N: usize> V2xReceiver<N> {
         Self {
             map: heapless::Vec::new(),
             tim: heapless::Vec::new(),
+            psm: heapless::Vec::new(),
             payload: [0; N],
             trust: Trust::unconfigured(),
         }
@@ -74,6 +79,7 @@ impl<const N: usize> V2xReceiver<N> {
         Self {
             map: heapless::Vec::new(),
             tim: heapless::Vec::new(),
+            psm: heapless::Vec::new(),
             payload: [0; N],
             trust: Trust::new(config),
         }
@@ -121,9 +127,9 @@ fn rsu_payload<'a>(bytes: &[u8], out: &'a mut [u8]) -> Result<&'a [u8], DropReas
 }
 
 impl Obu {
-    /// Takes one received V2X input (see the [module docs](self)) at `now`; a MAP or TIM
-    /// is checked by `rx`'s [`Trust`] (signed) or its `require_signed` setting (unsigned),
-    /// decoded into `rx` and stored. A MAP or TIM of which the core refused a
+    /// Takes one received V2X input (see the [module docs](self)) at `now`; a MAP, TIM or
+    /// PSM is checked by `rx`'s [`Trust`] (signed) or its `require_signed` setting (unsigned),
+    /// decoded into `rx` and stored. A message of which the core refused a
     /// part is [`DropReason`]'s ingest group (the parts it could use are stored, as
     /// [`Obu::on_map`] and [`Obu::on_tim`] say).
     pub fn on_datagram<const N: usize>(
@@ -147,6 +153,7 @@ impl Obu {
         let V2xReceiver {
             map,
             tim,
+            psm,
             payload,
             trust,
         } = rx;
@@ -179,6 +186,10 @@ impl Obu {
             let map = slot(map);
             decode_message_into(frame, map).map_err(DropReason::from_decode)?;
             self.ingest_map(now, map, provenance)
+        } else if id == PersonalSafetyMessage::MESSAGE_ID {
+            let psm = slot(psm);
+            decode_message_into(frame, psm).map_err(DropReason::from_decode)?;
+            self.ingest_psm(now, psm, provenance)
         } else {
             let tim = slot(tim);
             decode_message_into(frame, tim).map_err(DropReason::from_decode)?;

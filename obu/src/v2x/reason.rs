@@ -20,7 +20,7 @@ pub enum DropGroup {
     Envelope,
     /// The UPER MessageFrame (or the MAP or TIM in it) does not decode.
     Decode,
-    /// The core refused the decoded MAP or TIM (or part of it).
+    /// The core refused the decoded MAP, TIM or PSM (or part of it).
     Ingest,
     /// IEEE 1609.2 security: unsigned when signatures are required, or a signature,
     /// certificate chain, permission, time or replay check failed (see
@@ -211,6 +211,16 @@ drop_reasons! {
     CertificateMalformed: Security = "1609.2: certificate malformed",
     /// Security: the signer certificate does not grant the required SSP.
     SspNotPermitted: Security = "1609.2: SSP not permitted by the signer certificate",
+    /// Ingest: see [`IngestError::NotRoadWorker`].
+    IngestNotWorker: Ingest = IngestError::NotRoadWorker.as_str(),
+    /// Ingest: see [`IngestError::InvalidPosition`].
+    IngestPosition: Ingest = IngestError::InvalidPosition.as_str(),
+    /// Ingest: see [`IngestError::AccuracyUnavailable`].
+    IngestAccuracy: Ingest = IngestError::AccuracyUnavailable.as_str(),
+    /// Ingest: see [`IngestError::StaleMessage`].
+    IngestStale: Ingest = IngestError::StaleMessage.as_str(),
+    /// Ingest: see [`IngestError::StoreFull`].
+    IngestStoreFull: Ingest = IngestError::StoreFull.as_str(),
 }
 
 impl From<Rejection> for DropReason {
@@ -320,7 +330,7 @@ impl DropReason {
         }
     }
 
-    /// The reason of the core's refusal of a MAP or TIM.
+    /// The reason of the core's refusal of a MAP, TIM or PSM.
     pub const fn from_ingest(e: IngestError) -> Self {
         match e {
             IngestError::InvalidReference => Self::IngestReference,
@@ -331,6 +341,11 @@ impl DropReason {
             IngestError::DuplicateLane => Self::IngestDuplicateLane,
             IngestError::CapacityExceeded => Self::IngestCapacity,
             IngestError::InvalidValue => Self::IngestValue,
+            IngestError::NotRoadWorker => Self::IngestNotWorker,
+            IngestError::InvalidPosition => Self::IngestPosition,
+            IngestError::AccuracyUnavailable => Self::IngestAccuracy,
+            IngestError::StaleMessage => Self::IngestStale,
+            IngestError::StoreFull => Self::IngestStoreFull,
         }
     }
 }

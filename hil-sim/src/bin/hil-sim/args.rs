@@ -92,6 +92,12 @@ pub enum Command {
     /// lanes, a camera beside the road before the zone; writes DIR/calibration.json and
     /// DIR/detections.json.
     SynthCamera(SynthCameraArgs),
+    /// Road users from roadside cameras: each camera folder's masks (detections.json, COCO)
+    /// to 3D boxes and positions (vanishing points from its first frame's PNG, the road
+    /// plane from calibration.json), every camera fused into one set of tracks (JSON);
+    /// with --truth the localization error per class. --synthesize DIR writes a rendered
+    /// site (cam1/, cam2/, truth.json) to run it on.
+    RoadUsers(RoadUsersArgs),
 }
 
 /// `hil-sim run`.
@@ -161,7 +167,7 @@ pub struct PkiArgs {
     /// The RSU certificate's region: a circle (degrees, degrees, metres); default: none.
     #[arg(long, value_name = "LAT,LON,RADIUS_M", value_parser = circle)]
     pub region: Option<(i32, i32, u16)>,
-    /// A PSID the RSU may sign (repeat; default: TIM 0x8003 and MAP 0xE0000017).
+    /// A PSID the RSU may sign (repeat; default: TIM 0x8003, MAP 0xE0000017 and PSM 0x27).
     #[arg(long, value_name = "PSID", value_parser = psid)]
     pub psid: Vec<u32>,
     /// The RSU certificate's name.
@@ -243,6 +249,55 @@ pub struct SynthCameraArgs {
     pub miss_rate: f64,
 }
 
+/// `hil-sim road-users`.
+#[derive(Debug, clap::Args)]
+pub struct RoadUsersArgs {
+    /// Camera folders (calibration.json, detections.json and the first frame's PNG); two
+    /// or more are fused.
+    #[arg(value_name = "DIR", required_unless_present = "synthesize")]
+    pub cameras: Vec<PathBuf>,
+    /// Where the tracks go (JSON, per frame).
+    #[arg(long, value_name = "FILE.json")]
+    pub out: Option<PathBuf>,
+    /// The truth (as --synthesize writes it): print the error per class.
+    #[arg(long, value_name = "FILE.json")]
+    pub truth: Option<PathBuf>,
+    /// Frames a second of the videos.
+    #[arg(long, value_name = "F", default_value_t = 10.0)]
+    pub fps: f64,
+    /// Draw the first camera's first frame with its 3D boxes to this PNG.
+    #[arg(long, value_name = "FILE.png")]
+    pub boxes: Option<PathBuf>,
+    /// The work-zone area (zone.json, lat/lon corners): its tracked workers go on the air
+    /// as PSMs, one per worker per frame.
+    #[arg(long, value_name = "FILE.json")]
+    pub zone: Option<PathBuf>,
+    /// Where the PSMs go (UDP, repeat), in real time at the frame rate; needs --zone.
+    #[arg(long = "to", value_name = "HOST:PORT", value_parser = destination, requires = "zone")]
+    pub to: Vec<SocketAddr>,
+    /// Sign the PSMs with this PKI directory's RSU certificate (IEEE 1609.2, PSID 0x27).
+    #[arg(long, value_name = "DIR", requires = "to")]
+    pub pki: Option<PathBuf>,
+    /// Instead of running: write a rendered site (cam1/, cam2/, truth.json) here.
+    #[arg(long, value_name = "DIR", conflicts_with_all = ["out", "truth", "boxes", "zone"])]
+    pub synthesize: Option<PathBuf>,
+    /// Frames to synthesize.
+    #[arg(long, value_name = "N", default_value_t = 100)]
+    pub frames: usize,
+    /// Cameras to synthesize (1 or 2).
+    #[arg(long, value_name = "N", default_value_t = 2, value_parser = clap::value_parser!(u8).range(1..=2))]
+    pub views: u8,
+    /// Mask noise of the synthesized detections, pixels.
+    #[arg(long, value_name = "S", default_value_t = 1.0)]
+    pub noise_px: f64,
+    /// Seed of the synthesized traffic and noise.
+    #[arg(long, value_name = "K", default_value_t = 1)]
+    pub seed: u64,
+    /// Synthesize at half resolution (960x540).
+    #[arg(long)]
+    pub small: bool,
+}
+
 /// A `--to` value: an IP address and a port.
 fn destination(v: &str) -> Result<SocketAddr, String> {
     v.parse()
@@ -278,6 +333,10 @@ mod tests {
             "hil-sim hmi-drive gnss_lost",
             "hil-sim record s.toml o.nmea o.candump",
             "hil-sim synth-camera --scenario s.toml --out d --frames 3 --noise-px 0.5",
+            "hil-sim road-users --synthesize site --frames 30 --small",
+            "hil-sim road-users site/cam1 site/cam2 --truth site/truth.json --out t.json",
+            "hil-sim road-users site/cam1 --boxes boxes.png",
+            "hil-sim road-users site/cam1 --zone site/zone.json --to 127.0.0.1:1516",
         ] {
             assert!(parse(line).is_ok(), "{line}: {:?}", parse(line).err());
         }
@@ -317,6 +376,10 @@ mod tests {
             "hil-sim roadside s.toml --rate fast",
             "hil-sim load-test --clients many",
             "hil-sim synth-camera --out d",
+            "hil-sim road-users",
+            "hil-sim road-users --synthesize d --views 3",
+            "hil-sim road-users --synthesize d --truth t.json",
+            "hil-sim road-users site/cam1 --to 127.0.0.1:1516",
             "hil-sim hmi-server extra",
             "hil-sim frobnicate",
         ] {

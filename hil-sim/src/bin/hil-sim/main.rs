@@ -3,6 +3,7 @@
 #![forbid(unsafe_code)]
 
 mod args;
+mod road_users;
 mod run;
 
 use args::{Cli, Command, PkiArgs, RoadsideArgs, SynthCameraArgs, Wrap};
@@ -29,6 +30,7 @@ fn main() -> ExitCode {
         } => record(&scenario, &nmea, &candump),
         Command::Demo { port, out } => demo(port, out),
         Command::SynthCamera(a) => synth_camera(&a),
+        Command::RoadUsers(a) => road_users::road_users(&a),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
@@ -186,7 +188,7 @@ fn pki(a: &PkiArgs) -> Result<(), String> {
         .start
         .unwrap_or(roadside::clock::unix_ms_now() / 86_400_000 * 86_400);
     let psids = if a.psid.is_empty() {
-        vec![0x8003, 0xE000_0017]
+        vec![0x8003, 0xE000_0017, 0x27]
     } else {
         a.psid.clone()
     };

@@ -9,7 +9,7 @@ use obu::link::{Deframer, FrameError};
 use obu::HmiState;
 
 /// Largest postcard encoding of an `HmiState` the firmware sends (its `app::HMI_MAX`).
-pub const HMI_MAX: usize = 256;
+pub const HMI_MAX: usize = 512;
 /// Largest wire frame of such a state, final zero included; longer frames are refused whole.
 pub const WIRE_MAX: usize = obu::link::encoded_len(HMI_MAX);
 

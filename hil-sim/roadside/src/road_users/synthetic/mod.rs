@@ -26,7 +26,8 @@ use crate::rng::Prng;
 /// from the carriageway, looking up the street (bearing 18°, pitched 11° down).
 const POLE: ([f64; 3], f64, f64) = ([-6.0, 0.0, 6.0], 18.0, 11.0);
 
-/// The scene's camera: [`POLE`], 1920x1080, zoomed so that the road from 15 m to the horizon
+/// The scene's camera: 6 m up a pole at the back of the west sidewalk (bearing 18°, pitched
+/// 11° down), 1920x1080, zoomed so that the road from 15 m to the horizon
 /// fills the frame (focal length 2800 px, 38° across): a crossing pixel is 1.4 cm wide and
 /// 10 cm deep on the road 40 m away.
 pub fn pole_camera() -> PinholeCamera {
