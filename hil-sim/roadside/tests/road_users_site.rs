@@ -8,8 +8,8 @@ use std::path::PathBuf;
 use geodesy::LatLon;
 use roadside::road::Road;
 use roadside::road_users::files::{
-    load_camera, read_truth, site_cameras, site_frame, synthesize, tracks_json, SynthSpec,
-    SYNTHETIC_ORIGIN,
+    load_camera, read_truth, read_zone, site_cameras, site_frame, synthesize, tracks_json,
+    SynthSpec, SYNTHETIC_ORIGIN,
 };
 use roadside::road_users::pipeline::{error_table, stats, Pipeline, Run};
 use roadside::road_users::tracker::TrackerSettings;
@@ -128,6 +128,16 @@ fn two_cameras_keep_every_worker_where_one_loses_them() {
     assert!(
         one < n,
         "the west camera alone never loses a worker: no occlusion tested"
+    );
+    // The zone file reads back as the closed lane's stretch (x -1..11.5 m, y 15..85 m of the
+    // renderer's street), in the site's frame: 12.5 x 70 m.
+    let area = read_zone(&out.join("zone.json"), &site).unwrap();
+    assert_eq!(area.len(), 4);
+    let side = |a: [f64; 2], b: [f64; 2]| (a[0] - b[0]).hypot(a[1] - b[1]);
+    assert!(
+        (side(area[0], area[1]) - 12.5).abs() < 0.01
+            && (side(area[1], area[2]) - 70.0).abs() < 0.01,
+        "{area:?}"
     );
     // The tracks file names every track with a position.
     let json = tracks_json(&both, &site);

@@ -79,7 +79,6 @@ impl Obu {
         let speed = self.threshold_speed(now, position);
         let mut hmi = self.base_state(now, position);
         let mut alerts = AlertList::new();
-        self.data_alerts(position, &mut alerts);
         let period_s = match position {
             PositionSource::Live => self.fix_period_ms as f32 / 1000.0,
             _ => super::ESTIMATE_PERIOD.as_secs_f32(),
@@ -93,7 +92,8 @@ impl Obu {
             PositionSource::Live => 0.0,
             _ => self.travelled_m(now),
         };
-        let scan = self.zone_alerts(now, &motion, travelled, &mut alerts);
+        // The worker alerts go in first: the list is bounded, and a worker in the lane ahead
+        // must never be the alert that did not fit.
         if position != PositionSource::Lost {
             let reach = self.config.warning_distance(speed) * self.config.approach_factor.max(1.0)
                 + motion.lookahead_m;
@@ -101,6 +101,8 @@ impl Obu {
             workers.alerts(&mut alerts);
             hmi.workers = workers.sorted_views();
         }
+        self.data_alerts(position, &mut alerts);
+        let scan = self.zone_alerts(now, &motion, travelled, &mut alerts);
         self.fill_limit(&mut hmi, &scan, speed);
         if hmi.lane.is_some() {
             self.fill_road(&mut hmi);

@@ -55,7 +55,8 @@ impl WorkerScan {
         }
     }
 
-    /// The views, nearest first.
+    /// The views, in the lane's path ahead first, then ahead, then behind; nearest first in
+    /// each.
     pub(super) fn sorted_views(mut self) -> Vec<WorkerView, MAX_HMI_WORKERS> {
         crate::math::sort_small_by(&mut self.views, |a, b| reach(a).total_cmp(&reach(b)));
         self.views
@@ -106,9 +107,16 @@ fn view(w: &Worker, at: &worker::Placement, now: Instant) -> WorkerView {
     }
 }
 
-/// Straight-line distance of a view from the vehicle, metres.
+/// How a view ranks for the display, lowest first: workers in the lane's path ahead, then
+/// others ahead, then those behind (the tablet draws only what is ahead), each by
+/// straight-line distance from the vehicle, metres.
 fn reach(v: &WorkerView) -> f32 {
-    libm::hypotf(v.distance_m, v.lateral_m)
+    let tier = match (v.distance_m >= 0.0, v.in_own_lane_path) {
+        (true, true) => 0.0,
+        (true, false) => 1.0e5,
+        (false, _) => 2.0e5,
+    };
+    tier + libm::hypotf(v.distance_m, v.lateral_m)
 }
 
 /// Adds `v` to `views`; when full, it replaces the farthest view if nearer.

@@ -184,7 +184,9 @@ impl GroundCamera {
             point([principal.point[0], 2.0 * principal.point[1]]),
         );
         let ground_sign = if seen[2] < 0.0 { -1.0 } else { 1.0 };
-        if dot(g[2], seen) < 0.0 {
+        // `g` maps that road point (w = 1) to the pixel at w = 1 / seen[2]: it must come out
+        // in front of the camera (w > 0).
+        if seen[2] < 0.0 {
             g = g.map(|row| row.map(|v| -v));
         }
         let col = |c: usize| [g[0][c], g[1][c], g[2][c]];

@@ -209,8 +209,8 @@ pub fn site_cameras(small: bool) -> [PinholeCamera; 2] {
 
 /// Writes a synthetic site under `out`: `cam1/` (and `cam2/`), each with the first frame's
 /// PNG, `detections.json` and `calibration.json` (lane-marking corners in view, 0.5 px of
-/// noise); `truth.json` (every road user per frame) and `zone.json` (the closed lane's area,
-/// see [`read_zone`]). Returns the camera folders.
+/// noise); `truth.json` (every road user per frame) and `zone.json` (the work zone's stretch
+/// of road, see [`read_zone`]). Returns the camera folders.
 pub fn synthesize(spec: &SynthSpec, out: &Path) -> Result<Vec<PathBuf>, String> {
     let world = World::work_zone();
     let movers = work_zone_traffic(&world, spec.seed);
@@ -278,7 +278,23 @@ pub fn synthesize(spec: &SynthSpec, out: &Path) -> Result<Vec<PathBuf>, String> 
         &out.join("truth.json"),
         &json!({"fps": spec.fps, "frames": frames}),
     )?;
+    write_json(&out.join("zone.json"), &zone_area(&world, &site))?;
     Ok(dirs)
+}
+
+/// The work zone's stretch of road as an area file: every lane and a metre beyond each edge,
+/// from 10 m before the closure to 10 m after it (a worker stepping out of the closed lane
+/// stays on the air).
+fn zone_area(world: &World, site: &Road) -> Value {
+    let (_, [from, to]) = world.closed;
+    let (x0, x1) = (-1.0, world.road_width_m() + 1.0);
+    let (y0, y1) = (from - 10.0, to + 10.0);
+    let area: Vec<Value> = [[x0, y0], [x1, y0], [x1, y1], [x0, y1]]
+        .iter()
+        .filter_map(|p| site.to_wgs84(*p))
+        .map(|p| json!({"lat": p.lat_deg(), "lon": p.lon_deg()}))
+        .collect();
+    json!({ "area": area })
 }
 
 fn write_json(path: &Path, v: &Value) -> Result<(), String> {

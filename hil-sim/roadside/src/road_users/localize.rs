@@ -133,7 +133,9 @@ impl Localizer {
     pub fn frame(&self, detections: &[Silhouette]) -> (Vec<Localized>, Rejections) {
         let built: Vec<Result<RoadUserBox, BoxRejection>> =
             detections.iter().map(|d| self.one(d)).collect();
-        let foot = self.camera.foot().unwrap_or([0.0, 0.0]);
+        // Without the camera's foot (a vertical point at infinity) no order is known: every
+        // touching mask may be hidden.
+        let foot = self.camera.foot();
         // May detection `j` hide detection `i`? Not when a line between their footprints
         // leaves `j` behind. A detection without a box stands where the lowest point of its
         // mask meets the road. When that is not known, it may.
@@ -153,9 +155,12 @@ impl Localizer {
             ])
         };
         let before = |j: usize, i: usize| match (&built[j], &built[i]) {
-            (Ok(a), Ok(b)) => in_front(&a.footprint, &b.footprint, foot).unwrap_or(true),
+            (Ok(a), Ok(b)) => foot
+                .and_then(|f| in_front(&a.footprint, &b.footprint, f))
+                .unwrap_or(true),
             (Err(_), Ok(b)) => ground_spot(j)
-                .and_then(|spot| in_front(&b.footprint, &spot, foot))
+                .zip(foot)
+                .and_then(|(spot, f)| in_front(&b.footprint, &spot, f))
                 .is_none_or(|b_in_front| !b_in_front),
             _ => true,
         };

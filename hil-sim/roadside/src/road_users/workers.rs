@@ -38,6 +38,8 @@ fn inside(polygon: &[[f64; 2]], p: [f64; 2]) -> bool {
 struct Trail {
     /// Positions of the path history, newest last, with their time.
     crumbs: Vec<([f64; 2], f64)>,
+    /// The track's `msgCnt` (J2735 counts per sender, here per temporary id).
+    msg_cnt: u8,
 }
 
 /// Turns tracks into workers' PSMs.
@@ -45,7 +47,6 @@ struct Trail {
 pub struct WorkerBroadcaster {
     area: Vec<[f64; 2]>,
     salt: u32,
-    msg_cnt: u8,
     trails: BTreeMap<u32, Trail>,
     /// PSMs that could not be built (a value out of the standard's range), counted.
     pub failed: u64,
@@ -58,7 +59,6 @@ impl WorkerBroadcaster {
         Self {
             area,
             salt,
-            msg_cnt: 0,
             trails: BTreeMap::new(),
             failed: 0,
         }
@@ -91,6 +91,7 @@ impl WorkerBroadcaster {
         let mut out = Vec::new();
         let concerned: Vec<&Track> = tracks.iter().filter(|t| self.concerns(t)).collect();
         for t in concerned {
+            let id = self.temporary_id(t.id);
             let trail = self.trails.entry(t.id).or_default();
             if trail
                 .crumbs
@@ -110,23 +111,22 @@ impl WorkerBroadcaster {
                 .filter_map(|c| Some((site.to_wgs84(c.0)?, time_s - c.1)))
                 .take(MAX_CRUMBS)
                 .collect();
+            let msg_cnt = trail.msg_cnt;
+            trail.msg_cnt = (msg_cnt + 1) % 128;
             let Some(position) = site.to_wgs84(t.position) else {
                 self.failed += 1;
                 continue;
             };
             let worker = Worker {
-                id: self.temporary_id(t.id),
+                id,
                 position,
                 accuracy_m: t.position_sigma_m,
                 speed_mps: t.speed_mps,
                 heading_deg: t.heading_deg,
                 history,
             };
-            match build_psm(&worker, now, self.msg_cnt) {
-                Ok(frame) => {
-                    self.msg_cnt = (self.msg_cnt + 1) % 128;
-                    out.push(frame);
-                }
+            match build_psm(&worker, now, msg_cnt) {
+                Ok(frame) => out.push(frame),
                 Err(_) => self.failed += 1,
             }
         }

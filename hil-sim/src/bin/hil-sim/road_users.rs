@@ -29,6 +29,9 @@ const PAPER: [(RoadUserClass, f64, f64); 5] = [
 
 /// Runs the command.
 pub fn road_users(a: &RoadUsersArgs) -> Result<(), String> {
+    if !(a.fps.is_finite() && a.fps > 0.0) {
+        return Err(format!("--fps {}: give a positive number", a.fps));
+    }
     if let Some(out) = &a.synthesize {
         let spec = SynthSpec {
             frames: a.frames,
@@ -50,9 +53,6 @@ pub fn road_users(a: &RoadUsersArgs) -> Result<(), String> {
         }
         println!("  {}", out.join("truth.json").display());
         return Ok(());
-    }
-    if !(a.fps.is_finite() && a.fps > 0.0) {
-        return Err(format!("--fps {}: give a positive number", a.fps));
     }
     let first = a.cameras.first().ok_or("give at least one camera folder")?;
     let site = site_frame(first)?;
@@ -162,6 +162,12 @@ fn track(
         let t = k as f64 / fps;
         let tracks = pipeline.frame(k, t, &masks).map_err(|e| e.to_string())?;
         let Some(air) = air.as_mut() else { continue };
+        if air.radio.is_some() {
+            if let Some(wait) = std::time::Duration::from_secs_f64(t).checked_sub(start.elapsed()) {
+                std::thread::sleep(wait);
+            }
+        }
+        // secMark: when the PSMs leave.
         let now = Utc::from_unix_ms(unix_ms_now());
         let psms = air.workers.tick(tracks, t, now, site);
         let mut messages = Vec::with_capacity(psms.len());
@@ -174,9 +180,6 @@ fn track(
         }
         air.sent += messages.len();
         if let Some(radio) = air.radio.as_mut() {
-            if let Some(wait) = std::time::Duration::from_secs_f64(t).checked_sub(start.elapsed()) {
-                std::thread::sleep(wait);
-            }
             radio.set_messages(messages);
             radio.tick();
         }

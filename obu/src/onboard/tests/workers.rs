@@ -126,6 +126,25 @@ fn a_worker_behind_raises_nothing() {
 }
 
 #[test]
+fn the_worker_in_the_path_ahead_is_listed_before_a_crew_just_passed() {
+    let mut obu = obu_with(false);
+    // Eight workers 2-16 m behind the car (y 284-298, beside the lane), one 60 m ahead in it.
+    for k in 0..8u8 {
+        worker_at(&mut obu, 0, 20 + k, 7.0, 298.0 - 2.0 * f32::from(k));
+    }
+    worker_at(&mut obu, 0, 30, 3.5, 360.0);
+    let s = drive(&mut obu, 0, 3.5, 300.0, V);
+    assert_eq!(s.workers.len(), MAX_HMI_WORKERS);
+    let first = s.workers[0];
+    assert!(
+        first.id == 30 && first.in_own_lane_path && near(first.distance_m, 60.0),
+        "{first:?}"
+    );
+    assert!(s.workers[1..].iter().all(|w| w.distance_m < 0.0));
+    assert_eq!(s.primary.map(|a| a.kind), Some(AlertKind::WorkerInLane));
+}
+
+#[test]
 fn a_worker_not_heard_for_a_second_is_gone() {
     let mut obu = obu_with(false);
     worker_at(&mut obu, 0, 5, 3.5, 380.0);
