@@ -13,22 +13,14 @@ use roadside::rng::Prng;
 use roadside::road_users::calibrate::{calibrate, cross_check, SceneCalibration};
 use roadside::road_users::detections::parse_coco;
 use roadside::road_users::edgelets::EdgeletSettings;
-use roadside::road_users::localize::{Localizer, Rejections};
+use roadside::road_users::localize::{Localized, Localizer, Rejections};
+use roadside::road_users::pipeline::{paper_text, stats};
 use roadside::road_users::synthetic::{
     self, coco_json, labels, masks, picture, random_users, CocoFrame, RoadUser, World,
 };
 use roadside::road_users::tracker::{Observation, RoadUserTracker, TrackerSettings};
 use roadside::road_users::vanishing::{angle_between, RansacSettings};
 use roadside::road_users::RoadUserClass;
-
-/// The paper's field table: mean and max localization error, cm.
-const PAPER: [(RoadUserClass, f64, f64); 5] = [
-    (RoadUserClass::Car, 12.3, 20.5),
-    (RoadUserClass::Van, 17.2, 26.8),
-    (RoadUserClass::Bus, 20.8, 30.7),
-    (RoadUserClass::Truck, 23.7, 35.4),
-    (RoadUserClass::Pedestrian, 8.0, 19.8),
-];
 
 /// Reference points for the homography: lane-marking corners surveyed on the road.
 fn reference_homography(cam: &PinholeCamera, rng: &mut Prng, noise_px: f64) -> Homography {
@@ -155,13 +147,6 @@ fn run_table(
     (per, raw_per, rejected, detections)
 }
 
-fn stats(v: &[f64]) -> (f64, f64, f64) {
-    let n = v.len().max(1) as f64;
-    let mean = v.iter().sum::<f64>() / n;
-    let var = v.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / n;
-    (mean, var.sqrt(), v.iter().copied().fold(0.0, f64::max))
-}
-
 fn main() {
     let opts = Options::parse();
     let world = World::work_zone();
@@ -193,10 +178,7 @@ fn main() {
         println!("class         n   mean    std    max  (cm)  paper mean / max  footprint centre mean / max");
         for (k, class) in RoadUserClass::ALL.iter().enumerate() {
             let (mean, std, max) = stats(&per[k].errors);
-            let paper = PAPER
-                .iter()
-                .find(|p| p.0 == *class)
-                .map_or(String::from("-"), |p| format!("{:.1} / {:.1}", p.1, p.2));
+            let paper = paper_text(*class);
             let (rm, _, rx) = stats(&raw[k].errors);
             let name = class.name();
             let count = per[k].errors.len();
@@ -238,14 +220,7 @@ fn time_frames(cam: &PinholeCamera, loc: &Localizer, world: &World) {
             masks_seen += sil.len();
             let (found, _) = loc.frame(sil);
             boxes += found.len();
-            let obs: Vec<Observation> = found
-                .iter()
-                .map(|b| Observation {
-                    class: b.road_user.class,
-                    position: b.position,
-                    sigma_m: b.sigma_m,
-                })
-                .collect();
+            let obs: Vec<Observation> = found.iter().map(Localized::observation).collect();
             let t = (r * texts.len() + k) as f64 * 0.1;
             let _ = tracker.update(t, &obs);
         }

@@ -12,7 +12,7 @@ use roadside::road_users::calibrate::{calibrate, cross_check, SceneCalibration};
 use roadside::road_users::class::Extent;
 use roadside::road_users::detections::parse_coco;
 use roadside::road_users::edgelets::EdgeletSettings;
-use roadside::road_users::localize::Localizer;
+use roadside::road_users::localize::{Localized, Localizer};
 use roadside::road_users::synthetic::{
     coco_json, corners, labels, masks, picture, random_users, render, small_pole_camera, CocoFrame,
     RoadUser, World,
@@ -285,14 +285,7 @@ fn a_worker_crossing_the_lane_is_tracked_with_speed_and_heading() {
             .map(|(_, m)| m)
             .collect();
         let (boxes, _) = loc.frame(&sil);
-        let obs: Vec<Observation> = boxes
-            .iter()
-            .map(|b| Observation {
-                class: b.road_user.class,
-                position: b.position,
-                sigma_m: b.sigma_m,
-            })
-            .collect();
+        let obs: Vec<Observation> = boxes.iter().map(Localized::observation).collect();
         last = tracker.update(t, &obs).unwrap();
     }
     assert_eq!(last.len(), 1, "{last:?}");

@@ -72,11 +72,6 @@ impl RoadUserBox {
     pub fn width_m(&self) -> f64 {
         side(self.footprint[0], self.footprint[3])
     }
-
-    /// The typical box of its class.
-    pub fn road_user_class_typical(&self) -> super::class::Extent {
-        self.class.typical()
-    }
 }
 
 fn side(a: [f64; 2], b: [f64; 2]) -> f64 {

@@ -18,6 +18,7 @@ use super::boxes::{construct, BoxRejection, RoadUserBox};
 use super::calibrate::{GroundCamera, GroundCameraFault, SceneCalibration, VanishingPoints};
 use super::detections::Silhouette;
 use super::polygon::{in_front, near_or_overlapping};
+use super::tracker::Observation;
 
 /// Masks nearer than this (pixels) count as touching.
 const TOUCH_PX: f64 = 2.0;
@@ -39,6 +40,17 @@ pub struct Localized {
     pub position: [f64; 2],
     /// 1-sigma error of the position, metres.
     pub sigma_m: f64,
+}
+
+impl Localized {
+    /// The tracker's observation of it.
+    pub fn observation(&self) -> Observation {
+        Observation {
+            class: self.road_user.class,
+            position: self.position,
+            sigma_m: self.sigma_m,
+        }
+    }
 }
 
 /// Detections without a box, by reason.
@@ -201,7 +213,7 @@ impl Localizer {
 
     /// The position (B1 plus half the fused length and width) and its 1-sigma error.
     fn position(&self, b: &RoadUserBox) -> ([f64; 2], f64) {
-        let typical = b.road_user_class_typical();
+        let typical = b.class.typical();
         let [b1, b2, _, b4] = b.footprint;
         let (length, sl) = fuse(b.length_m(), b.length_per_px_m, typical.length_m);
         let (width, sw) = fuse(b.width_m(), b.width_per_px_m, typical.width_m);

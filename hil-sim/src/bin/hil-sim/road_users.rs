@@ -11,21 +11,12 @@ use roadside::road_users::files::{
     draw_first_frame, load_camera, read_truth, read_zone, site_frame, synthesize, tracks_json,
     CameraFolder, SynthSpec,
 };
-use roadside::road_users::pipeline::{error_table, stats, ErrorTable, Pipeline, Run};
+use roadside::road_users::pipeline::{error_table, paper_text, stats, ErrorTable, Pipeline, Run};
 use roadside::road_users::tracker::TrackerSettings;
 use roadside::road_users::workers::WorkerBroadcaster;
 use roadside::road_users::RoadUserClass;
 
 use crate::args::RoadUsersArgs;
-
-/// The paper's field table: mean and max localization error, cm.
-const PAPER: [(RoadUserClass, f64, f64); 5] = [
-    (RoadUserClass::Car, 12.3, 20.5),
-    (RoadUserClass::Van, 17.2, 26.8),
-    (RoadUserClass::Bus, 20.8, 30.7),
-    (RoadUserClass::Truck, 23.7, 35.4),
-    (RoadUserClass::Pedestrian, 8.0, 19.8),
-];
 
 /// Runs the command.
 pub fn road_users(a: &RoadUsersArgs) -> Result<(), String> {
@@ -210,10 +201,7 @@ fn print_table(title: &str, t: &ErrorTable) {
     println!("class           n    mean    std     max (cm)   paper mean / max");
     for (k, class) in RoadUserClass::ALL.iter().enumerate() {
         let (mean, std, max) = stats(&t.errors[k]);
-        let paper = PAPER
-            .iter()
-            .find(|p| p.0 == *class)
-            .map_or(String::from("-"), |p| format!("{:.1} / {:.1}", p.1, p.2));
+        let paper = paper_text(*class);
         let n = t.errors[k].len();
         println!(
             "{:<12} {n:>5} {mean:7.1} {std:6.1} {max:7.1}      {paper}",
