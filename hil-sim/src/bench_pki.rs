@@ -56,7 +56,7 @@ mod tests {
             ca_years: 15,
             rsu_hours: 2730 * 24,
             region: None,
-            psids: vec![0x8003, 0xE000_0017],
+            psids: vec![0x8003, 0xE000_0017, 0x27],
             rsu_name: "rsu.bench.hil-sim.example".into(),
         })
         .unwrap();

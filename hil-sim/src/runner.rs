@@ -17,6 +17,7 @@ use obu::alert::HmiState;
 use roadside::clock::{unix_ms_now, Utc};
 use roadside::messages::WorkZone;
 use roadside::road::Road;
+use roadside::road_users::live::{CameraView, LiveSite};
 use roadside::scripted::V2xCounts;
 use roadside::zone_sources::build_zones;
 use serde::Serialize;
@@ -71,6 +72,8 @@ pub struct RunReport {
     /// The attack, when the scenario has an attacker: what it sent and what the device
     /// counted.
     pub attack: Option<AttackFacts>,
+    /// Workers' PSMs the camera site sent (0 without one).
+    pub worker_psms: u64,
     /// Files written.
     pub files: Vec<PathBuf>,
 }
@@ -84,6 +87,8 @@ struct Recorded {
     changes: Vec<Instant>,
     v2x: V2xCounts,
     attack: Option<AttackFacts>,
+    views: Vec<CameraView>,
+    psms: u64,
 }
 
 /// Runs a scenario and writes its report into `opts.out`.
@@ -96,6 +101,7 @@ pub fn run(s: &Scenario, opts: &RunOptions) -> Result<RunReport, String> {
     if samples.is_empty() {
         return Err("the drive has no samples (start past its end?)".into());
     }
+    let camera = camera_site(s, &road, &zones)?;
     let state_dir = opts.out.join("obu-state");
     let _ = std::fs::remove_dir_all(&state_dir);
     let mut extra = format!(
@@ -130,7 +136,7 @@ pub fn run(s: &Scenario, opts: &RunOptions) -> Result<RunReport, String> {
     if opts.http_port != 0 {
         println!("hil-sim: the tablet app is live at {}", daemon.http);
     }
-    let mut recorded = drive_and_record(s, &road, &zones, samples, &daemon, opts.progress)?;
+    let mut recorded = drive_and_record(s, &road, &zones, samples, &daemon, opts.progress, camera)?;
     if let Some(rig) = &daemon.rig {
         // What the roadside sent after the drive may still wait on the serial link: let the
         // firmware work through it before QEMU stops, or a frame sent would be neither
@@ -148,6 +154,25 @@ pub fn run(s: &Scenario, opts: &RunOptions) -> Result<RunReport, String> {
     report(s, &road, &zones, recorded, opts)
 }
 
+/// The scenario's camera site on its road (its cones along the first zone), calibrated
+/// before the drive starts.
+fn camera_site(s: &Scenario, road: &Road, zones: &[WorkZone]) -> Result<Option<LiveSite>, String> {
+    let Some(spec) = &s.workers else {
+        return Ok(None);
+    };
+    let zone = zones.first().ok_or("[workers] needs a work zone")?;
+    let lane = zone.closed_lanes.first().copied().unwrap_or(1);
+    // A salt of the temporary ids that changes from run to run, as a roadside's would.
+    let salt = (unix_ms_now() as u32).rotate_left(7);
+    LiveSite::new(
+        spec,
+        road,
+        (u32::from(lane), [zone.start_m, zone.end_m]),
+        salt,
+    )
+    .map(Some)
+}
+
 /// How long the firmware may take, after the bench stopped sending, to work through what it
 /// was sent.
 const FIRMWARE_CATCH_UP: Duration = Duration::from_secs(60);
@@ -160,6 +185,7 @@ fn drive_and_record(
     samples: Vec<Sample>,
     daemon: &Daemon,
     progress: bool,
+    camera: Option<LiveSite>,
 ) -> Result<Recorded, String> {
     let stop = Arc::new(AtomicBool::new(false));
     let states = Arc::new(Mutex::new(Vec::new()));
@@ -197,6 +223,7 @@ fn drive_and_record(
         t0,
         stop.clone(),
         Some(signer),
+        camera,
     )?;
     let sock = UdpSocket::bind("127.0.0.1:0").map_err(|e| e.to_string())?;
     let mut sent = Vec::with_capacity(samples.len());
@@ -229,7 +256,8 @@ fn drive_and_record(
     std::thread::sleep(Duration::from_millis(1200));
     stop.store(true, Ordering::Relaxed);
     let _ = recorder.join();
-    let (changes, counts) = v2x.join().map_err(|_| "the roadside thread panicked")?;
+    let roadside = v2x.join().map_err(|_| "the roadside thread panicked")?;
+    let (changes, counts) = (roadside.changes, roadside.counts);
     let attack = attacked?.map(|(kind, sent)| {
         // The daemon counts every input; the firmware's drops are read from its log
         // once it has stopped (`run`).
@@ -251,6 +279,8 @@ fn drive_and_record(
         changes,
         v2x: counts,
         attack,
+        views: roadside.views,
+        psms: roadside.psms,
     })
 }
 
@@ -442,6 +472,7 @@ fn report(
         states: records.len(),
         v2x: rec.v2x,
         attack: rec.attack.clone(),
+        worker_psms: rec.psms,
         files: files.clone(),
     };
     let json = serde_json::to_string_pretty(&report).map_err(|e| e.to_string())?;
@@ -518,6 +549,7 @@ fn run_facts(s: &Scenario, rec: &Recorded) -> RunFacts {
         warning_distance_m: s.settings.warning_distance_m,
         attack: rec.attack.clone(),
         can_speed: s.can_speed || s.drive.candump_file.is_some(),
+        camera_views: rec.views.clone(),
     }
 }
 

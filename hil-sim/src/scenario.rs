@@ -1,11 +1,13 @@
 //! Scenario files (TOML): the lane map, the work zones and where they come from, the
-//! faults (the roadside's [`Site`]), an attacker beside the roadside (`[attacker]`), the
+//! faults (the roadside's [`Site`]), an attacker beside the roadside (`[attacker]`), a
+//! camera site whose tracked workers go out as PSMs (`[workers]`), the
 //! drive, the driver's settings and the expectations. Paths inside a scenario are relative to its file.
 
 use crate::drive::DriveSpec;
 use crate::expect::Expectation;
 pub use roadside::attacker::{AttackKind, AttackerSpec};
 use roadside::road::Road;
+pub use roadside::road_users::live::{CameraSiteSpec, SceneUserSpec};
 pub use roadside::site::{RadioFaults, RoadSpec, Site, ZoneSource, ZoneSpec};
 use serde::Deserialize;
 use std::path::{Path, PathBuf};
@@ -35,6 +37,9 @@ pub struct Scenario {
     /// A forged or replayed MAP/TIM sender beside the roadside.
     #[serde(default)]
     pub attacker: Option<AttackerSpec>,
+    /// A roadside camera site whose tracked workers go out as PSMs (`[workers]`).
+    #[serde(default)]
+    pub workers: Option<CameraSiteSpec>,
     /// Vehicle speed from CAN (a candump replay) instead of GNSS.
     #[serde(default)]
     pub can_speed: bool,

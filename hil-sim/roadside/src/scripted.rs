@@ -4,8 +4,10 @@
 //! corruption), the broadcaster's fault model ([`crate::broadcast::FaultInjector`]).
 
 use crate::broadcast::{FaultInjector, Faults, LossModel, MessageKind, Verdict};
+use crate::clock::Utc;
 use crate::messages::{self, WorkZone};
 use crate::road::{Road, RoadLane};
+use crate::road_users::live::{CameraView, LiveSite};
 use crate::site::Site;
 use serde::Serialize;
 use std::net::UdpSocket;
@@ -133,10 +135,26 @@ fn radio(s: &Site, t0: Instant) -> Result<FaultInjector, String> {
     .map_err(|e| format!("faults: {e}"))
 }
 
+/// What the roadside thread returns: when each new version of the MAP/TIMs first left,
+/// the datagram counts, and what the camera site's cameras saw.
+#[derive(Debug, Clone, Default)]
+pub struct RoadsideRun {
+    /// When each new version of the messages first left.
+    pub changes: Vec<Instant>,
+    /// Datagram counts (PSMs included).
+    pub counts: V2xCounts,
+    /// The camera site's views (empty without one).
+    pub views: Vec<CameraView>,
+    /// Workers' PSMs sent.
+    pub psms: u64,
+}
+
 /// Starts the roadside thread; it stops when `stop` turns true and returns when each new
 /// version of the messages first left, and the datagram counts. With a `signer`, every
 /// frame goes out as IEEE 1609.2 signed data generated at its send time (before the radio
-/// faults, which then damage signed bytes as they would on the air).
+/// faults, which then damage signed bytes as they would on the air). With a `camera`
+/// site, each tick is also one camera frame: its workers' PSMs go out with the MAP and TIMs.
+#[allow(clippy::too_many_arguments)]
 pub fn spawn(
     s: &Site,
     road: &Road,
@@ -145,7 +163,8 @@ pub fn spawn(
     t0: Instant,
     stop: Arc<AtomicBool>,
     signer: Option<Arc<crate::pki::RsuSigner>>,
-) -> Result<JoinHandle<(Vec<Instant>, V2xCounts)>, String> {
+    mut camera: Option<LiveSite>,
+) -> Result<JoinHandle<RoadsideRun>, String> {
     let sock = UdpSocket::bind("127.0.0.1:0").map_err(|e| e.to_string())?;
     let to = to.to_string();
     let s = s.clone();
@@ -157,12 +176,18 @@ pub fn spawn(
         shrunk: vec![false; zones.len()],
     };
     let mut air = timeline.at(&s, 0.0)?.ok_or("no messages at the start")?;
-    let mut radio = radio(&s, t0)?;
+    let radio = radio(&s, t0)?;
     Ok(std::thread::spawn(move || {
-        let mut counts = V2xCounts::default();
+        let mut out = Sender {
+            sock,
+            to,
+            signer,
+            radio,
+            counts: V2xCounts::default(),
+        };
+        let mut run = RoadsideRun::default();
         // When each new version of the messages first left (the first datagram sent after
         // a change): the runner times the state it causes on the tablet.
-        let mut changes = Vec::new();
         let mut pending = true;
         let mut next = t0;
         while !stop.load(Ordering::Relaxed) {
@@ -173,32 +198,57 @@ pub fn spawn(
             }
             let now = Instant::now();
             for frame in std::iter::once(&air.map).chain(&air.tims) {
-                let kind = MessageKind::of_frame(frame).unwrap_or(MessageKind::Other(0));
-                let mut d = match &signer {
-                    Some(signer) => match signer.sign(frame, crate::clock::unix_ms_now()) {
-                        Ok(signed) => signed,
-                        Err(_) => continue,
-                    },
-                    None => frame.clone(),
-                };
-                match radio.decide(0, kind, now, &mut d) {
-                    Verdict::Drop(_) => {
-                        counts.lost += 1;
-                        continue;
-                    }
-                    Verdict::Corrupted { .. } => counts.corrupted += 1,
-                    Verdict::Send => {}
+                if out.send(frame, now) && std::mem::take(&mut pending) {
+                    run.changes.push(Instant::now());
                 }
-                if sock.send_to(&d, &to).is_ok() {
-                    counts.sent += 1;
-                    if std::mem::take(&mut pending) {
-                        changes.push(Instant::now());
+            }
+            if let Some(site) = camera.as_mut() {
+                for psm in site.tick(t, Utc::from_unix_ms(crate::clock::unix_ms_now())) {
+                    if let Ok(frame) = messages::encode(&psm) {
+                        run.psms += u64::from(out.send(&frame, Instant::now()));
                     }
                 }
             }
             next += PERIOD;
             std::thread::sleep(next.saturating_duration_since(Instant::now()));
         }
-        (changes, counts)
+        run.counts = out.counts;
+        run.views = camera.map(|c| c.views).unwrap_or_default();
+        run
     }))
+}
+
+/// The roadside's radio: signs, applies the faults, sends and counts.
+struct Sender {
+    sock: UdpSocket,
+    to: String,
+    signer: Option<Arc<crate::pki::RsuSigner>>,
+    radio: FaultInjector,
+    counts: V2xCounts,
+}
+
+impl Sender {
+    /// Sends one frame (signed when there is a signer) through the radio faults; true
+    /// when it left.
+    fn send(&mut self, frame: &[u8], now: Instant) -> bool {
+        let kind = MessageKind::of_frame(frame).unwrap_or(MessageKind::Other(0));
+        let mut d = match &self.signer {
+            Some(signer) => match signer.sign(frame, crate::clock::unix_ms_now()) {
+                Ok(signed) => signed,
+                Err(_) => return false,
+            },
+            None => frame.to_vec(),
+        };
+        match self.radio.decide(0, kind, now, &mut d) {
+            Verdict::Drop(_) => {
+                self.counts.lost += 1;
+                return false;
+            }
+            Verdict::Corrupted { .. } => self.counts.corrupted += 1,
+            Verdict::Send => {}
+        }
+        let sent = self.sock.send_to(&d, &self.to).is_ok();
+        self.counts.sent += u64::from(sent);
+        sent
+    }
 }

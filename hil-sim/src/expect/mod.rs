@@ -3,6 +3,7 @@
 
 mod alerts;
 mod attack;
+mod workers;
 
 use obu::alert::{AlertKind, AlertStage, HmiState, ZoneState};
 use serde::{Deserialize, Serialize};
@@ -151,6 +152,37 @@ pub enum Expectation {
         /// Least count.
         min: u32,
     },
+    /// The first "worker in lane ahead" shows as the primary alert at most `within_ms`
+    /// after `from_s` (when the worker's truth came within the alert's margin of the car's
+    /// lane) and not more than half a second before it, `min_m` to `max_m` ahead.
+    WorkerInLaneShown {
+        /// Seconds since the drive start.
+        from_s: f64,
+        /// Milliseconds.
+        within_ms: f64,
+        /// Least distance ahead, metres.
+        min_m: f64,
+        /// Greatest distance ahead, metres.
+        max_m: f64,
+    },
+    /// Workers are shown near the road (at least `min_workers` at once) and never in the
+    /// car's lane.
+    WorkersNearOnly {
+        /// Least number of workers shown at once.
+        min_workers: usize,
+    },
+    /// The camera site's camera `camera` (from 1) saw nothing of road user `user` (from
+    /// 1, the scenario's order) from `from_s` to `to_s`: the occlusion is real.
+    HiddenFromCamera {
+        /// Camera.
+        camera: usize,
+        /// Road user.
+        user: usize,
+        /// Seconds since the drive start.
+        from_s: f64,
+        /// Seconds since the drive start.
+        to_s: f64,
+    },
 }
 
 fn ninety() -> f64 {
@@ -189,6 +221,8 @@ pub struct RunFacts {
     pub attack: Option<crate::attack::AttackFacts>,
     /// The vehicle speed comes from CAN (it stays shown through a GNSS dropout).
     pub can_speed: bool,
+    /// What the camera site's cameras saw of each road user, frame by frame.
+    pub camera_views: Vec<roadside::road_users::live::CameraView>,
 }
 
 /// True for alerts about a work zone (not about the data).
@@ -305,6 +339,21 @@ pub fn check(e: &Expectation, records: &[Record], facts: &RunFacts) -> Outcome {
             alerts::urgent_before(records, *min_m, *max_m)
         }
         Expectation::NeverUrgent => alerts::never_urgent(records),
+        Expectation::WorkerInLaneShown {
+            from_s,
+            within_ms,
+            min_m,
+            max_m,
+        } => workers::worker_in_lane_shown(records, *from_s, *within_ms, [*min_m, *max_m]),
+        Expectation::WorkersNearOnly { min_workers } => {
+            workers::workers_near_only(records, *min_workers)
+        }
+        Expectation::HiddenFromCamera {
+            camera,
+            user,
+            from_s,
+            to_s,
+        } => workers::hidden_from_camera(facts, *camera, *user, [*from_s, *to_s]),
         Expectation::TimeStatusShown {
             status,
             min_fraction,

@@ -223,8 +223,12 @@ pub struct Ingest {
     pub stored: u8,
     /// Lane models or work zones already stored with the same revision (MAP) or
     /// `msgCnt` and start time (TIM): only their age was refreshed. Road workers updated
-    /// (moved: shown from the next state on, no new state is due for it).
+    /// whose alert stays the same (moved: shown from the next state on).
     pub unchanged: u8,
+    /// Road workers updated whose alert changed: one stepped into the own lane's path
+    /// ahead or out of it, or came near the road or left it. A new state is due now, not
+    /// at the next fix.
+    pub alert_changed: u8,
     /// Work zones cancelled by `durationTime` 0.
     pub cancelled: u8,
     /// Work zones older (start time) than the stored version: ignored.
@@ -247,6 +251,7 @@ impl Ingest {
             message: kind,
             stored: 0,
             unchanged: 0,
+            alert_changed: 0,
             cancelled: 0,
             stale: 0,
             thinned: 0,

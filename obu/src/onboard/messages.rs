@@ -134,7 +134,8 @@ impl Obu {
     }
 
     /// Stores the road worker a decoded PSM describes ([`crate::worker`]): a worker new to
-    /// the store is reported as `stored`, an update of a known one as `unchanged` (it is
+    /// the store is reported as `stored`, an update of a known one as `alert_changed` when
+    /// the alert it raises changed (a state is due now) and as `unchanged` otherwise (it is
     /// shown from the next state on), an unverified PSM over a verified worker as
     /// `refused_unverified`. A PSM that is not a road worker's, has no position or
     /// accuracy, is older than the stored one or finds the store full is counted by reason
@@ -156,12 +157,19 @@ impl Obu {
     ) -> Result<Ingest, IngestError> {
         let mut sink = Sink::new(MessageKind::Psm, provenance);
         let vehicle = self.position();
-        let stored =
-            Worker::from_psm(now, psm, provenance).and_then(|w| self.workers.update(w, vehicle));
+        let worker = Worker::from_psm(now, psm, provenance);
+        let before = worker.as_ref().ok().map(|w| {
+            let stored = self.workers.iter().find(|s| s.id() == w.id());
+            (stored.map(|s| self.worker_alert(s)), self.worker_alert(w))
+        });
+        let stored = worker.and_then(|w| self.workers.update(w, vehicle));
         let r = &mut sink.report;
         let count = match stored {
             Ok(WorkerUpdate::New | WorkerUpdate::Evicted) => &mut r.stored,
-            Ok(WorkerUpdate::Updated) => &mut r.unchanged,
+            Ok(WorkerUpdate::Updated) => match before {
+                Some((Some(old), new)) if old != new => &mut r.alert_changed,
+                _ => &mut r.unchanged,
+            },
             Ok(WorkerUpdate::Refused) => &mut r.refused_unverified,
             Err(e) => {
                 sink.reject(e);

@@ -75,22 +75,53 @@ impl Obu {
         let mut own = m.position;
         own.station += travelled;
         for w in self.workers.current(now) {
-            let p = map.frame().to_local(w.position());
-            let Some(at) = worker::place(lane, &own, p) else {
+            let Some((at, alert)) = classify(map, lane, &own, w) else {
                 continue;
             };
             let d = at.distance_m;
-            if d > 0.0 && d <= reach_m {
-                if at.in_path {
-                    scan.in_lane = Some(scan.in_lane.map_or(d, |n| n.min(d)));
-                } else if worker::near_road(map, p) {
-                    scan.near = Some(scan.near.map_or(d, |n| n.min(d)));
+            if d <= reach_m {
+                match alert {
+                    Some(AlertKind::WorkerInLane) => {
+                        scan.in_lane = Some(scan.in_lane.map_or(d, |n| n.min(d)));
+                    }
+                    Some(_) => scan.near = Some(scan.near.map_or(d, |n| n.min(d))),
+                    None => {}
                 }
             }
             keep_nearest(&mut scan.views, view(w, &at, now));
         }
         scan
     }
+
+    /// The alert `w` raises for the vehicle where its last fix matched, however far
+    /// ahead: [`AlertKind::WorkerInLane`], [`AlertKind::WorkersNearRoad`] or none (also
+    /// without a lane match). A PSM that changes it calls for a new state at once.
+    pub(super) fn worker_alert(&self, w: &Worker) -> Option<AlertKind> {
+        let (m, (map, lane)) = (self.last_match?, self.matched_lane()?);
+        classify(map, lane, &m.position, w)?.1
+    }
+}
+
+/// Places `w` on `lane` of `map` for the vehicle at `own`, with the alert it raises when
+/// ahead: in the lane's path, or near one of the map's vehicle lanes.
+fn classify(
+    map: &crate::lane::LaneModel,
+    lane: &crate::lane::Lane,
+    own: &crate::lane::LanePosition,
+    w: &Worker,
+) -> Option<(worker::Placement, Option<AlertKind>)> {
+    let p = map.frame().to_local(w.position());
+    let at = worker::place(lane, own, p)?;
+    let alert = if at.distance_m <= 0.0 {
+        None
+    } else if at.in_path {
+        Some(AlertKind::WorkerInLane)
+    } else if worker::near_road(map, p) {
+        Some(AlertKind::WorkersNearRoad)
+    } else {
+        None
+    };
+    Some((at, alert))
 }
 
 /// The view of `w` placed `at`, at `now`.

@@ -196,7 +196,7 @@ impl Obu {
             self.ingest_tim(now, tim, provenance)
         };
         let report: Ingest = result.map_err(DropReason::from_ingest)?;
-        if report.stored > 0 || report.cancelled > 0 {
+        if report.stored > 0 || report.cancelled > 0 || report.alert_changed > 0 {
             Ok(V2xOutcome::Changed(id))
         } else if report.refused_unverified > 0 {
             Err(DropReason::UnverifiedOverVerified)

@@ -24,6 +24,7 @@ pub mod draw;
 pub mod edgelets;
 pub mod files;
 pub mod homog;
+pub mod live;
 pub mod localize;
 pub mod outline;
 pub mod pipeline;

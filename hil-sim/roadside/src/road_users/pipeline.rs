@@ -55,6 +55,9 @@ pub struct Pipeline {
     cameras: Vec<Localizer>,
     tracker: RoadUserTracker,
     run: Run,
+    /// Keep every sighting and tracked frame ([`Pipeline::new`]) or only the counts and the
+    /// last frame ([`Pipeline::live`]).
+    record: bool,
 }
 
 impl Pipeline {
@@ -69,6 +72,16 @@ impl Pipeline {
                 rejected: vec![Rejections::default(); n],
                 ..Run::default()
             },
+            record: true,
+        })
+    }
+
+    /// A pipeline for a camera site that runs for as long as it is on: its [`Run`] keeps
+    /// the counts and only the last tracked frame (no sightings), so memory stays bounded.
+    pub fn live(cameras: Vec<Localizer>, settings: TrackerSettings) -> Result<Self, TrackerError> {
+        Ok(Self {
+            record: false,
+            ..Self::new(cameras, settings)?
         })
     }
 
@@ -87,6 +100,10 @@ impl Pipeline {
             self.run.detections[c] += masks.len();
             self.run.rejected[c].add(&rejected);
             let obs: Vec<Observation> = found.iter().map(Localized::observation).collect();
+            tracks = self.tracker.update(time_s, &obs)?;
+            if !self.record {
+                continue;
+            }
             self.run.sightings.extend(found.iter().map(|l| Sighting {
                 frame,
                 camera: c,
@@ -94,10 +111,12 @@ impl Pipeline {
                 position: l.position,
                 sigma_m: l.sigma_m,
             }));
-            tracks = self.tracker.update(time_s, &obs)?;
         }
         if self.cameras.is_empty() {
             tracks = self.tracker.update(time_s, &[])?;
+        }
+        if !self.record {
+            self.run.tracked.clear();
         }
         self.run.tracked.push(TrackedFrame {
             frame,

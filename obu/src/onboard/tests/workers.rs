@@ -23,7 +23,7 @@ fn worker_at(obu: &mut Obu, t: u64, id: u8, x: f32, y: f32) {
         &psm(id, Point::new(x, y), t as u16),
     );
     assert_eq!(
-        r.map(|i| (i.message, i.stored + i.unchanged)),
+        r.map(|i| (i.message, i.stored + i.unchanged + i.alert_changed)),
         Ok((MessageKind::Psm, 1))
     );
 }
@@ -107,6 +107,38 @@ fn a_worker_within_a_metre_of_the_lane_edge_is_in_its_path() {
     worker_at(&mut obu, 0, 3, 6.45, 360.0);
     let s = drive(&mut obu, 0, 3.5, 300.0, V);
     assert_eq!(kinds(&s), [AlertKind::WorkersNearRoad]);
+}
+
+#[test]
+fn a_worker_stepping_into_the_lane_calls_for_a_state_at_once() {
+    let mut obu = obu_with(false);
+    // Lane 3 (centre x = 3.5, edges 1.75 and 5.25): the worker 3.5 m right of its centre,
+    // near the road; the vehicle's fix at 300 m matches lane 3.
+    let step = |obu: &mut Obu, t: u64, x: f32| {
+        obu.on_psm(
+            Instant::from_millis(t),
+            &psm(4, Point::new(x, 360.0), t as u16),
+        )
+        .map(|i| (i.stored, i.unchanged, i.alert_changed))
+    };
+    assert_eq!(step(&mut obu, 0, 7.0), Ok((1, 0, 0)));
+    let s = drive(&mut obu, 50, 3.5, 300.0, V);
+    assert_eq!(kinds(&s), [AlertKind::WorkersNearRoad]);
+    // Moving within the near band: shown from the next state on.
+    assert_eq!(step(&mut obu, 100, 6.4), Ok((0, 1, 0)));
+    // Into the lane's path (2.5 m from the centre, within half the width plus 1 m): due now.
+    assert_eq!(step(&mut obu, 200, 6.0), Ok((0, 0, 1)));
+    assert_eq!(
+        kinds(&obu.state(Instant::from_millis(200))),
+        [AlertKind::WorkerInLane]
+    );
+    assert_eq!(step(&mut obu, 300, 5.0), Ok((0, 1, 0)));
+    // And out of it again.
+    assert_eq!(step(&mut obu, 400, 6.6), Ok((0, 0, 1)));
+    // Without a lane match nothing is due: no fix has matched a lane on a new unit.
+    let mut fresh = obu_with(false);
+    assert_eq!(step(&mut fresh, 0, 7.0), Ok((1, 0, 0)));
+    assert_eq!(step(&mut fresh, 100, 5.0), Ok((0, 1, 0)));
 }
 
 #[test]

@@ -63,7 +63,14 @@ impl World {
     /// The work-zone street: three 3.5 m lanes from y = -20 m to 400 m, lane 3 closed from
     /// 25 m to 75 m.
     pub fn work_zone() -> Self {
-        let (lw, lanes) = (3.5, 3u32);
+        Self::street(3, 3.5, (3, [25.0, 75.0]))
+    }
+
+    /// A street of `lanes` lanes `lane_width_m` wide from y = -20 m to 400 m, lane
+    /// `closed.0` (1-based) closed behind cones along its west edge from `closed.1[0]` to
+    /// `closed.1[1]` metres north.
+    pub fn street(lanes: u32, lane_width_m: f64, closed: (u32, [f64; 2])) -> Self {
+        let (lw, lanes) = (lane_width_m, lanes.max(1));
         let right = lw * f64::from(lanes);
         let y = [-20.0, 400.0];
         let mut ground = vec![
@@ -103,8 +110,7 @@ impl World {
                 ));
             }
         }
-        let closed = (3, [25.0, 75.0]);
-        let xc = lw * 2.0 + 0.35;
+        let xc = lw * f64::from(closed.0.clamp(1, lanes) - 1) + 0.35;
         let mut yc = closed.1[0];
         while yc <= closed.1[1] {
             solids.push(solid(
