@@ -62,6 +62,19 @@ fn workers_tracked(run: &Run, truth: &[Vec<(RoadUserClass, [f64; 2])>]) -> (usiz
     (good, frames.len())
 }
 
+/// Frames (after the first second) with more confirmed person tracks than people: one
+/// worker seen by both cameras must stay one track (one PSM id), not two.
+fn duplicated_frames(run: &Run, truth: &[Vec<(RoadUserClass, [f64; 2])>]) -> usize {
+    let people = |c: RoadUserClass| c == RoadUserClass::Pedestrian;
+    run.tracked[10..]
+        .iter()
+        .filter(|f| {
+            let tracks = f.tracks.iter().filter(|t| people(t.class)).count();
+            tracks > truth[f.frame].iter().filter(|t| people(t.0)).count()
+        })
+        .count()
+}
+
 #[test]
 fn two_cameras_keep_every_worker_where_one_loses_them() {
     let out = scratch("two");
@@ -125,6 +138,12 @@ fn two_cameras_keep_every_worker_where_one_loses_them() {
     let (one, _) = workers_tracked(&west, &truth);
     eprintln!("every worker tracked: two cameras {two}/{n} frames, west camera alone {one}/{n}");
     assert_eq!(two, n, "two cameras lose a worker");
+    let doubled = duplicated_frames(&both, &truth);
+    eprintln!("frames with a worker tracked twice: {doubled}/{n}");
+    assert_eq!(
+        doubled, 0,
+        "a worker seen by both cameras became two tracks"
+    );
     assert!(
         one < n,
         "the west camera alone never loses a worker: no occlusion tested"

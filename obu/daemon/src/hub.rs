@@ -252,6 +252,17 @@ impl Hub {
         }
     }
 
+    /// Road workers stored in the core and what the store did so far (new, updated,
+    /// evicted, expired); `None` in bridge mode (the firmware keeps its own).
+    pub fn workers(&self) -> Option<(usize, obu::worker::WorkerStats)> {
+        let inner = self.lock();
+        if inner.external.is_some() {
+            return None;
+        }
+        let store = inner.core.workers();
+        Some((store.len(), store.stats()))
+    }
+
     /// Publishes a state computed outside this daemon's core (in bridge mode, the
     /// firmware's) exactly as the core's states are: numbered, kept for resume and sent to
     /// every event-stream client.

@@ -7,6 +7,7 @@ mod common;
 use common::{
     http, open_events, pair, read_events, request, run_of, status, temp_dir, vector, Daemon,
 };
+use j2735::personal_safety_message::{PersonalDeviceUserType, PersonalSafetyMessage};
 use std::io::{Read, Write};
 use std::net::{TcpStream, UdpSocket};
 use std::path::{Path, PathBuf};
@@ -131,6 +132,43 @@ fn counts_v2x_messages_and_drops_by_reason() {
     assert_eq!(c["v2x_dropped"]["datagram too large"], 1, "{s}");
     assert!(s["active_maps"].as_u64().unwrap() >= 1, "{s}");
     assert!(s["active_zones"].as_u64().unwrap() >= 1, "{s}");
+    assert_eq!(s["workers"]["stored"], 0, "{s}");
+    // A road worker's PSM, twice (the second a move), and a pedestrian's.
+    udp.send_to(&worker_psm(5, 0), d.v2x()).unwrap();
+    udp.send_to(&worker_psm(5, 100), d.v2x()).unwrap();
+    let pedestrian = psm_bytes(6, 0, PersonalDeviceUserType::APEDESTRIAN);
+    udp.send_to(&pedestrian, d.v2x()).unwrap();
+    std::thread::sleep(Duration::from_millis(300));
+    let s = status(&d.http);
+    assert_eq!(
+        s["workers"],
+        serde_json::json!({"stored": 1, "new": 1, "updated": 1, "evicted": 0, "expired": 0}),
+        "{s}"
+    );
+    assert_eq!(s["counters"]["messages"]["PSM"], 2, "{s}");
+    assert_eq!(
+        s["counters"]["ingest_errors"]["PSM: not a road worker"], 1,
+        "{s}"
+    );
+}
+
+/// A road worker's PSM (id `[0, 0, 0, id]`, 0.5 m accuracy) at `secMark` `sec_mark`.
+fn worker_psm(id: u8, sec_mark: u16) -> Vec<u8> {
+    psm_bytes(id, sec_mark, PersonalDeviceUserType::APUBLICSAFETYWORKER)
+}
+
+fn psm_bytes(id: u8, sec_mark: u16, kind: PersonalDeviceUserType) -> Vec<u8> {
+    use j2735::common::{DSecond, Latitude, Longitude, SemiMajorAxisAccuracy, TemporaryID};
+    let mut psm = <PersonalSafetyMessage as j2735::uper::Placeholder>::placeholder();
+    psm.basic_type = kind;
+    psm.id = TemporaryID([0, 0, 0, id]);
+    psm.sec_mark = DSecond::new(sec_mark).unwrap();
+    psm.position.lat = Latitude::new(397_392_000).unwrap();
+    psm.position.long = Longitude::new(-1_049_903_000).unwrap();
+    psm.accuracy.semi_major = SemiMajorAxisAccuracy::new(10).unwrap();
+    let mut buf = [0u8; 256];
+    let n = j2735::frame::encode_message(&psm, &mut buf).unwrap();
+    buf[..n].to_vec()
 }
 
 #[test]

@@ -95,6 +95,10 @@ async fn status(State(app): State<AppState>) -> Json<serde_json::Value> {
         "event_clients": app.slots.len(),
         "open_connections": app.conns.len(),
         "paired_tablets": app.pairing.sessions(),
+        "workers": app.hub.workers().map(|(stored, w)| serde_json::json!({
+            "stored": stored, "new": w.new, "updated": w.updated,
+            "evicted": w.evicted, "expired": w.expired,
+        })),
         "counters": app.hub.counters.snapshot(),
     }))
 }
