@@ -74,6 +74,9 @@ pub struct RunReport {
     pub attack: Option<AttackFacts>,
     /// Workers' PSMs the camera site sent (0 without one).
     pub worker_psms: u64,
+    /// The camera site's processing time per frame, milliseconds (mean, max); over 100 ms
+    /// the site falls behind its 10 Hz and its PSMs leave late.
+    pub camera_frame_ms: Option<[f64; 2]>,
     /// Files written.
     pub files: Vec<PathBuf>,
 }
@@ -89,6 +92,7 @@ struct Recorded {
     attack: Option<AttackFacts>,
     views: Vec<CameraView>,
     psms: u64,
+    camera_ms: (f64, f64, u64),
 }
 
 /// Runs a scenario and writes its report into `opts.out`.
@@ -281,6 +285,7 @@ fn drive_and_record(
         attack,
         views: roadside.views,
         psms: roadside.psms,
+        camera_ms: roadside.camera_ms,
     })
 }
 
@@ -473,6 +478,8 @@ fn report(
         v2x: rec.v2x,
         attack: rec.attack.clone(),
         worker_psms: rec.psms,
+        camera_frame_ms: (rec.camera_ms.2 > 0)
+            .then(|| [rec.camera_ms.0 / rec.camera_ms.2 as f64, rec.camera_ms.1]),
         files: files.clone(),
     };
     let json = serde_json::to_string_pretty(&report).map_err(|e| e.to_string())?;

@@ -147,6 +147,10 @@ pub struct RoadsideRun {
     pub views: Vec<CameraView>,
     /// Workers' PSMs sent.
     pub psms: u64,
+    /// The camera site's processing time per tick (render, localize, track, build the
+    /// PSMs), milliseconds: sum and largest, and the ticks. A tick over the broadcast
+    /// period makes the site fall behind (its PSMs leave late).
+    pub camera_ms: (f64, f64, u64),
 }
 
 /// Starts the roadside thread; it stops when `stop` turns true and returns when each new
@@ -203,7 +207,16 @@ pub fn spawn(
                 }
             }
             if let Some(site) = camera.as_mut() {
-                for psm in site.tick(t, Utc::from_unix_ms(crate::clock::unix_ms_now())) {
+                // The frame is taken now, not at the tick's due time: a site that fell
+                // behind drops frames, as a real camera pipeline does, instead of working
+                // through old ones.
+                let started = Instant::now();
+                let taken = started.saturating_duration_since(t0).as_secs_f64();
+                let psms = site.tick(taken, Utc::from_unix_ms(crate::clock::unix_ms_now()));
+                let ms = started.elapsed().as_secs_f64() * 1000.0;
+                let (sum, max, n) = &mut run.camera_ms;
+                (*sum, *max, *n) = (*sum + ms, max.max(ms), *n + 1);
+                for psm in psms {
                     if let Ok(frame) = messages::encode(&psm) {
                         run.psms += u64::from(out.send(&frame, Instant::now()));
                     }

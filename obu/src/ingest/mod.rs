@@ -82,11 +82,15 @@ pub enum IngestError {
     /// A PSM of a new worker while the worker store is full and no stored worker may be
     /// replaced ([`crate::worker::WorkerStore`]).
     StoreFull,
+    /// A signed PSM of a stored, verified worker that arrived less than
+    /// [`VERIFY_INTERVAL`](crate::worker::VERIFY_INTERVAL) after its last update and would
+    /// not change the worker's alert: not worth a signature check ([`crate::Obu::psm_due`]).
+    NotDue,
 }
 
 impl IngestError {
     /// Every reason, in [`IngestError::index`] order.
-    pub const ALL: [IngestError; 13] = [
+    pub const ALL: [IngestError; 14] = [
         IngestError::InvalidReference,
         IngestError::UnsupportedNode,
         IngestError::NoGeometry,
@@ -100,6 +104,7 @@ impl IngestError {
         IngestError::AccuracyUnavailable,
         IngestError::StaleMessage,
         IngestError::StoreFull,
+        IngestError::NotDue,
     ];
 
     /// Position in [`IngestError::ALL`].
@@ -118,6 +123,7 @@ impl IngestError {
             IngestError::AccuracyUnavailable => 10,
             IngestError::StaleMessage => 11,
             IngestError::StoreFull => 12,
+            IngestError::NotDue => 13,
         }
     }
 }
@@ -149,6 +155,7 @@ impl IngestError {
             IngestError::AccuracyUnavailable => "PSM: accuracy unavailable",
             IngestError::StaleMessage => "PSM: stale secMark",
             IngestError::StoreFull => "PSM: worker store full",
+            IngestError::NotDue => "PSM: update not due for verification",
         }
     }
 }

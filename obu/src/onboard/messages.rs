@@ -180,6 +180,38 @@ impl Obu {
         self.finish(sink)
     }
 
+    /// Whether a decoded, signed PSM is worth its signature check at `now`: a new worker, one
+    /// stored unverified, one last updated [`VERIFY_INTERVAL`] ago or more, or an update
+    /// that changes the worker's alert. Otherwise the PSM is counted and refused as
+    /// [`IngestError::NotDue`] before any cryptography (the next one due carries the move).
+    ///
+    /// # Errors
+    ///
+    /// [`IngestError::NotDue`].
+    ///
+    /// [`VERIFY_INTERVAL`]: crate::worker::VERIFY_INTERVAL
+    pub fn psm_due(
+        &mut self,
+        now: Instant,
+        psm: &PersonalSafetyMessage,
+    ) -> Result<(), IngestError> {
+        let Ok(w) = Worker::from_psm(now, psm, Provenance::Verified) else {
+            // Refused with its own reason once checked.
+            return Ok(());
+        };
+        let Some(old) = self.workers.iter().find(|s| s.id() == w.id()) else {
+            return Ok(());
+        };
+        let due = old.provenance() != Provenance::Verified
+            || old.age(now) >= crate::worker::VERIFY_INTERVAL
+            || self.worker_alert(old) != self.worker_alert(&w);
+        if due {
+            return Ok(());
+        }
+        self.rejected.add(IngestError::NotDue);
+        Err(IngestError::NotDue)
+    }
+
     /// Parts of MAP and TIM messages, and PSMs, rejected so far, by reason.
     pub fn rejected(&self) -> &IngestCounters {
         &self.rejected

@@ -168,6 +168,14 @@ impl Obu {
             self.count_other_message();
             return Ok(V2xOutcome::Other(id));
         }
+        // A signed PSM is decoded first: most updates of a known worker are not worth the
+        // signature check ([`Obu::psm_due`]).
+        let signed_psm = id == PersonalSafetyMessage::MESSAGE_ID && signed.is_some();
+        if signed_psm {
+            let psm = slot(psm);
+            decode_message_into(frame, psm).map_err(DropReason::from_decode)?;
+            self.psm_due(now, psm).map_err(DropReason::from_ingest)?;
+        }
         let provenance = match signed {
             Some(signed) => {
                 let ctx = CheckContext {
@@ -188,7 +196,9 @@ impl Obu {
             self.ingest_map(now, map, provenance)
         } else if id == PersonalSafetyMessage::MESSAGE_ID {
             let psm = slot(psm);
-            decode_message_into(frame, psm).map_err(DropReason::from_decode)?;
+            if !signed_psm {
+                decode_message_into(frame, psm).map_err(DropReason::from_decode)?;
+            }
             self.ingest_psm(now, psm, provenance)
         } else {
             let tim = slot(tim);

@@ -221,6 +221,8 @@ drop_reasons! {
     IngestStale: Ingest = IngestError::StaleMessage.as_str(),
     /// Ingest: see [`IngestError::StoreFull`].
     IngestStoreFull: Ingest = IngestError::StoreFull.as_str(),
+    /// Ingest: see [`IngestError::NotDue`].
+    IngestNotDue: Ingest = IngestError::NotDue.as_str(),
 }
 
 impl From<Rejection> for DropReason {
@@ -346,6 +348,7 @@ impl DropReason {
             IngestError::AccuracyUnavailable => Self::IngestAccuracy,
             IngestError::StaleMessage => Self::IngestStale,
             IngestError::StoreFull => Self::IngestStoreFull,
+            IngestError::NotDue => Self::IngestNotDue,
         }
     }
 }

@@ -39,6 +39,13 @@ pub const WORKER_TIMEOUT: Duration = Duration::from_millis(1000);
 pub const IN_PATH_MARGIN_M: f32 = 1.0;
 /// A worker this close to a vehicle lane's edge (or end) is near the road, metres.
 pub const NEAR_ROAD_M: f32 = 3.0;
+/// A signed PSM of a stored, verified worker is verified and taken at most this often,
+/// unless it changes the worker's alert (into or out of the lane's path ahead, near the
+/// road or not): a roadside sends 10 a second per worker and each signature check costs
+/// tens of milliseconds on a microcontroller, so the updates that change nothing the
+/// driver is told wait for the next one due, and the ones that do are checked at once. At
+/// 10 Hz every fifth PSM is due (450 ms, so that a PSM a little early still counts).
+pub const VERIFY_INTERVAL: Duration = Duration::from_millis(450);
 /// When the store is full, a worker silent this long may be replaced by a new one.
 pub const REPLACE_AFTER: Duration = Duration::from_millis(500);
 

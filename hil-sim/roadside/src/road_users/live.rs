@@ -16,7 +16,7 @@ use super::class::RoadUserClass;
 use super::edgelets::EdgeletSettings;
 use super::localize::Localizer;
 use super::pipeline::Pipeline;
-use super::synthetic::{labels, masks, picture, RoadUser, World};
+use super::synthetic::{labels_window, picture, window_masks, RoadUser, World};
 use super::tracker::{Track, TrackerSettings};
 use super::vanishing::RansacSettings;
 use super::workers::WorkerBroadcaster;
@@ -282,8 +282,8 @@ impl LiveSite {
         let mut per_camera = Vec::with_capacity(self.cameras.len());
         for (c, cam) in self.cameras.iter().enumerate() {
             let size = cam.image_size().map(|v| v as u32);
-            let lab = labels(cam, &users, self.noise_px, &mut self.rng);
-            let seen = masks(&lab, size, &users, &[]);
+            let window = labels_window(cam, &users, self.noise_px, &mut self.rng);
+            let seen = window_masks(&window, size, &users, &[]);
             for k in 0..users.len() {
                 if self.views.len() < MAX_VIEWS {
                     let pixels = seen.iter().find(|s| s.0 == k).map_or(0.0, |s| s.1.area_px);

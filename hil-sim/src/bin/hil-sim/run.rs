@@ -148,6 +148,12 @@ pub fn print_report(r: &hil_sim::runner::RunReport) {
         r.v2x.lost,
         r.v2x.corrupted
     );
+    if let Some([mean, max]) = r.camera_frame_ms {
+        println!(
+            "  camera site: {} worker PSMs; a frame took {mean:.1} ms on average, {max:.1} ms at most (period 100 ms)",
+            r.worker_psms
+        );
+    }
     if let Some(a) = &r.attack {
         let at = |t: Option<f64>| t.map_or("-".into(), |t| format!("{t:.1} s"));
         println!(

@@ -142,6 +142,44 @@ fn a_worker_stepping_into_the_lane_calls_for_a_state_at_once() {
 }
 
 #[test]
+fn a_signed_update_is_checked_when_due_or_when_it_changes_the_alert() {
+    let mut obu = obu_with(false);
+    let msg = |t: u64, x: f32| psm(4, Point::new(x, 360.0), t as u16);
+    let at = Instant::from_millis;
+    // A new worker is always due; then the vehicle's fix matches lane 3.
+    assert_eq!(obu.psm_due(at(0), &msg(0, 7.0)), Ok(()));
+    worker_at(&mut obu, 0, 4, 7.0, 360.0);
+    let _ = drive(&mut obu, 50, 3.5, 300.0, V);
+    // 100-400 ms later, still near the road: not worth a signature check.
+    for t in [100, 200, 400, 449] {
+        assert_eq!(
+            obu.psm_due(at(t), &msg(t, 6.6)),
+            Err(IngestError::NotDue),
+            "{t} ms"
+        );
+    }
+    assert_eq!(obu.rejected().get(IngestError::NotDue), 4);
+    // Into the lane's path: checked at once, whatever the interval.
+    assert_eq!(obu.psm_due(at(150), &msg(150, 6.0)), Ok(()));
+    // 450 ms or more after the last update: due again.
+    assert_eq!(
+        obu.psm_due(at(500), &msg(500, 6.6)),
+        Ok(()),
+        "the interval is crate::worker::VERIFY_INTERVAL"
+    );
+    assert_eq!(crate::worker::VERIFY_INTERVAL, Duration::from_millis(450));
+    // A worker stored from an unsigned PSM: the first signed one is due.
+    let mut open = obu_with(false);
+    let r = open.ingest_psm(at(0), &msg(0, 7.0), crate::store::Provenance::Unverified);
+    assert_eq!(r.map(|i| i.stored), Ok(1));
+    assert_eq!(open.psm_due(at(100), &msg(100, 7.0)), Ok(()));
+    // And one that is not a road worker is left to the ingest check (its own reason).
+    let mut pedestrian = msg(200, 7.0);
+    pedestrian.basic_type = PersonalDeviceUserType::APEDESTRIAN;
+    assert_eq!(obu.psm_due(at(200), &pedestrian), Ok(()));
+}
+
+#[test]
 fn a_worker_behind_raises_nothing() {
     let mut obu = obu_with(false);
     worker_at(&mut obu, 0, 4, 3.5, 250.0);

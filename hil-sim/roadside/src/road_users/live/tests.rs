@@ -145,3 +145,39 @@ fn a_truck_hides_the_worker_from_camera_1_and_camera_2_still_tracks_him() {
         }
     }
 }
+
+#[test]
+fn the_window_labels_are_the_full_frame_labels_cut_out() {
+    use crate::road_users::synthetic::{labels, labels_window, masks, window_masks};
+    let cam = street_cameras(7.0)[0];
+    let users: Vec<RoadUser> = [("pedestrian", [5.25, 40.0]), ("truck", [1.75, 31.0])]
+        .iter()
+        .enumerate()
+        .map(|(k, (name, at))| {
+            let class = RoadUserClass::from_name(name).unwrap();
+            RoadUser {
+                id: k as u32,
+                class,
+                centre: *at,
+                extent: class.typical(),
+                velocity: [0.0, 0.0],
+            }
+        })
+        .collect();
+    let size = cam.image_size().map(|v| v as u32);
+    let full = labels(&cam, &users, 1.0, &mut Prng::new(5));
+    let window = labels_window(&cam, &users, 1.0, &mut Prng::new(5));
+    assert!(
+        window.size[0] * window.size[1] < size[0] * size[1] / 4,
+        "{:?}",
+        window.size
+    );
+    assert_eq!(
+        full.iter().filter(|&&l| l > 0).count(),
+        window.labels.iter().filter(|&&l| l > 0).count()
+    );
+    assert_eq!(
+        masks(&full, size, &users, &[]),
+        window_masks(&window, size, &users, &[])
+    );
+}

@@ -12,7 +12,9 @@ mod world;
 
 use serde_json::{json, Value};
 
-pub use render::{corners, labels, picture, render, silhouette, Rendered, RoadUser};
+pub use render::{
+    corners, labels, labels_window, picture, render, silhouette, LabelWindow, Rendered, RoadUser,
+};
 pub use traffic::{users_at, work_zone_traffic, Motion, Mover, LOOP_M};
 pub use world::{Patch, Solid, World};
 
@@ -136,8 +138,27 @@ pub fn masks(
     users: &[RoadUser],
     missed: &[bool],
 ) -> Vec<(usize, Silhouette)> {
-    let [w, h] = size;
-    if labels.len() != (w as usize) * (h as usize) {
+    let window = LabelWindow {
+        labels: Vec::new(),
+        origin: [0, 0],
+        size,
+    };
+    masks_in(labels, &window, size, users, missed)
+}
+
+/// [`masks`] of a [`LabelWindow`] of an image of `image` = `[width, height]` pixels (the
+/// window's own `labels` are not read: `labels` are, so that [`masks`] needs no copy).
+fn masks_in(
+    labels: &[u16],
+    window: &LabelWindow,
+    image: [u32; 2],
+    users: &[RoadUser],
+    missed: &[bool],
+) -> Vec<(usize, Silhouette)> {
+    let [w, h] = image;
+    let [cw, ch] = window.size;
+    let [x0, y0] = window.origin;
+    if labels.len() != (cw as usize) * (ch as usize) {
         return Vec::new();
     }
     let n = users.len();
@@ -147,7 +168,7 @@ pub fn masks(
             .checked_sub(1)
             .and_then(|k| outlines.get_mut(k))
         {
-            o.add_pixel(i as u32 % w, i as u32 / w);
+            o.add_pixel(x0 + i as u32 % cw, y0 + i as u32 / cw);
         }
     }
     outlines
@@ -166,6 +187,16 @@ pub fn masks(
             (k, s)
         })
         .collect()
+}
+
+/// [`masks`] of the window [`labels_window`] rendered, in an image of `image` pixels.
+pub fn window_masks(
+    window: &LabelWindow,
+    image: [u32; 2],
+    users: &[RoadUser],
+    missed: &[bool],
+) -> Vec<(usize, Silhouette)> {
+    masks_in(&window.labels, window, image, users, missed)
 }
 
 /// One frame of a COCO file: its picture's name and size, the label buffer, the road users

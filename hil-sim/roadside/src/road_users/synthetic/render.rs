@@ -219,14 +219,71 @@ pub fn labels(
     rng: &mut Prng,
 ) -> Vec<u16> {
     let [w, h] = cam.image_size().map(|v| v as u32);
-    let mut labels = vec![0u16; (w * h) as usize];
-    let solids: Vec<Solid> = users.iter().map(RoadUser::solid).collect();
-    for i in paint_order(cam, &solids) {
-        if let Some(hull) = silhouette(cam, &users[i].solid(), mask_noise_px, rng) {
-            label(&mut labels, w, &hull, (i + 1) as u16);
+    let window = labels_window(cam, users, mask_noise_px, rng);
+    let mut labels = vec![0u16; (w as usize) * (h as usize)];
+    let [x0, y0] = window.origin.map(|v| v as usize);
+    let cw = window.size[0] as usize;
+    if cw > 0 {
+        for (r, row) in window.labels.chunks_exact(cw).enumerate() {
+            let at = (y0 + r) * w as usize + x0;
+            labels[at..at + cw].copy_from_slice(row);
         }
     }
     labels
+}
+
+/// Labels of the part of the image the road users cover: the detector's labels ([`labels`])
+/// cut to the smallest window holding every silhouette (plus 2 pixels), so that a frame
+/// costs its road users' area, not the image's.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct LabelWindow {
+    /// Row-major labels of the window.
+    pub labels: Vec<u16>,
+    /// The window's top-left pixel in the image.
+    pub origin: [u32; 2],
+    /// `[width, height]` of the window (zero when no road user is in view).
+    pub size: [u32; 2],
+}
+
+/// [`labels`], cut to the window the silhouettes cover.
+pub fn labels_window(
+    cam: &PinholeCamera,
+    users: &[RoadUser],
+    mask_noise_px: f64,
+    rng: &mut Prng,
+) -> LabelWindow {
+    let [w, h] = cam.image_size();
+    let solids: Vec<Solid> = users.iter().map(RoadUser::solid).collect();
+    let hulls: Vec<(usize, Vec<[f64; 2]>)> = paint_order(cam, &solids)
+        .into_iter()
+        .filter_map(|i| Some((i, silhouette(cam, &solids[i], mask_noise_px, rng)?)))
+        .collect();
+    let (mut lo, mut hi) = ([w, h], [0.0f64, 0.0f64]);
+    for p in hulls.iter().flat_map(|(_, hull)| hull) {
+        if p[0].is_finite() && p[1].is_finite() {
+            lo = [lo[0].min(p[0]), lo[1].min(p[1])];
+            hi = [hi[0].max(p[0]), hi[1].max(p[1])];
+        }
+    }
+    let x0 = (lo[0] - 2.0).floor().clamp(0.0, w) as u32;
+    let y0 = (lo[1] - 2.0).floor().clamp(0.0, h) as u32;
+    let x1 = (hi[0] + 2.0).ceil().clamp(0.0, w) as u32;
+    let y1 = (hi[1] + 2.0).ceil().clamp(0.0, h) as u32;
+    let size = [x1.saturating_sub(x0), y1.saturating_sub(y0)];
+    let mut labels = vec![0u16; (size[0] as usize) * (size[1] as usize)];
+    let shift = [f64::from(x0), f64::from(y0)];
+    for (i, hull) in &hulls {
+        let moved: Vec<[f64; 2]> = hull
+            .iter()
+            .map(|p| [p[0] - shift[0], p[1] - shift[1]])
+            .collect();
+        label(&mut labels, size[0], &moved, (i + 1) as u16);
+    }
+    LabelWindow {
+        labels,
+        origin: [x0, y0],
+        size,
+    }
 }
 
 /// The silhouette of a solid (convex hull of its projected corners, each moved by noise);
