@@ -223,7 +223,13 @@ pub fn spawn(
                 }
             }
             next += PERIOD;
-            std::thread::sleep(next.saturating_duration_since(Instant::now()));
+            let now = Instant::now();
+            if next + PERIOD < now {
+                // Overrun by more than a period: start again from now rather than send the
+                // missed ticks back to back.
+                next = now;
+            }
+            std::thread::sleep(next.saturating_duration_since(now));
         }
         run.counts = out.counts;
         run.views = camera.map(|c| c.views).unwrap_or_default();

@@ -165,8 +165,8 @@ pub enum Expectation {
         /// Greatest distance ahead, metres.
         max_m: f64,
     },
-    /// Workers are shown near the road (at least `min_workers` at once) and never in the
-    /// car's lane.
+    /// Workers are shown near the road (in some state with the alert, at least
+    /// `min_workers` workers ahead outside the lane's path) and never in the car's lane.
     WorkersNearOnly {
         /// Least number of workers shown at once.
         min_workers: usize,

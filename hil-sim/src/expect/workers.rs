@@ -51,16 +51,17 @@ pub fn worker_in_lane_shown(
     )
 }
 
-/// Some state shows "workers near the road" with at least `min_workers` workers, and none
-/// shows "worker in lane ahead".
+/// Some state shows "workers near the road" together with at least `min_workers` workers
+/// ahead and outside the lane's path, and none shows "worker in lane ahead".
 pub fn workers_near_only(records: &[Record], min_workers: usize) -> (bool, String) {
-    let near = records
+    let showing: Vec<&Record> = records
         .iter()
         .filter(|r| alerts(&r.state).any(|a| a.kind == AlertKind::WorkersNearRoad))
-        .count();
-    let most = records
+        .collect();
+    let beside = |w: &&obu::alert::WorkerView| w.distance_m > 0.0 && !w.in_own_lane_path;
+    let most = showing
         .iter()
-        .map(|r| r.state.workers.len())
+        .map(|r| r.state.workers.iter().filter(beside).count())
         .max()
         .unwrap_or(0);
     let in_lane = records
@@ -68,10 +69,11 @@ pub fn workers_near_only(records: &[Record], min_workers: usize) -> (bool, Strin
         .filter(|r| alerts(&r.state).any(|a| a.kind == AlertKind::WorkerInLane))
         .count();
     (
-        near > 0 && most >= min_workers && in_lane == 0,
+        !showing.is_empty() && most >= min_workers && in_lane == 0,
         format!(
-            "{near} states show workers near the road, at most {most} workers at once \
-             (need {min_workers}), {in_lane} show a worker in the lane"
+            "{} states show workers near the road, at most {most} workers ahead beside the \
+             lane in one of them (need {min_workers}), {in_lane} show a worker in the lane",
+            showing.len()
         ),
     )
 }

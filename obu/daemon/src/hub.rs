@@ -134,7 +134,8 @@ impl Hub {
     }
 
     /// One received V2X datagram into the core's receive path; when it changed what is
-    /// stored (zones or maps stored, replaced or cancelled) the new state is published at
+    /// stored (zones or maps stored, replaced or cancelled, a new road worker) or what a
+    /// worker means for the car ([`V2xOutcome::Changed`]) the new state is published at
     /// once.
     pub fn on_datagram(&self, datagram: &[u8]) -> V2xOutcome {
         let now = self.now();

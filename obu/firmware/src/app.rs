@@ -122,6 +122,9 @@ impl Firmware {
         self.v2x_counters.record(outcome);
         match outcome {
             V2xOutcome::Changed(_) => Some(self.obu.state(now)),
+            // Routine (four of five PSMs of a known worker): counted, not logged, so that
+            // the budget that skips their signature checks is not spent on the log.
+            V2xOutcome::Dropped(DropReason::IngestNotDue) => None,
             V2xOutcome::Dropped(r) => {
                 defmt::warn!("v2x: dropped: {=str}", r.as_str());
                 None

@@ -33,11 +33,13 @@ use crate::Obu;
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum V2xOutcome {
     /// A MAP, TIM or PSM (its `messageId`) changed what is stored (maps or zones stored,
-    /// replaced or cancelled, a new road worker): the caller publishes [`Obu::state`].
+    /// replaced or cancelled, a new road worker) or what a worker means for the car (an
+    /// update into or out of the lane's path ahead, near the road or not): the caller
+    /// publishes [`Obu::state`].
     Changed(u16),
     /// A MAP or TIM (its `messageId`) that only refreshed what is stored (a repeat), or a
-    /// PSM that updated a known worker (shown with the next fix's state: a PSM per worker
-    /// at 10 Hz would otherwise flood the display link).
+    /// PSM that moved a known worker without changing its alert (shown with the next fix's
+    /// state: a PSM per worker at 10 Hz would otherwise flood the display link).
     Unchanged(u16),
     /// A message the OBU does not use, by `messageId` (its content is not decoded).
     Other(u16),
@@ -129,7 +131,9 @@ fn rsu_payload<'a>(bytes: &[u8], out: &'a mut [u8]) -> Result<&'a [u8], DropReas
 impl Obu {
     /// Takes one received V2X input (see the [module docs](self)) at `now`; a MAP, TIM or
     /// PSM is checked by `rx`'s [`Trust`] (signed) or its `require_signed` setting (unsigned),
-    /// decoded into `rx` and stored. A message of which the core refused a
+    /// decoded into `rx` and stored. A signed PSM is decoded first and refused as
+    /// [`DropReason::IngestNotDue`] before its signature check when it is not due
+    /// ([`Obu::psm_due`]). A message of which the core refused a
     /// part is [`DropReason`]'s ingest group (the parts it could use are stored, as
     /// [`Obu::on_map`] and [`Obu::on_tim`] say).
     pub fn on_datagram<const N: usize>(

@@ -213,6 +213,12 @@ impl LiveSite {
         closed: (u32, [f64; 2]),
         salt: u32,
     ) -> Result<Self, String> {
+        if !(1..=2).contains(&spec.cameras) {
+            return Err(format!(
+                "workers: cameras must be 1 or 2, not {}",
+                spec.cameras
+            ));
+        }
         let placement = ScenePlacement::on(road, spec.at_m)?;
         let lane_width = road.lanes[0].width_m;
         let lanes = forward_lanes(road);
@@ -238,7 +244,7 @@ impl LiveSite {
         let width = world.road_width_m();
         let cameras: Vec<PinholeCamera> = street_cameras(width)
             .into_iter()
-            .take(spec.cameras.clamp(1, 2))
+            .take(spec.cameras)
             .collect();
         let mut rng = Prng::new(spec.seed ^ 0x5eed_ca11);
         let first: Vec<RoadUser> = (0..users.len())

@@ -308,3 +308,73 @@ pub fn silhouette(
     }
     Some(convex_hull(&px))
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::road_users::synthetic::pole_camera;
+
+    /// The detector's labels drawn straight into a full frame, as before windows: the
+    /// reference [`labels`] (which cuts a window and copies it back) must equal.
+    fn full_frame_labels(cam: &PinholeCamera, users: &[RoadUser], rng: &mut Prng) -> Vec<u16> {
+        let [w, h] = cam.image_size().map(|v| v as u32);
+        let mut out = vec![0u16; (w * h) as usize];
+        let solids: Vec<Solid> = users.iter().map(RoadUser::solid).collect();
+        for i in paint_order(cam, &solids) {
+            if let Some(hull) = silhouette(cam, &solids[i], 1.0, rng) {
+                label(&mut out, w, &hull, (i + 1) as u16);
+            }
+        }
+        out
+    }
+
+    fn user(id: u32, class: RoadUserClass, centre: [f64; 2]) -> RoadUser {
+        RoadUser {
+            id,
+            class,
+            centre,
+            extent: class.typical(),
+            velocity: [0.0, 0.0],
+        }
+    }
+
+    #[test]
+    fn window_labels_equal_labels_drawn_into_the_full_frame() {
+        let cam = pole_camera();
+        let [w, h] = cam.image_size();
+        // In view, cut by the left edge, cut by the bottom edge, and out of view.
+        let users = [
+            user(0, RoadUserClass::Car, [5.25, 40.0]),
+            user(1, RoadUserClass::Pedestrian, [4.0, 42.0]),
+            user(2, RoadUserClass::Truck, [-6.0, 24.0]),
+            user(3, RoadUserClass::Van, [3.0, 12.0]),
+            user(4, RoadUserClass::Car, [60.0, 20.0]),
+        ];
+        let hulls: Vec<Option<Vec<[f64; 2]>>> = users
+            .iter()
+            .map(|u| silhouette(&cam, &u.solid(), 0.0, &mut Prng::new(1)))
+            .collect();
+        let cut = |k: usize| {
+            hulls[k].as_ref().is_some_and(|hull| {
+                let inside = |p: &[f64; 2]| p[0] >= 0.0 && p[1] >= 0.0 && p[0] < w && p[1] < h;
+                hull.iter().any(inside) && !hull.iter().all(inside)
+            })
+        };
+        let outside = hulls[4].as_ref().is_none_or(|hull| {
+            hull.iter()
+                .all(|p| p[0] < 0.0 || p[0] >= w || p[1] < 0.0 || p[1] >= h)
+        });
+        assert!(
+            cut(2) && cut(3) && outside,
+            "the scene tests the image's edges"
+        );
+        let window = labels(&cam, &users, 1.0, &mut Prng::new(9));
+        let full = full_frame_labels(&cam, &users, &mut Prng::new(9));
+        assert_eq!(window.len(), full.len());
+        let differ = window.iter().zip(&full).filter(|(a, b)| a != b).count();
+        assert_eq!(differ, 0, "{differ} pixels differ");
+        for k in 1..=4u16 {
+            assert!(full.contains(&k), "road user {} is drawn", k - 1);
+        }
+    }
+}
