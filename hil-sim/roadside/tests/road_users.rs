@@ -75,13 +75,7 @@ fn localizer() -> Localizer {
 }
 
 fn user(id: u32, class: RoadUserClass, centre: [f64; 2]) -> RoadUser {
-    RoadUser {
-        id,
-        class,
-        centre,
-        extent: class.typical(),
-        velocity: [0.0, 0.0],
-    }
+    RoadUser::standing(id, class, centre)
 }
 
 #[test]

@@ -154,14 +154,7 @@ fn the_window_labels_are_the_full_frame_labels_cut_out() {
         .iter()
         .enumerate()
         .map(|(k, (name, at))| {
-            let class = RoadUserClass::from_name(name).unwrap();
-            RoadUser {
-                id: k as u32,
-                class,
-                centre: *at,
-                extent: class.typical(),
-                velocity: [0.0, 0.0],
-            }
+            RoadUser::standing(k as u32, RoadUserClass::from_name(name).unwrap(), *at)
         })
         .collect();
     let size = cam.image_size().map(|v| v as u32);

@@ -31,6 +31,17 @@ pub struct RoadUser {
 }
 
 impl RoadUser {
+    /// A road user of `class`'s typical size standing at `centre`.
+    pub fn standing(id: u32, class: RoadUserClass, centre: [f64; 2]) -> Self {
+        Self {
+            id,
+            class,
+            centre,
+            extent: class.typical(),
+            velocity: [0.0, 0.0],
+        }
+    }
+
     /// The box as a solid.
     pub fn solid(&self) -> Solid {
         let (hl, hw) = (self.extent.length_m / 2.0, self.extent.width_m / 2.0);
@@ -328,27 +339,17 @@ mod tests {
         out
     }
 
-    fn user(id: u32, class: RoadUserClass, centre: [f64; 2]) -> RoadUser {
-        RoadUser {
-            id,
-            class,
-            centre,
-            extent: class.typical(),
-            velocity: [0.0, 0.0],
-        }
-    }
-
     #[test]
     fn window_labels_equal_labels_drawn_into_the_full_frame() {
         let cam = pole_camera();
         let [w, h] = cam.image_size();
         // In view, cut by the left edge, cut by the bottom edge, and out of view.
         let users = [
-            user(0, RoadUserClass::Car, [5.25, 40.0]),
-            user(1, RoadUserClass::Pedestrian, [4.0, 42.0]),
-            user(2, RoadUserClass::Truck, [-6.0, 24.0]),
-            user(3, RoadUserClass::Van, [3.0, 12.0]),
-            user(4, RoadUserClass::Car, [60.0, 20.0]),
+            RoadUser::standing(0, RoadUserClass::Car, [5.25, 40.0]),
+            RoadUser::standing(1, RoadUserClass::Pedestrian, [4.0, 42.0]),
+            RoadUser::standing(2, RoadUserClass::Truck, [-6.0, 24.0]),
+            RoadUser::standing(3, RoadUserClass::Van, [3.0, 12.0]),
+            RoadUser::standing(4, RoadUserClass::Car, [60.0, 20.0]),
         ];
         let hulls: Vec<Option<Vec<[f64; 2]>>> = users
             .iter()
