@@ -8,10 +8,11 @@ use std::path::PathBuf;
 use geodesy::LatLon;
 use roadside::road::Road;
 use roadside::road_users::files::{
-    load_camera, read_truth, read_zone, site_cameras, site_frame, synthesize, tracks_json,
-    SynthSpec, SYNTHETIC_ORIGIN,
+    load_camera, read_truth, read_zone, site_frame, synthesize, tracks_json, SynthSpec,
+    SYNTHETIC_ORIGIN,
 };
 use roadside::road_users::pipeline::{error_table, stats, Pipeline, Run};
+use roadside::road_users::synthetic::{site_cameras, World};
 use roadside::road_users::tracker::TrackerSettings;
 use roadside::road_users::RoadUserClass;
 
@@ -97,7 +98,7 @@ fn two_cameras_keep_every_worker_where_one_loses_them() {
     // any range.
     let origin = LatLon::from_degrees(SYNTHETIC_ORIGIN.0, SYNTHETIC_ORIGIN.1).unwrap();
     let world = Road::new(origin, Vec::new());
-    for (c, cam) in site_cameras(true).iter().enumerate() {
+    for (c, cam) in site_cameras(&World::work_zone(), true).iter().enumerate() {
         let [e, n, _] = cam.centre();
         let foot = site.to_local(world.to_wgs84([e, n]).unwrap());
         let near = both.sightings.iter().filter(|s| {

@@ -19,7 +19,10 @@ use super::draw::draw_box;
 use super::edgelets::EdgeletSettings;
 use super::localize::Localizer;
 use super::pipeline::{Run, Truth};
-use super::synthetic::{coco_json, labels, picture, users_at, work_zone_traffic, CocoFrame, World};
+use super::synthetic::{
+    coco_json, labels, marking_points, picture, site_cameras, users_at, work_zone_traffic,
+    CocoFrame, World,
+};
 use super::vanishing::RansacSettings;
 use super::RoadUserClass;
 use crate::camera::synthetic::PinholeCamera;
@@ -193,20 +196,6 @@ pub struct SynthSpec {
     pub small: bool,
 }
 
-/// The site's cameras: the west pole of the renderer, and one 17.5 m east, 75 m up the
-/// street, looking back at the zone.
-pub fn site_cameras(small: bool) -> [PinholeCamera; 2] {
-    let (f, size) = if small {
-        (1400.0, [960.0, 540.0])
-    } else {
-        (2800.0, [1920.0, 1080.0])
-    };
-    [
-        PinholeCamera::with_lens([-6.0, 0.0, 6.0], 18.0, 11.0, f, size),
-        PinholeCamera::with_lens([17.5, 75.0, 6.0], 200.0, 11.0, f, size),
-    ]
-}
-
 /// Writes a synthetic site under `out`: `cam1/` (and `cam2/`), each with the first frame's
 /// PNG, `detections.json` and `calibration.json` (lane-marking corners in view, 0.5 px of
 /// noise); `truth.json` (every road user per frame) and `zone.json` (the work zone's stretch
@@ -219,7 +208,7 @@ pub fn synthesize(spec: &SynthSpec, out: &Path) -> Result<Vec<PathBuf>, String> 
     let mut rng = Prng::new(spec.seed ^ 0x00c0_ffee);
     let times: Vec<f64> = (0..spec.frames).map(|k| k as f64 / spec.fps).collect();
     let mut dirs = Vec::new();
-    for (c, cam) in site_cameras(spec.small)
+    for (c, cam) in site_cameras(&world, spec.small)
         .iter()
         .take(spec.cameras.clamp(1, 2))
         .enumerate()
@@ -256,7 +245,7 @@ pub fn synthesize(spec: &SynthSpec, out: &Path) -> Result<Vec<PathBuf>, String> 
         write_json(&dir.join("detections.json"), &coco_json(&coco))?;
         write_json(
             &dir.join("calibration.json"),
-            &reference_points(cam, &site, &mut rng),
+            &reference_points(cam, &world, &site, &mut rng),
         )?;
         dirs.push(dir);
     }
@@ -303,22 +292,14 @@ fn write_json(path: &Path, v: &Value) -> Result<(), String> {
 
 /// Reference points of a camera: lane-marking corners in view, surveyed as lat/lon, their
 /// pixels with 0.5 px of noise.
-fn reference_points(cam: &PinholeCamera, site: &Road, rng: &mut Prng) -> Value {
-    let [w, h] = cam.image_size();
-    let mut points = Vec::new();
-    for k in 0..12 {
-        let y = 15.0 + 5.0 * f64::from(k);
-        for x in [0.0, 3.5, 7.0, 10.5] {
-            let Some(px) = cam.project([x, y]) else {
-                continue;
-            };
-            let inside = px[0] > 20.0 && px[1] > 20.0 && px[0] < w - 20.0 && px[1] < h - 20.0;
-            if let (true, Some(ll)) = (inside, site.to_wgs84([x, y])) {
-                let pixel = [px[0] + 0.5 * rng.normal(), px[1] + 0.5 * rng.normal()];
-                points.push(json!({"pixel": pixel, "lat": ll.lat_deg(), "lon": ll.lon_deg()}));
-            }
-        }
-    }
+fn reference_points(cam: &PinholeCamera, world: &World, site: &Road, rng: &mut Prng) -> Value {
+    let points: Vec<Value> = marking_points(cam, world, rng)
+        .into_iter()
+        .filter_map(|(pixel, ground)| {
+            let ll = site.to_wgs84(ground)?;
+            Some(json!({"pixel": pixel, "lat": ll.lat_deg(), "lon": ll.lon_deg()}))
+        })
+        .collect();
     json!({ "points": points })
 }
 

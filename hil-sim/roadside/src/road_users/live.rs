@@ -16,7 +16,9 @@ use super::class::RoadUserClass;
 use super::edgelets::EdgeletSettings;
 use super::localize::Localizer;
 use super::pipeline::Pipeline;
-use super::synthetic::{labels_window, picture, window_masks, RoadUser, World};
+use super::synthetic::{
+    labels_window, marking_points, picture, site_cameras, window_masks, RoadUser, World,
+};
 use super::tracker::{Track, TrackerSettings};
 use super::vanishing::RansacSettings;
 use super::workers::WorkerBroadcaster;
@@ -191,16 +193,6 @@ pub struct LiveSite {
     pub views: Vec<CameraView>,
 }
 
-/// The site's cameras on a street `width_m` wide: a 1080p camera 6 m up a pole 6 m left
-/// of the road looking along it, and one 7 m right of the road 75 m on, looking back.
-pub fn street_cameras(width_m: f64) -> [PinholeCamera; 2] {
-    let size = [1920.0, 1080.0];
-    [
-        PinholeCamera::with_lens([-6.0, 0.0, 6.0], 18.0, 11.0, 2800.0, size),
-        PinholeCamera::with_lens([width_m + 7.0, 75.0, 6.0], 200.0, 11.0, 2800.0, size),
-    ]
-}
-
 impl LiveSite {
     /// Sets the site up on `road`: the street with its forward lanes (cones along the
     /// closed lane `closed.0` from `closed.1[0]` to `closed.1[1]`, stations of the road), each
@@ -242,7 +234,7 @@ impl LiveSite {
             })
             .collect::<Result<Vec<_>, String>>()?;
         let width = world.road_width_m();
-        let cameras: Vec<PinholeCamera> = street_cameras(width)
+        let cameras: Vec<PinholeCamera> = site_cameras(&world, false)
             .into_iter()
             .take(spec.cameras)
             .collect();
@@ -252,7 +244,7 @@ impl LiveSite {
             .collect();
         let localizers = cameras
             .iter()
-            .map(|cam| calibrated(&world, cam, &first, lanes, lane_width, &mut rng))
+            .map(|cam| calibrated(&world, cam, &first, &mut rng))
             .collect::<Result<Vec<_>, String>>()?;
         let pipeline =
             Pipeline::live(localizers, TrackerSettings::default()).map_err(|e| e.to_string())?;
@@ -338,8 +330,6 @@ fn calibrated(
     world: &World,
     cam: &PinholeCamera,
     users: &[RoadUser],
-    lanes: u32,
-    lane_width: f64,
     rng: &mut Prng,
 ) -> Result<Localizer, String> {
     let grey = image::DynamicImage::ImageRgb8(picture(world, cam, users)).to_luma8();
@@ -349,22 +339,7 @@ fn calibrated(
         &RansacSettings::default(),
     )
     .map_err(|e| format!("workers: camera calibration: {e}"))?;
-    let [w, h] = cam.image_size();
-    let mut pairs = Vec::new();
-    for k in 0..14 {
-        let y = 10.0 + 5.0 * f64::from(k);
-        for j in 0..=lanes {
-            let ground = [lane_width * f64::from(j), y];
-            if let Some(px) = cam.project(ground) {
-                if px[0] > 20.0 && px[1] > 20.0 && px[0] < w - 20.0 && px[1] < h - 20.0 {
-                    pairs.push((
-                        [px[0] + 0.5 * rng.normal(), px[1] + 0.5 * rng.normal()],
-                        ground,
-                    ));
-                }
-            }
-        }
-    }
+    let pairs = marking_points(cam, world, rng);
     let homography = Homography::estimate(&pairs).map_err(|e| format!("workers: {e}"))?;
     Localizer::new(&cal, homography.matrix()).map_err(|e| format!("workers: {e}"))
 }

@@ -43,6 +43,47 @@ pub fn small_pole_camera() -> PinholeCamera {
     PinholeCamera::with_lens(centre, bearing, pitch, 1400.0, [960.0, 540.0])
 }
 
+/// A site's two cameras over the street of `world`: [`pole_camera`] (or
+/// [`small_pole_camera`] when `small`), and one 6 m up, 7 m right of the carriageway at
+/// y = 75 m, looking back down the street (bearing 200°, pitched 11° down).
+pub fn site_cameras(world: &World, small: bool) -> [PinholeCamera; 2] {
+    let first = if small {
+        small_pole_camera()
+    } else {
+        pole_camera()
+    };
+    let back = ([world.road_width_m() + 7.0, 75.0, 6.0], 200.0, POLE.2);
+    let second =
+        PinholeCamera::with_lens(back.0, back.1, back.2, first.focal_px(), first.image_size());
+    [first, second]
+}
+
+/// A camera's reference points as a surveyor gives them: the corners of the lane markings
+/// (every lane edge of `world`'s street, every 5 m from 10 m to 75 m) that it sees at least
+/// 20 px inside its frame, each as (pixel picked with 0.5 px of noise, road point in metres).
+pub fn marking_points(
+    cam: &PinholeCamera,
+    world: &World,
+    rng: &mut Prng,
+) -> Vec<([f64; 2], [f64; 2])> {
+    let [w, h] = cam.image_size();
+    let mut pairs = Vec::new();
+    for k in 0..14 {
+        let y = 10.0 + 5.0 * f64::from(k);
+        for edge in 0..=world.lanes {
+            let ground = [world.lane_width_m * f64::from(edge), y];
+            let Some(px) = cam.project(ground) else {
+                continue;
+            };
+            if px[0] > 20.0 && px[1] > 20.0 && px[0] < w - 20.0 && px[1] < h - 20.0 {
+                let pixel = [px[0] + 0.5 * rng.normal(), px[1] + 0.5 * rng.normal()];
+                pairs.push((pixel, ground));
+            }
+        }
+    }
+    pairs
+}
+
 /// Distance of a road point from the camera's foot, metres.
 pub fn range_m(cam: &PinholeCamera, p: [f64; 2]) -> f64 {
     let c = cam.centre();
