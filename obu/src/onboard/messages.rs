@@ -158,18 +158,17 @@ impl Obu {
         let mut sink = Sink::new(MessageKind::Psm, provenance);
         let vehicle = self.position();
         let worker = Worker::from_psm(now, psm, provenance);
-        let before = worker.as_ref().ok().map(|w| {
-            let stored = self.workers.iter().find(|s| s.id() == w.id());
-            (stored.map(|s| self.worker_alert(s)), self.worker_alert(w))
-        });
+        let changes_alert = worker
+            .as_ref()
+            .ok()
+            .and_then(|w| self.stored_worker(w))
+            .is_some_and(|(_, changes)| changes);
         let stored = worker.and_then(|w| self.workers.update(w, vehicle));
         let r = &mut sink.report;
         let count = match stored {
             Ok(WorkerUpdate::New | WorkerUpdate::Evicted) => &mut r.stored,
-            Ok(WorkerUpdate::Updated) => match before {
-                Some((Some(old), new)) if old != new => &mut r.alert_changed,
-                _ => &mut r.unchanged,
-            },
+            Ok(WorkerUpdate::Updated) if changes_alert => &mut r.alert_changed,
+            Ok(WorkerUpdate::Updated) => &mut r.unchanged,
             Ok(WorkerUpdate::Refused) => &mut r.refused_unverified,
             Err(e) => {
                 sink.reject(e);
@@ -199,12 +198,12 @@ impl Obu {
             // Refused with its own reason once checked.
             return Ok(());
         };
-        let Some(old) = self.workers.iter().find(|s| s.id() == w.id()) else {
+        let Some((old, changes_alert)) = self.stored_worker(&w) else {
             return Ok(());
         };
         let due = old.provenance() != Provenance::Verified
             || old.age(now) >= crate::worker::VERIFY_INTERVAL
-            || self.worker_alert(old) != self.worker_alert(&w);
+            || changes_alert;
         if due {
             return Ok(());
         }

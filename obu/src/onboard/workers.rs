@@ -93,10 +93,17 @@ impl Obu {
         scan
     }
 
+    /// The stored record of `w`'s worker, and whether `w` changes the alert it raises (a
+    /// PSM that does calls for a new state at once).
+    pub(super) fn stored_worker(&self, w: &Worker) -> Option<(&Worker, bool)> {
+        let old = self.workers.iter().find(|s| s.id() == w.id())?;
+        Some((old, self.worker_alert(old) != self.worker_alert(w)))
+    }
+
     /// The alert `w` raises for the vehicle where its last fix matched, however far
     /// ahead: [`AlertKind::WorkerInLane`], [`AlertKind::WorkersNearRoad`] or none (also
-    /// without a lane match). A PSM that changes it calls for a new state at once.
-    pub(super) fn worker_alert(&self, w: &Worker) -> Option<AlertKind> {
+    /// without a lane match).
+    fn worker_alert(&self, w: &Worker) -> Option<AlertKind> {
         let (m, (map, lane)) = (self.last_match?, self.matched_lane()?);
         classify(map, lane, &m.position, w)?.1
     }
