@@ -134,6 +134,8 @@ pub fn decode_seq_of_into<T: Uper, const N: usize>(
         if out.len() + n > SeqOf::<T, N>::capacity() {
             return Err(over_capacity(r.position(), key));
         }
+        // Every item takes at least one bit in practice, so the input bounds the room.
+        out.reserve(n.min(r.remaining()));
         for _ in 0..n {
             let slot = out.push_slot().ok_or(over_capacity(r.position(), key))?;
             T::decode_into(r, slot)?;
@@ -188,11 +190,8 @@ pub fn read_octets_into<const N: usize>(
     if n.saturating_mul(8) > r.remaining() {
         return Err(DecodeError::new(DKind::UnexpectedEnd, r.position()));
     }
-    for _ in 0..n {
-        let b = r.read_bits(8)? as u8;
-        *out.push_slot().ok_or(over_capacity(r.position(), key))? = b;
-    }
-    Ok(())
+    let slots = out.grow(n).ok_or(over_capacity(r.position(), key))?;
+    r.read_octets(slots)
 }
 
 /// Encodes a variable OCTET STRING.
@@ -268,6 +267,7 @@ pub fn decode_ia5<const N: usize>(
         if n.saturating_mul(7) > r.remaining() {
             return Err(DecodeError::new(DKind::UnexpectedEnd, r.position()));
         }
+        out.reserve(n);
         for _ in 0..n {
             let c = r.read_bits(7)? as u8 as char;
             out.push(c).map_err(|_| over_capacity(r.position(), key))?;

@@ -15,31 +15,30 @@ use alloc::{string::String, vec::Vec};
 
 /// A SEQUENCE OF (or variable OCTET STRING) value: at most `N` items without `alloc`.
 ///
-/// Without `alloc` the items live in a `heapless::Vec` whose slots are initialised lazily,
-/// the first time the sequence grows to them, and then kept: decoding into a kept value
-/// refills those slots in place and never moves large items, and an empty sequence costs
+/// The items live in a `heapless::Vec` (without `alloc`) or a `Vec` (with it) whose slots
+/// are initialised lazily, the first time the sequence grows to them, and then kept:
+/// decoding into a kept value refills those slots in place, so it never moves large items
+/// (no-heap) and reuses every nested vector's allocation (`alloc`). An empty sequence costs
 /// nothing to create, whatever `N` (no array of placeholders is built, so no large temporary
 /// lands on the stack when an absent OPTIONAL member becomes present). Only the first
 /// `len()` items are the value: equality, hashing, `Debug` and iteration look at those alone.
-#[derive(Clone)]
 pub struct SeqOf<T, const N: usize> {
-    #[cfg(not(feature = "alloc"))]
     len: Len,
     /// Initialised slots (at least `len`; the rest hold former items for reuse).
-    #[cfg(not(feature = "alloc"))]
-    items: heapless::Vec<T, N>,
-    #[cfg(feature = "alloc")]
-    items: Vec<T>,
+    items: Slots<T, N>,
 }
 
-/// The length of a no-heap [`SeqOf`], stored plus one so that it has a niche (zero): an
-/// `Option<SeqOf>` then takes no more room than the `SeqOf` (the item storage, being
-/// `MaybeUninit`, has none to offer).
 #[cfg(not(feature = "alloc"))]
+type Slots<T, const N: usize> = heapless::Vec<T, N>;
+#[cfg(feature = "alloc")]
+type Slots<T, const N: usize> = Vec<T>;
+
+/// The length of a [`SeqOf`], stored plus one so that it has a niche (zero): an
+/// `Option<SeqOf>` then takes no more room than the `SeqOf` (no-heap item storage, being
+/// `MaybeUninit`, has none to offer).
 #[derive(Clone, Copy)]
 struct Len(core::num::NonZeroUsize);
 
-#[cfg(not(feature = "alloc"))]
 impl Len {
     const ZERO: Self = Self(core::num::NonZeroUsize::MIN);
 
@@ -48,7 +47,7 @@ impl Len {
     }
 
     fn set(&mut self, len: usize) {
-        // `len` is at most the capacity N, itself an array length below `usize::MAX`.
+        // `len` is at most the number of slots, itself below `usize::MAX`.
         self.0 = core::num::NonZeroUsize::new(len.wrapping_add(1)).unwrap_or(Self::ZERO.0);
     }
 }
@@ -57,15 +56,11 @@ impl Len {
 pub type Octets<const N: usize> = SeqOf<u8, N>;
 
 impl<T: Placeholder, const N: usize> SeqOf<T, N> {
-    /// An empty sequence.
-    pub fn new() -> Self {
+    /// An empty sequence (a `const fn`: a sequence can start out in static memory).
+    pub const fn new() -> Self {
         Self {
-            #[cfg(not(feature = "alloc"))]
             len: Len::ZERO,
-            #[cfg(not(feature = "alloc"))]
-            items: heapless::Vec::new(),
-            #[cfg(feature = "alloc")]
-            items: Vec::new(),
+            items: Slots::new(),
         }
     }
 
@@ -83,33 +78,40 @@ impl<T: Placeholder, const N: usize> SeqOf<T, N> {
     /// Grows by one item and returns it to be overwritten (it holds a placeholder or a
     /// former item); `None` when the no-heap capacity is full.
     pub fn push_slot(&mut self) -> Option<&mut T> {
-        #[cfg(not(feature = "alloc"))]
-        {
-            let len = self.len.get();
-            if len == self.items.len() {
-                self.items.push(T::placeholder()).ok()?;
-            }
-            let slot = self.items.get_mut(len)?;
-            self.len.set(len + 1);
-            Some(slot)
-        }
-        #[cfg(feature = "alloc")]
-        {
+        let len = self.len.get();
+        if len == self.items.len() {
+            #[cfg(not(feature = "alloc"))]
+            self.items.push(T::placeholder()).ok()?;
+            #[cfg(feature = "alloc")]
             self.items.push(T::placeholder());
-            self.items.last_mut()
         }
+        let slot = self.items.get_mut(len)?;
+        self.len.set(len + 1);
+        Some(slot)
+    }
+
+    /// Grows by `n` items at once and returns them to be overwritten (placeholders or
+    /// former items); `None`, unchanged, when the no-heap capacity cannot hold them.
+    pub fn grow(&mut self, n: usize) -> Option<&mut [T]> {
+        let len = self.len.get();
+        let new_len = len.checked_add(n).filter(|&l| l <= Self::capacity())?;
+        #[cfg(feature = "alloc")]
+        if self.items.len() < new_len {
+            self.items.resize_with(new_len, T::placeholder);
+        }
+        #[cfg(not(feature = "alloc"))]
+        while self.items.len() < new_len {
+            self.items.push(T::placeholder()).ok()?;
+        }
+        self.len.set(new_len);
+        self.items.get_mut(len..new_len)
     }
 
     /// Removes and returns the last item.
     pub fn pop(&mut self) -> Option<T> {
-        #[cfg(not(feature = "alloc"))]
-        {
-            let last = self.len.get().checked_sub(1)?;
-            self.items.truncate(last + 1);
-            self.len.set(last);
-            self.items.pop()
-        }
-        #[cfg(feature = "alloc")]
+        let last = self.len.get().checked_sub(1)?;
+        self.items.truncate(last + 1);
+        self.len.set(last);
         self.items.pop()
     }
 }
@@ -124,28 +126,46 @@ impl<T, const N: usize> SeqOf<T, N> {
         }
     }
 
-    /// Removes every item (without `alloc` the initialised slots are kept for reuse).
+    /// Removes every item (the initialised slots, and with `alloc` their allocations, are
+    /// kept for reuse).
     pub fn clear(&mut self) {
-        #[cfg(not(feature = "alloc"))]
-        {
-            self.len = Len::ZERO;
-        }
+        self.len = Len::ZERO;
+    }
+
+    /// Makes room for `additional` more items at once (with `alloc`; without it the room is
+    /// fixed). Callers bound `additional` by the input that remains.
+    pub fn reserve(&mut self, additional: usize) {
         #[cfg(feature = "alloc")]
-        self.items.clear();
+        {
+            let free = self.items.len() - self.len.get();
+            self.items.reserve(additional.saturating_sub(free));
+        }
+        #[cfg(not(feature = "alloc"))]
+        let _ = additional;
     }
 
     fn as_slice(&self) -> &[T] {
-        #[cfg(not(feature = "alloc"))]
-        return &self.items[..self.len.get()];
-        #[cfg(feature = "alloc")]
-        &self.items
+        &self.items[..self.len.get()]
     }
 
     fn as_mut_slice(&mut self) -> &mut [T] {
+        let len = self.len.get();
+        &mut self.items[..len]
+    }
+}
+
+impl<T: Clone, const N: usize> Clone for SeqOf<T, N> {
+    /// Copies the items only (not the slots kept for reuse).
+    fn clone(&self) -> Self {
+        let live = self.as_slice();
+        // `live` holds at most N items, so the no-heap copy always fits.
         #[cfg(not(feature = "alloc"))]
-        return &mut self.items[..self.len.get()];
+        let items = heapless::Vec::from_slice(live).unwrap_or_default();
         #[cfg(feature = "alloc")]
-        &mut self.items
+        let items = live.to_vec();
+        let mut len = Len::ZERO;
+        len.set(items.len());
+        Self { len, items }
     }
 }
 
@@ -254,6 +274,15 @@ impl<const N: usize> Ia5<N> {
             self.text.push(c);
             Ok(())
         }
+    }
+
+    /// Makes room for `additional` more characters at once (with `alloc`; without it the
+    /// room is fixed). Callers bound `additional` by the input that remains.
+    pub fn reserve(&mut self, additional: usize) {
+        #[cfg(feature = "alloc")]
+        self.text.reserve(additional);
+        #[cfg(not(feature = "alloc"))]
+        let _ = additional;
     }
 
     /// The text.
@@ -391,6 +420,44 @@ mod tests {
             assert_eq!(s.push(3), Err(3));
         }
         assert_eq!(&s[..2], &[1, 2]);
+    }
+
+    #[test]
+    fn a_cleared_sequence_keeps_its_items_storage_and_clones_only_its_items() {
+        let mut outer: SeqOf<Octets<4>, 3> = SeqOf::new();
+        for k in 0..3u8 {
+            let inner = outer.push_slot().unwrap();
+            assert_eq!(
+                inner.grow(3).unwrap(),
+                &[0, 0, 0],
+                "new slots are placeholders"
+            );
+            inner.copy_from_slice(&[k + 1; 3]);
+        }
+        outer.clear();
+        assert!(outer.is_empty());
+        // The first slot comes back with its former items (and, with `alloc`, its vector).
+        let again = outer.push_slot().unwrap();
+        again.clear();
+        assert_eq!(again.grow(1).unwrap(), &[1], "the kept item's former octet");
+        let copy = outer.clone();
+        assert_eq!(copy.len(), 1);
+        assert_eq!(copy, outer);
+        assert_eq!(copy.items.len(), 1, "the kept slots are not copied");
+        assert_eq!(outer.items.len(), 3);
+    }
+
+    #[test]
+    fn growing_past_the_no_heap_capacity_is_refused_unchanged() {
+        let mut s: Octets<4> = SeqOf::new();
+        assert_eq!(s.grow(3).map(|n| n.len()), Some(3));
+        if cfg!(feature = "alloc") {
+            assert_eq!(s.grow(2).map(|n| n.len()), Some(2));
+        } else {
+            assert!(s.grow(2).is_none());
+            assert_eq!(s.len(), 3);
+        }
+        assert!(s.grow(usize::MAX).is_none());
     }
 
     #[test]
