@@ -430,7 +430,7 @@ class Emitter:
         if td.key == "MessageFrame.MessageFrame.value":
             for i, v, r in td.variants:
                 s.append(f"impl crate::frame::Message for {self.rust(r, td)} {{\n    const MESSAGE_ID: u16 = {i};\n}}\n")
-            s.append(message_names(td))
+            s.append(message_names(self, td))
         ph = f"Self::Unknown {{ id: <{id_ty} as uper::Placeholder>::placeholder(), bytes: uper::Octets::new() }}"
         s.append(self.uper_impl(td, "\n".join(dec), "\n".join(enc), ph))
         if td.variants:
@@ -445,13 +445,15 @@ class Emitter:
         return "\n".join(s)
 
 
-def message_names(td):
+def message_names(self, td):
     """The table of the MessageFrame's messages (id, short name, ASN.1 type) and the short
     name lookup: the one place the short names are spelt."""
-    rows = [(i, naming.message_short_name(r.typedef.asn), r.typedef.asn) for i, _, r in td.variants]
-    table = "".join(f"    MessageName {{ id: {i}, short: \"{short}\", type_name: \"{asn}\" }},\n"
-                    for i, short, asn in rows)
-    arms = "".join(f"        {i} => Some(\"{short}\"),\n" for i, short, _ in rows)
+    rows = [(i, naming.message_short_name(r.typedef.asn), r.typedef.asn, rust)
+            for i, _, r, rust in ((i, v, r, self.rust(r, td)) for i, v, r in td.variants)]
+    table = "".join(f"    MessageName {{ id: {i}, short: \"{short}\", type_name: \"{asn}\", "
+                    f"value_octets: core::mem::size_of::<{rust}>() }},\n"
+                    for i, short, asn, rust in rows)
+    arms = "".join(f"        {i} => Some(\"{short}\"),\n" for i, short, _, _ in rows)
     return (
         "/// A message of the MessageFrame object set: its `messageId`, the short name the standard\n"
         "/// gives it (RSU `Type=` values, logs, counters) and its ASN.1 type.\n"
@@ -459,7 +461,10 @@ def message_names(td):
         "pub struct MessageName {\n"
         "    /// `messageId` (DSRCmsgID).\n    pub id: u16,\n"
         "    /// Short name (`MAP`, `SPAT`, `TIM`, `TEST00`).\n    pub short: &'static str,\n"
-        "    /// The ASN.1 type of the value.\n    pub type_name: &'static str,\n}\n\n"
+        "    /// The ASN.1 type of the value.\n    pub type_name: &'static str,\n"
+        "    /// Size of the decoded value in this build's storage and capacity profile, octets:\n"
+        "    /// what a kept value takes (see the crate docs' table of value sizes).\n"
+        "    pub value_octets: usize,\n}\n\n"
         "/// Every message of the MessageFrame object set, by `messageId`.\n"
         f"pub const MESSAGE_NAMES: [MessageName; {len(rows)}] = [\n{table}];\n\n"
         "/// The short name of `messageId` `id` (`MAP`, `SPAT`, `TIM`, `TEST00`); `None` for an id\n"

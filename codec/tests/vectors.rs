@@ -137,10 +137,11 @@ fn trailing_bytes_are_an_error_and_prefix_decoding_reports_the_length() {
         let v = vectors().into_iter().find(|v| v.message_id == 20).unwrap();
         let mut longer = v.uper.clone();
         longer.push(0);
-        let e = uper::decode::<MessageFrame>(&longer).unwrap_err();
+        let mut frame = Box::new(MessageFrame::placeholder());
+        let e = uper::decode_into(&longer, &mut *frame).unwrap_err();
         assert_eq!(e.kind, DecodeErrorKind::TrailingBytes);
         assert_eq!(e.bit as usize, v.uper.len() * 8);
-        let (_, used) = uper::decode_prefix::<MessageFrame>(&longer).unwrap();
+        let used = uper::decode_prefix_into(&longer, &mut *frame).unwrap();
         assert_eq!(used, v.uper.len());
     });
 }

@@ -656,6 +656,9 @@ pub struct MessageName {
     pub short: &'static str,
     /// The ASN.1 type of the value.
     pub type_name: &'static str,
+    /// Size of the decoded value in this build's storage and capacity profile, octets:
+    /// what a kept value takes (see the crate docs' table of value sizes).
+    pub value_octets: usize,
 }
 
 /// Every message of the MessageFrame object set, by `messageId`.
@@ -664,156 +667,187 @@ pub const MESSAGE_NAMES: [MessageName; 31] = [
         id: 18,
         short: "MAP",
         type_name: "MapData",
+        value_octets: core::mem::size_of::<super::map_data::MapData>(),
     },
     MessageName {
         id: 19,
         short: "SPAT",
         type_name: "SPAT",
+        value_octets: core::mem::size_of::<super::spat::SPAT>(),
     },
     MessageName {
         id: 20,
         short: "BSM",
         type_name: "BasicSafetyMessage",
+        value_octets: core::mem::size_of::<super::basic_safety_message::BasicSafetyMessage>(),
     },
     MessageName {
         id: 21,
         short: "CSR",
         type_name: "CommonSafetyRequest",
+        value_octets: core::mem::size_of::<super::common_safety_request::CommonSafetyRequest>(),
     },
     MessageName {
         id: 22,
         short: "EVA",
         type_name: "EmergencyVehicleAlert",
+        value_octets: core::mem::size_of::<super::emergency_vehicle_alert::EmergencyVehicleAlert>(),
     },
     MessageName {
         id: 23,
         short: "ICA",
         type_name: "IntersectionCollision",
+        value_octets: core::mem::size_of::<super::intersection_collision::IntersectionCollision>(),
     },
     MessageName {
         id: 24,
         short: "NMEA",
         type_name: "NMEAcorrections",
+        value_octets: core::mem::size_of::<super::nmea_corrections::NMEAcorrections>(),
     },
     MessageName {
         id: 25,
         short: "PDM",
         type_name: "ProbeDataManagement",
+        value_octets: core::mem::size_of::<super::probe_data_management::ProbeDataManagement>(),
     },
     MessageName {
         id: 26,
         short: "PVD",
         type_name: "ProbeVehicleData",
+        value_octets: core::mem::size_of::<super::probe_vehicle_data::ProbeVehicleData>(),
     },
     MessageName {
         id: 27,
         short: "RSA",
         type_name: "RoadSideAlert",
+        value_octets: core::mem::size_of::<super::road_side_alert::RoadSideAlert>(),
     },
     MessageName {
         id: 28,
         short: "RTCM",
         type_name: "RTCMcorrections",
+        value_octets: core::mem::size_of::<super::rtcm_corrections::RTCMcorrections>(),
     },
     MessageName {
         id: 29,
         short: "SRM",
         type_name: "SignalRequestMessage",
+        value_octets: core::mem::size_of::<super::signal_request_message::SignalRequestMessage>(),
     },
     MessageName {
         id: 30,
         short: "SSM",
         type_name: "SignalStatusMessage",
+        value_octets: core::mem::size_of::<super::signal_status_message::SignalStatusMessage>(),
     },
     MessageName {
         id: 31,
         short: "TIM",
         type_name: "TravelerInformation",
+        value_octets: core::mem::size_of::<super::traveler_information::TravelerInformation>(),
     },
     MessageName {
         id: 32,
         short: "PSM",
         type_name: "PersonalSafetyMessage",
+        value_octets: core::mem::size_of::<super::personal_safety_message::PersonalSafetyMessage>(),
     },
     MessageName {
         id: 240,
         short: "TEST00",
         type_name: "TestMessage00",
+        value_octets: core::mem::size_of::<super::test_message00::TestMessage00>(),
     },
     MessageName {
         id: 241,
         short: "TEST01",
         type_name: "TestMessage01",
+        value_octets: core::mem::size_of::<super::test_message01::TestMessage01>(),
     },
     MessageName {
         id: 242,
         short: "TEST02",
         type_name: "TestMessage02",
+        value_octets: core::mem::size_of::<super::test_message02::TestMessage02>(),
     },
     MessageName {
         id: 243,
         short: "TEST03",
         type_name: "TestMessage03",
+        value_octets: core::mem::size_of::<super::test_message03::TestMessage03>(),
     },
     MessageName {
         id: 244,
         short: "TEST04",
         type_name: "TestMessage04",
+        value_octets: core::mem::size_of::<super::test_message04::TestMessage04>(),
     },
     MessageName {
         id: 245,
         short: "TEST05",
         type_name: "TestMessage05",
+        value_octets: core::mem::size_of::<super::test_message05::TestMessage05>(),
     },
     MessageName {
         id: 246,
         short: "TEST06",
         type_name: "TestMessage06",
+        value_octets: core::mem::size_of::<super::test_message06::TestMessage06>(),
     },
     MessageName {
         id: 247,
         short: "TEST07",
         type_name: "TestMessage07",
+        value_octets: core::mem::size_of::<super::test_message07::TestMessage07>(),
     },
     MessageName {
         id: 248,
         short: "TEST08",
         type_name: "TestMessage08",
+        value_octets: core::mem::size_of::<super::test_message08::TestMessage08>(),
     },
     MessageName {
         id: 249,
         short: "TEST09",
         type_name: "TestMessage09",
+        value_octets: core::mem::size_of::<super::test_message09::TestMessage09>(),
     },
     MessageName {
         id: 250,
         short: "TEST10",
         type_name: "TestMessage10",
+        value_octets: core::mem::size_of::<super::test_message10::TestMessage10>(),
     },
     MessageName {
         id: 251,
         short: "TEST11",
         type_name: "TestMessage11",
+        value_octets: core::mem::size_of::<super::test_message11::TestMessage11>(),
     },
     MessageName {
         id: 252,
         short: "TEST12",
         type_name: "TestMessage12",
+        value_octets: core::mem::size_of::<super::test_message12::TestMessage12>(),
     },
     MessageName {
         id: 253,
         short: "TEST13",
         type_name: "TestMessage13",
+        value_octets: core::mem::size_of::<super::test_message13::TestMessage13>(),
     },
     MessageName {
         id: 254,
         short: "TEST14",
         type_name: "TestMessage14",
+        value_octets: core::mem::size_of::<super::test_message14::TestMessage14>(),
     },
     MessageName {
         id: 255,
         short: "TEST15",
         type_name: "TestMessage15",
+        value_octets: core::mem::size_of::<super::test_message15::TestMessage15>(),
     },
 ];
 

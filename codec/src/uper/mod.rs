@@ -84,9 +84,11 @@ pub trait Uper: Placeholder {
         Self::decode_body_into(r, out).map_err(|e| e.in_type(Self::PATH))
     }
 
-    /// Decodes one value from `r`.
+    /// Decodes one value from `r` (values of at most [`BY_VALUE_MAX_OCTETS`]; a larger type
+    /// does not compile: use [`Uper::decode_into`]).
     #[inline]
     fn decode_uper(r: &mut Reader<'_>) -> DecodeResult<Self> {
+        const { small_enough_by_value::<Self>() };
         let mut v = Self::placeholder();
         Self::decode_into(r, &mut v)?;
         Ok(v)
@@ -150,8 +152,30 @@ pub const fn max_octets<T: Uper>() -> Option<usize> {
     }
 }
 
+/// The largest value, in octets, that [`decode`], [`decode_prefix`] and
+/// [`Uper::decode_uper`] return by value. Returning a value copies it whole: without `alloc`
+/// a message is tens of KiB to megabytes (a `MessageFrame` 8.5 MB, see the crate docs' table
+/// of value sizes), so asking for a larger one by value is a compile error that points to
+/// [`decode_into`] (a value you keep) or [`crate::Decoder`] (kept values in a decoding loop).
+/// With `alloc` every message fits (a `MessageFrame` is 552 octets, its lists on the heap).
+pub const BY_VALUE_MAX_OCTETS: usize = 1024;
+
+/// Refuses, at compile time, to return a `T` larger than [`BY_VALUE_MAX_OCTETS`] by value.
+const fn small_enough_by_value<T>() {
+    assert!(
+        core::mem::size_of::<T>() <= BY_VALUE_MAX_OCTETS,
+        "this value is too large to decode by value (over j2735::uper::BY_VALUE_MAX_OCTETS; \
+         without `alloc` a message is KiB to MiB): decode into a value you keep with \
+         uper::decode_into, or use j2735::Decoder"
+    );
+}
+
 /// Decodes one complete encoding of `T` that fills `bytes` (see the module docs).
+///
+/// Only for values of at most [`BY_VALUE_MAX_OCTETS`] (every message with `alloc`); a larger
+/// `T` does not compile: use [`decode_into`] or [`crate::Decoder`].
 pub fn decode<T: Uper>(bytes: &[u8]) -> Result<T, DecodeError> {
+    const { small_enough_by_value::<T>() };
     let mut v = T::placeholder();
     decode_into(bytes, &mut v)?;
     Ok(v)
@@ -167,7 +191,9 @@ pub fn decode_into<T: Uper>(bytes: &[u8], out: &mut T) -> Result<(), DecodeError
 }
 
 /// Decodes one encoding of `T` from the start of `bytes`; returns it and the octets used.
+/// As [`decode`], only for values of at most [`BY_VALUE_MAX_OCTETS`].
 pub fn decode_prefix<T: Uper>(bytes: &[u8]) -> Result<(T, usize), DecodeError> {
+    const { small_enough_by_value::<T>() };
     let mut v = T::placeholder();
     let used = decode_prefix_into(bytes, &mut v)?;
     Ok((v, used))
