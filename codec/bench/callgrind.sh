@@ -25,7 +25,7 @@ bin=$target/release/loop
 
 alloc=0
 [[ " ${features[*]} " == *" alloc "* || " ${features[*]} " == *"--features=alloc"* ]] && alloc=1
-rows=(map_small map_mid map_largest map_largest_2020 tim_work_zone)
+rows=(bsm_001 spat_032 map_052 tim_222 tim_036 map_056 map_061)
 cases=(ours_decode_into ours_decode_message_into ours_encode rasn_decode rasn_encode)
 [[ $alloc == 1 ]] && cases=(ours_decode_into ours_decode_message_into ours_decode_by_value ours_encode rasn_decode rasn_encode)
 suffix=""

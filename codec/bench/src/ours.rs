@@ -3,7 +3,7 @@
 
 use j2735::frame::{self, Message};
 use j2735::uper::{self, DecodeError, EncodeError, Placeholder};
-use j2735::{MapData, MessageFrame, TravelerInformation};
+use j2735::{BasicSafetyMessage, Decoder, MapData, MessageFrame, TravelerInformation, SPAT};
 
 use crate::kind::Kind;
 use crate::with_large_stack;
@@ -41,13 +41,17 @@ impl Kept {
     }
 }
 
-/// A MapData or TravelerInformation kept across decodes of MessageFrames that carry it
+/// A message kept across decodes of MessageFrames that carry it
 /// (`frame::decode_message_into`: what a firmware that links only MAP and TIM runs).
 pub enum KeptMessage {
     /// MapData.
     Map(Box<MapData>),
     /// TravelerInformation.
     Tim(Box<TravelerInformation>),
+    /// BasicSafetyMessage.
+    Bsm(Box<BasicSafetyMessage>),
+    /// SPAT.
+    Spat(Box<SPAT>),
 }
 
 fn kept<M: Message + Send + 'static>(bytes: &[u8]) -> Result<Box<M>, DecodeError> {
@@ -65,6 +69,8 @@ impl KeptMessage {
         Ok(match kind {
             Kind::Map => KeptMessage::Map(kept(bytes)?),
             Kind::Tim => KeptMessage::Tim(kept(bytes)?),
+            Kind::Bsm => KeptMessage::Bsm(kept(bytes)?),
+            Kind::Spat => KeptMessage::Spat(kept(bytes)?),
         })
     }
 
@@ -74,7 +80,36 @@ impl KeptMessage {
         match self {
             KeptMessage::Map(m) => frame::decode_message_into(bytes, &mut **m),
             KeptMessage::Tim(m) => frame::decode_message_into(bytes, &mut **m),
+            KeptMessage::Bsm(m) => frame::decode_message_into(bytes, &mut **m),
+            KeptMessage::Spat(m) => frame::decode_message_into(bytes, &mut **m),
         }
+    }
+}
+
+/// A [`Decoder`] (one kept value per message type) fed two frames of different types in turn:
+/// a receiver hearing MAP, SPaT, TIM and BSM from one roadside.
+pub struct Alternating {
+    decoder: Box<Decoder<2>>,
+}
+
+impl Alternating {
+    /// A decoder that has decoded `a` and `b` once each (both kept values in place).
+    pub fn new(a: &[u8], b: &[u8]) -> Result<Self, DecodeError> {
+        let (a, b) = (a.to_vec(), b.to_vec());
+        with_large_stack(move || {
+            let mut decoder = Box::new(Decoder::<2>::new());
+            decoder.decode(&a)?;
+            decoder.decode(&b)?;
+            Ok(Alternating { decoder })
+        })
+    }
+
+    /// Decodes `a` then `b`.
+    #[inline]
+    pub fn decode_pair(&mut self, a: &[u8], b: &[u8]) -> Result<(), DecodeError> {
+        self.decoder.decode(a)?;
+        self.decoder.decode(b)?;
+        Ok(())
     }
 }
 

@@ -8,8 +8,13 @@
 use rasn::types::Any;
 
 use crate::kind::Kind;
+use crate::rasn_j2735::basic_safety_message::BasicSafetyMessage;
 use crate::rasn_j2735::map_data::MapData;
-use crate::rasn_j2735::message_frame::{DSRCmsgID, MessageFrame, MAP_DATA, TRAVELER_INFORMATION};
+use crate::rasn_j2735::message_frame::{
+    DSRCmsgID, MessageFrame, BASIC_SAFETY_MESSAGE, MAP_DATA, SIGNAL_PHASE_AND_TIMING_MESSAGE,
+    TRAVELER_INFORMATION,
+};
+use crate::rasn_j2735::spat::SPAT;
 use crate::rasn_j2735::traveler_information::TravelerInformation;
 
 pub use rasn::error::{DecodeError, EncodeError};
@@ -21,6 +26,10 @@ pub enum Message {
     Map(MapData),
     /// TravelerInformation.
     Tim(TravelerInformation),
+    /// BasicSafetyMessage.
+    Bsm(BasicSafetyMessage),
+    /// SPAT.
+    Spat(SPAT),
 }
 
 /// Decodes a MessageFrame and the message it carries.
@@ -32,6 +41,10 @@ pub fn decode(bytes: &[u8]) -> Result<Message, DecodeError> {
         Ok(Message::Map(rasn::uper::decode(content)?))
     } else if frame.message_id == TRAVELER_INFORMATION {
         Ok(Message::Tim(rasn::uper::decode(content)?))
+    } else if frame.message_id == BASIC_SAFETY_MESSAGE {
+        Ok(Message::Bsm(rasn::uper::decode(content)?))
+    } else if frame.message_id == SIGNAL_PHASE_AND_TIMING_MESSAGE {
+        Ok(Message::Spat(rasn::uper::decode(content)?))
     } else {
         Err(DecodeError::from_kind(
             rasn::error::DecodeErrorKind::Custom {
@@ -48,6 +61,8 @@ pub fn encode(message: &Message, out: &mut Vec<u8>) -> Result<(), EncodeError> {
     let (id, content): (DSRCmsgID, Vec<u8>) = match message {
         Message::Map(m) => (MAP_DATA, rasn::uper::encode(m)?),
         Message::Tim(m) => (TRAVELER_INFORMATION, rasn::uper::encode(m)?),
+        Message::Bsm(m) => (BASIC_SAFETY_MESSAGE, rasn::uper::encode(m)?),
+        Message::Spat(m) => (SIGNAL_PHASE_AND_TIMING_MESSAGE, rasn::uper::encode(m)?),
     };
     let frame = MessageFrame::new(id, Any::new(content));
     rasn::uper::encode_buf(&frame, out)
@@ -58,6 +73,8 @@ pub fn kind(message: &Message) -> Kind {
     match message {
         Message::Map(_) => Kind::Map,
         Message::Tim(_) => Kind::Tim,
+        Message::Bsm(_) => Kind::Bsm,
+        Message::Spat(_) => Kind::Spat,
     }
 }
 

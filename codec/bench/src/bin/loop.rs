@@ -2,9 +2,10 @@
 //!
 //!     target/release/loop ROW CASE N
 //!
-//! ROW: map_small | map_mid | map_largest | map_largest_2020 | tim_work_zone
+//! ROW: bsm_001 | spat_032 | map_052 | tim_222 | tim_036 | map_056 | map_061
 //! CASE: ours_decode_into | ours_decode_message_into | ours_decode_by_value (feature alloc)
-//!       | ours_encode | rasn_decode | rasn_encode
+//!       | ours_decoder_alternating | ours_encode | rasn_decode | rasn_decode_alternating
+//!       | rasn_encode
 //!
 //! `callgrind.sh` runs it under `valgrind --tool=callgrind` at two values of N and divides the
 //! difference of the instruction counts by the difference of N: the instructions of one
@@ -29,11 +30,14 @@ fn main() -> ExitCode {
             return ExitCode::from(2);
         }
     };
-    let Some(frame) = frames::all().into_iter().find(|f| f.row == row) else {
+    let all = frames::all();
+    let Some(k) = all.iter().position(|f| f.row == row) else {
         eprintln!("no row {row}");
         return ExitCode::from(2);
     };
+    let frame = &all[k];
     let bytes = frame.bytes.as_slice();
+    let other = frames::partner(&all, k).bytes.as_slice();
     match case {
         "ours_decode_into" => {
             let mut kept = ours::Kept::new(bytes).expect("decode");
@@ -53,6 +57,19 @@ fn main() -> ExitCode {
         "ours_decode_by_value" => {
             for _ in 0..n {
                 black_box(ours::decode_by_value(black_box(bytes)).expect("decode"));
+            }
+        }
+        "ours_decoder_alternating" => {
+            let mut pair = ours::Alternating::new(bytes, other).expect("decode");
+            for _ in 0..n {
+                pair.decode_pair(black_box(bytes), black_box(other))
+                    .expect("decode");
+            }
+        }
+        "rasn_decode_alternating" => {
+            for _ in 0..n {
+                black_box(theirs::decode(black_box(bytes)).expect("decode"));
+                black_box(theirs::decode(black_box(other)).expect("decode"));
             }
         }
         "ours_encode" => {
