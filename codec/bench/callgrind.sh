@@ -26,8 +26,8 @@ bin=$target/release/loop
 alloc=0
 [[ " ${features[*]} " == *" alloc "* || " ${features[*]} " == *"--features=alloc"* ]] && alloc=1
 rows=(bsm_001 spat_032 map_052 tim_222 tim_036 map_056 map_061)
-cases=(ours_decode_into ours_decode_message_into ours_encode rasn_decode rasn_encode)
-[[ $alloc == 1 ]] && cases=(ours_decode_into ours_decode_message_into ours_decode_by_value ours_encode rasn_decode rasn_encode)
+cases=(ours_decode_into ours_decode_message_into ours_decoder_alternating ours_encode rasn_decode rasn_decode_alternating rasn_encode)
+[[ $alloc == 1 ]] && cases=(ours_decode_into ours_decode_message_into ours_decode_by_value ours_decoder_alternating ours_encode rasn_decode rasn_decode_alternating rasn_encode)
 suffix=""
 [[ $alloc == 1 ]] && suffix="_alloc"
 
@@ -53,6 +53,7 @@ for row in "${rows[@]}"; do
   for c in "${cases[@]}"; do
     case $c in
       ours_encode) r=rasn_encode ;;
+      ours_decoder_alternating) r=rasn_decode_alternating ;;
       ours_*) r=rasn_decode ;;
       *) continue ;;
     esac

@@ -10,7 +10,7 @@ use crate::MessageFrame;
 ///
 /// It keeps up to `K` values (default 4: a MAP, a SPaT, a TIM and a BSM), each holding the
 /// last frame of one `messageId`; a frame of a type not kept reuses the value decoded least
-/// recently. Without `alloc` each kept value is as large as the largest message of the
+/// recently (a frame of an unknown `messageId` takes a value too). Without `alloc` each kept value is as large as the largest message of the
 /// capacity profile (a `MessageFrame` is 8.5 MB by default, 1.2 MB with
 /// `firmware-capacities`; see the crate docs' table of value sizes): the slots are only
 /// filled as types arrive, but their room is reserved, so put the decoder in static memory

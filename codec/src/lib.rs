@@ -27,8 +27,8 @@
 //! A firmware that handles a few message types keeps one value of each and decodes with
 //! [`frame::decode_message_into`] (only those types are linked). [`uper::decode`] returns a
 //! new value and is meant for small types: it refuses at compile time a type over
-//! [`uper::BY_VALUE_MAX_OCTETS`] (every message without `alloc`), since the copy would cost
-//! more than the decoding.
+//! [`uper::BY_VALUE_MAX_OCTETS`] (without `alloc`, a `MessageFrame` and every message but the
+//! smallest few), since the copy would cost more than the decoding.
 //!
 //! # Modules
 //! - [`uper`]: the runtime (bit reader/writer, [`uper::Uper`] trait, [`uper::decode_into`],

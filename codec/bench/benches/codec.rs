@@ -17,7 +17,8 @@
 //! - `rasn_decode`: `rasn::uper::decode` of the MessageFrame, then of the message in its
 //!   open type (rasn-compiler keeps open types as `Any`).
 //!
-//! Our cases built with `alloc` are named `..._alloc`. At the end the table of ours against
+//! Every case of a build with `alloc` is named `..._alloc` (rasn's too: each storage's rows are
+//! compared with rasn measured in the same run). At the end the table of ours against
 //! rasn, with each ratio's goal, is printed (from criterion's estimates, also for earlier
 //! runs' cases).
 
@@ -125,10 +126,10 @@ fn ours_cases(g: &mut Group<'_>, kind: frames::Kind, bytes: &[u8], other: &[u8])
 }
 
 fn rasn_cases(g: &mut Group<'_>, bytes: &[u8], other: &[u8]) {
-    g.bench_function("rasn_decode", |b| {
+    g.bench_function(format!("rasn_decode{OURS_SUFFIX}"), |b| {
         b.iter(|| theirs::decode(black_box(bytes)).expect("rasn decode"))
     });
-    g.bench_function("rasn_decode_alternating", |b| {
+    g.bench_function(format!("rasn_decode_alternating{OURS_SUFFIX}"), |b| {
         b.iter(|| {
             theirs::decode(black_box(bytes)).expect("rasn decode");
             theirs::decode(black_box(other)).expect("rasn decode")
@@ -137,10 +138,10 @@ fn rasn_cases(g: &mut Group<'_>, bytes: &[u8], other: &[u8]) {
     let m = theirs::decode(bytes).expect("rasn decode");
     let n = theirs::decode(other).expect("rasn decode");
     let mut out = Vec::new();
-    g.bench_function("rasn_encode", |b| {
+    g.bench_function(format!("rasn_encode{OURS_SUFFIX}"), |b| {
         b.iter(|| theirs::encode(black_box(&m), &mut out).expect("rasn encode"))
     });
-    g.bench_function("rasn_encode_alternating", |b| {
+    g.bench_function(format!("rasn_encode_alternating{OURS_SUFFIX}"), |b| {
         b.iter(|| {
             theirs::encode(black_box(&m), &mut out).expect("rasn encode");
             theirs::encode(black_box(&n), &mut out).expect("rasn encode")

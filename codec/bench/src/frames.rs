@@ -80,7 +80,8 @@ pub fn corpus_frame(prefix: &str) -> (String, Vec<u8>) {
         entries
             .filter_map(Result::ok)
             .map(|e| e.file_name().to_string_lossy().into_owned())
-            .find(|n| n.starts_with(prefix) && n.ends_with(".hex"))
+            .filter(|n| n.starts_with(prefix) && n.ends_with(".hex"))
+            .min()
     });
     let Some(name) = found else {
         panic!(

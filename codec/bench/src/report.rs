@@ -1,9 +1,10 @@
 //! The table of results: criterion's estimates of ours against rasn, per frame and operation.
 //!
 //! Benchmark ids are `<row>/<case>` (criterion group = row, function = case); the estimates
-//! are read from `<criterion dir>/<row>/<case>/new/estimates.json`. Cases of our codec carry
-//! the storage in their name (`ours_decode_into` without `alloc`, `ours_decode_into_alloc`
-//! with it), so that runs with and without the feature keep their own results.
+//! are read from `<criterion dir>/<row>/<case>/new/estimates.json`. Every case carries
+//! the storage of its build in its name (`ours_decode_into` / `rasn_decode` without `alloc`,
+//! `ours_decode_into_alloc` / `rasn_decode_alloc` with it): each storage is compared with rasn
+//! measured in the same run.
 
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -129,8 +130,9 @@ pub fn table(dir: &Path, sizes: &[(String, usize, String)]) -> (String, usize) {
         for (label, ours_case, rasn_case) in PAIRS {
             for suffix in ["", "_alloc"] {
                 let ours_id = format!("{ours_case}{suffix}");
+                let rasn_id = format!("{rasn_case}{suffix}");
                 let (Some(o), Some(r)) =
-                    (estimate(dir, row, &ours_id), estimate(dir, row, rasn_case))
+                    (estimate(dir, row, &ours_id), estimate(dir, row, &rasn_id))
                 else {
                     continue;
                 };

@@ -154,8 +154,8 @@ pub const fn max_octets<T: Uper>() -> Option<usize> {
 
 /// The largest value, in octets, that [`decode`], [`decode_prefix`] and
 /// [`Uper::decode_uper`] return by value. Returning a value copies it whole: without `alloc`
-/// a message is tens of KiB to megabytes (a `MessageFrame` 8.5 MB, see the crate docs' table
-/// of value sizes), so asking for a larger one by value is a compile error that points to
+/// most messages are tens of KiB to megabytes (a `MessageFrame` 8.5 MB, see the crate docs'
+/// table of value sizes), so asking for a larger one by value is a compile error that points to
 /// [`decode_into`] (a value you keep) or [`crate::Decoder`] (kept values in a decoding loop).
 /// With `alloc` every message fits (a `MessageFrame` is 552 octets, its lists on the heap).
 pub const BY_VALUE_MAX_OCTETS: usize = 1024;
@@ -165,15 +165,16 @@ const fn small_enough_by_value<T>() {
     assert!(
         core::mem::size_of::<T>() <= BY_VALUE_MAX_OCTETS,
         "this value is too large to decode by value (over j2735::uper::BY_VALUE_MAX_OCTETS; \
-         without `alloc` a message is KiB to MiB): decode into a value you keep with \
+         without `alloc` most messages are KiB to MiB): decode into a value you keep with \
          uper::decode_into, or use j2735::Decoder"
     );
 }
 
 /// Decodes one complete encoding of `T` that fills `bytes` (see the module docs).
 ///
-/// Only for values of at most [`BY_VALUE_MAX_OCTETS`] (every message with `alloc`); a larger
-/// `T` does not compile: use [`decode_into`] or [`crate::Decoder`].
+/// Only for values of at most [`BY_VALUE_MAX_OCTETS`] (every message with `alloc`; without it
+/// a `MessageFrame` and most messages are larger); a larger `T` does not compile: use
+/// [`decode_into`] or [`crate::Decoder`].
 pub fn decode<T: Uper>(bytes: &[u8]) -> Result<T, DecodeError> {
     const { small_enough_by_value::<T>() };
     let mut v = T::placeholder();

@@ -4,8 +4,8 @@
 //! 22 and 30): no length for a fixed size below 64K, a constrained bit field for a bounded
 //! size, and the unconstrained length determinant with 16K fragments otherwise or when an
 //! extensible size lies outside its root. Counts are checked against the no-heap capacity
-//! before any item is stored, and items are taken one at a time, so a hostile length costs
-//! no more than the bits that follow it.
+//! before any item is stored, and items are taken one at a time (with `alloc`, at most 64
+//! reserved ahead), so a hostile length costs no more than the bits that follow it.
 
 use super::error::{DecodeError, DecodeErrorKind as DKind, EncodeError, EncodeErrorKind as EKind};
 use super::reader::{DecodeResult, Reader};
@@ -17,6 +17,8 @@ use super::Uper;
 const K64: usize = 65536;
 /// One fragment unit (X.691 11.9.3.8).
 const K16: usize = 16384;
+/// The most items a SEQUENCE OF reserves before they decode (with `alloc`).
+const RESERVE_ITEMS: usize = 64;
 
 /// A SIZE constraint: `lb..=ub`, `ub == usize::MAX` when there is no upper bound.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -134,14 +136,16 @@ pub fn decode_seq_of_into<T: Uper, const N: usize>(
         if out.len() + n > SeqOf::<T, N>::capacity() {
             return Err(over_capacity(r.position(), key));
         }
-        // Every item takes at least one bit in practice, so the input bounds the room.
-        out.reserve(n.min(r.remaining()));
+        // Room for the announced items at once, up to RESERVE_ITEMS (the rest grows as items
+        // actually decode, each from input bits), so one hostile length reserves little.
+        out.reserve(n.min(r.remaining()).min(RESERVE_ITEMS));
         for _ in 0..n {
             let slot = out.push_slot().ok_or(over_capacity(r.position(), key))?;
             T::decode_into(r, slot)?;
         }
         Ok(())
     })?;
+    out.drop_spare();
     Ok(())
 }
 

@@ -18,7 +18,8 @@ use alloc::{string::String, vec::Vec};
 /// The items live in a `heapless::Vec` (without `alloc`) or a `Vec` (with it) whose slots
 /// are initialised lazily, the first time the sequence grows to them, and then kept:
 /// decoding into a kept value refills those slots in place, so it never moves large items
-/// (no-heap) and reuses every nested vector's allocation (`alloc`). An empty sequence costs
+/// (no-heap) and reuses every nested vector's allocation (`alloc`; a decode drops the slots
+/// beyond its items, see [`SeqOf::drop_spare`]). An empty sequence costs
 /// nothing to create, whatever `N` (no array of placeholders is built, so no large temporary
 /// lands on the stack when an absent OPTIONAL member becomes present). Only the first
 /// `len()` items are the value: equality, hashing, `Debug` and iteration look at those alone.
@@ -91,12 +92,14 @@ impl<T: Placeholder, const N: usize> SeqOf<T, N> {
     }
 
     /// Grows by `n` items at once and returns them to be overwritten (placeholders or
-    /// former items); `None`, unchanged, when the no-heap capacity cannot hold them.
+    /// former items); `None`, unchanged, when the no-heap capacity (with `alloc`, the memory)
+    /// cannot hold them.
     pub fn grow(&mut self, n: usize) -> Option<&mut [T]> {
         let len = self.len.get();
         let new_len = len.checked_add(n).filter(|&l| l <= Self::capacity())?;
         #[cfg(feature = "alloc")]
         if self.items.len() < new_len {
+            self.items.try_reserve(new_len - self.items.len()).ok()?;
             self.items.resize_with(new_len, T::placeholder);
         }
         #[cfg(not(feature = "alloc"))]
@@ -130,6 +133,14 @@ impl<T, const N: usize> SeqOf<T, N> {
     /// kept for reuse).
     pub fn clear(&mut self) {
         self.len = Len::ZERO;
+    }
+
+    /// Drops the slots kept beyond the items (with `alloc`: a kept value then holds the
+    /// storage of its last message's shape, not of every shape it ever had; without `alloc`
+    /// the slots live in the fixed room anyway and are kept).
+    pub fn drop_spare(&mut self) {
+        #[cfg(feature = "alloc")]
+        self.items.truncate(self.len.get());
     }
 
     /// Makes room for `additional` more items at once (with `alloc`; without it the room is
@@ -445,6 +456,14 @@ mod tests {
         assert_eq!(copy, outer);
         assert_eq!(copy.items.len(), 1, "the kept slots are not copied");
         assert_eq!(outer.items.len(), 3);
+        outer.drop_spare();
+        let kept = if cfg!(feature = "alloc") { 1 } else { 3 };
+        assert_eq!(
+            outer.items.len(),
+            kept,
+            "with alloc the spare slots are dropped"
+        );
+        assert_eq!(outer.len(), 1);
     }
 
     #[test]
