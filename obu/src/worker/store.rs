@@ -56,6 +56,7 @@ impl WorkerStats {
 /// 2. else the worker farthest from the vehicle, if the new one is nearer (the ones near
 ///    the vehicle matter to the driver);
 ///
+/// except that a verified worker first takes the slot of the stalest unverified one;
 /// else it is refused ([`IngestError::StoreFull`]). A replacement is counted
 /// ([`WorkerStats::evicted`]). Unverified PSMs never replace, refresh or evict a worker
 /// that came verified.
@@ -128,8 +129,21 @@ impl WorkerStore {
         Ok(WorkerUpdate::Evicted)
     }
 
-    /// The slot a new worker `w` may take in a full store, if any.
+    /// The slot a new worker `w` may take in a full store, if any. A verified worker first
+    /// takes the stalest unverified one's: unsigned PSMs (accepted only with signatures not
+    /// required) cannot fill the store and lock a signed worker out.
     fn victim(&self, w: &Worker, vehicle: Option<LatLon>) -> Option<usize> {
+        if w.provenance == Provenance::Verified {
+            let unverified = self
+                .workers
+                .iter()
+                .enumerate()
+                .filter(|(_, s)| s.provenance == Provenance::Unverified)
+                .min_by_key(|(_, s)| s.heard);
+            if let Some((i, _)) = unverified {
+                return Some(i);
+            }
+        }
         let allowed = || {
             self.workers
                 .iter()

@@ -117,6 +117,46 @@ fn unverified_never_replaces_verified() {
 }
 
 #[test]
+fn unverified_workers_cannot_lock_a_verified_one_out() {
+    let mut s = WorkerStore::new();
+    // A full store of fresh unverified workers, all nearer the vehicle than the newcomer.
+    for id in 0..MAX_WORKERS as u8 {
+        let psm = psm_at(id, LAT, LON + i32::from(id) * 100, 0);
+        let at = Instant::from_millis(100 + u64::from(id));
+        let w = Worker::from_psm(at, &psm, Provenance::Unverified);
+        let w = w.unwrap_or_else(|e| panic!("{e}"));
+        assert_eq!(s.update(w, None), Ok(WorkerUpdate::New));
+    }
+    let vehicle = LatLon::new(LAT, LON);
+    let unverified_far = {
+        let psm = psm_at(50, LAT, LON + 5000, 0);
+        let w = Worker::from_psm(Instant::from_millis(200), &psm, Provenance::Unverified);
+        w.unwrap_or_else(|e| panic!("{e}"))
+    };
+    assert_eq!(
+        s.update(unverified_far, vehicle),
+        Err(IngestError::StoreFull),
+        "an unverified newcomer follows the ordinary rules"
+    );
+    // A verified worker farther than all of them (LON + 6000), none silent for 500 ms,
+    // still gets in, in the stalest unverified worker's slot (id 0, heard at 100 ms).
+    assert_eq!(
+        s.update(worker(60, 200, 0), vehicle),
+        Ok(WorkerUpdate::Evicted)
+    );
+    assert!(s.iter().all(|w| w.id().as_u32() != 0));
+    assert!(s.iter().any(|w| w.id().as_u32() == 60));
+    // A second far signed worker takes the next unverified slot (id 1), never the first
+    // signed one's.
+    assert_eq!(
+        s.update(worker(61, 210, 0), vehicle),
+        Ok(WorkerUpdate::Evicted)
+    );
+    assert!(s.iter().any(|w| w.id().as_u32() == 60));
+    assert!(s.iter().all(|w| w.id().as_u32() != 1));
+}
+
+#[test]
 fn a_full_store_replaces_a_far_or_silent_worker_only() {
     let mut s = WorkerStore::new();
     for id in 0..MAX_WORKERS as u8 {
