@@ -128,6 +128,22 @@ mod tests {
     }
 
     #[test]
+    fn the_packaged_config_differs_from_the_defaults_only_in_the_state_path() {
+        let file = concat!(env!("CARGO_MANIFEST_DIR"), "/deploy/obu.toml");
+        let mut c = config_of(&["--config", file]);
+        assert_eq!(
+            c.http.settings_file,
+            std::path::PathBuf::from("/var/lib/obu/obu-settings.json")
+        );
+        assert!(
+            c.http.bind.ip().is_loopback(),
+            "nothing exposed before set up"
+        );
+        c.http.settings_file = Config::default_config().http.settings_file;
+        assert_eq!(c, Config::default_config());
+    }
+
+    #[test]
     fn texts_are_printed() {
         let Ok(Action::Print(text)) = parse_words(&["--print-default-config"]) else {
             panic!()

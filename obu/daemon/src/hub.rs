@@ -12,6 +12,7 @@ use obu::fix::Fix;
 use obu::time::Instant;
 use obu::v2x::{V2xOutcome, V2xReceiver};
 use std::collections::VecDeque;
+use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::{Arc, Mutex, MutexGuard};
 use tokio::sync::{broadcast, watch, Notify};
 
@@ -53,6 +54,8 @@ pub struct Hub {
     run: u64,
     /// Woken by every input that reached the core (its next deadline may have moved).
     wake: Notify,
+    /// Turns of the deadline loop: the watchdog pings systemd only while it moves.
+    turns: AtomicU64,
     /// Counters of inputs and drops.
     pub counters: Counters,
 }
@@ -82,6 +85,7 @@ impl Hub {
                 .duration_since(std::time::UNIX_EPOCH)
                 .map_or(0, |d| d.as_millis() as u64),
             wake: Notify::new(),
+            turns: AtomicU64::new(0),
             counters: Counters::default(),
         })
     }
@@ -198,10 +202,20 @@ impl Hub {
     }
 
     /// Runs the core's timeouts until `stop` turns true: polls, then sleeps until the
-    /// core's next deadline or until an input that may have moved it arrives.
-    pub async fn run_deadlines(self: Arc<Self>, mut stop: watch::Receiver<bool>) {
+    /// core's next deadline or until an input that may have moved it arrives. With a
+    /// `tick` (under a watchdog) it sleeps at most that long, so that [`Hub::turns`]
+    /// moves while the loop is alive.
+    pub async fn run_deadlines(
+        self: Arc<Self>,
+        mut stop: watch::Receiver<bool>,
+        tick: Option<std::time::Duration>,
+    ) {
         loop {
-            let wait = self.poll();
+            let wait = match (self.poll(), tick) {
+                (Some(d), Some(t)) => Some(d.min(t)),
+                (d, t) => d.or(t),
+            };
+            self.turns.fetch_add(1, Ordering::Relaxed);
             let sleep = async {
                 match wait {
                     Some(d) => tokio::time::sleep(d).await,
@@ -214,6 +228,11 @@ impl Hub {
                 _ = stop.changed() => return,
             }
         }
+    }
+
+    /// How many times the deadline loop has turned (polled the core).
+    pub fn turns(&self) -> u64 {
+        self.turns.load(Ordering::Relaxed)
     }
 
     /// The current settings.
@@ -355,7 +374,7 @@ mod tests {
         assert_eq!(hub.poll(), None, "no fix, nothing stored: no deadline");
         let (stop_tx, stop) = watch::channel(false);
         let mut events = hub.subscribe();
-        let task = tokio::spawn(hub.clone().run_deadlines(stop));
+        let task = tokio::spawn(hub.clone().run_deadlines(stop, None));
         let t0 = std::time::Instant::now();
         hub.on_fix(Fix::at(obu::LatLon::ZERO), None);
         let fix = events.recv().await.unwrap();
@@ -377,5 +396,22 @@ mod tests {
         );
         let _ = stop_tx.send(true);
         task.await.unwrap();
+    }
+
+    #[tokio::test(start_paused = true)]
+    async fn with_a_tick_the_idle_loop_turns_and_without_it_sleeps() {
+        let hub = Hub::new(Settings::defaults(100.0, 9.0), AlertConfig::DEFAULT, 16);
+        let (stop_tx, stop) = watch::channel(false);
+        let idle = tokio::spawn(hub.clone().run_deadlines(stop.clone(), None));
+        tokio::time::sleep(std::time::Duration::from_secs(1)).await;
+        assert_eq!(hub.turns(), 1, "nothing to do: one poll, then asleep");
+        let tick = std::time::Duration::from_millis(50);
+        let ticking = tokio::spawn(hub.clone().run_deadlines(stop, Some(tick)));
+        tokio::time::sleep(std::time::Duration::from_millis(1025)).await;
+        let turns = hub.turns() - 1;
+        assert!((20..=22).contains(&turns), "{turns} turns in 1 s at 50 ms");
+        let _ = stop_tx.send(true);
+        idle.await.unwrap();
+        ticking.await.unwrap();
     }
 }

@@ -10,6 +10,9 @@
 //! `obu: http://HTTP_ADDR v2x udp V2X_ADDR` (then `gnss udp ADDR` when NMEA comes over
 //! UDP: the port bound, so a caller may configure port 0), or in bridge mode
 //! `obu: http://HTTP_ADDR bridge SOURCE` (`SOURCE` as `tcp:HOST:PORT` or `serial:PATH`).
+//! When standard output is the systemd journal that line is a structured `ready` entry
+//! instead ([`log`]). Under systemd the daemon also notifies readiness, stopping and a
+//! watchdog ([`systemd`]).
 #![forbid(unsafe_code)]
 
 mod assets;
@@ -22,10 +25,12 @@ mod gnss;
 mod host;
 mod http;
 mod hub;
+mod log;
 mod pairing;
 mod serve;
 mod settings;
 mod speed;
+mod systemd;
 mod v2x;
 
 use config::Config;
@@ -49,34 +54,36 @@ fn main() -> ExitCode {
             return ExitCode::from(2);
         }
     };
+    // Read (and removed from the environment) while this is the only thread.
+    let notifier = Arc::new(systemd::Notifier::from_env());
     let runtime = match tokio::runtime::Builder::new_current_thread()
         .enable_all()
         .build()
     {
         Ok(rt) => rt,
         Err(e) => {
-            eprintln!("obu: cannot start the runtime: {e}");
+            log::error("error", &format!("cannot start the runtime: {e}"));
             return ExitCode::FAILURE;
         }
     };
-    let result = runtime.block_on(run(config));
+    let result = runtime.block_on(run(config, notifier));
     // A read of a serial device blocks a pool thread until data comes: do not wait for it.
     runtime.shutdown_timeout(Duration::from_millis(200));
     match result {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
-            eprintln!("obu: {e}");
+            log::error("error", &e);
             ExitCode::FAILURE
         }
     }
 }
 
-async fn run(config: Config) -> Result<(), String> {
+async fn run(config: Config, notifier: Arc<systemd::Notifier>) -> Result<(), String> {
     let settings_file = Arc::new(SettingsFile::new(&config.http.settings_file));
     let defaults = Settings::defaults(config.alerts.warning_distance_m, config.alerts.lead_time_s);
     let (settings, warning) = settings_file.load(defaults);
     if let Some(w) = warning {
-        eprintln!("obu: {w}; using defaults");
+        log::warn("settings", &format!("{w}; using defaults"));
     }
     let mut base = obu::alert::AlertConfig::DEFAULT;
     config.alerts.apply(&mut base);
@@ -94,7 +101,9 @@ async fn run(config: Config) -> Result<(), String> {
         .map_err(|e| format!("http bind {}: {e}", config.http.bind))?;
     let http_addr = listener.local_addr().map_err(|e| e.to_string())?;
     let (stop_tx, stop) = tokio::sync::watch::channel(false);
+    let watchdog = notifier.watchdog();
     let bridge = config.bridge.source.clone().map(bridge::Status::new);
+    let bridge_mode = bridge.is_some();
     let inputs = match &bridge {
         Some(status) => {
             tokio::spawn(bridge::run(
@@ -105,7 +114,7 @@ async fn run(config: Config) -> Result<(), String> {
             ));
             format!("bridge {}", status.source())
         }
-        None => start_inputs(&config, &hub, &stop).await?,
+        None => start_inputs(&config, &hub, &stop, watchdog.map(systemd::liveness_tick)).await?,
     };
 
     let conns = conn::Table::new(config.http.max_connections);
@@ -133,14 +142,52 @@ async fn run(config: Config) -> Result<(), String> {
         )),
     };
     let server = tokio::spawn(serve::serve(listener, server, stop.clone()));
-    // The first line is for scripts and tests: where to reach the daemon, then its inputs.
-    println!("obu: http://{http_addr} {inputs}");
+    announce(&notifier, http_addr, &inputs);
+    if let Some(interval) = watchdog {
+        let progress = progress(&hub, bridge_mode);
+        tokio::spawn(systemd::run_watchdog(
+            notifier.clone(),
+            interval,
+            progress,
+            stop.clone(),
+        ));
+    }
 
     wait_for_signal().await;
-    eprintln!("obu: shutting down");
+    notifier.stopping();
+    log::notice("shutdown", "shutting down");
     let _ = stop_tx.send(true);
     let _ = tokio::time::timeout(Duration::from_secs(2), server).await;
     Ok(())
+}
+
+/// Tells where the daemon serves, once the HTTP listener and the inputs are bound: the
+/// first line on standard output (for scripts and tests; a structured `ready` entry instead
+/// when standard output is the journal), then `READY=1` to the service manager.
+fn announce(notifier: &systemd::Notifier, http_addr: std::net::SocketAddr, inputs: &str) {
+    let line = format!("http://{http_addr} {inputs}");
+    if log::stdout_is_journal() {
+        let http = http_addr.to_string();
+        log::entry(log::Priority::Info, "ready", &line, &[("OBU_HTTP", &http)]);
+    } else {
+        println!("obu: {line}");
+    }
+    notifier.ready(&format!("serving {line}"));
+}
+
+/// What the watchdog checks for progress: the turns of the core's deadline loop; in bridge
+/// mode (no core, no deadline loop) the watchdog task's own turns, so it proves only that the
+/// daemon's single-thread runtime runs.
+fn progress(hub: &Arc<hub::Hub>, bridge_mode: bool) -> impl Fn() -> u64 {
+    let hub = hub.clone();
+    let own = std::sync::atomic::AtomicU64::new(0);
+    move || {
+        if bridge_mode {
+            own.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1
+        } else {
+            hub.turns()
+        }
+    }
 }
 
 /// The pairing PIN and sessions ([`pairing`]); logs the PIN and where it comes from.
@@ -152,7 +199,10 @@ fn load_pairing(http: &config::Http) -> Result<Arc<pairing::Pairing>, String> {
     } else {
         format!("made on the first start, kept in {}", file.display())
     };
-    eprintln!("obu: pairing PIN {} ({from})", pairing.pin());
+    log::notice(
+        "pairing",
+        &format!("pairing PIN {} ({from})", pairing.pin()),
+    );
     Ok(Arc::new(pairing))
 }
 
@@ -164,6 +214,7 @@ async fn start_inputs(
     config: &Config,
     hub: &Arc<hub::Hub>,
     stop: &tokio::sync::watch::Receiver<bool>,
+    tick: Option<Duration>,
 ) -> Result<String, String> {
     let udp = tokio::net::UdpSocket::bind(config.v2x.bind)
         .await
@@ -190,7 +241,7 @@ async fn start_inputs(
         stop.clone(),
     ));
     speed::spawn(&config.speed, hub.clone());
-    tokio::spawn(hub.clone().run_deadlines(stop.clone()));
+    tokio::spawn(hub.clone().run_deadlines(stop.clone(), tick));
     Ok(line)
 }
 
@@ -228,10 +279,11 @@ fn configure_security(hub: &hub::Hub, security: &config::Security) -> Result<(),
         } else {
             "signed frames will be dropped, unsigned ones shown as unverified"
         };
-        eprintln!("obu: warning: no security.trust_anchors configured: {effect}");
+        let text = format!("warning: no security.trust_anchors configured: {effect}");
+        log::warn("security", &text);
     } else {
-        eprintln!(
-            "obu: IEEE 1609.2: {} trust anchor(s), signatures {}",
+        let text = format!(
+            "IEEE 1609.2: {} trust anchor(s), signatures {}",
             anchors.len(),
             if security.require_signed {
                 "required"
@@ -239,6 +291,7 @@ fn configure_security(hub: &hub::Hub, security: &config::Security) -> Result<(),
                 "optional"
             }
         );
+        log::notice("security", &text);
     }
     Ok(())
 }

@@ -183,10 +183,11 @@ impl Pairing {
         });
         drop(s);
         if let Err(e) = self.save() {
-            eprintln!(
-                "obu: cannot save {}: {e} (the pairing holds until a restart)",
+            let text = format!(
+                "cannot save {}: {e} (the pairing holds until a restart)",
                 self.file.display()
             );
+            crate::log::warn("pairing", &text);
         }
         Attempt::Paired(hex(&token))
     }
