@@ -285,13 +285,22 @@ fn hostile_http_is_refused_and_counted() {
         (200, "ok".into()),
         "still serving"
     );
+    // A paired client that closes in the middle of its body: cut off, not too large.
+    let mut cut = TcpStream::connect(&d.http).unwrap();
+    cut.set_read_timeout(Some(Duration::from_secs(5))).unwrap();
+    write!(
+        cut,
+        "PUT /api/settings HTTP/1.1\r\nHost: {}\r\n{cookie}\r\nContent-Type: application/json\r\nContent-Length: 100\r\n\r\n{{\"warn",
+        d.http
+    )
+    .unwrap();
+    cut.shutdown(std::net::Shutdown::Write).unwrap();
+    let mut answer = String::new();
+    let _ = cut.read_to_string(&mut answer);
     let s = status(&d.http);
-    assert!(
-        s["counters"]["http_rejected"]
-            .as_object()
-            .is_some_and(|m| !m.is_empty()),
-        "{s}"
-    );
+    let rejected = &s["counters"]["http_rejected"];
+    assert_eq!(rejected["body too large"], 1, "the 10,000-octet body only: {s}");
+    assert_eq!(rejected["body cut off"], 1, "{s}");
 }
 
 #[test]

@@ -55,10 +55,29 @@ async fn json_body(app: &AppState, headers: &HeaderMap, body: Body) -> Result<By
             true,
         ));
     }
-    axum::body::to_bytes(body, MAX_BODY).await.map_err(|_| {
-        counters.add(group::HTTP_REJECTED, "body too large");
-        refuse(StatusCode::PAYLOAD_TOO_LARGE, "body too large", true)
+    axum::body::to_bytes(body, MAX_BODY).await.map_err(|e| {
+        if over_the_limit(&e) {
+            counters.add(group::HTTP_REJECTED, "body too large");
+            refuse(StatusCode::PAYLOAD_TOO_LARGE, "body too large", true)
+        } else {
+            // The client closed or broke the connection before the body ended.
+            counters.add(group::HTTP_REJECTED, "body cut off");
+            refuse(StatusCode::BAD_REQUEST, "body cut off", true)
+        }
     })
+}
+
+/// Whether reading a body failed on [`MAX_BODY`] (a body without a `Content-Length`, or
+/// longer than it said), not on the connection.
+fn over_the_limit(e: &axum::Error) -> bool {
+    let mut source: Option<&(dyn std::error::Error + 'static)> = Some(e);
+    while let Some(err) = source {
+        if err.is::<http_body_util::LengthLimitError>() {
+            return true;
+        }
+        source = err.source();
+    }
+    false
 }
 
 fn cookies(headers: &HeaderMap) -> impl Iterator<Item = &str> {
