@@ -407,7 +407,12 @@ pub fn car_epoch(road: &Road, scene_name: &str, t_s: f64) -> Option<Epoch> {
 
 /// The receiver's epoch for the car `t_s` seconds into `scene`, stamped `utc`.
 pub fn car_epoch_at(road: &Road, scene_name: &str, t_s: f64, utc: Utc) -> Option<Epoch> {
-    let s = scene(scene_name)?;
+    scene_epoch(road, scene(scene_name)?, t_s, utc)
+}
+
+/// The receiver's epoch for a car driving scene `s` on `road`, `t_s` seconds in, stamped
+/// `utc` (0.3 m accuracy).
+pub fn scene_epoch(road: &Road, s: &Scene, t_s: f64, utc: Utc) -> Option<Epoch> {
     let on = road.lane(s.lane)?.at(s.station(t_s))?;
     Some(Epoch {
         utc,

@@ -21,6 +21,8 @@
 //! - [`plot`] and [`report_plots`]: the report's figures of a run.
 //! - [`hmi_bench`]: the bench of the tablet app's browser tests (scenes fed to the daemon).
 //! - [`perf`]: the daemon's latency and load test against the real process.
+//! - [`soak`]: the daemon for hours under the whole load and hostile traffic, sampled for
+//!   growth (RSS, descriptors, latency, counters).
 //!
 //! The roadside side (lane map, work-zone inputs, MAP/TIM, broadcaster, RSU files) is the
 //! [`roadside`] crate; the bench uses it and never the other way round.
@@ -41,5 +43,6 @@ pub mod report_plots;
 pub mod rig;
 pub mod runner;
 pub mod scenario;
+pub mod soak;
 pub mod sse;
 pub mod timeline;

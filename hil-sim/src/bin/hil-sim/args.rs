@@ -53,6 +53,13 @@ pub enum Command {
         #[arg(long, value_name = "S", default_value_t = 60.0)]
         seconds: f64,
     },
+    /// The real obu daemon for a long run: a car lapping the work zone (NMEA 10 Hz), the
+    /// signed roadside at 10 Hz, N tablets on /events, forged/garbage V2X, refused settings
+    /// writes, foreign Hosts and slow bodies; samples RSS, open files, CPU, event latency
+    /// and counters every S seconds (a row each, DIR/soak.json); fails on growth after the
+    /// warm-up (RSS, files over 5 %, p99 over max(2x, +2 ms)), a dropped client or event,
+    /// a forged datagram not dropped for its reason, or counters that do not add up.
+    Soak(SoakArgs),
     /// Run scenarios against the real obu daemon; writes DIR/<scenario>/report.json,
     /// states.jsonl and plots; fails when an expectation does not hold.
     Run(RunArgs),
@@ -114,6 +121,23 @@ pub struct RunArgs {
     /// timelines must match (timeline.json).
     #[arg(long, value_name = "ELF")]
     pub firmware: Option<PathBuf>,
+}
+
+/// `hil-sim soak`.
+#[derive(Debug, clap::Args)]
+pub struct SoakArgs {
+    /// Length of the run, minutes.
+    #[arg(long, value_name = "M", default_value_t = 120.0)]
+    pub minutes: f64,
+    /// Time between samples, seconds (the run needs 3 samples at least).
+    #[arg(long, value_name = "S", default_value_t = 60.0)]
+    pub sample_s: f64,
+    /// Tablets following /events.
+    #[arg(long, value_name = "N", default_value_t = 50)]
+    pub clients: usize,
+    /// Where soak.json and the daemon's state go.
+    #[arg(long, value_name = "DIR", default_value = "hil-sim-out/soak")]
+    pub out: PathBuf,
 }
 
 /// `hil-sim roadside`.
@@ -327,6 +351,8 @@ mod tests {
             "hil-sim demo",
             "hil-sim bench-latency",
             "hil-sim load-test",
+            "hil-sim soak --minutes 2 --sample-s 10",
+            "hil-sim soak --minutes 10 --sample-s 60 --clients 20 --out o",
             "hil-sim roadside s.toml --to 192.168.1.20:1516 --wrap 1609.2",
             "hil-sim roadside s.toml --rsu-files rsu-out",
             "hil-sim hmi-server",
@@ -358,6 +384,11 @@ mod tests {
         // Scenario files before and after the flags; the last --out wins, as before.
         assert_eq!(r.files, [PathBuf::from("a.toml"), PathBuf::from("b.toml")]);
         assert_eq!(r.out, PathBuf::from("y"));
+        let Ok(Command::Soak(s)) = parse("hil-sim soak") else {
+            panic!("soak did not parse");
+        };
+        assert_eq!((s.minutes, s.sample_s, s.clients), (120.0, 60.0, 50));
+        assert_eq!(s.out, PathBuf::from("hil-sim-out/soak"));
         let Ok(Command::SynthCamera(c)) = parse("hil-sim synth-camera --scenario s --out o") else {
             panic!("synth-camera did not parse");
         };
@@ -375,6 +406,8 @@ mod tests {
             "hil-sim roadside s.toml --wrap tls",
             "hil-sim roadside s.toml --rate fast",
             "hil-sim load-test --clients many",
+            "hil-sim soak --minutes soon",
+            "hil-sim soak --sample-s",
             "hil-sim synth-camera --out d",
             "hil-sim road-users",
             "hil-sim road-users --synthesize d --views 3",

@@ -6,7 +6,7 @@ mod args;
 mod road_users;
 mod run;
 
-use args::{Cli, Command, PkiArgs, RoadsideArgs, SynthCameraArgs, Wrap};
+use args::{Cli, Command, PkiArgs, RoadsideArgs, SoakArgs, SynthCameraArgs, Wrap};
 use clap::Parser;
 use hil_sim::{hmi_bench, perf};
 use roadside::broadcast::Wrapping;
@@ -20,6 +20,7 @@ fn main() -> ExitCode {
         Command::HmiDrive { scene } => state_dir().and_then(|d| hmi_bench::drive(&d, &scene)),
         Command::BenchLatency { samples } => bench_latency(samples),
         Command::LoadTest { clients, seconds } => load_test(clients, seconds),
+        Command::Soak(a) => soak(&a),
         Command::Run(a) => run::scenarios(&a),
         Command::Roadside(a) => roadside(&a),
         Command::Pki(a) => pki(&a),
@@ -86,6 +87,35 @@ fn load_test(clients: usize, seconds: f64) -> Result<(), String> {
         return Err("goal missed: no dropped client and daemon CPU under 10 % of a core".into());
     }
     Ok(())
+}
+
+/// `hil-sim soak`: the run's rows as it goes, then every check; fails unless all hold.
+fn soak(a: &SoakArgs) -> Result<(), String> {
+    let opts = hil_sim::soak::SoakOptions {
+        obu: hil_sim::daemon::find_obu(),
+        minutes: a.minutes,
+        sample_s: a.sample_s,
+        clients: a.clients,
+        out: a.out.clone(),
+    };
+    opts.validate()?;
+    println!(
+        "hil-sim soak: {} min, a sample every {} s, {} tablets, out {}",
+        a.minutes,
+        a.sample_s,
+        a.clients,
+        a.out.display()
+    );
+    let report = hil_sim::soak::run(&opts)?;
+    for c in &report.checks {
+        let mark = if c.ok { "ok  " } else { "FAIL" };
+        println!("{mark} {}: {}", c.name, c.detail);
+    }
+    println!("wrote {}", a.out.join("soak.json").display());
+    report
+        .passed
+        .then_some(())
+        .ok_or("a soak check failed".into())
 }
 
 /// `hil-sim synth-camera`: calibration and detections of a synthetic camera that sees the
