@@ -11,7 +11,8 @@
 //!     same set, every one of a known closed set.
 //!
 //! The figures are printed (`-- --nocapture`) and written to
-//! `$CARGO_TARGET_TMPDIR/hostile_link.txt`, which CI shows. The test process itself needs
+//! `$CARGO_TARGET_TMPDIR/hostile_link.txt` (`hostile_link-ARCH.txt` for another
+//! architecture, run under qemu-user), which CI shows. The test process itself needs
 //! more than 1,024 descriptors for the attack: it raises its own soft limit to the hard one.
 
 mod attack;
@@ -49,6 +50,7 @@ const KNOWN_KEYS: &[(&str, &[&str])] = &[
             "invalid settings",
             "not JSON",
             "body too large",
+            "body cut off",
             "not paired",
             "pairing: bad request",
             "pairing: wrong PIN",
@@ -182,8 +184,14 @@ fn the_link_holds_under_a_hostile_client() {
     );
     let stop_feed = Arc::new(AtomicBool::new(false));
     let feeder = feed_gnss(gnss, stop_feed.clone());
+    let build = if cfg!(debug_assertions) {
+        "debug"
+    } else {
+        "release"
+    };
+    let arch = std::env::consts::ARCH;
     let mut report = vec![format!(
-        "hostile link: obu (debug build) under ulimit -n 1024, default [http] limits (max_connections {MAX_CONNECTIONS}, request_timeout_ms 5000)"
+        "hostile link: obu ({arch}, {build} build) under ulimit -n 1024, default [http] limits (max_connections {MAX_CONNECTIONS}, request_timeout_ms 5000)"
     )];
 
     // (a) 1,100 slow bodies.
@@ -338,6 +346,11 @@ fn the_link_holds_under_a_hostile_client() {
     stop_feed.store(true, Ordering::Relaxed);
     feeder.join().unwrap();
     assert!(d.stop().success(), "a clean exit after all that");
-    let file = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("hostile_link.txt");
+    // The figures of an ARM build (run under qemu-user) beside the host's.
+    let name = match arch {
+        "x86_64" => "hostile_link.txt".to_string(),
+        other => format!("hostile_link-{other}.txt"),
+    };
+    let file = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join(name);
     std::fs::write(&file, report.join("\n") + "\n").unwrap();
 }
