@@ -299,7 +299,10 @@ fn hostile_http_is_refused_and_counted() {
     let _ = cut.read_to_string(&mut answer);
     let s = status(&d.http);
     let rejected = &s["counters"]["http_rejected"];
-    assert_eq!(rejected["body too large"], 1, "the 10,000-octet body only: {s}");
+    assert_eq!(
+        rejected["body too large"], 1,
+        "the 10,000-octet body only: {s}"
+    );
     assert_eq!(rejected["body cut off"], 1, "{s}");
 }
 

@@ -31,10 +31,6 @@ use super::polygon::{convex_hull, iou, vertex_distance};
 
 /// Smallest intersection over union of the projected box with the mask's hull.
 pub const MIN_IOU: f64 = 0.75;
-/// A hull vertex this near (pixels) to a tangent through its neighbour is on the same edge.
-const EDGE_TOL_PX: f64 = 3.0;
-/// Shortest edge (pixels) whose two ends both set a tangent.
-const MIN_EDGE_PX: f64 = 10.0;
 /// Smallest side of a box, as a share of its class's typical size.
 const MIN_SHARE: f64 = 0.3;
 
@@ -133,12 +129,9 @@ impl fmt::Display for BoxRejection {
     }
 }
 
-/// The two tangent lines from `v` to a convex hull (image lines), ordered by angle.
-fn tangents(v: H3, hull: &[[f64; 2]], axis: Axis) -> Result<[H3; 2], BoxRejection> {
-    let n = hull.len() as f64;
-    let mid = hull
-        .iter()
-        .fold([0.0, 0.0], |m, p| [m[0] + p[0] / n, m[1] + p[1] / n]);
+/// The hull vertices where the two tangents from `v` touch the hull, ordered by angle.
+fn contacts(v: H3, hull: &[[f64; 2]], axis: Axis) -> Result<[usize; 2], BoxRejection> {
+    let mid = centroid(hull);
     // Reference direction from the point towards the hull (or along it, at infinity).
     let (origin, dir) = match pixel(v) {
         Some(c) => (Some(c), [mid[0] - c[0], mid[1] - c[1]]),
@@ -167,29 +160,89 @@ fn tangents(v: H3, hull: &[[f64; 2]], axis: Axis) -> Result<[H3; 2], BoxRejectio
     if inside || !(lo.0.is_finite() && hi.0.is_finite()) || lo.0 == hi.0 {
         return Err(BoxRejection::PointInside(axis));
     }
-    Ok([lo.1, hi.1].map(|i| edge_tangent(v, hull, i)))
+    Ok([lo.1, hi.1])
 }
 
-/// The tangent from `v` touching the hull at vertex `i`. When a neighbouring vertex lies
-/// within [`EDGE_TOL_PX`] of that line, at least [`MIN_EDGE_PX`] away, the two are the ends of
-/// one box edge pointing at `v`: the line goes through their midpoint, so that both corners'
-/// errors average out (the extreme one alone is the larger of two errors, biased outwards).
-fn edge_tangent(v: H3, hull: &[[f64; 2]], i: usize) -> H3 {
-    let n = hull.len();
-    let ext = hull[i];
-    let line = cross(v, point(ext));
-    let partner = [hull[(i + 1) % n], hull[(i + n - 1) % n]]
-        .into_iter()
-        .filter_map(|q| {
-            let d = signed_distance(line, q)?.abs();
-            let len = (q[0] - ext[0]).hypot(q[1] - ext[1]);
-            (d < EDGE_TOL_PX && len >= MIN_EDGE_PX).then_some((d, q))
-        })
-        .min_by(|a, b| a.0.total_cmp(&b.0));
-    match partner {
-        Some((_, q)) => cross(v, point([(ext[0] + q[0]) / 2.0, (ext[1] + q[1]) / 2.0])),
-        None => line,
+/// The mean of a hull's vertices (inside it).
+fn centroid(hull: &[[f64; 2]]) -> [f64; 2] {
+    let n = hull.len().max(1) as f64;
+    hull.iter()
+        .fold([0.0, 0.0], |m, p| [m[0] + p[0] / n, m[1] + p[1] / n])
+}
+
+/// The six box edges of a silhouette, two from each vanishing point of `vps` (road, across,
+/// vertical), each pair ordered by angle.
+///
+/// The silhouette of a box is a hexagon whose six edges each point at a vanishing point, so
+/// each tangent runs along one edge between two corners. The extreme hull vertex alone is
+/// the outermost of the two noisy corners (biased outwards, and by a whole corner's error
+/// when one corner strays): each line goes through the mean of both ends instead
+/// ([`edge_line`]).
+fn edge_lines(hull: &[[f64; 2]], vps: [H3; 3]) -> Result<[[H3; 2]; 3], BoxRejection> {
+    let axes = [Axis::Road, Axis::Across, Axis::Vertical];
+    let mut touch = [[0; 2]; 3];
+    for k in 0..3 {
+        touch[k] = contacts(vps[k], hull, axes[k])?;
     }
+    let support: [H3; 6] =
+        std::array::from_fn(|j| cross(vps[j / 2], point(hull[touch[j / 2][j % 2]])));
+    let inner = centroid(hull);
+    Ok(std::array::from_fn(|k| {
+        [0, 1].map(|s| edge_line(vps[k], hull, touch[k][s], &support, 2 * k + s, inner))
+    }))
+}
+
+/// The edge along support line `k` of `lines` (from `v`, touching hull vertex `at`): the
+/// line from `v` through the midpoint of the edge's two ends. The ends are the hull vertices
+/// nearest to where the line leaves the region the other support lines bound (the hexagon
+/// of tangents, whose corners are the box's corners as the mask shows them).
+fn edge_line(
+    v: H3,
+    hull: &[[f64; 2]],
+    at: usize,
+    lines: &[H3; 6],
+    k: usize,
+    inner: [f64; 2],
+) -> H3 {
+    let e = hull[at];
+    let Some(l) = normal_line(lines[k]) else {
+        return lines[k];
+    };
+    let d = [l[1], -l[0]];
+    let (mut t_lo, mut t_hi) = (f64::NEG_INFINITY, f64::INFINITY);
+    for (j, o) in lines.iter().enumerate() {
+        let Some(o) = normal_line(*o).filter(|_| j != k) else {
+            continue;
+        };
+        // The hull's side of the other line; along this one, f(t) = g0 + t g1 stays >= 0.
+        let side = (o[0] * inner[0] + o[1] * inner[1] + o[2]).signum();
+        let g0 = side * (o[0] * e[0] + o[1] * e[1] + o[2]);
+        let g1 = side * (o[0] * d[0] + o[1] * d[1]);
+        if g1.abs() < 1e-9 {
+            continue;
+        }
+        let t = -g0 / g1;
+        if g1 > 0.0 {
+            t_lo = t_lo.max(t);
+        } else {
+            t_hi = t_hi.min(t);
+        }
+    }
+    let end = |t: f64| {
+        if !t.is_finite() {
+            return e;
+        }
+        let x = [e[0] + t * d[0], e[1] + t * d[1]];
+        hull.iter()
+            .copied()
+            .min_by(|a, b| {
+                let da = (a[0] - x[0]).hypot(a[1] - x[1]);
+                da.total_cmp(&(b[0] - x[0]).hypot(b[1] - x[1]))
+            })
+            .unwrap_or(e)
+    };
+    let (a, b) = (end(t_lo), end(t_hi));
+    cross(v, point([(a[0] + b[0]) / 2.0, (a[1] + b[1]) / 2.0]))
 }
 
 /// Where two road lines meet.
@@ -222,9 +275,7 @@ pub fn construct(
     if hull.len() < 3 {
         return Err(BoxRejection::TooFewPoints);
     }
-    let road = tangents(vps.road, hull, Axis::Road)?;
-    let across = tangents(vps.across, hull, Axis::Across)?;
-    let vertical = tangents(vps.vertical, hull, Axis::Vertical)?;
+    let [road, across, vertical] = edge_lines(hull, [vps.road, vps.across, vps.vertical])?;
     let foot = pixel(cross(
         cam.line_to_ground(vertical[0]),
         cam.line_to_ground(vertical[1]),
@@ -347,4 +398,56 @@ fn finish(
         iou: overlap,
         misfit_px,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn an_edge_line_averages_both_ends_even_when_one_corner_strays() {
+        // A box seen in parallel projection: edges along a = (40, 5), b = (-15, 10) and
+        // c = (0, -60) from (100, 100); the vanishing points are their directions at infinity.
+        let (a, b, c) = ([40.0, 5.0], [-15.0, 10.0], [0.0, -60.0]);
+        let at = |i: f64, j: f64, k: f64| {
+            [
+                100.0 + i * a[0] + j * b[0] + k * c[0],
+                100.0 + i * a[1] + j * b[1] + k * c[1],
+            ]
+        };
+        let mut corners = Vec::new();
+        for k in [0.0, 1.0] {
+            for (i, j) in [(0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0)] {
+                corners.push(at(i, j, k));
+            }
+        }
+        // The bottom corner at a + b, (125, 115), strays 4 px down: more than the 3 px within
+        // which the old rule took the edge's other end, (85, 110), into account.
+        corners[2][1] += 4.0;
+        let hull = convex_hull(&corners);
+        let vps = [[a[0], a[1], 0.0], [b[0], b[1], 0.0], [c[0], c[1], 0.0]];
+        let lines = edge_lines(&hull, vps).unwrap();
+        // The lower edge along a runs from (85, 110) to (125, 119): the line along a through
+        // their midpoint (105, 114.5).
+        let lower = lines[0]
+            .iter()
+            .copied()
+            .find(|l| signed_distance(*l, [125.0, 119.0]).is_some_and(|d| d.abs() < 3.0))
+            .unwrap();
+        let d = signed_distance(lower, [105.0, 114.5]).unwrap();
+        assert!(d.abs() < 1e-9, "{d}");
+        // Both ends lie 1.98 px from it (4 px down on a line of slope 5/40), on either side.
+        let n = 4.0 * 40.0 / 40.0f64.hypot(5.0) / 2.0;
+        for p in [[125.0, 119.0], [85.0, 110.0]] {
+            let d = signed_distance(lower, p).unwrap().abs();
+            assert!((d - n).abs() < 1e-9, "{p:?}: {d} for {n}");
+        }
+        // The edge along c (vertical) untouched by the stray corner goes through both ends.
+        let right = lines[2]
+            .iter()
+            .copied()
+            .find(|l| signed_distance(*l, [140.0, 105.0]).is_some_and(|d| d.abs() < 1.0))
+            .unwrap();
+        assert!(signed_distance(right, [140.0, 45.0]).unwrap().abs() < 1e-9);
+    }
 }

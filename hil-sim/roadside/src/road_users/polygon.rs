@@ -163,10 +163,14 @@ pub fn vertex_distance(a: &[[f64; 2]], b: &[[f64; 2]]) -> f64 {
 
 /// Seen from `eye` (a road point under the camera), does footprint `a` stand in front of
 /// footprint `b`? Both are parallelograms with the same axes (the edges of `a` from its first
-/// corner). If a line along one axis separates them, the one on the eye's side is in front;
-/// `None` when no axis separates them (overlapping footprints) or `a` is degenerate.
+/// corner). A line along an axis that separates them, with the eye on `a`'s side, means that
+/// `b` cannot hide `a`. `a` is in front when some axis says so and none says the opposite;
+/// when the two axes disagree (side by side as seen from the eye) neither is in front of the
+/// other (`Some(false)` both ways, so that an order built from this has no cycle); `None`
+/// when no axis separates them (overlapping footprints) or `a` is degenerate.
 pub fn in_front(a: &[[f64; 2]; 4], b: &[[f64; 2]; 4], eye: [f64; 2]) -> Option<bool> {
-    for edge in [1, 3] {
+    let mut verdicts = [None; 2];
+    for (slot, edge) in verdicts.iter_mut().zip([1, 3]) {
         let d = [a[edge][0] - a[0][0], a[edge][1] - a[0][1]];
         let len = d[0].hypot(d[1]);
         if !(len.is_finite() && len > 0.0) {
@@ -181,13 +185,16 @@ pub fn in_front(a: &[[f64; 2]; 4], b: &[[f64; 2]; 4], eye: [f64; 2]) -> Option<b
         };
         let ((a_lo, a_hi), (b_lo, b_hi), e) = (range(a), range(b), along(eye));
         if a_hi <= b_lo {
-            return Some(e < b_lo);
-        }
-        if b_hi <= a_lo {
-            return Some(e > b_hi);
+            *slot = Some(e < b_lo);
+        } else if b_hi <= a_lo {
+            *slot = Some(e > b_hi);
         }
     }
-    None
+    match verdicts {
+        [Some(x), Some(y)] => Some(x && y),
+        [Some(x), None] | [None, Some(x)] => Some(x),
+        [None, None] => None,
+    }
 }
 
 #[cfg(test)]
@@ -232,6 +239,14 @@ mod tests {
         // Separated along y only.
         let c = square(0.5, 4.0);
         assert_eq!(in_front(&a, &c, [0.0, -10.0]), Some(true));
+        // Separated along both axes, the eye on a's side of one and on d's side of the
+        // other: side by side as the eye sees them, neither hides the other.
+        let d = square(3.0, 4.0);
+        assert_eq!(in_front(&a, &d, [-5.0, 10.0]), Some(false));
+        assert_eq!(in_front(&d, &a, [-5.0, 10.0]), Some(false));
+        // Both axes agree: a is in front.
+        assert_eq!(in_front(&a, &d, [-5.0, -5.0]), Some(true));
+        assert_eq!(in_front(&d, &a, [-5.0, -5.0]), Some(false));
         // Overlapping footprints: no order.
         assert_eq!(in_front(&a, &square(0.5, 0.5), [-5.0, 0.0]), None);
     }
