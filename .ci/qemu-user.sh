@@ -27,7 +27,11 @@ rustup target list --installed | grep -q '^armv7-unknown-linux-gnueabihf$' ||
   rustup target add armv7-unknown-linux-gnueabihf
 
 binfmt=/proc/sys/fs/binfmt_misc
-[[ -e $binfmt/status ]] || "${as_root[@]}" mount -t binfmt_misc binfmt_misc "$binfmt"
+if [[ ! -e $binfmt/status ]] && ! "${as_root[@]}" mount -t binfmt_misc binfmt_misc "$binfmt"; then
+  echo "cannot mount binfmt_misc at $binfmt: the ARM programs need a host that lets root register"
+  echo "interpreters (a VM or a privileged container)"
+  exit 1
+fi
 for arch in aarch64 arm; do
   [[ -e $binfmt/qemu-$arch ]] || "${as_root[@]}" update-binfmts --enable "qemu-$arch"
   [[ $(head -n 1 "$binfmt/qemu-$arch") == enabled ]] || {

@@ -40,6 +40,9 @@ pub struct SoakOptions {
     pub out: PathBuf,
 }
 
+/// The longest run taken, minutes (a week).
+pub const MAX_MINUTES: f64 = 7.0 * 24.0 * 60.0;
+
 impl SoakOptions {
     /// Samples the run takes.
     pub fn samples(&self) -> usize {
@@ -54,6 +57,12 @@ impl SoakOptions {
     ///
     /// A message naming the value.
     pub fn validate(&self) -> Result<(), String> {
+        if !(self.minutes > 0.0 && self.minutes <= MAX_MINUTES) {
+            return Err(format!(
+                "--minutes {}: more than 0, at most {MAX_MINUTES} (a week)",
+                self.minutes
+            ));
+        }
         if !(self.sample_s >= 1.0 && self.sample_s.is_finite()) {
             return Err(format!("--sample-s {}: at least 1", self.sample_s));
         }
@@ -224,7 +233,11 @@ fn finish(
     std::thread::sleep(Duration::from_millis(500));
     let device = crate::attack::daemon_counts(daemon.http_addr()).ok();
     w.stop_clients.store(true, Ordering::Relaxed);
-    let stopped = terminate(daemon);
+    // A daemon that died was reaped by the sampling loop: its pid may be another process's.
+    let stopped = match died {
+        None => terminate(daemon),
+        Some(_) => None,
+    };
     let followed: Vec<clients::Followed> = (running.clients.into_iter())
         .map(|h| {
             h.join().unwrap_or_else(|_| clients::Followed {
@@ -366,4 +379,34 @@ fn terminate(daemon: &mut Daemon) -> Option<String> {
         std::thread::sleep(Duration::from_millis(50));
     }
     None
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn options(minutes: f64, sample_s: f64) -> SoakOptions {
+        SoakOptions {
+            obu: PathBuf::from("obu"),
+            minutes,
+            sample_s,
+            clients: 50,
+            out: PathBuf::from("out"),
+        }
+    }
+
+    #[test]
+    fn run_lengths_are_bounded_before_anything_is_allocated() {
+        assert!(options(2.0, 10.0).validate().is_ok());
+        assert!(options(120.0, 60.0).validate().is_ok());
+        assert!(options(MAX_MINUTES, 60.0).validate().is_ok());
+        for minutes in [f64::INFINITY, f64::NAN, 1e30, 0.0, -5.0, MAX_MINUTES + 1.0] {
+            assert!(options(minutes, 60.0).validate().is_err(), "{minutes}");
+        }
+        for sample_s in [0.5, f64::INFINITY, f64::NAN] {
+            assert!(options(2.0, sample_s).validate().is_err(), "{sample_s}");
+        }
+        assert!(options(0.5, 10.0).validate().is_ok(), "3 samples");
+        assert!(options(0.4, 10.0).validate().is_err(), "2 samples");
+    }
 }

@@ -1,6 +1,5 @@
 //! The daemon's log. Each entry is a message, a priority and an event name (`OBU_EVENT`:
-//! `start`, `ready`, `pairing`, `security`, `settings`, `systemd`, `watchdog`, `shutdown`,
-//! `error`).
+//! `ready`, `pairing`, `security`, `settings`, `systemd`, `watchdog`, `shutdown`, `error`).
 //!
 //! When standard error is connected to the systemd journal (systemd sets `JOURNAL_STREAM`
 //! to its device and inode), entries go over the journal's native protocol as structured
@@ -14,6 +13,9 @@ use std::sync::OnceLock;
 
 /// Where journald receives native-protocol datagrams.
 pub const JOURNAL_SOCKET: &str = "/run/systemd/journal/socket";
+/// The environment variable naming another journal socket (a journald in a container's
+/// namespace seen from outside, or a test's own socket).
+pub const JOURNAL_SOCKET_ENV: &str = "OBU_JOURNAL_SOCKET";
 
 /// syslog priorities used by the daemon.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -107,7 +109,10 @@ fn journal() -> Option<&'static Journal> {
             if !is_journal_stream(std::io::stderr().as_fd()) {
                 return None;
             }
-            Journal::new(Path::new(JOURNAL_SOCKET)).ok()
+            let path = std::env::var_os(JOURNAL_SOCKET_ENV)
+                .filter(|p| !p.is_empty())
+                .map_or_else(|| PathBuf::from(JOURNAL_SOCKET), PathBuf::from);
+            Journal::new(&path).ok()
         })
         .as_ref()
 }

@@ -153,7 +153,22 @@ async fn run(config: Config, notifier: Arc<systemd::Notifier>) -> Result<(), Str
         ));
     }
 
-    wait_for_signal().await;
+    // The HTTP server runs until it is stopped: one that ends (or panics) by itself leaves
+    // the tablet without its app, so the daemon exits non-zero and its supervisor restarts
+    // it (Restart=on-failure) instead of pinging the watchdog for a dead server.
+    let mut server = server;
+    tokio::select! {
+        () = wait_for_signal() => {}
+        ended = &mut server => {
+            let why = match ended {
+                Ok(()) => "the HTTP server stopped".to_owned(),
+                Err(e) => format!("the HTTP server failed: {e}"),
+            };
+            notifier.stopping();
+            let _ = stop_tx.send(true);
+            return Err(why);
+        }
+    }
     notifier.stopping();
     log::notice("shutdown", "shutting down");
     let _ = stop_tx.send(true);

@@ -211,7 +211,13 @@ pub async fn run_watchdog(
             _ = ticks.tick() => {}
             _ = stop.changed() => return,
         }
-        let now = progress();
+        let mut now = progress();
+        if now == last {
+            // After a stall of the runtime this tick may run before the loop's own pending
+            // turn: let it run once, then look again.
+            tokio::task::yield_now().await;
+            now = progress();
+        }
         if now != last {
             last = now;
             stalled_logged = false;

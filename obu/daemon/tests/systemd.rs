@@ -139,3 +139,58 @@ fn a_malformed_notify_socket_is_logged_and_the_daemon_serves() {
     );
     assert!(d.stop().success());
 }
+
+/// Standard error (and output) connected to a "journal": `JOURNAL_STREAM` names the log
+/// file's device and inode, as systemd names the stream it connects, and
+/// `OBU_JOURNAL_SOCKET` a datagram socket this test binds as journald's.
+#[test]
+fn under_the_journal_entries_are_structured_fields_not_text() {
+    use std::os::unix::fs::MetadataExt;
+    let dir = temp_dir("journal");
+    let journal_path = dir.join("journal");
+    let journal = UnixDatagram::bind(&journal_path).unwrap();
+    journal
+        .set_read_timeout(Some(Duration::from_secs(10)))
+        .unwrap();
+    let log = std::fs::File::create(dir.join("log")).unwrap();
+    let meta = log.metadata().unwrap();
+    let stream = format!("{}:{}", meta.dev(), meta.ino());
+    let mut child = Command::new(env!("CARGO_BIN_EXE_obu"))
+        .arg("--config")
+        .arg(write_config(&dir))
+        .env("JOURNAL_STREAM", &stream)
+        .env("OBU_JOURNAL_SOCKET", &journal_path)
+        .env_remove("NOTIFY_SOCKET")
+        .stdout(log.try_clone().unwrap())
+        .stderr(log)
+        .spawn()
+        .expect("start obu");
+    let mut entries: Vec<String> = Vec::new();
+    let mut buf = vec![0u8; 4096];
+    // The warning about trust anchors, the PIN, then `ready` (stdout is the journal too).
+    while !entries.iter().any(|e| e.contains("OBU_EVENT=ready\n")) {
+        let n = journal.recv(&mut buf).expect("journal entries in time");
+        entries.push(String::from_utf8(buf[..n].to_vec()).unwrap());
+    }
+    let pairing = entries
+        .iter()
+        .find(|e| e.contains("OBU_EVENT=pairing\n"))
+        .unwrap_or_else(|| panic!("no pairing entry: {entries:?}"));
+    assert!(pairing.starts_with("MESSAGE=pairing PIN "), "{pairing:?}");
+    assert!(pairing.contains("\nPRIORITY=5\n"), "{pairing:?}");
+    assert!(pairing.contains("\nSYSLOG_IDENTIFIER=obu\n"), "{pairing:?}");
+    let ready = entries
+        .iter()
+        .find(|e| e.contains("OBU_EVENT=ready\n"))
+        .unwrap();
+    let addr = ready
+        .lines()
+        .find_map(|l| l.strip_prefix("OBU_HTTP="))
+        .unwrap_or_else(|| panic!("no OBU_HTTP: {ready:?}"));
+    assert_eq!(http(addr, "GET", "/healthz", ""), (200, "ok".into()));
+    let pid = child.id().to_string();
+    Command::new("kill").args(["-TERM", &pid]).status().unwrap();
+    assert!(child.wait().unwrap().success());
+    let text = std::fs::read_to_string(dir.join("log")).unwrap();
+    assert_eq!(text, "", "nothing written as plain text under the journal");
+}

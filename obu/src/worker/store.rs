@@ -129,18 +129,14 @@ impl WorkerStore {
         Ok(WorkerUpdate::Evicted)
     }
 
-    /// The slot a new worker `w` may take in a full store, if any. A verified worker first
-    /// takes the stalest unverified one's: unsigned PSMs (accepted only with signatures not
-    /// required) cannot fill the store and lock a signed worker out.
+    /// The slot a new worker `w` may take in a full store, if any. A verified worker takes
+    /// an unverified one's whenever there is one, so that unsigned PSMs (accepted only with
+    /// signatures not required) cannot fill the store and lock a signed worker out: of the
+    /// unverified, one silent for [`REPLACE_AFTER`], else the farthest from the vehicle, else
+    /// (vehicle unknown) the stalest.
     fn victim(&self, w: &Worker, vehicle: Option<LatLon>) -> Option<usize> {
         if w.provenance == Provenance::Verified {
-            let unverified = self
-                .workers
-                .iter()
-                .enumerate()
-                .filter(|(_, s)| s.provenance == Provenance::Unverified)
-                .min_by_key(|(_, s)| s.heard);
-            if let Some((i, _)) = unverified {
+            if let Some(i) = self.unverified_victim(w.heard, vehicle) {
                 return Some(i);
             }
         }
@@ -160,6 +156,28 @@ impl WorkerStore {
             .map(|(i, s)| (i, distance_key(v, s.position)))
             .max_by(|a, b| a.1.total_cmp(&b.1))?;
         (far > new).then_some(i)
+    }
+
+    /// The unverified worker a verified newcomer heard at `now` replaces (see
+    /// [`WorkerStore::victim`]), if any is stored.
+    fn unverified_victim(&self, now: Instant, vehicle: Option<LatLon>) -> Option<usize> {
+        let unverified = || {
+            self.workers
+                .iter()
+                .enumerate()
+                .filter(|(_, s)| s.provenance == Provenance::Unverified)
+        };
+        let (stalest, oldest) = unverified().min_by_key(|(_, s)| s.heard)?;
+        if oldest.age(now) >= REPLACE_AFTER {
+            return Some(stalest);
+        }
+        let Some(v) = vehicle else {
+            return Some(stalest);
+        };
+        unverified()
+            .map(|(i, s)| (i, distance_key(v, s.position)))
+            .max_by(|a, b| a.1.total_cmp(&b.1))
+            .map(|(i, _)| i)
     }
 
     /// Drops the workers not updated for [`WORKER_TIMEOUT`] at `now`; returns how many.

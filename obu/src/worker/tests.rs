@@ -138,22 +138,29 @@ fn unverified_workers_cannot_lock_a_verified_one_out() {
         Err(IngestError::StoreFull),
         "an unverified newcomer follows the ordinary rules"
     );
-    // A verified worker farther than all of them (LON + 6000), none silent for 500 ms,
-    // still gets in, in the stalest unverified worker's slot (id 0, heard at 100 ms).
-    assert_eq!(
-        s.update(worker(60, 200, 0), vehicle),
-        Ok(WorkerUpdate::Evicted)
-    );
-    assert!(s.iter().all(|w| w.id().as_u32() != 0));
-    assert!(s.iter().any(|w| w.id().as_u32() == 60));
-    // A second far signed worker takes the next unverified slot (id 1), never the first
-    // signed one's.
-    assert_eq!(
-        s.update(worker(61, 210, 0), vehicle),
-        Ok(WorkerUpdate::Evicted)
-    );
-    assert!(s.iter().any(|w| w.id().as_u32() == 60));
-    assert!(s.iter().all(|w| w.id().as_u32() != 1));
+    // Verified workers farther than all of them (LON + 6000 and more) still get in, each
+    // in an unverified worker's slot; none has been silent for 500 ms, so the one farthest
+    // from the vehicle at LON goes first (id 15 at LON + 1500), not the stalest (id 0,
+    // heard at 100 ms, the nearest), then id 14.
+    let gone = |s: &WorkerStore, id: u32| s.iter().all(|w| w.id().as_u32() != id);
+    let signed = |s: &mut WorkerStore, id: u8, at_ms: u64, vehicle| {
+        assert_eq!(
+            s.update(worker(id, at_ms, 0), vehicle),
+            Ok(WorkerUpdate::Evicted)
+        );
+    };
+    signed(&mut s, 60, 200, vehicle);
+    assert!(gone(&s, 15) && !gone(&s, 0) && !gone(&s, 60));
+    signed(&mut s, 61, 210, vehicle);
+    assert!(gone(&s, 14) && !gone(&s, 60) && !gone(&s, 61));
+    // The vehicle's position unknown: the stalest unverified (id 0).
+    signed(&mut s, 62, 220, None);
+    assert!(gone(&s, 0));
+    // At 650 ms id 1 (heard at 101 ms) has been silent for 549 ms: it goes, although id 13
+    // is farther.
+    signed(&mut s, 63, 650, vehicle);
+    assert!(gone(&s, 1) && !gone(&s, 13));
+    assert!([60, 61, 62, 63].iter().all(|&id| !gone(&s, id)));
 }
 
 #[test]
