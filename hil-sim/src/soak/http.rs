@@ -16,7 +16,7 @@ pub const SLOW: usize = 3;
 /// The daemon's request deadline the soak configures (its default), milliseconds.
 pub const REQUEST_TIMEOUT_MS: u64 = 5000;
 /// A slow connection still open this long after its deadline was not cut: a failure.
-const CUT_GRACE: Duration = Duration::from_secs(5);
+pub const CUT_GRACE: Duration = Duration::from_secs(5);
 /// Unexpected answers kept for the report.
 const KEPT_ERRORS: usize = 10;
 
