@@ -260,6 +260,7 @@ fn finish(
             .map(|((_, r), n)| (r.as_str(), n.load(Ordering::Relaxed)))
             .collect(),
         v2x_sent: w.sent.v2x(),
+        random_sent: w.sent.garbage.load(Ordering::Relaxed),
         send_failed: w.sent.failed.load(Ordering::Relaxed),
         device,
         http: lock(&w.http).clone(),
