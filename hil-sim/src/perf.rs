@@ -26,12 +26,7 @@ pub struct Latency {
 impl Latency {
     /// The `q` quantile (nearest rank), microseconds.
     pub fn quantile(&self, q: f64) -> f64 {
-        if self.sorted_us.is_empty() {
-            return f64::NAN;
-        }
-        let rank =
-            ((q * self.sorted_us.len() as f64).ceil() as usize).clamp(1, self.sorted_us.len());
-        self.sorted_us[rank - 1]
+        crate::soak::verdict::quantile(&self.sorted_us, q).unwrap_or(f64::NAN)
     }
 }
 

@@ -267,6 +267,8 @@ fn finish(
     })
 }
 
+/// Locks `m`, taking the value of a poisoned lock too (a panicked thread is reported by its
+/// join; the figures it left are still the run's).
 fn lock<T>(m: &Mutex<T>) -> std::sync::MutexGuard<'_, T> {
     m.lock().unwrap_or_else(|p| p.into_inner())
 }

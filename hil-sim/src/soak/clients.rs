@@ -4,6 +4,7 @@
 //! also watches what the daemon holds (lane maps, zones and their update counts) and the
 //! zone states the laps pass through.
 
+use super::lock;
 use super::traffic::Sent;
 use crate::sse::SseClient;
 use serde::Serialize;
@@ -170,10 +171,6 @@ pub fn follow(
     }
     shared.alive.fetch_sub(1, Ordering::Relaxed);
     f
-}
-
-fn lock<T>(m: &Mutex<T>) -> std::sync::MutexGuard<'_, T> {
-    m.lock().unwrap_or_else(|p| p.into_inner())
 }
 
 /// The state's fix count (`"fixes":N`, unique in an event: the other fix counters are

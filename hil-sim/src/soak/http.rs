@@ -68,7 +68,7 @@ struct Slow {
 /// Runs the hostile HTTP side against `addr` (`host:port`) until `stop`; the tally is kept
 /// in `tally` as it goes.
 pub fn hostile_http(addr: &str, tally: &Mutex<HttpTally>, stop: &AtomicBool) {
-    let lock = || tally.lock().unwrap_or_else(|p| p.into_inner());
+    let lock = || super::lock(tally);
     let mut slow: Vec<Slow> = Vec::with_capacity(SLOW);
     let mut next = Instant::now();
     let mut k = 0u64;

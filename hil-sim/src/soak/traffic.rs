@@ -75,7 +75,7 @@ impl Sent {
 
     /// When fix number `fix` (from 1) was sent, if it is still kept.
     pub fn epoch_sent(&self, fix: u64) -> Option<Instant> {
-        let times = self.times.lock().unwrap_or_else(|p| p.into_inner());
+        let times = super::lock(&self.times);
         let first = times.front()?.0;
         let (n, at) = *times.get(fix.checked_sub(first)? as usize)?;
         (n == fix).then_some(at)
@@ -83,7 +83,7 @@ impl Sent {
 
     fn record_epoch(&self, at: Instant) {
         let n = self.epochs.fetch_add(1, Ordering::Relaxed) + 1;
-        let mut times = self.times.lock().unwrap_or_else(|p| p.into_inner());
+        let mut times = super::lock(&self.times);
         if times.len() == SENT_KEPT {
             times.pop_front();
         }

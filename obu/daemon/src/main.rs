@@ -157,23 +157,21 @@ async fn run(config: Config, notifier: Arc<systemd::Notifier>) -> Result<(), Str
     // the tablet without its app, so the daemon exits non-zero and its supervisor restarts
     // it (Restart=on-failure) instead of pinging the watchdog for a dead server.
     let mut server = server;
-    tokio::select! {
-        () = wait_for_signal() => {}
-        ended = &mut server => {
-            let why = match ended {
-                Ok(()) => "the HTTP server stopped".to_owned(),
-                Err(e) => format!("the HTTP server failed: {e}"),
-            };
-            notifier.stopping();
-            let _ = stop_tx.send(true);
-            return Err(why);
+    let ended = tokio::select! {
+        () = wait_for_signal() => None,
+        ended = &mut server => Some(ended),
+    };
+    notifier.stopping();
+    let _ = stop_tx.send(true);
+    match ended {
+        Some(Ok(())) => Err("the HTTP server stopped".to_owned()),
+        Some(Err(e)) => Err(format!("the HTTP server failed: {e}")),
+        None => {
+            log::notice("shutdown", "shutting down");
+            let _ = tokio::time::timeout(Duration::from_secs(2), server).await;
+            Ok(())
         }
     }
-    notifier.stopping();
-    log::notice("shutdown", "shutting down");
-    let _ = stop_tx.send(true);
-    let _ = tokio::time::timeout(Duration::from_secs(2), server).await;
-    Ok(())
 }
 
 /// Tells where the daemon serves, once the HTTP listener and the inputs are bound: the
