@@ -13,6 +13,13 @@
 //! in the first state after fix `k` or in the last one before it, differs between the runs)
 //! are counted apart, not compared; at most
 //! [`MAX_SKIPPED_PER_CHANGE`] per roadside change are allowed.
+//!
+//! The core is not memoryless: the lane filter's belief (its confidence) after fix `k`
+//! follows from every fix since the MAP arrived, so a run that met the MAP one fix earlier
+//! still shows a different confidence for a fix or two after the skipped ones. Right after
+//! skipped fixes, up to [`MAX_SETTLING`] fixes in a row may still differ ("settling"); the
+//! first one that agrees ends that, and from there every fix is compared again. A
+//! disagreement that outlasts the settling fixes is a mismatch.
 
 use serde::Serialize;
 use serde_json::Value;
@@ -23,6 +30,10 @@ pub const TOLERANCE: f64 = 0.05;
 
 /// Fixes allowed to meet different roadside inputs per change of what the roadside sends.
 pub const MAX_SKIPPED_PER_CHANGE: usize = 2;
+
+/// Fixes right after skipped ones that may still differ (the lane filter's history; see
+/// the module docs): 0.3 s at 10 Hz.
+pub const MAX_SETTLING: usize = 3;
 
 /// Fields left out of the comparison.
 const IGNORED: &[&str] = &["time_ms", "counters"];
@@ -36,6 +47,9 @@ pub struct TimelineMatch {
     pub fixes_matching: usize,
     /// Fixes both runs reached but met different roadside inputs (not compared).
     pub fixes_skipped: usize,
+    /// Fixes right after skipped ones that still differed (not compared; at most
+    /// [`MAX_SETTLING`] in a row).
+    pub fixes_settling: usize,
     /// Changes of the roadside version over the daemon's run (the first MAP/TIM included).
     pub roadside_changes: usize,
     /// The first disagreements: fix count, field path, daemon value, firmware value.
@@ -104,11 +118,14 @@ pub fn compare(
         fixes_compared: 0,
         fixes_matching: 0,
         fixes_skipped: 0,
+        fixes_settling: 0,
         roadside_changes: 0,
         mismatches: Vec::new(),
         max_distance_diff_m: 0.0,
     };
     let mut last_version = 0;
+    // Fixes that may still differ, since the last skipped fix.
+    let mut settling_left = 0;
     for (k, fd) in daemon {
         let d = &fd.last;
         if roadside_version(d) != last_version {
@@ -127,11 +144,18 @@ pub fn compare(
             || before(daemon) != before(firmware)
         {
             m.fixes_skipped += 1;
+            settling_left = MAX_SETTLING;
             continue;
         }
-        m.fixes_compared += 1;
         let mut diffs = Vec::new();
         diff("", d, f, &mut diffs);
+        if !diffs.is_empty() && settling_left > 0 {
+            settling_left -= 1;
+            m.fixes_settling += 1;
+            continue;
+        }
+        settling_left = 0;
+        m.fixes_compared += 1;
         if diffs.is_empty() {
             m.fixes_matching += 1;
         }
@@ -267,6 +291,55 @@ mod tests {
             .join("\n"),
         );
         assert!(!compare(&a, &c).matches(), "nothing comparable");
+    }
+
+    fn with_confidence(fixes: u64, maps: u64, confidence: u64) -> String {
+        json!({"state": {"lane_confidence": confidence,
+            "counters": {"fixes": fixes, "maps_updated": maps}}})
+        .to_string()
+    }
+
+    /// Fix 1 met the MAP on `b` only; then the confidences of fixes 2.. on each run.
+    fn settling_runs(a: &[u64], b: &[u64]) -> TimelineMatch {
+        let run = |first_maps: u64, conf: &[u64]| {
+            let mut lines = vec![with_confidence(1, first_maps, 0)];
+            for (i, &c) in conf.iter().enumerate() {
+                lines.push(with_confidence(i as u64 + 2, 1, c));
+            }
+            by_fix(&lines.join("\n"))
+        };
+        compare(&run(0, a), &run(1, b))
+    }
+
+    #[test]
+    fn the_lane_filter_may_settle_for_a_few_fixes_after_different_inputs() {
+        // One more fix with the map on b: its confidence leads by a fix, then both agree.
+        let m = settling_runs(&[98, 99, 99, 99, 99], &[99, 99, 99, 99, 99]);
+        assert_eq!(
+            (m.fixes_skipped, m.fixes_settling, m.fixes_compared),
+            (2, 0, 4)
+        );
+        let m = settling_runs(&[90, 98, 99, 99, 99], &[95, 99, 99, 99, 99]);
+        assert_eq!(
+            (m.fixes_skipped, m.fixes_settling, m.fixes_compared),
+            (2, 1, 3)
+        );
+        assert!(m.matches());
+        assert!(m.mismatches.is_empty());
+    }
+
+    #[test]
+    fn a_difference_that_outlasts_the_settling_is_a_mismatch() {
+        // Still different MAX_SETTLING fixes after the skipped ones.
+        let m = settling_runs(&[90, 91, 92, 93, 94, 95], &[95, 96, 97, 98, 99, 99]);
+        assert_eq!((m.fixes_skipped, m.fixes_settling), (2, MAX_SETTLING));
+        assert!(!m.matches());
+        assert_eq!(m.mismatches[0].0, 6);
+        // Once the runs agreed, a later difference is never settling.
+        let m = settling_runs(&[90, 98, 99, 50, 99], &[95, 99, 99, 99, 99]);
+        assert_eq!(m.fixes_settling, 1);
+        assert!(!m.matches());
+        assert_eq!(m.mismatches[0].0, 5);
     }
 
     #[test]

@@ -60,12 +60,16 @@ fn run_against_firmware(
         &timeline::by_fix(&read(&firmware_opts)),
     );
     println!(
-        "  {} timeline: {} of {} fixes show the same state (distance within {} m; largest difference {:.3} m)",
+        "  {} timeline: {} of {} fixes show the same state (distance within {} m; largest difference {:.3} m); {} met different roadside inputs (at most {} for {} roadside changes), {} settling after them",
         if m.matches() { "PASS" } else { "FAIL" },
         m.fixes_matching,
         m.fixes_compared,
         timeline::TOLERANCE,
-        m.max_distance_diff_m
+        m.max_distance_diff_m,
+        m.fixes_skipped,
+        timeline::MAX_SKIPPED_PER_CHANGE * m.roadside_changes.max(1),
+        m.roadside_changes,
+        m.fixes_settling
     );
     for (k, path, d, f) in m.mismatches.iter().take(5) {
         println!("       fix {k}: {path}: daemon {d}, firmware {f}");
