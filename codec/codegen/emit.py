@@ -236,7 +236,7 @@ class Emitter:
                 "    pub fn new(text: &str) -> Option<Self> {\n"
                 + size_guard(td, "text.len()") +
                 "        uper::Ia5::try_from_str(text).map(Self)\n    }\n")
-        return self.emit_sized(td, "IA5String", f"uper::Ia5<{cap}>", "decode_ia5", "encode_ia5", ctor)
+        return self.emit_sized(td, "IA5String", f"uper::Ia5<{cap}>", "decode_ia5_into", "encode_ia5", ctor)
 
     def emit_seq_of(self, td):
         cap = self.caps.expr("count", td)
@@ -319,7 +319,7 @@ class Emitter:
             else:
                 lines.append(f"<{ty}>::decode_into(r, &mut out.{f.rust})?;")
         if td.extensible:
-            lines.append(f"out.extensions = if extended {{ uper::Extensions::decode(r, \"{td.key}:ext\")? }} else {{ uper::Extensions::new() }};")
+            lines.append(f"if extended {{\n    out.extensions.decode_into(r, \"{td.key}:ext\")?;\n}} else {{\n    out.extensions.clear();\n}}")
         lines.append("Ok(())")
         return "\n".join(lines)
 

@@ -38,11 +38,12 @@ impl Uper for Position3DAddGrpB {
         <LatitudeDMS2>::decode_into(r, &mut out.latitude)?;
         <LongitudeDMS2>::decode_into(r, &mut out.longitude)?;
         <Elevation>::decode_into(r, &mut out.elevation)?;
-        out.extensions = if extended {
-            uper::Extensions::decode(r, "AddGrpB.Position3D-addGrpB:ext")?
+        if extended {
+            out.extensions
+                .decode_into(r, "AddGrpB.Position3D-addGrpB:ext")?;
         } else {
-            uper::Extensions::new()
-        };
+            out.extensions.clear();
+        }
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -573,11 +574,12 @@ impl Uper for LaneDataAttributeAddGrpB {
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(88), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let extended = r.read_bit()?;
-        out.extensions = if extended {
-            uper::Extensions::decode(r, "AddGrpB.LaneDataAttribute-addGrpB:ext")?
+        if extended {
+            out.extensions
+                .decode_into(r, "AddGrpB.LaneDataAttribute-addGrpB:ext")?;
         } else {
-            uper::Extensions::new()
-        };
+            out.extensions.clear();
+        }
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -704,11 +706,12 @@ impl Uper for MovementEventAddGrpB {
         } else {
             out.next_time = None;
         }
-        out.extensions = if extended {
-            uper::Extensions::decode(r, "AddGrpB.MovementEvent-addGrpB:ext")?
+        if extended {
+            out.extensions
+                .decode_into(r, "AddGrpB.MovementEvent-addGrpB:ext")?;
         } else {
-            uper::Extensions::new()
-        };
+            out.extensions.clear();
+        }
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {

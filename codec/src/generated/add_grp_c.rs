@@ -30,11 +30,12 @@ impl Uper for Position3DAddGrpC {
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let extended = r.read_bit()?;
         <Altitude>::decode_into(r, &mut out.altitude)?;
-        out.extensions = if extended {
-            uper::Extensions::decode(r, "AddGrpC.Position3D-addGrpC:ext")?
+        if extended {
+            out.extensions
+                .decode_into(r, "AddGrpC.Position3D-addGrpC:ext")?;
         } else {
-            uper::Extensions::new()
-        };
+            out.extensions.clear();
+        }
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -373,11 +374,12 @@ impl Uper for RestrictionUserTypeAddGrpC {
         } else {
             out.emission = None;
         }
-        out.extensions = if extended {
-            uper::Extensions::decode(r, "AddGrpC.RestrictionUserType-addGrpC:ext")?
+        if extended {
+            out.extensions
+                .decode_into(r, "AddGrpC.RestrictionUserType-addGrpC:ext")?;
         } else {
-            uper::Extensions::new()
-        };
+            out.extensions.clear();
+        }
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -592,11 +594,12 @@ impl Uper for MapDataAddGrpC {
         } else {
             out.signal_head_locations = None;
         }
-        out.extensions = if extended {
-            uper::Extensions::decode(r, "AddGrpC.MapData-addGrpC:ext")?
+        if extended {
+            out.extensions
+                .decode_into(r, "AddGrpC.MapData-addGrpC:ext")?;
         } else {
-            uper::Extensions::new()
-        };
+            out.extensions.clear();
+        }
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -752,11 +755,12 @@ impl Uper for SignalHeadLocation {
         let extended = r.read_bit()?;
         <super::common::NodeOffsetPointXY>::decode_into(r, &mut out.node)?;
         <super::common::SignalGroupID>::decode_into(r, &mut out.signal_group_id)?;
-        out.extensions = if extended {
-            uper::Extensions::decode(r, "AddGrpC.SignalHeadLocation:ext")?
+        if extended {
+            out.extensions
+                .decode_into(r, "AddGrpC.SignalHeadLocation:ext")?;
         } else {
-            uper::Extensions::new()
-        };
+            out.extensions.clear();
+        }
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -1012,11 +1016,12 @@ impl Uper for VehicleToLanePosition {
         let extended = r.read_bit()?;
         <super::common::StationID>::decode_into(r, &mut out.station_id)?;
         <super::common::LaneID>::decode_into(r, &mut out.lane_id)?;
-        out.extensions = if extended {
-            uper::Extensions::decode(r, "AddGrpC.VehicleToLanePosition:ext")?
+        if extended {
+            out.extensions
+                .decode_into(r, "AddGrpC.VehicleToLanePosition:ext")?;
         } else {
-            uper::Extensions::new()
-        };
+            out.extensions.clear();
+        }
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -1106,11 +1111,12 @@ impl Uper for IntersectionStateAddGrpC {
         } else {
             out.active_prioritizations = None;
         }
-        out.extensions = if extended {
-            uper::Extensions::decode(r, "AddGrpC.IntersectionState-addGrpC:ext")?
+        if extended {
+            out.extensions
+                .decode_into(r, "AddGrpC.IntersectionState-addGrpC:ext")?;
         } else {
-            uper::Extensions::new()
-        };
+            out.extensions.clear();
+        }
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -1276,11 +1282,12 @@ impl Uper for PrioritizationResponse {
         <super::common::StationID>::decode_into(r, &mut out.station_id)?;
         <super::common::PrioritizationResponseStatus>::decode_into(r, &mut out.prior_state)?;
         <super::common::SignalGroupID>::decode_into(r, &mut out.signal_group)?;
-        out.extensions = if extended {
-            uper::Extensions::decode(r, "AddGrpC.PrioritizationResponse:ext")?
+        if extended {
+            out.extensions
+                .decode_into(r, "AddGrpC.PrioritizationResponse:ext")?;
         } else {
-            uper::Extensions::new()
-        };
+            out.extensions.clear();
+        }
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {

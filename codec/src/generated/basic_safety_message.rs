@@ -57,11 +57,12 @@ impl Uper for BasicSafetyMessage {
         } else {
             out.regional = None;
         }
-        out.extensions = if extended {
-            uper::Extensions::decode(r, "BasicSafetyMessage.BasicSafetyMessage:ext")?
+        if extended {
+            out.extensions
+                .decode_into(r, "BasicSafetyMessage.BasicSafetyMessage:ext")?;
         } else {
-            uper::Extensions::new()
-        };
+            out.extensions.clear();
+        }
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -291,11 +292,12 @@ impl Uper for SpecialVehicleExtensions {
         } else {
             out.trailers = None;
         }
-        out.extensions = if extended {
-            uper::Extensions::decode(r, "BasicSafetyMessage.SpecialVehicleExtensions:ext")?
+        if extended {
+            out.extensions
+                .decode_into(r, "BasicSafetyMessage.SpecialVehicleExtensions:ext")?;
         } else {
-            uper::Extensions::new()
-        };
+            out.extensions.clear();
+        }
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -478,11 +480,12 @@ impl Uper for EventDescription {
         } else {
             out.regional = None;
         }
-        out.extensions = if extended {
-            uper::Extensions::decode(r, "BasicSafetyMessage.EventDescription:ext")?
+        if extended {
+            out.extensions
+                .decode_into(r, "BasicSafetyMessage.EventDescription:ext")?;
         } else {
-            uper::Extensions::new()
-        };
+            out.extensions.clear();
+        }
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -939,11 +942,12 @@ impl Uper for TrailerData {
         <super::common::SSPindex>::decode_into(r, &mut out.not_used)?;
         <PivotPointDescription>::decode_into(r, &mut out.connection)?;
         <TrailerUnitDescriptionList>::decode_into(r, &mut out.units)?;
-        out.extensions = if extended {
-            uper::Extensions::decode(r, "BasicSafetyMessage.TrailerData:ext")?
+        if extended {
+            out.extensions
+                .decode_into(r, "BasicSafetyMessage.TrailerData:ext")?;
         } else {
-            uper::Extensions::new()
-        };
+            out.extensions.clear();
+        }
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -1041,11 +1045,12 @@ impl Uper for PivotPointDescription {
         <super::common::OffsetB11>::decode_into(r, &mut out.pivot_offset)?;
         <super::common::Angle>::decode_into(r, &mut out.pivot_angle)?;
         <PivotingAllowed>::decode_into(r, &mut out.pivots)?;
-        out.extensions = if extended {
-            uper::Extensions::decode(r, "BasicSafetyMessage.PivotPointDescription:ext")?
+        if extended {
+            out.extensions
+                .decode_into(r, "BasicSafetyMessage.PivotPointDescription:ext")?;
         } else {
-            uper::Extensions::new()
-        };
+            out.extensions.clear();
+        }
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -1334,11 +1339,12 @@ impl Uper for TrailerUnitDescription {
         } else {
             out.crumb_data = None;
         }
-        out.extensions = if extended {
-            uper::Extensions::decode(r, "BasicSafetyMessage.TrailerUnitDescription:ext")?
+        if extended {
+            out.extensions
+                .decode_into(r, "BasicSafetyMessage.TrailerUnitDescription:ext")?;
         } else {
-            uper::Extensions::new()
-        };
+            out.extensions.clear();
+        }
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -1731,11 +1737,12 @@ impl Uper for TrailerHistoryPoint {
         } else {
             out.heading = None;
         }
-        out.extensions = if extended {
-            uper::Extensions::decode(r, "BasicSafetyMessage.TrailerHistoryPoint:ext")?
+        if extended {
+            out.extensions
+                .decode_into(r, "BasicSafetyMessage.TrailerHistoryPoint:ext")?;
         } else {
-            uper::Extensions::new()
-        };
+            out.extensions.clear();
+        }
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -1993,11 +2000,12 @@ impl Uper for SupplementalVehicleExtensions {
         } else {
             out.regional = None;
         }
-        out.extensions = if extended {
-            uper::Extensions::decode(r, "BasicSafetyMessage.SupplementalVehicleExtensions:ext")?
+        if extended {
+            out.extensions
+                .decode_into(r, "BasicSafetyMessage.SupplementalVehicleExtensions:ext")?;
         } else {
-            uper::Extensions::new()
-        };
+            out.extensions.clear();
+        }
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -2293,11 +2301,12 @@ impl Uper for VehicleData {
         } else {
             out.trailer_weight = None;
         }
-        out.extensions = if extended {
-            uper::Extensions::decode(r, "BasicSafetyMessage.VehicleData:ext")?
+        if extended {
+            out.extensions
+                .decode_into(r, "BasicSafetyMessage.VehicleData:ext")?;
         } else {
-            uper::Extensions::new()
-        };
+            out.extensions.clear();
+        }
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -2502,11 +2511,12 @@ impl Uper for WeatherReport {
         } else {
             out.road_friction = None;
         }
-        out.extensions = if extended {
-            uper::Extensions::decode(r, "BasicSafetyMessage.WeatherReport:ext")?
+        if extended {
+            out.extensions
+                .decode_into(r, "BasicSafetyMessage.WeatherReport:ext")?;
         } else {
-            uper::Extensions::new()
-        };
+            out.extensions.clear();
+        }
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -2710,11 +2720,12 @@ impl Uper for WeatherProbe {
         } else {
             out.rain_rates = None;
         }
-        out.extensions = if extended {
-            uper::Extensions::decode(r, "BasicSafetyMessage.WeatherProbe:ext")?
+        if extended {
+            out.extensions
+                .decode_into(r, "BasicSafetyMessage.WeatherProbe:ext")?;
         } else {
-            uper::Extensions::new()
-        };
+            out.extensions.clear();
+        }
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -2882,11 +2893,12 @@ impl Uper for ObstacleDetection {
         } else {
             out.vert_event = None;
         }
-        out.extensions = if extended {
-            uper::Extensions::decode(r, "BasicSafetyMessage.ObstacleDetection:ext")?
+        if extended {
+            out.extensions
+                .decode_into(r, "BasicSafetyMessage.ObstacleDetection:ext")?;
         } else {
-            uper::Extensions::new()
-        };
+            out.extensions.clear();
+        }
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -3068,11 +3080,12 @@ impl Uper for DisabledVehicle {
         } else {
             out.location_details = None;
         }
-        out.extensions = if extended {
-            uper::Extensions::decode(r, "BasicSafetyMessage.DisabledVehicle:ext")?
+        if extended {
+            out.extensions
+                .decode_into(r, "BasicSafetyMessage.DisabledVehicle:ext")?;
         } else {
-            uper::Extensions::new()
-        };
+            out.extensions.clear();
+        }
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -3172,11 +3185,12 @@ impl Uper for SpeedProfile {
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let extended = r.read_bit()?;
         <SpeedProfileMeasurementList>::decode_into(r, &mut out.speed_reports)?;
-        out.extensions = if extended {
-            uper::Extensions::decode(r, "BasicSafetyMessage.SpeedProfile:ext")?
+        if extended {
+            out.extensions
+                .decode_into(r, "BasicSafetyMessage.SpeedProfile:ext")?;
         } else {
-            uper::Extensions::new()
-        };
+            out.extensions.clear();
+        }
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -3341,11 +3355,12 @@ impl Uper for RTCMPackage {
             out.rtcm_header = None;
         }
         <super::common::RTCMmessageList>::decode_into(r, &mut out.msgs)?;
-        out.extensions = if extended {
-            uper::Extensions::decode(r, "BasicSafetyMessage.RTCMPackage:ext")?
+        if extended {
+            out.extensions
+                .decode_into(r, "BasicSafetyMessage.RTCMPackage:ext")?;
         } else {
-            uper::Extensions::new()
-        };
+            out.extensions.clear();
+        }
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {

@@ -1537,11 +1537,11 @@ impl Uper for PathHistory {
             out.curr_gnss_status = None;
         }
         <PathHistoryPointList>::decode_into(r, &mut out.crumb_data)?;
-        out.extensions = if extended {
-            uper::Extensions::decode(r, "Common.PathHistory:ext")?
+        if extended {
+            out.extensions.decode_into(r, "Common.PathHistory:ext")?;
         } else {
-            uper::Extensions::new()
-        };
+            out.extensions.clear();
+        }
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -1761,11 +1761,12 @@ impl Uper for FullPositionVector {
         } else {
             out.speed_confidence = None;
         }
-        out.extensions = if extended {
-            uper::Extensions::decode(r, "Common.FullPositionVector:ext")?
+        if extended {
+            out.extensions
+                .decode_into(r, "Common.FullPositionVector:ext")?;
         } else {
-            uper::Extensions::new()
-        };
+            out.extensions.clear();
+        }
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -3793,11 +3794,12 @@ impl Uper for PathHistoryPoint {
         } else {
             out.heading = None;
         }
-        out.extensions = if extended {
-            uper::Extensions::decode(r, "Common.PathHistoryPoint:ext")?
+        if extended {
+            out.extensions
+                .decode_into(r, "Common.PathHistoryPoint:ext")?;
         } else {
-            uper::Extensions::new()
-        };
+            out.extensions.clear();
+        }
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -3969,11 +3971,11 @@ impl Uper for PathPrediction {
         let extended = r.read_bit()?;
         <RadiusOfCurvature>::decode_into(r, &mut out.radius_of_curve)?;
         <Confidence>::decode_into(r, &mut out.confidence)?;
-        out.extensions = if extended {
-            uper::Extensions::decode(r, "Common.PathPrediction:ext")?
+        if extended {
+            out.extensions.decode_into(r, "Common.PathPrediction:ext")?;
         } else {
-            uper::Extensions::new()
-        };
+            out.extensions.clear();
+        }
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -4303,11 +4305,12 @@ impl Uper for VehicleSafetyExtensions {
         } else {
             out.lights = None;
         }
-        out.extensions = if extended {
-            uper::Extensions::decode(r, "Common.VehicleSafetyExtensions:ext")?
+        if extended {
+            out.extensions
+                .decode_into(r, "Common.VehicleSafetyExtensions:ext")?;
         } else {
-            uper::Extensions::new()
-        };
+            out.extensions.clear();
+        }
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -4553,11 +4556,12 @@ impl Uper for EmergencyDetails {
         } else {
             out.response_type = None;
         }
-        out.extensions = if extended {
-            uper::Extensions::decode(r, "Common.EmergencyDetails:ext")?
+        if extended {
+            out.extensions
+                .decode_into(r, "Common.EmergencyDetails:ext")?;
         } else {
-            uper::Extensions::new()
-        };
+            out.extensions.clear();
+        }
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -5037,11 +5041,12 @@ impl Uper for PrivilegedEvents {
         let extended = r.read_bit()?;
         <SSPindex>::decode_into(r, &mut out.not_used)?;
         <PrivilegedEventFlags>::decode_into(r, &mut out.event)?;
-        out.extensions = if extended {
-            uper::Extensions::decode(r, "Common.PrivilegedEvents:ext")?
+        if extended {
+            out.extensions
+                .decode_into(r, "Common.PrivilegedEvents:ext")?;
         } else {
-            uper::Extensions::new()
-        };
+            out.extensions.clear();
+        }
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -5927,11 +5932,12 @@ impl Uper for VehicleClassification {
         } else {
             out.regional = None;
         }
-        out.extensions = if extended {
-            uper::Extensions::decode(r, "Common.VehicleClassification:ext")?
+        if extended {
+            out.extensions
+                .decode_into(r, "Common.VehicleClassification:ext")?;
         } else {
-            uper::Extensions::new()
-        };
+            out.extensions.clear();
+        }
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -7501,8 +7507,7 @@ impl Uper for DescriptiveName {
     const PATH: &'static str = "Common.DescriptiveName";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(447), Some(447));
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        out.0 = uper::decode_ia5(r, Self::SIZE, "Common.DescriptiveName")?;
-        Ok(())
+        uper::decode_ia5_into(r, Self::SIZE, "Common.DescriptiveName", &mut out.0)
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_ia5(w, Self::SIZE, &self.0)
@@ -7585,11 +7590,11 @@ impl Uper for Position3D {
         } else {
             out.regional = None;
         }
-        out.extensions = if extended {
-            uper::Extensions::decode(r, "Common.Position3D:ext")?
+        if extended {
+            out.extensions.decode_into(r, "Common.Position3D:ext")?;
         } else {
-            uper::Extensions::new()
-        };
+            out.extensions.clear();
+        }
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -8519,11 +8524,11 @@ impl Uper for NodeXY {
         } else {
             out.attributes = None;
         }
-        out.extensions = if extended {
-            uper::Extensions::decode(r, "Common.NodeXY:ext")?
+        if extended {
+            out.extensions.decode_into(r, "Common.NodeXY:ext")?;
         } else {
-            uper::Extensions::new()
-        };
+            out.extensions.clear();
+        }
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -9493,11 +9498,12 @@ impl Uper for NodeAttributeSetXY {
         } else {
             out.regional = None;
         }
-        out.extensions = if extended {
-            uper::Extensions::decode(r, "Common.NodeAttributeSetXY:ext")?
+        if extended {
+            out.extensions
+                .decode_into(r, "Common.NodeAttributeSetXY:ext")?;
         } else {
-            uper::Extensions::new()
-        };
+            out.extensions.clear();
+        }
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -11240,11 +11246,11 @@ impl Uper for ComputedLane {
         } else {
             out.regional = None;
         }
-        out.extensions = if extended {
-            uper::Extensions::decode(r, "Common.ComputedLane:ext")?
+        if extended {
+            out.extensions.decode_into(r, "Common.ComputedLane:ext")?;
         } else {
-            uper::Extensions::new()
-        };
+            out.extensions.clear();
+        }
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -12477,11 +12483,11 @@ impl Uper for RequestorType {
         } else {
             out.regional = None;
         }
-        out.extensions = if extended {
-            uper::Extensions::decode(r, "Common.RequestorType:ext")?
+        if extended {
+            out.extensions.decode_into(r, "Common.RequestorType:ext")?;
         } else {
-            uper::Extensions::new()
-        };
+            out.extensions.clear();
+        }
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -13181,11 +13187,11 @@ impl Uper for Header {
         } else {
             out.msg_issue_revision = None;
         }
-        out.extensions = if extended {
-            uper::Extensions::decode(r, "Common.Header:ext")?
+        if extended {
+            out.extensions.decode_into(r, "Common.Header:ext")?;
         } else {
-            uper::Extensions::new()
-        };
+            out.extensions.clear();
+        }
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -14716,8 +14722,7 @@ impl Uper for URLLink {
     const PATH: &'static str = "Common.URL-Link";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(449), Some(1793));
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        out.0 = uper::decode_ia5(r, Self::SIZE, "Common.URL-Link")?;
-        Ok(())
+        uper::decode_ia5_into(r, Self::SIZE, "Common.URL-Link", &mut out.0)
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_ia5(w, Self::SIZE, &self.0)

@@ -83,11 +83,12 @@ impl Uper for CommonSafetyRequest {
         } else {
             out.regional = None;
         }
-        out.extensions = if extended {
-            uper::Extensions::decode(r, "CommonSafetyRequest.CommonSafetyRequest:ext")?
+        if extended {
+            out.extensions
+                .decode_into(r, "CommonSafetyRequest.CommonSafetyRequest:ext")?;
         } else {
-            uper::Extensions::new()
-        };
+            out.extensions.clear();
+        }
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {

@@ -161,11 +161,12 @@ impl Uper for EmergencyVehicleAlert {
         } else {
             out.regional = None;
         }
-        out.extensions = if extended {
-            uper::Extensions::decode(r, "EmergencyVehicleAlert.EmergencyVehicleAlert:ext")?
+        if extended {
+            out.extensions
+                .decode_into(r, "EmergencyVehicleAlert.EmergencyVehicleAlert:ext")?;
         } else {
-            uper::Extensions::new()
-        };
+            out.extensions.clear();
+        }
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {

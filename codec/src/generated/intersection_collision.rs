@@ -113,11 +113,12 @@ impl Uper for IntersectionCollision {
         } else {
             out.regional = None;
         }
-        out.extensions = if extended {
-            uper::Extensions::decode(r, "IntersectionCollision.IntersectionCollision:ext")?
+        if extended {
+            out.extensions
+                .decode_into(r, "IntersectionCollision.IntersectionCollision:ext")?;
         } else {
-            uper::Extensions::new()
-        };
+            out.extensions.clear();
+        }
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {

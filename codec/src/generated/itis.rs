@@ -2183,8 +2183,7 @@ impl Uper for ITIStext {
     const PATH: &'static str = "ITIS.ITIStext";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits_profiled(Some(3509), Some(457), Some(3509));
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        out.0 = uper::decode_ia5(r, Self::SIZE, "ITIS.ITIStext")?;
-        Ok(())
+        uper::decode_ia5_into(r, Self::SIZE, "ITIS.ITIStext", &mut out.0)
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_ia5(w, Self::SIZE, &self.0)

@@ -135,11 +135,11 @@ impl Uper for MapData {
         } else {
             out.regional = None;
         }
-        out.extensions = if extended {
-            uper::Extensions::decode(r, "MapData.MapData:ext")?
+        if extended {
+            out.extensions.decode_into(r, "MapData.MapData:ext")?;
         } else {
-            uper::Extensions::new()
-        };
+            out.extensions.clear();
+        }
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -679,11 +679,12 @@ impl Uper for IntersectionGeometry {
         } else {
             out.regional = None;
         }
-        out.extensions = if extended {
-            uper::Extensions::decode(r, "MapData.IntersectionGeometry:ext")?
+        if extended {
+            out.extensions
+                .decode_into(r, "MapData.IntersectionGeometry:ext")?;
         } else {
-            uper::Extensions::new()
-        };
+            out.extensions.clear();
+        }
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -1055,11 +1056,11 @@ impl Uper for GenericLane {
         } else {
             out.regional = None;
         }
-        out.extensions = if extended {
-            uper::Extensions::decode(r, "MapData.GenericLane:ext")?
+        if extended {
+            out.extensions.decode_into(r, "MapData.GenericLane:ext")?;
         } else {
-            uper::Extensions::new()
-        };
+            out.extensions.clear();
+        }
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -3333,11 +3334,12 @@ impl Uper for SignalControlZone {
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let extended = r.read_bit()?;
         <RegSignalControlZone>::decode_into(r, &mut out.zone)?;
-        out.extensions = if extended {
-            uper::Extensions::decode(r, "MapData.SignalControlZone:ext")?
+        if extended {
+            out.extensions
+                .decode_into(r, "MapData.SignalControlZone:ext")?;
         } else {
-            uper::Extensions::new()
-        };
+            out.extensions.clear();
+        }
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -3867,11 +3869,11 @@ impl Uper for RoadSegment {
         } else {
             out.regional = None;
         }
-        out.extensions = if extended {
-            uper::Extensions::decode(r, "MapData.RoadSegment:ext")?
+        if extended {
+            out.extensions.decode_into(r, "MapData.RoadSegment:ext")?;
         } else {
-            uper::Extensions::new()
-        };
+            out.extensions.clear();
+        }
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -4371,11 +4373,12 @@ impl Uper for DataParameters {
         } else {
             out.geoid_used = None;
         }
-        out.extensions = if extended {
-            uper::Extensions::decode(r, "MapData.DataParameters:ext")?
+        if extended {
+            out.extensions
+                .decode_into(r, "MapData.DataParameters:ext")?;
         } else {
-            uper::Extensions::new()
-        };
+            out.extensions.clear();
+        }
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -4518,8 +4521,12 @@ impl Uper for DataParametersProcessMethod {
     const PATH: &'static str = "MapData.DataParameters.processMethod";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(449), Some(1793));
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        out.0 = uper::decode_ia5(r, Self::SIZE, "MapData.DataParameters.processMethod")?;
-        Ok(())
+        uper::decode_ia5_into(
+            r,
+            Self::SIZE,
+            "MapData.DataParameters.processMethod",
+            &mut out.0,
+        )
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_ia5(w, Self::SIZE, &self.0)
@@ -4575,8 +4582,12 @@ impl Uper for DataParametersProcessAgency {
     const PATH: &'static str = "MapData.DataParameters.processAgency";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(449), Some(1793));
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        out.0 = uper::decode_ia5(r, Self::SIZE, "MapData.DataParameters.processAgency")?;
-        Ok(())
+        uper::decode_ia5_into(
+            r,
+            Self::SIZE,
+            "MapData.DataParameters.processAgency",
+            &mut out.0,
+        )
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_ia5(w, Self::SIZE, &self.0)
@@ -4632,8 +4643,12 @@ impl Uper for DataParametersLastCheckedDate {
     const PATH: &'static str = "MapData.DataParameters.lastCheckedDate";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(449), Some(1793));
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        out.0 = uper::decode_ia5(r, Self::SIZE, "MapData.DataParameters.lastCheckedDate")?;
-        Ok(())
+        uper::decode_ia5_into(
+            r,
+            Self::SIZE,
+            "MapData.DataParameters.lastCheckedDate",
+            &mut out.0,
+        )
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_ia5(w, Self::SIZE, &self.0)
@@ -4689,8 +4704,12 @@ impl Uper for DataParametersGeoidUsed {
     const PATH: &'static str = "MapData.DataParameters.geoidUsed";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(449), Some(1793));
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        out.0 = uper::decode_ia5(r, Self::SIZE, "MapData.DataParameters.geoidUsed")?;
-        Ok(())
+        uper::decode_ia5_into(
+            r,
+            Self::SIZE,
+            "MapData.DataParameters.geoidUsed",
+            &mut out.0,
+        )
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_ia5(w, Self::SIZE, &self.0)

@@ -30,11 +30,12 @@ impl Uper for MessageFrame {
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
         let extended = r.read_bit()?;
         <MessageFrameValue>::decode_into(r, &mut out.value)?;
-        out.extensions = if extended {
-            uper::Extensions::decode(r, "MessageFrame.MessageFrame:ext")?
+        if extended {
+            out.extensions
+                .decode_into(r, "MessageFrame.MessageFrame:ext")?;
         } else {
-            uper::Extensions::new()
-        };
+            out.extensions.clear();
+        }
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {

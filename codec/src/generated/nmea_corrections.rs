@@ -96,11 +96,12 @@ impl Uper for NMEAcorrections {
         } else {
             out.regional = None;
         }
-        out.extensions = if extended {
-            uper::Extensions::decode(r, "NMEAcorrections.NMEAcorrections:ext")?
+        if extended {
+            out.extensions
+                .decode_into(r, "NMEAcorrections.NMEAcorrections:ext")?;
         } else {
-            uper::Extensions::new()
-        };
+            out.extensions.clear();
+        }
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {

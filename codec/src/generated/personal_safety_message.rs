@@ -293,11 +293,12 @@ impl Uper for PersonalSafetyMessage {
         } else {
             out.regional = None;
         }
-        out.extensions = if extended {
-            uper::Extensions::decode(r, "PersonalSafetyMessage.PersonalSafetyMessage:ext")?
+        if extended {
+            out.extensions
+                .decode_into(r, "PersonalSafetyMessage.PersonalSafetyMessage:ext")?;
         } else {
-            uper::Extensions::new()
-        };
+            out.extensions.clear();
+        }
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {

@@ -86,11 +86,12 @@ impl Uper for ProbeDataManagement {
         } else {
             out.regional = None;
         }
-        out.extensions = if extended {
-            uper::Extensions::decode(r, "ProbeDataManagement.ProbeDataManagement:ext")?
+        if extended {
+            out.extensions
+                .decode_into(r, "ProbeDataManagement.ProbeDataManagement:ext")?;
         } else {
-            uper::Extensions::new()
-        };
+            out.extensions.clear();
+        }
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -920,11 +921,12 @@ impl Uper for VehicleStatusRequest {
         } else {
             out.send_all = None;
         }
-        out.extensions = if extended {
-            uper::Extensions::decode(r, "ProbeDataManagement.VehicleStatusRequest:ext")?
+        if extended {
+            out.extensions
+                .decode_into(r, "ProbeDataManagement.VehicleStatusRequest:ext")?;
         } else {
-            uper::Extensions::new()
-        };
+            out.extensions.clear();
+        }
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {

@@ -92,11 +92,12 @@ impl Uper for ProbeVehicleData {
         } else {
             out.regional = None;
         }
-        out.extensions = if extended {
-            uper::Extensions::decode(r, "ProbeVehicleData.ProbeVehicleData:ext")?
+        if extended {
+            out.extensions
+                .decode_into(r, "ProbeVehicleData.ProbeVehicleData:ext")?;
         } else {
-            uper::Extensions::new()
-        };
+            out.extensions.clear();
+        }
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -350,11 +351,12 @@ impl Uper for VehicleIdent {
         } else {
             out.vehicle_class = None;
         }
-        out.extensions = if extended {
-            uper::Extensions::decode(r, "ProbeVehicleData.VehicleIdent:ext")?
+        if extended {
+            out.extensions
+                .decode_into(r, "ProbeVehicleData.VehicleIdent:ext")?;
         } else {
-            uper::Extensions::new()
-        };
+            out.extensions.clear();
+        }
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -590,8 +592,12 @@ impl Uper for VehicleIdentOwnerCode {
     const PATH: &'static str = "ProbeVehicleData.VehicleIdent.ownerCode";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(229), Some(229));
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        out.0 = uper::decode_ia5(r, Self::SIZE, "ProbeVehicleData.VehicleIdent.ownerCode")?;
-        Ok(())
+        uper::decode_ia5_into(
+            r,
+            Self::SIZE,
+            "ProbeVehicleData.VehicleIdent.ownerCode",
+            &mut out.0,
+        )
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_ia5(w, Self::SIZE, &self.0)
@@ -895,11 +901,12 @@ impl Uper for Snapshot {
         } else {
             out.data_set = None;
         }
-        out.extensions = if extended {
-            uper::Extensions::decode(r, "ProbeVehicleData.Snapshot:ext")?
+        if extended {
+            out.extensions
+                .decode_into(r, "ProbeVehicleData.Snapshot:ext")?;
         } else {
-            uper::Extensions::new()
-        };
+            out.extensions.clear();
+        }
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -1289,11 +1296,12 @@ impl Uper for VehicleStatus {
         } else {
             out.gnss_status = None;
         }
-        out.extensions = if extended {
-            uper::Extensions::decode(r, "ProbeVehicleData.VehicleStatus:ext")?
+        if extended {
+            out.extensions
+                .decode_into(r, "ProbeVehicleData.VehicleStatus:ext")?;
         } else {
-            uper::Extensions::new()
-        };
+            out.extensions.clear();
+        }
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -2942,11 +2950,12 @@ impl Uper for ConfidenceSet {
         } else {
             out.throttle_confidence = None;
         }
-        out.extensions = if extended {
-            uper::Extensions::decode(r, "ProbeVehicleData.ConfidenceSet:ext")?
+        if extended {
+            out.extensions
+                .decode_into(r, "ProbeVehicleData.ConfidenceSet:ext")?;
         } else {
-            uper::Extensions::new()
-        };
+            out.extensions.clear();
+        }
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -3567,11 +3576,12 @@ impl Uper for J1939data {
         } else {
             out.steering_axle_lube_pressure = None;
         }
-        out.extensions = if extended {
-            uper::Extensions::decode(r, "ProbeVehicleData.J1939data:ext")?
+        if extended {
+            out.extensions
+                .decode_into(r, "ProbeVehicleData.J1939data:ext")?;
         } else {
-            uper::Extensions::new()
-        };
+            out.extensions.clear();
+        }
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -3982,11 +3992,12 @@ impl Uper for TireData {
         } else {
             out.detection = None;
         }
-        out.extensions = if extended {
-            uper::Extensions::decode(r, "ProbeVehicleData.TireData:ext")?
+        if extended {
+            out.extensions
+                .decode_into(r, "ProbeVehicleData.TireData:ext")?;
         } else {
-            uper::Extensions::new()
-        };
+            out.extensions.clear();
+        }
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -4628,11 +4639,12 @@ impl Uper for AxleWeightSet {
         } else {
             out.weight = None;
         }
-        out.extensions = if extended {
-            uper::Extensions::decode(r, "ProbeVehicleData.AxleWeightSet:ext")?
+        if extended {
+            out.extensions
+                .decode_into(r, "ProbeVehicleData.AxleWeightSet:ext")?;
         } else {
-            uper::Extensions::new()
-        };
+            out.extensions.clear();
+        }
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {

@@ -139,11 +139,12 @@ impl Uper for RoadSideAlert {
         } else {
             out.regional = None;
         }
-        out.extensions = if extended {
-            uper::Extensions::decode(r, "RoadSideAlert.RoadSideAlert:ext")?
+        if extended {
+            out.extensions
+                .decode_into(r, "RoadSideAlert.RoadSideAlert:ext")?;
         } else {
-            uper::Extensions::new()
-        };
+            out.extensions.clear();
+        }
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {

@@ -91,11 +91,12 @@ impl Uper for RTCMcorrections {
         } else {
             out.regional = None;
         }
-        out.extensions = if extended {
-            uper::Extensions::decode(r, "RTCMcorrections.RTCMcorrections:ext")?
+        if extended {
+            out.extensions
+                .decode_into(r, "RTCMcorrections.RTCMcorrections:ext")?;
         } else {
-            uper::Extensions::new()
-        };
+            out.extensions.clear();
+        }
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {

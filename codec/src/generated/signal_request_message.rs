@@ -87,11 +87,12 @@ impl Uper for SignalRequestMessage {
         } else {
             out.regional = None;
         }
-        out.extensions = if extended {
-            uper::Extensions::decode(r, "SignalRequestMessage.SignalRequestMessage:ext")?
+        if extended {
+            out.extensions
+                .decode_into(r, "SignalRequestMessage.SignalRequestMessage:ext")?;
         } else {
-            uper::Extensions::new()
-        };
+            out.extensions.clear();
+        }
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -381,11 +382,12 @@ impl Uper for SignalRequestPackage {
         } else {
             out.regional = None;
         }
-        out.extensions = if extended {
-            uper::Extensions::decode(r, "SignalRequestMessage.SignalRequestPackage:ext")?
+        if extended {
+            out.extensions
+                .decode_into(r, "SignalRequestMessage.SignalRequestPackage:ext")?;
         } else {
-            uper::Extensions::new()
-        };
+            out.extensions.clear();
+        }
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -571,11 +573,12 @@ impl Uper for SignalRequest {
         } else {
             out.regional = None;
         }
-        out.extensions = if extended {
-            uper::Extensions::decode(r, "SignalRequestMessage.SignalRequest:ext")?
+        if extended {
+            out.extensions
+                .decode_into(r, "SignalRequestMessage.SignalRequest:ext")?;
         } else {
-            uper::Extensions::new()
-        };
+            out.extensions.clear();
+        }
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -1346,11 +1349,12 @@ impl Uper for RequestorDescription {
         } else {
             out.regional = None;
         }
-        out.extensions = if extended {
-            uper::Extensions::decode(r, "SignalRequestMessage.RequestorDescription:ext")?
+        if extended {
+            out.extensions
+                .decode_into(r, "SignalRequestMessage.RequestorDescription:ext")?;
         } else {
-            uper::Extensions::new()
-        };
+            out.extensions.clear();
+        }
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -1602,11 +1606,12 @@ impl Uper for RequestorPositionVector {
         } else {
             out.speed = None;
         }
-        out.extensions = if extended {
-            uper::Extensions::decode(r, "SignalRequestMessage.RequestorPositionVector:ext")?
+        if extended {
+            out.extensions
+                .decode_into(r, "SignalRequestMessage.RequestorPositionVector:ext")?;
         } else {
-            uper::Extensions::new()
-        };
+            out.extensions.clear();
+        }
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {

@@ -74,11 +74,12 @@ impl Uper for SignalStatusMessage {
         } else {
             out.regional = None;
         }
-        out.extensions = if extended {
-            uper::Extensions::decode(r, "SignalStatusMessage.SignalStatusMessage:ext")?
+        if extended {
+            out.extensions
+                .decode_into(r, "SignalStatusMessage.SignalStatusMessage:ext")?;
         } else {
-            uper::Extensions::new()
-        };
+            out.extensions.clear();
+        }
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -314,11 +315,12 @@ impl Uper for SignalStatus {
         } else {
             out.regional = None;
         }
-        out.extensions = if extended {
-            uper::Extensions::decode(r, "SignalStatusMessage.SignalStatus:ext")?
+        if extended {
+            out.extensions
+                .decode_into(r, "SignalStatusMessage.SignalStatus:ext")?;
         } else {
-            uper::Extensions::new()
-        };
+            out.extensions.clear();
+        }
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -590,11 +592,12 @@ impl Uper for SignalStatusPackage {
         } else {
             out.regional = None;
         }
-        out.extensions = if extended {
-            uper::Extensions::decode(r, "SignalStatusMessage.SignalStatusPackage:ext")?
+        if extended {
+            out.extensions
+                .decode_into(r, "SignalStatusMessage.SignalStatusPackage:ext")?;
         } else {
-            uper::Extensions::new()
-        };
+            out.extensions.clear();
+        }
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -828,11 +831,12 @@ impl Uper for SignalRequesterInfo {
         } else {
             out.type_data = None;
         }
-        out.extensions = if extended {
-            uper::Extensions::decode(r, "SignalStatusMessage.SignalRequesterInfo:ext")?
+        if extended {
+            out.extensions
+                .decode_into(r, "SignalStatusMessage.SignalRequesterInfo:ext")?;
         } else {
-            uper::Extensions::new()
-        };
+            out.extensions.clear();
+        }
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {

@@ -70,11 +70,11 @@ impl Uper for SPAT {
         } else {
             out.regional = None;
         }
-        out.extensions = if extended {
-            uper::Extensions::decode(r, "SPAT.SPAT:ext")?
+        if extended {
+            out.extensions.decode_into(r, "SPAT.SPAT:ext")?;
         } else {
-            uper::Extensions::new()
-        };
+            out.extensions.clear();
+        }
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -365,11 +365,12 @@ impl Uper for IntersectionState {
         } else {
             out.regional = None;
         }
-        out.extensions = if extended {
-            uper::Extensions::decode(r, "SPAT.IntersectionState:ext")?
+        if extended {
+            out.extensions
+                .decode_into(r, "SPAT.IntersectionState:ext")?;
         } else {
-            uper::Extensions::new()
-        };
+            out.extensions.clear();
+        }
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -861,11 +862,11 @@ impl Uper for MovementState {
         } else {
             out.regional = None;
         }
-        out.extensions = if extended {
-            uper::Extensions::decode(r, "SPAT.MovementState:ext")?
+        if extended {
+            out.extensions.decode_into(r, "SPAT.MovementState:ext")?;
         } else {
-            uper::Extensions::new()
-        };
+            out.extensions.clear();
+        }
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -1117,11 +1118,11 @@ impl Uper for MovementEvent {
         } else {
             out.regional = None;
         }
-        out.extensions = if extended {
-            uper::Extensions::decode(r, "SPAT.MovementEvent:ext")?
+        if extended {
+            out.extensions.decode_into(r, "SPAT.MovementEvent:ext")?;
         } else {
-            uper::Extensions::new()
-        };
+            out.extensions.clear();
+        }
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -1758,11 +1759,11 @@ impl Uper for AdvisorySpeed {
         } else {
             out.regional = None;
         }
-        out.extensions = if extended {
-            uper::Extensions::decode(r, "SPAT.AdvisorySpeed:ext")?
+        if extended {
+            out.extensions.decode_into(r, "SPAT.AdvisorySpeed:ext")?;
         } else {
-            uper::Extensions::new()
-        };
+            out.extensions.clear();
+        }
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -2606,11 +2607,12 @@ impl Uper for ConnectionManeuverAssist {
         } else {
             out.regional = None;
         }
-        out.extensions = if extended {
-            uper::Extensions::decode(r, "SPAT.ConnectionManeuverAssist:ext")?
+        if extended {
+            out.extensions
+                .decode_into(r, "SPAT.ConnectionManeuverAssist:ext")?;
         } else {
-            uper::Extensions::new()
-        };
+            out.extensions.clear();
+        }
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {

@@ -53,11 +53,12 @@ impl Uper for TestMessage03 {
         } else {
             out.regional = None;
         }
-        out.extensions = if extended {
-            uper::Extensions::decode(r, "TestMessage03.TestMessage03:ext")?
+        if extended {
+            out.extensions
+                .decode_into(r, "TestMessage03.TestMessage03:ext")?;
         } else {
-            uper::Extensions::new()
-        };
+            out.extensions.clear();
+        }
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {

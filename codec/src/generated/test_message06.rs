@@ -53,11 +53,12 @@ impl Uper for TestMessage06 {
         } else {
             out.regional = None;
         }
-        out.extensions = if extended {
-            uper::Extensions::decode(r, "TestMessage06.TestMessage06:ext")?
+        if extended {
+            out.extensions
+                .decode_into(r, "TestMessage06.TestMessage06:ext")?;
         } else {
-            uper::Extensions::new()
-        };
+            out.extensions.clear();
+        }
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {

@@ -53,11 +53,12 @@ impl Uper for TestMessage09 {
         } else {
             out.regional = None;
         }
-        out.extensions = if extended {
-            uper::Extensions::decode(r, "TestMessage09.TestMessage09:ext")?
+        if extended {
+            out.extensions
+                .decode_into(r, "TestMessage09.TestMessage09:ext")?;
         } else {
-            uper::Extensions::new()
-        };
+            out.extensions.clear();
+        }
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {

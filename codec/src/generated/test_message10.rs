@@ -53,11 +53,12 @@ impl Uper for TestMessage10 {
         } else {
             out.regional = None;
         }
-        out.extensions = if extended {
-            uper::Extensions::decode(r, "TestMessage10.TestMessage10:ext")?
+        if extended {
+            out.extensions
+                .decode_into(r, "TestMessage10.TestMessage10:ext")?;
         } else {
-            uper::Extensions::new()
-        };
+            out.extensions.clear();
+        }
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {

@@ -53,11 +53,12 @@ impl Uper for TestMessage14 {
         } else {
             out.regional = None;
         }
-        out.extensions = if extended {
-            uper::Extensions::decode(r, "TestMessage14.TestMessage14:ext")?
+        if extended {
+            out.extensions
+                .decode_into(r, "TestMessage14.TestMessage14:ext")?;
         } else {
-            uper::Extensions::new()
-        };
+            out.extensions.clear();
+        }
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {

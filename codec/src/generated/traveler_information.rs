@@ -88,11 +88,12 @@ impl Uper for TravelerInformation {
         } else {
             out.regional = None;
         }
-        out.extensions = if extended {
-            uper::Extensions::decode(r, "TravelerInformation.TravelerInformation:ext")?
+        if extended {
+            out.extensions
+                .decode_into(r, "TravelerInformation.TravelerInformation:ext")?;
         } else {
-            uper::Extensions::new()
-        };
+            out.extensions.clear();
+        }
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -289,8 +290,7 @@ impl Uper for URLBase {
     const PATH: &'static str = "TravelerInformation.URL-Base";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(321), Some(321));
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        out.0 = uper::decode_ia5(r, Self::SIZE, "TravelerInformation.URL-Base")?;
-        Ok(())
+        uper::decode_ia5_into(r, Self::SIZE, "TravelerInformation.URL-Base", &mut out.0)
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_ia5(w, Self::SIZE, &self.0)
@@ -499,11 +499,12 @@ impl Uper for TravelerDataFrame {
         } else {
             out.url = None;
         }
-        out.extensions = if extended {
-            uper::Extensions::decode(r, "TravelerInformation.TravelerDataFrame:ext")?
+        if extended {
+            out.extensions
+                .decode_into(r, "TravelerInformation.TravelerDataFrame:ext")?;
         } else {
-            uper::Extensions::new()
-        };
+            out.extensions.clear();
+        }
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -1482,11 +1483,12 @@ impl Uper for GeographicalPath {
         } else {
             out.regional = None;
         }
-        out.extensions = if extended {
-            uper::Extensions::decode(r, "TravelerInformation.GeographicalPath:ext")?
+        if extended {
+            out.extensions
+                .decode_into(r, "TravelerInformation.GeographicalPath:ext")?;
         } else {
-            uper::Extensions::new()
-        };
+            out.extensions.clear();
+        }
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -2389,11 +2391,12 @@ impl Uper for NodeLL {
         } else {
             out.attributes = None;
         }
-        out.extensions = if extended {
-            uper::Extensions::decode(r, "TravelerInformation.NodeLL:ext")?
+        if extended {
+            out.extensions
+                .decode_into(r, "TravelerInformation.NodeLL:ext")?;
         } else {
-            uper::Extensions::new()
-        };
+            out.extensions.clear();
+        }
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -3404,11 +3407,12 @@ impl Uper for NodeAttributeSetLL {
         } else {
             out.regional = None;
         }
-        out.extensions = if extended {
-            uper::Extensions::decode(r, "TravelerInformation.NodeAttributeSetLL:ext")?
+        if extended {
+            out.extensions
+                .decode_into(r, "TravelerInformation.NodeAttributeSetLL:ext")?;
         } else {
-            uper::Extensions::new()
-        };
+            out.extensions.clear();
+        }
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -4569,11 +4573,12 @@ impl Uper for GeometricProjection {
         } else {
             out.regional = None;
         }
-        out.extensions = if extended {
-            uper::Extensions::decode(r, "TravelerInformation.GeometricProjection:ext")?
+        if extended {
+            out.extensions
+                .decode_into(r, "TravelerInformation.GeometricProjection:ext")?;
         } else {
-            uper::Extensions::new()
-        };
+            out.extensions.clear();
+        }
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -5406,11 +5411,12 @@ impl Uper for ShapePointSet {
             out.directionality = None;
         }
         <super::common::NodeListXY>::decode_into(r, &mut out.node_list)?;
-        out.extensions = if extended {
-            uper::Extensions::decode(r, "TravelerInformation.ShapePointSet:ext")?
+        if extended {
+            out.extensions
+                .decode_into(r, "TravelerInformation.ShapePointSet:ext")?;
         } else {
-            uper::Extensions::new()
-        };
+            out.extensions.clear();
+        }
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -5571,11 +5577,12 @@ impl Uper for RegionPointSet {
             out.scale = None;
         }
         <RegionList>::decode_into(r, &mut out.node_list)?;
-        out.extensions = if extended {
-            uper::Extensions::decode(r, "TravelerInformation.RegionPointSet:ext")?
+        if extended {
+            out.extensions
+                .decode_into(r, "TravelerInformation.RegionPointSet:ext")?;
         } else {
-            uper::Extensions::new()
-        };
+            out.extensions.clear();
+        }
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -6484,8 +6491,12 @@ impl Uper for ITIStextPhrase {
     const PATH: &'static str = "TravelerInformation.ITIStextPhrase";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(116), Some(116));
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        out.0 = uper::decode_ia5(r, Self::SIZE, "TravelerInformation.ITIStextPhrase")?;
-        Ok(())
+        uper::decode_ia5_into(
+            r,
+            Self::SIZE,
+            "TravelerInformation.ITIStextPhrase",
+            &mut out.0,
+        )
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_ia5(w, Self::SIZE, &self.0)
@@ -7262,8 +7273,7 @@ impl Uper for URLShort {
     const PATH: &'static str = "TravelerInformation.URL-Short";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(109), Some(109));
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        out.0 = uper::decode_ia5(r, Self::SIZE, "TravelerInformation.URL-Short")?;
-        Ok(())
+        uper::decode_ia5_into(r, Self::SIZE, "TravelerInformation.URL-Short", &mut out.0)
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
         uper::encode_ia5(w, Self::SIZE, &self.0)

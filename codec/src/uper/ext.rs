@@ -61,6 +61,13 @@ impl<const N: usize> Extensions<N> {
         }
     }
 
+    /// Makes this "no extension additions" (with `alloc`, the records' allocation is kept
+    /// for reuse).
+    pub fn clear(&mut self) {
+        self.bitmap_len = 0;
+        self.records.clear();
+    }
+
     /// True when the extension bit is to be set (something was received or stored).
     pub fn is_present(&self) -> bool {
         self.bitmap_len > 0 || !self.records.is_empty()
@@ -123,15 +130,29 @@ impl<const N: usize> Extensions<N> {
     where
         F: FnMut(usize, &mut Reader<'a>) -> DecodeResult<bool>,
     {
+        let mut ext = Self::new();
+        ext.decode_with_into(r, key, known)?;
+        Ok(ext)
+    }
+
+    /// As [`Self::decode_with`], into `self` (reusing its storage).
+    pub fn decode_with_into<'a, F>(
+        &mut self,
+        r: &mut Reader<'a>,
+        key: &'static str,
+        mut known: F,
+    ) -> DecodeResult<()>
+    where
+        F: FnMut(usize, &mut Reader<'a>) -> DecodeResult<bool>,
+    {
+        self.clear();
         let at = r.position();
         let n = r.read_normally_small()? + 1;
         if n as usize > r.remaining() {
             return Err(DecodeError::new(DKind::UnexpectedEnd, at));
         }
-        let mut ext = Self {
-            bitmap_len: n as u16,
-            records: Octets::new(),
-        };
+        self.bitmap_len = n as u16;
+        let ext = self;
         let mut present = [0u64; 1];
         if n > MAX_BITMAP {
             return Err(DecodeError::new(DKind::LengthTooLarge, at));
@@ -150,12 +171,18 @@ impl<const N: usize> Extensions<N> {
                 ext.store(i, start, key)?;
             }
         }
-        Ok(ext)
+        Ok(())
     }
 
     /// Decodes the additions of a type that defines none.
     pub fn decode(r: &mut Reader<'_>, key: &'static str) -> DecodeResult<Self> {
         Self::decode_with(r, key, |_, _| Ok(false))
+    }
+
+    /// As [`Self::decode`], into `self` (reusing its storage: a value kept between messages
+    /// does not allocate for them again).
+    pub fn decode_into(&mut self, r: &mut Reader<'_>, key: &'static str) -> DecodeResult<()> {
+        self.decode_with_into(r, key, |_, _| Ok(false))
     }
 
     fn store(

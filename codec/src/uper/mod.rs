@@ -28,9 +28,9 @@ pub use ext::{
 };
 pub use reader::{DecodeResult, LengthChunk, Reader};
 pub use sized::{
-    decode_bits, decode_fixed_octets, decode_ia5, decode_octets, decode_octets_into,
-    decode_seq_of_into, encode_bits, encode_ia5, encode_octets, encode_seq_of, read_octets_into,
-    read_sized, write_sized, Size,
+    decode_bits, decode_fixed_octets, decode_ia5, decode_ia5_into, decode_octets,
+    decode_octets_into, decode_seq_of_into, encode_bits, encode_ia5, encode_octets, encode_seq_of,
+    read_octets_into, read_sized, write_sized, Size,
 };
 pub use storage::{Bits, Ia5, Octets, SeqOf};
 pub use writer::{EncodeResult, Writer};

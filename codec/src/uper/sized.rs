@@ -218,10 +218,40 @@ pub fn decode_bits<const NB: usize>(
     size: Size,
     key: &'static str,
 ) -> DecodeResult<Bits<NB>> {
-    let mut buf = [0u8; NB];
+    let mut bytes = [0u8; NB];
+    let len = read_bit_string(r, size, key, &mut bytes)?;
+    Ok(Bits::from_filled(bytes, len))
+}
+
+/// The bits of a BIT STRING into `buf`, most significant first, the bits past them zero;
+/// returns their count (at most `8 * buf.len()`). Not generic over the storage, so that one
+/// copy serves every bit string type (the firmware's flash).
+fn read_bit_string(
+    r: &mut Reader<'_>,
+    size: Size,
+    key: &'static str,
+    buf: &mut [u8],
+) -> DecodeResult<usize> {
+    let n = size.ub;
+    if size.lb == n && !size.extensible && n <= 57 {
+        // A fixed size of at most 57 bits (nearly every J2735 bit string): no length, one
+        // read for the whole string.
+        let octets = n.div_ceil(8);
+        if octets > buf.len() {
+            return Err(over_capacity(r.position(), key));
+        }
+        if n > 0 {
+            let word = (r.read_bits(n as u32)? << (64 - n)).to_be_bytes();
+            // One or two octets: a loop, not a call to memcpy.
+            for (b, w) in buf.iter_mut().zip(word).take(octets) {
+                *b = w;
+            }
+        }
+        return Ok(n);
+    }
     let mut len = 0usize;
     read_sized(r, size, |r, n| {
-        if len + n > Bits::<NB>::CAPACITY {
+        if len + n > buf.len() * 8 {
             return Err(over_capacity(r.position(), key));
         }
         if n > r.remaining() {
@@ -238,7 +268,7 @@ pub fn decode_bits<const NB: usize>(
         len += n;
         Ok(())
     })?;
-    Bits::from_bytes(&buf, len).ok_or(over_capacity(r.position(), key))
+    Ok(len)
 }
 
 /// Encodes a BIT STRING.
@@ -260,25 +290,44 @@ pub fn encode_bits<const NB: usize>(
     })
 }
 
-/// Decodes an IA5String (7 bits a character, no permitted-alphabet constraint).
+/// Decodes an IA5String.
 pub fn decode_ia5<const N: usize>(
     r: &mut Reader<'_>,
     size: Size,
     key: &'static str,
 ) -> DecodeResult<Ia5<N>> {
     let mut out = Ia5::new();
+    decode_ia5_into(r, size, key, &mut out)?;
+    Ok(out)
+}
+
+/// Decodes an IA5String into `out`, reusing its storage (with `alloc`, its allocation).
+pub fn decode_ia5_into<const N: usize>(
+    r: &mut Reader<'_>,
+    size: Size,
+    key: &'static str,
+    out: &mut Ia5<N>,
+) -> DecodeResult<()> {
+    out.clear();
     read_sized(r, size, |r, n| {
         if n.saturating_mul(7) > r.remaining() {
             return Err(DecodeError::new(DKind::UnexpectedEnd, r.position()));
         }
         out.reserve(n);
-        for _ in 0..n {
-            let c = r.read_bits(7)? as u8 as char;
-            out.push(c).map_err(|_| over_capacity(r.position(), key))?;
+        let mut left = n;
+        while left > 0 {
+            // Eight 7-bit characters per read.
+            let k = left.min(8);
+            let word = r.read_bits(7 * k as u32)?;
+            for i in (0..k).rev() {
+                let c = ((word >> (7 * i)) & 0x7f) as u8 as char;
+                out.push(c).map_err(|_| over_capacity(r.position(), key))?;
+            }
+            left -= k;
         }
         Ok(())
     })?;
-    Ok(out)
+    Ok(())
 }
 
 /// Encodes an IA5String.

@@ -296,6 +296,11 @@ impl<const N: usize> Ia5<N> {
         let _ = additional;
     }
 
+    /// Removes every character (with `alloc`, the allocation is kept for reuse).
+    pub fn clear(&mut self) {
+        self.text.clear();
+    }
+
     /// The text.
     pub fn as_str(&self) -> &str {
         &self.text
@@ -358,6 +363,17 @@ impl<const NBYTES: usize> Bits<NBYTES> {
             len: len as u16,
             bytes: [0; NBYTES],
         })
+    }
+
+    /// The first `len` bits of `bytes` (the decoder's: `len` at most [`Self::CAPACITY`],
+    /// the bits past it zero, as every `Bits` keeps them).
+    #[inline]
+    pub(crate) fn from_filled(bytes: [u8; NBYTES], len: usize) -> Self {
+        debug_assert!(len <= Self::CAPACITY);
+        Self {
+            len: len as u16,
+            bytes,
+        }
     }
 
     /// Number of bits.
