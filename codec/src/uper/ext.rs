@@ -122,11 +122,7 @@ impl<const N: usize> Extensions<N> {
 
     /// Decodes the bit-map and the additions. `known(index, content)` decodes an addition
     /// the type defines and returns false for one it does not; those are stored.
-    pub fn decode_with<'a, F>(
-        r: &mut Reader<'a>,
-        key: &'static str,
-        mut known: F,
-    ) -> DecodeResult<Self>
+    pub fn decode_with<'a, F>(r: &mut Reader<'a>, key: &'static str, known: F) -> DecodeResult<Self>
     where
         F: FnMut(usize, &mut Reader<'a>) -> DecodeResult<bool>,
     {
