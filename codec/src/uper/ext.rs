@@ -148,7 +148,6 @@ impl<const N: usize> Extensions<N> {
             return Err(DecodeError::new(DKind::UnexpectedEnd, at));
         }
         self.bitmap_len = n as u16;
-        let ext = self;
         let mut present = [0u64; 1];
         if n > MAX_BITMAP {
             return Err(DecodeError::new(DKind::LengthTooLarge, at));
@@ -164,7 +163,7 @@ impl<const N: usize> Extensions<N> {
             if known(i, &mut content)? {
                 content.finish_open()?;
             } else {
-                ext.store(i, start, key)?;
+                self.store(i, start, key)?;
             }
         }
         Ok(())

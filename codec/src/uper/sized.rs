@@ -165,7 +165,7 @@ pub fn decode_octets<const N: usize>(
     key: &'static str,
 ) -> DecodeResult<Octets<N>> {
     let mut out = Octets::new();
-    read_sized(r, size, |r, n| read_octets_into(r, n, &mut out, key))?;
+    decode_octets_into(r, size, key, &mut out)?;
     Ok(out)
 }
 

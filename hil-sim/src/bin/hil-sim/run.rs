@@ -110,7 +110,7 @@ pub fn scenarios(a: &RunArgs) -> Result<(), String> {
     }
     v2x.sort_by(f64::total_cmp);
     if !v2x.is_empty() {
-        let q = |p: f64| v2x[((p * v2x.len() as f64).ceil() as usize).clamp(1, v2x.len()) - 1];
+        let q = |p: f64| hil_sim::soak::verdict::quantile(&v2x, p).unwrap_or(f64::NAN);
         println!(
             "=== roadside -> screen over the runs ({} message changes): p50 {:.2} ms, p99 {:.2} ms, max {:.2} ms",
             v2x.len(),
