@@ -17,7 +17,8 @@ use super::Uper;
 const K64: usize = 65536;
 /// One fragment unit (X.691 11.9.3.8).
 const K16: usize = 16384;
-/// The most items a SEQUENCE OF reserves before they decode (with `alloc`).
+/// The most slots a SEQUENCE OF makes ahead of its decoded items (with `alloc`).
+#[cfg(feature = "alloc")]
 const RESERVE_ITEMS: usize = 64;
 
 /// A SIZE constraint: `lb..=ub`, `ub == usize::MAX` when there is no upper bound.
@@ -136,9 +137,25 @@ pub fn decode_seq_of_into<T: Uper, const N: usize>(
         if out.len() + n > SeqOf::<T, N>::capacity() {
             return Err(over_capacity(r.position(), key));
         }
-        // Room for the announced items at once, up to RESERVE_ITEMS (the rest grows as items
-        // actually decode, each from input bits), so one hostile length reserves little.
-        out.reserve(n.min(r.remaining()).min(RESERVE_ITEMS));
+        // With `alloc`: the announced items in runs of at most RESERVE_ITEMS slots, each run
+        // made at once (new placeholders written in place, not copied in one by one; former
+        // items kept) and decoded before the next, so that one hostile length makes little
+        // room ahead of the input that fills it.
+        #[cfg(feature = "alloc")]
+        {
+            let mut left = n;
+            while left > 0 {
+                let run = left.min(r.remaining().max(1)).min(RESERVE_ITEMS);
+                let slots = out.grow(run).ok_or(over_capacity(r.position(), key))?;
+                for slot in slots {
+                    T::decode_into(r, slot)?;
+                }
+                left -= run;
+            }
+        }
+        // Without it the slots live in the fixed room: one at a time is the shorter code
+        // (the firmware's flash) and measured faster for a kept value.
+        #[cfg(not(feature = "alloc"))]
         for _ in 0..n {
             let slot = out.push_slot().ok_or(over_capacity(r.position(), key))?;
             T::decode_into(r, slot)?;
@@ -367,6 +384,30 @@ mod tests {
         })
         .unwrap();
         assert_eq!(n, 40000);
+    }
+
+    /// A list longer than one run of slots (with `alloc`, 64) decodes whole, refills a kept
+    /// list, and a list cut short is an error, not a panic. The bytes are written out by
+    /// hand: SIZE(0..255) is an 8-bit length, each `LaneID` (0..255) 8 bits.
+    #[test]
+    fn long_lists_decode_across_runs_of_slots() {
+        use crate::generated::common::LaneID;
+        let size = Size::range(0, 255);
+        let long: [u8; 201] = core::array::from_fn(|i| if i == 0 { 200 } else { (i - 1) as u8 });
+        let mut list = SeqOf::<LaneID, 255>::new();
+        decode_seq_of_into(&mut Reader::new(&long), size, "k", &mut list).unwrap();
+        assert_eq!(list.len(), 200);
+        assert!(list.iter().enumerate().all(|(i, l)| l.get() == i as u8));
+        decode_seq_of_into(&mut Reader::new(&[3, 9, 8, 7]), size, "k", &mut list).unwrap();
+        assert_eq!(
+            list.iter()
+                .map(|l| l.get())
+                .collect::<heapless::Vec<u8, 3>>(),
+            [9, 8, 7]
+        );
+        let cut = &long[..101];
+        let e = decode_seq_of_into(&mut Reader::new(cut), size, "k", &mut list).unwrap_err();
+        assert_eq!(e.kind, DKind::UnexpectedEnd);
     }
 
     #[test]

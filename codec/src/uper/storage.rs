@@ -93,15 +93,23 @@ impl<T: Placeholder, const N: usize> SeqOf<T, N> {
 
     /// Grows by `n` items at once and returns them to be overwritten (placeholders or
     /// former items); `None`, unchanged, when the no-heap capacity (with `alloc`, the memory)
-    /// cannot hold them.
+    /// cannot hold them. With `alloc`, the new placeholders are written in place: growing a
+    /// run of slots at once, not one [`SeqOf::push_slot`] per item, spares a new value's
+    /// decode a copy of every item's placeholder.
     pub fn grow(&mut self, n: usize) -> Option<&mut [T]> {
         let len = self.len.get();
         let new_len = len.checked_add(n).filter(|&l| l <= Self::capacity())?;
         #[cfg(feature = "alloc")]
         if self.items.len() < new_len {
-            self.items
-                .try_reserve_exact(new_len - self.items.len())
-                .ok()?;
+            // The first room exactly (a decode knows the length before the items), later
+            // room amortised (a long list grows in runs, see `decode_seq_of_into`).
+            let more = new_len - self.items.len();
+            let room = if self.items.capacity() == 0 {
+                self.items.try_reserve_exact(more)
+            } else {
+                self.items.try_reserve(more)
+            };
+            room.ok()?;
             self.items.resize_with(new_len, T::placeholder);
         }
         #[cfg(not(feature = "alloc"))]
