@@ -155,15 +155,11 @@ impl<T, const N: usize> SeqOf<T, N> {
 
     /// Makes room for `additional` more items at once (with `alloc`; without it the room is
     /// fixed). Callers bound `additional` by the input that remains.
-    ///
-    /// With `alloc` the room is exactly that: a decode knows a list's length before its items,
-    /// so `Vec`'s amortised growth would only waste memory (it gave a one-item list of
-    /// 128-octet items 512 octets) and make a new value's allocations larger and slower.
     pub fn reserve(&mut self, additional: usize) {
         #[cfg(feature = "alloc")]
         {
             let free = self.items.len() - self.len.get();
-            self.items.reserve_exact(additional.saturating_sub(free));
+            self.items.reserve(additional.saturating_sub(free));
         }
         #[cfg(not(feature = "alloc"))]
         let _ = additional;
