@@ -19,7 +19,7 @@ use std::path::Path;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 use std::thread::JoinHandle;
-use std::time::Instant;
+use std::time::{Duration, Instant};
 
 /// The groups of `/api/status` that count V2X inputs: each datagram once in one of them.
 pub const V2X_GROUPS: &[&str] = &[
@@ -146,6 +146,32 @@ pub fn daemon_counts(addr: &str) -> Result<DeviceCounts, String> {
         counters: counters.clone(),
         every_input: true,
     })
+}
+
+/// The daemon's counters once it has counted `sent` V2X datagrams: reads `/api/status`
+/// every 50 ms until [`DeviceCounts::v2x_total`] reaches `sent` or `within` has passed, and
+/// returns the last counters read either way (the checks judge them). A datagram still in
+/// the daemon's socket when the senders stop is counted a moment later, longer on a
+/// loaded host or under qemu-user: reading once, at a fixed delay, would judge the host's
+/// pace, not the daemon.
+///
+/// # Errors
+///
+/// As [`daemon_counts`], when the last read failed.
+pub fn daemon_counts_settled(
+    addr: &str,
+    sent: u64,
+    within: Duration,
+) -> Result<DeviceCounts, String> {
+    let deadline = Instant::now() + within;
+    loop {
+        let counts = daemon_counts(addr);
+        let settled = counts.as_ref().is_ok_and(|c| c.v2x_total() >= sent);
+        if settled || Instant::now() >= deadline {
+            return counts;
+        }
+        std::thread::sleep(Duration::from_millis(50));
+    }
 }
 
 /// The firmware's drops, from its decoded log (`v2x: dropped: <reason>` lines; a reason

@@ -180,6 +180,9 @@ fn camera_site(s: &Scenario, road: &Road, zones: &[WorkZone]) -> Result<Option<L
 /// How long the firmware may take, after the bench stopped sending, to work through what it
 /// was sent.
 const FIRMWARE_CATCH_UP: Duration = Duration::from_secs(60);
+/// How long the daemon may take to count the last datagrams of a run (an ARM daemon under
+/// qemu-user on a loaded host is the slowest).
+const COUNTS_SETTLE: Duration = Duration::from_secs(5);
 
 /// Feeds the daemon for the whole drive while recording its states.
 fn drive_and_record(
@@ -265,7 +268,10 @@ fn drive_and_record(
     let attack = attacked?.map(|(kind, sent)| {
         // The daemon counts every input; the firmware's drops are read from its log
         // once it has stopped (`run`).
-        let device = (daemon.rig.is_none()).then(|| attack::daemon_counts(daemon.http_addr()));
+        let device = (daemon.rig.is_none()).then(|| {
+            let inputs = counts.sent + sent.sent;
+            attack::daemon_counts_settled(daemon.http_addr(), inputs, COUNTS_SETTLE)
+        });
         AttackFacts {
             kind,
             sent,

@@ -230,8 +230,12 @@ fn finish(
         }
     }
     let _ = running.http.join();
-    std::thread::sleep(Duration::from_millis(500));
-    let device = crate::attack::daemon_counts(daemon.http_addr()).ok();
+    let device = crate::attack::daemon_counts_settled(
+        daemon.http_addr(),
+        w.sent.v2x(),
+        Duration::from_secs(5),
+    )
+    .ok();
     w.stop_clients.store(true, Ordering::Relaxed);
     // A daemon that died was reaped by the sampling loop: its pid may be another process's.
     let stopped = match died {

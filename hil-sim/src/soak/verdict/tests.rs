@@ -145,7 +145,9 @@ fn the_ci_run_whose_host_slowed_at_the_end_passes_and_a_slower_daemon_does_not()
     }
     let checks = growth(&s, &Limits::SOAK);
     assert!(failed(&checks).is_empty(), "{checks:#?}");
-    assert!(checks[2].detail.starts_with("8.09 ms (last window, least) vs 6.98 ms"));
+    assert!(checks[2]
+        .detail
+        .starts_with("8.09 ms (last window, least) vs 6.98 ms"));
     // The same run from a daemon whose every fix got 8 ms slower after the first minute.
     for x in &mut s[6..] {
         x.p99_ms = x.p99_ms.map(|p| p + 8.0);
