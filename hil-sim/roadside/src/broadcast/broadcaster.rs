@@ -274,7 +274,7 @@ impl Broadcaster {
             }
             self.tick_at(now);
             ticks += 1;
-            let Some(after) = self.next_slot(next) else {
+            let Some(after) = self.next_slot(next, end) else {
                 return ticks;
             };
             next = after;
@@ -282,18 +282,26 @@ impl Broadcaster {
     }
 
     /// The tick time after `slot`: one period later, or the first slot of the grid that is
-    /// not yet more than a period past when the loop is late.
-    fn next_slot(&mut self, slot: Instant) -> Option<Instant> {
+    /// not yet more than a period past when the loop is late. The slots skipped count as
+    /// missed, those before the run's `end` only (a loop late at its end missed no tick of
+    /// the run beyond it).
+    fn next_slot(&mut self, slot: Instant, end: Option<Instant>) -> Option<Instant> {
         let next = slot.checked_add(self.period)?;
         let Some(late) = Instant::now().checked_duration_since(next) else {
             return Some(next);
         };
-        let missed =
-            u32::try_from(late.as_nanos() / self.period.as_nanos().max(1)).unwrap_or(u32::MAX);
+        let period_ns = self.period.as_nanos().max(1);
+        let missed = u32::try_from(late.as_nanos() / period_ns).unwrap_or(u32::MAX);
         if missed == 0 {
             return Some(next);
         }
-        self.stats.missed_ticks += u64::from(missed);
+        // Slots next, next + period, ... before `end`: ceil((end - next) / period).
+        let in_run = end.map_or(u128::MAX, |e| {
+            e.saturating_duration_since(next)
+                .as_nanos()
+                .div_ceil(period_ns)
+        });
+        self.stats.missed_ticks += u64::try_from(in_run.min(u128::from(missed))).unwrap_or(0);
         next.checked_add(self.period.checked_mul(missed)?)
     }
 }
