@@ -385,11 +385,14 @@ mod tests {
             wait <= timeout + std::time::Duration::from_millis(1),
             "{wait:?}"
         );
-        // The loop sleeps until the deadline (no 100 ms ticks): the loss comes at it.
+        // The loop sleeps until the deadline (no 100 ms ticks): the loss comes at it, after
+        // a turn for the start, one for the fix and one at the deadline (a loop ticking
+        // every 100 ms would have turned 10 times).
         let lost = events.recv().await.unwrap();
         let at = t0.elapsed();
         assert!(lost.json.contains("\"gnss_ok\":false"), "{}", lost.json);
         assert!(at >= timeout, "not before the timeout: {at:?}");
+        assert!((2..=4).contains(&hub.turns()), "{} turns", hub.turns());
         assert!(
             at < timeout + std::time::Duration::from_millis(150),
             "at it: {at:?}"

@@ -6,7 +6,9 @@
 
 mod common;
 
-use common::{free_udp_port, open_events, read_events, status, temp_dir, vector, Daemon};
+use common::{
+    free_udp_port, open_events, read_events, status, status_when, temp_dir, vector, Daemon,
+};
 use obu::{AlertConfig, Fix, HmiState, Instant as CoreInstant, LatLon, Obu};
 use std::io::{BufReader, Write};
 use std::net::{TcpListener, TcpStream, UdpSocket};
@@ -114,18 +116,6 @@ fn accept_within(listener: &TcpListener, limit: Duration) -> TcpStream {
             Err(_) if Instant::now() < deadline => std::thread::sleep(Duration::from_millis(10)),
             Err(e) => panic!("the daemon did not connect: {e}"),
         }
-    }
-}
-
-/// Polls the status until `ok` holds for it (5 s at most); returns it.
-fn status_when(addr: &str, ok: impl Fn(&serde_json::Value) -> bool) -> serde_json::Value {
-    let deadline = Instant::now() + Duration::from_secs(5);
-    loop {
-        let s = status(addr);
-        if ok(&s) || Instant::now() > deadline {
-            return s;
-        }
-        std::thread::sleep(Duration::from_millis(20));
     }
 }
 

@@ -5,10 +5,10 @@
 
 mod common;
 
-use common::{status, temp_dir, Daemon};
+use common::craft::send_all;
+use common::{status, status_when, temp_dir, Daemon};
 use std::net::UdpSocket;
 use std::path::Path;
-use std::time::Duration;
 use test_support::signed_vectors::{all, SignedVector};
 
 fn named(name: &str) -> SignedVector {
@@ -51,15 +51,17 @@ fn signed_frames_are_verified_and_failures_counted_by_reason() {
     let d = start(&dir, 0, &valid);
     let gnss_port = d.gnss();
     let udp = UdpSocket::bind("127.0.0.1:0").unwrap();
-    let send = |bytes: &[u8]| {
-        udp.send_to(bytes, d.v2x()).unwrap();
-        std::thread::sleep(Duration::from_millis(100));
-    };
+    // Each datagram is sent once the daemon has counted the one before, and the fix once
+    // the first TIM is counted: the order the daemon sees is the order sent, however slow
+    // the host (qemu-user runs this suite too).
+    let mut counted = 0;
+    let mut send = |bytes: &[u8]| counted = send_all(&d, &udp, &[bytes.to_vec()], counted);
     // Before any GNSS time the policy cannot check times.
     send(&valid.coer);
     udp.send_to(fix_at_vector_time().as_bytes(), gnss_port)
         .unwrap();
-    std::thread::sleep(Duration::from_millis(200));
+    let s = status_when(&d.http, |s| !s["fix_quality"].is_null());
+    assert!(!s["fix_quality"].is_null(), "the fix was not taken: {s}");
     send(&valid.coer);
     send(&valid.coer);
     // A forged payload (its own digest: a frame with the digest of one accepted is a replay,

@@ -71,7 +71,15 @@ fn ready_comes_once_serving_then_watchdog_pings_then_stopping_on_sigterm() {
     // Nothing polled before READY: the daemon answers at once.
     assert_eq!(http(&addr, "GET", "/healthz", ""), (200, "ok".into()));
 
-    // A 200 ms watchdog: a ping every 100 ms, from the first half interval on.
+    // A 200 ms watchdog: a ping every 100 ms, from the first half interval on. The pings
+    // sent while this test waited for READY and /healthz are taken first, so that the 1.5 s
+    // counts the pings sent in it (on a starved test thread they could be many).
+    sock.set_nonblocking(true).unwrap();
+    let mut queued = [0u8; 1024];
+    while let Ok(n) = sock.recv(&mut queued) {
+        assert_eq!(&queued[..n], b"WATCHDOG=1");
+    }
+    sock.set_nonblocking(false).unwrap();
     let t0 = Instant::now();
     let mut pings = 0;
     while t0.elapsed() < Duration::from_millis(1500) {

@@ -166,6 +166,20 @@ pub fn status(addr: &str) -> serde_json::Value {
     serde_json::from_str(&http(addr, "GET", "/api/status", "").1).unwrap()
 }
 
+/// Polls `GET /api/status` until `ok` holds for it (5 s at most: a daemon under qemu-user
+/// on a loaded host is slow, not stuck); returns the last status read, for the caller to
+/// assert on.
+pub fn status_when(addr: &str, ok: impl Fn(&serde_json::Value) -> bool) -> serde_json::Value {
+    let deadline = Instant::now() + Duration::from_secs(5);
+    loop {
+        let s = status(addr);
+        if ok(&s) || Instant::now() > deadline {
+            return s;
+        }
+        std::thread::sleep(Duration::from_millis(20));
+    }
+}
+
 /// The UPER octets of the codec's committed vector `name`.
 pub fn vector(name: &str) -> Vec<u8> {
     test_support::vectors::named(name).bytes()
