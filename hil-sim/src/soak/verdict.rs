@@ -168,7 +168,7 @@ impl Limits {
 
 /// The growth checks of a run: RSS and fd count (the largest of the last window against
 /// the largest of the baseline window) and event p99 (the smallest of the last window's
-/// per-sample p99s against the smallest of the baseline window's; see [`p99_check`]).
+/// per-sample p99s against the smallest of the baseline window's: why, at `p99_check`).
 pub fn growth(samples: &[Sample], limits: &Limits) -> Vec<Check> {
     let Some(w) = windows(samples.len()) else {
         return vec![Check::new(
