@@ -2,21 +2,22 @@
 
 use crate::args::RunArgs;
 
-/// Runs one scenario with `opts` and prints its report; true when every expectation held.
+/// Runs one scenario with `opts` and prints its report; true when every expectation held,
+/// with the run's roadside -> screen delays (ms, one per roadside change it showed).
 fn run_one(
     scenario: &hil_sim::scenario::Scenario,
     opts: &hil_sim::runner::RunOptions,
     v2x: &mut Vec<f64>,
-) -> bool {
+) -> (bool, Vec<f64>) {
     match hil_sim::runner::run(scenario, opts) {
         Ok(r) => {
             print_report(&r);
             v2x.extend(r.v2x_to_screen_ms.iter().copied());
-            r.passed
+            (r.passed, r.v2x_to_screen_ms)
         }
         Err(e) => {
             println!("  ERROR {e}");
-            false
+            (false, Vec::new())
         }
     }
 }
@@ -41,9 +42,9 @@ fn run_against_firmware(
         ..opts.clone()
     };
     println!("  -- daemon");
-    let daemon_ok = run_one(scenario, &daemon_opts, v2x);
+    let (daemon_ok, daemon_delays) = run_one(scenario, &daemon_opts, v2x);
     println!("  -- firmware in QEMU");
-    let firmware_ok = run_one(scenario, &firmware_opts, v2x);
+    let (firmware_ok, firmware_delays) = run_one(scenario, &firmware_opts, v2x);
     let log = firmware_opts.out.join("obu-state").join("firmware.log");
     if let Some(line) = std::fs::read_to_string(&log)
         .unwrap_or_default()
@@ -55,20 +56,23 @@ fn run_against_firmware(
     let read = |o: &hil_sim::runner::RunOptions| {
         std::fs::read_to_string(o.out.join("states.jsonl")).unwrap_or_default()
     };
-    let m = timeline::compare(
+    let mut m = timeline::compare(
         &timeline::by_fix(&read(&daemon_opts)),
         &timeline::by_fix(&read(&firmware_opts)),
     );
+    m.delay_fixes = timeline::delay_fixes(&daemon_delays, &firmware_delays);
     println!(
-        "  {} timeline: {} of {} fixes show the same state (distance within {} m; largest difference {:.3} m); {} met different roadside inputs (at most {} for {} roadside changes), {} settling after them",
+        "  {} timeline: {} of {} fixes show the same state (distance within {} m; largest difference {:.3} m); {} met different roadside inputs (at most {}: {} for {} roadside changes, {} spanned by the firmware's later delivery), {} settling after them",
         if m.matches() { "PASS" } else { "FAIL" },
         m.fixes_matching,
         m.fixes_compared,
         timeline::TOLERANCE,
         m.max_distance_diff_m,
         m.fixes_skipped,
+        m.allowed_skipped(),
         timeline::MAX_SKIPPED_PER_CHANGE * m.roadside_changes.max(1),
         m.roadside_changes,
+        m.delay_fixes,
         m.fixes_settling
     );
     for (k, path, d, f) in m.mismatches.iter().take(5) {
@@ -101,7 +105,7 @@ pub fn scenarios(a: &RunArgs) -> Result<(), String> {
             firmware: None,
         };
         let passed = match &firmware {
-            None => run_one(&scenario, &opts, &mut v2x),
+            None => run_one(&scenario, &opts, &mut v2x).0,
             Some(target) => run_against_firmware(&scenario, &opts, target, &mut v2x),
         };
         if !passed {
