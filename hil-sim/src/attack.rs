@@ -148,9 +148,13 @@ pub fn daemon_counts(addr: &str) -> Result<DeviceCounts, String> {
     })
 }
 
+/// How long the daemon may take to count the last datagrams of a run (an ARM daemon under
+/// qemu-user on a loaded host is the slowest).
+pub const COUNTS_SETTLE: Duration = Duration::from_secs(5);
+
 /// The daemon's counters once it has counted `sent` V2X datagrams: reads `/api/status`
-/// every 50 ms until [`DeviceCounts::v2x_total`] reaches `sent` or `within` has passed, and
-/// returns the last counters read either way (the checks judge them). A datagram still in
+/// every 50 ms until [`DeviceCounts::v2x_total`] reaches `sent` or [`COUNTS_SETTLE`] has
+/// passed, and returns the last counters read either way (the checks judge them). A datagram still in
 /// the daemon's socket when the senders stop is counted a moment later, longer on a
 /// loaded host or under qemu-user: reading once, at a fixed delay, would judge the host's
 /// pace, not the daemon.
@@ -158,12 +162,8 @@ pub fn daemon_counts(addr: &str) -> Result<DeviceCounts, String> {
 /// # Errors
 ///
 /// As [`daemon_counts`], when the last read failed.
-pub fn daemon_counts_settled(
-    addr: &str,
-    sent: u64,
-    within: Duration,
-) -> Result<DeviceCounts, String> {
-    let deadline = Instant::now() + within;
+pub fn daemon_counts_settled(addr: &str, sent: u64) -> Result<DeviceCounts, String> {
+    let deadline = Instant::now() + COUNTS_SETTLE;
     loop {
         let counts = daemon_counts(addr);
         let settled = counts.as_ref().is_ok_and(|c| c.v2x_total() >= sent);

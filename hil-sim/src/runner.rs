@@ -180,9 +180,6 @@ fn camera_site(s: &Scenario, road: &Road, zones: &[WorkZone]) -> Result<Option<L
 /// How long the firmware may take, after the bench stopped sending, to work through what it
 /// was sent.
 const FIRMWARE_CATCH_UP: Duration = Duration::from_secs(60);
-/// How long the daemon may take to count the last datagrams of a run (an ARM daemon under
-/// qemu-user on a loaded host is the slowest).
-const COUNTS_SETTLE: Duration = Duration::from_secs(5);
 
 /// Feeds the daemon for the whole drive while recording its states.
 fn drive_and_record(
@@ -270,7 +267,7 @@ fn drive_and_record(
         // once it has stopped (`run`).
         let device = (daemon.rig.is_none()).then(|| {
             let inputs = counts.sent + sent.sent;
-            attack::daemon_counts_settled(daemon.http_addr(), inputs, COUNTS_SETTLE)
+            attack::daemon_counts_settled(daemon.http_addr(), inputs)
         });
         AttackFacts {
             kind,

@@ -230,12 +230,7 @@ fn finish(
         }
     }
     let _ = running.http.join();
-    let device = crate::attack::daemon_counts_settled(
-        daemon.http_addr(),
-        w.sent.v2x(),
-        Duration::from_secs(5),
-    )
-    .ok();
+    let device = crate::attack::daemon_counts_settled(daemon.http_addr(), w.sent.v2x()).ok();
     w.stop_clients.store(true, Ordering::Relaxed);
     // A daemon that died was reaped by the sampling loop: its pid may be another process's.
     let stopped = match died {

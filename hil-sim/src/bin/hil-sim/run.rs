@@ -70,7 +70,7 @@ fn run_against_firmware(
         m.max_distance_diff_m,
         m.fixes_skipped,
         m.allowed_skipped(),
-        timeline::MAX_SKIPPED_PER_CHANGE * m.roadside_changes.max(1),
+        m.allowed_skipped() - m.delay_fixes,
         m.roadside_changes,
         m.delay_fixes,
         m.fixes_settling
