@@ -31,6 +31,9 @@ class Capacities:
         self.defaults = cfg["defaults"]
         self.capacity = cfg.get("capacity", {})
         self.sentinel = cfg.get("sentinel", {})
+        self.inline_items = cfg.get("inline", {})
+        self.boxed = set(cfg.get("boxed", {}).get("members", []))
+        self.boxed_open = set(cfg.get("boxed", {}).get("open", []))
         self.firmware = {}
         if firmware_path:
             with open(firmware_path, "rb") as f:
@@ -79,6 +82,33 @@ class Capacities:
         default = self.defaults[kind] if td.ub is None else min(td.ub, self.defaults[kind])
         return max(td.lb, self.get(td.key, default, fw))
 
+    def inline(self, td):
+        """Items a SEQUENCE OF keeps inside the value before it allocates (feature `alloc`;
+        0: all on the heap). At most the list's upper bound and 255 (the inline length is a
+        `u8`)."""
+        n = self.inline_items.get(td.key, 0)
+        if n:
+            self.used.add(td.key)
+        limit = min(255, td.ub if td.ub is not None else 255)
+        if not 0 <= n <= limit:
+            raise SystemExit(f"[inline] {td.key} = {n} outside 0..{limit}")
+        return n
+
+    def is_boxed(self, td, field):
+        """Whether a SEQUENCE member is kept in a `uper::Boxed` (on the heap with `alloc`)."""
+        key = f"{td.key}.{field.asn}"
+        if key in self.boxed:
+            self.used.add(key)
+            return True
+        return False
+
+    def is_boxed_open(self, td):
+        """Whether the values of an open type's known ids are kept in a `uper::Boxed`."""
+        if td.key in self.boxed_open:
+            self.used.add(td.key)
+            return True
+        return False
+
     def bits_octets(self, td, fw=False):
         """Octets of storage for a BIT STRING."""
         root = -(-td.ub // 8)
@@ -105,9 +135,8 @@ class Capacities:
         return out
 
     def unused(self):
-        return sorted(set(self.capacity) | set(self.sentinel)) and sorted(
-            (set(self.capacity) | set(self.sentinel)) - self.used) + sorted(
-            set(self.firmware) - self.used_firmware)
+        named = set(self.capacity) | set(self.sentinel) | set(self.inline_items) | self.boxed | self.boxed_open
+        return sorted(named - self.used) + sorted(set(self.firmware) - self.used_firmware)
 
 
 __all__ = ["Capacities", "naming"]

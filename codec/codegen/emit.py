@@ -15,6 +15,27 @@ DERIVE = "#[derive(Clone, Debug, PartialEq, Eq, Hash)]"
 DERIVE_COPY = "#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]"
 
 
+class BoxedRef:
+    """A member's type reference kept in a `uper::Boxed` (`[boxed]` in capacities.toml): the
+    Rust type is the box; everything else is the boxed type's."""
+
+    builtin = None
+
+    def __init__(self, inner):
+        self.inner = inner
+
+    def rust(self, module):
+        return f"uper::Boxed<{self.inner.rust(module)}>"
+
+    def __getattr__(self, name):
+        return getattr(self.inner, name)
+
+
+def unboxed(ref):
+    """The type a `BoxedRef` boxes (or `ref` itself)."""
+    return ref.inner if isinstance(ref, BoxedRef) else ref
+
+
 def prim(lb, ub):
     """The smallest Rust integer type holding lb..=ub."""
     if lb >= 0:
@@ -244,10 +265,17 @@ class Emitter:
         ctor = ("    /// An empty list (valid for encoding once it holds the minimum number of items).\n"
                 "    pub fn new() -> Self {\n        Self(uper::SeqOf::new())\n    }\n")
         self.extra = f"impl Default for {td.name} {{\n    fn default() -> Self {{\n        Self::new()\n    }}\n}}\n"
-        return self.emit_sized(td, f"SEQUENCE OF {item}", f"uper::SeqOf<{item}, {cap}>", "decode_seq_of_into",
+        inline = self.caps.inline(td)
+        storage = f"uper::SeqOf<{item}, {cap}, {inline}>" if inline else f"uper::SeqOf<{item}, {cap}>"
+        return self.emit_sized(td, f"SEQUENCE OF {item}", storage, "decode_seq_of_into",
                                "encode_seq_of", ctor)
 
     def emit_seq(self, td):
+        for f in td.fields:
+            if not isinstance(f.ref, BoxedRef) and self.caps.is_boxed(td, f):
+                if not f.optional:
+                    raise SystemExit(f"[boxed] {td.key}.{f.asn}: only OPTIONAL members are boxed")
+                f.ref = BoxedRef(f.ref)
         s = [self.doc(td, "SEQUENCE" + (" (extensible)" if td.extensible else "")), DERIVE, f"pub struct {td.name} {{"]
         for f in td.fields:
             ty = self.rust(f.ref, td)
@@ -401,6 +429,8 @@ class Emitter:
         return "\n".join(s)
 
     def emit_open(self, td):
+        if self.caps.is_boxed_open(td):
+            td.variants = [(i, v, r if isinstance(r, BoxedRef) else BoxedRef(r)) for i, v, r in td.variants]
         idt = td.id_ref.typedef
         id_ty = self.rust(td.id_ref, td)
         s = [self.doc(td, f"`{td.id_asn}` and the `{td.open_asn}` it selects (open type over an object set)"), DERIVE,
@@ -429,7 +459,7 @@ class Emitter:
         s.append(self.open_jer(td, id_ty))
         if td.key == "MessageFrame.MessageFrame.value":
             for i, v, r in td.variants:
-                s.append(f"impl crate::frame::Message for {self.rust(r, td)} {{\n    const MESSAGE_ID: u16 = {i};\n}}\n")
+                s.append(f"impl crate::frame::Message for {self.rust(unboxed(r), td)} {{\n    const MESSAGE_ID: u16 = {i};\n}}\n")
             s.append(message_names(self, td))
         ph = f"Self::Unknown {{ id: <{id_ty} as uper::Placeholder>::placeholder(), bytes: uper::Octets::new() }}"
         s.append(self.uper_impl(td, "\n".join(dec), "\n".join(enc), ph))
@@ -449,7 +479,7 @@ def message_names(self, td):
     """The table of the MessageFrame's messages (id, short name, ASN.1 type) and the short
     name lookup: the one place the short names are spelt."""
     rows = [(i, naming.message_short_name(r.typedef.asn), r.typedef.asn, rust)
-            for i, _, r, rust in ((i, v, r, self.rust(r, td)) for i, v, r in td.variants)]
+            for i, _, r, rust in ((i, v, r, self.rust(unboxed(r), td)) for i, v, r in td.variants)]
     table = "".join(f"    MessageName {{ id: {i}, short: \"{short}\", type_name: \"{asn}\", "
                     f"value_octets: core::mem::size_of::<{rust}>() }},\n"
                     for i, short, asn, rust in rows)

@@ -78,7 +78,7 @@ mod tests {
                 let mut a = std::vec![0u8; 1 << 16];
                 let n = encode_message(&tim, &mut a).unwrap();
                 let frame = MessageFrame {
-                    value: MessageFrameValue::TravelerInformation(tim.clone()),
+                    value: MessageFrameValue::TravelerInformation(tim.clone().into()),
                     extensions: uper::Extensions::new(),
                 };
                 let mut b = std::vec![0u8; 1 << 16];

@@ -83,6 +83,16 @@ impl Jer for bool {
     }
 }
 
+impl<T: Jer> Jer for crate::uper::Boxed<T> {
+    /// The value's JER, as if it were not boxed.
+    fn write_jer(&self, out: &mut JerWriter) {
+        T::write_jer(self, out)
+    }
+    fn read_jer(v: &Value) -> JerResult<Self> {
+        T::read_jer(v).map(Self::new)
+    }
+}
+
 impl Jer for crate::uper::Null {
     fn write_jer(&self, out: &mut JerWriter) {
         out.null();

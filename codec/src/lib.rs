@@ -41,7 +41,13 @@
 //! Without features nothing allocates: SEQUENCE OF and strings are bounded by capacities set
 //! per type in `codec/codegen/capacities.toml` (a value over a capacity is a
 //! [`uper::DecodeErrorKind::CapacityExceeded`] error that names the capacity). Feature
-//! `alloc` switches them to `Vec`/`String`, bounded only by the ASN.1 SIZE constraints.
+//! `alloc` switches them to heap storage, bounded only by the ASN.1 SIZE constraints; what
+//! real traffic mostly holds stays inside the value, so that a new value's decode allocates
+//! little: the first items of the lists chosen in `capacities.toml`'s `[inline]` (a SPaT
+//! movement's event, a lane's connections), up to 15 octets of an OCTET STRING and 15
+//! characters of an IA5String. With `alloc` a few large, mostly absent members (a node's
+//! attributes) and the message of a [`MessageFrame`] are boxed ([`uper::Boxed`]), so a
+//! `MessageFrame` is a few words to move; without it they are in place.
 //! Feature `firmware-capacities` selects a second, much smaller capacity profile
 //! (`codec/codegen/capacities-firmware.toml`) for microcontrollers; the capacities that differ
 //! between the two profiles are the consts of [`capacities`].

@@ -81,13 +81,13 @@ pub fn check(st: &mut State, data: &[u8]) {
         round_trip(slot, &mut st.encoding, &mut st.again, data);
     }
     let in_frame_map = match (&decoded, &slot.first.value) {
-        (Ok(()), MessageFrameValue::MapData(m)) => Some(m),
+        (Ok(()), MessageFrameValue::MapData(m)) => Some(&**m),
         _ => None,
     };
     let direct = frame::decode_message_into(data, &mut *st.map);
     agree("MapData", data, &decoded, in_frame_map, &direct, &*st.map);
     let in_frame_tim = match (&decoded, &slot.first.value) {
-        (Ok(()), MessageFrameValue::TravelerInformation(t)) => Some(t),
+        (Ok(()), MessageFrameValue::TravelerInformation(t)) => Some(&**t),
         _ => None,
     };
     let direct = frame::decode_message_into(data, &mut *st.tim);

@@ -7950,10 +7950,10 @@ crate::__constrained_int!(LaneWidth, u16, 0, 32767, "Common.LaneWidth");
 /// ASN.1 `SpeedLimitList` (module `Common`): SEQUENCE OF RegulatorySpeedLimit (SIZE(1..9)).
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub struct SpeedLimitList(
-    pub uper::SeqOf<RegulatorySpeedLimit, { super::capacities::COMMON_SPEED_LIMIT_LIST }>,
+    pub uper::SeqOf<RegulatorySpeedLimit, { super::capacities::COMMON_SPEED_LIMIT_LIST }, 5>,
 );
 
-crate::__newtype_deref!(SpeedLimitList, uper::SeqOf<RegulatorySpeedLimit, { super::capacities::COMMON_SPEED_LIMIT_LIST }>);
+crate::__newtype_deref!(SpeedLimitList, uper::SeqOf<RegulatorySpeedLimit, { super::capacities::COMMON_SPEED_LIMIT_LIST }, 5>);
 
 impl SpeedLimitList {
     const SIZE: uper::Size = uper::Size::range(1, 9);
@@ -8492,7 +8492,7 @@ pub struct NodeXY {
     /// `delta`.
     pub delta: NodeOffsetPointXY,
     /// `attributes` (OPTIONAL).
-    pub attributes: Option<NodeAttributeSetXY>,
+    pub attributes: Option<uper::Boxed<NodeAttributeSetXY>>,
     /// Extension additions unknown to J2735 2020, kept to re-encode them.
     pub extensions: uper::Extensions<0>,
 }
@@ -8519,7 +8519,7 @@ impl Uper for NodeXY {
                 uper::fill_option(&mut out.attributes);
             }
             if let Some(v) = &mut out.attributes {
-                <NodeAttributeSetXY>::decode_into(r, v)?;
+                <uper::Boxed<NodeAttributeSetXY>>::decode_into(r, v)?;
             }
         } else {
             out.attributes = None;
@@ -8565,7 +8565,7 @@ impl crate::jer::Jer for NodeXY {
         let f_attributes = crate::jer::read_optional(
             v,
             "attributes",
-            <NodeAttributeSetXY as crate::jer::Jer>::read_jer,
+            <uper::Boxed<NodeAttributeSetXY> as crate::jer::Jer>::read_jer,
         )?;
         Ok(Self {
             delta: f_delta,
@@ -8581,7 +8581,7 @@ impl uper::random::Random for NodeXY {
         Self {
             delta: <NodeOffsetPointXY as uper::random::Random>::random(g),
             attributes: if g.coin() {
-                Some(<NodeAttributeSetXY as uper::random::Random>::random(g))
+                Some(<uper::Boxed<NodeAttributeSetXY> as uper::random::Random>::random(g))
             } else {
                 None
             },

@@ -1918,9 +1918,9 @@ impl crate::jer::Jer for GenericLocations {
 
 /// ASN.1 `ITIScodesAndText` (module `ITIS`): SEQUENCE OF ITIScodesAndTextItem (SIZE(1..100)).
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
-pub struct ITIScodesAndText(pub uper::SeqOf<ITIScodesAndTextItem, 4>);
+pub struct ITIScodesAndText(pub uper::SeqOf<ITIScodesAndTextItem, 4, 3>);
 
-crate::__newtype_deref!(ITIScodesAndText, uper::SeqOf<ITIScodesAndTextItem, 4>);
+crate::__newtype_deref!(ITIScodesAndText, uper::SeqOf<ITIScodesAndTextItem, 4, 3>);
 
 impl ITIScodesAndText {
     const SIZE: uper::Size = uper::Size::range(1, 100);

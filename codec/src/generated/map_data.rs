@@ -2611,10 +2611,10 @@ impl uper::random::Random for AllowedManeuvers {
 /// ASN.1 `ConnectsToList` (module `MapData`): SEQUENCE OF Connection (SIZE(1..16)).
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub struct ConnectsToList(
-    pub uper::SeqOf<Connection, { super::capacities::MAP_DATA_CONNECTS_TO_LIST }>,
+    pub uper::SeqOf<Connection, { super::capacities::MAP_DATA_CONNECTS_TO_LIST }, 2>,
 );
 
-crate::__newtype_deref!(ConnectsToList, uper::SeqOf<Connection, { super::capacities::MAP_DATA_CONNECTS_TO_LIST }>);
+crate::__newtype_deref!(ConnectsToList, uper::SeqOf<Connection, { super::capacities::MAP_DATA_CONNECTS_TO_LIST }, 2>);
 
 impl ConnectsToList {
     const SIZE: uper::Size = uper::Size::range(1, 16);
@@ -2969,10 +2969,10 @@ impl uper::random::Random for ConnectingLane {
 /// ASN.1 `OverlayLaneList` (module `MapData`): SEQUENCE OF super::common::LaneID (SIZE(1..5)).
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub struct OverlayLaneList(
-    pub uper::SeqOf<super::common::LaneID, { super::capacities::MAP_DATA_OVERLAY_LANE_LIST }>,
+    pub uper::SeqOf<super::common::LaneID, { super::capacities::MAP_DATA_OVERLAY_LANE_LIST }, 5>,
 );
 
-crate::__newtype_deref!(OverlayLaneList, uper::SeqOf<super::common::LaneID, { super::capacities::MAP_DATA_OVERLAY_LANE_LIST }>);
+crate::__newtype_deref!(OverlayLaneList, uper::SeqOf<super::common::LaneID, { super::capacities::MAP_DATA_OVERLAY_LANE_LIST }, 5>);
 
 impl OverlayLaneList {
     const SIZE: uper::Size = uper::Size::range(1, 5);

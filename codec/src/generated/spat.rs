@@ -179,9 +179,9 @@ impl uper::random::Random for SPAT {
 
 /// ASN.1 `IntersectionStateList` (module `SPAT`): SEQUENCE OF IntersectionState (SIZE(1..32)).
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
-pub struct IntersectionStateList(pub uper::SeqOf<IntersectionState, 4>);
+pub struct IntersectionStateList(pub uper::SeqOf<IntersectionState, 4, 1>);
 
-crate::__newtype_deref!(IntersectionStateList, uper::SeqOf<IntersectionState, 4>);
+crate::__newtype_deref!(IntersectionStateList, uper::SeqOf<IntersectionState, 4, 1>);
 
 impl IntersectionStateList {
     const SIZE: uper::Size = uper::Size::range(1, 32);
@@ -984,9 +984,9 @@ impl uper::random::Random for MovementState {
 
 /// ASN.1 `MovementEventList` (module `SPAT`): SEQUENCE OF MovementEvent (SIZE(1..16)).
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
-pub struct MovementEventList(pub uper::SeqOf<MovementEvent, 16>);
+pub struct MovementEventList(pub uper::SeqOf<MovementEvent, 16, 1>);
 
-crate::__newtype_deref!(MovementEventList, uper::SeqOf<MovementEvent, 16>);
+crate::__newtype_deref!(MovementEventList, uper::SeqOf<MovementEvent, 16, 1>);
 
 impl MovementEventList {
     const SIZE: uper::Size = uper::Size::range(1, 16);

@@ -1262,10 +1262,11 @@ pub struct TravelerDataFrameRegions(
     pub  uper::SeqOf<
         GeographicalPath,
         { super::capacities::TRAVELER_INFORMATION_TRAVELER_DATA_FRAME_REGIONS },
+        1,
     >,
 );
 
-crate::__newtype_deref!(TravelerDataFrameRegions, uper::SeqOf<GeographicalPath, { super::capacities::TRAVELER_INFORMATION_TRAVELER_DATA_FRAME_REGIONS }>);
+crate::__newtype_deref!(TravelerDataFrameRegions, uper::SeqOf<GeographicalPath, { super::capacities::TRAVELER_INFORMATION_TRAVELER_DATA_FRAME_REGIONS }, 1>);
 
 impl TravelerDataFrameRegions {
     const SIZE: uper::Size = uper::Size::range(1, 16);
@@ -2359,7 +2360,7 @@ pub struct NodeLL {
     /// `delta`.
     pub delta: NodeOffsetPointLL,
     /// `attributes` (OPTIONAL).
-    pub attributes: Option<NodeAttributeSetLL>,
+    pub attributes: Option<uper::Boxed<NodeAttributeSetLL>>,
     /// Extension additions unknown to J2735 2020, kept to re-encode them.
     pub extensions: uper::Extensions<0>,
 }
@@ -2386,7 +2387,7 @@ impl Uper for NodeLL {
                 uper::fill_option(&mut out.attributes);
             }
             if let Some(v) = &mut out.attributes {
-                <NodeAttributeSetLL>::decode_into(r, v)?;
+                <uper::Boxed<NodeAttributeSetLL>>::decode_into(r, v)?;
             }
         } else {
             out.attributes = None;
@@ -2433,7 +2434,7 @@ impl crate::jer::Jer for NodeLL {
         let f_attributes = crate::jer::read_optional(
             v,
             "attributes",
-            <NodeAttributeSetLL as crate::jer::Jer>::read_jer,
+            <uper::Boxed<NodeAttributeSetLL> as crate::jer::Jer>::read_jer,
         )?;
         Ok(Self {
             delta: f_delta,
@@ -2449,7 +2450,7 @@ impl uper::random::Random for NodeLL {
         Self {
             delta: <NodeOffsetPointLL as uper::random::Random>::random(g),
             attributes: if g.coin() {
-                Some(<NodeAttributeSetLL as uper::random::Random>::random(g))
+                Some(<uper::Boxed<NodeAttributeSetLL> as uper::random::Random>::random(g))
             } else {
                 None
             },
@@ -6227,10 +6228,10 @@ impl crate::jer::Jer for TravelerDataFrameContent {
 /// ASN.1 `WorkZone` (module `TravelerInformation`): SEQUENCE OF WorkZoneItem (SIZE(1..16)).
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub struct WorkZone(
-    pub uper::SeqOf<WorkZoneItem, { super::capacities::TRAVELER_INFORMATION_WORK_ZONE }>,
+    pub uper::SeqOf<WorkZoneItem, { super::capacities::TRAVELER_INFORMATION_WORK_ZONE }, 3>,
 );
 
-crate::__newtype_deref!(WorkZone, uper::SeqOf<WorkZoneItem, { super::capacities::TRAVELER_INFORMATION_WORK_ZONE }>);
+crate::__newtype_deref!(WorkZone, uper::SeqOf<WorkZoneItem, { super::capacities::TRAVELER_INFORMATION_WORK_ZONE }, 3>);
 
 impl WorkZone {
     const SIZE: uper::Size = uper::Size::range(1, 16);
@@ -6526,9 +6527,9 @@ impl uper::random::Random for ITIStextPhrase {
 
 /// ASN.1 `GenericSignage` (module `TravelerInformation`): SEQUENCE OF GenericSignageItem (SIZE(1..16)).
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
-pub struct GenericSignage(pub uper::SeqOf<GenericSignageItem, 4>);
+pub struct GenericSignage(pub uper::SeqOf<GenericSignageItem, 4, 3>);
 
-crate::__newtype_deref!(GenericSignage, uper::SeqOf<GenericSignageItem, 4>);
+crate::__newtype_deref!(GenericSignage, uper::SeqOf<GenericSignageItem, 4, 3>);
 
 impl GenericSignage {
     const SIZE: uper::Size = uper::Size::range(1, 16);
@@ -6770,10 +6771,10 @@ impl crate::jer::Jer for GenericSignageItemItem {
 /// ASN.1 `SpeedLimit` (module `TravelerInformation`): SEQUENCE OF SpeedLimitItem (SIZE(1..16)).
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub struct SpeedLimit(
-    pub uper::SeqOf<SpeedLimitItem, { super::capacities::TRAVELER_INFORMATION_SPEED_LIMIT }>,
+    pub uper::SeqOf<SpeedLimitItem, { super::capacities::TRAVELER_INFORMATION_SPEED_LIMIT }, 3>,
 );
 
-crate::__newtype_deref!(SpeedLimit, uper::SeqOf<SpeedLimitItem, { super::capacities::TRAVELER_INFORMATION_SPEED_LIMIT }>);
+crate::__newtype_deref!(SpeedLimit, uper::SeqOf<SpeedLimitItem, { super::capacities::TRAVELER_INFORMATION_SPEED_LIMIT }, 3>);
 
 impl SpeedLimit {
     const SIZE: uper::Size = uper::Size::range(1, 16);
@@ -7009,9 +7010,9 @@ impl crate::jer::Jer for SpeedLimitItemItem {
 
 /// ASN.1 `ExitService` (module `TravelerInformation`): SEQUENCE OF ExitServiceItem (SIZE(1..16)).
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
-pub struct ExitService(pub uper::SeqOf<ExitServiceItem, 4>);
+pub struct ExitService(pub uper::SeqOf<ExitServiceItem, 4, 3>);
 
-crate::__newtype_deref!(ExitService, uper::SeqOf<ExitServiceItem, 4>);
+crate::__newtype_deref!(ExitService, uper::SeqOf<ExitServiceItem, 4, 3>);
 
 impl ExitService {
     const SIZE: uper::Size = uper::Size::range(1, 16);

@@ -13,15 +13,19 @@
 //! checked, all lengths are bounded by the bits that remain and by the no-heap capacities.
 //! J2735 has no recursive types, so the nesting depth of any value is bounded by the schema.
 
+mod boxed;
 mod error;
 mod ext;
 #[cfg(feature = "_random")]
 pub mod random;
 mod reader;
 mod sized;
+#[cfg(feature = "alloc")]
+mod slots;
 mod storage;
 mod writer;
 
+pub use boxed::Boxed;
 pub use error::{DecodeError, DecodeErrorKind, EncodeError, EncodeErrorKind};
 pub use ext::{
     decode_open, decode_unknown_open, encode_unknown_open, Extensions, UnknownAdditions,
@@ -32,7 +36,9 @@ pub use sized::{
     decode_octets_into, decode_seq_of_into, encode_bits, encode_ia5, encode_octets, encode_seq_of,
     read_octets_into, read_sized, write_sized, Size,
 };
-pub use storage::{Bits, Ia5, Octets, SeqOf};
+#[cfg(feature = "alloc")]
+pub use slots::IA5_INLINE;
+pub use storage::{Bits, Ia5, Octets, SeqOf, OCTETS_INLINE};
 pub use writer::{EncodeResult, Writer};
 
 /// A number outside a constrained INTEGER type's range (from `TryFrom`).

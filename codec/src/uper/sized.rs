@@ -126,15 +126,15 @@ fn over_capacity(at: usize, key: &'static str) -> DecodeError {
 
 /// Decodes a SEQUENCE OF into `out`, reusing its items' storage; `key` names the capacity
 /// in errors.
-pub fn decode_seq_of_into<T: Uper, const N: usize>(
+pub fn decode_seq_of_into<T: Uper, const N: usize, const I: usize>(
     r: &mut Reader<'_>,
     size: Size,
     key: &'static str,
-    out: &mut SeqOf<T, N>,
+    out: &mut SeqOf<T, N, I>,
 ) -> DecodeResult<()> {
     out.clear();
     read_sized(r, size, |r, n| {
-        if out.len() + n > SeqOf::<T, N>::capacity() {
+        if out.len() + n > SeqOf::<T, N, I>::capacity() {
             return Err(over_capacity(r.position(), key));
         }
         // With `alloc`: the announced items in runs of at most RESERVE_ITEMS slots, each run
@@ -331,20 +331,52 @@ pub fn decode_ia5_into<const N: usize>(
             return Err(DecodeError::new(DKind::UnexpectedEnd, r.position()));
         }
         out.reserve(n);
-        let mut left = n;
-        while left > 0 {
-            // Eight 7-bit characters per read.
-            let k = left.min(8);
-            let word = r.read_bits(7 * k as u32)?;
-            for i in (0..k).rev() {
-                let c = ((word >> (7 * i)) & 0x7f) as u8 as char;
-                out.push(c).map_err(|_| over_capacity(r.position(), key))?;
-            }
-            left -= k;
-        }
-        Ok(())
+        read_ia5_chars(r, n, out).unwrap_or_else(|| Err(over_capacity(r.position(), key)))
     })?;
     Ok(())
+}
+
+/// Reads `n` 7-bit characters into `out`, eight per read; `None` when they do not fit (no-heap
+/// capacity).
+///
+/// With `alloc` they gather in a run on the stack and join the text a run at a time (one
+/// check of the storage per run, not per character). Without it each is pushed at once: no
+/// run buffer on the firmware's stack.
+fn read_ia5_chars<const N: usize>(
+    r: &mut Reader<'_>,
+    n: usize,
+    out: &mut Ia5<N>,
+) -> Option<DecodeResult<()>> {
+    #[cfg(feature = "alloc")]
+    let mut run = [0u8; 64];
+    #[cfg(feature = "alloc")]
+    let mut filled = 0;
+    let mut left = n;
+    while left > 0 {
+        let k = left.min(8);
+        let word = match r.read_bits(7 * k as u32) {
+            Ok(word) => word,
+            Err(e) => return Some(Err(e)),
+        };
+        left -= k;
+        let chars = (0..k).rev().map(|i| ((word >> (7 * i)) & 0x7f) as u8);
+        #[cfg(feature = "alloc")]
+        {
+            for (slot, c) in run[filled..filled + k].iter_mut().zip(chars) {
+                *slot = c;
+            }
+            filled += k;
+            if filled + 8 > run.len() || left == 0 {
+                out.push_ascii(&run[..filled]);
+                filled = 0;
+            }
+        }
+        #[cfg(not(feature = "alloc"))]
+        for c in chars {
+            out.push(char::from(c)).ok()?;
+        }
+    }
+    Some(Ok(()))
 }
 
 /// Encodes an IA5String.

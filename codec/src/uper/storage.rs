@@ -10,9 +10,6 @@ use core::ops::{Deref, DerefMut};
 
 use super::Placeholder;
 
-#[cfg(feature = "alloc")]
-use alloc::{string::String, vec::Vec};
-
 /// A SEQUENCE OF (or variable OCTET STRING) value: at most `N` items without `alloc`.
 ///
 /// The items live in a `heapless::Vec` (without `alloc`) or a `Vec` (with it) whose slots
@@ -23,16 +20,16 @@ use alloc::{string::String, vec::Vec};
 /// nothing to create, whatever `N` (no array of placeholders is built, so no large temporary
 /// lands on the stack when an absent OPTIONAL member becomes present). Only the first
 /// `len()` items are the value: equality, hashing, `Debug` and iteration look at those alone.
-pub struct SeqOf<T, const N: usize> {
+pub struct SeqOf<T, const N: usize, const I: usize = 0> {
     len: Len,
     /// Initialised slots (at least `len`; the rest hold former items for reuse).
-    items: Slots<T, N>,
+    items: Slots<T, N, I>,
 }
 
 #[cfg(not(feature = "alloc"))]
-type Slots<T, const N: usize> = heapless::Vec<T, N>;
+type Slots<T, const N: usize, const I: usize> = heapless::Vec<T, N>;
 #[cfg(feature = "alloc")]
-type Slots<T, const N: usize> = Vec<T>;
+type Slots<T, const N: usize, const I: usize> = super::slots::Slots<T, I>;
 
 /// The length of a [`SeqOf`], stored plus one so that it has a niche (zero): an
 /// `Option<SeqOf>` then takes no more room than the `SeqOf` (no-heap item storage, being
@@ -53,10 +50,15 @@ impl Len {
     }
 }
 
-/// Variable-size octets (OCTET STRING, unknown open-type content).
-pub type Octets<const N: usize> = SeqOf<u8, N>;
+/// Octets a variable OCTET STRING keeps inside the value with `alloc` before it allocates
+/// (15 take no more room than the `Vec` they spare: see `slots.rs`); real traffic's unknown
+/// extension additions and open-type contents are mostly a few octets.
+pub const OCTETS_INLINE: usize = 15;
 
-impl<T: Placeholder, const N: usize> SeqOf<T, N> {
+/// Variable-size octets (OCTET STRING, unknown open-type content).
+pub type Octets<const N: usize> = SeqOf<u8, N, OCTETS_INLINE>;
+
+impl<T: Placeholder, const N: usize, const I: usize> SeqOf<T, N, I> {
     /// An empty sequence (a `const fn`: a sequence can start out in static memory).
     pub const fn new() -> Self {
         Self {
@@ -84,9 +86,9 @@ impl<T: Placeholder, const N: usize> SeqOf<T, N> {
             #[cfg(not(feature = "alloc"))]
             self.items.push(T::placeholder()).ok()?;
             #[cfg(feature = "alloc")]
-            self.items.push(T::placeholder());
+            self.items.grow_to(len + 1, T::placeholder).ok()?;
         }
-        let slot = self.items.get_mut(len)?;
+        let slot = self.items.as_mut_slice().get_mut(len)?;
         self.len.set(len + 1);
         Some(slot)
     }
@@ -99,25 +101,16 @@ impl<T: Placeholder, const N: usize> SeqOf<T, N> {
     pub fn grow(&mut self, n: usize) -> Option<&mut [T]> {
         let len = self.len.get();
         let new_len = len.checked_add(n).filter(|&l| l <= Self::capacity())?;
+        // The first room exactly (a decode knows the length before the items), later room
+        // amortised (a long list grows in runs, see `decode_seq_of_into`).
         #[cfg(feature = "alloc")]
-        if self.items.len() < new_len {
-            // The first room exactly (a decode knows the length before the items), later
-            // room amortised (a long list grows in runs, see `decode_seq_of_into`).
-            let more = new_len - self.items.len();
-            let room = if self.items.capacity() == 0 {
-                self.items.try_reserve_exact(more)
-            } else {
-                self.items.try_reserve(more)
-            };
-            room.ok()?;
-            self.items.resize_with(new_len, T::placeholder);
-        }
+        self.items.grow_to(new_len, T::placeholder).ok()?;
         #[cfg(not(feature = "alloc"))]
         while self.items.len() < new_len {
             self.items.push(T::placeholder()).ok()?;
         }
         self.len.set(new_len);
-        self.items.get_mut(len..new_len)
+        self.items.as_mut_slice().get_mut(len..new_len)
     }
 
     /// Removes and returns the last item.
@@ -129,7 +122,7 @@ impl<T: Placeholder, const N: usize> SeqOf<T, N> {
     }
 }
 
-impl<T, const N: usize> SeqOf<T, N> {
+impl<T, const N: usize, const I: usize> SeqOf<T, N, I> {
     /// How many items fit: `N` without `alloc`, unbounded (`usize::MAX`) with it.
     pub const fn capacity() -> usize {
         if cfg!(feature = "alloc") {
@@ -166,16 +159,16 @@ impl<T, const N: usize> SeqOf<T, N> {
     }
 
     fn as_slice(&self) -> &[T] {
-        &self.items[..self.len.get()]
+        &self.items.as_slice()[..self.len.get()]
     }
 
     fn as_mut_slice(&mut self) -> &mut [T] {
         let len = self.len.get();
-        &mut self.items[..len]
+        &mut self.items.as_mut_slice()[..len]
     }
 }
 
-impl<T: Clone, const N: usize> Clone for SeqOf<T, N> {
+impl<T: Clone, const N: usize, const I: usize> Clone for SeqOf<T, N, I> {
     /// Copies the items only (not the slots kept for reuse).
     fn clone(&self) -> Self {
         let live = self.as_slice();
@@ -183,14 +176,14 @@ impl<T: Clone, const N: usize> Clone for SeqOf<T, N> {
         #[cfg(not(feature = "alloc"))]
         let items = heapless::Vec::from_slice(live).unwrap_or_default();
         #[cfg(feature = "alloc")]
-        let items = live.to_vec();
+        let items = Slots::<T, N, I>::from_items(live);
         let mut len = Len::ZERO;
         len.set(items.len());
         Self { len, items }
     }
 }
 
-impl<T: Placeholder + Clone, const N: usize> SeqOf<T, N> {
+impl<T: Placeholder + Clone, const N: usize, const I: usize> SeqOf<T, N, I> {
     /// A sequence holding a copy of `items`; `None` when they exceed the capacity.
     pub fn from_slice(items: &[T]) -> Option<Self> {
         let mut s = Self::new();
@@ -201,46 +194,46 @@ impl<T: Placeholder + Clone, const N: usize> SeqOf<T, N> {
     }
 }
 
-impl<T: Placeholder, const N: usize> Default for SeqOf<T, N> {
+impl<T: Placeholder, const N: usize, const I: usize> Default for SeqOf<T, N, I> {
     fn default() -> Self {
         Self::new()
     }
 }
 
-impl<T: Placeholder, const N: usize> Placeholder for SeqOf<T, N> {
+impl<T: Placeholder, const N: usize, const I: usize> Placeholder for SeqOf<T, N, I> {
     fn placeholder() -> Self {
         Self::new()
     }
 }
 
-impl<T, const N: usize> Deref for SeqOf<T, N> {
+impl<T, const N: usize, const I: usize> Deref for SeqOf<T, N, I> {
     type Target = [T];
     fn deref(&self) -> &[T] {
         self.as_slice()
     }
 }
 
-impl<T, const N: usize> DerefMut for SeqOf<T, N> {
+impl<T, const N: usize, const I: usize> DerefMut for SeqOf<T, N, I> {
     fn deref_mut(&mut self) -> &mut [T] {
         self.as_mut_slice()
     }
 }
 
-impl<T: PartialEq, const N: usize> PartialEq for SeqOf<T, N> {
+impl<T: PartialEq, const N: usize, const I: usize> PartialEq for SeqOf<T, N, I> {
     fn eq(&self, other: &Self) -> bool {
         self.as_slice() == other.as_slice()
     }
 }
 
-impl<T: Eq, const N: usize> Eq for SeqOf<T, N> {}
+impl<T: Eq, const N: usize, const I: usize> Eq for SeqOf<T, N, I> {}
 
-impl<T: core::hash::Hash, const N: usize> core::hash::Hash for SeqOf<T, N> {
+impl<T: core::hash::Hash, const N: usize, const I: usize> core::hash::Hash for SeqOf<T, N, I> {
     fn hash<H: core::hash::Hasher>(&self, state: &mut H) {
         self.as_slice().hash(state)
     }
 }
 
-impl<'a, T, const N: usize> IntoIterator for &'a SeqOf<T, N> {
+impl<'a, T, const N: usize, const I: usize> IntoIterator for &'a SeqOf<T, N, I> {
     type Item = &'a T;
     type IntoIter = core::slice::Iter<'a, T>;
     fn into_iter(self) -> Self::IntoIter {
@@ -248,19 +241,22 @@ impl<'a, T, const N: usize> IntoIterator for &'a SeqOf<T, N> {
     }
 }
 
-impl<T: fmt::Debug, const N: usize> fmt::Debug for SeqOf<T, N> {
+impl<T: fmt::Debug, const N: usize, const I: usize> fmt::Debug for SeqOf<T, N, I> {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         f.debug_list().entries(self.iter()).finish()
     }
 }
 
 /// An IA5String value (7-bit ASCII): at most `N` characters without `alloc`.
-#[derive(Clone, PartialEq, Eq, Hash, Default)]
+///
+/// With `alloc`, up to `uper::IA5_INLINE` characters stay inside the value (no allocation for
+/// a short name); a longer text is a `String`.
+#[derive(Clone)]
 pub struct Ia5<const N: usize> {
     #[cfg(not(feature = "alloc"))]
     text: heapless::String<N>,
     #[cfg(feature = "alloc")]
-    text: String,
+    text: super::slots::Text,
 }
 
 impl<const N: usize> Ia5<N> {
@@ -270,13 +266,14 @@ impl<const N: usize> Ia5<N> {
             #[cfg(not(feature = "alloc"))]
             text: heapless::String::new(),
             #[cfg(feature = "alloc")]
-            text: String::new(),
+            text: super::slots::Text::new(),
         }
     }
 
     /// A copy of `s`; `None` when it is not IA5 (7-bit) or exceeds the capacity.
     pub fn try_from_str(s: &str) -> Option<Self> {
         let mut t = Self::new();
+        t.reserve(s.len());
         for c in s.chars() {
             t.push(c).ok()?;
         }
@@ -297,6 +294,14 @@ impl<const N: usize> Ia5<N> {
         }
     }
 
+    /// Appends a run of 7-bit characters (a decode's up to 64 at a time, masked to 7 bits by
+    /// the caller).
+    #[cfg(feature = "alloc")]
+    pub(super) fn push_ascii(&mut self, run: &[u8]) {
+        debug_assert!(run.is_ascii());
+        self.text.push_ascii(run);
+    }
+
     /// Makes room for `additional` more characters at once (with `alloc`; without it the
     /// room is fixed). Callers bound `additional` by the input that remains.
     pub fn reserve(&mut self, additional: usize) {
@@ -306,24 +311,48 @@ impl<const N: usize> Ia5<N> {
         let _ = additional;
     }
 
-    /// Removes every character (with `alloc`, the allocation is kept for reuse).
+    /// Removes every character (with `alloc`, an allocation is kept for reuse).
     pub fn clear(&mut self) {
         self.text.clear();
     }
 
     /// The text.
     pub fn as_str(&self) -> &str {
-        &self.text
+        #[cfg(not(feature = "alloc"))]
+        return &self.text;
+        #[cfg(feature = "alloc")]
+        return self.text.as_str();
     }
 
     /// Number of characters (= octets, since every character is ASCII).
     pub fn len(&self) -> usize {
-        self.text.len()
+        self.as_str().len()
     }
 
     /// True when empty.
     pub fn is_empty(&self) -> bool {
-        self.text.is_empty()
+        self.as_str().is_empty()
+    }
+}
+
+impl<const N: usize> Default for Ia5<N> {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+impl<const N: usize> PartialEq for Ia5<N> {
+    /// Equal texts (however stored).
+    fn eq(&self, other: &Self) -> bool {
+        self.as_str() == other.as_str()
+    }
+}
+
+impl<const N: usize> Eq for Ia5<N> {}
+
+impl<const N: usize> core::hash::Hash for Ia5<N> {
+    fn hash<H: core::hash::Hasher>(&self, state: &mut H) {
+        self.as_str().hash(state)
     }
 }
 
@@ -445,6 +474,35 @@ impl<const NBYTES: usize> fmt::Debug for Bits<NBYTES> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn values_compare_and_hash_by_their_items_however_stored() {
+        use core::hash::{Hash, Hasher};
+        fn hash(v: &impl Hash) -> u64 {
+            let mut h = std::hash::DefaultHasher::new();
+            v.hash(&mut h);
+            h.finish()
+        }
+        // A list of 2 that once held 4 (with `alloc`: on the heap) against a fresh one
+        // (inline).
+        let mut grown: SeqOf<u8, 4, 2> = SeqOf::new();
+        grown.grow(4).unwrap().copy_from_slice(&[1, 2, 3, 4]);
+        grown.pop();
+        grown.pop();
+        let fresh = SeqOf::<u8, 4, 2>::from_slice(&[1, 2]).unwrap();
+        assert_eq!(grown, fresh);
+        assert_eq!(hash(&grown), hash(&fresh));
+        assert_eq!(grown.clone(), fresh);
+        // The same for a text that outgrew the inline room and was refilled short.
+        let mut long = Ia5::<40>::try_from_str("a name longer than fifteen").unwrap();
+        long.clear();
+        long.push('a').unwrap();
+        long.push('b').unwrap();
+        let short = Ia5::<40>::try_from_str("ab").unwrap();
+        assert_eq!(long, short);
+        assert_eq!(hash(&long), hash(&short));
+        assert_eq!(long.as_str(), "ab");
+    }
 
     #[test]
     fn seq_of_capacity() {

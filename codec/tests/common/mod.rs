@@ -10,10 +10,10 @@ use j2735::{
 pub fn random_frame(kind: u8, seed: u64) -> MessageFrame {
     let mut g = Gen::new(seed);
     let value = match kind % 4 {
-        0 => MessageFrameValue::MapData(MapData::random(&mut g)),
-        1 => MessageFrameValue::TravelerInformation(TravelerInformation::random(&mut g)),
-        2 => MessageFrameValue::BasicSafetyMessage(BasicSafetyMessage::random(&mut g)),
-        _ => MessageFrameValue::SPAT(SPAT::random(&mut g)),
+        0 => MessageFrameValue::MapData(MapData::random(&mut g).into()),
+        1 => MessageFrameValue::TravelerInformation(TravelerInformation::random(&mut g).into()),
+        2 => MessageFrameValue::BasicSafetyMessage(BasicSafetyMessage::random(&mut g).into()),
+        _ => MessageFrameValue::SPAT(SPAT::random(&mut g).into()),
     };
     MessageFrame {
         value,

@@ -78,7 +78,7 @@ pub fn xy_latlon(lat: i32, lon: i32) -> NodeXY {
 pub fn with_dwidth(mut n: NodeXY, d: i16) -> NodeXY {
     let a = n
         .attributes
-        .get_or_insert_with(NodeAttributeSetXY::placeholder);
+        .get_or_insert_with(|| NodeAttributeSetXY::placeholder().into());
     a.d_width = OffsetB10::new(d);
     n
 }
@@ -87,7 +87,7 @@ pub fn with_dwidth(mut n: NodeXY, d: i16) -> NodeXY {
 pub fn with_limits(mut n: NodeXY, limits: SpeedLimitList) -> NodeXY {
     let a = n
         .attributes
-        .get_or_insert_with(NodeAttributeSetXY::placeholder);
+        .get_or_insert_with(|| NodeAttributeSetXY::placeholder().into());
     let mut data = LaneDataAttributeList(SeqOf::new());
     let _ = data.0.push(LaneDataAttribute::SpeedLimits(limits));
     a.data = Some(data);

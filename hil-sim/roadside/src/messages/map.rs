@@ -63,7 +63,7 @@ pub fn build_map(
         extensions: Extensions::new(),
     };
     checked(MessageFrame {
-        value: MessageFrameValue::MapData(map),
+        value: MessageFrameValue::MapData(map.into()),
         extensions: Extensions::new(),
     })
 }
@@ -139,7 +139,7 @@ fn map_lane(
             .0
             .push(NodeXY {
                 delta,
-                attributes,
+                attributes: attributes.map(Into::into),
                 extensions: Extensions::new(),
             })
             .ok();

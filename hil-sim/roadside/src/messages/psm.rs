@@ -74,7 +74,7 @@ pub fn build_psm(worker: &Worker, now: Utc, msg_cnt: u8) -> Result<Box<MessageFr
         extensions: Extensions::new(),
     };
     checked(MessageFrame {
-        value: MessageFrameValue::PersonalSafetyMessage(psm),
+        value: MessageFrameValue::PersonalSafetyMessage(psm.into()),
         extensions: Extensions::new(),
     })
 }

@@ -91,7 +91,7 @@ pub fn build_tim(road: &Road, zone: &WorkZone) -> Result<Box<MessageFrame>, Buil
         extensions: Extensions::new(),
     };
     checked(MessageFrame {
-        value: MessageFrameValue::TravelerInformation(tim),
+        value: MessageFrameValue::TravelerInformation(tim.into()),
         extensions: Extensions::new(),
     })
 }

@@ -316,7 +316,9 @@ fn a_psm_frame_goes_through_on_frame_and_the_v2x_path() {
         // A MessageFrame is as large as its largest alternative (a MAP): on the big stack.
         let mut obu = obu_with(false);
         let frame = MessageFrame {
-            value: MessageFrameValue::PersonalSafetyMessage(psm(8, Point::new(3.5, 380.0), 0)),
+            value: MessageFrameValue::PersonalSafetyMessage(
+                psm(8, Point::new(3.5, 380.0), 0).into(),
+            ),
             extensions: j2735::uper::Extensions::new(),
         };
         let r = obu.on_frame(Instant::ZERO, &frame);
