@@ -185,15 +185,8 @@ impl Text {
 
     /// Appends one character (the caller checked that it is ASCII).
     pub(super) fn push(&mut self, c: char) {
-        if let Self::Inline(s) = self {
-            if s.push(c).is_ok() {
-                return;
-            }
-            self.spill(1);
-        }
-        if let Self::Heap(s) = self {
-            s.push(c);
-        }
+        debug_assert!(c.is_ascii());
+        self.push_ascii(&[c as u8]);
     }
 
     /// Appends `run`, 7-bit characters: one at a time while they fit inside the value (a
