@@ -32,8 +32,11 @@ class Capacities:
         self.capacity = cfg.get("capacity", {})
         self.sentinel = cfg.get("sentinel", {})
         self.inline_items = cfg.get("inline", {})
-        self.boxed = set(cfg.get("boxed", {}).get("members", []))
-        self.boxed_open = set(cfg.get("boxed", {}).get("open", []))
+        boxed = cfg.get("boxed", {})
+        self.boxed = set(boxed.get("members", []))
+        self.boxed_alternatives = set(boxed.get("alternatives", []))
+        self.boxed_open = set(boxed.get("open", []))
+        self.open_in_place = set(boxed.get("open_in_place", []))
         self.firmware = {}
         if firmware_path:
             with open(firmware_path, "rb") as f:
@@ -102,12 +105,26 @@ class Capacities:
             return True
         return False
 
-    def is_boxed_open(self, td):
-        """Whether the values of an open type's known ids are kept in a `uper::Boxed`."""
-        if td.key in self.boxed_open:
-            self.used.add(td.key)
+    def is_boxed_alternative(self, td, alt):
+        """Whether a CHOICE alternative's value is kept in a `uper::Boxed`."""
+        key = f"{td.key}.{alt.asn}"
+        if key in self.boxed_alternatives:
+            self.used.add(key)
             return True
         return False
+
+    def is_boxed_open(self, td, asn):
+        """Whether an open type's value of ASN.1 type `asn` (one of its known ids) is kept in
+        a `uper::Boxed`: all of them for an open type named in `open`, except the types named
+        `Key:Type` in `open_in_place`."""
+        if td.key not in self.boxed_open:
+            return False
+        self.used.add(td.key)
+        key = f"{td.key}:{asn}"
+        if key in self.open_in_place:
+            self.used.add(key)
+            return False
+        return True
 
     def bits_octets(self, td, fw=False):
         """Octets of storage for a BIT STRING."""
@@ -135,7 +152,8 @@ class Capacities:
         return out
 
     def unused(self):
-        named = set(self.capacity) | set(self.sentinel) | set(self.inline_items) | self.boxed | self.boxed_open
+        named = (set(self.capacity) | set(self.sentinel) | set(self.inline_items) | self.boxed
+                 | self.boxed_alternatives | self.boxed_open | self.open_in_place)
         return sorted(named - self.used) + sorted(set(self.firmware) - self.used_firmware)
 
 

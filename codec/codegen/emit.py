@@ -372,6 +372,9 @@ class Emitter:
 
     def emit_choice(self, td):
         n = len(td.alts)
+        for a in td.alts:
+            if not isinstance(a.ref, BoxedRef) and self.caps.is_boxed_alternative(td, a):
+                a.ref = BoxedRef(a.ref)
         s = [self.doc(td, "CHOICE" + (" (extensible)" if td.extensible else "")), DERIVE, f"pub enum {td.name} {{"]
         for a in td.alts:
             payload = "" if a.ref.builtin == "crate::uper::Null" else f"({self.rust(a.ref, td)})"
@@ -429,8 +432,8 @@ class Emitter:
         return "\n".join(s)
 
     def emit_open(self, td):
-        if self.caps.is_boxed_open(td):
-            td.variants = [(i, v, r if isinstance(r, BoxedRef) else BoxedRef(r)) for i, v, r in td.variants]
+        td.variants = [(i, v, BoxedRef(r) if not isinstance(r, BoxedRef) and self.caps.is_boxed_open(td, r.typedef.asn) else r)
+                       for i, v, r in td.variants]
         idt = td.id_ref.typedef
         id_ty = self.rust(td.id_ref, td)
         s = [self.doc(td, f"`{td.id_asn}` and the `{td.open_asn}` it selects (open type over an object set)"), DERIVE,
@@ -478,12 +481,12 @@ class Emitter:
 def message_names(self, td):
     """The table of the MessageFrame's messages (id, short name, ASN.1 type) and the short
     name lookup: the one place the short names are spelt."""
-    rows = [(i, naming.message_short_name(r.typedef.asn), r.typedef.asn, rust)
+    rows = [(i, naming.message_short_name(r.typedef.asn), r.typedef.asn, rust, isinstance(r, BoxedRef))
             for i, _, r, rust in ((i, v, r, self.rust(unboxed(r), td)) for i, v, r in td.variants)]
     table = "".join(f"    MessageName {{ id: {i}, short: \"{short}\", type_name: \"{asn}\", "
-                    f"value_octets: core::mem::size_of::<{rust}>() }},\n"
-                    for i, short, asn, rust in rows)
-    arms = "".join(f"        {i} => Some(\"{short}\"),\n" for i, short, _, _ in rows)
+                    f"value_octets: core::mem::size_of::<{rust}>(), boxed_with_alloc: {str(boxed).lower()} }},\n"
+                    for i, short, asn, rust, boxed in rows)
+    arms = "".join(f"        {i} => Some(\"{short}\"),\n" for i, short, _, _, _ in rows)
     return (
         "/// A message of the MessageFrame object set: its `messageId`, the short name the standard\n"
         "/// gives it (RSU `Type=` values, logs, counters) and its ASN.1 type.\n"
@@ -494,7 +497,10 @@ def message_names(self, td):
         "    /// The ASN.1 type of the value.\n    pub type_name: &'static str,\n"
         "    /// Size of the decoded value in this build's storage and capacity profile, octets:\n"
         "    /// what a kept value takes (see the crate docs' table of value sizes).\n"
-        "    pub value_octets: usize,\n}\n\n"
+        "    pub value_octets: usize,\n"
+        "    /// Whether a MessageFrame keeps this message behind a pointer with feature `alloc`\n"
+        "    /// (`uper::Boxed`; `[boxed]` in codec/codegen/capacities.toml); in place without it.\n"
+        "    pub boxed_with_alloc: bool,\n}\n\n"
         "/// Every message of the MessageFrame object set, by `messageId`.\n"
         f"pub const MESSAGE_NAMES: [MessageName; {len(rows)}] = [\n{table}];\n\n"
         "/// The short name of `messageId` `id` (`MAP`, `SPAT`, `TIM`, `TEST00`); `None` for an id\n"

@@ -15,9 +15,11 @@ use crate::MessageFrame;
 /// `firmware-capacities`; see the crate docs' table of value sizes): the slots are only
 /// filled as types arrive, but their room is reserved, so put the decoder in static memory
 /// ([`Decoder::new`] is a `const fn`). A value starting out, or switching to another
-/// message, is first built as a placeholder, which unoptimised builds place on the stack, a copy per
-/// call level: give the decoding thread a stack of many times the largest value (the example
-/// below runs on one of 256 MiB), or use `alloc` or the `firmware-capacities` profile. With `alloc` it takes `K` x 552 octets plus the heap storage of the kept messages.
+/// message, is first built as a placeholder, which unoptimised builds place on the stack, a
+/// copy per call level: give the decoding thread a stack of many times the largest value (the
+/// example below runs on one of 256 MiB), or use `alloc` or the `firmware-capacities` profile.
+/// With `alloc` it takes `K` x 296 octets (a `MessageFrame`) plus the heap storage of the
+/// kept messages.
 ///
 /// ```
 /// use std::sync::Mutex;

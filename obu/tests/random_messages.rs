@@ -170,7 +170,7 @@ fn case(seed: u64, fixes: &[RawFix]) {
     let _ = obu.on_map(Instant::ZERO, &map);
     let _ = obu.on_tim(Instant::ZERO, &tim);
     let bsm = Box::new(MessageFrame {
-        value: MessageFrameValue::BasicSafetyMessage(BasicSafetyMessage::random(&mut g).into()),
+        value: MessageFrameValue::BasicSafetyMessage(BasicSafetyMessage::random(&mut g)),
         extensions: Extensions::new(),
     });
     let _ = obu.on_frame(Instant::ZERO, &bsm);

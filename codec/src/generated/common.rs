@@ -8608,7 +8608,7 @@ pub enum NodeOffsetPointXY {
     /// `node-LatLon`
     NodeLatLon(NodeLLmD64b),
     /// `regional`
-    Regional(RegNodeOffsetPointXY),
+    Regional(uper::Boxed<RegNodeOffsetPointXY>),
 }
 
 impl uper::Placeholder for NodeOffsetPointXY {
@@ -8696,11 +8696,13 @@ impl Uper for NodeOffsetPointXY {
             7 => {
                 if !matches!(out, Self::Regional(_)) {
                     uper::replace_with(out, || {
-                        Self::Regional(<RegNodeOffsetPointXY as uper::Placeholder>::placeholder())
+                        Self::Regional(
+                            <uper::Boxed<RegNodeOffsetPointXY> as uper::Placeholder>::placeholder(),
+                        )
                     });
                 }
                 if let Self::Regional(v) = out {
-                    <RegNodeOffsetPointXY>::decode_into(r, v)?;
+                    <uper::Boxed<RegNodeOffsetPointXY>>::decode_into(r, v)?;
                 }
             }
             _ => {
@@ -8761,7 +8763,9 @@ impl uper::random::Random for NodeOffsetPointXY {
             4 => Self::NodeXY5(<NodeXY28b as uper::random::Random>::random(g)),
             5 => Self::NodeXY6(<NodeXY32b as uper::random::Random>::random(g)),
             6 => Self::NodeLatLon(<NodeLLmD64b as uper::random::Random>::random(g)),
-            7 => Self::Regional(<RegNodeOffsetPointXY as uper::random::Random>::random(g)),
+            7 => Self::Regional(
+                <uper::Boxed<RegNodeOffsetPointXY> as uper::random::Random>::random(g),
+            ),
             _ => Self::NodeXY1(<NodeXY20b as uper::Placeholder>::placeholder()),
         }
     }
@@ -8845,7 +8849,7 @@ impl crate::jer::Jer for NodeOffsetPointXY {
             "node-LatLon" => <NodeLLmD64b as crate::jer::Jer>::read_jer(x)
                 .map(Self::NodeLatLon)
                 .map_err(|e| e.within(name)),
-            "regional" => <RegNodeOffsetPointXY as crate::jer::Jer>::read_jer(x)
+            "regional" => <uper::Boxed<RegNodeOffsetPointXY> as crate::jer::Jer>::read_jer(x)
                 .map(Self::Regional)
                 .map_err(|e| e.within(name)),
             _ => Err(crate::jer::JerError::new(std::format!(

@@ -497,10 +497,11 @@ pub struct IntersectionGeometryList(
     pub  uper::SeqOf<
         IntersectionGeometry,
         { super::capacities::MAP_DATA_INTERSECTION_GEOMETRY_LIST },
+        1,
     >,
 );
 
-crate::__newtype_deref!(IntersectionGeometryList, uper::SeqOf<IntersectionGeometry, { super::capacities::MAP_DATA_INTERSECTION_GEOMETRY_LIST }>);
+crate::__newtype_deref!(IntersectionGeometryList, uper::SeqOf<IntersectionGeometry, { super::capacities::MAP_DATA_INTERSECTION_GEOMETRY_LIST }, 1>);
 
 impl IntersectionGeometryList {
     const SIZE: uper::Size = uper::Size::range(1, 32);

@@ -90,65 +90,65 @@ pub enum MessageFrameValue {
     /// `messageId` 18: `MapData`.
     MapData(uper::Boxed<super::map_data::MapData>),
     /// `messageId` 19: `SPAT`.
-    SPAT(uper::Boxed<super::spat::SPAT>),
+    SPAT(super::spat::SPAT),
     /// `messageId` 20: `BasicSafetyMessage`.
-    BasicSafetyMessage(uper::Boxed<super::basic_safety_message::BasicSafetyMessage>),
+    BasicSafetyMessage(super::basic_safety_message::BasicSafetyMessage),
     /// `messageId` 21: `CommonSafetyRequest`.
-    CommonSafetyRequest(uper::Boxed<super::common_safety_request::CommonSafetyRequest>),
+    CommonSafetyRequest(super::common_safety_request::CommonSafetyRequest),
     /// `messageId` 22: `EmergencyVehicleAlert`.
-    EmergencyVehicleAlert(uper::Boxed<super::emergency_vehicle_alert::EmergencyVehicleAlert>),
+    EmergencyVehicleAlert(super::emergency_vehicle_alert::EmergencyVehicleAlert),
     /// `messageId` 23: `IntersectionCollision`.
-    IntersectionCollision(uper::Boxed<super::intersection_collision::IntersectionCollision>),
+    IntersectionCollision(super::intersection_collision::IntersectionCollision),
     /// `messageId` 24: `NMEAcorrections`.
-    NMEAcorrections(uper::Boxed<super::nmea_corrections::NMEAcorrections>),
+    NMEAcorrections(super::nmea_corrections::NMEAcorrections),
     /// `messageId` 25: `ProbeDataManagement`.
-    ProbeDataManagement(uper::Boxed<super::probe_data_management::ProbeDataManagement>),
+    ProbeDataManagement(super::probe_data_management::ProbeDataManagement),
     /// `messageId` 26: `ProbeVehicleData`.
     ProbeVehicleData(uper::Boxed<super::probe_vehicle_data::ProbeVehicleData>),
     /// `messageId` 27: `RoadSideAlert`.
-    RoadSideAlert(uper::Boxed<super::road_side_alert::RoadSideAlert>),
+    RoadSideAlert(super::road_side_alert::RoadSideAlert),
     /// `messageId` 28: `RTCMcorrections`.
-    RTCMcorrections(uper::Boxed<super::rtcm_corrections::RTCMcorrections>),
+    RTCMcorrections(super::rtcm_corrections::RTCMcorrections),
     /// `messageId` 29: `SignalRequestMessage`.
     SignalRequestMessage(uper::Boxed<super::signal_request_message::SignalRequestMessage>),
     /// `messageId` 30: `SignalStatusMessage`.
-    SignalStatusMessage(uper::Boxed<super::signal_status_message::SignalStatusMessage>),
+    SignalStatusMessage(super::signal_status_message::SignalStatusMessage),
     /// `messageId` 31: `TravelerInformation`.
     TravelerInformation(uper::Boxed<super::traveler_information::TravelerInformation>),
     /// `messageId` 32: `PersonalSafetyMessage`.
     PersonalSafetyMessage(uper::Boxed<super::personal_safety_message::PersonalSafetyMessage>),
     /// `messageId` 240: `TestMessage00`.
-    TestMessage00(uper::Boxed<super::test_message00::TestMessage00>),
+    TestMessage00(super::test_message00::TestMessage00),
     /// `messageId` 241: `TestMessage01`.
-    TestMessage01(uper::Boxed<super::test_message01::TestMessage01>),
+    TestMessage01(super::test_message01::TestMessage01),
     /// `messageId` 242: `TestMessage02`.
-    TestMessage02(uper::Boxed<super::test_message02::TestMessage02>),
+    TestMessage02(super::test_message02::TestMessage02),
     /// `messageId` 243: `TestMessage03`.
-    TestMessage03(uper::Boxed<super::test_message03::TestMessage03>),
+    TestMessage03(super::test_message03::TestMessage03),
     /// `messageId` 244: `TestMessage04`.
-    TestMessage04(uper::Boxed<super::test_message04::TestMessage04>),
+    TestMessage04(super::test_message04::TestMessage04),
     /// `messageId` 245: `TestMessage05`.
-    TestMessage05(uper::Boxed<super::test_message05::TestMessage05>),
+    TestMessage05(super::test_message05::TestMessage05),
     /// `messageId` 246: `TestMessage06`.
-    TestMessage06(uper::Boxed<super::test_message06::TestMessage06>),
+    TestMessage06(super::test_message06::TestMessage06),
     /// `messageId` 247: `TestMessage07`.
-    TestMessage07(uper::Boxed<super::test_message07::TestMessage07>),
+    TestMessage07(super::test_message07::TestMessage07),
     /// `messageId` 248: `TestMessage08`.
-    TestMessage08(uper::Boxed<super::test_message08::TestMessage08>),
+    TestMessage08(super::test_message08::TestMessage08),
     /// `messageId` 249: `TestMessage09`.
-    TestMessage09(uper::Boxed<super::test_message09::TestMessage09>),
+    TestMessage09(super::test_message09::TestMessage09),
     /// `messageId` 250: `TestMessage10`.
-    TestMessage10(uper::Boxed<super::test_message10::TestMessage10>),
+    TestMessage10(super::test_message10::TestMessage10),
     /// `messageId` 251: `TestMessage11`.
-    TestMessage11(uper::Boxed<super::test_message11::TestMessage11>),
+    TestMessage11(super::test_message11::TestMessage11),
     /// `messageId` 252: `TestMessage12`.
-    TestMessage12(uper::Boxed<super::test_message12::TestMessage12>),
+    TestMessage12(super::test_message12::TestMessage12),
     /// `messageId` 253: `TestMessage13`.
-    TestMessage13(uper::Boxed<super::test_message13::TestMessage13>),
+    TestMessage13(super::test_message13::TestMessage13),
     /// `messageId` 254: `TestMessage14`.
-    TestMessage14(uper::Boxed<super::test_message14::TestMessage14>),
+    TestMessage14(super::test_message14::TestMessage14),
     /// `messageId` 255: `TestMessage15`.
-    TestMessage15(uper::Boxed<super::test_message15::TestMessage15>),
+    TestMessage15(super::test_message15::TestMessage15),
     /// An id this build does not know, with its value's encoding.
     Unknown {
         /// The `messageId`.
@@ -473,36 +473,36 @@ impl MessageFrameValue {
         let x = crate::jer::required(v, value_name)?;
         match id.get() {
             18 => <uper::Boxed<super::map_data::MapData> as crate::jer::Jer>::read_jer(x).map(Self::MapData).map_err(|e| e.within(value_name)),
-            19 => <uper::Boxed<super::spat::SPAT> as crate::jer::Jer>::read_jer(x).map(Self::SPAT).map_err(|e| e.within(value_name)),
-            20 => <uper::Boxed<super::basic_safety_message::BasicSafetyMessage> as crate::jer::Jer>::read_jer(x).map(Self::BasicSafetyMessage).map_err(|e| e.within(value_name)),
-            21 => <uper::Boxed<super::common_safety_request::CommonSafetyRequest> as crate::jer::Jer>::read_jer(x).map(Self::CommonSafetyRequest).map_err(|e| e.within(value_name)),
-            22 => <uper::Boxed<super::emergency_vehicle_alert::EmergencyVehicleAlert> as crate::jer::Jer>::read_jer(x).map(Self::EmergencyVehicleAlert).map_err(|e| e.within(value_name)),
-            23 => <uper::Boxed<super::intersection_collision::IntersectionCollision> as crate::jer::Jer>::read_jer(x).map(Self::IntersectionCollision).map_err(|e| e.within(value_name)),
-            24 => <uper::Boxed<super::nmea_corrections::NMEAcorrections> as crate::jer::Jer>::read_jer(x).map(Self::NMEAcorrections).map_err(|e| e.within(value_name)),
-            25 => <uper::Boxed<super::probe_data_management::ProbeDataManagement> as crate::jer::Jer>::read_jer(x).map(Self::ProbeDataManagement).map_err(|e| e.within(value_name)),
+            19 => <super::spat::SPAT as crate::jer::Jer>::read_jer(x).map(Self::SPAT).map_err(|e| e.within(value_name)),
+            20 => <super::basic_safety_message::BasicSafetyMessage as crate::jer::Jer>::read_jer(x).map(Self::BasicSafetyMessage).map_err(|e| e.within(value_name)),
+            21 => <super::common_safety_request::CommonSafetyRequest as crate::jer::Jer>::read_jer(x).map(Self::CommonSafetyRequest).map_err(|e| e.within(value_name)),
+            22 => <super::emergency_vehicle_alert::EmergencyVehicleAlert as crate::jer::Jer>::read_jer(x).map(Self::EmergencyVehicleAlert).map_err(|e| e.within(value_name)),
+            23 => <super::intersection_collision::IntersectionCollision as crate::jer::Jer>::read_jer(x).map(Self::IntersectionCollision).map_err(|e| e.within(value_name)),
+            24 => <super::nmea_corrections::NMEAcorrections as crate::jer::Jer>::read_jer(x).map(Self::NMEAcorrections).map_err(|e| e.within(value_name)),
+            25 => <super::probe_data_management::ProbeDataManagement as crate::jer::Jer>::read_jer(x).map(Self::ProbeDataManagement).map_err(|e| e.within(value_name)),
             26 => <uper::Boxed<super::probe_vehicle_data::ProbeVehicleData> as crate::jer::Jer>::read_jer(x).map(Self::ProbeVehicleData).map_err(|e| e.within(value_name)),
-            27 => <uper::Boxed<super::road_side_alert::RoadSideAlert> as crate::jer::Jer>::read_jer(x).map(Self::RoadSideAlert).map_err(|e| e.within(value_name)),
-            28 => <uper::Boxed<super::rtcm_corrections::RTCMcorrections> as crate::jer::Jer>::read_jer(x).map(Self::RTCMcorrections).map_err(|e| e.within(value_name)),
+            27 => <super::road_side_alert::RoadSideAlert as crate::jer::Jer>::read_jer(x).map(Self::RoadSideAlert).map_err(|e| e.within(value_name)),
+            28 => <super::rtcm_corrections::RTCMcorrections as crate::jer::Jer>::read_jer(x).map(Self::RTCMcorrections).map_err(|e| e.within(value_name)),
             29 => <uper::Boxed<super::signal_request_message::SignalRequestMessage> as crate::jer::Jer>::read_jer(x).map(Self::SignalRequestMessage).map_err(|e| e.within(value_name)),
-            30 => <uper::Boxed<super::signal_status_message::SignalStatusMessage> as crate::jer::Jer>::read_jer(x).map(Self::SignalStatusMessage).map_err(|e| e.within(value_name)),
+            30 => <super::signal_status_message::SignalStatusMessage as crate::jer::Jer>::read_jer(x).map(Self::SignalStatusMessage).map_err(|e| e.within(value_name)),
             31 => <uper::Boxed<super::traveler_information::TravelerInformation> as crate::jer::Jer>::read_jer(x).map(Self::TravelerInformation).map_err(|e| e.within(value_name)),
             32 => <uper::Boxed<super::personal_safety_message::PersonalSafetyMessage> as crate::jer::Jer>::read_jer(x).map(Self::PersonalSafetyMessage).map_err(|e| e.within(value_name)),
-            240 => <uper::Boxed<super::test_message00::TestMessage00> as crate::jer::Jer>::read_jer(x).map(Self::TestMessage00).map_err(|e| e.within(value_name)),
-            241 => <uper::Boxed<super::test_message01::TestMessage01> as crate::jer::Jer>::read_jer(x).map(Self::TestMessage01).map_err(|e| e.within(value_name)),
-            242 => <uper::Boxed<super::test_message02::TestMessage02> as crate::jer::Jer>::read_jer(x).map(Self::TestMessage02).map_err(|e| e.within(value_name)),
-            243 => <uper::Boxed<super::test_message03::TestMessage03> as crate::jer::Jer>::read_jer(x).map(Self::TestMessage03).map_err(|e| e.within(value_name)),
-            244 => <uper::Boxed<super::test_message04::TestMessage04> as crate::jer::Jer>::read_jer(x).map(Self::TestMessage04).map_err(|e| e.within(value_name)),
-            245 => <uper::Boxed<super::test_message05::TestMessage05> as crate::jer::Jer>::read_jer(x).map(Self::TestMessage05).map_err(|e| e.within(value_name)),
-            246 => <uper::Boxed<super::test_message06::TestMessage06> as crate::jer::Jer>::read_jer(x).map(Self::TestMessage06).map_err(|e| e.within(value_name)),
-            247 => <uper::Boxed<super::test_message07::TestMessage07> as crate::jer::Jer>::read_jer(x).map(Self::TestMessage07).map_err(|e| e.within(value_name)),
-            248 => <uper::Boxed<super::test_message08::TestMessage08> as crate::jer::Jer>::read_jer(x).map(Self::TestMessage08).map_err(|e| e.within(value_name)),
-            249 => <uper::Boxed<super::test_message09::TestMessage09> as crate::jer::Jer>::read_jer(x).map(Self::TestMessage09).map_err(|e| e.within(value_name)),
-            250 => <uper::Boxed<super::test_message10::TestMessage10> as crate::jer::Jer>::read_jer(x).map(Self::TestMessage10).map_err(|e| e.within(value_name)),
-            251 => <uper::Boxed<super::test_message11::TestMessage11> as crate::jer::Jer>::read_jer(x).map(Self::TestMessage11).map_err(|e| e.within(value_name)),
-            252 => <uper::Boxed<super::test_message12::TestMessage12> as crate::jer::Jer>::read_jer(x).map(Self::TestMessage12).map_err(|e| e.within(value_name)),
-            253 => <uper::Boxed<super::test_message13::TestMessage13> as crate::jer::Jer>::read_jer(x).map(Self::TestMessage13).map_err(|e| e.within(value_name)),
-            254 => <uper::Boxed<super::test_message14::TestMessage14> as crate::jer::Jer>::read_jer(x).map(Self::TestMessage14).map_err(|e| e.within(value_name)),
-            255 => <uper::Boxed<super::test_message15::TestMessage15> as crate::jer::Jer>::read_jer(x).map(Self::TestMessage15).map_err(|e| e.within(value_name)),
+            240 => <super::test_message00::TestMessage00 as crate::jer::Jer>::read_jer(x).map(Self::TestMessage00).map_err(|e| e.within(value_name)),
+            241 => <super::test_message01::TestMessage01 as crate::jer::Jer>::read_jer(x).map(Self::TestMessage01).map_err(|e| e.within(value_name)),
+            242 => <super::test_message02::TestMessage02 as crate::jer::Jer>::read_jer(x).map(Self::TestMessage02).map_err(|e| e.within(value_name)),
+            243 => <super::test_message03::TestMessage03 as crate::jer::Jer>::read_jer(x).map(Self::TestMessage03).map_err(|e| e.within(value_name)),
+            244 => <super::test_message04::TestMessage04 as crate::jer::Jer>::read_jer(x).map(Self::TestMessage04).map_err(|e| e.within(value_name)),
+            245 => <super::test_message05::TestMessage05 as crate::jer::Jer>::read_jer(x).map(Self::TestMessage05).map_err(|e| e.within(value_name)),
+            246 => <super::test_message06::TestMessage06 as crate::jer::Jer>::read_jer(x).map(Self::TestMessage06).map_err(|e| e.within(value_name)),
+            247 => <super::test_message07::TestMessage07 as crate::jer::Jer>::read_jer(x).map(Self::TestMessage07).map_err(|e| e.within(value_name)),
+            248 => <super::test_message08::TestMessage08 as crate::jer::Jer>::read_jer(x).map(Self::TestMessage08).map_err(|e| e.within(value_name)),
+            249 => <super::test_message09::TestMessage09 as crate::jer::Jer>::read_jer(x).map(Self::TestMessage09).map_err(|e| e.within(value_name)),
+            250 => <super::test_message10::TestMessage10 as crate::jer::Jer>::read_jer(x).map(Self::TestMessage10).map_err(|e| e.within(value_name)),
+            251 => <super::test_message11::TestMessage11 as crate::jer::Jer>::read_jer(x).map(Self::TestMessage11).map_err(|e| e.within(value_name)),
+            252 => <super::test_message12::TestMessage12 as crate::jer::Jer>::read_jer(x).map(Self::TestMessage12).map_err(|e| e.within(value_name)),
+            253 => <super::test_message13::TestMessage13 as crate::jer::Jer>::read_jer(x).map(Self::TestMessage13).map_err(|e| e.within(value_name)),
+            254 => <super::test_message14::TestMessage14 as crate::jer::Jer>::read_jer(x).map(Self::TestMessage14).map_err(|e| e.within(value_name)),
+            255 => <super::test_message15::TestMessage15 as crate::jer::Jer>::read_jer(x).map(Self::TestMessage15).map_err(|e| e.within(value_name)),
             _ => {
                 let bytes = uper::Octets::from_slice(&crate::jer::hex(x)?).ok_or_else(crate::jer::over_capacity)?;
                 Ok(Self::Unknown { id, bytes })
@@ -660,6 +660,9 @@ pub struct MessageName {
     /// Size of the decoded value in this build's storage and capacity profile, octets:
     /// what a kept value takes (see the crate docs' table of value sizes).
     pub value_octets: usize,
+    /// Whether a MessageFrame keeps this message behind a pointer with feature `alloc`
+    /// (`uper::Boxed`; `[boxed]` in codec/codegen/capacities.toml); in place without it.
+    pub boxed_with_alloc: bool,
 }
 
 /// Every message of the MessageFrame object set, by `messageId`.
@@ -669,186 +672,217 @@ pub const MESSAGE_NAMES: [MessageName; 31] = [
         short: "MAP",
         type_name: "MapData",
         value_octets: core::mem::size_of::<super::map_data::MapData>(),
+        boxed_with_alloc: true,
     },
     MessageName {
         id: 19,
         short: "SPAT",
         type_name: "SPAT",
         value_octets: core::mem::size_of::<super::spat::SPAT>(),
+        boxed_with_alloc: false,
     },
     MessageName {
         id: 20,
         short: "BSM",
         type_name: "BasicSafetyMessage",
         value_octets: core::mem::size_of::<super::basic_safety_message::BasicSafetyMessage>(),
+        boxed_with_alloc: false,
     },
     MessageName {
         id: 21,
         short: "CSR",
         type_name: "CommonSafetyRequest",
         value_octets: core::mem::size_of::<super::common_safety_request::CommonSafetyRequest>(),
+        boxed_with_alloc: false,
     },
     MessageName {
         id: 22,
         short: "EVA",
         type_name: "EmergencyVehicleAlert",
         value_octets: core::mem::size_of::<super::emergency_vehicle_alert::EmergencyVehicleAlert>(),
+        boxed_with_alloc: false,
     },
     MessageName {
         id: 23,
         short: "ICA",
         type_name: "IntersectionCollision",
         value_octets: core::mem::size_of::<super::intersection_collision::IntersectionCollision>(),
+        boxed_with_alloc: false,
     },
     MessageName {
         id: 24,
         short: "NMEA",
         type_name: "NMEAcorrections",
         value_octets: core::mem::size_of::<super::nmea_corrections::NMEAcorrections>(),
+        boxed_with_alloc: false,
     },
     MessageName {
         id: 25,
         short: "PDM",
         type_name: "ProbeDataManagement",
         value_octets: core::mem::size_of::<super::probe_data_management::ProbeDataManagement>(),
+        boxed_with_alloc: false,
     },
     MessageName {
         id: 26,
         short: "PVD",
         type_name: "ProbeVehicleData",
         value_octets: core::mem::size_of::<super::probe_vehicle_data::ProbeVehicleData>(),
+        boxed_with_alloc: true,
     },
     MessageName {
         id: 27,
         short: "RSA",
         type_name: "RoadSideAlert",
         value_octets: core::mem::size_of::<super::road_side_alert::RoadSideAlert>(),
+        boxed_with_alloc: false,
     },
     MessageName {
         id: 28,
         short: "RTCM",
         type_name: "RTCMcorrections",
         value_octets: core::mem::size_of::<super::rtcm_corrections::RTCMcorrections>(),
+        boxed_with_alloc: false,
     },
     MessageName {
         id: 29,
         short: "SRM",
         type_name: "SignalRequestMessage",
         value_octets: core::mem::size_of::<super::signal_request_message::SignalRequestMessage>(),
+        boxed_with_alloc: true,
     },
     MessageName {
         id: 30,
         short: "SSM",
         type_name: "SignalStatusMessage",
         value_octets: core::mem::size_of::<super::signal_status_message::SignalStatusMessage>(),
+        boxed_with_alloc: false,
     },
     MessageName {
         id: 31,
         short: "TIM",
         type_name: "TravelerInformation",
         value_octets: core::mem::size_of::<super::traveler_information::TravelerInformation>(),
+        boxed_with_alloc: true,
     },
     MessageName {
         id: 32,
         short: "PSM",
         type_name: "PersonalSafetyMessage",
         value_octets: core::mem::size_of::<super::personal_safety_message::PersonalSafetyMessage>(),
+        boxed_with_alloc: true,
     },
     MessageName {
         id: 240,
         short: "TEST00",
         type_name: "TestMessage00",
         value_octets: core::mem::size_of::<super::test_message00::TestMessage00>(),
+        boxed_with_alloc: false,
     },
     MessageName {
         id: 241,
         short: "TEST01",
         type_name: "TestMessage01",
         value_octets: core::mem::size_of::<super::test_message01::TestMessage01>(),
+        boxed_with_alloc: false,
     },
     MessageName {
         id: 242,
         short: "TEST02",
         type_name: "TestMessage02",
         value_octets: core::mem::size_of::<super::test_message02::TestMessage02>(),
+        boxed_with_alloc: false,
     },
     MessageName {
         id: 243,
         short: "TEST03",
         type_name: "TestMessage03",
         value_octets: core::mem::size_of::<super::test_message03::TestMessage03>(),
+        boxed_with_alloc: false,
     },
     MessageName {
         id: 244,
         short: "TEST04",
         type_name: "TestMessage04",
         value_octets: core::mem::size_of::<super::test_message04::TestMessage04>(),
+        boxed_with_alloc: false,
     },
     MessageName {
         id: 245,
         short: "TEST05",
         type_name: "TestMessage05",
         value_octets: core::mem::size_of::<super::test_message05::TestMessage05>(),
+        boxed_with_alloc: false,
     },
     MessageName {
         id: 246,
         short: "TEST06",
         type_name: "TestMessage06",
         value_octets: core::mem::size_of::<super::test_message06::TestMessage06>(),
+        boxed_with_alloc: false,
     },
     MessageName {
         id: 247,
         short: "TEST07",
         type_name: "TestMessage07",
         value_octets: core::mem::size_of::<super::test_message07::TestMessage07>(),
+        boxed_with_alloc: false,
     },
     MessageName {
         id: 248,
         short: "TEST08",
         type_name: "TestMessage08",
         value_octets: core::mem::size_of::<super::test_message08::TestMessage08>(),
+        boxed_with_alloc: false,
     },
     MessageName {
         id: 249,
         short: "TEST09",
         type_name: "TestMessage09",
         value_octets: core::mem::size_of::<super::test_message09::TestMessage09>(),
+        boxed_with_alloc: false,
     },
     MessageName {
         id: 250,
         short: "TEST10",
         type_name: "TestMessage10",
         value_octets: core::mem::size_of::<super::test_message10::TestMessage10>(),
+        boxed_with_alloc: false,
     },
     MessageName {
         id: 251,
         short: "TEST11",
         type_name: "TestMessage11",
         value_octets: core::mem::size_of::<super::test_message11::TestMessage11>(),
+        boxed_with_alloc: false,
     },
     MessageName {
         id: 252,
         short: "TEST12",
         type_name: "TestMessage12",
         value_octets: core::mem::size_of::<super::test_message12::TestMessage12>(),
+        boxed_with_alloc: false,
     },
     MessageName {
         id: 253,
         short: "TEST13",
         type_name: "TestMessage13",
         value_octets: core::mem::size_of::<super::test_message13::TestMessage13>(),
+        boxed_with_alloc: false,
     },
     MessageName {
         id: 254,
         short: "TEST14",
         type_name: "TestMessage14",
         value_octets: core::mem::size_of::<super::test_message14::TestMessage14>(),
+        boxed_with_alloc: false,
     },
     MessageName {
         id: 255,
         short: "TEST15",
         type_name: "TestMessage15",
         value_octets: core::mem::size_of::<super::test_message15::TestMessage15>(),
+        boxed_with_alloc: false,
     },
 ];
 
@@ -921,101 +955,82 @@ impl Uper for MessageFrameValue {
             19 => {
                 if !matches!(out, Self::SPAT(_)) {
                     uper::replace_with(out, || {
-                        Self::SPAT(
-                            <uper::Boxed<super::spat::SPAT> as uper::Placeholder>::placeholder(),
-                        )
+                        Self::SPAT(<super::spat::SPAT as uper::Placeholder>::placeholder())
                     });
                 }
                 if let Self::SPAT(v) = out {
-                    uper::decode_open(r, |r| <uper::Boxed<super::spat::SPAT>>::decode_into(r, v))?;
+                    uper::decode_open(r, |r| <super::spat::SPAT>::decode_into(r, v))?;
                 }
             }
             20 => {
                 if !matches!(out, Self::BasicSafetyMessage(_)) {
                     uper::replace_with(out, || {
-                        Self::BasicSafetyMessage(<uper::Boxed<
-                            super::basic_safety_message::BasicSafetyMessage,
-                        > as uper::Placeholder>::placeholder(
-                        ))
+                        Self::BasicSafetyMessage(<super::basic_safety_message::BasicSafetyMessage as uper::Placeholder>::placeholder())
                     });
                 }
                 if let Self::BasicSafetyMessage(v) = out {
                     uper::decode_open(r, |r| {
-                        <uper::Boxed<super::basic_safety_message::BasicSafetyMessage>>::decode_into(
-                            r, v,
-                        )
+                        <super::basic_safety_message::BasicSafetyMessage>::decode_into(r, v)
                     })?;
                 }
             }
             21 => {
                 if !matches!(out, Self::CommonSafetyRequest(_)) {
                     uper::replace_with(out, || {
-                        Self::CommonSafetyRequest(<uper::Boxed<
-                            super::common_safety_request::CommonSafetyRequest,
-                        > as uper::Placeholder>::placeholder(
-                        ))
+                        Self::CommonSafetyRequest(<super::common_safety_request::CommonSafetyRequest as uper::Placeholder>::placeholder())
                     });
                 }
                 if let Self::CommonSafetyRequest(v) = out {
                     uper::decode_open(r, |r| {
-                        <uper::Boxed<super::common_safety_request::CommonSafetyRequest>>::decode_into(r, v)
+                        <super::common_safety_request::CommonSafetyRequest>::decode_into(r, v)
                     })?;
                 }
             }
             22 => {
                 if !matches!(out, Self::EmergencyVehicleAlert(_)) {
                     uper::replace_with(out, || {
-                        Self::EmergencyVehicleAlert(<uper::Boxed<
-                            super::emergency_vehicle_alert::EmergencyVehicleAlert,
-                        > as uper::Placeholder>::placeholder(
-                        ))
+                        Self::EmergencyVehicleAlert(<super::emergency_vehicle_alert::EmergencyVehicleAlert as uper::Placeholder>::placeholder())
                     });
                 }
                 if let Self::EmergencyVehicleAlert(v) = out {
                     uper::decode_open(r, |r| {
-                        <uper::Boxed<super::emergency_vehicle_alert::EmergencyVehicleAlert>>::decode_into(r, v)
+                        <super::emergency_vehicle_alert::EmergencyVehicleAlert>::decode_into(r, v)
                     })?;
                 }
             }
             23 => {
                 if !matches!(out, Self::IntersectionCollision(_)) {
                     uper::replace_with(out, || {
-                        Self::IntersectionCollision(<uper::Boxed<
-                            super::intersection_collision::IntersectionCollision,
-                        > as uper::Placeholder>::placeholder(
-                        ))
+                        Self::IntersectionCollision(<super::intersection_collision::IntersectionCollision as uper::Placeholder>::placeholder())
                     });
                 }
                 if let Self::IntersectionCollision(v) = out {
                     uper::decode_open(r, |r| {
-                        <uper::Boxed<super::intersection_collision::IntersectionCollision>>::decode_into(r, v)
+                        <super::intersection_collision::IntersectionCollision>::decode_into(r, v)
                     })?;
                 }
             }
             24 => {
                 if !matches!(out, Self::NMEAcorrections(_)) {
                     uper::replace_with(out, || {
-                        Self::NMEAcorrections(<uper::Boxed<super::nmea_corrections::NMEAcorrections> as uper::Placeholder>::placeholder())
+                        Self::NMEAcorrections(<super::nmea_corrections::NMEAcorrections as uper::Placeholder>::placeholder())
                     });
                 }
                 if let Self::NMEAcorrections(v) = out {
                     uper::decode_open(r, |r| {
-                        <uper::Boxed<super::nmea_corrections::NMEAcorrections>>::decode_into(r, v)
+                        <super::nmea_corrections::NMEAcorrections>::decode_into(r, v)
                     })?;
                 }
             }
             25 => {
                 if !matches!(out, Self::ProbeDataManagement(_)) {
                     uper::replace_with(out, || {
-                        Self::ProbeDataManagement(<uper::Boxed<
-                            super::probe_data_management::ProbeDataManagement,
-                        > as uper::Placeholder>::placeholder(
-                        ))
+                        Self::ProbeDataManagement(<super::probe_data_management::ProbeDataManagement as uper::Placeholder>::placeholder())
                     });
                 }
                 if let Self::ProbeDataManagement(v) = out {
                     uper::decode_open(r, |r| {
-                        <uper::Boxed<super::probe_data_management::ProbeDataManagement>>::decode_into(r, v)
+                        <super::probe_data_management::ProbeDataManagement>::decode_into(r, v)
                     })?;
                 }
             }
@@ -1039,24 +1054,24 @@ impl Uper for MessageFrameValue {
             27 => {
                 if !matches!(out, Self::RoadSideAlert(_)) {
                     uper::replace_with(out, || {
-                        Self::RoadSideAlert(<uper::Boxed<super::road_side_alert::RoadSideAlert> as uper::Placeholder>::placeholder())
+                        Self::RoadSideAlert(<super::road_side_alert::RoadSideAlert as uper::Placeholder>::placeholder())
                     });
                 }
                 if let Self::RoadSideAlert(v) = out {
                     uper::decode_open(r, |r| {
-                        <uper::Boxed<super::road_side_alert::RoadSideAlert>>::decode_into(r, v)
+                        <super::road_side_alert::RoadSideAlert>::decode_into(r, v)
                     })?;
                 }
             }
             28 => {
                 if !matches!(out, Self::RTCMcorrections(_)) {
                     uper::replace_with(out, || {
-                        Self::RTCMcorrections(<uper::Boxed<super::rtcm_corrections::RTCMcorrections> as uper::Placeholder>::placeholder())
+                        Self::RTCMcorrections(<super::rtcm_corrections::RTCMcorrections as uper::Placeholder>::placeholder())
                     });
                 }
                 if let Self::RTCMcorrections(v) = out {
                     uper::decode_open(r, |r| {
-                        <uper::Boxed<super::rtcm_corrections::RTCMcorrections>>::decode_into(r, v)
+                        <super::rtcm_corrections::RTCMcorrections>::decode_into(r, v)
                     })?;
                 }
             }
@@ -1078,15 +1093,12 @@ impl Uper for MessageFrameValue {
             30 => {
                 if !matches!(out, Self::SignalStatusMessage(_)) {
                     uper::replace_with(out, || {
-                        Self::SignalStatusMessage(<uper::Boxed<
-                            super::signal_status_message::SignalStatusMessage,
-                        > as uper::Placeholder>::placeholder(
-                        ))
+                        Self::SignalStatusMessage(<super::signal_status_message::SignalStatusMessage as uper::Placeholder>::placeholder())
                     });
                 }
                 if let Self::SignalStatusMessage(v) = out {
                     uper::decode_open(r, |r| {
-                        <uper::Boxed<super::signal_status_message::SignalStatusMessage>>::decode_into(r, v)
+                        <super::signal_status_message::SignalStatusMessage>::decode_into(r, v)
                     })?;
                 }
             }
@@ -1125,192 +1137,192 @@ impl Uper for MessageFrameValue {
             240 => {
                 if !matches!(out, Self::TestMessage00(_)) {
                     uper::replace_with(out, || {
-                        Self::TestMessage00(<uper::Boxed<super::test_message00::TestMessage00> as uper::Placeholder>::placeholder())
+                        Self::TestMessage00(<super::test_message00::TestMessage00 as uper::Placeholder>::placeholder())
                     });
                 }
                 if let Self::TestMessage00(v) = out {
                     uper::decode_open(r, |r| {
-                        <uper::Boxed<super::test_message00::TestMessage00>>::decode_into(r, v)
+                        <super::test_message00::TestMessage00>::decode_into(r, v)
                     })?;
                 }
             }
             241 => {
                 if !matches!(out, Self::TestMessage01(_)) {
                     uper::replace_with(out, || {
-                        Self::TestMessage01(<uper::Boxed<super::test_message01::TestMessage01> as uper::Placeholder>::placeholder())
+                        Self::TestMessage01(<super::test_message01::TestMessage01 as uper::Placeholder>::placeholder())
                     });
                 }
                 if let Self::TestMessage01(v) = out {
                     uper::decode_open(r, |r| {
-                        <uper::Boxed<super::test_message01::TestMessage01>>::decode_into(r, v)
+                        <super::test_message01::TestMessage01>::decode_into(r, v)
                     })?;
                 }
             }
             242 => {
                 if !matches!(out, Self::TestMessage02(_)) {
                     uper::replace_with(out, || {
-                        Self::TestMessage02(<uper::Boxed<super::test_message02::TestMessage02> as uper::Placeholder>::placeholder())
+                        Self::TestMessage02(<super::test_message02::TestMessage02 as uper::Placeholder>::placeholder())
                     });
                 }
                 if let Self::TestMessage02(v) = out {
                     uper::decode_open(r, |r| {
-                        <uper::Boxed<super::test_message02::TestMessage02>>::decode_into(r, v)
+                        <super::test_message02::TestMessage02>::decode_into(r, v)
                     })?;
                 }
             }
             243 => {
                 if !matches!(out, Self::TestMessage03(_)) {
                     uper::replace_with(out, || {
-                        Self::TestMessage03(<uper::Boxed<super::test_message03::TestMessage03> as uper::Placeholder>::placeholder())
+                        Self::TestMessage03(<super::test_message03::TestMessage03 as uper::Placeholder>::placeholder())
                     });
                 }
                 if let Self::TestMessage03(v) = out {
                     uper::decode_open(r, |r| {
-                        <uper::Boxed<super::test_message03::TestMessage03>>::decode_into(r, v)
+                        <super::test_message03::TestMessage03>::decode_into(r, v)
                     })?;
                 }
             }
             244 => {
                 if !matches!(out, Self::TestMessage04(_)) {
                     uper::replace_with(out, || {
-                        Self::TestMessage04(<uper::Boxed<super::test_message04::TestMessage04> as uper::Placeholder>::placeholder())
+                        Self::TestMessage04(<super::test_message04::TestMessage04 as uper::Placeholder>::placeholder())
                     });
                 }
                 if let Self::TestMessage04(v) = out {
                     uper::decode_open(r, |r| {
-                        <uper::Boxed<super::test_message04::TestMessage04>>::decode_into(r, v)
+                        <super::test_message04::TestMessage04>::decode_into(r, v)
                     })?;
                 }
             }
             245 => {
                 if !matches!(out, Self::TestMessage05(_)) {
                     uper::replace_with(out, || {
-                        Self::TestMessage05(<uper::Boxed<super::test_message05::TestMessage05> as uper::Placeholder>::placeholder())
+                        Self::TestMessage05(<super::test_message05::TestMessage05 as uper::Placeholder>::placeholder())
                     });
                 }
                 if let Self::TestMessage05(v) = out {
                     uper::decode_open(r, |r| {
-                        <uper::Boxed<super::test_message05::TestMessage05>>::decode_into(r, v)
+                        <super::test_message05::TestMessage05>::decode_into(r, v)
                     })?;
                 }
             }
             246 => {
                 if !matches!(out, Self::TestMessage06(_)) {
                     uper::replace_with(out, || {
-                        Self::TestMessage06(<uper::Boxed<super::test_message06::TestMessage06> as uper::Placeholder>::placeholder())
+                        Self::TestMessage06(<super::test_message06::TestMessage06 as uper::Placeholder>::placeholder())
                     });
                 }
                 if let Self::TestMessage06(v) = out {
                     uper::decode_open(r, |r| {
-                        <uper::Boxed<super::test_message06::TestMessage06>>::decode_into(r, v)
+                        <super::test_message06::TestMessage06>::decode_into(r, v)
                     })?;
                 }
             }
             247 => {
                 if !matches!(out, Self::TestMessage07(_)) {
                     uper::replace_with(out, || {
-                        Self::TestMessage07(<uper::Boxed<super::test_message07::TestMessage07> as uper::Placeholder>::placeholder())
+                        Self::TestMessage07(<super::test_message07::TestMessage07 as uper::Placeholder>::placeholder())
                     });
                 }
                 if let Self::TestMessage07(v) = out {
                     uper::decode_open(r, |r| {
-                        <uper::Boxed<super::test_message07::TestMessage07>>::decode_into(r, v)
+                        <super::test_message07::TestMessage07>::decode_into(r, v)
                     })?;
                 }
             }
             248 => {
                 if !matches!(out, Self::TestMessage08(_)) {
                     uper::replace_with(out, || {
-                        Self::TestMessage08(<uper::Boxed<super::test_message08::TestMessage08> as uper::Placeholder>::placeholder())
+                        Self::TestMessage08(<super::test_message08::TestMessage08 as uper::Placeholder>::placeholder())
                     });
                 }
                 if let Self::TestMessage08(v) = out {
                     uper::decode_open(r, |r| {
-                        <uper::Boxed<super::test_message08::TestMessage08>>::decode_into(r, v)
+                        <super::test_message08::TestMessage08>::decode_into(r, v)
                     })?;
                 }
             }
             249 => {
                 if !matches!(out, Self::TestMessage09(_)) {
                     uper::replace_with(out, || {
-                        Self::TestMessage09(<uper::Boxed<super::test_message09::TestMessage09> as uper::Placeholder>::placeholder())
+                        Self::TestMessage09(<super::test_message09::TestMessage09 as uper::Placeholder>::placeholder())
                     });
                 }
                 if let Self::TestMessage09(v) = out {
                     uper::decode_open(r, |r| {
-                        <uper::Boxed<super::test_message09::TestMessage09>>::decode_into(r, v)
+                        <super::test_message09::TestMessage09>::decode_into(r, v)
                     })?;
                 }
             }
             250 => {
                 if !matches!(out, Self::TestMessage10(_)) {
                     uper::replace_with(out, || {
-                        Self::TestMessage10(<uper::Boxed<super::test_message10::TestMessage10> as uper::Placeholder>::placeholder())
+                        Self::TestMessage10(<super::test_message10::TestMessage10 as uper::Placeholder>::placeholder())
                     });
                 }
                 if let Self::TestMessage10(v) = out {
                     uper::decode_open(r, |r| {
-                        <uper::Boxed<super::test_message10::TestMessage10>>::decode_into(r, v)
+                        <super::test_message10::TestMessage10>::decode_into(r, v)
                     })?;
                 }
             }
             251 => {
                 if !matches!(out, Self::TestMessage11(_)) {
                     uper::replace_with(out, || {
-                        Self::TestMessage11(<uper::Boxed<super::test_message11::TestMessage11> as uper::Placeholder>::placeholder())
+                        Self::TestMessage11(<super::test_message11::TestMessage11 as uper::Placeholder>::placeholder())
                     });
                 }
                 if let Self::TestMessage11(v) = out {
                     uper::decode_open(r, |r| {
-                        <uper::Boxed<super::test_message11::TestMessage11>>::decode_into(r, v)
+                        <super::test_message11::TestMessage11>::decode_into(r, v)
                     })?;
                 }
             }
             252 => {
                 if !matches!(out, Self::TestMessage12(_)) {
                     uper::replace_with(out, || {
-                        Self::TestMessage12(<uper::Boxed<super::test_message12::TestMessage12> as uper::Placeholder>::placeholder())
+                        Self::TestMessage12(<super::test_message12::TestMessage12 as uper::Placeholder>::placeholder())
                     });
                 }
                 if let Self::TestMessage12(v) = out {
                     uper::decode_open(r, |r| {
-                        <uper::Boxed<super::test_message12::TestMessage12>>::decode_into(r, v)
+                        <super::test_message12::TestMessage12>::decode_into(r, v)
                     })?;
                 }
             }
             253 => {
                 if !matches!(out, Self::TestMessage13(_)) {
                     uper::replace_with(out, || {
-                        Self::TestMessage13(<uper::Boxed<super::test_message13::TestMessage13> as uper::Placeholder>::placeholder())
+                        Self::TestMessage13(<super::test_message13::TestMessage13 as uper::Placeholder>::placeholder())
                     });
                 }
                 if let Self::TestMessage13(v) = out {
                     uper::decode_open(r, |r| {
-                        <uper::Boxed<super::test_message13::TestMessage13>>::decode_into(r, v)
+                        <super::test_message13::TestMessage13>::decode_into(r, v)
                     })?;
                 }
             }
             254 => {
                 if !matches!(out, Self::TestMessage14(_)) {
                     uper::replace_with(out, || {
-                        Self::TestMessage14(<uper::Boxed<super::test_message14::TestMessage14> as uper::Placeholder>::placeholder())
+                        Self::TestMessage14(<super::test_message14::TestMessage14 as uper::Placeholder>::placeholder())
                     });
                 }
                 if let Self::TestMessage14(v) = out {
                     uper::decode_open(r, |r| {
-                        <uper::Boxed<super::test_message14::TestMessage14>>::decode_into(r, v)
+                        <super::test_message14::TestMessage14>::decode_into(r, v)
                     })?;
                 }
             }
             255 => {
                 if !matches!(out, Self::TestMessage15(_)) {
                     uper::replace_with(out, || {
-                        Self::TestMessage15(<uper::Boxed<super::test_message15::TestMessage15> as uper::Placeholder>::placeholder())
+                        Self::TestMessage15(<super::test_message15::TestMessage15 as uper::Placeholder>::placeholder())
                     });
                 }
                 if let Self::TestMessage15(v) = out {
                     uper::decode_open(r, |r| {
-                        <uper::Boxed<super::test_message15::TestMessage15>>::decode_into(r, v)
+                        <super::test_message15::TestMessage15>::decode_into(r, v)
                     })?;
                 }
             }
@@ -1462,36 +1474,36 @@ impl uper::random::Random for MessageFrameValue {
     fn random(g: &mut uper::random::Gen) -> Self {
         match g.below(31) {
             0 => Self::MapData(<uper::Boxed<super::map_data::MapData> as uper::random::Random>::random(g)),
-            1 => Self::SPAT(<uper::Boxed<super::spat::SPAT> as uper::random::Random>::random(g)),
-            2 => Self::BasicSafetyMessage(<uper::Boxed<super::basic_safety_message::BasicSafetyMessage> as uper::random::Random>::random(g)),
-            3 => Self::CommonSafetyRequest(<uper::Boxed<super::common_safety_request::CommonSafetyRequest> as uper::random::Random>::random(g)),
-            4 => Self::EmergencyVehicleAlert(<uper::Boxed<super::emergency_vehicle_alert::EmergencyVehicleAlert> as uper::random::Random>::random(g)),
-            5 => Self::IntersectionCollision(<uper::Boxed<super::intersection_collision::IntersectionCollision> as uper::random::Random>::random(g)),
-            6 => Self::NMEAcorrections(<uper::Boxed<super::nmea_corrections::NMEAcorrections> as uper::random::Random>::random(g)),
-            7 => Self::ProbeDataManagement(<uper::Boxed<super::probe_data_management::ProbeDataManagement> as uper::random::Random>::random(g)),
+            1 => Self::SPAT(<super::spat::SPAT as uper::random::Random>::random(g)),
+            2 => Self::BasicSafetyMessage(<super::basic_safety_message::BasicSafetyMessage as uper::random::Random>::random(g)),
+            3 => Self::CommonSafetyRequest(<super::common_safety_request::CommonSafetyRequest as uper::random::Random>::random(g)),
+            4 => Self::EmergencyVehicleAlert(<super::emergency_vehicle_alert::EmergencyVehicleAlert as uper::random::Random>::random(g)),
+            5 => Self::IntersectionCollision(<super::intersection_collision::IntersectionCollision as uper::random::Random>::random(g)),
+            6 => Self::NMEAcorrections(<super::nmea_corrections::NMEAcorrections as uper::random::Random>::random(g)),
+            7 => Self::ProbeDataManagement(<super::probe_data_management::ProbeDataManagement as uper::random::Random>::random(g)),
             8 => Self::ProbeVehicleData(<uper::Boxed<super::probe_vehicle_data::ProbeVehicleData> as uper::random::Random>::random(g)),
-            9 => Self::RoadSideAlert(<uper::Boxed<super::road_side_alert::RoadSideAlert> as uper::random::Random>::random(g)),
-            10 => Self::RTCMcorrections(<uper::Boxed<super::rtcm_corrections::RTCMcorrections> as uper::random::Random>::random(g)),
+            9 => Self::RoadSideAlert(<super::road_side_alert::RoadSideAlert as uper::random::Random>::random(g)),
+            10 => Self::RTCMcorrections(<super::rtcm_corrections::RTCMcorrections as uper::random::Random>::random(g)),
             11 => Self::SignalRequestMessage(<uper::Boxed<super::signal_request_message::SignalRequestMessage> as uper::random::Random>::random(g)),
-            12 => Self::SignalStatusMessage(<uper::Boxed<super::signal_status_message::SignalStatusMessage> as uper::random::Random>::random(g)),
+            12 => Self::SignalStatusMessage(<super::signal_status_message::SignalStatusMessage as uper::random::Random>::random(g)),
             13 => Self::TravelerInformation(<uper::Boxed<super::traveler_information::TravelerInformation> as uper::random::Random>::random(g)),
             14 => Self::PersonalSafetyMessage(<uper::Boxed<super::personal_safety_message::PersonalSafetyMessage> as uper::random::Random>::random(g)),
-            15 => Self::TestMessage00(<uper::Boxed<super::test_message00::TestMessage00> as uper::random::Random>::random(g)),
-            16 => Self::TestMessage01(<uper::Boxed<super::test_message01::TestMessage01> as uper::random::Random>::random(g)),
-            17 => Self::TestMessage02(<uper::Boxed<super::test_message02::TestMessage02> as uper::random::Random>::random(g)),
-            18 => Self::TestMessage03(<uper::Boxed<super::test_message03::TestMessage03> as uper::random::Random>::random(g)),
-            19 => Self::TestMessage04(<uper::Boxed<super::test_message04::TestMessage04> as uper::random::Random>::random(g)),
-            20 => Self::TestMessage05(<uper::Boxed<super::test_message05::TestMessage05> as uper::random::Random>::random(g)),
-            21 => Self::TestMessage06(<uper::Boxed<super::test_message06::TestMessage06> as uper::random::Random>::random(g)),
-            22 => Self::TestMessage07(<uper::Boxed<super::test_message07::TestMessage07> as uper::random::Random>::random(g)),
-            23 => Self::TestMessage08(<uper::Boxed<super::test_message08::TestMessage08> as uper::random::Random>::random(g)),
-            24 => Self::TestMessage09(<uper::Boxed<super::test_message09::TestMessage09> as uper::random::Random>::random(g)),
-            25 => Self::TestMessage10(<uper::Boxed<super::test_message10::TestMessage10> as uper::random::Random>::random(g)),
-            26 => Self::TestMessage11(<uper::Boxed<super::test_message11::TestMessage11> as uper::random::Random>::random(g)),
-            27 => Self::TestMessage12(<uper::Boxed<super::test_message12::TestMessage12> as uper::random::Random>::random(g)),
-            28 => Self::TestMessage13(<uper::Boxed<super::test_message13::TestMessage13> as uper::random::Random>::random(g)),
-            29 => Self::TestMessage14(<uper::Boxed<super::test_message14::TestMessage14> as uper::random::Random>::random(g)),
-            30 => Self::TestMessage15(<uper::Boxed<super::test_message15::TestMessage15> as uper::random::Random>::random(g)),
+            15 => Self::TestMessage00(<super::test_message00::TestMessage00 as uper::random::Random>::random(g)),
+            16 => Self::TestMessage01(<super::test_message01::TestMessage01 as uper::random::Random>::random(g)),
+            17 => Self::TestMessage02(<super::test_message02::TestMessage02 as uper::random::Random>::random(g)),
+            18 => Self::TestMessage03(<super::test_message03::TestMessage03 as uper::random::Random>::random(g)),
+            19 => Self::TestMessage04(<super::test_message04::TestMessage04 as uper::random::Random>::random(g)),
+            20 => Self::TestMessage05(<super::test_message05::TestMessage05 as uper::random::Random>::random(g)),
+            21 => Self::TestMessage06(<super::test_message06::TestMessage06 as uper::random::Random>::random(g)),
+            22 => Self::TestMessage07(<super::test_message07::TestMessage07 as uper::random::Random>::random(g)),
+            23 => Self::TestMessage08(<super::test_message08::TestMessage08 as uper::random::Random>::random(g)),
+            24 => Self::TestMessage09(<super::test_message09::TestMessage09 as uper::random::Random>::random(g)),
+            25 => Self::TestMessage10(<super::test_message10::TestMessage10 as uper::random::Random>::random(g)),
+            26 => Self::TestMessage11(<super::test_message11::TestMessage11 as uper::random::Random>::random(g)),
+            27 => Self::TestMessage12(<super::test_message12::TestMessage12 as uper::random::Random>::random(g)),
+            28 => Self::TestMessage13(<super::test_message13::TestMessage13 as uper::random::Random>::random(g)),
+            29 => Self::TestMessage14(<super::test_message14::TestMessage14 as uper::random::Random>::random(g)),
+            30 => Self::TestMessage15(<super::test_message15::TestMessage15 as uper::random::Random>::random(g)),
             _ => Self::Unknown { id: <DSRCmsgID as uper::Placeholder>::placeholder(), bytes: uper::Octets::new() },
         }
     }

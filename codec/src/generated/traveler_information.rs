@@ -324,10 +324,11 @@ pub struct TravelerDataFrameList(
     pub  uper::SeqOf<
         TravelerDataFrame,
         { super::capacities::TRAVELER_INFORMATION_TRAVELER_DATA_FRAME_LIST },
+        1,
     >,
 );
 
-crate::__newtype_deref!(TravelerDataFrameList, uper::SeqOf<TravelerDataFrame, { super::capacities::TRAVELER_INFORMATION_TRAVELER_DATA_FRAME_LIST }>);
+crate::__newtype_deref!(TravelerDataFrameList, uper::SeqOf<TravelerDataFrame, { super::capacities::TRAVELER_INFORMATION_TRAVELER_DATA_FRAME_LIST }, 1>);
 
 impl TravelerDataFrameList {
     const SIZE: uper::Size = uper::Size::range(1, 8);
@@ -2477,7 +2478,7 @@ pub enum NodeOffsetPointLL {
     /// `node-LatLon`
     NodeLatLon(super::common::NodeLLmD64b),
     /// `regional`
-    Regional(RegNodeOffsetPointLL),
+    Regional(uper::Boxed<RegNodeOffsetPointLL>),
 }
 
 impl uper::Placeholder for NodeOffsetPointLL {
@@ -2567,11 +2568,13 @@ impl Uper for NodeOffsetPointLL {
             7 => {
                 if !matches!(out, Self::Regional(_)) {
                     uper::replace_with(out, || {
-                        Self::Regional(<RegNodeOffsetPointLL as uper::Placeholder>::placeholder())
+                        Self::Regional(
+                            <uper::Boxed<RegNodeOffsetPointLL> as uper::Placeholder>::placeholder(),
+                        )
                     });
                 }
                 if let Self::Regional(v) = out {
-                    <RegNodeOffsetPointLL>::decode_into(r, v)?;
+                    <uper::Boxed<RegNodeOffsetPointLL>>::decode_into(r, v)?;
                 }
             }
             _ => {
@@ -2632,7 +2635,9 @@ impl uper::random::Random for NodeOffsetPointLL {
             4 => Self::NodeLL5(<NodeLL44B as uper::random::Random>::random(g)),
             5 => Self::NodeLL6(<NodeLL48B as uper::random::Random>::random(g)),
             6 => Self::NodeLatLon(<super::common::NodeLLmD64b as uper::random::Random>::random(g)),
-            7 => Self::Regional(<RegNodeOffsetPointLL as uper::random::Random>::random(g)),
+            7 => Self::Regional(
+                <uper::Boxed<RegNodeOffsetPointLL> as uper::random::Random>::random(g),
+            ),
             _ => Self::NodeLL1(<NodeLL24B as uper::Placeholder>::placeholder()),
         }
     }
@@ -2716,7 +2721,7 @@ impl crate::jer::Jer for NodeOffsetPointLL {
             "node-LatLon" => <super::common::NodeLLmD64b as crate::jer::Jer>::read_jer(x)
                 .map(Self::NodeLatLon)
                 .map_err(|e| e.within(name)),
-            "regional" => <RegNodeOffsetPointLL as crate::jer::Jer>::read_jer(x)
+            "regional" => <uper::Boxed<RegNodeOffsetPointLL> as crate::jer::Jer>::read_jer(x)
                 .map(Self::Regional)
                 .map_err(|e| e.within(name)),
             _ => Err(crate::jer::JerError::new(std::format!(

@@ -13,13 +13,38 @@ use super::writer::{EncodeResult, Writer};
 
 /// Unknown extension additions of one SEQUENCE value, at most `N` octets of records
 /// without `alloc` (each addition costs 4 octets plus its content).
-#[derive(Clone, PartialEq, Eq, Hash, Default)]
+///
+/// With `alloc` the value is one pointer, `None` until an extension bit is received: nearly
+/// every SEQUENCE of real traffic has none, and this field is in every extensible SEQUENCE
+/// (a node of a lane's node list is 32 octets with it a pointer, 64 with it in place).
+/// Without `alloc` it is in place, `N` octets of records.
+#[derive(Clone)]
 pub struct Extensions<const N: usize> {
+    received: Stored<N>,
+}
+
+/// What a set extension bit brought.
+#[derive(Clone)]
+struct Received<const N: usize> {
     /// Length of the presence bit-map as received; 0 when the extension bit was clear.
     bitmap_len: u16,
     /// Records: index (u16 BE), content length (u16 BE), content octets.
     records: Octets<N>,
 }
+
+impl<const N: usize> Received<N> {
+    const fn new() -> Self {
+        Self {
+            bitmap_len: 0,
+            records: Octets::new(),
+        }
+    }
+}
+
+#[cfg(feature = "alloc")]
+type Stored<const N: usize> = Option<alloc::boxed::Box<Received<N>>>;
+#[cfg(not(feature = "alloc"))]
+type Stored<const N: usize> = Received<N>;
 
 /// Most extension additions one SEQUENCE value may flag (J2735 2024 adds a handful).
 pub const MAX_BITMAP: u64 = 64;
@@ -54,28 +79,68 @@ fn for_each_record<F: FnMut(usize, &[u8]) -> bool>(records: &[u8], mut f: F) {
 
 impl<const N: usize> Extensions<N> {
     /// No extension additions (the extension bit is clear).
-    pub fn new() -> Self {
+    pub const fn new() -> Self {
         Self {
-            bitmap_len: 0,
-            records: Octets::new(),
+            #[cfg(feature = "alloc")]
+            received: None,
+            #[cfg(not(feature = "alloc"))]
+            received: Received::new(),
         }
+    }
+
+    /// What was received, if anything was stored.
+    #[inline]
+    fn received(&self) -> Option<&Received<N>> {
+        #[cfg(feature = "alloc")]
+        {
+            self.received.as_deref()
+        }
+        #[cfg(not(feature = "alloc"))]
+        {
+            Some(&self.received)
+        }
+    }
+
+    /// What was received, writable (with `alloc`, allocated the first time).
+    fn received_mut(&mut self) -> &mut Received<N> {
+        #[cfg(feature = "alloc")]
+        {
+            self.received
+                .get_or_insert_with(|| alloc::boxed::Box::new(Received::new()))
+        }
+        #[cfg(not(feature = "alloc"))]
+        {
+            &mut self.received
+        }
+    }
+
+    /// The stored records.
+    fn records(&self) -> &[u8] {
+        self.received().map_or(&[], |r| &r.records)
     }
 
     /// Makes this "no extension additions" (with `alloc`, the records' allocation is kept
     /// for reuse).
+    #[inline]
     pub fn clear(&mut self) {
-        self.bitmap_len = 0;
-        self.records.clear();
+        #[cfg(feature = "alloc")]
+        let received = self.received.as_deref_mut();
+        #[cfg(not(feature = "alloc"))]
+        let received = Some(&mut self.received);
+        if let Some(r) = received {
+            r.bitmap_len = 0;
+            r.records.clear();
+        }
     }
 
     /// True when the extension bit is to be set (something was received or stored).
     pub fn is_present(&self) -> bool {
-        self.bitmap_len > 0 || !self.records.is_empty()
+        self.bitmap_len() > 0 || !self.records().is_empty()
     }
 
     /// Length of the presence bit-map as received (0: the extension bit was clear).
     pub fn bitmap_len(&self) -> usize {
-        self.bitmap_len as usize
+        self.received().map_or(0, |r| r.bitmap_len as usize)
     }
 
     /// Extensions with a bit-map of `bitmap_len` and the given unknown additions (index
@@ -90,10 +155,9 @@ impl<const N: usize> Extensions<N> {
         if bitmap_len as u64 > MAX_BITMAP {
             return None;
         }
-        let mut ext = Self {
-            bitmap_len: u16::try_from(bitmap_len).ok()?,
-            records: Octets::new(),
-        };
+        let mut ext = Self::new();
+        let received = ext.received_mut();
+        received.bitmap_len = u16::try_from(bitmap_len).ok()?;
         let mut prev = None;
         for (index, content) in additions {
             if prev.is_some_and(|p| p >= index) || index >= bitmap_len {
@@ -107,7 +171,7 @@ impl<const N: usize> Extensions<N> {
                 .chain(len.to_be_bytes())
                 .chain(content.iter().copied())
             {
-                ext.records.push(b).ok()?;
+                received.records.push(b).ok()?;
             }
         }
         Some(ext)
@@ -116,7 +180,7 @@ impl<const N: usize> Extensions<N> {
     /// The stored unknown additions: (index after the root, open-type content).
     pub fn unknown(&self) -> UnknownAdditions<'_> {
         UnknownAdditions {
-            rest: &self.records,
+            rest: self.records(),
         }
     }
 
@@ -147,11 +211,11 @@ impl<const N: usize> Extensions<N> {
         if n as usize > r.remaining() {
             return Err(DecodeError::new(DKind::UnexpectedEnd, at));
         }
-        self.bitmap_len = n as u16;
         let mut present = [0u64; 1];
         if n > MAX_BITMAP {
             return Err(DecodeError::new(DKind::LengthTooLarge, at));
         }
+        self.received_mut().bitmap_len = n as u16;
         for i in 0..n as usize {
             if r.read_bit()? {
                 present[i / 64] |= 1 << (i % 64);
@@ -189,12 +253,13 @@ impl<const N: usize> Extensions<N> {
         let len = content.remaining() / 8;
         let at = content.position();
         let header = [(index >> 8) as u8, index as u8, (len >> 8) as u8, len as u8];
+        let records = &mut self.received_mut().records;
         for b in header {
-            self.records
+            records
                 .push(b)
                 .map_err(|_| DecodeError::at(DKind::CapacityExceeded, at, key))?;
         }
-        read_octets_into(&mut content, len, &mut self.records, key)
+        read_octets_into(&mut content, len, records, key)
     }
 
     /// Encodes the bit-map and the additions. `known_present` flags the additions the type
@@ -211,7 +276,7 @@ impl<const N: usize> Extensions<N> {
         let mut last = known_present.iter().rposition(|&p| p).map_or(0, |i| i + 1);
         let mut ordered = true;
         let mut prev: Option<usize> = None;
-        for_each_record(&self.records, |i, _| {
+        for_each_record(self.records(), |i, _| {
             ordered &= prev.is_none_or(|p| p < i) && known_present.get(i) != Some(&true);
             prev = Some(i);
             last = last.max(i + 1);
@@ -220,7 +285,7 @@ impl<const N: usize> Extensions<N> {
         if !ordered {
             return Err(EncodeError::new(EKind::InvalidExtensions));
         }
-        let n = last.max(self.bitmap_len as usize).max(1);
+        let n = last.max(self.bitmap_len()).max(1);
         w.write_normally_small(n as u64 - 1)?;
         for i in 0..n {
             w.write_bit(known_present.get(i) == Some(&true) || self.record(i).is_some())?;
@@ -245,10 +310,33 @@ impl<const N: usize> Extensions<N> {
     }
 }
 
+/// Equal when the bit-map lengths and the stored additions are (with `alloc`, whether or not
+/// a cleared value kept its allocation).
+impl<const N: usize> PartialEq for Extensions<N> {
+    fn eq(&self, other: &Self) -> bool {
+        self.bitmap_len() == other.bitmap_len() && self.records() == other.records()
+    }
+}
+
+impl<const N: usize> Eq for Extensions<N> {}
+
+impl<const N: usize> core::hash::Hash for Extensions<N> {
+    fn hash<H: core::hash::Hasher>(&self, state: &mut H) {
+        self.bitmap_len().hash(state);
+        self.records().hash(state);
+    }
+}
+
+impl<const N: usize> Default for Extensions<N> {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
 impl<const N: usize> core::fmt::Debug for Extensions<N> {
     fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
         let mut l = f.debug_list();
-        for_each_record(&self.records, |i, c| {
+        for_each_record(self.records(), |i, c| {
             l.entry(&(i, c));
             true
         });
@@ -390,6 +478,38 @@ mod tests {
             )[..],
             input
         );
+    }
+
+    /// With `alloc` the field is one pointer, allocated only when an extension bit comes; a
+    /// kept value cleared for a message without additions keeps that allocation and equals
+    /// (and hashes as) a value that never had any.
+    #[test]
+    fn cleared_extensions_equal_absent_ones_whatever_they_kept() {
+        use core::hash::{Hash, Hasher};
+        fn hash_of(e: &Extensions<32>) -> u64 {
+            let mut h = std::hash::DefaultHasher::new();
+            e.hash(&mut h);
+            h.finish()
+        }
+        let mut buf = [0u8; 8];
+        let mut w = Writer::new(&mut buf);
+        w.write_normally_small(0).unwrap();
+        w.write_bit(true).unwrap();
+        w.write_open_octets(&[7]).unwrap();
+        let mut kept = Extensions::<32>::decode(&mut Reader::new(&buf), "T").unwrap();
+        assert!(kept.is_present());
+        assert_ne!(kept, Extensions::new());
+        kept.clear();
+        assert!(!kept.is_present());
+        assert_eq!(kept, Extensions::new());
+        assert_eq!(hash_of(&kept), hash_of(&Extensions::new()));
+        assert_eq!(std::format!("{kept:?}"), "[]");
+        if cfg!(feature = "alloc") {
+            assert_eq!(
+                core::mem::size_of::<Extensions<32>>(),
+                core::mem::size_of::<usize>()
+            );
+        }
     }
 
     #[test]

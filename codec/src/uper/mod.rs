@@ -163,7 +163,7 @@ pub const fn max_octets<T: Uper>() -> Option<usize> {
 /// most messages are tens of KiB to megabytes (a `MessageFrame` 8.5 MB, see the crate docs'
 /// table of value sizes), so asking for a larger one by value is a compile error that points to
 /// [`decode_into`] (a value you keep) or [`crate::Decoder`] (kept values in a decoding loop).
-/// With `alloc` every message fits (a `MessageFrame` is 552 octets, its lists on the heap).
+/// With `alloc` every message fits (a `MessageFrame` is 296 octets, its lists on the heap).
 pub const BY_VALUE_MAX_OCTETS: usize = 1024;
 
 /// Refuses, at compile time, to return a `T` larger than [`BY_VALUE_MAX_OCTETS`] by value.

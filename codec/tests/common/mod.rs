@@ -12,8 +12,8 @@ pub fn random_frame(kind: u8, seed: u64) -> MessageFrame {
     let value = match kind % 4 {
         0 => MessageFrameValue::MapData(MapData::random(&mut g).into()),
         1 => MessageFrameValue::TravelerInformation(TravelerInformation::random(&mut g).into()),
-        2 => MessageFrameValue::BasicSafetyMessage(BasicSafetyMessage::random(&mut g).into()),
-        _ => MessageFrameValue::SPAT(SPAT::random(&mut g).into()),
+        2 => MessageFrameValue::BasicSafetyMessage(BasicSafetyMessage::random(&mut g)),
+        _ => MessageFrameValue::SPAT(SPAT::random(&mut g)),
     };
     MessageFrame {
         value,
