@@ -15,6 +15,7 @@ use roadside::pki::RsuSigner;
 use roadside::road::Road;
 use serde::Serialize;
 use serde_json::{json, Value};
+use std::net::SocketAddr;
 use std::path::Path;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
@@ -57,6 +58,7 @@ pub struct Attack {
     kind: AttackKind,
     stop: Arc<AtomicBool>,
     handle: JoinHandle<AttackCounts>,
+    from: SocketAddr,
 }
 
 impl Attack {
@@ -76,12 +78,18 @@ impl Attack {
     ) -> Result<Self, String> {
         let attacker = Attacker::new(spec.kind, road, zones, genuine)?;
         let stop = Arc::new(AtomicBool::new(false));
-        let handle = roadside::attacker::spawn(spec, attacker, to, t0, stop.clone())?;
+        let (handle, from) = roadside::attacker::spawn(spec, attacker, to, t0, stop.clone())?;
         Ok(Self {
             kind: spec.kind,
             stop,
             handle,
+            from,
         })
+    }
+
+    /// The address the attacker sends from.
+    pub fn from(&self) -> SocketAddr {
+        self.from
     }
 
     /// Stops the attacker and returns its kind and what it sent.
@@ -226,6 +234,9 @@ pub struct AttackFacts {
     pub sent: AttackCounts,
     /// Datagrams the real roadside sent over the run.
     pub roadside_sent: u64,
+    /// Forged datagrams the firmware rig's radio dropped with its receive buffers full,
+    /// before the serial link (0 for the daemon, which takes datagrams directly).
+    pub radio_dropped: u64,
     /// What the device counted at the end.
     pub device: Option<DeviceCounts>,
     /// Why the device's counts could not be read, if they could not.

@@ -5,18 +5,22 @@
 //! `HmiState` out). The `obu` daemon runs in bridge mode on USART3's port and serves the
 //! tablet app and its event stream as it does for its own core. Two relays take what the
 //! bench sends to a daemon (UDP datagrams: NMEA epochs and V2X MessageFrames) to the
-//! firmware's ports: NMEA as it is, each V2X datagram as one `obu::link` frame (COBS +
-//! CRC-32), as a radio chip beside the microcontroller would forward it. The bench then
-//! drives the rig through the same [`Daemon`] handle as the daemon alone.
+//! firmware's ports: NMEA as it is (over TCP, every byte delivered, as a GNSS receiver's
+//! UART with flow control would), each V2X datagram as one `obu::link` frame (COBS +
+//! CRC-32) through the model of a radio chip beside the microcontroller, with a fixed
+//! number of receive buffers ([`crate::radio`]; over a Unix socket). The bench then drives
+//! the rig through the same [`Daemon`] handle as the daemon alone.
 
 use crate::daemon::Daemon;
+use crate::radio::RadioQueue;
 use crate::rig::Rig;
 use std::io::Write;
 use std::net::{TcpListener, TcpStream, UdpSocket};
+use std::os::unix::net::UnixStream;
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Stdio};
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
-use std::sync::Arc;
+use std::sync::{Arc, Mutex};
 use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
 
@@ -53,17 +57,19 @@ fn free_tcp_port() -> Result<u16, String> {
     l.local_addr().map(|a| a.port()).map_err(|e| e.to_string())
 }
 
-/// Connects to QEMU's server socket at `port`, retrying while the emulator starts.
-fn connect(port: u16, qemu: &mut Child) -> Result<TcpStream, String> {
+/// Connects to one of QEMU's server sockets with `connect`, retrying while the emulator
+/// starts; `name` says which in an error.
+fn connect<S>(
+    name: &str,
+    qemu: &mut Child,
+    connect: impl Fn() -> std::io::Result<S>,
+) -> Result<S, String> {
     let deadline = Instant::now() + Duration::from_secs(10);
     loop {
-        match TcpStream::connect(("127.0.0.1", port)) {
-            Ok(s) => {
-                s.set_nodelay(true).map_err(|e| e.to_string())?;
-                return Ok(s);
-            }
+        match connect() {
+            Ok(s) => return Ok(s),
             Err(e) if Instant::now() >= deadline => {
-                return Err(format!("QEMU's serial port {port}: {e}"));
+                return Err(format!("QEMU's serial port {name}: {e}"));
             }
             Err(_) => {
                 if let Ok(Some(status)) = qemu.try_wait() {
@@ -73,6 +79,17 @@ fn connect(port: u16, qemu: &mut Child) -> Result<TcpStream, String> {
             }
         }
     }
+}
+
+/// A path for the V2X port's Unix socket, unique to this process and `http_port` (short:
+/// a socket path has at most 107 bytes).
+fn v2x_socket_path(http_port: u16) -> PathBuf {
+    static NEXT: AtomicU64 = AtomicU64::new(0);
+    let n = NEXT.fetch_add(1, Ordering::Relaxed);
+    std::env::temp_dir().join(format!(
+        "hil-sim-{}-{http_port}-{n}.v2x",
+        std::process::id()
+    ))
 }
 
 /// Starts QEMU with the firmware, the relays and the daemon in bridge mode (HTTP on
@@ -87,13 +104,17 @@ pub fn start(
     http_port: u16,
 ) -> Result<Daemon, String> {
     std::fs::create_dir_all(state_dir).map_err(|e| format!("{}: {e}", state_dir.display()))?;
-    let ports = [free_tcp_port()?, free_tcp_port()?, free_tcp_port()?];
+    let [nmea_port, hmi_port] = [free_tcp_port()?, free_tcp_port()?];
+    let v2x_path = v2x_socket_path(http_port);
+    let _ = std::fs::remove_file(&v2x_path);
     let mut cmd = Command::new(&target.qemu);
     cmd.args(["-M", "netduinoplus2", "-nographic", "-monitor", "none"]);
-    for p in ports {
-        cmd.arg("-serial")
-            .arg(format!("tcp:127.0.0.1:{p},server=on,wait=off"));
-    }
+    cmd.arg("-serial")
+        .arg(format!("tcp:127.0.0.1:{nmea_port},server=on,wait=off"))
+        .arg("-serial")
+        .arg(format!("unix:{},server=on,wait=off", v2x_path.display()))
+        .arg("-serial")
+        .arg(format!("tcp:127.0.0.1:{hmi_port},server=on,wait=off"));
     cmd.args(["-semihosting-config", "enable=on,target=native", "-kernel"])
         .arg(&target.elf)
         .stdin(Stdio::null())
@@ -104,21 +125,28 @@ pub fn start(
         .map_err(|e| format!("cannot start {}: {e}", target.qemu.display()))?;
     let decoder = log_firmware(&mut qemu, &target.elf, state_dir)?;
     wait_for_boot(&mut qemu, decoder.is_some(), state_dir)?;
-    let nmea_port = connect(ports[0], &mut qemu)?;
-    let v2x_port = connect(ports[1], &mut qemu)?;
+    let nmea_link = connect("USART1 (NMEA)", &mut qemu, || {
+        let s = TcpStream::connect(("127.0.0.1", nmea_port))?;
+        s.set_nodelay(true)?;
+        Ok(s)
+    })?;
+    let v2x_link = connect("USART2 (V2X)", &mut qemu, || UnixStream::connect(&v2x_path))?;
     let stop = Arc::new(AtomicBool::new(false));
-    let relayed = Arc::new([AtomicU64::new(0), AtomicU64::new(0)]);
-    let (gnss, nmea_relay) = relay(nmea_port, false, stop.clone(), relayed.clone())?;
-    let (v2x, v2x_relay) = relay(v2x_port, true, stop.clone(), relayed.clone())?;
+    let nmea_relayed = Arc::new(AtomicU64::new(0));
+    let radio = Arc::new(Mutex::new(RadioQueue::default()));
+    let (gnss, nmea_relay) = nmea_relay(nmea_link, stop.clone(), nmea_relayed.clone())?;
+    let (v2x, v2x_relay) = radio_relay(v2x_link, stop.clone(), radio.clone())?;
     let config = crate::daemon::config(state_dir, 0, http_port, "")?;
-    let bridge = format!("tcp:127.0.0.1:{}", ports[2]);
+    let bridge = format!("tcp:127.0.0.1:{hmi_port}");
     let rig = Rig {
         qemu,
         decoder,
         stop,
         relays: vec![nmea_relay, v2x_relay],
         log: state_dir.join("firmware.log"),
-        relayed,
+        nmea_relayed,
+        radio,
+        v2x_socket: v2x_path,
     };
     let mut daemon = Daemon::start_bridge(obu, state_dir, &config, &bridge)?;
     daemon.v2x = v2x;
@@ -185,37 +213,78 @@ fn log_firmware(qemu: &mut Child, elf: &Path, dir: &Path) -> Result<Option<Child
         .map_err(|e| format!("defmt-print: {e}"))
 }
 
-/// A UDP socket whose datagrams go to `port` (each as one link frame when `framed`), in a
-/// thread that ends with `stop`. Returns the socket's address.
-fn relay(
+/// A UDP socket whose datagrams (NMEA epochs) go to `port` as they are, in a thread that
+/// ends with `stop`; `relayed` counts the bytes. Returns the socket's address.
+fn nmea_relay(
     mut port: TcpStream,
-    framed: bool,
     stop: Arc<AtomicBool>,
-    relayed: Arc<[AtomicU64; 2]>,
+    relayed: Arc<AtomicU64>,
 ) -> Result<(String, JoinHandle<()>), String> {
-    let sock = UdpSocket::bind("127.0.0.1:0").map_err(|e| e.to_string())?;
-    let addr = sock.local_addr().map_err(|e| e.to_string())?.to_string();
-    sock.set_read_timeout(Some(Duration::from_millis(100)))
-        .map_err(|e| e.to_string())?;
+    let (sock, addr) = relay_socket()?;
     let handle = std::thread::spawn(move || {
         let mut buf = vec![0u8; 65_536];
-        let mut wire = vec![0u8; obu::link::encoded_len(buf.len())];
         while !stop.load(Ordering::Relaxed) {
             let Ok(n) = sock.recv(&mut buf) else {
                 continue;
             };
-            let bytes = if framed {
-                match obu::link::encode(&buf[..n], &mut wire) {
-                    Ok(len) => &wire[..len],
-                    Err(_) => continue,
-                }
-            } else {
-                &buf[..n]
-            };
             // Counted before the write, which may wait while the firmware's link pauses: a
             // datagram being written is one the firmware still has to take.
-            relayed[usize::from(framed)].fetch_add(bytes.len() as u64, Ordering::Relaxed);
-            if port.write_all(bytes).is_err() {
+            relayed.fetch_add(n as u64, Ordering::Relaxed);
+            if port.write_all(&buf[..n]).is_err() {
+                return;
+            }
+        }
+    });
+    Ok((addr, handle))
+}
+
+/// A UDP socket bound to the loopback interface with a 100 ms read timeout, and its address.
+fn relay_socket() -> Result<(UdpSocket, String), String> {
+    let sock = UdpSocket::bind("127.0.0.1:0").map_err(|e| e.to_string())?;
+    let addr = sock.local_addr().map_err(|e| e.to_string())?.to_string();
+    sock.set_read_timeout(Some(RELAY_IDLE_WAIT))
+        .map_err(|e| e.to_string())?;
+    Ok((sock, addr))
+}
+
+/// How long a relay waits for a datagram when it has nothing to send.
+const RELAY_IDLE_WAIT: Duration = Duration::from_millis(100);
+/// How long the radio's relay waits for a datagram while frames wait for the link: the
+/// link takes a ~400-byte frame in some 40 ms.
+const RADIO_POLL: Duration = Duration::from_millis(4);
+
+/// The radio chip's relay: a UDP socket whose datagrams go to `link` as `obu::link` frames
+/// through `radio`'s receive buffers, in a thread that ends with `stop`. The link's send
+/// buffer is set to the kernel's smallest, so frames wait in the radio's buffers, not in
+/// the socket (see [`crate::radio`]). Returns the socket's address.
+fn radio_relay(
+    mut link: UnixStream,
+    stop: Arc<AtomicBool>,
+    radio: Arc<Mutex<RadioQueue>>,
+) -> Result<(String, JoinHandle<()>), String> {
+    let (sock, addr) = relay_socket()?;
+    socket2::SockRef::from(&link)
+        .set_send_buffer_size(1)
+        .map_err(|e| format!("the V2X link's send buffer: {e}"))?;
+    link.set_nonblocking(true).map_err(|e| e.to_string())?;
+    let handle = std::thread::spawn(move || {
+        let lock = || radio.lock().unwrap_or_else(|p| p.into_inner());
+        let mut buf = vec![0u8; 65_536];
+        let mut wire = vec![0u8; obu::link::encoded_len(buf.len())];
+        while !stop.load(Ordering::Relaxed) {
+            let wait = if lock().is_empty() {
+                RELAY_IDLE_WAIT
+            } else {
+                RADIO_POLL
+            };
+            let _ = sock.set_read_timeout(Some(wait));
+            if let Ok((n, from)) = sock.recv_from(&mut buf) {
+                // The buffer is sized for the largest datagram: encoding cannot fail.
+                if let Ok(len) = obu::link::encode(&buf[..n], &mut wire) {
+                    lock().receive(from, wire[..len].to_vec());
+                }
+            }
+            if lock().send(&mut link).is_err() {
                 return;
             }
         }
@@ -224,11 +293,11 @@ fn relay(
 }
 
 /// Waits until the firmware has taken every byte relayed to it so far: its status report
-/// (every second, after a pass over both inputs) in its log shows "rx taken" at or above what
-/// the relays wrote. The link pauses rather than drops when the firmware is busy, so on a
-/// loaded host the firmware may still be working through the drive when the bench is done
-/// sending; stopping it then would lose inputs that were sent. Gives up after `limit`, with
-/// how far behind the firmware still is.
+/// (every second, after a pass over both inputs) in its log shows "rx taken" at or above
+/// what the NMEA relay wrote and what the radio had written once every frame it held had
+/// left its buffers (sent or dropped). On a loaded host the firmware may still be working
+/// through the drive when the bench is done sending; stopping it then would lose inputs
+/// that were sent. Gives up after `limit`, with how far behind the firmware still is.
 pub fn catch_up(rig: &Rig, limit: Duration) -> Result<(), String> {
     if rig.decoder.is_none() {
         // Without `defmt-print` the log is raw defmt: no report to read. Give the firmware
@@ -237,24 +306,30 @@ pub fn catch_up(rig: &Rig, limit: Duration) -> Result<(), String> {
         std::thread::sleep(Duration::from_secs(3));
         return Ok(());
     }
-    // Let a relay finish the datagram it is on (it may wait while the link pauses).
+    // Let the NMEA relay finish the datagram it is on (it may wait while the link pauses).
     std::thread::sleep(Duration::from_millis(200));
-    let sent = [0, 1].map(|i| rig.relayed[i].load(Ordering::Relaxed));
+    let nmea_sent = rig.nmea_relayed.load(Ordering::Relaxed);
+    rig.radio().set_mark();
     let start = Instant::now();
     loop {
+        let v2x_sent = rig.radio().marked_written();
         let taken = std::fs::read_to_string(&rig.log)
             .ok()
             .and_then(|text| text.lines().rev().find_map(rx_taken));
-        if taken.is_some_and(|t| t[0] >= sent[0] && t[1] >= sent[1]) {
-            return Ok(());
+        if let (Some([n, v]), Some(v2x_sent)) = (taken, v2x_sent) {
+            if n >= nmea_sent && v >= v2x_sent {
+                return Ok(());
+            }
         }
         if start.elapsed() >= limit {
             let [n, v] = taken.unwrap_or([0, 0]);
+            let v2x = v2x_sent.map_or_else(
+                || "its radio still held frames from before".to_string(),
+                |b| format!("it took {v} of {b} V2X bytes"),
+            );
             return Err(format!(
-                "the firmware had not caught up after {:.0} s: it took {n} of {} NMEA bytes and {v} of {} V2X bytes",
+                "the firmware had not caught up after {:.0} s: it took {n} of {nmea_sent} NMEA bytes; {v2x}",
                 limit.as_secs_f64(),
-                sent[0],
-                sent[1]
             ));
         }
         std::thread::sleep(Duration::from_millis(100));

@@ -12,6 +12,7 @@
 //! - [`daemon`]: the real `obu` daemon as a child process.
 //! - [`rig`]: the processes behind a daemon in bridge mode (QEMU, relays).
 //! - [`firmware`]: the OBU firmware in QEMU as the device under test.
+//! - [`radio`]: the radio chip in front of the firmware: its receive buffers.
 //! - [`sse`]: a Server-Sent Events client that follows the daemon's `/events`.
 //! - [`attack`]: a scenario's attacker beside the roadside, and the device's counters of
 //!   what it dropped.
@@ -39,6 +40,7 @@ pub mod hmi_bench;
 pub mod nmea;
 pub mod perf;
 pub mod plot;
+pub mod radio;
 pub mod report_plots;
 pub mod rig;
 pub mod runner;

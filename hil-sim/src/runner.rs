@@ -72,6 +72,9 @@ pub struct RunReport {
     /// The attack, when the scenario has an attacker: what it sent and what the device
     /// counted.
     pub attack: Option<AttackFacts>,
+    /// The firmware rig's radio: V2X frames it received, delivered over the serial link and
+    /// dropped with its receive buffers full (`None` for the daemon).
+    pub radio: Option<crate::radio::LinkCounts>,
     /// Workers' PSMs the camera site sent (0 without one).
     pub worker_psms: u64,
     /// The camera site's processing time per frame, milliseconds (mean, max); over 100 ms
@@ -90,6 +93,9 @@ struct Recorded {
     changes: Vec<Instant>,
     v2x: V2xCounts,
     attack: Option<AttackFacts>,
+    /// The attacker's sending address.
+    attacker_from: Option<std::net::SocketAddr>,
+    radio: Option<crate::radio::LinkCounts>,
     views: Vec<CameraView>,
     psms: u64,
     camera_ms: (f64, f64, u64),
@@ -146,6 +152,11 @@ pub fn run(s: &Scenario, opts: &RunOptions) -> Result<RunReport, String> {
         // firmware work through it before QEMU stops, or a frame sent would be neither
         // taken nor dropped.
         crate::firmware::catch_up(rig, FIRMWARE_CATCH_UP)?;
+        let radio = rig.radio_counts();
+        if let (Some(a), Some(from)) = (&mut recorded.attack, recorded.attacker_from) {
+            a.radio_dropped = radio.dropped_from(from);
+        }
+        recorded.radio = Some(radio);
     }
     // The firmware's log is complete once QEMU and its decoder have stopped.
     drop(daemon);
@@ -219,6 +230,7 @@ fn drive_and_record(
         .map(|spec| Attack::start(spec, road, zones, &daemon.v2x, t0, &signer))
         .transpose()
         .inspect_err(|_| stop.store(true, Ordering::Relaxed))?;
+    let attacker_from = attacker.as_ref().map(Attack::from);
     let v2x = roadside::scripted::spawn(
         &s.site(),
         road,
@@ -249,8 +261,8 @@ fn drive_and_record(
     // The attack ends with the drive.
     let attacked = attacker.map(Attack::finish).transpose();
     if let Some(rig) = &daemon.rig {
-        // The firmware's link pauses when it is busy: on a loaded host it may still be
-        // working through the drive. Its last states are recorded only once it caught up.
+        // The firmware may still be working through the last frames of the drive (its
+        // link pauses when it is busy). Its last states are recorded only once it caught up.
         if let Err(e) = crate::firmware::catch_up(rig, FIRMWARE_CATCH_UP) {
             stop.store(true, Ordering::Relaxed);
             return Err(e);
@@ -273,6 +285,7 @@ fn drive_and_record(
             kind,
             sent,
             roadside_sent: counts.sent,
+            radio_dropped: 0,
             device_error: device.as_ref().and_then(|d| d.as_ref().err().cloned()),
             device: device.and_then(Result::ok),
         }
@@ -286,6 +299,8 @@ fn drive_and_record(
         changes,
         v2x: counts,
         attack,
+        attacker_from,
+        radio: None,
         views: roadside.views,
         psms: roadside.psms,
         camera_ms: roadside.camera_ms,
@@ -480,6 +495,7 @@ fn report(
         states: records.len(),
         v2x: rec.v2x,
         attack: rec.attack.clone(),
+        radio: rec.radio.clone(),
         worker_psms: rec.psms,
         camera_frame_ms: (rec.camera_ms.2 > 0)
             .then(|| [rec.camera_ms.0 / rec.camera_ms.2 as f64, rec.camera_ms.1]),

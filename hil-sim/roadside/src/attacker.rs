@@ -16,7 +16,7 @@ use crate::messages::{self, WorkZone, DURATION_INDEFINITE};
 use crate::pki::{Pki, PkiSpec, RsuSigner};
 use crate::road::Road;
 use serde::{Deserialize, Serialize};
-use std::net::UdpSocket;
+use std::net::{SocketAddr, UdpSocket};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 use std::thread::JoinHandle;
@@ -257,7 +257,8 @@ fn yesterday(zone: WorkZone) -> WorkZone {
 
 /// Starts the attacker's thread: from `t0` + `spec.start_s` it sends
 /// [`Attacker::datagram`] to `to` every [`AttackerSpec::period`] until `stop` turns
-/// true, then returns what it sent.
+/// true, then returns what it sent. Returns the thread and the address it sends from
+/// (a relay on the way can tell the attacker's datagrams by it).
 ///
 /// # Errors
 ///
@@ -268,13 +269,14 @@ pub fn spawn(
     to: &str,
     t0: Instant,
     stop: Arc<AtomicBool>,
-) -> Result<JoinHandle<AttackCounts>, String> {
+) -> Result<(JoinHandle<AttackCounts>, SocketAddr), String> {
     spec.validate()?;
     let sock = UdpSocket::bind("127.0.0.1:0").map_err(|e| e.to_string())?;
+    let from = sock.local_addr().map_err(|e| e.to_string())?;
     let to = to.to_string();
     let period = spec.period();
     let mut next = t0 + Duration::from_secs_f64(spec.start_s);
-    Ok(std::thread::spawn(move || {
+    let handle = std::thread::spawn(move || {
         let mut counts = AttackCounts::default();
         loop {
             // Sleep in short steps so that a stop is seen soon.
@@ -298,7 +300,8 @@ pub fn spawn(
             }
             next += period;
         }
-    }))
+    });
+    Ok((handle, from))
 }
 
 #[cfg(test)]
@@ -437,7 +440,7 @@ mod tests {
         let frame = attacker.frame().to_vec();
         let stop = Arc::new(AtomicBool::new(false));
         let t0 = Instant::now();
-        let handle = spawn(&spec, attacker, &to, t0, stop.clone()).unwrap();
+        let (handle, _) = spawn(&spec, attacker, &to, t0, stop.clone()).unwrap();
         let mut buf = [0u8; 2048];
         let n = rx.recv(&mut buf).unwrap();
         assert_eq!(&buf[..n], &frame[..]);

@@ -20,9 +20,11 @@ fn attack(facts: &RunFacts) -> Result<&AttackFacts, String> {
 /// counters also add up to the datagrams of the run (the roadside's and the attacker's),
 /// so no forged datagram was taken and none was counted twice. The firmware behind its
 /// emulated serial link (which can damage a frame when the host is loaded) must count each
-/// forged frame under the reason or under the link's own reasons (COBS, CRC): at most as
-/// many under the reason as were sent, and with the link's drops at least as many (the link
-/// may not damage more than 2 % of the run's frames, or it is the link being judged).
+/// forged frame it was delivered under the reason or under the link's own reasons (COBS,
+/// CRC): at most as many under the reason as were delivered, and with the link's drops at
+/// least as many (the link may not damage more than 2 % of the run's frames, or it is the
+/// link being judged). Delivered are the forged frames sent less those the rig's radio
+/// dropped with its receive buffers full ([`crate::radio`]).
 pub(super) fn forged_dropped(group: &str, reason: &str, facts: &RunFacts) -> (bool, String) {
     let a = match attack(facts) {
         Ok(a) => a,
@@ -71,7 +73,20 @@ pub(super) fn forged_dropped(group: &str, reason: &str, facts: &RunFacts) -> (bo
             g.values().filter_map(serde_json::Value::as_u64).sum()
         });
         let frames = a.roadside_sent + sent;
-        ok &= counted <= sent && counted + link >= sent && link * 50 <= frames;
+        // What the rig's radio dropped with its buffers full never reached the firmware.
+        let delivered = sent.saturating_sub(a.radio_dropped);
+        ok &= a.radio_dropped <= sent
+            && counted <= delivered
+            && counted + link >= delivered
+            && link * 50 <= frames;
+        if a.radio_dropped > 0 {
+            detail.push_str(&format!(
+                "; {} forged frames dropped by the rig's radio with its {} receive buffers full, \
+                 {delivered} delivered",
+                a.radio_dropped,
+                crate::radio::QUEUE_FRAMES
+            ));
+        }
         if link > 0 {
             detail.push_str(&format!(
                 "; {link} of the run's {frames} frames damaged on its serial link (overrun: \
@@ -176,6 +191,15 @@ mod tests {
     const CHAIN: &str = "1609.2: chain does not reach a trust anchor";
 
     fn facts(sent: u64, counters: serde_json::Value, every_input: bool) -> RunFacts {
+        facts_with_radio(sent, 0, counters, every_input)
+    }
+
+    fn facts_with_radio(
+        sent: u64,
+        radio_dropped: u64,
+        counters: serde_json::Value,
+        every_input: bool,
+    ) -> RunFacts {
         RunFacts {
             attack: Some(AttackFacts {
                 kind: AttackKind::ForgedCancelUntrusted,
@@ -186,6 +210,7 @@ mod tests {
                     last_sent_s: Some(40.0),
                 },
                 roadside_sent: 100,
+                radio_dropped,
                 device: Some(DeviceCounts {
                     source: "/api/status",
                     counters,
@@ -233,6 +258,27 @@ mod tests {
         assert!(!fw(38, 1).0, "a forged frame neither counted nor damaged");
         assert!(!fw(38, 3).0, "the link damaged over 2 % of the frames");
         assert!(!fw(41, 0).0, "more counted than sent");
+        // The rig's radio dropped 10 forged frames with its buffers full: 30 delivered.
+        let radio = |reason: u64, crc: u64| {
+            let log =
+                json!({"security_errors": {CHAIN: reason}, "v2x_dropped": {"CRC mismatch": crc}});
+            forged_dropped(
+                "security_errors",
+                CHAIN,
+                &facts_with_radio(40, 10, log, false),
+            )
+        };
+        let (ok, detail) = radio(30, 0);
+        assert!(
+            ok && detail.contains("10 forged frames dropped by the rig's radio"),
+            "{detail}"
+        );
+        assert!(radio(29, 1).0, "one delivered frame damaged on the link");
+        assert!(
+            !radio(29, 0).0,
+            "a delivered forged frame neither counted nor damaged"
+        );
+        assert!(!radio(31, 0).0, "more counted than delivered");
         assert!(!forged_dropped("security_errors", CHAIN, &facts(0, status(0, 100), true)).0);
     }
 

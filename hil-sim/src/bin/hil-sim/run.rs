@@ -156,6 +156,15 @@ pub fn print_report(r: &hil_sim::runner::RunReport) {
         r.v2x.lost,
         r.v2x.corrupted
     );
+    if let Some(radio) = &r.radio {
+        println!(
+            "  radio -> firmware: {} V2X frames received, {} delivered over the serial link, {} dropped with its {} receive buffers full",
+            radio.received,
+            radio.delivered,
+            radio.dropped,
+            hil_sim::radio::QUEUE_FRAMES
+        );
+    }
     if let Some([mean, max]) = r.camera_frame_ms {
         println!(
             "  camera site: {} worker PSMs; a frame took {mean:.1} ms on average, {max:.1} ms at most (period 100 ms)",
