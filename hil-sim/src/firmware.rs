@@ -120,34 +120,36 @@ pub fn start(
         .stdin(Stdio::null())
         .stdout(Stdio::piped())
         .stderr(Stdio::inherit());
-    let mut qemu = cmd
+    let qemu = cmd
         .spawn()
         .map_err(|e| format!("cannot start {}: {e}", target.qemu.display()))?;
-    let decoder = log_firmware(&mut qemu, &target.elf, state_dir)?;
-    wait_for_boot(&mut qemu, decoder.is_some(), state_dir)?;
-    let nmea_link = connect("USART1 (NMEA)", &mut qemu, || {
+    // Owned by the rig from here on, so that an error below stops QEMU (on drop).
+    let mut rig = Rig {
+        qemu,
+        decoder: None,
+        stop: Arc::new(AtomicBool::new(false)),
+        relays: Vec::new(),
+        log: state_dir.join("firmware.log"),
+        nmea_relayed: Arc::new(AtomicU64::new(0)),
+        radio: Arc::new(Mutex::new(RadioQueue::default())),
+        v2x_socket: v2x_path.clone(),
+    };
+    rig.decoder = log_firmware(&mut rig.qemu, &target.elf, state_dir)?;
+    wait_for_boot(&mut rig.qemu, rig.decoder.is_some(), state_dir)?;
+    let nmea_link = connect("USART1 (NMEA)", &mut rig.qemu, || {
         let s = TcpStream::connect(("127.0.0.1", nmea_port))?;
         s.set_nodelay(true)?;
         Ok(s)
     })?;
-    let v2x_link = connect("USART2 (V2X)", &mut qemu, || UnixStream::connect(&v2x_path))?;
-    let stop = Arc::new(AtomicBool::new(false));
-    let nmea_relayed = Arc::new(AtomicU64::new(0));
-    let radio = Arc::new(Mutex::new(RadioQueue::default()));
-    let (gnss, nmea_relay) = nmea_relay(nmea_link, stop.clone(), nmea_relayed.clone())?;
-    let (v2x, v2x_relay) = radio_relay(v2x_link, stop.clone(), radio.clone())?;
+    let v2x_link = connect("USART2 (V2X)", &mut rig.qemu, || {
+        UnixStream::connect(&v2x_path)
+    })?;
+    let (gnss, nmea_relay) = nmea_relay(nmea_link, rig.stop.clone(), rig.nmea_relayed.clone())?;
+    rig.relays.push(nmea_relay);
+    let (v2x, v2x_relay) = radio_relay(v2x_link, rig.stop.clone(), rig.radio.clone())?;
+    rig.relays.push(v2x_relay);
     let config = crate::daemon::config(state_dir, 0, http_port, "")?;
     let bridge = format!("tcp:127.0.0.1:{hmi_port}");
-    let rig = Rig {
-        qemu,
-        decoder,
-        stop,
-        relays: vec![nmea_relay, v2x_relay],
-        log: state_dir.join("firmware.log"),
-        nmea_relayed,
-        radio,
-        v2x_socket: v2x_path,
-    };
     let mut daemon = Daemon::start_bridge(obu, state_dir, &config, &bridge)?;
     daemon.v2x = v2x;
     daemon.gnss = gnss;
