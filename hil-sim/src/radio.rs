@@ -27,7 +27,7 @@ pub const QUEUE_FRAMES: usize = 8;
 
 /// Senders whose drops are counted each on their own; the drops of any further sender are
 /// counted together ([`LinkCounts::dropped_other`]).
-const MAX_SENDERS: usize = 16;
+pub const MAX_SENDERS: usize = 16;
 
 /// What became of the frames the radio received.
 #[derive(Debug, Clone, Default, PartialEq, Eq, serde::Serialize)]
