@@ -164,8 +164,9 @@ class Emitter:
             dec.append("if r.read_bit()? {\n    let at = r.position();\n    let i = r.read_normally_small()?;\n"
                        "    *out = u16::try_from(i).map(Self::Extension).map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at))?;\n    return Ok(());\n}")
             enc.append("if let Self::Extension(i) = self {\n    w.write_bit(true)?;\n    return w.write_normally_small(*i as u64);\n}\nw.write_bit(false)?;")
-        dec.append(f"let at = r.position();\nlet i = r.read_constrained(0, {n - 1})?;\n"
-                   "*out = Self::ALL.get(i as usize).copied().ok_or(uper::DecodeError::new(uper::DecodeErrorKind::InvalidEnumIndex, at))?;\nOk(())")
+        # `read_index` keeps `i` below `n`, the length of `ALL`: the fallback is never taken.
+        dec.append(f"let i = r.read_index({n}, uper::DecodeErrorKind::InvalidEnumIndex)?;\n"
+                   f"*out = Self::ALL.get(i as usize).copied().unwrap_or(Self::{naming.camel(td.items[0][0])});\nOk(())")
         enc.append(f"w.write_constrained(self.root_index(), 0, {n - 1})")
         s.append(self.uper_impl(td, "\n".join(dec), "\n".join(enc), f"Self::{naming.camel(td.items[0][0])}"))
         s.append(self.random_impl(td, f"Self::ALL[g.below({n})]"))
@@ -332,10 +333,16 @@ class Emitter:
     def seq_decode(self, td):
         opts = [f for f in td.fields if f.optional]
         lines = []
-        if td.extensible:
-            lines.append("let extended = r.read_bit()?;")
-        if opts:
-            lines.append(f"let present = r.read_bits({len(opts)})?;")
+        # The extension bit and the presence bitmap are one read when they fit one (the reader
+        # takes up to 56 bits at once): a SPaT movement or a MAP node has a few of each.
+        if td.extensible and opts and len(opts) < 56:
+            lines.append(f"let present = r.read_bits({len(opts) + 1})?;")
+            lines.append(f"let extended = present >> {len(opts)} != 0;")
+        else:
+            if td.extensible:
+                lines.append("let extended = r.read_bit()?;")
+            if opts:
+                lines.append(f"let present = r.read_bits({len(opts)})?;")
         for f in td.fields:
             ty = self.rust(f.ref, td)
             if f.optional:
@@ -390,14 +397,15 @@ class Emitter:
                        "    let index = u16::try_from(r.read_normally_small()?).map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at))?;\n"
                        f"    let content = uper::decode_unknown_open(r, \"{td.key}:unknown\")?;\n"
                        "    *out = Self::Extension { index, content };\n    return Ok(());\n}")
-        dec.append(f"let at = r.position();\nmatch r.read_constrained(0, {n - 1})? {{")
+        dec.append(f"match r.read_index({n}, uper::DecodeErrorKind::InvalidChoiceIndex)? {{")
         for i, a in enumerate(td.alts):
             if a.ref.builtin == "crate::uper::Null":
                 dec.append(f"    {i} => *out = Self::{a.variant},")
             else:
                 ty = self.rust(a.ref, td)
                 dec.append(switch_into(f"Self::{a.variant}", i, ty, f"<{ty}>::decode_into(r, v)?"))
-        dec.append("    _ => return Err(uper::DecodeError::new(uper::DecodeErrorKind::InvalidChoiceIndex, at)),\n}\nOk(())")
+        # `read_index` refused every index past the alternatives: this arm is never taken.
+        dec.append("    _ => return Err(uper::DecodeError::new(uper::DecodeErrorKind::InvalidChoiceIndex, r.position())),\n}\nOk(())")
         enc.append("match self {")
         pre = "w.write_bit(false)?; " if td.extensible else ""
         for i, a in enumerate(td.alts):

@@ -308,8 +308,7 @@ impl Uper for NodeOffsetPointXYAddGrpB {
             *out = Self::Extension { index, content };
             return Ok(());
         }
-        let at = r.position();
-        match r.read_constrained(0, 1)? {
+        match r.read_index(2, uper::DecodeErrorKind::InvalidChoiceIndex)? {
             0 => {
                 if !matches!(out, Self::PosA(_)) {
                     uper::replace_with(out, || {
@@ -333,7 +332,7 @@ impl Uper for NodeOffsetPointXYAddGrpB {
             _ => {
                 return Err(uper::DecodeError::new(
                     uper::DecodeErrorKind::InvalidChoiceIndex,
-                    at,
+                    r.position(),
                 ))
             }
         }
@@ -653,8 +652,8 @@ impl Uper for MovementEventAddGrpB {
     const PATH: &'static str = "AddGrpB.MovementEvent-addGrpB";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(163), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        let extended = r.read_bit()?;
-        let present = r.read_bits(5)?;
+        let present = r.read_bits(6)?;
+        let extended = present >> 5 != 0;
         if present & (1 << 4) != 0 {
             if out.start_time.is_none() {
                 uper::fill_option(&mut out.start_time);
@@ -974,15 +973,8 @@ impl Uper for DayOfWeek {
     const PATH: &'static str = "AddGrpB.DayOfWeek";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(3), Some(3));
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        let at = r.position();
-        let i = r.read_constrained(0, 7)?;
-        *out = Self::ALL
-            .get(i as usize)
-            .copied()
-            .ok_or(uper::DecodeError::new(
-                uper::DecodeErrorKind::InvalidEnumIndex,
-                at,
-            ))?;
+        let i = r.read_index(8, uper::DecodeErrorKind::InvalidEnumIndex)?;
+        *out = Self::ALL.get(i as usize).copied().unwrap_or(Self::Unknown);
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -1061,15 +1053,8 @@ impl Uper for Holiday {
     const PATH: &'static str = "AddGrpB.Holiday";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(1), Some(1));
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        let at = r.position();
-        let i = r.read_constrained(0, 1)?;
-        *out = Self::ALL
-            .get(i as usize)
-            .copied()
-            .ok_or(uper::DecodeError::new(
-                uper::DecodeErrorKind::InvalidEnumIndex,
-                at,
-            ))?;
+        let i = r.read_index(2, uper::DecodeErrorKind::InvalidEnumIndex)?;
+        *out = Self::ALL.get(i as usize).copied().unwrap_or(Self::Weekday);
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -1173,15 +1158,11 @@ impl Uper for SummerTime {
     const PATH: &'static str = "AddGrpB.SummerTime";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(1), Some(1));
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        let at = r.position();
-        let i = r.read_constrained(0, 1)?;
+        let i = r.read_index(2, uper::DecodeErrorKind::InvalidEnumIndex)?;
         *out = Self::ALL
             .get(i as usize)
             .copied()
-            .ok_or(uper::DecodeError::new(
-                uper::DecodeErrorKind::InvalidEnumIndex,
-                at,
-            ))?;
+            .unwrap_or(Self::NotInSummerTime);
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {

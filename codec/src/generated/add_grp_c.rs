@@ -305,15 +305,11 @@ impl Uper for AltitudeConfidence {
     const PATH: &'static str = "AddGrpC.AltitudeConfidence";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(4), Some(4));
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        let at = r.position();
-        let i = r.read_constrained(0, 15)?;
+        let i = r.read_index(16, uper::DecodeErrorKind::InvalidEnumIndex)?;
         *out = Self::ALL
             .get(i as usize)
             .copied()
-            .ok_or(uper::DecodeError::new(
-                uper::DecodeErrorKind::InvalidEnumIndex,
-                at,
-            ))?;
+            .unwrap_or(Self::Alt000_01);
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -362,8 +358,8 @@ impl Uper for RestrictionUserTypeAddGrpC {
     const PATH: &'static str = "AddGrpC.RestrictionUserType-addGrpC";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(115), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        let extended = r.read_bit()?;
-        let present = r.read_bits(1)?;
+        let present = r.read_bits(2)?;
+        let extended = present >> 1 != 0;
         if present & (1 << 0) != 0 {
             if out.emission.is_none() {
                 uper::fill_option(&mut out.emission);
@@ -520,15 +516,8 @@ impl Uper for EmissionType {
                 .map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at))?;
             return Ok(());
         }
-        let at = r.position();
-        let i = r.read_constrained(0, 4)?;
-        *out = Self::ALL
-            .get(i as usize)
-            .copied()
-            .ok_or(uper::DecodeError::new(
-                uper::DecodeErrorKind::InvalidEnumIndex,
-                at,
-            ))?;
+        let i = r.read_index(5, uper::DecodeErrorKind::InvalidEnumIndex)?;
+        *out = Self::ALL.get(i as usize).copied().unwrap_or(Self::TypeA);
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -582,8 +571,8 @@ impl Uper for MapDataAddGrpC {
     const PATH: &'static str = "AddGrpC.MapData-addGrpC";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(1226), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        let extended = r.read_bit()?;
-        let present = r.read_bits(1)?;
+        let present = r.read_bits(2)?;
+        let extended = present >> 1 != 0;
         if present & (1 << 0) != 0 {
             if out.signal_head_locations.is_none() {
                 uper::fill_option(&mut out.signal_head_locations);
@@ -1099,8 +1088,8 @@ impl Uper for IntersectionStateAddGrpC {
     const PATH: &'static str = "AddGrpC.IntersectionState-addGrpC";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(709), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        let extended = r.read_bit()?;
-        let present = r.read_bits(1)?;
+        let present = r.read_bits(2)?;
+        let extended = present >> 1 != 0;
         if present & (1 << 0) != 0 {
             if out.active_prioritizations.is_none() {
                 uper::fill_option(&mut out.active_prioritizations);

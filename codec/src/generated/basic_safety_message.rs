@@ -34,8 +34,8 @@ impl Uper for BasicSafetyMessage {
     const PATH: &'static str = "BasicSafetyMessage.BasicSafetyMessage";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(342017), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        let extended = r.read_bit()?;
-        let present = r.read_bits(2)?;
+        let present = r.read_bits(3)?;
+        let extended = present >> 2 != 0;
         <super::common::BSMcoreData>::decode_into(r, &mut out.core_data)?;
         if present & (1 << 1) != 0 {
             if out.part_ii.is_none() {
@@ -260,8 +260,8 @@ impl Uper for SpecialVehicleExtensions {
     const PATH: &'static str = "BasicSafetyMessage.SpecialVehicleExtensions";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(5181), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        let extended = r.read_bit()?;
-        let present = r.read_bits(3)?;
+        let present = r.read_bits(4)?;
+        let extended = present >> 3 != 0;
         if present & (1 << 2) != 0 {
             if out.vehicle_alerts.is_none() {
                 uper::fill_option(&mut out.vehicle_alerts);
@@ -427,8 +427,8 @@ impl Uper for EventDescription {
     const PATH: &'static str = "BasicSafetyMessage.EventDescription";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(350), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        let extended = r.read_bit()?;
-        let present = r.read_bits(5)?;
+        let present = r.read_bits(6)?;
+        let extended = present >> 5 != 0;
         <super::itis::ITIScodes>::decode_into(r, &mut out.type_event)?;
         if present & (1 << 4) != 0 {
             if out.description.is_none() {
@@ -1252,8 +1252,8 @@ impl Uper for TrailerUnitDescription {
     const PATH: &'static str = "BasicSafetyMessage.TrailerUnitDescription";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(1073), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        let extended = r.read_bit()?;
-        let present = r.read_bits(8)?;
+        let present = r.read_bits(9)?;
+        let extended = present >> 8 != 0;
         <IsDolly>::decode_into(r, &mut out.is_dolly)?;
         <super::common::VehicleWidth>::decode_into(r, &mut out.width)?;
         <super::common::VehicleLength>::decode_into(r, &mut out.length)?;
@@ -1712,8 +1712,8 @@ impl Uper for TrailerHistoryPoint {
     const PATH: &'static str = "BasicSafetyMessage.TrailerHistoryPoint";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(160), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        let extended = r.read_bit()?;
-        let present = r.read_bits(2)?;
+        let present = r.read_bits(3)?;
+        let extended = present >> 2 != 0;
         <super::common::Angle>::decode_into(r, &mut out.pivot_angle)?;
         <super::common::TimeOffset>::decode_into(r, &mut out.time_offset)?;
         <super::common::NodeXY24b>::decode_into(r, &mut out.position_offset)?;
@@ -1898,8 +1898,8 @@ impl Uper for SupplementalVehicleExtensions {
     const PATH: &'static str = "BasicSafetyMessage.SupplementalVehicleExtensions";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(42657), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        let extended = r.read_bit()?;
-        let present = r.read_bits(10)?;
+        let present = r.read_bits(11)?;
+        let extended = present >> 10 != 0;
         if present & (1 << 9) != 0 {
             if out.classification.is_none() {
                 uper::fill_option(&mut out.classification);
@@ -2259,8 +2259,8 @@ impl Uper for VehicleData {
     const PATH: &'static str = "BasicSafetyMessage.VehicleData";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(137), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        let extended = r.read_bit()?;
-        let present = r.read_bits(4)?;
+        let present = r.read_bits(5)?;
+        let extended = present >> 4 != 0;
         if present & (1 << 3) != 0 {
             if out.height.is_none() {
                 uper::fill_option(&mut out.height);
@@ -2458,8 +2458,8 @@ impl Uper for WeatherReport {
     const PATH: &'static str = "BasicSafetyMessage.WeatherReport";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(144), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        let extended = r.read_bit()?;
-        let present = r.read_bits(5)?;
+        let present = r.read_bits(6)?;
+        let extended = present >> 5 != 0;
         <super::ntcip::EssPrecipYesNo>::decode_into(r, &mut out.is_raining)?;
         if present & (1 << 4) != 0 {
             if out.rain_rate.is_none() {
@@ -2688,8 +2688,8 @@ impl Uper for WeatherProbe {
     const PATH: &'static str = "BasicSafetyMessage.WeatherProbe";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(175), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        let extended = r.read_bit()?;
-        let present = r.read_bits(3)?;
+        let present = r.read_bits(4)?;
+        let extended = present >> 3 != 0;
         if present & (1 << 2) != 0 {
             if out.air_temp.is_none() {
                 uper::fill_option(&mut out.air_temp);
@@ -2858,8 +2858,8 @@ impl Uper for ObstacleDetection {
     const PATH: &'static str = "BasicSafetyMessage.ObstacleDetection";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(223), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        let extended = r.read_bit()?;
-        let present = r.read_bits(3)?;
+        let present = r.read_bits(4)?;
+        let extended = present >> 3 != 0;
         <super::common::ObstacleDistance>::decode_into(r, &mut out.ob_dist)?;
         <ObstacleDirection>::decode_into(r, &mut out.ob_direct)?;
         if present & (1 << 2) != 0 {
@@ -3067,8 +3067,8 @@ impl Uper for DisabledVehicle {
     const PATH: &'static str = "BasicSafetyMessage.DisabledVehicle";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(120), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        let extended = r.read_bit()?;
-        let present = r.read_bits(1)?;
+        let present = r.read_bits(2)?;
+        let extended = present >> 1 != 0;
         <DisabledVehicleStatusDetails>::decode_into(r, &mut out.status_details)?;
         if present & (1 << 0) != 0 {
             if out.location_details.is_none() {
@@ -3342,8 +3342,8 @@ impl Uper for RTCMPackage {
     const PATH: &'static str = "BasicSafetyMessage.RTCMPackage";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(41101), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        let extended = r.read_bit()?;
-        let present = r.read_bits(1)?;
+        let present = r.read_bits(2)?;
+        let extended = present >> 1 != 0;
         if present & (1 << 0) != 0 {
             if out.rtcm_header.is_none() {
                 uper::fill_option(&mut out.rtcm_header);

@@ -533,15 +533,8 @@ impl Uper for TransmissionState {
     const PATH: &'static str = "Common.TransmissionState";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(3), Some(3));
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        let at = r.position();
-        let i = r.read_constrained(0, 7)?;
-        *out = Self::ALL
-            .get(i as usize)
-            .copied()
-            .ok_or(uper::DecodeError::new(
-                uper::DecodeErrorKind::InvalidEnumIndex,
-                at,
-            ))?;
+        let i = r.read_index(8, uper::DecodeErrorKind::InvalidEnumIndex)?;
+        *out = Self::ALL.get(i as usize).copied().unwrap_or(Self::Neutral);
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -977,15 +970,11 @@ impl Uper for TractionControlStatus {
     const PATH: &'static str = "Common.TractionControlStatus";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(2), Some(2));
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        let at = r.position();
-        let i = r.read_constrained(0, 3)?;
+        let i = r.read_index(4, uper::DecodeErrorKind::InvalidEnumIndex)?;
         *out = Self::ALL
             .get(i as usize)
             .copied()
-            .ok_or(uper::DecodeError::new(
-                uper::DecodeErrorKind::InvalidEnumIndex,
-                at,
-            ))?;
+            .unwrap_or(Self::Unavailable);
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -1076,15 +1065,11 @@ impl Uper for AntiLockBrakeStatus {
     const PATH: &'static str = "Common.AntiLockBrakeStatus";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(2), Some(2));
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        let at = r.position();
-        let i = r.read_constrained(0, 3)?;
+        let i = r.read_index(4, uper::DecodeErrorKind::InvalidEnumIndex)?;
         *out = Self::ALL
             .get(i as usize)
             .copied()
-            .ok_or(uper::DecodeError::new(
-                uper::DecodeErrorKind::InvalidEnumIndex,
-                at,
-            ))?;
+            .unwrap_or(Self::Unavailable);
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -1175,15 +1160,11 @@ impl Uper for StabilityControlStatus {
     const PATH: &'static str = "Common.StabilityControlStatus";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(2), Some(2));
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        let at = r.position();
-        let i = r.read_constrained(0, 3)?;
+        let i = r.read_index(4, uper::DecodeErrorKind::InvalidEnumIndex)?;
         *out = Self::ALL
             .get(i as usize)
             .copied()
-            .ok_or(uper::DecodeError::new(
-                uper::DecodeErrorKind::InvalidEnumIndex,
-                at,
-            ))?;
+            .unwrap_or(Self::Unavailable);
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -1268,15 +1249,11 @@ impl Uper for BrakeBoostApplied {
     const PATH: &'static str = "Common.BrakeBoostApplied";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(2), Some(2));
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        let at = r.position();
-        let i = r.read_constrained(0, 2)?;
+        let i = r.read_index(3, uper::DecodeErrorKind::InvalidEnumIndex)?;
         *out = Self::ALL
             .get(i as usize)
             .copied()
-            .ok_or(uper::DecodeError::new(
-                uper::DecodeErrorKind::InvalidEnumIndex,
-                at,
-            ))?;
+            .unwrap_or(Self::Unavailable);
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -1367,15 +1344,11 @@ impl Uper for AuxiliaryBrakeStatus {
     const PATH: &'static str = "Common.AuxiliaryBrakeStatus";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(2), Some(2));
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        let at = r.position();
-        let i = r.read_constrained(0, 3)?;
+        let i = r.read_index(4, uper::DecodeErrorKind::InvalidEnumIndex)?;
         *out = Self::ALL
             .get(i as usize)
             .copied()
-            .ok_or(uper::DecodeError::new(
-                uper::DecodeErrorKind::InvalidEnumIndex,
-                at,
-            ))?;
+            .unwrap_or(Self::Unavailable);
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -1514,8 +1487,8 @@ impl Uper for PathHistory {
     const PATH: &'static str = "Common.PathHistory";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(5213), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        let extended = r.read_bit()?;
-        let present = r.read_bits(2)?;
+        let present = r.read_bits(3)?;
+        let extended = present >> 2 != 0;
         if present & (1 << 1) != 0 {
             if out.initial_position.is_none() {
                 uper::fill_option(&mut out.initial_position);
@@ -1677,8 +1650,8 @@ impl Uper for FullPositionVector {
     const PATH: &'static str = "Common.FullPositionVector";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(326), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        let extended = r.read_bit()?;
-        let present = r.read_bits(8)?;
+        let present = r.read_bits(9)?;
+        let extended = present >> 8 != 0;
         if present & (1 << 7) != 0 {
             if out.utc_time.is_none() {
                 uper::fill_option(&mut out.utc_time);
@@ -2639,15 +2612,11 @@ impl Uper for TimeConfidence {
     const PATH: &'static str = "Common.TimeConfidence";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(6), Some(6));
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        let at = r.position();
-        let i = r.read_constrained(0, 39)?;
+        let i = r.read_index(40, uper::DecodeErrorKind::InvalidEnumIndex)?;
         *out = Self::ALL
             .get(i as usize)
             .copied()
-            .ok_or(uper::DecodeError::new(
-                uper::DecodeErrorKind::InvalidEnumIndex,
-                at,
-            ))?;
+            .unwrap_or(Self::Unavailable);
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -2896,15 +2865,11 @@ impl Uper for PositionConfidence {
     const PATH: &'static str = "Common.PositionConfidence";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(4), Some(4));
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        let at = r.position();
-        let i = r.read_constrained(0, 15)?;
+        let i = r.read_index(16, uper::DecodeErrorKind::InvalidEnumIndex)?;
         *out = Self::ALL
             .get(i as usize)
             .copied()
-            .ok_or(uper::DecodeError::new(
-                uper::DecodeErrorKind::InvalidEnumIndex,
-                at,
-            ))?;
+            .unwrap_or(Self::Unavailable);
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -3084,15 +3049,11 @@ impl Uper for ElevationConfidence {
     const PATH: &'static str = "Common.ElevationConfidence";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(4), Some(4));
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        let at = r.position();
-        let i = r.read_constrained(0, 15)?;
+        let i = r.read_index(16, uper::DecodeErrorKind::InvalidEnumIndex)?;
         *out = Self::ALL
             .get(i as usize)
             .copied()
-            .ok_or(uper::DecodeError::new(
-                uper::DecodeErrorKind::InvalidEnumIndex,
-                at,
-            ))?;
+            .unwrap_or(Self::Unavailable);
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -3299,15 +3260,11 @@ impl Uper for HeadingConfidence {
     const PATH: &'static str = "Common.HeadingConfidence";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(3), Some(3));
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        let at = r.position();
-        let i = r.read_constrained(0, 7)?;
+        let i = r.read_index(8, uper::DecodeErrorKind::InvalidEnumIndex)?;
         *out = Self::ALL
             .get(i as usize)
             .copied()
-            .ok_or(uper::DecodeError::new(
-                uper::DecodeErrorKind::InvalidEnumIndex,
-                at,
-            ))?;
+            .unwrap_or(Self::Unavailable);
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -3431,15 +3388,11 @@ impl Uper for SpeedConfidence {
     const PATH: &'static str = "Common.SpeedConfidence";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(3), Some(3));
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        let at = r.position();
-        let i = r.read_constrained(0, 7)?;
+        let i = r.read_index(8, uper::DecodeErrorKind::InvalidEnumIndex)?;
         *out = Self::ALL
             .get(i as usize)
             .copied()
-            .ok_or(uper::DecodeError::new(
-                uper::DecodeErrorKind::InvalidEnumIndex,
-                at,
-            ))?;
+            .unwrap_or(Self::Unavailable);
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -3535,15 +3488,11 @@ impl Uper for ThrottleConfidence {
     const PATH: &'static str = "Common.ThrottleConfidence";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(2), Some(2));
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        let at = r.position();
-        let i = r.read_constrained(0, 3)?;
+        let i = r.read_index(4, uper::DecodeErrorKind::InvalidEnumIndex)?;
         *out = Self::ALL
             .get(i as usize)
             .copied()
-            .ok_or(uper::DecodeError::new(
-                uper::DecodeErrorKind::InvalidEnumIndex,
-                at,
-            ))?;
+            .unwrap_or(Self::Unavailable);
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -3758,8 +3707,8 @@ impl Uper for PathHistoryPoint {
     const PATH: &'static str = "Common.PathHistoryPoint";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(208), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        let extended = r.read_bit()?;
-        let present = r.read_bits(3)?;
+        let present = r.read_bits(4)?;
+        let extended = present >> 3 != 0;
         <OffsetLLB18>::decode_into(r, &mut out.lat_offset)?;
         <OffsetLLB18>::decode_into(r, &mut out.lon_offset)?;
         <VertOffsetB12>::decode_into(r, &mut out.elevation_offset)?;
@@ -4263,8 +4212,8 @@ impl Uper for VehicleSafetyExtensions {
     const PATH: &'static str = "Common.VehicleSafetyExtensions";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(5483), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        let extended = r.read_bit()?;
-        let present = r.read_bits(4)?;
+        let present = r.read_bits(5)?;
+        let extended = present >> 4 != 0;
         if present & (1 << 3) != 0 {
             if out.events.is_none() {
                 uper::fill_option(&mut out.events);
@@ -4530,8 +4479,8 @@ impl Uper for EmergencyDetails {
     const PATH: &'static str = "Common.EmergencyDetails";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(237), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        let extended = r.read_bit()?;
-        let present = r.read_bits(2)?;
+        let present = r.read_bits(3)?;
+        let extended = present >> 2 != 0;
         <SSPindex>::decode_into(r, &mut out.not_used)?;
         <SirenInUse>::decode_into(r, &mut out.siren_use)?;
         <LightbarInUse>::decode_into(r, &mut out.lights_use)?;
@@ -4742,15 +4691,11 @@ impl Uper for SirenInUse {
     const PATH: &'static str = "Common.SirenInUse";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(2), Some(2));
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        let at = r.position();
-        let i = r.read_constrained(0, 3)?;
+        let i = r.read_index(4, uper::DecodeErrorKind::InvalidEnumIndex)?;
         *out = Self::ALL
             .get(i as usize)
             .copied()
-            .ok_or(uper::DecodeError::new(
-                uper::DecodeErrorKind::InvalidEnumIndex,
-                at,
-            ))?;
+            .unwrap_or(Self::Unavailable);
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -4874,15 +4819,11 @@ impl Uper for LightbarInUse {
     const PATH: &'static str = "Common.LightbarInUse";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(3), Some(3));
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        let at = r.position();
-        let i = r.read_constrained(0, 7)?;
+        let i = r.read_index(8, uper::DecodeErrorKind::InvalidEnumIndex)?;
         *out = Self::ALL
             .get(i as usize)
             .copied()
-            .ok_or(uper::DecodeError::new(
-                uper::DecodeErrorKind::InvalidEnumIndex,
-                at,
-            ))?;
+            .unwrap_or(Self::Unavailable);
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -4978,15 +4919,11 @@ impl Uper for MultiVehicleResponse {
     const PATH: &'static str = "Common.MultiVehicleResponse";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(2), Some(2));
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        let at = r.position();
-        let i = r.read_constrained(0, 3)?;
+        let i = r.read_index(4, uper::DecodeErrorKind::InvalidEnumIndex)?;
         *out = Self::ALL
             .get(i as usize)
             .copied()
-            .ok_or(uper::DecodeError::new(
-                uper::DecodeErrorKind::InvalidEnumIndex,
-                at,
-            ))?;
+            .unwrap_or(Self::Unavailable);
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -5273,15 +5210,11 @@ impl Uper for ResponseType {
                 .map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at))?;
             return Ok(());
         }
-        let at = r.position();
-        let i = r.read_constrained(0, 6)?;
+        let i = r.read_index(7, uper::DecodeErrorKind::InvalidEnumIndex)?;
         *out = Self::ALL
             .get(i as usize)
             .copied()
-            .ok_or(uper::DecodeError::new(
-                uper::DecodeErrorKind::InvalidEnumIndex,
-                at,
-            ))?;
+            .unwrap_or(Self::NotInUseOrNotEquipped);
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -5598,15 +5531,11 @@ impl Uper for Extent {
     const PATH: &'static str = "Common.Extent";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(4), Some(4));
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        let at = r.position();
-        let i = r.read_constrained(0, 15)?;
+        let i = r.read_index(16, uper::DecodeErrorKind::InvalidEnumIndex)?;
         *out = Self::ALL
             .get(i as usize)
             .copied()
-            .ok_or(uper::DecodeError::new(
-                uper::DecodeErrorKind::InvalidEnumIndex,
-                at,
-            ))?;
+            .unwrap_or(Self::UseInstantlyOnly);
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -5840,8 +5769,8 @@ impl Uper for VehicleClassification {
     const PATH: &'static str = "Common.VehicleClassification";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(392), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        let extended = r.read_bit()?;
-        let present = r.read_bits(9)?;
+        let present = r.read_bits(10)?;
+        let extended = present >> 9 != 0;
         if present & (1 << 8) != 0 {
             if out.key_type.is_none() {
                 uper::fill_option(&mut out.key_type);
@@ -6353,15 +6282,11 @@ impl Uper for BasicVehicleRole {
                 .map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at))?;
             return Ok(());
         }
-        let at = r.position();
-        let i = r.read_constrained(0, 22)?;
+        let i = r.read_index(23, uper::DecodeErrorKind::InvalidEnumIndex)?;
         *out = Self::ALL
             .get(i as usize)
             .copied()
-            .ok_or(uper::DecodeError::new(
-                uper::DecodeErrorKind::InvalidEnumIndex,
-                at,
-            ))?;
+            .unwrap_or(Self::BasicVehicle);
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -6564,15 +6489,8 @@ impl Uper for VehicleType {
                 .map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at))?;
             return Ok(());
         }
-        let at = r.position();
-        let i = r.read_constrained(0, 15)?;
-        *out = Self::ALL
-            .get(i as usize)
-            .copied()
-            .ok_or(uper::DecodeError::new(
-                uper::DecodeErrorKind::InvalidEnumIndex,
-                at,
-            ))?;
+        let i = r.read_index(16, uper::DecodeErrorKind::InvalidEnumIndex)?;
+        *out = Self::ALL.get(i as usize).copied().unwrap_or(Self::None);
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -7072,15 +6990,11 @@ impl Uper for WiperStatus {
                 .map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at))?;
             return Ok(());
         }
-        let at = r.position();
-        let i = r.read_constrained(0, 6)?;
+        let i = r.read_index(7, uper::DecodeErrorKind::InvalidEnumIndex)?;
         *out = Self::ALL
             .get(i as usize)
             .copied()
-            .ok_or(uper::DecodeError::new(
-                uper::DecodeErrorKind::InvalidEnumIndex,
-                at,
-            ))?;
+            .unwrap_or(Self::Unavailable);
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -7566,8 +7480,8 @@ impl Uper for Position3D {
     const PATH: &'static str = "Common.Position3D";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits_profiled(Some(875), Some(523), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        let extended = r.read_bit()?;
-        let present = r.read_bits(2)?;
+        let present = r.read_bits(3)?;
+        let extended = present >> 2 != 0;
         <Latitude>::decode_into(r, &mut out.lat)?;
         <Longitude>::decode_into(r, &mut out.long)?;
         if present & (1 << 1) != 0 {
@@ -8239,15 +8153,8 @@ impl Uper for SpeedLimitType {
                 .map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at))?;
             return Ok(());
         }
-        let at = r.position();
-        let i = r.read_constrained(0, 12)?;
-        *out = Self::ALL
-            .get(i as usize)
-            .copied()
-            .ok_or(uper::DecodeError::new(
-                uper::DecodeErrorKind::InvalidEnumIndex,
-                at,
-            ))?;
+        let i = r.read_index(13, uper::DecodeErrorKind::InvalidEnumIndex)?;
+        *out = Self::ALL.get(i as usize).copied().unwrap_or(Self::Unknown);
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -8313,8 +8220,7 @@ impl Uper for NodeListXY {
             *out = Self::Extension { index, content };
             return Ok(());
         }
-        let at = r.position();
-        match r.read_constrained(0, 1)? {
+        match r.read_index(2, uper::DecodeErrorKind::InvalidChoiceIndex)? {
             0 => {
                 if !matches!(out, Self::Nodes(_)) {
                     uper::replace_with(out, || {
@@ -8338,7 +8244,7 @@ impl Uper for NodeListXY {
             _ => {
                 return Err(uper::DecodeError::new(
                     uper::DecodeErrorKind::InvalidChoiceIndex,
-                    at,
+                    r.position(),
                 ))
             }
         }
@@ -8511,8 +8417,8 @@ impl Uper for NodeXY {
     const PATH: &'static str = "Common.NodeXY";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits_profiled(Some(2849), Some(719), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        let extended = r.read_bit()?;
-        let present = r.read_bits(1)?;
+        let present = r.read_bits(2)?;
+        let extended = present >> 1 != 0;
         <NodeOffsetPointXY>::decode_into(r, &mut out.delta)?;
         if present & (1 << 0) != 0 {
             if out.attributes.is_none() {
@@ -8621,8 +8527,7 @@ impl Uper for NodeOffsetPointXY {
     const PATH: &'static str = "Common.NodeOffsetPointXY";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(187), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        let at = r.position();
-        match r.read_constrained(0, 7)? {
+        match r.read_index(8, uper::DecodeErrorKind::InvalidChoiceIndex)? {
             0 => {
                 if !matches!(out, Self::NodeXY1(_)) {
                     uper::replace_with(out, || {
@@ -8708,7 +8613,7 @@ impl Uper for NodeOffsetPointXY {
             _ => {
                 return Err(uper::DecodeError::new(
                     uper::DecodeErrorKind::InvalidChoiceIndex,
-                    at,
+                    r.position(),
                 ))
             }
         }
@@ -9430,8 +9335,8 @@ impl Uper for NodeAttributeSetXY {
     const PATH: &'static str = "Common.NodeAttributeSetXY";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits_profiled(Some(2573), Some(443), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        let extended = r.read_bit()?;
-        let present = r.read_bits(7)?;
+        let present = r.read_bits(8)?;
+        let extended = present >> 7 != 0;
         if present & (1 << 6) != 0 {
             if out.local_node.is_none() {
                 uper::fill_option(&mut out.local_node);
@@ -9889,15 +9794,8 @@ impl Uper for NodeAttributeXY {
                 .map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at))?;
             return Ok(());
         }
-        let at = r.position();
-        let i = r.read_constrained(0, 11)?;
-        *out = Self::ALL
-            .get(i as usize)
-            .copied()
-            .ok_or(uper::DecodeError::new(
-                uper::DecodeErrorKind::InvalidEnumIndex,
-                at,
-            ))?;
+        let i = r.read_index(12, uper::DecodeErrorKind::InvalidEnumIndex)?;
+        *out = Self::ALL.get(i as usize).copied().unwrap_or(Self::Reserved);
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -10327,15 +10225,8 @@ impl Uper for SegmentAttributeXY {
                 .map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at))?;
             return Ok(());
         }
-        let at = r.position();
-        let i = r.read_constrained(0, 37)?;
-        *out = Self::ALL
-            .get(i as usize)
-            .copied()
-            .ok_or(uper::DecodeError::new(
-                uper::DecodeErrorKind::InvalidEnumIndex,
-                at,
-            ))?;
+        let i = r.read_index(38, uper::DecodeErrorKind::InvalidEnumIndex)?;
+        *out = Self::ALL.get(i as usize).copied().unwrap_or(Self::Reserved);
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -10489,8 +10380,7 @@ impl Uper for LaneDataAttribute {
             *out = Self::Extension { index, content };
             return Ok(());
         }
-        let at = r.position();
-        match r.read_constrained(0, 6)? {
+        match r.read_index(7, uper::DecodeErrorKind::InvalidChoiceIndex)? {
             0 => {
                 if !matches!(out, Self::PathEndPointAngle(_)) {
                     uper::replace_with(out, || {
@@ -10572,7 +10462,7 @@ impl Uper for LaneDataAttribute {
             _ => {
                 return Err(uper::DecodeError::new(
                     uper::DecodeErrorKind::InvalidChoiceIndex,
-                    at,
+                    r.position(),
                 ))
             }
         }
@@ -11205,8 +11095,8 @@ impl Uper for ComputedLane {
     const PATH: &'static str = "Common.ComputedLane";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(319), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        let extended = r.read_bit()?;
-        let present = r.read_bits(4)?;
+        let present = r.read_bits(5)?;
+        let extended = present >> 4 != 0;
         <LaneID>::decode_into(r, &mut out.reference_lane_id)?;
         <ComputedLaneOffsetXaxis>::decode_into(r, &mut out.offset_xaxis)?;
         <ComputedLaneOffsetYaxis>::decode_into(r, &mut out.offset_yaxis)?;
@@ -11406,8 +11296,7 @@ impl Uper for ComputedLaneOffsetXaxis {
     const PATH: &'static str = "Common.ComputedLane.offsetXaxis";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(17), Some(17));
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        let at = r.position();
-        match r.read_constrained(0, 1)? {
+        match r.read_index(2, uper::DecodeErrorKind::InvalidChoiceIndex)? {
             0 => {
                 if !matches!(out, Self::Small(_)) {
                     uper::replace_with(out, || {
@@ -11431,7 +11320,7 @@ impl Uper for ComputedLaneOffsetXaxis {
             _ => {
                 return Err(uper::DecodeError::new(
                     uper::DecodeErrorKind::InvalidChoiceIndex,
-                    at,
+                    r.position(),
                 ))
             }
         }
@@ -11537,8 +11426,7 @@ impl Uper for ComputedLaneOffsetYaxis {
     const PATH: &'static str = "Common.ComputedLane.offsetYaxis";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(17), Some(17));
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        let at = r.position();
-        match r.read_constrained(0, 1)? {
+        match r.read_index(2, uper::DecodeErrorKind::InvalidChoiceIndex)? {
             0 => {
                 if !matches!(out, Self::Small(_)) {
                     uper::replace_with(out, || {
@@ -11562,7 +11450,7 @@ impl Uper for ComputedLaneOffsetYaxis {
             _ => {
                 return Err(uper::DecodeError::new(
                     uper::DecodeErrorKind::InvalidChoiceIndex,
-                    at,
+                    r.position(),
                 ))
             }
         }
@@ -12040,15 +11928,8 @@ impl Uper for PrioritizationResponseStatus {
                 .map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at))?;
             return Ok(());
         }
-        let at = r.position();
-        let i = r.read_constrained(0, 7)?;
-        *out = Self::ALL
-            .get(i as usize)
-            .copied()
-            .ok_or(uper::DecodeError::new(
-                uper::DecodeErrorKind::InvalidEnumIndex,
-                at,
-            ))?;
+        let i = r.read_index(8, uper::DecodeErrorKind::InvalidEnumIndex)?;
+        *out = Self::ALL.get(i as usize).copied().unwrap_or(Self::Unknown);
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -12140,8 +12021,7 @@ impl Uper for VehicleID {
     const PATH: &'static str = "Common.VehicleID";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(33), Some(33));
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        let at = r.position();
-        match r.read_constrained(0, 1)? {
+        match r.read_index(2, uper::DecodeErrorKind::InvalidChoiceIndex)? {
             0 => {
                 if !matches!(out, Self::EntityID(_)) {
                     uper::replace_with(out, || {
@@ -12165,7 +12045,7 @@ impl Uper for VehicleID {
             _ => {
                 return Err(uper::DecodeError::new(
                     uper::DecodeErrorKind::InvalidChoiceIndex,
-                    at,
+                    r.position(),
                 ))
             }
         }
@@ -12271,8 +12151,7 @@ impl Uper for IntersectionAccessPoint {
             *out = Self::Extension { index, content };
             return Ok(());
         }
-        let at = r.position();
-        match r.read_constrained(0, 2)? {
+        match r.read_index(3, uper::DecodeErrorKind::InvalidChoiceIndex)? {
             0 => {
                 if !matches!(out, Self::Lane(_)) {
                     uper::replace_with(out, || {
@@ -12306,7 +12185,7 @@ impl Uper for IntersectionAccessPoint {
             _ => {
                 return Err(uper::DecodeError::new(
                     uper::DecodeErrorKind::InvalidChoiceIndex,
-                    at,
+                    r.position(),
                 ))
             }
         }
@@ -12434,8 +12313,8 @@ impl Uper for RequestorType {
     const PATH: &'static str = "Common.RequestorType";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(304), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        let extended = r.read_bit()?;
-        let present = r.read_bits(5)?;
+        let present = r.read_bits(6)?;
+        let extended = present >> 5 != 0;
         <BasicVehicleRole>::decode_into(r, &mut out.role)?;
         if present & (1 << 4) != 0 {
             if out.subrole.is_none() {
@@ -12779,15 +12658,11 @@ impl Uper for RequestSubRole {
     const PATH: &'static str = "Common.RequestSubRole";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(4), Some(4));
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        let at = r.position();
-        let i = r.read_constrained(0, 15)?;
+        let i = r.read_index(16, uper::DecodeErrorKind::InvalidEnumIndex)?;
         *out = Self::ALL
             .get(i as usize)
             .copied()
-            .ok_or(uper::DecodeError::new(
-                uper::DecodeErrorKind::InvalidEnumIndex,
-                at,
-            ))?;
+            .unwrap_or(Self::RequestSubRoleUnKnown);
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -12967,15 +12842,11 @@ impl Uper for RequestImportanceLevel {
     const PATH: &'static str = "Common.RequestImportanceLevel";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(4), Some(4));
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        let at = r.position();
-        let i = r.read_constrained(0, 15)?;
+        let i = r.read_index(16, uper::DecodeErrorKind::InvalidEnumIndex)?;
         *out = Self::ALL
             .get(i as usize)
             .copied()
-            .ok_or(uper::DecodeError::new(
-                uper::DecodeErrorKind::InvalidEnumIndex,
-                at,
-            ))?;
+            .unwrap_or(Self::RequestImportanceLevelUnKnown);
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -13149,8 +13020,8 @@ impl Uper for Header {
     const PATH: &'static str = "Common.Header";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(147), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        let extended = r.read_bit()?;
-        let present = r.read_bits(4)?;
+        let present = r.read_bits(5)?;
+        let extended = present >> 4 != 0;
         if present & (1 << 3) != 0 {
             if out.year.is_none() {
                 uper::fill_option(&mut out.year);
@@ -13739,8 +13610,7 @@ impl Uper for VerticalOffset {
     const PATH: &'static str = "Common.VerticalOffset";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(147), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        let at = r.position();
-        match r.read_constrained(0, 7)? {
+        match r.read_index(8, uper::DecodeErrorKind::InvalidChoiceIndex)? {
             0 => {
                 if !matches!(out, Self::Offset1(_)) {
                     uper::replace_with(out, || {
@@ -13824,7 +13694,7 @@ impl Uper for VerticalOffset {
             _ => {
                 return Err(uper::DecodeError::new(
                     uper::DecodeErrorKind::InvalidChoiceIndex,
-                    at,
+                    r.position(),
                 ))
             }
         }
@@ -14277,15 +14147,11 @@ impl Uper for LocationQuality {
     const PATH: &'static str = "Common.Location-quality";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(3), Some(3));
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        let at = r.position();
-        let i = r.read_constrained(0, 7)?;
+        let i = r.read_index(8, uper::DecodeErrorKind::InvalidEnumIndex)?;
         *out = Self::ALL
             .get(i as usize)
             .copied()
-            .ok_or(uper::DecodeError::new(
-                uper::DecodeErrorKind::InvalidEnumIndex,
-                at,
-            ))?;
+            .unwrap_or(Self::LocQualBt1m);
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -14436,15 +14302,11 @@ impl Uper for LocationTech {
                 .map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at))?;
             return Ok(());
         }
-        let at = r.position();
-        let i = r.read_constrained(0, 9)?;
+        let i = r.read_index(10, uper::DecodeErrorKind::InvalidEnumIndex)?;
         *out = Self::ALL
             .get(i as usize)
             .copied()
-            .ok_or(uper::DecodeError::new(
-                uper::DecodeErrorKind::InvalidEnumIndex,
-                at,
-            ))?;
+            .unwrap_or(Self::LocTechUnknown);
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {

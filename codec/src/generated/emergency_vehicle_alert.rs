@@ -58,8 +58,8 @@ impl Uper for EmergencyVehicleAlert {
     const PATH: &'static str = "EmergencyVehicleAlert.EmergencyVehicleAlert";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(1457), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        let extended = r.read_bit()?;
-        let present = r.read_bits(10)?;
+        let present = r.read_bits(11)?;
+        let extended = present >> 10 != 0;
         if present & (1 << 9) != 0 {
             if out.time_stamp.is_none() {
                 uper::fill_option(&mut out.time_stamp);

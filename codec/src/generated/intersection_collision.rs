@@ -56,8 +56,8 @@ impl Uper for IntersectionCollision {
     const PATH: &'static str = "IntersectionCollision.IntersectionCollision";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(5988), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        let extended = r.read_bit()?;
-        let present = r.read_bits(5)?;
+        let present = r.read_bits(6)?;
+        let extended = present >> 5 != 0;
         <super::common::MsgCount>::decode_into(r, &mut out.msg_cnt)?;
         <super::common::TemporaryID>::decode_into(r, &mut out.id)?;
         if present & (1 << 4) != 0 {
@@ -322,8 +322,7 @@ impl Uper for ApproachOrLane {
     const PATH: &'static str = "IntersectionCollision.ApproachOrLane";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(9), Some(9));
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        let at = r.position();
-        match r.read_constrained(0, 1)? {
+        match r.read_index(2, uper::DecodeErrorKind::InvalidChoiceIndex)? {
             0 => {
                 if !matches!(out, Self::Approach(_)) {
                     uper::replace_with(out, || {
@@ -349,7 +348,7 @@ impl Uper for ApproachOrLane {
             _ => {
                 return Err(uper::DecodeError::new(
                     uper::DecodeErrorKind::InvalidChoiceIndex,
-                    at,
+                    r.position(),
                 ))
             }
         }

@@ -320,15 +320,11 @@ impl Uper for VehicleGroupAffected {
                 .map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at))?;
             return Ok(());
         }
-        let at = r.position();
-        let i = r.read_constrained(0, 34)?;
+        let i = r.read_index(35, uper::DecodeErrorKind::InvalidEnumIndex)?;
         *out = Self::ALL
             .get(i as usize)
             .copied()
-            .ok_or(uper::DecodeError::new(
-                uper::DecodeErrorKind::InvalidEnumIndex,
-                at,
-            ))?;
+            .unwrap_or(Self::AllVehicles);
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -918,15 +914,11 @@ impl Uper for IncidentResponseEquipment {
                 .map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at))?;
             return Ok(());
         }
-        let at = r.position();
-        let i = r.read_constrained(0, 71)?;
+        let i = r.read_index(72, uper::DecodeErrorKind::InvalidEnumIndex)?;
         *out = Self::ALL
             .get(i as usize)
             .copied()
-            .ok_or(uper::DecodeError::new(
-                uper::DecodeErrorKind::InvalidEnumIndex,
-                at,
-            ))?;
+            .unwrap_or(Self::GroundFireSuppression);
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -1110,15 +1102,11 @@ impl Uper for ResponderGroupAffected {
                 .map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at))?;
             return Ok(());
         }
-        let at = r.position();
-        let i = r.read_constrained(0, 13)?;
+        let i = r.read_index(14, uper::DecodeErrorKind::InvalidEnumIndex)?;
         *out = Self::ALL
             .get(i as usize)
             .copied()
-            .ok_or(uper::DecodeError::new(
-                uper::DecodeErrorKind::InvalidEnumIndex,
-                at,
-            ))?;
+            .unwrap_or(Self::EmergencyVehicleUnits);
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -1876,15 +1864,11 @@ impl Uper for GenericLocations {
                 .map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at))?;
             return Ok(());
         }
-        let at = r.position();
-        let i = r.read_constrained(0, 95)?;
+        let i = r.read_index(96, uper::DecodeErrorKind::InvalidEnumIndex)?;
         *out = Self::ALL
             .get(i as usize)
             .copied()
-            .ok_or(uper::DecodeError::new(
-                uper::DecodeErrorKind::InvalidEnumIndex,
-                at,
-            ))?;
+            .unwrap_or(Self::OnBridges);
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -2065,8 +2049,7 @@ impl Uper for ITIScodesAndTextItemItem {
     const PATH: &'static str = "ITIS.ITIScodesAndText[].item";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits_profiled(Some(3510), Some(458), Some(3510));
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        let at = r.position();
-        match r.read_constrained(0, 1)? {
+        match r.read_index(2, uper::DecodeErrorKind::InvalidChoiceIndex)? {
             0 => {
                 if !matches!(out, Self::Itis(_)) {
                     uper::replace_with(out, || {
@@ -2090,7 +2073,7 @@ impl Uper for ITIScodesAndTextItemItem {
             _ => {
                 return Err(uper::DecodeError::new(
                     uper::DecodeErrorKind::InvalidChoiceIndex,
-                    at,
+                    r.position(),
                 ))
             }
         }

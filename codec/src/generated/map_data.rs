@@ -52,8 +52,8 @@ impl Uper for MapData {
     const PATH: &'static str = "MapData.MapData";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits_profiled(Some(30486343), Some(252402), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        let extended = r.read_bit()?;
-        let present = r.read_bits(8)?;
+        let present = r.read_bits(9)?;
+        let extended = present >> 8 != 0;
         if present & (1 << 7) != 0 {
             if out.time_stamp.is_none() {
                 uper::fill_option(&mut out.time_stamp);
@@ -446,15 +446,8 @@ impl Uper for LayerType {
                 .map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at))?;
             return Ok(());
         }
-        let at = r.position();
-        let i = r.read_constrained(0, 7)?;
-        *out = Self::ALL
-            .get(i as usize)
-            .copied()
-            .ok_or(uper::DecodeError::new(
-                uper::DecodeErrorKind::InvalidEnumIndex,
-                at,
-            ))?;
+        let i = r.read_index(8, uper::DecodeErrorKind::InvalidEnumIndex)?;
+        *out = Self::ALL.get(i as usize).copied().unwrap_or(Self::None);
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -624,8 +617,8 @@ impl Uper for IntersectionGeometry {
     const PATH: &'static str = "MapData.IntersectionGeometry";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits_profiled(Some(11602475), Some(196422), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        let extended = r.read_bit()?;
-        let present = r.read_bits(5)?;
+        let present = r.read_bits(6)?;
+        let extended = present >> 5 != 0;
         if present & (1 << 4) != 0 {
             if out.name.is_none() {
                 uper::fill_option(&mut out.name);
@@ -982,8 +975,8 @@ impl Uper for GenericLane {
     const PATH: &'static str = "MapData.GenericLane";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits_profiled(Some(181233), Some(24238), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        let extended = r.read_bit()?;
-        let present = r.read_bits(7)?;
+        let present = r.read_bits(8)?;
+        let extended = present >> 7 != 0;
         <super::common::LaneID>::decode_into(r, &mut out.lane_id)?;
         if present & (1 << 6) != 0 {
             if out.name.is_none() {
@@ -1571,8 +1564,7 @@ impl Uper for LaneTypeAttributes {
             *out = Self::Extension { index, content };
             return Ok(());
         }
-        let at = r.position();
-        match r.read_constrained(0, 7)? {
+        match r.read_index(8, uper::DecodeErrorKind::InvalidChoiceIndex)? {
             0 => {
                 if !matches!(out, Self::Vehicle(_)) {
                     uper::replace_with(out, || {
@@ -1660,7 +1652,7 @@ impl Uper for LaneTypeAttributes {
             _ => {
                 return Err(uper::DecodeError::new(
                     uper::DecodeErrorKind::InvalidChoiceIndex,
-                    at,
+                    r.position(),
                 ))
             }
         }
@@ -3824,8 +3816,8 @@ impl Uper for RoadSegment {
     const PATH: &'static str = "MapData.RoadSegment";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits_profiled(Some(1451725), Some(49868), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        let extended = r.read_bit()?;
-        let present = r.read_bits(4)?;
+        let present = r.read_bits(5)?;
+        let extended = present >> 4 != 0;
         if present & (1 << 3) != 0 {
             if out.name.is_none() {
                 uper::fill_option(&mut out.name);
@@ -4332,8 +4324,8 @@ impl Uper for DataParameters {
     const PATH: &'static str = "MapData.DataParameters";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(1888), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        let extended = r.read_bit()?;
-        let present = r.read_bits(4)?;
+        let present = r.read_bits(5)?;
+        let extended = present >> 4 != 0;
         if present & (1 << 3) != 0 {
             if out.process_method.is_none() {
                 uper::fill_option(&mut out.process_method);
@@ -4995,8 +4987,7 @@ impl Uper for RestrictionUserType {
             *out = Self::Extension { index, content };
             return Ok(());
         }
-        let at = r.position();
-        match r.read_constrained(0, 1)? {
+        match r.read_index(2, uper::DecodeErrorKind::InvalidChoiceIndex)? {
             0 => {
                 if !matches!(out, Self::BasicType(_)) {
                     uper::replace_with(out, || {
@@ -5022,7 +5013,7 @@ impl Uper for RestrictionUserType {
             _ => {
                 return Err(uper::DecodeError::new(
                     uper::DecodeErrorKind::InvalidChoiceIndex,
-                    at,
+                    r.position(),
                 ))
             }
         }
@@ -5250,15 +5241,8 @@ impl Uper for RestrictionAppliesTo {
                 .map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at))?;
             return Ok(());
         }
-        let at = r.position();
-        let i = r.read_constrained(0, 13)?;
-        *out = Self::ALL
-            .get(i as usize)
-            .copied()
-            .ok_or(uper::DecodeError::new(
-                uper::DecodeErrorKind::InvalidEnumIndex,
-                at,
-            ))?;
+        let i = r.read_index(14, uper::DecodeErrorKind::InvalidEnumIndex)?;
+        *out = Self::ALL.get(i as usize).copied().unwrap_or(Self::None);
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {

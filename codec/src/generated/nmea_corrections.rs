@@ -43,8 +43,8 @@ impl Uper for NMEAcorrections {
     const PATH: &'static str = "NMEAcorrections.NMEAcorrections";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(8504), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        let extended = r.read_bit()?;
-        let present = r.read_bits(5)?;
+        let present = r.read_bits(6)?;
+        let extended = present >> 5 != 0;
         if present & (1 << 4) != 0 {
             if out.time_stamp.is_none() {
                 uper::fill_option(&mut out.time_stamp);
@@ -336,15 +336,8 @@ impl Uper for NMEARevision {
                 .map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at))?;
             return Ok(());
         }
-        let at = r.position();
-        let i = r.read_constrained(0, 6)?;
-        *out = Self::ALL
-            .get(i as usize)
-            .copied()
-            .ok_or(uper::DecodeError::new(
-                uper::DecodeErrorKind::InvalidEnumIndex,
-                at,
-            ))?;
+        let i = r.read_index(7, uper::DecodeErrorKind::InvalidEnumIndex)?;
+        *out = Self::ALL.get(i as usize).copied().unwrap_or(Self::Unknown);
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {

@@ -64,15 +64,8 @@ impl Uper for EssPrecipYesNo {
     const PATH: &'static str = "NTCIP.EssPrecipYesNo";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(2), Some(2));
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        let at = r.position();
-        let i = r.read_constrained(0, 2)?;
-        *out = Self::ALL
-            .get(i as usize)
-            .copied()
-            .ok_or(uper::DecodeError::new(
-                uper::DecodeErrorKind::InvalidEnumIndex,
-                at,
-            ))?;
+        let i = r.read_index(3, uper::DecodeErrorKind::InvalidEnumIndex)?;
+        *out = Self::ALL.get(i as usize).copied().unwrap_or(Self::Precip);
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -250,15 +243,8 @@ impl Uper for EssPrecipSituation {
     const PATH: &'static str = "NTCIP.EssPrecipSituation";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(4), Some(4));
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        let at = r.position();
-        let i = r.read_constrained(0, 14)?;
-        *out = Self::ALL
-            .get(i as usize)
-            .copied()
-            .ok_or(uper::DecodeError::new(
-                uper::DecodeErrorKind::InvalidEnumIndex,
-                at,
-            ))?;
+        let i = r.read_index(15, uper::DecodeErrorKind::InvalidEnumIndex)?;
+        *out = Self::ALL.get(i as usize).copied().unwrap_or(Self::Other);
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {

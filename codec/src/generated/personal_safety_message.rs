@@ -103,8 +103,8 @@ impl Uper for PersonalSafetyMessage {
     const PATH: &'static str = "PersonalSafetyMessage.PersonalSafetyMessage";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits_profiled(Some(7089), Some(6737), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        let extended = r.read_bit()?;
-        let present = r.read_bits(18)?;
+        let present = r.read_bits(19)?;
+        let extended = present >> 18 != 0;
         <PersonalDeviceUserType>::decode_into(r, &mut out.basic_type)?;
         <super::common::DSecond>::decode_into(r, &mut out.sec_mark)?;
         <super::common::MsgCount>::decode_into(r, &mut out.msg_cnt)?;
@@ -844,15 +844,11 @@ impl Uper for PersonalDeviceUserType {
                 .map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at))?;
             return Ok(());
         }
-        let at = r.position();
-        let i = r.read_constrained(0, 4)?;
+        let i = r.read_index(5, uper::DecodeErrorKind::InvalidEnumIndex)?;
         *out = Self::ALL
             .get(i as usize)
             .copied()
-            .ok_or(uper::DecodeError::new(
-                uper::DecodeErrorKind::InvalidEnumIndex,
-                at,
-            ))?;
+            .unwrap_or(Self::Unavailable);
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -921,8 +917,7 @@ impl Uper for PropelledInformation {
             *out = Self::Extension { index, content };
             return Ok(());
         }
-        let at = r.position();
-        match r.read_constrained(0, 2)? {
+        match r.read_index(3, uper::DecodeErrorKind::InvalidChoiceIndex)? {
             0 => {
                 if !matches!(out, Self::Human(_)) {
                     uper::replace_with(out, || {
@@ -956,7 +951,7 @@ impl Uper for PropelledInformation {
             _ => {
                 return Err(uper::DecodeError::new(
                     uper::DecodeErrorKind::InvalidChoiceIndex,
-                    at,
+                    r.position(),
                 ))
             }
         }
@@ -1143,15 +1138,11 @@ impl Uper for HumanPropelledType {
                 .map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at))?;
             return Ok(());
         }
-        let at = r.position();
-        let i = r.read_constrained(0, 5)?;
+        let i = r.read_index(6, uper::DecodeErrorKind::InvalidEnumIndex)?;
         *out = Self::ALL
             .get(i as usize)
             .copied()
-            .ok_or(uper::DecodeError::new(
-                uper::DecodeErrorKind::InvalidEnumIndex,
-                at,
-            ))?;
+            .unwrap_or(Self::Unavailable);
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -1265,15 +1256,11 @@ impl Uper for AnimalPropelledType {
                 .map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at))?;
             return Ok(());
         }
-        let at = r.position();
-        let i = r.read_constrained(0, 3)?;
+        let i = r.read_index(4, uper::DecodeErrorKind::InvalidEnumIndex)?;
         *out = Self::ALL
             .get(i as usize)
             .copied()
-            .ok_or(uper::DecodeError::new(
-                uper::DecodeErrorKind::InvalidEnumIndex,
-                at,
-            ))?;
+            .unwrap_or(Self::Unavailable);
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -1401,15 +1388,11 @@ impl Uper for MotorizedPropelledType {
                 .map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at))?;
             return Ok(());
         }
-        let at = r.position();
-        let i = r.read_constrained(0, 5)?;
+        let i = r.read_index(6, uper::DecodeErrorKind::InvalidEnumIndex)?;
         *out = Self::ALL
             .get(i as usize)
             .copied()
-            .ok_or(uper::DecodeError::new(
-                uper::DecodeErrorKind::InvalidEnumIndex,
-                at,
-            ))?;
+            .unwrap_or(Self::Unavailable);
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -1599,15 +1582,11 @@ impl Uper for NumberOfParticipantsInCluster {
                 .map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at))?;
             return Ok(());
         }
-        let at = r.position();
-        let i = r.read_constrained(0, 3)?;
+        let i = r.read_index(4, uper::DecodeErrorKind::InvalidEnumIndex)?;
         *out = Self::ALL
             .get(i as usize)
             .copied()
-            .ok_or(uper::DecodeError::new(
-                uper::DecodeErrorKind::InvalidEnumIndex,
-                at,
-            ))?;
+            .unwrap_or(Self::Unavailable);
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -1760,15 +1739,11 @@ impl Uper for PublicSafetyEventResponderWorkerType {
                 .map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at))?;
             return Ok(());
         }
-        let at = r.position();
-        let i = r.read_constrained(0, 7)?;
+        let i = r.read_index(8, uper::DecodeErrorKind::InvalidEnumIndex)?;
         *out = Self::ALL
             .get(i as usize)
             .copied()
-            .ok_or(uper::DecodeError::new(
-                uper::DecodeErrorKind::InvalidEnumIndex,
-                at,
-            ))?;
+            .unwrap_or(Self::Unavailable);
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -2171,15 +2146,11 @@ impl Uper for Attachment {
                 .map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at))?;
             return Ok(());
         }
-        let at = r.position();
-        let i = r.read_constrained(0, 6)?;
+        let i = r.read_index(7, uper::DecodeErrorKind::InvalidEnumIndex)?;
         *out = Self::ALL
             .get(i as usize)
             .copied()
-            .ok_or(uper::DecodeError::new(
-                uper::DecodeErrorKind::InvalidEnumIndex,
-                at,
-            ))?;
+            .unwrap_or(Self::Unavailable);
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -2299,15 +2270,11 @@ impl Uper for AnimalType {
                 .map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at))?;
             return Ok(());
         }
-        let at = r.position();
-        let i = r.read_constrained(0, 3)?;
+        let i = r.read_index(4, uper::DecodeErrorKind::InvalidEnumIndex)?;
         *out = Self::ALL
             .get(i as usize)
             .copied()
-            .ok_or(uper::DecodeError::new(
-                uper::DecodeErrorKind::InvalidEnumIndex,
-                at,
-            ))?;
+            .unwrap_or(Self::Unavailable);
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {

@@ -49,8 +49,8 @@ impl Uper for ProbeDataManagement {
     const PATH: &'static str = "ProbeDataManagement.ProbeDataManagement";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(5307), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        let extended = r.read_bit()?;
-        let present = r.read_bits(3)?;
+        let present = r.read_bits(4)?;
+        let extended = present >> 3 != 0;
         if present & (1 << 2) != 0 {
             if out.time_stamp.is_none() {
                 uper::fill_option(&mut out.time_stamp);
@@ -345,8 +345,7 @@ impl Uper for ProbeDataManagementTerm {
     const PATH: &'static str = "ProbeDataManagement.ProbeDataManagement.term";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(16), Some(16));
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        let at = r.position();
-        match r.read_constrained(0, 1)? {
+        match r.read_index(2, uper::DecodeErrorKind::InvalidChoiceIndex)? {
             0 => {
                 if !matches!(out, Self::Termtime(_)) {
                     uper::replace_with(out, || {
@@ -370,7 +369,7 @@ impl Uper for ProbeDataManagementTerm {
             _ => {
                 return Err(uper::DecodeError::new(
                     uper::DecodeErrorKind::InvalidChoiceIndex,
-                    at,
+                    r.position(),
                 ))
             }
         }
@@ -470,8 +469,7 @@ impl Uper for ProbeDataManagementSnapshot {
     const PATH: &'static str = "ProbeDataManagement.ProbeDataManagement.snapshot";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(31), Some(31));
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        let at = r.position();
-        match r.read_constrained(0, 1)? {
+        match r.read_index(2, uper::DecodeErrorKind::InvalidChoiceIndex)? {
             0 => {
                 if !matches!(out, Self::SnapshotTime(_)) {
                     uper::replace_with(out, || {
@@ -497,7 +495,7 @@ impl Uper for ProbeDataManagementSnapshot {
             _ => {
                 return Err(uper::DecodeError::new(
                     uper::DecodeErrorKind::InvalidChoiceIndex,
-                    at,
+                    r.position(),
                 ))
             }
         }
@@ -878,8 +876,8 @@ impl Uper for VehicleStatusRequest {
     const PATH: &'static str = "ProbeDataManagement.VehicleStatusRequest";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(155), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        let extended = r.read_bit()?;
-        let present = r.read_bits(4)?;
+        let present = r.read_bits(5)?;
+        let extended = present >> 4 != 0;
         <VehicleStatusDeviceTypeTag>::decode_into(r, &mut out.data_type)?;
         if present & (1 << 3) != 0 {
             if out.sub_type.is_none() {
@@ -1305,15 +1303,8 @@ impl Uper for VehicleStatusDeviceTypeTag {
                 .map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at))?;
             return Ok(());
         }
-        let at = r.position();
-        let i = r.read_constrained(0, 28)?;
-        *out = Self::ALL
-            .get(i as usize)
-            .copied()
-            .ok_or(uper::DecodeError::new(
-                uper::DecodeErrorKind::InvalidEnumIndex,
-                at,
-            ))?;
+        let i = r.read_index(29, uper::DecodeErrorKind::InvalidEnumIndex)?;
+        *out = Self::ALL.get(i as usize).copied().unwrap_or(Self::Unknown);
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {

@@ -47,8 +47,8 @@ impl Uper for ProbeVehicleData {
     const PATH: &'static str = "ProbeVehicleData.ProbeVehicleData";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(38806), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        let extended = r.read_bit()?;
-        let present = r.read_bits(4)?;
+        let present = r.read_bits(5)?;
+        let extended = present >> 4 != 0;
         if present & (1 << 3) != 0 {
             if out.time_stamp.is_none() {
                 uper::fill_option(&mut out.time_stamp);
@@ -289,8 +289,8 @@ impl Uper for VehicleIdent {
     const PATH: &'static str = "ProbeVehicleData.VehicleIdent";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(998), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        let extended = r.read_bit()?;
-        let present = r.read_bits(6)?;
+        let present = r.read_bits(7)?;
+        let extended = present >> 6 != 0;
         if present & (1 << 5) != 0 {
             if out.name.is_none() {
                 uper::fill_option(&mut out.name);
@@ -646,8 +646,7 @@ impl Uper for VehicleIdentVehicleClass {
     const PATH: &'static str = "ProbeVehicleData.VehicleIdent.vehicleClass";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(28), Some(28));
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        let at = r.position();
-        match r.read_constrained(0, 2)? {
+        match r.read_index(3, uper::DecodeErrorKind::InvalidChoiceIndex)? {
             0 => {
                 if !matches!(out, Self::VGroup(_)) {
                     uper::replace_with(out, || {
@@ -686,7 +685,7 @@ impl Uper for VehicleIdentVehicleClass {
             _ => {
                 return Err(uper::DecodeError::new(
                     uper::DecodeErrorKind::InvalidChoiceIndex,
-                    at,
+                    r.position(),
                 ))
             }
         }
@@ -878,8 +877,8 @@ impl Uper for Snapshot {
     const PATH: &'static str = "ProbeVehicleData.Snapshot";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(9203), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        let extended = r.read_bit()?;
-        let present = r.read_bits(2)?;
+        let present = r.read_bits(3)?;
+        let extended = present >> 2 != 0;
         <super::common::FullPositionVector>::decode_into(r, &mut out.the_position)?;
         if present & (1 << 1) != 0 {
             if out.safety_ext.is_none() {
@@ -1074,8 +1073,8 @@ impl Uper for VehicleStatus {
     const PATH: &'static str = "ProbeVehicleData.VehicleStatus";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(3304), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        let extended = r.read_bit()?;
-        let present = r.read_bits(22)?;
+        let present = r.read_bits(23)?;
+        let extended = present >> 22 != 0;
         if present & (1 << 21) != 0 {
             if out.lights.is_none() {
                 uper::fill_option(&mut out.lights);
@@ -1906,15 +1905,11 @@ impl Uper for BrakeAppliedPressure {
     const PATH: &'static str = "ProbeVehicleData.BrakeAppliedPressure";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(4), Some(4));
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        let at = r.position();
-        let i = r.read_constrained(0, 15)?;
+        let i = r.read_index(16, uper::DecodeErrorKind::InvalidEnumIndex)?;
         *out = Self::ALL
             .get(i as usize)
             .copied()
-            .ok_or(uper::DecodeError::new(
-                uper::DecodeErrorKind::InvalidEnumIndex,
-                at,
-            ))?;
+            .unwrap_or(Self::Unavailable);
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -2043,15 +2038,8 @@ impl Uper for RainSensor {
     const PATH: &'static str = "ProbeVehicleData.RainSensor";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(3), Some(3));
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        let at = r.position();
-        let i = r.read_constrained(0, 7)?;
-        *out = Self::ALL
-            .get(i as usize)
-            .copied()
-            .ok_or(uper::DecodeError::new(
-                uper::DecodeErrorKind::InvalidEnumIndex,
-                at,
-            ))?;
+        let i = r.read_index(8, uper::DecodeErrorKind::InvalidEnumIndex)?;
+        *out = Self::ALL.get(i as usize).copied().unwrap_or(Self::None);
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -2305,15 +2293,11 @@ impl Uper for SteeringWheelAngleConfidence {
     const PATH: &'static str = "ProbeVehicleData.SteeringWheelAngleConfidence";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(2), Some(2));
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        let at = r.position();
-        let i = r.read_constrained(0, 3)?;
+        let i = r.read_index(4, uper::DecodeErrorKind::InvalidEnumIndex)?;
         *out = Self::ALL
             .get(i as usize)
             .copied()
-            .ok_or(uper::DecodeError::new(
-                uper::DecodeErrorKind::InvalidEnumIndex,
-                at,
-            ))?;
+            .unwrap_or(Self::Unavailable);
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -2671,15 +2655,11 @@ impl Uper for YawRateConfidence {
     const PATH: &'static str = "ProbeVehicleData.YawRateConfidence";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(3), Some(3));
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        let at = r.position();
-        let i = r.read_constrained(0, 7)?;
+        let i = r.read_index(8, uper::DecodeErrorKind::InvalidEnumIndex)?;
         *out = Self::ALL
             .get(i as usize)
             .copied()
-            .ok_or(uper::DecodeError::new(
-                uper::DecodeErrorKind::InvalidEnumIndex,
-                at,
-            ))?;
+            .unwrap_or(Self::Unavailable);
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -2803,15 +2783,11 @@ impl Uper for AccelerationConfidence {
     const PATH: &'static str = "ProbeVehicleData.AccelerationConfidence";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(3), Some(3));
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        let at = r.position();
-        let i = r.read_constrained(0, 7)?;
+        let i = r.read_index(8, uper::DecodeErrorKind::InvalidEnumIndex)?;
         *out = Self::ALL
             .get(i as usize)
             .copied()
-            .ok_or(uper::DecodeError::new(
-                uper::DecodeErrorKind::InvalidEnumIndex,
-                at,
-            ))?;
+            .unwrap_or(Self::Unavailable);
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -2878,8 +2854,8 @@ impl Uper for ConfidenceSet {
     const PATH: &'static str = "ProbeVehicleData.ConfidenceSet";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(132), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        let extended = r.read_bit()?;
-        let present = r.read_bits(7)?;
+        let present = r.read_bits(8)?;
+        let extended = present >> 7 != 0;
         if present & (1 << 6) != 0 {
             if out.accel_confidence.is_none() {
                 uper::fill_option(&mut out.accel_confidence);
@@ -3474,8 +3450,8 @@ impl Uper for J1939data {
     const PATH: &'static str = "ProbeVehicleData.J1939data";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(1244), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        let extended = r.read_bit()?;
-        let present = r.read_bits(10)?;
+        let present = r.read_bits(11)?;
+        let extended = present >> 10 != 0;
         if present & (1 << 9) != 0 {
             if out.tires.is_none() {
                 uper::fill_option(&mut out.tires);
@@ -3920,8 +3896,8 @@ impl Uper for TireData {
     const PATH: &'static str = "ProbeVehicleData.TireData";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(150), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        let extended = r.read_bit()?;
-        let present = r.read_bits(7)?;
+        let present = r.read_bits(8)?;
+        let extended = present >> 7 != 0;
         if present & (1 << 6) != 0 {
             if out.location.is_none() {
                 uper::fill_option(&mut out.location);
@@ -4238,15 +4214,8 @@ impl Uper for WheelSensorStatus {
     const PATH: &'static str = "ProbeVehicleData.WheelSensorStatus";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(2), Some(2));
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        let at = r.position();
-        let i = r.read_constrained(0, 3)?;
-        *out = Self::ALL
-            .get(i as usize)
-            .copied()
-            .ok_or(uper::DecodeError::new(
-                uper::DecodeErrorKind::InvalidEnumIndex,
-                at,
-            ))?;
+        let i = r.read_index(4, uper::DecodeErrorKind::InvalidEnumIndex)?;
+        *out = Self::ALL.get(i as usize).copied().unwrap_or(Self::Off);
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -4342,15 +4311,8 @@ impl Uper for WheelEndElectFault {
     const PATH: &'static str = "ProbeVehicleData.WheelEndElectFault";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(2), Some(2));
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        let at = r.position();
-        let i = r.read_constrained(0, 3)?;
-        *out = Self::ALL
-            .get(i as usize)
-            .copied()
-            .ok_or(uper::DecodeError::new(
-                uper::DecodeErrorKind::InvalidEnumIndex,
-                at,
-            ))?;
+        let i = r.read_index(4, uper::DecodeErrorKind::InvalidEnumIndex)?;
+        *out = Self::ALL.get(i as usize).copied().unwrap_or(Self::IsOk);
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -4485,15 +4447,8 @@ impl Uper for TirePressureThresholdDetection {
     const PATH: &'static str = "ProbeVehicleData.TirePressureThresholdDetection";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(3), Some(3));
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        let at = r.position();
-        let i = r.read_constrained(0, 7)?;
-        *out = Self::ALL
-            .get(i as usize)
-            .copied()
-            .ok_or(uper::DecodeError::new(
-                uper::DecodeErrorKind::InvalidEnumIndex,
-                at,
-            ))?;
+        let i = r.read_index(8, uper::DecodeErrorKind::InvalidEnumIndex)?;
+        *out = Self::ALL.get(i as usize).copied().unwrap_or(Self::NoData);
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -4617,8 +4572,8 @@ impl Uper for AxleWeightSet {
     const PATH: &'static str = "ProbeVehicleData.AxleWeightSet";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(114), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        let extended = r.read_bit()?;
-        let present = r.read_bits(2)?;
+        let present = r.read_bits(3)?;
+        let extended = present >> 2 != 0;
         if present & (1 << 1) != 0 {
             if out.location.is_none() {
                 uper::fill_option(&mut out.location);

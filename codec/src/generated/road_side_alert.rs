@@ -55,8 +55,8 @@ impl Uper for RoadSideAlert {
     const PATH: &'static str = "RoadSideAlert.RoadSideAlert";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(786), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        let extended = r.read_bit()?;
-        let present = r.read_bits(8)?;
+        let present = r.read_bits(9)?;
+        let extended = present >> 8 != 0;
         <super::common::MsgCount>::decode_into(r, &mut out.msg_cnt)?;
         if present & (1 << 7) != 0 {
             if out.time_stamp.is_none() {

@@ -46,8 +46,8 @@ impl Uper for RTCMcorrections {
     const PATH: &'static str = "RTCMcorrections.RTCMcorrections";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(41629), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        let extended = r.read_bit()?;
-        let present = r.read_bits(4)?;
+        let present = r.read_bits(5)?;
+        let extended = present >> 4 != 0;
         <super::common::MsgCount>::decode_into(r, &mut out.msg_cnt)?;
         <RTCMRevision>::decode_into(r, &mut out.rev)?;
         if present & (1 << 3) != 0 {
@@ -321,15 +321,8 @@ impl Uper for RTCMRevision {
                 .map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at))?;
             return Ok(());
         }
-        let at = r.position();
-        let i = r.read_constrained(0, 3)?;
-        *out = Self::ALL
-            .get(i as usize)
-            .copied()
-            .ok_or(uper::DecodeError::new(
-                uper::DecodeErrorKind::InvalidEnumIndex,
-                at,
-            ))?;
+        let i = r.read_index(4, uper::DecodeErrorKind::InvalidEnumIndex)?;
+        *out = Self::ALL.get(i as usize).copied().unwrap_or(Self::Unknown);
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {

@@ -43,8 +43,8 @@ impl Uper for SignalRequestMessage {
     const PATH: &'static str = "SignalRequestMessage.SignalRequestMessage";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits_profiled(Some(6442), Some(6090), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        let extended = r.read_bit()?;
-        let present = r.read_bits(4)?;
+        let present = r.read_bits(5)?;
+        let extended = present >> 4 != 0;
         if present & (1 << 3) != 0 {
             if out.time_stamp.is_none() {
                 uper::fill_option(&mut out.time_stamp);
@@ -339,8 +339,8 @@ impl Uper for SignalRequestPackage {
     const PATH: &'static str = "SignalRequestMessage.SignalRequestPackage";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(917), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        let extended = r.read_bit()?;
-        let present = r.read_bits(4)?;
+        let present = r.read_bits(5)?;
+        let extended = present >> 4 != 0;
         <SignalRequest>::decode_into(r, &mut out.request)?;
         if present & (1 << 3) != 0 {
             if out.minute.is_none() {
@@ -547,8 +547,8 @@ impl Uper for SignalRequest {
     const PATH: &'static str = "SignalRequestMessage.SignalRequest";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(627), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        let extended = r.read_bit()?;
-        let present = r.read_bits(2)?;
+        let present = r.read_bits(3)?;
+        let extended = present >> 2 != 0;
         <super::common::IntersectionReferenceID>::decode_into(r, &mut out.id)?;
         <super::common::RequestID>::decode_into(r, &mut out.request_id)?;
         <PriorityRequestType>::decode_into(r, &mut out.request_type)?;
@@ -778,15 +778,11 @@ impl Uper for PriorityRequestType {
                 .map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at))?;
             return Ok(());
         }
-        let at = r.position();
-        let i = r.read_constrained(0, 3)?;
+        let i = r.read_index(4, uper::DecodeErrorKind::InvalidEnumIndex)?;
         *out = Self::ALL
             .get(i as usize)
             .copied()
-            .ok_or(uper::DecodeError::new(
-                uper::DecodeErrorKind::InvalidEnumIndex,
-                at,
-            ))?;
+            .unwrap_or(Self::PriorityRequestTypeReserved);
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -1266,8 +1262,8 @@ impl Uper for RequestorDescription {
     const PATH: &'static str = "SignalRequestMessage.RequestorDescription";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits_profiled(Some(2488), Some(2136), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        let extended = r.read_bit()?;
-        let present = r.read_bits(8)?;
+        let present = r.read_bits(9)?;
+        let extended = present >> 8 != 0;
         <super::common::VehicleID>::decode_into(r, &mut out.id)?;
         if present & (1 << 7) != 0 {
             if out.r#type.is_none() {
@@ -1583,8 +1579,8 @@ impl Uper for RequestorPositionVector {
     const PATH: &'static str = "SignalRequestMessage.RequestorPositionVector";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits_profiled(Some(996), Some(644), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        let extended = r.read_bit()?;
-        let present = r.read_bits(2)?;
+        let present = r.read_bits(3)?;
+        let extended = present >> 2 != 0;
         <super::common::Position3D>::decode_into(r, &mut out.position)?;
         if present & (1 << 1) != 0 {
             if out.heading.is_none() {
@@ -1865,15 +1861,11 @@ impl Uper for TransitVehicleOccupancy {
     const PATH: &'static str = "SignalRequestMessage.TransitVehicleOccupancy";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(3), Some(3));
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        let at = r.position();
-        let i = r.read_constrained(0, 7)?;
+        let i = r.read_index(8, uper::DecodeErrorKind::InvalidEnumIndex)?;
         *out = Self::ALL
             .get(i as usize)
             .copied()
-            .ok_or(uper::DecodeError::new(
-                uper::DecodeErrorKind::InvalidEnumIndex,
-                at,
-            ))?;
+            .unwrap_or(Self::OccupancyUnknown);
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {

@@ -40,8 +40,8 @@ impl Uper for SignalStatusMessage {
     const PATH: &'static str = "SignalStatusMessage.SignalStatusMessage";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(179285), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        let extended = r.read_bit()?;
-        let present = r.read_bits(3)?;
+        let present = r.read_bits(4)?;
+        let extended = present >> 3 != 0;
         if present & (1 << 2) != 0 {
             if out.time_stamp.is_none() {
                 uper::fill_option(&mut out.time_stamp);
@@ -300,8 +300,8 @@ impl Uper for SignalStatus {
     const PATH: &'static str = "SignalStatusMessage.SignalStatus";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(35800), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        let extended = r.read_bit()?;
-        let present = r.read_bits(1)?;
+        let present = r.read_bits(2)?;
+        let extended = present >> 1 != 0;
         <super::common::MsgCount>::decode_into(r, &mut out.sequence_number)?;
         <super::common::IntersectionReferenceID>::decode_into(r, &mut out.id)?;
         <SignalStatusPackageList>::decode_into(r, &mut out.sig_status)?;
@@ -528,8 +528,8 @@ impl Uper for SignalStatusPackage {
     const PATH: &'static str = "SignalStatusMessage.SignalStatusPackage";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(1110), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        let extended = r.read_bit()?;
-        let present = r.read_bits(6)?;
+        let present = r.read_bits(7)?;
+        let extended = present >> 6 != 0;
         if present & (1 << 5) != 0 {
             if out.requester.is_none() {
                 uper::fill_option(&mut out.requester);
@@ -806,8 +806,8 @@ impl Uper for SignalRequesterInfo {
     const PATH: &'static str = "SignalStatusMessage.SignalRequesterInfo";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(468), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        let extended = r.read_bit()?;
-        let present = r.read_bits(2)?;
+        let present = r.read_bits(3)?;
+        let extended = present >> 2 != 0;
         <super::common::VehicleID>::decode_into(r, &mut out.id)?;
         <super::common::RequestID>::decode_into(r, &mut out.request)?;
         <super::common::MsgCount>::decode_into(r, &mut out.sequence_number)?;

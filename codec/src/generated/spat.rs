@@ -37,8 +37,8 @@ impl Uper for SPAT {
     const PATH: &'static str = "SPAT.SPAT";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(3838049), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        let extended = r.read_bit()?;
-        let present = r.read_bits(3)?;
+        let present = r.read_bits(4)?;
+        let extended = present >> 3 != 0;
         if present & (1 << 2) != 0 {
             if out.time_stamp.is_none() {
                 uper::fill_option(&mut out.time_stamp);
@@ -299,8 +299,8 @@ impl Uper for IntersectionState {
     const PATH: &'static str = "SPAT.IntersectionState";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(959335), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        let extended = r.read_bit()?;
-        let present = r.read_bits(6)?;
+        let present = r.read_bits(7)?;
+        let extended = present >> 6 != 0;
         if present & (1 << 5) != 0 {
             if out.name.is_none() {
                 uper::fill_option(&mut out.name);
@@ -828,8 +828,8 @@ impl Uper for MovementState {
     const PATH: &'static str = "SPAT.MovementState";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(29744), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        let extended = r.read_bit()?;
-        let present = r.read_bits(3)?;
+        let present = r.read_bits(4)?;
+        let extended = present >> 3 != 0;
         if present & (1 << 2) != 0 {
             if out.movement_name.is_none() {
                 uper::fill_option(&mut out.movement_name);
@@ -1085,8 +1085,8 @@ impl Uper for MovementEvent {
     const PATH: &'static str = "SPAT.MovementEvent";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(1570), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        let extended = r.read_bit()?;
-        let present = r.read_bits(3)?;
+        let present = r.read_bits(4)?;
+        let extended = present >> 3 != 0;
         <MovementPhaseState>::decode_into(r, &mut out.event_state)?;
         if present & (1 << 2) != 0 {
             if out.timing.is_none() {
@@ -1339,15 +1339,11 @@ impl Uper for MovementPhaseState {
     const PATH: &'static str = "SPAT.MovementPhaseState";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(4), Some(4));
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        let at = r.position();
-        let i = r.read_constrained(0, 9)?;
+        let i = r.read_index(10, uper::DecodeErrorKind::InvalidEnumIndex)?;
         *out = Self::ALL
             .get(i as usize)
             .copied()
-            .ok_or(uper::DecodeError::new(
-                uper::DecodeErrorKind::InvalidEnumIndex,
-                at,
-            ))?;
+            .unwrap_or(Self::Unavailable);
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -1706,8 +1702,8 @@ impl Uper for AdvisorySpeed {
     const PATH: &'static str = "SPAT.AdvisorySpeed";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(299), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        let extended = r.read_bit()?;
-        let present = r.read_bits(5)?;
+        let present = r.read_bits(6)?;
+        let extended = present >> 5 != 0;
         <AdvisorySpeedType>::decode_into(r, &mut out.r#type)?;
         if present & (1 << 4) != 0 {
             if out.speed.is_none() {
@@ -1975,15 +1971,8 @@ impl Uper for AdvisorySpeedType {
                 .map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at))?;
             return Ok(());
         }
-        let at = r.position();
-        let i = r.read_constrained(0, 3)?;
-        *out = Self::ALL
-            .get(i as usize)
-            .copied()
-            .ok_or(uper::DecodeError::new(
-                uper::DecodeErrorKind::InvalidEnumIndex,
-                at,
-            ))?;
+        let i = r.read_index(4, uper::DecodeErrorKind::InvalidEnumIndex)?;
+        *out = Self::ALL.get(i as usize).copied().unwrap_or(Self::None);
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -2554,8 +2543,8 @@ impl Uper for ConnectionManeuverAssist {
     const PATH: &'static str = "SPAT.ConnectionManeuverAssist";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(981), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        let extended = r.read_bit()?;
-        let present = r.read_bits(5)?;
+        let present = r.read_bits(6)?;
+        let extended = present >> 5 != 0;
         <super::common::LaneConnectionID>::decode_into(r, &mut out.connection_id)?;
         if present & (1 << 4) != 0 {
             if out.queue_length.is_none() {

@@ -31,8 +31,8 @@ impl Uper for TestMessage09 {
     const PATH: &'static str = "TestMessage09.TestMessage09";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(381), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        let extended = r.read_bit()?;
-        let present = r.read_bits(2)?;
+        let present = r.read_bits(3)?;
+        let extended = present >> 2 != 0;
         if present & (1 << 1) != 0 {
             if out.header.is_none() {
                 uper::fill_option(&mut out.header);

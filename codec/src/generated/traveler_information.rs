@@ -44,8 +44,8 @@ impl Uper for TravelerInformation {
     const PATH: &'static str = "TravelerInformation.TravelerInformation";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits_profiled(Some(23445189), Some(106627), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        let extended = r.read_bit()?;
-        let present = r.read_bits(4)?;
+        let present = r.read_bits(5)?;
+        let extended = present >> 4 != 0;
         <super::common::MsgCount>::decode_into(r, &mut out.msg_cnt)?;
         if present & (1 << 3) != 0 {
             if out.time_stamp.is_none() {
@@ -467,8 +467,8 @@ impl Uper for TravelerDataFrame {
     const PATH: &'static str = "TravelerInformation.TravelerDataFrame";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits_profiled(Some(2930229), Some(52823), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        let extended = r.read_bit()?;
-        let present = r.read_bits(2)?;
+        let present = r.read_bits(3)?;
+        let extended = present >> 2 != 0;
         <super::common::SSPindex>::decode_into(r, &mut out.not_used)?;
         <TravelerInfoType>::decode_into(r, &mut out.frame_type)?;
         <TravelerDataFrameMsgId>::decode_into(r, &mut out.msg_id)?;
@@ -766,15 +766,8 @@ impl Uper for TravelerInfoType {
                 .map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at))?;
             return Ok(());
         }
-        let at = r.position();
-        let i = r.read_constrained(0, 3)?;
-        *out = Self::ALL
-            .get(i as usize)
-            .copied()
-            .ok_or(uper::DecodeError::new(
-                uper::DecodeErrorKind::InvalidEnumIndex,
-                at,
-            ))?;
+        let i = r.read_index(4, uper::DecodeErrorKind::InvalidEnumIndex)?;
+        *out = Self::ALL.get(i as usize).copied().unwrap_or(Self::Unknown);
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -825,8 +818,7 @@ impl Uper for TravelerDataFrameMsgId {
     const PATH: &'static str = "TravelerInformation.TravelerDataFrame.msgId";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits_profiled(Some(936), Some(584), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        let at = r.position();
-        match r.read_constrained(0, 1)? {
+        match r.read_index(2, uper::DecodeErrorKind::InvalidChoiceIndex)? {
             0 => {
                 if !matches!(out, Self::FurtherInfoID(_)) {
                     uper::replace_with(out, || {
@@ -852,7 +844,7 @@ impl Uper for TravelerDataFrameMsgId {
             _ => {
                 return Err(uper::DecodeError::new(
                     uper::DecodeErrorKind::InvalidChoiceIndex,
-                    at,
+                    r.position(),
                 ))
             }
         }
@@ -1156,15 +1148,8 @@ impl Uper for MUTCDCode {
                 .map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at))?;
             return Ok(());
         }
-        let at = r.position();
-        let i = r.read_constrained(0, 6)?;
-        *out = Self::ALL
-            .get(i as usize)
-            .copied()
-            .ok_or(uper::DecodeError::new(
-                uper::DecodeErrorKind::InvalidEnumIndex,
-                at,
-            ))?;
+        let i = r.read_index(7, uper::DecodeErrorKind::InvalidEnumIndex)?;
+        *out = Self::ALL.get(i as usize).copied().unwrap_or(Self::None);
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -1393,8 +1378,8 @@ impl Uper for GeographicalPath {
     const PATH: &'static str = "TravelerInformation.GeographicalPath";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits_profiled(Some(182136), Some(24953), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        let extended = r.read_bit()?;
-        let present = r.read_bits(9)?;
+        let present = r.read_bits(10)?;
+        let extended = present >> 9 != 0;
         if present & (1 << 8) != 0 {
             if out.name.is_none() {
                 uper::fill_option(&mut out.name);
@@ -1767,15 +1752,11 @@ impl Uper for DirectionOfUse {
     const PATH: &'static str = "TravelerInformation.DirectionOfUse";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(2), Some(2));
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        let at = r.position();
-        let i = r.read_constrained(0, 3)?;
+        let i = r.read_index(4, uper::DecodeErrorKind::InvalidEnumIndex)?;
         *out = Self::ALL
             .get(i as usize)
             .copied()
-            .ok_or(uper::DecodeError::new(
-                uper::DecodeErrorKind::InvalidEnumIndex,
-                at,
-            ))?;
+            .unwrap_or(Self::Unavailable);
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -1841,8 +1822,7 @@ impl Uper for GeographicalPathDescription {
             *out = Self::Extension { index, content };
             return Ok(());
         }
-        let at = r.position();
-        match r.read_constrained(0, 2)? {
+        match r.read_index(3, uper::DecodeErrorKind::InvalidChoiceIndex)? {
             0 => {
                 if !matches!(out, Self::Path(_)) {
                     uper::replace_with(out, || {
@@ -1876,7 +1856,7 @@ impl Uper for GeographicalPathDescription {
             _ => {
                 return Err(uper::DecodeError::new(
                     uper::DecodeErrorKind::InvalidChoiceIndex,
-                    at,
+                    r.position(),
                 ))
             }
         }
@@ -2078,8 +2058,7 @@ impl Uper for OffsetSystemOffset {
     const PATH: &'static str = "TravelerInformation.OffsetSystem.offset";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits_profiled(Some(179496), Some(23017), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        let at = r.position();
-        match r.read_constrained(0, 1)? {
+        match r.read_index(2, uper::DecodeErrorKind::InvalidChoiceIndex)? {
             0 => {
                 if !matches!(out, Self::Xy(_)) {
                     uper::replace_with(out, || {
@@ -2103,7 +2082,7 @@ impl Uper for OffsetSystemOffset {
             _ => {
                 return Err(uper::DecodeError::new(
                     uper::DecodeErrorKind::InvalidChoiceIndex,
-                    at,
+                    r.position(),
                 ))
             }
         }
@@ -2202,8 +2181,7 @@ impl Uper for NodeListLL {
             *out = Self::Extension { index, content };
             return Ok(());
         }
-        let at = r.position();
-        match r.read_constrained(0, 0)? {
+        match r.read_index(1, uper::DecodeErrorKind::InvalidChoiceIndex)? {
             0 => {
                 if !matches!(out, Self::Nodes(_)) {
                     uper::replace_with(out, || {
@@ -2217,7 +2195,7 @@ impl Uper for NodeListLL {
             _ => {
                 return Err(uper::DecodeError::new(
                     uper::DecodeErrorKind::InvalidChoiceIndex,
-                    at,
+                    r.position(),
                 ))
             }
         }
@@ -2380,8 +2358,8 @@ impl Uper for NodeLL {
     const PATH: &'static str = "TravelerInformation.NodeLL";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits_profiled(Some(2835), Some(827), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        let extended = r.read_bit()?;
-        let present = r.read_bits(1)?;
+        let present = r.read_bits(2)?;
+        let extended = present >> 1 != 0;
         <NodeOffsetPointLL>::decode_into(r, &mut out.delta)?;
         if present & (1 << 0) != 0 {
             if out.attributes.is_none() {
@@ -2491,8 +2469,7 @@ impl Uper for NodeOffsetPointLL {
     const PATH: &'static str = "TravelerInformation.NodeOffsetPointLL";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(147), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        let at = r.position();
-        match r.read_constrained(0, 7)? {
+        match r.read_index(8, uper::DecodeErrorKind::InvalidChoiceIndex)? {
             0 => {
                 if !matches!(out, Self::NodeLL1(_)) {
                     uper::replace_with(out, || {
@@ -2580,7 +2557,7 @@ impl Uper for NodeOffsetPointLL {
             _ => {
                 return Err(uper::DecodeError::new(
                     uper::DecodeErrorKind::InvalidChoiceIndex,
-                    at,
+                    r.position(),
                 ))
             }
         }
@@ -3341,8 +3318,8 @@ impl Uper for NodeAttributeSetLL {
     const PATH: &'static str = "TravelerInformation.NodeAttributeSetLL";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits_profiled(Some(2599), Some(591), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        let extended = r.read_bit()?;
-        let present = r.read_bits(7)?;
+        let present = r.read_bits(8)?;
+        let extended = present >> 7 != 0;
         if present & (1 << 6) != 0 {
             if out.local_node.is_none() {
                 uper::fill_option(&mut out.local_node);
@@ -3821,15 +3798,8 @@ impl Uper for NodeAttributeLL {
                 .map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at))?;
             return Ok(());
         }
-        let at = r.position();
-        let i = r.read_constrained(0, 11)?;
-        *out = Self::ALL
-            .get(i as usize)
-            .copied()
-            .ok_or(uper::DecodeError::new(
-                uper::DecodeErrorKind::InvalidEnumIndex,
-                at,
-            ))?;
+        let i = r.read_index(12, uper::DecodeErrorKind::InvalidEnumIndex)?;
+        *out = Self::ALL.get(i as usize).copied().unwrap_or(Self::Reserved);
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -4270,15 +4240,8 @@ impl Uper for SegmentAttributeLL {
                 .map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at))?;
             return Ok(());
         }
-        let at = r.position();
-        let i = r.read_constrained(0, 37)?;
-        *out = Self::ALL
-            .get(i as usize)
-            .copied()
-            .ok_or(uper::DecodeError::new(
-                uper::DecodeErrorKind::InvalidEnumIndex,
-                at,
-            ))?;
+        let i = r.read_index(38, uper::DecodeErrorKind::InvalidEnumIndex)?;
+        *out = Self::ALL.get(i as usize).copied().unwrap_or(Self::Reserved);
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -4545,8 +4508,8 @@ impl Uper for GeometricProjection {
     const PATH: &'static str = "TravelerInformation.GeometricProjection";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits_profiled(Some(1162), Some(810), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        let extended = r.read_bit()?;
-        let present = r.read_bits(3)?;
+        let present = r.read_bits(4)?;
+        let extended = present >> 3 != 0;
         <super::common::HeadingSlice>::decode_into(r, &mut out.direction)?;
         if present & (1 << 2) != 0 {
             if out.extent.is_none() {
@@ -4880,15 +4843,11 @@ impl Uper for DistanceUnits {
     const PATH: &'static str = "TravelerInformation.DistanceUnits";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(3), Some(3));
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        let at = r.position();
-        let i = r.read_constrained(0, 7)?;
+        let i = r.read_index(8, uper::DecodeErrorKind::InvalidEnumIndex)?;
         *out = Self::ALL
             .get(i as usize)
             .copied()
-            .ok_or(uper::DecodeError::new(
-                uper::DecodeErrorKind::InvalidEnumIndex,
-                at,
-            ))?;
+            .unwrap_or(Self::Centimeter);
         Ok(())
     }
     fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
@@ -5239,8 +5198,7 @@ impl Uper for ValidRegionArea {
     const PATH: &'static str = "TravelerInformation.ValidRegion.area";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits_profiled(Some(180480), Some(23649), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        let at = r.position();
-        match r.read_constrained(0, 2)? {
+        match r.read_index(3, uper::DecodeErrorKind::InvalidChoiceIndex)? {
             0 => {
                 if !matches!(out, Self::ShapePointSet(_)) {
                     uper::replace_with(out, || {
@@ -5274,7 +5232,7 @@ impl Uper for ValidRegionArea {
             _ => {
                 return Err(uper::DecodeError::new(
                     uper::DecodeErrorKind::InvalidChoiceIndex,
-                    at,
+                    r.position(),
                 ))
             }
         }
@@ -5384,8 +5342,8 @@ impl Uper for ShapePointSet {
     const PATH: &'static str = "TravelerInformation.ShapePointSet";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits_profiled(Some(180478), Some(23647), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        let extended = r.read_bit()?;
-        let present = r.read_bits(3)?;
+        let present = r.read_bits(4)?;
+        let extended = present >> 3 != 0;
         if present & (1 << 2) != 0 {
             if out.anchor.is_none() {
                 uper::fill_option(&mut out.anchor);
@@ -5560,8 +5518,8 @@ impl Uper for RegionPointSet {
     const PATH: &'static str = "TravelerInformation.RegionPointSet";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits_profiled(Some(1171), Some(819), None);
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        let extended = r.read_bit()?;
-        let present = r.read_bits(2)?;
+        let present = r.read_bits(3)?;
+        let extended = present >> 2 != 0;
         if present & (1 << 1) != 0 {
             if out.anchor.is_none() {
                 uper::fill_option(&mut out.anchor);
@@ -6064,8 +6022,7 @@ impl Uper for TravelerDataFrameContent {
     const MAX_UPER_BITS: Option<u64> =
         uper::max_bits_profiled(Some(14050), Some(1842), Some(351010));
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        let at = r.position();
-        match r.read_constrained(0, 4)? {
+        match r.read_index(5, uper::DecodeErrorKind::InvalidChoiceIndex)? {
             0 => {
                 if !matches!(out, Self::Advisory(_)) {
                     uper::replace_with(out, || {
@@ -6121,7 +6078,7 @@ impl Uper for TravelerDataFrameContent {
             _ => {
                 return Err(uper::DecodeError::new(
                     uper::DecodeErrorKind::InvalidChoiceIndex,
-                    at,
+                    r.position(),
                 ))
             }
         }
@@ -6379,8 +6336,7 @@ impl Uper for WorkZoneItemItem {
     const PATH: &'static str = "TravelerInformation.WorkZone[].item";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(117), Some(117));
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        let at = r.position();
-        match r.read_constrained(0, 1)? {
+        match r.read_index(2, uper::DecodeErrorKind::InvalidChoiceIndex)? {
             0 => {
                 if !matches!(out, Self::Itis(_)) {
                     uper::replace_with(out, || {
@@ -6404,7 +6360,7 @@ impl Uper for WorkZoneItemItem {
             _ => {
                 return Err(uper::DecodeError::new(
                     uper::DecodeErrorKind::InvalidChoiceIndex,
-                    at,
+                    r.position(),
                 ))
             }
         }
@@ -6683,8 +6639,7 @@ impl Uper for GenericSignageItemItem {
     const PATH: &'static str = "TravelerInformation.GenericSignage[].item";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(117), Some(117));
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        let at = r.position();
-        match r.read_constrained(0, 1)? {
+        match r.read_index(2, uper::DecodeErrorKind::InvalidChoiceIndex)? {
             0 => {
                 if !matches!(out, Self::Itis(_)) {
                     uper::replace_with(out, || {
@@ -6708,7 +6663,7 @@ impl Uper for GenericSignageItemItem {
             _ => {
                 return Err(uper::DecodeError::new(
                     uper::DecodeErrorKind::InvalidChoiceIndex,
-                    at,
+                    r.position(),
                 ))
             }
         }
@@ -6923,8 +6878,7 @@ impl Uper for SpeedLimitItemItem {
     const PATH: &'static str = "TravelerInformation.SpeedLimit[].item";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(117), Some(117));
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        let at = r.position();
-        match r.read_constrained(0, 1)? {
+        match r.read_index(2, uper::DecodeErrorKind::InvalidChoiceIndex)? {
             0 => {
                 if !matches!(out, Self::Itis(_)) {
                     uper::replace_with(out, || {
@@ -6948,7 +6902,7 @@ impl Uper for SpeedLimitItemItem {
             _ => {
                 return Err(uper::DecodeError::new(
                     uper::DecodeErrorKind::InvalidChoiceIndex,
-                    at,
+                    r.position(),
                 ))
             }
         }
@@ -7161,8 +7115,7 @@ impl Uper for ExitServiceItemItem {
     const PATH: &'static str = "TravelerInformation.ExitService[].item";
     const MAX_UPER_BITS: Option<u64> = uper::max_bits(Some(117), Some(117));
     fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        let at = r.position();
-        match r.read_constrained(0, 1)? {
+        match r.read_index(2, uper::DecodeErrorKind::InvalidChoiceIndex)? {
             0 => {
                 if !matches!(out, Self::Itis(_)) {
                     uper::replace_with(out, || {
@@ -7186,7 +7139,7 @@ impl Uper for ExitServiceItemItem {
             _ => {
                 return Err(uper::DecodeError::new(
                     uper::DecodeErrorKind::InvalidChoiceIndex,
-                    at,
+                    r.position(),
                 ))
             }
         }

@@ -222,13 +222,17 @@ impl<const N: usize> Extensions<N> {
             }
         }
         for i in (0..n as usize).filter(|i| present[i / 64] & (1 << (i % 64)) != 0) {
-            let mut content = r.read_open()?;
-            let start = content.clone();
-            if known(i, &mut content)? {
-                content.finish_open()?;
+            let window = r.enter_open()?;
+            let start = r.position();
+            if known(i, r)? {
+                r.finish_open()?;
             } else {
-                self.store(i, start, key)?;
+                // Whatever `known` read of an addition it does not know, the whole content
+                // is kept.
+                r.seek(start);
+                self.store(i, r, key)?;
             }
+            r.close_open(window);
         }
         Ok(())
     }
@@ -247,7 +251,7 @@ impl<const N: usize> Extensions<N> {
     fn store(
         &mut self,
         index: usize,
-        mut content: Reader<'_>,
+        content: &mut Reader<'_>,
         key: &'static str,
     ) -> DecodeResult<()> {
         let len = content.remaining() / 8;
@@ -259,7 +263,7 @@ impl<const N: usize> Extensions<N> {
                 .push(b)
                 .map_err(|_| DecodeError::at(DKind::CapacityExceeded, at, key))?;
         }
-        read_octets_into(&mut content, len, records, key)
+        read_octets_into(content, len, records, key)
     }
 
     /// Encodes the bit-map and the additions. `known_present` flags the additions the type
@@ -370,15 +374,18 @@ pub fn decode_open<'a, T, F>(r: &mut Reader<'a>, decode: F) -> DecodeResult<T>
 where
     F: for<'b> FnOnce(&mut Reader<'b>) -> DecodeResult<T>,
 {
-    let before = r.clone();
-    match r.read_open() {
-        Ok(mut content) => {
-            let v = decode(&mut content)?;
-            content.finish_open()?;
+    // Positions, not copies of the reader: open types nest (a frame's message, a regional
+    // extension in it), and every level is on the firmware's stack.
+    let before = r.position();
+    match r.enter_open() {
+        Ok(window) => {
+            let v = decode(r)?;
+            r.finish_open()?;
+            r.close_open(window);
             Ok(v)
         }
         Err(e) if e.kind == DKind::FragmentedOpenType => {
-            *r = before;
+            r.seek(before);
             decode_fragmented(r, decode)
         }
         Err(e) => Err(e),

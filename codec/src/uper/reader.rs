@@ -19,62 +19,122 @@ pub struct LengthChunk {
     pub more: bool,
 }
 
+/// The window around an open type's content, while [`Reader::enter_open`] has narrowed the
+/// reader to it.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct OpenWindow {
+    content_end: usize,
+    outer_end: usize,
+}
+
 /// Reads bit fields from a byte slice, most significant bit first.
+///
+/// The next bits of the window wait in a 64-bit cache (`acc`), refilled with one unaligned
+/// 8-octet load when a read needs more than it holds, and never past the window's end: a
+/// read of a field is then one compare with the bits cached and two shifts, and only a
+/// refill looks at the input's length. A bounds check and a load per field cost twice the
+/// instructions (a SPaT movement or a MAP node is a dozen short fields).
 #[derive(Clone, Debug)]
 pub struct Reader<'a> {
     data: &'a [u8],
-    pos: usize,
+    /// Bit position where this reader's window ends.
     end: usize,
+    /// Bit position just past the cached bits: the position is `filled - cached`. A whole
+    /// octet, except at `end`.
+    filled: usize,
+    /// The next `cached` bits, most significant first (the bits below them are the input's
+    /// next bits, or zeros).
+    acc: u64,
+    /// How many bits `acc` holds, all of them before `end`.
+    cached: u32,
 }
+
+/// The widest field one cached read takes: a refill leaves at least 56 bits in the cache
+/// (unless the window ends first).
+const CACHE_READ_MAX: u32 = 56;
 
 impl<'a> Reader<'a> {
     /// A reader over all bits of `data`.
     pub fn new(data: &'a [u8]) -> Self {
         Self {
             data,
-            pos: 0,
             end: data.len().saturating_mul(8),
+            filled: 0,
+            acc: 0,
+            cached: 0,
         }
     }
 
     /// Bit position from the start of the outermost input.
     #[inline]
     pub fn position(&self) -> usize {
-        self.pos
+        self.filled - self.cached as usize
     }
 
     /// Bits left before the end of this reader's window.
     #[inline]
     pub fn remaining(&self) -> usize {
-        self.end - self.pos
+        self.end - self.position()
     }
 
     #[inline]
     fn need(&self, bits: usize) -> DecodeResult<()> {
         if bits > self.remaining() {
-            return Err(DecodeError::new(Kind::UnexpectedEnd, self.pos));
+            return Err(self.unexpected_end());
         }
         Ok(())
     }
 
-    /// The 64 bits starting at the byte that holds `self.pos`, zero-padded past the data.
-    #[inline(always)]
-    fn window(&self) -> u64 {
-        let start = self.pos / 8;
-        // Fast path: 8 whole bytes remain, one unaligned load (no call to memcpy).
-        if let Some(w) = self.data.get(start..).and_then(|s| s.first_chunk::<8>()) {
-            return u64::from_be_bytes(*w);
-        }
-        self.window_tail()
+    /// The error of a read past the window's end, at the current position.
+    #[cold]
+    fn unexpected_end(&self) -> DecodeError {
+        DecodeError::new(Kind::UnexpectedEnd, self.position())
     }
 
-    /// [`Self::window`] in the last 7 bytes of the data: the data's last 8 bytes, shifted so
-    /// that `start` leads and zeros follow the end. One load and a shift: a 40-octet BSM does
-    /// a fifth of its reads here, and a copy into a zeroed buffer cost a third of its decode
-    /// time. Out of line, so that every read site stays small (the firmware's flash).
+    /// Moves to bit `pos` of the window, back or forth (the caller keeps it within the
+    /// window: a position this reader was at, or one it checked with `need`).
+    pub(super) fn seek(&mut self, pos: usize) {
+        let used = (pos % 8) as u32;
+        self.filled = pos - used as usize;
+        self.acc = 0;
+        self.cached = 0;
+        if used != 0 {
+            // `pos` is at most `end`, so the refill caches at least the `used` bits.
+            self.refill();
+            self.acc <<= used;
+            self.cached -= used;
+        }
+    }
+
+    /// Tops the cache up to 56-63 bits from the octets after it, or up to the window's end.
+    /// Out of line: every read site stays a compare and two shifts (the firmware's flash),
+    /// and a refill comes once per 7 octets.
     #[inline(never)]
-    fn window_tail(&self) -> u64 {
-        let start = self.pos / 8;
+    fn refill(&mut self) {
+        let avail = self.end - self.filled;
+        if avail == 0 {
+            return;
+        }
+        // `filled` is a whole octet here: it is only ever unaligned at `end`.
+        let next = self.filled / 8;
+        let w = match self.data.get(next..).and_then(|s| s.first_chunk::<8>()) {
+            Some(w) => u64::from_be_bytes(*w),
+            None => self.window_tail(next),
+        };
+        // Whole octets up to 56-63 bits, or the bits before the end. The bits of `w` past
+        // them are the input's next bits (or zeros) as the bits below `cached` already are:
+        // the next refill ORs the same bits in again.
+        let add = ((63 - self.cached) & !7).min(avail.min(64) as u32);
+        self.acc |= w >> self.cached;
+        self.cached += add;
+        self.filled += add as usize;
+    }
+
+    /// The 8 octets from octet `start` in the data's last 7: the data's last 8 octets,
+    /// shifted so that `start` leads and zeros follow the end. One load and a shift: a
+    /// 40-octet BSM does a fifth of its refills here.
+    #[inline(never)]
+    fn window_tail(&self, start: usize) -> u64 {
         if let Some(last) = self.data.last_chunk::<8>() {
             let past = start + 8 - self.data.len();
             return if past < 8 {
@@ -91,54 +151,65 @@ impl<'a> Reader<'a> {
         u64::from_be_bytes(w)
     }
 
-    /// Reads `n` (at most 57) bits as an unsigned number; the caller checked `need(n)`.
+    /// Reads `n` (at most 56) bits as an unsigned number.
     #[inline]
-    fn take_short(&mut self, n: u32) -> u64 {
-        if n == 0 {
-            return 0;
+    fn take_short(&mut self, n: u32) -> DecodeResult<u64> {
+        if self.cached < n {
+            self.refill();
+            if self.cached < n {
+                return Err(self.unexpected_end());
+            }
         }
-        let v = (self.window() << (self.pos % 8)) >> (64 - n);
-        self.pos += n as usize;
-        v
+        // Two shifts, so that `n = 0` reads 0 without a branch of its own.
+        let v = (self.acc >> 1) >> (63 - n);
+        self.acc <<= n;
+        self.cached -= n;
+        Ok(v)
     }
 
     /// Reads one bit.
     #[inline]
     pub fn read_bit(&mut self) -> DecodeResult<bool> {
-        self.need(1)?;
-        Ok(self.take_short(1) == 1)
+        Ok(self.take_short(1)? == 1)
     }
 
     /// Reads `n` bits (at most 64) as an unsigned number, first bit most significant.
     #[inline]
     pub fn read_bits(&mut self, n: u32) -> DecodeResult<u64> {
-        self.need(n as usize)?;
-        if n <= 57 {
-            return Ok(self.take_short(n));
+        if n <= CACHE_READ_MAX {
+            return self.take_short(n);
         }
-        let high = self.take_short(n - 32);
-        Ok((high << 32) | self.take_short(32))
+        self.need(n as usize)?;
+        let high = self.take_short(n - 32)?;
+        Ok((high << 32) | self.take_short(32)?)
     }
 
     /// Skips `n` bits.
     pub fn skip(&mut self, n: usize) -> DecodeResult<()> {
         self.need(n)?;
-        self.pos += n;
+        if n < self.cached as usize {
+            // `n` < 64: within the cache.
+            self.acc <<= n;
+            self.cached -= n as u32;
+        } else {
+            self.seek(self.position() + n);
+        }
         Ok(())
     }
 
     /// Fills `out` with the next `out.len()` octets.
     pub fn read_octets(&mut self, out: &mut [u8]) -> DecodeResult<()> {
         self.need(out.len().saturating_mul(8))?;
-        if self.pos.is_multiple_of(8) {
-            let start = self.pos / 8;
+        let pos = self.position();
+        if pos.is_multiple_of(8) {
+            let start = pos / 8;
             out.copy_from_slice(&self.data[start..start + out.len()]);
-            self.pos += out.len() * 8;
+            self.seek(pos + out.len() * 8);
         } else {
             // Unaligned: seven octets per read.
             for chunk in out.chunks_mut(7) {
                 let bits = 8 * chunk.len() as u32;
-                let v = self.take_short(bits) << (64 - bits);
+                let v = self.take_short(bits)? << (64 - bits);
                 chunk.copy_from_slice(&v.to_be_bytes()[..chunk.len()]);
             }
         }
@@ -150,12 +221,31 @@ impl<'a> Reader<'a> {
     pub fn read_constrained(&mut self, lb: i64, ub: i64) -> DecodeResult<i64> {
         let range = ub.wrapping_sub(lb) as u64;
         let bits = 64 - range.leading_zeros();
-        let at = self.pos;
         let v = self.read_bits(bits)?;
         if v > range {
-            return Err(DecodeError::new(Kind::ValueOutOfRange, at));
+            return Err(self.error_before(Kind::ValueOutOfRange, bits));
         }
         Ok(lb.wrapping_add(v as i64))
+    }
+
+    /// The index of a CHOICE alternative or an ENUMERATED item among the `n` (at least 1) of
+    /// the extension root (X.691 23.6, 14.2): a bit field of the fewest bits; an index past
+    /// them is an `invalid` error at the field.
+    #[inline]
+    pub fn read_index(&mut self, n: u64, invalid: Kind) -> DecodeResult<u64> {
+        let bits = 64 - n.saturating_sub(1).leading_zeros();
+        let v = self.read_bits(bits)?;
+        if v >= n {
+            return Err(self.error_before(invalid, bits));
+        }
+        Ok(v)
+    }
+
+    /// An error at the field of `bits` bits just read (its position is found only on the
+    /// error path, not before every read).
+    #[cold]
+    fn error_before(&self, kind: Kind, bits: u32) -> DecodeError {
+        DecodeError::new(kind, self.position() - bits as usize)
     }
 
     /// A constrained length in `lb..=ub` (ub < 64K): nothing when fixed, else a bit field.
@@ -164,14 +254,14 @@ impl<'a> Reader<'a> {
         if lb == ub {
             return Ok(lb);
         }
-        let at = self.pos;
+        let at = self.position();
         let v = self.read_constrained(lb as i64, ub as i64)?;
         usize::try_from(v).map_err(|_| DecodeError::new(Kind::SizeOutOfRange, at))
     }
 
     /// An unconstrained length determinant (X.691 11.9.3.5-8), possibly a fragment.
     pub fn read_length(&mut self) -> DecodeResult<LengthChunk> {
-        let at = self.pos;
+        let at = self.position();
         if !self.read_bit()? {
             return Ok(LengthChunk {
                 len: self.read_bits(7)? as usize,
@@ -213,7 +303,7 @@ impl<'a> Reader<'a> {
 
     /// A semi-constrained whole number `>= lb` (X.691 11.7), up to 64 bits.
     pub fn read_semi_constrained(&mut self, lb: i64) -> DecodeResult<i64> {
-        let at = self.pos;
+        let at = self.position();
         let (v, _) = self.read_magnitude(at)?;
         let v = i64::try_from(v).map_err(|_| DecodeError::new(Kind::ValueOutOfRange, at))?;
         lb.checked_add(v)
@@ -222,7 +312,7 @@ impl<'a> Reader<'a> {
 
     /// An unconstrained whole number (X.691 11.8): two's complement octets.
     pub fn read_unconstrained(&mut self) -> DecodeResult<i64> {
-        let at = self.pos;
+        let at = self.position();
         let (v, n) = self.read_magnitude(at)?;
         let shift = 64 - 8 * n as u32;
         Ok(((v << shift) as i64) >> shift)
@@ -231,26 +321,51 @@ impl<'a> Reader<'a> {
     /// Opens the content of an open type (X.691 11.2): a length in octets, then a reader
     /// limited to those octets. `self` moves past them.
     pub fn read_open(&mut self) -> DecodeResult<Reader<'a>> {
-        let at = self.pos;
+        let window = self.enter_open()?;
+        let sub = self.clone();
+        self.close_open(window);
+        Ok(sub)
+    }
+
+    /// Opens the content of an open type in place, as [`Self::read_open`] does in a new
+    /// reader: this reader's window narrows to the content until [`Self::close_open`]. Two
+    /// positions to keep, not a second reader: open types nest (a frame's message, a regional
+    /// extension in it), and every level is on the firmware's stack.
+    pub(super) fn enter_open(&mut self) -> DecodeResult<OpenWindow> {
+        let at = self.position();
         let chunk = self.read_length()?;
         if chunk.more {
             return Err(DecodeError::new(Kind::FragmentedOpenType, at));
         }
         let bits = chunk.len * 8;
         self.need(bits)?;
-        let sub = Reader {
-            data: self.data,
-            pos: self.pos,
-            end: self.pos + bits,
+        let window = OpenWindow {
+            content_end: self.position() + bits,
+            outer_end: self.end,
         };
-        self.pos += bits;
-        Ok(sub)
+        self.end = window.content_end;
+        if self.filled > self.end {
+            // The cache starts before the end: less than its 64 bits are past it.
+            self.cached -= (self.filled - self.end) as u32;
+            self.filled = self.end;
+        }
+        Ok(window)
+    }
+
+    /// Leaves the content opened by [`Self::enter_open`] (at its end, whatever was read of
+    /// it) for the window around it.
+    pub(super) fn close_open(&mut self, window: OpenWindow) {
+        self.end = window.outer_end;
+        self.seek(window.content_end);
     }
 
     /// Checks that an open type's content was used up, but for at most 7 padding bits.
     pub fn finish_open(&self) -> DecodeResult<()> {
         if self.remaining() >= 8 {
-            return Err(DecodeError::new(Kind::OpenTypeLengthMismatch, self.pos));
+            return Err(DecodeError::new(
+                Kind::OpenTypeLengthMismatch,
+                self.position(),
+            ));
         }
         Ok(())
     }
@@ -258,10 +373,11 @@ impl<'a> Reader<'a> {
     /// The octets of this reader's window from the current position, when it is aligned
     /// to an octet of the input; `None` otherwise.
     pub fn rest_if_aligned(&self) -> Option<&'a [u8]> {
-        if !self.pos.is_multiple_of(8) || !self.end.is_multiple_of(8) {
+        let pos = self.position();
+        if !pos.is_multiple_of(8) || !self.end.is_multiple_of(8) {
             return None;
         }
-        self.data.get(self.pos / 8..self.end / 8)
+        self.data.get(pos / 8..self.end / 8)
     }
 }
 
@@ -380,6 +496,104 @@ mod tests {
         let mut r = Reader::new(&[0xab, 0xcd, 0xef]);
         r.skip(4).unwrap();
         assert_eq!(r.read_bits(20).unwrap(), 0xbcdef);
+    }
+
+    /// The bits of `data` from `from`, `n` of them, one at a time (the model of a read).
+    fn bits_of(data: &[u8], from: usize, n: u32) -> u64 {
+        (0..n as usize).fold(0, |v, i| {
+            let bit = from + i;
+            (v << 1) | u64::from(data[bit / 8] >> (7 - bit % 8) & 1)
+        })
+    }
+
+    #[test]
+    fn cached_reads_agree_with_a_bit_at_a_time_model() {
+        // Pseudo-random data and reads (a fixed LCG): widths 0-64, skips that stay in the
+        // cache and that leave it, octet runs aligned and not, and reads past the end.
+        let mut seed = 0x2545_f491_4f6c_dd1du64;
+        let mut next = move |m: u64| {
+            seed = seed.wrapping_mul(6_364_136_223_846_793_005).wrapping_add(1);
+            (seed >> 33) % m
+        };
+        for len in [0usize, 1, 7, 8, 9, 23, 64] {
+            let data: std::vec::Vec<u8> = (0..len).map(|_| next(256) as u8).collect();
+            let mut r = Reader::new(&data);
+            let mut pos = 0usize;
+            for _ in 0..400 {
+                let left = len * 8 - pos;
+                assert_eq!((r.position(), r.remaining()), (pos, left));
+                match next(4) {
+                    0 | 1 => {
+                        let n = next(65) as u32;
+                        match r.read_bits(n) {
+                            Ok(v) => {
+                                assert_eq!(v, bits_of(&data, pos, n), "{n} bits at {pos}");
+                                pos += n as usize;
+                            }
+                            Err(e) => {
+                                assert!(n as usize > left);
+                                assert_eq!((e.kind, e.bit as usize), (Kind::UnexpectedEnd, pos));
+                            }
+                        }
+                    }
+                    2 => {
+                        let n = next(80) as usize;
+                        if r.skip(n).is_ok() {
+                            pos += n;
+                        } else {
+                            assert!(n > left);
+                        }
+                    }
+                    _ => {
+                        let mut out = [0u8; 10];
+                        let k = next(11) as usize;
+                        if r.read_octets(&mut out[..k]).is_ok() {
+                            for (i, o) in out[..k].iter().enumerate() {
+                                assert_eq!(u64::from(*o), bits_of(&data, pos + 8 * i, 8));
+                            }
+                            pos += 8 * k;
+                        } else {
+                            assert!(8 * k > left);
+                        }
+                    }
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn an_open_window_ends_inside_the_parents_cache() {
+        // 3 bits, then an open type of 2 octets at an unaligned position, then 9 bits: the
+        // parent's cache holds bits past the content when the window opens.
+        let data = [
+            0b1010_0000,
+            0b0101_1001,
+            0b1001_1110,
+            0b0001_0101,
+            0b0101_0000,
+        ];
+        let mut r = Reader::new(&data);
+        assert_eq!(r.read_bits(3).unwrap(), 0b101);
+        let mut sub = r.read_open().unwrap();
+        assert_eq!(sub.remaining(), 16);
+        assert_eq!(sub.read_bits(5).unwrap(), bits_of(&data, 11, 5));
+        assert_eq!(sub.read_bits(11).unwrap(), bits_of(&data, 16, 11));
+        assert_eq!(sub.read_bit().unwrap_err().bit, 27);
+        sub.finish_open().unwrap();
+        assert_eq!(r.position(), 27);
+        assert_eq!(r.read_bits(9).unwrap(), bits_of(&data, 27, 9));
+    }
+
+    #[test]
+    fn an_index_past_the_alternatives_is_the_kind_asked_for_at_the_field() {
+        // 5 alternatives take 3 bits: 0b100 = 4 is the last, 0b101 = 5 is past them.
+        let mut r = Reader::new(&[0b0100_1010]);
+        assert!(r.read_bit().is_ok());
+        assert_eq!(r.read_index(5, Kind::InvalidChoiceIndex).unwrap(), 4);
+        let e = r.read_index(5, Kind::InvalidEnumIndex).unwrap_err();
+        assert_eq!((e.kind, e.bit), (Kind::InvalidEnumIndex, 4));
+        // One alternative takes no bits.
+        assert_eq!(r.read_index(1, Kind::InvalidEnumIndex).unwrap(), 0);
     }
 
     #[test]
