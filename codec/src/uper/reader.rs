@@ -229,8 +229,8 @@ impl<'a> Reader<'a> {
     }
 
     /// The index of a CHOICE alternative or an ENUMERATED item among the `n` (at least 1) of
-    /// the extension root (X.691 23.6, 14.2): a bit field of the fewest bits; an index past
-    /// them is an `invalid` error at the field.
+    /// the extension root (X.691 clauses 23 and 14): a bit field of the fewest bits; an index
+    /// past them is an `invalid` error at the field.
     #[inline]
     pub fn read_index(&mut self, n: u64, invalid: Kind) -> DecodeResult<u64> {
         let bits = 64 - n.saturating_sub(1).leading_zeros();
