@@ -183,9 +183,14 @@ const fn small_enough_by_value<T>() {
 /// [`decode_into`] or [`crate::Decoder`].
 pub fn decode<T: Uper>(bytes: &[u8]) -> Result<T, DecodeError> {
     const { small_enough_by_value::<T>() };
-    let mut v = T::placeholder();
-    decode_into(bytes, &mut v)?;
-    Ok(v)
+    // Made and decoded in the result itself: `Ok(v)` of a local would copy the value.
+    let mut out = Ok(T::placeholder());
+    if let Ok(v) = &mut out {
+        if let Err(e) = decode_into(bytes, v) {
+            out = Err(e);
+        }
+    }
+    out
 }
 
 /// Decodes one complete encoding that fills `bytes` into `out`, reusing its storage.
