@@ -119,7 +119,10 @@ fn ours_cases(g: &mut Group<'_>, kind: frames::Kind, bytes: &[u8], other: &[u8])
     });
     let mut pair = ours::Alternating::new(bytes, other).expect("our decode");
     g.bench_function(format!("ours_decoder_alternating{OURS_SUFFIX}"), |b| {
-        b.iter(|| pair.decode_pair(black_box(bytes), black_box(other)).expect("our decode"))
+        b.iter(|| {
+            pair.decode_pair(black_box(bytes), black_box(other))
+                .expect("our decode")
+        })
     });
     drop(pair);
     let mut buf = vec![0u8; ours::BUF_LEN];
