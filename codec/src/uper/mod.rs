@@ -107,11 +107,14 @@ pub trait Uper: Placeholder {
     }
 }
 
-/// Makes an absent optional value present (a placeholder), out of line: the large
-/// temporary lives in this function's frame, not in the hot decoding function's.
+/// Makes an absent optional value present (a placeholder). Without `alloc` it is out of
+/// line: the large temporary lives in this function's frame, not in the hot decoding
+/// function's. With `alloc` values are small and a new value's decode comes here for every
+/// present member, so it is inlined (measured: 1-5 % fewer instructions for a new SPaT, MAP
+/// or TIM; a kept value's within 2 %).
 #[doc(hidden)]
-#[cold]
-#[inline(never)]
+#[cfg_attr(not(feature = "alloc"), cold, inline(never))]
+#[cfg_attr(feature = "alloc", inline)]
 pub fn fill_option<T: Placeholder>(slot: &mut Option<T>) {
     *slot = Some(T::placeholder());
 }
@@ -163,7 +166,8 @@ pub const fn max_octets<T: Uper>() -> Option<usize> {
 /// most messages are tens of KiB to megabytes (a `MessageFrame` 8.5 MB, see the crate docs'
 /// table of value sizes), so asking for a larger one by value is a compile error that points to
 /// [`decode_into`] (a value you keep) or [`crate::Decoder`] (kept values in a decoding loop).
-/// With `alloc` every message fits (a `MessageFrame` is 296 octets, its lists on the heap).
+/// With `alloc` every message fits (a `MessageFrame` is 136 octets, its lists and its larger
+/// messages on the heap).
 pub const BY_VALUE_MAX_OCTETS: usize = 1024;
 
 /// Refuses, at compile time, to return a `T` larger than [`BY_VALUE_MAX_OCTETS`] by value.
