@@ -18,7 +18,7 @@ use crate::MessageFrame;
 /// message, is first built as a placeholder, which unoptimised builds place on the stack, a
 /// copy per call level: give the decoding thread a stack of many times the largest value (the
 /// example below runs on one of 256 MiB), or use `alloc` or the `firmware-capacities` profile.
-/// With `alloc` it takes `K` x 296 octets (a `MessageFrame`) plus the heap storage of the
+/// With `alloc` it takes `K` x 136 octets (a `MessageFrame`) plus the heap storage of the
 /// kept messages.
 ///
 /// ```

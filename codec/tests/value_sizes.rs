@@ -122,33 +122,34 @@ fn the_docs_table_of_value_sizes_holds_this_builds_sizes() {
     );
 }
 
-/// With `alloc` a MessageFrame keeps its ten-a-second messages (BSM, SPaT) and every message
-/// no larger than them in place, the others behind a pointer (`[boxed] open_in_place` in
-/// `codec/codegen/capacities.toml`): the frame is then the size of its largest in-place
-/// message, the value's tag and the frame's own extensions (a word each). A message put in place that is larger than a SPaT would grow every
-/// frame; a boxed one no larger than a SPaT would allocate for no room saved.
+/// With `alloc` a MessageFrame keeps a BSM (the ten-a-second message of every vehicle) and
+/// every message no larger than a BSM in place, the others behind a pointer (`[boxed]
+/// open_in_place` in `codec/codegen/capacities.toml`): the frame is then the size of a BSM
+/// and the value's tag. A message put in place that is larger than a BSM would grow every
+/// frame, and every new frame is moved out of its result by its caller; a boxed one no
+/// larger than a BSM would allocate for no room saved.
 #[cfg(feature = "alloc")]
 #[test]
-fn with_alloc_a_frame_is_the_size_of_a_spat_and_only_larger_messages_are_boxed() {
-    use j2735::spat::SPAT;
-    let spat = core::mem::size_of::<SPAT>();
+fn with_alloc_a_frame_is_the_size_of_a_bsm_and_only_larger_messages_are_boxed() {
+    use j2735::basic_safety_message::BasicSafetyMessage;
+    let bsm = core::mem::size_of::<BasicSafetyMessage>();
     let frame = core::mem::size_of::<MessageFrame>();
     let word = core::mem::size_of::<usize>();
     assert!(
-        frame <= spat + 2 * word,
-        "a MessageFrame {frame} octets, a SPaT {spat}"
+        frame <= bsm + word,
+        "a MessageFrame {frame} octets, a BSM {bsm}"
     );
     for m in MESSAGE_NAMES {
         if m.boxed_with_alloc {
             assert!(
-                m.value_octets > spat,
+                m.value_octets > bsm,
                 "{} ({} octets) is boxed",
                 m.short,
                 m.value_octets
             );
         } else {
             assert!(
-                m.value_octets <= spat,
+                m.value_octets <= bsm,
                 "{} ({} octets) is in place",
                 m.short,
                 m.value_octets

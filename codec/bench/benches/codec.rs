@@ -20,8 +20,8 @@
 //! A case that makes a value hands criterion nothing back: the value is dropped inside the
 //! timed closure (its drop is part of a new value's cost) after `std::hint::black_box(&value)`.
 //! Returned to criterion 0.5 instead, it would go through criterion's own `black_box`, a
-//! volatile read that copies the value field by field: for our 296-octet `alloc`
-//! MessageFrame that copy was a third of a new BSM's measured time (173 ns, against 114 ns
+//! volatile read that copies the value field by field: for our `alloc` MessageFrame of the
+//! time (296 octets) that copy was a third of a new BSM's measured time (173 ns, against 114 ns
 //! without it), a cost of the harness, not of either codec. rasn's values are treated the
 //! same.
 //!

@@ -90,15 +90,15 @@ pub enum MessageFrameValue {
     /// `messageId` 18: `MapData`.
     MapData(uper::Boxed<super::map_data::MapData>),
     /// `messageId` 19: `SPAT`.
-    SPAT(super::spat::SPAT),
+    SPAT(uper::Boxed<super::spat::SPAT>),
     /// `messageId` 20: `BasicSafetyMessage`.
     BasicSafetyMessage(super::basic_safety_message::BasicSafetyMessage),
     /// `messageId` 21: `CommonSafetyRequest`.
     CommonSafetyRequest(super::common_safety_request::CommonSafetyRequest),
     /// `messageId` 22: `EmergencyVehicleAlert`.
-    EmergencyVehicleAlert(super::emergency_vehicle_alert::EmergencyVehicleAlert),
+    EmergencyVehicleAlert(uper::Boxed<super::emergency_vehicle_alert::EmergencyVehicleAlert>),
     /// `messageId` 23: `IntersectionCollision`.
-    IntersectionCollision(super::intersection_collision::IntersectionCollision),
+    IntersectionCollision(uper::Boxed<super::intersection_collision::IntersectionCollision>),
     /// `messageId` 24: `NMEAcorrections`.
     NMEAcorrections(super::nmea_corrections::NMEAcorrections),
     /// `messageId` 25: `ProbeDataManagement`.
@@ -106,9 +106,9 @@ pub enum MessageFrameValue {
     /// `messageId` 26: `ProbeVehicleData`.
     ProbeVehicleData(uper::Boxed<super::probe_vehicle_data::ProbeVehicleData>),
     /// `messageId` 27: `RoadSideAlert`.
-    RoadSideAlert(super::road_side_alert::RoadSideAlert),
+    RoadSideAlert(uper::Boxed<super::road_side_alert::RoadSideAlert>),
     /// `messageId` 28: `RTCMcorrections`.
-    RTCMcorrections(super::rtcm_corrections::RTCMcorrections),
+    RTCMcorrections(uper::Boxed<super::rtcm_corrections::RTCMcorrections>),
     /// `messageId` 29: `SignalRequestMessage`.
     SignalRequestMessage(uper::Boxed<super::signal_request_message::SignalRequestMessage>),
     /// `messageId` 30: `SignalStatusMessage`.
@@ -473,16 +473,16 @@ impl MessageFrameValue {
         let x = crate::jer::required(v, value_name)?;
         match id.get() {
             18 => <uper::Boxed<super::map_data::MapData> as crate::jer::Jer>::read_jer(x).map(Self::MapData).map_err(|e| e.within(value_name)),
-            19 => <super::spat::SPAT as crate::jer::Jer>::read_jer(x).map(Self::SPAT).map_err(|e| e.within(value_name)),
+            19 => <uper::Boxed<super::spat::SPAT> as crate::jer::Jer>::read_jer(x).map(Self::SPAT).map_err(|e| e.within(value_name)),
             20 => <super::basic_safety_message::BasicSafetyMessage as crate::jer::Jer>::read_jer(x).map(Self::BasicSafetyMessage).map_err(|e| e.within(value_name)),
             21 => <super::common_safety_request::CommonSafetyRequest as crate::jer::Jer>::read_jer(x).map(Self::CommonSafetyRequest).map_err(|e| e.within(value_name)),
-            22 => <super::emergency_vehicle_alert::EmergencyVehicleAlert as crate::jer::Jer>::read_jer(x).map(Self::EmergencyVehicleAlert).map_err(|e| e.within(value_name)),
-            23 => <super::intersection_collision::IntersectionCollision as crate::jer::Jer>::read_jer(x).map(Self::IntersectionCollision).map_err(|e| e.within(value_name)),
+            22 => <uper::Boxed<super::emergency_vehicle_alert::EmergencyVehicleAlert> as crate::jer::Jer>::read_jer(x).map(Self::EmergencyVehicleAlert).map_err(|e| e.within(value_name)),
+            23 => <uper::Boxed<super::intersection_collision::IntersectionCollision> as crate::jer::Jer>::read_jer(x).map(Self::IntersectionCollision).map_err(|e| e.within(value_name)),
             24 => <super::nmea_corrections::NMEAcorrections as crate::jer::Jer>::read_jer(x).map(Self::NMEAcorrections).map_err(|e| e.within(value_name)),
             25 => <super::probe_data_management::ProbeDataManagement as crate::jer::Jer>::read_jer(x).map(Self::ProbeDataManagement).map_err(|e| e.within(value_name)),
             26 => <uper::Boxed<super::probe_vehicle_data::ProbeVehicleData> as crate::jer::Jer>::read_jer(x).map(Self::ProbeVehicleData).map_err(|e| e.within(value_name)),
-            27 => <super::road_side_alert::RoadSideAlert as crate::jer::Jer>::read_jer(x).map(Self::RoadSideAlert).map_err(|e| e.within(value_name)),
-            28 => <super::rtcm_corrections::RTCMcorrections as crate::jer::Jer>::read_jer(x).map(Self::RTCMcorrections).map_err(|e| e.within(value_name)),
+            27 => <uper::Boxed<super::road_side_alert::RoadSideAlert> as crate::jer::Jer>::read_jer(x).map(Self::RoadSideAlert).map_err(|e| e.within(value_name)),
+            28 => <uper::Boxed<super::rtcm_corrections::RTCMcorrections> as crate::jer::Jer>::read_jer(x).map(Self::RTCMcorrections).map_err(|e| e.within(value_name)),
             29 => <uper::Boxed<super::signal_request_message::SignalRequestMessage> as crate::jer::Jer>::read_jer(x).map(Self::SignalRequestMessage).map_err(|e| e.within(value_name)),
             30 => <super::signal_status_message::SignalStatusMessage as crate::jer::Jer>::read_jer(x).map(Self::SignalStatusMessage).map_err(|e| e.within(value_name)),
             31 => <uper::Boxed<super::traveler_information::TravelerInformation> as crate::jer::Jer>::read_jer(x).map(Self::TravelerInformation).map_err(|e| e.within(value_name)),
@@ -679,7 +679,7 @@ pub const MESSAGE_NAMES: [MessageName; 31] = [
         short: "SPAT",
         type_name: "SPAT",
         value_octets: core::mem::size_of::<super::spat::SPAT>(),
-        boxed_with_alloc: false,
+        boxed_with_alloc: true,
     },
     MessageName {
         id: 20,
@@ -700,14 +700,14 @@ pub const MESSAGE_NAMES: [MessageName; 31] = [
         short: "EVA",
         type_name: "EmergencyVehicleAlert",
         value_octets: core::mem::size_of::<super::emergency_vehicle_alert::EmergencyVehicleAlert>(),
-        boxed_with_alloc: false,
+        boxed_with_alloc: true,
     },
     MessageName {
         id: 23,
         short: "ICA",
         type_name: "IntersectionCollision",
         value_octets: core::mem::size_of::<super::intersection_collision::IntersectionCollision>(),
-        boxed_with_alloc: false,
+        boxed_with_alloc: true,
     },
     MessageName {
         id: 24,
@@ -735,14 +735,14 @@ pub const MESSAGE_NAMES: [MessageName; 31] = [
         short: "RSA",
         type_name: "RoadSideAlert",
         value_octets: core::mem::size_of::<super::road_side_alert::RoadSideAlert>(),
-        boxed_with_alloc: false,
+        boxed_with_alloc: true,
     },
     MessageName {
         id: 28,
         short: "RTCM",
         type_name: "RTCMcorrections",
         value_octets: core::mem::size_of::<super::rtcm_corrections::RTCMcorrections>(),
-        boxed_with_alloc: false,
+        boxed_with_alloc: true,
     },
     MessageName {
         id: 29,
@@ -955,11 +955,13 @@ impl Uper for MessageFrameValue {
             19 => {
                 if !matches!(out, Self::SPAT(_)) {
                     uper::replace_with(out, || {
-                        Self::SPAT(<super::spat::SPAT as uper::Placeholder>::placeholder())
+                        Self::SPAT(
+                            <uper::Boxed<super::spat::SPAT> as uper::Placeholder>::placeholder(),
+                        )
                     });
                 }
                 if let Self::SPAT(v) = out {
-                    uper::decode_open(r, |r| <super::spat::SPAT>::decode_into(r, v))?;
+                    uper::decode_open(r, |r| <uper::Boxed<super::spat::SPAT>>::decode_into(r, v))?;
                 }
             }
             20 => {
@@ -989,24 +991,30 @@ impl Uper for MessageFrameValue {
             22 => {
                 if !matches!(out, Self::EmergencyVehicleAlert(_)) {
                     uper::replace_with(out, || {
-                        Self::EmergencyVehicleAlert(<super::emergency_vehicle_alert::EmergencyVehicleAlert as uper::Placeholder>::placeholder())
+                        Self::EmergencyVehicleAlert(<uper::Boxed<
+                            super::emergency_vehicle_alert::EmergencyVehicleAlert,
+                        > as uper::Placeholder>::placeholder(
+                        ))
                     });
                 }
                 if let Self::EmergencyVehicleAlert(v) = out {
                     uper::decode_open(r, |r| {
-                        <super::emergency_vehicle_alert::EmergencyVehicleAlert>::decode_into(r, v)
+                        <uper::Boxed<super::emergency_vehicle_alert::EmergencyVehicleAlert>>::decode_into(r, v)
                     })?;
                 }
             }
             23 => {
                 if !matches!(out, Self::IntersectionCollision(_)) {
                     uper::replace_with(out, || {
-                        Self::IntersectionCollision(<super::intersection_collision::IntersectionCollision as uper::Placeholder>::placeholder())
+                        Self::IntersectionCollision(<uper::Boxed<
+                            super::intersection_collision::IntersectionCollision,
+                        > as uper::Placeholder>::placeholder(
+                        ))
                     });
                 }
                 if let Self::IntersectionCollision(v) = out {
                     uper::decode_open(r, |r| {
-                        <super::intersection_collision::IntersectionCollision>::decode_into(r, v)
+                        <uper::Boxed<super::intersection_collision::IntersectionCollision>>::decode_into(r, v)
                     })?;
                 }
             }
@@ -1054,24 +1062,24 @@ impl Uper for MessageFrameValue {
             27 => {
                 if !matches!(out, Self::RoadSideAlert(_)) {
                     uper::replace_with(out, || {
-                        Self::RoadSideAlert(<super::road_side_alert::RoadSideAlert as uper::Placeholder>::placeholder())
+                        Self::RoadSideAlert(<uper::Boxed<super::road_side_alert::RoadSideAlert> as uper::Placeholder>::placeholder())
                     });
                 }
                 if let Self::RoadSideAlert(v) = out {
                     uper::decode_open(r, |r| {
-                        <super::road_side_alert::RoadSideAlert>::decode_into(r, v)
+                        <uper::Boxed<super::road_side_alert::RoadSideAlert>>::decode_into(r, v)
                     })?;
                 }
             }
             28 => {
                 if !matches!(out, Self::RTCMcorrections(_)) {
                     uper::replace_with(out, || {
-                        Self::RTCMcorrections(<super::rtcm_corrections::RTCMcorrections as uper::Placeholder>::placeholder())
+                        Self::RTCMcorrections(<uper::Boxed<super::rtcm_corrections::RTCMcorrections> as uper::Placeholder>::placeholder())
                     });
                 }
                 if let Self::RTCMcorrections(v) = out {
                     uper::decode_open(r, |r| {
-                        <super::rtcm_corrections::RTCMcorrections>::decode_into(r, v)
+                        <uper::Boxed<super::rtcm_corrections::RTCMcorrections>>::decode_into(r, v)
                     })?;
                 }
             }
@@ -1474,16 +1482,16 @@ impl uper::random::Random for MessageFrameValue {
     fn random(g: &mut uper::random::Gen) -> Self {
         match g.below(31) {
             0 => Self::MapData(<uper::Boxed<super::map_data::MapData> as uper::random::Random>::random(g)),
-            1 => Self::SPAT(<super::spat::SPAT as uper::random::Random>::random(g)),
+            1 => Self::SPAT(<uper::Boxed<super::spat::SPAT> as uper::random::Random>::random(g)),
             2 => Self::BasicSafetyMessage(<super::basic_safety_message::BasicSafetyMessage as uper::random::Random>::random(g)),
             3 => Self::CommonSafetyRequest(<super::common_safety_request::CommonSafetyRequest as uper::random::Random>::random(g)),
-            4 => Self::EmergencyVehicleAlert(<super::emergency_vehicle_alert::EmergencyVehicleAlert as uper::random::Random>::random(g)),
-            5 => Self::IntersectionCollision(<super::intersection_collision::IntersectionCollision as uper::random::Random>::random(g)),
+            4 => Self::EmergencyVehicleAlert(<uper::Boxed<super::emergency_vehicle_alert::EmergencyVehicleAlert> as uper::random::Random>::random(g)),
+            5 => Self::IntersectionCollision(<uper::Boxed<super::intersection_collision::IntersectionCollision> as uper::random::Random>::random(g)),
             6 => Self::NMEAcorrections(<super::nmea_corrections::NMEAcorrections as uper::random::Random>::random(g)),
             7 => Self::ProbeDataManagement(<super::probe_data_management::ProbeDataManagement as uper::random::Random>::random(g)),
             8 => Self::ProbeVehicleData(<uper::Boxed<super::probe_vehicle_data::ProbeVehicleData> as uper::random::Random>::random(g)),
-            9 => Self::RoadSideAlert(<super::road_side_alert::RoadSideAlert as uper::random::Random>::random(g)),
-            10 => Self::RTCMcorrections(<super::rtcm_corrections::RTCMcorrections as uper::random::Random>::random(g)),
+            9 => Self::RoadSideAlert(<uper::Boxed<super::road_side_alert::RoadSideAlert> as uper::random::Random>::random(g)),
+            10 => Self::RTCMcorrections(<uper::Boxed<super::rtcm_corrections::RTCMcorrections> as uper::random::Random>::random(g)),
             11 => Self::SignalRequestMessage(<uper::Boxed<super::signal_request_message::SignalRequestMessage> as uper::random::Random>::random(g)),
             12 => Self::SignalStatusMessage(<super::signal_status_message::SignalStatusMessage as uper::random::Random>::random(g)),
             13 => Self::TravelerInformation(<uper::Boxed<super::traveler_information::TravelerInformation> as uper::random::Random>::random(g)),

@@ -13,7 +13,7 @@ pub fn random_frame(kind: u8, seed: u64) -> MessageFrame {
         0 => MessageFrameValue::MapData(MapData::random(&mut g).into()),
         1 => MessageFrameValue::TravelerInformation(TravelerInformation::random(&mut g).into()),
         2 => MessageFrameValue::BasicSafetyMessage(BasicSafetyMessage::random(&mut g)),
-        _ => MessageFrameValue::SPAT(SPAT::random(&mut g)),
+        _ => MessageFrameValue::SPAT(SPAT::random(&mut g).into()),
     };
     MessageFrame {
         value,
