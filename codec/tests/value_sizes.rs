@@ -125,7 +125,8 @@ fn the_docs_table_of_value_sizes_holds_this_builds_sizes() {
 /// With `alloc` a MessageFrame keeps a BSM (the ten-a-second message of every vehicle) and
 /// every message no larger than a BSM in place, the others behind a pointer (`[boxed]
 /// open_in_place` in `codec/codegen/capacities.toml`): the frame is then the size of a BSM
-/// and the value's tag. A message put in place that is larger than a BSM would grow every
+/// and the frame's own extensions (a pointer; the value's tag fits in the BSM's unused bit
+/// patterns). A message put in place that is larger than a BSM would grow every
 /// frame, and every new frame is moved out of its result by its caller; a boxed one no
 /// larger than a BSM would allocate for no room saved.
 #[cfg(feature = "alloc")]
