@@ -103,9 +103,21 @@ class Emitter:
         opt = lambda v: "None" if v is None else f"Some({v})"  # noqa: E731
         bound = (f"uper::max_bits({opt(nh)}, {opt(h)})" if nh == nh_fw else
                  f"uper::max_bits_profiled({opt(nh)}, {opt(nh_fw)}, {opt(h)})")
+        # With `alloc` a new list item's placeholder is a constant (see
+        # `uper::ConstPlaceholder`); everything else, and everything without `alloc`, takes
+        # the function.
+        constant = placeholder.replace(" as uper::Placeholder>::placeholder()",
+                                       " as uper::ConstPlaceholder>::PLACEHOLDER")
         return (
             f"impl uper::Placeholder for {td.name} {{\n"
-            f"    fn placeholder() -> Self {{\n{indent(placeholder, 8)}\n    }}\n}}\n\n"
+            f"    fn placeholder() -> Self {{\n{indent(placeholder, 8)}\n    }}\n"
+            f"    #[cfg(feature = \"alloc\")]\n"
+            f"    #[inline]\n"
+            f"    fn item_placeholder() -> Self {{\n"
+            f"        <Self as uper::ConstPlaceholder>::PLACEHOLDER\n    }}\n}}\n\n"
+            f"#[cfg(feature = \"alloc\")]\n"
+            f"impl uper::ConstPlaceholder for {td.name} {{\n"
+            f"    const PLACEHOLDER: Self = {indent(constant, 4).lstrip()};\n}}\n\n"
             f"impl Uper for {td.name} {{\n"
             f"    const PATH: &'static str = \"{td.key}\";\n"
             f"    const MAX_UPER_BITS: Option<u64> = {bound};\n"

@@ -40,6 +40,10 @@ macro_rules! __constrained_int {
                 Self($lb)
             }
         }
+        #[cfg(feature = "alloc")]
+        impl $crate::uper::ConstPlaceholder for $name {
+            const PLACEHOLDER: Self = Self($lb);
+        }
         #[cfg(feature = "jer")]
         impl $crate::jer::Jer for $name {
             fn write_jer(&self, out: &mut $crate::jer::JerWriter) {

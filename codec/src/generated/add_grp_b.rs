@@ -28,6 +28,21 @@ impl uper::Placeholder for Position3DAddGrpB {
             extensions: uper::Extensions::new(),
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for Position3DAddGrpB {
+    const PLACEHOLDER: Self = Self {
+        latitude: <LatitudeDMS2 as uper::ConstPlaceholder>::PLACEHOLDER,
+        longitude: <LongitudeDMS2 as uper::ConstPlaceholder>::PLACEHOLDER,
+        elevation: <Elevation as uper::ConstPlaceholder>::PLACEHOLDER,
+        extensions: uper::Extensions::new(),
+    };
 }
 
 impl Uper for Position3DAddGrpB {
@@ -119,6 +134,20 @@ impl uper::Placeholder for LatitudeDMS2 {
             s: <SecondsAngle as uper::Placeholder>::placeholder(),
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for LatitudeDMS2 {
+    const PLACEHOLDER: Self = Self {
+        d: <DegreesLat as uper::ConstPlaceholder>::PLACEHOLDER,
+        m: <MinutesAngle as uper::ConstPlaceholder>::PLACEHOLDER,
+        s: <SecondsAngle as uper::ConstPlaceholder>::PLACEHOLDER,
+    };
 }
 
 impl Uper for LatitudeDMS2 {
@@ -208,6 +237,20 @@ impl uper::Placeholder for LongitudeDMS2 {
             s: <SecondsAngle as uper::Placeholder>::placeholder(),
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for LongitudeDMS2 {
+    const PLACEHOLDER: Self = Self {
+        d: <DegreesLong as uper::ConstPlaceholder>::PLACEHOLDER,
+        m: <MinutesAngle as uper::ConstPlaceholder>::PLACEHOLDER,
+        s: <SecondsAngle as uper::ConstPlaceholder>::PLACEHOLDER,
+    };
 }
 
 impl Uper for LongitudeDMS2 {
@@ -293,6 +336,16 @@ impl uper::Placeholder for NodeOffsetPointXYAddGrpB {
     fn placeholder() -> Self {
         Self::PosA(<NodeLLdms48b as uper::Placeholder>::placeholder())
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for NodeOffsetPointXYAddGrpB {
+    const PLACEHOLDER: Self = Self::PosA(<NodeLLdms48b as uper::ConstPlaceholder>::PLACEHOLDER);
 }
 
 impl Uper for NodeOffsetPointXYAddGrpB {
@@ -424,6 +477,19 @@ impl uper::Placeholder for NodeLLdms48b {
             lat: <LatitudeDMS as uper::Placeholder>::placeholder(),
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for NodeLLdms48b {
+    const PLACEHOLDER: Self = Self {
+        lon: <LongitudeDMS as uper::ConstPlaceholder>::PLACEHOLDER,
+        lat: <LatitudeDMS as uper::ConstPlaceholder>::PLACEHOLDER,
+    };
 }
 
 impl Uper for NodeLLdms48b {
@@ -504,6 +570,19 @@ impl uper::Placeholder for NodeLLdms80b {
             lat: <LatitudeDMS2 as uper::Placeholder>::placeholder(),
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for NodeLLdms80b {
+    const PLACEHOLDER: Self = Self {
+        lon: <LongitudeDMS2 as uper::ConstPlaceholder>::PLACEHOLDER,
+        lat: <LatitudeDMS2 as uper::ConstPlaceholder>::PLACEHOLDER,
+    };
 }
 
 impl Uper for NodeLLdms80b {
@@ -566,6 +645,18 @@ impl uper::Placeholder for LaneDataAttributeAddGrpB {
             extensions: uper::Extensions::new(),
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for LaneDataAttributeAddGrpB {
+    const PLACEHOLDER: Self = Self {
+        extensions: uper::Extensions::new(),
+    };
 }
 
 impl Uper for LaneDataAttributeAddGrpB {
@@ -646,6 +737,24 @@ impl uper::Placeholder for MovementEventAddGrpB {
             extensions: uper::Extensions::new(),
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for MovementEventAddGrpB {
+    const PLACEHOLDER: Self = Self {
+        start_time: None,
+        min_end_time: <MinTimetoChange as uper::ConstPlaceholder>::PLACEHOLDER,
+        max_end_time: None,
+        likely_time: None,
+        confidence: None,
+        next_time: None,
+        extensions: uper::Extensions::new(),
+    };
 }
 
 impl Uper for MovementEventAddGrpB {
@@ -967,6 +1076,16 @@ impl uper::Placeholder for DayOfWeek {
     fn placeholder() -> Self {
         Self::Unknown
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for DayOfWeek {
+    const PLACEHOLDER: Self = Self::Unknown;
 }
 
 impl Uper for DayOfWeek {
@@ -1047,6 +1166,16 @@ impl uper::Placeholder for Holiday {
     fn placeholder() -> Self {
         Self::Weekday
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for Holiday {
+    const PLACEHOLDER: Self = Self::Weekday;
 }
 
 impl Uper for Holiday {
@@ -1152,6 +1281,16 @@ impl uper::Placeholder for SummerTime {
     fn placeholder() -> Self {
         Self::NotInSummerTime
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for SummerTime {
+    const PLACEHOLDER: Self = Self::NotInSummerTime;
 }
 
 impl Uper for SummerTime {
@@ -1239,6 +1378,27 @@ impl uper::Placeholder for TimeMark {
             tenth_second: <TenthSecond as uper::Placeholder>::placeholder(),
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for TimeMark {
+    const PLACEHOLDER: Self = Self {
+        year: <Year as uper::ConstPlaceholder>::PLACEHOLDER,
+        month: <Month as uper::ConstPlaceholder>::PLACEHOLDER,
+        day: <Day as uper::ConstPlaceholder>::PLACEHOLDER,
+        summer_time: <SummerTime as uper::ConstPlaceholder>::PLACEHOLDER,
+        holiday: <Holiday as uper::ConstPlaceholder>::PLACEHOLDER,
+        dayof_week: <DayOfWeek as uper::ConstPlaceholder>::PLACEHOLDER,
+        hour: <Hour as uper::ConstPlaceholder>::PLACEHOLDER,
+        minute: <Minute as uper::ConstPlaceholder>::PLACEHOLDER,
+        second: <Second as uper::ConstPlaceholder>::PLACEHOLDER,
+        tenth_second: <TenthSecond as uper::ConstPlaceholder>::PLACEHOLDER,
+    };
 }
 
 impl Uper for TimeMark {

@@ -22,6 +22,19 @@ impl uper::Placeholder for Position3DAddGrpC {
             extensions: uper::Extensions::new(),
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for Position3DAddGrpC {
+    const PLACEHOLDER: Self = Self {
+        altitude: <Altitude as uper::ConstPlaceholder>::PLACEHOLDER,
+        extensions: uper::Extensions::new(),
+    };
 }
 
 impl Uper for Position3DAddGrpC {
@@ -94,6 +107,19 @@ impl uper::Placeholder for Altitude {
             confidence: <AltitudeConfidence as uper::Placeholder>::placeholder(),
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for Altitude {
+    const PLACEHOLDER: Self = Self {
+        value: <AltitudeValue as uper::ConstPlaceholder>::PLACEHOLDER,
+        confidence: <AltitudeConfidence as uper::ConstPlaceholder>::PLACEHOLDER,
+    };
 }
 
 impl Uper for Altitude {
@@ -299,6 +325,16 @@ impl uper::Placeholder for AltitudeConfidence {
     fn placeholder() -> Self {
         Self::Alt000_01
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for AltitudeConfidence {
+    const PLACEHOLDER: Self = Self::Alt000_01;
 }
 
 impl Uper for AltitudeConfidence {
@@ -352,6 +388,19 @@ impl uper::Placeholder for RestrictionUserTypeAddGrpC {
             extensions: uper::Extensions::new(),
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for RestrictionUserTypeAddGrpC {
+    const PLACEHOLDER: Self = Self {
+        emission: None,
+        extensions: uper::Extensions::new(),
+    };
 }
 
 impl Uper for RestrictionUserTypeAddGrpC {
@@ -502,6 +551,16 @@ impl uper::Placeholder for EmissionType {
     fn placeholder() -> Self {
         Self::TypeA
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for EmissionType {
+    const PLACEHOLDER: Self = Self::TypeA;
 }
 
 impl Uper for EmissionType {
@@ -565,6 +624,19 @@ impl uper::Placeholder for MapDataAddGrpC {
             extensions: uper::Extensions::new(),
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for MapDataAddGrpC {
+    const PLACEHOLDER: Self = Self {
+        signal_head_locations: None,
+        extensions: uper::Extensions::new(),
+    };
 }
 
 impl Uper for MapDataAddGrpC {
@@ -667,6 +739,16 @@ impl uper::Placeholder for SignalHeadLocationList {
     fn placeholder() -> Self {
         Self(uper::SeqOf::new())
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for SignalHeadLocationList {
+    const PLACEHOLDER: Self = Self(uper::SeqOf::new());
 }
 
 impl Uper for SignalHeadLocationList {
@@ -735,6 +817,20 @@ impl uper::Placeholder for SignalHeadLocation {
             extensions: uper::Extensions::new(),
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for SignalHeadLocation {
+    const PLACEHOLDER: Self = Self {
+        node: <super::common::NodeOffsetPointXY as uper::ConstPlaceholder>::PLACEHOLDER,
+        signal_group_id: <super::common::SignalGroupID as uper::ConstPlaceholder>::PLACEHOLDER,
+        extensions: uper::Extensions::new(),
+    };
 }
 
 impl Uper for SignalHeadLocation {
@@ -822,6 +918,20 @@ impl uper::Placeholder for ConnectionManeuverAssistAddGrpC {
             rsu_distance_from_anchor: None,
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for ConnectionManeuverAssistAddGrpC {
+    const PLACEHOLDER: Self = Self {
+        vehicle_to_lane_positions:
+            <VehicleToLanePositionList as uper::ConstPlaceholder>::PLACEHOLDER,
+        rsu_distance_from_anchor: None,
+    };
 }
 
 impl Uper for ConnectionManeuverAssistAddGrpC {
@@ -923,6 +1033,16 @@ impl uper::Placeholder for VehicleToLanePositionList {
     fn placeholder() -> Self {
         Self(uper::SeqOf::new())
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for VehicleToLanePositionList {
+    const PLACEHOLDER: Self = Self(uper::SeqOf::new());
 }
 
 impl Uper for VehicleToLanePositionList {
@@ -996,6 +1116,20 @@ impl uper::Placeholder for VehicleToLanePosition {
             extensions: uper::Extensions::new(),
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for VehicleToLanePosition {
+    const PLACEHOLDER: Self = Self {
+        station_id: <super::common::StationID as uper::ConstPlaceholder>::PLACEHOLDER,
+        lane_id: <super::common::LaneID as uper::ConstPlaceholder>::PLACEHOLDER,
+        extensions: uper::Extensions::new(),
+    };
 }
 
 impl Uper for VehicleToLanePosition {
@@ -1082,6 +1216,19 @@ impl uper::Placeholder for IntersectionStateAddGrpC {
             extensions: uper::Extensions::new(),
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for IntersectionStateAddGrpC {
+    const PLACEHOLDER: Self = Self {
+        active_prioritizations: None,
+        extensions: uper::Extensions::new(),
+    };
 }
 
 impl Uper for IntersectionStateAddGrpC {
@@ -1184,6 +1331,16 @@ impl uper::Placeholder for PrioritizationResponseList {
     fn placeholder() -> Self {
         Self(uper::SeqOf::new())
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for PrioritizationResponseList {
+    const PLACEHOLDER: Self = Self(uper::SeqOf::new());
 }
 
 impl Uper for PrioritizationResponseList {
@@ -1261,6 +1418,22 @@ impl uper::Placeholder for PrioritizationResponse {
             extensions: uper::Extensions::new(),
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for PrioritizationResponse {
+    const PLACEHOLDER: Self = Self {
+        station_id: <super::common::StationID as uper::ConstPlaceholder>::PLACEHOLDER,
+        prior_state:
+            <super::common::PrioritizationResponseStatus as uper::ConstPlaceholder>::PLACEHOLDER,
+        signal_group: <super::common::SignalGroupID as uper::ConstPlaceholder>::PLACEHOLDER,
+        extensions: uper::Extensions::new(),
+    };
 }
 
 impl Uper for PrioritizationResponse {

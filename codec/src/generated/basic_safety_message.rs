@@ -28,6 +28,21 @@ impl uper::Placeholder for BasicSafetyMessage {
             extensions: uper::Extensions::new(),
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for BasicSafetyMessage {
+    const PLACEHOLDER: Self = Self {
+        core_data: <super::common::BSMcoreData as uper::ConstPlaceholder>::PLACEHOLDER,
+        part_ii: None,
+        regional: None,
+        extensions: uper::Extensions::new(),
+    };
 }
 
 impl Uper for BasicSafetyMessage {
@@ -174,6 +189,16 @@ impl uper::Placeholder for BasicSafetyMessagePartII {
     fn placeholder() -> Self {
         Self(uper::SeqOf::new())
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for BasicSafetyMessagePartII {
+    const PLACEHOLDER: Self = Self(uper::SeqOf::new());
 }
 
 impl Uper for BasicSafetyMessagePartII {
@@ -254,6 +279,21 @@ impl uper::Placeholder for SpecialVehicleExtensions {
             extensions: uper::Extensions::new(),
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for SpecialVehicleExtensions {
+    const PLACEHOLDER: Self = Self {
+        vehicle_alerts: None,
+        description: None,
+        trailers: None,
+        extensions: uper::Extensions::new(),
+    };
 }
 
 impl Uper for SpecialVehicleExtensions {
@@ -421,6 +461,24 @@ impl uper::Placeholder for EventDescription {
             extensions: uper::Extensions::new(),
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for EventDescription {
+    const PLACEHOLDER: Self = Self {
+        type_event: <super::itis::ITIScodes as uper::ConstPlaceholder>::PLACEHOLDER,
+        description: None,
+        priority: None,
+        heading: None,
+        extent: None,
+        regional: None,
+        extensions: uper::Extensions::new(),
+    };
 }
 
 impl Uper for EventDescription {
@@ -655,6 +713,16 @@ impl uper::Placeholder for EventDescriptionDescription {
     fn placeholder() -> Self {
         Self(uper::SeqOf::new())
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for EventDescriptionDescription {
+    const PLACEHOLDER: Self = Self(uper::SeqOf::new());
 }
 
 impl Uper for EventDescriptionDescription {
@@ -733,6 +801,16 @@ impl uper::Placeholder for EventDescriptionRegional {
     fn placeholder() -> Self {
         Self(uper::SeqOf::new())
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for EventDescriptionRegional {
+    const PLACEHOLDER: Self = Self(uper::SeqOf::new());
 }
 
 impl Uper for EventDescriptionRegional {
@@ -866,6 +944,19 @@ impl uper::Placeholder for RegEventDescription {
             bytes: uper::Octets::new(),
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for RegEventDescription {
+    const PLACEHOLDER: Self = Self::Unknown {
+        id: <super::common::RegionId as uper::ConstPlaceholder>::PLACEHOLDER,
+        bytes: uper::Octets::new(),
+    };
 }
 
 impl Uper for RegEventDescription {
@@ -932,6 +1023,21 @@ impl uper::Placeholder for TrailerData {
             extensions: uper::Extensions::new(),
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for TrailerData {
+    const PLACEHOLDER: Self = Self {
+        not_used: <super::common::SSPindex as uper::ConstPlaceholder>::PLACEHOLDER,
+        connection: <PivotPointDescription as uper::ConstPlaceholder>::PLACEHOLDER,
+        units: <TrailerUnitDescriptionList as uper::ConstPlaceholder>::PLACEHOLDER,
+        extensions: uper::Extensions::new(),
+    };
 }
 
 impl Uper for TrailerData {
@@ -1035,6 +1141,21 @@ impl uper::Placeholder for PivotPointDescription {
             extensions: uper::Extensions::new(),
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for PivotPointDescription {
+    const PLACEHOLDER: Self = Self {
+        pivot_offset: <super::common::OffsetB11 as uper::ConstPlaceholder>::PLACEHOLDER,
+        pivot_angle: <super::common::Angle as uper::ConstPlaceholder>::PLACEHOLDER,
+        pivots: <PivotingAllowed as uper::ConstPlaceholder>::PLACEHOLDER,
+        extensions: uper::Extensions::new(),
+    };
 }
 
 impl Uper for PivotPointDescription {
@@ -1140,6 +1261,16 @@ impl uper::Placeholder for TrailerUnitDescriptionList {
     fn placeholder() -> Self {
         Self(uper::SeqOf::new())
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for TrailerUnitDescriptionList {
+    const PLACEHOLDER: Self = Self(uper::SeqOf::new());
 }
 
 impl Uper for TrailerUnitDescriptionList {
@@ -1246,6 +1377,31 @@ impl uper::Placeholder for TrailerUnitDescription {
             extensions: uper::Extensions::new(),
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for TrailerUnitDescription {
+    const PLACEHOLDER: Self = Self {
+        is_dolly: <IsDolly as uper::ConstPlaceholder>::PLACEHOLDER,
+        width: <super::common::VehicleWidth as uper::ConstPlaceholder>::PLACEHOLDER,
+        length: <super::common::VehicleLength as uper::ConstPlaceholder>::PLACEHOLDER,
+        height: None,
+        mass: None,
+        bumper_heights: None,
+        center_of_gravity: None,
+        front_pivot: <PivotPointDescription as uper::ConstPlaceholder>::PLACEHOLDER,
+        rear_pivot: None,
+        rear_wheel_offset: None,
+        position_offset: <super::common::NodeXY24b as uper::ConstPlaceholder>::PLACEHOLDER,
+        elevation_offset: None,
+        crumb_data: None,
+        extensions: uper::Extensions::new(),
+    };
 }
 
 impl Uper for TrailerUnitDescription {
@@ -1624,6 +1780,16 @@ impl uper::Placeholder for TrailerHistoryPointList {
     fn placeholder() -> Self {
         Self(uper::SeqOf::new())
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for TrailerHistoryPointList {
+    const PLACEHOLDER: Self = Self(uper::SeqOf::new());
 }
 
 impl Uper for TrailerHistoryPointList {
@@ -1706,6 +1872,23 @@ impl uper::Placeholder for TrailerHistoryPoint {
             extensions: uper::Extensions::new(),
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for TrailerHistoryPoint {
+    const PLACEHOLDER: Self = Self {
+        pivot_angle: <super::common::Angle as uper::ConstPlaceholder>::PLACEHOLDER,
+        time_offset: <super::common::TimeOffset as uper::ConstPlaceholder>::PLACEHOLDER,
+        position_offset: <super::common::NodeXY24b as uper::ConstPlaceholder>::PLACEHOLDER,
+        elevation_offset: None,
+        heading: None,
+        extensions: uper::Extensions::new(),
+    };
 }
 
 impl Uper for TrailerHistoryPoint {
@@ -1892,6 +2075,28 @@ impl uper::Placeholder for SupplementalVehicleExtensions {
             extensions: uper::Extensions::new(),
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for SupplementalVehicleExtensions {
+    const PLACEHOLDER: Self = Self {
+        classification: None,
+        class_details: None,
+        vehicle_data: None,
+        weather_report: None,
+        weather_probe: None,
+        obstacle: None,
+        status: None,
+        speed_profile: None,
+        the_rtcm: None,
+        regional: None,
+        extensions: uper::Extensions::new(),
+    };
 }
 
 impl Uper for SupplementalVehicleExtensions {
@@ -2253,6 +2458,22 @@ impl uper::Placeholder for VehicleData {
             extensions: uper::Extensions::new(),
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for VehicleData {
+    const PLACEHOLDER: Self = Self {
+        height: None,
+        bumpers: None,
+        mass: None,
+        trailer_weight: None,
+        extensions: uper::Extensions::new(),
+    };
 }
 
 impl Uper for VehicleData {
@@ -2452,6 +2673,24 @@ impl uper::Placeholder for WeatherReport {
             extensions: uper::Extensions::new(),
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for WeatherReport {
+    const PLACEHOLDER: Self = Self {
+        is_raining: <super::ntcip::EssPrecipYesNo as uper::ConstPlaceholder>::PLACEHOLDER,
+        rain_rate: None,
+        precip_situation: None,
+        solar_radiation: None,
+        friction: None,
+        road_friction: None,
+        extensions: uper::Extensions::new(),
+    };
 }
 
 impl Uper for WeatherReport {
@@ -2682,6 +2921,21 @@ impl uper::Placeholder for WeatherProbe {
             extensions: uper::Extensions::new(),
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for WeatherProbe {
+    const PLACEHOLDER: Self = Self {
+        air_temp: None,
+        air_pressure: None,
+        rain_rates: None,
+        extensions: uper::Extensions::new(),
+    };
 }
 
 impl Uper for WeatherProbe {
@@ -2852,6 +3106,24 @@ impl uper::Placeholder for ObstacleDetection {
             extensions: uper::Extensions::new(),
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for ObstacleDetection {
+    const PLACEHOLDER: Self = Self {
+        ob_dist: <super::common::ObstacleDistance as uper::ConstPlaceholder>::PLACEHOLDER,
+        ob_direct: <ObstacleDirection as uper::ConstPlaceholder>::PLACEHOLDER,
+        description: None,
+        location_details: None,
+        date_time: <super::common::DDateTime as uper::ConstPlaceholder>::PLACEHOLDER,
+        vert_event: None,
+        extensions: uper::Extensions::new(),
+    };
 }
 
 impl Uper for ObstacleDetection {
@@ -3061,6 +3333,20 @@ impl uper::Placeholder for DisabledVehicle {
             extensions: uper::Extensions::new(),
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for DisabledVehicle {
+    const PLACEHOLDER: Self = Self {
+        status_details: <DisabledVehicleStatusDetails as uper::ConstPlaceholder>::PLACEHOLDER,
+        location_details: None,
+        extensions: uper::Extensions::new(),
+    };
 }
 
 impl Uper for DisabledVehicle {
@@ -3177,6 +3463,19 @@ impl uper::Placeholder for SpeedProfile {
             extensions: uper::Extensions::new(),
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for SpeedProfile {
+    const PLACEHOLDER: Self = Self {
+        speed_reports: <SpeedProfileMeasurementList as uper::ConstPlaceholder>::PLACEHOLDER,
+        extensions: uper::Extensions::new(),
+    };
 }
 
 impl Uper for SpeedProfile {
@@ -3260,6 +3559,16 @@ impl uper::Placeholder for SpeedProfileMeasurementList {
     fn placeholder() -> Self {
         Self(uper::SeqOf::new())
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for SpeedProfileMeasurementList {
+    const PLACEHOLDER: Self = Self(uper::SeqOf::new());
 }
 
 impl Uper for SpeedProfileMeasurementList {
@@ -3336,6 +3645,20 @@ impl uper::Placeholder for RTCMPackage {
             extensions: uper::Extensions::new(),
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for RTCMPackage {
+    const PLACEHOLDER: Self = Self {
+        rtcm_header: None,
+        msgs: <super::common::RTCMmessageList as uper::ConstPlaceholder>::PLACEHOLDER,
+        extensions: uper::Extensions::new(),
+    };
 }
 
 impl Uper for RTCMPackage {
@@ -3453,6 +3776,16 @@ impl uper::Placeholder for SupplementalVehicleExtensionsRegional {
     fn placeholder() -> Self {
         Self(uper::SeqOf::new())
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for SupplementalVehicleExtensionsRegional {
+    const PLACEHOLDER: Self = Self(uper::SeqOf::new());
 }
 
 impl Uper for SupplementalVehicleExtensionsRegional {
@@ -3586,6 +3919,19 @@ impl uper::Placeholder for RegSupplementalVehicleExtensions {
             bytes: uper::Octets::new(),
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for RegSupplementalVehicleExtensions {
+    const PLACEHOLDER: Self = Self::Unknown {
+        id: <super::common::RegionId as uper::ConstPlaceholder>::PLACEHOLDER,
+        bytes: uper::Octets::new(),
+    };
 }
 
 impl Uper for RegSupplementalVehicleExtensions {
@@ -3747,6 +4093,19 @@ impl uper::Placeholder for PartIIcontent {
             bytes: uper::Octets::new(),
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for PartIIcontent {
+    const PLACEHOLDER: Self = Self::Unknown {
+        id: <PartIIId as uper::ConstPlaceholder>::PLACEHOLDER,
+        bytes: uper::Octets::new(),
+    };
 }
 
 impl Uper for PartIIcontent {
@@ -3870,6 +4229,16 @@ impl uper::Placeholder for BasicSafetyMessageRegional {
     fn placeholder() -> Self {
         Self(uper::SeqOf::new())
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for BasicSafetyMessageRegional {
+    const PLACEHOLDER: Self = Self(uper::SeqOf::new());
 }
 
 impl Uper for BasicSafetyMessageRegional {
@@ -4003,6 +4372,19 @@ impl uper::Placeholder for RegBasicSafetyMessage {
             bytes: uper::Octets::new(),
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for RegBasicSafetyMessage {
+    const PLACEHOLDER: Self = Self::Unknown {
+        id: <super::common::RegionId as uper::ConstPlaceholder>::PLACEHOLDER,
+        bytes: uper::Octets::new(),
+    };
 }
 
 impl Uper for RegBasicSafetyMessage {

@@ -19,6 +19,16 @@ impl uper::Placeholder for TemporaryID {
     fn placeholder() -> Self {
         Self([0; 4])
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for TemporaryID {
+    const PLACEHOLDER: Self = Self([0; 4]);
 }
 
 impl Uper for TemporaryID {
@@ -113,6 +123,31 @@ impl uper::Placeholder for BSMcoreData {
             size: <VehicleSize as uper::Placeholder>::placeholder(),
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for BSMcoreData {
+    const PLACEHOLDER: Self = Self {
+        msg_cnt: <MsgCount as uper::ConstPlaceholder>::PLACEHOLDER,
+        id: <TemporaryID as uper::ConstPlaceholder>::PLACEHOLDER,
+        sec_mark: <DSecond as uper::ConstPlaceholder>::PLACEHOLDER,
+        lat: <Latitude as uper::ConstPlaceholder>::PLACEHOLDER,
+        long: <Longitude as uper::ConstPlaceholder>::PLACEHOLDER,
+        elev: <Elevation as uper::ConstPlaceholder>::PLACEHOLDER,
+        accuracy: <PositionalAccuracy as uper::ConstPlaceholder>::PLACEHOLDER,
+        transmission: <TransmissionState as uper::ConstPlaceholder>::PLACEHOLDER,
+        speed: <Speed as uper::ConstPlaceholder>::PLACEHOLDER,
+        heading: <Heading as uper::ConstPlaceholder>::PLACEHOLDER,
+        angle: <SteeringWheelAngle as uper::ConstPlaceholder>::PLACEHOLDER,
+        accel_set: <AccelerationSet4Way as uper::ConstPlaceholder>::PLACEHOLDER,
+        brakes: <BrakeSystemStatus as uper::ConstPlaceholder>::PLACEHOLDER,
+        size: <VehicleSize as uper::ConstPlaceholder>::PLACEHOLDER,
+    };
 }
 
 impl Uper for BSMcoreData {
@@ -324,6 +359,20 @@ impl uper::Placeholder for PositionalAccuracy {
             orientation: <SemiMajorAxisOrientation as uper::Placeholder>::placeholder(),
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for PositionalAccuracy {
+    const PLACEHOLDER: Self = Self {
+        semi_major: <SemiMajorAxisAccuracy as uper::ConstPlaceholder>::PLACEHOLDER,
+        semi_minor: <SemiMinorAxisAccuracy as uper::ConstPlaceholder>::PLACEHOLDER,
+        orientation: <SemiMajorAxisOrientation as uper::ConstPlaceholder>::PLACEHOLDER,
+    };
 }
 
 impl Uper for PositionalAccuracy {
@@ -527,6 +576,16 @@ impl uper::Placeholder for TransmissionState {
     fn placeholder() -> Self {
         Self::Neutral
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for TransmissionState {
+    const PLACEHOLDER: Self = Self::Neutral;
 }
 
 impl Uper for TransmissionState {
@@ -616,6 +675,21 @@ impl uper::Placeholder for AccelerationSet4Way {
             yaw: <YawRate as uper::Placeholder>::placeholder(),
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for AccelerationSet4Way {
+    const PLACEHOLDER: Self = Self {
+        long: <Acceleration as uper::ConstPlaceholder>::PLACEHOLDER,
+        lat: <Acceleration as uper::ConstPlaceholder>::PLACEHOLDER,
+        vert: <VerticalAcceleration as uper::ConstPlaceholder>::PLACEHOLDER,
+        yaw: <YawRate as uper::ConstPlaceholder>::PLACEHOLDER,
+    };
 }
 
 impl Uper for AccelerationSet4Way {
@@ -740,6 +814,23 @@ impl uper::Placeholder for BrakeSystemStatus {
             aux_brakes: <AuxiliaryBrakeStatus as uper::Placeholder>::placeholder(),
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for BrakeSystemStatus {
+    const PLACEHOLDER: Self = Self {
+        wheel_brakes: <BrakeAppliedStatus as uper::ConstPlaceholder>::PLACEHOLDER,
+        traction: <TractionControlStatus as uper::ConstPlaceholder>::PLACEHOLDER,
+        abs: <AntiLockBrakeStatus as uper::ConstPlaceholder>::PLACEHOLDER,
+        scs: <StabilityControlStatus as uper::ConstPlaceholder>::PLACEHOLDER,
+        brake_boost: <BrakeBoostApplied as uper::ConstPlaceholder>::PLACEHOLDER,
+        aux_brakes: <AuxiliaryBrakeStatus as uper::ConstPlaceholder>::PLACEHOLDER,
+    };
 }
 
 impl Uper for BrakeSystemStatus {
@@ -867,6 +958,16 @@ impl uper::Placeholder for BrakeAppliedStatus {
     fn placeholder() -> Self {
         Self(uper::Bits::EMPTY)
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for BrakeAppliedStatus {
+    const PLACEHOLDER: Self = Self(uper::Bits::EMPTY);
 }
 
 impl Uper for BrakeAppliedStatus {
@@ -964,6 +1065,16 @@ impl uper::Placeholder for TractionControlStatus {
     fn placeholder() -> Self {
         Self::Unavailable
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for TractionControlStatus {
+    const PLACEHOLDER: Self = Self::Unavailable;
 }
 
 impl Uper for TractionControlStatus {
@@ -1059,6 +1170,16 @@ impl uper::Placeholder for AntiLockBrakeStatus {
     fn placeholder() -> Self {
         Self::Unavailable
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for AntiLockBrakeStatus {
+    const PLACEHOLDER: Self = Self::Unavailable;
 }
 
 impl Uper for AntiLockBrakeStatus {
@@ -1154,6 +1275,16 @@ impl uper::Placeholder for StabilityControlStatus {
     fn placeholder() -> Self {
         Self::Unavailable
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for StabilityControlStatus {
+    const PLACEHOLDER: Self = Self::Unavailable;
 }
 
 impl Uper for StabilityControlStatus {
@@ -1243,6 +1374,16 @@ impl uper::Placeholder for BrakeBoostApplied {
     fn placeholder() -> Self {
         Self::Unavailable
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for BrakeBoostApplied {
+    const PLACEHOLDER: Self = Self::Unavailable;
 }
 
 impl Uper for BrakeBoostApplied {
@@ -1338,6 +1479,16 @@ impl uper::Placeholder for AuxiliaryBrakeStatus {
     fn placeholder() -> Self {
         Self::Unavailable
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for AuxiliaryBrakeStatus {
+    const PLACEHOLDER: Self = Self::Unavailable;
 }
 
 impl Uper for AuxiliaryBrakeStatus {
@@ -1391,6 +1542,19 @@ impl uper::Placeholder for VehicleSize {
             length: <VehicleLength as uper::Placeholder>::placeholder(),
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for VehicleSize {
+    const PLACEHOLDER: Self = Self {
+        width: <VehicleWidth as uper::ConstPlaceholder>::PLACEHOLDER,
+        length: <VehicleLength as uper::ConstPlaceholder>::PLACEHOLDER,
+    };
 }
 
 impl Uper for VehicleSize {
@@ -1481,6 +1645,21 @@ impl uper::Placeholder for PathHistory {
             extensions: uper::Extensions::new(),
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for PathHistory {
+    const PLACEHOLDER: Self = Self {
+        initial_position: None,
+        curr_gnss_status: None,
+        crumb_data: <PathHistoryPointList as uper::ConstPlaceholder>::PLACEHOLDER,
+        extensions: uper::Extensions::new(),
+    };
 }
 
 impl Uper for PathHistory {
@@ -1644,6 +1823,28 @@ impl uper::Placeholder for FullPositionVector {
             extensions: uper::Extensions::new(),
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for FullPositionVector {
+    const PLACEHOLDER: Self = Self {
+        utc_time: None,
+        long: <Longitude as uper::ConstPlaceholder>::PLACEHOLDER,
+        lat: <Latitude as uper::ConstPlaceholder>::PLACEHOLDER,
+        elevation: None,
+        heading: None,
+        speed: None,
+        pos_accuracy: None,
+        time_confidence: None,
+        pos_confidence: None,
+        speed_confidence: None,
+        extensions: uper::Extensions::new(),
+    };
 }
 
 impl Uper for FullPositionVector {
@@ -1964,6 +2165,24 @@ impl uper::Placeholder for DDateTime {
             offset: None,
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for DDateTime {
+    const PLACEHOLDER: Self = Self {
+        year: None,
+        month: None,
+        day: None,
+        hour: None,
+        minute: None,
+        second: None,
+        offset: None,
+    };
 }
 
 impl Uper for DDateTime {
@@ -2230,6 +2449,19 @@ impl uper::Placeholder for TransmissionAndSpeed {
             speed: <Velocity as uper::Placeholder>::placeholder(),
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for TransmissionAndSpeed {
+    const PLACEHOLDER: Self = Self {
+        transmisson: <TransmissionState as uper::ConstPlaceholder>::PLACEHOLDER,
+        speed: <Velocity as uper::ConstPlaceholder>::PLACEHOLDER,
+    };
 }
 
 impl Uper for TransmissionAndSpeed {
@@ -2606,6 +2838,16 @@ impl uper::Placeholder for TimeConfidence {
     fn placeholder() -> Self {
         Self::Unavailable
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for TimeConfidence {
+    const PLACEHOLDER: Self = Self::Unavailable;
 }
 
 impl Uper for TimeConfidence {
@@ -2659,6 +2901,19 @@ impl uper::Placeholder for PositionConfidenceSet {
             elevation: <ElevationConfidence as uper::Placeholder>::placeholder(),
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for PositionConfidenceSet {
+    const PLACEHOLDER: Self = Self {
+        pos: <PositionConfidence as uper::ConstPlaceholder>::PLACEHOLDER,
+        elevation: <ElevationConfidence as uper::ConstPlaceholder>::PLACEHOLDER,
+    };
 }
 
 impl Uper for PositionConfidenceSet {
@@ -2859,6 +3114,16 @@ impl uper::Placeholder for PositionConfidence {
     fn placeholder() -> Self {
         Self::Unavailable
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for PositionConfidence {
+    const PLACEHOLDER: Self = Self::Unavailable;
 }
 
 impl Uper for PositionConfidence {
@@ -3043,6 +3308,16 @@ impl uper::Placeholder for ElevationConfidence {
     fn placeholder() -> Self {
         Self::Unavailable
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for ElevationConfidence {
+    const PLACEHOLDER: Self = Self::Unavailable;
 }
 
 impl Uper for ElevationConfidence {
@@ -3099,6 +3374,20 @@ impl uper::Placeholder for SpeedandHeadingandThrottleConfidence {
             throttle: <ThrottleConfidence as uper::Placeholder>::placeholder(),
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for SpeedandHeadingandThrottleConfidence {
+    const PLACEHOLDER: Self = Self {
+        heading: <HeadingConfidence as uper::ConstPlaceholder>::PLACEHOLDER,
+        speed: <SpeedConfidence as uper::ConstPlaceholder>::PLACEHOLDER,
+        throttle: <ThrottleConfidence as uper::ConstPlaceholder>::PLACEHOLDER,
+    };
 }
 
 impl Uper for SpeedandHeadingandThrottleConfidence {
@@ -3254,6 +3543,16 @@ impl uper::Placeholder for HeadingConfidence {
     fn placeholder() -> Self {
         Self::Unavailable
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for HeadingConfidence {
+    const PLACEHOLDER: Self = Self::Unavailable;
 }
 
 impl Uper for HeadingConfidence {
@@ -3382,6 +3681,16 @@ impl uper::Placeholder for SpeedConfidence {
     fn placeholder() -> Self {
         Self::Unavailable
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for SpeedConfidence {
+    const PLACEHOLDER: Self = Self::Unavailable;
 }
 
 impl Uper for SpeedConfidence {
@@ -3482,6 +3791,16 @@ impl uper::Placeholder for ThrottleConfidence {
     fn placeholder() -> Self {
         Self::Unavailable
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for ThrottleConfidence {
+    const PLACEHOLDER: Self = Self::Unavailable;
 }
 
 impl Uper for ThrottleConfidence {
@@ -3555,6 +3874,16 @@ impl uper::Placeholder for GNSSstatus {
     fn placeholder() -> Self {
         Self(uper::Bits::EMPTY)
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for GNSSstatus {
+    const PLACEHOLDER: Self = Self(uper::Bits::EMPTY);
 }
 
 impl Uper for GNSSstatus {
@@ -3618,6 +3947,16 @@ impl uper::Placeholder for PathHistoryPointList {
     fn placeholder() -> Self {
         Self(uper::SeqOf::new())
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for PathHistoryPointList {
+    const PLACEHOLDER: Self = Self(uper::SeqOf::new());
 }
 
 impl Uper for PathHistoryPointList {
@@ -3701,6 +4040,25 @@ impl uper::Placeholder for PathHistoryPoint {
             extensions: uper::Extensions::new(),
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for PathHistoryPoint {
+    const PLACEHOLDER: Self = Self {
+        lat_offset: <OffsetLLB18 as uper::ConstPlaceholder>::PLACEHOLDER,
+        lon_offset: <OffsetLLB18 as uper::ConstPlaceholder>::PLACEHOLDER,
+        elevation_offset: <VertOffsetB12 as uper::ConstPlaceholder>::PLACEHOLDER,
+        time_offset: <TimeOffset as uper::ConstPlaceholder>::PLACEHOLDER,
+        speed: None,
+        pos_accuracy: None,
+        heading: None,
+        extensions: uper::Extensions::new(),
+    };
 }
 
 impl Uper for PathHistoryPoint {
@@ -3911,6 +4269,20 @@ impl uper::Placeholder for PathPrediction {
             extensions: uper::Extensions::new(),
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for PathPrediction {
+    const PLACEHOLDER: Self = Self {
+        radius_of_curve: <RadiusOfCurvature as uper::ConstPlaceholder>::PLACEHOLDER,
+        confidence: <Confidence as uper::ConstPlaceholder>::PLACEHOLDER,
+        extensions: uper::Extensions::new(),
+    };
 }
 
 impl Uper for PathPrediction {
@@ -4009,6 +4381,19 @@ impl uper::Placeholder for IntersectionReferenceID {
             id: <IntersectionID as uper::Placeholder>::placeholder(),
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for IntersectionReferenceID {
+    const PLACEHOLDER: Self = Self {
+        region: None,
+        id: <IntersectionID as uper::ConstPlaceholder>::PLACEHOLDER,
+    };
 }
 
 impl Uper for IntersectionReferenceID {
@@ -4140,6 +4525,16 @@ impl uper::Placeholder for VehicleEventFlags {
     fn placeholder() -> Self {
         Self(uper::Bits::EMPTY)
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for VehicleEventFlags {
+    const PLACEHOLDER: Self = Self(uper::Bits::EMPTY);
 }
 
 impl Uper for VehicleEventFlags {
@@ -4206,6 +4601,22 @@ impl uper::Placeholder for VehicleSafetyExtensions {
             extensions: uper::Extensions::new(),
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for VehicleSafetyExtensions {
+    const PLACEHOLDER: Self = Self {
+        events: None,
+        path_history: None,
+        path_prediction: None,
+        lights: None,
+        extensions: uper::Extensions::new(),
+    };
 }
 
 impl Uper for VehicleSafetyExtensions {
@@ -4406,6 +4817,16 @@ impl uper::Placeholder for ExteriorLights {
     fn placeholder() -> Self {
         Self(uper::Bits::EMPTY)
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for ExteriorLights {
+    const PLACEHOLDER: Self = Self(uper::Bits::EMPTY);
 }
 
 impl Uper for ExteriorLights {
@@ -4473,6 +4894,24 @@ impl uper::Placeholder for EmergencyDetails {
             extensions: uper::Extensions::new(),
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for EmergencyDetails {
+    const PLACEHOLDER: Self = Self {
+        not_used: <SSPindex as uper::ConstPlaceholder>::PLACEHOLDER,
+        siren_use: <SirenInUse as uper::ConstPlaceholder>::PLACEHOLDER,
+        lights_use: <LightbarInUse as uper::ConstPlaceholder>::PLACEHOLDER,
+        multi: <MultiVehicleResponse as uper::ConstPlaceholder>::PLACEHOLDER,
+        events: None,
+        response_type: None,
+        extensions: uper::Extensions::new(),
+    };
 }
 
 impl Uper for EmergencyDetails {
@@ -4685,6 +5124,16 @@ impl uper::Placeholder for SirenInUse {
     fn placeholder() -> Self {
         Self::Unavailable
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for SirenInUse {
+    const PLACEHOLDER: Self = Self::Unavailable;
 }
 
 impl Uper for SirenInUse {
@@ -4813,6 +5262,16 @@ impl uper::Placeholder for LightbarInUse {
     fn placeholder() -> Self {
         Self::Unavailable
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for LightbarInUse {
+    const PLACEHOLDER: Self = Self::Unavailable;
 }
 
 impl Uper for LightbarInUse {
@@ -4913,6 +5372,16 @@ impl uper::Placeholder for MultiVehicleResponse {
     fn placeholder() -> Self {
         Self::Unavailable
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for MultiVehicleResponse {
+    const PLACEHOLDER: Self = Self::Unavailable;
 }
 
 impl Uper for MultiVehicleResponse {
@@ -4969,6 +5438,20 @@ impl uper::Placeholder for PrivilegedEvents {
             extensions: uper::Extensions::new(),
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for PrivilegedEvents {
+    const PLACEHOLDER: Self = Self {
+        not_used: <SSPindex as uper::ConstPlaceholder>::PLACEHOLDER,
+        event: <PrivilegedEventFlags as uper::ConstPlaceholder>::PLACEHOLDER,
+        extensions: uper::Extensions::new(),
+    };
 }
 
 impl Uper for PrivilegedEvents {
@@ -5068,6 +5551,16 @@ impl uper::Placeholder for PrivilegedEventFlags {
     fn placeholder() -> Self {
         Self(uper::Bits::EMPTY)
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for PrivilegedEventFlags {
+    const PLACEHOLDER: Self = Self(uper::Bits::EMPTY);
 }
 
 impl Uper for PrivilegedEventFlags {
@@ -5196,6 +5689,16 @@ impl uper::Placeholder for ResponseType {
     fn placeholder() -> Self {
         Self::NotInUseOrNotEquipped
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for ResponseType {
+    const PLACEHOLDER: Self = Self::NotInUseOrNotEquipped;
 }
 
 impl Uper for ResponseType {
@@ -5254,6 +5757,16 @@ impl uper::Placeholder for Priority {
     fn placeholder() -> Self {
         Self([0; 1])
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for Priority {
+    const PLACEHOLDER: Self = Self([0; 1]);
 }
 
 impl Uper for Priority {
@@ -5339,6 +5852,16 @@ impl uper::Placeholder for HeadingSlice {
     fn placeholder() -> Self {
         Self(uper::Bits::EMPTY)
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for HeadingSlice {
+    const PLACEHOLDER: Self = Self(uper::Bits::EMPTY);
 }
 
 impl Uper for HeadingSlice {
@@ -5525,6 +6048,16 @@ impl uper::Placeholder for Extent {
     fn placeholder() -> Self {
         Self::UseInstantlyOnly
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for Extent {
+    const PLACEHOLDER: Self = Self::UseInstantlyOnly;
 }
 
 impl Uper for Extent {
@@ -5597,6 +6130,19 @@ impl uper::Placeholder for BumperHeights {
             rear: <BumperHeight as uper::Placeholder>::placeholder(),
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for BumperHeights {
+    const PLACEHOLDER: Self = Self {
+        front: <BumperHeight as uper::ConstPlaceholder>::PLACEHOLDER,
+        rear: <BumperHeight as uper::ConstPlaceholder>::PLACEHOLDER,
+    };
 }
 
 impl Uper for BumperHeights {
@@ -5673,6 +6219,19 @@ impl uper::Placeholder for NodeXY24b {
             y: <OffsetB12 as uper::Placeholder>::placeholder(),
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for NodeXY24b {
+    const PLACEHOLDER: Self = Self {
+        x: <OffsetB12 as uper::ConstPlaceholder>::PLACEHOLDER,
+        y: <OffsetB12 as uper::ConstPlaceholder>::PLACEHOLDER,
+    };
 }
 
 impl Uper for NodeXY24b {
@@ -5763,6 +6322,27 @@ impl uper::Placeholder for VehicleClassification {
             extensions: uper::Extensions::new(),
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for VehicleClassification {
+    const PLACEHOLDER: Self = Self {
+        key_type: None,
+        role: None,
+        iso3883: None,
+        hpms_type: None,
+        vehicle_type: None,
+        response_equip: None,
+        responder_type: None,
+        fuel_type: None,
+        regional: None,
+        extensions: uper::Extensions::new(),
+    };
 }
 
 impl Uper for VehicleClassification {
@@ -6268,6 +6848,16 @@ impl uper::Placeholder for BasicVehicleRole {
     fn placeholder() -> Self {
         Self::BasicVehicle
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for BasicVehicleRole {
+    const PLACEHOLDER: Self = Self::BasicVehicle;
 }
 
 impl Uper for BasicVehicleRole {
@@ -6475,6 +7065,16 @@ impl uper::Placeholder for VehicleType {
     fn placeholder() -> Self {
         Self::None
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for VehicleType {
+    const PLACEHOLDER: Self = Self::None;
 }
 
 impl Uper for VehicleType {
@@ -6551,6 +7151,16 @@ impl uper::Placeholder for VehicleClassificationRegional {
     fn placeholder() -> Self {
         Self(uper::SeqOf::new())
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for VehicleClassificationRegional {
+    const PLACEHOLDER: Self = Self(uper::SeqOf::new());
 }
 
 impl Uper for VehicleClassificationRegional {
@@ -6682,6 +7292,19 @@ impl uper::Placeholder for RegVehicleClassification {
             bytes: uper::Octets::new(),
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for RegVehicleClassification {
+    const PLACEHOLDER: Self = Self::Unknown {
+        id: <RegionId as uper::ConstPlaceholder>::PLACEHOLDER,
+        bytes: uper::Octets::new(),
+    };
 }
 
 impl Uper for RegVehicleClassification {
@@ -6782,6 +7405,21 @@ impl uper::Placeholder for WiperSet {
             rate_rear: None,
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for WiperSet {
+    const PLACEHOLDER: Self = Self {
+        status_front: <WiperStatus as uper::ConstPlaceholder>::PLACEHOLDER,
+        rate_front: <WiperRate as uper::ConstPlaceholder>::PLACEHOLDER,
+        status_rear: None,
+        rate_rear: None,
+    };
 }
 
 impl Uper for WiperSet {
@@ -6976,6 +7614,16 @@ impl uper::Placeholder for WiperStatus {
     fn placeholder() -> Self {
         Self::Unavailable
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for WiperStatus {
+    const PLACEHOLDER: Self = Self::Unavailable;
 }
 
 impl Uper for WiperStatus {
@@ -7066,6 +7714,16 @@ impl uper::Placeholder for VerticalAccelerationThreshold {
     fn placeholder() -> Self {
         Self(uper::Bits::EMPTY)
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for VerticalAccelerationThreshold {
+    const PLACEHOLDER: Self = Self(uper::Bits::EMPTY);
 }
 
 impl Uper for VerticalAccelerationThreshold {
@@ -7126,6 +7784,19 @@ impl uper::Placeholder for RTCMheader {
             offset_set: <AntennaOffsetSet as uper::Placeholder>::placeholder(),
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for RTCMheader {
+    const PLACEHOLDER: Self = Self {
+        status: <GNSSstatus as uper::ConstPlaceholder>::PLACEHOLDER,
+        offset_set: <AntennaOffsetSet as uper::ConstPlaceholder>::PLACEHOLDER,
+    };
 }
 
 impl Uper for RTCMheader {
@@ -7198,6 +7869,20 @@ impl uper::Placeholder for AntennaOffsetSet {
             ant_offset_z: <OffsetB10 as uper::Placeholder>::placeholder(),
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for AntennaOffsetSet {
+    const PLACEHOLDER: Self = Self {
+        ant_offset_x: <OffsetB12 as uper::ConstPlaceholder>::PLACEHOLDER,
+        ant_offset_y: <OffsetB09 as uper::ConstPlaceholder>::PLACEHOLDER,
+        ant_offset_z: <OffsetB10 as uper::ConstPlaceholder>::PLACEHOLDER,
+    };
 }
 
 impl Uper for AntennaOffsetSet {
@@ -7290,6 +7975,16 @@ impl uper::Placeholder for RTCMmessageList {
     fn placeholder() -> Self {
         Self(uper::SeqOf::new())
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for RTCMmessageList {
+    const PLACEHOLDER: Self = Self(uper::SeqOf::new());
 }
 
 impl Uper for RTCMmessageList {
@@ -7359,6 +8054,16 @@ impl uper::Placeholder for RTCMmessage {
     fn placeholder() -> Self {
         Self(uper::Octets::new())
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for RTCMmessage {
+    const PLACEHOLDER: Self = Self(uper::Octets::new());
 }
 
 impl Uper for RTCMmessage {
@@ -7415,6 +8120,16 @@ impl uper::Placeholder for DescriptiveName {
     fn placeholder() -> Self {
         Self(uper::Ia5::new())
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for DescriptiveName {
+    const PLACEHOLDER: Self = Self(uper::Ia5::new());
 }
 
 impl Uper for DescriptiveName {
@@ -7474,6 +8189,22 @@ impl uper::Placeholder for Position3D {
             extensions: uper::Extensions::new(),
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for Position3D {
+    const PLACEHOLDER: Self = Self {
+        lat: <Latitude as uper::ConstPlaceholder>::PLACEHOLDER,
+        long: <Longitude as uper::ConstPlaceholder>::PLACEHOLDER,
+        elevation: None,
+        regional: None,
+        extensions: uper::Extensions::new(),
+    };
 }
 
 impl Uper for Position3D {
@@ -7619,6 +8350,16 @@ impl uper::Placeholder for Position3DRegional {
     fn placeholder() -> Self {
         Self(uper::SeqOf::new())
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for Position3DRegional {
+    const PLACEHOLDER: Self = Self(uper::SeqOf::new());
 }
 
 impl Uper for Position3DRegional {
@@ -7773,6 +8514,19 @@ impl uper::Placeholder for RegPosition3D {
             bytes: uper::Octets::new(),
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for RegPosition3D {
+    const PLACEHOLDER: Self = Self::Unknown {
+        id: <RegionId as uper::ConstPlaceholder>::PLACEHOLDER,
+        bytes: uper::Octets::new(),
+    };
 }
 
 impl Uper for RegPosition3D {
@@ -7887,6 +8641,16 @@ impl uper::Placeholder for SpeedLimitList {
     fn placeholder() -> Self {
         Self(uper::SeqOf::new())
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for SpeedLimitList {
+    const PLACEHOLDER: Self = Self(uper::SeqOf::new());
 }
 
 impl Uper for SpeedLimitList {
@@ -7955,6 +8719,19 @@ impl uper::Placeholder for RegulatorySpeedLimit {
             speed: <Velocity as uper::Placeholder>::placeholder(),
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for RegulatorySpeedLimit {
+    const PLACEHOLDER: Self = Self {
+        r#type: <SpeedLimitType as uper::ConstPlaceholder>::PLACEHOLDER,
+        speed: <Velocity as uper::ConstPlaceholder>::PLACEHOLDER,
+    };
 }
 
 impl Uper for RegulatorySpeedLimit {
@@ -8139,6 +8916,16 @@ impl uper::Placeholder for SpeedLimitType {
     fn placeholder() -> Self {
         Self::Unknown
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for SpeedLimitType {
+    const PLACEHOLDER: Self = Self::Unknown;
 }
 
 impl Uper for SpeedLimitType {
@@ -8206,6 +8993,16 @@ impl uper::Placeholder for NodeListXY {
     fn placeholder() -> Self {
         Self::Nodes(<NodeSetXY as uper::Placeholder>::placeholder())
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for NodeListXY {
+    const PLACEHOLDER: Self = Self::Nodes(<NodeSetXY as uper::ConstPlaceholder>::PLACEHOLDER);
 }
 
 impl Uper for NodeListXY {
@@ -8344,6 +9141,16 @@ impl uper::Placeholder for NodeSetXY {
     fn placeholder() -> Self {
         Self(uper::SeqOf::new())
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for NodeSetXY {
+    const PLACEHOLDER: Self = Self(uper::SeqOf::new());
 }
 
 impl Uper for NodeSetXY {
@@ -8411,6 +9218,20 @@ impl uper::Placeholder for NodeXY {
             extensions: uper::Extensions::new(),
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for NodeXY {
+    const PLACEHOLDER: Self = Self {
+        delta: <NodeOffsetPointXY as uper::ConstPlaceholder>::PLACEHOLDER,
+        attributes: None,
+        extensions: uper::Extensions::new(),
+    };
 }
 
 impl Uper for NodeXY {
@@ -8521,6 +9342,16 @@ impl uper::Placeholder for NodeOffsetPointXY {
     fn placeholder() -> Self {
         Self::NodeXY1(<NodeXY20b as uper::Placeholder>::placeholder())
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for NodeOffsetPointXY {
+    const PLACEHOLDER: Self = Self::NodeXY1(<NodeXY20b as uper::ConstPlaceholder>::PLACEHOLDER);
 }
 
 impl Uper for NodeOffsetPointXY {
@@ -8780,6 +9611,19 @@ impl uper::Placeholder for NodeXY20b {
             y: <OffsetB10 as uper::Placeholder>::placeholder(),
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for NodeXY20b {
+    const PLACEHOLDER: Self = Self {
+        x: <OffsetB10 as uper::ConstPlaceholder>::PLACEHOLDER,
+        y: <OffsetB10 as uper::ConstPlaceholder>::PLACEHOLDER,
+    };
 }
 
 impl Uper for NodeXY20b {
@@ -8841,6 +9685,19 @@ impl uper::Placeholder for NodeXY22b {
             y: <OffsetB11 as uper::Placeholder>::placeholder(),
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for NodeXY22b {
+    const PLACEHOLDER: Self = Self {
+        x: <OffsetB11 as uper::ConstPlaceholder>::PLACEHOLDER,
+        y: <OffsetB11 as uper::ConstPlaceholder>::PLACEHOLDER,
+    };
 }
 
 impl Uper for NodeXY22b {
@@ -8902,6 +9759,19 @@ impl uper::Placeholder for NodeXY26b {
             y: <OffsetB13 as uper::Placeholder>::placeholder(),
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for NodeXY26b {
+    const PLACEHOLDER: Self = Self {
+        x: <OffsetB13 as uper::ConstPlaceholder>::PLACEHOLDER,
+        y: <OffsetB13 as uper::ConstPlaceholder>::PLACEHOLDER,
+    };
 }
 
 impl Uper for NodeXY26b {
@@ -8968,6 +9838,19 @@ impl uper::Placeholder for NodeXY28b {
             y: <OffsetB14 as uper::Placeholder>::placeholder(),
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for NodeXY28b {
+    const PLACEHOLDER: Self = Self {
+        x: <OffsetB14 as uper::ConstPlaceholder>::PLACEHOLDER,
+        y: <OffsetB14 as uper::ConstPlaceholder>::PLACEHOLDER,
+    };
 }
 
 impl Uper for NodeXY28b {
@@ -9034,6 +9917,19 @@ impl uper::Placeholder for NodeXY32b {
             y: <OffsetB16 as uper::Placeholder>::placeholder(),
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for NodeXY32b {
+    const PLACEHOLDER: Self = Self {
+        x: <OffsetB16 as uper::ConstPlaceholder>::PLACEHOLDER,
+        y: <OffsetB16 as uper::ConstPlaceholder>::PLACEHOLDER,
+    };
 }
 
 impl Uper for NodeXY32b {
@@ -9100,6 +9996,19 @@ impl uper::Placeholder for NodeLLmD64b {
             lat: <Latitude as uper::Placeholder>::placeholder(),
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for NodeLLmD64b {
+    const PLACEHOLDER: Self = Self {
+        lon: <Longitude as uper::ConstPlaceholder>::PLACEHOLDER,
+        lat: <Latitude as uper::ConstPlaceholder>::PLACEHOLDER,
+    };
 }
 
 impl Uper for NodeLLmD64b {
@@ -9237,6 +10146,19 @@ impl uper::Placeholder for RegNodeOffsetPointXY {
             bytes: uper::Octets::new(),
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for RegNodeOffsetPointXY {
+    const PLACEHOLDER: Self = Self::Unknown {
+        id: <RegionId as uper::ConstPlaceholder>::PLACEHOLDER,
+        bytes: uper::Octets::new(),
+    };
 }
 
 impl Uper for RegNodeOffsetPointXY {
@@ -9329,6 +10251,25 @@ impl uper::Placeholder for NodeAttributeSetXY {
             extensions: uper::Extensions::new(),
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for NodeAttributeSetXY {
+    const PLACEHOLDER: Self = Self {
+        local_node: None,
+        disabled: None,
+        enabled: None,
+        data: None,
+        d_width: None,
+        d_elevation: None,
+        regional: None,
+        extensions: uper::Extensions::new(),
+    };
 }
 
 impl Uper for NodeAttributeSetXY {
@@ -9604,6 +10545,16 @@ impl uper::Placeholder for NodeAttributeXYList {
     fn placeholder() -> Self {
         Self(uper::SeqOf::new())
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for NodeAttributeXYList {
+    const PLACEHOLDER: Self = Self(uper::SeqOf::new());
 }
 
 impl Uper for NodeAttributeXYList {
@@ -9780,6 +10731,16 @@ impl uper::Placeholder for NodeAttributeXY {
     fn placeholder() -> Self {
         Self::Reserved
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for NodeAttributeXY {
+    const PLACEHOLDER: Self = Self::Reserved;
 }
 
 impl Uper for NodeAttributeXY {
@@ -9853,6 +10814,16 @@ impl uper::Placeholder for SegmentAttributeXYList {
     fn placeholder() -> Self {
         Self(uper::SeqOf::new())
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for SegmentAttributeXYList {
+    const PLACEHOLDER: Self = Self(uper::SeqOf::new());
 }
 
 impl Uper for SegmentAttributeXYList {
@@ -10211,6 +11182,16 @@ impl uper::Placeholder for SegmentAttributeXY {
     fn placeholder() -> Self {
         Self::Reserved
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for SegmentAttributeXY {
+    const PLACEHOLDER: Self = Self::Reserved;
 }
 
 impl Uper for SegmentAttributeXY {
@@ -10284,6 +11265,16 @@ impl uper::Placeholder for LaneDataAttributeList {
     fn placeholder() -> Self {
         Self(uper::SeqOf::new())
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for LaneDataAttributeList {
+    const PLACEHOLDER: Self = Self(uper::SeqOf::new());
 }
 
 impl Uper for LaneDataAttributeList {
@@ -10366,6 +11357,17 @@ impl uper::Placeholder for LaneDataAttribute {
     fn placeholder() -> Self {
         Self::PathEndPointAngle(<DeltaAngle as uper::Placeholder>::placeholder())
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for LaneDataAttribute {
+    const PLACEHOLDER: Self =
+        Self::PathEndPointAngle(<DeltaAngle as uper::ConstPlaceholder>::PLACEHOLDER);
 }
 
 impl Uper for LaneDataAttribute {
@@ -10660,6 +11662,16 @@ impl uper::Placeholder for LaneDataAttributeRegional {
     fn placeholder() -> Self {
         Self(uper::SeqOf::new())
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for LaneDataAttributeRegional {
+    const PLACEHOLDER: Self = Self(uper::SeqOf::new());
 }
 
 impl Uper for LaneDataAttributeRegional {
@@ -10803,6 +11815,19 @@ impl uper::Placeholder for RegLaneDataAttribute {
             bytes: uper::Octets::new(),
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for RegLaneDataAttribute {
+    const PLACEHOLDER: Self = Self::Unknown {
+        id: <RegionId as uper::ConstPlaceholder>::PLACEHOLDER,
+        bytes: uper::Octets::new(),
+    };
 }
 
 impl Uper for RegLaneDataAttribute {
@@ -10885,6 +11910,16 @@ impl uper::Placeholder for NodeAttributeSetXYRegional {
     fn placeholder() -> Self {
         Self(uper::SeqOf::new())
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for NodeAttributeSetXYRegional {
+    const PLACEHOLDER: Self = Self(uper::SeqOf::new());
 }
 
 impl Uper for NodeAttributeSetXYRegional {
@@ -11014,6 +12049,19 @@ impl uper::Placeholder for RegNodeAttributeSetXY {
             bytes: uper::Octets::new(),
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for RegNodeAttributeSetXY {
+    const PLACEHOLDER: Self = Self::Unknown {
+        id: <RegionId as uper::ConstPlaceholder>::PLACEHOLDER,
+        bytes: uper::Octets::new(),
+    };
 }
 
 impl Uper for RegNodeAttributeSetXY {
@@ -11089,6 +12137,25 @@ impl uper::Placeholder for ComputedLane {
             extensions: uper::Extensions::new(),
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for ComputedLane {
+    const PLACEHOLDER: Self = Self {
+        reference_lane_id: <LaneID as uper::ConstPlaceholder>::PLACEHOLDER,
+        offset_xaxis: <ComputedLaneOffsetXaxis as uper::ConstPlaceholder>::PLACEHOLDER,
+        offset_yaxis: <ComputedLaneOffsetYaxis as uper::ConstPlaceholder>::PLACEHOLDER,
+        rotate_xy: None,
+        scale_xaxis: None,
+        scale_yaxis: None,
+        regional: None,
+        extensions: uper::Extensions::new(),
+    };
 }
 
 impl Uper for ComputedLane {
@@ -11290,6 +12357,17 @@ impl uper::Placeholder for ComputedLaneOffsetXaxis {
     fn placeholder() -> Self {
         Self::Small(<DrivenLineOffsetSm as uper::Placeholder>::placeholder())
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for ComputedLaneOffsetXaxis {
+    const PLACEHOLDER: Self =
+        Self::Small(<DrivenLineOffsetSm as uper::ConstPlaceholder>::PLACEHOLDER);
 }
 
 impl Uper for ComputedLaneOffsetXaxis {
@@ -11420,6 +12498,17 @@ impl uper::Placeholder for ComputedLaneOffsetYaxis {
     fn placeholder() -> Self {
         Self::Small(<DrivenLineOffsetSm as uper::Placeholder>::placeholder())
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for ComputedLaneOffsetYaxis {
+    const PLACEHOLDER: Self =
+        Self::Small(<DrivenLineOffsetSm as uper::ConstPlaceholder>::PLACEHOLDER);
 }
 
 impl Uper for ComputedLaneOffsetYaxis {
@@ -11544,6 +12633,16 @@ impl uper::Placeholder for ComputedLaneRegional {
     fn placeholder() -> Self {
         Self(uper::SeqOf::new())
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for ComputedLaneRegional {
+    const PLACEHOLDER: Self = Self(uper::SeqOf::new());
 }
 
 impl Uper for ComputedLaneRegional {
@@ -11668,6 +12767,19 @@ impl uper::Placeholder for RegComputedLane {
             bytes: uper::Octets::new(),
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for RegComputedLane {
+    const PLACEHOLDER: Self = Self::Unknown {
+        id: <RegionId as uper::ConstPlaceholder>::PLACEHOLDER,
+        bytes: uper::Octets::new(),
+    };
 }
 
 impl Uper for RegComputedLane {
@@ -11740,6 +12852,19 @@ impl uper::Placeholder for RoadSegmentReferenceID {
             id: <RoadSegmentID as uper::Placeholder>::placeholder(),
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for RoadSegmentReferenceID {
+    const PLACEHOLDER: Self = Self {
+        region: None,
+        id: <RoadSegmentID as uper::ConstPlaceholder>::PLACEHOLDER,
+    };
 }
 
 impl Uper for RoadSegmentReferenceID {
@@ -11914,6 +13039,16 @@ impl uper::Placeholder for PrioritizationResponseStatus {
     fn placeholder() -> Self {
         Self::Unknown
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for PrioritizationResponseStatus {
+    const PLACEHOLDER: Self = Self::Unknown;
 }
 
 impl Uper for PrioritizationResponseStatus {
@@ -11969,6 +13104,16 @@ impl uper::Placeholder for FurtherInfoID {
     fn placeholder() -> Self {
         Self([0; 2])
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for FurtherInfoID {
+    const PLACEHOLDER: Self = Self([0; 2]);
 }
 
 impl Uper for FurtherInfoID {
@@ -12015,6 +13160,16 @@ impl uper::Placeholder for VehicleID {
     fn placeholder() -> Self {
         Self::EntityID(<TemporaryID as uper::Placeholder>::placeholder())
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for VehicleID {
+    const PLACEHOLDER: Self = Self::EntityID(<TemporaryID as uper::ConstPlaceholder>::PLACEHOLDER);
 }
 
 impl Uper for VehicleID {
@@ -12137,6 +13292,16 @@ impl uper::Placeholder for IntersectionAccessPoint {
     fn placeholder() -> Self {
         Self::Lane(<LaneID as uper::Placeholder>::placeholder())
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for IntersectionAccessPoint {
+    const PLACEHOLDER: Self = Self::Lane(<LaneID as uper::ConstPlaceholder>::PLACEHOLDER);
 }
 
 impl Uper for IntersectionAccessPoint {
@@ -12307,6 +13472,24 @@ impl uper::Placeholder for RequestorType {
             extensions: uper::Extensions::new(),
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for RequestorType {
+    const PLACEHOLDER: Self = Self {
+        role: <BasicVehicleRole as uper::ConstPlaceholder>::PLACEHOLDER,
+        subrole: None,
+        request: None,
+        iso3883: None,
+        hpms_type: None,
+        regional: None,
+        extensions: uper::Extensions::new(),
+    };
 }
 
 impl Uper for RequestorType {
@@ -12652,6 +13835,16 @@ impl uper::Placeholder for RequestSubRole {
     fn placeholder() -> Self {
         Self::RequestSubRoleUnKnown
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for RequestSubRole {
+    const PLACEHOLDER: Self = Self::RequestSubRoleUnKnown;
 }
 
 impl Uper for RequestSubRole {
@@ -12836,6 +14029,16 @@ impl uper::Placeholder for RequestImportanceLevel {
     fn placeholder() -> Self {
         Self::RequestImportanceLevelUnKnown
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for RequestImportanceLevel {
+    const PLACEHOLDER: Self = Self::RequestImportanceLevelUnKnown;
 }
 
 impl Uper for RequestImportanceLevel {
@@ -12948,6 +14151,19 @@ impl uper::Placeholder for RegRequestorType {
             bytes: uper::Octets::new(),
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for RegRequestorType {
+    const PLACEHOLDER: Self = Self::Unknown {
+        id: <RegionId as uper::ConstPlaceholder>::PLACEHOLDER,
+        bytes: uper::Octets::new(),
+    };
 }
 
 impl Uper for RegRequestorType {
@@ -13014,6 +14230,22 @@ impl uper::Placeholder for Header {
             extensions: uper::Extensions::new(),
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for Header {
+    const PLACEHOLDER: Self = Self {
+        year: None,
+        time_stamp: None,
+        sec_mark: None,
+        msg_issue_revision: None,
+        extensions: uper::Extensions::new(),
+    };
 }
 
 impl Uper for Header {
@@ -13193,6 +14425,20 @@ impl uper::Placeholder for DDate {
             day: <DDay as uper::Placeholder>::placeholder(),
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for DDate {
+    const PLACEHOLDER: Self = Self {
+        year: <DYear as uper::ConstPlaceholder>::PLACEHOLDER,
+        month: <DMonth as uper::ConstPlaceholder>::PLACEHOLDER,
+        day: <DDay as uper::ConstPlaceholder>::PLACEHOLDER,
+    };
 }
 
 impl Uper for DDate {
@@ -13273,6 +14519,22 @@ impl uper::Placeholder for DFullTime {
             minute: <DMinute as uper::Placeholder>::placeholder(),
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for DFullTime {
+    const PLACEHOLDER: Self = Self {
+        year: <DYear as uper::ConstPlaceholder>::PLACEHOLDER,
+        month: <DMonth as uper::ConstPlaceholder>::PLACEHOLDER,
+        day: <DDay as uper::ConstPlaceholder>::PLACEHOLDER,
+        hour: <DHour as uper::ConstPlaceholder>::PLACEHOLDER,
+        minute: <DMinute as uper::ConstPlaceholder>::PLACEHOLDER,
+    };
 }
 
 impl Uper for DFullTime {
@@ -13359,6 +14621,19 @@ impl uper::Placeholder for DMonthDay {
             day: <DDay as uper::Placeholder>::placeholder(),
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for DMonthDay {
+    const PLACEHOLDER: Self = Self {
+        month: <DMonth as uper::ConstPlaceholder>::PLACEHOLDER,
+        day: <DDay as uper::ConstPlaceholder>::PLACEHOLDER,
+    };
 }
 
 impl Uper for DMonthDay {
@@ -13429,6 +14704,21 @@ impl uper::Placeholder for DTime {
             offset: None,
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for DTime {
+    const PLACEHOLDER: Self = Self {
+        hour: <DHour as uper::ConstPlaceholder>::PLACEHOLDER,
+        minute: <DMinute as uper::ConstPlaceholder>::PLACEHOLDER,
+        second: <DSecond as uper::ConstPlaceholder>::PLACEHOLDER,
+        offset: None,
+    };
 }
 
 impl Uper for DTime {
@@ -13529,6 +14819,19 @@ impl uper::Placeholder for DYearMonth {
             month: <DMonth as uper::Placeholder>::placeholder(),
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for DYearMonth {
+    const PLACEHOLDER: Self = Self {
+        year: <DYear as uper::ConstPlaceholder>::PLACEHOLDER,
+        month: <DMonth as uper::ConstPlaceholder>::PLACEHOLDER,
+    };
 }
 
 impl Uper for DYearMonth {
@@ -13604,6 +14907,18 @@ impl uper::Placeholder for VerticalOffset {
             <super::basic_safety_message::VertOffsetB07 as uper::Placeholder>::placeholder(),
         )
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for VerticalOffset {
+    const PLACEHOLDER: Self = Self::Offset1(
+        <super::basic_safety_message::VertOffsetB07 as uper::ConstPlaceholder>::PLACEHOLDER,
+    );
 }
 
 impl Uper for VerticalOffset {
@@ -13944,6 +15259,19 @@ impl uper::Placeholder for RegVerticalOffset {
             bytes: uper::Octets::new(),
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for RegVerticalOffset {
+    const PLACEHOLDER: Self = Self::Unknown {
+        id: <RegionId as uper::ConstPlaceholder>::PLACEHOLDER,
+        bytes: uper::Octets::new(),
+    };
 }
 
 impl Uper for RegVerticalOffset {
@@ -14006,6 +15334,16 @@ impl uper::Placeholder for CodeWord {
     fn placeholder() -> Self {
         Self(uper::Octets::new())
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for CodeWord {
+    const PLACEHOLDER: Self = Self(uper::Octets::new());
 }
 
 impl Uper for CodeWord {
@@ -14141,6 +15479,16 @@ impl uper::Placeholder for LocationQuality {
     fn placeholder() -> Self {
         Self::LocQualBt1m
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for LocationQuality {
+    const PLACEHOLDER: Self = Self::LocQualBt1m;
 }
 
 impl Uper for LocationQuality {
@@ -14288,6 +15636,16 @@ impl uper::Placeholder for LocationTech {
     fn placeholder() -> Self {
         Self::LocTechUnknown
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for LocationTech {
+    const PLACEHOLDER: Self = Self::LocTechUnknown;
 }
 
 impl Uper for LocationTech {
@@ -14359,6 +15717,16 @@ impl uper::Placeholder for MessageBLOB {
     fn placeholder() -> Self {
         Self(uper::Octets::new())
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for MessageBLOB {
+    const PLACEHOLDER: Self = Self(uper::Octets::new());
 }
 
 impl Uper for MessageBLOB {
@@ -14414,6 +15782,16 @@ impl uper::Placeholder for PayloadData {
     fn placeholder() -> Self {
         Self(uper::Octets::new())
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for PayloadData {
+    const PLACEHOLDER: Self = Self(uper::Octets::new());
 }
 
 impl Uper for PayloadData {
@@ -14456,6 +15834,16 @@ impl uper::Placeholder for SignalReqScheme {
     fn placeholder() -> Self {
         Self([0; 1])
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for SignalReqScheme {
+    const PLACEHOLDER: Self = Self([0; 1]);
 }
 
 impl Uper for SignalReqScheme {
@@ -14521,6 +15909,16 @@ impl uper::Placeholder for TransitStatus {
     fn placeholder() -> Self {
         Self(uper::Bits::EMPTY)
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for TransitStatus {
+    const PLACEHOLDER: Self = Self(uper::Bits::EMPTY);
 }
 
 impl Uper for TransitStatus {
@@ -14582,6 +15980,16 @@ impl uper::Placeholder for URLLink {
     fn placeholder() -> Self {
         Self(uper::Ia5::new())
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for URLLink {
+    const PLACEHOLDER: Self = Self(uper::Ia5::new());
 }
 
 impl Uper for URLLink {

@@ -34,6 +34,23 @@ impl uper::Placeholder for CommonSafetyRequest {
             extensions: uper::Extensions::new(),
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for CommonSafetyRequest {
+    const PLACEHOLDER: Self = Self {
+        time_stamp: None,
+        msg_cnt: None,
+        id: None,
+        requests: <RequestedItemList as uper::ConstPlaceholder>::PLACEHOLDER,
+        regional: None,
+        extensions: uper::Extensions::new(),
+    };
 }
 
 impl Uper for CommonSafetyRequest {
@@ -237,6 +254,16 @@ impl uper::Placeholder for RequestedItemList {
     fn placeholder() -> Self {
         Self(uper::SeqOf::new())
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for RequestedItemList {
+    const PLACEHOLDER: Self = Self(uper::SeqOf::new());
 }
 
 impl Uper for RequestedItemList {
@@ -449,6 +476,16 @@ impl uper::Placeholder for RequestedItem {
     fn placeholder() -> Self {
         Self::Reserved
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for RequestedItem {
+    const PLACEHOLDER: Self = Self::Reserved;
 }
 
 impl Uper for RequestedItem {
@@ -520,6 +557,16 @@ impl uper::Placeholder for CommonSafetyRequestRegional {
     fn placeholder() -> Self {
         Self(uper::SeqOf::new())
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for CommonSafetyRequestRegional {
+    const PLACEHOLDER: Self = Self(uper::SeqOf::new());
 }
 
 impl Uper for CommonSafetyRequestRegional {
@@ -653,6 +700,19 @@ impl uper::Placeholder for RegCommonSafetyRequest {
             bytes: uper::Octets::new(),
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for RegCommonSafetyRequest {
+    const PLACEHOLDER: Self = Self::Unknown {
+        id: <super::common::RegionId as uper::ConstPlaceholder>::PLACEHOLDER,
+        bytes: uper::Octets::new(),
+    };
 }
 
 impl Uper for RegCommonSafetyRequest {

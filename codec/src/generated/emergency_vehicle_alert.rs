@@ -52,6 +52,29 @@ impl uper::Placeholder for EmergencyVehicleAlert {
             extensions: uper::Extensions::new(),
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for EmergencyVehicleAlert {
+    const PLACEHOLDER: Self = Self {
+        time_stamp: None,
+        id: None,
+        rsa_msg: <super::road_side_alert::RoadSideAlert as uper::ConstPlaceholder>::PLACEHOLDER,
+        response_type: None,
+        details: None,
+        mass: None,
+        basic_type: None,
+        vehicle_type: None,
+        response_equip: None,
+        responder_type: None,
+        regional: None,
+        extensions: uper::Extensions::new(),
+    };
 }
 
 impl Uper for EmergencyVehicleAlert {
@@ -429,6 +452,16 @@ impl uper::Placeholder for EmergencyVehicleAlertRegional {
     fn placeholder() -> Self {
         Self(uper::SeqOf::new())
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for EmergencyVehicleAlertRegional {
+    const PLACEHOLDER: Self = Self(uper::SeqOf::new());
 }
 
 impl Uper for EmergencyVehicleAlertRegional {
@@ -564,6 +597,19 @@ impl uper::Placeholder for RegEmergencyVehicleAlert {
             bytes: uper::Octets::new(),
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for RegEmergencyVehicleAlert {
+    const PLACEHOLDER: Self = Self::Unknown {
+        id: <super::common::RegionId as uper::ConstPlaceholder>::PLACEHOLDER,
+        bytes: uper::Octets::new(),
+    };
 }
 
 impl Uper for RegEmergencyVehicleAlert {

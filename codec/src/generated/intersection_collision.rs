@@ -50,6 +50,29 @@ impl uper::Placeholder for IntersectionCollision {
             extensions: uper::Extensions::new(),
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for IntersectionCollision {
+    const PLACEHOLDER: Self = Self {
+        msg_cnt: <super::common::MsgCount as uper::ConstPlaceholder>::PLACEHOLDER,
+        id: <super::common::TemporaryID as uper::ConstPlaceholder>::PLACEHOLDER,
+        time_stamp: None,
+        part_one: None,
+        path: None,
+        path_prediction: None,
+        intersection_id:
+            <super::common::IntersectionReferenceID as uper::ConstPlaceholder>::PLACEHOLDER,
+        lane_number: <ApproachOrLane as uper::ConstPlaceholder>::PLACEHOLDER,
+        event_flag: <super::common::VehicleEventFlags as uper::ConstPlaceholder>::PLACEHOLDER,
+        regional: None,
+        extensions: uper::Extensions::new(),
+    };
 }
 
 impl Uper for IntersectionCollision {
@@ -316,6 +339,17 @@ impl uper::Placeholder for ApproachOrLane {
     fn placeholder() -> Self {
         Self::Approach(<super::common::ApproachID as uper::Placeholder>::placeholder())
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for ApproachOrLane {
+    const PLACEHOLDER: Self =
+        Self::Approach(<super::common::ApproachID as uper::ConstPlaceholder>::PLACEHOLDER);
 }
 
 impl Uper for ApproachOrLane {
@@ -439,6 +473,16 @@ impl uper::Placeholder for IntersectionCollisionRegional {
     fn placeholder() -> Self {
         Self(uper::SeqOf::new())
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for IntersectionCollisionRegional {
+    const PLACEHOLDER: Self = Self(uper::SeqOf::new());
 }
 
 impl Uper for IntersectionCollisionRegional {
@@ -574,6 +618,19 @@ impl uper::Placeholder for RegIntersectionCollision {
             bytes: uper::Octets::new(),
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for RegIntersectionCollision {
+    const PLACEHOLDER: Self = Self::Unknown {
+        id: <super::common::RegionId as uper::ConstPlaceholder>::PLACEHOLDER,
+        bytes: uper::Octets::new(),
+    };
 }
 
 impl Uper for RegIntersectionCollision {

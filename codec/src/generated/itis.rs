@@ -306,6 +306,16 @@ impl uper::Placeholder for VehicleGroupAffected {
     fn placeholder() -> Self {
         Self::AllVehicles
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for VehicleGroupAffected {
+    const PLACEHOLDER: Self = Self::AllVehicles;
 }
 
 impl Uper for VehicleGroupAffected {
@@ -900,6 +910,16 @@ impl uper::Placeholder for IncidentResponseEquipment {
     fn placeholder() -> Self {
         Self::GroundFireSuppression
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for IncidentResponseEquipment {
+    const PLACEHOLDER: Self = Self::GroundFireSuppression;
 }
 
 impl Uper for IncidentResponseEquipment {
@@ -1088,6 +1108,16 @@ impl uper::Placeholder for ResponderGroupAffected {
     fn placeholder() -> Self {
         Self::EmergencyVehicleUnits
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for ResponderGroupAffected {
+    const PLACEHOLDER: Self = Self::EmergencyVehicleUnits;
 }
 
 impl Uper for ResponderGroupAffected {
@@ -1850,6 +1880,16 @@ impl uper::Placeholder for GenericLocations {
     fn placeholder() -> Self {
         Self::OnBridges
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for GenericLocations {
+    const PLACEHOLDER: Self = Self::OnBridges;
 }
 
 impl Uper for GenericLocations {
@@ -1924,6 +1964,16 @@ impl uper::Placeholder for ITIScodesAndText {
     fn placeholder() -> Self {
         Self(uper::SeqOf::new())
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for ITIScodesAndText {
+    const PLACEHOLDER: Self = Self(uper::SeqOf::new());
 }
 
 impl Uper for ITIScodesAndText {
@@ -1987,6 +2037,18 @@ impl uper::Placeholder for ITIScodesAndTextItem {
             item: <ITIScodesAndTextItemItem as uper::Placeholder>::placeholder(),
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for ITIScodesAndTextItem {
+    const PLACEHOLDER: Self = Self {
+        item: <ITIScodesAndTextItemItem as uper::ConstPlaceholder>::PLACEHOLDER,
+    };
 }
 
 impl Uper for ITIScodesAndTextItem {
@@ -2043,6 +2105,16 @@ impl uper::Placeholder for ITIScodesAndTextItemItem {
     fn placeholder() -> Self {
         Self::Itis(<ITIScodes as uper::Placeholder>::placeholder())
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for ITIScodesAndTextItemItem {
+    const PLACEHOLDER: Self = Self::Itis(<ITIScodes as uper::ConstPlaceholder>::PLACEHOLDER);
 }
 
 impl Uper for ITIScodesAndTextItemItem {
@@ -2160,6 +2232,16 @@ impl uper::Placeholder for ITIStext {
     fn placeholder() -> Self {
         Self(uper::Ia5::new())
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for ITIStext {
+    const PLACEHOLDER: Self = Self(uper::Ia5::new());
 }
 
 impl Uper for ITIStext {

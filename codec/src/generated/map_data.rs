@@ -46,6 +46,27 @@ impl uper::Placeholder for MapData {
             extensions: uper::Extensions::new(),
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for MapData {
+    const PLACEHOLDER: Self = Self {
+        time_stamp: None,
+        msg_issue_revision: <super::common::MsgCount as uper::ConstPlaceholder>::PLACEHOLDER,
+        layer_type: None,
+        layer_id: None,
+        intersections: None,
+        road_segments: None,
+        data_parameters: None,
+        restriction_list: None,
+        regional: None,
+        extensions: uper::Extensions::new(),
+    };
 }
 
 impl Uper for MapData {
@@ -432,6 +453,16 @@ impl uper::Placeholder for LayerType {
     fn placeholder() -> Self {
         Self::None
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for LayerType {
+    const PLACEHOLDER: Self = Self::None;
 }
 
 impl Uper for LayerType {
@@ -514,6 +545,16 @@ impl uper::Placeholder for IntersectionGeometryList {
     fn placeholder() -> Self {
         Self(uper::SeqOf::new())
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for IntersectionGeometryList {
+    const PLACEHOLDER: Self = Self(uper::SeqOf::new());
 }
 
 impl Uper for IntersectionGeometryList {
@@ -611,6 +652,27 @@ impl uper::Placeholder for IntersectionGeometry {
             extensions: uper::Extensions::new(),
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for IntersectionGeometry {
+    const PLACEHOLDER: Self = Self {
+        name: None,
+        id: <super::common::IntersectionReferenceID as uper::ConstPlaceholder>::PLACEHOLDER,
+        revision: <super::common::MsgCount as uper::ConstPlaceholder>::PLACEHOLDER,
+        ref_point: <super::common::Position3D as uper::ConstPlaceholder>::PLACEHOLDER,
+        lane_width: None,
+        speed_limits: None,
+        lane_set: <LaneList as uper::ConstPlaceholder>::PLACEHOLDER,
+        preempt_priority_data: None,
+        regional: None,
+        extensions: uper::Extensions::new(),
+    };
 }
 
 impl Uper for IntersectionGeometry {
@@ -875,6 +937,16 @@ impl uper::Placeholder for LaneList {
     fn placeholder() -> Self {
         Self(uper::SeqOf::new())
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for LaneList {
+    const PLACEHOLDER: Self = Self(uper::SeqOf::new());
 }
 
 impl Uper for LaneList {
@@ -969,6 +1041,28 @@ impl uper::Placeholder for GenericLane {
             extensions: uper::Extensions::new(),
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for GenericLane {
+    const PLACEHOLDER: Self = Self {
+        lane_id: <super::common::LaneID as uper::ConstPlaceholder>::PLACEHOLDER,
+        name: None,
+        ingress_approach: None,
+        egress_approach: None,
+        lane_attributes: <LaneAttributes as uper::ConstPlaceholder>::PLACEHOLDER,
+        maneuvers: None,
+        node_list: <super::common::NodeListXY as uper::ConstPlaceholder>::PLACEHOLDER,
+        connects_to: None,
+        overlays: None,
+        regional: None,
+        extensions: uper::Extensions::new(),
+    };
 }
 
 impl Uper for GenericLane {
@@ -1282,6 +1376,21 @@ impl uper::Placeholder for LaneAttributes {
             regional: None,
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for LaneAttributes {
+    const PLACEHOLDER: Self = Self {
+        directional_use: <LaneDirection as uper::ConstPlaceholder>::PLACEHOLDER,
+        shared_with: <LaneSharing as uper::ConstPlaceholder>::PLACEHOLDER,
+        lane_type: <LaneTypeAttributes as uper::ConstPlaceholder>::PLACEHOLDER,
+        regional: None,
+    };
 }
 
 impl Uper for LaneAttributes {
@@ -1400,6 +1509,16 @@ impl uper::Placeholder for LaneDirection {
     fn placeholder() -> Self {
         Self(uper::Bits::EMPTY)
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for LaneDirection {
+    const PLACEHOLDER: Self = Self(uper::Bits::EMPTY);
 }
 
 impl Uper for LaneDirection {
@@ -1479,6 +1598,16 @@ impl uper::Placeholder for LaneSharing {
     fn placeholder() -> Self {
         Self(uper::Bits::EMPTY)
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for LaneSharing {
+    const PLACEHOLDER: Self = Self(uper::Bits::EMPTY);
 }
 
 impl Uper for LaneSharing {
@@ -1550,6 +1679,17 @@ impl uper::Placeholder for LaneTypeAttributes {
     fn placeholder() -> Self {
         Self::Vehicle(<LaneAttributesVehicle as uper::Placeholder>::placeholder())
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for LaneTypeAttributes {
+    const PLACEHOLDER: Self =
+        Self::Vehicle(<LaneAttributesVehicle as uper::ConstPlaceholder>::PLACEHOLDER);
 }
 
 impl Uper for LaneTypeAttributes {
@@ -1853,6 +1993,16 @@ impl uper::Placeholder for LaneAttributesVehicle {
     fn placeholder() -> Self {
         Self(uper::Bits::EMPTY)
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for LaneAttributesVehicle {
+    const PLACEHOLDER: Self = Self(uper::Bits::EMPTY);
 }
 
 impl Uper for LaneAttributesVehicle {
@@ -1927,6 +2077,16 @@ impl uper::Placeholder for LaneAttributesCrosswalk {
     fn placeholder() -> Self {
         Self(uper::Bits::EMPTY)
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for LaneAttributesCrosswalk {
+    const PLACEHOLDER: Self = Self(uper::Bits::EMPTY);
 }
 
 impl Uper for LaneAttributesCrosswalk {
@@ -2000,6 +2160,16 @@ impl uper::Placeholder for LaneAttributesBike {
     fn placeholder() -> Self {
         Self(uper::Bits::EMPTY)
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for LaneAttributesBike {
+    const PLACEHOLDER: Self = Self(uper::Bits::EMPTY);
 }
 
 impl Uper for LaneAttributesBike {
@@ -2067,6 +2237,16 @@ impl uper::Placeholder for LaneAttributesSidewalk {
     fn placeholder() -> Self {
         Self(uper::Bits::EMPTY)
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for LaneAttributesSidewalk {
+    const PLACEHOLDER: Self = Self(uper::Bits::EMPTY);
 }
 
 impl Uper for LaneAttributesSidewalk {
@@ -2146,6 +2326,16 @@ impl uper::Placeholder for LaneAttributesBarrier {
     fn placeholder() -> Self {
         Self(uper::Bits::EMPTY)
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for LaneAttributesBarrier {
+    const PLACEHOLDER: Self = Self(uper::Bits::EMPTY);
 }
 
 impl Uper for LaneAttributesBarrier {
@@ -2217,6 +2407,16 @@ impl uper::Placeholder for LaneAttributesStriping {
     fn placeholder() -> Self {
         Self(uper::Bits::EMPTY)
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for LaneAttributesStriping {
+    const PLACEHOLDER: Self = Self(uper::Bits::EMPTY);
 }
 
 impl Uper for LaneAttributesStriping {
@@ -2286,6 +2486,16 @@ impl uper::Placeholder for LaneAttributesTrackedVehicle {
     fn placeholder() -> Self {
         Self(uper::Bits::EMPTY)
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for LaneAttributesTrackedVehicle {
+    const PLACEHOLDER: Self = Self(uper::Bits::EMPTY);
 }
 
 impl Uper for LaneAttributesTrackedVehicle {
@@ -2359,6 +2569,16 @@ impl uper::Placeholder for LaneAttributesParking {
     fn placeholder() -> Self {
         Self(uper::Bits::EMPTY)
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for LaneAttributesParking {
+    const PLACEHOLDER: Self = Self(uper::Bits::EMPTY);
 }
 
 impl Uper for LaneAttributesParking {
@@ -2477,6 +2697,19 @@ impl uper::Placeholder for RegLaneAttributes {
             bytes: uper::Octets::new(),
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for RegLaneAttributes {
+    const PLACEHOLDER: Self = Self::Unknown {
+        id: <super::common::RegionId as uper::ConstPlaceholder>::PLACEHOLDER,
+        bytes: uper::Octets::new(),
+    };
 }
 
 impl Uper for RegLaneAttributes {
@@ -2562,6 +2795,16 @@ impl uper::Placeholder for AllowedManeuvers {
     fn placeholder() -> Self {
         Self(uper::Bits::EMPTY)
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for AllowedManeuvers {
+    const PLACEHOLDER: Self = Self(uper::Bits::EMPTY);
 }
 
 impl Uper for AllowedManeuvers {
@@ -2627,6 +2870,16 @@ impl uper::Placeholder for ConnectsToList {
     fn placeholder() -> Self {
         Self(uper::SeqOf::new())
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for ConnectsToList {
+    const PLACEHOLDER: Self = Self(uper::SeqOf::new());
 }
 
 impl Uper for ConnectsToList {
@@ -2703,6 +2956,22 @@ impl uper::Placeholder for Connection {
             connection_id: None,
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for Connection {
+    const PLACEHOLDER: Self = Self {
+        connecting_lane: <ConnectingLane as uper::ConstPlaceholder>::PLACEHOLDER,
+        remote_intersection: None,
+        signal_group: None,
+        user_class: None,
+        connection_id: None,
+    };
 }
 
 impl Uper for Connection {
@@ -2884,6 +3153,19 @@ impl uper::Placeholder for ConnectingLane {
             maneuver: None,
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for ConnectingLane {
+    const PLACEHOLDER: Self = Self {
+        lane: <super::common::LaneID as uper::ConstPlaceholder>::PLACEHOLDER,
+        maneuver: None,
+    };
 }
 
 impl Uper for ConnectingLane {
@@ -2985,6 +3267,16 @@ impl uper::Placeholder for OverlayLaneList {
     fn placeholder() -> Self {
         Self(uper::SeqOf::new())
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for OverlayLaneList {
+    const PLACEHOLDER: Self = Self(uper::SeqOf::new());
 }
 
 impl Uper for OverlayLaneList {
@@ -3061,6 +3353,16 @@ impl uper::Placeholder for GenericLaneRegional {
     fn placeholder() -> Self {
         Self(uper::SeqOf::new())
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for GenericLaneRegional {
+    const PLACEHOLDER: Self = Self(uper::SeqOf::new());
 }
 
 impl Uper for GenericLaneRegional {
@@ -3189,6 +3491,19 @@ impl uper::Placeholder for RegGenericLane {
             bytes: uper::Octets::new(),
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for RegGenericLane {
+    const PLACEHOLDER: Self = Self::Unknown {
+        id: <super::common::RegionId as uper::ConstPlaceholder>::PLACEHOLDER,
+        bytes: uper::Octets::new(),
+    };
 }
 
 impl Uper for RegGenericLane {
@@ -3254,6 +3569,16 @@ impl uper::Placeholder for PreemptPriorityList {
     fn placeholder() -> Self {
         Self(uper::SeqOf::new())
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for PreemptPriorityList {
+    const PLACEHOLDER: Self = Self(uper::SeqOf::new());
 }
 
 impl Uper for PreemptPriorityList {
@@ -3319,6 +3644,19 @@ impl uper::Placeholder for SignalControlZone {
             extensions: uper::Extensions::new(),
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for SignalControlZone {
+    const PLACEHOLDER: Self = Self {
+        zone: <RegSignalControlZone as uper::ConstPlaceholder>::PLACEHOLDER,
+        extensions: uper::Extensions::new(),
+    };
 }
 
 impl Uper for SignalControlZone {
@@ -3457,6 +3795,19 @@ impl uper::Placeholder for RegSignalControlZone {
             bytes: uper::Octets::new(),
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for RegSignalControlZone {
+    const PLACEHOLDER: Self = Self::Unknown {
+        id: <super::common::RegionId as uper::ConstPlaceholder>::PLACEHOLDER,
+        bytes: uper::Octets::new(),
+    };
 }
 
 impl Uper for RegSignalControlZone {
@@ -3522,6 +3873,16 @@ impl uper::Placeholder for IntersectionGeometryRegional {
     fn placeholder() -> Self {
         Self(uper::SeqOf::new())
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for IntersectionGeometryRegional {
+    const PLACEHOLDER: Self = Self(uper::SeqOf::new());
 }
 
 impl Uper for IntersectionGeometryRegional {
@@ -3655,6 +4016,19 @@ impl uper::Placeholder for RegIntersectionGeometry {
             bytes: uper::Octets::new(),
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for RegIntersectionGeometry {
+    const PLACEHOLDER: Self = Self::Unknown {
+        id: <super::common::RegionId as uper::ConstPlaceholder>::PLACEHOLDER,
+        bytes: uper::Octets::new(),
+    };
 }
 
 impl Uper for RegIntersectionGeometry {
@@ -3722,6 +4096,16 @@ impl uper::Placeholder for RoadSegmentList {
     fn placeholder() -> Self {
         Self(uper::SeqOf::new())
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for RoadSegmentList {
+    const PLACEHOLDER: Self = Self(uper::SeqOf::new());
 }
 
 impl Uper for RoadSegmentList {
@@ -3810,6 +4194,26 @@ impl uper::Placeholder for RoadSegment {
             extensions: uper::Extensions::new(),
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for RoadSegment {
+    const PLACEHOLDER: Self = Self {
+        name: None,
+        id: <super::common::RoadSegmentReferenceID as uper::ConstPlaceholder>::PLACEHOLDER,
+        revision: <super::common::MsgCount as uper::ConstPlaceholder>::PLACEHOLDER,
+        ref_point: <super::common::Position3D as uper::ConstPlaceholder>::PLACEHOLDER,
+        lane_width: None,
+        speed_limits: None,
+        road_lane_set: <RoadLaneSetList as uper::ConstPlaceholder>::PLACEHOLDER,
+        regional: None,
+        extensions: uper::Extensions::new(),
+    };
 }
 
 impl Uper for RoadSegment {
@@ -4049,6 +4453,16 @@ impl uper::Placeholder for RoadLaneSetList {
     fn placeholder() -> Self {
         Self(uper::SeqOf::new())
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for RoadLaneSetList {
+    const PLACEHOLDER: Self = Self(uper::SeqOf::new());
 }
 
 impl Uper for RoadLaneSetList {
@@ -4124,6 +4538,16 @@ impl uper::Placeholder for RoadSegmentRegional {
     fn placeholder() -> Self {
         Self(uper::SeqOf::new())
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for RoadSegmentRegional {
+    const PLACEHOLDER: Self = Self(uper::SeqOf::new());
 }
 
 impl Uper for RoadSegmentRegional {
@@ -4252,6 +4676,19 @@ impl uper::Placeholder for RegRoadSegment {
             bytes: uper::Octets::new(),
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for RegRoadSegment {
+    const PLACEHOLDER: Self = Self::Unknown {
+        id: <super::common::RegionId as uper::ConstPlaceholder>::PLACEHOLDER,
+        bytes: uper::Octets::new(),
+    };
 }
 
 impl Uper for RegRoadSegment {
@@ -4318,6 +4755,22 @@ impl uper::Placeholder for DataParameters {
             extensions: uper::Extensions::new(),
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for DataParameters {
+    const PLACEHOLDER: Self = Self {
+        process_method: None,
+        process_agency: None,
+        last_checked_date: None,
+        geoid_used: None,
+        extensions: uper::Extensions::new(),
+    };
 }
 
 impl Uper for DataParameters {
@@ -4508,6 +4961,16 @@ impl uper::Placeholder for DataParametersProcessMethod {
     fn placeholder() -> Self {
         Self(uper::Ia5::new())
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for DataParametersProcessMethod {
+    const PLACEHOLDER: Self = Self(uper::Ia5::new());
 }
 
 impl Uper for DataParametersProcessMethod {
@@ -4569,6 +5032,16 @@ impl uper::Placeholder for DataParametersProcessAgency {
     fn placeholder() -> Self {
         Self(uper::Ia5::new())
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for DataParametersProcessAgency {
+    const PLACEHOLDER: Self = Self(uper::Ia5::new());
 }
 
 impl Uper for DataParametersProcessAgency {
@@ -4630,6 +5103,16 @@ impl uper::Placeholder for DataParametersLastCheckedDate {
     fn placeholder() -> Self {
         Self(uper::Ia5::new())
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for DataParametersLastCheckedDate {
+    const PLACEHOLDER: Self = Self(uper::Ia5::new());
 }
 
 impl Uper for DataParametersLastCheckedDate {
@@ -4691,6 +5174,16 @@ impl uper::Placeholder for DataParametersGeoidUsed {
     fn placeholder() -> Self {
         Self(uper::Ia5::new())
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for DataParametersGeoidUsed {
+    const PLACEHOLDER: Self = Self(uper::Ia5::new());
 }
 
 impl Uper for DataParametersGeoidUsed {
@@ -4754,6 +5247,16 @@ impl uper::Placeholder for RestrictionClassList {
     fn placeholder() -> Self {
         Self(uper::SeqOf::new())
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for RestrictionClassList {
+    const PLACEHOLDER: Self = Self(uper::SeqOf::new());
 }
 
 impl Uper for RestrictionClassList {
@@ -4819,6 +5322,19 @@ impl uper::Placeholder for RestrictionClassAssignment {
             users: <RestrictionUserTypeList as uper::Placeholder>::placeholder(),
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for RestrictionClassAssignment {
+    const PLACEHOLDER: Self = Self {
+        id: <super::common::RestrictionClassID as uper::ConstPlaceholder>::PLACEHOLDER,
+        users: <RestrictionUserTypeList as uper::ConstPlaceholder>::PLACEHOLDER,
+    };
 }
 
 impl Uper for RestrictionClassAssignment {
@@ -4901,6 +5417,16 @@ impl uper::Placeholder for RestrictionUserTypeList {
     fn placeholder() -> Self {
         Self(uper::SeqOf::new())
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for RestrictionUserTypeList {
+    const PLACEHOLDER: Self = Self(uper::SeqOf::new());
 }
 
 impl Uper for RestrictionUserTypeList {
@@ -4973,6 +5499,17 @@ impl uper::Placeholder for RestrictionUserType {
     fn placeholder() -> Self {
         Self::BasicType(<RestrictionAppliesTo as uper::Placeholder>::placeholder())
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for RestrictionUserType {
+    const PLACEHOLDER: Self =
+        Self::BasicType(<RestrictionAppliesTo as uper::ConstPlaceholder>::PLACEHOLDER);
 }
 
 impl Uper for RestrictionUserType {
@@ -5227,6 +5764,16 @@ impl uper::Placeholder for RestrictionAppliesTo {
     fn placeholder() -> Self {
         Self::None
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for RestrictionAppliesTo {
+    const PLACEHOLDER: Self = Self::None;
 }
 
 impl Uper for RestrictionAppliesTo {
@@ -5303,6 +5850,16 @@ impl uper::Placeholder for RestrictionUserTypeRegional {
     fn placeholder() -> Self {
         Self(uper::SeqOf::new())
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for RestrictionUserTypeRegional {
+    const PLACEHOLDER: Self = Self(uper::SeqOf::new());
 }
 
 impl Uper for RestrictionUserTypeRegional {
@@ -5456,6 +6013,19 @@ impl uper::Placeholder for RegRestrictionUserType {
             bytes: uper::Octets::new(),
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for RegRestrictionUserType {
+    const PLACEHOLDER: Self = Self::Unknown {
+        id: <super::common::RegionId as uper::ConstPlaceholder>::PLACEHOLDER,
+        bytes: uper::Octets::new(),
+    };
 }
 
 impl Uper for RegRestrictionUserType {
@@ -5540,6 +6110,16 @@ impl uper::Placeholder for MapDataRegional {
     fn placeholder() -> Self {
         Self(uper::SeqOf::new())
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for MapDataRegional {
+    const PLACEHOLDER: Self = Self(uper::SeqOf::new());
 }
 
 impl Uper for MapDataRegional {
@@ -5684,6 +6264,19 @@ impl uper::Placeholder for RegMapData {
             bytes: uper::Octets::new(),
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for RegMapData {
+    const PLACEHOLDER: Self = Self::Unknown {
+        id: <super::common::RegionId as uper::ConstPlaceholder>::PLACEHOLDER,
+        bytes: uper::Octets::new(),
+    };
 }
 
 impl Uper for RegMapData {

@@ -22,6 +22,19 @@ impl uper::Placeholder for MessageFrame {
             extensions: uper::Extensions::new(),
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for MessageFrame {
+    const PLACEHOLDER: Self = Self {
+        value: <MessageFrameValue as uper::ConstPlaceholder>::PLACEHOLDER,
+        extensions: uper::Extensions::new(),
+    };
 }
 
 impl Uper for MessageFrame {
@@ -932,6 +945,19 @@ impl uper::Placeholder for MessageFrameValue {
             bytes: uper::Octets::new(),
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for MessageFrameValue {
+    const PLACEHOLDER: Self = Self::Unknown {
+        id: <DSRCmsgID as uper::ConstPlaceholder>::PLACEHOLDER,
+        bytes: uper::Octets::new(),
+    };
 }
 
 impl Uper for MessageFrameValue {

@@ -37,6 +37,24 @@ impl uper::Placeholder for NMEAcorrections {
             extensions: uper::Extensions::new(),
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for NMEAcorrections {
+    const PLACEHOLDER: Self = Self {
+        time_stamp: None,
+        rev: None,
+        msg: None,
+        wd_count: None,
+        payload: <NMEAPayload as uper::ConstPlaceholder>::PLACEHOLDER,
+        regional: None,
+        extensions: uper::Extensions::new(),
+    };
 }
 
 impl Uper for NMEAcorrections {
@@ -322,6 +340,16 @@ impl uper::Placeholder for NMEARevision {
     fn placeholder() -> Self {
         Self::Unknown
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for NMEARevision {
+    const PLACEHOLDER: Self = Self::Unknown;
 }
 
 impl Uper for NMEARevision {
@@ -400,6 +428,16 @@ impl uper::Placeholder for NMEAPayload {
     fn placeholder() -> Self {
         Self(uper::Octets::new())
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for NMEAPayload {
+    const PLACEHOLDER: Self = Self(uper::Octets::new());
 }
 
 impl Uper for NMEAPayload {
@@ -458,6 +496,16 @@ impl uper::Placeholder for NMEAcorrectionsRegional {
     fn placeholder() -> Self {
         Self(uper::SeqOf::new())
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for NMEAcorrectionsRegional {
+    const PLACEHOLDER: Self = Self(uper::SeqOf::new());
 }
 
 impl Uper for NMEAcorrectionsRegional {
@@ -591,6 +639,19 @@ impl uper::Placeholder for RegNMEAcorrections {
             bytes: uper::Octets::new(),
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for RegNMEAcorrections {
+    const PLACEHOLDER: Self = Self::Unknown {
+        id: <super::common::RegionId as uper::ConstPlaceholder>::PLACEHOLDER,
+        bytes: uper::Octets::new(),
+    };
 }
 
 impl Uper for RegNMEAcorrections {

@@ -58,6 +58,16 @@ impl uper::Placeholder for EssPrecipYesNo {
     fn placeholder() -> Self {
         Self::Precip
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for EssPrecipYesNo {
+    const PLACEHOLDER: Self = Self::Precip;
 }
 
 impl Uper for EssPrecipYesNo {
@@ -237,6 +247,16 @@ impl uper::Placeholder for EssPrecipSituation {
     fn placeholder() -> Self {
         Self::Other
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for EssPrecipSituation {
+    const PLACEHOLDER: Self = Self::Other;
 }
 
 impl Uper for EssPrecipSituation {

@@ -97,6 +97,44 @@ impl uper::Placeholder for PersonalSafetyMessage {
             extensions: uper::Extensions::new(),
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for PersonalSafetyMessage {
+    const PLACEHOLDER: Self = Self {
+        basic_type: <PersonalDeviceUserType as uper::ConstPlaceholder>::PLACEHOLDER,
+        sec_mark: <super::common::DSecond as uper::ConstPlaceholder>::PLACEHOLDER,
+        msg_cnt: <super::common::MsgCount as uper::ConstPlaceholder>::PLACEHOLDER,
+        id: <super::common::TemporaryID as uper::ConstPlaceholder>::PLACEHOLDER,
+        position: <super::common::Position3D as uper::ConstPlaceholder>::PLACEHOLDER,
+        accuracy: <super::common::PositionalAccuracy as uper::ConstPlaceholder>::PLACEHOLDER,
+        speed: <super::common::Velocity as uper::ConstPlaceholder>::PLACEHOLDER,
+        heading: <super::common::Heading as uper::ConstPlaceholder>::PLACEHOLDER,
+        accel_set: None,
+        path_history: None,
+        path_prediction: None,
+        propulsion: None,
+        use_state: None,
+        cross_request: None,
+        cross_state: None,
+        cluster_size: None,
+        cluster_radius: None,
+        event_responder_type: None,
+        activity_type: None,
+        activity_sub_type: None,
+        assist_type: None,
+        sizing: None,
+        attachment: None,
+        attachment_radius: None,
+        animal_type: None,
+        regional: None,
+        extensions: uper::Extensions::new(),
+    };
 }
 
 impl Uper for PersonalSafetyMessage {
@@ -830,6 +868,16 @@ impl uper::Placeholder for PersonalDeviceUserType {
     fn placeholder() -> Self {
         Self::Unavailable
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for PersonalDeviceUserType {
+    const PLACEHOLDER: Self = Self::Unavailable;
 }
 
 impl Uper for PersonalDeviceUserType {
@@ -902,6 +950,17 @@ impl uper::Placeholder for PropelledInformation {
     fn placeholder() -> Self {
         Self::Human(<HumanPropelledType as uper::Placeholder>::placeholder())
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for PropelledInformation {
+    const PLACEHOLDER: Self =
+        Self::Human(<HumanPropelledType as uper::ConstPlaceholder>::PLACEHOLDER);
 }
 
 impl Uper for PropelledInformation {
@@ -1124,6 +1183,16 @@ impl uper::Placeholder for HumanPropelledType {
     fn placeholder() -> Self {
         Self::Unavailable
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for HumanPropelledType {
+    const PLACEHOLDER: Self = Self::Unavailable;
 }
 
 impl Uper for HumanPropelledType {
@@ -1242,6 +1311,16 @@ impl uper::Placeholder for AnimalPropelledType {
     fn placeholder() -> Self {
         Self::Unavailable
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for AnimalPropelledType {
+    const PLACEHOLDER: Self = Self::Unavailable;
 }
 
 impl Uper for AnimalPropelledType {
@@ -1374,6 +1453,16 @@ impl uper::Placeholder for MotorizedPropelledType {
     fn placeholder() -> Self {
         Self::Unavailable
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for MotorizedPropelledType {
+    const PLACEHOLDER: Self = Self::Unavailable;
 }
 
 impl Uper for MotorizedPropelledType {
@@ -1459,6 +1548,16 @@ impl uper::Placeholder for PersonalDeviceUsageState {
     fn placeholder() -> Self {
         Self(uper::Bits::EMPTY)
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for PersonalDeviceUsageState {
+    const PLACEHOLDER: Self = Self(uper::Bits::EMPTY);
 }
 
 impl Uper for PersonalDeviceUsageState {
@@ -1568,6 +1667,16 @@ impl uper::Placeholder for NumberOfParticipantsInCluster {
     fn placeholder() -> Self {
         Self::Unavailable
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for NumberOfParticipantsInCluster {
+    const PLACEHOLDER: Self = Self::Unavailable;
 }
 
 impl Uper for NumberOfParticipantsInCluster {
@@ -1725,6 +1834,16 @@ impl uper::Placeholder for PublicSafetyEventResponderWorkerType {
     fn placeholder() -> Self {
         Self::Unavailable
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for PublicSafetyEventResponderWorkerType {
+    const PLACEHOLDER: Self = Self::Unavailable;
 }
 
 impl Uper for PublicSafetyEventResponderWorkerType {
@@ -1804,6 +1923,16 @@ impl uper::Placeholder for PublicSafetyAndRoadWorkerActivity {
     fn placeholder() -> Self {
         Self(uper::Bits::EMPTY)
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for PublicSafetyAndRoadWorkerActivity {
+    const PLACEHOLDER: Self = Self(uper::Bits::EMPTY);
 }
 
 impl Uper for PublicSafetyAndRoadWorkerActivity {
@@ -1875,6 +2004,16 @@ impl uper::Placeholder for PublicSafetyDirectingTrafficSubType {
     fn placeholder() -> Self {
         Self(uper::Bits::EMPTY)
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for PublicSafetyDirectingTrafficSubType {
+    const PLACEHOLDER: Self = Self(uper::Bits::EMPTY);
 }
 
 impl Uper for PublicSafetyDirectingTrafficSubType {
@@ -1944,6 +2083,16 @@ impl uper::Placeholder for PersonalAssistive {
     fn placeholder() -> Self {
         Self(uper::Bits::EMPTY)
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for PersonalAssistive {
+    const PLACEHOLDER: Self = Self(uper::Bits::EMPTY);
 }
 
 impl Uper for PersonalAssistive {
@@ -2007,6 +2156,16 @@ impl uper::Placeholder for UserSizeAndBehaviour {
     fn placeholder() -> Self {
         Self(uper::Bits::EMPTY)
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for UserSizeAndBehaviour {
+    const PLACEHOLDER: Self = Self(uper::Bits::EMPTY);
 }
 
 impl Uper for UserSizeAndBehaviour {
@@ -2132,6 +2291,16 @@ impl uper::Placeholder for Attachment {
     fn placeholder() -> Self {
         Self::Unavailable
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for Attachment {
+    const PLACEHOLDER: Self = Self::Unavailable;
 }
 
 impl Uper for Attachment {
@@ -2256,6 +2425,16 @@ impl uper::Placeholder for AnimalType {
     fn placeholder() -> Self {
         Self::Unavailable
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for AnimalType {
+    const PLACEHOLDER: Self = Self::Unavailable;
 }
 
 impl Uper for AnimalType {
@@ -2330,6 +2509,16 @@ impl uper::Placeholder for PersonalSafetyMessageRegional {
     fn placeholder() -> Self {
         Self(uper::SeqOf::new())
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for PersonalSafetyMessageRegional {
+    const PLACEHOLDER: Self = Self(uper::SeqOf::new());
 }
 
 impl Uper for PersonalSafetyMessageRegional {
@@ -2465,6 +2654,19 @@ impl uper::Placeholder for RegPersonalSafetyMessage {
             bytes: uper::Octets::new(),
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for RegPersonalSafetyMessage {
+    const PLACEHOLDER: Self = Self::Unknown {
+        id: <super::common::RegionId as uper::ConstPlaceholder>::PLACEHOLDER,
+        bytes: uper::Octets::new(),
+    };
 }
 
 impl Uper for RegPersonalSafetyMessage {

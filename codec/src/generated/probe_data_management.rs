@@ -43,6 +43,26 @@ impl uper::Placeholder for ProbeDataManagement {
             extensions: uper::Extensions::new(),
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for ProbeDataManagement {
+    const PLACEHOLDER: Self = Self {
+        time_stamp: None,
+        sample: <Sample as uper::ConstPlaceholder>::PLACEHOLDER,
+        directions: <super::common::HeadingSlice as uper::ConstPlaceholder>::PLACEHOLDER,
+        term: <ProbeDataManagementTerm as uper::ConstPlaceholder>::PLACEHOLDER,
+        snapshot: <ProbeDataManagementSnapshot as uper::ConstPlaceholder>::PLACEHOLDER,
+        tx_interval: <SecondOfTime as uper::ConstPlaceholder>::PLACEHOLDER,
+        data_elements: None,
+        regional: None,
+        extensions: uper::Extensions::new(),
+    };
 }
 
 impl Uper for ProbeDataManagement {
@@ -248,6 +268,19 @@ impl uper::Placeholder for Sample {
             sample_end: <SampleSampleEnd as uper::Placeholder>::placeholder(),
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for Sample {
+    const PLACEHOLDER: Self = Self {
+        sample_start: <SampleSampleStart as uper::ConstPlaceholder>::PLACEHOLDER,
+        sample_end: <SampleSampleEnd as uper::ConstPlaceholder>::PLACEHOLDER,
+    };
 }
 
 impl Uper for Sample {
@@ -339,6 +372,16 @@ impl uper::Placeholder for ProbeDataManagementTerm {
     fn placeholder() -> Self {
         Self::Termtime(<TermTime as uper::Placeholder>::placeholder())
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for ProbeDataManagementTerm {
+    const PLACEHOLDER: Self = Self::Termtime(<TermTime as uper::ConstPlaceholder>::PLACEHOLDER);
 }
 
 impl Uper for ProbeDataManagementTerm {
@@ -463,6 +506,17 @@ impl uper::Placeholder for ProbeDataManagementSnapshot {
     fn placeholder() -> Self {
         Self::SnapshotTime(<SnapshotTime as uper::Placeholder>::placeholder())
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for ProbeDataManagementSnapshot {
+    const PLACEHOLDER: Self =
+        Self::SnapshotTime(<SnapshotTime as uper::ConstPlaceholder>::PLACEHOLDER);
 }
 
 impl Uper for ProbeDataManagementSnapshot {
@@ -582,6 +636,21 @@ impl uper::Placeholder for SnapshotTime {
             time2: <SecondOfTime as uper::Placeholder>::placeholder(),
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for SnapshotTime {
+    const PLACEHOLDER: Self = Self {
+        speed1: <super::common::GrossSpeed as uper::ConstPlaceholder>::PLACEHOLDER,
+        time1: <SecondOfTime as uper::ConstPlaceholder>::PLACEHOLDER,
+        speed2: <super::common::GrossSpeed as uper::ConstPlaceholder>::PLACEHOLDER,
+        time2: <SecondOfTime as uper::ConstPlaceholder>::PLACEHOLDER,
+    };
 }
 
 impl Uper for SnapshotTime {
@@ -681,6 +750,21 @@ impl uper::Placeholder for SnapshotDistance {
             speed2: <super::common::GrossSpeed as uper::Placeholder>::placeholder(),
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for SnapshotDistance {
+    const PLACEHOLDER: Self = Self {
+        distance1: <GrossDistance as uper::ConstPlaceholder>::PLACEHOLDER,
+        speed1: <super::common::GrossSpeed as uper::ConstPlaceholder>::PLACEHOLDER,
+        distance2: <GrossDistance as uper::ConstPlaceholder>::PLACEHOLDER,
+        speed2: <super::common::GrossSpeed as uper::ConstPlaceholder>::PLACEHOLDER,
+    };
 }
 
 impl Uper for SnapshotDistance {
@@ -788,6 +872,16 @@ impl uper::Placeholder for VehicleStatusRequestList {
     fn placeholder() -> Self {
         Self(uper::SeqOf::new())
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for VehicleStatusRequestList {
+    const PLACEHOLDER: Self = Self(uper::SeqOf::new());
 }
 
 impl Uper for VehicleStatusRequestList {
@@ -870,6 +964,23 @@ impl uper::Placeholder for VehicleStatusRequest {
             extensions: uper::Extensions::new(),
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for VehicleStatusRequest {
+    const PLACEHOLDER: Self = Self {
+        data_type: <VehicleStatusDeviceTypeTag as uper::ConstPlaceholder>::PLACEHOLDER,
+        sub_type: None,
+        send_on_less_then_value: None,
+        send_on_more_then_value: None,
+        send_all: None,
+        extensions: uper::Extensions::new(),
+    };
 }
 
 impl Uper for VehicleStatusRequest {
@@ -1289,6 +1400,16 @@ impl uper::Placeholder for VehicleStatusDeviceTypeTag {
     fn placeholder() -> Self {
         Self::Unknown
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for VehicleStatusDeviceTypeTag {
+    const PLACEHOLDER: Self = Self::Unknown;
 }
 
 impl Uper for VehicleStatusDeviceTypeTag {
@@ -1393,6 +1514,16 @@ impl uper::Placeholder for ProbeDataManagementRegional {
     fn placeholder() -> Self {
         Self(uper::SeqOf::new())
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for ProbeDataManagementRegional {
+    const PLACEHOLDER: Self = Self(uper::SeqOf::new());
 }
 
 impl Uper for ProbeDataManagementRegional {
@@ -1526,6 +1657,19 @@ impl uper::Placeholder for RegProbeDataManagement {
             bytes: uper::Octets::new(),
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for RegProbeDataManagement {
+    const PLACEHOLDER: Self = Self::Unknown {
+        id: <super::common::RegionId as uper::ConstPlaceholder>::PLACEHOLDER,
+        bytes: uper::Octets::new(),
+    };
 }
 
 impl Uper for RegProbeDataManagement {

@@ -41,6 +41,25 @@ impl uper::Placeholder for ProbeVehicleData {
             extensions: uper::Extensions::new(),
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for ProbeVehicleData {
+    const PLACEHOLDER: Self = Self {
+        time_stamp: None,
+        seg_num: None,
+        probe_id: None,
+        start_vector: <super::common::FullPositionVector as uper::ConstPlaceholder>::PLACEHOLDER,
+        vehicle_type: <super::common::VehicleClassification as uper::ConstPlaceholder>::PLACEHOLDER,
+        snapshots: <ProbeVehicleDataSnapshots as uper::ConstPlaceholder>::PLACEHOLDER,
+        regional: None,
+        extensions: uper::Extensions::new(),
+    };
 }
 
 impl Uper for ProbeVehicleData {
@@ -283,6 +302,24 @@ impl uper::Placeholder for VehicleIdent {
             extensions: uper::Extensions::new(),
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for VehicleIdent {
+    const PLACEHOLDER: Self = Self {
+        name: None,
+        vin: None,
+        owner_code: None,
+        id: None,
+        vehicle_type: None,
+        vehicle_class: None,
+        extensions: uper::Extensions::new(),
+    };
 }
 
 impl Uper for VehicleIdent {
@@ -530,6 +567,16 @@ impl uper::Placeholder for VINstring {
     fn placeholder() -> Self {
         Self(uper::Octets::new())
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for VINstring {
+    const PLACEHOLDER: Self = Self(uper::Octets::new());
 }
 
 impl Uper for VINstring {
@@ -586,6 +633,16 @@ impl uper::Placeholder for VehicleIdentOwnerCode {
     fn placeholder() -> Self {
         Self(uper::Ia5::new())
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for VehicleIdentOwnerCode {
+    const PLACEHOLDER: Self = Self(uper::Ia5::new());
 }
 
 impl Uper for VehicleIdentOwnerCode {
@@ -640,6 +697,17 @@ impl uper::Placeholder for VehicleIdentVehicleClass {
     fn placeholder() -> Self {
         Self::VGroup(<super::itis::VehicleGroupAffected as uper::Placeholder>::placeholder())
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for VehicleIdentVehicleClass {
+    const PLACEHOLDER: Self =
+        Self::VGroup(<super::itis::VehicleGroupAffected as uper::ConstPlaceholder>::PLACEHOLDER);
 }
 
 impl Uper for VehicleIdentVehicleClass {
@@ -796,6 +864,16 @@ impl uper::Placeholder for ProbeVehicleDataSnapshots {
     fn placeholder() -> Self {
         Self(uper::SeqOf::new())
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for ProbeVehicleDataSnapshots {
+    const PLACEHOLDER: Self = Self(uper::SeqOf::new());
 }
 
 impl Uper for ProbeVehicleDataSnapshots {
@@ -871,6 +949,21 @@ impl uper::Placeholder for Snapshot {
             extensions: uper::Extensions::new(),
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for Snapshot {
+    const PLACEHOLDER: Self = Self {
+        the_position: <super::common::FullPositionVector as uper::ConstPlaceholder>::PLACEHOLDER,
+        safety_ext: None,
+        data_set: None,
+        extensions: uper::Extensions::new(),
+    };
 }
 
 impl Uper for Snapshot {
@@ -1067,6 +1160,40 @@ impl uper::Placeholder for VehicleStatus {
             extensions: uper::Extensions::new(),
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for VehicleStatus {
+    const PLACEHOLDER: Self = Self {
+        lights: None,
+        light_bar: None,
+        wipers: None,
+        brake_status: None,
+        brake_pressure: None,
+        road_friction: None,
+        sun_data: None,
+        rain_data: None,
+        air_temp: None,
+        air_pres: None,
+        steering: None,
+        accel_sets: None,
+        object: None,
+        full_pos: None,
+        throttle_pos: None,
+        speed_head_c: None,
+        speed_c: None,
+        vehicle_data: None,
+        vehicle_ident: None,
+        j1939data: None,
+        weather_report: None,
+        gnss_status: None,
+        extensions: uper::Extensions::new(),
+    };
 }
 
 impl Uper for VehicleStatus {
@@ -1899,6 +2026,16 @@ impl uper::Placeholder for BrakeAppliedPressure {
     fn placeholder() -> Self {
         Self::Unavailable
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for BrakeAppliedPressure {
+    const PLACEHOLDER: Self = Self::Unavailable;
 }
 
 impl Uper for BrakeAppliedPressure {
@@ -2032,6 +2169,16 @@ impl uper::Placeholder for RainSensor {
     fn placeholder() -> Self {
         Self::None
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for RainSensor {
+    const PLACEHOLDER: Self = Self::None;
 }
 
 impl Uper for RainSensor {
@@ -2088,6 +2235,21 @@ impl uper::Placeholder for VehicleStatusSteering {
             wheels: None,
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for VehicleStatusSteering {
+    const PLACEHOLDER: Self = Self {
+        angle: <super::common::SteeringWheelAngle as uper::ConstPlaceholder>::PLACEHOLDER,
+        confidence: None,
+        rate: None,
+        wheels: None,
+    };
 }
 
 impl Uper for VehicleStatusSteering {
@@ -2287,6 +2449,16 @@ impl uper::Placeholder for SteeringWheelAngleConfidence {
     fn placeholder() -> Self {
         Self::Unavailable
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for SteeringWheelAngleConfidence {
+    const PLACEHOLDER: Self = Self::Unavailable;
 }
 
 impl Uper for SteeringWheelAngleConfidence {
@@ -2371,6 +2543,22 @@ impl uper::Placeholder for VehicleStatusAccelSets {
             confidence_set: None,
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for VehicleStatusAccelSets {
+    const PLACEHOLDER: Self = Self {
+        accel4way: None,
+        vert_accel_thres: None,
+        yaw_rate_con: None,
+        hoz_accel_con: None,
+        confidence_set: None,
+    };
 }
 
 impl Uper for VehicleStatusAccelSets {
@@ -2649,6 +2837,16 @@ impl uper::Placeholder for YawRateConfidence {
     fn placeholder() -> Self {
         Self::Unavailable
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for YawRateConfidence {
+    const PLACEHOLDER: Self = Self::Unavailable;
 }
 
 impl Uper for YawRateConfidence {
@@ -2777,6 +2975,16 @@ impl uper::Placeholder for AccelerationConfidence {
     fn placeholder() -> Self {
         Self::Unavailable
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for AccelerationConfidence {
+    const PLACEHOLDER: Self = Self::Unavailable;
 }
 
 impl Uper for AccelerationConfidence {
@@ -2848,6 +3056,25 @@ impl uper::Placeholder for ConfidenceSet {
             extensions: uper::Extensions::new(),
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for ConfidenceSet {
+    const PLACEHOLDER: Self = Self {
+        accel_confidence: None,
+        speed_confidence: None,
+        time_confidence: None,
+        pos_confidence: None,
+        steer_confidence: None,
+        heading_confidence: None,
+        throttle_confidence: None,
+        extensions: uper::Extensions::new(),
+    };
 }
 
 impl Uper for ConfidenceSet {
@@ -3123,6 +3350,20 @@ impl uper::Placeholder for AccelSteerYawRateConfidence {
             ),
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for AccelSteerYawRateConfidence {
+    const PLACEHOLDER: Self = Self {
+        yaw_rate: <YawRateConfidence as uper::ConstPlaceholder>::PLACEHOLDER,
+        acceleration: <AccelerationConfidence as uper::ConstPlaceholder>::PLACEHOLDER,
+        steering_wheel_angle: <SteeringWheelAngleConfidence as uper::ConstPlaceholder>::PLACEHOLDER,
+    };
 }
 
 impl Uper for AccelSteerYawRateConfidence {
@@ -3209,6 +3450,20 @@ impl uper::Placeholder for VehicleStatusObject {
             date_time: <super::common::DDateTime as uper::Placeholder>::placeholder(),
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for VehicleStatusObject {
+    const PLACEHOLDER: Self = Self {
+        ob_dist: <super::common::ObstacleDistance as uper::ConstPlaceholder>::PLACEHOLDER,
+        ob_direct: <super::common::Angle as uper::ConstPlaceholder>::PLACEHOLDER,
+        date_time: <super::common::DDateTime as uper::ConstPlaceholder>::PLACEHOLDER,
+    };
 }
 
 impl Uper for VehicleStatusObject {
@@ -3312,6 +3567,22 @@ impl uper::Placeholder for VehicleStatusVehicleData {
             r#type: <super::common::VehicleType as uper::Placeholder>::placeholder(),
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for VehicleStatusVehicleData {
+    const PLACEHOLDER: Self = Self {
+        height: <super::common::VehicleHeight as uper::ConstPlaceholder>::PLACEHOLDER,
+        bumpers: <super::common::BumperHeights as uper::ConstPlaceholder>::PLACEHOLDER,
+        mass: <super::common::VehicleMass as uper::ConstPlaceholder>::PLACEHOLDER,
+        trailer_weight: <super::common::TrailerWeight as uper::ConstPlaceholder>::PLACEHOLDER,
+        r#type: <super::common::VehicleType as uper::ConstPlaceholder>::PLACEHOLDER,
+    };
 }
 
 impl Uper for VehicleStatusVehicleData {
@@ -3444,6 +3715,28 @@ impl uper::Placeholder for J1939data {
             extensions: uper::Extensions::new(),
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for J1939data {
+    const PLACEHOLDER: Self = Self {
+        tires: None,
+        axles: None,
+        trailer_weight: None,
+        cargo_weight: None,
+        steering_axle_temperature: None,
+        drive_axle_location: None,
+        drive_axle_lift_air_pressure: None,
+        drive_axle_temperature: None,
+        drive_axle_lube_pressure: None,
+        steering_axle_lube_pressure: None,
+        extensions: uper::Extensions::new(),
+    };
 }
 
 impl Uper for J1939data {
@@ -3808,6 +4101,16 @@ impl uper::Placeholder for TireDataList {
     fn placeholder() -> Self {
         Self(uper::SeqOf::new())
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for TireDataList {
+    const PLACEHOLDER: Self = Self(uper::SeqOf::new());
 }
 
 impl Uper for TireDataList {
@@ -3890,6 +4193,25 @@ impl uper::Placeholder for TireData {
             extensions: uper::Extensions::new(),
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for TireData {
+    const PLACEHOLDER: Self = Self {
+        location: None,
+        pressure: None,
+        temp: None,
+        wheel_sensor_status: None,
+        wheel_end_elect_fault: None,
+        leakage_rate: None,
+        detection: None,
+        extensions: uper::Extensions::new(),
+    };
 }
 
 impl Uper for TireData {
@@ -4208,6 +4530,16 @@ impl uper::Placeholder for WheelSensorStatus {
     fn placeholder() -> Self {
         Self::Off
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for WheelSensorStatus {
+    const PLACEHOLDER: Self = Self::Off;
 }
 
 impl Uper for WheelSensorStatus {
@@ -4305,6 +4637,16 @@ impl uper::Placeholder for WheelEndElectFault {
     fn placeholder() -> Self {
         Self::IsOk
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for WheelEndElectFault {
+    const PLACEHOLDER: Self = Self::IsOk;
 }
 
 impl Uper for WheelEndElectFault {
@@ -4441,6 +4783,16 @@ impl uper::Placeholder for TirePressureThresholdDetection {
     fn placeholder() -> Self {
         Self::NoData
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for TirePressureThresholdDetection {
+    const PLACEHOLDER: Self = Self::NoData;
 }
 
 impl Uper for TirePressureThresholdDetection {
@@ -4499,6 +4851,16 @@ impl uper::Placeholder for AxleWeightList {
     fn placeholder() -> Self {
         Self(uper::SeqOf::new())
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for AxleWeightList {
+    const PLACEHOLDER: Self = Self(uper::SeqOf::new());
 }
 
 impl Uper for AxleWeightList {
@@ -4566,6 +4928,20 @@ impl uper::Placeholder for AxleWeightSet {
             extensions: uper::Extensions::new(),
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for AxleWeightSet {
+    const PLACEHOLDER: Self = Self {
+        location: None,
+        weight: None,
+        extensions: uper::Extensions::new(),
+    };
 }
 
 impl Uper for AxleWeightSet {
@@ -4775,6 +5151,22 @@ impl uper::Placeholder for VehicleStatusWeatherReport {
             friction: None,
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for VehicleStatusWeatherReport {
+    const PLACEHOLDER: Self = Self {
+        is_raining: <super::ntcip::EssPrecipYesNo as uper::ConstPlaceholder>::PLACEHOLDER,
+        rain_rate: None,
+        precip_situation: None,
+        solar_radiation: None,
+        friction: None,
+    };
 }
 
 impl Uper for VehicleStatusWeatherReport {
@@ -4964,6 +5356,16 @@ impl uper::Placeholder for ProbeVehicleDataRegional {
     fn placeholder() -> Self {
         Self(uper::SeqOf::new())
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for ProbeVehicleDataRegional {
+    const PLACEHOLDER: Self = Self(uper::SeqOf::new());
 }
 
 impl Uper for ProbeVehicleDataRegional {
@@ -5097,6 +5499,19 @@ impl uper::Placeholder for RegProbeVehicleData {
             bytes: uper::Octets::new(),
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for RegProbeVehicleData {
+    const PLACEHOLDER: Self = Self::Unknown {
+        id: <super::common::RegionId as uper::ConstPlaceholder>::PLACEHOLDER,
+        bytes: uper::Octets::new(),
+    };
 }
 
 impl Uper for RegProbeVehicleData {

@@ -49,6 +49,28 @@ impl uper::Placeholder for RoadSideAlert {
             extensions: uper::Extensions::new(),
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for RoadSideAlert {
+    const PLACEHOLDER: Self = Self {
+        msg_cnt: <super::common::MsgCount as uper::ConstPlaceholder>::PLACEHOLDER,
+        time_stamp: None,
+        type_event: <super::itis::ITIScodes as uper::ConstPlaceholder>::PLACEHOLDER,
+        description: None,
+        priority: None,
+        heading: None,
+        extent: None,
+        position: None,
+        further_info_id: None,
+        regional: None,
+        extensions: uper::Extensions::new(),
+    };
 }
 
 impl Uper for RoadSideAlert {
@@ -381,6 +403,16 @@ impl uper::Placeholder for RoadSideAlertDescription {
     fn placeholder() -> Self {
         Self(uper::SeqOf::new())
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for RoadSideAlertDescription {
+    const PLACEHOLDER: Self = Self(uper::SeqOf::new());
 }
 
 impl Uper for RoadSideAlertDescription {
@@ -459,6 +491,16 @@ impl uper::Placeholder for RoadSideAlertRegional {
     fn placeholder() -> Self {
         Self(uper::SeqOf::new())
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for RoadSideAlertRegional {
+    const PLACEHOLDER: Self = Self(uper::SeqOf::new());
 }
 
 impl Uper for RoadSideAlertRegional {
@@ -592,6 +634,19 @@ impl uper::Placeholder for RegRoadSideAlert {
             bytes: uper::Octets::new(),
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for RegRoadSideAlert {
+    const PLACEHOLDER: Self = Self::Unknown {
+        id: <super::common::RegionId as uper::ConstPlaceholder>::PLACEHOLDER,
+        bytes: uper::Octets::new(),
+    };
 }
 
 impl Uper for RegRoadSideAlert {

@@ -40,6 +40,25 @@ impl uper::Placeholder for RTCMcorrections {
             extensions: uper::Extensions::new(),
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for RTCMcorrections {
+    const PLACEHOLDER: Self = Self {
+        msg_cnt: <super::common::MsgCount as uper::ConstPlaceholder>::PLACEHOLDER,
+        rev: <RTCMRevision as uper::ConstPlaceholder>::PLACEHOLDER,
+        time_stamp: None,
+        anchor_point: None,
+        rtcm_header: None,
+        msgs: <super::common::RTCMmessageList as uper::ConstPlaceholder>::PLACEHOLDER,
+        regional: None,
+        extensions: uper::Extensions::new(),
+    };
 }
 
 impl Uper for RTCMcorrections {
@@ -307,6 +326,16 @@ impl uper::Placeholder for RTCMRevision {
     fn placeholder() -> Self {
         Self::Unknown
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for RTCMRevision {
+    const PLACEHOLDER: Self = Self::Unknown;
 }
 
 impl Uper for RTCMRevision {
@@ -378,6 +407,16 @@ impl uper::Placeholder for RTCMcorrectionsRegional {
     fn placeholder() -> Self {
         Self(uper::SeqOf::new())
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for RTCMcorrectionsRegional {
+    const PLACEHOLDER: Self = Self(uper::SeqOf::new());
 }
 
 impl Uper for RTCMcorrectionsRegional {
@@ -511,6 +550,19 @@ impl uper::Placeholder for RegRTCMcorrections {
             bytes: uper::Octets::new(),
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for RegRTCMcorrections {
+    const PLACEHOLDER: Self = Self::Unknown {
+        id: <super::common::RegionId as uper::ConstPlaceholder>::PLACEHOLDER,
+        bytes: uper::Octets::new(),
+    };
 }
 
 impl Uper for RegRTCMcorrections {

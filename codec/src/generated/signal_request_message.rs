@@ -37,6 +37,24 @@ impl uper::Placeholder for SignalRequestMessage {
             extensions: uper::Extensions::new(),
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for SignalRequestMessage {
+    const PLACEHOLDER: Self = Self {
+        time_stamp: None,
+        second: <super::common::DSecond as uper::ConstPlaceholder>::PLACEHOLDER,
+        sequence_number: None,
+        requests: None,
+        requestor: <RequestorDescription as uper::ConstPlaceholder>::PLACEHOLDER,
+        regional: None,
+        extensions: uper::Extensions::new(),
+    };
 }
 
 impl Uper for SignalRequestMessage {
@@ -251,6 +269,16 @@ impl uper::Placeholder for SignalRequestList {
     fn placeholder() -> Self {
         Self(uper::SeqOf::new())
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for SignalRequestList {
+    const PLACEHOLDER: Self = Self(uper::SeqOf::new());
 }
 
 impl Uper for SignalRequestList {
@@ -333,6 +361,23 @@ impl uper::Placeholder for SignalRequestPackage {
             extensions: uper::Extensions::new(),
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for SignalRequestPackage {
+    const PLACEHOLDER: Self = Self {
+        request: <SignalRequest as uper::ConstPlaceholder>::PLACEHOLDER,
+        minute: None,
+        second: None,
+        duration: None,
+        regional: None,
+        extensions: uper::Extensions::new(),
+    };
 }
 
 impl Uper for SignalRequestPackage {
@@ -541,6 +586,25 @@ impl uper::Placeholder for SignalRequest {
             extensions: uper::Extensions::new(),
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for SignalRequest {
+    const PLACEHOLDER: Self = Self {
+        id: <super::common::IntersectionReferenceID as uper::ConstPlaceholder>::PLACEHOLDER,
+        request_id: <super::common::RequestID as uper::ConstPlaceholder>::PLACEHOLDER,
+        request_type: <PriorityRequestType as uper::ConstPlaceholder>::PLACEHOLDER,
+        in_bound_lane:
+            <super::common::IntersectionAccessPoint as uper::ConstPlaceholder>::PLACEHOLDER,
+        out_bound_lane: None,
+        regional: None,
+        extensions: uper::Extensions::new(),
+    };
 }
 
 impl Uper for SignalRequest {
@@ -764,6 +828,16 @@ impl uper::Placeholder for PriorityRequestType {
     fn placeholder() -> Self {
         Self::PriorityRequestTypeReserved
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for PriorityRequestType {
+    const PLACEHOLDER: Self = Self::PriorityRequestTypeReserved;
 }
 
 impl Uper for PriorityRequestType {
@@ -838,6 +912,16 @@ impl uper::Placeholder for SignalRequestRegional {
     fn placeholder() -> Self {
         Self(uper::SeqOf::new())
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for SignalRequestRegional {
+    const PLACEHOLDER: Self = Self(uper::SeqOf::new());
 }
 
 impl Uper for SignalRequestRegional {
@@ -971,6 +1055,19 @@ impl uper::Placeholder for RegSignalRequest {
             bytes: uper::Octets::new(),
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for RegSignalRequest {
+    const PLACEHOLDER: Self = Self::Unknown {
+        id: <super::common::RegionId as uper::ConstPlaceholder>::PLACEHOLDER,
+        bytes: uper::Octets::new(),
+    };
 }
 
 impl Uper for RegSignalRequest {
@@ -1039,6 +1136,16 @@ impl uper::Placeholder for SignalRequestPackageRegional {
     fn placeholder() -> Self {
         Self(uper::SeqOf::new())
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for SignalRequestPackageRegional {
+    const PLACEHOLDER: Self = Self(uper::SeqOf::new());
 }
 
 impl Uper for SignalRequestPackageRegional {
@@ -1172,6 +1279,19 @@ impl uper::Placeholder for RegSignalRequestPackage {
             bytes: uper::Octets::new(),
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for RegSignalRequestPackage {
+    const PLACEHOLDER: Self = Self::Unknown {
+        id: <super::common::RegionId as uper::ConstPlaceholder>::PLACEHOLDER,
+        bytes: uper::Octets::new(),
+    };
 }
 
 impl Uper for RegSignalRequestPackage {
@@ -1256,6 +1376,27 @@ impl uper::Placeholder for RequestorDescription {
             extensions: uper::Extensions::new(),
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for RequestorDescription {
+    const PLACEHOLDER: Self = Self {
+        id: <super::common::VehicleID as uper::ConstPlaceholder>::PLACEHOLDER,
+        r#type: None,
+        position: None,
+        name: None,
+        route_name: None,
+        transit_status: None,
+        transit_occupancy: None,
+        transit_schedule: None,
+        regional: None,
+        extensions: uper::Extensions::new(),
+    };
 }
 
 impl Uper for RequestorDescription {
@@ -1573,6 +1714,21 @@ impl uper::Placeholder for RequestorPositionVector {
             extensions: uper::Extensions::new(),
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for RequestorPositionVector {
+    const PLACEHOLDER: Self = Self {
+        position: <super::common::Position3D as uper::ConstPlaceholder>::PLACEHOLDER,
+        heading: None,
+        speed: None,
+        extensions: uper::Extensions::new(),
+    };
 }
 
 impl Uper for RequestorPositionVector {
@@ -1725,6 +1881,16 @@ impl uper::Placeholder for TransitVehicleStatus {
     fn placeholder() -> Self {
         Self(uper::Bits::EMPTY)
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for TransitVehicleStatus {
+    const PLACEHOLDER: Self = Self(uper::Bits::EMPTY);
 }
 
 impl Uper for TransitVehicleStatus {
@@ -1855,6 +2021,16 @@ impl uper::Placeholder for TransitVehicleOccupancy {
     fn placeholder() -> Self {
         Self::OccupancyUnknown
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for TransitVehicleOccupancy {
+    const PLACEHOLDER: Self = Self::OccupancyUnknown;
 }
 
 impl Uper for TransitVehicleOccupancy {
@@ -1921,6 +2097,16 @@ impl uper::Placeholder for RequestorDescriptionRegional {
     fn placeholder() -> Self {
         Self(uper::SeqOf::new())
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for RequestorDescriptionRegional {
+    const PLACEHOLDER: Self = Self(uper::SeqOf::new());
 }
 
 impl Uper for RequestorDescriptionRegional {
@@ -2054,6 +2240,19 @@ impl uper::Placeholder for RegRequestorDescription {
             bytes: uper::Octets::new(),
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for RegRequestorDescription {
+    const PLACEHOLDER: Self = Self::Unknown {
+        id: <super::common::RegionId as uper::ConstPlaceholder>::PLACEHOLDER,
+        bytes: uper::Octets::new(),
+    };
 }
 
 impl Uper for RegRequestorDescription {
@@ -2122,6 +2321,16 @@ impl uper::Placeholder for SignalRequestMessageRegional {
     fn placeholder() -> Self {
         Self(uper::SeqOf::new())
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for SignalRequestMessageRegional {
+    const PLACEHOLDER: Self = Self(uper::SeqOf::new());
 }
 
 impl Uper for SignalRequestMessageRegional {
@@ -2255,6 +2464,19 @@ impl uper::Placeholder for RegSignalRequestMessage {
             bytes: uper::Octets::new(),
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for RegSignalRequestMessage {
+    const PLACEHOLDER: Self = Self::Unknown {
+        id: <super::common::RegionId as uper::ConstPlaceholder>::PLACEHOLDER,
+        bytes: uper::Octets::new(),
+    };
 }
 
 impl Uper for RegSignalRequestMessage {

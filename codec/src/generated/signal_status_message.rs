@@ -34,6 +34,23 @@ impl uper::Placeholder for SignalStatusMessage {
             extensions: uper::Extensions::new(),
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for SignalStatusMessage {
+    const PLACEHOLDER: Self = Self {
+        time_stamp: None,
+        second: <super::common::DSecond as uper::ConstPlaceholder>::PLACEHOLDER,
+        sequence_number: None,
+        status: <SignalStatusList as uper::ConstPlaceholder>::PLACEHOLDER,
+        regional: None,
+        extensions: uper::Extensions::new(),
+    };
 }
 
 impl Uper for SignalStatusMessage {
@@ -216,6 +233,16 @@ impl uper::Placeholder for SignalStatusList {
     fn placeholder() -> Self {
         Self(uper::SeqOf::new())
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for SignalStatusList {
+    const PLACEHOLDER: Self = Self(uper::SeqOf::new());
 }
 
 impl Uper for SignalStatusList {
@@ -294,6 +321,22 @@ impl uper::Placeholder for SignalStatus {
             extensions: uper::Extensions::new(),
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for SignalStatus {
+    const PLACEHOLDER: Self = Self {
+        sequence_number: <super::common::MsgCount as uper::ConstPlaceholder>::PLACEHOLDER,
+        id: <super::common::IntersectionReferenceID as uper::ConstPlaceholder>::PLACEHOLDER,
+        sig_status: <SignalStatusPackageList as uper::ConstPlaceholder>::PLACEHOLDER,
+        regional: None,
+        extensions: uper::Extensions::new(),
+    };
 }
 
 impl Uper for SignalStatus {
@@ -429,6 +472,16 @@ impl uper::Placeholder for SignalStatusPackageList {
     fn placeholder() -> Self {
         Self(uper::SeqOf::new())
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for SignalStatusPackageList {
+    const PLACEHOLDER: Self = Self(uper::SeqOf::new());
 }
 
 impl Uper for SignalStatusPackageList {
@@ -522,6 +575,27 @@ impl uper::Placeholder for SignalStatusPackage {
             extensions: uper::Extensions::new(),
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for SignalStatusPackage {
+    const PLACEHOLDER: Self = Self {
+        requester: None,
+        inbound_on: <super::common::IntersectionAccessPoint as uper::ConstPlaceholder>::PLACEHOLDER,
+        outbound_on: None,
+        minute: None,
+        second: None,
+        duration: None,
+        status:
+            <super::common::PrioritizationResponseStatus as uper::ConstPlaceholder>::PLACEHOLDER,
+        regional: None,
+        extensions: uper::Extensions::new(),
+    };
 }
 
 impl Uper for SignalStatusPackage {
@@ -800,6 +874,23 @@ impl uper::Placeholder for SignalRequesterInfo {
             extensions: uper::Extensions::new(),
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for SignalRequesterInfo {
+    const PLACEHOLDER: Self = Self {
+        id: <super::common::VehicleID as uper::ConstPlaceholder>::PLACEHOLDER,
+        request: <super::common::RequestID as uper::ConstPlaceholder>::PLACEHOLDER,
+        sequence_number: <super::common::MsgCount as uper::ConstPlaceholder>::PLACEHOLDER,
+        role: None,
+        type_data: None,
+        extensions: uper::Extensions::new(),
+    };
 }
 
 impl Uper for SignalRequesterInfo {
@@ -966,6 +1057,16 @@ impl uper::Placeholder for SignalStatusPackageRegional {
     fn placeholder() -> Self {
         Self(uper::SeqOf::new())
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for SignalStatusPackageRegional {
+    const PLACEHOLDER: Self = Self(uper::SeqOf::new());
 }
 
 impl Uper for SignalStatusPackageRegional {
@@ -1099,6 +1200,19 @@ impl uper::Placeholder for RegSignalStatusPackage {
             bytes: uper::Octets::new(),
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for RegSignalStatusPackage {
+    const PLACEHOLDER: Self = Self::Unknown {
+        id: <super::common::RegionId as uper::ConstPlaceholder>::PLACEHOLDER,
+        bytes: uper::Octets::new(),
+    };
 }
 
 impl Uper for RegSignalStatusPackage {
@@ -1167,6 +1281,16 @@ impl uper::Placeholder for SignalStatusRegional {
     fn placeholder() -> Self {
         Self(uper::SeqOf::new())
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for SignalStatusRegional {
+    const PLACEHOLDER: Self = Self(uper::SeqOf::new());
 }
 
 impl Uper for SignalStatusRegional {
@@ -1300,6 +1424,19 @@ impl uper::Placeholder for RegSignalStatus {
             bytes: uper::Octets::new(),
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for RegSignalStatus {
+    const PLACEHOLDER: Self = Self::Unknown {
+        id: <super::common::RegionId as uper::ConstPlaceholder>::PLACEHOLDER,
+        bytes: uper::Octets::new(),
+    };
 }
 
 impl Uper for RegSignalStatus {
@@ -1368,6 +1505,16 @@ impl uper::Placeholder for SignalStatusMessageRegional {
     fn placeholder() -> Self {
         Self(uper::SeqOf::new())
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for SignalStatusMessageRegional {
+    const PLACEHOLDER: Self = Self(uper::SeqOf::new());
 }
 
 impl Uper for SignalStatusMessageRegional {
@@ -1501,6 +1648,19 @@ impl uper::Placeholder for RegSignalStatusMessage {
             bytes: uper::Octets::new(),
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for RegSignalStatusMessage {
+    const PLACEHOLDER: Self = Self::Unknown {
+        id: <super::common::RegionId as uper::ConstPlaceholder>::PLACEHOLDER,
+        bytes: uper::Octets::new(),
+    };
 }
 
 impl Uper for RegSignalStatusMessage {

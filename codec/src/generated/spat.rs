@@ -31,6 +31,22 @@ impl uper::Placeholder for SPAT {
             extensions: uper::Extensions::new(),
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for SPAT {
+    const PLACEHOLDER: Self = Self {
+        time_stamp: None,
+        name: None,
+        intersections: <IntersectionStateList as uper::ConstPlaceholder>::PLACEHOLDER,
+        regional: None,
+        extensions: uper::Extensions::new(),
+    };
 }
 
 impl Uper for SPAT {
@@ -201,6 +217,16 @@ impl uper::Placeholder for IntersectionStateList {
     fn placeholder() -> Self {
         Self(uper::SeqOf::new())
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for IntersectionStateList {
+    const PLACEHOLDER: Self = Self(uper::SeqOf::new());
 }
 
 impl Uper for IntersectionStateList {
@@ -293,6 +319,28 @@ impl uper::Placeholder for IntersectionState {
             extensions: uper::Extensions::new(),
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for IntersectionState {
+    const PLACEHOLDER: Self = Self {
+        name: None,
+        id: <super::common::IntersectionReferenceID as uper::ConstPlaceholder>::PLACEHOLDER,
+        revision: <super::common::MsgCount as uper::ConstPlaceholder>::PLACEHOLDER,
+        status: <IntersectionStatusObject as uper::ConstPlaceholder>::PLACEHOLDER,
+        moy: None,
+        time_stamp: None,
+        enabled_lanes: None,
+        states: <MovementList as uper::ConstPlaceholder>::PLACEHOLDER,
+        maneuver_assist_list: None,
+        regional: None,
+        extensions: uper::Extensions::new(),
+    };
 }
 
 impl Uper for IntersectionState {
@@ -610,6 +658,16 @@ impl uper::Placeholder for IntersectionStatusObject {
     fn placeholder() -> Self {
         Self(uper::Bits::EMPTY)
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for IntersectionStatusObject {
+    const PLACEHOLDER: Self = Self(uper::Bits::EMPTY);
 }
 
 impl Uper for IntersectionStatusObject {
@@ -673,6 +731,16 @@ impl uper::Placeholder for EnabledLaneList {
     fn placeholder() -> Self {
         Self(uper::SeqOf::new())
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for EnabledLaneList {
+    const PLACEHOLDER: Self = Self(uper::SeqOf::new());
 }
 
 impl Uper for EnabledLaneList {
@@ -746,6 +814,16 @@ impl uper::Placeholder for MovementList {
     fn placeholder() -> Self {
         Self(uper::SeqOf::new())
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for MovementList {
+    const PLACEHOLDER: Self = Self(uper::SeqOf::new());
 }
 
 impl Uper for MovementList {
@@ -822,6 +900,23 @@ impl uper::Placeholder for MovementState {
             extensions: uper::Extensions::new(),
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for MovementState {
+    const PLACEHOLDER: Self = Self {
+        movement_name: None,
+        signal_group: <super::common::SignalGroupID as uper::ConstPlaceholder>::PLACEHOLDER,
+        state_time_speed: <MovementEventList as uper::ConstPlaceholder>::PLACEHOLDER,
+        maneuver_assist_list: None,
+        regional: None,
+        extensions: uper::Extensions::new(),
+    };
 }
 
 impl Uper for MovementState {
@@ -1006,6 +1101,16 @@ impl uper::Placeholder for MovementEventList {
     fn placeholder() -> Self {
         Self(uper::SeqOf::new())
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for MovementEventList {
+    const PLACEHOLDER: Self = Self(uper::SeqOf::new());
 }
 
 impl Uper for MovementEventList {
@@ -1079,6 +1184,22 @@ impl uper::Placeholder for MovementEvent {
             extensions: uper::Extensions::new(),
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for MovementEvent {
+    const PLACEHOLDER: Self = Self {
+        event_state: <MovementPhaseState as uper::ConstPlaceholder>::PLACEHOLDER,
+        timing: None,
+        speeds: None,
+        regional: None,
+        extensions: uper::Extensions::new(),
+    };
 }
 
 impl Uper for MovementEvent {
@@ -1333,6 +1454,16 @@ impl uper::Placeholder for MovementPhaseState {
     fn placeholder() -> Self {
         Self::Unavailable
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for MovementPhaseState {
+    const PLACEHOLDER: Self = Self::Unavailable;
 }
 
 impl Uper for MovementPhaseState {
@@ -1398,6 +1529,23 @@ impl uper::Placeholder for TimeChangeDetails {
             next_time: None,
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for TimeChangeDetails {
+    const PLACEHOLDER: Self = Self {
+        start_time: None,
+        min_end_time: <TimeMark as uper::ConstPlaceholder>::PLACEHOLDER,
+        max_end_time: None,
+        likely_time: None,
+        confidence: None,
+        next_time: None,
+    };
 }
 
 impl Uper for TimeChangeDetails {
@@ -1617,6 +1765,16 @@ impl uper::Placeholder for AdvisorySpeedList {
     fn placeholder() -> Self {
         Self(uper::SeqOf::new())
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for AdvisorySpeedList {
+    const PLACEHOLDER: Self = Self(uper::SeqOf::new());
 }
 
 impl Uper for AdvisorySpeedList {
@@ -1696,6 +1854,24 @@ impl uper::Placeholder for AdvisorySpeed {
             extensions: uper::Extensions::new(),
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for AdvisorySpeed {
+    const PLACEHOLDER: Self = Self {
+        r#type: <AdvisorySpeedType as uper::ConstPlaceholder>::PLACEHOLDER,
+        speed: None,
+        confidence: None,
+        distance: None,
+        class: None,
+        regional: None,
+        extensions: uper::Extensions::new(),
+    };
 }
 
 impl Uper for AdvisorySpeed {
@@ -1957,6 +2133,16 @@ impl uper::Placeholder for AdvisorySpeedType {
     fn placeholder() -> Self {
         Self::None
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for AdvisorySpeedType {
+    const PLACEHOLDER: Self = Self::None;
 }
 
 impl Uper for AdvisorySpeedType {
@@ -2038,6 +2224,16 @@ impl uper::Placeholder for AdvisorySpeedRegional {
     fn placeholder() -> Self {
         Self(uper::SeqOf::new())
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for AdvisorySpeedRegional {
+    const PLACEHOLDER: Self = Self(uper::SeqOf::new());
 }
 
 impl Uper for AdvisorySpeedRegional {
@@ -2166,6 +2362,19 @@ impl uper::Placeholder for RegAdvisorySpeed {
             bytes: uper::Octets::new(),
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for RegAdvisorySpeed {
+    const PLACEHOLDER: Self = Self::Unknown {
+        id: <super::common::RegionId as uper::ConstPlaceholder>::PLACEHOLDER,
+        bytes: uper::Octets::new(),
+    };
 }
 
 impl Uper for RegAdvisorySpeed {
@@ -2231,6 +2440,16 @@ impl uper::Placeholder for MovementEventRegional {
     fn placeholder() -> Self {
         Self(uper::SeqOf::new())
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for MovementEventRegional {
+    const PLACEHOLDER: Self = Self(uper::SeqOf::new());
 }
 
 impl Uper for MovementEventRegional {
@@ -2373,6 +2592,19 @@ impl uper::Placeholder for RegMovementEvent {
             bytes: uper::Octets::new(),
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for RegMovementEvent {
+    const PLACEHOLDER: Self = Self::Unknown {
+        id: <super::common::RegionId as uper::ConstPlaceholder>::PLACEHOLDER,
+        bytes: uper::Octets::new(),
+    };
 }
 
 impl Uper for RegMovementEvent {
@@ -2455,6 +2687,16 @@ impl uper::Placeholder for ManeuverAssistList {
     fn placeholder() -> Self {
         Self(uper::SeqOf::new())
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for ManeuverAssistList {
+    const PLACEHOLDER: Self = Self(uper::SeqOf::new());
 }
 
 impl Uper for ManeuverAssistList {
@@ -2537,6 +2779,24 @@ impl uper::Placeholder for ConnectionManeuverAssist {
             extensions: uper::Extensions::new(),
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for ConnectionManeuverAssist {
+    const PLACEHOLDER: Self = Self {
+        connection_id: <super::common::LaneConnectionID as uper::ConstPlaceholder>::PLACEHOLDER,
+        queue_length: None,
+        available_storage_length: None,
+        wait_on_stop: None,
+        ped_bicycle_detect: None,
+        regional: None,
+        extensions: uper::Extensions::new(),
+    };
 }
 
 impl Uper for ConnectionManeuverAssist {
@@ -2772,6 +3032,16 @@ impl uper::Placeholder for ConnectionManeuverAssistRegional {
     fn placeholder() -> Self {
         Self(uper::SeqOf::new())
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for ConnectionManeuverAssistRegional {
+    const PLACEHOLDER: Self = Self(uper::SeqOf::new());
 }
 
 impl Uper for ConnectionManeuverAssistRegional {
@@ -2921,6 +3191,19 @@ impl uper::Placeholder for RegConnectionManeuverAssist {
             bytes: uper::Octets::new(),
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for RegConnectionManeuverAssist {
+    const PLACEHOLDER: Self = Self::Unknown {
+        id: <super::common::RegionId as uper::ConstPlaceholder>::PLACEHOLDER,
+        bytes: uper::Octets::new(),
+    };
 }
 
 impl Uper for RegConnectionManeuverAssist {
@@ -3008,6 +3291,16 @@ impl uper::Placeholder for MovementStateRegional {
     fn placeholder() -> Self {
         Self(uper::SeqOf::new())
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for MovementStateRegional {
+    const PLACEHOLDER: Self = Self(uper::SeqOf::new());
 }
 
 impl Uper for MovementStateRegional {
@@ -3136,6 +3429,19 @@ impl uper::Placeholder for RegMovementState {
             bytes: uper::Octets::new(),
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for RegMovementState {
+    const PLACEHOLDER: Self = Self::Unknown {
+        id: <super::common::RegionId as uper::ConstPlaceholder>::PLACEHOLDER,
+        bytes: uper::Octets::new(),
+    };
 }
 
 impl Uper for RegMovementState {
@@ -3201,6 +3507,16 @@ impl uper::Placeholder for IntersectionStateRegional {
     fn placeholder() -> Self {
         Self(uper::SeqOf::new())
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for IntersectionStateRegional {
+    const PLACEHOLDER: Self = Self(uper::SeqOf::new());
 }
 
 impl Uper for IntersectionStateRegional {
@@ -3343,6 +3659,19 @@ impl uper::Placeholder for RegIntersectionState {
             bytes: uper::Octets::new(),
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for RegIntersectionState {
+    const PLACEHOLDER: Self = Self::Unknown {
+        id: <super::common::RegionId as uper::ConstPlaceholder>::PLACEHOLDER,
+        bytes: uper::Octets::new(),
+    };
 }
 
 impl Uper for RegIntersectionState {
@@ -3425,6 +3754,16 @@ impl uper::Placeholder for SPATRegional {
     fn placeholder() -> Self {
         Self(uper::SeqOf::new())
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for SPATRegional {
+    const PLACEHOLDER: Self = Self(uper::SeqOf::new());
 }
 
 impl Uper for SPATRegional {
@@ -3552,6 +3891,19 @@ impl uper::Placeholder for RegSPAT {
             bytes: uper::Octets::new(),
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for RegSPAT {
+    const PLACEHOLDER: Self = Self::Unknown {
+        id: <super::common::RegionId as uper::ConstPlaceholder>::PLACEHOLDER,
+        bytes: uper::Octets::new(),
+    };
 }
 
 impl Uper for RegSPAT {

@@ -25,6 +25,20 @@ impl uper::Placeholder for TestMessage10 {
             extensions: uper::Extensions::new(),
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for TestMessage10 {
+    const PLACEHOLDER: Self = Self {
+        header: None,
+        regional: None,
+        extensions: uper::Extensions::new(),
+    };
 }
 
 impl Uper for TestMessage10 {
@@ -213,6 +227,19 @@ impl uper::Placeholder for RegTestMessage10 {
             bytes: uper::Octets::new(),
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for RegTestMessage10 {
+    const PLACEHOLDER: Self = Self::Unknown {
+        id: <super::common::RegionId as uper::ConstPlaceholder>::PLACEHOLDER,
+        bytes: uper::Octets::new(),
+    };
 }
 
 impl Uper for RegTestMessage10 {

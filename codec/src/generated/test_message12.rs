@@ -25,6 +25,20 @@ impl uper::Placeholder for TestMessage12 {
             extensions: uper::Extensions::new(),
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for TestMessage12 {
+    const PLACEHOLDER: Self = Self {
+        header: None,
+        regional: None,
+        extensions: uper::Extensions::new(),
+    };
 }
 
 impl Uper for TestMessage12 {
@@ -213,6 +227,19 @@ impl uper::Placeholder for RegTestMessage12 {
             bytes: uper::Octets::new(),
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for RegTestMessage12 {
+    const PLACEHOLDER: Self = Self::Unknown {
+        id: <super::common::RegionId as uper::ConstPlaceholder>::PLACEHOLDER,
+        bytes: uper::Octets::new(),
+    };
 }
 
 impl Uper for RegTestMessage12 {

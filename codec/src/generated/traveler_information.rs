@@ -38,6 +38,24 @@ impl uper::Placeholder for TravelerInformation {
             extensions: uper::Extensions::new(),
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for TravelerInformation {
+    const PLACEHOLDER: Self = Self {
+        msg_cnt: <super::common::MsgCount as uper::ConstPlaceholder>::PLACEHOLDER,
+        time_stamp: None,
+        packet_id: None,
+        url_b: None,
+        data_frames: <TravelerDataFrameList as uper::ConstPlaceholder>::PLACEHOLDER,
+        regional: None,
+        extensions: uper::Extensions::new(),
+    };
 }
 
 impl Uper for TravelerInformation {
@@ -229,6 +247,16 @@ impl uper::Placeholder for UniqueMSGID {
     fn placeholder() -> Self {
         Self([0; 9])
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for UniqueMSGID {
+    const PLACEHOLDER: Self = Self([0; 9]);
 }
 
 impl Uper for UniqueMSGID {
@@ -284,6 +312,16 @@ impl uper::Placeholder for URLBase {
     fn placeholder() -> Self {
         Self(uper::Ia5::new())
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for URLBase {
+    const PLACEHOLDER: Self = Self(uper::Ia5::new());
 }
 
 impl Uper for URLBase {
@@ -348,6 +386,16 @@ impl uper::Placeholder for TravelerDataFrameList {
     fn placeholder() -> Self {
         Self(uper::SeqOf::new())
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for TravelerDataFrameList {
+    const PLACEHOLDER: Self = Self(uper::SeqOf::new());
 }
 
 impl Uper for TravelerDataFrameList {
@@ -461,6 +509,31 @@ impl uper::Placeholder for TravelerDataFrame {
             extensions: uper::Extensions::new(),
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for TravelerDataFrame {
+    const PLACEHOLDER: Self = Self {
+        not_used: <super::common::SSPindex as uper::ConstPlaceholder>::PLACEHOLDER,
+        frame_type: <TravelerInfoType as uper::ConstPlaceholder>::PLACEHOLDER,
+        msg_id: <TravelerDataFrameMsgId as uper::ConstPlaceholder>::PLACEHOLDER,
+        start_year: None,
+        start_time: <super::common::MinuteOfTheYear as uper::ConstPlaceholder>::PLACEHOLDER,
+        duration_time: <MinutesDuration as uper::ConstPlaceholder>::PLACEHOLDER,
+        priority: <SignPrority as uper::ConstPlaceholder>::PLACEHOLDER,
+        not_used1: <super::common::SSPindex as uper::ConstPlaceholder>::PLACEHOLDER,
+        regions: <TravelerDataFrameRegions as uper::ConstPlaceholder>::PLACEHOLDER,
+        not_used2: <super::common::SSPindex as uper::ConstPlaceholder>::PLACEHOLDER,
+        not_used3: <super::common::SSPindex as uper::ConstPlaceholder>::PLACEHOLDER,
+        content: <TravelerDataFrameContent as uper::ConstPlaceholder>::PLACEHOLDER,
+        url: None,
+        extensions: uper::Extensions::new(),
+    };
 }
 
 impl Uper for TravelerDataFrame {
@@ -752,6 +825,16 @@ impl uper::Placeholder for TravelerInfoType {
     fn placeholder() -> Self {
         Self::Unknown
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for TravelerInfoType {
+    const PLACEHOLDER: Self = Self::Unknown;
 }
 
 impl Uper for TravelerInfoType {
@@ -812,6 +895,17 @@ impl uper::Placeholder for TravelerDataFrameMsgId {
     fn placeholder() -> Self {
         Self::FurtherInfoID(<super::common::FurtherInfoID as uper::Placeholder>::placeholder())
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for TravelerDataFrameMsgId {
+    const PLACEHOLDER: Self =
+        Self::FurtherInfoID(<super::common::FurtherInfoID as uper::ConstPlaceholder>::PLACEHOLDER);
 }
 
 impl Uper for TravelerDataFrameMsgId {
@@ -935,6 +1029,21 @@ impl uper::Placeholder for RoadSignID {
             crc: None,
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for RoadSignID {
+    const PLACEHOLDER: Self = Self {
+        position: <super::common::Position3D as uper::ConstPlaceholder>::PLACEHOLDER,
+        view_angle: <super::common::HeadingSlice as uper::ConstPlaceholder>::PLACEHOLDER,
+        mutcd_code: None,
+        crc: None,
+    };
 }
 
 impl Uper for RoadSignID {
@@ -1134,6 +1243,16 @@ impl uper::Placeholder for MUTCDCode {
     fn placeholder() -> Self {
         Self::None
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for MUTCDCode {
+    const PLACEHOLDER: Self = Self::None;
 }
 
 impl Uper for MUTCDCode {
@@ -1189,6 +1308,16 @@ impl uper::Placeholder for MsgCRC {
     fn placeholder() -> Self {
         Self([0; 2])
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for MsgCRC {
+    const PLACEHOLDER: Self = Self([0; 2]);
 }
 
 impl Uper for MsgCRC {
@@ -1272,6 +1401,16 @@ impl uper::Placeholder for TravelerDataFrameRegions {
     fn placeholder() -> Self {
         Self(uper::SeqOf::new())
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for TravelerDataFrameRegions {
+    const PLACEHOLDER: Self = Self(uper::SeqOf::new());
 }
 
 impl Uper for TravelerDataFrameRegions {
@@ -1372,6 +1511,27 @@ impl uper::Placeholder for GeographicalPath {
             extensions: uper::Extensions::new(),
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for GeographicalPath {
+    const PLACEHOLDER: Self = Self {
+        name: None,
+        id: None,
+        anchor: None,
+        lane_width: None,
+        directionality: None,
+        closed_path: None,
+        direction: None,
+        description: None,
+        regional: None,
+        extensions: uper::Extensions::new(),
+    };
 }
 
 impl Uper for GeographicalPath {
@@ -1746,6 +1906,16 @@ impl uper::Placeholder for DirectionOfUse {
     fn placeholder() -> Self {
         Self::Unavailable
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for DirectionOfUse {
+    const PLACEHOLDER: Self = Self::Unavailable;
 }
 
 impl Uper for DirectionOfUse {
@@ -1805,6 +1975,16 @@ impl uper::Placeholder for GeographicalPathDescription {
     fn placeholder() -> Self {
         Self::Path(<OffsetSystem as uper::Placeholder>::placeholder())
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for GeographicalPathDescription {
+    const PLACEHOLDER: Self = Self::Path(<OffsetSystem as uper::ConstPlaceholder>::PLACEHOLDER);
 }
 
 impl Uper for GeographicalPathDescription {
@@ -1963,6 +2143,19 @@ impl uper::Placeholder for OffsetSystem {
             offset: <OffsetSystemOffset as uper::Placeholder>::placeholder(),
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for OffsetSystem {
+    const PLACEHOLDER: Self = Self {
+        scale: None,
+        offset: <OffsetSystemOffset as uper::ConstPlaceholder>::PLACEHOLDER,
+    };
 }
 
 impl Uper for OffsetSystem {
@@ -2052,6 +2245,17 @@ impl uper::Placeholder for OffsetSystemOffset {
     fn placeholder() -> Self {
         Self::Xy(<super::common::NodeListXY as uper::Placeholder>::placeholder())
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for OffsetSystemOffset {
+    const PLACEHOLDER: Self =
+        Self::Xy(<super::common::NodeListXY as uper::ConstPlaceholder>::PLACEHOLDER);
 }
 
 impl Uper for OffsetSystemOffset {
@@ -2167,6 +2371,16 @@ impl uper::Placeholder for NodeListLL {
     fn placeholder() -> Self {
         Self::Nodes(<NodeSetLL as uper::Placeholder>::placeholder())
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for NodeListLL {
+    const PLACEHOLDER: Self = Self::Nodes(<NodeSetLL as uper::ConstPlaceholder>::PLACEHOLDER);
 }
 
 impl Uper for NodeListLL {
@@ -2282,6 +2496,16 @@ impl uper::Placeholder for NodeSetLL {
     fn placeholder() -> Self {
         Self(uper::SeqOf::new())
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for NodeSetLL {
+    const PLACEHOLDER: Self = Self(uper::SeqOf::new());
 }
 
 impl Uper for NodeSetLL {
@@ -2352,6 +2576,20 @@ impl uper::Placeholder for NodeLL {
             extensions: uper::Extensions::new(),
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for NodeLL {
+    const PLACEHOLDER: Self = Self {
+        delta: <NodeOffsetPointLL as uper::ConstPlaceholder>::PLACEHOLDER,
+        attributes: None,
+        extensions: uper::Extensions::new(),
+    };
 }
 
 impl Uper for NodeLL {
@@ -2463,6 +2701,16 @@ impl uper::Placeholder for NodeOffsetPointLL {
     fn placeholder() -> Self {
         Self::NodeLL1(<NodeLL24B as uper::Placeholder>::placeholder())
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for NodeOffsetPointLL {
+    const PLACEHOLDER: Self = Self::NodeLL1(<NodeLL24B as uper::ConstPlaceholder>::PLACEHOLDER);
 }
 
 impl Uper for NodeOffsetPointLL {
@@ -2724,6 +2972,19 @@ impl uper::Placeholder for NodeLL24B {
             lat: <OffsetLLB12 as uper::Placeholder>::placeholder(),
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for NodeLL24B {
+    const PLACEHOLDER: Self = Self {
+        lon: <OffsetLLB12 as uper::ConstPlaceholder>::PLACEHOLDER,
+        lat: <OffsetLLB12 as uper::ConstPlaceholder>::PLACEHOLDER,
+    };
 }
 
 impl Uper for NodeLL24B {
@@ -2799,6 +3060,19 @@ impl uper::Placeholder for NodeLL28B {
             lat: <OffsetLLB14 as uper::Placeholder>::placeholder(),
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for NodeLL28B {
+    const PLACEHOLDER: Self = Self {
+        lon: <OffsetLLB14 as uper::ConstPlaceholder>::PLACEHOLDER,
+        lat: <OffsetLLB14 as uper::ConstPlaceholder>::PLACEHOLDER,
+    };
 }
 
 impl Uper for NodeLL28B {
@@ -2874,6 +3148,19 @@ impl uper::Placeholder for NodeLL32B {
             lat: <OffsetLLB16 as uper::Placeholder>::placeholder(),
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for NodeLL32B {
+    const PLACEHOLDER: Self = Self {
+        lon: <OffsetLLB16 as uper::ConstPlaceholder>::PLACEHOLDER,
+        lat: <OffsetLLB16 as uper::ConstPlaceholder>::PLACEHOLDER,
+    };
 }
 
 impl Uper for NodeLL32B {
@@ -2949,6 +3236,19 @@ impl uper::Placeholder for NodeLL36B {
             lat: <super::common::OffsetLLB18 as uper::Placeholder>::placeholder(),
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for NodeLL36B {
+    const PLACEHOLDER: Self = Self {
+        lon: <super::common::OffsetLLB18 as uper::ConstPlaceholder>::PLACEHOLDER,
+        lat: <super::common::OffsetLLB18 as uper::ConstPlaceholder>::PLACEHOLDER,
+    };
 }
 
 impl Uper for NodeLL36B {
@@ -3021,6 +3321,19 @@ impl uper::Placeholder for NodeLL44B {
             lat: <OffsetLLB22 as uper::Placeholder>::placeholder(),
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for NodeLL44B {
+    const PLACEHOLDER: Self = Self {
+        lon: <OffsetLLB22 as uper::ConstPlaceholder>::PLACEHOLDER,
+        lat: <OffsetLLB22 as uper::ConstPlaceholder>::PLACEHOLDER,
+    };
 }
 
 impl Uper for NodeLL44B {
@@ -3096,6 +3409,19 @@ impl uper::Placeholder for NodeLL48B {
             lat: <OffsetLLB24 as uper::Placeholder>::placeholder(),
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for NodeLL48B {
+    const PLACEHOLDER: Self = Self {
+        lon: <OffsetLLB24 as uper::ConstPlaceholder>::PLACEHOLDER,
+        lat: <OffsetLLB24 as uper::ConstPlaceholder>::PLACEHOLDER,
+    };
 }
 
 impl Uper for NodeLL48B {
@@ -3234,6 +3560,19 @@ impl uper::Placeholder for RegNodeOffsetPointLL {
             bytes: uper::Octets::new(),
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for RegNodeOffsetPointLL {
+    const PLACEHOLDER: Self = Self::Unknown {
+        id: <super::common::RegionId as uper::ConstPlaceholder>::PLACEHOLDER,
+        bytes: uper::Octets::new(),
+    };
 }
 
 impl Uper for RegNodeOffsetPointLL {
@@ -3312,6 +3651,25 @@ impl uper::Placeholder for NodeAttributeSetLL {
             extensions: uper::Extensions::new(),
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for NodeAttributeSetLL {
+    const PLACEHOLDER: Self = Self {
+        local_node: None,
+        disabled: None,
+        enabled: None,
+        data: None,
+        d_width: None,
+        d_elevation: None,
+        regional: None,
+        extensions: uper::Extensions::new(),
+    };
 }
 
 impl Uper for NodeAttributeSetLL {
@@ -3600,6 +3958,16 @@ impl uper::Placeholder for NodeAttributeLLList {
     fn placeholder() -> Self {
         Self(uper::SeqOf::new())
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for NodeAttributeLLList {
+    const PLACEHOLDER: Self = Self(uper::SeqOf::new());
 }
 
 impl Uper for NodeAttributeLLList {
@@ -3784,6 +4152,16 @@ impl uper::Placeholder for NodeAttributeLL {
     fn placeholder() -> Self {
         Self::Reserved
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for NodeAttributeLL {
+    const PLACEHOLDER: Self = Self::Reserved;
 }
 
 impl Uper for NodeAttributeLL {
@@ -3860,6 +4238,16 @@ impl uper::Placeholder for SegmentAttributeLLList {
     fn placeholder() -> Self {
         Self(uper::SeqOf::new())
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for SegmentAttributeLLList {
+    const PLACEHOLDER: Self = Self(uper::SeqOf::new());
 }
 
 impl Uper for SegmentAttributeLLList {
@@ -4226,6 +4614,16 @@ impl uper::Placeholder for SegmentAttributeLL {
     fn placeholder() -> Self {
         Self::Reserved
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for SegmentAttributeLL {
+    const PLACEHOLDER: Self = Self::Reserved;
 }
 
 impl Uper for SegmentAttributeLL {
@@ -4297,6 +4695,16 @@ impl uper::Placeholder for NodeAttributeSetLLRegional {
     fn placeholder() -> Self {
         Self(uper::SeqOf::new())
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for NodeAttributeSetLLRegional {
+    const PLACEHOLDER: Self = Self(uper::SeqOf::new());
 }
 
 impl Uper for NodeAttributeSetLLRegional {
@@ -4430,6 +4838,19 @@ impl uper::Placeholder for RegNodeAttributeSetLL {
             bytes: uper::Octets::new(),
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for RegNodeAttributeSetLL {
+    const PLACEHOLDER: Self = Self::Unknown {
+        id: <super::common::RegionId as uper::ConstPlaceholder>::PLACEHOLDER,
+        bytes: uper::Octets::new(),
+    };
 }
 
 impl Uper for RegNodeAttributeSetLL {
@@ -4502,6 +4923,23 @@ impl uper::Placeholder for GeometricProjection {
             extensions: uper::Extensions::new(),
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for GeometricProjection {
+    const PLACEHOLDER: Self = Self {
+        direction: <super::common::HeadingSlice as uper::ConstPlaceholder>::PLACEHOLDER,
+        extent: None,
+        lane_width: None,
+        circle: <Circle as uper::ConstPlaceholder>::PLACEHOLDER,
+        regional: None,
+        extensions: uper::Extensions::new(),
+    };
 }
 
 impl Uper for GeometricProjection {
@@ -4680,6 +5118,20 @@ impl uper::Placeholder for Circle {
             units: <DistanceUnits as uper::Placeholder>::placeholder(),
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for Circle {
+    const PLACEHOLDER: Self = Self {
+        center: <super::common::Position3D as uper::ConstPlaceholder>::PLACEHOLDER,
+        radius: <RadiusB12 as uper::ConstPlaceholder>::PLACEHOLDER,
+        units: <DistanceUnits as uper::ConstPlaceholder>::PLACEHOLDER,
+    };
 }
 
 impl Uper for Circle {
@@ -4837,6 +5289,16 @@ impl uper::Placeholder for DistanceUnits {
     fn placeholder() -> Self {
         Self::Centimeter
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for DistanceUnits {
+    const PLACEHOLDER: Self = Self::Centimeter;
 }
 
 impl Uper for DistanceUnits {
@@ -4898,6 +5360,16 @@ impl uper::Placeholder for GeometricProjectionRegional {
     fn placeholder() -> Self {
         Self(uper::SeqOf::new())
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for GeometricProjectionRegional {
+    const PLACEHOLDER: Self = Self(uper::SeqOf::new());
 }
 
 impl Uper for GeometricProjectionRegional {
@@ -5031,6 +5503,19 @@ impl uper::Placeholder for RegGeometricProjection {
             bytes: uper::Octets::new(),
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for RegGeometricProjection {
+    const PLACEHOLDER: Self = Self::Unknown {
+        id: <super::common::RegionId as uper::ConstPlaceholder>::PLACEHOLDER,
+        bytes: uper::Octets::new(),
+    };
 }
 
 impl Uper for RegGeometricProjection {
@@ -5094,6 +5579,20 @@ impl uper::Placeholder for ValidRegion {
             area: <ValidRegionArea as uper::Placeholder>::placeholder(),
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for ValidRegion {
+    const PLACEHOLDER: Self = Self {
+        direction: <super::common::HeadingSlice as uper::ConstPlaceholder>::PLACEHOLDER,
+        extent: None,
+        area: <ValidRegionArea as uper::ConstPlaceholder>::PLACEHOLDER,
+    };
 }
 
 impl Uper for ValidRegion {
@@ -5192,6 +5691,17 @@ impl uper::Placeholder for ValidRegionArea {
     fn placeholder() -> Self {
         Self::ShapePointSet(<ShapePointSet as uper::Placeholder>::placeholder())
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for ValidRegionArea {
+    const PLACEHOLDER: Self =
+        Self::ShapePointSet(<ShapePointSet as uper::ConstPlaceholder>::PLACEHOLDER);
 }
 
 impl Uper for ValidRegionArea {
@@ -5336,6 +5846,22 @@ impl uper::Placeholder for ShapePointSet {
             extensions: uper::Extensions::new(),
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for ShapePointSet {
+    const PLACEHOLDER: Self = Self {
+        anchor: None,
+        lane_width: None,
+        directionality: None,
+        node_list: <super::common::NodeListXY as uper::ConstPlaceholder>::PLACEHOLDER,
+        extensions: uper::Extensions::new(),
+    };
 }
 
 impl Uper for ShapePointSet {
@@ -5512,6 +6038,21 @@ impl uper::Placeholder for RegionPointSet {
             extensions: uper::Extensions::new(),
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for RegionPointSet {
+    const PLACEHOLDER: Self = Self {
+        anchor: None,
+        scale: None,
+        node_list: <RegionList as uper::ConstPlaceholder>::PLACEHOLDER,
+        extensions: uper::Extensions::new(),
+    };
 }
 
 impl Uper for RegionPointSet {
@@ -5651,6 +6192,16 @@ impl uper::Placeholder for RegionList {
     fn placeholder() -> Self {
         Self(uper::SeqOf::new())
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for RegionList {
+    const PLACEHOLDER: Self = Self(uper::SeqOf::new());
 }
 
 impl Uper for RegionList {
@@ -5718,6 +6269,20 @@ impl uper::Placeholder for RegionOffsets {
             z_offset: None,
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for RegionOffsets {
+    const PLACEHOLDER: Self = Self {
+        x_offset: <OffsetLLB16 as uper::ConstPlaceholder>::PLACEHOLDER,
+        y_offset: <OffsetLLB16 as uper::ConstPlaceholder>::PLACEHOLDER,
+        z_offset: None,
+    };
 }
 
 impl Uper for RegionOffsets {
@@ -5819,6 +6384,16 @@ impl uper::Placeholder for GeographicalPathRegional {
     fn placeholder() -> Self {
         Self(uper::SeqOf::new())
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for GeographicalPathRegional {
+    const PLACEHOLDER: Self = Self(uper::SeqOf::new());
 }
 
 impl Uper for GeographicalPathRegional {
@@ -5952,6 +6527,19 @@ impl uper::Placeholder for RegGeographicalPath {
             bytes: uper::Octets::new(),
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for RegGeographicalPath {
+    const PLACEHOLDER: Self = Self::Unknown {
+        id: <super::common::RegionId as uper::ConstPlaceholder>::PLACEHOLDER,
+        bytes: uper::Octets::new(),
+    };
 }
 
 impl Uper for RegGeographicalPath {
@@ -6015,6 +6603,17 @@ impl uper::Placeholder for TravelerDataFrameContent {
     fn placeholder() -> Self {
         Self::Advisory(<super::itis::ITIScodesAndText as uper::Placeholder>::placeholder())
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for TravelerDataFrameContent {
+    const PLACEHOLDER: Self =
+        Self::Advisory(<super::itis::ITIScodesAndText as uper::ConstPlaceholder>::PLACEHOLDER);
 }
 
 impl Uper for TravelerDataFrameContent {
@@ -6213,6 +6812,16 @@ impl uper::Placeholder for WorkZone {
     fn placeholder() -> Self {
         Self(uper::SeqOf::new())
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for WorkZone {
+    const PLACEHOLDER: Self = Self(uper::SeqOf::new());
 }
 
 impl Uper for WorkZone {
@@ -6277,6 +6886,18 @@ impl uper::Placeholder for WorkZoneItem {
             item: <WorkZoneItemItem as uper::Placeholder>::placeholder(),
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for WorkZoneItem {
+    const PLACEHOLDER: Self = Self {
+        item: <WorkZoneItemItem as uper::ConstPlaceholder>::PLACEHOLDER,
+    };
 }
 
 impl Uper for WorkZoneItem {
@@ -6330,6 +6951,17 @@ impl uper::Placeholder for WorkZoneItemItem {
     fn placeholder() -> Self {
         Self::Itis(<super::itis::ITIScodes as uper::Placeholder>::placeholder())
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for WorkZoneItemItem {
+    const PLACEHOLDER: Self =
+        Self::Itis(<super::itis::ITIScodes as uper::ConstPlaceholder>::PLACEHOLDER);
 }
 
 impl Uper for WorkZoneItemItem {
@@ -6447,6 +7079,16 @@ impl uper::Placeholder for ITIStextPhrase {
     fn placeholder() -> Self {
         Self(uper::Ia5::new())
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for ITIStextPhrase {
+    const PLACEHOLDER: Self = Self(uper::Ia5::new());
 }
 
 impl Uper for ITIStextPhrase {
@@ -6510,6 +7152,16 @@ impl uper::Placeholder for GenericSignage {
     fn placeholder() -> Self {
         Self(uper::SeqOf::new())
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for GenericSignage {
+    const PLACEHOLDER: Self = Self(uper::SeqOf::new());
 }
 
 impl Uper for GenericSignage {
@@ -6577,6 +7229,18 @@ impl uper::Placeholder for GenericSignageItem {
             item: <GenericSignageItemItem as uper::Placeholder>::placeholder(),
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for GenericSignageItem {
+    const PLACEHOLDER: Self = Self {
+        item: <GenericSignageItemItem as uper::ConstPlaceholder>::PLACEHOLDER,
+    };
 }
 
 impl Uper for GenericSignageItem {
@@ -6633,6 +7297,17 @@ impl uper::Placeholder for GenericSignageItemItem {
     fn placeholder() -> Self {
         Self::Itis(<super::itis::ITIScodes as uper::Placeholder>::placeholder())
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for GenericSignageItemItem {
+    const PLACEHOLDER: Self =
+        Self::Itis(<super::itis::ITIScodes as uper::ConstPlaceholder>::PLACEHOLDER);
 }
 
 impl Uper for GenericSignageItemItem {
@@ -6754,6 +7429,16 @@ impl uper::Placeholder for SpeedLimit {
     fn placeholder() -> Self {
         Self(uper::SeqOf::new())
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for SpeedLimit {
+    const PLACEHOLDER: Self = Self(uper::SeqOf::new());
 }
 
 impl Uper for SpeedLimit {
@@ -6819,6 +7504,18 @@ impl uper::Placeholder for SpeedLimitItem {
             item: <SpeedLimitItemItem as uper::Placeholder>::placeholder(),
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for SpeedLimitItem {
+    const PLACEHOLDER: Self = Self {
+        item: <SpeedLimitItemItem as uper::ConstPlaceholder>::PLACEHOLDER,
+    };
 }
 
 impl Uper for SpeedLimitItem {
@@ -6872,6 +7569,17 @@ impl uper::Placeholder for SpeedLimitItemItem {
     fn placeholder() -> Self {
         Self::Itis(<super::itis::ITIScodes as uper::Placeholder>::placeholder())
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for SpeedLimitItemItem {
+    const PLACEHOLDER: Self =
+        Self::Itis(<super::itis::ITIScodes as uper::ConstPlaceholder>::PLACEHOLDER);
 }
 
 impl Uper for SpeedLimitItemItem {
@@ -6991,6 +7699,16 @@ impl uper::Placeholder for ExitService {
     fn placeholder() -> Self {
         Self(uper::SeqOf::new())
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for ExitService {
+    const PLACEHOLDER: Self = Self(uper::SeqOf::new());
 }
 
 impl Uper for ExitService {
@@ -7053,6 +7771,18 @@ impl uper::Placeholder for ExitServiceItem {
             item: <ExitServiceItemItem as uper::Placeholder>::placeholder(),
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for ExitServiceItem {
+    const PLACEHOLDER: Self = Self {
+        item: <ExitServiceItemItem as uper::ConstPlaceholder>::PLACEHOLDER,
+    };
 }
 
 impl Uper for ExitServiceItem {
@@ -7109,6 +7839,17 @@ impl uper::Placeholder for ExitServiceItemItem {
     fn placeholder() -> Self {
         Self::Itis(<super::itis::ITIScodes as uper::Placeholder>::placeholder())
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for ExitServiceItemItem {
+    const PLACEHOLDER: Self =
+        Self::Itis(<super::itis::ITIScodes as uper::ConstPlaceholder>::PLACEHOLDER);
 }
 
 impl Uper for ExitServiceItemItem {
@@ -7226,6 +7967,16 @@ impl uper::Placeholder for URLShort {
     fn placeholder() -> Self {
         Self(uper::Ia5::new())
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for URLShort {
+    const PLACEHOLDER: Self = Self(uper::Ia5::new());
 }
 
 impl Uper for URLShort {
@@ -7284,6 +8035,16 @@ impl uper::Placeholder for TravelerInformationRegional {
     fn placeholder() -> Self {
         Self(uper::SeqOf::new())
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for TravelerInformationRegional {
+    const PLACEHOLDER: Self = Self(uper::SeqOf::new());
 }
 
 impl Uper for TravelerInformationRegional {
@@ -7419,6 +8180,19 @@ impl uper::Placeholder for RegTravelerInformation {
             bytes: uper::Octets::new(),
         }
     }
+    #[cfg(feature = "alloc")]
+    #[inline]
+    fn item_placeholder() -> Self {
+        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl uper::ConstPlaceholder for RegTravelerInformation {
+    const PLACEHOLDER: Self = Self::Unknown {
+        id: <super::common::RegionId as uper::ConstPlaceholder>::PLACEHOLDER,
+        bytes: uper::Octets::new(),
+    };
 }
 
 impl Uper for RegTravelerInformation {

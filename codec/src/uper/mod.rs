@@ -59,12 +59,46 @@ impl core::error::Error for OutOfRange {}
 pub trait Placeholder: Sized {
     /// The placeholder value.
     fn placeholder() -> Self;
+
+    /// The placeholder of a new list item: the generated types return their
+    /// `ConstPlaceholder` with `alloc` (see there), others [`Placeholder::placeholder`].
+    #[doc(hidden)]
+    #[inline]
+    fn item_placeholder() -> Self {
+        Self::placeholder()
+    }
 }
 
 impl Placeholder for u8 {
     fn placeholder() -> Self {
         0
     }
+}
+
+/// A type's [`Placeholder`] as a constant, with `alloc` (where every value is small): the
+/// placeholder of each new list item ([`Placeholder::item_placeholder`]).
+///
+/// A new value's decode with `alloc` makes a placeholder for every list item before decoding
+/// into it. Made by a function, a placeholder was built in a temporary with narrow stores (a
+/// CHOICE's tag, an integer, a `None`) and copied into its slot with wide loads that
+/// overlapped them, so each copy waited for the stores to complete (a failed store-to-load
+/// forward): a new TIM_036's node list spent 8 % of its decode time there. A constant is
+/// copied from read-only memory instead.
+///
+/// Only list items use it: made a constant for present OPTIONAL members and chosen
+/// alternatives too, a new SPaT and MAP took longer (their large members' constants are
+/// copied whole, where a function writes only their tags). Without `alloc` it is not used: a
+/// large value's constant would be as large in flash.
+#[doc(hidden)]
+#[cfg(feature = "alloc")]
+pub trait ConstPlaceholder: Sized {
+    /// The placeholder value.
+    const PLACEHOLDER: Self;
+}
+
+#[cfg(feature = "alloc")]
+impl ConstPlaceholder for u8 {
+    const PLACEHOLDER: Self = 0;
 }
 
 /// A type with a UPER encoding. Implemented by every generated J2735 type.
@@ -257,6 +291,11 @@ impl Placeholder for bool {
     }
 }
 
+#[cfg(feature = "alloc")]
+impl ConstPlaceholder for bool {
+    const PLACEHOLDER: Self = false;
+}
+
 impl Uper for bool {
     const PATH: &'static str = "BOOLEAN";
     const MAX_UPER_BITS: Option<u64> = Some(1);
@@ -280,6 +319,11 @@ impl Placeholder for Null {
     fn placeholder() -> Self {
         Null
     }
+}
+
+#[cfg(feature = "alloc")]
+impl ConstPlaceholder for Null {
+    const PLACEHOLDER: Self = Null;
 }
 
 impl Uper for Null {

@@ -86,7 +86,7 @@ impl<T: Placeholder, const N: usize, const I: usize> SeqOf<T, N, I> {
             #[cfg(not(feature = "alloc"))]
             self.items.push(T::placeholder()).ok()?;
             #[cfg(feature = "alloc")]
-            self.items.grow_to(len + 1, T::placeholder).ok()?;
+            self.items.grow_to(len + 1, T::item_placeholder).ok()?;
         }
         let slot = self.items.as_mut_slice().get_mut(len)?;
         self.len.set(len + 1);
@@ -104,7 +104,7 @@ impl<T: Placeholder, const N: usize, const I: usize> SeqOf<T, N, I> {
         // The first room exactly (a decode knows the length before the items), later room
         // amortised (a long list grows in runs, see `decode_seq_of_into`).
         #[cfg(feature = "alloc")]
-        self.items.grow_to(new_len, T::placeholder).ok()?;
+        self.items.grow_to(new_len, T::item_placeholder).ok()?;
         #[cfg(not(feature = "alloc"))]
         while self.items.len() < new_len {
             self.items.push(T::placeholder()).ok()?;
@@ -204,6 +204,13 @@ impl<T: Placeholder, const N: usize, const I: usize> Placeholder for SeqOf<T, N,
     fn placeholder() -> Self {
         Self::new()
     }
+}
+
+#[cfg(feature = "alloc")]
+impl<T: Placeholder, const N: usize, const I: usize> super::ConstPlaceholder
+    for SeqOf<T, N, I>
+{
+    const PLACEHOLDER: Self = Self::new();
 }
 
 impl<T, const N: usize, const I: usize> Deref for SeqOf<T, N, I> {
@@ -360,6 +367,11 @@ impl<const N: usize> Placeholder for Ia5<N> {
     fn placeholder() -> Self {
         Self::new()
     }
+}
+
+#[cfg(feature = "alloc")]
+impl<const N: usize> super::ConstPlaceholder for Ia5<N> {
+    const PLACEHOLDER: Self = Self::new();
 }
 
 impl<const N: usize> fmt::Debug for Ia5<N> {
