@@ -1959,9 +1959,9 @@ pub enum GeographicalPathDescription {
     /// `path`
     Path(OffsetSystem),
     /// `geometry`
-    Geometry(GeometricProjection),
+    Geometry(uper::Boxed<GeometricProjection>),
     /// `oldRegion`
-    OldRegion(ValidRegion),
+    OldRegion(uper::Boxed<ValidRegion>),
     /// An alternative added after J2735 2020, kept as raw octets.
     Extension {
         /// Index among the extension alternatives.
@@ -2016,21 +2016,25 @@ impl Uper for GeographicalPathDescription {
             1 => {
                 if !matches!(out, Self::Geometry(_)) {
                     uper::replace_with(out, || {
-                        Self::Geometry(<GeometricProjection as uper::Placeholder>::placeholder())
+                        Self::Geometry(
+                            <uper::Boxed<GeometricProjection> as uper::Placeholder>::placeholder(),
+                        )
                     });
                 }
                 if let Self::Geometry(v) = out {
-                    <GeometricProjection>::decode_into(r, v)?;
+                    <uper::Boxed<GeometricProjection>>::decode_into(r, v)?;
                 }
             }
             2 => {
                 if !matches!(out, Self::OldRegion(_)) {
                     uper::replace_with(out, || {
-                        Self::OldRegion(<ValidRegion as uper::Placeholder>::placeholder())
+                        Self::OldRegion(
+                            <uper::Boxed<ValidRegion> as uper::Placeholder>::placeholder(),
+                        )
                     });
                 }
                 if let Self::OldRegion(v) = out {
-                    <ValidRegion>::decode_into(r, v)?;
+                    <uper::Boxed<ValidRegion>>::decode_into(r, v)?;
                 }
             }
             _ => {
@@ -2073,8 +2077,12 @@ impl uper::random::Random for GeographicalPathDescription {
     fn random(g: &mut uper::random::Gen) -> Self {
         match g.below(3) {
             0 => Self::Path(<OffsetSystem as uper::random::Random>::random(g)),
-            1 => Self::Geometry(<GeometricProjection as uper::random::Random>::random(g)),
-            2 => Self::OldRegion(<ValidRegion as uper::random::Random>::random(g)),
+            1 => Self::Geometry(
+                <uper::Boxed<GeometricProjection> as uper::random::Random>::random(g),
+            ),
+            2 => Self::OldRegion(<uper::Boxed<ValidRegion> as uper::random::Random>::random(
+                g,
+            )),
             _ => Self::Path(<OffsetSystem as uper::Placeholder>::placeholder()),
         }
     }
@@ -2114,10 +2122,10 @@ impl crate::jer::Jer for GeographicalPathDescription {
             "path" => <OffsetSystem as crate::jer::Jer>::read_jer(x)
                 .map(Self::Path)
                 .map_err(|e| e.within(name)),
-            "geometry" => <GeometricProjection as crate::jer::Jer>::read_jer(x)
+            "geometry" => <uper::Boxed<GeometricProjection> as crate::jer::Jer>::read_jer(x)
                 .map(Self::Geometry)
                 .map_err(|e| e.within(name)),
-            "oldRegion" => <ValidRegion as crate::jer::Jer>::read_jer(x)
+            "oldRegion" => <uper::Boxed<ValidRegion> as crate::jer::Jer>::read_jer(x)
                 .map(Self::OldRegion)
                 .map_err(|e| e.within(name)),
             _ => Err(crate::jer::JerError::new(std::format!(

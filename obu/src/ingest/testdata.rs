@@ -334,7 +334,7 @@ pub fn circle_region(radius: u16, units: DistanceUnits, slices: &[usize]) -> Geo
         radius: ok(RadiusB12::new(radius)),
         units,
     };
-    gp.description = Some(GeographicalPathDescription::Geometry(g));
+    gp.description = Some(GeographicalPathDescription::Geometry(g.into()));
     gp
 }
 
