@@ -207,9 +207,7 @@ impl<T: Placeholder, const N: usize, const I: usize> Placeholder for SeqOf<T, N,
 }
 
 #[cfg(feature = "alloc")]
-impl<T: Placeholder, const N: usize, const I: usize> super::ConstPlaceholder
-    for SeqOf<T, N, I>
-{
+impl<T: Placeholder, const N: usize, const I: usize> super::ConstPlaceholder for SeqOf<T, N, I> {
     const PLACEHOLDER: Self = Self::new();
 }
 
