@@ -31,7 +31,11 @@ impl uper::Placeholder for BasicSafetyMessage {
     #[cfg(feature = "alloc")]
     #[inline]
     fn item_placeholder() -> Self {
-        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+        if uper::item_placeholder_is_const::<Self>() {
+            <Self as uper::ConstPlaceholder>::PLACEHOLDER
+        } else {
+            Self::placeholder()
+        }
     }
 }
 
@@ -192,7 +196,11 @@ impl uper::Placeholder for BasicSafetyMessagePartII {
     #[cfg(feature = "alloc")]
     #[inline]
     fn item_placeholder() -> Self {
-        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+        if uper::item_placeholder_is_const::<Self>() {
+            <Self as uper::ConstPlaceholder>::PLACEHOLDER
+        } else {
+            Self::placeholder()
+        }
     }
 }
 
@@ -282,7 +290,11 @@ impl uper::Placeholder for SpecialVehicleExtensions {
     #[cfg(feature = "alloc")]
     #[inline]
     fn item_placeholder() -> Self {
-        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+        if uper::item_placeholder_is_const::<Self>() {
+            <Self as uper::ConstPlaceholder>::PLACEHOLDER
+        } else {
+            Self::placeholder()
+        }
     }
 }
 
@@ -464,7 +476,11 @@ impl uper::Placeholder for EventDescription {
     #[cfg(feature = "alloc")]
     #[inline]
     fn item_placeholder() -> Self {
-        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+        if uper::item_placeholder_is_const::<Self>() {
+            <Self as uper::ConstPlaceholder>::PLACEHOLDER
+        } else {
+            Self::placeholder()
+        }
     }
 }
 
@@ -716,7 +732,11 @@ impl uper::Placeholder for EventDescriptionDescription {
     #[cfg(feature = "alloc")]
     #[inline]
     fn item_placeholder() -> Self {
-        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+        if uper::item_placeholder_is_const::<Self>() {
+            <Self as uper::ConstPlaceholder>::PLACEHOLDER
+        } else {
+            Self::placeholder()
+        }
     }
 }
 
@@ -804,7 +824,11 @@ impl uper::Placeholder for EventDescriptionRegional {
     #[cfg(feature = "alloc")]
     #[inline]
     fn item_placeholder() -> Self {
-        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+        if uper::item_placeholder_is_const::<Self>() {
+            <Self as uper::ConstPlaceholder>::PLACEHOLDER
+        } else {
+            Self::placeholder()
+        }
     }
 }
 
@@ -947,7 +971,11 @@ impl uper::Placeholder for RegEventDescription {
     #[cfg(feature = "alloc")]
     #[inline]
     fn item_placeholder() -> Self {
-        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+        if uper::item_placeholder_is_const::<Self>() {
+            <Self as uper::ConstPlaceholder>::PLACEHOLDER
+        } else {
+            Self::placeholder()
+        }
     }
 }
 
@@ -1026,7 +1054,11 @@ impl uper::Placeholder for TrailerData {
     #[cfg(feature = "alloc")]
     #[inline]
     fn item_placeholder() -> Self {
-        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+        if uper::item_placeholder_is_const::<Self>() {
+            <Self as uper::ConstPlaceholder>::PLACEHOLDER
+        } else {
+            Self::placeholder()
+        }
     }
 }
 
@@ -1144,7 +1176,11 @@ impl uper::Placeholder for PivotPointDescription {
     #[cfg(feature = "alloc")]
     #[inline]
     fn item_placeholder() -> Self {
-        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+        if uper::item_placeholder_is_const::<Self>() {
+            <Self as uper::ConstPlaceholder>::PLACEHOLDER
+        } else {
+            Self::placeholder()
+        }
     }
 }
 
@@ -1264,7 +1300,11 @@ impl uper::Placeholder for TrailerUnitDescriptionList {
     #[cfg(feature = "alloc")]
     #[inline]
     fn item_placeholder() -> Self {
-        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+        if uper::item_placeholder_is_const::<Self>() {
+            <Self as uper::ConstPlaceholder>::PLACEHOLDER
+        } else {
+            Self::placeholder()
+        }
     }
 }
 
@@ -1380,7 +1420,11 @@ impl uper::Placeholder for TrailerUnitDescription {
     #[cfg(feature = "alloc")]
     #[inline]
     fn item_placeholder() -> Self {
-        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+        if uper::item_placeholder_is_const::<Self>() {
+            <Self as uper::ConstPlaceholder>::PLACEHOLDER
+        } else {
+            Self::placeholder()
+        }
     }
 }
 
@@ -1783,7 +1827,11 @@ impl uper::Placeholder for TrailerHistoryPointList {
     #[cfg(feature = "alloc")]
     #[inline]
     fn item_placeholder() -> Self {
-        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+        if uper::item_placeholder_is_const::<Self>() {
+            <Self as uper::ConstPlaceholder>::PLACEHOLDER
+        } else {
+            Self::placeholder()
+        }
     }
 }
 
@@ -1875,7 +1923,11 @@ impl uper::Placeholder for TrailerHistoryPoint {
     #[cfg(feature = "alloc")]
     #[inline]
     fn item_placeholder() -> Self {
-        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+        if uper::item_placeholder_is_const::<Self>() {
+            <Self as uper::ConstPlaceholder>::PLACEHOLDER
+        } else {
+            Self::placeholder()
+        }
     }
 }
 
@@ -2078,7 +2130,11 @@ impl uper::Placeholder for SupplementalVehicleExtensions {
     #[cfg(feature = "alloc")]
     #[inline]
     fn item_placeholder() -> Self {
-        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+        if uper::item_placeholder_is_const::<Self>() {
+            <Self as uper::ConstPlaceholder>::PLACEHOLDER
+        } else {
+            Self::placeholder()
+        }
     }
 }
 
@@ -2461,7 +2517,11 @@ impl uper::Placeholder for VehicleData {
     #[cfg(feature = "alloc")]
     #[inline]
     fn item_placeholder() -> Self {
-        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+        if uper::item_placeholder_is_const::<Self>() {
+            <Self as uper::ConstPlaceholder>::PLACEHOLDER
+        } else {
+            Self::placeholder()
+        }
     }
 }
 
@@ -2676,7 +2736,11 @@ impl uper::Placeholder for WeatherReport {
     #[cfg(feature = "alloc")]
     #[inline]
     fn item_placeholder() -> Self {
-        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+        if uper::item_placeholder_is_const::<Self>() {
+            <Self as uper::ConstPlaceholder>::PLACEHOLDER
+        } else {
+            Self::placeholder()
+        }
     }
 }
 
@@ -2924,7 +2988,11 @@ impl uper::Placeholder for WeatherProbe {
     #[cfg(feature = "alloc")]
     #[inline]
     fn item_placeholder() -> Self {
-        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+        if uper::item_placeholder_is_const::<Self>() {
+            <Self as uper::ConstPlaceholder>::PLACEHOLDER
+        } else {
+            Self::placeholder()
+        }
     }
 }
 
@@ -3109,7 +3177,11 @@ impl uper::Placeholder for ObstacleDetection {
     #[cfg(feature = "alloc")]
     #[inline]
     fn item_placeholder() -> Self {
-        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+        if uper::item_placeholder_is_const::<Self>() {
+            <Self as uper::ConstPlaceholder>::PLACEHOLDER
+        } else {
+            Self::placeholder()
+        }
     }
 }
 
@@ -3336,7 +3408,11 @@ impl uper::Placeholder for DisabledVehicle {
     #[cfg(feature = "alloc")]
     #[inline]
     fn item_placeholder() -> Self {
-        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+        if uper::item_placeholder_is_const::<Self>() {
+            <Self as uper::ConstPlaceholder>::PLACEHOLDER
+        } else {
+            Self::placeholder()
+        }
     }
 }
 
@@ -3466,7 +3542,11 @@ impl uper::Placeholder for SpeedProfile {
     #[cfg(feature = "alloc")]
     #[inline]
     fn item_placeholder() -> Self {
-        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+        if uper::item_placeholder_is_const::<Self>() {
+            <Self as uper::ConstPlaceholder>::PLACEHOLDER
+        } else {
+            Self::placeholder()
+        }
     }
 }
 
@@ -3562,7 +3642,11 @@ impl uper::Placeholder for SpeedProfileMeasurementList {
     #[cfg(feature = "alloc")]
     #[inline]
     fn item_placeholder() -> Self {
-        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+        if uper::item_placeholder_is_const::<Self>() {
+            <Self as uper::ConstPlaceholder>::PLACEHOLDER
+        } else {
+            Self::placeholder()
+        }
     }
 }
 
@@ -3648,7 +3732,11 @@ impl uper::Placeholder for RTCMPackage {
     #[cfg(feature = "alloc")]
     #[inline]
     fn item_placeholder() -> Self {
-        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+        if uper::item_placeholder_is_const::<Self>() {
+            <Self as uper::ConstPlaceholder>::PLACEHOLDER
+        } else {
+            Self::placeholder()
+        }
     }
 }
 
@@ -3779,7 +3867,11 @@ impl uper::Placeholder for SupplementalVehicleExtensionsRegional {
     #[cfg(feature = "alloc")]
     #[inline]
     fn item_placeholder() -> Self {
-        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+        if uper::item_placeholder_is_const::<Self>() {
+            <Self as uper::ConstPlaceholder>::PLACEHOLDER
+        } else {
+            Self::placeholder()
+        }
     }
 }
 
@@ -3922,7 +4014,11 @@ impl uper::Placeholder for RegSupplementalVehicleExtensions {
     #[cfg(feature = "alloc")]
     #[inline]
     fn item_placeholder() -> Self {
-        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+        if uper::item_placeholder_is_const::<Self>() {
+            <Self as uper::ConstPlaceholder>::PLACEHOLDER
+        } else {
+            Self::placeholder()
+        }
     }
 }
 
@@ -4096,7 +4192,11 @@ impl uper::Placeholder for PartIIcontent {
     #[cfg(feature = "alloc")]
     #[inline]
     fn item_placeholder() -> Self {
-        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+        if uper::item_placeholder_is_const::<Self>() {
+            <Self as uper::ConstPlaceholder>::PLACEHOLDER
+        } else {
+            Self::placeholder()
+        }
     }
 }
 
@@ -4232,7 +4332,11 @@ impl uper::Placeholder for BasicSafetyMessageRegional {
     #[cfg(feature = "alloc")]
     #[inline]
     fn item_placeholder() -> Self {
-        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+        if uper::item_placeholder_is_const::<Self>() {
+            <Self as uper::ConstPlaceholder>::PLACEHOLDER
+        } else {
+            Self::placeholder()
+        }
     }
 }
 
@@ -4375,7 +4479,11 @@ impl uper::Placeholder for RegBasicSafetyMessage {
     #[cfg(feature = "alloc")]
     #[inline]
     fn item_placeholder() -> Self {
-        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+        if uper::item_placeholder_is_const::<Self>() {
+            <Self as uper::ConstPlaceholder>::PLACEHOLDER
+        } else {
+            Self::placeholder()
+        }
     }
 }
 

@@ -53,7 +53,11 @@ impl uper::Placeholder for IntersectionCollision {
     #[cfg(feature = "alloc")]
     #[inline]
     fn item_placeholder() -> Self {
-        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+        if uper::item_placeholder_is_const::<Self>() {
+            <Self as uper::ConstPlaceholder>::PLACEHOLDER
+        } else {
+            Self::placeholder()
+        }
     }
 }
 
@@ -342,7 +346,11 @@ impl uper::Placeholder for ApproachOrLane {
     #[cfg(feature = "alloc")]
     #[inline]
     fn item_placeholder() -> Self {
-        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+        if uper::item_placeholder_is_const::<Self>() {
+            <Self as uper::ConstPlaceholder>::PLACEHOLDER
+        } else {
+            Self::placeholder()
+        }
     }
 }
 
@@ -476,7 +484,11 @@ impl uper::Placeholder for IntersectionCollisionRegional {
     #[cfg(feature = "alloc")]
     #[inline]
     fn item_placeholder() -> Self {
-        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+        if uper::item_placeholder_is_const::<Self>() {
+            <Self as uper::ConstPlaceholder>::PLACEHOLDER
+        } else {
+            Self::placeholder()
+        }
     }
 }
 
@@ -621,7 +633,11 @@ impl uper::Placeholder for RegIntersectionCollision {
     #[cfg(feature = "alloc")]
     #[inline]
     fn item_placeholder() -> Self {
-        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+        if uper::item_placeholder_is_const::<Self>() {
+            <Self as uper::ConstPlaceholder>::PLACEHOLDER
+        } else {
+            Self::placeholder()
+        }
     }
 }
 

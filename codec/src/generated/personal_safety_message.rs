@@ -100,7 +100,11 @@ impl uper::Placeholder for PersonalSafetyMessage {
     #[cfg(feature = "alloc")]
     #[inline]
     fn item_placeholder() -> Self {
-        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+        if uper::item_placeholder_is_const::<Self>() {
+            <Self as uper::ConstPlaceholder>::PLACEHOLDER
+        } else {
+            Self::placeholder()
+        }
     }
 }
 
@@ -871,7 +875,11 @@ impl uper::Placeholder for PersonalDeviceUserType {
     #[cfg(feature = "alloc")]
     #[inline]
     fn item_placeholder() -> Self {
-        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+        if uper::item_placeholder_is_const::<Self>() {
+            <Self as uper::ConstPlaceholder>::PLACEHOLDER
+        } else {
+            Self::placeholder()
+        }
     }
 }
 
@@ -953,7 +961,11 @@ impl uper::Placeholder for PropelledInformation {
     #[cfg(feature = "alloc")]
     #[inline]
     fn item_placeholder() -> Self {
-        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+        if uper::item_placeholder_is_const::<Self>() {
+            <Self as uper::ConstPlaceholder>::PLACEHOLDER
+        } else {
+            Self::placeholder()
+        }
     }
 }
 
@@ -1186,7 +1198,11 @@ impl uper::Placeholder for HumanPropelledType {
     #[cfg(feature = "alloc")]
     #[inline]
     fn item_placeholder() -> Self {
-        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+        if uper::item_placeholder_is_const::<Self>() {
+            <Self as uper::ConstPlaceholder>::PLACEHOLDER
+        } else {
+            Self::placeholder()
+        }
     }
 }
 
@@ -1314,7 +1330,11 @@ impl uper::Placeholder for AnimalPropelledType {
     #[cfg(feature = "alloc")]
     #[inline]
     fn item_placeholder() -> Self {
-        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+        if uper::item_placeholder_is_const::<Self>() {
+            <Self as uper::ConstPlaceholder>::PLACEHOLDER
+        } else {
+            Self::placeholder()
+        }
     }
 }
 
@@ -1456,7 +1476,11 @@ impl uper::Placeholder for MotorizedPropelledType {
     #[cfg(feature = "alloc")]
     #[inline]
     fn item_placeholder() -> Self {
-        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+        if uper::item_placeholder_is_const::<Self>() {
+            <Self as uper::ConstPlaceholder>::PLACEHOLDER
+        } else {
+            Self::placeholder()
+        }
     }
 }
 
@@ -1551,7 +1575,11 @@ impl uper::Placeholder for PersonalDeviceUsageState {
     #[cfg(feature = "alloc")]
     #[inline]
     fn item_placeholder() -> Self {
-        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+        if uper::item_placeholder_is_const::<Self>() {
+            <Self as uper::ConstPlaceholder>::PLACEHOLDER
+        } else {
+            Self::placeholder()
+        }
     }
 }
 
@@ -1670,7 +1698,11 @@ impl uper::Placeholder for NumberOfParticipantsInCluster {
     #[cfg(feature = "alloc")]
     #[inline]
     fn item_placeholder() -> Self {
-        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+        if uper::item_placeholder_is_const::<Self>() {
+            <Self as uper::ConstPlaceholder>::PLACEHOLDER
+        } else {
+            Self::placeholder()
+        }
     }
 }
 
@@ -1837,7 +1869,11 @@ impl uper::Placeholder for PublicSafetyEventResponderWorkerType {
     #[cfg(feature = "alloc")]
     #[inline]
     fn item_placeholder() -> Self {
-        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+        if uper::item_placeholder_is_const::<Self>() {
+            <Self as uper::ConstPlaceholder>::PLACEHOLDER
+        } else {
+            Self::placeholder()
+        }
     }
 }
 
@@ -1926,7 +1962,11 @@ impl uper::Placeholder for PublicSafetyAndRoadWorkerActivity {
     #[cfg(feature = "alloc")]
     #[inline]
     fn item_placeholder() -> Self {
-        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+        if uper::item_placeholder_is_const::<Self>() {
+            <Self as uper::ConstPlaceholder>::PLACEHOLDER
+        } else {
+            Self::placeholder()
+        }
     }
 }
 
@@ -2007,7 +2047,11 @@ impl uper::Placeholder for PublicSafetyDirectingTrafficSubType {
     #[cfg(feature = "alloc")]
     #[inline]
     fn item_placeholder() -> Self {
-        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+        if uper::item_placeholder_is_const::<Self>() {
+            <Self as uper::ConstPlaceholder>::PLACEHOLDER
+        } else {
+            Self::placeholder()
+        }
     }
 }
 
@@ -2086,7 +2130,11 @@ impl uper::Placeholder for PersonalAssistive {
     #[cfg(feature = "alloc")]
     #[inline]
     fn item_placeholder() -> Self {
-        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+        if uper::item_placeholder_is_const::<Self>() {
+            <Self as uper::ConstPlaceholder>::PLACEHOLDER
+        } else {
+            Self::placeholder()
+        }
     }
 }
 
@@ -2159,7 +2207,11 @@ impl uper::Placeholder for UserSizeAndBehaviour {
     #[cfg(feature = "alloc")]
     #[inline]
     fn item_placeholder() -> Self {
-        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+        if uper::item_placeholder_is_const::<Self>() {
+            <Self as uper::ConstPlaceholder>::PLACEHOLDER
+        } else {
+            Self::placeholder()
+        }
     }
 }
 
@@ -2294,7 +2346,11 @@ impl uper::Placeholder for Attachment {
     #[cfg(feature = "alloc")]
     #[inline]
     fn item_placeholder() -> Self {
-        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+        if uper::item_placeholder_is_const::<Self>() {
+            <Self as uper::ConstPlaceholder>::PLACEHOLDER
+        } else {
+            Self::placeholder()
+        }
     }
 }
 
@@ -2428,7 +2484,11 @@ impl uper::Placeholder for AnimalType {
     #[cfg(feature = "alloc")]
     #[inline]
     fn item_placeholder() -> Self {
-        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+        if uper::item_placeholder_is_const::<Self>() {
+            <Self as uper::ConstPlaceholder>::PLACEHOLDER
+        } else {
+            Self::placeholder()
+        }
     }
 }
 
@@ -2512,7 +2572,11 @@ impl uper::Placeholder for PersonalSafetyMessageRegional {
     #[cfg(feature = "alloc")]
     #[inline]
     fn item_placeholder() -> Self {
-        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+        if uper::item_placeholder_is_const::<Self>() {
+            <Self as uper::ConstPlaceholder>::PLACEHOLDER
+        } else {
+            Self::placeholder()
+        }
     }
 }
 
@@ -2657,7 +2721,11 @@ impl uper::Placeholder for RegPersonalSafetyMessage {
     #[cfg(feature = "alloc")]
     #[inline]
     fn item_placeholder() -> Self {
-        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+        if uper::item_placeholder_is_const::<Self>() {
+            <Self as uper::ConstPlaceholder>::PLACEHOLDER
+        } else {
+            Self::placeholder()
+        }
     }
 }
 

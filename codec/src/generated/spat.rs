@@ -34,7 +34,11 @@ impl uper::Placeholder for SPAT {
     #[cfg(feature = "alloc")]
     #[inline]
     fn item_placeholder() -> Self {
-        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+        if uper::item_placeholder_is_const::<Self>() {
+            <Self as uper::ConstPlaceholder>::PLACEHOLDER
+        } else {
+            Self::placeholder()
+        }
     }
 }
 
@@ -220,7 +224,11 @@ impl uper::Placeholder for IntersectionStateList {
     #[cfg(feature = "alloc")]
     #[inline]
     fn item_placeholder() -> Self {
-        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+        if uper::item_placeholder_is_const::<Self>() {
+            <Self as uper::ConstPlaceholder>::PLACEHOLDER
+        } else {
+            Self::placeholder()
+        }
     }
 }
 
@@ -322,7 +330,11 @@ impl uper::Placeholder for IntersectionState {
     #[cfg(feature = "alloc")]
     #[inline]
     fn item_placeholder() -> Self {
-        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+        if uper::item_placeholder_is_const::<Self>() {
+            <Self as uper::ConstPlaceholder>::PLACEHOLDER
+        } else {
+            Self::placeholder()
+        }
     }
 }
 
@@ -661,7 +673,11 @@ impl uper::Placeholder for IntersectionStatusObject {
     #[cfg(feature = "alloc")]
     #[inline]
     fn item_placeholder() -> Self {
-        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+        if uper::item_placeholder_is_const::<Self>() {
+            <Self as uper::ConstPlaceholder>::PLACEHOLDER
+        } else {
+            Self::placeholder()
+        }
     }
 }
 
@@ -734,7 +750,11 @@ impl uper::Placeholder for EnabledLaneList {
     #[cfg(feature = "alloc")]
     #[inline]
     fn item_placeholder() -> Self {
-        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+        if uper::item_placeholder_is_const::<Self>() {
+            <Self as uper::ConstPlaceholder>::PLACEHOLDER
+        } else {
+            Self::placeholder()
+        }
     }
 }
 
@@ -817,7 +837,11 @@ impl uper::Placeholder for MovementList {
     #[cfg(feature = "alloc")]
     #[inline]
     fn item_placeholder() -> Self {
-        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+        if uper::item_placeholder_is_const::<Self>() {
+            <Self as uper::ConstPlaceholder>::PLACEHOLDER
+        } else {
+            Self::placeholder()
+        }
     }
 }
 
@@ -903,7 +927,11 @@ impl uper::Placeholder for MovementState {
     #[cfg(feature = "alloc")]
     #[inline]
     fn item_placeholder() -> Self {
-        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+        if uper::item_placeholder_is_const::<Self>() {
+            <Self as uper::ConstPlaceholder>::PLACEHOLDER
+        } else {
+            Self::placeholder()
+        }
     }
 }
 
@@ -1104,7 +1132,11 @@ impl uper::Placeholder for MovementEventList {
     #[cfg(feature = "alloc")]
     #[inline]
     fn item_placeholder() -> Self {
-        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+        if uper::item_placeholder_is_const::<Self>() {
+            <Self as uper::ConstPlaceholder>::PLACEHOLDER
+        } else {
+            Self::placeholder()
+        }
     }
 }
 
@@ -1187,7 +1219,11 @@ impl uper::Placeholder for MovementEvent {
     #[cfg(feature = "alloc")]
     #[inline]
     fn item_placeholder() -> Self {
-        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+        if uper::item_placeholder_is_const::<Self>() {
+            <Self as uper::ConstPlaceholder>::PLACEHOLDER
+        } else {
+            Self::placeholder()
+        }
     }
 }
 
@@ -1457,7 +1493,11 @@ impl uper::Placeholder for MovementPhaseState {
     #[cfg(feature = "alloc")]
     #[inline]
     fn item_placeholder() -> Self {
-        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+        if uper::item_placeholder_is_const::<Self>() {
+            <Self as uper::ConstPlaceholder>::PLACEHOLDER
+        } else {
+            Self::placeholder()
+        }
     }
 }
 
@@ -1532,7 +1572,11 @@ impl uper::Placeholder for TimeChangeDetails {
     #[cfg(feature = "alloc")]
     #[inline]
     fn item_placeholder() -> Self {
-        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+        if uper::item_placeholder_is_const::<Self>() {
+            <Self as uper::ConstPlaceholder>::PLACEHOLDER
+        } else {
+            Self::placeholder()
+        }
     }
 }
 
@@ -1768,7 +1812,11 @@ impl uper::Placeholder for AdvisorySpeedList {
     #[cfg(feature = "alloc")]
     #[inline]
     fn item_placeholder() -> Self {
-        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+        if uper::item_placeholder_is_const::<Self>() {
+            <Self as uper::ConstPlaceholder>::PLACEHOLDER
+        } else {
+            Self::placeholder()
+        }
     }
 }
 
@@ -1857,7 +1905,11 @@ impl uper::Placeholder for AdvisorySpeed {
     #[cfg(feature = "alloc")]
     #[inline]
     fn item_placeholder() -> Self {
-        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+        if uper::item_placeholder_is_const::<Self>() {
+            <Self as uper::ConstPlaceholder>::PLACEHOLDER
+        } else {
+            Self::placeholder()
+        }
     }
 }
 
@@ -2136,7 +2188,11 @@ impl uper::Placeholder for AdvisorySpeedType {
     #[cfg(feature = "alloc")]
     #[inline]
     fn item_placeholder() -> Self {
-        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+        if uper::item_placeholder_is_const::<Self>() {
+            <Self as uper::ConstPlaceholder>::PLACEHOLDER
+        } else {
+            Self::placeholder()
+        }
     }
 }
 
@@ -2227,7 +2283,11 @@ impl uper::Placeholder for AdvisorySpeedRegional {
     #[cfg(feature = "alloc")]
     #[inline]
     fn item_placeholder() -> Self {
-        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+        if uper::item_placeholder_is_const::<Self>() {
+            <Self as uper::ConstPlaceholder>::PLACEHOLDER
+        } else {
+            Self::placeholder()
+        }
     }
 }
 
@@ -2365,7 +2425,11 @@ impl uper::Placeholder for RegAdvisorySpeed {
     #[cfg(feature = "alloc")]
     #[inline]
     fn item_placeholder() -> Self {
-        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+        if uper::item_placeholder_is_const::<Self>() {
+            <Self as uper::ConstPlaceholder>::PLACEHOLDER
+        } else {
+            Self::placeholder()
+        }
     }
 }
 
@@ -2443,7 +2507,11 @@ impl uper::Placeholder for MovementEventRegional {
     #[cfg(feature = "alloc")]
     #[inline]
     fn item_placeholder() -> Self {
-        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+        if uper::item_placeholder_is_const::<Self>() {
+            <Self as uper::ConstPlaceholder>::PLACEHOLDER
+        } else {
+            Self::placeholder()
+        }
     }
 }
 
@@ -2595,7 +2663,11 @@ impl uper::Placeholder for RegMovementEvent {
     #[cfg(feature = "alloc")]
     #[inline]
     fn item_placeholder() -> Self {
-        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+        if uper::item_placeholder_is_const::<Self>() {
+            <Self as uper::ConstPlaceholder>::PLACEHOLDER
+        } else {
+            Self::placeholder()
+        }
     }
 }
 
@@ -2690,7 +2762,11 @@ impl uper::Placeholder for ManeuverAssistList {
     #[cfg(feature = "alloc")]
     #[inline]
     fn item_placeholder() -> Self {
-        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+        if uper::item_placeholder_is_const::<Self>() {
+            <Self as uper::ConstPlaceholder>::PLACEHOLDER
+        } else {
+            Self::placeholder()
+        }
     }
 }
 
@@ -2782,7 +2858,11 @@ impl uper::Placeholder for ConnectionManeuverAssist {
     #[cfg(feature = "alloc")]
     #[inline]
     fn item_placeholder() -> Self {
-        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+        if uper::item_placeholder_is_const::<Self>() {
+            <Self as uper::ConstPlaceholder>::PLACEHOLDER
+        } else {
+            Self::placeholder()
+        }
     }
 }
 
@@ -3035,7 +3115,11 @@ impl uper::Placeholder for ConnectionManeuverAssistRegional {
     #[cfg(feature = "alloc")]
     #[inline]
     fn item_placeholder() -> Self {
-        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+        if uper::item_placeholder_is_const::<Self>() {
+            <Self as uper::ConstPlaceholder>::PLACEHOLDER
+        } else {
+            Self::placeholder()
+        }
     }
 }
 
@@ -3194,7 +3278,11 @@ impl uper::Placeholder for RegConnectionManeuverAssist {
     #[cfg(feature = "alloc")]
     #[inline]
     fn item_placeholder() -> Self {
-        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+        if uper::item_placeholder_is_const::<Self>() {
+            <Self as uper::ConstPlaceholder>::PLACEHOLDER
+        } else {
+            Self::placeholder()
+        }
     }
 }
 
@@ -3294,7 +3382,11 @@ impl uper::Placeholder for MovementStateRegional {
     #[cfg(feature = "alloc")]
     #[inline]
     fn item_placeholder() -> Self {
-        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+        if uper::item_placeholder_is_const::<Self>() {
+            <Self as uper::ConstPlaceholder>::PLACEHOLDER
+        } else {
+            Self::placeholder()
+        }
     }
 }
 
@@ -3432,7 +3524,11 @@ impl uper::Placeholder for RegMovementState {
     #[cfg(feature = "alloc")]
     #[inline]
     fn item_placeholder() -> Self {
-        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+        if uper::item_placeholder_is_const::<Self>() {
+            <Self as uper::ConstPlaceholder>::PLACEHOLDER
+        } else {
+            Self::placeholder()
+        }
     }
 }
 
@@ -3510,7 +3606,11 @@ impl uper::Placeholder for IntersectionStateRegional {
     #[cfg(feature = "alloc")]
     #[inline]
     fn item_placeholder() -> Self {
-        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+        if uper::item_placeholder_is_const::<Self>() {
+            <Self as uper::ConstPlaceholder>::PLACEHOLDER
+        } else {
+            Self::placeholder()
+        }
     }
 }
 
@@ -3662,7 +3762,11 @@ impl uper::Placeholder for RegIntersectionState {
     #[cfg(feature = "alloc")]
     #[inline]
     fn item_placeholder() -> Self {
-        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+        if uper::item_placeholder_is_const::<Self>() {
+            <Self as uper::ConstPlaceholder>::PLACEHOLDER
+        } else {
+            Self::placeholder()
+        }
     }
 }
 
@@ -3757,7 +3861,11 @@ impl uper::Placeholder for SPATRegional {
     #[cfg(feature = "alloc")]
     #[inline]
     fn item_placeholder() -> Self {
-        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+        if uper::item_placeholder_is_const::<Self>() {
+            <Self as uper::ConstPlaceholder>::PLACEHOLDER
+        } else {
+            Self::placeholder()
+        }
     }
 }
 
@@ -3894,7 +4002,11 @@ impl uper::Placeholder for RegSPAT {
     #[cfg(feature = "alloc")]
     #[inline]
     fn item_placeholder() -> Self {
-        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+        if uper::item_placeholder_is_const::<Self>() {
+            <Self as uper::ConstPlaceholder>::PLACEHOLDER
+        } else {
+            Self::placeholder()
+        }
     }
 }
 

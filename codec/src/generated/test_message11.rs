@@ -28,7 +28,11 @@ impl uper::Placeholder for TestMessage11 {
     #[cfg(feature = "alloc")]
     #[inline]
     fn item_placeholder() -> Self {
-        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+        if uper::item_placeholder_is_const::<Self>() {
+            <Self as uper::ConstPlaceholder>::PLACEHOLDER
+        } else {
+            Self::placeholder()
+        }
     }
 }
 
@@ -230,7 +234,11 @@ impl uper::Placeholder for RegTestMessage11 {
     #[cfg(feature = "alloc")]
     #[inline]
     fn item_placeholder() -> Self {
-        <Self as uper::ConstPlaceholder>::PLACEHOLDER
+        if uper::item_placeholder_is_const::<Self>() {
+            <Self as uper::ConstPlaceholder>::PLACEHOLDER
+        } else {
+            Self::placeholder()
+        }
     }
 }
 

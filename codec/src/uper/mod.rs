@@ -85,15 +85,24 @@ impl Placeholder for u8 {
 /// forward): a new TIM_036's node list spent 8 % of its decode time there. A constant is
 /// copied from read-only memory instead.
 ///
-/// Only list items use it: made a constant for present OPTIONAL members and chosen
-/// alternatives too, a new SPaT and MAP took longer (their large members' constants are
-/// copied whole, where a function writes only their tags). Without `alloc` it is not used: a
-/// large value's constant would be as large in flash.
+/// Only list items of at most 64 octets use it ([`item_placeholder_is_const`]): with every
+/// list item, and with present OPTIONAL members and chosen alternatives too, a new SPaT took
+/// longer (a large constant is copied whole, where the function writes little more than
+/// tags). Without `alloc` it is not used: a large value's constant would be as large in flash.
 #[doc(hidden)]
 #[cfg(feature = "alloc")]
 pub trait ConstPlaceholder: Sized {
     /// The placeholder value.
     const PLACEHOLDER: Self;
+}
+
+/// Whether a new list item of type `T` is made from its [`ConstPlaceholder`]: items of at
+/// most 64 octets (a node, a connection). A larger item's constant is copied whole, and for
+/// a SPaT's 224-octet movements that took longer than the function (see `ConstPlaceholder`).
+#[doc(hidden)]
+#[cfg(feature = "alloc")]
+pub const fn item_placeholder_is_const<T>() -> bool {
+    core::mem::size_of::<T>() <= 64
 }
 
 #[cfg(feature = "alloc")]
