@@ -46,7 +46,8 @@
 //! little: the first items of the lists chosen in `capacities.toml`'s `[inline]` (a SPaT
 //! movement's event, a lane's connections), up to 15 octets of an OCTET STRING and 15
 //! characters of an IA5String. With `alloc` a few large, mostly absent members (a node's
-//! attributes) and the message of a [`MessageFrame`] are boxed ([`uper::Boxed`]), so a
+//! attributes), large and seldom chosen alternatives (a TIM path's `geometry`) and the
+//! message of a [`MessageFrame`] are boxed ([`uper::Boxed`]), so a
 //! `MessageFrame` is a few words to move; without it they are in place.
 //! Feature `firmware-capacities` selects a second, much smaller capacity profile
 //! (`codec/codegen/capacities-firmware.toml`) for microcontrollers; the capacities that differ
