@@ -103,9 +103,9 @@ class Emitter:
         opt = lambda v: "None" if v is None else f"Some({v})"  # noqa: E731
         bound = (f"uper::max_bits({opt(nh)}, {opt(h)})" if nh == nh_fw else
                  f"uper::max_bits_profiled({opt(nh)}, {opt(nh_fw)}, {opt(h)})")
-        # With `alloc` a new list item's placeholder is a constant (see
-        # `uper::ConstPlaceholder`); everything else, and everything without `alloc`, takes
-        # the function.
+        # With `alloc` a new list item of at most 64 octets is made from the placeholder as a
+        # constant (see `uper::ConstPlaceholder`); everything else, and everything without
+        # `alloc`, takes the function.
         constant = placeholder.replace(" as uper::Placeholder>::placeholder()",
                                        " as uper::ConstPlaceholder>::PLACEHOLDER")
         return (
@@ -114,11 +114,7 @@ class Emitter:
             f"    #[cfg(feature = \"alloc\")]\n"
             f"    #[inline]\n"
             f"    fn item_placeholder() -> Self {{\n"
-            f"        if uper::item_placeholder_is_const::<Self>() {{\n"
-            f"            <Self as uper::ConstPlaceholder>::PLACEHOLDER\n"
-            f"        }} else {{\n"
-            f"            Self::placeholder()\n"
-            f"        }}\n    }}\n}}\n\n"
+            f"        uper::item_placeholder()\n    }}\n}}\n\n"
             f"#[cfg(feature = \"alloc\")]\n"
             f"impl uper::ConstPlaceholder for {td.name} {{\n"
             f"    const PLACEHOLDER: Self = {indent(constant, 4).lstrip()};\n}}\n\n"

@@ -31,11 +31,7 @@ impl uper::Placeholder for Position3DAddGrpB {
     #[cfg(feature = "alloc")]
     #[inline]
     fn item_placeholder() -> Self {
-        if uper::item_placeholder_is_const::<Self>() {
-            <Self as uper::ConstPlaceholder>::PLACEHOLDER
-        } else {
-            Self::placeholder()
-        }
+        uper::item_placeholder()
     }
 }
 
@@ -141,11 +137,7 @@ impl uper::Placeholder for LatitudeDMS2 {
     #[cfg(feature = "alloc")]
     #[inline]
     fn item_placeholder() -> Self {
-        if uper::item_placeholder_is_const::<Self>() {
-            <Self as uper::ConstPlaceholder>::PLACEHOLDER
-        } else {
-            Self::placeholder()
-        }
+        uper::item_placeholder()
     }
 }
 
@@ -248,11 +240,7 @@ impl uper::Placeholder for LongitudeDMS2 {
     #[cfg(feature = "alloc")]
     #[inline]
     fn item_placeholder() -> Self {
-        if uper::item_placeholder_is_const::<Self>() {
-            <Self as uper::ConstPlaceholder>::PLACEHOLDER
-        } else {
-            Self::placeholder()
-        }
+        uper::item_placeholder()
     }
 }
 
@@ -351,11 +339,7 @@ impl uper::Placeholder for NodeOffsetPointXYAddGrpB {
     #[cfg(feature = "alloc")]
     #[inline]
     fn item_placeholder() -> Self {
-        if uper::item_placeholder_is_const::<Self>() {
-            <Self as uper::ConstPlaceholder>::PLACEHOLDER
-        } else {
-            Self::placeholder()
-        }
+        uper::item_placeholder()
     }
 }
 
@@ -496,11 +480,7 @@ impl uper::Placeholder for NodeLLdms48b {
     #[cfg(feature = "alloc")]
     #[inline]
     fn item_placeholder() -> Self {
-        if uper::item_placeholder_is_const::<Self>() {
-            <Self as uper::ConstPlaceholder>::PLACEHOLDER
-        } else {
-            Self::placeholder()
-        }
+        uper::item_placeholder()
     }
 }
 
@@ -593,11 +573,7 @@ impl uper::Placeholder for NodeLLdms80b {
     #[cfg(feature = "alloc")]
     #[inline]
     fn item_placeholder() -> Self {
-        if uper::item_placeholder_is_const::<Self>() {
-            <Self as uper::ConstPlaceholder>::PLACEHOLDER
-        } else {
-            Self::placeholder()
-        }
+        uper::item_placeholder()
     }
 }
 
@@ -672,11 +648,7 @@ impl uper::Placeholder for LaneDataAttributeAddGrpB {
     #[cfg(feature = "alloc")]
     #[inline]
     fn item_placeholder() -> Self {
-        if uper::item_placeholder_is_const::<Self>() {
-            <Self as uper::ConstPlaceholder>::PLACEHOLDER
-        } else {
-            Self::placeholder()
-        }
+        uper::item_placeholder()
     }
 }
 
@@ -768,11 +740,7 @@ impl uper::Placeholder for MovementEventAddGrpB {
     #[cfg(feature = "alloc")]
     #[inline]
     fn item_placeholder() -> Self {
-        if uper::item_placeholder_is_const::<Self>() {
-            <Self as uper::ConstPlaceholder>::PLACEHOLDER
-        } else {
-            Self::placeholder()
-        }
+        uper::item_placeholder()
     }
 }
 
@@ -1111,11 +1079,7 @@ impl uper::Placeholder for DayOfWeek {
     #[cfg(feature = "alloc")]
     #[inline]
     fn item_placeholder() -> Self {
-        if uper::item_placeholder_is_const::<Self>() {
-            <Self as uper::ConstPlaceholder>::PLACEHOLDER
-        } else {
-            Self::placeholder()
-        }
+        uper::item_placeholder()
     }
 }
 
@@ -1205,11 +1169,7 @@ impl uper::Placeholder for Holiday {
     #[cfg(feature = "alloc")]
     #[inline]
     fn item_placeholder() -> Self {
-        if uper::item_placeholder_is_const::<Self>() {
-            <Self as uper::ConstPlaceholder>::PLACEHOLDER
-        } else {
-            Self::placeholder()
-        }
+        uper::item_placeholder()
     }
 }
 
@@ -1324,11 +1284,7 @@ impl uper::Placeholder for SummerTime {
     #[cfg(feature = "alloc")]
     #[inline]
     fn item_placeholder() -> Self {
-        if uper::item_placeholder_is_const::<Self>() {
-            <Self as uper::ConstPlaceholder>::PLACEHOLDER
-        } else {
-            Self::placeholder()
-        }
+        uper::item_placeholder()
     }
 }
 
@@ -1425,11 +1381,7 @@ impl uper::Placeholder for TimeMark {
     #[cfg(feature = "alloc")]
     #[inline]
     fn item_placeholder() -> Self {
-        if uper::item_placeholder_is_const::<Self>() {
-            <Self as uper::ConstPlaceholder>::PLACEHOLDER
-        } else {
-            Self::placeholder()
-        }
+        uper::item_placeholder()
     }
 }
 

@@ -31,11 +31,7 @@ impl uper::Placeholder for BasicSafetyMessage {
     #[cfg(feature = "alloc")]
     #[inline]
     fn item_placeholder() -> Self {
-        if uper::item_placeholder_is_const::<Self>() {
-            <Self as uper::ConstPlaceholder>::PLACEHOLDER
-        } else {
-            Self::placeholder()
-        }
+        uper::item_placeholder()
     }
 }
 
@@ -196,11 +192,7 @@ impl uper::Placeholder for BasicSafetyMessagePartII {
     #[cfg(feature = "alloc")]
     #[inline]
     fn item_placeholder() -> Self {
-        if uper::item_placeholder_is_const::<Self>() {
-            <Self as uper::ConstPlaceholder>::PLACEHOLDER
-        } else {
-            Self::placeholder()
-        }
+        uper::item_placeholder()
     }
 }
 
@@ -290,11 +282,7 @@ impl uper::Placeholder for SpecialVehicleExtensions {
     #[cfg(feature = "alloc")]
     #[inline]
     fn item_placeholder() -> Self {
-        if uper::item_placeholder_is_const::<Self>() {
-            <Self as uper::ConstPlaceholder>::PLACEHOLDER
-        } else {
-            Self::placeholder()
-        }
+        uper::item_placeholder()
     }
 }
 
@@ -476,11 +464,7 @@ impl uper::Placeholder for EventDescription {
     #[cfg(feature = "alloc")]
     #[inline]
     fn item_placeholder() -> Self {
-        if uper::item_placeholder_is_const::<Self>() {
-            <Self as uper::ConstPlaceholder>::PLACEHOLDER
-        } else {
-            Self::placeholder()
-        }
+        uper::item_placeholder()
     }
 }
 
@@ -732,11 +716,7 @@ impl uper::Placeholder for EventDescriptionDescription {
     #[cfg(feature = "alloc")]
     #[inline]
     fn item_placeholder() -> Self {
-        if uper::item_placeholder_is_const::<Self>() {
-            <Self as uper::ConstPlaceholder>::PLACEHOLDER
-        } else {
-            Self::placeholder()
-        }
+        uper::item_placeholder()
     }
 }
 
@@ -824,11 +804,7 @@ impl uper::Placeholder for EventDescriptionRegional {
     #[cfg(feature = "alloc")]
     #[inline]
     fn item_placeholder() -> Self {
-        if uper::item_placeholder_is_const::<Self>() {
-            <Self as uper::ConstPlaceholder>::PLACEHOLDER
-        } else {
-            Self::placeholder()
-        }
+        uper::item_placeholder()
     }
 }
 
@@ -971,11 +947,7 @@ impl uper::Placeholder for RegEventDescription {
     #[cfg(feature = "alloc")]
     #[inline]
     fn item_placeholder() -> Self {
-        if uper::item_placeholder_is_const::<Self>() {
-            <Self as uper::ConstPlaceholder>::PLACEHOLDER
-        } else {
-            Self::placeholder()
-        }
+        uper::item_placeholder()
     }
 }
 
@@ -1054,11 +1026,7 @@ impl uper::Placeholder for TrailerData {
     #[cfg(feature = "alloc")]
     #[inline]
     fn item_placeholder() -> Self {
-        if uper::item_placeholder_is_const::<Self>() {
-            <Self as uper::ConstPlaceholder>::PLACEHOLDER
-        } else {
-            Self::placeholder()
-        }
+        uper::item_placeholder()
     }
 }
 
@@ -1176,11 +1144,7 @@ impl uper::Placeholder for PivotPointDescription {
     #[cfg(feature = "alloc")]
     #[inline]
     fn item_placeholder() -> Self {
-        if uper::item_placeholder_is_const::<Self>() {
-            <Self as uper::ConstPlaceholder>::PLACEHOLDER
-        } else {
-            Self::placeholder()
-        }
+        uper::item_placeholder()
     }
 }
 
@@ -1300,11 +1264,7 @@ impl uper::Placeholder for TrailerUnitDescriptionList {
     #[cfg(feature = "alloc")]
     #[inline]
     fn item_placeholder() -> Self {
-        if uper::item_placeholder_is_const::<Self>() {
-            <Self as uper::ConstPlaceholder>::PLACEHOLDER
-        } else {
-            Self::placeholder()
-        }
+        uper::item_placeholder()
     }
 }
 
@@ -1420,11 +1380,7 @@ impl uper::Placeholder for TrailerUnitDescription {
     #[cfg(feature = "alloc")]
     #[inline]
     fn item_placeholder() -> Self {
-        if uper::item_placeholder_is_const::<Self>() {
-            <Self as uper::ConstPlaceholder>::PLACEHOLDER
-        } else {
-            Self::placeholder()
-        }
+        uper::item_placeholder()
     }
 }
 
@@ -1827,11 +1783,7 @@ impl uper::Placeholder for TrailerHistoryPointList {
     #[cfg(feature = "alloc")]
     #[inline]
     fn item_placeholder() -> Self {
-        if uper::item_placeholder_is_const::<Self>() {
-            <Self as uper::ConstPlaceholder>::PLACEHOLDER
-        } else {
-            Self::placeholder()
-        }
+        uper::item_placeholder()
     }
 }
 
@@ -1923,11 +1875,7 @@ impl uper::Placeholder for TrailerHistoryPoint {
     #[cfg(feature = "alloc")]
     #[inline]
     fn item_placeholder() -> Self {
-        if uper::item_placeholder_is_const::<Self>() {
-            <Self as uper::ConstPlaceholder>::PLACEHOLDER
-        } else {
-            Self::placeholder()
-        }
+        uper::item_placeholder()
     }
 }
 
@@ -2130,11 +2078,7 @@ impl uper::Placeholder for SupplementalVehicleExtensions {
     #[cfg(feature = "alloc")]
     #[inline]
     fn item_placeholder() -> Self {
-        if uper::item_placeholder_is_const::<Self>() {
-            <Self as uper::ConstPlaceholder>::PLACEHOLDER
-        } else {
-            Self::placeholder()
-        }
+        uper::item_placeholder()
     }
 }
 
@@ -2517,11 +2461,7 @@ impl uper::Placeholder for VehicleData {
     #[cfg(feature = "alloc")]
     #[inline]
     fn item_placeholder() -> Self {
-        if uper::item_placeholder_is_const::<Self>() {
-            <Self as uper::ConstPlaceholder>::PLACEHOLDER
-        } else {
-            Self::placeholder()
-        }
+        uper::item_placeholder()
     }
 }
 
@@ -2736,11 +2676,7 @@ impl uper::Placeholder for WeatherReport {
     #[cfg(feature = "alloc")]
     #[inline]
     fn item_placeholder() -> Self {
-        if uper::item_placeholder_is_const::<Self>() {
-            <Self as uper::ConstPlaceholder>::PLACEHOLDER
-        } else {
-            Self::placeholder()
-        }
+        uper::item_placeholder()
     }
 }
 
@@ -2988,11 +2924,7 @@ impl uper::Placeholder for WeatherProbe {
     #[cfg(feature = "alloc")]
     #[inline]
     fn item_placeholder() -> Self {
-        if uper::item_placeholder_is_const::<Self>() {
-            <Self as uper::ConstPlaceholder>::PLACEHOLDER
-        } else {
-            Self::placeholder()
-        }
+        uper::item_placeholder()
     }
 }
 
@@ -3177,11 +3109,7 @@ impl uper::Placeholder for ObstacleDetection {
     #[cfg(feature = "alloc")]
     #[inline]
     fn item_placeholder() -> Self {
-        if uper::item_placeholder_is_const::<Self>() {
-            <Self as uper::ConstPlaceholder>::PLACEHOLDER
-        } else {
-            Self::placeholder()
-        }
+        uper::item_placeholder()
     }
 }
 
@@ -3408,11 +3336,7 @@ impl uper::Placeholder for DisabledVehicle {
     #[cfg(feature = "alloc")]
     #[inline]
     fn item_placeholder() -> Self {
-        if uper::item_placeholder_is_const::<Self>() {
-            <Self as uper::ConstPlaceholder>::PLACEHOLDER
-        } else {
-            Self::placeholder()
-        }
+        uper::item_placeholder()
     }
 }
 
@@ -3542,11 +3466,7 @@ impl uper::Placeholder for SpeedProfile {
     #[cfg(feature = "alloc")]
     #[inline]
     fn item_placeholder() -> Self {
-        if uper::item_placeholder_is_const::<Self>() {
-            <Self as uper::ConstPlaceholder>::PLACEHOLDER
-        } else {
-            Self::placeholder()
-        }
+        uper::item_placeholder()
     }
 }
 
@@ -3642,11 +3562,7 @@ impl uper::Placeholder for SpeedProfileMeasurementList {
     #[cfg(feature = "alloc")]
     #[inline]
     fn item_placeholder() -> Self {
-        if uper::item_placeholder_is_const::<Self>() {
-            <Self as uper::ConstPlaceholder>::PLACEHOLDER
-        } else {
-            Self::placeholder()
-        }
+        uper::item_placeholder()
     }
 }
 
@@ -3732,11 +3648,7 @@ impl uper::Placeholder for RTCMPackage {
     #[cfg(feature = "alloc")]
     #[inline]
     fn item_placeholder() -> Self {
-        if uper::item_placeholder_is_const::<Self>() {
-            <Self as uper::ConstPlaceholder>::PLACEHOLDER
-        } else {
-            Self::placeholder()
-        }
+        uper::item_placeholder()
     }
 }
 
@@ -3867,11 +3779,7 @@ impl uper::Placeholder for SupplementalVehicleExtensionsRegional {
     #[cfg(feature = "alloc")]
     #[inline]
     fn item_placeholder() -> Self {
-        if uper::item_placeholder_is_const::<Self>() {
-            <Self as uper::ConstPlaceholder>::PLACEHOLDER
-        } else {
-            Self::placeholder()
-        }
+        uper::item_placeholder()
     }
 }
 
@@ -4014,11 +3922,7 @@ impl uper::Placeholder for RegSupplementalVehicleExtensions {
     #[cfg(feature = "alloc")]
     #[inline]
     fn item_placeholder() -> Self {
-        if uper::item_placeholder_is_const::<Self>() {
-            <Self as uper::ConstPlaceholder>::PLACEHOLDER
-        } else {
-            Self::placeholder()
-        }
+        uper::item_placeholder()
     }
 }
 
@@ -4192,11 +4096,7 @@ impl uper::Placeholder for PartIIcontent {
     #[cfg(feature = "alloc")]
     #[inline]
     fn item_placeholder() -> Self {
-        if uper::item_placeholder_is_const::<Self>() {
-            <Self as uper::ConstPlaceholder>::PLACEHOLDER
-        } else {
-            Self::placeholder()
-        }
+        uper::item_placeholder()
     }
 }
 
@@ -4332,11 +4232,7 @@ impl uper::Placeholder for BasicSafetyMessageRegional {
     #[cfg(feature = "alloc")]
     #[inline]
     fn item_placeholder() -> Self {
-        if uper::item_placeholder_is_const::<Self>() {
-            <Self as uper::ConstPlaceholder>::PLACEHOLDER
-        } else {
-            Self::placeholder()
-        }
+        uper::item_placeholder()
     }
 }
 
@@ -4479,11 +4375,7 @@ impl uper::Placeholder for RegBasicSafetyMessage {
     #[cfg(feature = "alloc")]
     #[inline]
     fn item_placeholder() -> Self {
-        if uper::item_placeholder_is_const::<Self>() {
-            <Self as uper::ConstPlaceholder>::PLACEHOLDER
-        } else {
-            Self::placeholder()
-        }
+        uper::item_placeholder()
     }
 }
 

@@ -53,11 +53,7 @@ impl uper::Placeholder for IntersectionCollision {
     #[cfg(feature = "alloc")]
     #[inline]
     fn item_placeholder() -> Self {
-        if uper::item_placeholder_is_const::<Self>() {
-            <Self as uper::ConstPlaceholder>::PLACEHOLDER
-        } else {
-            Self::placeholder()
-        }
+        uper::item_placeholder()
     }
 }
 
@@ -346,11 +342,7 @@ impl uper::Placeholder for ApproachOrLane {
     #[cfg(feature = "alloc")]
     #[inline]
     fn item_placeholder() -> Self {
-        if uper::item_placeholder_is_const::<Self>() {
-            <Self as uper::ConstPlaceholder>::PLACEHOLDER
-        } else {
-            Self::placeholder()
-        }
+        uper::item_placeholder()
     }
 }
 
@@ -484,11 +476,7 @@ impl uper::Placeholder for IntersectionCollisionRegional {
     #[cfg(feature = "alloc")]
     #[inline]
     fn item_placeholder() -> Self {
-        if uper::item_placeholder_is_const::<Self>() {
-            <Self as uper::ConstPlaceholder>::PLACEHOLDER
-        } else {
-            Self::placeholder()
-        }
+        uper::item_placeholder()
     }
 }
 
@@ -633,11 +621,7 @@ impl uper::Placeholder for RegIntersectionCollision {
     #[cfg(feature = "alloc")]
     #[inline]
     fn item_placeholder() -> Self {
-        if uper::item_placeholder_is_const::<Self>() {
-            <Self as uper::ConstPlaceholder>::PLACEHOLDER
-        } else {
-            Self::placeholder()
-        }
+        uper::item_placeholder()
     }
 }
 

@@ -40,11 +40,7 @@ impl uper::Placeholder for NMEAcorrections {
     #[cfg(feature = "alloc")]
     #[inline]
     fn item_placeholder() -> Self {
-        if uper::item_placeholder_is_const::<Self>() {
-            <Self as uper::ConstPlaceholder>::PLACEHOLDER
-        } else {
-            Self::placeholder()
-        }
+        uper::item_placeholder()
     }
 }
 
@@ -347,11 +343,7 @@ impl uper::Placeholder for NMEARevision {
     #[cfg(feature = "alloc")]
     #[inline]
     fn item_placeholder() -> Self {
-        if uper::item_placeholder_is_const::<Self>() {
-            <Self as uper::ConstPlaceholder>::PLACEHOLDER
-        } else {
-            Self::placeholder()
-        }
+        uper::item_placeholder()
     }
 }
 
@@ -439,11 +431,7 @@ impl uper::Placeholder for NMEAPayload {
     #[cfg(feature = "alloc")]
     #[inline]
     fn item_placeholder() -> Self {
-        if uper::item_placeholder_is_const::<Self>() {
-            <Self as uper::ConstPlaceholder>::PLACEHOLDER
-        } else {
-            Self::placeholder()
-        }
+        uper::item_placeholder()
     }
 }
 
@@ -511,11 +499,7 @@ impl uper::Placeholder for NMEAcorrectionsRegional {
     #[cfg(feature = "alloc")]
     #[inline]
     fn item_placeholder() -> Self {
-        if uper::item_placeholder_is_const::<Self>() {
-            <Self as uper::ConstPlaceholder>::PLACEHOLDER
-        } else {
-            Self::placeholder()
-        }
+        uper::item_placeholder()
     }
 }
 
@@ -658,11 +642,7 @@ impl uper::Placeholder for RegNMEAcorrections {
     #[cfg(feature = "alloc")]
     #[inline]
     fn item_placeholder() -> Self {
-        if uper::item_placeholder_is_const::<Self>() {
-            <Self as uper::ConstPlaceholder>::PLACEHOLDER
-        } else {
-            Self::placeholder()
-        }
+        uper::item_placeholder()
     }
 }
 

@@ -43,11 +43,7 @@ impl uper::Placeholder for RTCMcorrections {
     #[cfg(feature = "alloc")]
     #[inline]
     fn item_placeholder() -> Self {
-        if uper::item_placeholder_is_const::<Self>() {
-            <Self as uper::ConstPlaceholder>::PLACEHOLDER
-        } else {
-            Self::placeholder()
-        }
+        uper::item_placeholder()
     }
 }
 
@@ -333,11 +329,7 @@ impl uper::Placeholder for RTCMRevision {
     #[cfg(feature = "alloc")]
     #[inline]
     fn item_placeholder() -> Self {
-        if uper::item_placeholder_is_const::<Self>() {
-            <Self as uper::ConstPlaceholder>::PLACEHOLDER
-        } else {
-            Self::placeholder()
-        }
+        uper::item_placeholder()
     }
 }
 
@@ -418,11 +410,7 @@ impl uper::Placeholder for RTCMcorrectionsRegional {
     #[cfg(feature = "alloc")]
     #[inline]
     fn item_placeholder() -> Self {
-        if uper::item_placeholder_is_const::<Self>() {
-            <Self as uper::ConstPlaceholder>::PLACEHOLDER
-        } else {
-            Self::placeholder()
-        }
+        uper::item_placeholder()
     }
 }
 
@@ -565,11 +553,7 @@ impl uper::Placeholder for RegRTCMcorrections {
     #[cfg(feature = "alloc")]
     #[inline]
     fn item_placeholder() -> Self {
-        if uper::item_placeholder_is_const::<Self>() {
-            <Self as uper::ConstPlaceholder>::PLACEHOLDER
-        } else {
-            Self::placeholder()
-        }
+        uper::item_placeholder()
     }
 }
 

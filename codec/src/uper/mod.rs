@@ -60,8 +60,8 @@ pub trait Placeholder: Sized {
     /// The placeholder value.
     fn placeholder() -> Self;
 
-    /// The placeholder of a new list item: the generated types return their
-    /// `ConstPlaceholder` with `alloc` (see there), others [`Placeholder::placeholder`].
+    /// The placeholder of a new list item: with `alloc` the generated types return
+    /// `uper::item_placeholder` (a constant for small items), others [`Placeholder::placeholder`].
     #[doc(hidden)]
     #[inline]
     fn item_placeholder() -> Self {
@@ -85,7 +85,7 @@ impl Placeholder for u8 {
 /// forward): a new TIM_036's node list spent 8 % of its decode time there. A constant is
 /// copied from read-only memory instead.
 ///
-/// Only list items of at most 64 octets use it ([`item_placeholder_is_const`]): with every
+/// Only list items of at most 64 octets use it ([`item_placeholder`]): with every
 /// list item, and with present OPTIONAL members and chosen alternatives too, a new SPaT took
 /// longer (a large constant is copied whole, where the function writes little more than
 /// tags). Without `alloc` it is not used: a large value's constant would be as large in flash.
@@ -96,18 +96,19 @@ pub trait ConstPlaceholder: Sized {
     const PLACEHOLDER: Self;
 }
 
-/// Whether a new list item of type `T` is made from its [`ConstPlaceholder`]: items of at
-/// most 64 octets (a node, a connection). A larger item's constant is copied whole, and for
-/// a SPaT's 224-octet movements that took longer than the function (see `ConstPlaceholder`).
+/// A new list item's placeholder (what the generated types' [`Placeholder::item_placeholder`]
+/// returns with `alloc`): the [`ConstPlaceholder`] of an item of at most 64 octets (a node, a
+/// connection), else the function. A larger item's constant is copied whole, and for a SPaT's
+/// 224-octet movements that took longer than the function (see `ConstPlaceholder`).
 #[doc(hidden)]
 #[cfg(feature = "alloc")]
-pub const fn item_placeholder_is_const<T>() -> bool {
-    core::mem::size_of::<T>() <= 64
-}
-
-#[cfg(feature = "alloc")]
-impl ConstPlaceholder for u8 {
-    const PLACEHOLDER: Self = 0;
+#[inline]
+pub fn item_placeholder<T: Placeholder + ConstPlaceholder>() -> T {
+    if core::mem::size_of::<T>() <= 64 {
+        T::PLACEHOLDER
+    } else {
+        T::placeholder()
+    }
 }
 
 /// A type with a UPER encoding. Implemented by every generated J2735 type.
@@ -328,11 +329,6 @@ impl Placeholder for Null {
     fn placeholder() -> Self {
         Null
     }
-}
-
-#[cfg(feature = "alloc")]
-impl ConstPlaceholder for Null {
-    const PLACEHOLDER: Self = Null;
 }
 
 impl Uper for Null {

@@ -206,11 +206,6 @@ impl<T: Placeholder, const N: usize, const I: usize> Placeholder for SeqOf<T, N,
     }
 }
 
-#[cfg(feature = "alloc")]
-impl<T: Placeholder, const N: usize, const I: usize> super::ConstPlaceholder for SeqOf<T, N, I> {
-    const PLACEHOLDER: Self = Self::new();
-}
-
 impl<T, const N: usize, const I: usize> Deref for SeqOf<T, N, I> {
     type Target = [T];
     fn deref(&self) -> &[T] {
@@ -365,11 +360,6 @@ impl<const N: usize> Placeholder for Ia5<N> {
     fn placeholder() -> Self {
         Self::new()
     }
-}
-
-#[cfg(feature = "alloc")]
-impl<const N: usize> super::ConstPlaceholder for Ia5<N> {
-    const PLACEHOLDER: Self = Self::new();
 }
 
 impl<const N: usize> fmt::Debug for Ia5<N> {
