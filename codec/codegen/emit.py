@@ -16,16 +16,19 @@ DERIVE_COPY = "#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]"
 
 
 class BoxedRef:
-    """A member's type reference kept in a `uper::Boxed` (`[boxed]` in capacities.toml): the
+    """A member's type reference kept in a `uper::Boxed` (`[boxed]` in capacities.toml), or
+    a MessageFrame's message in a `uper::MessageBox` (`message`: its box is recycled): the
     Rust type is the box; everything else is the boxed type's."""
 
     builtin = None
 
-    def __init__(self, inner):
+    def __init__(self, inner, message=False):
         self.inner = inner
+        self.message = message
 
     def rust(self, module):
-        return f"uper::Boxed<{self.inner.rust(module)}>"
+        box = "MessageBox" if self.message else "Boxed"
+        return f"uper::{box}<{self.inner.rust(module)}>"
 
     def __getattr__(self, name):
         return getattr(self.inner, name)
@@ -452,7 +455,7 @@ class Emitter:
         return "\n".join(s)
 
     def emit_open(self, td):
-        td.variants = [(i, v, BoxedRef(r) if not isinstance(r, BoxedRef) and self.caps.is_boxed_open(td, r.typedef.asn) else r)
+        td.variants = [(i, v, BoxedRef(r, message=True) if not isinstance(r, BoxedRef) and self.caps.is_boxed_open(td, r.typedef.asn) else r)
                        for i, v, r in td.variants]
         idt = td.id_ref.typedef
         id_ty = self.rust(td.id_ref, td)
@@ -519,7 +522,7 @@ def message_names(self, td):
         "    /// what a kept value takes (see the crate docs' table of value sizes).\n"
         "    pub value_octets: usize,\n"
         "    /// Whether a MessageFrame keeps this message behind a pointer with feature `alloc`\n"
-        "    /// (`uper::Boxed`; `[boxed]` in codec/codegen/capacities.toml); in place without it.\n"
+        "    /// (`uper::MessageBox`; `[boxed]` in codec/codegen/capacities.toml); in place without it.\n"
         "    pub boxed_with_alloc: bool,\n}\n\n"
         "/// Every message of the MessageFrame object set, by `messageId`.\n"
         f"pub const MESSAGE_NAMES: [MessageName; {len(rows)}] = [\n{table}];\n\n"
@@ -559,7 +562,7 @@ def switch_into(variant, index, ty, decode):
     already) and decodes into its payload `v` in place."""
     return (f"    {index} => {{\n"
             f"        if !matches!(out, {variant}(_)) {{\n"
-            f"            uper::replace_with(out, || {variant}(<{ty} as uper::Placeholder>::placeholder()));\n"
+            f"            uper::replace_with(out, || {variant}(<{ty} as uper::Placeholder>::decode_placeholder()));\n"
             f"        }}\n"
             f"        if let {variant}(v) = out {{\n            {decode};\n        }}\n    }}")
 

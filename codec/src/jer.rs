@@ -93,6 +93,16 @@ impl<T: Jer> Jer for crate::uper::Boxed<T> {
     }
 }
 
+impl<T: Jer + 'static> Jer for crate::uper::MessageBox<T> {
+    /// The value's JER, as if it were not boxed.
+    fn write_jer(&self, out: &mut JerWriter) {
+        T::write_jer(self, out)
+    }
+    fn read_jer(v: &Value) -> JerResult<Self> {
+        T::read_jer(v).map(Self::new)
+    }
+}
+
 impl Jer for crate::uper::Null {
     fn write_jer(&self, out: &mut JerWriter) {
         out.null();

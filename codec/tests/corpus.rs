@@ -48,3 +48,15 @@ fn every_corpus_frame_round_trips_byte_exact() {
         );
     });
 }
+
+/// With `std`: every corpus frame decoded as a new value, each from the storage that the
+/// previous (mostly differently shaped) frame left, re-encodes byte-exact and equals the
+/// fresh value (see `common::check_decodes_from_recycled_storage`).
+#[cfg(feature = "std")]
+#[test]
+fn new_values_decoded_from_recycled_storage_equal_fresh_ones() {
+    let all = common::corpus_frames();
+    let checked = common::check_decodes_from_recycled_storage(&all);
+    assert_eq!(checked, 3 * all.len());
+    println!("{checked} new-value decodes of corpus frames from recycled storage match");
+}

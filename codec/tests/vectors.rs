@@ -79,6 +79,17 @@ fn oracle_vectors_decode_and_reencode_byte_exact() {
     });
 }
 
+/// With `std`: decoding every oracle vector as a new value, each from the storage that the
+/// previous (differently shaped) message left, gives the oracle's bytes and the fresh value.
+#[cfg(feature = "std")]
+#[test]
+fn new_values_decoded_from_recycled_storage_equal_fresh_ones() {
+    let frames: Vec<(String, Vec<u8>)> = vectors().into_iter().map(|v| (v.name, v.uper)).collect();
+    let checked = common::check_decodes_from_recycled_storage(&frames);
+    assert_eq!(checked, 3 * frames.len());
+    println!("{checked} new-value decodes from recycled storage match");
+}
+
 #[test]
 fn vectors_cover_every_message_and_construct() {
     let all = vectors();

@@ -365,7 +365,7 @@ impl Uper for NodeOffsetPointXYAddGrpB {
             0 => {
                 if !matches!(out, Self::PosA(_)) {
                     uper::replace_with(out, || {
-                        Self::PosA(<NodeLLdms48b as uper::Placeholder>::placeholder())
+                        Self::PosA(<NodeLLdms48b as uper::Placeholder>::decode_placeholder())
                     });
                 }
                 if let Self::PosA(v) = out {
@@ -375,7 +375,7 @@ impl Uper for NodeOffsetPointXYAddGrpB {
             1 => {
                 if !matches!(out, Self::PosB(_)) {
                     uper::replace_with(out, || {
-                        Self::PosB(<NodeLLdms80b as uper::Placeholder>::placeholder())
+                        Self::PosB(<NodeLLdms80b as uper::Placeholder>::decode_placeholder())
                     });
                 }
                 if let Self::PosB(v) = out {

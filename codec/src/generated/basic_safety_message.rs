@@ -4117,7 +4117,7 @@ impl Uper for PartIIcontent {
             0 => {
                 if !matches!(out, Self::VehicleSafetyExtensions(_)) {
                     uper::replace_with(out, || {
-                        Self::VehicleSafetyExtensions(<super::common::VehicleSafetyExtensions as uper::Placeholder>::placeholder())
+                        Self::VehicleSafetyExtensions(<super::common::VehicleSafetyExtensions as uper::Placeholder>::decode_placeholder())
                     });
                 }
                 if let Self::VehicleSafetyExtensions(v) = out {
@@ -4130,7 +4130,7 @@ impl Uper for PartIIcontent {
                 if !matches!(out, Self::SpecialVehicleExtensions(_)) {
                     uper::replace_with(out, || {
                         Self::SpecialVehicleExtensions(
-                            <SpecialVehicleExtensions as uper::Placeholder>::placeholder(),
+                            <SpecialVehicleExtensions as uper::Placeholder>::decode_placeholder(),
                         )
                     });
                 }
@@ -4141,9 +4141,7 @@ impl Uper for PartIIcontent {
             2 => {
                 if !matches!(out, Self::SupplementalVehicleExtensions(_)) {
                     uper::replace_with(out, || {
-                        Self::SupplementalVehicleExtensions(
-                            <SupplementalVehicleExtensions as uper::Placeholder>::placeholder(),
-                        )
+                        Self::SupplementalVehicleExtensions(<SupplementalVehicleExtensions as uper::Placeholder>::decode_placeholder())
                     });
                 }
                 if let Self::SupplementalVehicleExtensions(v) = out {

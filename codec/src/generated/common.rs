@@ -8538,10 +8538,7 @@ impl Uper for RegPosition3D {
             2 => {
                 if !matches!(out, Self::AddGrpB(_)) {
                     uper::replace_with(out, || {
-                        Self::AddGrpB(
-                            <super::add_grp_b::Position3DAddGrpB as uper::Placeholder>::placeholder(
-                            ),
-                        )
+                        Self::AddGrpB(<super::add_grp_b::Position3DAddGrpB as uper::Placeholder>::decode_placeholder())
                     });
                 }
                 if let Self::AddGrpB(v) = out {
@@ -8553,10 +8550,7 @@ impl Uper for RegPosition3D {
             3 => {
                 if !matches!(out, Self::AddGrpC(_)) {
                     uper::replace_with(out, || {
-                        Self::AddGrpC(
-                            <super::add_grp_c::Position3DAddGrpC as uper::Placeholder>::placeholder(
-                            ),
-                        )
+                        Self::AddGrpC(<super::add_grp_c::Position3DAddGrpC as uper::Placeholder>::decode_placeholder())
                     });
                 }
                 if let Self::AddGrpC(v) = out {
@@ -9021,7 +9015,7 @@ impl Uper for NodeListXY {
             0 => {
                 if !matches!(out, Self::Nodes(_)) {
                     uper::replace_with(out, || {
-                        Self::Nodes(<NodeSetXY as uper::Placeholder>::placeholder())
+                        Self::Nodes(<NodeSetXY as uper::Placeholder>::decode_placeholder())
                     });
                 }
                 if let Self::Nodes(v) = out {
@@ -9031,7 +9025,7 @@ impl Uper for NodeListXY {
             1 => {
                 if !matches!(out, Self::Computed(_)) {
                     uper::replace_with(out, || {
-                        Self::Computed(<ComputedLane as uper::Placeholder>::placeholder())
+                        Self::Computed(<ComputedLane as uper::Placeholder>::decode_placeholder())
                     });
                 }
                 if let Self::Computed(v) = out {
@@ -9362,7 +9356,7 @@ impl Uper for NodeOffsetPointXY {
             0 => {
                 if !matches!(out, Self::NodeXY1(_)) {
                     uper::replace_with(out, || {
-                        Self::NodeXY1(<NodeXY20b as uper::Placeholder>::placeholder())
+                        Self::NodeXY1(<NodeXY20b as uper::Placeholder>::decode_placeholder())
                     });
                 }
                 if let Self::NodeXY1(v) = out {
@@ -9372,7 +9366,7 @@ impl Uper for NodeOffsetPointXY {
             1 => {
                 if !matches!(out, Self::NodeXY2(_)) {
                     uper::replace_with(out, || {
-                        Self::NodeXY2(<NodeXY22b as uper::Placeholder>::placeholder())
+                        Self::NodeXY2(<NodeXY22b as uper::Placeholder>::decode_placeholder())
                     });
                 }
                 if let Self::NodeXY2(v) = out {
@@ -9382,7 +9376,7 @@ impl Uper for NodeOffsetPointXY {
             2 => {
                 if !matches!(out, Self::NodeXY3(_)) {
                     uper::replace_with(out, || {
-                        Self::NodeXY3(<NodeXY24b as uper::Placeholder>::placeholder())
+                        Self::NodeXY3(<NodeXY24b as uper::Placeholder>::decode_placeholder())
                     });
                 }
                 if let Self::NodeXY3(v) = out {
@@ -9392,7 +9386,7 @@ impl Uper for NodeOffsetPointXY {
             3 => {
                 if !matches!(out, Self::NodeXY4(_)) {
                     uper::replace_with(out, || {
-                        Self::NodeXY4(<NodeXY26b as uper::Placeholder>::placeholder())
+                        Self::NodeXY4(<NodeXY26b as uper::Placeholder>::decode_placeholder())
                     });
                 }
                 if let Self::NodeXY4(v) = out {
@@ -9402,7 +9396,7 @@ impl Uper for NodeOffsetPointXY {
             4 => {
                 if !matches!(out, Self::NodeXY5(_)) {
                     uper::replace_with(out, || {
-                        Self::NodeXY5(<NodeXY28b as uper::Placeholder>::placeholder())
+                        Self::NodeXY5(<NodeXY28b as uper::Placeholder>::decode_placeholder())
                     });
                 }
                 if let Self::NodeXY5(v) = out {
@@ -9412,7 +9406,7 @@ impl Uper for NodeOffsetPointXY {
             5 => {
                 if !matches!(out, Self::NodeXY6(_)) {
                     uper::replace_with(out, || {
-                        Self::NodeXY6(<NodeXY32b as uper::Placeholder>::placeholder())
+                        Self::NodeXY6(<NodeXY32b as uper::Placeholder>::decode_placeholder())
                     });
                 }
                 if let Self::NodeXY6(v) = out {
@@ -9422,7 +9416,7 @@ impl Uper for NodeOffsetPointXY {
             6 => {
                 if !matches!(out, Self::NodeLatLon(_)) {
                     uper::replace_with(out, || {
-                        Self::NodeLatLon(<NodeLLmD64b as uper::Placeholder>::placeholder())
+                        Self::NodeLatLon(<NodeLLmD64b as uper::Placeholder>::decode_placeholder())
                     });
                 }
                 if let Self::NodeLatLon(v) = out {
@@ -9432,9 +9426,7 @@ impl Uper for NodeOffsetPointXY {
             7 => {
                 if !matches!(out, Self::Regional(_)) {
                     uper::replace_with(out, || {
-                        Self::Regional(
-                            <uper::Boxed<RegNodeOffsetPointXY> as uper::Placeholder>::placeholder(),
-                        )
+                        Self::Regional(<uper::Boxed<RegNodeOffsetPointXY> as uper::Placeholder>::decode_placeholder())
                     });
                 }
                 if let Self::Regional(v) = out {
@@ -10170,7 +10162,7 @@ impl Uper for RegNodeOffsetPointXY {
             2 => {
                 if !matches!(out, Self::AddGrpB(_)) {
                     uper::replace_with(out, || {
-                        Self::AddGrpB(<super::add_grp_b::NodeOffsetPointXYAddGrpB as uper::Placeholder>::placeholder())
+                        Self::AddGrpB(<super::add_grp_b::NodeOffsetPointXYAddGrpB as uper::Placeholder>::decode_placeholder())
                     });
                 }
                 if let Self::AddGrpB(v) = out {
@@ -11386,7 +11378,9 @@ impl Uper for LaneDataAttribute {
             0 => {
                 if !matches!(out, Self::PathEndPointAngle(_)) {
                     uper::replace_with(out, || {
-                        Self::PathEndPointAngle(<DeltaAngle as uper::Placeholder>::placeholder())
+                        Self::PathEndPointAngle(
+                            <DeltaAngle as uper::Placeholder>::decode_placeholder(),
+                        )
                     });
                 }
                 if let Self::PathEndPointAngle(v) = out {
@@ -11397,7 +11391,7 @@ impl Uper for LaneDataAttribute {
                 if !matches!(out, Self::LaneCrownPointCenter(_)) {
                     uper::replace_with(out, || {
                         Self::LaneCrownPointCenter(
-                            <RoadwayCrownAngle as uper::Placeholder>::placeholder(),
+                            <RoadwayCrownAngle as uper::Placeholder>::decode_placeholder(),
                         )
                     });
                 }
@@ -11409,7 +11403,7 @@ impl Uper for LaneDataAttribute {
                 if !matches!(out, Self::LaneCrownPointLeft(_)) {
                     uper::replace_with(out, || {
                         Self::LaneCrownPointLeft(
-                            <RoadwayCrownAngle as uper::Placeholder>::placeholder(),
+                            <RoadwayCrownAngle as uper::Placeholder>::decode_placeholder(),
                         )
                     });
                 }
@@ -11421,7 +11415,7 @@ impl Uper for LaneDataAttribute {
                 if !matches!(out, Self::LaneCrownPointRight(_)) {
                     uper::replace_with(out, || {
                         Self::LaneCrownPointRight(
-                            <RoadwayCrownAngle as uper::Placeholder>::placeholder(),
+                            <RoadwayCrownAngle as uper::Placeholder>::decode_placeholder(),
                         )
                     });
                 }
@@ -11432,7 +11426,9 @@ impl Uper for LaneDataAttribute {
             4 => {
                 if !matches!(out, Self::LaneAngle(_)) {
                     uper::replace_with(out, || {
-                        Self::LaneAngle(<MergeDivergeNodeAngle as uper::Placeholder>::placeholder())
+                        Self::LaneAngle(
+                            <MergeDivergeNodeAngle as uper::Placeholder>::decode_placeholder(),
+                        )
                     });
                 }
                 if let Self::LaneAngle(v) = out {
@@ -11442,7 +11438,9 @@ impl Uper for LaneDataAttribute {
             5 => {
                 if !matches!(out, Self::SpeedLimits(_)) {
                     uper::replace_with(out, || {
-                        Self::SpeedLimits(<SpeedLimitList as uper::Placeholder>::placeholder())
+                        Self::SpeedLimits(
+                            <SpeedLimitList as uper::Placeholder>::decode_placeholder(),
+                        )
                     });
                 }
                 if let Self::SpeedLimits(v) = out {
@@ -11453,7 +11451,7 @@ impl Uper for LaneDataAttribute {
                 if !matches!(out, Self::Regional(_)) {
                     uper::replace_with(out, || {
                         Self::Regional(
-                            <LaneDataAttributeRegional as uper::Placeholder>::placeholder(),
+                            <LaneDataAttributeRegional as uper::Placeholder>::decode_placeholder(),
                         )
                     });
                 }
@@ -11839,7 +11837,7 @@ impl Uper for RegLaneDataAttribute {
             2 => {
                 if !matches!(out, Self::AddGrpB(_)) {
                     uper::replace_with(out, || {
-                        Self::AddGrpB(<super::add_grp_b::LaneDataAttributeAddGrpB as uper::Placeholder>::placeholder())
+                        Self::AddGrpB(<super::add_grp_b::LaneDataAttributeAddGrpB as uper::Placeholder>::decode_placeholder())
                     });
                 }
                 if let Self::AddGrpB(v) = out {
@@ -12378,7 +12376,7 @@ impl Uper for ComputedLaneOffsetXaxis {
             0 => {
                 if !matches!(out, Self::Small(_)) {
                     uper::replace_with(out, || {
-                        Self::Small(<DrivenLineOffsetSm as uper::Placeholder>::placeholder())
+                        Self::Small(<DrivenLineOffsetSm as uper::Placeholder>::decode_placeholder())
                     });
                 }
                 if let Self::Small(v) = out {
@@ -12388,7 +12386,7 @@ impl Uper for ComputedLaneOffsetXaxis {
             1 => {
                 if !matches!(out, Self::Large(_)) {
                     uper::replace_with(out, || {
-                        Self::Large(<DrivenLineOffsetLg as uper::Placeholder>::placeholder())
+                        Self::Large(<DrivenLineOffsetLg as uper::Placeholder>::decode_placeholder())
                     });
                 }
                 if let Self::Large(v) = out {
@@ -12519,7 +12517,7 @@ impl Uper for ComputedLaneOffsetYaxis {
             0 => {
                 if !matches!(out, Self::Small(_)) {
                     uper::replace_with(out, || {
-                        Self::Small(<DrivenLineOffsetSm as uper::Placeholder>::placeholder())
+                        Self::Small(<DrivenLineOffsetSm as uper::Placeholder>::decode_placeholder())
                     });
                 }
                 if let Self::Small(v) = out {
@@ -12529,7 +12527,7 @@ impl Uper for ComputedLaneOffsetYaxis {
             1 => {
                 if !matches!(out, Self::Large(_)) {
                     uper::replace_with(out, || {
-                        Self::Large(<DrivenLineOffsetLg as uper::Placeholder>::placeholder())
+                        Self::Large(<DrivenLineOffsetLg as uper::Placeholder>::decode_placeholder())
                     });
                 }
                 if let Self::Large(v) = out {
@@ -13180,7 +13178,7 @@ impl Uper for VehicleID {
             0 => {
                 if !matches!(out, Self::EntityID(_)) {
                     uper::replace_with(out, || {
-                        Self::EntityID(<TemporaryID as uper::Placeholder>::placeholder())
+                        Self::EntityID(<TemporaryID as uper::Placeholder>::decode_placeholder())
                     });
                 }
                 if let Self::EntityID(v) = out {
@@ -13190,7 +13188,7 @@ impl Uper for VehicleID {
             1 => {
                 if !matches!(out, Self::StationID(_)) {
                     uper::replace_with(out, || {
-                        Self::StationID(<StationID as uper::Placeholder>::placeholder())
+                        Self::StationID(<StationID as uper::Placeholder>::decode_placeholder())
                     });
                 }
                 if let Self::StationID(v) = out {
@@ -13320,7 +13318,7 @@ impl Uper for IntersectionAccessPoint {
             0 => {
                 if !matches!(out, Self::Lane(_)) {
                     uper::replace_with(out, || {
-                        Self::Lane(<LaneID as uper::Placeholder>::placeholder())
+                        Self::Lane(<LaneID as uper::Placeholder>::decode_placeholder())
                     });
                 }
                 if let Self::Lane(v) = out {
@@ -13330,7 +13328,7 @@ impl Uper for IntersectionAccessPoint {
             1 => {
                 if !matches!(out, Self::Approach(_)) {
                     uper::replace_with(out, || {
-                        Self::Approach(<ApproachID as uper::Placeholder>::placeholder())
+                        Self::Approach(<ApproachID as uper::Placeholder>::decode_placeholder())
                     });
                 }
                 if let Self::Approach(v) = out {
@@ -13340,7 +13338,9 @@ impl Uper for IntersectionAccessPoint {
             2 => {
                 if !matches!(out, Self::Connection(_)) {
                     uper::replace_with(out, || {
-                        Self::Connection(<LaneConnectionID as uper::Placeholder>::placeholder())
+                        Self::Connection(
+                            <LaneConnectionID as uper::Placeholder>::decode_placeholder(),
+                        )
                     });
                 }
                 if let Self::Connection(v) = out {
@@ -14929,7 +14929,7 @@ impl Uper for VerticalOffset {
             0 => {
                 if !matches!(out, Self::Offset1(_)) {
                     uper::replace_with(out, || {
-                        Self::Offset1(<super::basic_safety_message::VertOffsetB07 as uper::Placeholder>::placeholder())
+                        Self::Offset1(<super::basic_safety_message::VertOffsetB07 as uper::Placeholder>::decode_placeholder())
                     });
                 }
                 if let Self::Offset1(v) = out {
@@ -14939,7 +14939,7 @@ impl Uper for VerticalOffset {
             1 => {
                 if !matches!(out, Self::Offset2(_)) {
                     uper::replace_with(out, || {
-                        Self::Offset2(<VertOffsetB08 as uper::Placeholder>::placeholder())
+                        Self::Offset2(<VertOffsetB08 as uper::Placeholder>::decode_placeholder())
                     });
                 }
                 if let Self::Offset2(v) = out {
@@ -14949,7 +14949,7 @@ impl Uper for VerticalOffset {
             2 => {
                 if !matches!(out, Self::Offset3(_)) {
                     uper::replace_with(out, || {
-                        Self::Offset3(<VertOffsetB09 as uper::Placeholder>::placeholder())
+                        Self::Offset3(<VertOffsetB09 as uper::Placeholder>::decode_placeholder())
                     });
                 }
                 if let Self::Offset3(v) = out {
@@ -14959,7 +14959,7 @@ impl Uper for VerticalOffset {
             3 => {
                 if !matches!(out, Self::Offset4(_)) {
                     uper::replace_with(out, || {
-                        Self::Offset4(<VertOffsetB10 as uper::Placeholder>::placeholder())
+                        Self::Offset4(<VertOffsetB10 as uper::Placeholder>::decode_placeholder())
                     });
                 }
                 if let Self::Offset4(v) = out {
@@ -14969,7 +14969,7 @@ impl Uper for VerticalOffset {
             4 => {
                 if !matches!(out, Self::Offset5(_)) {
                     uper::replace_with(out, || {
-                        Self::Offset5(<VertOffsetB11 as uper::Placeholder>::placeholder())
+                        Self::Offset5(<VertOffsetB11 as uper::Placeholder>::decode_placeholder())
                     });
                 }
                 if let Self::Offset5(v) = out {
@@ -14979,7 +14979,7 @@ impl Uper for VerticalOffset {
             5 => {
                 if !matches!(out, Self::Offset6(_)) {
                     uper::replace_with(out, || {
-                        Self::Offset6(<VertOffsetB12 as uper::Placeholder>::placeholder())
+                        Self::Offset6(<VertOffsetB12 as uper::Placeholder>::decode_placeholder())
                     });
                 }
                 if let Self::Offset6(v) = out {
@@ -14989,7 +14989,7 @@ impl Uper for VerticalOffset {
             6 => {
                 if !matches!(out, Self::Elevation(_)) {
                     uper::replace_with(out, || {
-                        Self::Elevation(<Elevation as uper::Placeholder>::placeholder())
+                        Self::Elevation(<Elevation as uper::Placeholder>::decode_placeholder())
                     });
                 }
                 if let Self::Elevation(v) = out {
@@ -14999,7 +14999,9 @@ impl Uper for VerticalOffset {
             7 => {
                 if !matches!(out, Self::Regional(_)) {
                     uper::replace_with(out, || {
-                        Self::Regional(<RegVerticalOffset as uper::Placeholder>::placeholder())
+                        Self::Regional(
+                            <RegVerticalOffset as uper::Placeholder>::decode_placeholder(),
+                        )
                     });
                 }
                 if let Self::Regional(v) = out {

@@ -361,7 +361,7 @@ impl Uper for ApproachOrLane {
                 if !matches!(out, Self::Approach(_)) {
                     uper::replace_with(out, || {
                         Self::Approach(
-                            <super::common::ApproachID as uper::Placeholder>::placeholder(),
+                            <super::common::ApproachID as uper::Placeholder>::decode_placeholder(),
                         )
                     });
                 }
@@ -372,7 +372,9 @@ impl Uper for ApproachOrLane {
             1 => {
                 if !matches!(out, Self::Lane(_)) {
                     uper::replace_with(out, || {
-                        Self::Lane(<super::common::LaneID as uper::Placeholder>::placeholder())
+                        Self::Lane(
+                            <super::common::LaneID as uper::Placeholder>::decode_placeholder(),
+                        )
                     });
                 }
                 if let Self::Lane(v) = out {

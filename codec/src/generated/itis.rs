@@ -2125,7 +2125,7 @@ impl Uper for ITIScodesAndTextItemItem {
             0 => {
                 if !matches!(out, Self::Itis(_)) {
                     uper::replace_with(out, || {
-                        Self::Itis(<ITIScodes as uper::Placeholder>::placeholder())
+                        Self::Itis(<ITIScodes as uper::Placeholder>::decode_placeholder())
                     });
                 }
                 if let Self::Itis(v) = out {
@@ -2135,7 +2135,7 @@ impl Uper for ITIScodesAndTextItemItem {
             1 => {
                 if !matches!(out, Self::Text(_)) {
                     uper::replace_with(out, || {
-                        Self::Text(<ITIStext as uper::Placeholder>::placeholder())
+                        Self::Text(<ITIStext as uper::Placeholder>::decode_placeholder())
                     });
                 }
                 if let Self::Text(v) = out {

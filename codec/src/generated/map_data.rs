@@ -1708,7 +1708,9 @@ impl Uper for LaneTypeAttributes {
             0 => {
                 if !matches!(out, Self::Vehicle(_)) {
                     uper::replace_with(out, || {
-                        Self::Vehicle(<LaneAttributesVehicle as uper::Placeholder>::placeholder())
+                        Self::Vehicle(
+                            <LaneAttributesVehicle as uper::Placeholder>::decode_placeholder(),
+                        )
                     });
                 }
                 if let Self::Vehicle(v) = out {
@@ -1719,7 +1721,7 @@ impl Uper for LaneTypeAttributes {
                 if !matches!(out, Self::Crosswalk(_)) {
                     uper::replace_with(out, || {
                         Self::Crosswalk(
-                            <LaneAttributesCrosswalk as uper::Placeholder>::placeholder(),
+                            <LaneAttributesCrosswalk as uper::Placeholder>::decode_placeholder(),
                         )
                     });
                 }
@@ -1730,7 +1732,9 @@ impl Uper for LaneTypeAttributes {
             2 => {
                 if !matches!(out, Self::BikeLane(_)) {
                     uper::replace_with(out, || {
-                        Self::BikeLane(<LaneAttributesBike as uper::Placeholder>::placeholder())
+                        Self::BikeLane(
+                            <LaneAttributesBike as uper::Placeholder>::decode_placeholder(),
+                        )
                     });
                 }
                 if let Self::BikeLane(v) = out {
@@ -1740,7 +1744,9 @@ impl Uper for LaneTypeAttributes {
             3 => {
                 if !matches!(out, Self::Sidewalk(_)) {
                     uper::replace_with(out, || {
-                        Self::Sidewalk(<LaneAttributesSidewalk as uper::Placeholder>::placeholder())
+                        Self::Sidewalk(
+                            <LaneAttributesSidewalk as uper::Placeholder>::decode_placeholder(),
+                        )
                     });
                 }
                 if let Self::Sidewalk(v) = out {
@@ -1750,7 +1756,9 @@ impl Uper for LaneTypeAttributes {
             4 => {
                 if !matches!(out, Self::Median(_)) {
                     uper::replace_with(out, || {
-                        Self::Median(<LaneAttributesBarrier as uper::Placeholder>::placeholder())
+                        Self::Median(
+                            <LaneAttributesBarrier as uper::Placeholder>::decode_placeholder(),
+                        )
                     });
                 }
                 if let Self::Median(v) = out {
@@ -1760,7 +1768,9 @@ impl Uper for LaneTypeAttributes {
             5 => {
                 if !matches!(out, Self::Striping(_)) {
                     uper::replace_with(out, || {
-                        Self::Striping(<LaneAttributesStriping as uper::Placeholder>::placeholder())
+                        Self::Striping(
+                            <LaneAttributesStriping as uper::Placeholder>::decode_placeholder(),
+                        )
                     });
                 }
                 if let Self::Striping(v) = out {
@@ -1771,7 +1781,8 @@ impl Uper for LaneTypeAttributes {
                 if !matches!(out, Self::TrackedVehicle(_)) {
                     uper::replace_with(out, || {
                         Self::TrackedVehicle(
-                            <LaneAttributesTrackedVehicle as uper::Placeholder>::placeholder(),
+                            <LaneAttributesTrackedVehicle as uper::Placeholder>::decode_placeholder(
+                            ),
                         )
                     });
                 }
@@ -1782,7 +1793,9 @@ impl Uper for LaneTypeAttributes {
             7 => {
                 if !matches!(out, Self::Parking(_)) {
                     uper::replace_with(out, || {
-                        Self::Parking(<LaneAttributesParking as uper::Placeholder>::placeholder())
+                        Self::Parking(
+                            <LaneAttributesParking as uper::Placeholder>::decode_placeholder(),
+                        )
                     });
                 }
                 if let Self::Parking(v) = out {
@@ -5528,7 +5541,9 @@ impl Uper for RestrictionUserType {
             0 => {
                 if !matches!(out, Self::BasicType(_)) {
                     uper::replace_with(out, || {
-                        Self::BasicType(<RestrictionAppliesTo as uper::Placeholder>::placeholder())
+                        Self::BasicType(
+                            <RestrictionAppliesTo as uper::Placeholder>::decode_placeholder(),
+                        )
                     });
                 }
                 if let Self::BasicType(v) = out {
@@ -5539,7 +5554,8 @@ impl Uper for RestrictionUserType {
                 if !matches!(out, Self::Regional(_)) {
                     uper::replace_with(out, || {
                         Self::Regional(
-                            <RestrictionUserTypeRegional as uper::Placeholder>::placeholder(),
+                            <RestrictionUserTypeRegional as uper::Placeholder>::decode_placeholder(
+                            ),
                         )
                     });
                 }
@@ -6037,7 +6053,7 @@ impl Uper for RegRestrictionUserType {
             3 => {
                 if !matches!(out, Self::AddGrpC(_)) {
                     uper::replace_with(out, || {
-                        Self::AddGrpC(<super::add_grp_c::RestrictionUserTypeAddGrpC as uper::Placeholder>::placeholder())
+                        Self::AddGrpC(<super::add_grp_c::RestrictionUserTypeAddGrpC as uper::Placeholder>::decode_placeholder())
                     });
                 }
                 if let Self::AddGrpC(v) = out {
@@ -6288,9 +6304,7 @@ impl Uper for RegMapData {
             3 => {
                 if !matches!(out, Self::AddGrpC(_)) {
                     uper::replace_with(out, || {
-                        Self::AddGrpC(
-                            <super::add_grp_c::MapDataAddGrpC as uper::Placeholder>::placeholder(),
-                        )
+                        Self::AddGrpC(<super::add_grp_c::MapDataAddGrpC as uper::Placeholder>::decode_placeholder())
                     });
                 }
                 if let Self::AddGrpC(v) = out {

@@ -101,35 +101,35 @@ crate::__constrained_int!(DSRCmsgID, u16, 0, 32767, "MessageFrame.DSRCmsgID");
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub enum MessageFrameValue {
     /// `messageId` 18: `MapData`.
-    MapData(uper::Boxed<super::map_data::MapData>),
+    MapData(uper::MessageBox<super::map_data::MapData>),
     /// `messageId` 19: `SPAT`.
-    SPAT(uper::Boxed<super::spat::SPAT>),
+    SPAT(uper::MessageBox<super::spat::SPAT>),
     /// `messageId` 20: `BasicSafetyMessage`.
     BasicSafetyMessage(super::basic_safety_message::BasicSafetyMessage),
     /// `messageId` 21: `CommonSafetyRequest`.
     CommonSafetyRequest(super::common_safety_request::CommonSafetyRequest),
     /// `messageId` 22: `EmergencyVehicleAlert`.
-    EmergencyVehicleAlert(uper::Boxed<super::emergency_vehicle_alert::EmergencyVehicleAlert>),
+    EmergencyVehicleAlert(uper::MessageBox<super::emergency_vehicle_alert::EmergencyVehicleAlert>),
     /// `messageId` 23: `IntersectionCollision`.
-    IntersectionCollision(uper::Boxed<super::intersection_collision::IntersectionCollision>),
+    IntersectionCollision(uper::MessageBox<super::intersection_collision::IntersectionCollision>),
     /// `messageId` 24: `NMEAcorrections`.
     NMEAcorrections(super::nmea_corrections::NMEAcorrections),
     /// `messageId` 25: `ProbeDataManagement`.
     ProbeDataManagement(super::probe_data_management::ProbeDataManagement),
     /// `messageId` 26: `ProbeVehicleData`.
-    ProbeVehicleData(uper::Boxed<super::probe_vehicle_data::ProbeVehicleData>),
+    ProbeVehicleData(uper::MessageBox<super::probe_vehicle_data::ProbeVehicleData>),
     /// `messageId` 27: `RoadSideAlert`.
-    RoadSideAlert(uper::Boxed<super::road_side_alert::RoadSideAlert>),
+    RoadSideAlert(uper::MessageBox<super::road_side_alert::RoadSideAlert>),
     /// `messageId` 28: `RTCMcorrections`.
-    RTCMcorrections(uper::Boxed<super::rtcm_corrections::RTCMcorrections>),
+    RTCMcorrections(uper::MessageBox<super::rtcm_corrections::RTCMcorrections>),
     /// `messageId` 29: `SignalRequestMessage`.
-    SignalRequestMessage(uper::Boxed<super::signal_request_message::SignalRequestMessage>),
+    SignalRequestMessage(uper::MessageBox<super::signal_request_message::SignalRequestMessage>),
     /// `messageId` 30: `SignalStatusMessage`.
     SignalStatusMessage(super::signal_status_message::SignalStatusMessage),
     /// `messageId` 31: `TravelerInformation`.
-    TravelerInformation(uper::Boxed<super::traveler_information::TravelerInformation>),
+    TravelerInformation(uper::MessageBox<super::traveler_information::TravelerInformation>),
     /// `messageId` 32: `PersonalSafetyMessage`.
-    PersonalSafetyMessage(uper::Boxed<super::personal_safety_message::PersonalSafetyMessage>),
+    PersonalSafetyMessage(uper::MessageBox<super::personal_safety_message::PersonalSafetyMessage>),
     /// `messageId` 240: `TestMessage00`.
     TestMessage00(super::test_message00::TestMessage00),
     /// `messageId` 241: `TestMessage01`.
@@ -485,21 +485,21 @@ impl MessageFrameValue {
         let id = crate::jer::read_member(v, id_name, <DSRCmsgID as crate::jer::Jer>::read_jer)?;
         let x = crate::jer::required(v, value_name)?;
         match id.get() {
-            18 => <uper::Boxed<super::map_data::MapData> as crate::jer::Jer>::read_jer(x).map(Self::MapData).map_err(|e| e.within(value_name)),
-            19 => <uper::Boxed<super::spat::SPAT> as crate::jer::Jer>::read_jer(x).map(Self::SPAT).map_err(|e| e.within(value_name)),
+            18 => <uper::MessageBox<super::map_data::MapData> as crate::jer::Jer>::read_jer(x).map(Self::MapData).map_err(|e| e.within(value_name)),
+            19 => <uper::MessageBox<super::spat::SPAT> as crate::jer::Jer>::read_jer(x).map(Self::SPAT).map_err(|e| e.within(value_name)),
             20 => <super::basic_safety_message::BasicSafetyMessage as crate::jer::Jer>::read_jer(x).map(Self::BasicSafetyMessage).map_err(|e| e.within(value_name)),
             21 => <super::common_safety_request::CommonSafetyRequest as crate::jer::Jer>::read_jer(x).map(Self::CommonSafetyRequest).map_err(|e| e.within(value_name)),
-            22 => <uper::Boxed<super::emergency_vehicle_alert::EmergencyVehicleAlert> as crate::jer::Jer>::read_jer(x).map(Self::EmergencyVehicleAlert).map_err(|e| e.within(value_name)),
-            23 => <uper::Boxed<super::intersection_collision::IntersectionCollision> as crate::jer::Jer>::read_jer(x).map(Self::IntersectionCollision).map_err(|e| e.within(value_name)),
+            22 => <uper::MessageBox<super::emergency_vehicle_alert::EmergencyVehicleAlert> as crate::jer::Jer>::read_jer(x).map(Self::EmergencyVehicleAlert).map_err(|e| e.within(value_name)),
+            23 => <uper::MessageBox<super::intersection_collision::IntersectionCollision> as crate::jer::Jer>::read_jer(x).map(Self::IntersectionCollision).map_err(|e| e.within(value_name)),
             24 => <super::nmea_corrections::NMEAcorrections as crate::jer::Jer>::read_jer(x).map(Self::NMEAcorrections).map_err(|e| e.within(value_name)),
             25 => <super::probe_data_management::ProbeDataManagement as crate::jer::Jer>::read_jer(x).map(Self::ProbeDataManagement).map_err(|e| e.within(value_name)),
-            26 => <uper::Boxed<super::probe_vehicle_data::ProbeVehicleData> as crate::jer::Jer>::read_jer(x).map(Self::ProbeVehicleData).map_err(|e| e.within(value_name)),
-            27 => <uper::Boxed<super::road_side_alert::RoadSideAlert> as crate::jer::Jer>::read_jer(x).map(Self::RoadSideAlert).map_err(|e| e.within(value_name)),
-            28 => <uper::Boxed<super::rtcm_corrections::RTCMcorrections> as crate::jer::Jer>::read_jer(x).map(Self::RTCMcorrections).map_err(|e| e.within(value_name)),
-            29 => <uper::Boxed<super::signal_request_message::SignalRequestMessage> as crate::jer::Jer>::read_jer(x).map(Self::SignalRequestMessage).map_err(|e| e.within(value_name)),
+            26 => <uper::MessageBox<super::probe_vehicle_data::ProbeVehicleData> as crate::jer::Jer>::read_jer(x).map(Self::ProbeVehicleData).map_err(|e| e.within(value_name)),
+            27 => <uper::MessageBox<super::road_side_alert::RoadSideAlert> as crate::jer::Jer>::read_jer(x).map(Self::RoadSideAlert).map_err(|e| e.within(value_name)),
+            28 => <uper::MessageBox<super::rtcm_corrections::RTCMcorrections> as crate::jer::Jer>::read_jer(x).map(Self::RTCMcorrections).map_err(|e| e.within(value_name)),
+            29 => <uper::MessageBox<super::signal_request_message::SignalRequestMessage> as crate::jer::Jer>::read_jer(x).map(Self::SignalRequestMessage).map_err(|e| e.within(value_name)),
             30 => <super::signal_status_message::SignalStatusMessage as crate::jer::Jer>::read_jer(x).map(Self::SignalStatusMessage).map_err(|e| e.within(value_name)),
-            31 => <uper::Boxed<super::traveler_information::TravelerInformation> as crate::jer::Jer>::read_jer(x).map(Self::TravelerInformation).map_err(|e| e.within(value_name)),
-            32 => <uper::Boxed<super::personal_safety_message::PersonalSafetyMessage> as crate::jer::Jer>::read_jer(x).map(Self::PersonalSafetyMessage).map_err(|e| e.within(value_name)),
+            31 => <uper::MessageBox<super::traveler_information::TravelerInformation> as crate::jer::Jer>::read_jer(x).map(Self::TravelerInformation).map_err(|e| e.within(value_name)),
+            32 => <uper::MessageBox<super::personal_safety_message::PersonalSafetyMessage> as crate::jer::Jer>::read_jer(x).map(Self::PersonalSafetyMessage).map_err(|e| e.within(value_name)),
             240 => <super::test_message00::TestMessage00 as crate::jer::Jer>::read_jer(x).map(Self::TestMessage00).map_err(|e| e.within(value_name)),
             241 => <super::test_message01::TestMessage01 as crate::jer::Jer>::read_jer(x).map(Self::TestMessage01).map_err(|e| e.within(value_name)),
             242 => <super::test_message02::TestMessage02 as crate::jer::Jer>::read_jer(x).map(Self::TestMessage02).map_err(|e| e.within(value_name)),
@@ -674,7 +674,7 @@ pub struct MessageName {
     /// what a kept value takes (see the crate docs' table of value sizes).
     pub value_octets: usize,
     /// Whether a MessageFrame keeps this message behind a pointer with feature `alloc`
-    /// (`uper::Boxed`; `[boxed]` in codec/codegen/capacities.toml); in place without it.
+    /// (`uper::MessageBox`; `[boxed]` in codec/codegen/capacities.toml); in place without it.
     pub boxed_with_alloc: bool,
 }
 
@@ -969,31 +969,31 @@ impl Uper for MessageFrameValue {
             18 => {
                 if !matches!(out, Self::MapData(_)) {
                     uper::replace_with(out, || {
-                        Self::MapData(<uper::Boxed<super::map_data::MapData> as uper::Placeholder>::placeholder())
+                        Self::MapData(<uper::MessageBox<super::map_data::MapData> as uper::Placeholder>::decode_placeholder())
                     });
                 }
                 if let Self::MapData(v) = out {
                     uper::decode_open(r, |r| {
-                        <uper::Boxed<super::map_data::MapData>>::decode_into(r, v)
+                        <uper::MessageBox<super::map_data::MapData>>::decode_into(r, v)
                     })?;
                 }
             }
             19 => {
                 if !matches!(out, Self::SPAT(_)) {
                     uper::replace_with(out, || {
-                        Self::SPAT(
-                            <uper::Boxed<super::spat::SPAT> as uper::Placeholder>::placeholder(),
-                        )
+                        Self::SPAT(<uper::MessageBox<super::spat::SPAT> as uper::Placeholder>::decode_placeholder())
                     });
                 }
                 if let Self::SPAT(v) = out {
-                    uper::decode_open(r, |r| <uper::Boxed<super::spat::SPAT>>::decode_into(r, v))?;
+                    uper::decode_open(r, |r| {
+                        <uper::MessageBox<super::spat::SPAT>>::decode_into(r, v)
+                    })?;
                 }
             }
             20 => {
                 if !matches!(out, Self::BasicSafetyMessage(_)) {
                     uper::replace_with(out, || {
-                        Self::BasicSafetyMessage(<super::basic_safety_message::BasicSafetyMessage as uper::Placeholder>::placeholder())
+                        Self::BasicSafetyMessage(<super::basic_safety_message::BasicSafetyMessage as uper::Placeholder>::decode_placeholder())
                     });
                 }
                 if let Self::BasicSafetyMessage(v) = out {
@@ -1005,7 +1005,7 @@ impl Uper for MessageFrameValue {
             21 => {
                 if !matches!(out, Self::CommonSafetyRequest(_)) {
                     uper::replace_with(out, || {
-                        Self::CommonSafetyRequest(<super::common_safety_request::CommonSafetyRequest as uper::Placeholder>::placeholder())
+                        Self::CommonSafetyRequest(<super::common_safety_request::CommonSafetyRequest as uper::Placeholder>::decode_placeholder())
                     });
                 }
                 if let Self::CommonSafetyRequest(v) = out {
@@ -1017,37 +1017,37 @@ impl Uper for MessageFrameValue {
             22 => {
                 if !matches!(out, Self::EmergencyVehicleAlert(_)) {
                     uper::replace_with(out, || {
-                        Self::EmergencyVehicleAlert(<uper::Boxed<
+                        Self::EmergencyVehicleAlert(<uper::MessageBox<
                             super::emergency_vehicle_alert::EmergencyVehicleAlert,
-                        > as uper::Placeholder>::placeholder(
+                        > as uper::Placeholder>::decode_placeholder(
                         ))
                     });
                 }
                 if let Self::EmergencyVehicleAlert(v) = out {
                     uper::decode_open(r, |r| {
-                        <uper::Boxed<super::emergency_vehicle_alert::EmergencyVehicleAlert>>::decode_into(r, v)
+                        <uper::MessageBox<super::emergency_vehicle_alert::EmergencyVehicleAlert>>::decode_into(r, v)
                     })?;
                 }
             }
             23 => {
                 if !matches!(out, Self::IntersectionCollision(_)) {
                     uper::replace_with(out, || {
-                        Self::IntersectionCollision(<uper::Boxed<
+                        Self::IntersectionCollision(<uper::MessageBox<
                             super::intersection_collision::IntersectionCollision,
-                        > as uper::Placeholder>::placeholder(
+                        > as uper::Placeholder>::decode_placeholder(
                         ))
                     });
                 }
                 if let Self::IntersectionCollision(v) = out {
                     uper::decode_open(r, |r| {
-                        <uper::Boxed<super::intersection_collision::IntersectionCollision>>::decode_into(r, v)
+                        <uper::MessageBox<super::intersection_collision::IntersectionCollision>>::decode_into(r, v)
                     })?;
                 }
             }
             24 => {
                 if !matches!(out, Self::NMEAcorrections(_)) {
                     uper::replace_with(out, || {
-                        Self::NMEAcorrections(<super::nmea_corrections::NMEAcorrections as uper::Placeholder>::placeholder())
+                        Self::NMEAcorrections(<super::nmea_corrections::NMEAcorrections as uper::Placeholder>::decode_placeholder())
                     });
                 }
                 if let Self::NMEAcorrections(v) = out {
@@ -1059,7 +1059,7 @@ impl Uper for MessageFrameValue {
             25 => {
                 if !matches!(out, Self::ProbeDataManagement(_)) {
                     uper::replace_with(out, || {
-                        Self::ProbeDataManagement(<super::probe_data_management::ProbeDataManagement as uper::Placeholder>::placeholder())
+                        Self::ProbeDataManagement(<super::probe_data_management::ProbeDataManagement as uper::Placeholder>::decode_placeholder())
                     });
                 }
                 if let Self::ProbeDataManagement(v) = out {
@@ -1071,15 +1071,15 @@ impl Uper for MessageFrameValue {
             26 => {
                 if !matches!(out, Self::ProbeVehicleData(_)) {
                     uper::replace_with(out, || {
-                        Self::ProbeVehicleData(<uper::Boxed<
+                        Self::ProbeVehicleData(<uper::MessageBox<
                             super::probe_vehicle_data::ProbeVehicleData,
-                        > as uper::Placeholder>::placeholder(
+                        > as uper::Placeholder>::decode_placeholder(
                         ))
                     });
                 }
                 if let Self::ProbeVehicleData(v) = out {
                     uper::decode_open(r, |r| {
-                        <uper::Boxed<super::probe_vehicle_data::ProbeVehicleData>>::decode_into(
+                        <uper::MessageBox<super::probe_vehicle_data::ProbeVehicleData>>::decode_into(
                             r, v,
                         )
                     })?;
@@ -1088,46 +1088,51 @@ impl Uper for MessageFrameValue {
             27 => {
                 if !matches!(out, Self::RoadSideAlert(_)) {
                     uper::replace_with(out, || {
-                        Self::RoadSideAlert(<uper::Boxed<super::road_side_alert::RoadSideAlert> as uper::Placeholder>::placeholder())
+                        Self::RoadSideAlert(<uper::MessageBox<super::road_side_alert::RoadSideAlert> as uper::Placeholder>::decode_placeholder())
                     });
                 }
                 if let Self::RoadSideAlert(v) = out {
                     uper::decode_open(r, |r| {
-                        <uper::Boxed<super::road_side_alert::RoadSideAlert>>::decode_into(r, v)
+                        <uper::MessageBox<super::road_side_alert::RoadSideAlert>>::decode_into(r, v)
                     })?;
                 }
             }
             28 => {
                 if !matches!(out, Self::RTCMcorrections(_)) {
                     uper::replace_with(out, || {
-                        Self::RTCMcorrections(<uper::Boxed<super::rtcm_corrections::RTCMcorrections> as uper::Placeholder>::placeholder())
+                        Self::RTCMcorrections(<uper::MessageBox<
+                            super::rtcm_corrections::RTCMcorrections,
+                        > as uper::Placeholder>::decode_placeholder(
+                        ))
                     });
                 }
                 if let Self::RTCMcorrections(v) = out {
                     uper::decode_open(r, |r| {
-                        <uper::Boxed<super::rtcm_corrections::RTCMcorrections>>::decode_into(r, v)
+                        <uper::MessageBox<super::rtcm_corrections::RTCMcorrections>>::decode_into(
+                            r, v,
+                        )
                     })?;
                 }
             }
             29 => {
                 if !matches!(out, Self::SignalRequestMessage(_)) {
                     uper::replace_with(out, || {
-                        Self::SignalRequestMessage(<uper::Boxed<
+                        Self::SignalRequestMessage(<uper::MessageBox<
                             super::signal_request_message::SignalRequestMessage,
-                        > as uper::Placeholder>::placeholder(
+                        > as uper::Placeholder>::decode_placeholder(
                         ))
                     });
                 }
                 if let Self::SignalRequestMessage(v) = out {
                     uper::decode_open(r, |r| {
-                        <uper::Boxed<super::signal_request_message::SignalRequestMessage>>::decode_into(r, v)
+                        <uper::MessageBox<super::signal_request_message::SignalRequestMessage>>::decode_into(r, v)
                     })?;
                 }
             }
             30 => {
                 if !matches!(out, Self::SignalStatusMessage(_)) {
                     uper::replace_with(out, || {
-                        Self::SignalStatusMessage(<super::signal_status_message::SignalStatusMessage as uper::Placeholder>::placeholder())
+                        Self::SignalStatusMessage(<super::signal_status_message::SignalStatusMessage as uper::Placeholder>::decode_placeholder())
                     });
                 }
                 if let Self::SignalStatusMessage(v) = out {
@@ -1139,39 +1144,37 @@ impl Uper for MessageFrameValue {
             31 => {
                 if !matches!(out, Self::TravelerInformation(_)) {
                     uper::replace_with(out, || {
-                        Self::TravelerInformation(<uper::Boxed<
+                        Self::TravelerInformation(<uper::MessageBox<
                             super::traveler_information::TravelerInformation,
-                        > as uper::Placeholder>::placeholder(
+                        > as uper::Placeholder>::decode_placeholder(
                         ))
                     });
                 }
                 if let Self::TravelerInformation(v) = out {
                     uper::decode_open(r, |r| {
-                        <uper::Boxed<super::traveler_information::TravelerInformation>>::decode_into(
-                            r, v,
-                        )
+                        <uper::MessageBox<super::traveler_information::TravelerInformation>>::decode_into(r, v)
                     })?;
                 }
             }
             32 => {
                 if !matches!(out, Self::PersonalSafetyMessage(_)) {
                     uper::replace_with(out, || {
-                        Self::PersonalSafetyMessage(<uper::Boxed<
+                        Self::PersonalSafetyMessage(<uper::MessageBox<
                             super::personal_safety_message::PersonalSafetyMessage,
-                        > as uper::Placeholder>::placeholder(
+                        > as uper::Placeholder>::decode_placeholder(
                         ))
                     });
                 }
                 if let Self::PersonalSafetyMessage(v) = out {
                     uper::decode_open(r, |r| {
-                        <uper::Boxed<super::personal_safety_message::PersonalSafetyMessage>>::decode_into(r, v)
+                        <uper::MessageBox<super::personal_safety_message::PersonalSafetyMessage>>::decode_into(r, v)
                     })?;
                 }
             }
             240 => {
                 if !matches!(out, Self::TestMessage00(_)) {
                     uper::replace_with(out, || {
-                        Self::TestMessage00(<super::test_message00::TestMessage00 as uper::Placeholder>::placeholder())
+                        Self::TestMessage00(<super::test_message00::TestMessage00 as uper::Placeholder>::decode_placeholder())
                     });
                 }
                 if let Self::TestMessage00(v) = out {
@@ -1183,7 +1186,7 @@ impl Uper for MessageFrameValue {
             241 => {
                 if !matches!(out, Self::TestMessage01(_)) {
                     uper::replace_with(out, || {
-                        Self::TestMessage01(<super::test_message01::TestMessage01 as uper::Placeholder>::placeholder())
+                        Self::TestMessage01(<super::test_message01::TestMessage01 as uper::Placeholder>::decode_placeholder())
                     });
                 }
                 if let Self::TestMessage01(v) = out {
@@ -1195,7 +1198,7 @@ impl Uper for MessageFrameValue {
             242 => {
                 if !matches!(out, Self::TestMessage02(_)) {
                     uper::replace_with(out, || {
-                        Self::TestMessage02(<super::test_message02::TestMessage02 as uper::Placeholder>::placeholder())
+                        Self::TestMessage02(<super::test_message02::TestMessage02 as uper::Placeholder>::decode_placeholder())
                     });
                 }
                 if let Self::TestMessage02(v) = out {
@@ -1207,7 +1210,7 @@ impl Uper for MessageFrameValue {
             243 => {
                 if !matches!(out, Self::TestMessage03(_)) {
                     uper::replace_with(out, || {
-                        Self::TestMessage03(<super::test_message03::TestMessage03 as uper::Placeholder>::placeholder())
+                        Self::TestMessage03(<super::test_message03::TestMessage03 as uper::Placeholder>::decode_placeholder())
                     });
                 }
                 if let Self::TestMessage03(v) = out {
@@ -1219,7 +1222,7 @@ impl Uper for MessageFrameValue {
             244 => {
                 if !matches!(out, Self::TestMessage04(_)) {
                     uper::replace_with(out, || {
-                        Self::TestMessage04(<super::test_message04::TestMessage04 as uper::Placeholder>::placeholder())
+                        Self::TestMessage04(<super::test_message04::TestMessage04 as uper::Placeholder>::decode_placeholder())
                     });
                 }
                 if let Self::TestMessage04(v) = out {
@@ -1231,7 +1234,7 @@ impl Uper for MessageFrameValue {
             245 => {
                 if !matches!(out, Self::TestMessage05(_)) {
                     uper::replace_with(out, || {
-                        Self::TestMessage05(<super::test_message05::TestMessage05 as uper::Placeholder>::placeholder())
+                        Self::TestMessage05(<super::test_message05::TestMessage05 as uper::Placeholder>::decode_placeholder())
                     });
                 }
                 if let Self::TestMessage05(v) = out {
@@ -1243,7 +1246,7 @@ impl Uper for MessageFrameValue {
             246 => {
                 if !matches!(out, Self::TestMessage06(_)) {
                     uper::replace_with(out, || {
-                        Self::TestMessage06(<super::test_message06::TestMessage06 as uper::Placeholder>::placeholder())
+                        Self::TestMessage06(<super::test_message06::TestMessage06 as uper::Placeholder>::decode_placeholder())
                     });
                 }
                 if let Self::TestMessage06(v) = out {
@@ -1255,7 +1258,7 @@ impl Uper for MessageFrameValue {
             247 => {
                 if !matches!(out, Self::TestMessage07(_)) {
                     uper::replace_with(out, || {
-                        Self::TestMessage07(<super::test_message07::TestMessage07 as uper::Placeholder>::placeholder())
+                        Self::TestMessage07(<super::test_message07::TestMessage07 as uper::Placeholder>::decode_placeholder())
                     });
                 }
                 if let Self::TestMessage07(v) = out {
@@ -1267,7 +1270,7 @@ impl Uper for MessageFrameValue {
             248 => {
                 if !matches!(out, Self::TestMessage08(_)) {
                     uper::replace_with(out, || {
-                        Self::TestMessage08(<super::test_message08::TestMessage08 as uper::Placeholder>::placeholder())
+                        Self::TestMessage08(<super::test_message08::TestMessage08 as uper::Placeholder>::decode_placeholder())
                     });
                 }
                 if let Self::TestMessage08(v) = out {
@@ -1279,7 +1282,7 @@ impl Uper for MessageFrameValue {
             249 => {
                 if !matches!(out, Self::TestMessage09(_)) {
                     uper::replace_with(out, || {
-                        Self::TestMessage09(<super::test_message09::TestMessage09 as uper::Placeholder>::placeholder())
+                        Self::TestMessage09(<super::test_message09::TestMessage09 as uper::Placeholder>::decode_placeholder())
                     });
                 }
                 if let Self::TestMessage09(v) = out {
@@ -1291,7 +1294,7 @@ impl Uper for MessageFrameValue {
             250 => {
                 if !matches!(out, Self::TestMessage10(_)) {
                     uper::replace_with(out, || {
-                        Self::TestMessage10(<super::test_message10::TestMessage10 as uper::Placeholder>::placeholder())
+                        Self::TestMessage10(<super::test_message10::TestMessage10 as uper::Placeholder>::decode_placeholder())
                     });
                 }
                 if let Self::TestMessage10(v) = out {
@@ -1303,7 +1306,7 @@ impl Uper for MessageFrameValue {
             251 => {
                 if !matches!(out, Self::TestMessage11(_)) {
                     uper::replace_with(out, || {
-                        Self::TestMessage11(<super::test_message11::TestMessage11 as uper::Placeholder>::placeholder())
+                        Self::TestMessage11(<super::test_message11::TestMessage11 as uper::Placeholder>::decode_placeholder())
                     });
                 }
                 if let Self::TestMessage11(v) = out {
@@ -1315,7 +1318,7 @@ impl Uper for MessageFrameValue {
             252 => {
                 if !matches!(out, Self::TestMessage12(_)) {
                     uper::replace_with(out, || {
-                        Self::TestMessage12(<super::test_message12::TestMessage12 as uper::Placeholder>::placeholder())
+                        Self::TestMessage12(<super::test_message12::TestMessage12 as uper::Placeholder>::decode_placeholder())
                     });
                 }
                 if let Self::TestMessage12(v) = out {
@@ -1327,7 +1330,7 @@ impl Uper for MessageFrameValue {
             253 => {
                 if !matches!(out, Self::TestMessage13(_)) {
                     uper::replace_with(out, || {
-                        Self::TestMessage13(<super::test_message13::TestMessage13 as uper::Placeholder>::placeholder())
+                        Self::TestMessage13(<super::test_message13::TestMessage13 as uper::Placeholder>::decode_placeholder())
                     });
                 }
                 if let Self::TestMessage13(v) = out {
@@ -1339,7 +1342,7 @@ impl Uper for MessageFrameValue {
             254 => {
                 if !matches!(out, Self::TestMessage14(_)) {
                     uper::replace_with(out, || {
-                        Self::TestMessage14(<super::test_message14::TestMessage14 as uper::Placeholder>::placeholder())
+                        Self::TestMessage14(<super::test_message14::TestMessage14 as uper::Placeholder>::decode_placeholder())
                     });
                 }
                 if let Self::TestMessage14(v) = out {
@@ -1351,7 +1354,7 @@ impl Uper for MessageFrameValue {
             255 => {
                 if !matches!(out, Self::TestMessage15(_)) {
                     uper::replace_with(out, || {
-                        Self::TestMessage15(<super::test_message15::TestMessage15 as uper::Placeholder>::placeholder())
+                        Self::TestMessage15(<super::test_message15::TestMessage15 as uper::Placeholder>::decode_placeholder())
                     });
                 }
                 if let Self::TestMessage15(v) = out {
@@ -1507,21 +1510,21 @@ impl Uper for MessageFrameValue {
 impl uper::random::Random for MessageFrameValue {
     fn random(g: &mut uper::random::Gen) -> Self {
         match g.below(31) {
-            0 => Self::MapData(<uper::Boxed<super::map_data::MapData> as uper::random::Random>::random(g)),
-            1 => Self::SPAT(<uper::Boxed<super::spat::SPAT> as uper::random::Random>::random(g)),
+            0 => Self::MapData(<uper::MessageBox<super::map_data::MapData> as uper::random::Random>::random(g)),
+            1 => Self::SPAT(<uper::MessageBox<super::spat::SPAT> as uper::random::Random>::random(g)),
             2 => Self::BasicSafetyMessage(<super::basic_safety_message::BasicSafetyMessage as uper::random::Random>::random(g)),
             3 => Self::CommonSafetyRequest(<super::common_safety_request::CommonSafetyRequest as uper::random::Random>::random(g)),
-            4 => Self::EmergencyVehicleAlert(<uper::Boxed<super::emergency_vehicle_alert::EmergencyVehicleAlert> as uper::random::Random>::random(g)),
-            5 => Self::IntersectionCollision(<uper::Boxed<super::intersection_collision::IntersectionCollision> as uper::random::Random>::random(g)),
+            4 => Self::EmergencyVehicleAlert(<uper::MessageBox<super::emergency_vehicle_alert::EmergencyVehicleAlert> as uper::random::Random>::random(g)),
+            5 => Self::IntersectionCollision(<uper::MessageBox<super::intersection_collision::IntersectionCollision> as uper::random::Random>::random(g)),
             6 => Self::NMEAcorrections(<super::nmea_corrections::NMEAcorrections as uper::random::Random>::random(g)),
             7 => Self::ProbeDataManagement(<super::probe_data_management::ProbeDataManagement as uper::random::Random>::random(g)),
-            8 => Self::ProbeVehicleData(<uper::Boxed<super::probe_vehicle_data::ProbeVehicleData> as uper::random::Random>::random(g)),
-            9 => Self::RoadSideAlert(<uper::Boxed<super::road_side_alert::RoadSideAlert> as uper::random::Random>::random(g)),
-            10 => Self::RTCMcorrections(<uper::Boxed<super::rtcm_corrections::RTCMcorrections> as uper::random::Random>::random(g)),
-            11 => Self::SignalRequestMessage(<uper::Boxed<super::signal_request_message::SignalRequestMessage> as uper::random::Random>::random(g)),
+            8 => Self::ProbeVehicleData(<uper::MessageBox<super::probe_vehicle_data::ProbeVehicleData> as uper::random::Random>::random(g)),
+            9 => Self::RoadSideAlert(<uper::MessageBox<super::road_side_alert::RoadSideAlert> as uper::random::Random>::random(g)),
+            10 => Self::RTCMcorrections(<uper::MessageBox<super::rtcm_corrections::RTCMcorrections> as uper::random::Random>::random(g)),
+            11 => Self::SignalRequestMessage(<uper::MessageBox<super::signal_request_message::SignalRequestMessage> as uper::random::Random>::random(g)),
             12 => Self::SignalStatusMessage(<super::signal_status_message::SignalStatusMessage as uper::random::Random>::random(g)),
-            13 => Self::TravelerInformation(<uper::Boxed<super::traveler_information::TravelerInformation> as uper::random::Random>::random(g)),
-            14 => Self::PersonalSafetyMessage(<uper::Boxed<super::personal_safety_message::PersonalSafetyMessage> as uper::random::Random>::random(g)),
+            13 => Self::TravelerInformation(<uper::MessageBox<super::traveler_information::TravelerInformation> as uper::random::Random>::random(g)),
+            14 => Self::PersonalSafetyMessage(<uper::MessageBox<super::personal_safety_message::PersonalSafetyMessage> as uper::random::Random>::random(g)),
             15 => Self::TestMessage00(<super::test_message00::TestMessage00 as uper::random::Random>::random(g)),
             16 => Self::TestMessage01(<super::test_message01::TestMessage01 as uper::random::Random>::random(g)),
             17 => Self::TestMessage02(<super::test_message02::TestMessage02 as uper::random::Random>::random(g)),

@@ -980,7 +980,7 @@ impl Uper for PropelledInformation {
             0 => {
                 if !matches!(out, Self::Human(_)) {
                     uper::replace_with(out, || {
-                        Self::Human(<HumanPropelledType as uper::Placeholder>::placeholder())
+                        Self::Human(<HumanPropelledType as uper::Placeholder>::decode_placeholder())
                     });
                 }
                 if let Self::Human(v) = out {
@@ -990,7 +990,9 @@ impl Uper for PropelledInformation {
             1 => {
                 if !matches!(out, Self::Animal(_)) {
                     uper::replace_with(out, || {
-                        Self::Animal(<AnimalPropelledType as uper::Placeholder>::placeholder())
+                        Self::Animal(
+                            <AnimalPropelledType as uper::Placeholder>::decode_placeholder(),
+                        )
                     });
                 }
                 if let Self::Animal(v) = out {
@@ -1000,7 +1002,9 @@ impl Uper for PropelledInformation {
             2 => {
                 if !matches!(out, Self::Motor(_)) {
                     uper::replace_with(out, || {
-                        Self::Motor(<MotorizedPropelledType as uper::Placeholder>::placeholder())
+                        Self::Motor(
+                            <MotorizedPropelledType as uper::Placeholder>::decode_placeholder(),
+                        )
                     });
                 }
                 if let Self::Motor(v) = out {

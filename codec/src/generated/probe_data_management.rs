@@ -392,7 +392,7 @@ impl Uper for ProbeDataManagementTerm {
             0 => {
                 if !matches!(out, Self::Termtime(_)) {
                     uper::replace_with(out, || {
-                        Self::Termtime(<TermTime as uper::Placeholder>::placeholder())
+                        Self::Termtime(<TermTime as uper::Placeholder>::decode_placeholder())
                     });
                 }
                 if let Self::Termtime(v) = out {
@@ -402,7 +402,7 @@ impl Uper for ProbeDataManagementTerm {
             1 => {
                 if !matches!(out, Self::TermDistance(_)) {
                     uper::replace_with(out, || {
-                        Self::TermDistance(<TermDistance as uper::Placeholder>::placeholder())
+                        Self::TermDistance(<TermDistance as uper::Placeholder>::decode_placeholder())
                     });
                 }
                 if let Self::TermDistance(v) = out {
@@ -527,7 +527,7 @@ impl Uper for ProbeDataManagementSnapshot {
             0 => {
                 if !matches!(out, Self::SnapshotTime(_)) {
                     uper::replace_with(out, || {
-                        Self::SnapshotTime(<SnapshotTime as uper::Placeholder>::placeholder())
+                        Self::SnapshotTime(<SnapshotTime as uper::Placeholder>::decode_placeholder())
                     });
                 }
                 if let Self::SnapshotTime(v) = out {
@@ -538,7 +538,7 @@ impl Uper for ProbeDataManagementSnapshot {
                 if !matches!(out, Self::SnapshotDistance(_)) {
                     uper::replace_with(out, || {
                         Self::SnapshotDistance(
-                            <SnapshotDistance as uper::Placeholder>::placeholder(),
+                            <SnapshotDistance as uper::Placeholder>::decode_placeholder(),
                         )
                     });
                 }

@@ -718,9 +718,7 @@ impl Uper for VehicleIdentVehicleClass {
             0 => {
                 if !matches!(out, Self::VGroup(_)) {
                     uper::replace_with(out, || {
-                        Self::VGroup(
-                            <super::itis::VehicleGroupAffected as uper::Placeholder>::placeholder(),
-                        )
+                        Self::VGroup(<super::itis::VehicleGroupAffected as uper::Placeholder>::decode_placeholder())
                     });
                 }
                 if let Self::VGroup(v) = out {
@@ -730,10 +728,7 @@ impl Uper for VehicleIdentVehicleClass {
             1 => {
                 if !matches!(out, Self::RGroup(_)) {
                     uper::replace_with(out, || {
-                        Self::RGroup(
-                            <super::itis::ResponderGroupAffected as uper::Placeholder>::placeholder(
-                            ),
-                        )
+                        Self::RGroup(<super::itis::ResponderGroupAffected as uper::Placeholder>::decode_placeholder())
                     });
                 }
                 if let Self::RGroup(v) = out {
@@ -743,7 +738,7 @@ impl Uper for VehicleIdentVehicleClass {
             2 => {
                 if !matches!(out, Self::REquip(_)) {
                     uper::replace_with(out, || {
-                        Self::REquip(<super::itis::IncidentResponseEquipment as uper::Placeholder>::placeholder())
+                        Self::REquip(<super::itis::IncidentResponseEquipment as uper::Placeholder>::decode_placeholder())
                     });
                 }
                 if let Self::REquip(v) = out {

@@ -2616,7 +2616,7 @@ impl Uper for RegMovementEvent {
             2 => {
                 if !matches!(out, Self::AddGrpB(_)) {
                     uper::replace_with(out, || {
-                        Self::AddGrpB(<super::add_grp_b::MovementEventAddGrpB as uper::Placeholder>::placeholder())
+                        Self::AddGrpB(<super::add_grp_b::MovementEventAddGrpB as uper::Placeholder>::decode_placeholder())
                     });
                 }
                 if let Self::AddGrpB(v) = out {
@@ -3215,7 +3215,7 @@ impl Uper for RegConnectionManeuverAssist {
             3 => {
                 if !matches!(out, Self::AddGrpC(_)) {
                     uper::replace_with(out, || {
-                        Self::AddGrpC(<super::add_grp_c::ConnectionManeuverAssistAddGrpC as uper::Placeholder>::placeholder())
+                        Self::AddGrpC(<super::add_grp_c::ConnectionManeuverAssistAddGrpC as uper::Placeholder>::decode_placeholder())
                     });
                 }
                 if let Self::AddGrpC(v) = out {
@@ -3683,7 +3683,7 @@ impl Uper for RegIntersectionState {
             3 => {
                 if !matches!(out, Self::AddGrpC(_)) {
                     uper::replace_with(out, || {
-                        Self::AddGrpC(<super::add_grp_c::IntersectionStateAddGrpC as uper::Placeholder>::placeholder())
+                        Self::AddGrpC(<super::add_grp_c::IntersectionStateAddGrpC as uper::Placeholder>::decode_placeholder())
                     });
                 }
                 if let Self::AddGrpC(v) = out {

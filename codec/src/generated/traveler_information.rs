@@ -917,7 +917,8 @@ impl Uper for TravelerDataFrameMsgId {
                 if !matches!(out, Self::FurtherInfoID(_)) {
                     uper::replace_with(out, || {
                         Self::FurtherInfoID(
-                            <super::common::FurtherInfoID as uper::Placeholder>::placeholder(),
+                            <super::common::FurtherInfoID as uper::Placeholder>::decode_placeholder(
+                            ),
                         )
                     });
                 }
@@ -928,7 +929,7 @@ impl Uper for TravelerDataFrameMsgId {
             1 => {
                 if !matches!(out, Self::RoadSignID(_)) {
                     uper::replace_with(out, || {
-                        Self::RoadSignID(<RoadSignID as uper::Placeholder>::placeholder())
+                        Self::RoadSignID(<RoadSignID as uper::Placeholder>::decode_placeholder())
                     });
                 }
                 if let Self::RoadSignID(v) = out {
@@ -2006,7 +2007,7 @@ impl Uper for GeographicalPathDescription {
             0 => {
                 if !matches!(out, Self::Path(_)) {
                     uper::replace_with(out, || {
-                        Self::Path(<OffsetSystem as uper::Placeholder>::placeholder())
+                        Self::Path(<OffsetSystem as uper::Placeholder>::decode_placeholder())
                     });
                 }
                 if let Self::Path(v) = out {
@@ -2016,9 +2017,7 @@ impl Uper for GeographicalPathDescription {
             1 => {
                 if !matches!(out, Self::Geometry(_)) {
                     uper::replace_with(out, || {
-                        Self::Geometry(
-                            <uper::Boxed<GeometricProjection> as uper::Placeholder>::placeholder(),
-                        )
+                        Self::Geometry(<uper::Boxed<GeometricProjection> as uper::Placeholder>::decode_placeholder())
                     });
                 }
                 if let Self::Geometry(v) = out {
@@ -2029,7 +2028,7 @@ impl Uper for GeographicalPathDescription {
                 if !matches!(out, Self::OldRegion(_)) {
                     uper::replace_with(out, || {
                         Self::OldRegion(
-                            <uper::Boxed<ValidRegion> as uper::Placeholder>::placeholder(),
+                            <uper::Boxed<ValidRegion> as uper::Placeholder>::decode_placeholder(),
                         )
                     });
                 }
@@ -2274,7 +2273,9 @@ impl Uper for OffsetSystemOffset {
             0 => {
                 if !matches!(out, Self::Xy(_)) {
                     uper::replace_with(out, || {
-                        Self::Xy(<super::common::NodeListXY as uper::Placeholder>::placeholder())
+                        Self::Xy(
+                            <super::common::NodeListXY as uper::Placeholder>::decode_placeholder(),
+                        )
                     });
                 }
                 if let Self::Xy(v) = out {
@@ -2284,7 +2285,7 @@ impl Uper for OffsetSystemOffset {
             1 => {
                 if !matches!(out, Self::Ll(_)) {
                     uper::replace_with(out, || {
-                        Self::Ll(<NodeListLL as uper::Placeholder>::placeholder())
+                        Self::Ll(<NodeListLL as uper::Placeholder>::decode_placeholder())
                     });
                 }
                 if let Self::Ll(v) = out {
@@ -2407,7 +2408,7 @@ impl Uper for NodeListLL {
             0 => {
                 if !matches!(out, Self::Nodes(_)) {
                     uper::replace_with(out, || {
-                        Self::Nodes(<NodeSetLL as uper::Placeholder>::placeholder())
+                        Self::Nodes(<NodeSetLL as uper::Placeholder>::decode_placeholder())
                     });
                 }
                 if let Self::Nodes(v) = out {
@@ -2729,7 +2730,7 @@ impl Uper for NodeOffsetPointLL {
             0 => {
                 if !matches!(out, Self::NodeLL1(_)) {
                     uper::replace_with(out, || {
-                        Self::NodeLL1(<NodeLL24B as uper::Placeholder>::placeholder())
+                        Self::NodeLL1(<NodeLL24B as uper::Placeholder>::decode_placeholder())
                     });
                 }
                 if let Self::NodeLL1(v) = out {
@@ -2739,7 +2740,7 @@ impl Uper for NodeOffsetPointLL {
             1 => {
                 if !matches!(out, Self::NodeLL2(_)) {
                     uper::replace_with(out, || {
-                        Self::NodeLL2(<NodeLL28B as uper::Placeholder>::placeholder())
+                        Self::NodeLL2(<NodeLL28B as uper::Placeholder>::decode_placeholder())
                     });
                 }
                 if let Self::NodeLL2(v) = out {
@@ -2749,7 +2750,7 @@ impl Uper for NodeOffsetPointLL {
             2 => {
                 if !matches!(out, Self::NodeLL3(_)) {
                     uper::replace_with(out, || {
-                        Self::NodeLL3(<NodeLL32B as uper::Placeholder>::placeholder())
+                        Self::NodeLL3(<NodeLL32B as uper::Placeholder>::decode_placeholder())
                     });
                 }
                 if let Self::NodeLL3(v) = out {
@@ -2759,7 +2760,7 @@ impl Uper for NodeOffsetPointLL {
             3 => {
                 if !matches!(out, Self::NodeLL4(_)) {
                     uper::replace_with(out, || {
-                        Self::NodeLL4(<NodeLL36B as uper::Placeholder>::placeholder())
+                        Self::NodeLL4(<NodeLL36B as uper::Placeholder>::decode_placeholder())
                     });
                 }
                 if let Self::NodeLL4(v) = out {
@@ -2769,7 +2770,7 @@ impl Uper for NodeOffsetPointLL {
             4 => {
                 if !matches!(out, Self::NodeLL5(_)) {
                     uper::replace_with(out, || {
-                        Self::NodeLL5(<NodeLL44B as uper::Placeholder>::placeholder())
+                        Self::NodeLL5(<NodeLL44B as uper::Placeholder>::decode_placeholder())
                     });
                 }
                 if let Self::NodeLL5(v) = out {
@@ -2779,7 +2780,7 @@ impl Uper for NodeOffsetPointLL {
             5 => {
                 if !matches!(out, Self::NodeLL6(_)) {
                     uper::replace_with(out, || {
-                        Self::NodeLL6(<NodeLL48B as uper::Placeholder>::placeholder())
+                        Self::NodeLL6(<NodeLL48B as uper::Placeholder>::decode_placeholder())
                     });
                 }
                 if let Self::NodeLL6(v) = out {
@@ -2790,7 +2791,7 @@ impl Uper for NodeOffsetPointLL {
                 if !matches!(out, Self::NodeLatLon(_)) {
                     uper::replace_with(out, || {
                         Self::NodeLatLon(
-                            <super::common::NodeLLmD64b as uper::Placeholder>::placeholder(),
+                            <super::common::NodeLLmD64b as uper::Placeholder>::decode_placeholder(),
                         )
                     });
                 }
@@ -2801,9 +2802,7 @@ impl Uper for NodeOffsetPointLL {
             7 => {
                 if !matches!(out, Self::Regional(_)) {
                     uper::replace_with(out, || {
-                        Self::Regional(
-                            <uper::Boxed<RegNodeOffsetPointLL> as uper::Placeholder>::placeholder(),
-                        )
+                        Self::Regional(<uper::Boxed<RegNodeOffsetPointLL> as uper::Placeholder>::decode_placeholder())
                     });
                 }
                 if let Self::Regional(v) = out {
@@ -5720,7 +5719,9 @@ impl Uper for ValidRegionArea {
             0 => {
                 if !matches!(out, Self::ShapePointSet(_)) {
                     uper::replace_with(out, || {
-                        Self::ShapePointSet(<ShapePointSet as uper::Placeholder>::placeholder())
+                        Self::ShapePointSet(
+                            <ShapePointSet as uper::Placeholder>::decode_placeholder(),
+                        )
                     });
                 }
                 if let Self::ShapePointSet(v) = out {
@@ -5730,7 +5731,7 @@ impl Uper for ValidRegionArea {
             1 => {
                 if !matches!(out, Self::Circle(_)) {
                     uper::replace_with(out, || {
-                        Self::Circle(<Circle as uper::Placeholder>::placeholder())
+                        Self::Circle(<Circle as uper::Placeholder>::decode_placeholder())
                     });
                 }
                 if let Self::Circle(v) = out {
@@ -5740,7 +5741,9 @@ impl Uper for ValidRegionArea {
             2 => {
                 if !matches!(out, Self::RegionPointSet(_)) {
                     uper::replace_with(out, || {
-                        Self::RegionPointSet(<RegionPointSet as uper::Placeholder>::placeholder())
+                        Self::RegionPointSet(
+                            <RegionPointSet as uper::Placeholder>::decode_placeholder(),
+                        )
                     });
                 }
                 if let Self::RegionPointSet(v) = out {
@@ -6633,9 +6636,7 @@ impl Uper for TravelerDataFrameContent {
             0 => {
                 if !matches!(out, Self::Advisory(_)) {
                     uper::replace_with(out, || {
-                        Self::Advisory(
-                            <super::itis::ITIScodesAndText as uper::Placeholder>::placeholder(),
-                        )
+                        Self::Advisory(<super::itis::ITIScodesAndText as uper::Placeholder>::decode_placeholder())
                     });
                 }
                 if let Self::Advisory(v) = out {
@@ -6645,7 +6646,7 @@ impl Uper for TravelerDataFrameContent {
             1 => {
                 if !matches!(out, Self::WorkZone(_)) {
                     uper::replace_with(out, || {
-                        Self::WorkZone(<WorkZone as uper::Placeholder>::placeholder())
+                        Self::WorkZone(<WorkZone as uper::Placeholder>::decode_placeholder())
                     });
                 }
                 if let Self::WorkZone(v) = out {
@@ -6655,7 +6656,9 @@ impl Uper for TravelerDataFrameContent {
             2 => {
                 if !matches!(out, Self::GenericSign(_)) {
                     uper::replace_with(out, || {
-                        Self::GenericSign(<GenericSignage as uper::Placeholder>::placeholder())
+                        Self::GenericSign(
+                            <GenericSignage as uper::Placeholder>::decode_placeholder(),
+                        )
                     });
                 }
                 if let Self::GenericSign(v) = out {
@@ -6665,7 +6668,7 @@ impl Uper for TravelerDataFrameContent {
             3 => {
                 if !matches!(out, Self::SpeedLimit(_)) {
                     uper::replace_with(out, || {
-                        Self::SpeedLimit(<SpeedLimit as uper::Placeholder>::placeholder())
+                        Self::SpeedLimit(<SpeedLimit as uper::Placeholder>::decode_placeholder())
                     });
                 }
                 if let Self::SpeedLimit(v) = out {
@@ -6675,7 +6678,7 @@ impl Uper for TravelerDataFrameContent {
             4 => {
                 if !matches!(out, Self::ExitService(_)) {
                     uper::replace_with(out, || {
-                        Self::ExitService(<ExitService as uper::Placeholder>::placeholder())
+                        Self::ExitService(<ExitService as uper::Placeholder>::decode_placeholder())
                     });
                 }
                 if let Self::ExitService(v) = out {
@@ -6980,7 +6983,9 @@ impl Uper for WorkZoneItemItem {
             0 => {
                 if !matches!(out, Self::Itis(_)) {
                     uper::replace_with(out, || {
-                        Self::Itis(<super::itis::ITIScodes as uper::Placeholder>::placeholder())
+                        Self::Itis(
+                            <super::itis::ITIScodes as uper::Placeholder>::decode_placeholder(),
+                        )
                     });
                 }
                 if let Self::Itis(v) = out {
@@ -6990,7 +6995,7 @@ impl Uper for WorkZoneItemItem {
             1 => {
                 if !matches!(out, Self::Text(_)) {
                     uper::replace_with(out, || {
-                        Self::Text(<ITIStextPhrase as uper::Placeholder>::placeholder())
+                        Self::Text(<ITIStextPhrase as uper::Placeholder>::decode_placeholder())
                     });
                 }
                 if let Self::Text(v) = out {
@@ -7326,7 +7331,9 @@ impl Uper for GenericSignageItemItem {
             0 => {
                 if !matches!(out, Self::Itis(_)) {
                     uper::replace_with(out, || {
-                        Self::Itis(<super::itis::ITIScodes as uper::Placeholder>::placeholder())
+                        Self::Itis(
+                            <super::itis::ITIScodes as uper::Placeholder>::decode_placeholder(),
+                        )
                     });
                 }
                 if let Self::Itis(v) = out {
@@ -7336,7 +7343,7 @@ impl Uper for GenericSignageItemItem {
             1 => {
                 if !matches!(out, Self::Text(_)) {
                     uper::replace_with(out, || {
-                        Self::Text(<ITIStextPhrase as uper::Placeholder>::placeholder())
+                        Self::Text(<ITIStextPhrase as uper::Placeholder>::decode_placeholder())
                     });
                 }
                 if let Self::Text(v) = out {
@@ -7598,7 +7605,9 @@ impl Uper for SpeedLimitItemItem {
             0 => {
                 if !matches!(out, Self::Itis(_)) {
                     uper::replace_with(out, || {
-                        Self::Itis(<super::itis::ITIScodes as uper::Placeholder>::placeholder())
+                        Self::Itis(
+                            <super::itis::ITIScodes as uper::Placeholder>::decode_placeholder(),
+                        )
                     });
                 }
                 if let Self::Itis(v) = out {
@@ -7608,7 +7617,7 @@ impl Uper for SpeedLimitItemItem {
             1 => {
                 if !matches!(out, Self::Text(_)) {
                     uper::replace_with(out, || {
-                        Self::Text(<ITIStextPhrase as uper::Placeholder>::placeholder())
+                        Self::Text(<ITIStextPhrase as uper::Placeholder>::decode_placeholder())
                     });
                 }
                 if let Self::Text(v) = out {
@@ -7868,7 +7877,9 @@ impl Uper for ExitServiceItemItem {
             0 => {
                 if !matches!(out, Self::Itis(_)) {
                     uper::replace_with(out, || {
-                        Self::Itis(<super::itis::ITIScodes as uper::Placeholder>::placeholder())
+                        Self::Itis(
+                            <super::itis::ITIScodes as uper::Placeholder>::decode_placeholder(),
+                        )
                     });
                 }
                 if let Self::Itis(v) = out {
@@ -7878,7 +7889,7 @@ impl Uper for ExitServiceItemItem {
             1 => {
                 if !matches!(out, Self::Text(_)) {
                     uper::replace_with(out, || {
-                        Self::Text(<ITIStextPhrase as uper::Placeholder>::placeholder())
+                        Self::Text(<ITIStextPhrase as uper::Placeholder>::decode_placeholder())
                     });
                 }
                 if let Self::Text(v) = out {

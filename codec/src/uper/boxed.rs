@@ -1,4 +1,5 @@
-//! [`Boxed`]: a member kept behind a pointer with `alloc`, in place without it.
+//! [`Boxed`]: a member kept behind a pointer with `alloc`, in place without it; and
+//! [`MessageBox`]: the same for a MessageFrame's message, whose box a thread reuses.
 
 use core::fmt;
 use core::ops::{Deref, DerefMut};
@@ -39,6 +40,19 @@ impl<T> Boxed<T> {
         return *self.0;
         #[cfg(not(feature = "alloc"))]
         return self.0;
+    }
+}
+
+#[cfg(feature = "std")]
+impl<T: 'static> Boxed<T> {
+    /// Gives its box to this thread's shelf for `T` (see `recycle.rs`).
+    fn recycle(self) {
+        super::recycle::put_box(self.0);
+    }
+
+    /// A box this thread recycled, holding its former value, if it kept one.
+    fn recycled() -> Option<Self> {
+        super::recycle::take_box().map(Self)
     }
 }
 
@@ -101,6 +115,151 @@ impl<T: Uper> Uper for Boxed<T> {
 
 #[cfg(feature = "_random")]
 impl<T: super::random::Random> super::random::Random for Boxed<T> {
+    fn random(g: &mut super::random::Gen) -> Self {
+        Self::new(T::random(g))
+    }
+}
+
+/// A message of a MessageFrame: a [`Boxed`] whose box, with features `alloc` and `std`, this
+/// thread reuses.
+///
+/// A dropped `MessageBox<T>` gives its box, value and all, to this thread's shelf for `T`;
+/// the next new `MessageBox<T>` of a decode takes it and the decode refills it in place, as
+/// it refills a kept value (its lists keep their storage). A loop that decodes new values
+/// and drops them then allocates nothing in the steady state (see `recycle.rs`: at most four
+/// boxes per message type are kept per thread). Without `std` it is a [`Boxed`].
+///
+/// Read and write it through `Deref`/`DerefMut`; make one with [`MessageBox::new`] or `From<T>`.
+#[derive(Clone, PartialEq, Eq, Hash)]
+pub struct MessageBox<T: 'static>(
+    /// `None` only once `drop` took the box.
+    #[cfg(feature = "std")]
+    Option<Boxed<T>>,
+    #[cfg(not(feature = "std"))] Boxed<T>,
+);
+
+impl<T: 'static> MessageBox<T> {
+    /// `value`, boxed with `alloc`.
+    pub fn new(value: T) -> Self {
+        Self::from_boxed(Boxed::new(value))
+    }
+
+    fn from_boxed(b: Boxed<T>) -> Self {
+        #[cfg(feature = "std")]
+        return Self(Some(b));
+        #[cfg(not(feature = "std"))]
+        return Self(b);
+    }
+
+    /// The box.
+    #[inline]
+    fn boxed(&self) -> &Boxed<T> {
+        #[cfg(feature = "std")]
+        return self.0.as_ref().unwrap_or_else(|| taken());
+        #[cfg(not(feature = "std"))]
+        return &self.0;
+    }
+
+    /// The box, writable.
+    #[inline]
+    fn boxed_mut(&mut self) -> &mut Boxed<T> {
+        #[cfg(feature = "std")]
+        return self.0.as_mut().unwrap_or_else(|| taken());
+        #[cfg(not(feature = "std"))]
+        return &mut self.0;
+    }
+}
+
+/// A `MessageBox` without its box: only `drop` takes it, so no method ever sees one.
+#[cfg(feature = "std")]
+#[cold]
+fn taken() -> ! {
+    unreachable!("a MessageBox holds its box until it is dropped")
+}
+
+#[cfg(feature = "std")]
+impl<T: 'static> Drop for MessageBox<T> {
+    /// Gives the box, value and all, to this thread's next new `MessageBox<T>`.
+    fn drop(&mut self) {
+        if let Some(b) = self.0.take() {
+            b.recycle();
+        }
+    }
+}
+
+impl<T: 'static> From<T> for MessageBox<T> {
+    fn from(value: T) -> Self {
+        Self::new(value)
+    }
+}
+
+impl<T: 'static> Deref for MessageBox<T> {
+    type Target = T;
+    #[inline]
+    fn deref(&self) -> &T {
+        self.boxed()
+    }
+}
+
+impl<T: 'static> DerefMut for MessageBox<T> {
+    #[inline]
+    fn deref_mut(&mut self) -> &mut T {
+        self.boxed_mut()
+    }
+}
+
+impl<T: fmt::Debug + 'static> fmt::Debug for MessageBox<T> {
+    /// The value's `Debug`, as if it were not boxed.
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        T::fmt(self, f)
+    }
+}
+
+impl<T: Placeholder + 'static> Placeholder for MessageBox<T> {
+    /// A new box with `T`'s placeholder.
+    fn placeholder() -> Self {
+        Self::from_boxed(Boxed::placeholder())
+    }
+
+    /// For a decode: a box this thread recycled, holding a former message that the decode
+    /// refills in place (features `alloc` and `std`), else [`Placeholder::placeholder`].
+    #[inline]
+    fn decode_placeholder() -> Self {
+        #[cfg(feature = "std")]
+        if let Some(b) = Boxed::recycled() {
+            return Self::from_boxed(b);
+        }
+        Self::placeholder()
+    }
+}
+
+impl<T: Uper + 'static> Uper for MessageBox<T> {
+    const PATH: &'static str = T::PATH;
+    const MAX_UPER_BITS: Option<u64> = T::MAX_UPER_BITS;
+
+    #[inline]
+    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+        T::decode_body_into(r, out)
+    }
+
+    #[inline]
+    fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
+        T::encode_body(self, w)
+    }
+
+    #[inline]
+    fn decode_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+        T::decode_into(r, out)
+    }
+
+    #[inline]
+    fn encode_uper(&self, w: &mut Writer<'_>) -> EncodeResult {
+        T::encode_uper(self, w)
+    }
+}
+
+#[cfg(feature = "_random")]
+impl<T: super::random::Random + 'static> super::random::Random for MessageBox<T> {
     fn random(g: &mut super::random::Gen) -> Self {
         Self::new(T::random(g))
     }

@@ -19,18 +19,22 @@ mod ext;
 #[cfg(feature = "_random")]
 pub mod random;
 mod reader;
+#[cfg(feature = "std")]
+mod recycle;
 mod sized;
 #[cfg(feature = "alloc")]
 mod slots;
 mod storage;
 mod writer;
 
-pub use boxed::Boxed;
+pub use boxed::{Boxed, MessageBox};
 pub use error::{DecodeError, DecodeErrorKind, EncodeError, EncodeErrorKind};
 pub use ext::{
     decode_open, decode_unknown_open, encode_unknown_open, Extensions, UnknownAdditions,
 };
 pub use reader::{DecodeResult, LengthChunk, Reader};
+#[cfg(feature = "std")]
+pub use recycle::release_recycled;
 pub use sized::{
     decode_bits, decode_fixed_octets, decode_ia5, decode_ia5_into, decode_octets,
     decode_octets_into, decode_seq_of_into, encode_bits, encode_ia5, encode_octets, encode_seq_of,
@@ -65,6 +69,16 @@ pub trait Placeholder: Sized {
     #[doc(hidden)]
     #[inline]
     fn item_placeholder() -> Self {
+        Self::placeholder()
+    }
+
+    /// The value a decode makes a CHOICE's new alternative from before decoding into it:
+    /// [`Placeholder::placeholder`], except a [`MessageBox`]'s with features `alloc` and
+    /// `std` (a box this thread recycled, holding a former message that the decode
+    /// overwrites). Never a former value anywhere else.
+    #[doc(hidden)]
+    #[inline]
+    fn decode_placeholder() -> Self {
         Self::placeholder()
     }
 }

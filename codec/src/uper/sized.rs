@@ -146,7 +146,9 @@ pub fn decode_seq_of_into<T: Uper, const N: usize, const I: usize>(
             let mut left = n;
             while left > 0 {
                 let run = left.min(r.remaining().max(1)).min(RESERVE_ITEMS);
-                let slots = out.grow(run).ok_or(over_capacity(r.position(), key))?;
+                let slots = out
+                    .grow_decoding(run)
+                    .ok_or(over_capacity(r.position(), key))?;
                 for slot in slots {
                     T::decode_into(r, slot)?;
                 }
@@ -211,7 +213,9 @@ pub fn read_octets_into<const N: usize>(
     if n.saturating_mul(8) > r.remaining() {
         return Err(DecodeError::new(DKind::UnexpectedEnd, r.position()));
     }
-    let slots = out.grow(n).ok_or(over_capacity(r.position(), key))?;
+    let slots = out
+        .grow_decoding(n)
+        .ok_or(over_capacity(r.position(), key))?;
     r.read_octets(slots)
 }
 

@@ -17,14 +17,14 @@ use alloc::vec::Vec;
 
 /// Slots of a sequence: `Inline` until more than `I` are needed, then `Heap` for good (a kept
 /// value keeps its allocation for the next message).
-pub(super) enum Slots<T, const I: usize> {
+pub(super) enum Slots<T: 'static, const I: usize> {
     /// At most `I` slots inside the value (the length fits a `u8`: `I` is a few items).
     Inline(heapless::Vec<T, I, u8>),
     /// Slots on the heap.
     Heap(Vec<T>),
 }
 
-impl<T, const I: usize> Slots<T, I> {
+impl<T: 'static, const I: usize> Slots<T, I> {
     /// No slots, no allocation (with `I = 0` the heap storage from the start, so that such
     /// a list never spills).
     pub(super) const fn new() -> Self {
@@ -61,12 +61,15 @@ impl<T, const I: usize> Slots<T, I> {
 
     /// Grows to `new_len` initialised slots (a no-op when there are as many already), the new
     /// ones made by `make` in place. Room beyond the inline slots is reserved exactly the
-    /// first time (a decode knows the length before the items) and amortised later.
+    /// first time (a decode knows the length before the items) and amortised later. With
+    /// `recycled` (a decode, which overwrites them), storage without room may be one this
+    /// thread dropped, whose former items then are the slots.
     #[inline]
     pub(super) fn grow_to(
         &mut self,
         new_len: usize,
         make: impl FnMut() -> T,
+        recycled: bool,
     ) -> Result<(), TryReserveError> {
         let len = self.len();
         if new_len <= len {
@@ -82,7 +85,13 @@ impl<T, const I: usize> Slots<T, I> {
                 return Ok(());
             }
         }
-        self.on_heap(new_len - len, |heap| {
+        self.on_heap(new_len - len, recycled, |heap| {
+            if recycled && heap.capacity() == 0 {
+                *heap = take_recycled();
+            }
+            if new_len <= heap.len() {
+                return Ok(());
+            }
             let more = new_len - heap.len();
             if heap.capacity() == 0 {
                 heap.try_reserve_exact(more)?;
@@ -100,7 +109,7 @@ impl<T, const I: usize> Slots<T, I> {
             return;
         }
         // An allocation failure here leaves the room to the growth that follows.
-        let _ = self.on_heap(additional, |heap| heap.try_reserve(additional));
+        let _ = self.on_heap(additional, false, |heap| heap.try_reserve(additional));
     }
 
     /// Keeps the first `len` slots.
@@ -133,21 +142,62 @@ impl<T, const I: usize> Slots<T, I> {
     }
 
     /// Runs `f` on the heap storage, moving the inline slots there first with room for
-    /// `additional` more (exactly: the first room of a decode is its list's length).
+    /// `additional` more (exactly: the first room of a decode is its list's length), into a
+    /// storage this thread dropped if `recycled`.
     fn on_heap<R>(
         &mut self,
         additional: usize,
+        recycled: bool,
         f: impl FnOnce(&mut Vec<T>) -> Result<R, TryReserveError>,
     ) -> Result<R, TryReserveError> {
         match self {
             Self::Heap(heap) => f(heap),
             Self::Inline(v) => {
-                let mut heap = Vec::new();
-                heap.try_reserve_exact(v.len().saturating_add(additional))?;
-                heap.extend(v.drain(..));
+                let mut heap = if recycled {
+                    take_recycled()
+                } else {
+                    Vec::new()
+                };
+                let need = v.len().saturating_add(additional);
+                heap.try_reserve_exact(need.saturating_sub(heap.len()))?;
+                // The inline items become the first slots (a recycled storage's former
+                // items beyond them stay as spare slots).
+                let mut items = v.drain(..);
+                for slot in heap.iter_mut() {
+                    match items.next() {
+                        Some(item) => *slot = item,
+                        None => break,
+                    }
+                }
+                heap.extend(items);
                 let out = f(&mut heap);
                 *self = Self::Heap(heap);
                 out
+            }
+        }
+    }
+}
+
+/// Heap storage for a list that has none: one this thread dropped, items and all, if it
+/// kept one (feature `std`, see `recycle.rs`), else an empty `Vec`.
+#[inline]
+fn take_recycled<T: 'static>() -> Vec<T> {
+    #[cfg(feature = "std")]
+    if let Some(kept) = super::recycle::take() {
+        return kept;
+    }
+    Vec::new()
+}
+
+#[cfg(feature = "std")]
+impl<T: 'static, const I: usize> Drop for Slots<T, I> {
+    /// Keeps the heap storage, items and all, for this thread's next new list of `T` (see
+    /// `recycle.rs`).
+    fn drop(&mut self) {
+        // A list that never allocated (most absent members' and empty lists') costs a test.
+        if let Self::Heap(heap) = self {
+            if heap.capacity() != 0 {
+                super::recycle::put(core::mem::take(heap));
             }
         }
     }
@@ -250,10 +300,10 @@ mod tests {
             next += 1;
             next
         };
-        s.grow_to(2, &mut make).unwrap();
+        s.grow_to(2, &mut make, false).unwrap();
         assert!(matches!(s, Slots::Inline(_)));
         assert_eq!(items(&s), [1, 2]);
-        s.grow_to(5, &mut make).unwrap();
+        s.grow_to(5, &mut make, false).unwrap();
         let Slots::Heap(v) = &s else {
             panic!("five items cannot be inline");
         };
@@ -271,7 +321,7 @@ mod tests {
     fn no_inline_room_means_the_heap_from_the_start() {
         let mut s = Slots::<u32, 0>::new();
         assert!(matches!(s, Slots::Heap(_)));
-        s.grow_to(3, || 9).unwrap();
+        s.grow_to(3, || 9, false).unwrap();
         assert_eq!(items(&s), [9, 9, 9]);
         assert!(matches!(&s, Slots::Heap(v) if v.capacity() == 3));
     }

@@ -20,7 +20,7 @@ use super::Placeholder;
 /// nothing to create, whatever `N` (no array of placeholders is built, so no large temporary
 /// lands on the stack when an absent OPTIONAL member becomes present). Only the first
 /// `len()` items are the value: equality, hashing, `Debug` and iteration look at those alone.
-pub struct SeqOf<T, const N: usize, const I: usize = 0> {
+pub struct SeqOf<T: 'static, const N: usize, const I: usize = 0> {
     len: Len,
     /// Initialised slots (at least `len`; the rest hold former items for reuse).
     items: Slots<T, N, I>,
@@ -58,7 +58,7 @@ pub const OCTETS_INLINE: usize = 15;
 /// Variable-size octets (OCTET STRING, unknown open-type content).
 pub type Octets<const N: usize> = SeqOf<u8, N, OCTETS_INLINE>;
 
-impl<T: Placeholder, const N: usize, const I: usize> SeqOf<T, N, I> {
+impl<T: Placeholder + 'static, const N: usize, const I: usize> SeqOf<T, N, I> {
     /// An empty sequence (a `const fn`: a sequence can start out in static memory).
     pub const fn new() -> Self {
         Self {
@@ -86,7 +86,9 @@ impl<T: Placeholder, const N: usize, const I: usize> SeqOf<T, N, I> {
             #[cfg(not(feature = "alloc"))]
             self.items.push(T::placeholder()).ok()?;
             #[cfg(feature = "alloc")]
-            self.items.grow_to(len + 1, T::item_placeholder).ok()?;
+            self.items
+                .grow_to(len + 1, T::item_placeholder, false)
+                .ok()?;
         }
         let slot = self.items.as_mut_slice().get_mut(len)?;
         self.len.set(len + 1);
@@ -99,12 +101,31 @@ impl<T: Placeholder, const N: usize, const I: usize> SeqOf<T, N, I> {
     /// run of slots at once, not one [`SeqOf::push_slot`] per item, spares a new value's
     /// decode a copy of every item's placeholder.
     pub fn grow(&mut self, n: usize) -> Option<&mut [T]> {
+        self.grow_slots(n, false)
+    }
+
+    /// As [`SeqOf::grow`], for a decode, which overwrites every slot it grows: with
+    /// features `alloc` and `std`, a list without heap storage takes one that this thread
+    /// dropped, with its former items in the slots (see `recycle.rs`), where `grow` would
+    /// allocate and write placeholders. `grow` and `push_slot` never show another list's
+    /// former items.
+    #[doc(hidden)]
+    pub fn grow_decoding(&mut self, n: usize) -> Option<&mut [T]> {
+        self.grow_slots(n, true)
+    }
+
+    /// [`SeqOf::grow`]; `recycled`: whether a decode may take a recycled storage.
+    fn grow_slots(&mut self, n: usize, recycled: bool) -> Option<&mut [T]> {
         let len = self.len.get();
         let new_len = len.checked_add(n).filter(|&l| l <= Self::capacity())?;
         // The first room exactly (a decode knows the length before the items), later room
         // amortised (a long list grows in runs, see `decode_seq_of_into`).
         #[cfg(feature = "alloc")]
-        self.items.grow_to(new_len, T::item_placeholder).ok()?;
+        self.items
+            .grow_to(new_len, T::item_placeholder, recycled)
+            .ok()?;
+        #[cfg(not(feature = "alloc"))]
+        let _ = recycled;
         #[cfg(not(feature = "alloc"))]
         while self.items.len() < new_len {
             self.items.push(T::placeholder()).ok()?;
@@ -122,7 +143,7 @@ impl<T: Placeholder, const N: usize, const I: usize> SeqOf<T, N, I> {
     }
 }
 
-impl<T, const N: usize, const I: usize> SeqOf<T, N, I> {
+impl<T: 'static, const N: usize, const I: usize> SeqOf<T, N, I> {
     /// How many items fit: `N` without `alloc`, unbounded (`usize::MAX`) with it.
     pub const fn capacity() -> usize {
         if cfg!(feature = "alloc") {
@@ -168,7 +189,7 @@ impl<T, const N: usize, const I: usize> SeqOf<T, N, I> {
     }
 }
 
-impl<T: Clone, const N: usize, const I: usize> Clone for SeqOf<T, N, I> {
+impl<T: Clone + 'static, const N: usize, const I: usize> Clone for SeqOf<T, N, I> {
     /// Copies the items only (not the slots kept for reuse).
     fn clone(&self) -> Self {
         let live = self.as_slice();
@@ -183,7 +204,7 @@ impl<T: Clone, const N: usize, const I: usize> Clone for SeqOf<T, N, I> {
     }
 }
 
-impl<T: Placeholder + Clone, const N: usize, const I: usize> SeqOf<T, N, I> {
+impl<T: Placeholder + Clone + 'static, const N: usize, const I: usize> SeqOf<T, N, I> {
     /// A sequence holding a copy of `items`; `None` when they exceed the capacity.
     pub fn from_slice(items: &[T]) -> Option<Self> {
         let mut s = Self::new();
@@ -194,46 +215,48 @@ impl<T: Placeholder + Clone, const N: usize, const I: usize> SeqOf<T, N, I> {
     }
 }
 
-impl<T: Placeholder, const N: usize, const I: usize> Default for SeqOf<T, N, I> {
+impl<T: Placeholder + 'static, const N: usize, const I: usize> Default for SeqOf<T, N, I> {
     fn default() -> Self {
         Self::new()
     }
 }
 
-impl<T: Placeholder, const N: usize, const I: usize> Placeholder for SeqOf<T, N, I> {
+impl<T: Placeholder + 'static, const N: usize, const I: usize> Placeholder for SeqOf<T, N, I> {
     fn placeholder() -> Self {
         Self::new()
     }
 }
 
-impl<T, const N: usize, const I: usize> Deref for SeqOf<T, N, I> {
+impl<T: 'static, const N: usize, const I: usize> Deref for SeqOf<T, N, I> {
     type Target = [T];
     fn deref(&self) -> &[T] {
         self.as_slice()
     }
 }
 
-impl<T, const N: usize, const I: usize> DerefMut for SeqOf<T, N, I> {
+impl<T: 'static, const N: usize, const I: usize> DerefMut for SeqOf<T, N, I> {
     fn deref_mut(&mut self) -> &mut [T] {
         self.as_mut_slice()
     }
 }
 
-impl<T: PartialEq, const N: usize, const I: usize> PartialEq for SeqOf<T, N, I> {
+impl<T: PartialEq + 'static, const N: usize, const I: usize> PartialEq for SeqOf<T, N, I> {
     fn eq(&self, other: &Self) -> bool {
         self.as_slice() == other.as_slice()
     }
 }
 
-impl<T: Eq, const N: usize, const I: usize> Eq for SeqOf<T, N, I> {}
+impl<T: Eq + 'static, const N: usize, const I: usize> Eq for SeqOf<T, N, I> {}
 
-impl<T: core::hash::Hash, const N: usize, const I: usize> core::hash::Hash for SeqOf<T, N, I> {
+impl<T: core::hash::Hash + 'static, const N: usize, const I: usize> core::hash::Hash
+    for SeqOf<T, N, I>
+{
     fn hash<H: core::hash::Hasher>(&self, state: &mut H) {
         self.as_slice().hash(state)
     }
 }
 
-impl<'a, T, const N: usize, const I: usize> IntoIterator for &'a SeqOf<T, N, I> {
+impl<'a, T: 'static, const N: usize, const I: usize> IntoIterator for &'a SeqOf<T, N, I> {
     type Item = &'a T;
     type IntoIter = core::slice::Iter<'a, T>;
     fn into_iter(self) -> Self::IntoIter {
@@ -241,7 +264,7 @@ impl<'a, T, const N: usize, const I: usize> IntoIterator for &'a SeqOf<T, N, I> 
     }
 }
 
-impl<T: fmt::Debug, const N: usize, const I: usize> fmt::Debug for SeqOf<T, N, I> {
+impl<T: fmt::Debug + 'static, const N: usize, const I: usize> fmt::Debug for SeqOf<T, N, I> {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         f.debug_list().entries(self.iter()).finish()
     }
