@@ -8,7 +8,9 @@
 //! # Storage and stack
 //! The crate is built without feature `alloc` of `j2735`, the storage the firmware uses
 //! (features unify across the targets of one crate, so one build fuzzes one storage; this
-//! crate's own feature `alloc` makes a separate build for the heap storage). Without `alloc`
+//! crate's own feature `alloc` makes a separate build for the heap storage, with `std` as the
+//! daemon runs it, where `message_frame` also checks new values decoded from recycled
+//! storage against the kept ones). Without `alloc`
 //! a `MessageFrame` is 7.2 MB (a `MapData` alone is), so:
 //! - the decoded values live in `Box`es made once and refilled by `uper::decode_into` on
 //!   every input (as the firmware refills its static values). Reusing them also tests that

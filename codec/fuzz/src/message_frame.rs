@@ -10,6 +10,10 @@
 //!    when the `MessageFrame` decodes to that message, with an equal value; on an input whose
 //!    `messageId` selects the message, both fail with the same error kind at the same bit;
 //!    on another `messageId` the direct decode fails.
+//! 3. With the crate's feature `alloc` (the heap storage with `std`, as the daemon runs it):
+//!    `uper::decode::<MessageFrame>`, a new value refilling storage that earlier inputs'
+//!    values left on the thread's shelves (whole or half decoded), gives the value of 1 or
+//!    fails with the same error kind at the same bit.
 
 use j2735::frame::{self, Message};
 use j2735::uper::{self, DecodeError, DecodeErrorKind, EncodeErrorKind, Placeholder};
@@ -84,6 +88,8 @@ pub fn check(st: &mut State, data: &[u8]) {
         (Ok(()), MessageFrameValue::MapData(m)) => Some(&**m),
         _ => None,
     };
+    #[cfg(feature = "alloc")]
+    new_value_agrees(data, &decoded, &slot.first);
     let direct = frame::decode_message_into(data, &mut *st.map);
     agree("MapData", data, &decoded, in_frame_map, &direct, &*st.map);
     let in_frame_tim = match (&decoded, &slot.first.value) {
@@ -166,6 +172,32 @@ fn round_trip(st: &mut Slot, encoding: &mut Vec<u8>, again: &mut Vec<u8>, data: 
         hex(encoding),
         hex(&again[..m])
     );
+}
+
+/// Invariant 3: a new value's decode (from recycled storage) agrees with the kept value's
+/// decode `kept` into `value`.
+#[cfg(feature = "alloc")]
+fn new_value_agrees(data: &[u8], kept: &Result<(), DecodeError>, value: &MessageFrame) {
+    match (kept, uper::decode::<MessageFrame>(data)) {
+        (Ok(()), Ok(new)) => assert!(
+            new == *value,
+            "a new value's decode differs from the kept value's; input {}",
+            hex(data)
+        ),
+        (Err(k), Err(n)) => assert!(
+            (k.kind, k.bit) == (n.kind, n.bit),
+            "a new value's decode error ({n}) differs from the kept value's ({k}); input {}",
+            hex(data)
+        ),
+        (Ok(()), Err(n)) => panic!(
+            "a new value's decode fails ({n}) where the kept value's succeeds; input {}",
+            hex(data)
+        ),
+        (Err(k), Ok(_)) => panic!(
+            "a new value's decode succeeds where the kept value's fails ({k}); input {}",
+            hex(data)
+        ),
+    }
 }
 
 /// Invariant 2 for message `M`: `frame` is the `MessageFrame` decode result, `in_frame` the
