@@ -144,6 +144,20 @@ impl<T: 'static> MessageBox<T> {
         Self::from_boxed(Boxed::new(value))
     }
 
+    /// The value (its box is freed, not recycled).
+    pub fn into_inner(self) -> T {
+        #[cfg(feature = "std")]
+        {
+            let mut this = self;
+            match this.0.take() {
+                Some(b) => b.into_inner(),
+                None => taken(),
+            }
+        }
+        #[cfg(not(feature = "std"))]
+        self.0.into_inner()
+    }
+
     fn from_boxed(b: Boxed<T>) -> Self {
         #[cfg(feature = "std")]
         return Self(Some(b));

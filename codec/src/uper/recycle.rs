@@ -257,6 +257,11 @@ mod tests {
             *<MessageBox<Item> as Placeholder>::decode_placeholder(),
             Item(0)
         );
+        // A value taken out of its box leaves nothing on the shelf.
+        drop(built);
+        release_recycled();
+        assert_eq!(new.into_inner(), Item(41));
+        assert!(take_box::<Item>().is_none());
     }
 
     #[test]
