@@ -43,24 +43,60 @@ impl<T> Boxed<T> {
     }
 }
 
-#[cfg(feature = "std")]
-impl<T: 'static> Boxed<T> {
-    /// Gives its box to this thread's shelf for `T` (see `recycle.rs`).
-    fn recycle(self) {
-        super::recycle::put_box(self.0);
-    }
+/// What a box shares with the value it holds, for [`Boxed`] and [`MessageBox`] (`$bound`:
+/// the bound the box itself puts on `T`): `From<T>`, and `Debug`, UPER and random values as
+/// if it were not boxed.
+macro_rules! stands_for_its_value {
+    ($box:ident $(: $bound:lifetime)?) => {
+        impl<T $(: $bound)?> From<T> for $box<T> {
+            fn from(value: T) -> Self {
+                Self::new(value)
+            }
+        }
 
-    /// A box this thread recycled, holding its former value, if it kept one.
-    fn recycled() -> Option<Self> {
-        super::recycle::take_box().map(Self)
-    }
+        impl<T: fmt::Debug $(+ $bound)?> fmt::Debug for $box<T> {
+            /// The value's `Debug`, as if it were not boxed.
+            fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+                T::fmt(self, f)
+            }
+        }
+
+        impl<T: Uper $(+ $bound)?> Uper for $box<T> {
+            const PATH: &'static str = T::PATH;
+            const MAX_UPER_BITS: Option<u64> = T::MAX_UPER_BITS;
+
+            #[inline]
+            fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+                T::decode_body_into(r, out)
+            }
+
+            #[inline]
+            fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
+                T::encode_body(self, w)
+            }
+
+            #[inline]
+            fn decode_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
+                T::decode_into(r, out)
+            }
+
+            #[inline]
+            fn encode_uper(&self, w: &mut Writer<'_>) -> EncodeResult {
+                T::encode_uper(self, w)
+            }
+        }
+
+        #[cfg(feature = "_random")]
+        impl<T: super::random::Random $(+ $bound)?> super::random::Random for $box<T> {
+            fn random(g: &mut super::random::Gen) -> Self {
+                Self::new(T::random(g))
+            }
+        }
+    };
 }
 
-impl<T> From<T> for Boxed<T> {
-    fn from(value: T) -> Self {
-        Self::new(value)
-    }
-}
+stands_for_its_value!(Boxed);
+stands_for_its_value!(MessageBox: 'static);
 
 impl<T> Deref for Boxed<T> {
     type Target = T;
@@ -75,48 +111,9 @@ impl<T> DerefMut for Boxed<T> {
     }
 }
 
-impl<T: fmt::Debug> fmt::Debug for Boxed<T> {
-    /// The value's `Debug`, as if it were not boxed.
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        T::fmt(self, f)
-    }
-}
-
 impl<T: Placeholder> Placeholder for Boxed<T> {
     fn placeholder() -> Self {
         Self::new(T::placeholder())
-    }
-}
-
-impl<T: Uper> Uper for Boxed<T> {
-    const PATH: &'static str = T::PATH;
-    const MAX_UPER_BITS: Option<u64> = T::MAX_UPER_BITS;
-
-    #[inline]
-    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        T::decode_body_into(r, out)
-    }
-
-    #[inline]
-    fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
-        T::encode_body(self, w)
-    }
-
-    #[inline]
-    fn decode_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        T::decode_into(r, out)
-    }
-
-    #[inline]
-    fn encode_uper(&self, w: &mut Writer<'_>) -> EncodeResult {
-        T::encode_uper(self, w)
-    }
-}
-
-#[cfg(feature = "_random")]
-impl<T: super::random::Random> super::random::Random for Boxed<T> {
-    fn random(g: &mut super::random::Gen) -> Self {
-        Self::new(T::random(g))
     }
 }
 
@@ -196,14 +193,8 @@ impl<T: 'static> Drop for MessageBox<T> {
     /// Gives the box, value and all, to this thread's next new `MessageBox<T>`.
     fn drop(&mut self) {
         if let Some(b) = self.0.take() {
-            b.recycle();
+            super::recycle::put_box(b.0);
         }
-    }
-}
-
-impl<T: 'static> From<T> for MessageBox<T> {
-    fn from(value: T) -> Self {
-        Self::new(value)
     }
 }
 
@@ -222,13 +213,6 @@ impl<T: 'static> DerefMut for MessageBox<T> {
     }
 }
 
-impl<T: fmt::Debug + 'static> fmt::Debug for MessageBox<T> {
-    /// The value's `Debug`, as if it were not boxed.
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        T::fmt(self, f)
-    }
-}
-
 impl<T: Placeholder + 'static> Placeholder for MessageBox<T> {
     /// A new box with `T`'s placeholder.
     fn placeholder() -> Self {
@@ -240,42 +224,10 @@ impl<T: Placeholder + 'static> Placeholder for MessageBox<T> {
     #[inline]
     fn decode_placeholder() -> Self {
         #[cfg(feature = "std")]
-        if let Some(b) = Boxed::recycled() {
-            return Self::from_boxed(b);
+        if let Some(b) = super::recycle::take_box() {
+            return Self::from_boxed(Boxed(b));
         }
         Self::placeholder()
-    }
-}
-
-impl<T: Uper + 'static> Uper for MessageBox<T> {
-    const PATH: &'static str = T::PATH;
-    const MAX_UPER_BITS: Option<u64> = T::MAX_UPER_BITS;
-
-    #[inline]
-    fn decode_body_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        T::decode_body_into(r, out)
-    }
-
-    #[inline]
-    fn encode_body(&self, w: &mut Writer<'_>) -> EncodeResult {
-        T::encode_body(self, w)
-    }
-
-    #[inline]
-    fn decode_into(r: &mut Reader<'_>, out: &mut Self) -> DecodeResult<()> {
-        T::decode_into(r, out)
-    }
-
-    #[inline]
-    fn encode_uper(&self, w: &mut Writer<'_>) -> EncodeResult {
-        T::encode_uper(self, w)
-    }
-}
-
-#[cfg(feature = "_random")]
-impl<T: super::random::Random + 'static> super::random::Random for MessageBox<T> {
-    fn random(g: &mut super::random::Gen) -> Self {
-        Self::new(T::random(g))
     }
 }
 

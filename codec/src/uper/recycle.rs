@@ -1,4 +1,4 @@
-//! Per-thread recycling of list storage (features `alloc` and `std`).
+//! Per-thread recycling of list storage and message boxes (features `alloc` and `std`).
 //!
 //! A new value's decode with `alloc` used to take 1.4-1.9x a kept value's time: every list
 //! of the new value was allocated, filled with placeholders and, when the value was dropped,
@@ -6,7 +6,8 @@
 //! so that storage comes back as soon as it is needed again. When a list's heap storage is
 //! dropped, it goes to this thread's shelf for its item type, items and all (each item
 //! keeps its own lists, as the items of a kept value do); the next new list of that item
-//! type takes it and is refilled in place, as a kept value is.
+//! type takes it and is refilled in place, as a kept value is. A MessageFrame's message box
+//! (`MessageBox`) is kept the same way, value and all, for the next new message of its type.
 //!
 //! Bounds: at most [`PER_TYPE`] storages per item type are kept, each of at most
 //! [`MAX_LIST_OCTETS`] octets of items (what does not fit is freed as before), and a
@@ -72,10 +73,7 @@ impl Shelves {
         if slot.is_none() {
             *slot = Some((TypeId::of::<T>(), Box::new(Shelf::<T>::new())));
         }
-        match slot {
-            Some((id, shelf)) if *id == TypeId::of::<T>() => shelf.downcast_mut(),
-            _ => None,
-        }
+        self.shelf()
     }
 }
 
@@ -153,10 +151,9 @@ fn keep<X: 'static>(storage: X) {
 // decode (which drops the lists an absent member held) 1-5 % slower.
 #[inline(never)]
 pub(super) fn put<T: 'static>(items: Vec<T>) {
-    if items.capacity() == 0 || items.capacity() * core::mem::size_of::<T>() > MAX_LIST_OCTETS {
-        return;
+    if items.capacity() * core::mem::size_of::<T>() <= MAX_LIST_OCTETS {
+        keep(items);
     }
-    keep(items);
 }
 
 /// Frees this thread's kept list storage (it is freed with the thread otherwise).
