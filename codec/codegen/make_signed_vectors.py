@@ -9,8 +9,9 @@ What it makes
          "generation_location", "frame": the J2735 MessageFrame (UPER hex) inside,
          "trust_anchors": {"root", "ca"} certificate COER hex, "known_certs": certificates a
          verifier has already seen (for the digest signer), "now": the verifier's clock
-         (Time64), "max_skew_us", "self_public_key" (self signer only, compressed SEC1 hex),
-         "rsig_form": "x-only" | "compressed-y", "pair" (replay), "differs_from" (the valid
+         (Time64), the verifier's profile ("future_tolerance_us", "past_window_us",
+         "max_lifetime_us"), "self_public_key" (self signer only, compressed SEC1 hex),
+         "rsig_form": "x-only" | "compressed-y", "pair" (repeat), "differs_from" (the valid
          vector an invalid one was made from), "note", "untrusted_root" (its root),
          "certificate_type": "implicit" and "reconstructed_public_key" (ECQV vectors)}.
 
@@ -48,8 +49,13 @@ Times (Time32 / Time64 of Ieee1609Dot2BaseTypes)
 Cases (see CASES below): valid for every signer kind and both rSig forms, TIM and MAP;
     payload bit flipped; signature bit flipped; wrong PSID; message expired (expiryTime past);
     certificate expired; certificate not yet valid; chain to an untrusted root; region miss;
-    generation time in the future; generation time too old; replay (a pair: the same bytes
-    twice, the second expects "replay"). Truncation at every octet is not written out: a
+    generation time in the future; generation time too old (no expiry time, past the past
+    window); signed once with an expiry time a day after a generation two hours back (valid,
+    TIM and MAP: the deposited-TIM pattern); expiry before generation; lifetime over the
+    7-day cap; the misread PSID 32771 (TIM's p-encoded octets read as the integer) in both
+    header and certificate; a digest signer whose certificate was not seen; repeat (a pair:
+    the same bytes twice, the second expects "valid (repeat)"). PSIDs are the IEEE 1609.2
+    integers (TIM 131, MAP 2113687). Truncation at every octet is not written out: a
     verifier-side loop over every "valid" vector (every prefix must be rejected).
     Regions: the RSU certificate's circle (5 km), and the same RSU with a rectangle or a
     kite-shaped polygon instead (a valid vector inside, a region miss outside each).
@@ -102,12 +108,24 @@ REPO = os.path.normpath(os.path.join(HERE, '..', '..'))
 OUT = os.path.join(REPO, 'codec', 'tests', 'vectors', 'ieee1609dot2_signed.jsonl')
 FRAMES = os.path.join(REPO, 'codec', 'tests', 'vectors', 'oracle_vectors.jsonl')
 
-PSID_TIM, PSID_MAP, PSID_WRONG = 0x8003, 0xE0000017, 0x20
+# IEEE 1609.2 Psid is an INTEGER: TIM 131 and MAP 2113687 (their IEEE 1609.12 p-encoded
+# octets are 80-03 and E0-00-00-17; PSID_MISREAD_* are those octets read as numbers, what a
+# verifier that mixes the two forms would put in a header or certificate). BSM is 32.
+PSID_TIM, PSID_MAP, PSID_WRONG = 131, 2113687, 32
+PSID_MISREAD_TIM, PSID_MISREAD_MAP = 0x8003, 0xE0000017
 LEAP_SECONDS_SINCE_2004 = 5
 EPOCH = datetime(2004, 1, 1, tzinfo=timezone.utc)
 SITE_LAT, SITE_LON, SITE_ELEV = 421234567, -837654321, 2710   # as make_vectors.py
 REGION_RADIUS_M = 5000
-MAX_SKEW_US = 30 * 1000000
+# The verifier's security profile for MAP and TIM (the OBU's defaults): a generation time at
+# most FUTURE_TOLERANCE ahead of its clock; with an expiryTime the message is relevant until
+# it (plus FUTURE_TOLERANCE), if generation to expiry is at most MAX_LIFETIME; without one,
+# for PAST_WINDOW after its generation; a byte-identical copy of an accepted message is a
+# repeat (accepted).
+FUTURE_TOLERANCE_US = 5 * 1000000
+PAST_WINDOW_US = 30 * 1000000
+MAX_LIFETIME_US = 7 * 24 * 3600 * 1000000
+HOUR_US = 3600 * 1000000
 TIM_FRAME, MAP_FRAME = 'tim_work_zone_left_lane_closed', 'map_work_zone'
 
 # ============================================================================ P-256 helper
@@ -330,6 +348,10 @@ def pki():
     c['rsu_poly'] = make_cert('rsu-17.workzone.example', 'rsu', c['ca'], '2025-06-01T00:00:00',
                               ('hours', 24 * 30), app=[PSID_TIM, PSID_MAP],
                               region=polygon(SITE_LAT, SITE_LON, 500000))
+    # The same RSU as a verifier that mixes the two PSID forms would certify it.
+    c['rsu_misread'] = make_cert('rsu-17.workzone.example', 'rsu', c['ca'],
+                                 '2025-06-01T00:00:00', ('hours', 24 * 30),
+                                 app=[PSID_MISREAD_TIM, PSID_MISREAD_MAP])
     c['rsu_implicit'] = make_implicit_cert('rsu-18.workzone.example', 'rsu-implicit', c['ca'],
                                            '2025-06-01T00:00:00', ('hours', 24 * 30),
                                            [PSID_TIM, PSID_MAP])
@@ -410,9 +432,10 @@ def location(lat=SITE_LAT + 1000, lon=SITE_LON - 2000, elev=SITE_ELEV):
 def signed(frame, psid, signer_kind, cert, chain=None, form='x-only', gen=GEN,
            expiry=EXPIRY, loc=None, priv=None):
     """An Ieee1609Dot2Data with SignedData; returns (value, tbs_coer, signer_cert_coer)."""
-    tbs = {'payload': {'data': unsecured(frame)},
-           'headerInfo': {'psid': psid, 'generationTime': gen, 'expiryTime': expiry,
-                          'generationLocation': loc or location()}}
+    header = {'psid': psid, 'generationTime': gen, 'generationLocation': loc or location()}
+    if expiry is not None:
+        header['expiryTime'] = expiry
+    tbs = {'payload': {'data': unsecured(frame)}, 'headerInfo': header}
     tbs_coer = coer(TBS_DATA, tbs)
     if signer_kind == 'self':
         signer, signer_coer = ('self', 0), None
@@ -461,9 +484,11 @@ def make_all():
         hi = val['content'][1]['tbsData']['headerInfo']
         v = {'name': name, 'case': case, 'expect': expect, 'coer': data.hex(),
              'signer': kind, 'psid': psid, 'generation_time': hi['generationTime'],
-             'expiry_time': hi['expiryTime'], 'generation_location': hi['generationLocation'],
+             'expiry_time': hi.get('expiryTime'),
+             'generation_location': hi['generationLocation'],
              'frame': frame.hex(), 'trust_anchors': anchors, 'now': now,
-             'max_skew_us': MAX_SKEW_US, 'rsig_form': form,
+             'future_tolerance_us': FUTURE_TOLERANCE_US, 'past_window_us': PAST_WINDOW_US,
+             'max_lifetime_us': MAX_LIFETIME_US, 'rsig_form': form,
              'known_certs': [cert.coer.hex()] if kind == 'digest' else []}
         if kind == 'self':
             v['self_public_key'] = compressed(cert.priv.public_key()).hex()
@@ -517,10 +542,41 @@ def make_all():
     val, _, _ = signed(tim, PSID_WRONG, 'certificate', rsu, [rsu])
     add('wrong_psid', 'wrong PSID', 'PSID not permitted by the signer certificate', val,
         'certificate', rsu, [rsu], tim, PSID_WRONG, differs_from=base)
-    # message expired: expiryTime before now
-    val, _, _ = signed(tim, PSID_TIM, 'certificate', rsu, [rsu], expiry=GEN + 1000000)
+    # message expired: generated a minute before now, expired 30 s ago (past the tolerance)
+    val, _, _ = signed(tim, PSID_TIM, 'certificate', rsu, [rsu], gen=NOW - 60 * 1000000,
+                       expiry=NOW - 30 * 1000000)
     add('message_expired', 'message expired', 'message past its expiryTime', val,
         'certificate', rsu, [rsu], tim, PSID_TIM, differs_from=base)
+    # the misread PSIDs: a certificate granting 32771 and a header carrying it, signed
+    # correctly; 32771 is no message the OBU uses (TIM is 131)
+    mis = c['rsu_misread']
+    val, _, _ = signed(tim, PSID_MISREAD_TIM, 'certificate', mis, [mis, c['ca']])
+    add('misread_psid', 'misread PSID (p-encoded octets as the integer)',
+        'PSID is not the message type\'s', val, 'certificate-chain', mis, [mis, c['ca']], tim,
+        PSID_MISREAD_TIM, differs_from=CHAIN_BASE)
+    # the deposited-TIM pattern: signed two hours before now, relevant for a day (MAP too)
+    for msg, frame, psid in (('tim', tim, PSID_TIM), ('map', mp, PSID_MAP)):
+        gen = NOW - 2 * HOUR_US
+        val, _, _ = signed(frame, psid, 'certificate', rsu, [rsu], gen=gen,
+                           expiry=gen + 24 * HOUR_US)
+        add('valid_%s_signed_once_expiry_ahead' % msg,
+            'valid (signed once with an expiry time, generated two hours ago)', 'valid', val,
+            'certificate', rsu, [rsu], frame, psid)
+    # generation time after the expiry time
+    val, _, _ = signed(tim, PSID_TIM, 'certificate', rsu, [rsu], expiry=GEN - 1000000)
+    add('expiry_before_generation', 'expiry time before generation time',
+        'expiry time not after generation time', val, 'certificate', rsu, [rsu], tim,
+        PSID_TIM, differs_from=base)
+    # lifetime over the 7-day cap: expiry 8 days after generation
+    val, _, _ = signed(tim, PSID_TIM, 'certificate', rsu, [rsu], expiry=GEN + 8 * 24 * HOUR_US)
+    add('lifetime_over_cap', 'lifetime over the cap', 'lifetime longer than allowed', val,
+        'certificate', rsu, [rsu], tim, PSID_TIM, differs_from=base)
+    # a digest signer before its certificate was seen (known_certs empty)
+    val, _, _ = signed(tim, PSID_TIM, 'digest', rsu)
+    add('digest_signer_not_seen', 'digest signer before its certificate was seen',
+        'signer certificate not known', val, 'digest', rsu, None, tim, PSID_TIM,
+        differs_from='valid_tim_digest_x_only')
+    vectors['digest_signer_not_seen'][0]['known_certs'] = []
     # certificate expired / not yet valid (validity period ends before / starts after GEN)
     for nm, ck, why in (('certificate_expired', 'rsu_expired',
                          'signer certificate expired'),
@@ -558,20 +614,21 @@ def make_all():
     # generation time in the future / too old, by the verifier's clock
     val, _, _ = signed(tim, PSID_TIM, 'certificate', rsu, [rsu])
     add('generation_time_future', 'generation time in the future',
-        'generation time beyond the allowed skew', val, 'certificate', rsu, [rsu], tim,
+        'generation time beyond the future tolerance', val, 'certificate', rsu, [rsu], tim,
         PSID_TIM, now=GEN - 5 * 60 * 1000000, differs_from=base,
         note='valid bytes (same as %s); the verifier clock is 5 min before generation' % base)
-    val, _, _ = signed(tim, PSID_TIM, 'certificate', rsu, [rsu], expiry=GEN + 3600 * 1000000)
+    val, _, _ = signed(tim, PSID_TIM, 'certificate', rsu, [rsu], expiry=None)
     add('generation_time_too_old', 'generation time too old',
-        'generation time older than the allowed skew', val, 'certificate', rsu, [rsu], tim,
+        'generation time older than the past window', val, 'certificate', rsu, [rsu], tim,
         PSID_TIM, now=GEN + 10 * 60 * 1000000, differs_from=base,
-        note='expiryTime one hour after generation, so only the age check fails')
-    # replay: the same valid frame twice
+        note='no expiryTime (signed per transmission), generated 10 minutes before the clock')
+    # repeat: the same valid frame twice (an RSU repeating what it was given)
     val, _, _ = signed(tim, PSID_TIM, 'certificate', rsu, [rsu])
-    add('replay_1_first', 'replay', 'valid', val, 'certificate', rsu, [rsu], tim, PSID_TIM,
-        pair='replay', differs_from=base)
-    add('replay_2_second', 'replay', 'replay', val, 'certificate', rsu, [rsu], tim, PSID_TIM,
-        pair='replay', differs_from=base, note='identical bytes to replay_1_first, received after it')
+    add('repeat_1_first', 'repeat', 'valid', val, 'certificate', rsu, [rsu], tim, PSID_TIM,
+        pair='repeat', differs_from=base)
+    add('repeat_2_second', 'repeat', 'valid (repeat)', val, 'certificate', rsu, [rsu], tim,
+        PSID_TIM, pair='repeat', differs_from=base,
+        note='identical bytes to repeat_1_first, received after it')
     return vectors, c
 
 
@@ -580,11 +637,14 @@ CHAIN_BASE = 'valid_tim_certificate_chain_x_only'
 # What each invalid vector may differ in from its base ("differs_from"), beyond the signature
 # (re-signed, so it differs whenever anything signed does): headerInfo members, 'signer'.
 INTENDED = {
-    'wrong_psid': {'psid'}, 'message_expired': {'expiryTime'},
+    'wrong_psid': {'psid'}, 'message_expired': {'generationTime', 'expiryTime'},
     'certificate_expired': {'signer'}, 'certificate_not_yet_valid': {'signer'},
     'untrusted_root': {'signer'}, 'region_miss': {'generationLocation'},
     'generation_time_future': set(), 'generation_time_too_old': {'expiryTime'},
-    'replay_1_first': set(), 'replay_2_second': set(),
+    'repeat_1_first': set(), 'repeat_2_second': set(),
+    'misread_psid': {'psid', 'signer'},
+    'expiry_before_generation': {'expiryTime'}, 'lifetime_over_cap': {'expiryTime'},
+    'digest_signer_not_seen': set(),
     'region_miss_rectangle': {'generationLocation'}, 'region_miss_polygon': {'generationLocation'},
 }
 
@@ -613,7 +673,8 @@ def check_intended(vectors, c):
         assert got == want, (name, got, want)
         if not want:
             assert v['coer'] == base[0]['coer'], name
-        for k in ('trust_anchors', 'max_skew_us', 'rsig_form'):
+        for k in ('trust_anchors', 'future_tolerance_us', 'past_window_us', 'max_lifetime_us',
+                  'rsig_form'):
             assert v[k] == base[0][k], (name, k)
         if name not in ('generation_time_future', 'generation_time_too_old'):
             assert v['now'] == base[0]['now'], name
@@ -655,15 +716,38 @@ def check_intended(vectors, c):
         reg = c[ck].val['toBeSigned']['region']
         assert test(vectors['valid_tim_%s_region' % shape][0]['generation_location'], reg)
         assert not test(vectors['region_miss_%s' % shape][0]['generation_location'], reg)
-    # clocks: normal cases within skew and before expiry; future / too old beyond the skew
+    # clocks: the profile's time rules (written out here from their statement) fail for the
+    # time cases with the named reason, and for no other vector
     for v, _, _, _ in vectors.values():
-        late = v['generation_time'] - v['now'] > v['max_skew_us']
-        old = v['now'] - v['generation_time'] > v['max_skew_us']
-        assert late == (v['name'] == 'generation_time_future'), v['name']
-        assert old == (v['name'] == 'generation_time_too_old'), v['name']
-        assert (v['now'] > v['expiry_time']) == (v['name'] == 'message_expired'), v['name']
+        got = time_verdict(v)
+        if v['name'] in TIME_CASES:
+            assert got == v['expect'], (v['name'], got)
+        else:
+            assert got is None, (v['name'], got)
     gp = good['validityPeriod']
     assert gp['start'] * 1000000 < GEN < (gp['start'] + gp['duration'][1] * 3600) * 1000000
+
+
+TIME_CASES = {'generation_time_future', 'generation_time_too_old', 'message_expired',
+              'expiry_before_generation', 'lifetime_over_cap'}
+
+
+def time_verdict(v):
+    """The time rule that fails for vector v, in words, or None."""
+    gen, exp, now = v['generation_time'], v['expiry_time'], v['now']
+    if exp is not None:
+        if gen >= exp:
+            return 'expiry time not after generation time'
+        if exp - gen > v['max_lifetime_us']:
+            return 'lifetime longer than allowed'
+    if gen > now + v['future_tolerance_us']:
+        return 'generation time beyond the future tolerance'
+    if exp is not None:
+        if now > exp + v['future_tolerance_us']:
+            return 'message past its expiryTime'
+    elif now - gen > v['past_window_us']:
+        return 'generation time older than the past window'
+    return None
 
 
 def check_chain(chain_certs, root):

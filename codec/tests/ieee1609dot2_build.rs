@@ -10,6 +10,7 @@ use j2735::envelope::ieee1609dot2::crypto::{sha256, RSigForm, SecretKey};
 use j2735::envelope::ieee1609dot2::{
     Duration, Ieee1609Dot2Data, ThreeDLocation, Time64, TwoDLocation,
 };
+use j2735::envelope::Psid;
 use test_support::signed_vectors::{all, SignedVector};
 
 /// The P-256 group order n.
@@ -111,7 +112,7 @@ fn pki() -> (Vec<u8>, Vec<u8>, Vec<u8>) {
             start: time32(DAYS_2025_06_01),
             duration: Duration::Hours(24 * 30),
             circle: Some((SITE, 5000)),
-            app_psids: &[0x8003, 0xE000_0017],
+            app_psids: &[Psid::TIM, Psid::MAP],
             issue_all: None,
             ssp: None,
         },
@@ -139,9 +140,9 @@ fn header_of(v: &SignedVector) -> Header {
     let data = Ieee1609Dot2Data::parse(&v.coer).unwrap();
     let h = data.signed_data().unwrap().header;
     Header {
-        psid: v.psid,
+        psid: Psid(v.psid),
         generation_time: Time64(v.generation_time),
-        expiry_time: Some(Time64(v.expiry_time)),
+        expiry_time: v.expiry_time.map(Time64),
         generation_location: h.generation_location.map(|l| ThreeDLocation { ..l }),
     }
 }

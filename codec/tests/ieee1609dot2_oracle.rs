@@ -12,6 +12,7 @@ use j2735::envelope::ieee1609dot2::build::{
 };
 use j2735::envelope::ieee1609dot2::crypto::{sha256, RSigForm, SecretKey};
 use j2735::envelope::ieee1609dot2::{Duration, ThreeDLocation, Time64, TwoDLocation};
+use j2735::envelope::Psid;
 use std::path::Path;
 
 fn key(label: &str) -> SecretKey {
@@ -68,7 +69,7 @@ fn the_oracle_verifies_what_we_sign_and_refuses_what_was_tampered() {
             },
             20_000,
         )),
-        app_psids: &[0x8003, 0xE000_0017],
+        app_psids: &[Psid::TIM, Psid::MAP],
         issue_all: None,
         ssp: Some(&[0x01, 0x00, 0x80]),
     };
@@ -104,7 +105,7 @@ fn the_oracle_verifies_what_we_sign_and_refuses_what_was_tampered() {
     {
         for k in 0..3u64 {
             let header = Header {
-                psid: 0x8003,
+                psid: Psid::TIM,
                 generation_time: Time64(700_000_100_000_000 + i as u64 * 1_000_000 + k * 100_000),
                 expiry_time: Some(Time64(700_000_160_000_000)),
                 generation_location: (k % 2 == 0).then_some(ThreeDLocation {

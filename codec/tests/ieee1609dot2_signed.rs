@@ -11,6 +11,7 @@ use j2735::envelope::ieee1609dot2::crypto::{
 use j2735::envelope::ieee1609dot2::{
     Certificate, CertificateKind, Ieee1609Dot2Data, Issuer, SignerIdentifier,
 };
+use j2735::envelope::Psid;
 use test_support::signed_vectors::{all, SignedVector};
 
 /// The certificate that signed the vector's data (the end entity), as COER.
@@ -73,7 +74,12 @@ fn there_is_a_vector_of_every_case() {
         "region miss",
         "generation time in the future",
         "generation time too old",
-        "replay",
+        "repeat",
+        "misread PSID (p-encoded octets as the integer)",
+        "expiry time before generation time",
+        "lifetime over the cap",
+        "digest signer before its certificate was seen",
+        "valid (signed once with an expiry time, generated two hours ago)",
         "valid (implicit certificate, ECQV)",
         "valid (rectangle region)",
         "region miss (rectangle)",
@@ -97,12 +103,12 @@ fn every_vector_parses_to_the_generators_header_and_frame() {
     for v in all() {
         let data = Ieee1609Dot2Data::parse(&v.coer).unwrap_or_else(|e| panic!("{}: {e}", v.name));
         let signed = data.signed_data().expect("signed");
-        assert_eq!(signed.header.psid, v.psid, "{}", v.name);
+        assert_eq!(signed.header.psid, Psid(v.psid), "{}", v.name);
         assert_eq!(
             signed.header.generation_time.map(|t| t.0),
             Some(v.generation_time)
         );
-        assert_eq!(signed.header.expiry_time.map(|t| t.0), Some(v.expiry_time));
+        assert_eq!(signed.header.expiry_time.map(|t| t.0), v.expiry_time);
         assert_eq!(data.application_data(), Some(&v.frame[..]), "{}", v.name);
     }
 }
@@ -126,7 +132,7 @@ fn certificates_verify_along_the_chain() {
         root_key.verify(&root_digest, &ca.signature.unwrap()),
         Err(CryptoError::BadSignature)
     );
-    assert!(root.may_issue(0x8003) && ca.may_issue(0xE000_0017));
+    assert!(root.may_issue(Psid::TIM) && ca.may_issue(Psid::MAP));
 }
 
 #[test]
@@ -172,8 +178,12 @@ fn signer_certificates_carry_the_permissions_and_region() {
     let data = Ieee1609Dot2Data::parse(&v.coer).unwrap();
     let cert_bytes = signer_certificate(&v, &data).unwrap();
     let cert = Certificate::parse(&cert_bytes).unwrap();
-    assert!(cert.permission(0x8003).is_some() && cert.permission(0xE000_0017).is_some());
-    assert!(cert.permission(0x20).is_none());
+    assert!(cert.permission(Psid::TIM).is_some() && cert.permission(Psid::MAP).is_some());
+    assert!(cert.permission(Psid::BSM).is_none());
+    // The p-encoded octets of TIM and MAP are not the PSIDs a certificate grants.
+    assert!(
+        cert.permission(Psid(0x8003)).is_none() && cert.permission(Psid(0xE000_0017)).is_none()
+    );
     assert!(matches!(
         cert.region,
         Some(j2735::envelope::ieee1609dot2::GeographicRegion::Circular { .. })

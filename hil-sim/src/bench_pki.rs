@@ -45,6 +45,7 @@ pub fn security_toml(dir: &Path) -> Result<String, String> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use j2735::envelope::Psid;
     use roadside::pki::{Pki, PkiSpec};
 
     #[test]
@@ -56,7 +57,7 @@ mod tests {
             ca_years: 15,
             rsu_hours: 2730 * 24,
             region: None,
-            psids: vec![0x8003, 0xE000_0017, 0x27],
+            psids: vec![Psid::TIM, Psid::MAP, Psid::PSM],
             rsu_name: "rsu.bench.hil-sim.example".into(),
         })
         .unwrap();

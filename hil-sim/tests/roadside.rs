@@ -3,6 +3,7 @@
 //! IEEE 1609.2) at the configured rate and the RSU 4.1 files parse back to the same frames.
 
 use hil_sim::scenario::Scenario;
+use j2735::envelope::Psid;
 use j2735::message_frame::MessageFrame;
 use roadside::broadcast::Wrapping;
 use roadside::rsu::{messages_of, run, RoadsideOptions};
@@ -108,7 +109,7 @@ fn signs_with_a_pki_that_the_obu_trusts() {
         ca_years: 5,
         rsu_hours: 48,
         region: None,
-        psids: vec![0x8003, 0xE000_0017],
+        psids: vec![Psid::TIM, Psid::MAP],
         rsu_name: "rsu.test".into(),
     })
     .unwrap();

@@ -82,8 +82,8 @@ profile! {
 /// Certificates in a signer's chain that the verifier walks.
 pub const MAX_CHAIN: usize = 4;
 profile! {
-    /// Recently accepted signed messages remembered for the replay check.
-    MAX_REPLAY = 256, firmware 32
+    /// Accepted signed messages remembered while relevant, for the repeat and replay check.
+    MAX_REPEATS = 256, firmware 32
 }
 profile! {
     /// Payloads remembered as verified lately (`SecurityConfig::reverify_ms`).

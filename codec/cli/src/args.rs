@@ -5,6 +5,7 @@
 use std::path::PathBuf;
 
 use clap::{Args, Parser, Subcommand, ValueEnum};
+use j2735::envelope::Psid;
 
 use crate::help;
 
@@ -92,7 +93,7 @@ pub struct EncodeOptions {
     /// `--wrap`.
     pub wrap: Wrap,
     /// `--psid` (rsu41).
-    pub psid: Option<u32>,
+    pub psid: Option<Psid>,
     /// `--type` (rsu41).
     pub message_type: Option<String>,
     /// `--strict`: unknown JER members are errors.
@@ -177,10 +178,11 @@ struct EncodeArgs {
     /// What to put around each frame
     #[arg(long, value_enum, value_name = "WRAP", default_value_t = Wrap::None)]
     wrap: Wrap,
-    /// rsu41 only: the PSID, hexadecimal, 0x optional (default by message type: MAP and
-    /// SPAT 0x8002, TIM 0x8003, BSM 0x20, PSM 0x27; other types need --psid)
+    /// rsu41 only: the PSID as RSU records write it, its p-encoded octets in hexadecimal, 0x
+    /// optional (default by message type: MAP and SPAT 0x8002, TIM 0x8003, BSM 0x20, PSM
+    /// 0x27; other types need --psid)
     #[arg(long, value_name = "HEX", value_parser = parse_psid)]
-    psid: Option<u32>,
+    psid: Option<Psid>,
     /// rsu41 only: the Type= value (default from the messageId: MAP, SPAT, BSM, TIM, ...);
     /// a known type must match the frame
     #[arg(long = "type", value_name = "TYPE", value_parser = parse_type)]
@@ -227,10 +229,13 @@ impl InputArgs {
     }
 }
 
-/// A PSID in hexadecimal, `0x` optional (as RSU records write it).
-fn parse_psid(text: &str) -> Result<u32, String> {
-    j2735::envelope::rsu_text::parse_psid(text)
-        .ok_or_else(|| "give --psid in hexadecimal, 1 to 8 digits: --psid 0x8003".into())
+/// A PSID as RSU records write it: p-encoded octets in hexadecimal, `0x` optional.
+fn parse_psid(text: &str) -> Result<Psid, String> {
+    j2735::envelope::rsu_text::parse_psid(text).ok_or_else(|| {
+        "give --psid as its p-encoded octets in hexadecimal, 1 to 8 digits: --psid 0x8003 \
+         (TIM)"
+            .into()
+    })
 }
 
 /// An RSU `Type=` value: one word, no spaces.
@@ -286,7 +291,7 @@ mod tests {
         let Command::Encode(o) = cmd else { panic!() };
         assert_eq!(
             (o.wrap, o.psid, o.strict),
-            (Wrap::Rsu41, Some(0x8003), false)
+            (Wrap::Rsu41, Some(Psid::TIM), false)
         );
         assert_eq!(o.message_type.as_deref(), Some("TIM"));
         let Command::Encode(o) = parse_line("encode --strict x.jsonl").unwrap() else {

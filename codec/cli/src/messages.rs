@@ -2,6 +2,7 @@
 //! logs use (both from the codec's generated table, [`j2735::message_frame::MESSAGE_NAMES`]),
 //! and the PSID they are usually sent with.
 
+use j2735::envelope::Psid;
 use j2735::message_frame::{MessageName, MESSAGE_NAMES};
 
 /// One message of the MessageFrame object set.
@@ -14,16 +15,17 @@ pub struct Message {
     /// The ASN.1 type of the value.
     pub type_name: &'static str,
     /// The PSID it is usually sent with, where the project knows one.
-    pub psid: Option<u32>,
+    pub psid: Option<Psid>,
 }
 
-/// The PSIDs the project knows, by `messageId` (SAE J2735 / IEEE 1609.12 assignments).
-const PSIDS: [(u16, u32); 5] = [
-    (18, 0x8002),
-    (19, 0x8002),
-    (20, 0x20),
-    (31, 0x8003),
-    (32, 0x27),
+/// The PSIDs RSU records forward each message with, by `messageId` (SAE J2735 / IEEE
+/// 1609.12 assignments; MAP goes with SPaT's in RSU records).
+const PSIDS: [(u16, Psid); 5] = [
+    (18, Psid::SPAT),
+    (19, Psid::SPAT),
+    (20, Psid::BSM),
+    (31, Psid::TIM),
+    (32, Psid::PSM),
 ];
 
 fn with_psid(m: &MessageName) -> Message {
@@ -55,7 +57,7 @@ mod tests {
     #[test]
     fn lookups_agree() {
         assert_eq!(by_id(31).unwrap().short, "TIM");
-        assert_eq!(by_id(18).unwrap().psid, Some(0x8002));
+        assert_eq!(by_id(18).unwrap().psid, Some(Psid::SPAT));
         assert_eq!(by_id(245).unwrap().type_name, "TestMessage05");
         assert_eq!(by_id(33), None);
         assert_eq!(by_id(256), None);

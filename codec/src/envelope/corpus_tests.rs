@@ -15,6 +15,7 @@ use test_support::shared::{files_ending_with, read_text};
 
 use super::ieee1609dot2::{encode_unsecured, unsecured_encoded_len, Ieee1609Dot2Data};
 use super::rsu_text::RsuMessage;
+use super::Psid;
 use super::{unwrap_message_frame, EnvelopeKind};
 
 /// `$J2735_CORPUS_DIR`, or `corpus` in the shared directory (`test-support` finds it and
@@ -141,14 +142,52 @@ fn signed_corpus_envelope_exposes_header_signer_and_signature() {
     assert!(checked > 0, "no signed envelope in the corpus");
 }
 
-/// The PSID of the frame types whose PSID is unambiguous (BSM 0x20, PSM 0x27).
-fn psid_of_frame(frame: &str) -> Option<u32> {
+/// The PSID of the frame types whose PSID is unambiguous (BSM 32, PSM 39).
+fn psid_of_frame(frame: &str) -> Option<Psid> {
     if frame.starts_with("BSM_") {
-        Some(0x20)
+        Some(Psid::BSM)
     } else if frame.starts_with("PSM_") {
-        Some(0x27)
+        Some(Psid::PSM)
     } else {
         None
+    }
+}
+
+/// The real signed PSM from a deployed system carries a production certificate: its
+/// permissions are IEEE 1609.2 integers (SPaT 130, MAP 2113687, TIM 131, ..., PSM 39), which
+/// read as p-encoded octets would name nothing the OBU uses.
+#[test]
+fn the_real_signed_psm_certificate_grants_the_integer_psids() {
+    let corpus = corpus_dir();
+    let case = wrapped_index(&corpus)
+        .into_iter()
+        .find(|case| case.file.starts_with("PSM_005") && case.envelope == "signed")
+        .expect("PSM_005's signed envelope in the corpus index");
+    let wrapped = read_hex(&corpus.join("wrapped").join(&case.file));
+    let data = Ieee1609Dot2Data::parse(&wrapped).unwrap();
+    let signed = data.signed_data().unwrap();
+    assert_eq!(signed.header.psid, Psid::PSM);
+    let super::ieee1609dot2::SignerIdentifier::Certificate(chain) = signed.signer else {
+        panic!("PSM_005 is signed with its certificate");
+    };
+    let cert = chain.first().unwrap();
+    let granted: Vec<u32> = cert
+        .app_permissions
+        .unwrap()
+        .iter()
+        .map(|p| p.psid.value())
+        .collect();
+    assert_eq!(granted, [130, 2_113_687, 131, 133, 128, 2_113_685, 39]);
+    for (psid, octets) in [
+        (Psid::SPAT, 0x8002),
+        (Psid::MAP, 0xE000_0017),
+        (Psid::TIM, 0x8003),
+        (Psid::PSM, 0x27),
+    ] {
+        assert!(cert.permission(psid).is_some(), "{}", psid.both_forms());
+        assert_eq!(psid.p_encoded_value(), Some(octets));
+        // The p-encoded octets read as the integer: granted by nobody.
+        assert!(cert.permission(Psid(octets)).is_none() || octets < 0x80);
     }
 }
 

@@ -18,8 +18,8 @@
 //! No function in this module panics on any input.
 
 use super::coer::{optional, within_open_type, CoerReader, DecodeResult};
-use super::ieee1609dot2_certificate::parse_certificate;
 use super::ieee1609dot2_certificate::skip_certificate;
+use super::ieee1609dot2_certificate::{parse_certificate, read_psid};
 use super::ieee1609dot2_signature::{parse_hash_algorithm, parse_signature};
 use super::ieee1609dot2_skip::{skip_encrypted_data, skip_encryption_key};
 
@@ -164,8 +164,9 @@ pub struct MissingCrlIdentifier {
 /// (`inlineP2pcdRequest`, `requestedCertificate`, ...) are kept raw.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct HeaderInfo<'a> {
-    /// `psid`: the application the payload belongs to (e.g. 0x20 BSM, 0x8002 MAP, 0x8003 TIM).
-    pub psid: u32,
+    /// `psid`: the application the payload belongs to, as the integer IEEE 1609.2 defines
+    /// (TIM 131, MAP 2113687, BSM 32; not the p-encoded `0x8003`: see [`Psid`]).
+    pub psid: Psid,
     /// `generationTime`.
     pub generation_time: Option<Time64>,
     /// `expiryTime`.
@@ -269,6 +270,7 @@ pub use super::ieee1609dot2_certificate::{
 pub use super::ieee1609dot2_signature::{
     CurvePoint, HashAlgorithm, PointForm, Signature, SignatureScheme,
 };
+pub use super::psid::Psid;
 /// Writing signed data and certificates (feature `crypto`).
 #[cfg(feature = "crypto")]
 #[path = "ieee1609dot2_build.rs"]
@@ -551,7 +553,7 @@ fn parse_hashed_data<'a>(reader: &mut CoerReader<'a>) -> DecodeResult<HashedData
 /// Decodes `HeaderInfo`: the root components, and the extension additions kept raw.
 fn parse_header_info<'a>(reader: &mut CoerReader<'a>) -> DecodeResult<HeaderInfo<'a>> {
     let preamble = reader.read_preamble(true, 6)?;
-    let psid = parse_psid(reader)?;
+    let psid = read_psid(reader)?;
     let generation_time = optional(preamble.has_optional(0), || reader.read_u64().map(Time64))?;
     let expiry_time = optional(preamble.has_optional(1), || reader.read_u64().map(Time64))?;
     let generation_location =
@@ -578,13 +580,6 @@ fn parse_header_info<'a>(reader: &mut CoerReader<'a>) -> DecodeResult<HeaderInfo
         encryption_key,
         extension_additions,
     })
-}
-
-/// Decodes a `Psid` (`INTEGER (0..MAX)`), which must fit 32 bits.
-fn parse_psid(reader: &mut CoerReader<'_>) -> DecodeResult<u32> {
-    let start = *reader;
-    let value = reader.read_unsigned()?;
-    u32::try_from(value).map_err(|_| start.error(DecodeErrorKind::ValueOutOfRange))
 }
 
 /// Decodes `ThreeDLocation` (4 + 4 + 2 bytes).
@@ -755,14 +750,14 @@ mod tests {
 
     #[test]
     fn signed_with_digest_signer() {
-        let bytes = signed_with_digest(&unsecured(&PAYLOAD), &[0x02, 0x80, 0x03]);
+        let bytes = signed_with_digest(&unsecured(&PAYLOAD), &[0x01, 0x83]);
         let data = Ieee1609Dot2Data::parse(&bytes).unwrap();
         assert!(data.is_signed());
         assert_eq!(data.application_data(), Some(&PAYLOAD[..]));
         assert_eq!(data.application_data_offset(), Some(7));
         let signed = data.signed_data().unwrap();
         assert_eq!(signed.hash_algorithm, HashAlgorithm::Sha256);
-        assert_eq!(signed.header.psid, 0x8003);
+        assert_eq!(signed.header.psid, Psid::TIM);
         assert_eq!(
             signed.header.generation_time,
             Some(Time64(0x0001_0203_0405))
@@ -789,7 +784,7 @@ mod tests {
         let signed = data.signed_data().unwrap();
         assert_eq!(data.application_data(), Some(&PAYLOAD[..]));
         let header = signed.header;
-        assert_eq!(header.psid, 0x20);
+        assert_eq!(header.psid, Psid::BSM);
         assert_eq!(header.generation_time, Some(Time64(0x1000)));
         assert_eq!(header.expiry_time, Some(Time64(0x2000)));
         let location = header.generation_location.unwrap();
@@ -852,7 +847,7 @@ mod tests {
         let data = Ieee1609Dot2Data::parse(&outer).unwrap();
         assert_eq!(data.application_data(), Some(&PAYLOAD[..]));
         assert_eq!(data.application_data_offset(), Some(4 + 7));
-        assert_eq!(data.signed_data().unwrap().header.psid, 0x23);
+        assert_eq!(data.signed_data().unwrap().header.psid, Psid(0x23));
     }
 
     #[test]

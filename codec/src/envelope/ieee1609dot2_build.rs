@@ -9,7 +9,9 @@
 //! No function in this module panics on any input.
 
 use super::crypto::{hashed_id8, sha256, signing_digest_with, PublicKey, RSigForm, SecretKey};
-use super::{BufferTooSmall, PointForm, ThreeDLocation, Time64, TwoDLocation, PROTOCOL_VERSION};
+use super::{
+    BufferTooSmall, PointForm, Psid, ThreeDLocation, Time64, TwoDLocation, PROTOCOL_VERSION,
+};
 
 /// Why nothing (or only part of a buffer) was written.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -127,8 +129,8 @@ fn signature(
 /// The header of signed data.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Header {
-    /// `psid`.
-    pub psid: u32,
+    /// `psid` (the integer: [`Psid::TIM`] is 131).
+    pub psid: Psid,
     /// `generationTime`.
     pub generation_time: Time64,
     /// `expiryTime`, if any.
@@ -186,7 +188,7 @@ pub fn encode_signed(
             0
         };
     w.u8(presence)?;
-    w.unsigned(u64::from(header.psid))?;
+    w.unsigned(u64::from(header.psid.value()))?;
     w.bytes(&header.generation_time.0.to_be_bytes())?;
     if let Some(expiry) = header.expiry_time {
         w.bytes(&expiry.0.to_be_bytes())?;
@@ -224,7 +226,7 @@ pub struct CertificateSpec<'a> {
     /// `region`: a circle, if any.
     pub circle: Option<(TwoDLocation, u16)>,
     /// `appPermissions`: PSIDs (none: left out).
-    pub app_psids: &'a [u32],
+    pub app_psids: &'a [Psid],
     /// The opaque service-specific permissions given with every app PSID (`None`: none).
     pub ssp: Option<&'a [u8]>,
     /// `certIssuePermissions`: `all`, with this `minChainLength`, or left out (`None`).
@@ -305,7 +307,7 @@ fn to_be_signed_certificate(
         w.unsigned(spec.app_psids.len() as u64)?;
         for &psid in spec.app_psids {
             w.u8(if spec.ssp.is_some() { 0x80 } else { 0x00 })?; // ssp present?
-            w.unsigned(u64::from(psid))?;
+            w.unsigned(u64::from(psid.value()))?;
             if let Some(ssp) = spec.ssp {
                 w.u8(0x80)?; // opaque
                 w.length(ssp.len())?;

@@ -18,6 +18,7 @@ use super::ieee1609dot2_signature::{
 use super::ieee1609dot2_skip::{
     read_extensible_tag, read_root_tag, skip_public_encryption_key, skip_sequence_of,
 };
+use super::psid::Psid;
 
 /// A decoded `Certificate` (`CertificateBase`), borrowing its COER bytes.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -211,8 +212,8 @@ pub enum Ssp<'a> {
 /// `PsidSsp`: one application permission.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct PsidSsp<'a> {
-    /// The PSID.
-    pub psid: u32,
+    /// The PSID (the integer).
+    pub psid: Psid,
     /// Its service-specific permissions, if any.
     pub ssp: Option<Ssp<'a>>,
 }
@@ -245,7 +246,7 @@ impl<'a> PsidSsps<'a> {
 
     /// The entry for `psid`, if the list has one.
     #[must_use]
-    pub fn find(&self, psid: u32) -> Option<PsidSsp<'a>> {
+    pub fn find(&self, psid: Psid) -> Option<PsidSsp<'a>> {
         self.iter().find(|entry| entry.psid == psid)
     }
 }
@@ -270,7 +271,7 @@ pub struct PsidRanges<'a> {
 
 impl<'a> PsidRanges<'a> {
     /// The PSIDs, in order.
-    pub fn psids(&self) -> impl Iterator<Item = u32> + 'a {
+    pub fn psids(&self) -> impl Iterator<Item = Psid> + 'a {
         let mut reader = CoerReader::new(self.encoded, 0);
         (0..self.count).map_while(move |_| parse_psid_ssp_range(&mut reader).ok())
     }
@@ -332,13 +333,13 @@ impl<'a> Certificate<'a> {
 
     /// The application permission for `psid`, if the certificate grants it.
     #[must_use]
-    pub fn permission(&self, psid: u32) -> Option<PsidSsp<'a>> {
+    pub fn permission(&self, psid: Psid) -> Option<PsidSsp<'a>> {
         self.app_permissions.and_then(|list| list.find(psid))
     }
 
     /// Whether this certificate may issue certificates carrying `psid`.
     #[must_use]
-    pub fn may_issue(&self, psid: u32) -> bool {
+    pub fn may_issue(&self, psid: Psid) -> bool {
         self.cert_issue_permissions.is_some_and(|groups| {
             groups.iter().any(|group| match group.subject {
                 SubjectPermissions::All => true,
@@ -557,11 +558,13 @@ fn skip_identified_region(reader: &mut CoerReader<'_>) -> DecodeResult<()> {
     }
 }
 
-/// Decodes a `Psid` that must fit 32 bits.
-fn read_psid(reader: &mut CoerReader<'_>) -> DecodeResult<u32> {
+/// Decodes a `Psid` (`INTEGER (0..MAX)`), which must fit 32 bits.
+pub(super) fn read_psid(reader: &mut CoerReader<'_>) -> DecodeResult<Psid> {
     let start = *reader;
     let value = reader.read_unsigned()?;
-    u32::try_from(value).map_err(|_| start.error(DecodeErrorKind::ValueOutOfRange))
+    u32::try_from(value)
+        .map(Psid)
+        .map_err(|_| start.error(DecodeErrorKind::ValueOutOfRange))
 }
 
 /// Decodes `PsidSsp`.
@@ -600,7 +603,7 @@ fn parse_psid_group<'a>(reader: &mut CoerReader<'a>) -> DecodeResult<PsidGroup<'
 }
 
 /// Decodes `PsidSspRange`; returns its PSID (the SSP range is checked and skipped).
-fn parse_psid_ssp_range(reader: &mut CoerReader<'_>) -> DecodeResult<u32> {
+fn parse_psid_ssp_range(reader: &mut CoerReader<'_>) -> DecodeResult<Psid> {
     let preamble = reader.read_preamble(false, 1)?;
     let psid = read_psid(reader)?;
     if preamble.has_optional(0) {

@@ -37,6 +37,8 @@ mod coer;
 /// Hexadecimal text (moved to [`crate::hex`]; kept here for the envelope API's users).
 pub use crate::hex;
 pub mod ieee1609dot2;
+pub mod psid;
+pub use psid::Psid;
 mod ieee1609dot2_certificate;
 mod ieee1609dot2_error;
 mod ieee1609dot2_signature;

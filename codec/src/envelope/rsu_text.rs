@@ -22,7 +22,8 @@
 //! letter case, and missing optional keys. Keys it does not know (`VehicleID=` and the like)
 //! are ignored by the parse; [`fields`] yields every line, unknown keys included.
 //!
-//! Value conventions: `PSID` is hexadecimal, with or without `0x` (`0x8003`, `0020`);
+//! Value conventions: `PSID` is its p-encoded octets in hexadecimal, with or without `0x`
+//! (`0x8003` TIM, `0020` BSM);
 //! `TxMode` is `CONT` or `ALT`; `TxChannel` is a channel number or `CCH` / `SCH`;
 //! `Signature` and `Encryption` are `True` / `False`; an empty value means "not given";
 //! `Payload` is the UPER `MessageFrame` in hexadecimal. The writer
@@ -35,6 +36,7 @@
 use core::fmt;
 use core::str::Split;
 
+use super::psid::Psid;
 use crate::hex::{self, HexError};
 
 /// The keys of an RSU message record, in the order the writer emits them.
@@ -380,8 +382,9 @@ pub struct RsuMessage<'a> {
     pub version: &'a str,
     /// `Type`: `MAP`, `SPAT`, `TIM`, `BSM`, ...
     pub message_type: &'a str,
-    /// `PSID` (e.g. 0x8002 MAP, 0x8003 TIM, 0x20 BSM).
-    pub psid: u32,
+    /// `PSID`. The record writes its p-encoded octets in hexadecimal (`0x8003` for TIM,
+    /// `0xE0000017` for MAP, `0x20` for BSM); the field holds the PSID itself ([`Psid`]).
+    pub psid: Psid,
     /// `Priority`.
     pub priority: Option<u8>,
     /// `TxMode`.
@@ -487,7 +490,7 @@ impl<'a> RawValues<'a> {
 impl<'a> RsuMessage<'a> {
     /// A record with the required fields and every optional one absent (`Version` 0.7).
     #[must_use]
-    pub fn new(message_type: &'a str, psid: u32, payload: RsuPayload<'a>) -> Self {
+    pub fn new(message_type: &'a str, psid: Psid, payload: RsuPayload<'a>) -> Self {
         Self {
             version: "0.7",
             message_type,
@@ -544,7 +547,8 @@ impl<'a> RsuMessage<'a> {
         self.check_writable()?;
         writeln!(out, "Version=0.7")?;
         writeln!(out, "Type={}", self.message_type)?;
-        writeln!(out, "PSID=0x{:X}", self.psid)?;
+        let octets = self.psid.p_encoded_value();
+        writeln!(out, "PSID=0x{:X}", octets.unwrap_or_default())?;
         write_line(out, RsuKey::Priority, self.priority)?;
         write_line(out, RsuKey::TxMode, self.tx_mode.map(TxMode::as_str))?;
         write_line(out, RsuKey::TxChannel, self.tx_channel)?;
@@ -574,6 +578,9 @@ impl<'a> RsuMessage<'a> {
         }
         if self.message_type.is_empty() {
             return Err(RsuWriteError::InvalidValue(RsuKey::Type));
+        }
+        if self.psid.p_encoded_value().is_none() {
+            return Err(RsuWriteError::InvalidValue(RsuKey::Psid));
         }
         let payload_ok = !self.payload.is_empty() && self.payload.decoded_len().is_ok();
         if payload_ok {
@@ -605,9 +612,16 @@ fn bool_text(value: bool) -> &'static str {
     }
 }
 
-/// A PSID in hexadecimal, with or without `0x`: one to eight digits (as RSU records and
-/// command lines write it).
-pub fn parse_psid(text: &str) -> Option<u32> {
+/// A PSID written as its p-encoded octets in hexadecimal, with or without `0x`, one to eight
+/// digits, as RSU records, NTCIP 1218 tables and command lines write it: `0x8003` is TIM
+/// (131), `0020` BSM (32). `None` for text that is not hexadecimal or a number that is no
+/// p-encoding (`0x83`).
+pub fn parse_psid(text: &str) -> Option<Psid> {
+    parse_hex_u32(text).and_then(Psid::from_p_encoded_value)
+}
+
+/// One to eight hexadecimal digits, with or without `0x`.
+fn parse_hex_u32(text: &str) -> Option<u32> {
     let digits = text
         .strip_prefix("0x")
         .or_else(|| text.strip_prefix("0X"))
@@ -659,7 +673,7 @@ mod tests {
         let message = RsuMessage::parse(RECORD_07).unwrap();
         assert_eq!(message.version, "0.7");
         assert_eq!(message.message_type, "TIM");
-        assert_eq!(message.psid, 0x8003);
+        assert_eq!(message.psid, Psid::TIM);
         assert_eq!(message.priority, Some(5));
         assert_eq!(message.tx_mode, Some(TxMode::Continuous));
         assert_eq!(message.tx_channel, Some(TxChannel::Number(172)));
@@ -682,7 +696,7 @@ mod tests {
             Encryption=False\r\n\r\nPayload=0012aabb\r\n";
         let message = RsuMessage::parse(text).unwrap();
         assert_eq!(message.version, "0.5");
-        assert_eq!(message.psid, 0x8002);
+        assert_eq!(message.psid, Psid::SPAT);
         assert_eq!(message.tx_mode, Some(TxMode::Alternating));
         assert_eq!(message.tx_channel, Some(TxChannel::Control));
         assert_eq!(message.tx_interval, None);
@@ -697,7 +711,7 @@ mod tests {
             payload = 00140102\n";
         let message = RsuMessage::parse(text).unwrap();
         assert_eq!(message.message_type, "BSM");
-        assert_eq!(message.psid, 0x20);
+        assert_eq!(message.psid, Psid::BSM);
         assert_eq!(message.priority, None);
         assert_eq!(message.tx_mode, None);
         assert_eq!(message.signature, None);
@@ -707,9 +721,12 @@ mod tests {
 
     #[test]
     fn psid_forms() {
-        assert_eq!(parse_psid("0x8003"), Some(0x8003));
-        assert_eq!(parse_psid("0XE0000017"), Some(0xe000_0017));
-        assert_eq!(parse_psid("20"), Some(0x20));
+        assert_eq!(parse_psid("0x8003"), Some(Psid::TIM));
+        assert_eq!(parse_psid("0XE0000017"), Some(Psid::MAP));
+        assert_eq!(parse_psid("20"), Some(Psid::BSM));
+        assert_eq!(parse_psid("0x0027"), Some(Psid::PSM));
+        // The integer 131 written in hexadecimal is no p-encoding: refused, not misread.
+        assert_eq!(parse_psid("0x83"), None);
         assert_eq!(parse_psid("0x"), None);
         assert_eq!(parse_psid("0x123456789"), None);
         assert_eq!(parse_psid("+20"), None);
@@ -788,7 +805,7 @@ mod tests {
     #[test]
     fn writes_the_07_layout() {
         let payload = [0x00, 0x1f, 0x0a, 0x0b, 0x0c];
-        let mut message = RsuMessage::new("TIM", 0x8003, RsuPayload::Bytes(&payload));
+        let mut message = RsuMessage::new("TIM", Psid::TIM, RsuPayload::Bytes(&payload));
         message.priority = Some(5);
         message.tx_mode = Some(TxMode::Continuous);
         message.tx_channel = Some(TxChannel::Number(172));
@@ -803,7 +820,7 @@ mod tests {
     #[test]
     fn write_then_parse_round_trips() {
         let payload = [0x00, 0x12, 0x81, 0xff];
-        let mut message = RsuMessage::new("MAP", 0xe000_0017, RsuPayload::Bytes(&payload));
+        let mut message = RsuMessage::new("MAP", Psid::MAP, RsuPayload::Bytes(&payload));
         message.tx_mode = Some(TxMode::Alternating);
         message.tx_channel = Some(TxChannel::Service);
         message.delivery_start = Some("01/31/2024, 06:00");
@@ -831,7 +848,7 @@ mod tests {
     #[test]
     fn unwritable_values_are_refused() {
         let payload = [0x00];
-        let mut message = RsuMessage::new("TIM\nPSID=1", 0x8003, RsuPayload::Bytes(&payload));
+        let mut message = RsuMessage::new("TIM\nPSID=1", Psid::TIM, RsuPayload::Bytes(&payload));
         let mut text = String::new();
         assert_eq!(
             message.write_to(&mut text),

@@ -153,7 +153,7 @@ fn signed_with_a_digest_signer() {
     assert_eq!(data.application_data(), Some(&frame[..]));
     let signed = data.signed_data().unwrap();
     assert_eq!(signed.hash_algorithm, HashAlgorithm::Sha256);
-    assert_eq!(signed.header.psid, 0x20);
+    assert_eq!(signed.header.psid, super::Psid::BSM);
     assert_eq!(
         signed.header.generation_time,
         Some(Time64(0x0123_4567_89ab))

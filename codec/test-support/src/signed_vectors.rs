@@ -20,8 +20,8 @@ pub struct SignedVector {
     pub psid: u32,
     /// The header's generation time (`Time64`).
     pub generation_time: u64,
-    /// The header's expiry time (`Time64`).
-    pub expiry_time: u64,
+    /// The header's expiry time (`Time64`), if it has one.
+    pub expiry_time: Option<u64>,
     /// The J2735 `MessageFrame` inside (UPER).
     pub frame: Vec<u8>,
     /// The trusted root certificate (COER).
@@ -32,15 +32,21 @@ pub struct SignedVector {
     pub known_certs: Vec<Vec<u8>>,
     /// The verifier's clock (`Time64`).
     pub now: u64,
-    /// The allowed generation-time skew, microseconds.
-    pub max_skew_us: u64,
+    /// The verifier's profile: how far ahead a generation time may be (and how long past
+    /// its expiry time a message is taken), microseconds.
+    pub future_tolerance_us: u64,
+    /// The verifier's profile: how long after its generation a message without an expiry
+    /// time is taken, microseconds.
+    pub past_window_us: u64,
+    /// The verifier's profile: the longest generation-to-expiry lifetime, microseconds.
+    pub max_lifetime_us: u64,
     /// The self signer's key (compressed SEC 1), for `self`.
     pub self_public_key: Option<Vec<u8>>,
     /// The root the chain really leads to, for `untrusted_root`.
     pub untrusted_root: Option<Vec<u8>>,
     /// The ECQV reconstructed key (compressed SEC 1), for implicit certificates.
     pub reconstructed_public_key: Option<Vec<u8>>,
-    /// `replay` for the two vectors of the replay pair.
+    /// `repeat` for the two vectors of the repeat pair.
     pub pair: Option<String>,
 }
 
@@ -77,7 +83,7 @@ fn parse(line: &str) -> SignedVector {
         signer: text("signer"),
         psid: u32::try_from(number("psid")).expect("a 32-bit PSID"),
         generation_time: number("generation_time"),
-        expiry_time: number("expiry_time"),
+        expiry_time: v["expiry_time"].as_u64(),
         frame: hex("frame"),
         root: anchor("root"),
         ca: anchor("ca"),
@@ -88,7 +94,9 @@ fn parse(line: &str) -> SignedVector {
             .map(|c| crate::from_hex(c.as_str().expect("certificate hex")))
             .collect(),
         now: number("now"),
-        max_skew_us: number("max_skew_us"),
+        future_tolerance_us: number("future_tolerance_us"),
+        past_window_us: number("past_window_us"),
+        max_lifetime_us: number("max_lifetime_us"),
         self_public_key: optional_hex("self_public_key"),
         untrusted_root: optional_hex("untrusted_root"),
         reconstructed_public_key: optional_hex("reconstructed_public_key"),

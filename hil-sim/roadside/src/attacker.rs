@@ -15,6 +15,7 @@ use crate::clock::{unix_ms_now, Utc};
 use crate::messages::{self, WorkZone, DURATION_INDEFINITE};
 use crate::pki::{Pki, PkiSpec, RsuSigner};
 use crate::road::Road;
+use j2735::envelope::Psid;
 use serde::{Deserialize, Serialize};
 use std::net::{SocketAddr, UdpSocket};
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -156,7 +157,7 @@ fn attacker_spec() -> PkiSpec {
         ca_years: 15,
         rsu_hours: 2730 * 24,
         region: None,
-        psids: vec![0x8003, 0xE000_0017],
+        psids: vec![Psid::TIM, Psid::MAP],
         rsu_name: "rsu.attacker.example".into(),
     }
 }

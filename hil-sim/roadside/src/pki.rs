@@ -16,6 +16,7 @@ use j2735::envelope::ieee1609dot2::build::{
 };
 use j2735::envelope::ieee1609dot2::crypto::{sha256, RSigForm, SecretKey};
 use j2735::envelope::ieee1609dot2::{Duration, ThreeDLocation, Time64, TwoDLocation};
+use j2735::envelope::Psid;
 use std::io::Read;
 use std::path::Path;
 
@@ -36,15 +37,15 @@ pub fn time32_of_unix_s(unix_s: u64) -> u32 {
     u32::try_from(t).unwrap_or(u32::MAX)
 }
 
-/// The PSID a signed message of J2735 `messageId` carries (1609.2 header): TIM 0x8003,
-/// MAP 0xE0000017, SPaT 0x8002, BSM 0x20, PSM 0x27 (SAE J2945/9).
-pub fn signing_psid(message_id: u16) -> Option<u32> {
+/// The PSID a signed message of J2735 `messageId` carries in its 1609.2 header (the
+/// integer): TIM 131, MAP 2113687, SPaT 130, BSM 32, PSM 39 (SAE J2945/9).
+pub fn signing_psid(message_id: u16) -> Option<Psid> {
     match message_id {
-        31 => Some(0x8003),
-        32 => Some(0x27),
-        18 => Some(0xE000_0017),
-        19 => Some(0x8002),
-        20 => Some(0x20),
+        31 => Some(Psid::TIM),
+        32 => Some(Psid::PSM),
+        18 => Some(Psid::MAP),
+        19 => Some(Psid::SPAT),
+        20 => Some(Psid::BSM),
         _ => None,
     }
 }
@@ -64,8 +65,8 @@ pub struct PkiSpec {
     pub rsu_hours: u16,
     /// The RSU certificate's region: centre (1e-7 degrees) and radius (m); `None`: none.
     pub region: Option<(i32, i32, u16)>,
-    /// PSIDs the RSU may sign.
-    pub psids: Vec<u32>,
+    /// PSIDs the RSU may sign (the integers).
+    pub psids: Vec<Psid>,
     /// The RSU certificate's name.
     pub rsu_name: String,
 }
@@ -348,7 +349,7 @@ mod tests {
             ca_years: 5,
             rsu_hours: 24 * 365,
             region: Some((421_234_567, -837_654_321, 20_000)),
-            psids: vec![0x8003, 0xE000_0017],
+            psids: vec![Psid::TIM, Psid::MAP],
             rsu_name: "rsu.hil-sim.example".into(),
         }
     }
@@ -362,7 +363,7 @@ mod tests {
             (&b.root.cert, &b.ca.cert, &b.rsu.cert)
         );
         let rsu = Certificate::parse(&a.rsu.cert).unwrap();
-        assert!(rsu.permission(0x8003).is_some() && rsu.permission(0xE000_0017).is_some());
+        assert!(rsu.permission(Psid::TIM).is_some() && rsu.permission(Psid::MAP).is_some());
         assert_eq!(rsu.validity.start.0, time32_of_unix_s(1_767_225_600));
     }
 
@@ -413,7 +414,7 @@ mod tests {
         let bytes = signer.sign(&frame, 1_767_225_600_000).unwrap();
         let data = Ieee1609Dot2Data::parse(&bytes).unwrap();
         let signed = data.signed_data().unwrap();
-        assert_eq!(signed.header.psid, 0x8003);
+        assert_eq!(signed.header.psid, Psid::TIM);
         assert_eq!(data.application_data(), Some(&frame[..]));
         assert!(signer.sign(&[0x00, 0x99], 0).is_err());
         // 2026-01-01T00:00:00Z is 8036 days (22 years, 6 of them leap) after 2004 in UTC,

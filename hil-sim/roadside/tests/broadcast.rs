@@ -4,7 +4,7 @@
 
 use geodesy::LatLon;
 use j2735::envelope::rsu_text::RsuMessage;
-use j2735::envelope::{unwrap_message_frame, EnvelopeKind};
+use j2735::envelope::{unwrap_message_frame, EnvelopeKind, Psid};
 use roadside::broadcast::{
     rsu_record, write_rsu_files, Broadcaster, DropReason, FaultInjector, Faults, LossModel,
     Message, MessageKind, RsuDelivery, RsuFileError, RsuOptions, TxChannel, TxMode, Verdict,
@@ -349,10 +349,13 @@ fn rsu_files_parse_back() {
     assert_eq!(names, ["01-map.txt", "02-tim.txt"]);
     for (path, (message, psid, kind)) in paths
         .iter()
-        .zip([(&map, 0x8002, "MAP"), (&tim, 0x8003, "TIM")])
+        .zip([(&map, Psid::SPAT, "MAP"), (&tim, Psid::TIM, "TIM")])
     {
         let text = std::fs::read_to_string(path).unwrap();
         assert!(text.starts_with("Version=0.7\n"), "{text}");
+        // RSU records write the p-encoded octets (SPaT 0x8002, TIM 0x8003).
+        let octets = format!("PSID=0x{:X}\n", psid.p_encoded_value().unwrap());
+        assert!(text.contains(&octets), "{text}");
         let record = RsuMessage::parse(&text).expect("the codec reads our record");
         assert_eq!((record.message_type, record.psid), (kind, psid));
         assert_eq!(record.tx_channel, Some(TxChannel::Number(183)));
@@ -375,13 +378,14 @@ fn rsu_files_parse_back() {
         0,
         &tim,
         &RsuOptions {
-            psid: Some(0xE000_0017),
+            psid: Some(Psid::MAP),
             ..RsuOptions::default()
         },
     )
     .unwrap();
     let record = RsuMessage::parse(&text).unwrap();
-    assert_eq!((record.psid, record.tx_interval), (0xE000_0017, Some(0)));
+    assert_eq!((record.psid, record.tx_interval), (Psid::MAP, Some(0)));
+    assert!(text.contains("PSID=0xE0000017\n"), "{text}");
     assert_eq!((record.delivery_start, record.delivery_stop), (None, None));
 
     let bad = RsuOptions {

@@ -4,6 +4,8 @@
 mod http;
 
 pub use http::Http;
+use j2735::envelope::Psid;
+use obu::security::{Duplicates, RequiredSsp, SecurityConfig, SecurityProfile};
 use serde::Deserialize;
 use std::net::SocketAddr;
 use std::path::PathBuf;
@@ -145,28 +147,79 @@ max_offset_ms = 10000
 # baud = 115200
 
 [security]
-# IEEE 1609.2. Signed MAP and TIM must verify along a certificate chain to one of the
-# trust anchors, carry the PSID below, be generated within `max_skew_ms` of GNSS time and
-# not be replays; a failure drops the frame, counted by reason under "security_errors".
+# IEEE 1609.2. Signed MAP, TIM and PSM must verify along a certificate chain to one of the
+# trust anchors and pass their message type's profile below ([security.map], [security.tim],
+# [security.psm]; [security.spat] is ready for SPaT); a failure drops the frame, counted by
+# reason under "security_errors". A byte-identical copy of an accepted frame (an RSU
+# repeating what it was given signed once) costs a hash, no signature check, and is counted
+# under "repeats".
 # Drop unsigned MAP and TIM. Off: they are used but marked "unverified" on the tablet, and
 # can never replace, refresh, cancel or evict a lane map or work zone that came verified.
 require_signed = true
 # Root and issuing CA certificates (COER files, as `hil-sim pki` writes them). With none,
 # every signed frame is dropped ("chain does not reach a trust anchor").
 trust_anchors = []
-# Largest distance between a frame's generationTime and GNSS time, milliseconds.
-max_skew_ms = 30000
-# The PSIDs a signed TIM and MAP must carry.
-tim_psid = 0x8003
-map_psid = 0xE0000017
-# Service-specific permissions (hexadecimal, up to 16 octets) the signer certificate must
-# grant with the TIM / MAP PSID, byte for byte (as your SCMS assigns them); "": any.
-tim_ssp = ""
-map_ssp = ""
 # A frame byte-identical in payload to one whose signature (same signer) was verified less
 # than this long ago is taken without verifying again (every other check still applies);
 # 0 verifies every frame. A forger can at most keep a real zone alive this much longer.
 reverify_ms = 1000
+
+# One profile per message type. The defaults accept both ways deployed roadsides sign:
+# each transmission anew (a generation time, no expiry time: relevant for past_window_ms)
+# and once with an expiry time, repeated unchanged (relevant until the expiry time, if
+# generation to expiry is at most max_lifetime_ms). Keys:
+#   psid: the PSID the 1609.2 header must carry. Hexadecimal (0x8003, as a TOML number or a
+#     string) is its p-encoded octets, the usual spelling; a decimal string ("131") is the
+#     IEEE 1609.2 integer. TIM 0x8003 = 131, MAP 0xE0000017 = 2113687, PSM 0x27 = 39,
+#     SPaT 0x8002 = 130.
+#   ssp: service-specific permissions (hexadecimal, up to 16 octets) the signer certificate
+#     must grant with the PSID, byte for byte (as your SCMS assigns them); "": any.
+#   require_generation_time, require_expiry_time: refuse a frame without that time.
+#   future_tolerance_ms: how far ahead of GNSS time a generation time may be, and how long
+#     after its expiry time a frame is still taken.
+#   past_window_ms: how long after its generation a frame without an expiry time is taken.
+#   max_lifetime_ms: the longest generation-to-expiry lifetime accepted (7 days).
+#   duplicates: "repeat" (a copy of an accepted frame is accepted and counted as a repeat)
+#     or "replay" (it is dropped).
+[security.map]
+psid = 0xE0000017
+ssp = ""
+require_generation_time = true
+require_expiry_time = false
+future_tolerance_ms = 5000
+past_window_ms = 30000
+max_lifetime_ms = 604800000
+duplicates = "repeat"
+
+[security.tim]
+psid = 0x8003
+ssp = ""
+require_generation_time = true
+require_expiry_time = false
+future_tolerance_ms = 5000
+past_window_ms = 30000
+max_lifetime_ms = 604800000
+duplicates = "repeat"
+
+[security.psm]
+psid = 0x27
+ssp = ""
+require_generation_time = true
+require_expiry_time = false
+future_tolerance_ms = 5000
+past_window_ms = 30000
+max_lifetime_ms = 604800000
+duplicates = "replay"
+
+[security.spat]
+psid = 0x8002
+ssp = ""
+require_generation_time = true
+require_expiry_time = false
+future_tolerance_ms = 5000
+past_window_ms = 30000
+max_lifetime_ms = 604800000
+duplicates = "repeat"
 "#;
 
 /// The whole configuration.
@@ -201,40 +254,124 @@ pub struct Security {
     pub require_signed: bool,
     /// Trust anchor certificate files (COER).
     pub trust_anchors: Vec<PathBuf>,
-    /// Allowed generation-time skew, milliseconds.
-    pub max_skew_ms: u32,
-    /// PSID of TIM.
-    pub tim_psid: u32,
-    /// PSID of MAP.
-    pub map_psid: u32,
-    /// SSP required with the TIM PSID, hexadecimal ("": none).
-    pub tim_ssp: String,
-    /// SSP required with the MAP PSID, hexadecimal ("": none).
-    pub map_ssp: String,
     /// Re-verification period of repeated payloads, milliseconds (0: every frame).
     pub reverify_ms: u32,
+    /// `[security.map]`.
+    pub map: Profile,
+    /// `[security.tim]`.
+    pub tim: Profile,
+    /// `[security.psm]`.
+    pub psm: Profile,
+    /// `[security.spat]`.
+    pub spat: Profile,
 }
 
-impl Security {
-    /// The core's settings.
-    pub fn core_config(&self) -> obu::security::SecurityConfig {
-        obu::security::SecurityConfig {
-            require_signed: self.require_signed,
-            max_skew_ms: self.max_skew_ms,
-            tim_psid: self.tim_psid,
-            map_psid: self.map_psid,
-            tim_ssp: required_ssp(&self.tim_ssp).unwrap_or(obu::security::RequiredSsp::NONE),
-            map_ssp: required_ssp(&self.map_ssp).unwrap_or(obu::security::RequiredSsp::NONE),
-            reverify_ms: self.reverify_ms,
+/// `[security.map]`, `[security.tim]`, ...: one message type's security profile (see
+/// [`obu::security::SecurityProfile`]).
+#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct Profile {
+    /// The PSID, as written.
+    pub psid: PsidText,
+    /// SSP required with the PSID, hexadecimal ("": none).
+    pub ssp: String,
+    /// Refuse frames without a generation time.
+    pub require_generation_time: bool,
+    /// Refuse frames without an expiry time.
+    pub require_expiry_time: bool,
+    /// Future tolerance, milliseconds.
+    pub future_tolerance_ms: u32,
+    /// Past window without an expiry time, milliseconds.
+    pub past_window_ms: u32,
+    /// Longest generation-to-expiry lifetime, milliseconds.
+    pub max_lifetime_ms: u64,
+    /// `repeat` or `replay`.
+    pub duplicates: String,
+}
+
+/// A PSID as a configuration file writes it: a TOML number (`0x8003`: the p-encoded octets,
+/// the usual spelling) or a string (`"0x8003"` likewise, `"131"` the integer).
+#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[serde(untagged)]
+pub enum PsidText {
+    /// A number: its p-encoded octets.
+    Number(u32),
+    /// Text: [`Psid::parse`].
+    Text(String),
+}
+
+impl PsidText {
+    /// The PSID; `None` when the text or number is no PSID.
+    pub fn psid(&self) -> Option<Psid> {
+        match self {
+            Self::Number(n) => Psid::from_p_encoded_value(*n),
+            Self::Text(t) => Psid::parse(t),
         }
     }
 }
 
+impl Profile {
+    /// The core's profile; `Err` names the key that is wrong.
+    fn core(&self, name: &str) -> Result<SecurityProfile, ConfigError> {
+        let bad = |key: &str, what: &str| ConfigError(format!("security.{name}.{key}: {what}"));
+        let psid = self.psid.psid().ok_or_else(|| {
+            bad(
+                "psid",
+                "not a PSID: give its p-encoded octets in hexadecimal (0x8003 for TIM, \
+                 0xE0000017 for MAP) or the IEEE 1609.2 integer as a decimal string (\"131\")",
+            )
+        })?;
+        let ssp = required_ssp(&self.ssp).ok_or_else(|| {
+            bad(
+                "ssp",
+                &format!("hexadecimal, at most {} octets", RequiredSsp::MAX),
+            )
+        })?;
+        let duplicates = match self.duplicates.as_str() {
+            "repeat" => Duplicates::Repeat,
+            "replay" => Duplicates::Replay,
+            _ => return Err(bad("duplicates", "\"repeat\" or \"replay\"")),
+        };
+        let profile = SecurityProfile {
+            psid,
+            ssp,
+            require_generation_time: self.require_generation_time,
+            require_expiry_time: self.require_expiry_time,
+            future_tolerance_ms: self.future_tolerance_ms,
+            past_window_ms: self.past_window_ms,
+            max_lifetime_ms: self.max_lifetime_ms,
+            duplicates,
+        };
+        if profile.is_valid() {
+            Ok(profile)
+        } else {
+            Err(bad(
+                "past_window_ms",
+                "past_window_ms and max_lifetime_ms must be > 0",
+            ))
+        }
+    }
+}
+
+impl Security {
+    /// The core's settings; `Err` names the key that is wrong.
+    pub fn core_config(&self) -> Result<SecurityConfig, ConfigError> {
+        Ok(SecurityConfig {
+            require_signed: self.require_signed,
+            map: self.map.core("map")?,
+            tim: self.tim.core("tim")?,
+            psm: self.psm.core("psm")?,
+            spat: self.spat.core("spat")?,
+            reverify_ms: self.reverify_ms,
+        })
+    }
+}
+
 /// An SSP from its hexadecimal text; `None` when it is not hexadecimal or too long.
-fn required_ssp(text: &str) -> Option<obu::security::RequiredSsp> {
-    let mut bytes = [0u8; obu::security::RequiredSsp::MAX];
+fn required_ssp(text: &str) -> Option<RequiredSsp> {
+    let mut bytes = [0u8; RequiredSsp::MAX];
     let n = j2735::hex::decode_into(text.trim(), &mut bytes).ok()?;
-    obu::security::RequiredSsp::new(bytes.get(..n)?)
+    RequiredSsp::new(bytes.get(..n)?)
 }
 
 /// `[v2x]`.
@@ -478,6 +615,19 @@ impl std::fmt::Display for ConfigError {
 
 impl std::error::Error for ConfigError {}
 
+/// Sets every key of `values` in `target`; a sub-table (`[security.tim]`) is merged key by
+/// key in the same way, so that a file may set one key of it.
+fn merge(target: &mut toml::Table, values: toml::Table) {
+    for (key, value) in values {
+        match (target.get_mut(&key), value) {
+            (Some(toml::Value::Table(inner)), toml::Value::Table(value)) => merge(inner, value),
+            (_, value) => {
+                target.insert(key, value);
+            }
+        }
+    }
+}
+
 impl Config {
     /// The defaults.
     pub fn default_config() -> Self {
@@ -499,7 +649,7 @@ impl Config {
                     "unknown section [{section}]; see obu --print-default-config"
                 )));
             };
-            target.extend(values);
+            merge(target, values);
         }
         let config: Config = merged
             .try_into()
@@ -557,20 +707,7 @@ impl Config {
         if self.bridge.baud == Some(0) {
             return bad("bridge.baud must be > 0");
         }
-        for (key, text) in [
-            ("tim_ssp", &self.security.tim_ssp),
-            ("map_ssp", &self.security.map_ssp),
-        ] {
-            if required_ssp(text).is_none() {
-                return Err(ConfigError(format!(
-                    "security.{key}: hexadecimal, at most {} octets",
-                    obu::security::RequiredSsp::MAX
-                )));
-            }
-        }
-        if self.security.max_skew_ms == 0 {
-            return bad("security.max_skew_ms must be > 0");
-        }
+        self.security.core_config()?;
         if self.security.trust_anchors.len() > obu::capacity::MAX_TRUST_ANCHORS {
             return bad("security.trust_anchors: at most 4 certificates");
         }

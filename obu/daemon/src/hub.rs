@@ -152,7 +152,7 @@ impl Hub {
                 self.publish(&mut inner, &state);
                 self.wake.notify_one();
             }
-            V2xOutcome::Unchanged(_) => self.wake.notify_one(),
+            V2xOutcome::Unchanged(_) | V2xOutcome::Repeat(_) => self.wake.notify_one(),
             V2xOutcome::Other(_) | V2xOutcome::Dropped(_) => {}
         }
         outcome

@@ -285,7 +285,8 @@ fn configure_security(hub: &hub::Hub, security: &config::Security) -> Result<(),
         let coer = std::fs::read(path).map_err(|e| format!("{}: {e}", path.display()))?;
         anchors.push((path.display().to_string(), coer));
     }
-    hub.configure_security(security.core_config(), &anchors)?;
+    let config = security.core_config().map_err(|e| e.to_string())?;
+    hub.configure_security(config, &anchors)?;
     if anchors.is_empty() {
         let effect = if security.require_signed {
             "every MAP and TIM will be dropped"

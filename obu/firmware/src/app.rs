@@ -129,7 +129,7 @@ impl Firmware {
                 defmt::warn!("v2x: dropped: {=str}", r.as_str());
                 None
             }
-            V2xOutcome::Unchanged(_) | V2xOutcome::Other(_) => None,
+            V2xOutcome::Unchanged(_) | V2xOutcome::Repeat(_) | V2xOutcome::Other(_) => None,
         }
     }
 

@@ -81,14 +81,17 @@ fn reason(expect: &str, name: &str) -> Option<DropReason> {
     Some(match expect {
         "valid" if name.contains("_self_") => DropReason::SelfSigned,
         "valid" if name.contains("_digest_") => DropReason::SignerUnknown,
-        "valid" => return None,
+        "valid" | "valid (repeat)" => return None,
         "signature does not verify" => DropReason::SignatureInvalid,
+        "PSID is not the message type's" => DropReason::PsidMismatch,
+        "signer certificate not known" => DropReason::SignerUnknown,
+        "expiry time not after generation time" => DropReason::ExpiryBeforeGeneration,
+        "lifetime longer than allowed" => DropReason::LifetimeTooLong,
         "PSID not permitted by the signer certificate" => DropReason::PsidNotPermitted,
         "signer certificate expired" => DropReason::CertificateExpired,
         "signer certificate not yet valid" => DropReason::CertificateNotYetValid,
         "chain does not reach a trust anchor" => DropReason::ChainUntrusted,
         "generation location outside the certificate region" => DropReason::RegionMiss,
-        "replay" => DropReason::Replay,
         _ => DropReason::EnvelopeOther, // time cases: not checked here (one clock)
     })
 }
@@ -149,15 +152,15 @@ mod tests {
                 );
                 if name.contains("_tim_") {
                     assert_eq!(
-                        d.changed + d.unchanged,
-                        c.changed + c.unchanged + 1,
+                        d.changed + d.unchanged + d.repeats,
+                        c.changed + c.unchanged + c.repeats + 1,
                         "taken"
                     );
                 }
                 accepted += 1;
                 continue;
             };
-            if want == DropReason::EnvelopeOther || want == DropReason::Replay {
+            if want == DropReason::EnvelopeOther {
                 continue;
             }
             st.reset();

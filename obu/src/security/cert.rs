@@ -8,6 +8,7 @@ use j2735::envelope::ieee1609dot2::crypto::{
 use j2735::envelope::ieee1609dot2::{
     Certificate, CertificateKind, Issuer, Ssp, SubjectPermissions, ValidityPeriod,
 };
+use j2735::envelope::Psid;
 
 use super::region::{Region, RegionError};
 use super::Rejection;
@@ -24,9 +25,9 @@ pub struct TrustedCert {
     /// Its validity period.
     pub validity: ValidityPeriod,
     /// `appPermissions`: the PSIDs it may sign, each with its opaque SSP if it has one.
-    pub app_psids: Vec<(u32, Option<Vec<u8, MAX_SSP>>), MAX_CERT_PSIDS>,
+    pub app_psids: Vec<(Psid, Option<Vec<u8, MAX_SSP>>), MAX_CERT_PSIDS>,
     /// `certIssuePermissions`: the PSIDs it may certify (`issue_all`: any).
-    pub issue_psids: Vec<u32, MAX_CERT_PSIDS>,
+    pub issue_psids: Vec<Psid, MAX_CERT_PSIDS>,
     /// `certIssuePermissions` has `all`.
     pub issue_all: bool,
     /// Its region, if it has one.
@@ -43,7 +44,7 @@ impl TrustedCert {
 
     /// Whether it may sign `psid`, and the opaque SSP it grants with it (`Some(None)`: the
     /// PSID without SSP).
-    pub fn permission(&self, psid: u32) -> Option<Option<&[u8]>> {
+    pub fn permission(&self, psid: Psid) -> Option<Option<&[u8]>> {
         self.app_psids
             .iter()
             .find(|(p, _)| *p == psid)
@@ -51,7 +52,7 @@ impl TrustedCert {
     }
 
     /// Whether it may certify `psid`.
-    pub fn may_issue(&self, psid: u32) -> bool {
+    pub fn may_issue(&self, psid: Psid) -> bool {
         self.issue_all || self.issue_psids.contains(&psid)
     }
 
@@ -135,7 +136,7 @@ impl TrustedCert {
     pub fn issue(
         &self,
         cert: &Certificate<'_>,
-        psids: &[u32],
+        psids: &[Psid],
         generator: &GeneratorTable,
     ) -> Result<Self, Rejection> {
         if cert.issuer != Issuer::Sha256Digest(self.id8()) {

@@ -2,8 +2,10 @@
 //! the daemon and the firmware; no heap.
 //!
 //! [`Trust::check`] takes a parsed signed message, the `messageId` of the frame inside, the
-//! GNSS time (`Time64`) and the vehicle position, and accepts it or names the
-//! [`Rejection`] (counted as [`DropGroup::Security`](crate::v2x::DropGroup)):
+//! GNSS time (`Time64`) and the vehicle position, and accepts it (verified, or a repeat) or
+//! names the [`Rejection`] (counted as [`DropGroup::Security`](crate::v2x::DropGroup)). Each
+//! message type has its [`SecurityProfile`] (PSID, SSP, time rules, duplicates); the checks,
+//! in order:
 //!
 //! 1. SHA-256 and ECDSA P-256 only; `self` signers are refused (no certificate ties the
 //!    key to a sender).
@@ -13,15 +15,20 @@
 //!    reconstruction (implicit), validity inside its issuer's, and the issuer's permission
 //!    to certify the PSID. The verified signer is cached, so the next message signed by
 //!    the same certificate (as `digest` or as `certificate`) costs one signature check.
-//! 3. The signer certificate: valid at the generation time and now, it permits the PSID
-//!    (with the SSP the settings require for the message, if any), and its region holds the
-//!    generation location (or the vehicle's position).
-//! 4. The PSID is the one configured for the message (TIM, MAP; PSM: [`PSID_PSM`]).
-//! 5. Times: a generation time within the allowed skew of GNSS time, not past expiry.
-//! 6. Replay: the same generation time and signature hash accepted before.
-//! 7. The signature over `SHA-256(SHA-256(ToBeSignedData) || SHA-256(signer certificate))`,
-//!    unless this signer's signature on the same payload was verified less than
-//!    [`SecurityConfig::reverify_ms`] ago (a roadside repeats each message at 10 Hz).
+//!    The signer certificate permits the PSID (with the profile's SSP, if any), the PSID is
+//!    the profile's, and the certificate's region holds the generation location (or the
+//!    vehicle's position).
+//! 3. The signature over `SHA-256(SHA-256(ToBeSignedData) || SHA-256(signer certificate))`,
+//!    unless the message is byte-identical to one accepted and still relevant (a repeat:
+//!    one hash, no ECDSA), or this signer's signature on the same payload was verified less
+//!    than [`SecurityConfig::reverify_ms`] ago (a roadside signing each transmission anew).
+//! 4. Times ([`SecurityProfile`]): generation time before expiry time, their distance at
+//!    most the longest lifetime, the generation time at most the future tolerance ahead of
+//!    GNSS time, the signer certificate valid at the generation time and now; with an
+//!    expiry time the message is relevant until it (plus the future tolerance), without one
+//!    for the past window after its generation.
+//! 5. Duplicates: a byte-identical copy of an accepted message is a repeat
+//!    ([`Accepted::Repeat`]) or, where the profile says so, a [`Rejection::Replay`].
 //!
 //! Not checked (stated so that no one relies on it): certificate revocation (CRLs),
 //! `minChainLength`, SSP semantics beyond an exact match of the configured octets, SSP
@@ -29,77 +36,114 @@
 //! certificates without their own.
 
 mod cert;
+mod profile;
 mod region;
 mod rejection;
-mod replay;
+mod repeats;
 #[cfg(test)]
 mod tests;
+mod times;
 
 pub use cert::TrustedCert;
+pub use profile::{Duplicates, SecurityProfile};
 pub use region::{Region, RegionError};
 pub use rejection::Rejection;
-pub use replay::ReplayWindow;
+pub use repeats::{RepeatCache, Seen};
 
 use heapless::Vec;
 use j2735::envelope::ieee1609dot2::crypto::{sha256, signing_digest_with, GeneratorTable};
 use j2735::envelope::ieee1609dot2::{
     Certificate, HashAlgorithm, Issuer, SignatureScheme, SignedData, SignerIdentifier,
 };
+use j2735::envelope::Psid;
 use j2735::frame::Message;
 use j2735::personal_safety_message::PersonalSafetyMessage;
+use j2735::SPAT;
 use j2735::{MapData, TravelerInformation};
 
 use crate::capacity::{MAX_CACHED_CERTS, MAX_CHAIN, MAX_RECENT, MAX_TRUST_ANCHORS};
 use crate::geo::LatLon;
 
-/// The PSID of TIM (SAE J2735 traveler information).
-pub const PSID_TIM: u32 = 0x8003;
-/// The PSID of MAP (SAE J2735 / J2945 intersection and road geometry).
-pub const PSID_MAP: u32 = 0xE000_0017;
-/// The PSID of PSM (SAE J2945/9 vulnerable road user safety): a signed PSM must carry it.
-/// PSMs pass every check a TIM does (chain to a configured anchor, PSID permission, region,
-/// times, replay); no SSP is required of them.
-pub const PSID_PSM: u32 = 0x27;
+/// The PSID of TIM (SAE J2735 traveler information): 131, p-encoded `0x8003`.
+pub const PSID_TIM: Psid = Psid::TIM;
+/// The PSID of MAP (SAE J2735 / J2945 intersection and road geometry): 2113687, p-encoded
+/// `0xE0000017`.
+pub const PSID_MAP: Psid = Psid::MAP;
+/// The PSID of PSM (SAE J2945/9 vulnerable road user safety): 39, p-encoded `0x27`. PSMs
+/// pass every check a TIM does (chain to a configured anchor, PSID permission, region,
+/// times); no SSP is required of them by default, and a copy of one is a replay.
+pub const PSID_PSM: Psid = Psid::PSM;
 
-/// The trust policy's settings.
+/// The trust policy's settings: one [`SecurityProfile`] per message type.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct SecurityConfig {
     /// Drop unsigned MAP, TIM and PSM. Off: they are used, marked unverified, and can never
     /// replace, refresh, cancel or evict data that came verified.
     pub require_signed: bool,
-    /// Largest allowed distance between a generation time and GNSS time, milliseconds.
-    pub max_skew_ms: u32,
-    /// The PSID a signed TIM must carry.
-    pub tim_psid: u32,
-    /// The PSID a signed MAP must carry.
-    pub map_psid: u32,
-    /// The service-specific permissions a signed TIM's signer certificate must grant with
-    /// its PSID ([`RequiredSsp::NONE`]: any, or none).
-    pub tim_ssp: RequiredSsp,
-    /// The same for MAP.
-    pub map_ssp: RequiredSsp,
+    /// Signed MAP.
+    pub map: SecurityProfile,
+    /// Signed TIM.
+    pub tim: SecurityProfile,
+    /// Signed PSM.
+    pub psm: SecurityProfile,
+    /// Signed SPaT (the row is ready; the OBU does not use SPaT yet).
+    pub spat: SecurityProfile,
     /// A frame whose payload is byte-identical to one this signer's signature was verified
     /// on less than this long ago (milliseconds of GNSS time), and that passes every other
-    /// check (certificate, PSID, region, times, replay), is taken without verifying its
-    /// signature again; 0 verifies every frame. A roadside repeats each MAP and TIM at 10 Hz:
-    /// this verifies each payload about once a second (what the firmware's CPU can afford),
-    /// and a forger can at most keep a zone that was really broadcast alive this much longer
+    /// check, is taken without verifying its signature again; 0 verifies every frame. A
+    /// roadside that signs each transmission anew repeats each payload at 10 Hz: this
+    /// verifies each payload about once a second (what the firmware's CPU can afford), and a
+    /// forger can at most keep a zone that was really broadcast alive this much longer
     /// (never change, cancel or add one).
     pub reverify_ms: u32,
 }
 
 impl SecurityConfig {
-    /// Signatures required, 30 s skew, the standard PSIDs.
+    /// Signatures required, each message type's default profile
+    /// ([`SecurityProfile::roadside`], [`SecurityProfile::PSM`]).
     pub const DEFAULT: Self = Self {
         require_signed: true,
-        max_skew_ms: 30_000,
-        tim_psid: PSID_TIM,
-        map_psid: PSID_MAP,
-        tim_ssp: RequiredSsp::NONE,
-        map_ssp: RequiredSsp::NONE,
+        map: SecurityProfile::MAP,
+        tim: SecurityProfile::TIM,
+        psm: SecurityProfile::PSM,
+        spat: SecurityProfile::SPAT,
         reverify_ms: 1000,
     };
+
+    /// The profile of the message `message_id`, if the OBU uses it (MAP, TIM, PSM).
+    pub fn profile(&self, message_id: u16) -> Option<&SecurityProfile> {
+        match message_id {
+            TravelerInformation::MESSAGE_ID => Some(&self.tim),
+            MapData::MESSAGE_ID => Some(&self.map),
+            PersonalSafetyMessage::MESSAGE_ID => Some(&self.psm),
+            _ => None,
+        }
+    }
+
+    /// Every row with its message's name (`map`, `tim`, `psm`, `spat`).
+    pub fn rows(&self) -> [(&'static str, &SecurityProfile); 4] {
+        [
+            ("map", &self.map),
+            ("tim", &self.tim),
+            ("psm", &self.psm),
+            ("spat", &self.spat),
+        ]
+    }
+}
+
+/// The `messageId` of SPaT, for the SPaT row.
+pub const SPAT_MESSAGE_ID: u16 = SPAT::MESSAGE_ID;
+
+/// How a signed message was accepted.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Accepted {
+    /// Its signature was verified (or this signer's signature on the same payload was,
+    /// lately).
+    Verified,
+    /// A byte-identical copy of a message accepted before and still relevant: what an RSU
+    /// repeats. It refreshes what it carries.
+    Repeat,
 }
 
 /// Opaque service-specific permissions (SSP) that a signer certificate must grant with a
@@ -184,7 +228,7 @@ pub struct CheckContext {
     pub position: Option<LatLon>,
 }
 
-/// Trust anchors, the cache of verified signer certificates and the replay window.
+/// Trust anchors, the cache of verified signer certificates and the repeat cache.
 #[derive(Debug, Clone)]
 pub struct Trust {
     /// False until settings are given: [`SecurityConfig::DEFAULT`] applies. Kept apart so
@@ -194,7 +238,7 @@ pub struct Trust {
     config: SecurityConfig,
     anchors: Vec<TrustedCert, MAX_TRUST_ANCHORS>,
     cache: Vec<TrustedCert, MAX_CACHED_CERTS>,
-    replay: ReplayWindow,
+    repeats: RepeatCache,
     /// The generator's multiples, made at the first check.
     generator: Option<GeneratorTable>,
     /// Payloads whose signature was verified lately (see [`SecurityConfig::reverify_ms`]).
@@ -206,7 +250,7 @@ pub struct Trust {
 struct Recent {
     payload: [u8; 16],
     signer: [u8; 32],
-    psid: u32,
+    psid: Psid,
     verified_us: u64,
 }
 
@@ -224,7 +268,7 @@ impl Trust {
             config,
             anchors: Vec::new(),
             cache: Vec::new(),
-            replay: ReplayWindow::new(),
+            repeats: RepeatCache::new(),
             generator: None,
             recent: Vec::new(),
         }
@@ -236,16 +280,15 @@ impl Trust {
             configured: false,
             config: SecurityConfig {
                 require_signed: false,
-                max_skew_ms: 0,
-                tim_psid: 0,
-                map_psid: 0,
-                tim_ssp: RequiredSsp::NONE,
-                map_ssp: RequiredSsp::NONE,
+                map: SecurityProfile::ZERO,
+                tim: SecurityProfile::ZERO,
+                psm: SecurityProfile::ZERO,
+                spat: SecurityProfile::ZERO,
                 reverify_ms: 0,
             },
             anchors: Vec::new(),
             cache: Vec::new(),
-            replay: ReplayWindow::new(),
+            repeats: RepeatCache::new(),
             generator: None,
             recent: Vec::new(),
         }
@@ -253,10 +296,15 @@ impl Trust {
 
     /// The settings.
     pub fn config(&self) -> SecurityConfig {
+        *self.settings()
+    }
+
+    /// The settings in force.
+    fn settings(&self) -> &SecurityConfig {
         if self.configured {
-            self.config
+            &self.config
         } else {
-            SecurityConfig::DEFAULT
+            &SecurityConfig::DEFAULT
         }
     }
 
@@ -290,118 +338,95 @@ impl Trust {
         self.cache.len()
     }
 
-    /// The PSID configured for `message_id`, if the OBU uses that message.
-    pub fn psid_for(&self, message_id: u16) -> Option<u32> {
-        let config = self.config();
-        match message_id {
-            TravelerInformation::MESSAGE_ID => Some(config.tim_psid),
-            MapData::MESSAGE_ID => Some(config.map_psid),
-            PersonalSafetyMessage::MESSAGE_ID => Some(PSID_PSM),
-            _ => None,
-        }
+    /// Number of accepted messages remembered (while relevant) for the repeat check.
+    pub fn remembered(&self) -> usize {
+        self.repeats.len()
     }
 
-    /// The SSP required for `message_id`.
-    fn ssp_for(&self, message_id: u16) -> RequiredSsp {
-        let config = self.config();
-        match message_id {
-            TravelerInformation::MESSAGE_ID => config.tim_ssp,
-            MapData::MESSAGE_ID => config.map_ssp,
-            _ => RequiredSsp::NONE,
-        }
+    /// The PSID configured for `message_id`, if the OBU uses that message.
+    pub fn psid_for(&self, message_id: u16) -> Option<Psid> {
+        self.settings().profile(message_id).map(|p| p.psid)
     }
 
     /// Accepts `signed` (see the [module docs](self)) or names why not. An accepted
-    /// message is remembered for the replay check.
+    /// message is remembered, while it is relevant, for the repeat check.
     ///
     /// # Errors
     ///
     /// The [`Rejection`] of the first check that fails.
-    pub fn check(&mut self, signed: &SignedData<'_>, ctx: &CheckContext) -> Result<(), Rejection> {
+    pub fn check(
+        &mut self,
+        signed: &SignedData<'_>,
+        ctx: &CheckContext,
+    ) -> Result<Accepted, Rejection> {
         let header = &signed.header;
         if signed.hash_algorithm != HashAlgorithm::Sha256
             || signed.signature.scheme != SignatureScheme::EcdsaNistP256
         {
             return Err(Rejection::UnsupportedAlgorithm);
         }
-        let generated = header.generation_time.ok_or(Rejection::NoGenerationTime)?.0;
-        let now = nearer_clock(ctx.now_us, ctx.alt_now_us, generated).ok_or(Rejection::NoTime)?;
-        if self.generator.is_none() {
-            self.generator = Some(GeneratorTable::new());
-        }
+        let profile = *self
+            .settings()
+            .profile(ctx.message_id)
+            .ok_or(Rejection::PsidMismatch)?;
+        let generated = header.generation_time.map(|t| t.0);
+        let expiry = header.expiry_time.map(|t| t.0);
+        let reference = generated.or(expiry).ok_or(Rejection::NoGenerationTime)?;
+        let now = nearer_clock(ctx.now_us, ctx.alt_now_us, reference).ok_or(Rejection::NoTime)?;
         let index = self.signer(&signed.signer, header.psid)?;
-        let signer = &self.cache[index];
-        self.check_certified(signer, signed, ctx, now)?;
-        let skew = u64::from(self.config().max_skew_ms) * 1000;
-        if generated > now.saturating_add(skew) {
-            return Err(Rejection::GenerationTimeFuture);
+        check_certified(&self.cache[index], &profile, signed, ctx)?;
+        let signer_hash = self.cache[index].hash;
+        let digest = signing_digest_with(signed.to_be_signed, &signer_hash);
+        let tag = spdu_tag(&digest, signed);
+        let replay_profile = profile.duplicates == Duplicates::Replay;
+        let seen = self.repeats.find(&tag, reference, replay_profile);
+        if seen == Seen::New {
+            self.verify_signature(index, signed, &digest, ctx.now_us.unwrap_or(now))?;
         }
-        if generated < now.saturating_sub(skew) {
-            return Err(Rejection::GenerationTimeOld);
+        let relevant_until = times::check(&profile, generated, expiry, now)?;
+        let at = generated.unwrap_or(now);
+        check_validity(&self.cache[index], at.min(now), at.max(now))?;
+        if seen == Seen::Before {
+            return match profile.duplicates {
+                Duplicates::Repeat => Ok(Accepted::Repeat),
+                Duplicates::Replay => Err(Rejection::Replay),
+            };
         }
-        if header.expiry_time.is_some_and(|e| e.0 < now) {
-            return Err(Rejection::MessageExpired);
-        }
-        let digest = signing_digest_with(signed.to_be_signed, &signer.hash);
-        if !self.replay.is_new(generated, &digest) {
-            return Err(Rejection::Replay);
-        }
-        let payload = signed.payload.data.map(|d| payload_tag(d.encoded()));
-        let signer_hash = signer.hash;
-        // The re-verification cache runs on one clock only (GNSS when known), so that a
-        // message checked on the other clock can never look "verified lately".
-        let cache_clock = ctx.now_us.unwrap_or(now);
-        if !self.verified_lately(payload, &signer_hash, header.psid, cache_clock) {
-            let generator = self.generator.as_ref().ok_or(Rejection::SignatureInvalid)?;
-            self.cache[index]
-                .key
-                .verify(generator, &digest, &signed.signature)
-                .map_err(|_| Rejection::SignatureInvalid)?;
-            if let Some(payload) = payload {
-                self.remember(payload, signer_hash, header.psid, cache_clock);
-            }
-        }
-        // Forget only what is old on both clocks: a message one clock forgot could still pass
-        // the time check on the other.
+        // Forget only what is no longer relevant on both clocks: a message one clock forgot
+        // could still pass the time check on the other.
         let earliest = match (ctx.now_us, ctx.alt_now_us) {
             (Some(a), Some(b)) => a.min(b),
             _ => now,
         };
-        self.replay
-            .record(generated, &digest, earliest.saturating_sub(skew));
-        Ok(())
+        self.repeats
+            .record(tag, reference, relevant_until, replay_profile, earliest);
+        Ok(Accepted::Verified)
     }
 
-    /// The checks against the signer certificate: validity (at generation and at `now`),
-    /// PSID, region.
-    fn check_certified(
-        &self,
-        signer: &TrustedCert,
+    /// Verifies the signature of `signed` (its signing digest `digest`) with the cached
+    /// signer `index`, unless this signer's signature on the same payload was verified
+    /// lately. The re-verification cache runs on one clock only (`cache_clock`: GNSS when
+    /// known), so that a message checked on the other clock can never look "verified lately".
+    fn verify_signature(
+        &mut self,
+        index: usize,
         signed: &SignedData<'_>,
-        ctx: &CheckContext,
-        now: u64,
+        digest: &[u8; 32],
+        cache_clock: u64,
     ) -> Result<(), Rejection> {
-        let header = &signed.header;
-        let generated = header.generation_time.map_or(0, |t| t.0);
-        check_validity(signer, generated.min(now), generated.max(now))?;
-        let Some(granted) = signer.permission(header.psid) else {
-            return Err(Rejection::PsidNotPermitted);
-        };
-        if self.psid_for(ctx.message_id) != Some(header.psid) {
-            return Err(Rejection::PsidMismatch);
+        let psid = signed.header.psid;
+        let payload = signed.payload.data.map(|d| payload_tag(d.encoded()));
+        let signer_hash = self.cache[index].hash;
+        if self.verified_lately(payload, &signer_hash, psid, cache_clock) {
+            return Ok(());
         }
-        let required = self.ssp_for(ctx.message_id);
-        if !required.as_bytes().is_empty() && granted != Some(required.as_bytes()) {
-            return Err(Rejection::SspNotPermitted);
-        }
-        if let Some(region) = &signer.region {
-            let at = match header.generation_location {
-                Some(l) => LatLon::new(l.latitude, l.longitude),
-                None => ctx.position,
-            };
-            if !region.contains(at.ok_or(Rejection::NoLocation)?) {
-                return Err(Rejection::RegionMiss);
-            }
+        let generator = self.generator.get_or_insert_with(GeneratorTable::new);
+        self.cache[index]
+            .key
+            .verify(generator, digest, &signed.signature)
+            .map_err(|_| Rejection::SignatureInvalid)?;
+        if let Some(payload) = payload {
+            self.remember(payload, signer_hash, psid, cache_clock);
         }
         Ok(())
     }
@@ -412,7 +437,7 @@ impl Trust {
         &self,
         payload: Option<[u8; 16]>,
         signer: &[u8; 32],
-        psid: u32,
+        psid: Psid,
         now: u64,
     ) -> bool {
         let window = u64::from(self.config().reverify_ms) * 1000;
@@ -430,7 +455,7 @@ impl Trust {
     }
 
     /// Records a verified payload (replacing its older entry, else the oldest entry).
-    fn remember(&mut self, payload: [u8; 16], signer: [u8; 32], psid: u32, now: u64) {
+    fn remember(&mut self, payload: [u8; 16], signer: [u8; 32], psid: Psid, now: u64) {
         let entry = Recent {
             payload,
             signer,
@@ -449,7 +474,7 @@ impl Trust {
 
     /// The trusted signer certificate of a message with `psid`: cached, or verified along
     /// its chain from an anchor and then cached.
-    fn signer(&mut self, signer: &SignerIdentifier<'_>, psid: u32) -> Result<usize, Rejection> {
+    fn signer(&mut self, signer: &SignerIdentifier<'_>, psid: Psid) -> Result<usize, Rejection> {
         match signer {
             SignerIdentifier::SelfSigned => Err(Rejection::SelfSigned),
             SignerIdentifier::Digest(id) => {
@@ -480,7 +505,7 @@ impl Trust {
     /// check's reason (the issuer must be allowed to certify each of its PSIDs).
     pub fn learn(&mut self, coer: &[u8]) -> Result<(), Rejection> {
         let cert = Certificate::parse(coer).map_err(|_| Rejection::CertificateMalformed)?;
-        let mut psids: Vec<u32, { crate::capacity::MAX_CERT_PSIDS }> = Vec::new();
+        let mut psids: Vec<Psid, { crate::capacity::MAX_CERT_PSIDS }> = Vec::new();
         for p in cert.app_permissions.iter().flat_map(|l| l.iter()) {
             psids
                 .push(p.psid)
@@ -499,7 +524,7 @@ impl Trust {
         &mut self,
         certs: impl Iterator<Item = Certificate<'a>>,
         len: usize,
-        psids: &[u32],
+        psids: &[Psid],
     ) -> Result<TrustedCert, Rejection> {
         if len > MAX_CHAIN || len == 0 {
             return Err(Rejection::ChainTooLong);
@@ -540,6 +565,55 @@ impl Trust {
         let _ = self.cache.push(cert);
         self.cache.len() - 1
     }
+}
+
+/// The checks against the signer certificate: PSID (permitted, and the profile's), SSP,
+/// region.
+fn check_certified(
+    signer: &TrustedCert,
+    profile: &SecurityProfile,
+    signed: &SignedData<'_>,
+    ctx: &CheckContext,
+) -> Result<(), Rejection> {
+    let header = &signed.header;
+    let Some(granted) = signer.permission(header.psid) else {
+        return Err(Rejection::PsidNotPermitted);
+    };
+    if profile.psid != header.psid {
+        return Err(Rejection::PsidMismatch);
+    }
+    let required = profile.ssp;
+    if !required.as_bytes().is_empty() && granted != Some(required.as_bytes()) {
+        return Err(Rejection::SspNotPermitted);
+    }
+    if let Some(region) = &signer.region {
+        let at = match header.generation_location {
+            Some(l) => LatLon::new(l.latitude, l.longitude),
+            None => ctx.position,
+        };
+        if !region.contains(at.ok_or(Rejection::NoLocation)?) {
+            return Err(Rejection::RegionMiss);
+        }
+    }
+    Ok(())
+}
+
+/// The tag of a signed message as sent: SHA-256 over its signing digest (which covers the
+/// signed data and the signer certificate) and its signature, first 16 octets.
+fn spdu_tag(digest: &[u8; 32], signed: &SignedData<'_>) -> [u8; 16] {
+    let signature = &signed.signature;
+    let mut input = [0u8; 32 + 1 + 32 + 32];
+    input[..32].copy_from_slice(digest);
+    input[32] = signature.r.form as u8;
+    for (to, from) in input[33..65].iter_mut().zip(signature.r.x) {
+        *to = *from;
+    }
+    for (to, from) in input[65..].iter_mut().zip(signature.s) {
+        *to = *from;
+    }
+    let mut tag = [0u8; 16];
+    tag.copy_from_slice(&sha256(&input)[..16]);
+    tag
 }
 
 /// The first 16 octets of SHA-256 of a signed payload.

@@ -10,13 +10,19 @@ pub enum Rejection {
     NoGenerationTime,
     /// No GNSS time yet to check times against.
     NoTime,
-    /// Generated further in the future than the allowed skew.
+    /// Generated further ahead of GNSS time than the profile's future tolerance.
     GenerationTimeFuture,
-    /// Generated longer ago than the allowed skew.
+    /// No expiry time, and generated longer ago than the profile's past window.
     GenerationTimeOld,
-    /// Past the header's expiry time.
+    /// Past the header's expiry time (plus the future tolerance).
     MessageExpired,
-    /// The same signed data (generation time and hash) was accepted before.
+    /// The profile requires an expiry time and the header has none.
+    NoExpiryTime,
+    /// The expiry time is not after the generation time.
+    ExpiryBeforeGeneration,
+    /// Generation to expiry is longer than the profile's longest lifetime.
+    LifetimeTooLong,
+    /// A copy of a message accepted before, for a message type whose copies are replays.
     Replay,
     /// The signer certificate does not permit the message's PSID.
     PsidNotPermitted,

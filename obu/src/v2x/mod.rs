@@ -24,7 +24,7 @@ use j2735::uper::Placeholder;
 use j2735::{MapData, TravelerInformation};
 
 use crate::ingest::Ingest;
-use crate::security::{CheckContext, SecurityConfig, Trust};
+use crate::security::{Accepted, CheckContext, SecurityConfig, Trust};
 use crate::store::Provenance;
 use crate::time::Instant;
 use crate::Obu;
@@ -41,6 +41,12 @@ pub enum V2xOutcome {
     /// PSM that moved a known worker without changing its alert (shown with the next fix's
     /// state: a PSM per worker at 10 Hz would otherwise flood the display link).
     Unchanged(u16),
+    /// A signed MAP, TIM or PSM (its `messageId`) byte-identical to one accepted before and
+    /// still relevant, as an RSU repeats what it was given signed once
+    /// ([`Accepted::Repeat`](crate::security::Accepted)): checked for the cost of a hash, no
+    /// signature verification; it refreshed what it carries (a zone repeated on the air is
+    /// never aged out), and changed nothing else.
+    Repeat(u16),
     /// A message the OBU does not use, by `messageId` (its content is not decoded).
     Other(u16),
     /// Not used, for this reason.
@@ -180,6 +186,7 @@ impl Obu {
             decode_message_into(frame, psm).map_err(DropReason::from_decode)?;
             self.psm_due(now, psm).map_err(DropReason::from_ingest)?;
         }
+        let mut accepted = Accepted::Verified;
         let provenance = match signed {
             Some(signed) => {
                 let ctx = CheckContext {
@@ -188,7 +195,7 @@ impl Obu {
                     alt_now_us: self.alt_time64(now),
                     position: self.position(),
                 };
-                trust.check(&signed, &ctx).map_err(DropReason::from)?;
+                accepted = trust.check(&signed, &ctx).map_err(DropReason::from)?;
                 Provenance::Verified
             }
             None if trust.config().require_signed => return Err(DropReason::Unsigned),
@@ -214,6 +221,8 @@ impl Obu {
             Ok(V2xOutcome::Changed(id))
         } else if report.refused_unverified > 0 {
             Err(DropReason::UnverifiedOverVerified)
+        } else if accepted == Accepted::Repeat {
+            Ok(V2xOutcome::Repeat(id))
         } else {
             Ok(V2xOutcome::Unchanged(id))
         }
@@ -241,6 +250,8 @@ pub struct V2xCounters {
     pub changed: u32,
     /// MAP or TIM that only refreshed what is stored.
     pub unchanged: u32,
+    /// Signed messages that were repeats of accepted ones ([`V2xOutcome::Repeat`]).
+    pub repeats: u32,
     /// Messages the OBU does not use.
     pub other: u32,
     /// Drops, by [`DropReason::index`].
@@ -252,6 +263,7 @@ impl V2xCounters {
     pub const ZERO: Self = Self {
         changed: 0,
         unchanged: 0,
+        repeats: 0,
         other: 0,
         dropped: [0; DropReason::COUNT],
     };
@@ -261,6 +273,7 @@ impl V2xCounters {
         let n = match outcome {
             V2xOutcome::Changed(_) => &mut self.changed,
             V2xOutcome::Unchanged(_) => &mut self.unchanged,
+            V2xOutcome::Repeat(_) => &mut self.repeats,
             V2xOutcome::Other(_) => &mut self.other,
             V2xOutcome::Dropped(r) => &mut self.dropped[r.index()],
         };
@@ -285,6 +298,7 @@ impl V2xCounters {
         let taken = self
             .changed
             .saturating_add(self.unchanged)
+            .saturating_add(self.repeats)
             .saturating_add(self.other);
         self.dropped.iter().fold(taken, |a, &b| a.saturating_add(b))
     }

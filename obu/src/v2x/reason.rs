@@ -199,14 +199,20 @@ drop_reasons! {
     NoGenerationTime: Security = "1609.2: no generation time",
     /// Security: no GNSS time yet to check times against.
     NoTime: Security = "1609.2: no GNSS time to check against",
-    /// Security: generated further in the future than the allowed skew.
+    /// Security: generated further ahead of GNSS time than the future tolerance.
     GenerationTimeFuture: Security = "1609.2: generation time in the future",
-    /// Security: generated longer ago than the allowed skew.
+    /// Security: no expiry time, and generated longer ago than the past window.
     GenerationTimeOld: Security = "1609.2: generation time too old",
     /// Security: past the header's expiry time.
     MessageExpired: Security = "1609.2: message expired",
-    /// Security: the same signed data (generation time and hash) was accepted before.
+    /// Security: a copy of an accepted message whose copies are replays (PSM).
     Replay: Security = "1609.2: replay",
+    /// Security: the profile requires an expiry time and the header has none.
+    NoExpiryTime: Security = "1609.2: no expiry time",
+    /// Security: the expiry time is not after the generation time.
+    ExpiryBeforeGeneration: Security = "1609.2: expiry time before generation time",
+    /// Security: generation to expiry is longer than the profile allows.
+    LifetimeTooLong: Security = "1609.2: lifetime longer than allowed",
     /// Security: a certificate given out of band is not one canonical COER certificate.
     CertificateMalformed: Security = "1609.2: certificate malformed",
     /// Security: the signer certificate does not grant the required SSP.
@@ -235,6 +241,9 @@ impl From<Rejection> for DropReason {
             Rejection::GenerationTimeOld => Self::GenerationTimeOld,
             Rejection::MessageExpired => Self::MessageExpired,
             Rejection::Replay => Self::Replay,
+            Rejection::NoExpiryTime => Self::NoExpiryTime,
+            Rejection::ExpiryBeforeGeneration => Self::ExpiryBeforeGeneration,
+            Rejection::LifetimeTooLong => Self::LifetimeTooLong,
             Rejection::PsidNotPermitted => Self::PsidNotPermitted,
             Rejection::PsidMismatch => Self::PsidMismatch,
             Rejection::SspNotPermitted => Self::SspNotPermitted,

@@ -253,10 +253,8 @@ mod signed {
                 obu.on_datagram(t, &v.coer, &mut rx),
                 V2xOutcome::Changed(id)
             );
-            assert_eq!(
-                obu.on_datagram(t, &v.coer, &mut rx),
-                V2xOutcome::Dropped(DropReason::Replay)
-            );
+            // The same bytes again: what an RSU repeats, taken as a repeat.
+            assert_eq!(obu.on_datagram(t, &v.coer, &mut rx), V2xOutcome::Repeat(id));
             // The bare frame inside, unsigned: signatures are required.
             assert_eq!(
                 obu.on_datagram(t, &v.frame, &mut rx),
@@ -268,6 +266,30 @@ mod signed {
                 (obu.zones().len() as u8, 0)
             );
             assert!(state.zones > 0);
+        });
+    }
+
+    #[test]
+    fn a_tim_signed_two_hours_ago_with_a_days_expiry_is_shown_and_its_copies_are_repeats() {
+        big_stack(|| {
+            let v = named("valid_tim_signed_once_expiry_ahead");
+            let mut obu = Box::new(Obu::default());
+            let mut rx = receiver(&v, true);
+            let t = Instant::from_millis(10);
+            obu.on_fix(t, fix_at_vector_time(&v));
+            let id = TravelerInformation::MESSAGE_ID;
+            let mut counters = V2xCounters::ZERO;
+            let first = obu.on_datagram(t, &v.coer, &mut rx);
+            assert_eq!(first, V2xOutcome::Changed(id));
+            counters.record(first);
+            for _ in 0..10 {
+                let again = obu.on_datagram(t, &v.coer, &mut rx);
+                assert_eq!(again, V2xOutcome::Repeat(id));
+                counters.record(again);
+            }
+            assert_eq!((counters.changed, counters.repeats), (1, 10));
+            assert_eq!(counters.dropped_in(DropGroup::Security), 0);
+            assert!(obu.state(t).zones > 0);
         });
     }
 

@@ -4,6 +4,7 @@
 use j2735::envelope::ieee1609dot2::{
     encode_unsecured, looks_like_ieee1609dot2, unsecured_encoded_len,
 };
+use j2735::envelope::Psid;
 use j2735::message_frame::message_short_name;
 use std::fmt;
 use std::sync::{Arc, Mutex, PoisonError};
@@ -61,14 +62,15 @@ impl MessageKind {
         }
     }
 
-    /// The PSID deployed RSUs use for it: 0x8002 for MAP and SPaT, 0x8003 for TIM,
-    /// 0x20 for BSM, 0x27 for PSM; `None` for the others (give one).
-    pub const fn default_psid(self) -> Option<u32> {
+    /// The PSID deployed RSUs forward it with (RSU 4.1 records and the WSMP header write
+    /// its p-encoded octets): SPaT's (`0x8002`) for MAP and SPaT, TIM (`0x8003`), BSM
+    /// (`0x20`), PSM (`0x27`); `None` for the others (give one).
+    pub const fn default_psid(self) -> Option<Psid> {
         match self {
-            Self::Map | Self::Spat => Some(0x8002),
-            Self::Tim => Some(0x8003),
-            Self::Other(20) => Some(0x20),
-            Self::Other(32) => Some(0x27),
+            Self::Map | Self::Spat => Some(Psid::SPAT),
+            Self::Tim => Some(Psid::TIM),
+            Self::Other(20) => Some(Psid::BSM),
+            Self::Other(32) => Some(Psid::PSM),
             Self::Other(_) => None,
         }
     }

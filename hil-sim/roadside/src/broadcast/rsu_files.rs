@@ -4,6 +4,7 @@
 use super::message::{Message, MessageKind};
 use crate::clock::Utc;
 use j2735::envelope::rsu_text::{RsuMessage, RsuPayload, RsuWriteError, TxChannel, TxMode};
+use j2735::envelope::Psid;
 use std::path::{Path, PathBuf};
 use std::{fmt, fs, io};
 
@@ -27,7 +28,7 @@ pub enum RsuDelivery {
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct RsuOptions {
     /// `PSID`; `None`: [`MessageKind::default_psid`] of each message.
-    pub psid: Option<u32>,
+    pub psid: Option<Psid>,
     /// `TxChannel` (172 in most deployments, 183 for C-V2X).
     pub channel: TxChannel,
     /// `TxInterval` of store-and-repeat records, written as given (milliseconds).

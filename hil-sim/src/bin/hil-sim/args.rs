@@ -2,6 +2,7 @@
 //! (`clap` derive).
 
 use clap::{Parser, Subcommand, ValueEnum};
+use j2735::envelope::Psid;
 use std::net::SocketAddr;
 use std::path::PathBuf;
 
@@ -191,9 +192,11 @@ pub struct PkiArgs {
     /// The RSU certificate's region: a circle (degrees, degrees, metres); default: none.
     #[arg(long, value_name = "LAT,LON,RADIUS_M", value_parser = circle)]
     pub region: Option<(i32, i32, u16)>,
-    /// A PSID the RSU may sign (repeat; default: TIM 0x8003, MAP 0xE0000017 and PSM 0x27).
+    /// A PSID the RSU may sign: `0x` hexadecimal is its p-encoded octets, decimal the
+    /// IEEE 1609.2 integer (repeat; default: TIM 0x8003 = 131, MAP 0xE0000017 = 2113687 and
+    /// PSM 0x27 = 39).
     #[arg(long, value_name = "PSID", value_parser = psid)]
-    pub psid: Vec<u32>,
+    pub psid: Vec<Psid>,
     /// The RSU certificate's name.
     #[arg(long, value_name = "HOST", default_value = "rsu.hil-sim.example")]
     pub name: String,
@@ -231,13 +234,14 @@ fn circle(s: &str) -> Result<(i32, i32, u16), String> {
     Ok(((lat * 1e7).round() as i32, (lon * 1e7).round() as i32, r))
 }
 
-/// A PSID in decimal or `0x` hexadecimal.
-fn psid(s: &str) -> Result<u32, String> {
-    let parsed = match s.strip_prefix("0x").or_else(|| s.strip_prefix("0X")) {
-        Some(hex) => u32::from_str_radix(hex, 16),
-        None => s.parse(),
-    };
-    parsed.map_err(|_| format!("{s:?} is not a PSID (decimal or 0x hexadecimal)"))
+/// A PSID: `0x` hexadecimal p-encoded octets, or the decimal integer ([`Psid::parse`]).
+fn psid(s: &str) -> Result<Psid, String> {
+    Psid::parse(s).ok_or_else(|| {
+        format!(
+            "{s:?} is not a PSID: give its p-encoded octets in hexadecimal (0x8003 for TIM) \
+             or the integer in decimal (131)"
+        )
+    })
 }
 
 /// `--wrap`.

@@ -9,6 +9,7 @@ mod run;
 use args::{Cli, Command, PkiArgs, RoadsideArgs, SoakArgs, SynthCameraArgs, Wrap};
 use clap::Parser;
 use hil_sim::{hmi_bench, perf};
+use j2735::envelope::Psid;
 use roadside::broadcast::Wrapping;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -218,7 +219,7 @@ fn pki(a: &PkiArgs) -> Result<(), String> {
         .start
         .unwrap_or(roadside::clock::unix_ms_now() / 86_400_000 * 86_400);
     let psids = if a.psid.is_empty() {
-        vec![0x8003, 0xE000_0017, 0x27]
+        vec![Psid::TIM, Psid::MAP, Psid::PSM]
     } else {
         a.psid.clone()
     };
