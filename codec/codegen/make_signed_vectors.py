@@ -127,6 +127,8 @@ PAST_WINDOW_US = 30 * 1000000
 MAX_LIFETIME_US = 7 * 24 * 3600 * 1000000
 HOUR_US = 3600 * 1000000
 TIM_FRAME, MAP_FRAME = 'tim_work_zone_left_lane_closed', 'map_work_zone'
+# The cancel of TIM_FRAME's first data frame (the same packetID, durationTime 0, msgCnt + 2).
+CANCEL_FRAME = 'tim_cancel_zero_duration'
 
 # ============================================================================ P-256 helper
 P = 0xffffffff00000001000000000000000000000000ffffffffffffffffffffffff
@@ -462,7 +464,7 @@ def frames():
         n for n in by_name if n.startswith('tim'))[0]]
     mp = by_name.get(MAP_FRAME) or by_name[maps[0] if maps else sorted(
         n for n in by_name if n.startswith('map'))[0]]
-    return tim, mp
+    return tim, mp, by_name[CANCEL_FRAME]
 
 
 def flip_bit(b, octet, bit):
@@ -472,7 +474,7 @@ def flip_bit(b, octet, bit):
 
 
 def make_all():
-    tim, mp = frames()
+    tim, mp, cancel = frames()
     c = pki()
     anchors = {'root': c['root'].coer.hex(), 'ca': c['ca'].coer.hex()}
     rsu = c['rsu']
@@ -629,6 +631,22 @@ def make_all():
     add('repeat_2_second', 'repeat', 'valid (repeat)', val, 'certificate', rsu, [rsu], tim,
         PSID_TIM, pair='repeat', differs_from=base,
         note='identical bytes to repeat_1_first, received after it')
+    # the signed cancel of the base TIM's first data frame, a second after it: received after
+    # the base, the base again is superseded (the OBU's tests)
+    val, _, _ = signed(cancel, PSID_TIM, 'certificate', rsu, [rsu], gen=GEN + 1000000,
+                       expiry=EXPIRY + 1000000)
+    add('signed_cancel_of_base', 'valid (the cancel of %s)' % base, 'valid', val,
+        'certificate', rsu, [rsu], cancel, PSID_TIM,
+        note='%s with durationTime 0, the same packetID as %s' % (CANCEL_FRAME, TIM_FRAME))
+    # superseded: the same TIM signed at two times, the newer received first; the older is
+    # valid on its own (within the past window) and must be refused after the newer
+    for name, gen, expect in (('superseded_1_newer', NOW - 1000000, 'valid'),
+                              ('superseded_2_older', NOW - 10 * 1000000,
+                               'superseded by a newer version')):
+        val, _, _ = signed(tim, PSID_TIM, 'certificate', rsu, [rsu], gen=gen, expiry=None)
+        add(name, 'superseded', expect, val, 'certificate', rsu, [rsu], tim, PSID_TIM,
+            pair='superseded',
+            note='the same TIM (same packetID / msgId); received in name order')
     return vectors, c
 
 

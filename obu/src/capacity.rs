@@ -86,6 +86,10 @@ profile! {
     MAX_REPEATS = 256, firmware 32
 }
 profile! {
+    /// Message identities whose newest accepted generation time is kept (superseded check).
+    MAX_NEWEST = 64, firmware 16
+}
+profile! {
     /// Payloads remembered as verified lately (`SecurityConfig::reverify_ms`).
     MAX_RECENT = 16, firmware 4
 }

@@ -34,7 +34,7 @@ pub const FORGED: [(AttackKind, DropReason); 4] = [
     ),
     (AttackKind::ForgedCancelUnsigned, DropReason::Unsigned),
     (AttackKind::MapShifted, DropReason::SignatureInvalid),
-    (AttackKind::ReplayedYesterday, DropReason::GenerationTimeOld),
+    (AttackKind::ReplayedYesterday, DropReason::MessageExpired),
 ];
 
 /// Fixes whose send times are kept for the clients to look up.

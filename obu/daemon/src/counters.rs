@@ -15,6 +15,10 @@ pub mod group {
     /// name; a MAP or TIM the core refused is counted under [`INGEST_ERRORS`] instead, so
     /// that every datagram is counted once over the V2X groups.
     pub const MESSAGES: &str = "messages";
+    /// Signed messages that were byte-identical repeats of accepted ones (an RSU repeating
+    /// what it was given signed once), by the codec's short name: checked for a hash, no
+    /// signature verification; they refreshed what they carry.
+    pub const REPEATS: &str = "repeats";
     /// UPER decode failures, by reason.
     pub const DECODE_ERRORS: &str = "decode_errors";
     /// Envelope (1609.2, RSU text) failures, by reason.
@@ -93,9 +97,12 @@ impl Counters {
     /// Counts one V2X input by its outcome: a message taken (MAP, TIM or other) under
     /// `messages` by its short name, a drop under its reason's group.
     pub fn v2x(&self, outcome: V2xOutcome) {
-        if let V2xOutcome::Changed(id) | V2xOutcome::Unchanged(id) | V2xOutcome::Other(id) = outcome
-        {
-            self.add(group::MESSAGES, message_name(id));
+        match outcome {
+            V2xOutcome::Changed(id) | V2xOutcome::Unchanged(id) | V2xOutcome::Other(id) => {
+                self.add(group::MESSAGES, message_name(id));
+            }
+            V2xOutcome::Repeat(id) => self.add(group::REPEATS, message_name(id)),
+            V2xOutcome::Dropped(_) => {}
         }
         self.lock().v2x.record(outcome);
     }
@@ -132,12 +139,16 @@ mod tests {
         c.v2x(V2xOutcome::Unchanged(18));
         c.v2x(V2xOutcome::Other(19));
         c.v2x(V2xOutcome::Other(4000));
+        c.v2x(V2xOutcome::Repeat(31));
+        c.v2x(V2xOutcome::Repeat(31));
         c.v2x(V2xOutcome::Dropped(DropReason::DecodeUnexpectedEnd));
         c.v2x(V2xOutcome::Dropped(DropReason::TooLarge));
         c.add(group::NMEA_ERRORS, "bad checksum");
         assert_eq!(c.get(group::MESSAGES, "MAP"), 2);
         assert_eq!(c.get(group::MESSAGES, "SPAT"), 1);
         assert_eq!(c.get(group::MESSAGES, "unknown"), 1);
+        assert_eq!(c.get(group::REPEATS, "TIM"), 2);
+        assert_eq!(c.get(group::MESSAGES, "TIM"), 0);
         assert_eq!(c.get(group::MESSAGES, "TIM"), 0);
         let s = c.snapshot();
         assert_eq!(s["decode_errors"]["unexpected end"], 1);

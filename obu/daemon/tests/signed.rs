@@ -1,7 +1,8 @@
 //! The real `obu` binary with its product security setting (signatures required) and the
 //! trust anchors of the independent IEEE 1609.2 vectors in files: a signed TIM is used once
-//! GNSS time is known, a replay, a forged signature and an unsigned frame are dropped and
-//! counted under `security_errors`, each by its reason.
+//! GNSS time is known and its byte-identical copy is counted as a repeat; a forged signature,
+//! an untrusted chain, the misread PSID and an unsigned frame are dropped and counted under
+//! `security_errors`, each by its reason.
 
 mod common;
 
@@ -63,20 +64,23 @@ fn signed_frames_are_verified_and_failures_counted_by_reason() {
     let s = status_when(&d.http, |s| !s["fix_quality"].is_null());
     assert!(!s["fix_quality"].is_null(), "the fix was not taken: {s}");
     send(&valid.coer);
+    // The same bytes again: what an RSU repeats.
     send(&valid.coer);
-    // A forged payload (its own digest: a frame with the digest of one accepted is a replay,
-    // dropped before any signature work).
+    // A forged payload: its signature is verified and fails.
     send(&named("payload_bit_flipped").coer);
     send(&named("untrusted_root").coer);
+    // TIM's p-encoded octets taken as the PSID (certificate and header): not TIM's PSID.
+    send(&named("misread_psid").coer);
     send(&valid.frame);
     let s = status(&d.http);
     let c = &s["counters"];
     assert_eq!(c["messages"]["TIM"], 1, "{s}");
+    assert_eq!(c["repeats"]["TIM"], 1, "{s}");
     assert_eq!(
         c["security_errors"],
         serde_json::json!({
             "1609.2: no GNSS time to check against": 1,
-            "1609.2: replay": 1,
+            "1609.2: PSID does not match the message": 1,
             "1609.2: signature does not verify": 1,
             "1609.2: chain does not reach a trust anchor": 1,
             "unsigned (signatures required)": 1,

@@ -87,6 +87,8 @@ fn reason(expect: &str, name: &str) -> Option<DropReason> {
         "signer certificate not known" => DropReason::SignerUnknown,
         "expiry time not after generation time" => DropReason::ExpiryBeforeGeneration,
         "lifetime longer than allowed" => DropReason::LifetimeTooLong,
+        // Needs the newer version received first: `an_older_version_is_superseded`.
+        "superseded by a newer version" => DropReason::EnvelopeOther,
         "PSID not permitted by the signer certificate" => DropReason::PsidNotPermitted,
         "signer certificate expired" => DropReason::CertificateExpired,
         "signer certificate not yet valid" => DropReason::CertificateNotYetValid,
@@ -170,6 +172,27 @@ mod tests {
         }
         assert!(accepted >= 10);
         defmt::info!("signed vectors: {=u32} accepted on target", accepted);
+    }
+
+    #[test]
+    fn a_repeat_is_counted_and_an_older_version_is_superseded(st: &mut State) {
+        st.fix();
+        st.reset();
+        let c = st.fw.v2x_counters;
+        st.send(coer("repeat_1_first"));
+        st.send(coer("repeat_2_second"));
+        st.send(coer("superseded_1_newer"));
+        st.send(coer("superseded_2_older"));
+        let d = st.fw.v2x_counters;
+        assert_eq!(d.repeats, c.repeats + 1);
+        assert_eq!(
+            d.dropped(DropReason::Superseded),
+            c.dropped(DropReason::Superseded) + 1
+        );
+        assert_eq!(
+            d.dropped_in(DropGroup::Security),
+            c.dropped_in(DropGroup::Security) + 1
+        );
     }
 
     #[test]

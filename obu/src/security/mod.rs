@@ -36,6 +36,7 @@
 //! certificates without their own.
 
 mod cert;
+mod newest;
 mod profile;
 mod region;
 mod rejection;
@@ -45,6 +46,7 @@ mod tests;
 mod times;
 
 pub use cert::TrustedCert;
+pub use newest::{Identity, Marker, NewestTable};
 pub use profile::{Duplicates, SecurityProfile};
 pub use region::{Region, RegionError};
 pub use rejection::Rejection;
@@ -239,6 +241,10 @@ pub struct Trust {
     anchors: Vec<TrustedCert, MAX_TRUST_ANCHORS>,
     cache: Vec<TrustedCert, MAX_CACHED_CERTS>,
     repeats: RepeatCache,
+    newest: NewestTable,
+    /// What the last successful check accepted: its generation time, when it stops being
+    /// relevant and the clock it was checked on (all `Time64`), for [`Trust::check_version`].
+    last: Option<(Marker, u64)>,
     /// The generator's multiples, made at the first check.
     generator: Option<GeneratorTable>,
     /// Payloads whose signature was verified lately (see [`SecurityConfig::reverify_ms`]).
@@ -269,6 +275,8 @@ impl Trust {
             anchors: Vec::new(),
             cache: Vec::new(),
             repeats: RepeatCache::new(),
+            newest: NewestTable::new(),
+            last: None,
             generator: None,
             recent: Vec::new(),
         }
@@ -289,6 +297,8 @@ impl Trust {
             anchors: Vec::new(),
             cache: Vec::new(),
             repeats: RepeatCache::new(),
+            newest: NewestTable::new(),
+            last: None,
             generator: None,
             recent: Vec::new(),
         }
@@ -359,6 +369,7 @@ impl Trust {
         signed: &SignedData<'_>,
         ctx: &CheckContext,
     ) -> Result<Accepted, Rejection> {
+        self.last = None;
         let header = &signed.header;
         if signed.hash_algorithm != HashAlgorithm::Sha256
             || signed.signature.scheme != SignatureScheme::EcdsaNistP256
@@ -386,6 +397,12 @@ impl Trust {
         let relevant_until = times::check(&profile, generated, expiry, now)?;
         let at = generated.unwrap_or(now);
         check_validity(&self.cache[index], at.min(now), at.max(now))?;
+        let marker = Marker {
+            identity: Identity([0; 16]),
+            newest_us: reference,
+            relevant_until_us: relevant_until,
+        };
+        self.last = Some((marker, now));
         if seen == Seen::Before {
             return match profile.duplicates {
                 Duplicates::Repeat => Ok(Accepted::Repeat),
@@ -401,6 +418,38 @@ impl Trust {
         self.repeats
             .record(tag, reference, relevant_until, replay_profile, earliest);
         Ok(Accepted::Verified)
+    }
+
+    /// After a successful [`Trust::check`], and once the message is decoded: refuses it as
+    /// [`Rejection::Superseded`] when a message of the same `identity` with a newer
+    /// generation time was accepted, else records its generation time for `identity`. A
+    /// message checked by nothing (unsigned) passes.
+    ///
+    /// # Errors
+    ///
+    /// [`Rejection::Superseded`].
+    pub fn check_version(&mut self, identity: Identity) -> Result<(), Rejection> {
+        let Some((last, now)) = self.last.take() else {
+            return Ok(());
+        };
+        if self.newest.is_superseded(&identity, last.newest_us) {
+            return Err(Rejection::Superseded);
+        }
+        self.newest.record(Marker { identity, ..last }, now);
+        Ok(())
+    }
+
+    /// The superseded check's markers (to keep them across restarts).
+    pub fn markers(&self) -> &[Marker] {
+        self.newest.markers()
+    }
+
+    /// Takes markers kept from an earlier run (those no longer relevant at `now_us` are
+    /// forgotten; beyond the capacity the ones that end soonest leave).
+    pub fn restore_markers(&mut self, markers: &[Marker], now_us: u64) {
+        for m in markers {
+            self.newest.record(*m, now_us);
+        }
     }
 
     /// Verifies the signature of `signed` (its signing digest `digest`) with the cached

@@ -24,6 +24,8 @@ pub enum Rejection {
     LifetimeTooLong,
     /// A copy of a message accepted before, for a message type whose copies are replays.
     Replay,
+    /// A newer message of the same identity (TIM packet, MAP, PSM sender) was accepted.
+    Superseded,
     /// The signer certificate does not permit the message's PSID.
     PsidNotPermitted,
     /// The PSID is not the one configured for this message (TIM, MAP).

@@ -18,6 +18,7 @@ fn expected(v: &SignedVector) -> Result<Accepted, Rejection> {
         "signer certificate not known" => Rejection::SignerUnknown,
         "expiry time not after generation time" => Rejection::ExpiryBeforeGeneration,
         "lifetime longer than allowed" => Rejection::LifetimeTooLong,
+        "superseded by a newer version" => Rejection::Superseded,
         "signature does not verify" => Rejection::SignatureInvalid,
         "PSID not permitted by the signer certificate" => Rejection::PsidNotPermitted,
         "signer certificate expired" => Rejection::CertificateExpired,

@@ -24,7 +24,7 @@ use j2735::uper::Placeholder;
 use j2735::{MapData, TravelerInformation};
 
 use crate::ingest::Ingest;
-use crate::security::{Accepted, CheckContext, SecurityConfig, Trust};
+use crate::security::{Accepted, CheckContext, Identity, SecurityConfig, Trust};
 use crate::store::Provenance;
 use crate::time::Instant;
 use crate::Obu;
@@ -201,19 +201,30 @@ impl Obu {
             None if trust.config().require_signed => return Err(DropReason::Unsigned),
             None => Provenance::Unverified,
         };
+        // Each decoded message passes the superseded check (signed ones; see
+        // `Trust::check_version`) before it is stored.
         let result = if id == MapData::MESSAGE_ID {
             let map = slot(map);
             decode_message_into(frame, map).map_err(DropReason::from_decode)?;
+            if provenance == Provenance::Verified {
+                trust.check_version(map_identity(map))?;
+            }
             self.ingest_map(now, map, provenance)
         } else if id == PersonalSafetyMessage::MESSAGE_ID {
             let psm = slot(psm);
             if !signed_psm {
                 decode_message_into(frame, psm).map_err(DropReason::from_decode)?;
             }
+            if provenance == Provenance::Verified {
+                trust.check_version(psm_identity(psm))?;
+            }
             self.ingest_psm(now, psm, provenance)
         } else {
             let tim = slot(tim);
             decode_message_into(frame, tim).map_err(DropReason::from_decode)?;
+            if provenance == Provenance::Verified {
+                trust.check_version(tim_identity(tim))?;
+            }
             self.ingest_tim(now, tim, provenance)
         };
         let report: Ingest = result.map_err(DropReason::from_ingest)?;
@@ -308,4 +319,48 @@ impl Default for V2xCounters {
     fn default() -> Self {
         Self::ZERO
     }
+}
+
+/// The identity of a TIM for the superseded check: its `packetID`, else the digest of its
+/// first data frame's `msgId` (the key its zones are stored under).
+fn tim_identity(tim: &TravelerInformation) -> Identity {
+    match tim.data_frames.first() {
+        Some(frame) => {
+            let key = crate::ingest::tim::key(tim, frame, 0);
+            let mut id = [0u8; 10];
+            id[..9].copy_from_slice(&key.packet_id);
+            id[9] = key.source as u8;
+            Identity::of(b'T', &id)
+        }
+        None => Identity::of(b'T', &[]),
+    }
+}
+
+/// The identity of a MAP: its intersections' and road segments' ids (region and id), up to
+/// the first 12 of them.
+fn map_identity(map: &MapData) -> Identity {
+    let intersections = map
+        .intersections
+        .iter()
+        .flat_map(|l| l.iter())
+        .map(|g| (b'I', g.id.region.map_or(0, |r| r.get()), g.id.id.get()));
+    let segments = map
+        .road_segments
+        .iter()
+        .flat_map(|l| l.iter())
+        .map(|s| (b'S', s.id.region.map_or(0, |r| r.get()), s.id.id.get()));
+    let mut id = [0u8; Identity::MAX_ID];
+    let mut n = 0;
+    for (kind, region, number) in intersections.chain(segments).take(Identity::MAX_ID / 5) {
+        id[n] = kind;
+        id[n + 1..n + 3].copy_from_slice(&region.to_be_bytes());
+        id[n + 3..n + 5].copy_from_slice(&number.to_be_bytes());
+        n += 5;
+    }
+    Identity::of(b'M', &id[..n])
+}
+
+/// The identity of a PSM: its sender's temporary id.
+fn psm_identity(psm: &PersonalSafetyMessage) -> Identity {
+    Identity::of(b'P', &psm.id.0)
 }

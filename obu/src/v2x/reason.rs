@@ -207,6 +207,9 @@ drop_reasons! {
     MessageExpired: Security = "1609.2: message expired",
     /// Security: a copy of an accepted message whose copies are replays (PSM).
     Replay: Security = "1609.2: replay",
+    /// Security: a newer version of the message (same TIM packet, MAP or PSM sender) was
+    /// accepted.
+    Superseded: Security = "1609.2: superseded by a newer version",
     /// Security: the profile requires an expiry time and the header has none.
     NoExpiryTime: Security = "1609.2: no expiry time",
     /// Security: the expiry time is not after the generation time.
@@ -242,6 +245,7 @@ impl From<Rejection> for DropReason {
             Rejection::MessageExpired => Self::MessageExpired,
             Rejection::Replay => Self::Replay,
             Rejection::NoExpiryTime => Self::NoExpiryTime,
+            Rejection::Superseded => Self::Superseded,
             Rejection::ExpiryBeforeGeneration => Self::ExpiryBeforeGeneration,
             Rejection::LifetimeTooLong => Self::LifetimeTooLong,
             Rejection::PsidNotPermitted => Self::PsidNotPermitted,

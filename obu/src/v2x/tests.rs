@@ -294,6 +294,73 @@ mod signed {
     }
 
     #[test]
+    fn an_older_signed_version_of_a_tim_is_superseded() {
+        big_stack(|| {
+            let newer = named("superseded_1_newer");
+            let older = named("superseded_2_older");
+            let mut obu = Box::new(Obu::default());
+            let mut rx = receiver(&newer, true);
+            let t = Instant::from_millis(10);
+            obu.on_fix(t, fix_at_vector_time(&newer));
+            let id = TravelerInformation::MESSAGE_ID;
+            // On its own the older one is valid.
+            let mut alone = receiver(&older, true);
+            let mut other = Box::new(Obu::default());
+            other.on_fix(t, fix_at_vector_time(&older));
+            assert_eq!(
+                other.on_datagram(t, &older.coer, &mut alone),
+                V2xOutcome::Changed(id)
+            );
+            assert_eq!(
+                obu.on_datagram(t, &newer.coer, &mut rx),
+                V2xOutcome::Changed(id)
+            );
+            assert_eq!(
+                obu.on_datagram(t, &older.coer, &mut rx),
+                V2xOutcome::Dropped(DropReason::Superseded)
+            );
+            // The newer one again is a repeat, not superseded.
+            assert_eq!(
+                obu.on_datagram(t, &newer.coer, &mut rx),
+                V2xOutcome::Repeat(id)
+            );
+        });
+    }
+
+    #[test]
+    fn a_signed_cancel_cannot_be_undone_by_replaying_the_original() {
+        big_stack(|| {
+            let v = named("valid_tim_certificate_x_only");
+            let mut obu = Box::new(Obu::default());
+            let mut rx = receiver(&v, true);
+            let t = Instant::from_millis(10);
+            obu.on_fix(t, fix_at_vector_time(&v));
+            let id = TravelerInformation::MESSAGE_ID;
+            assert_eq!(
+                obu.on_datagram(t, &v.coer, &mut rx),
+                V2xOutcome::Changed(id)
+            );
+            let zones = obu.zones().len();
+            assert!(zones > 0);
+            // The cancel of its first data frame, signed by the same RSU a second later.
+            let cancel = named("signed_cancel_of_base");
+            assert_eq!(
+                obu.on_datagram(t, &cancel.coer, &mut rx),
+                V2xOutcome::Changed(id)
+            );
+            assert_eq!(obu.zones().len(), zones - 1);
+            // The original again, byte for byte (still within its expiry): refused.
+            for _ in 0..3 {
+                assert_eq!(
+                    obu.on_datagram(t, &v.coer, &mut rx),
+                    V2xOutcome::Dropped(DropReason::Superseded)
+                );
+            }
+            assert_eq!(obu.zones().len(), zones - 1);
+        });
+    }
+
+    #[test]
     fn unsigned_data_is_marked_and_cannot_cancel_a_verified_zone() {
         big_stack(|| {
             let v = named("valid_tim_certificate_x_only");

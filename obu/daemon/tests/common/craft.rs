@@ -8,8 +8,9 @@ use std::net::UdpSocket;
 use std::time::{Duration, Instant};
 
 /// The groups every V2X datagram is counted in, exactly one of them.
-pub const V2X_GROUPS: [&str; 6] = [
+pub const V2X_GROUPS: [&str; 7] = [
     "messages",
+    "repeats",
     "v2x_dropped",
     "envelope_errors",
     "decode_errors",
@@ -24,7 +25,7 @@ pub const KINDS: usize = 12;
 /// Whether `group`/`reason`, a key of a V2X group, is a name of the closed sets (the
 /// codec's message short names, `unknown`, the core's drop reasons).
 pub fn closed_v2x_key(group: &str, reason: &str) -> bool {
-    if group == "messages" {
+    if group == "messages" || group == "repeats" {
         let named = j2735::message_frame::MESSAGE_NAMES
             .iter()
             .any(|m| m.short == reason);
