@@ -38,6 +38,7 @@ mod coer;
 pub use crate::hex;
 pub mod ieee1609dot2;
 pub mod psid;
+pub mod wsmp;
 pub use psid::Psid;
 mod ieee1609dot2_certificate;
 mod ieee1609dot2_error;

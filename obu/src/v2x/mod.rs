@@ -1,8 +1,9 @@
 //! The one V2X receive path: received bytes in, what happened out.
 //!
 //! [`Obu::on_datagram`] takes what the radio (or UDP, or the firmware's serial link)
-//! delivered: a bare UPER `MessageFrame`, one in an IEEE 1609.2 envelope, or an RSU 4.1
-//! text record (`Version=...`). It unwraps it, peeks the `messageId`, decodes a MAP, TIM or
+//! delivered: a bare UPER `MessageFrame`, one in an IEEE 1609.2 envelope, either of them in
+//! an IEEE 1609.3 WAVE Short Message (whose PSID must be the message's), or an RSU 4.1 text
+//! record (`Version=...`). It unwraps it, peeks the `messageId`, decodes a MAP, TIM or
 //! PSM (road worker) into the caller's kept [`V2xReceiver`] (no heap, nothing large on the stack), feeds the
 //! core and returns a [`V2xOutcome`]: the state changed (publish it), nothing changed, a
 //! message the OBU does not use, or dropped with a [`DropReason`] from a closed set.
@@ -17,7 +18,8 @@ pub use reason::{DropGroup, DropReason};
 
 use j2735::envelope::ieee1609dot2::{looks_like_ieee1609dot2, Ieee1609Dot2Data, SignedData};
 use j2735::envelope::rsu_text::RsuMessage;
-use j2735::envelope::UnwrapError;
+use j2735::envelope::wsmp::{looks_like_wsmp, Wsm};
+use j2735::envelope::{Psid, UnwrapError};
 use j2735::frame::{decode_message_into, peek_message_id, Message};
 use j2735::personal_safety_message::PersonalSafetyMessage;
 use j2735::uper::Placeholder;
@@ -172,11 +174,27 @@ impl Obu {
         } else {
             bytes
         };
+        let (bytes, wsmp_psid) = if looks_like_wsmp(bytes) {
+            let wsm = Wsm::parse(bytes).map_err(DropReason::from_wsmp)?;
+            (wsm.data, Some(wsm.psid))
+        } else {
+            (bytes, None)
+        };
         let (frame, signed) = open_envelope(bytes)?;
         let id = peek_message_id(frame).map_err(DropReason::from_decode)?;
-        if trust.psid_for(id).is_none() {
+        let Some(message_psid) = trust.psid_for(id) else {
             self.count_other_message();
             return Ok(V2xOutcome::Other(id));
+        };
+        if let Some(wsmp) = wsmp_psid {
+            let matches = match &signed {
+                Some(signed) => signed.header.psid == wsmp,
+                // Deployed RSUs forward MAP beside SPaT, with SPaT's PSID.
+                None => wsmp == message_psid || (id == MapData::MESSAGE_ID && wsmp == Psid::SPAT),
+            };
+            if !matches {
+                return Err(DropReason::WsmpPsidMismatch);
+            }
         }
         // A signed PSM is decoded first: most updates of a known worker are not worth the
         // signature check ([`Obu::psm_due`]).

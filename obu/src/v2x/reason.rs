@@ -3,6 +3,7 @@
 use j2735::envelope::hex::HexError;
 use j2735::envelope::ieee1609dot2::DecodeErrorKind as EnvelopeKind;
 use j2735::envelope::rsu_text::{RsuTextError, RsuTextErrorKind};
+use j2735::envelope::wsmp::WsmpError;
 use j2735::envelope::UnwrapError;
 use j2735::uper::{DecodeError, DecodeErrorKind};
 
@@ -118,6 +119,19 @@ drop_reasons! {
     RsuPayloadHex: Envelope = "RSU text: payload not hexadecimal",
     /// RSU text: the payload is larger than the receive scratch holds.
     RsuPayloadTooLarge: Envelope = "RSU text: payload too large",
+    /// WSMP: see [`WsmpError::Truncated`].
+    WsmpTruncated: Envelope = WsmpError::Truncated.as_str(),
+    /// WSMP: see [`WsmpError::Version`].
+    WsmpVersion: Envelope = WsmpError::Version.as_str(),
+    /// WSMP: see [`WsmpError::Unsupported`].
+    WsmpUnsupported: Envelope = WsmpError::Unsupported.as_str(),
+    /// WSMP: see [`WsmpError::Encoding`].
+    WsmpEncoding: Envelope = WsmpError::Encoding.as_str(),
+    /// WSMP: see [`WsmpError::TrailingBytes`].
+    WsmpTrailing: Envelope = WsmpError::TrailingBytes.as_str(),
+    /// WSMP: the T-header's PSID is not the message's (the 1609.2 header's, or the
+    /// message type's for unsigned data; MAP may come with SPaT's).
+    WsmpPsidMismatch: Envelope = "WSMP: PSID does not match the message",
     /// UPER: the input ended before the value did.
     DecodeUnexpectedEnd: Decode = DecodeErrorKind::UnexpectedEnd.as_str(),
     /// UPER: a whole number outside its constraint.
@@ -304,6 +318,17 @@ impl DropReason {
             EnvelopeKind::NestingTooDeep => Self::EnvelopeNesting,
             EnvelopeKind::TrailingBytes => Self::EnvelopeTrailing,
             _ => Self::EnvelopeOther,
+        }
+    }
+
+    /// The reason of a WSMP error.
+    pub const fn from_wsmp(e: WsmpError) -> Self {
+        match e {
+            WsmpError::Truncated => Self::WsmpTruncated,
+            WsmpError::Version => Self::WsmpVersion,
+            WsmpError::Unsupported => Self::WsmpUnsupported,
+            WsmpError::Encoding => Self::WsmpEncoding,
+            WsmpError::TrailingBytes => Self::WsmpTrailing,
         }
     }
 

@@ -360,6 +360,64 @@ mod signed {
         });
     }
 
+    /// `data` in a WAVE Short Message laid out by hand (IEEE 1609.3): N-header 0x0B (null
+    /// networking, an extension, version 3) with channel 172, TPID 0, the p-encoded `psid`
+    /// octets, the two-octet WSM length, the data.
+    fn in_wsm(psid: &[u8], data: &[u8]) -> Vec<u8> {
+        let mut out = std::vec![0x0B, 0x01, 0x0F, 0x01, 172, 0x00];
+        out.extend_from_slice(psid);
+        assert!(data.len() < 0x4000);
+        out.push(0x80 | (data.len() >> 8) as u8);
+        out.push(data.len() as u8);
+        out.extend_from_slice(data);
+        out
+    }
+
+    #[test]
+    fn wave_short_messages_are_opened_and_their_psid_checked() {
+        big_stack(|| {
+            let v = named("valid_tim_certificate_x_only");
+            let mut obu = Box::new(Obu::default());
+            let mut rx = receiver(&v, true);
+            let t = Instant::from_millis(10);
+            obu.on_fix(t, fix_at_vector_time(&v));
+            let id = TravelerInformation::MESSAGE_ID;
+            // TIM's PSID as the MAP's: dropped before the signature check.
+            let wrong = in_wsm(&[0xE0, 0x00, 0x00, 0x17], &v.coer);
+            assert_eq!(
+                obu.on_datagram(t, &wrong, &mut rx),
+                V2xOutcome::Dropped(DropReason::WsmpPsidMismatch)
+            );
+            // The misread integer 32771, p-encoded (C0-3F-83): not TIM's PSID.
+            let misread = in_wsm(&[0xC0, 0x3F, 0x83], &v.coer);
+            assert_eq!(
+                obu.on_datagram(t, &misread, &mut rx),
+                V2xOutcome::Dropped(DropReason::WsmpPsidMismatch)
+            );
+            let right = in_wsm(&[0x80, 0x03], &v.coer);
+            assert_eq!(obu.on_datagram(t, &right, &mut rx), V2xOutcome::Changed(id));
+            // A truncated WSM: named, never a panic.
+            assert_eq!(
+                obu.on_datagram(t, &right[..right.len() - 1], &mut rx),
+                V2xOutcome::Dropped(DropReason::WsmpTruncated)
+            );
+            // Unsigned frames in WSMs (signatures not required): the message type's PSID.
+            let mut open = receiver(&v, false);
+            let mut obu = Box::new(Obu::default());
+            obu.on_fix(t, fix_at_vector_time(&v));
+            let bare = in_wsm(&[0x80, 0x03], &v.frame);
+            assert_eq!(
+                obu.on_datagram(t, &bare, &mut open),
+                V2xOutcome::Changed(id)
+            );
+            let as_bsm = in_wsm(&[0x20], &v.frame);
+            assert_eq!(
+                obu.on_datagram(t, &as_bsm, &mut open),
+                V2xOutcome::Dropped(DropReason::WsmpPsidMismatch)
+            );
+        });
+    }
+
     #[test]
     fn unsigned_data_is_marked_and_cannot_cancel_a_verified_zone() {
         big_stack(|| {
