@@ -25,6 +25,7 @@ use std::time::{Duration, Instant};
 /// The groups of `/api/status` that count V2X inputs: each datagram once in one of them.
 pub const V2X_GROUPS: &[&str] = &[
     "messages",
+    "repeats",
     "v2x_dropped",
     "envelope_errors",
     "decode_errors",

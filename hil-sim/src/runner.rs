@@ -93,6 +93,8 @@ struct Recorded {
     changes: Vec<Instant>,
     v2x: V2xCounts,
     attack: Option<AttackFacts>,
+    /// The daemon's counters after the drive (the firmware's drops: from its log).
+    device: Option<attack::DeviceCounts>,
     /// The attacker's sending address.
     attacker_from: Option<std::net::SocketAddr>,
     radio: Option<crate::radio::LinkCounts>,
@@ -160,10 +162,14 @@ pub fn run(s: &Scenario, opts: &RunOptions) -> Result<RunReport, String> {
     }
     // The firmware's log is complete once QEMU and its decoder have stopped.
     drop(daemon);
-    if let (Some(a), Some(_)) = (&mut recorded.attack, &opts.firmware) {
-        match attack::firmware_counts(&state_dir.join("firmware.log")) {
-            Ok(d) => a.device = Some(d),
-            Err(e) => a.device_error = Some(e),
+    if opts.firmware.is_some() {
+        let counts = attack::firmware_counts(&state_dir.join("firmware.log"));
+        recorded.device = counts.as_ref().ok().cloned();
+        if let Some(a) = &mut recorded.attack {
+            match counts {
+                Ok(d) => a.device = Some(d),
+                Err(e) => a.device_error = Some(e),
+            }
         }
     }
     report(s, &road, &zones, recorded, opts)
@@ -223,7 +229,8 @@ fn drive_and_record(
         })
     };
     let t0 = Instant::now();
-    let signer = crate::bench_pki::signer()?;
+    let genuine = crate::bench_pki::signer()?;
+    let signer = Arc::new(s.signing.apply(&genuine));
     let attacker = s
         .attacker
         .as_ref()
@@ -274,20 +281,24 @@ fn drive_and_record(
     let _ = recorder.join();
     let roadside = v2x.join().map_err(|_| "the roadside thread panicked")?;
     let (changes, counts) = (roadside.changes, roadside.counts);
+    // The daemon counts every input (read once it has counted all that was sent).
+    let attacker_sent = attacked
+        .as_ref()
+        .ok()
+        .and_then(|a| a.as_ref())
+        .map_or(0, |a| a.1.sent);
+    let device = (daemon.rig.is_none())
+        .then(|| attack::daemon_counts_settled(daemon.http_addr(), counts.sent + attacker_sent));
     let attack = attacked?.map(|(kind, sent)| {
         // The daemon counts every input; the firmware's drops are read from its log
         // once it has stopped (`run`).
-        let device = (daemon.rig.is_none()).then(|| {
-            let inputs = counts.sent + sent.sent;
-            attack::daemon_counts_settled(daemon.http_addr(), inputs)
-        });
         AttackFacts {
             kind,
             sent,
             roadside_sent: counts.sent,
             radio_dropped: 0,
             device_error: device.as_ref().and_then(|d| d.as_ref().err().cloned()),
-            device: device.and_then(Result::ok),
+            device: device.clone().and_then(Result::ok),
         }
     });
     let states = std::mem::take(&mut *states.lock().unwrap_or_else(|p| p.into_inner()));
@@ -299,6 +310,7 @@ fn drive_and_record(
         changes,
         v2x: counts,
         attack,
+        device: device.and_then(Result::ok),
         attacker_from,
         radio: None,
         views: roadside.views,
@@ -574,6 +586,7 @@ fn run_facts(s: &Scenario, rec: &Recorded) -> RunFacts {
         overspeed_tolerance_mps: 5.0 / 3.6,
         warning_distance_m: s.settings.warning_distance_m,
         attack: rec.attack.clone(),
+        device: rec.device.clone(),
         can_speed: s.can_speed || s.drive.candump_file.is_some(),
         camera_views: rec.views.clone(),
     }

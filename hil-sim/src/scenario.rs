@@ -43,12 +43,82 @@ pub struct Scenario {
     /// Vehicle speed from CAN (a candump replay) instead of GNSS.
     #[serde(default)]
     pub can_speed: bool,
+    /// How the bench roadside signs (default: each transmission anew, 60 s expiry, the
+    /// certificate in every message).
+    #[serde(default)]
+    pub signing: SigningSpec,
     /// What must hold.
     #[serde(default, rename = "expect")]
     pub expectations: Vec<Expectation>,
     /// The folder of the scenario file (paths are relative to it).
     #[serde(skip)]
     pub dir: PathBuf,
+}
+
+/// `[signing]`: how the bench roadside signs what it broadcasts.
+#[derive(Debug, Clone, Copy, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SigningSpec {
+    /// `per_transmission` (V2X-Hub's way) or `once` (signed once and repeated until its
+    /// expiry time, as jpo-ode deposits TIMs).
+    #[serde(default)]
+    pub pattern: SigningKind,
+    /// `once`: how long before the drive the messages were signed, seconds.
+    #[serde(default)]
+    pub signed_ago_s: u64,
+    /// Generation to expiry, seconds.
+    #[serde(default = "sixty")]
+    pub lifetime_s: u64,
+    /// Send the certificate whole at most this often, milliseconds, and a `digest` signer
+    /// in between (per transmission); absent: the certificate in every message.
+    #[serde(default)]
+    pub certificate_every_ms: Option<u64>,
+}
+
+fn sixty() -> u64 {
+    60
+}
+
+impl Default for SigningSpec {
+    fn default() -> Self {
+        Self {
+            pattern: SigningKind::PerTransmission,
+            signed_ago_s: 0,
+            lifetime_s: sixty(),
+            certificate_every_ms: None,
+        }
+    }
+}
+
+/// [`SigningSpec::pattern`].
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum SigningKind {
+    /// Each transmission signed anew.
+    #[default]
+    PerTransmission,
+    /// Signed once, repeated until its expiry time.
+    Once,
+}
+
+impl SigningSpec {
+    /// `signer` signing this way.
+    pub fn apply(&self, signer: &roadside::pki::RsuSigner) -> roadside::pki::RsuSigner {
+        use roadside::pki::SigningPattern;
+        let pattern = match self.pattern {
+            SigningKind::PerTransmission => SigningPattern::PerTransmission,
+            SigningKind::Once => SigningPattern::Once {
+                signed_ago_ms: self.signed_ago_s.saturating_mul(1000),
+            },
+        };
+        let signer = signer
+            .clone()
+            .with_pattern(pattern, self.lifetime_s.saturating_mul(1000));
+        match self.certificate_every_ms {
+            Some(ms) => signer.with_certificate_every(ms),
+            None => signer,
+        }
+    }
 }
 
 /// Driver settings of the OBU.

@@ -18,12 +18,16 @@
 //!    least one octet; `write_to` succeeds unless a text value holds a carriage return; the
 //!    written record parses to the same record (version `0.7`); the same record with the
 //!    payload as bytes writes the same text.
+//! 5. `Wsm::parse` (IEEE 1609.3 WSMP): on success the data is the input's tail, and writing
+//!    the PSID and the N-header's fields around the data with `wsmp::encode` gives a message
+//!    that parses to the same WSM; `encode` of the input as data parses back to it.
 
 use j2735::envelope::ieee1609dot2::{
     encode_unsecured, looks_like_ieee1609dot2, unsecured_encoded_len, Content, Ieee1609Dot2Data,
 };
 use j2735::envelope::rsu_text::{RsuKey, RsuMessage, RsuPayload, RsuWriteError};
-use j2735::envelope::{unwrap_message_frame, EnvelopeKind, UnwrapError};
+use j2735::envelope::wsmp::{self, Wsm, WsmpInfo};
+use j2735::envelope::{unwrap_message_frame, EnvelopeKind, Psid, UnwrapError};
 
 use crate::hex;
 
@@ -34,6 +38,27 @@ pub fn check(data: &[u8]) {
     check_encode_unsecured(data);
     if let Ok(text) = std::str::from_utf8(data) {
         check_rsu_text(text);
+    }
+    check_wsmp(data);
+}
+
+/// Invariant 5.
+fn check_wsmp(data: &[u8]) {
+    let mut out = vec![0u8; data.len() + 32];
+    if let Ok(wsm) = Wsm::parse(data) {
+        assert!(
+            data.ends_with(wsm.data) && offset_in(data, wsm.data).is_some(),
+            "wsmp: data is not the input's tail; input {}",
+            hex(data)
+        );
+        let n = wsmp::encode(wsm.psid, &wsm.info, wsm.data, &mut out)
+            .unwrap_or_else(|| panic!("wsmp: a parsed WSM does not write; input {}", hex(data)));
+        let again = Wsm::parse(&out[..n]);
+        assert_eq!(again, Ok(wsm), "wsmp: written WSM differs; input {}", hex(data));
+    }
+    if let Some(n) = wsmp::encode(Psid::TIM, &WsmpInfo::default(), data, &mut out) {
+        let wsm = Wsm::parse(&out[..n]).expect("wsmp: an encoded WSM parses");
+        assert!(wsm.data == data && wsm.psid == Psid::TIM, "wsmp: round trip; input {}", hex(data));
     }
 }
 

@@ -46,5 +46,6 @@ pub mod road;
 pub mod road_users;
 pub mod rsu;
 pub mod scripted;
+pub mod signer;
 pub mod site;
 pub mod zone_sources;

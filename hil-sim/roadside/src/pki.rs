@@ -11,11 +11,9 @@
 //! reproducible test PKIs, from a seed (`SHA-256("hil-sim pki/" + seed + "/" + role)`, the
 //! first candidate that is a valid scalar).
 
-use j2735::envelope::ieee1609dot2::build::{
-    encode_certificate, encode_signed, CertificateSpec, Header, IssuedBy, Signer,
-};
-use j2735::envelope::ieee1609dot2::crypto::{sha256, RSigForm, SecretKey};
-use j2735::envelope::ieee1609dot2::{Duration, ThreeDLocation, Time64, TwoDLocation};
+use j2735::envelope::ieee1609dot2::build::{encode_certificate, CertificateSpec, IssuedBy};
+use j2735::envelope::ieee1609dot2::crypto::{sha256, SecretKey};
+use j2735::envelope::ieee1609dot2::{Duration, TwoDLocation};
 use j2735::envelope::Psid;
 use std::io::Read;
 use std::path::Path;
@@ -257,84 +255,7 @@ pub fn read_key_text(text: &str) -> Result<SecretKey, String> {
     SecretKey::from_bytes(&bytes).map_err(|e| e.to_string())
 }
 
-/// Signs J2735 frames as an RSU: its certificate (sent whole in every message, so a
-/// receiver that missed one needs nothing else) and key.
-#[derive(Debug, Clone)]
-pub struct RsuSigner {
-    cert: Vec<u8>,
-    key: SecretKey,
-    location: Option<ThreeDLocation>,
-    lifetime_ms: u64,
-}
-
-impl RsuSigner {
-    /// A signer with `cert` (COER) and its `key`; messages expire `lifetime_ms` after they
-    /// are generated and carry `location` as generationLocation.
-    pub fn new(
-        cert: Vec<u8>,
-        key: SecretKey,
-        location: Option<ThreeDLocation>,
-        lifetime_ms: u64,
-    ) -> Self {
-        Self {
-            cert,
-            key,
-            location,
-            lifetime_ms,
-        }
-    }
-
-    /// The signer of the PKI directory `dir` (`rsu.oer`, `rsu.key`), 60 s lifetime.
-    ///
-    /// # Errors
-    ///
-    /// A message naming the missing or malformed file.
-    pub fn load(dir: &Path, location: Option<ThreeDLocation>) -> Result<Self, String> {
-        let path = dir.join("rsu.oer");
-        let cert = std::fs::read(&path).map_err(|e| format!("{}: {e}", path.display()))?;
-        j2735::envelope::ieee1609dot2::Certificate::parse(&cert)
-            .map_err(|e| format!("{}: {e}", path.display()))?;
-        let key = read_key(&dir.join("rsu.key"))?;
-        Ok(Self::new(cert, key, location, 60_000))
-    }
-
-    /// The certificate.
-    pub fn certificate(&self) -> &[u8] {
-        &self.cert
-    }
-
-    /// `frame` as IEEE 1609.2 signed data generated at `unix_ms` (PSID by its message).
-    ///
-    /// # Errors
-    ///
-    /// A message for a frame of a message without a PSID, or one too large.
-    pub fn sign(&self, frame: &[u8], unix_ms: u64) -> Result<Vec<u8>, String> {
-        let id = match frame {
-            [hi, lo, ..] => u16::from_be_bytes([*hi, *lo]),
-            _ => return Err("frame shorter than its messageId".into()),
-        };
-        let psid = signing_psid(id).ok_or_else(|| format!("no PSID for messageId {id}"))?;
-        let generated = time64_of_unix_ms(unix_ms);
-        let header = Header {
-            psid,
-            generation_time: Time64(generated),
-            expiry_time: Some(Time64(generated + self.lifetime_ms * 1000)),
-            generation_location: self.location,
-        };
-        let mut out = vec![0u8; frame.len() + self.cert.len() + 160];
-        let n = encode_signed(
-            frame,
-            &header,
-            Signer::Certificate(&self.cert),
-            &self.key,
-            RSigForm::XOnly,
-            &mut out,
-        )
-        .map_err(|e| format!("{e:?}"))?;
-        out.truncate(n);
-        Ok(out)
-    }
-}
+pub use crate::signer::{RsuSigner, SigningPattern};
 
 #[cfg(test)]
 mod tests {

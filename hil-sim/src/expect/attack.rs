@@ -8,6 +8,50 @@ use obu::alert::HmiState;
 use obu::v2x::DropReason;
 use std::fmt;
 
+/// [`super::Expectation::SignedOnceRepeated`].
+pub(super) fn signed_once_repeated(min_share: f64, facts: &RunFacts) -> (bool, String) {
+    let Some(device) = &facts.device else {
+        return (false, "the device's counters could not be read".into());
+    };
+    let no_time = DropReason::NoTime.as_str();
+    let security = &device.counters["security_errors"];
+    let drops: Vec<String> = security
+        .as_object()
+        .map(|g| {
+            g.iter()
+                .filter(|(reason, _)| reason.as_str() != no_time)
+                .map(|(reason, n)| format!("{reason}: {n}"))
+                .collect()
+        })
+        .unwrap_or_default();
+    let mut ok = drops.is_empty();
+    let mut detail = match drops.is_empty() {
+        true => "no signed frame dropped by the trust policy after GNSS time".to_string(),
+        false => format!("dropped: {}", drops.join(", ")),
+    };
+    if device.every_input {
+        let repeats: u64 = ["MAP", "TIM"]
+            .iter()
+            .map(|m| device.get("repeats", m))
+            .sum();
+        let taken: u64 = ["MAP", "TIM"]
+            .iter()
+            .map(|m| device.get("messages", m))
+            .sum();
+        let share = repeats as f64 / (repeats + taken).max(1) as f64;
+        ok &= share >= min_share;
+        detail.push_str(&format!(
+            "; {repeats} repeats of {} MAP and TIM taken ({:.1} %, need {:.0} %)",
+            repeats + taken,
+            share * 100.0,
+            min_share * 100.0
+        ));
+    } else {
+        detail.push_str("; the firmware logs its drops only, not its repeats");
+    }
+    (ok, detail)
+}
+
 fn attack(facts: &RunFacts) -> Result<&AttackFacts, String> {
     facts
         .attack

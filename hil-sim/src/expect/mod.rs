@@ -140,6 +140,16 @@ pub enum Expectation {
     /// before it held: the real roadside's lane maps and zones, verified, none stored,
     /// replaced or cancelled since (for a roadside that changes nothing meanwhile).
     RoadsideKept,
+    /// The roadside signs once and repeats (`[signing] pattern = "once"`): no signed frame
+    /// is dropped by the trust policy once GNSS time is known (only "no GNSS time" drops),
+    /// and where the device counts every input (the daemon), at least `min_share` of the
+    /// MAP and TIM it took were repeats (each distinct message verified once, its copies
+    /// counted under `repeats`). The firmware logs drops only.
+    SignedOnceRepeated {
+        /// Least share of repeats among the MAP and TIM taken.
+        #[serde(default = "ninety")]
+        min_share: f64,
+    },
     /// A lane other than the true one is named in at most `max` of the states (those more
     /// than 2 s from a lane change of the truth): an uncertain lane is left unnamed.
     WrongLaneShown {
@@ -219,6 +229,8 @@ pub struct RunFacts {
     pub warning_distance_m: f64,
     /// The attack, when the scenario has an attacker.
     pub attack: Option<crate::attack::AttackFacts>,
+    /// The device's counters after the drive, when they could be read.
+    pub device: Option<crate::attack::DeviceCounts>,
     /// The vehicle speed comes from CAN (it stays shown through a GNSS dropout).
     pub can_speed: bool,
     /// What the camera site's cameras saw of each road user, frame by frame.
@@ -332,6 +344,9 @@ pub fn check(e: &Expectation, records: &[Record], facts: &RunFacts) -> Outcome {
             attack::forged_dropped(group, reason, facts)
         }
         Expectation::RoadsideKept => attack::roadside_kept(records, facts),
+        Expectation::SignedOnceRepeated { min_share } => {
+            attack::signed_once_repeated(*min_share, facts)
+        }
         Expectation::ZoneKeptThroughDropout { max_error_m } => {
             alerts::zone_kept_through_dropout(records, facts, *max_error_m)
         }

@@ -91,3 +91,33 @@ fn signed_frames_are_verified_and_failures_counted_by_reason() {
     // 2025 clock, so `active_zones` is not asserted here; the core's tests show it stored.)
     assert!(d.stop().success());
 }
+
+#[test]
+fn a_signed_cancel_stays_when_the_original_is_replayed() {
+    let dir = temp_dir("superseded");
+    let original = named("valid_tim_certificate_x_only");
+    let cancel = named("signed_cancel_of_base");
+    let d = start(&dir, 0, &original);
+    let udp = UdpSocket::bind("127.0.0.1:0").unwrap();
+    udp.send_to(fix_at_vector_time().as_bytes(), d.gnss())
+        .unwrap();
+    let s = status_when(&d.http, |s| !s["fix_quality"].is_null());
+    assert!(!s["fix_quality"].is_null(), "the fix was not taken: {s}");
+    let mut counted = 0;
+    let mut send = |bytes: &[u8]| counted = send_all(&d, &udp, &[bytes.to_vec()], counted);
+    send(&original.coer);
+    send(&cancel.coer);
+    // The original, byte for byte, 30 times (an attacker replaying it for 3 s at 10 Hz).
+    for _ in 0..30 {
+        send(&original.coer);
+    }
+    let s = status(&d.http);
+    let c = &s["counters"];
+    assert_eq!(c["messages"]["TIM"], 2, "{s}");
+    assert_eq!(
+        c["security_errors"],
+        serde_json::json!({ "1609.2: superseded by a newer version": 30 }),
+        "{s}"
+    );
+    assert!(d.stop().success());
+}

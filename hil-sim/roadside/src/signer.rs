@@ -1,0 +1,251 @@
+//! [`RsuSigner`]: signs J2735 frames as an RSU, in either of the two ways deployed roadsides
+//! do ([`SigningPattern`]), with the signer certificate in every message or once in a while
+//! (a `digest` signer in between).
+
+use crate::pki::{signing_psid, time64_of_unix_ms};
+use j2735::envelope::ieee1609dot2::build::{encode_signed, Header, Signer};
+use j2735::envelope::ieee1609dot2::crypto::{sha256, RSigForm, SecretKey};
+use j2735::envelope::ieee1609dot2::{Certificate, ThreeDLocation, Time64};
+use std::path::Path;
+use std::sync::{Arc, Mutex, PoisonError};
+
+/// How an RSU signs what it broadcasts again and again.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum SigningPattern {
+    /// Each transmission signed anew, generated when sent (V2X-Hub's way).
+    #[default]
+    PerTransmission,
+    /// Each distinct message signed once and the same bytes sent until its expiry time, then
+    /// signed anew: how USDOT's jpo-ode deposits TIMs in an RSU's store-and-repeat table.
+    /// The first signature's generation time is `signed_ago_ms` before the message was
+    /// first sent (the TIM was deposited that long before the drive).
+    Once {
+        /// How long before its first transmission the message was signed.
+        signed_ago_ms: u64,
+    },
+}
+
+/// Messages signed once and kept for repeating, at most this many (the oldest leave first).
+const MAX_KEPT: usize = 64;
+
+/// What the signer remembers between messages.
+#[derive(Debug, Default)]
+struct SignState {
+    /// When the certificate was last sent whole (Unix ms).
+    certificate_sent_ms: Option<u64>,
+    /// [`SigningPattern::Once`]: (SHA-256 of the frame, expiry Unix ms, the signed bytes).
+    kept: Vec<([u8; 32], u64, Vec<u8>)>,
+}
+
+/// Signs J2735 frames as an RSU: its certificate and key.
+#[derive(Debug, Clone)]
+pub struct RsuSigner {
+    cert: Vec<u8>,
+    key: SecretKey,
+    location: Option<ThreeDLocation>,
+    lifetime_ms: u64,
+    pattern: SigningPattern,
+    certificate_every_ms: Option<u64>,
+    state: Arc<Mutex<SignState>>,
+}
+
+impl RsuSigner {
+    /// A signer with `cert` (COER) and its `key`; messages expire `lifetime_ms` after they
+    /// are generated, carry `location` as generationLocation, are signed per transmission
+    /// and carry the whole certificate.
+    pub fn new(
+        cert: Vec<u8>,
+        key: SecretKey,
+        location: Option<ThreeDLocation>,
+        lifetime_ms: u64,
+    ) -> Self {
+        Self {
+            cert,
+            key,
+            location,
+            lifetime_ms,
+            pattern: SigningPattern::PerTransmission,
+            certificate_every_ms: None,
+            state: Arc::default(),
+        }
+    }
+
+    /// The same signer signing by `pattern`, messages expiring `lifetime_ms` after their
+    /// generation.
+    #[must_use]
+    pub fn with_pattern(mut self, pattern: SigningPattern, lifetime_ms: u64) -> Self {
+        self.pattern = pattern;
+        self.lifetime_ms = lifetime_ms;
+        self
+    }
+
+    /// The same signer sending its certificate whole at most once every `ms` and naming it by
+    /// `digest` in between (per-transmission signing; a message signed once carries it).
+    #[must_use]
+    pub fn with_certificate_every(mut self, ms: u64) -> Self {
+        self.certificate_every_ms = Some(ms);
+        self
+    }
+
+    /// The signer of the PKI directory `dir` (`rsu.oer`, `rsu.key`), 60 s lifetime.
+    ///
+    /// # Errors
+    ///
+    /// A message naming the missing or malformed file.
+    pub fn load(dir: &Path, location: Option<ThreeDLocation>) -> Result<Self, String> {
+        let path = dir.join("rsu.oer");
+        let cert = std::fs::read(&path).map_err(|e| format!("{}: {e}", path.display()))?;
+        Certificate::parse(&cert).map_err(|e| format!("{}: {e}", path.display()))?;
+        let key = crate::pki::read_key(&dir.join("rsu.key"))?;
+        Ok(Self::new(cert, key, location, 60_000))
+    }
+
+    /// The certificate.
+    pub fn certificate(&self) -> &[u8] {
+        &self.cert
+    }
+
+    /// `frame` as IEEE 1609.2 signed data to send at `unix_ms` (PSID by its message): signed
+    /// now, or, signing once, the bytes signed before while they have not expired.
+    ///
+    /// # Errors
+    ///
+    /// A message for a frame of a message without a PSID, or one too large.
+    pub fn sign(&self, frame: &[u8], unix_ms: u64) -> Result<Vec<u8>, String> {
+        let mut state = self.state.lock().unwrap_or_else(PoisonError::into_inner);
+        match self.pattern {
+            SigningPattern::PerTransmission => {
+                let whole = self.certificate_every_ms.is_none_or(|every| {
+                    state
+                        .certificate_sent_ms
+                        .is_none_or(|sent| unix_ms.saturating_sub(sent) >= every)
+                });
+                if whole {
+                    state.certificate_sent_ms = Some(unix_ms);
+                }
+                self.sign_at(frame, unix_ms, whole)
+            }
+            SigningPattern::Once { signed_ago_ms } => {
+                let digest = sha256(frame);
+                state.kept.retain(|(_, expiry, _)| *expiry > unix_ms);
+                if let Some((_, _, bytes)) = state.kept.iter().find(|(d, _, _)| *d == digest) {
+                    return Ok(bytes.clone());
+                }
+                let generated = unix_ms.saturating_sub(signed_ago_ms);
+                let bytes = self.sign_at(frame, generated, true)?;
+                if state.kept.len() >= MAX_KEPT {
+                    state.kept.remove(0);
+                }
+                let expiry = generated.saturating_add(self.lifetime_ms);
+                state.kept.push((digest, expiry, bytes.clone()));
+                Ok(bytes)
+            }
+        }
+    }
+
+    /// `frame` signed with generation time `unix_ms`, the certificate whole or by digest.
+    fn sign_at(&self, frame: &[u8], unix_ms: u64, whole: bool) -> Result<Vec<u8>, String> {
+        let id = match frame {
+            [hi, lo, ..] => u16::from_be_bytes([*hi, *lo]),
+            _ => return Err("frame shorter than its messageId".into()),
+        };
+        let psid = signing_psid(id).ok_or_else(|| format!("no PSID for messageId {id}"))?;
+        let generated = time64_of_unix_ms(unix_ms);
+        let header = Header {
+            psid,
+            generation_time: Time64(generated),
+            expiry_time: Some(Time64(generated + self.lifetime_ms * 1000)),
+            generation_location: self.location,
+        };
+        let signer = if whole {
+            Signer::Certificate(&self.cert)
+        } else {
+            Signer::Digest(&self.cert)
+        };
+        let mut out = vec![0u8; frame.len() + self.cert.len() + 160];
+        let n = encode_signed(frame, &header, signer, &self.key, RSigForm::XOnly, &mut out)
+            .map_err(|e| format!("{e:?}"))?;
+        out.truncate(n);
+        Ok(out)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::pki::{Pki, PkiSpec};
+    use j2735::envelope::ieee1609dot2::{Ieee1609Dot2Data, SignerIdentifier};
+    use j2735::envelope::Psid;
+
+    fn signer() -> RsuSigner {
+        let pki = Pki::create(&PkiSpec {
+            seed: Some("signer test".into()),
+            start_unix_s: 1_735_689_600,
+            root_years: 10,
+            ca_years: 5,
+            rsu_hours: 24 * 365,
+            region: None,
+            psids: vec![Psid::TIM, Psid::MAP],
+            rsu_name: "rsu.signer.test".into(),
+        })
+        .unwrap();
+        RsuSigner::new(pki.rsu.cert, pki.rsu.key, None, 60_000)
+    }
+
+    const TIM: [u8; 4] = [0x00, 0x1F, 0x01, 0x02];
+    const T0: u64 = 1_767_225_600_000;
+
+    fn header_times(bytes: &[u8]) -> (u64, u64) {
+        let data = Ieee1609Dot2Data::parse(bytes).unwrap();
+        let h = data.signed_data().unwrap().header;
+        (h.generation_time.unwrap().0, h.expiry_time.unwrap().0)
+    }
+
+    #[test]
+    fn signed_once_the_same_bytes_repeat_until_they_expire() {
+        let hour = 3_600_000;
+        let once = signer().with_pattern(
+            SigningPattern::Once {
+                signed_ago_ms: 2 * hour,
+            },
+            24 * hour,
+        );
+        let first = once.sign(&TIM, T0).unwrap();
+        let (generated, expiry) = header_times(&first);
+        assert_eq!(generated, time64_of_unix_ms(T0 - 2 * hour));
+        assert_eq!(expiry - generated, 24 * hour * 1000);
+        for k in 1..100 {
+            assert_eq!(once.sign(&TIM, T0 + k * 100).unwrap(), first);
+        }
+        // Another message is signed on its own; past the expiry the TIM is signed anew.
+        assert_ne!(once.sign(&[0x00, 0x12, 0x05], T0).unwrap(), first);
+        let later = once.sign(&TIM, T0 + 22 * hour + 1).unwrap();
+        assert_ne!(later, first);
+        assert_eq!(
+            header_times(&later).0,
+            time64_of_unix_ms(T0 + 20 * hour + 1)
+        );
+    }
+
+    #[test]
+    fn the_certificate_goes_whole_once_a_second_and_by_digest_between() {
+        let s = signer().with_certificate_every(1000);
+        let kinds: Vec<bool> = (0..25)
+            .map(|k| {
+                let bytes = s.sign(&TIM, T0 + k * 100).unwrap();
+                let data = Ieee1609Dot2Data::parse(&bytes).unwrap();
+                matches!(
+                    data.signed_data().unwrap().signer,
+                    SignerIdentifier::Certificate(_)
+                )
+            })
+            .collect();
+        let whole: Vec<usize> = (0..25).filter(|&k| kinds[k]).collect();
+        assert_eq!(whole, [0, 10, 20]);
+        // Per transmission: every frame its own signature.
+        assert_ne!(
+            s.sign(&TIM, T0 + 3000).unwrap(),
+            s.sign(&TIM, T0 + 3001).unwrap()
+        );
+    }
+}
