@@ -102,8 +102,9 @@ pub enum SigningKind {
 }
 
 impl SigningSpec {
-    /// `signer` signing this way.
-    pub fn apply(&self, signer: &roadside::pki::RsuSigner) -> roadside::pki::RsuSigner {
+    /// The pattern, the lifetime (ms) and how often the certificate goes whole (ms), as
+    /// `roadside::rsu::RoadsideOptions::signing` takes them.
+    pub fn settings(&self) -> (roadside::pki::SigningPattern, u64, Option<u64>) {
         use roadside::pki::SigningPattern;
         let pattern = match self.pattern {
             SigningKind::PerTransmission => SigningPattern::PerTransmission,
@@ -111,13 +112,17 @@ impl SigningSpec {
                 signed_ago_ms: self.signed_ago_s.saturating_mul(1000),
             },
         };
-        let signer = signer
-            .clone()
-            .with_pattern(pattern, self.lifetime_s.saturating_mul(1000));
-        match self.certificate_every_ms {
-            Some(ms) => signer.with_certificate_every(ms),
-            None => signer,
-        }
+        (
+            pattern,
+            self.lifetime_s.saturating_mul(1000),
+            self.certificate_every_ms,
+        )
+    }
+
+    /// `signer` signing this way.
+    pub fn apply(&self, signer: &roadside::pki::RsuSigner) -> roadside::pki::RsuSigner {
+        let (pattern, lifetime_ms, every) = self.settings();
+        signer.clone().signing(pattern, lifetime_ms, every)
     }
 }
 

@@ -39,6 +39,7 @@ fn broadcasts_map_and_tims_of_a_wzdx_scenario() {
             duration: Some(Duration::from_millis(500)),
             rsu_dir: None,
             pki_dir: None,
+            signing: Default::default(),
         };
         let summary = run(&s, &o).unwrap();
         let mut ids = Vec::new();
@@ -69,6 +70,7 @@ fn writes_rsu_files_that_parse_back() {
         duration: None,
         rsu_dir: Some(dir.clone()),
         pki_dir: None,
+        signing: Default::default(),
     };
     run(&s, &o).unwrap();
     let frames: Vec<Vec<u8>> = messages_of(&s)
@@ -125,6 +127,7 @@ fn signs_with_a_pki_that_the_obu_trusts() {
         duration: Some(Duration::from_millis(300)),
         rsu_dir: Some(dir.join("rsu-files")),
         pki_dir: Some(dir.clone()),
+        signing: (Default::default(), 60_000, None),
     };
     let summary = run(&s, &o).unwrap();
     assert!(summary.contains("signed"), "{summary}");

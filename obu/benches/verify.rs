@@ -124,7 +124,8 @@ fn main() {
         .collect();
     let ctx = CheckContext {
         message_id: 31,
-        now_us: Some(T0 + FRAMES as u64 * 5_000),
+        // After the last frame: every one within the 30 s past window, none ahead.
+        now_us: Some(T0 + FRAMES as u64 * 10_000),
         alt_now_us: None,
         position: None,
     };

@@ -7,7 +7,7 @@
 use crate::broadcast::{write_rsu_files, Broadcaster, Message, RsuOptions, Wrapping};
 use crate::clock::{unix_ms_now, Utc};
 use crate::messages;
-use crate::pki::RsuSigner;
+use crate::pki::{RsuSigner, SigningPattern};
 use crate::site::Site;
 use std::net::SocketAddr;
 use std::path::PathBuf;
@@ -30,6 +30,10 @@ pub struct RoadsideOptions {
     /// broadcasts are IEEE 1609.2 signed data, RSU files ask the RSU to sign
     /// (`Signature=True`).
     pub pki_dir: Option<PathBuf>,
+    /// With `pki_dir`: how to sign (per transmission, or once and repeat), each message's
+    /// lifetime (generation to expiry, ms) and how often the certificate goes whole
+    /// (`None`: in every message).
+    pub signing: (SigningPattern, u64, Option<u64>),
 }
 
 /// The MAP and TIMs of a site's road and zones, valid from now until further notice.
@@ -54,7 +58,11 @@ pub fn run(s: &Site, o: &RoadsideOptions) -> Result<String, String> {
     let msgs = messages_of(s)?;
     let mut summary = format!("{} messages (MAP + {} TIM)", msgs.len(), msgs.len() - 1);
     let signer = match &o.pki_dir {
-        Some(dir) => Some(std::sync::Arc::new(RsuSigner::load(dir, None)?)),
+        Some(dir) => {
+            let (pattern, lifetime_ms, every) = o.signing;
+            let signer = RsuSigner::load(dir, None)?.signing(pattern, lifetime_ms, every);
+            Some(std::sync::Arc::new(signer))
+        }
         None => None,
     };
     if signer.is_some() {

@@ -87,6 +87,22 @@ impl RsuSigner {
         self
     }
 
+    /// The same signer with all three settings: [`RsuSigner::with_pattern`], and
+    /// [`RsuSigner::with_certificate_every`] when `certificate_every_ms` is given.
+    #[must_use]
+    pub fn signing(
+        self,
+        pattern: SigningPattern,
+        lifetime_ms: u64,
+        certificate_every_ms: Option<u64>,
+    ) -> Self {
+        let signer = self.with_pattern(pattern, lifetime_ms);
+        match certificate_every_ms {
+            Some(ms) => signer.with_certificate_every(ms),
+            None => signer,
+        }
+    }
+
     /// The signer of the PKI directory `dir` (`rsu.oer`, `rsu.key`), 60 s lifetime.
     ///
     /// # Errors

@@ -40,6 +40,8 @@ struct Inner {
     fix_quality: Option<u8>,
     /// Give the core the system clock to check GNSS time against.
     system_clock: bool,
+    /// Where the superseded check's markers are kept across restarts.
+    markers_file: Option<std::path::PathBuf>,
     settings: Settings,
     /// Lane models and work zones of the last external state (bridge mode).
     external: Option<(u8, u8)>,
@@ -75,6 +77,7 @@ impl Hub {
                 last_fix: None,
                 fix_quality: None,
                 system_clock: false,
+                markers_file: None,
                 settings,
                 external: None,
             }),
@@ -125,8 +128,14 @@ impl Hub {
         &self,
         config: obu::security::SecurityConfig,
         anchors: &[(String, Vec<u8>)],
+        markers: Option<(std::path::PathBuf, Vec<obu::security::Marker>)>,
     ) -> Result<(), String> {
         let mut inner = self.lock();
+        if let Some((path, kept)) = markers {
+            // Kept markers age out as new ones are recorded (GNSS time is not known yet).
+            inner.receiver.trust_mut().restore_markers(&kept, 0);
+            inner.markers_file = Some(path);
+        }
         let trust = inner.receiver.trust_mut();
         trust.set_config(config);
         for (name, coer) in anchors {
@@ -151,6 +160,16 @@ impl Hub {
                 let state = inner.core.state(now);
                 self.publish(&mut inner, &state);
                 self.wake.notify_one();
+                // A change (a zone stored, replaced or cancelled) is what a restart must not
+                // undo: the markers of the newest versions go to the state directory.
+                if let Some(path) = inner.markers_file.clone() {
+                    let markers = inner.receiver.trust().markers().to_vec();
+                    drop(inner);
+                    if let Err(e) = crate::markers::save(&path, &markers) {
+                        crate::log::warn("security", &format!("{}: {e}", path.display()));
+                    }
+                    return outcome;
+                }
             }
             V2xOutcome::Unchanged(_) | V2xOutcome::Repeat(_) => self.wake.notify_one(),
             V2xOutcome::Other(_) | V2xOutcome::Dropped(_) => {}

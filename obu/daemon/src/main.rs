@@ -26,6 +26,7 @@ mod host;
 mod http;
 mod hub;
 mod log;
+mod markers;
 mod pairing;
 mod serve;
 mod settings;
@@ -94,7 +95,7 @@ async fn run(config: Config, notifier: Arc<systemd::Notifier>) -> Result<(), Str
     let hub = hub::Hub::new(settings, base, config.http.event_buffer);
     hub.check_system_clock(config.time.check_system_clock);
 
-    configure_security(&hub, &config.security)?;
+    configure_security(&hub, &config.security, &config.http.settings_file)?;
 
     let pairing = load_pairing(&config.http)?;
     let listener = serve::bind(config.http.bind)
@@ -279,14 +280,33 @@ async fn wait_for_signal() {
 }
 
 /// Reads the trust anchors and sets the core's trust policy; warns when nothing can verify.
-fn configure_security(hub: &hub::Hub, security: &config::Security) -> Result<(), String> {
+fn configure_security(
+    hub: &hub::Hub,
+    security: &config::Security,
+    settings_file: &std::path::Path,
+) -> Result<(), String> {
     let mut anchors = Vec::new();
     for path in &security.trust_anchors {
         let coer = std::fs::read(path).map_err(|e| format!("{}: {e}", path.display()))?;
         anchors.push((path.display().to_string(), coer));
     }
     let config = security.core_config().map_err(|e| e.to_string())?;
-    hub.configure_security(config, &anchors)?;
+    let path = markers::path_for(settings_file);
+    let kept = match markers::load(&path) {
+        Ok((kept, 0)) => kept,
+        Ok((kept, skipped)) => {
+            log::warn(
+                "security",
+                &format!("{}: {skipped} lines skipped", path.display()),
+            );
+            kept
+        }
+        Err(e) => {
+            log::warn("security", &format!("{}: {e}", path.display()));
+            Vec::new()
+        }
+    };
+    hub.configure_security(config, &anchors, Some((path, kept)))?;
     if anchors.is_empty() {
         let effect = if security.require_signed {
             "every MAP and TIM will be dropped"

@@ -120,4 +120,18 @@ fn a_signed_cancel_stays_when_the_original_is_replayed() {
         "{s}"
     );
     assert!(d.stop().success());
+    // Restarted with the same state directory: the cancel is still the newest version.
+    let d = start(&dir, 0, &original);
+    udp.send_to(fix_at_vector_time().as_bytes(), d.gnss())
+        .unwrap();
+    let s = status_when(&d.http, |s| !s["fix_quality"].is_null());
+    assert!(!s["fix_quality"].is_null(), "the fix was not taken: {s}");
+    send_all(&d, &udp, &[original.coer.clone()], 0);
+    let s = status(&d.http);
+    assert_eq!(
+        s["counters"]["security_errors"],
+        serde_json::json!({ "1609.2: superseded by a newer version": 1 }),
+        "{s}"
+    );
+    assert!(d.stop().success());
 }

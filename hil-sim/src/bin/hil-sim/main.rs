@@ -205,6 +205,7 @@ fn roadside(a: &RoadsideArgs) -> Result<(), String> {
         duration: a.seconds.map(Duration::from_secs_f64),
         rsu_dir: a.rsu_files.clone(),
         pki_dir: a.pki.clone(),
+        signing: s.signing.settings(),
     };
     if o.destinations.is_empty() && o.rsu_dir.is_none() {
         return Err("give --to HOST:PORT (broadcast) and/or --rsu-files DIR".into());
