@@ -83,11 +83,11 @@ profile! {
 pub const MAX_CHAIN: usize = 4;
 profile! {
     /// Accepted signed messages remembered while relevant, for the repeat and replay check.
-    MAX_REPEATS = 256, firmware 32
+    MAX_REPEATS = 256, firmware 8
 }
 profile! {
     /// Message identities whose newest accepted generation time is kept (superseded check).
-    MAX_NEWEST = 64, firmware 16
+    MAX_NEWEST = 64, firmware 8
 }
 profile! {
     /// Payloads remembered as verified lately (`SecurityConfig::reverify_ms`).

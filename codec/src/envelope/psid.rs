@@ -57,11 +57,7 @@ impl Psid {
     /// announce); `None` when the length does not match, or the first octet starts `1111`.
     #[must_use]
     pub fn from_p_encoded(octets: &[u8]) -> Option<Self> {
-        let first = *octets.first()?;
-        let len = match first.leading_ones() {
-            n @ 0..=3 => n as usize + 1,
-            _ => return None,
-        };
+        let len = p_encoded_len(*octets.first()?)?;
         if octets.len() != len {
             return None;
         }
@@ -129,6 +125,18 @@ impl Psid {
     #[must_use]
     pub fn both_forms(self) -> BothForms {
         BothForms(self)
+    }
+}
+
+/// The length of a p-encoded PSID whose first octet is `first` (1 to 4: its leading one
+/// bits plus one); `None` for `1111xxxx`.
+pub(super) fn p_encoded_len(first: u8) -> Option<usize> {
+    match first.leading_ones() {
+        0 => Some(1),
+        1 => Some(2),
+        2 => Some(3),
+        3 => Some(4),
+        _ => None,
     }
 }
 

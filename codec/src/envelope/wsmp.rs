@@ -18,7 +18,7 @@
 
 use core::fmt;
 
-use super::psid::Psid;
+use super::psid::{p_encoded_len, Psid};
 
 /// WSMP version this parser reads.
 pub const VERSION: u8 = 3;
@@ -142,13 +142,7 @@ impl<'a> Reader<'a> {
     /// A p-encoded PSID.
     fn psid(&mut self) -> Result<Psid, WsmpError> {
         let first = *self.rest.first().ok_or(WsmpError::Truncated)?;
-        let len = match first.leading_ones() {
-            0 => 1,
-            1 => 2,
-            2 => 3,
-            3 => 4,
-            _ => return Err(WsmpError::Encoding),
-        };
+        let len = p_encoded_len(first).ok_or(WsmpError::Encoding)?;
         let octets = self.take(len)?;
         Psid::from_p_encoded(octets).ok_or(WsmpError::Encoding)
     }

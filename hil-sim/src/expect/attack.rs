@@ -8,22 +8,41 @@ use obu::alert::HmiState;
 use obu::v2x::DropReason;
 use std::fmt;
 
+/// The device's security drops other than `allowed` reasons, as `reason: n`.
+fn security_drops(device: &crate::attack::DeviceCounts, allowed: &[DropReason]) -> Vec<String> {
+    device.counters["security_errors"]
+        .as_object()
+        .map(|g| {
+            g.iter()
+                .filter(|(reason, _)| !allowed.iter().any(|a| a.as_str() == reason.as_str()))
+                .map(|(reason, n)| format!("{reason}: {n}"))
+                .collect()
+        })
+        .unwrap_or_default()
+}
+
+/// [`super::Expectation::DigestSignerTaken`].
+pub(super) fn digest_signer_taken(max_unknown: u64, facts: &RunFacts) -> (bool, String) {
+    let Some(device) = &facts.device else {
+        return (false, "the device's counters could not be read".into());
+    };
+    let unknown = device.get("security_errors", DropReason::SignerUnknown.as_str());
+    let drops = security_drops(device, &[DropReason::NoTime, DropReason::SignerUnknown]);
+    let ok = drops.is_empty() && unknown <= max_unknown;
+    let mut detail =
+        format!("{unknown} frames before the first whole certificate (at most {max_unknown})");
+    if !drops.is_empty() {
+        detail.push_str(&format!("; dropped: {}", drops.join(", ")));
+    }
+    (ok, detail)
+}
+
 /// [`super::Expectation::SignedOnceRepeated`].
 pub(super) fn signed_once_repeated(min_share: f64, facts: &RunFacts) -> (bool, String) {
     let Some(device) = &facts.device else {
         return (false, "the device's counters could not be read".into());
     };
-    let no_time = DropReason::NoTime.as_str();
-    let security = &device.counters["security_errors"];
-    let drops: Vec<String> = security
-        .as_object()
-        .map(|g| {
-            g.iter()
-                .filter(|(reason, _)| reason.as_str() != no_time)
-                .map(|(reason, n)| format!("{reason}: {n}"))
-                .collect()
-        })
-        .unwrap_or_default();
+    let drops = security_drops(device, &[DropReason::NoTime]);
     let mut ok = drops.is_empty();
     let mut detail = match drops.is_empty() {
         true => "no signed frame dropped by the trust policy after GNSS time".to_string(),

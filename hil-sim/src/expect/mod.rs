@@ -150,6 +150,14 @@ pub enum Expectation {
         #[serde(default = "ninety")]
         min_share: f64,
     },
+    /// The roadside names its certificate by `digest` between whole certificates
+    /// (`[signing] certificate_every_ms`): once GNSS time is known no signed frame is dropped
+    /// except at most `max_unknown` as "signer certificate not seen yet" (those before the
+    /// first whole certificate reached the OBU).
+    DigestSignerTaken {
+        /// Most frames dropped for a signer not seen yet.
+        max_unknown: u64,
+    },
     /// A lane other than the true one is named in at most `max` of the states (those more
     /// than 2 s from a lane change of the truth): an uncertain lane is left unnamed.
     WrongLaneShown {
@@ -346,6 +354,9 @@ pub fn check(e: &Expectation, records: &[Record], facts: &RunFacts) -> Outcome {
         Expectation::RoadsideKept => attack::roadside_kept(records, facts),
         Expectation::SignedOnceRepeated { min_share } => {
             attack::signed_once_repeated(*min_share, facts)
+        }
+        Expectation::DigestSignerTaken { max_unknown } => {
+            attack::digest_signer_taken(*max_unknown, facts)
         }
         Expectation::ZoneKeptThroughDropout { max_error_m } => {
             alerts::zone_kept_through_dropout(records, facts, *max_error_m)

@@ -126,7 +126,7 @@ fn a_signed_cancel_stays_when_the_original_is_replayed() {
         .unwrap();
     let s = status_when(&d.http, |s| !s["fix_quality"].is_null());
     assert!(!s["fix_quality"].is_null(), "the fix was not taken: {s}");
-    send_all(&d, &udp, &[original.coer.clone()], 0);
+    send_all(&d, &udp, std::slice::from_ref(&original.coer), 0);
     let s = status(&d.http);
     assert_eq!(
         s["counters"]["security_errors"],
