@@ -11,8 +11,8 @@
 use obu::v2x::{DropGroup, DropReason};
 use roadside::attacker::{AttackCounts, AttackKind, Attacker, AttackerSpec};
 use roadside::messages::WorkZone;
-use roadside::pki::RsuSigner;
 use roadside::road::Road;
+use roadside::signer::RsuSigner;
 use serde::Serialize;
 use serde_json::{json, Value};
 use std::net::SocketAddr;

@@ -2,7 +2,8 @@
 //! every bench daemon is configured with (and the firmware is built with), and the signer
 //! of the bench roadside, so that bench runs are signed end to end like the product.
 
-use roadside::pki::{read_key_text, RsuSigner};
+use roadside::pki::read_key_text;
+use roadside::signer::RsuSigner;
 use std::path::Path;
 use std::sync::Arc;
 

@@ -278,7 +278,7 @@ pub struct Feeder {
     road: Road,
     map: Vec<u8>,
     tim: Vec<u8>,
-    signer: std::sync::Arc<roadside::pki::RsuSigner>,
+    signer: std::sync::Arc<roadside::signer::RsuSigner>,
 }
 
 impl Feeder {

@@ -104,8 +104,8 @@ pub enum SigningKind {
 impl SigningSpec {
     /// The pattern, the lifetime (ms) and how often the certificate goes whole (ms), as
     /// `roadside::rsu::RoadsideOptions::signing` takes them.
-    pub fn settings(&self) -> (roadside::pki::SigningPattern, u64, Option<u64>) {
-        use roadside::pki::SigningPattern;
+    pub fn settings(&self) -> (roadside::signer::SigningPattern, u64, Option<u64>) {
+        use roadside::signer::SigningPattern;
         let pattern = match self.pattern {
             SigningKind::PerTransmission => SigningPattern::PerTransmission,
             SigningKind::Once => SigningPattern::Once {
@@ -120,7 +120,7 @@ impl SigningSpec {
     }
 
     /// `signer` signing this way.
-    pub fn apply(&self, signer: &roadside::pki::RsuSigner) -> roadside::pki::RsuSigner {
+    pub fn apply(&self, signer: &roadside::signer::RsuSigner) -> roadside::signer::RsuSigner {
         let (pattern, lifetime_ms, every) = self.settings();
         signer.clone().signing(pattern, lifetime_ms, every)
     }

@@ -17,7 +17,9 @@ use obu::{AlertConfig, HmiState, Instant, Obu};
 use roadside::attacker::Attacker;
 use roadside::clock::{unix_ms_now, Utc};
 use roadside::messages;
+use roadside::signer::RsuSigner;
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
 
 type Receiver = V2xReceiver<1024>;
 
@@ -46,8 +48,10 @@ fn held(s: &HmiState) -> (u8, u8, u8, u32, u32, u32) {
 }
 
 /// A core with the bench's anchors, a GNSS fix (so it has time and position) and the real
-/// roadside's signed MAP and TIMs taken at `now_ms`.
-fn unit_with_real_zone(s: &Scenario, now_ms: u64) -> (Box<Obu>, Box<Receiver>) {
+/// roadside's MAP and TIMs, signed by `signer` (the scenario's way of signing), taken at
+/// `now_ms`; the zones the scenario removes are then cancelled by the roadside (a second
+/// later), before any attack.
+fn unit_with_real_zone(s: &Scenario, now_ms: u64, signer: &RsuSigner) -> (Box<Obu>, Box<Receiver>) {
     let road = s.road().unwrap();
     let zones =
         roadside::zone_sources::build_zones(&s.site(), &road, Utc::from_unix_ms(now_ms - 120_000))
@@ -72,7 +76,6 @@ fn unit_with_real_zone(s: &Scenario, now_ms: u64) -> (Box<Obu>, Box<Receiver>) {
             obu.on_fix(Instant::ZERO, fix);
         }
     }
-    let signer = bench_pki::signer().unwrap();
     let map = messages::build_map(&road, 1, 1, zones.first()).unwrap();
     let mut frames = vec![messages::encode(&map).unwrap()];
     for z in &zones {
@@ -85,6 +88,20 @@ fn unit_with_real_zone(s: &Scenario, now_ms: u64) -> (Box<Obu>, Box<Receiver>) {
             matches!(outcome, V2xOutcome::Changed(_)),
             "the real roadside's frame: {outcome:?}"
         );
+    }
+    for (spec, zone) in s.site().zones.iter().zip(&zones) {
+        if spec.removed_at_s.is_some() {
+            let mut cancel = zone.clone();
+            cancel.duration_min = 0;
+            cancel.msg_cnt = cancel.msg_cnt.wrapping_add(1) % 128;
+            let frame = messages::encode(&messages::build_tim(&road, &cancel).unwrap()).unwrap();
+            let signed = signer.sign(&frame, now_ms + 1000).unwrap();
+            let outcome = obu.on_datagram(Instant::from_millis(1000), &signed, &mut rx);
+            assert!(
+                matches!(outcome, V2xOutcome::Changed(_)),
+                "the real roadside's cancel: {outcome:?}"
+            );
+        }
     }
     (obu, rx)
 }
@@ -117,9 +134,16 @@ fn every_forged_datagram_is_dropped_for_the_reason_its_scenario_names() {
             .find(|r| r.as_str() == reason)
             .unwrap_or_else(|| panic!("{name}: {reason:?} is no drop reason"));
         let now_ms = unix_ms_now();
-        let (mut obu, mut rx) = unit_with_real_zone(&s, now_ms);
-        let before = obu.state(Instant::ZERO);
-        assert!(before.zones > 0 && before.maps > 0, "{name}: {before:?}");
+        // The roadside's signer as the scenario signs; the attacker's clone shares what it
+        // signed once (for the replayed original).
+        let genuine = Arc::new(s.signing.apply(&bench_pki::signer().unwrap()));
+        let (mut obu, mut rx) = unit_with_real_zone(&s, now_ms, &genuine);
+        let before = obu.state(Instant::from_millis(1000));
+        let removes = s.site().zones.iter().any(|z| z.removed_at_s.is_some());
+        assert!(
+            before.maps > 0 && (removes || before.zones > 0),
+            "{name}: {before:?}"
+        );
         let road = s.road().unwrap();
         let zones = roadside::zone_sources::build_zones(
             &s.site(),
@@ -127,20 +151,20 @@ fn every_forged_datagram_is_dropped_for_the_reason_its_scenario_names() {
             Utc::from_unix_ms(now_ms - 120_000),
         )
         .unwrap();
-        let genuine = bench_pki::signer().unwrap();
         let attacker = Attacker::new(spec.kind, &road, &zones, &genuine).unwrap();
         // Ten datagrams a second apart (the core's clock and the GNSS time move on).
-        for k in 1..=10u64 {
+        for k in 2..=11u64 {
             let at = Instant::from_millis(k * 1000);
             let datagram = attacker.datagram(now_ms + k * 1000).unwrap();
             let outcome = obu.on_datagram(at, &datagram, &mut rx);
             assert_eq!(outcome, V2xOutcome::Dropped(reason), "{name}, datagram {k}");
             assert_eq!(held(&obu.state(at)), held(&before), "{name}, datagram {k}");
         }
-        // The control: the forged frame, had the real RSU signed it now, would change
+        // The control: the forged frame, had the real RSU signed it anew now, would change
         // what the driver sees.
-        let at = Instant::from_millis(11_000);
-        let signed = genuine.sign(attacker.frame(), now_ms + 11_000).unwrap();
+        let at = Instant::from_millis(12_000);
+        let fresh = bench_pki::signer().unwrap();
+        let signed = fresh.sign(attacker.frame(), now_ms + 12_000).unwrap();
         let outcome = obu.on_datagram(at, &signed, &mut rx);
         assert!(
             matches!(outcome, V2xOutcome::Changed(_)),
@@ -148,5 +172,5 @@ fn every_forged_datagram_is_dropped_for_the_reason_its_scenario_names() {
         );
         assert_ne!(held(&obu.state(at)), held(&before), "{name}: the control");
     }
-    assert_eq!(attacks, 4, "the four spoofing scenarios");
+    assert_eq!(attacks, 5, "the five spoofing scenarios");
 }

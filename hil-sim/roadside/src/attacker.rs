@@ -13,8 +13,9 @@
 
 use crate::clock::{unix_ms_now, Utc};
 use crate::messages::{self, WorkZone, DURATION_INDEFINITE};
-use crate::pki::{Pki, PkiSpec, RsuSigner};
+use crate::pki::{Pki, PkiSpec};
 use crate::road::Road;
+use crate::signer::RsuSigner;
 use j2735::envelope::Psid;
 use serde::{Deserialize, Serialize};
 use std::net::{SocketAddr, UdpSocket};
@@ -57,6 +58,11 @@ pub enum AttackKind {
     /// [`YESTERDAY_BACK_M`] further back, `packetID` [`YESTERDAY_PACKET_ID`], valid until
     /// further notice): signed by the real key, only old.
     ReplayedYesterday,
+    /// The first zone's TIM exactly as the real roadside signed it, replayed after the
+    /// roadside cancelled the zone: with a roadside that signs once and repeats
+    /// (`[signing] pattern = "once"`) the bytes are the original's (signed by the real key,
+    /// not yet expired), so only the superseded check can refuse them.
+    ReplayedOriginal,
 }
 
 /// A scenario's `[attacker]`.
@@ -204,6 +210,11 @@ impl Attacker {
             AttackKind::ReplayedYesterday => (
                 messages::build_tim(road, &yesterday(first()?)),
                 Wrapping::Recorded(genuine.clone()),
+            ),
+            // The genuine signer's clone shares what it signed once: the original's bytes.
+            AttackKind::ReplayedOriginal => (
+                messages::build_tim(road, &first()?),
+                Wrapping::Signed(RsuSigner::clone(genuine)),
             ),
         };
         let frame = frame

@@ -7,7 +7,7 @@
 use crate::broadcast::{write_rsu_files, Broadcaster, Message, RsuOptions, Wrapping};
 use crate::clock::{unix_ms_now, Utc};
 use crate::messages;
-use crate::pki::{RsuSigner, SigningPattern};
+use crate::signer::{RsuSigner, SigningPattern};
 use crate::site::Site;
 use std::net::SocketAddr;
 use std::path::PathBuf;

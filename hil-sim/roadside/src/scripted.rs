@@ -166,7 +166,7 @@ pub fn spawn(
     to: &str,
     t0: Instant,
     stop: Arc<AtomicBool>,
-    signer: Option<Arc<crate::pki::RsuSigner>>,
+    signer: Option<Arc<crate::signer::RsuSigner>>,
     mut camera: Option<LiveSite>,
 ) -> Result<JoinHandle<RoadsideRun>, String> {
     let sock = UdpSocket::bind("127.0.0.1:0").map_err(|e| e.to_string())?;
@@ -241,7 +241,7 @@ pub fn spawn(
 struct Sender {
     sock: UdpSocket,
     to: String,
-    signer: Option<Arc<crate::pki::RsuSigner>>,
+    signer: Option<Arc<crate::signer::RsuSigner>>,
     radio: FaultInjector,
     counts: V2xCounts,
 }

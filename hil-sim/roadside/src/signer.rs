@@ -193,8 +193,8 @@ mod tests {
     use j2735::envelope::ieee1609dot2::{Ieee1609Dot2Data, SignerIdentifier};
     use j2735::envelope::Psid;
 
-    fn signer() -> RsuSigner {
-        let pki = Pki::create(&PkiSpec {
+    fn spec() -> PkiSpec {
+        PkiSpec {
             seed: Some("signer test".into()),
             start_unix_s: 1_735_689_600,
             root_years: 10,
@@ -203,8 +203,11 @@ mod tests {
             region: None,
             psids: vec![Psid::TIM, Psid::MAP],
             rsu_name: "rsu.signer.test".into(),
-        })
-        .unwrap();
+        }
+    }
+
+    fn signer() -> RsuSigner {
+        let pki = Pki::create(&spec()).unwrap();
         RsuSigner::new(pki.rsu.cert, pki.rsu.key, None, 60_000)
     }
 
@@ -215,6 +218,38 @@ mod tests {
         let data = Ieee1609Dot2Data::parse(bytes).unwrap();
         let h = data.signed_data().unwrap().header;
         (h.generation_time.unwrap().0, h.expiry_time.unwrap().0)
+    }
+
+    #[test]
+    fn signed_frames_parse_with_the_psid_of_their_message() {
+        let signer = signer();
+        let frame = [0x00, 0x1f, 0x01, 0x02];
+        let bytes = signer.sign(&frame, 1_767_225_600_000).unwrap();
+        let data = Ieee1609Dot2Data::parse(&bytes).unwrap();
+        let signed = data.signed_data().unwrap();
+        assert_eq!(signed.header.psid, Psid::TIM);
+        assert_eq!(data.application_data(), Some(&frame[..]));
+        assert!(signer.sign(&[0x00, 0x99], 0).is_err());
+        // 2026-01-01T00:00:00Z is 8036 days (22 years, 6 of them leap) after 2004 in UTC,
+        // 694 310 400 s, plus 5 leap seconds.
+        assert_eq!(
+            signed.header.generation_time.unwrap().0,
+            694_310_405_000_000
+        );
+    }
+
+    #[test]
+    fn a_pki_folder_loads_and_a_bad_key_is_named() {
+        let dir = std::env::temp_dir().join(format!("signer-test-{}", std::process::id()));
+        let pki = Pki::create(&spec()).unwrap();
+        pki.write(&dir).unwrap();
+        assert_eq!(
+            RsuSigner::load(&dir, None).unwrap().certificate(),
+            &pki.rsu.cert[..]
+        );
+        std::fs::write(dir.join("rsu.key"), "zz\n").unwrap();
+        assert!(RsuSigner::load(&dir, None).unwrap_err().contains("rsu.key"));
+        let _ = std::fs::remove_dir_all(&dir);
     }
 
     #[test]

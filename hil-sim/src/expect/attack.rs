@@ -215,7 +215,9 @@ pub(super) fn roadside_kept(records: &[Record], facts: &RunFacts) -> (bool, Stri
         return (false, format!("no state before the attack at {t:.1} s"));
     };
     let held = Held::of(&before.state);
-    if held.maps == 0 || held.zones == 0 || held.unverified > 0 {
+    // Zones the roadside cancelled before the attack are what is kept then (none shown).
+    let nothing = held.zones == 0 && held.zones_cancelled == 0;
+    if held.maps == 0 || nothing || held.unverified > 0 {
         return (
             false,
             format!(

@@ -137,8 +137,9 @@ pub enum Expectation {
         min_fraction: f64,
     },
     /// From the attacker's first datagram to the end, every state holds what the last one
-    /// before it held: the real roadside's lane maps and zones, verified, none stored,
-    /// replaced or cancelled since (for a roadside that changes nothing meanwhile).
+    /// before it held: the real roadside's lane maps and zones, verified (or its zones as it
+    /// cancelled them), none stored, replaced or cancelled since (for a roadside that
+    /// changes nothing meanwhile).
     RoadsideKept,
     /// The roadside signs once and repeats (`[signing] pattern = "once"`): no signed frame
     /// is dropped by the trust policy once GNSS time is known (only "no GNSS time" drops),

@@ -46,7 +46,7 @@ pub struct Broadcaster {
     stats: BroadcastStats,
     datagram: Vec<u8>,
     /// Signs every frame (IEEE 1609.2 signed data) instead of `wrapping`, when set.
-    signer: Option<Arc<crate::pki::RsuSigner>>,
+    signer: Option<Arc<crate::signer::RsuSigner>>,
 }
 
 impl Broadcaster {
@@ -189,7 +189,7 @@ impl Broadcaster {
 
     /// Signs every message with `signer` (IEEE 1609.2 signed data, generated at the send
     /// time) instead of wrapping it; `None`: back to the wrapping.
-    pub fn set_signer(&mut self, signer: Option<Arc<crate::pki::RsuSigner>>) {
+    pub fn set_signer(&mut self, signer: Option<Arc<crate::signer::RsuSigner>>) {
         self.signer = signer;
     }
 

@@ -5,7 +5,6 @@ use j2735::MessageFrameValue;
 use roadside::broadcast::{Broadcaster, Message, Wrapping};
 use roadside::clock::{unix_ms_now, Utc};
 use roadside::messages::encode;
-use roadside::pki::RsuSigner;
 use roadside::road::Road;
 use roadside::road_users::files::{
     draw_first_frame, load_camera, read_truth, read_zone, site_frame, synthesize, tracks_json,
@@ -15,6 +14,7 @@ use roadside::road_users::pipeline::{error_table, paper_text, stats, ErrorTable,
 use roadside::road_users::tracker::TrackerSettings;
 use roadside::road_users::workers::WorkerBroadcaster;
 use roadside::road_users::RoadUserClass;
+use roadside::signer::RsuSigner;
 
 use crate::args::RoadUsersArgs;
 

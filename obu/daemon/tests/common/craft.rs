@@ -244,7 +244,25 @@ pub fn rare_faults(map: &[u8]) -> Vec<Vec<u8>> {
         loose,
         // messageId 64: assigned to no message.
         vec![0x00, 0x40, 0x01, 0x00],
+        // IEEE 1609.3 WSMs (N-header 03: version 3, no extension; 0B: with one): cut short;
+        // a PSID that is no p-encoding; octets after the WSM data; TPID 2 (ITS ports).
+        vec![0x03, 0x00, 0x80],
+        vec![0x03, 0x00, 0xF0, 0x00],
+        vec![0x03, 0x00, 0x20, 0x01, 0x00, 0x00],
+        vec![0x0B, 0x00, 0x02, 0x20, 0x00],
+        // The MAP in a WSM with BSM's PSID (0x20).
+        wsm(0x20, map),
     ]
+}
+
+/// `data` in a WSM (N-header 03, TPID 0, the one-octet `psid`, a two-octet length).
+fn wsm(psid: u8, data: &[u8]) -> Vec<u8> {
+    let len = u16::try_from(data.len()).expect("a short frame");
+    assert!(len < 0x4000);
+    let [hi, lo] = len.to_be_bytes();
+    let mut out = vec![0x03, 0x00, psid, 0x80 | hi, lo];
+    out.extend_from_slice(data);
+    out
 }
 
 /// The V2X counters: the number of keys in every group, and the datagrams counted.
