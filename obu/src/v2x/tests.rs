@@ -209,6 +209,19 @@ mod signed {
         rx
     }
 
+    /// A core with a fix at the vectors' clock and a receiver for `v` (see [`receiver`]),
+    /// and the time of the fix.
+    fn started(
+        v: &SignedVector,
+        require_signed: bool,
+    ) -> (Box<Obu>, Box<V2xReceiver<256>>, Instant) {
+        let mut obu = Box::new(Obu::default());
+        let rx = receiver(v, require_signed);
+        let t = Instant::from_millis(10);
+        obu.on_fix(t, fix_at_vector_time(v));
+        (obu, rx, t)
+    }
+
     /// A fix at the vectors' clock (2025-06-17T14:32:43Z, their `now`).
     fn fix_at_vector_time(v: &SignedVector) -> Fix {
         let ms = (31 + 28 + 31 + 30 + 31 + 16) * 86_400_000 + (14 * 3600 + 32 * 60 + 43) * 1000;
@@ -273,10 +286,7 @@ mod signed {
     fn a_tim_signed_two_hours_ago_with_a_days_expiry_is_shown_and_its_copies_are_repeats() {
         big_stack(|| {
             let v = named("valid_tim_signed_once_expiry_ahead");
-            let mut obu = Box::new(Obu::default());
-            let mut rx = receiver(&v, true);
-            let t = Instant::from_millis(10);
-            obu.on_fix(t, fix_at_vector_time(&v));
+            let (mut obu, mut rx, t) = started(&v, true);
             let id = TravelerInformation::MESSAGE_ID;
             let mut counters = V2xCounters::ZERO;
             let first = obu.on_datagram(t, &v.coer, &mut rx);
@@ -298,10 +308,7 @@ mod signed {
         big_stack(|| {
             let newer = named("superseded_1_newer");
             let older = named("superseded_2_older");
-            let mut obu = Box::new(Obu::default());
-            let mut rx = receiver(&newer, true);
-            let t = Instant::from_millis(10);
-            obu.on_fix(t, fix_at_vector_time(&newer));
+            let (mut obu, mut rx, t) = started(&newer, true);
             let id = TravelerInformation::MESSAGE_ID;
             // On its own the older one is valid.
             let mut alone = receiver(&older, true);
@@ -331,10 +338,7 @@ mod signed {
     fn a_signed_cancel_cannot_be_undone_by_replaying_the_original() {
         big_stack(|| {
             let v = named("valid_tim_certificate_x_only");
-            let mut obu = Box::new(Obu::default());
-            let mut rx = receiver(&v, true);
-            let t = Instant::from_millis(10);
-            obu.on_fix(t, fix_at_vector_time(&v));
+            let (mut obu, mut rx, t) = started(&v, true);
             let id = TravelerInformation::MESSAGE_ID;
             assert_eq!(
                 obu.on_datagram(t, &v.coer, &mut rx),
@@ -377,10 +381,7 @@ mod signed {
     fn wave_short_messages_are_opened_and_their_psid_checked() {
         big_stack(|| {
             let v = named("valid_tim_certificate_x_only");
-            let mut obu = Box::new(Obu::default());
-            let mut rx = receiver(&v, true);
-            let t = Instant::from_millis(10);
-            obu.on_fix(t, fix_at_vector_time(&v));
+            let (mut obu, mut rx, t) = started(&v, true);
             let id = TravelerInformation::MESSAGE_ID;
             // TIM's PSID as the MAP's: dropped before the signature check.
             let wrong = in_wsm(&[0xE0, 0x00, 0x00, 0x17], &v.coer);
@@ -422,10 +423,7 @@ mod signed {
     fn unsigned_data_is_marked_and_cannot_cancel_a_verified_zone() {
         big_stack(|| {
             let v = named("valid_tim_certificate_x_only");
-            let mut obu = Box::new(Obu::default());
-            let mut rx = receiver(&v, false);
-            let t = Instant::from_millis(10);
-            obu.on_fix(t, fix_at_vector_time(&v));
+            let (mut obu, mut rx, t) = started(&v, false);
             let id = TravelerInformation::MESSAGE_ID;
             assert_eq!(
                 obu.on_datagram(t, &v.coer, &mut rx),
@@ -455,10 +453,7 @@ mod signed {
     fn a_forged_signature_never_touches_the_stores() {
         big_stack(|| {
             let v = named("signature_bit_flipped");
-            let mut obu = Box::new(Obu::default());
-            let mut rx = receiver(&v, true);
-            let t = Instant::from_millis(10);
-            obu.on_fix(t, fix_at_vector_time(&v));
+            let (mut obu, mut rx, t) = started(&v, true);
             assert_eq!(
                 obu.on_datagram(t, &v.coer, &mut rx),
                 V2xOutcome::Dropped(DropReason::SignatureInvalid)
