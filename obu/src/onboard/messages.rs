@@ -98,19 +98,21 @@ impl Obu {
         now: Instant,
         tim: &TravelerInformation,
     ) -> Result<Ingest, IngestError> {
-        self.ingest_tim(now, tim, Provenance::Verified)
+        self.ingest_tim(now, tim, Provenance::Verified, None)
     }
 
-    /// [`Obu::on_tim`] for a message of `provenance`.
+    /// [`Obu::on_tim`] for a message of `provenance`, whose signature (if any) stops being
+    /// relevant at `signed_until_us` (`Time64`): its zones are shown until then at most.
     pub(crate) fn ingest_tim(
         &mut self,
         now: Instant,
         tim: &TravelerInformation,
         provenance: Provenance,
+        signed_until_us: Option<u64>,
     ) -> Result<Ingest, IngestError> {
         let mut sink = Sink::new(MessageKind::Tim, provenance);
         for (i, frame) in tim.data_frames.iter().enumerate() {
-            self.tim_frame(now, tim, i, frame, &mut sink);
+            self.tim_frame(now, (tim, i, frame), signed_until_us, &mut sink);
         }
         self.finish(sink)
     }
@@ -118,9 +120,8 @@ impl Obu {
     fn tim_frame(
         &mut self,
         now: Instant,
-        tim: &TravelerInformation,
-        index: usize,
-        frame: &TravelerDataFrame,
+        (tim, index, frame): (&TravelerInformation, usize, &TravelerDataFrame),
+        signed_until_us: Option<u64>,
         sink: &mut Sink,
     ) {
         let key = ingest::tim::key(tim, frame, index);
@@ -130,6 +131,10 @@ impl Obu {
         let stored = self.store_zone(now, key, (msg_cnt, validity), provenance, |zone, maps| {
             ingest::tim::fill_zone(zone, frame, maps, sink)
         });
+        // The zone as this message carried it (new or refreshed): bounded by its signature.
+        if matches!(stored, Ok(Stored::Filled | Stored::Unchanged)) {
+            self.zones.set_signed_until(&key, signed_until_us);
+        }
         sink.count(stored);
     }
 

@@ -215,9 +215,10 @@ impl Obu {
     /// moved on (every [`ESTIMATE_PERIOD`]) or its horizon passed ("position lost").
     pub fn poll(&mut self, now: Instant) -> Option<HmiState> {
         let maps = self.maps.expire(now, self.config.map_timeout);
+        let time64 = self.trusted_time64(now);
         let zones = self
             .zones
-            .poll(now, self.utc_minutes(now), self.config.zone_timeout);
+            .poll(now, self.utc_minutes(now), time64, self.config.zone_timeout);
         let expired = (maps + zones) as u32;
         self.counters.expired = self.counters.expired.saturating_add(expired);
         let workers_gone = self.workers.expire(now) > 0;
@@ -455,6 +456,13 @@ impl Obu {
     /// The last fix's position.
     pub(crate) fn position(&self) -> Option<LatLon> {
         self.last_fix.map(|(_, fix)| fix.position)
+    }
+
+    /// GNSS time at `now` as `Time64` when it is trusted (see [`Obu::utc_minutes`]).
+    fn trusted_time64(&self, now: Instant) -> Option<u64> {
+        (self.time_status == TimeStatus::Trusted)
+            .then(|| self.time64(now))
+            .flatten()
     }
 
     /// UTC minutes since 2000 at `now`, from the last fix that carried UTC, when that

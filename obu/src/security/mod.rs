@@ -422,21 +422,23 @@ impl Trust {
 
     /// After a successful [`Trust::check`], and once the message is decoded: refuses it as
     /// [`Rejection::Superseded`] when a message of the same `identity` with a newer
-    /// generation time was accepted, else records its generation time for `identity`. A
-    /// message checked by nothing (unsigned) passes.
+    /// generation time was accepted, else records its generation time for `identity` and
+    /// returns when the message stops being relevant (`Time64`: its expiry time plus the
+    /// tolerance, or its generation time plus the past window). A message checked by
+    /// nothing (unsigned) passes, with `None`.
     ///
     /// # Errors
     ///
     /// [`Rejection::Superseded`].
-    pub fn check_version(&mut self, identity: Identity) -> Result<(), Rejection> {
+    pub fn check_version(&mut self, identity: Identity) -> Result<Option<u64>, Rejection> {
         let Some((last, now)) = self.last.take() else {
-            return Ok(());
+            return Ok(None);
         };
         if self.newest.is_superseded(&identity, last.newest_us) {
             return Err(Rejection::Superseded);
         }
         self.newest.record(Marker { identity, ..last }, now);
-        Ok(())
+        Ok(Some(last.relevant_until_us))
     }
 
     /// The superseded check's markers (to keep them across restarts).

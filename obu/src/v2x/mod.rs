@@ -240,10 +240,11 @@ impl Obu {
         } else {
             let tim = slot(tim);
             decode_message_into(frame, tim).map_err(DropReason::from_decode)?;
-            if provenance == Provenance::Verified {
-                trust.check_version(tim_identity(tim))?;
-            }
-            self.ingest_tim(now, tim, provenance)
+            let signed_until = match provenance {
+                Provenance::Verified => trust.check_version(tim_identity(tim))?,
+                _ => None,
+            };
+            self.ingest_tim(now, tim, provenance, signed_until)
         };
         let report: Ingest = result.map_err(DropReason::from_ingest)?;
         if report.stored > 0 || report.cancelled > 0 || report.alert_changed > 0 {

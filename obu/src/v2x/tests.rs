@@ -298,6 +298,12 @@ mod signed {
                 counters.record(again);
             }
             assert_eq!((counters.changed, counters.repeats), (1, 10));
+            // Its zones are bounded by the signature's relevance: the expiry plus 5 s.
+            let until = (v.expiry_time.unwrap() + 5_000_000).div_ceil(1_000_000);
+            assert!(obu
+                .zones()
+                .iter()
+                .all(|z| u64::from(z.signed_until_s) == until));
             assert_eq!(counters.dropped_in(DropGroup::Security), 0);
             assert!(obu.state(t).zones > 0);
         });

@@ -128,12 +128,34 @@ impl ZoneStore {
     }
 
     /// Drops zones whose window has ended at `utc_min` (minutes since 2000, when the
-    /// wall time is known) or that were not heard for longer than `timeout`.
+    /// wall time is known), whose signature is no longer relevant at `time64` (GNSS time),
+    /// or that were not heard for longer than `timeout`.
     /// Returns how many were dropped.
-    pub fn poll(&mut self, now: Instant, utc_min: Option<i64>, timeout: Duration) -> usize {
+    pub fn poll(
+        &mut self,
+        now: Instant,
+        utc_min: Option<i64>,
+        time64: Option<u64>,
+        timeout: Duration,
+    ) -> usize {
         self.slots.expire(now, timeout, |z| {
-            utc_min.is_some_and(|m| z.validity.has_ended(m))
+            let window_ended = utc_min.is_some_and(|m| z.validity.has_ended(m));
+            let until_us = u64::from(z.signed_until_s) * 1_000_000;
+            let signature_ended = z.signed_until_s > 0 && time64.is_some_and(|t| t > until_us);
+            window_ended || signature_ended
         })
+    }
+
+    /// Bounds the zone `key` (if stored) by the signature of the message that just carried
+    /// it: shown until `signed_until_us` (`Time64`) at most, none for `None`
+    /// ([`WorkZone::signed_until_s`]).
+    pub fn set_signed_until(&mut self, key: &ZoneKey, signed_until_us: Option<u64>) {
+        let seconds = signed_until_us.map_or(0, |us| {
+            u32::try_from(us.div_ceil(1_000_000)).unwrap_or(u32::MAX)
+        });
+        if let Some(z) = self.iter_mut().find(|z| &z.key == key) {
+            z.signed_until_s = seconds;
+        }
     }
 
     /// The earliest end (minutes since 2000, as seen at `now_abs_min`) of a stored zone's
@@ -187,6 +209,37 @@ mod tests {
     }
 
     #[test]
+    fn a_zone_goes_when_its_signature_stops_being_relevant() {
+        let mut s = ZoneStore::new();
+        assert_eq!(up(&mut s, 0, 1, 0, valid(100, 60)), "added");
+        assert_eq!(up(&mut s, 0, 2, 0, valid(100, 60)), "added");
+        s.set_signed_until(&key(1), Some(5_000_000));
+        let start = valid(100, 60).start_abs();
+        let poll = |s: &mut ZoneStore, t64: u64| {
+            s.poll(
+                Instant::from_millis(10),
+                Some(start + 10),
+                Some(t64),
+                Duration::from_secs(30),
+            )
+        };
+        // Both windows open, both heard: the signed one goes once GNSS time passes its end.
+        assert_eq!(s.get(&key(1)).map(|z| z.signed_until_s), Some(5));
+        assert_eq!(poll(&mut s, 5_000_000), 0);
+        assert_eq!(poll(&mut s, 5_000_001), 1);
+        assert!(s.get(&key(1)).is_none() && s.get(&key(2)).is_some());
+        // Without a trusted time nothing goes for its signature.
+        s.set_signed_until(&key(2), Some(1));
+        let kept = s.poll(
+            Instant::from_millis(10),
+            None,
+            None,
+            Duration::from_secs(30),
+        );
+        assert_eq!(kept, 0);
+    }
+
+    #[test]
     fn lifecycle() {
         let mut s = ZoneStore::new();
         assert_eq!(up(&mut s, 0, 1, 1, valid(100, 60)), "added");
@@ -213,6 +266,7 @@ mod tests {
             s.poll(
                 Instant::from_millis(60),
                 Some(start + 10),
+                None,
                 Duration::from_secs(1)
             ),
             0
@@ -221,6 +275,7 @@ mod tests {
             s.poll(
                 Instant::from_millis(60),
                 Some(start + 61),
+                None,
                 Duration::from_secs(1)
             ),
             MAX_ZONES
@@ -231,7 +286,12 @@ mod tests {
             Some(Instant::from_millis(1001))
         );
         assert_eq!(
-            s.poll(Instant::from_millis(1001), None, Duration::from_secs(1)),
+            s.poll(
+                Instant::from_millis(1001),
+                None,
+                None,
+                Duration::from_secs(1)
+            ),
             1
         );
         assert!(!s.remove(&key(5)));

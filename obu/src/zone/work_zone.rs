@@ -63,6 +63,11 @@ pub struct WorkZone {
     pub regions: Vec<Region, MAX_REGIONS, u8>,
     /// Parsed content.
     pub info: ZoneInfo,
+    /// When the signature of the newest message that carried the zone stops being relevant
+    /// (its expiry time, or its generation time plus the past window), in whole TAI seconds
+    /// since 2004 (`Time64` / 10^6, rounded up; 4 octets a zone on the firmware); 0 for
+    /// unsigned data. The zone is shown until the earlier of this and its own window's end.
+    pub signed_until_s: u32,
     lanes: Vec<ZoneLane, MAX_ZONE_LANES, u8>,
     /// Region ends per map slot of the [`crate::lane::MapStore`] ([`MapEnds::NONE`]
     /// when not cached: 4 bytes less than an `Option` per entry).
@@ -89,6 +94,7 @@ impl WorkZone {
             priority: 0,
             regions: Vec::new(),
             info: ZoneInfo::new(ContentKind::WorkZone),
+            signed_until_s: 0,
             lanes: Vec::new(),
             ends: [[MapEnds::NONE; MAX_MAPS]; MAX_REGIONS],
         }
