@@ -13,7 +13,8 @@ What it makes
          "max_lifetime_us"), "self_public_key" (self signer only, compressed SEC1 hex),
          "rsig_form": "x-only" | "compressed-y", "pair" (repeat), "differs_from" (the valid
          vector an invalid one was made from), "note", "untrusted_root" (its root),
-         "certificate_type": "implicit" and "reconstructed_public_key" (ECQV vectors)}.
+         "certificate_type": "implicit" and "reconstructed_public_key" (ECQV vectors),
+         "wsmp": [{"bytes", "expect"}] WAVE Short Messages around it (base vector only)}.
 
 Independence
     Nothing here is computed by the project's code. ASN.1 structure and COER bytes come from
@@ -49,6 +50,8 @@ Times (Time32 / Time64 of Ieee1609Dot2BaseTypes)
 Cases (see CASES below): valid for every signer kind and both rSig forms, TIM and MAP;
     payload bit flipped; signature bit flipped; wrong PSID; message expired (expiryTime past);
     certificate expired; certificate not yet valid; chain to an untrusted root; region miss;
+    WSMP (IEEE 1609.3) around the base vector and its bare frame, right and wrong T-header
+    PSIDs (member "wsmp": bytes and expectation each);
     generation time in the future; generation time too old (no expiry time, past the past
     window); signed once with an expiry time a day after a generation two hours back (valid,
     TIM and MAP: the deposited-TIM pattern); expiry before generation; lifetime over the
@@ -467,6 +470,21 @@ def frames():
     return tim, mp, by_name[CANCEL_FRAME]
 
 
+# WSMP (IEEE 1609.3-2016 8.3): N-header 0x0B (subtype 0 null networking, option indicator 1,
+# version 3) with one WAVE information element (channel number, id 15, length 1, 172), TPID
+# 0, the T-header's p-encoded PSID (IEEE 1609.12), the WSM length (one octet below 128,
+# else two: 10xxxxxx xxxxxxxx), the data. The p-encoded octets are written out here.
+P_TIM, P_MAP, P_BSM = bytes([0x80, 0x03]), bytes([0xE0, 0x00, 0x00, 0x17]), bytes([0x20])
+WSMP_MISMATCH = 'WSMP PSID does not match the message'
+
+
+def wsmp(psid_octets, data):
+    n = len(data)
+    assert n < 0x4000
+    length = bytes([n]) if n < 128 else bytes([0x80 | (n >> 8), n & 0xff])
+    return bytes([0x0B, 0x01, 0x0F, 0x01, 172, 0x00]) + psid_octets + length + data
+
+
 def flip_bit(b, octet, bit):
     b = bytearray(b)
     b[octet] ^= 0x80 >> bit
@@ -524,6 +542,14 @@ def make_all():
     base_val = vectors[base][1]
     base_coer = valid[base]
 
+    # IEEE 1609.3 WSMP v3 around the base (signed) and around its bare frame, laid out here
+    # from the standard's figures: the T-header PSID must be the message's
+    vectors[base][0]['wsmp'] = [
+        {'bytes': wsmp(P_TIM, base_coer).hex(), 'expect': 'valid'},
+        {'bytes': wsmp(P_MAP, base_coer).hex(), 'expect': WSMP_MISMATCH},
+        {'bytes': wsmp(P_TIM, tim).hex(), 'expect': 'valid (unsigned)'},
+        {'bytes': wsmp(P_BSM, tim).hex(), 'expect': WSMP_MISMATCH},
+    ]
     # payload bit flipped: one bit of the MessageFrame inside, the signature unchanged
     off = base_coer.find(tim)
     assert off > 0 and base_coer.count(tim) == 1
@@ -816,6 +842,14 @@ def self_check(vectors, c):
             elif v['signer'] == 'digest':
                 check_chain([cert, c['ca']], c['root'])
             assert sd['tbsData']['headerInfo']['psid'] in (PSID_TIM, PSID_MAP)
+    for w in vectors['valid_tim_certificate_x_only'][0]['wsmp']:
+        b = bytes.fromhex(w['bytes'])
+        leading_ones = next(i for i in range(5) if not (b[6] << i) & 0x80)
+        at = 6 + leading_ones + 1   # the p-encoded PSID's length
+        n, at = (b[at], at + 1) if b[at] < 0x80 else (((b[at] & 0x3F) << 8) | b[at + 1], at + 2)
+        data = b[at:]
+        assert len(data) == n and data in (bytes.fromhex(vectors['valid_tim_certificate_x_only'][0]['coer']),
+                        bytes.fromhex(vectors['valid_tim_certificate_x_only'][0]['frame'])), w
     check_intended(vectors, c)
     check_chain([c['evil_rsu'], c['evil_ca']], c['evil_root'])
     try:

@@ -48,6 +48,9 @@ pub struct SignedVector {
     pub reconstructed_public_key: Option<Vec<u8>>,
     /// `repeat` for the two vectors of the repeat pair.
     pub pair: Option<String>,
+    /// IEEE 1609.3 WAVE Short Messages around this vector or its bare frame: (the datagram,
+    /// the verdict in words).
+    pub wsmp: Vec<(Vec<u8>, String)>,
 }
 
 /// The file's text (compiled in: the vectors are part of the repository).
@@ -101,5 +104,16 @@ fn parse(line: &str) -> SignedVector {
         untrusted_root: optional_hex("untrusted_root"),
         reconstructed_public_key: optional_hex("reconstructed_public_key"),
         pair: v["pair"].as_str().map(str::to_owned),
+        wsmp: v["wsmp"]
+            .as_array()
+            .map(|list| {
+                list.iter()
+                    .map(|w| {
+                        let bytes = crate::from_hex(w["bytes"].as_str().expect("wsmp bytes"));
+                        (bytes, w["expect"].as_str().expect("wsmp expect").to_owned())
+                    })
+                    .collect()
+            })
+            .unwrap_or_default(),
     }
 }

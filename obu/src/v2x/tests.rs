@@ -384,6 +384,36 @@ mod signed {
     }
 
     #[test]
+    fn the_generators_wave_short_messages_get_its_verdicts() {
+        big_stack(|| {
+            let vectors = all();
+            let id = TravelerInformation::MESSAGE_ID;
+            let mut checked = 0;
+            for v in &vectors {
+                for (bytes, expect) in &v.wsmp {
+                    let unsigned = expect == "valid (unsigned)";
+                    let (mut obu, mut rx, t) = started(v, !unsigned);
+                    let want = match expect.as_str() {
+                        "valid" | "valid (unsigned)" => V2xOutcome::Changed(id),
+                        "WSMP PSID does not match the message" => {
+                            V2xOutcome::Dropped(DropReason::WsmpPsidMismatch)
+                        }
+                        other => panic!("{}: unknown WSMP verdict {other:?}", v.name),
+                    };
+                    assert_eq!(
+                        obu.on_datagram(t, bytes, &mut rx),
+                        want,
+                        "{}: {expect}",
+                        v.name
+                    );
+                    checked += 1;
+                }
+            }
+            assert_eq!(checked, 4);
+        });
+    }
+
+    #[test]
     fn wave_short_messages_are_opened_and_their_psid_checked() {
         big_stack(|| {
             let v = named("valid_tim_certificate_x_only");
