@@ -115,14 +115,23 @@ impl UtcTime {
 
     /// IEEE 1609.2 `Time64`: TAI microseconds since 2004-01-01 00:00:00 UTC, i.e. the UTC
     /// time since then plus the leap seconds inserted since ([`LEAP_SECONDS_SINCE_2004`]);
-    /// `None` before 2004.
+    /// `None` before 2004 or beyond what 64 bits hold.
     pub const fn time64(self) -> Option<u64> {
         let days = days_before_year(self.year) - days_before_year(2004);
         if days < 0 {
             return None;
         }
-        let ms = days as u64 * 86_400_000 + self.ms_of_year + LEAP_SECONDS_SINCE_2004 * 1000;
-        Some(ms * 1000)
+        // Checked: a hostile receiver's year or offset must give `None`, never overflow.
+        let Some(day_ms) = (days as u64).checked_mul(86_400_000) else {
+            return None;
+        };
+        let Some(ms) = day_ms.checked_add(self.ms_of_year) else {
+            return None;
+        };
+        let Some(ms) = ms.checked_add(LEAP_SECONDS_SINCE_2004 * 1000) else {
+            return None;
+        };
+        ms.checked_mul(1000)
     }
 
     /// Milliseconds since 2000-01-01 00:00 UTC (negative before), continuous across years.
