@@ -60,7 +60,6 @@ use j2735::envelope::ieee1609dot2::{
 use j2735::envelope::Psid;
 use j2735::frame::Message;
 use j2735::personal_safety_message::PersonalSafetyMessage;
-use j2735::SPAT;
 use j2735::{MapData, TravelerInformation};
 
 use crate::capacity::{MAX_CACHED_CERTS, MAX_CHAIN, MAX_RECENT, MAX_TRUST_ANCHORS};
@@ -122,20 +121,7 @@ impl SecurityConfig {
             _ => None,
         }
     }
-
-    /// Every row with its message's name (`map`, `tim`, `psm`, `spat`).
-    pub fn rows(&self) -> [(&'static str, &SecurityProfile); 4] {
-        [
-            ("map", &self.map),
-            ("tim", &self.tim),
-            ("psm", &self.psm),
-            ("spat", &self.spat),
-        ]
-    }
 }
-
-/// The `messageId` of SPaT, for the SPaT row.
-pub const SPAT_MESSAGE_ID: u16 = SPAT::MESSAGE_ID;
 
 /// How a signed message was accepted.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
