@@ -252,7 +252,8 @@ def time64(iso):
     return time32(iso) * 1000000
 
 
-GEN = time64('2025-06-17T14:32:41')          # the generation time of every frame
+GEN = time64('2025-06-17T12:32:41')          # the generation time of every frame (inside
+                                             # the TIM's window: 12:00 for 60 minutes)
 EXPIRY = GEN + 60 * 1000000                  # expiryTime: one minute later
 NOW = GEN + 2 * 1000000                      # the verifier's clock for the normal cases
 

@@ -87,6 +87,8 @@ pub struct RunReport {
 /// What the run produced before the checks.
 struct Recorded {
     t0: Instant,
+    /// When the zones' own validity windows end (`ends_after_s`), seconds since `t0`.
+    window_ends_s: Vec<f64>,
     samples: Vec<Sample>,
     sent: Vec<(usize, Instant)>,
     states: Vec<(Instant, serde_json::Value)>,
@@ -108,7 +110,8 @@ pub fn run(s: &Scenario, opts: &RunOptions) -> Result<RunReport, String> {
     std::fs::create_dir_all(&opts.out).map_err(|e| format!("{}: {e}", opts.out.display()))?;
     let road = s.road()?;
     let start = Utc::from_unix_ms(unix_ms_now().saturating_sub(120_000));
-    let zones = build_zones(&s.site(), &road, start)?;
+    let mut zones = build_zones(&s.site(), &road, start)?;
+    end_windows(s, &mut zones, unix_ms_now());
     let samples = drive::simulate(&road, &s.drive, 900.0).map_err(|e| e.to_string())?;
     if samples.is_empty() {
         return Err("the drive has no samples (start past its end?)".into());
@@ -175,6 +178,34 @@ pub fn run(s: &Scenario, opts: &RunOptions) -> Result<RunReport, String> {
     report(s, &road, &zones, recorded, opts)
 }
 
+/// Gives each zone with `ends_after_s` a `durationTime` whose window ends at the first
+/// minute boundary at least that long after `now_unix_ms`.
+fn end_windows(s: &Scenario, zones: &mut [WorkZone], now_unix_ms: u64) {
+    for (spec, zone) in s.zones.iter().zip(zones.iter_mut()) {
+        if let Some(after_s) = spec.ends_after_s {
+            let start_ms = window_start_unix_ms(zone);
+            let end_ms = now_unix_ms + (after_s.max(0.0) * 1000.0) as u64;
+            let minutes = end_ms.saturating_sub(start_ms).div_ceil(60_000);
+            zone.duration_min = minutes.clamp(1, 31_999) as u16;
+        }
+    }
+}
+
+/// The TIM's `startTime` as Unix milliseconds (it counts whole minutes).
+fn window_start_unix_ms(zone: &WorkZone) -> u64 {
+    zone.start.to_unix_ms() / 60_000 * 60_000
+}
+
+/// When the validity windows that `end_windows` set end, Unix milliseconds.
+fn window_ends_unix_ms(s: &Scenario, zones: &[WorkZone]) -> Vec<u64> {
+    s.zones
+        .iter()
+        .zip(zones)
+        .filter(|(spec, _)| spec.ends_after_s.is_some())
+        .map(|(_, z)| window_start_unix_ms(z) + u64::from(z.duration_min) * 60_000)
+        .collect()
+}
+
 /// The scenario's camera site on its road (its cones along the first zone), calibrated
 /// before the drive starts.
 fn camera_site(s: &Scenario, road: &Road, zones: &[WorkZone]) -> Result<Option<LiveSite>, String> {
@@ -229,6 +260,8 @@ fn drive_and_record(
         })
     };
     let t0 = Instant::now();
+    let t0_unix_ms = unix_ms_now();
+    let window_ends_unix_ms = window_ends_unix_ms(s, zones);
     let genuine = crate::bench_pki::signer()?;
     let signer = Arc::new(s.signing.apply(&genuine));
     let attacker = s
@@ -304,6 +337,10 @@ fn drive_and_record(
     let states = std::mem::take(&mut *states.lock().unwrap_or_else(|p| p.into_inner()));
     Ok(Recorded {
         t0,
+        window_ends_s: window_ends_unix_ms
+            .iter()
+            .map(|&end| (end as f64 - t0_unix_ms as f64) / 1000.0)
+            .collect(),
         samples,
         sent,
         states,
@@ -582,6 +619,7 @@ fn run_facts(s: &Scenario, rec: &Recorded) -> RunFacts {
             .zones
             .iter()
             .filter_map(|z| z.removed_at_s)
+            .chain(rec.window_ends_s.iter().copied())
             .reduce(f64::min),
         overspeed_tolerance_mps: 5.0 / 3.6,
         warning_distance_m: s.settings.warning_distance_m,

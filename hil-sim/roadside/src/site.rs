@@ -158,6 +158,10 @@ pub struct ZoneSpec {
     /// The zone shrinks to end at this station this many seconds into the drive
     /// (`[seconds, end_m]`: cones removed from the far end).
     pub shrink_at: Option<(f64, f64)>,
+    /// The TIM's own validity window (`startTime` + `durationTime`) ends at the first
+    /// minute boundary at least this many seconds after the zones are built (just before
+    /// the drive); the roadside keeps broadcasting the same TIM unchanged after it.
+    pub ends_after_s: Option<f64>,
 }
 
 /// Where a zone's geometry comes from.

@@ -86,7 +86,8 @@ pub enum Expectation {
         /// Milliseconds.
         ms: f64,
     },
-    /// `within_s` after the zone was removed, no zone state and no zone alert.
+    /// `within_s` after the zone was removed (or its TIM's window ended), no zone state and
+    /// no zone alert.
     ClearedAfterRemoval {
         /// Seconds.
         within_s: f64,
@@ -230,7 +231,8 @@ pub struct RunFacts {
     pub dropout_starts_s: Vec<f64>,
     /// Each dropout of the drive: (start, end), seconds since the drive start.
     pub dropouts_s: Vec<(f64, f64)>,
-    /// Seconds when a zone was removed.
+    /// Seconds when a zone was removed (the TIM cancelled) or its own validity window
+    /// ended (the first of them).
     pub removed_at_s: Option<f64>,
     /// Configured overspeed tolerance, m/s.
     pub overspeed_tolerance_mps: f64,

@@ -39,10 +39,10 @@ fn nmea(body: &str) -> String {
     format!("${body}*{sum:02X}\r\n")
 }
 
-/// One fix at the vectors' site and clock (2025-06-17 14:32:43 UTC, their `now`).
+/// One fix at the vectors' site and clock (2025-06-17 12:32:43 UTC, their `now`).
 fn fix_at_vector_time() -> String {
-    nmea("GPGGA,143243.00,4207.4074,N,08345.9259,W,4,12,0.6,200.0,M,,M,,")
-        + &nmea("GPRMC,143243.00,A,4207.4074,N,08345.9259,W,000.0,090.0,170625,,")
+    nmea("GPGGA,123243.00,4207.4074,N,08345.9259,W,4,12,0.6,200.0,M,,M,,")
+        + &nmea("GPRMC,123243.00,A,4207.4074,N,08345.9259,W,000.0,090.0,170625,,")
 }
 
 #[test]

@@ -18,9 +18,9 @@ use obu_firmware::app::{Firmware, Messages};
 
 include!(concat!(env!("OUT_DIR"), "/signed_vectors.rs"));
 
-/// The vectors' clock: 2025-06-17 14:32:43 UTC at their site.
+/// The vectors' clock: 2025-06-17 12:32:43 UTC at their site.
 const FIX: Epoch = Epoch {
-    utc_ms: (14 * 3600 + 32 * 60 + 43) * 1000,
+    utc_ms: (12 * 3600 + 32 * 60 + 43) * 1000,
     date: (17, 6, 25),
     lat: 42.123_456_7,
     lon: -83.765_432_1,

@@ -145,6 +145,12 @@ impl Obu {
             gnss_ok: position == PositionSource::Live,
             position,
             time_status: self.time_status,
+            accuracy_source: match position {
+                PositionSource::Live => self
+                    .last_fix
+                    .map_or_else(Default::default, |(_, f)| f.accuracy_source),
+                _ => Default::default(),
+            },
             roadside_data: !(self.maps.is_empty() && self.zones.is_empty()),
             maps: self.maps.len() as u8,
             zones: self.zones.len() as u8,

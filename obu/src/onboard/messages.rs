@@ -236,8 +236,11 @@ impl Sink {
             Ok(Stored::Unchanged) => &mut r.unchanged,
             Ok(Stored::Stale) => &mut r.stale,
             Ok(Stored::Cancelled(true)) => &mut r.cancelled,
-            // The cancellation of a zone not stored (a repeat of one already applied).
-            Ok(Stored::Cancelled(false)) => &mut r.unchanged,
+            // A zone whose window ended is removed as a cancelled one is.
+            Ok(Stored::Ended(true)) => &mut r.cancelled,
+            // The cancellation or the ended window of a zone not stored (a repeat of one
+            // already applied).
+            Ok(Stored::Cancelled(false) | Stored::Ended(false)) => &mut r.unchanged,
             Ok(Stored::Refused) => &mut r.refused_unverified,
             Err(e) => return self.reject(e),
         };

@@ -34,6 +34,8 @@ enum Stored {
     Stale,
     /// Cancelled (`true` when a stored zone was removed).
     Cancelled(bool),
+    /// Its own window had ended (`true` when the stored version was removed).
+    Ended(bool),
     /// Unverified over verified: left alone.
     Refused,
 }
@@ -316,15 +318,15 @@ impl Obu {
             .min()
     }
 
-    /// When the UTC minute (extrapolated from the last fix with UTC) first passes the end
-    /// of a stored zone's validity window, so that [`Obu::poll`] drops it.
+    /// When the UTC time (extrapolated from the last fix with UTC) reaches the end of a
+    /// stored zone's validity window, so that [`Obu::poll`] drops it.
     fn next_window_end(&self) -> Option<Instant> {
         let (t, utc) = self
             .utc
             .filter(|_| self.time_status == TimeStatus::Trusted)?;
         let end = self.zones.next_end(utc.abs_minutes())?;
         let utc_ms = utc.abs_minutes() * 60_000 + (utc.ms_of_year % 60_000) as i64;
-        let after = ((end + 1) * 60_000 - utc_ms).max(0);
+        let after = (end * 60_000 - utc_ms).max(0);
         Some(t + Duration::from_millis(after as u64))
     }
 
@@ -395,7 +397,10 @@ impl Obu {
             Provenance::Verified,
             |z, _| fill(z),
         )?;
-        Ok(matches!(stored, Stored::Filled | Stored::Cancelled(true)))
+        Ok(matches!(
+            stored,
+            Stored::Filled | Stored::Cancelled(true) | Stored::Ended(true)
+        ))
     }
 
     /// [`Obu::update_zone`] with the lane models at hand for the conversion.
@@ -407,8 +412,18 @@ impl Obu {
         provenance: Provenance,
         fill: impl FnOnce(&mut WorkZone, &MapStore) -> Result<(), E>,
     ) -> Result<Stored, E> {
-        let zone = match self.zones.update(now, key, msg_cnt, validity, provenance) {
+        let ended = self.utc_minutes(now).is_some_and(|m| validity.has_ended(m));
+        let update = if ended && !validity.is_cancelled() {
+            self.zones.end(key, validity, provenance)
+        } else {
+            self.zones.update(now, key, msg_cnt, validity, provenance)
+        };
+        let zone = match update {
             ZoneUpdate::Fill { zone, .. } => zone,
+            ZoneUpdate::Ended(found) => {
+                self.counters.expired = self.counters.expired.saturating_add(found as u32);
+                return Ok(Stored::Ended(found));
+            }
             ZoneUpdate::Cancelled(found) => {
                 self.counters.zones_cancelled =
                     self.counters.zones_cancelled.saturating_add(found as u32);

@@ -265,7 +265,7 @@ fn an_outage_is_not_the_fix_period() {
     assert_eq!(s.zone_state, ZoneState::Warning);
 }
 
-/// The map and a closure valid in minutes 2000 and 2001 of 2024.
+/// The map and a closure valid for minute 2000 of 2024 (ended at the start of 2001).
 fn obu_with_window() -> Obu {
     let mut obu = obu_with(false);
     let window = Validity {
@@ -295,12 +295,62 @@ fn the_end_of_a_validity_window_is_a_deadline() {
     while let Some(t) = obu.next_deadline().filter(|t| t.millis() <= 7001) {
         let _ = obu.poll(t);
     }
-    // Minute 2002 starts 120 s after the fix.
-    assert_eq!(obu.next_deadline(), Some(Instant::from_millis(121_000)));
-    assert!(obu.poll(Instant::from_millis(120_999)).is_none());
-    let s = obu.poll(Instant::from_millis(121_000)).unwrap_or_default();
+    // Minute 2001 starts 60 s after the fix.
+    assert_eq!(obu.next_deadline(), Some(Instant::from_millis(61_000)));
+    assert!(obu.poll(Instant::from_millis(60_999)).is_none());
+    let s = obu.poll(Instant::from_millis(61_000)).unwrap_or_default();
     assert_eq!(s.zones, 0, "the window has ended");
     assert_eq!(obu.next_deadline(), Some(Instant::from_millis(600_001)));
+}
+
+#[test]
+fn a_tim_repeated_past_its_window_ends_the_zone_and_is_not_stored_again() {
+    let mut obu = obu_with_window();
+    let window = Validity {
+        start_year: 2024,
+        start_minute: 2000,
+        duration_min: 1,
+    };
+    let key = ZoneKey::packet([1; 9], 0);
+    let repeat = |obu: &mut Obu, ms| {
+        obu.update_zone(Instant::from_millis(ms), key, 1, window, |z| {
+            testutil::fill_closure(z);
+            Ok::<(), ModelError>(())
+        })
+    };
+    obu.set_reference_time(Instant::ZERO, UtcTime::from_minute_of_year(2024, 2000));
+    let _ = drive(&mut obu, 1000, 3.5, 350.0, 10.0);
+    assert_eq!(
+        repeat(&mut obu, 1100),
+        Ok(false),
+        "in its window: unchanged"
+    );
+    assert_eq!(obu.zones().len(), 1);
+    // On a trusted time in minute 2001 (the window over) the same TIM arrives again.
+    let late = UtcTime::from_minute_of_year(2024, 2001);
+    obu.set_reference_time(Instant::from_millis(1200), late);
+    let _ = obu.on_fix(
+        Instant::from_millis(1200),
+        Fix {
+            utc: Some(late),
+            ..fix_at(3.5, 351.0, 10.0)
+        },
+    );
+    assert_eq!(obu.zones().len(), 1, "not polled yet");
+    let expired = obu.counters().expired;
+    assert_eq!(repeat(&mut obu, 1300), Ok(true), "the repeat ends its zone");
+    assert_eq!(obu.zones().len(), 0);
+    assert_eq!(obu.counters().expired, expired + 1);
+    for ms in [1400, 1500, 1600] {
+        assert_eq!(repeat(&mut obu, ms), Ok(false), "a repeat past its window");
+        assert_eq!(obu.zones().len(), 0, "never stored again");
+    }
+    let _ = obu.poll(Instant::from_millis(1700));
+    assert_eq!(
+        obu.counters().expired,
+        expired + 1,
+        "nothing stored, nothing expired"
+    );
 }
 
 #[test]

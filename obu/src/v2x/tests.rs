@@ -222,9 +222,9 @@ mod signed {
         (obu, rx, t)
     }
 
-    /// A fix at the vectors' clock (2025-06-17T14:32:43Z, their `now`).
+    /// A fix at the vectors' clock (2025-06-17T12:32:43Z, their `now`).
     fn fix_at_vector_time(v: &SignedVector) -> Fix {
-        let ms = (31 + 28 + 31 + 30 + 31 + 16) * 86_400_000 + (14 * 3600 + 32 * 60 + 43) * 1000;
+        let ms = (31 + 28 + 31 + 30 + 31 + 16) * 86_400_000 + (12 * 3600 + 32 * 60 + 43) * 1000;
         let utc = UtcTime {
             year: 2025,
             ms_of_year: ms,

@@ -124,24 +124,26 @@ impl Validity {
         }
     }
 
-    /// Active iff start <= now <= start + duration (and not cancelled).
+    /// Active iff start <= now < start + duration (and not cancelled). `now_abs_min` is
+    /// the current minute (the time floored to it), so a zone ends at the instant its
+    /// last minute ends: a 60-minute zone from 10:00 is gone at 11:00:00, not at 11:01.
     pub const fn is_active(&self, now_abs_min: i64) -> bool {
         if self.is_cancelled() || now_abs_min < self.start_abs_at(now_abs_min) {
             return false;
         }
         match self.end_abs_at(now_abs_min) {
-            Some(end) => now_abs_min <= end,
+            Some(end) => now_abs_min < end,
             None => true,
         }
     }
 
-    /// True once the window has ended.
+    /// True once the window has ended (the minute `start + duration` has begun).
     pub const fn has_ended(&self, now_abs_min: i64) -> bool {
         if self.is_cancelled() {
             return true;
         }
         match self.end_abs_at(now_abs_min) {
-            Some(end) => now_abs_min > end,
+            Some(end) => now_abs_min >= end,
             None => false,
         }
     }
@@ -217,8 +219,8 @@ mod tests {
         };
         let start = v.start_abs();
         assert!(!v.is_active(start - 1));
-        assert!(v.is_active(start) && v.is_active(start + 60));
-        assert!(!v.is_active(start + 61) && v.has_ended(start + 61));
+        assert!(v.is_active(start) && v.is_active(start + 59) && !v.has_ended(start + 59));
+        assert!(!v.is_active(start + 60) && v.has_ended(start + 60));
         let forever = Validity {
             duration_min: Validity::INDEFINITE,
             ..v

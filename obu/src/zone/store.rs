@@ -14,6 +14,9 @@ pub enum ZoneUpdate<'a> {
     Stale,
     /// `durationTime` 0: the zone was removed (true) or was not stored (false).
     Cancelled(bool),
+    /// The message's own window has already ended: the version it ends was removed
+    /// (true) or none was stored (false); it is never stored again.
+    Ended(bool),
     /// An unverified message for a zone that came verified (or that would evict one):
     /// nothing changed.
     Refused,
@@ -89,6 +92,26 @@ impl ZoneStore {
                     replaced,
                 }
             }
+        }
+    }
+
+    /// Takes a received zone whose window has ended at the current time (an RSU
+    /// repeating a TIM past its `durationTime`): removes the stored version it ends,
+    /// leaves a newer one (a later start) alone, and stores nothing.
+    pub fn end(
+        &mut self,
+        key: ZoneKey,
+        validity: Validity,
+        provenance: Provenance,
+    ) -> ZoneUpdate<'_> {
+        if let Some(z) = self.slots.get(&key) {
+            if validity.start_abs() < z.validity.start_abs() {
+                return ZoneUpdate::Stale;
+            }
+        }
+        match self.slots.remove_as(&key, provenance) {
+            Ok(found) => ZoneUpdate::Ended(found),
+            Err(()) => ZoneUpdate::Refused,
         }
     }
 
@@ -201,11 +224,46 @@ mod tests {
             ZoneUpdate::Stale => "stale",
             ZoneUpdate::Cancelled(true) => "cancelled",
             ZoneUpdate::Cancelled(false) => "unknown",
+            ZoneUpdate::Ended(_) => "ended",
             ZoneUpdate::Fill { replaced: true, .. } => "replaced",
             ZoneUpdate::Fill {
                 replaced: false, ..
             } => "added",
         }
+    }
+
+    #[test]
+    fn an_ended_window_removes_its_version_and_leaves_a_newer_one() {
+        let mut s = ZoneStore::new();
+        assert_eq!(up(&mut s, 0, 1, 0, valid(100, 60)), "added");
+        let ended = |s: &mut ZoneStore, v| match s.end(key(1), v, Provenance::Verified) {
+            ZoneUpdate::Ended(found) => {
+                if found {
+                    "removed"
+                } else {
+                    "none"
+                }
+            }
+            ZoneUpdate::Stale => "stale",
+            _ => "other",
+        };
+        assert_eq!(ended(&mut s, valid(100, 60)), "removed");
+        assert_eq!(ended(&mut s, valid(100, 60)), "none");
+        assert_eq!(up(&mut s, 0, 1, 1, valid(200, 60)), "added");
+        assert_eq!(
+            ended(&mut s, valid(100, 60)),
+            "stale",
+            "an older version ends nothing"
+        );
+        assert_eq!(s.len(), 1);
+        assert!(
+            matches!(
+                s.end(key(1), valid(200, 60), Provenance::Unverified),
+                ZoneUpdate::Refused
+            ),
+            "unverified over verified"
+        );
+        assert_eq!(s.len(), 1);
     }
 
     #[test]
