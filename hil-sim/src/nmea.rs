@@ -108,10 +108,11 @@ mod tests {
             sigma_m: 0.5,
         });
         let mut asm = FixAssembler::new();
-        let fixes: Vec<_> = text
-            .lines()
-            .filter_map(|l| asm.push(&parse(l).unwrap()))
-            .collect();
+        let mut fixes = Vec::new();
+        for l in text.lines() {
+            asm.push(&parse(l).unwrap(), |e| fixes.push(e.outcome.unwrap()));
+        }
+        asm.finish(|e| fixes.push(e.outcome.unwrap()));
         assert_eq!(fixes.len(), 1, "one fix per epoch");
         let f = fixes[0];
         assert!((f.position.lat_e7() - position.lat_e7()).abs() <= 2);

@@ -38,10 +38,12 @@ fn drive(obu: &mut Obu, scene: &str, secs: f64) -> Vec<HmiState> {
         let t = k as f64 * 0.1;
         let mut epoch = hmi_bench::car_epoch(&road, scene, t).unwrap();
         epoch.utc = Utc::from_unix_ms(NOW_MS + k * 100);
+        let mut fixes = Vec::new();
         for line in nmea::epoch(&epoch).lines() {
-            if let Some(fix) = asm.push(&parse(line).unwrap()) {
-                out.push(obu.on_fix(Instant::from_millis(k * 100), fix));
-            }
+            asm.push(&parse(line).unwrap(), |e| fixes.extend(e.outcome.ok()));
+        }
+        for fix in fixes {
+            out.push(obu.on_fix(Instant::from_millis(k * 100), fix));
         }
     }
     out

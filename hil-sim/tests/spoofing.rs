@@ -71,10 +71,14 @@ fn unit_with_real_zone(s: &Scenario, now_ms: u64, signer: &RsuSigner) -> (Box<Ob
         sigma_m: 0.3,
     };
     let mut fixes = FixAssembler::new();
+    let mut got = Vec::new();
     for line in nmea::epoch(&epoch).lines() {
-        if let Some(fix) = fixes.push(&parse(line).unwrap()) {
-            obu.on_fix(Instant::ZERO, fix);
-        }
+        fixes.push(&parse(line).unwrap(), |e| got.extend(e.outcome.ok()));
+    }
+    fixes.finish(|e| got.extend(e.outcome.ok()));
+    assert_eq!(got.len(), 1, "one epoch, one fix");
+    for fix in got {
+        obu.on_fix(Instant::ZERO, fix);
     }
     let map = messages::build_map(&road, 1, 1, zones.first()).unwrap();
     let mut frames = vec![messages::encode(&map).unwrap()];

@@ -83,6 +83,7 @@ fn drive(obu: &mut Obu, from: f32, to: f32) -> Vec<(f32, HmiState)> {
             let station = from + k as f32 * SPEED * 0.1;
             let p = lane.point_at(lane.length() - station).expect("on lane");
             let fix = Fix {
+                accuracy_source: Default::default(),
                 position: frame.to_wgs84(Point::new(p.x, p.y)).expect("position"),
                 accuracy_m: Some(0.3),
                 speed_mps: Some(SPEED),

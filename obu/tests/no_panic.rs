@@ -33,6 +33,7 @@ fn any_fix() -> impl Strategy<Value = Fix> {
         any::<u64>(),
     )
         .prop_map(|(position, acc, speed, course, year, ms)| Fix {
+            accuracy_source: Default::default(),
             position,
             accuracy_m: Some(acc),
             speed_mps: Some(speed),

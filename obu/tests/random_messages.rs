@@ -81,6 +81,7 @@ fn fix(raw: &RawFix, reference: LatLon, obu: &Obu) -> Fix {
             }
         });
         return Fix {
+            accuracy_source: Default::default(),
             position,
             accuracy_m: Some(1.0),
             speed_mps: Some(10.0),
@@ -94,6 +95,7 @@ fn fix(raw: &RawFix, reference: LatLon, obu: &Obu) -> Fix {
         LatLon::new(reference.lat_e7() + raw.d.0, reference.lon_e7() + raw.d.1)
     };
     Fix {
+        accuracy_source: Default::default(),
         position: position.unwrap_or_default(),
         accuracy_m: Some(raw.accuracy),
         speed_mps: Some(raw.speed),

@@ -23,7 +23,9 @@ max_datagram = 4096
 
 [gnss]
 # "none", "nmea-file" (replay), "nmea-serial" (a tty already set to its baud rate),
-# "nmea-tcp" (connect to host:port), "nmea-udp" (listen), "gpsd" (TPV over TCP).
+# "ubx-serial" (the same, named for a u-blox receiver sending UBX NAV-PVT), "nmea-tcp"
+# (connect to host:port), "nmea-udp" (listen), "gpsd" (TPV over TCP). Every source but gpsd
+# reads NMEA 0183 and u-blox UBX alike, mixed or not, and skips (and counts) other binary.
 source = "none"
 # File or device path, host:port, or the UDP bind address, by source.
 address = ""
@@ -32,6 +34,15 @@ realtime = true
 # No fix for longer than this (milliseconds) shows "no GNSS". At 10 Hz, 700 ms is seven
 # missed fixes, and the tablet still shows the loss within 1 s of the last fix.
 stale_after_ms = 700
+
+[gnss.uere]
+# Without GST or UBX hAcc the fix's horizontal 1-sigma error is HDOP times the
+# user-equivalent range error of its kind of solution (metres): stand-alone, SBAS/DGPS,
+# RTK float, RTK fixed. Set your receiver's if you know them.
+autonomous_m = 3.0
+differential_m = 1.0
+rtk_float_m = 0.3
+rtk_fixed_m = 0.03
 
 [speed]
 # Vehicle speed: "gnss" (from the fixes), "socketcan" (a CAN interface) or "candump-file".
@@ -394,6 +405,8 @@ pub enum GnssSource {
     NmeaFile,
     /// Read NMEA from a serial device.
     NmeaSerial,
+    /// Read a u-blox receiver's UBX (and NMEA) from a serial device.
+    UbxSerial,
     /// Read NMEA from a TCP server.
     NmeaTcp,
     /// Receive NMEA datagrams.
@@ -414,6 +427,34 @@ pub struct Gnss {
     pub realtime: bool,
     /// Stale after, milliseconds.
     pub stale_after_ms: u64,
+    /// Range errors for the accuracy from HDOP.
+    pub uere: Uere,
+}
+
+/// `[gnss.uere]`: user-equivalent range errors (1 sigma, metres) per kind of solution.
+#[derive(Clone, Copy, Debug, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct Uere {
+    /// Stand-alone.
+    pub autonomous_m: f32,
+    /// SBAS or DGPS.
+    pub differential_m: f32,
+    /// RTK float.
+    pub rtk_float_m: f32,
+    /// RTK fixed.
+    pub rtk_fixed_m: f32,
+}
+
+impl Uere {
+    /// The core's accuracy model.
+    pub fn model(&self) -> obu::input::nmea::AccuracyModel {
+        obu::input::nmea::AccuracyModel {
+            autonomous_m: self.autonomous_m,
+            differential_m: self.differential_m,
+            rtk_float_m: self.rtk_float_m,
+            rtk_fixed_m: self.rtk_fixed_m,
+        }
+    }
 }
 
 /// Speed source kinds.
@@ -672,6 +713,19 @@ impl Config {
         }
         if self.gnss.source != GnssSource::None && self.gnss.address.is_empty() {
             return bad("gnss.address is needed for this gnss.source");
+        }
+        let u = self.gnss.uere;
+        let range_errors = [
+            u.autonomous_m,
+            u.differential_m,
+            u.rtk_float_m,
+            u.rtk_fixed_m,
+        ];
+        if !range_errors
+            .iter()
+            .all(|m| m.is_finite() && (0.001..=100.0).contains(m))
+        {
+            return bad("gnss.uere values must lie between 0.001 and 100 metres");
         }
         if !(1..=64).contains(&self.speed.length) {
             return bad("speed.length must be 1..=64");

@@ -31,6 +31,10 @@ pub mod group {
     pub const NMEA_ERRORS: &str = "nmea_errors";
     /// GNSS input events (fixes, reconnects), by kind.
     pub const GNSS: &str = "gnss";
+    /// GNSS epochs without a fix, by the reason ([`obu::input::nmea::NoFix`]).
+    pub const GNSS_NO_FIX: &str = "gnss_no_fix";
+    /// GNSS sentences and UBX messages read, by type.
+    pub const GNSS_MESSAGES: &str = "gnss_messages";
     /// CAN frames refused, by reason.
     pub const CAN_ERRORS: &str = "can_errors";
     /// Bridge-mode link events (states, connects, disconnects, failures), by kind.
@@ -85,13 +89,18 @@ impl Counters {
 
     /// Adds one to `group`/`reason`.
     pub fn add(&self, group: &'static str, reason: &'static str) {
+        self.add_n(group, reason, 1);
+    }
+
+    /// Adds `n` to `group`/`reason`.
+    pub fn add_n(&self, group: &'static str, reason: &'static str, n: u64) {
         *self
             .lock()
             .by_reason
             .entry(group)
             .or_default()
             .entry(reason)
-            .or_default() += 1;
+            .or_default() += n;
     }
 
     /// Counts one V2X input by its outcome: a message taken (MAP, TIM or other) under

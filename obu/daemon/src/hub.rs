@@ -8,7 +8,8 @@
 use crate::counters::Counters;
 use crate::settings::Settings;
 use obu::alert::{AlertConfig, HmiState};
-use obu::fix::Fix;
+use obu::fix::{AccuracySource, Fix};
+use obu::input::nmea::{NoFix, Solution};
 use obu::time::Instant;
 use obu::v2x::{V2xOutcome, V2xReceiver};
 use std::collections::VecDeque;
@@ -37,7 +38,7 @@ struct Inner {
     seq: u64,
     recent: VecDeque<Arc<Event>>,
     last_fix: Option<Instant>,
-    fix_quality: Option<u8>,
+    gnss: ReceiverStatus,
     /// Give the core the system clock to check GNSS time against.
     system_clock: bool,
     /// Where the superseded check's markers are kept across restarts.
@@ -75,7 +76,7 @@ impl Hub {
                 seq: 0,
                 recent: VecDeque::with_capacity(keep),
                 last_fix: None,
-                fix_quality: None,
+                gnss: ReceiverStatus::default(),
                 system_clock: false,
                 markers_file: None,
                 settings,
@@ -179,11 +180,11 @@ impl Hub {
 
     /// A GNSS fix (the core takes the CAN speed over its speed while fresh); publishes the
     /// new state.
-    pub fn on_fix(&self, fix: Fix, quality: Option<u8>) {
+    pub fn on_fix(&self, fix: Fix, solution: Option<Solution>) {
         let now = self.now();
         let mut inner = self.lock();
         inner.last_fix = Some(now);
-        inner.fix_quality = quality;
+        inner.gnss.record(solution, None, fix.accuracy_source);
         if inner.system_clock {
             if let Some(utc) = system_utc() {
                 inner.core.set_reference_time(now, utc);
@@ -192,6 +193,20 @@ impl Hub {
         let state = inner.core.on_fix(now, fix);
         self.publish(&mut inner, &state);
         self.wake.notify_one();
+    }
+
+    /// An epoch in which the receiver gave no fix, and why (the receiver's own dead
+    /// reckoning, its simulator, no fix): nothing reaches the core, the status shows it,
+    /// and the log says so once when it starts.
+    pub fn on_no_fix(&self, solution: Option<Solution>, why: NoFix) {
+        let mut inner = self.lock();
+        if inner.gnss.no_fix != Some(why) {
+            eprintln!(
+                "obu: gnss: no fix from the receiver: {} (its positions are not used)",
+                why.as_str()
+            );
+        }
+        inner.gnss.record(solution, Some(why), AccuracySource::None);
     }
 
     /// A vehicle speed from CAN: the core uses it over the GNSS speed while fresh
@@ -271,13 +286,13 @@ impl Hub {
         inner.settings = settings;
     }
 
-    /// Milliseconds since the last fix, and its quality.
-    pub fn gnss(&self) -> (Option<u64>, Option<u8>) {
+    /// Milliseconds since the last fix, and what the receiver says of its last epoch.
+    pub fn gnss(&self) -> (Option<u64>, ReceiverStatus) {
         let now = self.now();
         let inner = self.lock();
         (
             inner.last_fix.map(|t| now.saturating_since(t).millis()),
-            inner.fix_quality,
+            inner.gnss,
         )
     }
 
@@ -339,7 +354,7 @@ impl Hub {
             "seq": inner.seq,
             "state": state,
             "gnss_age_ms": gnss_age_ms,
-            "fix_quality": inner.fix_quality,
+            "fix_quality": inner.gnss.fix_quality(),
         });
         let event = Arc::new(Event {
             seq: inner.seq,
@@ -354,12 +369,46 @@ impl Hub {
     }
 }
 
-/// The core's alert configuration with the driver's settings applied.
+/// What the receiver said of its last epoch.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct ReceiverStatus {
+    /// Its solution (autonomous, RTK fixed, simulator, ...), when it says.
+    pub solution: Option<Solution>,
+    /// Why the last epoch gave no fix; `None` when it gave one.
+    pub no_fix: Option<NoFix>,
+    /// Where the last fix's accuracy came from.
+    pub accuracy_source: AccuracySource,
+}
+
+impl ReceiverStatus {
+    fn record(&mut self, solution: Option<Solution>, no_fix: Option<NoFix>, a: AccuracySource) {
+        self.solution = solution;
+        self.no_fix = no_fix;
+        if no_fix.is_none() {
+            self.accuracy_source = a;
+        }
+    }
+
+    /// The GGA quality indicator of the solution (0 for none).
+    pub fn fix_quality(&self) -> Option<u8> {
+        self.solution.map(Solution::gga_quality)
+    }
+
+    /// As `/api/status` shows it.
+    pub fn to_json(&self) -> serde_json::Value {
+        serde_json::json!({
+            "solution": self.solution.map(Solution::as_str),
+            "no_fix": self.no_fix.map(NoFix::as_str),
+            "accuracy_source": self.accuracy_source.as_str(),
+        })
+    }
+}
+
 /// Milliseconds from the Unix epoch to 2000-01-01 00:00 UTC.
 const UNIX_MS_AT_2000: i64 = 946_684_800_000;
 
 /// The system clock as UTC (`None` before 1970).
-fn system_utc() -> Option<obu::time::UtcTime> {
+pub(crate) fn system_utc() -> Option<obu::time::UtcTime> {
     let since = std::time::SystemTime::now()
         .duration_since(std::time::UNIX_EPOCH)
         .ok()?;
@@ -367,6 +416,7 @@ fn system_utc() -> Option<obu::time::UtcTime> {
     Some(obu::time::UtcTime::from_abs_millis(ms - UNIX_MS_AT_2000))
 }
 
+/// The core's alert configuration with the driver's settings applied.
 fn alert_config(mut base: AlertConfig, s: &Settings) -> AlertConfig {
     base.warn_distance_m = s.warning_distance_m;
     base.lead_time_s = s.lead_time_s;

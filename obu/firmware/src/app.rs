@@ -1,17 +1,15 @@
-//! The firmware's logic, independent of the hardware: bytes in (NMEA, V2X frames), the OBU
+//! The firmware's logic, independent of the hardware: bytes in (GNSS NMEA and UBX, V2X frames), the OBU
 //! core in the middle, `HmiState` frames out. Fed from the USARTs by `main` and from byte
 //! slices by the on-target tests.
 
 use embedded_io::Write;
-use obu::input::nmea::{self, FixAssembler};
+use obu::input::gnss::{GnssEvent, GnssReader};
 use obu::link::{self, Deframer};
 use obu::v2x::{DropReason, V2xCounters, V2xOutcome, V2xReceiver};
 use obu::{AlertConfig, HmiState, Instant, Obu};
 
 /// Largest V2X frame on the wire (a UPER MessageFrame in a 1609.2 envelope, COBS framed).
 pub const V2X_MAX_WIRE: usize = 2048;
-/// Longest NMEA sentence kept (82 characters by the standard, with room to spare).
-pub const NMEA_MAX: usize = 100;
 /// Largest postcard encoding of an `HmiState`.
 pub const HMI_MAX: usize = 512;
 /// Largest wire frame of an `HmiState`.
@@ -51,12 +49,16 @@ impl defmt::Format for ShowCounters<'_> {
 pub struct Firmware {
     obu: Obu,
     v2x: Deframer<V2X_MAX_WIRE>,
-    line: heapless::Vec<u8, NMEA_MAX>,
-    fixes: FixAssembler,
+    gnss: GnssReader,
     /// V2X input counters, by outcome and drop reason.
     pub v2x_counters: V2xCounters,
-    /// NMEA sentences that did not parse.
+    /// NMEA sentences and UBX messages that did not parse.
     pub nmea_errors: u32,
+    /// GNSS epochs in which the receiver gave no fix (no fix, its simulator, its dead
+    /// reckoning, ...).
+    pub gnss_no_fix: u32,
+    /// GNSS bytes that belonged to no sentence or UBX frame.
+    pub gnss_skipped: u32,
     /// HmiState frames that did not fit their buffer (never expected).
     pub hmi_dropped: u32,
 }
@@ -67,10 +69,11 @@ impl Firmware {
         Self {
             obu: Obu::new(config),
             v2x: Deframer::new(),
-            line: heapless::Vec::new(),
-            fixes: FixAssembler::new(),
+            gnss: GnssReader::new(),
             v2x_counters: V2xCounters::ZERO,
             nmea_errors: 0,
+            gnss_no_fix: 0,
+            gnss_skipped: 0,
             hmi_dropped: 0,
         }
     }
@@ -80,34 +83,30 @@ impl Firmware {
         &self.obu
     }
 
-    /// One byte of the NMEA port; a complete fix yields the new state.
-    pub fn on_nmea_byte(&mut self, now: Instant, byte: u8) -> Option<HmiState> {
-        match byte {
-            b'\r' => None,
-            b'\n' => {
-                let state = core::str::from_utf8(&self.line)
-                    .ok()
-                    .map(|s| nmea::parse(s.trim()));
-                self.line.clear();
-                match state {
-                    Some(Ok(sentence)) => {
-                        let fix = self.fixes.push(&sentence)?;
-                        Some(self.obu.on_fix(now, fix))
-                    }
-                    _ => {
-                        self.nmea_errors = self.nmea_errors.wrapping_add(1);
-                        None
-                    }
-                }
+    /// One byte of the GNSS port (NMEA sentences and u-blox UBX frames, mixed or not); a
+    /// fix yields the new state.
+    pub fn on_gnss_byte(&mut self, now: Instant, byte: u8) -> Option<HmiState> {
+        let Self {
+            obu,
+            gnss,
+            nmea_errors,
+            gnss_no_fix,
+            gnss_skipped,
+            ..
+        } = self;
+        let mut state = None;
+        gnss.push(&[byte], |e| match e {
+            GnssEvent::Epoch(epoch) => match epoch.outcome {
+                Ok(fix) => state = Some(obu.on_fix(now, fix)),
+                Err(_) => *gnss_no_fix = gnss_no_fix.wrapping_add(1),
+            },
+            GnssEvent::NmeaError(_) | GnssEvent::UbxError(_) => {
+                *nmea_errors = nmea_errors.wrapping_add(1)
             }
-            _ => {
-                if self.line.push(byte).is_err() {
-                    self.line.clear();
-                    self.nmea_errors = self.nmea_errors.wrapping_add(1);
-                }
-                None
-            }
-        }
+            GnssEvent::Skipped(n) => *gnss_skipped = gnss_skipped.wrapping_add(n as u32),
+            _ => {}
+        });
+        state
     }
 
     /// One byte of the V2X port; a frame that changes what is stored (maps or zones stored,

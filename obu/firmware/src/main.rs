@@ -52,7 +52,7 @@ fn main() -> ! {
         while let Some(bytes) = received(&mut nmea, &mut buf) {
             idle = false;
             for &b in bytes {
-                if let Some(state) = fw.on_nmea_byte(now, b) {
+                if let Some(state) = fw.on_gnss_byte(now, b) {
                     fw.hmi_dropped += u32::from(!send_state(&mut hmi, &state));
                 }
             }

@@ -412,9 +412,10 @@ mod tests {
         let (_, k) = feed_nmea(st.fw, now, wrong.as_bytes());
         assert_eq!(k, 0);
         assert_eq!(errors(st) - e0, 1, "bad checksum");
-        // A sentence without checksum, one not starting with '$', an unsupported type with a
-        // right checksum, an RMC with an invalid status: one error each.
-        let e0 = errors(st);
+        // A sentence without checksum and an RMC with an invalid status: one error each.
+        // A line not starting with '$' is skipped (counted as bytes), a well-formed type
+        // the core does not read (GSV) is no error.
+        let (e0, s0) = (errors(st), st.fw.gnss_skipped);
         let unsupported = sentence("GPGSV,1,1,01,05,40,083,46");
         let bad_status = sentence("GPRMC,121000.00,X,4207.4040,N,08345.9240,W,1.0,90.0,170625,,,A");
         for line in [
@@ -426,40 +427,42 @@ mod tests {
             let (_, k) = feed_nmea(st.fw, now, line.as_bytes());
             assert_eq!(k, 0);
         }
-        assert_eq!(errors(st) - e0, 4, "malformed sentences");
+        assert_eq!(errors(st) - e0, 2, "malformed sentences");
+        assert_eq!(st.fw.gnss_skipped - s0, 18, "the line without '$'");
 
-        // Overlong line (150 characters): counted, no fix, the line after it parses.
+        // Overlong sentence ('$' and 150 characters): counted, no fix.
         let e0 = errors(st);
-        let (_, k) = feed_nmea(st.fw, now, &[b'A'; 150]);
+        let (_, k) = feed_nmea(st.fw, now, b"$");
+        let (_, k1) = feed_nmea(st.fw, now, &[b'A'; 150]);
         let (_, k2) = feed_nmea(st.fw, now, b"\r\n");
-        assert_eq!(k + k2, 0);
+        assert_eq!(k + k1 + k2, 0);
         let overlong = errors(st) - e0;
-        assert!(overlong >= 1, "overlong line");
+        assert_eq!(overlong, 1, "overlong sentence");
 
-        // Binary garbage: every line end ends a bad line; overlong runs count too.
-        let e0 = errors(st);
+        // Binary garbage: skipped and counted as bytes, never taken as a sentence; a '$'
+        // in it starts a sentence that the next binary byte ends.
+        let (e0, s0) = (errors(st), st.fw.gnss_skipped);
         let mut rng = Rng(0xDEAD_BEEF);
-        let (mut newlines, mut len) = (0u32, 0usize);
+        let mut len = 0usize;
         for _ in 0..4 {
             let chunk = &mut st.scratch[..1024];
             chunk.iter_mut().for_each(|b| *b = rng.byte());
-            newlines += chunk.iter().filter(|&&b| b == b'\n').count() as u32;
             len += chunk.len();
             let (_, k) = feed_nmea(st.fw, now, &st.scratch[..1024]);
             assert_eq!(k, 0);
         }
         let (_, k) = feed_nmea(st.fw, now, b"\r\n");
         assert_eq!(k, 0);
-        let garbage = errors(st) - e0;
+        let (garbage, skipped) = (errors(st) - e0, st.fw.gnss_skipped - s0);
         defmt::info!(
-            "NMEA: overlong line {=u32} errors; {=usize} garbage bytes with {=u32} line ends: {=u32} errors",
+            "GNSS: overlong sentence {=u32} error; {=usize} garbage bytes: {=u32} skipped, {=u32} errors",
             overlong,
             len,
-            newlines,
+            skipped,
             garbage
         );
-        assert!(garbage > newlines, "each line end and the final one");
-        assert!(garbage <= newlines + 1 + (len / 100) as u32 + 1);
+        assert!(skipped as usize > len / 2, "the garbage is skipped");
+        assert!((garbage as usize) < len / 64, "and rarely taken for a sentence");
 
         // A good fix afterwards: one state, no new error.
         let e0 = errors(st);

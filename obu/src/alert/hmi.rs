@@ -182,6 +182,10 @@ pub struct HmiState {
     pub position: PositionSource,
     /// Whether the time zones are judged on can be believed.
     pub time_status: TimeStatus,
+    /// Where the accuracy of the fix in use comes from (GST, UBX hAcc, HDOP, none: the
+    /// lane filter's default).
+    #[cfg_attr(feature = "serde", serde(default))]
+    pub accuracy_source: crate::fix::AccuracySource,
     /// True when a MAP or TIM is stored.
     pub roadside_data: bool,
     /// Lane models stored.

@@ -346,6 +346,7 @@ pub fn drive(road: &Road, noise: Noise, seed: u64, matcher: MatcherConfig) -> Dr
             .to_wgs84(truth.0 + nx, truth.1 + ny)
             .unwrap_or_default();
         let fix = Fix {
+            accuracy_source: Default::default(),
             position: pos,
             accuracy_m: Some(noise.reported_sigma() as f32),
             speed_mps: Some(SPEED as f32),

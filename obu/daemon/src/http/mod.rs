@@ -82,14 +82,15 @@ async fn get_settings(State(app): State<AppState>) -> Json<Settings> {
 }
 
 async fn status(State(app): State<AppState>) -> Json<serde_json::Value> {
-    let (gnss_age_ms, fix_quality) = app.hub.gnss();
+    let (gnss_age_ms, receiver) = app.hub.gnss();
     let (maps, zones) = app.hub.stored();
     Json(serde_json::json!({
         "mode": if app.bridge.is_some() { "bridge" } else { "core" },
         "bridge": app.bridge.as_ref().map(|b| b.to_json()),
         "uptime_s": app.hub.uptime_s(),
         "gnss_age_ms": gnss_age_ms,
-        "fix_quality": fix_quality,
+        "fix_quality": receiver.fix_quality(),
+        "gnss": receiver.to_json(),
         "active_maps": maps,
         "active_zones": zones,
         "event_clients": app.slots.len(),

@@ -151,7 +151,7 @@ pub fn feed_nmea(fw: &mut Firmware, now: Instant, bytes: &[u8]) -> (Option<HmiSt
     let mut last = None;
     let mut n = 0;
     for &b in bytes {
-        if let Some(s) = fw.on_nmea_byte(now, b) {
+        if let Some(s) = fw.on_gnss_byte(now, b) {
             last = Some(s);
             n += 1;
         }

@@ -449,6 +449,7 @@ fn heading_slice_gates_the_warning() {
                 .map(|k| {
                     let y = 100.0 + 10.0 * k as f32;
                     let fix = Fix {
+                        accuracy_source: Default::default(),
                         position: frame.to_wgs84(Point::new(0.0, y)).unwrap_or_default(),
                         speed_mps: Some(10.0),
                         course_deg: Some(0.0),
