@@ -5,7 +5,7 @@
 # Without a nightly toolchain it prints why and exits 0 (skipped), except under CI=true,
 # where a missing nightly fails the run.
 #
-# Usage: codec/fuzz/run.sh SECONDS [TARGET...]   (default targets: message_frame jer envelope)
+# Usage: codec/fuzz/run.sh SECONDS [TARGET...]   (default targets: message_frame jer envelope gnss)
 # Environment:
 #   FUZZ_SANITIZER   cargo-fuzz sanitizer, default `none` (the codec forbids `unsafe`; without
 #                    ASan a target runs 5-15 times more inputs per second). `address` works too,
@@ -23,7 +23,7 @@ secs=${1:-}
 [[ $secs =~ ^[0-9]+$ && $secs -gt 0 ]] || { echo "usage: $0 SECONDS [TARGET...]" >&2; exit 2; }
 shift
 targets=("$@")
-[[ ${#targets[@]} -gt 0 ]] || targets=(message_frame jer envelope)
+[[ ${#targets[@]} -gt 0 ]] || targets=(message_frame jer envelope gnss)
 sanitizer=${FUZZ_SANITIZER:-none}
 read -r -a extra_args <<<"${FUZZ_ARGS:-}"
 build_args=(-a -s "$sanitizer")

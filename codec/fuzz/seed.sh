@@ -4,6 +4,7 @@
 #   - the shared conformance corpus (../shared/corpus beside the repository, or $1):
 #     frames (binary) for message_frame, the oracle's JER of each frame for jer, the wrapped
 #     (IEEE 1609.2) frames and RSU text records for envelope;
+#   - the shared GNSS receivers' logs (../shared/gnss/logs): their first 2 KB for gnss;
 #   - the project's own oracle vectors (codec/tests/vectors/oracle_vectors.jsonl): UPER for
 #     message_frame, JER for jer, and for envelope each vector frame wrapped as unsecured and
 #     signed 1609.2 data and as an RSU 4.1 text record;
@@ -146,6 +147,15 @@ if os.path.isdir(frames_dir):
 else:
     print(f"seed.sh: {frames_dir} is missing: seeds from the project's vectors only",
           file=sys.stderr)
+
+# The GNSS reader: the first 2 KB of each shared receiver log (NMEA, some with UBX and other
+# binary between sentences).
+gnss_dir = os.path.join(shared, "gnss", "logs")
+if os.path.isdir(gnss_dir):
+    for name in sorted(os.listdir(gnss_dir)):
+        if name.endswith(".log"):
+            with open(os.path.join(gnss_dir, name), "rb") as f:
+                put("gnss", name, f.read(2048))
 
 os.makedirs(corpus, exist_ok=True)
 with open(os.path.join(corpus, "jer.dict"), "w") as out:

@@ -114,6 +114,13 @@ pub struct DriveSpec {
     pub nmea_file: Option<std::path::PathBuf>,
     /// Replay this candump log as the vehicle's CAN speed (instead of generating one).
     pub candump_file: Option<std::path::PathBuf>,
+    /// What the receiver sends: `nmea` (GST, GGA, RMC), `gga-only` or `ubx` (NAV-PVT).
+    #[serde(default)]
+    pub receiver: crate::receiver::ReceiverKind,
+    /// A UBX receiver's carrier-phase solution over the drive: `[seconds, "fixed" |
+    /// "float" | "none"]`, each from its time on (RTK fixed before the first).
+    #[serde(default)]
+    pub rtk: Vec<(f64, crate::receiver::Carrier)>,
 }
 
 /// 1024 weeks, milliseconds: the GPS week-number rollover period.

@@ -41,6 +41,7 @@ pub mod nmea;
 pub mod perf;
 pub mod plot;
 pub mod radio;
+pub mod receiver;
 pub mod report_plots;
 pub mod rig;
 pub mod runner;

@@ -55,6 +55,15 @@ fn lat_lon(p: LatLon) -> String {
     )
 }
 
+/// The GGA sentence of one epoch: `quality`, 12 satellites, `hdop`.
+pub fn gga(e: &Epoch, quality: u8, hdop: f64) -> String {
+    sentence(&format!(
+        "GPGGA,{t},{pos},{quality},12,{hdop:.2},1600.0,M,-17.0,M,,",
+        t = hms(&e.utc),
+        pos = lat_lon(e.position)
+    ))
+}
+
 /// The GST, GGA and RMC sentences of one epoch (fix quality 1, 12 satellites, HDOP 0.8).
 pub fn epoch(e: &Epoch) -> String {
     let t = hms(&e.utc);
@@ -65,10 +74,7 @@ pub fn epoch(e: &Epoch) -> String {
         rms = e.sigma_m,
         alt = 2.0 * e.sigma_m
     )));
-    out.push_str(&sentence(&format!(
-        "GPGGA,{t},{pos},1,12,0.8,1600.0,M,-17.0,M,,",
-        pos = lat_lon(e.position)
-    )));
+    out.push_str(&gga(e, 1, 0.8));
     let knots = e.speed_mps.max(0.0) / 0.514_444;
     let date = format!("{:02}{:02}{:02}", e.utc.day, e.utc.month, e.utc.year % 100);
     let mut rmc = String::new();

@@ -386,7 +386,9 @@ fn send_generated(
                 sigma_m: s.drive.reported_sigma(),
             };
             sent.push((k, Instant::now()));
-            let _ = sock.send_to(nmea::epoch(&e).as_bytes(), &daemon.gnss);
+            let carrier = crate::receiver::carrier_at(&s.drive.rtk, sample.t_s);
+            let bytes = crate::receiver::epoch_bytes(s.drive.receiver, &e, carrier);
+            let _ = sock.send_to(&bytes, &daemon.gnss);
         }
         if progress && k % 10 == 0 {
             progress_bar(k + 1, samples.len(), sample.t_s);

@@ -27,6 +27,7 @@ use std::sync::{Mutex, PoisonError};
 use std::thread;
 
 pub mod envelope;
+pub mod gnss;
 pub mod jer;
 pub mod message_frame;
 

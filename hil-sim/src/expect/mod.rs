@@ -203,6 +203,15 @@ pub enum Expectation {
         /// Seconds since the drive start.
         to_s: f64,
     },
+    /// At least `min_fraction` of the states with a live fix name `source` as where the
+    /// fix's accuracy came from (`gst`, `ubx`, `hdop`, `gpsd`, `none`).
+    AccuracyFrom {
+        /// The accuracy source, as `HmiState` names it.
+        source: obu::fix::AccuracySource,
+        /// Least fraction.
+        #[serde(default = "ninety")]
+        min_fraction: f64,
+    },
 }
 
 fn ninety() -> f64 {
@@ -383,6 +392,17 @@ pub fn check(e: &Expectation, records: &[Record], facts: &RunFacts) -> Outcome {
             from_s,
             to_s,
         } => workers::hidden_from_camera(facts, *camera, *user, [*from_s, *to_s]),
+        Expectation::AccuracyFrom {
+            source,
+            min_fraction,
+        } => fraction(
+            records
+                .iter()
+                .filter(|r| r.state.position == obu::alert::PositionSource::Live),
+            |r| r.state.accuracy_source == *source,
+            *min_fraction,
+            &format!("with a live fix take its accuracy from {}", source.as_str()),
+        ),
         Expectation::TimeStatusShown {
             status,
             min_fraction,

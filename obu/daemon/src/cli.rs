@@ -1,12 +1,14 @@
 //! The daemon's command line, declared with clap (derive): `obu [--config FILE] [--bridge
-//! SOURCE]`, `obu --print-default-config`, `obu --help`, `obu --version`.
+//! SOURCE]`, `obu gnss-check --source KIND --address ADDR [--seconds N]`,
+//! `obu --print-default-config`, `obu --help`, `obu --version`.
 
 use std::ffi::OsString;
 use std::path::PathBuf;
 
-use clap::Parser;
+use clap::{Parser, Subcommand};
 
-use crate::config::{self, BridgeSource, Config};
+use crate::config::{self, BridgeSource, Config, GnssSource};
+use crate::gnss_check::CheckArgs;
 
 /// What the description of `obu --help` says after the options.
 const AFTER_HELP: &str = "\
@@ -17,6 +19,9 @@ the firmware's HmiState frames are read from SOURCE and served to the tablet.
   tcp:HOST:PORT   connect to it (e.g. QEMU -serial tcp:127.0.0.1:5003,server,nowait)
   serial:PATH     read a serial device set raw at 115200 8N1 (see [bridge] baud)
 Settings changed on the tablet do not reach the firmware (the link is one-way).
+
+`obu gnss-check` reads a GNSS receiver and says whether it is good enough for
+lane-level use (exit status 0 when it is, 1 when not, 2 when it cannot be read).
 
 Exit status: 0 after a signal (SIGINT, SIGTERM) or a printed text, 1 when it cannot
 run (a port in use), 2 for a wrong command line or configuration.";
@@ -41,6 +46,38 @@ struct Cli {
     /// Print the documented default configuration (every key, with its default) and exit
     #[arg(long, conflicts_with_all = ["config", "bridge"])]
     print_default_config: bool,
+    #[command(subcommand)]
+    command: Option<Command>,
+}
+
+/// Commands besides running the daemon.
+#[derive(Debug, Subcommand)]
+enum Command {
+    /// Read a GNSS receiver for a while and print what the OBU gets from it (sentences and
+    /// UBX messages, fixes and why not, rate, accuracy source, time) with a verdict on
+    /// lane-level use
+    GnssCheck {
+        /// nmea-serial, ubx-serial, nmea-tcp, nmea-udp or nmea-file (a recording)
+        #[arg(long, value_parser = parse_source)]
+        source: GnssSource,
+        /// Device path, host:port, the UDP address to listen on, or the file
+        #[arg(long)]
+        address: String,
+        /// How long to read a live receiver
+        #[arg(long, default_value_t = 10.0)]
+        seconds: f64,
+    },
+}
+
+fn parse_source(s: &str) -> Result<GnssSource, String> {
+    Ok(match s {
+        "nmea-serial" => GnssSource::NmeaSerial,
+        "ubx-serial" => GnssSource::UbxSerial,
+        "nmea-tcp" => GnssSource::NmeaTcp,
+        "nmea-udp" => GnssSource::NmeaUdp,
+        "nmea-file" => GnssSource::NmeaFile,
+        _ => return Err("one of nmea-serial, ubx-serial, nmea-tcp, nmea-udp, nmea-file".into()),
+    })
 }
 
 /// What the command line asks for.
@@ -51,6 +88,8 @@ pub enum Action {
     /// Print this text on standard output and exit with success (help, version, the
     /// default configuration).
     Print(String),
+    /// Check a GNSS receiver (`obu gnss-check`).
+    GnssCheck(CheckArgs),
 }
 
 /// Why the command line cannot be run: the message for standard error (exit status 2).
@@ -67,6 +106,18 @@ pub fn parse(args: impl IntoIterator<Item = OsString>) -> Result<Action, Usage> 
     };
     if cli.print_default_config {
         return Ok(Action::Print(config::DEFAULT_TOML.to_string()));
+    }
+    if let Some(Command::GnssCheck {
+        source,
+        address,
+        seconds,
+    }) = cli.command
+    {
+        return Ok(Action::GnssCheck(CheckArgs {
+            source,
+            address,
+            seconds,
+        }));
     }
     let config = match &cli.config {
         None => Config::default_config(),

@@ -390,12 +390,12 @@ impl ReceiverStatus {
     }
 
     /// The GGA quality indicator of the solution (0 for none).
-    pub fn fix_quality(&self) -> Option<u8> {
+    pub fn fix_quality(self) -> Option<u8> {
         self.solution.map(Solution::gga_quality)
     }
 
     /// As `/api/status` shows it.
-    pub fn to_json(&self) -> serde_json::Value {
+    pub fn to_json(self) -> serde_json::Value {
         serde_json::json!({
             "solution": self.solution.map(Solution::as_str),
             "no_fix": self.no_fix.map(NoFix::as_str),

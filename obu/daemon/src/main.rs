@@ -3,8 +3,9 @@
 //! bridge mode ([`bridge`]) it runs no core and no input but serves the states that the
 //! firmware sends over a serial link instead.
 //!
-//! Usage: `obu [--config FILE] [--bridge SOURCE]`, `obu --print-default-config`, `obu --help`
-//! (the command line: [`cli`]).
+//! Usage: `obu [--config FILE] [--bridge SOURCE]`, `obu gnss-check --source KIND --address
+//! ADDR` ([`gnss_check`]), `obu --print-default-config`, `obu --help` (the command line:
+//! [`cli`]).
 //!
 //! The first line on stdout tells scripts where the daemon is:
 //! `obu: http://HTTP_ADDR v2x udp V2X_ADDR` (then `gnss udp ADDR` when NMEA comes over
@@ -22,6 +23,7 @@ mod config;
 mod conn;
 mod counters;
 mod gnss;
+mod gnss_check;
 mod host;
 mod http;
 mod hub;
@@ -47,6 +49,7 @@ fn main() -> ExitCode {
             print!("{text}");
             return ExitCode::SUCCESS;
         }
+        Ok(cli::Action::GnssCheck(args)) => return ExitCode::from(gnss_check::run(&args)),
         Err(cli::Usage(e)) => {
             eprint!("obu: {e}");
             if !e.ends_with('\n') {

@@ -68,7 +68,7 @@ const MATCHED_FROM: f64 = 10.0;
 #[derive(Clone, Copy)]
 struct Sample {
     /// Station of the fix on the lane line (metres from the lane's start, negative before);
-    /// `f32` keeps 204 samples within the test binary's RAM.
+    /// `f32` keeps 202 samples within the test binary's RAM.
     station: f32,
     state: ZoneState,
     distance: Option<f32>,
@@ -103,7 +103,7 @@ impl Sample {
 }
 
 /// Fixes kept by the drive (it sends 201: 259 m + the zone + 80 m at 2 m a fix).
-const MAX_SAMPLES: usize = 204;
+const MAX_SAMPLES: usize = 202;
 
 /// East/north (metres from the reference point) and course at station `s` of lane 1 in its
 /// direction of travel, straight on beyond both ends.
@@ -131,6 +131,8 @@ struct State {
     samples: &'static mut heapless::Vec<Sample, MAX_SAMPLES>,
     /// The simulated clock, ms.
     t: u64,
+    /// The receiver sends UBX NAV-PVT instead of NMEA.
+    ubx: bool,
 }
 
 impl State {
@@ -159,12 +161,16 @@ impl State {
             sd_m: SD_M,
         };
         let now = self.now();
-        for line in [epoch.gst(), epoch.gga()] {
-            let (none, n0) = feed_nmea(self.fw, now, line.as_bytes());
-            assert!(none.is_none() && n0 == 0, "GST and GGA alone are no fix");
-        }
-        let (state, n) = feed_nmea(self.fw, now, epoch.rmc().as_bytes());
-        assert_eq!(n, 1, "the RMC completes the epoch's fix");
+        let (state, n) = if self.ubx {
+            feed_nmea(self.fw, now, &epoch.nav_pvt())
+        } else {
+            for line in [epoch.gst(), epoch.gga()] {
+                let (none, n0) = feed_nmea(self.fw, now, line.as_bytes());
+                assert!(none.is_none() && n0 == 0, "GST and GGA alone are no fix");
+            }
+            feed_nmea(self.fw, now, epoch.rmc().as_bytes())
+        };
+        assert_eq!(n, 1, "the RMC (or the NAV-PVT) completes the epoch's fix");
         let _ = self.fw.poll(now);
         self.t += EPOCH_MS;
         state.expect("a state per fix")
@@ -189,13 +195,206 @@ fn lane_name(l: Option<(u32, u8)>) -> i32 {
     l.map_or(-1, |(_, lane)| i32::from(lane))
 }
 
+/// Drives from [`START_BEFORE`] m before the zone start to 80 m past its end at 20 m/s and
+/// checks what every fix showed.
+fn drive_and_check(st: &mut State) {
+    let trigger = CONFIG
+        .warn_distance_m
+        .max(CONFIG.lead_time_s * SPEED as f32) as f64;
+    let approach = trigger * CONFIG.approach_factor as f64;
+    let length = wz::ZONE_END_S - wz::ZONE_START_S;
+    defmt::info!(
+        "zone from station {=f64} to {=f64} m ({=f64} m), lane 1 is {=f64} m; trigger {=f64} m at {=f64} m/s",
+        wz::ZONE_START_S,
+        wz::ZONE_END_S,
+        length,
+        wz::LANE_LENGTH_M,
+        trigger,
+        SPEED
+    );
+    assert!(
+        START_BEFORE < approach,
+        "the drive starts within the approach"
+    );
+    st.drive(wz::ZONE_START_S - START_BEFORE, wz::ZONE_END_S + 80.0);
+    let samples = &st.samples[..];
+
+    // Logged every 20 m for the record.
+    for x in samples.iter().step_by(10) {
+        defmt::info!(
+            "s {=f64} m: {} shown {} expected {=f64} lane {=i32} primary {}",
+            x.s(),
+            defmt::Debug2Format(&x.state),
+            x.distance,
+            x.expected(),
+            lane_name(x.lane),
+            defmt::Debug2Format(&x.primary.map(|p| p.0))
+        );
+    }
+
+    // The distance shown is the distance to the zone start along the lane.
+    let mut checked = 0;
+    for x in samples {
+        let e = x.expected();
+        if e > -length {
+            let d = x.distance.expect("a distance before the zone end") as f64;
+            assert!(
+                (d - e).abs() <= MARGIN,
+                "at {}: shown {} m, expected {} m",
+                x.s(),
+                d,
+                e
+            );
+            checked += 1;
+        }
+    }
+    // ... and it shrinks by the distance driven, fix after fix.
+    for w in samples.windows(2) {
+        if let (Some(a), Some(b)) = (w[0].distance, w[1].distance) {
+            if w[1].expected() > -length {
+                let driven = (a - b) as f64;
+                assert!(
+                    (driven - STEP).abs() <= 0.05,
+                    "between {} and {}: {} m less, driven {} m",
+                    w[0].s(),
+                    w[1].s(),
+                    driven,
+                    STEP
+                );
+            }
+        }
+    }
+
+    // The warning: at the last fix before the trigger would be passed, so at or before
+    // it and at most the look-ahead early (one fix period plus the display latency).
+    let lookahead = SPEED * (EPOCH_MS as f64 / 1000.0 + CONFIG.display_latency_s as f64);
+    let first = samples
+        .iter()
+        .position(|x| x.state == ZoneState::Warning)
+        .expect("a warning");
+    let w = samples[first];
+    let shown = w.distance.expect("distance") as f64;
+    defmt::info!(
+        "first warning at station {=f64} m: shown {=f64} m, expected {=f64} m, trigger {=f64} m, look-ahead {=f64} m, primary {}",
+        w.s(),
+        shown,
+        w.expected(),
+        trigger,
+        lookahead,
+        defmt::Debug2Format(&w.primary)
+    );
+    assert!(
+        w.expected() >= trigger - MARGIN && w.expected() <= trigger + lookahead + MARGIN,
+        "warning {} m before the zone, trigger {} m (look-ahead {} m)",
+        w.expected(),
+        trigger,
+        lookahead
+    );
+    assert!(
+        shown >= trigger && shown <= trigger + lookahead,
+        "shown {} m at the first warning, trigger {} m",
+        shown,
+        trigger
+    );
+    assert!(
+        shown > trigger + lookahead - STEP,
+        "not earlier than the last fix before the trigger: shown {} m",
+        shown
+    );
+    let (kind, at) = w.primary.expect("an alert with the warning");
+    assert!(kind <= AlertKind::WorkZoneAhead, "a zone alert: {:?}", kind);
+    assert_eq!(at, w.distance, "the alert's distance is the zone's");
+    assert!(
+        samples[..first]
+            .iter()
+            .all(|x| x.state == ZoneState::Approaching && x.expected() > trigger),
+        "approaching until then"
+    );
+
+    // Matched to lane 1 while on it; in the warning there, the own-lane closure.
+    let tol = CONFIG.matcher.end_tolerance_m as f64;
+    let (mut on_lane, mut own_closure) = (0, 0);
+    for x in samples {
+        if x.s() < -tol - STEP {
+            assert!(x.lane.is_none(), "off map at {}", x.s());
+        }
+        if x.s() >= MATCHED_FROM && x.s() <= wz::LANE_LENGTH_M - 5.0 {
+            assert_eq!(
+                x.lane,
+                Some((wz::MAP_ID, wz::LANE_ID)),
+                "on lane 1 at {}",
+                x.s()
+            );
+            on_lane += 1;
+            if x.state == ZoneState::Warning {
+                assert_eq!(x.primary.map(|p| p.0), Some(AlertKind::LaneClosedOwn));
+                assert_eq!(x.advice, LaneAdvice::MoveRight, "lane 2 is on the right");
+                assert!(x.lane_1_closed);
+                own_closure += 1;
+            }
+        }
+    }
+    assert!(own_closure > 0, "warned on lane 1 before the zone");
+
+    // Inside up to where the zone leaves lane 1 (its end, or the lane's end when the path
+    // runs on past it); then cleared once past the zone's end.
+    // The core takes points of the path at most 2 m apart: its end on the lane may fall
+    // up to that much before the lane's end.
+    const PATH_STEP: f64 = 2.0;
+    let zone_end_on_lane = wz::ZONE_END_S.min(wz::LANE_LENGTH_M);
+    let inside_len = zone_end_on_lane - PATH_STEP - wz::ZONE_START_S;
+    let (mut inside, mut cleared) = (0, 0);
+    let mut last_alert = None;
+    for x in samples {
+        let e = x.expected();
+        if e < -MARGIN && e > -inside_len + MARGIN {
+            assert_eq!(x.state, ZoneState::InZone, "in the zone at {}", x.s());
+            assert_eq!(x.primary.map(|p| p.0), Some(AlertKind::LaneClosedOwn));
+            inside += 1;
+        }
+        if x.primary.is_some() {
+            last_alert = Some(x.s());
+        }
+        if e < -length - STEP - MARGIN {
+            assert!(
+                matches!(x.state, ZoneState::Leaving | ZoneState::None),
+                "past the zone at {}",
+                x.s()
+            );
+            assert!(x.primary.is_none(), "alert cleared at {}", x.s());
+            cleared += 1;
+        }
+    }
+    let last_alert = last_alert.expect("alerts");
+    defmt::info!(
+        "last alert at station {=f64} m, zone end at {=f64} m (TIM points at {=[?]})",
+        last_alert,
+        wz::ZONE_END_S,
+        wz::ZONE_NODES_S
+    );
+    assert!(
+        last_alert > zone_end_on_lane - PATH_STEP - STEP - MARGIN,
+        "the alert lasts to the zone's end on the lane ({} m), last at {} m",
+        zone_end_on_lane,
+        last_alert
+    );
+    let last = samples[samples.len() - 1];
+    assert_eq!(last.state, ZoneState::None, "nothing once well past");
+    defmt::info!(
+        "drive: {=usize} fixes, {=u32} distances checked, {=u32} on lane 1 ({=u32} warned of its closure), {=u32} in zone, {=u32} cleared after",
+        samples.len(),
+        checked,
+        on_lane,
+        own_closure,
+        inside,
+        cleared
+    );
+}
+
 #[defmt_test::tests]
 mod tests {
-    use super::{
-        lane_name, tally, vector, wz, Sample, State, CONFIG, MAP_TIM_VECTORS, MARGIN, START_BEFORE,
-        STEP,
-    };
-    use obu::alert::{AlertKind, LaneAdvice, ZoneState};
+    use super::{tally, vector, wz, Sample, State, MAP_TIM_VECTORS};
+    use obu::alert::ZoneState;
 
     const MAP: &str = "map_work_zone";
     const TIM: &str = "tim_work_zone_left_lane_closed";
@@ -210,6 +409,7 @@ mod tests {
             wire: cortex_m::singleton!(: [u8; 512] = [0; 512]).unwrap(),
             samples: cortex_m::singleton!(: heapless::Vec<Sample, { super::MAX_SAMPLES }> = heapless::Vec::new()).unwrap(),
             t: 0,
+            ubx: false,
         }
     }
 
@@ -276,197 +476,28 @@ mod tests {
     /// From [`START_BEFORE`] m before the zone start to 80 m past its end at 20 m/s.
     #[test]
     fn drive_warns_at_the_configured_distance(st: &mut State) {
-        let trigger = CONFIG
-            .warn_distance_m
-            .max(CONFIG.lead_time_s * super::SPEED as f32) as f64;
-        let approach = trigger * CONFIG.approach_factor as f64;
-        let length = wz::ZONE_END_S - wz::ZONE_START_S;
-        defmt::info!(
-            "zone from station {=f64} to {=f64} m ({=f64} m), lane 1 is {=f64} m; trigger {=f64} m at {=f64} m/s",
-            wz::ZONE_START_S,
-            wz::ZONE_END_S,
-            length,
-            wz::LANE_LENGTH_M,
-            trigger,
-            super::SPEED
-        );
-        assert!(
-            START_BEFORE < approach,
-            "the drive starts within the approach"
-        );
-        st.drive(wz::ZONE_START_S - START_BEFORE, wz::ZONE_END_S + 80.0);
-        let samples = &st.samples[..];
+        super::drive_and_check(st);
+    }
 
-        // Logged every 20 m for the record.
-        for x in samples.iter().step_by(10) {
-            defmt::info!(
-                "s {=f64} m: {} shown {} expected {=f64} lane {=i32} primary {}",
-                x.s(),
-                defmt::Debug2Format(&x.state),
-                x.distance,
-                x.expected(),
-                lane_name(x.lane),
-                defmt::Debug2Format(&x.primary.map(|p| p.0))
-            );
-        }
-
-        // The distance shown is the distance to the zone start along the lane.
-        let mut checked = 0;
-        for x in samples {
-            let e = x.expected();
-            if e > -length {
-                let d = x.distance.expect("a distance before the zone end") as f64;
-                assert!(
-                    (d - e).abs() <= MARGIN,
-                    "at {}: shown {} m, expected {} m",
-                    x.s(),
-                    d,
-                    e
-                );
-                checked += 1;
-            }
-        }
-        // ... and it shrinks by the distance driven, fix after fix.
-        for w in samples.windows(2) {
-            if let (Some(a), Some(b)) = (w[0].distance, w[1].distance) {
-                if w[1].expected() > -length {
-                    let driven = (a - b) as f64;
-                    assert!(
-                        (driven - STEP).abs() <= 0.05,
-                        "between {} and {}: {} m less, driven {} m",
-                        w[0].s(),
-                        w[1].s(),
-                        driven,
-                        STEP
-                    );
-                }
-            }
-        }
-
-        // The warning: at the last fix before the trigger would be passed, so at or before
-        // it and at most the look-ahead early (one fix period plus the display latency).
-        let lookahead =
-            super::SPEED * (super::EPOCH_MS as f64 / 1000.0 + CONFIG.display_latency_s as f64);
-        let first = samples
-            .iter()
-            .position(|x| x.state == ZoneState::Warning)
-            .expect("a warning");
-        let w = samples[first];
-        let shown = w.distance.expect("distance") as f64;
-        defmt::info!(
-            "first warning at station {=f64} m: shown {=f64} m, expected {=f64} m, trigger {=f64} m, look-ahead {=f64} m, primary {}",
-            w.s(),
-            shown,
-            w.expected(),
-            trigger,
-            lookahead,
-            defmt::Debug2Format(&w.primary)
-        );
-        assert!(
-            w.expected() >= trigger - MARGIN && w.expected() <= trigger + lookahead + MARGIN,
-            "warning {} m before the zone, trigger {} m (look-ahead {} m)",
-            w.expected(),
-            trigger,
-            lookahead
-        );
-        assert!(
-            shown >= trigger && shown <= trigger + lookahead,
-            "shown {} m at the first warning, trigger {} m",
-            shown,
-            trigger
-        );
-        assert!(
-            shown > trigger + lookahead - STEP,
-            "not earlier than the last fix before the trigger: shown {} m",
-            shown
-        );
-        let (kind, at) = w.primary.expect("an alert with the warning");
-        assert!(kind <= AlertKind::WorkZoneAhead, "a zone alert: {:?}", kind);
-        assert_eq!(at, w.distance, "the alert's distance is the zone's");
-        assert!(
-            samples[..first]
-                .iter()
-                .all(|x| x.state == ZoneState::Approaching && x.expected() > trigger),
-            "approaching until then"
-        );
-
-        // Matched to lane 1 while on it; in the warning there, the own-lane closure.
-        let tol = CONFIG.matcher.end_tolerance_m as f64;
-        let (mut on_lane, mut own_closure) = (0, 0);
-        for x in samples {
-            if x.s() < -tol - STEP {
-                assert!(x.lane.is_none(), "off map at {}", x.s());
-            }
-            if x.s() >= super::MATCHED_FROM && x.s() <= wz::LANE_LENGTH_M - 5.0 {
-                assert_eq!(
-                    x.lane,
-                    Some((wz::MAP_ID, wz::LANE_ID)),
-                    "on lane 1 at {}",
-                    x.s()
-                );
-                on_lane += 1;
-                if x.state == ZoneState::Warning {
-                    assert_eq!(x.primary.map(|p| p.0), Some(AlertKind::LaneClosedOwn));
-                    assert_eq!(x.advice, LaneAdvice::MoveRight, "lane 2 is on the right");
-                    assert!(x.lane_1_closed);
-                    own_closure += 1;
-                }
-            }
-        }
-        assert!(own_closure > 0, "warned on lane 1 before the zone");
-
-        // Inside up to where the zone leaves lane 1 (its end, or the lane's end when the path
-        // runs on past it); then cleared once past the zone's end.
-        // The core takes points of the path at most 2 m apart: its end on the lane may fall
-        // up to that much before the lane's end.
-        const PATH_STEP: f64 = 2.0;
-        let zone_end_on_lane = wz::ZONE_END_S.min(wz::LANE_LENGTH_M);
-        let inside_len = zone_end_on_lane - PATH_STEP - wz::ZONE_START_S;
-        let (mut inside, mut cleared) = (0, 0);
-        let mut last_alert = None;
-        for x in samples {
-            let e = x.expected();
-            if e < -MARGIN && e > -inside_len + MARGIN {
-                assert_eq!(x.state, ZoneState::InZone, "in the zone at {}", x.s());
-                assert_eq!(x.primary.map(|p| p.0), Some(AlertKind::LaneClosedOwn));
-                inside += 1;
-            }
-            if x.primary.is_some() {
-                last_alert = Some(x.s());
-            }
-            if e < -length - STEP - MARGIN {
-                assert!(
-                    matches!(x.state, ZoneState::Leaving | ZoneState::None),
-                    "past the zone at {}",
-                    x.s()
-                );
-                assert!(x.primary.is_none(), "alert cleared at {}", x.s());
-                cleared += 1;
-            }
-        }
-        let last_alert = last_alert.expect("alerts");
-        defmt::info!(
-            "last alert at station {=f64} m, zone end at {=f64} m (TIM points at {=[?]})",
-            last_alert,
-            wz::ZONE_END_S,
-            wz::ZONE_NODES_S
-        );
-        assert!(
-            last_alert > zone_end_on_lane - PATH_STEP - STEP - MARGIN,
-            "the alert lasts to the zone's end on the lane ({} m), last at {} m",
-            zone_end_on_lane,
-            last_alert
-        );
-        let last = samples[samples.len() - 1];
-        assert_eq!(last.state, ZoneState::None, "nothing once well past");
-        defmt::info!(
-            "drive: {=usize} fixes, {=u32} distances checked, {=u32} on lane 1 ({=u32} warned of its closure), {=u32} in zone, {=u32} cleared after",
-            samples.len(),
-            checked,
-            on_lane,
-            own_closure,
-            inside,
-            cleared
+    /// The same drive from a u-blox receiver: UBX NAV-PVT frames (RTK fixed, hAcc the
+    /// NMEA drive's GST error) on the GNSS port instead of NMEA.
+    #[test]
+    fn the_same_drive_from_a_ubx_receiver(st: &mut State) {
+        // The GNSS goes stale (the matcher forgets the lane) before the next drive.
+        st.t += 2000;
+        let now = st.now();
+        let _ = st.fw.poll(now);
+        // The roadside's repeats refresh the MAP and the zones (they age out otherwise).
+        st.send(vector(MAP_TIM_VECTORS, MAP));
+        st.send(wz::TIM_EASTBOUND);
+        assert_eq!(st.fw.obu().zones().len(), 2, "the zones still stored");
+        st.ubx = true;
+        let errors = st.fw.nmea_errors;
+        super::drive_and_check(st);
+        assert_eq!(st.fw.nmea_errors, errors, "every frame read");
+        assert_eq!(
+            st.fw.obu().state(st.now()).accuracy_source,
+            obu::fix::AccuracySource::Ubx
         );
     }
 

@@ -462,7 +462,10 @@ mod tests {
             garbage
         );
         assert!(skipped as usize > len / 2, "the garbage is skipped");
-        assert!((garbage as usize) < len / 64, "and rarely taken for a sentence");
+        assert!(
+            (garbage as usize) < len / 64,
+            "and rarely taken for a sentence"
+        );
 
         // A good fix afterwards: one state, no new error.
         let e0 = errors(st);

@@ -14,9 +14,9 @@ use super::ubx::{self, Message, UbxError};
 use crate::time::UtcTime;
 
 /// Longest NMEA sentence the framer keeps (longer ones are skipped to their line end).
-pub const MAX_LINE: usize = 164;
+pub const MAX_LINE: usize = 128;
 /// Largest UBX payload the framer keeps; longer frames (satellite lists) are stepped over.
-pub const MAX_UBX_KEPT: usize = 160;
+pub const MAX_UBX_KEPT: usize = 120;
 /// Largest UBX payload taken as a frame at all: a larger length is not a frame (the
 /// `B5 62` was a coincidence in other binary) and the bytes are skipped.
 pub const MAX_UBX_LEN: usize = 2048;

@@ -192,7 +192,7 @@ fn overlong_sentences_are_dropped_to_their_line_end() {
     s.extend(core::iter::repeat_n(b'1', MAX_LINE));
     s.extend_from_slice(b"\r\n$GPZDA,1\r\n");
     assert_eq!(cut(&s, 5), ["too-long", "nmea $GPZDA,1"]);
-    assert!(MAX_UBX_KEPT >= 92, "NAV-PVT is kept");
+    const { assert!(MAX_UBX_KEPT >= 92, "NAV-PVT is kept") };
 }
 
 #[test]

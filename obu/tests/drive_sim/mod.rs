@@ -8,6 +8,7 @@
 
 use obu::alert::{AlertConfig, AlertStage, ZoneState};
 use obu::geo::{LatLon, LocalFrame64, Point};
+use obu::input::nmea::FixAssembler;
 use obu::lane::{LaneId, LaneKind, MapId, ModelError, TravelDirection};
 use obu::matcher::MatcherConfig;
 use obu::zone::{ContentKind, Directionality, Region, Validity, ZoneInfo, ZoneKey};
@@ -314,8 +315,73 @@ pub struct DriveStats {
     pub outliers: u32,
 }
 
+/// What the simulated receiver reports of its accuracy.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Report {
+    /// GST: the error model's own sigma ([`Noise::reported_sigma`]).
+    Gst,
+    /// No GST: GGA (DGPS quality, an HDOP of 1.0 drifting by 15 % over two minutes) and
+    /// RMC through the core's NMEA reader, which takes HDOP times the range error of a
+    /// DGPS solution (1 m by default).
+    HdopOnly,
+}
+
+/// The fix a GGA + RMC pair gives through the core's NMEA reader (no GST: the accuracy
+/// comes from the GGA's HDOP).
+fn hdop_only_fix(asm: &mut FixAssembler, k: u64, pos: LatLon, speed: f64, course: f64) -> Fix {
+    let ms = 12 * 3_600_000 + k * DT_MS;
+    let t = format!(
+        "{:02}{:02}{:02}.{:02}",
+        ms / 3_600_000,
+        ms / 60_000 % 60,
+        ms / 1000 % 60,
+        ms / 10 % 100
+    );
+    let angle = |deg: f64, w: usize, pos: char, neg: char| {
+        let a = deg.abs();
+        let d = a.trunc();
+        format!(
+            "{:0w$}{:010.7},{}",
+            d as u32,
+            (a - d) * 60.0,
+            if deg < 0.0 { neg } else { pos }
+        )
+    };
+    let at = format!(
+        "{},{}",
+        angle(pos.lat_deg(), 2, 'N', 'S'),
+        angle(pos.lon_deg(), 3, 'E', 'W')
+    );
+    let hdop =
+        1.0 + 0.15 * (k as f64 * DT_MS as f64 / 1000.0 / 120.0 * std::f64::consts::TAU).sin();
+    let knots = speed / 0.514_444;
+    let mut fix = None;
+    for body in [
+        format!("GPGGA,{t},{at},2,14,{hdop:.2},1600.0,M,-17.0,M,,"),
+        format!("GPRMC,{t},A,{at},{knots:.3},{course:.2},041226,,,D"),
+    ] {
+        let sum = body.bytes().fold(0u8, |a, b| a ^ b);
+        let line = format!("${body}*{sum:02X}");
+        let sentence = obu::input::nmea::parse(&line).expect("a well-formed sentence");
+        asm.push(&sentence, |e| fix = e.outcome.ok());
+    }
+    fix.expect("GGA + RMC complete the epoch")
+}
+
 /// Drives `road` once with `noise` and `seed` through an OBU with `matcher`.
 pub fn drive(road: &Road, noise: Noise, seed: u64, matcher: MatcherConfig) -> DriveStats {
+    drive_with(road, noise, Report::Gst, seed, matcher)
+}
+
+/// [`drive`] with the receiver reporting its accuracy as `report` says.
+pub fn drive_with(
+    road: &Road,
+    noise: Noise,
+    report: Report,
+    seed: u64,
+    matcher: MatcherConfig,
+) -> DriveStats {
+    let mut asm = FixAssembler::new();
     let reference = LatLon::from_degrees(40.5, -105.0).unwrap_or_default();
     let frame = LocalFrame64::new(reference, 0.0);
     let mut obu = build_obu(road, reference, &frame, matcher);
@@ -345,13 +411,21 @@ pub fn drive(road: &Road, noise: Noise, seed: u64, matcher: MatcherConfig) -> Dr
         let pos = frame
             .to_wgs84(truth.0 + nx, truth.1 + ny)
             .unwrap_or_default();
-        let fix = Fix {
-            accuracy_source: Default::default(),
-            position: pos,
-            accuracy_m: Some(noise.reported_sigma() as f32),
-            speed_mps: Some(SPEED as f32),
-            course_deg: Some((course + course_rng.gauss() * 1.0).rem_euclid(360.0) as f32),
-            utc: None,
+        let course = (course + course_rng.gauss() * 1.0).rem_euclid(360.0);
+        let fix = match report {
+            Report::Gst => Fix {
+                accuracy_source: obu::fix::AccuracySource::Gst,
+                position: pos,
+                accuracy_m: Some(noise.reported_sigma() as f32),
+                speed_mps: Some(SPEED as f32),
+                course_deg: Some(course as f32),
+                utc: None,
+            },
+            // The date the RMC carries is left out: as on the GST path, no time is judged.
+            Report::HdopOnly => Fix {
+                utc: None,
+                ..hdop_only_fix(&mut asm, k, pos, SPEED, course)
+            },
         };
         let hmi = obu.on_fix(Instant::from_millis(1000 + k * DT_MS), fix);
         let shown = hmi.lane.map(|l| l.lane as usize - 1);

@@ -82,6 +82,23 @@ const KNOWN_KEYS: &[(&str, &[&str])] = &[
     ),
     ("pairing", &["paired"]),
     ("gnss", &["fix"]),
+    (
+        "gnss_messages",
+        &[
+            "GGA",
+            "RMC",
+            "GNS",
+            "GLL",
+            "GSA",
+            "VTG",
+            "GST",
+            "ZDA",
+            "NAV-PVT",
+            "NAV-STATUS",
+            "NAV-DOP",
+            "other",
+        ],
+    ),
 ];
 
 /// Raises this process's soft open-file limit to its hard limit.

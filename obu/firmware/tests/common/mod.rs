@@ -96,7 +96,74 @@ fn time(out: &mut Line, ms: u32) {
     write!(out, "{h:02}{m:02}{s:02}.{cs:02}").expect("fits");
 }
 
+/// A UBX NAV-PVT frame (6 + 92 + 2 bytes).
+pub type UbxFrame = [u8; 100];
+
 impl Epoch {
+    /// The epoch as a u-blox receiver sends it: a UBX NAV-PVT frame (RTK fixed, 3D,
+    /// gnssFixOK, hAcc the GST's horizontal error), written here from u-blox's published
+    /// layout with its own Fletcher checksum (not the core's UBX code).
+    pub fn nav_pvt(&self) -> UbxFrame {
+        let mut f = [0u8; 100];
+        f[..6].copy_from_slice(&[0xB5, 0x62, 0x01, 0x07, 92, 0]);
+        let p = &mut f[6..98];
+        let put = |p: &mut [u8], at: usize, b: &[u8]| p[at..at + b.len()].copy_from_slice(b);
+        put(p, 0, &self.utc_ms.to_le_bytes()); // iTOW (any: the time is in the UTC fields)
+        put(p, 4, &(2000 + u16::from(self.date.2)).to_le_bytes());
+        let s = self.utc_ms / 1000;
+        put(
+            p,
+            6,
+            &[
+                self.date.1,
+                self.date.0,
+                (s / 3600) as u8,
+                (s / 60 % 60) as u8,
+                (s % 60) as u8,
+                0x07,
+            ],
+        );
+        put(p, 12, &30u32.to_le_bytes()); // tAcc
+        put(
+            p,
+            16,
+            &(((self.utc_ms % 1000) * 1_000_000) as i32).to_le_bytes(),
+        );
+        put(p, 20, &[3, 0x83, 0xE0, 20]); // 3D; gnssFixOK, diffSoln, carrSoln fixed; 20 SV
+        let e7 = |deg: f64| {
+            let v = deg * 1e7;
+            (if v < 0.0 { v - 0.5 } else { v + 0.5 }) as i32
+        };
+        put(p, 24, &e7(self.lon).to_le_bytes());
+        put(p, 28, &e7(self.lat).to_le_bytes());
+        put(p, 32, &250_000i32.to_le_bytes()); // height, mm
+        put(p, 36, &270_000i32.to_le_bytes()); // hMSL, mm
+        let h_acc = (self.sd_m * core::f64::consts::SQRT_2 * 1000.0 + 0.5) as u32;
+        put(p, 40, &h_acc.to_le_bytes());
+        put(p, 44, &(2 * h_acc).to_le_bytes());
+        let speed = (self.speed_mps * 1000.0 + 0.5) as i32;
+        let rad = self.course_deg.to_radians();
+        let (vn, ve) = (
+            libm::cos(rad) * f64::from(speed),
+            libm::sin(rad) * f64::from(speed),
+        );
+        put(p, 48, &(vn as i32).to_le_bytes());
+        put(p, 52, &(ve as i32).to_le_bytes());
+        put(p, 60, &speed.to_le_bytes());
+        put(p, 64, &((self.course_deg * 1e5 + 0.5) as i32).to_le_bytes());
+        put(p, 68, &100u32.to_le_bytes()); // sAcc
+        put(p, 72, &40_000u32.to_le_bytes()); // headAcc
+        put(p, 76, &110u16.to_le_bytes()); // pDOP
+        let (mut a, mut b) = (0u8, 0u8);
+        for &x in &f[2..98] {
+            a = a.wrapping_add(x);
+            b = b.wrapping_add(a);
+        }
+        f[98] = a;
+        f[99] = b;
+        f
+    }
+
     /// The epoch's GGA (GPS fix, 12 satellites, HDOP 0.8).
     pub fn gga(&self) -> Line {
         let mut body = Line::new();

@@ -10,6 +10,10 @@
 //! closes it; so a receiver that alternates GGA and RMC from second to second gets a fix
 //! each second too.
 //!
+//! A receiver that sends no velocity (GGA-only, GLL-only) gets one from its own positions:
+//! the displacement from the fix about a second before ([`VELOCITY_BASE_MS`]), long
+//! enough that a 0.3 m position noise is a 0.4 m/s speed noise, not 4 m/s.
+//!
 //! A fix needs a position and a measured solution ([`Solution::is_measured`]). What a
 //! receiver flags (simulator, manual input, its own dead reckoning, integrity unsafe,
 //! no fix) wins over a measured indication in another sentence of the same epoch: the
@@ -29,6 +33,15 @@ const GST: u8 = 16;
 const ZDA: u8 = 32;
 /// The sentence types that carry a position.
 const POSITIONS: u8 = GGA | RMC | GNS | GLL;
+
+/// The baseline (ms) of a velocity derived from positions.
+pub const VELOCITY_BASE_MS: u32 = 1000;
+/// Positions kept for it, at least [`HISTORY_STEP_MS`] apart: a second at any rate.
+const HISTORY: usize = 5;
+/// The least time between two kept positions, ms.
+const HISTORY_STEP_MS: i64 = 250;
+/// Below this derived speed (m/s) the course is noise and is not given.
+const MIN_COURSE_SPEED: f32 = 0.5;
 
 /// Time stamps closer than this (ms) belong to one epoch.
 pub const SAME_EPOCH_MS: u32 = 10;
@@ -243,6 +256,10 @@ pub struct FixAssembler {
     /// A date from elsewhere (the system clock) for receivers that send none.
     date_hint: Option<DateAnchor>,
     model: AccuracyModel,
+    /// The last fixes' time and position (a ring), for a derived velocity.
+    history: [(DayMillis, LatLon); HISTORY],
+    history_len: usize,
+    history_next: usize,
 }
 
 impl Default for FixAssembler {
@@ -265,6 +282,9 @@ impl FixAssembler {
             date: None,
             date_hint: None,
             model,
+            history: [(0, LatLon::ZERO); HISTORY],
+            history_len: 0,
+            history_next: 0,
         }
     }
 
@@ -308,7 +328,8 @@ impl FixAssembler {
             if let Some(c) = &mut self.current {
                 c.emitted = true;
             }
-            out(self.epoch(&cur));
+            let e = self.epoch(&cur);
+            out(e);
         }
     }
 
@@ -325,6 +346,34 @@ impl FixAssembler {
         let cur = self.current.take()?;
         self.cycle = cur.seen;
         (!cur.emitted && cur.seen & POSITIONS != 0).then(|| self.epoch(&cur))
+    }
+
+    /// The velocity from the position about [`VELOCITY_BASE_MS`] before `time`.
+    fn derived_velocity(&self, time: DayMillis, p: LatLon) -> Option<(f32, Option<f32>)> {
+        let age = |t: DayMillis| (i64::from(time) - i64::from(t)).rem_euclid(86_400_000);
+        let (t, before) = self.history[..self.history_len]
+            .iter()
+            .filter(|(t, _)| (200..=2 * i64::from(VELOCITY_BASE_MS)).contains(&age(*t)))
+            .min_by_key(|(t, _)| (age(*t) - i64::from(VELOCITY_BASE_MS)).abs())?;
+        let d = crate::geo::LocalFrame32::new(*before, 0.0).to_local(p);
+        let dt = age(*t) as f32 / 1000.0;
+        let speed = libm::sqrtf(d.x * d.x + d.y * d.y) / dt;
+        let course = (speed >= MIN_COURSE_SPEED)
+            .then(|| crate::math::wrap_360(libm::atan2f(d.x, d.y).to_degrees()));
+        speed.is_finite().then_some((speed, course))
+    }
+
+    fn remember(&mut self, time: DayMillis, p: LatLon) {
+        if self.history_len > 0 {
+            let last = self.history[(self.history_next + HISTORY - 1) % HISTORY].0;
+            let age = (i64::from(time) - i64::from(last)).rem_euclid(86_400_000);
+            if age < HISTORY_STEP_MS {
+                return;
+            }
+        }
+        self.history[self.history_next] = (time, p);
+        self.history_next = (self.history_next + 1) % HISTORY;
+        self.history_len = (self.history_len + 1).min(HISTORY);
     }
 
     fn absorb(&mut self, cur: &mut Current, s: &Sentence) {
@@ -394,7 +443,7 @@ impl FixAssembler {
     }
 
     /// The fix (or the reason for none) of an epoch.
-    fn epoch(&self, cur: &Current) -> Epoch {
+    fn epoch(&mut self, cur: &Current) -> Epoch {
         let outcome = match (cur.solution, cur.position) {
             (Some(s), _) if !s.is_measured() => Err(NoFix::of(s).unwrap_or(NoFix::NoFix)),
             (_, None) => Err(NoFix::NoPosition),
@@ -408,7 +457,7 @@ impl FixAssembler {
         }
     }
 
-    fn fix(&self, cur: &Current, s: Solution, position: LatLon) -> Fix {
+    fn fix(&mut self, cur: &Current, s: Solution, position: LatLon) -> Fix {
         let (accuracy_m, accuracy_source) = match (cur.gst_m, cur.hdop) {
             (Some(m), _) => (Some(m), AccuracySource::Gst),
             (None, Some(h)) if h.is_finite() && h > 0.0 && h < 99.0 => {
@@ -416,12 +465,19 @@ impl FixAssembler {
             }
             _ => (None, AccuracySource::None),
         };
+        let (speed_mps, course_deg) = match (cur.speed_mps, cur.course_deg) {
+            (None, None) => self
+                .derived_velocity(cur.time, position)
+                .map_or((None, None), |(v, c)| (Some(v), c)),
+            given => given,
+        };
+        self.remember(cur.time, position);
         Fix {
             position,
             accuracy_m,
             accuracy_source,
-            speed_mps: cur.speed_mps,
-            course_deg: cur.course_deg,
+            speed_mps,
+            course_deg,
             utc: self.utc(cur.time),
         }
     }

@@ -192,7 +192,9 @@ impl Solution {
         }
     }
 
-    /// Combines what two indications of one position say ([`Solution::rank`]).
+    /// Combines what two indications of one position say: a receiver's warning (simulator,
+    /// manual, dead reckoning, unsafe, no fix) wins over a measured indication, a better
+    /// measured one over a plainer one.
     pub const fn with(self, other: Self) -> Self {
         if other.rank() > self.rank() {
             other

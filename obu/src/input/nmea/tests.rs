@@ -455,3 +455,37 @@ fn leap_year_months() {
     assert_eq!(days_before_month(2023, 3), 59);
     assert_eq!(days_before_month(2000, 12), 335);
 }
+
+#[test]
+fn a_receiver_without_velocity_gets_one_from_its_positions() {
+    // GGA only at 10 Hz, heading east at 10 m/s on the equator (1e-7 deg = 1.113 cm):
+    // 1 m = 0.00000898 degrees = 0.00053898 minutes each 100 ms.
+    let mut bodies = std::vec::Vec::new();
+    for k in 0..20u32 {
+        let min = 30.0 + 0.000_538_98 * f64::from(k);
+        let t = format!("1200{:02}.{}0", k / 10, k % 10);
+        bodies.push(format!(
+            "GPGGA,{t},0000.000000,N,000{min:09.6},E,2,12,0.8,10.0,M,,M,,"
+        ));
+    }
+    let refs: std::vec::Vec<&str> = bodies.iter().map(|s| s.as_str()).collect();
+    let mut a = FixAssembler::new();
+    let mut fixes = std::vec::Vec::new();
+    for b in &refs {
+        a.push(&sentence(b), |e| fixes.push(e.outcome.unwrap()));
+    }
+    a.finish(|e| fixes.push(e.outcome.unwrap()));
+    assert_eq!(fixes.len(), 20);
+    assert_eq!(fixes[0].speed_mps, None, "no position before the first");
+    let last = fixes[19];
+    assert!(
+        (last.speed_mps.unwrap() - 10.0).abs() < 0.05,
+        "{:?}",
+        last.speed_mps
+    );
+    assert!(
+        (last.course_deg.unwrap() - 90.0).abs() < 0.5,
+        "{:?}",
+        last.course_deg
+    );
+}
