@@ -69,15 +69,11 @@ enum Command {
     },
 }
 
+/// A receiver source (`gpsd` and `none` are no receiver to check).
 fn parse_source(s: &str) -> Result<GnssSource, String> {
-    Ok(match s {
-        "nmea-serial" => GnssSource::NmeaSerial,
-        "ubx-serial" => GnssSource::UbxSerial,
-        "nmea-tcp" => GnssSource::NmeaTcp,
-        "nmea-udp" => GnssSource::NmeaUdp,
-        "nmea-file" => GnssSource::NmeaFile,
-        _ => return Err("one of nmea-serial, ubx-serial, nmea-tcp, nmea-udp, nmea-file".into()),
-    })
+    GnssSource::from_name(s)
+        .filter(|k| !matches!(k, GnssSource::Gpsd | GnssSource::None))
+        .ok_or_else(|| "one of nmea-serial, ubx-serial, nmea-tcp, nmea-udp, nmea-file".into())
 }
 
 /// What the command line asks for.

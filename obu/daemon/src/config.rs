@@ -415,6 +415,35 @@ pub enum GnssSource {
     Gpsd,
 }
 
+impl GnssSource {
+    /// Every source with its name in `[gnss] source` (and `obu gnss-check --source`).
+    pub const NAMES: [(GnssSource, &'static str); 7] = [
+        (GnssSource::None, "none"),
+        (GnssSource::NmeaFile, "nmea-file"),
+        (GnssSource::NmeaSerial, "nmea-serial"),
+        (GnssSource::UbxSerial, "ubx-serial"),
+        (GnssSource::NmeaTcp, "nmea-tcp"),
+        (GnssSource::NmeaUdp, "nmea-udp"),
+        (GnssSource::Gpsd, "gpsd"),
+    ];
+
+    /// The source's name.
+    pub fn name(self) -> &'static str {
+        Self::NAMES
+            .iter()
+            .find(|(s, _)| *s == self)
+            .map_or("none", |(_, n)| n)
+    }
+
+    /// The source of a name.
+    pub fn from_name(name: &str) -> Option<Self> {
+        Self::NAMES
+            .iter()
+            .find(|(_, n)| *n == name)
+            .map(|(s, _)| *s)
+    }
+}
+
 /// `[gnss]`.
 #[derive(Clone, Debug, Deserialize, PartialEq)]
 #[serde(deny_unknown_fields)]
@@ -846,6 +875,10 @@ mod tests {
         assert!(e.0.contains("unknown section [htp]"), "{e}");
         let e = Config::parse("[http]\nbnd = \"x\"").unwrap_err();
         assert!(e.0.contains("bnd"), "{e}");
+        for (source, name) in GnssSource::NAMES {
+            let text = format!("[gnss]\nsource = \"{name}\"\naddress = \"x\"");
+            assert_eq!(Config::parse(&text).unwrap().gnss.source, source, "{name}");
+        }
         let e = Config::parse("[gnss]\nsource = \"nmea-tcp\"").unwrap_err();
         assert!(e.0.contains("gnss.address"), "{e}");
         let e = Config::parse("[speed]\nbyte_order = \"middle\"").unwrap_err();

@@ -207,22 +207,10 @@ pub fn run(args: &CheckArgs) -> u8 {
         eprintln!("obu gnss-check: {}: {e}", args.address);
         return 2;
     }
-    let name = format!("{} {}", source_name(args.source), args.address);
+    let name = format!("{} {}", args.source.name(), args.address);
     let seconds = (args.source != GnssSource::NmeaFile).then(|| started.elapsed().as_secs_f64());
     print!("{}", tally.report(&name, seconds));
     u8::from(!tally.shortcomings().is_empty())
-}
-
-fn source_name(s: GnssSource) -> &'static str {
-    match s {
-        GnssSource::NmeaFile => "nmea-file",
-        GnssSource::NmeaSerial => "nmea-serial",
-        GnssSource::UbxSerial => "ubx-serial",
-        GnssSource::NmeaTcp => "nmea-tcp",
-        GnssSource::NmeaUdp => "nmea-udp",
-        GnssSource::Gpsd => "gpsd",
-        GnssSource::None => "none",
-    }
 }
 
 /// Hands the source's bytes to `take` for `args.seconds` (a file: all of it).

@@ -300,8 +300,7 @@ impl GnssReader {
             Framed::UbxSkipped { .. } => out(GnssEvent::Ubx("other")),
             Framed::UbxBadChecksum => out(GnssEvent::UbxError(UbxError::BadChecksum)),
             Framed::SentenceTooLong => out(GnssEvent::NmeaError(NmeaError::TooLong)),
-            Framed::Skipped(n) if n > 0 => out(GnssEvent::Skipped(n)),
-            Framed::Skipped(_) => {}
+            Framed::Skipped(n) => out(GnssEvent::Skipped(n)),
         });
     }
 
@@ -332,9 +331,10 @@ fn sentence(
 }
 
 fn nmea_epoch(e: Epoch, last_pvt: Option<DayMillis>, out: &mut impl FnMut(GnssEvent)) {
+    // Across midnight the two times of day are a day apart less their difference.
     let covered = last_pvt.is_some_and(|t| {
         let d = e.time.abs_diff(t);
-        d.min(86_400_000 - d.min(86_400_000)) < UBX_COVERS_MS
+        d.min(86_400_000u32.saturating_sub(d)) < UBX_COVERS_MS
     });
     out(if covered {
         GnssEvent::CoveredByUbx

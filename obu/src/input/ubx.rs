@@ -54,19 +54,6 @@ pub fn checksum(bytes: &[u8]) -> (u8, u8) {
     })
 }
 
-/// A whole frame (sync to checksum) around `payload`, for writing fixtures and
-/// receivers' configuration.
-pub fn frame<const N: usize>(class: u8, id: u8, payload: &[u8]) -> heapless::Vec<u8, N> {
-    let mut out = heapless::Vec::new();
-    let len = (payload.len() as u16).to_le_bytes();
-    let _ = out.extend_from_slice(&SYNC);
-    let _ = out.extend_from_slice(&[class, id, len[0], len[1]]);
-    let _ = out.extend_from_slice(payload);
-    let (a, b) = checksum(out.get(2..).unwrap_or(&[]));
-    let _ = out.extend_from_slice(&[a, b]);
-    out
-}
-
 fn u16_at(p: &[u8], at: usize) -> u16 {
     u16::from_le_bytes([p[at], p[at + 1]])
 }
@@ -207,16 +194,20 @@ impl NavPvt {
         }
     }
 
-    /// UTC time of day, ms (the fraction rounded to the millisecond; `None` when the
-    /// receiver does not mark its time valid).
+    /// Milliseconds from the UTC date's midnight (the fraction rounded to the
+    /// millisecond; a negative fraction may reach back before the whole second).
+    fn ms_from_midnight(&self) -> i64 {
+        let (h, m, s) = self.hms;
+        let whole = ((i64::from(h) * 60 + i64::from(m)) * 60 + i64::from(s)) * 1000;
+        whole + (i64::from(self.nano) + 500_000).div_euclid(1_000_000)
+    }
+
+    /// UTC time of day, ms; `None` when the receiver does not mark its time valid.
     pub fn time_of_day(&self) -> Option<DayMillis> {
         if self.valid & 2 == 0 {
             return None;
         }
-        let (h, m, s) = self.hms;
-        let whole = ((u32::from(h) * 60 + u32::from(m)) * 60 + u32::from(s)) as i64 * 1000;
-        let ms = whole + (i64::from(self.nano) + 500_000).div_euclid(1_000_000);
-        u32::try_from(ms.rem_euclid(86_400_000)).ok()
+        u32::try_from(self.ms_from_midnight().rem_euclid(86_400_000)).ok()
     }
 
     /// UTC date and time, when the receiver marks both valid.
@@ -224,12 +215,11 @@ impl NavPvt {
         if self.valid & 3 != 3 {
             return None;
         }
-        let (h, m, s) = self.hms;
         let (y, mo, d) = self.date;
         let midnight = super::nmea::utc_from_date(y, mo, d, 0)?;
-        let whole = ((i64::from(h) * 60 + i64::from(m)) * 60 + i64::from(s)) * 1000;
-        let ms = whole + (i64::from(self.nano) + 500_000).div_euclid(1_000_000);
-        Some(UtcTime::from_abs_millis(midnight.abs_millis() + ms))
+        Some(UtcTime::from_abs_millis(
+            midnight.abs_millis() + self.ms_from_midnight(),
+        ))
     }
 
     /// The fix of this solution, or why there is none; hAcc is its accuracy.

@@ -46,9 +46,6 @@ const MIN_COURSE_SPEED: f32 = 0.5;
 /// Time stamps closer than this (ms) belong to one epoch.
 pub const SAME_EPOCH_MS: u32 = 10;
 
-/// Most distinct sentence types one epoch holds (the bits of a cycle).
-pub const MAX_CYCLE: usize = 6;
-
 /// A set of timed sentence types.
 type Cycle = u8;
 
@@ -317,19 +314,17 @@ impl FixAssembler {
             return; // a sentence without a time before any epoch: nothing to join it to
         };
         self.absorb(&mut cur, s);
-        self.current = Some(cur);
         // Before the cycle is known (the first epoch), GGA or GNS with RMC make a fix
         // (position, validity, velocity, date) at once.
         let complete = match self.cycle {
             0 => cur.seen & (GGA | GNS) != 0 && cur.seen & RMC != 0,
             cycle => cur.seen & cycle == cycle,
         };
-        if complete && !cur.emitted && cur.seen & POSITIONS != 0 {
-            if let Some(c) = &mut self.current {
-                c.emitted = true;
-            }
-            let e = self.epoch(&cur);
-            out(e);
+        let emit = complete && !cur.emitted && cur.seen & POSITIONS != 0;
+        cur.emitted |= emit;
+        self.current = Some(cur);
+        if emit {
+            out(self.epoch(&cur));
         }
     }
 

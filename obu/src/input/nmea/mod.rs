@@ -17,7 +17,7 @@
 mod epoch;
 mod fields;
 
-pub use epoch::{AccuracyModel, Epoch, EpochOutcome, FixAssembler, NoFix, MAX_CYCLE};
+pub use epoch::{AccuracyModel, Epoch, EpochOutcome, FixAssembler, NoFix};
 
 pub use crate::fix::AccuracySource;
 use crate::geo::LatLon;
