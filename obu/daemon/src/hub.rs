@@ -39,6 +39,9 @@ struct Inner {
     recent: VecDeque<Arc<Event>>,
     last_fix: Option<Instant>,
     gnss: ReceiverStatus,
+    /// The last no-fix reason logged (a receiver flapping between a fix and its simulator
+    /// is logged once, not at every change).
+    logged_no_fix: Option<NoFix>,
     /// Give the core the system clock to check GNSS time against.
     system_clock: bool,
     /// Where the superseded check's markers are kept across restarts.
@@ -77,6 +80,7 @@ impl Hub {
                 recent: VecDeque::with_capacity(keep),
                 last_fix: None,
                 gnss: ReceiverStatus::default(),
+                logged_no_fix: None,
                 system_clock: false,
                 markers_file: None,
                 settings,
@@ -197,10 +201,10 @@ impl Hub {
 
     /// An epoch in which the receiver gave no fix, and why (the receiver's own dead
     /// reckoning, its simulator, no fix): nothing reaches the core, the status shows it,
-    /// and the log says so once when it starts.
+    /// and the log says so once for each new reason.
     pub fn on_no_fix(&self, solution: Option<Solution>, why: NoFix) {
         let mut inner = self.lock();
-        if inner.gnss.no_fix != Some(why) {
+        if inner.logged_no_fix.replace(why) != Some(why) {
             eprintln!(
                 "obu: gnss: no fix from the receiver: {} (its positions are not used)",
                 why.as_str()
