@@ -13,6 +13,8 @@
 //! - [`rig`]: the processes behind a daemon in bridge mode (QEMU, relays).
 //! - [`firmware`]: the OBU firmware in QEMU as the device under test.
 //! - [`radio`]: the radio chip in front of the firmware: its receive buffers.
+//! - [`test_rsu`]: a test RSU (net-snmp's snmpd with our NTCIP 1218 / RSU 4.1 agent) that
+//!   the roadside programs over SNMPv3 and that broadcasts what it was given.
 //! - [`sse`]: a Server-Sent Events client that follows the daemon's `/events`.
 //! - [`attack`]: a scenario's attacker beside the roadside, and the device's counters of
 //!   what it dropped.
@@ -48,4 +50,5 @@ pub mod runner;
 pub mod scenario;
 pub mod soak;
 pub mod sse;
+pub mod test_rsu;
 pub mod timeline;

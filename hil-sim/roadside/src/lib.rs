@@ -22,6 +22,8 @@
 //!   RSU 4.1 text files.
 //! - [`rsu`]: the roadside unit as a product (`hil-sim roadside`): a site's messages
 //!   broadcast and/or written as RSU files.
+//! - [`rsu_snmp`]: RSU management over SNMP (NTCIP 1218 / RSU 4.1 store-and-repeat and
+//!   immediate-forward tables, SNMPv3 USM): the site's messages deposited and kept.
 //! - [`scripted`]: the roadside of a bench run: the messages following the scenario's
 //!   timeline (revisions, shrinking and removed zones) through its radio faults.
 //! - [`attacker`]: a forged or replayed MAP/TIM sender beside the scripted roadside (the
@@ -45,6 +47,7 @@ pub mod rng;
 pub mod road;
 pub mod road_users;
 pub mod rsu;
+pub mod rsu_snmp;
 pub mod scripted;
 pub mod signer;
 pub mod site;

@@ -159,6 +159,42 @@ impl RsuSigner {
         }
     }
 
+    /// `frame` signed once at `unix_ms` with the whole certificate and an expiry time of
+    /// `expiry_unix_ms` (a message deposited in an RSU's store-and-repeat table until its
+    /// end): the bytes signed before for the same frame and expiry while they are kept.
+    ///
+    /// # Errors
+    ///
+    /// As [`RsuSigner::sign`].
+    pub fn sign_until(
+        &self,
+        frame: &[u8],
+        unix_ms: u64,
+        expiry_unix_ms: u64,
+    ) -> Result<Vec<u8>, String> {
+        let mut state = self.state.lock().unwrap_or_else(PoisonError::into_inner);
+        let digest = sha256(frame);
+        state.kept.retain(|(_, expiry, _)| *expiry > unix_ms);
+        let kept = state
+            .kept
+            .iter()
+            .find(|(d, expiry, _)| *d == digest && *expiry == expiry_unix_ms);
+        if let Some((_, _, bytes)) = kept {
+            return Ok(bytes.clone());
+        }
+        let lifetime_ms = expiry_unix_ms.saturating_sub(unix_ms).max(1);
+        let signer = Self {
+            lifetime_ms,
+            ..self.clone()
+        };
+        let bytes = signer.sign_at(frame, unix_ms, true)?;
+        if state.kept.len() >= MAX_KEPT {
+            state.kept.remove(0);
+        }
+        state.kept.push((digest, expiry_unix_ms, bytes.clone()));
+        Ok(bytes)
+    }
+
     /// `frame` signed with generation time `unix_ms`, the certificate whole or by digest.
     fn sign_at(&self, frame: &[u8], unix_ms: u64, whole: bool) -> Result<Vec<u8>, String> {
         let id = match frame {

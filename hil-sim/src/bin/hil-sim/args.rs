@@ -106,6 +106,23 @@ pub enum Command {
     /// with --truth the localization error per class. --synthesize DIR writes a rendered
     /// site (cam1/, cam2/, truth.json) to run it on.
     RoadUsers(RoadUsersArgs),
+    /// The test RSU's SNMP agent: snmpd starts it (pass_persist) for the NTCIP 1218 or
+    /// RSU 4.1 tables; it broadcasts each enabled row's payload over UDP (--to).
+    #[command(hide = true)]
+    TestRsuAgent {
+        /// `ntcip1218` or `rsu4.1`.
+        #[arg(long)]
+        mib: String,
+        /// Rows per table.
+        #[arg(long, default_value_t = 32)]
+        max_rows: u32,
+        /// Where the rows' payloads go (repeatable).
+        #[arg(long = "to", value_name = "ADDR")]
+        to: Vec<std::net::SocketAddr>,
+        /// The RSU's IEEE 1609.2 PKI folder, for rows it is asked to sign.
+        #[arg(long, value_name = "DIR")]
+        pki: Option<PathBuf>,
+    },
 }
 
 /// `hil-sim run`.

@@ -33,6 +33,15 @@ fn main() -> ExitCode {
         Command::Demo { port, out } => demo(port, out),
         Command::SynthCamera(a) => synth_camera(&a),
         Command::RoadUsers(a) => road_users::road_users(&a),
+        Command::TestRsuAgent {
+            mib,
+            max_rows,
+            to,
+            pki,
+        } => match hil_sim::test_rsu::agent::Mib::parse(&mib) {
+            Some(m) => hil_sim::test_rsu::run_agent(m, max_rows, to, pki.as_deref()),
+            None => Err(format!("--mib {mib}: ntcip1218 or rsu4.1")),
+        },
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
