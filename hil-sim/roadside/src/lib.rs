@@ -13,6 +13,7 @@
 //!   instance masks, their positions on the road and their tracks.
 //! - [`site`]: a roadside installation as a scenario file describes it (lane map, zones and
 //!   their sources, radio faults).
+//! - [`site_file`]: a deployed installation's site file (lane map, zones, signing, RSUs).
 //! - [`zone_sources`]: each zone's closed lanes and stations from its source (lanes, cones,
 //!   WZDx, camera), and the site's zones as the roadside broadcasts them.
 //! - [`messages`]: the J2735 MAP and TIM for the road and a work zone, UPER-encoded.
@@ -24,6 +25,7 @@
 //!   broadcast and/or written as RSU files.
 //! - [`rsu_snmp`]: RSU management over SNMP (NTCIP 1218 / RSU 4.1 store-and-repeat and
 //!   immediate-forward tables, SNMPv3 USM): the site's messages deposited and kept.
+//! - [`service`]: `roadside run`: a site's messages deposited and kept on its RSUs.
 //! - [`scripted`]: the roadside of a bench run: the messages following the scenario's
 //!   timeline (revisions, shrinking and removed zones) through its radio faults.
 //! - [`attacker`]: a forged or replayed MAP/TIM sender beside the scripted roadside (the
@@ -49,6 +51,8 @@ pub mod road_users;
 pub mod rsu;
 pub mod rsu_snmp;
 pub mod scripted;
+pub mod service;
 pub mod signer;
 pub mod site;
+pub mod site_file;
 pub mod zone_sources;

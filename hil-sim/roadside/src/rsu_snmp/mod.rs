@@ -10,12 +10,14 @@
 //! - [`dates`]: `DateAndTime` and the RSU 4.1 date;
 //! - [`deposit`]: the site's messages as rows (PSID, window, who signs);
 //! - [`reconcile`]: the pure plan that brings a table to what is wanted;
+//! - [`fleet`]: many RSUs from one process (workers, backoff, counters, owned rows);
 //! - [`table`]: one pass over one RSU (read, plan, write) and its problems in an
 //!   operator's terms.
 
 pub mod credentials;
 pub mod dates;
 pub mod deposit;
+pub mod fleet;
 pub mod mib;
 pub mod reconcile;
 pub mod session;

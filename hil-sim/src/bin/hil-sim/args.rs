@@ -106,6 +106,29 @@ pub enum Command {
     /// with --truth the localization error per class. --synthesize DIR writes a rendered
     /// site (cam1/, cam2/, truth.json) to run it on.
     RoadUsers(RoadUsersArgs),
+    /// A test RSU until stopped: Debian's snmpd on a loopback port with SNMPv3 users and the
+    /// NTCIP 1218 or RSU 4.1 tables, broadcasting each enabled row's payload (--to).
+    TestRsu {
+        /// Its folder (snmpd.conf, log).
+        #[arg(long, value_name = "DIR", default_value = "hil-sim-out/test-rsu")]
+        dir: PathBuf,
+        /// Loopback UDP port of its SNMP agent.
+        #[arg(long, default_value_t = 16161)]
+        port: u16,
+        /// `ntcip1218` or `rsu4.1`.
+        #[arg(long, default_value = "ntcip1218")]
+        mib: String,
+        /// An SNMPv3 user, `NAME:AUTH:AUTHPASS:PRIV:PRIVPASS` with net-snmp's protocol names
+        /// (e.g. `roadside:SHA:authpass1:AES:privpass1`; repeatable).
+        #[arg(long = "user", value_name = "SPEC")]
+        users: Vec<String>,
+        /// Where the rows' payloads go (repeatable).
+        #[arg(long = "to", value_name = "ADDR")]
+        to: Vec<std::net::SocketAddr>,
+        /// Rows per table.
+        #[arg(long, default_value_t = 32)]
+        max_rows: u32,
+    },
     /// The test RSU's SNMP agent: snmpd starts it (pass_persist) for the NTCIP 1218 or
     /// RSU 4.1 tables; it broadcasts each enabled row's payload over UDP (--to).
     #[command(hide = true)]

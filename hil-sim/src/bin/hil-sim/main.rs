@@ -33,6 +33,14 @@ fn main() -> ExitCode {
         Command::Demo { port, out } => demo(port, out),
         Command::SynthCamera(a) => synth_camera(&a),
         Command::RoadUsers(a) => road_users::road_users(&a),
+        Command::TestRsu {
+            dir,
+            port,
+            mib,
+            users,
+            to,
+            max_rows,
+        } => test_rsu(dir, port, &mib, &users, to, max_rows),
         Command::TestRsuAgent {
             mib,
             max_rows,
@@ -49,6 +57,60 @@ fn main() -> ExitCode {
             eprintln!("hil-sim: {e}");
             ExitCode::FAILURE
         }
+    }
+}
+
+fn test_rsu(
+    dir: PathBuf,
+    port: u16,
+    mib: &str,
+    users: &[String],
+    to: Vec<std::net::SocketAddr>,
+    max_rows: u32,
+) -> Result<(), String> {
+    use hil_sim::test_rsu::{agent::Mib, TestRsu, TestRsuConfig, TestUser};
+    let mib = Mib::parse(mib).ok_or(format!("--mib {mib}: ntcip1218 or rsu4.1"))?;
+    let protocol = |p: &str| -> Result<&'static str, String> {
+        [
+            "MD5", "SHA", "SHA-224", "SHA-256", "SHA-384", "SHA-512", "DES", "AES", "AES-192",
+            "AES-256",
+        ]
+        .into_iter()
+        .find(|k| k.eq_ignore_ascii_case(p))
+        .ok_or(format!("unknown protocol {p}"))
+    };
+    let users = users
+        .iter()
+        .map(|u| match u.split(':').collect::<Vec<_>>()[..] {
+            [name, auth, ap, privacy, pp] => Ok(TestUser {
+                name: name.into(),
+                auth: protocol(auth)?,
+                auth_password: ap.into(),
+                privacy: protocol(privacy)?,
+                priv_password: pp.into(),
+            }),
+            _ => Err(format!("--user {u}: NAME:AUTH:AUTHPASS:PRIV:PRIVPASS")),
+        })
+        .collect::<Result<Vec<_>, String>>()?;
+    let hil_sim = std::env::current_exe().map_err(|e| e.to_string())?;
+    let rsu = TestRsu::start(TestRsuConfig {
+        dir,
+        port,
+        mib,
+        users,
+        community: None,
+        broadcast_to: to,
+        max_rows,
+        pki: None,
+        hil_sim,
+    })?;
+    println!(
+        "test RSU on {} (snmpd log in {})",
+        rsu.address(),
+        rsu.dir().display()
+    );
+    loop {
+        std::thread::sleep(Duration::from_secs(3600));
     }
 }
 
