@@ -24,6 +24,8 @@
 //! - [`plot`] and [`report_plots`]: the report's figures of a run.
 //! - [`hmi_bench`]: the bench of the tablet app's browser tests (scenes fed to the daemon).
 //! - [`perf`]: the daemon's latency and load test against the real process.
+//! - [`fleet_bench`]: one roadside fleet programming many test RSUs over SNMPv3 (time to
+//!   converge, requests of an idle poll, memory).
 //! - [`soak`]: the daemon for hours under the whole load and hostile traffic, sampled for
 //!   growth (RSS, descriptors, latency, counters).
 //!
@@ -38,6 +40,7 @@ pub mod daemon;
 pub mod drive;
 pub mod expect;
 pub mod firmware;
+pub mod fleet_bench;
 pub mod hmi_bench;
 pub mod nmea;
 pub mod perf;

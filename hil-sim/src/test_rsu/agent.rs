@@ -112,6 +112,11 @@ impl Agent {
         }
     }
 
+    /// Whether a SET request is open (varbinds may still come).
+    pub fn is_in_request(&self) -> bool {
+        self.set_open.is_some()
+    }
+
     /// Ends the open SET request once it has been quiet for [`REQUEST_QUIET`].
     pub fn end_quiet_request(&mut self, now: Instant) {
         if self.set_open.is_some_and(|at| now - at >= REQUEST_QUIET) {

@@ -106,6 +106,21 @@ pub enum Command {
     /// with --truth the localization error per class. --synthesize DIR writes a rendered
     /// site (cam1/, cam2/, truth.json) to run it on.
     RoadUsers(RoadUsersArgs),
+    /// One roadside fleet reconciling N test RSUs (snmpd + agent each, loopback ports) x M
+    /// messages over SNMPv3 authPriv: time to converge from empty (goal under 10 s), SNMP
+    /// requests per RSU of a poll when nothing changed (goal: reads only), memory; exit 1
+    /// when a goal is missed.
+    BenchRsuFleet {
+        /// RSUs.
+        #[arg(long, default_value_t = 200)]
+        rsus: usize,
+        /// Messages per RSU.
+        #[arg(long, default_value_t = 4)]
+        messages: usize,
+        /// First loopback port.
+        #[arg(long, default_value_t = 17200)]
+        base_port: u16,
+    },
     /// A test RSU until stopped: Debian's snmpd on a loopback port with SNMPv3 users and the
     /// NTCIP 1218 or RSU 4.1 tables, broadcasting each enabled row's payload (--to).
     TestRsu {

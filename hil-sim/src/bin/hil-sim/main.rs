@@ -33,6 +33,11 @@ fn main() -> ExitCode {
         Command::Demo { port, out } => demo(port, out),
         Command::SynthCamera(a) => synth_camera(&a),
         Command::RoadUsers(a) => road_users::road_users(&a),
+        Command::BenchRsuFleet {
+            rsus,
+            messages,
+            base_port,
+        } => bench_rsu_fleet(rsus, messages, base_port),
         Command::TestRsu {
             dir,
             port,
@@ -58,6 +63,36 @@ fn main() -> ExitCode {
             ExitCode::FAILURE
         }
     }
+}
+
+fn bench_rsu_fleet(rsus: usize, messages: usize, base_port: u16) -> Result<(), String> {
+    let dir = hil_sim::fleet_bench::default_dir();
+    let exe = std::env::current_exe().map_err(|e| e.to_string())?;
+    let f = hil_sim::fleet_bench::run(rsus, messages, base_port, &dir, &exe);
+    let _ = std::fs::remove_dir_all(&dir);
+    let f = f?;
+    println!(
+        "{} RSUs x {} messages (NTCIP 1218, SNMPv3 SHA/AES-128, one snmpd + agent per RSU on loopback ports):",
+        f.rsus, f.messages
+    );
+    println!(
+        "  converged from empty tables in {:.2} s (goal under 10 s)",
+        f.converge.as_secs_f64()
+    );
+    println!(
+        "  poll with nothing to change: {:.1} reads and {:.1} writes per RSU, {:.2} s for the fleet (goal: reads only)",
+        f.idle_reads_per_rsu,
+        f.idle_writes_per_rsu,
+        f.idle_poll.as_secs_f64()
+    );
+    println!(
+        "  memory: roadside (this process) {:.1} MB RSS; the {} test RSUs {:.0} MB RSS in all",
+        f.roadside_rss_kb as f64 / 1024.0,
+        f.rsus,
+        f.rsus_rss_kb as f64 / 1024.0
+    );
+    let ok = f.converge < Duration::from_secs(10) && f.idle_writes_per_rsu == 0.0;
+    ok.then_some(()).ok_or("goal missed".into())
 }
 
 fn test_rsu(
