@@ -14,6 +14,7 @@
 //! - [`site`]: a roadside installation as a scenario file describes it (lane map, zones and
 //!   their sources, radio faults).
 //! - [`site_file`]: a deployed installation's site file (lane map, zones, signing, RSUs).
+//! - [`wzdx_feed`]: a live WZDx feed polled over HTTP(S) (conditional requests, size cap).
 //! - [`zone_sources`]: each zone's closed lanes and stations from its source (lanes, cones,
 //!   WZDx, camera), and the site's zones as the roadside broadcasts them.
 //! - [`messages`]: the J2735 MAP and TIM for the road and a work zone, UPER-encoded.
@@ -55,4 +56,5 @@ pub mod service;
 pub mod signer;
 pub mod site;
 pub mod site_file;
+pub mod wzdx_feed;
 pub mod zone_sources;
