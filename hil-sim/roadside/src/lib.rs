@@ -18,6 +18,8 @@
 //! - [`zone_sources`]: each zone's closed lanes and stations from its source (lanes, cones,
 //!   WZDx, camera), and the site's zones as the roadside broadcasts them.
 //! - [`messages`]: the J2735 MAP and TIM for the road and a work zone, UPER-encoded.
+//! - [`publisher`]: the zones published over time (msgCnt and MAP revision follow the
+//!   content; cancels for zones that ended or left their source).
 //! - [`pki`]: IEEE 1609.2 certificates (root, issuing CA, RSU) as files, and the signer of
 //!   MAP and TIM.
 //! - [`broadcast`]: the broadcaster (UDP, raw or IEEE 1609.2), its fault channel and the
@@ -46,6 +48,7 @@ pub mod cones;
 pub mod geojson;
 pub mod messages;
 pub mod pki;
+pub mod publisher;
 pub mod rng;
 pub mod road;
 pub mod road_users;

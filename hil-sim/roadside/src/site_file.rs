@@ -15,6 +15,10 @@
 //! source = "wzdx"
 //! file = "wzdx.geojson"
 //!
+//! [wzdx_feed]                              # zones from a live feed (and/or [[zones]])
+//! url = "https://dot.example/wzdx/feed.geojson"
+//! poll_s = 60
+//!
 //! [signing]
 //! pki = "pki"                              # rsu.oer + rsu.key
 //! deposit = "roadside"                     # roadside | rsu | none
@@ -52,6 +56,8 @@ pub struct SiteFile {
     /// `[[zones]]`: the work zones.
     #[serde(default)]
     pub zones: Vec<ZoneSpec>,
+    /// `[wzdx_feed]`: work zones from a live WZDx feed (besides any `[[zones]]`).
+    pub wzdx_feed: Option<crate::wzdx_feed::FeedConfig>,
     /// `[signing]`.
     pub signing: Option<Signing>,
     /// `[broadcast]`: UDP straight from the roadside (besides or instead of RSUs).

@@ -78,6 +78,8 @@ struct Member {
     spec: RsuSpec,
     session: Session,
     owned: Owned,
+    /// The roadside's immediate-forward row, once made.
+    forward_slot: Option<u32>,
     next_pass: Instant,
     failures: u32,
     status: RsuStatus,
@@ -115,6 +117,7 @@ impl Fleet {
                     timing.retries,
                 ),
                 owned: owned.get(&spec.name).cloned().unwrap_or_default(),
+                forward_slot: None,
                 next_pass: now,
                 failures: 0,
                 status: RsuStatus {
@@ -160,6 +163,48 @@ impl Fleet {
             }
         });
         n
+    }
+
+    /// Sends `payloads` (IEEE 1609.2 or bare frames of `template`'s kind) once through each
+    /// NTCIP 1218 RSU's immediate-forward table. RSU 4.1 units have none: the caller
+    /// deposits such messages as short store-and-repeat rows instead. Counted as
+    /// `forwarded` (or the problem's reason).
+    pub fn forward(&mut self, template: &super::mib::RepeatMessage, payloads: &[Vec<u8>]) {
+        let workers = self.timing.workers.max(1);
+        let mut due: Vec<&mut Member> = self
+            .members
+            .iter_mut()
+            .filter(|m| m.spec.rules.mib == super::mib::RsuMib::Ntcip1218)
+            .collect();
+        if due.is_empty() {
+            return;
+        }
+        let per = due.len().div_ceil(workers);
+        std::thread::scope(|scope| {
+            for chunk in due.chunks_mut(per) {
+                scope.spawn(move || {
+                    for m in chunk.iter_mut() {
+                        let t = super::mib::RepeatMessage {
+                            channel: m.spec.deposit.channel,
+                            priority: m.spec.deposit.priority,
+                            ..template.clone()
+                        };
+                        let outcome = super::table::forward(
+                            &mut m.session,
+                            &t,
+                            payloads,
+                            &mut m.forward_slot,
+                        );
+                        let key = match &outcome {
+                            Ok(_) => "forwarded",
+                            Err(p) => p.reason(),
+                        };
+                        let n = outcome.unwrap_or(1);
+                        *m.status.counts.entry(key.to_string()).or_default() += u64::from(n);
+                    }
+                });
+            }
+        });
     }
 
     /// Every RSU's status.

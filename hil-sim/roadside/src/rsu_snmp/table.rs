@@ -349,3 +349,87 @@ fn digest_of(w: &WantedRow, mib: RsuMib) -> [u8; 32] {
         .unwrap_or_default();
     payload_digest(payload)
 }
+
+/// Sends `payloads` once each through the RSU's NTCIP 1218 immediate-forward table: the
+/// roadside's row (`slot`, created at a free index with `enable` 0 the first time, as
+/// V2X-Hub does) gets each payload written with `enable` 1, one SET per transmission.
+///
+/// # Errors
+///
+/// The first [`RsuProblem`]; `slot` is forgotten when its row has gone (an RSU restart).
+pub fn forward(
+    agent: &mut dyn Agent,
+    template: &super::mib::RepeatMessage,
+    payloads: &[Vec<u8>],
+    slot: &mut Option<u32>,
+) -> Result<u32, RsuProblem> {
+    use super::mib::{ifm_entry, ifm_max_rows, ifm_row, IFM_STATUS_COLUMN};
+    let mib = RsuMib::Ntcip1218;
+    let entry = ifm_entry();
+    let oid = |column: u32, index: u32| {
+        let mut a = entry.clone();
+        a.extend([u64::from(column), u64::from(index)]);
+        a
+    };
+    let index = match *slot {
+        Some(i) => i,
+        None => {
+            let max = match agent
+                .get(&[ifm_max_rows()])
+                .map_err(|e| RsuProblem::of(e, "reading maxRsuIFMs", mib))?
+                .first()
+            {
+                Some(SnmpValue::Integer(n)) => u32::try_from(*n).unwrap_or(0),
+                _ => return Err(RsuProblem::MibMismatch("no maxRsuIFMs".into())),
+            };
+            let used: Vec<u32> = agent
+                .walk(&entry)
+                .map_err(|e| RsuProblem::of(e, "reading the immediate-forward table", mib))?
+                .into_iter()
+                .filter_map(|(a, _)| a.last().and_then(|i| u32::try_from(*i).ok()))
+                .collect();
+            let free = (1..=max).find(|i| !used.contains(i)).ok_or_else(|| {
+                RsuProblem::TableFull(format!("no free immediate-forward row of {max}"))
+            })?;
+            let row = ifm_row(template);
+            let mut values: Vec<_> = row
+                .columns
+                .iter()
+                .map(|(c, v, _)| {
+                    let v = if *c == 4 {
+                        SnmpValue::Integer(0)
+                    } else {
+                        v.clone()
+                    };
+                    (oid(*c, free), v)
+                })
+                .collect();
+            values.push((
+                oid(IFM_STATUS_COLUMN, free),
+                SnmpValue::Integer(row_status::CREATE_AND_GO),
+            ));
+            agent.set(&values).map_err(|e| {
+                RsuProblem::of(e, &format!("creating immediate-forward row {free}"), mib)
+            })?;
+            *slot = Some(free);
+            free
+        }
+    };
+    let mut sent = 0;
+    for p in payloads {
+        let values = [
+            (oid(8, index), SnmpValue::Octets(p.clone())),
+            (oid(4, index), SnmpValue::Integer(1)),
+        ];
+        if let Err(e) = agent.set(&values) {
+            *slot = None;
+            return Err(RsuProblem::of(
+                e,
+                &format!("forwarding through row {index}"),
+                mib,
+            ));
+        }
+        sent += 1;
+    }
+    Ok(sent)
+}

@@ -134,10 +134,23 @@ fn owned_of(site: &SiteFile) -> Result<BTreeMap<String, Owned>, String> {
 
 fn status(c: &Ctx) -> Result<bool, String> {
     let owned = owned_of(&c.site)?;
-    let counters: Vec<RsuStatus> = std::fs::read_to_string(c.site.state_dir().join("status.json"))
-        .ok()
-        .and_then(|t| serde_json::from_str(&t).ok())
-        .unwrap_or_default();
+    let running = roadside::service::read_status(&c.site.state_dir());
+    if let Some(feed) = running.as_ref().and_then(|s| s.feed.as_ref()) {
+        let counts: Vec<String> = feed
+            .counts
+            .iter()
+            .map(|(k, v)| format!("{k} {v}"))
+            .collect();
+        println!(
+            "wzdx feed {}: {}; {} zones; last good {}; polls: {}",
+            feed.url,
+            feed.problem.as_deref().unwrap_or("good"),
+            feed.zones,
+            when(feed.last_good_unix_ms),
+            counts.join(", ")
+        );
+    }
+    let counters: Vec<RsuStatus> = running.map(|s| s.rsus).unwrap_or_default();
     let mut ok = true;
     for s in &c.specs {
         println!("{}  {}  {}", s.name, s.address, s.rules.mib.name());
