@@ -26,6 +26,21 @@ pub fn signer() -> Result<Arc<RsuSigner>, String> {
     Ok(Arc::new(RsuSigner::new(RSU.to_vec(), key, None, 60_000)))
 }
 
+/// Writes the roadside's certificate and key into `dir` (`rsu.oer`, `rsu.key`: a PKI
+/// folder as `roadside` site files name it).
+///
+/// # Errors
+///
+/// The file system's error.
+pub fn write_rsu(dir: &Path) -> Result<(), String> {
+    std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
+    for (name, bytes) in [("rsu.oer", RSU), ("rsu.key", RSU_KEY.as_bytes())] {
+        let path = dir.join(name);
+        std::fs::write(&path, bytes).map_err(|e| format!("{}: {e}", path.display()))?;
+    }
+    Ok(())
+}
+
 /// Writes the anchors into `dir` and returns the daemon's `[security]` table naming them.
 ///
 /// # Errors

@@ -9,6 +9,8 @@
 //! - [`drive`]: the simulated drive (true pose every 100 ms, GNSS errors, CAN speed).
 //! - [`nmea`]: the NMEA 0183 sentences (GGA, RMC, GST) of the simulated GNSS receiver.
 //! - [`bench_pki`]: the bench's IEEE 1609.2 trust anchors and roadside signer.
+//! - [`deployment`]: a scenario's roadside as deployed: a changing WZDx feed, the
+//!   `roadside` service, SNMPv3 into a test RSU that broadcasts to the device.
 //! - [`daemon`]: the real `obu` daemon as a child process.
 //! - [`rig`]: the processes behind a daemon in bridge mode (QEMU, relays).
 //! - [`firmware`]: the OBU firmware in QEMU as the device under test.
@@ -37,6 +39,7 @@
 pub mod attack;
 pub mod bench_pki;
 pub mod daemon;
+pub mod deployment;
 pub mod drive;
 pub mod expect;
 pub mod firmware;

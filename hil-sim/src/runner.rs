@@ -103,6 +103,8 @@ struct Recorded {
     views: Vec<CameraView>,
     psms: u64,
     camera_ms: (f64, f64, u64),
+    /// What the deployed roadside did (`[rsu_deployment]`).
+    deployment: Option<crate::deployment::DeploymentFacts>,
 }
 
 /// Runs a scenario and writes its report into `opts.out`.
@@ -151,7 +153,16 @@ pub fn run(s: &Scenario, opts: &RunOptions) -> Result<RunReport, String> {
     if opts.http_port != 0 {
         println!("hil-sim: the tablet app is live at {}", daemon.http);
     }
-    let mut recorded = drive_and_record(s, &road, &zones, samples, &daemon, opts.progress, camera)?;
+    let work = opts.out.join("deployment");
+    let mut recorded = drive_and_record(
+        s,
+        (&road, &zones),
+        samples,
+        &daemon,
+        opts.progress,
+        camera,
+        &work,
+    )?;
     if let Some(rig) = &daemon.rig {
         // What the roadside sent after the drive may still wait on the serial link: let the
         // firmware work through it before QEMU stops, or a frame sent would be neither
@@ -232,12 +243,12 @@ const FIRMWARE_CATCH_UP: Duration = Duration::from_secs(60);
 /// Feeds the daemon for the whole drive while recording its states.
 fn drive_and_record(
     s: &Scenario,
-    road: &Road,
-    zones: &[WorkZone],
+    (road, zones): (&Road, &[WorkZone]),
     samples: Vec<Sample>,
     daemon: &Daemon,
     progress: bool,
     camera: Option<LiveSite>,
+    work: &Path,
 ) -> Result<Recorded, String> {
     let stop = Arc::new(AtomicBool::new(false));
     let states = Arc::new(Mutex::new(Vec::new()));
@@ -271,16 +282,22 @@ fn drive_and_record(
         .transpose()
         .inspect_err(|_| stop.store(true, Ordering::Relaxed))?;
     let attacker_from = attacker.as_ref().map(Attack::from);
-    let v2x = roadside::scripted::spawn(
-        &s.site(),
-        road,
-        zones,
-        &daemon.v2x,
-        t0,
-        stop.clone(),
-        Some(signer),
-        camera,
-    )?;
+    let v2x = match &s.rsu_deployment {
+        None => Roadside::Scripted(roadside::scripted::spawn(
+            &s.site(),
+            road,
+            zones,
+            &daemon.v2x,
+            t0,
+            stop.clone(),
+            Some(signer),
+            camera,
+        )?),
+        Some(spec) => Roadside::Deployed(
+            crate::deployment::start(s, spec, road, &daemon.v2x, t0, stop.clone(), work)
+                .inspect_err(|_| stop.store(true, Ordering::Relaxed))?,
+        ),
+    };
     let sock = UdpSocket::bind("127.0.0.1:0").map_err(|e| e.to_string())?;
     let mut sent = Vec::with_capacity(samples.len());
     let replay = match &s.drive.nmea_file {
@@ -312,7 +329,13 @@ fn drive_and_record(
     std::thread::sleep(Duration::from_millis(1200));
     stop.store(true, Ordering::Relaxed);
     let _ = recorder.join();
-    let roadside = v2x.join().map_err(|_| "the roadside thread panicked")?;
+    let (roadside, deployment) = match v2x {
+        Roadside::Scripted(h) => (h.join().map_err(|_| "the roadside thread panicked")?, None),
+        Roadside::Deployed(h) => {
+            let (run, facts) = h.join().map_err(|_| "the deployment thread panicked")??;
+            (run, Some(facts))
+        }
+    };
     let (changes, counts) = (roadside.changes, roadside.counts);
     // The daemon counts every input (read once it has counted all that was sent).
     let attacker_sent = attacked
@@ -353,7 +376,14 @@ fn drive_and_record(
         views: roadside.views,
         psms: roadside.psms,
         camera_ms: roadside.camera_ms,
+        deployment,
     })
+}
+
+/// The roadside side of a run: the bench's scripted broadcaster, or the deployed roadside.
+enum Roadside {
+    Scripted(std::thread::JoinHandle<roadside::scripted::RoadsideRun>),
+    Deployed(crate::deployment::DeploymentThread),
 }
 
 /// Sends the generated NMEA of every sample at its time.
@@ -622,6 +652,7 @@ fn run_facts(s: &Scenario, rec: &Recorded) -> RunFacts {
             .iter()
             .filter_map(|z| z.removed_at_s)
             .chain(rec.window_ends_s.iter().copied())
+            .chain(rec.deployment.as_ref().and_then(|d| d.removed_at_s))
             .reduce(f64::min),
         overspeed_tolerance_mps: 5.0 / 3.6,
         warning_distance_m: s.settings.warning_distance_m,
@@ -629,6 +660,7 @@ fn run_facts(s: &Scenario, rec: &Recorded) -> RunFacts {
         device: rec.device.clone(),
         can_speed: s.can_speed || s.drive.candump_file.is_some(),
         camera_views: rec.views.clone(),
+        deployment: rec.deployment.clone(),
     }
 }
 

@@ -47,6 +47,10 @@ pub struct Scenario {
     /// certificate in every message).
     #[serde(default)]
     pub signing: SigningSpec,
+    /// The roadside as deployed: a WZDx feed, the `roadside` service and a test RSU over
+    /// SNMP instead of the bench's scripted broadcaster (`[rsu_deployment]`).
+    #[serde(default)]
+    pub rsu_deployment: Option<crate::deployment::DeploymentSpec>,
     /// What must hold.
     #[serde(default, rename = "expect")]
     pub expectations: Vec<Expectation>,

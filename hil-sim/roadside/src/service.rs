@@ -167,7 +167,20 @@ impl Roadside {
     ///
     /// The site file, its lane map, zones, PKI, credentials or state folder.
     pub fn start(path: &Path, now: Instant, now_ms: u64) -> Result<Self, String> {
-        let site = SiteFile::load(path)?;
+        Self::start_site(SiteFile::load(path)?, path, now, now_ms)
+    }
+
+    /// Starts a site given as a value (`path`: where a reload reads it from).
+    ///
+    /// # Errors
+    ///
+    /// As [`Roadside::start`].
+    pub fn start_site(
+        site: SiteFile,
+        path: &Path,
+        now: Instant,
+        now_ms: u64,
+    ) -> Result<Self, String> {
         let state = site.state_dir();
         std::fs::create_dir_all(&state).map_err(|e| format!("{}: {e}", state.display()))?;
         let owned = load_owned(&state.join("owned.json"))?;
@@ -249,14 +262,16 @@ impl Roadside {
     ) -> Result<(), String> {
         self.poll_feed(now, now_ms, log);
         let mut forward = false;
+        let mut changed = false;
         if now >= self.next_publish || force {
             self.next_publish = now + REPUBLISH;
-            self.publish(now_ms, log);
+            changed = self.publish(now_ms, log);
             forward = true;
         }
         let deployment = &self.deployment;
         let wanted = |rsu: &RsuSpec| deployment.wanted_for(rsu);
-        let passes = self.fleet.poll(&wanted, now, now_ms, force);
+        // New rows go to every RSU at once, not at its next poll.
+        let passes = self.fleet.poll(&wanted, now, now_ms, force || changed);
         if forward {
             self.forward_cancels(now_ms);
         }
@@ -311,8 +326,9 @@ impl Roadside {
             .collect();
     }
 
-    /// Publishes the zones as they stand; rebuilds the rows when anything changed.
-    fn publish(&mut self, now_ms: u64, log: &mut dyn Write) {
+    /// Publishes the zones as they stand; rebuilds the rows when anything changed (and
+    /// says so).
+    fn publish(&mut self, now_ms: u64, log: &mut dyn Write) -> bool {
         let zones: Vec<SourceZone> = self
             .static_zones
             .iter()
@@ -328,7 +344,7 @@ impl Roadside {
                 Ok(u) => u,
                 Err(e) => {
                     let _ = writeln!(log, "messages not built, the last ones stand: {e}");
-                    return;
+                    return false;
                 }
             };
         let cancel_for = self
@@ -348,7 +364,7 @@ impl Roadside {
         let expired = self.cancels.iter().any(|(_, u)| *u <= now_ms);
         self.cancels.retain(|(_, u)| *u > now_ms);
         if !(update.changed || new_cancels || expired) && !self.deployment.frames.is_empty() {
-            return;
+            return false;
         }
         self.published = update.messages;
         match self.deploy(now_ms) {
@@ -359,9 +375,11 @@ impl Roadside {
                     slot.set(frames);
                 }
                 self.deployment = d;
+                true
             }
             Err(e) => {
                 let _ = writeln!(log, "rows not built, the last ones stand: {e}");
+                false
             }
         }
     }

@@ -3,6 +3,7 @@
 
 mod alerts;
 mod attack;
+mod deployment;
 mod workers;
 
 use obu::alert::{AlertKind, AlertStage, HmiState, ZoneState};
@@ -212,6 +213,30 @@ pub enum Expectation {
         #[serde(default = "ninety")]
         min_fraction: f64,
     },
+    /// `[rsu_deployment]`: from `from_s` + `within_s` on (a feed change, plus the feed's
+    /// poll, the deposit and a repeat interval), every state showing a zone shows `lanes`
+    /// closed.
+    ClosedLanesShown {
+        /// Seconds since the drive start (when the feed changed).
+        from_s: f64,
+        /// The closed lanes.
+        lanes: Vec<u8>,
+        /// Seconds allowed.
+        within_s: f64,
+    },
+    /// `[rsu_deployment]`: the roadside counted `reason` (an `RsuProblem` reason, e.g.
+    /// `auth_refused`) for the RSU, deposited nothing, the RSU sent nothing and no state
+    /// shows a zone.
+    RsuRefused {
+        /// The reason.
+        reason: String,
+    },
+    /// `[rsu_deployment]`: after the RSU came up late or restarted, its rows were on the
+    /// air again within `within_s`.
+    RsuRestored {
+        /// Seconds.
+        within_s: f64,
+    },
 }
 
 fn ninety() -> f64 {
@@ -255,6 +280,8 @@ pub struct RunFacts {
     pub can_speed: bool,
     /// What the camera site's cameras saw of each road user, frame by frame.
     pub camera_views: Vec<roadside::road_users::live::CameraView>,
+    /// What the deployed roadside did (`[rsu_deployment]` scenarios).
+    pub deployment: Option<crate::deployment::DeploymentFacts>,
 }
 
 /// True for alerts about a work zone (not about the data).
@@ -377,6 +404,13 @@ pub fn check(e: &Expectation, records: &[Record], facts: &RunFacts) -> Outcome {
             alerts::urgent_before(records, *min_m, *max_m)
         }
         Expectation::NeverUrgent => alerts::never_urgent(records),
+        Expectation::ClosedLanesShown {
+            from_s,
+            lanes,
+            within_s,
+        } => deployment::closed_lanes_shown(records, *from_s, lanes, *within_s),
+        Expectation::RsuRefused { reason } => deployment::rsu_refused(records, facts, reason),
+        Expectation::RsuRestored { within_s } => deployment::rsu_restored(facts, *within_s),
         Expectation::WorkerInLaneShown {
             from_s,
             within_ms,

@@ -20,6 +20,10 @@ pub struct Air {
     next: BTreeMap<(TableId, u32), (Vec<u8>, Instant)>,
     /// Datagrams sent.
     pub sent: u64,
+    /// Where first transmissions and the count go (`PID first UNIX_MS LEN`, `PID sent N`).
+    log: Option<std::fs::File>,
+    logged_sent: u64,
+    logged_at: Option<Instant>,
 }
 
 /// A row's columns as the air needs them.
@@ -66,14 +70,37 @@ impl Air {
     /// # Errors
     ///
     /// The socket cannot be opened.
-    pub fn new(destinations: Vec<SocketAddr>, signer: Option<RsuSigner>) -> std::io::Result<Self> {
+    pub fn new(
+        destinations: Vec<SocketAddr>,
+        signer: Option<RsuSigner>,
+        log: Option<&std::path::Path>,
+    ) -> std::io::Result<Self> {
+        let log = match log {
+            Some(p) => Some(
+                std::fs::OpenOptions::new()
+                    .create(true)
+                    .append(true)
+                    .open(p)?,
+            ),
+            None => None,
+        };
         Ok(Self {
             socket: UdpSocket::bind("127.0.0.1:0")?,
             destinations,
             signer,
             next: BTreeMap::new(),
             sent: 0,
+            log,
+            logged_sent: 0,
+            logged_at: None,
         })
+    }
+
+    fn note(&mut self, line: std::fmt::Arguments) {
+        use std::io::Write;
+        if let Some(f) = &mut self.log {
+            let _ = writeln!(f, "{} {line}", std::process::id());
+        }
     }
 
     fn send(&mut self, payload: &[u8], sign: bool, unix_ms: u64) {
@@ -99,6 +126,7 @@ impl Air {
     pub fn tick(&mut self, agent: &mut Agent, now: Instant, unix_ms: u64) {
         agent.end_quiet_request(now);
         let mut due: Vec<(Vec<u8>, bool)> = Vec::new();
+        let mut firsts = Vec::new();
         let mut live = Vec::new();
         for t in &agent.tables {
             for (index, row) in &t.rows {
@@ -129,6 +157,7 @@ impl Air {
                     }
                     _ => {
                         due.push((r.payload.to_vec(), r.sign));
+                        firsts.push(r.payload.len());
                         self.next.insert(key, (r.payload.to_vec(), now + interval));
                     }
                 }
@@ -148,10 +177,28 @@ impl Air {
                 due.push((p.clone(), sign));
             }
         }
+        for len in firsts {
+            self.note(format_args!("first {unix_ms} {len}"));
+        }
         for (payload, sign) in due {
             if !payload.is_empty() {
                 self.send(&payload, sign, unix_ms);
             }
         }
+        let second = self
+            .logged_at
+            .is_none_or(|t| now - t >= Duration::from_secs(1));
+        if second && self.sent != self.logged_sent {
+            self.logged_sent = self.sent;
+            self.logged_at = Some(now);
+            let sent = self.sent;
+            self.note(format_args!("sent {sent}"));
+        }
+    }
+
+    /// Writes the count now (the agent is ending).
+    pub fn flush_count(&mut self) {
+        let sent = self.sent;
+        self.note(format_args!("sent {sent}"));
     }
 }

@@ -65,6 +65,32 @@ pub struct TestRsu {
     snmpd: Option<Child>,
 }
 
+/// The `hil-sim` executable the test RSU's snmpd starts as its agent: `$HIL_SIM`, this
+/// process when it is `hil-sim`, else `hil-sim` beside it or one folder up (a test binary
+/// in `target/debug/deps`).
+///
+/// # Errors
+///
+/// None of them exists.
+pub fn find_hil_sim() -> Result<PathBuf, String> {
+    if let Some(p) = std::env::var_os("HIL_SIM") {
+        return Ok(PathBuf::from(p));
+    }
+    let exe = std::env::current_exe().map_err(|e| e.to_string())?;
+    if exe.file_stem().is_some_and(|n| n == "hil-sim") {
+        return Ok(exe);
+    }
+    exe.ancestors()
+        .skip(1)
+        .take(2)
+        .map(|d| d.join("hil-sim"))
+        .find(|p| p.is_file())
+        .ok_or_else(|| {
+            "the hil-sim binary (the test RSU's agent) was not found: build it or set HIL_SIM"
+                .into()
+        })
+}
+
 /// Where Debian installs snmpd.
 fn snmpd_path() -> Result<PathBuf, String> {
     ["/usr/sbin/snmpd", "/usr/local/sbin/snmpd"]
@@ -126,6 +152,7 @@ impl TestRsu {
         for d in &c.broadcast_to {
             agent.push_str(&format!(" --to {d}"));
         }
+        agent.push_str(&format!(" --log {}", c.dir.join("air.log").display()));
         if let Some(p) = &c.pki {
             agent.push_str(&format!(" --pki {}", p.display()));
         }
@@ -197,6 +224,44 @@ impl TestRsu {
     pub fn dir(&self) -> &Path {
         &self.config.dir
     }
+
+    /// What its radio did so far, from its agents' log (`air.log`; each start of snmpd
+    /// starts a new agent): datagrams sent, and when each new payload first went out.
+    pub fn air_log(&self) -> AirLog {
+        AirLog::read(&self.config.dir.join("air.log"))
+    }
+}
+
+/// The test RSU's radio log.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct AirLog {
+    /// Datagrams sent (each destination counts).
+    pub sent: u64,
+    /// Unix ms of each new payload's first transmission, in order.
+    pub first_sent_unix_ms: Vec<u64>,
+}
+
+impl AirLog {
+    /// Reads a log; a missing one is empty.
+    pub fn read(path: &Path) -> Self {
+        let text = std::fs::read_to_string(path).unwrap_or_default();
+        let mut sent_by_agent = std::collections::BTreeMap::new();
+        let mut out = Self::default();
+        for line in text.lines() {
+            match line.split_whitespace().collect::<Vec<_>>()[..] {
+                [pid, "sent", n] => {
+                    let n: u64 = n.parse().unwrap_or(0);
+                    let e = sent_by_agent.entry(pid.to_string()).or_insert(0);
+                    *e = n.max(*e);
+                }
+                [_, "first", ms, _] => out.first_sent_unix_ms.extend(ms.parse::<u64>().ok()),
+                _ => {}
+            }
+        }
+        out.sent = sent_by_agent.values().sum();
+        out.first_sent_unix_ms.sort_unstable();
+        out
+    }
 }
 
 impl Drop for TestRsu {
@@ -216,20 +281,24 @@ pub fn run_agent(
     max_rows: u32,
     destinations: Vec<SocketAddr>,
     pki: Option<&Path>,
+    log: Option<&Path>,
 ) -> Result<(), String> {
     let signer = match pki {
         Some(dir) => Some(roadside::signer::RsuSigner::load(dir, None)?),
         None => None,
     };
     let agent = Arc::new(Mutex::new(Agent::new(mib, max_rows)));
-    let mut air = Air::new(destinations, signer).map_err(|e| format!("broadcast socket: {e}"))?;
-    let radio = Arc::clone(&agent);
+    let air = Air::new(destinations, signer, log).map_err(|e| format!("broadcast socket: {e}"))?;
+    let air = Arc::new(Mutex::new(air));
+    let (radio, tx) = (Arc::clone(&agent), Arc::clone(&air));
     std::thread::spawn(move || loop {
         let now = Instant::now();
         let unix_ms = roadside::clock::unix_ms_now();
         let busy = {
             let mut agent = radio.lock().unwrap_or_else(PoisonError::into_inner);
-            air.tick(&mut agent, now, unix_ms);
+            tx.lock()
+                .unwrap_or_else(PoisonError::into_inner)
+                .tick(&mut agent, now, unix_ms);
             agent.tables.iter().any(|t| !t.rows.is_empty()) || agent.is_in_request()
         };
         // 5 ms steps while rows go out (their intervals are 100 ms and more); an idle RSU
@@ -237,10 +306,14 @@ pub fn run_agent(
         std::thread::sleep(Duration::from_millis(if busy { 5 } else { 20 }));
     });
     let stdin = std::io::stdin();
-    agent::serve(
+    let served = agent::serve(
         &agent,
         BufReader::new(stdin.lock()),
         std::io::stdout().lock(),
-    )
-    .map_err(|e| format!("pass_persist pipe: {e}"))
+    );
+    // snmpd has gone (its RSU stopped): the last count goes to the log.
+    air.lock()
+        .unwrap_or_else(PoisonError::into_inner)
+        .flush_count();
+    served.map_err(|e| format!("pass_persist pipe: {e}"))
 }

@@ -15,8 +15,9 @@ pub(super) fn parse_json(text: &str) -> Result<Value, InputError> {
     })
 }
 
-/// The non-empty `features` of a `FeatureCollection`.
-pub(super) fn feature_collection(doc: &Value) -> Result<&[Value], InputError> {
+/// The `features` of a `FeatureCollection`; none is an error unless `allow_empty` (a lane
+/// map needs features; a WZDx feed without an event is a road without a work zone).
+pub(super) fn feature_collection(doc: &Value, allow_empty: bool) -> Result<&[Value], InputError> {
     let doc_error = InputError::Document;
     let obj = object(doc, "(top level)").map_err(doc_error)?;
     let kind =
@@ -32,7 +33,7 @@ pub(super) fn feature_collection(doc: &Value) -> Result<&[Value], InputError> {
     let features = features
         .as_array()
         .ok_or_else(|| doc_error(wrong_type("features", "an array of features", features)))?;
-    if features.is_empty() {
+    if features.is_empty() && !allow_empty {
         return Err(doc_error(Problem::Empty { what: "features" }));
     }
     Ok(features)

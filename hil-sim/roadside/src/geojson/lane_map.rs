@@ -34,7 +34,7 @@ struct LaneFeature {
 /// `lane_id` or a width outside 1.5-6 m.
 pub fn load_lane_map(text: &str) -> Result<Road, InputError> {
     let doc = parse_json(text)?;
-    let features = feature_collection(&doc)?;
+    let features = feature_collection(&doc, false)?;
     let mut read: Vec<LaneFeature> = Vec::with_capacity(features.len());
     for (index, feature) in features.iter().enumerate() {
         let lane =

@@ -132,7 +132,7 @@ fn fnv1a(bytes: &[u8], basis: u64) -> u64 {
 /// [`SAME_WAY_DEG`]: super::SAME_WAY_DEG
 pub fn work_zones_from_wzdx(road: &Road, text: &str) -> Result<Vec<WzdxZone>, InputError> {
     let doc = parse_json(text)?;
-    let features = feature_collection(&doc)?;
+    let features = feature_collection(&doc, true)?;
     let mut zones = Vec::new();
     for (index, feature) in features.iter().enumerate() {
         let zone = wzdx_event(road, index, feature)

@@ -160,6 +160,9 @@ pub enum Command {
         /// The RSU's IEEE 1609.2 PKI folder, for rows it is asked to sign.
         #[arg(long, value_name = "DIR")]
         pki: Option<PathBuf>,
+        /// Where first transmissions and counts are logged.
+        #[arg(long, value_name = "FILE")]
+        log: Option<PathBuf>,
     },
 }
 

@@ -51,8 +51,11 @@ fn main() -> ExitCode {
             max_rows,
             to,
             pki,
+            log,
         } => match hil_sim::test_rsu::agent::Mib::parse(&mib) {
-            Some(m) => hil_sim::test_rsu::run_agent(m, max_rows, to, pki.as_deref()),
+            Some(m) => {
+                hil_sim::test_rsu::run_agent(m, max_rows, to, pki.as_deref(), log.as_deref())
+            }
             None => Err(format!("--mib {mib}: ntcip1218 or rsu4.1")),
         },
     };
