@@ -363,7 +363,7 @@ impl Roadside {
         }
         let expired = self.cancels.iter().any(|(_, u)| *u <= now_ms);
         self.cancels.retain(|(_, u)| *u > now_ms);
-        if !(update.changed || new_cancels || expired) && !self.deployment.frames.is_empty() {
+        if !(update.changed || new_cancels || expired || self.deployment.frames.is_empty()) {
             return false;
         }
         self.published = update.messages;

@@ -20,7 +20,7 @@ use roadside::site_file::{RsuEntry, RsusSection, Signing, SiteFile, SiteInfo};
 use roadside::wzdx_feed::FeedConfig;
 use serde::Deserialize;
 use std::io::Write;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 use std::thread::JoinHandle;
@@ -279,7 +279,7 @@ pub fn start(
 fn finish(
     spec: &DeploymentSpec,
     dir: &Path,
-    air_path: &PathBuf,
+    air_path: &Path,
     t0: Instant,
     rsu_up_s: Vec<f64>,
 ) -> (RoadsideRun, DeploymentFacts) {

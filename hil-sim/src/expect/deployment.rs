@@ -86,3 +86,32 @@ pub fn rsu_restored(facts: &RunFacts, within_s: f64) -> (bool, String) {
     );
     (passed, detail)
 }
+
+/// After each change of the feed, the RSU sent a new message (the new TIM, its first
+/// transmission) within `within_s`.
+pub fn feed_on_air(facts: &RunFacts, within_s: f64) -> (bool, String) {
+    let Some(d) = &facts.deployment else {
+        return (false, "not a [rsu_deployment] scenario".into());
+    };
+    let delays: Vec<Option<f64>> = d
+        .feed_changes_s
+        .iter()
+        .map(|t| d.first_sent_s.iter().find(|s| **s >= *t).map(|s| s - t))
+        .collect();
+    let worst = delays
+        .iter()
+        .flatten()
+        .copied()
+        .fold(None, |w: Option<f64>, x| Some(w.map_or(x, |w| w.max(x))));
+    let passed = !delays.is_empty() && delays.iter().all(|d| d.is_some_and(|d| d <= within_s));
+    let shown: Vec<String> = delays
+        .iter()
+        .map(|d| d.map_or("never".into(), |d| format!("{d:.2} s")))
+        .collect();
+    let detail = format!(
+        "feed change -> first transmission of the new message: {} (worst {}, goal {within_s} s)",
+        shown.join(", "),
+        worst.map_or("-".into(), |w| format!("{w:.2} s"))
+    );
+    (passed, detail)
+}

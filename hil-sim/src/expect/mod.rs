@@ -231,6 +231,13 @@ pub enum Expectation {
         /// The reason.
         reason: String,
     },
+    /// `[rsu_deployment]`: after each change of the WZDx feed, the RSU's first transmission
+    /// of a new message came within `within_s` (the goal: one feed poll plus one repeat
+    /// interval).
+    FeedOnAir {
+        /// Seconds.
+        within_s: f64,
+    },
     /// `[rsu_deployment]`: after the RSU came up late or restarted, its rows were on the
     /// air again within `within_s`.
     RsuRestored {
@@ -411,6 +418,7 @@ pub fn check(e: &Expectation, records: &[Record], facts: &RunFacts) -> Outcome {
         } => deployment::closed_lanes_shown(records, *from_s, lanes, *within_s),
         Expectation::RsuRefused { reason } => deployment::rsu_refused(records, facts, reason),
         Expectation::RsuRestored { within_s } => deployment::rsu_restored(facts, *within_s),
+        Expectation::FeedOnAir { within_s } => deployment::feed_on_air(facts, *within_s),
         Expectation::WorkerInLaneShown {
             from_s,
             within_ms,
