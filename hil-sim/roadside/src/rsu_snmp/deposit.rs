@@ -53,8 +53,11 @@ pub fn repeat_messages(
         .iter()
         .map(|(m, stop)| {
             let kind = m.kind();
-            let psid = kind
-                .default_psid()
+            // The message's own PSID, as V2X-Hub configures RSUs (MAP 0xE0000017, not the
+            // SPaT PSID RSU 4.1 files share it under): the RSU's WSMP header and, when it
+            // signs, its IEEE 1609.2 header carry it.
+            let psid = crate::pki::signing_psid(kind.id())
+                .or(kind.default_psid())
                 .ok_or_else(|| format!("{kind} has no PSID to deposit under"))?;
             let payload = match settings.signing {
                 DepositSigning::Roadside => signer
