@@ -1,6 +1,6 @@
 //! The attack of a run (a scenario's `[attacker]`): the attacker's thread beside the
-//! roadside ([`roadside::attacker`]), and what the device counted at the end, so that the
-//! expectations can check that every forged datagram was dropped for its reason.
+//! roadside ([`crate::roadside_bench::attacker`]), and what the device counted at the end,
+//! so that the expectations can check that every forged datagram was dropped for its reason.
 //!
 //! The daemon's counters come from `GET /api/status` (`{group: {reason: n}}`, every V2X
 //! input counted once over the V2X groups). The firmware's drops are not in the bridge's
@@ -8,8 +8,8 @@
 //! `firmware.log`), and [`firmware_counts`] tallies those lines into the same shape, drops
 //! only.
 
+use crate::roadside_bench::attacker::{AttackCounts, AttackKind, Attacker, AttackerSpec};
 use obu::v2x::{DropGroup, DropReason};
-use roadside::attacker::{AttackCounts, AttackKind, Attacker, AttackerSpec};
 use roadside::messages::WorkZone;
 use roadside::road::Road;
 use roadside::signer::RsuSigner;
@@ -79,7 +79,8 @@ impl Attack {
     ) -> Result<Self, String> {
         let attacker = Attacker::new(spec.kind, road, zones, genuine)?;
         let stop = Arc::new(AtomicBool::new(false));
-        let (handle, from) = roadside::attacker::spawn(spec, attacker, to, t0, stop.clone())?;
+        let (handle, from) =
+            crate::roadside_bench::attacker::spawn(spec, attacker, to, t0, stop.clone())?;
         Ok(Self {
             kind: spec.kind,
             stop,

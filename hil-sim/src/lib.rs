@@ -9,6 +9,9 @@
 //! - [`drive`]: the simulated drive (true pose every 100 ms, GNSS errors, CAN speed).
 //! - [`nmea`]: the NMEA 0183 sentences (GGA, RMC, GST) of the simulated GNSS receiver.
 //! - [`bench_pki`]: the bench's IEEE 1609.2 trust anchors and roadside signer.
+//! - [`roadside_bench`]: the bench's own roadside: the scripted roadside of a run (the
+//!   scenario's timeline through its radio faults), the attacker beside it, the camera site,
+//!   and the synthetic camera and rendered street with known truth.
 //! - [`deployment`]: a scenario's roadside as deployed: a changing WZDx feed, the
 //!   `roadside` service, SNMPv3 into a test RSU that broadcasts to the device.
 //! - [`daemon`]: the real `obu` daemon as a child process.
@@ -31,8 +34,9 @@
 //! - [`soak`]: the daemon for hours under the whole load and hostile traffic, sampled for
 //!   growth (RSS, descriptors, latency, counters).
 //!
-//! The roadside side (lane map, work-zone inputs, MAP/TIM, broadcaster, RSU files) is the
-//! [`roadside`] crate; the bench uses it and never the other way round.
+//! The roadside side (lane map, work-zone inputs, MAP/TIM, broadcaster, RSU files, the
+//! camera's road-user pipeline) is the [`roadside`] crate; the bench uses it and never the
+//! other way round. Code only a bench run or a test needs is in [`roadside_bench`].
 #![forbid(unsafe_code)]
 #![warn(missing_docs)]
 
@@ -52,6 +56,7 @@ pub mod radio;
 pub mod receiver;
 pub mod report_plots;
 pub mod rig;
+pub mod roadside_bench;
 pub mod runner;
 pub mod scenario;
 pub mod soak;

@@ -11,14 +11,14 @@ use crate::daemon::Daemon;
 use crate::drive::{self, Sample};
 use crate::expect::{self, Outcome, Record, RunFacts};
 use crate::nmea::{self, Epoch};
+use crate::roadside_bench::camera_site::{CameraView, LiveSite};
+use crate::roadside_bench::scripted::V2xCounts;
 use crate::scenario::Scenario;
 use crate::sse::SseClient;
 use obu::alert::HmiState;
 use roadside::clock::{unix_ms_now, Utc};
 use roadside::messages::WorkZone;
 use roadside::road::Road;
-use roadside::road_users::live::{CameraView, LiveSite};
-use roadside::scripted::V2xCounts;
 use roadside::zone_sources::build_zones;
 use serde::Serialize;
 use std::io::Write;
@@ -283,7 +283,7 @@ fn drive_and_record(
         .inspect_err(|_| stop.store(true, Ordering::Relaxed))?;
     let attacker_from = attacker.as_ref().map(Attack::from);
     let v2x = match &s.rsu_deployment {
-        None => Roadside::Scripted(roadside::scripted::spawn(
+        None => Roadside::Scripted(crate::roadside_bench::scripted::spawn(
             &s.site(),
             road,
             zones,
@@ -382,7 +382,7 @@ fn drive_and_record(
 
 /// The roadside side of a run: the bench's scripted broadcaster, or the deployed roadside.
 enum Roadside {
-    Scripted(std::thread::JoinHandle<roadside::scripted::RoadsideRun>),
+    Scripted(std::thread::JoinHandle<crate::roadside_bench::scripted::RoadsideRun>),
     Deployed(crate::deployment::DeploymentThread),
 }
 

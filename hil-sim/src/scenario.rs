@@ -5,9 +5,9 @@
 
 use crate::drive::DriveSpec;
 use crate::expect::Expectation;
-pub use roadside::attacker::{AttackKind, AttackerSpec};
+pub use crate::roadside_bench::attacker::{AttackKind, AttackerSpec};
+pub use crate::roadside_bench::camera_site::{CameraSiteSpec, SceneUserSpec};
 use roadside::road::Road;
-pub use roadside::road_users::live::{CameraSiteSpec, SceneUserSpec};
 pub use roadside::site::{RadioFaults, RoadSpec, Site, ZoneSource, ZoneSpec};
 use serde::Deserialize;
 use std::path::{Path, PathBuf};

@@ -94,7 +94,7 @@ fn writes_rsu_files_that_parse_back() {
     let _ = std::fs::remove_dir_all(dir);
 }
 
-/// `hil-sim pki` then `hil-sim roadside --pki`: every datagram is signed data that the
+/// `roadside pki` then `hil-sim roadside --pki`: every datagram is signed data that the
 /// OBU core's trust policy, trusting only the PKI's root and CA, accepts; the RSU files
 /// ask the RSU to sign.
 #[test]

@@ -9,12 +9,12 @@
 use hil_sim::bench_pki;
 use hil_sim::expect::Expectation;
 use hil_sim::nmea::{self, Epoch};
+use hil_sim::roadside_bench::attacker::Attacker;
 use hil_sim::scenario::Scenario;
 use obu::input::nmea::{parse, FixAssembler};
 use obu::security::SecurityConfig;
 use obu::v2x::{DropReason, V2xOutcome, V2xReceiver};
 use obu::{AlertConfig, HmiState, Instant, Obu};
-use roadside::attacker::Attacker;
 use roadside::clock::{unix_ms_now, Utc};
 use roadside::messages;
 use roadside::signer::RsuSigner;

@@ -6,8 +6,8 @@
 //!   point, from the `v2x-geodesy` crate).
 //! - [`geojson`]: inputs read from files: a GeoJSON lane map, WZDx 4.2 work zones and cone
 //!   lists (JSON or CSV).
-//! - [`camera`]: the roadside camera's model (pixels to the road plane), its calibration
-//!   and a synthetic camera for tests.
+//! - [`camera`]: the roadside camera's model (pixels to the road plane) and its
+//!   calibration.
 //! - [`cones`]: detector boxes, their tracking over frames and the lane closures they make.
 //! - [`road_users`]: road users from the camera: vanishing points, 3D boxes from
 //!   instance masks, their positions on the road and their tracks.
@@ -24,23 +24,26 @@
 //!   MAP and TIM.
 //! - [`broadcast`]: the broadcaster (UDP, raw or IEEE 1609.2), its fault channel and the
 //!   RSU 4.1 text files.
-//! - [`rsu`]: the roadside unit as a product (`hil-sim roadside`): a site's messages
-//!   broadcast and/or written as RSU files.
+//! - [`rsu`]: a site's messages broadcast and/or written as RSU files (the bench's
+//!   `hil-sim roadside`).
 //! - [`rsu_snmp`]: RSU management over SNMP (NTCIP 1218 / RSU 4.1 store-and-repeat and
 //!   immediate-forward tables, SNMPv3 USM): the site's messages deposited and kept.
 //! - [`service`]: `roadside run`: a site's messages deposited and kept on its RSUs.
-//! - [`scripted`]: the roadside of a bench run: the messages following the scenario's
-//!   timeline (revisions, shrinking and removed zones) through its radio faults.
-//! - [`attacker`]: a forged or replayed MAP/TIM sender beside the scripted roadside (the
-//!   bench's spoofing scenarios).
 //!
-//! Helpers used along the way: [`clock`] (UTC calendar arithmetic for J2735 times) and
-//! [`rng`] (the seeded pseudo-random generator of the faults and the synthetic camera;
-//! the bench reuses it).
+//! Helpers used along the way: [`clock`] (UTC calendar arithmetic for J2735 times),
+//! [`signer`] (IEEE 1609.2 signing of what goes on the air) and [`rng`] (the seeded
+//! pseudo-random generator of the radio faults; the bench reuses it).
+//!
+//! The `roadside` binary: `roadside run` (the service), `roadside rsu` (RSU management),
+//! `roadside pki` (a small IEEE 1609.2 PKI) and `roadside road-users` (road users from
+//! camera folders: tracks, localization errors, workers' PSMs).
+//!
+//! Bench-only code (the scripted roadside of a scenario run, the attacker, the synthetic
+//! camera and the rendered street) lives in the `hil-sim` crate, which uses this one; this
+//! crate never depends on the bench.
 #![forbid(unsafe_code)]
 #![warn(missing_docs)]
 
-pub mod attacker;
 pub mod broadcast;
 pub mod camera;
 pub mod clock;
@@ -54,7 +57,6 @@ pub mod road;
 pub mod road_users;
 pub mod rsu;
 pub mod rsu_snmp;
-pub mod scripted;
 pub mod service;
 pub mod signer;
 pub mod site;

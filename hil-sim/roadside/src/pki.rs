@@ -1,4 +1,4 @@
-//! A small IEEE 1609.2 PKI for the roadside and the bench (`hil-sim pki`): a root, an
+//! A small IEEE 1609.2 PKI for the roadside and the bench (`roadside pki`): a root, an
 //! issuing CA and an RSU certificate (explicit, NIST P-256), written as files; the signer
 //! the roadside signs MAP and TIM with is `crate::signer::RsuSigner`.
 //!
@@ -9,7 +9,8 @@
 //!
 //! Keys come from the operating system's random source (`/dev/urandom`), or, for
 //! reproducible test PKIs, from a seed (`SHA-256("hil-sim pki/" + seed + "/" + role)`, the
-//! first candidate that is a valid scalar).
+//! first candidate that is a valid scalar; the label is the command's former name, kept so
+//! that a seed gives the same keys as before).
 
 use j2735::envelope::ieee1609dot2::build::{encode_certificate, CertificateSpec, IssuedBy};
 use j2735::envelope::ieee1609dot2::crypto::{sha256, SecretKey};
@@ -48,7 +49,7 @@ pub fn signing_psid(message_id: u16) -> Option<Psid> {
     }
 }
 
-/// What `hil-sim pki init` makes.
+/// What `roadside pki` makes.
 #[derive(Debug, Clone, PartialEq)]
 pub struct PkiSpec {
     /// Seed for reproducible keys; `None`: keys from the OS random source.

@@ -188,7 +188,8 @@ pub enum ZoneSource {
         file: PathBuf,
     },
     /// Cones localised by a calibrated camera: the calibration, and either detections of
-    /// real frames or a synthetic camera that sees given ground-truth cones.
+    /// real frames or those of the bench's synthetic camera that sees given ground-truth
+    /// cones (`hil-sim synth-camera`).
     Camera {
         /// Calibration correspondences (JSON).
         calibration: PathBuf,

@@ -7,6 +7,7 @@
 
 pub mod feed;
 
+use crate::roadside_bench::scripted::{RoadsideRun, V2xCounts};
 use crate::test_rsu::agent::Mib;
 use crate::test_rsu::{AirLog, TestRsu, TestRsuConfig, TestUser};
 use feed::{FeedServer, FeedVersion};
@@ -14,7 +15,6 @@ use roadside::clock::unix_ms_now;
 use roadside::road::Road;
 use roadside::rsu_snmp::deposit::DepositSigning;
 use roadside::rsu_snmp::mib::RsuMib;
-use roadside::scripted::{RoadsideRun, V2xCounts};
 use roadside::service::{read_status, Roadside, ServiceStatus};
 use roadside::site_file::{RsuEntry, RsusSection, Signing, SiteFile, SiteInfo};
 use roadside::wzdx_feed::FeedConfig;

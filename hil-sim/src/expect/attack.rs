@@ -250,7 +250,7 @@ pub(super) fn roadside_kept(records: &[Record], facts: &RunFacts) -> (bool, Stri
 mod tests {
     use super::*;
     use crate::attack::DeviceCounts;
-    use roadside::attacker::{AttackCounts, AttackKind};
+    use crate::roadside_bench::attacker::{AttackCounts, AttackKind};
     use serde_json::json;
 
     const CHAIN: &str = "1609.2: chain does not reach a trust anchor";

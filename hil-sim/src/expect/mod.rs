@@ -286,7 +286,7 @@ pub struct RunFacts {
     /// The vehicle speed comes from CAN (it stays shown through a GNSS dropout).
     pub can_speed: bool,
     /// What the camera site's cameras saw of each road user, frame by frame.
-    pub camera_views: Vec<roadside::road_users::live::CameraView>,
+    pub camera_views: Vec<crate::roadside_bench::camera_site::CameraView>,
     /// What the deployed roadside did (`[rsu_deployment]` scenarios).
     pub deployment: Option<crate::deployment::DeploymentFacts>,
 }

@@ -4,8 +4,8 @@
 
 use crate::hmi_bench::{self, Scene};
 use crate::nmea::{self, Epoch};
+use crate::roadside_bench::attacker::{AttackKind, Attacker};
 use obu::v2x::DropReason;
-use roadside::attacker::{AttackKind, Attacker};
 use roadside::clock::{unix_ms_now, Utc};
 use roadside::road::Road;
 use roadside::signer::RsuSigner;

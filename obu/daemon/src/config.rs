@@ -167,7 +167,7 @@ max_offset_ms = 10000
 # Drop unsigned MAP and TIM. Off: they are used but marked "unverified" on the tablet, and
 # can never replace, refresh, cancel or evict a lane map or work zone that came verified.
 require_signed = true
-# Root and issuing CA certificates (COER files, as `hil-sim pki` writes them). With none,
+# Root and issuing CA certificates (COER files, as `roadside pki` writes them). With none,
 # every signed frame is dropped ("chain does not reach a trust anchor").
 trust_anchors = []
 # A frame byte-identical in payload to one whose signature (same signer) was verified less

@@ -18,7 +18,6 @@ mod calibration;
 mod fit;
 mod homography;
 mod model;
-pub mod synthetic;
 #[cfg(test)]
 mod test_support;
 mod two_step;

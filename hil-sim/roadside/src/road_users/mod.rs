@@ -12,9 +12,14 @@
 //! 4. [`tracker`]: a constant-velocity Kalman filter per road user, assignment by distance,
 //!    for position, speed and heading with their accuracy.
 //!
-//! [`synthetic`] renders scenes with known truth for the tests and the benchmark. Helpers:
+//! Around them: [`pipeline`] (every camera's frames through localization and one tracker),
+//! [`workers`] (the tracked workers in a work zone as PSMs), [`files`] (a camera's folder
+//! read, the tracks written as JSON) and [`draw`] (boxes drawn on a frame). Helpers:
 //! [`class`] (the classes and their sizes), [`homog`] (homogeneous image geometry),
-//! [`polygon`] (convex hulls and overlaps).
+//! [`outline`] (a mask's outline), [`polygon`] (convex hulls and overlaps).
+//!
+//! The scenes with known truth that the tests and the benchmark render are the bench's
+//! (`hil-sim`'s `roadside_bench::street`).
 
 pub mod boxes;
 pub mod calibrate;
@@ -24,12 +29,10 @@ pub mod draw;
 pub mod edgelets;
 pub mod files;
 pub mod homog;
-pub mod live;
 pub mod localize;
 pub mod outline;
 pub mod pipeline;
 pub mod polygon;
-pub mod synthetic;
 pub mod tracker;
 pub mod vanishing;
 pub mod workers;

@@ -2,7 +2,6 @@
 //! (`clap` derive).
 
 use clap::{Parser, Subcommand, ValueEnum};
-use j2735::envelope::Psid;
 use std::net::SocketAddr;
 use std::path::PathBuf;
 
@@ -68,11 +67,6 @@ pub enum Command {
     /// camera) as MAP + TIM, broadcast over UDP (--to, until stopped unless --seconds)
     /// and/or written as RSU 4.1 text files (--rsu-files); give at least one of the two.
     Roadside(RoadsideArgs),
-    /// A small IEEE 1609.2 PKI: a root, an issuing CA and an RSU certificate (NIST P-256)
-    /// with the RSU's PSIDs, region and validity, as DIR/{root,ca,rsu}.oer (COER) and
-    /// DIR/{root,ca,rsu}.key (mode 0600). The OBU trusts root.oer and ca.oer
-    /// ([security] trust_anchors); `hil-sim roadside --pki DIR` signs with rsu.key.
-    Pki(PkiArgs),
     /// The scenario's drive as a GNSS receiver's NMEA log (10 Hz GST, GGA, RMC with its
     /// noise and dropouts) and a candump log of its speed.
     Record {
@@ -100,11 +94,10 @@ pub enum Command {
     /// lanes, a camera beside the road before the zone; writes DIR/calibration.json and
     /// DIR/detections.json.
     SynthCamera(SynthCameraArgs),
-    /// Road users from roadside cameras: each camera folder's masks (detections.json, COCO)
-    /// to 3D boxes and positions (vanishing points from its first frame's PNG, the road
-    /// plane from calibration.json), every camera fused into one set of tracks (JSON);
-    /// with --truth the localization error per class. --synthesize DIR writes a rendered
-    /// site (cam1/, cam2/, truth.json) to run it on.
+    /// A rendered site with known truth for `roadside road-users` (road users from camera
+    /// folders): --synthesize DIR writes DIR/cam1/ (and cam2/), each with its first frame's
+    /// PNG, detections.json (COCO masks) and calibration.json (reference points), and
+    /// DIR/truth.json and DIR/zone.json (the work zone's area).
     RoadUsers(RoadUsersArgs),
     /// One roadside fleet reconciling N test RSUs (snmpd + agent each, loopback ports) x M
     /// messages over SNMPv3 authPriv: time to converge from empty (goal under 10 s), SNMP
@@ -220,86 +213,10 @@ pub struct RoadsideArgs {
     /// Write the messages as RSU 4.1 text files into this folder.
     #[arg(long, value_name = "DIR")]
     pub rsu_files: Option<PathBuf>,
-    /// Sign with the RSU certificate and key of this `hil-sim pki` folder: broadcasts are
+    /// Sign with the RSU certificate and key of this `roadside pki` folder: broadcasts are
     /// IEEE 1609.2 signed data (replacing --wrap), RSU files say Signature=True.
     #[arg(long, value_name = "DIR")]
     pub pki: Option<PathBuf>,
-}
-
-/// `hil-sim pki`.
-#[derive(Debug, clap::Args)]
-pub struct PkiArgs {
-    /// Where the certificates and keys go (created if missing).
-    #[arg(value_name = "DIR")]
-    pub dir: PathBuf,
-    /// Derive the keys from this seed (reproducible test PKIs); default: random keys.
-    #[arg(long, value_name = "TEXT")]
-    pub seed: Option<String>,
-    /// First day of validity of every certificate, UTC (default: today).
-    #[arg(long, value_name = "YYYY-MM-DD", value_parser = date)]
-    pub start: Option<u64>,
-    /// RSU certificate validity, days (at most 2730; within the CA's).
-    #[arg(long, value_name = "N", default_value_t = 30)]
-    pub days: u16,
-    /// Issuing CA certificate validity, years (within the root's).
-    #[arg(long, value_name = "N", default_value_t = 5)]
-    pub ca_years: u16,
-    /// Root certificate validity, years.
-    #[arg(long, value_name = "N", default_value_t = 10)]
-    pub root_years: u16,
-    /// The RSU certificate's region: a circle (degrees, degrees, metres); default: none.
-    #[arg(long, value_name = "LAT,LON,RADIUS_M", value_parser = circle)]
-    pub region: Option<(i32, i32, u16)>,
-    /// A PSID the RSU may sign: `0x` hexadecimal is its p-encoded octets, decimal the
-    /// IEEE 1609.2 integer (repeat; default: TIM 0x8003 = 131, MAP 0xE0000017 = 2113687 and
-    /// PSM 0x27 = 39).
-    #[arg(long, value_name = "PSID", value_parser = psid)]
-    pub psid: Vec<Psid>,
-    /// The RSU certificate's name.
-    #[arg(long, value_name = "HOST", default_value = "rsu.hil-sim.example")]
-    pub name: String,
-}
-
-/// `YYYY-MM-DD` as Unix seconds at 00:00 UTC.
-fn date(s: &str) -> Result<u64, String> {
-    let parts: Vec<&str> = s.split('-').collect();
-    let [y, m, d] = parts[..] else {
-        return Err("expected YYYY-MM-DD".into());
-    };
-    let (Ok(y), Ok(m), Ok(d)) = (y.parse::<i64>(), m.parse::<u8>(), d.parse::<u8>()) else {
-        return Err("expected YYYY-MM-DD".into());
-    };
-    if !(2004..=2100).contains(&y) || !(1..=12).contains(&m) || !(1..=31).contains(&d) {
-        return Err("a date between 2004 and 2100".into());
-    }
-    Ok(roadside::clock::days_from_civil(y, m, d) as u64 * 86_400)
-}
-
-/// `LAT,LON,RADIUS_M` as 1e-7 degrees and metres.
-fn circle(s: &str) -> Result<(i32, i32, u16), String> {
-    let bad = || "expected LAT,LON,RADIUS_M (degrees, degrees, metres up to 65535)".to_string();
-    let parts: Vec<&str> = s.split(',').collect();
-    let [lat, lon, r] = parts[..] else {
-        return Err(bad());
-    };
-    let (Ok(lat), Ok(lon), Ok(r)) = (lat.parse::<f64>(), lon.parse::<f64>(), r.parse::<u16>())
-    else {
-        return Err(bad());
-    };
-    if !(-90.0..=90.0).contains(&lat) || !(-180.0..=180.0).contains(&lon) || r == 0 {
-        return Err(bad());
-    }
-    Ok(((lat * 1e7).round() as i32, (lon * 1e7).round() as i32, r))
-}
-
-/// A PSID: `0x` hexadecimal p-encoded octets, or the decimal integer ([`Psid::parse`]).
-fn psid(s: &str) -> Result<Psid, String> {
-    Psid::parse(s).ok_or_else(|| {
-        format!(
-            "{s:?} is not a PSID: give its p-encoded octets in hexadecimal (0x8003 for TIM) \
-             or the integer in decimal (131)"
-        )
-    })
 }
 
 /// `--wrap`.
@@ -338,35 +255,12 @@ pub struct SynthCameraArgs {
 /// `hil-sim road-users`.
 #[derive(Debug, clap::Args)]
 pub struct RoadUsersArgs {
-    /// Camera folders (calibration.json, detections.json and the first frame's PNG); two
-    /// or more are fused.
-    #[arg(value_name = "DIR", required_unless_present = "synthesize")]
-    pub cameras: Vec<PathBuf>,
-    /// Where the tracks go (JSON, per frame).
-    #[arg(long, value_name = "FILE.json")]
-    pub out: Option<PathBuf>,
-    /// The truth (as --synthesize writes it): print the error per class.
-    #[arg(long, value_name = "FILE.json")]
-    pub truth: Option<PathBuf>,
+    /// Write a rendered site (cam1/, cam2/, truth.json, zone.json) here.
+    #[arg(long, value_name = "DIR")]
+    pub synthesize: PathBuf,
     /// Frames a second of the videos.
     #[arg(long, value_name = "F", default_value_t = 10.0)]
     pub fps: f64,
-    /// Draw the first camera's first frame with its 3D boxes to this PNG.
-    #[arg(long, value_name = "FILE.png")]
-    pub boxes: Option<PathBuf>,
-    /// The work-zone area (zone.json, lat/lon corners): its tracked workers go on the air
-    /// as PSMs, one per worker per frame.
-    #[arg(long, value_name = "FILE.json")]
-    pub zone: Option<PathBuf>,
-    /// Where the PSMs go (UDP, repeat), in real time at the frame rate; needs --zone.
-    #[arg(long = "to", value_name = "HOST:PORT", value_parser = destination, requires = "zone")]
-    pub to: Vec<SocketAddr>,
-    /// Sign the PSMs with this PKI directory's RSU certificate (IEEE 1609.2, PSID 0x27).
-    #[arg(long, value_name = "DIR", requires = "to")]
-    pub pki: Option<PathBuf>,
-    /// Instead of running: write a rendered site (cam1/, cam2/, truth.json) here.
-    #[arg(long, value_name = "DIR", conflicts_with_all = ["out", "truth", "boxes", "zone"])]
-    pub synthesize: Option<PathBuf>,
     /// Frames to synthesize.
     #[arg(long, value_name = "N", default_value_t = 100)]
     pub frames: usize,
@@ -422,9 +316,7 @@ mod tests {
             "hil-sim record s.toml o.nmea o.candump",
             "hil-sim synth-camera --scenario s.toml --out d --frames 3 --noise-px 0.5",
             "hil-sim road-users --synthesize site --frames 30 --small",
-            "hil-sim road-users site/cam1 site/cam2 --truth site/truth.json --out t.json",
-            "hil-sim road-users site/cam1 --boxes boxes.png",
-            "hil-sim road-users site/cam1 --zone site/zone.json --to 127.0.0.1:1516",
+            "hil-sim road-users --synthesize site --frames 100 --views 1 --seed 3 --fps 5",
         ] {
             assert!(parse(line).is_ok(), "{line}: {:?}", parse(line).err());
         }
@@ -474,7 +366,8 @@ mod tests {
             "hil-sim road-users",
             "hil-sim road-users --synthesize d --views 3",
             "hil-sim road-users --synthesize d --truth t.json",
-            "hil-sim road-users site/cam1 --to 127.0.0.1:1516",
+            "hil-sim road-users site/cam1 site/cam2 --truth site/truth.json",
+            "hil-sim pki site-pki",
             "hil-sim hmi-server extra",
             "hil-sim frobnicate",
         ] {

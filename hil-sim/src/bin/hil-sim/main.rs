@@ -6,10 +6,9 @@ mod args;
 mod road_users;
 mod run;
 
-use args::{Cli, Command, PkiArgs, RoadsideArgs, SoakArgs, SynthCameraArgs, Wrap};
+use args::{Cli, Command, RoadsideArgs, SoakArgs, SynthCameraArgs, Wrap};
 use clap::Parser;
 use hil_sim::{hmi_bench, perf};
-use j2735::envelope::Psid;
 use roadside::broadcast::Wrapping;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -24,7 +23,6 @@ fn main() -> ExitCode {
         Command::Soak(a) => soak(&a),
         Command::Run(a) => run::scenarios(&a),
         Command::Roadside(a) => roadside(&a),
-        Command::Pki(a) => pki(&a),
         Command::Record {
             scenario,
             nmea,
@@ -231,8 +229,9 @@ fn soak(a: &SoakArgs) -> Result<(), String> {
 /// `hil-sim synth-camera`: calibration and detections of a synthetic camera that sees the
 /// cones of the scenario's first zone of source `lanes` (the ground truth).
 fn synth_camera(a: &SynthCameraArgs) -> Result<(), String> {
+    use hil_sim::roadside_bench::synthetic_camera as synthetic;
     use hil_sim::scenario::ZoneSource;
-    use roadside::camera::{synthetic, CameraModel};
+    use roadside::camera::CameraModel;
     let spec = synthetic::CaptureSpec {
         frames: a.frames,
         noise_px: a.noise_px,
@@ -320,34 +319,6 @@ fn roadside(a: &RoadsideArgs) -> Result<(), String> {
         return Err("give --to HOST:PORT (broadcast) and/or --rsu-files DIR".into());
     }
     println!("hil-sim roadside: {}", roadside::rsu::run(&s.site(), &o)?);
-    Ok(())
-}
-
-fn pki(a: &PkiArgs) -> Result<(), String> {
-    use roadside::pki::{Pki, PkiSpec};
-    let start_unix_s = a
-        .start
-        .unwrap_or(roadside::clock::unix_ms_now() / 86_400_000 * 86_400);
-    let psids = if a.psid.is_empty() {
-        vec![Psid::TIM, Psid::MAP, Psid::PSM]
-    } else {
-        a.psid.clone()
-    };
-    let spec = PkiSpec {
-        seed: a.seed.clone(),
-        start_unix_s,
-        root_years: a.root_years,
-        ca_years: a.ca_years,
-        rsu_hours: a.days.checked_mul(24).ok_or("--days: at most 2730")?,
-        region: a.region,
-        psids,
-        rsu_name: a.name.clone(),
-    };
-    Pki::create(&spec)?.write(&a.dir)?;
-    println!(
-        "hil-sim pki: {0}/root.oer, {0}/ca.oer (trust anchors), {0}/rsu.oer and the keys",
-        a.dir.display()
-    );
     Ok(())
 }
 

@@ -1,20 +1,7 @@
-//! `hil-sim road-users`: the roadside cameras' road users from files, and the rendered site
-//! to run them on.
+//! `hil-sim road-users --synthesize DIR`: a rendered site with known truth, written as camera
+//! folders for `roadside road-users` to run on.
 
-use j2735::MessageFrameValue;
-use roadside::broadcast::{Broadcaster, Message, Wrapping};
-use roadside::clock::{unix_ms_now, Utc};
-use roadside::messages::encode;
-use roadside::road::Road;
-use roadside::road_users::files::{
-    draw_first_frame, load_camera, read_truth, read_zone, site_frame, synthesize, tracks_json,
-    CameraFolder, SynthSpec,
-};
-use roadside::road_users::pipeline::{error_table, paper_text, stats, ErrorTable, Pipeline, Run};
-use roadside::road_users::tracker::TrackerSettings;
-use roadside::road_users::workers::WorkerBroadcaster;
-use roadside::road_users::RoadUserClass;
-use roadside::signer::RsuSigner;
+use hil_sim::roadside_bench::synthetic_site::{synthesize, SynthSpec};
 
 use crate::args::RoadUsersArgs;
 
@@ -23,189 +10,26 @@ pub fn road_users(a: &RoadUsersArgs) -> Result<(), String> {
     if !(a.fps.is_finite() && a.fps > 0.0) {
         return Err(format!("--fps {}: give a positive number", a.fps));
     }
-    if let Some(out) = &a.synthesize {
-        let spec = SynthSpec {
-            frames: a.frames,
-            fps: a.fps,
-            noise_px: a.noise_px,
-            seed: a.seed,
-            cameras: usize::from(a.views),
-            small: a.small,
-        };
-        let dirs = synthesize(&spec, out)?;
-        println!(
-            "{} frames at {} fps from {} cameras:",
-            a.frames,
-            a.fps,
-            dirs.len()
-        );
-        for d in &dirs {
-            println!("  {}", d.display());
-        }
-        println!("  {}", out.join("truth.json").display());
-        return Ok(());
-    }
-    let first = a.cameras.first().ok_or("give at least one camera folder")?;
-    let site = site_frame(first)?;
-    let cameras: Vec<CameraFolder> = a
-        .cameras
-        .iter()
-        .map(|d| load_camera(d, &site))
-        .collect::<Result<_, _>>()?;
-    for c in &cameras {
-        let p = &c.calibration;
-        println!(
-            "{}: {} frames, {} edgelets, focal {:.0} px, reference points {:.3} m RMS",
-            c.dir.display(),
-            c.frames.len(),
-            p.edgelets,
-            p.focal_px,
-            c.rmse_m
-        );
-    }
-    let workers = match &a.zone {
-        Some(path) => Some(on_air(a, read_zone(path, &site)?)?),
-        None => None,
+    let out = &a.synthesize;
+    let spec = SynthSpec {
+        frames: a.frames,
+        fps: a.fps,
+        noise_px: a.noise_px,
+        seed: a.seed,
+        cameras: usize::from(a.views),
+        small: a.small,
     };
-    let run = track(&cameras, a.fps, workers, &site)?;
-    for (c, cam) in cameras.iter().enumerate() {
-        println!(
-            "{}: {} detections, {} localized, refused {:?}",
-            cam.dir.display(),
-            run.detections[c],
-            run.sightings.iter().filter(|s| s.camera == c).count(),
-            run.rejected[c]
-        );
-    }
-    if let Some(out) = &a.out {
-        let text = tracks_json(&run, &site).to_string();
-        std::fs::write(out, text).map_err(|e| format!("{}: {e}", out.display()))?;
-        println!("tracks: {}", out.display());
-    }
-    if let Some(path) = &a.truth {
-        let truth = read_truth(path, &site)?;
-        let none = Vec::new();
-        let at = |k: usize| truth.get(k).unwrap_or(&none).as_slice();
-        let seen = run.sightings.iter().map(|s| (s.frame, s.class, s.position));
-        print_table(
-            "per frame (each camera's boxes)",
-            &error_table(seen, at, 1.0),
-        );
-        let tracked = run
-            .tracked
-            .iter()
-            .flat_map(|f| f.tracks.iter().map(move |t| (f.frame, t.class, t.position)));
-        print_table("tracked (cameras fused)", &error_table(tracked, at, 1.0));
-    }
-    if let Some(png) = &a.boxes {
-        draw_first_frame(&cameras[0], png)?;
-        println!("boxes: {}", png.display());
-    }
-    Ok(())
-}
-
-/// The workers' PSMs going out: the broadcaster of the zone's tracks, and the radio.
-struct OnAir {
-    workers: WorkerBroadcaster,
-    radio: Option<Broadcaster>,
-    sent: usize,
-    ids: std::collections::BTreeSet<[u8; 4]>,
-}
-
-fn on_air(a: &RoadUsersArgs, area: Vec<[f64; 2]>) -> Result<OnAir, String> {
-    let salt = (unix_ms_now() & 0xffff_ffff) as u32;
-    let radio = if a.to.is_empty() {
-        None
-    } else {
-        let mut b = Broadcaster::new(a.to.clone(), Wrapping::Ieee1609Unsecured)
-            .map_err(|e| e.to_string())?;
-        if let Some(dir) = &a.pki {
-            b.set_signer(Some(std::sync::Arc::new(RsuSigner::load(dir, None)?)));
-        }
-        Some(b)
-    };
-    Ok(OnAir {
-        workers: WorkerBroadcaster::new(area, salt),
-        radio,
-        sent: 0,
-        ids: Default::default(),
-    })
-}
-
-/// Every frame of every camera through one pipeline (frames of the same index together);
-/// with `air`, each frame's workers go out as PSMs, in real time when there is a radio.
-fn track(
-    cameras: &[CameraFolder],
-    fps: f64,
-    mut air: Option<OnAir>,
-    site: &Road,
-) -> Result<Run, String> {
-    let localizers = cameras.iter().map(|c| c.localizer).collect();
-    let mut pipeline =
-        Pipeline::new(localizers, TrackerSettings::default()).map_err(|e| e.to_string())?;
-    let frames = cameras.iter().map(|c| c.frames.len()).min().unwrap_or(0);
-    let start = std::time::Instant::now();
-    for k in 0..frames {
-        let masks: Vec<_> = cameras
-            .iter()
-            .map(|c| c.frames[k].silhouettes.clone())
-            .collect();
-        let t = k as f64 / fps;
-        let tracks = pipeline.frame(k, t, &masks).map_err(|e| e.to_string())?;
-        let Some(air) = air.as_mut() else { continue };
-        if air.radio.is_some() {
-            if let Some(wait) = std::time::Duration::from_secs_f64(t).checked_sub(start.elapsed()) {
-                std::thread::sleep(wait);
-            }
-        }
-        // secMark: when the PSMs leave.
-        let now = Utc::from_unix_ms(unix_ms_now());
-        let psms = air.workers.tick(tracks, t, now, site);
-        let mut messages = Vec::with_capacity(psms.len());
-        for psm in &psms {
-            if let MessageFrameValue::PersonalSafetyMessage(p) = &psm.value {
-                air.ids.insert(p.id.0);
-            }
-            let bytes = encode(psm).map_err(|e| e.to_string())?;
-            messages.push(Message::new(bytes).map_err(|e| e.to_string())?);
-        }
-        air.sent += messages.len();
-        if let Some(radio) = air.radio.as_mut() {
-            radio.set_messages(messages);
-            radio.tick();
-        }
-    }
-    if let Some(air) = &air {
-        let radio = air.radio.as_ref().map_or(String::new(), |r| {
-            let st = r.stats();
-            format!(
-                ", {} datagrams sent, {} send errors",
-                st.sent, st.send_errors
-            )
-        });
-        println!(
-            "workers on the air: {} PSMs of {} temporary ids, {} not built{radio}",
-            air.sent,
-            air.ids.len(),
-            air.workers.failed
-        );
-    }
-    Ok(pipeline.finish())
-}
-
-fn print_table(title: &str, t: &ErrorTable) {
+    let dirs = synthesize(&spec, out)?;
     println!(
-        "\nlocalization error, {title}; {} not matched within 1 m",
-        t.unmatched
+        "{} frames at {} fps from {} cameras:",
+        a.frames,
+        a.fps,
+        dirs.len()
     );
-    println!("class           n    mean    std     max (cm)   paper mean / max");
-    for (k, class) in RoadUserClass::ALL.iter().enumerate() {
-        let (mean, std, max) = stats(&t.errors[k]);
-        let paper = paper_text(*class);
-        let n = t.errors[k].len();
-        println!(
-            "{:<12} {n:>5} {mean:7.1} {std:6.1} {max:7.1}      {paper}",
-            class.name()
-        );
+    for d in &dirs {
+        println!("  {}", d.display());
     }
+    println!("  {}", out.join("truth.json").display());
+    println!("  {}", out.join("zone.json").display());
+    Ok(())
 }

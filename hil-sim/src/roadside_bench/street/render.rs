@@ -6,10 +6,10 @@ use image::RgbImage;
 
 use super::raster::{fill, label};
 use super::world::{Solid, World};
-use crate::camera::synthetic::PinholeCamera;
-use crate::rng::Prng;
-use crate::road_users::class::{Extent, RoadUserClass};
-use crate::road_users::polygon::{convex_hull, in_front};
+use crate::roadside_bench::synthetic_camera::PinholeCamera;
+use roadside::rng::Prng;
+use roadside::road_users::class::{Extent, RoadUserClass};
+use roadside::road_users::polygon::{convex_hull, in_front};
 
 /// Nearest distance in front of the camera drawn, metres.
 const NEAR_M: f64 = 0.5;
@@ -323,7 +323,7 @@ pub fn silhouette(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::road_users::synthetic::pole_camera;
+    use crate::roadside_bench::street::pole_camera;
 
     /// The detector's labels drawn straight into a full frame, as before windows: the
     /// reference [`labels`] (which cuts a window and copies it back) must equal.

@@ -4,7 +4,11 @@
 
 use std::sync::OnceLock;
 
-use roadside::camera::synthetic::PinholeCamera;
+use hil_sim::roadside_bench::street::{
+    coco_json, corners, labels, masks, picture, random_users, render, small_pole_camera, CocoFrame,
+    RoadUser, World,
+};
+use hil_sim::roadside_bench::synthetic_camera::PinholeCamera;
 use roadside::camera::Homography;
 use roadside::rng::Prng;
 use roadside::road_users::boxes::BoxRejection;
@@ -13,10 +17,6 @@ use roadside::road_users::class::Extent;
 use roadside::road_users::detections::parse_coco;
 use roadside::road_users::edgelets::EdgeletSettings;
 use roadside::road_users::localize::{Localized, Localizer};
-use roadside::road_users::synthetic::{
-    coco_json, corners, labels, masks, picture, random_users, render, small_pole_camera, CocoFrame,
-    RoadUser, World,
-};
 use roadside::road_users::tracker::{Observation, RoadUserTracker, TrackerSettings};
 use roadside::road_users::vanishing::{angle_between, RansacSettings};
 use roadside::road_users::RoadUserClass;

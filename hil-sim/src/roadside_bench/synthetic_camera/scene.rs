@@ -2,7 +2,7 @@
 //! them, and a camera on a pole beside the road, before the zone, framing it.
 
 use super::{PinholeCamera, SyntheticError};
-use crate::road::{bearing, dist, Road, RoadLane};
+use roadside::road::{bearing, dist, Road, RoadLane};
 
 /// Cones stand this far inside a closed lane's edges, metres (so that they lie on it).
 const EDGE_INSET_M: f64 = 0.5;
@@ -212,8 +212,8 @@ impl Extent {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::cones::closures;
     use geodesy::LatLon;
+    use roadside::cones::closures;
 
     fn road() -> Road {
         let r = LatLon::from_degrees(39.7392, -104.9903).unwrap();

@@ -1,14 +1,14 @@
 //! The roadside unit of a scripted run (the bench's scenarios): broadcasts the MAP and one
 //! TIM per zone at 10 Hz to the OBU's V2X port, following the site's timeline (TIM
 //! delayed, MAP revision changed, zones shrunk or removed) through its radio faults (loss,
-//! corruption), the broadcaster's fault model ([`crate::broadcast::FaultInjector`]).
+//! corruption), the broadcaster's fault model ([`roadside::broadcast::FaultInjector`]).
 
-use crate::broadcast::{FaultInjector, Faults, LossModel, MessageKind, Verdict};
-use crate::clock::Utc;
-use crate::messages::{self, WorkZone};
-use crate::road::{Road, RoadLane};
-use crate::road_users::live::{CameraView, LiveSite};
-use crate::site::Site;
+use super::camera_site::{CameraView, LiveSite};
+use roadside::broadcast::{FaultInjector, Faults, LossModel, MessageKind, Verdict};
+use roadside::clock::Utc;
+use roadside::messages::{self, WorkZone};
+use roadside::road::{Road, RoadLane};
+use roadside::site::Site;
 use serde::Serialize;
 use std::net::UdpSocket;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -101,7 +101,7 @@ pub(crate) fn shift(road: &Road, left_m: f64) -> Road {
                 .map(|i| {
                     let s: f64 = l.centre[..=i]
                         .windows(2)
-                        .map(|w| crate::road::dist(w[0], w[1]))
+                        .map(|w| roadside::road::dist(w[0], w[1]))
                         .sum();
                     l.beside(s, left_m).map_or(l.centre[i], |o| o.point)
                 })
@@ -166,7 +166,7 @@ pub fn spawn(
     to: &str,
     t0: Instant,
     stop: Arc<AtomicBool>,
-    signer: Option<Arc<crate::signer::RsuSigner>>,
+    signer: Option<Arc<roadside::signer::RsuSigner>>,
     mut camera: Option<LiveSite>,
 ) -> Result<JoinHandle<RoadsideRun>, String> {
     let sock = UdpSocket::bind("127.0.0.1:0").map_err(|e| e.to_string())?;
@@ -212,7 +212,7 @@ pub fn spawn(
                 // through old ones.
                 let started = Instant::now();
                 let taken = started.saturating_duration_since(t0).as_secs_f64();
-                let psms = site.tick(taken, Utc::from_unix_ms(crate::clock::unix_ms_now()));
+                let psms = site.tick(taken, Utc::from_unix_ms(roadside::clock::unix_ms_now()));
                 let ms = started.elapsed().as_secs_f64() * 1000.0;
                 let (sum, max, n) = &mut run.camera_ms;
                 (*sum, *max, *n) = (*sum + ms, max.max(ms), *n + 1);
@@ -241,7 +241,7 @@ pub fn spawn(
 struct Sender {
     sock: UdpSocket,
     to: String,
-    signer: Option<Arc<crate::signer::RsuSigner>>,
+    signer: Option<Arc<roadside::signer::RsuSigner>>,
     radio: FaultInjector,
     counts: V2xCounts,
 }
@@ -252,7 +252,7 @@ impl Sender {
     fn send(&mut self, frame: &[u8], now: Instant) -> bool {
         let kind = MessageKind::of_frame(frame).unwrap_or(MessageKind::Other(0));
         let mut d = match &self.signer {
-            Some(signer) => match signer.sign(frame, crate::clock::unix_ms_now()) {
+            Some(signer) => match signer.sign(frame, roadside::clock::unix_ms_now()) {
                 Ok(signed) => signed,
                 Err(_) => return false,
             },

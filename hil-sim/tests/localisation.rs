@@ -9,7 +9,7 @@
 //! zones ending 40, 60 and 90 m ahead. Run with `--nocapture` to see the table.
 
 use geodesy::LatLon;
-use roadside::camera::synthetic::{self, PinholeCamera};
+use hil_sim::roadside_bench::synthetic_camera::{self, pixel_noise, PinholeCamera};
 use roadside::camera::{CameraModel, Correspondence, TopDown};
 use roadside::cones::closures;
 use roadside::rng::Prng;
@@ -82,7 +82,7 @@ fn scene() -> Scene {
 
 /// Noisy control points: pixels with noise, ground as surveyed latitude/longitude.
 fn control_points(scene: &Scene, rng: &mut Prng, noise: f64) -> Vec<Correspondence> {
-    synthetic::control_points(&scene.road, &scene.camera, &scene.control, rng, noise)
+    synthetic_camera::control_points(&scene.road, &scene.camera, &scene.control, rng, noise)
         .expect("control points in view")
 }
 
@@ -97,7 +97,7 @@ fn localise(
         .cones
         .iter()
         .map(|(p, _)| {
-            let noise = synthetic::pixel_noise(rng, noise);
+            let noise = pixel_noise(rng, noise);
             let bbox = scene.camera.cone_box(*p, noise).expect("cone in view");
             model.to_local(bbox.bottom_centre())
         })

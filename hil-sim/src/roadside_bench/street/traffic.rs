@@ -3,8 +3,8 @@
 
 use super::render::RoadUser;
 use super::world::World;
-use crate::rng::Prng;
-use crate::road_users::class::{Extent, RoadUserClass};
+use roadside::rng::Prng;
+use roadside::road_users::class::{Extent, RoadUserClass};
 
 /// The stretch of street the traffic loops over, metres north (a road user leaving its far
 /// end comes back at its near end).

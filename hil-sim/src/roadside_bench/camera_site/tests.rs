@@ -148,8 +148,8 @@ fn a_truck_hides_the_worker_from_camera_1_and_camera_2_still_tracks_him() {
 
 #[test]
 fn the_window_labels_are_the_full_frame_labels_cut_out() {
-    use crate::road_users::synthetic::{labels, labels_window, masks, window_masks};
-    let cam = crate::road_users::synthetic::pole_camera();
+    use crate::roadside_bench::street::{labels, labels_window, masks, window_masks};
+    let cam = crate::roadside_bench::street::pole_camera();
     let users: Vec<RoadUser> = [("pedestrian", [5.25, 40.0]), ("truck", [1.75, 31.0])]
         .iter()
         .enumerate()

@@ -11,12 +11,12 @@
 //! private key. The bench makes "yesterday's recording" with the real signer and a
 //! generation time a day back ([`REPLAY_AGE_MS`]): the bytes a recorder would have kept.
 
-use crate::clock::{unix_ms_now, Utc};
-use crate::messages::{self, WorkZone, DURATION_INDEFINITE};
-use crate::pki::{Pki, PkiSpec};
-use crate::road::Road;
-use crate::signer::RsuSigner;
 use j2735::envelope::Psid;
+use roadside::clock::{unix_ms_now, Utc};
+use roadside::messages::{self, WorkZone, DURATION_INDEFINITE};
+use roadside::pki::{Pki, PkiSpec};
+use roadside::road::Road;
+use roadside::signer::RsuSigner;
 use serde::{Deserialize, Serialize};
 use std::net::{SocketAddr, UdpSocket};
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -203,7 +203,7 @@ impl Attacker {
             AttackKind::MapShifted => {
                 let copied = genuine.certificate().to_vec();
                 let signer = RsuSigner::new(copied, attacker_pki()?.rsu.key, None, 60_000);
-                let shifted = crate::scripted::shift(road, MAP_SHIFT_M);
+                let shifted = crate::roadside_bench::scripted::shift(road, MAP_SHIFT_M);
                 let map = messages::build_map(&shifted, 1, FORGED_REVISION, zones.first());
                 (map, Wrapping::Signed(signer))
             }
@@ -397,7 +397,7 @@ mod tests {
         assert_eq!(untrusted.frame(), unsigned.frame(), "the same cancel");
         let (cert, time) = signed_by(&untrusted.datagram(now).unwrap());
         assert_eq!(cert, own.rsu.cert, "the attacker's own certificate");
-        assert_eq!(time, crate::pki::time64_of_unix_ms(now));
+        assert_eq!(time, roadside::pki::time64_of_unix_ms(now));
 
         let map = make(AttackKind::MapShifted);
         assert_eq!(&map.frame()[..2], &[0x00, 0x12], "a MAP");
@@ -407,13 +407,13 @@ mod tests {
         let replay = make(AttackKind::ReplayedYesterday);
         let (cert, time) = signed_by(&replay.datagram(now).unwrap());
         assert_eq!(cert, genuine.certificate());
-        assert_eq!(time, crate::pki::time64_of_unix_ms(now - REPLAY_AGE_MS));
+        assert_eq!(time, roadside::pki::time64_of_unix_ms(now - REPLAY_AGE_MS));
     }
 
     #[test]
     fn the_shifted_map_moves_the_lanes_three_metres_left() {
         let road = road();
-        let shifted = crate::scripted::shift(&road, MAP_SHIFT_M);
+        let shifted = crate::roadside_bench::scripted::shift(&road, MAP_SHIFT_M);
         for (a, b) in road.lanes.iter().zip(&shifted.lanes) {
             let ([px, py], [qx, qy]) = (a.centre[0], b.centre[0]);
             // Eastbound: left is north.

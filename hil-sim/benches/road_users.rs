@@ -3,11 +3,14 @@
 //! class at 1 px and 2 px mask noise beside the paper's field table, and the per-frame time
 //! of localization and tracking for 20 road users at 1080p.
 //!
-//! `cargo bench -p roadside --bench road_users -- [FRAMES] [--png PATH]`
+//! `cargo bench -p hil-sim --bench road_users -- [FRAMES] [--png PATH]`
 
 use std::time::Instant;
 
-use roadside::camera::synthetic::PinholeCamera;
+use hil_sim::roadside_bench::street::{
+    self, coco_json, labels, masks, picture, random_users, CocoFrame, RoadUser, World,
+};
+use hil_sim::roadside_bench::synthetic_camera::PinholeCamera;
 use roadside::camera::Homography;
 use roadside::rng::Prng;
 use roadside::road_users::calibrate::{calibrate, cross_check, SceneCalibration};
@@ -15,9 +18,6 @@ use roadside::road_users::detections::parse_coco;
 use roadside::road_users::edgelets::EdgeletSettings;
 use roadside::road_users::localize::{Localized, Localizer, Rejections};
 use roadside::road_users::pipeline::{paper_text, stats};
-use roadside::road_users::synthetic::{
-    self, coco_json, labels, masks, picture, random_users, CocoFrame, RoadUser, World,
-};
 use roadside::road_users::tracker::{Observation, RoadUserTracker, TrackerSettings};
 use roadside::road_users::vanishing::{angle_between, RansacSettings};
 use roadside::road_users::RoadUserClass;
@@ -150,7 +150,7 @@ fn run_table(
 fn main() {
     let opts = Options::parse();
     let world = World::work_zone();
-    let cam = synthetic::pole_camera();
+    let cam = street::pole_camera();
     let mut rng = Prng::new(7);
     let background = picture(&world, &cam, &[]);
     if let Some(path) = &opts.png {

@@ -9,10 +9,10 @@
 //!   the road that sees them ([`ZoneScene`]).
 //! - [`capture`] does it all for a zone with the noise of a [`CaptureSpec`], and
 //!   [`Capture::write`] (through [`calibration_json`] and [`detections_json`]) writes the
-//!   files that [`parse_calibration`](super::parse_calibration) and
-//!   [`parse_detections_json`](crate::cones::parse_detections_json) read.
+//!   files that [`parse_calibration`](roadside::camera::parse_calibration) and
+//!   [`parse_detections_json`](roadside::cones::parse_detections_json) read.
 //!
-//! Noise comes from the crate's seeded generator ([`Prng`]), so the same seed gives the same
+//! Noise comes from the roadside's seeded generator ([`Prng`]), so the same seed gives the same
 //! data. No function here panics on its input: a point out of view gives `None` (or an
 //! error naming it), a cone out of view is never detected.
 
@@ -21,10 +21,10 @@ mod scene;
 
 use std::fmt;
 
-use super::Correspondence;
-use crate::cones::{BoundingBox, Detection, FrameDetections};
-use crate::rng::Prng;
-use crate::road::{dist, Road};
+use roadside::camera::Correspondence;
+use roadside::cones::{BoundingBox, Detection, FrameDetections};
+use roadside::rng::Prng;
+use roadside::road::{dist, Road};
 
 pub use capture::{calibration_json, capture, detections_json, Capture, CaptureSpec};
 pub use scene::{zone_scene, Placement, ZoneScene};

@@ -6,13 +6,11 @@
 use std::path::PathBuf;
 
 use geodesy::LatLon;
+use hil_sim::roadside_bench::street::{site_cameras, World};
+use hil_sim::roadside_bench::synthetic_site::{synthesize, SynthSpec, SYNTHETIC_ORIGIN};
 use roadside::road::Road;
-use roadside::road_users::files::{
-    load_camera, read_truth, read_zone, site_frame, synthesize, tracks_json, SynthSpec,
-    SYNTHETIC_ORIGIN,
-};
+use roadside::road_users::files::{load_camera, read_truth, read_zone, site_frame, tracks_json};
 use roadside::road_users::pipeline::{error_table, stats, Pipeline, Run};
-use roadside::road_users::synthetic::{site_cameras, World};
 use roadside::road_users::tracker::TrackerSettings;
 use roadside::road_users::RoadUserClass;
 

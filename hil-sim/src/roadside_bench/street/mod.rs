@@ -18,11 +18,11 @@ pub use render::{
 pub use traffic::{users_at, work_zone_traffic, Motion, Mover, LOOP_M};
 pub use world::{Patch, Solid, World};
 
-use super::class::RoadUserClass;
-use super::detections::Silhouette;
-use super::outline::MaskOutline;
-use crate::camera::synthetic::PinholeCamera;
-use crate::rng::Prng;
+use super::synthetic_camera::PinholeCamera;
+use roadside::rng::Prng;
+use roadside::road_users::class::RoadUserClass;
+use roadside::road_users::detections::Silhouette;
+use roadside::road_users::outline::MaskOutline;
 
 /// Where the scene's camera stands: 6 m up a pole at the back of the west sidewalk, 6 m
 /// from the carriageway, looking up the street (bearing 18°, pitched 11° down).
@@ -132,7 +132,7 @@ pub fn random_users(
         for _ in 0..200 {
             let t = class.typical();
             let mut vary = |v: f64| v * (0.9 + 0.2 * rng.next_f64());
-            let extent = super::class::Extent {
+            let extent = roadside::road_users::class::Extent {
                 length_m: vary(t.length_m),
                 width_m: vary(t.width_m),
                 height_m: vary(t.height_m),

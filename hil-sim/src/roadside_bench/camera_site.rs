@@ -11,23 +11,23 @@
 
 use serde::Deserialize;
 
-use super::calibrate::calibrate;
-use super::class::RoadUserClass;
-use super::edgelets::EdgeletSettings;
-use super::localize::Localizer;
-use super::pipeline::Pipeline;
-use super::synthetic::{
+use super::street::{
     labels_window, marking_points, picture, site_cameras, window_masks, RoadUser, World,
 };
-use super::tracker::{Track, TrackerSettings};
-use super::vanishing::RansacSettings;
-use super::workers::WorkerBroadcaster;
-use crate::camera::synthetic::PinholeCamera;
-use crate::camera::Homography;
-use crate::clock::Utc;
-use crate::rng::Prng;
-use crate::road::Road;
+use super::synthetic_camera::PinholeCamera;
 use j2735::MessageFrame;
+use roadside::camera::Homography;
+use roadside::clock::Utc;
+use roadside::rng::Prng;
+use roadside::road::Road;
+use roadside::road_users::calibrate::calibrate;
+use roadside::road_users::class::RoadUserClass;
+use roadside::road_users::edgelets::EdgeletSettings;
+use roadside::road_users::localize::Localizer;
+use roadside::road_users::pipeline::Pipeline;
+use roadside::road_users::tracker::{Track, TrackerSettings};
+use roadside::road_users::vanishing::RansacSettings;
+use roadside::road_users::workers::WorkerBroadcaster;
 
 /// A scenario's camera site (`[workers]`).
 #[derive(Debug, Clone, Deserialize)]
@@ -122,7 +122,7 @@ impl ScenePlacement {
 #[derive(Debug, Clone)]
 struct Scripted {
     class: RoadUserClass,
-    extent: super::class::Extent,
+    extent: roadside::road_users::class::Extent,
     path: Vec<[f64; 3]>,
 }
 
@@ -311,7 +311,7 @@ impl LiveSite {
 
 /// Lanes running the first lane's way.
 fn forward_lanes(road: &Road) -> u32 {
-    let bearing = |l: &crate::road::RoadLane| l.at(0.0).map(|o| o.bearing_deg);
+    let bearing = |l: &roadside::road::RoadLane| l.at(0.0).map(|o| o.bearing_deg);
     let first = road.lanes.first().and_then(bearing);
     let same = road
         .lanes

@@ -6,10 +6,10 @@ use std::path::{Path, PathBuf};
 use serde_json::{json, Value};
 
 use super::{control_points, detect, zone_scene, Placement, SyntheticError, ZoneScene};
-use crate::camera::Correspondence;
-use crate::cones::{Detection, FrameDetections};
-use crate::rng::Prng;
-use crate::road::Road;
+use roadside::camera::Correspondence;
+use roadside::cones::{Detection, FrameDetections};
+use roadside::rng::Prng;
+use roadside::road::Road;
 
 /// What a synthetic capture of a zone records.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -156,10 +156,10 @@ fn centi(v: f64) -> f64 {
 mod tests {
     use super::super::PinholeCamera;
     use super::*;
-    use crate::camera::{parse_calibration, CameraModel};
-    use crate::cones::parse_detections_json;
-    use crate::road::dist;
     use geodesy::LatLon;
+    use roadside::camera::{parse_calibration, CameraModel};
+    use roadside::cones::parse_detections_json;
+    use roadside::road::dist;
 
     fn road() -> Road {
         let r = LatLon::from_degrees(39.7392, -104.9903).unwrap();
