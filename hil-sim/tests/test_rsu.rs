@@ -244,3 +244,98 @@ fn rsu41_store_and_repeat_with_six_octet_dates() {
     let n = got.iter().filter(|p| p.as_slice() == tim.payload).count();
     assert!((4..=6).contains(&n), "{n} TIMs at 200 ms");
 }
+
+#[test]
+fn the_service_deposits_a_site_the_rsu_signs_and_a_reload_replaces_what_changed() {
+    use roadside::service::{read_status, Roadside};
+    let listener = UdpSocket::bind("127.0.0.1:0").unwrap();
+    let dir = std::env::temp_dir().join(format!("test-rsu-site-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    hil_sim::bench_pki::write_rsu(&dir.join("rsu-pki")).unwrap();
+    let rsu = TestRsu::start(TestRsuConfig {
+        dir: dir.join("rsu"),
+        port: 17164,
+        mib: Mib::Ntcip1218,
+        users: vec![user("roadside", "SHA", "AES")],
+        community: None,
+        broadcast_to: vec![listener.local_addr().unwrap()],
+        max_rows: 8,
+        pki: Some(dir.join("rsu-pki")),
+        hil_sim: PathBuf::from(env!("CARGO_BIN_EXE_hil-sim")),
+    })
+    .expect("snmpd test RSU");
+    let creds = dir.join("credentials.toml");
+    std::fs::write(
+        &creds,
+        "[field]\nversion = \"3\"\nuser = \"roadside\"\nauth_password = \"roadside-auth-pass\"\n\
+         priv_password = \"roadside-priv-pass\"\n",
+    )
+    .unwrap();
+    use std::os::unix::fs::PermissionsExt;
+    std::fs::set_permissions(&creds, std::fs::Permissions::from_mode(0o600)).unwrap();
+    let site = |limit: u32| {
+        format!(
+            "[site]\nname = \"test\"\nstate_dir = \"state\"\n\
+             [road]\nkind = \"straight\"\nreference = [39.7392, -104.9903]\nbearing_deg = 90.0\n\
+             length_m = 600.0\nlanes_forward = 2\nspeed_limit_kmh = 40.0\n\
+             [[zones]]\nsource = \"lanes\"\nclosed_lanes = [2]\nstart_m = 300.0\nend_m = 400.0\nlimit_kmh = {limit}\n\
+             [signing]\ndeposit = \"rsu\"\n\
+             [rsus]\ncredentials = \"credentials.toml\"\npoll_s = 1.0\n\
+             [[rsu]]\nname = \"rsu-1\"\naddress = \"{}\"\nmib = \"ntcip1218\"\ncredentials = \"field\"\n",
+            rsu.address()
+        )
+    };
+    let path = dir.join("site.toml");
+    std::fs::write(&path, site(10)).unwrap();
+    let mut log = Vec::new();
+    let mut r = Roadside::start(&path, Instant::now(), roadside::clock::unix_ms_now()).unwrap();
+    r.tick(
+        Instant::now(),
+        roadside::clock::unix_ms_now(),
+        true,
+        &mut log,
+    )
+    .unwrap();
+    assert!(r.all_converged(), "{}", String::from_utf8_lossy(&log));
+    // The RSU signs (options 0x80) with its certificate: IEEE 1609.2 on the air.
+    let got = received(&listener, 500);
+    assert!(!got.is_empty());
+    assert!(got
+        .iter()
+        .all(|p| j2735::envelope::ieee1609dot2::looks_like_ieee1609dot2(p)));
+
+    // The site changes (a lower limit): a reload replaces the TIM and the MAP that carries it.
+    std::fs::write(&path, site(20)).unwrap();
+    r.reload(Instant::now(), roadside::clock::unix_ms_now())
+        .unwrap();
+    r.tick(
+        Instant::now(),
+        roadside::clock::unix_ms_now(),
+        true,
+        &mut log,
+    )
+    .unwrap();
+    let status = read_status(&dir.join("state")).unwrap();
+    let counts = &status.rsus[0].counts;
+    assert_eq!(
+        (counts.get("created"), counts.get("destroyed")),
+        (Some(&2), Some(&2)),
+        "{counts:?}"
+    );
+    // A broken site file is refused and the running one kept.
+    std::fs::write(&path, "[site]\nname = 1\n").unwrap();
+    assert!(r
+        .reload(Instant::now(), roadside::clock::unix_ms_now())
+        .is_err());
+    r.tick(
+        Instant::now(),
+        roadside::clock::unix_ms_now(),
+        true,
+        &mut log,
+    )
+    .unwrap();
+    assert!(r.all_converged());
+    drop(r);
+    drop(rsu);
+    let _ = std::fs::remove_dir_all(&dir);
+}

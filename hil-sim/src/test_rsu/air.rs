@@ -125,6 +125,11 @@ impl Air {
     /// Sends what is due at `now` (`unix_ms` on the wall clock).
     pub fn tick(&mut self, agent: &mut Agent, now: Instant, unix_ms: u64) {
         agent.end_quiet_request(now);
+        if agent.is_in_request() {
+            // A SET request is still being handed over varbind by varbind: the RSU applies
+            // a request whole, so nothing of it goes out before it ends.
+            return;
+        }
         let mut due: Vec<(Vec<u8>, bool)> = Vec::new();
         let mut firsts = Vec::new();
         let mut live = Vec::new();

@@ -433,3 +433,161 @@ pub fn forward(
     }
     Ok(sent)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::rsu_snmp::mib::RepeatMessage;
+    use crate::rsu_snmp::session::{Arcs, RequestCounts};
+    use j2735::envelope::Psid;
+    use std::collections::BTreeMap;
+
+    /// An in-memory NTCIP 1218 table, answering SETs with `fail` when given.
+    #[derive(Default)]
+    struct FakeRsu {
+        objects: BTreeMap<Arcs, SnmpValue>,
+        fail: Option<ErrorStatus>,
+        counts: RequestCounts,
+    }
+
+    impl Agent for FakeRsu {
+        fn walk(&mut self, root: &[u64]) -> Result<Vec<(Arcs, SnmpValue)>, SnmpError> {
+            self.counts.reads += 1;
+            Ok(self
+                .objects
+                .iter()
+                .filter(|(o, _)| o.starts_with(root))
+                .map(|(o, v)| (o.clone(), v.clone()))
+                .collect())
+        }
+        fn get(&mut self, oids: &[Arcs]) -> Result<Vec<SnmpValue>, SnmpError> {
+            self.counts.reads += 1;
+            Ok(oids
+                .iter()
+                .map(|o| {
+                    if *o == RsuMib::Ntcip1218.repeat_max_rows().unwrap() {
+                        SnmpValue::Integer(2)
+                    } else if *o == RsuMib::Ntcip1218.mib_version() {
+                        SnmpValue::Octets(b"NTCIP 1218".to_vec())
+                    } else {
+                        self.objects.get(o).cloned().unwrap_or(SnmpValue::Nothing)
+                    }
+                })
+                .collect())
+        }
+        fn set(&mut self, values: &[(Arcs, SnmpValue)]) -> Result<(), SnmpError> {
+            self.counts.writes += 1;
+            if let Some(status) = self.fail {
+                return Err(SnmpError::Status { status, index: 1 });
+            }
+            let status = u64::from(RsuMib::Ntcip1218.repeat_status_column());
+            for (o, v) in values {
+                let is_status = o[o.len() - 2] == status;
+                if is_status && *v == SnmpValue::Integer(row_status::DESTROY) {
+                    let row = &o[..o.len() - 2];
+                    let index = o[o.len() - 1];
+                    self.objects
+                        .retain(|k, _| !(k.starts_with(row) && k[k.len() - 1] == index));
+                } else {
+                    let v = if is_status && *v == SnmpValue::Integer(row_status::CREATE_AND_GO) {
+                        SnmpValue::Integer(1)
+                    } else {
+                        v.clone()
+                    };
+                    self.objects.insert(o.clone(), v);
+                }
+            }
+            Ok(())
+        }
+        fn counts(&self) -> RequestCounts {
+            self.counts
+        }
+    }
+
+    fn wanted(payload: u8) -> WantedRow {
+        RsuMib::Ntcip1218.repeat_row(&RepeatMessage {
+            label: format!("TIM {payload}"),
+            psid: Psid::TIM,
+            message_id: 31,
+            payload: vec![0, 0x1f, payload],
+            channel: 183,
+            interval_ms: 100,
+            start_unix_ms: 1_796_390_000_000,
+            stop_unix_ms: 1_796_400_000_000,
+            priority: 6,
+            rsu_signs: false,
+            alternating: false,
+        })
+    }
+
+    const RULES: TableRules = TableRules {
+        mib: RsuMib::Ntcip1218,
+        max_rows: None,
+        manage_all: false,
+    };
+
+    #[test]
+    fn each_error_status_is_an_operator_problem() {
+        let cases = [
+            (ErrorStatus::GenErr, RsuProblem::IndexInUse(1)),
+            (
+                ErrorStatus::ResourceUnavailable,
+                RsuProblem::TableFull(String::new()),
+            ),
+            (
+                ErrorStatus::WrongValue,
+                RsuProblem::MibMismatch(String::new()),
+            ),
+            (
+                ErrorStatus::AuthorizationError,
+                RsuProblem::NotAuthorized(String::new()),
+            ),
+            (
+                ErrorStatus::CommitFailed,
+                RsuProblem::Refused(String::new()),
+            ),
+        ];
+        for (status, want) in cases {
+            let mut rsu = FakeRsu {
+                fail: Some(status),
+                ..FakeRsu::default()
+            };
+            let e = reconcile(&mut rsu, RULES, &[wanted(1)], &mut Owned::new()).unwrap_err();
+            assert_eq!(e.reason(), want.reason(), "{status:?}: {e}");
+        }
+    }
+
+    #[test]
+    fn a_full_table_places_what_fits_and_says_what_did_not() {
+        let mut rsu = FakeRsu::default();
+        let mut owned = Owned::new();
+        let w = [wanted(1), wanted(2), wanted(3)];
+        let e = reconcile(&mut rsu, RULES, &w, &mut owned).unwrap_err();
+        assert!(
+            matches!(&e, RsuProblem::TableFull(m) if m.contains("1 message(s) not placed")),
+            "{e}"
+        );
+        assert_eq!(owned.len(), 2);
+        // Nothing to change next time but what cannot fit; the two placed rows are kept.
+        let writes = rsu.counts.writes;
+        assert!(reconcile(&mut rsu, RULES, &w[..2], &mut owned)
+            .unwrap()
+            .plan
+            .is_converged());
+        assert_eq!(rsu.counts.writes, writes);
+    }
+
+    #[test]
+    fn a_row_rewritten_by_someone_else_is_no_longer_ours() {
+        let mut rsu = FakeRsu::default();
+        let mut owned = Owned::new();
+        reconcile(&mut rsu, RULES, &[wanted(1)], &mut owned).unwrap();
+        // Another manager rewrites the payload of our row 1.
+        let mut payload = RsuMib::Ntcip1218.repeat_entry();
+        payload.extend([7, 1]);
+        rsu.objects.insert(payload, SnmpValue::Octets(vec![9, 9]));
+        let r = reconcile(&mut rsu, RULES, &[wanted(2)], &mut owned).unwrap();
+        assert_eq!(r.plan.foreign, [1]);
+        assert_eq!(r.plan.create, [(2, 0)]);
+    }
+}
