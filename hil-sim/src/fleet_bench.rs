@@ -104,7 +104,10 @@ pub fn run(
     };
     let mut handles = Vec::new();
     // Start the RSUs a few at a time (each snmpd reads its configuration and binds).
-    let ports: Vec<u16> = (0..rsus).map(|i| base_port + i as u16).collect();
+    let ports: Vec<u16> = (0..rsus)
+        .map(|i| u16::try_from(i).ok().and_then(|i| base_port.checked_add(i)))
+        .collect::<Option<_>>()
+        .ok_or("--base-port + --rsus runs past port 65535")?;
     for chunk in ports.chunks(20) {
         let started: Vec<Result<TestRsu, String>> = std::thread::scope(|s| {
             chunk

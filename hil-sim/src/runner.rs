@@ -294,8 +294,16 @@ fn drive_and_record(
             camera,
         )?),
         Some(spec) => Roadside::Deployed(
-            crate::deployment::start(s, spec, road, &daemon.v2x, t0, stop.clone(), work)
-                .inspect_err(|_| stop.store(true, Ordering::Relaxed))?,
+            crate::deployment::start(
+                (&s.name, &s.road),
+                spec,
+                road,
+                &daemon.v2x,
+                t0,
+                stop.clone(),
+                work,
+            )
+            .inspect_err(|_| stop.store(true, Ordering::Relaxed))?,
         ),
     };
     let sock = UdpSocket::bind("127.0.0.1:0").map_err(|e| e.to_string())?;

@@ -31,8 +31,11 @@ pub struct Published {
 pub struct Update {
     /// The messages now to publish: the MAP, then a TIM per live zone.
     pub messages: Vec<Published>,
-    /// Cancel TIMs of zones that ended or left the source (to send for a while).
-    pub cancels: Vec<Message>,
+    /// Cancel TIMs of zones that ended or left the source (to send for a while), by the
+    /// zone's `packetID`.
+    pub cancels: Vec<([u8; 9], Message)>,
+    /// The `packetID`s of the live zones.
+    pub live: Vec<[u8; 9]>,
     /// Whether the messages differ from the last update's.
     pub changed: bool,
 }
@@ -41,6 +44,8 @@ pub struct Update {
 #[derive(Debug, Clone, Default)]
 pub struct Publisher {
     live: BTreeMap<[u8; 9], WorkZone>,
+    /// The `msgCnt` of each zone's cancel, so that a zone coming back counts on from it.
+    cancelled: BTreeMap<[u8; 9], u8>,
     map_revision: u8,
     map_frame: Option<Vec<u8>>,
     last: Vec<Vec<u8>>,
@@ -76,10 +81,14 @@ impl Publisher {
         let mut tims = Vec::new();
         for z in zones.iter().filter(|z| z.stop_unix_ms > now_unix_ms) {
             let mut zone = z.zone.clone();
-            zone.msg_cnt = match self.live.get(&zone.packet_id) {
-                Some(old) if same(old, &zone) => old.msg_cnt,
-                Some(old) => (old.msg_cnt + 1) % 128,
-                None => 1,
+            zone.msg_cnt = match (
+                self.live.get(&zone.packet_id),
+                self.cancelled.remove(&zone.packet_id),
+            ) {
+                (Some(old), _) if same(old, &zone) => old.msg_cnt,
+                (Some(old), _) => (old.msg_cnt + 1) % 128,
+                (None, Some(cancel)) => (cancel + 1) % 128,
+                (None, None) => 1,
             };
             tims.push(Published {
                 message: tim_message(road, &zone)?,
@@ -94,7 +103,8 @@ impl Publisher {
                     msg_cnt: (old.msg_cnt + 1) % 128,
                     ..old.clone()
                 };
-                out.cancels.push(tim_message(road, &cancel)?);
+                out.cancels.push((*id, tim_message(road, &cancel)?));
+                self.cancelled.insert(*id, cancel.msg_cnt);
             }
         }
         let first = live.values().next();
@@ -121,6 +131,7 @@ impl Publisher {
             .map(|p| p.message.frame().to_vec())
             .collect();
         out.changed = frames != self.last;
+        out.live = live.keys().copied().collect();
         self.last = frames;
         self.live = live;
         Ok(out)
@@ -208,7 +219,13 @@ mod tests {
         let gone = p.update(&road(), &[], now + 3000, now + 3_600_000).unwrap();
         assert_eq!(gone.messages.len(), 1);
         assert_eq!(gone.cancels.len(), 1);
-        assert_eq!(tim_msg_cnt(gone.cancels[0].frame()), 3);
+        assert_eq!(tim_msg_cnt(gone.cancels[0].1.frame()), 3);
+        // It comes back: its count goes on from the cancel's.
+        let back = p
+            .update(&road(), &[zone(1, 10)], now + 4000, now + 3_600_000)
+            .unwrap();
+        assert_eq!(back.live, vec![*b"EVENT0001"]);
+        assert_eq!(tim_msg_cnt(back.messages[1].message.frame()), 4);
     }
 
     #[test]

@@ -7,7 +7,7 @@ use crate::broadcast::{Broadcaster, Message, MessageSlot, Wrapping};
 use crate::clock::{unix_ms_now, Utc};
 use crate::publisher::{Published, Publisher, SourceZone};
 use crate::road::Road;
-use crate::rsu_snmp::deposit::{repeat_messages, DepositSettings, DepositSigning};
+use crate::rsu_snmp::deposit::{repeat_messages, DepositSettings};
 use crate::rsu_snmp::fleet::{load_owned, save_owned, Fleet, RsuSpec, RsuStatus};
 use crate::rsu_snmp::mib::{RepeatMessage, RsuMib};
 use crate::rsu_snmp::reconcile::WantedRow;
@@ -104,9 +104,14 @@ pub struct Roadside {
     next_feed: Instant,
     publisher: Publisher,
     published: Vec<Published>,
-    /// Cancel TIMs and when their sending stops (Unix ms).
-    cancels: Vec<(Message, u64)>,
+    /// Cancel TIMs by `packetID`, and when their sending stops (Unix ms).
+    cancels: Vec<([u8; 9], Message, u64)>,
     deployment: Deployment,
+    /// The rows must be built again (the last build failed).
+    redeploy: bool,
+    /// A site with a feed deposits nothing before the feed's first good answer (its rows
+    /// from before a restart stay on the RSUs meanwhile).
+    feed_ready: bool,
     delivery_start_ms: u64,
     fleet: Fleet,
     air: Option<(MessageSlot, Arc<AtomicBool>)>,
@@ -199,6 +204,7 @@ impl Roadside {
     ) -> Result<Self, String> {
         let road = site.site().road()?;
         let start_ms = now_ms - now_ms % 60_000;
+        let site_has_no_feed = site.wzdx_feed.is_none();
         let feed = site.wzdx_feed.as_ref().map(FeedPoller::new);
         let feed_status = site.wzdx_feed.as_ref().map(|f| FeedStatus {
             url: f.url.clone(),
@@ -218,6 +224,8 @@ impl Roadside {
             published: Vec::new(),
             cancels: Vec::new(),
             deployment: Deployment::default(),
+            redeploy: true,
+            feed_ready: site_has_no_feed,
             delivery_start_ms: start_ms,
             fleet,
             air: None,
@@ -234,7 +242,24 @@ impl Roadside {
     pub fn reload(&mut self, now: Instant, now_ms: u64) -> Result<(), String> {
         let site = SiteFile::load(&self.path)?;
         let fleet = Fleet::new(site.rsu_specs()?, site.timing(), &self.fleet.owned(), now);
+        let same_pki = site.signing.as_ref().and_then(|s| s.pki.clone())
+            == self.site.signing.as_ref().and_then(|s| s.pki.clone());
+        let same_feed =
+            site.wzdx_feed.as_ref().map(|f| &f.url) == self.site.wzdx_feed.as_ref().map(|f| &f.url);
         let mut fresh = Self::with(&self.path, site, fleet, now, now_ms)?;
+        // What did not change carries over, so that unchanged rows stay as they are: the
+        // delivery window, the zones built from it, the signatures already made, the feed.
+        fresh.delivery_start_ms = self.delivery_start_ms;
+        fresh.static_zones = static_zones(&fresh.site, &fresh.road, self.delivery_start_ms)?;
+        if same_pki {
+            fresh.signer = self.signer.take();
+        }
+        if same_feed {
+            fresh.feed = self.feed.take();
+            fresh.feed_zones = std::mem::take(&mut self.feed_zones);
+            fresh.feed_status = self.feed_status.take();
+            fresh.feed_ready = self.feed_ready;
+        }
         fresh.publisher = std::mem::take(&mut self.publisher);
         fresh.cancels = std::mem::take(&mut self.cancels);
         fresh.air = self.air.take();
@@ -271,11 +296,16 @@ impl Roadside {
         let deployment = &self.deployment;
         let wanted = |rsu: &RsuSpec| deployment.wanted_for(rsu);
         // New rows go to every RSU at once, not at its next poll.
-        let passes = self.fleet.poll(&wanted, now, now_ms, force || changed);
-        if forward {
-            self.forward_cancels(now_ms);
+        let passes = if self.feed_ready {
+            self.fleet.poll(&wanted, now, now_ms, force || changed)
+        } else {
+            0
+        };
+        let forwarding = forward && !self.cancels.is_empty();
+        if forwarding {
+            self.forward_cancels();
         }
-        if passes > 0 || forward {
+        if passes > 0 || forwarding || changed {
             self.save(log)?;
         }
         Ok(())
@@ -296,6 +326,7 @@ impl Roadside {
                 Ok(zones) => {
                     let _ = writeln!(log, "wzdx feed: {} work zones on this road", zones.len());
                     self.feed_zones = zones;
+                    self.feed_ready = true;
                     self.next_publish = now;
                     status.last_good_unix_ms = now_ms;
                     None
@@ -329,41 +360,53 @@ impl Roadside {
     /// Publishes the zones as they stand; rebuilds the rows when anything changed (and
     /// says so).
     fn publish(&mut self, now_ms: u64, log: &mut dyn Write) -> bool {
+        let window = self.window_ms();
+        if now_ms >= self.delivery_start_ms + window / 2 {
+            // Zones without an end are delivered for `window_hours` from the start: half way
+            // through, the window moves on (their rows are written again once).
+            self.delivery_start_ms = now_ms - now_ms % 60_000;
+            match static_zones(&self.site, &self.road, self.delivery_start_ms) {
+                Ok(z) => self.static_zones = z,
+                Err(e) => {
+                    let _ = writeln!(log, "zones not rebuilt, the last ones stand: {e}");
+                }
+            }
+        }
         let zones: Vec<SourceZone> = self
             .static_zones
             .iter()
             .chain(&self.feed_zones)
             .cloned()
             .collect();
-        let window = u64::from(self.site.rsus.as_ref().map_or(24, |r| r.window_hours)) * 3_600_000;
-        let update =
-            match self
-                .publisher
-                .update(&self.road, &zones, now_ms, self.delivery_start_ms + window)
-            {
-                Ok(u) => u,
-                Err(e) => {
-                    let _ = writeln!(log, "messages not built, the last ones stand: {e}");
-                    return false;
-                }
-            };
+        let map_stop = self.delivery_start_ms + window;
+        let update = match self.publisher.update(&self.road, &zones, now_ms, map_stop) {
+            Ok(u) => u,
+            Err(e) => {
+                let _ = writeln!(log, "messages not built, the last ones stand: {e}");
+                return false;
+            }
+        };
         let cancel_for = self
             .site
             .wzdx_feed
             .as_ref()
             .map_or(600.0, |f| f.cancel_for_s);
-        let until = now_ms + (cancel_for * 1000.0) as u64;
-        let new_cancels = !update.cancels.is_empty();
-        for c in update.cancels {
+        let until = now_ms.saturating_add((cancel_for * 1000.0) as u64);
+        let before = self.cancels.len();
+        // A zone that is live again is no longer cancelled; one cancel per zone.
+        self.cancels
+            .retain(|(id, _, u)| *u > now_ms && !update.live.contains(id));
+        let mut changed = update.changed || self.cancels.len() != before || self.redeploy;
+        for (id, message) in update.cancels {
             let _ = writeln!(
                 log,
                 "zone ended or left the feed: cancel TIM sent for {cancel_for:.0} s"
             );
-            self.cancels.push((c, until));
+            self.cancels.retain(|(other, _, _)| *other != id);
+            self.cancels.push((id, message, until));
+            changed = true;
         }
-        let expired = self.cancels.iter().any(|(_, u)| *u <= now_ms);
-        self.cancels.retain(|(_, u)| *u > now_ms);
-        if !(update.changed || new_cancels || expired || self.deployment.frames.is_empty()) {
+        if !changed {
             return false;
         }
         self.published = update.messages;
@@ -371,32 +414,41 @@ impl Roadside {
             Ok(d) => {
                 if let Some((slot, _)) = &self.air {
                     let mut frames = d.frames.clone();
-                    frames.extend(self.cancels.iter().map(|(m, _)| m.clone()));
+                    frames.extend(self.cancels.iter().map(|(_, m, _)| m.clone()));
                     slot.set(frames);
                 }
                 self.deployment = d;
+                self.redeploy = false;
                 true
             }
             Err(e) => {
                 let _ = writeln!(log, "rows not built, the last ones stand: {e}");
+                self.redeploy = true;
                 false
             }
         }
     }
 
+    /// How long zones without an end are delivered, ms.
+    fn window_ms(&self) -> u64 {
+        u64::from(self.site.rsus.as_ref().map_or(24, |r| r.window_hours)) * 3_600_000
+    }
+
     fn deploy(&self, now_ms: u64) -> Result<Deployment, String> {
+        let frames = self.published.iter().map(|p| p.message.clone()).collect();
+        if self.site.rsu.is_empty() {
+            // Broadcast only: the broadcaster signs each transmission itself.
+            return Ok(Deployment {
+                frames,
+                ..Deployment::default()
+            });
+        }
         let signing = self
             .site
             .signing
             .as_ref()
             .map(|s| s.deposit)
             .unwrap_or_default();
-        let signing = match (signing, &self.signer) {
-            (DepositSigning::Roadside, None) => {
-                return Err("[signing] deposit = \"roadside\" needs [signing] pki".into())
-            }
-            (s, _) => s,
-        };
         let settings = DepositSettings {
             channel: 183,
             interval_ms: 100,
@@ -408,18 +460,21 @@ impl Roadside {
             .iter()
             .map(|p| (p.message.clone(), p.stop_unix_ms))
             .collect();
+        let cancels: Vec<(Message, u64)> = self
+            .cancels
+            .iter()
+            .map(|(_, m, until)| (m.clone(), *until))
+            .collect();
         let signer = self.signer.as_ref();
         let start = self.delivery_start_ms;
-        let messages = repeat_messages(&with_stop, start, settings, signer, now_ms)?;
-        let cancels = repeat_messages(&self.cancels, start, settings, signer, now_ms)?;
         Ok(Deployment {
-            frames: self.published.iter().map(|p| p.message.clone()).collect(),
-            messages,
-            cancels,
+            frames,
+            messages: repeat_messages(&with_stop, start, settings, signer, now_ms)?,
+            cancels: repeat_messages(&cancels, start, settings, signer, now_ms)?,
         })
     }
 
-    fn forward_cancels(&mut self, now_ms: u64) {
+    fn forward_cancels(&mut self) {
         let Some(template) = self.deployment.cancels.first().cloned() else {
             return;
         };
@@ -429,7 +484,6 @@ impl Roadside {
             .iter()
             .map(|c| c.payload.clone())
             .collect();
-        let _ = now_ms;
         self.fleet.forward(&template, &payloads);
     }
 

@@ -215,7 +215,77 @@ impl SiteFile {
                 path.display()
             ));
         }
+        f.check().map_err(|e| format!("{}: {e}", path.display()))?;
         Ok(f)
+    }
+
+    /// Every number in its range, names unique, a signer where one is needed.
+    fn check(&self) -> Result<(), String> {
+        let within = |what: &str, v: f64, lo: f64, hi: f64| {
+            if v.is_finite() && (lo..=hi).contains(&v) {
+                Ok(())
+            } else {
+                Err(format!("{what} = {v}: from {lo} to {hi}"))
+            }
+        };
+        if let Some(r) = &self.rsus {
+            within("[rsus] poll_s", r.poll_s, 0.1, 86_400.0)?;
+            within("[rsus] timeout_ms", r.timeout_ms as f64, 10.0, 60_000.0)?;
+            within("[rsus] retries", f64::from(r.retries), 0.0, 10.0)?;
+            within("[rsus] workers", r.workers as f64, 1.0, 256.0)?;
+            within("[rsus] channel", f64::from(r.channel), 172.0, 184.0)?;
+            within(
+                "[rsus] interval_ms",
+                f64::from(r.interval_ms),
+                1.0,
+                3_600_000.0,
+            )?;
+            within("[rsus] priority", f64::from(r.priority), 0.0, 63.0)?;
+            within(
+                "[rsus] window_hours",
+                f64::from(r.window_hours),
+                1.0,
+                8_760.0,
+            )?;
+        }
+        if let Some(f) = &self.wzdx_feed {
+            within("[wzdx_feed] poll_s", f.poll_s, 0.1, 86_400.0)?;
+            within("[wzdx_feed] timeout_s", f.timeout_s, 0.1, 600.0)?;
+            within("[wzdx_feed] cancel_for_s", f.cancel_for_s, 0.0, 86_400.0)?;
+            within("[wzdx_feed] max_bytes", f.max_bytes as f64, 1.0, 1e9)?;
+        }
+        let mut names = std::collections::BTreeSet::new();
+        for e in &self.rsu {
+            if !names.insert(&e.name) {
+                return Err(format!("two [[rsu]] entries are named {:?}", e.name));
+            }
+            if let Some(c) = e.channel {
+                within(
+                    &format!("[[rsu]] {} channel", e.name),
+                    f64::from(c),
+                    172.0,
+                    184.0,
+                )?;
+            }
+            if let Some(i) = e.interval_ms {
+                within(
+                    &format!("[[rsu]] {} interval_ms", e.name),
+                    f64::from(i),
+                    1.0,
+                    3_600_000.0,
+                )?;
+            }
+        }
+        let deposit = self.signing.as_ref().map(|s| s.deposit).unwrap_or_default();
+        let pki = self.signing.as_ref().and_then(|s| s.pki.as_ref());
+        if !self.rsu.is_empty() && deposit == DepositSigning::Roadside && pki.is_none() {
+            return Err(
+                "[signing] deposit = \"roadside\" (the default) needs [signing] pki \
+                 (the roadside's rsu.oer and rsu.key); or deposit = \"rsu\" (the RSU signs)"
+                    .into(),
+            );
+        }
+        Ok(())
     }
 
     /// A path of the site, resolved against its folder.

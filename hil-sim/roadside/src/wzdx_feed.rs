@@ -149,10 +149,15 @@ impl FeedPoller {
         outcome
     }
 
-    /// A feed text the caller could not use (the WZDx parser refused it): counted, and the
-    /// next poll hands the same text on again only if it changes.
+    /// The feed text the last poll gave could not be used (the WZDx parser refused it): it
+    /// counts as `malformed`, not `changed`, and is forgotten (validators and body), so that
+    /// the next poll fetches it whole and it is refused again until it is fixed.
     pub fn refused(&mut self) {
+        if let Some(n) = self.counts.get_mut("changed") {
+            *n = n.saturating_sub(1);
+        }
         *self.counts.entry("malformed").or_default() += 1;
+        (self.etag, self.last_modified, self.last_body) = (None, None, None);
     }
 
     fn fetch(&mut self) -> FeedPoll {

@@ -135,6 +135,13 @@ fn a_changing_feed_is_followed_and_a_bad_one_keeps_the_last_good() {
     };
     assert!(feed_zones(&road, &junk).is_err());
     poller.refused();
+    // Refused, it is fetched whole again (no validator sent) and refused again.
+    let FeedPoll::Changed(again) = poller.poll() else {
+        panic!("junk again")
+    };
+    assert_eq!(again, junk);
+    assert_eq!(seen.lock().unwrap().last().unwrap(), "");
+    poller.refused();
 
     // The event ends: it leaves the feed, and its cancel is made.
     let mut ended: serde_json::Value = serde_json::from_str(&moved).unwrap();
@@ -147,10 +154,10 @@ fn a_changing_feed_is_followed_and_a_bad_one_keeps_the_last_good() {
     assert_eq!((u.messages.len(), u.cancels.len()), (1, 1));
 
     let counts = &poller.counts;
-    assert_eq!(counts.get("changed"), Some(&5));
+    assert_eq!(counts.get("changed"), Some(&4));
     assert_eq!(counts.get("unchanged"), Some(&1));
     assert_eq!(counts.get("http_status"), Some(&1));
-    assert_eq!(counts.get("malformed"), Some(&1));
+    assert_eq!(counts.get("malformed"), Some(&2));
 }
 
 #[test]

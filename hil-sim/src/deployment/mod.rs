@@ -100,7 +100,7 @@ fn free_udp_port() -> Result<u16, String> {
 /// The site file the bench's roadside runs, written as the type (no TOML text).
 fn site(
     spec: &DeploymentSpec,
-    s: &crate::scenario::Scenario,
+    (name, road): (&str, &roadside::site::RoadSpec),
     dir: &Path,
     feed_url: String,
     rsu: String,
@@ -108,10 +108,10 @@ fn site(
 ) -> SiteFile {
     SiteFile {
         site: SiteInfo {
-            name: format!("bench: {}", s.name),
+            name: format!("bench: {name}"),
             state_dir: dir.join("roadside-state"),
         },
-        road: s.road.clone(),
+        road: road.clone(),
         zones: Vec::new(),
         wzdx_feed: Some(FeedConfig {
             url: feed_url,
@@ -178,7 +178,7 @@ fn write_credentials(path: &Path, wrong: bool) -> Result<(), String> {
 ///
 /// The work folder, the feed documents, snmpd, or the roadside's start.
 pub fn start(
-    s: &crate::scenario::Scenario,
+    scenario: (&str, &roadside::site::RoadSpec),
     spec: &DeploymentSpec,
     road: &Road,
     to: &str,
@@ -186,6 +186,9 @@ pub fn start(
     stop: Arc<AtomicBool>,
     dir: &Path,
 ) -> Result<DeploymentThread, String> {
+    if spec.feed.is_empty() {
+        return Err("[rsu_deployment] needs at least one [[rsu_deployment.feed]] version".into());
+    }
     let _ = std::fs::remove_dir_all(dir);
     std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
     let mib = match spec.mib.as_str() {
@@ -227,7 +230,7 @@ pub fn start(
     };
     let site = site(
         spec,
-        s,
+        scenario,
         dir,
         server.url(),
         format!("127.0.0.1:{port}"),

@@ -172,7 +172,7 @@ impl CredentialsFile {
     /// [`CredentialsError::Format`] / [`CredentialsError::Entry`].
     pub fn parse(path: &Path, text: &str) -> Result<Self, CredentialsError> {
         let raw: BTreeMap<String, Entry> = toml::from_str(text)
-            .map_err(|e| CredentialsError::Format(path.to_path_buf(), strip_values(&e)))?;
+            .map_err(|e| CredentialsError::Format(path.to_path_buf(), strip_values(&e, text)))?;
         let mut entries = BTreeMap::new();
         for (name, e) in raw {
             let bad = |why| CredentialsError::Entry(path.to_path_buf(), name.clone(), why);
@@ -197,13 +197,17 @@ impl CredentialsFile {
     }
 }
 
-/// The parser's message without the source excerpt (which could quote a secret).
-fn strip_values(e: &toml::de::Error) -> String {
-    let span = e
+/// Where the file is wrong, without the parser's message (which can quote a value, and so
+/// a secret): the line, and what entries look like.
+fn strip_values(e: &toml::de::Error, text: &str) -> String {
+    let line = e
         .span()
-        .map(|s| format!(" (at byte {})", s.start))
-        .unwrap_or_default();
-    format!("{}{span}", e.message())
+        .map(|s| text[..s.start.min(text.len())].matches('\n').count() + 1)
+        .map_or(String::new(), |l| format!("line {l}: "));
+    format!(
+        "{line}not a credentials entry (tables of `version`, `user`, `auth`, `auth_password`, \
+         `privacy`, `priv_password` or `community`, each value a quoted string)"
+    )
 }
 
 fn entry(e: Entry) -> Result<Credentials, &'static str> {
@@ -308,6 +312,11 @@ community = "lab-community"
         let broken = "[a]\nversion = \"3\"\nauth_password = \"hunter2-secret\" junk\n";
         let e = CredentialsFile::parse(Path::new("c.toml"), broken).unwrap_err();
         assert!(!e.to_string().contains("hunter2"), "{e}");
+        assert!(e.to_string().contains("line 3"), "{e}");
+        // A secret of the wrong type, which the parser's own message would quote.
+        let typed = "[a]\nversion = \"3\"\nauth_password = 31415926535\n";
+        let e = CredentialsFile::parse(Path::new("c.toml"), typed).unwrap_err();
+        assert!(!e.to_string().contains("31415926535"), "{e}");
     }
 
     #[cfg(unix)]

@@ -171,10 +171,15 @@ impl Fleet {
     /// `forwarded` (or the problem's reason).
     pub fn forward(&mut self, template: &super::mib::RepeatMessage, payloads: &[Vec<u8>]) {
         let workers = self.timing.workers.max(1);
+        let now = Instant::now();
         let mut due: Vec<&mut Member> = self
             .members
             .iter_mut()
-            .filter(|m| m.spec.rules.mib == super::mib::RsuMib::Ntcip1218)
+            // An RSU in backoff is left out (its next pass finds out whether it is back).
+            .filter(|m| {
+                m.spec.rules.mib == super::mib::RsuMib::Ntcip1218
+                    && (m.failures == 0 || m.next_pass <= now)
+            })
             .collect();
         if due.is_empty() {
             return;

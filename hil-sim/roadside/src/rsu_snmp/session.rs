@@ -122,6 +122,10 @@ pub enum SnmpError {
         /// The varbind it is about.
         index: u32,
     },
+    /// The RSU's SNMP engine restarted or its clock moved (boots/time out of the window): the
+    /// request was not processed and the session took the engine's new state; sent again
+    /// once by the session itself.
+    Resync,
     /// The answer was not a well-formed SNMP response to our request.
     Malformed(String),
     /// The socket could not be opened or used.
@@ -137,6 +141,7 @@ impl fmt::Display for SnmpError {
                  protocols in the credentials file against the RSU's SNMPv3 user",
             ),
             Self::Status { status, index } => write!(f, "{status:?} (varbind {index})"),
+            Self::Resync => f.write_str("the RSU's SNMP engine restarted (not in time window)"),
             Self::Malformed(m) => write!(f, "malformed answer: {m}"),
             Self::Io(m) => write!(f, "socket: {m}"),
         }
@@ -179,8 +184,22 @@ pub trait Agent {
     fn counts(&self) -> RequestCounts;
 }
 
-/// Objects asked for per GETBULK.
+/// Objects asked for per GETBULK (halved while the agent answers tooBig).
 const BULK_REPETITIONS: u32 = 24;
+
+/// A table read stops with an error past this many objects (an agent that never ends).
+const MAX_WALK_OBJECTS: usize = 100_000;
+
+/// A request id to start a session at: different for each session, so that a late answer
+/// to an earlier session's request on a reused port is not taken as this one's.
+fn first_request_id(address: SocketAddr) -> i32 {
+    let nanos = std::time::SystemTime::now()
+        .duration_since(std::time::UNIX_EPOCH)
+        .map_or(0, |d| d.subsec_nanos());
+    let mixed = nanos ^ u32::from(address.port()).rotate_left(16);
+    // Positive, below 2^30: room to count up.
+    (mixed & 0x3fff_ffff) as i32
+}
 
 /// A real SNMP session with one RSU.
 pub struct Session {
@@ -225,13 +244,14 @@ impl Session {
         if self.inner.is_none() {
             let io = |e: std::io::Error| SnmpError::Io(e.to_string());
             let t = Some(self.timeout);
+            let id = first_request_id(self.address);
             let session = match &self.credentials {
                 Credentials::V2c { community } => {
-                    SyncSession::new_v2c(self.address, community.as_bytes(), t, 1).map_err(io)?
+                    SyncSession::new_v2c(self.address, community.as_bytes(), t, id).map_err(io)?
                 }
                 Credentials::V3 { .. } => {
                     let security = usm(&self.credentials);
-                    let mut s = SyncSession::new_v3(self.address, t, 1, security).map_err(io)?;
+                    let mut s = SyncSession::new_v3(self.address, t, id, security).map_err(io)?;
                     self.counts.reads += 1;
                     s.init().map_err(map_error)?;
                     s
@@ -253,7 +273,10 @@ impl Session {
         // A SET whose answer was lost may have been done: it is not sent again blindly (the
         // next poll reads the table and decides).
         let tries = if write { 0 } else { self.retries };
-        for _ in 0..=tries {
+        let mut resynced = false;
+        let mut attempt = 0;
+        while attempt <= tries {
+            attempt += 1;
             let session = match self.open() {
                 Ok(s) => s,
                 Err(e @ (SnmpError::Timeout | SnmpError::Malformed(_))) => {
@@ -278,8 +301,15 @@ impl Session {
                     self.inner = None;
                     last = e;
                 }
+                Err(SnmpError::Resync) if !resynced => {
+                    // Not processed: the session took the engine's new boots/time; once more,
+                    // reads and writes alike, not counted as a retry.
+                    resynced = true;
+                    attempt -= 1;
+                    last = SnmpError::Resync;
+                }
                 Err(SnmpError::AuthRefused) => {
-                    // The engine may have restarted (boots, time): rediscover once.
+                    // The engine may have restarted with a new identity: rediscover.
                     self.inner = None;
                     last = SnmpError::AuthRefused;
                 }
@@ -336,7 +366,8 @@ fn map_error(e: snmp2::Error) -> SnmpError {
     match e {
         E::Receive => SnmpError::Timeout,
         E::Send => SnmpError::Io("send failed".into()),
-        E::AuthFailure(_) | E::AuthUpdated => SnmpError::AuthRefused,
+        E::AuthUpdated => SnmpError::Resync,
+        E::AuthFailure(_) => SnmpError::AuthRefused,
         other => SnmpError::Malformed(other.to_string()),
     }
 }
@@ -384,12 +415,28 @@ impl Agent for Session {
     fn walk(&mut self, root: &[u64]) -> Result<Vec<(Arcs, SnmpValue)>, SnmpError> {
         let mut out: Vec<(Arcs, SnmpValue)> = Vec::new();
         let mut from = root.to_vec();
+        let mut repetitions = BULK_REPETITIONS;
         loop {
             let oid = to_oid(&from)?;
             let batch = self.with_retries(false, |s| {
-                let pdu = s.getbulk(&[&oid], 0, BULK_REPETITIONS);
+                let pdu = s.getbulk(&[&oid], 0, repetitions);
                 varbinds(&pdu.map_err(map_error)?)
-            })?;
+            });
+            let batch = match batch {
+                Err(SnmpError::Status {
+                    status: ErrorStatus::TooBig,
+                    ..
+                }) if repetitions > 1 => {
+                    repetitions /= 2;
+                    continue;
+                }
+                other => other?,
+            };
+            if out.len() + batch.len() > MAX_WALK_OBJECTS {
+                return Err(SnmpError::Malformed(format!(
+                    "more than {MAX_WALK_OBJECTS} objects under {root:?}"
+                )));
+            }
             if batch.is_empty() {
                 return Ok(out);
             }

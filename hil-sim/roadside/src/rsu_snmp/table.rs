@@ -74,6 +74,9 @@ impl RsuProblem {
             SnmpError::AuthRefused => Self::AuthRefused,
             SnmpError::Malformed(m) => Self::Malformed(format!("{what}: {m}")),
             SnmpError::Io(m) => Self::Io(m),
+            SnmpError::Resync => Self::Refused(format!(
+                "{what}: the RSU's SNMP engine restarted twice during the request"
+            )),
             SnmpError::Status { status, index } => {
                 let at = format!("{what}: {status:?} at varbind {index}");
                 match status {
@@ -316,6 +319,10 @@ pub fn reconcile(
                 SnmpValue::Integer(row_status::CREATE_AND_GO),
             ),
         );
+        // Ours from before the SET: a SET whose answer was lost, or that the RSU applied in
+        // part, may have left our row there (a row someone else wrote at that index has
+        // another payload, so it never counts as ours).
+        owned.insert(*index, digest_of(want, mib));
         agent.set(&values).map_err(|e| match e {
             SnmpError::Status {
                 status: ErrorStatus::GenErr,
@@ -323,7 +330,6 @@ pub fn reconcile(
             } => RsuProblem::IndexInUse(*index),
             e => RsuProblem::of(e, &format!("creating row {index} ({})", want.label), mib),
         })?;
-        owned.insert(*index, digest_of(want, mib));
         report.created += 1;
     }
     if let Some(w) = plan.no_room.first() {
@@ -351,19 +357,21 @@ fn digest_of(w: &WantedRow, mib: RsuMib) -> [u8; 32] {
 }
 
 /// Sends `payloads` once each through the RSU's NTCIP 1218 immediate-forward table: the
-/// roadside's row (`slot`, created at a free index with `enable` 0 the first time, as
-/// V2X-Hub does) gets each payload written with `enable` 1, one SET per transmission.
+/// roadside's row (`slot`; found again by its PSID, channel and options, or created at a
+/// free index with `enable` 0, as V2X-Hub does) gets each payload written with `enable` 1,
+/// one SET per transmission.
 ///
 /// # Errors
 ///
-/// The first [`RsuProblem`]; `slot` is forgotten when its row has gone (an RSU restart).
+/// The first [`RsuProblem`]; `slot` is forgotten only when the RSU says the row is not
+/// there (it restarted), not on a timeout.
 pub fn forward(
     agent: &mut dyn Agent,
     template: &super::mib::RepeatMessage,
     payloads: &[Vec<u8>],
     slot: &mut Option<u32>,
 ) -> Result<u32, RsuProblem> {
-    use super::mib::{ifm_entry, ifm_max_rows, ifm_row, IFM_STATUS_COLUMN};
+    use super::mib::ifm_entry;
     let mib = RsuMib::Ntcip1218;
     let entry = ifm_entry();
     let oid = |column: u32, index: u32| {
@@ -374,45 +382,9 @@ pub fn forward(
     let index = match *slot {
         Some(i) => i,
         None => {
-            let max = match agent
-                .get(&[ifm_max_rows()])
-                .map_err(|e| RsuProblem::of(e, "reading maxRsuIFMs", mib))?
-                .first()
-            {
-                Some(SnmpValue::Integer(n)) => u32::try_from(*n).unwrap_or(0),
-                _ => return Err(RsuProblem::MibMismatch("no maxRsuIFMs".into())),
-            };
-            let used: Vec<u32> = agent
-                .walk(&entry)
-                .map_err(|e| RsuProblem::of(e, "reading the immediate-forward table", mib))?
-                .into_iter()
-                .filter_map(|(a, _)| a.last().and_then(|i| u32::try_from(*i).ok()))
-                .collect();
-            let free = (1..=max).find(|i| !used.contains(i)).ok_or_else(|| {
-                RsuProblem::TableFull(format!("no free immediate-forward row of {max}"))
-            })?;
-            let row = ifm_row(template);
-            let mut values: Vec<_> = row
-                .columns
-                .iter()
-                .map(|(c, v, _)| {
-                    let v = if *c == 4 {
-                        SnmpValue::Integer(0)
-                    } else {
-                        v.clone()
-                    };
-                    (oid(*c, free), v)
-                })
-                .collect();
-            values.push((
-                oid(IFM_STATUS_COLUMN, free),
-                SnmpValue::Integer(row_status::CREATE_AND_GO),
-            ));
-            agent.set(&values).map_err(|e| {
-                RsuProblem::of(e, &format!("creating immediate-forward row {free}"), mib)
-            })?;
-            *slot = Some(free);
-            free
+            let i = ifm_slot(agent, template)?;
+            *slot = Some(i);
+            i
         }
     };
     let mut sent = 0;
@@ -422,7 +394,20 @@ pub fn forward(
             (oid(4, index), SnmpValue::Integer(1)),
         ];
         if let Err(e) = agent.set(&values) {
-            *slot = None;
+            let gone = matches!(
+                e,
+                SnmpError::Status {
+                    status: ErrorStatus::NoCreation
+                        | ErrorStatus::InconsistentName
+                        | ErrorStatus::NoSuchName
+                        | ErrorStatus::NotWritable
+                        | ErrorStatus::InconsistentValue,
+                    ..
+                }
+            );
+            if gone {
+                *slot = None;
+            }
             return Err(RsuProblem::of(
                 e,
                 &format!("forwarding through row {index}"),
@@ -432,6 +417,83 @@ pub fn forward(
         sent += 1;
     }
     Ok(sent)
+}
+
+/// The roadside's immediate-forward row: an active row with the template's PSID, channel
+/// and options (one the roadside made before it restarted), else a new one at the lowest
+/// free index.
+fn ifm_slot(
+    agent: &mut dyn Agent,
+    template: &super::mib::RepeatMessage,
+) -> Result<u32, RsuProblem> {
+    use super::mib::{ifm_entry, ifm_max_rows, ifm_row, IFM_STATUS_COLUMN};
+    let mib = RsuMib::Ntcip1218;
+    let entry = ifm_entry();
+    let max = match agent
+        .get(&[ifm_max_rows()])
+        .map_err(|e| RsuProblem::of(e, "reading maxRsuIFMs", mib))?
+        .first()
+    {
+        Some(SnmpValue::Integer(n)) => u32::try_from(*n).unwrap_or(0),
+        Some(SnmpValue::Unsigned(n)) => *n,
+        _ => {
+            return Err(RsuProblem::MibMismatch(
+                "no maxRsuIFMs (is this RSU ntcip1218?)".into(),
+            ))
+        }
+    };
+    let mut rows = Rows::new();
+    for (arcs, value) in agent
+        .walk(&entry)
+        .map_err(|e| RsuProblem::of(e, "reading the immediate-forward table", mib))?
+    {
+        if let [column, index] = arcs[entry.len()..] {
+            if let (Ok(c), Ok(i)) = (u32::try_from(column), u32::try_from(index)) {
+                rows.entry(i).or_default().insert(c, value);
+            }
+        }
+    }
+    let row = ifm_row(template);
+    // PSID, channel, priority and options say it is the roadside's kind of row.
+    let same = |cols: &Columns| {
+        cols.get(&IFM_STATUS_COLUMN) == Some(&SnmpValue::Integer(super::reconcile::ROW_ACTIVE))
+            && row
+                .columns
+                .iter()
+                .filter(|(c, _, _)| matches!(c, 2 | 3 | 6 | 7))
+                .all(|(c, v, _)| cols.get(c) == Some(v))
+    };
+    if let Some((index, _)) = rows.iter().find(|(_, cols)| same(cols)) {
+        return Ok(*index);
+    }
+    let free = (1..=max)
+        .find(|i| !rows.contains_key(i))
+        .ok_or_else(|| RsuProblem::TableFull(format!("no free immediate-forward row of {max}")))?;
+    let oid = |column: u32| {
+        let mut a = entry.clone();
+        a.extend([u64::from(column), u64::from(free)]);
+        a
+    };
+    let mut values: Vec<_> = row
+        .columns
+        .iter()
+        .map(|(c, v, _)| {
+            let v = if *c == 4 {
+                SnmpValue::Integer(0)
+            } else {
+                v.clone()
+            };
+            (oid(*c), v)
+        })
+        .collect();
+    values.push((
+        oid(IFM_STATUS_COLUMN),
+        SnmpValue::Integer(row_status::CREATE_AND_GO),
+    ));
+    agent
+        .set(&values)
+        .map_err(|e| RsuProblem::of(e, &format!("creating immediate-forward row {free}"), mib))?;
+    Ok(free)
 }
 
 #[cfg(test)]

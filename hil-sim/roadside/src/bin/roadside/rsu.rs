@@ -98,17 +98,22 @@ fn probe_all(c: &Ctx) -> Result<bool, String> {
                 for (mib, version) in &speaks {
                     let [fw, id] = mib.identity();
                     let got = session.get(&[fw, id]).unwrap_or_default();
+                    // Text from the RSU, shown escaped (no control characters reach the
+                    // terminal).
                     let text = |v: Option<&SnmpValue>| match v {
-                        Some(SnmpValue::Octets(o)) => String::from_utf8_lossy(o).into_owned(),
+                        Some(SnmpValue::Octets(o)) => {
+                            String::from_utf8_lossy(o).escape_debug().to_string()
+                        }
                         _ => "-".into(),
                     };
                     let matches = *mib == s.rules.mib;
                     ok &= matches || speaks.iter().any(|(m, _)| *m == s.rules.mib);
                     println!(
-                        "{}  {}  speaks {} ({version}); firmware {}; id {}{}",
+                        "{}  {}  speaks {} ({}); firmware {}; id {}{}",
                         s.name,
                         s.address,
                         mib.name(),
+                        version.escape_debug(),
                         text(got.first()),
                         text(got.get(1)),
                         if matches {
