@@ -45,6 +45,20 @@ impl Utc {
         Self::from_unix_ms(unix_ms_now())
     }
 
+    /// RFC 3339 to the whole second, UTC: `2026-12-04T14:03:20Z` (WZDx dates, logs).
+    pub fn rfc3339_seconds(&self) -> String {
+        let s = self.ms_of_day / 1000;
+        format!(
+            "{:04}-{:02}-{:02}T{:02}:{:02}:{:02}Z",
+            self.year,
+            self.month,
+            self.day,
+            s / 3600,
+            s / 60 % 60,
+            s % 60
+        )
+    }
+
     /// J2735 `MinuteOfTheYear`: minutes since 1 January 00:00 of the year.
     pub fn minute_of_year(&self) -> u32 {
         self.day_of_year as u32 * 1440 + self.ms_of_day / 60_000
@@ -91,6 +105,15 @@ pub fn civil_from_days(days: i64) -> (i64, u8, u8) {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn rfc3339_to_the_second() {
+        // `date -u -d @1763784961.5 +%FT%TZ`
+        assert_eq!(
+            Utc::from_unix_ms(1_763_784_961_500).rfc3339_seconds(),
+            "2025-11-22T04:16:01Z"
+        );
+    }
 
     #[test]
     fn known_dates() {

@@ -40,17 +40,7 @@ pub struct FeedVersion {
 
 /// RFC 3339 of Unix ms (whole seconds, UTC).
 fn rfc3339(unix_ms: u64) -> String {
-    let t = Utc::from_unix_ms(unix_ms);
-    let s = t.ms_of_day / 1000;
-    format!(
-        "{:04}-{:02}-{:02}T{:02}:{:02}:{:02}Z",
-        t.year,
-        t.month,
-        t.day,
-        s / 3600,
-        s / 60 % 60,
-        s % 60
-    )
+    Utc::from_unix_ms(unix_ms).rfc3339_seconds()
 }
 
 /// The WZDx document of `v` on `road`: one work-zone event along the forward lanes from

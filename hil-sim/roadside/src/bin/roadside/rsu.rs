@@ -196,17 +196,7 @@ fn when(unix_ms: u64) -> String {
     if unix_ms == 0 {
         return "-".into();
     }
-    let t = Utc::from_unix_ms(unix_ms);
-    let s = t.ms_of_day / 1000;
-    format!(
-        "{:04}-{:02}-{:02}T{:02}:{:02}:{:02}Z",
-        t.year,
-        t.month,
-        t.day,
-        s / 3600,
-        s / 60 % 60,
-        s % 60
-    )
+    Utc::from_unix_ms(unix_ms).rfc3339_seconds()
 }
 
 fn print_rows(s: &RsuSpec, rows: &BTreeMap<u32, Columns>, owned: Option<&Owned>) {
