@@ -299,14 +299,14 @@ fn the_service_deposits_a_site_the_rsu_signs_and_a_reload_replaces_what_changed(
     let path = dir.join("site.toml");
     std::fs::write(&path, site(10)).unwrap();
     let mut log = Vec::new();
-    let mut r = Roadside::start(&path, Instant::now(), roadside::clock::unix_ms_now()).unwrap();
-    r.tick(
-        Instant::now(),
-        roadside::clock::unix_ms_now(),
-        true,
-        &mut log,
-    )
-    .unwrap();
+    let now = || (Instant::now(), roadside::clock::unix_ms_now());
+    let (t, ms) = now();
+    let mut r = Roadside::start(&path, t, ms).unwrap();
+    let pass = |r: &mut Roadside, log: &mut Vec<u8>| {
+        let (t, ms) = now();
+        r.tick(t, ms, true, log).unwrap();
+    };
+    pass(&mut r, &mut log);
     assert!(r.all_converged(), "{}", String::from_utf8_lossy(&log));
     // The RSU signs (options 0x80) with its certificate: IEEE 1609.2 on the air.
     let got = received(&listener, 500);
@@ -315,17 +315,11 @@ fn the_service_deposits_a_site_the_rsu_signs_and_a_reload_replaces_what_changed(
         .iter()
         .all(|p| j2735::envelope::ieee1609dot2::looks_like_ieee1609dot2(p)));
 
-    // The site changes (a lower limit): a reload replaces the TIM and the MAP that carries it.
+    // The site changes (another limit): a reload replaces the TIM and the MAP that carries it.
     std::fs::write(&path, site(20)).unwrap();
-    r.reload(Instant::now(), roadside::clock::unix_ms_now())
-        .unwrap();
-    r.tick(
-        Instant::now(),
-        roadside::clock::unix_ms_now(),
-        true,
-        &mut log,
-    )
-    .unwrap();
+    let (t, ms) = now();
+    r.reload(t, ms).unwrap();
+    pass(&mut r, &mut log);
     let status = read_status(&dir.join("state")).unwrap();
     let counts = &status.rsus[0].counts;
     assert_eq!(
@@ -335,17 +329,10 @@ fn the_service_deposits_a_site_the_rsu_signs_and_a_reload_replaces_what_changed(
     );
     // A broken site file is refused and the running one kept.
     std::fs::write(&path, "[site]\nname = 1\n").unwrap();
-    assert!(r
-        .reload(Instant::now(), roadside::clock::unix_ms_now())
-        .is_err());
-    r.tick(
-        Instant::now(),
-        roadside::clock::unix_ms_now(),
-        true,
-        &mut log,
-    )
-    .unwrap();
-    assert!(r.all_converged());
+    let (t, ms) = now();
+    assert!(r.reload(t, ms).is_err());
+    pass(&mut r, &mut log);
+    assert!(r.all_converged(), "{}", String::from_utf8_lossy(&log));
     drop(r);
     drop(rsu);
     let _ = std::fs::remove_dir_all(&dir);

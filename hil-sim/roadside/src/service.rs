@@ -81,7 +81,7 @@ pub struct FeedStatus {
 pub struct ServiceStatus {
     /// The site's name.
     pub site: String,
-    /// Messages on the air (MAP + TIMs), and cancels being sent.
+    /// Messages on the air (MAP + TIMs).
     pub messages: usize,
     /// Cancels being sent.
     pub cancels: usize,
@@ -449,6 +449,7 @@ impl Roadside {
             .as_ref()
             .map(|s| s.deposit)
             .unwrap_or_default();
+        // Channel, interval and priority are each RSU's (`Deployment::wanted_for`).
         let settings = DepositSettings {
             channel: 183,
             interval_ms: 100,
@@ -536,7 +537,7 @@ impl Roadside {
         };
         let mut air = Broadcaster::new(b.to.clone(), Wrapping::Raw).map_err(|e| e.to_string())?;
         air.set_rate_hz(b.rate_hz).map_err(|e| e.to_string())?;
-        air.set_signer(signer_of(&self.site)?.map(Arc::new));
+        air.set_signer(self.signer.clone().map(Arc::new));
         let slot = air.message_slot();
         let halt = Arc::new(AtomicBool::new(false));
         let flag = Arc::clone(&halt);

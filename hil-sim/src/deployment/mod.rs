@@ -247,16 +247,12 @@ pub fn start(
             up_s.push(0.0);
         }
         let mut restarted = false;
-        let mut pending: Option<TestRsu> = None;
         while !stop.load(Ordering::Relaxed) {
             let t = t0.elapsed().as_secs_f64();
-            if rsu.is_none() && pending.is_none() && t >= spec.up_at_s {
+            if rsu.is_none() && t >= spec.up_at_s {
                 let _ = writeln!(log, "bench: the RSU comes up at {t:.1} s");
-                pending = Some(TestRsu::start(config.clone())?);
+                rsu = Some(TestRsu::start(config.clone())?);
                 up_s.push(t);
-            }
-            if let Some(r) = pending.take() {
-                rsu = Some(r);
             }
             if let (Some(at), Some(r), false) = (spec.restart_at_s, rsu.as_mut(), restarted) {
                 if t >= at {
