@@ -17,6 +17,7 @@ use roadside::road_users::class::Extent;
 use roadside::road_users::detections::parse_coco;
 use roadside::road_users::edgelets::EdgeletSettings;
 use roadside::road_users::localize::{Localized, Localizer};
+use roadside::road_users::polygon::near_or_overlapping;
 use roadside::road_users::tracker::{Observation, RoadUserTracker, TrackerSettings};
 use roadside::road_users::vanishing::{angle_between, RansacSettings};
 use roadside::road_users::RoadUserClass;
@@ -129,11 +130,24 @@ fn clear_road_users_get_their_box_and_position() {
             let truth = &users[found[b.index].0];
             let e = (b.position[0] - truth.centre[0]).hypot(b.position[1] - truth.centre[1]);
             assert!(
+                e < 3.0 * b.sigma_m,
+                "{e:.3} m off, sigma {:.3}: {truth:?} {:?}",
+                b.sigma_m,
+                b.road_user
+            );
+            // Partly hidden road users are localized from what is seen, with a larger error.
+            let hidden = sil.iter().enumerate().any(|(j, o)| {
+                j != b.index && near_or_overlapping(&sil[b.index].hull, &o.hull, 2.0)
+            });
+            seen += 1;
+            if hidden {
+                continue;
+            }
+            assert!(
                 e < 0.15,
                 "{truth:?} placed at {:?}, {e:.3} m off",
                 b.position
             );
-            assert!(e < 3.0 * b.sigma_m, "{e:.3} m off, sigma {:.3}", b.sigma_m);
             let t = truth.extent;
             let r = b.road_user;
             for (got, want) in [
@@ -161,10 +175,9 @@ fn clear_road_users_get_their_box_and_position() {
                     "{truth:?}: vertex {v:?} is {d:.2} px from a corner"
                 );
             }
-            seen += 1;
         }
     }
-    assert!(seen * 2 > placed, "{seen} of {placed} localized");
+    assert!(seen * 10 >= placed * 9, "{seen} of {placed} localized");
 }
 
 #[test]
@@ -194,10 +207,17 @@ fn a_hidden_or_cut_or_mislabelled_mask_is_refused_with_its_reason() {
         sil[1].area_px < 0.9 * alone[0].1.area_px,
         "the truck hides part of the worker"
     );
+    // Both are localized: the worker from what the truck leaves seen, within its error.
     let (boxes, rejected) = loc.frame(&sil);
-    assert_eq!(boxes.len(), 1, "{boxes:?} {rejected:?}");
-    assert_eq!(sil[boxes[0].index].class, RoadUserClass::Truck);
-    assert_eq!(rejected.occluded, 1);
+    assert_eq!(boxes.len(), 2, "{boxes:?} {rejected:?}");
+    for b in &boxes {
+        let truth = users[b.index];
+        let e = (b.position[0] - truth.centre[0]).hypot(b.position[1] - truth.centre[1]);
+        assert!(
+            e < 0.15 && e < 3.0 * b.sigma_m,
+            "{truth:?}: {e:.3} m, {b:?}"
+        );
+    }
     // A bus's mask labelled as a person is not a person.
     let bus = [user(0, RoadUserClass::Bus, [5.25, 30.0])];
     let lab = labels(&s.cam, &bus, 0.0, &mut rng);
@@ -209,12 +229,22 @@ fn a_hidden_or_cut_or_mislabelled_mask_is_refused_with_its_reason() {
     let (boxes, rejected) = loc.frame(&sil);
     assert!(boxes.is_empty());
     assert_eq!(rejected.implausible, 1);
-    // A mask cut by the frame's border.
-    sil[0].touches_border = true;
-    assert_eq!(loc.frame(&sil).1.truncated, 1);
+    // A truck cut by the frame's left border: localized from what is seen, within its error,
+    // or refused as truncated when too little is.
+    let cut = [user(0, RoadUserClass::Truck, [-6.0, 24.0])];
+    let found = masks(&labels(&s.cam, &cut, 0.0, &mut rng), size, &cut, &[]);
+    assert!(found[0].1.touches_border, "the truck is cut");
+    let one: Vec<_> = found.into_iter().map(|(_, m)| m).collect();
+    let (boxes, rejected) = loc.frame(&one);
+    match boxes.first() {
+        Some(b) => {
+            let e = (b.position[0] + 6.0).hypot(b.position[1] - 24.0);
+            assert!(e < 3.0 * b.sigma_m, "{e:.3} m off, {b:?}");
+        }
+        None => assert_eq!(rejected.truncated, 1, "{rejected:?}"),
+    }
     // Fewer than three hull points.
     sil[0].hull.truncate(2);
-    sil[0].touches_border = false;
     assert_eq!(loc.frame(&sil).1.degenerate, 1);
     let one = roadside::road_users::boxes::construct(
         RoadUserClass::Car,

@@ -123,6 +123,16 @@ impl PinholeCamera {
         }
     }
 
+    /// The camera turned by `roll_deg` about its optical axis (clockwise as seen from
+    /// behind it): a pole mount that is not level.
+    pub fn with_roll(mut self, roll_deg: f64) -> Self {
+        let (s, c) = roll_deg.to_radians().sin_cos();
+        let (r, d) = (self.right, self.down);
+        self.right = [0, 1, 2].map(|i| c * r[i] + s * d[i]);
+        self.down = [0, 1, 2].map(|i| -s * r[i] + c * d[i]);
+        self
+    }
+
     /// The optical centre, east/north/up metres.
     pub fn centre(&self) -> [f64; 3] {
         self.centre

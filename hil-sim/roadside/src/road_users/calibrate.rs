@@ -238,6 +238,18 @@ impl GroundCamera {
         pixel(g)
     }
 
+    /// The point at height `z_m` (metres above the road) seen at pixel `px`, as (east,
+    /// north); `None` when the pixel's ray does not meet that plane in front of the camera.
+    pub fn to_plane(&self, px: [f64; 2], z_m: f64) -> Option<[f64; 2]> {
+        let p = &self.projection;
+        let m = [0, 1, 2].map(|r| [p[r][0], p[r][1], z_m * p[r][2] + p[r][3]]);
+        let g = apply(&inverse(&m)?, point(px));
+        // In front of the camera: the plane point maps back with w > 0.
+        let q = pixel(g)?;
+        let w: f64 = (0..3).map(|k| m[2][k] * [q[0], q[1], 1.0][k]).sum();
+        (w > 0.0).then_some(q)
+    }
+
     /// The road line of an image line.
     pub fn line_to_ground(&self, line: H3) -> H3 {
         apply(&homog::transpose(&self.to_image), line)

@@ -30,6 +30,15 @@ pub struct Extent {
     pub height_m: f64,
 }
 
+/// What a class's size is before a road user of it is seen: mean and 1-sigma per side.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SizePrior {
+    /// Mean length, width and height, metres.
+    pub mean: Extent,
+    /// 1-sigma spread of each, metres.
+    pub sigma: Extent,
+}
+
 impl RoadUserClass {
     /// Every class, in order.
     pub const ALL: [Self; 7] = [
@@ -77,22 +86,35 @@ impl RoadUserClass {
         matches!(self, Self::Pedestrian)
     }
 
-    /// A typical box of the class (the renderer's mean size).
-    pub fn typical(self) -> Extent {
-        let (length_m, width_m, height_m) = match self {
-            Self::Car => (4.5, 1.8, 1.5),
-            Self::Van => (5.2, 2.0, 2.2),
-            Self::Bus => (12.0, 2.55, 3.2),
-            Self::Truck => (9.0, 2.5, 3.5),
-            Self::Pedestrian => (0.35, 0.55, 1.75),
-            Self::Cyclist => (1.8, 0.6, 1.7),
-            Self::Motorcycle => (2.1, 0.8, 1.5),
+    /// The class's size on the road as a prior: the mean and the 1-sigma spread of each
+    /// side, from the fleets and people on roads (not from any one scene): cars 4.6 m long
+    /// (superminis 3.8 m to large saloons 5.2 m), city and coach buses 10-14 m, rigid trucks
+    /// 6-11 m, adults 0.45 m across the shoulders and 1.72 m tall. A measured side is fused
+    /// with it by inverse variance, so the prior decides only what the view cannot measure.
+    pub fn size_prior(self) -> SizePrior {
+        let (mean, sigma) = match self {
+            Self::Car => ((4.6, 1.82, 1.5), (0.4, 0.1, 0.12)),
+            Self::Van => ((5.3, 2.0, 2.2), (0.5, 0.1, 0.3)),
+            Self::Bus => ((12.0, 2.55, 3.2), (1.2, 0.06, 0.2)),
+            Self::Truck => ((8.5, 2.5, 3.4), (1.8, 0.08, 0.4)),
+            Self::Pedestrian => ((0.45, 0.45, 1.72), (0.1, 0.1, 0.1)),
+            Self::Cyclist => ((1.75, 0.6, 1.7), (0.15, 0.1, 0.1)),
+            Self::Motorcycle => ((2.1, 0.8, 1.4), (0.2, 0.1, 0.1)),
         };
-        Extent {
+        let extent = |(length_m, width_m, height_m)| Extent {
             length_m,
             width_m,
             height_m,
+        };
+        SizePrior {
+            mean: extent(mean),
+            sigma: extent(sigma),
         }
+    }
+
+    /// The class's mean size ([`RoadUserClass::size_prior`]).
+    pub fn typical(self) -> Extent {
+        self.size_prior().mean
     }
 
     /// The largest plausible box of the class: a constructed box beyond it is a wrong

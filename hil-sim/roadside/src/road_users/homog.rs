@@ -64,6 +64,14 @@ pub fn apply(m: &[[f64; 3]; 3], v: H3) -> H3 {
     m.map(|row| dot(row, v))
 }
 
+/// The unit direction `m` maps a vanishing point `v` to (a point at infinity of the
+/// plane, sign arbitrary); `None` when it comes out degenerate.
+pub fn apply_direction(m: &[[f64; 3]; 3], v: H3) -> Option<[f64; 2]> {
+    let d = apply(m, v);
+    let n = d[0].hypot(d[1]);
+    (n.is_finite() && n > 0.0).then(|| [d[0] / n, d[1] / n])
+}
+
 /// The transpose of a 3x3 matrix.
 pub fn transpose(m: &[[f64; 3]; 3]) -> [[f64; 3]; 3] {
     [0, 1, 2].map(|r| [m[0][r], m[1][r], m[2][r]])

@@ -1,33 +1,32 @@
 //! One camera's road users in a frame: each detection's box and position, or the reason it
 //! has none.
 //!
-//! A detection is refused when its mask is cut by the image border, or touches the mask of a
-//! road user standing nearer the camera (a cut mask gives a wrong box).
-//!
-//! **Position.** The paper takes the centre of the constructed footprint. Its length comes
-//! from where a vertical tangent meets the near long bottom edge: seen along the road from a
-//! pole beside it, that ray runs almost parallel to the edge, and one pixel moves the far
-//! corner by tens of centimetres at 40 m (a pedestrian's 0.35 m "length" came out 0.16-0.86
-//! m). So the length and width are each fused with the class's typical size by inverse
-//! variance (the measurement's variance from how far the corner moves for one pixel, the
-//! prior's from [`PRIOR_SHARE`] of the typical size), and the position is B1 plus half of each
-//! along its edge: a bus keeps its measured length, a pedestrian's comes mostly from the
-//! prior. Each position carries its 1-sigma error.
+//! Each detection's box is fitted to its mask ([`super::fit`]): the position, length, width
+//! and height whose projected box matches the mask's outline, the class's size prior
+//! deciding only what the view does not measure (the length of a vehicle seen end-on, the
+//! depth of a pedestrian walking along the line of sight). Masks it touches and the image
+//! border may hide part of it: the fit ignores box corners there, so a partly hidden road
+//! user is localized from what is seen, with the larger error that leaves. Each position
+//! carries its 1-sigma error from the fit's covariance.
 
-use super::boxes::{construct, BoxRejection, RoadUserBox};
+use super::boxes::{BoxRejection, RoadUserBox, MIN_IOU};
 use super::calibrate::{GroundCamera, GroundCameraFault, SceneCalibration, VanishingPoints};
 use super::detections::Silhouette;
-use super::polygon::{in_front, near_or_overlapping};
+use super::fit::{fit, BoxFit, FitFailure, FitInput};
+use super::homog::apply_direction;
+use super::polygon::{convex_hull, iou, near_or_overlapping};
 use super::tracker::Observation;
 
 /// Masks nearer than this (pixels) count as touching.
 const TOUCH_PX: f64 = 2.0;
-/// Mask noise assumed for the position error, pixels.
-const MASK_SIGMA_PX: f64 = 1.0;
-/// Error floor of a position, metres (the box model of a non-box road user).
-const SIGMA_FLOOR_M: f64 = 0.05;
-/// 1-sigma spread of a class's sizes, as a share of its typical size (cars run 3.6-5.2 m).
-pub const PRIOR_SHARE: f64 = 0.12;
+/// Error floor of a position, metres (the calibration's and the box model's).
+const SIGMA_FLOOR_M: f64 = 0.03;
+/// A position less certain than this (1-sigma, metres) is not reported.
+pub const MAX_SIGMA_M: f64 = 1.0;
+/// Largest root mean square distance of the mask's outline to the fitted box's, pixels.
+const MAX_RMS_PX: f64 = 3.0;
+/// Smallest side of a box, as a share of its class's mean.
+const MIN_SHARE: f64 = 0.3;
 
 /// A localized road user.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -110,6 +109,10 @@ impl Rejections {
 pub struct Localizer {
     points: VanishingPoints,
     camera: GroundCamera,
+    /// The road's direction on the road (unit, east/north).
+    axis: [f64; 2],
+    /// `[width, height]` of the camera's image, pixels.
+    image_size: [f64; 2],
 }
 
 impl Localizer {
@@ -120,9 +123,13 @@ impl Localizer {
         to_ground: [[f64; 3]; 3],
     ) -> Result<Self, GroundCameraFault> {
         let camera = GroundCamera::new(to_ground, cal.focal_px, cal.principal)?;
+        let axis =
+            apply_direction(&to_ground, cal.points.road).ok_or(GroundCameraFault::Singular)?;
         Ok(Self {
             points: cal.points,
             camera,
+            axis,
+            image_size: cal.principal.point.map(|v| 2.0 * v),
         })
     }
 
@@ -138,119 +145,173 @@ impl Localizer {
 
     /// The boxes of a frame's detections, and the rejections.
     ///
-    /// Of two touching masks, one that may stand behind the other is refused as occluded:
-    /// it is behind when a line separates their footprints with the camera on the other's
-    /// side (a mask without a box stands where its lowest point meets the road), and may be
-    /// when that is not known.
+    /// Each detection's box is fitted to its mask ([`fit`]); the masks it touches and the
+    /// image border may hide part of it, so box corners there are not checked against its
+    /// mask. A detection is refused when the fit fails, when the box is implausible for its
+    /// class, when it does not match its mask, or when so little of it is seen that its
+    /// position is not known within [`MAX_SIGMA_M`] (then as occluded or truncated).
     pub fn frame(&self, detections: &[Silhouette]) -> (Vec<Localized>, Rejections) {
-        let built: Vec<Result<RoadUserBox, BoxRejection>> =
-            detections.iter().map(|d| self.one(d)).collect();
-        // Without the camera's foot (a vertical point at infinity) no order is known: every
-        // touching mask may be hidden.
-        let foot = self.camera.foot();
-        // May detection `j` hide detection `i`? Not when a line between their footprints
-        // leaves `j` behind. A detection without a box stands where the lowest point of its
-        // mask meets the road. When that is not known, it may.
-        let ground_spot = |j: usize| {
-            let low = detections[j]
-                .hull
-                .iter()
-                .copied()
-                .max_by(|a, b| a[1].total_cmp(&b[1]))?;
-            let p = self.camera.to_ground(low)?;
-            let r = 0.05;
-            Some([
-                [p[0] - r, p[1] - r],
-                [p[0] + r, p[1] - r],
-                [p[0] + r, p[1] + r],
-                [p[0] - r, p[1] + r],
-            ])
-        };
-        let before = |j: usize, i: usize| match (&built[j], &built[i]) {
-            (Ok(a), Ok(b)) => foot
-                .and_then(|f| in_front(&a.footprint, &b.footprint, f))
-                .unwrap_or(true),
-            (Err(_), Ok(b)) => ground_spot(j)
-                .zip(foot)
-                .and_then(|(spot, f)| in_front(&b.footprint, &spot, f))
-                .is_none_or(|b_in_front| !b_in_front),
-            _ => true,
-        };
         let mut rejected = Rejections::default();
         let mut boxes = Vec::with_capacity(detections.len());
-        for (index, b) in built.iter().enumerate() {
-            let hidden = detections.iter().enumerate().any(|(j, o)| {
-                j != index
-                    && near_or_overlapping(&detections[index].hull, &o.hull, TOUCH_PX)
-                    && before(j, index)
-            });
-            match b {
-                _ if hidden => rejected.count(BoxRejection::Occluded),
-                Err(r) => rejected.count(*r),
-                Ok(b) => {
-                    let (position, sigma_m) = self.position(b);
-                    boxes.push(Localized {
-                        index,
-                        road_user: *b,
-                        position,
-                        sigma_m,
-                    });
-                }
+        for (index, d) in detections.iter().enumerate() {
+            let touching: Vec<&[[f64; 2]]> = detections
+                .iter()
+                .enumerate()
+                .filter(|(j, o)| *j != index && near_or_overlapping(&d.hull, &o.hull, TOUCH_PX))
+                .map(|(_, o)| o.hull.as_slice())
+                .collect();
+            match self.one(d, &touching) {
+                Ok((road_user, position, sigma_m)) => boxes.push(Localized {
+                    index,
+                    road_user,
+                    position,
+                    sigma_m,
+                }),
+                Err(r) => rejected.count(r),
             }
         }
         (boxes, rejected)
     }
 
-    fn one(&self, d: &Silhouette) -> Result<RoadUserBox, BoxRejection> {
-        if d.touches_border {
-            return Err(BoxRejection::Truncated);
+    /// One detection's box, position and 1-sigma error.
+    fn one(
+        &self,
+        d: &Silhouette,
+        touching: &[&[[f64; 2]]],
+    ) -> Result<(RoadUserBox, [f64; 2], f64), BoxRejection> {
+        if d.hull.len() < 3 {
+            return Err(BoxRejection::TooFewPoints);
         }
-        if d.parts > 1 {
-            return Err(BoxRejection::Occluded);
+        // A mask whose foot may be hidden is also fitted from its top: the highest point
+        // taken at the class's mean height. The better fit is kept.
+        let mut starts = vec![self.start(d, false)];
+        if !touching.is_empty() || d.touches_border {
+            starts.push(self.start(d, true));
         }
-        construct(d.class, &d.hull, &self.points, &self.camera)
+        let mut best: Result<BoxFit, BoxRejection> = Err(BoxRejection::NoIntersection);
+        for start in starts {
+            let input = FitInput {
+                class: d.class,
+                hull: &d.hull,
+                touching,
+                image_size: self.image_size,
+                axis: self.axis,
+                start: match start {
+                    Ok(s) => s,
+                    Err(e) => {
+                        best = best.or(Err(e));
+                        continue;
+                    }
+                },
+            };
+            let fitted = fit(input, &self.camera).map_err(|f| match f {
+                FitFailure::TooFewPoints => BoxRejection::TooFewPoints,
+                FitFailure::OffCamera | FitFailure::Singular => BoxRejection::NoIntersection,
+            });
+            best = match (best, fitted) {
+                (Ok(b), Ok(f)) => Ok(if f.cost < b.cost { f } else { b }),
+                (Err(_), f) => f,
+                (b, Err(_)) => b,
+            };
+        }
+        let fitted = best?;
+        let e = fitted.extent;
+        let (prior, largest) = (d.class.size_prior(), d.class.largest());
+        let plausible = |v: f64, mean: f64, hi: f64| (MIN_SHARE * mean..=hi).contains(&v);
+        if !(plausible(e.length_m, prior.mean.length_m, largest.length_m)
+            && plausible(e.width_m, prior.mean.width_m, largest.width_m)
+            && plausible(e.height_m, prior.mean.height_m, largest.height_m))
+        {
+            return Err(BoxRejection::Implausible);
+        }
+        let road_user = self.box_of(d, &fitted);
+        // The whole box covers a partly hidden mask only in part.
+        let whole = touching.is_empty() && !d.touches_border;
+        if fitted.rms_px > MAX_RMS_PX || (whole && road_user.iou < MIN_IOU) {
+            return Err(BoxRejection::Inconsistent { iou: road_user.iou });
+        }
+        let sigma_m = fitted.sigma_m().hypot(SIGMA_FLOOR_M);
+        if sigma_m > MAX_SIGMA_M || !sigma_m.is_finite() {
+            return Err(if d.touches_border {
+                BoxRejection::Truncated
+            } else {
+                BoxRejection::Occluded
+            });
+        }
+        Ok((road_user, fitted.centre, sigma_m))
     }
 
-    /// The position (B1 plus half the fused length and width) and its 1-sigma error.
-    fn position(&self, b: &RoadUserBox) -> ([f64; 2], f64) {
-        let typical = b.class.typical();
-        let [b1, b2, _, b4] = b.footprint;
-        let (length, sl) = fuse(b.length_m(), b.length_per_px_m, typical.length_m);
-        let (width, sw) = fuse(b.width_m(), b.width_per_px_m, typical.width_m);
-        let unit = |a: [f64; 2], c: [f64; 2]| {
-            let d = (c[0] - a[0]).hypot(c[1] - a[1]);
-            [(c[0] - a[0]) / d, (c[1] - a[1]) / d]
+    /// Where the fit starts: the mask's lowest point on the road taken as the footprint's
+    /// corner nearest the camera (or, `from_top`, its highest point at the class's mean
+    /// height taken as the top corner farthest from it), the centre half the class's mean
+    /// length and width beyond (or before) it.
+    fn start(&self, d: &Silhouette, from_top: bool) -> Result<[f64; 2], BoxRejection> {
+        let m = d.class.size_prior().mean;
+        let by_y = |a: &&[f64; 2], b: &&[f64; 2]| a[1].total_cmp(&b[1]);
+        let (px, z, towards) = if from_top {
+            (d.hull.iter().min_by(by_y), m.height_m, -1.0)
+        } else {
+            (d.hull.iter().max_by(by_y), 0.0, 1.0)
         };
-        let (ul, uw) = (unit(b1, b2), unit(b1, b4));
-        let position = [
-            b1[0] + (ul[0] * length + uw[0] * width) / 2.0,
-            b1[1] + (ul[1] * length + uw[1] * width) / 2.0,
-        ];
-        let near = self.pixel_size_m(b.vertices_px[0]) * MASK_SIGMA_PX;
-        let sigma =
-            (near * near + sl * sl / 4.0 + sw * sw / 4.0 + SIGMA_FLOOR_M * SIGMA_FLOOR_M).sqrt();
-        (position, sigma)
+        let px = *px.ok_or(BoxRejection::TooFewPoints)?;
+        let g = self
+            .camera
+            .to_plane(px, z)
+            .ok_or(BoxRejection::NoIntersection)?;
+        let foot = self.camera.foot().ok_or(BoxRejection::NoCameraFoot)?;
+        let [ux, uy] = self.axis;
+        let (vx, vy) = (-uy, ux);
+        let away =
+            |sx: f64, sy: f64| towards * ((g[0] - foot[0]) * sx + (g[1] - foot[1]) * sy).signum();
+        let (a, b) = (
+            away(ux, uy) * m.length_m / 2.0,
+            away(vx, vy) * m.width_m / 2.0,
+        );
+        Ok([g[0] + a * ux + b * vx, g[1] + a * uy + b * vy])
     }
 
-    /// Ground size of a pixel at `px` (the larger of its two sides), metres.
-    fn pixel_size_m(&self, px: [f64; 2]) -> f64 {
-        let step = [[px[0], px[1] + 1.0], [px[0] + 1.0, px[1]]];
-        let base = self.camera.to_ground(px);
-        step.iter()
-            .filter_map(|q| Some((base?, self.camera.to_ground(*q)?)))
-            .map(|(a, c)| (a[0] - c[0]).hypot(a[1] - c[1]))
-            .fold(0.0, f64::max)
+    /// The fitted box as a [`RoadUserBox`]: B1 the footprint corner nearest the camera's
+    /// foot, B2 along the road from it, B4 across.
+    fn box_of(&self, d: &Silhouette, f: &BoxFit) -> RoadUserBox {
+        let [ux, uy] = self.axis;
+        let (vx, vy) = (-uy, ux);
+        let (hl, hw) = (f.extent.length_m / 2.0, f.extent.width_m / 2.0);
+        let [cx, cy] = f.centre;
+        let corner = |a: f64, b: f64| {
+            [
+                cx + a * hl * ux + b * hw * vx,
+                cy + a * hl * uy + b * hw * vy,
+            ]
+        };
+        let foot = self.camera.foot().unwrap_or(f.centre);
+        let toward = |sx: f64, sy: f64| {
+            if (foot[0] - cx) * sx + (foot[1] - cy) * sy >= 0.0 {
+                1.0
+            } else {
+                -1.0
+            }
+        };
+        let (a, b) = (toward(ux, uy), toward(vx, vy));
+        let footprint = [corner(a, b), corner(-a, b), corner(-a, -b), corner(a, -b)];
+        let mut vertices_px = [[f64::NAN; 2]; 8];
+        for (i, p) in footprint.iter().enumerate() {
+            for (k, z) in [0.0, f.extent.height_m].into_iter().enumerate() {
+                if let Some(px) = self.camera.project([p[0], p[1], z]) {
+                    vertices_px[i + 4 * k] = px;
+                }
+            }
+        }
+        let outline = convex_hull(&vertices_px);
+        RoadUserBox {
+            class: d.class,
+            footprint,
+            height_m: f.extent.height_m,
+            centre: f.centre,
+            length_per_px_m: 0.0,
+            width_per_px_m: 0.0,
+            vertices_px,
+            iou: iou(&outline, &d.hull),
+            misfit_px: f.rms_px,
+        }
     }
-}
-
-/// A size measured with `per_px_m` metres of error per pixel, fused with the class's
-/// `typical` size (1-sigma [`PRIOR_SHARE`] of it): the fused size and its 1-sigma error.
-fn fuse(measured: f64, per_px_m: f64, typical: f64) -> (f64, f64) {
-    let vm = (per_px_m * MASK_SIGMA_PX).max(0.01).powi(2);
-    let vp = (PRIOR_SHARE * typical).powi(2);
-    if !vm.is_finite() {
-        return (typical, vp.sqrt());
-    }
-    let v = 1.0 / (1.0 / vm + 1.0 / vp);
-    ((measured / vm + typical / vp) * v, v.sqrt())
 }

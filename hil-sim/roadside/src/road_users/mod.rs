@@ -28,6 +28,7 @@ pub mod detections;
 pub mod draw;
 pub mod edgelets;
 pub mod files;
+pub mod fit;
 pub mod homog;
 pub mod localize;
 pub mod outline;

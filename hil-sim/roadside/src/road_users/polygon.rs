@@ -149,6 +149,26 @@ pub fn distance_to_boundary(p: [f64; 2], poly: &[[f64; 2]]) -> f64 {
         .fold(f64::INFINITY, f64::min)
 }
 
+/// Signed distance from point `p` to convex polygon `poly` (either orientation): positive
+/// outside, negative inside, zero on the boundary; infinite for fewer than three vertices.
+pub fn signed_distance_convex(p: [f64; 2], poly: &[[f64; 2]]) -> f64 {
+    if poly.len() < 3 {
+        return f64::INFINITY;
+    }
+    let sign = signed_area(poly).signum();
+    let n = poly.len();
+    let inside = (0..n).all(|i| {
+        let (a, b) = (poly[i], poly[(i + 1) % n]);
+        turn(a, b, p) * sign >= 0.0
+    });
+    let d = distance_to_boundary(p, poly);
+    if inside {
+        -d
+    } else {
+        d
+    }
+}
+
 /// The larger of the two directed distances between the vertices of each polygon and the
 /// boundary of the other (for convex polygons, their Hausdorff distance up to the edges'
 /// interiors), pixels.

@@ -1,0 +1,344 @@
+//! A road user's box fitted to what the camera sees of it: position, length, width and
+//! height that make the projected box's outline match the mask's, with the class's size
+//! prior deciding what the view does not measure.
+//!
+//! The tangent construction ([`super::boxes`]) reads the box from six lines, and needs all
+//! six: seen end-on or side-on, one far corner is hidden and the construction stops; partly
+//! hidden behind another road user or cut by the image border, its lines are wrong. The fit
+//! asks less of the view. Every vertex of the outline of a mask lies on the road user's
+//! true outline, also when the mask is partly hidden (the convex corners of "outline minus
+//! occluder" are outline corners or where the occluder's edge crosses the outline). So the
+//! fit minimises, by Levenberg-Marquardt over `[x, y, length, width, height]`:
+//! - each outline vertex's signed distance to the projected box's outline (together worth
+//!   [`OUTLINE_WEIGHT`] corners, as they sample a few noisy edges);
+//! - each projected box corner's distance to the mask's outline (a corner on the box's
+//!   outline) or outside it (a corner inside), except corners that may be hidden (inside a
+//!   touching mask or off the image);
+//! - each side's distance from the class's prior mean, in prior sigmas.
+//!
+//! The position's covariance is the inverse of the normal matrix at the solution: large
+//! when little is seen, so a partly hidden road user is reported with its real accuracy
+//! instead of being dropped.
+
+use super::calibrate::GroundCamera;
+use super::class::{Extent, RoadUserClass};
+use super::polygon::{convex_hull, signed_distance_convex};
+
+/// 1-sigma noise of a mask's outline, pixels.
+pub const OUTLINE_SIGMA_PX: f64 = 1.0;
+/// Weight of all the outline's vertices together, in box corners.
+const OUTLINE_WEIGHT: f64 = 6.0;
+/// A corner closer than this to a touching mask or the image border may be hidden, pixels.
+const HIDDEN_MARGIN_PX: f64 = 2.0;
+/// Outline vertices this close to the image border are not the road user's, pixels.
+const BORDER_PX: f64 = 1.0;
+const MAX_ITERATIONS: usize = 30;
+/// Finite-difference step, metres.
+const STEP_M: f64 = 1e-4;
+/// Smallest side, metres.
+const MIN_SIDE_M: f64 = 0.05;
+
+/// What the fit is given.
+#[derive(Debug, Clone, Copy)]
+pub struct FitInput<'a> {
+    /// The detection's class.
+    pub class: RoadUserClass,
+    /// The mask's convex hull, pixels.
+    pub hull: &'a [[f64; 2]],
+    /// Hulls of the masks touching it (any of them may hide part of it).
+    pub touching: &'a [&'a [[f64; 2]]],
+    /// Image `[width, height]`, pixels: corners beyond it are hidden.
+    pub image_size: [f64; 2],
+    /// Unit vector of the road's direction on the road (east, north): the box's length.
+    pub axis: [f64; 2],
+    /// Starting position, local metres.
+    pub start: [f64; 2],
+}
+
+/// A fitted box.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct BoxFit {
+    /// Centre of the footprint, local metres.
+    pub centre: [f64; 2],
+    /// Length, width and height, metres.
+    pub extent: Extent,
+    /// Covariance of the centre, m².
+    pub covariance: [[f64; 2]; 2],
+    /// Root mean square of the outline vertices' distances to the fitted outline, pixels.
+    pub rms_px: f64,
+    /// How many of the box's eight corners were checked against the mask (not hidden).
+    pub corners_seen: usize,
+    /// The fitted box's corners in the image: bottom four, then the top four.
+    pub vertices_px: [[f64; 2]; 8],
+    /// The sum of squared weighted residuals at the solution (outline, corners, prior).
+    pub cost: f64,
+}
+
+impl BoxFit {
+    /// 1-sigma along the centre's worst direction, metres.
+    pub fn sigma_m(&self) -> f64 {
+        let [[a, b], [_, c]] = self.covariance;
+        (0.5 * (a + c) + (0.25 * (a - c) * (a - c) + b * b).sqrt())
+            .max(0.0)
+            .sqrt()
+    }
+}
+
+/// Why no box was fitted.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum FitFailure {
+    /// The hull has fewer than three points.
+    TooFewPoints,
+    /// The box leaves the camera's field (a corner behind it) at the start.
+    OffCamera,
+    /// The normal matrix is singular (nothing is measured).
+    Singular,
+}
+
+type P5 = [f64; 5];
+
+struct Problem<'a> {
+    input: FitInput<'a>,
+    cam: &'a GroundCamera,
+    prior_mean: P5,
+    prior_sigma: P5,
+    /// The mask's outline vertices, each with whether it lies along a touching mask (where
+    /// the outline may be the other road user's edge: then it is only inside the box's).
+    outline: Vec<([f64; 2], bool)>,
+    outline_weight: f64,
+}
+
+impl<'a> Problem<'a> {
+    fn new(input: FitInput<'a>, cam: &'a GroundCamera) -> Self {
+        let prior = input.class.size_prior();
+        let side = |e: Extent| [0.0, 0.0, e.length_m, e.width_m, e.height_m];
+        let [w, h] = input.image_size;
+        let b = BORDER_PX;
+        let outline: Vec<([f64; 2], bool)> = input
+            .hull
+            .iter()
+            .copied()
+            .filter(|p| p[0] > b && p[1] > b && p[0] < w - b && p[1] < h - b)
+            .map(|p| {
+                let cut = input
+                    .touching
+                    .iter()
+                    .any(|o| signed_distance_convex(p, o) < HIDDEN_MARGIN_PX);
+                (p, cut)
+            })
+            .collect();
+        Self {
+            outline_weight: (OUTLINE_WEIGHT / outline.len().max(1) as f64).sqrt(),
+            outline,
+            input,
+            cam,
+            prior_mean: side(prior.mean),
+            prior_sigma: side(prior.sigma),
+        }
+    }
+
+    fn corners(&self, t: &P5) -> Option<[[f64; 2]; 8]> {
+        let [ux, uy] = self.input.axis;
+        let (vx, vy) = (-uy, ux);
+        let (hl, hw) = (t[2] / 2.0, t[3] / 2.0);
+        let mut out = [[0.0; 2]; 8];
+        let signs = [(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)];
+        for (k, (a, b)) in signs.iter().enumerate() {
+            let g = [
+                t[0] + a * hl * ux + b * hw * vx,
+                t[1] + a * hl * uy + b * hw * vy,
+            ];
+            out[k] = self.cam.project([g[0], g[1], 0.0])?;
+            out[k + 4] = self.cam.project([g[0], g[1], t[4]])?;
+        }
+        Some(out)
+    }
+
+    fn hidden(&self, p: [f64; 2]) -> bool {
+        let [w, h] = self.input.image_size;
+        let m = HIDDEN_MARGIN_PX;
+        p[0] < m
+            || p[1] < m
+            || p[0] > w - m
+            || p[1] > h - m
+            || self
+                .input
+                .touching
+                .iter()
+                .any(|o| signed_distance_convex(p, o) < m)
+    }
+
+    /// The weighted residuals (outline vertices, corners, prior), or `None` off camera.
+    fn residuals(&self, t: &P5, out: &mut Vec<f64>) -> Option<usize> {
+        out.clear();
+        let px = self.corners(t)?;
+        let outline = convex_hull(&px);
+        let w = self.outline_weight / OUTLINE_SIGMA_PX;
+        out.extend(self.outline.iter().map(|(o, cut)| {
+            let d = signed_distance_convex(*o, &outline);
+            w * if *cut { d.max(0.0) } else { d }
+        }));
+        let mut seen = 0;
+        for p in px {
+            if self.hidden(p) {
+                out.push(0.0);
+                continue;
+            }
+            seen += 1;
+            // A corner on the box's outline lies on the mask's; one inside it only inside.
+            let d = signed_distance_convex(p, self.input.hull);
+            let on_outline = outline.contains(&p);
+            out.push(if on_outline { d } else { d.max(0.0) } / OUTLINE_SIGMA_PX);
+        }
+        for k in 2..5 {
+            out.push((t[k] - self.prior_mean[k]) / self.prior_sigma[k]);
+        }
+        Some(seen)
+    }
+}
+
+fn norm2(r: &[f64]) -> f64 {
+    r.iter().map(|v| v * v).sum()
+}
+
+/// Solves `a x = b` (5x5, Gaussian elimination with partial pivoting).
+fn solve(mut a: [P5; 5], mut b: P5) -> Option<P5> {
+    for c in 0..5 {
+        let p = (c..5).max_by(|&i, &j| a[i][c].abs().total_cmp(&a[j][c].abs()))?;
+        if a[p][c].abs() < 1e-12 {
+            return None;
+        }
+        a.swap(c, p);
+        b.swap(c, p);
+        for r in c + 1..5 {
+            let f = a[r][c] / a[c][c];
+            for k in c..5 {
+                a[r][k] -= f * a[c][k];
+            }
+            b[r] -= f * b[c];
+        }
+    }
+    let mut x = [0.0; 5];
+    for c in (0..5).rev() {
+        let s: f64 = (c + 1..5).map(|k| a[c][k] * x[k]).sum();
+        x[c] = (b[c] - s) / a[c][c];
+    }
+    x.iter().all(|v| v.is_finite()).then_some(x)
+}
+
+/// The normal matrix `J'J` and gradient `J'r` at `t` (forward differences).
+fn normal_equations(p: &Problem<'_>, t: &P5, r: &[f64]) -> ([P5; 5], P5) {
+    let mut cols: Vec<Vec<f64>> = Vec::with_capacity(5);
+    let mut moved = Vec::with_capacity(r.len());
+    for k in 0..5 {
+        let mut tk = *t;
+        tk[k] += STEP_M;
+        let col = match p.residuals(&tk, &mut moved) {
+            Some(_) => moved.iter().zip(r).map(|(a, b)| (a - b) / STEP_M).collect(),
+            None => vec![0.0; r.len()],
+        };
+        cols.push(col);
+    }
+    let dot = |a: &[f64], b: &[f64]| a.iter().zip(b).map(|(x, y)| x * y).sum::<f64>();
+    let a = std::array::from_fn(|i| std::array::from_fn(|j| dot(&cols[i], &cols[j])));
+    let g = std::array::from_fn(|i| dot(&cols[i], r));
+    (a, g)
+}
+
+/// Fits the box of one detection (see the module's documentation).
+pub fn fit(input: FitInput<'_>, cam: &GroundCamera) -> Result<BoxFit, FitFailure> {
+    if input.hull.len() < 3 {
+        return Err(FitFailure::TooFewPoints);
+    }
+    let problem = Problem::new(input, cam);
+    let mut t = problem.prior_mean;
+    (t[0], t[1]) = (input.start[0], input.start[1]);
+    let mut r = Vec::new();
+    problem.residuals(&t, &mut r).ok_or(FitFailure::OffCamera)?;
+    let mut cost = norm2(&r);
+    let mut lambda = 1e-3;
+    let mut trial = Vec::with_capacity(r.len());
+    for _ in 0..MAX_ITERATIONS {
+        let (a, g) = normal_equations(&problem, &t, &r);
+        let mut step_taken = None;
+        while lambda < 1e8 {
+            let damped = std::array::from_fn(|i| {
+                std::array::from_fn(|j| {
+                    a[i][j] + if i == j { lambda * a[i][i] + 1e-9 } else { 0.0 }
+                })
+            });
+            let Some(d) = solve(damped, g.map(|v| -v)) else {
+                lambda *= 10.0;
+                continue;
+            };
+            let mut next = t;
+            for k in 0..5 {
+                next[k] += d[k];
+            }
+            for v in &mut next[2..] {
+                *v = v.max(MIN_SIDE_M);
+            }
+            if problem.residuals(&next, &mut trial).is_some() && norm2(&trial) < cost {
+                let size = d.iter().map(|v| v * v).sum::<f64>().sqrt();
+                t = next;
+                std::mem::swap(&mut r, &mut trial);
+                cost = norm2(&r);
+                lambda = (lambda / 4.0).max(1e-7);
+                step_taken = Some(size);
+                break;
+            }
+            lambda *= 4.0;
+        }
+        match step_taken {
+            Some(size) if size > 1e-5 => {}
+            _ => break,
+        }
+    }
+    finish(&problem, &t, &r)
+}
+
+/// The fitted box at `t` with its covariance.
+fn finish(problem: &Problem<'_>, t: &P5, r: &[f64]) -> Result<BoxFit, FitFailure> {
+    let (a, _) = normal_equations(problem, t, r);
+    let mut cov = [[0.0; 2]; 2];
+    for (j, col) in cov.iter_mut().enumerate() {
+        let mut e = [0.0; 5];
+        e[j] = 1.0;
+        let x = solve(a, e).ok_or(FitFailure::Singular)?;
+        *col = [x[0], x[1]];
+    }
+    let mut scratch = Vec::new();
+    let corners_seen = problem
+        .residuals(t, &mut scratch)
+        .ok_or(FitFailure::OffCamera)?;
+    let vertices_px = problem.corners(t).ok_or(FitFailure::OffCamera)?;
+    let n = problem.outline.len();
+    let rms_px = if n == 0 {
+        0.0
+    } else {
+        (norm2(&r[..n]) / n as f64).sqrt() / problem.outline_weight * OUTLINE_SIGMA_PX
+    };
+    Ok(BoxFit {
+        centre: [t[0], t[1]],
+        extent: Extent {
+            length_m: t[2],
+            width_m: t[3],
+            height_m: t[4],
+        },
+        covariance: cov,
+        rms_px,
+        corners_seen,
+        vertices_px,
+        cost: norm2(r),
+    })
+}
+
+/// The residuals at box `[x, y, length, width, height]` (outline vertices, corners, prior),
+/// for diagnosis; `None` when the box leaves the camera's field.
+#[doc(hidden)]
+pub fn residuals_at(input: FitInput<'_>, cam: &GroundCamera, t: [f64; 5]) -> Option<Vec<f64>> {
+    let problem = Problem::new(input, cam);
+    let mut r = Vec::new();
+    problem.residuals(&t, &mut r)?;
+    Some(r)
+}
