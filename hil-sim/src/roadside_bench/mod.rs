@@ -13,6 +13,8 @@
 //!   detections with seeded noise (`hil-sim synth-camera`, the localisation tests).
 //! - [`street`]: the rendered street (lanes, markings, cones, road users as boxes): pictures,
 //!   detector masks and COCO files with known truth (the road-user tests and benchmark).
+//! - [`sweep`]: the camera sweep: the street from many installs, with dense two-way traffic,
+//!   and the road-user pipeline scored against the truth (the road-users benchmark).
 //! - [`synthetic_site`]: a rendered site written as camera folders (`hil-sim road-users
 //!   --synthesize`), for `roadside road-users` to run on.
 
@@ -20,5 +22,6 @@ pub mod attacker;
 pub mod camera_site;
 pub mod scripted;
 pub mod street;
+pub mod sweep;
 pub mod synthetic_camera;
 pub mod synthetic_site;

@@ -22,7 +22,7 @@
 
 use super::calibrate::GroundCamera;
 use super::class::{Extent, RoadUserClass};
-use super::polygon::{convex_hull, signed_distance_convex};
+use super::polygon::{signed_area, signed_distance_convex};
 
 /// 1-sigma noise of a mask's outline, pixels.
 pub const OUTLINE_SIGMA_PX: f64 = 1.0;
@@ -32,7 +32,11 @@ const OUTLINE_WEIGHT: f64 = 6.0;
 const HIDDEN_MARGIN_PX: f64 = 2.0;
 /// Outline vertices this close to the image border are not the road user's, pixels.
 const BORDER_PX: f64 = 1.0;
-const MAX_ITERATIONS: usize = 30;
+const MAX_ITERATIONS: usize = 12;
+/// Most outline vertices a fit compares.
+const MAX_OUTLINE_VERTICES: usize = 16;
+/// The fit stops when a step moves the box less than this, metres.
+const CONVERGED_M: f64 = 1e-3;
 /// Finite-difference step, metres.
 const STEP_M: f64 = 1e-4;
 /// Smallest side, metres.
@@ -97,8 +101,98 @@ pub enum FitFailure {
 
 type P5 = [f64; 5];
 
+/// A convex polygon ready for many signed distances (its orientation and bounding box
+/// found once): the fit asks tens of thousands of them a frame.
+struct Convex<'a> {
+    vertices: &'a [[f64; 2]],
+    sign: f64,
+    lo: [f64; 2],
+    hi: [f64; 2],
+}
+
+impl<'a> Convex<'a> {
+    fn new(vertices: &'a [[f64; 2]]) -> Self {
+        let sign = signed_area(vertices).signum();
+        let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
+        for v in vertices {
+            lo = [lo[0].min(v[0]), lo[1].min(v[1])];
+            hi = [hi[0].max(v[0]), hi[1].max(v[1])];
+        }
+        Self {
+            vertices,
+            sign,
+            lo,
+            hi,
+        }
+    }
+
+    /// Is `p` farther than `margin` outside the bounding box (so surely outside)?
+    fn far_from(&self, p: [f64; 2], margin: f64) -> bool {
+        p[0] < self.lo[0] - margin
+            || p[1] < self.lo[1] - margin
+            || p[0] > self.hi[0] + margin
+            || p[1] > self.hi[1] + margin
+    }
+
+    /// Positive outside, negative inside (as [`signed_distance_convex`]).
+    fn signed_distance(&self, p: [f64; 2]) -> f64 {
+        let v = self.vertices;
+        let n = v.len();
+        if n < 3 {
+            return f64::INFINITY;
+        }
+        let (mut inside, mut best) = (true, f64::INFINITY);
+        for i in 0..n {
+            let (a, b) = (v[i], v[(i + 1) % n]);
+            let ab = [b[0] - a[0], b[1] - a[1]];
+            let ap = [p[0] - a[0], p[1] - a[1]];
+            if (ab[0] * ap[1] - ab[1] * ap[0]) * self.sign < 0.0 {
+                inside = false;
+            }
+            let len2 = ab[0] * ab[0] + ab[1] * ab[1];
+            let t = if len2 > 0.0 {
+                ((ap[0] * ab[0] + ap[1] * ab[1]) / len2).clamp(0.0, 1.0)
+            } else {
+                0.0
+            };
+            best = best.min((ap[0] - t * ab[0]).powi(2) + (ap[1] - t * ab[1]).powi(2));
+        }
+        if inside {
+            -best.sqrt()
+        } else {
+            best.sqrt()
+        }
+    }
+}
+
+/// The convex hull of eight points (monotone chain, no allocation): the points and count.
+fn hull8(points: &[[f64; 2]; 8]) -> ([[f64; 2]; 16], usize) {
+    let mut pts = *points;
+    pts.sort_by(|a, b| a[0].total_cmp(&b[0]).then(a[1].total_cmp(&b[1])));
+    let turn = |a: [f64; 2], b: [f64; 2], c: [f64; 2]| {
+        (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0])
+    };
+    let mut out = [[0.0; 2]; 16];
+    let mut n = 0;
+    for pass in 0..2 {
+        let start = n;
+        for k in 0..8 {
+            let p = if pass == 0 { pts[k] } else { pts[7 - k] };
+            while n >= start + 2 && turn(out[n - 2], out[n - 1], p) <= 0.0 {
+                n -= 1;
+            }
+            out[n] = p;
+            n += 1;
+        }
+        n -= 1;
+    }
+    (out, n)
+}
+
 struct Problem<'a> {
     input: FitInput<'a>,
+    hull: Convex<'a>,
+    touching: Vec<Convex<'a>>,
     cam: &'a GroundCamera,
     prior_mean: P5,
     prior_sigma: P5,
@@ -114,9 +208,13 @@ impl<'a> Problem<'a> {
         let side = |e: Extent| [0.0, 0.0, e.length_m, e.width_m, e.height_m];
         let [w, h] = input.image_size;
         let b = BORDER_PX;
+        // Every vertex of a long outline adds little (they sample a few edges): at most
+        // MAX_OUTLINE_VERTICES, evenly spread, keep the fit's cost per mask bounded.
+        let every = input.hull.len().div_ceil(MAX_OUTLINE_VERTICES).max(1);
         let outline: Vec<([f64; 2], bool)> = input
             .hull
             .iter()
+            .step_by(every)
             .copied()
             .filter(|p| p[0] > b && p[1] > b && p[0] < w - b && p[1] < h - b)
             .map(|p| {
@@ -130,6 +228,8 @@ impl<'a> Problem<'a> {
         Self {
             outline_weight: (OUTLINE_WEIGHT / outline.len().max(1) as f64).sqrt(),
             outline,
+            hull: Convex::new(input.hull),
+            touching: input.touching.iter().map(|t| Convex::new(t)).collect(),
             input,
             cam,
             prior_mean: side(prior.mean),
@@ -162,21 +262,28 @@ impl<'a> Problem<'a> {
             || p[0] > w - m
             || p[1] > h - m
             || self
-                .input
                 .touching
                 .iter()
-                .any(|o| signed_distance_convex(p, o) < m)
+                .any(|o| !o.far_from(p, m) && o.signed_distance(p) < m)
     }
 
     /// The weighted residuals (outline vertices, corners, prior), or `None` off camera.
-    fn residuals(&self, t: &P5, out: &mut Vec<f64>) -> Option<usize> {
+    /// With `measured_only`, the one-sided rows (outline vertices along a touching mask,
+    /// corners inside the box's outline) are zero: what bounds the box without measuring
+    /// it does not make its covariance smaller.
+    fn residuals(&self, t: &P5, out: &mut Vec<f64>, measured_only: bool) -> Option<usize> {
         out.clear();
         let px = self.corners(t)?;
-        let outline = convex_hull(&px);
+        let (ring, n) = hull8(&px);
+        let outline = Convex::new(&ring[..n]);
         let w = self.outline_weight / OUTLINE_SIGMA_PX;
         out.extend(self.outline.iter().map(|(o, cut)| {
-            let d = signed_distance_convex(*o, &outline);
-            w * if *cut { d.max(0.0) } else { d }
+            let d = outline.signed_distance(*o);
+            match (*cut, measured_only) {
+                (false, _) => w * d,
+                (true, false) => w * d.max(0.0),
+                (true, true) => 0.0,
+            }
         }));
         let mut seen = 0;
         for p in px {
@@ -186,9 +293,13 @@ impl<'a> Problem<'a> {
             }
             seen += 1;
             // A corner on the box's outline lies on the mask's; one inside it only inside.
-            let d = signed_distance_convex(p, self.input.hull);
-            let on_outline = outline.contains(&p);
-            out.push(if on_outline { d } else { d.max(0.0) } / OUTLINE_SIGMA_PX);
+            let d = self.hull.signed_distance(p);
+            let r = match (ring[..n].contains(&p), measured_only) {
+                (true, _) => d,
+                (false, false) => d.max(0.0),
+                (false, true) => 0.0,
+            };
+            out.push(r / OUTLINE_SIGMA_PX);
         }
         for k in 2..5 {
             out.push((t[k] - self.prior_mean[k]) / self.prior_sigma[k]);
@@ -227,13 +338,13 @@ fn solve(mut a: [P5; 5], mut b: P5) -> Option<P5> {
 }
 
 /// The normal matrix `J'J` and gradient `J'r` at `t` (forward differences).
-fn normal_equations(p: &Problem<'_>, t: &P5, r: &[f64]) -> ([P5; 5], P5) {
+fn normal_equations(p: &Problem<'_>, t: &P5, r: &[f64], measured_only: bool) -> ([P5; 5], P5) {
     let mut cols: Vec<Vec<f64>> = Vec::with_capacity(5);
     let mut moved = Vec::with_capacity(r.len());
     for k in 0..5 {
         let mut tk = *t;
         tk[k] += STEP_M;
-        let col = match p.residuals(&tk, &mut moved) {
+        let col = match p.residuals(&tk, &mut moved, measured_only) {
             Some(_) => moved.iter().zip(r).map(|(a, b)| (a - b) / STEP_M).collect(),
             None => vec![0.0; r.len()],
         };
@@ -254,12 +365,14 @@ pub fn fit(input: FitInput<'_>, cam: &GroundCamera) -> Result<BoxFit, FitFailure
     let mut t = problem.prior_mean;
     (t[0], t[1]) = (input.start[0], input.start[1]);
     let mut r = Vec::new();
-    problem.residuals(&t, &mut r).ok_or(FitFailure::OffCamera)?;
+    problem
+        .residuals(&t, &mut r, false)
+        .ok_or(FitFailure::OffCamera)?;
     let mut cost = norm2(&r);
     let mut lambda = 1e-3;
     let mut trial = Vec::with_capacity(r.len());
     for _ in 0..MAX_ITERATIONS {
-        let (a, g) = normal_equations(&problem, &t, &r);
+        let (a, g) = normal_equations(&problem, &t, &r, false);
         let mut step_taken = None;
         while lambda < 1e8 {
             let damped = std::array::from_fn(|i| {
@@ -278,8 +391,10 @@ pub fn fit(input: FitInput<'_>, cam: &GroundCamera) -> Result<BoxFit, FitFailure
             for v in &mut next[2..] {
                 *v = v.max(MIN_SIDE_M);
             }
-            if problem.residuals(&next, &mut trial).is_some() && norm2(&trial) < cost {
-                let size = d.iter().map(|v| v * v).sum::<f64>().sqrt();
+            if problem.residuals(&next, &mut trial, false).is_some() && norm2(&trial) < cost {
+                let gain = (cost - norm2(&trial)) / cost.max(1e-12);
+                // A step that moves the box by a millimetre or gains nothing ends the fit.
+                let size = d.iter().map(|v| v * v).sum::<f64>().sqrt().min(gain * 10.0);
                 t = next;
                 std::mem::swap(&mut r, &mut trial);
                 cost = norm2(&r);
@@ -290,7 +405,7 @@ pub fn fit(input: FitInput<'_>, cam: &GroundCamera) -> Result<BoxFit, FitFailure
             lambda *= 4.0;
         }
         match step_taken {
-            Some(size) if size > 1e-5 => {}
+            Some(size) if size > CONVERGED_M => {}
             _ => break,
         }
     }
@@ -299,7 +414,11 @@ pub fn fit(input: FitInput<'_>, cam: &GroundCamera) -> Result<BoxFit, FitFailure
 
 /// The fitted box at `t` with its covariance.
 fn finish(problem: &Problem<'_>, t: &P5, r: &[f64]) -> Result<BoxFit, FitFailure> {
-    let (a, _) = normal_equations(problem, t, r);
+    let mut measured = Vec::new();
+    problem
+        .residuals(t, &mut measured, true)
+        .ok_or(FitFailure::OffCamera)?;
+    let (a, _) = normal_equations(problem, t, &measured, true);
     let mut cov = [[0.0; 2]; 2];
     for (j, col) in cov.iter_mut().enumerate() {
         let mut e = [0.0; 5];
@@ -309,7 +428,7 @@ fn finish(problem: &Problem<'_>, t: &P5, r: &[f64]) -> Result<BoxFit, FitFailure
     }
     let mut scratch = Vec::new();
     let corners_seen = problem
-        .residuals(t, &mut scratch)
+        .residuals(t, &mut scratch, false)
         .ok_or(FitFailure::OffCamera)?;
     let vertices_px = problem.corners(t).ok_or(FitFailure::OffCamera)?;
     let n = problem.outline.len();
@@ -339,6 +458,6 @@ fn finish(problem: &Problem<'_>, t: &P5, r: &[f64]) -> Result<BoxFit, FitFailure
 pub fn residuals_at(input: FitInput<'_>, cam: &GroundCamera, t: [f64; 5]) -> Option<Vec<f64>> {
     let problem = Problem::new(input, cam);
     let mut r = Vec::new();
-    problem.residuals(&t, &mut r)?;
+    problem.residuals(&t, &mut r, false)?;
     Some(r)
 }

@@ -9,12 +9,12 @@
 //! user is localized from what is seen, with the larger error that leaves. Each position
 //! carries its 1-sigma error from the fit's covariance.
 
-use super::boxes::{BoxRejection, RoadUserBox, MIN_IOU};
+use super::boxes::{construct, BoxRejection, RoadUserBox, MIN_IOU};
 use super::calibrate::{GroundCamera, GroundCameraFault, SceneCalibration, VanishingPoints};
 use super::detections::Silhouette;
 use super::fit::{fit, BoxFit, FitFailure, FitInput};
 use super::homog::apply_direction;
-use super::polygon::{convex_hull, iou, near_or_overlapping};
+use super::polygon::{convex_hull, iou, near_or_overlapping, signed_distance_convex};
 use super::tracker::Observation;
 
 /// Masks nearer than this (pixels) count as touching.
@@ -184,8 +184,14 @@ impl Localizer {
         }
         // A mask whose foot may be hidden is also fitted from its top: the highest point
         // taken at the class's mean height. The better fit is kept.
-        let mut starts = vec![self.start(d, false)];
-        if !touching.is_empty() || d.touches_border {
+        // The tangent construction, where it works, starts the fit next to its solution.
+        let constructed = touching
+            .is_empty()
+            .then(|| construct(d.class, &d.hull, &self.points, &self.camera).ok())
+            .flatten()
+            .filter(|b| b.centre.iter().all(|v| v.is_finite()));
+        let mut starts = vec![constructed.map_or_else(|| self.start(d, false), |b| Ok(b.centre))];
+        if self.foot_may_be_hidden(d, touching) {
             starts.push(self.start(d, true));
         }
         let mut best: Result<BoxFit, BoxRejection> = Err(BoxRejection::NoIntersection);
@@ -214,7 +220,12 @@ impl Localizer {
                 (b, Err(_)) => b,
             };
         }
-        let fitted = best?;
+        // A box the mask does not pin down (a sliver beside a nearer road user) is hidden.
+        let fitted = best.map_err(|e| match e {
+            BoxRejection::NoIntersection if !touching.is_empty() => BoxRejection::Occluded,
+            BoxRejection::NoIntersection if d.touches_border => BoxRejection::Truncated,
+            e => e,
+        })?;
         let e = fitted.extent;
         let (prior, largest) = (d.class.size_prior(), d.class.largest());
         let plausible = |v: f64, mean: f64, hi: f64| (MIN_SHARE * mean..=hi).contains(&v);
@@ -239,6 +250,18 @@ impl Localizer {
             });
         }
         Ok((road_user, fitted.centre, sigma_m))
+    }
+
+    /// Does the mask's lowest point lie along a touching mask or the image's bottom (so the
+    /// road user's foot may be hidden there)?
+    fn foot_may_be_hidden(&self, d: &Silhouette, touching: &[&[[f64; 2]]]) -> bool {
+        let Some(low) = d.hull.iter().copied().max_by(|a, b| a[1].total_cmp(&b[1])) else {
+            return false;
+        };
+        low[1] >= self.image_size[1] - 2.0 * TOUCH_PX
+            || touching
+                .iter()
+                .any(|o| signed_distance_convex(low, o) < 2.0 * TOUCH_PX)
     }
 
     /// Where the fit starts: the mask's lowest point on the road taken as the footprint's

@@ -3,16 +3,18 @@
 //! Each track is a constant-velocity Kalman filter with state `[x, y, vx, vy]`
 //! (metres and m/s in the local road frame, x = east, y = north), discrete
 //! white-noise acceleration process noise and a position measurement with
-//! `R = sigma^2 I`. Observations are associated to tracks of the same class
-//! group (people, two-wheelers, vehicles) by Mahalanobis distance of the
-//! innovation, greedily by increasing distance. Reported accuracies come from
-//! the filter covariance, so they are suitable for J2735 PSM accuracy fields.
+//! `R = sigma^2 I`. Observations are associated to tracks of their own class by
+//! Mahalanobis distance of the innovation (gated, and never beyond a jump a
+//! road user cannot make between frames), greedily by increasing distance, one
+//! observation per track; a track not seen for `max_coast_s` ends rather than
+//! drift onto a neighbour. Reported accuracies come from the filter
+//! covariance, so they are suitable for J2735 PSM accuracy fields.
 use super::class::RoadUserClass;
 use std::fmt;
 
 type M4 = [[f64; 4]; 4];
 
-/// Class groups: observations only join tracks of the same group.
+/// Class groups: how fast a track's road user may move and turn.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 enum Group {
     People,
@@ -53,7 +55,8 @@ pub struct TrackerSettings {
     /// two spurious detections never reach the broadcast. Must be >= 1.
     pub confirm_hits: u32,
     /// A track not observed for longer than this (seconds) is dropped.
-    /// Default 1.0 s: bridges short occlusions without long dead-reckoning.
+    /// Default 0.5 s: bridges a short occlusion; a road user hidden longer ends its track
+    /// (dead-reckoned for longer, a track drifts off its road user and onto a neighbour).
     /// Must be finite, in (0, 60].
     pub max_coast_s: f64,
     /// White-acceleration process noise sigma (m/s^2) for vehicles and
@@ -73,7 +76,7 @@ impl Default for TrackerSettings {
         Self {
             gate_m: 4.0,
             confirm_hits: 3,
-            max_coast_s: 1.0,
+            max_coast_s: 0.5,
             accel_sigma_mps2: 2.0,
             person_accel_sigma_mps2: 0.5,
         }
@@ -189,6 +192,10 @@ pub struct RoadUserTracker {
 }
 
 const MAX_ABS_POSITION_M: f64 = 1.0e6;
+/// An observation farther than this (plus three of its sigmas) from a track's predicted
+/// position never continues it, metres: a road user does not move that far unseen between
+/// frames, a neighbour may stand that near.
+const MAX_JUMP_M: f64 = 1.5;
 const MAX_SIGMA_M: f64 = 1.0e3;
 /// Observation sigmas are floored here to keep `S` well conditioned.
 const MIN_SIGMA_M: f64 = 1.0e-3;
@@ -261,7 +268,13 @@ impl RoadUserTracker {
         let mut pairs: Vec<(f64, usize, usize)> = Vec::new();
         for (ti, t) in self.tracks.iter().enumerate() {
             for (oi, o) in valid.iter().enumerate() {
-                if t.group != Group::of(o.class) {
+                // Same class only (a van never continues a car's track), and never farther
+                // than the largest jump a frame may hold, whatever the covariance says.
+                if dominant_class(t) != o.class && t.hits > 0 {
+                    continue;
+                }
+                let jump = (o.position[0] - t.x[0]).hypot(o.position[1] - t.x[1]);
+                if jump > MAX_JUMP_M + 3.0 * o.sigma_m {
                     continue;
                 }
                 if let Some((_, _, d2)) = innovation(t, o).filter(|i| i.2 <= gate2) {
@@ -366,6 +379,15 @@ fn new_track(id: u32, o: &Observation, time_s: f64) -> TrackState {
         last_seen_s: time_s,
         hits: 1,
     }
+}
+
+/// The class seen most often on a track (ties: earlier in `ALL`).
+fn dominant_class(t: &TrackState) -> RoadUserClass {
+    RoadUserClass::ALL
+        .into_iter()
+        .rev()
+        .max_by_key(|&c| t.class_counts[c as usize])
+        .unwrap_or(RoadUserClass::Car)
 }
 
 /// 4x4 matrix product.
@@ -473,11 +495,7 @@ fn report(t: &TrackState) -> Track {
         max_eig(p[2][2], p[2][3], p[3][3]).sqrt()
     };
     // max_by_key keeps the last maximum; reversed, that is the earliest in ALL.
-    let class = RoadUserClass::ALL
-        .into_iter()
-        .rev()
-        .max_by_key(|&c| t.class_counts[c as usize]);
-    let class = class.unwrap_or(RoadUserClass::Car);
+    let class = dominant_class(t);
     Track {
         id: t.id,
         class,

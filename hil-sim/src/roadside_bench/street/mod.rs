@@ -114,8 +114,7 @@ fn lateral_range(world: &World, class: RoadUserClass) -> [f64; 2] {
 
 /// `count` road users of classes drawn in turn from `classes`, each fully in view, within
 /// `max_range_m` of the camera's foot (and 8 m at least), on the carriageway (people also on
-/// the shoulders), footprints at least 0.3 m apart; sizes vary ±10 % around the class's
-/// typical one. Fewer are returned when no free place is found in 200 tries.
+/// the shoulders), footprints at least 0.3 m apart; sizes as on the road ([`road_size`]). Fewer are returned when no free place is found in 200 tries.
 pub fn random_users(
     world: &World,
     cam: &PinholeCamera,
@@ -130,13 +129,7 @@ pub fn random_users(
             break;
         };
         for _ in 0..200 {
-            let t = class.typical();
-            let mut vary = |v: f64| v * (0.9 + 0.2 * rng.next_f64());
-            let extent = roadside::road_users::class::Extent {
-                length_m: vary(t.length_m),
-                width_m: vary(t.width_m),
-                height_m: vary(t.height_m),
-            };
+            let extent = road_size(class, rng);
             let [x0, x1] = lateral_range(world, class);
             let x = x0 + (x1 - x0) * rng.next_f64();
             let y = 5.0 + (max_range_m - 5.0) * rng.next_f64();
@@ -155,6 +148,28 @@ pub fn random_users(
         }
     }
     out
+}
+
+/// The sides of a road user of `class` drawn as they vary on the road (uniform over each
+/// range, metres): people 0.4-0.6 across either way and 1.55-1.9 tall, cars 4.2-5.0 m long,
+/// vans 4.8-5.8, buses 10.5-13.5, trucks 7-10, with their widths and heights. The
+/// localizer's size prior comes from road fleets, not from these ranges.
+pub fn road_size(class: RoadUserClass, rng: &mut Prng) -> roadside::road_users::class::Extent {
+    let ((l0, l1), (w0, w1), (h0, h1)) = match class {
+        RoadUserClass::Car => ((4.2, 5.0), (1.7, 1.9), (1.4, 1.65)),
+        RoadUserClass::Van => ((4.8, 5.8), (1.9, 2.1), (1.9, 2.6)),
+        RoadUserClass::Bus => ((10.5, 13.5), (2.5, 2.55), (3.0, 3.4)),
+        RoadUserClass::Truck => ((7.0, 10.0), (2.4, 2.55), (3.0, 4.0)),
+        RoadUserClass::Pedestrian => ((0.4, 0.6), (0.4, 0.6), (1.55, 1.9)),
+        RoadUserClass::Cyclist => ((1.6, 1.9), (0.5, 0.7), (1.6, 1.85)),
+        RoadUserClass::Motorcycle => ((1.9, 2.3), (0.7, 0.9), (1.3, 1.55)),
+    };
+    let mut pick = |(a, b): (f64, f64)| a + (b - a) * rng.next_f64();
+    roadside::road_users::class::Extent {
+        length_m: pick((l0, l1)),
+        width_m: pick((w0, w1)),
+        height_m: pick((h0, h1)),
+    }
 }
 
 /// Are the footprints of `u` and every one of `others` at least `gap` apart?

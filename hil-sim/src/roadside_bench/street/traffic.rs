@@ -34,18 +34,20 @@ pub enum Motion {
         /// Top speed (midway), m/s.
         speed_mps: f64,
     },
+    /// Moves along the road (north for a positive speed, south for a negative one) at a
+    /// constant speed, looping over `between` (metres north).
+    Cruise {
+        /// Speed, m/s (negative: south).
+        speed_mps: f64,
+        /// The stretch looped over, metres north.
+        between: [f64; 2],
+    },
     /// Stands still.
     Stand,
 }
 
 fn sized(class: RoadUserClass, rng: &mut Prng) -> Extent {
-    let t = class.typical();
-    let mut vary = |v: f64| v * (0.92 + 0.16 * rng.next_f64());
-    Extent {
-        length_m: vary(t.length_m),
-        width_m: vary(t.width_m),
-        height_m: vary(t.height_m),
-    }
+    super::road_size(class, rng)
 }
 
 /// Traffic through a work zone: lane 1 carries cars and a motorcycle at 12 m/s, lane 2 vans,
@@ -156,6 +158,14 @@ fn at(m: &Mover, t: f64) -> RoadUser {
                 u.centre[0] = mid + amp * a.sin();
                 u.velocity = [speed_mps * a.cos(), 0.0];
             }
+        }
+        Motion::Cruise {
+            speed_mps,
+            between: [a, b],
+        } => {
+            let len = (b - a).max(1e-9);
+            u.centre[1] = a + (u.centre[1] - a + speed_mps * t).rem_euclid(len);
+            u.velocity = [0.0, speed_mps];
         }
         Motion::Stand => {}
     }

@@ -1,0 +1,345 @@
+//! The road-user pipeline on a sweep install, scored against the truth: per class the
+//! per-frame box errors and the track errors, track positions more than 1 m from every road
+//! user of their class (and the workers' PSMs among them), how often the reported 95 %
+//! circle holds the truth, coverage of the road users within 40 m with at least half their
+//! silhouette visible, and the refusals by reason.
+
+use super::super::street::{
+    labels_window, marking_points, picture, range_m, silhouette, users_at, window_masks, Mover,
+    RoadUser, World,
+};
+use super::super::synthetic_camera::PinholeCamera;
+use roadside::camera::Homography;
+use roadside::rng::Prng;
+use roadside::road_users::calibrate::calibrate;
+use roadside::road_users::detections::Silhouette;
+use roadside::road_users::edgelets::EdgeletSettings;
+use roadside::road_users::localize::{Localized, Localizer, Rejections};
+use roadside::road_users::pipeline::Pipeline;
+use roadside::road_users::polygon::{in_front, near_or_overlapping, signed_area};
+use roadside::road_users::tracker::{Observation, RoadUserTracker, Track, TrackerSettings};
+use roadside::road_users::vanishing::RansacSettings;
+use roadside::road_users::RoadUserClass;
+
+/// Road users farther than this from the camera's foot are not counted, metres.
+pub const RANGE_M: f64 = 40.0;
+/// Share of its silhouette a road user must show to count for coverage.
+pub const MIN_VISIBLE: f64 = 0.5;
+/// A track position farther than this from every road user of its class is off, metres.
+pub const OFF_M: f64 = 1.0;
+/// Radius of the 95 % circle in 1-sigma units (chi-square, two degrees of freedom).
+pub const CIRCLE_95: f64 = 2.4477;
+
+/// How a run is made.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RunSettings {
+    /// Frames (at 10 per second).
+    pub frames: usize,
+    /// Mask noise, pixels (each silhouette corner).
+    pub noise_px: f64,
+    /// Traffic seed.
+    pub seed: u64,
+}
+
+/// The scores of one run (one camera, or a pair fused).
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Score {
+    /// Per class (in [`RoadUserClass::ALL`] order), per-frame box errors, cm.
+    pub boxes: [Vec<f64>; 7],
+    /// Per class, per-frame box errors of road users seen whole (in the image, no nearer
+    /// road user covering any of it), cm: the paper's case.
+    pub whole_boxes: [Vec<f64>; 7],
+    /// Per class, track position errors (to the nearest road user of the class), cm.
+    pub tracks: [Vec<f64>; 7],
+    /// Track positions more than [`OFF_M`] from every road user of their class.
+    pub tracks_off: usize,
+    /// Of those, workers' (people in the closed lane): PSMs that would be off.
+    pub psms_off: usize,
+    /// Boxes, and those whose 95 % circle holds the truth.
+    pub boxes_in_circle: (usize, usize),
+    /// Track positions, and those whose 95 % circle holds the truth.
+    pub tracks_in_circle: (usize, usize),
+    /// Per class: road users within range showing enough (per frame), and how many of them
+    /// were localized.
+    pub coverage: [(usize, usize); 7],
+    /// Per class: the same road users, and how many had a track of their class within
+    /// [`OFF_M`].
+    pub track_coverage: [(usize, usize); 7],
+    /// Refusals.
+    pub rejected: Rejections,
+    /// Detections.
+    pub detections: usize,
+}
+
+impl Score {
+    /// Adds another run's scores.
+    pub fn merge(&mut self, o: &Score) {
+        for k in 0..7 {
+            self.boxes[k].extend_from_slice(&o.boxes[k]);
+            self.whole_boxes[k].extend_from_slice(&o.whole_boxes[k]);
+            self.tracks[k].extend_from_slice(&o.tracks[k]);
+            self.coverage[k].0 += o.coverage[k].0;
+            self.coverage[k].1 += o.coverage[k].1;
+            self.track_coverage[k].0 += o.track_coverage[k].0;
+            self.track_coverage[k].1 += o.track_coverage[k].1;
+        }
+        self.tracks_off += o.tracks_off;
+        self.psms_off += o.psms_off;
+        self.boxes_in_circle.0 += o.boxes_in_circle.0;
+        self.boxes_in_circle.1 += o.boxes_in_circle.1;
+        self.tracks_in_circle.0 += o.tracks_in_circle.0;
+        self.tracks_in_circle.1 += o.tracks_in_circle.1;
+        self.rejected.add(&o.rejected);
+        self.detections += o.detections;
+    }
+}
+
+fn slot(class: RoadUserClass) -> usize {
+    RoadUserClass::ALL
+        .iter()
+        .position(|c| *c == class)
+        .unwrap_or(0)
+}
+
+/// A camera's localizer as a site would set it up: vanishing points from a picture of the
+/// empty street, the homography from the surveyed lane-marking corners it sees.
+pub fn localizer(world: &World, cam: &PinholeCamera, seed: u64) -> Result<Localizer, String> {
+    let grey = image::DynamicImage::ImageRgb8(picture(world, cam, &[])).to_luma8();
+    let cal = calibrate(
+        &grey,
+        &EdgeletSettings::default(),
+        &RansacSettings::default(),
+    )
+    .map_err(|e| format!("calibration: {e}"))?;
+    let pairs = marking_points(cam, world, &mut Prng::new(seed));
+    let h = Homography::estimate(&pairs).map_err(|e| format!("homography: {e}"))?;
+    Localizer::new(&cal, h.matrix()).map_err(|e| format!("ground camera: {e}"))
+}
+
+/// One camera's view of a frame: the masks, each with its road user's index.
+struct View {
+    masks: Vec<(usize, Silhouette)>,
+    /// Per road user: within range and showing enough to count.
+    counts: Vec<bool>,
+    /// Per road user: within range.
+    near: Vec<bool>,
+    /// Per road user: seen whole (in the image, no nearer road user covering it).
+    whole: Vec<bool>,
+}
+
+fn view(cam: &PinholeCamera, users: &[RoadUser], noise_px: f64, rng: &mut Prng) -> View {
+    let size = cam.image_size().map(|v| v as u32);
+    let window = labels_window(cam, users, noise_px, rng);
+    let masks = window_masks(&window, size, users, &[]);
+    let near: Vec<bool> = users
+        .iter()
+        .map(|u| range_m(cam, u.centre) <= RANGE_M)
+        .collect();
+    let mut exact = Prng::new(0);
+    let outlines: Vec<Option<Vec<[f64; 2]>>> = users
+        .iter()
+        .map(|u| silhouette(cam, &u.solid(), 0.0, &mut exact))
+        .collect();
+    let c = cam.centre();
+    let eye = [c[0], c[1]];
+    let footprint = |u: &RoadUser| {
+        let s = u.solid();
+        [
+            [s.min[0], s.min[1]],
+            [s.max[0], s.min[1]],
+            [s.max[0], s.max[1]],
+            [s.min[0], s.max[1]],
+        ]
+    };
+    // Hidden: a road user standing in front of it covers part of its silhouette.
+    let hidden = |k: usize| {
+        let Some(sk) = &outlines[k] else { return true };
+        users.iter().enumerate().any(|(j, u)| {
+            j != k
+                && outlines[j]
+                    .as_ref()
+                    .is_some_and(|sj| near_or_overlapping(sk, sj, 0.0))
+                && in_front(&footprint(u), &footprint(&users[k]), eye) != Some(false)
+        })
+    };
+    let mut counts = vec![false; users.len()];
+    let mut whole = vec![false; users.len()];
+    for (k, m) in &masks {
+        let full = outlines[*k].as_ref().map_or(0.0, |h| signed_area(h).abs());
+        counts[*k] = near[*k] && m.area_px >= MIN_VISIBLE * full;
+        whole[*k] = !m.touches_border && !hidden(*k);
+    }
+    View {
+        masks,
+        counts,
+        near,
+        whole,
+    }
+}
+
+impl Score {
+    fn add_boxes(&mut self, found: &[Localized], v: &View, users: &[RoadUser]) {
+        let mut localized = vec![false; users.len()];
+        for b in found {
+            let k = v.masks[b.index].0;
+            let u = &users[k];
+            localized[k] = true;
+            if !v.near[k] {
+                continue;
+            }
+            let e = dist(b.position, u.centre);
+            self.boxes[slot(u.class)].push(e * 100.0);
+            if v.whole[k] {
+                self.whole_boxes[slot(u.class)].push(e * 100.0);
+            }
+            self.boxes_in_circle.0 += 1;
+            if e <= CIRCLE_95 * b.sigma_m {
+                self.boxes_in_circle.1 += 1;
+            }
+        }
+        for (k, u) in users.iter().enumerate().filter(|(k, _)| v.counts[*k]) {
+            let c = &mut self.coverage[slot(u.class)];
+            c.0 += 1;
+            c.1 += usize::from(localized[k]);
+        }
+    }
+
+    fn add_tracks(
+        &mut self,
+        tracks: &[Track],
+        users: &[RoadUser],
+        counts: &[bool],
+        world: &World,
+        near: &dyn Fn([f64; 2]) -> bool,
+    ) {
+        for t in tracks.iter().filter(|t| near(t.position)) {
+            let nearest = users
+                .iter()
+                .filter(|u| u.class == t.class)
+                .map(|u| dist(u.centre, t.position))
+                .fold(f64::INFINITY, f64::min);
+            if nearest > OFF_M {
+                self.tracks_off += 1;
+                if t.class.is_person() && in_closed_lane(world, t.position) {
+                    self.psms_off += 1;
+                }
+                continue;
+            }
+            self.tracks[slot(t.class)].push(nearest * 100.0);
+            self.tracks_in_circle.0 += 1;
+            if nearest <= CIRCLE_95 * t.position_sigma_m {
+                self.tracks_in_circle.1 += 1;
+            }
+        }
+        for (u, _) in users.iter().zip(counts).filter(|(_, c)| **c) {
+            let near = tracks
+                .iter()
+                .any(|t| t.class == u.class && dist(t.position, u.centre) <= OFF_M);
+            let c = &mut self.track_coverage[slot(u.class)];
+            c.0 += 1;
+            c.1 += usize::from(near);
+        }
+    }
+}
+
+fn in_closed_lane(world: &World, p: [f64; 2]) -> bool {
+    let x0 = world.lane_width_m * f64::from(world.closed.0 - 1);
+    let [y0, y1] = world.closed.1;
+    (x0 - 0.5..=x0 + world.lane_width_m + 0.5).contains(&p[0]) && (y0..=y1).contains(&p[1])
+}
+
+fn dist(a: [f64; 2], b: [f64; 2]) -> f64 {
+    (a[0] - b[0]).hypot(a[1] - b[1])
+}
+
+/// Runs one camera over the traffic: boxes per frame, and one tracker.
+pub fn run_camera(
+    world: &World,
+    cam: &PinholeCamera,
+    loc: &Localizer,
+    movers: &[Mover],
+    settings: RunSettings,
+) -> Score {
+    let mut rng = Prng::new(settings.seed ^ 0x5eed);
+    let mut tracker = RoadUserTracker::new(TrackerSettings::default()).expect("default settings");
+    let mut score = Score::default();
+    for f in 0..settings.frames {
+        let t = f as f64 * 0.1;
+        let users = users_at(movers, t);
+        let v = view(cam, &users, settings.noise_px, &mut rng);
+        let sil: Vec<Silhouette> = v.masks.iter().map(|(_, s)| s.clone()).collect();
+        score.detections += sil.len();
+        let (found, rejected) = loc.frame(&sil);
+        score.rejected.add(&rejected);
+        score.add_boxes(&found, &v, &users);
+        let obs: Vec<Observation> = found.iter().map(Localized::observation).collect();
+        let tracks = tracker.update(t, &obs).expect("frame times go forward");
+        let near = |p: [f64; 2]| range_m(cam, p) <= RANGE_M;
+        score.add_tracks(&tracks, &users, &v.counts, world, &near);
+    }
+    score
+}
+
+/// Runs two cameras fused by one pipeline; the track coverage counts the road users either
+/// camera counts.
+pub fn run_pair(
+    world: &World,
+    cams: [&PinholeCamera; 2],
+    locs: [&Localizer; 2],
+    movers: &[Mover],
+    settings: RunSettings,
+) -> Score {
+    let mut rng = Prng::new(settings.seed ^ 0xfade);
+    let mut pipeline = Pipeline::live(locs.map(|l| *l).to_vec(), TrackerSettings::default())
+        .expect("default settings");
+    let mut score = Score::default();
+    for f in 0..settings.frames {
+        let t = f as f64 * 0.1;
+        let users = users_at(movers, t);
+        let views = cams.map(|c| view(c, &users, settings.noise_px, &mut rng));
+        let per_camera: Vec<Vec<Silhouette>> = views
+            .iter()
+            .map(|v| v.masks.iter().map(|(_, s)| s.clone()).collect())
+            .collect();
+        let tracks = pipeline
+            .frame(f, t, &per_camera)
+            .expect("frame times go forward")
+            .to_vec();
+        let either: Vec<bool> = (0..users.len())
+            .map(|k| views[0].counts[k] || views[1].counts[k])
+            .collect();
+        let near = |p: [f64; 2]| cams.iter().any(|c| range_m(c, p) <= RANGE_M);
+        score.add_tracks(&tracks, &users, &either, world, &near);
+    }
+    score
+}
+
+/// The track coverage of road users that `either` of two views count, for a single camera's
+/// run: used to compare one camera with the pair on the same road users.
+pub fn run_camera_on_union(
+    world: &World,
+    cams: [&PinholeCamera; 2],
+    which: usize,
+    loc: &Localizer,
+    movers: &[Mover],
+    settings: RunSettings,
+) -> Score {
+    let mut rng = Prng::new(settings.seed ^ 0xfade);
+    let mut tracker = RoadUserTracker::new(TrackerSettings::default()).expect("default settings");
+    let mut score = Score::default();
+    for f in 0..settings.frames {
+        let t = f as f64 * 0.1;
+        let users = users_at(movers, t);
+        let views = cams.map(|c| view(c, &users, settings.noise_px, &mut rng));
+        let sil: Vec<Silhouette> = views[which].masks.iter().map(|(_, s)| s.clone()).collect();
+        let (found, _) = loc.frame(&sil);
+        let obs: Vec<Observation> = found.iter().map(Localized::observation).collect();
+        let tracks = tracker.update(t, &obs).expect("frame times go forward");
+        let either: Vec<bool> = (0..users.len())
+            .map(|k| views[0].counts[k] || views[1].counts[k])
+            .collect();
+        let near = |p: [f64; 2]| cams.iter().any(|c| range_m(c, p) <= RANGE_M);
+        score.add_tracks(&tracks, &users, &either, world, &near);
+    }
+    score
+}
