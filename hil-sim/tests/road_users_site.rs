@@ -91,16 +91,19 @@ fn two_cameras_keep_every_worker_where_one_loses_them() {
     let (west, _) = run(&dirs[..1]);
     let truth = read_truth(&out.join("truth.json"), &site).unwrap();
     assert_eq!(truth.len(), 60);
-    // Per-frame positions against the truth: within 40 m of their camera as in the paper's
-    // field test, and the error within 3 sigma (the sigma the tracks and the PSM carry) at
-    // any range.
+    // Per-frame positions against the truth: those within 40 m of their camera that claim
+    // 10 cm or better (road users seen whole) as in the paper's field test, and every error
+    // within 3 sigma (the sigma the tracks and the PSM carry, larger for a road user seen in
+    // part) at any range.
     let origin = LatLon::from_degrees(SYNTHETIC_ORIGIN.0, SYNTHETIC_ORIGIN.1).unwrap();
     let world = Road::new(origin, Vec::new());
     for (c, cam) in site_cameras(&World::work_zone(), true).iter().enumerate() {
         let [e, n, _] = cam.centre();
         let foot = site.to_local(world.to_wgs84([e, n]).unwrap());
         let near = both.sightings.iter().filter(|s| {
-            s.camera == c && (s.position[0] - foot[0]).hypot(s.position[1] - foot[1]) <= 40.0
+            s.camera == c
+                && s.sigma_m <= 0.1
+                && (s.position[0] - foot[0]).hypot(s.position[1] - foot[1]) <= 40.0
         });
         let table = error_table(
             near.map(|s| (s.frame, s.class, s.position)),
@@ -113,8 +116,16 @@ fn two_cameras_keep_every_worker_where_one_loses_them() {
             "camera {c}: {} sightings within 40 m, mean {mean:.1} cm, max {max:.1} cm",
             errors.len()
         );
+        let localized = both
+            .sightings
+            .iter()
+            .filter(|s| {
+                s.camera == c && (s.position[0] - foot[0]).hypot(s.position[1] - foot[1]) <= 40.0
+            })
+            .count();
+        eprintln!("camera {c}: {localized} sightings within 40 m in all");
         assert!(
-            errors.len() > 50 && mean < 10.0 && max < 50.0,
+            errors.len() > 20 && localized > 100 && mean < 10.0 && max < 50.0,
             "camera {c}: {mean:.1} / {max:.1} cm"
         );
         assert_eq!(table.unmatched, 0);

@@ -301,9 +301,7 @@ impl<'a> Problem<'a> {
             };
             out.push(r / OUTLINE_SIGMA_PX);
         }
-        for k in 2..5 {
-            out.push((t[k] - self.prior_mean[k]) / self.prior_sigma[k]);
-        }
+        out.extend((2..5).map(|k| (t[k] - self.prior_mean[k]) / self.prior_sigma[k]));
         Some(seen)
     }
 }
@@ -321,10 +319,11 @@ fn solve(mut a: [P5; 5], mut b: P5) -> Option<P5> {
         }
         a.swap(c, p);
         b.swap(c, p);
+        let pivot = a[c];
         for r in c + 1..5 {
-            let f = a[r][c] / a[c][c];
-            for k in c..5 {
-                a[r][k] -= f * a[c][k];
+            let f = a[r][c] / pivot[c];
+            for (v, pv) in a[r][c..].iter_mut().zip(&pivot[c..]) {
+                *v -= f * pv;
             }
             b[r] -= f * b[c];
         }
@@ -450,14 +449,4 @@ fn finish(problem: &Problem<'_>, t: &P5, r: &[f64]) -> Result<BoxFit, FitFailure
         vertices_px,
         cost: norm2(r),
     })
-}
-
-/// The residuals at box `[x, y, length, width, height]` (outline vertices, corners, prior),
-/// for diagnosis; `None` when the box leaves the camera's field.
-#[doc(hidden)]
-pub fn residuals_at(input: FitInput<'_>, cam: &GroundCamera, t: [f64; 5]) -> Option<Vec<f64>> {
-    let problem = Problem::new(input, cam);
-    let mut r = Vec::new();
-    problem.residuals(&t, &mut r, false)?;
-    Some(r)
 }

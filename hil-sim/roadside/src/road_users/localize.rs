@@ -23,6 +23,9 @@ const TOUCH_PX: f64 = 2.0;
 const SIGMA_FLOOR_M: f64 = 0.03;
 /// A position less certain than this (1-sigma, metres) is not reported.
 pub const MAX_SIGMA_M: f64 = 1.0;
+/// Root mean square distance of a mask's outline to its fitted box's at the assumed mask
+/// noise (1 px a corner), pixels.
+const EXPECTED_RMS_PX: f64 = 0.6;
 /// Largest root mean square distance of the mask's outline to the fitted box's, pixels.
 const MAX_RMS_PX: f64 = 3.0;
 /// Smallest side of a box, as a share of its class's mean.
@@ -241,7 +244,21 @@ impl Localizer {
         if fitted.rms_px > MAX_RMS_PX || (whole && road_user.iou < MIN_IOU) {
             return Err(BoxRejection::Inconsistent { iou: road_user.iou });
         }
-        let sigma_m = fitted.sigma_m().hypot(SIGMA_FLOOR_M);
+        // A mask that fits its box worse than mask noise explains is less certain than the
+        // fit's curvature says (noisier masks, or a wrong local solution): scaled by it.
+        let misfit = (fitted.rms_px / EXPECTED_RMS_PX).max(1.0);
+        // Where some corners may be hidden (a touching mask, the border), the box may go on
+        // behind them: its centre is known no better than half the spread of the class's
+        // sizes, whatever the visible part says.
+        let hidden_floor = if fitted.corners_seen < 8 {
+            let p = prior.sigma;
+            0.5 * p.length_m.max(p.width_m)
+        } else {
+            0.0
+        };
+        let sigma_m = (fitted.sigma_m() * misfit)
+            .max(hidden_floor)
+            .hypot(SIGMA_FLOOR_M);
         if sigma_m > MAX_SIGMA_M || !sigma_m.is_finite() {
             return Err(if d.touches_border {
                 BoxRejection::Truncated

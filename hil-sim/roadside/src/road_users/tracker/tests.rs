@@ -187,19 +187,20 @@ fn confirm_coast_and_drop() {
     assert_eq!(out[0].hits, 3);
     // Same frame twice is allowed (dt = 0).
     assert_eq!(tr.update(0.2, &[]).unwrap().len(), 1);
-    for k in 3..=7 {
+    for k in 3..=6 {
         let out = tr.update(k as f64 * 0.1, &[]).unwrap();
         assert_eq!(out.len(), 1, "coasting at k={k}");
         assert_eq!((out[0].id, out[0].hits), (id, 3));
         assert!(out[0].position_sigma_m > 0.0);
     }
-    let out = tr.update(0.8, &o).unwrap();
+    let out = tr.update(0.69, &o).unwrap();
     assert_eq!(
         (out.len(), out[0].id, out[0].hits, out[0].last_seen_s),
-        (1, id, 4, 0.8)
+        (1, id, 4, 0.69)
     );
-    assert_eq!(tr.update(1.7, &[]).unwrap().len(), 1);
-    assert!(tr.update(1.9, &[]).unwrap().is_empty());
+    // Unseen for the default 0.5 s, it coasts; longer, it ends.
+    assert_eq!(tr.update(1.18, &[]).unwrap().len(), 1);
+    assert!(tr.update(1.3, &[]).unwrap().is_empty());
     // A new observation there starts a new, unconfirmed track with a new id.
     assert!(tr.update(2.0, &o).unwrap().is_empty());
     assert!(tr.update(2.1, &o).unwrap().is_empty());
@@ -207,18 +208,25 @@ fn confirm_coast_and_drop() {
 }
 
 #[test]
-fn class_is_majority_and_groups_separate() {
+fn a_track_takes_only_its_own_class_and_never_jumps() {
     let mut tr = tracker();
     let (c, v) = (RoadUserClass::Car, RoadUserClass::Van);
-    for (k, class) in [c, v, c, v, c].into_iter().enumerate() {
-        tr.update(k as f64 * 0.1, &[obs(class, 0.0, 0.0, 0.2)])
+    for k in 0..3 {
+        tr.update(f64::from(k) * 0.1, &[obs(c, 0.0, 0.0, 0.2)])
             .unwrap();
     }
-    let out = tr
-        .update(0.5, &[obs(RoadUserClass::Cyclist, 0.0, 0.0, 0.2)])
-        .unwrap();
-    assert_eq!(out.len(), 1, "cyclist must not join the vehicle track");
-    assert_eq!((out[0].class, out[0].hits), (c, 5));
+    // A van or a cyclist where the car is does not continue the car's track.
+    for (k, class) in [v, RoadUserClass::Cyclist].into_iter().enumerate() {
+        let out = tr
+            .update(0.3 + k as f64 * 0.1, &[obs(class, 0.0, 0.0, 0.2)])
+            .unwrap();
+        assert_eq!(out.len(), 1, "{class:?} must not join the car's track");
+        assert_eq!((out[0].class, out[0].hits), (c, 3));
+    }
+    // A car 2 m away (a neighbour) does not either, though the track coasted 0.2 s.
+    let out = tr.update(0.5, &[obs(c, 2.0, 0.0, 0.1)]).unwrap();
+    assert_eq!((out.len(), out[0].hits), (1, 3), "{out:?}");
+    assert_eq!(out[0].position, [0.0, 0.0]);
 }
 
 #[test]
