@@ -5,12 +5,15 @@
 //!    them with the reference-point homography, cross-checked against it.
 //! 2. [`detections`]: an instance-segmentation detector's output (COCO JSON with polygons or
 //!    RLE masks, YOLO-seg text), each mask reduced to its convex hull.
-//! 3. [`boxes`]: the 3D box of each road user from the tangents of the vanishing points to
-//!    its silhouette (B1-B4 on the road, B5-B8 above), its footprint's centre in local
-//!    metres; [`localize`] does it for a frame and refuses cut, occluded or degenerate masks
-//!    with a reason.
-//! 4. [`tracker`]: a constant-velocity Kalman filter per road user, assignment by distance,
-//!    for position, speed and heading with their accuracy.
+//! 3. [`localize`]: the 3D box of each road user fitted to its mask ([`fit`]: position,
+//!    length, width and height whose projected box matches the mask's outline, the class's
+//!    size prior deciding only what the view does not measure), started from the tangents
+//!    of the vanishing points to its silhouette ([`boxes`]) where they work; partly hidden
+//!    or cut road users are localized from what is seen, with the larger error that leaves,
+//!    and refused with a reason when too little is.
+//! 4. [`tracker`]: a constant-velocity Kalman filter per road user, assignment by class and
+//!    by distance in road coordinates with the track's uncertainty, for position, speed and
+//!    heading with their accuracy.
 //!
 //! Around them: [`pipeline`] (every camera's frames through localization and one tracker),
 //! [`workers`] (the tracked workers in a work zone as PSMs), [`files`] (a camera's folder
