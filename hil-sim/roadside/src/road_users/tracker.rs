@@ -69,6 +69,11 @@ pub struct TrackerSettings {
     /// 0.5 gives ~0.065 m/s while still following starts and stops within a
     /// few frames (the gate is statistical). Must be finite, in (0, 100].
     pub person_accel_sigma_mps2: f64,
+    /// A confirmed track is reported only while its position is known this well (1-sigma
+    /// along its worst direction, metres). Default 0.4: a track born of partial views, or
+    /// coasting, is kept but not reported until its accuracy stands for its position (a
+    /// PSM of it would otherwise stand metres from its worker). Must be finite, in (0, 100].
+    pub max_report_sigma_m: f64,
 }
 
 impl Default for TrackerSettings {
@@ -79,6 +84,7 @@ impl Default for TrackerSettings {
             max_coast_s: 0.5,
             accel_sigma_mps2: 2.0,
             person_accel_sigma_mps2: 0.5,
+            max_report_sigma_m: 0.4,
         }
     }
 }
@@ -214,6 +220,7 @@ impl RoadUserTracker {
             (s.max_coast_s, 60.0, "max_coast_s"),
             (s.accel_sigma_mps2, 100.0, "accel_sigma_mps2"),
             (s.person_accel_sigma_mps2, 100.0, "person_accel_sigma_mps2"),
+            (s.max_report_sigma_m, 100.0, "max_report_sigma_m"),
         ];
         if let Some(&(_, _, name)) = limits
             .iter()
@@ -236,7 +243,8 @@ impl RoadUserTracker {
     /// Advances to `time_s` (frame time, seconds, monotonic; equal to the
     /// previous time is allowed, with dt = 0) and takes the frame's
     /// observations; returns the confirmed tracks that were updated or are
-    /// coasting, in creation order. On error the tracker is unchanged.
+    /// coasting and whose position is known within `max_report_sigma_m`, in
+    /// creation order. On error the tracker is unchanged.
     pub fn update(
         &mut self,
         time_s: f64,
@@ -312,7 +320,7 @@ impl RoadUserTracker {
         Ok(self
             .tracks
             .iter()
-            .filter(|t| t.hits >= confirm)
+            .filter(|t| t.hits >= confirm && position_sigma(t) <= self.settings.max_report_sigma_m)
             .map(report)
             .collect())
     }
@@ -472,6 +480,11 @@ fn max_eig(a: f64, b: f64, c: f64) -> f64 {
     (0.5 * (a + c) + (0.25 * (a - c) * (a - c) + b * b).sqrt()).max(0.0)
 }
 
+/// 1-sigma of a track's position along its worst direction, metres.
+fn position_sigma(t: &TrackState) -> f64 {
+    max_eig(t.p[0][0], t.p[0][1], t.p[1][1]).sqrt()
+}
+
 /// Public view of a track, with accuracies from its covariance.
 fn report(t: &TrackState) -> Track {
     let [x, y, vx, vy] = t.x;
@@ -503,7 +516,7 @@ fn report(t: &TrackState) -> Track {
         velocity: [vx, vy],
         speed_mps: speed,
         heading_deg,
-        position_sigma_m: max_eig(p[0][0], p[0][1], p[1][1]).sqrt(),
+        position_sigma_m: position_sigma(t),
         speed_sigma_mps,
         heading_sigma_deg,
         first_seen_s: t.first_seen_s,

@@ -34,6 +34,14 @@ pub enum Motion {
         /// Top speed (midway), m/s.
         speed_mps: f64,
     },
+    /// Walks north and south between two stations (metres north), slowing down to turn
+    /// (a sine in time), starting north.
+    Stroll {
+        /// South and north turning points, metres north.
+        between: [f64; 2],
+        /// Top speed (midway), m/s.
+        speed_mps: f64,
+    },
     /// Moves along the road (north for a positive speed, south for a negative one) at a
     /// constant speed, looping over `between` (metres north).
     Cruise {
@@ -157,6 +165,19 @@ fn at(m: &Mover, t: f64) -> RoadUser {
                 let a = phase + omega * t;
                 u.centre[0] = mid + amp * a.sin();
                 u.velocity = [speed_mps * a.cos(), 0.0];
+            }
+        }
+        Motion::Stroll {
+            between: [s, n],
+            speed_mps,
+        } => {
+            let (mid, amp) = ((s + n) / 2.0, (n - s) / 2.0);
+            if amp > 0.0 {
+                let omega = speed_mps / amp;
+                let phase = ((u.centre[1] - mid) / amp).clamp(-1.0, 1.0).asin();
+                let a = phase + omega * t;
+                u.centre[1] = mid + amp * a.sin();
+                u.velocity = [0.0, speed_mps * a.cos()];
             }
         }
         Motion::Cruise {

@@ -113,8 +113,9 @@ fn mover(
 }
 
 /// Dense two-way traffic on [`sweep_world`]: five vehicles a lane in lanes 1-3 (every
-/// class, 9-12 m/s), people walking both ways along both sidewalks, and five workers in the
-/// closed lane (two pacing across it, one walking along it, two standing).
+/// class, 9-12 m/s, looping over [`TRAFFIC_LOOP_M`], whose ends no install sees), people
+/// walking up and down both sidewalks, and five workers in the closed lane (two pacing
+/// across it, one walking up and down it, two standing).
 pub fn sweep_traffic(world: &World, seed: u64) -> Vec<Mover> {
     use RoadUserClass::{Bus, Car, Cyclist, Motorcycle, Pedestrian, Truck, Van};
     let mut rng = Prng::new(seed);
@@ -143,16 +144,17 @@ pub fn sweep_traffic(world: &World, seed: u64) -> Vec<Mover> {
         }
     }
     let road = world.road_width_m();
+    // People walk up and down the sidewalks (a looping walker would jump back in view).
     for (x, speed) in [
         (-3.0, 1.3),
-        (-4.2, -1.1),
-        (road + 3.0, -1.4),
+        (-4.2, 1.1),
+        (road + 3.0, 1.4),
         (road + 4.0, 1.2),
     ] {
-        let y = 5.0 + 60.0 * rng.next_f64();
-        let motion = Motion::Cruise {
-            speed_mps: speed,
+        let y = 5.0 + 70.0 * rng.next_f64();
+        let motion = Motion::Stroll {
             between: [0.0, 80.0],
+            speed_mps: speed,
         };
         mover(&mut movers, Pedestrian, [x, y], motion, &mut rng);
     }
@@ -162,9 +164,9 @@ pub fn sweep_traffic(world: &World, seed: u64) -> Vec<Mover> {
         between: [closed - half + 0.5, closed + half - 0.5],
         speed_mps: 0.9,
     };
-    let along = Motion::Cruise {
-        speed_mps: 1.0,
+    let along = Motion::Stroll {
         between: [36.0, 54.0],
+        speed_mps: 1.0,
     };
     let workers = [
         ([closed, 33.0], across),

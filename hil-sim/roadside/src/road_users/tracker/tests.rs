@@ -212,13 +212,13 @@ fn a_track_takes_only_its_own_class_and_never_jumps() {
     let mut tr = tracker();
     let (c, v) = (RoadUserClass::Car, RoadUserClass::Van);
     for k in 0..3 {
-        tr.update(f64::from(k) * 0.1, &[obs(c, 0.0, 0.0, 0.2)])
+        tr.update(f64::from(k) * 0.1, &[obs(c, 0.0, 0.0, 0.1)])
             .unwrap();
     }
     // A van or a cyclist where the car is does not continue the car's track.
     for (k, class) in [v, RoadUserClass::Cyclist].into_iter().enumerate() {
         let out = tr
-            .update(0.3 + k as f64 * 0.1, &[obs(class, 0.0, 0.0, 0.2)])
+            .update(0.3 + k as f64 * 0.1, &[obs(class, 0.0, 0.0, 0.1)])
             .unwrap();
         assert_eq!(out.len(), 1, "{class:?} must not join the car's track");
         assert_eq!((out[0].class, out[0].hits), (c, 3));
@@ -278,7 +278,7 @@ fn bad_observations_counted_and_ignored() {
 fn max_tracks_bound() {
     let mut tr = tracker();
     let frame: Vec<_> = (0..300)
-        .map(|i| obs(RoadUserClass::Car, i as f64 * 100.0, 0.0, 0.5))
+        .map(|i| obs(RoadUserClass::Car, i as f64 * 100.0, 0.0, 0.2))
         .collect();
     assert!(tr.update(0.0, &frame).unwrap().is_empty());
     assert_eq!(tr.rejected().over_capacity, 44);
@@ -337,6 +337,13 @@ fn bad_settings_rejected() {
                 ..d
             },
             "person_accel_sigma_mps2",
+        ),
+        (
+            TrackerSettings {
+                max_report_sigma_m: -1.0,
+                ..d
+            },
+            "max_report_sigma_m",
         ),
     ];
     for (s, field) in cases {
@@ -402,4 +409,19 @@ fn id_wrap_skips_ids_in_use() {
     let mut ids: Vec<u32> = tr.tracks.iter().map(|t| t.id).collect();
     ids.sort_unstable();
     assert_eq!(ids, vec![0, 1, 2, u32::MAX]);
+}
+
+#[test]
+fn a_track_is_reported_only_while_its_position_is_known() {
+    let mut tr = tracker();
+    // Three vague sightings (1 m) confirm a track that is not yet known to 0.4 m.
+    let vague = [obs(RoadUserClass::Pedestrian, 5.0, 5.0, 1.0)];
+    for k in 0..3 {
+        assert!(tr.update(f64::from(k) * 0.1, &vague).unwrap().is_empty());
+    }
+    // Sharp ones make it known, and reported.
+    let sharp = [obs(RoadUserClass::Pedestrian, 5.0, 5.0, 0.05)];
+    let out = tr.update(0.3, &sharp).unwrap();
+    assert_eq!(out.len(), 1, "{out:?}");
+    assert!(out[0].position_sigma_m <= 0.4);
 }
