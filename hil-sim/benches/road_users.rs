@@ -257,7 +257,7 @@ fn main() {
                 "\ntwo cameras {} + {} (road users either counts, 1 px): track mean {:.1} / {:.1} / fused {:.1} cm, coverage {:.1} / {:.1} / fused {:.1} %, fused positions over 1 m off {}",
                 all[a].name, all[b].name, pa.0, pb.0, pf.0, 100.0 * pa.1, 100.0 * pb.1, 100.0 * pf.1, fused.tracks_off
             );
-            if pf.1 + 1e-9 < pa.1.max(pb.1) || pf.0 > pa.0.max(pb.0) || fused.tracks_off > 0 {
+            if pf.1 + 1e-9 < pa.1.max(pb.1) || pf.0 > pa.0.min(pb.0) || fused.tracks_off > 0 {
                 fails.push(format!(
                     "{} + {}: the pair does worse than one camera",
                     all[a].name, all[b].name

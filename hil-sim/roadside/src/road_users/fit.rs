@@ -5,18 +5,20 @@
 //! The tangent construction ([`super::boxes`]) reads the box from six lines, and needs all
 //! six: seen end-on or side-on, one far corner is hidden and the construction stops; partly
 //! hidden behind another road user or cut by the image border, its lines are wrong. The fit
-//! asks less of the view. Every vertex of the outline of a mask lies on the road user's
-//! true outline, also when the mask is partly hidden (the convex corners of "outline minus
-//! occluder" are outline corners or where the occluder's edge crosses the outline). So the
-//! fit minimises, by Levenberg-Marquardt over `[x, y, length, width, height]`:
-//! - each outline vertex's signed distance to the projected box's outline (together worth
-//!   [`OUTLINE_WEIGHT`] corners, as they sample a few noisy edges);
+//! asks less of the view. A vertex of a mask's outline lies on the road user's true outline,
+//! except along a touching mask, where the outline may be the other road user's edge (then
+//! it lies inside). So the fit minimises, by Levenberg-Marquardt over `[x, y, length, width,
+//! height]`:
+//! - each outline vertex's signed distance to the projected box's outline (only its distance
+//!   outside along a touching mask; all vertices together worth six corners, as they sample
+//!   a few noisy edges);
 //! - each projected box corner's distance to the mask's outline (a corner on the box's
 //!   outline) or outside it (a corner inside), except corners that may be hidden (inside a
 //!   touching mask or off the image);
 //! - each side's distance from the class's prior mean, in prior sigmas.
 //!
-//! The position's covariance is the inverse of the normal matrix at the solution: large
+//! The position's covariance is the inverse of the normal matrix of the measuring rows
+//! (not those that only bound the box) at the solution: large
 //! when little is seen, so a partly hidden road user is reported with its real accuracy
 //! instead of being dropped.
 
