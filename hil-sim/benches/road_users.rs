@@ -4,9 +4,10 @@
 //! the track errors beside the paper's field table, coverage, track positions more than 1 m
 //! off, the 95 % circle's hold and the refusals; two cameras fused against each alone; and
 //! the per-frame time of localization and tracking for 20 road users at 1080p. Exits 1 when
-//! an install misses the paper's per-class mean or maximum (means only at 2 px), a track
-//! position or a worker's PSM is more than 1 m off, coverage of people is under 90 %, the
-//! 95 % circle holds under 95 %, or two cameras do worse than one.
+//! an install misses the paper's per-class mean or maximum for road users seen whole (means
+//! only at 2 px), when at 1 px a track position or a worker's PSM is more than 1 m off,
+//! coverage of people is under 90 % or the 95 % circle holds under 95 %, or when two
+//! cameras do worse than one (less coverage, a larger track mean than either alone).
 //!
 //! `cargo bench -p hil-sim --bench road_users -- [FRAMES] [--seeds N] [--only NAME|timing]`
 
@@ -207,6 +208,12 @@ fn main() {
         time_frames();
         return;
     }
+    if let Some(name) = opts.only.as_deref() {
+        if !all.iter().any(|i| i.name == name) {
+            eprintln!("no install named {name} (nor \"timing\")");
+            std::process::exit(2);
+        }
+    }
     for (inst, loc) in all.iter().zip(&locs) {
         if opts.only.as_ref().is_some_and(|o| o != inst.name) {
             continue;
@@ -336,13 +343,13 @@ fn time_frames() {
     let n = (rounds * texts.len()) as f64;
     let per = t0.elapsed().as_secs_f64() * 1e3 / n;
     println!(
+        "\nper frame, 20 road users at 1920x1080 (COCO RLE masks parsed, boxes fitted, tracked): {per:.2} ms ({:.1} masks, {:.1} road users localized a frame)",
+        masks_seen as f64 / n,
+        boxes as f64 / n
+    );
+    println!(
         "  of which COCO parsing {:.2} ms, boxes fitted {:.2} ms",
         parse_s * 1e3 / n,
         localize_s * 1e3 / n
-    );
-    println!(
-        "\nper frame, 20 road users at 1920x1080 (COCO RLE masks parsed, boxes built, tracked): {per:.2} ms ({:.1} masks, {:.1} unoccluded boxes a frame)",
-        masks_seen as f64 / n,
-        boxes as f64 / n
     );
 }

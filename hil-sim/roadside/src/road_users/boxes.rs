@@ -45,16 +45,19 @@ pub struct RoadUserBox {
     pub height_m: f64,
     /// The footprint's centre, local metres.
     pub centre: [f64; 2],
-    /// How far B2 (the length) moves when its vertical tangent moves by one pixel, metres.
+    /// How far B2 (the length) moves when its vertical tangent moves by one pixel, metres
+    /// (0 for a fitted box, whose accuracy comes from the fit).
     pub length_per_px_m: f64,
-    /// How far B4 (the width) moves when its vertical tangent moves by one pixel, metres.
+    /// How far B4 (the width) moves when its vertical tangent moves by one pixel, metres
+    /// (0 for a fitted box).
     pub width_per_px_m: f64,
     /// The eight vertices B1-B8 in the image (bottom B1-B4, then the top above each).
     pub vertices_px: [[f64; 2]; 8],
     /// Intersection over union of the projected box with the mask's hull.
     pub iou: f64,
-    /// Largest distance between a vertex of the projected box's outline and the mask's hull
-    /// outline, or the reverse, pixels.
+    /// How far the box's outline is from the mask's, pixels: for a constructed box the
+    /// largest distance between a vertex of one outline and the other; for a fitted box the
+    /// root mean square distance of the mask's outline vertices to the box's.
     pub misfit_px: f64,
 }
 

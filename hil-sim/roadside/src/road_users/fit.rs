@@ -70,12 +70,11 @@ pub struct BoxFit {
     pub extent: Extent,
     /// Covariance of the centre, m².
     pub covariance: [[f64; 2]; 2],
-    /// Root mean square of the outline vertices' distances to the fitted outline, pixels.
+    /// Root mean square of the outline vertices' distances to the fitted box's outline
+    /// (those along a touching mask count only their distance outside it), pixels.
     pub rms_px: f64,
     /// How many of the box's eight corners were checked against the mask (not hidden).
     pub corners_seen: usize,
-    /// The fitted box's corners in the image: bottom four, then the top four.
-    pub vertices_px: [[f64; 2]; 8],
     /// The sum of squared weighted residuals at the solution (outline, corners, prior).
     pub cost: f64,
 }
@@ -273,11 +272,45 @@ impl<'a> Problem<'a> {
     /// With `measured_only`, the one-sided rows (outline vertices along a touching mask,
     /// corners inside the box's outline) are zero: what bounds the box without measuring
     /// it does not make its covariance smaller.
-    fn residuals(&self, t: &P5, out: &mut Vec<f64>, measured_only: bool) -> Option<usize> {
+    /// Which corners of the box at `t` may be hidden, and which lie on its outline.
+    fn corner_roles(&self, t: &P5) -> Option<CornerRoles> {
+        let px = self.corners(t)?;
+        let (ring, n) = hull8(&px);
+        Some(CornerRoles {
+            hidden: px.map(|p| self.hidden(p)),
+            on_outline: px.map(|p| ring[..n].contains(&p)),
+        })
+    }
+
+    /// The weighted residuals (outline vertices, corners, prior), or `None` off camera, with
+    /// each corner's role from `roles` (those of `t` itself when `None`: a derivative taken
+    /// by moving the box a little keeps the roles of where it is taken, or a corner crossing
+    /// a role's edge in the step would give a slope of its whole distance over the step).
+    /// With `measured_only`, the one-sided rows (outline vertices along a touching mask,
+    /// corners inside the box's outline) are zero: what bounds the box without measuring it
+    /// does not make its covariance smaller.
+    fn residuals(
+        &self,
+        t: &P5,
+        out: &mut Vec<f64>,
+        measured_only: bool,
+        roles: Option<&CornerRoles>,
+    ) -> Option<usize> {
         out.clear();
         let px = self.corners(t)?;
         let (ring, n) = hull8(&px);
         let outline = Convex::new(&ring[..n]);
+        let own;
+        let roles = match roles {
+            Some(r) => r,
+            None => {
+                own = CornerRoles {
+                    hidden: px.map(|p| self.hidden(p)),
+                    on_outline: px.map(|p| ring[..n].contains(&p)),
+                };
+                &own
+            }
+        };
         let w = self.outline_weight / OUTLINE_SIGMA_PX;
         out.extend(self.outline.iter().map(|(o, cut)| {
             let d = outline.signed_distance(*o);
@@ -288,15 +321,15 @@ impl<'a> Problem<'a> {
             }
         }));
         let mut seen = 0;
-        for p in px {
-            if self.hidden(p) {
+        for (k, p) in px.into_iter().enumerate() {
+            if roles.hidden[k] {
                 out.push(0.0);
                 continue;
             }
             seen += 1;
             // A corner on the box's outline lies on the mask's; one inside it only inside.
             let d = self.hull.signed_distance(p);
-            let r = match (ring[..n].contains(&p), measured_only) {
+            let r = match (roles.on_outline[k], measured_only) {
                 (true, _) => d,
                 (false, false) => d.max(0.0),
                 (false, true) => 0.0,
@@ -306,6 +339,14 @@ impl<'a> Problem<'a> {
         out.extend((2..5).map(|k| (t[k] - self.prior_mean[k]) / self.prior_sigma[k]));
         Some(seen)
     }
+}
+
+/// The roles of a box's eight corners at one place.
+struct CornerRoles {
+    /// May be hidden (inside a touching mask or off the image): not checked.
+    hidden: [bool; 8],
+    /// On the box's outline: on the mask's outline too.
+    on_outline: [bool; 8],
 }
 
 fn norm2(r: &[f64]) -> f64 {
@@ -340,12 +381,13 @@ fn solve(mut a: [P5; 5], mut b: P5) -> Option<P5> {
 
 /// The normal matrix `J'J` and gradient `J'r` at `t` (forward differences).
 fn normal_equations(p: &Problem<'_>, t: &P5, r: &[f64], measured_only: bool) -> ([P5; 5], P5) {
+    let roles = p.corner_roles(t);
     let mut cols: Vec<Vec<f64>> = Vec::with_capacity(5);
     let mut moved = Vec::with_capacity(r.len());
     for k in 0..5 {
         let mut tk = *t;
         tk[k] += STEP_M;
-        let col = match p.residuals(&tk, &mut moved, measured_only) {
+        let col = match p.residuals(&tk, &mut moved, measured_only, roles.as_ref()) {
             Some(_) => moved.iter().zip(r).map(|(a, b)| (a - b) / STEP_M).collect(),
             None => vec![0.0; r.len()],
         };
@@ -367,7 +409,7 @@ pub fn fit(input: FitInput<'_>, cam: &GroundCamera) -> Result<BoxFit, FitFailure
     (t[0], t[1]) = (input.start[0], input.start[1]);
     let mut r = Vec::new();
     problem
-        .residuals(&t, &mut r, false)
+        .residuals(&t, &mut r, false, None)
         .ok_or(FitFailure::OffCamera)?;
     let mut cost = norm2(&r);
     let mut lambda = 1e-3;
@@ -392,7 +434,7 @@ pub fn fit(input: FitInput<'_>, cam: &GroundCamera) -> Result<BoxFit, FitFailure
             for v in &mut next[2..] {
                 *v = v.max(MIN_SIDE_M);
             }
-            if problem.residuals(&next, &mut trial, false).is_some() && norm2(&trial) < cost {
+            if problem.residuals(&next, &mut trial, false, None).is_some() && norm2(&trial) < cost {
                 let gain = (cost - norm2(&trial)) / cost.max(1e-12);
                 // A step that moves the box by a millimetre or gains nothing ends the fit.
                 let size = d.iter().map(|v| v * v).sum::<f64>().sqrt().min(gain * 10.0);
@@ -417,7 +459,7 @@ pub fn fit(input: FitInput<'_>, cam: &GroundCamera) -> Result<BoxFit, FitFailure
 fn finish(problem: &Problem<'_>, t: &P5, r: &[f64]) -> Result<BoxFit, FitFailure> {
     let mut measured = Vec::new();
     problem
-        .residuals(t, &mut measured, true)
+        .residuals(t, &mut measured, true, None)
         .ok_or(FitFailure::OffCamera)?;
     let (a, _) = normal_equations(problem, t, &measured, true);
     let mut cov = [[0.0; 2]; 2];
@@ -429,9 +471,8 @@ fn finish(problem: &Problem<'_>, t: &P5, r: &[f64]) -> Result<BoxFit, FitFailure
     }
     let mut scratch = Vec::new();
     let corners_seen = problem
-        .residuals(t, &mut scratch, false)
+        .residuals(t, &mut scratch, false, None)
         .ok_or(FitFailure::OffCamera)?;
-    let vertices_px = problem.corners(t).ok_or(FitFailure::OffCamera)?;
     let n = problem.outline.len();
     let rms_px = if n == 0 {
         0.0
@@ -448,7 +489,6 @@ fn finish(problem: &Problem<'_>, t: &P5, r: &[f64]) -> Result<BoxFit, FitFailure
         covariance: cov,
         rms_px,
         corners_seen,
-        vertices_px,
         cost: norm2(r),
     })
 }

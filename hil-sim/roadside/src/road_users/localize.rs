@@ -58,17 +58,21 @@ impl Localized {
 /// Detections without a box, by reason.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub struct Rejections {
-    /// Cut by the image border.
+    /// Cut by the image border, and too little seen to be placed within [`MAX_SIGMA_M`].
     pub truncated: u32,
-    /// Touching a nearer road user.
+    /// Touching another road user's mask, and too little seen to be placed within
+    /// [`MAX_SIGMA_M`].
     pub occluded: u32,
-    /// A vanishing point inside the mask, or tangents that do not meet.
+    /// No box could be fitted: fewer than three hull points, a box leaving the camera's
+    /// field, nothing measured, no camera foot.
     pub degenerate: u32,
-    /// Seen side-on.
+    /// Seen side-on (kept for callers counting the tangent construction's refusals; the
+    /// fitted box is never refused for it).
     pub side_on: u32,
     /// Implausible size for the class.
     pub implausible: u32,
-    /// The box does not cover its mask.
+    /// The box's outline misses its mask's (more than 3 px root mean square apart, or, with
+    /// nothing hiding it, covering it at an IoU under [`MIN_IOU`]).
     pub inconsistent: u32,
 }
 
@@ -260,10 +264,12 @@ impl Localizer {
             .max(hidden_floor)
             .hypot(SIGMA_FLOOR_M);
         if sigma_m > MAX_SIGMA_M || !sigma_m.is_finite() {
-            return Err(if d.touches_border {
+            return Err(if !touching.is_empty() {
+                BoxRejection::Occluded
+            } else if d.touches_border {
                 BoxRejection::Truncated
             } else {
-                BoxRejection::Occluded
+                BoxRejection::NoIntersection
             });
         }
         Ok((road_user, fitted.centre, sigma_m))

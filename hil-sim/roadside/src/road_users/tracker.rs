@@ -198,9 +198,9 @@ pub struct RoadUserTracker {
 }
 
 const MAX_ABS_POSITION_M: f64 = 1.0e6;
-/// An observation farther than this (plus three of its sigmas) from a track's predicted
-/// position never continues it, metres: a road user does not move that far unseen between
-/// frames, a neighbour may stand that near.
+/// An observation farther than this (plus three sigmas of its position and of the track's
+/// predicted one) from a track's prediction never continues it, metres: a road user does
+/// not stray that far from its predicted path in a frame, a neighbour may stand that near.
 const MAX_JUMP_M: f64 = 1.5;
 const MAX_SIGMA_M: f64 = 1.0e3;
 /// Observation sigmas are floored here to keep `S` well conditioned.
@@ -277,12 +277,14 @@ impl RoadUserTracker {
         for (ti, t) in self.tracks.iter().enumerate() {
             for (oi, o) in valid.iter().enumerate() {
                 // Same class only (a van never continues a car's track), and never farther
-                // than the largest jump a frame may hold, whatever the covariance says.
-                if dominant_class(t) != o.class && t.hits > 0 {
+                // from the prediction than a road user may stray in a frame plus three
+                // sigmas of both positions: a young track (its speed not yet known) reaches
+                // as far as its speed prior allows, a settled one only to its neighbourhood.
+                if dominant_class(t) != o.class {
                     continue;
                 }
                 let jump = (o.position[0] - t.x[0]).hypot(o.position[1] - t.x[1]);
-                if jump > MAX_JUMP_M + 3.0 * o.sigma_m {
+                if jump > MAX_JUMP_M + 3.0 * (o.sigma_m + position_sigma(t)) {
                     continue;
                 }
                 if let Some((_, _, d2)) = innovation(t, o).filter(|i| i.2 <= gate2) {

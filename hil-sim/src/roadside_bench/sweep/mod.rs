@@ -113,7 +113,8 @@ fn mover(
 }
 
 /// Dense two-way traffic on [`sweep_world`]: five vehicles a lane in lanes 1-3 (every
-/// class, 9-12 m/s, looping over [`TRAFFIC_LOOP_M`], whose ends no install sees), people
+/// class, 9-12 m/s, cyclists 4-5 m/s, looping over [`TRAFFIC_LOOP_M`], whose ends lie behind
+/// each install or beyond its 40 m), people
 /// walking up and down both sidewalks, and five workers in the closed lane (two pacing
 /// across it, one walking up and down it, two standing).
 pub fn sweep_traffic(world: &World, seed: u64) -> Vec<Mover> {

@@ -49,7 +49,8 @@ pub struct Score {
     /// Per class, per-frame box errors of road users seen whole (in the image, no nearer
     /// road user covering any of it), cm: the paper's case.
     pub whole_boxes: [Vec<f64>; 7],
-    /// Per class, track position errors (to the nearest road user of the class), cm.
+    /// Per class, track position errors (to the nearest road user of the class, those within
+    /// [`OFF_M`]; the others are counted in `tracks_off`), cm.
     pub tracks: [Vec<f64>; 7],
     /// Track positions more than [`OFF_M`] from every road user of their class.
     pub tracks_off: usize,
@@ -219,6 +220,8 @@ impl Score {
                 .map(|u| dist(u.centre, t.position))
                 .fold(f64::INFINITY, f64::min);
             if nearest > OFF_M {
+                // Off by more than any reported circle's radius: a miss for the circle too.
+                self.tracks_in_circle.0 += 1;
                 self.tracks_off += 1;
                 if t.class.is_person() && in_closed_lane(world, t.position) {
                     self.psms_off += 1;

@@ -425,3 +425,19 @@ fn a_track_is_reported_only_while_its_position_is_known() {
     assert_eq!(out.len(), 1, "{out:?}");
     assert!(out[0].position_sigma_m <= 0.4);
 }
+
+#[test]
+fn a_fast_vehicle_is_confirmed_and_followed() {
+    // 25 m/s (90 km/h) at 10 frames a second: 2.5 m a frame, beyond the jump limit of a
+    // settled track, within that of a young one whose speed is not yet known.
+    let mut tr = tracker();
+    let mut last = Vec::new();
+    for k in 0..10 {
+        let t = f64::from(k) * 0.1;
+        let o = [obs(RoadUserClass::Car, 0.0, 25.0 * t, 0.1)];
+        last = tr.update(t, &o).unwrap();
+    }
+    assert_eq!(last.len(), 1, "{last:?}");
+    assert_eq!(last[0].hits, 10);
+    assert!((last[0].speed_mps - 25.0).abs() < 2.0, "{last:?}");
+}
