@@ -14,9 +14,7 @@
 use std::time::Instant;
 
 use hil_sim::roadside_bench::street::{self, coco_json, labels, random_users, CocoFrame};
-use hil_sim::roadside_bench::sweep::score::{
-    localizer, run_camera, run_camera_on_union, run_pair, RunSettings, Score,
-};
+use hil_sim::roadside_bench::sweep::score::{localizer, run_camera, run_pair, RunSettings, Score};
 use hil_sim::roadside_bench::sweep::{installs, sweep_traffic, sweep_world, PAIRS};
 use roadside::rng::Prng;
 use roadside::road_users::detections::parse_coco;
@@ -256,9 +254,9 @@ fn main() {
                 noise_px: 1.0,
                 seed: 0,
             };
-            let one = run_camera_on_union(&world, cams, 0, la, &movers, settings);
-            let two = run_camera_on_union(&world, cams, 1, lb, &movers, settings);
-            let fused = run_pair(&world, cams, [la, lb], &movers, settings);
+            let one = run_pair(&world, cams, [la, lb], Some(0), &movers, settings);
+            let two = run_pair(&world, cams, [la, lb], Some(1), &movers, settings);
+            let fused = run_pair(&world, cams, [la, lb], None, &movers, settings);
             let (pa, pb, pf) = (pooled(&one), pooled(&two), pooled(&fused));
             println!(
                 "\ntwo cameras {} + {} (road users either counts, 1 px): track mean {:.1} / {:.1} / fused {:.1} cm, coverage {:.1} / {:.1} / fused {:.1} %, fused positions over 1 m off {}",

@@ -272,14 +272,19 @@ impl<'a> Problem<'a> {
     /// With `measured_only`, the one-sided rows (outline vertices along a touching mask,
     /// corners inside the box's outline) are zero: what bounds the box without measuring
     /// it does not make its covariance smaller.
-    /// Which corners of the box at `t` may be hidden, and which lie on its outline.
+    /// Which of the box's corners `px` may be hidden, and which lie on its outline `ring`.
+    fn roles(&self, px: &[[f64; 2]; 8], ring: &[[f64; 2]]) -> CornerRoles {
+        CornerRoles {
+            hidden: px.map(|p| self.hidden(p)),
+            on_outline: px.map(|p| ring.contains(&p)),
+        }
+    }
+
+    /// The corners' roles of the box at `t`.
     fn corner_roles(&self, t: &P5) -> Option<CornerRoles> {
         let px = self.corners(t)?;
         let (ring, n) = hull8(&px);
-        Some(CornerRoles {
-            hidden: px.map(|p| self.hidden(p)),
-            on_outline: px.map(|p| ring[..n].contains(&p)),
-        })
+        Some(self.roles(&px, &ring[..n]))
     }
 
     /// The weighted residuals (outline vertices, corners, prior), or `None` off camera, with
@@ -304,10 +309,7 @@ impl<'a> Problem<'a> {
         let roles = match roles {
             Some(r) => r,
             None => {
-                own = CornerRoles {
-                    hidden: px.map(|p| self.hidden(p)),
-                    on_outline: px.map(|p| ring[..n].contains(&p)),
-                };
+                own = self.roles(&px, &ring[..n]);
                 &own
             }
         };

@@ -149,46 +149,42 @@ fn at(m: &Mover, t: f64) -> RoadUser {
     let mut u = m.start;
     match m.motion {
         Motion::Drive { speed_mps } => {
-            let len = LOOP_M[1] - LOOP_M[0];
-            u.centre[1] = LOOP_M[0] + (u.centre[1] - LOOP_M[0] + speed_mps * t).rem_euclid(len);
+            u.centre[1] = looped(u.centre[1], LOOP_M, speed_mps, t);
             u.velocity = [0.0, speed_mps];
         }
-        Motion::Pace {
-            between: [w, e],
-            speed_mps,
-        } => {
-            // x = mid + amp sin(phase + ω t), from the start position, east first.
-            let (mid, amp) = ((w + e) / 2.0, (e - w) / 2.0);
-            if amp > 0.0 {
-                let omega = speed_mps / amp;
-                let phase = ((u.centre[0] - mid) / amp).clamp(-1.0, 1.0).asin();
-                let a = phase + omega * t;
-                u.centre[0] = mid + amp * a.sin();
-                u.velocity = [speed_mps * a.cos(), 0.0];
-            }
-        }
-        Motion::Stroll {
-            between: [s, n],
-            speed_mps,
-        } => {
-            let (mid, amp) = ((s + n) / 2.0, (n - s) / 2.0);
-            if amp > 0.0 {
-                let omega = speed_mps / amp;
-                let phase = ((u.centre[1] - mid) / amp).clamp(-1.0, 1.0).asin();
-                let a = phase + omega * t;
-                u.centre[1] = mid + amp * a.sin();
-                u.velocity = [0.0, speed_mps * a.cos()];
-            }
-        }
-        Motion::Cruise {
-            speed_mps,
-            between: [a, b],
-        } => {
-            let len = (b - a).max(1e-9);
-            u.centre[1] = a + (u.centre[1] - a + speed_mps * t).rem_euclid(len);
+        Motion::Cruise { speed_mps, between } => {
+            u.centre[1] = looped(u.centre[1], between, speed_mps, t);
             u.velocity = [0.0, speed_mps];
+        }
+        Motion::Pace { between, speed_mps } => {
+            let (x, v) = back_and_forth(u.centre[0], between, speed_mps, t);
+            (u.centre[0], u.velocity) = (x, [v, 0.0]);
+        }
+        Motion::Stroll { between, speed_mps } => {
+            let (y, v) = back_and_forth(u.centre[1], between, speed_mps, t);
+            (u.centre[1], u.velocity) = (y, [0.0, v]);
         }
         Motion::Stand => {}
     }
     u
+}
+
+/// Where a coordinate starting at `start` and moving at `speed_mps` is at `t_s`, looping over
+/// `[a, b]` (leaving one end, it comes back at the other).
+fn looped(start: f64, [a, b]: [f64; 2], speed_mps: f64, t_s: f64) -> f64 {
+    let len = (b - a).max(1e-9);
+    a + (start - a + speed_mps * t_s).rem_euclid(len)
+}
+
+/// A coordinate going back and forth between `lo` and `hi` from `start` (up first), slowing
+/// down to turn: `mid + amp sin(phase + ω t)` with its top speed `speed_mps` midway.
+/// Returns the coordinate and its speed at `t_s`.
+fn back_and_forth(start: f64, [lo, hi]: [f64; 2], speed_mps: f64, t_s: f64) -> (f64, f64) {
+    let (mid, amp) = ((lo + hi) / 2.0, (hi - lo) / 2.0);
+    if amp <= 0.0 {
+        return (start, 0.0);
+    }
+    let phase = ((start - mid) / amp).clamp(-1.0, 1.0).asin();
+    let a = phase + speed_mps / amp * t_s;
+    (mid + amp * a.sin(), speed_mps * a.cos())
 }

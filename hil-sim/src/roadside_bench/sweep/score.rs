@@ -283,61 +283,35 @@ pub fn run_camera(
     score
 }
 
-/// Runs two cameras fused by one pipeline; the track coverage counts the road users either
-/// camera counts.
+/// Runs a pair of cameras through one pipeline, both fused or (`only`) one of them alone;
+/// the track coverage counts the road users either camera counts, so that one camera and
+/// the pair are scored on the same road users.
 pub fn run_pair(
     world: &World,
     cams: [&PinholeCamera; 2],
     locs: [&Localizer; 2],
+    only: Option<usize>,
     movers: &[Mover],
     settings: RunSettings,
 ) -> Score {
+    let fed: Vec<usize> = only.map_or(vec![0, 1], |k| vec![k]);
     let mut rng = Prng::new(settings.seed ^ 0xfade);
-    let mut pipeline = Pipeline::live(locs.map(|l| *l).to_vec(), TrackerSettings::default())
-        .expect("default settings");
+    let cameras = fed.iter().map(|&k| *locs[k]).collect();
+    let mut pipeline =
+        Pipeline::live(cameras, TrackerSettings::default()).expect("default settings");
     let mut score = Score::default();
     for f in 0..settings.frames {
         let t = f as f64 * 0.1;
         let users = users_at(movers, t);
         let views = cams.map(|c| view(c, &users, settings.noise_px, &mut rng));
-        let per_camera: Vec<Vec<Silhouette>> = views
+        let per_camera: Vec<Vec<Silhouette>> = fed
             .iter()
-            .map(|v| v.masks.iter().map(|(_, s)| s.clone()).collect())
+            .map(|&k| views[k].masks.iter().map(|(_, s)| s.clone()).collect())
             .collect();
         let tracks = pipeline
             .frame(f, t, &per_camera)
             .expect("frame times go forward")
             .to_vec();
-        let either: Vec<bool> = (0..users.len())
-            .map(|k| views[0].counts[k] || views[1].counts[k])
-            .collect();
-        let near = |p: [f64; 2]| cams.iter().any(|c| range_m(c, p) <= RANGE_M);
-        score.add_tracks(&tracks, &users, &either, world, &near);
-    }
-    score
-}
-
-/// The track coverage of road users that `either` of two views count, for a single camera's
-/// run: used to compare one camera with the pair on the same road users.
-pub fn run_camera_on_union(
-    world: &World,
-    cams: [&PinholeCamera; 2],
-    which: usize,
-    loc: &Localizer,
-    movers: &[Mover],
-    settings: RunSettings,
-) -> Score {
-    let mut rng = Prng::new(settings.seed ^ 0xfade);
-    let mut tracker = RoadUserTracker::new(TrackerSettings::default()).expect("default settings");
-    let mut score = Score::default();
-    for f in 0..settings.frames {
-        let t = f as f64 * 0.1;
-        let users = users_at(movers, t);
-        let views = cams.map(|c| view(c, &users, settings.noise_px, &mut rng));
-        let sil: Vec<Silhouette> = views[which].masks.iter().map(|(_, s)| s.clone()).collect();
-        let (found, _) = loc.frame(&sil);
-        let obs: Vec<Observation> = found.iter().map(Localized::observation).collect();
-        let tracks = tracker.update(t, &obs).expect("frame times go forward");
         let either: Vec<bool> = (0..users.len())
             .map(|k| views[0].counts[k] || views[1].counts[k])
             .collect();
