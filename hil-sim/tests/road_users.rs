@@ -282,6 +282,65 @@ fn a_coco_file_round_trip_gives_the_same_masks() {
     for (a, b) in parsed[0].silhouettes.iter().zip(&direct) {
         assert_eq!((a.class, &a.hull, a.area_px), (b.class, &b.hull, b.area_px));
     }
+    // The same masks as polygons traced along the pixels' edges (one rectangle per row run,
+    // a valid COCO polygon list) give the same outline, not the hull of their vertices.
+    let polygons = parse_coco(&row_run_polygons(&frame.labels, size, &users, &missed))
+        .expect("polygon masks parse");
+    assert_eq!(polygons[0].silhouettes.len(), direct.len());
+    for (a, b) in polygons[0].silhouettes.iter().zip(&direct) {
+        assert_eq!((a.class, &a.hull, a.area_px), (b.class, &b.hull, b.area_px));
+        assert!(a.parts > 1);
+    }
+}
+
+/// A COCO file whose masks (labels 1..=users, category k + 1 for user k) are polygon lists:
+/// one rectangle along the pixels' edges per run of a row.
+fn row_run_polygons(
+    labels: &[u16],
+    [w, h]: [u32; 2],
+    users: &[RoadUser],
+    missed: &[bool],
+) -> String {
+    let mut annotations = Vec::new();
+    for k in (0..users.len()).filter(|k| !missed[*k]) {
+        let mut parts = Vec::new();
+        for y in 0..h {
+            let row = &labels[(y * w) as usize..((y + 1) * w) as usize];
+            let mut x = 0;
+            while x < w {
+                let start = x;
+                while x < w && row[x as usize] == (k + 1) as u16 {
+                    x += 1;
+                }
+                if x > start {
+                    parts.push(format!(
+                        "[{start},{y},{x},{y},{x},{},{start},{}]",
+                        y + 1,
+                        y + 1
+                    ));
+                } else {
+                    x += 1;
+                }
+            }
+        }
+        if !parts.is_empty() {
+            annotations.push(format!(
+                r#"{{"image_id":0,"category_id":{},"segmentation":[{}]}}"#,
+                k + 1,
+                parts.join(",")
+            ));
+        }
+    }
+    format!(
+        r#"{{"images":[{{"id":0,"width":{w},"height":{h}}}],"annotations":[{}],"categories":[{}]}}"#,
+        annotations.join(","),
+        users
+            .iter()
+            .enumerate()
+            .map(|(i, u)| format!(r#"{{"id":{},"name":"{}"}}"#, i + 1, u.class.name()))
+            .collect::<Vec<_>>()
+            .join(",")
+    )
 }
 
 #[test]

@@ -1,14 +1,14 @@
 //! Parsers of instance-segmentation detector output (Mask R-CNN / YOLO-seg).
 //!
 //! Per detected object only the class, the score and the convex hull of the
-//! mask are kept, in image pixels: x to the right, y down, continuous
-//! coordinates (pixel column `c`, row `r` covers `[c, c+1) x [r, r+1)`).
-//! Masks are never rasterised: the hull of an RLE mask is the hull of the
-//! corners of its runs.
+//! mask's outline ([`MaskOutline`]) are kept, in image pixels: x to the right, y down,
+//! continuous coordinates (pixel column `c`, row `r` covers `[c, c+1) x [r, r+1)`).
+//! RLE masks are read run by run; polygons are filled back into the pixels they cover.
 
 use super::class::RoadUserClass;
 use super::outline::MaskOutline;
 pub use super::polygon::convex_hull;
+use super::rasterise::{fill, MAX_CROSSINGS};
 use serde_json::{Map, Value};
 use std::collections::HashMap;
 use std::fmt;
@@ -40,7 +40,7 @@ pub struct Silhouette {
     /// positive signed shoelace area in (x right, y down) coordinates, i.e. they
     /// run clockwise as seen on screen (counter-clockwise in a y-up plot).
     pub hull: Vec<[f64; 2]>,
-    /// Mask area in pixels (RLE: pixel count; polygons: shoelace area summed over parts).
+    /// Mask area in pixels (for polygons, the pixels whose centres they cover).
     pub area_px: f64,
     /// Number of separate polygons (COCO polygon lists), 1 for RLE and YOLO; >1 hints at occlusion.
     pub parts: usize,
@@ -242,25 +242,19 @@ fn near_border(p: [f64; 2], size: Option<[u32; 2]>) -> bool {
     })
 }
 
-/// Shape of polygons given as point lists (each already at least 3 points).
-fn polygon_shape(parts: &[Vec<[f64; 2]>], size: Option<[u32; 2]>) -> Shape {
-    let mut area = 0.0;
-    for part in parts {
-        let twice: f64 = part
-            .iter()
-            .zip(part.iter().cycle().skip(1))
-            .map(|(a, b)| a[0] * b[1] - b[0] * a[1])
-            .sum();
-        area += twice.abs() / 2.0;
-    }
-    let all: Vec<[f64; 2]> = parts.iter().flatten().copied().collect();
-    let touches = all.iter().any(|&p| near_border(p, size));
-    Shape {
-        hull: convex_hull(&all),
-        area,
+/// Shape of polygons given as point lists (each already at least 3 points): the outline of
+/// the pixels they cover ([`rasterise`](super::rasterise)), so that a traced polygon's hull
+/// has no more bias than its mask's.
+fn polygon_shape(parts: &[Vec<[f64; 2]>], size: Option<[u32; 2]>) -> Result<Shape, MaskError> {
+    let outline =
+        fill(parts, size).map_err(|_| too_large("polygon row crossings", MAX_CROSSINGS))?;
+    let touches = parts.iter().flatten().any(|&p| near_border(p, size));
+    Ok(Shape {
+        hull: outline.hull(),
+        area: outline.area() as f64,
         touches,
         parts: parts.len(),
-    }
+    })
 }
 
 /// Classifies and stores one detection, or counts it as skipped.
@@ -362,7 +356,7 @@ fn parse_annotation(
                 }
                 parts.push(part);
             }
-            polygon_shape(&parts, frame.image_size)
+            polygon_shape(&parts, frame.image_size)?
         }
         Some(seg @ Value::Object(_)) => {
             let bad_size = |reason| at(path, ".segmentation.size", reason);
@@ -609,7 +603,7 @@ pub fn parse_yolo_seg(
                 ]);
             }
         }
-        let shape = polygon_shape(&[points], out.image_size);
+        let shape = polygon_shape(&[points], out.image_size)?;
         push_detection(&mut out, name, score, shape);
     }
     Ok(out)

@@ -4,7 +4,8 @@
 //!    [`edgelets`] ([`vanishing`]), the focal length from them, and the full projection from
 //!    them with the reference-point homography, cross-checked against it.
 //! 2. [`detections`]: an instance-segmentation detector's output (COCO JSON with polygons or
-//!    RLE masks, YOLO-seg text), each mask reduced to its convex hull.
+//!    RLE masks, YOLO-seg text), each mask reduced to the convex hull of its outline
+//!    (polygons filled back into pixels first, [`rasterise`]).
 //! 3. [`localize`]: the 3D box of each road user fitted to its mask ([`fit`]: position,
 //!    length, width and height whose projected box matches the mask's outline, the class's
 //!    size prior deciding only what the view does not measure), started from the tangents
@@ -37,6 +38,7 @@ pub mod localize;
 pub mod outline;
 pub mod pipeline;
 pub mod polygon;
+pub mod rasterise;
 pub mod tracker;
 pub mod vanishing;
 pub mod workers;

@@ -8,9 +8,12 @@
 
 use super::polygon::convex_hull;
 
-/// A mask being read pixel by pixel or run by run.
+/// A mask being read pixel by pixel or run by run, over a grid of pixels: the whole image, or
+/// a window of it (pixel coordinates are then the window's, and the hull is the image's).
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct MaskOutline {
+    /// The image pixel of the grid's top-left pixel.
+    origin: [u32; 2],
     width: u32,
     height: u32,
     /// Per column: first row in and last row in.
@@ -27,7 +30,14 @@ fn widen(slot: &mut Option<(u32, u32)>, lo: u32, hi: u32) {
 impl MaskOutline {
     /// An empty mask of `width` x `height` pixels.
     pub fn new(width: u32, height: u32) -> Self {
+        Self::window([0, 0], width, height)
+    }
+
+    /// An empty window of `width` x `height` pixels whose top-left pixel is image pixel
+    /// `origin` (column, row).
+    pub fn window(origin: [u32; 2], width: u32, height: u32) -> Self {
         Self {
+            origin,
             width,
             height,
             columns: vec![None; width as usize],
@@ -36,7 +46,7 @@ impl MaskOutline {
         }
     }
 
-    /// Adds pixel (column `x`, row `y`); pixels outside the image are ignored.
+    /// Adds pixel (column `x`, row `y` of the grid); pixels outside the grid are ignored.
     pub fn add_pixel(&mut self, x: u32, y: u32) {
         if x < self.width && y < self.height {
             widen(&mut self.columns[x as usize], y, y);
@@ -58,12 +68,25 @@ impl MaskOutline {
         self.area += u64::from(bottom.saturating_sub(top));
     }
 
+    /// Adds columns `left..right` of row `y`.
+    pub fn add_row_run(&mut self, y: u32, left: u32, right: u32) {
+        if y >= self.height || left >= right {
+            return;
+        }
+        let right = right.min(self.width);
+        widen(&mut self.rows[y as usize], left, right - 1);
+        for x in left..right {
+            widen(&mut self.columns[x as usize], y, y);
+        }
+        self.area += u64::from(right.saturating_sub(left));
+    }
+
     /// Pixels in the mask.
     pub fn area(&self) -> u64 {
         self.area
     }
 
-    /// Does the mask reach the image border?
+    /// Does the mask reach the grid's border (the image's, for a grid made by [`Self::new`])?
     pub fn touches_border(&self) -> bool {
         let (w, h) = (self.width, self.height);
         let edge_col = |c: usize| self.columns.get(c).is_some_and(Option::is_some);
@@ -75,19 +98,20 @@ impl MaskOutline {
 
     /// The convex hull of the boundary points (see the module's documentation).
     pub fn hull(&self) -> Vec<[f64; 2]> {
+        let [x0, y0] = self.origin.map(f64::from);
         let mut points = Vec::new();
         for (x, c) in self.columns.iter().enumerate() {
             if let Some((top, bottom)) = c {
-                let x = x as f64 + 0.5;
-                points.push([x, f64::from(*top)]);
-                points.push([x, f64::from(*bottom) + 1.0]);
+                let x = x0 + x as f64 + 0.5;
+                points.push([x, y0 + f64::from(*top)]);
+                points.push([x, y0 + f64::from(*bottom) + 1.0]);
             }
         }
         for (y, r) in self.rows.iter().enumerate() {
             if let Some((left, right)) = r {
-                let y = y as f64 + 0.5;
-                points.push([f64::from(*left), y]);
-                points.push([f64::from(*right) + 1.0, y]);
+                let y = y0 + y as f64 + 0.5;
+                points.push([x0 + f64::from(*left), y]);
+                points.push([x0 + f64::from(*right) + 1.0, y]);
             }
         }
         convex_hull(&points)

@@ -238,7 +238,7 @@ fn coco_dataset_classes_parts_and_order() {
       "annotations":[
         {"image_id":9,"category_id":1,"segmentation":[[10,10,20,10,20,20,10,20],[30,10,40,10,40,30]],"iscrowd":0},
         {"image_id":9,"category_id":2,"segmentation":[[0,0,5,0,5,5]]},
-        {"image_id":9,"category_id":1,"segmentation":[[1,1,2,2,3,3]]},
+        {"image_id":9,"category_id":1,"segmentation":[[1,1,2,1,3,1]]},
         {"image_id":2,"category_id":1,"segmentation":[[0,0,5,0,5,5]],"score":1}],
       "categories":[{"id":1,"name":"person"},{"id":2,"name":"tree"}]}"#;
     let frames = parse_coco(text).unwrap();
@@ -263,16 +263,92 @@ fn coco_dataset_classes_parts_and_order() {
         (s.class, s.score, s.parts),
         (RoadUserClass::Pedestrian, None, 2)
     );
-    // 10x10 square + triangle of legs 10 and 20: 100 + 100.
+    // 10x10 square + triangle of legs 10 and 20: 100 + 100 pixel centres covered. The
+    // outline of those pixels, from the brute-force Python in `polygons_give_their_mask`.
     assert_eq!(s.area_px, 200.0);
     assert_eq!(
         s.hull,
-        vec![[10.0, 10.0], [40.0, 10.0], [40.0, 30.0], [10.0, 20.0]]
+        vec![
+            [10.0, 10.5],
+            [10.5, 10.0],
+            [39.5, 10.0],
+            [40.0, 10.5],
+            [40.0, 28.5],
+            [39.5, 29.0],
+            [10.5, 20.0],
+            [10.0, 19.5]
+        ]
     );
     assert!(!s.touches_border);
     // Image 2 has no size: border unknown even at (0,0).
     assert_eq!(frames[1].silhouettes[0].score, Some(1.0));
     assert!(!frames[1].silhouettes[0].touches_border);
+}
+
+/// A detector's polygons traced along the pixel squares' edges, or through the boundary
+/// pixels' centres (OpenCV's contours plus half a pixel, as Detectron2 writes them), give
+/// the same silhouette as the RLE of the mask they were traced from; the hull of the traced
+/// vertices would stand half a pixel out. The expected outline is also what this
+/// brute-force Python gives (pixels whose centre is inside or on the polygon, exact
+/// fractions; then each row's and column's edge midpoints and their hull):
+///
+/// ```text
+/// inside = lambda p, poly: on_any_edge(p, poly) or crossings_left_of(p, poly) % 2 == 1
+/// mask = {(x, y) for x in range(w) for y in range(h) if inside((x + 1/2, y + 1/2), poly)}
+/// ```
+#[test]
+fn polygons_give_their_mask() {
+    // The diamond of pixels (col, row): (3,1); (2..=4,2); (1..=5,3); (2..=4,4); (3,5).
+    // Column-major RLE of the 8x8 image: 11 zeros, 1, 6, 3, 4, 5, 4, 3, 6, 1, 20.
+    let rle = one(&coco_one(
+        8,
+        8,
+        r#"{"size":[8,8],"counts":[11,1,6,3,4,5,4,3,6,1,20]}"#,
+    ));
+    let squares = one(&coco_one(
+        8,
+        8,
+        "[[3,1,4,1,4,2,5,2,5,3,6,3,6,4,5,4,5,5,4,5,4,6,3,6,3,5,2,5,2,4,1,4,1,3,2,3,2,2,3,2]]",
+    ));
+    let centres = one(&coco_one(
+        8,
+        8,
+        "[[3.5,1.5,4.5,2.5,5.5,3.5,4.5,4.5,3.5,5.5,2.5,4.5,1.5,3.5,2.5,2.5]]",
+    ));
+    let diamond = vec![[1.0, 3.5], [3.5, 1.0], [6.0, 3.5], [3.5, 6.0]];
+    for s in [&rle, &squares, &centres] {
+        assert_eq!((&s.hull, s.area_px), (&diamond, 13.0));
+    }
+    // The traced vertices' own hull is the octagon through the squares' outer corners: 17
+    // square pixels where the mask's outline has 12.5 (13 pixels).
+    let traced = [
+        [3.0, 1.0],
+        [4.0, 1.0],
+        [6.0, 3.0],
+        [6.0, 4.0],
+        [4.0, 6.0],
+        [3.0, 6.0],
+        [1.0, 4.0],
+        [1.0, 3.0],
+    ];
+    let area = |h: &[[f64; 2]]| crate::road_users::polygon::signed_area(h).abs();
+    assert_eq!((area(&convex_hull(&traced)), area(&diamond)), (17.0, 12.5));
+}
+
+/// A polygon whose edges cross more scan lines than the bound is refused before any is
+/// filled, whatever the image size.
+#[test]
+fn polygon_crossings_are_bounded() {
+    let tall = "[[0,0,1,0,1,4000000,0,4000000]]";
+    for text in [
+        coco_one(8, 8, tall),
+        format!(r#"[{{"image_id":1,"category_name":"car","segmentation":{tall}}}]"#),
+    ] {
+        assert!(matches!(
+            parse_coco(&text),
+            Err(MaskError::TooLarge { limit, .. }) if limit == crate::road_users::rasterise::MAX_CROSSINGS
+        ));
+    }
 }
 
 #[test]
@@ -429,16 +505,40 @@ fn yolo_seg_scores_normalisation_and_skips() {
         (s.class, s.score, s.parts),
         (RoadUserClass::Car, Some(0.9), 1)
     );
-    // (0.1,0.1) (0.5,0.1) (0.5,0.5) scaled by 200x100 -> (20,10) (100,10) (100,50).
-    assert_eq!(s.hull, vec![[20.0, 10.0], [100.0, 10.0], [100.0, 50.0]]);
-    assert!((s.area_px - 1600.0).abs() < 1e-9);
+    // (0.1,0.1) (0.5,0.1) (0.5,0.5) scaled by 200x100 -> (20,10) (100,10) (100,50); the
+    // outline of the 1600 pixels it covers (Python, as in `polygons_give_their_mask`).
+    assert_eq!(
+        s.hull,
+        vec![
+            [21.0, 10.5],
+            [21.5, 10.0],
+            [99.5, 10.0],
+            [100.0, 10.5],
+            [100.0, 49.5],
+            [99.5, 50.0],
+            [21.5, 11.0]
+        ]
+    );
+    assert_eq!(s.area_px, 1600.0);
     assert!(!s.touches_border);
     assert_eq!(
         (f.silhouettes[1].class, f.silhouettes[1].score),
         (RoadUserClass::Pedestrian, None)
     );
     let s = &f.silhouettes[2];
-    assert_eq!(s.hull, vec![[0.0, 0.0], [200.0, 0.0], [200.0, 100.0]]);
+    assert_eq!(
+        s.hull,
+        vec![
+            [1.0, 0.5],
+            [1.5, 0.0],
+            [199.5, 0.0],
+            [200.0, 0.5],
+            [200.0, 99.5],
+            [199.5, 100.0],
+            [1.5, 1.0]
+        ]
+    );
+    assert_eq!(s.area_px, 10_000.0);
     assert!(s.touches_border);
 }
 
