@@ -5,8 +5,9 @@
 //! in the closed lane, every size drawn as on the road ([`super::street::road_size`]).
 //!
 //! [`score`] runs the product's road-user pipeline on each install's frames and measures it
-//! against the truth.
+//! against the truth; [`bound`] says what no localizer could beat on each frame.
 
+pub mod bound;
 pub mod score;
 
 use super::street::{road_size, Motion, Mover, RoadUser, World};

@@ -9,6 +9,7 @@ use super::super::street::{
     RoadUser, World,
 };
 use super::super::synthetic_camera::PinholeCamera;
+use super::bound::{ideal_error, position_bound};
 use roadside::camera::Homography;
 use roadside::rng::Prng;
 use roadside::road_users::calibrate::calibrate;
@@ -49,6 +50,9 @@ pub struct Score {
     /// Per class, per-frame box errors of road users seen whole (in the image, no nearer
     /// road user covering any of it), cm: the paper's case.
     pub whole_boxes: [Vec<f64>; 7],
+    /// Per class, for the same boxes, the errors of an ideal estimator at the Cramér-Rao
+    /// bound of the mask's information ([`super::bound`]), cm: what no localizer could beat.
+    pub ideal_boxes: [Vec<f64>; 7],
     /// Per class, track position errors (to the nearest road user of the class, those within
     /// [`OFF_M`]; the others are counted in `tracks_off`), cm.
     pub tracks: [Vec<f64>; 7],
@@ -78,6 +82,7 @@ impl Score {
         for k in 0..7 {
             self.boxes[k].extend_from_slice(&o.boxes[k]);
             self.whole_boxes[k].extend_from_slice(&o.whole_boxes[k]);
+            self.ideal_boxes[k].extend_from_slice(&o.ideal_boxes[k]);
             self.tracks[k].extend_from_slice(&o.tracks[k]);
             self.coverage[k].0 += o.coverage[k].0;
             self.coverage[k].1 += o.coverage[k].1;
@@ -205,6 +210,27 @@ impl Score {
         }
     }
 
+    /// For each box of a road user seen whole, an ideal estimator's error ([`super::bound`]).
+    fn add_ideal(
+        &mut self,
+        found: &[Localized],
+        v: &View,
+        users: &[RoadUser],
+        cam: &PinholeCamera,
+        noise_px: f64,
+        rng: &mut Prng,
+    ) {
+        for b in found {
+            let k = v.masks[b.index].0;
+            if !(v.near[k] && v.whole[k]) {
+                continue;
+            }
+            if let Some(cov) = position_bound(cam, &users[k], noise_px) {
+                self.ideal_boxes[slot(users[k].class)].push(ideal_error(cov, rng) * 100.0);
+            }
+        }
+    }
+
     fn add_tracks(
         &mut self,
         tracks: &[Track],
@@ -264,6 +290,7 @@ pub fn run_camera(
     settings: RunSettings,
 ) -> Score {
     let mut rng = Prng::new(settings.seed ^ 0x5eed);
+    let mut ideal_rng = Prng::new(settings.seed ^ 0xb0d);
     let mut tracker = RoadUserTracker::new(TrackerSettings::default()).expect("default settings");
     let mut score = Score::default();
     for f in 0..settings.frames {
@@ -275,6 +302,7 @@ pub fn run_camera(
         let (found, rejected) = loc.frame(&sil);
         score.rejected.add(&rejected);
         score.add_boxes(&found, &v, &users);
+        score.add_ideal(&found, &v, &users, cam, settings.noise_px, &mut ideal_rng);
         let obs: Vec<Observation> = found.iter().map(Localized::observation).collect();
         let tracks = tracker.update(t, &obs).expect("frame times go forward");
         let near = |p: [f64; 2]| range_m(cam, p) <= RANGE_M;

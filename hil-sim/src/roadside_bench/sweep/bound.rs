@@ -1,0 +1,145 @@
+//! What any localizer could reach on a frame: the Cramér-Rao bound of a road user's position
+//! given its mask.
+//!
+//! The bench's mask is the convex hull of the eight projected box corners, each moved by
+//! Gaussian noise of `noise_px` in x and y. The mask is a function of those 16 noisy
+//! coordinates, so it carries no more information on the box than they do: the Fisher
+//! information of the 16 coordinates about (x, y, length, width, height), plus the class's
+//! size prior as information on the three sides (the Bayesian bound), bounds the covariance
+//! of every unbiased estimate of the position from the mask from below. An ideal estimator
+//! reaching the bound makes errors drawn from that covariance; the benchmark draws one per
+//! box it scores, so that the table can show what no estimator could beat on that camera.
+
+use super::super::street::{corners, RoadUser};
+use super::super::synthetic_camera::PinholeCamera;
+use roadside::rng::Prng;
+
+/// The box's parameters: x, y (centre, metres), length, width, height.
+type Params = [f64; 5];
+
+/// The 16 pixel coordinates of the box's corners for `p`, `None` when a corner is behind
+/// the camera.
+fn corner_pixels(cam: &PinholeCamera, u: &RoadUser, p: &Params) -> Option<[f64; 16]> {
+    let mut moved = *u;
+    moved.centre = [p[0], p[1]];
+    moved.extent.length_m = p[2];
+    moved.extent.width_m = p[3];
+    moved.extent.height_m = p[4];
+    let mut out = [0.0; 16];
+    for (k, c) in corners(&moved.solid()).iter().enumerate() {
+        let c = cam.to_camera(*c);
+        if c[2] <= 0.1 {
+            return None;
+        }
+        let px = cam.pixel_of(c);
+        out[2 * k] = px[0];
+        out[2 * k + 1] = px[1];
+    }
+    Some(out)
+}
+
+/// The information matrix (5x5) of the corners' noisy pixels and the size prior about the
+/// box of `u`.
+fn information(cam: &PinholeCamera, u: &RoadUser, noise_px: f64) -> Option<[[f64; 5]; 5]> {
+    let e = u.extent;
+    let at: Params = [u.centre[0], u.centre[1], e.length_m, e.width_m, e.height_m];
+    let mut jac = [[0.0; 5]; 16];
+    for j in 0..5 {
+        let step = 1e-4;
+        let (mut hi, mut lo) = (at, at);
+        hi[j] += step;
+        lo[j] -= step;
+        let (a, b) = (corner_pixels(cam, u, &hi)?, corner_pixels(cam, u, &lo)?);
+        for (row, (pa, pb)) in jac.iter_mut().zip(a.iter().zip(&b)) {
+            row[j] = (pa - pb) / (2.0 * step);
+        }
+    }
+    let mut info = [[0.0; 5]; 5];
+    for row in &jac {
+        for i in 0..5 {
+            for j in 0..5 {
+                info[i][j] += row[i] * row[j] / (noise_px * noise_px);
+            }
+        }
+    }
+    let s = u.class.size_prior().sigma;
+    for (i, sigma) in [(2, s.length_m), (3, s.width_m), (4, s.height_m)] {
+        info[i][i] += 1.0 / (sigma * sigma);
+    }
+    Some(info)
+}
+
+/// The inverse of a symmetric positive definite 5x5 matrix (Gauss-Jordan).
+fn inverse(mut a: [[f64; 5]; 5]) -> Option<[[f64; 5]; 5]> {
+    let mut inv = [[0.0; 5]; 5];
+    (0..5).for_each(|i| inv[i][i] = 1.0);
+    for c in 0..5 {
+        let p = (c..5).max_by(|&i, &j| a[i][c].abs().total_cmp(&a[j][c].abs()))?;
+        if a[p][c].abs() < 1e-15 {
+            return None;
+        }
+        a.swap(c, p);
+        inv.swap(c, p);
+        let d = a[c][c];
+        for k in 0..5 {
+            a[c][k] /= d;
+            inv[c][k] /= d;
+        }
+        for r in (0..5).filter(|&r| r != c) {
+            let f = a[r][c];
+            for k in 0..5 {
+                a[r][k] -= f * a[c][k];
+                inv[r][k] -= f * inv[c][k];
+            }
+        }
+    }
+    Some(inv)
+}
+
+/// The bound on the covariance of the position of `u` (east, north; square metres) when its
+/// mask's corners carry `noise_px` of noise.
+pub fn position_bound(cam: &PinholeCamera, u: &RoadUser, noise_px: f64) -> Option<[[f64; 2]; 2]> {
+    let cov = inverse(information(cam, u, noise_px)?)?;
+    Some([[cov[0][0], cov[0][1]], [cov[1][0], cov[1][1]]])
+}
+
+/// One error (metres) of an estimator at the bound `cov`: the length of a draw from it.
+pub fn ideal_error(cov: [[f64; 2]; 2], rng: &mut Prng) -> f64 {
+    let l00 = cov[0][0].max(0.0).sqrt();
+    let l10 = if l00 > 0.0 { cov[1][0] / l00 } else { 0.0 };
+    let l11 = (cov[1][1] - l10 * l10).max(0.0).sqrt();
+    let (a, b) = (rng.normal(), rng.normal());
+    (l00 * a).hypot(l10 * a + l11 * b)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::roadside_bench::street::pole_camera;
+    use roadside::road_users::RoadUserClass;
+
+    /// The bound grows with range and with noise as the geometry says: twice the noise,
+    /// twice the position's sigma when the data decide; a far pedestrian is placed worse
+    /// than a near one.
+    #[test]
+    fn the_bound_follows_noise_and_range() {
+        let cam = pole_camera();
+        let near = RoadUser::standing(1, RoadUserClass::Car, [5.0, 15.0]);
+        let far = RoadUser::standing(2, RoadUserClass::Car, [5.0, 40.0]);
+        let trace = |c: [[f64; 2]; 2]| (c[0][0] + c[1][1]).sqrt();
+        let n1 = trace(position_bound(&cam, &near, 1.0).unwrap());
+        let f1 = trace(position_bound(&cam, &far, 1.0).unwrap());
+        let f2 = trace(position_bound(&cam, &far, 2.0).unwrap());
+        assert!(n1 < f1, "near {n1} far {f1}");
+        assert!(f2 > 1.5 * f1 && f2 < 2.0 * f1 + 1e-9, "1 px {f1} 2 px {f2}");
+        // An exact inverse: the information times the bound is the identity.
+        let info = information(&cam, &far, 1.0).unwrap();
+        let inv = inverse(info).unwrap();
+        for (i, row) in info.iter().enumerate() {
+            for j in 0..5 {
+                let v: f64 = row.iter().zip(&inv).map(|(a, r)| a * r[j]).sum();
+                assert!((v - f64::from(u8::from(i == j))).abs() < 1e-6);
+            }
+        }
+    }
+}
