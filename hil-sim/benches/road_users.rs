@@ -11,7 +11,8 @@
 //! coverage of people is under 90 % or the 95 % circle holds under 95 %, or when two
 //! cameras do worse than one (less coverage, a larger track mean than either alone).
 //!
-//! `cargo bench -p hil-sim --bench road_users -- [FRAMES] [--seeds N] [--only NAME|timing]`
+//! `cargo bench -p hil-sim --bench road_users -- [FRAMES] [--seeds N] [--only NAME|timing]
+//! [--noise PX]` (`--noise 0`: the method's own error, the masks only rounded to pixels)
 
 use std::time::Instant;
 
@@ -25,11 +26,13 @@ use roadside::road_users::pipeline::{stats, PAPER_ERRORS_CM};
 use roadside::road_users::tracker::{Observation, RoadUserTracker, TrackerSettings};
 use roadside::road_users::RoadUserClass;
 
-/// The command line: `[FRAMES] [--seeds N] [--only NAME]`.
+/// The command line: `[FRAMES] [--seeds N] [--only NAME] [--noise PX]`.
 struct Options {
     frames: usize,
     seeds: u64,
     only: Option<String>,
+    /// The mask noise levels run (1 and 2 px unless one is named).
+    noise: Vec<f64>,
 }
 
 impl Options {
@@ -47,6 +50,9 @@ impl Options {
             frames: args.first().and_then(|a| a.parse().ok()).unwrap_or(300),
             seeds: value("--seeds").and_then(|v| v.parse().ok()).unwrap_or(3),
             only: value("--only").cloned(),
+            noise: value("--noise")
+                .and_then(|v| v.parse().ok())
+                .map_or(vec![1.0, 2.0], |v| vec![v]),
         }
     }
 }
@@ -236,7 +242,7 @@ fn main() {
             continue;
         }
         let Some(loc) = loc else { continue };
-        for noise in [1.0, 2.0] {
+        for &noise in &opts.noise {
             let t0 = Instant::now();
             let mut total = Score::default();
             for seed in 0..opts.seeds {

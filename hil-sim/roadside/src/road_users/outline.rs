@@ -1,10 +1,15 @@
-//! The outline of a raster mask: the convex hull of unbiased boundary points.
+//! The outline of a raster mask: the convex hull of its boundary points.
 //!
 //! A detector's mask holds the pixels whose centres fall inside the object, so the object's
 //! boundary crosses each row's centre line between the centre of the first pixel in and that
-//! of the last pixel out: its best estimate is the pixel's edge, `(left, y + 0.5)`. The same
-//! holds along each column. The hull of those points has no outward (or inward) bias, where
-//! the hull of the pixel squares' corners stands up to half a pixel out on slanted edges.
+//! of the last pixel out: its best estimate is the pixel's edge, `(left, y + 0.5)`, off by a
+//! rounding spread evenly over a pixel. The same holds along each column. The hull of those
+//! points rests on their outermost roundings: along an axis-aligned edge it has no bias, along
+//! a slanted one it stands out by up to half a pixel (the hull of the pixel squares' corners
+//! stands out by up to a whole one). Fitting the box to the points themselves would remove
+//! that rounding, but where mask noise moves the silhouette's corners (the bench's noise
+//! model) the hull's vertices are those corners and measure the box better: the fit takes
+//! the hull.
 
 use super::polygon::convex_hull;
 

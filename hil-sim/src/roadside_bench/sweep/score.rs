@@ -225,8 +225,14 @@ impl Score {
             if !(v.near[k] && v.whole[k]) {
                 continue;
             }
-            if let Some(cov) = position_bound(cam, &users[k], noise_px) {
-                self.ideal_boxes[slot(users[k].class)].push(ideal_error(cov, rng) * 100.0);
+            // Exact corners pin the box down: the ideal makes no error.
+            let error = if noise_px > 0.0 {
+                position_bound(cam, &users[k], noise_px).map(|cov| ideal_error(cov, rng))
+            } else {
+                Some(0.0)
+            };
+            if let Some(e) = error {
+                self.ideal_boxes[slot(users[k].class)].push(e * 100.0);
             }
         }
     }
