@@ -42,6 +42,9 @@ pub struct Localized {
     pub position: [f64; 2],
     /// 1-sigma error of the position, metres.
     pub sigma_m: f64,
+    /// The part of `sigma_m` that repeats from frame to frame, metres: for a road user cut by
+    /// the image border, the class's size prior standing for the end out of view; 0 otherwise.
+    pub floor_m: f64,
 }
 
 impl Localized {
@@ -51,6 +54,7 @@ impl Localized {
             class: self.road_user.class,
             position: self.position,
             sigma_m: self.sigma_m,
+            floor_m: self.floor_m,
         }
     }
 }
@@ -168,11 +172,12 @@ impl Localizer {
                 .map(|(_, o)| o.hull.as_slice())
                 .collect();
             match self.one(d, &touching) {
-                Ok((road_user, position, sigma_m)) => boxes.push(Localized {
+                Ok((road_user, position, sigma_m, floor_m)) => boxes.push(Localized {
                     index,
                     road_user,
                     position,
                     sigma_m,
+                    floor_m,
                 }),
                 Err(r) => rejected.count(r),
             }
@@ -180,12 +185,12 @@ impl Localizer {
         (boxes, rejected)
     }
 
-    /// One detection's box, position and 1-sigma error.
+    /// One detection's box, position, 1-sigma error and the part of it from hidden sides.
     fn one(
         &self,
         d: &Silhouette,
         touching: &[&[[f64; 2]]],
-    ) -> Result<(RoadUserBox, [f64; 2], f64), BoxRejection> {
+    ) -> Result<(RoadUserBox, [f64; 2], f64, f64), BoxRejection> {
         if d.hull.len() < 3 {
             return Err(BoxRejection::TooFewPoints);
         }
@@ -272,7 +277,11 @@ impl Localizer {
                 BoxRejection::NoIntersection
             });
         }
-        Ok((road_user, fitted.centre, sigma_m))
+        // Cut by the image border, the same end stays out of view frame after frame, so
+        // the prior's share of the error repeats (behind a neighbour, what is hidden changes
+        // as traffic moves).
+        let repeated = if d.touches_border { hidden_floor } else { 0.0 };
+        Ok((road_user, fitted.centre, sigma_m, repeated.min(sigma_m)))
     }
 
     /// Does the mask's lowest point lie along a touching mask or the image's bottom (so the

@@ -7,8 +7,11 @@
 //! Mahalanobis distance of the innovation (gated, and never beyond a jump a
 //! road user cannot make between frames), greedily by increasing distance, one
 //! observation per track; a track not seen for `max_coast_s` ends rather than
-//! drift onto a neighbour. Reported accuracies come from the filter
-//! covariance, so they are suitable for J2735 PSM accuracy fields.
+//! drift onto a neighbour, and a young one is not reported while unseen (its
+//! velocity rests on a few boxes). Reported accuracies come from the filter
+//! covariance, never better than the error its observations repeat from frame to
+//! frame (a cut end taken from the size prior), so they are suitable for J2735 PSM
+//! accuracy fields.
 use super::class::RoadUserClass;
 use std::fmt;
 
@@ -74,6 +77,12 @@ pub struct TrackerSettings {
     /// coasting, is kept but not reported until its accuracy stands for its position (a
     /// PSM of it would otherwise stand metres from its worker). Must be finite, in (0, 100].
     pub max_report_sigma_m: f64,
+    /// A track not seen in the frame is reported only once it has taken this many
+    /// observations. Default 10 (a second at 10 fps): a young track's velocity rests on a
+    /// few boxes, and one wrong box can make it metres a second off; dead-reckoned on it, the
+    /// track leaves its road user within a few frames while its accuracy still looks good.
+    /// A settled track bridges a short occlusion. Any value (0: every track coasts).
+    pub min_hits_to_coast: u32,
 }
 
 impl Default for TrackerSettings {
@@ -85,6 +94,7 @@ impl Default for TrackerSettings {
             accel_sigma_mps2: 2.0,
             person_accel_sigma_mps2: 0.5,
             max_report_sigma_m: 0.4,
+            min_hits_to_coast: 10,
         }
     }
 }
@@ -98,6 +108,11 @@ pub struct Observation {
     pub position: [f64; 2],
     /// 1-sigma position error of this observation (metres, per axis).
     pub sigma_m: f64,
+    /// The part of `sigma_m` that does not average out over frames, metres: a side the view
+    /// hides is taken from the class's size prior in every frame alike, so the same error
+    /// repeats. 0 when the road user is seen whole. A track's accuracy is never reported
+    /// better than its latest observation's floor.
+    pub floor_m: f64,
 }
 
 /// A tracked road user as reported.
@@ -117,7 +132,8 @@ pub struct Track {
     /// Degrees clockwise from north in [0, 360); `None` while the speed is
     /// below twice its sigma (direction not meaningful).
     pub heading_deg: Option<f64>,
-    /// Square root of the larger eigenvalue of the 2x2 position covariance.
+    /// Square root of the larger eigenvalue of the 2x2 position covariance, or the latest
+    /// observation's floor ([`Observation::floor_m`]) where that is larger.
     pub position_sigma_m: f64,
     /// 1-sigma of the speed (first-order propagation; at zero speed the
     /// square root of the larger velocity-covariance eigenvalue).
@@ -185,6 +201,8 @@ struct TrackState {
     first_seen_s: f64,
     last_seen_s: f64,
     hits: u32,
+    /// The latest observation's floor (see [`Observation::floor_m`]).
+    floor_m: f64,
 }
 
 /// Multi-object road-user tracker (bounded: at most `MAX_TRACKS` tracks).
@@ -242,9 +260,9 @@ impl RoadUserTracker {
 
     /// Advances to `time_s` (frame time, seconds, monotonic; equal to the
     /// previous time is allowed, with dt = 0) and takes the frame's
-    /// observations; returns the confirmed tracks that were updated or are
-    /// coasting and whose position is known within `max_report_sigma_m`, in
-    /// creation order. On error the tracker is unchanged.
+    /// observations; returns the confirmed tracks that were updated, or are coasting with
+    /// at least `min_hits_to_coast` observations, and whose position is known within
+    /// `max_report_sigma_m`, in creation order. On error the tracker is unchanged.
     pub fn update(
         &mut self,
         time_s: f64,
@@ -319,10 +337,15 @@ impl RoadUserTracker {
             let id = self.allocate_id();
             self.tracks.push(new_track(id, o, time_s));
         }
+        let (sharp, settled) = (
+            self.settings.max_report_sigma_m,
+            self.settings.min_hits_to_coast,
+        );
         Ok(self
             .tracks
             .iter()
-            .filter(|t| t.hits >= confirm && position_sigma(t) <= self.settings.max_report_sigma_m)
+            .filter(|t| t.hits >= confirm && reported_sigma(t) <= sharp)
+            .filter(|t| t.last_seen_s == time_s || t.hits >= settled)
             .map(report)
             .collect())
     }
@@ -341,7 +364,9 @@ impl RoadUserTracker {
         let mut valid = Vec::with_capacity(n);
         for o in &observations[..n] {
             let [x, y] = o.position;
-            if !(x.is_finite() && y.is_finite() && o.sigma_m.is_finite() && o.sigma_m > 0.0) {
+            let sigma_ok = o.sigma_m.is_finite() && o.sigma_m > 0.0;
+            let floor_ok = o.floor_m.is_finite() && o.floor_m >= 0.0;
+            if !(x.is_finite() && y.is_finite() && sigma_ok && floor_ok) {
                 r.non_finite = r.non_finite.saturating_add(1);
             } else if x.abs() > MAX_ABS_POSITION_M
                 || y.abs() > MAX_ABS_POSITION_M
@@ -388,6 +413,7 @@ fn new_track(id: u32, o: &Observation, time_s: f64) -> TrackState {
         first_seen_s: time_s,
         last_seen_s: time_s,
         hits: 1,
+        floor_m: o.floor_m,
     }
 }
 
@@ -475,6 +501,7 @@ fn correct(t: &mut TrackState, o: &Observation, time_s: f64) {
     *c = c.saturating_add(1);
     t.hits = t.hits.saturating_add(1);
     t.last_seen_s = time_s;
+    t.floor_m = o.floor_m;
 }
 
 /// Larger eigenvalue of the symmetric 2x2 matrix `[[a, b], [b, c]]`.
@@ -482,9 +509,15 @@ fn max_eig(a: f64, b: f64, c: f64) -> f64 {
     (0.5 * (a + c) + (0.25 * (a - c) * (a - c) + b * b).sqrt()).max(0.0)
 }
 
-/// 1-sigma of a track's position along its worst direction, metres.
+/// 1-sigma of a track's position along its worst direction, metres (the filter's).
 fn position_sigma(t: &TrackState) -> f64 {
     max_eig(t.p[0][0], t.p[0][1], t.p[1][1]).sqrt()
+}
+
+/// The accuracy a track reports: the filter's, but never better than the error its latest
+/// observation repeats from frame to frame.
+fn reported_sigma(t: &TrackState) -> f64 {
+    position_sigma(t).max(t.floor_m)
 }
 
 /// Public view of a track, with accuracies from its covariance.
@@ -518,7 +551,7 @@ fn report(t: &TrackState) -> Track {
         velocity: [vx, vy],
         speed_mps: speed,
         heading_deg,
-        position_sigma_m: position_sigma(t),
+        position_sigma_m: reported_sigma(t),
         speed_sigma_mps,
         heading_sigma_deg,
         first_seen_s: t.first_seen_s,

@@ -22,6 +22,7 @@ fn obs(class: RoadUserClass, x: f64, y: f64, sigma_m: f64) -> Observation {
         class,
         position: [x, y],
         sigma_m,
+        floor_m: 0.0,
     }
 }
 
@@ -187,45 +188,73 @@ fn confirm_coast_and_drop() {
     assert_eq!(out[0].hits, 3);
     // Same frame twice is allowed (dt = 0).
     assert_eq!(tr.update(0.2, &[]).unwrap().len(), 1);
-    for k in 3..=6 {
-        let out = tr.update(k as f64 * 0.1, &[]).unwrap();
+    // Young (three observations), it is kept but not reported while unseen.
+    assert!(tr.update(0.3, &[]).unwrap().is_empty());
+    for k in 4..=10 {
+        assert_eq!(tr.update(f64::from(k) * 0.1, &o).unwrap()[0].id, id);
+    }
+    // Settled (ten), it coasts.
+    for k in 11..=14 {
+        let out = tr.update(f64::from(k) * 0.1, &[]).unwrap();
         assert_eq!(out.len(), 1, "coasting at k={k}");
-        assert_eq!((out[0].id, out[0].hits), (id, 3));
+        assert_eq!((out[0].id, out[0].hits), (id, 10));
         assert!(out[0].position_sigma_m > 0.0);
     }
-    let out = tr.update(0.69, &o).unwrap();
+    let out = tr.update(1.49, &o).unwrap();
     assert_eq!(
         (out.len(), out[0].id, out[0].hits, out[0].last_seen_s),
-        (1, id, 4, 0.69)
+        (1, id, 11, 1.49)
     );
     // Unseen for the default 0.5 s, it coasts; longer, it ends.
-    assert_eq!(tr.update(1.18, &[]).unwrap().len(), 1);
-    assert!(tr.update(1.3, &[]).unwrap().is_empty());
+    assert_eq!(tr.update(1.98, &[]).unwrap().len(), 1);
+    assert!(tr.update(2.1, &[]).unwrap().is_empty());
     // A new observation there starts a new, unconfirmed track with a new id.
-    assert!(tr.update(2.0, &o).unwrap().is_empty());
-    assert!(tr.update(2.1, &o).unwrap().is_empty());
-    assert_ne!(tr.update(2.2, &o).unwrap()[0].id, id);
+    assert!(tr.update(3.0, &o).unwrap().is_empty());
+    assert!(tr.update(3.1, &o).unwrap().is_empty());
+    assert_ne!(tr.update(3.2, &o).unwrap()[0].id, id);
+}
+
+#[test]
+fn a_young_track_is_not_dead_reckoned_on_its_first_boxes() {
+    // Three boxes confirm a car, the third 0.8 m to the side (a box of a partly seen car):
+    // its velocity comes out metres a second sideways. Unseen, it is not reported: a
+    // dead-reckoned position would leave the car within a few frames.
+    let mut tr = tracker();
+    let c = RoadUserClass::Car;
+    for (k, x) in [0.0, 0.0, 0.8].into_iter().enumerate() {
+        let t = k as f64 * 0.1;
+        tr.update(t, &[obs(c, x, 11.0 * t, 0.1)]).unwrap();
+    }
+    let seen = tr.update(0.2, &[]).unwrap();
+    assert_eq!(seen.len(), 1);
+    assert!(seen[0].velocity[0] > 2.0, "{seen:?}");
+    for t in [0.3, 0.4] {
+        assert!(
+            tr.update(t, &[]).unwrap().is_empty(),
+            "reported unseen at {t}"
+        );
+    }
 }
 
 #[test]
 fn a_track_takes_only_its_own_class_and_never_jumps() {
     let mut tr = tracker();
     let (c, v) = (RoadUserClass::Car, RoadUserClass::Van);
-    for k in 0..3 {
+    for k in 0..10 {
         tr.update(f64::from(k) * 0.1, &[obs(c, 0.0, 0.0, 0.1)])
             .unwrap();
     }
     // A van or a cyclist where the car is does not continue the car's track.
     for (k, class) in [v, RoadUserClass::Cyclist].into_iter().enumerate() {
         let out = tr
-            .update(0.3 + k as f64 * 0.1, &[obs(class, 0.0, 0.0, 0.1)])
+            .update(1.0 + k as f64 * 0.1, &[obs(class, 0.0, 0.0, 0.1)])
             .unwrap();
         assert_eq!(out.len(), 1, "{class:?} must not join the car's track");
-        assert_eq!((out[0].class, out[0].hits), (c, 3));
+        assert_eq!((out[0].class, out[0].hits), (c, 10));
     }
     // A car 2 m away (a neighbour) does not either, though the track coasted 0.2 s.
-    let out = tr.update(0.5, &[obs(c, 2.0, 0.0, 0.1)]).unwrap();
-    assert_eq!((out.len(), out[0].hits), (1, 3), "{out:?}");
+    let out = tr.update(1.2, &[obs(c, 2.0, 0.0, 0.1)]).unwrap();
+    assert_eq!((out.len(), out[0].hits), (1, 10), "{out:?}");
     assert_eq!(out[0].position, [0.0, 0.0]);
 }
 
@@ -440,4 +469,35 @@ fn a_fast_vehicle_is_confirmed_and_followed() {
     assert_eq!(last.len(), 1, "{last:?}");
     assert_eq!(last[0].hits, 10);
     assert!((last[0].speed_mps - 25.0).abs() < 2.0, "{last:?}");
+}
+
+#[test]
+fn a_side_taken_from_the_prior_does_not_average_out() {
+    // A bus cut by the image border: every box takes its length from the class's prior, so
+    // twenty of them are no better placed than one. The filter's own sigma shrinks; the
+    // track reports the floor and stays unreported while that exceeds the 0.4 m limit.
+    let mut tr = tracker();
+    let cut = |y: f64| Observation {
+        floor_m: 0.6,
+        ..obs(RoadUserClass::Bus, 8.0, y, 0.6)
+    };
+    for k in 0..20 {
+        let t = f64::from(k) * 0.1;
+        let out = tr.update(t, &[cut(12.0 * t)]).unwrap();
+        assert!(out.is_empty(), "reported at {t}: {out:?}");
+    }
+    // Seen whole, its sigma is its own again.
+    let out = tr
+        .update(2.0, &[obs(RoadUserClass::Bus, 8.0, 24.0, 0.1)])
+        .unwrap();
+    assert_eq!(out.len(), 1);
+    assert!(out[0].position_sigma_m < 0.4, "{out:?}");
+    // A floor that is not a number is counted and ignored.
+    let bad = Observation {
+        floor_m: f64::NAN,
+        ..obs(RoadUserClass::Bus, 8.0, 25.2, 0.1)
+    };
+    let before = tr.rejected().non_finite;
+    tr.update(2.1, &[bad]).unwrap();
+    assert_eq!(tr.rejected().non_finite, before + 1);
 }
