@@ -15,8 +15,12 @@ use super::synthetic_camera::PinholeCamera;
 use roadside::rng::Prng;
 use roadside::road_users::RoadUserClass;
 
-/// Vehicles loop over this stretch of the street, metres north.
-pub const TRAFFIC_LOOP_M: [f64; 2] = [-15.0, 115.0];
+/// Vehicles loop over this stretch of the street, metres north: a vehicle leaving one end
+/// comes back at the other, so both ends lie more than 40 m (the scored range) from every
+/// install, where a track coasting on after its vehicle left is not scored.
+pub const TRAFFIC_LOOP_M: [f64; 2] = [-60.0, 160.0];
+/// Vehicles a lane over the loop (one every 27.5 m).
+const VEHICLES_A_LANE: usize = 8;
 
 /// One camera install of the sweep.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -113,9 +117,8 @@ fn mover(
     });
 }
 
-/// Dense two-way traffic on [`sweep_world`]: five vehicles a lane in lanes 1-3 (every
-/// class, 9-12 m/s, cyclists 4-5 m/s, looping over [`TRAFFIC_LOOP_M`], whose ends lie behind
-/// each install or beyond its 40 m), people
+/// Dense two-way traffic on [`sweep_world`]: eight vehicles a lane in lanes 1-3 (every
+/// class, 9-12 m/s, cyclists 4-5 m/s, looping over [`TRAFFIC_LOOP_M`]), people
 /// walking up and down both sidewalks, and five workers in the closed lane (two pacing
 /// across it, one walking up and down it, two standing).
 pub fn sweep_traffic(world: &World, seed: u64) -> Vec<Mover> {
@@ -123,15 +126,15 @@ pub fn sweep_traffic(world: &World, seed: u64) -> Vec<Mover> {
     let mut rng = Prng::new(seed);
     let mut movers = Vec::new();
     let [a, b] = TRAFFIC_LOOP_M;
-    let lanes: [(u32, f64, [RoadUserClass; 5]); 3] = [
-        (1, -11.0, [Car, Car, Van, Car, Bus]),
-        (2, -9.0, [Car, Truck, Motorcycle, Van, Car]),
-        (3, 12.0, [Car, Van, Cyclist, Bus, Car]),
+    let lanes: [(u32, f64, [RoadUserClass; VEHICLES_A_LANE]); 3] = [
+        (1, -11.0, [Car, Car, Van, Car, Bus, Car, Van, Car]),
+        (2, -9.0, [Car, Truck, Motorcycle, Van, Car, Car, Truck, Car]),
+        (3, 12.0, [Car, Van, Cyclist, Bus, Car, Motorcycle, Car, Van]),
     ];
     for (lane, speed_mps, classes) in lanes {
         let phase = rng.next_f64() * (b - a);
         for (k, class) in classes.into_iter().enumerate() {
-            let y = a + (phase + (b - a) * k as f64 / 5.0) % (b - a);
+            let y = a + (phase + (b - a) * k as f64 / VEHICLES_A_LANE as f64) % (b - a);
             let x = world.lane_centre_x(lane) + 0.4 * (rng.next_f64() - 0.5);
             let speed = if class == Cyclist {
                 speed_mps / 2.5
