@@ -56,6 +56,9 @@ pub struct Score {
     /// Per class, track position errors (to the nearest road user of the class, those within
     /// [`OFF_M`]; the others are counted in `tracks_off`), cm.
     pub tracks: [Vec<f64>; 7],
+    /// Every track position within [`OFF_M`] of a road user of its class: (frame, the road
+    /// user's id, error in cm), so that two runs can be compared on the road users both track.
+    pub matched: Vec<(usize, u32, f64)>,
     /// Track positions more than [`OFF_M`] from every road user of their class.
     pub tracks_off: usize,
     /// Of those, workers' (people in the closed lane): PSMs that would be off.
@@ -89,6 +92,7 @@ impl Score {
             self.track_coverage[k].0 += o.track_coverage[k].0;
             self.track_coverage[k].1 += o.track_coverage[k].1;
         }
+        self.matched.extend_from_slice(&o.matched);
         self.tracks_off += o.tracks_off;
         self.psms_off += o.psms_off;
         self.boxes_in_circle.0 += o.boxes_in_circle.0;
@@ -239,6 +243,7 @@ impl Score {
 
     fn add_tracks(
         &mut self,
+        frame: usize,
         tracks: &[Track],
         users: &[RoadUser],
         counts: &[bool],
@@ -246,11 +251,11 @@ impl Score {
         near: &dyn Fn([f64; 2]) -> bool,
     ) {
         for t in tracks.iter().filter(|t| near(t.position)) {
-            let nearest = users
+            let (nearest, id) = users
                 .iter()
                 .filter(|u| u.class == t.class)
-                .map(|u| dist(u.centre, t.position))
-                .fold(f64::INFINITY, f64::min);
+                .map(|u| (dist(u.centre, t.position), u.id))
+                .fold((f64::INFINITY, 0), |a, b| if b.0 < a.0 { b } else { a });
             if nearest > OFF_M {
                 // Off by more than any reported circle's radius: a miss for the circle too.
                 self.tracks_in_circle.0 += 1;
@@ -261,6 +266,7 @@ impl Score {
                 continue;
             }
             self.tracks[slot(t.class)].push(nearest * 100.0);
+            self.matched.push((frame, id, nearest * 100.0));
             self.tracks_in_circle.0 += 1;
             if nearest <= CIRCLE_95 * t.position_sigma_m {
                 self.tracks_in_circle.1 += 1;
@@ -285,6 +291,23 @@ fn in_closed_lane(world: &World, p: [f64; 2]) -> bool {
 
 fn dist(a: [f64; 2], b: [f64; 2]) -> f64 {
     (a[0] - b[0]).hypot(a[1] - b[1])
+}
+
+/// The mean track error of `a` and of `b` over the positions both have (the same road user
+/// in the same frame), cm, and how many there are: two runs compared on the same road users.
+pub fn common_means(a: &Score, b: &Score) -> (f64, f64, usize) {
+    let of_b: std::collections::HashMap<(usize, u32), f64> =
+        b.matched.iter().map(|&(f, id, e)| ((f, id), e)).collect();
+    let of_a: std::collections::HashMap<(usize, u32), f64> =
+        a.matched.iter().map(|&(f, id, e)| ((f, id), e)).collect();
+    let (mut sa, mut sb, mut n) = (0.0, 0.0, 0usize);
+    for (key, ea) in &of_a {
+        if let Some(eb) = of_b.get(key) {
+            (sa, sb, n) = (sa + ea, sb + eb, n + 1);
+        }
+    }
+    let mean = |s: f64| if n == 0 { 0.0 } else { s / n as f64 };
+    (mean(sa), mean(sb), n)
 }
 
 /// Runs one camera over the traffic: boxes per frame, and one tracker.
@@ -312,7 +335,7 @@ pub fn run_camera(
         let obs: Vec<Observation> = found.iter().map(Localized::observation).collect();
         let tracks = tracker.update(t, &obs).expect("frame times go forward");
         let near = |p: [f64; 2]| range_m(cam, p) <= RANGE_M;
-        score.add_tracks(&tracks, &users, &v.counts, world, &near);
+        score.add_tracks(f, &tracks, &users, &v.counts, world, &near);
     }
     score
 }
@@ -350,7 +373,7 @@ pub fn run_pair(
             .map(|k| views[0].counts[k] || views[1].counts[k])
             .collect();
         let near = |p: [f64; 2]| cams.iter().any(|c| range_m(c, p) <= RANGE_M);
-        score.add_tracks(&tracks, &users, &either, world, &near);
+        score.add_tracks(f, &tracks, &users, &either, world, &near);
     }
     score
 }
