@@ -5,7 +5,7 @@
 //! off, the 95 % circle's hold and the refusals; two cameras fused against each alone; and
 //! the per-frame time of localization and tracking for 20 road users at 1080p. Beside each
 //! install's box errors, an ideal estimator's on the same boxes (drawn at the Cramér-Rao
-//! bound of the mask's information, `sweep::bound`): what no localizer could beat. Exits 1 when
+//! bound of the mask's information and the size prior, `sweep::bound`). Exits 1 when
 //! an install misses the paper's per-class mean or maximum for road users seen whole (means
 //! only at 2 px), when at 1 px a track position or a worker's PSM is more than 1 m off,
 //! coverage of people is under 90 % or the 95 % circle holds under 95 %, or when two
@@ -53,9 +53,14 @@ impl Options {
             frames: args.first().and_then(|a| a.parse().ok()).unwrap_or(300),
             seeds: value("--seeds").and_then(|v| v.parse().ok()).unwrap_or(3),
             only: value("--only").cloned(),
-            noise: value("--noise")
-                .and_then(|v| v.parse().ok())
-                .map_or(vec![1.0, 2.0], |v| vec![v]),
+            noise: match value("--noise").map(|v| v.parse::<f64>()) {
+                None => vec![1.0, 2.0],
+                Some(Ok(v)) if v.is_finite() && v >= 0.0 => vec![v],
+                Some(_) => {
+                    eprintln!("--noise takes a mask noise in pixels, 0 or more");
+                    std::process::exit(2);
+                }
+            },
         }
     }
 }
@@ -291,6 +296,12 @@ fn main() {
             // tracks those only the other camera sees).
             let (ca, fa, na) = common_means(&one, &fused);
             let (cb, fb, nb) = common_means(&two, &fused);
+            if na == 0 || nb == 0 {
+                fails.push(format!(
+                    "{} + {}: no road user tracked by a camera and the pair alike",
+                    all[a].name, all[b].name
+                ));
+            }
             println!(
                 "\ntwo cameras {} + {} (road users either counts, 1 px): track mean {:.1} / {:.1} / fused {:.1} cm, coverage {:.1} / {:.1} / fused {:.1} %, fused positions over 1 m off {}; on the road users both track, {} alone {ca:.1} / fused {fa:.1} cm ({na} positions), {} alone {cb:.1} / fused {fb:.1} cm ({nb})",
                 all[a].name, all[b].name, pa.0, pb.0, pf.0, 100.0 * pa.1, 100.0 * pb.1, 100.0 * pf.1, fused.tracks_off, all[a].name, all[b].name

@@ -6,7 +6,7 @@
 //! rounding spread evenly over a pixel. The same holds along each column. The hull of those
 //! points rests on their outermost roundings: along an axis-aligned edge it has no bias, along
 //! a slanted one it stands out by up to half a pixel (the hull of the pixel squares' corners
-//! stands out by up to a whole one). Fitting the box to the points themselves would remove
+//! stands out further). Fitting the box to the points themselves would remove
 //! that rounding, but where mask noise moves the silhouette's corners (the bench's noise
 //! model) the hull's vertices are those corners and measure the box better: the fit takes
 //! the hull.
@@ -62,28 +62,28 @@ impl MaskOutline {
 
     /// Adds rows `top..bottom` of column `x`.
     pub fn add_column_run(&mut self, x: u32, top: u32, bottom: u32) {
+        let bottom = bottom.min(self.height);
         if x >= self.width || top >= bottom {
             return;
         }
-        let bottom = bottom.min(self.height);
         widen(&mut self.columns[x as usize], top, bottom - 1);
         for y in top..bottom {
             widen(&mut self.rows[y as usize], x, x);
         }
-        self.area += u64::from(bottom.saturating_sub(top));
+        self.area += u64::from(bottom - top);
     }
 
     /// Adds columns `left..right` of row `y`.
     pub fn add_row_run(&mut self, y: u32, left: u32, right: u32) {
+        let right = right.min(self.width);
         if y >= self.height || left >= right {
             return;
         }
-        let right = right.min(self.width);
         widen(&mut self.rows[y as usize], left, right - 1);
         for x in left..right {
             widen(&mut self.columns[x as usize], y, y);
         }
-        self.area += u64::from(right.saturating_sub(left));
+        self.area += u64::from(right - left);
     }
 
     /// Pixels in the mask.

@@ -2,10 +2,11 @@
 //!
 //! A detector's polygons are traced from its raster mask: along the pixel squares' edges, or
 //! through the centres of the boundary pixels (OpenCV's contours, which Detectron2 shifts by
-//! half a pixel). The hull of such vertices stands up to half a pixel outside (or inside) the
-//! object on slanted edges. Filling the polygons again, a pixel in where its centre lies
-//! inside or on a polygon, gives back the detector's mask for either tracing, and the mask's
-//! [`MaskOutline`] has no bias.
+//! half a pixel). The hull of such vertices stands outside (or inside) the object on slanted
+//! edges. Filling the polygons again, a pixel in where its centre lies inside or on a
+//! polygon (scan lines just above and below each row's centre, and the horizontal edges on
+//! it), gives back the detector's mask for either tracing, and the outline of that mask is
+//! the one an RLE mask gets ([`MaskOutline`]).
 
 use super::outline::MaskOutline;
 
@@ -79,12 +80,37 @@ fn crossing_count(part: &[[f64; 2]]) -> f64 {
         .sum()
 }
 
-/// The pixel runs `(row, left, right)` inside one polygon (even-odd), on either scan line.
+/// The pixel runs `(row, left, right)` on the polygon's horizontal edges that lie on a
+/// row's centre line: their centres are on the polygon (a one-row ledge or spike traced
+/// through the boundary pixels' centres, which no scan line above or below meets).
+fn ledges(part: &[[f64; 2]], origin: [u32; 2], width: u32, rows: u32) -> Vec<(u32, u32, u32)> {
+    let [x0, y0] = origin.map(f64::from);
+    let mut out = Vec::new();
+    for (i, &a) in part.iter().enumerate() {
+        let b = part[(i + 1) % part.len()];
+        let row = a[1] - y0 - 0.5;
+        if a[1] != b[1] || (row - row.round()).abs() > EPS_Y || row.round() < 0.0 {
+            continue;
+        }
+        let row = row.round();
+        if row >= f64::from(rows) {
+            continue;
+        }
+        let (left, right) = centres_within(a[0].min(b[0]) - x0, a[0].max(b[0]) - x0, EPS_X, width);
+        if left < right {
+            out.push((row as u32, left, right));
+        }
+    }
+    out
+}
+
+/// The pixel runs `(row, left, right)` inside one polygon (even-odd), on either scan line,
+/// and on its horizontal edges ([`ledges`]).
 fn runs(part: &[[f64; 2]], origin: [u32; 2], width: u32, rows: u32) -> Vec<(u32, u32, u32)> {
     let mut cross = crossings(part, origin[1], rows);
     cross.sort_by(|p, q| (p.0, p.1).cmp(&(q.0, q.1)).then(p.2.total_cmp(&q.2)));
     let x0 = f64::from(origin[0]);
-    let mut out = Vec::new();
+    let mut out = ledges(part, origin, width, rows);
     for pair in cross.chunk_by(|p, q| (p.0, p.1) == (q.0, q.1)) {
         for span in pair.chunks_exact(2) {
             let (left, right) = centres_within(span[0].2 - x0, span[1].2 - x0, EPS_X, width);

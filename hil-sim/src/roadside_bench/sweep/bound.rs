@@ -1,14 +1,17 @@
-//! What any localizer could reach on a frame: the Cramér-Rao bound of a road user's position
+//! A reference for a frame's localization: the Cramér-Rao bound of a road user's position
 //! given its mask.
 //!
 //! The bench's mask is the convex hull of the eight projected box corners, each moved by
 //! Gaussian noise of `noise_px` in x and y. The mask is a function of those 16 noisy
 //! coordinates, so it carries no more information on the box than they do: the Fisher
 //! information of the 16 coordinates about (x, y, length, width, height), plus the class's
-//! size prior as information on the three sides (the Bayesian bound), bounds the covariance
-//! of every unbiased estimate of the position from the mask from below. An ideal estimator
-//! reaching the bound makes errors drawn from that covariance; the benchmark draws one per
-//! box it scores, so that the table can show what no estimator could beat on that camera.
+//! Gaussian size prior as information on the three sides (the Bayesian bound), bounds from
+//! below the covariance of an unbiased estimate of the position that knows sizes only
+//! through that prior. An ideal estimator at the bound makes errors drawn from that
+//! covariance; the benchmark draws one per box it scores and sets their mean and largest
+//! beside the localizer's. It is a reference, not a limit for every estimator: one that
+//! knew the bench's size ranges (narrower than the priors) could do better, and the largest
+//! of the draws is a sample, not a bound.
 
 use super::super::street::{corners, RoadUser};
 use super::super::synthetic_camera::PinholeCamera;
@@ -118,9 +121,9 @@ mod tests {
     use crate::roadside_bench::street::pole_camera;
     use roadside::road_users::RoadUserClass;
 
-    /// The bound grows with range and with noise as the geometry says: twice the noise,
-    /// twice the position's sigma when the data decide; a far pedestrian is placed worse
-    /// than a near one.
+    /// The bound grows with range and with noise as the geometry says: twice the noise, up
+    /// to twice the position's sigma (all of it where the data decide); a far car is placed
+    /// worse than a near one.
     #[test]
     fn the_bound_follows_noise_and_range() {
         let cam = pole_camera();

@@ -51,7 +51,7 @@ pub struct Score {
     /// road user covering any of it), cm: the paper's case.
     pub whole_boxes: [Vec<f64>; 7],
     /// Per class, for the same boxes, the errors of an ideal estimator at the Cramér-Rao
-    /// bound of the mask's information ([`super::bound`]), cm: what no localizer could beat.
+    /// bound of the mask's information and the size prior ([`super::bound`]), cm.
     pub ideal_boxes: [Vec<f64>; 7],
     /// Per class, track position errors (to the nearest road user of the class, those within
     /// [`OFF_M`]; the others are counted in `tracks_off`), cm.

@@ -287,8 +287,8 @@ fn coco_dataset_classes_parts_and_order() {
 
 /// A detector's polygons traced along the pixel squares' edges, or through the boundary
 /// pixels' centres (OpenCV's contours plus half a pixel, as Detectron2 writes them), give
-/// the same silhouette as the RLE of the mask they were traced from; the hull of the traced
-/// vertices would stand half a pixel out. The expected outline is also what this
+/// the same silhouette as the RLE of the mask they were traced from, one-row ledges and
+/// one-row masks included; the hull of the traced vertices would stand out. The expected outline is also what this
 /// brute-force Python gives (pixels whose centre is inside or on the polygon, exact
 /// fractions; then each row's and column's edge midpoints and their hull):
 ///
@@ -333,6 +333,34 @@ fn polygons_give_their_mask() {
     ];
     let area = |h: &[[f64; 2]]| crate::road_users::polygon::signed_area(h).abs();
     assert_eq!((area(&convex_hull(&traced)), area(&diamond)), (17.0, 12.5));
+
+    // A one-row ledge traced through the boundary pixels' centres: row 2 holds columns
+    // 2..=8, row 3 columns 0..=10 (the column-major RLE of the 12x6 image). The ledge's end
+    // pixels lie only on the polygon's horizontal edge, which no scan line meets.
+    let rle = one(&coco_one(
+        12,
+        6,
+        r#"{"size":[6,12],"counts":[3,1,5,1,4,2,4,2,4,2,4,2,4,2,4,2,4,2,5,1,5,1,8]}"#,
+    ));
+    let ledge = one(&coco_one(
+        12,
+        6,
+        "[[2.5,2.5,8.5,2.5,9.5,3.5,10.5,3.5,0.5,3.5,1.5,3.5]]",
+    ));
+    assert_eq!(rle.area_px, 18.0);
+    assert_eq!((&ledge.hull, ledge.area_px), (&rle.hull, rle.area_px));
+    // A one-row mask (row 2, columns 3..=6) traced there and back.
+    let rle = one(&coco_one(
+        8,
+        5,
+        r#"{"size":[5,8],"counts":[17,1,4,1,4,1,4,1,7]}"#,
+    ));
+    let line = one(&coco_one(
+        8,
+        5,
+        "[[3.5,2.5,4.5,2.5,5.5,2.5,6.5,2.5,5.5,2.5,4.5,2.5]]",
+    ));
+    assert_eq!((&line.hull, line.area_px), (&rle.hull, 4.0));
 }
 
 /// A polygon whose edges cross more scan lines than the bound is refused before any is
