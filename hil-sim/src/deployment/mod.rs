@@ -242,24 +242,26 @@ pub fn start(
     let dir = dir.to_path_buf();
     Ok(std::thread::spawn(move || {
         let mut log = std::fs::File::create(dir.join("roadside.log")).map_err(|e| e.to_string())?;
-        let mut up_s = Vec::new();
+        // When the RSU came up: at the start (None), or the Unix time just before its snmpd
+        // started, on the clock the agent stamps its first transmissions with.
+        let mut ups: Vec<Option<u64>> = Vec::new();
         if rsu.is_some() {
-            up_s.push(0.0);
+            ups.push(None);
         }
         let mut restarted = false;
         while !stop.load(Ordering::Relaxed) {
             let t = t0.elapsed().as_secs_f64();
             if rsu.is_none() && t >= spec.up_at_s {
                 let _ = writeln!(log, "bench: the RSU comes up at {t:.1} s");
+                ups.push(Some(unix_ms_now()));
                 rsu = Some(TestRsu::start(config.clone())?);
-                up_s.push(t);
             }
             if let (Some(at), Some(r), false) = (spec.restart_at_s, rsu.as_mut(), restarted) {
                 if t >= at {
                     let _ = writeln!(log, "bench: the RSU restarts at {t:.1} s");
+                    ups.push(Some(unix_ms_now()));
                     r.restart()?;
                     restarted = true;
-                    up_s.push(t);
                 }
             }
             roadside.tick(Instant::now(), unix_ms_now(), false, &mut log)?;
@@ -271,7 +273,7 @@ pub fn start(
         // The agent writes its last count once snmpd has gone.
         std::thread::sleep(Duration::from_millis(100));
         drop(server);
-        Ok(finish(&spec, &dir, &air_path, t0, up_s))
+        Ok(finish(&spec, &dir, &air_path, t0, &ups))
     }))
 }
 
@@ -280,7 +282,7 @@ fn finish(
     dir: &Path,
     air_path: &Path,
     t0: Instant,
-    rsu_up_s: Vec<f64>,
+    ups: &[Option<u64>],
 ) -> (RoadsideRun, DeploymentFacts) {
     let air = AirLog::read(air_path);
     let t0_unix_ms = unix_ms_now().saturating_sub(t0.elapsed().as_millis() as u64);
@@ -301,8 +303,10 @@ fn finish(
     };
     let facts = DeploymentFacts {
         rsu_sent: air.sent,
+        // Both from the wall clock the agent stamps with: a restart and the first
+        // transmission after it compare on one clock.
+        rsu_up_s: ups.iter().map(|u| u.map_or(0.0, since)).collect(),
         first_sent_s,
-        rsu_up_s,
         feed_changes_s: spec.feed.iter().skip(1).map(|v| v.at_s).collect(),
         removed_at_s: spec.feed.iter().find(|v| v.removed).map(|v| v.at_s),
         status: read_status(&dir.join("roadside-state")),
