@@ -168,31 +168,29 @@ fn gates(name: &str, noise: f64, s: &Score) -> Vec<String> {
     fails
 }
 
-/// One markdown row of the table of what an ideal estimator makes of the same boxes.
-fn ideal_row(name: &str, noise: f64, s: &Score) -> String {
+/// A markdown row's first cells: the install, the noise, and per class of the paper's table
+/// the mean / max of `errors` (per class, in [`RoadUserClass::ALL`] order).
+fn class_cells(name: &str, noise: f64, errors: &[Vec<f64>; 7]) -> String {
     let mut row = format!("| {name} | {noise} px |");
     for (class, _, _) in PAPER_ERRORS_CM {
         let k = RoadUserClass::ALL
             .iter()
             .position(|c| *c == class)
             .unwrap_or(0);
-        let (mean, _, max) = stats(&s.ideal_boxes[k]);
+        let (mean, _, max) = stats(&errors[k]);
         row += &format!(" {mean:.1} / {max:.1} |");
     }
     row
 }
 
+/// One markdown row of the table of what an ideal estimator makes of the same boxes.
+fn ideal_row(name: &str, noise: f64, s: &Score) -> String {
+    class_cells(name, noise, &s.ideal_boxes)
+}
+
 /// One markdown row of the closing table.
 fn summary_row(name: &str, noise: f64, s: &Score) -> String {
-    let mut row = format!("| {name} | {noise} px |");
-    for (class, _, _) in PAPER_ERRORS_CM {
-        let k = RoadUserClass::ALL
-            .iter()
-            .position(|c| *c == class)
-            .unwrap_or(0);
-        let (mean, _, max) = stats(&s.whole_boxes[k]);
-        row += &format!(" {mean:.1} / {max:.1} |");
-    }
+    let mut row = class_cells(name, noise, &s.whole_boxes);
     let people = s.coverage[RoadUserClass::ALL
         .iter()
         .position(|c| c.is_person())
