@@ -3,21 +3,23 @@
  *   Warning: ONE beep group when the stage is entered from a lower stage.
  *   Urgent: a beep group at once, then every 2 s while the stage stays Urgent.
  * The tone stops at once when the stage drops (the driver complied) or the link is lost.
+ *
+ * createSound(root) makes the player over `root`'s WebAudio, storage, events and timers: the
+ * page passes `window`, the node unit tests a fake one.
  */
-(function (root) {
-  'use strict';
+const PERIOD_S = 2.0;
+const LOOKAHEAD_S = 0.25;
+const KEY = 'hmi.sound.unlocked';
+const RANK = { none: 0, warning: 1, urgent: 2 };
+// warning: two 2 kHz beeps; urgent: three alternating 2.0/2.6 kHz beeps
+const PATTERNS = {
+  warning: [{ f: 2000, at: 0, len: 0.16 }, { f: 2000, at: 0.26, len: 0.16 }],
+  urgent: [{ f: 2000, at: 0, len: 0.12 }, { f: 2600, at: 0.18, len: 0.12 }, { f: 2000, at: 0.36, len: 0.12 }],
+  confirm: [{ f: 1500, at: 0, len: 0.08 }, { f: 2000, at: 0.11, len: 0.1 }],
+};
 
-  const PERIOD_S = 2.0;
-  const LOOKAHEAD_S = 0.25;
-  const KEY = 'hmi.sound.unlocked';
-  const RANK = { none: 0, warning: 1, urgent: 2 };
-  // warning: two 2 kHz beeps; urgent: three alternating 2.0/2.6 kHz beeps
-  const PATTERNS = {
-    warning: [{ f: 2000, at: 0, len: 0.16 }, { f: 2000, at: 0.26, len: 0.16 }],
-    urgent: [{ f: 2000, at: 0, len: 0.12 }, { f: 2600, at: 0.18, len: 0.12 }, { f: 2000, at: 0.36, len: 0.12 }],
-    confirm: [{ f: 1500, at: 0, len: 0.08 }, { f: 2000, at: 0.11, len: 0.1 }],
-  };
-
+/** A tone player over `root` (a window: AudioContext, localStorage, events, setInterval). */
+export function createSound(root) {
   function storage() {
     try { return root.localStorage; } catch (e) { return null; }
   }
@@ -173,11 +175,11 @@
     S.onChange(state());
   }
 
-  root.HmiSound = {
+  return {
     init, unlock, update, setAllowed, state,
     tonesScheduled: () => S.tones,
     allowed: () => S.allowed,
     tone: () => S.tone,
     PERIOD_S,
   };
-})(window);
+}

@@ -14,7 +14,7 @@ const VERSION = '@HMI_SHELL_VERSION@';
 const PREFIX = 'hmi-shell-';
 const CACHE = PREFIX + VERSION;
 const NETWORK_MS = 2500;
-const SHELL = ['/index.html', '/style.css', '/format.js', '/lanes.js', '/sound.js', '/stream.js',
+const SHELL = ['/index.html', '/style.css', '/contract.json', '/format.js', '/lanes.js', '/sound.js', '/stream.js',
   '/pair.js', '/views.js', '/app.js', '/manifest.webmanifest', '/icon.svg', '/icon-maskable.svg'];
 
 self.addEventListener('install', (event) => {

@@ -7,6 +7,7 @@ use crate::drive::DriveSpec;
 use crate::expect::Expectation;
 pub use crate::roadside_bench::attacker::{AttackKind, AttackerSpec};
 pub use crate::roadside_bench::camera_site::{CameraSiteSpec, SceneUserSpec};
+use obu::alert::settings::{LEAD_TIME_S, WARNING_DISTANCE_M};
 use roadside::road::Road;
 pub use roadside::site::{RadioFaults, RoadSpec, Site, ZoneSource, ZoneSpec};
 use serde::Deserialize;
@@ -143,8 +144,8 @@ pub struct Settings {
 impl Default for Settings {
     fn default() -> Self {
         Self {
-            warning_distance_m: 100.0,
-            lead_time_s: 9.0,
+            warning_distance_m: f64::from(WARNING_DISTANCE_M.default),
+            lead_time_s: f64::from(LEAD_TIME_S.default),
         }
     }
 }

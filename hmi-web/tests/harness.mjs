@@ -32,7 +32,7 @@ export function env() {
   const server = process.env.HMI_SERVER_CMD;
   const driver = process.env.HMI_DRIVER_CMD;
   if (!server || !driver) {
-    throw new Error('set HMI_SERVER_CMD and HMI_DRIVER_CMD (or run `npm run test:dev` for the development stand-in)');
+    throw new Error('set HMI_SERVER_CMD and HMI_DRIVER_CMD (or run `npm test`: the real daemon through hil-sim)');
   }
   return { server, driver };
 }

@@ -1,7 +1,8 @@
 // Browser tests of the driver display against the server given by HMI_SERVER_CMD, driven through
-// HMI_DRIVER_CMD (see harness.mjs for both contracts). `npm run test:dev` uses the stand-in.
+// HMI_DRIVER_CMD (see harness.mjs for both contracts): `npm test` runs them against the real daemon.
 import { describe, it, before, after } from 'node:test';
 import assert from 'node:assert/strict';
+import fs from 'node:fs';
 import { env, Server, drive, watchEvents, launch, openPage, waitLive, shot, sleep, pairCookie, pairContext } from './harness.mjs';
 import { STAGES, LAYOUTS, overflowReport } from './screen.mjs';
 
@@ -554,6 +555,26 @@ describe('driver display', () => {
     } finally {
       await tctx.close();
     }
+  });
+
+  it('contract: the daemon serves the core\'s contract, the app\'s copy is the same, the form takes its ranges', async () => {
+    const served = await (await fetch(url + '/contract.json')).json();
+    const copy = JSON.parse(fs.readFileSync(new URL('../contract.json', import.meta.url), 'utf8'));
+    assert.deepEqual(served, copy, 'hmi-web/contract.json differs from the daemon\'s (obu --print-hmi-contract)');
+    await page.click('#nav-settings');
+    await page.waitForSelector('#settings:not([hidden])');
+    const form = await page.evaluate(() => {
+      const f = document.getElementById('settings-form').elements;
+      const units = [...f.units].find((r) => r.checked).value;
+      return { units, lead: [f.lead_time_s.min, f.lead_time_s.max, f.lead_time_s.step].map(Number),
+        distance: [f.warning_distance_m.min, f.warning_distance_m.max].map(Number), unit: f.warning_distance_m.dataset.unit };
+    });
+    const lead = served.settings.lead_time_s;
+    assert.deepEqual(form.lead, [lead.min, lead.max, lead.step]);
+    const d = served.settings.warning_distance_m;
+    if (form.units === 'kmh') assert.deepEqual([...form.distance, form.unit], [d.min, d.max, 'm']);
+    else assert.deepEqual([...form.distance, form.unit], [Math.ceil(d.min * 3.28084), Math.floor(d.max * 3.28084), 'ft']);
+    await page.click('#settings .nav-back');
   });
 
   it('settings: validated form, server errors shown, mph survives a server restart', async () => {

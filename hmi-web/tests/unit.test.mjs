@@ -1,13 +1,10 @@
 // Unit tests of the page's pure parts (format.js, lanes.js model), run in node: no browser, no server.
 import { test } from 'node:test';
 import assert from 'node:assert/strict';
-import { createRequire } from 'node:module';
+import * as F from '../format.js';
+import * as L from '../lanes.js';
+import { createSound } from '../sound.js';
 import fs from 'node:fs';
-import vm from 'node:vm';
-
-const require = createRequire(import.meta.url);
-const F = require('../format.js');
-const L = require('../lanes.js');
 
 test('speed in km/h and mph, rounded, never negative', () => {
   assert.equal(F.speedText(11.1111, 'kmh'), '40');
@@ -40,6 +37,24 @@ test('distance field: countdown, in zone, leaving, unknown', () => {
   assert.equal(F.distanceView({ zone_state: 'None', distance_m: null }, 'kmh').label, 'No work zone ahead');
   assert.equal(F.distanceView({ zone_state: 'None', gnss_ok: false }, 'kmh').label, 'Position lost');
   assert.equal(F.distanceView({ zone_state: 'Approaching', distance_m: null }, 'kmh').value, '—');
+});
+
+test('the app follows the core\'s contract: kinds, stages and setting ranges', () => {
+  const contract = JSON.parse(fs.readFileSync(new URL('../contract.json', import.meta.url), 'utf8'));
+  assert.deepEqual(F.KINDS, contract.alert_kinds, 'alert kinds in the core\'s priority order');
+  assert.equal(F.KINDS[0], 'WorkerInLane');
+  for (const kind of contract.alert_kinds) {
+    const d = F.describeAlert({ kind, distance_m: 80, limit_mps: 11.11 }, { units: 'kmh', advice: 'None' });
+    assert.notEqual(d.title, kind, `${kind} has its own wording, not the unknown kind's fallback`);
+  }
+  assert.deepEqual(F.STAGES, contract.stages);
+  contract.stages.forEach((stage, i) => assert.equal(F.stageRank(stage), i, stage));
+  const metres = contract.settings.warning_distance_m;
+  assert.deepEqual(F.formDistanceRange('kmh'), { min: metres.min, max: metres.max, unit: 'm' });
+  const feet = F.formDistanceRange('mph');
+  assert.ok(F.metresFromForm(feet.min, 'mph') >= metres.min && F.metresFromForm(feet.max, 'mph') <= metres.max, JSON.stringify(feet));
+  assert.ok(F.metresFromForm(feet.min - 1, 'mph') < metres.min && F.metresFromForm(feet.max + 1, 'mph') > metres.max, 'whole feet');
+  assert.equal(contract.settings.lead_time_s.unit, 's');
 });
 
 test('every alert kind has a colour, an icon and short text', () => {
@@ -196,8 +211,7 @@ function soundUnderTest() {
     AudioContext: FakeContext, localStorage: null, addEventListener() {}, setInterval() { return 0; },
     document: { addEventListener() {}, hidden: false },
   };
-  vm.runInNewContext(fs.readFileSync(new URL('../sound.js', import.meta.url), 'utf8'), { window });
-  const S = window.HmiSound;
+  const S = createSound(window);
   S.init({ allowed: true });
   return {
     S, oscillators,

@@ -29,6 +29,7 @@ fn walk(dir: &Path, out: &mut Vec<PathBuf>) {
                 "tests",
                 "node_modules",
                 "README.md",
+                "package.json",
                 "screenshot.png",
                 "screenshots",
             ]

@@ -5,6 +5,12 @@
 //! version of the app shell stamped in: a hash of every other app file. A daemon with other
 //! app files therefore serves another `sw.js`; the browser installs it and the service
 //! worker replaces its cached shell.
+//!
+//! `contract.json` (the alert kinds in priority order, the stages, the settings' ranges,
+//! defaults and units) is written from the core ([`obu::alert::settings`]) by [`contract`],
+//! so the daemon serves the contract of the core it runs. `hmi-web/contract.json`, which the
+//! app imports and the tablet's unit tests read, is the same text (`obu
+//! --print-hmi-contract`); a test here fails when the two differ.
 
 use std::sync::OnceLock;
 
@@ -17,10 +23,26 @@ const VERSION_PLACEHOLDER: &[u8] = b"@HMI_SHELL_VERSION@";
 /// Files `build.rs` embeds that are not part of the app (the README's screenshots).
 const NOT_SERVED: &[&str] = &["screenshots/"];
 
+/// The tablet's contract, written from the core.
+const CONTRACT: &str = "contract.json";
+
+/// The tablet's contract as JSON text, from the core's definitions (made once).
+pub fn contract() -> &'static str {
+    static TEXT: OnceLock<String> = OnceLock::new();
+    TEXT.get_or_init(|| {
+        let mut text = String::new();
+        obu::alert::settings::write_contract_json(&mut text).expect("a String takes any text");
+        text
+    })
+}
+
 /// The MIME type and content of the embedded file at `path` (no leading slash).
 pub fn find(path: &str) -> Option<(&'static str, &'static [u8])> {
     if NOT_SERVED.iter().any(|p| path.starts_with(p)) {
         return None;
+    }
+    if path == CONTRACT {
+        return Some(("application/json", contract().as_bytes()));
     }
     let (mime, body) = ASSETS
         .iter()
@@ -58,6 +80,11 @@ pub fn shell_version() -> String {
         if *path == SERVICE_WORKER || NOT_SERVED.iter().any(|p| path.starts_with(p)) {
             continue;
         }
+        let body = if *path == CONTRACT {
+            contract().as_bytes()
+        } else {
+            body
+        };
         hash.write(path.as_bytes());
         hash.write(&[0]);
         hash.write(body);
@@ -113,6 +140,21 @@ mod tests {
             super::find("tests/run.mjs").is_none(),
             "tests are not shipped"
         );
+    }
+
+    #[test]
+    fn the_apps_contract_is_the_cores() {
+        let embedded = ASSETS
+            .iter()
+            .find(|(p, _, _)| *p == CONTRACT)
+            .map(|(_, _, b)| *b)
+            .expect("hmi-web/contract.json is embedded");
+        assert!(
+            embedded == contract().as_bytes(),
+            "hmi-web/contract.json differs from the core's contract: regenerate it with \
+             `cargo run -p obu-daemon -- --print-hmi-contract > hmi-web/contract.json`"
+        );
+        assert_eq!(find(CONTRACT).unwrap().1, contract().as_bytes());
     }
 
     #[test]

@@ -46,6 +46,10 @@ struct Cli {
     /// Print the documented default configuration (every key, with its default) and exit
     #[arg(long, conflicts_with_all = ["config", "bridge"])]
     print_default_config: bool,
+    /// Print the tablet's contract (alert kinds in priority order, stages, the settings'
+    /// ranges, defaults and units) as JSON and exit: the text of hmi-web/contract.json
+    #[arg(long, conflicts_with_all = ["config", "bridge", "print_default_config"])]
+    print_hmi_contract: bool,
     #[command(subcommand)]
     command: Option<Command>,
 }
@@ -102,6 +106,9 @@ pub fn parse(args: impl IntoIterator<Item = OsString>) -> Result<Action, Usage> 
     };
     if cli.print_default_config {
         return Ok(Action::Print(config::DEFAULT_TOML.to_string()));
+    }
+    if cli.print_hmi_contract {
+        return Ok(Action::Print(crate::assets::contract().to_string()));
     }
     if let Some(Command::GnssCheck {
         source,

@@ -5,6 +5,7 @@ mod http;
 
 pub use http::Http;
 use j2735::envelope::Psid;
+use obu::alert::settings::{LEAD_TIME_S, WARNING_DISTANCE_M};
 use obu::security::{Duplicates, RequiredSsp, SecurityConfig, SecurityProfile};
 use serde::Deserialize;
 use std::net::SocketAddr;
@@ -103,7 +104,9 @@ idle_timeout_ms = 30000
 stalled_stream_ms = 5000
 
 [alerts]
-# Defaults of the driver settings (the tablet can change the first two).
+# Defaults of the driver settings (the tablet can change the first two): the minimum
+# warning distance (20..=2000 m; the warning starts at max(this, speed x lead time)) and
+# the lead time (2..=30 s).
 warning_distance_m = 100.0
 lead_time_s = 9.0
 # Overspeed above the zone limit plus this, km/h.
@@ -763,8 +766,15 @@ impl Config {
             return bad("lane.show_percent must be 50..=99");
         }
         self.http.validate()?;
-        if !(self.alerts.warning_distance_m.is_finite() && self.alerts.warning_distance_m > 0.0) {
-            return bad("alerts.warning_distance_m must be > 0");
+        // The ranges the tablet's settings have: the configured defaults are the driver's
+        // starting settings.
+        for (range, value) in [
+            (WARNING_DISTANCE_M, self.alerts.warning_distance_m),
+            (LEAD_TIME_S, self.alerts.lead_time_s),
+        ] {
+            if let Err(e) = range.check(value) {
+                return Err(ConfigError(format!("alerts.{e}")));
+            }
         }
         let decel = self.alerts.comfortable_decel_mps2;
         if !(decel.is_finite() && (0.5..=10.0).contains(&decel)) {
@@ -810,8 +820,8 @@ mod tests {
         assert_eq!(c.http.bind.port(), 8080);
         assert_eq!(c.gnss.source, GnssSource::None);
         assert_eq!(c.speed.source, SpeedSource::Gnss);
-        assert_eq!(c.alerts.warning_distance_m, 100.0);
-        assert_eq!(c.alerts.lead_time_s, 9.0);
+        assert_eq!(c.alerts.warning_distance_m, WARNING_DISTANCE_M.default);
+        assert_eq!(c.alerts.lead_time_s, LEAD_TIME_S.default);
         assert_eq!(c.bridge.source, None, "normal mode");
     }
 

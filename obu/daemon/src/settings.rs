@@ -6,35 +6,17 @@ use serde::{Deserialize, Serialize};
 use std::io::Write;
 use std::path::{Path, PathBuf};
 
-/// Speed and distance units of the display.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "lowercase")]
-pub enum Units {
-    /// km/h and metres.
-    Kmh,
-    /// mph and feet.
-    Mph,
-}
+pub use obu::alert::settings::{DisplayUnits as Units, OutOfRange, Theme};
+use obu::alert::settings::{LEAD_TIME_S, SOUND_DEFAULT, WARNING_DISTANCE_M};
 
-/// Display theme.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "lowercase")]
-pub enum Theme {
-    /// Light.
-    Day,
-    /// Dark, low glare.
-    Night,
-    /// Follows the device.
-    Auto,
-}
-
-/// What the driver can set on the tablet.
+/// What the driver can set on the tablet: the ranges, defaults and units are the core's
+/// ([`obu::alert::settings`]), which the tablet reads from `contract.json`.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Settings {
-    /// Minimum warning distance, metres (20..=2000).
+    /// Minimum warning distance, metres ([`WARNING_DISTANCE_M`]).
     pub warning_distance_m: f32,
-    /// Warning lead time at the current speed, seconds (2..=30).
+    /// Warning lead time at the current speed, seconds ([`LEAD_TIME_S`]).
     pub lead_time_s: f32,
     /// Audible alerts on.
     pub sound: bool,
@@ -50,21 +32,16 @@ impl Settings {
         Self {
             warning_distance_m,
             lead_time_s,
-            sound: true,
-            units: Units::Kmh,
-            theme: Theme::Auto,
+            sound: SOUND_DEFAULT,
+            units: Units::default(),
+            theme: Theme::default(),
         }
     }
 
     /// Checks the ranges; the error names the field.
-    pub fn validate(&self) -> Result<(), String> {
-        let in_range = |v: f32, lo: f32, hi: f32| v.is_finite() && (lo..=hi).contains(&v);
-        if !in_range(self.warning_distance_m, 20.0, 2000.0) {
-            return Err("warning_distance_m must be between 20 and 2000".into());
-        }
-        if !in_range(self.lead_time_s, 2.0, 30.0) {
-            return Err("lead_time_s must be between 2 and 30".into());
-        }
+    pub fn validate(&self) -> Result<(), OutOfRange> {
+        WARNING_DISTANCE_M.check(self.warning_distance_m)?;
+        LEAD_TIME_S.check(self.lead_time_s)?;
         Ok(())
     }
 }
@@ -137,14 +114,14 @@ mod tests {
         }
         .validate()
         .unwrap_err();
-        assert!(e.contains("warning_distance_m"));
+        assert_eq!(e.setting.name, "warning_distance_m");
         let e = Settings {
             lead_time_s: f32::NAN,
             ..ok
         }
         .validate()
         .unwrap_err();
-        assert!(e.contains("lead_time_s"));
+        assert_eq!(e.setting.name, "lead_time_s");
     }
 
     #[test]

@@ -45,13 +45,9 @@ pub mod security {
 
 use obu::AlertConfig;
 
-/// The alert settings of the firmware (the paper's field test: 100 m warning, 9 s lead).
-pub const CONFIG: AlertConfig = {
-    let mut c = AlertConfig::DEFAULT;
-    c.warn_distance_m = 100.0;
-    c.lead_time_s = 9.0;
-    c
-};
+/// The alert settings of the firmware: the core's defaults (a 100 m warning, 9 s lead, the
+/// paper's field test; see `obu::alert::settings`).
+pub const CONFIG: AlertConfig = AlertConfig::DEFAULT;
 
 /// Widens the 32-bit millisecond counter into the core's 64-bit `Instant`.
 #[derive(Debug, Default)]

@@ -18,6 +18,7 @@
 
 mod engine;
 mod hmi;
+pub mod settings;
 
 pub use crate::clock::TimeStatus;
 pub(crate) use engine::arbitrate;
@@ -36,9 +37,10 @@ use crate::time::Duration;
 #[derive(Debug, Clone, Copy, PartialEq)]
 #[cfg_attr(feature = "serde", derive(Serialize, Deserialize))]
 pub struct AlertConfig {
-    /// Minimum warning distance, metres (100 m: the field test's figure at 40 km/h).
+    /// Minimum warning distance, metres ([`settings::WARNING_DISTANCE_M`]).
     pub warn_distance_m: f32,
-    /// Lead time: the warning distance grows to speed x this, seconds.
+    /// Lead time: the warning distance grows to speed x this, seconds
+    /// ([`settings::LEAD_TIME_S`]).
     pub lead_time_s: f32,
     /// Approaching starts at this multiple of the warning distance.
     pub approach_factor: f32,
@@ -85,8 +87,8 @@ impl Default for AlertConfig {
 impl AlertConfig {
     /// The documented defaults (100 m, 9 s, 1 s GNSS timeout, ...).
     pub const DEFAULT: AlertConfig = AlertConfig {
-        warn_distance_m: 100.0,
-        lead_time_s: 9.0,
+        warn_distance_m: settings::WARNING_DISTANCE_M.default,
+        lead_time_s: settings::LEAD_TIME_S.default,
         approach_factor: 3.0,
         leaving_distance_m: 50.0,
         overspeed_tolerance_mps: 5.0 / 3.6,
@@ -138,6 +140,26 @@ pub enum AlertStage {
     Warning,
     /// The driver is not complying (red, the tone repeats until they do).
     Urgent,
+}
+
+impl AlertStage {
+    /// Every stage, lowest first (the order of `Ord`).
+    pub const ALL: [AlertStage; 4] = [
+        AlertStage::None,
+        AlertStage::Information,
+        AlertStage::Warning,
+        AlertStage::Urgent,
+    ];
+
+    /// The name in the HMI state's JSON (`"stage"`).
+    pub const fn as_str(self) -> &'static str {
+        match self {
+            AlertStage::None => "None",
+            AlertStage::Information => "Information",
+            AlertStage::Warning => "Warning",
+            AlertStage::Urgent => "Urgent",
+        }
+    }
 }
 
 /// Where the position shown comes from.
@@ -212,6 +234,38 @@ pub enum AlertKind {
     NoRoadsideData,
 }
 
+impl AlertKind {
+    /// Every kind, highest priority first (the order of `Ord`, which arbitration uses).
+    pub const ALL: [AlertKind; 10] = [
+        AlertKind::WorkerInLane,
+        AlertKind::LaneClosedOwn,
+        AlertKind::Overspeed,
+        AlertKind::ReducedSpeedAhead,
+        AlertKind::LaneClosedOther,
+        AlertKind::WorkZoneAhead,
+        AlertKind::WorkersNearRoad,
+        AlertKind::GnssStale,
+        AlertKind::MapMissing,
+        AlertKind::NoRoadsideData,
+    ];
+
+    /// The name in the HMI state's JSON (`"kind"`).
+    pub const fn as_str(self) -> &'static str {
+        match self {
+            AlertKind::WorkerInLane => "WorkerInLane",
+            AlertKind::LaneClosedOwn => "LaneClosedOwn",
+            AlertKind::Overspeed => "Overspeed",
+            AlertKind::ReducedSpeedAhead => "ReducedSpeedAhead",
+            AlertKind::LaneClosedOther => "LaneClosedOther",
+            AlertKind::WorkZoneAhead => "WorkZoneAhead",
+            AlertKind::WorkersNearRoad => "WorkersNearRoad",
+            AlertKind::GnssStale => "GnssStale",
+            AlertKind::MapMissing => "MapMissing",
+            AlertKind::NoRoadsideData => "NoRoadsideData",
+        }
+    }
+}
+
 impl fmt::Display for AlertKind {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         f.write_str(match self {
@@ -232,6 +286,29 @@ impl fmt::Display for AlertKind {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn kinds_and_stages_are_listed_in_their_order() {
+        assert!(AlertKind::ALL.windows(2).all(|w| w[0] < w[1]));
+        assert!(AlertStage::ALL.windows(2).all(|w| w[0] < w[1]));
+    }
+
+    #[cfg(feature = "serde")]
+    #[test]
+    fn kinds_and_stages_have_their_json_names() {
+        for k in AlertKind::ALL {
+            assert_eq!(
+                serde_json::to_string(&k).unwrap(),
+                std::format!("\"{}\"", k.as_str())
+            );
+        }
+        for s in AlertStage::ALL {
+            assert_eq!(
+                serde_json::to_string(&s).unwrap(),
+                std::format!("\"{}\"", s.as_str())
+            );
+        }
+    }
 
     #[test]
     fn warning_distance_scales_with_speed() {

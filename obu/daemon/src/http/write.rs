@@ -121,7 +121,7 @@ pub async fn put_settings(State(app): State<AppState>, req: Request) -> Response
     };
     if let Err(e) = settings.validate() {
         counters.add(group::HTTP_REJECTED, "invalid settings");
-        return refuse(StatusCode::BAD_REQUEST, &e, false);
+        return refuse(StatusCode::BAD_REQUEST, &e.to_string(), false);
     }
     if let Err(e) = app.settings_file.save(&settings) {
         let msg = format!("cannot save: {e}");
