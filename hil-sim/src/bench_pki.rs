@@ -41,21 +41,20 @@ pub fn write_rsu(dir: &Path) -> Result<(), String> {
     Ok(())
 }
 
-/// Writes the anchors into `dir` and returns the daemon's `[security]` table naming them.
+/// Writes the anchors into `dir` and returns their paths, root first (the daemon's
+/// `security.trust_anchors`).
 ///
 /// # Errors
 ///
 /// The file system's error.
-pub fn security_toml(dir: &Path) -> Result<String, String> {
+pub fn write_anchors(dir: &Path) -> Result<Vec<std::path::PathBuf>, String> {
     std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
     let root = dir.join("root.oer");
     let ca = dir.join("ca.oer");
     for (path, bytes) in [(&root, ROOT), (&ca, CA)] {
         std::fs::write(path, bytes).map_err(|e| format!("{}: {e}", path.display()))?;
     }
-    Ok(format!(
-        "\n[security]\ntrust_anchors = [{root:?}, {ca:?}]\n"
-    ))
+    Ok(vec![root, ca])
 }
 
 #[cfg(test)]

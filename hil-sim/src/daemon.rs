@@ -2,8 +2,9 @@
 //! the bench, its addresses read from its first line, stopped with SIGTERM semantics on
 //! drop (kill, then reap).
 
+use obu_daemon::config::{Config, GnssSource};
 use std::io::{BufRead, BufReader, Read, Write};
-use std::net::TcpStream;
+use std::net::{Ipv4Addr, SocketAddr, TcpStream};
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Stdio};
 use std::time::Duration;
@@ -20,27 +21,25 @@ pub fn find_obu() -> PathBuf {
         .unwrap_or_else(|| PathBuf::from("obu"))
 }
 
-/// The daemon's configuration: V2X on any loopback port, NMEA over UDP on `gnss_port` (0:
-/// any, named on the daemon's first line),
-/// HTTP on `http_port` (0: any), settings in `state_dir`, the bench PKI's trust anchors
-/// (written into `state_dir`; signatures required, the product default), plus `extra`:
-/// more `[http]` keys (it follows `settings_file`) and further TOML tables.
+/// The daemon's configuration for the bench: the daemon's defaults with V2X on any loopback
+/// port, NMEA over UDP on `gnss_port` (0: any, named on the daemon's first line), HTTP on
+/// `http_port` (0: any), settings in `state_dir` and the bench PKI's trust anchors (written
+/// into `state_dir`; signatures required, the product default). Callers change what else
+/// they need on the returned value.
 ///
 /// # Errors
 ///
 /// The file system's error writing the anchors.
-pub fn config(
-    state_dir: &Path,
-    gnss_port: u16,
-    http_port: u16,
-    extra: &str,
-) -> Result<String, String> {
-    let settings = state_dir.join("obu-settings.json");
-    let security = crate::bench_pki::security_toml(state_dir)?;
-    Ok(format!(
-        "[v2x]\nbind = \"127.0.0.1:0\"\n\n[gnss]\nsource = \"nmea-udp\"\naddress = \"127.0.0.1:{gnss_port}\"\n\n\
-         [http]\nbind = \"127.0.0.1:{http_port}\"\nsettings_file = {settings:?}\n{extra}{security}"
-    ))
+pub fn config(state_dir: &Path, gnss_port: u16, http_port: u16) -> Result<Config, String> {
+    let loopback = |port| SocketAddr::from((Ipv4Addr::LOCALHOST, port));
+    let mut c = Config::default_config();
+    c.v2x.bind = loopback(0);
+    c.gnss.source = GnssSource::NmeaUdp;
+    c.gnss.address = loopback(gnss_port).to_string();
+    c.http.bind = loopback(http_port);
+    c.http.settings_file = state_dir.join("obu-settings.json");
+    c.security.trust_anchors = crate::bench_pki::write_anchors(state_dir)?;
+    Ok(c)
 }
 
 /// The body of a GET to the daemon at `addr` (`host:port`; HTTP/1.1, `Connection: close`).
@@ -80,11 +79,11 @@ pub struct Daemon {
 }
 
 impl Daemon {
-    /// Writes `config_text` to `state_dir/obu.toml`, starts `obu` with it and reads its
+    /// Writes `config` to `state_dir/obu.toml`, starts `obu` with it and reads its
     /// first line (`obu: http://ADDR v2x udp ADDR gnss udp ADDR`, the GNSS input being NMEA
     /// over UDP).
-    pub fn start(obu: &Path, state_dir: &Path, config_text: &str) -> Result<Self, String> {
-        let (child, words) = spawn(obu, state_dir, config_text, &[])?;
+    pub fn start(obu: &Path, state_dir: &Path, config: &Config) -> Result<Self, String> {
+        let (child, words) = spawn(obu, state_dir, config, &[])?;
         match words.as_slice() {
             [_, http, v, u, v2x, g, u2, gnss]
                 if v == "v2x" && u == "udp" && g == "gnss" && u2 == "udp" =>
@@ -107,10 +106,10 @@ impl Daemon {
     pub fn start_bridge(
         obu: &Path,
         state_dir: &Path,
-        config_text: &str,
+        config: &Config,
         source: &str,
     ) -> Result<Self, String> {
-        let (child, words) = spawn(obu, state_dir, config_text, &["--bridge", source])?;
+        let (child, words) = spawn(obu, state_dir, config, &["--bridge", source])?;
         match words.as_slice() {
             [_, http, b, ..] if b == "bridge" => Ok(Self {
                 http: http.clone(),
@@ -152,12 +151,15 @@ impl Drop for Daemon {
 fn spawn(
     obu: &Path,
     state_dir: &Path,
-    config_text: &str,
+    config: &Config,
     args: &[&str],
 ) -> Result<(Child, Vec<String>), String> {
     std::fs::create_dir_all(state_dir).map_err(|e| format!("{}: {e}", state_dir.display()))?;
+    let text = config
+        .to_toml()
+        .map_err(|e| format!("the daemon's configuration: {e}"))?;
     let config = state_dir.join("obu.toml");
-    std::fs::write(&config, config_text).map_err(|e| format!("{}: {e}", config.display()))?;
+    std::fs::write(&config, text).map_err(|e| format!("{}: {e}", config.display()))?;
     let mut child = Command::new(obu)
         .arg("--config")
         .arg(&config)
@@ -206,23 +208,20 @@ fn clock_ticks_per_second() -> f64 {
 
 #[cfg(test)]
 mod tests {
+    use obu_daemon::config::Config;
+
     #[test]
-    fn extra_keys_land_in_http_and_extra_tables_beside_security() {
+    fn the_bench_config_is_read_back_by_the_daemon_with_the_anchors_written() {
         let dir = std::env::temp_dir().join(format!("hil-sim-config-{}", std::process::id()));
-        let text = super::config(
-            &dir,
-            10110,
-            8080,
-            "pin = \"123456\"\n\n[alerts]\nlead_time_s = 5.0\n",
-        )
-        .unwrap();
-        let t: toml::Table = toml::from_str(&text).unwrap();
-        assert_eq!(t["http"]["pin"].as_str(), Some("123456"), "{text}");
-        assert_eq!(t["http"]["bind"].as_str(), Some("127.0.0.1:8080"));
-        assert_eq!(t["alerts"]["lead_time_s"].as_float(), Some(5.0));
-        assert!(t["security"]["trust_anchors"]
-            .as_array()
-            .is_some_and(|a| a.len() == 2));
+        let mut c = super::config(&dir, 10110, 8080).unwrap();
+        c.http.pin = Some("123456".into());
+        c.alerts.lead_time_s = 5.0;
+        let back = Config::parse(&c.to_toml().unwrap()).unwrap();
+        assert_eq!(back, c);
+        assert_eq!(back.http.bind.to_string(), "127.0.0.1:8080");
+        assert_eq!(back.gnss.address, "127.0.0.1:10110");
+        assert_eq!(back.security.trust_anchors.len(), 2);
+        assert!(back.security.trust_anchors.iter().all(|p| p.is_file()));
         std::fs::remove_dir_all(&dir).unwrap();
     }
 }

@@ -148,7 +148,7 @@ pub fn start(
     rig.relays.push(nmea_relay);
     let (v2x, v2x_relay) = radio_relay(v2x_link, rig.stop.clone(), rig.radio.clone())?;
     rig.relays.push(v2x_relay);
-    let config = crate::daemon::config(state_dir, 0, http_port, "")?;
+    let config = crate::daemon::config(state_dir, 0, http_port)?;
     let bridge = format!("tcp:127.0.0.1:{hmi_port}");
     let mut daemon = Daemon::start_bridge(obu, state_dir, &config, &bridge)?;
     daemon.v2x = v2x;

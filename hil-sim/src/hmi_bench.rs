@@ -17,6 +17,7 @@
 use crate::daemon::Daemon;
 use crate::nmea::{self, Epoch};
 use obu::LatLon;
+use obu_daemon::config::{Config, LaneMethod};
 use roadside::clock::{unix_ms_now, Utc};
 use roadside::messages::{self, SignSpeed, WorkZone, DURATION_INDEFINITE};
 use roadside::road::Road;
@@ -335,25 +336,29 @@ impl Feeder {
     }
 }
 
-/// Starts the daemon for the bench: HTTP on `port`, state in `state_dir`.
+/// Starts the daemon for the bench: HTTP on `port`, state in `state_dir`, with what
+/// `adjust` changes in the bench's configuration ([`crate::daemon::config`]).
 pub fn start_daemon(
     obu: &Path,
     state_dir: &Path,
     port: u16,
-    extra: &str,
+    adjust: impl FnOnce(&mut Config),
 ) -> Result<Daemon, String> {
     // Port 0: the daemon binds any free port and names it on its first line (no race with
     // another bench picking the same "free" port).
-    let text = crate::daemon::config(state_dir, 0, port, extra)?;
-    Daemon::start(obu, state_dir, &text)
+    let mut config = crate::daemon::config(state_dir, 0, port)?;
+    adjust(&mut config);
+    Daemon::start(obu, state_dir, &config)
 }
 
 /// The bench world's lane setting: its scenes loop the car over a short window, jumping
 /// back tens of metres at each loop, which the lane filter rightly rejects as outliers; the
 /// bench world's daemon therefore decides lanes fix by fix. Scenarios use the default.
-pub const LANE_TOML: &str = "\n[lane]\nmethod = \"per-fix\"\n";
+pub fn per_fix_lanes(config: &mut Config) {
+    config.lane.method = LaneMethod::PerFix;
+}
 
-/// The core's configuration matching [`LANE_TOML`] (for tests of the scenes on the core).
+/// The core's configuration matching [`per_fix_lanes`] (for tests of the scenes on the core).
 pub fn core_config() -> obu::AlertConfig {
     obu::AlertConfig {
         matcher: obu::matcher::MatcherConfig::PER_FIX,
@@ -365,13 +370,10 @@ pub fn core_config() -> obu::AlertConfig {
 /// its URL as the first line, then feeds
 /// it at 10 Hz until it exits (a SIGTERM to the process group stops both).
 pub fn serve(opts: &ServerOptions) -> Result<(), String> {
-    let extra = opts
-        .pin
-        .as_ref()
-        .map(|pin| format!("pin = {pin:?}\n"))
-        .unwrap_or_default()
-        + LANE_TOML;
-    let mut daemon = start_daemon(&opts.obu, &opts.state_dir, opts.port, &extra)?;
+    let mut daemon = start_daemon(&opts.obu, &opts.state_dir, opts.port, |c| {
+        c.http.pin.clone_from(&opts.pin);
+        per_fix_lanes(c);
+    })?;
     println!("{}", daemon.http);
     std::io::stdout().flush().map_err(|e| e.to_string())?;
     let feeder = Feeder::new()?;

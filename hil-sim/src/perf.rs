@@ -35,7 +35,7 @@ impl Latency {
 /// whose fix counter it raised) is read from `/events`.
 pub fn latency(obu: &Path, samples: usize, gap: Duration) -> Result<Latency, String> {
     let dir = scratch("latency");
-    let daemon = start_daemon(obu, &dir, 0, "")?;
+    let daemon = start_daemon(obu, &dir, 0, |_| {})?;
     let feeder = Feeder::new()?;
     feeder.tick(&daemon, "approach", 0.0, true);
     let mut sse = SseClient::connect(daemon.http_addr(), Duration::from_secs(2))?;
@@ -75,7 +75,7 @@ pub fn latency(obu: &Path, samples: usize, gap: Duration) -> Result<Latency, Str
 /// path without waiting for a fix.
 pub fn tim_latency(obu: &Path, samples: usize, gap: Duration) -> Result<Latency, String> {
     let dir = scratch("tim-latency");
-    let daemon = start_daemon(obu, &dir, 0, "")?;
+    let daemon = start_daemon(obu, &dir, 0, |_| {})?;
     let road = crate::hmi_bench::road();
     let start =
         roadside::clock::Utc::from_unix_ms(roadside::clock::unix_ms_now().saturating_sub(120_000));
@@ -158,7 +158,7 @@ pub struct Load {
 /// scene at 10 Hz; measures each client's events and the daemon's CPU time.
 pub fn load(obu: &Path, clients: usize, seconds: f64) -> Result<Load, String> {
     let dir = scratch("load");
-    let daemon = start_daemon(obu, &dir, 0, "")?;
+    let daemon = start_daemon(obu, &dir, 0, |_| {})?;
     let feeder = Feeder::new()?;
     feeder.tick(&daemon, "approach", 0.0, true);
     let stop = Arc::new(AtomicBool::new(false));

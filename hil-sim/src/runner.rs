@@ -121,10 +121,7 @@ pub fn run(s: &Scenario, opts: &RunOptions) -> Result<RunReport, String> {
     let camera = camera_site(s, &road, &zones)?;
     let state_dir = opts.out.join("obu-state");
     let _ = std::fs::remove_dir_all(&state_dir);
-    let mut extra = format!(
-        "\n[alerts]\nwarning_distance_m = {}\nlead_time_s = {}\n",
-        s.settings.warning_distance_m, s.settings.lead_time_s
-    );
+    let mut speed_log = None;
     let t0_unix = unix_ms_now() as f64 / 1000.0;
     if s.can_speed || s.drive.candump_file.is_some() {
         let log = state_dir.join("speed.candump");
@@ -136,13 +133,19 @@ pub fn run(s: &Scenario, opts: &RunOptions) -> Result<RunReport, String> {
             None => drive::candump(&samples, t0_unix),
         };
         std::fs::write(&log, text).map_err(|e| e.to_string())?;
-        extra.push_str(&format!(
-            "\n[speed]\nsource = \"candump-file\"\nfile = {:?}\n",
-            log
-        ));
+        speed_log = Some(log);
     }
+    let settings = s.settings;
+    let configure = |c: &mut obu_daemon::config::Config| {
+        c.alerts.warning_distance_m = settings.warning_distance_m as f32;
+        c.alerts.lead_time_s = settings.lead_time_s as f32;
+        if let Some(log) = speed_log {
+            c.speed.source = obu_daemon::config::SpeedSource::CandumpFile;
+            c.speed.file = log;
+        }
+    };
     let daemon = match &opts.firmware {
-        None => crate::hmi_bench::start_daemon(&opts.obu, &state_dir, opts.http_port, &extra)?,
+        None => crate::hmi_bench::start_daemon(&opts.obu, &state_dir, opts.http_port, configure)?,
         Some(target) => {
             if let Some(why) = crate::firmware::unsupported(s) {
                 return Err(format!("not runnable on the firmware: {why}"));

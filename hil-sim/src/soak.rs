@@ -110,13 +110,10 @@ pub fn run(opts: &SoakOptions) -> Result<SoakReport, String> {
     opts.validate()?;
     let state = opts.out.join("state");
     let _ = std::fs::remove_dir_all(&state);
-    let extra = format!(
-        "request_timeout_ms = {}\nmax_clients = {}\n{}",
-        http::REQUEST_TIMEOUT_MS,
-        opts.clients.max(48) + 16,
-        crate::hmi_bench::LANE_TOML
-    );
-    let config = crate::daemon::config(&state, 0, 0, &extra)?;
+    let mut config = crate::daemon::config(&state, 0, 0)?;
+    config.http.request_timeout_ms = http::REQUEST_TIMEOUT_MS;
+    config.http.max_clients = opts.clients.max(48) + 16;
+    crate::hmi_bench::per_fix_lanes(&mut config);
     let mut daemon = Daemon::start(&opts.obu, &state, &config)?;
     let world = World::default();
     let (samples, facts) = std::thread::scope(|scope| soak(scope, opts, &mut daemon, &world))?;

@@ -7,7 +7,7 @@ pub use http::Http;
 use j2735::envelope::Psid;
 use obu::alert::settings::{LEAD_TIME_S, WARNING_DISTANCE_M};
 use obu::security::{Duplicates, RequiredSsp, SecurityConfig, SecurityProfile};
-use serde::Deserialize;
+use serde::{Deserialize, Serialize};
 use std::net::SocketAddr;
 use std::path::PathBuf;
 
@@ -237,7 +237,7 @@ duplicates = "repeat"
 "#;
 
 /// The whole configuration.
-#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[derive(Clone, Debug, Deserialize, Serialize, PartialEq)]
 #[serde(deny_unknown_fields)]
 pub struct Config {
     /// V2X input.
@@ -261,7 +261,7 @@ pub struct Config {
 }
 
 /// `[security]`.
-#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[derive(Clone, Debug, Deserialize, Serialize, PartialEq)]
 #[serde(deny_unknown_fields)]
 pub struct Security {
     /// Drop unsigned MAP and TIM.
@@ -282,7 +282,7 @@ pub struct Security {
 
 /// `[security.map]`, `[security.tim]`, ...: one message type's security profile (see
 /// [`obu::security::SecurityProfile`]).
-#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[derive(Clone, Debug, Deserialize, Serialize, PartialEq)]
 #[serde(deny_unknown_fields)]
 pub struct Profile {
     /// The PSID, as written.
@@ -305,7 +305,7 @@ pub struct Profile {
 
 /// A PSID as a configuration file writes it: a TOML number (`0x8003`: the p-encoded octets,
 /// the usual spelling) or a string (`"0x8003"` likewise, `"131"` the integer).
-#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[derive(Clone, Debug, Deserialize, Serialize, PartialEq)]
 #[serde(untagged)]
 pub enum PsidText {
     /// A number: its p-encoded octets.
@@ -389,7 +389,7 @@ fn required_ssp(text: &str) -> Option<RequiredSsp> {
 }
 
 /// `[v2x]`.
-#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[derive(Clone, Debug, Deserialize, Serialize, PartialEq)]
 #[serde(deny_unknown_fields)]
 pub struct V2x {
     /// UDP bind address.
@@ -399,7 +399,7 @@ pub struct V2x {
 }
 
 /// GNSS source kinds.
-#[derive(Clone, Copy, Debug, Deserialize, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, Deserialize, Serialize, PartialEq, Eq)]
 #[serde(rename_all = "kebab-case")]
 pub enum GnssSource {
     /// No GNSS.
@@ -448,7 +448,7 @@ impl GnssSource {
 }
 
 /// `[gnss]`.
-#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[derive(Clone, Debug, Deserialize, Serialize, PartialEq)]
 #[serde(deny_unknown_fields)]
 pub struct Gnss {
     /// Source kind.
@@ -464,7 +464,7 @@ pub struct Gnss {
 }
 
 /// `[gnss.uere]`: user-equivalent range errors (1 sigma, metres) per kind of solution.
-#[derive(Clone, Copy, Debug, Deserialize, PartialEq)]
+#[derive(Clone, Copy, Debug, Deserialize, Serialize, PartialEq)]
 #[serde(deny_unknown_fields)]
 pub struct Uere {
     /// Stand-alone.
@@ -490,7 +490,7 @@ impl Uere {
 }
 
 /// Speed source kinds.
-#[derive(Clone, Copy, Debug, Deserialize, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, Deserialize, Serialize, PartialEq, Eq)]
 #[serde(rename_all = "kebab-case")]
 pub enum SpeedSource {
     /// GNSS speed only.
@@ -502,7 +502,7 @@ pub enum SpeedSource {
 }
 
 /// `[speed]`.
-#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[derive(Clone, Debug, Deserialize, Serialize, PartialEq)]
 #[serde(deny_unknown_fields)]
 pub struct Speed {
     /// Source kind.
@@ -545,7 +545,7 @@ impl Speed {
 }
 
 /// `[alerts]`.
-#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[derive(Clone, Debug, Deserialize, Serialize, PartialEq)]
 #[serde(deny_unknown_fields)]
 pub struct Alerts {
     /// Default warning distance, metres.
@@ -576,7 +576,7 @@ impl Alerts {
 }
 
 /// `[lane]`.
-#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[derive(Clone, Debug, Deserialize, Serialize, PartialEq)]
 #[serde(deny_unknown_fields)]
 pub struct Lane {
     /// How the lane shown is decided.
@@ -586,7 +586,7 @@ pub struct Lane {
 }
 
 /// `[lane] method`.
-#[derive(Clone, Copy, Debug, Deserialize, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, Deserialize, Serialize, PartialEq, Eq)]
 #[serde(rename_all = "kebab-case")]
 pub enum LaneMethod {
     /// The lane filter.
@@ -607,7 +607,7 @@ impl Lane {
 }
 
 /// `[time]`.
-#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[derive(Clone, Debug, Deserialize, Serialize, PartialEq)]
 #[serde(deny_unknown_fields)]
 pub struct Time {
     /// Check GNSS time against the system clock.
@@ -617,7 +617,7 @@ pub struct Time {
 }
 
 /// `[bridge]`.
-#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[derive(Clone, Debug, Deserialize, Serialize, PartialEq)]
 #[serde(deny_unknown_fields)]
 pub struct Bridge {
     /// Where the firmware's states come from; `None`: the daemon runs the core itself.
@@ -627,8 +627,8 @@ pub struct Bridge {
 }
 
 /// Where bridge mode reads the firmware's `HmiState` stream.
-#[derive(Clone, Debug, Deserialize, PartialEq, Eq)]
-#[serde(try_from = "String")]
+#[derive(Clone, Debug, Deserialize, Serialize, PartialEq, Eq)]
+#[serde(try_from = "String", into = "String")]
 pub enum BridgeSource {
     /// `tcp:HOST:PORT`: a TCP server to connect to (QEMU's emulated serial port).
     Tcp(String),
@@ -667,6 +667,12 @@ impl TryFrom<String> for BridgeSource {
     }
 }
 
+impl From<BridgeSource> for String {
+    fn from(source: BridgeSource) -> String {
+        source.to_string()
+    }
+}
+
 impl std::fmt::Display for BridgeSource {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         match self {
@@ -702,6 +708,11 @@ fn merge(target: &mut toml::Table, values: toml::Table) {
 }
 
 impl Config {
+    /// This configuration as a TOML file the daemon reads back as the same [`Config`].
+    pub fn to_toml(&self) -> Result<String, ConfigError> {
+        toml::to_string(self).map_err(|e| ConfigError(e.to_string()))
+    }
+
     /// The defaults.
     pub fn default_config() -> Self {
         Self::parse("").unwrap_or_else(|e| unreachable!("the default configuration parses: {e}"))
@@ -823,6 +834,19 @@ mod tests {
         assert_eq!(c.alerts.warning_distance_m, WARNING_DISTANCE_M.default);
         assert_eq!(c.alerts.lead_time_s, LEAD_TIME_S.default);
         assert_eq!(c.bridge.source, None, "normal mode");
+    }
+
+    #[test]
+    fn a_typed_config_written_as_toml_reads_back_the_same() {
+        let mut c = Config::default_config();
+        assert_eq!(Config::parse(&c.to_toml().unwrap()).unwrap(), c);
+        c.http.bind = "127.0.0.1:0".parse().unwrap();
+        c.alerts.lead_time_s = 5.0;
+        c.lane.method = LaneMethod::PerFix;
+        c.security.trust_anchors = vec![PathBuf::from("/tmp/a b/root.oer")];
+        c.bridge.source = Some(BridgeSource::Tcp("127.0.0.1:4000".into()));
+        let text = c.to_toml().unwrap();
+        assert_eq!(Config::parse(&text).unwrap(), c, "{text}");
     }
 
     #[test]

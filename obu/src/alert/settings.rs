@@ -156,17 +156,17 @@ pub fn write_contract_json(out: &mut impl fmt::Write) -> fmt::Result {
     write_names(out, AlertStage::ALL.iter().map(|s| s.as_str()))?;
     out.write_str("],\n  \"settings\": {\n")?;
     for s in NUMERIC_SETTINGS {
-        write!(
+        writeln!(
             out,
-            "    \"{}\": {{ \"min\": {}, \"max\": {}, \"default\": {}, \"unit\": \"{}\", \"step\": {} }},\n",
+            "    \"{}\": {{ \"min\": {}, \"max\": {}, \"default\": {}, \"unit\": \"{}\", \"step\": {} }},",
             s.name, s.min, s.max, s.default, s.unit, s.step
         )?;
     }
-    write!(out, "    \"sound\": {{ \"default\": {SOUND_DEFAULT} }},\n")?;
+    writeln!(out, "    \"sound\": {{ \"default\": {SOUND_DEFAULT} }},")?;
     out.write_str("    \"units\": { \"choices\": [")?;
     write_names(out, DisplayUnits::ALL.iter().map(|u| u.as_str()))?;
     let units = DisplayUnits::default().as_str();
-    write!(out, "], \"default\": \"{units}\" }},\n")?;
+    writeln!(out, "], \"default\": \"{units}\" }},")?;
     out.write_str("    \"theme\": { \"choices\": [")?;
     write_names(out, Theme::ALL.iter().map(|t| t.as_str()))?;
     let theme = Theme::default().as_str();
