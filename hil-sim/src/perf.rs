@@ -98,7 +98,9 @@ pub fn tim_latency(obu: &Path, samples: usize, gap: Duration) -> Result<Latency,
         std::thread::sleep(gap);
         // Signed before the clock starts: the figure is the OBU's (verify, decode, store,
         // publish), not the roadside's signing.
-        let signed = signer.sign(&versions[i % 128], roadside::clock::unix_ms_now())?;
+        let signed = signer
+            .sign(&versions[i % 128], roadside::clock::unix_ms_now())
+            .map_err(|e| e.to_string())?;
         let t0 = Instant::now();
         let _ = sock.send_to(&signed, &daemon.v2x);
         match counter_of(&mut sse, "zones_updated", updated + 1) {

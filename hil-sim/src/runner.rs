@@ -112,7 +112,7 @@ pub fn run(s: &Scenario, opts: &RunOptions) -> Result<RunReport, String> {
     std::fs::create_dir_all(&opts.out).map_err(|e| format!("{}: {e}", opts.out.display()))?;
     let road = s.road()?;
     let start = Utc::from_unix_ms(unix_ms_now().saturating_sub(120_000));
-    let mut zones = build_zones(&s.site(), &road, start)?;
+    let mut zones = build_zones(&s.site(), &road, start).map_err(|e| e.to_string())?;
     end_windows(s, &mut zones, unix_ms_now());
     let samples = drive::simulate(&road, &s.drive, 900.0).map_err(|e| e.to_string())?;
     if samples.is_empty() {

@@ -171,7 +171,7 @@ impl Scenario {
 
     /// Builds the lane map.
     pub fn road(&self) -> Result<Road, String> {
-        self.road.build(&self.dir)
+        self.road.build(&self.dir).map_err(|e| e.to_string())
     }
 
     /// The roadside's part: lane map, zones and radio faults, with the folder of the file.

@@ -84,7 +84,7 @@ pub enum DetectionError {
         /// Line number (1-based).
         line: usize,
         /// What is wrong.
-        reason: String,
+        reason: YoloLineError,
     },
     /// The image size is zero.
     ImageSize,
@@ -101,7 +101,53 @@ impl fmt::Display for DetectionError {
     }
 }
 
-impl std::error::Error for DetectionError {}
+impl std::error::Error for DetectionError {
+    fn source(&self) -> Option<&(dyn std::error::Error + 'static)> {
+        match self {
+            Self::Line { reason, .. } => Some(reason),
+            Self::Json(_) | Self::Entry { .. } | Self::ImageSize => None,
+        }
+    }
+}
+
+/// What is wrong with a line of a YOLO file.
+#[derive(Debug, Clone, PartialEq)]
+#[non_exhaustive]
+pub enum YoloLineError {
+    /// Not 5 or 6 fields.
+    FieldCount {
+        /// Fields found.
+        found: usize,
+    },
+    /// The class is not a non-negative integer.
+    Class {
+        /// The field as found.
+        value: String,
+    },
+    /// A coordinate or the score is not a number from 0 to 1.
+    NotUnit {
+        /// The field as found.
+        value: String,
+    },
+    /// The box is empty or inverted.
+    InvalidBox,
+}
+
+impl fmt::Display for YoloLineError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Self::FieldCount { found } => write!(
+                f,
+                "expected `class cx cy w h [score]`, found {found} fields"
+            ),
+            Self::Class { value } => write!(f, "class {value:?} is not a non-negative integer"),
+            Self::NotUnit { value } => write!(f, "{value:?} is not a number in 0-1"),
+            Self::InvalidBox => f.write_str("invalid box"),
+        }
+    }
+}
+
+impl std::error::Error for YoloLineError {}
 
 fn entry(path: String, reason: &'static str) -> DetectionError {
     DetectionError::Entry { path, reason }
@@ -221,24 +267,25 @@ pub fn parse_yolo(
     Ok(out)
 }
 
-fn parse_yolo_line(line: &str, [w_px, h_px]: [u32; 2]) -> Result<(u32, Detection), String> {
+fn parse_yolo_line(line: &str, [w_px, h_px]: [u32; 2]) -> Result<(u32, Detection), YoloLineError> {
     let fields: Vec<&str> = line.split_whitespace().collect();
     if !(5..=6).contains(&fields.len()) {
-        return Err(format!(
-            "expected `class cx cy w h [score]`, found {} fields",
-            fields.len()
-        ));
+        return Err(YoloLineError::FieldCount {
+            found: fields.len(),
+        });
     }
-    let class = fields[0]
-        .parse::<u32>()
-        .map_err(|_| format!("class {:?} is not a non-negative integer", fields[0]))?;
+    let class = fields[0].parse::<u32>().map_err(|_| YoloLineError::Class {
+        value: fields[0].to_string(),
+    })?;
     let mut v = [0.0; 5];
     for (slot, f) in v.iter_mut().zip(&fields[1..]) {
         *slot = f
             .parse::<f64>()
             .ok()
             .filter(|x| (0.0..=1.0).contains(x))
-            .ok_or_else(|| format!("{f:?} is not a number in 0-1"))?;
+            .ok_or_else(|| YoloLineError::NotUnit {
+                value: f.to_string(),
+            })?;
     }
     let [cx, cy, w, h, _] = v;
     let (sx, sy) = (f64::from(w_px), f64::from(h_px));
@@ -248,7 +295,7 @@ fn parse_yolo_line(line: &str, [w_px, h_px]: [u32; 2]) -> Result<(u32, Detection
         (cx + w / 2.0) * sx,
         (cy + h / 2.0) * sy,
     )
-    .ok_or_else(|| "invalid box".to_owned())?;
+    .ok_or(YoloLineError::InvalidBox)?;
     let score = (fields.len() == 6).then_some(v[4]);
     Ok((class, Detection { bbox, score }))
 }
@@ -578,6 +625,15 @@ mod tests {
                 other => panic!("{bad:?}: {other:?}"),
             }
         }
+        assert_eq!(
+            parse_yolo("0 0.5 1.5 0.1 0.2\n", [640, 480], 0),
+            Err(DetectionError::Line {
+                line: 1,
+                reason: YoloLineError::NotUnit {
+                    value: "1.5".into()
+                }
+            })
+        );
         assert_eq!(
             parse_yolo(text, [0, 480], 0),
             Err(DetectionError::ImageSize)

@@ -12,11 +12,15 @@
 //! first candidate that is a valid scalar; the label is the command's former name, kept so
 //! that a seed gives the same keys as before).
 
+mod error;
+
+pub use error::{KeyError, PkiError};
+
 use j2735::envelope::ieee1609dot2::build::{encode_certificate, CertificateSpec, IssuedBy};
 use j2735::envelope::ieee1609dot2::crypto::{sha256, SecretKey};
 use j2735::envelope::ieee1609dot2::{Duration, TwoDLocation};
 use j2735::envelope::Psid;
-use std::io::Read;
+use std::io::{self, Read};
 use std::path::Path;
 
 /// Seconds from 1970-01-01 to 2004-01-01 (the IEEE 1609.2 epoch).
@@ -91,7 +95,7 @@ pub struct Pki {
 }
 
 /// A key for `role`: from the seed, or random.
-fn make_key(seed: Option<&str>, role: &str) -> Result<SecretKey, String> {
+fn make_key(seed: Option<&str>, role: &str) -> Result<SecretKey, PkiError> {
     for attempt in 0u32..64 {
         let bytes = match seed {
             Some(s) => sha256(format!("hil-sim pki/{s}/{role}/{attempt}").as_bytes()),
@@ -99,7 +103,7 @@ fn make_key(seed: Option<&str>, role: &str) -> Result<SecretKey, String> {
                 let mut b = [0u8; 32];
                 std::fs::File::open("/dev/urandom")
                     .and_then(|mut f| f.read_exact(&mut b))
-                    .map_err(|e| format!("/dev/urandom: {e}"))?;
+                    .map_err(PkiError::Random)?;
                 b
             }
         };
@@ -107,16 +111,16 @@ fn make_key(seed: Option<&str>, role: &str) -> Result<SecretKey, String> {
             return Ok(key);
         }
     }
-    Err("no valid key in 64 candidates".into())
+    Err(PkiError::NoValidKey)
 }
 
 fn certificate(
     spec: &CertificateSpec<'_>,
     key: &SecretKey,
     by: IssuedBy<'_>,
-) -> Result<Vec<u8>, String> {
+) -> Result<Vec<u8>, PkiError> {
     let mut out = vec![0u8; 1024];
-    let n = encode_certificate(spec, key, by, &mut out).map_err(|e| format!("{e:?}"))?;
+    let n = encode_certificate(spec, key, by, &mut out).map_err(PkiError::Certificate)?;
     out.truncate(n);
     Ok(out)
 }
@@ -126,8 +130,10 @@ impl Pki {
     ///
     /// # Errors
     ///
-    /// A message when the random source fails or a value does not fit its field.
-    pub fn create(spec: &PkiSpec) -> Result<Self, String> {
+    /// [`PkiError::Validity`] when the validities do not nest, [`PkiError::Random`] when
+    /// the random source fails, [`PkiError::Certificate`] when a value does not fit its
+    /// field.
+    pub fn create(spec: &PkiSpec) -> Result<Self, PkiError> {
         // A certificate's validity must lie within its issuer's (the OBU checks it).
         let (rsu, ca, root) = (
             Duration::Hours(spec.rsu_hours).micros(),
@@ -135,13 +141,11 @@ impl Pki {
             Duration::Years(spec.root_years).micros(),
         );
         if rsu > ca || ca > root || rsu == 0 {
-            return Err(format!(
-                "validity: the RSU's ({} days) must be within the CA's ({} years), the CA's \
-                 within the root's ({} years)",
-                spec.rsu_hours / 24,
-                spec.ca_years,
-                spec.root_years
-            ));
+            return Err(PkiError::Validity {
+                rsu_hours: spec.rsu_hours,
+                ca_years: spec.ca_years,
+                root_years: spec.root_years,
+            });
         }
         let seed = spec.seed.as_deref();
         let start = time32_of_unix_s(spec.start_unix_s);
@@ -205,20 +209,26 @@ impl Pki {
     ///
     /// # Errors
     ///
-    /// The file system's error, naming the file.
-    pub fn write(&self, dir: &Path) -> Result<(), String> {
-        std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
+    /// [`PkiError::Io`]: the file system's error, naming the file.
+    pub fn write(&self, dir: &Path) -> Result<(), PkiError> {
+        std::fs::create_dir_all(dir).map_err(io_error(dir))?;
         for (name, issued) in [("root", &self.root), ("ca", &self.ca), ("rsu", &self.rsu)] {
             let cert = dir.join(format!("{name}.oer"));
-            std::fs::write(&cert, &issued.cert).map_err(|e| format!("{}: {e}", cert.display()))?;
+            std::fs::write(&cert, &issued.cert).map_err(io_error(&cert))?;
             write_key(&dir.join(format!("{name}.key")), &issued.key)?;
         }
         Ok(())
     }
 }
 
+/// A [`PkiError::Io`] naming `path`.
+fn io_error(path: &Path) -> impl FnOnce(io::Error) -> PkiError {
+    let path = path.to_path_buf();
+    move |source| PkiError::Io { path, source }
+}
+
 /// Writes a private key as hexadecimal text, readable by the owner only.
-fn write_key(path: &Path, key: &SecretKey) -> Result<(), String> {
+fn write_key(path: &Path, key: &SecretKey) -> Result<(), PkiError> {
     use std::io::Write;
     use std::os::unix::fs::OpenOptionsExt;
     let text = format!("{}\n", j2735::hex::Hex(&key.to_bytes()));
@@ -229,31 +239,34 @@ fn write_key(path: &Path, key: &SecretKey) -> Result<(), String> {
         .mode(0o600)
         .open(path)
         .and_then(|mut f| f.write_all(text.as_bytes()))
-        .map_err(|e| format!("{}: {e}", path.display()))
+        .map_err(io_error(path))
 }
 
 /// Reads a private key file (hexadecimal text of the 32-octet scalar).
 ///
 /// # Errors
 ///
-/// A message naming the file and what is wrong.
-pub fn read_key(path: &Path) -> Result<SecretKey, String> {
-    let text = std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
-    read_key_text(&text).map_err(|e| format!("{}: {e}", path.display()))
+/// [`PkiError::Io`] or [`PkiError::Key`], naming the file.
+pub fn read_key(path: &Path) -> Result<SecretKey, PkiError> {
+    let text = std::fs::read_to_string(path).map_err(io_error(path))?;
+    read_key_text(&text).map_err(|source| PkiError::Key {
+        path: path.to_path_buf(),
+        source,
+    })
 }
 
 /// A private key from its file's text (hexadecimal, 32 octets; surrounding blanks ignored).
 ///
 /// # Errors
 ///
-/// A message saying what is wrong.
-pub fn read_key_text(text: &str) -> Result<SecretKey, String> {
+/// [`KeyError`]: what is wrong with the text.
+pub fn read_key_text(text: &str) -> Result<SecretKey, KeyError> {
     let mut bytes = [0u8; 32];
-    let n = j2735::hex::decode_into(text.trim(), &mut bytes).map_err(|e| e.to_string())?;
+    let n = j2735::hex::decode_into(text.trim(), &mut bytes).map_err(KeyError::Hex)?;
     if n != 32 {
-        return Err("not a 32-octet key".into());
+        return Err(KeyError::Length { octets: n });
     }
-    SecretKey::from_bytes(&bytes).map_err(|e| e.to_string())
+    SecretKey::from_bytes(&bytes).map_err(KeyError::Scalar)
 }
 
 #[cfg(test)]
@@ -293,9 +306,12 @@ mod tests {
             rsu_hours: 2730 * 24,
             ..spec()
         };
-        assert!(Pki::create(&long_rsu)
-            .unwrap_err()
-            .contains("within the CA"));
+        let err = Pki::create(&long_rsu).unwrap_err();
+        assert!(
+            matches!(err, PkiError::Validity { rsu_hours, .. } if rsu_hours == 2730 * 24),
+            "{err:?}"
+        );
+        assert!(err.to_string().contains("within the CA"));
         let ok = PkiSpec {
             ca_years: 15,
             root_years: 20,
@@ -321,7 +337,21 @@ mod tests {
             pki.ca.key.to_bytes()
         );
         std::fs::write(dir.join("rsu.key"), "zz\n").unwrap();
-        assert!(read_key(&dir.join("rsu.key")).is_err());
+        match read_key(&dir.join("rsu.key")) {
+            Err(PkiError::Key {
+                path,
+                source: KeyError::Hex(_),
+            }) => assert_eq!(path, dir.join("rsu.key")),
+            other => panic!("{other:?}"),
+        }
+        std::fs::write(dir.join("rsu.key"), "00ff\n").unwrap();
+        assert!(matches!(
+            read_key(&dir.join("rsu.key")),
+            Err(PkiError::Key {
+                source: KeyError::Length { octets: 2 },
+                ..
+            })
+        ));
         let _ = std::fs::remove_dir_all(&dir);
     }
 }

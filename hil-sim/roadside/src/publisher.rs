@@ -3,10 +3,51 @@
 //! changes, and a cancel (`durationTime` 0, the next `msgCnt`) made for a zone that ended or
 //! left its source. The MAP's `revision` follows the MAP's content likewise.
 
-use crate::broadcast::Message;
-use crate::messages::{self, WorkZone};
+use crate::broadcast::{FrameError, Message};
+use crate::messages::{self, BuildError, WorkZone};
 use crate::road::Road;
 use std::collections::BTreeMap;
+use std::fmt;
+
+/// Why a message could not be built.
+#[derive(Debug, Clone, PartialEq)]
+#[non_exhaustive]
+pub enum PublishError {
+    /// The MAP or a TIM could not be built or encoded.
+    Build(BuildError),
+    /// The encoded frame is not one the broadcaster takes.
+    Frame(FrameError),
+}
+
+impl fmt::Display for PublishError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Self::Build(e) => e.fmt(f),
+            Self::Frame(e) => e.fmt(f),
+        }
+    }
+}
+
+impl std::error::Error for PublishError {
+    fn source(&self) -> Option<&(dyn std::error::Error + 'static)> {
+        match self {
+            Self::Build(e) => Some(e),
+            Self::Frame(e) => Some(e),
+        }
+    }
+}
+
+impl From<BuildError> for PublishError {
+    fn from(e: BuildError) -> Self {
+        Self::Build(e)
+    }
+}
+
+impl From<FrameError> for PublishError {
+    fn from(e: FrameError) -> Self {
+        Self::Frame(e)
+    }
+}
 
 /// A zone as a source gives it, with its delivery window.
 #[derive(Debug, Clone, PartialEq)]
@@ -68,14 +109,14 @@ impl Publisher {
     ///
     /// # Errors
     ///
-    /// A message that cannot be built.
+    /// [`PublishError`]: a message that cannot be built.
     pub fn update(
         &mut self,
         road: &Road,
         zones: &[SourceZone],
         now_unix_ms: u64,
         map_stop_unix_ms: u64,
-    ) -> Result<Update, String> {
+    ) -> Result<Update, PublishError> {
         let mut live = BTreeMap::new();
         let mut out = Update::default();
         let mut tims = Vec::new();
@@ -139,17 +180,19 @@ impl Publisher {
 }
 
 /// The TIM of `zone`.
-fn tim_message(road: &Road, zone: &WorkZone) -> Result<Message, String> {
-    let frame = messages::build_tim(road, zone).map_err(|e| e.to_string())?;
-    let bytes = messages::encode(&frame).map_err(|e| e.to_string())?;
-    Message::new(bytes).map_err(|e| e.to_string())
+fn tim_message(road: &Road, zone: &WorkZone) -> Result<Message, PublishError> {
+    let frame = messages::build_tim(road, zone)?;
+    Ok(Message::new(messages::encode(&frame)?)?)
 }
 
 /// The MAP of `road` at `revision`, with the limit of `zone` on its lanes.
-fn map_message(road: &Road, revision: u8, zone: Option<&WorkZone>) -> Result<Message, String> {
-    let frame = messages::build_map(road, 1, revision, zone).map_err(|e| e.to_string())?;
-    let bytes = messages::encode(&frame).map_err(|e| e.to_string())?;
-    Message::new(bytes).map_err(|e| e.to_string())
+fn map_message(
+    road: &Road,
+    revision: u8,
+    zone: Option<&WorkZone>,
+) -> Result<Message, PublishError> {
+    let frame = messages::build_map(road, 1, revision, zone)?;
+    Ok(Message::new(messages::encode(&frame)?)?)
 }
 
 #[cfg(test)]

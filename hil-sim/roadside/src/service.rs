@@ -3,11 +3,16 @@
 //! feed; a zone that ends or leaves the feed is destroyed on the RSUs and its signed cancel
 //! TIM sent by immediate forward for a while. A reload (SIGHUP) reads the site file again.
 
+mod error;
+
+pub use error::ServiceError;
+
 use crate::broadcast::{Broadcaster, Message, MessageSlot, Wrapping};
 use crate::clock::{unix_ms_now, Utc};
+use crate::geojson::InputError;
 use crate::publisher::{Published, Publisher, SourceZone};
 use crate::road::Road;
-use crate::rsu_snmp::deposit::{repeat_messages, DepositSettings};
+use crate::rsu_snmp::deposit::{repeat_messages, DepositError, DepositSettings};
 use crate::rsu_snmp::fleet::{load_owned, save_owned, Fleet, RsuSpec, RsuStatus};
 use crate::rsu_snmp::mib::{RepeatMessage, RsuMib};
 use crate::rsu_snmp::reconcile::WantedRow;
@@ -128,15 +133,19 @@ impl std::fmt::Debug for Roadside {
 }
 
 /// The site's signer, if it has a PKI.
-fn signer_of(site: &SiteFile) -> Result<Option<RsuSigner>, String> {
+fn signer_of(site: &SiteFile) -> Result<Option<RsuSigner>, ServiceError> {
     match site.signing.as_ref().and_then(|s| s.pki.as_ref()) {
-        Some(p) => RsuSigner::load(&site.path(p), None).map(Some),
+        Some(p) => Ok(Some(RsuSigner::load(&site.path(p), None)?)),
         None => Ok(None),
     }
 }
 
 /// The site's own `[[zones]]`, delivered for its window from `start_ms`.
-fn static_zones(site: &SiteFile, road: &Road, start_ms: u64) -> Result<Vec<SourceZone>, String> {
+fn static_zones(
+    site: &SiteFile,
+    road: &Road,
+    start_ms: u64,
+) -> Result<Vec<SourceZone>, ServiceError> {
     let window = u64::from(site.rsus.as_ref().map_or(24, |r| r.window_hours)) * 3_600_000;
     let zones = crate::zone_sources::build_zones(&site.site(), road, Utc::from_unix_ms(start_ms))?;
     Ok(zones
@@ -152,9 +161,9 @@ fn static_zones(site: &SiteFile, road: &Road, start_ms: u64) -> Result<Vec<Sourc
 ///
 /// # Errors
 ///
-/// The feed is not a WZDx feed the parser takes (its message).
-pub fn feed_zones(road: &Road, text: &str) -> Result<Vec<SourceZone>, String> {
-    let zones = crate::geojson::work_zones_from_wzdx(road, text).map_err(|e| e.to_string())?;
+/// [`InputError`]: the feed is not a WZDx feed the parser takes.
+pub fn feed_zones(road: &Road, text: &str) -> Result<Vec<SourceZone>, InputError> {
+    let zones = crate::geojson::work_zones_from_wzdx(road, text)?;
     Ok(zones
         .iter()
         .map(|z| SourceZone {
@@ -170,8 +179,9 @@ impl Roadside {
     ///
     /// # Errors
     ///
-    /// The site file, its lane map, zones, PKI, credentials or state folder.
-    pub fn start(path: &Path, now: Instant, now_ms: u64) -> Result<Self, String> {
+    /// [`ServiceError`]: the site file, its lane map, zones, PKI, credentials or state
+    /// folder.
+    pub fn start(path: &Path, now: Instant, now_ms: u64) -> Result<Self, ServiceError> {
         Self::start_site(SiteFile::load(path)?, path, now, now_ms)
     }
 
@@ -185,9 +195,14 @@ impl Roadside {
         path: &Path,
         now: Instant,
         now_ms: u64,
-    ) -> Result<Self, String> {
+    ) -> Result<Self, ServiceError> {
         let state = site.state_dir();
-        std::fs::create_dir_all(&state).map_err(|e| format!("{}: {e}", state.display()))?;
+        if let Err(source) = std::fs::create_dir_all(&state) {
+            return Err(ServiceError::Io {
+                path: state,
+                source,
+            });
+        }
         let owned = load_owned(&state.join("owned.json"))?;
         let fleet = Fleet::new(site.rsu_specs()?, site.timing(), &owned, now);
         let mut r = Self::with(path, site, fleet, now, now_ms)?;
@@ -201,7 +216,7 @@ impl Roadside {
         fleet: Fleet,
         now: Instant,
         now_ms: u64,
-    ) -> Result<Self, String> {
+    ) -> Result<Self, ServiceError> {
         let road = site.site().road()?;
         let start_ms = now_ms - now_ms % 60_000;
         let site_has_no_feed = site.wzdx_feed.is_none();
@@ -238,8 +253,8 @@ impl Roadside {
     ///
     /// # Errors
     ///
-    /// The new site file's problem.
-    pub fn reload(&mut self, now: Instant, now_ms: u64) -> Result<(), String> {
+    /// [`ServiceError`]: the new site file's problem.
+    pub fn reload(&mut self, now: Instant, now_ms: u64) -> Result<(), ServiceError> {
         let site = SiteFile::load(&self.path)?;
         let fleet = Fleet::new(site.rsu_specs()?, site.timing(), &self.fleet.owned(), now);
         let same_pki = site.signing.as_ref().and_then(|s| s.pki.clone())
@@ -277,14 +292,15 @@ impl Roadside {
     ///
     /// # Errors
     ///
-    /// The state folder cannot be written.
+    /// [`ServiceError::Owned`], [`ServiceError::Io`] or [`ServiceError::Status`]: the state
+    /// folder cannot be written.
     pub fn tick(
         &mut self,
         now: Instant,
         now_ms: u64,
         force: bool,
         log: &mut dyn Write,
-    ) -> Result<(), String> {
+    ) -> Result<(), ServiceError> {
         self.poll_feed(now, now_ms, log);
         let mut forward = false;
         let mut changed = false;
@@ -434,7 +450,7 @@ impl Roadside {
         u64::from(self.site.rsus.as_ref().map_or(24, |r| r.window_hours)) * 3_600_000
     }
 
-    fn deploy(&self, now_ms: u64) -> Result<Deployment, String> {
+    fn deploy(&self, now_ms: u64) -> Result<Deployment, DepositError> {
         let frames = self.published.iter().map(|p| p.message.clone()).collect();
         if self.site.rsu.is_empty() {
             // Broadcast only: the broadcaster signs each transmission itself.
@@ -488,7 +504,7 @@ impl Roadside {
         self.fleet.forward(&template, &payloads);
     }
 
-    fn save(&mut self, log: &mut dyn Write) -> Result<(), String> {
+    fn save(&mut self, log: &mut dyn Write) -> Result<(), ServiceError> {
         let state = self.site.state_dir();
         save_owned(&state.join("owned.json"), &self.fleet.owned())?;
         let status = ServiceStatus {
@@ -531,12 +547,13 @@ impl Roadside {
     }
 
     /// The site's direct UDP broadcast in its own thread, if it has one.
-    fn start_broadcast(&self) -> Result<Option<(MessageSlot, Arc<AtomicBool>)>, String> {
+    fn start_broadcast(&self) -> Result<Option<(MessageSlot, Arc<AtomicBool>)>, ServiceError> {
         let Some(b) = &self.site.broadcast else {
             return Ok(None);
         };
-        let mut air = Broadcaster::new(b.to.clone(), Wrapping::Raw).map_err(|e| e.to_string())?;
-        air.set_rate_hz(b.rate_hz).map_err(|e| e.to_string())?;
+        let mut air =
+            Broadcaster::new(b.to.clone(), Wrapping::Raw).map_err(ServiceError::Socket)?;
+        air.set_rate_hz(b.rate_hz).map_err(ServiceError::Rate)?;
         air.set_signer(self.signer.clone().map(Arc::new));
         let slot = air.message_slot();
         let halt = Arc::new(AtomicBool::new(false));
@@ -555,12 +572,15 @@ impl Drop for Roadside {
 }
 
 /// Writes `value` as JSON through a temporary file.
-fn write_json<T: Serialize>(path: &Path, value: &T) -> Result<(), String> {
-    let text = serde_json::to_string_pretty(value).map_err(|e| e.to_string())?;
+fn write_json<T: Serialize>(path: &Path, value: &T) -> Result<(), ServiceError> {
+    let text = serde_json::to_string_pretty(value).map_err(ServiceError::Status)?;
     let tmp = path.with_extension("tmp");
     std::fs::write(&tmp, text)
         .and_then(|()| std::fs::rename(&tmp, path))
-        .map_err(|e| format!("{}: {e}", path.display()))
+        .map_err(|source| ServiceError::Io {
+            path: path.to_path_buf(),
+            source,
+        })
 }
 
 /// Reads `status.json` of a state folder, if there is one.
@@ -575,15 +595,15 @@ pub fn read_status(state_dir: &Path) -> Option<ServiceStatus> {
 ///
 /// # Errors
 ///
-/// The site file, its state folder, credentials or messages at start (a reload that fails
-/// keeps the running site and says so).
+/// [`ServiceError`]: the site file, its state folder, credentials or messages at start (a
+/// reload that fails keeps the running site and says so).
 pub fn run(
     path: &Path,
     stop: &AtomicBool,
     reload: &AtomicBool,
     once: bool,
     log: &mut dyn Write,
-) -> Result<bool, String> {
+) -> Result<bool, ServiceError> {
     let mut r = Roadside::start(path, Instant::now(), unix_ms_now())?;
     let _ = writeln!(log, "roadside {}: started", r.name());
     loop {

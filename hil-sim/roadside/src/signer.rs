@@ -2,12 +2,89 @@
 //! do ([`SigningPattern`]), with the signer certificate in every message or once in a while
 //! (a `digest` signer in between).
 
-use crate::pki::{signing_psid, time64_of_unix_ms};
-use j2735::envelope::ieee1609dot2::build::{encode_signed, Header, Signer};
+use crate::pki::{signing_psid, time64_of_unix_ms, PkiError};
+use j2735::envelope::ieee1609dot2::build::{encode_signed, BuildError, Header, Signer};
 use j2735::envelope::ieee1609dot2::crypto::{sha256, RSigForm, SecretKey};
-use j2735::envelope::ieee1609dot2::{Certificate, ThreeDLocation, Time64};
-use std::path::Path;
+use j2735::envelope::ieee1609dot2::{Certificate, DecodeError, ThreeDLocation, Time64};
+use std::fmt;
+use std::io;
+use std::path::{Path, PathBuf};
 use std::sync::{Arc, Mutex, PoisonError};
+
+/// Why a PKI folder gives no signer ([`RsuSigner::load`]).
+#[derive(Debug)]
+#[non_exhaustive]
+pub enum SignerLoadError {
+    /// The certificate file could not be read.
+    Io {
+        /// The certificate file (`rsu.oer`).
+        path: PathBuf,
+        /// The file system's error.
+        source: io::Error,
+    },
+    /// The certificate file is not an IEEE 1609.2 certificate.
+    Certificate {
+        /// The certificate file (`rsu.oer`).
+        path: PathBuf,
+        /// Why it does not parse.
+        source: DecodeError,
+    },
+    /// The key file (`rsu.key`) could not be read or is not a key.
+    Key(PkiError),
+}
+
+impl fmt::Display for SignerLoadError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Self::Io { path, source } => write!(f, "{}: {source}", path.display()),
+            Self::Certificate { path, source } => write!(f, "{}: {source}", path.display()),
+            Self::Key(e) => e.fmt(f),
+        }
+    }
+}
+
+impl std::error::Error for SignerLoadError {
+    fn source(&self) -> Option<&(dyn std::error::Error + 'static)> {
+        match self {
+            Self::Io { source, .. } => Some(source),
+            Self::Certificate { source, .. } => Some(source),
+            Self::Key(e) => Some(e),
+        }
+    }
+}
+
+impl From<PkiError> for SignerLoadError {
+    fn from(e: PkiError) -> Self {
+        Self::Key(e)
+    }
+}
+
+/// Why a frame could not be signed.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[non_exhaustive]
+pub enum SignError {
+    /// The frame is shorter than its two-octet `messageId`.
+    ShortFrame,
+    /// The frame's message has no PSID to sign it under ([`signing_psid`]).
+    NoPsid {
+        /// The J2735 `messageId`.
+        message_id: u16,
+    },
+    /// The signed data could not be encoded.
+    Encode(BuildError),
+}
+
+impl fmt::Display for SignError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Self::ShortFrame => f.write_str("frame shorter than its messageId"),
+            Self::NoPsid { message_id } => write!(f, "no PSID for messageId {message_id}"),
+            Self::Encode(e) => write!(f, "{e:?}"),
+        }
+    }
+}
+
+impl std::error::Error for SignError {}
 
 /// How an RSU signs what it broadcasts again and again.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -107,11 +184,16 @@ impl RsuSigner {
     ///
     /// # Errors
     ///
-    /// A message naming the missing or malformed file.
-    pub fn load(dir: &Path, location: Option<ThreeDLocation>) -> Result<Self, String> {
+    /// [`SignerLoadError`], naming the missing or malformed file.
+    pub fn load(dir: &Path, location: Option<ThreeDLocation>) -> Result<Self, SignerLoadError> {
         let path = dir.join("rsu.oer");
-        let cert = std::fs::read(&path).map_err(|e| format!("{}: {e}", path.display()))?;
-        Certificate::parse(&cert).map_err(|e| format!("{}: {e}", path.display()))?;
+        let cert = match std::fs::read(&path) {
+            Ok(cert) => cert,
+            Err(source) => return Err(SignerLoadError::Io { path, source }),
+        };
+        if let Err(source) = Certificate::parse(&cert) {
+            return Err(SignerLoadError::Certificate { path, source });
+        }
         let key = crate::pki::read_key(&dir.join("rsu.key"))?;
         Ok(Self::new(cert, key, location, 60_000))
     }
@@ -126,8 +208,8 @@ impl RsuSigner {
     ///
     /// # Errors
     ///
-    /// A message for a frame of a message without a PSID, or one too large.
-    pub fn sign(&self, frame: &[u8], unix_ms: u64) -> Result<Vec<u8>, String> {
+    /// [`SignError`]: a frame of a message without a PSID, or one too large.
+    pub fn sign(&self, frame: &[u8], unix_ms: u64) -> Result<Vec<u8>, SignError> {
         let mut state = self.state.lock().unwrap_or_else(PoisonError::into_inner);
         match self.pattern {
             SigningPattern::PerTransmission => {
@@ -171,7 +253,7 @@ impl RsuSigner {
         frame: &[u8],
         unix_ms: u64,
         expiry_unix_ms: u64,
-    ) -> Result<Vec<u8>, String> {
+    ) -> Result<Vec<u8>, SignError> {
         let mut state = self.state.lock().unwrap_or_else(PoisonError::into_inner);
         let digest = sha256(frame);
         state.kept.retain(|(_, expiry, _)| *expiry > unix_ms);
@@ -196,12 +278,12 @@ impl RsuSigner {
     }
 
     /// `frame` signed with generation time `unix_ms`, the certificate whole or by digest.
-    fn sign_at(&self, frame: &[u8], unix_ms: u64, whole: bool) -> Result<Vec<u8>, String> {
+    fn sign_at(&self, frame: &[u8], unix_ms: u64, whole: bool) -> Result<Vec<u8>, SignError> {
         let id = match frame {
             [hi, lo, ..] => u16::from_be_bytes([*hi, *lo]),
-            _ => return Err("frame shorter than its messageId".into()),
+            _ => return Err(SignError::ShortFrame),
         };
-        let psid = signing_psid(id).ok_or_else(|| format!("no PSID for messageId {id}"))?;
+        let psid = signing_psid(id).ok_or(SignError::NoPsid { message_id: id })?;
         let generated = time64_of_unix_ms(unix_ms);
         let header = Header {
             psid,
@@ -216,7 +298,7 @@ impl RsuSigner {
         };
         let mut out = vec![0u8; frame.len() + self.cert.len() + 160];
         let n = encode_signed(frame, &header, signer, &self.key, RSigForm::XOnly, &mut out)
-            .map_err(|e| format!("{e:?}"))?;
+            .map_err(SignError::Encode)?;
         out.truncate(n);
         Ok(out)
     }
@@ -265,7 +347,11 @@ mod tests {
         let signed = data.signed_data().unwrap();
         assert_eq!(signed.header.psid, Psid::TIM);
         assert_eq!(data.application_data(), Some(&frame[..]));
-        assert!(signer.sign(&[0x00, 0x99], 0).is_err());
+        assert_eq!(
+            signer.sign(&[0x00, 0x99], 0),
+            Err(SignError::NoPsid { message_id: 0x99 })
+        );
+        assert_eq!(signer.sign(&[0x00], 0), Err(SignError::ShortFrame));
         // 2026-01-01T00:00:00Z is 8036 days (22 years, 6 of them leap) after 2004 in UTC,
         // 694 310 400 s, plus 5 leap seconds.
         assert_eq!(
@@ -284,7 +370,12 @@ mod tests {
             &pki.rsu.cert[..]
         );
         std::fs::write(dir.join("rsu.key"), "zz\n").unwrap();
-        assert!(RsuSigner::load(&dir, None).unwrap_err().contains("rsu.key"));
+        let err = RsuSigner::load(&dir, None).unwrap_err();
+        assert!(err.to_string().contains("rsu.key"), "{err}");
+        assert!(
+            matches!(err, SignerLoadError::Key(PkiError::Key { .. })),
+            "{err:?}"
+        );
         let _ = std::fs::remove_dir_all(&dir);
     }
 

@@ -4,10 +4,60 @@
 //! and the expectations and hands them to the roadside as a [`Site`]. Paths are relative
 //! to the folder of the file ([`Site::dir`]).
 
+use crate::geojson::InputError;
 use crate::road::Road;
 use geodesy::LatLon;
 use serde::Deserialize;
+use std::fmt;
+use std::io;
 use std::path::{Path, PathBuf};
+
+/// Why a site's lane map could not be built.
+#[derive(Debug)]
+#[non_exhaustive]
+pub enum SiteError {
+    /// A built-in road's reference point is not a position.
+    Reference {
+        /// The reference point as given, `[lat, lon]` degrees.
+        reference: [f64; 2],
+    },
+    /// The GeoJSON lane map could not be read.
+    Io {
+        /// The file.
+        path: PathBuf,
+        /// The file system's error.
+        source: io::Error,
+    },
+    /// The GeoJSON lane map is not a lane map.
+    LaneMap {
+        /// The file.
+        path: PathBuf,
+        /// What is wrong with it.
+        source: InputError,
+    },
+}
+
+impl fmt::Display for SiteError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Self::Reference { reference } => {
+                write!(f, "reference {reference:?} is not a position")
+            }
+            Self::Io { path, source } => write!(f, "{}: {source}", path.display()),
+            Self::LaneMap { path, source } => write!(f, "{}: {source}", path.display()),
+        }
+    }
+}
+
+impl std::error::Error for SiteError {
+    fn source(&self) -> Option<&(dyn std::error::Error + 'static)> {
+        match self {
+            Self::Reference { .. } => None,
+            Self::Io { source, .. } => Some(source),
+            Self::LaneMap { source, .. } => Some(source),
+        }
+    }
+}
 
 /// A roadside installation: its lane map, work zones and radio.
 #[derive(Debug, Clone)]
@@ -29,7 +79,11 @@ impl Site {
     }
 
     /// Builds the lane map.
-    pub fn road(&self) -> Result<Road, String> {
+    ///
+    /// # Errors
+    ///
+    /// As [`RoadSpec::build`].
+    pub fn road(&self) -> Result<Road, SiteError> {
         self.road.build(&self.dir)
     }
 }
@@ -91,9 +145,15 @@ fn default_width() -> f64 {
 
 impl RoadSpec {
     /// Builds the lane map; a GeoJSON file is read relative to `dir`.
-    pub fn build(&self, dir: &Path) -> Result<Road, String> {
-        let at = |r: [f64; 2]| {
-            LatLon::from_degrees(r[0], r[1]).ok_or(format!("reference {r:?} is not a position"))
+    ///
+    /// # Errors
+    ///
+    /// [`SiteError`]: a reference that is not a position, or a GeoJSON file that cannot be
+    /// read or is not a lane map.
+    pub fn build(&self, dir: &Path) -> Result<Road, SiteError> {
+        let at = |reference: [f64; 2]| {
+            LatLon::from_degrees(reference[0], reference[1])
+                .ok_or(SiteError::Reference { reference })
         };
         Ok(match self {
             RoadSpec::Straight {
@@ -133,10 +193,12 @@ impl RoadSpec {
             ),
             RoadSpec::Geojson { file } => {
                 let path = dir.join(file);
-                let text = std::fs::read_to_string(&path)
-                    .map_err(|e| format!("{}: {e}", path.display()))?;
+                let text = match std::fs::read_to_string(&path) {
+                    Ok(text) => text,
+                    Err(source) => return Err(SiteError::Io { path, source }),
+                };
                 crate::geojson::load_lane_map(&text)
-                    .map_err(|e| format!("{}: {e}", path.display()))?
+                    .map_err(|source| SiteError::LaneMap { path, source })?
             }
         })
     }

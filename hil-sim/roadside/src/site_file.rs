@@ -34,7 +34,11 @@
 //! credentials = "field"                    # entry of the credentials file
 //! ```
 
-use crate::rsu_snmp::credentials::{CredentialsError, CredentialsFile};
+mod error;
+
+pub use error::{SiteFileError, SiteProblem};
+
+use crate::rsu_snmp::credentials::CredentialsFile;
 use crate::rsu_snmp::deposit::{DepositSettings, DepositSigning};
 use crate::rsu_snmp::fleet::{FleetTiming, RsuSpec};
 use crate::rsu_snmp::mib::RsuMib;
@@ -198,92 +202,84 @@ impl SiteFile {
     ///
     /// # Errors
     ///
-    /// Unreadable, not TOML of this shape (unknown keys refused), or inconsistent.
-    pub fn load(path: &Path) -> Result<Self, String> {
-        let text = std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
-        let mut f: Self = toml::from_str(&text).map_err(|e| format!("{}: {e}", path.display()))?;
+    /// [`SiteFileError`]: unreadable, not TOML of this shape (unknown keys refused), or
+    /// inconsistent ([`SiteFileError::Invalid`]).
+    pub fn load(path: &Path) -> Result<Self, SiteFileError> {
+        let text = std::fs::read_to_string(path).map_err(|source| SiteFileError::Io {
+            path: path.to_path_buf(),
+            source,
+        })?;
+        let mut f: Self = toml::from_str(&text).map_err(|source| SiteFileError::Toml {
+            path: path.to_path_buf(),
+            source,
+        })?;
         f.dir = path.parent().unwrap_or(Path::new(".")).to_path_buf();
-        if !f.rsu.is_empty() && f.rsus.is_none() {
-            return Err(format!(
-                "{}: [[rsu]] entries need [rsus] credentials",
-                path.display()
-            ));
-        }
-        if f.rsu.is_empty() && f.broadcast.is_none() {
-            return Err(format!(
-                "{}: nothing to do: give [[rsu]] entries and/or [broadcast]",
-                path.display()
-            ));
-        }
-        f.check().map_err(|e| format!("{}: {e}", path.display()))?;
+        f.check().map_err(|problem| SiteFileError::Invalid {
+            path: path.to_path_buf(),
+            problem,
+        })?;
         Ok(f)
     }
 
-    /// Every number in its range, names unique, a signer where one is needed.
-    fn check(&self) -> Result<(), String> {
-        let within = |what: &str, v: f64, lo: f64, hi: f64| {
-            if v.is_finite() && (lo..=hi).contains(&v) {
+    /// Something to do, every number in its range, names unique, a signer where one is
+    /// needed.
+    fn check(&self) -> Result<(), SiteProblem> {
+        if !self.rsu.is_empty() && self.rsus.is_none() {
+            return Err(SiteProblem::RsuWithoutCredentials);
+        }
+        if self.rsu.is_empty() && self.broadcast.is_none() {
+            return Err(SiteProblem::NothingToDo);
+        }
+        let within = |section: &str, key: &'static str, value: f64, min: f64, max: f64| {
+            if value.is_finite() && (min..=max).contains(&value) {
                 Ok(())
             } else {
-                Err(format!("{what} = {v}: from {lo} to {hi}"))
+                Err(SiteProblem::OutOfRange {
+                    section: section.to_string(),
+                    key,
+                    value,
+                    min,
+                    max,
+                })
             }
         };
         if let Some(r) = &self.rsus {
-            within("[rsus] poll_s", r.poll_s, 0.1, 86_400.0)?;
-            within("[rsus] timeout_ms", r.timeout_ms as f64, 10.0, 60_000.0)?;
-            within("[rsus] retries", f64::from(r.retries), 0.0, 10.0)?;
-            within("[rsus] workers", r.workers as f64, 1.0, 256.0)?;
-            within("[rsus] channel", f64::from(r.channel), 172.0, 184.0)?;
-            within(
-                "[rsus] interval_ms",
-                f64::from(r.interval_ms),
-                1.0,
-                3_600_000.0,
-            )?;
-            within("[rsus] priority", f64::from(r.priority), 0.0, 63.0)?;
-            within(
-                "[rsus] window_hours",
-                f64::from(r.window_hours),
-                1.0,
-                8_760.0,
-            )?;
+            let within = |key, value, min, max| within("[rsus]", key, value, min, max);
+            within("poll_s", r.poll_s, 0.1, 86_400.0)?;
+            within("timeout_ms", r.timeout_ms as f64, 10.0, 60_000.0)?;
+            within("retries", f64::from(r.retries), 0.0, 10.0)?;
+            within("workers", r.workers as f64, 1.0, 256.0)?;
+            within("channel", f64::from(r.channel), 172.0, 184.0)?;
+            within("interval_ms", f64::from(r.interval_ms), 1.0, 3_600_000.0)?;
+            within("priority", f64::from(r.priority), 0.0, 63.0)?;
+            within("window_hours", f64::from(r.window_hours), 1.0, 8_760.0)?;
         }
         if let Some(f) = &self.wzdx_feed {
-            within("[wzdx_feed] poll_s", f.poll_s, 0.1, 86_400.0)?;
-            within("[wzdx_feed] timeout_s", f.timeout_s, 0.1, 600.0)?;
-            within("[wzdx_feed] cancel_for_s", f.cancel_for_s, 0.0, 86_400.0)?;
-            within("[wzdx_feed] max_bytes", f.max_bytes as f64, 1.0, 1e9)?;
+            let within = |key, value, min, max| within("[wzdx_feed]", key, value, min, max);
+            within("poll_s", f.poll_s, 0.1, 86_400.0)?;
+            within("timeout_s", f.timeout_s, 0.1, 600.0)?;
+            within("cancel_for_s", f.cancel_for_s, 0.0, 86_400.0)?;
+            within("max_bytes", f.max_bytes as f64, 1.0, 1e9)?;
         }
         let mut names = std::collections::BTreeSet::new();
         for e in &self.rsu {
             if !names.insert(&e.name) {
-                return Err(format!("two [[rsu]] entries are named {:?}", e.name));
+                return Err(SiteProblem::DuplicateRsu {
+                    name: e.name.clone(),
+                });
             }
+            let section = format!("[[rsu]] {}", e.name);
             if let Some(c) = e.channel {
-                within(
-                    &format!("[[rsu]] {} channel", e.name),
-                    f64::from(c),
-                    172.0,
-                    184.0,
-                )?;
+                within(&section, "channel", f64::from(c), 172.0, 184.0)?;
             }
             if let Some(i) = e.interval_ms {
-                within(
-                    &format!("[[rsu]] {} interval_ms", e.name),
-                    f64::from(i),
-                    1.0,
-                    3_600_000.0,
-                )?;
+                within(&section, "interval_ms", f64::from(i), 1.0, 3_600_000.0)?;
             }
         }
         let deposit = self.signing.as_ref().map(|s| s.deposit).unwrap_or_default();
         let pki = self.signing.as_ref().and_then(|s| s.pki.as_ref());
         if !self.rsu.is_empty() && deposit == DepositSigning::Roadside && pki.is_none() {
-            return Err(
-                "[signing] deposit = \"roadside\" (the default) needs [signing] pki \
-                 (the roadside's rsu.oer and rsu.key); or deposit = \"rsu\" (the RSU signs)"
-                    .into(),
-            );
+            return Err(SiteProblem::SigningWithoutPki);
         }
         Ok(())
     }
@@ -334,26 +330,26 @@ impl SiteFile {
     ///
     /// # Errors
     ///
-    /// The credentials file, an unknown entry, or an address that does not resolve.
-    pub fn rsu_specs(&self) -> Result<Vec<RsuSpec>, String> {
+    /// [`SiteFileError::Credentials`]: the credentials file or an unknown entry;
+    /// [`SiteFileError::Address`]: an address that does not resolve.
+    pub fn rsu_specs(&self) -> Result<Vec<RsuSpec>, SiteFileError> {
         let Some(r) = &self.rsus else {
             return Ok(Vec::new());
         };
-        let creds = CredentialsFile::load(&self.path(&r.credentials))
-            .map_err(|e: CredentialsError| e.to_string())?;
+        let creds = CredentialsFile::load(&self.path(&r.credentials))?;
         let signing = self.signing.as_ref().map(|s| s.deposit).unwrap_or_default();
         self.rsu
             .iter()
             .map(|e| {
-                let address =
-                    resolve(&e.address).map_err(|m| format!("[[rsu]] {}: {m}", e.name))?;
+                let address = resolve(&e.address).map_err(|source| SiteFileError::Address {
+                    rsu: e.name.clone(),
+                    address: e.address.clone(),
+                    source,
+                })?;
                 Ok(RsuSpec {
                     name: e.name.clone(),
                     address,
-                    credentials: creds
-                        .get(&e.credentials)
-                        .map_err(|e| e.to_string())?
-                        .clone(),
+                    credentials: creds.get(&e.credentials)?.clone(),
                     rules: TableRules {
                         mib: e.mib,
                         max_rows: e.max_rows,
@@ -371,8 +367,8 @@ impl SiteFile {
     }
 }
 
-/// `host:port`, or `host` on port 161.
-fn resolve(address: &str) -> Result<SocketAddr, String> {
+/// `host:port`, or `host` on port 161; the error is the resolver's (`None`: no address).
+fn resolve(address: &str) -> Result<SocketAddr, Option<std::io::Error>> {
     let with_port = if address.parse::<SocketAddr>().is_ok() || address.contains(':') {
         address.to_string()
     } else {
@@ -380,7 +376,81 @@ fn resolve(address: &str) -> Result<SocketAddr, String> {
     };
     with_port
         .to_socket_addrs()
-        .map_err(|e| format!("address {address}: {e}"))?
+        .map_err(Some)?
         .next()
-        .ok_or_else(|| format!("address {address} does not resolve"))
+        .ok_or(None)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const ROAD: &str = r#"
+[site]
+name = "test"
+
+[road]
+kind = "straight"
+reference = [39.7392, -104.9903]
+bearing_deg = 90.0
+length_m = 600.0
+lanes_forward = 2
+speed_limit_kmh = 40.0
+"#;
+
+    /// Loads `text` as a site file in a folder of its own.
+    fn load(name: &str, text: &str) -> (PathBuf, Result<SiteFile, SiteFileError>) {
+        let dir = std::env::temp_dir().join(format!("site-file-{name}-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join("site.toml");
+        std::fs::write(&path, text).unwrap();
+        let loaded = SiteFile::load(&path);
+        let _ = std::fs::remove_dir_all(&dir);
+        (path, loaded)
+    }
+
+    #[test]
+    fn a_value_out_of_range_is_named_by_its_section_and_key() {
+        let text = format!(
+            "{ROAD}\n[broadcast]\nto = [\"127.0.0.1:1516\"]\n\n[rsus]\ncredentials = \"c.toml\"\nchannel = 200\n"
+        );
+        let (path, loaded) = load("range", &text);
+        let err = loaded.unwrap_err();
+        assert_eq!(
+            err.to_string(),
+            format!("{}: [rsus] channel = 200: from 172 to 184", path.display())
+        );
+        match err {
+            SiteFileError::Invalid {
+                path: at,
+                problem:
+                    SiteProblem::OutOfRange {
+                        section,
+                        key: "channel",
+                        value,
+                        ..
+                    },
+            } => assert_eq!((at, section.as_str(), value), (path, "[rsus]", 200.0)),
+            other => panic!("{other:?}"),
+        }
+    }
+
+    #[test]
+    fn a_site_with_nothing_to_do_or_an_unknown_key_is_refused() {
+        let (_, loaded) = load("idle", ROAD);
+        assert!(matches!(
+            loaded,
+            Err(SiteFileError::Invalid {
+                problem: SiteProblem::NothingToDo,
+                ..
+            })
+        ));
+        let (_, loaded) = load("unknown", &format!("{ROAD}\ncolour = \"red\"\n"));
+        assert!(matches!(loaded, Err(SiteFileError::Toml { .. })));
+        let (_, ok) = load(
+            "ok",
+            &format!("{ROAD}\n[broadcast]\nto = [\"127.0.0.1:1516\"]\n"),
+        );
+        assert_eq!(ok.unwrap().site.name, "test");
+    }
 }

@@ -237,7 +237,8 @@ pub fn start(
         mib.1,
     );
     let mut roadside =
-        Roadside::start_site(site, &dir.join("site.toml"), Instant::now(), unix_ms_now())?;
+        Roadside::start_site(site, &dir.join("site.toml"), Instant::now(), unix_ms_now())
+            .map_err(|e| e.to_string())?;
     let spec = spec.clone();
     let dir = dir.to_path_buf();
     Ok(std::thread::spawn(move || {
@@ -264,7 +265,9 @@ pub fn start(
                     restarted = true;
                 }
             }
-            roadside.tick(Instant::now(), unix_ms_now(), false, &mut log)?;
+            roadside
+                .tick(Instant::now(), unix_ms_now(), false, &mut log)
+                .map_err(|e| e.to_string())?;
             std::thread::sleep(Duration::from_millis(20));
         }
         drop(roadside);

@@ -151,7 +151,7 @@ pub struct Attacker {
 ///
 /// The PKI's message (never expected: the values are fixed).
 pub fn attacker_pki() -> Result<Pki, String> {
-    Pki::create(&attacker_spec())
+    Pki::create(&attacker_spec()).map_err(|e| e.to_string())
 }
 
 /// The specification of [`attacker_pki`].
@@ -234,13 +234,14 @@ impl Attacker {
     ///
     /// The signer's message (a frame too large to sign).
     pub fn datagram(&self, unix_ms: u64) -> Result<Vec<u8>, String> {
-        match &self.wrapping {
-            Wrapping::Unsigned => Ok(self.frame.clone()),
+        let signed = match &self.wrapping {
+            Wrapping::Unsigned => return Ok(self.frame.clone()),
             Wrapping::Signed(signer) => signer.sign(&self.frame, unix_ms),
             Wrapping::Recorded(signer) => {
                 signer.sign(&self.frame, unix_ms.saturating_sub(REPLAY_AGE_MS))
             }
-        }
+        };
+        signed.map_err(|e| e.to_string())
     }
 }
 

@@ -284,7 +284,7 @@ pub fn run_agent(
     log: Option<&Path>,
 ) -> Result<(), String> {
     let signer = match pki {
-        Some(dir) => Some(roadside::signer::RsuSigner::load(dir, None)?),
+        Some(dir) => Some(roadside::signer::RsuSigner::load(dir, None).map_err(|e| e.to_string())?),
         None => None,
     };
     let agent = Arc::new(Mutex::new(Agent::new(mib, max_rows)));

@@ -7,6 +7,10 @@
 //! frame order) and the PNG of its first image (the vanishing points are found on it). All
 //! cameras of a site share the local frame around the first camera's first reference point.
 
+mod error;
+
+pub use error::FileError;
+
 use std::fs;
 use std::path::{Path, PathBuf};
 
@@ -41,40 +45,84 @@ pub struct CameraFolder {
     pub rmse_m: f64,
 }
 
-fn read(path: &Path) -> Result<String, String> {
-    fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))
+fn read(path: &Path) -> Result<String, FileError> {
+    fs::read_to_string(path).map_err(|source| FileError::Io {
+        path: path.to_path_buf(),
+        source,
+    })
+}
+
+/// The JSON of a file.
+fn read_json(path: &Path) -> Result<Value, FileError> {
+    serde_json::from_str(&read(path)?).map_err(|source| FileError::Json {
+        path: path.to_path_buf(),
+        source,
+    })
+}
+
+/// An image file.
+fn open_image(path: &Path) -> Result<image::DynamicImage, FileError> {
+    image::open(path).map_err(|source| FileError::Image {
+        path: path.to_path_buf(),
+        source,
+    })
 }
 
 /// The local frame of a site: around the first reference point of `dir`.
-pub fn site_frame(dir: &Path) -> Result<Road, String> {
-    let points = load_calibration(&dir.join("calibration.json")).map_err(|e| e.to_string())?;
-    let first = points.first().ok_or("calibration.json has no points")?;
+///
+/// # Errors
+///
+/// [`FileError::Calibration`] or [`FileError::NoCalibrationPoints`].
+pub fn site_frame(dir: &Path) -> Result<Road, FileError> {
+    let points = load_calibration(&dir.join("calibration.json"))?;
+    let first = points.first().ok_or(FileError::NoCalibrationPoints)?;
     Ok(Road::new(first.ground, Vec::new()))
 }
 
 /// Reads a camera folder in the local frame of `site`.
-pub fn load_camera(dir: &Path, site: &Road) -> Result<CameraFolder, String> {
-    let points = load_calibration(&dir.join("calibration.json")).map_err(|e| e.to_string())?;
-    let homography = Homography::from_correspondences(site, &points)
-        .map_err(|e| format!("{}: {e}", dir.display()))?;
+///
+/// # Errors
+///
+/// [`FileError`]: a file of the folder that cannot be read or is not what it must be, or
+/// a calibration that fails.
+pub fn load_camera(dir: &Path, site: &Road) -> Result<CameraFolder, FileError> {
+    let points = load_calibration(&dir.join("calibration.json"))?;
+    let homography = Homography::from_correspondences(site, &points).map_err(|source| {
+        FileError::Homography {
+            dir: dir.to_path_buf(),
+            source,
+        }
+    })?;
     let detections = dir.join("detections.json");
-    let frames =
-        parse_coco(&read(&detections)?).map_err(|e| format!("{}: {e}", detections.display()))?;
-    let name = frames
-        .first()
-        .and_then(|f| f.file_name.clone())
-        .ok_or_else(|| format!("{}: no image with a file name", detections.display()))?;
+    let frames = match parse_coco(&read(&detections)?) {
+        Ok(frames) => frames,
+        Err(source) => {
+            return Err(FileError::Masks {
+                path: detections,
+                source,
+            })
+        }
+    };
+    let Some(name) = frames.first().and_then(|f| f.file_name.clone()) else {
+        return Err(FileError::NoImageName { path: detections });
+    };
     let first_frame = dir.join(name);
-    let grey = image::open(&first_frame)
-        .map_err(|e| format!("{}: {e}", first_frame.display()))?
-        .to_luma8();
-    let calibration = calibrate(
+    let grey = open_image(&first_frame)?.to_luma8();
+    let calibration = match calibrate(
         &grey,
         &EdgeletSettings::default(),
         &RansacSettings::default(),
-    )
-    .map_err(|e| format!("{}: {e}", first_frame.display()))?;
-    let localizer = Localizer::new(&calibration, homography.matrix()).map_err(|e| e.to_string())?;
+    ) {
+        Ok(calibration) => calibration,
+        Err(source) => {
+            return Err(FileError::VanishingPoints {
+                path: first_frame,
+                source,
+            })
+        }
+    };
+    let localizer =
+        Localizer::new(&calibration, homography.matrix()).map_err(FileError::Localizer)?;
     Ok(CameraFolder {
         dir: dir.to_path_buf(),
         calibration,
@@ -115,16 +163,19 @@ pub fn tracks_json(run: &Run, site: &Road) -> Value {
 /// Reads a truth file, `{"frames": [{"users": [{"class": name, "lat": deg, "lon": deg},
 /// ...]}, ...]}` (one entry per frame, as the bench's synthetic sites come with), into each
 /// frame's truths, local metres of `site`.
-pub fn read_truth(path: &Path, site: &Road) -> Result<Vec<Vec<Truth>>, String> {
-    let v: Value =
-        serde_json::from_str(&read(path)?).map_err(|e| format!("{}: {e}", path.display()))?;
-    let frames = v["frames"].as_array().ok_or("truth: no \"frames\" array")?;
+///
+/// # Errors
+///
+/// [`FileError`]: the file cannot be read, is not JSON or not of that shape.
+pub fn read_truth(path: &Path, site: &Road) -> Result<Vec<Vec<Truth>>, FileError> {
+    let v = read_json(path)?;
+    let frames = v["frames"].as_array().ok_or(FileError::NoTruthFrames)?;
     frames
         .iter()
         .map(|f| {
             let users = f["users"]
                 .as_array()
-                .ok_or("truth: a frame has no \"users\"")?;
+                .ok_or(FileError::TruthFrameWithoutUsers)?;
             users
                 .iter()
                 .map(|u| {
@@ -135,7 +186,7 @@ pub fn read_truth(path: &Path, site: &Road) -> Result<Vec<Vec<Truth>>, String> {
                     );
                     match (class, ll) {
                         (Some(c), Some(p)) => Ok((c, site.to_local(p))),
-                        _ => Err(String::from("truth: a user needs a class and a lat/lon")),
+                        _ => Err(FileError::TruthUser),
                     }
                 })
                 .collect()
@@ -145,12 +196,15 @@ pub fn read_truth(path: &Path, site: &Road) -> Result<Vec<Vec<Truth>>, String> {
 
 /// Reads a work-zone area file, `{"area": [{"lat": deg, "lon": deg}, ...]}` (at least three
 /// corners, in order), into local metres of `site`.
-pub fn read_zone(path: &Path, site: &Road) -> Result<Vec<[f64; 2]>, String> {
-    let v: Value =
-        serde_json::from_str(&read(path)?).map_err(|e| format!("{}: {e}", path.display()))?;
-    let corners = v["area"]
-        .as_array()
-        .ok_or_else(|| format!("{}: no \"area\" array", path.display()))?;
+///
+/// # Errors
+///
+/// [`FileError`]: the file cannot be read, is not JSON or not of that shape.
+pub fn read_zone(path: &Path, site: &Road) -> Result<Vec<[f64; 2]>, FileError> {
+    let v = read_json(path)?;
+    let corners = v["area"].as_array().ok_or_else(|| FileError::NoArea {
+        path: path.to_path_buf(),
+    })?;
     let area: Vec<[f64; 2]> = corners
         .iter()
         .map(|c| {
@@ -159,24 +213,28 @@ pub fn read_zone(path: &Path, site: &Road) -> Result<Vec<[f64; 2]>, String> {
                 c["lon"].as_f64().unwrap_or(f64::NAN),
             )
             .map(|p| site.to_local(p))
-            .ok_or_else(|| format!("{}: a corner needs a valid lat and lon", path.display()))
+            .ok_or_else(|| FileError::BadCorner {
+                path: path.to_path_buf(),
+            })
         })
         .collect::<Result<_, _>>()?;
     if area.len() < 3 {
-        return Err(format!(
-            "{}: the area needs at least three corners",
-            path.display()
-        ));
+        return Err(FileError::TooFewCorners {
+            path: path.to_path_buf(),
+            corners: area.len(),
+        });
     }
     Ok(area)
 }
 
 /// Draws a camera's first frame with the 3D boxes of its detections (and each position as a
 /// cross) to `png`.
-pub fn draw_first_frame(camera: &CameraFolder, png: &Path) -> Result<(), String> {
-    let mut image = image::open(&camera.first_frame)
-        .map_err(|e| format!("{}: {e}", camera.first_frame.display()))?
-        .to_rgb8();
+///
+/// # Errors
+///
+/// [`FileError::Image`]: the frame cannot be read or the drawing written.
+pub fn draw_first_frame(camera: &CameraFolder, png: &Path) -> Result<(), FileError> {
+    let mut image = open_image(&camera.first_frame)?.to_rgb8();
     let masks = camera
         .frames
         .first()
@@ -189,7 +247,53 @@ pub fn draw_first_frame(camera: &CameraFolder, png: &Path) -> Result<(), String>
             .project([b.position[0], b.position[1], 0.0]);
         draw_box(&mut image, &b.road_user, at);
     }
-    image
-        .save(png)
-        .map_err(|e| format!("{}: {e}", png.display()))
+    image.save(png).map_err(|source| FileError::Image {
+        path: png.to_path_buf(),
+        source,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn an_area_file_says_what_is_wrong_with_it() {
+        let site = Road::new(
+            LatLon::from_degrees(39.7392, -104.9903).unwrap(),
+            Vec::new(),
+        );
+        let dir = std::env::temp_dir().join(format!("area-file-{}", std::process::id()));
+        fs::create_dir_all(&dir).unwrap();
+        let path = dir.join("zone.json");
+        let corner = r#"{"lat": 39.7392, "lon": -104.9903}"#;
+        fs::write(&path, format!(r#"{{"area": [{corner}, {corner}]}}"#)).unwrap();
+        let err = read_zone(&path, &site).unwrap_err();
+        assert!(
+            matches!(err, FileError::TooFewCorners { corners: 2, .. }),
+            "{err:?}"
+        );
+        assert!(err
+            .to_string()
+            .ends_with("zone.json: the area needs at least three corners"));
+        fs::write(
+            &path,
+            format!(r#"{{"area": [{corner}, {{"lat": 91}}, {corner}]}}"#),
+        )
+        .unwrap();
+        assert!(matches!(
+            read_zone(&path, &site),
+            Err(FileError::BadCorner { .. })
+        ));
+        fs::write(&path, "{").unwrap();
+        assert!(matches!(
+            read_zone(&path, &site),
+            Err(FileError::Json { .. })
+        ));
+        assert!(matches!(
+            read_zone(&dir.join("missing.json"), &site),
+            Err(FileError::Io { source, .. }) if source.kind() == std::io::ErrorKind::NotFound
+        ));
+        let _ = fs::remove_dir_all(&dir);
+    }
 }

@@ -143,7 +143,14 @@ impl fmt::Display for CredentialsError {
     }
 }
 
-impl std::error::Error for CredentialsError {}
+impl std::error::Error for CredentialsError {
+    fn source(&self) -> Option<&(dyn std::error::Error + 'static)> {
+        match self {
+            Self::Read(_, e) => Some(e),
+            _ => None,
+        }
+    }
+}
 
 /// The credentials of a file, by entry name.
 #[derive(Debug, Clone)]

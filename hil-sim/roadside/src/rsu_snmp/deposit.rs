@@ -5,8 +5,49 @@
 
 use super::mib::RepeatMessage;
 use crate::broadcast::{Message, MessageKind};
-use crate::signer::RsuSigner;
+use crate::signer::{RsuSigner, SignError};
 use serde::Deserialize;
+use std::fmt;
+
+/// Why a message could not be made a row.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[non_exhaustive]
+pub enum DepositError {
+    /// The message's kind has no PSID to deposit it under.
+    NoPsid {
+        /// Its kind.
+        kind: MessageKind,
+    },
+    /// The roadside signs deposits ([`DepositSigning::Roadside`]) but has no signer.
+    NoSigner,
+    /// The roadside's signature could not be made.
+    Sign(SignError),
+}
+
+impl fmt::Display for DepositError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Self::NoPsid { kind } => write!(f, "{kind} has no PSID to deposit under"),
+            Self::NoSigner => f.write_str("roadside signing needs [signing] pki"),
+            Self::Sign(e) => e.fmt(f),
+        }
+    }
+}
+
+impl std::error::Error for DepositError {
+    fn source(&self) -> Option<&(dyn std::error::Error + 'static)> {
+        match self {
+            Self::Sign(e) => Some(e),
+            Self::NoPsid { .. } | Self::NoSigner => None,
+        }
+    }
+}
+
+impl From<SignError> for DepositError {
+    fn from(e: SignError) -> Self {
+        Self::Sign(e)
+    }
+}
 
 /// Who signs deposited messages.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize)]
@@ -41,14 +82,15 @@ pub struct DepositSettings {
 ///
 /// # Errors
 ///
-/// A message kind without a PSID, roadside signing without a signer, or a signing error.
+/// [`DepositError`]: a message kind without a PSID, roadside signing without a signer, or
+/// a signing error.
 pub fn repeat_messages(
     messages: &[(Message, u64)],
     start_unix_ms: u64,
     settings: DepositSettings,
     signer: Option<&RsuSigner>,
     now_unix_ms: u64,
-) -> Result<Vec<RepeatMessage>, String> {
+) -> Result<Vec<RepeatMessage>, DepositError> {
     messages
         .iter()
         .map(|(m, stop)| {
@@ -58,11 +100,13 @@ pub fn repeat_messages(
             // signs, its IEEE 1609.2 header carry it.
             let psid = crate::pki::signing_psid(kind.id())
                 .or(kind.default_psid())
-                .ok_or_else(|| format!("{kind} has no PSID to deposit under"))?;
+                .ok_or(DepositError::NoPsid { kind })?;
             let payload = match settings.signing {
-                DepositSigning::Roadside => signer
-                    .ok_or("roadside signing needs [signing] pki")?
-                    .sign_until(m.frame(), now_unix_ms, *stop)?,
+                DepositSigning::Roadside => signer.ok_or(DepositError::NoSigner)?.sign_until(
+                    m.frame(),
+                    now_unix_ms,
+                    *stop,
+                )?,
                 DepositSigning::Rsu | DepositSigning::None => m.frame().to_vec(),
             };
             Ok(RepeatMessage {

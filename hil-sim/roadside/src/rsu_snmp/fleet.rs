@@ -10,8 +10,10 @@ use super::session::{Agent, RequestCounts, Session};
 use super::table::{reconcile, Owned, RsuProblem, TableRules};
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
+use std::fmt;
+use std::io;
 use std::net::SocketAddr;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
 /// One RSU of the site.
@@ -277,31 +279,94 @@ impl Member {
     }
 }
 
+/// Why the owned-rows file could not be read or written.
+#[derive(Debug)]
+#[non_exhaustive]
+pub enum OwnedFileError {
+    /// The file could not be read or written.
+    Io {
+        /// The file.
+        path: PathBuf,
+        /// The file system's error.
+        source: io::Error,
+    },
+    /// The file is not JSON of the owned-rows shape.
+    Json {
+        /// The file.
+        path: PathBuf,
+        /// The parser's error.
+        source: serde_json::Error,
+    },
+    /// A row's digest is not 32 octets of hexadecimal text.
+    Digest {
+        /// The file.
+        path: PathBuf,
+        /// The RSU's name.
+        rsu: String,
+        /// The row's index.
+        row: u32,
+    },
+    /// The rows could not be written as JSON.
+    Encode(serde_json::Error),
+}
+
+impl fmt::Display for OwnedFileError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Self::Io { path, source } => write!(f, "{}: {source}", path.display()),
+            Self::Json { path, source } => write!(f, "{}: {source}", path.display()),
+            Self::Digest { path, rsu, row } => {
+                write!(f, "{}: digest of {rsu} row {row}", path.display())
+            }
+            Self::Encode(e) => e.fmt(f),
+        }
+    }
+}
+
+impl std::error::Error for OwnedFileError {
+    fn source(&self) -> Option<&(dyn std::error::Error + 'static)> {
+        match self {
+            Self::Io { source, .. } => Some(source),
+            Self::Json { source, .. } | Self::Encode(source) => Some(source),
+            Self::Digest { .. } => None,
+        }
+    }
+}
+
 /// Reads the owned-rows file (`{"rsu": {"3": "hex digest"}}`); missing: empty.
 ///
 /// # Errors
 ///
-/// A file that exists but is not of that shape.
-pub fn load_owned(path: &Path) -> Result<BTreeMap<String, Owned>, String> {
+/// [`OwnedFileError`]: a file that exists but cannot be read or is not of that shape.
+pub fn load_owned(path: &Path) -> Result<BTreeMap<String, Owned>, OwnedFileError> {
     let text = match std::fs::read_to_string(path) {
         Ok(t) => t,
-        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(BTreeMap::new()),
-        Err(e) => return Err(format!("{}: {e}", path.display())),
+        Err(e) if e.kind() == io::ErrorKind::NotFound => return Ok(BTreeMap::new()),
+        Err(source) => {
+            return Err(OwnedFileError::Io {
+                path: path.to_path_buf(),
+                source,
+            })
+        }
     };
     let raw: BTreeMap<String, BTreeMap<u32, String>> =
-        serde_json::from_str(&text).map_err(|e| format!("{}: {e}", path.display()))?;
+        serde_json::from_str(&text).map_err(|source| OwnedFileError::Json {
+            path: path.to_path_buf(),
+            source,
+        })?;
     raw.into_iter()
         .map(|(name, rows)| {
             let rows = rows
                 .into_iter()
-                .map(|(i, hex)| {
-                    Ok((
-                        i,
-                        unhex32(&hex)
-                            .ok_or(format!("{}: digest of {name} row {i}", path.display()))?,
-                    ))
+                .map(|(row, hex)| match unhex32(&hex) {
+                    Some(digest) => Ok((row, digest)),
+                    None => Err(OwnedFileError::Digest {
+                        path: path.to_path_buf(),
+                        rsu: name.clone(),
+                        row,
+                    }),
                 })
-                .collect::<Result<Owned, String>>()?;
+                .collect::<Result<Owned, OwnedFileError>>()?;
             Ok((name, rows))
         })
         .collect()
@@ -311,17 +376,20 @@ pub fn load_owned(path: &Path) -> Result<BTreeMap<String, Owned>, String> {
 ///
 /// # Errors
 ///
-/// The file cannot be written.
-pub fn save_owned(path: &Path, owned: &BTreeMap<String, Owned>) -> Result<(), String> {
+/// [`OwnedFileError`]: the file cannot be written.
+pub fn save_owned(path: &Path, owned: &BTreeMap<String, Owned>) -> Result<(), OwnedFileError> {
     let raw: BTreeMap<&String, BTreeMap<u32, String>> = owned
         .iter()
         .map(|(n, rows)| (n, rows.iter().map(|(i, d)| (*i, hex(d))).collect()))
         .collect();
-    let text = serde_json::to_string_pretty(&raw).map_err(|e| e.to_string())?;
+    let text = serde_json::to_string_pretty(&raw).map_err(OwnedFileError::Encode)?;
     let tmp = path.with_extension("tmp");
     std::fs::write(&tmp, text)
         .and_then(|()| std::fs::rename(&tmp, path))
-        .map_err(|e| format!("{}: {e}", path.display()))
+        .map_err(|source| OwnedFileError::Io {
+            path: path.to_path_buf(),
+            source,
+        })
 }
 
 fn hex(d: &[u8]) -> String {
@@ -353,7 +421,17 @@ mod tests {
         save_owned(&path, &owned).unwrap();
         assert_eq!(load_owned(&path).unwrap(), owned);
         std::fs::write(&path, "{\"rsu-1\": {\"3\": \"zz\"}}").unwrap();
-        assert!(load_owned(&path).is_err());
+        match load_owned(&path) {
+            Err(OwnedFileError::Digest { rsu, row, .. }) => {
+                assert_eq!((rsu.as_str(), row), ("rsu-1", 3))
+            }
+            other => panic!("{other:?}"),
+        }
+        std::fs::write(&path, "[").unwrap();
+        assert!(matches!(
+            load_owned(&path),
+            Err(OwnedFileError::Json { .. })
+        ));
         std::fs::remove_dir_all(&dir).unwrap();
     }
 }

@@ -318,7 +318,8 @@ fn roadside(a: &RoadsideArgs) -> Result<(), String> {
     if o.destinations.is_empty() && o.rsu_dir.is_none() {
         return Err("give --to HOST:PORT (broadcast) and/or --rsu-files DIR".into());
     }
-    println!("hil-sim roadside: {}", roadside::rsu::run(&s.site(), &o)?);
+    let summary = roadside::rsu::run(&s.site(), &o).map_err(|e| e.to_string())?;
+    println!("hil-sim roadside: {summary}");
     Ok(())
 }
 

@@ -10,10 +10,17 @@ mod road_users;
 mod rsu;
 
 use clap::{Parser, Subcommand};
+use std::error::Error;
 use std::path::PathBuf;
 use std::process::ExitCode;
 use std::sync::atomic::AtomicBool;
 use std::sync::Arc;
+
+/// Why a command failed: the library's error or the command's own, printed with its message.
+type CommandError = Box<dyn Error>;
+
+/// Why a command-line value is refused (clap shows the message next to the value).
+type ValueError = Box<dyn Error + Send + Sync>;
 
 /// Roadside unit software: a site's MAP and TIMs on its RSUs (SNMP) and/or over UDP.
 #[derive(Debug, Parser)]
@@ -70,7 +77,7 @@ fn main() -> ExitCode {
     }
 }
 
-fn run(site: &std::path::Path, once: bool) -> Result<bool, String> {
+fn run(site: &std::path::Path, once: bool) -> Result<bool, CommandError> {
     let stop = Arc::new(AtomicBool::new(false));
     let reload = Arc::new(AtomicBool::new(false));
     for (signal, flag) in [
@@ -78,9 +85,15 @@ fn run(site: &std::path::Path, once: bool) -> Result<bool, String> {
         (signal_hook::consts::SIGINT, &stop),
         (signal_hook::consts::SIGHUP, &reload),
     ] {
-        signal_hook::flag::register(signal, Arc::clone(flag)).map_err(|e| e.to_string())?;
+        signal_hook::flag::register(signal, Arc::clone(flag))?;
     }
-    roadside::service::run(site, &stop, &reload, once, &mut std::io::stderr())
+    Ok(roadside::service::run(
+        site,
+        &stop,
+        &reload,
+        once,
+        &mut std::io::stderr(),
+    )?)
 }
 
 #[cfg(test)]

@@ -1,6 +1,7 @@
 //! `roadside pki DIR`: a small IEEE 1609.2 PKI (root, issuing CA and RSU certificate) as
 //! files, for a test site or the bench.
 
+use crate::{CommandError, ValueError};
 use j2735::envelope::Psid;
 use roadside::pki::{Pki, PkiSpec};
 use std::path::PathBuf;
@@ -40,23 +41,23 @@ pub struct PkiArgs {
 }
 
 /// `YYYY-MM-DD` as Unix seconds at 00:00 UTC.
-fn date(s: &str) -> Result<u64, String> {
+fn date(s: &str) -> Result<u64, &'static str> {
     let parts: Vec<&str> = s.split('-').collect();
     let [y, m, d] = parts[..] else {
-        return Err("expected YYYY-MM-DD".into());
+        return Err("expected YYYY-MM-DD");
     };
     let (Ok(y), Ok(m), Ok(d)) = (y.parse::<i64>(), m.parse::<u8>(), d.parse::<u8>()) else {
-        return Err("expected YYYY-MM-DD".into());
+        return Err("expected YYYY-MM-DD");
     };
     if !(2004..=2100).contains(&y) || !(1..=12).contains(&m) || !(1..=31).contains(&d) {
-        return Err("a date between 2004 and 2100".into());
+        return Err("a date between 2004 and 2100");
     }
     Ok(roadside::clock::days_from_civil(y, m, d) as u64 * 86_400)
 }
 
 /// `LAT,LON,RADIUS_M` as 1e-7 degrees and metres.
-fn circle(s: &str) -> Result<(i32, i32, u16), String> {
-    let bad = || "expected LAT,LON,RADIUS_M (degrees, degrees, metres up to 65535)".to_string();
+fn circle(s: &str) -> Result<(i32, i32, u16), &'static str> {
+    let bad = || "expected LAT,LON,RADIUS_M (degrees, degrees, metres up to 65535)";
     let parts: Vec<&str> = s.split(',').collect();
     let [lat, lon, r] = parts[..] else {
         return Err(bad());
@@ -72,17 +73,18 @@ fn circle(s: &str) -> Result<(i32, i32, u16), String> {
 }
 
 /// A PSID: `0x` hexadecimal p-encoded octets, or the decimal integer ([`Psid::parse`]).
-fn psid(s: &str) -> Result<Psid, String> {
+fn psid(s: &str) -> Result<Psid, ValueError> {
     Psid::parse(s).ok_or_else(|| {
         format!(
             "{s:?} is not a PSID: give its p-encoded octets in hexadecimal (0x8003 for TIM) \
              or the integer in decimal (131)"
         )
+        .into()
     })
 }
 
 /// Makes the PKI and writes it to its folder.
-pub fn pki(a: &PkiArgs) -> Result<bool, String> {
+pub fn pki(a: &PkiArgs) -> Result<bool, CommandError> {
     let start_unix_s = a
         .start
         .unwrap_or(roadside::clock::unix_ms_now() / 86_400_000 * 86_400);

@@ -2,6 +2,7 @@
 //! reference points, first frame) as tracks, the localization error against a truth file,
 //! and the tracked workers of a work zone as PSMs on the air.
 
+use crate::{CommandError, ValueError};
 use j2735::MessageFrameValue;
 use roadside::broadcast::{Broadcaster, Message, Wrapping};
 use roadside::clock::{unix_ms_now, Utc};
@@ -51,15 +52,15 @@ pub struct RoadUsersArgs {
 }
 
 /// A `--to` value: an IP address and a port.
-fn destination(v: &str) -> Result<SocketAddr, String> {
+fn destination(v: &str) -> Result<SocketAddr, ValueError> {
     v.parse()
-        .map_err(|_| format!("{v:?}: give HOST:PORT with an IP address"))
+        .map_err(|_| format!("{v:?}: give HOST:PORT with an IP address").into())
 }
 
 /// Runs the command.
-pub fn road_users(a: &RoadUsersArgs) -> Result<bool, String> {
+pub fn road_users(a: &RoadUsersArgs) -> Result<bool, CommandError> {
     if !(a.fps.is_finite() && a.fps > 0.0) {
-        return Err(format!("--fps {}: give a positive number", a.fps));
+        return Err(format!("--fps {}: give a positive number", a.fps).into());
     }
     let first = a.cameras.first().ok_or("give at least one camera folder")?;
     let site = site_frame(first)?;
@@ -128,13 +129,12 @@ struct OnAir {
     ids: std::collections::BTreeSet<[u8; 4]>,
 }
 
-fn on_air(a: &RoadUsersArgs, area: Vec<[f64; 2]>) -> Result<OnAir, String> {
+fn on_air(a: &RoadUsersArgs, area: Vec<[f64; 2]>) -> Result<OnAir, CommandError> {
     let salt = (unix_ms_now() & 0xffff_ffff) as u32;
     let radio = if a.to.is_empty() {
         None
     } else {
-        let mut b = Broadcaster::new(a.to.clone(), Wrapping::Ieee1609Unsecured)
-            .map_err(|e| e.to_string())?;
+        let mut b = Broadcaster::new(a.to.clone(), Wrapping::Ieee1609Unsecured)?;
         if let Some(dir) = &a.pki {
             b.set_signer(Some(std::sync::Arc::new(RsuSigner::load(dir, None)?)));
         }
@@ -155,10 +155,9 @@ fn track(
     fps: f64,
     mut air: Option<OnAir>,
     site: &Road,
-) -> Result<Run, String> {
+) -> Result<Run, CommandError> {
     let localizers = cameras.iter().map(|c| c.localizer).collect();
-    let mut pipeline =
-        Pipeline::new(localizers, TrackerSettings::default()).map_err(|e| e.to_string())?;
+    let mut pipeline = Pipeline::new(localizers, TrackerSettings::default())?;
     let frames = cameras.iter().map(|c| c.frames.len()).min().unwrap_or(0);
     let start = std::time::Instant::now();
     for k in 0..frames {
@@ -167,7 +166,7 @@ fn track(
             .map(|c| c.frames[k].silhouettes.clone())
             .collect();
         let t = k as f64 / fps;
-        let tracks = pipeline.frame(k, t, &masks).map_err(|e| e.to_string())?;
+        let tracks = pipeline.frame(k, t, &masks)?;
         let Some(air) = air.as_mut() else { continue };
         if air.radio.is_some() {
             if let Some(wait) = std::time::Duration::from_secs_f64(t).checked_sub(start.elapsed()) {
@@ -182,8 +181,8 @@ fn track(
             if let MessageFrameValue::PersonalSafetyMessage(p) = &psm.value {
                 air.ids.insert(p.id.0);
             }
-            let bytes = encode(psm).map_err(|e| e.to_string())?;
-            messages.push(Message::new(bytes).map_err(|e| e.to_string())?);
+            let bytes = encode(psm)?;
+            messages.push(Message::new(bytes)?);
         }
         air.sent += messages.len();
         if let Some(radio) = air.radio.as_mut() {

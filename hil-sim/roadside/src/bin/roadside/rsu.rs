@@ -1,8 +1,11 @@
 //! `roadside rsu probe|status|deposit|clear`.
 
+use crate::CommandError;
 use clap::Subcommand;
 use roadside::clock::Utc;
-use roadside::rsu_snmp::fleet::{load_owned, save_owned, RsuSpec, RsuStatus, REASONS};
+use roadside::rsu_snmp::fleet::{
+    load_owned, save_owned, OwnedFileError, RsuSpec, RsuStatus, REASONS,
+};
 use roadside::rsu_snmp::reconcile::Columns;
 use roadside::rsu_snmp::session::{Agent, Session, SnmpValue};
 use roadside::rsu_snmp::table::{payload_digest, probe, read_table, reconcile, Owned, TableRules};
@@ -46,13 +49,13 @@ struct Ctx {
     specs: Vec<RsuSpec>,
 }
 
-fn ctx(w: &Which) -> Result<Ctx, String> {
+fn ctx(w: &Which) -> Result<Ctx, CommandError> {
     let site = SiteFile::load(&w.site)?;
     let mut specs = site.rsu_specs()?;
     if let Some(name) = &w.rsu {
         specs.retain(|s| &s.name == name);
         if specs.is_empty() {
-            return Err(format!("{}: no [[rsu]] named {name}", w.site.display()));
+            return Err(format!("{}: no [[rsu]] named {name}", w.site.display()).into());
         }
     }
     Ok(Ctx { site, specs })
@@ -63,7 +66,7 @@ fn session(site: &SiteFile, s: &RsuSpec) -> Session {
     Session::new(s.address, s.credentials.clone(), t.timeout, t.retries)
 }
 
-pub fn rsu(c: &RsuCommand) -> Result<bool, String> {
+pub fn rsu(c: &RsuCommand) -> Result<bool, CommandError> {
     match c {
         RsuCommand::Probe(w) => probe_all(&ctx(w)?),
         RsuCommand::Status(w) => status(&ctx(w)?),
@@ -82,7 +85,7 @@ pub fn rsu(c: &RsuCommand) -> Result<bool, String> {
     }
 }
 
-fn probe_all(c: &Ctx) -> Result<bool, String> {
+fn probe_all(c: &Ctx) -> Result<bool, CommandError> {
     let mut ok = true;
     for s in &c.specs {
         let mut session = session(&c.site, s);
@@ -133,11 +136,11 @@ fn probe_all(c: &Ctx) -> Result<bool, String> {
     Ok(ok)
 }
 
-fn owned_of(site: &SiteFile) -> Result<BTreeMap<String, Owned>, String> {
+fn owned_of(site: &SiteFile) -> Result<BTreeMap<String, Owned>, OwnedFileError> {
     load_owned(&site.state_dir().join("owned.json"))
 }
 
-fn status(c: &Ctx) -> Result<bool, String> {
+fn status(c: &Ctx) -> Result<bool, CommandError> {
     let owned = owned_of(&c.site)?;
     let running = roadside::service::read_status(&c.site.state_dir());
     if let Some(feed) = running.as_ref().and_then(|s| s.feed.as_ref()) {
@@ -253,7 +256,7 @@ fn print_rows(s: &RsuSpec, rows: &BTreeMap<u32, Columns>, owned: Option<&Owned>)
     }
 }
 
-fn clear(c: &Ctx, all_rows: bool) -> Result<bool, String> {
+fn clear(c: &Ctx, all_rows: bool) -> Result<bool, CommandError> {
     let mut owned = owned_of(&c.site)?;
     let mut ok = true;
     for s in &c.specs {
