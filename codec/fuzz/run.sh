@@ -12,6 +12,7 @@
 #                    but switching rebuilds everything (one target dir for both).
 #   FUZZ_SHARED_DIR  the shared data for the seed corpus, default ../shared beside the repo.
 #   FUZZ_ARGS        more libFuzzer options for every target (e.g. -seed=1).
+#   FUZZ_JOBS        targets fuzzed at a time, default the number of cores.
 #   FUZZ_FEATURES    features of the fuzz crate, e.g. `alloc` (heap storage); built in its
 #                    own target dir (codec/fuzz/target-<features>).
 # Crashes are saved in codec/fuzz/artifacts/<target>/, logs in codec/fuzz/logs/ (git-ignored).
@@ -54,17 +55,34 @@ export CARGO_BUILD_JOBS=${CARGO_BUILD_JOBS:-2}
 cargo +nightly fuzz build "${build_args[@]}" || { echo "building the fuzz targets failed" >&2; exit 1; }
 
 mkdir -p "$here/logs"
+# One libFuzzer process is one thread: the targets run side by side, as many at a time as the
+# machine has cores (FUZZ_JOBS), each for its full SECONDS.
+jobs=${FUZZ_JOBS:-$(nproc 2>/dev/null || echo 1)}
+fuzz_one() {
+    local t=$1 log=$here/logs/$1.log dict=()
+    [[ $t == jer && -f $here/corpus/jer.dict ]] && dict=("-dict=$here/corpus/jer.dict")
+    cargo +nightly fuzz run "${build_args[@]}" "$t" -- \
+        -max_total_time="$secs" -print_final_stats=1 -timeout=10 -rss_limit_mb=2048 \
+        ${dict[@]+"${dict[@]}"} ${extra_args[@]+"${extra_args[@]}"} >"$log" 2>&1
+    echo $? >"$here/logs/$t.rc"
+}
+running=0
+for t in "${targets[@]}"; do
+    echo "--- $t: ${secs}s (log: ${here#"$codec"/}/logs/$t.log)"
+    rm -f "$here/logs/$t.rc"
+    fuzz_one "$t" &
+    running=$((running + 1))
+    if [[ $running -ge $jobs ]]; then
+        wait -n
+        running=$((running - 1))
+    fi
+done
+wait
 total=0
 failed=()
 for t in "${targets[@]}"; do
     log=$here/logs/$t.log
-    dict=()
-    [[ $t == jer && -f $here/corpus/jer.dict ]] && dict=("-dict=$here/corpus/jer.dict")
-    echo "--- $t: ${secs}s (log: ${log#"$codec"/})"
-    cargo +nightly fuzz run "${build_args[@]}" "$t" -- \
-        -max_total_time="$secs" -print_final_stats=1 -timeout=10 -rss_limit_mb=2048 \
-        ${dict[@]+"${dict[@]}"} ${extra_args[@]+"${extra_args[@]}"} >"$log" 2>&1
-    rc=$?
+    rc=$(cat "$here/logs/$t.rc" 2>/dev/null || echo 1)
     execs=$(grep -o 'stat::number_of_executed_units: [0-9]*' "$log" | tail -n 1 | grep -o '[0-9]*$')
     if [[ $rc -ne 0 || -z $execs ]]; then
         failed+=("$t")
