@@ -4,13 +4,13 @@
 //! full, the oldest waiting frame is dropped (and counted for its sender), never the one the
 //! link is sending.
 //!
-//! Why a bounded queue: QEMU's emulated USART takes about 10 kB/s on the CI machine (each
-//! byte a round trip between QEMU's I/O and CPU threads), less than the air carries in a
-//! scenario with an attacker (the roadside's MAP and TIM at 10 Hz and ten forged frames a
-//! second, some 12 kB/s). A relay that queued without bound (the kernel's socket buffers
-//! hold megabytes) delivered every frame later and later: past 30 s behind, the firmware
-//! rightly rejected the roadside's own messages as "generation time too old" and let its
-//! zones lapse. A real radio chip has a fixed set of buffers and drops when its host link
+//! Why a bounded queue: QEMU's emulated USART (each byte a round trip between QEMU's I/O
+//! and CPU threads) takes less than the air carries in a scenario with an attacker (the
+//! roadside's MAP and TIM at 10 Hz and ten forged frames a second; both rates are in the
+//! firmware README's Measured table). A relay that queues without bound (the kernel's
+//! socket buffers hold megabytes) delivers every frame later and later: past 30 s behind,
+//! the firmware rightly rejects the roadside's own messages as "generation time too old"
+//! and lets its zones lapse. A real radio chip has a fixed set of buffers and drops when its host link
 //! is slower than the air; the rig does the same, so what the firmware receives is at most
 //! about a second old and what was dropped is counted.
 //!

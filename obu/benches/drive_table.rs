@@ -1,5 +1,5 @@
-//! The drive table: lane-level localization under GNSS error, the per-fix matcher of
-//! earlier releases and the lane filter side by side on the same seeded drives.
+//! The drive table: lane-level localization under GNSS error, the per-fix matcher (as
+//! deployed matchers work) and the lane filter side by side on the same seeded drives.
 //!
 //! `cargo bench -p obu --bench drive_table` (optional argument: drives per noise model and
 //! road, default 24; `--seed-base N` for fresh seeds; `--only PREFIX` for the noise models

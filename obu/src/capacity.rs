@@ -1,7 +1,8 @@
 //! Compile-time capacities, all in one place.
 //!
 //! Every bounded collection in the crate uses one of these constants. Raising one
-//! raises the static RAM of [`crate::Obu`]; `tests/ram.rs` prints the total.
+//! raises the static RAM of [`crate::Obu`]; `obu/ram-probe` prints the total on the
+//! firmware target.
 //!
 //! Feature `firmware-capacities` selects a smaller profile of the stores for a
 //! microcontroller (with the codec's matching profile): fewer maps, lanes and zones. The HMI

@@ -77,7 +77,7 @@ mod tests {
 
 /// Sorts a short slice in place by `cmp` (insertion sort, stable): the lists sorted in the
 /// core hold at most a few tens of items, and `sort_unstable_by` costs the firmware
-/// kilobytes of flash per element type (3 KB to 6 KB each, measured with `nm`).
+/// kilobytes of flash per element type (`nm --size-sort` on the firmware image shows them).
 pub(crate) fn sort_small_by<T>(v: &mut [T], mut cmp: impl FnMut(&T, &T) -> core::cmp::Ordering) {
     for i in 1..v.len() {
         let mut j = i;

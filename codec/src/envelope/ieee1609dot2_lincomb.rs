@@ -6,8 +6,8 @@
 //! keeps the odd multiples of `2^(k L) P` for `PARTS` parts of `L = 256 / PARTS` bits: the
 //! chain of doublings is then `L` long instead of 256 (65 instead of 257 with 4 parts, at
 //! 3 KiB per key). The firmware profile (`firmware-capacities`) keeps only the point (96 B)
-//! and uses the plain interleaved chain: its RAM is worth more than the 3 % a table of one
-//! part would save.
+//! and uses the plain interleaved chain: its RAM is worth more than the few percent of a
+//! verification a table of one part would save.
 //!
 //! Hand-written because `p256` 0.13's `lincomb` is two separate constant-time
 //! multiplications (a 16-entry table scanned in full at every 4-bit window, and two chains

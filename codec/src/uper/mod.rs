@@ -93,16 +93,15 @@ impl Placeholder for u8 {
 /// placeholder of each new list item ([`Placeholder::item_placeholder`]).
 ///
 /// A new value's decode with `alloc` makes a placeholder for every list item before decoding
-/// into it. Made by a function, a placeholder was built in a temporary with narrow stores (a
+/// into it. Made by a function, a placeholder is built in a temporary with narrow stores (a
 /// CHOICE's tag, an integer, a `None`) and copied into its slot with wide loads that
-/// overlapped them, so each copy waited for the stores to complete (a failed store-to-load
-/// forward): a new TIM_036's node list spent 8 % of its decode time there. A constant is
-/// copied from read-only memory instead.
+/// overlap them, so each copy waits for the stores to complete (a failed store-to-load
+/// forward), a visible share of a new TIM's decode time (`bash codec/bench/callgrind.sh
+/// --features alloc`). A constant is copied from read-only memory instead.
 ///
-/// Only list items of at most 64 octets use it ([`item_placeholder`]): with every
-/// list item, and with present OPTIONAL members and chosen alternatives too, a new SPaT took
-/// longer (a large constant is copied whole, where the function writes little more than
-/// tags). Without `alloc` it is not used: a large value's constant would be as large in flash.
+/// Only list items of at most 64 octets use it ([`item_placeholder`]): for larger items, and
+/// for present OPTIONAL members and chosen alternatives, a constant makes a new SPaT slower
+/// (a large constant is copied whole, where the function writes little more than tags). Without `alloc` it is not used: a large value's constant would be as large in flash.
 #[doc(hidden)]
 #[cfg(feature = "alloc")]
 pub trait ConstPlaceholder: Sized {
@@ -168,8 +167,8 @@ pub trait Uper: Placeholder {
 /// Makes an absent optional value present (a placeholder). Without `alloc` it is out of
 /// line: the large temporary lives in this function's frame, not in the hot decoding
 /// function's. With `alloc` values are small and a new value's decode comes here for every
-/// present member, so it is inlined (measured: 1-5 % fewer instructions for a new SPaT, MAP
-/// or TIM; a kept value's within 2 %).
+/// present member, so it is inlined (fewer instructions for a new SPaT, MAP or TIM, and a kept
+/// value's about the same: `bash codec/bench/callgrind.sh --features alloc`).
 #[doc(hidden)]
 #[cfg_attr(not(feature = "alloc"), cold, inline(never))]
 #[cfg_attr(feature = "alloc", inline)]

@@ -1,17 +1,18 @@
 //! Per-thread recycling of list storage and message boxes (features `alloc` and `std`).
 //!
-//! A new value's decode with `alloc` used to take 1.4-1.9x a kept value's time: every list
-//! of the new value was allocated, filled with placeholders and, when the value was dropped,
-//! walked item by item and freed. A decoding loop drops one message and decodes the next,
-//! so that storage comes back as soon as it is needed again. When a list's heap storage is
-//! dropped, it goes to this thread's shelf for its item type, items and all (each item
-//! keeps its own lists, as the items of a kept value do); the next new list of that item
-//! type takes it and is refilled in place, as a kept value is. A MessageFrame's message box
-//! (`MessageBox`) is kept the same way, value and all, for the next new message of its type.
+//! Without it, a new value's decode with `alloc` allocates every list of the new value and
+//! fills it with placeholders, and dropping the value walks it item by item and frees it,
+//! which makes a new value much slower to decode than a kept one. A decoding loop drops one
+//! message and decodes the next, so that storage comes back as soon as it is needed again.
+//! When a list's heap storage is dropped, it goes to this thread's shelf for its item type,
+//! items and all (each item keeps its own lists, as the items of a kept value do); the next
+//! new list of that item type takes it and is refilled in place, as a kept value is. A
+//! MessageFrame's message box (`MessageBox`) is kept the same way, value and all, for the
+//! next new message of its type.
 //!
 //! Bounds: at most [`PER_TYPE`] storages per item type are kept, each of at most
-//! [`MAX_LIST_OCTETS`] octets of items (what does not fit is freed as before), and a
-//! thread's shelves are freed with the thread or by [`release_recycled`]. What is kept is
+//! [`MAX_LIST_OCTETS`] octets of items (what does not fit is freed), and a thread's shelves
+//! are freed with the thread or by [`release_recycled`]. What is kept is
 //! the storage of values the thread has dropped: never more than those values held.
 
 use alloc::boxed::Box;

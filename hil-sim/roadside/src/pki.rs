@@ -9,8 +9,8 @@
 //!
 //! Keys come from the operating system's random source (`/dev/urandom`), or, for
 //! reproducible test PKIs, from a seed (`SHA-256("hil-sim pki/" + seed + "/" + role)`, the
-//! first candidate that is a valid scalar; the label is the command's former name, kept so
-//! that a seed gives the same keys as before).
+//! first candidate that is a valid scalar; the label is fixed so that a seed always gives
+//! the same keys, and the committed bench PKI stays reproducible).
 
 mod error;
 

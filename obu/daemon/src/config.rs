@@ -90,7 +90,8 @@ max_clients = 64
 # A new connection over it closes the one that has waited longest idle or in an unfinished
 # request; event streams are never closed for it. Must exceed max_clients by 16 or more.
 max_connections = 512
-# Events kept to resume a client that reconnects with Last-Event-ID.
+# Events kept to resume a client that reconnects with Last-Event-ID; a stream further
+# behind is dropped.
 event_buffer = 256
 # Heartbeat on idle event streams, milliseconds.
 heartbeat_ms = 1000
@@ -109,7 +110,8 @@ stalled_stream_ms = 5000
 # the lead time (2..=30 s).
 warning_distance_m = 100.0
 lead_time_s = 9.0
-# Overspeed above the zone limit plus this, km/h.
+# Overspeed tolerance, km/h: above the limit in force plus this the speed turns red, and
+# inside a zone the alert is urgent.
 overspeed_tolerance_kmh = 5.0
 # Deceleration a driver finds comfortable, m/s². Needing more to reach the zone limit by
 # the zone start turns the speed red and the alert urgent (repeating tone).
@@ -171,11 +173,13 @@ max_offset_ms = 10000
 # can never replace, refresh, cancel or evict a lane map or work zone that came verified.
 require_signed = true
 # Root and issuing CA certificates (COER files, as `roadside pki` writes them). With none,
-# every signed frame is dropped ("chain does not reach a trust anchor").
+# every signed frame is dropped ("chain does not reach a trust anchor") and the daemon
+# warns at start.
 trust_anchors = []
 # A frame byte-identical in payload to one whose signature (same signer) was verified less
 # than this long ago is taken without verifying again (every other check still applies);
-# 0 verifies every frame. A forger can at most keep a real zone alive this much longer.
+# 0 verifies every frame. It spares roadsides that sign each transmission anew; a forger
+# can at most keep a real zone alive this much longer.
 reverify_ms = 1000
 
 # One profile per message type. The defaults accept both ways deployed roadsides sign:

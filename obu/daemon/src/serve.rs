@@ -36,7 +36,7 @@ pub const MAX_HEAD: usize = 16 * 1024;
 /// The kernel send buffer of every HTTP connection, octets (Linux doubles it for its own
 /// bookkeeping). Fixed rather than autotuned (up to 4 MiB), so that what a client that
 /// stops reading can leave queued on the unit is bounded: the largest answer (the app's
-/// style sheet, 19 KiB) fits, and an event stream whose client takes nothing blocks after
+/// style sheet) fits, and an event stream whose client takes nothing blocks after
 /// this plus the client's receive window, and is then dropped after the stall timeout.
 pub const SEND_BUFFER: u32 = 32 * 1024;
 

@@ -83,7 +83,8 @@ impl Track {
     }
 }
 
-/// The lane filter's state (about 450 bytes: the belief's 16 hypotheses of 24 bytes).
+/// The lane filter's state: the belief's hypotheses and the two tracks, in place (what it
+/// adds to the core's RAM is in the core README's Measured table).
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct LaneFilter {
     belief: Belief,

@@ -43,8 +43,10 @@ enum Stored {
 /// A dead-reckoned position is published this often.
 pub const ESTIMATE_PERIOD: Duration = Duration::from_millis(100);
 
-/// The on-board unit core: 63 808 bytes with the default capacities (x86_64 and
-/// thumbv7em alike), no heap; `new` is `const` so firmware can place it in a `static`.
+/// The on-board unit core: no heap, under its 64 KiB RAM budget with the default
+/// capacities (asserted below; `obu/ram-probe` prints its size on the firmware target, and the
+/// core README's Measured table has it); `new` is `const` so firmware can place it in a
+/// `static`.
 #[derive(Debug, Clone)]
 pub struct Obu {
     config: AlertConfig,

@@ -335,7 +335,7 @@ mod tests {
         let Ok(Command::Run(r)) = parse("hil-sim run a.toml --out x b.toml --out y") else {
             panic!("run did not parse");
         };
-        // Scenario files before and after the flags; the last --out wins, as before.
+        // Scenario files before and after the flags; the last --out wins.
         assert_eq!(r.files, [PathBuf::from("a.toml"), PathBuf::from("b.toml")]);
         assert_eq!(r.out, PathBuf::from("y"));
         let Ok(Command::Soak(s)) = parse("hil-sim soak") else {

@@ -325,7 +325,7 @@ mod tests {
     use super::*;
     use crate::roadside_bench::street::pole_camera;
 
-    /// The detector's labels drawn straight into a full frame, as before windows: the
+    /// The detector's labels drawn straight into a full frame, without windows: the
     /// reference [`labels`] (which cuts a window and copies it back) must equal.
     fn full_frame_labels(cam: &PinholeCamera, users: &[RoadUser], rng: &mut Prng) -> Vec<u16> {
         let [w, h] = cam.image_size().map(|v| v as u32);

@@ -136,7 +136,7 @@ pub(super) fn parse_date(s: &str) -> Option<(u16, u8, u8)> {
 /// A plain decimal number as NMEA writes it: an optional sign, digits, an optional point
 /// and digits (at most 15 digits in all; no exponent, no `inf` or `nan`).
 ///
-/// Hand-written rather than `str::parse::<f64>`: the standard parser brings about 12 KB of
+/// Hand-written rather than `str::parse::<f64>`: the standard parser brings kilobytes of
 /// tables and code into the firmware for forms NMEA never uses. Up to 15 digits make an
 /// integer below 2^53, exact in f64, divided once by an exact power of ten, so the result
 /// is correctly rounded (receivers write 9-12 digits).
