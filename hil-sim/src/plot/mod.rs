@@ -135,9 +135,17 @@ fn write_svg(path: &Path, figure: Figure, input: &PlotInput<'_>) -> Result<(), S
     render(&root, figure, input, Ink::svg()).map_err(|e| format!("{}: {e}", path.display()))
 }
 
+/// Draws into an RGB buffer and encodes it with the `image` crate the bench already uses
+/// (plotters' own encoder would build a second, older `image`).
 fn write_png(path: &Path, figure: Figure, input: &PlotInput<'_>, ink: Ink) -> Result<(), String> {
-    let root = BitMapBackend::new(path, SIZE).into_drawing_area();
-    render(&root, figure, input, ink).map_err(|e| format!("{}: {e}", path.display()))
+    let mut buffer = vec![0; (SIZE.0 * SIZE.1 * 3) as usize];
+    {
+        let root = BitMapBackend::with_buffer(&mut buffer, SIZE).into_drawing_area();
+        render(&root, figure, input, ink).map_err(|e| format!("{}: {e}", path.display()))?;
+    }
+    let image = image::RgbImage::from_raw(SIZE.0, SIZE.1, buffer)
+        .ok_or_else(|| format!("{}: the drawing's buffer has the wrong size", path.display()))?;
+    image.save(path).map_err(|e| format!("{}: {e}", path.display()))
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

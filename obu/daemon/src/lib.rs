@@ -4,11 +4,11 @@
 //!
 //! `obu`, the in-vehicle process, receives MAP and TIM over UDP, GNSS fixes (NMEA or gpsd)
 //! and CAN speed, runs the OBU core, and serves the tablet app with a live event stream. In
-//! bridge mode ([`bridge`]) it runs no core and no input but serves the states that the
+//! bridge mode (module `bridge`) it runs no core and no input but serves the states that the
 //! firmware sends over a serial link instead.
 //!
 //! Usage: `obu [--config FILE] [--bridge SOURCE]`, `obu gnss-check --source KIND --address
-//! ADDR` ([`gnss_check`]), `obu --print-default-config`, `obu --help` (the command line:
+//! ADDR` (module `gnss_check`), `obu --print-default-config`, `obu --help` (the command line:
 //! [`cli`]).
 //!
 //! The first line on stdout tells scripts where the daemon is:
@@ -16,8 +16,8 @@
 //! UDP: the port bound, so a caller may configure port 0), or in bridge mode
 //! `obu: http://HTTP_ADDR bridge SOURCE` (`SOURCE` as `tcp:HOST:PORT` or `serial:PATH`).
 //! When standard output is the systemd journal that line is a structured `ready` entry
-//! instead ([`log`]). Under systemd the daemon also notifies readiness, stopping and a
-//! watchdog ([`systemd`]).
+//! instead (module `log`). Under systemd the daemon also notifies readiness, stopping and a
+//! watchdog (module `systemd`).
 #![forbid(unsafe_code)]
 
 mod assets;
