@@ -248,6 +248,9 @@ pub struct AttackFacts {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use j2735::uper::DecodeErrorKind;
+    use obu::ingest::IngestError;
+    use obu::security::Rejection;
 
     #[test]
     fn a_firmware_log_tallies_into_status_groups() {
@@ -263,9 +266,15 @@ mod tests {
             counters: tally_drops(log),
             every_input: false,
         };
-        let chain = DropReason::ChainUntrusted.as_str();
+        let chain = DropReason::from(Rejection::ChainUntrusted).as_str();
         assert_eq!(c.get("security_errors", chain), 2);
-        assert_eq!(c.get("security_errors", DropReason::NoTime.as_str()), 1);
+        assert_eq!(
+            c.get(
+                "security_errors",
+                DropReason::from(Rejection::NoTime).as_str()
+            ),
+            1
+        );
         assert_eq!(c.get("v2x_dropped", "CRC mismatch"), 1);
         assert_eq!(c.get("v2x_dropped", "unknown"), 1);
         assert_eq!(c.get("messages", "TIM"), 0);
@@ -288,21 +297,21 @@ mod tests {
 
     #[test]
     fn every_reason_is_found_by_its_group_and_name() {
-        for &r in DropReason::ALL {
+        for &r in &DropReason::ALL {
             let group = status_group(r.group());
             assert!(V2X_GROUPS.contains(&group));
             assert_eq!(drop_reason(group, r.as_str()), Some(r));
         }
         assert_eq!(drop_reason("security_errors", "no such reason"), None);
-        let capacity = DropReason::DecodeCapacity.as_str();
+        let capacity = DropReason::from(DecodeErrorKind::CapacityExceeded).as_str();
         assert_eq!(
             capacity,
-            DropReason::IngestCapacity.as_str(),
+            DropReason::from(IngestError::CapacityExceeded).as_str(),
             "one name, two groups"
         );
         assert_eq!(
             drop_reason("ingest_errors", capacity),
-            Some(DropReason::IngestCapacity)
+            Some(DropReason::from(IngestError::CapacityExceeded))
         );
     }
 }

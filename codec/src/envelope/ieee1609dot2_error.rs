@@ -39,6 +39,31 @@ pub enum DecodeErrorKind {
 }
 
 impl DecodeErrorKind {
+    /// Every kind, in [`DecodeErrorKind::index`] order: for tables with one entry per kind
+    /// (a receiver's drop counters, for instance), which a `#[non_exhaustive]` enum cannot
+    /// otherwise list outside this crate.
+    pub const ALL: [DecodeErrorKind; 11] = [
+        Self::UnexpectedEnd,
+        Self::UnsupportedVersion,
+        Self::InvalidTag,
+        Self::UnknownAlternative,
+        Self::NonCanonical,
+        Self::InvalidLength,
+        Self::LengthTooLarge,
+        Self::ValueOutOfRange,
+        Self::EmptySignedPayload,
+        Self::NestingTooDeep,
+        Self::TrailingBytes,
+    ];
+    /// The number of kinds.
+    pub const COUNT: usize = Self::ALL.len();
+
+    /// Position in [`DecodeErrorKind::ALL`] (the declaration order).
+    #[must_use]
+    pub const fn index(self) -> usize {
+        self as usize
+    }
+
     /// A short lowercase description.
     #[must_use]
     pub const fn as_str(self) -> &'static str {
@@ -112,3 +137,19 @@ impl fmt::Display for BufferTooSmall {
 }
 
 impl core::error::Error for BufferTooSmall {}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_kind_is_listed_once_at_its_index() {
+        for (i, k) in DecodeErrorKind::ALL.iter().enumerate() {
+            assert_eq!(k.index(), i);
+            let named = DecodeErrorKind::ALL
+                .iter()
+                .filter(|o| o.as_str() == k.as_str());
+            assert_eq!(named.count(), 1, "{k}");
+        }
+    }
+}

@@ -75,6 +75,23 @@ pub enum WsmpError {
 }
 
 impl WsmpError {
+    /// Every error, in [`WsmpError::index`] order: for tables with one entry per error (a
+    /// receiver's drop counters, for instance).
+    pub const ALL: [WsmpError; 5] = [
+        Self::Truncated,
+        Self::Version,
+        Self::Unsupported,
+        Self::Encoding,
+        Self::TrailingBytes,
+    ];
+    /// The number of errors.
+    pub const COUNT: usize = Self::ALL.len();
+
+    /// Position in [`WsmpError::ALL`] (the declaration order).
+    pub const fn index(self) -> usize {
+        self as usize
+    }
+
     /// The reason in words.
     pub const fn as_str(self) -> &'static str {
         match self {
@@ -272,6 +289,15 @@ mod tests {
         0x0B, 0x03, 0x0F, 0x01, 0xAC, 0x10, 0x01, 0x0C, 0x04, 0x01, 0x14, 0x00, 0xE0, 0x00, 0x00,
         0x17, 0x02, 0x00, 0x12, 0x00,
     ];
+
+    #[test]
+    fn every_error_is_listed_once_at_its_index() {
+        for (i, e) in WsmpError::ALL.iter().enumerate() {
+            assert_eq!(e.index(), i);
+            let named = WsmpError::ALL.iter().filter(|o| o.as_str() == e.as_str());
+            assert_eq!(named.count(), 1, "{e}");
+        }
+    }
 
     #[test]
     fn a_bare_wsm_gives_its_psid_and_data() {

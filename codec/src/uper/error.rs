@@ -39,6 +39,31 @@ pub enum DecodeErrorKind {
 }
 
 impl DecodeErrorKind {
+    /// Every kind, in [`DecodeErrorKind::index`] order: for tables with one entry per kind
+    /// (a receiver's drop counters, for instance), which a `#[non_exhaustive]` enum cannot
+    /// otherwise list outside this crate.
+    pub const ALL: [DecodeErrorKind; 12] = [
+        Self::UnexpectedEnd,
+        Self::ValueOutOfRange,
+        Self::SizeOutOfRange,
+        Self::CapacityExceeded,
+        Self::InvalidChoiceIndex,
+        Self::InvalidEnumIndex,
+        Self::InvalidCharacter,
+        Self::OpenTypeLengthMismatch,
+        Self::FragmentedOpenType,
+        Self::TrailingBytes,
+        Self::LengthTooLarge,
+        Self::UnexpectedMessage,
+    ];
+    /// The number of kinds.
+    pub const COUNT: usize = Self::ALL.len();
+
+    /// Position in [`DecodeErrorKind::ALL`] (the declaration order).
+    pub const fn index(self) -> usize {
+        self as usize
+    }
+
     /// A short lowercase name, as used in CLI error lines.
     pub const fn as_str(self) -> &'static str {
         match self {
@@ -212,6 +237,17 @@ mod tests {
             let mut s = heapless::String::new();
             write!(s, "{self}").unwrap();
             s
+        }
+    }
+
+    #[test]
+    fn every_kind_is_listed_once_at_its_index() {
+        for (i, k) in DecodeErrorKind::ALL.iter().enumerate() {
+            assert_eq!(k.index(), i);
+            let named = DecodeErrorKind::ALL
+                .iter()
+                .filter(|o| o.as_str() == k.as_str());
+            assert_eq!(named.count(), 1, "{}", k.as_str());
         }
     }
 

@@ -5,6 +5,7 @@
 use super::{Record, RunFacts};
 use crate::attack::{drop_reason, status_group, AttackFacts};
 use obu::alert::HmiState;
+use obu::security::Rejection;
 use obu::v2x::DropReason;
 use std::fmt;
 
@@ -26,8 +27,12 @@ pub(super) fn digest_signer_taken(max_unknown: u64, facts: &RunFacts) -> (bool, 
     let Some(device) = &facts.device else {
         return (false, "the device's counters could not be read".into());
     };
-    let unknown = device.get("security_errors", DropReason::SignerUnknown.as_str());
-    let drops = security_drops(device, &[DropReason::NoTime, DropReason::SignerUnknown]);
+    let unknown = device.get(
+        "security_errors",
+        DropReason::from(Rejection::SignerUnknown).as_str(),
+    );
+    let allowed = [Rejection::NoTime, Rejection::SignerUnknown].map(DropReason::from);
+    let drops = security_drops(device, &allowed);
     let ok = drops.is_empty() && unknown <= max_unknown;
     let mut detail =
         format!("{unknown} frames before the first whole certificate (at most {max_unknown})");
@@ -42,7 +47,7 @@ pub(super) fn signed_once_repeated(min_share: f64, facts: &RunFacts) -> (bool, S
     let Some(device) = &facts.device else {
         return (false, "the device's counters could not be read".into());
     };
-    let drops = security_drops(device, &[DropReason::NoTime]);
+    let drops = security_drops(device, &[DropReason::from(Rejection::NoTime)]);
     let mut ok = drops.is_empty();
     let mut detail = match drops.is_empty() {
         true => "no signed frame dropped by the trust policy after GNSS time".to_string(),

@@ -5,7 +5,8 @@
 use crate::hmi_bench::{self, Scene};
 use crate::nmea::{self, Epoch};
 use crate::roadside_bench::attacker::{AttackKind, Attacker};
-use obu::v2x::DropReason;
+use obu::security::Rejection;
+use obu::v2x::{DropReason, SecurityReason};
 use roadside::clock::{unix_ms_now, Utc};
 use roadside::road::Road;
 use roadside::signer::RsuSigner;
@@ -30,11 +31,20 @@ pub const LAP: Scene = Scene {
 pub const FORGED: [(AttackKind, DropReason); 4] = [
     (
         AttackKind::ForgedCancelUntrusted,
-        DropReason::ChainUntrusted,
+        DropReason::Security(SecurityReason::Rejected(Rejection::ChainUntrusted)),
     ),
-    (AttackKind::ForgedCancelUnsigned, DropReason::Unsigned),
-    (AttackKind::MapShifted, DropReason::SignatureInvalid),
-    (AttackKind::ReplayedYesterday, DropReason::MessageExpired),
+    (
+        AttackKind::ForgedCancelUnsigned,
+        DropReason::Security(SecurityReason::Unsigned),
+    ),
+    (
+        AttackKind::MapShifted,
+        DropReason::Security(SecurityReason::Rejected(Rejection::SignatureInvalid)),
+    ),
+    (
+        AttackKind::ReplayedYesterday,
+        DropReason::Security(SecurityReason::Rejected(Rejection::MessageExpired)),
+    ),
 ];
 
 /// Fixes whose send times are kept for the clients to look up.

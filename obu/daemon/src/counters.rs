@@ -126,7 +126,7 @@ impl Counters {
     pub fn snapshot(&self) -> serde_json::Value {
         let t = self.lock();
         let mut all = t.by_reason.clone();
-        for &r in DropReason::ALL {
+        for &r in &DropReason::ALL {
             let n = t.v2x.dropped(r);
             if n > 0 {
                 let g = all.entry(drop_group(r.group())).or_default();
@@ -150,8 +150,12 @@ mod tests {
         c.v2x(V2xOutcome::Other(4000));
         c.v2x(V2xOutcome::Repeat(31));
         c.v2x(V2xOutcome::Repeat(31));
-        c.v2x(V2xOutcome::Dropped(DropReason::DecodeUnexpectedEnd));
-        c.v2x(V2xOutcome::Dropped(DropReason::TooLarge));
+        c.v2x(V2xOutcome::Dropped(DropReason::from(
+            j2735::uper::DecodeErrorKind::UnexpectedEnd,
+        )));
+        c.v2x(V2xOutcome::Dropped(DropReason::Datagram(
+            obu::v2x::DatagramReason::TooLarge,
+        )));
         c.add(group::NMEA_ERRORS, "bad checksum");
         assert_eq!(c.get(group::MESSAGES, "MAP"), 2);
         assert_eq!(c.get(group::MESSAGES, "SPAT"), 1);

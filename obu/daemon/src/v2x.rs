@@ -3,7 +3,7 @@
 //! ([`obu::Obu::on_datagram`], through [`Hub::on_datagram`]); its outcome is counted.
 
 use crate::hub::Hub;
-use obu::v2x::{DropReason, V2xOutcome};
+use obu::v2x::{DatagramReason, DropReason, V2xOutcome};
 use std::sync::Arc;
 use tokio::net::UdpSocket;
 use tokio::sync::watch;
@@ -21,14 +21,17 @@ pub async fn run(
             r = socket.recv_from(&mut buf) => match r {
                 Ok((n, _)) => n,
                 Err(_) => {
-                    hub.counters.v2x(V2xOutcome::Dropped(DropReason::Receive));
+                    let receive = DropReason::Datagram(DatagramReason::Receive);
+                    hub.counters.v2x(V2xOutcome::Dropped(receive));
                     continue;
                 }
             },
             _ = shutdown.changed() => return,
         };
         if n > max_datagram {
-            hub.counters.v2x(V2xOutcome::Dropped(DropReason::TooLarge));
+            hub.counters.v2x(V2xOutcome::Dropped(DropReason::Datagram(
+                DatagramReason::TooLarge,
+            )));
             continue;
         }
         let outcome = hub.on_datagram(&buf[..n]);

@@ -3,9 +3,10 @@
 //! slices by the on-target tests.
 
 use embedded_io::Write;
+use obu::ingest::IngestError;
 use obu::input::gnss::{GnssEvent, GnssReader};
 use obu::link::{self, Deframer};
-use obu::v2x::{DropReason, V2xCounters, V2xOutcome, V2xReceiver};
+use obu::v2x::{DropReason, IngestReason, V2xCounters, V2xOutcome, V2xReceiver};
 use obu::{AlertConfig, HmiState, Instant, Obu};
 
 /// Largest V2X frame on the wire (a UPER MessageFrame in a 1609.2 envelope, COBS framed).
@@ -37,7 +38,7 @@ impl defmt::Format for ShowCounters<'_> {
             c.unchanged,
             c.other
         );
-        for &r in DropReason::ALL {
+        for &r in &DropReason::ALL {
             if c.dropped(r) > 0 {
                 defmt::write!(f, ", {=str} {=u32}", r.as_str(), c.dropped(r));
             }
@@ -116,14 +117,16 @@ impl Firmware {
     pub fn on_v2x_byte(&mut self, msgs: &mut Messages, now: Instant, byte: u8) -> Option<HmiState> {
         let outcome = match self.v2x.push(byte)? {
             Ok(payload) => self.obu.on_datagram(now, payload, msgs),
-            Err(e) => V2xOutcome::Dropped(DropReason::from_link(e)),
+            Err(e) => V2xOutcome::Dropped(DropReason::from(e)),
         };
         self.v2x_counters.record(outcome);
         match outcome {
             V2xOutcome::Changed(_) => Some(self.obu.state(now)),
             // Routine (four of five PSMs of a known worker): counted, not logged, so that
             // the budget that skips their signature checks is not spent on the log.
-            V2xOutcome::Dropped(DropReason::IngestNotDue) => None,
+            V2xOutcome::Dropped(DropReason::Ingest(IngestReason::Refused(IngestError::NotDue))) => {
+                None
+            }
             V2xOutcome::Dropped(r) => {
                 defmt::warn!("v2x: dropped: {=str}", r.as_str());
                 None

@@ -137,7 +137,8 @@ mod tests {
         code_positions, counts, envelope, feed_nmea, sentence, vector, Epoch, Rng, State, MAP,
         MAP_TIM_VECTORS, OTHER_VECTORS, OVERSIZE, TIM, WIRE,
     };
-    use obu::v2x::DropReason;
+    use j2735::uper::DecodeErrorKind;
+    use obu::v2x::{DatagramReason, DropReason};
     use obu::Instant;
     use obu_firmware::app::V2X_MAX_WIRE;
 
@@ -160,14 +161,19 @@ mod tests {
         st.expect("empty frames (zeros)", counts(0, 0, 0, 0), |st| {
             st.raw(&[0; 16])
         });
-        st.expect_all("bad COBS", counts(0, 2, 0, 0), DropReason::LinkCobs, |st| {
-            st.raw(&[0x09, 0x01, 0x00]); // the code points past the frame's end
-            st.raw(&[0x05, 0x11, 0x22, 0x33, 0x00]);
-        });
+        st.expect_all(
+            "bad COBS",
+            counts(0, 2, 0, 0),
+            DropReason::Datagram(DatagramReason::LinkCobs),
+            |st| {
+                st.raw(&[0x09, 0x01, 0x00]); // the code points past the frame's end
+                st.raw(&[0x05, 0x11, 0x22, 0x33, 0x00]);
+            },
+        );
         st.expect_all(
             "shorter than the CRC",
             counts(0, 3, 0, 0),
-            DropReason::LinkTooShort,
+            DropReason::Datagram(DatagramReason::LinkTooShort),
             |st| {
                 st.raw(&[0x01, 0x00]);
                 st.raw(&[0x02, 0x11, 0x00]);
@@ -179,18 +185,23 @@ mod tests {
         let n = obu::link::encode(map, &mut st.scratch[..]).expect("fits");
         let mut codes = heapless::Vec::new();
         code_positions(&st.scratch[..n], &mut codes);
-        st.expect_all("bad CRC", counts(0, 3, 0, 0), DropReason::LinkCrc, |st| {
-            // Each frame one data byte changed (COBS intact), the CRC no longer matches.
-            for at in [1, n / 2, n - 2] {
-                let at = (at..n - 1)
-                    .find(|i| !codes.contains(i))
-                    .expect("a data byte");
-                let mut wire: heapless::Vec<u8, 256> =
-                    heapless::Vec::from_slice(&st.scratch[..n]).expect("fits");
-                wire[at] = if wire[at] == 0xFF { 0x01 } else { wire[at] + 1 };
-                st.raw(&wire);
-            }
-        });
+        st.expect_all(
+            "bad CRC",
+            counts(0, 3, 0, 0),
+            DropReason::Datagram(DatagramReason::LinkCrc),
+            |st| {
+                // Each frame one data byte changed (COBS intact), the CRC no longer matches.
+                for at in [1, n / 2, n - 2] {
+                    let at = (at..n - 1)
+                        .find(|i| !codes.contains(i))
+                        .expect("a data byte");
+                    let mut wire: heapless::Vec<u8, 256> =
+                        heapless::Vec::from_slice(&st.scratch[..n]).expect("fits");
+                    wire[at] = if wire[at] == 0xFF { 0x01 } else { wire[at] + 1 };
+                    st.raw(&wire);
+                }
+            },
+        );
         st.expect("truncated frame", counts(0, 1, 0, 0), |st| {
             let cut = n / 2;
             let mut wire: heapless::Vec<u8, 256> =
@@ -201,7 +212,7 @@ mod tests {
         st.expect_all(
             "oversize frames",
             counts(0, 2, 0, 0),
-            DropReason::LinkTooLong,
+            DropReason::Datagram(DatagramReason::LinkTooLong),
             |st| {
                 // A valid frame whose wire length is over the firmware's limit ...
                 st.wire[..OVERSIZE].fill(0x5A);
@@ -239,7 +250,7 @@ mod tests {
         st.expect_all(
             "truncated MAP",
             counts(0, 0, 3, 0),
-            DropReason::DecodeUnexpectedEnd,
+            DropReason::from(DecodeErrorKind::UnexpectedEnd),
             |st| {
                 for cut in [3, map.len() / 2, map.len() - 1] {
                     assert_eq!(st.send(&map[..cut]), 0);
@@ -265,7 +276,7 @@ mod tests {
         st.expect_all(
             "MAP over the firmware capacity",
             counts(0, 0, 1, 0),
-            DropReason::DecodeCapacity,
+            DropReason::from(DecodeErrorKind::CapacityExceeded),
             |st| {
                 assert_eq!(st.send(vector(MAP_TIM_VECTORS, "map_two_intersections")), 0);
             },
@@ -273,7 +284,7 @@ mod tests {
         st.expect_all(
             "MAP with a trailing byte",
             counts(0, 0, 1, 0),
-            DropReason::DecodeTrailing,
+            DropReason::from(DecodeErrorKind::TrailingBytes),
             |st| {
                 let mut long: heapless::Vec<u8, 256> =
                     heapless::Vec::from_slice(map).expect("fits");

@@ -11,8 +11,8 @@ mod common;
 
 use common::{feed_nmea, feed_v2x, frame, Epoch};
 use defmt_semihosting as _;
-use obu::security::{SecurityConfig, Trust};
-use obu::v2x::{DropGroup, DropReason};
+use obu::security::{Rejection, SecurityConfig, Trust};
+use obu::v2x::{DropGroup, DropReason, EnvelopeReason, Ieee1609Reason};
 use obu::Instant;
 use obu_firmware::app::{Firmware, Messages};
 
@@ -76,25 +76,28 @@ fn coer(name: &str) -> &'static [u8] {
         .unwrap()
 }
 
+/// The stand-in reason of a vector whose verdict is not checked here.
+const UNCHECKED: DropReason = DropReason::Envelope(EnvelopeReason::Ieee1609(Ieee1609Reason::Other));
+
 /// The reason the generator's words name (`None`: accepted).
 fn reason(expect: &str, name: &str) -> Option<DropReason> {
     Some(match expect {
-        "valid" if name.contains("_self_") => DropReason::SelfSigned,
-        "valid" if name.contains("_digest_") => DropReason::SignerUnknown,
+        "valid" if name.contains("_self_") => Rejection::SelfSigned.into(),
+        "valid" if name.contains("_digest_") => Rejection::SignerUnknown.into(),
         "valid" | "valid (repeat)" => return None,
-        "signature does not verify" => DropReason::SignatureInvalid,
-        "PSID is not the message type's" => DropReason::PsidMismatch,
-        "signer certificate not known" => DropReason::SignerUnknown,
-        "expiry time not after generation time" => DropReason::ExpiryBeforeGeneration,
-        "lifetime longer than allowed" => DropReason::LifetimeTooLong,
+        "signature does not verify" => Rejection::SignatureInvalid.into(),
+        "PSID is not the message type's" => Rejection::PsidMismatch.into(),
+        "signer certificate not known" => Rejection::SignerUnknown.into(),
+        "expiry time not after generation time" => Rejection::ExpiryBeforeGeneration.into(),
+        "lifetime longer than allowed" => Rejection::LifetimeTooLong.into(),
         // Needs the newer version received first: `an_older_version_is_superseded`.
-        "superseded by a newer version" => DropReason::EnvelopeOther,
-        "PSID not permitted by the signer certificate" => DropReason::PsidNotPermitted,
-        "signer certificate expired" => DropReason::CertificateExpired,
-        "signer certificate not yet valid" => DropReason::CertificateNotYetValid,
-        "chain does not reach a trust anchor" => DropReason::ChainUntrusted,
-        "generation location outside the certificate region" => DropReason::RegionMiss,
-        _ => DropReason::EnvelopeOther, // time cases: not checked here (one clock)
+        "superseded by a newer version" => UNCHECKED,
+        "PSID not permitted by the signer certificate" => Rejection::PsidNotPermitted.into(),
+        "signer certificate expired" => Rejection::CertificateExpired.into(),
+        "signer certificate not yet valid" => Rejection::CertificateNotYetValid.into(),
+        "chain does not reach a trust anchor" => Rejection::ChainUntrusted.into(),
+        "generation location outside the certificate region" => Rejection::RegionMiss.into(),
+        _ => UNCHECKED, // time cases: not checked here (one clock)
     })
 }
 
@@ -131,7 +134,12 @@ mod tests {
         st.reset();
         let valid = coer("valid_tim_certificate_chain_x_only");
         assert_eq!(st.send(valid), 0);
-        assert_eq!(st.fw.v2x_counters.dropped(DropReason::NoTime), 1);
+        assert_eq!(
+            st.fw
+                .v2x_counters
+                .dropped(DropReason::from(Rejection::NoTime)),
+            1
+        );
     }
 
     #[test]
@@ -162,7 +170,7 @@ mod tests {
                 accepted += 1;
                 continue;
             };
-            if want == DropReason::EnvelopeOther {
+            if want == UNCHECKED {
                 continue;
             }
             st.reset();
@@ -186,8 +194,8 @@ mod tests {
         let d = st.fw.v2x_counters;
         assert_eq!(d.repeats, c.repeats + 1);
         assert_eq!(
-            d.dropped(DropReason::Superseded),
-            c.dropped(DropReason::Superseded) + 1
+            d.dropped(DropReason::from(Rejection::Superseded)),
+            c.dropped(DropReason::from(Rejection::Superseded)) + 1
         );
         assert_eq!(
             d.dropped_in(DropGroup::Security),

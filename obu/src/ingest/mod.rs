@@ -106,6 +106,8 @@ impl IngestError {
         IngestError::StoreFull,
         IngestError::NotDue,
     ];
+    /// The number of reasons.
+    pub const COUNT: usize = Self::ALL.len();
 
     /// Position in [`IngestError::ALL`].
     pub const fn index(self) -> usize {

@@ -1,11 +1,41 @@
 //! [`Rejection`]: why the trust policy refused a message.
 
 /// Why the trust policy refused a signed message (or a certificate): a closed set, each
-/// with its [`DropReason`](crate::v2x::DropReason) in the receive path's counters.
+/// counted under its [`Rejection::as_str`] name in the receive path's counters (as a
+/// [`DropReason`](crate::v2x::DropReason) of the security layer). Declared in counter
+/// order: [`Rejection::index`] is the declaration order.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum Rejection {
+    /// Signed by `self`: no certificate ties the key to a trusted sender.
+    SelfSigned,
     /// A hash or signature algorithm other than SHA-256 / ECDSA P-256.
     UnsupportedAlgorithm,
+    /// A `digest` signer whose certificate has not been seen.
+    SignerUnknown,
+    /// The certificate chain does not lead to a configured trust anchor.
+    ChainUntrusted,
+    /// More certificates in the chain than the verifier walks.
+    ChainTooLong,
+    /// A certificate of the chain has a bad signature, key or validity.
+    CertificateInvalid,
+    /// A certificate of the chain may not certify the message's PSID.
+    IssuerPermission,
+    /// A certificate larger than the verifier's capacities (PSIDs, region).
+    CertificateTooLarge,
+    /// The signer certificate's validity ended before the message.
+    CertificateExpired,
+    /// The signer certificate's validity starts after the message.
+    CertificateNotYetValid,
+    /// The signer certificate does not permit the message's PSID.
+    PsidNotPermitted,
+    /// The PSID is not the one configured for this message (TIM, MAP).
+    PsidMismatch,
+    /// The generation location is outside the signer certificate's region.
+    RegionMiss,
+    /// The certificate has a region, and no location is known to check it.
+    NoLocation,
+    /// The signature does not verify.
+    SignatureInvalid,
     /// The header has no generation time.
     NoGenerationTime,
     /// No GNSS time yet to check times against.
@@ -16,46 +46,91 @@ pub enum Rejection {
     GenerationTimeOld,
     /// Past the header's expiry time (plus the future tolerance).
     MessageExpired,
+    /// A copy of a message accepted before, for a message type whose copies are replays.
+    Replay,
+    /// A newer message of the same identity (TIM packet, MAP, PSM sender) was accepted.
+    Superseded,
     /// The profile requires an expiry time and the header has none.
     NoExpiryTime,
     /// The expiry time is not after the generation time.
     ExpiryBeforeGeneration,
     /// Generation to expiry is longer than the profile's longest lifetime.
     LifetimeTooLong,
-    /// A copy of a message accepted before, for a message type whose copies are replays.
-    Replay,
-    /// A newer message of the same identity (TIM packet, MAP, PSM sender) was accepted.
-    Superseded,
-    /// The signer certificate does not permit the message's PSID.
-    PsidNotPermitted,
-    /// The PSID is not the one configured for this message (TIM, MAP).
-    PsidMismatch,
-    /// The signer certificate does not grant the SSP the settings require for the message.
-    SspNotPermitted,
-    /// The certificate has a region, and no location is known to check it.
-    NoLocation,
-    /// The generation location is outside the signer certificate's region.
-    RegionMiss,
-    /// The signature does not verify.
-    SignatureInvalid,
-    /// Signed by `self`: no certificate ties the key to a trusted sender.
-    SelfSigned,
-    /// A `digest` signer whose certificate has not been seen.
-    SignerUnknown,
-    /// The certificate chain does not lead to a configured trust anchor.
-    ChainUntrusted,
-    /// More certificates in the chain than the verifier walks.
-    ChainTooLong,
-    /// A certificate larger than the verifier's capacities (PSIDs, region).
-    CertificateTooLarge,
-    /// A certificate of the chain has a bad signature, key or validity.
-    CertificateInvalid,
-    /// The signer certificate's validity ended before the message.
-    CertificateExpired,
-    /// The signer certificate's validity starts after the message.
-    CertificateNotYetValid,
-    /// A certificate of the chain may not certify the message's PSID.
-    IssuerPermission,
     /// Not one canonical COER certificate (a certificate learnt out of band).
     CertificateMalformed,
+    /// The signer certificate does not grant the SSP the settings require for the message.
+    SspNotPermitted,
+}
+
+impl Rejection {
+    /// Every rejection, in [`Rejection::index`] order.
+    pub const ALL: [Rejection; 27] = [
+        Self::SelfSigned,
+        Self::UnsupportedAlgorithm,
+        Self::SignerUnknown,
+        Self::ChainUntrusted,
+        Self::ChainTooLong,
+        Self::CertificateInvalid,
+        Self::IssuerPermission,
+        Self::CertificateTooLarge,
+        Self::CertificateExpired,
+        Self::CertificateNotYetValid,
+        Self::PsidNotPermitted,
+        Self::PsidMismatch,
+        Self::RegionMiss,
+        Self::NoLocation,
+        Self::SignatureInvalid,
+        Self::NoGenerationTime,
+        Self::NoTime,
+        Self::GenerationTimeFuture,
+        Self::GenerationTimeOld,
+        Self::MessageExpired,
+        Self::Replay,
+        Self::Superseded,
+        Self::NoExpiryTime,
+        Self::ExpiryBeforeGeneration,
+        Self::LifetimeTooLong,
+        Self::CertificateMalformed,
+        Self::SspNotPermitted,
+    ];
+    /// The number of rejections.
+    pub const COUNT: usize = Self::ALL.len();
+
+    /// Position in [`Rejection::ALL`] (the declaration order).
+    pub const fn index(self) -> usize {
+        self as usize
+    }
+
+    /// The counter name: a static string, the same for every message refused this way.
+    pub const fn as_str(self) -> &'static str {
+        match self {
+            Self::SelfSigned => "1609.2: self-signed (no certificate)",
+            Self::UnsupportedAlgorithm => "1609.2: unsupported hash or signature algorithm",
+            Self::SignerUnknown => "1609.2: signer certificate unknown (digest)",
+            Self::ChainUntrusted => "1609.2: chain does not reach a trust anchor",
+            Self::ChainTooLong => "1609.2: certificate chain too long",
+            Self::CertificateInvalid => "1609.2: certificate invalid",
+            Self::IssuerPermission => "1609.2: issuer may not certify the PSID",
+            Self::CertificateTooLarge => "1609.2: certificate beyond the capacities",
+            Self::CertificateExpired => "1609.2: signer certificate expired",
+            Self::CertificateNotYetValid => "1609.2: signer certificate not yet valid",
+            Self::PsidNotPermitted => "1609.2: PSID not permitted by the signer certificate",
+            Self::PsidMismatch => "1609.2: PSID does not match the message",
+            Self::RegionMiss => "1609.2: outside the certificate region",
+            Self::NoLocation => "1609.2: no location to check the region",
+            Self::SignatureInvalid => "1609.2: signature does not verify",
+            Self::NoGenerationTime => "1609.2: no generation time",
+            Self::NoTime => "1609.2: no GNSS time to check against",
+            Self::GenerationTimeFuture => "1609.2: generation time in the future",
+            Self::GenerationTimeOld => "1609.2: generation time too old",
+            Self::MessageExpired => "1609.2: message expired",
+            Self::Replay => "1609.2: replay",
+            Self::Superseded => "1609.2: superseded by a newer version",
+            Self::NoExpiryTime => "1609.2: no expiry time",
+            Self::ExpiryBeforeGeneration => "1609.2: expiry time before generation time",
+            Self::LifetimeTooLong => "1609.2: lifetime longer than allowed",
+            Self::CertificateMalformed => "1609.2: certificate malformed",
+            Self::SspNotPermitted => "1609.2: SSP not permitted by the signer certificate",
+        }
+    }
 }

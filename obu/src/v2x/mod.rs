@@ -14,12 +14,15 @@ mod reason;
 #[cfg(test)]
 mod tests;
 
-pub use reason::{DropGroup, DropReason};
+pub use reason::{
+    DatagramReason, DecodeReason, DropGroup, DropReason, EnvelopeReason, Ieee1609Reason,
+    IngestReason, RsuTextReason, SecurityReason, WsmpReason,
+};
 
 use j2735::envelope::ieee1609dot2::{looks_like_ieee1609dot2, Ieee1609Dot2Data, SignedData};
 use j2735::envelope::rsu_text::RsuMessage;
 use j2735::envelope::wsmp::{looks_like_wsmp, Wsm};
-use j2735::envelope::{Psid, UnwrapError};
+use j2735::envelope::Psid;
 use j2735::frame::{decode_message_into, peek_message_id, Message};
 use j2735::personal_safety_message::PersonalSafetyMessage;
 use j2735::uper::Placeholder;
@@ -127,12 +130,9 @@ fn is_rsu_text(bytes: &[u8]) -> bool {
 
 /// The payload octets of the RSU text record `bytes`, written into `out`.
 fn rsu_payload<'a>(bytes: &[u8], out: &'a mut [u8]) -> Result<&'a [u8], DropReason> {
-    let text = core::str::from_utf8(bytes).map_err(|_| DropReason::RsuNotUtf8)?;
-    let record = RsuMessage::parse(text).map_err(DropReason::from_rsu_text)?;
-    let n = record
-        .payload
-        .decode_into(out)
-        .map_err(DropReason::from_hex)?;
+    let text = core::str::from_utf8(bytes).map_err(|_| RsuTextReason::NotUtf8)?;
+    let record = RsuMessage::parse(text)?;
+    let n = record.payload.decode_into(out)?;
     Ok(&out[..n])
 }
 
@@ -140,8 +140,8 @@ impl Obu {
     /// Takes one received V2X input (see the [module docs](self)) at `now`; a MAP, TIM or
     /// PSM is checked by `rx`'s [`Trust`] (signed) or its `require_signed` setting (unsigned),
     /// decoded into `rx` and stored. A signed PSM is decoded first and refused as
-    /// [`DropReason::IngestNotDue`] before its signature check when it is not due
-    /// ([`Obu::psm_due`]). A message of which the core refused a
+    /// [`IngestError::NotDue`](crate::ingest::IngestError::NotDue) before its signature
+    /// check when it is not due ([`Obu::psm_due`]). A message of which the core refused a
     /// part is [`DropReason`]'s ingest group (the parts it could use are stored, as
     /// [`Obu::on_map`] and [`Obu::on_tim`] say).
     pub fn on_datagram<const N: usize>(
@@ -175,13 +175,13 @@ impl Obu {
             bytes
         };
         let (bytes, wsmp_psid) = if looks_like_wsmp(bytes) {
-            let wsm = Wsm::parse(bytes).map_err(DropReason::from_wsmp)?;
+            let wsm = Wsm::parse(bytes)?;
             (wsm.data, Some(wsm.psid))
         } else {
             (bytes, None)
         };
         let (frame, signed) = open_envelope(bytes)?;
-        let id = peek_message_id(frame).map_err(DropReason::from_decode)?;
+        let id = peek_message_id(frame)?;
         let Some(message_psid) = trust.psid_for(id) else {
             self.count_other_message();
             return Ok(V2xOutcome::Other(id));
@@ -193,7 +193,7 @@ impl Obu {
                 None => wsmp == message_psid || (id == MapData::MESSAGE_ID && wsmp == Psid::SPAT),
             };
             if !matches {
-                return Err(DropReason::WsmpPsidMismatch);
+                return Err(WsmpReason::PsidMismatch.into());
             }
         }
         // A signed PSM is decoded first: most updates of a known worker are not worth the
@@ -201,8 +201,8 @@ impl Obu {
         let signed_psm = id == PersonalSafetyMessage::MESSAGE_ID && signed.is_some();
         if signed_psm {
             let psm = slot(psm);
-            decode_message_into(frame, psm).map_err(DropReason::from_decode)?;
-            self.psm_due(now, psm).map_err(DropReason::from_ingest)?;
+            decode_message_into(frame, psm)?;
+            self.psm_due(now, psm)?;
         }
         let mut accepted = Accepted::Verified;
         let provenance = match signed {
@@ -213,17 +213,17 @@ impl Obu {
                     alt_now_us: self.alt_time64(now),
                     position: self.position(),
                 };
-                accepted = trust.check(&signed, &ctx).map_err(DropReason::from)?;
+                accepted = trust.check(&signed, &ctx)?;
                 Provenance::Verified
             }
-            None if trust.config().require_signed => return Err(DropReason::Unsigned),
+            None if trust.config().require_signed => return Err(SecurityReason::Unsigned.into()),
             None => Provenance::Unverified,
         };
         // Each decoded message passes the superseded check (signed ones; see
         // `Trust::check_version`) before it is stored.
         let result = if id == MapData::MESSAGE_ID {
             let map = slot(map);
-            decode_message_into(frame, map).map_err(DropReason::from_decode)?;
+            decode_message_into(frame, map)?;
             if provenance == Provenance::Verified {
                 trust.check_version(map_identity(map))?;
             }
@@ -231,7 +231,7 @@ impl Obu {
         } else if id == PersonalSafetyMessage::MESSAGE_ID {
             let psm = slot(psm);
             if !signed_psm {
-                decode_message_into(frame, psm).map_err(DropReason::from_decode)?;
+                decode_message_into(frame, psm)?;
             }
             if provenance == Provenance::Verified {
                 trust.check_version(psm_identity(psm))?;
@@ -239,18 +239,18 @@ impl Obu {
             self.ingest_psm(now, psm, provenance)
         } else {
             let tim = slot(tim);
-            decode_message_into(frame, tim).map_err(DropReason::from_decode)?;
+            decode_message_into(frame, tim)?;
             let signed_until = match provenance {
                 Provenance::Verified => trust.check_version(tim_identity(tim))?,
                 _ => None,
             };
             self.ingest_tim(now, tim, provenance, signed_until)
         };
-        let report: Ingest = result.map_err(DropReason::from_ingest)?;
+        let report: Ingest = result?;
         if report.stored > 0 || report.cancelled > 0 || report.alert_changed > 0 {
             Ok(V2xOutcome::Changed(id))
         } else if report.refused_unverified > 0 {
-            Err(DropReason::UnverifiedOverVerified)
+            Err(IngestReason::UnverifiedOverVerified.into())
         } else if accepted == Accepted::Repeat {
             Ok(V2xOutcome::Repeat(id))
         } else {
@@ -265,11 +265,8 @@ fn open_envelope(bytes: &[u8]) -> Result<(&[u8], Option<SignedData<'_>>), DropRe
     if !looks_like_ieee1609dot2(bytes) {
         return Ok((bytes, None));
     }
-    let data = Ieee1609Dot2Data::parse(bytes)
-        .map_err(|e| DropReason::from_unwrap(UnwrapError::Envelope(e)))?;
-    let frame = data
-        .application_data()
-        .ok_or(DropReason::EnvelopeNoPlaintext)?;
+    let data = Ieee1609Dot2Data::parse(bytes)?;
+    let frame = data.application_data().ok_or(Ieee1609Reason::NoPlaintext)?;
     Ok((frame, data.signed_data().copied()))
 }
 

@@ -1,6 +1,10 @@
 use super::*;
-use crate::security::SecurityConfig;
+use crate::ingest::IngestError;
+use crate::security::{Rejection, SecurityConfig};
 use crate::testutil::{big_stack, vector};
+use j2735::envelope::ieee1609dot2::DecodeErrorKind as EnvelopeKind;
+use j2735::envelope::wsmp::WsmpError;
+use j2735::uper::DecodeErrorKind;
 use std::boxed::Box;
 use std::vec::Vec;
 
@@ -76,7 +80,7 @@ fn an_rsu_text_record_carries_the_frame() {
         let big = rsu(&"00".repeat(257));
         assert_eq!(
             obu.on_datagram(Instant::ZERO, &big, &mut scratch),
-            V2xOutcome::Dropped(DropReason::RsuPayloadTooLarge)
+            V2xOutcome::Dropped(DropReason::from(RsuTextReason::PayloadTooLarge))
         );
     });
 }
@@ -92,34 +96,39 @@ fn malformed_inputs_give_their_reason() {
             std::vec![0x03, 0x82, 0x01, 0x01, 0x80, 1, 2, 3, 4, 5, 6, 7, 8, 0x80];
         no_plaintext.extend_from_slice(&[0x00; 12]);
         no_plaintext.extend_from_slice(&[0x01, 0xaa]);
-        use DropReason::*;
         let cases: [(&[u8], DropReason); 12] = [
             // The envelope's length says 9 octets, 4 follow.
             (
                 &[0x03, 0x80, 0x09, 0x00, 0x1f, 0x01, 0x02],
-                EnvelopeUnexpectedEnd,
+                EnvelopeKind::UnexpectedEnd.into(),
             ),
             // Long-form length for 4 octets: not canonical COER.
             (
                 &[0x03, 0x80, 0x81, 0x04, 0x00, 0x1f, 0x01, 0x02],
-                EnvelopeNonCanonical,
+                EnvelopeKind::NonCanonical.into(),
             ),
-            (&no_plaintext, EnvelopeNoPlaintext),
-            (b"Version=0.7\nType=MAP\n", RsuMissingKey),
+            (&no_plaintext, Ieee1609Reason::NoPlaintext.into()),
+            (b"Version=0.7\nType=MAP\n", RsuTextReason::MissingKey.into()),
             (
                 b"Version=0.7\nType=MAP\nType=TIM\nPSID=0x20\nPayload=00\n",
-                RsuDuplicateKey,
+                RsuTextReason::DuplicateKey.into(),
             ),
-            (b"Version=0.7\nno equals sign\n", RsuNotKeyValue),
+            (
+                b"Version=0.7\nno equals sign\n",
+                RsuTextReason::NotKeyValue.into(),
+            ),
             (
                 b"Version=0.7\nType=MAP\nPSID=0x8002\nPayload=0G\n",
-                RsuInvalidValue,
+                RsuTextReason::InvalidValue.into(),
             ),
-            (b"Version=\xff\n", RsuNotUtf8),
-            (&[], DecodeUnexpectedEnd),
-            (&map[..map.len() / 2], DecodeUnexpectedEnd),
-            (&trailing, DecodeTrailing),
-            (&vector("map_regional_addgrpb"), IngestNode),
+            (b"Version=\xff\n", RsuTextReason::NotUtf8.into()),
+            (&[], DecodeErrorKind::UnexpectedEnd.into()),
+            (&map[..map.len() / 2], DecodeErrorKind::UnexpectedEnd.into()),
+            (&trailing, DecodeErrorKind::TrailingBytes.into()),
+            (
+                &vector("map_regional_addgrpb"),
+                IngestError::UnsupportedNode.into(),
+            ),
         ];
         let mut counters = V2xCounters::ZERO;
         for (i, (bytes, want)) in cases.iter().enumerate() {
@@ -128,7 +137,7 @@ fn malformed_inputs_give_their_reason() {
             counters.record(got);
         }
         assert_eq!(counters.total(), 12);
-        assert_eq!(counters.dropped(DecodeUnexpectedEnd), 2);
+        assert_eq!(counters.dropped(DecodeErrorKind::UnexpectedEnd.into()), 2);
         assert_eq!(
             counters.dropped_in(DropGroup::Envelope),
             3 + 5,
@@ -152,9 +161,18 @@ fn reasons_are_a_closed_indexed_set_of_static_names() {
             .count();
         assert_eq!(same, 1, "{} named once in its group", r.as_str());
     }
-    assert_eq!(DropReason::IngestValue.as_str(), "invalid value");
-    assert_eq!(DropReason::DecodeTrailing.as_str(), "trailing bytes");
-    assert_eq!(DropReason::TooLarge.as_str(), "datagram too large");
+    assert_eq!(
+        DropReason::from(IngestError::InvalidValue).as_str(),
+        "invalid value"
+    );
+    assert_eq!(
+        DropReason::from(DecodeErrorKind::TrailingBytes).as_str(),
+        "trailing bytes"
+    );
+    assert_eq!(
+        DropReason::from(DatagramReason::TooLarge).as_str(),
+        "datagram too large"
+    );
 }
 
 #[test]
@@ -259,7 +277,7 @@ mod signed {
             let id = TravelerInformation::MESSAGE_ID;
             assert_eq!(
                 obu.on_datagram(t, &v.coer, &mut rx),
-                V2xOutcome::Dropped(DropReason::NoTime)
+                V2xOutcome::Dropped(DropReason::from(Rejection::NoTime))
             );
             obu.on_fix(t, fix_at_vector_time(&v));
             assert_eq!(
@@ -271,7 +289,7 @@ mod signed {
             // The bare frame inside, unsigned: signatures are required.
             assert_eq!(
                 obu.on_datagram(t, &v.frame, &mut rx),
-                V2xOutcome::Dropped(DropReason::Unsigned)
+                V2xOutcome::Dropped(DropReason::from(SecurityReason::Unsigned))
             );
             let state = obu.state(t);
             assert_eq!(
@@ -330,7 +348,7 @@ mod signed {
             );
             assert_eq!(
                 obu.on_datagram(t, &older.coer, &mut rx),
-                V2xOutcome::Dropped(DropReason::Superseded)
+                V2xOutcome::Dropped(DropReason::from(Rejection::Superseded))
             );
             // The newer one again is a repeat, not superseded.
             assert_eq!(
@@ -363,7 +381,7 @@ mod signed {
             for _ in 0..3 {
                 assert_eq!(
                     obu.on_datagram(t, &v.coer, &mut rx),
-                    V2xOutcome::Dropped(DropReason::Superseded)
+                    V2xOutcome::Dropped(DropReason::from(Rejection::Superseded))
                 );
             }
             assert_eq!(obu.zones().len(), zones - 1);
@@ -396,7 +414,7 @@ mod signed {
                     let want = match expect.as_str() {
                         "valid" | "valid (unsigned)" => V2xOutcome::Changed(id),
                         "WSMP PSID does not match the message" => {
-                            V2xOutcome::Dropped(DropReason::WsmpPsidMismatch)
+                            V2xOutcome::Dropped(DropReason::from(WsmpReason::PsidMismatch))
                         }
                         other => panic!("{}: unknown WSMP verdict {other:?}", v.name),
                     };
@@ -423,20 +441,20 @@ mod signed {
             let wrong = in_wsm(&[0xE0, 0x00, 0x00, 0x17], &v.coer);
             assert_eq!(
                 obu.on_datagram(t, &wrong, &mut rx),
-                V2xOutcome::Dropped(DropReason::WsmpPsidMismatch)
+                V2xOutcome::Dropped(DropReason::from(WsmpReason::PsidMismatch))
             );
             // The misread integer 32771, p-encoded (C0-3F-83): not TIM's PSID.
             let misread = in_wsm(&[0xC0, 0x3F, 0x83], &v.coer);
             assert_eq!(
                 obu.on_datagram(t, &misread, &mut rx),
-                V2xOutcome::Dropped(DropReason::WsmpPsidMismatch)
+                V2xOutcome::Dropped(DropReason::from(WsmpReason::PsidMismatch))
             );
             let right = in_wsm(&[0x80, 0x03], &v.coer);
             assert_eq!(obu.on_datagram(t, &right, &mut rx), V2xOutcome::Changed(id));
             // A truncated WSM: named, never a panic.
             assert_eq!(
                 obu.on_datagram(t, &right[..right.len() - 1], &mut rx),
-                V2xOutcome::Dropped(DropReason::WsmpTruncated)
+                V2xOutcome::Dropped(DropReason::from(WsmpError::Truncated))
             );
             // Unsigned frames in WSMs (signatures not required): the message type's PSID.
             let mut open = receiver(&v, false);
@@ -450,7 +468,7 @@ mod signed {
             let as_bsm = in_wsm(&[0x20], &v.frame);
             assert_eq!(
                 obu.on_datagram(t, &as_bsm, &mut open),
-                V2xOutcome::Dropped(DropReason::WsmpPsidMismatch)
+                V2xOutcome::Dropped(DropReason::from(WsmpReason::PsidMismatch))
             );
         });
     }
@@ -469,12 +487,12 @@ mod signed {
             let cancel = unsigned_cancel_of(&v);
             assert_eq!(
                 obu.on_datagram(t, &cancel, &mut rx),
-                V2xOutcome::Dropped(DropReason::UnverifiedOverVerified)
+                V2xOutcome::Dropped(DropReason::from(IngestReason::UnverifiedOverVerified))
             );
             // The same bytes unsigned again cannot refresh it either.
             assert_eq!(
                 obu.on_datagram(t, &v.frame, &mut rx),
-                V2xOutcome::Dropped(DropReason::UnverifiedOverVerified)
+                V2xOutcome::Dropped(DropReason::from(IngestReason::UnverifiedOverVerified))
             );
             assert_eq!(obu.zones().len(), zones);
             assert_eq!(obu.state(t).unverified, 0);
@@ -492,7 +510,7 @@ mod signed {
             let (mut obu, mut rx, t) = started(&v, true);
             assert_eq!(
                 obu.on_datagram(t, &v.coer, &mut rx),
-                V2xOutcome::Dropped(DropReason::SignatureInvalid)
+                V2xOutcome::Dropped(DropReason::from(Rejection::SignatureInvalid))
             );
             assert!(obu.zones().is_empty() && obu.maps().is_empty());
         });

@@ -8,7 +8,7 @@ use crate::capacity::{MAX_HMI_WORKERS, MAX_WORKERS};
 use crate::ingest::{IngestError, MessageKind};
 use crate::security::{SecurityConfig, PSID_PSM};
 use crate::testutil::{big_stack, psm, psm_at};
-use crate::v2x::{DropReason, V2xOutcome, V2xReceiver};
+use crate::v2x::{DropReason, SecurityReason, V2xOutcome, V2xReceiver};
 use j2735::common::{DSecond, SemiMajorAxisAccuracy};
 use j2735::frame::Message;
 use j2735::message_frame::{MessageFrame, MessageFrameValue};
@@ -352,11 +352,11 @@ fn a_psm_frame_goes_through_on_frame_and_the_v2x_path() {
         );
         assert_eq!(
             obu.on_datagram(t, &first, &mut rx),
-            V2xOutcome::Dropped(DropReason::IngestStale)
+            V2xOutcome::Dropped(DropReason::from(IngestError::StaleMessage))
         );
         assert_eq!(
             obu.on_datagram(t, &pedestrian, &mut rx),
-            V2xOutcome::Dropped(DropReason::IngestNotWorker)
+            V2xOutcome::Dropped(DropReason::from(IngestError::NotRoadWorker))
         );
         let w = obu.workers().iter().next().copied();
         assert_eq!(
@@ -367,7 +367,7 @@ fn a_psm_frame_goes_through_on_frame_and_the_v2x_path() {
         let mut strict = std::boxed::Box::new(V2xReceiver::<16>::new());
         assert_eq!(
             obu.on_datagram(t, &first, &mut strict),
-            V2xOutcome::Dropped(DropReason::Unsigned)
+            V2xOutcome::Dropped(DropReason::from(SecurityReason::Unsigned))
         );
         assert_eq!(obu.workers().len(), 1);
     });
