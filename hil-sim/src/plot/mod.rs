@@ -143,9 +143,15 @@ fn write_png(path: &Path, figure: Figure, input: &PlotInput<'_>, ink: Ink) -> Re
         let root = BitMapBackend::with_buffer(&mut buffer, SIZE).into_drawing_area();
         render(&root, figure, input, ink).map_err(|e| format!("{}: {e}", path.display()))?;
     }
-    let image = image::RgbImage::from_raw(SIZE.0, SIZE.1, buffer)
-        .ok_or_else(|| format!("{}: the drawing's buffer has the wrong size", path.display()))?;
-    image.save(path).map_err(|e| format!("{}: {e}", path.display()))
+    let image = image::RgbImage::from_raw(SIZE.0, SIZE.1, buffer).ok_or_else(|| {
+        format!(
+            "{}: the drawing's buffer has the wrong size",
+            path.display()
+        )
+    })?;
+    image
+        .save(path)
+        .map_err(|e| format!("{}: {e}", path.display()))
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
