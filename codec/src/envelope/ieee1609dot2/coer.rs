@@ -8,7 +8,7 @@
 //!
 //! No function in this module panics on any input.
 
-use super::ieee1609dot2_error::{DecodeError, DecodeErrorKind};
+use super::error::{DecodeError, DecodeErrorKind};
 
 /// Result of a COER read.
 pub(crate) type DecodeResult<T> = Result<T, DecodeError>;

@@ -1,5 +1,5 @@
 //! What every part of the IEEE 1609.2 parser shares: the protocol version, the nesting bound
-//! and the error types (re-exported by [`super::ieee1609dot2`]).
+//! and the error types (re-exported by [`super`]).
 
 use core::fmt;
 

@@ -9,8 +9,8 @@
 //! No function in this module panics on any input.
 
 use super::coer::{CoerReader, DecodeResult};
-use super::ieee1609dot2_error::DecodeErrorKind;
-use super::ieee1609dot2_signature::parse_curve_point;
+use super::error::DecodeErrorKind;
+use super::signature::parse_curve_point;
 
 /// A function that advances a reader past one value.
 type Skip = for<'a> fn(&mut CoerReader<'a>) -> DecodeResult<()>;

@@ -1,8 +1,8 @@
 //! IEEE 1609.2 `Signature` and curve points: their types and COER decoding (shared by the
-//! signed-data view and the certificate walk; re-exported by [`super::ieee1609dot2`]).
+//! signed-data view and the certificate walk; re-exported by [`super`]).
 
 use super::coer::{optional, within_open_type, CoerReader, DecodeResult};
-use super::ieee1609dot2_error::DecodeErrorKind;
+use super::error::DecodeErrorKind;
 
 /// `Signature`: which scheme, and the raw `r` and `s` values. Not verified.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

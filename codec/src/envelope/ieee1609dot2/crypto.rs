@@ -11,7 +11,7 @@
 //! `VerifyingKey`, because a compressed-y `rSig` carries the whole point `R` (its x must
 //! match and its y parity too), and because verification may run in variable time (its
 //! inputs are public): `u1 G + u2 Q` is one interleaved width-5 NAF chain
-//! (`ieee1609dot2_lincomb.rs`), about twice as fast as `p256`'s constant-time `lincomb`.
+//! (`lincomb.rs`), about twice as fast as `p256`'s constant-time `lincomb`.
 //!
 //! ECQV (SEC 4, as profiled by 1609.2 5.3.2): `Q_U = e * P_U + Q_CA` with
 //! `e = H(ToBeSignedCertificate, issuer certificate) mod n`, the whole digest reduced (the
@@ -221,7 +221,7 @@ impl PublicKey {
 
 /// A [`PublicKey`] with its precomputed multiples, for a key that verifies many signatures
 /// (a cached signer certificate): with the generator's ([`GeneratorTable`]) a verification
-/// takes about a quarter of the doublings (see `ieee1609dot2_lincomb.rs`).
+/// takes about a quarter of the doublings (see `lincomb.rs`).
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct PreparedKey {
     key: PublicKey,

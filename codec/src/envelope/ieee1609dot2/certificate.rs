@@ -6,19 +6,19 @@
 //! rectangles, polygon vertices) stay borrowed and are read by iterators; the parse has
 //! already walked them, so the iterators cannot fail. Nothing is verified here: the
 //! signature, the chain and the permissions are the caller's to check
-//! ([`super::ieee1609dot2_crypto`] and the OBU's trust policy).
+//! ([`super::crypto`] and the OBU's trust policy).
 //!
 //! No function in this module panics on any input.
 
 use super::coer::{optional, CoerReader, DecodeResult};
-use super::ieee1609dot2_error::{DecodeError, DecodeErrorKind, PROTOCOL_VERSION};
-use super::ieee1609dot2_signature::{
+use super::error::{DecodeError, DecodeErrorKind, PROTOCOL_VERSION};
+use super::signature::{
     parse_curve_point, parse_hash_algorithm, parse_signature, CurvePoint, HashAlgorithm, Signature,
 };
-use super::ieee1609dot2_skip::{
+use super::skip::{
     read_extensible_tag, read_root_tag, skip_public_encryption_key, skip_sequence_of,
 };
-use super::psid::Psid;
+use crate::envelope::psid::Psid;
 
 /// A decoded `Certificate` (`CertificateBase`), borrowing its COER bytes.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
