@@ -65,7 +65,7 @@ class Capacities:
             return str(a)
         name = const_name(td.key + suffix)
         self.consts[name] = (td.key + suffix, a, b)
-        return f"{{ super::capacities::{name} }}"
+        return f"{{ {naming.to_msg_root(td.module)}capacities::{name} }}"
 
     def capacities_module(self, header):
         """Source of the generated `capacities` module."""

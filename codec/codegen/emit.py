@@ -54,7 +54,7 @@ def prim(lb, ub):
 def size_expr(td):
     ub = "usize::MAX" if td.ub is None else str(td.ub)
     ctor = "extensible" if td.extensible else "range"
-    return f"uper::Size::{ctor}({td.lb}, {ub})"
+    return f"private::Size::{ctor}({td.lb}, {ub})"
 
 
 class Emitter:
@@ -65,7 +65,8 @@ class Emitter:
 
     def module_source(self, module):
         out = [HEADER, f"//! Types of the ASN.1 module `{module}` (SAE J2735 2020).\n"]
-        out.append("#[allow(unused_imports)]\nuse crate::uper::{self, DecodeResult, EncodeResult, Reader, Uper, Writer};\n")
+        out.append("#[allow(unused_imports)]\nuse crate::__private as private;\n"
+                   "#[allow(unused_imports)]\nuse crate::uper::{self, DecodeResult, EncodeResult, Reader, Uper, Writer};\n")
         for td in self.model.by_module[module]:
             out.append(getattr(self, "emit_" + td.kind)(td))
         return "\n".join(out)
@@ -104,22 +105,22 @@ class Emitter:
         nh, h = self.bits.of(td, heap=False), self.bits.of(td, heap=True)
         nh_fw = self.bits_fw.of(td, heap=False)
         opt = lambda v: "None" if v is None else f"Some({v})"  # noqa: E731
-        bound = (f"uper::max_bits({opt(nh)}, {opt(h)})" if nh == nh_fw else
-                 f"uper::max_bits_profiled({opt(nh)}, {opt(nh_fw)}, {opt(h)})")
+        bound = (f"private::max_bits({opt(nh)}, {opt(h)})" if nh == nh_fw else
+                 f"private::max_bits_profiled({opt(nh)}, {opt(nh_fw)}, {opt(h)})")
         # With `alloc` a new list item of at most 64 octets is made from the placeholder as a
-        # constant (see `uper::ConstPlaceholder`); everything else, and everything without
+        # constant (see `private::ConstPlaceholder`); everything else, and everything without
         # `alloc`, takes the function.
         constant = placeholder.replace(" as uper::Placeholder>::placeholder()",
-                                       " as uper::ConstPlaceholder>::PLACEHOLDER")
+                                       " as private::ConstPlaceholder>::PLACEHOLDER")
         return (
             f"impl uper::Placeholder for {td.name} {{\n"
             f"    fn placeholder() -> Self {{\n{indent(placeholder, 8)}\n    }}\n"
             f"    #[cfg(feature = \"alloc\")]\n"
             f"    #[inline]\n"
             f"    fn item_placeholder() -> Self {{\n"
-            f"        uper::item_placeholder()\n    }}\n}}\n\n"
+            f"        private::item_placeholder()\n    }}\n}}\n\n"
             f"#[cfg(feature = \"alloc\")]\n"
-            f"impl uper::ConstPlaceholder for {td.name} {{\n"
+            f"impl private::ConstPlaceholder for {td.name} {{\n"
             f"    const PLACEHOLDER: Self = {indent(constant, 4).lstrip()};\n}}\n\n"
             f"impl Uper for {td.name} {{\n"
             f"    const PATH: &'static str = \"{td.key}\";\n"
@@ -141,7 +142,7 @@ class Emitter:
         s = [self.doc(td, f"INTEGER ({td.lb}..{td.ub})"),
              "#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]",
              f"pub struct {td.name}({p});",
-             f"crate::__constrained_int!({td.name}, {p}, {td.lb}, {td.ub}, \"{td.key}\");"]
+             f"crate::macros::constrained_int!({td.name}, {p}, {td.lb}, {td.ub}, \"{td.key}\");"]
         sentinels = self.caps.sentinels(td)
         if sentinels:
             s.append(f"impl {td.name} {{")
@@ -186,14 +187,14 @@ class Emitter:
         s.append(self.uper_impl(td, "\n".join(dec), "\n".join(enc), f"Self::{naming.camel(td.items[0][0])}"))
         s.append(self.random_impl(td, f"Self::ALL[g.below({n})]"))
         s.append(self.jer_impl(td, "out.string(self.identifier());",
-                               "let name = crate::jer::string(v)?;\n"
+                               "let name = private::jer::string(v)?;\n"
                                "Self::from_identifier(name).ok_or_else(|| crate::jer::JerError::new(std::format!(\"unknown identifier {name}\")))"))
         return "\n".join(s)
 
     def emit_bits(self, td):
         nb = self.caps.bits_octets(td)
         s = [self.doc(td, f"BIT STRING {size_text(td)}"), DERIVE_COPY, f"pub struct {td.name}(pub uper::Bits<{nb}>);\n"]
-        s.append(f"impl {td.name} {{\n    const SIZE: uper::Size = {size_expr(td)};")
+        s.append(f"impl {td.name} {{\n    const SIZE: private::Size = {size_expr(td)};")
         for name, bit in td.named:
             s.append(f"    /// Named bit `{name}`.\n    pub const {naming.shout(name)}: usize = {bit};")
         s.append("    /// `len` zero bits, when `len` satisfies the SIZE constraint (or, for an extensible\n"
@@ -202,13 +203,13 @@ class Emitter:
                  + ("" if td.extensible else f"        if !({td.lb}..={td.ub}).contains(&len) {{\n            return None;\n        }}\n")
                  + "        uper::Bits::zeros(len).map(Self)\n    }")
         s.append("}\n")
-        s.append(self.uper_impl(td, f"out.0 = uper::decode_bits(r, Self::SIZE, \"{td.key}\")?;\nOk(())",
-                                "uper::encode_bits(w, Self::SIZE, &self.0)", "Self(uper::Bits::EMPTY)"))
+        s.append(self.uper_impl(td, f"out.0 = private::decode_bits(r, Self::SIZE, \"{td.key}\")?;\nOk(())",
+                                "private::encode_bits(w, Self::SIZE, &self.0)", "Self(uper::Bits::EMPTY)"))
         fixed = td.lb == td.ub and not td.extensible
         write = "out.hex(self.0.as_bytes());" if fixed else "out.bits(self.0.as_bytes(), self.0.len());"
-        read = (f"let (bytes, len) = crate::jer::bits(v, {td.lb}, {td.ub})?;\n"
-                + ("" if td.extensible else f"if !({td.lb}..={td.ub}).contains(&len) {{\n    return Err(crate::jer::invalid(\"size\"));\n}}\n")
-                + "uper::Bits::from_bytes(&bytes, len).map(Self).ok_or_else(crate::jer::over_capacity)")
+        read = (f"let (bytes, len) = private::jer::bits(v, {td.lb}, {td.ub})?;\n"
+                + ("" if td.extensible else f"if !({td.lb}..={td.ub}).contains(&len) {{\n    return Err(private::jer::invalid(\"size\"));\n}}\n")
+                + "uper::Bits::from_bytes(&bytes, len).map(Self).ok_or_else(private::jer::over_capacity)")
         s.append(self.jer_impl(td, write, read))
         s.append(self.random_impl(td, f"let len = g.range({td.lb}, {td.ub}) as usize;\n"
                                   f"let bytes: [u8; {nb}] = core::array::from_fn(|_| g.octet());\n"
@@ -220,35 +221,35 @@ class Emitter:
         s.append(self.uper_impl(td, "r.read_octets(&mut out.0)", "w.write_octets(&self.0)", f"Self([0; {td.lb}])"))
         s.append(self.random_impl(td, "Self(core::array::from_fn(|_| g.octet()))"))
         s.append(self.jer_impl(td, "out.hex(&self.0);",
-                               "crate::jer::hex(v)?.try_into().map(Self).map_err(|_| crate::jer::invalid(\"size\"))"))
+                               "private::jer::hex(v)?.try_into().map(Self).map_err(|_| private::jer::invalid(\"size\"))"))
         return "\n".join(s)
 
     def emit_sized(self, td, what, storage, decode_fn, encode_fn, ctor):
         s = [self.doc(td, f"{what} {size_text(td)}"), DERIVE, f"pub struct {td.name}(pub {storage});\n"]
-        s.append(f"crate::__newtype_deref!({td.name}, {storage});\n")
-        s.append(f"impl {td.name} {{\n    const SIZE: uper::Size = {size_expr(td)};\n{ctor}}}\n")
+        s.append(f"crate::macros::newtype_deref!({td.name}, {storage});\n")
+        s.append(f"impl {td.name} {{\n    const SIZE: private::Size = {size_expr(td)};\n{ctor}}}\n")
         s.append(getattr(self, "extra", ""))
         self.extra = ""
-        dec = (f"uper::{decode_fn}(r, Self::SIZE, \"{td.key}\", &mut out.0)" if decode_fn.endswith("_into")
+        dec = (f"private::{decode_fn}(r, Self::SIZE, \"{td.key}\", &mut out.0)" if decode_fn.endswith("_into")
                else f"out.0 = uper::{decode_fn}(r, Self::SIZE, \"{td.key}\")?;\nOk(())")
-        s.append(self.uper_impl(td, dec, f"uper::{encode_fn}(w, Self::SIZE, &self.0)", f"Self({storage.split('<')[0]}::new())"))
+        s.append(self.uper_impl(td, dec, f"private::{encode_fn}(w, Self::SIZE, &self.0)", f"Self({storage.split('<')[0]}::new())"))
         if td.kind == "octets":
             s.append(self.jer_impl(td, "out.hex(&self.0);",
-                                   "Self::new(&crate::jer::hex(v)?).ok_or_else(|| crate::jer::invalid(\"size\"))"))
+                                   "Self::new(&private::jer::hex(v)?).ok_or_else(|| private::jer::invalid(\"size\"))"))
         elif td.kind == "ia5":
             s.append(self.jer_impl(td, "out.string(self.0.as_str());",
-                                   "Self::new(crate::jer::string(v)?).ok_or_else(|| crate::jer::invalid(\"size or character\"))"))
+                                   "Self::new(private::jer::string(v)?).ok_or_else(|| private::jer::invalid(\"size or character\"))"))
         else:
             iw = self.jer_write_of(td.item, "item")
             s.append(self.jer_impl(
                 td, f"out.begin_array();\nfor item in self.0.iter() {{\n    {iw}\n}}\nout.end_array();",
-                "let items = crate::jer::array(v)?;\n"
+                "let items = private::jer::array(v)?;\n"
                 + ("" if td.lb == 0 else
-                   f"if {'items.is_empty()' if td.lb == 1 else f'items.len() < {td.lb}'} {{\n    return Err(crate::jer::invalid(\"size\"));\n}}\n") +
+                   f"if {'items.is_empty()' if td.lb == 1 else f'items.len() < {td.lb}'} {{\n    return Err(private::jer::invalid(\"size\"));\n}}\n") +
                 "let mut list = Self::new();\n"
                 "for (i, x) in items.iter().enumerate() {\n"
                 f"    let item = {self.jer_read_fn(td.item, td)}(x).map_err(|e| e.within(&std::format!(\"[{{i}}]\")))?;\n"
-                "    list.0.push(item).map_err(|_| crate::jer::over_capacity())?;\n}\nOk(list)"))
+                "    list.0.push(item).map_err(|_| private::jer::over_capacity())?;\n}\nOk(list)"))
         ub = min(td.ub if td.ub is not None else 1 << 20, self.caps.count(td))
         cap = self.caps.expr("count", td)
         if not cap.isdigit():
@@ -332,16 +333,16 @@ class Emitter:
                 read.append(f"let {local} = {r};")
             elif f.optional:
                 write.append(f"if let Some(v) = &self.{f.rust} {{\n    out.key(\"{f.asn}\");\n    {self.jer_write_of(f.ref, 'v')}\n}}")
-                read.append(f"let {local} = crate::jer::read_optional(v, \"{f.asn}\", {self.jer_read_fn(f.ref, td)})?;")
+                read.append(f"let {local} = private::jer::read_optional(v, \"{f.asn}\", {self.jer_read_fn(f.ref, td)})?;")
             else:
                 write.append(f"out.key(\"{f.asn}\");\n{self.jer_write_of(f.ref, '&self.' + f.rust)}")
-                read.append(f"let {local} = crate::jer::read_member(v, \"{f.asn}\", {self.jer_read_fn(f.ref, td)})?;")
+                read.append(f"let {local} = private::jer::read_member(v, \"{f.asn}\", {self.jer_read_fn(f.ref, td)})?;")
             inits.append(f"{f.rust}: {local}")
         if td.extensible:
-            write.append("crate::jer::write_extensions(out, &self.extensions);")
-            inits.append("extensions: crate::jer::read_extensions(v)?")
+            write.append("private::jer::write_extensions(out, &self.extensions);")
+            inits.append("extensions: private::jer::read_extensions(v)?")
         write.append("out.end_object();")
-        read.insert(0, "crate::jer::member(v, \"\")?;")
+        read.insert(0, "private::jer::member(v, \"\")?;")
         read.append(f"Ok(Self {{ {', '.join(inits)} }})")
         return self.jer_impl(td, "\n".join(write), "\n".join(read))
 
@@ -363,7 +364,7 @@ class Emitter:
             if f.optional:
                 bit = len(opts) - 1 - opts.index(f)
                 lines.append(f"if present & (1 << {bit}) != 0 {{\n"
-                             f"    if out.{f.rust}.is_none() {{\n        uper::fill_option(&mut out.{f.rust});\n    }}\n"
+                             f"    if out.{f.rust}.is_none() {{\n        private::fill_option(&mut out.{f.rust});\n    }}\n"
                              f"    if let Some(v) = &mut out.{f.rust} {{\n        <{ty}>::decode_into(r, v)?;\n    }}\n"
                              f"}} else {{\n    out.{f.rust} = None;\n}}")
             else:
@@ -410,7 +411,7 @@ class Emitter:
         if td.extensible:
             dec.append("if r.read_bit()? {\n    let at = r.position();\n"
                        "    let index = u16::try_from(r.read_normally_small()?).map_err(|_| uper::DecodeError::new(uper::DecodeErrorKind::ValueOutOfRange, at))?;\n"
-                       f"    let content = uper::decode_unknown_open(r, \"{td.key}:unknown\")?;\n"
+                       f"    let content = private::decode_unknown_open(r, \"{td.key}:unknown\")?;\n"
                        "    *out = Self::Extension { index, content };\n    return Ok(());\n}")
         dec.append(f"match r.read_index({n}, uper::DecodeErrorKind::InvalidChoiceIndex)? {{")
         for i, a in enumerate(td.alts):
@@ -430,7 +431,7 @@ class Emitter:
                 enc.append(f"    Self::{a.variant}(v) => {{ {pre}w.write_constrained({i}, 0, {n - 1})?; v.encode_uper(w) }}")
         if td.extensible:
             enc.append("    Self::Extension { index, content } => {\n        w.write_bit(true)?;\n"
-                       "        w.write_normally_small(*index as u64)?;\n        uper::encode_unknown_open(w, content)\n    }")
+                       "        w.write_normally_small(*index as u64)?;\n        private::encode_unknown_open(w, content)\n    }")
         enc.append("}")
         a = td.alts[0]
         ph = f"Self::{a.variant}" if a.ref.builtin == "crate::uper::Null" else f"Self::{a.variant}({self.placeholder_of(a.ref, td)})"
@@ -438,7 +439,7 @@ class Emitter:
         arms = "".join(f"    {i} => Self::{a.variant}{'' if a.ref.builtin == 'crate::uper::Null' else '(' + self.random_of(a.ref, td) + ')'},\n"
                        for i, a in enumerate(td.alts))
         s.append(self.random_impl(td, f"match g.below({n}) {{\n{arms}    _ => {ph},\n}}"))
-        write, read = ["match self {"], ["let (name, x) = crate::jer::alternative(v)?;", "match name {"]
+        write, read = ["match self {"], ["let (name, x) = private::jer::alternative(v)?;", "match name {"]
         for a in td.alts:
             if a.ref.builtin == "crate::uper::Null":
                 write.append(f"    Self::{a.variant} => {{\n        out.begin_object();\n        out.key(\"{a.asn}\");\n        out.null();\n        out.end_object();\n    }}")
@@ -474,14 +475,14 @@ class Emitter:
         dec = [f"let id = <{id_ty}>::decode_uper(r)?;", "match id.get() {"]
         for i, v, r in td.variants:
             ty = self.rust(r, td)
-            dec.append(switch_into(f"Self::{v}", i, ty, f"uper::decode_open(r, |r| <{ty}>::decode_into(r, v))?"))
-        dec.append(f"    _ => *out = Self::Unknown {{ id, bytes: uper::decode_unknown_open(r, \"{td.key}:unknown\")? }},\n}}\nOk(())")
+            dec.append(switch_into(f"Self::{v}", i, ty, f"private::decode_open(r, |r| <{ty}>::decode_into(r, v))?"))
+        dec.append(f"    _ => *out = Self::Unknown {{ id, bytes: private::decode_unknown_open(r, \"{td.key}:unknown\")? }},\n}}\nOk(())")
         enc = ["match self {"]
         for i, v, r in td.variants:
             enc.append(f"    Self::{v}(v) => {{\n        w.write_constrained({i}, {idt.lb}, {idt.ub})?;\n"
                        f"        w.write_open(|w| v.encode_uper(w))\n    }}")
         enc.append("    Self::Unknown { id, bytes } => {\n        id.encode_uper(w)?;\n"
-                   "        uper::encode_unknown_open(w, bytes)\n    }\n}")
+                   "        private::encode_unknown_open(w, bytes)\n    }\n}")
         s.append(self.open_jer(td, id_ty))
         if td.key == "MessageFrame.MessageFrame.value":
             for i, v, r in td.variants:
@@ -534,13 +535,13 @@ def message_names(self, td):
 
 def _open_jer(self, td, id_ty):
     write = ["out.key(id_name);", "out.int(self.id().get() as i64);", "out.key(value_name);", "match self {"]
-    read = [f"let id = crate::jer::read_member(v, id_name, <{id_ty} as crate::jer::Jer>::read_jer)?;",
-            "let x = crate::jer::required(v, value_name)?;", "match id.get() {"]
+    read = [f"let id = private::jer::read_member(v, id_name, <{id_ty} as crate::jer::Jer>::read_jer)?;",
+            "let x = private::jer::required(v, value_name)?;", "match id.get() {"]
     for i, var, r in td.variants:
         write.append(f"    Self::{var}(v) => crate::jer::Jer::write_jer(v, out),")
         read.append(f"    {i} => <{self.rust(r, td)} as crate::jer::Jer>::read_jer(x).map(Self::{var}).map_err(|e| e.within(value_name)),")
     write.append("    Self::Unknown { bytes, .. } => out.hex(bytes),\n}")
-    read.append("    _ => {\n        let bytes = uper::Octets::from_slice(&crate::jer::hex(x)?).ok_or_else(crate::jer::over_capacity)?;\n"
+    read.append("    _ => {\n        let bytes = uper::Octets::from_slice(&private::jer::hex(x)?).ok_or_else(private::jer::over_capacity)?;\n"
                 "        Ok(Self::Unknown { id, bytes })\n    }\n}")
     members = (f"impl {td.name} {{\n"
                f"    /// Writes the id and the value as members `id_name` and `value_name` of an object.\n"
@@ -562,7 +563,7 @@ def switch_into(variant, index, ty, decode):
     already) and decodes into its payload `v` in place."""
     return (f"    {index} => {{\n"
             f"        if !matches!(out, {variant}(_)) {{\n"
-            f"            uper::replace_with(out, || {variant}(<{ty} as uper::Placeholder>::decode_placeholder()));\n"
+            f"            private::replace_with(out, || {variant}(<{ty} as uper::Placeholder>::decode_placeholder()));\n"
             f"        }}\n"
             f"        if let {variant}(v) = out {{\n            {decode};\n        }}\n    }}")
 

@@ -1,9 +1,9 @@
 #!/usr/bin/env python3
-"""Generates the Rust J2735 types of `codec/src/generated/` from the pycrate-compiled
-J2735 2020 type model.
+"""Generates the Rust J2735 types of `codec/src/msg/` (module `j2735::msg`) from the
+pycrate-compiled J2735 2020 type model.
 
     PY=$(bash ../shared/oracle/setup.sh)     # pycrate 0.8.1
-    $PY codec/codegen/gen.py                 # write codec/src/generated/
+    $PY codec/codegen/gen.py                 # write codec/src/msg/
     $PY codec/codegen/gen.py --check         # exit 1 if the committed files differ
 
 Options: --shared DIR (default: <repo>/../shared), --model FILE's directory is DIR/j2735.
@@ -25,25 +25,7 @@ import model as model_mod  # noqa: E402
 import naming  # noqa: E402
 
 REPO = os.path.dirname(os.path.dirname(here))
-OUT = os.path.join(REPO, "codec", "src", "generated")
-
-# Types re-exported at the crate root (the messages and what the OBU reads most).
-REEXPORTS = {
-    "MessageFrame": ["MessageFrame", "MessageFrameValue", "DSRCmsgID"],
-    "MapData": ["MapData", "IntersectionGeometry", "RoadSegment", "GenericLane", "LaneAttributes",
-                "LaneTypeAttributes", "LaneDirection", "Connection",
-                "ConnectsToList"],
-    "TravelerInformation": ["TravelerInformation", "TravelerDataFrame", "GeographicalPath",
-                            "OffsetSystem", "NodeListLL", "TravelerDataFrameList"],
-    "Common": ["Position3D", "Latitude", "Longitude", "Elevation", "NodeXY", "NodeSetXY",
-               "NodeOffsetPointXY", "NodeAttributeSetXY", "NodeListXY", "ComputedLane", "LaneID", "LaneWidth", "SpeedLimitList",
-               "RegulatorySpeedLimit", "SpeedLimitType", "Velocity", "HeadingSlice", "MsgCount",
-               "MinuteOfTheYear", "DYear", "DescriptiveName", "IntersectionReferenceID",
-               "RoadSegmentReferenceID", "Heading", "Speed"],
-    "BasicSafetyMessage": ["BasicSafetyMessage"],
-    "SPAT": ["SPAT"],
-    "ITIS": ["ITIScodes", "ITIScodesAndText"],
-}
+OUT = os.path.join(REPO, "codec", "src", "msg")
 
 
 def render(shared):
@@ -55,22 +37,24 @@ def render(shared):
     files = {}
     mods = sorted(modules, key=naming.module)
     for m in mods:
-        files[naming.module(m) + ".rs"] = em.module_source(m)
-    root = [emit.HEADER, "//! The generated J2735 2020 types, one module per ASN.1 module.\n",
-            "#![allow(clippy::upper_case_acronyms, clippy::large_enum_variant, clippy::identity_op,\n"
-            "    clippy::needless_borrow, clippy::match_single_binding)]\n"]
+        files["/".join(naming.module_path(m)) + ".rs"] = em.module_source(m)
     files["capacities.rs"] = caps.capacities_module(emit.HEADER)
-    root.append("pub mod capacities;")
-    for m in mods:
-        root.append(f"/// ASN.1 module `{m}`.\n#[allow(non_camel_case_types)]\npub mod {naming.module(m)};")
-    root.append("")
-    for m, names in REEXPORTS.items():
-        have = {td.name for td in model.by_module[m]}
-        missing = [n for n in names if n not in have]
-        if missing:
-            raise SystemExit(f"re-exports missing from {m}: {missing}")
-        root.append(f"pub use {naming.module(m)}::{{{', '.join(names)}}};")
+    declare = lambda m: f"/// ASN.1 module `{m}`.\n#[allow(non_camel_case_types)]\npub mod {naming.module(m)};"  # noqa: E731
+    root = [emit.HEADER,
+            "//! The J2735 2020 types, one module per ASN.1 module (`map_data::MapData`,\n"
+            "//! `traveler_information::TravelerInformation`, `common::Position3D`, ...), generated\n"
+            "//! from the standard's type model; the test messages' modules are in [`test`](mod@test).\n"
+            "//! The most used messages are re-exported at the crate root.\n",
+            "#![allow(clippy::upper_case_acronyms, clippy::large_enum_variant, clippy::identity_op,\n"
+            "    clippy::needless_borrow, clippy::match_single_binding)]\n",
+            "pub mod capacities;"]
+    root += [declare(m) for m in mods if not naming.is_test_module(m)]
+    root.append("pub mod test;")
     files["mod.rs"] = "\n".join(root) + "\n"
+    test = [emit.HEADER,
+            "//! The test messages (`messageId` 240..255, `TEST00`..`TEST15`): one ASN.1 module each.\n"]
+    test += [declare(m) for m in mods if naming.is_test_module(m)]
+    files["test/mod.rs"] = "\n".join(test) + "\n"
     unused = caps.unused()
     if unused:
         raise SystemExit(f"capacities(-firmware).toml names keys that no type has: {unused}")
@@ -83,11 +67,20 @@ def rustfmt(files):
         paths = []
         for name, text in files.items():
             path = os.path.join(tmp, name)
+            os.makedirs(os.path.dirname(path), exist_ok=True)
             with open(path, "w") as f:
                 f.write(text)
             paths.append(path)
         subprocess.run(["rustfmt", "--edition", "2021", *paths], check=True)
         return {name: open(os.path.join(tmp, name)).read() for name in files}
+
+
+def existing():
+    """The files under OUT, as paths relative to it (`test/mod.rs`)."""
+    out = []
+    for folder, _, names in os.walk(OUT):
+        out += [os.path.relpath(os.path.join(folder, n), OUT).replace(os.sep, "/") for n in names]
+    return out
 
 
 def main():
@@ -102,17 +95,17 @@ def main():
             path = os.path.join(OUT, name)
             if not os.path.exists(path) or open(path).read() != text:
                 bad.append(name)
-        extra = set(os.listdir(OUT)) - set(files) if os.path.isdir(OUT) else set()
+        extra = set(existing()) - set(files)
         if bad or extra:
             print(f"generated code is stale: {sorted(bad) + sorted(extra)}; run codec/codegen/gen.py", file=sys.stderr)
             return 1
         print(f"generated code is up to date ({len(files)} files)")
         return 0
-    os.makedirs(OUT, exist_ok=True)
-    for name in os.listdir(OUT):
+    for name in existing():
         if name.endswith(".rs") and name not in files:
             os.remove(os.path.join(OUT, name))
     for name, text in files.items():
+        os.makedirs(os.path.dirname(os.path.join(OUT, name)), exist_ok=True)
         with open(os.path.join(OUT, name), "w") as f:
             f.write(text)
     print(f"wrote {len(files)} files to {os.path.relpath(OUT, REPO)}")

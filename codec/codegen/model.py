@@ -27,7 +27,7 @@ class Ref:
         t = self.typedef
         if t.module == from_module:
             return t.name
-        return f"super::{naming.module(t.module)}::{t.name}"
+        return f"{naming.to_msg_root(from_module)}{'::'.join(naming.module_path(t.module))}::{t.name}"
 
 
 BOOL = Ref(builtin="bool")

@@ -60,6 +60,24 @@ def module(name):
     return "_".join(words(name))
 
 
+def is_test_module(name):
+    """Whether the ASN.1 module is one of the test messages' (`TestMessage00`..`15`)."""
+    return re.fullmatch(r"TestMessage[0-9]{2}", name) is not None
+
+
+def module_path(name):
+    """The Rust module path of an ASN.1 module under `crate::msg`, as a list: the test
+    messages' modules are in `msg::test` (`["test", "test_message00"]`), the others at
+    the top (`["map_data"]`)."""
+    return ["test", module(name)] if is_test_module(name) else [module(name)]
+
+
+def to_msg_root(name):
+    """The relative path from the Rust module of ASN.1 module `name` to `crate::msg`
+    (`super::` or `super::super::`)."""
+    return "super::" * len(module_path(name))
+
+
 if __name__ == "__main__":
     for n in ["laneID", "BSMcoreData", "DSRCmsgID", "NMEAcorrections", "node-XY1", "partII-Id",
               "sspTimRights", "scaleXaxis", "TestMessage00", "AddGrpB", "SPAT", "type", "regExtValue",

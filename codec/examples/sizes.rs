@@ -1,6 +1,9 @@
 //! Prints the in-memory size of the largest generated types in this build's storage mode.
 use core::mem::size_of;
-use j2735::*;
+use j2735::msg::common::{NodeAttributeSetXY, NodeXY};
+use j2735::msg::map_data::{GenericLane, IntersectionGeometry};
+use j2735::msg::traveler_information::{GeographicalPath, TravelerDataFrame};
+use j2735::{BasicSafetyMessage, MapData, MessageFrame, TravelerInformation, SPAT};
 
 fn main() {
     let mode = if cfg!(feature = "alloc") {

@@ -2,13 +2,14 @@
 //! independent encoder), prints what an OBU reads from them, and re-encodes both to check the
 //! bytes. Run: `cargo run --release -p j2735 --example workzone`.
 use j2735::frame::{decode_message_into, encode_message, peek_message_id};
-use j2735::itis::ITIScodesAndTextItemItem;
-use j2735::traveler_information::{
+use j2735::msg::common::NodeListXY;
+use j2735::msg::itis::ITIScodesAndTextItemItem;
+use j2735::msg::traveler_information::{
     GeographicalPathDescription, OffsetSystemOffset, SpeedLimitItemItem, TravelerDataFrameContent,
     WorkZoneItemItem,
 };
 use j2735::uper::Placeholder;
-use j2735::{MapData, NodeListXY, TravelerInformation};
+use j2735::{MapData, TravelerInformation};
 
 fn vector(name: &str) -> Vec<u8> {
     let line = include_str!("../tests/vectors/oracle_vectors.jsonl")

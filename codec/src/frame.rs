@@ -39,7 +39,7 @@ pub fn decode_message_into<M: Message>(bytes: &[u8], out: &mut M) -> Result<(), 
             "MessageFrame.MessageFrame",
         ));
     }
-    uper::decode_open(&mut r, |r| M::decode_into(r, out))?;
+    uper::ext::decode_open(&mut r, |r| M::decode_into(r, out))?;
     if extended {
         uper::Extensions::<0>::decode(&mut r, "MessageFrame.MessageFrame:ext")?;
     }

@@ -2,9 +2,7 @@
 //! encodings (UPER and JER) of a type, so they sit above `uper` and `jer`.
 
 /// Methods and trait impls of a constrained INTEGER newtype `$name($prim)` in `$lb..=$ub`.
-#[doc(hidden)]
-#[macro_export]
-macro_rules! __constrained_int {
+macro_rules! constrained_int {
     ($name:ident, $prim:ty, $lb:literal, $ub:literal, $path:literal) => {
         impl $name {
             /// Smallest value the type allows.
@@ -41,7 +39,7 @@ macro_rules! __constrained_int {
             }
         }
         #[cfg(feature = "alloc")]
-        impl $crate::uper::ConstPlaceholder for $name {
+        impl $crate::__private::ConstPlaceholder for $name {
             const PLACEHOLDER: Self = Self($lb);
         }
         #[cfg(feature = "jer")]
@@ -50,7 +48,7 @@ macro_rules! __constrained_int {
                 out.int(self.0 as i64);
             }
             fn read_jer(v: &$crate::jer::Value) -> $crate::jer::JerResult<Self> {
-                ::core::result::Result::Ok(Self($crate::jer::int(v, $lb, $ub)? as $prim))
+                ::core::result::Result::Ok(Self($crate::__private::jer::int(v, $lb, $ub)? as $prim))
             }
         }
         #[cfg(feature = "_random")]
@@ -81,9 +79,7 @@ macro_rules! __constrained_int {
 }
 
 /// `Deref`/`DerefMut` of a newtype `$name` to its storage `$target`.
-#[doc(hidden)]
-#[macro_export]
-macro_rules! __newtype_deref {
+macro_rules! newtype_deref {
     ($name:ident, $target:ty) => {
         impl ::core::ops::Deref for $name {
             type Target = $target;
@@ -98,3 +94,5 @@ macro_rules! __newtype_deref {
         }
     };
 }
+
+pub(crate) use {constrained_int, newtype_deref};

@@ -6,7 +6,7 @@
 //! j2735 --test value_sizes` with no features, with `--features alloc` and with
 //! `--features firmware-capacities` (CI checks all three).
 
-use j2735::message_frame::MESSAGE_NAMES;
+use j2735::msg::message_frame::MESSAGE_NAMES;
 use j2735::MessageFrame;
 
 const PATH: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/docs/value-sizes.md");
@@ -132,7 +132,7 @@ fn the_docs_table_of_value_sizes_holds_this_builds_sizes() {
 #[cfg(feature = "alloc")]
 #[test]
 fn with_alloc_a_frame_is_the_size_of_a_bsm_and_only_larger_messages_are_boxed() {
-    use j2735::basic_safety_message::BasicSafetyMessage;
+    use j2735::msg::basic_safety_message::BasicSafetyMessage;
     let bsm = core::mem::size_of::<BasicSafetyMessage>();
     let frame = core::mem::size_of::<MessageFrame>();
     let word = core::mem::size_of::<usize>();

@@ -20,7 +20,7 @@ fn unit() -> Box<Obu> {
     let tim = messages::encode(&messages::build_tim(&road, &zone).unwrap()).unwrap();
     let mut obu = Box::new(Obu::new(hmi_bench::core_config()));
     for bytes in [map, tim] {
-        let frame: j2735::message_frame::MessageFrame = j2735::uper::decode(&bytes).unwrap();
+        let frame: j2735::msg::message_frame::MessageFrame = j2735::uper::decode(&bytes).unwrap();
         obu.on_frame(Instant::ZERO, &frame)
             .expect("the core takes the bench's messages");
     }

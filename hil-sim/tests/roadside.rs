@@ -4,7 +4,7 @@
 
 use hil_sim::scenario::Scenario;
 use j2735::envelope::Psid;
-use j2735::message_frame::MessageFrame;
+use j2735::msg::message_frame::MessageFrame;
 use roadside::broadcast::Wrapping;
 use roadside::rsu::{messages_of, run, RoadsideOptions};
 use roadside::site::Site;

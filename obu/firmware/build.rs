@@ -10,7 +10,7 @@
 use std::{env, fmt::Write as _, fs, path::PathBuf};
 
 use j2735::frame::{decode_message_into, encode_message};
-use j2735::traveler_information::DirectionOfUse;
+use j2735::msg::traveler_information::DirectionOfUse;
 use j2735::uper::Placeholder;
 use j2735::TravelerInformation;
 use serde_json::Value;
@@ -209,7 +209,7 @@ fn eastbound_tim(uper: &[u8]) -> Vec<u8> {
     let mut out = vec![0u8; 4096];
     let n = encode_message(&tim, &mut out).expect("re-encodes");
     assert_eq!(&out[..n], uper, "the drive TIM re-encodes byte for byte");
-    tim.msg_cnt = j2735::common::MsgCount::new((tim.msg_cnt.get() + 1) % 128).expect("msgCnt");
+    tim.msg_cnt = j2735::msg::common::MsgCount::new((tim.msg_cnt.get() + 1) % 128).expect("msgCnt");
     let mut regions = 0;
     for frame in tim.data_frames.0.iter_mut() {
         for region in frame.regions.0.iter_mut() {

@@ -1,6 +1,6 @@
 //! Hand-built models shared by the unit tests.
 
-use j2735::personal_safety_message::{PersonalDeviceUserType, PersonalSafetyMessage};
+use j2735::msg::personal_safety_message::{PersonalDeviceUserType, PersonalSafetyMessage};
 
 use crate::geo::{LatLon, Point};
 use crate::lane::{
@@ -134,7 +134,7 @@ pub fn decode<M: j2735::frame::Message>(bytes: &[u8]) -> std::boxed::Box<M> {
 /// A road worker's PSM: id `[0, 0, 0, id]`, at `lat_e7`/`lon_e7`, `secMark` `sec_mark`,
 /// accuracy 0.5 m, standing (speed 0), heading unavailable.
 pub fn psm_at(id: u8, lat_e7: i32, lon_e7: i32, sec_mark: u16) -> PersonalSafetyMessage {
-    use j2735::common::{
+    use j2735::msg::common::{
         DSecond, Heading, Latitude, Longitude, MsgCount, SemiMajorAxisAccuracy, TemporaryID,
         Velocity,
     };

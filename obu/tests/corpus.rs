@@ -13,10 +13,10 @@ mod common;
 
 use std::collections::BTreeMap;
 
-use j2735::common::NodeListXY;
 use j2735::frame::peek_message_id;
-use j2735::map_data::MapData;
-use j2735::traveler_information::TravelerInformation;
+use j2735::msg::common::NodeListXY;
+use j2735::msg::map_data::MapData;
+use j2735::msg::traveler_information::TravelerInformation;
 use obu::ingest::map::models;
 use obu::ingest::{Ingest, IngestError};
 use obu::lane::{LaneKind, LaneModel};
@@ -173,7 +173,7 @@ fn check_model(
 /// Why a lane's width may lie outside 1.5-6 m.
 fn width_reason(
     kind: LaneKind,
-    gl: Option<&j2735::map_data::GenericLane>,
+    gl: Option<&j2735::msg::map_data::GenericLane>,
     lane_width_cm: Option<u16>,
 ) -> Option<String> {
     if kind != LaneKind::Vehicle {

@@ -16,8 +16,8 @@
 
 mod common;
 
-use j2735::map_data::MapData;
-use j2735::traveler_information::{DirectionOfUse, TravelerInformation};
+use j2735::msg::map_data::MapData;
+use j2735::msg::traveler_information::{DirectionOfUse, TravelerInformation};
 use obu::alert::{AlertConfig, AlertKind, LaneAdvice, ZoneState};
 use obu::geo::Point;
 use obu::lane::{LaneId, MapId};

@@ -4,10 +4,10 @@
 
 mod common;
 
-use j2735::common::Position3D;
-use j2735::map_data::{LaneAttributesVehicle, LaneDirection, LaneTypeAttributes};
-use j2735::message_frame::{MessageFrame, MessageFrameValue};
-use j2735::traveler_information::TravelerInformation;
+use j2735::msg::common::Position3D;
+use j2735::msg::map_data::{LaneAttributesVehicle, LaneDirection, LaneTypeAttributes};
+use j2735::msg::message_frame::{MessageFrame, MessageFrameValue};
+use j2735::msg::traveler_information::TravelerInformation;
 use j2735::uper::random::{Gen, Random};
 use j2735::uper::{Bits, Extensions};
 use j2735::{BasicSafetyMessage, MapData};

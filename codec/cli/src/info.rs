@@ -6,7 +6,7 @@ mod tim;
 
 use std::io::{self, Write};
 
-use j2735::common::{Latitude, Longitude, Position3D};
+use j2735::msg::common::{Latitude, Longitude, Position3D};
 use j2735::{MessageFrame, MessageFrameValue};
 
 use crate::decode::decode_frame;

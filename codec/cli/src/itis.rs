@@ -1,8 +1,8 @@
 //! Names of ITIS codes for the `info` summary: the phrases of the codes seen in deployed
 //! work-zone TIMs, the numbers 12544 + N, and the ITIS enumerations of the generated code.
 
-use j2735::itis::VehicleGroupAffected;
-use j2735::itis::{GenericLocations, IncidentResponseEquipment, ResponderGroupAffected};
+use j2735::msg::itis::VehicleGroupAffected;
+use j2735::msg::itis::{GenericLocations, IncidentResponseEquipment, ResponderGroupAffected};
 
 /// Codes that deployed work-zone TIMs use (see docs/domain.md).
 const WORK_ZONE_CODES: [(u16, &str); 8] = [

@@ -1,9 +1,9 @@
 //! The J2735 2020 messages by `messageId`: their ASN.1 type and the short name RSU records and
-//! logs use (both from the codec's generated table, [`j2735::message_frame::MESSAGE_NAMES`]),
+//! logs use (both from the codec's generated table, [`j2735::msg::message_frame::MESSAGE_NAMES`]),
 //! and the PSID they are usually sent with.
 
 use j2735::envelope::Psid;
-use j2735::message_frame::{MessageName, MESSAGE_NAMES};
+use j2735::msg::message_frame::{MessageName, MESSAGE_NAMES};
 
 /// One message of the MessageFrame object set.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

@@ -33,17 +33,12 @@
 
 use core::fmt;
 
-mod coer;
 /// Hexadecimal text (moved to [`crate::hex`]; kept here for the envelope API's users).
 pub use crate::hex;
 pub mod ieee1609dot2;
 pub mod psid;
 pub mod wsmp;
 pub use psid::Psid;
-mod ieee1609dot2_certificate;
-mod ieee1609dot2_error;
-mod ieee1609dot2_signature;
-mod ieee1609dot2_skip;
 pub mod rsu_text;
 
 #[cfg(all(test, feature = "shared-corpus"))]

@@ -2,7 +2,7 @@
 //! of a BIT STRING or of `_extensions`) must be one the type looked up.
 //!
 //! The generated `read_jer` code looks members up one name at a time through
-//! [`super::member`]; it never hands the runtime the whole set of names a SEQUENCE has. So
+//! [`super::parts::member`]; it never hands the runtime the whole set of names a SEQUENCE has. So
 //! while a strict read runs, this module records, per JSON object (by its address in the
 //! borrowed `Value` tree, which stays alive and unmoved for the whole read), the names that
 //! were looked up. After a successful read it walks the tree: a member of a recorded object

@@ -15,31 +15,25 @@
 
 mod boxed;
 mod error;
-mod ext;
+pub(crate) mod ext;
 #[cfg(feature = "_random")]
 pub mod random;
 mod reader;
 #[cfg(feature = "std")]
 mod recycle;
-mod sized;
+pub(crate) mod sized;
 #[cfg(feature = "alloc")]
 mod slots;
 mod storage;
+pub(crate) mod support;
 mod writer;
 
 pub use boxed::{Boxed, MessageBox};
 pub use error::{DecodeError, DecodeErrorKind, EncodeError, EncodeErrorKind};
-pub use ext::{
-    decode_open, decode_unknown_open, encode_unknown_open, Extensions, UnknownAdditions,
-};
+pub use ext::{Extensions, UnknownAdditions};
 pub use reader::{DecodeResult, LengthChunk, Reader};
 #[cfg(feature = "std")]
 pub use recycle::release_recycled;
-pub use sized::{
-    decode_bits, decode_fixed_octets, decode_ia5, decode_ia5_into, decode_octets,
-    decode_octets_into, decode_seq_of_into, encode_bits, encode_ia5, encode_octets, encode_seq_of,
-    read_octets_into, read_sized, write_sized, Size,
-};
 #[cfg(feature = "alloc")]
 pub use slots::IA5_INLINE;
 pub use storage::{Bits, Ia5, Octets, SeqOf, OCTETS_INLINE};
@@ -65,7 +59,8 @@ pub trait Placeholder: Sized {
     fn placeholder() -> Self;
 
     /// The placeholder of a new list item: with `alloc` the generated types return
-    /// `uper::item_placeholder` (a constant for small items), others [`Placeholder::placeholder`].
+    /// `__private::item_placeholder` (a constant for small items), others
+    /// [`Placeholder::placeholder`].
     #[doc(hidden)]
     #[inline]
     fn item_placeholder() -> Self {
@@ -86,41 +81,6 @@ pub trait Placeholder: Sized {
 impl Placeholder for u8 {
     fn placeholder() -> Self {
         0
-    }
-}
-
-/// A type's [`Placeholder`] as a constant, with `alloc` (where every value is small): the
-/// placeholder of each new list item ([`Placeholder::item_placeholder`]).
-///
-/// A new value's decode with `alloc` makes a placeholder for every list item before decoding
-/// into it. Made by a function, a placeholder is built in a temporary with narrow stores (a
-/// CHOICE's tag, an integer, a `None`) and copied into its slot with wide loads that
-/// overlap them, so each copy waits for the stores to complete (a failed store-to-load
-/// forward), a visible share of a new TIM's decode time (`bash codec/bench/callgrind.sh
-/// --features alloc`). A constant is copied from read-only memory instead.
-///
-/// Only list items of at most 64 octets use it ([`item_placeholder`]): for larger items, and
-/// for present OPTIONAL members and chosen alternatives, a constant makes a new SPaT slower
-/// (a large constant is copied whole, where the function writes little more than tags). Without `alloc` it is not used: a large value's constant would be as large in flash.
-#[doc(hidden)]
-#[cfg(feature = "alloc")]
-pub trait ConstPlaceholder: Sized {
-    /// The placeholder value.
-    const PLACEHOLDER: Self;
-}
-
-/// A new list item's placeholder (what the generated types' [`Placeholder::item_placeholder`]
-/// returns with `alloc`): the [`ConstPlaceholder`] of an item of at most 64 octets (a node, a
-/// connection), else the function. A larger item's constant is copied whole, and for a SPaT's
-/// 224-octet movements that took longer than the function (see `ConstPlaceholder`).
-#[doc(hidden)]
-#[cfg(feature = "alloc")]
-#[inline]
-pub fn item_placeholder<T: Placeholder + ConstPlaceholder>() -> T {
-    if core::mem::size_of::<T>() <= 64 {
-        T::PLACEHOLDER
-    } else {
-        T::placeholder()
     }
 }
 
@@ -161,52 +121,6 @@ pub trait Uper: Placeholder {
     #[inline]
     fn encode_uper(&self, w: &mut Writer<'_>) -> EncodeResult {
         self.encode_body(w).map_err(|e| e.in_type(Self::PATH))
-    }
-}
-
-/// Makes an absent optional value present (a placeholder). Without `alloc` it is out of
-/// line: the large temporary lives in this function's frame, not in the hot decoding
-/// function's. With `alloc` values are small and a new value's decode comes here for every
-/// present member, so it is inlined (fewer instructions for a new SPaT, MAP or TIM, and a kept
-/// value's about the same: `bash codec/bench/callgrind.sh --features alloc`).
-#[doc(hidden)]
-#[cfg_attr(not(feature = "alloc"), cold, inline(never))]
-#[cfg_attr(feature = "alloc", inline)]
-pub fn fill_option<T: Placeholder>(slot: &mut Option<T>) {
-    *slot = Some(T::placeholder());
-}
-
-/// Replaces `out` by `make()`, out of line (as [`fill_option`]); used to switch a CHOICE to
-/// another alternative before decoding into it.
-#[doc(hidden)]
-#[cold]
-#[inline(never)]
-pub fn replace_with<T, F: FnOnce() -> T>(out: &mut T, make: F) {
-    *out = make();
-}
-
-/// Picks the bound of the build's storage: `no_heap` without `alloc`, `heap` with it.
-#[doc(hidden)]
-pub const fn max_bits(no_heap: Option<u64>, heap: Option<u64>) -> Option<u64> {
-    if cfg!(feature = "alloc") {
-        heap
-    } else {
-        no_heap
-    }
-}
-
-/// As [`max_bits`], for a type whose no-heap bound differs between the default capacity
-/// profile and the firmware profile (feature `firmware-capacities`).
-#[doc(hidden)]
-pub const fn max_bits_profiled(
-    no_heap: Option<u64>,
-    no_heap_firmware: Option<u64>,
-    heap: Option<u64>,
-) -> Option<u64> {
-    if cfg!(feature = "firmware-capacities") {
-        max_bits(no_heap_firmware, heap)
-    } else {
-        max_bits(no_heap, heap)
     }
 }
 
@@ -312,11 +226,6 @@ impl Placeholder for bool {
     fn placeholder() -> Self {
         false
     }
-}
-
-#[cfg(feature = "alloc")]
-impl ConstPlaceholder for bool {
-    const PLACEHOLDER: Self = false;
 }
 
 impl Uper for bool {

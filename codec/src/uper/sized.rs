@@ -177,17 +177,6 @@ pub fn encode_seq_of<T: Uper>(w: &mut Writer<'_>, size: Size, items: &[T]) -> En
     })
 }
 
-/// Decodes a variable OCTET STRING.
-pub fn decode_octets<const N: usize>(
-    r: &mut Reader<'_>,
-    size: Size,
-    key: &'static str,
-) -> DecodeResult<Octets<N>> {
-    let mut out = Octets::new();
-    decode_octets_into(r, size, key, &mut out)?;
-    Ok(out)
-}
-
 /// Decodes a variable OCTET STRING into `out`.
 pub fn decode_octets_into<const N: usize>(
     r: &mut Reader<'_>,
@@ -224,13 +213,6 @@ pub fn encode_octets(w: &mut Writer<'_>, size: Size, octets: &[u8]) -> EncodeRes
     write_sized(w, size, octets.len(), |w, start, n| {
         w.write_octets(&octets[start..start + n])
     })
-}
-
-/// Decodes a fixed-size OCTET STRING (`SIZE(K)`, K < 64K).
-pub fn decode_fixed_octets<const K: usize>(r: &mut Reader<'_>) -> DecodeResult<[u8; K]> {
-    let mut out = [0u8; K];
-    r.read_octets(&mut out)?;
-    Ok(out)
 }
 
 /// Decodes a BIT STRING into storage of `NB` octets.
@@ -309,17 +291,6 @@ pub fn encode_bits<const NB: usize>(
         }
         Ok(())
     })
-}
-
-/// Decodes an IA5String.
-pub fn decode_ia5<const N: usize>(
-    r: &mut Reader<'_>,
-    size: Size,
-    key: &'static str,
-) -> DecodeResult<Ia5<N>> {
-    let mut out = Ia5::new();
-    decode_ia5_into(r, size, key, &mut out)?;
-    Ok(out)
 }
 
 /// Decodes an IA5String into `out`, reusing its storage (with `alloc`, its allocation).
@@ -427,7 +398,7 @@ mod tests {
     /// hand: SIZE(0..255) is an 8-bit length, each `LaneID` (0..255) 8 bits.
     #[test]
     fn long_lists_decode_across_runs_of_slots() {
-        use crate::generated::common::LaneID;
+        use crate::msg::common::LaneID;
         let size = Size::range(0, 255);
         let long: [u8; 201] = core::array::from_fn(|i| if i == 0 { 200 } else { (i - 1) as u8 });
         let mut list = SeqOf::<LaneID, 255>::new();
@@ -464,7 +435,8 @@ mod tests {
     fn capacity_is_checked_before_items() {
         // SIZE(1..255) count 200 with no items following: capacity error, not end of input.
         let mut r = Reader::new(&[199, 0]);
-        let e = decode_octets::<16>(&mut r, Size::range(1, 256), "Test.Key").unwrap_err();
+        let mut out = Octets::<16>::new();
+        let e = decode_octets_into(&mut r, Size::range(1, 256), "Test.Key", &mut out).unwrap_err();
         if cfg!(feature = "alloc") {
             assert_eq!(e.kind, DKind::UnexpectedEnd);
         } else {

@@ -109,8 +109,7 @@ impl<T: Placeholder + 'static, const N: usize, const I: usize> SeqOf<T, N, I> {
     /// dropped, with its former items in the slots (see `recycle.rs`), where `grow` would
     /// allocate and write placeholders. `grow` and `push_slot` never show another list's
     /// former items.
-    #[doc(hidden)]
-    pub fn grow_decoding(&mut self, n: usize) -> Option<&mut [T]> {
+    pub(crate) fn grow_decoding(&mut self, n: usize) -> Option<&mut [T]> {
         self.grow_slots(n, true)
     }
 

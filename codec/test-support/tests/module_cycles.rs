@@ -5,7 +5,7 @@
 //! are `#[cfg(test)]` modules and test files: a test may use anything); the graph must have
 //! no cycle, neither a pair importing each other nor a longer loop. The same holds one level
 //! down, among the sub-modules of each folder module (`super::x`, `crate::m::x`). The
-//! generated J2735 modules (`codec/src/generated/`) are left out of that second level: they
+//! generated J2735 modules (`codec/src/msg/`) are left out of that second level: they
 //! import each other as the standard's ASN.1 modules do.
 
 use std::collections::{BTreeMap, BTreeSet};
@@ -151,7 +151,7 @@ fn without_test_modules(text: &str) -> String {
 fn levels(src: &Path) -> Vec<(String, Graph)> {
     let mut out = vec![("crate".to_string(), graph(src, &["crate::".to_string()]))];
     for (m, path) in modules(src) {
-        if path.is_dir() && m != "generated" {
+        if path.is_dir() && m != "msg" {
             let prefixes = ["super::".to_string(), format!("crate::{m}::")];
             out.push((m.clone(), graph(&path, &prefixes)));
         }

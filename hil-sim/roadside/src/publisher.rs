@@ -201,7 +201,7 @@ mod tests {
     use crate::clock::Utc;
     use crate::messages::{SignSpeed, DURATION_INDEFINITE};
     use geodesy::LatLon;
-    use j2735::message_frame::{MessageFrame, MessageFrameValue};
+    use j2735::msg::message_frame::{MessageFrame, MessageFrameValue};
 
     fn road() -> Road {
         Road::straight(

@@ -2,7 +2,7 @@
 //! from the fixtures in `hil-sim/tests/data/` (shared with the scenarios), the MAP and TIM
 //! built from them, and the errors of malformed variants.
 
-use j2735::message_frame::MessageFrame;
+use j2735::msg::message_frame::MessageFrame;
 use roadside::broadcast::Prng;
 use roadside::geojson::{
     load_cones, load_lane_map, rfc3339_unix_ms, work_zones_from_wzdx, InputError, Problem,

@@ -4,7 +4,7 @@
 #![cfg(feature = "shared-oracle")]
 
 use geodesy::LatLon;
-use j2735::message_frame::MessageFrame;
+use j2735::msg::message_frame::MessageFrame;
 use roadside::clock::Utc;
 use roadside::messages::{self, SignSpeed, WorkZone, DURATION_INDEFINITE};
 use roadside::road::Road;

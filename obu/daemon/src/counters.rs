@@ -67,7 +67,7 @@ pub const fn drop_group(group: DropGroup) -> &'static str {
 
 /// The counter name of a `messageId`: the codec's short name, or `unknown`.
 pub fn message_name(id: u16) -> &'static str {
-    j2735::message_frame::message_short_name(id).unwrap_or("unknown")
+    j2735::msg::message_frame::message_short_name(id).unwrap_or("unknown")
 }
 
 #[derive(Debug, Default)]

@@ -7,7 +7,7 @@ mod common;
 use common::{
     http, open_events, pair, read_events, request, run_of, status, temp_dir, vector, Daemon,
 };
-use j2735::personal_safety_message::{PersonalDeviceUserType, PersonalSafetyMessage};
+use j2735::msg::personal_safety_message::{PersonalDeviceUserType, PersonalSafetyMessage};
 use std::io::{Read, Write};
 use std::net::{TcpStream, UdpSocket};
 use std::path::{Path, PathBuf};
@@ -158,7 +158,7 @@ fn worker_psm(id: u8, sec_mark: u16) -> Vec<u8> {
 }
 
 fn psm_bytes(id: u8, sec_mark: u16, kind: PersonalDeviceUserType) -> Vec<u8> {
-    use j2735::common::{DSecond, Latitude, Longitude, SemiMajorAxisAccuracy, TemporaryID};
+    use j2735::msg::common::{DSecond, Latitude, Longitude, SemiMajorAxisAccuracy, TemporaryID};
     let mut psm = <PersonalSafetyMessage as j2735::uper::Placeholder>::placeholder();
     psm.basic_type = kind;
     psm.id = TemporaryID([0, 0, 0, id]);

@@ -1,7 +1,7 @@
 //! TIM content (ITIS codes and text of every content kind) -> [`ZoneInfo`].
 
-use j2735::itis::ITIScodesAndTextItemItem;
-use j2735::traveler_information::{
+use j2735::msg::itis::ITIScodesAndTextItemItem;
+use j2735::msg::traveler_information::{
     ExitServiceItemItem, GenericSignageItemItem, SpeedLimitItemItem, TravelerDataFrameContent,
     WorkZoneItemItem,
 };

@@ -1,10 +1,10 @@
 //! MapData -> lane models: one per intersection and road segment.
 
 use heapless::Vec;
-use j2735::common::{
+use j2735::msg::common::{
     LaneDataAttribute, NodeListXY, NodeXY, Position3D, SpeedLimitList, SpeedLimitType,
 };
-use j2735::map_data::{
+use j2735::msg::map_data::{
     GenericLane, IntersectionGeometry, LaneDirection, LaneTypeAttributes, MapData, RoadSegment,
 };
 

@@ -1,10 +1,10 @@
 //! Node offsets, positions, computed lanes and polyline thinning shared by MAP and TIM.
 
-use j2735::common::{
+use j2735::msg::common::{
     ComputedLane, ComputedLaneOffsetXaxis, ComputedLaneOffsetYaxis, Latitude, Longitude,
     NodeOffsetPointXY, Position3D,
 };
-use j2735::traveler_information::NodeOffsetPointLL;
+use j2735::msg::traveler_information::NodeOffsetPointLL;
 
 use super::IngestError;
 use crate::geo::{LatLon, Point};
@@ -28,7 +28,7 @@ pub(crate) fn position(p: &Position3D) -> Result<(LatLon, f32), IngestError> {
     let at = latlon(p.lat, p.long).ok_or(IngestError::InvalidReference)?;
     let elev = p
         .elevation
-        .filter(|e| *e != j2735::common::Elevation::UNAVAILABLE)
+        .filter(|e| *e != j2735::msg::common::Elevation::UNAVAILABLE)
         .map_or(0.0, |e| e.get() as f32 * 0.1);
     Ok((at, elev))
 }
@@ -109,8 +109,9 @@ impl Computed {
             .rotate_xy
             .map_or(0.0, |a| a.get() as f32 * 0.0125)
             .to_radians();
-        let factor =
-            |s: Option<j2735::common::ScaleB12>| 1.0 + s.map_or(0.0, |s| s.get() as f32) * 0.0005;
+        let factor = |s: Option<j2735::msg::common::ScaleB12>| {
+            1.0 + s.map_or(0.0, |s| s.get() as f32) * 0.0005
+        };
         Computed {
             offset: Point::new(x * z, y * z),
             sin: libm::sinf(angle),
@@ -170,7 +171,7 @@ fn segment_distance(a: Point, b: Point, p: Point) -> f32 {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use j2735::common::{Angle, DrivenLineOffsetLg, DrivenLineOffsetSm, LaneID, ScaleB12};
+    use j2735::msg::common::{Angle, DrivenLineOffsetLg, DrivenLineOffsetSm, LaneID, ScaleB12};
 
     fn computed(x: i16, y: i16, rot: Option<u16>, sx: Option<i16>) -> ComputedLane {
         let mut c = <ComputedLane as j2735::uper::Placeholder>::placeholder();

@@ -3,14 +3,14 @@
 
 use std::boxed::Box;
 
-use j2735::common::*;
-use j2735::itis::ITIScodes;
-use j2735::map_data::{
+use j2735::msg::common::*;
+use j2735::msg::itis::ITIScodes;
+use j2735::msg::map_data::{
     ConnectingLane, Connection, ConnectsToList, GenericLane, IntersectionGeometry,
     IntersectionGeometryList, LaneAttributesBarrier, LaneAttributesVehicle, LaneDirection,
     LaneTypeAttributes, MapData, RoadSegment, RoadSegmentList,
 };
-use j2735::traveler_information::*;
+use j2735::msg::traveler_information::*;
 use j2735::uper::{Bits, Placeholder, SeqOf};
 
 /// `v` or a test failure.
@@ -256,7 +256,7 @@ pub fn tim_with(
 
 /// Sets the frame's content to work-zone ITIS codes.
 pub fn work_zone(df: &mut TravelerDataFrame, codes: &[u16]) {
-    let mut wz = j2735::traveler_information::WorkZone(SeqOf::new());
+    let mut wz = j2735::msg::traveler_information::WorkZone(SeqOf::new());
     for &c in codes {
         let _ = wz.0.push(WorkZoneItem {
             item: WorkZoneItemItem::Itis(ok(ITIScodes::new(c))),

@@ -1,8 +1,8 @@
 //! TravelerInformation -> work zones: one per data frame, its regions and content.
 
 use heapless::Vec;
-use j2735::common::{HeadingSlice as J2735HeadingSlice, NodeListXY, NodeXY};
-use j2735::traveler_information::{
+use j2735::msg::common::{HeadingSlice as J2735HeadingSlice, NodeListXY, NodeXY};
+use j2735::msg::traveler_information::{
     Circle, DirectionOfUse, DistanceUnits, GeographicalPath, GeographicalPathDescription,
     GeometricProjection, NodeListLL, OffsetSystem, OffsetSystemOffset, RegionPointSet,
     TravelerDataFrame, TravelerDataFrameMsgId, TravelerInformation, ValidRegion, ValidRegionArea,
@@ -149,7 +149,7 @@ pub(crate) fn region(
 }
 
 /// An anchor's position and elevation, `None` when absent or unavailable.
-fn usable(anchor: Option<&j2735::common::Position3D>) -> Option<(LatLon, f32)> {
+fn usable(anchor: Option<&j2735::msg::common::Position3D>) -> Option<(LatLon, f32)> {
     anchor.and_then(|a| nodes::position(a).ok())
 }
 
@@ -264,7 +264,7 @@ fn ll_path(
 /// `id` the reference lane cannot be found.
 fn computed_path(
     c: &Common,
-    cl: &j2735::common::ComputedLane,
+    cl: &j2735::msg::common::ComputedLane,
     zoom: i64,
     maps: &MapStore,
     sink: &mut Sink,

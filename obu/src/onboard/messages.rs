@@ -1,10 +1,10 @@
 //! Decoded J2735 messages into the stores: [`Obu::on_frame`], [`Obu::on_map`],
 //! [`Obu::on_tim`], [`Obu::on_psm`].
 
-use j2735::map_data::MapData;
-use j2735::message_frame::{MessageFrame, MessageFrameValue};
-use j2735::personal_safety_message::PersonalSafetyMessage;
-use j2735::traveler_information::{TravelerDataFrame, TravelerInformation};
+use j2735::msg::map_data::MapData;
+use j2735::msg::message_frame::{MessageFrame, MessageFrameValue};
+use j2735::msg::personal_safety_message::PersonalSafetyMessage;
+use j2735::msg::traveler_information::{TravelerDataFrame, TravelerInformation};
 
 use super::{Obu, Stored};
 use crate::capacity::MAX_MAPS;

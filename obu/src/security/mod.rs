@@ -59,7 +59,7 @@ use j2735::envelope::ieee1609dot2::{
 };
 use j2735::envelope::Psid;
 use j2735::frame::Message;
-use j2735::personal_safety_message::PersonalSafetyMessage;
+use j2735::msg::personal_safety_message::PersonalSafetyMessage;
 use j2735::{MapData, TravelerInformation};
 
 use crate::capacity::{MAX_CACHED_CERTS, MAX_CHAIN, MAX_RECENT, MAX_TRUST_ANCHORS};

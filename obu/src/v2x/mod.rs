@@ -24,7 +24,7 @@ use j2735::envelope::rsu_text::RsuMessage;
 use j2735::envelope::wsmp::{looks_like_wsmp, Wsm};
 use j2735::envelope::Psid;
 use j2735::frame::{decode_message_into, peek_message_id, Message};
-use j2735::personal_safety_message::PersonalSafetyMessage;
+use j2735::msg::personal_safety_message::PersonalSafetyMessage;
 use j2735::uper::Placeholder;
 use j2735::{MapData, TravelerInformation};
 

@@ -177,7 +177,7 @@ fn reasons_are_a_closed_indexed_set_of_static_names() {
 
 #[test]
 fn message_short_names_have_one_spelling() {
-    use j2735::message_frame::message_short_name as name;
+    use j2735::msg::message_frame::message_short_name as name;
     let want = [
         (18, "MAP"),
         (19, "SPAT"),
@@ -257,9 +257,10 @@ mod signed {
     /// The vector's TIM, cancelled (durationTime 0, msgCnt + 1), as a bare frame.
     fn unsigned_cancel_of(v: &SignedVector) -> Vec<u8> {
         let mut tim = crate::testutil::decode::<TravelerInformation>(&v.frame);
-        tim.msg_cnt = j2735::common::MsgCount::new((tim.msg_cnt.get() + 1) % 128).unwrap();
+        tim.msg_cnt = j2735::msg::common::MsgCount::new((tim.msg_cnt.get() + 1) % 128).unwrap();
         for frame in tim.data_frames.iter_mut() {
-            frame.duration_time = j2735::traveler_information::MinutesDuration::new(0).unwrap();
+            frame.duration_time =
+                j2735::msg::traveler_information::MinutesDuration::new(0).unwrap();
         }
         let mut buf = std::vec![0u8; 4096];
         let n = encode_message(&*tim, &mut buf).unwrap();

@@ -26,7 +26,7 @@ mod tests;
 pub use place::{near_road, place, Placement};
 pub use store::{WorkerStats, WorkerStore, WorkerUpdate};
 
-use j2735::personal_safety_message::{PersonalDeviceUserType, PersonalSafetyMessage};
+use j2735::msg::personal_safety_message::{PersonalDeviceUserType, PersonalSafetyMessage};
 
 use crate::geo::LatLon;
 use crate::ingest::IngestError;

@@ -1,5 +1,5 @@
-use j2735::common::{DSecond, Heading, Latitude, Longitude, SemiMajorAxisAccuracy, Velocity};
-use j2735::personal_safety_message::PersonalDeviceUserType;
+use j2735::msg::common::{DSecond, Heading, Latitude, Longitude, SemiMajorAxisAccuracy, Velocity};
+use j2735::msg::personal_safety_message::PersonalDeviceUserType;
 
 use super::*;
 use crate::capacity::MAX_WORKERS;

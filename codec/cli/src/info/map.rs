@@ -1,7 +1,7 @@
 //! The MAP part of `j2735 info`: intersections and road segments, their lanes and nodes.
 
-use j2735::common::{NodeListXY, SpeedLimitList, Velocity};
-use j2735::map_data::{
+use j2735::msg::common::{NodeListXY, SpeedLimitList, Velocity};
+use j2735::msg::map_data::{
     GenericLane, IntersectionGeometry, LaneDirection, LaneTypeAttributes, RoadSegment,
 };
 use j2735::MapData;

@@ -1,9 +1,9 @@
 //! The TIM part of `j2735 info`: each data frame's sign, validity window, regions and
 //! content (kind, ITIS codes and text).
 
-use j2735::common::NodeListXY;
-use j2735::itis::ITIScodesAndTextItemItem as AdvisoryItem;
-use j2735::traveler_information::{
+use j2735::msg::common::NodeListXY;
+use j2735::msg::itis::ITIScodesAndTextItemItem as AdvisoryItem;
+use j2735::msg::traveler_information::{
     ExitServiceItemItem, GenericSignageItemItem, GeographicalPath, GeographicalPathDescription,
     MinutesDuration, NodeListLL, OffsetSystem, OffsetSystemOffset, SpeedLimitItemItem,
     TravelerDataFrame, TravelerDataFrameContent, TravelerDataFrameMsgId, WorkZoneItemItem,

@@ -5,7 +5,7 @@ use j2735::envelope::ieee1609dot2::{
     encode_unsecured, looks_like_ieee1609dot2, unsecured_encoded_len,
 };
 use j2735::envelope::Psid;
-use j2735::message_frame::message_short_name;
+use j2735::msg::message_frame::message_short_name;
 use std::fmt;
 use std::sync::{Arc, Mutex, PoisonError};
 

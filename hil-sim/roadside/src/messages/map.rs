@@ -6,17 +6,18 @@ use super::{
     BuildError, SignSpeed, WorkZone,
 };
 use crate::road::{Road, RoadLane};
-use j2735::common::{
-    IntersectionID, LaneDataAttribute, LaneDataAttributeList, NodeLLmD64b, OffsetB10,
+use j2735::msg::common::{
+    IntersectionID, IntersectionReferenceID, LaneDataAttribute, LaneDataAttributeList, LaneID,
+    LaneWidth, Latitude, Longitude, MsgCount, NodeAttributeSetXY, NodeLLmD64b, NodeListXY,
+    NodeOffsetPointXY, NodeSetXY, NodeXY, OffsetB10, RegulatorySpeedLimit, SpeedLimitList,
+    SpeedLimitType, Velocity,
 };
-use j2735::map_data::{LaneAttributesVehicle, LaneList, LaneSharing, LayerType};
+use j2735::msg::map_data::{
+    GenericLane, IntersectionGeometry, LaneAttributes, LaneAttributesVehicle, LaneDirection,
+    LaneList, LaneSharing, LaneTypeAttributes, LayerType,
+};
 use j2735::uper::Extensions;
-use j2735::{
-    GenericLane, IntersectionGeometry, IntersectionReferenceID, LaneAttributes, LaneDirection,
-    LaneID, LaneTypeAttributes, LaneWidth, Latitude, Longitude, MapData, MessageFrame,
-    MessageFrameValue, MsgCount, NodeAttributeSetXY, NodeListXY, NodeOffsetPointXY, NodeSetXY,
-    NodeXY, RegulatorySpeedLimit, SpeedLimitList, SpeedLimitType, Velocity,
-};
+use j2735::{MapData, MessageFrame, MessageFrameValue};
 
 /// The MapData frame for `road`, intersection (or road section) `id`, `revision`, with
 /// `maxSpeedInConstructionZone` from the zone start on the lanes running with the zone.
@@ -33,7 +34,7 @@ pub fn build_map(
     let base_width = road.lanes.first().map_or(3.6, |l| l.width_m);
     let limit = road.lanes.first().map_or(0.0, |l| l.speed_limit_kmh);
     let revision = fit("revision", revision.into(), MsgCount::new)?;
-    let mut intersections = j2735::map_data::IntersectionGeometryList::new();
+    let mut intersections = j2735::msg::map_data::IntersectionGeometryList::new();
     let section = IntersectionGeometry {
         name: None,
         id: IntersectionReferenceID {

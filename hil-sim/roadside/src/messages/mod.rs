@@ -17,12 +17,13 @@ pub use tim::build_tim;
 
 use crate::clock::Utc;
 use crate::road::{Road, RoadLane};
-use j2735::common::{
-    NodeXY20b, NodeXY22b, NodeXY24b, NodeXY26b, NodeXY28b, NodeXY32b, OffsetB10, OffsetB11,
-    OffsetB12, OffsetB13, OffsetB14, OffsetB16,
+use j2735::msg::common::{
+    HeadingSlice, Latitude, Longitude, NodeOffsetPointXY, NodeXY20b, NodeXY22b, NodeXY24b,
+    NodeXY26b, NodeXY28b, NodeXY32b, OffsetB10, OffsetB11, OffsetB12, OffsetB13, OffsetB14,
+    OffsetB16, Position3D,
 };
 use j2735::uper::Extensions;
-use j2735::{HeadingSlice, Latitude, Longitude, MessageFrame, NodeOffsetPointXY, Position3D};
+use j2735::MessageFrame;
 use std::fmt;
 
 /// ITIS "road construction".

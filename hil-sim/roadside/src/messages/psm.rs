@@ -6,12 +6,12 @@
 use super::{checked, fit, position, velocity, BuildError};
 use crate::clock::Utc;
 use geodesy::LatLon;
-use j2735::common::{
+use j2735::msg::common::{
     DSecond, Heading, MsgCount, OffsetLLB18, PathHistory, PathHistoryPoint, PathHistoryPointList,
     PositionalAccuracy, SemiMajorAxisAccuracy, SemiMajorAxisOrientation, SemiMinorAxisAccuracy,
     TemporaryID, TimeOffset, Velocity, VertOffsetB12,
 };
-use j2735::personal_safety_message::{
+use j2735::msg::personal_safety_message::{
     PersonalDeviceUserType, PersonalSafetyMessage, PublicSafetyAndRoadWorkerActivity,
 };
 use j2735::uper::Extensions;

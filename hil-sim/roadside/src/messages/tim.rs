@@ -8,19 +8,20 @@ use super::{
     ITIS_NUMBER_BASE, ITIS_RIGHT_LANE, ITIS_ROAD_CONSTRUCTION, ITIS_SPEED_LIMIT,
 };
 use crate::road::{bearing, Road, RoadLane};
-use j2735::common::{RoadSegmentID, SSPindex};
-use j2735::traveler_information::{
-    DirectionOfUse, GeographicalPathDescription, MUTCDCode, MinutesDuration, OffsetSystemOffset,
-    RoadSignID, SignPrority, SpeedLimit, SpeedLimitItem, SpeedLimitItemItem,
-    TravelerDataFrameContent, TravelerDataFrameMsgId, TravelerDataFrameRegions, TravelerInfoType,
-    UniqueMSGID, WorkZone as WorkZoneContent, WorkZoneItem, WorkZoneItemItem,
+use j2735::msg::common::{
+    DYear, DescriptiveName, LaneWidth, MinuteOfTheYear, MsgCount, NodeListXY, NodeSetXY, NodeXY,
+    RoadSegmentID, RoadSegmentReferenceID, SSPindex,
+};
+use j2735::msg::itis::ITIScodes;
+use j2735::msg::traveler_information::{
+    DirectionOfUse, GeographicalPath, GeographicalPathDescription, MUTCDCode, MinutesDuration,
+    OffsetSystem, OffsetSystemOffset, RoadSignID, SignPrority, SpeedLimit, SpeedLimitItem,
+    SpeedLimitItemItem, TravelerDataFrame, TravelerDataFrameContent, TravelerDataFrameList,
+    TravelerDataFrameMsgId, TravelerDataFrameRegions, TravelerInfoType, UniqueMSGID,
+    WorkZone as WorkZoneContent, WorkZoneItem, WorkZoneItemItem,
 };
 use j2735::uper::Extensions;
-use j2735::{
-    DYear, DescriptiveName, GeographicalPath, ITIScodes, LaneWidth, MessageFrame,
-    MessageFrameValue, MinuteOfTheYear, MsgCount, NodeListXY, NodeSetXY, NodeXY, OffsetSystem,
-    RoadSegmentReferenceID, TravelerDataFrame, TravelerDataFrameList, TravelerInformation,
-};
+use j2735::{MessageFrame, MessageFrameValue, TravelerInformation};
 
 /// The TravelerInformation frame of a work zone on `road`: per closed lane a path region
 /// from the zone start (the anchor) to its end, in a `workZone` data frame (ITIS road

@@ -26,7 +26,7 @@ pub const KINDS: usize = 12;
 /// codec's message short names, `unknown`, the core's drop reasons).
 pub fn closed_v2x_key(group: &str, reason: &str) -> bool {
     if group == "messages" || group == "repeats" {
-        let named = j2735::message_frame::MESSAGE_NAMES
+        let named = j2735::msg::message_frame::MESSAGE_NAMES
             .iter()
             .any(|m| m.short == reason);
         named || reason == "unknown"

@@ -1,8 +1,8 @@
 use std::boxed::Box;
 use std::vec::Vec;
 
-use j2735::common::SpeedLimitType::{MaxSpeedInConstructionZone, VehicleMaxSpeed};
-use j2735::map_data::MapData;
+use j2735::msg::common::SpeedLimitType::{MaxSpeedInConstructionZone, VehicleMaxSpeed};
+use j2735::msg::map_data::MapData;
 
 use super::*;
 use crate::geo::LatLon;
@@ -262,7 +262,7 @@ fn rejected_parts_are_counted() {
         assert_eq!(model(&obu, 12).lanes().len(), 1);
         let mut bad = map_with(13, 1, None, |_| {});
         if let Some(ix) = bad.intersections.as_mut().and_then(|l| l.0.first_mut()) {
-            ix.ref_point.lat = j2735::common::Latitude::UNAVAILABLE;
+            ix.ref_point.lat = j2735::msg::common::Latitude::UNAVAILABLE;
         }
         assert_eq!(ingest(&mut obu, &bad), Err(IngestError::InvalidReference));
         assert!(obu.maps().get(MapId(13)).is_none());

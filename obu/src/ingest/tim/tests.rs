@@ -1,7 +1,7 @@
 use std::boxed::Box;
 
-use j2735::common::{RoadRegulatorID, RoadSegmentID, RoadSegmentReferenceID};
-use j2735::traveler_information::{DirectionOfUse, DistanceUnits, TravelerInformation};
+use j2735::msg::common::{RoadRegulatorID, RoadSegmentID, RoadSegmentReferenceID};
+use j2735::msg::traveler_information::{DirectionOfUse, DistanceUnits, TravelerInformation};
 use j2735::uper::Placeholder;
 
 use super::*;
@@ -234,9 +234,10 @@ fn replacement_cancel_and_expiry() {
                 Some(9),
                 cnt,
                 &[&|df| {
-                    df.start_time = ok(j2735::common::MinuteOfTheYear::new(start));
-                    df.duration_time =
-                        ok(j2735::traveler_information::MinutesDuration::new(duration));
+                    df.start_time = ok(j2735::msg::common::MinuteOfTheYear::new(start));
+                    df.duration_time = ok(j2735::msg::traveler_information::MinutesDuration::new(
+                        duration,
+                    ));
                     add_region(df, path());
                 }],
             )
@@ -302,7 +303,7 @@ fn replacement_cancel_and_expiry() {
 fn oracle_vectors_load() {
     big_stack(|| {
         let mut obu = Box::new(Obu::default());
-        let map = decode::<j2735::map_data::MapData>(&vector("map_road_segments"));
+        let map = decode::<j2735::msg::map_data::MapData>(&vector("map_road_segments"));
         assert!(obu.on_map(Instant::ZERO, &map).is_ok());
         let expect_ok = [
             "tim_work_zone_left_lane_closed",

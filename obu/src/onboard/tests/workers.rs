@@ -9,10 +9,10 @@ use crate::ingest::{IngestError, MessageKind};
 use crate::security::{SecurityConfig, PSID_PSM};
 use crate::testutil::{big_stack, psm, psm_at};
 use crate::v2x::{DropReason, SecurityReason, V2xOutcome, V2xReceiver};
-use j2735::common::{DSecond, SemiMajorAxisAccuracy};
 use j2735::frame::Message;
-use j2735::message_frame::{MessageFrame, MessageFrameValue};
-use j2735::personal_safety_message::{PersonalDeviceUserType, PersonalSafetyMessage};
+use j2735::msg::common::{DSecond, SemiMajorAxisAccuracy};
+use j2735::msg::message_frame::{MessageFrame, MessageFrameValue};
+use j2735::msg::personal_safety_message::{PersonalDeviceUserType, PersonalSafetyMessage};
 use std::string::ToString;
 
 const V: f32 = 40.0 / 3.6;
