@@ -54,11 +54,20 @@ fn check_wsmp(data: &[u8]) {
         let n = wsmp::encode(wsm.psid, &wsm.info, wsm.data, &mut out)
             .unwrap_or_else(|| panic!("wsmp: a parsed WSM does not write; input {}", hex(data)));
         let again = Wsm::parse(&out[..n]);
-        assert_eq!(again, Ok(wsm), "wsmp: written WSM differs; input {}", hex(data));
+        assert_eq!(
+            again,
+            Ok(wsm),
+            "wsmp: written WSM differs; input {}",
+            hex(data)
+        );
     }
     if let Some(n) = wsmp::encode(Psid::TIM, &WsmpInfo::default(), data, &mut out) {
         let wsm = Wsm::parse(&out[..n]).expect("wsmp: an encoded WSM parses");
-        assert!(wsm.data == data && wsm.psid == Psid::TIM, "wsmp: round trip; input {}", hex(data));
+        assert!(
+            wsm.data == data && wsm.psid == Psid::TIM,
+            "wsmp: round trip; input {}",
+            hex(data)
+        );
     }
 }
 

@@ -34,7 +34,10 @@ pub fn check(data: &[u8]) {
                 if let Ok(fix) = epoch.outcome {
                     let (lat, lon) = (fix.position.lat_deg(), fix.position.lon_deg());
                     assert!(lat.abs() <= 90.0 && lon.abs() <= 180.0, "{lat} {lon}");
-                    for v in [fix.accuracy_m, fix.speed_mps, fix.course_deg].into_iter().flatten() {
+                    for v in [fix.accuracy_m, fix.speed_mps, fix.course_deg]
+                        .into_iter()
+                        .flatten()
+                    {
                         assert!(v.is_finite(), "{fix:?}");
                     }
                 }
