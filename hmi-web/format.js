@@ -1,5 +1,7 @@
 /* Pure formatting and alert wording. No DOM: also loaded by the node unit tests. */
-import contract from './contract.json' with { type: 'json' };
+
+/** The core's contract (alert kinds, stages, the settings' ranges), served beside the app. */
+const contract = await (await fetch(new URL('./contract.json', import.meta.url))).json();
 const MPS_TO = { kmh: 3.6, mph: 2.23694 };
 const M_TO_FT = 3.28084;
 const FT_PER_MILE = 5280;
@@ -125,9 +127,9 @@ function describeAlert(alert, ctx) {
 const STAGES = contract.stages;
 
 /**
- * The stage of the primary alert: the one source of colour and sound. A server without
- * `stage` (older core) gets the old rules: an act-now alert is Urgent, the zone warning
- * Warning, an alert while approaching Information.
+ * The stage of the primary alert: the one source of colour and sound. A state without
+ * `stage` (a core that does not stage its alerts) is staged here: an act-now alert is
+ * Urgent, the zone warning Warning, an alert while approaching Information.
  */
 function stageOf(state) {
   const s = state || {};
@@ -144,7 +146,7 @@ function stageRank(stage) {
   return Math.max(0, STAGES.indexOf(stage));
 }
 
-/** 'Live' | 'Estimated' | 'Lost'; without `position` (older core) GNSS loss is Lost. */
+/** 'Live' | 'Estimated' | 'Lost'; without `position` (a core that does not send it) GNSS loss is Lost. */
 function positionOf(state) {
   const s = state || {};
   if (s.position === 'Live' || s.position === 'Estimated' || s.position === 'Lost') return s.position;

@@ -1,6 +1,6 @@
 /* Pairing: the unit takes settings only from a tablet that has sent it the unit's PIN once
  * (POST /api/pair). Its answer sets an HttpOnly session cookie the page never sees; the
- * browser sends it with every later request. HmiPair.ask() shows the dialog and resolves
+ * browser sends it with every later request. pair.ask() shows the dialog and resolves
  * true once paired, false when the driver cancels. */
 const doc = document;
 const $ = (id) => doc.getElementById(id);

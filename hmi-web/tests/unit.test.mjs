@@ -1,10 +1,17 @@
 // Unit tests of the page's pure parts (format.js, lanes.js model), run in node: no browser, no server.
 import { test } from 'node:test';
 import assert from 'node:assert/strict';
-import * as F from '../format.js';
-import * as L from '../lanes.js';
-import { createSound } from '../sound.js';
 import fs from 'node:fs';
+import { createSound } from '../sound.js';
+
+// The app fetches its contract beside itself; node's fetch does not read files, so the
+// modules' file: URLs are read from the disk here (anything else goes to node's fetch).
+const netFetch = globalThis.fetch;
+globalThis.fetch = async (url, opts) => (String(url).startsWith('file:')
+  ? { ok: true, json: async () => JSON.parse(fs.readFileSync(new URL(String(url)), 'utf8')) }
+  : netFetch(url, opts));
+const F = await import('../format.js');
+const L = await import('../lanes.js');
 
 test('speed in km/h and mph, rounded, never negative', () => {
   assert.equal(F.speedText(11.1111, 'kmh'), '40');
@@ -39,22 +46,26 @@ test('distance field: countdown, in zone, leaving, unknown', () => {
   assert.equal(F.distanceView({ zone_state: 'Approaching', distance_m: null }, 'kmh').value, '—');
 });
 
-test('the app follows the core\'s contract: kinds, stages and setting ranges', () => {
+test('the app knows every alert kind and stage of the core\'s contract', () => {
   const contract = JSON.parse(fs.readFileSync(new URL('../contract.json', import.meta.url), 'utf8'));
-  assert.deepEqual(F.KINDS, contract.alert_kinds, 'alert kinds in the core\'s priority order');
-  assert.equal(F.KINDS[0], 'WorkerInLane');
+  assert.equal(contract.alert_kinds[0], 'WorkerInLane', 'a person in the path first');
   for (const kind of contract.alert_kinds) {
     const d = F.describeAlert({ kind, distance_m: 80, limit_mps: 11.11 }, { units: 'kmh', advice: 'None' });
     assert.notEqual(d.title, kind, `${kind} has its own wording, not the unknown kind's fallback`);
   }
-  assert.deepEqual(F.STAGES, contract.stages);
-  contract.stages.forEach((stage, i) => assert.equal(F.stageRank(stage), i, stage));
+  // What each stage looks and sounds like: a stage the core adds fails here until the app
+  // (and this table) give it its colour and tone.
+  const looks = { None: ['zone', 'none'], Information: ['amber', 'none'], Warning: ['red', 'warning'], Urgent: ['red', 'urgent'] };
+  assert.deepEqual(Object.keys(looks), contract.stages);
+  for (const stage of contract.stages) {
+    const state = { stage, primary: { kind: 'ReducedSpeedAhead' } };
+    assert.deepEqual([F.stageSev(stage, 'amber'), F.toneFor(state, true)], looks[stage], stage);
+  }
+  // The form's feet: the whole feet within the contract's metres.
   const metres = contract.settings.warning_distance_m;
-  assert.deepEqual(F.formDistanceRange('kmh'), { min: metres.min, max: metres.max, unit: 'm' });
   const feet = F.formDistanceRange('mph');
   assert.ok(F.metresFromForm(feet.min, 'mph') >= metres.min && F.metresFromForm(feet.max, 'mph') <= metres.max, JSON.stringify(feet));
   assert.ok(F.metresFromForm(feet.min - 1, 'mph') < metres.min && F.metresFromForm(feet.max + 1, 'mph') > metres.max, 'whole feet');
-  assert.equal(contract.settings.lead_time_s.unit, 's');
 });
 
 test('every alert kind has a colour, an icon and short text', () => {

@@ -33,7 +33,7 @@
 
 use core::fmt;
 
-/// Hexadecimal text (moved to [`crate::hex`]; kept here for the envelope API's users).
+/// Hexadecimal text ([`crate::hex`]), also reachable here beside the envelopes that carry it.
 pub use crate::hex;
 pub mod ieee1609dot2;
 pub mod psid;

@@ -87,9 +87,16 @@ impl WsmpError {
     /// The number of errors.
     pub const COUNT: usize = Self::ALL.len();
 
-    /// Position in [`WsmpError::ALL`] (the declaration order).
+    /// Position in [`WsmpError::ALL`] (the declaration order). An exhaustive match: a new
+    /// kind does not compile until it has its place here and in `ALL`.
     pub const fn index(self) -> usize {
-        self as usize
+        match self {
+            Self::Truncated => 0,
+            Self::Version => 1,
+            Self::Unsupported => 2,
+            Self::Encoding => 3,
+            Self::TrailingBytes => 4,
+        }
     }
 
     /// The reason in words.

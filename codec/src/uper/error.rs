@@ -59,9 +59,23 @@ impl DecodeErrorKind {
     /// The number of kinds.
     pub const COUNT: usize = Self::ALL.len();
 
-    /// Position in [`DecodeErrorKind::ALL`] (the declaration order).
+    /// Position in [`DecodeErrorKind::ALL`] (the declaration order). An exhaustive match: a new
+    /// kind does not compile until it has its place here and in `ALL`.
     pub const fn index(self) -> usize {
-        self as usize
+        match self {
+            Self::UnexpectedEnd => 0,
+            Self::ValueOutOfRange => 1,
+            Self::SizeOutOfRange => 2,
+            Self::CapacityExceeded => 3,
+            Self::InvalidChoiceIndex => 4,
+            Self::InvalidEnumIndex => 5,
+            Self::InvalidCharacter => 6,
+            Self::OpenTypeLengthMismatch => 7,
+            Self::FragmentedOpenType => 8,
+            Self::TrailingBytes => 9,
+            Self::LengthTooLarge => 10,
+            Self::UnexpectedMessage => 11,
+        }
     }
 
     /// A short lowercase name, as used in CLI error lines.

@@ -203,6 +203,12 @@ mod tests {
             panic!()
         };
         assert_eq!(text, config::DEFAULT_TOML);
+        let Ok(Action::Print(contract)) = parse_words(&["--print-hmi-contract"]) else {
+            panic!("--print-hmi-contract prints")
+        };
+        let json: serde_json::Value = serde_json::from_str(&contract).expect("JSON");
+        assert_eq!(json["alert_kinds"][0], "WorkerInLane");
+        assert!(parse_words(&["--print-hmi-contract", "--config", "x.toml"]).is_err());
         let Ok(Action::Print(text)) = parse_words(&["--help"]) else {
             panic!()
         };

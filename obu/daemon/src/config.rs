@@ -713,6 +713,10 @@ fn merge(target: &mut toml::Table, values: toml::Table) {
 
 impl Config {
     /// This configuration as a TOML file the daemon reads back as the same [`Config`].
+    ///
+    /// # Errors
+    ///
+    /// A value TOML cannot hold, such as a path that is not UTF-8.
     pub fn to_toml(&self) -> Result<String, ConfigError> {
         toml::to_string(self).map_err(|e| ConfigError(e.to_string()))
     }
@@ -838,6 +842,22 @@ mod tests {
         assert_eq!(c.alerts.warning_distance_m, WARNING_DISTANCE_M.default);
         assert_eq!(c.alerts.lead_time_s, LEAD_TIME_S.default);
         assert_eq!(c.bridge.source, None, "normal mode");
+    }
+
+    #[test]
+    fn alert_defaults_take_the_ranges_of_the_drivers_settings() {
+        for (text, key) in [
+            ("[alerts]\nwarning_distance_m = 19.5", "alerts.warning_distance_m"),
+            ("[alerts]\nwarning_distance_m = 2001.0", "alerts.warning_distance_m"),
+            ("[alerts]\nlead_time_s = 1.0", "alerts.lead_time_s"),
+            ("[alerts]\nlead_time_s = 31.0", "alerts.lead_time_s"),
+        ] {
+            let e = Config::parse(text).expect_err(text).to_string();
+            assert!(e.starts_with(key), "{text}: {e}");
+        }
+        let edges = "[alerts]\nwarning_distance_m = 20.0\nlead_time_s = 30.0";
+        let c = Config::parse(edges).expect("the ranges' ends are allowed");
+        assert_eq!((c.alerts.warning_distance_m, c.alerts.lead_time_s), (20.0, 30.0));
     }
 
     #[test]

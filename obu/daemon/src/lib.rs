@@ -8,7 +8,8 @@
 //! firmware sends over a serial link instead.
 //!
 //! Usage: `obu [--config FILE] [--bridge SOURCE]`, `obu gnss-check --source KIND --address
-//! ADDR` (module `gnss_check`), `obu --print-default-config`, `obu --help` (the command line:
+//! ADDR` (module `gnss_check`), `obu --print-default-config`, `obu --print-hmi-contract`,
+//! `obu --help` (the command line:
 //! [`cli`]).
 //!
 //! The first line on stdout tells scripts where the daemon is:

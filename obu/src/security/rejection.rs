@@ -96,9 +96,38 @@ impl Rejection {
     /// The number of rejections.
     pub const COUNT: usize = Self::ALL.len();
 
-    /// Position in [`Rejection::ALL`] (the declaration order).
+    /// Position in [`Rejection::ALL`] (the declaration order). An exhaustive match: a new
+    /// kind does not compile until it has its place here and in `ALL`.
     pub const fn index(self) -> usize {
-        self as usize
+        match self {
+            Self::SelfSigned => 0,
+            Self::UnsupportedAlgorithm => 1,
+            Self::SignerUnknown => 2,
+            Self::ChainUntrusted => 3,
+            Self::ChainTooLong => 4,
+            Self::CertificateInvalid => 5,
+            Self::IssuerPermission => 6,
+            Self::CertificateTooLarge => 7,
+            Self::CertificateExpired => 8,
+            Self::CertificateNotYetValid => 9,
+            Self::PsidNotPermitted => 10,
+            Self::PsidMismatch => 11,
+            Self::RegionMiss => 12,
+            Self::NoLocation => 13,
+            Self::SignatureInvalid => 14,
+            Self::NoGenerationTime => 15,
+            Self::NoTime => 16,
+            Self::GenerationTimeFuture => 17,
+            Self::GenerationTimeOld => 18,
+            Self::MessageExpired => 19,
+            Self::Replay => 20,
+            Self::Superseded => 21,
+            Self::NoExpiryTime => 22,
+            Self::ExpiryBeforeGeneration => 23,
+            Self::LifetimeTooLong => 24,
+            Self::CertificateMalformed => 25,
+            Self::SspNotPermitted => 26,
+        }
     }
 
     /// The counter name: a static string, the same for every message refused this way.

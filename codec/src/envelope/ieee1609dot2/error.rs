@@ -58,10 +58,23 @@ impl DecodeErrorKind {
     /// The number of kinds.
     pub const COUNT: usize = Self::ALL.len();
 
-    /// Position in [`DecodeErrorKind::ALL`] (the declaration order).
+    /// Position in [`DecodeErrorKind::ALL`] (the declaration order). An exhaustive match: a
+    /// new kind does not compile until it has its place here and in `ALL`.
     #[must_use]
     pub const fn index(self) -> usize {
-        self as usize
+        match self {
+            Self::UnexpectedEnd => 0,
+            Self::UnsupportedVersion => 1,
+            Self::InvalidTag => 2,
+            Self::UnknownAlternative => 3,
+            Self::NonCanonical => 4,
+            Self::InvalidLength => 5,
+            Self::LengthTooLarge => 6,
+            Self::ValueOutOfRange => 7,
+            Self::EmptySignedPayload => 8,
+            Self::NestingTooDeep => 9,
+            Self::TrailingBytes => 10,
+        }
     }
 
     /// A short lowercase description.

@@ -55,17 +55,21 @@ impl fmt::Display for ServiceError {
     }
 }
 
+/// The wrapping variants are transparent: their message is the inner error's, so their
+/// source is the inner error's source (a chain printed whole says each thing once).
 impl std::error::Error for ServiceError {
     fn source(&self) -> Option<&(dyn std::error::Error + 'static)> {
+        use std::error::Error as _;
         match self {
-            Self::SiteFile(e) => Some(e),
-            Self::Road(e) => Some(e),
-            Self::Zone(e) => Some(e),
-            Self::Signer(e) => Some(e),
-            Self::Owned(e) => Some(e),
-            Self::Io { source, .. } | Self::Socket(source) => Some(source),
-            Self::Status(e) => Some(e),
-            Self::Rate(e) => Some(e),
+            Self::SiteFile(e) => e.source(),
+            Self::Road(e) => e.source(),
+            Self::Zone(e) => e.source(),
+            Self::Signer(e) => e.source(),
+            Self::Owned(e) => e.source(),
+            Self::Io { source, .. } => Some(source),
+            Self::Socket(e) => e.source(),
+            Self::Status(e) => e.source(),
+            Self::Rate(e) => e.source(),
         }
     }
 }
