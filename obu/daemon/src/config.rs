@@ -847,8 +847,14 @@ mod tests {
     #[test]
     fn alert_defaults_take_the_ranges_of_the_drivers_settings() {
         for (text, key) in [
-            ("[alerts]\nwarning_distance_m = 19.5", "alerts.warning_distance_m"),
-            ("[alerts]\nwarning_distance_m = 2001.0", "alerts.warning_distance_m"),
+            (
+                "[alerts]\nwarning_distance_m = 19.5",
+                "alerts.warning_distance_m",
+            ),
+            (
+                "[alerts]\nwarning_distance_m = 2001.0",
+                "alerts.warning_distance_m",
+            ),
             ("[alerts]\nlead_time_s = 1.0", "alerts.lead_time_s"),
             ("[alerts]\nlead_time_s = 31.0", "alerts.lead_time_s"),
         ] {
@@ -857,7 +863,10 @@ mod tests {
         }
         let edges = "[alerts]\nwarning_distance_m = 20.0\nlead_time_s = 30.0";
         let c = Config::parse(edges).expect("the ranges' ends are allowed");
-        assert_eq!((c.alerts.warning_distance_m, c.alerts.lead_time_s), (20.0, 30.0));
+        assert_eq!(
+            (c.alerts.warning_distance_m, c.alerts.lead_time_s),
+            (20.0, 30.0)
+        );
     }
 
     #[test]

@@ -59,7 +59,6 @@ impl fmt::Display for ServiceError {
 /// source is the inner error's source (a chain printed whole says each thing once).
 impl std::error::Error for ServiceError {
     fn source(&self) -> Option<&(dyn std::error::Error + 'static)> {
-        use std::error::Error as _;
         match self {
             Self::SiteFile(e) => e.source(),
             Self::Road(e) => e.source(),
