@@ -380,3 +380,59 @@ fn a_worker_crossing_the_lane_is_tracked_with_speed_and_heading() {
     let e = (track.position[0] - truth[0]).hypot(track.position[1] - truth[1]);
     assert!(e < 0.25, "{track:?} is {e:.2} m off");
 }
+
+#[test]
+fn a_track_learns_its_road_users_size_and_the_boxes_take_it() {
+    // A short city bus (10.6 m, the class's prior says 12 +- 1.2) driving through the view
+    // at 1 px of mask noise: its track's size belief finds its length, and the boxes fitted
+    // with it are placed better than those fitted with the class's prior alone.
+    let s = setup();
+    let loc = localizer();
+    let size = s.cam.image_size().map(|v| v as u32);
+    let mut rng = Prng::new(21);
+    let mut tracker = RoadUserTracker::new(TrackerSettings::default()).unwrap();
+    let extent = Extent {
+        length_m: 10.6,
+        width_m: 2.5,
+        height_m: 3.1,
+    };
+    let (mut with_prior, mut with_belief) = (0.0, 0.0);
+    for k in 0..30 {
+        let t = f64::from(k) * 0.1;
+        let bus = RoadUser {
+            extent,
+            velocity: [0.0, 8.0],
+            ..user(0, RoadUserClass::Bus, [5.25, 22.0 + 8.0 * t])
+        };
+        let lab = labels(&s.cam, &[bus], 1.0, &mut rng);
+        let sil: Vec<_> = masks(&lab, size, &[bus], &[])
+            .into_iter()
+            .map(|(_, m)| m)
+            .collect();
+        let (plain, _) = loc.frame(&sil);
+        let (boxes, _) = loc.frame_with(&sil, &tracker.sizes_at(t));
+        let error = |b: &[Localized]| {
+            let p = b.first().expect("the bus is placed").position;
+            (p[0] - bus.centre[0]).hypot(p[1] - bus.centre[1])
+        };
+        if k >= 10 {
+            with_prior += error(&plain) / 20.0;
+            with_belief += error(&boxes) / 20.0;
+        }
+        let obs: Vec<Observation> = boxes.iter().map(Localized::observation).collect();
+        tracker.update(t, &obs).unwrap();
+    }
+    let belief = tracker
+        .size_near(RoadUserClass::Bus, [5.25, 22.0 + 8.0 * 3.0], 3.0)
+        .expect("the bus's track knows its size");
+    assert!(
+        (belief.mean[0] - 10.6).abs() < 0.25,
+        "length {:.2} +- {:.2}",
+        belief.mean[0],
+        belief.sigma()[0]
+    );
+    assert!(
+        with_belief < with_prior,
+        "mean error {with_belief:.3} m with the belief, {with_prior:.3} m with the prior"
+    );
+}

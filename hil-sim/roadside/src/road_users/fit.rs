@@ -1,6 +1,7 @@
 //! A road user's box fitted to what the camera sees of it: position, length, width and
-//! height that make the projected box's outline match the mask's, with the class's size
-//! prior deciding what the view does not measure.
+//! height that make the projected box's outline match the mask's, with a size prior (the
+//! class's, or the road user's track's belief, [`super::size`]) deciding what the view does
+//! not measure.
 //!
 //! The tangent construction ([`super::boxes`]) reads the box from six lines, and needs all
 //! six: seen end-on or side-on, one far corner is hidden and the construction stops; partly
@@ -9,22 +10,28 @@
 //! except along a touching mask, where the outline may be the other road user's edge (then
 //! it lies inside). So the fit minimises, by Levenberg-Marquardt over `[x, y, length, width,
 //! height]`:
-//! - each outline vertex's signed distance to the projected box's outline (only its distance
+//! - each outline vertex's signed distance to the projected box's outline, moved out by the
+//!   rounding the mask's outline keeps ([`super::outline`]: up to half a pixel along a
+//!   slanted edge, none on average along an axis-aligned one; see `rounded_out`) (only its distance
 //!   outside along a touching mask; all vertices together worth six corners, as they sample
 //!   a few noisy edges);
 //! - each projected box corner's distance to the mask's outline (a corner on the box's
 //!   outline) or outside it (a corner inside), except corners that may be hidden (inside a
 //!   touching mask or off the image);
-//! - each side's distance from the class's prior mean, in prior sigmas.
+//! - the sides' distance from the prior's mean, in the prior's sigmas (its square-root
+//!   information: a track's belief may tie length and height together).
 //!
 //! The position's covariance is the inverse of the normal matrix of the measuring rows
 //! (not those that only bound the box) at the solution: large
 //! when little is seen, so a partly hidden road user is reported with its real accuracy
-//! instead of being dropped.
+//! instead of being dropped. The same matrix, the prior taken out and the position
+//! marginalised out, is what the mask alone says of the size ([`BoxFit::size_evidence`]),
+//! which the track adds to its belief.
 
 use super::calibrate::GroundCamera;
 use super::class::{Extent, RoadUserClass};
 use super::polygon::{signed_area, signed_distance_convex};
+use super::size::{mat_vec, SizeBelief, SizeEvidence, M3};
 
 /// 1-sigma noise of a mask's outline, pixels.
 pub const OUTLINE_SIGMA_PX: f64 = 1.0;
@@ -59,6 +66,9 @@ pub struct FitInput<'a> {
     pub axis: [f64; 2],
     /// Starting position, local metres.
     pub start: [f64; 2],
+    /// What is known of its size: the class's prior ([`SizeBelief::prior`]), or its
+    /// track's belief.
+    pub size: SizeBelief,
 }
 
 /// A fitted box.
@@ -77,6 +87,9 @@ pub struct BoxFit {
     pub corners_seen: usize,
     /// The sum of squared weighted residuals at the solution (outline, corners, prior).
     pub cost: f64,
+    /// What the mask alone says of the size (the prior taken out, the position
+    /// marginalised out), for the track's belief.
+    pub size_evidence: SizeEvidence,
 }
 
 impl BoxFit {
@@ -190,13 +203,67 @@ fn hull8(points: &[[f64; 2]; 8]) -> ([[f64; 2]; 16], usize) {
     (out, n)
 }
 
+/// Largest outward move of a vertex of [`rounded_out`], pixels (a sharp corner's mitre).
+const MAX_ROUNDING_MOVE_PX: f64 = 2.0;
+
+/// Where a mask's outline ([`super::outline`]) lies for a convex silhouette `ring`
+/// (either orientation): each edge moved out by the rounding its hull keeps. The hull
+/// rests on the outermost of the pixel-edge points along an edge; their offsets from a
+/// slanted edge spread over half a pixel either way (times the normal's larger component)
+/// once the edge crosses a whole pixel across its main axis, and less for an edge that
+/// crosses less (an axis-aligned edge's points all share one rounding, on average none). So
+/// the edge with extents `dx, dy` stands out by `0.5 max(|nx|, |ny|) min(1, |dx|, |dy|)`.
+/// Returns the moved vertices (as many as `ring`'s, in order).
+fn rounded_out(ring: &[[f64; 2]]) -> ([[f64; 2]; 16], usize) {
+    let n = ring.len().min(16);
+    let mut out = [[0.0; 2]; 16];
+    if n < 3 {
+        out[..n].copy_from_slice(&ring[..n]);
+        return (out, n);
+    }
+    let orientation = signed_area(&ring[..n]).signum();
+    // Each edge's outward unit normal and how far it moves.
+    let edge = |i: usize| {
+        let (a, b) = (ring[i], ring[(i + 1) % n]);
+        let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
+        let len = dx.hypot(dy);
+        if len < 1e-9 {
+            return ([0.0, 0.0], 0.0);
+        }
+        let normal = [orientation * dy / len, -orientation * dx / len];
+        let spread = dx.abs().min(dy.abs()).min(1.0);
+        let excess = 0.5 * normal[0].abs().max(normal[1].abs()) * spread;
+        (normal, excess)
+    };
+    for (i, o) in out[..n].iter_mut().enumerate() {
+        let ((n1, d1), (n2, d2)) = (edge((i + n - 1) % n), edge(i));
+        // x with x . n1 = d1 and x . n2 = d2.
+        let det = n1[0] * n2[1] - n1[1] * n2[0];
+        let mut x = if det.abs() > 1e-6 {
+            [
+                (d1 * n2[1] - d2 * n1[1]) / det,
+                (n1[0] * d2 - n2[0] * d1) / det,
+            ]
+        } else {
+            [n2[0] * d2, n2[1] * d2]
+        };
+        let len = x[0].hypot(x[1]);
+        if len > MAX_ROUNDING_MOVE_PX {
+            x = x.map(|v| v * MAX_ROUNDING_MOVE_PX / len);
+        }
+        *o = [ring[i][0] + x[0], ring[i][1] + x[1]];
+    }
+    (out, n)
+}
+
 struct Problem<'a> {
     input: FitInput<'a>,
     hull: Convex<'a>,
     touching: Vec<Convex<'a>>,
     cam: &'a GroundCamera,
     prior_mean: P5,
-    prior_sigma: P5,
+    /// `U` of the size belief: the prior's residuals are `U (size - mean)`.
+    prior_root: M3,
     /// The mask's outline vertices, each with whether it lies along a touching mask (where
     /// the outline may be the other road user's edge: then it is only inside the box's).
     outline: Vec<([f64; 2], bool)>,
@@ -205,8 +272,11 @@ struct Problem<'a> {
 
 impl<'a> Problem<'a> {
     fn new(input: FitInput<'a>, cam: &'a GroundCamera) -> Self {
-        let prior = input.class.size_prior();
-        let side = |e: Extent| [0.0, 0.0, e.length_m, e.width_m, e.height_m];
+        let belief = input
+            .size
+            .root()
+            .map_or_else(|| SizeBelief::prior(input.class), |_| input.size);
+        let [l, wd, ht] = belief.mean;
         let [w, h] = input.image_size;
         let b = BORDER_PX;
         // Every vertex of a long outline adds little (they sample a few edges): at most
@@ -233,8 +303,8 @@ impl<'a> Problem<'a> {
             touching: input.touching.iter().map(|t| Convex::new(t)).collect(),
             input,
             cam,
-            prior_mean: side(prior.mean),
-            prior_sigma: side(prior.sigma),
+            prior_mean: [0.0, 0.0, l, wd, ht],
+            prior_root: belief.root().unwrap_or([[0.0; 3]; 3]),
         }
     }
 
@@ -304,7 +374,8 @@ impl<'a> Problem<'a> {
         out.clear();
         let px = self.corners(t)?;
         let (ring, n) = hull8(&px);
-        let outline = Convex::new(&ring[..n]);
+        let (grown, m) = rounded_out(&ring[..n]);
+        let outline = Convex::new(&grown[..m]);
         let own;
         let roles = match roles {
             Some(r) => r,
@@ -330,7 +401,13 @@ impl<'a> Problem<'a> {
             }
             seen += 1;
             // A corner on the box's outline lies on the mask's; one inside it only inside.
-            let d = self.hull.signed_distance(p);
+            // The mask's outline stands out of the box by its rounding: compared where the
+            // outline would be.
+            let at = ring[..n]
+                .iter()
+                .position(|q| *q == p)
+                .map_or(p, |j| grown[j]);
+            let d = self.hull.signed_distance(at);
             let r = match (roles.on_outline[k], measured_only) {
                 (true, _) => d,
                 (false, false) => d.max(0.0),
@@ -338,7 +415,8 @@ impl<'a> Problem<'a> {
             };
             out.push(r / OUTLINE_SIGMA_PX);
         }
-        out.extend((2..5).map(|k| (t[k] - self.prior_mean[k]) / self.prior_sigma[k]));
+        let d: [f64; 3] = std::array::from_fn(|k| t[k + 2] - self.prior_mean[k + 2]);
+        out.extend(mat_vec(&self.prior_root, &d));
         Some(seen)
     }
 }
@@ -492,5 +570,62 @@ fn finish(problem: &Problem<'_>, t: &P5, r: &[f64]) -> Result<BoxFit, FitFailure
         rms_px,
         corners_seen,
         cost: norm2(r),
+        size_evidence: size_evidence(problem, &a, t),
     })
 }
+
+/// What the mask alone says of the size at the solution `t`, from the normal matrix `a`
+/// of the measuring rows and the prior: the prior's information `U'U` taken out of the
+/// size block, the position marginalised out (the Schur complement `S`), and the vector
+/// `S s_mask = S s + U'U (s - mean)` (where the mask's gradient balances the prior's).
+#[allow(clippy::needless_range_loop)] // matrix arithmetic reads as its formulas with indices
+fn size_evidence(problem: &Problem<'_>, a: &[P5; 5], t: &P5) -> SizeEvidence {
+    let u = &problem.prior_root;
+    let prior: M3 =
+        std::array::from_fn(|i| std::array::from_fn(|j| (0..3).map(|k| u[k][i] * u[k][j]).sum()));
+    let pp = [[a[0][0], a[0][1]], [a[1][0], a[1][1]]];
+    let det = pp[0][0] * pp[1][1] - pp[0][1] * pp[1][0];
+    if !(det.abs() > 1e-12 && det.is_finite()) {
+        return SizeEvidence::NONE;
+    }
+    let inv = [
+        [pp[1][1] / det, -pp[0][1] / det],
+        [-pp[1][0] / det, pp[0][0] / det],
+    ];
+    let mut s: M3 = std::array::from_fn(|i| {
+        std::array::from_fn(|j| {
+            let cross: f64 = (0..2)
+                .flat_map(|p| (0..2).map(move |q| (p, q)))
+                .map(|(p, q)| a[i + 2][p] * inv[p][q] * a[q][j + 2])
+                .sum();
+            a[i + 2][j + 2] - prior[i][j] - cross
+        })
+    });
+    // Symmetric, and no side with negative information (rounding of a side not measured).
+    for i in 0..3 {
+        for j in 0..i {
+            let m = 0.5 * (s[i][j] + s[j][i]);
+            (s[i][j], s[j][i]) = (m, m);
+        }
+        if s[i][i] <= 0.0 {
+            for j in 0..3 {
+                (s[i][j], s[j][i]) = (0.0, 0.0);
+            }
+        }
+    }
+    let size = [t[2], t[3], t[4]];
+    let off: [f64; 3] = std::array::from_fn(|k| size[k] - problem.prior_mean[k + 2]);
+    let (ss, po) = (mat_vec(&s, &size), mat_vec(&prior, &off));
+    let e = SizeEvidence {
+        information: s,
+        vector: std::array::from_fn(|k| ss[k] + po[k]),
+    };
+    if e.is_finite() {
+        e
+    } else {
+        SizeEvidence::NONE
+    }
+}
+
+#[cfg(test)]
+mod tests;

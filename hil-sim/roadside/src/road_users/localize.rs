@@ -2,9 +2,12 @@
 //! has none.
 //!
 //! Each detection's box is fitted to its mask ([`super::fit`]): the position, length, width
-//! and height whose projected box matches the mask's outline, the class's size prior
-//! deciding only what the view does not measure (the length of a vehicle seen end-on, the
-//! depth of a pedestrian walking along the line of sight). Masks it touches and the image
+//! and height whose projected box matches the mask's outline, a size prior deciding only
+//! what the view does not measure (the length of a vehicle seen end-on, the depth of a
+//! pedestrian walking along the line of sight). That prior is its track's size belief where
+//! the caller has tracks ([`Localizer::frame_with`], [`super::size`]): what earlier frames
+//! measured of the same road user, from views that showed it. Otherwise it is the class's.
+//! Masks it touches and the image
 //! border may hide part of it: the fit ignores box corners there, so a partly hidden road
 //! user is localized from what is seen, with the larger error that leaves. Each position
 //! carries its 1-sigma error from the fit's covariance.
@@ -15,6 +18,7 @@ use super::detections::Silhouette;
 use super::fit::{fit, BoxFit, FitFailure, FitInput};
 use super::homog::apply_direction;
 use super::polygon::{convex_hull, iou, near_or_overlapping, signed_distance_convex};
+use super::size::{ClassPriors, SizeBelief, SizeEvidence, SizeHints};
 use super::tracker::Observation;
 
 /// Masks nearer than this (pixels) count as touching.
@@ -45,6 +49,9 @@ pub struct Localized {
     /// The part of `sigma_m` that repeats from frame to frame, metres: for a road user cut by
     /// the image border, the class's size prior standing for the end out of view; 0 otherwise.
     pub floor_m: f64,
+    /// What its mask says of its size, for its track's belief: only of a road user seen
+    /// whole (nothing touching it, inside the image, every corner checked).
+    pub size_evidence: Option<SizeEvidence>,
 }
 
 impl Localized {
@@ -55,8 +62,18 @@ impl Localized {
             position: self.position,
             sigma_m: self.sigma_m,
             floor_m: self.floor_m,
+            size: self.size_evidence,
         }
     }
+}
+
+/// A fitted detection before it becomes a [`Localized`].
+struct Placed {
+    road_user: RoadUserBox,
+    position: [f64; 2],
+    sigma_m: f64,
+    floor_m: f64,
+    size_evidence: Option<SizeEvidence>,
 }
 
 /// Detections without a box, by reason.
@@ -162,6 +179,16 @@ impl Localizer {
     /// class, when it does not match its mask, or when so little of it is seen that its
     /// position is not known within [`MAX_SIGMA_M`] (then as occluded or truncated).
     pub fn frame(&self, detections: &[Silhouette]) -> (Vec<Localized>, Rejections) {
+        self.frame_with(detections, &ClassPriors)
+    }
+
+    /// [`Localizer::frame`] with the sizes the tracks know: each detection's fit takes as
+    /// its size prior the belief `sizes` gives for where it starts, or its class's prior.
+    pub fn frame_with(
+        &self,
+        detections: &[Silhouette],
+        sizes: &dyn SizeHints,
+    ) -> (Vec<Localized>, Rejections) {
         let mut rejected = Rejections::default();
         let mut boxes = Vec::with_capacity(detections.len());
         for (index, d) in detections.iter().enumerate() {
@@ -171,13 +198,14 @@ impl Localizer {
                 .filter(|(j, o)| *j != index && near_or_overlapping(&d.hull, &o.hull, TOUCH_PX))
                 .map(|(_, o)| o.hull.as_slice())
                 .collect();
-            match self.one(d, &touching) {
-                Ok((road_user, position, sigma_m, floor_m)) => boxes.push(Localized {
+            match self.one(d, &touching, sizes) {
+                Ok(p) => boxes.push(Localized {
                     index,
-                    road_user,
-                    position,
-                    sigma_m,
-                    floor_m,
+                    road_user: p.road_user,
+                    position: p.position,
+                    sigma_m: p.sigma_m,
+                    floor_m: p.floor_m,
+                    size_evidence: p.size_evidence,
                 }),
                 Err(r) => rejected.count(r),
             }
@@ -186,23 +214,64 @@ impl Localizer {
     }
 
     /// One detection's box, position, 1-sigma error and the part of it from hidden sides.
+    /// A box fitted with its track's size belief that does not match its mask, or has an
+    /// implausible size, is fitted again with its class's prior: the track may have taken
+    /// its size from a wrong frame, and the mask comes first.
     fn one(
         &self,
         d: &Silhouette,
         touching: &[&[[f64; 2]]],
-    ) -> Result<(RoadUserBox, [f64; 2], f64, f64), BoxRejection> {
-        if d.hull.len() < 3 {
-            return Err(BoxRejection::TooFewPoints);
+        sizes: &dyn SizeHints,
+    ) -> Result<Placed, BoxRejection> {
+        match self.fitted(d, touching, sizes) {
+            (Err(BoxRejection::Inconsistent { .. } | BoxRejection::Implausible), true) => {
+                self.fitted(d, touching, &ClassPriors).0
+            }
+            (placed, _) => placed,
         }
-        // A mask whose foot may be hidden is also fitted from its top: the highest point
-        // taken at the class's mean height. The better fit is kept.
-        // The tangent construction, where it works, starts the fit next to its solution.
-        let constructed = touching
+    }
+
+    /// [`Localizer::one`] with the prior `sizes` gives, and whether it gave one.
+    fn fitted(
+        &self,
+        d: &Silhouette,
+        touching: &[&[[f64; 2]]],
+        sizes: &dyn SizeHints,
+    ) -> (Result<Placed, BoxRejection>, bool) {
+        if d.hull.len() < 3 {
+            return (Err(BoxRejection::TooFewPoints), false);
+        }
+        let first = self.start_of(d, touching);
+        let belief = first.as_ref().ok().and_then(|&at| sizes.near(d.class, at));
+        let prior = belief.unwrap_or_else(|| SizeBelief::prior(d.class));
+        (self.placed(d, touching, first, prior), belief.is_some())
+    }
+
+    /// Where a detection's fit starts: the centre of its tangent construction where that
+    /// works (next to the fit's solution), or the centre from its lowest point
+    /// ([`Localizer::start`]).
+    fn start_of(&self, d: &Silhouette, touching: &[&[[f64; 2]]]) -> Result<[f64; 2], BoxRejection> {
+        touching
             .is_empty()
             .then(|| construct(d.class, &d.hull, &self.points, &self.camera).ok())
             .flatten()
-            .filter(|b| b.centre.iter().all(|v| v.is_finite()));
-        let mut starts = vec![constructed.map_or_else(|| self.start(d, false), |b| Ok(b.centre))];
+            .map(|b| b.centre)
+            .filter(|c| c.iter().all(|v| v.is_finite()))
+            .map_or_else(|| self.start(d, false), Ok)
+    }
+
+    /// A detection's box fitted from `first` (and, where its foot may be hidden, from its
+    /// top) with the size prior `belief`.
+    fn placed(
+        &self,
+        d: &Silhouette,
+        touching: &[&[[f64; 2]]],
+        first: Result<[f64; 2], BoxRejection>,
+        belief: SizeBelief,
+    ) -> Result<Placed, BoxRejection> {
+        // A mask whose foot may be hidden is also fitted from its top: the highest point
+        // taken at the class's mean height. The better fit is kept.
+        let mut starts = vec![first];
         if self.foot_may_be_hidden(d, touching) {
             starts.push(self.start(d, true));
         }
@@ -214,6 +283,7 @@ impl Localizer {
                 touching,
                 image_size: self.image_size,
                 axis: self.axis,
+                size: belief,
                 start: match start {
                     Ok(s) => s,
                     Err(e) => {
@@ -257,11 +327,11 @@ impl Localizer {
         // fit's curvature says (noisier masks, or a wrong local solution): scaled by it.
         let misfit = (fitted.rms_px / EXPECTED_RMS_PX).max(1.0);
         // Where some corners may be hidden (a touching mask, the border), the box may go on
-        // behind them: its centre is known no better than half the spread of the class's
-        // sizes, whatever the visible part says.
+        // behind them: its centre is known no better than half the spread of the sizes it
+        // may have (its track's belief, or its class's), whatever the visible part says.
         let hidden_floor = if fitted.corners_seen < 8 {
-            let p = prior.sigma;
-            0.5 * p.length_m.max(p.width_m)
+            let [l, w, _] = belief.sigma();
+            0.5 * l.max(w)
         } else {
             0.0
         };
@@ -281,7 +351,15 @@ impl Localizer {
         // the prior's share of the error repeats (behind a neighbour, what is hidden changes
         // as traffic moves).
         let repeated = if d.touches_border { hidden_floor } else { 0.0 };
-        Ok((road_user, fitted.centre, sigma_m, repeated.min(sigma_m)))
+        let seen_whole = !d.touches_border;
+        Ok(Placed {
+            road_user,
+            position: fitted.centre,
+            sigma_m,
+            floor_m: repeated.min(sigma_m),
+            // A mask that fits worse than noise explains says less, as its position does.
+            size_evidence: seen_whole.then(|| fitted.size_evidence.scaled(1.0 / (misfit * misfit))),
+        })
     }
 
     /// Does the mask's lowest point lie along a touching mask or the image's bottom (so the

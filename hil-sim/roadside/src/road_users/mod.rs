@@ -8,7 +8,8 @@
 //!    (polygons filled back into pixels first, [`rasterise`]).
 //! 3. [`localize`]: the 3D box of each road user fitted to its mask ([`fit`]: position,
 //!    length, width and height whose projected box matches the mask's outline, the class's
-//!    size prior deciding only what the view does not measure), started from the tangents
+//!    size prior deciding only what the view does not measure: the class's, or the size
+//!    belief of the road user's track, [`size`]), started from the tangents
 //!    of the vanishing points to its silhouette ([`boxes`]) where they work; partly hidden
 //!    or cut road users are localized from what is seen, with the larger error that leaves,
 //!    and refused with a reason when too little is.
@@ -39,6 +40,7 @@ pub mod outline;
 pub mod pipeline;
 pub mod polygon;
 pub mod rasterise;
+pub mod size;
 pub mod tracker;
 pub mod vanishing;
 pub mod workers;

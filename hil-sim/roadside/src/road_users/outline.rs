@@ -9,7 +9,8 @@
 //! stands out further). Fitting the box to the points themselves would remove
 //! that rounding, but where mask noise moves the silhouette's corners (the bench's noise
 //! model) the hull's vertices are those corners and measure the box better: the fit takes
-//! the hull.
+//! the hull, and compares it with the box's outline moved out by the rounding the hull
+//! keeps.
 
 use super::polygon::convex_hull;
 

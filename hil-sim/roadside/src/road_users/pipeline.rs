@@ -96,7 +96,7 @@ impl Pipeline {
         let mut tracks = Vec::new();
         for (c, loc) in self.cameras.iter().enumerate() {
             let masks = per_camera.get(c).map_or(&[][..], Vec::as_slice);
-            let (found, rejected) = loc.frame(masks);
+            let (found, rejected) = loc.frame_with(masks, &self.tracker.sizes_at(time_s));
             self.run.detections[c] += masks.len();
             self.run.rejected[c].add(&rejected);
             let obs: Vec<Observation> = found.iter().map(Localized::observation).collect();

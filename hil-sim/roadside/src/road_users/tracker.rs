@@ -13,6 +13,7 @@
 //! frame (a cut end taken from the size prior), so they are suitable for J2735 PSM
 //! accuracy fields.
 use super::class::RoadUserClass;
+use super::size::{SizeBelief, SizeEvidence, SizeHints, FADE_PER_FRAME, MIN_FRAMES};
 use std::fmt;
 
 type M4 = [[f64; 4]; 4];
@@ -113,6 +114,9 @@ pub struct Observation {
     /// repeats. 0 when the road user is seen whole. A track's accuracy is never reported
     /// better than its latest observation's floor.
     pub floor_m: f64,
+    /// What the frame's mask says of the road user's size (seen whole only), added to its
+    /// track's size belief ([`super::size`]).
+    pub size: Option<SizeEvidence>,
 }
 
 /// A tracked road user as reported.
@@ -203,6 +207,10 @@ struct TrackState {
     hits: u32,
     /// The latest observation's floor (see [`Observation::floor_m`]).
     floor_m: f64,
+    /// The size evidence of its observations, older frames faded.
+    size: SizeEvidence,
+    /// Observations that brought size evidence (saturating).
+    size_frames: u32,
 }
 
 /// Multi-object road-user tracker (bounded: at most `MAX_TRACKS` tracks).
@@ -350,6 +358,40 @@ impl RoadUserTracker {
             .collect())
     }
 
+    /// The size belief of the one track of `class` whose position, predicted to `time_s`,
+    /// lies near `position` (within half the class's mean length and a metre), with size
+    /// evidence from at least [`MIN_FRAMES`] frames; `None` when no track or more than one
+    /// is there.
+    pub fn size_near(
+        &self,
+        class: RoadUserClass,
+        position: [f64; 2],
+        time_s: f64,
+    ) -> Option<SizeBelief> {
+        let dt = self
+            .last_time_s
+            .map_or(0.0, |last| (time_s - last).max(0.0));
+        let within = 0.5 * class.size_prior().mean.length_m + 1.0;
+        let mut near = self.tracks.iter().filter(|t| {
+            let [x, y, vx, vy] = t.x;
+            dominant_class(t) == class
+                && (x + vx * dt - position[0]).hypot(y + vy * dt - position[1]) <= within
+        });
+        let one = near.next()?;
+        if near.next().is_some() || one.size_frames < MIN_FRAMES {
+            return None;
+        }
+        SizeBelief::with(class, &one.size)
+    }
+
+    /// The tracks' sizes at `time_s` as hints for a localizer.
+    pub fn sizes_at(&self, time_s: f64) -> TrackSizes<'_> {
+        TrackSizes {
+            tracker: self,
+            time_s,
+        }
+    }
+
     /// Counters of ignored observations since creation.
     pub fn rejected(&self) -> RejectedCounts {
         self.rejected
@@ -366,7 +408,8 @@ impl RoadUserTracker {
             let [x, y] = o.position;
             let sigma_ok = o.sigma_m.is_finite() && o.sigma_m > 0.0;
             let floor_ok = o.floor_m.is_finite() && o.floor_m >= 0.0;
-            if !(x.is_finite() && y.is_finite() && sigma_ok && floor_ok) {
+            let size_ok = o.size.is_none_or(|e| e.is_finite());
+            if !(x.is_finite() && y.is_finite() && sigma_ok && floor_ok && size_ok) {
                 r.non_finite = r.non_finite.saturating_add(1);
             } else if x.abs() > MAX_ABS_POSITION_M
                 || y.abs() > MAX_ABS_POSITION_M
@@ -395,6 +438,19 @@ impl RoadUserTracker {
     }
 }
 
+/// A tracker's size beliefs at one time, as a localizer's hints.
+#[derive(Debug, Clone, Copy)]
+pub struct TrackSizes<'a> {
+    tracker: &'a RoadUserTracker,
+    time_s: f64,
+}
+
+impl SizeHints for TrackSizes<'_> {
+    fn near(&self, class: RoadUserClass, position: [f64; 2]) -> Option<SizeBelief> {
+        self.tracker.size_near(class, position, self.time_s)
+    }
+}
+
 /// Tentative track at the observation, velocity 0 with the group's prior.
 fn new_track(id: u32, o: &Observation, time_s: f64) -> TrackState {
     let group = Group::of(o.class);
@@ -414,6 +470,8 @@ fn new_track(id: u32, o: &Observation, time_s: f64) -> TrackState {
         last_seen_s: time_s,
         hits: 1,
         floor_m: o.floor_m,
+        size: o.size.unwrap_or(SizeEvidence::NONE),
+        size_frames: u32::from(o.size.is_some()),
     }
 }
 
@@ -502,6 +560,10 @@ fn correct(t: &mut TrackState, o: &Observation, time_s: f64) {
     t.hits = t.hits.saturating_add(1);
     t.last_seen_s = time_s;
     t.floor_m = o.floor_m;
+    if let Some(e) = &o.size {
+        t.size = t.size.scaled(FADE_PER_FRAME).plus(e);
+        t.size_frames = t.size_frames.saturating_add(1);
+    }
 }
 
 /// Larger eigenvalue of the symmetric 2x2 matrix `[[a, b], [b, c]]`.

@@ -9,9 +9,10 @@
 //! below the covariance of an unbiased estimate of the position that knows sizes only
 //! through that prior. An ideal estimator at the bound makes errors drawn from that
 //! covariance; the benchmark draws one per box it scores and sets their mean and largest
-//! beside the localizer's. It is a reference, not a limit for every estimator: one that
-//! knew the bench's size ranges (narrower than the priors) could do better, and the largest
-//! of the draws is a sample, not a bound.
+//! beside the localizer's. It is a reference for one frame alone, not a limit for every
+//! estimator: the localizer's boxes take their track's size belief as the prior (what
+//! earlier frames measured of the same road user), which a one-frame bound does not have,
+//! and the largest of the draws is a sample, not a bound.
 
 use super::super::street::{corners, RoadUser};
 use super::super::synthetic_camera::PinholeCamera;

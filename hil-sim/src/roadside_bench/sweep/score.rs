@@ -328,7 +328,7 @@ pub fn run_camera(
         let v = view(cam, &users, settings.noise_px, &mut rng);
         let sil: Vec<Silhouette> = v.masks.iter().map(|(_, s)| s.clone()).collect();
         score.detections += sil.len();
-        let (found, rejected) = loc.frame(&sil);
+        let (found, rejected) = loc.frame_with(&sil, &tracker.sizes_at(t));
         score.rejected.add(&rejected);
         score.add_boxes(&found, &v, &users);
         score.add_ideal(&found, &v, &users, cam, settings.noise_px, &mut ideal_rng);

@@ -23,6 +23,7 @@ fn obs(class: RoadUserClass, x: f64, y: f64, sigma_m: f64) -> Observation {
         position: [x, y],
         sigma_m,
         floor_m: 0.0,
+        size: None,
     }
 }
 
@@ -500,4 +501,76 @@ fn a_side_taken_from_the_prior_does_not_average_out() {
     let before = tr.rejected().non_finite;
     tr.update(2.1, &[bad]).unwrap();
     assert_eq!(tr.rejected().non_finite, before + 1);
+}
+
+/// Evidence that the size is `size`, each side known within `sigma_m` in one frame.
+fn size_evidence(size: [f64; 3], sigma_m: f64) -> SizeEvidence {
+    let w = 1.0 / (sigma_m * sigma_m);
+    let mut information = [[0.0; 3]; 3];
+    for (k, row) in information.iter_mut().enumerate() {
+        row[k] = w;
+    }
+    SizeEvidence {
+        information,
+        vector: size.map(|v| w * v),
+    }
+}
+
+#[test]
+fn a_track_learns_its_road_users_size_and_tells_it_only_where_it_alone_is() {
+    let mut tr = RoadUserTracker::new(TrackerSettings::default()).unwrap();
+    let bus = [10.6, 2.5, 3.1];
+    let seen = |y: f64| Observation {
+        size: Some(size_evidence(bus, 0.3)),
+        ..obs(RoadUserClass::Bus, 5.0, y, 0.1)
+    };
+    // Too few frames: the class's prior stands.
+    tr.update(0.0, &[seen(20.0)]).unwrap();
+    tr.update(0.1, &[seen(21.0)]).unwrap();
+    assert!(tr.size_near(RoadUserClass::Bus, [5.0, 22.0], 0.2).is_none());
+    for k in 2..30 {
+        let t = f64::from(k) * 0.1;
+        tr.update(t, &[seen(20.0 + 10.0 * t)]).unwrap();
+    }
+    // Last seen at 49 m at 2.9 s, predicted at 50 m at 3.0 s.
+    let b = tr.size_near(RoadUserClass::Bus, [5.0, 50.0], 3.0);
+    let b = b.expect("one bus track there");
+    assert!((b.mean[0] - 10.6).abs() < 0.15, "{:?}", b.mean);
+    let prior = RoadUserClass::Bus.size_prior().sigma.length_m;
+    assert!(b.sigma()[0] < prior / 3.0, "{:?}", b.sigma());
+    // Another class, or nowhere near: no belief.
+    assert!(tr.size_near(RoadUserClass::Car, [5.0, 49.0], 3.0).is_none());
+    assert!(tr.size_near(RoadUserClass::Bus, [5.0, 80.0], 3.0).is_none());
+}
+
+#[test]
+fn two_tracks_near_one_detection_give_no_size() {
+    let mut tr = RoadUserTracker::new(TrackerSettings::default()).unwrap();
+    let person = |x: f64| Observation {
+        size: Some(size_evidence([0.5, 0.5, 1.8], 0.05)),
+        ..obs(RoadUserClass::Pedestrian, x, 30.0, 0.05)
+    };
+    for k in 0..10 {
+        let t = f64::from(k) * 0.1;
+        tr.update(t, &[person(10.0), person(10.9)]).unwrap();
+    }
+    assert!(tr
+        .size_near(RoadUserClass::Pedestrian, [10.45, 30.0], 1.0)
+        .is_none());
+    assert!(tr
+        .size_near(RoadUserClass::Pedestrian, [9.6, 30.0], 1.0)
+        .is_some_and(|b| (b.mean[2] - 1.8).abs() < 0.05));
+}
+
+#[test]
+fn a_non_finite_size_is_refused_with_the_observation() {
+    let mut tr = RoadUserTracker::new(TrackerSettings::default()).unwrap();
+    let mut e = size_evidence([4.5, 1.8, 1.5], 0.1);
+    e.vector[0] = f64::NAN;
+    let bad = Observation {
+        size: Some(e),
+        ..obs(RoadUserClass::Car, 5.0, 20.0, 0.1)
+    };
+    tr.update(0.0, &[bad]).unwrap();
+    assert_eq!(tr.rejected().non_finite, 1);
 }
