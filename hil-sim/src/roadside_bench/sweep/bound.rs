@@ -12,7 +12,10 @@
 //! beside the localizer's. It is a reference for one frame alone, not a limit for every
 //! estimator: the localizer's boxes take their track's size belief as the prior (what
 //! earlier frames measured of the same road user), which a one-frame bound does not have,
-//! and the largest of the draws is a sample, not a bound.
+//! and the largest of the draws is a sample, not a bound. So beside it the bench draws from
+//! a second bound, [`position_bound_size_known`], that of an estimator knowing each road
+//! user's size exactly: what no size belief, however many frames it rests on, gets below
+//! in one frame.
 
 use super::super::street::{corners, RoadUser};
 use super::super::synthetic_camera::PinholeCamera;
@@ -45,6 +48,16 @@ fn corner_pixels(cam: &PinholeCamera, u: &RoadUser, p: &Params) -> Option<[f64; 
 /// The information matrix (5x5) of the corners' noisy pixels and the size prior about the
 /// box of `u`.
 fn information(cam: &PinholeCamera, u: &RoadUser, noise_px: f64) -> Option<[[f64; 5]; 5]> {
+    let mut info = corner_information(cam, u, noise_px)?;
+    let s = u.class.size_prior().sigma;
+    for (i, sigma) in [(2, s.length_m), (3, s.width_m), (4, s.height_m)] {
+        info[i][i] += 1.0 / (sigma * sigma);
+    }
+    Some(info)
+}
+
+/// The information matrix (5x5) of the corners' noisy pixels alone about the box of `u`.
+fn corner_information(cam: &PinholeCamera, u: &RoadUser, noise_px: f64) -> Option<[[f64; 5]; 5]> {
     let e = u.extent;
     let at: Params = [u.centre[0], u.centre[1], e.length_m, e.width_m, e.height_m];
     let mut jac = [[0.0; 5]; 16];
@@ -65,10 +78,6 @@ fn information(cam: &PinholeCamera, u: &RoadUser, noise_px: f64) -> Option<[[f64
                 info[i][j] += row[i] * row[j] / (noise_px * noise_px);
             }
         }
-    }
-    let s = u.class.size_prior().sigma;
-    for (i, sigma) in [(2, s.length_m), (3, s.width_m), (4, s.height_m)] {
-        info[i][i] += 1.0 / (sigma * sigma);
     }
     Some(info)
 }
@@ -107,6 +116,20 @@ pub fn position_bound(cam: &PinholeCamera, u: &RoadUser, noise_px: f64) -> Optio
     Some([[cov[0][0], cov[0][1]], [cov[1][0], cov[1][1]]])
 }
 
+/// The bound on the covariance of the position of `u` for an estimator that knows its
+/// size exactly: the inverse of the corners' information about the position alone. No
+/// knowledge of the size, from any number of frames, places it better from one frame.
+pub fn position_bound_size_known(
+    cam: &PinholeCamera,
+    u: &RoadUser,
+    noise_px: f64,
+) -> Option<[[f64; 2]; 2]> {
+    let info = corner_information(cam, u, noise_px)?;
+    let [[a, b], [c, d]] = [[info[0][0], info[0][1]], [info[1][0], info[1][1]]];
+    let det = a * d - b * c;
+    (det.abs() > 1e-15).then(|| [[d / det, -b / det], [-c / det, a / det]])
+}
+
 /// One error (metres) of an estimator at the bound `cov`: the length of a draw from it.
 pub fn ideal_error(cov: [[f64; 2]; 2], rng: &mut Prng) -> f64 {
     let l00 = cov[0][0].max(0.0).sqrt();
@@ -136,6 +159,12 @@ mod tests {
         let f2 = trace(position_bound(&cam, &far, 2.0).unwrap());
         assert!(n1 < f1, "near {n1} far {f1}");
         assert!(f2 > 1.5 * f1 && f2 < 2.0 * f1 + 1e-9, "1 px {f1} 2 px {f2}");
+        // Knowing the size places the road user better, and the bound then scales with the
+        // noise exactly.
+        let k1 = trace(position_bound_size_known(&cam, &far, 1.0).unwrap());
+        let k2 = trace(position_bound_size_known(&cam, &far, 2.0).unwrap());
+        assert!(k1 < f1, "size known {k1}, prior {f1}");
+        assert!((k2 - 2.0 * k1).abs() < 1e-9 * k1.max(1.0), "{k1} {k2}");
         // An exact inverse: the information times the bound is the identity.
         let info = information(&cam, &far, 1.0).unwrap();
         let inv = inverse(info).unwrap();

@@ -9,7 +9,7 @@ use super::super::street::{
     RoadUser, World,
 };
 use super::super::synthetic_camera::PinholeCamera;
-use super::bound::{ideal_error, position_bound};
+use super::bound::{ideal_error, position_bound, position_bound_size_known};
 use roadside::camera::Homography;
 use roadside::rng::Prng;
 use roadside::road_users::calibrate::calibrate;
@@ -53,6 +53,9 @@ pub struct Score {
     /// Per class, for the same boxes, the errors of an ideal estimator at the Cramér-Rao
     /// bound of the mask's information and the size prior ([`super::bound`]), cm.
     pub ideal_boxes: [Vec<f64>; 7],
+    /// Per class, for the same boxes, the errors of an ideal estimator that knows each road
+    /// user's size exactly ([`position_bound_size_known`]), cm.
+    pub size_known_boxes: [Vec<f64>; 7],
     /// Per class, track position errors (to the nearest road user of the class, those within
     /// [`OFF_M`]; the others are counted in `tracks_off`), cm.
     pub tracks: [Vec<f64>; 7],
@@ -86,6 +89,7 @@ impl Score {
             self.boxes[k].extend_from_slice(&o.boxes[k]);
             self.whole_boxes[k].extend_from_slice(&o.whole_boxes[k]);
             self.ideal_boxes[k].extend_from_slice(&o.ideal_boxes[k]);
+            self.size_known_boxes[k].extend_from_slice(&o.size_known_boxes[k]);
             self.tracks[k].extend_from_slice(&o.tracks[k]);
             self.coverage[k].0 += o.coverage[k].0;
             self.coverage[k].1 += o.coverage[k].1;
@@ -214,7 +218,9 @@ impl Score {
         }
     }
 
-    /// For each box of a road user seen whole, an ideal estimator's error ([`super::bound`]).
+    /// For each box of a road user seen whole, the errors of the ideal estimators
+    /// ([`super::bound`]): the one knowing sizes through the class's prior (drawn from
+    /// `rngs[0]`), and the one knowing them exactly (from `rngs[1]`).
     fn add_ideal(
         &mut self,
         found: &[Localized],
@@ -222,8 +228,9 @@ impl Score {
         users: &[RoadUser],
         cam: &PinholeCamera,
         noise_px: f64,
-        rng: &mut Prng,
+        rngs: [&mut Prng; 2],
     ) {
+        let [rng, known_rng] = rngs;
         for b in found {
             let k = v.masks[b.index].0;
             if !(v.near[k] && v.whole[k]) {
@@ -237,6 +244,15 @@ impl Score {
             };
             if let Some(e) = error {
                 self.ideal_boxes[slot(users[k].class)].push(e * 100.0);
+            }
+            let known = if noise_px > 0.0 {
+                position_bound_size_known(cam, &users[k], noise_px)
+                    .map(|cov| ideal_error(cov, known_rng))
+            } else {
+                Some(0.0)
+            };
+            if let Some(e) = known {
+                self.size_known_boxes[slot(users[k].class)].push(e * 100.0);
             }
         }
     }
@@ -320,6 +336,7 @@ pub fn run_camera(
 ) -> Score {
     let mut rng = Prng::new(settings.seed ^ 0x5eed);
     let mut ideal_rng = Prng::new(settings.seed ^ 0xb0d);
+    let mut known_rng = Prng::new(settings.seed ^ 0x517e);
     let mut tracker = RoadUserTracker::new(TrackerSettings::default()).expect("default settings");
     let mut score = Score::default();
     for f in 0..settings.frames {
@@ -331,7 +348,8 @@ pub fn run_camera(
         let (found, rejected) = loc.frame_with(&sil, &tracker.sizes_at(t));
         score.rejected.add(&rejected);
         score.add_boxes(&found, &v, &users);
-        score.add_ideal(&found, &v, &users, cam, settings.noise_px, &mut ideal_rng);
+        let rngs = [&mut ideal_rng, &mut known_rng];
+        score.add_ideal(&found, &v, &users, cam, settings.noise_px, rngs);
         let obs: Vec<Observation> = found.iter().map(Localized::observation).collect();
         let tracks = tracker.update(t, &obs).expect("frame times go forward");
         let near = |p: [f64; 2]| range_m(cam, p) <= RANGE_M;
