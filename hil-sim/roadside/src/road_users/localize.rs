@@ -46,12 +46,15 @@ pub struct Localized {
     pub position: [f64; 2],
     /// 1-sigma error of the position, metres.
     pub sigma_m: f64,
-    /// The part of `sigma_m` that repeats from frame to frame, metres: for a road user cut by
-    /// the image border, the class's size prior standing for the end out of view; 0 otherwise.
+    /// The part of `sigma_m` that repeats from frame to frame, metres: the calibration's, the
+    /// size prior's (the same in every frame) and, for a road user cut by the image border,
+    /// the prior standing for the end out of view.
     pub floor_m: f64,
     /// What its mask says of its size, for its track's belief: only of a road user seen
     /// whole (nothing touching it, inside the image, every corner checked).
     pub size_evidence: Option<SizeEvidence>,
+    /// Its mask touches the image border.
+    pub road_user_at_border: bool,
 }
 
 impl Localized {
@@ -63,6 +66,7 @@ impl Localized {
             sigma_m: self.sigma_m,
             floor_m: self.floor_m,
             size: self.size_evidence,
+            at_border: self.road_user_at_border,
         }
     }
 }
@@ -206,6 +210,7 @@ impl Localizer {
                     sigma_m: p.sigma_m,
                     floor_m: p.floor_m,
                     size_evidence: p.size_evidence,
+                    road_user_at_border: d.touches_border,
                 }),
                 Err(r) => rejected.count(r),
             }
@@ -347,10 +352,15 @@ impl Localizer {
                 BoxRejection::NoIntersection
             });
         }
-        // Cut by the image border, the same end stays out of view frame after frame, so
-        // the prior's share of the error repeats (behind a neighbour, what is hidden changes
-        // as traffic moves).
-        let repeated = if d.touches_border { hidden_floor } else { 0.0 };
+        // Errors that repeat from frame to frame, which no track averages away: the
+        // calibration's; the size prior's (half its spread moves the centre, and the same
+        // prior, or the same track's belief, stands in every frame); and, cut by the image
+        // border, the same end stays out of view frame after frame, so the prior's share of
+        // the error repeats (behind a neighbour, what is hidden changes as traffic moves).
+        let [l, w, _] = belief.sigma();
+        let from_size = 0.5 * l.max(w);
+        let border = if d.touches_border { hidden_floor } else { 0.0 };
+        let repeated = border.max(from_size).max(SIGMA_FLOOR_M);
         let seen_whole = !d.touches_border;
         Ok(Placed {
             road_user,

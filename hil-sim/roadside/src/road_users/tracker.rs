@@ -7,7 +7,8 @@
 //! Mahalanobis distance of the innovation (gated, and never beyond a jump a
 //! road user cannot make between frames), greedily by increasing distance, one
 //! observation per track; a track not seen for `max_coast_s` ends rather than
-//! drift onto a neighbour, and a young one is not reported while unseen (its
+//! drift onto a neighbour, one last seen cut by the image border is not reported while
+//! unseen (it left the view), and a young one is not reported while unseen (its
 //! velocity rests on a few boxes). Reported accuracies come from the filter
 //! covariance, never better than the error its observations repeat from frame to
 //! frame (a cut end taken from the size prior), so they are suitable for J2735 PSM
@@ -68,10 +69,12 @@ pub struct TrackerSettings {
     /// Must be finite, in (0, 100].
     pub accel_sigma_mps2: f64,
     /// White-acceleration process noise sigma (m/s^2) for people.
-    /// Default 0.5: people walk at nearly constant velocity; 1.0 let a 0.1 m
-    /// camera noise leak ~0.1 m/s (1 sigma) into the speed of a steady walker,
-    /// 0.5 gives ~0.065 m/s while still following starts and stops within a
-    /// few frames (the gate is statistical). Must be finite, in (0, 100].
+    /// Default 0.6: people walk at nearly constant velocity, and turn. 1.0 lets a 0.1 m
+    /// camera noise leak ~0.1 m/s (1 sigma) into the speed of a steady walker; 0.5 lags a
+    /// worker turning back at the end of a pace by 10-30 cm while reporting 3-5 cm (the
+    /// road-user bench's 95 % circle then holds under 95 % of track positions on its own
+    /// install); 0.6 follows the turn and keeps a steady walker's speed within 0.2 m/s.
+    /// Must be finite, in (0, 100].
     pub person_accel_sigma_mps2: f64,
     /// A confirmed track is reported only while its position is known this well (1-sigma
     /// along its worst direction, metres). Default 0.4: a track born of partial views, or
@@ -93,7 +96,7 @@ impl Default for TrackerSettings {
             confirm_hits: 3,
             max_coast_s: 0.5,
             accel_sigma_mps2: 2.0,
-            person_accel_sigma_mps2: 0.5,
+            person_accel_sigma_mps2: 0.6,
             max_report_sigma_m: 0.4,
             min_hits_to_coast: 10,
         }
@@ -109,14 +112,19 @@ pub struct Observation {
     pub position: [f64; 2],
     /// 1-sigma position error of this observation (metres, per axis).
     pub sigma_m: f64,
-    /// The part of `sigma_m` that does not average out over frames, metres: a side the view
-    /// hides is taken from the class's size prior in every frame alike, so the same error
-    /// repeats. 0 when the road user is seen whole. A track's accuracy is never reported
-    /// better than its latest observation's floor.
+    /// The part of `sigma_m` that does not average out over frames, metres: the
+    /// calibration's, and a size the view does not measure, taken from the same prior in
+    /// every frame alike (a side the image border hides most of all), so the same error
+    /// repeats. A track's accuracy is never reported better than its latest observation's
+    /// floor.
     pub floor_m: f64,
     /// What the frame's mask says of the road user's size (seen whole only), added to its
     /// track's size belief ([`super::size`]).
     pub size: Option<SizeEvidence>,
+    /// Cut by the image border: a road user last seen there and then not at all has left
+    /// the view, so its track is not reported while unseen (one hidden behind another road
+    /// user is).
+    pub at_border: bool,
 }
 
 /// A tracked road user as reported.
@@ -207,6 +215,8 @@ struct TrackState {
     hits: u32,
     /// The latest observation's floor (see [`Observation::floor_m`]).
     floor_m: f64,
+    /// The latest observation was cut by the image border ([`Observation::at_border`]).
+    at_border: bool,
     /// The size evidence of its observations, older frames faded.
     size: SizeEvidence,
     /// Observations that brought size evidence (saturating).
@@ -269,7 +279,8 @@ impl RoadUserTracker {
     /// Advances to `time_s` (frame time, seconds, monotonic; equal to the
     /// previous time is allowed, with dt = 0) and takes the frame's
     /// observations; returns the confirmed tracks that were updated, or are coasting with
-    /// at least `min_hits_to_coast` observations, and whose position is known within
+    /// at least `min_hits_to_coast` observations and were not last seen at the image border,
+    /// and whose position is known within
     /// `max_report_sigma_m`, in creation order. On error the tracker is unchanged.
     pub fn update(
         &mut self,
@@ -353,7 +364,7 @@ impl RoadUserTracker {
             .tracks
             .iter()
             .filter(|t| t.hits >= confirm && reported_sigma(t) <= sharp)
-            .filter(|t| t.last_seen_s == time_s || t.hits >= settled)
+            .filter(|t| t.last_seen_s == time_s || (t.hits >= settled && !t.at_border))
             .map(report)
             .collect())
     }
@@ -470,6 +481,7 @@ fn new_track(id: u32, o: &Observation, time_s: f64) -> TrackState {
         last_seen_s: time_s,
         hits: 1,
         floor_m: o.floor_m,
+        at_border: o.at_border,
         size: o.size.unwrap_or(SizeEvidence::NONE),
         size_frames: u32::from(o.size.is_some()),
     }
@@ -560,6 +572,7 @@ fn correct(t: &mut TrackState, o: &Observation, time_s: f64) {
     t.hits = t.hits.saturating_add(1);
     t.last_seen_s = time_s;
     t.floor_m = o.floor_m;
+    t.at_border = o.at_border;
     if let Some(e) = &o.size {
         t.size = t.size.scaled(FADE_PER_FRAME).plus(e);
         t.size_frames = t.size_frames.saturating_add(1);

@@ -24,6 +24,7 @@ fn obs(class: RoadUserClass, x: f64, y: f64, sigma_m: f64) -> Observation {
         sigma_m,
         floor_m: 0.0,
         size: None,
+        at_border: false,
     }
 }
 
@@ -573,4 +574,27 @@ fn a_non_finite_size_is_refused_with_the_observation() {
     };
     tr.update(0.0, &[bad]).unwrap();
     assert_eq!(tr.rejected().non_finite, 1);
+}
+
+#[test]
+fn a_road_user_last_seen_at_the_border_is_not_coasted() {
+    // Two settled tracks lose their road users at 2 s: the one last seen cut by the image
+    // border left the view and is no longer reported; the other (hidden behind a
+    // neighbour) coasts.
+    let mut tr = RoadUserTracker::new(TrackerSettings::default()).unwrap();
+    for k in 0..20 {
+        let t = f64::from(k) * 0.1;
+        let leaving = Observation {
+            at_border: k >= 15,
+            ..obs(RoadUserClass::Car, 2.0, 30.0 - 10.0 * t, 0.1)
+        };
+        tr.update(
+            t,
+            &[leaving, obs(RoadUserClass::Car, 9.0, 10.0 + 10.0 * t, 0.1)],
+        )
+        .unwrap();
+    }
+    let coasting = tr.update(2.1, &[]).unwrap();
+    assert_eq!(coasting.len(), 1, "{coasting:?}");
+    assert!((coasting[0].position[0] - 9.0).abs() < 0.2, "{coasting:?}");
 }
