@@ -88,8 +88,11 @@ pub struct BoxFit {
     /// The sum of squared weighted residuals at the solution (outline, corners, prior).
     pub cost: f64,
     /// What the mask alone says of the size (the prior taken out, the position
-    /// marginalised out), for the track's belief.
-    pub size_evidence: SizeEvidence,
+    /// marginalised out), for the track's belief; `None` when it says nothing.
+    pub size_evidence: Option<SizeEvidence>,
+    /// The part of the position's 1-sigma that comes from what is not known of the size
+    /// (the prior's share: it repeats from frame to frame), metres.
+    pub size_sigma_m: f64,
 }
 
 impl BoxFit {
@@ -338,15 +341,19 @@ impl<'a> Problem<'a> {
                 .any(|o| !o.far_from(p, m) && o.signed_distance(p) < m)
     }
 
-    /// The weighted residuals (outline vertices, corners, prior), or `None` off camera.
-    /// With `measured_only`, the one-sided rows (outline vertices along a touching mask,
-    /// corners inside the box's outline) are zero: what bounds the box without measuring
-    /// it does not make its covariance smaller.
-    /// Which of the box's corners `px` may be hidden, and which lie on its outline `ring`.
+    /// Which of the box's corners `px` may be hidden, which lie on its outline `ring`, and
+    /// how far the mask's outline stands out at each of those.
     fn roles(&self, px: &[[f64; 2]; 8], ring: &[[f64; 2]]) -> CornerRoles {
+        let (grown, _) = rounded_out(ring);
+        let rounding = px.map(|p| {
+            ring.iter()
+                .position(|q| *q == p)
+                .map_or([0.0, 0.0], |j| [grown[j][0] - p[0], grown[j][1] - p[1]])
+        });
         CornerRoles {
             hidden: px.map(|p| self.hidden(p)),
             on_outline: px.map(|p| ring.contains(&p)),
+            rounding,
         }
     }
 
@@ -403,11 +410,8 @@ impl<'a> Problem<'a> {
             // A corner on the box's outline lies on the mask's; one inside it only inside.
             // The mask's outline stands out of the box by its rounding: compared where the
             // outline would be.
-            let at = ring[..n]
-                .iter()
-                .position(|q| *q == p)
-                .map_or(p, |j| grown[j]);
-            let d = self.hull.signed_distance(at);
+            let [ox, oy] = roles.rounding[k];
+            let d = self.hull.signed_distance([p[0] + ox, p[1] + oy]);
             let r = match (roles.on_outline[k], measured_only) {
                 (true, _) => d,
                 (false, false) => d.max(0.0),
@@ -427,6 +431,10 @@ struct CornerRoles {
     hidden: [bool; 8],
     /// On the box's outline: on the mask's outline too.
     on_outline: [bool; 8],
+    /// How far the mask's outline stands out at each corner on the box's outline (its
+    /// rounding, [`rounded_out`]), pixels; zero for the others. Kept with the roles, so a
+    /// corner joining or leaving the outline within a derivative's step does not jump.
+    rounding: [[f64; 2]; 8],
 }
 
 fn norm2(r: &[f64]) -> f64 {
@@ -541,7 +549,7 @@ fn finish(problem: &Problem<'_>, t: &P5, r: &[f64]) -> Result<BoxFit, FitFailure
     problem
         .residuals(t, &mut measured, true, None)
         .ok_or(FitFailure::OffCamera)?;
-    let (a, _) = normal_equations(problem, t, &measured, true);
+    let (a, g) = normal_equations(problem, t, &measured, true);
     let mut cov = [[0.0; 2]; 2];
     for (j, col) in cov.iter_mut().enumerate() {
         let mut e = [0.0; 5];
@@ -549,6 +557,7 @@ fn finish(problem: &Problem<'_>, t: &P5, r: &[f64]) -> Result<BoxFit, FitFailure
         let x = solve(a, e).ok_or(FitFailure::Singular)?;
         *col = [x[0], x[1]];
     }
+    let known = inverse2([[a[0][0], a[0][1]], [a[1][0], a[1][1]]]);
     let mut scratch = Vec::new();
     let corners_seen = problem
         .residuals(t, &mut scratch, false, None)
@@ -570,28 +579,51 @@ fn finish(problem: &Problem<'_>, t: &P5, r: &[f64]) -> Result<BoxFit, FitFailure
         rms_px,
         corners_seen,
         cost: norm2(r),
-        size_evidence: size_evidence(problem, &a, t),
+        size_sigma_m: known.map_or(0.0, |k| size_share(&cov, &k)),
+        size_evidence: known.and_then(|k| size_evidence(problem, &a, &g, &k, t)),
     })
 }
 
-/// What the mask alone says of the size at the solution `t`, from the normal matrix `a`
-/// of the measuring rows and the prior: the prior's information `U'U` taken out of the
-/// size block, the position marginalised out (the Schur complement `S`), and the vector
-/// `S s_mask = S s + U'U (s - mean)` (where the mask's gradient balances the prior's).
+/// The inverse of a 2x2 matrix, `None` when it is singular.
+fn inverse2(m: [[f64; 2]; 2]) -> Option<[[f64; 2]; 2]> {
+    let det = m[0][0] * m[1][1] - m[0][1] * m[1][0];
+    (det.abs() > 1e-12 && det.is_finite()).then(|| {
+        [
+            [m[1][1] / det, -m[0][1] / det],
+            [-m[1][0] / det, m[0][0] / det],
+        ]
+    })
+}
+
+/// The part of the position's error that comes from what is not known of the size: the
+/// position's covariance `cov` less the one it would have were the size known exactly
+/// (`known`, the inverse of the position block), along its worst direction, metres.
+fn size_share(cov: &[[f64; 2]; 2], known: &[[f64; 2]; 2]) -> f64 {
+    let d = |i: usize, j: usize| cov[i][j] - known[i][j];
+    let (a, b, c) = (d(0, 0), 0.5 * (d(0, 1) + d(1, 0)), d(1, 1));
+    (0.5 * (a + c) + (0.25 * (a - c) * (a - c) + b * b).sqrt())
+        .max(0.0)
+        .sqrt()
+}
+
+/// What the mask alone says of the size at `t`, from the normal matrix `a` and gradient `g`
+/// of the measuring rows and the prior (`inv` the inverse of `a`'s position block): the
+/// prior's information `U'U` taken out of the size block and its gradient `U'U (s - mean)`
+/// out of the size gradient, the position marginalised out. `S` is the Schur complement;
+/// the size the mask says, `s_mask`, is one Gauss-Newton step from `s` on the mask's rows
+/// alone, so `S s_mask = S s - (g_s - A_sp inv g_p)` whether or not the fit stopped at its
+/// exact optimum. `None` when the mask says nothing of the size.
 #[allow(clippy::needless_range_loop)] // matrix arithmetic reads as its formulas with indices
-fn size_evidence(problem: &Problem<'_>, a: &[P5; 5], t: &P5) -> SizeEvidence {
+fn size_evidence(
+    problem: &Problem<'_>,
+    a: &[P5; 5],
+    g: &P5,
+    inv: &[[f64; 2]; 2],
+    t: &P5,
+) -> Option<SizeEvidence> {
     let u = &problem.prior_root;
     let prior: M3 =
         std::array::from_fn(|i| std::array::from_fn(|j| (0..3).map(|k| u[k][i] * u[k][j]).sum()));
-    let pp = [[a[0][0], a[0][1]], [a[1][0], a[1][1]]];
-    let det = pp[0][0] * pp[1][1] - pp[0][1] * pp[1][0];
-    if !(det.abs() > 1e-12 && det.is_finite()) {
-        return SizeEvidence::NONE;
-    }
-    let inv = [
-        [pp[1][1] / det, -pp[0][1] / det],
-        [-pp[1][0] / det, pp[0][0] / det],
-    ];
     let mut s: M3 = std::array::from_fn(|i| {
         std::array::from_fn(|j| {
             let cross: f64 = (0..2)
@@ -615,16 +647,26 @@ fn size_evidence(problem: &Problem<'_>, a: &[P5; 5], t: &P5) -> SizeEvidence {
     }
     let size = [t[2], t[3], t[4]];
     let off: [f64; 3] = std::array::from_fn(|k| size[k] - problem.prior_mean[k + 2]);
-    let (ss, po) = (mat_vec(&s, &size), mat_vec(&prior, &off));
+    let prior_pull = mat_vec(&prior, &off);
+    let ss = mat_vec(&s, &size);
+    // The mask's own gradient on the size, the position marginalised out.
+    let through: [f64; 2] = std::array::from_fn(|p| (0..2).map(|q| inv[p][q] * g[q]).sum());
+    let mut vector: [f64; 3] = std::array::from_fn(|i| {
+        let across: f64 = (0..2).map(|p| a[i + 2][p] * through[p]).sum();
+        ss[i] - (g[i + 2] - prior_pull[i] - across)
+    });
+    // A side with no information has no vector either.
+    for (v, row) in vector.iter_mut().zip(&s) {
+        if row.iter().all(|x| *x == 0.0) {
+            *v = 0.0;
+        }
+    }
     let e = SizeEvidence {
         information: s,
-        vector: std::array::from_fn(|k| ss[k] + po[k]),
+        vector,
     };
-    if e.is_finite() {
-        e
-    } else {
-        SizeEvidence::NONE
-    }
+    let trace: f64 = (0..3).map(|k| e.information[k][k]).sum();
+    (e.is_finite() && trace > 0.0).then_some(e)
 }
 
 #[cfg(test)]

@@ -50,8 +50,9 @@ pub struct Localized {
     /// size prior's (the same in every frame) and, for a road user cut by the image border,
     /// the prior standing for the end out of view.
     pub floor_m: f64,
-    /// What its mask says of its size, for its track's belief: only of a road user seen
-    /// whole (nothing touching it, inside the image, every corner checked).
+    /// What its mask says of its size, for its track's belief: of every road user not cut
+    /// by the image border (the fit's information leaves out what a touching mask may
+    /// hide, and a cut end would repeat the same wrong length frame after frame).
     pub size_evidence: Option<SizeEvidence>,
     /// Its mask touches the image border.
     pub road_user_at_border: bool,
@@ -219,20 +220,21 @@ impl Localizer {
     }
 
     /// One detection's box, position, 1-sigma error and the part of it from hidden sides.
-    /// A box fitted with its track's size belief that does not match its mask, or has an
-    /// implausible size, is fitted again with its class's prior: the track may have taken
-    /// its size from a wrong frame, and the mask comes first.
+    /// A box fitted with its track's size belief that is refused for any reason but too
+    /// few points is fitted again with its class's prior: the track may have taken its size
+    /// from a wrong frame, and the mask comes first.
     fn one(
         &self,
         d: &Silhouette,
         touching: &[&[[f64; 2]]],
         sizes: &dyn SizeHints,
     ) -> Result<Placed, BoxRejection> {
-        match self.fitted(d, touching, sizes) {
-            (Err(BoxRejection::Inconsistent { .. } | BoxRejection::Implausible), true) => {
+        let (placed, hinted) = self.fitted(d, touching, sizes);
+        match placed {
+            Err(e) if hinted && e != BoxRejection::TooFewPoints => {
                 self.fitted(d, touching, &ClassPriors).0
             }
-            (placed, _) => placed,
+            placed => placed,
         }
     }
 
@@ -353,14 +355,12 @@ impl Localizer {
             });
         }
         // Errors that repeat from frame to frame, which no track averages away: the
-        // calibration's; the size prior's (half its spread moves the centre, and the same
-        // prior, or the same track's belief, stands in every frame); and, cut by the image
+        // calibration's; the size prior's share of the position's error (the same prior, or
+        // the same track's belief, stands in every frame); and, cut by the image
         // border, the same end stays out of view frame after frame, so the prior's share of
         // the error repeats (behind a neighbour, what is hidden changes as traffic moves).
-        let [l, w, _] = belief.sigma();
-        let from_size = 0.5 * l.max(w);
         let border = if d.touches_border { hidden_floor } else { 0.0 };
-        let repeated = border.max(from_size).max(SIGMA_FLOOR_M);
+        let repeated = border.max(fitted.size_sigma_m).max(SIGMA_FLOOR_M);
         let seen_whole = !d.touches_border;
         Ok(Placed {
             road_user,
@@ -368,7 +368,10 @@ impl Localizer {
             sigma_m,
             floor_m: repeated.min(sigma_m),
             // A mask that fits worse than noise explains says less, as its position does.
-            size_evidence: seen_whole.then(|| fitted.size_evidence.scaled(1.0 / (misfit * misfit))),
+            size_evidence: fitted
+                .size_evidence
+                .filter(|_| seen_whole)
+                .map(|e| e.scaled(1.0 / (misfit * misfit))),
         })
     }
 

@@ -7,7 +7,7 @@
 //! left in the position. A road user's size does not change between frames, while the view
 //! does, so the track adds up each frame's information on the size ([`SizeEvidence`], in
 //! information form, the position marginalised out) and the next frame's fit takes the
-//! sum with the class's prior as its prior ([`SizeBelief`]). Older frames fade
+//! sum with the class's prior as its prior ([`SizeBelief`]). Older observations fade
 //! ([`FADE_PER_FRAME`]), so that a wrong frame, or a size that changes with a pedestrian's
 //! stride, is forgotten, and the belief never rests on more than a few tens of frames.
 //!
@@ -21,8 +21,8 @@ use super::class::{Extent, RoadUserClass};
 /// A symmetric 3x3 matrix.
 pub type M3 = [[f64; 3]; 3];
 
-/// Share of the accumulated evidence kept from one frame to the next: about 20 frames'
-/// worth at most (two seconds at 10 frames a second).
+/// Share of the accumulated evidence kept from one observation with evidence to the next:
+/// about 20 observations' worth at most (two seconds at 10 frames a second).
 pub const FADE_PER_FRAME: f64 = 0.95;
 /// Frames of evidence a track needs before its belief is used.
 pub const MIN_FRAMES: u32 = 3;
@@ -95,7 +95,9 @@ impl SizeBelief {
         }
     }
 
-    /// The class's prior with the evidence added; `None` when the sum cannot be solved.
+    /// The class's prior with the evidence added; `None` when the sum cannot be solved or
+    /// its mean is not a size of the class (a side under 0.3 of the class's mean or over its
+    /// largest): then the class's prior stands.
     pub fn with(class: RoadUserClass, evidence: &SizeEvidence) -> Option<Self> {
         let prior = Self::prior(class);
         let own = SizeEvidence {
@@ -118,9 +120,9 @@ impl SizeBelief {
         }
         let l = cholesky(&own.information)?;
         let mean = cholesky_solve(&l, &own.vector);
-        mean.iter()
-            .all(|v| v.is_finite() && *v > 0.0)
-            .then_some(Self { mean, information })
+        let (typical, largest) = (sides(class.typical()), sides(class.largest()));
+        let plausible = (0..3).all(|k| (0.3 * typical[k]..=largest[k]).contains(&mean[k]));
+        plausible.then_some(Self { mean, information })
     }
 
     /// The mean as an extent.

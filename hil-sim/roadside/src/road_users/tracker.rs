@@ -11,8 +11,9 @@
 //! unseen (it left the view), and a young one is not reported while unseen (its
 //! velocity rests on a few boxes). Reported accuracies come from the filter
 //! covariance, never better than the error its observations repeat from frame to
-//! frame (a cut end taken from the size prior), so they are suitable for J2735 PSM
-//! accuracy fields.
+//! frame (the calibration's, the size prior's share, a cut end), so they are suitable for
+//! J2735 PSM accuracy fields. Each track also learns its road user's size from its
+//! observations ([`super::size`]) and tells it to the next frame's fits.
 use super::class::RoadUserClass;
 use super::size::{SizeBelief, SizeEvidence, SizeHints, FADE_PER_FRAME, MIN_FRAMES};
 use std::fmt;
@@ -118,8 +119,8 @@ pub struct Observation {
     /// repeats. A track's accuracy is never reported better than its latest observation's
     /// floor.
     pub floor_m: f64,
-    /// What the frame's mask says of the road user's size (seen whole only), added to its
-    /// track's size belief ([`super::size`]).
+    /// What the frame's mask says of the road user's size (none for one cut by the image
+    /// border), added to its track's size belief ([`super::size`]).
     pub size: Option<SizeEvidence>,
     /// Cut by the image border: a road user last seen there and then not at all has left
     /// the view, so its track is not reported while unseen (one hidden behind another road
@@ -372,7 +373,8 @@ impl RoadUserTracker {
     /// The size belief of the one track of `class` whose position, predicted to `time_s`,
     /// lies near `position` (within half the class's mean length and a metre), with size
     /// evidence from at least [`MIN_FRAMES`] frames; `None` when no track or more than one
-    /// is there.
+    /// is there (tracks the next update ends, unseen for longer than `max_coast_s`, do not
+    /// count), or when the belief is not a size of the class.
     pub fn size_near(
         &self,
         class: RoadUserClass,
@@ -383,9 +385,11 @@ impl RoadUserTracker {
             .last_time_s
             .map_or(0.0, |last| (time_s - last).max(0.0));
         let within = 0.5 * class.size_prior().mean.length_m + 1.0;
+        let max_coast = self.settings.max_coast_s;
         let mut near = self.tracks.iter().filter(|t| {
             let [x, y, vx, vy] = t.x;
-            dominant_class(t) == class
+            time_s - t.last_seen_s <= max_coast
+                && dominant_class(t) == class
                 && (x + vx * dt - position[0]).hypot(y + vy * dt - position[1]) <= within
         });
         let one = near.next()?;

@@ -520,28 +520,32 @@ fn size_evidence(size: [f64; 3], sigma_m: f64) -> SizeEvidence {
 #[test]
 fn a_track_learns_its_road_users_size_and_tells_it_only_where_it_alone_is() {
     let mut tr = RoadUserTracker::new(TrackerSettings::default()).unwrap();
-    let bus = [10.6, 2.5, 3.1];
+    let car = [4.2, 1.75, 1.45];
     let seen = |y: f64| Observation {
-        size: Some(size_evidence(bus, 0.3)),
-        ..obs(RoadUserClass::Bus, 5.0, y, 0.1)
+        size: Some(size_evidence(car, 0.3)),
+        ..obs(RoadUserClass::Car, 5.0, y, 0.1)
     };
     // Too few frames: the class's prior stands.
     tr.update(0.0, &[seen(20.0)]).unwrap();
     tr.update(0.1, &[seen(21.0)]).unwrap();
-    assert!(tr.size_near(RoadUserClass::Bus, [5.0, 22.0], 0.2).is_none());
+    assert!(tr.size_near(RoadUserClass::Car, [5.0, 22.0], 0.2).is_none());
     for k in 2..30 {
         let t = f64::from(k) * 0.1;
         tr.update(t, &[seen(20.0 + 10.0 * t)]).unwrap();
     }
-    // Last seen at 49 m at 2.9 s, predicted at 50 m at 3.0 s.
-    let b = tr.size_near(RoadUserClass::Bus, [5.0, 50.0], 3.0);
-    let b = b.expect("one bus track there");
-    assert!((b.mean[0] - 10.6).abs() < 0.15, "{:?}", b.mean);
-    let prior = RoadUserClass::Bus.size_prior().sigma.length_m;
+    // Last seen at 49 m at 2.9 s, predicted at 53 m at 3.3 s: 4 m on, beyond a car's
+    // reach (3.3 m) of where it was last seen.
+    let b = tr.size_near(RoadUserClass::Car, [5.0, 53.0], 3.3);
+    let b = b.expect("one car track there");
+    assert!((b.mean[0] - 4.2).abs() < 0.1, "{:?}", b.mean);
+    let prior = RoadUserClass::Car.size_prior().sigma.length_m;
     assert!(b.sigma()[0] < prior / 3.0, "{:?}", b.sigma());
-    // Another class, or nowhere near: no belief.
-    assert!(tr.size_near(RoadUserClass::Car, [5.0, 49.0], 3.0).is_none());
-    assert!(tr.size_near(RoadUserClass::Bus, [5.0, 80.0], 3.0).is_none());
+    // Another class, where it was rather than where it is, or nowhere near: no belief.
+    assert!(tr.size_near(RoadUserClass::Van, [5.0, 53.0], 3.3).is_none());
+    assert!(tr.size_near(RoadUserClass::Car, [5.0, 49.0], 3.3).is_none());
+    assert!(tr.size_near(RoadUserClass::Car, [5.0, 80.0], 3.3).is_none());
+    // Unseen for longer than the coast: the track is as good as ended.
+    assert!(tr.size_near(RoadUserClass::Car, [5.0, 55.0], 3.5).is_none());
 }
 
 #[test]
