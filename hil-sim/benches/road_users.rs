@@ -171,34 +171,40 @@ fn gates(name: &str, noise: f64, s: &Score) -> Vec<String> {
 }
 
 /// A markdown row's first cells: the install, the noise, and per class of the paper's table
-/// the mean / max of `errors` (per class, in [`RoadUserClass::ALL`] order).
-fn class_cells(name: &str, noise: f64, errors: &[Vec<f64>; 7]) -> String {
+/// (its index in [`RoadUserClass::ALL`]) the cell `cell` writes.
+fn class_row(name: &str, noise: f64, cell: impl Fn(usize) -> String) -> String {
     let mut row = format!("| {name} | {noise} px |");
     for (class, _, _) in PAPER_ERRORS_CM {
         let k = RoadUserClass::ALL
             .iter()
             .position(|c| *c == class)
             .unwrap_or(0);
-        let (mean, _, max) = stats(&errors[k]);
-        row += &format!(" {mean:.1} / {max:.1} |");
+        row += &format!(" {} |", cell(k));
     }
     row
+}
+
+/// "mean / max" of a list of errors.
+fn mean_max(errors: &[f64]) -> String {
+    let (mean, _, max) = stats(errors);
+    format!("{mean:.1} / {max:.1}")
+}
+
+/// [`class_row`] with the mean / max of `errors` (per class, in [`RoadUserClass::ALL`] order).
+fn class_cells(name: &str, noise: f64, errors: &[Vec<f64>; 7]) -> String {
+    class_row(name, noise, |k| mean_max(&errors[k]))
 }
 
 /// One markdown row of the table of what the ideal estimators make of the same boxes: per
 /// class, the one knowing sizes through the class's prior, then the one knowing them.
 fn ideal_row(name: &str, noise: f64, s: &Score) -> String {
-    let mut row = format!("| {name} | {noise} px |");
-    for (class, _, _) in PAPER_ERRORS_CM {
-        let k = RoadUserClass::ALL
-            .iter()
-            .position(|c| *c == class)
-            .unwrap_or(0);
-        let (mean, _, max) = stats(&s.ideal_boxes[k]);
-        let (known_mean, _, known_max) = stats(&s.size_known_boxes[k]);
-        row += &format!(" {mean:.1} / {max:.1} ({known_mean:.1} / {known_max:.1}) |");
-    }
-    row
+    class_row(name, noise, |k| {
+        format!(
+            "{} ({})",
+            mean_max(&s.ideal_boxes[k]),
+            mean_max(&s.size_known_boxes[k])
+        )
+    })
 }
 
 /// One markdown row of the closing table.

@@ -343,8 +343,8 @@ impl<'a> Problem<'a> {
 
     /// Which of the box's corners `px` may be hidden, which lie on its outline `ring`, and
     /// how far the mask's outline stands out at each of those.
-    fn roles(&self, px: &[[f64; 2]; 8], ring: &[[f64; 2]]) -> CornerRoles {
-        let (grown, _) = rounded_out(ring);
+    /// `grown` is `ring` moved out by [`rounded_out`], vertex for vertex.
+    fn roles(&self, px: &[[f64; 2]; 8], ring: &[[f64; 2]], grown: &[[f64; 2]]) -> CornerRoles {
         let rounding = px.map(|p| {
             ring.iter()
                 .position(|q| *q == p)
@@ -361,7 +361,8 @@ impl<'a> Problem<'a> {
     fn corner_roles(&self, t: &P5) -> Option<CornerRoles> {
         let px = self.corners(t)?;
         let (ring, n) = hull8(&px);
-        Some(self.roles(&px, &ring[..n]))
+        let (grown, m) = rounded_out(&ring[..n]);
+        Some(self.roles(&px, &ring[..n], &grown[..m]))
     }
 
     /// The weighted residuals (outline vertices, corners, prior), or `None` off camera, with
@@ -387,7 +388,7 @@ impl<'a> Problem<'a> {
         let roles = match roles {
             Some(r) => r,
             None => {
-                own = self.roles(&px, &ring[..n]);
+                own = self.roles(&px, &ring[..n], &grown[..m]);
                 &own
             }
         };
