@@ -17,7 +17,7 @@ use roadside::road_users::class::Extent;
 use roadside::road_users::detections::parse_coco;
 use roadside::road_users::edgelets::EdgeletSettings;
 use roadside::road_users::localize::{Localized, Localizer};
-use roadside::road_users::polygon::near_or_overlapping;
+use roadside::road_users::polygon::{near_or_overlapping, signed_distance_convex};
 use roadside::road_users::tracker::{Observation, RoadUserTracker, TrackerSettings};
 use roadside::road_users::vanishing::{angle_between, RansacSettings};
 use roadside::road_users::RoadUserClass;
@@ -253,6 +253,74 @@ fn a_hidden_or_cut_or_mislabelled_mask_is_refused_with_its_reason() {
         loc.camera(),
     );
     assert_eq!(one.unwrap_err(), BoxRejection::TooFewPoints);
+}
+
+#[test]
+fn a_worker_in_front_of_a_truck_is_not_hidden_by_it() {
+    let s = setup();
+    let loc = localizer();
+    let size = s.cam.image_size().map(|v| v as u32);
+    let mut rng = Prng::new(8);
+    // A worker most of the way from the pole to a truck: seen whole, its head against the
+    // truck, so the truck's mask goes around it and the two masks' hulls overlap.
+    let truck = [5.25, 32.0];
+    let c = s.cam.centre();
+    let worker = [
+        c[0] + 0.85 * (truck[0] - c[0]),
+        c[1] + 0.85 * (truck[1] - c[1]),
+    ];
+    let users = [
+        user(0, RoadUserClass::Truck, truck),
+        user(1, RoadUserClass::Pedestrian, worker),
+    ];
+    let found = masks(&labels(&s.cam, &users, 0.0, &mut rng), size, &users, &[]);
+    let sil: Vec<_> = found.iter().map(|(_, m)| m.clone()).collect();
+    let alone = masks(
+        &labels(&s.cam, &users[1..], 0.0, &mut rng),
+        size,
+        &users[1..],
+        &[],
+    );
+    let person = found
+        .iter()
+        .position(|(k, _)| *k == 1)
+        .expect("the worker is seen");
+    assert!(
+        (sil[person].area_px - alone[0].1.area_px).abs() < 1.0,
+        "nothing hides the worker"
+    );
+    assert!(
+        sil[person]
+            .hull
+            .iter()
+            .any(|p| signed_distance_convex(*p, &sil[1 - person].hull) < -8.0),
+        "the worker stands inside the truck's outline"
+    );
+    // Both are localized, the worker as a road user seen whole.
+    let (boxes, rejected) = loc.frame(&sil);
+    assert_eq!(boxes.len(), 2, "{boxes:?} {rejected:?}");
+    for b in &boxes {
+        let truth = users[found[b.index].0];
+        let e = (b.position[0] - truth.centre[0]).hypot(b.position[1] - truth.centre[1]);
+        assert!(
+            e < 0.15 && e < 3.0 * b.sigma_m,
+            "{truth:?}: {e:.3} m, {b:?}"
+        );
+    }
+    let worker_box = boxes
+        .iter()
+        .find(|b| b.index == person)
+        .expect("the worker's box");
+    // Its head, seen against the truck, measures its height: the truck does not hide it.
+    let evidence = worker_box
+        .size_evidence
+        .expect("the worker's mask measures its size");
+    let height_sigma_m = evidence.information[2][2].recip().sqrt();
+    assert!(
+        height_sigma_m < 0.05,
+        "height known within {height_sigma_m:.3} m"
+    );
+    assert!(worker_box.sigma_m < 0.1, "{worker_box:?}");
 }
 
 #[test]

@@ -23,6 +23,9 @@ use super::tracker::Observation;
 
 /// Masks nearer than this (pixels) count as touching.
 const TOUCH_PX: f64 = 2.0;
+/// An outline point this far (pixels) inside another mask's hull lies where that road user
+/// would be seen were nothing in front of it: well beyond mask noise and the hull's rounding.
+const CARVED_PX: f64 = 4.0;
 /// Error floor of a position, metres (the calibration's and the box model's).
 const SIGMA_FLOOR_M: f64 = 0.03;
 /// A position less certain than this (1-sigma, metres) is not reported.
@@ -180,7 +183,8 @@ impl Localizer {
     ///
     /// Each detection's box is fitted to its mask ([`fit`]); the masks it touches and the
     /// image border may hide part of it, so box corners there are not checked against its
-    /// mask. A detection is refused when the fit fails, when the box is implausible for its
+    /// mask. A touching mask whose outline goes around part of this one's stands behind it
+    /// and hides nothing of it (a worker in front of a truck). A detection is refused when the fit fails, when the box is implausible for its
     /// class, when it does not match its mask, or when so little of it is seen that its
     /// position is not known within [`MAX_SIGMA_M`] (then as occluded or truncated).
     pub fn frame(&self, detections: &[Silhouette]) -> (Vec<Localized>, Rejections) {
@@ -200,7 +204,7 @@ impl Localizer {
             let touching: Vec<&[[f64; 2]]> = detections
                 .iter()
                 .enumerate()
-                .filter(|(j, o)| *j != index && near_or_overlapping(&d.hull, &o.hull, TOUCH_PX))
+                .filter(|(j, o)| *j != index && may_hide(&o.hull, &d.hull))
                 .map(|(_, o)| o.hull.as_slice())
                 .collect();
             match self.one(d, &touching, sizes) {
@@ -459,5 +463,45 @@ impl Localizer {
             iou: iou(&outline, &d.hull),
             misfit_px: f.rms_px,
         }
+    }
+}
+
+/// May the mask with hull `other` hide part of the road user whose mask has hull `own`?
+/// Only if the two touch, and unless `own` was carved out of `other`'s silhouette: masks
+/// share no pixel, so where `own`'s outline lies well inside `other`'s hull, `other` is seen
+/// around it and stands behind it (a worker in front of a truck), unless `other`'s outline
+/// also lies well inside `own`'s (each partly in front: either may hide the other).
+fn may_hide(other: &[[f64; 2]], own: &[[f64; 2]]) -> bool {
+    let carved = |a: &[[f64; 2]], b: &[[f64; 2]]| {
+        a.iter().any(|p| signed_distance_convex(*p, b) < -CARVED_PX)
+    };
+    let behind = carved(own, other) && !carved(other, own);
+    near_or_overlapping(own, other, TOUCH_PX) && !behind
+}
+
+#[cfg(test)]
+mod tests {
+    use super::may_hide;
+
+    fn square(x: f64, y: f64, side: f64) -> Vec<[f64; 2]> {
+        vec![[x, y], [x + side, y], [x + side, y + side], [x, y + side]]
+    }
+
+    #[test]
+    fn only_a_mask_in_front_may_hide() {
+        let truck = square(0.0, 0.0, 100.0);
+        // Beside it, touching: either may stand in front.
+        assert!(may_hide(&truck, &square(100.5, 40.0, 20.0)));
+        // Apart: neither hides the other.
+        assert!(!may_hide(&truck, &square(110.0, 40.0, 20.0)));
+        // Carved out of its outline: the worker stands in front of it.
+        let worker = square(40.0, 60.0, 20.0);
+        assert!(!may_hide(&truck, &worker));
+        // Overlapping the edge by less than mask noise: still touching.
+        assert!(may_hide(&truck, &square(97.0, 40.0, 20.0)));
+        // Each with a corner well inside the other's outline: either may hide the other.
+        let across = square(50.0, 50.0, 100.0);
+        assert!(may_hide(&truck, &across));
+        assert!(may_hide(&across, &truck));
     }
 }
