@@ -2,24 +2,26 @@
 //! given its mask.
 //!
 //! The bench's mask is the convex hull of the eight projected box corners, each moved by
-//! Gaussian noise of `noise_px` in x and y. The mask is a function of those 16 noisy
-//! coordinates, so it carries no more information on the box than they do: the Fisher
-//! information of the 16 coordinates about (x, y, length, width, height), plus the class's
-//! Gaussian size prior as information on the three sides (the Bayesian bound), bounds from
-//! below the covariance of an unbiased estimate of the position that knows sizes only
-//! through that prior. An ideal estimator at the bound makes errors drawn from that
-//! covariance; the benchmark draws one per box it scores and sets their mean and largest
-//! beside the localizer's. It is a reference for one frame alone, not a limit for every
-//! estimator: the localizer's boxes take their track's size belief as the prior (what
-//! earlier frames measured of the same road user), which a one-frame bound does not have,
-//! and the largest of the draws is a sample, not a bound. So beside it the bench draws from
-//! a second bound, [`position_bound_size_known`], that of an estimator knowing each road
-//! user's size exactly: what no size belief, however many frames it rests on, gets below
-//! in one frame.
+//! Gaussian noise of `noise_px` in x and y. The corners on the silhouette's outline are the
+//! mask's vertices; a corner inside it (the top corner nearest the camera, the bottom
+//! corner behind the box) leaves no trace in the mask while its noise keeps it inside. So
+//! the mask carries the information of the outline corners' noisy coordinates and no more:
+//! their Fisher information about (x, y, length, width, height), plus the class's Gaussian
+//! size prior as information on the three sides (the Bayesian bound), bounds from below the
+//! covariance of an unbiased estimate of the position that knows sizes only through that
+//! prior. An ideal estimator at the bound makes errors drawn from that covariance; the
+//! benchmark draws one per box it scores and sets their mean and largest beside the
+//! localizer's. It is a reference for one frame alone, not a limit for every estimator: the
+//! localizer's boxes take their track's size belief as the prior (what earlier frames
+//! measured of the same road user), which a one-frame bound does not have, and the largest
+//! of the draws is a sample, not a bound. So beside it the bench draws from a second bound,
+//! [`position_bound_size_known`], that of an estimator knowing each road user's size
+//! exactly: what no size belief, however many frames it rests on, gets below in one frame.
 
 use super::super::street::{corners, RoadUser};
 use super::super::synthetic_camera::PinholeCamera;
 use roadside::rng::Prng;
+use roadside::road_users::polygon::convex_hull;
 
 /// The box's parameters: x, y (centre, metres), length, width, height.
 type Params = [f64; 5];
@@ -56,10 +58,20 @@ fn information(cam: &PinholeCamera, u: &RoadUser, noise_px: f64) -> Option<[[f64
     Some(info)
 }
 
-/// The information matrix (5x5) of the corners' noisy pixels alone about the box of `u`.
+/// Which of the box's eight corners (pixels `px`, as [`corner_pixels`] gives them) are on
+/// its silhouette's outline: the vertices of their convex hull.
+fn on_outline(px: &[f64; 16]) -> [bool; 8] {
+    let corners: Vec<[f64; 2]> = px.chunks_exact(2).map(|c| [c[0], c[1]]).collect();
+    let hull = convex_hull(&corners);
+    std::array::from_fn(|k| hull.contains(&corners[k]))
+}
+
+/// The information matrix (5x5) of the outline corners' noisy pixels alone about the box
+/// of `u`.
 fn corner_information(cam: &PinholeCamera, u: &RoadUser, noise_px: f64) -> Option<[[f64; 5]; 5]> {
     let e = u.extent;
     let at: Params = [u.centre[0], u.centre[1], e.length_m, e.width_m, e.height_m];
+    let seen = on_outline(&corner_pixels(cam, u, &at)?);
     let mut jac = [[0.0; 5]; 16];
     for j in 0..5 {
         let step = 1e-4;
@@ -72,7 +84,8 @@ fn corner_information(cam: &PinholeCamera, u: &RoadUser, noise_px: f64) -> Optio
         }
     }
     let mut info = [[0.0; 5]; 5];
-    for row in &jac {
+    // Rows 2k and 2k + 1 are corner k's x and y.
+    for (_, row) in jac.iter().enumerate().filter(|(r, _)| seen[r / 2]) {
         for i in 0..5 {
             for j in 0..5 {
                 info[i][j] += row[i] * row[j] / (noise_px * noise_px);
@@ -165,6 +178,18 @@ mod tests {
         let k2 = trace(position_bound_size_known(&cam, &far, 2.0).unwrap());
         assert!(k1 < f1, "size known {k1}, prior {f1}");
         assert!((k2 - 2.0 * k1).abs() < 1e-9 * k1.max(1.0), "{k1} {k2}");
+        // A box seen from above shows six of its corners: the top one nearest the camera
+        // and the bottom one behind are inside its outline and inform nothing.
+        let e = far.extent;
+        let at = [
+            far.centre[0],
+            far.centre[1],
+            e.length_m,
+            e.width_m,
+            e.height_m,
+        ];
+        let seen = on_outline(&corner_pixels(&cam, &far, &at).unwrap());
+        assert_eq!(seen.iter().filter(|s| **s).count(), 6, "{seen:?}");
         // An exact inverse: the information times the bound is the identity.
         let info = information(&cam, &far, 1.0).unwrap();
         let inv = inverse(info).unwrap();
