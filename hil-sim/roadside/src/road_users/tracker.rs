@@ -216,7 +216,8 @@ struct TrackState {
     hits: u32,
     /// The latest observation's floor (see [`Observation::floor_m`]).
     floor_m: f64,
-    /// The latest observation was cut by the image border ([`Observation::at_border`]).
+    /// Every observation at its latest time was cut by the image border
+    /// ([`Observation::at_border`]): it left the view of every camera that saw it.
     at_border: bool,
     /// The size evidence of its observations, older frames faded.
     size: SizeEvidence,
@@ -574,9 +575,12 @@ fn correct(t: &mut TrackState, o: &Observation, time_s: f64) {
     let c = &mut t.class_counts[o.class as usize];
     *c = c.saturating_add(1);
     t.hits = t.hits.saturating_add(1);
+    // Cut by the border in one camera and seen whole by another at the same time, the road
+    // user is still in the site's view: it left only if every view of it was cut.
+    let seen_now = t.last_seen_s == time_s;
+    t.at_border = o.at_border && (t.at_border || !seen_now);
     t.last_seen_s = time_s;
     t.floor_m = o.floor_m;
-    t.at_border = o.at_border;
     if let Some(e) = &o.size {
         t.size = t.size.scaled(FADE_PER_FRAME).plus(e);
         t.size_frames = t.size_frames.saturating_add(1);

@@ -602,3 +602,31 @@ fn a_road_user_last_seen_at_the_border_is_not_coasted() {
     assert_eq!(coasting.len(), 1, "{coasting:?}");
     assert!((coasting[0].position[0] - 9.0).abs() < 0.2, "{coasting:?}");
 }
+
+#[test]
+fn a_road_user_cut_in_one_camera_and_whole_in_another_coasts() {
+    // Two cameras feed one tracker, each frame one update per camera at the same time. A
+    // car leaving the first camera's view (cut by its border) while the second sees it
+    // whole has not left the site's view: hidden at 2 s, it coasts, in either camera order.
+    for border_last in [true, false] {
+        let mut tr = RoadUserTracker::new(TrackerSettings::default()).unwrap();
+        for k in 0..20 {
+            let t = f64::from(k) * 0.1;
+            let seen = obs(RoadUserClass::Car, 2.0, 30.0 - 10.0 * t, 0.1);
+            let cut = Observation {
+                at_border: true,
+                ..seen
+            };
+            let order = if border_last {
+                [seen, cut]
+            } else {
+                [cut, seen]
+            };
+            for o in order {
+                tr.update(t, &[o]).unwrap();
+            }
+        }
+        let coasting = tr.update(2.1, &[]).unwrap();
+        assert_eq!(coasting.len(), 1, "border last {border_last}: {coasting:?}");
+    }
+}
