@@ -14,7 +14,7 @@ use roadside::rng::Prng;
 use roadside::road_users::boxes::BoxRejection;
 use roadside::road_users::calibrate::{calibrate, cross_check, SceneCalibration};
 use roadside::road_users::class::Extent;
-use roadside::road_users::detections::parse_coco;
+use roadside::road_users::detections::{parse_coco, Silhouette};
 use roadside::road_users::edgelets::EdgeletSettings;
 use roadside::road_users::localize::{Localized, Localizer};
 use roadside::road_users::polygon::{near_or_overlapping, signed_distance_convex};
@@ -77,6 +77,19 @@ fn localizer() -> Localizer {
 
 fn user(id: u32, class: RoadUserClass, centre: [f64; 2]) -> RoadUser {
     RoadUser::standing(id, class, centre)
+}
+
+/// The detector's masks of `users` on the test camera, exact (no mask noise), each with its
+/// road user's index.
+fn exact_masks(users: &[RoadUser]) -> Vec<(usize, Silhouette)> {
+    let s = setup();
+    let size = s.cam.image_size().map(|v| v as u32);
+    masks(
+        &labels(&s.cam, users, 0.0, &mut Prng::new(0)),
+        size,
+        users,
+        &[],
+    )
 }
 
 #[test]
@@ -191,18 +204,9 @@ fn a_hidden_or_cut_or_mislabelled_mask_is_refused_with_its_reason() {
         user(0, RoadUserClass::Truck, [1.75, 24.0]),
         user(1, RoadUserClass::Pedestrian, [7.5, 29.2]),
     ];
-    let lab = labels(&s.cam, &users, 0.0, &mut rng);
-    let sil: Vec<_> = masks(&lab, size, &users, &[])
-        .into_iter()
-        .map(|(_, m)| m)
-        .collect();
+    let sil: Vec<_> = exact_masks(&users).into_iter().map(|(_, m)| m).collect();
     assert_eq!(sil.len(), 2, "the worker is partly seen");
-    let alone = masks(
-        &labels(&s.cam, &users[1..], 0.0, &mut rng),
-        size,
-        &users[1..],
-        &[],
-    );
+    let alone = exact_masks(&users[1..]);
     assert!(
         sil[1].area_px < 0.9 * alone[0].1.area_px,
         "the truck hides part of the worker"
@@ -259,8 +263,6 @@ fn a_hidden_or_cut_or_mislabelled_mask_is_refused_with_its_reason() {
 fn a_worker_in_front_of_a_truck_is_not_hidden_by_it() {
     let s = setup();
     let loc = localizer();
-    let size = s.cam.image_size().map(|v| v as u32);
-    let mut rng = Prng::new(8);
     // A worker most of the way from the pole to a truck: seen whole, its head against the
     // truck, so the truck's mask goes around it and the two masks' hulls overlap.
     let truck = [5.25, 32.0];
@@ -273,14 +275,9 @@ fn a_worker_in_front_of_a_truck_is_not_hidden_by_it() {
         user(0, RoadUserClass::Truck, truck),
         user(1, RoadUserClass::Pedestrian, worker),
     ];
-    let found = masks(&labels(&s.cam, &users, 0.0, &mut rng), size, &users, &[]);
+    let found = exact_masks(&users);
     let sil: Vec<_> = found.iter().map(|(_, m)| m.clone()).collect();
-    let alone = masks(
-        &labels(&s.cam, &users[1..], 0.0, &mut rng),
-        size,
-        &users[1..],
-        &[],
-    );
+    let alone = exact_masks(&users[1..]);
     let person = found
         .iter()
         .position(|(k, _)| *k == 1)

@@ -99,10 +99,16 @@ impl BoxFit {
     /// 1-sigma along the centre's worst direction, metres.
     pub fn sigma_m(&self) -> f64 {
         let [[a, b], [_, c]] = self.covariance;
-        (0.5 * (a + c) + (0.25 * (a - c) * (a - c) + b * b).sqrt())
-            .max(0.0)
-            .sqrt()
+        worst_sigma(a, b, c)
     }
+}
+
+/// 1-sigma along the worst direction of the 2x2 covariance `[[a, b], [b, c]]` (the square
+/// root of its larger eigenvalue; zero if that is negative).
+fn worst_sigma(a: f64, b: f64, c: f64) -> f64 {
+    (0.5 * (a + c) + (0.25 * (a - c) * (a - c) + b * b).sqrt())
+        .max(0.0)
+        .sqrt()
 }
 
 /// Why no box was fitted.
@@ -601,10 +607,7 @@ fn inverse2(m: [[f64; 2]; 2]) -> Option<[[f64; 2]; 2]> {
 /// (`known`, the inverse of the position block), along its worst direction, metres.
 fn size_share(cov: &[[f64; 2]; 2], known: &[[f64; 2]; 2]) -> f64 {
     let d = |i: usize, j: usize| cov[i][j] - known[i][j];
-    let (a, b, c) = (d(0, 0), 0.5 * (d(0, 1) + d(1, 0)), d(1, 1));
-    (0.5 * (a + c) + (0.25 * (a - c) * (a - c) + b * b).sqrt())
-        .max(0.0)
-        .sqrt()
+    worst_sigma(d(0, 0), 0.5 * (d(0, 1) + d(1, 0)), d(1, 1))
 }
 
 /// What the mask alone says of the size at `t`, from the normal matrix `a` and gradient `g`

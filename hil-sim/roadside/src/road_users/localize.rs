@@ -184,9 +184,10 @@ impl Localizer {
     /// Each detection's box is fitted to its mask ([`fit`]); the masks it touches and the
     /// image border may hide part of it, so box corners there are not checked against its
     /// mask. A touching mask whose outline goes around part of this one's stands behind it
-    /// and hides nothing of it (a worker in front of a truck). A detection is refused when the fit fails, when the box is implausible for its
-    /// class, when it does not match its mask, or when so little of it is seen that its
-    /// position is not known within [`MAX_SIGMA_M`] (then as occluded or truncated).
+    /// and hides nothing of it (a worker in front of a truck). A detection is refused when
+    /// the fit fails, when the box is implausible for its class, when it does not match its
+    /// mask, or when so little of it is seen that its position is not known within
+    /// [`MAX_SIGMA_M`] (then as occluded or truncated).
     pub fn frame(&self, detections: &[Silhouette]) -> (Vec<Localized>, Rejections) {
         self.frame_with(detections, &ClassPriors)
     }

@@ -26,6 +26,12 @@ use roadside::road_users::polygon::convex_hull;
 /// The box's parameters: x, y (centre, metres), length, width, height.
 type Params = [f64; 5];
 
+/// The parameters of `u`'s own box.
+fn params_of(u: &RoadUser) -> Params {
+    let e = u.extent;
+    [u.centre[0], u.centre[1], e.length_m, e.width_m, e.height_m]
+}
+
 /// The 16 pixel coordinates of the box's corners for `p`, `None` when a corner is behind
 /// the camera.
 fn corner_pixels(cam: &PinholeCamera, u: &RoadUser, p: &Params) -> Option<[f64; 16]> {
@@ -69,8 +75,7 @@ fn on_outline(px: &[f64; 16]) -> [bool; 8] {
 /// The information matrix (5x5) of the outline corners' noisy pixels alone about the box
 /// of `u`.
 fn corner_information(cam: &PinholeCamera, u: &RoadUser, noise_px: f64) -> Option<[[f64; 5]; 5]> {
-    let e = u.extent;
-    let at: Params = [u.centre[0], u.centre[1], e.length_m, e.width_m, e.height_m];
+    let at = params_of(u);
     let seen = on_outline(&corner_pixels(cam, u, &at)?);
     let mut jac = [[0.0; 5]; 16];
     for j in 0..5 {
@@ -85,7 +90,12 @@ fn corner_information(cam: &PinholeCamera, u: &RoadUser, noise_px: f64) -> Optio
     }
     let mut info = [[0.0; 5]; 5];
     // Rows 2k and 2k + 1 are corner k's x and y.
-    for (_, row) in jac.iter().enumerate().filter(|(r, _)| seen[r / 2]) {
+    for row in jac
+        .iter()
+        .enumerate()
+        .filter(|(r, _)| seen[r / 2])
+        .map(|(_, row)| row)
+    {
         for i in 0..5 {
             for j in 0..5 {
                 info[i][j] += row[i] * row[j] / (noise_px * noise_px);
@@ -180,15 +190,7 @@ mod tests {
         assert!((k2 - 2.0 * k1).abs() < 1e-9 * k1.max(1.0), "{k1} {k2}");
         // A box seen from above shows six of its corners: the top one nearest the camera
         // and the bottom one behind are inside its outline and inform nothing.
-        let e = far.extent;
-        let at = [
-            far.centre[0],
-            far.centre[1],
-            e.length_m,
-            e.width_m,
-            e.height_m,
-        ];
-        let seen = on_outline(&corner_pixels(&cam, &far, &at).unwrap());
+        let seen = on_outline(&corner_pixels(&cam, &far, &params_of(&far)).unwrap());
         assert_eq!(seen.iter().filter(|s| **s).count(), 6, "{seen:?}");
         // An exact inverse: the information times the bound is the identity.
         let info = information(&cam, &far, 1.0).unwrap();
