@@ -31,6 +31,7 @@
 //! - [`service`]: `roadside run`: a site's messages deposited and kept on its RSUs.
 //!
 //! Helpers used along the way: [`clock`] (UTC calendar arithmetic for J2735 times),
+//! [`ellipse`] (a position's error ellipse, as the camera measures it and PSMs carry it),
 //! [`signer`] (IEEE 1609.2 signing of what goes on the air) and [`rng`] (the seeded
 //! pseudo-random generator of the radio faults; the bench reuses it).
 //!
@@ -48,6 +49,7 @@ pub mod broadcast;
 pub mod camera;
 pub mod clock;
 pub mod cones;
+pub mod ellipse;
 pub mod geojson;
 pub mod messages;
 pub mod pki;

@@ -18,6 +18,7 @@ use super::synthetic_camera::PinholeCamera;
 use j2735::MessageFrame;
 use roadside::camera::Homography;
 use roadside::clock::Utc;
+use roadside::ellipse::ErrorEllipse;
 use roadside::rng::Prng;
 use roadside::road::Road;
 use roadside::road_users::calibrate::calibrate;
@@ -113,6 +114,11 @@ impl ScenePlacement {
             heading_deg: t
                 .heading_deg
                 .map(|h| (h + self.bearing_deg).rem_euclid(360.0)),
+            position_ellipse: ErrorEllipse {
+                orientation_deg: (t.position_ellipse.orientation_deg + self.bearing_deg)
+                    .rem_euclid(180.0),
+                ..t.position_ellipse
+            },
             ..*t
         }
     }

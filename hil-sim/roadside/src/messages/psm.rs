@@ -5,6 +5,7 @@
 
 use super::{checked, fit, position, velocity, BuildError};
 use crate::clock::Utc;
+use crate::ellipse::ErrorEllipse;
 use geodesy::LatLon;
 use j2735::msg::common::{
     DSecond, Heading, MsgCount, OffsetLLB18, PathHistory, PathHistoryPoint, PathHistoryPointList,
@@ -27,8 +28,8 @@ pub struct Worker {
     pub id: [u8; 4],
     /// Where the worker stands.
     pub position: LatLon,
-    /// Horizontal error of the position, metres (1 sigma, the same in every direction).
-    pub accuracy_m: f64,
+    /// Horizontal error of the position: the 1-sigma ellipse.
+    pub accuracy: ErrorEllipse,
     /// Ground speed, m/s.
     pub speed_mps: f64,
     /// Direction of motion, degrees clockwise from true north (`None` when standing).
@@ -50,7 +51,7 @@ pub fn build_psm(worker: &Worker, now: Utc, msg_cnt: u8) -> Result<Box<MessageFr
         msg_cnt: fit("msgCnt", msg_cnt.into(), MsgCount::new)?,
         id: TemporaryID(worker.id),
         position: position(worker.position)?,
-        accuracy: accuracy(worker.accuracy_m)?,
+        accuracy: accuracy(&worker.accuracy)?,
         speed: speed(worker.speed_mps)?,
         heading: heading(worker.heading_deg)?,
         accel_set: None,
@@ -88,18 +89,27 @@ fn speed(mps: f64) -> Result<Velocity, BuildError> {
     }
 }
 
-/// A circular error of `sigma_m` as `PositionalAccuracy` (0.05 m units; 254 for 12.7 m or
-/// more; unavailable, 255, for an error not known; orientation 0).
-fn accuracy(sigma_m: f64) -> Result<PositionalAccuracy, BuildError> {
-    let units = if sigma_m.is_finite() && sigma_m >= 0.0 {
-        ((sigma_m / 0.05).round() as i64).clamp(0, 254)
+/// An error ellipse as `PositionalAccuracy`: its axes in 0.05 m units (254 for 12.7 m or
+/// more; unavailable, 255, for an error not known), the major axis's direction in units of
+/// 360/65535 degrees from true north (unavailable, 65535, when the axes are not known).
+fn accuracy(e: &ErrorEllipse) -> Result<PositionalAccuracy, BuildError> {
+    let axis = |sigma_m: f64| {
+        if sigma_m.is_finite() && sigma_m >= 0.0 {
+            ((sigma_m / 0.05).round() as i64).clamp(0, 254)
+        } else {
+            255
+        }
+    };
+    let (major, minor) = (axis(e.semi_major_m), axis(e.semi_minor_m));
+    let orientation = if major == 255 || minor == 255 || !e.orientation_deg.is_finite() {
+        65_535
     } else {
-        255
+        ((e.orientation_deg.rem_euclid(360.0) * 65_535.0 / 360.0).round() as i64) % 65_535
     };
     Ok(PositionalAccuracy {
-        semi_major: fit("semiMajor", units, SemiMajorAxisAccuracy::new)?,
-        semi_minor: fit("semiMinor", units, SemiMinorAxisAccuracy::new)?,
-        orientation: fit("orientation", 0, SemiMajorAxisOrientation::new)?,
+        semi_major: fit("semiMajor", major, SemiMajorAxisAccuracy::new)?,
+        semi_minor: fit("semiMinor", minor, SemiMinorAxisAccuracy::new)?,
+        orientation: fit("orientation", orientation, SemiMajorAxisOrientation::new)?,
     })
 }
 
@@ -169,7 +179,7 @@ mod tests {
         Worker {
             id: [0xde, 0xad, 0x00, 0x01],
             position: LatLon::from_degrees(44.977_8, -93.265_0).unwrap(),
-            accuracy_m: 0.5,
+            accuracy: ErrorEllipse::circle(0.5),
             speed_mps: 1.5,
             heading_deg: Some(90.0),
             history: Vec::new(),
@@ -191,15 +201,34 @@ mod tests {
     }
 
     #[test]
+    fn the_accuracy_ellipse_is_the_oracles_bytes() {
+        // As above with "accuracy": {"semiMajor": 6, "semiMinor": 2, "orientation": 8192}:
+        // 0.3 m along the north-east diagonal, 0.1 m across it.
+        const ORACLE: &str = "00201b0010066072177ab400045073fa5033b2b5ef060220000259c20200";
+        let mut w = worker();
+        w.accuracy = ErrorEllipse {
+            semi_major_m: 0.3,
+            semi_minor_m: 0.1,
+            orientation_deg: 45.0,
+        };
+        let at = Utc::from_unix_ms(1_795_341_600_000 + 12_345);
+        let frame = build_psm(&w, at, 5).unwrap();
+        let hex = j2735::hex::Hex(&super::super::encode(&frame).unwrap()).to_string();
+        assert_eq!(hex, ORACLE);
+    }
+
+    #[test]
     fn units_and_unavailable_values() {
-        assert_eq!(accuracy(0.5).unwrap().semi_major.get(), 10);
-        assert_eq!(accuracy(100.0).unwrap().semi_major.get(), 254);
-        assert_eq!(accuracy(f64::NAN).unwrap().semi_minor.get(), 255);
+        let circle = |s: f64| accuracy(&ErrorEllipse::circle(s)).unwrap();
+        assert_eq!(circle(0.5).semi_major.get(), 10);
+        assert_eq!(circle(100.0).semi_major.get(), 254);
+        assert_eq!(circle(f64::NAN).semi_minor.get(), 255);
+        assert_eq!(circle(f64::NAN).orientation.get(), 65_535);
         assert_eq!(heading(Some(359.999)).unwrap().get(), 0);
         assert_eq!(heading(Some(-90.0)).unwrap().get(), 21_600);
         assert_eq!(heading(None).unwrap(), Heading::UNAVAILABLE);
         assert_eq!(heading(Some(f64::INFINITY)).unwrap(), Heading::UNAVAILABLE);
-        assert_eq!(accuracy(-1.0).unwrap().semi_major.get(), 255);
+        assert_eq!(circle(-1.0).semi_major.get(), 255);
         assert_eq!(speed(1.5).unwrap().get(), 75);
         assert_eq!(speed(f64::NAN).unwrap(), Velocity::UNAVAILABLE);
         assert_eq!(speed(-0.5).unwrap(), Velocity::UNAVAILABLE);

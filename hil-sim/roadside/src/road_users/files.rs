@@ -151,6 +151,9 @@ pub fn tracks_json(run: &Run, site: &Road) -> Value {
                         "east_m": t.position[0], "north_m": t.position[1],
                         "speed_mps": t.speed_mps, "heading_deg": t.heading_deg,
                         "position_sigma_m": t.position_sigma_m, "speed_sigma_mps": t.speed_sigma_mps,
+                        "semi_major_m": t.position_ellipse.semi_major_m,
+                        "semi_minor_m": t.position_ellipse.semi_minor_m,
+                        "orientation_deg": t.position_ellipse.orientation_deg,
                     })
                 })
                 .collect();

@@ -32,6 +32,7 @@ use super::calibrate::GroundCamera;
 use super::class::{Extent, RoadUserClass};
 use super::polygon::{signed_area, signed_distance_convex};
 use super::size::{mat_vec, SizeBelief, SizeEvidence, M3};
+use crate::ellipse::worst_sigma;
 
 /// 1-sigma noise of a mask's outline, pixels.
 pub const OUTLINE_SIGMA_PX: f64 = 1.0;
@@ -98,17 +99,8 @@ pub struct BoxFit {
 impl BoxFit {
     /// 1-sigma along the centre's worst direction, metres.
     pub fn sigma_m(&self) -> f64 {
-        let [[a, b], [_, c]] = self.covariance;
-        worst_sigma(a, b, c)
+        worst_sigma(&self.covariance)
     }
-}
-
-/// 1-sigma along the worst direction of the 2x2 covariance `[[a, b], [b, c]]` (the square
-/// root of its larger eigenvalue; zero if that is negative).
-fn worst_sigma(a: f64, b: f64, c: f64) -> f64 {
-    (0.5 * (a + c) + (0.25 * (a - c) * (a - c) + b * b).sqrt())
-        .max(0.0)
-        .sqrt()
 }
 
 /// Why no box was fitted.
@@ -607,7 +599,7 @@ fn inverse2(m: [[f64; 2]; 2]) -> Option<[[f64; 2]; 2]> {
 /// (`known`, the inverse of the position block), along its worst direction, metres.
 fn size_share(cov: &[[f64; 2]; 2], known: &[[f64; 2]; 2]) -> f64 {
     let d = |i: usize, j: usize| cov[i][j] - known[i][j];
-    worst_sigma(d(0, 0), 0.5 * (d(0, 1) + d(1, 0)), d(1, 1))
+    worst_sigma(&[[d(0, 0), d(0, 1)], [d(1, 0), d(1, 1)]])
 }
 
 /// What the mask alone says of the size at `t`, from the normal matrix `a` and gradient `g`

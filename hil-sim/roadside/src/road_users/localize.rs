@@ -20,6 +20,7 @@ use super::homog::apply_direction;
 use super::polygon::{convex_hull, iou, near_or_overlapping, signed_distance_convex};
 use super::size::{ClassPriors, SizeBelief, SizeEvidence, SizeHints};
 use super::tracker::Observation;
+use crate::ellipse::{floored, worst_sigma, Cov2};
 
 /// Masks nearer than this (pixels) count as touching.
 const TOUCH_PX: f64 = 2.0;
@@ -47,8 +48,11 @@ pub struct Localized {
     pub road_user: RoadUserBox,
     /// Its position on the road, local metres (see the module's documentation).
     pub position: [f64; 2],
-    /// 1-sigma error of the position, metres.
+    /// 1-sigma error of the position along its worst direction, metres.
     pub sigma_m: f64,
+    /// Covariance of the position (east, north), m²: the fit's, widened as `sigma_m` is;
+    /// mostly along the line of sight, where a box's depth trades against its size.
+    pub covariance_m2: Cov2,
     /// The part of `sigma_m` that repeats from frame to frame, metres: the calibration's, the
     /// size prior's (the same in every frame) and, for a road user cut by the image border,
     /// the prior standing for the end out of view.
@@ -67,7 +71,7 @@ impl Localized {
         Observation {
             class: self.road_user.class,
             position: self.position,
-            sigma_m: self.sigma_m,
+            covariance_m2: self.covariance_m2,
             floor_m: self.floor_m,
             size: self.size_evidence,
             at_border: self.road_user_at_border,
@@ -79,7 +83,7 @@ impl Localized {
 struct Placed {
     road_user: RoadUserBox,
     position: [f64; 2],
-    sigma_m: f64,
+    covariance_m2: Cov2,
     floor_m: f64,
     size_evidence: Option<SizeEvidence>,
 }
@@ -213,7 +217,8 @@ impl Localizer {
                     index,
                     road_user: p.road_user,
                     position: p.position,
-                    sigma_m: p.sigma_m,
+                    sigma_m: worst_sigma(&p.covariance_m2),
+                    covariance_m2: p.covariance_m2,
                     floor_m: p.floor_m,
                     size_evidence: p.size_evidence,
                     road_user_at_border: d.touches_border,
@@ -347,9 +352,15 @@ impl Localizer {
         } else {
             0.0
         };
-        let sigma_m = (fitted.sigma_m() * misfit)
-            .max(hidden_floor)
-            .hypot(SIGMA_FLOOR_M);
+        // The fit's covariance scaled by the misfit, never better than the hidden floor in
+        // any direction, and the calibration's error added in every direction.
+        let scaled = fitted
+            .covariance
+            .map(|row| row.map(|v| v * misfit * misfit));
+        let mut covariance_m2 = floored(&scaled, hidden_floor);
+        covariance_m2[0][0] += SIGMA_FLOOR_M * SIGMA_FLOOR_M;
+        covariance_m2[1][1] += SIGMA_FLOOR_M * SIGMA_FLOOR_M;
+        let sigma_m = worst_sigma(&covariance_m2);
         if sigma_m > MAX_SIGMA_M || !sigma_m.is_finite() {
             return Err(if !touching.is_empty() {
                 BoxRejection::Occluded
@@ -370,7 +381,7 @@ impl Localizer {
         Ok(Placed {
             road_user,
             position: fitted.centre,
-            sigma_m,
+            covariance_m2,
             floor_m: repeated.min(sigma_m),
             // A mask that fits worse than noise explains says less, as its position does.
             size_evidence: fitted

@@ -1,21 +1,23 @@
 //! Multi-object tracker for road users localized by a roadside camera.
 //!
-//! Each track is a constant-velocity Kalman filter with state `[x, y, vx, vy]`
-//! (metres and m/s in the local road frame, x = east, y = north), discrete
-//! white-noise acceleration process noise and a position measurement with
-//! `R = sigma^2 I`. Observations are associated to tracks of their own class by
-//! Mahalanobis distance of the innovation (gated, and never beyond a jump a
-//! road user cannot make between frames), greedily by increasing distance, one
-//! observation per track; a track not seen for `max_coast_s` ends rather than
-//! drift onto a neighbour, one last seen cut by the image border is not reported while
-//! unseen (it left the view), and a young one is not reported while unseen (its
-//! velocity rests on a few boxes). Reported accuracies come from the filter
-//! covariance, never better than the error its observations repeat from frame to
-//! frame (the calibration's, the size prior's share, a cut end), so they are suitable for
+//! Each track is a constant-velocity Kalman filter with state `[x, y, vx, vy]` (metres
+//! and m/s in the local road frame, x = east, y = north), discrete white-noise acceleration
+//! process noise and a position measurement with the observation's covariance `R` (a box is
+//! known better across the camera's line of sight than along it). Observations are
+//! associated to tracks of their own class by Mahalanobis distance of the innovation (gated
+//! with the observation's worst-direction error in every direction, a margin for a road
+//! user that starts or turns, and never beyond a jump a road user cannot make between
+//! frames), greedily by increasing distance, one observation per track; a track not seen for
+//! `max_coast_s` ends rather than drift onto a neighbour, one last seen cut by the image
+//! border is not reported while unseen (it left the view), and a young one is not reported
+//! while unseen (its velocity rests on a few boxes). Reported accuracies come from the
+//! filter covariance, never better than the error its observations repeat from frame to
+//! frame (the calibration's, the size prior's share, a cut end), as an error ellipse for
 //! J2735 PSM accuracy fields. Each track also learns its road user's size from its
 //! observations ([`super::size`]) and tells it to the next frame's fits.
 use super::class::RoadUserClass;
 use super::size::{SizeBelief, SizeEvidence, SizeHints, FADE_PER_FRAME, MIN_FRAMES};
+use crate::ellipse::{circle, floored, symmetric, worst_sigma, Cov2, ErrorEllipse};
 use std::fmt;
 
 type M4 = [[f64; 4]; 4];
@@ -111,9 +113,9 @@ pub struct Observation {
     pub class: RoadUserClass,
     /// Position `[east, north]` in metres in the local road frame.
     pub position: [f64; 2],
-    /// 1-sigma position error of this observation (metres, per axis).
-    pub sigma_m: f64,
-    /// The part of `sigma_m` that does not average out over frames, metres: the
+    /// Covariance of the position (east, north), m².
+    pub covariance_m2: Cov2,
+    /// The part of the error that does not average out over frames, metres: the
     /// calibration's, and a size the view does not measure, taken from the same prior in
     /// every frame alike (a side the image border hides most of all), so the same error
     /// repeats. A track's accuracy is never reported better than its latest observation's
@@ -148,6 +150,9 @@ pub struct Track {
     /// Square root of the larger eigenvalue of the 2x2 position covariance, or the latest
     /// observation's floor ([`Observation::floor_m`]) where that is larger.
     pub position_sigma_m: f64,
+    /// The position's 1-sigma error ellipse: the filter's covariance, each axis never
+    /// better than the latest observation's floor (`semi_major_m` is `position_sigma_m`).
+    pub position_ellipse: ErrorEllipse,
     /// 1-sigma of the speed (first-order propagation; at zero speed the
     /// square root of the larger velocity-covariance eigenvalue).
     pub speed_sigma_mps: f64,
@@ -177,6 +182,13 @@ pub enum TrackerError {
     NonFiniteTime,
 }
 
+impl Observation {
+    /// 1-sigma of the position along its worst direction, metres.
+    pub fn sigma_m(&self) -> f64 {
+        worst_sigma(&self.covariance_m2)
+    }
+}
+
 impl fmt::Display for TrackerError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
@@ -194,9 +206,9 @@ impl std::error::Error for TrackerError {}
 /// Counts of observations the tracker ignored, by reason (saturating).
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
 pub struct RejectedCounts {
-    /// Position NaN/infinite, or sigma NaN/infinite/<= 0.
+    /// Position NaN/infinite, or a covariance not finite and positive definite.
     pub non_finite: u64,
-    /// Position beyond +-1000 km or sigma above 1 km (numerically unsafe).
+    /// Position beyond +-1000 km or a 1-sigma above 1 km (numerically unsafe).
     pub out_of_range: u64,
     /// Would have started a track while `MAX_TRACKS` were alive.
     pub over_capacity: u64,
@@ -241,7 +253,7 @@ const MAX_ABS_POSITION_M: f64 = 1.0e6;
 /// not stray that far from its predicted path in a frame, a neighbour may stand that near.
 const MAX_JUMP_M: f64 = 1.5;
 const MAX_SIGMA_M: f64 = 1.0e3;
-/// Observation sigmas are floored here to keep `S` well conditioned.
+/// Observation sigmas are floored here in every direction to keep `S` well conditioned.
 const MIN_SIGMA_M: f64 = 1.0e-3;
 
 impl RoadUserTracker {
@@ -323,10 +335,18 @@ impl RoadUserTracker {
                     continue;
                 }
                 let jump = (o.position[0] - t.x[0]).hypot(o.position[1] - t.x[1]);
-                if jump > MAX_JUMP_M + 3.0 * (o.sigma_m + position_sigma(t)) {
+                if jump > MAX_JUMP_M + 3.0 * (o.sigma_m() + position_sigma(t)) {
                     continue;
                 }
-                if let Some((_, _, d2)) = innovation(t, o).filter(|i| i.2 <= gate2) {
+                // Gated with the box's worst-direction error in every direction: a road
+                // user starting to walk across the line of sight, where its box is known to a
+                // few centimetres, would otherwise leave its track's gate in a few frames
+                // (the constant-velocity model does not foresee the start).
+                let gating = Observation {
+                    covariance_m2: circle(o.sigma_m()),
+                    ..*o
+                };
+                if let Some((_, _, d2)) = innovation(t, &gating).filter(|i| i.2 <= gate2) {
                     pairs.push((d2, ti, oi));
                 }
             }
@@ -422,19 +442,24 @@ impl RoadUserTracker {
         let mut valid = Vec::with_capacity(n);
         for o in &observations[..n] {
             let [x, y] = o.position;
-            let sigma_ok = o.sigma_m.is_finite() && o.sigma_m > 0.0;
+            let [[c00, c01], [c10, c11]] = o.covariance_m2;
+            let det = c00 * c11 - 0.25 * (c01 + c10) * (c01 + c10);
+            let sigma_ok = [c00, c01, c10, c11].iter().all(|v| v.is_finite())
+                && c00 > 0.0
+                && c11 > 0.0
+                && det > 0.0;
             let floor_ok = o.floor_m.is_finite() && o.floor_m >= 0.0;
             let size_ok = o.size.is_none_or(|e| e.is_finite());
             if !(x.is_finite() && y.is_finite() && sigma_ok && floor_ok && size_ok) {
                 r.non_finite = r.non_finite.saturating_add(1);
             } else if x.abs() > MAX_ABS_POSITION_M
                 || y.abs() > MAX_ABS_POSITION_M
-                || o.sigma_m > MAX_SIGMA_M
+                || o.sigma_m() > MAX_SIGMA_M
             {
                 r.out_of_range = r.out_of_range.saturating_add(1);
             } else {
                 valid.push(Observation {
-                    sigma_m: o.sigma_m.max(MIN_SIGMA_M),
+                    covariance_m2: floored(&symmetric(&o.covariance_m2), MIN_SIGMA_M),
                     ..*o
                 });
             }
@@ -470,9 +495,12 @@ impl SizeHints for TrackSizes<'_> {
 /// Tentative track at the observation, velocity 0 with the group's prior.
 fn new_track(id: u32, o: &Observation, time_s: f64) -> TrackState {
     let group = Group::of(o.class);
-    let (pv, vv) = (o.sigma_m * o.sigma_m, group.prior_speed_sigma().powi(2));
+    let vv = group.prior_speed_sigma().powi(2);
     let mut p = [[0.0; 4]; 4];
-    (p[0][0], p[1][1], p[2][2], p[3][3]) = (pv, pv, vv, vv);
+    for (i, row) in o.covariance_m2.iter().enumerate() {
+        p[i][..2].copy_from_slice(row);
+    }
+    (p[2][2], p[3][3]) = (vv, vv);
     let mut class_counts = [0; 7];
     class_counts[o.class as usize] = 1;
     let x = [o.position[0], o.position[1], 0.0, 0.0];
@@ -535,10 +563,16 @@ fn predict(x: &mut [f64; 4], p: &mut M4, dt: f64, q: f64) {
     *p = np;
 }
 
-/// Innovation, inverse innovation covariance and squared Mahalanobis distance.
+/// Innovation, inverse innovation covariance and squared Mahalanobis distance of `o` (with
+/// its covariance as `R`).
 fn innovation(t: &TrackState, o: &Observation) -> Option<([f64; 2], [[f64; 2]; 2], f64)> {
-    let r = o.sigma_m * o.sigma_m;
-    let (s00, s01, s10, s11) = (t.p[0][0] + r, t.p[0][1], t.p[1][0], t.p[1][1] + r);
+    let r = &o.covariance_m2;
+    let (s00, s01, s10, s11) = (
+        t.p[0][0] + r[0][0],
+        t.p[0][1] + r[0][1],
+        t.p[1][0] + r[1][0],
+        t.p[1][1] + r[1][1],
+    );
     let det = s00 * s11 - s01 * s10;
     if !(det.is_finite() && det > 0.0) {
         return None;
@@ -555,7 +589,7 @@ fn correct(t: &mut TrackState, o: &Observation, time_s: f64) {
     let Some((nu, si, _)) = innovation(t, o) else {
         return;
     };
-    let r = o.sigma_m * o.sigma_m;
+    let r = &o.covariance_m2;
     let k: [[f64; 2]; 4] = std::array::from_fn(|i| {
         std::array::from_fn(|j| t.p[i][0] * si[0][j] + t.p[i][1] * si[1][j])
     });
@@ -569,7 +603,11 @@ fn correct(t: &mut TrackState, o: &Observation, time_s: f64) {
     let p = mul(&mul(&a, &t.p), &transpose(&a));
     t.p = std::array::from_fn(|i| {
         std::array::from_fn(|j| {
-            0.5 * (p[i][j] + p[j][i]) + r * (k[i][0] * k[j][0] + k[i][1] * k[j][1])
+            let krk: f64 = (0..2)
+                .flat_map(|a| (0..2).map(move |b| (a, b)))
+                .map(|(a, b)| k[i][a] * r[a][b] * k[j][b])
+                .sum();
+            0.5 * (p[i][j] + p[j][i]) + krk
         })
     });
     let c = &mut t.class_counts[o.class as usize];
@@ -601,6 +639,13 @@ fn position_sigma(t: &TrackState) -> f64 {
 /// observation repeats from frame to frame.
 fn reported_sigma(t: &TrackState) -> f64 {
     position_sigma(t).max(t.floor_m)
+}
+
+/// The error ellipse a track reports: the filter's, each axis never better than the error
+/// its latest observation repeats from frame to frame.
+fn reported_ellipse(t: &TrackState) -> ErrorEllipse {
+    let position: Cov2 = [[t.p[0][0], t.p[0][1]], [t.p[1][0], t.p[1][1]]];
+    ErrorEllipse::of(&floored(&symmetric(&position), t.floor_m))
 }
 
 /// Public view of a track, with accuracies from its covariance.
@@ -635,6 +680,7 @@ fn report(t: &TrackState) -> Track {
         speed_mps: speed,
         heading_deg,
         position_sigma_m: reported_sigma(t),
+        position_ellipse: reported_ellipse(t),
         speed_sigma_mps,
         heading_sigma_deg,
         first_seen_s: t.first_seen_s,

@@ -120,7 +120,7 @@ impl WorkerBroadcaster {
             let worker = Worker {
                 id,
                 position,
-                accuracy_m: t.position_sigma_m,
+                accuracy: t.position_ellipse,
                 speed_mps: t.speed_mps,
                 heading_deg: t.heading_deg,
                 history,
@@ -137,6 +137,7 @@ impl WorkerBroadcaster {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::ellipse::ErrorEllipse;
     use crate::road_users::RoadUserClass;
     use geodesy::LatLon;
     use j2735::MessageFrameValue;
@@ -150,6 +151,7 @@ mod tests {
             speed_mps: speed,
             heading_deg: (speed > 0.0).then_some(90.0),
             position_sigma_m: 0.1,
+            position_ellipse: ErrorEllipse::circle(0.1),
             speed_sigma_mps: 0.05,
             heading_sigma_deg: None,
             first_seen_s: 0.0,

@@ -63,6 +63,7 @@ fn the_street_lies_on_the_road_to_the_right_of_its_first_lane_edge() {
         speed_mps: 1.0,
         heading_deg: Some(0.0),
         position_sigma_m: 0.1,
+        position_ellipse: ErrorEllipse::circle(0.1),
         speed_sigma_mps: 0.1,
         heading_sigma_deg: None,
         first_seen_s: 0.0,

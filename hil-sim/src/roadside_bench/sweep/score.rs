@@ -1,7 +1,7 @@
 //! The road-user pipeline on a sweep install, scored against the truth: per class the
 //! per-frame box errors and the track errors, track positions more than 1 m from every road
 //! user of their class (and the workers' PSMs among them), how often the reported 95 %
-//! circle holds the truth, coverage of the road users within 40 m with at least half their
+//! error ellipse holds the truth, coverage of the road users within 40 m with at least half their
 //! silhouette visible, and the refusals by reason.
 
 use super::super::street::{
@@ -11,6 +11,7 @@ use super::super::street::{
 use super::super::synthetic_camera::PinholeCamera;
 use super::bound::{ideal_error, position_bound, position_bound_size_known};
 use roadside::camera::Homography;
+use roadside::ellipse::{mahalanobis2, Cov2};
 use roadside::rng::Prng;
 use roadside::road_users::calibrate::calibrate;
 use roadside::road_users::detections::Silhouette;
@@ -28,8 +29,8 @@ pub const RANGE_M: f64 = 40.0;
 pub const MIN_VISIBLE: f64 = 0.5;
 /// A track position farther than this from every road user of its class is off, metres.
 pub const OFF_M: f64 = 1.0;
-/// Radius of the 95 % circle in 1-sigma units (chi-square, two degrees of freedom).
-pub const CIRCLE_95: f64 = 2.4477;
+/// The 95 % ellipse's size in 1-sigma units (chi-square, two degrees of freedom).
+pub const ELLIPSE_95: f64 = 2.4477;
 
 /// How a run is made.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -66,10 +67,10 @@ pub struct Score {
     pub tracks_off: usize,
     /// Of those, workers' (people in the closed lane): PSMs that would be off.
     pub psms_off: usize,
-    /// Boxes, and those whose 95 % circle holds the truth.
-    pub boxes_in_circle: (usize, usize),
-    /// Track positions, and those whose 95 % circle holds the truth.
-    pub tracks_in_circle: (usize, usize),
+    /// Boxes, and those whose 95 % ellipse holds the truth.
+    pub boxes_in_ellipse: (usize, usize),
+    /// Track positions, and those whose 95 % ellipse holds the truth.
+    pub tracks_in_ellipse: (usize, usize),
     /// Per class: road users within range showing enough (per frame), and how many of them
     /// were localized.
     pub coverage: [(usize, usize); 7],
@@ -99,10 +100,10 @@ impl Score {
         self.matched.extend_from_slice(&o.matched);
         self.tracks_off += o.tracks_off;
         self.psms_off += o.psms_off;
-        self.boxes_in_circle.0 += o.boxes_in_circle.0;
-        self.boxes_in_circle.1 += o.boxes_in_circle.1;
-        self.tracks_in_circle.0 += o.tracks_in_circle.0;
-        self.tracks_in_circle.1 += o.tracks_in_circle.1;
+        self.boxes_in_ellipse.0 += o.boxes_in_ellipse.0;
+        self.boxes_in_ellipse.1 += o.boxes_in_ellipse.1;
+        self.tracks_in_ellipse.0 += o.tracks_in_ellipse.0;
+        self.tracks_in_ellipse.1 += o.tracks_in_ellipse.1;
         self.rejected.add(&o.rejected);
         self.detections += o.detections;
     }
@@ -206,9 +207,9 @@ impl Score {
             if v.whole[k] {
                 self.whole_boxes[slot(u.class)].push(e * 100.0);
             }
-            self.boxes_in_circle.0 += 1;
-            if e <= CIRCLE_95 * b.sigma_m {
-                self.boxes_in_circle.1 += 1;
+            self.boxes_in_ellipse.0 += 1;
+            if holds(&b.covariance_m2, b.position, u.centre) {
+                self.boxes_in_ellipse.1 += 1;
             }
         }
         for (k, u) in users.iter().enumerate().filter(|(k, _)| v.counts[*k]) {
@@ -267,14 +268,17 @@ impl Score {
         near: &dyn Fn([f64; 2]) -> bool,
     ) {
         for t in tracks.iter().filter(|t| near(t.position)) {
-            let (nearest, id) = users
+            let (nearest, id, truth) = users
                 .iter()
                 .filter(|u| u.class == t.class)
-                .map(|u| (dist(u.centre, t.position), u.id))
-                .fold((f64::INFINITY, 0), |a, b| if b.0 < a.0 { b } else { a });
+                .map(|u| (dist(u.centre, t.position), u.id, u.centre))
+                .fold(
+                    (f64::INFINITY, 0, [0.0; 2]),
+                    |a, b| if b.0 < a.0 { b } else { a },
+                );
             if nearest > OFF_M {
-                // Off by more than any reported circle's radius: a miss for the circle too.
-                self.tracks_in_circle.0 += 1;
+                // Off by more than any reported ellipse reaches: a miss for the ellipse too.
+                self.tracks_in_ellipse.0 += 1;
                 self.tracks_off += 1;
                 if t.class.is_person() && in_closed_lane(world, t.position) {
                     self.psms_off += 1;
@@ -283,9 +287,9 @@ impl Score {
             }
             self.tracks[slot(t.class)].push(nearest * 100.0);
             self.matched.push((frame, id, nearest * 100.0));
-            self.tracks_in_circle.0 += 1;
-            if nearest <= CIRCLE_95 * t.position_sigma_m {
-                self.tracks_in_circle.1 += 1;
+            self.tracks_in_ellipse.0 += 1;
+            if holds(&t.position_ellipse.covariance(), t.position, truth) {
+                self.tracks_in_ellipse.1 += 1;
             }
         }
         for (u, _) in users.iter().zip(counts).filter(|(_, c)| **c) {
@@ -303,6 +307,12 @@ fn in_closed_lane(world: &World, p: [f64; 2]) -> bool {
     let x0 = world.lane_width_m * f64::from(world.closed.0 - 1);
     let [y0, y1] = world.closed.1;
     (x0 - 0.5..=x0 + world.lane_width_m + 0.5).contains(&p[0]) && (y0..=y1).contains(&p[1])
+}
+
+/// Does the 95 % ellipse of `covariance` around `estimate` hold `truth`?
+fn holds(covariance: &Cov2, estimate: [f64; 2], truth: [f64; 2]) -> bool {
+    let d = [truth[0] - estimate[0], truth[1] - estimate[1]];
+    mahalanobis2(covariance, d) <= ELLIPSE_95 * ELLIPSE_95
 }
 
 fn dist(a: [f64; 2], b: [f64; 2]) -> f64 {

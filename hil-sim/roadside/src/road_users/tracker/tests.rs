@@ -1,4 +1,5 @@
 use super::*;
+use crate::ellipse::circle;
 
 /// Seeded LCG + Box-Muller normal generator (test-only, deterministic).
 struct Noise(u64);
@@ -21,7 +22,7 @@ fn obs(class: RoadUserClass, x: f64, y: f64, sigma_m: f64) -> Observation {
     Observation {
         class,
         position: [x, y],
-        sigma_m,
+        covariance_m2: circle(sigma_m),
         floor_m: 0.0,
         size: None,
         at_border: false,
@@ -292,7 +293,11 @@ fn bad_observations_counted_and_ignored() {
         obs(p, 0.0, f64::INFINITY, 0.1),
         obs(p, 0.0, 0.0, f64::NAN),
         obs(p, 0.0, 0.0, 0.0),
-        obs(p, 0.0, 0.0, -1.0),
+        // Not positive definite.
+        Observation {
+            covariance_m2: [[0.01, 0.02], [0.02, 0.01]],
+            ..obs(p, 0.0, 0.0, 0.1)
+        },
     ];
     for k in 0..3 {
         let mut frame = bad.to_vec();
@@ -629,4 +634,62 @@ fn a_road_user_cut_in_one_camera_and_whole_in_another_coasts() {
         let coasting = tr.update(2.1, &[]).unwrap();
         assert_eq!(coasting.len(), 1, "border last {border_last}: {coasting:?}");
     }
+}
+
+#[test]
+fn boxes_known_across_the_line_of_sight_give_a_narrow_ellipse_and_keep_neighbours_apart() {
+    // Two workers standing 0.5 m apart across a camera's line of sight (north): each box is
+    // 0.3 m off along it, 2 cm across (1 sigma).
+    let (mut tr, mut n) = (tracker(), Noise(7));
+    let p = RoadUserClass::Pedestrian;
+    let truths = [[0.0, 10.0], [0.5, 10.0]];
+    let (along, across) = (0.3, 0.02);
+    let covariance_m2 = [[across * across, 0.0], [0.0, along * along]];
+    let mut ids: Option<[u32; 2]> = None;
+    let (mut held, mut scored, mut east_sq) = (0, 0, 0.0);
+    for k in 0..100 {
+        let frame: Vec<Observation> = truths
+            .iter()
+            .map(|t| Observation {
+                covariance_m2,
+                ..obs(
+                    p,
+                    t[0] + across * n.normal(),
+                    t[1] + along * n.normal(),
+                    0.0,
+                )
+            })
+            .collect();
+        let out = tr.update(k as f64 * 0.1, &frame).unwrap();
+        if k < 10 {
+            continue;
+        }
+        assert_eq!(out.len(), 2, "frame {k}: {out:?}");
+        // Each track stays with its worker: the one west is the same track throughout.
+        let west = if out[0].position[0] < out[1].position[0] {
+            0
+        } else {
+            1
+        };
+        let now = [out[west].id, out[1 - west].id];
+        assert_eq!(*ids.get_or_insert(now), now, "frame {k}");
+        for (tk, truth) in [&out[west], &out[1 - west]].into_iter().zip(truths) {
+            east_sq += (tk.position[0] - truth[0]).powi(2);
+            let e = &tk.position_ellipse;
+            // Long along the line of sight (north), narrow across it.
+            assert!(angle_diff_deg(e.orientation_deg, 0.0) < 5.0, "{e:?}");
+            assert!(
+                e.semi_minor_m < 0.02 && e.semi_major_m > 3.0 * e.semi_minor_m,
+                "{e:?}"
+            );
+            assert!((e.semi_major_m - tk.position_sigma_m).abs() < 1e-9);
+            let d = [truth[0] - tk.position[0], truth[1] - tk.position[1]];
+            scored += 1;
+            held += usize::from(crate::ellipse::mahalanobis2(&e.covariance(), d) <= 5.99);
+        }
+    }
+    // Across the line of sight the track is known better than one box.
+    let east_rms = (east_sq / scored as f64).sqrt();
+    assert!(east_rms < across, "east error {east_rms} m rms");
+    assert!(held as f64 >= 0.9 * scored as f64, "{held} of {scored}");
 }

@@ -1,0 +1,167 @@
+//! A road position's error as an ellipse: a camera measures a road user well across its
+//! line of sight and poorly along it (a box's depth trades against its size), so one radius
+//! either overstates the error across or understates it along. J2735's
+//! `PositionalAccuracy` carries the ellipse (semi-major, semi-minor, orientation from north).
+
+/// A 2x2 covariance in the local road frame (east, north), m².
+pub type Cov2 = [[f64; 2]; 2];
+
+/// `sigma_m²` in every direction.
+pub fn circle(sigma_m: f64) -> Cov2 {
+    let v = sigma_m * sigma_m;
+    [[v, 0.0], [0.0, v]]
+}
+
+/// The symmetric part of `c` (its mean with its transpose).
+pub fn symmetric(c: &Cov2) -> Cov2 {
+    let b = 0.5 * (c[0][1] + c[1][0]);
+    [[c[0][0], b], [b, c[1][1]]]
+}
+
+/// Eigenvalues (larger first) and the unit eigenvector of the larger of the symmetric part
+/// of `c`.
+fn eigen(c: &Cov2) -> (f64, f64, [f64; 2]) {
+    let [[a, b], [_, d]] = symmetric(c);
+    let mid = 0.5 * (a + d);
+    let half = (0.25 * (a - d) * (a - d) + b * b).sqrt();
+    let (big, small) = (mid + half, mid - half);
+    // (b, big - a) is an eigenvector unless b is 0: then the axes are the eigenvectors.
+    let v = if b.abs() > 1e-18 * (a.abs() + d.abs()).max(1e-300) {
+        let n = b.hypot(big - a);
+        [b / n, (big - a) / n]
+    } else if a >= d {
+        [1.0, 0.0]
+    } else {
+        [0.0, 1.0]
+    };
+    (big, small, v)
+}
+
+/// 1-sigma along the worst direction of `c` (the square root of its larger eigenvalue; zero
+/// if that is negative).
+pub fn worst_sigma(c: &Cov2) -> f64 {
+    eigen(c).0.max(0.0).sqrt()
+}
+
+/// `c` with each eigenvalue raised to at least `floor_m²`: never better than `floor_m` in
+/// any direction, unchanged where it already is worse.
+pub fn floored(c: &Cov2, floor_m: f64) -> Cov2 {
+    let (big, small, [x, y]) = eigen(c);
+    let f = floor_m * floor_m;
+    let (l1, l2) = (big.max(f), small.max(f));
+    // V diag(l1, l2) V' with V = [[x, -y], [y, x]].
+    [
+        [l1 * x * x + l2 * y * y, (l1 - l2) * x * y],
+        [(l1 - l2) * x * y, l1 * y * y + l2 * x * x],
+    ]
+}
+
+/// `d' c⁻¹ d`, the squared Mahalanobis distance of the offset `d` (metres) under `c`;
+/// infinite when `c` is singular or not positive definite.
+pub fn mahalanobis2(c: &Cov2, d: [f64; 2]) -> f64 {
+    let [[a, b], [_, e]] = symmetric(c);
+    let det = a * e - b * b;
+    if !(det > 0.0 && a > 0.0 && det.is_finite()) {
+        return f64::INFINITY;
+    }
+    (e * d[0] * d[0] - 2.0 * b * d[0] * d[1] + a * d[1] * d[1]) / det
+}
+
+/// A position's 1-sigma error ellipse.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ErrorEllipse {
+    /// 1-sigma along the worst direction, metres.
+    pub semi_major_m: f64,
+    /// 1-sigma across it, metres.
+    pub semi_minor_m: f64,
+    /// Direction of the semi-major axis, degrees clockwise from north in [0, 180).
+    pub orientation_deg: f64,
+}
+
+impl ErrorEllipse {
+    /// The same error `sigma_m` in every direction (orientation 0).
+    pub fn circle(sigma_m: f64) -> Self {
+        Self {
+            semi_major_m: sigma_m,
+            semi_minor_m: sigma_m,
+            orientation_deg: 0.0,
+        }
+    }
+
+    /// The ellipse of the covariance `c` (east, north), m².
+    pub fn of(c: &Cov2) -> Self {
+        let (big, small, [x, y]) = eigen(c);
+        // Clockwise from north: atan2(east, north), folded into a half turn.
+        let mut orientation_deg = x.atan2(y).to_degrees().rem_euclid(180.0);
+        if orientation_deg >= 180.0 {
+            orientation_deg = 0.0;
+        }
+        Self {
+            semi_major_m: big.max(0.0).sqrt(),
+            semi_minor_m: small.max(0.0).sqrt(),
+            orientation_deg,
+        }
+    }
+
+    /// The covariance the ellipse stands for (east, north), m².
+    pub fn covariance(&self) -> Cov2 {
+        let (s, c) = self.orientation_deg.to_radians().sin_cos();
+        // The major axis is (east, north) = (sin, cos).
+        let (l1, l2) = (self.semi_major_m.powi(2), self.semi_minor_m.powi(2));
+        [
+            [l1 * s * s + l2 * c * c, (l1 - l2) * s * c],
+            [(l1 - l2) * s * c, l1 * c * c + l2 * s * s],
+        ]
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn close(a: f64, b: f64) -> bool {
+        (a - b).abs() < 1e-9
+    }
+
+    #[test]
+    fn an_ellipse_along_north_east_is_at_45_degrees() {
+        // Variance 0.05 along (1, 1)/sqrt2, 0.01 across: [[0.03, 0.02], [0.02, 0.03]].
+        let e = ErrorEllipse::of(&[[0.03, 0.02], [0.02, 0.03]]);
+        assert!(close(e.semi_major_m, 0.05f64.sqrt()), "{e:?}");
+        assert!(close(e.semi_minor_m, 0.1), "{e:?}");
+        assert!(close(e.orientation_deg, 45.0), "{e:?}");
+        let back = e.covariance();
+        for (row, want) in back.iter().zip([[0.03, 0.02], [0.02, 0.03]]) {
+            assert!(close(row[0], want[0]) && close(row[1], want[1]), "{back:?}");
+        }
+    }
+
+    #[test]
+    fn axis_aligned_ellipses_point_north_or_east() {
+        let north = ErrorEllipse::of(&[[0.01, 0.0], [0.0, 0.04]]);
+        assert!(close(north.orientation_deg, 0.0) && close(north.semi_major_m, 0.2));
+        let east = ErrorEllipse::of(&[[0.04, 0.0], [0.0, 0.01]]);
+        assert!(close(east.orientation_deg, 90.0) && close(east.semi_minor_m, 0.1));
+        // North-west / south-east: 135 degrees.
+        let nw = ErrorEllipse::of(&[[0.03, -0.02], [-0.02, 0.03]]);
+        assert!(close(nw.orientation_deg, 135.0), "{nw:?}");
+    }
+
+    #[test]
+    fn the_floor_raises_only_the_directions_below_it() {
+        let c = [[0.04, 0.0], [0.0, 0.0001]];
+        let f = floored(&c, 0.05);
+        assert!(close(f[0][0], 0.04) && close(f[1][1], 0.0025) && close(f[0][1], 0.0));
+        let same = floored(&c, 0.001);
+        assert!(close(same[0][0], 0.04) && close(same[1][1], 0.0001) && close(same[0][1], 0.0));
+        assert!(close(worst_sigma(&floored(&c, 0.5)), 0.5));
+    }
+
+    #[test]
+    fn mahalanobis_distance_counts_sigmas_along_each_axis() {
+        let c = [[0.04, 0.0], [0.0, 0.01]];
+        assert!(close(mahalanobis2(&c, [0.2, 0.0]), 1.0));
+        assert!(close(mahalanobis2(&c, [0.0, 0.2]), 4.0));
+        assert!(mahalanobis2(&[[0.0, 0.0], [0.0, 1.0]], [0.0, 0.0]).is_infinite());
+    }
+}
