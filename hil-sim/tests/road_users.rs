@@ -18,6 +18,7 @@ use roadside::road_users::detections::{parse_coco, Silhouette};
 use roadside::road_users::edgelets::EdgeletSettings;
 use roadside::road_users::localize::{Localized, Localizer};
 use roadside::road_users::polygon::{near_or_overlapping, signed_distance_convex};
+use roadside::road_users::size::{Lent, SizeBelief, SizeHints};
 use roadside::road_users::tracker::{Observation, RoadUserTracker, TrackerSettings};
 use roadside::road_users::vanishing::{angle_between, RansacSettings};
 use roadside::road_users::RoadUserClass;
@@ -500,4 +501,49 @@ fn a_track_learns_its_road_users_size_and_the_boxes_take_it() {
         with_belief < with_prior,
         "mean error {with_belief:.3} m with the belief, {with_prior:.3} m with the prior"
     );
+}
+
+/// Hints that lend one track's belief (id 7) wherever they are asked.
+struct OneLender(SizeBelief);
+
+impl SizeHints for OneLender {
+    fn near(&self, _: RoadUserClass, _: [f64; 2]) -> Option<Lent> {
+        Some(Lent {
+            lender: 7,
+            belief: self.0,
+        })
+    }
+}
+
+#[test]
+fn one_tracks_size_goes_to_one_detection_of_a_frame() {
+    // A track's belief of a broader, taller pedestrian than the class's mean (0.55 x 0.55 x
+    // 1.8 m, known to 2 cm): taken by one detection, that detection's box takes its size;
+    // near two detections, neither takes it.
+    let loc = localizer();
+    let tight = 1.0 / (0.02 * 0.02);
+    let hints = OneLender(SizeBelief {
+        mean: [0.55, 0.55, 1.8],
+        information: [[tight, 0.0, 0.0], [0.0, tight, 0.0], [0.0, 0.0, tight]],
+    });
+    let p = RoadUserClass::Pedestrian;
+    let users = [user(0, p, [4.0, 30.0]), user(1, p, [9.0, 34.0])];
+    // A box's side along its footprint's first edge, metres.
+    let side = |b: &Localized| {
+        let f = &b.road_user.footprint;
+        (f[1][0] - f[0][0]).hypot(f[1][1] - f[0][1])
+    };
+    let one: Vec<_> = exact_masks(&users[..1])
+        .into_iter()
+        .map(|(_, m)| m)
+        .collect();
+    let (lent, _) = loc.frame_with(&one, &hints);
+    let (own, _) = loc.frame(&one);
+    let grown = side(&lent[0]) - side(&own[0]);
+    assert!(grown > 0.05, "the belief grew the box by {grown:.3} m");
+    let two: Vec<_> = exact_masks(&users).into_iter().map(|(_, m)| m).collect();
+    let (lent, _) = loc.frame_with(&two, &hints);
+    let (own, _) = loc.frame(&two);
+    assert_eq!(lent.len(), 2);
+    assert_eq!(lent, own);
 }

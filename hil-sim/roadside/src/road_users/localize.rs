@@ -18,7 +18,7 @@ use super::detections::Silhouette;
 use super::fit::{fit, BoxFit, FitFailure, FitInput};
 use super::homog::apply_direction;
 use super::polygon::{convex_hull, iou, near_or_overlapping, signed_distance_convex};
-use super::size::{ClassPriors, SizeBelief, SizeEvidence, SizeHints};
+use super::size::{ClassPriors, Lent, SizeBelief, SizeEvidence, SizeHints};
 use super::tracker::Observation;
 use crate::ellipse::{floored, worst_sigma, Cov2};
 
@@ -78,6 +78,9 @@ impl Localized {
         }
     }
 }
+
+/// Where a detection's fit starts, and the size belief lent to it there.
+type Start = (Result<[f64; 2], BoxRejection>, Option<Lent>);
 
 /// A fitted detection before it becomes a [`Localized`].
 struct Placed {
@@ -197,7 +200,8 @@ impl Localizer {
     }
 
     /// [`Localizer::frame`] with the sizes the tracks know: each detection's fit takes as
-    /// its size prior the belief `sizes` gives for where it starts, or its class's prior.
+    /// its size prior the belief `sizes` gives for where it starts (unless the same track
+    /// gives it to another detection of the frame too), or its class's prior.
     pub fn frame_with(
         &self,
         detections: &[Silhouette],
@@ -205,14 +209,46 @@ impl Localizer {
     ) -> (Vec<Localized>, Rejections) {
         let mut rejected = Rejections::default();
         let mut boxes = Vec::with_capacity(detections.len());
-        for (index, d) in detections.iter().enumerate() {
-            let touching: Vec<&[[f64; 2]]> = detections
-                .iter()
-                .enumerate()
-                .filter(|(j, o)| *j != index && may_hide(&o.hull, &d.hull))
-                .map(|(_, o)| o.hull.as_slice())
-                .collect();
-            match self.one(d, &touching, sizes) {
+        let touching: Vec<Vec<&[[f64; 2]]>> = (0..detections.len())
+            .map(|index| {
+                let d = &detections[index];
+                detections
+                    .iter()
+                    .enumerate()
+                    .filter(|(j, o)| *j != index && may_hide(&o.hull, &d.hull))
+                    .map(|(_, o)| o.hull.as_slice())
+                    .collect()
+            })
+            .collect();
+        // Where each fit starts, and the size belief a track lends there.
+        let starts: Vec<Option<Start>> = detections
+            .iter()
+            .zip(&touching)
+            .map(|(d, t)| {
+                (d.hull.len() >= 3).then(|| {
+                    let first = self.start_of(d, t);
+                    let lent = first.as_ref().ok().and_then(|&at| sizes.near(d.class, at));
+                    (first, lent)
+                })
+            })
+            .collect();
+        // A track's belief goes to one detection: lent to two, which one is its road user
+        // is not known, and neither takes it.
+        let lenders: Vec<u32> = starts
+            .iter()
+            .flatten()
+            .filter_map(|(_, lent)| lent.map(|l| l.lender))
+            .collect();
+        let shared = |id: u32| lenders.iter().filter(|l| **l == id).count() > 1;
+        for (index, (d, start)) in detections.iter().zip(&starts).enumerate() {
+            let placed = match start {
+                None => Err(BoxRejection::TooFewPoints),
+                Some((first, lent)) => {
+                    let belief = lent.filter(|l| !shared(l.lender)).map(|l| l.belief);
+                    self.one(d, &touching[index], *first, belief)
+                }
+            };
+            match placed {
                 Ok(p) => boxes.push(Localized {
                     index,
                     road_user: p.road_user,
@@ -229,39 +265,27 @@ impl Localizer {
         (boxes, rejected)
     }
 
-    /// One detection's box, position, 1-sigma error and the part of it from hidden sides.
-    /// A box fitted with its track's size belief that is refused for any reason but too
-    /// few points is fitted again with its class's prior: the track may have taken its size
-    /// from a wrong frame, and the mask comes first.
+    /// One detection's box from `first` with the size belief its track lends (or its
+    /// class's prior). A box fitted with its track's belief that is refused for any reason
+    /// but too few points is fitted again with its class's prior: the track may have taken
+    /// its size from a wrong frame, and the mask comes first.
     fn one(
         &self,
         d: &Silhouette,
         touching: &[&[[f64; 2]]],
-        sizes: &dyn SizeHints,
+        first: Result<[f64; 2], BoxRejection>,
+        belief: Option<SizeBelief>,
     ) -> Result<Placed, BoxRejection> {
-        let (placed, hinted) = self.fitted(d, touching, sizes);
-        match placed {
-            Err(e) if hinted && e != BoxRejection::TooFewPoints => {
-                self.fitted(d, touching, &ClassPriors).0
+        let prior = SizeBelief::prior(d.class);
+        match (
+            self.placed(d, touching, first, belief.unwrap_or(prior)),
+            belief,
+        ) {
+            (Err(e), Some(_)) if e != BoxRejection::TooFewPoints => {
+                self.placed(d, touching, first, prior)
             }
-            placed => placed,
+            (placed, _) => placed,
         }
-    }
-
-    /// [`Localizer::one`] with the prior `sizes` gives, and whether it gave one.
-    fn fitted(
-        &self,
-        d: &Silhouette,
-        touching: &[&[[f64; 2]]],
-        sizes: &dyn SizeHints,
-    ) -> (Result<Placed, BoxRejection>, bool) {
-        if d.hull.len() < 3 {
-            return (Err(BoxRejection::TooFewPoints), false);
-        }
-        let first = self.start_of(d, touching);
-        let belief = first.as_ref().ok().and_then(|&at| sizes.near(d.class, at));
-        let prior = belief.unwrap_or_else(|| SizeBelief::prior(d.class));
-        (self.placed(d, touching, first, prior), belief.is_some())
     }
 
     /// Where a detection's fit starts: the centre of its tangent construction where that

@@ -156,11 +156,20 @@ impl SizeBelief {
     }
 }
 
+/// A size belief lent to a detection, and who lends it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Lent {
+    /// Who lends it (a track's id): one lender's belief goes to one detection of a frame.
+    pub lender: u32,
+    /// The belief.
+    pub belief: SizeBelief,
+}
+
 /// What a localizer is told of the road users' sizes: for a detection of a class near a
 /// position (local metres), its track's size belief, if one track alone is there.
 pub trait SizeHints {
     /// The belief of the one track of `class` near `position`, or `None`.
-    fn near(&self, class: RoadUserClass, position: [f64; 2]) -> Option<SizeBelief>;
+    fn near(&self, class: RoadUserClass, position: [f64; 2]) -> Option<Lent>;
 }
 
 /// No hints: every fit takes its class's prior.
@@ -168,7 +177,7 @@ pub trait SizeHints {
 pub struct ClassPriors;
 
 impl SizeHints for ClassPriors {
-    fn near(&self, _: RoadUserClass, _: [f64; 2]) -> Option<SizeBelief> {
+    fn near(&self, _: RoadUserClass, _: [f64; 2]) -> Option<Lent> {
         None
     }
 }

@@ -16,7 +16,7 @@
 //! J2735 PSM accuracy fields. Each track also learns its road user's size from its
 //! observations ([`super::size`]) and tells it to the next frame's fits.
 use super::class::RoadUserClass;
-use super::size::{SizeBelief, SizeEvidence, SizeHints, FADE_PER_FRAME, MIN_FRAMES};
+use super::size::{Lent, SizeBelief, SizeEvidence, SizeHints, FADE_PER_FRAME, MIN_FRAMES};
 use crate::ellipse::{circle, floored, symmetric, worst_sigma, Cov2, ErrorEllipse};
 use std::fmt;
 
@@ -402,6 +402,11 @@ impl RoadUserTracker {
         position: [f64; 2],
         time_s: f64,
     ) -> Option<SizeBelief> {
+        self.size_lent(class, position, time_s).map(|l| l.belief)
+    }
+
+    /// [`RoadUserTracker::size_near`] with the id of the track that lends it.
+    fn size_lent(&self, class: RoadUserClass, position: [f64; 2], time_s: f64) -> Option<Lent> {
         let dt = self
             .last_time_s
             .map_or(0.0, |last| (time_s - last).max(0.0));
@@ -417,7 +422,10 @@ impl RoadUserTracker {
         if near.next().is_some() || one.size_frames < MIN_FRAMES {
             return None;
         }
-        SizeBelief::with(class, &one.size)
+        SizeBelief::with(class, &one.size).map(|belief| Lent {
+            lender: one.id,
+            belief,
+        })
     }
 
     /// The tracks' sizes at `time_s` as hints for a localizer.
@@ -487,8 +495,8 @@ pub struct TrackSizes<'a> {
 }
 
 impl SizeHints for TrackSizes<'_> {
-    fn near(&self, class: RoadUserClass, position: [f64; 2]) -> Option<SizeBelief> {
-        self.tracker.size_near(class, position, self.time_s)
+    fn near(&self, class: RoadUserClass, position: [f64; 2]) -> Option<Lent> {
+        self.tracker.size_lent(class, position, self.time_s)
     }
 }
 
