@@ -36,6 +36,10 @@ pub const MAX_SIGMA_M: f64 = 1.0;
 const EXPECTED_RMS_PX: f64 = 0.6;
 /// Largest root mean square distance of the mask's outline to the fitted box's, pixels.
 const MAX_RMS_PX: f64 = 3.0;
+/// A road user cut by the image border is localized only when its box's outline overlaps
+/// its mask at least this much (intersection over union; for a box that fits, the share of
+/// it in view).
+pub const MIN_SEEN_SHARE: f64 = 0.25;
 /// Smallest side of a box, as a share of its class's mean.
 const MIN_SHARE: f64 = 0.3;
 
@@ -94,7 +98,8 @@ struct Placed {
 /// Detections without a box, by reason.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub struct Rejections {
-    /// Cut by the image border, and too little seen to be placed within [`MAX_SIGMA_M`].
+    /// Cut by the image border, and too little seen to be placed within [`MAX_SIGMA_M`], or
+    /// less than a quarter of its box in view ([`MIN_SEEN_SHARE`]).
     pub truncated: u32,
     /// Touching another road user's mask, and too little seen to be placed within
     /// [`MAX_SIGMA_M`].
@@ -363,6 +368,12 @@ impl Localizer {
         let whole = touching.is_empty() && !d.touches_border;
         if fitted.rms_px > MAX_RMS_PX || (whole && road_user.iou < MIN_IOU) {
             return Err(BoxRejection::Inconsistent { iou: road_user.iou });
+        }
+        // Cut by the image border with less than a quarter of its box in view: what is seen
+        // may be any part of the road user, and the fit's curvature does not say so (a 5 px
+        // sliver of a pedestrian at the border was placed metres off with 13 cm of sigma).
+        if d.touches_border && road_user.iou < MIN_SEEN_SHARE {
+            return Err(BoxRejection::Truncated);
         }
         // A mask that fits its box worse than mask noise explains is less certain than the
         // fit's curvature says (noisier masks, or a wrong local solution): scaled by it.
