@@ -25,30 +25,51 @@ fn eigen(c: &Cov2) -> (f64, f64, [f64; 2]) {
     let mid = 0.5 * (a + d);
     let half = (0.25 * (a - d) * (a - d) + b * b).sqrt();
     let (big, small) = (mid + half, mid - half);
-    // (b, big - a) is an eigenvector unless b is 0: then the axes are the eigenvectors.
-    let v = if b.abs() > 1e-18 * (a.abs() + d.abs()).max(1e-300) {
-        let n = b.hypot(big - a);
-        [b / n, (big - a) / n]
-    } else if a >= d {
+    // (big - d, b) and (b, big - a) are both eigenvectors of `big`; the one whose first
+    // difference does not cancel (big - d >= a - d when a >= d) keeps its precision.
+    let v = if a >= d { [big - d, b] } else { [b, big - a] };
+    let n = v[0].hypot(v[1]);
+    let v = if n > 0.0 && n.is_finite() {
+        [v[0] / n, v[1] / n]
+    } else if a > d {
         [1.0, 0.0]
     } else {
+        // A circle (or nothing known): north, as `ErrorEllipse::circle`.
         [0.0, 1.0]
     };
     (big, small, v)
 }
 
 /// 1-sigma along the worst direction of `c` (the square root of its larger eigenvalue; zero
-/// if that is negative).
+/// if that is negative, NaN if `c` holds a NaN).
 pub fn worst_sigma(c: &Cov2) -> f64 {
-    eigen(c).0.max(0.0).sqrt()
+    root(eigen(c).0)
+}
+
+/// The square root of a variance: zero if it is negative, NaN if it is NaN.
+fn root(v: f64) -> f64 {
+    if v.is_nan() {
+        f64::NAN
+    } else {
+        v.max(0.0).sqrt()
+    }
 }
 
 /// `c` with each eigenvalue raised to at least `floor_m²`: never better than `floor_m` in
 /// any direction, unchanged where it already is worse.
 pub fn floored(c: &Cov2, floor_m: f64) -> Cov2 {
+    floored_by(c, &circle(floor_m))
+}
+
+/// `c` never better than `floor` along its own axes: each eigenvalue of `c` raised to at
+/// least `floor`'s variance along that eigenvector. A floor long where `c` is long and
+/// narrow where it is narrow keeps `c` narrow.
+pub fn floored_by(c: &Cov2, floor: &Cov2) -> Cov2 {
     let (big, small, [x, y]) = eigen(c);
-    let f = floor_m * floor_m;
-    let (l1, l2) = (big.max(f), small.max(f));
+    let f = symmetric(floor);
+    let along =
+        |u: [f64; 2]| u[0] * u[0] * f[0][0] + 2.0 * u[0] * u[1] * f[0][1] + u[1] * u[1] * f[1][1];
+    let (l1, l2) = (big.max(along([x, y])), small.max(along([-y, x])));
     // V diag(l1, l2) V' with V = [[x, -y], [y, x]].
     [
         [l1 * x * x + l2 * y * y, (l1 - l2) * x * y],
@@ -74,7 +95,8 @@ pub struct ErrorEllipse {
     pub semi_major_m: f64,
     /// 1-sigma across it, metres.
     pub semi_minor_m: f64,
-    /// Direction of the semi-major axis, degrees clockwise from north in [0, 180).
+    /// Direction of the semi-major axis, degrees clockwise from north in [0, 180) (0 for a
+    /// circle).
     pub orientation_deg: f64,
 }
 
@@ -88,7 +110,8 @@ impl ErrorEllipse {
         }
     }
 
-    /// The ellipse of the covariance `c` (east, north), m².
+    /// The ellipse of the covariance `c` (east, north), m² (NaN axes, not known, where `c`
+    /// holds a NaN).
     pub fn of(c: &Cov2) -> Self {
         let (big, small, [x, y]) = eigen(c);
         // Clockwise from north: atan2(east, north), folded into a half turn.
@@ -97,8 +120,8 @@ impl ErrorEllipse {
             orientation_deg = 0.0;
         }
         Self {
-            semi_major_m: big.max(0.0).sqrt(),
-            semi_minor_m: small.max(0.0).sqrt(),
+            semi_major_m: root(big),
+            semi_minor_m: root(small),
             orientation_deg,
         }
     }
@@ -155,6 +178,32 @@ mod tests {
         let same = floored(&c, 0.001);
         assert!(close(same[0][0], 0.04) && close(same[1][1], 0.0001) && close(same[0][1], 0.0));
         assert!(close(worst_sigma(&floored(&c, 0.5)), 0.5));
+    }
+
+    #[test]
+    fn a_floor_along_the_long_axis_keeps_the_ellipse_narrow() {
+        // Long north, narrow east; the floor long north too: the east axis stays 1 cm.
+        let c = [[0.0001, 0.0], [0.0, 0.01]];
+        let f = floored_by(&c, &[[0.0, 0.0], [0.0, 0.04]]);
+        assert!(close(f[0][0], 0.0001) && close(f[1][1], 0.04) && close(f[0][1], 0.0));
+    }
+
+    #[test]
+    fn a_nearly_diagonal_covariance_keeps_its_axes() {
+        // A cross term far below the diagonal's precision: the axes are east and north.
+        for b in [1e-18, -1e-17, 3e-17, 0.0] {
+            let e = ErrorEllipse::of(&[[0.586, b], [b, 0.417]]);
+            assert!((e.orientation_deg - 90.0).abs() < 1e-6, "{b}: {e:?}");
+            let f = floored(&[[0.586, b], [b, 0.417]], 0.001);
+            assert!(close(f[0][0], 0.586) && close(f[1][1], 0.417), "{b}: {f:?}");
+            let n = ErrorEllipse::of(&[[0.417, b], [b, 0.586]]);
+            assert!(n.orientation_deg.abs() < 1e-6 || (n.orientation_deg - 180.0).abs() < 1e-6);
+        }
+        assert_eq!(ErrorEllipse::of(&circle(0.1)).orientation_deg, 0.0);
+        let unknown = ErrorEllipse::of(&[[f64::NAN, 0.0], [0.0, 0.01]]);
+        assert!(
+            unknown.semi_major_m.is_nan() && worst_sigma(&[[f64::NAN, 0.0], [0.0, 1.0]]).is_nan()
+        );
     }
 
     #[test]

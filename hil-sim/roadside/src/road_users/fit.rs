@@ -32,7 +32,7 @@ use super::calibrate::GroundCamera;
 use super::class::{Extent, RoadUserClass};
 use super::polygon::{signed_area, signed_distance_convex};
 use super::size::{mat_vec, SizeBelief, SizeEvidence, M3};
-use crate::ellipse::worst_sigma;
+use crate::ellipse::{floored, worst_sigma};
 
 /// 1-sigma noise of a mask's outline, pixels.
 pub const OUTLINE_SIGMA_PX: f64 = 1.0;
@@ -91,9 +91,10 @@ pub struct BoxFit {
     /// What the mask alone says of the size (the prior taken out, the position
     /// marginalised out), for the track's belief; `None` when it says nothing.
     pub size_evidence: Option<SizeEvidence>,
-    /// The part of the position's 1-sigma that comes from what is not known of the size
-    /// (the prior's share: it repeats from frame to frame), metres.
-    pub size_sigma_m: f64,
+    /// The part of the position's covariance that comes from what is not known of the size
+    /// (the prior's share: it repeats from frame to frame), m²; mostly along the line of
+    /// sight.
+    pub size_covariance: [[f64; 2]; 2],
 }
 
 impl BoxFit {
@@ -578,7 +579,7 @@ fn finish(problem: &Problem<'_>, t: &P5, r: &[f64]) -> Result<BoxFit, FitFailure
         rms_px,
         corners_seen,
         cost: norm2(r),
-        size_sigma_m: known.map_or(0.0, |k| size_share(&cov, &k)),
+        size_covariance: known.map_or([[0.0; 2]; 2], |k| size_share(&cov, &k)),
         size_evidence: known.and_then(|k| size_evidence(problem, &a, &g, &k, t)),
     })
 }
@@ -596,10 +597,11 @@ fn inverse2(m: [[f64; 2]; 2]) -> Option<[[f64; 2]; 2]> {
 
 /// The part of the position's error that comes from what is not known of the size: the
 /// position's covariance `cov` less the one it would have were the size known exactly
-/// (`known`, the inverse of the position block), along its worst direction, metres.
-fn size_share(cov: &[[f64; 2]; 2], known: &[[f64; 2]; 2]) -> f64 {
+/// (`known`, the inverse of the position block), symmetric and with no negative variance
+/// (rounding), m².
+fn size_share(cov: &[[f64; 2]; 2], known: &[[f64; 2]; 2]) -> [[f64; 2]; 2] {
     let d = |i: usize, j: usize| cov[i][j] - known[i][j];
-    worst_sigma(&[[d(0, 0), d(0, 1)], [d(1, 0), d(1, 1)]])
+    floored(&[[d(0, 0), d(0, 1)], [d(1, 0), d(1, 1)]], 0.0)
 }
 
 /// What the mask alone says of the size at `t`, from the normal matrix `a` and gradient `g`

@@ -57,10 +57,14 @@ pub struct Localized {
     /// Covariance of the position (east, north), m²: the fit's, widened as `sigma_m` is;
     /// mostly along the line of sight, where a box's depth trades against its size.
     pub covariance_m2: Cov2,
-    /// The part of `sigma_m` that repeats from frame to frame, metres: the calibration's, the
-    /// size prior's (the same in every frame) and, for a road user cut by the image border,
-    /// the prior standing for the end out of view.
+    /// The part of `sigma_m` that repeats from frame to frame, metres (the worst direction
+    /// of `floor_covariance_m2`).
     pub floor_m: f64,
+    /// The part of `covariance_m2` that repeats from frame to frame, m²: the calibration's
+    /// (in every direction), the size prior's share (the same in every frame; mostly along
+    /// the line of sight) and, for a road user cut by the image border, the prior standing
+    /// for the end out of view.
+    pub floor_covariance_m2: Cov2,
     /// What its mask says of its size, for its track's belief: of every road user not cut
     /// by the image border (the fit's information leaves out what a touching mask may
     /// hide, and a cut end would repeat the same wrong length frame after frame).
@@ -76,7 +80,7 @@ impl Localized {
             class: self.road_user.class,
             position: self.position,
             covariance_m2: self.covariance_m2,
-            floor_m: self.floor_m,
+            floor_m2: self.floor_covariance_m2,
             size: self.size_evidence,
             at_border: self.road_user_at_border,
         }
@@ -91,7 +95,7 @@ struct Placed {
     road_user: RoadUserBox,
     position: [f64; 2],
     covariance_m2: Cov2,
-    floor_m: f64,
+    floor_covariance_m2: Cov2,
     size_evidence: Option<SizeEvidence>,
 }
 
@@ -198,8 +202,10 @@ impl Localizer {
     /// mask. A touching mask whose outline goes around part of this one's stands behind it
     /// and hides nothing of it (a worker in front of a truck). A detection is refused when
     /// the fit fails, when the box is implausible for its class, when it does not match its
-    /// mask, or when so little of it is seen that its position is not known within
-    /// [`MAX_SIGMA_M`] (then as occluded or truncated).
+    /// mask, when so little of it is seen that its position is not known within
+    /// [`MAX_SIGMA_M`] (then as occluded or truncated), or when it is cut by the image border
+    /// with less than a quarter of its box in view ([`MIN_SEEN_SHARE`], as truncated, whether
+    /// or not a neighbour hides part of it too).
     pub fn frame(&self, detections: &[Silhouette]) -> (Vec<Localized>, Rejections) {
         self.frame_with(detections, &ClassPriors)
     }
@@ -260,7 +266,8 @@ impl Localizer {
                     position: p.position,
                     sigma_m: worst_sigma(&p.covariance_m2),
                     covariance_m2: p.covariance_m2,
-                    floor_m: p.floor_m,
+                    floor_m: worst_sigma(&p.floor_covariance_m2),
+                    floor_covariance_m2: p.floor_covariance_m2,
                     size_evidence: p.size_evidence,
                     road_user_at_border: d.touches_border,
                 }),
@@ -411,13 +418,13 @@ impl Localizer {
         // border, the same end stays out of view frame after frame, so the prior's share of
         // the error repeats (behind a neighbour, what is hidden changes as traffic moves).
         let border = if d.touches_border { hidden_floor } else { 0.0 };
-        let repeated = border.max(fitted.size_sigma_m).max(SIGMA_FLOOR_M);
+        let repeated = floored(&fitted.size_covariance, border.max(SIGMA_FLOOR_M));
         let seen_whole = !d.touches_border;
         Ok(Placed {
             road_user,
             position: fitted.centre,
             covariance_m2,
-            floor_m: repeated.min(sigma_m),
+            floor_covariance_m2: repeated,
             // A mask that fits worse than noise explains says less, as its position does.
             size_evidence: fitted
                 .size_evidence

@@ -17,7 +17,7 @@
 //! observations ([`super::size`]) and tells it to the next frame's fits.
 use super::class::RoadUserClass;
 use super::size::{Lent, SizeBelief, SizeEvidence, SizeHints, FADE_PER_FRAME, MIN_FRAMES};
-use crate::ellipse::{circle, floored, symmetric, worst_sigma, Cov2, ErrorEllipse};
+use crate::ellipse::{circle, floored, floored_by, symmetric, worst_sigma, Cov2, ErrorEllipse};
 use std::fmt;
 
 type M4 = [[f64; 4]; 4];
@@ -115,12 +115,12 @@ pub struct Observation {
     pub position: [f64; 2],
     /// Covariance of the position (east, north), m².
     pub covariance_m2: Cov2,
-    /// The part of the error that does not average out over frames, metres: the
+    /// The part of the covariance that does not average out over frames, m²: the
     /// calibration's, and a size the view does not measure, taken from the same prior in
     /// every frame alike (a side the image border hides most of all), so the same error
     /// repeats. A track's accuracy is never reported better than its latest observation's
-    /// floor.
-    pub floor_m: f64,
+    /// floor along either axis of its ellipse.
+    pub floor_m2: Cov2,
     /// What the frame's mask says of the road user's size (none for one cut by the image
     /// border), added to its track's size belief ([`super::size`]).
     pub size: Option<SizeEvidence>,
@@ -147,11 +147,10 @@ pub struct Track {
     /// Degrees clockwise from north in [0, 360); `None` while the speed is
     /// below twice its sigma (direction not meaningful).
     pub heading_deg: Option<f64>,
-    /// Square root of the larger eigenvalue of the 2x2 position covariance, or the latest
-    /// observation's floor ([`Observation::floor_m`]) where that is larger.
+    /// 1-sigma along the worst direction: the semi-major axis of `position_ellipse`.
     pub position_sigma_m: f64,
     /// The position's 1-sigma error ellipse: the filter's covariance, each axis never
-    /// better than the latest observation's floor (`semi_major_m` is `position_sigma_m`).
+    /// better than the latest observation's floor ([`Observation::floor_m2`]) along it.
     pub position_ellipse: ErrorEllipse,
     /// 1-sigma of the speed (first-order propagation; at zero speed the
     /// square root of the larger velocity-covariance eigenvalue).
@@ -206,9 +205,10 @@ impl std::error::Error for TrackerError {}
 /// Counts of observations the tracker ignored, by reason (saturating).
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
 pub struct RejectedCounts {
-    /// Position NaN/infinite, or a covariance not finite and positive definite.
+    /// Position NaN/infinite, a covariance not finite, symmetric and positive definite, or a
+    /// floor not finite, symmetric and positive semidefinite.
     pub non_finite: u64,
-    /// Position beyond +-1000 km or a 1-sigma above 1 km (numerically unsafe).
+    /// Position beyond +-1000 km, or a 1-sigma or floor above 1 km (numerically unsafe).
     pub out_of_range: u64,
     /// Would have started a track while `MAX_TRACKS` were alive.
     pub over_capacity: u64,
@@ -226,8 +226,8 @@ struct TrackState {
     first_seen_s: f64,
     last_seen_s: f64,
     hits: u32,
-    /// The latest observation's floor (see [`Observation::floor_m`]).
-    floor_m: f64,
+    /// The latest observation's floor (see [`Observation::floor_m2`]).
+    floor: Cov2,
     /// Every observation at its latest time was cut by the image border
     /// ([`Observation::at_border`]): it left the view of every camera that saw it.
     at_border: bool,
@@ -450,24 +450,21 @@ impl RoadUserTracker {
         let mut valid = Vec::with_capacity(n);
         for o in &observations[..n] {
             let [x, y] = o.position;
-            let [[c00, c01], [c10, c11]] = o.covariance_m2;
-            let det = c00 * c11 - 0.25 * (c01 + c10) * (c01 + c10);
-            let sigma_ok = [c00, c01, c10, c11].iter().all(|v| v.is_finite())
-                && c00 > 0.0
-                && c11 > 0.0
-                && det > 0.0;
-            let floor_ok = o.floor_m.is_finite() && o.floor_m >= 0.0;
+            let sigma_ok = is_covariance(&o.covariance_m2, true);
+            let floor_ok = is_covariance(&o.floor_m2, false);
             let size_ok = o.size.is_none_or(|e| e.is_finite());
             if !(x.is_finite() && y.is_finite() && sigma_ok && floor_ok && size_ok) {
                 r.non_finite = r.non_finite.saturating_add(1);
             } else if x.abs() > MAX_ABS_POSITION_M
                 || y.abs() > MAX_ABS_POSITION_M
                 || o.sigma_m() > MAX_SIGMA_M
+                || worst_sigma(&o.floor_m2) > MAX_SIGMA_M
             {
                 r.out_of_range = r.out_of_range.saturating_add(1);
             } else {
                 valid.push(Observation {
                     covariance_m2: floored(&symmetric(&o.covariance_m2), MIN_SIGMA_M),
+                    floor_m2: floored(&symmetric(&o.floor_m2), 0.0),
                     ..*o
                 });
             }
@@ -484,6 +481,28 @@ impl RoadUserTracker {
                 return id;
             }
         }
+    }
+}
+
+/// Is `c` a covariance: finite, symmetric (to rounding), with no negative variance, and
+/// (`definite`) positive definite? Written so that tiny variances do not underflow.
+fn is_covariance(c: &Cov2, definite: bool) -> bool {
+    let [[a, b], [b2, d]] = *c;
+    if ![a, b, b2, d].iter().all(|v| v.is_finite()) || a < 0.0 || d < 0.0 {
+        return false;
+    }
+    let scale = a.max(d);
+    if (b - b2).abs() > 1e-9 * scale {
+        return false;
+    }
+    let b = 0.5 * (b + b2);
+    if definite {
+        // b² < a d, as (b / a) b < d.
+        a > 0.0 && d > 0.0 && (b / a) * b < d
+    } else if a == 0.0 {
+        b == 0.0
+    } else {
+        (b / a) * b <= d + 1e-12 * scale
     }
 }
 
@@ -521,7 +540,7 @@ fn new_track(id: u32, o: &Observation, time_s: f64) -> TrackState {
         first_seen_s: time_s,
         last_seen_s: time_s,
         hits: 1,
-        floor_m: o.floor_m,
+        floor: o.floor_m2,
         at_border: o.at_border,
         size: o.size.unwrap_or(SizeEvidence::NONE),
         size_frames: u32::from(o.size.is_some()),
@@ -626,7 +645,7 @@ fn correct(t: &mut TrackState, o: &Observation, time_s: f64) {
     let seen_now = t.last_seen_s == time_s;
     t.at_border = o.at_border && (t.at_border || !seen_now);
     t.last_seen_s = time_s;
-    t.floor_m = o.floor_m;
+    t.floor = o.floor_m2;
     if let Some(e) = &o.size {
         t.size = t.size.scaled(FADE_PER_FRAME).plus(e);
         t.size_frames = t.size_frames.saturating_add(1);
@@ -643,17 +662,16 @@ fn position_sigma(t: &TrackState) -> f64 {
     max_eig(t.p[0][0], t.p[0][1], t.p[1][1]).sqrt()
 }
 
-/// The accuracy a track reports: the filter's, but never better than the error its latest
-/// observation repeats from frame to frame.
+/// The accuracy a track reports along its worst direction (its ellipse's semi-major axis).
 fn reported_sigma(t: &TrackState) -> f64 {
-    position_sigma(t).max(t.floor_m)
+    reported_ellipse(t).semi_major_m
 }
 
 /// The error ellipse a track reports: the filter's, each axis never better than the error
-/// its latest observation repeats from frame to frame.
+/// its latest observation repeats from frame to frame along it.
 fn reported_ellipse(t: &TrackState) -> ErrorEllipse {
     let position: Cov2 = [[t.p[0][0], t.p[0][1]], [t.p[1][0], t.p[1][1]]];
-    ErrorEllipse::of(&floored(&symmetric(&position), t.floor_m))
+    ErrorEllipse::of(&floored_by(&symmetric(&position), &t.floor))
 }
 
 /// Public view of a track, with accuracies from its covariance.
@@ -680,6 +698,7 @@ fn report(t: &TrackState) -> Track {
     };
     // max_by_key keeps the last maximum; reversed, that is the earliest in ALL.
     let class = dominant_class(t);
+    let ellipse = reported_ellipse(t);
     Track {
         id: t.id,
         class,
@@ -687,8 +706,8 @@ fn report(t: &TrackState) -> Track {
         velocity: [vx, vy],
         speed_mps: speed,
         heading_deg,
-        position_sigma_m: reported_sigma(t),
-        position_ellipse: reported_ellipse(t),
+        position_sigma_m: ellipse.semi_major_m,
+        position_ellipse: ellipse,
         speed_sigma_mps,
         heading_sigma_deg,
         first_seen_s: t.first_seen_s,
