@@ -6,6 +6,7 @@
 use geodesy::LatLon;
 use j2735::msg::message_frame::MessageFrame;
 use roadside::clock::Utc;
+use roadside::ellipse::ErrorEllipse;
 use roadside::messages::{self, SignSpeed, WorkZone, DURATION_INDEFINITE};
 use roadside::road::Road;
 
@@ -78,14 +79,19 @@ fn frames() -> Vec<(&'static str, Box<MessageFrame>)> {
     ]
 }
 
-/// A worker walking east at 1.5 m/s, 0.5 m accuracy, with three crumbs behind.
+/// A worker walking east at 1.5 m/s, known within 0.5 m along 120 degrees from north and
+/// 0.15 m across, with three crumbs behind.
 fn walking_worker() -> messages::Worker {
     let at = LatLon::from_degrees(44.977_8, -93.265_0).unwrap();
     let back = |s: f64| LatLon::from_degrees(44.977_8, -93.265_0 - 1.5 * s / 78_800.0).unwrap();
     messages::Worker {
         id: [0xde, 0xad, 0x00, 0x01],
         position: at,
-        accuracy_m: 0.5,
+        accuracy: ErrorEllipse {
+            semi_major_m: 0.5,
+            semi_minor_m: 0.15,
+            orientation_deg: 120.0,
+        },
         speed_mps: 1.5,
         heading_deg: Some(90.0),
         history: vec![(back(1.0), 1.0), (back(2.0), 2.0), (back(3.0), 3.0)],
@@ -123,9 +129,11 @@ fn the_oracle_reads_the_worker_psm_fields_in_j2735_units() {
     // 44.9778 N, 93.2650 W in 1e-7 degrees.
     assert_eq!(psm["position"]["lat"], 449_778_000, "{psm}");
     assert_eq!(psm["position"]["long"], -932_650_000, "{psm}");
-    // 0.5 m in 0.05 m units; 1.5 m/s in 0.02 m/s; 90 degrees in 0.0125 degrees.
+    // 0.5 m and 0.15 m in 0.05 m units, 120 degrees in 360/65535 degree units; 1.5 m/s in
+    // 0.02 m/s; 90 degrees in 0.0125 degrees.
     assert_eq!(psm["accuracy"]["semiMajor"], 10, "{psm}");
-    assert_eq!(psm["accuracy"]["semiMinor"], 10, "{psm}");
+    assert_eq!(psm["accuracy"]["semiMinor"], 3, "{psm}");
+    assert_eq!(psm["accuracy"]["orientation"], 21_845, "{psm}");
     assert_eq!(psm["speed"], 75, "{psm}");
     assert_eq!(psm["heading"], 7_200, "{psm}");
     let crumbs = psm["pathHistory"]["crumbData"].as_array().unwrap();
