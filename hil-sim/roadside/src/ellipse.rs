@@ -77,6 +77,28 @@ pub fn floored_by(c: &Cov2, floor: &Cov2) -> Cov2 {
     ]
 }
 
+/// Is `c` a covariance: finite, symmetric (to rounding), with no negative variance, and
+/// (`definite`) positive definite? Written so that tiny variances do not underflow.
+pub fn is_covariance(c: &Cov2, definite: bool) -> bool {
+    let [[a, b], [b2, d]] = *c;
+    if ![a, b, b2, d].iter().all(|v| v.is_finite()) || a < 0.0 || d < 0.0 {
+        return false;
+    }
+    let scale = a.max(d);
+    if (b - b2).abs() > 1e-9 * scale {
+        return false;
+    }
+    let b = 0.5 * (b + b2);
+    if definite {
+        // b² < a d, as (b / a) b < d.
+        a > 0.0 && d > 0.0 && (b / a) * b < d
+    } else if a == 0.0 {
+        b == 0.0
+    } else {
+        (b / a) * b <= d + 1e-12 * scale
+    }
+}
+
 /// `d' c⁻¹ d`, the squared Mahalanobis distance of the offset `d` (metres) under `c`;
 /// infinite when `c` is singular or not positive definite.
 pub fn mahalanobis2(c: &Cov2, d: [f64; 2]) -> f64 {

@@ -54,12 +54,11 @@ pub struct Localized {
     pub position: [f64; 2],
     /// 1-sigma error of the position along its worst direction, metres.
     pub sigma_m: f64,
-    /// Covariance of the position (east, north), m²: the fit's, widened as `sigma_m` is;
-    /// mostly along the line of sight, where a box's depth trades against its size.
+    /// Covariance of the position (east, north), m²: the fit's, scaled by its misfit, never
+    /// better than the hidden corners allow, with the calibration's added; mostly along the
+    /// line of sight, where a box's depth trades against its size (`sigma_m` is its worst
+    /// direction).
     pub covariance_m2: Cov2,
-    /// The part of `sigma_m` that repeats from frame to frame, metres (the worst direction
-    /// of `floor_covariance_m2`).
-    pub floor_m: f64,
     /// The part of `covariance_m2` that repeats from frame to frame, m²: the calibration's
     /// (in every direction), the size prior's share (the same in every frame; mostly along
     /// the line of sight) and, for a road user cut by the image border, the prior standing
@@ -266,7 +265,6 @@ impl Localizer {
                     position: p.position,
                     sigma_m: worst_sigma(&p.covariance_m2),
                     covariance_m2: p.covariance_m2,
-                    floor_m: worst_sigma(&p.floor_covariance_m2),
                     floor_covariance_m2: p.floor_covariance_m2,
                     size_evidence: p.size_evidence,
                     road_user_at_border: d.touches_border,

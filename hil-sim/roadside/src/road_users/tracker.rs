@@ -17,7 +17,9 @@
 //! observations ([`super::size`]) and tells it to the next frame's fits.
 use super::class::RoadUserClass;
 use super::size::{Lent, SizeBelief, SizeEvidence, SizeHints, FADE_PER_FRAME, MIN_FRAMES};
-use crate::ellipse::{circle, floored, floored_by, symmetric, worst_sigma, Cov2, ErrorEllipse};
+use crate::ellipse::{
+    circle, floored, floored_by, is_covariance, symmetric, worst_sigma, Cov2, ErrorEllipse,
+};
 use std::fmt;
 
 type M4 = [[f64; 4]; 4];
@@ -484,28 +486,6 @@ impl RoadUserTracker {
     }
 }
 
-/// Is `c` a covariance: finite, symmetric (to rounding), with no negative variance, and
-/// (`definite`) positive definite? Written so that tiny variances do not underflow.
-fn is_covariance(c: &Cov2, definite: bool) -> bool {
-    let [[a, b], [b2, d]] = *c;
-    if ![a, b, b2, d].iter().all(|v| v.is_finite()) || a < 0.0 || d < 0.0 {
-        return false;
-    }
-    let scale = a.max(d);
-    if (b - b2).abs() > 1e-9 * scale {
-        return false;
-    }
-    let b = 0.5 * (b + b2);
-    if definite {
-        // b² < a d, as (b / a) b < d.
-        a > 0.0 && d > 0.0 && (b / a) * b < d
-    } else if a == 0.0 {
-        b == 0.0
-    } else {
-        (b / a) * b <= d + 1e-12 * scale
-    }
-}
-
 /// A tracker's size beliefs at one time, as a localizer's hints.
 #[derive(Debug, Clone, Copy)]
 pub struct TrackSizes<'a> {
@@ -652,14 +632,14 @@ fn correct(t: &mut TrackState, o: &Observation, time_s: f64) {
     }
 }
 
-/// Larger eigenvalue of the symmetric 2x2 matrix `[[a, b], [b, c]]`.
-fn max_eig(a: f64, b: f64, c: f64) -> f64 {
-    (0.5 * (a + c) + (0.25 * (a - c) * (a - c) + b * b).sqrt()).max(0.0)
+/// The position block of a track's covariance, m².
+fn position_covariance(t: &TrackState) -> Cov2 {
+    symmetric(&[[t.p[0][0], t.p[0][1]], [t.p[1][0], t.p[1][1]]])
 }
 
 /// 1-sigma of a track's position along its worst direction, metres (the filter's).
 fn position_sigma(t: &TrackState) -> f64 {
-    max_eig(t.p[0][0], t.p[0][1], t.p[1][1]).sqrt()
+    worst_sigma(&position_covariance(t))
 }
 
 /// The accuracy a track reports along its worst direction (its ellipse's semi-major axis).
@@ -670,8 +650,7 @@ fn reported_sigma(t: &TrackState) -> f64 {
 /// The error ellipse a track reports: the filter's, each axis never better than the error
 /// its latest observation repeats from frame to frame along it.
 fn reported_ellipse(t: &TrackState) -> ErrorEllipse {
-    let position: Cov2 = [[t.p[0][0], t.p[0][1]], [t.p[1][0], t.p[1][1]]];
-    ErrorEllipse::of(&floored_by(&symmetric(&position), &t.floor))
+    ErrorEllipse::of(&floored_by(&position_covariance(t), &t.floor))
 }
 
 /// Public view of a track, with accuracies from its covariance.
@@ -694,7 +673,7 @@ fn report(t: &TrackState) -> Track {
         }
         sigma
     } else {
-        max_eig(p[2][2], p[2][3], p[3][3]).sqrt()
+        worst_sigma(&[[p[2][2], p[2][3]], [p[3][2], p[3][3]]])
     };
     // max_by_key keeps the last maximum; reversed, that is the earliest in ALL.
     let class = dominant_class(t);
