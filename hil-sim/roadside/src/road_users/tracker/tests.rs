@@ -716,3 +716,33 @@ fn boxes_known_across_the_line_of_sight_give_a_narrow_ellipse_and_keep_neighbour
     assert!(east_rms < across, "east error {east_rms} m rms");
     assert!(held as f64 >= 0.9 * scored as f64, "{held} of {scored}");
 }
+
+#[test]
+fn a_road_user_seen_whole_after_partial_views_is_taken_where_the_whole_view_puts_it() {
+    // A worker standing 40 m down the line of sight (north), half hidden for a second and a
+    // half: every box lies 0.5 m too far, an error the boxes share (their floor says so).
+    // Then he is seen whole, known to 8 cm along the line of sight.
+    let mut tr = tracker();
+    let along = |sigma: f64| [[0.03 * 0.03, 0.0], [0.0, sigma * sigma]];
+    let partial = Observation {
+        covariance_m2: along(0.38),
+        floor_m2: along(0.38),
+        ..obs(RoadUserClass::Pedestrian, 11.0, 40.5, 0.0)
+    };
+    for k in 0..15 {
+        tr.update(f64::from(k) * 0.1, &[partial]).unwrap();
+    }
+    let whole = Observation {
+        covariance_m2: along(0.08),
+        floor_m2: along(0.03),
+        ..obs(RoadUserClass::Pedestrian, 11.0, 40.0, 0.0)
+    };
+    let out = tr.update(1.5, &[whole]).unwrap();
+    assert_eq!(out.len(), 1, "{out:?}");
+    // Re-anchored, the whole box moves it within 2.1 cm (the partial views keep the weight
+    // of one of them); averaged with them as if their error were independent, the track
+    // would stay 6.3 cm too far.
+    let off = out[0].position[1] - 40.0;
+    assert!(off.abs() < 0.03, "{:?}", out[0]);
+    assert!(off.abs() < 2.0 * out[0].position_sigma_m, "{:?}", out[0]);
+}
