@@ -7,8 +7,11 @@
 //! install's box errors, two ideal estimators' on the same boxes (drawn at the Cramér-Rao
 //! bound of the mask's information and the size prior, and of an estimator knowing each
 //! road user's size exactly, `sweep::bound`). Exits 1 when
-//! an install misses the paper's per-class mean or maximum for road users seen whole (means
-//! only at 2 px), when at 1 px a track position or a worker's PSM is more than 1 m off,
+//! an install's track positions (what the product broadcasts) of road users seen whole miss
+//! the paper's per-class mean or maximum (means only at 2 px): one frame's box cannot meet the
+//! paper's pedestrian maximum on every install, for its Cramér-Rao bound is over it even with
+//! the size known, so the box figures are printed beside the bound and not gated; when at
+//! 1 px a track position or a worker's PSM is more than 1 m off,
 //! coverage of people is under 90 % or the 95 % ellipse holds under 95 %, or when two
 //! cameras do worse than one (less coverage than either alone, or a larger track mean than
 //! either camera's on the road users both track, or a fused position over 1 m off).
@@ -80,18 +83,19 @@ fn share(c: (usize, usize)) -> f64 {
 }
 
 fn print_table(s: &Score) {
-    println!("  class        boxes n   mean    std    max | tracks n   mean    max | paper mean / max | coverage boxes tracks | whole n mean max | ideal mean max");
+    println!("  class        boxes n   mean    std    max | tracks n   mean    max | paper mean / max | coverage boxes tracks | seen whole: boxes n mean max, tracks n mean max | ideal mean max");
     for (k, class) in RoadUserClass::ALL.iter().enumerate() {
         let (bm, bs, bx) = stats(&s.boxes[k]);
         let (tm, _, tx) = stats(&s.tracks[k]);
         let (cm, _, cx) = stats(&s.whole_boxes[k]);
+        let (wm, _, wx) = stats(&s.whole_tracks[k]);
         let (im, _, ix) = stats(&s.ideal_boxes[k]);
         let paper = PAPER_ERRORS_CM
             .iter()
             .find(|p| p.0 == *class)
             .map_or("-".to_string(), |p| format!("{:.1} / {:.1}", p.1, p.2));
         println!(
-            "  {:<10} {:>9} {bm:6.1} {bs:6.1} {bx:6.1} | {:>8} {tm:6.1} {tx:6.1} | {paper:<16} | {:5.1} % {:5.1} %  ({} road users) | {} {cm:.1} {cx:.1} | {im:.1} {ix:.1}",
+            "  {:<10} {:>9} {bm:6.1} {bs:6.1} {bx:6.1} | {:>8} {tm:6.1} {tx:6.1} | {paper:<16} | {:5.1} % {:5.1} %  ({} road users) | {} {cm:.1} {cx:.1}, {} {wm:.1} {wx:.1} | {im:.1} {ix:.1}",
             class.name(),
             s.boxes[k].len(),
             s.tracks[k].len(),
@@ -99,6 +103,7 @@ fn print_table(s: &Score) {
             100.0 * share(s.track_coverage[k]),
             s.coverage[k].0,
             s.whole_boxes[k].len(),
+            s.whole_tracks[k].len(),
         );
     }
     println!(
@@ -120,22 +125,24 @@ fn gates(name: &str, noise: f64, s: &Score) -> Vec<String> {
             .iter()
             .position(|c| *c == class)
             .unwrap_or(0);
-        if s.whole_boxes[k].is_empty() {
-            fails.push(format!("{name} {noise} px: no {} seen whole", class.name()));
+        if s.whole_tracks[k].is_empty() {
+            fails.push(format!(
+                "{name} {noise} px: no {} track position seen whole",
+                class.name()
+            ));
             continue;
         }
-        let (mean, _, max) = stats(&s.whole_boxes[k]);
-        let (ideal_mean, _, ideal_max) = stats(&s.ideal_boxes[k]);
-        let (known_mean, _, known_max) = stats(&s.size_known_boxes[k]);
+        let (mean, _, max) = stats(&s.whole_tracks[k]);
+        let (box_mean, _, box_max) = stats(&s.whole_boxes[k]);
         if mean > mean_cm {
             fails.push(format!(
-                "{name} {noise} px: {} mean {mean:.1} cm over {mean_cm} (ideal {ideal_mean:.1}, size known {known_mean:.1})",
+                "{name} {noise} px: {} track mean {mean:.1} cm over {mean_cm} (boxes {box_mean:.1})",
                 class.name()
             ));
         }
         if noise <= 1.0 && max > max_cm {
             fails.push(format!(
-                "{name} {noise} px: {} max {max:.1} cm over {max_cm} (ideal {ideal_max:.1}, size known {known_max:.1})",
+                "{name} {noise} px: {} track max {max:.1} cm over {max_cm} (boxes {box_max:.1})",
                 class.name()
             ));
         }
@@ -212,7 +219,7 @@ fn ideal_row(name: &str, noise: f64, s: &Score) -> String {
 
 /// One markdown row of the closing table.
 fn summary_row(name: &str, noise: f64, s: &Score) -> String {
-    let mut row = class_cells(name, noise, &s.whole_boxes);
+    let mut row = class_cells(name, noise, &s.whole_tracks);
     let people = s.coverage[RoadUserClass::ALL
         .iter()
         .position(|c| c.is_person())
@@ -244,6 +251,7 @@ fn main() {
     let mut fails = Vec::new();
     let mut summary = Vec::new();
     let mut ideal = Vec::new();
+    let mut boxes = Vec::new();
     let mut locs: Vec<Option<Localizer>> = Vec::new();
     for inst in &all {
         let loc = match localizer(&world, &inst.camera, 7) {
@@ -293,6 +301,7 @@ fn main() {
             print_table(&total);
             fails.extend(gates(inst.name, noise, &total));
             summary.push(summary_row(inst.name, noise, &total));
+            boxes.push(class_cells(inst.name, noise, &total.whole_boxes));
             ideal.push(ideal_row(inst.name, noise, &total));
         }
     }
@@ -338,10 +347,18 @@ fn main() {
         }
     }
     if !summary.is_empty() {
-        println!("\nper install (road users seen whole, per-frame mean / max, cm; people's coverage; track positions over 1 m off; the 95 % ellipse's hold of boxes / tracks):\n");
+        println!("\nper install (road users seen whole, track position mean / max, cm; people's coverage; track positions over 1 m off; the 95 % ellipse's hold of boxes / tracks):\n");
         println!("| install | noise | car | van | bus | truck | pedestrian | people localized | tracks off (PSMs) | 95 % ellipse |");
         println!("| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |");
         for row in &summary {
+            println!("{row}");
+        }
+        println!(
+            "\nthe boxes of the same road users, one frame each (per-frame mean / max, cm):\n"
+        );
+        println!("| install | noise | car | van | bus | truck | pedestrian |");
+        println!("| --- | --- | --- | --- | --- | --- | --- |");
+        for row in &boxes {
             println!("{row}");
         }
         println!("\nan ideal estimator on the same boxes (errors drawn at the Cramér-Rao bound of each mask's corners and the size prior; in brackets, knowing each road user's size exactly; per-frame mean / max, cm):\n");

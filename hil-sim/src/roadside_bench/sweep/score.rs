@@ -60,6 +60,9 @@ pub struct Score {
     /// Per class, track position errors (to the nearest road user of the class, those within
     /// [`OFF_M`]; the others are counted in `tracks_off`), cm.
     pub tracks: [Vec<f64>; 7],
+    /// Per class, the track position errors of road users seen whole in that frame (as
+    /// [`Score::whole_boxes`]): the position the product broadcasts, in the paper's case, cm.
+    pub whole_tracks: [Vec<f64>; 7],
     /// Every track position within [`OFF_M`] of a road user of its class: (frame, the road
     /// user's id, error in cm), so that two runs can be compared on the road users both track.
     pub matched: Vec<(usize, u32, f64)>,
@@ -92,6 +95,7 @@ impl Score {
             self.ideal_boxes[k].extend_from_slice(&o.ideal_boxes[k]);
             self.size_known_boxes[k].extend_from_slice(&o.size_known_boxes[k]);
             self.tracks[k].extend_from_slice(&o.tracks[k]);
+            self.whole_tracks[k].extend_from_slice(&o.whole_tracks[k]);
             self.coverage[k].0 += o.coverage[k].0;
             self.coverage[k].1 += o.coverage[k].1;
             self.track_coverage[k].0 += o.track_coverage[k].0;
@@ -263,19 +267,18 @@ impl Score {
         frame: usize,
         tracks: &[Track],
         users: &[RoadUser],
-        counts: &[bool],
+        seen: Seen<'_>,
         world: &World,
         near: &dyn Fn([f64; 2]) -> bool,
     ) {
+        let Seen { counts, whole } = seen;
         for t in tracks.iter().filter(|t| near(t.position)) {
-            let (nearest, id, truth) = users
+            let (nearest, k) = users
                 .iter()
-                .filter(|u| u.class == t.class)
-                .map(|u| (dist(u.centre, t.position), u.id, u.centre))
-                .fold(
-                    (f64::INFINITY, 0, [0.0; 2]),
-                    |a, b| if b.0 < a.0 { b } else { a },
-                );
+                .enumerate()
+                .filter(|(_, u)| u.class == t.class)
+                .map(|(k, u)| (dist(u.centre, t.position), k))
+                .fold((f64::INFINITY, 0), |a, b| if b.0 < a.0 { b } else { a });
             if nearest > OFF_M {
                 // Off by more than any reported ellipse reaches: a miss for the ellipse too.
                 self.tracks_in_ellipse.0 += 1;
@@ -285,10 +288,14 @@ impl Score {
                 }
                 continue;
             }
+            let u = &users[k];
             self.tracks[slot(t.class)].push(nearest * 100.0);
-            self.matched.push((frame, id, nearest * 100.0));
+            if whole[k] {
+                self.whole_tracks[slot(t.class)].push(nearest * 100.0);
+            }
+            self.matched.push((frame, u.id, nearest * 100.0));
             self.tracks_in_ellipse.0 += 1;
-            if holds(&t.position_ellipse.covariance(), t.position, truth) {
+            if holds(&t.position_ellipse.covariance(), t.position, u.centre) {
                 self.tracks_in_ellipse.1 += 1;
             }
         }
@@ -301,6 +308,13 @@ impl Score {
             c.1 += usize::from(near);
         }
     }
+}
+
+/// Per road user of a frame: does it count for coverage, is it seen whole.
+#[derive(Clone, Copy)]
+struct Seen<'a> {
+    counts: &'a [bool],
+    whole: &'a [bool],
 }
 
 fn in_closed_lane(world: &World, p: [f64; 2]) -> bool {
@@ -363,7 +377,11 @@ pub fn run_camera(
         let obs: Vec<Observation> = found.iter().map(Localized::observation).collect();
         let tracks = tracker.update(t, &obs).expect("frame times go forward");
         let near = |p: [f64; 2]| range_m(cam, p) <= RANGE_M;
-        score.add_tracks(f, &tracks, &users, &v.counts, world, &near);
+        let seen = Seen {
+            counts: &v.counts,
+            whole: &v.whole,
+        };
+        score.add_tracks(f, &tracks, &users, seen, world, &near);
     }
     score
 }
@@ -400,8 +418,15 @@ pub fn run_pair(
         let either: Vec<bool> = (0..users.len())
             .map(|k| views[0].counts[k] || views[1].counts[k])
             .collect();
+        let whole: Vec<bool> = (0..users.len())
+            .map(|k| views[0].whole[k] || views[1].whole[k])
+            .collect();
         let near = |p: [f64; 2]| cams.iter().any(|c| range_m(c, p) <= RANGE_M);
-        score.add_tracks(f, &tracks, &users, &either, world, &near);
+        let seen = Seen {
+            counts: &either,
+            whole: &whole,
+        };
+        score.add_tracks(f, &tracks, &users, seen, world, &near);
     }
     score
 }
