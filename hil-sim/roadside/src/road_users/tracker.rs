@@ -21,6 +21,7 @@ use crate::ellipse::{
     circle, floored, floored_by, is_covariance, symmetric, worst_sigma, Cov2, ErrorEllipse,
 };
 use std::fmt;
+use views::RecentFloors;
 
 type M4 = [[f64; 4]; 4];
 
@@ -237,6 +238,8 @@ struct TrackState {
     size: SizeEvidence,
     /// Observations that brought size evidence (saturating).
     size_frames: u32,
+    /// The floors of its recent frames: whether a view is a better one.
+    views: RecentFloors,
 }
 
 /// Multi-object road-user tracker (bounded: at most `MAX_TRACKS` tracks).
@@ -257,15 +260,6 @@ const MAX_JUMP_M: f64 = 1.5;
 const MAX_SIGMA_M: f64 = 1.0e3;
 /// Observation sigmas are floored here in every direction to keep `S` well conditioned.
 const MIN_SIGMA_M: f64 = 1.0e-3;
-/// An observation whose repeated error (its floor, worst direction) is under this share of
-/// the track's latest one is a better view of the road user (seen whole after being seen in
-/// part): the track is re-anchored on it ([`reanchor`]) before it is taken. Without that, the
-/// filter weighs an average of many partial views as if their shared error had averaged
-/// out: on the road-user bench a worker at 40 m seen in part for a second, then whole, stays
-/// 29 cm off after his first whole box; re-anchored, 20 cm (the box's own error). Any share
-/// from 0.3 to 0.7 gives the same tracks there: the floors of a partial and a whole view
-/// differ by five times or more.
-const BETTER_VIEW_SHARE: f64 = 0.5;
 
 impl RoadUserTracker {
     /// New tracks beyond this many live ones are not started (counted).
@@ -345,6 +339,15 @@ impl RoadUserTracker {
                 if dominant_class(t) != o.class {
                     continue;
                 }
+                // A better view is weighed against the track as it will take it.
+                let anchored;
+                let t = match t.views.better_view(&o.floor_m2, time_s) {
+                    Some(floor) => {
+                        anchored = reanchored(t, &floor);
+                        &anchored
+                    }
+                    None => t,
+                };
                 let jump = (o.position[0] - t.x[0]).hypot(o.position[1] - t.x[1]);
                 if jump > MAX_JUMP_M + 3.0 * (o.sigma_m() + position_sigma(t)) {
                     continue;
@@ -533,6 +536,7 @@ fn new_track(id: u32, o: &Observation, time_s: f64) -> TrackState {
         at_border: o.at_border,
         size: o.size.unwrap_or(SizeEvidence::NONE),
         size_frames: u32::from(o.size.is_some()),
+        views: RecentFloors::new(&o.floor_m2, time_s),
     }
 }
 
@@ -602,9 +606,11 @@ fn innovation(t: &TrackState, o: &Observation) -> Option<([f64; 2], [[f64; 2]; 2
 
 /// Kalman measurement update (Joseph form) and bookkeeping.
 fn correct(t: &mut TrackState, o: &Observation, time_s: f64) {
-    if worst_sigma(&o.floor_m2) < BETTER_VIEW_SHARE * worst_sigma(&t.floor) {
-        reanchor(t);
+    let better = t.views.better_view(&o.floor_m2, time_s);
+    if let Some(floor) = &better {
+        reanchor(t, floor);
     }
+    t.views.record(&o.floor_m2, time_s, better.is_some());
     let Some((nu, si, _)) = innovation(t, o) else {
         return;
     };
@@ -644,14 +650,21 @@ fn correct(t: &mut TrackState, o: &Observation, time_s: f64) {
     }
 }
 
-/// Raises the position block of a track's covariance to its latest observation's floor
-/// along each axis: the error its observations shared, which the filter averaged as if it
-/// were independent from frame to frame.
-fn reanchor(t: &mut TrackState) {
-    let block = floored_by(&position_covariance(t), &t.floor);
+/// Raises the position block of a track's covariance to `floor` along each axis: the error
+/// its recent observations shared, which the filter averaged as if it were independent from
+/// frame to frame ([`views`]).
+fn reanchor(t: &mut TrackState, floor: &Cov2) {
+    let block = floored_by(&position_covariance(t), floor);
     for (row, new) in t.p.iter_mut().zip(block) {
         row[..2].copy_from_slice(&new);
     }
+}
+
+/// A copy of `t` re-anchored on `floor`.
+fn reanchored(t: &TrackState, floor: &Cov2) -> TrackState {
+    let mut copy = t.clone();
+    reanchor(&mut copy, floor);
+    copy
 }
 
 /// The position block of a track's covariance, m².
@@ -719,3 +732,4 @@ fn report(t: &TrackState) -> Track {
 
 #[cfg(test)]
 mod tests;
+mod views;

@@ -746,3 +746,56 @@ fn a_road_user_seen_whole_after_partial_views_is_taken_where_the_whole_view_puts
     assert!(off.abs() < 0.03, "{:?}", out[0]);
     assert!(off.abs() < 2.0 * out[0].position_sigma_m, "{:?}", out[0]);
 }
+
+/// Two observations of one worker along the line of sight (north), in part 0.5 m too far and
+/// whole where he stands.
+fn partial_and_whole(noise_m: f64) -> (Observation, Observation) {
+    let along = |sigma: f64| [[0.03 * 0.03, 0.0], [0.0, sigma * sigma]];
+    let partial = Observation {
+        covariance_m2: along(0.38),
+        floor_m2: along(0.38),
+        ..obs(RoadUserClass::Pedestrian, 11.0, 40.5, 0.0)
+    };
+    let whole = Observation {
+        covariance_m2: along(0.08),
+        floor_m2: along(0.03),
+        ..obs(RoadUserClass::Pedestrian, 11.0, 40.0 + noise_m, 0.0)
+    };
+    (partial, whole)
+}
+
+#[test]
+fn a_second_camera_seeing_whole_what_the_first_sees_in_part_builds_up_the_track() {
+    // Each frame, camera A sees the worker in part and camera B sees him whole, both at the
+    // frame's time. B's boxes add up: the track is not re-anchored on each of them.
+    let mut tr = tracker();
+    let mut n = Noise(7);
+    let mut last = Vec::new();
+    for k in 0..30 {
+        let t = f64::from(k) * 0.1;
+        let (partial, whole) = partial_and_whole(0.08 * n.normal());
+        tr.update(t, &[partial]).unwrap();
+        last = tr.update(t, &[whole]).unwrap();
+    }
+    assert_eq!(last.len(), 1, "{last:?}");
+    // One of B's boxes alone is known to 8 cm; re-anchored every frame the track would be too.
+    let along = last[0].position_ellipse.semi_major_m;
+    assert!(along < 0.06, "{:?}", last[0]);
+    assert!((last[0].position[1] - 40.0).abs() < 0.08, "{:?}", last[0]);
+}
+
+#[test]
+fn one_partial_frame_between_whole_ones_does_not_reanchor_the_track() {
+    let mut tr = tracker();
+    let mut n = Noise(11);
+    for k in 0..30 {
+        let (_, whole) = partial_and_whole(0.08 * n.normal());
+        tr.update(f64::from(k) * 0.1, &[whole]).unwrap();
+    }
+    let (partial, whole) = partial_and_whole(0.0);
+    tr.update(3.0, &[partial]).unwrap();
+    let out = tr.update(3.1, &[whole]).unwrap();
+    assert_eq!(out.len(), 1, "{out:?}");
+    // Re-anchored, the track would rest on this one box (8 cm).
+    assert!(out[0].position_ellipse.semi_major_m < 0.06, "{:?}", out[0]);
+}
