@@ -7,11 +7,14 @@
 //! install's box errors, two ideal estimators' on the same boxes (drawn at the Cramér-Rao
 //! bound of the mask's information and the size prior, and of an estimator knowing each
 //! road user's size exactly, `sweep::bound`). Exits 1 when
-//! an install's track positions (what the product broadcasts) of road users seen whole miss
-//! the paper's per-class mean or maximum (means only at 2 px): one frame's box cannot meet the
-//! paper's pedestrian maximum on every install, for its Cramér-Rao bound is over it even with
-//! the size known, so the box figures are printed beside the bound and not gated; when at
-//! 1 px a track position or a worker's PSM is more than 1 m off,
+//! an install's track positions of road users seen whole (each track paired one to one with
+//! its road user) miss the paper's per-class mean or maximum (means only at 2 px): the
+//! product broadcasts tracks (a worker's PSM carries his track's position), and one frame's
+//! box cannot meet the paper's pedestrian figures on every install (errors drawn at the
+//! one-frame bound of an estimator that knows each pedestrian's size reach over the paper's
+//! maximum at 1 px and mean at 2 px on three installs). Every box gate is dropped, not only
+//! those: the boxes over the paper's figures are listed, not gated. Exits 1 too when at
+//! 1 px a track position or a worker's PSM has no road user of its own within 1 m,
 //! coverage of people is under 90 % or the 95 % ellipse holds under 95 %, or when two
 //! cameras do worse than one (less coverage than either alone, or a larger track mean than
 //! either camera's on the road users both track, or a fused position over 1 m off).
@@ -83,7 +86,7 @@ fn share(c: (usize, usize)) -> f64 {
 }
 
 fn print_table(s: &Score) {
-    println!("  class        boxes n   mean    std    max | tracks n   mean    max | paper mean / max | coverage boxes tracks | seen whole: boxes n mean max, tracks n mean max | ideal mean max");
+    println!("  class        boxes n   mean    std    max | tracks n   mean    max | paper mean / max | coverage boxes tracks | seen whole: boxes n mean max, tracks n mean max, tracked | ideal mean max");
     for (k, class) in RoadUserClass::ALL.iter().enumerate() {
         let (bm, bs, bx) = stats(&s.boxes[k]);
         let (tm, _, tx) = stats(&s.tracks[k]);
@@ -95,7 +98,7 @@ fn print_table(s: &Score) {
             .find(|p| p.0 == *class)
             .map_or("-".to_string(), |p| format!("{:.1} / {:.1}", p.1, p.2));
         println!(
-            "  {:<10} {:>9} {bm:6.1} {bs:6.1} {bx:6.1} | {:>8} {tm:6.1} {tx:6.1} | {paper:<16} | {:5.1} % {:5.1} %  ({} road users) | {} {cm:.1} {cx:.1}, {} {wm:.1} {wx:.1} | {im:.1} {ix:.1}",
+            "  {:<10} {:>9} {bm:6.1} {bs:6.1} {bx:6.1} | {:>8} {tm:6.1} {tx:6.1} | {paper:<16} | {:5.1} % {:5.1} %  ({} road users) | {} {cm:.1} {cx:.1}, {} {wm:.1} {wx:.1}, {:.1} % | {im:.1} {ix:.1}",
             class.name(),
             s.boxes[k].len(),
             s.tracks[k].len(),
@@ -104,10 +107,11 @@ fn print_table(s: &Score) {
             s.coverage[k].0,
             s.whole_boxes[k].len(),
             s.whole_tracks[k].len(),
+            100.0 * share(s.whole_tracked[k]),
         );
     }
     println!(
-        "  track positions over 1 m off: {} (workers' PSMs {}); 95 % ellipse holds {:.1} % of boxes, {:.1} % of track positions; {} detections, refused {:?}",
+        "  track positions without a road user of their own within 1 m: {} (workers' PSMs {}); 95 % ellipse holds {:.1} % of boxes, {:.1} % of track positions; {} detections, refused {:?}",
         s.tracks_off,
         s.psms_off,
         100.0 * share(s.boxes_in_ellipse),
@@ -152,7 +156,7 @@ fn gates(name: &str, noise: f64, s: &Score) -> Vec<String> {
     }
     if s.tracks_off > 0 || s.psms_off > 0 {
         fails.push(format!(
-            "{name}: {} track positions over 1 m off ({} PSMs)",
+            "{name}: {} track positions without a road user of their own within 1 m ({} PSMs)",
             s.tracks_off, s.psms_off
         ));
     }
@@ -178,6 +182,34 @@ fn gates(name: &str, noise: f64, s: &Score) -> Vec<String> {
         }
     }
     fails
+}
+
+/// One frame's boxes of road users seen whole over the paper's per-class figures (printed,
+/// not gated: see the module's doc), as text.
+fn box_misses(name: &str, noise: f64, s: &Score) -> Vec<String> {
+    let mut over = Vec::new();
+    for (class, mean_cm, max_cm) in PAPER_ERRORS_CM {
+        let k = RoadUserClass::ALL
+            .iter()
+            .position(|c| *c == class)
+            .unwrap_or(0);
+        let (mean, _, max) = stats(&s.whole_boxes[k]);
+        let (_, _, known_max) = stats(&s.size_known_boxes[k]);
+        let (_, _, ideal_max) = stats(&s.ideal_boxes[k]);
+        if mean > mean_cm {
+            over.push(format!(
+                "{name} {noise} px: {} box mean {mean:.1} cm",
+                class.name()
+            ));
+        }
+        if noise <= 1.0 && max > max_cm {
+            over.push(format!(
+                "{name} {noise} px: {} box max {max:.1} cm (ideal {ideal_max:.1}, size known {known_max:.1})",
+                class.name()
+            ));
+        }
+    }
+    over
 }
 
 /// A markdown row's first cells: the install, the noise, and per class of the paper's table
@@ -252,6 +284,7 @@ fn main() {
     let mut summary = Vec::new();
     let mut ideal = Vec::new();
     let mut boxes = Vec::new();
+    let mut boxes_over = Vec::new();
     let mut locs: Vec<Option<Localizer>> = Vec::new();
     for inst in &all {
         let loc = match localizer(&world, &inst.camera, 7) {
@@ -302,6 +335,7 @@ fn main() {
             fails.extend(gates(inst.name, noise, &total));
             summary.push(summary_row(inst.name, noise, &total));
             boxes.push(class_cells(inst.name, noise, &total.whole_boxes));
+            boxes_over.extend(box_misses(inst.name, noise, &total));
             ideal.push(ideal_row(inst.name, noise, &total));
         }
     }
@@ -347,7 +381,7 @@ fn main() {
         }
     }
     if !summary.is_empty() {
-        println!("\nper install (road users seen whole, track position mean / max, cm; people's coverage; track positions over 1 m off; the 95 % ellipse's hold of boxes / tracks):\n");
+        println!("\nper install (road users seen whole, track position mean / max, cm; people's coverage; track positions without a road user of their own within 1 m; the 95 % ellipse's hold of boxes / tracks):\n");
         println!("| install | noise | car | van | bus | truck | pedestrian | people localized | tracks off (PSMs) | 95 % ellipse |");
         println!("| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |");
         for row in &summary {
@@ -366,6 +400,12 @@ fn main() {
         println!("| --- | --- | --- | --- | --- | --- | --- |");
         for row in &ideal {
             println!("{row}");
+        }
+    }
+    if !boxes_over.is_empty() {
+        println!("\none frame's boxes over the paper's figures (not gated):");
+        for b in &boxes_over {
+            println!("  {b}");
         }
     }
     if fails.is_empty() {

@@ -57,8 +57,9 @@ pub struct Score {
     /// Per class, for the same boxes, the errors of an ideal estimator that knows each road
     /// user's size exactly ([`position_bound_size_known`]), cm.
     pub size_known_boxes: [Vec<f64>; 7],
-    /// Per class, track position errors (to the nearest road user of the class, those within
-    /// [`OFF_M`]; the others are counted in `tracks_off`), cm.
+    /// Per class, track position errors (to each track's road user: tracks and road users of
+    /// a class paired one to one within [`OFF_M`]; the tracks left over are counted in
+    /// `tracks_off`), cm.
     pub tracks: [Vec<f64>; 7],
     /// Per class, the track position errors of road users seen whole in that frame (as
     /// [`Score::whole_boxes`]): the position the product broadcasts, in the paper's case, cm.
@@ -66,7 +67,8 @@ pub struct Score {
     /// Every track position within [`OFF_M`] of a road user of its class: (frame, the road
     /// user's id, error in cm), so that two runs can be compared on the road users both track.
     pub matched: Vec<(usize, u32, f64)>,
-    /// Track positions more than [`OFF_M`] from every road user of their class.
+    /// Track positions with no road user of their own (more than [`OFF_M`] from every road
+    /// user of their class, or a second track of one).
     pub tracks_off: usize,
     /// Of those, workers' (people in the closed lane): PSMs that would be off.
     pub psms_off: usize,
@@ -77,9 +79,12 @@ pub struct Score {
     /// Per class: road users within range showing enough (per frame), and how many of them
     /// were localized.
     pub coverage: [(usize, usize); 7],
-    /// Per class: the same road users, and how many had a track of their class within
-    /// [`OFF_M`].
+    /// Per class: the same road users, and how many had a track of their own (paired one to
+    /// one, within [`OFF_M`]).
     pub track_coverage: [(usize, usize); 7],
+    /// Per class: road users within range seen whole (per frame), and how many had a track
+    /// of their own.
+    pub whole_tracked: [(usize, usize); 7],
     /// Refusals.
     pub rejected: Rejections,
     /// Detections.
@@ -100,6 +105,8 @@ impl Score {
             self.coverage[k].1 += o.coverage[k].1;
             self.track_coverage[k].0 += o.track_coverage[k].0;
             self.track_coverage[k].1 += o.track_coverage[k].1;
+            self.whole_tracked[k].0 += o.whole_tracked[k].0;
+            self.whole_tracked[k].1 += o.whole_tracked[k].1;
         }
         self.matched.extend_from_slice(&o.matched);
         self.tracks_off += o.tracks_off;
@@ -272,42 +279,70 @@ impl Score {
         near: &dyn Fn([f64; 2]) -> bool,
     ) {
         let Seen { counts, whole } = seen;
-        for t in tracks.iter().filter(|t| near(t.position)) {
-            let (nearest, k) = users
-                .iter()
-                .enumerate()
-                .filter(|(_, u)| u.class == t.class)
-                .map(|(k, u)| (dist(u.centre, t.position), k))
-                .fold((f64::INFINITY, 0), |a, b| if b.0 < a.0 { b } else { a });
-            if nearest > OFF_M {
-                // Off by more than any reported ellipse reaches: a miss for the ellipse too.
+        let tracks: Vec<&Track> = tracks.iter().filter(|t| near(t.position)).collect();
+        let matches = one_to_one(&tracks, users);
+        let mut tracked = vec![false; users.len()];
+        for (t, m) in tracks.iter().zip(&matches) {
+            let Some((k, error_m)) = *m else {
+                // Off by more than any reported ellipse reaches (or a second track of a
+                // road user that has one): a miss for the ellipse too.
                 self.tracks_in_ellipse.0 += 1;
                 self.tracks_off += 1;
                 if t.class.is_person() && in_closed_lane(world, t.position) {
                     self.psms_off += 1;
                 }
                 continue;
-            }
+            };
             let u = &users[k];
-            self.tracks[slot(t.class)].push(nearest * 100.0);
+            tracked[k] = true;
+            self.tracks[slot(t.class)].push(error_m * 100.0);
             if whole[k] {
-                self.whole_tracks[slot(t.class)].push(nearest * 100.0);
+                self.whole_tracks[slot(t.class)].push(error_m * 100.0);
             }
-            self.matched.push((frame, u.id, nearest * 100.0));
+            self.matched.push((frame, u.id, error_m * 100.0));
             self.tracks_in_ellipse.0 += 1;
             if holds(&t.position_ellipse.covariance(), t.position, u.centre) {
                 self.tracks_in_ellipse.1 += 1;
             }
         }
-        for (u, _) in users.iter().zip(counts).filter(|(_, c)| **c) {
-            let near = tracks
-                .iter()
-                .any(|t| t.class == u.class && dist(t.position, u.centre) <= OFF_M);
-            let c = &mut self.track_coverage[slot(u.class)];
-            c.0 += 1;
-            c.1 += usize::from(near);
+        for (k, u) in users.iter().enumerate() {
+            if counts[k] {
+                let c = &mut self.track_coverage[slot(u.class)];
+                c.0 += 1;
+                c.1 += usize::from(tracked[k]);
+            }
+            if whole[k] && near(u.centre) {
+                let c = &mut self.whole_tracked[slot(u.class)];
+                c.0 += 1;
+                c.1 += usize::from(tracked[k]);
+            }
         }
     }
+}
+
+/// Each track's road user: tracks and road users of a class paired one to one, nearest
+/// pairs first, none farther apart than [`OFF_M`]; per track, the road user's index and the
+/// distance, metres. A second track near a road user that has one is left unpaired.
+fn one_to_one(tracks: &[&Track], users: &[RoadUser]) -> Vec<Option<(usize, f64)>> {
+    let mut pairs: Vec<(f64, usize, usize)> = Vec::new();
+    for (ti, t) in tracks.iter().enumerate() {
+        for (k, u) in users.iter().enumerate().filter(|(_, u)| u.class == t.class) {
+            let d = dist(u.centre, t.position);
+            if d <= OFF_M {
+                pairs.push((d, ti, k));
+            }
+        }
+    }
+    pairs.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let mut of_track = vec![None; tracks.len()];
+    let mut user_taken = vec![false; users.len()];
+    for (d, ti, k) in pairs {
+        if of_track[ti].is_none() && !user_taken[k] {
+            of_track[ti] = Some((k, d));
+            user_taken[k] = true;
+        }
+    }
+    of_track
 }
 
 /// Per road user of a frame: does it count for coverage, is it seen whole.
@@ -419,7 +454,7 @@ pub fn run_pair(
             .map(|k| views[0].counts[k] || views[1].counts[k])
             .collect();
         let whole: Vec<bool> = (0..users.len())
-            .map(|k| views[0].whole[k] || views[1].whole[k])
+            .map(|k| fed.iter().any(|&c| views[c].whole[k]))
             .collect();
         let near = |p: [f64; 2]| cams.iter().any(|c| range_m(c, p) <= RANGE_M);
         let seen = Seen {
