@@ -26,7 +26,7 @@ use std::time::Instant;
 
 use hil_sim::roadside_bench::street::{self, coco_json, labels, random_users, CocoFrame};
 use hil_sim::roadside_bench::sweep::score::{
-    common_means, localizer, run_camera, run_pair, RunSettings, Score,
+    common_means, localizer, run_camera, run_pair, slot, RunSettings, Score,
 };
 use hil_sim::roadside_bench::sweep::{installs, sweep_traffic, sweep_world, PAIRS};
 use roadside::rng::Prng;
@@ -121,36 +121,60 @@ fn print_table(s: &Score) {
     );
 }
 
-/// The gates of one install at one noise level: the failures, as text.
-fn gates(name: &str, noise: f64, s: &Score) -> Vec<String> {
-    let mut fails = Vec::new();
+/// Per class of the paper's table, `errors` over its mean, or (at 1 px or less) over its
+/// maximum, as text: "{name} {noise} px: {class} {what} mean|max ...", then `beside(k, max)`
+/// (the class's index, whether the maximum is over).
+fn over_paper(
+    name: &str,
+    noise: f64,
+    what: &str,
+    errors: &[Vec<f64>; 7],
+    beside: impl Fn(usize, bool) -> String,
+) -> Vec<String> {
+    let mut over = Vec::new();
     for (class, mean_cm, max_cm) in PAPER_ERRORS_CM {
-        let k = RoadUserClass::ALL
-            .iter()
-            .position(|c| *c == class)
-            .unwrap_or(0);
-        if s.whole_tracks[k].is_empty() {
-            fails.push(format!(
-                "{name} {noise} px: no {} track position seen whole",
-                class.name()
-            ));
-            continue;
-        }
-        let (mean, _, max) = stats(&s.whole_tracks[k]);
-        let (box_mean, _, box_max) = stats(&s.whole_boxes[k]);
+        let k = slot(class);
+        let (mean, _, max) = stats(&errors[k]);
         if mean > mean_cm {
-            fails.push(format!(
-                "{name} {noise} px: {} track mean {mean:.1} cm over {mean_cm} (boxes {box_mean:.1})",
-                class.name()
+            over.push(format!(
+                "{name} {noise} px: {} {what} mean {mean:.1} cm over {mean_cm}{}",
+                class.name(),
+                beside(k, false)
             ));
         }
         if noise <= 1.0 && max > max_cm {
-            fails.push(format!(
-                "{name} {noise} px: {} track max {max:.1} cm over {max_cm} (boxes {box_max:.1})",
-                class.name()
+            over.push(format!(
+                "{name} {noise} px: {} {what} max {max:.1} cm over {max_cm}{}",
+                class.name(),
+                beside(k, true)
             ));
         }
     }
+    over
+}
+
+/// The gates of one install at one noise level: the failures, as text.
+fn gates(name: &str, noise: f64, s: &Score) -> Vec<String> {
+    let mut fails: Vec<String> = PAPER_ERRORS_CM
+        .iter()
+        .filter(|p| s.whole_tracks[slot(p.0)].is_empty())
+        .map(|p| {
+            format!(
+                "{name} {noise} px: no {} track position seen whole",
+                p.0.name()
+            )
+        })
+        .collect();
+    fails.extend(over_paper(
+        name,
+        noise,
+        "track",
+        &s.whole_tracks,
+        |k, max| {
+            let (mean, _, top) = stats(&s.whole_boxes[k]);
+            format!(" (boxes {:.1})", if max { top } else { mean })
+        },
+    ));
     if noise > 1.0 {
         return fails;
     }
@@ -160,10 +184,7 @@ fn gates(name: &str, noise: f64, s: &Score) -> Vec<String> {
             s.tracks_off, s.psms_off
         ));
     }
-    let people = s.coverage[RoadUserClass::ALL
-        .iter()
-        .position(|c| c.is_person())
-        .unwrap_or(4)];
+    let people = s.coverage[slot(RoadUserClass::Pedestrian)];
     if share(people) < MIN_PEOPLE_COVERAGE {
         fails.push(format!(
             "{name}: people localized in {:.1} % of frames",
@@ -187,29 +208,14 @@ fn gates(name: &str, noise: f64, s: &Score) -> Vec<String> {
 /// One frame's boxes of road users seen whole over the paper's per-class figures (printed,
 /// not gated: see the module's doc), as text.
 fn box_misses(name: &str, noise: f64, s: &Score) -> Vec<String> {
-    let mut over = Vec::new();
-    for (class, mean_cm, max_cm) in PAPER_ERRORS_CM {
-        let k = RoadUserClass::ALL
-            .iter()
-            .position(|c| *c == class)
-            .unwrap_or(0);
-        let (mean, _, max) = stats(&s.whole_boxes[k]);
-        let (_, _, known_max) = stats(&s.size_known_boxes[k]);
-        let (_, _, ideal_max) = stats(&s.ideal_boxes[k]);
-        if mean > mean_cm {
-            over.push(format!(
-                "{name} {noise} px: {} box mean {mean:.1} cm",
-                class.name()
-            ));
+    over_paper(name, noise, "box", &s.whole_boxes, |k, max| {
+        if !max {
+            return String::new();
         }
-        if noise <= 1.0 && max > max_cm {
-            over.push(format!(
-                "{name} {noise} px: {} box max {max:.1} cm (ideal {ideal_max:.1}, size known {known_max:.1})",
-                class.name()
-            ));
-        }
-    }
-    over
+        let (_, _, ideal) = stats(&s.ideal_boxes[k]);
+        let (_, _, known) = stats(&s.size_known_boxes[k]);
+        format!(" (ideal {ideal:.1}, size known {known:.1})")
+    })
 }
 
 /// A markdown row's first cells: the install, the noise, and per class of the paper's table
@@ -217,11 +223,7 @@ fn box_misses(name: &str, noise: f64, s: &Score) -> Vec<String> {
 fn class_row(name: &str, noise: f64, cell: impl Fn(usize) -> String) -> String {
     let mut row = format!("| {name} | {noise} px |");
     for (class, _, _) in PAPER_ERRORS_CM {
-        let k = RoadUserClass::ALL
-            .iter()
-            .position(|c| *c == class)
-            .unwrap_or(0);
-        row += &format!(" {} |", cell(k));
+        row += &format!(" {} |", cell(slot(class)));
     }
     row
 }
@@ -252,10 +254,7 @@ fn ideal_row(name: &str, noise: f64, s: &Score) -> String {
 /// One markdown row of the closing table.
 fn summary_row(name: &str, noise: f64, s: &Score) -> String {
     let mut row = class_cells(name, noise, &s.whole_tracks);
-    let people = s.coverage[RoadUserClass::ALL
-        .iter()
-        .position(|c| c.is_person())
-        .unwrap_or(4)];
+    let people = s.coverage[slot(RoadUserClass::Pedestrian)];
     row += &format!(
         " {:.1} % | {} ({}) | {:.1} / {:.1} % |",
         100.0 * share(people),

@@ -10,6 +10,7 @@ use std::fmt;
 
 use serde_json::Value;
 
+use crate::assign::cheapest_first;
 use crate::road::{dist, Road, RoadLane};
 
 /// The class id of cones in YOLO files unless told otherwise.
@@ -417,16 +418,10 @@ impl ConeTracker {
                 }
             }
         }
-        pairs.sort_by(|a, b| a.0.total_cmp(&b.0));
-        let mut of_point = vec![None; points.len()];
-        let mut taken = vec![false; centres.len()];
-        for (_, i, t) in pairs {
-            if of_point[i].is_none() && !taken[t] {
-                of_point[i] = Some(t);
-                taken[t] = true;
-            }
-        }
-        of_point
+        cheapest_first(pairs, points.len(), centres.len())
+            .into_iter()
+            .map(|m| m.map(|(t, _)| t))
+            .collect()
     }
 
     /// Drops sightings older than the window, then tracks without sightings.

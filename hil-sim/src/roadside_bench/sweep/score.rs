@@ -10,6 +10,7 @@ use super::super::street::{
 };
 use super::super::synthetic_camera::PinholeCamera;
 use super::bound::{ideal_error, position_bound, position_bound_size_known};
+use roadside::assign::cheapest_first;
 use roadside::camera::Homography;
 use roadside::ellipse::{mahalanobis2, Cov2};
 use roadside::rng::Prng;
@@ -120,7 +121,8 @@ impl Score {
     }
 }
 
-fn slot(class: RoadUserClass) -> usize {
+/// A class's index in [`RoadUserClass::ALL`] (the per-class arrays' order).
+pub fn slot(class: RoadUserClass) -> usize {
     RoadUserClass::ALL
         .iter()
         .position(|c| *c == class)
@@ -333,16 +335,7 @@ fn one_to_one(tracks: &[&Track], users: &[RoadUser]) -> Vec<Option<(usize, f64)>
             }
         }
     }
-    pairs.sort_by(|a, b| a.0.total_cmp(&b.0));
-    let mut of_track = vec![None; tracks.len()];
-    let mut user_taken = vec![false; users.len()];
-    for (d, ti, k) in pairs {
-        if of_track[ti].is_none() && !user_taken[k] {
-            of_track[ti] = Some((k, d));
-            user_taken[k] = true;
-        }
-    }
-    of_track
+    cheapest_first(pairs, tracks.len(), users.len())
 }
 
 /// Per road user of a frame: does it count for coverage, is it seen whole.
