@@ -586,3 +586,38 @@ fn a_sliver_of_a_worker_at_the_border_is_refused_not_misplaced() {
     }
     assert_eq!(rejected.truncated, 1, "{rejected:?}");
 }
+
+#[test]
+fn a_camera_learns_how_noisy_its_masks_are() {
+    // Masks drawn with 1 px and 2 px of noise a corner: each localizer learns its own from
+    // its fits' residuals, about the drawn noise, and the noisier masks twice as noisy
+    // within the outline's rounding (the same at both levels).
+    let s = setup();
+    let size = s.cam.image_size().map(|v| v as u32);
+    let learnt = |noise_px: f64| {
+        let mut loc = localizer();
+        let mut rng = Prng::new(5);
+        for k in 0..40 {
+            let mut classes = RoadUserClass::ALL.to_vec();
+            classes.rotate_left(k % 7);
+            let users = random_users(&s.world, &s.cam, &mut rng, 4, 40.0, &classes);
+            let lab = labels(&s.cam, &users, noise_px, &mut rng);
+            let sil: Vec<_> = masks(&lab, size, &users, &[])
+                .into_iter()
+                .map(|(_, m)| m)
+                .collect();
+            let (found, _) = loc.frame(&sil);
+            loc.learn(&found);
+        }
+        assert!(
+            loc.mask_noise().fits() >= 64,
+            "{:?}",
+            loc.mask_noise().fits()
+        );
+        loc.mask_noise().sigma_px()
+    };
+    let (one, two) = (learnt(1.0), learnt(2.0));
+    assert!((0.8..1.4).contains(&one), "1 px learnt as {one:.2} px");
+    assert!((1.6..2.6).contains(&two), "2 px learnt as {two:.2} px");
+    assert!(two / one > 1.5, "{one:.2} -> {two:.2}");
+}

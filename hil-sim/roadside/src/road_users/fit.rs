@@ -34,8 +34,6 @@ use super::polygon::{signed_area, signed_distance_convex};
 use super::size::{mat_vec, SizeBelief, SizeEvidence, M3};
 use crate::ellipse::{floored, worst_sigma};
 
-/// 1-sigma noise of a mask's outline, pixels.
-pub const OUTLINE_SIGMA_PX: f64 = 1.0;
 /// Weight of all the outline's vertices together, in box corners.
 const OUTLINE_WEIGHT: f64 = 6.0;
 /// A corner closer than this to a touching mask or the image border may be hidden, pixels.
@@ -70,6 +68,9 @@ pub struct FitInput<'a> {
     /// What is known of its size: the class's prior ([`SizeBelief::prior`]), or its
     /// track's belief.
     pub size: SizeBelief,
+    /// 1-sigma noise of the mask's outline, pixels (its camera's, [`super::noise`]): what
+    /// the outline is weighed by against the size prior.
+    pub outline_sigma_px: f64,
 }
 
 /// A fitted box.
@@ -270,6 +271,8 @@ struct Problem<'a> {
     /// the outline may be the other road user's edge: then it is only inside the box's).
     outline: Vec<([f64; 2], bool)>,
     outline_weight: f64,
+    /// The outline's 1-sigma noise, pixels.
+    sigma_px: f64,
 }
 
 impl<'a> Problem<'a> {
@@ -300,6 +303,12 @@ impl<'a> Problem<'a> {
             .collect();
         Self {
             outline_weight: (OUTLINE_WEIGHT / outline.len().max(1) as f64).sqrt(),
+            // Masks are never taken as better than a tenth of a pixel (the fit's scale).
+            sigma_px: if input.outline_sigma_px.is_finite() {
+                input.outline_sigma_px.max(0.1)
+            } else {
+                super::noise::DEFAULT_PX
+            },
             outline,
             hull: Convex::new(input.hull),
             touching: input.touching.iter().map(|t| Convex::new(t)).collect(),
@@ -391,7 +400,7 @@ impl<'a> Problem<'a> {
                 &own
             }
         };
-        let w = self.outline_weight / OUTLINE_SIGMA_PX;
+        let w = self.outline_weight / self.sigma_px;
         out.extend(self.outline.iter().map(|(o, cut)| {
             let d = outline.signed_distance(*o);
             match (*cut, measured_only) {
@@ -417,7 +426,7 @@ impl<'a> Problem<'a> {
                 (false, false) => d.max(0.0),
                 (false, true) => 0.0,
             };
-            out.push(r / OUTLINE_SIGMA_PX);
+            out.push(r / self.sigma_px);
         }
         let d: [f64; 3] = std::array::from_fn(|k| t[k + 2] - self.prior_mean[k + 2]);
         out.extend(mat_vec(&self.prior_root, &d));
@@ -566,7 +575,7 @@ fn finish(problem: &Problem<'_>, t: &P5, r: &[f64]) -> Result<BoxFit, FitFailure
     let rms_px = if n == 0 {
         0.0
     } else {
-        (norm2(&r[..n]) / n as f64).sqrt() / problem.outline_weight * OUTLINE_SIGMA_PX
+        (norm2(&r[..n]) / n as f64).sqrt() / problem.outline_weight * problem.sigma_px
     };
     Ok(BoxFit {
         centre: [t[0], t[1]],

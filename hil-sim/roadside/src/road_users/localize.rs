@@ -17,6 +17,7 @@ use super::calibrate::{GroundCamera, GroundCameraFault, SceneCalibration, Vanish
 use super::detections::Silhouette;
 use super::fit::{fit, BoxFit, FitFailure, FitInput};
 use super::homog::apply_direction;
+use super::noise::{MaskNoise, RMS_AT_ONE_PX};
 use super::polygon::{convex_hull, iou, near_or_overlapping, signed_distance_convex};
 use super::size::{ClassPriors, Lent, SizeBelief, SizeEvidence, SizeHints};
 use super::tracker::Observation;
@@ -31,9 +32,6 @@ const CARVED_PX: f64 = 4.0;
 const SIGMA_FLOOR_M: f64 = 0.03;
 /// A position less certain than this (1-sigma, metres) is not reported.
 pub const MAX_SIGMA_M: f64 = 1.0;
-/// Root mean square distance of a mask's outline to its fitted box's at the assumed mask
-/// noise (1 px a corner), pixels.
-const EXPECTED_RMS_PX: f64 = 0.6;
 /// Largest root mean square distance of the mask's outline to the fitted box's, pixels.
 const MAX_RMS_PX: f64 = 3.0;
 /// A road user cut by the image border is localized only when its box's outline overlaps
@@ -70,9 +68,19 @@ pub struct Localized {
     pub size_evidence: Option<SizeEvidence>,
     /// Its mask touches the image border.
     pub road_user_at_border: bool,
+    /// Its mask touches another that may hide part of it.
+    pub road_user_touching: bool,
+    /// The road's direction on the road (unit, east/north): its box's length.
+    pub road_axis: [f64; 2],
 }
 
 impl Localized {
+    /// Seen whole: neither cut by the image border nor touching a mask that may hide part
+    /// of it.
+    pub fn seen_whole(&self) -> bool {
+        !self.road_user_at_border && !self.road_user_touching
+    }
+
     /// The tracker's observation of it.
     pub fn observation(&self) -> Observation {
         Observation {
@@ -82,6 +90,7 @@ impl Localized {
             floor_m2: self.floor_covariance_m2,
             size: self.size_evidence,
             at_border: self.road_user_at_border,
+            road_axis: Some(self.road_axis),
         }
     }
 }
@@ -155,7 +164,8 @@ impl Rejections {
     }
 }
 
-/// One camera's localizer: its vanishing points and its projection.
+/// One camera's localizer: its vanishing points, its projection, and the noise of its
+/// masks as learnt from its fits ([`Localizer::learn`]).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Localizer {
     points: VanishingPoints,
@@ -164,6 +174,8 @@ pub struct Localizer {
     axis: [f64; 2],
     /// `[width, height]` of the camera's image, pixels.
     image_size: [f64; 2],
+    /// Its masks' noise.
+    noise: MaskNoise,
 }
 
 impl Localizer {
@@ -181,6 +193,7 @@ impl Localizer {
             camera,
             axis,
             image_size: cal.principal.point.map(|v| 2.0 * v),
+            noise: MaskNoise::new(),
         })
     }
 
@@ -192,6 +205,18 @@ impl Localizer {
     /// The vanishing points.
     pub fn points(&self) -> &VanishingPoints {
         &self.points
+    }
+
+    /// What it learnt of its masks' noise.
+    pub fn mask_noise(&self) -> &MaskNoise {
+        &self.noise
+    }
+
+    /// Learns its masks' noise from a frame's road users ([`super::noise`]): the next
+    /// frames' fits weigh the masks' outlines by it. A caller running a camera over a video
+    /// passes each frame's road users here.
+    pub fn learn(&mut self, found: &[Localized]) {
+        self.noise.learn(found);
     }
 
     /// The boxes of a frame's detections, and the rejections.
@@ -268,6 +293,8 @@ impl Localizer {
                     floor_covariance_m2: p.floor_covariance_m2,
                     size_evidence: p.size_evidence,
                     road_user_at_border: d.touches_border,
+                    road_user_touching: !touching[index].is_empty(),
+                    road_axis: self.axis,
                 }),
                 Err(r) => rejected.count(r),
             }
@@ -322,6 +349,7 @@ impl Localizer {
     ) -> Result<Placed, BoxRejection> {
         // A mask whose foot may be hidden is also fitted from its top: the highest point
         // taken at the class's mean height. The better fit is kept.
+        let noise_px = self.noise.sigma_px();
         let mut starts = vec![first];
         if self.foot_may_be_hidden(d, touching) {
             starts.push(self.start(d, true));
@@ -335,6 +363,7 @@ impl Localizer {
                 image_size: self.image_size,
                 axis: self.axis,
                 size: belief,
+                outline_sigma_px: noise_px,
                 start: match start {
                     Ok(s) => s,
                     Err(e) => {
@@ -380,9 +409,10 @@ impl Localizer {
         if d.touches_border && road_user.iou < MIN_SEEN_SHARE {
             return Err(BoxRejection::Truncated);
         }
-        // A mask that fits its box worse than mask noise explains is less certain than the
-        // fit's curvature says (noisier masks, or a wrong local solution): scaled by it.
-        let misfit = (fitted.rms_px / EXPECTED_RMS_PX).max(1.0);
+        // A mask that fits its box worse than its camera's mask noise explains is less
+        // certain than the fit's curvature says (a noisier mask, or a wrong local solution):
+        // scaled by it.
+        let misfit = (fitted.rms_px / (RMS_AT_ONE_PX * noise_px)).max(1.0);
         // Where some corners may be hidden (a touching mask, the border), the box may go on
         // behind them: its centre is known no better than half the spread of the sizes it
         // may have (its track's belief, or its class's), whatever the visible part says.

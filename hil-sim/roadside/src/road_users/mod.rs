@@ -12,7 +12,8 @@
 //!    belief of the road user's track, [`size`]), started from the tangents
 //!    of the vanishing points to its silhouette ([`boxes`]) where they work; partly hidden
 //!    or cut road users are localized from what is seen, with the larger error that leaves,
-//!    and refused with a reason when too little is.
+//!    and refused with a reason when too little is. Each camera learns how noisy its masks
+//!    are from its fits ([`noise`]), and the fits weigh the masks by it.
 //! 4. [`tracker`]: a constant-velocity Kalman filter per road user, assignment by class and
 //!    by distance in road coordinates with the track's uncertainty, for position, speed and
 //!    heading with their accuracy.
@@ -36,6 +37,7 @@ pub mod files;
 pub mod fit;
 pub mod homog;
 pub mod localize;
+pub mod noise;
 pub mod outline;
 pub mod pipeline;
 pub mod polygon;

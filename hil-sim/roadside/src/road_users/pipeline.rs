@@ -94,9 +94,10 @@ impl Pipeline {
         per_camera: &[Vec<Silhouette>],
     ) -> Result<&[Track], TrackerError> {
         let mut tracks = Vec::new();
-        for (c, loc) in self.cameras.iter().enumerate() {
+        for (c, loc) in self.cameras.iter_mut().enumerate() {
             let masks = per_camera.get(c).map_or(&[][..], Vec::as_slice);
             let (found, rejected) = loc.frame_with(masks, &self.tracker.sizes_at(time_s));
+            loc.learn(&found);
             self.run.detections[c] += masks.len();
             self.run.rejected[c].add(&rejected);
             let obs: Vec<Observation> = found.iter().map(Localized::observation).collect();

@@ -41,7 +41,9 @@ impl Group {
             _ => Self::Vehicles,
         }
     }
-    /// Prior 1-sigma of each velocity component for a newborn track (m/s).
+    /// Prior 1-sigma of each velocity component for a newborn track (m/s); a vehicle's
+    /// along the road where its observation gives the road's direction
+    /// ([`NEWBORN_ACROSS_ROAD_MPS`] across it).
     fn prior_speed_sigma(self) -> f64 {
         match self {
             Self::People => 3.0,
@@ -131,6 +133,10 @@ pub struct Observation {
     /// the view, so its track is not reported while unseen (one hidden behind another road
     /// user is).
     pub at_border: bool,
+    /// The road's direction where it was seen (unit, east/north), when known: a vehicle
+    /// moves along it, so a newborn vehicle track's velocity is not believed to reach
+    /// across it ([`NEWBORN_ACROSS_ROAD_MPS`]).
+    pub road_axis: Option<[f64; 2]>,
 }
 
 /// A tracked road user as reported.
@@ -257,6 +263,11 @@ const MAX_ABS_POSITION_M: f64 = 1.0e6;
 /// predicted one) from a track's prediction never continues it, metres: a road user does
 /// not stray that far from its predicted path in a frame, a neighbour may stand that near.
 const MAX_JUMP_M: f64 = 1.5;
+/// Prior 1-sigma of a newborn vehicle track's velocity across the road, m/s: vehicles
+/// drive along the road (a lane change crosses at 1-2 m/s), so a young vehicle track does
+/// not reach a neighbour in the next lane, whose box it would otherwise take at the speed
+/// its prior allows along the road.
+pub const NEWBORN_ACROSS_ROAD_MPS: f64 = 2.0;
 const MAX_SIGMA_M: f64 = 1.0e3;
 /// Observation sigmas are floored here in every direction to keep `S` well conditioned.
 const MIN_SIGMA_M: f64 = 1.0e-3;
@@ -352,13 +363,19 @@ impl RoadUserTracker {
                 if jump > MAX_JUMP_M + 3.0 * (o.sigma_m() + position_sigma(t)) {
                     continue;
                 }
-                // Gated with the box's worst-direction error in every direction: a road
-                // user starting to walk across the line of sight, where its box is known to a
-                // few centimetres, would otherwise leave its track's gate in a few frames
-                // (the constant-velocity model does not foresee the start).
-                let gating = Observation {
-                    covariance_m2: circle(o.sigma_m()),
-                    ..*o
+                // A person is gated with the box's worst-direction error in every direction:
+                // one starting to walk across the line of sight, where the box is known to a
+                // few centimetres, would otherwise leave the track's gate in a few frames (the
+                // constant-velocity model does not foresee the start). A vehicle does not
+                // start across the road: its box's own error gates it, so a young track
+                // does not take the box of a neighbour in the next lane.
+                let gating = if t.group == Group::People {
+                    Observation {
+                        covariance_m2: circle(o.sigma_m()),
+                        ..*o
+                    }
+                } else {
+                    *o
                 };
                 if let Some((_, _, d2)) = innovation(t, &gating).filter(|i| i.2 <= gate2) {
                     pairs.push((d2, ti, oi));
@@ -520,6 +537,17 @@ fn new_track(id: u32, o: &Observation, time_s: f64) -> TrackState {
         p[i][..2].copy_from_slice(row);
     }
     (p[2][2], p[3][3]) = (vv, vv);
+    if let (Group::Vehicles, Some([ux, uy])) = (group, o.road_axis) {
+        // vv along the road, the across prior across it: vv u u' + aa v v' with v = u rotated.
+        let aa = NEWBORN_ACROSS_ROAD_MPS.powi(2);
+        let n = ux.hypot(uy);
+        if n.is_finite() && n > 1e-9 {
+            let (ux, uy) = (ux / n, uy / n);
+            p[2][2] = vv * ux * ux + aa * uy * uy;
+            p[3][3] = vv * uy * uy + aa * ux * ux;
+            (p[2][3], p[3][2]) = ((vv - aa) * ux * uy, (vv - aa) * ux * uy);
+        }
+    }
     let mut class_counts = [0; 7];
     class_counts[o.class as usize] = 1;
     let x = [o.position[0], o.position[1], 0.0, 0.0];

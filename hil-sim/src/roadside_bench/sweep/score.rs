@@ -386,6 +386,8 @@ pub fn run_camera(
     movers: &[Mover],
     settings: RunSettings,
 ) -> Score {
+    // The camera learns its masks' noise over the run, as on site.
+    let mut loc = *loc;
     let mut rng = Prng::new(settings.seed ^ 0x5eed);
     let mut ideal_rng = Prng::new(settings.seed ^ 0xb0d);
     let mut known_rng = Prng::new(settings.seed ^ 0x517e);
@@ -398,6 +400,7 @@ pub fn run_camera(
         let sil: Vec<Silhouette> = v.masks.iter().map(|(_, s)| s.clone()).collect();
         score.detections += sil.len();
         let (found, rejected) = loc.frame_with(&sil, &tracker.sizes_at(t));
+        loc.learn(&found);
         score.rejected.add(&rejected);
         score.add_boxes(&found, &v, &users);
         let rngs = [&mut ideal_rng, &mut known_rng];

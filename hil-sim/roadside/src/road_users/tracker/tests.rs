@@ -26,6 +26,7 @@ fn obs(class: RoadUserClass, x: f64, y: f64, sigma_m: f64) -> Observation {
         floor_m2: [[0.0; 2]; 2],
         size: None,
         at_border: false,
+        road_axis: None,
     }
 }
 
@@ -798,4 +799,33 @@ fn one_partial_frame_between_whole_ones_does_not_reanchor_the_track() {
     assert_eq!(out.len(), 1, "{out:?}");
     // Re-anchored, the track would rest on this one box (8 cm).
     assert!(out[0].position_ellipse.semi_major_m < 0.06, "{:?}", out[0]);
+}
+
+/// A van's box far down the road: known to 27 cm across the road, to 60 cm along it.
+fn far_van(x: f64, y: f64) -> Observation {
+    Observation {
+        covariance_m2: [[0.073, 0.05], [0.05, 0.36]],
+        road_axis: Some([0.0, 1.0]),
+        ..obs(RoadUserClass::Van, x, y, 0.0)
+    }
+}
+
+#[test]
+fn a_young_vehicle_track_does_not_take_the_box_of_a_neighbour_in_the_next_lane() {
+    // Van A is seen once in its lane (x = 5.2) and then hidden; van B, 3.5 m across in
+    // the next lane, is seen from 0.2 s on, driving north at 12 m/s. The road's direction
+    // keeps A's young track from reaching across; B's boxes start a track of their own.
+    let mut tr = tracker();
+    tr.update(0.0, &[far_van(5.2, -48.4)]).unwrap();
+    tr.update(0.1, &[]).unwrap();
+    let mut out = Vec::new();
+    for k in 2..10 {
+        let t = f64::from(k) * 0.1;
+        out = tr
+            .update(t, &[far_van(8.7, -49.1 + 12.0 * (t - 0.2))])
+            .unwrap();
+    }
+    assert_eq!(out.len(), 1, "{out:?}");
+    assert!((out[0].first_seen_s - 0.2).abs() < 1e-9, "{:?}", out[0]);
+    assert!(out[0].velocity[0].abs() < 1.0, "{:?}", out[0]);
 }
