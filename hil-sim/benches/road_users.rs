@@ -119,6 +119,14 @@ fn print_table(s: &Score) {
         s.detections,
         s.rejected
     );
+    let learnt =
+        |f: fn(f64, f64) -> f64, from: f64| s.learnt_noise_px.iter().copied().fold(from, f);
+    println!(
+        "  mask noise learnt by the camera: {:.2}-{:.2} px over {} runs",
+        learnt(f64::min, f64::INFINITY),
+        learnt(f64::max, 0.0),
+        s.learnt_noise_px.len()
+    );
 }
 
 /// Per class of the paper's table, `errors` over its mean, or (at 1 px or less) over its

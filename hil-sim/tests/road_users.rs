@@ -19,6 +19,7 @@ use roadside::road_users::class::Extent;
 use roadside::road_users::detections::{parse_coco, Silhouette};
 use roadside::road_users::edgelets::EdgeletSettings;
 use roadside::road_users::localize::{Localized, Localizer};
+use roadside::road_users::pipeline::Pipeline;
 use roadside::road_users::polygon::{near_or_overlapping, signed_distance_convex};
 use roadside::road_users::size::{Lent, SizeBelief, SizeHints};
 use roadside::road_users::tracker::{Observation, RoadUserTracker, TrackerSettings};
@@ -589,35 +590,65 @@ fn a_sliver_of_a_worker_at_the_border_is_refused_not_misplaced() {
 
 #[test]
 fn a_camera_learns_how_noisy_its_masks_are() {
-    // Masks drawn with 1 px and 2 px of noise a corner: each localizer learns its own from
-    // its fits' residuals, about the drawn noise, and the noisier masks twice as noisy
-    // within the outline's rounding (the same at both levels).
+    // Masks drawn with 1 px and 2 px of noise a corner, through the site's pipeline (the
+    // tracks lend their size beliefs to the fits): each camera learns its own noise from its
+    // fits' residuals, about the drawn noise (the outline's rounding to pixels adds to it);
+    // and a camera whose masks got cleaner learns that too, once the noisier fits have left
+    // its window.
+    let (one, one_again) = (learnt(1.0, localizer()), learnt(1.0, localizer()));
+    assert_eq!(one.mask_noise(), one_again.mask_noise(), "deterministic");
+    let two = learnt(2.0, localizer());
+    let back = learnt(1.0, learnt(1.0, learnt(1.0, two.clone())));
+    let px = |l: &Localizer| l.mask_noise().sigma_px();
+    assert!(
+        (0.8..1.4).contains(&px(&one)),
+        "1 px learnt as {:.2} px",
+        px(&one)
+    );
+    assert!(
+        (1.6..2.6).contains(&px(&two)),
+        "2 px learnt as {:.2} px",
+        px(&two)
+    );
+    assert!(
+        px(&two) / px(&one) > 1.5,
+        "{:.2} -> {:.2}",
+        px(&one),
+        px(&two)
+    );
+    assert!(
+        (px(&back) - px(&one)).abs() < 0.1,
+        "back to {:.2}",
+        px(&back)
+    );
+}
+
+/// `loc` after 60 frames of masks with `noise_px` through a pipeline: the same road users
+/// for ten frames (so that tracks form and lend their beliefs), then others.
+fn learnt(noise_px: f64, loc: Localizer) -> Localizer {
     let s = setup();
     let size = s.cam.image_size().map(|v| v as u32);
-    let learnt = |noise_px: f64| {
-        let mut loc = localizer();
-        let mut rng = Prng::new(5);
-        for k in 0..40 {
+    let mut pipeline = Pipeline::new(vec![loc], TrackerSettings::default()).unwrap();
+    let mut rng = Prng::new(5);
+    let mut users = Vec::new();
+    for k in 0..60 {
+        if k % 10 == 0 {
             let mut classes = RoadUserClass::ALL.to_vec();
-            classes.rotate_left(k % 7);
-            let users = random_users(&s.world, &s.cam, &mut rng, 4, 40.0, &classes);
-            let lab = labels(&s.cam, &users, noise_px, &mut rng);
-            let sil: Vec<_> = masks(&lab, size, &users, &[])
-                .into_iter()
-                .map(|(_, m)| m)
-                .collect();
-            let (found, _) = loc.frame(&sil);
-            loc.learn(&found);
+            classes.rotate_left(k / 10 % 7);
+            users = random_users(&s.world, &s.cam, &mut rng, 4, 40.0, &classes);
         }
-        assert!(
-            loc.mask_noise().fits() >= 64,
-            "{:?}",
-            loc.mask_noise().fits()
-        );
-        loc.mask_noise().sigma_px()
-    };
-    let (one, two) = (learnt(1.0), learnt(2.0));
-    assert!((0.8..1.4).contains(&one), "1 px learnt as {one:.2} px");
-    assert!((1.6..2.6).contains(&two), "2 px learnt as {two:.2} px");
-    assert!(two / one > 1.5, "{one:.2} -> {two:.2}");
+        let lab = labels(&s.cam, &users, noise_px, &mut rng);
+        let sil: Vec<_> = masks(&lab, size, &users, &[])
+            .into_iter()
+            .map(|(_, m)| m)
+            .collect();
+        pipeline.frame(k, k as f64 / 10.0, &[sil]).unwrap();
+    }
+    let camera = pipeline.cameras()[0].clone();
+    assert!(
+        camera.mask_noise().fits() >= 64,
+        "{}",
+        camera.mask_noise().fits()
+    );
+    camera
 }

@@ -27,7 +27,7 @@ fn run(dirs: &[PathBuf]) -> (Run, roadside::road::Road) {
         .map(|d| load_camera(d, &site).unwrap())
         .collect();
     let mut pipeline = Pipeline::new(
-        cams.iter().map(|c| c.localizer).collect(),
+        cams.iter().map(|c| c.localizer.clone()).collect(),
         TrackerSettings::default(),
     )
     .unwrap();

@@ -303,7 +303,9 @@ impl<'a> Problem<'a> {
             .collect();
         Self {
             outline_weight: (OUTLINE_WEIGHT / outline.len().max(1) as f64).sqrt(),
-            // Masks are never taken as better than a tenth of a pixel (the fit's scale).
+            // A guard for any caller (the learnt noise is kept within its own range): a
+            // noise under a tenth of a pixel would make the outline rows swamp the prior's
+            // and the fit's steps; not finite, the default.
             sigma_px: if input.outline_sigma_px.is_finite() {
                 input.outline_sigma_px.max(0.1)
             } else {

@@ -165,8 +165,9 @@ impl Rejections {
 }
 
 /// One camera's localizer: its vanishing points, its projection, and the noise of its
-/// masks as learnt from its fits ([`Localizer::learn`]).
-#[derive(Debug, Clone, Copy, PartialEq)]
+/// masks as learnt from its fits ([`Localizer::learn`]). Not `Copy`: what it learnt belongs
+/// to one camera's run, and a copy learns apart from it.
+#[derive(Debug, Clone, PartialEq)]
 pub struct Localizer {
     points: VanishingPoints,
     camera: GroundCamera,
@@ -216,7 +217,8 @@ impl Localizer {
     /// frames' fits weigh the masks' outlines by it. A caller running a camera over a video
     /// passes each frame's road users here.
     pub fn learn(&mut self, found: &[Localized]) {
-        self.noise.learn(found);
+        let whole = found.iter().filter(|l| l.seen_whole());
+        self.noise.take(whole.map(|l| l.road_user.misfit_px));
     }
 
     /// The boxes of a frame's detections, and the rejections.
@@ -447,7 +449,7 @@ impl Localizer {
         // the error repeats (behind a neighbour, what is hidden changes as traffic moves).
         let border = if d.touches_border { hidden_floor } else { 0.0 };
         let repeated = floored(&fitted.size_covariance, border.max(SIGMA_FLOOR_M));
-        let seen_whole = !d.touches_border;
+        let uncut = !d.touches_border;
         Ok(Placed {
             road_user,
             position: fitted.centre,
@@ -456,7 +458,7 @@ impl Localizer {
             // A mask that fits worse than noise explains says less, as its position does.
             size_evidence: fitted
                 .size_evidence
-                .filter(|_| seen_whole)
+                .filter(|_| uncut)
                 .map(|e| e.scaled(1.0 / (misfit * misfit))),
         })
     }

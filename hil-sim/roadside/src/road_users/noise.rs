@@ -6,14 +6,13 @@
 //! the size prior by it, so masks twice as noisy as the fit assumes pull the box's sides
 //! away from what the prior and the track's belief know, and the position with them. The
 //! fit's residual (the root mean square distance of the outline to the fitted box's,
-//! [`super::boxes::RoadUserBox::misfit_px`]) measures it: at the assumed noise of 1 px a
-//! corner it is [`RMS_AT_ONE_PX`] for a typical mask. [`MaskNoise`] keeps the residuals of
-//! a camera's recent fits of road users seen whole (a touching mask or the image border
-//! leaves residuals that are not noise) and gives the noise their median stands for.
+//! [`super::boxes::RoadUserBox::misfit_px`]) measures it: at a noise of 1 px a corner it is
+//! [`RMS_AT_ONE_PX`] for a typical mask. [`MaskNoise`] keeps the residuals of a camera's
+//! latest fits of road users seen whole (a touching mask or the image border leaves
+//! residuals that are not noise; the localizer picks them, [`super::localize::Localizer::learn`])
+//! and gives the noise their median stands for.
 //!
 //! Bounded: a fixed window of the latest fits, no allocation.
-
-use super::localize::Localized;
 
 /// Root mean square distance of a mask's outline to its fitted box's at a mask noise of
 /// 1 px a corner, pixels (the fit's residual has fewer degrees of freedom than the
@@ -23,18 +22,26 @@ pub const RMS_AT_ONE_PX: f64 = 0.6;
 pub const DEFAULT_PX: f64 = 1.0;
 /// Fits a camera needs before its own noise is used.
 pub const MIN_FITS: usize = 32;
-/// Fits kept: the latest this many (a few seconds of traffic).
+/// Fits kept: the latest this many (seconds of dense traffic, minutes of light traffic).
 pub const WINDOW: usize = 256;
 /// The learnt noise is kept within these bounds, pixels: under half a pixel the outline's
-/// own rounding dominates, over 4 px no fit stands (a residual over 3 px refuses the box).
+/// own rounding to pixels dominates; at 4 px the median residual (2.4 px) nears the 3 px at
+/// which a box is refused as not matching its mask, so the fits that would say more are
+/// not there to learn from.
 pub const RANGE_PX: (f64, f64) = (0.5, 4.0);
 
 /// The mask noise of one camera, from its latest fits' residuals.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct MaskNoise {
     residuals_px: [f64; WINDOW],
-    /// Fits taken (saturating): the next one goes to `taken % WINDOW`.
-    taken: usize,
+    /// Where the next residual goes.
+    next: usize,
+    /// Slots in use (at most [`WINDOW`]).
+    filled: usize,
+    /// Residuals taken (saturating; a count only).
+    taken: u64,
+    /// The noise the window stands for, pixels (kept with the window).
+    sigma_px: f64,
 }
 
 impl Default for MaskNoise {
@@ -48,35 +55,40 @@ impl MaskNoise {
     pub const fn new() -> Self {
         Self {
             residuals_px: [0.0; WINDOW],
+            next: 0,
+            filled: 0,
             taken: 0,
+            sigma_px: DEFAULT_PX,
         }
     }
 
-    /// Takes one fit's residual, pixels (ignored unless finite and not negative).
-    pub fn take(&mut self, residual_px: f64) {
-        if residual_px.is_finite() && residual_px >= 0.0 {
-            self.residuals_px[self.taken % WINDOW] = residual_px;
-            self.taken = self.taken.saturating_add(1);
+    /// Takes fits' residuals, pixels (each ignored unless finite and not negative), and
+    /// updates the noise.
+    pub fn take(&mut self, residuals_px: impl IntoIterator<Item = f64>) {
+        for r in residuals_px {
+            if r.is_finite() && r >= 0.0 {
+                self.residuals_px[self.next] = r;
+                self.next = (self.next + 1) % WINDOW;
+                self.filled = (self.filled + 1).min(WINDOW);
+                self.taken = self.taken.saturating_add(1);
+            }
         }
+        self.sigma_px = self.window_sigma_px();
     }
 
-    /// Takes the residuals of a frame's road users seen whole (not cut by the image border,
-    /// no touching mask).
-    pub fn learn(&mut self, found: &[Localized]) {
-        for l in found.iter().filter(|l| l.seen_whole()) {
-            self.take(l.road_user.misfit_px);
-        }
-    }
-
-    /// Fits taken so far (saturating).
-    pub fn fits(&self) -> usize {
+    /// Residuals taken so far (saturating).
+    pub fn fits(&self) -> u64 {
         self.taken
     }
 
     /// The mask noise, 1-sigma of a corner, pixels: the median residual of the latest fits
     /// over [`RMS_AT_ONE_PX`], within [`RANGE_PX`]; [`DEFAULT_PX`] before [`MIN_FITS`].
     pub fn sigma_px(&self) -> f64 {
-        let n = self.taken.min(WINDOW);
+        self.sigma_px
+    }
+
+    fn window_sigma_px(&self) -> f64 {
+        let n = self.filled;
         if n < MIN_FITS {
             return DEFAULT_PX;
         }
@@ -99,11 +111,9 @@ mod tests {
     #[test]
     fn the_default_stands_until_enough_fits_are_seen() {
         let mut n = MaskNoise::new();
-        for _ in 0..MIN_FITS - 1 {
-            n.take(1.8);
-        }
+        n.take(std::iter::repeat_n(1.8, MIN_FITS - 1));
         assert_eq!(n.sigma_px(), DEFAULT_PX);
-        n.take(1.8);
+        n.take([1.8]);
         assert!((n.sigma_px() - 3.0).abs() < 1e-12, "{}", n.sigma_px());
     }
 
@@ -111,31 +121,26 @@ mod tests {
     fn the_median_of_the_latest_window_decides_and_outliers_do_not() {
         let mut n = MaskNoise::new();
         // An old, clean stretch is forgotten once a window of noisier fits follows.
-        for _ in 0..WINDOW {
-            n.take(0.6);
-        }
+        n.take(std::iter::repeat_n(0.6, WINDOW));
         assert!((n.sigma_px() - 1.0).abs() < 1e-12);
-        for k in 0..WINDOW {
-            // A tenth of the fits are wrong local solutions far off.
-            n.take(if k % 10 == 0 { 50.0 } else { 1.2 });
-        }
+        // A tenth of the fits are wrong local solutions far off.
+        n.take((0..WINDOW).map(|k| if k % 10 == 0 { 50.0 } else { 1.2 }));
         assert!((n.sigma_px() - 2.0).abs() < 1e-12, "{}", n.sigma_px());
+        // And back: a camera whose masks got cleaner learns it within a window.
+        n.take(std::iter::repeat_n(0.6, WINDOW / 2 + 1));
+        assert!((n.sigma_px() - 1.0).abs() < 1e-12, "{}", n.sigma_px());
+        assert_eq!(n.fits(), (2 * WINDOW + WINDOW / 2 + 1) as u64);
     }
 
     #[test]
     fn hostile_residuals_are_ignored_and_the_noise_stays_in_range() {
         let mut n = MaskNoise::new();
-        for v in [f64::NAN, f64::INFINITY, -1.0] {
-            n.take(v);
-        }
+        n.take([f64::NAN, f64::INFINITY, f64::NEG_INFINITY, -1.0]);
         assert_eq!(n.fits(), 0);
-        for _ in 0..MIN_FITS {
-            n.take(0.0);
-        }
+        assert_eq!(n.sigma_px(), DEFAULT_PX);
+        n.take(std::iter::repeat_n(0.0, MIN_FITS));
         assert_eq!(n.sigma_px(), RANGE_PX.0);
-        for _ in 0..WINDOW {
-            n.take(1e300);
-        }
+        n.take(std::iter::repeat_n(1e300, WINDOW));
         assert_eq!(n.sigma_px(), RANGE_PX.1);
     }
 }

@@ -127,6 +127,11 @@ impl Pipeline {
         Ok(&self.run.tracked[self.run.tracked.len() - 1].tracks)
     }
 
+    /// Its cameras' localizers, with what each learnt of its masks' noise.
+    pub fn cameras(&self) -> &[Localizer] {
+        &self.cameras
+    }
+
     /// What the run gave so far.
     pub fn run(&self) -> &Run {
         &self.run

@@ -5,9 +5,9 @@
 //! process noise and a position measurement with the observation's covariance `R` (a box is
 //! known better across the camera's line of sight than along it). Observations are
 //! associated to tracks of their own class by Mahalanobis distance of the innovation (gated
-//! with the observation's worst-direction error in every direction, a margin for a road
-//! user that starts or turns, and never beyond a jump a road user cannot make between
-//! frames), greedily by increasing distance, one observation per track; a track not seen for
+//! with a margin for a road user that starts or turns: the observation's worst-direction
+//! error in every direction, or for a vehicle along the road only; and never beyond a jump a
+//! road user cannot make between frames), greedily by increasing distance, one observation per track; a track not seen for
 //! `max_coast_s` ends rather than drift onto a neighbour, one last seen cut by the image
 //! border is not reported while unseen (it left the view), and a young one is not reported
 //! while unseen (its velocity rests on a few boxes). Reported accuracies come from the
@@ -133,9 +133,11 @@ pub struct Observation {
     /// the view, so its track is not reported while unseen (one hidden behind another road
     /// user is).
     pub at_border: bool,
-    /// The road's direction where it was seen (unit, east/north), when known: a vehicle
-    /// moves along it, so a newborn vehicle track's velocity is not believed to reach
-    /// across it ([`NEWBORN_ACROSS_ROAD_MPS`]).
+    /// The road's direction at the road user (east/north; its camera's, for a camera
+    /// looking along a straight road), when known: a vehicle moves along it, so a newborn
+    /// vehicle track's velocity is not believed to reach across it
+    /// ([`NEWBORN_ACROSS_ROAD_MPS`]) and a vehicle is gated across it with its box's own
+    /// error. A direction that is not finite or has no length counts as unknown.
     pub road_axis: Option<[f64; 2]>,
 }
 
@@ -363,19 +365,9 @@ impl RoadUserTracker {
                 if jump > MAX_JUMP_M + 3.0 * (o.sigma_m() + position_sigma(t)) {
                     continue;
                 }
-                // A person is gated with the box's worst-direction error in every direction:
-                // one starting to walk across the line of sight, where the box is known to a
-                // few centimetres, would otherwise leave the track's gate in a few frames (the
-                // constant-velocity model does not foresee the start). A vehicle does not
-                // start across the road: its box's own error gates it, so a young track
-                // does not take the box of a neighbour in the next lane.
-                let gating = if t.group == Group::People {
-                    Observation {
-                        covariance_m2: circle(o.sigma_m()),
-                        ..*o
-                    }
-                } else {
-                    *o
+                let gating = Observation {
+                    covariance_m2: gating_covariance(t.group, o),
+                    ..*o
                 };
                 if let Some((_, _, d2)) = innovation(t, &gating).filter(|i| i.2 <= gate2) {
                     pairs.push((d2, ti, oi));
@@ -528,6 +520,34 @@ impl SizeHints for TrackSizes<'_> {
     }
 }
 
+/// The covariance an observation is gated with. A road user that starts or stops moves
+/// where the constant-velocity model does not foresee, and its box may be known to a few
+/// centimetres in that direction (across the line of sight): the box's worst-direction
+/// error is the gate's margin. A person or a two-wheeler may start in any direction, so
+/// the margin is a circle. A vehicle starts and brakes along the road, so where the road's
+/// direction is known the margin lies along it alone: across the road the box's own error
+/// gates it, and a young vehicle track does not take the box of a neighbour in the next
+/// lane.
+fn gating_covariance(group: Group, o: &Observation) -> Cov2 {
+    let worst = o.sigma_m();
+    match (group, o.road_axis.and_then(unit)) {
+        (Group::Vehicles, Some(u)) => {
+            let r = &o.covariance_m2;
+            let along =
+                u[0] * (r[0][0] * u[0] + r[0][1] * u[1]) + u[1] * (r[1][0] * u[0] + r[1][1] * u[1]);
+            let add = (worst * worst - along).max(0.0);
+            std::array::from_fn(|i| std::array::from_fn(|j| r[i][j] + add * u[i] * u[j]))
+        }
+        _ => circle(worst),
+    }
+}
+
+/// `v` scaled to unit length; `None` when it is not finite or has no length.
+fn unit(v: [f64; 2]) -> Option<[f64; 2]> {
+    let n = v[0].hypot(v[1]);
+    (n.is_finite() && n > 1e-9).then(|| [v[0] / n, v[1] / n])
+}
+
 /// Tentative track at the observation, velocity 0 with the group's prior.
 fn new_track(id: u32, o: &Observation, time_s: f64) -> TrackState {
     let group = Group::of(o.class);
@@ -537,16 +557,12 @@ fn new_track(id: u32, o: &Observation, time_s: f64) -> TrackState {
         p[i][..2].copy_from_slice(row);
     }
     (p[2][2], p[3][3]) = (vv, vv);
-    if let (Group::Vehicles, Some([ux, uy])) = (group, o.road_axis) {
+    if let (Group::Vehicles, Some([ux, uy])) = (group, o.road_axis.and_then(unit)) {
         // vv along the road, the across prior across it: vv u u' + aa v v' with v = u rotated.
         let aa = NEWBORN_ACROSS_ROAD_MPS.powi(2);
-        let n = ux.hypot(uy);
-        if n.is_finite() && n > 1e-9 {
-            let (ux, uy) = (ux / n, uy / n);
-            p[2][2] = vv * ux * ux + aa * uy * uy;
-            p[3][3] = vv * uy * uy + aa * ux * ux;
-            (p[2][3], p[3][2]) = ((vv - aa) * ux * uy, (vv - aa) * ux * uy);
-        }
+        p[2][2] = vv * ux * ux + aa * uy * uy;
+        p[3][3] = vv * uy * uy + aa * ux * ux;
+        (p[2][3], p[3][2]) = ((vv - aa) * ux * uy, (vv - aa) * ux * uy);
     }
     let mut class_counts = [0; 7];
     class_counts[o.class as usize] = 1;

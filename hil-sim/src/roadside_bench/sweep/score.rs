@@ -90,6 +90,9 @@ pub struct Score {
     pub rejected: Rejections,
     /// Detections.
     pub detections: usize,
+    /// The mask noise each camera learnt by the end of its run, pixels
+    /// ([`Localizer::learn`]).
+    pub learnt_noise_px: Vec<f64>,
 }
 
 impl Score {
@@ -118,6 +121,7 @@ impl Score {
         self.tracks_in_ellipse.1 += o.tracks_in_ellipse.1;
         self.rejected.add(&o.rejected);
         self.detections += o.detections;
+        self.learnt_noise_px.extend_from_slice(&o.learnt_noise_px);
     }
 }
 
@@ -387,7 +391,7 @@ pub fn run_camera(
     settings: RunSettings,
 ) -> Score {
     // The camera learns its masks' noise over the run, as on site.
-    let mut loc = *loc;
+    let mut loc = loc.clone();
     let mut rng = Prng::new(settings.seed ^ 0x5eed);
     let mut ideal_rng = Prng::new(settings.seed ^ 0xb0d);
     let mut known_rng = Prng::new(settings.seed ^ 0x517e);
@@ -414,6 +418,7 @@ pub fn run_camera(
         };
         score.add_tracks(f, &tracks, &users, seen, world, &near);
     }
+    score.learnt_noise_px.push(loc.mask_noise().sigma_px());
     score
 }
 
@@ -430,7 +435,7 @@ pub fn run_pair(
 ) -> Score {
     let fed: Vec<usize> = only.map_or(vec![0, 1], |k| vec![k]);
     let mut rng = Prng::new(settings.seed ^ 0xfade);
-    let cameras = fed.iter().map(|&k| *locs[k]).collect();
+    let cameras = fed.iter().map(|&k| locs[k].clone()).collect();
     let mut pipeline =
         Pipeline::live(cameras, TrackerSettings::default()).expect("default settings");
     let mut score = Score::default();
@@ -459,5 +464,7 @@ pub fn run_pair(
         };
         score.add_tracks(f, &tracks, &users, seen, world, &near);
     }
+    let learnt = pipeline.cameras().iter().map(|l| l.mask_noise().sigma_px());
+    score.learnt_noise_px.extend(learnt);
     score
 }

@@ -156,7 +156,7 @@ fn track(
     mut air: Option<OnAir>,
     site: &Road,
 ) -> Result<Run, CommandError> {
-    let localizers = cameras.iter().map(|c| c.localizer).collect();
+    let localizers = cameras.iter().map(|c| c.localizer.clone()).collect();
     let mut pipeline = Pipeline::new(localizers, TrackerSettings::default())?;
     let frames = cameras.iter().map(|c| c.frames.len()).min().unwrap_or(0);
     let start = std::time::Instant::now();
