@@ -13,7 +13,7 @@ use hil_sim::roadside_bench::sweep::{installs, sweep_world};
 use hil_sim::roadside_bench::synthetic_camera::PinholeCamera;
 use roadside::camera::Homography;
 use roadside::rng::Prng;
-use roadside::road_users::boxes::BoxRejection;
+use roadside::road_users::boxes::{BoxRejection, RoadUserBox};
 use roadside::road_users::calibrate::{calibrate, cross_check, SceneCalibration};
 use roadside::road_users::class::Extent;
 use roadside::road_users::detections::{parse_coco, Silhouette};
@@ -651,4 +651,46 @@ fn learnt(noise_px: f64, loc: Localizer) -> Localizer {
         camera.mask_noise().fits()
     );
     camera
+}
+
+#[test]
+fn a_camera_learns_its_noise_only_from_road_users_seen_whole() {
+    // A road user cut by the image border or touching another's mask leaves a residual that
+    // is not mask noise (its box goes on where the mask does not): such fits are not learnt
+    // from, however many there are.
+    let placed = |misfit_px: f64, at_border: bool, touching: bool| Localized {
+        index: 0,
+        road_user: RoadUserBox {
+            class: RoadUserClass::Car,
+            footprint: [[0.0; 2]; 4],
+            height_m: 1.5,
+            centre: [0.0, 20.0],
+            length_per_px_m: 0.0,
+            width_per_px_m: 0.0,
+            vertices_px: [[0.0; 2]; 8],
+            iou: 0.9,
+            misfit_px,
+        },
+        position: [0.0, 20.0],
+        sigma_m: 0.1,
+        covariance_m2: [[0.01, 0.0], [0.0, 0.01]],
+        floor_covariance_m2: [[0.0; 2]; 2],
+        size_evidence: None,
+        road_user_at_border: at_border,
+        road_user_touching: touching,
+        road_axis: [0.0, 1.0],
+    };
+    let mut loc = localizer();
+    for _ in 0..40 {
+        let frame = [
+            placed(0.9, false, false),
+            placed(2.9, true, false),
+            placed(2.9, false, true),
+            placed(2.9, true, true),
+        ];
+        loc.learn(&frame);
+    }
+    assert_eq!(loc.mask_noise().fits(), 40);
+    // 0.9 px of residual is 1.5 px of mask noise (0.6 px a pixel).
+    assert!((loc.mask_noise().sigma_px() - 1.5).abs() < 1e-9);
 }
