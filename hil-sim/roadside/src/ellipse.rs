@@ -67,13 +67,25 @@ pub fn floored(c: &Cov2, floor_m: f64) -> Cov2 {
 pub fn floored_by(c: &Cov2, floor: &Cov2) -> Cov2 {
     let (big, small, [x, y]) = eigen(c);
     let f = symmetric(floor);
-    let along =
-        |u: [f64; 2]| u[0] * u[0] * f[0][0] + 2.0 * u[0] * u[1] * f[0][1] + u[1] * u[1] * f[1][1];
-    let (l1, l2) = (big.max(along([x, y])), small.max(along([-y, x])));
-    // V diag(l1, l2) V' with V = [[x, -y], [y, x]].
+    let (l1, l2) = (
+        big.max(variance_along(&f, [x, y])),
+        small.max(variance_along(&f, [-y, x])),
+    );
+    with_axes(l1, l2, [x, y])
+}
+
+/// The variance of `c` along the unit vector `u`, m².
+pub fn variance_along(c: &Cov2, u: [f64; 2]) -> f64 {
+    u[0] * u[0] * c[0][0] + u[0] * u[1] * (c[0][1] + c[1][0]) + u[1] * u[1] * c[1][1]
+}
+
+/// The covariance with variance `along` along the unit vector `u` and `across` across it:
+/// `V diag(along, across) V'` with `V = [u, u turned a quarter]`.
+pub fn with_axes(along: f64, across: f64, u: [f64; 2]) -> Cov2 {
+    let [x, y] = u;
     [
-        [l1 * x * x + l2 * y * y, (l1 - l2) * x * y],
-        [(l1 - l2) * x * y, l1 * y * y + l2 * x * x],
+        [along * x * x + across * y * y, (along - across) * x * y],
+        [(along - across) * x * y, along * y * y + across * x * x],
     ]
 }
 

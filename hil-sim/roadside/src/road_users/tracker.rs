@@ -7,10 +7,10 @@
 //! associated to tracks of their own class by Mahalanobis distance of the innovation (gated
 //! with a margin for a road user that starts or turns: the observation's worst-direction
 //! error in every direction, or for a vehicle along the road only; and never beyond a jump a
-//! road user cannot make between frames), greedily by increasing distance, one observation per track; a track not seen for
-//! `max_coast_s` ends rather than drift onto a neighbour, one last seen cut by the image
-//! border is not reported while unseen (it left the view), and a young one is not reported
-//! while unseen (its velocity rests on a few boxes). Reported accuracies come from the
+//! road user cannot make between frames), greedily by increasing distance, one observation
+//! per track; a track not seen for `max_coast_s` ends rather than drift onto a neighbour,
+//! one last seen cut by the image border is not reported while unseen (it left the view),
+//! and a young one is not reported while unseen (its velocity rests on a few boxes). Reported accuracies come from the
 //! filter covariance, never better than the error its observations repeat from frame to
 //! frame (the calibration's, the size prior's share, a cut end), as an error ellipse for
 //! J2735 PSM accuracy fields. Each track also learns its road user's size from its
@@ -18,7 +18,8 @@
 use super::class::RoadUserClass;
 use super::size::{Lent, SizeBelief, SizeEvidence, SizeHints, FADE_PER_FRAME, MIN_FRAMES};
 use crate::ellipse::{
-    circle, floored, floored_by, is_covariance, symmetric, worst_sigma, Cov2, ErrorEllipse,
+    circle, floored, floored_by, is_covariance, symmetric, variance_along, with_axes, worst_sigma,
+    Cov2, ErrorEllipse,
 };
 use std::fmt;
 use views::RecentFloors;
@@ -533,10 +534,8 @@ fn gating_covariance(group: Group, o: &Observation) -> Cov2 {
     match (group, o.road_axis.and_then(unit)) {
         (Group::Vehicles, Some(u)) => {
             let r = &o.covariance_m2;
-            let along =
-                u[0] * (r[0][0] * u[0] + r[0][1] * u[1]) + u[1] * (r[1][0] * u[0] + r[1][1] * u[1]);
-            let add = (worst * worst - along).max(0.0);
-            std::array::from_fn(|i| std::array::from_fn(|j| r[i][j] + add * u[i] * u[j]))
+            let margin = with_axes((worst * worst - variance_along(r, u)).max(0.0), 0.0, u);
+            std::array::from_fn(|i| std::array::from_fn(|j| r[i][j] + margin[i][j]))
         }
         _ => circle(worst),
     }
@@ -551,18 +550,17 @@ fn unit(v: [f64; 2]) -> Option<[f64; 2]> {
 /// Tentative track at the observation, velocity 0 with the group's prior.
 fn new_track(id: u32, o: &Observation, time_s: f64) -> TrackState {
     let group = Group::of(o.class);
-    let vv = group.prior_speed_sigma().powi(2);
+    let speed = group.prior_speed_sigma();
     let mut p = [[0.0; 4]; 4];
     for (i, row) in o.covariance_m2.iter().enumerate() {
         p[i][..2].copy_from_slice(row);
     }
-    (p[2][2], p[3][3]) = (vv, vv);
-    if let (Group::Vehicles, Some([ux, uy])) = (group, o.road_axis.and_then(unit)) {
-        // vv along the road, the across prior across it: vv u u' + aa v v' with v = u rotated.
-        let aa = NEWBORN_ACROSS_ROAD_MPS.powi(2);
-        p[2][2] = vv * ux * ux + aa * uy * uy;
-        p[3][3] = vv * uy * uy + aa * ux * ux;
-        (p[2][3], p[3][2]) = ((vv - aa) * ux * uy, (vv - aa) * ux * uy);
+    let velocity = match (group, o.road_axis.and_then(unit)) {
+        (Group::Vehicles, Some(u)) => with_axes(speed * speed, NEWBORN_ACROSS_ROAD_MPS.powi(2), u),
+        _ => circle(speed),
+    };
+    for (row, v) in p[2..].iter_mut().zip(velocity) {
+        row[2..].copy_from_slice(&v);
     }
     let mut class_counts = [0; 7];
     class_counts[o.class as usize] = 1;
