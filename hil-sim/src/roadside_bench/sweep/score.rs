@@ -285,10 +285,16 @@ impl Score {
         near: &dyn Fn([f64; 2]) -> bool,
     ) {
         let Seen { counts, whole } = seen;
-        let tracks: Vec<&Track> = tracks.iter().filter(|t| near(t.position)).collect();
+        // Every track is paired, wherever it is; a pair is scored when its road user is in
+        // range, a track without one when the track is (a track just past the range for a
+        // road user just inside it is scored, not dropped).
+        let tracks: Vec<&Track> = tracks.iter().collect();
         let matches = one_to_one(&tracks, users);
         let mut tracked = vec![false; users.len()];
         for (t, m) in tracks.iter().zip(&matches) {
+            if !m.map_or(near(t.position), |(k, _)| near(users[k].centre)) {
+                continue;
+            }
             let Some((k, error_m)) = *m else {
                 // Off by more than any reported ellipse reaches (or a second track of a
                 // road user that has one): a miss for the ellipse too.
