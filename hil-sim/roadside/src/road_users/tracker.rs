@@ -21,10 +21,10 @@ use crate::ellipse::{
     circle, floored, floored_by, is_covariance, symmetric, variance_along, with_axes, worst_sigma,
     Cov2, ErrorEllipse,
 };
+use kalman::{position_block, set_position_block, M4};
+use modes::Modes;
 use std::fmt;
 use views::RecentFloors;
-
-type M4 = [[f64; 4]; 4];
 
 /// Class groups: how fast a track's road user may move and turn.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -249,6 +249,9 @@ struct TrackState {
     size_frames: u32,
     /// The floors of its recent frames: whether a view is a better one.
     views: RecentFloors,
+    /// A person's standing and walking models, whose mixture `x` and `p` are; `None` for
+    /// other road users (one constant-velocity model).
+    modes: Option<Modes>,
 }
 
 /// Multi-object road-user tracker (bounded: at most `MAX_TRACKS` tracks).
@@ -339,7 +342,10 @@ impl RoadUserTracker {
                 Group::People => self.settings.person_accel_sigma_mps2,
                 _ => self.settings.accel_sigma_mps2,
             };
-            predict(&mut t.x, &mut t.p, dt, sigma_a * sigma_a);
+            match &mut t.modes {
+                Some(m) => (t.x, t.p) = m.predict(dt, sigma_a * sigma_a),
+                None => kalman::predict(&mut t.x, &mut t.p, dt, sigma_a * sigma_a),
+            }
         }
         let valid = self.screen(observations);
         let gate2 = self.settings.gate_m * self.settings.gate_m;
@@ -370,7 +376,8 @@ impl RoadUserTracker {
                     covariance_m2: gating_covariance(t.group, o),
                     ..*o
                 };
-                if let Some((_, _, d2)) = innovation(t, &gating).filter(|i| i.2 <= gate2) {
+                let inn = kalman::innovation(&t.x, &t.p, o.position, &gating.covariance_m2);
+                if let Some(d2) = inn.map(|i| i.d2).filter(|d2| *d2 <= gate2) {
                     pairs.push((d2, ti, oi));
                 }
             }
@@ -564,7 +571,11 @@ fn new_track(id: u32, o: &Observation, time_s: f64) -> TrackState {
     }
     let mut class_counts = [0; 7];
     class_counts[o.class as usize] = 1;
-    let x = [o.position[0], o.position[1], 0.0, 0.0];
+    let mut x = [o.position[0], o.position[1], 0.0, 0.0];
+    let modes = (group == Group::People).then(|| Modes::new(&x, &p));
+    if let Some(m) = &modes {
+        (x, p) = m.mixture();
+    }
     TrackState {
         id,
         group,
@@ -579,6 +590,7 @@ fn new_track(id: u32, o: &Observation, time_s: f64) -> TrackState {
         size: o.size.unwrap_or(SizeEvidence::NONE),
         size_frames: u32::from(o.size.is_some()),
         views: RecentFloors::new(&o.floor_m2, time_s),
+        modes,
     }
 }
 
@@ -591,92 +603,33 @@ fn dominant_class(t: &TrackState) -> RoadUserClass {
         .unwrap_or(RoadUserClass::Car)
 }
 
-/// 4x4 matrix product.
-fn mul(a: &M4, b: &M4) -> M4 {
-    std::array::from_fn(|i| std::array::from_fn(|j| (0..4).map(|k| a[i][k] * b[k][j]).sum()))
-}
-
-fn transpose(a: &M4) -> M4 {
-    std::array::from_fn(|i| std::array::from_fn(|j| a[j][i]))
-}
-
-fn identity() -> M4 {
-    std::array::from_fn(|i| std::array::from_fn(|j| f64::from(u8::from(i == j))))
-}
-
-/// Constant-velocity prediction with discrete white-noise acceleration of
-/// variance `q`: per axis `Q = q [[dt^4/4, dt^3/2], [dt^3/2, dt^2]]`.
-fn predict(x: &mut [f64; 4], p: &mut M4, dt: f64, q: f64) {
-    if dt <= 0.0 {
-        return;
-    }
-    x[0] += dt * x[2];
-    x[1] += dt * x[3];
-    let mut f = identity();
-    (f[0][2], f[1][3]) = (dt, dt);
-    let mut np = mul(&mul(&f, p), &transpose(&f));
-    let (a, b, c) = (dt.powi(4) / 4.0 * q, dt.powi(3) / 2.0 * q, dt * dt * q);
-    for i in 0..2 {
-        np[i][i] += a;
-        np[i][i + 2] += b;
-        np[i + 2][i] += b;
-        np[i + 2][i + 2] += c;
-    }
-    *p = np;
-}
-
-/// Innovation, inverse innovation covariance and squared Mahalanobis distance of `o` (with
-/// its covariance as `R`).
-fn innovation(t: &TrackState, o: &Observation) -> Option<([f64; 2], [[f64; 2]; 2], f64)> {
-    let r = &o.covariance_m2;
-    let (s00, s01, s10, s11) = (
-        t.p[0][0] + r[0][0],
-        t.p[0][1] + r[0][1],
-        t.p[1][0] + r[1][0],
-        t.p[1][1] + r[1][1],
-    );
-    let det = s00 * s11 - s01 * s10;
-    if !(det.is_finite() && det > 0.0) {
-        return None;
-    }
-    let si = [[s11 / det, -s01 / det], [-s10 / det, s00 / det]];
-    let nu = [o.position[0] - t.x[0], o.position[1] - t.x[1]];
-    let d2 = nu[0] * (si[0][0] * nu[0] + si[0][1] * nu[1])
-        + nu[1] * (si[1][0] * nu[0] + si[1][1] * nu[1]);
-    d2.is_finite().then_some((nu, si, d2))
-}
-
-/// Kalman measurement update (Joseph form) and bookkeeping.
+/// Kalman measurement update (each motion model's, for a person) and bookkeeping. A better
+/// view ([`views`]) restarts the track's position instead: the views before it share an
+/// error that averaging did not remove, and a blend keeps part of it (and the filter takes
+/// its removal over the next frames for motion).
 fn correct(t: &mut TrackState, o: &Observation, time_s: f64) {
-    let better = t.views.better_view(&o.floor_m2, time_s);
-    if let Some(floor) = &better {
-        reanchor(t, floor);
-    }
-    t.views.record(&o.floor_m2, time_s, better.is_some());
-    let Some((nu, si, _)) = innovation(t, o) else {
-        return;
+    let better = t.views.better_view(&o.floor_m2, time_s).is_some();
+    t.views.record(&o.floor_m2, time_s, better);
+    let (position, r) = (o.position, &o.covariance_m2);
+    let updated = match (&mut t.modes, better) {
+        (Some(m), true) => {
+            m.restart_position(position, r);
+            (t.x, t.p) = m.mixture();
+            true
+        }
+        (None, true) => {
+            kalman::restart_position(&mut t.x, &mut t.p, position, r);
+            true
+        }
+        (Some(m), false) => m
+            .correct(position, r)
+            .map(|(x, p)| (t.x, t.p) = (x, p))
+            .is_some(),
+        (None, false) => kalman::update(&mut t.x, &mut t.p, position, r).is_some(),
     };
-    let r = &o.covariance_m2;
-    let k: [[f64; 2]; 4] = std::array::from_fn(|i| {
-        std::array::from_fn(|j| t.p[i][0] * si[0][j] + t.p[i][1] * si[1][j])
-    });
-    for (xi, ki) in t.x.iter_mut().zip(&k) {
-        *xi += ki[0] * nu[0] + ki[1] * nu[1];
+    if !updated {
+        return;
     }
-    // Joseph form: P = A P A' + K R K' with A = I - K H, then symmetrized.
-    let a: M4 = std::array::from_fn(|i| {
-        std::array::from_fn(|j| f64::from(u8::from(i == j)) - if j < 2 { k[i][j] } else { 0.0 })
-    });
-    let p = mul(&mul(&a, &t.p), &transpose(&a));
-    t.p = std::array::from_fn(|i| {
-        std::array::from_fn(|j| {
-            let krk: f64 = (0..2)
-                .flat_map(|a| (0..2).map(move |b| (a, b)))
-                .map(|(a, b)| k[i][a] * r[a][b] * k[j][b])
-                .sum();
-            0.5 * (p[i][j] + p[j][i]) + krk
-        })
-    });
     let c = &mut t.class_counts[o.class as usize];
     *c = c.saturating_add(1);
     t.hits = t.hits.saturating_add(1);
@@ -692,26 +645,19 @@ fn correct(t: &mut TrackState, o: &Observation, time_s: f64) {
     }
 }
 
-/// Raises the position block of a track's covariance to `floor` along each axis: the error
+/// A copy of `t` whose position covariance is raised to `floor` along each axis: the error
 /// its recent observations shared, which the filter averaged as if it were independent from
-/// frame to frame ([`views`]).
-fn reanchor(t: &mut TrackState, floor: &Cov2) {
-    let block = floored_by(&position_covariance(t), floor);
-    for (row, new) in t.p.iter_mut().zip(block) {
-        row[..2].copy_from_slice(&new);
-    }
-}
-
-/// A copy of `t` re-anchored on `floor`.
+/// frame to frame ([`views`]). A better view is gated against it.
 fn reanchored(t: &TrackState, floor: &Cov2) -> TrackState {
     let mut copy = t.clone();
-    reanchor(&mut copy, floor);
+    let block = floored_by(&position_covariance(&copy), floor);
+    set_position_block(&mut copy.p, &block);
     copy
 }
 
 /// The position block of a track's covariance, m².
 fn position_covariance(t: &TrackState) -> Cov2 {
-    symmetric(&[[t.p[0][0], t.p[0][1]], [t.p[1][0], t.p[1][1]]])
+    symmetric(&position_block(&t.p))
 }
 
 /// 1-sigma of a track's position along its worst direction, metres (the filter's).
@@ -772,6 +718,8 @@ fn report(t: &TrackState) -> Track {
     }
 }
 
+mod kalman;
+mod modes;
 #[cfg(test)]
 mod tests;
 mod views;

@@ -706,10 +706,17 @@ fn boxes_known_across_the_line_of_sight_give_a_narrow_ellipse_and_keep_neighbour
             east_sq += (tk.position[0] - truth[0]).powi(2);
             let e = &tk.position_ellipse;
             // Long along the line of sight (north), narrow across it: each axis floored by
-            // the repeated error along it.
-            assert!(angle_diff_deg(e.orientation_deg, 0.0) < 5.0, "{e:?}");
-            assert!((e.semi_minor_m - 0.03).abs() < 1e-9, "{e:?}");
-            assert!(e.semi_major_m >= 0.1 && e.semi_major_m < 0.3, "{e:?}");
+            // the repeated error along it (to a tenth of a millimetre: the spread of a
+            // person's two motion models turns the axes by a fraction of a degree).
+            // An axis has no sense: 180 degrees is north too.
+            let off_north = angle_diff_deg(e.orientation_deg, 0.0)
+                .min(angle_diff_deg(e.orientation_deg, 180.0));
+            assert!(off_north < 5.0, "{e:?}");
+            assert!((e.semi_minor_m - 0.03).abs() < 1e-4, "{e:?}");
+            assert!(
+                e.semi_major_m >= 0.1 - 1e-4 && e.semi_major_m < 0.3,
+                "{e:?}"
+            );
             assert!((e.semi_major_m - tk.position_sigma_m).abs() < 1e-9);
             let d = [truth[0] - tk.position[0], truth[1] - tk.position[1]];
             scored += 1;
@@ -744,12 +751,28 @@ fn a_road_user_seen_whole_after_partial_views_is_taken_where_the_whole_view_puts
     };
     let out = tr.update(1.5, &[whole]).unwrap();
     assert_eq!(out.len(), 1, "{out:?}");
-    // Re-anchored, the whole box moves it within 2.1 cm (the partial views keep the weight
-    // of one of them); averaged with them as if their error were independent, the track
-    // would stay 6.3 cm too far.
+    // Re-anchored, the track restarts from the whole box; blended with the partial views
+    // (their covariance raised to their shared error) it would stay 2.1 cm too far, and
+    // averaged with them as if their error were independent 6.3 cm.
     let off = out[0].position[1] - 40.0;
-    assert!(off.abs() < 0.03, "{:?}", out[0]);
-    assert!(off.abs() < 2.0 * out[0].position_sigma_m, "{:?}", out[0]);
+    assert!(off.abs() < 0.001, "{:?}", out[0]);
+    assert!(
+        (out[0].position_sigma_m - 0.08).abs() < 0.005,
+        "{:?}",
+        out[0]
+    );
+    // He stands: the restart is not taken for a step, the next boxes keep the track put.
+    let mut n = Noise(13);
+    for k in 16..40 {
+        let whole = Observation {
+            position: [11.0, 40.0 + 0.08 * n.normal()],
+            ..whole
+        };
+        let out = tr.update(f64::from(k) * 0.1, &[whole]).unwrap();
+        let off = out[0].position[1] - 40.0;
+        assert!(off.abs() < 0.06, "frame {k}: {:?}", out[0]);
+        assert!(out[0].speed_mps < 0.3, "frame {k}: {:?}", out[0]);
+    }
 }
 
 /// Two observations of one worker along the line of sight (north), in part 0.5 m too far and
