@@ -1,17 +1,19 @@
 //! Multi-object tracker for road users localized by a roadside camera.
 //!
-//! Each track is a constant-velocity Kalman filter with state `[x, y, vx, vy]` (metres
-//! and m/s in the local road frame, x = east, y = north), discrete white-noise acceleration
-//! process noise and a position measurement with the observation's covariance `R` (a box is
-//! known better across the camera's line of sight than along it). Observations are
+//! Each track is a Kalman filter with state `[x, y, vx, vy]` (metres and m/s in the local
+//! road frame, x = east, y = north), constant velocity with discrete white-noise
+//! acceleration, and a position measurement with the observation's covariance `R` (a box is
+//! known better across the camera's line of sight than along it); a person's track runs a
+//! standing model beside the walking one and is their weighted mixture ([`modes`]). A
+//! better view after partial ones restarts the track's position ([`views`]). Observations are
 //! associated to tracks of their own class by Mahalanobis distance of the innovation (gated
 //! with a margin for a road user that starts or turns: the observation's worst-direction
 //! error in every direction, or for a vehicle along the road only; and never beyond a jump a
 //! road user cannot make between frames), greedily by increasing distance, one observation
 //! per track; a track not seen for `max_coast_s` ends rather than drift onto a neighbour,
 //! one last seen cut by the image border is not reported while unseen (it left the view),
-//! and a young one is not reported while unseen (its velocity rests on a few boxes). Reported accuracies come from the
-//! filter covariance, never better than the error its observations repeat from frame to
+//! and a young one is not reported while unseen (its velocity rests on a few boxes).
+//! Reported accuracies come from the filter covariance, never better than the error its observations repeat from frame to
 //! frame (the calibration's, the size prior's share, a cut end), as an error ellipse for
 //! J2735 PSM accuracy fields. Each track also learns its road user's size from its
 //! observations ([`super::size`]) and tells it to the next frame's fits.
