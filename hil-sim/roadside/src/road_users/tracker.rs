@@ -4,8 +4,8 @@
 //! road frame, x = east, y = north), constant velocity with discrete white-noise
 //! acceleration, and a position measurement with the observation's covariance `R` (a box is
 //! known better across the camera's line of sight than along it); a person's track runs a
-//! standing model beside the walking one and is their weighted mixture ([`modes`]). A
-//! better view after partial ones restarts the track's position ([`views`]). Observations are
+//! standing model beside the walking one and is their weighted mixture (`modes`). A
+//! better view after partial ones restarts the track's position (`views`). Observations are
 //! associated to tracks of their own class by Mahalanobis distance of the innovation (gated
 //! with a margin for a road user that starts or turns: the observation's worst-direction
 //! error in every direction, or for a vehicle along the road only; and never beyond a jump a
@@ -13,9 +13,9 @@
 //! per track; a track not seen for `max_coast_s` ends rather than drift onto a neighbour,
 //! one last seen cut by the image border is not reported while unseen (it left the view),
 //! and a young one is not reported while unseen (its velocity rests on a few boxes).
-//! Reported accuracies come from the filter covariance, never better than the error its observations repeat from frame to
-//! frame (the calibration's, the size prior's share, a cut end), as an error ellipse for
-//! J2735 PSM accuracy fields. Each track also learns its road user's size from its
+//! Reported accuracies come from the filter covariance, never better than the error its
+//! observations repeat from frame to frame (the calibration's, the size prior's share, a
+//! cut end), as an error ellipse for J2735 PSM accuracy fields. Each track also learns its road user's size from its
 //! observations ([`super::size`]) and tells it to the next frame's fits.
 use super::class::RoadUserClass;
 use super::size::{Lent, SizeBelief, SizeEvidence, SizeHints, FADE_PER_FRAME, MIN_FRAMES};
@@ -378,8 +378,12 @@ impl RoadUserTracker {
                     covariance_m2: gating_covariance(t.group, o),
                     ..*o
                 };
-                let inn = kalman::innovation(&t.x, &t.p, o.position, &gating.covariance_m2);
-                if let Some(d2) = inn.map(|i| i.d2).filter(|d2| *d2 <= gate2) {
+                let r = &gating.covariance_m2;
+                let d2 = kalman::innovation(&t.x, &t.p, o.position, r).map(|i| i.d2);
+                // A person's box is gated by the nearer of the track and its two models.
+                let modes_d2 = t.modes.as_ref().and_then(|m| m.nearest_d2(o.position, r));
+                let d2 = [d2, modes_d2].into_iter().flatten().min_by(f64::total_cmp);
+                if let Some(d2) = d2.filter(|d2| *d2 <= gate2) {
                     pairs.push((d2, ti, oi));
                 }
             }

@@ -59,17 +59,18 @@ pub struct Score {
     /// user's size exactly ([`position_bound_size_known`]), cm.
     pub size_known_boxes: [Vec<f64>; 7],
     /// Per class, track position errors (to each track's road user: tracks and road users of
-    /// a class paired one to one within [`OFF_M`]; the tracks left over are counted in
+    /// a class paired one to one within [`OFF_M`], wherever the track is, counted when the
+    /// road user is within range; the tracks left over within range are counted in
     /// `tracks_off`), cm.
     pub tracks: [Vec<f64>; 7],
     /// Per class, the track position errors of road users seen whole in that frame (as
     /// [`Score::whole_boxes`]): the position the product broadcasts, in the paper's case, cm.
     pub whole_tracks: [Vec<f64>; 7],
-    /// Every track position within [`OFF_M`] of a road user of its class: (frame, the road
-    /// user's id, error in cm), so that two runs can be compared on the road users both track.
+    /// Every track position paired with a road user within range: (frame, the road user's
+    /// id, error in cm), so that two runs can be compared on the road users both track.
     pub matched: Vec<(usize, u32, f64)>,
-    /// Track positions with no road user of their own (more than [`OFF_M`] from every road
-    /// user of their class, or a second track of one).
+    /// Track positions within range with no road user of their own (more than [`OFF_M`]
+    /// from every road user of their class, or a second track of one).
     pub tracks_off: usize,
     /// Of those, workers' (people in the closed lane): PSMs that would be off.
     pub psms_off: usize,

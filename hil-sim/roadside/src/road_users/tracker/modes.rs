@@ -20,9 +20,14 @@ const STANDING_DRIFT_M_PER_SQRT_S: f64 = 0.03;
 /// Mean time a person keeps standing or walking before switching, seconds. Long, so that
 /// the weights gather evidence over many frames: far along the line of sight a box's error
 /// is as large as a walker's step in a frame, and one frame barely tells the two apart.
-/// On the road-user bench 4 s let walkers seen along the line of sight be taken for
-/// standing (pedestrian means up 0.2-0.4 cm on the low camera); 10-20 s give the same.
+/// On the road-user bench 10-20 s give the same tracks; 4 s gives walkers seen along the
+/// line of sight some weight of standing (pedestrian means 0.2-0.4 cm higher on the low
+/// camera).
 const MEAN_SOJOURN_S: f64 = 20.0;
+/// A person who starts walking from standing does so at a speed drawn from this 1-sigma per
+/// component, m/s (a walk is 1-1.5 m/s): standing turns into walking with the velocity
+/// unknown, not zero, so the walking model is ready to follow a worker who walks off.
+const STARTING_SPEED_SIGMA_MPS: f64 = 1.0;
 /// The standing model's weight stays within `[MIN_WEIGHT, 1 - MIN_WEIGHT]`, so that either
 /// model can take over within a few frames.
 const MIN_WEIGHT: f64 = 1.0e-3;
@@ -44,10 +49,10 @@ pub(super) struct Modes {
 }
 
 impl Modes {
-    /// Both models at a newborn track's state `(x, p)`, walking taken as all but certain
-    /// (standing has to earn its weight: a young track's speed is not known yet, and a
-    /// standing model that starts at half the weight holds a walker back, 30 cm on the
-    /// low camera of the bench); standing has no velocity.
+    /// Both models at a newborn track's state `(x, p)`, walking taken as all but certain:
+    /// standing has to earn its weight, since a young track's speed is not known yet and a
+    /// standing model at half the weight holds a walker back (up to 30 cm on the bench's low
+    /// camera). Standing has no velocity.
     pub(super) fn new(x: &[f64; 4], p: &M4) -> Self {
         let walking = Model { x: *x, p: *p };
         Self {
@@ -73,9 +78,13 @@ impl Modes {
             let standing_next = w * (1.0 - switch) + (1.0 - w) * switch;
             let from_standing_if_standing = w * (1.0 - switch) / standing_next;
             let from_standing_if_walking = w * switch / (1.0 - standing_next);
-            let mut standing = self.mixed(from_standing_if_standing);
-            let mut walking = self.mixed(from_standing_if_walking);
-            standing = still(standing);
+            let starting = starts_walking(self.standing.clone());
+            let mut standing = still(mix(
+                &self.standing,
+                &self.walking,
+                from_standing_if_standing,
+            ));
+            let mut walking = mix(&starting, &self.walking, from_standing_if_walking);
             let drift = STANDING_DRIFT_M_PER_SQRT_S * STANDING_DRIFT_M_PER_SQRT_S * dt;
             standing.p[0][0] += drift;
             standing.p[1][1] += drift;
@@ -118,30 +127,52 @@ impl Modes {
 
     /// The models mixed with the standing one's share `share`: mean and covariance with
     /// the spread of the means.
-    fn mixed(&self, share: f64) -> Model {
-        let share = if share.is_finite() {
-            share.clamp(0.0, 1.0)
-        } else {
-            0.5
-        };
-        let parts = [(share, &self.standing), (1.0 - share, &self.walking)];
-        let x: [f64; 4] = std::array::from_fn(|i| parts.iter().map(|(s, m)| s * m.x[i]).sum());
-        let p: M4 = std::array::from_fn(|i| {
-            std::array::from_fn(|j| {
-                parts
-                    .iter()
-                    .map(|(s, m)| s * (m.p[i][j] + (m.x[i] - x[i]) * (m.x[j] - x[j])))
-                    .sum()
-            })
-        });
-        Model { x, p }
-    }
-
     /// The track's state: the two models mixed by their weights.
     pub(super) fn mixture(&self) -> ([f64; 4], M4) {
-        let m = self.mixed(self.standing_weight);
+        let m = mix(&self.standing, &self.walking, self.standing_weight);
         (m.x, m.p)
     }
+
+    /// The smallest squared Mahalanobis distance of a measured `position` with covariance
+    /// `r` from either model's prediction: a box belongs to the track if either model
+    /// expects it (a worker who walks off is far from where standing holds him, near where
+    /// walking may take him).
+    pub(super) fn nearest_d2(&self, position: [f64; 2], r: &Cov2) -> Option<f64> {
+        [&self.standing, &self.walking]
+            .iter()
+            .filter_map(|m| kalman::innovation(&m.x, &m.p, position, r))
+            .map(|i| i.d2)
+            .min_by(f64::total_cmp)
+    }
+}
+
+/// `a` and `b` mixed with `a`'s share `share`: mean and covariance with the spread of the
+/// means.
+fn mix(a: &Model, b: &Model, share: f64) -> Model {
+    let share = if share.is_finite() {
+        share.clamp(0.0, 1.0)
+    } else {
+        0.5
+    };
+    let parts = [(share, a), (1.0 - share, b)];
+    let x: [f64; 4] = std::array::from_fn(|i| parts.iter().map(|(s, m)| s * m.x[i]).sum());
+    let p: M4 = std::array::from_fn(|i| {
+        std::array::from_fn(|j| {
+            parts
+                .iter()
+                .map(|(s, m)| s * (m.p[i][j] + (m.x[i] - x[i]) * (m.x[j] - x[j])))
+                .sum()
+        })
+    });
+    Model { x, p }
+}
+
+/// The standing model `m` as it turns into walking: at its position, its velocity unknown
+/// ([`STARTING_SPEED_SIGMA_MPS`] in each direction).
+fn starts_walking(mut m: Model) -> Model {
+    let v = STARTING_SPEED_SIGMA_MPS * STARTING_SPEED_SIGMA_MPS;
+    (m.p[2][2], m.p[3][3]) = (v, v);
+    m
 }
 
 /// `m` standing still: no velocity, and no uncertainty in it.

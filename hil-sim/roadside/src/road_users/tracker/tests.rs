@@ -752,8 +752,8 @@ fn a_road_user_seen_whole_after_partial_views_is_taken_where_the_whole_view_puts
     let out = tr.update(1.5, &[whole]).unwrap();
     assert_eq!(out.len(), 1, "{out:?}");
     // Re-anchored, the track restarts from the whole box; blended with the partial views
-    // (their covariance raised to their shared error) it would stay 2.1 cm too far, and
-    // averaged with them as if their error were independent 6.3 cm.
+    // (their covariance raised to their shared error) it would keep part of their 0.5 m,
+    // and more if averaged with them as if their error were independent.
     let off = out[0].position[1] - 40.0;
     assert!(off.abs() < 0.001, "{:?}", out[0]);
     assert!(
@@ -772,6 +772,78 @@ fn a_road_user_seen_whole_after_partial_views_is_taken_where_the_whole_view_puts
         let off = out[0].position[1] - 40.0;
         assert!(off.abs() < 0.06, "frame {k}: {:?}", out[0]);
         assert!(out[0].speed_mps < 0.3, "frame {k}: {:?}", out[0]);
+    }
+}
+
+#[test]
+fn a_vehicle_seen_whole_after_partial_views_restarts_its_position_and_keeps_its_speed() {
+    // A car driving north at 10 m/s, half hidden for a second: each box 0.3 m too far
+    // along the line of sight (north), an error they share (known to 0.35 m, within what a
+    // track may report). Then it is seen whole.
+    let mut tr = tracker();
+    let along = |sigma: f64| [[0.05 * 0.05, 0.0], [0.0, sigma * sigma]];
+    let at = |t: f64| 10.0 + 10.0 * t;
+    let mut before = None;
+    for k in 0..10 {
+        let t = f64::from(k) * 0.1;
+        let partial = Observation {
+            covariance_m2: along(0.35),
+            floor_m2: along(0.35),
+            ..obs(RoadUserClass::Car, 5.0, at(t) + 0.3, 0.0)
+        };
+        before = tr.update(t, &[partial]).unwrap().into_iter().next();
+    }
+    let before = before.expect("a confirmed track");
+    let whole = Observation {
+        covariance_m2: along(0.1),
+        floor_m2: along(0.03),
+        ..obs(RoadUserClass::Car, 5.0, at(1.0), 0.0)
+    };
+    let out = tr.update(1.0, &[whole]).unwrap();
+    assert_eq!(out.len(), 1, "{out:?}");
+    assert_eq!(out[0].id, before.id);
+    // Where the whole box puts it, at the speed the track had: the restart is not a jump
+    // of 0.3 m in a tenth of a second.
+    assert!((out[0].position[1] - at(1.0)).abs() < 1e-9, "{:?}", out[0]);
+    let dv =
+        (out[0].velocity[0] - before.velocity[0]).hypot(out[0].velocity[1] - before.velocity[1]);
+    assert!(dv < 1e-9, "{before:?} -> {:?}", out[0]);
+}
+
+#[test]
+fn a_standing_worker_who_walks_off_keeps_his_track() {
+    // Five seconds standing, boxes known to 3 cm (near the camera), then off at 2 m/s² (a
+    // brisk start) to 1.5 m/s: a track that took him as standing must let him go.
+    let (mut tr, mut n) = (tracker(), Noise(17));
+    let (accel, top) = (2.0, 1.5);
+    let walked = |s: f64| {
+        let ramp = top / accel;
+        if s < ramp {
+            0.5 * accel * s * s
+        } else {
+            0.5 * accel * ramp * ramp + top * (s - ramp)
+        }
+    };
+    let truth = |t: f64| [2.0 + walked((t - 5.0).max(0.0)), 12.0];
+    let mut id = None;
+    for k in 0..80 {
+        let t = f64::from(k) * 0.1;
+        let out = tr
+            .update(
+                t,
+                &[noisy(&mut n, RoadUserClass::Pedestrian, truth(t), 0.03)],
+            )
+            .unwrap();
+        if k < 3 {
+            continue;
+        }
+        assert_eq!(out.len(), 1, "{t} s: {out:?}");
+        assert_eq!(*id.get_or_insert(out[0].id), out[0].id, "{t} s: {out:?}");
+        let off = (out[0].position[0] - truth(t)[0]).hypot(out[0].position[1] - truth(t)[1]);
+        // Standing, a few centimetres; a second and a half after he walks off, with him.
+        if !(5.0..6.5).contains(&t) {
+            assert!(off < 0.1, "{t} s: {:?}", out[0]);
+        }
     }
 }
 

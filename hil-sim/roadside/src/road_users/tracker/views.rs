@@ -7,11 +7,12 @@
 //! after a run of partial views it holds their average as if the shared error had averaged
 //! out, and a whole view that follows moves it only part of the way. A view whose floor is
 //! under [`BETTER_VIEW_SHARE`] of every recent frame's best floor is a better view: the
-//! track's position restarts from it (its velocity kept). Raising the track's position
-//! covariance to the partial views' floor and blending would be right if their shared
-//! error were drawn afresh for the better view; it is not (the same neighbour hid the same
-//! side), and on the road-user bench the blend kept a worker's track 21 cm off where the
-//! box was 16 cm off, then took the rest of the correction for motion.
+//! track's position restarts from it (its velocity kept). A blend, with the track's
+//! position covariance raised to the partial views' floor, would keep part of their error,
+//! and that error is not drawn afresh from view to view (the same neighbour hides the same
+//! side); the filter would then take the rest of the correction over the next frames for
+//! motion. The raised covariance gates the better view: it belongs to the track if it lies
+//! within the partial views' error.
 
 use crate::ellipse::{worst_sigma, Cov2};
 
@@ -49,8 +50,9 @@ impl RecentFloors {
         }
     }
 
-    /// The floor to raise the track's position covariance to before an observation with
-    /// `floor` at `time_s` is taken, if it is a better view; the track unchanged.
+    /// Whether an observation with `floor` at `time_s` is a better view: the best floor of
+    /// the recent frames (the error the track's position shares with them, which gates the
+    /// view) if it is; the track unchanged.
     pub(super) fn better_view(&self, floor: &Cov2, time_s: f64) -> Option<Cov2> {
         if self.reanchored_s == time_s {
             return None;
