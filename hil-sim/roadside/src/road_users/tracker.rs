@@ -15,8 +15,9 @@
 //! and a young one is not reported while unseen (its velocity rests on a few boxes).
 //! Reported accuracies come from the filter covariance, never better than the error its
 //! observations repeat from frame to frame (the calibration's, the size prior's share, a
-//! cut end), as an error ellipse for J2735 PSM accuracy fields. Each track also learns its road user's size from its
-//! observations ([`super::size`]) and tells it to the next frame's fits.
+//! cut end), as an error ellipse for J2735 PSM accuracy fields. Each track also learns its
+//! road user's size from its observations ([`super::size`]) and tells it to the next
+//! frame's fits.
 use super::class::RoadUserClass;
 use super::size::{Lent, SizeBelief, SizeEvidence, SizeHints, FADE_PER_FRAME, MIN_FRAMES};
 use crate::ellipse::{

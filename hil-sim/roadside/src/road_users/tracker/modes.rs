@@ -125,8 +125,6 @@ impl Modes {
         }
     }
 
-    /// The models mixed with the standing one's share `share`: mean and covariance with
-    /// the spread of the means.
     /// The track's state: the two models mixed by their weights.
     pub(super) fn mixture(&self) -> ([f64; 4], M4) {
         let m = mix(&self.standing, &self.walking, self.standing_weight);
